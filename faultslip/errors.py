@@ -1,0 +1,25 @@
+"""Exceptions and warnings of faultslip.
+
+Every error a user can cause derives from :class:`FaultslipError`; the CLI
+turns it into one sentence on stderr and exit status 2.
+"""
+
+
+class FaultslipError(Exception):
+    """Base class of every error faultslip raises on purpose."""
+
+
+class InputError(FaultslipError, ValueError):
+    """Bad input: a wrong unit, an unknown name, a non-physical value."""
+
+
+class MethodError(FaultslipError):
+    """A solution method was asked for outside its domain of validity."""
+
+
+class SolverError(FaultslipError, RuntimeError):
+    """A numerical method failed; the message names method, scene and remedy."""
+
+
+class OutOfDomainWarning(UserWarning):
+    """A method was used where it is known to be inaccurate."""
