@@ -1,0 +1,402 @@
+"""Scaling the spring-slider to a strike-slip fault (seed 003 §5-2).
+
+An elastic zone of half-width D on each side of the fault is treated as a
+pure-shear block and reduced to one slider per unit fault area:
+
+* stiffness :math:`K = G/D` (seed eq. 5-3), in Pa/m;
+* normal load :math:`W = \\sigma_n`, the effective normal stress, in Pa; the
+  seed derives it from an upper bound on shear stress, :math:`\\sigma_n = \\tau/\\mu_{so}`;
+* platform speed :math:`V` = the tectonic slip rate, so :math:`\\dot\\theta = K V/\\sigma_n`.
+
+Then the amplitude of seed eq. 2-19 is the slip per earthquake and
+:math:`T = \\alpha / V` (seed eq. 5-5) its recurrence period.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+
+from . import closed_form
+from .errors import InputError
+from .friction import RateLaw
+from .materials import MaterialChoice, resolve_material
+from .report import Report
+from .units import Quantity, si_unit, to_si
+
+#: Constant of the moment magnitude, Mw = (2/3)(log10 M0[N m] - 9.1): the
+#: IASPEI (2013) standard. Hanks & Kanamori (1979) is equivalent to 9.05; pass
+#: ``constant=9.05`` to :func:`moment_magnitude` to reproduce codes that use it.
+MW_CONSTANT = 9.1
+#: Default rock density for the slider mass per unit area, M = rho D.
+DEFAULT_DENSITY = 2700.0  # kg/m^3
+#: Default shear-wave speed for the radiation damper eta = G / (2 c_s).
+DEFAULT_SHEAR_WAVE_SPEED = 3300.0  # m/s
+
+
+def fault_stiffness(shear_modulus, zone_width):
+    r"""Stiffness per unit fault area :math:`K = G/D` in Pa/m (seed 003 eq. 5-3)."""
+    return shear_modulus / zone_width
+
+
+def normal_stress_from_shear_stress(shear_stress, mu_so):
+    r"""Effective normal stress :math:`\sigma_n = \tau/\mu_{so}` in Pa (seed 003 §5-2).
+
+    The seed takes :math:`\tau` as the upper bound of shear stress the fault
+    can hold, i.e. the static strength :math:`\mu_{so}\sigma_n`.
+    """
+    return shear_stress / mu_so
+
+
+def seismic_moment(shear_modulus, rupture_length, seismogenic_depth, slip):
+    r"""Seismic moment :math:`M_0 = G L H \bar u` in N m (Aki 1966)."""
+    return shear_modulus * rupture_length * seismogenic_depth * slip
+
+
+def moment_magnitude(seismic_moment, constant=MW_CONSTANT):
+    r"""Moment magnitude :math:`M_w = \tfrac{2}{3}(\log_{10} M_0 - 9.1)`, :math:`M_0` in N m.
+
+    The constant 9.1 is the IASPEI (2013) standard; see :data:`MW_CONSTANT`.
+    """
+    return (2.0 / 3.0) * (np.log10(seismic_moment) - constant)
+
+
+def radiation_damper(shear_modulus, shear_wave_speed=DEFAULT_SHEAR_WAVE_SPEED):
+    r"""Radiation damper per unit area :math:`\eta = G / (2 c_s)` in Pa s/m (quasi-dynamic approximation).
+
+    Rice (1993), Spatio-temporal complexity of slip on a fault, JGR 98(B6).
+    """
+    return shear_modulus / (2.0 * shear_wave_speed)
+
+
+def friction_drop_for_slip(observed_slip, normal_stress, stiffness, loading_rate, b, d, damping_ratio=0.0):
+    r"""Invert eq. 2-19 for :math:`\mu_{so} - \mu_m` from an observed slip per event.
+
+    With :math:`q = \alpha K / (\sigma_n (1 + e^{-\lambda\pi}))` the required
+    :math:`\mu_s - \mu_m`, eq. 2-18 gives
+    :math:`\mu_{so} - \mu_m = q / (1 - q\,b\,\dot\theta^d)`. In the seed's
+    low-rate, light-damping form (b = 0, :math:`\zeta = 0`) this is
+    :math:`\alpha K/(2\sigma_n)` (seed 003 §5-2, granite). Returns NaN where
+    no friction drop can produce the slip (:math:`q\,b\,\dot\theta^d \ge 1`).
+    """
+    required_excess = observed_slip * stiffness / (normal_stress * closed_form.overshoot_factor(damping_ratio))
+    rate_term = b * loading_rate**d
+    denominator = 1.0 - required_excess * rate_term
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(denominator > 0, required_excess / np.where(denominator > 0, denominator, 1.0), np.nan)
+
+
+_QUANTITY_FIELDS = {
+    "shear_modulus": ("pressure", "shear modulus"),
+    "zone_width": ("length", "elastic-zone width"),
+    "normal_stress": ("pressure", "normal stress"),
+    "shear_stress": ("pressure", "shear stress"),
+    "slip_rate": ("speed", "slip rate"),
+    "rupture_length": ("length", "rupture length"),
+    "seismogenic_depth": ("length", "seismogenic depth"),
+    "density": ("density", "density"),
+    "shear_wave_speed": ("speed", "shear-wave speed"),
+}
+_NUMBER_FIELDS = {"mu_so", "mu_m", "b", "d", "damping_ratio"}
+
+
+@dataclass(frozen=True)
+class Fault:
+    """A strike-slip fault reduced to one slider per unit area (seed 003 §5-2).
+
+    Quantities accept strings with units ("13 mi"), pint Quantities, and are
+    stored in SI. Give either ``normal_stress`` or ``shear_stress`` (the
+    seed's route, :math:`\\sigma_n = \\tau/\\mu_{so}`).
+
+    ``lithology`` (a lithology such as ``"granodiorite"`` or a preset such as
+    ``"granodiorite_water"``) supplies G and the friction law (mu_so, mu_m, b,
+    d) unless they are given. Without a friction preset (e.g. granite) give
+    mu_so and mu_m; b then defaults to 0, a rate-independent static friction.
+    """
+
+    slip_rate: object
+    zone_width: object
+    shear_modulus: object = None
+    normal_stress: object = None
+    shear_stress: object = None
+    lithology: str | None = None
+    mu_so: float | None = None
+    mu_m: float | None = None
+    b: float | None = None
+    d: float | None = None
+    rupture_length: object = None
+    seismogenic_depth: object = None
+    damping_ratio: float = 0.0
+    radiation_damping: bool = False
+    density: object = f"{DEFAULT_DENSITY} kg/m^3"
+    shear_wave_speed: object = f"{DEFAULT_SHEAR_WAVE_SPEED} m/s"
+    name: str = "fault"
+    material: MaterialChoice | None = field(default=None, compare=False, repr=False)
+
+    def __post_init__(self):
+        set_ = lambda key, value: object.__setattr__(self, key, value)  # noqa: E731 (frozen dataclass)
+        for key, (kind, label) in _QUANTITY_FIELDS.items():
+            value = getattr(self, key)
+            if value is not None:
+                set_(key, to_si(value, kind, label))
+        for key in _NUMBER_FIELDS:
+            value = getattr(self, key)
+            if value is not None:
+                set_(key, to_si(value, "dimensionless", key))
+
+        material = resolve_material(self.lithology) if self.lithology else None
+        set_("material", material)
+        if self.shear_modulus is None:
+            if material is None or material.shear_modulus is None:
+                where = f"lithology {self.lithology!r} has no shear modulus" if self.lithology else "no lithology given"
+                raise InputError(f"shear modulus is required ({where}); give it, e.g. --shear-modulus '0.25e6 bar'")
+            set_("shear_modulus", material.shear_modulus)
+        law = material.rate_law if material is not None else None
+        for key in ("mu_so", "mu_m", "b", "d"):
+            if getattr(self, key) is None:
+                if law is not None:
+                    set_(key, getattr(law, key))
+                elif key == "mu_so":
+                    raise InputError(f"mu_so is required ({self._no_preset()}); give it, e.g. --mu-so 0.65")
+                elif key == "mu_m":
+                    continue  # only the inverse (which computes mu_m) may go without it
+                else:
+                    set_(key, 0.0 if key == "b" else 1.0)
+
+        _positive(self.shear_modulus, "shear modulus", "Pa")
+        _positive(self.zone_width, "elastic-zone width", "m")
+        _positive(self.slip_rate, "slip rate", "m/s")
+        _positive(self.density, "density", "kg/m^3")
+        _positive(self.shear_wave_speed, "shear-wave speed", "m/s")
+        if (self.normal_stress is None) == (self.shear_stress is None):
+            raise InputError("give exactly one of normal stress or shear stress (sigma_n = tau / mu_so)")
+        if self.normal_stress is None:
+            _positive(self.shear_stress, "shear stress", "Pa")
+        else:
+            _positive(self.normal_stress, "normal stress", "Pa")
+        for key in ("rupture_length", "seismogenic_depth"):
+            if getattr(self, key) is not None:
+                _positive(getattr(self, key), key.replace("_", " "), "m")
+        if not -1.0 < self.damping_ratio < 1.0:
+            raise InputError(f"damping ratio must lie in (-1, 1) for an oscillating slip phase, got {self.damping_ratio}")
+        RateLaw(self.mu_so, self.mu_so if self.mu_m is None else self.mu_m, self.b, self.d)  # validates
+
+    def _no_preset(self) -> str:
+        return f"lithology {self.lithology!r} has no friction preset" if self.lithology else "no lithology given"
+
+    # --- derived quantities (SI) ---
+    @property
+    def rate_law(self) -> RateLaw:
+        if self.mu_m is None:
+            raise InputError(f"mu_m is required ({self._no_preset()}); give it, e.g. --mu-m 0.55")
+        return RateLaw(self.mu_so, self.mu_m, self.b, self.d)
+
+    @property
+    def effective_normal_stress(self) -> float:
+        if self.normal_stress is not None:
+            return self.normal_stress
+        return normal_stress_from_shear_stress(self.shear_stress, self.mu_so)
+
+    @property
+    def stiffness(self) -> float:
+        return fault_stiffness(self.shear_modulus, self.zone_width)
+
+    @property
+    def loading_rate(self) -> float:
+        return closed_form.loading_rate(self.stiffness, self.slip_rate, self.effective_normal_stress)
+
+    @property
+    def mass_per_area(self) -> float:
+        """M = rho D, needed only by the dynamics (the closed form at low rate needs no mass)."""
+        return self.density * self.zone_width
+
+    @property
+    def natural_frequency(self) -> float:
+        return float(closed_form.natural_frequency(self.stiffness, self.mass_per_area))
+
+    @property
+    def radiation_damper(self) -> float:
+        return radiation_damper(self.shear_modulus, self.shear_wave_speed) if self.radiation_damping else 0.0
+
+    @property
+    def total_damping_ratio(self) -> float:
+        """The given damping ratio plus that of the radiation damper, eta / (2 sqrt(K M))."""
+        extra = self.radiation_damper / (2.0 * math.sqrt(self.stiffness * self.mass_per_area))
+        return self.damping_ratio + extra
+
+    def with_(self, **changes) -> "Fault":
+        """A copy with some inputs changed; changed quantities need units like any input."""
+        keep = {}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "material":
+                continue
+            if f.name in _QUANTITY_FIELDS and value is not None:
+                value = Quantity(value, si_unit(_QUANTITY_FIELDS[f.name][0]))
+            keep[f.name] = value
+        if changes.get("shear_stress") is not None:
+            keep["normal_stress"] = None
+        if changes.get("normal_stress") is not None:
+            keep["shear_stress"] = None
+        keep.update(changes)
+        return Fault(**keep)
+
+    # --- predictions ---
+    def estimate(self) -> "FaultEstimate":
+        """Closed-form slip and recurrence (seed 003 eqs. 2-19, 5-4, 5-5)."""
+        if self.material is not None and self.material.preset is not None and not self.material.preset.stick_slip:
+            if self.mu_so == self.mu_m:
+                self.material.preset.require_stick_slip()
+        self.rate_law.require_stick_slip(f"a stick-slip prediction of {self.name}")
+        return FaultEstimate.from_fault(self)
+
+    def infer_kinetic_friction(self, observed_slip) -> "FaultInverse":
+        """The mu_m that makes eq. 2-19 reproduce an observed slip (seed 003 §5-2, granite)."""
+        slip = to_si(observed_slip, "length", "observed slip")
+        _positive(slip, "observed slip", "m")
+        return FaultInverse.from_fault(self, slip)
+
+
+def _positive(value, name, unit=""):
+    if not (value > 0):
+        raise InputError(f"{name} must be positive, got {value:g} {unit}".rstrip())
+
+
+@dataclass(frozen=True)
+class FaultEstimate:
+    """Closed-form predictions for a :class:`Fault` (all SI)."""
+
+    fault: Fault
+    stiffness: float
+    normal_stress: float
+    loading_rate: float
+    static_friction: float
+    damping_ratio: float
+    slip_amplitude: float
+    low_rate_amplitude: float
+    recurrence_period: float
+    stress_drop: float
+    seismic_moment: float | None
+    moment_magnitude: float | None
+
+    @classmethod
+    def from_fault(cls, fault: Fault) -> "FaultEstimate":
+        law = fault.rate_law
+        sigma = fault.effective_normal_stress
+        stiffness = fault.stiffness
+        rate = fault.loading_rate
+        zeta = fault.total_damping_ratio
+        alpha = float(closed_form.rate_law_amplitude(rate, sigma, stiffness, law.mu_so, law.mu_m, law.b, law.d, zeta))
+        moment = magnitude = None
+        if fault.rupture_length is not None and fault.seismogenic_depth is not None:
+            moment = float(seismic_moment(fault.shear_modulus, fault.rupture_length, fault.seismogenic_depth, alpha))
+            magnitude = float(moment_magnitude(moment))
+        return cls(
+            fault=fault,
+            stiffness=stiffness,
+            normal_stress=sigma,
+            loading_rate=rate,
+            static_friction=float(law.static(rate)),
+            damping_ratio=zeta,
+            slip_amplitude=alpha,
+            low_rate_amplitude=float(closed_form.low_rate_amplitude(sigma, stiffness, law.mu_so, law.mu_m)),
+            recurrence_period=float(closed_form.cycle_period(alpha, fault.slip_rate)),
+            stress_drop=float(closed_form.stress_drop(stiffness, alpha)),
+            seismic_moment=moment,
+            moment_magnitude=magnitude,
+        )
+
+    def report(self) -> Report:
+        f = self.fault
+        r = Report(f"faultslip fault estimate: {f.name}")
+        r.section("Inputs")
+        if f.lithology:
+            r.add("lithology", f.lithology, label="lithology / preset")
+        r.add("shear_modulus", f.shear_modulus, "Pa", "shear modulus G", also=("bar",))
+        r.add("zone_width", f.zone_width, "m", "elastic-zone width D", also=("km", "mi"))
+        if f.shear_stress is not None:
+            r.add("shear_stress", f.shear_stress, "Pa", "shear stress tau", also=("bar",))
+        r.add("slip_rate", f.slip_rate, "m/s", "slip rate V", also=("mm/yr", "in/yr"))
+        r.add("mu_so", f.mu_so, label="mu_so")
+        r.add("mu_m", f.mu_m, label="mu_m")
+        r.add("b", f.b, f"s^{f.d:g}" if f.b else None, "rate coefficient b")
+        r.add("d", f.d, label="rate exponent d")
+        r.add("damping_ratio", self.damping_ratio, label="damping ratio zeta")
+        if f.rupture_length is not None:
+            r.add("rupture_length", f.rupture_length, "m", "rupture length L", also=("km", "mi"))
+        if f.seismogenic_depth is not None:
+            r.add("seismogenic_depth", f.seismogenic_depth, "m", "seismogenic depth H", also=("km",))
+        r.section("Predictions (closed form, seed 003 eqs. 2-18, 2-19, 5-3 to 5-5)")
+        r.add("stiffness", self.stiffness, "Pa/m", "stiffness K = G/D", also=("psi/in",))
+        r.add("normal_stress", self.normal_stress, "Pa", "normal stress sigma_n", also=("bar",))
+        r.add("loading_rate", self.loading_rate, "1/s", "loading rate K V / sigma_n")
+        r.add("static_friction", self.static_friction, label="static friction mu_s")
+        r.add("slip_amplitude", self.slip_amplitude, "m", "slip per event alpha", also=("ft",))
+        r.add("low_rate_amplitude", self.low_rate_amplitude, "m", "eq. 5-4: 2 sigma_n D dmu / G", also=("ft",))
+        r.add("recurrence_period", self.recurrence_period, "s", "recurrence period T = alpha/V", also=("yr",))
+        r.add("stress_drop", self.stress_drop, "Pa", "stress drop K alpha", also=("bar", "MPa"))
+        if self.seismic_moment is not None:
+            r.add("seismic_moment", self.seismic_moment, "N*m", "seismic moment M0 = G L H alpha")
+            r.add("moment_magnitude", self.moment_magnitude, label="moment magnitude Mw")
+            r.note(f"Mw = (2/3)(log10 M0 - {MW_CONSTANT}) with M0 in N m (IASPEI 2013 standard).")
+        r.note("A year is the Julian year, 365.25 d.")
+        if f.b == 0:
+            r.note("No rate law (b = 0): static friction is taken as rate-independent, mu_s = mu_so.")
+        return r
+
+
+@dataclass(frozen=True)
+class FaultInverse:
+    """The kinetic friction implied by an observed slip per event."""
+
+    fault: Fault
+    observed_slip: float
+    stiffness: float
+    normal_stress: float
+    loading_rate: float
+    friction_drop: float
+    kinetic_friction: float
+    recurrence_period: float
+
+    @classmethod
+    def from_fault(cls, fault: Fault, slip: float) -> "FaultInverse":
+        sigma = fault.effective_normal_stress
+        stiffness = fault.stiffness
+        rate = fault.loading_rate
+        drop = float(
+            friction_drop_for_slip(slip, sigma, stiffness, rate, fault.b, fault.d, fault.total_damping_ratio)
+        )
+        if not np.isfinite(drop):
+            raise InputError(
+                f"observed slip {slip:g} m is larger than the rate law allows at this loading rate; "
+                "no friction drop reproduces it"
+            )
+        if drop > fault.mu_so:
+            raise InputError(
+                f"observed slip {slip:g} m needs a friction drop {drop:.3g} larger than mu_so = {fault.mu_so}; "
+                "it cannot be reproduced"
+            )
+        return cls(fault, slip, stiffness, sigma, rate, drop, fault.mu_so - drop, slip / fault.slip_rate)
+
+    def report(self) -> Report:
+        f = self.fault
+        r = Report(f"faultslip inverse estimate: {f.name}")
+        r.section("Inputs")
+        if f.lithology:
+            r.add("lithology", f.lithology, label="lithology / preset")
+        r.add("shear_modulus", f.shear_modulus, "Pa", "shear modulus G", also=("bar",))
+        r.add("zone_width", f.zone_width, "m", "elastic-zone width D", also=("km", "mi"))
+        r.add("slip_rate", f.slip_rate, "m/s", "slip rate V", also=("mm/yr", "in/yr"))
+        r.add("observed_slip", self.observed_slip, "m", "observed slip per event", also=("ft",))
+        r.add("mu_so", f.mu_so, label="mu_so")
+        r.section("Inverse of eq. 2-19 (seed 003 §5-2)")
+        r.add("stiffness", self.stiffness, "Pa/m", "stiffness K = G/D", also=("psi/in",))
+        r.add("normal_stress", self.normal_stress, "Pa", "normal stress sigma_n", also=("bar",))
+        r.add("loading_rate", self.loading_rate, "1/s", "loading rate K V / sigma_n")
+        r.add("friction_drop", self.friction_drop, label="friction drop mu_so - mu_m")
+        r.add("kinetic_friction", self.kinetic_friction, label="implied kinetic friction mu_m")
+        r.add("recurrence_period", self.recurrence_period, "s", "recurrence period T = alpha/V", also=("yr",))
+        r.note("A year is the Julian year, 365.25 d.")
+        return r
