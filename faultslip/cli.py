@@ -1,0 +1,200 @@
+"""The ``faultslip`` command line. Thin: it parses, calls the library, prints.
+
+Every command that computes has ``--json``. Bad input exits with status 2 and
+one sentence on stderr, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from . import __version__
+from .errors import FaultslipError
+
+_FAULT_QUANTITIES = {
+    # flag -> Fault argument
+    "shear_modulus": "shear_modulus",
+    "zone_width": "zone_width",
+    "normal_stress": "normal_stress",
+    "shear_stress": "shear_stress",
+    "slip_rate": "slip_rate",
+    "rupture_length": "rupture_length",
+    "depth": "seismogenic_depth",
+    "density": "density",
+    "shear_wave_speed": "shear_wave_speed",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error and exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
+def _emit(report, as_json: bool) -> int:
+    print(report.to_json() if as_json else report.to_text())
+    return 0
+
+
+# --- handlers ---------------------------------------------------------------
+
+
+def cmd_run(args) -> int:
+    from .scene import load_scene, run_scene
+
+    return _emit(run_scene(load_scene(args.scene)), args.json)
+
+
+def cmd_fault(args) -> int:
+    from .fault import Fault
+
+    inputs = {target: getattr(args, flag) for flag, target in _FAULT_QUANTITIES.items() if getattr(args, flag) is not None}
+    for key in ("mu_so", "mu_m", "damping_ratio"):
+        if getattr(args, key) is not None:
+            inputs[key] = getattr(args, key)
+    if args.rate_coefficient is not None:
+        inputs["b"] = args.rate_coefficient
+    if args.rate_exponent is not None:
+        inputs["d"] = args.rate_exponent
+    fault = Fault(lithology=args.lithology, radiation_damping=args.radiation_damping, name=args.name, **_required(inputs))
+    if args.observed_slip is not None:
+        return _emit(fault.infer_kinetic_friction(args.observed_slip).report(), args.json)
+    return _emit(fault.estimate().report(), args.json)
+
+
+def _required(inputs: dict) -> dict:
+    from .errors import InputError
+
+    missing = [flag for flag in ("zone_width", "slip_rate") if flag not in inputs]
+    if missing:
+        raise InputError(f"missing {', '.join('--' + m.replace('_', '-') for m in missing)}, required for a fault estimate")
+    return inputs
+
+
+def cmd_materials(args) -> int:
+    from .materials import lithologies, presets
+
+    preset_rows = []
+    for preset in presets().values():
+        row = {"name": preset.name, "material": preset.material, "condition": preset.condition,
+               "lithology": preset.lithology, "stick_slip": preset.stick_slip, "source": preset.source}
+        if preset.stick_slip:
+            law = preset.rate_law
+            row.update(mu_so=law.mu_so, mu_m=law.mu_m, b={"value": law.b, "units": f"s^{law.d:g}"}, d=law.d)
+        else:
+            row["friction"] = preset.friction
+        if preset.normal_load is not None:
+            row.update(
+                normal_load={"value": preset.normal_load, "units": "N"},
+                stiffness={"value": preset.stiffness, "units": "N/m"},
+                mass={"value": preset.mass, "units": "kg"},
+            )
+        preset_rows.append(row)
+    lith_rows = [
+        {"name": lith.name, "shear_modulus": {"value": lith.shear_modulus, "units": "Pa"},
+         "default_preset": lith.default_preset, "source": lith.source}
+        for lith in lithologies().values()
+    ]
+    if args.json:
+        print(json.dumps({"presets": preset_rows, "lithologies": lith_rows}, indent=2))
+        return 0
+    print("Presets (seed 003 Table I; W, K of its apparatus; M = W/g)")
+    print(f"  {'name':<26}{'mu_so':>7}{'mu_m':>7}{'b (s^d)':>11}{'d':>8}{'W (N)':>9}{'K (N/m)':>11}{'M (kg)':>8}  source")
+    for row in preset_rows:
+        if row["stick_slip"]:
+            print(f"  {row['name']:<26}{row['mu_so']:>7.3g}{row['mu_m']:>7.3g}{row['b']['value']:>11.4g}{row['d']:>8.4g}"
+                  f"{row['normal_load']['value']:>9.1f}{row['stiffness']['value']:>11.4g}{row['mass']['value']:>8.1f}  {row['source']}")
+        else:
+            print(f"  {row['name']:<26}  steady sliding, mu = {row['friction']:.2f} (no stick-slip)  {row['source']}")
+    print("\nLithologies (shear modulus; default friction preset on a fault)")
+    for row in lith_rows:
+        print(f"  {row['name']:<14}G = {row['shear_modulus']['value'] / 1e5:.4g} bar  preset: "
+              f"{row['default_preset'] or '(none: give mu_so, mu_m)'}  {row['source']}")
+    return 0
+
+
+def cmd_plot_rate_law(args) -> int:
+    from .atomic import save_figure
+    from .materials import get_preset, table_i_presets
+    from .plots import rate_law_figure
+
+    chosen = [get_preset(name) for name in args.preset] if args.preset else table_i_presets()
+    for preset in chosen:
+        preset.require_stick_slip()
+    figure = rate_law_figure(chosen)
+    save_figure(figure, args.output, dpi=150)
+    print(f"wrote {args.output}")
+    return 0
+
+
+# --- parser -----------------------------------------------------------------
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="faultslip", description="Laboratory rock friction to earthquake slip and recurrence.")
+    parser.add_argument("--version", action="version", version=f"faultslip {__version__}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+
+    run = commands.add_parser("run", help="run a scene (default: the 1906 San Francisco scene)")
+    run.add_argument("scene", nargs="?", help="scene TOML file or bundled scene name")
+    run.add_argument("--json", action="store_true", help="print one JSON object")
+    run.set_defaults(handler=cmd_run)
+
+    fault = commands.add_parser("fault", help="direct fault estimate (seed 003 §5-2) without a scene file")
+    fault.add_argument("--lithology", help="lithology or preset; supplies G and the friction law unless given")
+    fault.add_argument("--shear-modulus", help="G, e.g. '0.25e6 bar'")
+    fault.add_argument("--zone-width", help="elastic-zone half-width D, e.g. '13 mi'")
+    stress = fault.add_mutually_exclusive_group()
+    stress.add_argument("--normal-stress", help="effective normal stress, e.g. '385 bar'")
+    stress.add_argument("--shear-stress", help="shear stress tau; sigma_n = tau / mu_so, e.g. '250 bar'")
+    fault.add_argument("--slip-rate", help="tectonic slip rate, e.g. '2 in/yr'")
+    fault.add_argument("--mu-so", help="static friction at vanishing loading rate")
+    fault.add_argument("--mu-m", help="kinetic friction")
+    fault.add_argument("--rate-coefficient", help="b of eq. 2-18 (in s^d)")
+    fault.add_argument("--rate-exponent", help="d of eq. 2-18")
+    fault.add_argument("--rupture-length", help="rupture length L for M0 and Mw, e.g. '270 mi'")
+    fault.add_argument("--depth", help="seismogenic depth H for M0 and Mw, e.g. '12 km'")
+    fault.add_argument("--damping-ratio", help="damping ratio zeta of the slip phase (default 0)")
+    fault.add_argument("--radiation-damping", action="store_true", help="add the radiation damper G/(2 c_s)")
+    fault.add_argument("--density", help="rock density for M = rho D (default 2700 kg/m^3)")
+    fault.add_argument("--shear-wave-speed", help="c_s for radiation damping (default 3.3 km/s)")
+    fault.add_argument("--observed-slip", help="inverse: report the mu_m that reproduces this slip, e.g. '21 ft'")
+    fault.add_argument("--name", default="fault", help="a name for the report")
+    fault.add_argument("--json", action="store_true", help="print one JSON object")
+    fault.set_defaults(handler=cmd_fault)
+
+    materials = commands.add_parser("materials", help="list presets and lithologies with their sources")
+    materials.add_argument("--json", action="store_true", help="print one JSON object")
+    materials.set_defaults(handler=cmd_materials)
+
+    plot = commands.add_parser("plot", help="draw a figure")
+    figures = plot.add_subparsers(dest="figure", metavar="FIGURE", parser_class=_Parser)
+    rate_law = figures.add_parser("rate-law", help="mu_s and amplitude against log10 loading rate (seed Figs. 4-1 to 4-22)")
+    rate_law.add_argument("--preset", action="append", help="preset name (repeatable; default: all of Table I)")
+    rate_law.add_argument("-o", "--output", required=True, help="output image, e.g. rate_law.png")
+    rate_law.set_defaults(handler=cmd_plot_rate_law)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    handler = getattr(args, "handler", None)
+    if handler is None:
+        parser.print_help(sys.stderr)
+        return 2
+    try:
+        return handler(args)
+    except FaultslipError as exc:
+        print(f"faultslip: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("faultslip: interrupted; no output file was left half-written", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
