@@ -1,0 +1,283 @@
+"""Exact stick-slip cycles for linear kinetic laws (seed 003 eqs. 2-7 to 2-11, solved exactly).
+
+With the kinetic law :math:`\\mu = \\mu_m + \\beta(V - \\dot x)` the slip phase is the linear
+oscillator of seed eq. 2-8. Measuring lengths in :math:`L = W(\\mu_s - \\mu_m)/K` from the
+sliding equilibrium :math:`x_e = (W\\mu_m + (\\beta W + \\eta)V)/K` and time in :math:`1/\\omega_n`,
+a slip phase that starts at break-away (:math:`K x_0 + C V = W\\mu_s`, :math:`\\dot x_0 = V`) is
+
+.. math::
+
+    U'' + 2\\zeta U' + U = 0,\\qquad U(0) = 1 - 2\\zeta\\epsilon,\\quad U'(0) = \\epsilon,\\quad U''(0) = -1,
+
+with :math:`\\epsilon = \\dot\\theta / (\\omega_n(\\mu_s - \\mu_m))`. So every exact cycle is a function of
+two numbers, :math:`(\\zeta, \\epsilon)`, and is vectorised over arrays of them. Displacement, velocity
+and acceleration are damped sinusoids :math:`e^{-\\zeta s}(p\\cos\\omega s + q\\sin\\omega s)` whose
+zeros are known in closed form; the only root-finding is the end of slip, :math:`U'(s) = \\epsilon`,
+on a bracket where :math:`U'` is monotonic (between a velocity minimum and the next maximum),
+by safeguarded Newton iteration. Nothing is time-stepped.
+
+Stick starts again when the slider velocity returns to V; the force then needed to hold it,
+:math:`K x + C V \\le W\\mu_m`, is always inside the static limit. Regimes:
+
+* ``stick_slip``: the velocity returns to V in the first swing;
+* ``steady_sliding``: :math:`\\zeta > 0` and the first velocity maximum stays below V; the
+  oscillation decays to steady sliding (seed Fig. 2-8c);
+* ``growing_oscillation``: :math:`\\zeta < 0`: the slip oscillation grows, so steady sliding is
+  unstable and the velocity always returns to V (in the first swing from a break-away; later
+  swings for other starting points). The cycle quantities are still exact.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP, CycleResult
+from .errors import InputError, MethodError
+
+#: Regime codes in the vectorised arrays.
+REGIME_CODES = {0: STICK_SLIP, 1: STEADY_SLIDING, 2: GROWING_OSCILLATION}
+_MAX_SWINGS = 10**7
+
+
+def _damped(p, q, zeta, omega, s):
+    """e^{-zeta s} (p cos(omega s) + q sin(omega s))."""
+    return np.exp(-zeta * s) * (p * np.cos(omega * s) + q * np.sin(omega * s))
+
+
+def _first_zero(p, q, omega, include_zero: bool):
+    """Smallest s > 0 (or >= 0) where p cos(omega s) + q sin(omega s) = 0."""
+    phase = np.arctan2(q, p)
+    k = np.ceil((-phase - np.pi / 2) / np.pi)
+    s = (phase + np.pi / 2 + k * np.pi) / omega
+    too_early = (s < 0) | ((s <= 0) if not include_zero else False)
+    return np.where(too_early, s + np.pi / omega, s)
+
+
+class _Oscillator:
+    """Coefficients of U, U', U'' for U'' + 2 zeta U' + U = 0 from (U0, V0)."""
+
+    def __init__(self, zeta, u0, v0):
+        self.zeta = zeta
+        self.omega = np.sqrt(1.0 - zeta * zeta)
+        a0 = -2.0 * zeta * v0 - u0
+        j0 = -2.0 * zeta * a0 - v0
+        w = self.omega
+        self.coef = {
+            "u": (u0, (v0 + zeta * u0) / w),
+            "v": (v0, (a0 + zeta * v0) / w),
+            "a": (a0, (j0 + zeta * a0) / w),
+        }
+
+    def __call__(self, which, s):
+        p, q = self.coef[which]
+        return _damped(p, q, self.zeta, self.omega, s)
+
+    def velocity_and_acceleration(self, s):
+        """U'(s) and U''(s), sharing one exp, cos and sin (the Newton loop's hot path)."""
+        decay = np.exp(-self.zeta * s)
+        cos, sin = np.cos(self.omega * s), np.sin(self.omega * s)
+        (pv, qv), (pa, qa) = self.coef["v"], self.coef["a"]
+        return decay * (pv * cos + qv * sin), decay * (pa * cos + qa * sin)
+
+    def first_zero(self, which, include_zero=False):
+        p, q = self.coef[which]
+        return _first_zero(p, q, self.omega, include_zero)
+
+
+def _solve_increasing(osc, target, lo, hi, iterations=80):
+    """Vectorised safeguarded Newton for osc('v', s) = target on [lo, hi], where U' increases."""
+    f_lo = osc("v", lo) - target
+    f_hi = osc("v", hi) - target
+    # secant start inside the bracket
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.where(f_hi > f_lo, lo - f_lo * (hi - lo) / (f_hi - f_lo), 0.5 * (lo + hi))
+    x = np.clip(np.nan_to_num(x, nan=0.5), lo, hi)
+    active = np.isfinite(x) & np.isfinite(target)
+    tolerance = 32 * np.finfo(float).eps  # near tangency (slope ~ 0) Newton dithers at a few ULPs
+    for _ in range(iterations):
+        velocity, slope = osc.velocity_and_acceleration(x)
+        f = velocity - target
+        lo = np.where(active & (f < 0), x, lo)
+        hi = np.where(active & (f >= 0), x, hi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = x - f / slope
+        inside = (newton >= lo) & (newton <= hi) & (slope > 0)
+        x_new = np.where(inside, newton, 0.5 * (lo + hi))
+        step = np.abs(x_new - x)
+        x = np.where(active, x_new, x)
+        # converged: a step or bracket at round-off level, or a residual at the
+        # rounding level of U' itself (O(1) terms), where the root is ill-conditioned
+        scale = np.maximum(np.abs(x), 1.0)
+        active &= (step > tolerance * scale) & (hi - lo > tolerance * scale) & (np.abs(f) > 8 * np.finfo(float).eps)
+        if not active.any():
+            break
+    return x
+
+
+def slip_cycle(damping_ratio, dimensionless_rate, initial_offset=None):
+    """Exact slip phase in dimensionless form, vectorised over ``(zeta, epsilon)``.
+
+    Parameters
+    ----------
+    damping_ratio : array_like
+        :math:`\\zeta`, ``|zeta| < 1``.
+    dimensionless_rate : array_like
+        :math:`\\epsilon = \\dot\\theta/(\\omega_n(\\mu_s-\\mu_m)) \\ge 0`.
+    initial_offset : array_like, optional
+        :math:`U(0)`; default :math:`1 - 2\\zeta\\epsilon` (break-away from a stick at
+        the static limit). Other values describe slips that start elsewhere (simulator).
+
+    Returns
+    -------
+    dict of arrays
+        ``regime`` (codes of :data:`REGIME_CODES`), ``swings`` (velocity oscillations in the
+        slip phase, 1 normally), ``slip_time`` :math:`s_{end}`, ``u_start``, ``u_end``,
+        ``u_max``, ``u_min``, ``v_min`` (all in units of L, :math:`\\omega_n L`,
+        :math:`1/\\omega_n`). NaN where the regime is steady sliding.
+    """
+    zeta, eps = np.broadcast_arrays(np.asarray(damping_ratio, float), np.asarray(dimensionless_rate, float))
+    if np.any(np.abs(zeta) >= 1):
+        raise MethodError(
+            "exact cycle: damping ratio must satisfy |zeta| < 1 (oscillating slip phase); "
+            "use event-driven integration (method='simulate') for an overdamped slider"
+        )
+    if np.any(eps < 0) or not np.all(np.isfinite(eps)):
+        raise InputError("exact cycle: the dimensionless loading rate must be finite and non-negative")
+    u0 = 1.0 - 2.0 * zeta * eps if initial_offset is None else np.broadcast_to(np.asarray(initial_offset, float), zeta.shape)
+    osc = _Oscillator(zeta, u0, eps)
+    omega = osc.omega
+
+    s_vmin = osc.first_zero("a")  # acceleration zeros: velocity minimum, then maximum
+    s_vmax = s_vmin + np.pi / omega
+    v_max = osc("v", s_vmax)
+    growth = np.exp(-2.0 * np.pi * zeta / omega)  # per swing: > 1 when zeta < 0
+
+    returns_now = v_max >= eps
+    with np.errstate(divide="ignore", invalid="ignore"):
+        needed = np.ceil(np.log(eps / v_max) / np.log(growth))
+    swings = np.where(returns_now, 0.0, np.where(zeta < 0, needed, np.nan))
+    swings = np.where(swings > _MAX_SWINGS, np.nan, swings)
+    steady = ~np.isfinite(swings)
+    n = np.nan_to_num(swings)
+    scale = growth**n  # every point of swing n is swing 0 scaled by growth**n
+    target = np.where(steady, np.nan, eps / scale)
+    s_end0 = _solve_increasing(osc, np.where(steady, 0.0, target), s_vmin, s_vmax)
+
+    s_umax = osc.first_zero("v", include_zero=True)
+    s_umin = s_umax + np.pi / omega
+    period_shift = 2.0 * np.pi * n / omega
+    nan_if_steady = lambda a: np.where(steady, np.nan, a)  # noqa: E731
+    regime = np.where(steady, 1, np.where(zeta < 0, 2, 0))
+    return {
+        "regime": regime.astype(int),
+        "swings": nan_if_steady(n + 1),
+        "slip_time": nan_if_steady(s_end0 + period_shift),
+        "u_start": u0 + 0.0 * zeta,
+        "u_end": nan_if_steady(osc("u", s_end0) * scale),
+        "u_max": nan_if_steady(osc("u", s_umax) * scale),
+        "u_min": nan_if_steady(osc("u", s_umin) * scale),
+        "v_min": nan_if_steady(osc("v", s_vmin) * scale),
+    }
+
+
+def exact_cycle_arrays(loading_rate, normal_load, stiffness, mass, static_excess, damping_ratio):
+    """Dimensional exact-cycle quantities, vectorised (numpy broadcasting; SI).
+
+    Returns a dict with ``regime`` codes, ``dimensionless_rate``, ``amplitude`` (peak-to-peak
+    displacement), ``stick_duration``, ``slip_duration``, ``period``, ``slip_per_event``
+    (= V T), ``peak_slip_speed`` (largest sliding speed V - x'), ``stress_drop`` (drop of
+    K x + C V from break-away to re-stick) and ``swings``.
+    """
+    omega_n = np.sqrt(stiffness / mass)
+    length = normal_load * static_excess / stiffness
+    with np.errstate(divide="ignore", invalid="ignore"):
+        eps = loading_rate / (omega_n * static_excess)
+    cycle = slip_cycle(damping_ratio, eps)
+    speed_scale = omega_n * length
+    with np.errstate(divide="ignore", invalid="ignore"):
+        stick_time = (cycle["u_start"] - cycle["u_end"]) / (eps * omega_n)
+    slip_time = cycle["slip_time"] / omega_n
+    period = stick_time + slip_time
+    platform_speed = eps * speed_scale
+    return {
+        "regime": cycle["regime"],
+        "swings": cycle["swings"],
+        "dimensionless_rate": eps,
+        "amplitude": length * (cycle["u_max"] - cycle["u_min"]),
+        "stick_duration": stick_time,
+        "slip_duration": slip_time,
+        "period": period,
+        "slip_per_event": platform_speed * period,
+        "peak_slip_speed": speed_scale * (eps - cycle["v_min"]),
+        "stress_drop": stiffness * length * (cycle["u_start"] - cycle["u_end"]),
+    }
+
+
+def _require_linear_rate_system(system, method="exact cycle"):
+    if not system.is_linear:
+        raise MethodError(
+            f"{method}: the kinetic law of {system.name} is not linear in sliding speed; "
+            "use event-driven integration (method='simulate')"
+        )
+    if system.static_excess is None:
+        raise MethodError(
+            f"{method}: the static law of {system.name} depends on the time of stick, so each cycle "
+            "depends on the last; use event-driven integration (method='simulate')"
+        )
+    if system.static_excess <= 0:
+        raise InputError(f"{method}: mu_s must exceed mu_m for stick-slip in {system.name}")
+
+
+def exact_cycle(system) -> CycleResult:
+    """The exact limit cycle of a :class:`~faultslip.slider.SliderSystem` with a linear kinetic law."""
+    _require_linear_rate_system(system)
+    q = exact_cycle_arrays(
+        system.loading_rate, system.normal_load, system.stiffness, system.mass,
+        system.static_excess, system.damping_ratio,
+    )
+    scalar = {key: float(np.asarray(value)) for key, value in q.items()}
+    regime = REGIME_CODES[int(scalar["regime"])]
+    result = CycleResult(
+        method="exact_cycle",
+        regime=regime,
+        loading_rate=system.loading_rate,
+        platform_speed=system.platform_speed,
+        static_friction=system.mu_m + system.static_excess,
+        damping_ratio=system.damping_ratio,
+        dimensionless_rate=scalar["dimensionless_rate"],
+        amplitude=scalar["amplitude"],
+        slip_per_event=scalar["slip_per_event"],
+        stick_duration=scalar["stick_duration"],
+        slip_duration=scalar["slip_duration"],
+        period=scalar["period"],
+        peak_slip_speed=scalar["peak_slip_speed"],
+        stress_drop=scalar["stress_drop"],
+        scale=system.scale,
+    )
+    if regime == GROWING_OSCILLATION:
+        result.extra["swings"] = (scalar["swings"], None, "velocity swings per slip phase")
+    return result
+
+
+def slip_trajectory(system, duration=None, samples=400, start=None):
+    """Analytic slip-phase trajectory (t, x, x') from break-away, for phase-plane plots.
+
+    ``duration`` defaults to the end of slip (or 6 natural periods if the slider slides on).
+    ``start`` optionally overrides the initial displacement (default: the static limit).
+    """
+    _require_linear_rate_system(system, "slip trajectory")
+    zeta, omega_n = system.damping_ratio, system.natural_frequency
+    excess = system.static_excess
+    length = system.normal_load * excess / system.stiffness
+    eps = system.loading_rate / (omega_n * excess)
+    x_eq = (system.normal_load * system.mu_m + (system.kinetic_slope * system.normal_load + system.radiation_damper)
+            * system.platform_speed) / system.stiffness
+    u0 = 1.0 - 2.0 * zeta * eps if start is None else (start - x_eq) / length
+    cycle = slip_cycle(zeta, eps, u0)
+    if duration is None:
+        s_end = float(cycle["slip_time"]) if np.isfinite(cycle["slip_time"]) else 12 * np.pi
+    else:
+        s_end = duration * omega_n
+    s = np.linspace(0.0, s_end, samples)
+    osc = _Oscillator(np.float64(zeta), np.float64(u0), np.float64(eps))
+    return s / omega_n, x_eq + length * osc("u", s), omega_n * length * osc("v", s)
