@@ -211,6 +211,8 @@ def closed_form_cycle(system):
     amplitude = float(slip_amplitude(system.normal_load, system.stiffness, excess, zeta))
     slip_time = float(slip_duration(system.stiffness, system.mass, zeta))
     stick_time = float(stick_duration(amplitude, system.platform_speed))
+    eps = float(dimensionless_rate(system.loading_rate, system.natural_frequency, excess))
+    _warn_above_critical(system, eps, zeta)
     return CycleResult(
         method="closed_form",
         regime=STICK_SLIP,
@@ -218,7 +220,7 @@ def closed_form_cycle(system):
         platform_speed=system.platform_speed,
         static_friction=system.mu_m + excess,
         damping_ratio=zeta,
-        dimensionless_rate=float(dimensionless_rate(system.loading_rate, system.natural_frequency, excess)),
+        dimensionless_rate=eps,
         amplitude=amplitude,
         slip_per_event=amplitude,
         stick_duration=stick_time,
@@ -228,3 +230,20 @@ def closed_form_cycle(system):
         stress_drop=float(stress_drop(system.stiffness, amplitude)),
         scale=system.scale,
     )
+
+
+def _warn_above_critical(system, eps, zeta):
+    """The closed form always reports stick-slip; above theta_c that is the wrong regime."""
+    import warnings
+
+    from .critical import cached_critical_dimensionless_rate
+    from .errors import OutOfDomainWarning
+
+    if zeta > 0 and eps >= cached_critical_dimensionless_rate(zeta):
+        warnings.warn(
+            f"closed form used above the critical loading rate in {system.name}: epsilon = {eps:.3g} >= "
+            f"epsilon_c({zeta:.3g}) = {cached_critical_dimensionless_rate(zeta):.3g}; the exact cycle predicts "
+            "steady sliding here, not stick-slip. Use the exact cycle (method='exact_cycle').",
+            OutOfDomainWarning,
+            stacklevel=3,
+        )

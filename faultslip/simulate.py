@@ -1,0 +1,405 @@
+"""Event-driven time integration of stick and slip (any friction law, any scale).
+
+The friction discontinuity is never smoothed. The simulation alternates:
+
+* **stick**, analytic: x = x_s + V (t - t_s). It ends when the holding force K x + C V reaches
+  W mu_s. For rate and constant laws the break-away displacement is explicit; for a
+  time-of-stick law mu_s(t_stick) it is the single root of a convex function, located by
+  Brent's method on an analytic bracket. A stick phase is never stepped through, so fault-scale
+  interseismic periods (~1e9-1e10 s) cost nothing.
+* **slip**, from (x_break, V): analytic for linear kinetic laws (see :mod:`faultslip.exact_cycle`),
+  otherwise integrated by a scipy method with dense output in scaled variables
+  X = K x / W, Y = K x' / (W omega_n), s = omega_n t. The end of slip (x' returns to V,
+  sliding speed 0) is a terminal event located by scipy's root finder to the integrator's
+  tolerance; the force needed to stick is then checked against the static limit.
+
+Failures are never silent: step-size collapse, an exhausted evaluation budget, a slip that
+neither ends nor decays within the horizon, or a reverse slip raise :class:`SolverError`
+naming the method, the scene and what to do instead.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from .cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP
+from .errors import InputError, SolverError
+from .exact_cycle import _Oscillator, slip_cycle
+
+INTEGRATORS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+SUSTAINED_OSCILLATION = "sustained_oscillation"
+
+
+class _BudgetExceeded(Exception):
+    pass
+
+
+class _BadFriction(Exception):
+    def __init__(self, sliding, mu):
+        super().__init__(sliding, mu)
+        self.sliding, self.mu = sliding, mu
+
+
+class SlipOutcome:
+    """One slip phase: samples, end state and per-event quantities (SI, local time)."""
+
+    __slots__ = ("times", "x", "v", "duration", "x_end", "x_max", "x_min", "v_min", "regime", "evaluations")
+
+    def __init__(self, **kw):
+        for key in self.__slots__:
+            setattr(self, key, kw.get(key))
+
+
+def _stick_duration(system, x_start):
+    """Time until K x + C V reaches W mu_s during a stick that starts at x_start."""
+    law = system.static_law
+    K, C, W, V = system.stiffness, system.dashpot, system.normal_load, system.platform_speed
+    if not law.depends_on_stick_time:
+        x_break = (W * float(law.limit(system.loading_rate)) - C * V) / K
+        return max(0.0, (x_break - x_start) / V)
+
+    def excess(tau):
+        return K * (x_start + V * tau) + C * V - W * float(law.limit(system.loading_rate, tau))
+
+    if excess(0.0) >= 0:
+        return 0.0
+    upper = getattr(law, "mu_upper", None)
+    if upper is not None:  # mu_s <= mu_upper, so the force reaches the limit by then
+        hi = max((W * upper - C * V - K * x_start) / (K * V), 0.0) * (1 + 1e-12) + 1e-300
+    else:
+        hi = max(abs(x_start) / V, 1.0 / system.natural_frequency)
+        while excess(hi) < 0:
+            hi *= 2.0
+            if hi > 1e30:
+                raise SolverError(f"simulate: the static limit of {system.name} is never reached during stick")
+    return brentq(excess, 0.0, hi, xtol=1e-15 * hi, rtol=4 * np.finfo(float).eps, maxiter=200)
+
+
+def _equilibrium(system):
+    """Sliding equilibrium of a linear slip phase: x_e = (W mu_m + (beta W + eta) V)/K."""
+    return (system.normal_load * system.mu_m
+            + (system.kinetic_slope * system.normal_load + system.radiation_damper) * system.platform_speed) / system.stiffness
+
+
+def _analytic_slip(system, x_break, samples, horizon_periods):
+    zeta, omega_n = system.damping_ratio, system.natural_frequency
+    if not -1 < zeta < 1:
+        raise SolverError(f"simulate (analytic slip): damping ratio {zeta:.3g} of {system.name} is not oscillatory; "
+                          "use an integrator, e.g. slip_solver='Radau'")
+    length = system.normal_load / system.stiffness
+    x_eq = _equilibrium(system)
+    eps = system.platform_speed / (omega_n * length)
+    u0 = (x_break - x_eq) / length
+    cycle = slip_cycle(zeta, eps, u0)
+    osc = _Oscillator(np.float64(zeta), np.float64(u0), np.float64(eps))
+    regime = {0: STICK_SLIP, 1: STEADY_SLIDING, 2: GROWING_OSCILLATION}[int(cycle["regime"])]
+    if regime == STEADY_SLIDING:
+        s = np.linspace(0.0, 2 * np.pi * horizon_periods, max(samples, 40 * horizon_periods))
+        return SlipOutcome(times=s / omega_n, x=x_eq + length * osc("u", s), v=omega_n * length * osc("v", s),
+                           duration=np.inf, regime=STEADY_SLIDING, evaluations=0)
+    s_end = float(cycle["slip_time"])
+    s = np.linspace(0.0, s_end, samples)
+    x = x_eq + length * osc("u", s)
+    v = omega_n * length * osc("v", s)
+    v[-1] = system.platform_speed  # the event itself, exactly
+    return SlipOutcome(
+        times=s / omega_n, x=x, v=v, duration=s_end / omega_n,
+        x_end=x_eq + length * float(cycle["u_end"]),
+        x_max=x_eq + length * float(cycle["u_max"]), x_min=x_eq + length * float(cycle["u_min"]),
+        v_min=omega_n * length * float(cycle["v_min"]), regime=regime, evaluations=0,
+    )
+
+
+def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_periods, budget, counter):
+    K, W, C, eta, V = system.stiffness, system.normal_load, system.dashpot, system.radiation_damper, system.platform_speed
+    omega_n = system.natural_frequency
+    speed_scale = omega_n * W / K  # velocity of one unit of Y
+    kinetic = system.kinetic_law
+    y_v = V / speed_scale
+
+    def rhs(s, state):
+        counter[0] += 1
+        if budget is not None and counter[0] > budget:
+            raise _BudgetExceeded
+        velocity = state[1] * speed_scale
+        sliding = V - velocity
+        mu = kinetic(sliding)
+        if not (mu >= 0 and np.isfinite(mu)):  # also catches a diverging solution (inf, NaN)
+            raise _BadFriction(sliding, mu)
+        return [state[1], mu + (eta * sliding - C * velocity) / W - state[0]]
+
+    def jacobian(s, state):
+        sliding = V - state[1] * speed_scale
+        dmu = float(kinetic.derivative(sliding))
+        return [[0.0, 1.0], [-1.0, -(dmu * speed_scale) - (eta + C) * speed_scale / W]]
+
+    def end_of_slip(s, state):
+        return state[1] - y_v
+
+    end_of_slip.terminal = True
+    end_of_slip.direction = 1
+
+    def at_rest(s, state):  # x extrema, for the peak-to-peak amplitude
+        return state[1]
+
+    excess = system.static_excess if system.static_excess is not None else abs(float(kinetic(0.0)))
+    scale = max(excess if excess else 0.0, 1e-6)
+    options = dict(method=solver, rtol=rtol, atol=atol if atol is not None else rtol * 1e-3 * scale,
+                   dense_output=True, events=[end_of_slip, at_rest])
+    if solver in ("Radau", "BDF", "LSODA"):
+        options["jac"] = jacobian
+    start = [K * x_break / W, y_v]
+    try:
+        solution = solve_ivp(rhs, (0.0, 2 * np.pi * horizon_periods), start, **options)
+    except _BadFriction as bad:
+        raise SolverError(
+            f"simulate ({solver}): the kinetic law of {system.name} gives friction {float(bad.mu):.3g} at sliding "
+            f"speed {float(bad.sliding):.3g} m/s; friction must stay finite and non-negative, so the law is used "
+            "outside its valid speed range (the slip runs away); limit its velocity weakening or add damping"
+        ) from None
+    except _BudgetExceeded:
+        raise SolverError(
+            f"simulate ({solver}, rtol={rtol:g}): budget of {budget} function evaluations exceeded in a slip phase "
+            f"of {system.name}; use the exact cycle for linear laws, a looser rtol, or a larger budget"
+        ) from None
+    if solution.status == -1:
+        raise SolverError(
+            f"simulate ({solver}, rtol={rtol:g}) failed in a slip phase of {system.name}: {solution.message} "
+            "Try a stiff method (Radau, LSODA) or a looser rtol."
+        )
+    ended = solution.status == 1 and solution.t_events[0].size > 0
+    if not ended:
+        x_scaled, y_scaled = solution.y[:, -1]
+        equilibrium = float(kinetic(V)) + eta * V / W
+        initial = math.hypot(start[0] - equilibrium, start[1])
+        final = math.hypot(x_scaled - equilibrium, y_scaled)
+        regime = STEADY_SLIDING if final < 1e-6 * initial else SUSTAINED_OSCILLATION
+        s = np.linspace(0.0, solution.t[-1], max(samples, 40 * horizon_periods))
+        states = solution.sol(s)
+        return SlipOutcome(times=s / omega_n, x=states[0] * W / K, v=states[1] * speed_scale, duration=np.inf,
+                           regime=regime, evaluations=solution.nfev)
+    s_end = float(solution.t_events[0][0])
+    end_state = solution.y_events[0][0]
+    s = np.linspace(0.0, s_end, samples)
+    states = solution.sol(s)
+    x = states[0] * W / K
+    v = states[1] * speed_scale
+    x[-1], v[-1] = end_state[0] * W / K, V
+    rests = solution.y_events[1][:, 0] * W / K if solution.t_events[1].size else np.array([])
+    candidates = np.concatenate([x, rests])
+    velocity_min = float(np.min(states[1])) * speed_scale
+    return SlipOutcome(times=s / omega_n, x=x, v=v, duration=s_end / omega_n, x_end=float(end_state[0] * W / K),
+                       x_max=float(candidates.max()), x_min=float(candidates.min()), v_min=velocity_min,
+                       regime=STICK_SLIP, evaluations=solution.nfev)
+
+
+def simulate(
+    system,
+    cycles: int = 100,
+    *,
+    slip_solver: str = "auto",
+    rtol: float = 1e-10,
+    atol: float | None = None,
+    samples_per_slip: int = 64,
+    initial_displacement: float = 0.0,
+    horizon_periods: int = 200,
+    max_evaluations: int | None = None,
+    scene: str | None = None,
+):
+    """Simulate ``cycles`` stick-slip cycles of a :class:`~faultslip.slider.SliderSystem`.
+
+    Parameters
+    ----------
+    slip_solver : {"auto", "analytic", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"}
+        "auto" uses the analytic slip phase for linear kinetic laws and DOP853 otherwise.
+    rtol, atol : float
+        Integrator tolerances (scaled variables); ignored by the analytic slip phase.
+    initial_displacement : float
+        Displacement (m) at t = 0, stuck to the platform. Default 0: spring unloaded.
+    horizon_periods : int
+        Longest slip phase, in natural periods, before it is judged steady or sustained.
+    max_evaluations : int, optional
+        Budget of right-hand-side evaluations for the whole run (integrators only).
+
+    Returns
+    -------
+    xarray.Dataset
+        On ``time``: displacement, velocity, sliding_speed, spring_force, friction_force,
+        friction_coefficient and phase (0 stick, 1 slip). On ``event``: break-away time,
+        amplitude (peak-to-peak), stick and slip durations, period, peak sliding speed, stress
+        drop, slip and static friction at break-away. Attributes carry the method, tolerance,
+        regime and the system with units.
+    """
+    if cycles < 1:
+        raise InputError(f"cycles must be at least 1, got {cycles}")
+    if samples_per_slip < 3:
+        raise InputError("samples_per_slip must be at least 3")
+    solver = slip_solver
+    if solver == "auto":
+        solver = "analytic" if system.is_linear else "DOP853"
+    if solver not in ("analytic",) + INTEGRATORS:
+        raise InputError(f"unknown slip solver {slip_solver!r}; allowed: auto, analytic, {', '.join(INTEGRATORS)}")
+    if solver == "analytic" and not system.is_linear:
+        raise InputError(f"the analytic slip phase needs a linear kinetic law; {system.name} has "
+                         f"{type(system.kinetic_law).__name__}: use an integrator such as DOP853")
+    name = scene or system.name
+    K, W, V, C = system.stiffness, system.normal_load, system.platform_speed, system.dashpot
+
+    t, x = 0.0, float(initial_displacement)
+    times, xs, vs, forces, phases = [], [], [], [], []
+    events = {key: [] for key in ("event_time", "amplitude", "stick_duration", "slip_duration", "peak_slip_speed",
+                                  "stress_drop", "slip", "static_friction")}
+    regime = STICK_SLIP
+    counter = [0]
+    started = _time.perf_counter()
+    for _ in range(cycles):
+        stick = _stick_duration(system, x)
+        x_break = x + V * stick
+        holding = K * x_break + C * V
+        times.extend([t, t + stick])
+        xs.extend([x, x_break])
+        vs.extend([V, V])
+        forces.extend([K * x + C * V, holding])
+        phases.extend([0, 0])
+        t += stick
+        if solver == "analytic":
+            slip = _analytic_slip(system, x_break, samples_per_slip, horizon_periods)
+        else:
+            slip = _integrated_slip(system, x_break, samples_per_slip, solver, rtol, atol, horizon_periods,
+                                    max_evaluations,
+                                    counter)
+        sliding = V - slip.v
+        times.extend(t + slip.times[1:])
+        xs.extend(slip.x[1:])
+        vs.extend(slip.v[1:])
+        forces.extend(W * np.asarray(system.kinetic_law(sliding[1:]), dtype=float))
+        phases.extend([1] * (len(slip.times) - 1))
+        if slip.regime not in (STICK_SLIP, GROWING_OSCILLATION):
+            regime = slip.regime
+            break
+        if slip.regime == GROWING_OSCILLATION:
+            regime = GROWING_OSCILLATION
+        restick_force = K * slip.x_end + C * V
+        limit = W * float(system.static_law.limit(system.loading_rate, 0.0))
+        if restick_force < -limit:
+            raise SolverError(
+                f"simulate ({solver}): in {name} the slider overtakes the platform (reverse slip), "
+                "which this model does not describe; reduce the velocity weakening or add damping"
+            )
+        events["event_time"].append(t)
+        events["amplitude"].append(slip.x_max - slip.x_min)
+        events["stick_duration"].append(stick)
+        events["slip_duration"].append(slip.duration)
+        events["peak_slip_speed"].append(V - slip.v_min)
+        events["stress_drop"].append(holding - restick_force)
+        events["slip"].append(V * slip.duration + (x_break - slip.x_end))
+        events["static_friction"].append(holding / W)
+        t += slip.duration
+        x = slip.x_end
+    elapsed = _time.perf_counter() - started
+    return _dataset(system, name, solver, rtol, atol, regime, times, xs, vs, forces, phases, events, counter[0], elapsed)
+
+
+def _dataset(system, name, solver, rtol, atol, regime, times, xs, vs, forces, phases, events, evaluations, elapsed):
+    import xarray as xr
+
+    units = system.units
+    V, W, K = system.platform_speed, system.normal_load, system.stiffness
+    xs, vs, forces = np.asarray(xs), np.asarray(vs), np.asarray(forces)
+    event_times = np.asarray(events["event_time"])
+    period = np.full(event_times.shape, np.nan)
+    period[1:] = np.diff(event_times)
+
+    def var(dims, data, unit, long_name, **extra):
+        return (dims, np.asarray(data, dtype=float), {"units": unit, "long_name": long_name, **extra})
+
+    dataset = xr.Dataset(
+        data_vars={
+            "displacement": var("time", xs, "m", "slider displacement from the unloaded spring"),
+            "velocity": var("time", vs, "m/s", "slider velocity"),
+            "sliding_speed": var("time", V - vs, "m/s", "sliding speed V - x' (0 during stick)"),
+            "spring_force": var("time", K * xs, units["force"], "spring force K x (what the strain ring records)"),
+            "friction_force": var("time", forces, units["force"], "friction force on the slider"),
+            "friction_coefficient": var("time", forces / W, "1", "friction force over normal load"),
+            "phase": ("time", np.asarray(phases, dtype=np.int8),
+                      {"long_name": "stick (0) or slip (1)", "flag_values": np.array([0, 1], dtype=np.int8),
+                       "flag_meanings": "stick slip", "units": "1"}),
+            "event_time": var("event", event_times, "s", "break-away time"),
+            "amplitude": var("event", events["amplitude"], "m", "peak-to-peak displacement of the slip"),
+            "stick_duration": var("event", events["stick_duration"], "s", "duration of the stick before the event"),
+            "slip_duration": var("event", events["slip_duration"], "s", "duration of the slip phase"),
+            "period": var("event", period, "s", "time since the previous break-away"),
+            "peak_slip_speed": var("event", events["peak_slip_speed"], "m/s", "largest sliding speed V - x'"),
+            "stress_drop": var("event", events["stress_drop"], units["force"], "drop of K x + C V, break-away to re-stick"),
+            "slip": var("event", events["slip"], "m", "relative slip of slider and platform in the event"),
+            "static_friction": var("event", events["static_friction"], "1", "holding force over W at break-away"),
+        },
+        coords={
+            "time": ("time", np.asarray(times, dtype=float), {"units": "s", "long_name": "time", "axis": "T"}),
+            "event": ("event", np.arange(event_times.size), {"long_name": "event number", "units": "1"}),
+        },
+    )
+    attrs = {
+        "title": f"faultslip simulation: {name}",
+        "method": "event_driven",
+        "slip_solver": solver,
+        "rtol": rtol if solver != "analytic" else 0.0,
+        "atol": (atol if atol is not None else -1.0) if solver != "analytic" else 0.0,
+        "regime": regime,
+        "scene": name,
+        "scale": system.scale,
+        "function_evaluations": int(evaluations),
+        "wall_time_s": float(elapsed),
+        "static_law": type(system.static_law).__name__,
+        "kinetic_law": type(system.kinetic_law).__name__,
+        "Conventions": "CF-1.8",
+    }
+    for key, (value, unit) in system.describe().items():
+        attrs[key] = float(value)
+        attrs[f"{key}_units"] = unit
+    dataset.attrs.update(attrs)
+    return dataset
+
+
+def summary_report(dataset, title: str | None = None):
+    """A :class:`~faultslip.report.Report` of a simulation: regime, limit-cycle statistics, cost."""
+    from .report import Report
+
+    attrs = dataset.attrs
+    fault = attrs.get("scale") == "fault"
+    r = Report(title or attrs.get("title", "faultslip simulation"))
+    r.section("Simulation")
+    r.add("method", attrs["method"])
+    r.add("slip_solver", attrs["slip_solver"])
+    if attrs["slip_solver"] != "analytic":
+        r.add("rtol", attrs["rtol"], label="relative tolerance")
+    r.add("regime", attrs["regime"])
+    r.add("events", int(dataset.sizes["event"]), label="stick-slip events")
+    r.add("loading_rate", attrs["loading_rate"], "1/s", "loading rate theta_dot")
+    r.add("platform_speed", attrs["platform_speed"], "m/s", "platform speed V", also=("mm/yr",) if fault else ("in/s",))
+    r.add("damping_ratio", attrs["damping_ratio"], label="damping ratio zeta (at rest)")
+    r.add("function_evaluations", attrs["function_evaluations"])
+    r.add("wall_time", attrs["wall_time_s"], "s", "wall time")
+    if dataset.sizes["event"]:
+        last = dataset.isel(event=-1)
+        r.section("Last cycle (the limit cycle once converged)")
+        r.add("slip_amplitude", float(last["amplitude"]), "m", "amplitude (peak to peak)", also=("ft",) if fault else ("in",))
+        r.add("slip_per_event", float(last["slip"]), "m", "slip per event", also=("ft",) if fault else ("in",))
+        r.add("period", float(last["period"]) if dataset.sizes["event"] > 1 else float("nan"), "s", "period",
+              also=("yr",) if fault else ("ms",))
+        r.add("stick_duration", float(last["stick_duration"]), "s", "stick duration", also=("yr",) if fault else ("ms",))
+        r.add("slip_duration", float(last["slip_duration"]), "s", "slip duration")
+        r.add("peak_slip_speed", float(last["peak_slip_speed"]), "m/s", "peak sliding speed")
+        r.add("stress_drop", float(last["stress_drop"]), dataset["stress_drop"].attrs["units"],
+              "stress drop" if fault else "force drop", also=("bar",) if fault else ())
+        r.add("static_friction", float(last["static_friction"]), label="static friction at break-away")
+        amplitudes = dataset["amplitude"].values
+        if amplitudes.size > 2:
+            spread = float(np.ptp(amplitudes[amplitudes.size // 2:]) / np.mean(amplitudes[amplitudes.size // 2:]))
+            r.add("amplitude_spread", spread, label="amplitude spread, 2nd half (max-min)/mean")
+    return r
