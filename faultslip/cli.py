@@ -130,6 +130,121 @@ def cmd_plot_rate_law(args) -> int:
     return 0
 
 
+def cmd_simulate(args) -> int:
+    from .netcdf import write_dataset
+    from .scene import load_scene
+    from .simulate import simulate, summary_report
+
+    scene = load_scene(args.scene)
+    settings = scene.simulation
+    for key in ("cycles", "slip_solver", "rtol"):
+        if getattr(args, key) is not None:
+            settings[key] = getattr(args, key)
+    dataset = simulate(scene.slider(), scene=scene.name, **settings)
+    dataset.attrs["scene_text"] = scene.text
+    report = summary_report(dataset, f"faultslip simulation: {scene.name}")
+    if args.output:
+        write_dataset(dataset, args.output)
+        report.note(f"time series and event table written to {args.output}")
+    if args.plot:
+        from .atomic import save_figure
+        from .plots import sawtooth_figure
+
+        save_figure(sawtooth_figure(dataset), args.plot, dpi=150)
+        report.note(f"sawtooth record drawn to {args.plot}")
+    return _emit(report, args.json)
+
+
+def _system_from_args(args):
+    from .errors import InputError
+    from .scene import load_scene
+    from .slider import SliderSystem
+
+    if args.preset and getattr(args, "scene", None):
+        raise InputError("give a preset or a scene, not both")
+    if args.preset:
+        zeta = 0.0 if args.damping_ratio is None else _number(args.damping_ratio, "damping ratio")
+        return SliderSystem.from_preset(args.preset, loading_rate="1 1/s", damping_ratio=zeta)
+    if getattr(args, "scene", None):
+        system = load_scene(args.scene).slider()
+        if args.damping_ratio is not None:
+            from .closed_form import dashpot_for_damping_ratio
+
+            zeta = _number(args.damping_ratio, "damping ratio")
+            system = system.with_(dashpot=float(dashpot_for_damping_ratio(zeta, system.stiffness, system.mass)))
+        return system
+    raise InputError("give --preset NAME (with --damping-ratio) or a scene file")
+
+
+def _number(text, name):
+    from .units import to_si
+
+    return to_si(text, "dimensionless", name)
+
+
+def cmd_critical(args) -> int:
+    if args.table:
+        return _critical_table(args)
+    from .critical import critical
+
+    return _emit(critical(_system_from_args(args)).report(), args.json)
+
+
+def _critical_table(args) -> int:
+    from pathlib import Path
+
+    from .atomic import save_figure, write_text_atomic
+    from .critical import comparison_dataset, comparison_markdown
+    from .netcdf import write_dataset
+    from .plots import critical_comparison_figure
+
+    dataset = comparison_dataset()
+    markdown = comparison_markdown(dataset)
+    out = Path(args.output or ".")
+    out.mkdir(parents=True, exist_ok=True)
+    write_dataset(dataset, out / "critical_comparison.nc")
+    write_text_atomic(out / "critical_comparison.md", markdown + "\n")
+    save_figure(critical_comparison_figure(dataset), out / "critical_comparison.png", dpi=150)
+    if args.json:
+        print(json.dumps({"files": [str(out / f"critical_comparison.{ext}") for ext in ("nc", "md", "png")],
+                          "critical_loading_rate": {"value": dataset["critical_loading_rate"].values.tolist(), "units": "1/s"},
+                          "seed_appendix_I_loading_rate": {"value": dataset["seed_appendix_I_loading_rate"].values.tolist(), "units": "1/s"},
+                          "preset": [str(p) for p in dataset["preset"].values],
+                          "damping_ratio": dataset["damping_ratio"].values.tolist()}, indent=2))
+    else:
+        print(markdown)
+        print(f"\nwrote {out / 'critical_comparison.nc'}, .md and .png")
+    return 0
+
+
+def cmd_cycle(args) -> int:
+    from .errors import InputError
+    from .exact_cycle import exact_cycle
+    from .scene import load_scene
+    from .units import to_si
+
+    scene = load_scene(args.scene)
+    system = scene.slider()
+    if (args.loading_rate is None) == (args.platform_speed is None):
+        raise InputError("give exactly one of --loading-rate or --platform-speed")
+    if args.loading_rate is not None:
+        system = system.at_loading_rate(to_si(args.loading_rate, "rate", "loading rate"))
+    else:
+        system = system.with_(platform_speed=to_si(args.platform_speed, "speed", "platform speed"))
+    return _emit(exact_cycle(system).report(f"faultslip exact cycle: {scene.name}"), args.json)
+
+
+def cmd_plot_phase_plane(args) -> int:
+    from .atomic import save_figure
+    from .plots import phase_plane_figure
+
+    system = _system_from_args(args)
+    factors = tuple(_number(f, "rate factor") for f in args.rate_factor) if args.rate_factor else (0.3, 0.999, 1.5)
+    save_figure(phase_plane_figure(system, factors), args.output, dpi=150)
+    print(f"wrote {args.output}")
+    return 0
+
+
 # --- parser -----------------------------------------------------------------
 
 
@@ -170,16 +285,56 @@ def build_parser() -> argparse.ArgumentParser:
     materials.add_argument("--json", action="store_true", help="print one JSON object")
     materials.set_defaults(handler=cmd_materials)
 
+    simulate = commands.add_parser("simulate", help="event-driven simulation of stick-slip cycles of a scene")
+    simulate.add_argument("scene", help="scene TOML file or bundled scene name")
+    simulate.add_argument("-o", "--output", help="write the time series and event table to OUT.nc")
+    simulate.add_argument("--plot", help="draw the sawtooth record to FILE.png")
+    simulate.add_argument("--cycles", type=int, help="number of stick-slip cycles (default: the scene's, else 100)")
+    simulate.add_argument("--slip-solver", help="analytic, RK45, RK23, DOP853, Radau, BDF or LSODA (default auto)")
+    simulate.add_argument("--rtol", type=float, help="integrator relative tolerance (default 1e-10)")
+    simulate.add_argument("--json", action="store_true", help="print one JSON object")
+    simulate.set_defaults(handler=cmd_simulate)
+
+    critical = commands.add_parser("critical", help="critical loading rate: exact and seed Appendix I")
+    critical.add_argument("scene", nargs="?", help="scene file (alternative to --preset)")
+    critical.add_argument("--preset", help="Table I preset on its apparatus")
+    critical.add_argument("--damping-ratio", help="damping ratio zeta of the dashpot")
+    critical.add_argument("--table", action="store_true", help="write the exact-vs-seed comparison (nc, md, png)")
+    critical.add_argument("-o", "--output", help="directory for --table (default: current)")
+    critical.add_argument("--json", action="store_true", help="print one JSON object")
+    critical.set_defaults(handler=cmd_critical)
+
+    cycle = commands.add_parser("cycle", help="exact stick-slip cycle of a scene at a loading rate")
+    cycle.add_argument("scene", help="scene TOML file or bundled scene name")
+    cycle.add_argument("--loading-rate", help="theta_dot, e.g. '0.1 1/s'")
+    cycle.add_argument("--platform-speed", help="V, e.g. '1e-4 in/s'")
+    cycle.add_argument("--json", action="store_true", help="print one JSON object")
+    cycle.set_defaults(handler=cmd_cycle)
+
     plot = commands.add_parser("plot", help="draw a figure")
     figures = plot.add_subparsers(dest="figure", metavar="FIGURE", parser_class=_Parser)
     rate_law = figures.add_parser("rate-law", help="mu_s and amplitude against log10 loading rate (seed Figs. 4-1 to 4-22)")
     rate_law.add_argument("--preset", action="append", help="preset name (repeatable; default: all of Table I)")
     rate_law.add_argument("-o", "--output", required=True, help="output image, e.g. rate_law.png")
     rate_law.set_defaults(handler=cmd_plot_rate_law)
+    phase = figures.add_parser("phase-plane", help="phase-plane limit cycles below, at and above the critical rate")
+    phase.add_argument("--preset", help="Table I preset on its apparatus")
+    phase.add_argument("--scene", help="or a scene file")
+    phase.add_argument("--damping-ratio", help="damping ratio zeta (needed for a critical rate)")
+    phase.add_argument("--rate-factor", action="append", help="loading rate as a multiple of theta_c (repeatable)")
+    phase.add_argument("-o", "--output", required=True, help="output image")
+    phase.set_defaults(handler=cmd_plot_phase_plane)
     return parser
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"faultslip: warning: {message}", file=sys.stderr)
+
+
 def main(argv=None) -> int:
+    import warnings
+
+    warnings.showwarning = _show_warning
     parser = build_parser()
     args = parser.parse_args(argv)
     handler = getattr(args, "handler", None)

@@ -66,7 +66,30 @@ SCHEMA: dict[str, dict[str, str | None]] = {
         "normal_load": "force",
         "stiffness": "stiffness",
     },
+    "friction": {
+        "static": "choice",
+        "mu_s": "dimensionless",
+        "mu_lower": "dimensionless",
+        "mu_upper": "dimensionless",
+        "growth_rate": "rate",
+        "kinetic": "choice",
+        "kinetic_slope": "slowness",
+        "polynomial": "list",
+        "polynomial_speed_unit": "unit",
+    },
+    "simulation": {
+        "cycles": "integer",
+        "slip_solver": "choice",
+        "rtol": "dimensionless",
+        "samples_per_slip": "integer",
+        "horizon_periods": "integer",
+    },
     "sources": {},  # free text: any key, string values
+}
+CHOICES = {
+    ("friction", "static"): ("rate", "constant", "time_of_stick"),
+    ("friction", "kinetic"): ("constant", "linear", "polynomial"),
+    ("simulation", "slip_solver"): ("auto", "analytic", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"),
 }
 SCENE_KINDS = ("fault", "lab")
 
@@ -100,15 +123,25 @@ class Scene:
 
         return Fault(**self.fault_inputs)
 
+    @property
+    def simulation(self) -> dict:
+        """Settings of the ``[simulation]`` table (keyword arguments of :func:`faultslip.simulate.simulate`)."""
+        settings = dict(self.tables.get("simulation", {}))
+        if "rtol" in settings:
+            settings["rtol"] = float(settings["rtol"])
+        return settings
+
     def slider(self):
-        """The scene's :class:`~faultslip.slider.SliderSystem`."""
+        """The scene's :class:`~faultslip.slider.SliderSystem`, with any ``[friction]`` laws applied."""
         from .slider import SliderSystem
 
         if self.kind == "fault":
-            return SliderSystem.from_fault(self.fault())
-        lab = dict(self.tables["lab"])
-        preset = lab.pop("preset")
-        return SliderSystem.from_preset(preset, **lab)
+            system = SliderSystem.from_fault(self.fault())
+        else:
+            lab = dict(self.tables["lab"])
+            preset = lab.pop("preset")
+            system = SliderSystem.from_preset(preset, **lab)
+        return apply_friction(system, self.tables.get("friction", {}), self.name)
 
 
 def _suggest(key: str, allowed) -> str:
@@ -165,9 +198,30 @@ def parse_scene(text: str, source: str = "<scene>", path: Path | None = None) ->
 
 
 def _check_value(table, key, value, kind, source):
-    from .units import to_si
+    from .units import to_si, units
 
     where = f"[{table}] {key} in {source}"
+    if kind == "choice":
+        allowed = CHOICES[(table, key)]
+        if value not in allowed:
+            raise InputError(f"{where} must be one of {', '.join(allowed)}; got {value!r}")
+        return
+    if kind == "integer":
+        if not isinstance(value, int) or isinstance(value, bool) or value < 1:
+            raise InputError(f"{where} must be a positive whole number, got {value!r}")
+        return
+    if kind == "list":
+        if not isinstance(value, list) or not value or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in value):
+            raise InputError(f"{where} must be a list of numbers (coefficients in increasing powers), got {value!r}")
+        return
+    if kind == "unit":
+        try:
+            ok = units.Quantity(1, value).dimensionality == units.get_dimensionality("[length]/[time]")
+        except Exception:
+            ok = False
+        if not ok:
+            raise InputError(f"{where} must be a speed unit such as \"m/s\" or \"in/s\", got {value!r}")
+        return
     if kind is None:
         if key == "radiation_damping":
             if not isinstance(value, bool):
@@ -178,6 +232,43 @@ def _check_value(table, key, value, kind, source):
     if kind != "dimensionless" and not isinstance(value, str):
         raise InputError(f"{where} must state its units as a string, e.g. {key} = \"{value} <unit>\"; got {value!r}")
     to_si(value, kind, where)  # raises with the key and file named
+
+
+def apply_friction(system, spec: dict, name: str = "scene"):
+    """Replace a slider's friction laws as a scene's ``[friction]`` table says (SI after parsing)."""
+    from .friction import ConstantKinetic, ConstantStatic, LinearKinetic, PolynomialKinetic, TimeOfStickLaw
+    from .units import to_si, units
+
+    if not spec:
+        return system
+    changes = {}
+    static = spec.get("static", "rate")
+    if static == "constant":
+        _need(spec, ("mu_s",), "static = \"constant\"", name)
+        changes["static_law"] = ConstantStatic(to_si(spec["mu_s"], "dimensionless", "mu_s"))
+    elif static == "time_of_stick":
+        _need(spec, ("mu_lower", "mu_upper", "growth_rate"), "static = \"time_of_stick\"", name)
+        changes["static_law"] = TimeOfStickLaw(
+            to_si(spec["mu_lower"], "dimensionless", "mu_lower"), to_si(spec["mu_upper"], "dimensionless", "mu_upper"),
+            to_si(spec["growth_rate"], "rate", "growth_rate"))
+    mu_m = system.mu_m if static != "time_of_stick" else changes["static_law"].mu_lower
+    kinetic = spec.get("kinetic", "constant" if "kinetic_slope" not in spec else "linear")
+    if kinetic == "constant":
+        changes["kinetic_law"] = ConstantKinetic(mu_m)
+    elif kinetic == "linear":
+        _need(spec, ("kinetic_slope",), "kinetic = \"linear\"", name)
+        changes["kinetic_law"] = LinearKinetic(mu_m, to_si(spec["kinetic_slope"], "slowness", "kinetic_slope"))
+    elif kinetic == "polynomial":
+        _need(spec, ("polynomial",), "kinetic = \"polynomial\"", name)
+        unit = units.Quantity(1, spec.get("polynomial_speed_unit", "m/s")).to("m/s").magnitude
+        changes["kinetic_law"] = PolynomialKinetic([c / unit**k for k, c in enumerate(spec["polynomial"])])
+    return system.with_(**changes)
+
+
+def _need(spec, keys, what, name):
+    missing = [key for key in keys if key not in spec]
+    if missing:
+        raise InputError(f"[friction] with {what} in {name} needs {', '.join(missing)}")
 
 
 def load_scene(path_or_name=None) -> Scene:
@@ -217,9 +308,16 @@ def run_scene(scene: Scene):
         else:
             report = fault.estimate().report()
     else:
-        from .closed_form import closed_form_cycle
+        system = scene.slider()
+        if system.is_linear and system.static_excess is not None:
+            from .closed_form import closed_form_cycle
 
-        report = closed_form_cycle(scene.slider()).report(f"faultslip lab cycle: {scene.name}")
+            report = closed_form_cycle(system).report(f"faultslip lab cycle: {scene.name}")
+        else:  # no closed form for this friction law: simulate the cycles
+            from .simulate import simulate, summary_report
+
+            report = summary_report(simulate(system, scene=scene.name, **scene.simulation),
+                                    f"faultslip lab simulation: {scene.name}")
     if scene.description:
         report.notes.insert(0, scene.description)
     for key, citation in scene.sources.items():
