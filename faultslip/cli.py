@@ -42,10 +42,21 @@ def _emit(report, as_json: bool) -> int:
 # --- handlers ---------------------------------------------------------------
 
 
+def _tolerance(args):
+    if getattr(args, "tolerance", None) is None:
+        return None
+    value = _number(args.tolerance, "tolerance")
+    if not 0 < value < 1:
+        from .errors import InputError
+
+        raise InputError(f"tolerance must be a relative error between 0 and 1, got {args.tolerance}")
+    return value
+
+
 def cmd_run(args) -> int:
     from .scene import load_scene, run_scene
 
-    return _emit(run_scene(load_scene(args.scene)), args.json)
+    return _emit(run_scene(load_scene(args.scene), method=args.method, tolerance=_tolerance(args)), args.json)
 
 
 def cmd_fault(args) -> int:
@@ -62,7 +73,7 @@ def cmd_fault(args) -> int:
     fault = Fault(lithology=args.lithology, radiation_damping=args.radiation_damping, name=args.name, **_required(inputs))
     if args.observed_slip is not None:
         return _emit(fault.infer_kinetic_friction(args.observed_slip).report(), args.json)
-    return _emit(fault.estimate().report(), args.json)
+    return _emit(fault.estimate(method=args.method or "auto", tolerance=_tolerance(args)).report(), args.json)
 
 
 def _required(inputs: dict) -> dict:
@@ -219,7 +230,7 @@ def _critical_table(args) -> int:
 
 def cmd_cycle(args) -> int:
     from .errors import InputError
-    from .exact_cycle import exact_cycle
+    from .methods import solve
     from .scene import load_scene
     from .units import to_si
 
@@ -231,7 +242,9 @@ def cmd_cycle(args) -> int:
         system = system.at_loading_rate(to_si(args.loading_rate, "rate", "loading rate"))
     else:
         system = system.with_(platform_speed=to_si(args.platform_speed, "speed", "platform speed"))
-    return _emit(exact_cycle(system).report(f"faultslip exact cycle: {scene.name}"), args.json)
+    tolerance = _tolerance(args) or scene.tolerance
+    solution = solve(system, method=args.method or scene.method, tolerance=tolerance, cycles=200)
+    return _emit(solution.report(f"faultslip cycle: {scene.name}"), args.json)
 
 
 def cmd_plot_phase_plane(args) -> int:
@@ -245,7 +258,89 @@ def cmd_plot_phase_plane(args) -> int:
     return 0
 
 
+def _progress(label):
+    """A one-line progress counter on stderr, only when it is a terminal."""
+    if not sys.stderr.isatty():
+        return None
+
+    def show(done, total):
+        end = "\n" if done == total else ""
+        print(f"\r{label}: {done}/{total}", end=end, file=sys.stderr, flush=True)
+
+    return show
+
+
+def cmd_bench(args) -> int:
+    from pathlib import Path
+
+    from .atomic import save_figure, write_text_atomic
+    from .bench import chart, markdown, method_names, standard_scenes, work_precision
+    from .errors import InputError
+    from .netcdf import write_dataset
+
+    for name in args.scene or []:
+        if name not in standard_scenes():
+            raise InputError(f"unknown bench scene {name!r}; allowed: {', '.join(standard_scenes())}")
+    for name in args.method or []:
+        if name not in method_names():
+            raise InputError(f"unknown bench method {name!r}; allowed: {', '.join(method_names())}")
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    dataset = work_precision(quick=args.quick, workers=args.workers, scenes=args.scene, methods=args.method,
+                             progress=None if args.json else _progress("bench"))
+    table = markdown(dataset)
+    write_dataset(dataset, out / "work_precision.nc")
+    write_text_atomic(out / "work_precision.md", table + "\n")
+    save_figure(chart(dataset), out / "work_precision.png", dpi=120)
+    files = [str(out / f"work_precision.{ext}") for ext in ("nc", "md", "png")]
+    if args.json:
+        print(json.dumps({"files": files, "wall_time": {"value": dataset.attrs["total_wall_time_s"], "units": "s"},
+                          "scenes": [str(s) for s in dataset["scene"].values],
+                          "methods": [str(m) for m in dataset["method"].values]}, indent=2))
+    else:
+        print(table.split("\n\nOutcome")[0])
+        print(f"\nwrote {', '.join(files)} in {dataset.attrs['total_wall_time_s']:.1f} s")
+    return 0
+
+
+def cmd_stability(args) -> int:
+    from pathlib import Path
+
+    from .atomic import save_figure, write_text_atomic
+    from .netcdf import write_dataset
+    from .stability import DAMPING_RATIOS, METHODS, RATIOS, SEPARATIONS, chart, failure_text, stability_map
+
+    def floats(values, default):
+        return tuple(sorted(_number(v, "grid value") for v in values)) if values else default
+
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    dataset = stability_map(floats(args.ratio, RATIOS), floats(args.damping_ratio, DAMPING_RATIOS),
+                            floats(args.separation, SEPARATIONS), tuple(args.method or METHODS),
+                            workers=args.workers, progress=None if args.json else _progress("stability"))
+    text = failure_text(dataset)
+    write_dataset(dataset, out / "stability.nc")
+    write_text_atomic(out / "stability.md", text + "\n")
+    save_figure(chart(dataset), out / "stability.png", dpi=120)
+    files = [str(out / f"stability.{ext}") for ext in ("nc", "md", "png")]
+    if args.json:
+        print(json.dumps({"files": files, "failure_regions": text.splitlines(),
+                          "wall_time": {"value": dataset.attrs["total_wall_time_s"], "units": "s"}}, indent=2))
+    else:
+        print(text)
+        print(f"\nwrote {', '.join(files)} in {dataset.attrs['total_wall_time_s']:.1f} s")
+    return 0
+
+
 # --- parser -----------------------------------------------------------------
+
+
+def _method_flags(parser):
+    from .scene import METHOD_NAMES
+
+    parser.add_argument("--method", choices=METHOD_NAMES, help="solution method (default: auto, the cheapest "
+                        "method whose error model meets the tolerance)")
+    parser.add_argument("--tolerance", help="relative error the method must meet (default 1e-6)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -255,6 +350,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     run = commands.add_parser("run", help="run a scene (default: the 1906 San Francisco scene)")
     run.add_argument("scene", nargs="?", help="scene TOML file or bundled scene name")
+    _method_flags(run)
     run.add_argument("--json", action="store_true", help="print one JSON object")
     run.set_defaults(handler=cmd_run)
 
@@ -278,6 +374,7 @@ def build_parser() -> argparse.ArgumentParser:
     fault.add_argument("--shear-wave-speed", help="c_s for radiation damping (default 3.3 km/s)")
     fault.add_argument("--observed-slip", help="inverse: report the mu_m that reproduces this slip, e.g. '21 ft'")
     fault.add_argument("--name", default="fault", help="a name for the report")
+    _method_flags(fault)
     fault.add_argument("--json", action="store_true", help="print one JSON object")
     fault.set_defaults(handler=cmd_fault)
 
@@ -308,8 +405,28 @@ def build_parser() -> argparse.ArgumentParser:
     cycle.add_argument("scene", help="scene TOML file or bundled scene name")
     cycle.add_argument("--loading-rate", help="theta_dot, e.g. '0.1 1/s'")
     cycle.add_argument("--platform-speed", help="V, e.g. '1e-4 in/s'")
+    _method_flags(cycle)
     cycle.add_argument("--json", action="store_true", help="print one JSON object")
     cycle.set_defaults(handler=cmd_cycle)
+
+    bench = commands.add_parser("bench", help="work-precision study of every method on standard scenes")
+    bench.add_argument("--quick", action="store_true", help="fewer tolerances and cycles (under 2 minutes on 2 cores)")
+    bench.add_argument("-o", "--output", default="bench", help="output directory (default: bench/)")
+    bench.add_argument("--scene", action="append", help="only this standard scene (repeatable)")
+    bench.add_argument("--method", action="append", help="only this method (repeatable)")
+    bench.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
+    bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.set_defaults(handler=cmd_bench)
+
+    stability = commands.add_parser("stability", help="map where each method fails (rate, damping, separation)")
+    stability.add_argument("-o", "--output", default="stability", help="output directory (default: stability/)")
+    stability.add_argument("--ratio", action="append", help="only these theta/theta_c values (repeatable)")
+    stability.add_argument("--damping-ratio", action="append", help="only these damping ratios (repeatable)")
+    stability.add_argument("--separation", action="append", help="only these stick/slip ratios (repeatable)")
+    stability.add_argument("--method", action="append", help="only this method (repeatable)")
+    stability.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
+    stability.add_argument("--json", action="store_true", help="print one JSON object")
+    stability.set_defaults(handler=cmd_stability)
 
     plot = commands.add_parser("plot", help="draw a figure")
     figures = plot.add_subparsers(dest="figure", metavar="FIGURE", parser_class=_Parser)

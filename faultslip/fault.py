@@ -244,13 +244,17 @@ class Fault:
         return Fault(**keep)
 
     # --- predictions ---
-    def estimate(self) -> "FaultEstimate":
-        """Closed-form slip and recurrence (seed 003 eqs. 2-19, 5-4, 5-5)."""
+    def estimate(self, method: str = "auto", tolerance: float | None = None) -> "FaultEstimate":
+        """Slip and recurrence (seed 003 eqs. 2-19, 5-4, 5-5) by the cheapest sufficient method.
+
+        ``method="auto"`` picks the closed form where its error model meets ``tolerance``
+        (default 1e-6 relative) and the exact cycle otherwise; the estimate records which.
+        """
         if self.material is not None and self.material.preset is not None and not self.material.preset.stick_slip:
             if self.mu_so == self.mu_m:
                 self.material.preset.require_stick_slip()
         self.rate_law.require_stick_slip(f"a stick-slip prediction of {self.name}")
-        return FaultEstimate.from_fault(self)
+        return FaultEstimate.from_fault(self, method, tolerance)
 
     def infer_kinetic_friction(self, observed_slip) -> "FaultInverse":
         """The mu_m that makes eq. 2-19 reproduce an observed slip (seed 003 §5-2, granite)."""
@@ -280,15 +284,26 @@ class FaultEstimate:
     stress_drop: float
     seismic_moment: float | None
     moment_magnitude: float | None
+    method: str = "closed_form"
+    method_reason: str = ""
+    estimated_relative_error: float = float("nan")
+    regime: str = "stick_slip"
+    slip_per_event: float = float("nan")
 
     @classmethod
-    def from_fault(cls, fault: Fault) -> "FaultEstimate":
+    def from_fault(cls, fault: Fault, method: str = "auto", tolerance: float | None = None) -> "FaultEstimate":
+        from .methods import DEFAULT_TOLERANCE, solve
+        from .slider import SliderSystem
+
         law = fault.rate_law
         sigma = fault.effective_normal_stress
         stiffness = fault.stiffness
         rate = fault.loading_rate
         zeta = fault.total_damping_ratio
-        alpha = float(closed_form.rate_law_amplitude(rate, sigma, stiffness, law.mu_so, law.mu_m, law.b, law.d, zeta))
+        solution = solve(SliderSystem.from_fault(fault), method=method,
+                         tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance)
+        cycle = solution.cycle
+        alpha = cycle.amplitude
         moment = magnitude = None
         if fault.rupture_length is not None and fault.seismogenic_depth is not None:
             moment = float(seismic_moment(fault.shear_modulus, fault.rupture_length, fault.seismogenic_depth, alpha))
@@ -302,10 +317,15 @@ class FaultEstimate:
             damping_ratio=zeta,
             slip_amplitude=alpha,
             low_rate_amplitude=float(closed_form.low_rate_amplitude(sigma, stiffness, law.mu_so, law.mu_m)),
-            recurrence_period=float(closed_form.cycle_period(alpha, fault.slip_rate)),
-            stress_drop=float(closed_form.stress_drop(stiffness, alpha)),
+            recurrence_period=cycle.period,
+            stress_drop=cycle.stress_drop,
             seismic_moment=moment,
             moment_magnitude=magnitude,
+            method=solution.method,
+            method_reason=solution.method_reason,
+            estimated_relative_error=solution.estimated_relative_error,
+            regime=cycle.regime,
+            slip_per_event=cycle.slip_per_event,
         )
 
     def report(self) -> Report:
@@ -328,13 +348,19 @@ class FaultEstimate:
             r.add("rupture_length", f.rupture_length, "m", "rupture length L", also=("km", "mi"))
         if f.seismogenic_depth is not None:
             r.add("seismogenic_depth", f.seismogenic_depth, "m", "seismogenic depth H", also=("km",))
-        r.section("Predictions (closed form, seed 003 eqs. 2-18, 2-19, 5-3 to 5-5)")
+        r.section("Method")
+        r.add("method", self.method)
+        r.add("method_reason", self.method_reason, label="why this method")
+        r.add("estimated_relative_error", self.estimated_relative_error, label="estimated relative error")
+        r.section("Predictions (seed 003 eqs. 2-18, 2-19, 5-3 to 5-5)")
+        r.add("regime", self.regime)
         r.add("stiffness", self.stiffness, "Pa/m", "stiffness K = G/D", also=("psi/in",))
         r.add("normal_stress", self.normal_stress, "Pa", "normal stress sigma_n", also=("bar",))
         r.add("loading_rate", self.loading_rate, "1/s", "loading rate K V / sigma_n")
         r.add("static_friction", self.static_friction, label="static friction mu_s")
         r.add("slip_amplitude", self.slip_amplitude, "m", "slip per event alpha", also=("ft",))
         r.add("low_rate_amplitude", self.low_rate_amplitude, "m", "eq. 5-4: 2 sigma_n D dmu / G", also=("ft",))
+        r.add("slip_per_event", self.slip_per_event, "m", "relative slip per event V T", also=("ft",))
         r.add("recurrence_period", self.recurrence_period, "s", "recurrence period T = alpha/V", also=("yr",))
         r.add("stress_drop", self.stress_drop, "Pa", "stress drop K alpha", also=("bar", "MPa"))
         if self.seismic_moment is not None:

@@ -84,9 +84,13 @@ SCHEMA: dict[str, dict[str, str | None]] = {
         "samples_per_slip": "integer",
         "horizon_periods": "integer",
     },
+    "method": {"name": "choice", "tolerance": "dimensionless"},
     "sources": {},  # free text: any key, string values
 }
+METHOD_NAMES = ("auto", "closed_form", "exact_cycle", "simulate", "event_driven_DOP853", "event_driven_RK45",
+                "event_driven_LSODA", "event_driven_Radau")
 CHOICES = {
+    ("method", "name"): METHOD_NAMES,
     ("friction", "static"): ("rate", "constant", "time_of_stick"),
     ("friction", "kinetic"): ("constant", "linear", "polynomial"),
     ("simulation", "slip_solver"): ("auto", "analytic", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"),
@@ -122,6 +126,19 @@ class Scene:
         from .fault import Fault
 
         return Fault(**self.fault_inputs)
+
+    @property
+    def method(self) -> str:
+        return self.tables.get("method", {}).get("name", "auto")
+
+    @property
+    def tolerance(self) -> float:
+        from .methods import DEFAULT_TOLERANCE
+
+        tolerance = float(self.tables.get("method", {}).get("tolerance", DEFAULT_TOLERANCE))
+        if not 0 < tolerance < 1:
+            raise InputError(f"[method] tolerance in {self.name} must lie between 0 and 1, got {tolerance}")
+        return tolerance
 
     @property
     def simulation(self) -> dict:
@@ -294,30 +311,28 @@ def bundled_scenes() -> list[str]:
     return sorted(p.name for p in bundled_dir("configs").glob("*.toml"))
 
 
-def run_scene(scene: Scene):
+def run_scene(scene: Scene, method: str | None = None, tolerance: float | None = None):
     """Evaluate a scene and return its :class:`~faultslip.report.Report`.
 
-    A fault scene gives the slip and recurrence estimate, or, with
-    ``observed_slip``, the implied kinetic friction (seed 003 §5-2). A lab
-    scene gives the stick-slip cycle at its drive speed.
+    A fault scene gives the slip and recurrence estimate, or, with ``observed_slip``, the
+    implied kinetic friction (seed 003 §5-2). A lab scene gives its stick-slip limit cycle. The
+    method is the scene's ``[method]`` (default ``auto``: the cheapest one that meets the
+    tolerance, 1e-6 relative unless the scene or caller says otherwise).
     """
+    method = method or scene.method
+    tolerance = scene.tolerance if tolerance is None else tolerance
     if scene.kind == "fault":
         fault = scene.fault()
         if scene.observed_slip is not None:
             report = fault.infer_kinetic_friction(scene.observed_slip).report()
         else:
-            report = fault.estimate().report()
+            report = fault.estimate(method=method, tolerance=tolerance).report()
     else:
-        system = scene.slider()
-        if system.is_linear and system.static_excess is not None:
-            from .closed_form import closed_form_cycle
+        from .methods import solve
 
-            report = closed_form_cycle(system).report(f"faultslip lab cycle: {scene.name}")
-        else:  # no closed form for this friction law: simulate the cycles
-            from .simulate import simulate, summary_report
-
-            report = summary_report(simulate(system, scene=scene.name, **scene.simulation),
-                                    f"faultslip lab simulation: {scene.name}")
+        solution = solve(scene.slider(), method=method, tolerance=tolerance,
+                         cycles=int(scene.simulation.get("cycles", 200)))
+        report = solution.report(f"faultslip lab cycle: {scene.name}")
     if scene.description:
         report.notes.insert(0, scene.description)
     for key, citation in scene.sources.items():

@@ -1,0 +1,185 @@
+"""Method hierarchy: automatic choice, error models against measurement, accuracy order, failure modes.
+
+No assertion here depends on wall time: costs are compared through function-evaluation counts.
+"""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from faultslip.bench import STATUS_CODE, measure, reference_for, standard_scenes
+from faultslip.closed_form import closed_form_cycle
+from faultslip.critical import cached_critical_dimensionless_rate
+from faultslip.errors import MethodError, OutOfDomainWarning
+from faultslip.exact_cycle import exact_cycle, slip_cycle
+from faultslip.methods import INTEGRATOR_ERROR_CONSTANT, ClosedForm, choose, solve
+from faultslip.scene import load_scene
+from faultslip.simulate import simulate
+from faultslip.stability import evaluate_cell, grid_system
+
+
+@pytest.fixture(scope="module")
+def scenes():
+    return standard_scenes()
+
+
+def test_auto_picks_the_closed_form_for_1906_and_its_error_is_far_below_1e_6():
+    system = load_scene("san_andreas_1906.toml").slider()
+    solution = solve(system)
+    assert solution.method == "closed_form"
+    assert solution.estimated_relative_error < 1e-15
+    exact = exact_cycle(system)
+    closed = closed_form_cycle(system)
+    assert abs(closed.amplitude / exact.amplitude - 1) < 1e-14  # measured: ~1e-16 at eps = 3.4e-9
+    assert abs(closed.period / exact.period - 1) < 1e-14
+    assert "far below" in solution.method_reason or "no critical rate" in solution.method_reason
+
+
+def test_auto_with_radiation_damping_still_uses_the_closed_form():
+    system = load_scene("san_andreas_1906_radiation.toml").slider()
+    solution = solve(system)
+    assert solution.method == "closed_form"
+    measured = abs(closed_form_cycle(system).amplitude / exact_cycle(system).amplitude - 1)
+    assert measured <= solution.estimated_relative_error <= 10 * measured  # 1.5 x 2 zeta eps ~ 2.4e-9
+
+
+@pytest.mark.parametrize("scene", ["glass_dry_near", "pyrite_dry_near", "granodiorite_water_near"])
+def test_auto_picks_the_exact_cycle_near_the_critical_rate(scenes, scene):
+    solution = solve(scenes[scene][0])
+    assert solution.method == "exact_cycle"
+    assert "near the critical rate" in choose(scenes[scene][0])[2][0].reason
+
+
+def test_auto_picks_the_cheapest_sufficient_integrator_for_a_nonlinear_law():
+    system = load_scene("lab_steel_dry_polynomial.toml").slider()
+    loose = solve(system, tolerance=1e-6)
+    assert loose.method == "event_driven_DOP853" and loose.settings["rtol"] == 1e-6
+    tight = solve(system, tolerance=1e-9)
+    assert tight.method == "event_driven_DOP853" and tight.settings["rtol"] == 1e-9
+    assert tight.function_evaluations > loose.function_evaluations
+    assert abs(loose.cycle.amplitude / tight.cycle.amplitude - 1) < 1e-6
+    assert loose.dataset.attrs["method"] == "event_driven_DOP853"
+    assert loose.dataset.attrs["estimated_relative_error"] == pytest.approx(1e-6)
+
+
+def test_time_of_stick_law_goes_to_the_simulator():
+    system = load_scene("lab_steel_dry_time_of_stick.toml").slider()
+    method, assessment, candidates = choose(system)
+    assert method.name.startswith("event_driven")
+    assert not candidates[0].applicable and "time of stick" in candidates[0].reason
+
+
+def test_forcing_a_method_outside_its_domain_warns_and_names_the_better_one(scenes):
+    near = scenes["glass_dry_near"][0]
+    with pytest.warns(OutOfDomainWarning, match="closed_form is outside its domain.*use exact_cycle"):
+        solve(near, method="closed_form")
+    polynomial = load_scene("lab_steel_dry_polynomial.toml").slider()
+    with pytest.warns(OutOfDomainWarning), pytest.raises(MethodError, match="use event_driven_DOP853"):
+        solve(polynomial, method="exact_cycle")
+    low = scenes["glass_dry_low"][0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert solve(low, method="exact_cycle").method == "exact_cycle"  # inside its domain: silent
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.01, 0.1, 0.3, -0.03])
+def test_closed_form_error_model_bounds_the_measured_error(zeta):
+    eps_c = cached_critical_dimensionless_rate(zeta) if zeta > 0 else 10.0
+    lam = zeta / math.sqrt(1 - zeta**2)
+    for eps in np.geomspace(1e-6, 0.1 * min(eps_c, 10.0), 8):
+        cycle = slip_cycle(zeta, eps)
+        closed_amplitude = 1 + math.exp(-lam * math.pi)
+        closed_period = closed_amplitude / eps + math.pi / math.sqrt(1 - zeta**2)
+        period = (cycle["u_start"] - cycle["u_end"]) / eps + cycle["slip_time"]
+        measured = max(abs(closed_amplitude / (cycle["u_max"] - cycle["u_min"]) - 1), abs(closed_period / period - 1))
+        estimate = ClosedForm.error_model(zeta, eps)
+        assert measured <= 1.5 * estimate, (zeta, eps, measured, estimate)
+        assert estimate <= 10 * measured + 1e-15, (zeta, eps, measured, estimate)
+
+
+@pytest.mark.parametrize("solver", ["RK45", "DOP853", "Radau"])
+@pytest.mark.parametrize("scene", ["pyrite_dry_low", "steel_damped", "fault_1906_radiation"])
+def test_integrator_error_stays_within_its_model(scenes, solver, scene):
+    system = scenes[scene][0]
+    reference = reference_for(system, 3)
+    for rtol in (1e-6, 1e-9):
+        row = measure(system, reference, f"event_driven_{solver}", rtol, 3, 10**6, 1)
+        assert row["status"] == 0
+        bound = INTEGRATOR_ERROR_CONSTANT[solver] * rtol
+        assert max(row["error_amplitude"], row["error_period"]) <= bound, (rtol, row)
+        assert row["error_event_times"] <= 3 * bound, (rtol, row)  # event times drift over the 3 cycles
+
+
+def test_accuracy_ordering_and_evaluation_counts(scenes):
+    system = scenes["granodiorite_water_low"][0]
+    reference = reference_for(system, 3)
+    rows = {(m, r): measure(system, reference, m, r, 3, 10**6, 1)
+            for m in ("event_driven_DOP853", "event_driven_Radau", "event_driven_RK45") for r in (1e-3, 1e-6, 1e-9)}
+    for method in ("event_driven_DOP853", "event_driven_Radau", "event_driven_RK45"):
+        errors = [rows[(method, r)]["error"] for r in (1e-3, 1e-6, 1e-9)]
+        evaluations = [rows[(method, r)]["evaluations"] for r in (1e-3, 1e-6, 1e-9)]
+        assert errors[0] > errors[1] > errors[2], method  # tighter tolerance, smaller error
+        assert evaluations[0] < evaluations[1] < evaluations[2], method  # ... at more evaluations
+    # an implicit method spends more evaluations than DOP853 for the same tolerance here
+    assert rows[("event_driven_Radau", 1e-9)]["evaluations"] > 3 * rows[("event_driven_DOP853", 1e-9)]["evaluations"]
+    exact = measure(system, reference, "exact_cycle", 1e-3, 3, 10**6, 1)
+    assert exact["evaluations"] == 0 and exact["error"] <= rows[("event_driven_DOP853", 1e-9)]["error"]
+
+
+def test_closed_form_is_the_least_accurate_near_the_critical_rate(scenes):
+    system = scenes["glass_dry_near"][0]
+    reference = reference_for(system, 3)
+    closed = measure(system, reference, "closed_form", 1e-3, 3, 10**6, 1)
+    dop = measure(system, reference, "event_driven_DOP853", 1e-9, 3, 10**6, 1)
+    assert closed["error"] > 0.3 > 1e-6 > dop["error"]
+
+
+# --- failure regions (pinned on grid cells of the stability map) ---
+
+
+def test_closed_form_gives_the_wrong_regime_above_the_critical_rate():
+    system = grid_system(1.5, 0.3, 1.0)
+    assert exact_cycle(system).regime == "steady_sliding"
+    assert evaluate_cell(system, "closed_form")[0] == STATUS_CODE["wrong_regime"]
+    assert evaluate_cell(system, "exact_cycle")[0] == STATUS_CODE["ok"]
+    assert evaluate_cell(system, "event_driven_DOP853")[0] == STATUS_CODE["ok"]
+
+
+def test_regularized_explicit_integration_exceeds_its_budget_beyond_lab_separation():
+    for separation in (1e2, 1e6, 1e10):
+        system = next(s for s in (grid_system(r, 0.05, separation) for r in (1e-4, 1e-3, 1e-2, 0.1)) if s)
+        status, _, _ = evaluate_cell(system, "regularized_RK45")
+        assert status == STATUS_CODE["budget_exceeded"], separation
+        # the event-driven simulator never steps through a stick phase, so separation costs nothing
+        status, error, evaluations = evaluate_cell(system, "event_driven_RK45")
+        assert status == STATUS_CODE["ok"] and error < 1e-5 and evaluations < 2000
+
+
+def test_regularized_stiff_integration_breaks_down_at_fault_scale_separation(scenes):
+    system = next(s for s in (grid_system(r, 0.05, 1e10) for r in (1e-4, 1e-3)) if s)
+    assert evaluate_cell(system, "regularized_LSODA")[0] in (STATUS_CODE["solver_failure"], STATUS_CODE["budget_exceeded"])
+    reference = reference_for(scenes["fault_1906"][0], 3)
+    row = measure(scenes["fault_1906"][0], reference, "regularized_LSODA_w0.01V", 1e-6, 3, 10**5, 1)
+    assert row["status"] in (STATUS_CODE["solver_failure"], STATUS_CODE["budget_exceeded"])
+
+
+def test_regularized_friction_never_truly_sticks():
+    from faultslip.regularized import simulate_regularized
+
+    system = grid_system(0.6, 0.05, 1.0)
+    result = simulate_regularized(system, 3, 1e-2 * system.platform_speed, "RK45", rtol=1e-6, max_evaluations=10**6)
+    assert result["creep"] > 0.01  # the slider creeps at > 1 % of V while "stuck"
+    exact = exact_cycle(system)
+    assert abs(result["amplitude"][-1] / exact.amplitude - 1) > 0.01
+    stuck = simulate(system, cycles=3)
+    assert np.all(stuck["sliding_speed"].values[stuck["phase"].values == 0] == 0.0)  # the project's stick is exact
+
+
+def test_loose_integrators_miss_the_restick_near_the_critical_rate_unless_verified(scenes):
+    system = scenes["glass_dry_near"][0]
+    raw = simulate(system, cycles=3, slip_solver="DOP853", rtol=1e-6, verify_regime=False)
+    assert raw.attrs["regime"] == "steady_sliding"  # wrong: the exact cycle is stick-slip
+    guarded = simulate(system, cycles=3, slip_solver="DOP853", rtol=1e-6)
+    assert guarded.attrs["regime"] == "stick_slip" and "missed its re-stick" in guarded.attrs["regime_verification"]
