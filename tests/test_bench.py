@@ -1,0 +1,72 @@
+"""The work-precision and stability commands on small subsets, and method fields in every result."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from faultslip.bench import STATUS_CODE, markdown, work_precision
+from faultslip.stability import failure_text, stability_map
+
+
+def test_work_precision_dataset_on_one_scene():
+    ds = work_precision(quick=True, workers=1, scenes=["fault_1906"],
+                        methods=["closed_form", "exact_cycle", "event_driven_DOP853", "regularized_LSODA_w0.01V"])
+    assert dict(ds.sizes) == {"scene": 1, "method": 4, "tolerance": 4}
+    row = ds.isel(scene=0)
+    assert row["error"].sel({"method": "closed_form"}).values[0] < 1e-14
+    assert row["error"].sel({"method": "exact_cycle"}).values[0] <= 1e-15
+    dop = row.sel({"method": "event_driven_DOP853"})
+    assert np.all(dop["status"].values == 0)
+    assert np.all(np.diff(dop["evaluations"].values) > 0)  # tighter tolerances cost more evaluations
+    assert dop["error"].values[-1] < dop["error"].values[0]
+    assert np.all(row.sel({"method": "regularized_LSODA_w0.01V"})["status"].values != STATUS_CODE["ok"])
+    assert "fault_1906 | closed_form" in markdown(ds)
+
+
+def test_stability_map_subset_and_generated_text():
+    ds = stability_map(ratios=(0.1, 1.5), damping_ratios=(0.0, 0.3), separations=(1.0, 1e6),
+                       methods=("closed_form", "exact_cycle", "event_driven_DOP853"), workers=1)
+    assert dict(ds.sizes) == {"ratio": 2, "damping_ratio": 2, "separation": 2, "method": 3}
+    closed = ds["status"].sel({"method": "closed_form", "ratio": 1.5, "damping_ratio": 0.3, "separation": 1.0})
+    assert int(closed) == STATUS_CODE["wrong_regime"]
+    text = failure_text(ds)
+    assert "**closed_form**: wrong regime" in text and "**exact_cycle**: no failures" in text
+
+
+def test_bench_and_stability_cli(cli, tmp_path):
+    result = cli("bench", "--quick", "--scene", "fault_1906", "--method", "closed_form", "--method",
+                 "event_driven_DOP853", "--workers", "1", "-o", tmp_path / "b", "--json")
+    assert result.code == 0, result.err
+    with xr.open_dataset(tmp_path / "b" / "work_precision.nc") as ds:
+        assert ds["status"].attrs["flag_meanings"].startswith("ok exception")
+        assert ds["wall_time"].attrs["units"] == "s"
+    assert (tmp_path / "b" / "work_precision.png").exists()
+    result = cli("stability", "--ratio", "1.5", "--damping-ratio", "0.3", "--separation", "1", "--method", "closed_form",
+                 "--workers", "1", "-o", tmp_path / "s", "--json")
+    assert result.code == 0, result.err
+    assert any("closed_form" in line for line in result.json["failure_regions"])
+    bad = cli("bench", "--quick", "--scene", "mars", "-o", tmp_path / "x")
+    assert bad.code == 2 and "unknown bench scene 'mars'" in bad.err
+
+
+@pytest.mark.parametrize("scene, method", [("san_andreas_1906", "closed_form"), ("lab_glass_dry", "exact_cycle"),
+                                           ("lab_steel_dry_polynomial", "event_driven_DOP853")])
+def test_every_result_says_how_it_was_computed(cli, scene, method):
+    data = cli("run", scene, "--json").json
+    assert data["method"] == method
+    assert data["method_reason"] and data["estimated_relative_error"] <= 1e-6
+
+
+def test_tolerance_flag_changes_the_choice(cli):
+    loose = cli("run", "lab_pyrite_dry", "--tolerance", "1e-2", "--json").json
+    tight = cli("run", "lab_pyrite_dry", "--tolerance", "1e-12", "--json").json
+    assert loose["method"] == "closed_form" and tight["method"] == "exact_cycle"
+
+
+def test_simulation_dataset_records_method_and_error():
+    from faultslip.scene import load_scene
+    from faultslip.simulate import simulate
+
+    ds = simulate(load_scene("lab_steel_dry_polynomial.toml").slider(), cycles=3, rtol=1e-8)
+    assert ds.attrs["method"] == "event_driven" and ds.attrs["estimated_relative_error"] == pytest.approx(1e-8)
+    assert "DOP853" in ds.attrs["method_reason"]
