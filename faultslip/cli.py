@@ -10,6 +10,8 @@ import argparse
 import json
 import sys
 
+import numpy as np
+
 from . import __version__
 from .errors import FaultslipError
 
@@ -332,6 +334,101 @@ def cmd_stability(args) -> int:
     return 0
 
 
+def _delayed_progress(label, enabled):
+    """Progress on stderr for runs longer than a few seconds, only on a terminal."""
+    if not enabled or not sys.stderr.isatty():
+        return None
+    import time
+
+    started = time.perf_counter()
+
+    def show(done, total):
+        if time.perf_counter() - started < 2.0 and done < total:
+            return
+        print(f"\r{label}: {done}/{total} chunks ({100 * done / total:.0f} %)", end="\n" if done == total else "",
+              file=sys.stderr, flush=True)
+
+    return show
+
+
+def cmd_sweep(args) -> int:
+    from .streaming import run_study
+    from .study import load_study
+
+    study = load_study(args.study)
+    summary = run_study(study, args.output, chunk_cells=args.chunks, scheduler=args.scheduler, workers=args.workers,
+                        resume=args.resume, progress=_delayed_progress("sweep", not args.json),
+                        compression=args.compression)
+    if args.json:
+        print(json.dumps({"output": summary["output"], "cells": summary["cells"], "blocks": summary["blocks"],
+                          "resumed_blocks": summary["resumed_blocks"], "executor": summary["executor"],
+                          "wall_time": {"value": summary["seconds"], "units": "s"},
+                          "dimensions": {name: len(values) for name, values in study.dims.items()}}, indent=2))
+    else:
+        print(f"faultslip sweep: {study.name}")
+        print(f"  {summary['cells']} cells ({' x '.join(f'{n} {len(v)}' for n, v in study.dims.items())}) in "
+              f"{summary['blocks']} chunks on {summary['executor']}"
+              + (f", {summary['resumed_blocks']} reused" if summary["resumed_blocks"] else ""))
+        print(f"  wrote {summary['output']} in {summary['seconds']:.2f} s")
+    return 0
+
+
+def cmd_reproduce(args) -> int:
+    from .streaming import reproduce
+
+    result = reproduce(args.file, output=args.output, workers=args.workers)
+    if args.json:
+        print(json.dumps(result, indent=2))
+    else:
+        verdict = "matches" if result["matches"] else "DIFFERS"
+        print(f"faultslip reproduce: {args.file} {verdict} (largest relative difference {result['largest_difference']:.3g} "
+              f"over {result['cells']} cells)")
+        for name, value in result["differences"].items():
+            print(f"  {name:26s} {value:.3g}")
+    return 0 if result["matches"] else 1
+
+
+def cmd_map(args) -> int:
+    from pathlib import Path
+
+    from .atomic import save_figure
+    from .maps import load_map, map_figure, observed_figure, observed_table, run_map
+    from .netcdf import write_dataset
+
+    spec = load_map(args.map)
+    dataset = run_map(spec, method=args.method or "auto", tolerance=_tolerance(args) or 1e-6)
+    write_dataset(dataset, args.output)
+    plots = []
+    if args.plot:
+        save_figure(map_figure(dataset), args.plot, dpi=150)
+        plots.append(args.plot)
+        if "observed_recurrence" in dataset:
+            target = Path(args.plot)
+            observed = target.with_name(target.stem + "_observed" + target.suffix)
+            save_figure(observed_figure(dataset), observed, dpi=150)
+            plots.append(str(observed))
+    if args.json:
+        year = 365.25 * 86400
+        rows = []
+        if "segment" in dataset.dims:
+            for i, segment in enumerate(dataset["segment"].values):
+                row = dataset.isel(segment=i)
+                rows.append({"segment": str(segment),
+                             "slip_amplitude": {"value": float(row["slip_amplitude"]), "units": "m"},
+                             "recurrence_period": {"value": float(row["recurrence_period"]) if np.isfinite(float(row["recurrence_period"])) else None, "units": "s"},
+                             "moment_magnitude": float(row["moment_magnitude"]) if np.isfinite(float(row["moment_magnitude"])) else None,
+                             "observed_recurrence": {"value": float(row["observed_recurrence"]) if np.isfinite(float(row["observed_recurrence"])) else None, "units": "s"},
+                             "recurrence_ratio": float(row["recurrence_ratio"]) if np.isfinite(float(row["recurrence_ratio"])) else None,
+                             "slip_ratio": float(row["slip_ratio"]) if np.isfinite(float(row["slip_ratio"])) else None})
+        print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"}}, indent=2))
+    else:
+        print(f"faultslip map: {spec.name}")
+        if "segment" in dataset.dims:
+            print(observed_table(dataset))
+        print(f"\nwrote {args.output}" + (f", {', '.join(plots)}" if plots else ""))
+    return 0
+
+
 # --- parser -----------------------------------------------------------------
 
 
@@ -427,6 +524,33 @@ def build_parser() -> argparse.ArgumentParser:
     stability.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
     stability.add_argument("--json", action="store_true", help="print one JSON object")
     stability.set_defaults(handler=cmd_stability)
+
+    sweep = commands.add_parser("sweep", help="gridded parameter study to CF netCDF")
+    sweep.add_argument("study", help="study TOML file")
+    sweep.add_argument("-o", "--output", required=True, help="output netCDF file (written atomically)")
+    sweep.add_argument("--scheduler", help="'local' for a dask LocalCluster, or the address of a dask scheduler")
+    sweep.add_argument("--chunks", type=int, help="cells per chunk (default 524288)")
+    sweep.add_argument("--workers", type=int, default=2, help="parallel workers (default 2)")
+    sweep.add_argument("--resume", action="store_true", help="reuse the chunks of an interrupted run of the same study")
+    sweep.add_argument("--compression", choices=("zlib", "zstd", "none"), default="zlib",
+                       help="netCDF4 filter (default zlib, readable everywhere; zstd writes ~2.5x faster)")
+    sweep.add_argument("--json", action="store_true", help="print one JSON object")
+    sweep.set_defaults(handler=cmd_sweep)
+
+    reproduce = commands.add_parser("reproduce", help="re-run the study embedded in a sweep's netCDF and compare")
+    reproduce.add_argument("file", help="a netCDF written by faultslip sweep")
+    reproduce.add_argument("-o", "--output", help="keep the reproduced file here")
+    reproduce.add_argument("--workers", type=int, default=2, help="parallel workers (default 2)")
+    reproduce.add_argument("--json", action="store_true", help="print one JSON object")
+    reproduce.set_defaults(handler=cmd_reproduce)
+
+    regional = commands.add_parser("map", help="regional map from a fault-segment table or a raster")
+    regional.add_argument("map", help="map TOML file")
+    regional.add_argument("-o", "--output", required=True, help="output netCDF file")
+    regional.add_argument("--plot", help="draw the maps to FILE.png (and predicted vs observed to FILE_observed.png)")
+    _method_flags(regional)
+    regional.add_argument("--json", action="store_true", help="print one JSON object")
+    regional.set_defaults(handler=cmd_map)
 
     plot = commands.add_parser("plot", help="draw a figure")
     figures = plot.add_subparsers(dest="figure", metavar="FIGURE", parser_class=_Parser)

@@ -308,7 +308,9 @@ def load_scene(path_or_name=None) -> Scene:
 
 
 def bundled_scenes() -> list[str]:
-    return sorted(p.name for p in bundled_dir("configs").glob("*.toml"))
+    """Bundled scene files (configs/ also holds studies and maps, which are not scenes)."""
+    return sorted(p.name for p in bundled_dir("configs").glob("*.toml")
+                  if "[scene]" in p.read_text(encoding="utf-8").splitlines())
 
 
 def run_scene(scene: Scene, method: str | None = None, tolerance: float | None = None):

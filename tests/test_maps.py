@@ -1,0 +1,148 @@
+"""Regional maps: the bundled San Andreas segments, rasters, geodesy, predicted against observed, bad input."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from faultslip.errors import InputError
+from faultslip.maps import load_map, nearest_segment, observed_table, parse_trace, read_segments, run_map, trace_length
+from faultslip.resources import data_path
+
+YEAR = 365.25 * 86400
+
+
+@pytest.fixture(scope="module")
+def bundled():
+    spec = load_map("san_andreas_map.toml")
+    return spec, run_map(spec)
+
+
+def test_bundled_segment_table_cites_every_value():
+    table = read_segments(data_path("san_andreas_segments.csv"))
+    assert len(table.ids) >= 8 and "carrizo" in table.ids and "north_coast" in table.ids
+    for i, segment in enumerate(table.ids):
+        assert table.sources["source_slip_rate"][i], segment
+        assert table.sources["source_trace"][i], segment
+        if np.isfinite(table.observed_recurrence[i]):
+            assert table.sources["source_observed_recurrence"][i], segment
+        if np.isfinite(table.observed_slip[i]):
+            assert table.sources["source_observed_slip"][i], segment
+    carrizo = table.ids.index("carrizo")
+    assert table.slip_rate[carrizo] == pytest.approx(33.9e-3 / YEAR)
+    assert table.observed_recurrence[carrizo] == pytest.approx(88 * YEAR)
+
+
+def test_per_segment_predictions_follow_the_seed_scaling(bundled):
+    spec, ds = bundled
+    carrizo = ds.sel(segment="carrizo")
+    # granodiorite at tau = 250 bar, D = 13 mi: the 1906 slip, independent of slip rate at these rates
+    assert float(carrizo["slip_amplitude"]) == pytest.approx(6.4374, rel=1e-4)
+    assert float(carrizo["recurrence_period"]) == pytest.approx(6.4374 / (33.9e-3 / YEAR), rel=1e-4)
+    length = float(carrizo["segment_length"])
+    assert 140e3 < length < 180e3
+    moment = 0.25e11 * length * 12e3 * float(carrizo["slip_amplitude"])
+    assert float(carrizo["moment_magnitude"]) == pytest.approx(2 / 3 * (np.log10(moment) - 9.1), rel=1e-12)
+    creeping = ds.sel(segment="creeping")
+    assert int(creeping["regime"]) == 1 and float(creeping["slip_amplitude"]) == 0.0  # no stick-slip
+
+
+def test_predicted_against_observed_is_reported_as_it_is(bundled):
+    _, ds = bundled
+    table = observed_table(ds)
+    assert "| carrizo |" in table and "| parkfield |" in table
+    ratio = float(ds["recurrence_ratio"].sel(segment="carrizo"))
+    assert ratio == pytest.approx((6.4374 / (33.9e-3 / YEAR)) / (88 * YEAR), rel=1e-4)  # ~2.2: over-predicted
+    assert float(ds["slip_ratio"].sel(segment="north_coast")) == pytest.approx(6.4374 / 6.4, rel=1e-4)
+
+
+def test_nearest_segment_raster(bundled):
+    spec, ds = bundled
+    index = ds["nearest_segment"]
+    assert index.dims == ("lat", "lon") and (index.values >= 0).any() and (index.values == -1).any()
+    # a cell on the Carrizo trace belongs to Carrizo, at near-zero distance
+    i, j = np.abs(ds["lat"].values - 35.40).argmin(), np.abs(ds["lon"].values - (-119.97)).argmin()
+    assert ds["segment"].values[int(index.values[i, j])] == "carrizo"
+    assert float(ds["distance_to_segment"].values[i, j]) < 8e3
+    assert np.isnan(ds["map_slip_amplitude"].values[index.values == -1]).all()
+
+
+def test_geodesy_against_known_distances():
+    # one degree of latitude on WGS84 near 35 N is 110.95 km
+    assert trace_length(np.array([[-120.0, 34.5], [-120.0, 35.5]])) == pytest.approx(110.95e3, rel=1e-3)
+    index, distance = nearest_segment(np.array([-120.0]), np.array([36.0]), [np.array([[-119.0, 35.0], [-119.0, 37.0]])])
+    assert distance[0, 0] == pytest.approx(90.1e3, rel=1e-2)  # 1 degree of longitude at 36 N
+
+
+def test_map_cli_writes_netcdf_and_plots(cli, tmp_path):
+    result = cli("map", "san_andreas_map.toml", "-o", tmp_path / "m.nc", "--plot", tmp_path / "m.png", "--json")
+    assert result.code == 0, result.err
+    data = result.json
+    carrizo = next(row for row in data["segments"] if row["segment"] == "carrizo")
+    assert carrizo["slip_amplitude"]["units"] == "m" and carrizo["recurrence_ratio"] > 1
+    assert (tmp_path / "m_observed.png").exists() and (tmp_path / "m.png").exists()
+    with xr.open_dataset(tmp_path / "m.nc") as ds:
+        assert ds["map_recurrence_period"].attrs["units"] == "s" and ds["lat"].attrs["units"] == "degrees_north"
+
+
+def _write_map(tmp_path, table_text=None, raster=None):
+    config = tmp_path / "m.toml"
+    if table_text is not None:
+        (tmp_path / "t.csv").write_text(table_text)
+        config.write_text('[map]\nbase = "san_andreas_1906.toml"\n[segments]\nfile = "t.csv"\n'
+                          '[grid]\nlon = { linspace = [-121.0, -119.0, 5] }\nlat = { linspace = [35.0, 36.0, 4] }\n')
+    else:
+        config.write_text(f'[map]\nbase = "san_andreas_1906.toml"\n[raster]\nfile = "{raster}"\n')
+    return config
+
+
+HEADER = "segment,trace (degree),slip_rate (mm/yr),lithology,seismogenic_depth (km),zone_width (km)\n"
+
+
+def test_raster_inputs_from_netcdf_and_csv(tmp_path):
+    lon, lat = np.array([-121.0, -120.0]), np.array([35.0, 36.0])
+    raster = xr.Dataset({"lithology": (("lat", "lon"), np.array([["granodiorite", "black_marble"], ["pyrite", "granodiorite"]])),
+                         "slip_rate": (("lat", "lon"), np.array([[10.0, 20.0], [30.0, 40.0]]), {"units": "mm/yr"})},
+                        coords={"lat": lat, "lon": lon})
+    raster.to_netcdf(tmp_path / "r.nc")
+    ds = run_map(load_map(_write_map(tmp_path, raster="r.nc")))
+    assert ds["slip_amplitude"].dims == ("lat", "lon")
+    expected = 6.4374 / (40e-3 / YEAR)
+    assert float(ds["recurrence_period"].sel(lat=36.0, lon=-120.0)) == pytest.approx(expected, rel=1e-4)
+    (tmp_path / "r.csv").write_text("lon (degree),lat (degree),lithology,slip_rate (mm/yr)\n"
+                                    "-121,35,granodiorite,10\n-120,35,black_marble,20\n-121,36,pyrite,30\n-120,36,granodiorite,40\n")
+    from_csv = run_map(load_map(_write_map(tmp_path, raster="r.csv")))
+    np.testing.assert_allclose(from_csv["slip_amplitude"].values, ds["slip_amplitude"].values)
+
+
+@pytest.mark.parametrize("row, message", [
+    ("a,-120 35,30,granodiorite,12,20\n", "row 2, trace: a segment trace needs at least 2 vertices"),
+    ("a,-120 35; -200 36,30,granodiorite,12,20\n", "longitude -200 is out of range"),
+    ("a,-120 35; -120 96,30,granodiorite,12,20\n", "latitude 96 is out of range"),
+    ("a,-120 35; -120 36,30,granodorite,12,20\n", "row 2: unknown lithology"),
+    ("a,-120 35; -120 36,fast,granodiorite,12,20\n", "row 2, slip_rate"),
+    ("a,-120 35; -120 36,30,granodiorite\n", "row 2: 4 fields, expected 6"),
+])
+def test_bad_segment_tables_name_file_and_row(tmp_path, row, message):
+    config = _write_map(tmp_path, HEADER + row)
+    with pytest.raises(InputError, match=message):
+        load_map(config)
+
+
+def test_bad_inputs_via_cli_exit_2_and_write_nothing(cli, tmp_path):
+    config = _write_map(tmp_path, HEADER + "a,-120 35,30,granodiorite,12,20\n")
+    result = cli("map", config, "-o", tmp_path / "out.nc")
+    assert result.code == 2 and "t.csv, row 2" in result.err and "Traceback" not in result.err
+    assert not (tmp_path / "out.nc").exists()
+    (tmp_path / "broken.nc").write_bytes(b"not a netCDF file")
+    result = cli("map", _write_map(tmp_path, raster="broken.nc"), "-o", tmp_path / "out.nc")
+    assert result.code == 2 and "broken.nc" in result.err and not (tmp_path / "out.nc").exists()
+    bad_units = xr.Dataset({"slip_rate": (("lat", "lon"), np.ones((1, 1)), {"units": "bar"})},
+                           coords={"lat": [35.0], "lon": [-120.0]})
+    bad_units.to_netcdf(tmp_path / "units.nc")
+    result = cli("map", _write_map(tmp_path, raster="units.nc"), "-o", tmp_path / "out.nc")
+    assert result.code == 2 and "slip_rate" in result.err and "speed" in result.err
+
+
+def test_parse_trace_rejects_garbage():
+    with pytest.raises(InputError, match="two numbers"):
+        parse_trace("-120 x; -121 36", "t")
