@@ -263,6 +263,39 @@ class Fault:
         return FaultInverse.from_fault(self, slip)
 
 
+def _propagated_uncertainty(fault, method, tolerance) -> dict:
+    """95 % ranges of slip and recurrence from a user fit's bootstrap samples (vectorised)."""
+    material = fault.material
+    stored = None
+    if material is not None and material.preset is not None and isinstance(material.preset.printed, dict):
+        stored = material.preset.printed.get("registry")
+    if not stored or not stored.get("bootstrap"):
+        return {}
+    law = material.preset.rate_law
+    if (fault.mu_so, fault.mu_m, fault.b, fault.d) != (law.mu_so, law.mu_m, law.b, law.d):
+        return {}  # the user overrode the fitted constants: the fit's uncertainty no longer applies
+    from .critical import critical_dimensionless_rate, solve_rate_law_critical
+    from .methods import DEFAULT_TOLERANCE
+    from .study import cell_kernel
+
+    samples = np.asarray(stored["bootstrap"], dtype=float)
+    mu_so, mu_m, b, d = samples.T
+    stiffness, load, speed = fault.stiffness, fault.effective_normal_stress, fault.slip_rate
+    if fault.shear_stress is not None:  # sigma_n = tau / mu_so moves with each sample's mu_so
+        load = fault.shear_stress / mu_so
+    omega_n = math.sqrt(stiffness / fault.mass_per_area)
+    zeta = fault.total_damping_ratio
+    eps_c = float(critical_dimensionless_rate(zeta))
+    critical = solve_rate_law_critical(omega_n * eps_c, mu_so, mu_m, b, d)
+    outputs = cell_kernel(stiffness, load, speed, omega_n, zeta, eps_c, critical, mu_so, mu_m, b, d, np.nan,
+                          method=method if method in ("closed_form", "exact_cycle") else "auto",
+                          tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance)
+    amplitude, period = outputs[0], outputs[1]
+    return {"slip_amplitude_95": tuple(float(v) for v in np.nanpercentile(amplitude, [2.5, 97.5])),
+            "recurrence_period_95": tuple(float(v) for v in np.nanpercentile(period, [2.5, 97.5])),
+            "uncertainty_samples": int(samples.shape[0])}
+
+
 def _positive(value, name, unit=""):
     if not (value > 0):
         raise InputError(f"{name} must be positive, got {value:g} {unit}".rstrip())
@@ -289,6 +322,10 @@ class FaultEstimate:
     estimated_relative_error: float = float("nan")
     regime: str = "stick_slip"
     slip_per_event: float = float("nan")
+    #: 95 % ranges carried from a fitted material's bootstrap samples (None for bundled presets)
+    slip_amplitude_95: tuple | None = None
+    recurrence_period_95: tuple | None = None
+    uncertainty_samples: int = 0
 
     @classmethod
     def from_fault(cls, fault: Fault, method: str = "auto", tolerance: float | None = None) -> "FaultEstimate":
@@ -326,6 +363,7 @@ class FaultEstimate:
             estimated_relative_error=solution.estimated_relative_error,
             regime=cycle.regime,
             slip_per_event=cycle.slip_per_event,
+            **_propagated_uncertainty(fault, method, tolerance),
         )
 
     def report(self) -> Report:
@@ -361,7 +399,14 @@ class FaultEstimate:
         r.add("slip_amplitude", self.slip_amplitude, "m", "slip per event alpha", also=("ft",))
         r.add("low_rate_amplitude", self.low_rate_amplitude, "m", "eq. 5-4: 2 sigma_n D dmu / G", also=("ft",))
         r.add("slip_per_event", self.slip_per_event, "m", "relative slip per event V T", also=("ft",))
+        if self.slip_amplitude_95 is not None:
+            r.add("slip_amplitude_95", list(self.slip_amplitude_95), "m", "slip per event, 95 % range")
         r.add("recurrence_period", self.recurrence_period, "s", "recurrence period T = alpha/V", also=("yr",))
+        if self.recurrence_period_95 is not None:
+            r.add("recurrence_period_95", list(self.recurrence_period_95), "s", "recurrence period, 95 % range",
+                  also=("yr",))
+            r.note(f"95 % ranges carry the fitted friction law's uncertainty: {self.uncertainty_samples} bootstrap "
+                   "fits of the laboratory data, each evaluated like the central estimate.")
         r.add("stress_drop", self.stress_drop, "Pa", "stress drop K alpha", also=("bar", "MPa"))
         if self.seismic_moment is not None:
             r.add("seismic_moment", self.seismic_moment, "N*m", "seismic moment M0 = G L H alpha")

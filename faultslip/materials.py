@@ -136,8 +136,12 @@ def _bundled_lithologies() -> dict[str, Lithology]:
 
 
 def presets() -> dict[str, Preset]:
-    """All presets by name: Table I and the steady-sliding materials."""
-    return dict(_bundled_presets())
+    """All presets by name: Table I, the steady-sliding materials and the user's fits."""
+    from . import registry  # imported here: the registry reads a user file
+
+    merged = dict(_bundled_presets())
+    merged.update(registry.user_presets())
+    return merged
 
 
 def lithologies() -> dict[str, Lithology]:
@@ -206,6 +210,9 @@ def resolve_material(name: str) -> MaterialChoice:
     liths = lithologies()
     if key in table:
         preset = table[key]
+        stored = preset.printed.get("registry") if isinstance(preset.printed, dict) else None
+        if stored is not None and stored.get("shear_modulus"):  # a user fit saved with its rock's modulus
+            return MaterialChoice(key, Lithology(key, float(stored["shear_modulus"]), key, preset.source), preset)
         return MaterialChoice(key, liths.get(preset.lithology) if preset.lithology else None, preset)
     if key in liths:
         lith = liths[key]

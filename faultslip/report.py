@@ -110,6 +110,13 @@ def _format_item(item: Item) -> str:
         if isinstance(item.value, float):
             return _number(item.value)
         return str(item.value)
+    if isinstance(item.value, (list, tuple)):  # a range
+        text = ("[" + ", ".join(_number(float(v)) for v in item.value) + "]"
+                + (f" {item.units}" if item.units not in ("1", "") else ""))
+        if item.also:
+            text += "  (" + ", ".join("[" + ", ".join(_number(convert(float(v), item.units, u)) for v in item.value)
+                                      + f"] {u}" for u in item.also) + ")"
+        return text
     value = float(item.value)
     text = f"{_number(value)} {item.units}".rstrip()
     if item.also and math.isfinite(value):

@@ -181,7 +181,9 @@ def si_unit(kind: str) -> str:
 
 
 def quantity_json(value, unit: str) -> dict:
-    """``{"value": number, "units": unit}``: the JSON form of every quantity."""
+    """``{"value": number, "units": unit}``: the JSON form of every quantity (a range: a list)."""
+    if isinstance(value, (list, tuple)):
+        return {"value": [_json_number(v) for v in value], "units": unit}
     return {"value": _json_number(value), "units": unit}
 
 

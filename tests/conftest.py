@@ -17,6 +17,14 @@ settings.register_profile("dev", max_examples=100, deadline=None)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 
+@pytest.fixture(autouse=True, scope="session")
+def isolated_registry(tmp_path_factory):
+    """Never read or write the user's real fit registry."""
+    path = tmp_path_factory.mktemp("registry") / "fits.json"
+    os.environ["FAULTSLIP_REGISTRY"] = str(path)
+    yield path
+
+
 class CliResult:
     def __init__(self, code, out, err):
         self.code, self.out, self.err = code, out, err
