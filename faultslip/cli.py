@@ -99,6 +99,11 @@ def cmd_materials(args) -> int:
             row.update(mu_so=law.mu_so, mu_m=law.mu_m, b={"value": law.b, "units": f"s^{law.d:g}"}, d=law.d)
         else:
             row["friction"] = preset.friction
+        if preset.material == "user fit":
+            entry = preset.printed.get("registry", {})
+            row.update(user_fit=True, standard_errors=entry.get("standard_errors"), intervals_95=entry.get("intervals_95"),
+                       points=entry.get("points"), shear_modulus=({"value": entry["shear_modulus"], "units": "Pa"}
+                                                                  if entry.get("shear_modulus") else None))
         if preset.normal_load is not None:
             row.update(
                 normal_load={"value": preset.normal_load, "units": "N"},
@@ -117,11 +122,24 @@ def cmd_materials(args) -> int:
     print("Presets (seed 003 Table I; W, K of its apparatus; M = W/g)")
     print(f"  {'name':<26}{'mu_so':>7}{'mu_m':>7}{'b (s^d)':>11}{'d':>8}{'W (N)':>9}{'K (N/m)':>11}{'M (kg)':>8}  source")
     for row in preset_rows:
+        if row.get("user_fit"):
+            continue
         if row["stick_slip"]:
             print(f"  {row['name']:<26}{row['mu_so']:>7.3g}{row['mu_m']:>7.3g}{row['b']['value']:>11.4g}{row['d']:>8.4g}"
                   f"{row['normal_load']['value']:>9.1f}{row['stiffness']['value']:>11.4g}{row['mass']['value']:>8.1f}  {row['source']}")
         else:
             print(f"  {row['name']:<26}  steady sliding, mu = {row['friction']:.2f} (no stick-slip)  {row['source']}")
+    from .registry import registry_path
+
+    user = [row for row in preset_rows if row.get("user_fit")]
+    print(f"\nUser fits ({registry_path()})" + ("" if user else ": none yet (faultslip fit DATA.csv --name NAME)"))
+    for row in user:
+        errors = row.get("standard_errors") or {}
+        modulus = row.get("shear_modulus")
+        print(f"  {row['name']:<26}{row['mu_so']:>7.3g}{row['mu_m']:>7.3g}{row['b']['value']:>11.4g}{row['d']:>8.4g}"
+              f"  (+- {errors.get('mu_so', float('nan')):.2g}, {errors.get('mu_m', float('nan')):.2g}, "
+              f"{errors.get('b', float('nan')):.2g}, {errors.get('d', float('nan')):.2g})"
+              + (f"  G = {modulus['value'] / 1e5:.4g} bar" if modulus else "") + f"  {row['source']}")
     print("\nLithologies (shear modulus; default friction preset on a fault)")
     for row in lith_rows:
         print(f"  {row['name']:<14}G = {row['shear_modulus']['value'] / 1e5:.4g} bar  preset: "
@@ -429,6 +447,64 @@ def cmd_map(args) -> int:
     return 0
 
 
+def cmd_fit(args) -> int:
+    from .fitting import fit_figure, fit_rate_law, read_friction_data
+
+    fixed = None if args.mu_m is None else _number(args.mu_m, "mu_m")
+    data = read_friction_data(args.data, fixed_mu_m=fixed)
+    fit = fit_rate_law(data, loss=args.loss, bootstrap=args.bootstrap, seed=args.seed, fixed_mu_m=fixed)
+    report = fit.report(f"faultslip fit: {args.data}")
+    if args.plot:
+        from .atomic import save_figure
+
+        save_figure(fit_figure(data, fit), args.plot, dpi=150)
+        report.note(f"plot written to {args.plot}")
+    if args.name:  # only after the fit succeeded: a failed fit never touches the registry
+        from . import registry
+        from .units import to_si
+
+        modulus = to_si(args.shear_modulus, "pressure", "shear modulus") if args.shear_modulus else None
+        path = registry.save_fit(args.name, fit, shear_modulus=modulus, note=args.note or "")
+        report.note(f"saved as {args.name!r} in {path}; use it with 'faultslip fault --lithology {args.name} ...'")
+    return _emit(report, args.json)
+
+
+def cmd_record(args) -> int:
+    from .records import analyze_record, hysteresis_figure, read_record
+    from .units import to_si
+
+    record = read_record(args.record)
+    speed = to_si(args.platform_speed, "speed", "platform speed") if args.platform_speed else None
+    analysis = analyze_record(record, to_si(args.mass, "mass", "mass") if args.mass else
+                              to_si(args.normal_load, "force", "normal load") / 9.80665,
+                              to_si(args.stiffness, "stiffness", "stiffness"), to_si(args.normal_load, "force", "normal load"),
+                              speed, to_si(args.dashpot, "damping", "dashpot") if args.dashpot else 0.0,
+                              velocity_method=args.velocity)
+    report = analysis.report(f"faultslip record analysis: {args.record}")
+    if args.plot:
+        from .atomic import save_figure
+
+        save_figure(hysteresis_figure(analysis), args.plot, dpi=150)
+        report.note(f"mu against sliding speed drawn to {args.plot}")
+    return _emit(report, args.json)
+
+
+def cmd_decay(args) -> int:
+    from .errors import InputError
+    from .records import free_decay, free_decay_from_record, read_record
+    from .units import to_si
+
+    stiffness = to_si(args.stiffness, "stiffness", "stiffness")
+    if args.record:
+        result = free_decay_from_record(read_record(args.record), stiffness)
+    else:
+        if args.ratio is None or args.cycles is None or args.frequency is None:
+            raise InputError("give a free-decay record, or --ratio, --cycles and --frequency")
+        frequency = to_si(args.frequency, "rate", "damped frequency")
+        result = free_decay(_number(args.ratio, "amplitude ratio"), _number(args.cycles, "cycles"), frequency, stiffness)
+    return _emit(result.report(), args.json)
+
+
 # --- parser -----------------------------------------------------------------
 
 
@@ -552,6 +628,40 @@ def build_parser() -> argparse.ArgumentParser:
     regional.add_argument("--json", action="store_true", help="print one JSON object")
     regional.set_defaults(handler=cmd_map)
 
+    fit = commands.add_parser("fit", help="fit the rate law (eq. 2-18) to laboratory data, with uncertainty")
+    fit.add_argument("data", help="CSV or netCDF: loading_rate (or platform_speed, stiffness, normal_load), static_friction[, amplitude]")
+    fit.add_argument("--name", help="save the fit under this name in the user registry")
+    fit.add_argument("--shear-modulus", help="shear modulus of the rock, stored with the fit for fault predictions")
+    fit.add_argument("--note", help="a note stored with the fit (e.g. rock and condition)")
+    fit.add_argument("--plot", help="draw data, fit and 95 % band to FILE.png")
+    fit.add_argument("--loss", default="linear", help="least-squares loss: linear, soft_l1, huber or cauchy (robust)")
+    fit.add_argument("--bootstrap", type=int, default=200, help="bootstrap samples (default 200)")
+    fit.add_argument("--seed", type=int, default=0, help="bootstrap seed (default 0): results are reproducible")
+    fit.add_argument("--mu-m", help="fix the kinetic friction instead of fitting it")
+    fit.add_argument("--json", action="store_true", help="print one JSON object")
+    fit.set_defaults(handler=cmd_fit)
+
+    record = commands.add_parser("record", help="friction and stick-slip events from a measured motion record")
+    record.add_argument("record", help="CSV or netCDF: time, displacement, and acceleration or force")
+    record.add_argument("--stiffness", required=True, help="spring stiffness K, e.g. '1.94e4 lbf/in'")
+    record.add_argument("--normal-load", required=True, help="normal load W, e.g. '225.8 lbf'")
+    record.add_argument("--mass", help="moving mass M (default W/g)")
+    record.add_argument("--dashpot", help="dashpot C, e.g. '0 N*s/m' (default 0, as seed 003 eq. 3-2)")
+    record.add_argument("--platform-speed", help="platform speed V (default: the median slider speed)")
+    record.add_argument("--velocity", default="auto", help="auto, differentiate (x) or integrate (x'')")
+    record.add_argument("--plot", help="draw mu against sliding speed to FILE.png")
+    record.add_argument("--json", action="store_true", help="print one JSON object")
+    record.set_defaults(handler=cmd_record)
+
+    decay = commands.add_parser("decay", help="system identification from free decay (seed 002 Appendix C)")
+    decay.add_argument("record", nargs="?", help="a free-decay displacement record (alternative to --ratio ...)")
+    decay.add_argument("--stiffness", required=True, help="known stiffness, e.g. '70.5 lbf/in'")
+    decay.add_argument("--ratio", help="amplitude ratio X_n / X_{n+N}, e.g. 1.225")
+    decay.add_argument("--cycles", help="N, the cycles between the two amplitudes, e.g. 10")
+    decay.add_argument("--frequency", help="damped frequency, e.g. '19.9 Hz'")
+    decay.add_argument("--json", action="store_true", help="print one JSON object")
+    decay.set_defaults(handler=cmd_decay)
+
     plot = commands.add_parser("plot", help="draw a figure")
     figures = plot.add_subparsers(dest="figure", metavar="FIGURE", parser_class=_Parser)
     rate_law = figures.add_parser("rate-law", help="mu_s and amplitude against log10 loading rate (seed Figs. 4-1 to 4-22)")
@@ -590,6 +700,11 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("faultslip: interrupted; no output file was left half-written", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader (e.g. head) closed the pipe: stop quietly
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":
