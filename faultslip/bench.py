@@ -183,6 +183,22 @@ def _scene_job(args):
     return scene, method, rows
 
 
+def parallel_map(function, jobs, workers: int, progress=None):
+    """``function`` over ``jobs`` in a process pool (or in this process), reporting progress."""
+    outcomes = []
+    mapped = ProcessPoolExecutor(max_workers=workers) if workers > 1 else None
+    try:
+        results = mapped.map(function, jobs) if mapped else map(function, jobs)
+        for done, outcome in enumerate(results, start=1):
+            outcomes.append(outcome)
+            if progress:
+                progress(done, len(jobs))
+    finally:
+        if mapped:
+            mapped.shutdown(cancel_futures=True)
+    return outcomes
+
+
 def work_precision(quick: bool = False, workers: int = 2, scenes=None, methods=None, progress=None):
     """Run the study and return an xarray Dataset with dims (scene, method, tolerance)."""
     import xarray as xr
@@ -194,20 +210,8 @@ def work_precision(quick: bool = False, workers: int = 2, scenes=None, methods=N
     scene_names = list(scenes or all_scenes)
     method_list = list(methods or method_names())
     jobs = [(s, m, tolerances, cycles, budget, repeats) for s in scene_names for m in method_list]
-    results = {}
     started = time.perf_counter()
-    if workers > 1:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            for done, (scene, method, rows) in enumerate(pool.map(_scene_job, jobs), start=1):
-                results[(scene, method)] = rows
-                if progress:
-                    progress(done, len(jobs))
-    else:
-        for done, job in enumerate(jobs, start=1):
-            scene, method, rows = _scene_job(job)
-            results[(scene, method)] = rows
-            if progress:
-                progress(done, len(jobs))
+    results = {(scene, method): rows for scene, method, rows in parallel_map(_scene_job, jobs, workers, progress)}
     shape = (len(scene_names), len(method_list), len(tolerances))
     arrays = {key: np.full(shape, np.nan) for key in ("error", "error_amplitude", "error_period", "error_event_times", "wall_time")}
     evaluations = np.full(shape, -1, dtype=np.int64)

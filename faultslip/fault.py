@@ -263,6 +263,19 @@ class Fault:
         return FaultInverse.from_fault(self, slip)
 
 
+def _inputs_section(r: Report, f: Fault) -> Report:
+    """The inputs every fault report starts with."""
+    r.section("Inputs")
+    if f.lithology:
+        r.add("lithology", f.lithology, label="lithology / preset")
+    r.add("shear_modulus", f.shear_modulus, "Pa", "shear modulus G", also=("bar",))
+    r.add("zone_width", f.zone_width, "m", "elastic-zone width D", also=("km", "mi"))
+    if f.shear_stress is not None:
+        r.add("shear_stress", f.shear_stress, "Pa", "shear stress tau", also=("bar",))
+    r.add("slip_rate", f.slip_rate, "m/s", "slip rate V", also=("mm/yr", "in/yr"))
+    return r
+
+
 def _propagated_uncertainty(fault, method, tolerance) -> dict:
     """95 % ranges of slip and recurrence from a user fit's bootstrap samples (vectorised)."""
     material = fault.material
@@ -368,15 +381,7 @@ class FaultEstimate:
 
     def report(self) -> Report:
         f = self.fault
-        r = Report(f"faultslip fault estimate: {f.name}")
-        r.section("Inputs")
-        if f.lithology:
-            r.add("lithology", f.lithology, label="lithology / preset")
-        r.add("shear_modulus", f.shear_modulus, "Pa", "shear modulus G", also=("bar",))
-        r.add("zone_width", f.zone_width, "m", "elastic-zone width D", also=("km", "mi"))
-        if f.shear_stress is not None:
-            r.add("shear_stress", f.shear_stress, "Pa", "shear stress tau", also=("bar",))
-        r.add("slip_rate", f.slip_rate, "m/s", "slip rate V", also=("mm/yr", "in/yr"))
+        r = _inputs_section(Report(f"faultslip fault estimate: {f.name}"), f)
         r.add("mu_so", f.mu_so, label="mu_so")
         r.add("mu_m", f.mu_m, label="mu_m")
         r.add("b", f.b, f"s^{f.d:g}" if f.b else None, "rate coefficient b")
@@ -453,13 +458,7 @@ class FaultInverse:
 
     def report(self) -> Report:
         f = self.fault
-        r = Report(f"faultslip inverse estimate: {f.name}")
-        r.section("Inputs")
-        if f.lithology:
-            r.add("lithology", f.lithology, label="lithology / preset")
-        r.add("shear_modulus", f.shear_modulus, "Pa", "shear modulus G", also=("bar",))
-        r.add("zone_width", f.zone_width, "m", "elastic-zone width D", also=("km", "mi"))
-        r.add("slip_rate", f.slip_rate, "m/s", "slip rate V", also=("mm/yr", "in/yr"))
+        r = _inputs_section(Report(f"faultslip inverse estimate: {f.name}"), f)
         r.add("observed_slip", self.observed_slip, "m", "observed slip per event", also=("ft",))
         r.add("mu_so", f.mu_so, label="mu_so")
         r.section("Inverse of eq. 2-19 (seed 003 §5-2)")

@@ -20,7 +20,6 @@ parameter.
 
 from __future__ import annotations
 
-import csv
 import difflib
 import math
 from dataclasses import dataclass, field
@@ -31,7 +30,7 @@ from scipy.optimize import least_squares
 
 from .errors import InputError
 from .friction import static_friction
-from .resources import split_header
+from .resources import read_numeric_csv
 from .units import to_si
 
 PARAMETERS = ("mu_so", "mu_m", "b", "d")
@@ -75,30 +74,7 @@ def _read_columns(path: Path) -> dict:
         for name, variable in data.data_vars.items():
             columns[name] = (variable.values.ravel().astype(float), variable.attrs.get("units"))
         return columns
-    try:
-        handle = open(path, newline="", encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot read {str(path)!r}: {exc}") from None
-    with handle:
-        reader = csv.reader(handle)
-        try:
-            header = [split_header(c) for c in next(reader)]
-        except StopIteration:
-            raise InputError(f"{path.name} is empty") from None
-        except csv.Error as exc:
-            raise InputError(f"{path.name} is not valid CSV: {exc}") from None
-        values = {name: [] for name, _ in header}
-        for line, row in enumerate(reader, start=2):
-            if not any(cell.strip() for cell in row):
-                continue
-            if len(row) != len(header):
-                raise InputError(f"{path.name}, row {line}: {len(row)} fields, expected {len(header)}")
-            for (name, _), cell in zip(header, row):
-                try:
-                    values[name].append(float(cell))
-                except ValueError:
-                    raise InputError(f"{path.name}, row {line}: {name} {cell.strip()!r} is not a number") from None
-    return {name: (np.array(values[name]), unit) for name, unit in header}
+    return read_numeric_csv(path, path.name)
 
 
 def read_friction_data(path, fixed_mu_m: float | None = None) -> FrictionData:

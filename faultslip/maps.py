@@ -29,7 +29,6 @@ Map files are TOML::
 
 from __future__ import annotations
 
-import csv
 import difflib
 import math
 from dataclasses import dataclass, field
@@ -38,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .resources import bundled_dir, split_header
+from .resources import bundled_dir, read_unit_csv
 from .units import to_si
 
 try:
@@ -142,38 +141,18 @@ def trace_length(trace) -> float:
 def read_segments(path) -> SegmentTable:
     """Read and validate a segment table (CSV with ``name (unit)`` headers)."""
     path = Path(path)
-    try:
-        handle = open(path, newline="", encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot read segment table {str(path)!r}: {exc}") from None
-    with handle:
-        reader = csv.reader(handle)
-        try:
-            header = [split_header(column) for column in next(reader)]
-        except StopIteration:
-            raise InputError(f"segment table {path.name} is empty") from None
-        except csv.Error as exc:
-            raise InputError(f"segment table {path.name} is not valid CSV: {exc}") from None
-        names = [name for name, _ in header]
-        for name, _ in header:
-            if name not in SEGMENT_COLUMNS and not name.startswith("source"):
-                close = difflib.get_close_matches(name, SEGMENT_COLUMNS, n=2)
-                hint = f"; did you mean {', '.join(close)}?" if close else ""
-                raise InputError(f"segment table {path.name}: unknown column {name!r}{hint}")
-        for name, (kind, required) in SEGMENT_COLUMNS.items():
-            if required and name not in names:
-                raise InputError(f"segment table {path.name} lacks the column {name!r}")
-        units = dict(header)
-        rows = []
-        try:
-            for line, row in enumerate(reader, start=2):
-                if not any(cell.strip() for cell in row):
-                    continue
-                if len(row) != len(header):
-                    raise InputError(f"segment table {path.name}, row {line}: {len(row)} fields, expected {len(header)}")
-                rows.append((line, dict(zip(names, (cell.strip() for cell in row)))))
-        except csv.Error as exc:
-            raise InputError(f"segment table {path.name} is not valid CSV: {exc}") from None
+    header, cells = read_unit_csv(path, f"segment table {path.name}")
+    names = [name for name, _ in header]
+    for name, _ in header:
+        if name not in SEGMENT_COLUMNS and not name.startswith("source"):
+            close = difflib.get_close_matches(name, SEGMENT_COLUMNS, n=2)
+            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            raise InputError(f"segment table {path.name}: unknown column {name!r}{hint}")
+    for name, (kind, required) in SEGMENT_COLUMNS.items():
+        if required and name not in names:
+            raise InputError(f"segment table {path.name} lacks the column {name!r}")
+    units = dict(header)
+    rows = [(line, dict(zip(names, row))) for line, row in cells]
     if not rows:
         raise InputError(f"segment table {path.name} has no segments")
 
@@ -280,13 +259,7 @@ def read_raster(path):
 def _raster_from_csv(path):
     import xarray as xr
 
-    with open(path, newline="", encoding="utf-8") as handle:
-        reader = csv.reader(handle)
-        try:
-            header = [split_header(c) for c in next(reader)]
-        except StopIteration:
-            raise InputError(f"raster {path.name} is empty") from None
-        rows = [(line, row) for line, row in enumerate(reader, start=2) if any(cell.strip() for cell in row)]
+    header, rows = read_unit_csv(path, f"raster {path.name}")
     names = [n for n, _ in header]
     units = dict(header)
     for required in ("lon", "lat"):
@@ -299,10 +272,7 @@ def _raster_from_csv(path):
             raise InputError(f"raster {path.name}: unknown column {name!r}{hint}")
     columns = {name: [] for name in names}
     for line, row in rows:
-        if len(row) != len(names):
-            raise InputError(f"raster {path.name}, row {line}: {len(row)} fields, expected {len(names)}")
         for name, cell in zip(names, row):
-            cell = cell.strip()
             if name in ("lon", "lat"):
                 try:
                     columns[name].append(float(cell))
@@ -417,6 +387,7 @@ def _fault_inputs_along(spec, dims_coords, lithology, overrides):
     import xarray as xr
 
     from .materials import resolve_material
+    from .study import normal_stress_input
 
     fault = spec.scene.fault()
     given = spec.scene.tables.get("fault", {})
@@ -439,21 +410,9 @@ def _fault_inputs_along(spec, dims_coords, lithology, overrides):
             raise InputError(f"lithology {bad!r} lacks a shear modulus or friction preset; it cannot be mapped")
     for name, values in overrides.items():
         inputs[name] = xr.DataArray(values, **dims_coords)
-    if "normal_stress" not in overrides:
-        if "shear_stress" in overrides:
-            inputs["normal_stress"] = inputs["shear_stress"] / inputs["mu_so"]
-        elif "shear_stress" in given:
-            inputs["normal_stress"] = to_si(given["shear_stress"], "pressure", "shear stress") / inputs["mu_so"]
-        else:
-            inputs["normal_stress"] = fault.effective_normal_stress
+    inputs["normal_stress"] = normal_stress_input(inputs, overrides, given, fault)
     inputs["radiation_damping"] = bool(fault.radiation_damping)
     return inputs
-
-
-def _outputs_dataset(outputs, kind_study):
-    from .study import Study, as_dataset
-
-    return as_dataset(outputs, kind_study)
 
 
 def predict_segments(spec, method="auto", tolerance=1e-6):

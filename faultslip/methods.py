@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .closed_form import closed_form_cycle
+from .critical import cached_critical_dimensionless_rate
 from .cycle import STEADY_SLIDING, CycleResult
 from .errors import InputError, MethodError, OutOfDomainWarning
 
@@ -129,8 +131,6 @@ class ClosedForm(Method):
         return 2.0 * np.abs(damping_ratio) * eps + eps * eps
 
     def assess(self, system, outputs, tolerance, cycles):
-        from .critical import cached_critical_dimensionless_rate
-
         why_not = _linear_rate_system(system)
         if why_not:
             return Assessment(self.name, False, why_not)
@@ -142,7 +142,7 @@ class ClosedForm(Method):
             where = "above" if eps >= eps_c else "near"
             return Assessment(self.name, False, f"loading rate is {where} the critical rate (eps = {eps:.3g}, "
                               f"eps_c = {eps_c:.3g}): the closed form's expansion fails there")
-        error = self.SAFETY * float(self.error_model(zeta, eps))
+        error = self.SAFETY * (2.0 * abs(zeta) * eps + eps * eps)  # error_model, on plain floats
         if "event_times" in outputs:
             error *= max(cycles, 1)  # the period error accumulates over the cycles
         where = f"far below eps_c = {eps_c:.3g}" if math.isfinite(eps_c) else "with no critical rate (zeta <= 0)"
@@ -150,8 +150,6 @@ class ClosedForm(Method):
                           f"error model 1.5 (2|zeta| eps + eps^2) = {error:.2g}", error, 2e-5)
 
     def run(self, system, cycles, settings):
-        from .closed_form import closed_form_cycle
-
         cycle = closed_form_cycle(system)
         first = (system.normal_load * cycle.static_friction / system.stiffness) / system.platform_speed
         return cycle, first + cycle.period * np.arange(cycles), None, 0

@@ -20,7 +20,6 @@ obspy's); CSV and netCDF are built in.
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .resources import split_header
+from .resources import read_numeric_csv
 from .units import to_si
 
 RECORD_COLUMNS = {"time": "time", "displacement": "length", "acceleration": "acceleration", "force": "force",
@@ -98,25 +97,7 @@ def _acceleration_factor(unit, source):
 
 
 def _read_csv(path: Path) -> Record:
-    with open(path, newline="", encoding="utf-8") as handle:
-        reader = csv.reader(handle)
-        try:
-            header = [split_header(c) for c in next(reader)]
-        except StopIteration:
-            raise InputError(f"record {path.name} is empty") from None
-        columns = {name: [] for name, _ in header}
-        for line, row in enumerate(reader, start=2):
-            if not any(cell.strip() for cell in row):
-                continue
-            if len(row) != len(header):
-                raise InputError(f"record {path.name}, row {line}: {len(row)} fields, expected {len(header)}")
-            for (name, _), cell in zip(header, row):
-                try:
-                    columns[name].append(float(cell))
-                except ValueError:
-                    raise InputError(f"record {path.name}, row {line}: {name} {cell.strip()!r} is not a number") from None
-    units = dict(header)
-    return _record_from_columns({n: (np.array(v), units[n]) for n, v in columns.items()}, path.name)
+    return _record_from_columns(read_numeric_csv(path, f"record {path.name}"), path.name)
 
 
 def _read_netcdf(path: Path) -> Record:

@@ -38,6 +38,54 @@ def split_header(column: str) -> tuple[str, str | None]:
     return column, None
 
 
+def read_unit_csv(path, label: str):
+    """A user CSV with ``name (unit)`` headers: ``(header, rows)``, rows as ``(line number, cells)``.
+
+    Every problem becomes one :class:`InputError` sentence naming ``label`` (e.g. "segment table
+    x.csv") and the row: unreadable file, empty file, invalid CSV, wrong number of fields.
+    """
+    from .errors import InputError
+
+    try:
+        handle = open(path, newline="", encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"cannot read {label}: {exc}") from None
+    with handle:
+        try:
+            reader = csv.reader(handle)
+            try:
+                header = [split_header(column) for column in next(reader)]
+            except StopIteration:
+                raise InputError(f"{label} is empty") from None
+            rows = []
+            for line, row in enumerate(reader, start=2):
+                if not any(cell.strip() for cell in row):
+                    continue
+                if len(row) != len(header):
+                    raise InputError(f"{label}, row {line}: {len(row)} fields, expected {len(header)}")
+                rows.append((line, [cell.strip() for cell in row]))
+        except (csv.Error, UnicodeDecodeError) as exc:
+            raise InputError(f"{label} is not valid CSV: {exc}") from None
+    return header, rows
+
+
+def read_numeric_csv(path, label: str) -> dict:
+    """:func:`read_unit_csv` with every cell a number: ``{name: (values, unit)}``."""
+    import numpy as np
+
+    from .errors import InputError
+
+    header, rows = read_unit_csv(path, label)
+    columns = {name: [] for name, _ in header}
+    for line, cells in rows:
+        for (name, _), cell in zip(header, cells):
+            try:
+                columns[name].append(float(cell))
+            except ValueError:
+                raise InputError(f"{label}, row {line}: {name} {cell!r} is not a number") from None
+    return {name: (np.array(columns[name]), unit) for name, unit in header}
+
+
 def read_table(path: Path) -> list[dict[str, tuple[str, str | None]]]:
     """Rows of a bundled CSV as ``{name: (text, unit)}``, text kept as printed."""
     with open(path, newline="", encoding="utf-8") as handle:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -158,53 +159,53 @@ class SliderSystem:
     def units(self) -> dict:
         return SI_UNITS[self.scale]
 
-    @property
+    @cached_property  # frozen: derived values never go stale (with_() makes a new system)
     def loading_rate(self) -> float:
         return float(closed_form.loading_rate(self.stiffness, self.platform_speed, self.normal_load))
 
-    @property
+    @cached_property
     def natural_frequency(self) -> float:
         return math.sqrt(self.stiffness / self.mass)
 
-    @property
+    @cached_property
     def kinetic_slope(self) -> float:
         """beta of the kinetic law at rest (s/m)."""
         return float(self.kinetic_law.slope)
 
-    @property
+    @cached_property
     def viscous_coefficient(self) -> float:
         """C + beta W + eta: the slip phase's damping coefficient (linear laws)."""
         return self.dashpot + self.kinetic_slope * self.normal_load + self.radiation_damper
 
-    @property
+    @cached_property
     def damping_ratio(self) -> float:
         """zeta = (C + beta W + eta) / (2 sqrt(K M)) (seed 003 under eq. 2-8, plus radiation damping)."""
         return self.viscous_coefficient / (2.0 * math.sqrt(self.stiffness * self.mass))
 
-    @property
+    @cached_property
     def mu_m(self) -> float:
         """Kinetic friction at vanishing sliding speed."""
         return float(self.kinetic_law.mu_m)
 
-    @property
+    @cached_property
     def is_linear(self) -> bool:
         """Linear slip phase: constant or linear kinetic law (exact cycle applies)."""
         return bool(self.kinetic_law.is_linear)
 
-    @property
+    @cached_property
     def rate_static_friction(self) -> float | None:
         """mu_s at this loading rate, for static laws that do not depend on stick time."""
         if self.static_law.depends_on_stick_time:
             return None
         return float(self.static_law.limit(self.loading_rate))
 
-    @property
+    @cached_property
     def static_excess(self) -> float | None:
         """mu_s - mu_m at this loading rate (None for a time-of-stick law)."""
         mu_s = self.rate_static_friction
         return None if mu_s is None else mu_s - self.mu_m
 
-    @property
+    @cached_property
     def dimensionless_rate(self) -> float | None:
         """epsilon = theta_dot / (omega_n (mu_s - mu_m)); see :func:`closed_form.dimensionless_rate`."""
         excess = self.static_excess

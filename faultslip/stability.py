@@ -19,11 +19,10 @@ from __future__ import annotations
 
 import math
 import time
-from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from .bench import STATUS, STATUS_CODE, _classify
+from .bench import STATUS, STATUS_CODE, _classify, parallel_map
 from .errors import FaultslipError
 
 RATIOS = (1e-4, 1e-3, 1e-2, 0.1, 0.3, 0.6, 0.9, 1.1, 1.5, 3.0, 10.0)
@@ -130,19 +129,7 @@ def stability_map(ratios=RATIOS, damping_ratios=DAMPING_RATIOS, separations=SEPA
         # without damping there is no critical rate: one row serves every ratio
         for ratio in (ratios if zeta > 0 else ratios[:1]):
             jobs.append((ratio, zeta, separations, methods, cycles))
-    results = {}
-    if workers > 1:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            for done, (ratio, zeta, out) in enumerate(pool.map(_row_job, jobs), start=1):
-                results[(ratio, zeta)] = out
-                if progress:
-                    progress(done, len(jobs))
-    else:
-        for done, job in enumerate(jobs, start=1):
-            ratio, zeta, out = _row_job(job)
-            results[(ratio, zeta)] = out
-            if progress:
-                progress(done, len(jobs))
+    results = {(ratio, zeta): out for ratio, zeta, out in parallel_map(_row_job, jobs, workers, progress)}
     shape = (len(ratios), len(damping_ratios), len(separations), len(methods))
     status = np.full(shape, UNREALISABLE, dtype=np.int8)
     error = np.full(shape, np.nan)

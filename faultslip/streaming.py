@@ -66,7 +66,7 @@ def _executor(scheduler, workers):
     except ImportError:
         raise InputError("--scheduler needs dask.distributed: pip install 'faultslip[dask]'") from None
     if scheduler == "local":
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
         return Client(cluster), f"dask LocalCluster ({workers} workers)"
     try:
         return Client(scheduler, timeout="10s"), f"dask cluster at {scheduler}"

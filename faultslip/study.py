@@ -300,16 +300,24 @@ def _fault_inputs(study, coords):
                     raise InputError(f"lithology {missing[0]!r} has no friction preset; give {key} in the base "
                                      "scene or sweep it")
                 inputs[key] = _category_table(lith, table.get)
-    if "shear_stress" in coords:
-        inputs["normal_stress"] = coords["shear_stress"] / inputs["mu_so"]
-    elif "normal_stress" in coords:
-        inputs["normal_stress"] = coords["normal_stress"]
-    elif "shear_stress" in given:
-        inputs["normal_stress"] = to_si(given["shear_stress"], "pressure", "shear stress") / inputs["mu_so"]
-    else:
-        inputs["normal_stress"] = fault.effective_normal_stress
+    inputs["normal_stress"] = normal_stress_input(inputs, coords, given, fault)
     inputs["radiation_damping"] = bool(fault.radiation_damping)
     return inputs
+
+
+def normal_stress_input(inputs, varying, given, fault):
+    """Effective normal stress: varying normal or shear stress (sigma_n = tau / mu_so), else the base scene's.
+
+    ``varying`` maps swept (or per-segment, per-cell) names to their values; a shear stress is
+    divided by ``inputs["mu_so"]``, which itself may vary by lithology.
+    """
+    if "normal_stress" in varying:
+        return varying["normal_stress"]
+    if "shear_stress" in varying:
+        return varying["shear_stress"] / inputs["mu_so"]
+    if "shear_stress" in given:
+        return to_si(given["shear_stress"], "pressure", "shear stress") / inputs["mu_so"]
+    return fault.effective_normal_stress
 
 
 def _lab_inputs(study, coords):

@@ -122,29 +122,35 @@ def test_local_cluster_result_is_identical_to_serial(study, tmp_path):
         xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())
 
 
-def test_interrupted_sweep_keeps_the_previous_file_and_resumes(study, tmp_path, monkeypatch):
+def _interrupt_on_call(monkeypatch, number):
+    """Make the study's block computation raise KeyboardInterrupt (Ctrl-C) on its ``number``-th call."""
     import faultslip.study as study_module
 
-    out = tmp_path / "study.nc"
-    previous = parse_study(STUDY.replace('"5 mm/yr"', '"6 mm/yr"'))
-    run_study(previous, out, chunk_cells=30, workers=1)
-    before = out.read_bytes()
     real = study_module.compute_block
     calls = {"n": 0}
 
     def flaky(*args, **kwargs):
         calls["n"] += 1
-        if calls["n"] == 5:
+        if calls["n"] == number:
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
     monkeypatch.setattr(study_module, "compute_block", flaky)
+    return lambda: monkeypatch.setattr(study_module, "compute_block", real)
+
+
+def test_interrupted_sweep_keeps_the_previous_file_and_resumes(study, tmp_path, monkeypatch):
+    out = tmp_path / "study.nc"
+    previous = parse_study(STUDY.replace('"5 mm/yr"', '"6 mm/yr"'))
+    run_study(previous, out, chunk_cells=30, workers=1)
+    before = out.read_bytes()
+    restore = _interrupt_on_call(monkeypatch, 5)
     with pytest.raises(KeyboardInterrupt):
         run_study(study, out, chunk_cells=30, workers=1)  # 6 blocks; Ctrl-C while computing the 4th
     assert out.read_bytes() == before  # the final name still holds the complete previous file
     partial, ledger = out.with_name("study.nc.partial"), out.with_name("study.nc.progress.json")
     assert partial.exists() and len(json.loads(ledger.read_text())["done"]) == 3  # template, 3 blocks, then Ctrl-C
-    monkeypatch.setattr(study_module, "compute_block", real)
+    restore()
     summary = run_study(study, out, chunk_cells=30, workers=1, resume=True)
     assert summary["resumed_blocks"] == 3 and not partial.exists() and not ledger.exists()
     fresh = tmp_path / "fresh.nc"
@@ -154,22 +160,11 @@ def test_interrupted_sweep_keeps_the_previous_file_and_resumes(study, tmp_path, 
 
 
 def test_resume_ignores_a_partial_file_of_another_study(study, tmp_path, monkeypatch):
-    import faultslip.study as study_module
-
     out = tmp_path / "s.nc"
-    real = study_module.compute_block
-    calls = {"n": 0}
-
-    def flaky(*args, **kwargs):
-        calls["n"] += 1
-        if calls["n"] == 5:
-            raise KeyboardInterrupt
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(study_module, "compute_block", flaky)
+    restore = _interrupt_on_call(monkeypatch, 5)
     with pytest.raises(KeyboardInterrupt):
         run_study(study, out, chunk_cells=30, workers=1)
-    monkeypatch.setattr(study_module, "compute_block", real)
+    restore()
     other = parse_study(STUDY.replace('"30 km"', '"25 km"'))
     assert run_study(other, out, chunk_cells=30, workers=1, resume=True)["resumed_blocks"] == 0
 
