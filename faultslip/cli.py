@@ -147,6 +147,19 @@ def cmd_materials(args) -> int:
     return 0
 
 
+def cmd_methods(args) -> int:
+    from .methods import describe_all
+
+    rows = describe_all()
+    if args.json:
+        print(json.dumps({"methods": rows}, indent=2))
+        return 0
+    for row in rows:
+        print(f"{row['name']}\n  friction laws: {row['friction_laws']}\n  valid where:   {row['domain']}\n"
+              f"  cost:          {row['cost_model']}")
+    return 0
+
+
 def cmd_plot_rate_law(args) -> int:
     from .atomic import save_figure
     from .materials import get_preset, table_i_presets
@@ -661,6 +674,10 @@ def build_parser() -> argparse.ArgumentParser:
     decay.add_argument("--frequency", help="damped frequency, e.g. '19.9 Hz'")
     decay.add_argument("--json", action="store_true", help="print one JSON object")
     decay.set_defaults(handler=cmd_decay)
+
+    methods = commands.add_parser("methods", help="the solution methods: friction laws, domain and cost of each")
+    methods.add_argument("--json", action="store_true", help="print one JSON object")
+    methods.set_defaults(handler=cmd_methods)
 
     plot = commands.add_parser("plot", help="draw a figure")
     figures = plot.add_subparsers(dest="figure", metavar="FIGURE", parser_class=_Parser)

@@ -244,6 +244,26 @@ class Regularized(Method):
         return cycle, result["event_time"], None, result["evaluations"]
 
 
+class SeedAppendixI(Method):
+    """Seed 003 eq. I-22: the critical loading rate is its output, not a cycle."""
+
+    name = "seed_appendix_I"
+    friction_laws = "rate-law static friction; constant or linear kinetic friction"
+    domain = "an approximation: agrees with the exact critical rate only near zeta 0.2-0.25 and has the opposite trend in damping"
+    cost_model = "one scalar root: about 1e-5 s"
+
+    def assess(self, system, outputs, tolerance, cycles):
+        return Assessment(self.name, False, "gives a critical loading rate, not a stick-slip cycle; see faultslip critical")
+
+    def run(self, system, cycles, settings):
+        raise MethodError("seed_appendix_I gives only the critical loading rate; use faultslip critical")
+
+
+def describe_all() -> list[dict]:
+    """Every method's declared name, friction laws, domain and cost model."""
+    return [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), *BASELINES.values(), SEED_APPENDIX_I)]
+
+
 def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:
     """Cycle quantities of the last simulated event (the limit cycle once converged)."""
     regime = dataset.attrs["regime"]
@@ -272,6 +292,7 @@ INTEGRATORS = {solver: EventDriven(solver) for solver in ("DOP853", "RK45", "LSO
 METHODS = {CLOSED_FORM.name: CLOSED_FORM, EXACT.name: EXACT, **{m.name: m for m in INTEGRATORS.values()},
            "simulate": INTEGRATORS["DOP853"]}
 BASELINES = {f"regularized_{s}": Regularized(s) for s in ("RK45", "LSODA", "Radau")}
+SEED_APPENDIX_I = SeedAppendixI()
 
 
 def _check_request(outputs, tolerance, cycles):

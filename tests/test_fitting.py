@@ -203,3 +203,24 @@ def test_fit_json_has_quantities_and_intervals(tmp_path, cli):
     data = cli("fit", _csv(tmp_path, GOOD), "--bootstrap", "20", "--json").json
     assert data["b"]["units"].startswith("s^") and isinstance(data["mu_so"], float)
     assert len(data["d_95"]["value"]) == 2 and data["points"] == 12
+
+
+def test_a_saved_fit_works_in_studies_and_maps(tmp_path, monkeypatch):
+    monkeypatch.setenv("FAULTSLIP_REGISTRY", str(tmp_path / "fits.json"))
+    from faultslip import registry
+    from faultslip.maps import load_map, run_map
+    from faultslip.study import sweep
+
+    preset = get_preset("black_marble_water")
+    registry.save_fit("my_marble", fit_rate_law(synthetic_data(preset, noise=0.001, seed=3), bootstrap=20),
+                      shear_modulus=0.229e11)
+    ds = sweep("san_andreas_1906.toml", lithology=["my_marble", "black_marble"])
+    amplitudes = ds["slip_amplitude"].values
+    assert amplitudes[0] == pytest.approx(amplitudes[1], rel=0.02)  # the fit reproduces the preset it came from
+    (tmp_path / "segments.csv").write_text(
+        "segment,trace (degree),slip_rate (mm/yr),lithology,seismogenic_depth (km),zone_width (km)\n"
+        "a,-120 35; -120 36,30,my_marble,12,20\n")
+    (tmp_path / "map.toml").write_text('[map]\nbase = "san_andreas_1906.toml"\n[segments]\nfile = "segments.csv"\n'
+                                       '[grid]\nlon = [-120.5, -119.5]\nlat = [35.0, 36.0]\n')
+    mapped = run_map(load_map(tmp_path / "map.toml"))
+    assert float(mapped["slip_amplitude"].sel(segment="a")) > 0

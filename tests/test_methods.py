@@ -183,3 +183,15 @@ def test_loose_integrators_miss_the_restick_near_the_critical_rate_unless_verifi
     assert raw.attrs["regime"] == "steady_sliding"  # wrong: the exact cycle is stick-slip
     guarded = simulate(system, cycles=3, slip_solver="DOP853", rtol=1e-6)
     assert guarded.attrs["regime"] == "stick_slip" and "missed its re-stick" in guarded.attrs["regime_verification"]
+
+
+def test_every_method_declares_its_interface(cli):
+    from faultslip.methods import describe_all
+
+    rows = describe_all()
+    names = {row["name"] for row in rows}
+    assert {"closed_form", "exact_cycle", "event_driven_DOP853", "event_driven_RK45", "event_driven_Radau",
+            "event_driven_LSODA", "regularized_RK45", "regularized_LSODA", "seed_appendix_I"} <= names
+    for row in rows:
+        assert row["friction_laws"] and row["domain"] and row["cost_model"], row
+    assert cli("methods", "--json").json["methods"] == rows
