@@ -101,10 +101,20 @@ def _create(path, study, template, chunks, compression="zlib"):
                                      fill_value=INT_FILL if is_int else FLOAT_FILL)
         for key, value in array.attrs.items():
             variable.setncattr(key, value)
+        _no_chunk_cache(variable)
     attrs = finish(template.copy(), study).attrs
     for key, value in attrs.items():
         nc.setncattr(key, value)
     return nc
+
+
+def _no_chunk_cache(variable):
+    """Each block is written once, as whole chunks: HDF5's chunk cache would only hold memory.
+
+    By default it keeps up to tens of MiB of chunks per variable, so memory would grow with the
+    run until the caches filled; with a tiny cache every chunk is compressed and written at once.
+    """
+    variable.set_var_chunk_cache(size=1 << 20, nelems=1, preemption=1.0)
 
 
 def _write_block(nc, study, block, dataset):
@@ -147,6 +157,9 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
 
     try:
         nc = netCDF4.Dataset(partial, "a") if done else _create(partial, study, template, chunks, compression)
+        if done:
+            for name in template.data_vars:
+                _no_chunk_cache(nc[name])
     except OSError as exc:
         if not done:
             raise
