@@ -442,8 +442,6 @@ def fit_figure(data: FrictionData, fit: FitResult):
     """Data, fit and 95 % band against log10 loading rate (the style of seed 003 Figs. 4-1 to 4-22)."""
     import matplotlib.pyplot as plt
 
-    from . import closed_form
-
     panels = 2 if data.amplitude is not None else 1
     figure, axes = plt.subplots(1, panels, figsize=(5.6 * panels, 4.4), constrained_layout=True, squeeze=False)
     rates = np.geomspace(data.loading_rate.min() / 3, data.loading_rate.max() * 3, 300)
@@ -475,6 +473,5 @@ def fit_figure(data: FrictionData, fit: FitResult):
         axis.set_ylabel(r"amplitude $\alpha$ (in)")
         axis.legend(fontsize=8)
         axis.grid(True, alpha=0.3)
-    del closed_form
     figure.suptitle(f"Rate-law fit: {Path(fit.source).name}")
     return figure

@@ -78,7 +78,7 @@ def _si(values, unit, name, source):
     if unit in (None, ""):
         raise InputError(f"record {source}: column {name!r} needs a unit in its header, e.g. '{name} (s)'")
     if kind == "acceleration":
-        factor = to_si(f"1 {unit}", "speed", f"record {source}, {name}") if False else _acceleration_factor(unit, source)
+        factor = _acceleration_factor(unit, source)
     else:
         factor = to_si(f"1 {unit}", kind, f"record {source}, column {name}")
     return np.asarray(values, dtype=float) * factor

@@ -558,7 +558,7 @@ def _flags(codes: dict) -> dict:
     return {"flag_values": np.array(list(codes.values()), dtype=np.int8), "flag_meanings": " ".join(codes), "units": "1"}
 
 
-def as_dataset(outputs: dict, study) -> "xr.Dataset":
+def as_dataset(outputs: dict, study):
     """Outputs broadcast over the study's dimensions, with CF attributes."""
     import xarray as xr
 

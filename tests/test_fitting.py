@@ -1,7 +1,5 @@
 """Fitting eq. 2-18 to laboratory data: round trips, interval coverage, flags, degenerate data, the registry."""
 
-import json
-
 import numpy as np
 import pytest
 import xarray as xr

@@ -1,7 +1,6 @@
 """Gridded studies: correctness against the scalar paths, CF files, reproduction, dask, atomicity, resume."""
 
 import json
-import os
 import signal
 import subprocess
 import sys
