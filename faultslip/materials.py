@@ -163,21 +163,21 @@ def _unknown(kind: str, name: str, known) -> InputError:
     return InputError(f"unknown {kind} {name!r}{hint} (see 'faultslip materials' for the list)")
 
 
-def get_preset(name: str) -> Preset:
-    """A preset by name (case and separators are forgiven)."""
-    table = presets()
+def _lookup(kind: str, name: str, table: dict):
     key = _normalise(name)
     if key in table:
         return table[key]
-    raise _unknown("preset", name, table)
+    raise _unknown(kind, name, table)
+
+
+def get_preset(name: str) -> Preset:
+    """A preset by name (case and separators are forgiven)."""
+    return _lookup("preset", name, presets())
 
 
 def get_lithology(name: str) -> Lithology:
-    table = lithologies()
-    key = _normalise(name)
-    if key in table:
-        return table[key]
-    raise _unknown("lithology", name, table)
+    """A lithology by name (case and separators are forgiven)."""
+    return _lookup("lithology", name, lithologies())
 
 
 @dataclass(frozen=True)
