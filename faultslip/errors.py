@@ -23,3 +23,11 @@ class SolverError(FaultslipError, RuntimeError):
 
 class OutOfDomainWarning(UserWarning):
     """A method was used where it is known to be inaccurate."""
+
+
+def did_you_mean(name: str, allowed, n: int = 2, cutoff: float = 0.6) -> str:
+    """``"; did you mean a, b?"`` for the close matches of ``name`` in ``allowed``, else ``""``."""
+    import difflib
+
+    close = difflib.get_close_matches(name, list(allowed), n=n, cutoff=cutoff)
+    return f"; did you mean {', '.join(close)}?" if close else ""

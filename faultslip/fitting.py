@@ -20,7 +20,6 @@ parameter.
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,7 +27,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import least_squares
 
-from .errors import InputError
+from .errors import InputError, did_you_mean
 from .friction import static_friction
 from .resources import read_numeric_csv
 from .units import to_si
@@ -85,8 +84,7 @@ def read_friction_data(path, fixed_mu_m: float | None = None) -> FrictionData:
     columns = _read_columns(path)
     for name in columns:
         if name not in COLUMNS:
-            close = difflib.get_close_matches(name, COLUMNS, n=2)
-            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            hint = did_you_mean(name, COLUMNS)
             raise InputError(f"{path.name}: unknown column {name!r}{hint} (allowed: {', '.join(COLUMNS)})")
 
     def si(name):

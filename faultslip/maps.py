@@ -29,21 +29,15 @@ Map files are TOML::
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
-from .resources import bundled_dir, read_unit_csv
+from .errors import InputError, did_you_mean
+from .resources import bundled_dir, parse_toml, read_unit_csv
 from .units import to_si
-
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python < 3.11
-    import tomli as tomllib
 
 SEGMENT_COLUMNS = {  # name -> (unit kind, required)
     "segment": (None, True),
@@ -145,8 +139,7 @@ def read_segments(path) -> SegmentTable:
     names = [name for name, _ in header]
     for name, _ in header:
         if name not in SEGMENT_COLUMNS and not name.startswith("source"):
-            close = difflib.get_close_matches(name, SEGMENT_COLUMNS, n=2)
-            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            hint = did_you_mean(name, SEGMENT_COLUMNS)
             raise InputError(f"segment table {path.name}: unknown column {name!r}{hint}")
     for name, (kind, required) in SEGMENT_COLUMNS.items():
         if required and name not in names:
@@ -231,8 +224,7 @@ def read_raster(path):
         out = xr.Dataset(coords={"lat": data["lat"].values.astype(float), "lon": data["lon"].values.astype(float)})
         for name, variable in data.data_vars.items():
             if name not in RASTER_VARIABLES:
-                close = difflib.get_close_matches(name, RASTER_VARIABLES, n=2)
-                hint = f"; did you mean {', '.join(close)}?" if close else ""
+                hint = did_you_mean(name, RASTER_VARIABLES)
                 raise InputError(f"raster {path.name}: unknown variable {name!r}{hint}")
             variable = variable.transpose("lat", "lon")
             if RASTER_VARIABLES[name] is None:
@@ -267,8 +259,7 @@ def _raster_from_csv(path):
             raise InputError(f"raster {path.name} needs columns lon and lat (degrees)")
     for name in names:
         if name not in ("lon", "lat") and name not in RASTER_VARIABLES:
-            close = difflib.get_close_matches(name, RASTER_VARIABLES, n=2)
-            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            hint = did_you_mean(name, RASTER_VARIABLES)
             raise InputError(f"raster {path.name}: unknown column {name!r}{hint}")
     columns = {name: [] for name in names}
     for line, row in rows:
@@ -328,17 +319,13 @@ def load_map(path) -> MapSpec:
             raise InputError(f"map file {str(path)!r} does not exist")
         path = bundled
     text = path.read_text(encoding="utf-8")
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{path.name} is not valid TOML: {exc}") from None
+    document = parse_toml(text, path.name)
     for table, content in document.items():
         if table not in MAP_SCHEMA:
             raise InputError(f"unknown table [{table}] in {path.name} (allowed: {', '.join(MAP_SCHEMA)})")
         for key in content:
             if key not in MAP_SCHEMA[table]:
-                close = difflib.get_close_matches(key, MAP_SCHEMA[table], n=2)
-                hint = f"; did you mean {', '.join(close)}?" if close else ""
+                hint = did_you_mean(key, MAP_SCHEMA[table])
                 raise InputError(f"unknown key {key!r} in [{table}] of {path.name}{hint}")
     head = document.get("map", {})
     if ("segments" in document) == ("raster" in document):

@@ -83,41 +83,41 @@ def _parse(text_unit, kind, name):
     return to_si(f"{text} {unit}", kind, name)
 
 
+def _described(row) -> dict:
+    """The columns that Table I and the steady-sliding table share."""
+    return dict(
+        name=row["preset"][0],
+        material=row["material"][0],
+        condition=row["condition"][0],
+        lithology=row["lithology"][0] or None,
+        source=row["source"][0],
+        printed=row,
+    )
+
+
 @lru_cache(maxsize=None)
 def _bundled_presets() -> dict[str, Preset]:
     presets: dict[str, Preset] = {}
     for row in read_table(data_path("table_I.csv")):
-        name = row["preset"][0]
         law = RateLaw(
             mu_so=_parse(row["mu_so"], None, "mu_so"),
             mu_m=_parse(row["mu_m"], None, "mu_m"),
             b=float(row["b"][0]),
             d=_parse(row["d"], None, "d"),
         )
-        presets[name] = Preset(
-            name=name,
-            material=row["material"][0],
-            condition=row["condition"][0],
-            lithology=row["lithology"][0] or None,
-            source=row["source"][0],
+        presets[row["preset"][0]] = Preset(
+            **_described(row),
             rate_law=law,
             normal_load=_parse(row["normal_load"], "force", "normal load"),
             stiffness=_parse(row["stiffness"], "stiffness", "stiffness"),
             figures=row["figures"][0],
-            printed=row,
         )
     for row in read_table(data_path("steady_sliding.csv")):
-        name = row["preset"][0]
         mu = _parse(row["friction"], None, "friction")
-        presets[name] = Preset(
-            name=name,
-            material=row["material"][0],
-            condition=row["condition"][0],
-            lithology=row["lithology"][0] or None,
-            source=row["source"][0],
+        presets[row["preset"][0]] = Preset(
+            **_described(row),
             rate_law=RateLaw(mu_so=mu, mu_m=mu),
             friction=mu,
-            printed=row,
         )
     return presets
 

@@ -10,6 +10,13 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python < 3.11
+    import tomli as tomllib
+
+from .errors import InputError
+
 _PACKAGE = Path(__file__).resolve().parent
 
 
@@ -97,3 +104,11 @@ def read_table(path: Path) -> list[dict[str, tuple[str, str | None]]]:
                 continue
             rows.append({name: (text.strip(), unit) for (name, unit), text in zip(header, row)})
     return rows
+
+
+def parse_toml(text: str, source: str) -> dict:
+    """Parse TOML text; a syntax error becomes one :class:`InputError` naming ``source``."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{source} is not valid TOML: {exc}") from None

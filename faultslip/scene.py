@@ -27,13 +27,8 @@ import difflib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python < 3.11
-    import tomli as tomllib
-
 from .errors import InputError
-from .resources import bundled_dir, config_path
+from .resources import bundled_dir, config_path, parse_toml
 
 #: Allowed keys of each table; value is the unit kind (None: a plain value).
 SCHEMA: dict[str, dict[str, str | None]] = {
@@ -168,10 +163,7 @@ def _suggest(key: str, allowed) -> str:
 
 def parse_scene(text: str, source: str = "<scene>", path: Path | None = None) -> Scene:
     """Parse and validate scene TOML text. Raises :class:`InputError` naming the offending key."""
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{source} is not valid TOML: {exc}") from None
+    document = parse_toml(text, source)
     for table, content in document.items():
         if table not in SCHEMA:
             raise InputError(

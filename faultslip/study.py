@@ -36,13 +36,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, did_you_mean
+from .resources import parse_toml
 from .units import STANDARD_GRAVITY, to_si
-
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python < 3.11
-    import tomli as tomllib
 
 #: Sweepable parameters: name -> (unit kind, SI unit, long name). "category" is a string dimension.
 FAULT_PARAMETERS = {
@@ -159,10 +155,7 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
     """Parse and validate a study. ``base_text`` overrides reading the base scene (reproduction)."""
     from .scene import load_scene, parse_scene
 
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{source} is not valid TOML: {exc}") from None
+    document = parse_toml(text, source)
     for table in document:
         if table not in ("study", "sweep"):
             close = difflib.get_close_matches(table, ["study", "sweep"], n=1)
@@ -171,8 +164,7 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
     head = document.get("study", {})
     for key in head:
         if key not in STUDY_KEYS:
-            close = difflib.get_close_matches(key, STUDY_KEYS, n=2)
-            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            hint = did_you_mean(key, STUDY_KEYS)
             raise InputError(f"unknown key {key!r} in [study] of {source}{hint} (allowed: {', '.join(sorted(STUDY_KEYS))})")
     if "base" not in head:
         raise InputError(f"[study] in {source} needs base = \"SCENE.toml\" (a scene file or a bundled scene name)")
@@ -195,8 +187,7 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
     for name, spec in document.get("sweep", {}).items():
         where = f"[sweep] {name} in {source}"
         if name not in allowed:
-            close = difflib.get_close_matches(name, allowed, n=3, cutoff=0.6)
-            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            hint = did_you_mean(name, allowed, n=3)
             raise InputError(f"unknown parameter {name!r} in [sweep] of {source}{hint} "
                              f"(a {scene.kind} study sweeps: {', '.join(allowed)})")
         kind = allowed[name][0]
@@ -662,8 +653,7 @@ def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | N
     parsed = {}
     for name, values in dims.items():
         if name not in allowed:
-            close = difflib.get_close_matches(name, allowed, n=3, cutoff=0.6)
-            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            hint = did_you_mean(name, allowed, n=3)
             raise InputError(f"unknown parameter {name!r}{hint} (a {scene.kind} study sweeps: {', '.join(allowed)})")
         values = list(values) if not isinstance(values, (str, bytes)) else [values]
         kind = allowed[name][0]
