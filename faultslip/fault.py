@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from . import closed_form
+from . import closed_form, ranges
 from .errors import InputError
 from .friction import RateLaw
 from .materials import MaterialChoice, resolve_material
@@ -165,22 +165,12 @@ class Fault:
                 else:
                     set_(key, 0.0 if key == "b" else 1.0)
 
-        _positive(self.shear_modulus, "shear modulus", "Pa")
-        _positive(self.zone_width, "elastic-zone width", "m")
-        _positive(self.slip_rate, "slip rate", "m/s")
-        _positive(self.density, "density", "kg/m^3")
-        _positive(self.shear_wave_speed, "shear-wave speed", "m/s")
+        for key in ("shear_modulus", "zone_width", "slip_rate", "density", "shear_wave_speed", "rupture_length",
+                    "seismogenic_depth", "normal_stress", "shear_stress", "mu_so", "mu_m", "b", "d", "damping_ratio"):
+            if getattr(self, key) is not None:
+                ranges.check(key, getattr(self, key))
         if (self.normal_stress is None) == (self.shear_stress is None):
             raise InputError("give exactly one of normal stress or shear stress (sigma_n = tau / mu_so)")
-        if self.normal_stress is None:
-            _positive(self.shear_stress, "shear stress", "Pa")
-        else:
-            _positive(self.normal_stress, "normal stress", "Pa")
-        for key in ("rupture_length", "seismogenic_depth"):
-            if getattr(self, key) is not None:
-                _positive(getattr(self, key), key.replace("_", " "), "m")
-        if not -1.0 < self.damping_ratio < 1.0:
-            raise InputError(f"damping ratio must lie in (-1, 1) for an oscillating slip phase, got {self.damping_ratio}")
         RateLaw(self.mu_so, self.mu_so if self.mu_m is None else self.mu_m, self.b, self.d)  # validates
 
     def _no_preset(self) -> str:
@@ -258,8 +248,7 @@ class Fault:
 
     def infer_kinetic_friction(self, observed_slip) -> "FaultInverse":
         """The mu_m that makes eq. 2-19 reproduce an observed slip (seed 003 §5-2, granite)."""
-        slip = to_si(observed_slip, "length", "observed slip")
-        _positive(slip, "observed slip", "m")
+        slip = ranges.check("observed_slip", to_si(observed_slip, "length", "observed slip"))
         return FaultInverse.from_fault(self, slip)
 
 
@@ -307,11 +296,6 @@ def _propagated_uncertainty(fault, method, tolerance) -> dict:
     return {"slip_amplitude_95": tuple(float(v) for v in np.nanpercentile(amplitude, [2.5, 97.5])),
             "recurrence_period_95": tuple(float(v) for v in np.nanpercentile(period, [2.5, 97.5])),
             "uncertainty_samples": int(samples.shape[0])}
-
-
-def _positive(value, name, unit=""):
-    if not (value > 0):
-        raise InputError(f"{name} must be positive, got {value:g} {unit}".rstrip())
 
 
 @dataclass(frozen=True)

@@ -416,7 +416,7 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
         "slip_rate": table.slip_rate, "seismogenic_depth": table.seismogenic_depth, "zone_width": table.zone_width,
         "rupture_length": lengths})
     study = Study(name=spec.name, scene=spec.scene, dims={}, method=method, tolerance=tolerance)
-    dataset = as_dataset(evaluate(inputs, "fault", method, tolerance), study)
+    dataset = as_dataset(evaluate(inputs, "fault", method, tolerance, outside="flag"), study)
     extra = {
         "name": (np.array(table.names, dtype=object), None, "segment name"),
         "lithology": (np.array(table.lithology, dtype=object), None, "lithology or friction preset"),
@@ -525,7 +525,7 @@ def run_map(spec, method="auto", tolerance=1e-6):
         lithology = raster["lithology"].values if "lithology" in raster else None
         inputs = _fault_inputs_along(spec, {"dims": ("lat", "lon"), "coords": coords}, lithology, overrides)
         study = Study(name=spec.name, scene=spec.scene, dims={}, method=method, tolerance=tolerance)
-        dataset = as_dataset(evaluate(inputs, "fault", method, tolerance), study)
+        dataset = as_dataset(evaluate(inputs, "fault", method, tolerance, outside="flag"), study)
         for name, values in overrides.items():
             dataset[name] = xr.DataArray(values, dims=("lat", "lon"), coords=coords)
         if lithology is not None:

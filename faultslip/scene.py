@@ -27,6 +27,7 @@ import difflib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from . import ranges
 from .errors import InputError
 from .resources import bundled_dir, config_path, parse_toml
 
@@ -240,7 +241,7 @@ def _check_value(table, key, value, kind, source):
         return
     if kind != "dimensionless" and not isinstance(value, str):
         raise InputError(f"{where} must state its units as a string, e.g. {key} = \"{value} <unit>\"; got {value!r}")
-    to_si(value, kind, where)  # raises with the key and file named
+    ranges.check(key, to_si(value, kind, where), where)  # raises with the key and file named
 
 
 def apply_friction(system, spec: dict, name: str = "scene"):

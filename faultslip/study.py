@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import ranges
 from .errors import InputError, did_you_mean
 from .resources import parse_toml
 from .units import STANDARD_GRAVITY, to_si
@@ -125,13 +126,13 @@ def _values(name, spec, kind, where):
         if rule == "logspace":
             if start <= 0 or stop <= 0:
                 raise InputError(f"{where} logspace needs positive start and stop, got {args[0]!r} and {args[1]!r}")
-            return list(np.geomspace(start, stop, count))
-        return list(np.linspace(start, stop, count))
+            return list(ranges.check(name, np.geomspace(start, stop, count), where))
+        return list(ranges.check(name, np.linspace(start, stop, count), where))
     if not isinstance(spec, list):
         spec = [spec]
     if not spec:
         raise InputError(f"{where} is empty: give at least one value")
-    return [to_si(v, kind, where) for v in spec]
+    return [ranges.check(name, to_si(v, kind, where), where) for v in spec]
 
 
 def _categories(name, spec, kind, where):
@@ -407,14 +408,20 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
         rate = stiffness * speed / load
     drop = mu_so - mu_m
     # seed 003 eq. 2-18 as drop / (1 + drop b rate^d), in place on one grid-sized buffer
-    excess = np.power(rate, d)
-    excess *= drop * b
+    # a fresh array spanning every input of eq. 2-18, so the in-place steps below never broadcast
+    # into a smaller buffer (a swept mu_m or b adds dimensions that rate does not have)
+    excess = np.multiply(np.power(rate, d), drop * b, dtype=float)
+    if excess.ndim == 0:
+        excess = np.array(excess, dtype=float)
     excess += 1.0
     np.divide(drop, excess, out=excess)
     has_excess = bool(np.all(np.asarray(drop) > 0))
     with np.errstate(divide="ignore", invalid="ignore"):  # no excess (mu_so = mu_m): eps = inf, steady sliding
-        eps = omega_n * excess
-        np.divide(rate, eps, out=eps)
+        eps = np.asarray(omega_n * excess, dtype=float)
+        if np.broadcast_shapes(np.shape(rate), eps.shape) == eps.shape and eps.ndim:
+            np.divide(rate, eps, out=eps)
+        else:
+            eps = np.asarray(rate / eps, dtype=float)
         sticks = eps < eps_c if has_excess else (excess > 0) & (eps < eps_c)
         error = 2.0 * np.abs(zeta) + eps  # 1.5 (2|zeta| eps + eps^2) = 1.5 eps (2|zeta| + eps)
         error *= eps
@@ -475,8 +482,13 @@ KERNEL_OUTPUTS = ("slip_amplitude", "recurrence_period", "loading_rate", "static
                   "seismic_moment", "moment_magnitude")
 
 
-def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1e-6):
+def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1e-6, outside: str = "refuse"):
     """All study outputs from the inputs of :func:`study_inputs` (labelled; lazy if chunked).
+
+    Cells with mu_m >= mu_so (no stick-slip to predict; ``faultslip fault`` refuses them) are
+    refused with an :class:`InputError` (``outside="refuse"``, studies), or, with
+    ``outside="flag"`` (maps, where one creeping segment must not stop the map), carry NaN
+    outputs, regime and method -1, and the flag ``outside_domain`` = 1.
 
     Parameter-level quantities (stiffness, damping ratio, eps_c, the critical rate) are computed
     on the small dimensions they depend on; the grid-sized work is one call of :func:`cell_kernel`
@@ -500,7 +512,18 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
         mass = load / STANDARD_GRAVITY
         zeta = inputs["damping_ratio"] + inputs["kinetic_slope"] * load / (2 * np.sqrt(stiffness * mass))
         has_moment, moment_factor = False, np.nan
-    zeta_values = np.asarray(xr.DataArray(zeta).values) if not _is_lazy(zeta) else np.asarray(xr.DataArray(zeta).compute().values)
+    # on the parameter dimensions only (small): refuse or flag the cells that fault would refuse
+    no_excess = None
+    if outside == "refuse":
+        ranges.check_friction_drop(*(_small_values(v) for v in xr.broadcast(xr.DataArray(mu_so), xr.DataArray(mu_m))),
+                                   "in some cells of the study")
+    else:
+        no_excess = ~(xr.DataArray(mu_so) > xr.DataArray(mu_m))
+        if bool(no_excess.any()):
+            mu_m = xr.where(no_excess, 0.5 * xr.DataArray(mu_so), mu_m)  # a stand-in, masked below
+        else:
+            no_excess = None
+    zeta_values = _small_values(zeta)
     if np.any(np.abs(zeta_values) >= 1):
         raise InputError("the damping ratio of some cells reaches |zeta| >= 1 (no oscillating slip phase); "
                          "narrow the sweep of damping_ratio")
@@ -518,7 +541,21 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
     outputs = dict(zip(KERNEL_OUTPUTS, results))
     if not has_moment:
         del outputs["seismic_moment"], outputs["moment_magnitude"]
+    if no_excess is not None:
+        for name, value in outputs.items():
+            fill = -1 if name in ("regime", "method") else np.nan
+            outputs[name] = xr.where(no_excess, fill, value).astype(value.dtype)
+        outputs["outside_domain"] = xr.broadcast(no_excess.astype(np.int8), outputs["regime"])[0]
     return outputs
+
+
+def _small_values(value):
+    """The numpy values of a parameter-level quantity (computing it if dask-backed)."""
+    import xarray as xr
+
+    if isinstance(value, xr.DataArray):
+        return np.asarray(value.compute().values if _is_lazy(value) else value.values, dtype=float)
+    return np.asarray(value, dtype=float)
 
 
 def _is_lazy(value):
@@ -549,8 +586,12 @@ def _flags(codes: dict) -> dict:
     return {"flag_values": np.array(list(codes.values()), dtype=np.int8), "flag_meanings": " ".join(codes), "units": "1"}
 
 
-def as_dataset(outputs: dict, study):
-    """Outputs broadcast over the study's dimensions, with CF attributes."""
+def as_dataset(outputs: dict, study, block=None):
+    """Outputs broadcast over every swept dimension of the study (or ``block``), with CF attributes.
+
+    A swept parameter that no output depends on (the shear-wave speed without radiation damping)
+    still labels every output, so the file has the grid the study asked for.
+    """
     import xarray as xr
 
     arrays = {}
@@ -559,13 +600,23 @@ def as_dataset(outputs: dict, study):
             value = xr.DataArray(value)
         arrays[name] = value
     dataset = xr.Dataset(arrays)
+    for name, values in study.dims.items():
+        if name not in dataset.dims:
+            index = None if block is None else block.get(name, slice(None))
+            dataset = dataset.expand_dims({name: _coordinate(study, name, values, index)})
     order = [d for d in study.dims if d in dataset.dims]
     dataset = dataset.transpose(*order) if order else dataset
     for name in dataset.data_vars:
         if name == "regime":
-            dataset[name].attrs = {"long_name": "regime (stick-slip, steady sliding, growing oscillation)", **_flags(REGIME_CODES)}
+            dataset[name].attrs = {"long_name": "regime (stick-slip, steady sliding, growing oscillation; "
+                                                "-1: no prediction, see outside_domain)", **_flags(REGIME_CODES)}
         elif name == "method":
-            dataset[name].attrs = {"long_name": "method used in this cell", **_flags(METHOD_CODES)}
+            dataset[name].attrs = {"long_name": "method used in this cell (-1: none)", **_flags(METHOD_CODES)}
+        elif name == "outside_domain":
+            dataset[name].attrs = {"long_name": "cell outside the model's domain (no prediction)",
+                                   **_flags({"predicted": 0, "no_static_excess_mu_m_not_below_mu_so": 1}),
+                                   "comment": "faultslip fault refuses such inputs: with mu_m >= mu_so there is no "
+                                              "stick-slip to predict (seed 003 eq. 2-18)"}
         else:
             unit, long_name = OUTPUT_ATTRS[name]
             if name == "stress_drop" and study.kind == "lab":
@@ -579,7 +630,7 @@ def compute_block(study, block=None):
     if _needs_simulation(study):
         return _simulated_block(study, block)
     outputs = evaluate(study_inputs(study, block), study.kind, study.method, study.tolerance)
-    return as_dataset(outputs, study).compute()
+    return as_dataset(outputs, study, block).compute()
 
 
 def _needs_simulation(study) -> bool:
@@ -655,7 +706,7 @@ def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | N
         if name not in allowed:
             hint = did_you_mean(name, allowed, n=3)
             raise InputError(f"unknown parameter {name!r}{hint} (a {scene.kind} study sweeps: {', '.join(allowed)})")
-        values = list(values) if not isinstance(values, (str, bytes)) else [values]
+        values = values if isinstance(values, dict) else list(values) if not isinstance(values, (str, bytes)) else [values]
         kind = allowed[name][0]
         parsed[name] = _categories(name, values, scene.kind, name) if kind == "category" else _values(name, values, kind, name)
     _check_consistent(scene, parsed, "sweep()")
@@ -680,6 +731,10 @@ def _study_text(scene, method, tolerance, dims) -> str:
     lines = ["[study]", f'name = {literal(scene.name)}', f'base = {literal(scene.path.name if scene.path else scene.name)}',
              f'method = "{method}"', f"tolerance = {tolerance!r}", "", "[sweep]"]
     for name, values in dims.items():
+        if isinstance(values, dict):  # {"logspace": [start, stop, count]}
+            (rule, args), = values.items()
+            lines.append(f"{name} = {{ {rule} = [{', '.join(literal(v) if not isinstance(v, int) else str(v) for v in args)}] }}")
+            continue
         values = list(values) if not isinstance(values, (str, bytes)) else [values]
         lines.append(f"{name} = [{', '.join(literal(v) for v in values)}]")
     return "\n".join(lines) + "\n"

@@ -11,8 +11,10 @@ tests). Seed 003 used 365 d, a 0.07 % difference.
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
+import re
 
 import numpy as np
 import pint
@@ -47,6 +49,8 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "mass_per_area": ("[mass]/[area]", "kg/m^2", "a mass per area"),
     "density": ("[density]", "kg/m^3", "a density"),
     "moment": ("[energy]", "N*m", "a seismic moment (force*length)"),
+    "frequency": ("1/[time]", "Hz", "a frequency (Hz, 1/s or rad/s)"),
+    "acceleration": ("[acceleration]", "m/s^2", "an acceleration"),
     "dimensionless": ("[]", "", "dimensionless"),
 }
 
@@ -63,6 +67,221 @@ def _describe(value) -> str:
     if isinstance(value, pint.Quantity):
         return f"{value:~P}"
     return str(value)
+
+
+# --- the one door for quantity text ----------------------------------------------------------
+# pint's own parser evaluates arithmetic ("1/0 m", "10**400 m") and drops characters it does not
+# know (U+2212 "−5 km" became +5 km), so text is first read by a small grammar of our own:
+#   text     := [sign] number [unit] | unit-free number
+#   unit     := term (("*" | "/" | " ") term)*
+#   term     := factor [("^" | "**") exponent]
+#   factor   := name | "(" unit ")" | "1" (only as the "1" of "1/s")
+# and only then are the unit names looked up in pint.
+
+#: Characters read as a minus sign: hyphen-minus, minus sign, figure dash, en dash, small and full-width hyphen-minus.
+_MINUS_SIGNS = "\u2212\u2012\u2013\ufe63\uff0d"
+_SPACE_LIKE = "\u00a0\u2009\u202f\u2007"
+_NUMBER = re.compile(r"[+-]?\s*(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+_TOKEN = re.compile(r"\s*(?:(?P<name>[^\W\d][\w°µμΩ]*|[°%][\w]*)|(?P<power>\*\*|\^)|(?P<op>[*/·⋅])"
+                    r"|(?P<open>\()|(?P<close>\))|(?P<num>\d+(?:\.\d+)?)|(?P<sign>[+-]))")
+
+
+def _normalise(text: str) -> str:
+    for minus in _MINUS_SIGNS:
+        text = text.replace(minus, "-")
+    for space in _SPACE_LIKE:
+        text = text.replace(space, " ")
+    return text.strip()
+
+
+def _tokens(unit_text: str, original: str, name: str):
+    tokens, position = [], 0
+    while position < len(unit_text):
+        match = _TOKEN.match(unit_text, position)
+        if match is None or match.end() == position:
+            bad = unit_text[position:].strip()[:1]
+            raise InputError(f"{name}: cannot read {original!r}: unexpected {bad!r} in the unit")
+        position = match.end()
+        kind = match.lastgroup
+        tokens.append((kind, match.group(kind)))
+    return tokens
+
+
+def _check_unit_grammar(tokens, original: str, name: str) -> str:
+    """Validate the token sequence; returns pint-ready unit text (``·`` as ``*``, ``^`` as ``**``)."""
+    where = f"{name}: cannot read {original!r}"
+    out, depth, index = [], 0, 0
+
+    def fail(reason):
+        raise InputError(f"{where}: {reason}")
+
+    def exponent(i):
+        # [sign] digits | "(" [sign] digits ["/" digits] ")"
+        parts = []
+        if i < len(tokens) and tokens[i][0] == "open":
+            parts.append("(")
+            i += 1
+            if i < len(tokens) and tokens[i][0] == "sign":
+                parts.append(tokens[i][1])
+                i += 1
+            if i >= len(tokens) or tokens[i][0] != "num":
+                fail("an exponent must be a number")
+            parts.append(tokens[i][1])
+            i += 1
+            if i < len(tokens) and tokens[i] == ("op", "/"):
+                if i + 1 >= len(tokens) or tokens[i + 1][0] != "num":
+                    fail("an exponent must be a number")
+                parts += ["/", tokens[i + 1][1]]
+                i += 2
+            if i >= len(tokens) or tokens[i][0] != "close":
+                fail("unbalanced brackets in an exponent")
+            return "".join(parts) + ")", i + 1
+        if i < len(tokens) and tokens[i][0] == "sign":
+            parts.append(tokens[i][1])
+            i += 1
+        if i >= len(tokens) or tokens[i][0] != "num":
+            fail("an exponent must be a number")
+        return "".join(parts) + tokens[i][1], i + 1
+
+    expect_factor = True
+    while index < len(tokens):
+        kind, text = tokens[index]
+        if expect_factor:
+            if kind == "name":
+                out.append(text)
+                index += 1
+            elif kind == "open":
+                out.append("(")
+                depth += 1
+                index += 1
+                continue
+            elif kind == "num" and text == "1" and index + 1 < len(tokens) and tokens[index + 1] == ("op", "/"):
+                out.append("1")
+                index += 1
+            else:
+                fail("a unit name is missing" if kind in ("op", "power", "close") or index == len(tokens)
+                     else f"unexpected {text!r} in the unit")
+            expect_factor = False
+            continue
+        if kind == "power":
+            value, index = exponent(index + 1)
+            out.append("**" + value)
+        elif kind == "close":
+            depth -= 1
+            if depth < 0:
+                fail("unbalanced brackets")
+            out.append(")")
+            index += 1
+        elif kind == "op":
+            out.append("*" if text in "·⋅" else text)
+            expect_factor = True
+            index += 1
+        elif kind in ("name", "open"):
+            out.append(" ")  # implicit product: "N m"
+            expect_factor = True
+        else:
+            fail(f"unexpected {text!r} in the unit")
+    if expect_factor and tokens:
+        fail("the unit ends with an operator")
+    if depth != 0:
+        fail("unbalanced brackets")
+    return "".join(out)
+
+
+@functools.lru_cache(maxsize=4096)
+def _unit_factor(unit_text: str, kind: str):
+    """(multiplier to the SI unit of ``kind``, note) for a pint-ready unit; raises pint errors or ValueError."""
+    dims = _dimensionality(kind)
+    quantity = units.Quantity(1.0, unit_text)
+    root = quantity.to_root_units()
+    angular = "radian" in root._units
+    if angular and kind == "frequency":  # an angular frequency: omega / (2 pi) in Hz
+        quantity = quantity.to("radian/s")
+        return quantity.magnitude / (2.0 * math.pi), "angular"
+    if angular:
+        raise ValueError("angle")
+    if quantity.dimensionality != dims:
+        if kind in _GRAVITATIONAL and quantity.dimensionality * units.get_dimensionality("[acceleration]") == dims:
+            return (quantity * units.Quantity(STANDARD_GRAVITY, "m/s^2")).to(KINDS[kind][1]).magnitude, "weight"
+        raise pint.DimensionalityError(quantity.units, KINDS[kind][1] or "dimensionless")
+    si = KINDS[kind][1]
+    return (quantity.to(si).magnitude if si else quantity.to("dimensionless").magnitude), ""
+
+
+def unit_factor(unit_text: str, kind: str, name: str) -> float:
+    """Multiplier from ``unit_text`` to the SI unit of ``kind`` (e.g. a CSV header's unit)."""
+    if not isinstance(unit_text, str):
+        raise InputError(f"{name}: the unit must be text such as \"m/s\", got {unit_text!r}")
+    text = _normalise(unit_text)
+    if not text:
+        raise InputError(f"{name}: the unit is empty")
+    if len(text) > 200:
+        raise InputError(f"{name}: the unit is too long ({len(text)} characters)")
+    clean = _check_unit_grammar(_tokens(text, unit_text, name), unit_text, name)
+    return _lookup(clean, kind, name, unit_text)[0]
+
+
+def _lookup(clean: str, kind: str, name: str, original: str):
+    try:
+        return _unit_factor(clean, kind)
+    except pint.UndefinedUnitError as exc:
+        unknown = ", ".join(repr(u) for u in getattr(exc, "unit_names", ()) or ()) or repr(clean)
+        raise InputError(f"{name}: unknown unit {unknown} in {original!r}; give a number with units such as "
+                         f"{_example(kind)}") from None
+    except pint.DimensionalityError:
+        if kind == "dimensionless":
+            raise InputError(f"{name} must be a dimensionless number, got {original}") from None
+        raise InputError(f"{name} must be {KINDS[kind][2]} such as {_example(kind)}, got {original}") from None
+    except ValueError as exc:
+        if str(exc) == "angle":
+            raise InputError(f"{name} must be {KINDS[kind][2]}; an angle unit has no meaning here, got {original!r}") from None
+        raise InputError(f"{name}: cannot read {original!r}; give a number with units such as {_example(kind)}") from None
+    except Exception:  # pint raises many types on odd text; every one is the user's input
+        raise InputError(f"{name}: cannot read {original!r}; give a number with units such as {_example(kind)}") from None
+
+
+def parse_quantity_text(value: str, kind: str, name: str, default_unit: str | None = None) -> float:
+    """The SI float of quantity text such as ``"13 mi"``, ``"−5 km"`` or ``"5e-11 1/s"``.
+
+    Refuses (one :class:`InputError` sentence): a decimal comma (with the corrected text), an
+    expression (``"1/0 m"``, ``"10**400 m"``), unbalanced brackets, a trailing operator, an
+    unknown unit, the wrong dimension, and a value that overflows or is not finite.
+    """
+    text = _normalise(value)
+    if not text:
+        raise InputError(f"{name} must be {KINDS[kind][2]}, got an empty string")
+    if len(text) > 200:
+        raise InputError(f"{name}: the text is too long ({len(text)} characters); give a number with units")
+    comma = re.search(r"\d,\d", text)
+    if comma:
+        fixed = re.sub(r"(\d),(\d)", r"\1.\2", text)
+        raise InputError(f"{name}: {value!r} has a comma; write numbers with a decimal point and no thousands "
+                         f"separator, e.g. {fixed!r}")
+    if re.match(r"[+-]?\s*(nan|inf(inity)?)\b", text, re.IGNORECASE):
+        raise InputError(f"{name} must be finite, got {value!r}")
+    match = _NUMBER.match(text)
+    if match is None:
+        raise InputError(f"{name}: cannot read {value!r}; it must start with a number, e.g. {_example(kind)}")
+    number_text = match.group(0).replace(" ", "")
+    magnitude = float(number_text)
+    if not math.isfinite(magnitude):
+        raise InputError(f"{name}: {value!r} is out of range (a double holds about 1.8e308 at most)")
+    rest = text[match.end():].strip()
+    if not rest:
+        if kind == "dimensionless":
+            return magnitude
+        return _bare(magnitude, kind, name, default_unit, KINDS[kind][2])
+    if rest[0] == "/":  # "5 /s": the number is the numerator
+        rest = "1" + rest
+    if (rest[0].isdigit() and not re.match(r"1\s*/", rest)) or rest[0] == ".":
+        raise InputError(f"{name}: cannot read {value!r}; put one number before the unit, e.g. {_example(kind)}")
+    clean = _check_unit_grammar(_tokens(rest, value, name), value, name)
+    factor, _ = _lookup(clean, kind, name, value)
+    with np.errstate(over="ignore", invalid="ignore"):
+        result = magnitude * factor
+    if not math.isfinite(result):
+        raise InputError(f"{name}: {value!r} is out of range in SI units")
+    return result
 
 
 def to_si(value, kind: str, name: str, default_unit: str | None = None):
@@ -88,41 +307,20 @@ def to_si(value, kind: str, name: str, default_unit: str | None = None):
     """
     if kind not in KINDS:
         raise KeyError(kind)
-    dims_str, si_unit, phrase = KINDS[kind]
-    dims = _dimensionality(kind)
-
-    if isinstance(value, bool):
-        raise InputError(f"{name} must be {phrase}, got {value!r}")
+    if isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} must be {KINDS[kind][2]}, got {value!r}")
     if isinstance(value, str):
-        text = value.strip()
-        if not text:
-            raise InputError(f"{name} must be {phrase}, got an empty string")
+        return parse_quantity_text(value, kind, name, default_unit)
+    if isinstance(value, pint.Quantity):
         try:
-            quantity = units.Quantity(text)
-        except (pint.errors.PintError, ValueError, SyntaxError, TypeError, AttributeError) as exc:
-            detail = f"unknown unit in {text!r}" if isinstance(exc, pint.UndefinedUnitError) else f"cannot read {text!r}"
-            raise InputError(f"{name}: {detail}; give a number with units such as {_example(kind)}") from None
-        if not isinstance(quantity, pint.Quantity):  # a bare number inside a string
-            quantity = float(quantity)
-            return _bare(quantity, kind, name, default_unit, phrase)
-    elif isinstance(value, pint.Quantity):
-        quantity = value
-        if quantity._REGISTRY is not units:  # another registry: re-read its unit text
-            quantity = units.Quantity(quantity.magnitude, str(quantity.units))
-    else:
-        return _bare(value, kind, name, default_unit, phrase)
-
-    if quantity.dimensionality != dims:
-        if kind in _GRAVITATIONAL and quantity.dimensionality * units.get_dimensionality(
-            "[acceleration]"
-        ) == dims:
-            quantity = quantity * units.Quantity(STANDARD_GRAVITY, "m/s^2")
-        elif kind == "dimensionless":
-            raise InputError(f"{name} must be a dimensionless number, got {_describe(value)}")
-        else:
-            raise InputError(f"{name} must be {phrase} such as {_example(kind)}, got {_describe(value)}")
-    magnitude = quantity.to(si_unit).magnitude if si_unit else quantity.to("dimensionless").magnitude
-    return _finite(magnitude, name)
+            magnitude = np.asarray(value.magnitude, dtype=float)
+            unit_text = str(value.units)
+        except (TypeError, ValueError):
+            raise InputError(f"{name} must be a number with units, got {value!r}") from None
+        factor, _ = _lookup(unit_text, kind, name, _describe(value))
+        with np.errstate(over="ignore", invalid="ignore"):
+            return _finite(magnitude * factor, name)
+    return _bare(value, kind, name, default_unit, KINDS[kind][2])
 
 
 def _bare(value, kind, name, default_unit, phrase):
@@ -132,22 +330,32 @@ def _bare(value, kind, name, default_unit, phrase):
         raise InputError(
             f"{name} must be {phrase} with units, such as {_example(kind)}; got the bare number {value!r}"
         )
-    return to_si(units.Quantity(_as_float(value, name), default_unit), kind, name)
+    factor = unit_factor(default_unit, kind, name)
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _finite(_as_float(value, name) * factor, name)
 
 
 def _as_float(value, name):
-    if isinstance(value, numbers.Number):
-        return float(value)
     try:
-        return np.asarray(value, dtype=float)
+        if isinstance(value, numbers.Real):
+            return float(value)
+        array = np.asarray(value, dtype=float)
+    except OverflowError:
+        raise InputError(f"{name}: {value!r} is out of range (a double holds about 1.8e308 at most)") from None
     except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number, got {value!r}") from None
+        raise InputError(f"{name} must be a number, got {_short(value)}") from None
+    return array
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _finite(magnitude, name):
     array = np.asarray(magnitude, dtype=float)
     if not np.all(np.isfinite(array)):
-        raise InputError(f"{name} must be finite, got {magnitude!r} (NaN or infinity)")
+        raise InputError(f"{name} must be finite, got {_short(magnitude)} (NaN, infinity or out of range)")
     return float(array) if array.ndim == 0 else array
 
 
@@ -167,6 +375,8 @@ _EXAMPLES = {
     "mass_per_area": '"5.6e7 kg/m^2"',
     "density": '"2700 kg/m^3"',
     "moment": '"8e20 N*m"',
+    "frequency": '"19.9 Hz" or "125 rad/s"',
+    "acceleration": '"9.81 m/s^2" or "1 g_0"',
     "dimensionless": "0.65",
 }
 

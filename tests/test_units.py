@@ -73,7 +73,7 @@ def test_nan_and_infinity_are_rejected(bad, kind):
 
 
 def test_unknown_unit_is_a_clear_error():
-    with pytest.raises(InputError, match="unknown unit in '13 furlongz'"):
+    with pytest.raises(InputError, match="unknown unit 'furlongz' in '13 furlongz'"):
         to_si("13 furlongz", "length", "D")
 
 
