@@ -196,7 +196,7 @@ def closed_form_cycle(system):
     stick time) and uses the kinetic law's friction at rest as mu_m and its
     slope in the damping ratio.
     """
-    from .cycle import STICK_SLIP, CycleResult
+    from .cycle import GROWING_OSCILLATION, STICK_SLIP, CycleResult
     from .errors import MethodError
 
     excess = system.static_excess
@@ -215,7 +215,8 @@ def closed_form_cycle(system):
     _warn_above_critical(system, eps, zeta)
     return CycleResult(
         method="closed_form",
-        regime=STICK_SLIP,
+        # negative net damping makes the slip oscillation grow: the same label as the exact cycle
+        regime=GROWING_OSCILLATION if system.damping_ratio < 0 else STICK_SLIP,
         loading_rate=system.loading_rate,
         platform_speed=system.platform_speed,
         static_friction=system.mu_m + excess,

@@ -84,34 +84,62 @@ class _Oscillator:
         return _first_zero(p, q, self.omega, include_zero)
 
 
-def _solve_increasing(osc, target, lo, hi, iterations=80):
-    """Vectorised safeguarded Newton for osc('v', s) = target on [lo, hi], where U' increases."""
-    f_lo = osc("v", lo) - target
-    f_hi = osc("v", hi) - target
-    # secant start inside the bracket
+def _end_of_slip(osc, target, lo, hi, iterations=100):
+    r"""Vectorised safeguarded Newton for U'(s) = target on [lo, hi], where U' increases.
+
+    The unknown is delta = T - s, the time left to the end of the natural period T = 2 pi / omega,
+    and the residual is written without cancellation:
+
+    .. math::
+
+        U'(s) - t = t\,(E\cos\omega\delta - 1) + (p_v - t) E\cos\omega\delta - q_v E\sin\omega\delta,
+        \qquad E\cos\omega\delta - 1 = \mathrm{expm1}(\zeta(\delta - T))\cos\omega\delta
+        - 2\sin^2(\omega\delta/2),
+
+    with :math:`E = e^{-\zeta s}`. At a high loading rate and light damping the root lies within
+    about 2/eps of T, where U' and t are both of order eps: evaluated as U'(s) - t and in s, the
+    residual lost every digit and the end of slip was lost (issue 9: half the true stress drop at
+    eps ~ 1e9). In delta the root keeps full relative precision. Returns ``(s, delta)``.
+    """
+    zeta, omega = osc.zeta, osc.omega
+    period = 2.0 * np.pi / omega
+    (pv, qv), (pa, qa) = osc.coef["v"], osc.coef["a"]
+    offset = pv - target
+
+    def residual_and_slope(delta):
+        phase = omega * delta
+        cos, sin = np.cos(phase), np.sin(phase)
+        decay_minus_one = np.expm1(zeta * (delta - period))
+        envelope = decay_minus_one + 1.0
+        cos_minus_one = decay_minus_one * cos - 2.0 * np.sin(0.5 * phase) ** 2
+        residual = target * cos_minus_one + offset * envelope * cos - qv * envelope * sin
+        acceleration = envelope * (pa * cos - qa * sin)  # U''(s) > 0 on the bracket
+        return residual, -acceleration  # d residual / d delta
+
+    d_lo, d_hi = period - hi, period - lo  # residual(d_lo) >= 0 >= residual(d_hi)
+    f_lo, _ = residual_and_slope(d_lo)
+    f_hi, _ = residual_and_slope(d_hi)
     with np.errstate(divide="ignore", invalid="ignore"):
-        x = np.where(f_hi > f_lo, lo - f_lo * (hi - lo) / (f_hi - f_lo), 0.5 * (lo + hi))
-    x = np.clip(np.nan_to_num(x, nan=0.5), lo, hi)
+        x = np.where(f_lo > f_hi, d_lo + f_lo * (d_hi - d_lo) / (f_lo - f_hi), 0.5 * (d_lo + d_hi))
+    x = np.clip(np.nan_to_num(x, nan=0.0), d_lo, d_hi)
     active = np.isfinite(x) & np.isfinite(target)
-    tolerance = 32 * np.finfo(float).eps  # near tangency (slope ~ 0) Newton dithers at a few ULPs
+    tiny = np.finfo(float).tiny
     for _ in range(iterations):
-        velocity, slope = osc.velocity_and_acceleration(x)
-        f = velocity - target
-        lo = np.where(active & (f < 0), x, lo)
-        hi = np.where(active & (f >= 0), x, hi)
+        f, slope = residual_and_slope(x)
+        d_lo = np.where(active & (f > 0), x, d_lo)
+        d_hi = np.where(active & (f <= 0), x, d_hi)
         with np.errstate(divide="ignore", invalid="ignore"):
             newton = x - f / slope
-        inside = (newton >= lo) & (newton <= hi) & (slope > 0)
-        x_new = np.where(inside, newton, 0.5 * (lo + hi))
+        inside = (newton >= d_lo) & (newton <= d_hi) & (slope < 0)
+        x_new = np.where(inside, newton, 0.5 * (d_lo + d_hi))
         step = np.abs(x_new - x)
         x = np.where(active, x_new, x)
-        # converged: a step or bracket at round-off level, or a residual at the
-        # rounding level of U' itself (O(1) terms), where the root is ill-conditioned
-        scale = np.maximum(np.abs(x), 1.0)
-        active &= (step > tolerance * scale) & (hi - lo > tolerance * scale) & (np.abs(f) > 8 * np.finfo(float).eps)
+        # converged: a step or bracket at round-off level of delta itself (relative precision)
+        scale = np.maximum(np.abs(x), tiny)
+        active &= (step > 4 * np.finfo(float).eps * scale) & (d_hi - d_lo > 4 * np.finfo(float).eps * scale) & (f != 0)
         if not active.any():
             break
-    return x
+    return period - x, x
 
 
 def slip_cycle(damping_ratio, dimensionless_rate, initial_offset=None):
@@ -161,7 +189,7 @@ def slip_cycle(damping_ratio, dimensionless_rate, initial_offset=None):
     n = np.nan_to_num(swings)
     scale = growth**n  # every point of swing n is swing 0 scaled by growth**n
     target = np.where(steady, np.nan, eps / scale)
-    s_end0 = _solve_increasing(osc, np.where(steady, 0.0, target), s_vmin, s_vmax)
+    s_end0, delta_end = _end_of_slip(osc, np.where(steady, 0.0, target), s_vmin, s_vmax)
 
     s_umax = osc.first_zero("v", include_zero=True)
     s_umin = s_umax + np.pi / omega
@@ -173,11 +201,56 @@ def slip_cycle(damping_ratio, dimensionless_rate, initial_offset=None):
         "swings": nan_if_steady(n + 1),
         "slip_time": nan_if_steady(s_end0 + period_shift),
         "u_start": u0 + 0.0 * zeta,
-        "u_end": nan_if_steady(osc("u", s_end0) * scale),
+        "u_end": nan_if_steady(_displacement_at(osc, delta_end) * scale),
+        "u_drop": nan_if_steady(_displacement_drop(osc, u0, delta_end, scale)),
         "u_max": nan_if_steady(osc("u", s_umax) * scale),
         "u_min": nan_if_steady(osc("u", s_umin) * scale),
         "v_min": nan_if_steady(osc("v", s_vmin) * scale),
     }
+
+
+#: Round-off floor of the exact cycle's relative error, measured against a 50-digit mpmath
+#: reference over the (zeta, eps) plane (tests/test_exact_cycle.py: at most 1.4e-15 away from
+#: the critical rate, eps from 1e-12 to 1e15).
+ROUND_OFF_ERROR = 1e-14
+
+
+def exact_cycle_error(dimensionless_rate, critical_rate):
+    """Stated relative error of :func:`slip_cycle` at ``eps`` with critical ``eps_c`` (inf without one).
+
+    Round-off everywhere, amplified near the critical rate: there the end of slip is a near-double
+    root of U'(s) = eps (the velocity maximum just reaches V), so an O(machine eps) residual moves
+    it by O(machine eps / sqrt(1 - eps/eps_c)). The constant 64 bounds the mpmath measurements
+    with a margin (largest ratio seen: 26, at zeta = 0.9, 1 - eps/eps_c = 1e-8).
+    """
+    eps, eps_c = np.asarray(dimensionless_rate, float), np.asarray(critical_rate, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        closeness = np.where(np.isfinite(eps_c), 1.0 - eps / eps_c, 1.0)
+    closeness = np.maximum(closeness, np.finfo(float).eps)
+    return ROUND_OFF_ERROR + 64.0 * np.finfo(float).eps / np.sqrt(closeness)
+
+
+def _displacement_at(osc, delta):
+    """U(T - delta), from delta (precise where delta is small)."""
+    period = 2.0 * np.pi / osc.omega
+    p, q = osc.coef["u"]
+    envelope = np.exp(osc.zeta * (delta - period))
+    return envelope * (p * np.cos(osc.omega * delta) - q * np.sin(osc.omega * delta))
+
+
+def _displacement_drop(osc, u0, delta, scale):
+    """U(0) - U(T - delta) * scale without cancellation (the stress drop / (K L)).
+
+    With U(0) = p_u: p_u (1 - E cos) + E q_u sin, and 1 - E cos = -expm1 cos + 2 sin^2(half phase).
+    """
+    period = 2.0 * np.pi / osc.omega
+    p, q = osc.coef["u"]
+    phase = osc.omega * delta
+    decay_minus_one = np.expm1(osc.zeta * (delta - period))
+    envelope = decay_minus_one + 1.0
+    one_minus = -decay_minus_one * np.cos(phase) + 2.0 * np.sin(0.5 * phase) ** 2
+    same_start = u0 - p * scale  # 0 for a cycle from break-away (scale 1)
+    return same_start + scale * (p * one_minus + q * envelope * np.sin(phase))
 
 
 def exact_cycle_arrays(loading_rate, normal_load, stiffness, mass, static_excess, damping_ratio):
@@ -195,7 +268,7 @@ def exact_cycle_arrays(loading_rate, normal_load, stiffness, mass, static_excess
     cycle = slip_cycle(damping_ratio, eps)
     speed_scale = omega_n * length
     with np.errstate(divide="ignore", invalid="ignore"):
-        stick_time = (cycle["u_start"] - cycle["u_end"]) / (eps * omega_n)
+        stick_time = cycle["u_drop"] / (eps * omega_n)
     slip_time = cycle["slip_time"] / omega_n
     period = stick_time + slip_time
     platform_speed = eps * speed_scale
@@ -209,7 +282,7 @@ def exact_cycle_arrays(loading_rate, normal_load, stiffness, mass, static_excess
         "period": period,
         "slip_per_event": platform_speed * period,
         "peak_slip_speed": speed_scale * (eps - cycle["v_min"]),
-        "stress_drop": stiffness * length * (cycle["u_start"] - cycle["u_end"]),
+        "stress_drop": stiffness * length * cycle["u_drop"],
     }
 
 

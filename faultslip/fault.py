@@ -32,8 +32,6 @@ from .units import Quantity, si_unit, to_si
 MW_CONSTANT = 9.1
 #: Default rock density for the slider mass per unit area, M = rho D.
 DEFAULT_DENSITY = 2700.0  # kg/m^3
-#: Default shear-wave speed for the radiation damper eta = G / (2 c_s).
-DEFAULT_SHEAR_WAVE_SPEED = 3300.0  # m/s
 
 
 def fault_stiffness(shear_modulus, zone_width):
@@ -63,7 +61,18 @@ def moment_magnitude(seismic_moment, constant=MW_CONSTANT):
     return (2.0 / 3.0) * (np.log10(seismic_moment) - constant)
 
 
-def radiation_damper(shear_modulus, shear_wave_speed=DEFAULT_SHEAR_WAVE_SPEED):
+def shear_wave_speed(shear_modulus, density):
+    r"""Shear-wave speed :math:`c_s = \sqrt{G/\rho}` in m/s of the same elastic medium.
+
+    faultslip's default: with the slider mass :math:`M = \rho D` and :math:`K = G/D` the
+    radiation damper then gives the damping ratio :math:`\eta/(2\sqrt{KM}) = 1/4` exactly,
+    whatever G, rho and D. A c_s taken from elsewhere (3.3 km/s beside G = 0.25e6 bar and
+    rho = 2700 kg/m^3, whose own c_s is 3.04 km/s) would mix two media.
+    """
+    return np.sqrt(shear_modulus / density)
+
+
+def radiation_damper(shear_modulus, shear_wave_speed):
     r"""Radiation damper per unit area :math:`\eta = G / (2 c_s)` in Pa s/m (quasi-dynamic approximation).
 
     Rice (1993), Spatio-temporal complexity of slip on a fault, JGR 98(B6).
@@ -131,7 +140,7 @@ class Fault:
     damping_ratio: float = 0.0
     radiation_damping: bool = False
     density: object = f"{DEFAULT_DENSITY} kg/m^3"
-    shear_wave_speed: object = f"{DEFAULT_SHEAR_WAVE_SPEED} m/s"
+    shear_wave_speed: object = None  # default sqrt(G / rho): the medium's own (see shear_wave_speed())
     name: str = "fault"
     material: MaterialChoice | None = field(default=None, compare=False, repr=False)
 
@@ -165,6 +174,10 @@ class Fault:
                 else:
                     set_(key, 0.0 if key == "b" else 1.0)
 
+        if self.shear_wave_speed is None:
+            ranges.check("shear_modulus", self.shear_modulus)
+            ranges.check("density", self.density)
+            set_("shear_wave_speed", float(shear_wave_speed(self.shear_modulus, self.density)))
         for key in ("shear_modulus", "zone_width", "slip_rate", "density", "shear_wave_speed", "rupture_length",
                     "seismogenic_depth", "normal_stress", "shear_stress", "mu_so", "mu_m", "b", "d", "damping_ratio"):
             if getattr(self, key) is not None:

@@ -381,6 +381,8 @@ def _fault_inputs_along(spec, dims_coords, lithology, overrides):
     inputs = {name: getattr(fault, name) for name in ("shear_modulus", "zone_width", "slip_rate", "mu_so", "mu_m", "b",
                                                        "d", "rupture_length", "seismogenic_depth", "damping_ratio",
                                                        "density", "shear_wave_speed")}
+    if "shear_wave_speed" not in given:
+        inputs["shear_wave_speed"] = None  # sqrt(G / rho) per segment or cell, as Fault derives it
     if lithology is not None:
         flat = np.asarray(lithology).ravel()
         choices = {name: resolve_material(name) for name in set(flat)}

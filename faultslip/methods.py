@@ -11,7 +11,7 @@ Error models (relative, leading order; checked against measurements in the tests
 * closed form: ``1.5 (2 |zeta| eps + eps^2)`` with ``eps = theta_dot / (omega_n (mu_s - mu_m))``, trusted
   only for ``eps <= 0.1 eps_c(zeta)``: the expansion breaks down near the critical rate and the
   closed form reports stick-slip above it;
-* exact cycle: round-off, 1e-13;
+* exact cycle: round-off (1e-14), amplified near the critical rate as ``machine eps / sqrt(1 - eps/eps_c)``;
 * event-driven integration: ``c_solver * rtol``, with c measured by ``faultslip bench``
   (RK45 2, DOP853 1, Radau 0.5, LSODA 60; LSODA's error control is loose);
 * regularised friction: not trusted (it never truly sticks); run only when forced.
@@ -47,7 +47,6 @@ INTEGRATOR_EVALUATIONS = {
 }
 INTEGRATOR_EVALUATION_TIME = {"DOP853": 2.0e-5, "RK45": 2.0e-5, "LSODA": 2.5e-5, "Radau": 5.0e-5}
 RTOL_LEVELS = tuple(10.0 ** -k for k in range(3, 13))  # 1e-3 ... 1e-12
-EXACT_ERROR = 1e-13
 
 
 @dataclass
@@ -165,9 +164,14 @@ class ExactCycle(Method):
         why_not = _linear_rate_system(system)
         if why_not:
             return Assessment(self.name, False, why_not)
+        from .exact_cycle import exact_cycle_error
+
         cost = 2e-4 + (5e-5 * cycles if "time_series" in outputs else 0.0)
+        zeta, eps = system.damping_ratio, system.dimensionless_rate
+        eps_c = cached_critical_dimensionless_rate(zeta) if zeta > 0 else math.inf
+        error = float(exact_cycle_error(eps, eps_c))
         return Assessment(self.name, True, "linear kinetic law: the slip phase is solved analytically",
-                          EXACT_ERROR, cost)
+                          error, cost)
 
     def run(self, system, cycles, settings):
         from .exact_cycle import exact_cycle

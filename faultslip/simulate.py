@@ -147,10 +147,14 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
     def at_rest(s, state):  # x extrema, for the peak-to-peak amplitude
         return state[1]
 
+    def fastest(s, state):  # x'' = 0: the velocity extrema, for the peak sliding speed
+        sliding = V - state[1] * speed_scale
+        return float(kinetic(sliding)) + (eta * sliding - C * state[1] * speed_scale) / W - state[0]
+
     excess = system.static_excess if system.static_excess is not None else abs(float(kinetic(0.0)))
     scale = max(excess if excess else 0.0, 1e-6)
     options = dict(method=solver, rtol=rtol, atol=atol if atol is not None else rtol * 1e-3 * scale,
-                   dense_output=True, events=[end_of_slip, at_rest])
+                   dense_output=True, events=[end_of_slip, at_rest, fastest])
     if solver in ("Radau", "BDF", "LSODA"):
         options["jac"] = jacobian
     start = [K * x_break / W, y_v]
@@ -194,10 +198,13 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
     x[-1], v[-1] = end_state[0] * W / K, V
     rests = solution.y_events[1][:, 0] * W / K if solution.t_events[1].size else np.array([])
     candidates = np.concatenate([x, rests])
-    velocity_min = float(np.min(states[1])) * speed_scale
+    extrema = solution.y_events[2][:, 1] if solution.t_events[2].size else np.array([])
+    velocity_min = float(min(np.min(states[1]), np.min(extrema, initial=np.inf))) * speed_scale
+    # negative net damping: the slip oscillation grows (same label as the exact cycle)
+    regime = GROWING_OSCILLATION if system.damping_ratio < 0 else STICK_SLIP
     return SlipOutcome(times=s / omega_n, x=x, v=v, duration=s_end / omega_n, x_end=float(end_state[0] * W / K),
                        x_max=float(candidates.max()), x_min=float(candidates.min()), v_min=velocity_min,
-                       regime=STICK_SLIP, evaluations=solution.nfev)
+                       regime=regime, evaluations=solution.nfev)
 
 
 def simulate(
@@ -371,13 +378,58 @@ def _stepped_run(system, cycles, x, solver, rtol, atol, samples, horizon_periods
         events["event_time"].append(t)
         t += slip.duration
         x = slip.x_end
+        if _decayed(system, events["stress_drop"]):
+            regime = STEADY_SLIDING
+            notes.append(f"the stress drop fell to round-off ({DECAY_FLOOR:g} of W dmu) after {len(events['stress_drop'])} "
+                         "events: the stick-slip sequence decays to steady sliding (loading above the critical speed)")
+            break
         if stop_when_converged is not None and len(events["event_time"]) >= 3:
             amplitudes, breaks = events["amplitude"], events["event_time"]
             last_period, previous_period = breaks[-1] - breaks[-2], breaks[-2] - breaks[-3]
             if (abs(amplitudes[-1] / amplitudes[-2] - 1) < stop_when_converged
                     and abs(last_period / previous_period - 1) < stop_when_converged):
                 break
+    if regime == STICK_SLIP and _decaying(system, events["stress_drop"]):
+        regime = STEADY_SLIDING
+        notes.append("the stress drop decays geometrically toward zero (Aitken extrapolation of the last events): "
+                     "the sequence tends to steady sliding; there is no stick-slip limit cycle")
     return _collect(segments, events, regime, counter[0], notes)
+
+
+#: Stress drops below this fraction of W (mu_s - mu_m) are round-off: no stick-slip is left.
+DECAY_FLOOR = 1e-10
+
+
+def _friction_scale(system) -> float:
+    law = system.static_law
+    upper = getattr(law, "mu_upper", None)
+    if upper is not None:
+        return max(upper - law.mu_lower, 1e-300)
+    excess = system.static_excess
+    return excess if excess else 1.0
+
+
+def _decayed(system, drops) -> bool:
+    return bool(drops) and drops[-1] <= DECAY_FLOOR * system.normal_load * _friction_scale(system)
+
+
+def _decaying(system, drops) -> bool:
+    """Strictly falling stress drops whose Aitken limit is (near) zero: a sequence decaying to steady sliding.
+
+    Below the critical speed the drops may also fall monotonically from a large first event, but
+    toward a positive limit cycle; the extrapolated limit tells the two apart.
+    """
+    if len(drops) < 6:
+        return False
+    last = np.asarray(drops[-6:], dtype=float)
+    if not np.all(np.diff(last) < 0):
+        return False
+    x0, x1, x2 = last[-3:]
+    curvature = (x2 - x1) - (x1 - x0)
+    if curvature <= 0:
+        return False
+    limit = x2 - (x2 - x1) ** 2 / curvature
+    return limit < 1e-3 * last[0]
 
 
 def _collect(segments, events, regime, evaluations, notes):
@@ -474,7 +526,8 @@ def summary_report(dataset, title: str | None = None):
     r.add("wall_time", attrs["wall_time_s"], "s", "wall time")
     if dataset.sizes["event"]:
         last = dataset.isel(event=-1)
-        r.section("Last cycle (the limit cycle once converged)")
+        r.section("Last cycle (the limit cycle once converged)" if attrs["regime"] != STEADY_SLIDING
+                  else "Last event (the sequence decays to steady sliding)")
         r.add("slip_amplitude", float(last["amplitude"]), "m", "amplitude (peak to peak)", also=("ft",) if fault else ("in",))
         r.add("slip_per_event", float(last["slip"]), "m", "slip per event", also=("ft",) if fault else ("in",))
         r.add("period", float(last["period"]) if dataset.sizes["event"] > 1 else float("nan"), "s", "period",
@@ -489,4 +542,6 @@ def summary_report(dataset, title: str | None = None):
         if amplitudes.size > 2:
             spread = float(np.ptp(amplitudes[amplitudes.size // 2:]) / np.mean(amplitudes[amplitudes.size // 2:]))
             r.add("amplitude_spread", spread, label="amplitude spread, 2nd half (max-min)/mean")
+    for note in filter(None, attrs.get("regime_verification", "").split("; ")):
+        r.note(note)
     return r

@@ -275,6 +275,8 @@ def _fault_inputs(study, coords):
     for name in ("shear_modulus", "zone_width", "slip_rate", "mu_so", "mu_m", "b", "d", "rupture_length",
                  "seismogenic_depth", "damping_ratio", "density", "shear_wave_speed"):
         inputs[name] = coords[name] if name in coords else getattr(fault, name)
+    if "shear_wave_speed" not in coords and "shear_wave_speed" not in given:
+        inputs["shear_wave_speed"] = None  # sqrt(G / rho) of each cell, as Fault derives it
     if "lithology" in coords:  # each category supplies G and the friction law unless swept
         lith = coords["lithology"]
         choices = {name: resolve_material(name) for name in lith.values}
@@ -380,7 +382,7 @@ def _exact_where(mask, zeta, eps):
     if mask.any():
         cycle = slip_cycle(zeta[mask], eps[mask])
         out[0][mask] = cycle["u_max"] - cycle["u_min"]  # amplitude / L
-        out[1][mask] = cycle["u_start"] - cycle["u_end"]  # stick advance / L
+        out[1][mask] = cycle["u_drop"]  # stick advance / L
         out[2][mask] = cycle["slip_time"]  # omega_n t_slip
         out[3][mask] = cycle["v_min"]
     return out
@@ -440,7 +442,9 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
     slip_time = np.pi / (omega_n * np.sqrt(1.0 - zeta * zeta))
     all_closed, all_stick = bool(np.all(use_closed)), bool(np.all(sticks))
     if not all_closed:
-        error = np.where(use_closed, error, 1e-13)
+        from .exact_cycle import exact_cycle_error
+
+        error = np.where(use_closed, error, exact_cycle_error(eps, eps_c))
         need_exact = sticks & ~use_closed
         if need_exact.any():
             exact = _exact_where(need_exact, zeta, eps)
@@ -502,7 +506,10 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
         load = inputs["normal_stress"]
         drive = inputs["slip_rate"]
         mass = inputs["density"] * inputs["zone_width"]
-        radiation = (inputs["shear_modulus"] / (2 * inputs["shear_wave_speed"])) if inputs["radiation_damping"] else 0.0
+        wave_speed = inputs["shear_wave_speed"]
+        if wave_speed is None:  # the medium's own c_s = sqrt(G / rho) (faultslip.fault.shear_wave_speed)
+            wave_speed = np.sqrt(inputs["shear_modulus"] / inputs["density"])
+        radiation = (inputs["shear_modulus"] / (2 * wave_speed)) if inputs["radiation_damping"] else 0.0
         zeta = inputs["damping_ratio"] + radiation / (2 * np.sqrt(stiffness * mass))
         has_moment = not _is_nan(inputs["rupture_length"]) and not _is_nan(inputs["seismogenic_depth"])
         moment_factor = (inputs["shear_modulus"] * inputs["rupture_length"] * inputs["seismogenic_depth"]

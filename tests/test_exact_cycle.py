@@ -124,3 +124,93 @@ def test_exact_cycle_refuses_what_it_cannot_do():
         exact_cycle(system.with_(kinetic_law=PolynomialKinetic([0.39, -1.0, 30.0])))
     with pytest.raises(MethodError, match=r"\|zeta\| < 1"):
         slip_cycle(1.2, 0.1)
+
+
+# --- against a 50-digit reference over the whole (zeta, eps) plane (issue 9) -------------------
+
+def _mpmath_cycle(zeta, eps):
+    """Slip time, stress drop / (K L), peak-to-peak swing / L and v_min, at 50 digits (bisection)."""
+    import mpmath as mp
+
+    mp.mp.dps = 50
+    z, e = mp.mpf(zeta), mp.mpf(eps)
+    w = mp.sqrt(1 - z * z)
+    u0, v0 = 1 - 2 * z * e, e
+    a0 = -2 * z * v0 - u0
+    qu, qv = (v0 + z * u0) / w, (a0 + z * v0) / w
+    qa = (-2 * z * a0 - v0 + z * a0) / w
+
+    def U(s):
+        return mp.e ** (-z * s) * (u0 * mp.cos(w * s) + qu * mp.sin(w * s))
+
+    def V(s):
+        return mp.e ** (-z * s) * (v0 * mp.cos(w * s) + qv * mp.sin(w * s))
+
+    def first_zero(p, q):
+        phase = mp.atan2(q, p)
+        s = (phase + mp.pi / 2 + mp.ceil((-phase - mp.pi / 2) / mp.pi) * mp.pi) / w
+        return s if s > 0 else s + mp.pi / w
+
+    s_vmin = first_zero(a0, qa)
+    s_vmax = s_vmin + mp.pi / w
+    if V(s_vmax) < e:
+        return None
+    lo, hi = s_vmin, s_vmax
+    for _ in range(190):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if V(mid) < e else (lo, mid)
+    s_end = (lo + hi) / 2
+    s_umax = first_zero(v0, qv) if v0 > 0 else mp.mpf(0)
+    return {"slip_time": s_end, "u_drop": u0 - U(s_end), "swing": U(s_umax) - U(s_umax + mp.pi / w),
+            "v_min": V(s_vmin)}
+
+
+def _relative_errors(zeta, eps):
+    reference = _mpmath_cycle(zeta, eps)
+    got = slip_cycle(zeta, eps)
+    if reference is None:
+        return None, got
+    values = {"slip_time": got["slip_time"], "u_drop": got["u_drop"], "swing": got["u_max"] - got["u_min"],
+              "v_min": got["v_min"]}
+    return {k: abs(float(values[k]) - float(reference[k])) / abs(float(reference[k])) for k in values}, got
+
+
+@pytest.mark.parametrize("zeta", [-0.9, -0.3, -0.01, -1e-6, 0.0, 1e-8, 1e-4, 0.05, 0.3, 0.7, 0.95])
+def test_exact_cycle_meets_its_stated_error_over_the_plane(zeta):
+    from faultslip.critical import critical_dimensionless_rate
+    from faultslip.exact_cycle import exact_cycle_error
+
+    eps_c = float(critical_dimensionless_rate(zeta)) if zeta > 0 else np.inf
+    for eps in [1e-12, 1e-6, 1e-3, 0.1, 0.5, 1.0, 2.0, 10.0, 1e3, 1e6, 1e9, 1e12, 1e15]:
+        errors, got = _relative_errors(zeta, eps)
+        if errors is None:
+            assert eps >= eps_c and int(got["regime"]) == 1, (zeta, eps)  # steady sliding, as the criterion says
+            continue
+        stated = float(exact_cycle_error(eps, eps_c))
+        assert max(errors.values()) <= stated, (zeta, eps, errors, stated)
+
+
+@pytest.mark.parametrize("zeta", [1e-3, 0.05, 0.5, 0.9])
+@pytest.mark.parametrize("closeness", [1e-1, 1e-3, 1e-5, 1e-8, 1e-12])
+def test_exact_cycle_error_grows_as_stated_near_the_critical_rate(zeta, closeness):
+    from faultslip.critical import critical_dimensionless_rate
+    from faultslip.exact_cycle import exact_cycle_error
+
+    eps_c = float(critical_dimensionless_rate(zeta))
+    eps = eps_c * (1 - closeness)
+    errors, _ = _relative_errors(zeta, eps)
+    assert errors is not None
+    assert max(errors.values()) <= float(exact_cycle_error(eps, eps_c)), (errors, closeness)
+
+
+def test_undamped_high_rate_keeps_the_whole_stress_drop():
+    """Issue 9: at 1000 1/s on glass (eps ~ 1e9) the exact cycle lost the end of slip and gave half
+    the stress drop. Undamped, the stress drop is exactly 2 W (mu_s - mu_m) and the stick time
+    2 (mu_s - mu_m) / theta_dot (the slider swings symmetrically about the sliding equilibrium)."""
+    from faultslip.slider import SliderSystem
+
+    system = SliderSystem.from_preset("glass_dry", loading_rate="1000 1/s")
+    cycle = exact_cycle(system)
+    excess = system.static_excess
+    assert cycle.stress_drop == pytest.approx(2 * system.normal_load * excess, rel=1e-9)
+    assert cycle.stick_duration == pytest.approx(2 * excess / 1000.0, rel=1e-9)

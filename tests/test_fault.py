@@ -127,8 +127,11 @@ def test_radiation_damping_lowers_the_slip():
                 shear_stress="250 bar", slip_rate="2 in/yr")
     plain = Fault(**base)
     damped = Fault(**base, radiation_damping=True)
-    # zeta = eta / (2 sqrt(K M)) = sqrt(G/rho) / (4 c_s) with eta = G/(2 c_s), K = G/D, M = rho D
-    assert damped.total_damping_ratio == pytest.approx(math.sqrt(0.25e11 / 2700) / (4 * 3300))
+    # zeta = eta / (2 sqrt(K M)) = sqrt(G/rho) / (4 c_s) with eta = G/(2 c_s), K = G/D, M = rho D; with the
+    # medium's own c_s = sqrt(G/rho) (the default, issue 9: not 3.3 km/s beside G and rho) it is 1/4
+    assert damped.total_damping_ratio == pytest.approx(0.25, rel=1e-15)
+    other = Fault(**base, radiation_damping=True, shear_wave_speed="3.3 km/s")  # a stated c_s is used as given
+    assert other.total_damping_ratio == pytest.approx(math.sqrt(0.25e11 / 2700) / (4 * 3300))
     ratio = damped.estimate().slip_amplitude / plain.estimate().slip_amplitude
     lam = damped.total_damping_ratio / math.sqrt(1 - damped.total_damping_ratio**2)
     assert ratio == pytest.approx((1 + math.exp(-lam * math.pi)) / 2)
