@@ -445,7 +445,7 @@ def cmd_map(args) -> int:
             for i, segment in enumerate(dataset["segment"].values):
                 row = dataset.isel(segment=i)
                 rows.append({"segment": str(segment),
-                             "slip_amplitude": {"value": float(row["slip_amplitude"]), "units": "m"},
+                             "slip_per_event": {"value": float(row["slip_per_event"]), "units": "m"},
                              "recurrence_period": {"value": float(row["recurrence_period"]) if np.isfinite(float(row["recurrence_period"])) else None, "units": "s"},
                              "moment_magnitude": float(row["moment_magnitude"]) if np.isfinite(float(row["moment_magnitude"])) else None,
                              "observed_recurrence": {"value": float(row["observed_recurrence"]) if np.isfinite(float(row["observed_recurrence"])) else None, "units": "s"},

@@ -223,7 +223,8 @@ def closed_form_cycle(system):
         damping_ratio=zeta,
         dimensionless_rate=eps,
         amplitude=amplitude,
-        slip_per_event=amplitude,
+        slip_per_event=system.platform_speed * (stick_time + slip_time),  # the integral of u dt is V T
+        stress_drop_slip=amplitude,  # eq. 2-19's alpha approximates x1 - x2
         stick_duration=stick_time,
         slip_duration=slip_time,
         period=stick_time + slip_time,

@@ -17,11 +17,18 @@ REGIMES = (STICK_SLIP, STEADY_SLIDING, GROWING_OSCILLATION)
 class CycleResult:
     """Quantities of one stick-slip limit cycle (SI; force units follow the system scale).
 
-    ``amplitude`` is the peak-to-peak displacement of the slider (what seed 003
-    measured from its force records); ``slip_per_event`` the relative slip of
-    slider and platform during one slip phase, which equals ``V * period``;
-    ``stress_drop`` the drop of the holding force K x + C V from break-away to
-    re-stick (N in the lab, Pa on a fault).
+    Three lengths describe one event, and they differ at high loading rate:
+
+    * ``amplitude``, the **peak-to-peak swing** x_max - x_min of the slider (what seed 003 read
+      from its force records);
+    * ``stress_drop_slip``, the seeds' alpha = x1 - x2, the drop of spring extension from
+      break-away to re-stick, i.e. stress drop / K (eq. 2-19 approximates it);
+    * ``slip_per_event``, the **slip of the event**: the relative sliding of slider and platform
+      during the slip phase, the integral of u = V - x' over it, which equals V times the period.
+      This is an earthquake's slip.
+
+    ``stress_drop`` is the drop of the holding force K x + C V from break-away to re-stick (N in
+    the lab, Pa on a fault). All three lengths agree as the loading rate tends to zero.
     """
 
     method: str
@@ -40,6 +47,7 @@ class CycleResult:
     stress_drop: float
     scale: str = "lab"
     extra: dict = field(default_factory=dict)
+    stress_drop_slip: float = float("nan")
 
     def report(self, title: str) -> Report:
         force = "Pa" if self.scale == "fault" else "N"
@@ -53,8 +61,10 @@ class CycleResult:
         r.add("static_friction", self.static_friction, label="static friction mu_s")
         r.add("damping_ratio", self.damping_ratio, label="damping ratio zeta")
         r.add("dimensionless_rate", self.dimensionless_rate, label="epsilon = theta_dot/(omega_n dmu_s)")
-        r.add("slip_amplitude", self.amplitude, "m", "amplitude alpha (peak to peak)", also=("in",) if self.scale == "lab" else ("ft",))
-        r.add("slip_per_event", self.slip_per_event, "m", "slip per event = V T", also=("in",) if self.scale == "lab" else ("ft",))
+        length = ("in",) if self.scale == "lab" else ("ft",)
+        r.add("slip_per_event", self.slip_per_event, "m", "slip per event, integral of u dt = V T", also=length)
+        r.add("stress_drop_slip", self.stress_drop_slip, "m", "stress-drop slip alpha = x1 - x2 = drop / K", also=length)
+        r.add("peak_to_peak_swing", self.amplitude, "m", "peak-to-peak swing x_max - x_min", also=length)
         r.add("stick_duration", self.stick_duration, "s", "stick duration", also=time_also)
         r.add("slip_duration", self.slip_duration, "s", "slip duration", also=("ms",) if self.scale == "lab" else ())
         r.add("period", self.period, "s", "cycle period T", also=time_also)

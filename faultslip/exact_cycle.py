@@ -326,6 +326,7 @@ def exact_cycle(system) -> CycleResult:
         peak_slip_speed=scalar["peak_slip_speed"],
         stress_drop=scalar["stress_drop"],
         scale=system.scale,
+        stress_drop_slip=scalar["stress_drop"] / system.stiffness,
     )
     if regime == GROWING_OSCILLATION:
         result.extra["swings"] = (scalar["swings"], None, "velocity swings per slip phase")

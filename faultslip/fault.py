@@ -8,8 +8,11 @@ pure-shear block and reduced to one slider per unit fault area:
   seed derives it from an upper bound on shear stress, :math:`\\sigma_n = \\tau/\\mu_{so}`;
 * platform speed :math:`V` = the tectonic slip rate, so :math:`\\dot\\theta = K V/\\sigma_n`.
 
-Then the amplitude of seed eq. 2-19 is the slip per earthquake and
-:math:`T = \\alpha / V` (seed eq. 5-5) its recurrence period.
+Then the amplitude of seed eq. 2-19 approximates the slip per earthquake and
+:math:`T = \\alpha / V` (seed eq. 5-5) its recurrence period. faultslip reports the slip of the
+event itself, the relative sliding :math:`\\int u\\,dt = V T` (``slip_per_event``), beside the
+seeds' :math:`\\alpha = x_1 - x_2` (``stress_drop_slip``); at fault scale they agree to
+:math:`V t_{slip}/\\alpha \\sim 10^{-8}` (24 s of slip at 2 in/yr for 1906).
 """
 
 from __future__ import annotations
@@ -305,8 +308,8 @@ def _propagated_uncertainty(fault, method, tolerance) -> dict:
     outputs = cell_kernel(stiffness, load, speed, omega_n, zeta, eps_c, critical, mu_so, mu_m, b, d, np.nan,
                           method=method if method in ("closed_form", "exact_cycle") else "auto",
                           tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance)
-    amplitude, period = outputs[0], outputs[1]
-    return {"slip_amplitude_95": tuple(float(v) for v in np.nanpercentile(amplitude, [2.5, 97.5])),
+    slip, period = outputs[0], outputs[1]
+    return {"slip_per_event_95": tuple(float(v) for v in np.nanpercentile(slip, [2.5, 97.5])),
             "recurrence_period_95": tuple(float(v) for v in np.nanpercentile(period, [2.5, 97.5])),
             "uncertainty_samples": int(samples.shape[0])}
 
@@ -321,7 +324,8 @@ class FaultEstimate:
     loading_rate: float
     static_friction: float
     damping_ratio: float
-    slip_amplitude: float
+    slip_per_event: float
+    stress_drop_slip: float
     low_rate_amplitude: float
     recurrence_period: float
     stress_drop: float
@@ -331,9 +335,8 @@ class FaultEstimate:
     method_reason: str = ""
     estimated_relative_error: float = float("nan")
     regime: str = "stick_slip"
-    slip_per_event: float = float("nan")
     #: 95 % ranges carried from a fitted material's bootstrap samples (None for bundled presets)
-    slip_amplitude_95: tuple | None = None
+    slip_per_event_95: tuple | None = None
     recurrence_period_95: tuple | None = None
     uncertainty_samples: int = 0
 
@@ -350,10 +353,10 @@ class FaultEstimate:
         solution = solve(SliderSystem.from_fault(fault), method=method,
                          tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance)
         cycle = solution.cycle
-        alpha = cycle.amplitude
+        slip = cycle.slip_per_event  # the relative sliding of the event: the slip of an earthquake
         moment = magnitude = None
         if fault.rupture_length is not None and fault.seismogenic_depth is not None:
-            moment = float(seismic_moment(fault.shear_modulus, fault.rupture_length, fault.seismogenic_depth, alpha))
+            moment = float(seismic_moment(fault.shear_modulus, fault.rupture_length, fault.seismogenic_depth, slip))
             magnitude = float(moment_magnitude(moment))
         return cls(
             fault=fault,
@@ -362,7 +365,8 @@ class FaultEstimate:
             loading_rate=rate,
             static_friction=float(law.static(rate)),
             damping_ratio=zeta,
-            slip_amplitude=alpha,
+            slip_per_event=slip,
+            stress_drop_slip=cycle.stress_drop_slip,
             low_rate_amplitude=float(closed_form.low_rate_amplitude(sigma, stiffness, law.mu_so, law.mu_m)),
             recurrence_period=cycle.period,
             stress_drop=cycle.stress_drop,
@@ -372,7 +376,6 @@ class FaultEstimate:
             method_reason=solution.method_reason,
             estimated_relative_error=solution.estimated_relative_error,
             regime=cycle.regime,
-            slip_per_event=cycle.slip_per_event,
             **_propagated_uncertainty(fault, method, tolerance),
         )
 
@@ -398,12 +401,13 @@ class FaultEstimate:
         r.add("normal_stress", self.normal_stress, "Pa", "normal stress sigma_n", also=("bar",))
         r.add("loading_rate", self.loading_rate, "1/s", "loading rate K V / sigma_n")
         r.add("static_friction", self.static_friction, label="static friction mu_s")
-        r.add("slip_amplitude", self.slip_amplitude, "m", "slip per event alpha", also=("ft",))
+        r.add("slip_per_event", self.slip_per_event, "m", "slip per event, integral of u dt = V T", also=("ft",))
+        if self.slip_per_event_95 is not None:
+            r.add("slip_per_event_95", list(self.slip_per_event_95), "m", "slip per event, 95 % range")
+        r.add("stress_drop_slip", self.stress_drop_slip, "m", "stress-drop slip alpha = x1 - x2 (eq. 2-19)",
+              also=("ft",))
         r.add("low_rate_amplitude", self.low_rate_amplitude, "m", "eq. 5-4: 2 sigma_n D dmu / G", also=("ft",))
-        r.add("slip_per_event", self.slip_per_event, "m", "relative slip per event V T", also=("ft",))
-        if self.slip_amplitude_95 is not None:
-            r.add("slip_amplitude_95", list(self.slip_amplitude_95), "m", "slip per event, 95 % range")
-        r.add("recurrence_period", self.recurrence_period, "s", "recurrence period T = alpha/V", also=("yr",))
+        r.add("recurrence_period", self.recurrence_period, "s", "recurrence period T", also=("yr",))
         if self.recurrence_period_95 is not None:
             r.add("recurrence_period_95", list(self.recurrence_period_95), "s", "recurrence period, 95 % range",
                   also=("yr",))
@@ -411,7 +415,7 @@ class FaultEstimate:
                    "fits of the laboratory data, each evaluated like the central estimate.")
         r.add("stress_drop", self.stress_drop, "Pa", "stress drop K alpha", also=("bar", "MPa"))
         if self.seismic_moment is not None:
-            r.add("seismic_moment", self.seismic_moment, "N*m", "seismic moment M0 = G L H alpha")
+            r.add("seismic_moment", self.seismic_moment, "N*m", "seismic moment M0 = G L H (slip per event)")
             r.add("moment_magnitude", self.moment_magnitude, label="moment magnitude Mw")
             r.note(f"Mw = (2/3)(log10 M0 - {MW_CONSTANT}) with M0 in N m (IASPEI 2013 standard).")
         r.note("A year is the Julian year, 365.25 d.")
@@ -438,9 +442,11 @@ class FaultInverse:
         sigma = fault.effective_normal_stress
         stiffness = fault.stiffness
         rate = fault.loading_rate
-        drop = float(
-            friction_drop_for_slip(slip, sigma, stiffness, rate, fault.b, fault.d, fault.total_damping_ratio)
-        )
+        zeta = fault.total_damping_ratio
+        # an observed slip is the event's sliding, alpha + V t_slip; eq. 2-19 inverts alpha alone
+        slip_time = float(closed_form.slip_duration(stiffness, fault.mass_per_area, zeta))
+        alpha = slip - fault.slip_rate * slip_time
+        drop = float(friction_drop_for_slip(alpha, sigma, stiffness, rate, fault.b, fault.d, zeta))
         if not np.isfinite(drop):
             raise InputError(
                 f"observed slip {slip:g} m is larger than the rate law allows at this loading rate; "

@@ -436,7 +436,7 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
     with np.errstate(divide="ignore", invalid="ignore"):
         dataset["recurrence_ratio"] = xr.DataArray(dataset["recurrence_period"].values / table.observed_recurrence,
                                                    dims=("segment",), attrs={"units": "1", "long_name": "predicted / observed recurrence"})
-        dataset["slip_ratio"] = xr.DataArray(dataset["slip_amplitude"].values / table.observed_slip, dims=("segment",),
+        dataset["slip_ratio"] = xr.DataArray(dataset["slip_per_event"].values / table.observed_slip, dims=("segment",),
                                              attrs={"units": "1", "long_name": "predicted / observed slip per event"})
     for column, values in table.sources.items():
         dataset[column] = xr.DataArray(np.array(values, dtype=object), dims=("segment",), attrs={"long_name": column.replace("_", " ")})
@@ -513,7 +513,7 @@ def run_map(spec, method="auto", tolerance=1e-6):
                                                   coords=raster_coords, attrs={"long_name": "index of the nearest segment (-1: none within max_distance)", "units": "1"})
         dataset["distance_to_segment"] = xr.DataArray(distance, dims=("lat", "lon"), coords=raster_coords,
                                                       attrs={"units": "m", "long_name": "great-circle distance to the nearest trace"})
-        for name in ("slip_amplitude", "recurrence_period", "moment_magnitude", "slip_rate"):
+        for name in ("slip_per_event", "recurrence_period", "moment_magnitude", "slip_rate"):
             values = dataset[name].values[index]
             dataset[f"map_{name}"] = xr.DataArray(np.where(near, values, np.nan), dims=("lat", "lon"), coords=raster_coords,
                                                   attrs={**dataset[name].attrs, "long_name": f"nearest-segment {dataset[name].attrs.get('long_name', name)}"})
@@ -558,7 +558,7 @@ def observed_table(dataset) -> str:
         def fmt(value, scale=1.0, digits=3):
             return "" if not np.isfinite(value) else f"{value / scale:.{digits}g}"
 
-        lines.append(f"| {segment} | {float(row['slip_rate']) * year * 1e3:.3g} | {fmt(float(row['slip_amplitude']))} | "
+        lines.append(f"| {segment} | {float(row['slip_rate']) * year * 1e3:.3g} | {fmt(float(row['slip_per_event']))} | "
                      f"{fmt(slip_obs)} | {fmt(float(row['slip_ratio']))} | {fmt(float(row['recurrence_period']), year)} | "
                      f"{fmt(rec_obs, year)} | {fmt(float(row['recurrence_ratio']))} |")
     return "\n".join(lines)
@@ -569,8 +569,8 @@ def map_figure(dataset):
     import matplotlib.pyplot as plt
 
     year = 365.25 * 86400
-    prefix = "map_" if "map_slip_amplitude" in dataset else ""
-    panels = [(f"{prefix}slip_amplitude", 1.0, "slip per event (m)", "viridis"),
+    prefix = "map_" if "map_slip_per_event" in dataset else ""
+    panels = [(f"{prefix}slip_per_event", 1.0, "slip per event (m)", "viridis"),
               (f"{prefix}recurrence_period", year, "recurrence period (yr)", "magma_r"),
               (f"{prefix}moment_magnitude", 1.0, "moment magnitude Mw", "plasma")]
     panels = [p for p in panels if p[0] in dataset]
@@ -600,7 +600,7 @@ def observed_figure(dataset):
     year = 365.25 * 86400
     figure, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True)
     for axis, (pred, obs, scale, label) in zip(axes, [("recurrence_period", "observed_recurrence", year, "recurrence (yr)"),
-                                                       ("slip_amplitude", "observed_slip", 1.0, "slip per event (m)")]):
+                                                       ("slip_per_event", "observed_slip", 1.0, "slip per event (m)")]):
         p, o = dataset[pred].values / scale, dataset[obs].values / scale
         ok = np.isfinite(p) & np.isfinite(o) & (p > 0)
         axis.loglog(o[ok], p[ok], "o", color="C3")

@@ -286,7 +286,7 @@ def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:
         amplitude=float(last["amplitude"]), slip_per_event=float(last["slip"]),
         stick_duration=float(last["stick_duration"]), slip_duration=float(last["slip_duration"]),
         period=period, peak_slip_speed=float(last["peak_slip_speed"]), stress_drop=float(last["stress_drop"]),
-        scale=system.scale,
+        scale=system.scale, stress_drop_slip=float(last["stress_drop"]) / system.stiffness,
     )
 
 

@@ -465,13 +465,15 @@ def _dataset(system, name, solver, rtol, atol, elapsed, times, xs, vs, forces, p
                       {"long_name": "stick (0) or slip (1)", "flag_values": np.array([0, 1], dtype=np.int8),
                        "flag_meanings": "stick slip", "units": "1"}),
             "event_time": var("event", event_times, "s", "break-away time"),
-            "amplitude": var("event", events["amplitude"], "m", "peak-to-peak displacement of the slip"),
+            "amplitude": var("event", events["amplitude"], "m", "peak-to-peak swing x_max - x_min of the slip"),
+            "stress_drop_slip": var("event", np.asarray(events["stress_drop"], dtype=float) / K, "m",
+                                    "stress-drop slip x1 - x2 = stress drop / K (the seeds' alpha)"),
             "stick_duration": var("event", events["stick_duration"], "s", "duration of the stick before the event"),
             "slip_duration": var("event", events["slip_duration"], "s", "duration of the slip phase"),
             "period": var("event", period, "s", "time since the previous break-away"),
             "peak_slip_speed": var("event", events["peak_slip_speed"], "m/s", "largest sliding speed V - x'"),
             "stress_drop": var("event", events["stress_drop"], units["force"], "drop of K x + C V, break-away to re-stick"),
-            "slip": var("event", events["slip"], "m", "relative slip of slider and platform in the event"),
+            "slip": var("event", events["slip"], "m", "slip per event: relative sliding, integral of V - x' over the slip"),
             "static_friction": var("event", events["static_friction"], "1", "holding force over W at break-away"),
         },
         coords={
@@ -528,8 +530,11 @@ def summary_report(dataset, title: str | None = None):
         last = dataset.isel(event=-1)
         r.section("Last cycle (the limit cycle once converged)" if attrs["regime"] != STEADY_SLIDING
                   else "Last event (the sequence decays to steady sliding)")
-        r.add("slip_amplitude", float(last["amplitude"]), "m", "amplitude (peak to peak)", also=("ft",) if fault else ("in",))
-        r.add("slip_per_event", float(last["slip"]), "m", "slip per event", also=("ft",) if fault else ("in",))
+        length = ("ft",) if fault else ("in",)
+        r.add("slip_per_event", float(last["slip"]), "m", "slip per event, integral of u dt", also=length)
+        r.add("stress_drop_slip", float(last["stress_drop_slip"]), "m",
+              "stress-drop slip alpha = x1 - x2 = drop / K", also=length)
+        r.add("peak_to_peak_swing", float(last["amplitude"]), "m", "peak-to-peak swing x_max - x_min", also=length)
         r.add("period", float(last["period"]) if dataset.sizes["event"] > 1 else float("nan"), "s", "period",
               also=("yr",) if fault else ("ms",))
         r.add("stick_duration", float(last["stick_duration"]), "s", "stick duration", also=("yr",) if fault else ("ms",))

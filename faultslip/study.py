@@ -395,7 +395,7 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
     ``drive`` is the platform speed (fault: the slip rate) or, with ``drive_is_rate``, the loading
     rate. Parameter-level inputs (omega_n, zeta, eps_c, critical rate) arrive broadcastable.
     Cells where the closed form meets the tolerance use it; the others use the exact cycle; cells
-    above the critical rate slide steadily (amplitude 0, period NaN).
+    above the critical rate slide steadily (slip 0, period NaN).
     """
     from .closed_form import overshoot_factor
     from .methods import ClosedForm
@@ -437,8 +437,7 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
     else:
         use_closed = (eps <= 0.1 * eps_c) & (error <= tolerance)
     length = load / stiffness * excess
-    amplitude = length * overshoot_factor(zeta)  # eq. 2-19
-    stick_advance = amplitude
+    stick_advance = length * overshoot_factor(zeta)  # eq. 2-19: the stress-drop slip x1 - x2
     slip_time = np.pi / (omega_n * np.sqrt(1.0 - zeta * zeta))
     all_closed, all_stick = bool(np.all(use_closed)), bool(np.all(sticks))
     if not all_closed:
@@ -448,17 +447,17 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
         need_exact = sticks & ~use_closed
         if need_exact.any():
             exact = _exact_where(need_exact, zeta, eps)
-            amplitude = np.where(need_exact, length * exact[0], amplitude)
             stick_advance = np.where(need_exact, length * exact[1], stick_advance)
             slip_time = np.where(need_exact, exact[2] / omega_n, slip_time)
     period = stick_advance / speed
     period += slip_time
+    slip = speed * period  # slip per event: the sliding during the event, integral of u dt = V T
     stress_drop = stiffness * stick_advance
     if all_stick:  # the common case: no masking needed
         regime = np.where(np.asarray(zeta) < 0, REGIME_CODES["growing_oscillation"], REGIME_CODES["stick_slip"]).astype(np.int8)
     else:
         with np.errstate(invalid="ignore"):
-            amplitude = np.where(sticks, amplitude, 0.0)
+            slip = np.where(sticks, slip, 0.0)
             period = np.where(sticks, period, np.nan)
             stress_drop = np.where(sticks, stress_drop, 0.0)
         regime = np.where(sticks, np.where(zeta < 0, REGIME_CODES["growing_oscillation"], REGIME_CODES["stick_slip"]),
@@ -468,7 +467,7 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
     if np.all(np.isnan(moment_factor)):
         moment = magnitude = np.full((), np.nan)
     else:
-        moment = moment_factor * amplitude
+        moment = moment_factor * slip
         with np.errstate(divide="ignore", invalid="ignore"):
             magnitude = np.log10(moment)
             magnitude -= 9.1
@@ -478,10 +477,10 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
     static = excess  # reuse the buffer: mu_s = mu_m + excess is the last use of excess
     static += mu_m
     return tuple(np.broadcast_to(value, shape) for value in (
-        amplitude, period, rate, static, stress_drop, regime, critical_rate, method_code, error, eps, moment, magnitude))
+        slip, period, rate, static, stress_drop, regime, critical_rate, method_code, error, eps, moment, magnitude))
 
 
-KERNEL_OUTPUTS = ("slip_amplitude", "recurrence_period", "loading_rate", "static_friction", "stress_drop", "regime",
+KERNEL_OUTPUTS = ("slip_per_event", "recurrence_period", "loading_rate", "static_friction", "stress_drop", "regime",
                   "critical_loading_rate", "method", "estimated_relative_error", "dimensionless_rate",
                   "seismic_moment", "moment_magnitude")
 
@@ -576,7 +575,8 @@ def _is_nan(value):
 
 
 OUTPUT_ATTRS = {
-    "slip_amplitude": ("m", "slip amplitude per event (peak to peak; 0 without stick-slip)"),
+    "slip_per_event": ("m", "slip per event: relative sliding in the event, integral of u dt = V T (0 without "
+                       "stick-slip)"),
     "recurrence_period": ("s", "recurrence period (cycle period; NaN without stick-slip)"),
     "loading_rate": ("1/s", "loading rate theta_dot = K V / W"),
     "static_friction": ("1", "static friction mu_s at the loading rate (seed 003 eq. 2-18)"),
@@ -658,7 +658,7 @@ def _simulated_block(study, block):
         system = _cell_system(study, dict(zip(names, values)))
         solution = solve(system, tolerance=study.tolerance, cycles=400)
         c = solution.cycle
-        return (c.amplitude if c.regime != "steady_sliding" else 0.0, c.period, system.loading_rate,
+        return (c.slip_per_event if c.regime != "steady_sliding" else 0.0, c.period, system.loading_rate,
                 c.static_friction, c.stress_drop if c.regime != "steady_sliding" else 0.0,
                 REGIME_CODES.get(c.regime, 3), solution.estimated_relative_error)
 
@@ -666,7 +666,7 @@ def _simulated_block(study, block):
     results = np.vectorize(cell, otypes=[float] * 7)(*[g.values for g in grids]) if coords else cell()
     shape = grids[0].shape if coords else ()
     dims = grids[0].dims if coords else ()
-    keys = ["slip_amplitude", "recurrence_period", "loading_rate", "static_friction", "stress_drop", "regime",
+    keys = ["slip_per_event", "recurrence_period", "loading_rate", "static_friction", "stress_drop", "regime",
             "estimated_relative_error"]
     outputs = {k: xr.DataArray(np.asarray(v).reshape(shape), dims=dims, coords={n: coords[n] for n in dims})
                for k, v in zip(keys, results)}

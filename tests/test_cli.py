@@ -24,13 +24,13 @@ def test_fault_json_contract(cli):
     assert result.code == 0, result.err
     data = result.json
     ureg = pint.UnitRegistry()
-    for key in ("stiffness", "normal_stress", "loading_rate", "slip_amplitude", "recurrence_period",
+    for key in ("stiffness", "normal_stress", "loading_rate", "slip_per_event", "recurrence_period",
                 "stress_drop", "seismic_moment"):
         assert set(data[key]) == {"value", "units"}, key
         ureg.Quantity(data[key]["value"], data[key]["units"])  # pint-parsable
     assert isinstance(data["static_friction"], float) and isinstance(data["moment_magnitude"], float)
-    assert data["slip_amplitude"]["units"] == "m"
-    assert data["slip_amplitude"]["value"] == pytest.approx(6.43737, rel=1e-5)
+    assert data["slip_per_event"]["units"] == "m"
+    assert data["slip_per_event"]["value"] == pytest.approx(6.43737, rel=1e-5)
     assert ureg.Quantity(data["recurrence_period"]["value"], data["recurrence_period"]["units"]).to("year").m == pytest.approx(126.72, abs=0.01)
 
 

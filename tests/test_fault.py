@@ -40,18 +40,18 @@ def test_1906_every_intermediate_number(estimate_1906):
     assert e.static_friction == pytest.approx(0.65 - 5.37e-8, abs=1e-9)
     # alpha: full eq. 2-19 (zeta = 0). Seed: 2 x 385 x 14.5 / 4.4 x 0.1 = 254 in = 21.2 ft
     # (253.75 in = 21.15 ft with its rounded inputs). Computed: 253.44 in = 21.12 ft.
-    assert e.slip_amplitude == pytest.approx(6.437373, rel=1e-6)
-    assert e.slip_amplitude / FOOT == pytest.approx(21.120, abs=1e-3)
+    assert e.stress_drop_slip == pytest.approx(6.437373, rel=1e-6)
+    assert e.stress_drop_slip / FOOT == pytest.approx(21.120, abs=1e-3)
     assert e.low_rate_amplitude == pytest.approx(2 * e.normal_stress / e.stiffness * 0.1, rel=1e-14)
-    assert e.slip_amplitude == pytest.approx(e.low_rate_amplitude, rel=1e-6)  # eq. 5-4 limit holds
+    assert e.stress_drop_slip == pytest.approx(e.low_rate_amplitude, rel=1e-6)  # eq. 5-4 limit holds
     # T = alpha / V (eq. 5-5); the seed gives no number. Julian years.
-    assert e.recurrence_period == pytest.approx(e.slip_amplitude / (2 * INCH / JULIAN_YEAR))
+    assert e.recurrence_period == pytest.approx(e.stress_drop_slip / (2 * INCH / JULIAN_YEAR))
     assert e.recurrence_period / JULIAN_YEAR == pytest.approx(126.720, abs=1e-3)
     # stress drop K alpha = 2 sigma_n (mu_so - mu_m) in the low-rate limit
     assert e.stress_drop / BAR == pytest.approx(76.923, abs=1e-3)
     # M0 = G L H alpha with L = 270 mi (seed §5-2), H = 12 km: 8.39e20 N m, Mw 7.88
     # (Song, Beroza & Segall 2008 find 7.9e20 N m, Mw 7.9: compared, not tuned).
-    assert e.seismic_moment == pytest.approx(0.25e11 * 270 * MILE * 12e3 * e.slip_amplitude)
+    assert e.seismic_moment == pytest.approx(0.25e11 * 270 * MILE * 12e3 * e.slip_per_event)
     assert e.seismic_moment == pytest.approx(8.3916e20, rel=1e-4)
     assert e.moment_magnitude == pytest.approx(7.8826, abs=1e-4)
 
@@ -65,8 +65,12 @@ def test_granite_inverse_of_seed_003():
     assert inverse.stiffness / PSI_PER_IN == pytest.approx(3.52170, abs=1e-5)
     # theta_dot: seed prints 4 x 10^-10 1/s; it is 4.0010e-11 (the same factor-10 slip)
     assert inverse.loading_rate == pytest.approx(4.00102e-11, rel=1e-5)
-    # mu_so - mu_m = alpha K / (2 sigma_n) (no rate law for granite: b = 0)
-    assert inverse.friction_drop == pytest.approx(21 * FOOT * 0.2e11 / (13 * MILE) / (2 * 250e5 / 0.65), rel=1e-13)
+    # mu_so - mu_m = alpha K / (2 sigma_n) (no rate law for granite: b = 0), where alpha is the observed
+    # slip less the platform's advance during the slip, V pi / omega_n (24 s of slip: 6e-9 of alpha)
+    K, M = 0.2e11 / (13 * MILE), 2700 * 13 * MILE
+    alpha = 21 * FOOT - (2 * INCH / JULIAN_YEAR) * math.pi / math.sqrt(K / M)
+    assert alpha / (21 * FOOT) == pytest.approx(1 - 6.1e-9, abs=1e-10)
+    assert inverse.friction_drop == pytest.approx(alpha * K / (2 * 250e5 / 0.65), rel=1e-13)
     assert inverse.friction_drop == pytest.approx(0.079545, abs=1e-6)  # seed: 0.079
     assert inverse.kinetic_friction == pytest.approx(0.570455, abs=1e-6)  # seed: 0.57
 
@@ -86,7 +90,7 @@ IMPERIAL_INPUTS = dict(shear_modulus="0.25e6 bar", zone_width="13 mi", shear_str
 def test_si_and_in_lb_bar_inputs_give_the_same_answer():
     a = Fault(lithology="granodiorite_water", **SI_INPUTS).estimate()
     b = Fault(lithology="granodiorite_water", **IMPERIAL_INPUTS).estimate()
-    for key in ("stiffness", "normal_stress", "loading_rate", "static_friction", "slip_amplitude",
+    for key in ("stiffness", "normal_stress", "loading_rate", "static_friction", "slip_per_event",
                 "recurrence_period", "stress_drop", "seismic_moment", "moment_magnitude"):
         assert getattr(a, key) == pytest.approx(getattr(b, key), rel=1e-12), key
 
@@ -102,7 +106,7 @@ def test_same_answer_in_si_and_imperial_for_any_fault(g_bar, d_mi, tau_bar, v_in
                shear_stress=f"{tau_bar * 1e5!r} Pa", slip_rate=f"{v_in_yr * INCH / JULIAN_YEAR!r} m/s",
                mu_so=mu_m + drop, mu_m=mu_m, b=38.0, d=0.665)
     a, b = imperial.estimate(), si.estimate()
-    assert a.slip_amplitude == pytest.approx(b.slip_amplitude, rel=1e-12)
+    assert a.slip_per_event == pytest.approx(b.slip_per_event, rel=1e-12)
     assert a.recurrence_period == pytest.approx(b.recurrence_period, rel=1e-12)
 
 
@@ -110,7 +114,7 @@ def test_same_answer_in_si_and_imperial_for_any_fault(g_bar, d_mi, tau_bar, v_in
 def test_inverse_recovers_the_kinetic_friction_of_a_forward_estimate(mu_m, drop, zeta, v):
     fault = Fault(lithology="granodiorite", zone_width="15 km", normal_stress="100 MPa",
                   slip_rate=f"{v!r} mm/yr", mu_so=mu_m + drop, mu_m=mu_m, damping_ratio=zeta)
-    alpha = fault.estimate().slip_amplitude
+    alpha = fault.estimate().slip_per_event
     inverse = fault.infer_kinetic_friction(f"{alpha!r} m")
     assert inverse.kinetic_friction == pytest.approx(mu_m, abs=1e-12)
 
@@ -132,7 +136,7 @@ def test_radiation_damping_lowers_the_slip():
     assert damped.total_damping_ratio == pytest.approx(0.25, rel=1e-15)
     other = Fault(**base, radiation_damping=True, shear_wave_speed="3.3 km/s")  # a stated c_s is used as given
     assert other.total_damping_ratio == pytest.approx(math.sqrt(0.25e11 / 2700) / (4 * 3300))
-    ratio = damped.estimate().slip_amplitude / plain.estimate().slip_amplitude
+    ratio = damped.estimate().slip_per_event / plain.estimate().slip_per_event
     lam = damped.total_damping_ratio / math.sqrt(1 - damped.total_damping_ratio**2)
     assert ratio == pytest.approx((1 + math.exp(-lam * math.pi)) / 2)
 

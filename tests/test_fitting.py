@@ -180,11 +180,11 @@ def test_lab_csv_to_fitted_material_to_fault_prediction_with_uncertainty(tmp_pat
     # 3. a fault prediction with the fit carries its uncertainty
     fault = cli("fault", "--lithology", "my_gouge", "--zone-width", "13 mi", "--shear-stress", "250 bar",
                 "--slip-rate", "2 in/yr", "--json").json
-    low, high = fault["slip_amplitude_95"]["value"]
-    assert low < fault["slip_amplitude"]["value"] < high and fault["slip_amplitude_95"]["units"] == "m"
+    low, high = fault["slip_per_event_95"]["value"]
+    assert low < fault["slip_per_event"]["value"] < high and fault["slip_per_event_95"]["units"] == "m"
     low, high = fault["recurrence_period_95"]["value"]
     assert low < fault["recurrence_period"]["value"] < high
-    assert fault["slip_amplitude"]["value"] == pytest.approx(6.44, rel=0.05)  # the granodiorite truth, within noise
+    assert fault["slip_per_event"]["value"] == pytest.approx(6.44, rel=0.05)  # the granodiorite truth, within noise
 
 
 def test_registry_refuses_bundled_names_and_reports_its_path(tmp_path, monkeypatch, cli):
@@ -213,7 +213,7 @@ def test_a_saved_fit_works_in_studies_and_maps(tmp_path, monkeypatch):
     registry.save_fit("my_marble", fit_rate_law(synthetic_data(preset, noise=0.001, seed=3), bootstrap=20),
                       shear_modulus=0.229e11)
     ds = sweep("san_andreas_1906.toml", lithology=["my_marble", "black_marble"])
-    amplitudes = ds["slip_amplitude"].values
+    amplitudes = ds["slip_per_event"].values
     assert amplitudes[0] == pytest.approx(amplitudes[1], rel=0.02)  # the fit reproduces the preset it came from
     (tmp_path / "segments.csv").write_text(
         "segment,trace (degree),slip_rate (mm/yr),lithology,seismogenic_depth (km),zone_width (km)\n"
@@ -221,4 +221,4 @@ def test_a_saved_fit_works_in_studies_and_maps(tmp_path, monkeypatch):
     (tmp_path / "map.toml").write_text('[map]\nbase = "san_andreas_1906.toml"\n[segments]\nfile = "segments.csv"\n'
                                        '[grid]\nlon = [-120.5, -119.5]\nlat = [35.0, 36.0]\n')
     mapped = run_map(load_map(tmp_path / "map.toml"))
-    assert float(mapped["slip_amplitude"].sel(segment="a")) > 0
+    assert float(mapped["slip_per_event"].sel(segment="a")) > 0

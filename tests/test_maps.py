@@ -36,16 +36,16 @@ def test_per_segment_predictions_follow_the_seed_scaling(bundled):
     spec, ds = bundled
     carrizo = ds.sel(segment="carrizo")
     # granodiorite at tau = 250 bar, D = 13 mi: the 1906 slip, independent of slip rate at these rates
-    assert float(carrizo["slip_amplitude"]) == pytest.approx(6.4374, rel=1e-4)
+    assert float(carrizo["slip_per_event"]) == pytest.approx(6.4374, rel=1e-4)
     assert float(carrizo["recurrence_period"]) == pytest.approx(6.4374 / (33.9e-3 / YEAR), rel=1e-4)
     length = float(carrizo["segment_length"])
     assert 140e3 < length < 180e3
-    moment = 0.25e11 * length * 12e3 * float(carrizo["slip_amplitude"])
+    moment = 0.25e11 * length * 12e3 * float(carrizo["slip_per_event"])
     assert float(carrizo["moment_magnitude"]) == pytest.approx(2 / 3 * (np.log10(moment) - 9.1), rel=1e-12)
     creeping = ds.sel(segment="creeping")
     # green schist slides steadily in the lab (mu_so = mu_m): fault refuses it, so the map flags it
     assert int(creeping["outside_domain"]) == 1 and int(creeping["regime"]) == -1
-    assert np.isnan(float(creeping["slip_amplitude"]))
+    assert np.isnan(float(creeping["slip_per_event"]))
 
 
 def test_predicted_against_observed_is_reported_as_it_is(bundled):
@@ -65,7 +65,7 @@ def test_nearest_segment_raster(bundled):
     i, j = np.abs(ds["lat"].values - 35.40).argmin(), np.abs(ds["lon"].values - (-119.97)).argmin()
     assert ds["segment"].values[int(index.values[i, j])] == "carrizo"
     assert float(ds["distance_to_segment"].values[i, j]) < 8e3
-    assert np.isnan(ds["map_slip_amplitude"].values[index.values == -1]).all()
+    assert np.isnan(ds["map_slip_per_event"].values[index.values == -1]).all()
 
 
 def test_geodesy_against_known_distances():
@@ -80,7 +80,7 @@ def test_map_cli_writes_netcdf_and_plots(cli, tmp_path):
     assert result.code == 0, result.err
     data = result.json
     carrizo = next(row for row in data["segments"] if row["segment"] == "carrizo")
-    assert carrizo["slip_amplitude"]["units"] == "m" and carrizo["recurrence_ratio"] > 1
+    assert carrizo["slip_per_event"]["units"] == "m" and carrizo["recurrence_ratio"] > 1
     assert (tmp_path / "m_observed.png").exists() and (tmp_path / "m.png").exists()
     with xr.open_dataset(tmp_path / "m.nc") as ds:
         assert ds["map_recurrence_period"].attrs["units"] == "s" and ds["lat"].attrs["units"] == "degrees_north"
@@ -107,13 +107,13 @@ def test_raster_inputs_from_netcdf_and_csv(tmp_path):
                         coords={"lat": lat, "lon": lon})
     raster.to_netcdf(tmp_path / "r.nc")
     ds = run_map(load_map(_write_map(tmp_path, raster="r.nc")))
-    assert ds["slip_amplitude"].dims == ("lat", "lon")
+    assert ds["slip_per_event"].dims == ("lat", "lon")
     expected = 6.4374 / (40e-3 / YEAR)
     assert float(ds["recurrence_period"].sel(lat=36.0, lon=-120.0)) == pytest.approx(expected, rel=1e-4)
     (tmp_path / "r.csv").write_text("lon (degree),lat (degree),lithology,slip_rate (mm/yr)\n"
                                     "-121,35,granodiorite,10\n-120,35,black_marble,20\n-121,36,pyrite,30\n-120,36,granodiorite,40\n")
     from_csv = run_map(load_map(_write_map(tmp_path, raster="r.csv")))
-    np.testing.assert_allclose(from_csv["slip_amplitude"].values, ds["slip_amplitude"].values)
+    np.testing.assert_allclose(from_csv["slip_per_event"].values, ds["slip_per_event"].values)
 
 
 @pytest.mark.parametrize("row, message", [

@@ -153,7 +153,7 @@ def test_simulate_cli(cli, tmp_path):
     assert result.code == 0, result.err
     data = result.json
     assert data["regime"] == "stick_slip" and data["events"] == 10
-    assert data["slip_amplitude"]["units"] == "m" and data["slip_amplitude"]["value"] == pytest.approx(6.43737, rel=1e-5)
+    assert data["slip_per_event"]["units"] == "m" and data["slip_per_event"]["value"] == pytest.approx(6.43737, rel=1e-5)
     with xr.open_dataset(out) as ds:
         assert ds.sizes["event"] == 10 and "scene_text" in ds.attrs
     assert png.stat().st_size > 10000
@@ -162,7 +162,7 @@ def test_simulate_cli(cli, tmp_path):
 def test_cycle_cli_reports_the_regime(cli):
     below = cli("cycle", "lab_glass_dry", "--loading-rate", "0.01 1/s", "--json").json
     assert below["regime"] == "stick_slip" and below["method"] == "exact_cycle"
-    assert set(below["slip_amplitude"]) == {"value", "units"}
+    assert set(below["slip_per_event"]) == {"value", "units"}
 
 
 def test_phase_plane_plot_cli(cli, tmp_path):

@@ -45,7 +45,7 @@ def test_every_cell_matches_the_scalar_fault_estimate(study):
                               rupture_length="270 mi", seismogenic_depth="12 km").estimate()
                     cell = ds.isel(slip_rate=0 if speed.startswith("5") else 1, zone_width=0 if width == "10 km" else 1)
                     cell = cell.sel(lithology=lith, damping_ratio=zeta)
-                    for key in ("slip_amplitude", "recurrence_period", "stress_drop", "moment_magnitude", "static_friction"):
+                    for key in ("slip_per_event", "recurrence_period", "stress_drop", "moment_magnitude", "static_friction"):
                         assert float(cell[key]) == pytest.approx(getattr(f, key), rel=1e-13), (key, speed, width, lith, zeta)
 
 
@@ -56,17 +56,17 @@ def test_lab_study_uses_the_exact_cycle_and_finds_steady_sliding():
     ds = sweep("lab_glass_dry.toml", loading_rate=["0.01 1/s", "0.1 1/s", "1 1/s"], damping_ratio=[0.0, 0.05])
     assert set(np.unique(ds["method"].values)) == {1}  # exact cycle: the closed form misses 1e-6 here
     assert ds["regime"].sel(damping_ratio=0.05).values.tolist() == [0, 0, 1]  # above theta_c: steady sliding
-    assert float(ds["slip_amplitude"].sel(damping_ratio=0.05).isel(loading_rate=2)) == 0.0
+    assert float(ds["slip_per_event"].sel(damping_ratio=0.05).isel(loading_rate=2)) == 0.0
     exact = exact_cycle(SliderSystem.from_preset("glass_dry", loading_rate="0.1 1/s", damping_ratio=0.05))
     cell = ds.sel(damping_ratio=0.05).isel(loading_rate=1)
-    assert float(cell["slip_amplitude"]) == pytest.approx(exact.amplitude, rel=1e-12)
+    assert float(cell["slip_per_event"]) == pytest.approx(exact.slip_per_event, rel=1e-12)
     assert float(cell["recurrence_period"]) == pytest.approx(exact.period, rel=1e-12)
 
 
 def test_time_of_stick_base_is_simulated_cell_by_cell():
     ds = sweep("lab_steel_dry_time_of_stick.toml", platform_speed=["2e-5 m/s", "8e-5 m/s"])
     assert set(ds["method"].values.tolist()) == {2}
-    amplitudes = ds["slip_amplitude"].values
+    amplitudes = ds["slip_per_event"].values
     assert amplitudes[0] > amplitudes[1] > 0  # Cameron: amplitude falls as the speed rises
 
 
@@ -74,7 +74,7 @@ def test_dask_chunked_sweep_is_lazy_and_identical(study):
     eager = sweep("san_andreas_1906.toml", slip_rate=["5 mm/yr", "50 mm/yr"], zone_width=["10 km", "30 km"])
     lazy = sweep("san_andreas_1906.toml", chunks={"slip_rate": 1}, slip_rate=["5 mm/yr", "50 mm/yr"],
                  zone_width=["10 km", "30 km"])
-    assert lazy["slip_amplitude"].chunks is not None
+    assert lazy["slip_per_event"].chunks is not None
     xr.testing.assert_identical(eager.drop_attrs(), lazy.compute().drop_attrs())
 
 
@@ -91,10 +91,10 @@ def test_cf_netcdf_file_with_units_strings_and_embedded_config(study, tmp_path):
         assert ds["slip_rate"].attrs["units"] == "m/s" and ds["zone_width"].attrs["units"] == "m"
         assert ds["lithology"].dtype.kind in "OU" and list(ds["lithology"].values) == ["granodiorite", "black_marble", "pyrite_dry"]
         assert ds["regime"].attrs["flag_meanings"].split()[0] == "stick_slip"
-        assert ds["slip_amplitude"].encoding["zlib"]
+        assert ds["slip_per_event"].encoding["zlib"]
         direct = parse_study(STUDY)
         from faultslip.study import compute_block
-        np.testing.assert_array_equal(ds["slip_amplitude"].values, compute_block(direct)["slip_amplitude"].values)
+        np.testing.assert_array_equal(ds["slip_per_event"].values, compute_block(direct)["slip_per_event"].values)
 
 
 def test_reproduce_reruns_the_embedded_config(study, tmp_path, cli):
@@ -106,7 +106,7 @@ def test_reproduce_reruns_the_embedded_config(study, tmp_path, cli):
     assert cli_result.code == 0 and cli_result.json["matches"]
     with xr.open_dataset(out) as ds:  # a tampered file no longer reproduces
         tampered = ds.load()
-    tampered["slip_amplitude"][0, 0, 0, 0] *= 1.01
+    tampered["slip_per_event"][0, 0, 0, 0] *= 1.01
     tampered.to_netcdf(tmp_path / "tampered.nc")
     assert not reproduce(tmp_path / "tampered.nc", workers=1)["matches"]
 

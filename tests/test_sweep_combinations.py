@@ -98,12 +98,12 @@ def _compare(base, values, scalar):
         codes = {"stick_slip": 0, "steady_sliding": 1, "growing_oscillation": 2}
         assert int(row["regime"]) == codes[expected.regime], str(chosen)
         if expected.regime == "steady_sliding":  # the study's convention: no slip, no recurrence
-            assert float(row["slip_amplitude"]) == 0.0 and np.isnan(float(row["recurrence_period"]))
+            assert float(row["slip_per_event"]) == 0.0 and np.isnan(float(row["recurrence_period"]))
             continue
         period = getattr(expected, "recurrence_period", None) or expected.period
-        amplitude = getattr(expected, "slip_amplitude", None) or expected.amplitude
+        amplitude = getattr(expected, "slip_per_event", None) or expected.amplitude
         np.testing.assert_allclose(float(row["recurrence_period"]), period, rtol=1e-5, err_msg=str(chosen))
-        np.testing.assert_allclose(float(row["slip_amplitude"]), amplitude, rtol=1e-5, err_msg=str(chosen))
+        np.testing.assert_allclose(float(row["slip_per_event"]), amplitude, rtol=1e-5, err_msg=str(chosen))
 
 
 @pytest.mark.parametrize("name", list(FAULT_PARAMETERS))
