@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -185,17 +184,20 @@ def _scene_job(args):
 
 def parallel_map(function, jobs, workers: int, progress=None):
     """``function`` over ``jobs`` in a process pool (or in this process), reporting progress."""
+    from .processes import stop_pool, worker_pool
+
     outcomes = []
-    mapped = ProcessPoolExecutor(max_workers=workers) if workers > 1 else None
+    mapped = worker_pool(min(workers, len(jobs))) if workers > 1 and len(jobs) > 1 else None
     try:
         results = mapped.map(function, jobs) if mapped else map(function, jobs)
         for done, outcome in enumerate(results, start=1):
             outcomes.append(outcome)
             if progress:
                 progress(done, len(jobs))
-    finally:
-        if mapped:
-            mapped.shutdown(cancel_futures=True)
+    except BaseException:
+        stop_pool(mapped, interrupted=True)  # terminate the workers: never wait on them after Ctrl-C
+        raise
+    stop_pool(mapped)
     return outcomes
 
 

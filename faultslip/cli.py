@@ -41,6 +41,75 @@ def _emit(report, as_json: bool) -> int:
     return 0
 
 
+def _outputs(args, specs, inputs=()):
+    """Check every output option before any work; returns {attribute: Path or None}.
+
+    ``specs`` maps an attribute of ``args`` to (label, allowed suffixes). Two options naming one
+    file are refused too.
+    """
+    from .outputs import check_output, same_file
+
+    checked = {}
+    for attribute, (label, suffixes) in specs.items():
+        value = getattr(args, attribute, None)
+        checked[attribute] = None if value is None else check_output(
+            value, label=label, suffixes=suffixes, inputs=inputs, overwrite=getattr(args, "overwrite", False))
+    paths = [(a, p) for a, p in checked.items() if p is not None]
+    for i, (first, a) in enumerate(paths):
+        for second, b in paths[i + 1:]:
+            if same_file(a, b):
+                raise FaultslipError(f"{specs[first][0]} and {specs[second][0]} name the same file {str(a)!r}")
+    return checked
+
+
+def _locked(*paths):
+    """Hold the output lock of every given path (None skipped) while the outputs are written."""
+    import contextlib
+
+    from .outputs import output_lock
+
+    stack = contextlib.ExitStack()
+    for path in paths:
+        if path is not None:
+            stack.enter_context(output_lock(path, " ".join(["faultslip"] + sys.argv[1:3])))
+    return stack
+
+
+def _output_dir(args, default, names):
+    """Check an output folder and the files it will receive, before any work; create the folder."""
+    from pathlib import Path
+
+    from .outputs import check_output
+
+    folder = check_output(args.output or default, label="-o", directory=True)
+    for name in names:
+        target = Path(folder) / name
+        if target.exists() and not args.overwrite:
+            raise FaultslipError(f"{str(target)!r} already exists; pass --overwrite to replace it")
+        if target.is_dir():
+            raise FaultslipError(f"{str(target)!r} is a folder; it cannot be written as a file")
+    folder.mkdir(exist_ok=True)
+    return folder
+
+
+def _workers(args, tasks=None) -> int:
+    """--workers capped at what helps; the cap is said on stderr (and in --json output)."""
+    from .processes import usable_workers
+
+    workers, note = usable_workers(args.workers, tasks)
+    if note:
+        args.notes = getattr(args, "notes", []) + [note]
+        if not args.json:
+            print(f"faultslip: note: {note}", file=sys.stderr)
+    return workers
+
+
+def _note_origin(report, *origins):
+    for origin in origins:
+        if origin:
+            report.notes.insert(0, origin)
+
+
 # --- handlers ---------------------------------------------------------------
 
 
@@ -58,7 +127,8 @@ def _tolerance(args):
 def cmd_run(args) -> int:
     from .scene import load_scene, run_scene
 
-    return _emit(run_scene(load_scene(args.scene), method=args.method, tolerance=_tolerance(args)), args.json)
+    tolerance = _tolerance(args)
+    return _emit(run_scene(load_scene(args.scene), method=args.method, tolerance=tolerance), args.json)
 
 
 def cmd_fault(args) -> int:
@@ -165,37 +235,61 @@ def cmd_plot_rate_law(args) -> int:
     from .materials import get_preset, table_i_presets
     from .plots import rate_law_figure
 
+    from .outputs import FIGURE_SUFFIXES
+
+    output = _outputs(args, {"output": ("-o", FIGURE_SUFFIXES)})["output"]
     chosen = [get_preset(name) for name in args.preset] if args.preset else table_i_presets()
     for preset in chosen:
         preset.require_stick_slip()
     figure = rate_law_figure(chosen)
-    save_figure(figure, args.output, dpi=150)
+    with _locked(output):
+        save_figure(figure, output, dpi=150)
     print(f"wrote {args.output}")
     return 0
 
 
 def cmd_simulate(args) -> int:
+    from . import budget
     from .netcdf import write_dataset
-    from .scene import load_scene
+    from .outputs import FIGURE_SUFFIXES
+    from .scene import CHOICES, load_scene
     from .simulate import simulate, summary_report
 
     scene = load_scene(args.scene)
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [scene.path])
     settings = scene.simulation
-    for key in ("cycles", "slip_solver", "rtol"):
-        if getattr(args, key) is not None:
-            settings[key] = getattr(args, key)
-    dataset = simulate(scene.slider(), scene=scene.name, **settings)
+    if args.cycles is not None:
+        if args.cycles < 1:
+            raise FaultslipError(f"--cycles must be at least 1, got {args.cycles}")
+        settings["cycles"] = args.cycles
+    if args.slip_solver is not None:
+        allowed = CHOICES[("simulation", "slip_solver")]
+        if args.slip_solver not in allowed:
+            raise FaultslipError(f"--slip-solver must be one of {', '.join(allowed)}, got {args.slip_solver!r}")
+        settings["slip_solver"] = args.slip_solver
+    if args.rtol is not None:
+        rtol = _number(args.rtol, "--rtol")
+        if not 1e-14 <= rtol < 1:
+            raise FaultslipError(f"--rtol must lie in [1e-14, 1), got {args.rtol}")
+        settings["rtol"] = rtol
+    system = scene.slider()
+    integrated = not system.is_linear or settings.get("slip_solver", "auto") not in ("auto", "analytic")
+    budget.check(budget.simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64),
+                                            integrated, outputs["output"]), args.allow_large)
+    dataset = simulate(system, scene=scene.name, **settings)
     dataset.attrs["scene_text"] = scene.text
     report = summary_report(dataset, f"faultslip simulation: {scene.name}")
-    if args.output:
-        write_dataset(dataset, args.output)
-        report.note(f"time series and event table written to {args.output}")
-    if args.plot:
-        from .atomic import save_figure
-        from .plots import sawtooth_figure
+    _note_origin(report, scene.origin and f"scene: {scene.origin}")
+    with _locked(outputs["output"], outputs["plot"]):
+        if outputs["output"]:
+            write_dataset(dataset, outputs["output"])
+            report.note(f"time series and event table written to {args.output}")
+        if outputs["plot"]:
+            from .atomic import save_figure
+            from .plots import sawtooth_figure
 
-        save_figure(sawtooth_figure(dataset), args.plot, dpi=150)
-        report.note(f"sawtooth record drawn to {args.plot}")
+            save_figure(sawtooth_figure(dataset), outputs["plot"], dpi=150)
+            report.note(f"sawtooth record drawn to {args.plot}")
     return _emit(report, args.json)
 
 
@@ -242,13 +336,13 @@ def _critical_table(args) -> int:
     from .netcdf import write_dataset
     from .plots import critical_comparison_figure
 
+    out = Path(_output_dir(args, ".", [f"critical_comparison.{ext}" for ext in ("nc", "md", "png")]))
     dataset = comparison_dataset()
     markdown = comparison_markdown(dataset)
-    out = Path(args.output or ".")
-    out.mkdir(parents=True, exist_ok=True)
-    write_dataset(dataset, out / "critical_comparison.nc")
-    write_text_atomic(out / "critical_comparison.md", markdown + "\n")
-    save_figure(critical_comparison_figure(dataset), out / "critical_comparison.png", dpi=150)
+    with _locked(out / "critical_comparison.nc"):
+        write_dataset(dataset, out / "critical_comparison.nc")
+        write_text_atomic(out / "critical_comparison.md", markdown + "\n")
+        save_figure(critical_comparison_figure(dataset), out / "critical_comparison.png", dpi=150)
     if args.json:
         print(json.dumps({"files": [str(out / f"critical_comparison.{ext}") for ext in ("nc", "md", "png")],
                           "critical_loading_rate": {"value": dataset["critical_loading_rate"].values.tolist(), "units": "1/s"},
@@ -284,9 +378,16 @@ def cmd_plot_phase_plane(args) -> int:
     from .atomic import save_figure
     from .plots import phase_plane_figure
 
+    from .outputs import FIGURE_SUFFIXES
+
+    output = _outputs(args, {"output": ("-o", FIGURE_SUFFIXES)}, [getattr(args, "scene", None)])["output"]
     system = _system_from_args(args)
     factors = tuple(_number(f, "rate factor") for f in args.rate_factor) if args.rate_factor else (0.3, 0.999, 1.5)
-    save_figure(phase_plane_figure(system, factors), args.output, dpi=150)
+    for factor in factors:
+        if not 0 < factor < 1e6:
+            raise FaultslipError(f"--rate-factor must be positive (a multiple of theta_c), got {factor:g}")
+    with _locked(output):
+        save_figure(phase_plane_figure(system, factors), output, dpi=150)
     print(f"wrote {args.output}")
     return 0
 
@@ -317,14 +418,15 @@ def cmd_bench(args) -> int:
     for name in args.method or []:
         if name not in method_names():
             raise InputError(f"unknown bench method {name!r}; allowed: {', '.join(method_names())}")
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    dataset = work_precision(quick=args.quick, workers=args.workers, scenes=args.scene, methods=args.method,
-                             progress=None if args.json else _progress("bench"))
-    table = markdown(dataset)
-    write_dataset(dataset, out / "work_precision.nc")
-    write_text_atomic(out / "work_precision.md", table + "\n")
-    save_figure(chart(dataset), out / "work_precision.png", dpi=120)
+    out = Path(_output_dir(args, "bench", [f"work_precision.{ext}" for ext in ("nc", "md", "png")]))
+    workers = _workers(args)
+    with _locked(out / "work_precision.nc"):
+        dataset = work_precision(quick=args.quick, workers=workers, scenes=args.scene, methods=args.method,
+                                 progress=None if args.json else _progress("bench"))
+        table = markdown(dataset)
+        write_dataset(dataset, out / "work_precision.nc")
+        write_text_atomic(out / "work_precision.md", table + "\n")
+        save_figure(chart(dataset), out / "work_precision.png", dpi=120)
     files = [str(out / f"work_precision.{ext}") for ext in ("nc", "md", "png")]
     if args.json:
         print(json.dumps({"files": files, "wall_time": {"value": dataset.attrs["total_wall_time_s"], "units": "s"},
@@ -346,15 +448,24 @@ def cmd_stability(args) -> int:
     def floats(values, default):
         return tuple(sorted(_number(v, "grid value") for v in values)) if values else default
 
-    out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
-    dataset = stability_map(floats(args.ratio, RATIOS), floats(args.damping_ratio, DAMPING_RATIOS),
-                            floats(args.separation, SEPARATIONS), tuple(args.method or METHODS),
-                            workers=args.workers, progress=None if args.json else _progress("stability"))
-    text = failure_text(dataset)
-    write_dataset(dataset, out / "stability.nc")
-    write_text_atomic(out / "stability.md", text + "\n")
-    save_figure(chart(dataset), out / "stability.png", dpi=120)
+    for name in args.method or []:
+        if name not in METHODS:
+            raise FaultslipError(f"unknown stability method {name!r}; allowed: {', '.join(METHODS)}")
+    ratios, dampings, separations = (floats(args.ratio, RATIOS), floats(args.damping_ratio, DAMPING_RATIOS),
+                                     floats(args.separation, SEPARATIONS))
+    if any(not 0 < r < 100 for r in ratios) or any(not 0 < s < 1e9 for s in separations):
+        raise FaultslipError("--ratio must lie in (0, 100) (theta / theta_c) and --separation in (0, 1e9)")
+    if any(not 0 < z < 1 for z in dampings):
+        raise FaultslipError("--damping-ratio must lie in (0, 1): a critical rate needs damping")
+    out = Path(_output_dir(args, "stability", [f"stability.{ext}" for ext in ("nc", "md", "png")]))
+    workers = _workers(args)
+    with _locked(out / "stability.nc"):
+        dataset = stability_map(ratios, dampings, separations, tuple(args.method or METHODS),
+                                workers=workers, progress=None if args.json else _progress("stability"))
+        text = failure_text(dataset)
+        write_dataset(dataset, out / "stability.nc")
+        write_text_atomic(out / "stability.md", text + "\n")
+        save_figure(chart(dataset), out / "stability.png", dpi=120)
     files = [str(out / f"stability.{ext}") for ext in ("nc", "md", "png")]
     if args.json:
         print(json.dumps({"files": files, "failure_regions": text.splitlines(),
@@ -383,18 +494,31 @@ def _delayed_progress(label, enabled):
 
 
 def cmd_sweep(args) -> int:
-    from .streaming import run_study
+    from . import budget
+    from .outputs import check_output
+    from .streaming import DEFAULT_CHUNK_CELLS, plan_blocks, run_study
     from .study import load_study
 
     study = load_study(args.study)
-    summary = run_study(study, args.output, chunk_cells=args.chunks, scheduler=args.scheduler, workers=args.workers,
+    inputs = [args.study, study.scene.path]
+    # --resume continues into the same output: an existing final file is still refused without --overwrite
+    output = check_output(args.output, label="-o", suffixes=(".nc",), inputs=inputs, overwrite=args.overwrite)
+    if args.chunks is not None and not 1 <= args.chunks <= 10**9:
+        raise FaultslipError(f"--chunks must be a number of cells from 1 to 1e9, got {args.chunks}")
+    chunk_cells = args.chunks or DEFAULT_CHUNK_CELLS
+    budget.check(budget.study_estimate(study, output, args.workers, chunk_cells, args.compression), args.allow_large)
+    _, blocks = plan_blocks(study, chunk_cells)
+    workers = args.workers if args.scheduler else _workers(args, len(blocks))
+    summary = run_study(study, output, chunk_cells=chunk_cells, scheduler=args.scheduler, workers=workers,
                         resume=args.resume, progress=_delayed_progress("sweep", not args.json),
-                        compression=args.compression)
+                        compression=args.compression, overwrite=args.overwrite, inputs=inputs)
     if args.json:
         print(json.dumps({"output": summary["output"], "cells": summary["cells"], "blocks": summary["blocks"],
                           "resumed_blocks": summary["resumed_blocks"], "executor": summary["executor"],
                           "wall_time": {"value": summary["seconds"], "units": "s"},
-                          "dimensions": {name: len(values) for name, values in study.dims.items()}}, indent=2))
+                          "dimensions": {name: len(values) for name, values in study.dims.items()},
+                          "notes": getattr(args, "notes", []) + ([f"base scene: {study.scene.origin}"]
+                                                                 if study.scene.origin else [])}, indent=2))
     else:
         print(f"faultslip sweep: {study.name}")
         print(f"  {summary['cells']} cells ({' x '.join(f'{n} {len(v)}' for n, v in study.dims.items())}) in "
@@ -407,15 +531,23 @@ def cmd_sweep(args) -> int:
 def cmd_reproduce(args) -> int:
     from .streaming import reproduce
 
-    result = reproduce(args.file, output=args.output, workers=args.workers)
+    workers = _workers(args)
+    result = reproduce(args.file, output=args.output, workers=workers, overwrite=args.overwrite)
     if args.json:
-        print(json.dumps(result, indent=2))
+        print(json.dumps({key: (None if isinstance(value, float) and not np.isfinite(value) else value)
+                          for key, value in result.items() if key != "differences"}
+                         | {"differences": {k: (v if np.isfinite(v) else None) for k, v in result["differences"].items()}},
+                         indent=2))
     else:
         verdict = "matches" if result["matches"] else "DIFFERS"
         print(f"faultslip reproduce: {args.file} {verdict} (largest relative difference {result['largest_difference']:.3g} "
               f"over {result['cells']} cells)")
         for name, value in result["differences"].items():
             print(f"  {name:26s} {value:.3g}")
+        for label, key in (("missing from the file", "missing"), ("not reproduced (extra in the file)", "extra"),
+                           ("attributes that differ", "attribute_differences")):
+            if result[key]:
+                print(f"  {label}: {', '.join(result[key])}")
     return 0 if result["matches"] else 1
 
 
@@ -426,18 +558,26 @@ def cmd_map(args) -> int:
     from .maps import load_map, map_figure, observed_figure, observed_table, run_map
     from .netcdf import write_dataset
 
+    from .outputs import FIGURE_SUFFIXES, check_output
+
     spec = load_map(args.map)
-    dataset = run_map(spec, method=args.method or "auto", tolerance=_tolerance(args) or 1e-6)
-    write_dataset(dataset, args.output)
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, spec.inputs)
+    observed = None
+    if outputs["plot"] is not None and spec.segments is not None:
+        target = Path(outputs["plot"])
+        observed = check_output(target.with_name(target.stem + "_observed" + target.suffix), label="--plot (observed)",
+                                inputs=spec.inputs + [outputs["output"]], overwrite=args.overwrite)
+    tolerance = _tolerance(args) or 1e-6
+    dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance)
     plots = []
-    if args.plot:
-        save_figure(map_figure(dataset), args.plot, dpi=150)
-        plots.append(args.plot)
-        if "observed_recurrence" in dataset:
-            target = Path(args.plot)
-            observed = target.with_name(target.stem + "_observed" + target.suffix)
-            save_figure(observed_figure(dataset), observed, dpi=150)
-            plots.append(str(observed))
+    with _locked(outputs["output"], outputs["plot"], observed):
+        write_dataset(dataset, outputs["output"])
+        if outputs["plot"]:
+            save_figure(map_figure(dataset), outputs["plot"], dpi=150)
+            plots.append(args.plot)
+            if "observed_recurrence" in dataset and observed is not None:
+                save_figure(observed_figure(dataset), observed, dpi=150)
+                plots.append(str(observed))
     if args.json:
         year = 365.25 * 86400
         rows = []
@@ -451,9 +591,12 @@ def cmd_map(args) -> int:
                              "observed_recurrence": {"value": float(row["observed_recurrence"]) if np.isfinite(float(row["observed_recurrence"])) else None, "units": "s"},
                              "recurrence_ratio": float(row["recurrence_ratio"]) if np.isfinite(float(row["recurrence_ratio"])) else None,
                              "slip_ratio": float(row["slip_ratio"]) if np.isfinite(float(row["slip_ratio"])) else None})
-        print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"}}, indent=2))
+        print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"},
+                          "notes": spec.notes}, indent=2))
     else:
         print(f"faultslip map: {spec.name}")
+        for note in spec.notes:
+            print(f"  {note}")
         if "segment" in dataset.dims:
             print(observed_table(dataset))
         print(f"\nwrote {args.output}" + (f", {', '.join(plots)}" if plots else ""))
@@ -463,20 +606,34 @@ def cmd_map(args) -> int:
 def cmd_fit(args) -> int:
     from .fitting import fit_figure, fit_rate_law, read_friction_data
 
+    from .outputs import FIGURE_SUFFIXES
+
+    plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.data])["plot"]
+    if not 0 <= args.bootstrap <= 100_000:
+        raise FaultslipError(f"--bootstrap must lie between 0 and 100000 samples, got {args.bootstrap}")
+    if args.loss not in ("linear", "soft_l1", "huber", "cauchy"):
+        raise FaultslipError(f"--loss must be linear, soft_l1, huber or cauchy, got {args.loss!r}")
+    if args.seed < 0:
+        raise FaultslipError(f"--seed must not be negative, got {args.seed}")
+    modulus = None
+    if args.shear_modulus:
+        from . import ranges
+        from .units import to_si
+
+        modulus = ranges.check("shear_modulus", to_si(args.shear_modulus, "pressure", "shear modulus"))
     fixed = None if args.mu_m is None else _number(args.mu_m, "mu_m")
     data = read_friction_data(args.data, fixed_mu_m=fixed)
     fit = fit_rate_law(data, loss=args.loss, bootstrap=args.bootstrap, seed=args.seed, fixed_mu_m=fixed)
     report = fit.report(f"faultslip fit: {args.data}")
-    if args.plot:
+    if plot:
         from .atomic import save_figure
 
-        save_figure(fit_figure(data, fit), args.plot, dpi=150)
+        with _locked(plot):
+            save_figure(fit_figure(data, fit), plot, dpi=150)
         report.note(f"plot written to {args.plot}")
     if args.name:  # only after the fit succeeded: a failed fit never touches the registry
         from . import registry
-        from .units import to_si
 
-        modulus = to_si(args.shear_modulus, "pressure", "shear modulus") if args.shear_modulus else None
         path = registry.save_fit(args.name, fit, shear_modulus=modulus, note=args.note or "")
         report.note(f"saved as {args.name!r} in {path}; use it with 'faultslip fault --lithology {args.name} ...'")
     return _emit(report, args.json)
@@ -486,6 +643,18 @@ def cmd_record(args) -> int:
     from .records import analyze_record, hysteresis_figure, read_record
     from .units import to_si
 
+    from . import ranges
+    from .outputs import FIGURE_SUFFIXES
+
+    plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.record])["plot"]
+    if args.velocity not in ("auto", "differentiate", "integrate"):
+        raise FaultslipError(f"--velocity must be auto, differentiate or integrate, got {args.velocity!r}")
+    for flag, kind, name in (("stiffness", "stiffness", "stiffness"), ("normal_load", "force", "normal_load"),
+                             ("mass", "mass", "mass"), ("platform_speed", "speed", "platform_speed")):
+        if getattr(args, flag):
+            ranges.check(name, to_si(getattr(args, flag), kind, f"--{flag.replace('_', '-')}"))
+    if args.dashpot and not to_si(args.dashpot, "damping", "dashpot") >= 0:
+        raise FaultslipError(f"--dashpot must not be negative, got {args.dashpot}")
     record = read_record(args.record)
     speed = to_si(args.platform_speed, "speed", "platform speed") if args.platform_speed else None
     analysis = analyze_record(record, to_si(args.mass, "mass", "mass") if args.mass else
@@ -494,10 +663,11 @@ def cmd_record(args) -> int:
                               speed, to_si(args.dashpot, "damping", "dashpot") if args.dashpot else 0.0,
                               velocity_method=args.velocity)
     report = analysis.report(f"faultslip record analysis: {args.record}")
-    if args.plot:
+    if plot:
         from .atomic import save_figure
 
-        save_figure(hysteresis_figure(analysis), args.plot, dpi=150)
+        with _locked(plot):
+            save_figure(hysteresis_figure(analysis), plot, dpi=150)
         report.note(f"mu against sliding speed drawn to {args.plot}")
     return _emit(report, args.json)
 
@@ -572,9 +742,11 @@ def build_parser() -> argparse.ArgumentParser:
     simulate.add_argument("scene", help="scene TOML file or bundled scene name")
     simulate.add_argument("-o", "--output", help="write the time series and event table to OUT.nc")
     simulate.add_argument("--plot", help="draw the sawtooth record to FILE.png")
+    simulate.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
+    simulate.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     simulate.add_argument("--cycles", type=int, help="number of stick-slip cycles (default: the scene's, else 100)")
     simulate.add_argument("--slip-solver", help="analytic, RK45, RK23, DOP853, Radau, BDF or LSODA (default auto)")
-    simulate.add_argument("--rtol", type=float, help="integrator relative tolerance (default 1e-10)")
+    simulate.add_argument("--rtol", help="integrator relative tolerance (default 1e-10)")
     simulate.add_argument("--json", action="store_true", help="print one JSON object")
     simulate.set_defaults(handler=cmd_simulate)
 
@@ -584,6 +756,7 @@ def build_parser() -> argparse.ArgumentParser:
     critical.add_argument("--damping-ratio", help="damping ratio zeta of the dashpot")
     critical.add_argument("--table", action="store_true", help="write the exact-vs-seed comparison (nc, md, png)")
     critical.add_argument("-o", "--output", help="directory for --table (default: current)")
+    critical.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     critical.add_argument("--json", action="store_true", help="print one JSON object")
     critical.set_defaults(handler=cmd_critical)
 
@@ -598,6 +771,7 @@ def build_parser() -> argparse.ArgumentParser:
     bench = commands.add_parser("bench", help="work-precision study of every method on standard scenes")
     bench.add_argument("--quick", action="store_true", help="fewer tolerances and cycles (under 2 minutes on 2 cores)")
     bench.add_argument("-o", "--output", default="bench", help="output directory (default: bench/)")
+    bench.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     bench.add_argument("--scene", action="append", help="only this standard scene (repeatable)")
     bench.add_argument("--method", action="append", help="only this method (repeatable)")
     bench.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
@@ -606,6 +780,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     stability = commands.add_parser("stability", help="map where each method fails (rate, damping, separation)")
     stability.add_argument("-o", "--output", default="stability", help="output directory (default: stability/)")
+    stability.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     stability.add_argument("--ratio", action="append", help="only these theta/theta_c values (repeatable)")
     stability.add_argument("--damping-ratio", action="append", help="only these damping ratios (repeatable)")
     stability.add_argument("--separation", action="append", help="only these stick/slip ratios (repeatable)")
@@ -617,6 +792,8 @@ def build_parser() -> argparse.ArgumentParser:
     sweep = commands.add_parser("sweep", help="gridded parameter study to CF netCDF")
     sweep.add_argument("study", help="study TOML file")
     sweep.add_argument("-o", "--output", required=True, help="output netCDF file (written atomically)")
+    sweep.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
+    sweep.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     sweep.add_argument("--scheduler", help="'local' for a dask LocalCluster, or the address of a dask scheduler")
     sweep.add_argument("--chunks", type=int, help="cells per chunk (default 524288)")
     sweep.add_argument("--workers", type=int, default=2, help="parallel workers (default 2)")
@@ -629,6 +806,7 @@ def build_parser() -> argparse.ArgumentParser:
     reproduce = commands.add_parser("reproduce", help="re-run the study embedded in a sweep's netCDF and compare")
     reproduce.add_argument("file", help="a netCDF written by faultslip sweep")
     reproduce.add_argument("-o", "--output", help="keep the reproduced file here")
+    reproduce.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     reproduce.add_argument("--workers", type=int, default=2, help="parallel workers (default 2)")
     reproduce.add_argument("--json", action="store_true", help="print one JSON object")
     reproduce.set_defaults(handler=cmd_reproduce)
@@ -637,6 +815,7 @@ def build_parser() -> argparse.ArgumentParser:
     regional.add_argument("map", help="map TOML file")
     regional.add_argument("-o", "--output", required=True, help="output netCDF file")
     regional.add_argument("--plot", help="draw the maps to FILE.png (and predicted vs observed to FILE_observed.png)")
+    regional.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     _method_flags(regional)
     regional.add_argument("--json", action="store_true", help="print one JSON object")
     regional.set_defaults(handler=cmd_map)
@@ -647,6 +826,7 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--shear-modulus", help="shear modulus of the rock, stored with the fit for fault predictions")
     fit.add_argument("--note", help="a note stored with the fit (e.g. rock and condition)")
     fit.add_argument("--plot", help="draw data, fit and 95 % band to FILE.png")
+    fit.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     fit.add_argument("--loss", default="linear", help="least-squares loss: linear, soft_l1, huber or cauchy (robust)")
     fit.add_argument("--bootstrap", type=int, default=200, help="bootstrap samples (default 200)")
     fit.add_argument("--seed", type=int, default=0, help="bootstrap seed (default 0): results are reproducible")
@@ -663,6 +843,7 @@ def build_parser() -> argparse.ArgumentParser:
     record.add_argument("--platform-speed", help="platform speed V (default: the median slider speed)")
     record.add_argument("--velocity", default="auto", help="auto, differentiate (x) or integrate (x'')")
     record.add_argument("--plot", help="draw mu against sliding speed to FILE.png")
+    record.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     record.add_argument("--json", action="store_true", help="print one JSON object")
     record.set_defaults(handler=cmd_record)
 
@@ -684,6 +865,7 @@ def build_parser() -> argparse.ArgumentParser:
     rate_law = figures.add_parser("rate-law", help="mu_s and amplitude against log10 loading rate (seed Figs. 4-1 to 4-22)")
     rate_law.add_argument("--preset", action="append", help="preset name (repeatable; default: all of Table I)")
     rate_law.add_argument("-o", "--output", required=True, help="output image, e.g. rate_law.png")
+    rate_law.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     rate_law.set_defaults(handler=cmd_plot_rate_law)
     phase = figures.add_parser("phase-plane", help="phase-plane limit cycles below, at and above the critical rate")
     phase.add_argument("--preset", help="Table I preset on its apparatus")
@@ -691,6 +873,7 @@ def build_parser() -> argparse.ArgumentParser:
     phase.add_argument("--damping-ratio", help="damping ratio zeta (needed for a critical rate)")
     phase.add_argument("--rate-factor", action="append", help="loading rate as a multiple of theta_c (repeatable)")
     phase.add_argument("-o", "--output", required=True, help="output image")
+    phase.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     phase.set_defaults(handler=cmd_plot_phase_plane)
     return parser
 
@@ -717,6 +900,13 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("faultslip: interrupted; no output file was left half-written", file=sys.stderr)
         return 130
+    except MemoryError:
+        print("faultslip: error: out of memory; make the run smaller (see --allow-large and the budget)", file=sys.stderr)
+        return 1
+    except OSError as exc:  # the machine, not the input: a full disk, a permission, a vanished file
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        print(f"faultslip: error: {exc.strerror or exc}{where}", file=sys.stderr)
+        return 1
     except BrokenPipeError:  # the reader (e.g. head) closed the pipe: stop quietly
         import os
 

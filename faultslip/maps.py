@@ -71,6 +71,8 @@ class MapSpec:
     text: str = ""
     description: str = ""
     source_files: list = field(default_factory=list)
+    notes: list = field(default_factory=list)  # which bundled files were used, if any
+    inputs: list = field(default_factory=list)  # every file read: the map, its scene, its table
 
 
 @dataclass
@@ -295,34 +297,49 @@ def _raster_from_csv(path):
     return out
 
 
+#: The largest raster axis: 1e5 x 1e5 cells already need 80 GB per output.
+MAX_AXIS = 100_000
+
+
+def _number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
 def _axis(spec, name, where):
-    if isinstance(spec, dict) and list(spec) == ["linspace"]:
-        start, stop, count = spec["linspace"]
-        values = np.linspace(float(start), float(stop), int(count))
-    elif isinstance(spec, list) and spec:
+    usage = f"{where} {name} must be a list of degrees or {{ linspace = [start, stop, count] }}"
+    if isinstance(spec, dict):
+        args = spec.get("linspace")
+        if list(spec) != ["linspace"] or not isinstance(args, list) or len(args) != 3:
+            raise InputError(usage)
+        start, stop, count = args
+        if not (_number(start) and _number(stop)) or not isinstance(count, int) or isinstance(count, bool):
+            raise InputError(usage)
+        if not 1 <= count <= MAX_AXIS:
+            raise InputError(f"{where} {name} linspace count must lie between 1 and {MAX_AXIS}, got {count}")
+        values = np.linspace(float(start), float(stop), count)
+    elif isinstance(spec, list) and spec and all(_number(v) for v in spec):
+        if len(spec) > MAX_AXIS:
+            raise InputError(f"{where} {name} has more than {MAX_AXIS} values")
         values = np.asarray(spec, dtype=float)
     else:
-        raise InputError(f"{where} {name} must be a list of degrees or {{ linspace = [start, stop, count] }}")
-    if values.size < 1:
-        raise InputError(f"{where} {name} is empty")
+        raise InputError(usage)
+    if len(set(values.tolist())) != values.size:
+        raise InputError(f"{where} {name} repeats a value")
     return values
 
 
 def load_map(path) -> MapSpec:
     """Read a map file, its base scene and its input table or raster (paths relative to the file)."""
-    from .scene import load_scene
+    from .scene import parse_scene, read_text_file, resolve_path
 
-    path = Path(path)
-    if not path.exists():
-        bundled = bundled_dir("configs") / path.name
-        if not bundled.exists():
-            raise InputError(f"map file {str(path)!r} does not exist")
-        path = bundled
-    text = path.read_text(encoding="utf-8")
+    path, origin = resolve_path(path, "map file")
+    text = read_text_file(path, "map file")
     document = parse_toml(text, path.name)
     for table, content in document.items():
         if table not in MAP_SCHEMA:
             raise InputError(f"unknown table [{table}] in {path.name} (allowed: {', '.join(MAP_SCHEMA)})")
+        if not isinstance(content, dict):
+            raise InputError(f"{table} in {path.name} must be a table [{table}], got a value")
         for key in content:
             if key not in MAP_SCHEMA[table]:
                 hint = did_you_mean(key, MAP_SCHEMA[table])
@@ -331,21 +348,31 @@ def load_map(path) -> MapSpec:
     if ("segments" in document) == ("raster" in document):
         raise InputError(f"{path.name} needs exactly one input: a [segments] or a [raster] table")
 
+    for key in ("name", "base", "description"):
+        if key in head and not isinstance(head[key], str):
+            raise InputError(f"[map] {key} in {path.name} must be a string, got {head[key]!r}")
+    notes = [f"map: {origin}"] if origin else []
+
     def resolve(name):
+        """Relative to the map file; a bare name with no such file there may mean a bundled data file."""
+        if not isinstance(name, str) or not name.strip():
+            raise InputError(f"{path.name}: file must name an input file, got {name!r}")
         candidate = Path(name)
-        if not candidate.is_absolute():
-            candidate = path.parent / candidate
-        if candidate.exists():
-            return candidate
-        bundled = bundled_dir("data") / Path(name).name
-        if bundled.exists():
+        local = candidate if candidate.is_absolute() else path.parent / candidate
+        if local.is_file():
+            return local
+        bundled = bundled_dir("data") / candidate.name
+        if candidate.name == name and bundled.is_file():
+            notes.append(f"input: bundled data file {bundled.name} (no file {name!r} beside {path.name})")
             return bundled
         raise InputError(f"{path.name}: input file {name!r} does not exist")
 
-    base = head.get("base", "san_andreas_1906.toml")
-    base_path = path.parent / base if (path.parent / base).exists() else base
-    spec = MapSpec(name=head.get("name", path.stem), scene=load_scene(base_path), text=text,
-                   description=head.get("description", ""))
+    base_path, base_origin = resolve_path(head.get("base", "san_andreas_1906.toml"), "scene", base_dir=path.parent)
+    scene = parse_scene(read_text_file(base_path, "scene file"), source=base_path.name, path=base_path)
+    if base_origin:
+        notes.append(f"scene: {base_origin}")
+    spec = MapSpec(name=head.get("name", path.stem), scene=scene, text=text, description=head.get("description", ""))
+    spec.notes = notes
     if "segments" in document:
         source = resolve(document["segments"].get("file", ""))
         spec.segments = read_segments(source)
@@ -353,6 +380,7 @@ def load_map(path) -> MapSpec:
         source = resolve(document["raster"].get("file", ""))
         spec.raster = read_raster(source)
     spec.source_files.append(str(source))
+    spec.inputs = [path, base_path, source]
     grid = document.get("grid", {})
     if spec.segments is not None:
         if "lon" not in grid or "lat" not in grid:
@@ -363,6 +391,8 @@ def load_map(path) -> MapSpec:
         _check_lon_lat(spec.lon[:1], spec.lat, f"[grid] in {path.name}")
     if "max_distance" in grid:
         spec.max_distance = to_si(grid["max_distance"], "length", f"[grid] max_distance in {path.name}")
+        if not spec.max_distance > 0:
+            raise InputError(f"[grid] max_distance in {path.name} must be positive, got {grid['max_distance']!r}")
     return spec
 
 

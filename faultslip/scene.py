@@ -107,6 +107,8 @@ class Scene:
     sources: dict = field(default_factory=dict)
     path: Path | None = None
     text: str = ""
+    #: how the argument was resolved, e.g. "bundled scene san_andreas_1906.toml (no file of that name here)"
+    origin: str = ""
 
     @property
     def fault_inputs(self) -> dict:
@@ -281,23 +283,60 @@ def _need(spec, keys, what, name):
         raise InputError(f"[friction] with {what} in {name} needs {', '.join(missing)}")
 
 
-def load_scene(path_or_name=None) -> Scene:
-    """Load a scene from a path, or a bundled scene by file name (default: the 1906 scene)."""
-    if path_or_name is None:
-        path = config_path(DEFAULT_SCENE)
-    else:
-        path = Path(path_or_name)
-        if not path.exists():
-            bundled = config_path(path.name if path.suffix else f"{path.name}.toml")
-            if bundled.exists():
-                path = bundled
-            else:
-                raise InputError(f"scene file {str(path_or_name)!r} does not exist (bundled scenes: {', '.join(bundled_scenes())})")
+def resolve_path(argument, what: str, base_dir: Path | None = None) -> tuple[Path, str]:
+    """A file argument as ``(path, origin)``: paths are paths, and only a bare name may mean a bundled file.
+
+    A path with a folder in it (``configs/x.toml``, ``./x.toml``) must exist. A bare name
+    (``x.toml`` or ``x``) is looked up in ``base_dir`` (or the current folder) first and then
+    among the bundled configs; ``origin`` then says that the bundled file was used.
+    """
+    text = str(argument)
+    if not text.strip():
+        raise InputError(f"{what}: the file name is empty")
+    path = Path(text)
+    bare = path.name == text and not path.is_absolute()
+    local = (base_dir / path) if (base_dir is not None and not path.is_absolute()) else path
+    if local.exists():
+        if local.is_dir():
+            raise InputError(f"{what} {text!r} is a folder, not a file")
+        return local, ""
+    if bare:
+        bundled = config_path(path.name if path.suffix else f"{path.name}.toml")
+        if bundled.is_file():
+            return bundled, f"bundled {what} {bundled.name} (no file {text!r} here)"
+        raise InputError(f"{what} {text!r} does not exist here or among the bundled configs "
+                         f"({', '.join(bundled_scenes())})")
+    raise InputError(f"{what} {text!r} does not exist")
+
+
+def read_text_file(path: Path, what: str, limit: int = 16 * 2**20) -> str:
+    """A UTF-8 text file, refused cleanly if unreadable, too large or not UTF-8."""
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read scene file {str(path)!r}: {exc}") from None
-    return parse_scene(text, source=path.name, path=path)
+        size = path.stat().st_size
+        if size > limit:
+            raise InputError(f"{what} {str(path)!r} is {size / 2**20:.0f} MiB; a config is at most {limit // 2**20} MiB")
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read {what} {str(path)!r}: {exc.strerror or exc}") from None
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{what} {str(path)!r} is not UTF-8 text (byte {exc.start}); save it as UTF-8") from None
+
+
+def load_scene(path_or_name=None) -> Scene:
+    """Load a scene from a path, or a bundled scene by bare file name (default: the 1906 scene).
+
+    A bundled scene is used only for a bare name with no such file here; ``Scene.origin`` says so.
+    """
+    if path_or_name is None:
+        path, origin = config_path(DEFAULT_SCENE), f"bundled scene {DEFAULT_SCENE} (the default)"
+    else:
+        path, origin = resolve_path(path_or_name, "scene")
+    text = read_text_file(path, "scene file")
+    scene = parse_scene(text, source=path.name, path=path)
+    scene.origin = origin
+    return scene
 
 
 def bundled_scenes() -> list[str]:
@@ -316,6 +355,8 @@ def run_scene(scene: Scene, method: str | None = None, tolerance: float | None =
     """
     method = method or scene.method
     tolerance = scene.tolerance if tolerance is None else tolerance
+    if method not in METHOD_NAMES:
+        raise InputError(f"method must be one of {', '.join(METHOD_NAMES)}, got {method!r}")
     if scene.kind == "fault":
         fault = scene.fault()
         if scene.observed_slip is not None:
@@ -330,6 +371,8 @@ def run_scene(scene: Scene, method: str | None = None, tolerance: float | None =
         report = solution.report(f"faultslip lab cycle: {scene.name}")
     if scene.description:
         report.notes.insert(0, scene.description)
+    if scene.origin:
+        report.notes.insert(0, f"scene: {scene.origin}")
     for key, citation in scene.sources.items():
         report.note(f"source of {key}: {citation}")
     return report

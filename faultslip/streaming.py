@@ -17,13 +17,16 @@ import itertools
 import json
 import os
 import time
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+import warnings
+from concurrent.futures import FIRST_COMPLETED, wait
 from pathlib import Path
 
 import numpy as np
 
 from .atomic import write_text_atomic
-from .errors import FaultslipError, InputError
+from .errors import InputError
+from .outputs import check_output, output_lock, same_file
+from .processes import stop_pool, worker_pool
 
 DEFAULT_CHUNK_CELLS = 2**19
 #: netCDF4 compression filters: zlib is readable everywhere (default); zstd is ~2.5x faster to write
@@ -59,7 +62,7 @@ def _executor(scheduler, workers):
     if scheduler is None:
         if workers <= 1:
             return None, "in-process"
-        return ProcessPoolExecutor(max_workers=workers), f"process pool ({workers} workers)"
+        return worker_pool(workers), f"process pool ({workers} workers)"
     try:
         from distributed import Client, LocalCluster
     except ImportError:
@@ -125,17 +128,47 @@ def _write_block(nc, study, block, dataset):
 
 
 def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str | None = None, workers: int = 2,
-              resume: bool = False, progress=None, compression: str = "zlib") -> dict:
-    """Compute ``study`` into ``output`` (netCDF4); returns a summary (blocks, cells, seconds, executor)."""
-    from .study import compute_block
+              resume: bool = False, progress=None, compression: str = "zlib", overwrite: bool = True,
+              inputs=()) -> dict:
+    """Compute ``study`` into ``output`` (netCDF4); returns a summary (blocks, cells, seconds, executor).
 
+    The output is checked before any work (folder, extension, an input of the run, an existing file
+    without ``overwrite``) and locked while it is written: a second run on the same output is refused.
+    """
     if compression not in COMPRESSIONS:
         raise InputError(f"compression must be one of {', '.join(COMPRESSIONS)}, got {compression!r}")
-    output = Path(output)
-    if output.suffix != ".nc":
-        raise InputError(f"output file {str(output)!r} must end in .nc (netCDF4)")
-    if not output.parent.is_dir():
-        raise InputError(f"output directory {str(output.parent)!r} does not exist")
+    output = check_output(output, label="output", suffixes=(".nc",), inputs=inputs, overwrite=overwrite)
+    with output_lock(output, "faultslip sweep"):
+        return _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression)
+
+
+def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> set:
+    """Blocks already on disk from an interrupted run, or an empty set (with a warning saying why)."""
+    if not (partial.exists() or ledger.exists()):
+        return set()
+    if not resume:
+        warnings.warn(f"an interrupted run left {partial.name}; starting over (pass --resume to continue it)",
+                      stacklevel=3)
+        return set()
+    try:
+        record = json.loads(ledger.read_text(encoding="utf-8"))
+        done = {int(i) for i in record["done"]}
+        same = record.get("fingerprint") == fingerprint and record.get("blocks") == blocks
+    except (OSError, ValueError, KeyError, TypeError):
+        warnings.warn(f"the progress record {ledger.name} is unreadable; starting over", stacklevel=3)
+        return set()
+    if not same:
+        warnings.warn(f"{partial.name} belongs to a different study or chunking; starting over", stacklevel=3)
+        return set()
+    if not partial.exists() or any(not 0 <= i < blocks for i in done):
+        warnings.warn(f"{partial.name} is missing or inconsistent with its record; starting over", stacklevel=3)
+        return set()
+    return done
+
+
+def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression):
+    from .study import compute_block
+
     chunk_cells = chunk_cells or DEFAULT_CHUNK_CELLS
     chunks, blocks = plan_blocks(study, chunk_cells)
     partial = output.with_name(output.name + ".partial")
@@ -144,25 +177,29 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
     done: set[int] = set()
     started = time.perf_counter()
     template = compute_block(study, {n: slice(0, 1) for n in study.dims})
-    if resume and partial.exists() and ledger.exists():
-        record = json.loads(ledger.read_text())
-        if record.get("fingerprint") == fingerprint and record.get("blocks") == len(blocks):
-            done = set(record["done"])
+    done = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
+    import netCDF4
+
+    nc = None
+    if done:
+        try:
+            nc = netCDF4.Dataset(partial, "a")
+            for name in template.data_vars:
+                _no_chunk_cache(nc[name])
+        except (OSError, IndexError, KeyError, RuntimeError) as exc:  # truncated by a kill -9, or foreign
+            if nc is not None:
+                nc.close()
+            nc = None
+            warnings.warn(f"cannot continue {partial.name} ({exc}); starting over", stacklevel=2)
+            done = set()
     if not done:
         for stale in (partial, ledger):
             if stale.exists():
                 stale.unlink()
-    import netCDF4
-
-    try:
-        nc = netCDF4.Dataset(partial, "a") if done else _create(partial, study, template, chunks, compression)
-        if done:
-            for name in template.data_vars:
-                _no_chunk_cache(nc[name])
-    except OSError as exc:
-        if not done:
-            raise
-        raise FaultslipError(f"cannot resume from {partial.name} ({exc}); rerun without --resume") from None
+        try:
+            nc = _create(partial, study, template, chunks, compression)
+        except OSError as exc:
+            raise InputError(f"cannot write {partial.name}: {exc.strerror or exc}") from None
     pending = [i for i in range(len(blocks)) if i not in done]
     # one chunk (or none) left: a pool would only add start-up time
     executor, label = _executor(scheduler, workers if len(pending) > 1 or scheduler else 1)
@@ -210,11 +247,14 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
                     nc.sync()
                     record_progress()
                     last_saved = time.perf_counter()
-    except BaseException:
+    except BaseException as exc:
+        _shutdown(executor, interrupted=True)  # first: no worker may keep running, or block the exit
         nc.sync()
         nc.close()
         record_progress()  # what is on disk is complete block by block: --resume continues from here
-        _shutdown(executor)
+        if isinstance(exc, OSError):
+            raise InputError(f"writing {partial.name} failed: {exc.strerror or exc}; "
+                             "'--resume' continues once the cause is fixed") from None
         raise
     nc.close()
     _shutdown(executor)
@@ -225,7 +265,7 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
             "chunks": chunks, "seconds": time.perf_counter() - started, "executor": label, "output": str(output)}
 
 
-def _shutdown(executor):
+def _shutdown(executor, interrupted: bool = False):
     if executor is None:
         return
     if hasattr(executor, "gather"):  # a dask Client (and its LocalCluster, if it made one)
@@ -234,7 +274,7 @@ def _shutdown(executor):
         if cluster is not None:
             cluster.close()
     else:
-        executor.shutdown(cancel_futures=True)
+        stop_pool(executor, interrupted=interrupted)
 
 
 def _largest_difference(a, b):
@@ -248,8 +288,18 @@ def _largest_difference(a, b):
         return np.where(same, 0.0, np.abs(a - b) / np.where(scale > 0, scale, 1.0))
 
 
-def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2) -> dict:
-    """Re-run the study embedded in ``path`` and compare every variable with the file."""
+#: Global attributes that describe the run, not its results: not compared by :func:`reproduce`.
+RUN_ATTRIBUTES = ("history", "source")
+
+
+def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrite: bool = False) -> dict:
+    """Re-run the study embedded in ``path`` and compare everything that carries results.
+
+    Every data variable, coordinate, variable attribute and global attribute (but the run's
+    ``history`` and ``source``) is compared. A variable, coordinate or attribute that is missing or
+    extra is a mismatch, and so is any value that differs by more than 1e-12 relative. The file
+    checked is never written: ``output`` must be another file.
+    """
     import tempfile
 
     import xarray as xr
@@ -259,23 +309,71 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2) -> dict:
     path = Path(path)
     if not path.exists():
         raise InputError(f"file {str(path)!r} does not exist")
+    if path.is_dir():
+        raise InputError(f"{str(path)!r} is a folder, not a netCDF file")
+    keep = None
+    if output is not None:
+        keep = check_output(output, label="-o", suffixes=(".nc",), inputs=[path], overwrite=overwrite)
     try:
         with xr.open_dataset(path) as original:
             attrs = dict(original.attrs)
-    except (OSError, ValueError) as exc:
-        raise InputError(f"cannot read {str(path)!r} as netCDF: {exc}") from None
-    if "faultslip_study" not in attrs or "faultslip_base_scene" not in attrs:
+    except Exception as exc:  # netCDF4/h5py raise many types on a damaged file; all mean "not readable"
+        raise InputError(f"cannot read {str(path)!r} as netCDF: {str(exc)[:200]}") from None
+    if not isinstance(attrs.get("faultslip_study"), str) or not isinstance(attrs.get("faultslip_base_scene"), str):
         raise InputError(f"{path.name} carries no embedded study (faultslip_study attribute); it was not written by faultslip sweep")
     study = parse_study(attrs["faultslip_study"], source=path.name, base_text=attrs["faultslip_base_scene"])
-    keep = Path(output) if output else None
     with tempfile.TemporaryDirectory(dir=(keep.parent if keep else None)) as scratch:
         target = keep or Path(scratch) / "reproduced.nc"
-        summary = run_study(study, target, chunk_cells=chunk_cells, workers=workers)
-        differences = {}
-        with xr.open_dataset(path, chunks={}) as old, xr.open_dataset(target, chunks={}) as new:
-            for name in old.data_vars:
-                differences[name] = float(xr.apply_ufunc(_largest_difference, old[name], new[name], dask="parallelized",
-                                                         output_dtypes=[float]).max().compute())
-    worst = max(differences.values()) if differences else 0.0
-    return {"matches": worst <= 1e-12, "largest_difference": worst, "differences": differences,
+        summary = run_study(study, target, chunk_cells=chunk_cells, workers=workers, inputs=[path])
+        try:
+            with xr.open_dataset(path, chunks={}) as old, xr.open_dataset(target, chunks={}) as new:
+                comparison = compare_datasets(old, new)
+        except InputError:
+            raise
+        except Exception as exc:
+            raise InputError(f"cannot compare {path.name} with its reproduction: {str(exc)[:200]}") from None
+    worst = max(comparison["differences"].values()) if comparison["differences"] else 0.0
+    matches = worst <= 1e-12 and not any(comparison[k] for k in ("missing", "extra", "attribute_differences"))
+    return {"matches": matches, "largest_difference": worst, **comparison,
             "cells": summary["cells"], "seconds": summary["seconds"]}
+
+
+def _same_value(a, b) -> bool:
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape:
+        return False
+    if np.issubdtype(a.dtype, np.floating) and np.issubdtype(b.dtype, np.floating):
+        return bool(np.all((a == b) | (np.isnan(a) & np.isnan(b))))
+    return bool(np.all(a == b))
+
+
+def compare_datasets(old, new) -> dict:
+    """What differs between a file and its reproduction: variables, coordinates and attributes.
+
+    Returns ``differences`` (name -> largest relative difference), ``missing`` (in the
+    reproduction, not in the file), ``extra`` (in the file only) and ``attribute_differences``.
+    """
+    import xarray as xr
+
+    differences, attribute_differences = {}, []
+    old_names = set(old.data_vars) | set(old.coords)
+    new_names = set(new.data_vars) | set(new.coords)
+    missing, extra = sorted(new_names - old_names), sorted(old_names - new_names)
+    for name in sorted(old_names & new_names):
+        a, b = old[name], new[name]
+        if a.dims != b.dims or a.shape != b.shape:
+            differences[name] = float("inf")
+            continue
+        if np.issubdtype(a.dtype, np.number) and np.issubdtype(b.dtype, np.number):
+            differences[name] = float(xr.apply_ufunc(_largest_difference, a, b, dask="parallelized",
+                                                     output_dtypes=[float]).max().compute())
+        else:
+            differences[name] = 0.0 if _same_value(a.values, b.values) else float("inf")
+        for key in sorted(set(a.attrs) | set(b.attrs)):
+            if key not in a.attrs or key not in b.attrs or not _same_value(a.attrs[key], b.attrs[key]):
+                attribute_differences.append(f"{name}:{key}")
+    for key in sorted((set(old.attrs) | set(new.attrs)) - set(RUN_ATTRIBUTES)):
+        if key not in old.attrs or key not in new.attrs or not _same_value(old.attrs[key], new.attrs[key]):
+            attribute_differences.append(key)
+    return {"differences": differences, "missing": missing, "extra": extra,
+            "attribute_differences": attribute_differences}

@@ -85,6 +85,7 @@ class Study:
     text: str = ""  # the study file as read
     description: str = ""
     units_text: dict = field(default_factory=dict)
+    base_name: str = ""  # the base scene as the study names it (stable across reproduction)
 
     @property
     def kind(self) -> str:
@@ -123,6 +124,11 @@ def _values(name, spec, kind, where):
         count = args[2]
         if count < 1:
             raise InputError(f"{where} is empty: {rule} count must be at least 1, got {count}")
+        from .budget import MAX_DIMENSION_VALUES
+
+        if count > MAX_DIMENSION_VALUES:  # checked before numpy allocates the coordinate
+            raise InputError(f"{where} asks for {count:.3g} values; one dimension holds at most "
+                             f"{MAX_DIMENSION_VALUES:.0e} (its coordinate alone would take {8 * count / 1e9:.3g} GB)")
         if rule == "logspace":
             if start <= 0 or stop <= 0:
                 raise InputError(f"{where} logspace needs positive start and stop, got {args[0]!r} and {args[1]!r}")
@@ -154,7 +160,7 @@ def _categories(name, spec, kind, where):
 
 def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None, base_text: str | None = None) -> Study:
     """Parse and validate a study. ``base_text`` overrides reading the base scene (reproduction)."""
-    from .scene import load_scene, parse_scene
+    from .scene import parse_scene
 
     document = parse_toml(text, source)
     for table in document:
@@ -167,15 +173,25 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
         if key not in STUDY_KEYS:
             hint = did_you_mean(key, STUDY_KEYS)
             raise InputError(f"unknown key {key!r} in [study] of {source}{hint} (allowed: {', '.join(sorted(STUDY_KEYS))})")
+    if not isinstance(head, dict):
+        raise InputError(f"study in {source} must be a table [study], got a value")
+    for key in ("name", "description"):
+        if key in head and not isinstance(head[key], str):
+            raise InputError(f"[study] {key} in {source} must be a string, got {head[key]!r}")
+    if not isinstance(document.get("sweep", {}), dict):
+        raise InputError(f"sweep in {source} must be a table [sweep], got a value")
     if "base" not in head:
         raise InputError(f"[study] in {source} needs base = \"SCENE.toml\" (a scene file or a bundled scene name)")
+    if not isinstance(head["base"], str):
+        raise InputError(f"[study] base in {source} must be a file name string, got {head['base']!r}")
     if base_text is not None:
         scene = parse_scene(base_text, source=str(head["base"]))
-    else:
-        base = Path(head["base"])
-        if base_dir is not None and not base.is_absolute() and (base_dir / base).exists():
-            base = base_dir / base
-        scene = load_scene(base)
+    else:  # relative to the study file; a bare name may also mean a bundled scene
+        from .scene import read_text_file, resolve_path
+
+        base, origin = resolve_path(head["base"], "scene", base_dir=base_dir)
+        scene = parse_scene(read_text_file(base, "scene file"), source=base.name, path=base)
+        scene.origin = origin
     method = head.get("method", "auto")
     if method not in ("auto", "closed_form", "exact_cycle"):
         raise InputError(f"[study] method in {source} must be auto, closed_form or exact_cycle, got {method!r}")
@@ -196,7 +212,8 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
         units_text[name] = spec
     _check_consistent(scene, dims, source)
     return Study(name=head.get("name", Path(source).stem), scene=scene, dims=dims, method=method,
-                 tolerance=float(tolerance), text=text, description=head.get("description", ""), units_text=units_text)
+                 tolerance=float(tolerance), text=text, description=head.get("description", ""), units_text=units_text,
+                 base_name=Path(head["base"]).name)
 
 
 def _check_consistent(scene, dims, source):
@@ -215,14 +232,14 @@ def _check_consistent(scene, dims, source):
 
 
 def load_study(path) -> Study:
+    from .scene import read_text_file
+
     path = Path(path)
     if not path.exists():
         raise InputError(f"study file {str(path)!r} does not exist")
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read study file {str(path)!r}: {exc}") from None
-    return parse_study(text, source=path.name, base_dir=path.parent)
+    if path.is_dir():
+        raise InputError(f"study file {str(path)!r} is a folder")
+    return parse_study(read_text_file(path, "study file"), source=path.name, base_dir=path.parent)
 
 
 # --- inputs as labelled arrays ---------------------------------------------
@@ -695,7 +712,8 @@ def _cell_system(study, values):
     return apply_friction(system, {}, scene.name)
 
 
-def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | None = None, **dims):
+def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | None = None,
+          allow_large: bool = False, **dims):
     """Python API: sweep parameters of a scene; returns an xarray Dataset.
 
     ``scene`` is a Scene, a scene file or a bundled scene name; each keyword is a parameter name
@@ -717,9 +735,18 @@ def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | N
         kind = allowed[name][0]
         parsed[name] = _categories(name, values, scene.kind, name) if kind == "category" else _values(name, values, kind, name)
     _check_consistent(scene, parsed, "sweep()")
+    if method not in ("auto", "closed_form", "exact_cycle"):
+        raise InputError(f"method must be auto, closed_form or exact_cycle, got {method!r}")
+    if not isinstance(tolerance, (int, float)) or isinstance(tolerance, bool) or not 0 < tolerance < 1:
+        raise InputError(f"tolerance must be a number between 0 and 1, got {tolerance!r}")
     study = Study(name=scene.name, scene=scene, dims=parsed, method=method, tolerance=tolerance,
                   text=_study_text(scene, method, tolerance, dims))
-    if chunks is None:
+    if chunks is None:  # everything in memory: refuse what will not fit (a chunked study stays lazy)
+        from . import budget
+
+        estimate = budget.study_estimate(study, None, 1, study.size)
+        budget.check(budget.Estimate(f"this in-memory sweep of {study.size:.3g} cells", memory=estimate.memory,
+                                     seconds=estimate.seconds), allow_large)
         return finish(compute_block(study), study)
     outputs = evaluate(study_inputs(study, chunks=chunks), study.kind, method, tolerance)
     return finish(as_dataset(outputs, study), study)
@@ -760,7 +787,7 @@ def finish(dataset, study):
         "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')}: faultslip sweep",
         "faultslip_study": study.text,
         "faultslip_base_scene": study.scene.text,
-        "faultslip_base_scene_name": study.scene.path.name if study.scene.path else study.scene.name,
+        "faultslip_base_scene_name": study.base_name or (study.scene.path.name if study.scene.path else study.scene.name),
         "method_requested": study.method,
         "tolerance": study.tolerance,
         "comment": "regime and method are flags (see flag_meanings); categorical dimensions are strings",

@@ -158,7 +158,7 @@ def test_failed_fit_never_changes_the_registry(tmp_path, cli, monkeypatch):
 
         user_registry.save_fit("third", fit(read_friction_data(good), bootstrap=5))
     assert registry.read_bytes() == before
-    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".fits.json")]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".fits.json") and not p.name.endswith(".lock")]
 
 
 def test_lab_csv_to_fitted_material_to_fault_prediction_with_uncertainty(tmp_path, cli, monkeypatch):

@@ -1,0 +1,81 @@
+"""Worker processes that die with their parent, and a Ctrl-C that stops everything cleanly.
+
+A worker of :func:`worker_pool` ignores SIGINT (Ctrl-C reaches the whole process group, and only
+the parent should answer it: one line, exit 130) and is killed by the kernel when its parent dies,
+whatever killed the parent (``kill -9`` included): ``prctl(PR_SET_PDEATHSIG, SIGKILL)`` on Linux,
+and everywhere a watchdog thread that exits once the parent is gone. :func:`stop_pool` terminates
+the workers instead of waiting for their tasks, so an interrupt never waits on, or deadlocks with,
+a busy pool.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import signal
+import sys
+import threading
+import time
+from concurrent.futures import ProcessPoolExecutor
+
+_PR_SET_PDEATHSIG = 1
+
+
+def usable_workers(requested: int, tasks: int | None = None) -> tuple[int, str]:
+    """``(workers, note)``: ``requested`` capped at the cores and the tasks; the note says why, or is ''.
+
+    More processes than cores only add start-up time and memory; more than tasks stay idle.
+    """
+    from .errors import InputError
+
+    if requested < 1:
+        raise InputError(f"--workers must be at least 1, got {requested}")
+    cores = os.cpu_count() or 1
+    limit = min(cores, tasks) if tasks is not None else cores
+    limit = max(limit, 1)
+    if requested <= limit:
+        return requested, ""
+    why = f"{cores} cores" if limit == cores else f"{tasks} chunks of work"
+    return limit, f"--workers {requested} capped at {limit} ({why}: more would not run faster)"
+
+
+def _die_with_parent(parent: int) -> None:
+    """Worker initializer: ignore Ctrl-C and exit when the parent process is gone."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
+        except (OSError, AttributeError):  # no prctl: the watchdog below still works
+            pass
+    if os.getppid() != parent:  # the parent died before prctl took effect
+        os._exit(1)
+
+    def watchdog():
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent:
+                os._exit(1)
+
+    threading.Thread(target=watchdog, daemon=True, name="faultslip-parent-watchdog").start()
+
+
+def worker_pool(workers: int) -> ProcessPoolExecutor:
+    """A process pool whose workers ignore SIGINT and die with this process."""
+    return ProcessPoolExecutor(max_workers=workers, initializer=_die_with_parent, initargs=(os.getpid(),))
+
+
+def stop_pool(pool, interrupted: bool = False) -> None:
+    """Shut a pool down; after an interrupt or error, terminate its workers rather than wait for them."""
+    if pool is None:
+        return
+    if interrupted:
+        processes = list(getattr(pool, "_processes", {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            if process.is_alive():
+                process.terminate()
+        for process in processes:
+            process.join(timeout=5)
+    else:
+        pool.shutdown(cancel_futures=True)
