@@ -94,8 +94,12 @@ def _output_dir(args, default, names):
 
 def _workers(args, tasks=None) -> int:
     """--workers capped at what helps; the cap is said on stderr (and in --json output)."""
+    import os
+
     from .processes import usable_workers
 
+    if args.workers is None:  # not given: as many as help, silently
+        return usable_workers(os.cpu_count() or 1, tasks)[0]
     workers, note = usable_workers(args.workers, tasks)
     if note:
         args.notes = getattr(args, "notes", []) + [note]
@@ -506,9 +510,9 @@ def cmd_sweep(args) -> int:
     if args.chunks is not None and not 1 <= args.chunks <= 10**9:
         raise FaultslipError(f"--chunks must be a number of cells from 1 to 1e9, got {args.chunks}")
     chunk_cells = args.chunks or DEFAULT_CHUNK_CELLS
-    budget.check(budget.study_estimate(study, output, args.workers, chunk_cells, args.compression), args.allow_large)
     _, blocks = plan_blocks(study, chunk_cells)
-    workers = args.workers if args.scheduler else _workers(args, len(blocks))
+    workers = (args.workers or 2) if args.scheduler else _workers(args, len(blocks))
+    budget.check(budget.study_estimate(study, output, workers, chunk_cells, args.compression), args.allow_large)
     summary = run_study(study, output, chunk_cells=chunk_cells, scheduler=args.scheduler, workers=workers,
                         resume=args.resume, progress=_delayed_progress("sweep", not args.json),
                         compression=args.compression, overwrite=args.overwrite, inputs=inputs)
@@ -774,7 +778,7 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     bench.add_argument("--scene", action="append", help="only this standard scene (repeatable)")
     bench.add_argument("--method", action="append", help="only this method (repeatable)")
-    bench.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
+    bench.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
     bench.set_defaults(handler=cmd_bench)
 
@@ -785,7 +789,7 @@ def build_parser() -> argparse.ArgumentParser:
     stability.add_argument("--damping-ratio", action="append", help="only these damping ratios (repeatable)")
     stability.add_argument("--separation", action="append", help="only these stick/slip ratios (repeatable)")
     stability.add_argument("--method", action="append", help="only this method (repeatable)")
-    stability.add_argument("--workers", type=int, default=2, help="parallel processes (default 2)")
+    stability.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
     stability.add_argument("--json", action="store_true", help="print one JSON object")
     stability.set_defaults(handler=cmd_stability)
 
@@ -796,7 +800,7 @@ def build_parser() -> argparse.ArgumentParser:
     sweep.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     sweep.add_argument("--scheduler", help="'local' for a dask LocalCluster, or the address of a dask scheduler")
     sweep.add_argument("--chunks", type=int, help="cells per chunk (default 524288)")
-    sweep.add_argument("--workers", type=int, default=2, help="parallel workers (default 2)")
+    sweep.add_argument("--workers", type=int, help="parallel workers (default: the cores, at most one per chunk)")
     sweep.add_argument("--resume", action="store_true", help="reuse the chunks of an interrupted run of the same study")
     sweep.add_argument("--compression", choices=("zlib", "zstd", "none"), default="zlib",
                        help="netCDF4 filter (default zlib, readable everywhere; zstd writes ~2.5x faster)")
@@ -807,7 +811,7 @@ def build_parser() -> argparse.ArgumentParser:
     reproduce.add_argument("file", help="a netCDF written by faultslip sweep")
     reproduce.add_argument("-o", "--output", help="keep the reproduced file here")
     reproduce.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    reproduce.add_argument("--workers", type=int, default=2, help="parallel workers (default 2)")
+    reproduce.add_argument("--workers", type=int, help="parallel workers (default: the cores, at most one per chunk)")
     reproduce.add_argument("--json", action="store_true", help="print one JSON object")
     reproduce.set_defaults(handler=cmd_reproduce)
 

@@ -29,7 +29,7 @@ from scipy.optimize import least_squares
 
 from .errors import InputError, did_you_mean
 from .friction import static_friction
-from .resources import read_numeric_csv
+from .resources import open_netcdf, read_numeric_csv
 from .units import to_si
 
 PARAMETERS = ("mu_so", "mu_m", "b", "d")
@@ -62,25 +62,27 @@ class FrictionData:
 
 def _read_columns(path: Path) -> dict:
     if path.suffix == ".nc":
-        import xarray as xr
-
-        try:
-            with xr.open_dataset(path) as opened:
-                data = opened.load()
-        except (OSError, ValueError) as exc:
-            raise InputError(f"cannot read {path.name} as netCDF: {exc}") from None
+        data = open_netcdf(path, "friction data")
         columns = {}
         for name, variable in data.data_vars.items():
-            columns[name] = (variable.values.ravel().astype(float), variable.attrs.get("units"))
+            try:
+                values = np.asarray(variable.values, dtype=float).ravel()
+            except (TypeError, ValueError):
+                raise InputError(f"friction data {path.name}: variable {name!r} is not numeric") from None
+            units = variable.attrs.get("units")
+            columns[name] = (values, units if isinstance(units, str) else None)
+        sizes = {values.size for values, _ in columns.values()}
+        if len(sizes) > 1:
+            raise InputError(f"friction data {path.name}: the variables differ in length ({sorted(sizes)})")
         return columns
     return read_numeric_csv(path, path.name)
 
 
 def read_friction_data(path, fixed_mu_m: float | None = None) -> FrictionData:
     """Read and validate friction data (CSV or netCDF); every check raises one clear sentence."""
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"data file {str(path)!r} does not exist")
+    from .resources import check_input_file
+
+    path = check_input_file(path, "data file")
     columns = _read_columns(path)
     for name in columns:
         if name not in COLUMNS:
@@ -399,7 +401,9 @@ def constraint_flags(data, fit, result, lower, upper, fixed_mu_m) -> list:
     flags = []
     values = fit.values
     drop = values["mu_so"] - values["mu_m"]
-    half_rate = (1.0 / (values["b"] * drop)) ** (1.0 / values["d"]) if values["b"] > 0 and drop > 0 else math.inf
+    with np.errstate(over="ignore", divide="ignore"):  # an extreme fit gives an infinite half-drop rate
+        half_rate = float(np.power(1.0 / (values["b"] * drop), 1.0 / values["d"])) \
+            if values["b"] > 0 and drop > 0 else math.inf
     rates = data.loading_rate
     if not np.any(rates > 3 * half_rate):
         flags.append(f"no points well above the half-drop rate {half_rate:.3g} 1/s: mu_m and d are poorly pinned "

@@ -215,11 +215,9 @@ def read_raster(path):
     if not path.exists():
         raise InputError(f"raster file {str(path)!r} does not exist")
     if path.suffix == ".nc":
-        try:
-            with xr.open_dataset(path) as opened:
-                data = opened.load()
-        except (OSError, ValueError) as exc:
-            raise InputError(f"cannot read raster {path.name} as netCDF: {exc}") from None
+        from .resources import open_netcdf
+
+        data = open_netcdf(path, "raster")
         for coordinate in ("lon", "lat"):
             if coordinate not in data.coords:
                 raise InputError(f"raster {path.name} needs coordinates lon and lat (degrees); it has {list(data.coords)}")

@@ -27,8 +27,8 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .resources import read_numeric_csv
-from .units import to_si
+from .resources import check_input_file, open_netcdf, read_numeric_csv
+from .units import to_si, unit_factor
 
 RECORD_COLUMNS = {"time": "time", "displacement": "length", "acceleration": "acceleration", "force": "force",
                   "velocity": "speed"}
@@ -47,6 +47,13 @@ class Record:
     source: str = ""
 
     def __post_init__(self):
+        for name in ("time", "displacement", "acceleration", "force", "velocity"):
+            values = getattr(self, name)
+            if values is not None and np.shape(values) != np.shape(self.time):
+                raise InputError(f"record {self.source}: {name} has {np.size(values)} samples and time "
+                                 f"{np.size(self.time)}; every column needs one value per time")
+        if self.time.ndim != 1:
+            raise InputError(f"record {self.source}: time must be one column of values")
         if self.time.size < 5:
             raise InputError(f"record {self.source or ''} has {self.time.size} samples; at least 5 are needed".replace("  ", " "))
         if np.any(np.diff(self.time) <= 0):
@@ -64,9 +71,7 @@ def register_reader(suffix: str, reader) -> None:
 
 
 def read_record(path) -> Record:
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"record file {str(path)!r} does not exist")
+    path = check_input_file(path, "record file")
     reader = _READERS.get(path.suffix.lower())
     if reader is None:
         raise InputError(f"record {path.name}: no reader for '{path.suffix}' files (known: {', '.join(sorted(_READERS))})")
@@ -75,25 +80,15 @@ def read_record(path) -> Record:
 
 def _si(values, unit, name, source):
     kind = RECORD_COLUMNS[name]
-    if unit in (None, ""):
+    if unit in (None, "") or not isinstance(unit, str):
         raise InputError(f"record {source}: column {name!r} needs a unit in its header, e.g. '{name} (s)'")
-    if kind == "acceleration":
-        factor = _acceleration_factor(unit, source)
-    else:
-        factor = to_si(f"1 {unit}", kind, f"record {source}, column {name}")
-    return np.asarray(values, dtype=float) * factor
-
-
-def _acceleration_factor(unit, source):
-    from .units import units
-
+    factor = unit_factor(unit, kind, f"record {source}, column {name}")
     try:
-        quantity = units.Quantity(1, unit)
-    except Exception:
-        raise InputError(f"record {source}: unknown acceleration unit {unit!r}") from None
-    if quantity.dimensionality != units.get_dimensionality("[acceleration]"):
-        raise InputError(f"record {source}: acceleration must be in units of acceleration (e.g. m/s^2 or g_0), got {unit!r}")
-    return quantity.to("m/s^2").magnitude
+        values = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"record {source}: column {name!r} is not numeric") from None
+    with np.errstate(over="ignore", invalid="ignore"):
+        return values * factor
 
 
 def _read_csv(path: Path) -> Record:
@@ -101,13 +96,7 @@ def _read_csv(path: Path) -> Record:
 
 
 def _read_netcdf(path: Path) -> Record:
-    import xarray as xr
-
-    try:
-        with xr.open_dataset(path) as opened:
-            data = opened.load()
-    except (OSError, ValueError) as exc:
-        raise InputError(f"cannot read record {path.name} as netCDF: {exc}") from None
+    data = open_netcdf(path, "record")
     columns = {name: (data[name].values, data[name].attrs.get("units")) for name in list(data.data_vars) + list(data.coords)
                if name in RECORD_COLUMNS}
     return _record_from_columns(columns, path.name)

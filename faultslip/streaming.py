@@ -314,6 +314,9 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     keep = None
     if output is not None:
         keep = check_output(output, label="-o", suffixes=(".nc",), inputs=[path], overwrite=overwrite)
+    from .resources import probe_netcdf
+
+    probe_netcdf(path, "file")  # a damaged file must not crash this process (see probe_netcdf)
     try:
         with xr.open_dataset(path) as original:
             attrs = dict(original.attrs)

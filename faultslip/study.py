@@ -39,7 +39,7 @@ import numpy as np
 from . import ranges
 from .errors import InputError, did_you_mean
 from .resources import parse_toml
-from .units import STANDARD_GRAVITY, to_si
+from .units import STANDARD_GRAVITY, to_si, to_si_scalar
 
 #: Sweepable parameters: name -> (unit kind, SI unit, long name). "category" is a string dimension.
 FAULT_PARAMETERS = {
@@ -120,7 +120,7 @@ def _values(name, spec, kind, where):
         rule, args = next(iter(spec.items()))
         if not isinstance(args, list) or len(args) != 3 or not isinstance(args[2], int) or isinstance(args[2], bool):
             raise InputError(f"{where} {rule} needs [start, stop, count], e.g. [\"1 mm/yr\", \"100 mm/yr\", 21]")
-        start, stop = (to_si(v, kind, f"{where} {rule}") for v in args[:2])
+        start, stop = (to_si_scalar(v, kind, f"{where} {rule}") for v in args[:2])
         count = args[2]
         if count < 1:
             raise InputError(f"{where} is empty: {rule} count must be at least 1, got {count}")
@@ -138,7 +138,7 @@ def _values(name, spec, kind, where):
         spec = [spec]
     if not spec:
         raise InputError(f"{where} is empty: give at least one value")
-    return [ranges.check(name, to_si(v, kind, where), where) for v in spec]
+    return [ranges.check(name, to_si_scalar(v, kind, where), where) for v in spec]
 
 
 def _categories(name, spec, kind, where):
@@ -394,7 +394,8 @@ def _exact_where(mask, zeta, eps):
     """Exact-cycle dimensionless quantities where ``mask`` (only there: elsewhere NaN)."""
     from .exact_cycle import slip_cycle
 
-    zeta, eps, mask = np.broadcast_arrays(np.asarray(zeta, float), np.asarray(eps, float), np.asarray(mask, bool))
+    zeta, eps, mask = (np.array(a) for a in np.broadcast_arrays(np.asarray(zeta, float), np.asarray(eps, float),
+                                                                 np.asarray(mask, bool)))
     out = np.full((4,) + zeta.shape, np.nan)
     if mask.any():
         cycle = slip_cycle(zeta[mask], eps[mask])

@@ -323,6 +323,16 @@ def to_si(value, kind: str, name: str, default_unit: str | None = None):
     return _bare(value, kind, name, default_unit, KINDS[kind][2])
 
 
+def to_si_scalar(value, kind: str, name: str, default_unit: str | None = None) -> float:
+    """:func:`to_si` for one value from a file: a list, table, date or boolean is refused."""
+    if isinstance(value, bool) or not isinstance(value, (str, int, float, pint.Quantity)):
+        raise InputError(f"{name} must be a single value such as {_example(kind)}, got {_short(value)}")
+    result = to_si(value, kind, name, default_unit)
+    if np.ndim(result):
+        raise InputError(f"{name} must be a single value such as {_example(kind)}, got {_short(value)}")
+    return float(result)
+
+
 def _bare(value, kind, name, default_unit, phrase):
     if kind == "dimensionless":
         return _finite(_as_float(value, name), name)

@@ -1,0 +1,398 @@
+"""Fuzz every reader and option of the faultslip CLI with mutated inputs, and count the outcomes.
+
+    python benchmarks/fuzz.py [--cases 10000] [--workers 2] [--seed 0] [--out benchmarks/results/fuzz.json]
+
+Each case mutates one bundled or example input (scene, study, map with its segment table, lab
+friction CSV, motion record, free-decay record, a sweep's netCDF, or unit strings for ``fault``)
+and runs the matching command in-process through ``faultslip.cli.main``. Outcomes:
+
+* ``ok``: exit 0;
+* ``clean``: exit 2 with exactly one line on stderr, no traceback (the contract for bad input);
+* ``environment``: exit 1 (a machine error such as a full disk), one line;
+* ``unclean``: exit 2 but more than one line on stderr;
+* ``traceback``: an exception escaped ``main`` (a bug: its type and place are recorded);
+* ``timeout``: the case took longer than ``--timeout`` seconds.
+
+The acceptance criterion of issue 9 is zero ``traceback``, ``unclean``, ``timeout`` and
+``environment`` over at least 10,000 cases (a mutated input must never reach the machine's limits). The tally and every distinct failure are written to the JSON file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import contextlib
+import io
+import json
+import os
+import platform
+import random
+import shutil
+import signal
+import sys
+import tempfile
+import time
+import traceback
+from concurrent.futures import ProcessPoolExecutor
+from datetime import datetime, timezone
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CONFIGS, DATA = ROOT / "configs", ROOT / "data"
+
+NASTY_VALUES = [
+    '""', '"-1 km"', '"0 m"', '"1e400 m"', '"nan m"', '"\u22125 km"', '"1,5 km"', '"5 m)"', '"1/0 m"',
+    '"10**400 m"', '"1 m*"', "true", "0", "-1", "1e308", "nan", "inf", "-inf", "[]", "{}", '[1, "a"]',
+    '"granite"', '"unknown_thing"', '"2 bar"', '"1e9 1/s"', "1e9", '"1e-30 m/s"', '"1 rad"', '"125 rad/s"',
+    '{ logspace = ["1 mm/yr", "100 mm/yr", 10000000000] }', '{ linspace = ["-5 km", "5 km", 3] }',
+    '{ logspace = ["0 mm/yr", "1 mm/yr", 3] }', "[0.0, 0.5, 0.99]", "[-0.999]", '"1 1/s"', '"1e-12 in/s"',
+    '"100 m/s"', '"1e6 bar"', "0.999999", "1.0", "-0.5", '["granodiorite", "granodiorite"]', '"green_schist_water"',
+    "1000000", "2000000000", '"3 ms"', '"1e-300 m"', '"1e300 km"', '"µm"', '"1 µm"', '"1 furlong/fortnight"',
+    '{ linspace = [0, 1, 0] }', '{ linspace = [-200, 200, 5] }', '"../../etc/passwd"', '"/"', '"."',
+    '"lab_glass_dry.toml"', '"no_such_scene.toml"', '"configs/no.toml"', '"DOP853"', '"Radau"', '"bogus"',
+    "[[1, 2], [3]]", '"\\u0000"', "1970-01-01", "0.0", "-0.0", "1e-320", "123456789012345678901234567890",
+]
+NASTY_CELLS = ["", "nan", "inf", "-inf", "-1", "0", "1e400", "1e-400", "abc", "1,5", "\u22121", "1e308", " ",
+               "0x10", "1_000", "true", "None", '"', "1;2", "-0", "1e-320", "9" * 400]
+NASTY_UNITS = ["", "m", "km)", "(s", "1/0", "**2", "furlongz", "g_0", "Hz", "rad/s", "%", "degC", "m^-1", "s**0.5",
+               "lbf/in", "in/s", "mm/yr", "m/s^2", "bar", "N", "kg"]
+UNIT_STRINGS = ["13 mi", "2 in/yr", "0.25e6 bar", "250 bar", "\u22125 km", "1,5 km", "5 m)", "1/0 m", "10**400 m",
+                "1 m*", "1e400 m", "nan m", "inf km", "-1 km", "0 km", "1e-300 m", "5", "5 bar", "3 s", "",
+                " ", "1 km km", "1 km/s", "2 in/yr)", "2 (in/yr", "24 mm/yr", "1e6 mm/yr", "1e-30 mm/yr",
+                "\u00a013\u00a0mi", "13mi", "13 MI", "13 Mi", "0x13 mi", "13e mi", "e13 mi", "1.3.3 mi"]
+FAULT_FLAGS = {"--zone-width": "13 mi", "--shear-stress": "250 bar", "--slip-rate": "2 in/yr",
+               "--shear-modulus": "0.25e6 bar", "--rupture-length": "270 mi", "--depth": "12 km",
+               "--density": "2700 kg/m^3", "--shear-wave-speed": "3 km/s", "--mu-so": "0.65", "--mu-m": "0.55",
+               "--damping-ratio": "0.1", "--rate-coefficient": "38", "--rate-exponent": "0.665",
+               "--observed-slip": "21 ft", "--tolerance": "1e-6"}
+
+
+# --- mutations ---------------------------------------------------------------------------------
+
+def mutate_toml(text: str, rng: random.Random) -> str | bytes:
+    lines = text.splitlines()
+    choice = rng.random()
+    value_lines = [i for i, line in enumerate(lines) if "=" in line and not line.lstrip().startswith("#")]
+    if choice < 0.45 and value_lines:
+        i = rng.choice(value_lines)
+        key = lines[i].split("=", 1)[0]
+        lines[i] = f"{key}= {rng.choice(NASTY_VALUES)}"
+    elif choice < 0.55 and lines:
+        del lines[rng.randrange(len(lines))]
+    elif choice < 0.62 and lines:
+        i = rng.randrange(len(lines))
+        lines.insert(i, lines[i])
+    elif choice < 0.7 and value_lines:
+        i = rng.choice(value_lines)
+        key, value = lines[i].split("=", 1)
+        key = key.strip()
+        typo = key[:-1] if len(key) > 2 and rng.random() < 0.5 else key + rng.choice(["_x", "s", "2"])
+        lines[i] = f"{typo} ={value}"
+    elif choice < 0.75:
+        lines.insert(rng.randrange(len(lines) + 1), rng.choice(["[bogus]", "[scene]", "[sweep]", "[friction]",
+                                                                 "[simulation]", "x = 1", "[[study]]", "= 3"]))
+    elif choice < 0.8:
+        raw = "\n".join(lines).encode("utf-8")
+        cut = rng.randrange(len(raw) + 1)
+        return raw[:cut] + bytes(rng.randrange(256) for _ in range(rng.randint(1, 4))) + raw[cut:]
+    elif choice < 0.85:
+        raw = "\n".join(lines)
+        return raw[: rng.randrange(len(raw) + 1)]
+    else:
+        raw = "\n".join(lines)
+        if raw:
+            i = rng.randrange(len(raw))
+            raw = raw[:i] + rng.choice(["", "x", '"', "[", "]", "=", "\n", "{", "-", "0", "\u2212"]) + raw[i + 1:]
+        return raw
+    return "\n".join(lines) + "\n"
+
+
+def mutate_csv(text: str, rng: random.Random) -> str | bytes:
+    lines = text.splitlines()
+    if not lines:
+        return text
+    choice = rng.random()
+    header = lines[0].split(",")
+    if choice < 0.35 and len(lines) > 1:
+        i = rng.randrange(1, len(lines))
+        cells = lines[i].split(",")
+        cells[rng.randrange(len(cells))] = rng.choice(NASTY_CELLS)
+        lines[i] = ",".join(cells)
+    elif choice < 0.5:
+        j = rng.randrange(len(header))
+        name = header[j].split(" (")[0]
+        header[j] = f"{name} ({rng.choice(NASTY_UNITS)})" if rng.random() < 0.7 else rng.choice(
+            [name + "x", "", header[(j + 1) % len(header)], name])
+        lines[0] = ",".join(header)
+    elif choice < 0.6:
+        j = rng.randrange(len(header))
+        lines = [",".join(c for k, c in enumerate(line.split(",")) if k != j) for line in lines]
+    elif choice < 0.67 and len(lines) > 1:
+        i = rng.randrange(1, len(lines))
+        lines[i] = lines[i] + "," + rng.choice(NASTY_CELLS)
+    elif choice < 0.74:
+        keep = rng.randint(0, min(len(lines), 4))
+        lines = lines[:keep]
+    elif choice < 0.8:
+        raw = "\n".join(lines).encode("utf-8")
+        cut = rng.randrange(len(raw) + 1)
+        return raw[:cut] + bytes(rng.randrange(128, 256) for _ in range(rng.randint(1, 3))) + raw[cut:]
+    elif choice < 0.86 and len(lines) > 2:
+        lines = [lines[0]] + sorted(lines[1:], key=lambda _: rng.random())[: rng.randint(1, len(lines) - 1)]
+    elif choice < 0.92 and len(lines) > 2:
+        i = rng.randrange(1, len(lines))
+        lines.insert(i, lines[i])
+    else:
+        lines[0] = lines[0] + "," + header[rng.randrange(len(header))]
+        lines[1:] = [line + ",1" for line in lines[1:]]
+    return "\n".join(lines) + "\n"
+
+
+def mutate_bytes(raw: bytes, rng: random.Random) -> bytes:
+    data = bytearray(raw)
+    choice = rng.random()
+    if choice < 0.4 and data:
+        for _ in range(rng.randint(1, 16)):
+            data[rng.randrange(len(data))] = rng.randrange(256)
+    elif choice < 0.7:
+        data = data[: rng.randrange(len(data) + 1)]
+    else:
+        start = rng.randrange(len(data) + 1)
+        data[start:start] = bytes(rng.randrange(256) for _ in range(rng.randint(1, 64)))
+    return bytes(data)
+
+
+# --- cases ---------------------------------------------------------------------------------------
+
+class Workspace:
+    """Seed inputs, copied once per worker into a scratch folder."""
+
+    def __init__(self, folder: Path):
+        self.folder = folder
+        self.scenes = sorted(p for p in CONFIGS.glob("*.toml") if "[scene]" in p.read_text(encoding="utf-8"))
+        self.studies = [CONFIGS / "study_san_andreas.toml", CONFIGS / "study_lab_glass.toml"]
+        self.segments = (DATA / "san_andreas_segments.csv").read_text(encoding="utf-8")
+        self.map_text = ('[map]\nname = "fuzz map"\nbase = "san_andreas_1906.toml"\n[segments]\nfile = "segments.csv"\n'
+                         '[grid]\nlon = { linspace = [-124.0, -115.0, 10] }\nlat = { linspace = [33.0, 40.0, 8] }\n'
+                         'max_distance = "60 km"\n')
+        self.friction = (CONFIGS / "example_friction_data.csv").read_text(encoding="utf-8")
+        record_lines = (CONFIGS / "example_record.csv").read_text(encoding="utf-8").splitlines()
+        self.record = "\n".join(record_lines[:1500]) + "\n"
+        decay_lines = (CONFIGS / "example_decay_record.csv").read_text(encoding="utf-8").splitlines()
+        self.decay = "\n".join(decay_lines[:1200]) + "\n"
+        self.netcdf = self._small_sweep()
+
+    def _small_sweep(self) -> bytes:
+        study = self.folder / "seed_study.toml"
+        study.write_text('[study]\nbase = "san_andreas_1906.toml"\n[sweep]\nslip_rate = ["10 mm/yr", "30 mm/yr"]\n'
+                         'lithology = ["granodiorite", "pyrite"]\n', encoding="utf-8")
+        out = self.folder / "seed.nc"
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            from faultslip.cli import main
+
+            assert main(["sweep", str(study), "-o", str(out), "--overwrite", "--workers", "1"]) == 0
+        return out.read_bytes()
+
+    def write(self, name: str, content) -> Path:
+        path = self.folder / name
+        if isinstance(content, bytes):
+            path.write_bytes(content)
+        else:
+            path.write_text(content, encoding="utf-8", errors="surrogatepass")
+        return path
+
+
+def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
+    out = str(space.folder / "out.nc")
+    if kind == "scene":
+        seed = rng.choice(space.scenes)
+        path = space.write("scene.toml", mutate_toml(seed.read_text(encoding="utf-8"), rng))
+        command = rng.choice([["run", str(path), "--json"], ["simulate", str(path), "--cycles", "3", "--json"],
+                              ["cycle", str(path), "--loading-rate", rng.choice(["0.1 1/s", "1e3 1/s", "-1 1/s"]),
+                               "--json"], ["critical", str(path), "--json"]])
+        return command
+    if kind == "study":
+        seed = rng.choice(space.studies)
+        text = seed.read_text(encoding="utf-8").replace("41]", "5]").replace("26]", "4]").replace("61]", "7]")
+        text = text.replace('base = "', f'base = "{CONFIGS}/')
+        path = space.write("study.toml", mutate_toml(text, rng))
+        return ["sweep", str(path), "-o", out, "--overwrite", "--workers", "1", "--json"]
+    if kind == "map":
+        if rng.random() < 0.5:
+            space.write("segments.csv", mutate_csv(space.segments, rng))
+            path = space.write("map.toml", space.map_text)
+        else:
+            space.write("segments.csv", space.segments)
+            path = space.write("map.toml", mutate_toml(space.map_text, rng))
+        return ["map", str(path), "-o", out, "--overwrite", "--json"]
+    if kind == "fit":
+        path = space.write("friction.csv", mutate_csv(space.friction, rng))
+        return ["fit", str(path), "--bootstrap", "5", "--json"]
+    if kind == "record":
+        path = space.write("record.csv", mutate_csv(space.record, rng))
+        return ["record", str(path), "--stiffness", "1.94e4 lbf/in", "--normal-load", "137.8 lbf", "--json"]
+    if kind == "decay":
+        path = space.write("decay.csv", mutate_csv(space.decay, rng))
+        return ["decay", str(path), "--stiffness", "12346 N/m", "--json"]
+    if kind == "netcdf":
+        path = space.write("mutated.nc", mutate_bytes(space.netcdf, rng))
+        return rng.choice([["reproduce", str(path), "--workers", "1", "--json"],
+                           ["record", str(path), "--stiffness", "1 N/m", "--normal-load", "1 N", "--json"],
+                           ["fit", str(path), "--bootstrap", "5", "--json"]])
+    if kind == "units":
+        flags = dict(FAULT_FLAGS)
+        del flags["--shear-stress" if rng.random() < 0.5 else "--observed-slip"]
+        if rng.random() < 0.3:
+            del flags["--shear-wave-speed"]
+        for flag in rng.sample(sorted(flags), rng.randint(1, 3)):
+            flags[flag] = rng.choice(UNIT_STRINGS)
+        argv = ["fault", "--lithology", rng.choice(["granodiorite", "granite", "pyrite", "nope", "green_schist"])]
+        for flag, value in flags.items():
+            argv += [flag, value]
+        return argv + ["--json"]
+    if kind == "options":
+        scene = str(rng.choice(space.scenes))
+        return rng.choice([
+            ["simulate", scene, "--cycles", rng.choice(["0", "-5", "1000000000", "2", "x"]), "--json"],
+            ["simulate", scene, "--rtol", rng.choice(["0", "1", "1e-20", "nan", "1e-6"]), "--cycles", "2", "--json"],
+            ["simulate", scene, "--slip-solver", rng.choice(["Radau", "bogus", "analytic", "LSODA"]), "--cycles", "2",
+             "-o", rng.choice([out, str(space.folder), str(space.folder / "no" / "x.nc"), str(space.folder / "x.txt")]),
+             "--overwrite", "--json"],
+            ["run", rng.choice([scene, "nope", "configs/nope.toml", str(space.folder), "", "lab_glass_dry"]),
+             "--tolerance", rng.choice(["1e-6", "0", "2", "-1", "abc", "1e-300"]), "--json"],
+            ["cycle", scene, "--platform-speed", rng.choice(UNIT_STRINGS), "--json"],
+            ["critical", "--preset", rng.choice(["glass_dry", "nope", "green_schist_water"]), "--damping-ratio",
+             rng.choice(["0.1", "0", "-0.5", "1", "1.5", "nan", "\u22120.1"]), "--json"],
+            ["decay", "--stiffness", rng.choice(UNIT_STRINGS + ["70.5 lbf/in"]), "--ratio",
+             rng.choice(["1.225", "0.9", "1", "nan", "1e400", "-2"]), "--cycles", rng.choice(["10", "0", "-1", "1e9"]),
+             "--frequency", rng.choice(["19.9 Hz", "125 rad/s", "0 Hz", "-1 Hz", "1 m"]), "--json"],
+            ["plot", "rate-law", "-o", rng.choice([str(space.folder / "p.png"), str(space.folder / "p.xyz"),
+                                                   str(space.folder)]), "--overwrite"],
+        ])
+    raise ValueError(kind)
+
+
+KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6, "netcdf": 8, "units": 20,
+         "options": 10}
+
+
+class _Timeout(Exception):
+    pass
+
+
+def _alarm(signum, frame):
+    raise _Timeout
+
+
+def run_case(argv: list[str], timeout: float):
+    from faultslip.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    signal.signal(signal.SIGALRM, _alarm)
+    signal.setitimer(signal.ITIMER_REAL, timeout)
+    started = time.perf_counter()
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                code = main(argv)
+            except SystemExit as exit_:  # argparse
+                code = exit_.code if isinstance(exit_.code, int) else 2
+    except _Timeout:
+        return "timeout", None, time.perf_counter() - started
+    except BaseException as exc:  # noqa: BLE001 (a fuzzer records whatever escapes)
+        frame = traceback.extract_tb(exc.__traceback__)[-1]
+        where = f"{type(exc).__name__}: {str(exc)[:120]} at {Path(frame.filename).name}:{frame.lineno} ({frame.name})"
+        return "traceback", where, time.perf_counter() - started
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+    lines = [line for line in err.getvalue().splitlines() if line.strip() and "warning:" not in line
+             and "note:" not in line]
+    if code == 0:
+        return "ok", None, time.perf_counter() - started
+    if code == 2:
+        if len(lines) == 1 and "Traceback" not in err.getvalue():
+            return "clean", None, time.perf_counter() - started
+        return "unclean", err.getvalue()[:300], time.perf_counter() - started
+    if code == 1:
+        return "environment", err.getvalue()[:200], time.perf_counter() - started
+    return "unclean", f"exit {code}: {err.getvalue()[:200]}", time.perf_counter() - started
+
+
+def worker(job):
+    start, count, seed, timeout = job
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    import warnings
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    warnings.simplefilter("ignore")
+    folder = Path(tempfile.mkdtemp(prefix="faultslip-fuzz-"))
+    os.environ["FAULTSLIP_REGISTRY"] = str(folder / "fits.json")
+    try:
+        space = Workspace(folder)
+        rng = random.Random(seed * 1_000_003 + start)
+        kinds = list(KINDS)
+        weights = [KINDS[k] for k in kinds]
+        tally = collections.Counter()
+        by_kind = collections.defaultdict(collections.Counter)
+        failures = {}
+        slowest = 0.0
+        for _ in range(count):
+            kind = rng.choices(kinds, weights)[0]
+            argv = make_case(kind, space, rng)
+            if os.environ.get("FAULTSLIP_FUZZ_LOG"):  # to find a case that kills the process (a crash in C)
+                with open(f"{os.environ['FAULTSLIP_FUZZ_LOG']}.{os.getpid()}", "a", encoding="utf-8") as log:
+                    log.write(json.dumps(argv) + "\n")
+                for name in ("scene.toml", "study.toml", "mutated.nc", "segments.csv", "map.toml"):
+                    if (space.folder / name).exists():
+                        shutil.copy(space.folder / name, Path(os.environ["FAULTSLIP_FUZZ_LOG"]).parent / name)
+            outcome, detail, seconds = run_case(argv, timeout)
+            slowest = max(slowest, seconds)
+            tally[outcome] += 1
+            by_kind[kind][outcome] += 1
+            if detail and outcome in ("traceback", "unclean", "timeout", "environment") and detail not in failures:
+                failures[detail] = {"outcome": outcome, "kind": kind, "argv": [a for a in argv]}
+            elif outcome == "timeout":
+                failures.setdefault(f"timeout {kind}", {"outcome": outcome, "kind": kind, "argv": argv})
+        return tally, {k: dict(v) for k, v in by_kind.items()}, failures, slowest
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--cases", type=int, default=10_000)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--timeout", type=float, default=60.0)
+    parser.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "fuzz.json"))
+    args = parser.parse_args(argv)
+    started = time.perf_counter()
+    per = -(-args.cases // args.workers)
+    jobs = [(i * per, min(per, args.cases - i * per), args.seed, args.timeout) for i in range(args.workers)]
+    tally, by_kind, failures, slowest = collections.Counter(), collections.defaultdict(collections.Counter), {}, 0.0
+    with ProcessPoolExecutor(args.workers) as pool:
+        for part_tally, part_kinds, part_failures, part_slowest in pool.map(worker, jobs):
+            tally.update(part_tally)
+            for kind, counts in part_kinds.items():
+                by_kind[kind].update(counts)
+            failures.update(part_failures)
+            slowest = max(slowest, part_slowest)
+    result = {
+        "cases": sum(tally.values()), "outcomes": dict(tally), "by_input": {k: dict(v) for k, v in by_kind.items()},
+        "distinct_failures": failures, "slowest_case_s": slowest, "wall_time_s": time.perf_counter() - started,
+        "seed": args.seed, "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
+        "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"),
+    }
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    Path(args.out).write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    print(json.dumps({k: v for k, v in result.items() if k != "distinct_failures"}, indent=1))
+    for detail, info in list(failures.items())[:40]:
+        print(f"{info['outcome']:10s} {info['kind']:8s} {detail}", file=sys.stderr)
+    bad = tally["traceback"] + tally["unclean"] + tally["timeout"] + tally["environment"]
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

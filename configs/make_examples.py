@@ -1,0 +1,50 @@
+"""Write the synthetic example inputs in configs/ (run from the repository root).
+
+Every number comes from the model, never from a measurement: the friction data follow the wet
+granodiorite preset (seed 003 Table I row 11) with 1 % noise; the motion records are exact
+solutions of the glass (dry) slider (seed 003 Table I row 4). They exist so that every command
+that takes a file has a working example (`faultslip fit`, `record`, `decay`); they are labelled
+synthetic in configs/README.md.
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.materials import get_preset
+from faultslip.records import synthetic_record
+from faultslip.slider import SliderSystem
+
+HERE = Path(__file__).resolve().parent
+
+
+def friction_data(path: Path) -> None:
+    law = get_preset("granodiorite_water").rate_law
+    rng = np.random.default_rng(2026)
+    rates = np.geomspace(1e-4, 1e2, 24)
+    friction = law.static(rates) * (1 + 0.01 * rng.standard_normal(rates.size))
+    lines = ["loading_rate (1/s),static_friction"] + [f"{r:.6g},{m:.6f}" for r, m in zip(rates, friction)]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def motion_record(path: Path) -> None:
+    system = SliderSystem.from_preset("glass_dry", loading_rate="0.5 1/s")
+    record = synthetic_record(system, 4, 4000.0)
+    lines = ["time (s),displacement (m),acceleration (m/s^2)"]
+    lines += [f"{t:.9g},{x:.9g},{a:.9g}" for t, x, a in zip(record.time, record.displacement, record.acceleration)]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def decay_record(path: Path) -> None:
+    mass, stiffness, zeta = 0.8, 12346.0, 0.01  # seed 002 Appendix C's apparatus, about 19.9 Hz
+    omega_n = np.sqrt(stiffness / mass)
+    t = np.arange(0.0, 1.0, 2.5e-4)
+    x = 1e-3 * np.exp(-zeta * omega_n * t) * np.cos(omega_n * np.sqrt(1 - zeta**2) * t)
+    lines = ["time (s),displacement (m)"] + [f"{a:.9g},{b:.9g}" for a, b in zip(t, x)]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+if __name__ == "__main__":
+    friction_data(HERE / "example_friction_data.csv")
+    motion_record(HERE / "example_record.csv")
+    decay_record(HERE / "example_decay_record.csv")
