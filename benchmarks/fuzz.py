@@ -7,6 +7,7 @@ friction CSV, motion record, free-decay record, a sweep's netCDF, or unit string
 and runs the matching command in-process through ``faultslip.cli.main``. Outcomes:
 
 * ``ok``: exit 0;
+* ``mismatch``: ``reproduce`` found that a (mutated) file differs from its reproduction: exit 1;
 * ``clean``: exit 2 with exactly one line on stderr, no traceback (the contract for bad input);
 * ``environment``: exit 1 (a machine error such as a full disk), one line;
 * ``unclean``: exit 2 but more than one line on stderr;
@@ -313,8 +314,10 @@ def run_case(argv: list[str], timeout: float):
         if len(lines) == 1 and "Traceback" not in err.getvalue():
             return "clean", None, time.perf_counter() - started
         return "unclean", err.getvalue()[:300], time.perf_counter() - started
+    if code == 1 and argv[0] == "reproduce":  # the file differs from its reproduction: reported, as designed
+        return "mismatch", None, time.perf_counter() - started
     if code == 1:
-        return "environment", err.getvalue()[:200], time.perf_counter() - started
+        return "environment", err.getvalue()[:200] or "exit 1", time.perf_counter() - started
     return "unclean", f"exit {code}: {err.getvalue()[:200]}", time.perf_counter() - started
 
 

@@ -21,7 +21,7 @@ TIME_BUDGET = 3600.0
 #: Cells per second per worker of a closed-form/exact-cycle study, including compression.
 STUDY_CELL_RATE = 4e5
 #: Cells per second per worker when every cell is simulated (friction laws without a closed form).
-SIMULATED_CELL_RATE = 50.0
+SIMULATED_CELL_RATE = 25.0
 #: Disk bytes per raw output byte under zlib (measured 0.37 on the San Andreas studies).
 ZLIB_RATIO = 0.5
 #: Largest number of values of one swept dimension (its coordinate alone would take 0.8 GB).
