@@ -500,7 +500,7 @@ def _delayed_progress(label, enabled):
 def cmd_sweep(args) -> int:
     from . import budget
     from .outputs import check_output
-    from .streaming import DEFAULT_CHUNK_CELLS, plan_blocks, run_study
+    from .streaming import DEFAULT_CHUNK_CELLS, run_study
     from .study import load_study
 
     study = load_study(args.study)
@@ -510,8 +510,9 @@ def cmd_sweep(args) -> int:
     if args.chunks is not None and not 1 <= args.chunks <= 10**9:
         raise FaultslipError(f"--chunks must be a number of cells from 1 to 1e9, got {args.chunks}")
     chunk_cells = args.chunks or DEFAULT_CHUNK_CELLS
-    _, blocks = plan_blocks(study, chunk_cells)
-    workers = (args.workers or 2) if args.scheduler else _workers(args, len(blocks))
+    # at least this many chunks (whole trailing dimensions may make more); known without listing them
+    chunk_count = -(-study.size // chunk_cells)
+    workers = (args.workers or 2) if args.scheduler else _workers(args, chunk_count)
     budget.check(budget.study_estimate(study, output, workers, chunk_cells, args.compression), args.allow_large)
     summary = run_study(study, output, chunk_cells=chunk_cells, scheduler=args.scheduler, workers=workers,
                         resume=args.resume, progress=_delayed_progress("sweep", not args.json),
