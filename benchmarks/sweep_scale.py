@@ -44,19 +44,20 @@ def bare_numpy(shape_g, repeats=5):
         sn = tau / muso
         th = K * V / sn
         ex = (muso - mum) / (1 + (muso - mum) * b * th**d)
-        amp = sn / K * ex * 2.0
+        alpha = sn / K * ex * 2.0  # eq. 2-19 undamped: the stress-drop slip
         wn = np.sqrt(K / (rho * D))
         eps = th / (wn * ex)
-        per = amp / V + np.pi / wn
-        drop = K * amp
+        per = alpha / V + np.pi / wn
+        slip = V * per  # slip per event, the integral of u dt
+        drop = K * alpha
         mus = mum + ex
-        M0 = G * L * H * amp
+        M0 = G * L * H * slip
         Mw = 2 / 3 * (np.log10(M0) - 9.1)
         err = 1.5 * eps * eps
-        crit = np.full(amp.shape, np.inf)
-        regime = np.zeros(amp.shape, np.int8)
-        method = np.zeros(amp.shape, np.int8)
-        return amp, per, th, mus, drop, crit, regime, method, err, eps, M0, Mw
+        crit = np.full(slip.shape, np.inf)
+        regime = np.zeros(slip.shape, np.int8)
+        method = np.zeros(slip.shape, np.int8)
+        return slip, per, th, mus, drop, crit, regime, method, err, eps, M0, Mw
 
     return run
 

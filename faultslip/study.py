@@ -399,10 +399,11 @@ def _exact_where(mask, zeta, eps):
     out = np.full((4,) + zeta.shape, np.nan)
     if mask.any():
         cycle = slip_cycle(zeta[mask], eps[mask])
-        out[0][mask] = cycle["u_max"] - cycle["u_min"]  # amplitude / L
-        out[1][mask] = cycle["u_drop"]  # stick advance / L
-        out[2][mask] = cycle["slip_time"]  # omega_n t_slip
-        out[3][mask] = cycle["v_min"]
+        # out[k, ...] is a view even for 0-d cells (out[k] would be a scalar copy)
+        out[0, ...][mask] = cycle["u_max"] - cycle["u_min"]  # amplitude / L
+        out[1, ...][mask] = cycle["u_drop"]  # stick advance / L
+        out[2, ...][mask] = cycle["slip_time"]  # omega_n t_slip
+        out[3, ...][mask] = cycle["v_min"]
     return out
 
 

@@ -142,3 +142,11 @@ def test_any_lab_combination_matches_scalar(names, sizes):
 def test_sweeps_refuse_what_fault_refuses(values, message):
     with pytest.raises(InputError, match=message.replace("(", r"\(").replace(")", r"\)")):
         sweep("san_andreas_1906.toml", **values)
+
+
+@pytest.mark.parametrize("method", ["auto", "closed_form", "exact_cycle"])
+def test_a_study_without_swept_dimensions_is_one_cell(method):
+    """Found by the fuzzer: a 0-d grid with the exact cycle wrote into a scalar copy."""
+    dataset = sweep("lab_glass_dry.toml", method=method)
+    expected = solve(load_scene("lab_glass_dry.toml").slider(), tolerance=1e-6).cycle
+    assert float(dataset["slip_per_event"]) == pytest.approx(expected.slip_per_event, rel=1e-5)
