@@ -246,8 +246,11 @@ def main(argv=None):
     parser.add_argument("--skip-sweeps", action="store_true", help="skip benchmarks 4 and 5 (sweep overhead and scale)")
     args = parser.parse_args(argv)
     repeats = 5 if args.quick else 15
-    results = {"machine": {"python": sys.version.split()[0], "platform": platform.platform(),
-                           "processor": platform.processor()}}
+    import os
+    from datetime import datetime, timezone
+
+    results = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {sys.version.split()[0]}",
+               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
     print("1. analytic slip phases against a competent solve_ivp baseline, equal work at 1e-6")
     results["exact_vs_integrators"] = r = exact_against_integrators(repeats)
     print(f"   {r['one_cycle']['scene']}")
@@ -274,6 +277,10 @@ def main(argv=None):
     out.mkdir(exist_ok=True)
     (out / "latest.json").write_text(json.dumps(results, indent=2, default=float) + "\n")
     print(f"wrote {out / 'latest.json'}")
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import readme
+
+    print("updated README tables:", ", ".join(readme.update()))
     if not args.skip_sweeps:  # 4 and 5: the study engine's overhead and out-of-core scale
         sys.path.insert(0, str(Path(__file__).resolve().parent))
         import sweep_scale

@@ -133,7 +133,13 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help="sizes 1e6 and 1e7 only")
     parser.add_argument("--scheduler", default="local", help="dask scheduler for the scale runs (default: local)")
     args = parser.parse_args(argv)
-    results = {}
+    import os
+    import platform
+    from datetime import datetime, timezone
+
+    results = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
+               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"),
+               "scheduler": args.scheduler}
     print("4. sweep overhead: closed-form study against bare numpy on the same 1e6 cells")
     results["sweep_overhead"] = r = overhead(5 if args.quick else 11)
     print(f"   study {r['study_points_per_s'] / 1e6:.2f} M points/s, numpy {r['numpy_points_per_s'] / 1e6:.2f} M points/s "
@@ -144,6 +150,10 @@ def main(argv=None):
     out = Path(__file__).resolve().parent / "results"
     out.mkdir(exist_ok=True)
     (out / ("sweep_quick.json" if args.quick else "sweep.json")).write_text(json.dumps(results, indent=2) + "\n")
+    if not args.quick:
+        import readme
+
+        readme.update()
     print(f"wrote {out}")
 
 

@@ -8,30 +8,34 @@ a strike-slip fault (§5-2), predicts slip per earthquake and recurrence.
 Internally every quantity is SI; the year is the Julian year (365.25 d).
 """
 
-from .closed_form import closed_form_cycle, loading_rate, rate_law_amplitude, slip_amplitude
-from .errors import FaultslipError, InputError, MethodError, OutOfDomainWarning, SolverError
-from .fault import Fault, moment_magnitude, seismic_moment
-from .friction import (
-    CallableKinetic,
-    ConstantKinetic,
-    ConstantStatic,
-    LinearKinetic,
-    PolynomialKinetic,
-    RateLaw,
-    TimeOfStickLaw,
-    static_friction,
-)
-from .materials import get_lithology, get_preset, lithologies, presets
-from .scene import load_scene, run_scene
-from .slider import SliderSystem
-from .units import JULIAN_YEAR, units
-
 __version__ = "0.1.0"
 
-__all__ = [
-    "CallableKinetic", "ConstantKinetic", "ConstantStatic", "Fault", "FaultslipError", "InputError",
-    "JULIAN_YEAR", "LinearKinetic", "MethodError", "OutOfDomainWarning", "PolynomialKinetic", "RateLaw",
-    "SliderSystem", "SolverError", "TimeOfStickLaw", "closed_form_cycle", "get_lithology", "get_preset",
-    "lithologies", "load_scene", "loading_rate", "moment_magnitude", "presets", "rate_law_amplitude",
-    "run_scene", "seismic_moment", "slip_amplitude", "static_friction", "units",
-]
+# The public API, loaded on first use (PEP 562): "import faultslip" and the command line start fast,
+# and a Ctrl-C during start-up reaches the CLI's handler instead of an import.
+_EXPORTS = {
+    "closed_form": ("closed_form_cycle", "loading_rate", "rate_law_amplitude", "slip_amplitude"),
+    "errors": ("FaultslipError", "InputError", "MethodError", "OutOfDomainWarning", "SolverError"),
+    "fault": ("Fault", "moment_magnitude", "seismic_moment"),
+    "friction": ("CallableKinetic", "ConstantKinetic", "ConstantStatic", "LinearKinetic", "PolynomialKinetic",
+                 "RateLaw", "TimeOfStickLaw", "static_friction"),
+    "materials": ("get_lithology", "get_preset", "lithologies", "presets"),
+    "scene": ("load_scene", "run_scene"),
+    "slider": ("SliderSystem",),
+    "units": ("JULIAN_YEAR", "units"),
+}
+_WHERE = {name: module for module, names in _EXPORTS.items() for name in names}
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name):
+    if name in _WHERE:
+        import importlib
+
+        value = getattr(importlib.import_module(f".{_WHERE[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'faultslip' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -8,9 +8,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
-
-import numpy as np
 
 from . import __version__
 from .errors import FaultslipError
@@ -539,9 +538,9 @@ def cmd_reproduce(args) -> int:
     workers = _workers(args)
     result = reproduce(args.file, output=args.output, workers=workers, overwrite=args.overwrite)
     if args.json:
-        print(json.dumps({key: (None if isinstance(value, float) and not np.isfinite(value) else value)
+        print(json.dumps({key: (None if isinstance(value, float) and not math.isfinite(value) else value)
                           for key, value in result.items() if key != "differences"}
-                         | {"differences": {k: (v if np.isfinite(v) else None) for k, v in result["differences"].items()}},
+                         | {"differences": {k: (v if math.isfinite(v) else None) for k, v in result["differences"].items()}},
                          indent=2))
     else:
         verdict = "matches" if result["matches"] else "DIFFERS"
@@ -591,11 +590,11 @@ def cmd_map(args) -> int:
                 row = dataset.isel(segment=i)
                 rows.append({"segment": str(segment),
                              "slip_per_event": {"value": float(row["slip_per_event"]), "units": "m"},
-                             "recurrence_period": {"value": float(row["recurrence_period"]) if np.isfinite(float(row["recurrence_period"])) else None, "units": "s"},
-                             "moment_magnitude": float(row["moment_magnitude"]) if np.isfinite(float(row["moment_magnitude"])) else None,
-                             "observed_recurrence": {"value": float(row["observed_recurrence"]) if np.isfinite(float(row["observed_recurrence"])) else None, "units": "s"},
-                             "recurrence_ratio": float(row["recurrence_ratio"]) if np.isfinite(float(row["recurrence_ratio"])) else None,
-                             "slip_ratio": float(row["slip_ratio"]) if np.isfinite(float(row["slip_ratio"])) else None})
+                             "recurrence_period": {"value": float(row["recurrence_period"]) if math.isfinite(float(row["recurrence_period"])) else None, "units": "s"},
+                             "moment_magnitude": float(row["moment_magnitude"]) if math.isfinite(float(row["moment_magnitude"])) else None,
+                             "observed_recurrence": {"value": float(row["observed_recurrence"]) if math.isfinite(float(row["observed_recurrence"])) else None, "units": "s"},
+                             "recurrence_ratio": float(row["recurrence_ratio"]) if math.isfinite(float(row["recurrence_ratio"])) else None,
+                             "slip_ratio": float(row["slip_ratio"]) if math.isfinite(float(row["slip_ratio"])) else None})
         print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"},
                           "notes": spec.notes}, indent=2))
     else:
@@ -888,16 +887,17 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 
 
 def main(argv=None) -> int:
+    """Run one command; returns the exit status (0, 1 machine error, 2 bad input, 130 interrupted)."""
     import warnings
 
-    warnings.showwarning = _show_warning
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    handler = getattr(args, "handler", None)
-    if handler is None:
-        parser.print_help(sys.stderr)
-        return 2
     try:
+        warnings.showwarning = _show_warning
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        handler = getattr(args, "handler", None)
+        if handler is None:
+            parser.print_help(sys.stderr)
+            return 2
         return handler(args)
     except FaultslipError as exc:
         print(f"faultslip: error: {exc}", file=sys.stderr)
@@ -908,16 +908,29 @@ def main(argv=None) -> int:
     except MemoryError:
         print("faultslip: error: out of memory; make the run smaller (see --allow-large and the budget)", file=sys.stderr)
         return 1
-    except OSError as exc:  # the machine, not the input: a full disk, a permission, a vanished file
-        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
-        print(f"faultslip: error: {exc.strerror or exc}{where}", file=sys.stderr)
-        return 1
     except BrokenPipeError:  # the reader (e.g. head) closed the pipe: stop quietly
         import os
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except OSError as exc:  # the machine, not the input: a full disk, a permission, a vanished file
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        print(f"faultslip: error: {exc.strerror or exc}{where}", file=sys.stderr)
+        return 1
+
+
+def console() -> None:
+    """The ``faultslip`` program: :func:`main`, then exit without a second chance for Ctrl-C.
+
+    Once main has answered (and printed its one line), a late Ctrl-C during interpreter shutdown
+    (joining pool threads, atexit handlers) would otherwise end the process with a traceback.
+    """
+    import signal
+
+    code = main()
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    sys.exit(code)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    console()

@@ -586,7 +586,9 @@ def observed_table(dataset) -> str:
         def fmt(value, scale=1.0, digits=3):
             return "" if not np.isfinite(value) else f"{value / scale:.{digits}g}"
 
-        lines.append(f"| {segment} | {float(row['slip_rate']) * year * 1e3:.3g} | {fmt(float(row['slip_per_event']))} | "
+        outside = "outside_domain" in dataset and int(row["outside_domain"]) == 1
+        predicted = "none: mu_m is not below mu_so (no stick-slip)" if outside else fmt(float(row["slip_per_event"]))
+        lines.append(f"| {segment} | {float(row['slip_rate']) * year * 1e3:.3g} | {predicted} | "
                      f"{fmt(slip_obs)} | {fmt(float(row['slip_ratio']))} | {fmt(float(row['recurrence_period']), year)} | "
                      f"{fmt(rec_obs, year)} | {fmt(float(row['recurrence_ratio']))} |")
     return "\n".join(lines)

@@ -17,8 +17,35 @@ import sys
 import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
 
 _PR_SET_PDEATHSIG = 1
+
+
+def _stat(pid: int):
+    """State and parent pid of a process from /proc (Linux), or None if it is gone."""
+    try:
+        fields = (Path("/proc") / str(pid) / "stat").read_text().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return None
+    return fields[0], int(fields[1])
+
+
+def is_alive(pid: int) -> bool:
+    """Whether ``pid`` runs (a zombie is not alive). Linux: reads /proc."""
+    stat = _stat(pid)
+    return stat is not None and stat[0] != "Z"
+
+
+def children(pid: int) -> list[int]:
+    """Live child processes of ``pid`` (Linux: reads /proc), e.g. to check that a pool's workers are gone."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            stat = _stat(int(entry.name))
+            if stat is not None and stat[1] == pid and stat[0] != "Z":
+                found.append(int(entry.name))
+    return found
 
 
 def usable_workers(requested: int, tasks: int | None = None) -> tuple[int, str]:

@@ -28,7 +28,7 @@ import numpy as np
 
 from .errors import InputError
 from .resources import check_input_file, open_netcdf, read_numeric_csv
-from .units import to_si, unit_factor
+from .units import unit_factor
 
 RECORD_COLUMNS = {"time": "time", "displacement": "length", "acceleration": "acceleration", "force": "force",
                   "velocity": "speed"}

@@ -25,7 +25,7 @@ import numpy as np
 
 from .atomic import write_text_atomic
 from .errors import InputError
-from .outputs import check_output, output_lock, same_file
+from .outputs import check_output, output_lock
 from .processes import stop_pool, worker_pool
 
 DEFAULT_CHUNK_CELLS = 2**19

@@ -17,6 +17,7 @@ import pytest
 import xarray as xr
 
 from conftest import assert_clean_error
+from faultslip.processes import children, is_alive
 
 STUDY = """[study]
 base = "san_andreas_1906.toml"
@@ -45,28 +46,6 @@ def _faultslip(*args, **kwargs):
                             stderr=subprocess.PIPE, text=True, **kwargs)
 
 
-def _children(pid):
-    """Live child processes of ``pid`` (from /proc; Linux)."""
-    found = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[1]) == pid and fields[0] != "Z":
-                found.append(int(entry.name))
-    return found
-
-
-def _alive(pid):
-    try:
-        state = (Path("/proc") / str(pid) / "stat").read_text().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return False
-    return state != "Z"
-
-
 def _wait_for_progress(out, process, timeout=90):
     ledger = out.with_name(out.name + ".progress.json")
     deadline = time.time() + timeout
@@ -90,14 +69,14 @@ def test_pool_workers_die_with_a_killed_parent(tmp_path):
     out = tmp_path / "big.nc"
     process = _faultslip("sweep", _slow_study(tmp_path), "-o", out, "--chunks", "10", "--workers", "2")
     assert _wait_for_progress(out, process), process.stderr.read() if process.poll() is not None else "no progress"
-    workers = _children(process.pid)
+    workers = children(process.pid)
     assert workers, "the sweep runs a process pool"
     process.send_signal(signal.SIGKILL)
     process.wait()
     deadline = time.time() + 10
-    while time.time() < deadline and any(_alive(pid) for pid in workers):
+    while time.time() < deadline and any(is_alive(pid) for pid in workers):
         time.sleep(0.05)
-    assert not any(_alive(pid) for pid in workers), "pool workers outlived their parent"
+    assert not any(is_alive(pid) for pid in workers), "pool workers outlived their parent"
     # the partial file left by kill -9 is resumed, never refused
     resumed = _faultslip("sweep", tmp_path / "slow.toml", "-o", out, "--chunks", "10", "--resume", "--json")
     stdout, stderr = resumed.communicate(timeout=300)
@@ -111,7 +90,7 @@ def test_ctrl_c_to_the_process_group_gives_one_line_and_exit_130(tmp_path):
     process = _faultslip("sweep", _slow_study(tmp_path), "-o", out, "--chunks", "10", "--workers", "2",
                          start_new_session=True)
     assert _wait_for_progress(out, process)
-    workers = _children(process.pid)
+    workers = children(process.pid)
     os.killpg(process.pid, signal.SIGINT)  # as a terminal's Ctrl-C: every process of the group
     stdout, stderr = process.communicate(timeout=30)  # no deadlock
     assert process.returncode == 130
@@ -120,7 +99,7 @@ def test_ctrl_c_to_the_process_group_gives_one_line_and_exit_130(tmp_path):
     assert "Traceback" not in stderr
     assert not out.exists()
     time.sleep(0.5)
-    assert not any(_alive(pid) for pid in workers)
+    assert not any(is_alive(pid) for pid in workers)
 
 
 def test_a_truncated_partial_file_restarts_with_a_message(tmp_path, cli):
