@@ -903,6 +903,10 @@ def main(argv=None) -> int:
         print(f"faultslip: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        if _AS_PROGRAM:  # answered once: a further Ctrl-C while cleaning up must not end in a traceback
+            import signal
+
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
         print("faultslip: interrupted; no output file was left half-written", file=sys.stderr)
         return 130
     except MemoryError:
@@ -927,9 +931,23 @@ def console() -> None:
     """
     import signal
 
+    global _AS_PROGRAM
+    _AS_PROGRAM = True
     code = main()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if code == 130:
+        # A Ctrl-C that landed inside an import leaves CPython's "unhandled KeyboardInterrupt" flag
+        # set, and the interpreter would then end itself with SIGINT (status -2) although the
+        # interrupt was handled. Outputs are closed and pools stopped by now: leave at once.
+        import os
+
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(130)
     sys.exit(code)
+
+
+_AS_PROGRAM = False  # True when running as the faultslip program, not called from Python
 
 
 if __name__ == "__main__":

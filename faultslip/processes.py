@@ -69,6 +69,8 @@ def usable_workers(requested: int, tasks: int | None = None) -> tuple[int, str]:
 def _die_with_parent(parent: int) -> None:
     """Worker initializer: ignore Ctrl-C and exit when the parent process is gone."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):  # held back while this worker was forked (see worker_pool)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     if sys.platform.startswith("linux"):
         try:
             libc = ctypes.CDLL(None, use_errno=True)
@@ -87,9 +89,26 @@ def _die_with_parent(parent: int) -> None:
     threading.Thread(target=watchdog, daemon=True, name="faultslip-parent-watchdog").start()
 
 
+def _ready() -> bool:
+    return True
+
+
 def worker_pool(workers: int) -> ProcessPoolExecutor:
-    """A process pool whose workers ignore SIGINT and die with this process."""
-    return ProcessPoolExecutor(max_workers=workers, initializer=_die_with_parent, initargs=(os.getpid(),))
+    """A process pool whose workers ignore SIGINT and die with this process.
+
+    The workers are forked at once, with SIGINT blocked: a Ctrl-C that lands during a fork would
+    otherwise raise KeyboardInterrupt inside the at-fork handlers, where Python ignores it (the
+    run went on) or, in a child that has not yet become a worker, unwinds into the CLI's handler
+    (found by benchmarks/kills.py). A Ctrl-C held back is delivered as soon as the fork is done.
+    """
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_die_with_parent, initargs=(os.getpid(),))
+    if hasattr(signal, "pthread_sigmask") and threading.current_thread() is threading.main_thread():
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            pool.submit(_ready).result()  # with the fork start method this forks every worker now
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, held)
+    return pool
 
 
 def stop_pool(pool, interrupted: bool = False) -> None:
