@@ -98,9 +98,9 @@ def update(readme: Path = ROOT / "README.md") -> list[str]:
     written = []
     for name, render in (("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table)):
         table = render()
-        pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(\n<!-- /table:{name} -->)", re.S)
+        pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):
-            text = pattern.sub(lambda m: m.group(1) + table + m.group(2), text)
+            text = pattern.sub(lambda m: m.group(1) + table + "\n" + m.group(2), text)
             written.append(name)
     readme.write_text(text, encoding="utf-8")
     return written
