@@ -23,6 +23,10 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from . import closed_form, ranges
+from .critical import critical_dimensionless_rate, solve_rate_law_critical
+from .kernel import cell_kernel
+from .methods import DEFAULT_TOLERANCE, solve
+from .slider import SliderSystem
 from .errors import InputError
 from .friction import RateLaw
 from .materials import MaterialChoice, resolve_material
@@ -292,10 +296,6 @@ def _propagated_uncertainty(fault, method, tolerance) -> dict:
     law = material.preset.rate_law
     if (fault.mu_so, fault.mu_m, fault.b, fault.d) != (law.mu_so, law.mu_m, law.b, law.d):
         return {}  # the user overrode the fitted constants: the fit's uncertainty no longer applies
-    from .critical import critical_dimensionless_rate, solve_rate_law_critical
-    from .methods import DEFAULT_TOLERANCE
-    from .study import cell_kernel
-
     samples = np.asarray(stored["bootstrap"], dtype=float)
     mu_so, mu_m, b, d = samples.T
     stiffness, load, speed = fault.stiffness, fault.effective_normal_stress, fault.slip_rate
@@ -342,9 +342,6 @@ class FaultEstimate:
 
     @classmethod
     def from_fault(cls, fault: Fault, method: str = "auto", tolerance: float | None = None) -> "FaultEstimate":
-        from .methods import DEFAULT_TOLERANCE, solve
-        from .slider import SliderSystem
-
         law = fault.rate_law
         sigma = fault.effective_normal_stress
         stiffness = fault.stiffness

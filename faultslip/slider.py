@@ -125,10 +125,8 @@ class SliderSystem:
         mass = fault.mass_per_area
         use_radiation = fault.radiation_damping if radiation_damping is None else radiation_damping
         eta = fault.radiation_damper if use_radiation else 0.0
-        if use_radiation and eta == 0.0:
-            from .fault import radiation_damper
-
-            eta = radiation_damper(fault.shear_modulus, fault.shear_wave_speed)
+        if use_radiation and eta == 0.0:  # enabled here though not on the fault: eta = G / (2 c_s)
+            eta = fault.shear_modulus / (2.0 * fault.shear_wave_speed)
         speed = fault.slip_rate if slip_rate is None else to_si(slip_rate, "speed", "slip rate")
         return cls(
             mass=mass,
