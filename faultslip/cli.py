@@ -636,9 +636,9 @@ def cmd_fit(args) -> int:
             save_figure(fit_figure(data, fit), plot, dpi=150)
         report.note(f"plot written to {args.plot}")
     if args.name:  # only after the fit succeeded: a failed fit never touches the registry
-        from . import registry
+        from .materials import save_user_fit
 
-        path = registry.save_fit(args.name, fit, shear_modulus=modulus, note=args.note or "")
+        path = save_user_fit(args.name, fit, shear_modulus=modulus, note=args.note or "")
         report.note(f"saved as {args.name!r} in {path}; use it with 'faultslip fault --lithology {args.name} ...'")
     return _emit(report, args.json)
 

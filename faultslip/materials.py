@@ -13,9 +13,13 @@ supplies its friction law on a fault.
 from __future__ import annotations
 
 import difflib
+import warnings
 from dataclasses import dataclass, field
+from datetime import datetime, timezone
 from functools import lru_cache
+from pathlib import Path
 
+from . import registry
 from .errors import InputError
 from .friction import RateLaw
 from .resources import data_path, read_table
@@ -137,11 +141,57 @@ def _bundled_lithologies() -> dict[str, Lithology]:
 
 def presets() -> dict[str, Preset]:
     """All presets by name: Table I, the steady-sliding materials and the user's fits."""
-    from . import registry  # imported here: the registry reads a user file
-
     merged = dict(_bundled_presets())
-    merged.update(registry.user_presets())
+    merged.update(user_presets())
     return merged
+
+
+def user_presets() -> dict[str, Preset]:
+    """User fits from the registry as presets (friction law; no apparatus).
+
+    A damaged entry is skipped with a warning that names it; an entry that would shadow a
+    bundled preset or lithology is ignored, also with a warning.
+    """
+    out = {}
+    bundled = set(_bundled_presets()) | set(_bundled_lithologies())
+    for key, entry in registry.stored_entries().items():
+        if key in bundled:
+            warnings.warn(f"the fit registry entry {key!r} would shadow a bundled preset or lithology; it is ignored "
+                          f"(rename it in {registry.registry_path()})", stacklevel=2)
+            continue
+        try:
+            if not isinstance(entry, dict):
+                raise TypeError("not a table")
+            law = RateLaw(*(float(entry[k]) for k in ("mu_so", "mu_m", "b", "d")))
+        except (KeyError, TypeError, ValueError, InputError) as exc:
+            detail = f"missing {exc}" if isinstance(exc, KeyError) else str(exc)
+            warnings.warn(f"the fit registry entry {key!r} is damaged ({detail}); it is skipped", stacklevel=2)
+            continue
+        out[key] = Preset(name=key, material="user fit", condition=entry.get("note") or "fitted", lithology=None,
+                          source=f"user fit of {Path(str(entry.get('source', '?'))).name} ({entry.get('created', '')})",
+                          rate_law=law, printed={"registry": entry})
+    return out
+
+
+def save_user_fit(name: str, fit, shear_modulus: float | None = None, note: str = "") -> Path:
+    """Store a fit of eq. 2-18 under ``name`` (snake_case) in the user registry; bundled names are refused."""
+    key = _normalise(name)
+    if not key or not key.replace("_", "").isalnum():
+        raise InputError(f"fit name {name!r} must be letters, digits and underscores")
+    if key in _bundled_presets() or key in _bundled_lithologies():
+        raise InputError(f"{key!r} is a bundled preset or lithology; choose another name for the fit")
+    entry = fit.to_record()
+    entry.update(name=key, created=datetime.now(timezone.utc).isoformat(timespec="seconds"), note=note,
+                 shear_modulus=shear_modulus)
+    return registry.save_entry(key, entry)
+
+
+def remove_user_fit(name: str) -> None:
+    registry.remove_entry(_normalise(name))
+
+
+def user_fit_entry(name: str) -> dict | None:
+    return registry.stored_entries().get(_normalise(name))
 
 
 def lithologies() -> dict[str, Lithology]:

@@ -153,10 +153,10 @@ def test_failed_fit_never_changes_the_registry(tmp_path, cli, monkeypatch):
 
     monkeypatch.setattr(atomic.os, "replace", crash)
     with pytest.raises(KeyboardInterrupt):
-        from faultslip import registry as user_registry
+        from faultslip.materials import save_user_fit
         from faultslip.fitting import fit_rate_law as fit
 
-        user_registry.save_fit("third", fit(read_friction_data(good), bootstrap=5))
+        save_user_fit("third", fit(read_friction_data(good), bootstrap=5))
     assert registry.read_bytes() == before
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".fits.json") and not p.name.endswith(".lock")]
 
@@ -205,13 +205,13 @@ def test_fit_json_has_quantities_and_intervals(tmp_path, cli):
 
 def test_a_saved_fit_works_in_studies_and_maps(tmp_path, monkeypatch):
     monkeypatch.setenv("FAULTSLIP_REGISTRY", str(tmp_path / "fits.json"))
-    from faultslip import registry
+    from faultslip.materials import save_user_fit
     from faultslip.maps import load_map, run_map
     from faultslip.study import sweep
 
     preset = get_preset("black_marble_water")
-    registry.save_fit("my_marble", fit_rate_law(synthetic_data(preset, noise=0.001, seed=3), bootstrap=20),
-                      shear_modulus=0.229e11)
+    save_user_fit("my_marble", fit_rate_law(synthetic_data(preset, noise=0.001, seed=3), bootstrap=20),
+                  shear_modulus=0.229e11)
     ds = sweep("san_andreas_1906.toml", lithology=["my_marble", "black_marble"])
     amplitudes = ds["slip_per_event"].values
     assert amplitudes[0] == pytest.approx(amplitudes[1], rel=0.02)  # the fit reproduces the preset it came from

@@ -143,7 +143,7 @@ def test_concurrent_fits_lose_nothing(tmp_path, monkeypatch):
 
 
 def test_registry_names_damaged_and_shadowing_entries(tmp_path, monkeypatch):
-    from faultslip import registry
+    from faultslip.materials import user_presets
 
     path = tmp_path / "fits.json"
     monkeypatch.setenv("FAULTSLIP_REGISTRY", str(path))
@@ -151,7 +151,7 @@ def test_registry_names_damaged_and_shadowing_entries(tmp_path, monkeypatch):
     path.write_text(json.dumps({"faultslip_registry": 1, "fits": {
         "fine": good, "broken": {"mu_so": 0.7}, "glass_dry": good, "reversed": {**good, "mu_m": 0.9}}}))
     with pytest.warns(UserWarning) as caught:
-        presets = registry.user_presets()
+        presets = user_presets()
     messages = " ".join(str(w.message) for w in caught)
     assert set(presets) == {"fine"}
     assert "'broken' is damaged" in messages and "'reversed' is damaged" in messages
