@@ -189,7 +189,7 @@ class Workspace:
                          'lithology = ["granodiorite", "pyrite"]\n', encoding="utf-8")
         out = self.folder / "seed.nc"
         with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-            from faultslip.cli import main
+            from faultslip.cli.main import main
 
             assert main(["sweep", str(study), "-o", str(out), "--overwrite", "--workers", "1"]) == 0
         return out.read_bytes()
@@ -286,7 +286,7 @@ def _alarm(signum, frame):
 
 
 def run_case(argv: list[str], timeout: float):
-    from faultslip.cli import main
+    from faultslip.cli.main import main
 
     out, err = io.StringIO(), io.StringIO()
     signal.signal(signal.SIGALRM, _alarm)

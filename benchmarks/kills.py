@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from faultslip.processes import children, is_alive
+from faultslip.io.processes import children, is_alive
 
 STUDY = ('[study]\nbase = "lab_steel_dry_time_of_stick.toml"\n[sweep]\n'
          'platform_speed = { logspace = ["1e-5 m/s", "1e-4 m/s", 300] }\n')

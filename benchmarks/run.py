@@ -88,7 +88,7 @@ def competent_cycles(system, cycles, rtol, x0=0.0):
     """A competent user's stick-slip sequence: stick end by brentq on the static law, slip by solve_ivp.
 
     Returns the break-away times and stress drops of ``cycles`` events (the same work as
-    faultslip.simulate's event table) and the evaluations used.
+    faultslip.dynamics.simulate's event table) and the evaluations used.
     """
     from scipy.optimize import brentq
 
@@ -128,15 +128,15 @@ def exact_against_integrators(repeats):
     (a) One limit cycle: exact_cycle against stick (analytic, as anyone would) plus one solve_ivp slip
         phase with events. (b) 100 cycles that really differ: Cameron's time-of-stick law from an
         unloaded spring, a transient toward the limit cycle, where every stick and slip must be
-        computed; faultslip.simulate (analytic slip phases) against the same loop in scipy.
+        computed; faultslip.dynamics.simulate (analytic slip phases) against the same loop in scipy.
     The earlier figure (120x) compared one analytic cycle copied 100 times with 100 integrated
     slip phases: not the same work.
     """
-    from faultslip.critical import critical
-    from faultslip.exact_cycle import exact_cycle
-    from faultslip.scene import load_scene
-    from faultslip.simulate import simulate
-    from faultslip.slider import SliderSystem
+    from faultslip.dynamics.critical import critical
+    from faultslip.dynamics.exact_cycle import exact_cycle
+    from faultslip.fault.scene import load_scene
+    from faultslip.dynamics.simulate import simulate
+    from faultslip.dynamics.slider import SliderSystem
 
     base = SliderSystem.from_preset("glass_dry", loading_rate="1 1/s", damping_ratio=0.01)
     system = base.at_loading_rate(0.1 * critical(base).critical_loading_rate)
@@ -191,9 +191,9 @@ def exact_against_integrators(repeats):
 def fault_scale(repeats, budget):
     """100 cycles of the 1906 scene: the project's simulator against generic integration."""
     from faultslip.errors import SolverError
-    from faultslip.regularized import simulate_regularized
-    from faultslip.scene import load_scene
-    from faultslip.simulate import simulate
+    from faultslip.dynamics.regularized import simulate_regularized
+    from faultslip.fault.scene import load_scene
+    from faultslip.dynamics.simulate import simulate
 
     system = load_scene("san_andreas_1906.toml").slider()
     ours, data = timed(lambda: simulate(system, cycles=100), repeats)
@@ -214,11 +214,11 @@ def fault_scale(repeats, budget):
 
 def auto_against_best_fixed(repeats):
     """Over the standard scenes: solve(method="auto") against the cheapest fixed method meeting 1e-6."""
-    from faultslip.bench import standard_scenes
-    from faultslip.closed_form import closed_form_cycle
-    from faultslip.exact_cycle import exact_cycle
-    from faultslip.methods import choose, solve
-    from faultslip.simulate import simulate
+    from faultslip.evaluation.bench import standard_scenes
+    from faultslip.dynamics.closed_form import closed_form_cycle
+    from faultslip.dynamics.exact_cycle import exact_cycle
+    from faultslip.dynamics.methods import choose, solve
+    from faultslip.dynamics.simulate import simulate
 
     rows = {}
     for name, (system, _) in standard_scenes().items():

@@ -63,7 +63,7 @@ def bare_numpy(shape_g, repeats=5):
 
 
 def overhead(repeats):
-    from faultslip.study import compute_block, parse_study
+    from faultslip.studies.grid import compute_block, parse_study
 
     study = parse_study(STUDY.format(n_g=1))  # 1e6 cells in memory
     bare = bare_numpy(1)

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from faultslip.materials import get_preset
-from faultslip.records import synthetic_record
-from faultslip.slider import SliderSystem
+from faultslip.friction.materials import get_preset
+from faultslip.lab.records import synthetic_record
+from faultslip.dynamics.slider import SliderSystem
 
 HERE = Path(__file__).resolve().parent
 

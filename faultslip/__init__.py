@@ -13,14 +13,20 @@ __version__ = "0.1.0"
 # The public API, loaded on first use (PEP 562): "import faultslip" and the command line start fast,
 # and a Ctrl-C during start-up reaches the CLI's handler instead of an import.
 _EXPORTS = {
-    "closed_form": ("closed_form_cycle", "loading_rate", "rate_law_amplitude", "slip_amplitude"),
+    "dynamics.closed_form": ("closed_form_cycle", "loading_rate", "rate_law_amplitude", "slip_amplitude"),
     "errors": ("FaultslipError", "InputError", "MethodError", "OutOfDomainWarning", "SolverError"),
-    "fault": ("Fault", "moment_magnitude", "seismic_moment"),
-    "friction": ("CallableKinetic", "ConstantKinetic", "ConstantStatic", "LinearKinetic", "PolynomialKinetic",
-                 "RateLaw", "TimeOfStickLaw", "static_friction"),
-    "materials": ("get_lithology", "get_preset", "lithologies", "presets"),
-    "scene": ("load_scene", "run_scene"),
-    "slider": ("SliderSystem",),
+    "fault.scaling": ("Fault", "moment_magnitude", "seismic_moment"),
+    "friction.laws": ("CallableKinetic", "ConstantKinetic", "ConstantStatic", "LinearKinetic", "PolynomialKinetic",
+                      "RateLaw", "TimeOfStickLaw", "static_friction"),
+    "friction.materials": ("get_lithology", "get_preset", "lithologies", "presets"),
+    "friction.fitting": ("fit_rate_law", "read_friction_data"),
+    "fault.scene": ("load_scene", "run_scene"),
+    "dynamics.slider": ("SliderSystem",),
+    "dynamics.methods": ("solve",),
+    "dynamics.simulate": ("simulate",),
+    "dynamics.exact_cycle": ("exact_cycle",),
+    "dynamics.critical": ("critical",),
+    "studies.grid": ("sweep",),
     "units": ("JULIAN_YEAR", "units"),
 }
 _WHERE = {name: module for module, names in _EXPORTS.items() for name in names}

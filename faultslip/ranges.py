@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import InputError
+from faultslip.errors import InputError
 
 POSITIVE = "positive"
 NON_NEGATIVE = "non-negative"

@@ -19,7 +19,7 @@ import re
 import numpy as np
 import pint
 
-from .errors import InputError
+from faultslip.errors import InputError
 
 units = pint.UnitRegistry()
 Quantity = units.Quantity

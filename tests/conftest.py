@@ -37,7 +37,7 @@ class CliResult:
 @pytest.fixture
 def cli(capsys):
     """Run ``faultslip ARGS`` in-process; return exit code, stdout, stderr."""
-    from faultslip.cli import main
+    from faultslip.cli.main import main
 
     def run(*args):
         try:

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from faultslip.bench import STATUS_CODE, markdown, work_precision
-from faultslip.stability import failure_text, stability_map
+from faultslip.evaluation.bench import STATUS_CODE, markdown, work_precision
+from faultslip.evaluation.stability import failure_text, stability_map
 
 
 def test_work_precision_dataset_on_one_scene():
@@ -64,8 +64,8 @@ def test_tolerance_flag_changes_the_choice(cli):
 
 
 def test_simulation_dataset_records_method_and_error():
-    from faultslip.scene import load_scene
-    from faultslip.simulate import simulate
+    from faultslip.fault.scene import load_scene
+    from faultslip.dynamics.simulate import simulate
 
     ds = simulate(load_scene("lab_steel_dry_polynomial.toml").slider(), cycles=3, rtol=1e-8)
     assert ds.attrs["method"] == "event_driven" and ds.attrs["estimated_relative_error"] == pytest.approx(1e-8)

@@ -7,7 +7,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from faultslip.errors import InputError
-from faultslip.fault import Fault, friction_drop_for_slip, moment_magnitude, seismic_moment
+from faultslip.fault.scaling import Fault, friction_drop_for_slip, moment_magnitude, seismic_moment
 from faultslip.units import JULIAN_YEAR
 
 BAR, MILE, INCH, FOOT = 1e5, 1609.344, 0.0254, 0.3048

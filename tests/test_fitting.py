@@ -5,8 +5,8 @@ import pytest
 import xarray as xr
 
 from faultslip.errors import InputError
-from faultslip.fitting import PARAMETERS, FrictionData, fit_rate_law, read_friction_data, synthetic_data
-from faultslip.materials import get_preset, presets, table_i_presets
+from faultslip.friction.fitting import PARAMETERS, FrictionData, fit_rate_law, read_friction_data, synthetic_data
+from faultslip.friction.materials import get_preset, presets, table_i_presets
 
 
 def _independent_seed(index, seed):
@@ -146,15 +146,15 @@ def test_failed_fit_never_changes_the_registry(tmp_path, cli, monkeypatch):
     assert result.code == 2 and "one loading rate" in result.err and "Traceback" not in result.err
     assert registry.read_bytes() == before
     # an interrupted write leaves the old registry too
-    import faultslip.atomic as atomic
+    import faultslip.io.atomic as atomic
 
     def crash(*args, **kwargs):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(atomic.os, "replace", crash)
     with pytest.raises(KeyboardInterrupt):
-        from faultslip.materials import save_user_fit
-        from faultslip.fitting import fit_rate_law as fit
+        from faultslip.friction.materials import save_user_fit
+        from faultslip.friction.fitting import fit_rate_law as fit
 
         save_user_fit("third", fit(read_friction_data(good), bootstrap=5))
     assert registry.read_bytes() == before
@@ -192,7 +192,7 @@ def test_registry_refuses_bundled_names_and_reports_its_path(tmp_path, monkeypat
     result = cli("fit", _csv(tmp_path, GOOD), "--name", "granodiorite_water", "--bootstrap", "5")
     assert result.code == 2 and "bundled preset" in result.err
     assert not (tmp_path / "r.json").exists()
-    from faultslip.registry import registry_path
+    from faultslip.friction.registry import registry_path
 
     assert registry_path() == tmp_path / "r.json"
 
@@ -205,9 +205,9 @@ def test_fit_json_has_quantities_and_intervals(tmp_path, cli):
 
 def test_a_saved_fit_works_in_studies_and_maps(tmp_path, monkeypatch):
     monkeypatch.setenv("FAULTSLIP_REGISTRY", str(tmp_path / "fits.json"))
-    from faultslip.materials import save_user_fit
-    from faultslip.maps import load_map, run_map
-    from faultslip.study import sweep
+    from faultslip.friction.materials import save_user_fit
+    from faultslip.studies.maps import load_map, run_map
+    from faultslip.studies.grid import sweep
 
     preset = get_preset("black_marble_water")
     save_user_fit("my_marble", fit_rate_law(synthetic_data(preset, noise=0.001, seed=3), bootstrap=20),

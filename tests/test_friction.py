@@ -7,7 +7,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from faultslip.errors import InputError
-from faultslip.friction import (
+from faultslip.friction.laws import (
     CallableKinetic,
     ConstantKinetic,
     LinearKinetic,

@@ -65,7 +65,7 @@ def _write(path, content):
 @FUZZ
 @given(scene=st.sampled_from(SCENES), seed=st.integers(0, 2**32))
 def test_scene_reader(tmp_path_factory, scene, seed):
-    from faultslip.scene import load_scene
+    from faultslip.fault.scene import load_scene
 
     path = _write(tmp_path_factory.mktemp("scene") / "scene.toml",
                   _mutated(scene.read_text(encoding="utf-8"), fuzz.mutate_toml, seed))
@@ -80,7 +80,7 @@ def test_scene_reader(tmp_path_factory, scene, seed):
 @FUZZ
 @given(study=st.sampled_from(["study_san_andreas.toml", "study_lab_glass.toml"]), seed=st.integers(0, 2**32))
 def test_study_reader(tmp_path_factory, study, seed):
-    from faultslip.study import load_study
+    from faultslip.studies.grid import load_study
 
     text = (ROOT / "configs" / study).read_text(encoding="utf-8").replace('base = "', f'base = "{ROOT}/configs/')
     path = _write(tmp_path_factory.mktemp("study") / "study.toml", _mutated(text, fuzz.mutate_toml, seed))
@@ -90,7 +90,7 @@ def test_study_reader(tmp_path_factory, study, seed):
 @FUZZ
 @given(seed=st.integers(0, 2**32), which=st.sampled_from(["map", "segments"]))
 def test_map_and_segment_readers(tmp_path_factory, seed, which):
-    from faultslip.maps import load_map
+    from faultslip.studies.maps import load_map
 
     folder = tmp_path_factory.mktemp("map")
     segments = (ROOT / "data" / "san_andreas_segments.csv").read_text(encoding="utf-8")
@@ -104,7 +104,7 @@ def test_map_and_segment_readers(tmp_path_factory, seed, which):
 @FUZZ
 @given(seed=st.integers(0, 2**32))
 def test_friction_data_reader(tmp_path_factory, seed):
-    from faultslip.fitting import read_friction_data
+    from faultslip.friction.fitting import read_friction_data
 
     text = (ROOT / "configs" / "example_friction_data.csv").read_text(encoding="utf-8")
     _clean(read_friction_data, _write(tmp_path_factory.mktemp("fit") / "data.csv",
@@ -114,7 +114,7 @@ def test_friction_data_reader(tmp_path_factory, seed):
 @FUZZ
 @given(seed=st.integers(0, 2**32))
 def test_record_reader(tmp_path_factory, seed):
-    from faultslip.records import read_record
+    from faultslip.lab.records import read_record
 
     lines = (ROOT / "configs" / "example_record.csv").read_text(encoding="utf-8").splitlines()[:300]
     _clean(read_record, _write(tmp_path_factory.mktemp("record") / "record.csv",
@@ -126,8 +126,8 @@ def test_record_reader(tmp_path_factory, seed):
 @given(seed=st.integers(0, 2**32))
 def test_netcdf_readers_survive_damaged_files(tmp_path_factory, seed):
     """A damaged netCDF can crash the netCDF library itself; the reader must still give one sentence."""
-    from faultslip.fitting import read_friction_data
-    from faultslip.records import read_record
+    from faultslip.friction.fitting import read_friction_data
+    from faultslip.lab.records import read_record
 
     source = _netcdf_seed(tmp_path_factory)
     damaged = _write(tmp_path_factory.mktemp("nc") / "damaged.nc", fuzz.mutate_bytes(source, random.Random(seed)))

@@ -5,8 +5,8 @@ import pytest
 import xarray as xr
 
 from faultslip.errors import InputError
-from faultslip.maps import load_map, nearest_segment, observed_table, parse_trace, read_segments, run_map, trace_length
-from faultslip.resources import data_path
+from faultslip.studies.maps import load_map, nearest_segment, observed_table, parse_trace, read_segments, run_map, trace_length
+from faultslip.io.resources import data_path
 
 YEAR = 365.25 * 86400
 

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from faultslip.errors import InputError
-from faultslip.materials import get_lithology, get_preset, presets, resolve_material, table_i_presets
+from faultslip.friction.materials import get_lithology, get_preset, presets, resolve_material, table_i_presets
 from faultslip.units import STANDARD_GRAVITY
 
 LBF = 4.4482216152605

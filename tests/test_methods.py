@@ -9,15 +9,15 @@ import warnings
 import numpy as np
 import pytest
 
-from faultslip.bench import STATUS_CODE, measure, reference_for, standard_scenes
-from faultslip.closed_form import closed_form_cycle
-from faultslip.critical import cached_critical_dimensionless_rate
+from faultslip.evaluation.bench import STATUS_CODE, measure, reference_for, standard_scenes
+from faultslip.dynamics.closed_form import closed_form_cycle
+from faultslip.dynamics.critical import cached_critical_dimensionless_rate
 from faultslip.errors import MethodError, OutOfDomainWarning
-from faultslip.exact_cycle import exact_cycle, slip_cycle
-from faultslip.methods import INTEGRATOR_ERROR_CONSTANT, ClosedForm, choose, solve
-from faultslip.scene import load_scene
-from faultslip.simulate import simulate
-from faultslip.stability import evaluate_cell, grid_system
+from faultslip.dynamics.exact_cycle import exact_cycle, slip_cycle
+from faultslip.dynamics.methods import INTEGRATOR_ERROR_CONSTANT, ClosedForm, choose, solve
+from faultslip.fault.scene import load_scene
+from faultslip.dynamics.simulate import simulate
+from faultslip.evaluation.stability import evaluate_cell, grid_system
 
 
 @pytest.fixture(scope="module")
@@ -166,7 +166,7 @@ def test_regularized_stiff_integration_breaks_down_at_fault_scale_separation(sce
 
 
 def test_regularized_friction_never_truly_sticks():
-    from faultslip.regularized import simulate_regularized
+    from faultslip.dynamics.regularized import simulate_regularized
 
     system = grid_system(0.6, 0.05, 1.0)
     result = simulate_regularized(system, 3, 1e-2 * system.platform_speed, "RK45", rtol=1e-6, max_evaluations=10**6)
@@ -186,7 +186,7 @@ def test_loose_integrators_miss_the_restick_near_the_critical_rate_unless_verifi
 
 
 def test_every_method_declares_its_interface(cli):
-    from faultslip.methods import describe_all
+    from faultslip.dynamics.methods import describe_all
 
     rows = describe_all()
     names = {row["name"] for row in rows}

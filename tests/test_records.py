@@ -5,8 +5,8 @@ import pytest
 import xarray as xr
 
 from faultslip.errors import InputError
-from faultslip.exact_cycle import exact_cycle
-from faultslip.records import (
+from faultslip.dynamics.exact_cycle import exact_cycle
+from faultslip.lab.records import (
     Record,
     analyze_record,
     free_decay,
@@ -15,7 +15,7 @@ from faultslip.records import (
     register_reader,
     synthetic_record,
 )
-from faultslip.slider import SliderSystem
+from faultslip.dynamics.slider import SliderSystem
 from faultslip.units import to_si
 
 LBF_PER_IN = 4.4482216152605 / 0.0254

@@ -17,7 +17,7 @@ import pytest
 import xarray as xr
 
 from conftest import assert_clean_error
-from faultslip.processes import children, is_alive
+from faultslip.io.processes import children, is_alive
 
 STUDY = """[study]
 base = "san_andreas_1906.toml"
@@ -143,7 +143,7 @@ def test_concurrent_fits_lose_nothing(tmp_path, monkeypatch):
 
 
 def test_registry_names_damaged_and_shadowing_entries(tmp_path, monkeypatch):
-    from faultslip.materials import user_presets
+    from faultslip.friction.materials import user_presets
 
     path = tmp_path / "fits.json"
     monkeypatch.setenv("FAULTSLIP_REGISTRY", str(path))
@@ -273,7 +273,7 @@ def test_reproduce_matches_an_untouched_file(swept, cli):
 
 def test_lock_refusal_names_the_holder(tmp_path):
     from faultslip.errors import InputError
-    from faultslip.outputs import output_lock
+    from faultslip.io.outputs import output_lock
 
     target = tmp_path / "x.nc"
     entered = threading.Event()
@@ -285,7 +285,7 @@ def test_lock_refusal_names_the_holder(tmp_path):
             release.wait(10)
 
     holder = subprocess.Popen([sys.executable, "-c", (
-        "import sys, time; from faultslip.outputs import output_lock\n"
+        "import sys, time; from faultslip.io.outputs import output_lock\n"
         f"with output_lock({str(target)!r}, 'faultslip holder'):\n"
         "    print('held', flush=True); time.sleep(30)")], stdout=subprocess.PIPE, text=True)
     try:

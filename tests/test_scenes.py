@@ -3,13 +3,13 @@
 import pytest
 
 from faultslip.errors import InputError
-from faultslip.scene import bundled_scenes, load_scene, parse_scene, run_scene
+from faultslip.fault.scene import bundled_scenes, load_scene, parse_scene, run_scene
 
 
 def test_bundled_scenes_include_1906_granite_and_every_table_i_preset():
     names = set(bundled_scenes())
     assert {"san_andreas_1906.toml", "granite_inverse_1906.toml"} <= names
-    from faultslip.materials import table_i_presets
+    from faultslip.friction.materials import table_i_presets
 
     assert {f"lab_{p.name}.toml" for p in table_i_presets()} <= names
 

@@ -4,13 +4,13 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from faultslip.critical import critical
+from faultslip.dynamics.critical import critical
 from faultslip.errors import InputError, SolverError
-from faultslip.exact_cycle import exact_cycle
-from faultslip.friction import CallableKinetic, ConstantKinetic, PolynomialKinetic, TimeOfStickLaw
-from faultslip.scene import load_scene
-from faultslip.simulate import simulate
-from faultslip.slider import SliderSystem
+from faultslip.dynamics.exact_cycle import exact_cycle
+from faultslip.friction.laws import CallableKinetic, ConstantKinetic, PolynomialKinetic, TimeOfStickLaw
+from faultslip.fault.scene import load_scene
+from faultslip.dynamics.simulate import simulate
+from faultslip.dynamics.slider import SliderSystem
 
 YEAR = 365.25 * 86400
 
@@ -110,7 +110,7 @@ def test_polynomial_kinetic_law_limit_cycle_is_method_independent():
 
 
 def test_dataset_carries_units_and_writes_to_netcdf(tmp_path):
-    from faultslip.netcdf import write_dataset
+    from faultslip.io.netcdf import write_dataset
 
     dataset = simulate(load_scene("san_andreas_1906.toml").slider(), cycles=3)
     path = tmp_path / "sim.nc"

@@ -11,9 +11,9 @@ import pytest
 import xarray as xr
 
 from faultslip.errors import InputError
-from faultslip.fault import Fault
-from faultslip.streaming import plan_blocks, reproduce, run_study
-from faultslip.study import parse_study, sweep
+from faultslip.fault.scaling import Fault
+from faultslip.studies.streaming import plan_blocks, reproduce, run_study
+from faultslip.studies.grid import parse_study, sweep
 
 YEAR = 365.25 * 86400
 STUDY = """
@@ -50,8 +50,8 @@ def test_every_cell_matches_the_scalar_fault_estimate(study):
 
 
 def test_lab_study_uses_the_exact_cycle_and_finds_steady_sliding():
-    from faultslip.exact_cycle import exact_cycle
-    from faultslip.slider import SliderSystem
+    from faultslip.dynamics.exact_cycle import exact_cycle
+    from faultslip.dynamics.slider import SliderSystem
 
     ds = sweep("lab_glass_dry.toml", loading_rate=["0.01 1/s", "0.1 1/s", "1 1/s"], damping_ratio=[0.0, 0.05])
     assert set(np.unique(ds["method"].values)) == {1}  # exact cycle: the closed form misses 1e-6 here
@@ -93,7 +93,7 @@ def test_cf_netcdf_file_with_units_strings_and_embedded_config(study, tmp_path):
         assert ds["regime"].attrs["flag_meanings"].split()[0] == "stick_slip"
         assert ds["slip_per_event"].encoding["zlib"]
         direct = parse_study(STUDY)
-        from faultslip.study import compute_block
+        from faultslip.studies.grid import compute_block
         np.testing.assert_array_equal(ds["slip_per_event"].values, compute_block(direct)["slip_per_event"].values)
 
 
@@ -123,7 +123,7 @@ def test_local_cluster_result_is_identical_to_serial(study, tmp_path):
 
 def _interrupt_on_call(monkeypatch, number):
     """Make the study's block computation raise KeyboardInterrupt (Ctrl-C) on its ``number``-th call."""
-    import faultslip.study as study_module
+    import faultslip.studies.streaming as study_module  # the name the streaming loop calls
 
     real = study_module.compute_block
     calls = {"n": 0}

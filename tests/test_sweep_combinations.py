@@ -14,11 +14,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from faultslip.errors import InputError
-from faultslip.fault import Fault
-from faultslip.methods import solve
-from faultslip.scene import load_scene
-from faultslip.slider import SliderSystem
-from faultslip.study import FAULT_PARAMETERS, LAB_PARAMETERS, sweep
+from faultslip.fault.scaling import Fault
+from faultslip.dynamics.methods import solve
+from faultslip.fault.scene import load_scene
+from faultslip.dynamics.slider import SliderSystem
+from faultslip.studies.grid import FAULT_PARAMETERS, LAB_PARAMETERS, sweep
 
 FAULT_VALUES = {
     "lithology": ["granodiorite", "pyrite", "black_marble"],

@@ -1,0 +1,5 @@
+"""``python -m faultslip.cli``: the faultslip program."""
+
+from faultslip.cli.main import console
+
+console()

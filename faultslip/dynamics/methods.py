@@ -1,0 +1,385 @@
+"""Solution methods behind one interface, and the automatic choice: model no more than a scene needs.
+
+Every method declares its name, the friction laws it supports, its domain of validity, an error
+model and a cost model. :func:`choose` ranks the applicable methods by estimated cost and picks the
+cheapest whose estimated error meets the requested tolerance; :func:`solve` runs it and records the
+method, the reason and the estimated error. Forcing a method outside its domain warns and names the
+better one.
+
+Error models (relative, leading order; checked against measurements in the tests):
+
+* closed form: ``1.5 (2 |zeta| eps + eps^2)`` with ``eps = theta_dot / (omega_n (mu_s - mu_m))``, trusted
+  only for ``eps <= 0.1 eps_c(zeta)``: the expansion breaks down near the critical rate and the
+  closed form reports stick-slip above it;
+* exact cycle: round-off (1e-14), amplified near the critical rate as ``machine eps / sqrt(1 - eps/eps_c)``;
+* event-driven integration: ``c_solver * rtol``, with c measured by ``faultslip bench``
+  (RK45 2, DOP853 1, Radau 0.5, LSODA 60; LSODA's error control is loose);
+* regularised friction: not trusted (it never truly sticks); run only when forced.
+
+Cost models (seconds, order of magnitude, from the benchmarks): closed form ~2e-5, exact cycle
+~2e-4, event-driven ``cycles * nfev_per_slip(solver, rtol) * t_eval``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from faultslip.dynamics.closed_form import closed_form_cycle
+from faultslip.dynamics.critical import cached_critical_dimensionless_rate
+from faultslip.dynamics.cycle import STEADY_SLIDING, CycleResult
+from faultslip.errors import InputError, MethodError, OutOfDomainWarning
+from faultslip.dynamics.exact_cycle import exact_cycle, exact_cycle_error
+from faultslip.dynamics.regularized import simulate_regularized
+from faultslip.dynamics.simulate import simulate
+
+DEFAULT_TOLERANCE = 1e-6
+OUTPUTS = ("amplitude", "period", "event_times", "time_series")
+#: Event-driven integrator calibration (faultslip bench, 2-core machine): error <= c * rtol and
+#: right-hand-side evaluations per slip phase at rtol = 1e-3, 1e-6, 1e-9, 1e-12.
+INTEGRATOR_ERROR_CONSTANT = {"DOP853": 1.0, "RK45": 2.0, "LSODA": 60.0, "Radau": 0.5}
+INTEGRATOR_EVALUATIONS = {
+    "DOP853": (89, 104, 170, 310),
+    "RK45": (50, 128, 332, 1270),
+    "LSODA": (61, 110, 160, 600),
+    "Radau": (71, 240, 1270, 7250),
+}
+INTEGRATOR_EVALUATION_TIME = {"DOP853": 2.0e-5, "RK45": 2.0e-5, "LSODA": 2.5e-5, "Radau": 5.0e-5}
+RTOL_LEVELS = tuple(10.0 ** -k for k in range(3, 13))  # 1e-3 ... 1e-12
+
+
+@dataclass
+class Assessment:
+    """What a method would do for a scene: applicable or not, why, its error and cost estimates."""
+
+    method: str
+    applicable: bool
+    reason: str
+    estimated_error: float = math.inf
+    estimated_cost: float = math.inf
+    settings: dict = field(default_factory=dict)
+
+
+@dataclass
+class Solution:
+    """The answer of :func:`solve`: cycle quantities, event times and how they were obtained."""
+
+    cycle: CycleResult
+    event_times: np.ndarray
+    method: str
+    method_reason: str
+    estimated_relative_error: float
+    settings: dict
+    dataset: object = None  # the time series, when requested or simulated
+    function_evaluations: int = 0
+    wall_time: float = 0.0
+
+    def report(self, title: str):
+        report = self.cycle.report(title)
+        report.items[0].value = self.method
+        report.add("method_reason", self.method_reason, label="why this method")
+        report.add("estimated_relative_error", self.estimated_relative_error, label="estimated relative error")
+        if self.settings:
+            report.add("method_settings", ", ".join(f"{k}={v}" for k, v in self.settings.items()), label="settings")
+        return report
+
+
+def _linear_rate_system(system) -> str | None:
+    """None if the closed form / exact cycle can describe the system, else why not."""
+    if not system.is_linear:
+        return f"kinetic law {type(system.kinetic_law).__name__} is not linear in sliding speed"
+    if system.static_excess is None:
+        return "static friction depends on the time of stick (each cycle depends on the last)"
+    if system.static_excess <= 0:
+        return "mu_s does not exceed mu_m: there is no stick-slip"
+    if not -1 < system.damping_ratio < 1:
+        return f"damping ratio {system.damping_ratio:.3g} is outside (-1, 1): the slip phase does not oscillate"
+    return None
+
+
+class Method:
+    name = "method"
+    friction_laws = ""
+    domain = ""
+    cost_model = ""
+
+    def assess(self, system, outputs, tolerance, cycles) -> Assessment:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def run(self, system, cycles, settings):  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def describe(self) -> dict:
+        return {"name": self.name, "friction_laws": self.friction_laws, "domain": self.domain,
+                "cost_model": self.cost_model}
+
+
+class ClosedForm(Method):
+    name = "closed_form"
+    friction_laws = "rate-law or constant static friction; constant or linear kinetic friction"
+    domain = "|zeta| < 1 and eps <= 0.1 eps_c(zeta) (well below the critical loading rate); no time series"
+    cost_model = "O(1): about 2e-5 s per scene, 1e-8 s per cell vectorised"
+
+    #: The expansion is leading order; within eps <= 0.1 eps_c the true error stays below 1.5 times it.
+    SAFETY = 1.5
+
+    @staticmethod
+    def error_model(damping_ratio, eps):
+        """Relative error of amplitude and period to leading order: 2 |zeta| eps + eps^2."""
+        return 2.0 * np.abs(damping_ratio) * eps + eps * eps
+
+    def assess(self, system, outputs, tolerance, cycles):
+        why_not = _linear_rate_system(system)
+        if why_not:
+            return Assessment(self.name, False, why_not)
+        if "time_series" in outputs:
+            return Assessment(self.name, False, "the closed form gives no time series")
+        eps, zeta = system.dimensionless_rate, system.damping_ratio
+        eps_c = cached_critical_dimensionless_rate(zeta) if zeta > 0 else math.inf
+        if eps > 0.1 * eps_c:
+            where = "above" if eps >= eps_c else "near"
+            return Assessment(self.name, False, f"loading rate is {where} the critical rate (eps = {eps:.3g}, "
+                              f"eps_c = {eps_c:.3g}): the closed form's expansion fails there")
+        error = self.SAFETY * (2.0 * abs(zeta) * eps + eps * eps)  # error_model, on plain floats
+        if "event_times" in outputs:
+            error *= max(cycles, 1)  # the period error accumulates over the cycles
+        where = f"far below eps_c = {eps_c:.3g}" if math.isfinite(eps_c) else "with no critical rate (zeta <= 0)"
+        return Assessment(self.name, True, f"eps = theta_dot/(omega_n dmu_s) = {eps:.3g}, {where}; "
+                          f"error model 1.5 (2|zeta| eps + eps^2) = {error:.2g}", error, 2e-5)
+
+    def run(self, system, cycles, settings):
+        cycle = closed_form_cycle(system)
+        first = (system.normal_load * cycle.static_friction / system.stiffness) / system.platform_speed
+        return cycle, first + cycle.period * np.arange(cycles), None, 0
+
+
+class ExactCycle(Method):
+    name = "exact_cycle"
+    friction_laws = "rate-law or constant static friction; constant or linear kinetic friction"
+    domain = "|zeta| < 1; any loading rate (reports steady sliding above the critical rate)"
+    cost_model = "about 2e-4 s per scene (5e-3 s with a 100-cycle time series), 1-2 us per cell vectorised"
+
+    def assess(self, system, outputs, tolerance, cycles):
+        why_not = _linear_rate_system(system)
+        if why_not:
+            return Assessment(self.name, False, why_not)
+
+        cost = 2e-4 + (5e-5 * cycles if "time_series" in outputs else 0.0)
+        zeta, eps = system.damping_ratio, system.dimensionless_rate
+        eps_c = cached_critical_dimensionless_rate(zeta) if zeta > 0 else math.inf
+        error = float(exact_cycle_error(eps, eps_c))
+        return Assessment(self.name, True, "linear kinetic law: the slip phase is solved analytically",
+                          error, cost)
+
+    def run(self, system, cycles, settings):
+
+        cycle = exact_cycle(system)
+        if settings.get("time_series") or cycle.regime == STEADY_SLIDING:
+            dataset = simulate(system, cycles=cycles, slip_solver="analytic")
+            return cycle, dataset["event_time"].values, dataset, 0
+        first = (system.normal_load * cycle.static_friction - system.dashpot * system.platform_speed) \
+            / system.stiffness / system.platform_speed
+        return cycle, first + cycle.period * np.arange(cycles), None, 0
+
+
+def integrator_evaluations(solver: str, rtol: float) -> float:
+    """Right-hand-side evaluations per slip phase, interpolated in log rtol from the calibration."""
+    levels = np.log10([1e-3, 1e-6, 1e-9, 1e-12])
+    counts = np.log10(INTEGRATOR_EVALUATIONS[solver])
+    return float(10 ** np.interp(-np.log10(rtol), -levels, counts))
+
+
+class EventDriven(Method):
+    friction_laws = "any static law (rate, constant, time-of-stick); any kinetic law"
+    domain = "everything the model describes (no reverse slip); error c * rtol"
+    cost_model = "cycles x evaluations per slip phase (grows as rtol tightens) x ~2e-5 s"
+
+    def __init__(self, solver: str = "DOP853"):
+        self.solver = solver
+        self.name = f"event_driven_{solver}"
+
+    def assess(self, system, outputs, tolerance, cycles, rtol=None):
+        constant = INTEGRATOR_ERROR_CONSTANT[self.solver]
+        if rtol is None:  # the loosest calibrated rtol that meets the tolerance
+            fitting = [r for r in RTOL_LEVELS if constant * r <= tolerance]
+            rtol = fitting[0] if fitting else RTOL_LEVELS[-1]
+        error = constant * rtol * (max(cycles, 1) if "event_times" in outputs else 1.0)
+        cost = 1e-3 + max(cycles, 1) * integrator_evaluations(self.solver, rtol) * INTEGRATOR_EVALUATION_TIME[self.solver]
+        return Assessment(self.name, True, f"{self.solver} at rtol = {rtol:g} (error <= {constant:g} x rtol)",
+                          error, cost, {"slip_solver": self.solver, "rtol": rtol})
+
+    def run(self, system, cycles, settings):
+
+        converge = settings.get("converge")
+        dataset = simulate(system, cycles=cycles, slip_solver=self.solver, rtol=settings["rtol"],
+                           stop_when_converged=converge)
+        return _cycle_from_dataset(system, dataset, self.name), dataset["event_time"].values, dataset, \
+            dataset.attrs["function_evaluations"]
+
+
+class Regularized(Method):
+    friction_laws = "rate-law or constant static friction; any kinetic law (smoothed by tanh(u/w))"
+    domain = "none trusted: it never truly sticks (creep ~ w) and must step through every stick phase"
+    cost_model = "stiff: steps through stick phases; explicit solvers exceed any budget at large stick/slip ratios"
+
+    def __init__(self, solver: str = "LSODA", width_ratio: float = 1e-3):
+        self.solver, self.width_ratio = solver, width_ratio
+        self.name = f"regularized_{solver}"
+
+    def assess(self, system, outputs, tolerance, cycles):
+        return Assessment(self.name, False, "regularised friction never truly sticks; it is a baseline to measure "
+                          "against, not a method to choose")
+
+    def run(self, system, cycles, settings):
+
+        result = simulate_regularized(system, cycles, self.width_ratio * system.platform_speed, self.solver,
+                                      rtol=settings.get("rtol", 1e-8))
+        cycle = CycleResult(self.name, result["regime"], system.loading_rate, system.platform_speed, math.nan,
+                            system.damping_ratio, math.nan,
+                            float(result["amplitude"][-1]) if result["amplitude"].size else math.nan, math.nan,
+                            math.nan, math.nan, float(result["period"][-1]) if result["period"].size else math.nan,
+                            math.nan, math.nan, system.scale)
+        return cycle, result["event_time"], None, result["evaluations"]
+
+
+class SeedAppendixI(Method):
+    """Seed 003 eq. I-22: the critical loading rate is its output, not a cycle."""
+
+    name = "seed_appendix_I"
+    friction_laws = "rate-law static friction; constant or linear kinetic friction"
+    domain = "an approximation: agrees with the exact critical rate only near zeta 0.2-0.25 and has the opposite trend in damping"
+    cost_model = "one scalar root: about 1e-5 s"
+
+    def assess(self, system, outputs, tolerance, cycles):
+        return Assessment(self.name, False, "gives a critical loading rate, not a stick-slip cycle; see faultslip critical")
+
+    def run(self, system, cycles, settings):
+        raise MethodError("seed_appendix_I gives only the critical loading rate; use faultslip critical")
+
+
+def describe_all() -> list[dict]:
+    """Every method's declared name, friction laws, domain and cost model."""
+    return [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), *BASELINES.values(), SEED_APPENDIX_I)]
+
+
+def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:
+    """Cycle quantities of the last simulated event (the limit cycle once converged)."""
+    regime = dataset.attrs["regime"]
+    if dataset.sizes["event"] == 0:
+        nan = math.nan
+        return CycleResult(method_name, regime, system.loading_rate, system.platform_speed, nan,
+                           system.damping_ratio, system.dimensionless_rate or nan, nan, nan, nan, nan, math.inf,
+                           nan, nan, system.scale)
+    last = dataset.isel(event=-1)
+    period = float(last["period"]) if dataset.sizes["event"] > 1 else math.nan
+    return CycleResult(
+        method=method_name, regime=regime, loading_rate=system.loading_rate,
+        platform_speed=system.platform_speed, static_friction=float(last["static_friction"]),
+        damping_ratio=system.damping_ratio,
+        dimensionless_rate=system.dimensionless_rate if system.dimensionless_rate is not None else math.nan,
+        amplitude=float(last["amplitude"]), slip_per_event=float(last["slip"]),
+        stick_duration=float(last["stick_duration"]), slip_duration=float(last["slip_duration"]),
+        period=period, peak_slip_speed=float(last["peak_slip_speed"]), stress_drop=float(last["stress_drop"]),
+        scale=system.scale, stress_drop_slip=float(last["stress_drop"]) / system.stiffness,
+    )
+
+
+CLOSED_FORM = ClosedForm()
+EXACT = ExactCycle()
+INTEGRATORS = {solver: EventDriven(solver) for solver in ("DOP853", "RK45", "LSODA", "Radau")}
+METHODS = {CLOSED_FORM.name: CLOSED_FORM, EXACT.name: EXACT, **{m.name: m for m in INTEGRATORS.values()},
+           "simulate": INTEGRATORS["DOP853"]}
+BASELINES = {f"regularized_{s}": Regularized(s) for s in ("RK45", "LSODA", "Radau")}
+SEED_APPENDIX_I = SeedAppendixI()
+
+
+def _check_request(outputs, tolerance, cycles):
+    outputs = tuple(outputs)
+    unknown = [o for o in outputs if o not in OUTPUTS]
+    if unknown:
+        raise InputError(f"unknown output {unknown[0]!r}; allowed: {', '.join(OUTPUTS)}")
+    if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
+        raise InputError(f"tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    if cycles < 1:
+        raise InputError(f"cycles must be at least 1, got {cycles}")
+    return outputs
+
+
+def choose(system, outputs=("amplitude", "period"), tolerance=DEFAULT_TOLERANCE, cycles=10):
+    """The cheapest applicable method whose estimated error meets ``tolerance``.
+
+    Returns ``(method, assessment, assessments)``; ``assessments`` lists every candidate considered.
+    If no method reaches the tolerance, the most accurate applicable one is chosen and the reason
+    says so.
+    """
+    outputs = _check_request(outputs, tolerance, cycles)
+    assessments = []
+    for method in (CLOSED_FORM, EXACT):  # cheapest first: stop at the first that suffices
+        assessment = method.assess(system, outputs, tolerance, cycles)
+        assessments.append(assessment)
+        if assessment.applicable and assessment.estimated_error <= tolerance:
+            reason = f"cheapest method within tolerance {tolerance:g}: {assessment.reason}"
+            return method, Assessment(assessment.method, True, reason, assessment.estimated_error,
+                                      assessment.estimated_cost, assessment.settings), assessments
+    assessments += [method.assess(system, outputs, tolerance, cycles) for method in INTEGRATORS.values()]
+    usable = [a for a in assessments if a.applicable]
+    good = sorted((a for a in usable if a.estimated_error <= tolerance), key=lambda a: a.estimated_cost)
+    if good:
+        best = good[0]
+        reason = f"cheapest method within tolerance {tolerance:g}: {best.reason}"
+    else:
+        best = min(usable, key=lambda a: a.estimated_error)
+        reason = f"no method reaches tolerance {tolerance:g}; the most accurate is used: {best.reason}"
+    chosen = METHODS[best.method]
+    return chosen, Assessment(best.method, True, reason, best.estimated_error, best.estimated_cost, best.settings), assessments
+
+
+def solve(system, method: str = "auto", outputs=("amplitude", "period"), tolerance: float = DEFAULT_TOLERANCE,
+          cycles: int = 10, converge: float | None = None) -> Solution:
+    """Solve a scene's stick-slip cycle with ``method`` ("auto" picks the cheapest sufficient one).
+
+    A forced method outside its domain, or less accurate than the tolerance, still runs but warns
+    (:class:`~faultslip.errors.OutOfDomainWarning`) and names the method auto would use.
+    """
+    outputs = _check_request(outputs, tolerance, cycles)
+    if method == "auto":
+        chosen, assessment, _ = choose(system, outputs, tolerance, cycles)
+    else:
+        if method not in METHODS and method not in BASELINES:
+            raise InputError(f"unknown method {method!r}; allowed: auto, {', '.join(list(METHODS) + list(BASELINES))}")
+        chosen = METHODS.get(method) or BASELINES[method]
+        assessment = chosen.assess(system, outputs, tolerance, cycles)
+        better, better_assessment, _ = choose(system, outputs, tolerance, cycles)
+        if not assessment.applicable or assessment.estimated_error > tolerance:
+            problem = assessment.reason if not assessment.applicable else \
+                f"its estimated error {assessment.estimated_error:.2g} exceeds the tolerance {tolerance:g}"
+            warnings.warn(f"method {chosen.name} is outside its domain for {system.name}: {problem}; "
+                          f"use {better.name} ({better_assessment.reason})", OutOfDomainWarning, stacklevel=2)
+            if isinstance(chosen, (ClosedForm,)) and _linear_rate_system(system):
+                raise MethodError(f"{chosen.name} cannot describe {system.name}: {_linear_rate_system(system)}; "
+                                  f"use {better.name}")
+            if isinstance(chosen, ExactCycle) and _linear_rate_system(system):
+                raise MethodError(f"{chosen.name} cannot describe {system.name}: {_linear_rate_system(system)}; "
+                                  f"use {better.name}")
+        assessment.reason = f"forced by the user: {assessment.reason}"
+    settings = dict(assessment.settings)
+    if "time_series" in outputs:
+        settings["time_series"] = True
+    if converge is None and isinstance(chosen, EventDriven) and not {"time_series", "event_times"} & set(outputs):
+        converge = tolerance  # only the limit cycle is wanted: stop once it has converged
+    if converge is not None:
+        settings["converge"] = converge
+    started = time.perf_counter()
+    cycle, event_times, dataset, evaluations = chosen.run(system, cycles, settings)
+    elapsed = time.perf_counter() - started
+    cycle.method = chosen.name
+    solution = Solution(cycle, np.asarray(event_times), chosen.name, assessment.reason, assessment.estimated_error,
+                        {k: v for k, v in settings.items() if k not in ("time_series",)}, dataset, evaluations, elapsed)
+    if dataset is not None:
+        dataset.attrs.update(method=chosen.name, method_reason=assessment.reason,
+                             estimated_relative_error=float(assessment.estimated_error))
+    return solution

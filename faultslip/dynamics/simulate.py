@@ -1,0 +1,552 @@
+"""Event-driven time integration of stick and slip (any friction law, any scale).
+
+The friction discontinuity is never smoothed. The simulation alternates:
+
+* **stick**, analytic: x = x_s + V (t - t_s). It ends when the holding force K x + C V reaches
+  W mu_s. For rate and constant laws the break-away displacement is explicit; for a
+  time-of-stick law mu_s(t_stick) it is the single root of a convex function, located by
+  Brent's method on an analytic bracket. A stick phase is never stepped through, so fault-scale
+  interseismic periods (~1e9-1e10 s) cost nothing.
+* **slip**, from (x_break, V): analytic for linear kinetic laws (see :mod:`faultslip.dynamics.exact_cycle`),
+  otherwise integrated by a scipy method with dense output in scaled variables
+  X = K x / W, Y = K x' / (W omega_n), s = omega_n t. The end of slip (x' returns to V,
+  sliding speed 0) is a terminal event located by scipy's root finder to the integrator's
+  tolerance; the force needed to stick is then checked against the static limit.
+
+Failures are never silent: step-size collapse, an exhausted evaluation budget, a slip that
+neither ends nor decays within the horizon, or a reverse slip raise :class:`SolverError`
+naming the method, the scene and what to do instead.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from faultslip.dynamics.cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP
+from faultslip.errors import InputError, SolverError
+from faultslip.dynamics.exact_cycle import _Oscillator, slip_cycle
+from faultslip.io.report import Report
+
+INTEGRATORS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+SUSTAINED_OSCILLATION = "sustained_oscillation"
+
+
+class _BudgetExceeded(Exception):
+    pass
+
+
+class _BadFriction(Exception):
+    def __init__(self, sliding, mu):
+        super().__init__(sliding, mu)
+        self.sliding, self.mu = sliding, mu
+
+
+class SlipOutcome:
+    """One slip phase: samples, end state and per-event quantities (SI, local time)."""
+
+    __slots__ = ("times", "x", "v", "duration", "x_end", "x_max", "x_min", "v_min", "regime", "evaluations")
+
+    def __init__(self, **kw):
+        for key in self.__slots__:
+            setattr(self, key, kw.get(key))
+
+
+def _stick_duration(system, x_start):
+    """Time until K x + C V reaches W mu_s during a stick that starts at x_start."""
+    law = system.static_law
+    K, C, W, V = system.stiffness, system.dashpot, system.normal_load, system.platform_speed
+    if not law.depends_on_stick_time:
+        x_break = (W * float(law.limit(system.loading_rate)) - C * V) / K
+        return max(0.0, (x_break - x_start) / V)
+
+    def excess(tau):
+        return K * (x_start + V * tau) + C * V - W * float(law.limit(system.loading_rate, tau))
+
+    if excess(0.0) >= 0:
+        return 0.0
+    upper = getattr(law, "mu_upper", None)
+    if upper is not None:  # mu_s <= mu_upper, so the force reaches the limit by then
+        hi = max((W * upper - C * V - K * x_start) / (K * V), 0.0) * (1 + 1e-12) + 1e-300
+    else:
+        hi = max(abs(x_start) / V, 1.0 / system.natural_frequency)
+        while excess(hi) < 0:
+            hi *= 2.0
+            if hi > 1e30:
+                raise SolverError(f"simulate: the static limit of {system.name} is never reached during stick")
+    return brentq(excess, 0.0, hi, xtol=1e-15 * hi, rtol=4 * np.finfo(float).eps, maxiter=200)
+
+
+def _equilibrium(system):
+    """Sliding equilibrium of a linear slip phase: x_e = (W mu_m + (beta W + eta) V)/K."""
+    return (system.normal_load * system.mu_m
+            + (system.kinetic_slope * system.normal_load + system.radiation_damper) * system.platform_speed) / system.stiffness
+
+
+def _analytic_slip(system, x_break, samples, horizon_periods):
+    zeta, omega_n = system.damping_ratio, system.natural_frequency
+    if not -1 < zeta < 1:
+        raise SolverError(f"simulate (analytic slip): damping ratio {zeta:.3g} of {system.name} is not oscillatory; "
+                          "use an integrator, e.g. slip_solver='Radau'")
+    length = system.normal_load / system.stiffness
+    x_eq = _equilibrium(system)
+    eps = system.platform_speed / (omega_n * length)
+    u0 = (x_break - x_eq) / length
+    cycle = slip_cycle(zeta, eps, u0)
+    osc = _Oscillator(np.float64(zeta), np.float64(u0), np.float64(eps))
+    regime = {0: STICK_SLIP, 1: STEADY_SLIDING, 2: GROWING_OSCILLATION}[int(cycle["regime"])]
+    if regime == STEADY_SLIDING:
+        s = np.linspace(0.0, 2 * np.pi * horizon_periods, max(samples, 40 * horizon_periods))
+        return SlipOutcome(times=s / omega_n, x=x_eq + length * osc("u", s), v=omega_n * length * osc("v", s),
+                           duration=np.inf, regime=STEADY_SLIDING, evaluations=0)
+    s_end = float(cycle["slip_time"])
+    s = np.linspace(0.0, s_end, samples)
+    x = x_eq + length * osc("u", s)
+    v = omega_n * length * osc("v", s)
+    v[-1] = system.platform_speed  # the event itself, exactly
+    return SlipOutcome(
+        times=s / omega_n, x=x, v=v, duration=s_end / omega_n,
+        x_end=x_eq + length * float(cycle["u_end"]),
+        x_max=x_eq + length * float(cycle["u_max"]), x_min=x_eq + length * float(cycle["u_min"]),
+        v_min=omega_n * length * float(cycle["v_min"]), regime=regime, evaluations=0,
+    )
+
+
+def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_periods, budget, counter):
+    K, W, C, eta, V = system.stiffness, system.normal_load, system.dashpot, system.radiation_damper, system.platform_speed
+    omega_n = system.natural_frequency
+    speed_scale = omega_n * W / K  # velocity of one unit of Y
+    kinetic = system.kinetic_law
+    y_v = V / speed_scale
+
+    def rhs(s, state):
+        counter[0] += 1
+        if budget is not None and counter[0] > budget:
+            raise _BudgetExceeded
+        velocity = state[1] * speed_scale
+        sliding = V - velocity
+        mu = kinetic(sliding)
+        if not (mu >= 0 and np.isfinite(mu)):  # also catches a diverging solution (inf, NaN)
+            raise _BadFriction(sliding, mu)
+        return [state[1], mu + (eta * sliding - C * velocity) / W - state[0]]
+
+    def jacobian(s, state):
+        sliding = V - state[1] * speed_scale
+        dmu = float(kinetic.derivative(sliding))
+        return [[0.0, 1.0], [-1.0, -(dmu * speed_scale) - (eta + C) * speed_scale / W]]
+
+    def end_of_slip(s, state):
+        return state[1] - y_v
+
+    end_of_slip.terminal = True
+    end_of_slip.direction = 1
+
+    def at_rest(s, state):  # x extrema, for the peak-to-peak amplitude
+        return state[1]
+
+    def fastest(s, state):  # x'' = 0: the velocity extrema, for the peak sliding speed
+        sliding = V - state[1] * speed_scale
+        return float(kinetic(sliding)) + (eta * sliding - C * state[1] * speed_scale) / W - state[0]
+
+    excess = system.static_excess if system.static_excess is not None else abs(float(kinetic(0.0)))
+    scale = max(excess if excess else 0.0, 1e-6)
+    options = dict(method=solver, rtol=rtol, atol=atol if atol is not None else rtol * 1e-3 * scale,
+                   dense_output=True, events=[end_of_slip, at_rest, fastest])
+    if solver in ("Radau", "BDF", "LSODA"):
+        options["jac"] = jacobian
+    start = [K * x_break / W, y_v]
+    try:
+        solution = solve_ivp(rhs, (0.0, 2 * np.pi * horizon_periods), start, **options)
+    except _BadFriction as bad:
+        raise SolverError(
+            f"simulate ({solver}): the kinetic law of {system.name} gives friction {float(bad.mu):.3g} at sliding "
+            f"speed {float(bad.sliding):.3g} m/s; friction must stay finite and non-negative, so the law is used "
+            "outside its valid speed range (the slip runs away); limit its velocity weakening or add damping"
+        ) from None
+    except _BudgetExceeded:
+        raise SolverError(
+            f"simulate ({solver}, rtol={rtol:g}): budget of {budget} function evaluations exceeded in a slip phase "
+            f"of {system.name}; use the exact cycle for linear laws, a looser rtol, or a larger budget"
+        ) from None
+    if solution.status == -1:
+        raise SolverError(
+            f"simulate ({solver}, rtol={rtol:g}) failed in a slip phase of {system.name}: {solution.message} "
+            "Try a stiff method (Radau, LSODA) or a looser rtol."
+        )
+    ended = solution.status == 1 and solution.t_events[0].size > 0
+    if not ended:
+        x_scaled, y_scaled = solution.y[:, -1]
+        equilibrium = float(kinetic(V)) + eta * V / W
+        initial = math.hypot(start[0] - equilibrium, start[1])
+        final = math.hypot(x_scaled - equilibrium, y_scaled)
+        # decaying (even slowly, e.g. zeta = 0.01 over the horizon) -> steady sliding; a limit
+        # cycle that keeps its size without sticking -> sustained (quasi-harmonic) oscillation
+        regime = STEADY_SLIDING if final < 0.1 * initial else SUSTAINED_OSCILLATION
+        s = np.linspace(0.0, solution.t[-1], max(samples, 40 * horizon_periods))
+        states = solution.sol(s)
+        return SlipOutcome(times=s / omega_n, x=states[0] * W / K, v=states[1] * speed_scale, duration=np.inf,
+                           regime=regime, evaluations=solution.nfev)
+    s_end = float(solution.t_events[0][0])
+    end_state = solution.y_events[0][0]
+    s = np.linspace(0.0, s_end, samples)
+    states = solution.sol(s)
+    x = states[0] * W / K
+    v = states[1] * speed_scale
+    x[-1], v[-1] = end_state[0] * W / K, V
+    rests = solution.y_events[1][:, 0] * W / K if solution.t_events[1].size else np.array([])
+    candidates = np.concatenate([x, rests])
+    extrema = solution.y_events[2][:, 1] if solution.t_events[2].size else np.array([])
+    velocity_min = float(min(np.min(states[1]), np.min(extrema, initial=np.inf))) * speed_scale
+    # negative net damping: the slip oscillation grows (same label as the exact cycle)
+    regime = GROWING_OSCILLATION if system.damping_ratio < 0 else STICK_SLIP
+    return SlipOutcome(times=s / omega_n, x=x, v=v, duration=s_end / omega_n, x_end=float(end_state[0] * W / K),
+                       x_max=float(candidates.max()), x_min=float(candidates.min()), v_min=velocity_min,
+                       regime=regime, evaluations=solution.nfev)
+
+
+def simulate(
+    system,
+    cycles: int = 100,
+    *,
+    slip_solver: str = "auto",
+    rtol: float = 1e-10,
+    atol: float | None = None,
+    samples_per_slip: int = 64,
+    initial_displacement: float = 0.0,
+    horizon_periods: int = 200,
+    max_evaluations: int | None = None,
+    scene: str | None = None,
+    verify_regime: bool = True,
+    stop_when_converged: float | None = None,
+):
+    """Simulate ``cycles`` stick-slip cycles of a :class:`~faultslip.dynamics.slider.SliderSystem`.
+
+    Parameters
+    ----------
+    slip_solver : {"auto", "analytic", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"}
+        "auto" uses the analytic slip phase for linear kinetic laws and DOP853 otherwise.
+    rtol, atol : float
+        Integrator tolerances (scaled variables); ignored by the analytic slip phase.
+    initial_displacement : float
+        Displacement (m) at t = 0, stuck to the platform. Default 0: spring unloaded.
+    horizon_periods : int
+        Longest slip phase, in natural periods, before it is judged steady or sustained.
+    max_evaluations : int, optional
+        Budget of right-hand-side evaluations for the whole run (integrators only).
+    verify_regime : bool
+        Before accepting that an integrated slip phase does not re-stick, integrate it again at a
+        1000 times tighter tolerance (near the critical rate a loose tolerance can miss the
+        tangency). ``False`` shows the raw integrator, as the benchmarks do.
+    stop_when_converged : float, optional
+        Stop once two successive events agree in amplitude and period to this relative
+        tolerance (the limit cycle is reached); ``cycles`` is then an upper bound.
+
+    Returns
+    -------
+    xarray.Dataset
+        On ``time``: displacement, velocity, sliding_speed, spring_force, friction_force,
+        friction_coefficient and phase (0 stick, 1 slip). On ``event``: break-away time,
+        amplitude (peak-to-peak), stick and slip durations, period, peak sliding speed, stress
+        drop, slip and static friction at break-away. Attributes carry the method, tolerance,
+        regime and the system with units.
+    """
+    if cycles < 1:
+        raise InputError(f"cycles must be at least 1, got {cycles}")
+    if samples_per_slip < 3:
+        raise InputError("samples_per_slip must be at least 3")
+    solver = slip_solver
+    if solver == "auto":
+        solver = "analytic" if system.is_linear else "DOP853"
+    if solver not in ("analytic",) + INTEGRATORS:
+        raise InputError(f"unknown slip solver {slip_solver!r}; allowed: auto, analytic, {', '.join(INTEGRATORS)}")
+    if solver == "analytic" and not system.is_linear:
+        raise InputError(f"the analytic slip phase needs a linear kinetic law; {system.name} has "
+                         f"{type(system.kinetic_law).__name__}: use an integrator such as DOP853")
+    name = scene or system.name
+    # With an analytic slip phase and a static limit that does not depend on the stick time, every
+    # slip starts from the same break-away state: the motion is exactly periodic after the first
+    # stick, so one slip phase is computed and the cycle is tiled.
+    periodic = solver == "analytic" and not system.static_law.depends_on_stick_time
+    started = _time.perf_counter()
+    if periodic:
+        run = _periodic_run(system, cycles, float(initial_displacement), samples_per_slip, horizon_periods, name)
+    else:
+        run = _stepped_run(system, cycles, float(initial_displacement), solver, rtol, atol, samples_per_slip,
+                           horizon_periods, max_evaluations, verify_regime, stop_when_converged, name)
+    elapsed = _time.perf_counter() - started
+    dataset = _dataset(system, name, solver, rtol, atol, elapsed, **run)
+    if run["notes"]:
+        dataset.attrs["regime_verification"] = "; ".join(sorted(set(run["notes"])))
+    return dataset
+
+
+_EVENT_KEYS = ("event_time", "amplitude", "stick_duration", "slip_duration", "peak_slip_speed", "stress_drop",
+               "slip", "static_friction")
+
+
+def _stick_segment(system, t, x, stick):
+    V, K, C = system.platform_speed, system.stiffness, system.dashpot
+    x_break = x + V * stick
+    return (np.array([t, t + stick]), np.array([x, x_break]), np.array([V, V]),
+            np.array([K * x + C * V, K * x_break + C * V]), np.zeros(2, dtype=np.int8))
+
+
+def _slip_segment(system, t, slip):
+    sliding = system.platform_speed - slip.v[1:]
+    return (t + slip.times[1:], slip.x[1:], slip.v[1:],
+            system.normal_load * np.asarray(system.kinetic_law(sliding), dtype=float),
+            np.ones(len(slip.times) - 1, dtype=np.int8))
+
+
+def _event(system, stick, x_break, slip, name, solver):
+    K, C, W, V = system.stiffness, system.dashpot, system.normal_load, system.platform_speed
+    holding = K * x_break + C * V
+    restick = K * slip.x_end + C * V
+    if restick < -W * float(system.static_law.limit(system.loading_rate, 0.0)):
+        raise SolverError(
+            f"simulate ({solver}): in {name} the slider overtakes the platform (reverse slip), "
+            "which this model does not describe; reduce the velocity weakening or add damping"
+        )
+    return {"amplitude": slip.x_max - slip.x_min, "stick_duration": stick, "slip_duration": slip.duration,
+            "peak_slip_speed": V - slip.v_min, "stress_drop": holding - restick,
+            "slip": V * slip.duration + (x_break - slip.x_end), "static_friction": holding / W}
+
+
+def _periodic_run(system, cycles, x_start, samples, horizon_periods, name):
+    """Analytic, exactly periodic motion: first stick, then ``cycles`` identical cycles, tiled."""
+    first_stick = _stick_duration(system, x_start)
+    x_break = x_start + system.platform_speed * first_stick
+    slip = _analytic_slip(system, x_break, samples, horizon_periods)
+    head = [_stick_segment(system, 0.0, x_start, first_stick), _slip_segment(system, first_stick, slip)]
+    if slip.regime not in (STICK_SLIP, GROWING_OSCILLATION):
+        return _collect(head, {key: [] for key in _EVENT_KEYS}, slip.regime, 0, [])
+    event = _event(system, first_stick, x_break, slip, name, "analytic")
+    stick = _stick_duration(system, slip.x_end)  # every later stick starts where slip ends
+    period = stick + slip.duration
+    template = [_stick_segment(system, 0.0, slip.x_end, stick), _slip_segment(system, stick, slip)]
+    t_template = np.concatenate([segment[0] for segment in template])
+    start = first_stick + slip.duration
+    copies = cycles - 1
+    tiled_t = np.maximum.accumulate(np.add.outer(start + period * np.arange(copies), t_template).ravel())
+    tiled = [(tiled_t,) + tuple(np.tile(np.concatenate([seg[i] for seg in template]), copies) for i in range(1, 5))]
+    events = {key: np.full(cycles, value) for key, value in event.items()}
+    events["stick_duration"][1:] = stick
+    events["event_time"] = first_stick + period * np.arange(cycles)
+    regime = GROWING_OSCILLATION if slip.regime == GROWING_OSCILLATION else STICK_SLIP
+    return _collect(head + tiled, events, regime, 0, [])
+
+
+def _stepped_run(system, cycles, x, solver, rtol, atol, samples, horizon_periods, max_evaluations, verify_regime,
+                 stop_when_converged, name):
+    """Cycle by cycle: integrated slip phases, or a static limit that depends on the stick time."""
+    V = system.platform_speed
+    t = 0.0
+    segments, notes = [], []
+    events = {key: [] for key in _EVENT_KEYS}
+    regime = STICK_SLIP
+    counter = [0]
+    for _ in range(cycles):
+        stick = _stick_duration(system, x)
+        x_break = x + V * stick
+        segments.append(_stick_segment(system, t, x, stick))
+        t += stick
+        if solver == "analytic":
+            slip = _analytic_slip(system, x_break, samples, horizon_periods)
+        else:
+            slip = _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_periods,
+                                    max_evaluations, counter)
+            if verify_regime and slip.regime != STICK_SLIP and rtol > 1e-13:
+                tighter = max(rtol * 1e-3, 1e-13)
+                # a missed tangency happens within the first velocity swings: check only those
+                check = _integrated_slip(system, x_break, samples, solver, tighter,
+                                         None if atol is None else atol * 1e-3, min(horizon_periods, 3),
+                                         max_evaluations, counter)
+                if check.regime == STICK_SLIP:
+                    slip = check
+                    notes.append(f"a slip phase missed its re-stick at rtol={rtol:g}; recomputed at rtol={tighter:g}")
+        segments.append(_slip_segment(system, t, slip))
+        if slip.regime not in (STICK_SLIP, GROWING_OSCILLATION):
+            regime = slip.regime
+            break
+        if slip.regime == GROWING_OSCILLATION:
+            regime = GROWING_OSCILLATION
+        for key, value in _event(system, stick, x_break, slip, name, solver).items():
+            events[key].append(value)
+        events["event_time"].append(t)
+        t += slip.duration
+        x = slip.x_end
+        if _decayed(system, events["stress_drop"]):
+            regime = STEADY_SLIDING
+            notes.append(f"the stress drop fell to round-off ({DECAY_FLOOR:g} of W dmu) after {len(events['stress_drop'])} "
+                         "events: the stick-slip sequence decays to steady sliding (loading above the critical speed)")
+            break
+        if stop_when_converged is not None and len(events["event_time"]) >= 3:
+            amplitudes, breaks = events["amplitude"], events["event_time"]
+            last_period, previous_period = breaks[-1] - breaks[-2], breaks[-2] - breaks[-3]
+            if (abs(amplitudes[-1] / amplitudes[-2] - 1) < stop_when_converged
+                    and abs(last_period / previous_period - 1) < stop_when_converged):
+                break
+    if regime == STICK_SLIP and _decaying(system, events["stress_drop"]):
+        regime = STEADY_SLIDING
+        notes.append("the stress drop decays geometrically toward zero (Aitken extrapolation of the last events): "
+                     "the sequence tends to steady sliding; there is no stick-slip limit cycle")
+    return _collect(segments, events, regime, counter[0], notes)
+
+
+#: Stress drops below this fraction of W (mu_s - mu_m) are round-off: no stick-slip is left.
+DECAY_FLOOR = 1e-10
+
+
+def _friction_scale(system) -> float:
+    law = system.static_law
+    upper = getattr(law, "mu_upper", None)
+    if upper is not None:
+        return max(upper - law.mu_lower, 1e-300)
+    excess = system.static_excess
+    return excess if excess else 1.0
+
+
+def _decayed(system, drops) -> bool:
+    return bool(drops) and drops[-1] <= DECAY_FLOOR * system.normal_load * _friction_scale(system)
+
+
+def _decaying(system, drops) -> bool:
+    """Strictly falling stress drops whose Aitken limit is (near) zero: a sequence decaying to steady sliding.
+
+    Below the critical speed the drops may also fall monotonically from a large first event, but
+    toward a positive limit cycle; the extrapolated limit tells the two apart.
+    """
+    if len(drops) < 6:
+        return False
+    last = np.asarray(drops[-6:], dtype=float)
+    if not np.all(np.diff(last) < 0):
+        return False
+    x0, x1, x2 = last[-3:]
+    curvature = (x2 - x1) - (x1 - x0)
+    if curvature <= 0:
+        return False
+    limit = x2 - (x2 - x1) ** 2 / curvature
+    return limit < 1e-3 * last[0]
+
+
+def _collect(segments, events, regime, evaluations, notes):
+    columns = [np.concatenate([segment[i] for segment in segments]) for i in range(5)]
+    return {"times": columns[0], "xs": columns[1], "vs": columns[2], "forces": columns[3], "phases": columns[4],
+            "events": {key: np.asarray(value, dtype=float) for key, value in events.items()}, "regime": regime,
+            "evaluations": evaluations, "notes": notes}
+
+
+def _dataset(system, name, solver, rtol, atol, elapsed, times, xs, vs, forces, phases, events, regime, evaluations,
+             notes):
+    import xarray as xr
+
+    units = system.units
+    V, W, K = system.platform_speed, system.normal_load, system.stiffness
+    xs, vs, forces = np.asarray(xs), np.asarray(vs), np.asarray(forces)
+    event_times = np.asarray(events["event_time"])
+    period = np.full(event_times.shape, np.nan)
+    period[1:] = np.diff(event_times)
+
+    def var(dims, data, unit, long_name, **extra):
+        return (dims, np.asarray(data, dtype=float), {"units": unit, "long_name": long_name, **extra})
+
+    dataset = xr.Dataset(
+        data_vars={
+            "displacement": var("time", xs, "m", "slider displacement from the unloaded spring"),
+            "velocity": var("time", vs, "m/s", "slider velocity"),
+            "sliding_speed": var("time", V - vs, "m/s", "sliding speed V - x' (0 during stick)"),
+            "spring_force": var("time", K * xs, units["force"], "spring force K x (what the strain ring records)"),
+            "friction_force": var("time", forces, units["force"], "friction force on the slider"),
+            "friction_coefficient": var("time", forces / W, "1", "friction force over normal load"),
+            "phase": ("time", np.asarray(phases, dtype=np.int8),
+                      {"long_name": "stick (0) or slip (1)", "flag_values": np.array([0, 1], dtype=np.int8),
+                       "flag_meanings": "stick slip", "units": "1"}),
+            "event_time": var("event", event_times, "s", "break-away time"),
+            "amplitude": var("event", events["amplitude"], "m", "peak-to-peak swing x_max - x_min of the slip"),
+            "stress_drop_slip": var("event", np.asarray(events["stress_drop"], dtype=float) / K, "m",
+                                    "stress-drop slip x1 - x2 = stress drop / K (the seeds' alpha)"),
+            "stick_duration": var("event", events["stick_duration"], "s", "duration of the stick before the event"),
+            "slip_duration": var("event", events["slip_duration"], "s", "duration of the slip phase"),
+            "period": var("event", period, "s", "time since the previous break-away"),
+            "peak_slip_speed": var("event", events["peak_slip_speed"], "m/s", "largest sliding speed V - x'"),
+            "stress_drop": var("event", events["stress_drop"], units["force"], "drop of K x + C V, break-away to re-stick"),
+            "slip": var("event", events["slip"], "m", "slip per event: relative sliding, integral of V - x' over the slip"),
+            "static_friction": var("event", events["static_friction"], "1", "holding force over W at break-away"),
+        },
+        coords={
+            "time": ("time", np.asarray(times, dtype=float), {"units": "s", "long_name": "time", "axis": "T"}),
+            "event": ("event", np.arange(event_times.size), {"long_name": "event number", "units": "1"}),
+        },
+    )
+    constant = {"RK45": 2.0, "RK23": 2.0, "DOP853": 1.0, "Radau": 0.5, "BDF": 60.0, "LSODA": 60.0}
+    attrs = {
+        "title": f"faultslip simulation: {name}",
+        "method": "event_driven" if solver != "analytic" else "exact_cycle",
+        "method_reason": ("linear kinetic law: analytic slip phases, analytic stick phases" if solver == "analytic"
+                          else f"{solver} slip phases (rtol {rtol:g}) between analytic stick phases"),
+        "estimated_relative_error": 1e-13 if solver == "analytic" else constant.get(solver, 60.0) * rtol,
+        "slip_solver": solver,
+        "rtol": rtol if solver != "analytic" else 0.0,
+        "atol": (atol if atol is not None else -1.0) if solver != "analytic" else 0.0,
+        "regime": regime,
+        "scene": name,
+        "scale": system.scale,
+        "function_evaluations": int(evaluations),
+        "wall_time_s": float(elapsed),
+        "static_law": type(system.static_law).__name__,
+        "kinetic_law": type(system.kinetic_law).__name__,
+        "Conventions": "CF-1.8",
+    }
+    for key, (value, unit) in system.describe().items():
+        attrs[key] = float(value)
+        attrs[f"{key}_units"] = unit
+    dataset.attrs.update(attrs)
+    return dataset
+
+
+def summary_report(dataset, title: str | None = None):
+    """A :class:`~faultslip.io.report.Report` of a simulation: regime, limit-cycle statistics, cost."""
+
+    attrs = dataset.attrs
+    fault = attrs.get("scale") == "fault"
+    r = Report(title or attrs.get("title", "faultslip simulation"))
+    r.section("Simulation")
+    r.add("method", attrs["method"])
+    r.add("slip_solver", attrs["slip_solver"])
+    if attrs["slip_solver"] != "analytic":
+        r.add("rtol", attrs["rtol"], label="relative tolerance")
+    r.add("regime", attrs["regime"])
+    r.add("events", int(dataset.sizes["event"]), label="stick-slip events")
+    r.add("loading_rate", attrs["loading_rate"], "1/s", "loading rate theta_dot")
+    r.add("platform_speed", attrs["platform_speed"], "m/s", "platform speed V", also=("mm/yr",) if fault else ("in/s",))
+    r.add("damping_ratio", attrs["damping_ratio"], label="damping ratio zeta (at rest)")
+    r.add("function_evaluations", attrs["function_evaluations"])
+    r.add("wall_time", attrs["wall_time_s"], "s", "wall time")
+    if dataset.sizes["event"]:
+        last = dataset.isel(event=-1)
+        r.section("Last cycle (the limit cycle once converged)" if attrs["regime"] != STEADY_SLIDING
+                  else "Last event (the sequence decays to steady sliding)")
+        length = ("ft",) if fault else ("in",)
+        r.add("slip_per_event", float(last["slip"]), "m", "slip per event, integral of u dt", also=length)
+        r.add("stress_drop_slip", float(last["stress_drop_slip"]), "m",
+              "stress-drop slip alpha = x1 - x2 = drop / K", also=length)
+        r.add("peak_to_peak_swing", float(last["amplitude"]), "m", "peak-to-peak swing x_max - x_min", also=length)
+        r.add("period", float(last["period"]) if dataset.sizes["event"] > 1 else float("nan"), "s", "period",
+              also=("yr",) if fault else ("ms",))
+        r.add("stick_duration", float(last["stick_duration"]), "s", "stick duration", also=("yr",) if fault else ("ms",))
+        r.add("slip_duration", float(last["slip_duration"]), "s", "slip duration")
+        r.add("peak_slip_speed", float(last["peak_slip_speed"]), "m/s", "peak sliding speed")
+        r.add("stress_drop", float(last["stress_drop"]), dataset["stress_drop"].attrs["units"],
+              "stress drop" if fault else "force drop", also=("bar",) if fault else ())
+        r.add("static_friction", float(last["static_friction"]), label="static friction at break-away")
+        amplitudes = dataset["amplitude"].values
+        if amplitudes.size > 2:
+            spread = float(np.ptp(amplitudes[amplitudes.size // 2:]) / np.mean(amplitudes[amplitudes.size // 2:]))
+            r.add("amplitude_spread", spread, label="amplitude spread, 2nd half (max-min)/mean")
+    for note in filter(None, attrs.get("regime_verification", "").split("; ")):
+        r.note(note)
+    return r

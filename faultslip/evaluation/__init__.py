@@ -1,0 +1,2 @@
+"""Evaluating the methods themselves: the work-precision benchmark and the stability map.
+"""

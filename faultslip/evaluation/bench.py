@@ -1,0 +1,324 @@
+"""Work-precision study: every method's error against its cost on standard scenes (``faultslip bench``).
+
+For each scene the reference is the exact cycle (linear laws) or DOP853 at rtol 1e-13 (the one
+nonlinear scene). Errors are relative: amplitude, period, and event times over N cycles (in units
+of the period); the headline error is the largest of the three. Cost is the median wall time of
+repeats and the number of right-hand-side evaluations. Failures are recorded, not hidden:
+an exception, step-size collapse, an exhausted budget, or the wrong regime.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from faultslip.errors import FaultslipError, SolverError
+from faultslip.dynamics.closed_form import closed_form_cycle
+from faultslip.dynamics.critical import critical
+from faultslip.dynamics.exact_cycle import exact_cycle
+from faultslip.dynamics.regularized import simulate_regularized
+from faultslip.dynamics.simulate import simulate
+from faultslip.dynamics.slider import SliderSystem
+from faultslip.fault.scene import load_scene
+from faultslip.io.processes import stop_pool, worker_pool
+
+STATUS = {0: "ok", 1: "exception", 2: "step_size_collapse", 3: "budget_exceeded", 4: "wrong_regime",
+          5: "not_applicable", 6: "solver_failure"}
+STATUS_CODE = {name: code for code, name in STATUS.items()}
+FULL_TOLERANCES = tuple(10.0 ** -k for k in range(3, 13))
+QUICK_TOLERANCES = (1e-3, 1e-6, 1e-9, 1e-12)
+INTEGRATOR_NAMES = ("RK45", "DOP853", "Radau", "LSODA")
+REGULARIZED = (("RK45", 1e-2), ("LSODA", 1e-2), ("LSODA", 1e-3))
+ERROR_FLOOR = 1e-16
+
+
+def method_names():
+    names = ["closed_form", "exact_cycle"] + [f"event_driven_{s}" for s in INTEGRATOR_NAMES]
+    names += [f"regularized_{s}_w{w:g}V" for s, w in REGULARIZED]
+    return names
+
+
+def standard_scenes():
+    """Scene name -> (SliderSystem, description). Built from the Table I presets and bundled scenes."""
+
+    scenes = {}
+    for preset in ("glass_dry", "pyrite_dry", "granodiorite_water"):
+        base = SliderSystem.from_preset(preset, loading_rate="1 1/s", damping_ratio=0.01)
+        theta_c = critical(base).critical_loading_rate
+        scenes[f"{preset}_low"] = (base.at_loading_rate(1e-3 * theta_c), f"{preset}, zeta 0.01, theta = 1e-3 theta_c")
+        scenes[f"{preset}_near"] = (base.at_loading_rate(0.9 * theta_c), f"{preset}, zeta 0.01, theta = 0.9 theta_c")
+    damped = SliderSystem.from_preset("steel_heavy_petrolatum", loading_rate="1 1/s", damping_ratio=0.05)
+    scenes["steel_damped"] = (damped.at_loading_rate(0.1 * critical(damped).critical_loading_rate),
+                              "steel, heavy petrolatum, zeta 0.05, theta = 0.1 theta_c")
+    scenes["fault_1906"] = (load_scene("san_andreas_1906.toml").slider(), "1906 San Andreas scene (seed 003 §5-2)")
+    scenes["fault_1906_radiation"] = (load_scene("san_andreas_1906_radiation.toml").slider(),
+                                      "1906 scene with radiation damping, zeta 0.23")
+    scenes["steel_polynomial"] = (load_scene("lab_steel_dry_polynomial.toml").slider(),
+                                  "dry steel, polynomial kinetic law (reference: DOP853 at rtol 1e-13)")
+    return scenes
+
+
+@dataclass
+class Reference:
+    amplitude: float
+    period: float
+    event_times: np.ndarray
+    regime: str
+
+
+def reference_for(system, cycles) -> Reference:
+
+    if system.is_linear and system.static_excess is not None:
+        cycle = exact_cycle(system)
+        dataset = simulate(system, cycles=cycles, slip_solver="analytic")
+        return Reference(cycle.amplitude, cycle.period, dataset["event_time"].values, cycle.regime)
+    dataset = simulate(system, cycles=cycles, slip_solver="DOP853", rtol=1e-13)
+    return Reference(float(dataset["amplitude"].values[-1]), float(dataset["period"].values[-1]),
+                     dataset["event_time"].values, dataset.attrs["regime"])
+
+
+def _classify(error: Exception) -> int:
+    text = str(error)
+    if "budget" in text:
+        return STATUS_CODE["budget_exceeded"]
+    if "step size" in text or "spacing between numbers" in text:
+        return STATUS_CODE["step_size_collapse"]
+    if isinstance(error, SolverError):  # the integrator gave up otherwise (e.g. LSODA's istate < 0)
+        return STATUS_CODE["solver_failure"]
+    return STATUS_CODE["exception"]
+
+
+def run_once(system, method: str, tolerance: float, cycles: int, budget: int):
+    """One run: (amplitude, period, event_times, evaluations, regime) or raises."""
+    if method == "closed_form":
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            cycle = closed_form_cycle(system)
+        first = system.normal_load * cycle.static_friction / system.stiffness / system.platform_speed
+        return cycle.amplitude, cycle.period, first + cycle.period * np.arange(cycles), 0, cycle.regime
+    if method == "exact_cycle":
+
+        cycle = exact_cycle(system)
+        dataset = simulate(system, cycles=cycles, slip_solver="analytic")
+        return cycle.amplitude, cycle.period, dataset["event_time"].values, 0, cycle.regime
+    if method.startswith("event_driven_"):
+
+        dataset = simulate(system, cycles=cycles, slip_solver=method.removeprefix("event_driven_"), rtol=tolerance,
+                           max_evaluations=budget, verify_regime=False)
+        events = dataset.sizes["event"]
+        amplitude = float(dataset["amplitude"].values[-1]) if events else math.nan
+        period = float(dataset["period"].values[-1]) if events > 1 else math.nan
+        return amplitude, period, dataset["event_time"].values, dataset.attrs["function_evaluations"], dataset.attrs["regime"]
+    if method.startswith("regularized_"):
+
+        solver, width = method.removeprefix("regularized_").split("_w")
+        result = simulate_regularized(system, cycles, float(width.rstrip("V")) * system.platform_speed, solver,
+                                      rtol=tolerance, max_evaluations=budget)
+        amplitude = float(result["amplitude"][-1]) if result["amplitude"].size else math.nan
+        period = float(result["period"][-1]) if result["period"].size else math.nan
+        return amplitude, period, result["event_time"], result["evaluations"], result["regime"]
+    raise ValueError(method)
+
+
+def measure(system, reference: Reference, method: str, tolerance: float, cycles: int, budget: int,
+            repeats: int, time_limit: float = 0.5) -> dict:
+    """Errors and cost of one (scene, method, tolerance) cell."""
+    nan = math.nan
+    applicable = not (method in ("closed_form", "exact_cycle") and not (system.is_linear and system.static_excess is not None))
+    if method.startswith("regularized_") and system.static_excess is None:
+        applicable = False
+    if not applicable:
+        return dict(status=STATUS_CODE["not_applicable"], error=nan, error_amplitude=nan, error_period=nan,
+                    error_event_times=nan, wall_time=nan, evaluations=-1)
+    import warnings
+
+    times = []
+    started = time.perf_counter()
+    try:
+        while True:
+            started = time.perf_counter()
+            with warnings.catch_warnings():  # integrator complaints are recorded as outcomes, not printed
+                warnings.simplefilter("ignore")
+                amplitude, period, events, evaluations, regime = run_once(system, method, tolerance, cycles, budget)
+            times.append(time.perf_counter() - started)
+            if len(times) >= repeats or sum(times) > time_limit:
+                break
+    except (SolverError, FaultslipError, RuntimeError, ValueError, ArithmeticError) as error:
+        return dict(status=_classify(error), error=nan, error_amplitude=nan, error_period=nan, error_event_times=nan,
+                    wall_time=(time.perf_counter() - started) if not times else float(np.median(times)), evaluations=-1)
+    wall = float(np.median(times))
+    stick_slip_found = np.size(events) >= min(cycles, 2) and math.isfinite(amplitude)
+    if stick_slip_found != (reference.regime != "steady_sliding"):
+        return dict(status=STATUS_CODE["wrong_regime"], error=nan, error_amplitude=nan, error_period=nan,
+                    error_event_times=nan, wall_time=wall, evaluations=int(evaluations))
+    n = min(np.size(events), np.size(reference.event_times))
+    event_error = float(np.max(np.abs(np.asarray(events[:n]) - reference.event_times[:n])) / reference.period) if n else nan
+    amplitude_error = abs(amplitude / reference.amplitude - 1)
+    period_error = abs(period / reference.period - 1) if math.isfinite(period) else nan
+    errors = [e for e in (amplitude_error, period_error, event_error) if math.isfinite(e)]
+    return dict(status=STATUS_CODE["ok"], error=max(max(errors), ERROR_FLOOR), error_amplitude=amplitude_error,
+                error_period=period_error, error_event_times=event_error, wall_time=wall, evaluations=int(evaluations))
+
+
+def _scene_job(args):
+    scene, method, tolerances, cycles, budgets, repeats = args
+    budget = budgets[1] if method.startswith("regularized_") else budgets[0]
+    system = standard_scenes()[scene][0]
+    reference = reference_for(system, cycles)
+    tolerance_free = method in ("closed_form", "exact_cycle")
+    rows = []
+    for index, tolerance in enumerate(tolerances):
+        if tolerance_free and index > 0:
+            rows.append(rows[0])
+            continue
+        rows.append(measure(system, reference, method, tolerance, cycles, budget, repeats))
+    return scene, method, rows
+
+
+def parallel_map(function, jobs, workers: int, progress=None):
+    """``function`` over ``jobs`` in a process pool (or in this process), reporting progress."""
+
+    outcomes = []
+    mapped = worker_pool(min(workers, len(jobs))) if workers > 1 and len(jobs) > 1 else None
+    try:
+        results = mapped.map(function, jobs) if mapped else map(function, jobs)
+        for done, outcome in enumerate(results, start=1):
+            outcomes.append(outcome)
+            if progress:
+                progress(done, len(jobs))
+    except BaseException:
+        stop_pool(mapped, interrupted=True)  # terminate the workers: never wait on them after Ctrl-C
+        raise
+    stop_pool(mapped)
+    return outcomes
+
+
+def work_precision(quick: bool = False, workers: int = 2, scenes=None, methods=None, progress=None):
+    """Run the study and return an xarray Dataset with dims (scene, method, tolerance)."""
+    import xarray as xr
+
+    tolerances = QUICK_TOLERANCES if quick else FULL_TOLERANCES
+    # budgets: (event-driven, regularised) right-hand-side evaluations per run
+    cycles, budget, repeats = (3, (200_000, 30_000), 3) if quick else (10, (1_000_000, 1_000_000), 5)
+    all_scenes = standard_scenes()
+    scene_names = list(scenes or all_scenes)
+    method_list = list(methods or method_names())
+    jobs = [(s, m, tolerances, cycles, budget, repeats) for s in scene_names for m in method_list]
+    started = time.perf_counter()
+    results = {(scene, method): rows for scene, method, rows in parallel_map(_scene_job, jobs, workers, progress)}
+    shape = (len(scene_names), len(method_list), len(tolerances))
+    arrays = {key: np.full(shape, np.nan) for key in ("error", "error_amplitude", "error_period", "error_event_times", "wall_time")}
+    evaluations = np.full(shape, -1, dtype=np.int64)
+    status = np.full(shape, STATUS_CODE["not_applicable"], dtype=np.int8)
+    for i, scene in enumerate(scene_names):
+        for j, method in enumerate(method_list):
+            for k, row in enumerate(results[(scene, method)]):
+                for key in arrays:
+                    arrays[key][i, j, k] = row[key]
+                evaluations[i, j, k] = row["evaluations"]
+                status[i, j, k] = row["status"]
+    dims = ("scene", "method", "tolerance")
+    return xr.Dataset(
+        data_vars={
+            "error": (dims, arrays["error"], {"units": "1", "long_name": "largest relative error (amplitude, period, event times)"}),
+            "error_amplitude": (dims, arrays["error_amplitude"], {"units": "1", "long_name": "relative error of the amplitude"}),
+            "error_period": (dims, arrays["error_period"], {"units": "1", "long_name": "relative error of the period"}),
+            "error_event_times": (dims, arrays["error_event_times"], {"units": "1", "long_name": f"largest event-time error over {cycles} cycles, in periods"}),
+            "wall_time": (dims, arrays["wall_time"], {"units": "s", "long_name": "median wall time of repeats"}),
+            "evaluations": (dims, evaluations, {"units": "1", "long_name": "right-hand-side evaluations (-1: none or failed)"}),
+            "status": (dims, status, {"units": "1", "long_name": "outcome", "flag_values": np.array(list(STATUS), dtype=np.int8),
+                                      "flag_meanings": " ".join(STATUS.values())}),
+        },
+        coords={
+            "scene": ("scene", np.array(scene_names, dtype=object), {"long_name": "standard scene"}),
+            "method": ("method", np.array(method_list, dtype=object), {"long_name": "solution method"}),
+            "tolerance": ("tolerance", np.array(tolerances), {"units": "1", "long_name": "integrator relative tolerance rtol"}),
+            "description": ("scene", np.array([all_scenes[s][1] for s in scene_names], dtype=object)),
+        },
+        attrs={"title": "faultslip work-precision study", "Conventions": "CF-1.8", "cycles": cycles,
+               "budget_evaluations": budget[0], "budget_evaluations_regularized": budget[1], "repeats": repeats,
+               "quick": int(quick),
+               "total_wall_time_s": time.perf_counter() - started,
+               "comment": "closed_form and exact_cycle do not depend on the tolerance; their rows repeat"},
+    )
+
+
+def chart(dataset):
+    """Work-precision chart: log error against log wall time, one panel per scene, one line per method."""
+    import matplotlib.pyplot as plt
+
+    scenes = list(dataset["scene"].values)
+    columns = 3
+    rows = math.ceil(len(scenes) / columns)
+    figure, axes = plt.subplots(rows, columns, figsize=(5 * columns, 3.8 * rows), constrained_layout=True, squeeze=False)
+    methods = list(dataset["method"].values)
+    styles = {m: (f"C{i % 10}", "o" if m in ("closed_form", "exact_cycle") else ".-") for i, m in enumerate(methods)}
+    for axis, scene in zip(axes.ravel(), scenes):
+        part = dataset.sel({"scene": scene})
+        for method in methods:
+            row = part.sel({"method": method})
+            ok = row["status"].values == 0
+            colour, style = styles[method]
+            wall, error = row["wall_time"].values, row["error"].values
+            if method in ("closed_form", "exact_cycle"):
+                ok[1:] = False
+            if ok.any():
+                axis.loglog(wall[ok], error[ok], style, color=colour, label=method, ms=6 if style == "o" else 4)
+            failed = (~ok) & (row["status"].values != STATUS_CODE["not_applicable"])
+            if method in ("closed_form", "exact_cycle"):
+                failed[1:] = False
+            if failed.any():
+                axis.loglog(np.nan_to_num(wall[failed], nan=1e-4), np.ones(failed.sum()), "x", color=colour, ms=7)
+        axis.set_title(str(scene), fontsize=9)
+        axis.set_xlabel("wall time (s)")
+        axis.set_ylabel("relative error")
+        axis.axhline(1e-6, color="0.5", lw=0.6, ls=":")
+        axis.grid(True, which="both", alpha=0.25)
+    for axis in axes.ravel()[len(scenes):]:
+        axis.set_visible(False)
+    handles, labels = axes.ravel()[0].get_legend_handles_labels()
+    for axis in axes.ravel()[1:len(scenes)]:
+        for handle, label in zip(*axis.get_legend_handles_labels()):
+            if label not in labels:
+                handles.append(handle)
+                labels.append(label)
+    figure.legend(handles, labels, loc="lower right", fontsize=8)
+    figure.suptitle("Work-precision (x: failed run, drawn at error 1; dotted: 1e-6)")
+    return figure
+
+
+def markdown(dataset, target: float = 1e-6) -> str:
+    """Per scene: the cheapest run within ``target`` and every method's outcome at each tolerance."""
+    lines = [f"Cheapest run with error <= {target:g}, per scene:", "",
+             "| scene | method | tolerance | error | wall time (s) | evaluations |", "| --- | --- | --- | --- | --- | --- |"]
+    for scene in dataset["scene"].values:
+        part = dataset.sel({"scene": scene})
+        ok = (part["status"].values == 0) & (part["error"].values <= target)
+        if not ok.any():
+            lines.append(f"| {scene} | none | | | | |")
+            continue
+        wall = np.where(ok, part["wall_time"].values, np.inf)
+        j, k = np.unravel_index(np.argmin(wall), wall.shape)
+        lines.append(f"| {scene} | {part['method'].values[j]} | {part['tolerance'].values[k]:g} | "
+                     f"{part['error'].values[j, k]:.2g} | {part['wall_time'].values[j, k]:.3g} | {part['evaluations'].values[j, k]} |")
+    lines += ["", "Outcome per scene and method (error / wall time, or the failure), by tolerance:", ""]
+    tolerances = dataset["tolerance"].values
+    header = "| scene | method | " + " | ".join(f"rtol {t:g}" for t in tolerances) + " |"
+    lines += [header, "| --- | --- | " + " | ".join("---" for _ in tolerances) + " |"]
+    for scene in dataset["scene"].values:
+        for method in dataset["method"].values:
+            row = dataset.sel({"scene": scene, "method": method})
+            cells = []
+            for k in range(len(tolerances)):
+                code = int(row["status"].values[k])
+                if code == 0:
+                    cells.append(f"{row['error'].values[k]:.1e} / {row['wall_time'].values[k]:.2g} s")
+                else:
+                    cells.append(STATUS[code].replace("_", " "))
+            lines.append(f"| {scene} | {method} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)

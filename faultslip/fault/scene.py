@@ -1,0 +1,380 @@
+"""Scenes: TOML files that describe a fault or a laboratory slider.
+
+A scene states its units: every dimensional value is a string such as
+``"13 mi"``; a bare number where a dimension is needed is rejected, and so is
+any key the schema does not know (with the nearest allowed names).
+
+.. code-block:: toml
+
+    [scene]
+    kind = "fault"                 # or "lab"
+    name = "San Andreas fault, 1906"
+
+    [fault]
+    lithology = "granodiorite_water"
+    shear_modulus = "0.25e6 bar"
+    zone_width = "13 mi"
+    shear_stress = "250 bar"
+    slip_rate = "2 in/yr"
+
+    [sources]
+    zone_width = "seed 003 §5-2, its reference 40"
+"""
+
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from faultslip import ranges
+from faultslip.errors import InputError
+from faultslip.io.resources import bundled_dir, config_path, parse_toml
+from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
+from faultslip.dynamics.slider import SliderSystem
+from faultslip.fault.scaling import Fault
+from faultslip.friction.laws import ConstantKinetic, ConstantStatic, LinearKinetic, PolynomialKinetic, TimeOfStickLaw
+from faultslip.units import to_si, to_si_scalar, units
+
+#: Allowed keys of each table; value is the unit kind (None: a plain value).
+SCHEMA: dict[str, dict[str, str | None]] = {
+    "scene": {"kind": None, "name": None, "description": None},
+    "fault": {
+        "lithology": None,
+        "shear_modulus": "pressure",
+        "zone_width": "length",
+        "normal_stress": "pressure",
+        "shear_stress": "pressure",
+        "slip_rate": "speed",
+        "mu_so": "dimensionless",
+        "mu_m": "dimensionless",
+        "b": "dimensionless",
+        "d": "dimensionless",
+        "rupture_length": "length",
+        "seismogenic_depth": "length",
+        "damping_ratio": "dimensionless",
+        "radiation_damping": None,
+        "density": "density",
+        "shear_wave_speed": "speed",
+        "observed_slip": "length",
+    },
+    "lab": {
+        "preset": None,
+        "platform_speed": "speed",
+        "loading_rate": "rate",
+        "damping_ratio": "dimensionless",
+        "kinetic_slope": "slowness",
+        "normal_load": "force",
+        "stiffness": "stiffness",
+    },
+    "friction": {
+        "static": "choice",
+        "mu_s": "dimensionless",
+        "mu_lower": "dimensionless",
+        "mu_upper": "dimensionless",
+        "growth_rate": "rate",
+        "kinetic": "choice",
+        "kinetic_slope": "slowness",
+        "polynomial": "list",
+        "polynomial_speed_unit": "unit",
+    },
+    "simulation": {
+        "cycles": "integer",
+        "slip_solver": "choice",
+        "rtol": "dimensionless",
+        "samples_per_slip": "integer",
+        "horizon_periods": "integer",
+    },
+    "method": {"name": "choice", "tolerance": "dimensionless"},
+    "sources": {},  # free text: any key, string values
+}
+METHOD_NAMES = ("auto", "closed_form", "exact_cycle", "simulate", "event_driven_DOP853", "event_driven_RK45",
+                "event_driven_LSODA", "event_driven_Radau")
+CHOICES = {
+    ("method", "name"): METHOD_NAMES,
+    ("friction", "static"): ("rate", "constant", "time_of_stick"),
+    ("friction", "kinetic"): ("constant", "linear", "polynomial"),
+    ("simulation", "slip_solver"): ("auto", "analytic", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"),
+}
+SCENE_KINDS = ("fault", "lab")
+
+DEFAULT_SCENE = "san_andreas_1906.toml"
+
+
+@dataclass
+class Scene:
+    """A parsed, validated scene. ``text`` is the file as read (for provenance)."""
+
+    kind: str
+    name: str
+    description: str
+    tables: dict
+    sources: dict = field(default_factory=dict)
+    path: Path | None = None
+    text: str = ""
+    #: how the argument was resolved, e.g. "bundled scene san_andreas_1906.toml (no file of that name here)"
+    origin: str = ""
+
+    @property
+    def fault_inputs(self) -> dict:
+        inputs = {k: v for k, v in self.tables.get("fault", {}).items() if k != "observed_slip"}
+        inputs.setdefault("name", self.name)
+        return inputs
+
+    @property
+    def observed_slip(self):
+        return self.tables.get("fault", {}).get("observed_slip")
+
+    def fault(self):
+
+        missing = [key for key in ("zone_width", "slip_rate") if key not in self.tables.get("fault", {})]
+        if missing:
+            raise InputError(f"[fault] in {self.name} needs {' and '.join(missing)}")
+        return Fault(**self.fault_inputs)
+
+    @property
+    def method(self) -> str:
+        return self.tables.get("method", {}).get("name", "auto")
+
+    @property
+    def tolerance(self) -> float:
+
+        tolerance = float(self.tables.get("method", {}).get("tolerance", DEFAULT_TOLERANCE))
+        if not 0 < tolerance < 1:
+            raise InputError(f"[method] tolerance in {self.name} must lie between 0 and 1, got {tolerance}")
+        return tolerance
+
+    @property
+    def simulation(self) -> dict:
+        """Settings of the ``[simulation]`` table (keyword arguments of :func:`faultslip.dynamics.simulate.simulate`)."""
+        settings = dict(self.tables.get("simulation", {}))
+        if "rtol" in settings:
+            settings["rtol"] = float(settings["rtol"])
+        return settings
+
+    def slider(self):
+        """The scene's :class:`~faultslip.dynamics.slider.SliderSystem`, with any ``[friction]`` laws applied."""
+
+        if self.kind == "fault":
+            system = SliderSystem.from_fault(self.fault())
+        else:
+            lab = dict(self.tables["lab"])
+            preset = lab.pop("preset")
+            system = SliderSystem.from_preset(preset, **lab)
+        return apply_friction(system, self.tables.get("friction", {}), self.name)
+
+
+def _suggest(key: str, allowed) -> str:
+    close = difflib.get_close_matches(key, list(allowed), n=3, cutoff=0.6)
+    return f"did you mean {', '.join(close)}? " if close else ""
+
+
+def parse_scene(text: str, source: str = "<scene>", path: Path | None = None) -> Scene:
+    """Parse and validate scene TOML text. Raises :class:`InputError` naming the offending key."""
+    document = parse_toml(text, source)
+    for table, content in document.items():
+        if table not in SCHEMA:
+            raise InputError(
+                f"unknown table [{table}] in {source}; {_suggest(table, SCHEMA)}allowed tables: {', '.join(SCHEMA)}"
+            )
+        if not isinstance(content, dict):
+            raise InputError(f"{table} in {source} must be a table [{table}], got a value")
+        allowed = SCHEMA[table]
+        for key, value in content.items():
+            if table == "sources":
+                if not isinstance(value, str):
+                    raise InputError(f"[sources] {key} in {source} must be a string citation")
+                continue
+            if key not in allowed:
+                raise InputError(
+                    f"unknown key {key!r} in [{table}] of {source}; {_suggest(key, allowed)}"
+                    f"allowed: {', '.join(allowed)}"
+                )
+            _check_value(table, key, value, allowed[key], source)
+
+    scene_table = document.get("scene", {})
+    kind = scene_table.get("kind")
+    if kind not in SCENE_KINDS:
+        raise InputError(f"[scene] kind in {source} must be one of {', '.join(SCENE_KINDS)}, got {kind!r}")
+    if kind not in document:
+        raise InputError(f"{source} has kind = {kind!r} but no [{kind}] table")
+    other = "lab" if kind == "fault" else "fault"
+    if other in document:
+        raise InputError(f"{source} has kind = {kind!r} but also a [{other}] table; a scene is one or the other")
+    if kind == "lab" and "preset" not in document["lab"]:
+        raise InputError(f"[lab] in {source} needs a preset (see 'faultslip materials')")
+    return Scene(
+        kind=kind,
+        name=scene_table.get("name", Path(source).stem),
+        description=scene_table.get("description", ""),
+        tables={k: v for k, v in document.items() if k not in ("scene", "sources")},
+        sources=document.get("sources", {}),
+        path=path,
+        text=text,
+    )
+
+
+def _check_value(table, key, value, kind, source):
+
+    where = f"[{table}] {key} in {source}"
+    if kind == "choice":
+        allowed = CHOICES[(table, key)]
+        if value not in allowed:
+            raise InputError(f"{where} must be one of {', '.join(allowed)}; got {value!r}")
+        return
+    if kind == "integer":
+        if not isinstance(value, int) or isinstance(value, bool) or not 1 <= value <= 10**12:
+            raise InputError(f"{where} must be a whole number from 1 to 1e12, got {value!r}")
+        return
+    if kind == "list":
+        if not isinstance(value, list) or not value or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in value):
+            raise InputError(f"{where} must be a list of numbers (coefficients in increasing powers), got {value!r}")
+        return
+    if kind == "unit":
+        try:
+            ok = units.Quantity(1, value).dimensionality == units.get_dimensionality("[length]/[time]")
+        except Exception:
+            ok = False
+        if not ok:
+            raise InputError(f"{where} must be a speed unit such as \"m/s\" or \"in/s\", got {value!r}")
+        return
+    if kind is None:
+        if key == "radiation_damping":
+            if not isinstance(value, bool):
+                raise InputError(f"{where} must be true or false, got {value!r}")
+        elif not isinstance(value, str):
+            raise InputError(f"{where} must be a string, got {value!r}")
+        return
+    if kind != "dimensionless" and not isinstance(value, str):
+        raise InputError(f"{where} must state its units as a string, e.g. {key} = \"{value} <unit>\"; got {value!r}")
+    ranges.check(key, to_si_scalar(value, kind, where), where)  # raises with the key and file named
+
+
+def apply_friction(system, spec: dict, name: str = "scene"):
+    """Replace a slider's friction laws as a scene's ``[friction]`` table says (SI after parsing)."""
+
+    if not spec:
+        return system
+    changes = {}
+    static = spec.get("static", "rate")
+    if static == "constant":
+        _need(spec, ("mu_s",), "static = \"constant\"", name)
+        changes["static_law"] = ConstantStatic(to_si(spec["mu_s"], "dimensionless", "mu_s"))
+    elif static == "time_of_stick":
+        _need(spec, ("mu_lower", "mu_upper", "growth_rate"), "static = \"time_of_stick\"", name)
+        changes["static_law"] = TimeOfStickLaw(
+            to_si(spec["mu_lower"], "dimensionless", "mu_lower"), to_si(spec["mu_upper"], "dimensionless", "mu_upper"),
+            to_si(spec["growth_rate"], "rate", "growth_rate"))
+    mu_m = system.mu_m if static != "time_of_stick" else changes["static_law"].mu_lower
+    kinetic = spec.get("kinetic", "constant" if "kinetic_slope" not in spec else "linear")
+    if kinetic == "constant":
+        changes["kinetic_law"] = ConstantKinetic(mu_m)
+    elif kinetic == "linear":
+        _need(spec, ("kinetic_slope",), "kinetic = \"linear\"", name)
+        changes["kinetic_law"] = LinearKinetic(mu_m, to_si(spec["kinetic_slope"], "slowness", "kinetic_slope"))
+    elif kinetic == "polynomial":
+        _need(spec, ("polynomial",), "kinetic = \"polynomial\"", name)
+        unit = units.Quantity(1, spec.get("polynomial_speed_unit", "m/s")).to("m/s").magnitude
+        changes["kinetic_law"] = PolynomialKinetic([c / unit**k for k, c in enumerate(spec["polynomial"])])
+    return system.with_(**changes)
+
+
+def _need(spec, keys, what, name):
+    missing = [key for key in keys if key not in spec]
+    if missing:
+        raise InputError(f"[friction] with {what} in {name} needs {', '.join(missing)}")
+
+
+def resolve_path(argument, what: str, base_dir: Path | None = None) -> tuple[Path, str]:
+    """A file argument as ``(path, origin)``: paths are paths, and only a bare name may mean a bundled file.
+
+    A path with a folder in it (``configs/x.toml``, ``./x.toml``) must exist. A bare name
+    (``x.toml`` or ``x``) is looked up in ``base_dir`` (or the current folder) first and then
+    among the bundled configs; ``origin`` then says that the bundled file was used.
+    """
+    text = str(argument)
+    if not text.strip():
+        raise InputError(f"{what}: the file name is empty")
+    path = Path(text)
+    bare = path.name == text and not path.is_absolute()
+    local = (base_dir / path) if (base_dir is not None and not path.is_absolute()) else path
+    if local.exists():
+        if local.is_dir():
+            raise InputError(f"{what} {text!r} is a folder, not a file")
+        return local, ""
+    if bare:
+        bundled = config_path(path.name if path.suffix else f"{path.name}.toml")
+        if bundled.is_file():
+            return bundled, f"bundled {what} {bundled.name} (no file {text!r} here)"
+        raise InputError(f"{what} {text!r} does not exist here or among the bundled configs "
+                         f"({', '.join(bundled_scenes())})")
+    raise InputError(f"{what} {text!r} does not exist")
+
+
+def read_text_file(path: Path, what: str, limit: int = 16 * 2**20) -> str:
+    """A UTF-8 text file, refused cleanly if unreadable, too large or not UTF-8."""
+    try:
+        size = path.stat().st_size
+        if size > limit:
+            raise InputError(f"{what} {str(path)!r} is {size / 2**20:.0f} MiB; a config is at most {limit // 2**20} MiB")
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read {what} {str(path)!r}: {exc.strerror or exc}") from None
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{what} {str(path)!r} is not UTF-8 text (byte {exc.start}); save it as UTF-8") from None
+
+
+def load_scene(path_or_name=None) -> Scene:
+    """Load a scene from a path, or a bundled scene by bare file name (default: the 1906 scene).
+
+    A bundled scene is used only for a bare name with no such file here; ``Scene.origin`` says so.
+    """
+    if path_or_name is None:
+        path, origin = config_path(DEFAULT_SCENE), f"bundled scene {DEFAULT_SCENE} (the default)"
+    else:
+        path, origin = resolve_path(path_or_name, "scene")
+    text = read_text_file(path, "scene file")
+    scene = parse_scene(text, source=path.name, path=path)
+    scene.origin = origin
+    return scene
+
+
+def bundled_scenes() -> list[str]:
+    """Bundled scene files (configs/ also holds studies and maps, which are not scenes)."""
+    return sorted(p.name for p in bundled_dir("configs").glob("*.toml")
+                  if "[scene]" in p.read_text(encoding="utf-8").splitlines())
+
+
+def run_scene(scene: Scene, method: str | None = None, tolerance: float | None = None):
+    """Evaluate a scene and return its :class:`~faultslip.io.report.Report`.
+
+    A fault scene gives the slip and recurrence estimate, or, with ``observed_slip``, the
+    implied kinetic friction (seed 003 §5-2). A lab scene gives its stick-slip limit cycle. The
+    method is the scene's ``[method]`` (default ``auto``: the cheapest one that meets the
+    tolerance, 1e-6 relative unless the scene or caller says otherwise).
+    """
+    method = method or scene.method
+    tolerance = scene.tolerance if tolerance is None else tolerance
+    if method not in METHOD_NAMES:
+        raise InputError(f"method must be one of {', '.join(METHOD_NAMES)}, got {method!r}")
+    if scene.kind == "fault":
+        fault = scene.fault()
+        if scene.observed_slip is not None:
+            report = fault.infer_kinetic_friction(scene.observed_slip).report()
+        else:
+            report = fault.estimate(method=method, tolerance=tolerance).report()
+    else:
+
+        # the report shows one limit cycle: the event times of more than 1000 cycles add nothing
+        solution = solve(scene.slider(), method=method, tolerance=tolerance,
+                         cycles=min(int(scene.simulation.get("cycles", 200)), 1000))
+        report = solution.report(f"faultslip lab cycle: {scene.name}")
+    if scene.description:
+        report.notes.insert(0, scene.description)
+    if scene.origin:
+        report.notes.insert(0, f"scene: {scene.origin}")
+    for key, citation in scene.sources.items():
+        report.note(f"source of {key}: {citation}")
+    return report

@@ -1,0 +1,188 @@
+"""Locate the bundled ``data/`` and ``configs/`` directories.
+
+In a wheel they are installed as ``faultslip/_bundled/{data,configs}``; in a
+source checkout (editable install or running from the tree) they are the
+top-level directories of the repository.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python < 3.11
+    import tomli as tomllib
+
+from faultslip.errors import InputError
+
+_PACKAGE = Path(__file__).resolve().parent.parent  # faultslip/, this file being faultslip/io/resources.py
+
+
+def bundled_dir(kind: str) -> Path:
+    """Directory of bundled ``"data"`` or ``"configs"``."""
+    for candidate in (_PACKAGE / "_bundled" / kind, _PACKAGE.parent / kind):
+        if candidate.is_dir():
+            return candidate
+    raise FileNotFoundError(f"bundled {kind}/ directory not found next to {_PACKAGE}")
+
+
+def data_path(name: str) -> Path:
+    return bundled_dir("data") / name
+
+
+def config_path(name: str) -> Path:
+    return bundled_dir("configs") / name
+
+
+def split_header(column: str) -> tuple[str, str | None]:
+    """``"normal_load (lbf)"`` -> ``("normal_load", "lbf")``; no unit -> None."""
+    column = column.strip()
+    if column.endswith(")") and " (" in column:
+        name, unit = column[:-1].split(" (", 1)
+        return name.strip(), unit.strip()
+    return column, None
+
+
+def read_unit_csv(path, label: str):
+    """A user CSV with ``name (unit)`` headers: ``(header, rows)``, rows as ``(line number, cells)``.
+
+    Every problem becomes one :class:`InputError` sentence naming ``label`` (e.g. "segment table
+    x.csv") and the row: unreadable file, empty file, invalid CSV, wrong number of fields.
+    """
+
+    try:
+        handle = open(path, newline="", encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"cannot read {label}: {exc}") from None
+    with handle:
+        try:
+            reader = csv.reader(handle)
+            try:
+                header = [split_header(column) for column in next(reader)]
+            except StopIteration:
+                raise InputError(f"{label} is empty") from None
+            names = [name for name, _ in header]
+            if any(not name for name in names):
+                raise InputError(f"{label}: a column has no name in the header")
+            repeated = sorted({name for name in names if names.count(name) > 1})
+            if repeated:
+                raise InputError(f"{label}: the column {repeated[0]!r} appears twice in the header")
+            rows = []
+            for line, row in enumerate(reader, start=2):
+                if not any(cell.strip() for cell in row):
+                    continue
+                if len(row) != len(header):
+                    raise InputError(f"{label}, row {line}: {len(row)} fields, expected {len(header)}")
+                rows.append((line, [cell.strip() for cell in row]))
+        except (csv.Error, UnicodeDecodeError) as exc:
+            raise InputError(f"{label} is not valid CSV: {exc}") from None
+    return header, rows
+
+
+#: Largest input file read whole (CSV or netCDF): anything bigger is refused before reading.
+MAX_INPUT_BYTES = 2 * 2**30
+
+
+def check_input_file(path, label: str) -> Path:
+    """An input file that exists, is a file and is not too large to read whole."""
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"{label} {str(path)!r} does not exist")
+    if path.is_dir():
+        raise InputError(f"{label} {str(path)!r} is a folder, not a file")
+    size = path.stat().st_size
+    if size > MAX_INPUT_BYTES:
+        raise InputError(f"{label} {str(path)!r} is {size / 2**30:.1f} GiB; inputs are read whole, at most "
+                         f"{MAX_INPUT_BYTES / 2**30:.0f} GiB")
+    return path
+
+
+#: Run in a child process by :func:`probe_netcdf`: everything xarray reads when it opens a file.
+_PROBE = """
+import sys, netCDF4
+with netCDF4.Dataset(sys.argv[1]) as nc:
+    def walk(group):
+        [group.getncattr(k) for k in group.ncattrs()]
+        for variable in group.variables.values():
+            [variable.getncattr(k) for k in variable.ncattrs()]
+            if variable.size <= int(sys.argv[2]):
+                variable[...]
+        for child in group.groups.values():
+            walk(child)
+    walk(nc)
+"""
+
+
+def probe_netcdf(path, label: str, data_limit: int = 2**26) -> None:
+    """Read a netCDF file's structure (and data up to ``data_limit`` values per variable) in a child process.
+
+    A damaged file can make the netCDF-C/HDF5 libraries crash the process that reads it (a
+    segmentation fault while closing a file with a corrupt attribute): found by the fuzzer. The
+    child takes that crash, and the damaged file becomes one sentence here.
+    """
+    import subprocess
+    import sys
+
+    try:
+        result = subprocess.run([sys.executable, "-c", _PROBE, str(path), str(data_limit)], capture_output=True,
+                                text=True, timeout=600)
+    except subprocess.TimeoutExpired:
+        raise InputError(f"{label} {Path(path).name} could not be read in 10 minutes; it may be damaged") from None
+    if result.returncode != 0:
+        lines = [line for line in result.stderr.strip().splitlines() if line.strip()]
+        reason = (lines[-1][:160] if lines and result.returncode > 0 else
+                  f"the netCDF library crashed reading it (signal {-result.returncode})")
+        raise InputError(f"cannot read {label} {Path(path).name} as netCDF ({reason})")
+
+
+def open_netcdf(path, label: str):
+    """A netCDF file loaded into memory as an xarray Dataset; any failure to read it is one sentence."""
+    import xarray as xr
+
+    path = check_input_file(path, label)
+    probe_netcdf(path, label)
+    try:
+        with xr.open_dataset(path) as opened:
+            return opened.load()
+    except Exception as exc:  # netCDF4, h5py and xarray raise many types on a damaged file: all mean unreadable
+        reason = " ".join(str(exc).split())[:160] or type(exc).__name__
+        raise InputError(f"cannot read {label} {path.name} as netCDF ({reason})") from None
+
+
+def read_numeric_csv(path, label: str) -> dict:
+    """:func:`read_unit_csv` with every cell a number: ``{name: (values, unit)}``."""
+    import numpy as np
+
+
+    header, rows = read_unit_csv(path, label)
+    columns = {name: [] for name, _ in header}
+    for line, cells in rows:
+        for (name, _), cell in zip(header, cells):
+            try:
+                columns[name].append(float(cell))
+            except ValueError:
+                raise InputError(f"{label}, row {line}: {name} {cell!r} is not a number") from None
+    return {name: (np.array(columns[name]), unit) for name, unit in header}
+
+
+def read_table(path: Path) -> list[dict[str, tuple[str, str | None]]]:
+    """Rows of a bundled CSV as ``{name: (text, unit)}``, text kept as printed."""
+    with open(path, newline="", encoding="utf-8") as handle:
+        reader = csv.reader(handle)
+        header = [split_header(column) for column in next(reader)]
+        rows = []
+        for row in reader:
+            if not row:
+                continue
+            rows.append({name: (text.strip(), unit) for (name, unit), text in zip(header, row)})
+    return rows
+
+
+def parse_toml(text: str, source: str) -> dict:
+    """Parse TOML text; a syntax error becomes one :class:`InputError` naming ``source``."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{source} is not valid TOML: {exc}") from None

@@ -1,0 +1,2 @@
+"""Laboratory records: motion records, stick-slip event analysis and free-decay identification.
+"""

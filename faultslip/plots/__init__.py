@@ -1,0 +1,2 @@
+"""Figures in the seeds' conventions (matplotlib, imported where used).
+"""

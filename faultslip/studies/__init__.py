@@ -1,0 +1,2 @@
+"""Gridded studies (grid specification and evaluation), out-of-core streaming, and regional maps.
+"""

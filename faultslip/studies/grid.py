@@ -1,0 +1,677 @@
+"""Gridded parameter studies as labelled xarray datasets.
+
+A study names a base scene and sweeps any of its parameters, each as a dimension::
+
+    [study]
+    name = "Slip and recurrence against slip rate and lithology"
+    base = "san_andreas_1906.toml"
+    method = "auto"          # or closed_form, exact_cycle
+    tolerance = 1e-6
+
+    [sweep]
+    slip_rate = { logspace = ["1 mm/yr", "100 mm/yr", 41] }
+    zone_width = ["5 km", "13 mi", "30 km"]
+    lithology = ["granodiorite", "black_marble", "pyrite"]
+
+Every value states its units. A swept ``lithology`` (fault) or ``preset`` (lab) is a categorical
+dimension: each category supplies its shear modulus and friction law, unless those are swept too.
+
+Evaluation is array arithmetic on labelled DataArrays: each intermediate carries only the
+dimensions it depends on (the critical rate, for instance, is solved on the damping and
+material dimensions only), and only the outputs span the whole grid. Kernels that are not
+ufuncs go through :func:`xarray.apply_ufunc` with ``dask="parallelized"``, so a dask-chunked
+study stays lazy. With ``method="auto"`` each cell uses the closed form where its error model
+meets the tolerance and the exact cycle elsewhere; the regime comes from the exact criterion
+eps < eps_c(zeta) in every cell. Friction laws without a closed form (polynomial kinetic,
+time-of-stick static) are simulated cell by cell, in parallel chunks.
+"""
+
+from __future__ import annotations
+
+import difflib
+import hashlib
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from faultslip import ranges
+from faultslip.dynamics.kernel import KERNEL_OUTPUTS, METHOD_CODES, REGIME_CODES, cell_kernel
+from faultslip.errors import InputError, did_you_mean
+from faultslip.io.resources import parse_toml
+from faultslip.units import STANDARD_GRAVITY, to_si, to_si_scalar
+from faultslip import __version__
+from faultslip.dynamics.critical import critical_dimensionless_rate, solve_rate_law_critical
+from faultslip.dynamics.methods import solve
+from faultslip.fault.scene import apply_friction, load_scene, parse_scene, read_text_file, resolve_path, Scene
+from faultslip.friction.materials import get_preset, resolve_material
+from faultslip.io import budget
+from faultslip.io.budget import MAX_DIMENSION_VALUES
+from faultslip.units import Quantity
+
+#: Sweepable parameters: name -> (unit kind, SI unit, long name). "category" is a string dimension.
+FAULT_PARAMETERS = {
+    "lithology": ("category", None, "lithology or friction preset"),
+    "shear_modulus": ("pressure", "Pa", "shear modulus G"),
+    "zone_width": ("length", "m", "elastic-zone half-width D"),
+    "normal_stress": ("pressure", "Pa", "effective normal stress"),
+    "shear_stress": ("pressure", "Pa", "shear stress tau (sigma_n = tau / mu_so)"),
+    "slip_rate": ("speed", "m/s", "tectonic slip rate V"),
+    "mu_so": ("dimensionless", "1", "static friction at vanishing loading rate"),
+    "mu_m": ("dimensionless", "1", "kinetic friction"),
+    "b": ("dimensionless", "1", "rate coefficient b of eq. 2-18 (in s^d)"),
+    "d": ("dimensionless", "1", "rate exponent d of eq. 2-18"),
+    "rupture_length": ("length", "m", "rupture length L"),
+    "seismogenic_depth": ("length", "m", "seismogenic depth H"),
+    "damping_ratio": ("dimensionless", "1", "damping ratio of the dashpot"),
+    "density": ("density", "kg/m^3", "rock density rho (M = rho D)"),
+    "shear_wave_speed": ("speed", "m/s", "shear-wave speed c_s (radiation damper G/(2 c_s))"),
+}
+LAB_PARAMETERS = {
+    "preset": ("category", None, "Table I preset"),
+    "platform_speed": ("speed", "m/s", "platform speed V"),
+    "loading_rate": ("rate", "1/s", "loading rate theta_dot = K V / W"),
+    "damping_ratio": ("dimensionless", "1", "damping ratio of the dashpot"),
+    "kinetic_slope": ("slowness", "s/m", "slope beta of the linear kinetic law"),
+    "normal_load": ("force", "N", "normal load W"),
+    "stiffness": ("stiffness", "N/m", "stiffness K"),
+}
+STUDY_KEYS = {"name", "base", "method", "tolerance", "description"}
+
+
+@dataclass
+class Study:
+    """A parsed study: base scene, swept dimensions (SI values or category names), method."""
+
+    name: str
+    scene: object  # faultslip.fault.scene.Scene
+    dims: dict  # name -> list of SI floats or category strings
+    method: str = "auto"
+    tolerance: float = 1e-6
+    text: str = ""  # the study file as read
+    description: str = ""
+    units_text: dict = field(default_factory=dict)
+    base_name: str = ""  # the base scene as the study names it (stable across reproduction)
+
+    @property
+    def kind(self) -> str:
+        return self.scene.kind
+
+    @property
+    def shape(self) -> tuple:
+        return tuple(len(values) for values in self.dims.values())
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape)) if self.dims else 1
+
+    def fingerprint(self) -> str:
+        """Hash of everything that determines the result (for resuming)."""
+        digest = hashlib.sha256()
+        digest.update(self.text.encode())
+        digest.update(self.scene.text.encode())
+        digest.update(repr((self.method, self.tolerance, list(self.dims.items()))).encode())
+        return digest.hexdigest()[:16]
+
+
+def parameters_for(kind: str) -> dict:
+    return FAULT_PARAMETERS if kind == "fault" else LAB_PARAMETERS
+
+
+def _values(name, spec, kind, where):
+    """SI values of one sweep dimension from a list, a linspace or a logspace."""
+    if isinstance(spec, dict):
+        if len(spec) != 1 or next(iter(spec)) not in ("linspace", "logspace"):
+            raise InputError(f"{where} must be a list, or a table with one key linspace or logspace; got {spec!r}")
+        rule, args = next(iter(spec.items()))
+        if not isinstance(args, list) or len(args) != 3 or not isinstance(args[2], int) or isinstance(args[2], bool):
+            raise InputError(f"{where} {rule} needs [start, stop, count], e.g. [\"1 mm/yr\", \"100 mm/yr\", 21]")
+        start, stop = (to_si_scalar(v, kind, f"{where} {rule}") for v in args[:2])
+        count = args[2]
+        if count < 1:
+            raise InputError(f"{where} is empty: {rule} count must be at least 1, got {count}")
+
+        if count > MAX_DIMENSION_VALUES:  # checked before numpy allocates the coordinate
+            raise InputError(f"{where} asks for {count:.3g} values; one dimension holds at most "
+                             f"{MAX_DIMENSION_VALUES:.0e} (its coordinate alone would take {8 * count / 1e9:.3g} GB)")
+        if rule == "logspace":
+            if start <= 0 or stop <= 0:
+                raise InputError(f"{where} logspace needs positive start and stop, got {args[0]!r} and {args[1]!r}")
+            return list(ranges.check(name, np.geomspace(start, stop, count), where))
+        return list(ranges.check(name, np.linspace(start, stop, count), where))
+    if not isinstance(spec, list):
+        spec = [spec]
+    if not spec:
+        raise InputError(f"{where} is empty: give at least one value")
+    return [ranges.check(name, to_si_scalar(v, kind, where), where) for v in spec]
+
+
+def _categories(name, spec, kind, where):
+
+    if not isinstance(spec, list):
+        spec = [spec]
+    if not spec:
+        raise InputError(f"{where} is empty: give at least one {name}")
+    out = []
+    for value in spec:
+        if not isinstance(value, str):
+            raise InputError(f"{where} must list names as strings, got {value!r}")
+        out.append(resolve_material(value).name if kind == "fault" else get_preset(value).name)
+    if len(set(out)) != len(out):
+        raise InputError(f"{where} lists a {name} twice")
+    return out
+
+
+def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None, base_text: str | None = None) -> Study:
+    """Parse and validate a study. ``base_text`` overrides reading the base scene (reproduction)."""
+
+    document = parse_toml(text, source)
+    for table in document:
+        if table not in ("study", "sweep"):
+            close = difflib.get_close_matches(table, ["study", "sweep"], n=1)
+            hint = f"; did you mean [{close[0]}]?" if close else ""
+            raise InputError(f"unknown table [{table}] in {source}{hint} (allowed: [study], [sweep])")
+    head = document.get("study", {})
+    for key in head:
+        if key not in STUDY_KEYS:
+            hint = did_you_mean(key, STUDY_KEYS)
+            raise InputError(f"unknown key {key!r} in [study] of {source}{hint} (allowed: {', '.join(sorted(STUDY_KEYS))})")
+    if not isinstance(head, dict):
+        raise InputError(f"study in {source} must be a table [study], got a value")
+    for key in ("name", "description"):
+        if key in head and not isinstance(head[key], str):
+            raise InputError(f"[study] {key} in {source} must be a string, got {head[key]!r}")
+    if not isinstance(document.get("sweep", {}), dict):
+        raise InputError(f"sweep in {source} must be a table [sweep], got a value")
+    if "base" not in head:
+        raise InputError(f"[study] in {source} needs base = \"SCENE.toml\" (a scene file or a bundled scene name)")
+    if not isinstance(head["base"], str):
+        raise InputError(f"[study] base in {source} must be a file name string, got {head['base']!r}")
+    if base_text is not None:
+        scene = parse_scene(base_text, source=str(head["base"]))
+    else:  # relative to the study file; a bare name may also mean a bundled scene
+
+        base, origin = resolve_path(head["base"], "scene", base_dir=base_dir)
+        scene = parse_scene(read_text_file(base, "scene file"), source=base.name, path=base)
+        scene.origin = origin
+    method = head.get("method", "auto")
+    if method not in ("auto", "closed_form", "exact_cycle"):
+        raise InputError(f"[study] method in {source} must be auto, closed_form or exact_cycle, got {method!r}")
+    tolerance = head.get("tolerance", 1e-6)
+    if not isinstance(tolerance, (int, float)) or isinstance(tolerance, bool) or not 0 < tolerance < 1:
+        raise InputError(f"[study] tolerance in {source} must be a number between 0 and 1, got {tolerance!r}")
+    allowed = parameters_for(scene.kind)
+    dims = {}
+    units_text = {}
+    for name, spec in document.get("sweep", {}).items():
+        where = f"[sweep] {name} in {source}"
+        if name not in allowed:
+            hint = did_you_mean(name, allowed, n=3)
+            raise InputError(f"unknown parameter {name!r} in [sweep] of {source}{hint} "
+                             f"(a {scene.kind} study sweeps: {', '.join(allowed)})")
+        kind = allowed[name][0]
+        dims[name] = _categories(name, spec, scene.kind, where) if kind == "category" else _values(name, spec, kind, where)
+        units_text[name] = spec
+    _check_consistent(scene, dims, source)
+    return Study(name=head.get("name", Path(source).stem), scene=scene, dims=dims, method=method,
+                 tolerance=float(tolerance), text=text, description=head.get("description", ""), units_text=units_text,
+                 base_name=Path(head["base"]).name)
+
+
+def _check_consistent(scene, dims, source):
+    if scene.kind == "fault":
+        fault = scene.tables.get("fault", {})
+        stress_in_base = "normal_stress" in fault or "shear_stress" in fault
+        if "normal_stress" in dims and "shear_stress" in dims:
+            raise InputError(f"{source} sweeps both normal_stress and shear_stress; sweep one (sigma_n = tau / mu_so)")
+        if not stress_in_base and not {"normal_stress", "shear_stress"} & set(dims):
+            raise InputError(f"{source}: the base scene gives no stress; sweep normal_stress or shear_stress")
+        if scene.observed_slip is not None:
+            raise InputError(f"{source}: the base scene is an inverse (observed_slip); a study needs a forward scene")
+    else:
+        if "platform_speed" in dims and "loading_rate" in dims:
+            raise InputError(f"{source} sweeps both platform_speed and loading_rate; sweep one (theta_dot = K V / W)")
+
+
+def load_study(path) -> Study:
+
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"study file {str(path)!r} does not exist")
+    if path.is_dir():
+        raise InputError(f"study file {str(path)!r} is a folder")
+    return parse_study(read_text_file(path, "study file"), source=path.name, base_dir=path.parent)
+
+
+# --- inputs as labelled arrays ---------------------------------------------
+
+
+def _coordinate(study, name, values, index=None):
+    import xarray as xr
+
+    kind, unit, long_name = parameters_for(study.kind)[name]
+    values = values if index is None else values[index]
+    if kind == "category":
+        data = np.array(values, dtype=object)
+        attrs = {"long_name": long_name}
+    else:
+        data = np.asarray(values, dtype=float)
+        attrs = {"units": unit, "long_name": long_name}
+    return xr.DataArray(data, dims=(name,), coords={name: (name, data, attrs)}, name=name)
+
+
+def study_inputs(study, block=None, chunks=None) -> dict:
+    """Every model input as a DataArray over only the dimensions it depends on (SI).
+
+    ``block`` (name -> slice) restricts each swept dimension; ``chunks`` (name -> size)
+    makes the swept coordinates dask-chunked, so everything downstream is lazy.
+    """
+    coords = {}
+    for name, values in study.dims.items():
+        index = None if block is None else block.get(name, slice(None))
+        coords[name] = _coordinate(study, name, values, index)
+        if chunks and name in chunks and parameters_for(study.kind)[name][0] != "category":
+            coords[name] = coords[name].chunk({name: chunks[name]})
+    return _fault_inputs(study, coords) if study.kind == "fault" else _lab_inputs(study, coords)
+
+
+def _category_table(coordinate, getter):
+    """A DataArray over a categorical dimension from a per-category lookup (None -> NaN)."""
+    import xarray as xr
+
+    values = [getter(name) for name in coordinate.values]
+    return xr.DataArray(np.array([np.nan if v is None else v for v in values], dtype=float), dims=coordinate.dims,
+                        coords=coordinate.coords)
+
+
+def _fault_inputs(study, coords):
+
+    fault = study.scene.fault()  # the base, validated (lithology defaults applied)
+    given = study.scene.tables.get("fault", {})
+    inputs = {}
+    for name in ("shear_modulus", "zone_width", "slip_rate", "mu_so", "mu_m", "b", "d", "rupture_length",
+                 "seismogenic_depth", "damping_ratio", "density", "shear_wave_speed"):
+        inputs[name] = coords[name] if name in coords else getattr(fault, name)
+    if "shear_wave_speed" not in coords and "shear_wave_speed" not in given:
+        inputs["shear_wave_speed"] = None  # sqrt(G / rho) of each cell, as Fault derives it
+    if "lithology" in coords:  # each category supplies G and the friction law unless swept
+        lith = coords["lithology"]
+        choices = {name: resolve_material(name) for name in lith.values}
+        if "shear_modulus" not in coords:
+            inputs["shear_modulus"] = _category_table(lith, lambda n: choices[n].shear_modulus)
+            if np.isnan(inputs["shear_modulus"].values).any():
+                missing = [n for n in lith.values if choices[n].shear_modulus is None]
+                raise InputError(f"lithology {missing[0]!r} has no shear modulus; sweep shear_modulus as well")
+        for key in ("mu_so", "mu_m", "b", "d"):
+            if key not in coords:
+                table = {n: (getattr(choices[n].rate_law, key) if choices[n].rate_law is not None else None)
+                         for n in lith.values}
+                if any(v is None for v in table.values()):
+                    missing = [n for n, v in table.items() if v is None]
+                    raise InputError(f"lithology {missing[0]!r} has no friction preset; give {key} in the base "
+                                     "scene or sweep it")
+                inputs[key] = _category_table(lith, table.get)
+    inputs["normal_stress"] = normal_stress_input(inputs, coords, given, fault)
+    inputs["radiation_damping"] = bool(fault.radiation_damping)
+    return inputs
+
+
+def normal_stress_input(inputs, varying, given, fault):
+    """Effective normal stress: varying normal or shear stress (sigma_n = tau / mu_so), else the base scene's.
+
+    ``varying`` maps swept (or per-segment, per-cell) names to their values; a shear stress is
+    divided by ``inputs["mu_so"]``, which itself may vary by lithology.
+    """
+    if "normal_stress" in varying:
+        return varying["normal_stress"]
+    if "shear_stress" in varying:
+        return varying["shear_stress"] / inputs["mu_so"]
+    if "shear_stress" in given:
+        return to_si(given["shear_stress"], "pressure", "shear stress") / inputs["mu_so"]
+    return fault.effective_normal_stress
+
+
+def _lab_inputs(study, coords):
+
+    scene_lab = dict(study.scene.tables["lab"])
+    base = get_preset(scene_lab["preset"])
+    inputs = {}
+    if "preset" in coords:
+        chosen = {n: get_preset(n) for n in coords["preset"].values}
+        for key in ("mu_so", "mu_m", "b", "d"):
+            inputs[key] = _category_table(coords["preset"], lambda n, k=key: getattr(chosen[n].require_stick_slip(), k))
+        inputs["normal_load"] = coords.get("normal_load", _category_table(coords["preset"], lambda n: chosen[n].normal_load))
+        inputs["stiffness"] = coords.get("stiffness", _category_table(coords["preset"], lambda n: chosen[n].stiffness))
+    else:
+        law = base.require_stick_slip()
+        for key in ("mu_so", "mu_m", "b", "d"):
+            inputs[key] = getattr(law, key)
+        inputs["normal_load"] = coords.get("normal_load", to_si(scene_lab["normal_load"], "force", "normal load")
+                                           if "normal_load" in scene_lab else base.normal_load)
+        inputs["stiffness"] = coords.get("stiffness", to_si(scene_lab["stiffness"], "stiffness", "stiffness")
+                                         if "stiffness" in scene_lab else base.stiffness)
+    inputs["damping_ratio"] = coords.get("damping_ratio", to_si(scene_lab.get("damping_ratio", 0.0), "dimensionless", "damping ratio"))
+    inputs["kinetic_slope"] = coords.get("kinetic_slope", to_si(scene_lab["kinetic_slope"], "slowness", "kinetic slope")
+                                         if "kinetic_slope" in scene_lab else 0.0)
+    if "loading_rate" in coords:
+        inputs["loading_rate"] = coords["loading_rate"]
+    elif "platform_speed" in coords:
+        inputs["loading_rate"] = inputs["stiffness"] * coords["platform_speed"] / inputs["normal_load"]
+    elif "loading_rate" in scene_lab:
+        inputs["loading_rate"] = to_si(scene_lab["loading_rate"], "rate", "loading rate")
+    else:
+        inputs["loading_rate"] = inputs["stiffness"] * to_si(scene_lab["platform_speed"], "speed", "platform speed") \
+            / inputs["normal_load"]
+    return inputs
+
+
+# --- evaluation ---------------------------------------------------------------
+
+
+def _ufunc(function, *args, dtype=float):
+    """apply_ufunc for an elementwise numpy kernel: labels kept, dask chunks processed in parallel."""
+    import xarray as xr
+
+    if not any(isinstance(a, xr.DataArray) for a in args):
+        return function(*args)
+    return xr.apply_ufunc(function, *args, dask="parallelized", output_dtypes=[dtype])
+
+
+def _eps_c(zeta):
+
+    return np.asarray(critical_dimensionless_rate(np.asarray(zeta, dtype=float)), dtype=float)
+
+
+def _critical_rate(z_value, mu_so, mu_m, b, d):
+
+    return np.asarray(solve_rate_law_critical(z_value, mu_so, mu_m, b, d), dtype=float)
+
+
+def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1e-6, outside: str = "refuse"):
+    """All study outputs from the inputs of :func:`study_inputs` (labelled; lazy if chunked).
+
+    Cells with mu_m >= mu_so (no stick-slip to predict; ``faultslip fault`` refuses them) are
+    refused with an :class:`InputError` (``outside="refuse"``, studies), or, with
+    ``outside="flag"`` (maps, where one creeping segment must not stop the map), carry NaN
+    outputs, regime and method -1, and the flag ``outside_domain`` = 1.
+
+    Parameter-level quantities (stiffness, damping ratio, eps_c, the critical rate) are computed
+    on the small dimensions they depend on; the grid-sized work is one call of :func:`cell_kernel`
+    through :func:`xarray.apply_ufunc` (``dask="parallelized"``).
+    """
+    import xarray as xr
+
+    mu_so, mu_m, b, d = (inputs[k] for k in ("mu_so", "mu_m", "b", "d"))
+    if kind == "fault":
+        stiffness = inputs["shear_modulus"] / inputs["zone_width"]
+        load = inputs["normal_stress"]
+        drive = inputs["slip_rate"]
+        mass = inputs["density"] * inputs["zone_width"]
+        wave_speed = inputs["shear_wave_speed"]
+        if wave_speed is None:  # the medium's own c_s = sqrt(G / rho) (faultslip.fault.scaling.shear_wave_speed)
+            wave_speed = np.sqrt(inputs["shear_modulus"] / inputs["density"])
+        radiation = (inputs["shear_modulus"] / (2 * wave_speed)) if inputs["radiation_damping"] else 0.0
+        zeta = inputs["damping_ratio"] + radiation / (2 * np.sqrt(stiffness * mass))
+        has_moment = not _is_nan(inputs["rupture_length"]) and not _is_nan(inputs["seismogenic_depth"])
+        moment_factor = (inputs["shear_modulus"] * inputs["rupture_length"] * inputs["seismogenic_depth"]
+                         if has_moment else np.nan)
+    else:
+        stiffness, load, drive = inputs["stiffness"], inputs["normal_load"], inputs["loading_rate"]
+        mass = load / STANDARD_GRAVITY
+        zeta = inputs["damping_ratio"] + inputs["kinetic_slope"] * load / (2 * np.sqrt(stiffness * mass))
+        has_moment, moment_factor = False, np.nan
+    # on the parameter dimensions only (small): refuse or flag the cells that fault would refuse
+    no_excess = None
+    if outside == "refuse":
+        ranges.check_friction_drop(*(_small_values(v) for v in xr.broadcast(xr.DataArray(mu_so), xr.DataArray(mu_m))),
+                                   "in some cells of the study")
+    else:
+        no_excess = ~(xr.DataArray(mu_so) > xr.DataArray(mu_m))
+        if bool(no_excess.any()):
+            mu_m = xr.where(no_excess, 0.5 * xr.DataArray(mu_so), mu_m)  # a stand-in, masked below
+        else:
+            no_excess = None
+    zeta_values = _small_values(zeta)
+    if np.any(np.abs(zeta_values) >= 1):
+        raise InputError("the damping ratio of some cells reaches |zeta| >= 1 (no oscillating slip phase); "
+                         "narrow the sweep of damping_ratio")
+    omega_n = np.sqrt(stiffness / mass)
+    eps_c = _ufunc(_eps_c, zeta)
+    critical_rate = _ufunc(_critical_rate, omega_n * eps_c, mu_so, mu_m, b, d)
+    args = [stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_so, mu_m, b, d, moment_factor]
+    options = dict(drive_is_rate=kind == "lab", method=method, tolerance=tolerance)
+    dtypes = [np.int8 if name in ("regime", "method") else float for name in KERNEL_OUTPUTS]
+    if any(isinstance(a, xr.DataArray) for a in args):
+        results = xr.apply_ufunc(cell_kernel, *args, kwargs=options, output_core_dims=[[]] * len(KERNEL_OUTPUTS),
+                                 dask="parallelized", output_dtypes=dtypes)
+    else:
+        results = cell_kernel(*args, **options)
+    outputs = dict(zip(KERNEL_OUTPUTS, results))
+    if not has_moment:
+        del outputs["seismic_moment"], outputs["moment_magnitude"]
+    if no_excess is not None:
+        for name, value in outputs.items():
+            fill = -1 if name in ("regime", "method") else np.nan
+            outputs[name] = xr.where(no_excess, fill, value).astype(value.dtype)
+        outputs["outside_domain"] = xr.broadcast(no_excess.astype(np.int8), outputs["regime"])[0]
+    return outputs
+
+
+def _small_values(value):
+    """The numpy values of a parameter-level quantity (computing it if dask-backed)."""
+    import xarray as xr
+
+    if isinstance(value, xr.DataArray):
+        return np.asarray(value.compute().values if _is_lazy(value) else value.values, dtype=float)
+    return np.asarray(value, dtype=float)
+
+
+def _is_lazy(value):
+    import xarray as xr
+
+    return isinstance(value, xr.DataArray) and value.chunks is not None
+
+
+def _is_nan(value):
+    return value is None or (np.ndim(value) == 0 and isinstance(value, float) and math.isnan(value))
+
+
+OUTPUT_ATTRS = {
+    "slip_per_event": ("m", "slip per event: relative sliding in the event, integral of u dt = V T (0 without "
+                       "stick-slip)"),
+    "recurrence_period": ("s", "recurrence period (cycle period; NaN without stick-slip)"),
+    "loading_rate": ("1/s", "loading rate theta_dot = K V / W"),
+    "static_friction": ("1", "static friction mu_s at the loading rate (seed 003 eq. 2-18)"),
+    "stress_drop": ("Pa", "stress drop (force drop in N for a lab study)"),
+    "critical_loading_rate": ("1/s", "exact critical loading rate theta_c (inf without damping)"),
+    "estimated_relative_error": ("1", "estimated relative error of the method used"),
+    "dimensionless_rate": ("1", "eps = theta_dot / (omega_n (mu_s - mu_m))"),
+    "seismic_moment": ("N m", "seismic moment M0 = G L H alpha"),
+    "moment_magnitude": ("1", "moment magnitude Mw = (2/3)(log10 M0 - 9.1), M0 in N m"),
+}
+
+
+def _flags(codes: dict) -> dict:
+    return {"flag_values": np.array(list(codes.values()), dtype=np.int8), "flag_meanings": " ".join(codes), "units": "1"}
+
+
+def as_dataset(outputs: dict, study, block=None):
+    """Outputs broadcast over every swept dimension of the study (or ``block``), with CF attributes.
+
+    A swept parameter that no output depends on (the shear-wave speed without radiation damping)
+    still labels every output, so the file has the grid the study asked for.
+    """
+    import xarray as xr
+
+    arrays = {}
+    for name, value in outputs.items():
+        if not isinstance(value, xr.DataArray):
+            value = xr.DataArray(value)
+        arrays[name] = value
+    dataset = xr.Dataset(arrays)
+    for name, values in study.dims.items():
+        if name not in dataset.dims:
+            index = None if block is None else block.get(name, slice(None))
+            dataset = dataset.expand_dims({name: _coordinate(study, name, values, index)})
+    order = [d for d in study.dims if d in dataset.dims]
+    dataset = dataset.transpose(*order) if order else dataset
+    for name in dataset.data_vars:
+        if name == "regime":
+            dataset[name].attrs = {"long_name": "regime (stick-slip, steady sliding, growing oscillation; "
+                                                "-1: no prediction, see outside_domain)", **_flags(REGIME_CODES)}
+        elif name == "method":
+            dataset[name].attrs = {"long_name": "method used in this cell (-1: none)", **_flags(METHOD_CODES)}
+        elif name == "outside_domain":
+            dataset[name].attrs = {"long_name": "cell outside the model's domain (no prediction)",
+                                   **_flags({"predicted": 0, "no_static_excess_mu_m_not_below_mu_so": 1}),
+                                   "comment": "faultslip fault refuses such inputs: with mu_m >= mu_so there is no "
+                                              "stick-slip to predict (seed 003 eq. 2-18)"}
+        else:
+            unit, long_name = OUTPUT_ATTRS[name]
+            if name == "stress_drop" and study.kind == "lab":
+                unit, long_name = "N", "force drop K (x_break - x_restick)"
+            dataset[name].attrs = {"units": unit, "long_name": long_name}
+    return dataset
+
+
+def compute_block(study, block=None):
+    """The study outputs on one block (name -> slice of each swept dimension), computed in memory."""
+    if _needs_simulation(study):
+        return _simulated_block(study, block)
+    outputs = evaluate(study_inputs(study, block), study.kind, study.method, study.tolerance)
+    return as_dataset(outputs, study, block).compute()
+
+
+def _needs_simulation(study) -> bool:
+    return bool(study.scene.tables.get("friction"))
+
+
+def _simulated_block(study, block):
+    """Cells whose friction has no closed form: one event-driven simulation per cell (vectorize)."""
+    import xarray as xr
+
+
+    coords = {name: _coordinate(study, name, values, None if block is None else block.get(name, slice(None)))
+              for name, values in study.dims.items()}
+    names = list(coords)
+
+    def cell(*values):
+        system = _cell_system(study, dict(zip(names, values)))
+        solution = solve(system, tolerance=study.tolerance, cycles=400)
+        c = solution.cycle
+        return (c.slip_per_event if c.regime != "steady_sliding" else 0.0, c.period, system.loading_rate,
+                c.static_friction, c.stress_drop if c.regime != "steady_sliding" else 0.0,
+                REGIME_CODES.get(c.regime, 3), solution.estimated_relative_error)
+
+    grids = xr.broadcast(*coords.values()) if coords else []
+    results = np.vectorize(cell, otypes=[float] * 7)(*[g.values for g in grids]) if coords else cell()
+    shape = grids[0].shape if coords else ()
+    dims = grids[0].dims if coords else ()
+    keys = ["slip_per_event", "recurrence_period", "loading_rate", "static_friction", "stress_drop", "regime",
+            "estimated_relative_error"]
+    outputs = {k: xr.DataArray(np.asarray(v).reshape(shape), dims=dims, coords={n: coords[n] for n in dims})
+               for k, v in zip(keys, results)}
+    outputs["regime"] = outputs["regime"].astype(np.int8)
+    outputs["method"] = xr.full_like(outputs["regime"], METHOD_CODES["event_driven"])
+    return as_dataset(outputs, study)
+
+
+def _cell_system(study, values):
+    """The SliderSystem of one grid cell (for friction laws that need simulation)."""
+
+    scene = parse_scene(study.scene.text, source=study.scene.name)
+    table = scene.tables[scene.kind]
+    kinds = parameters_for(study.kind)
+    for name, value in values.items():
+        if kinds[name][0] == "category":
+            table["lithology" if study.kind == "fault" else "preset"] = str(value)
+        else:
+            table[name] = f"{float(value)!r} {kinds[name][1]}" if kinds[name][1] not in (None, "1") else float(value)
+    if study.kind == "lab" and "loading_rate" in values:
+        table.pop("platform_speed", None)
+    if study.kind == "lab" and "platform_speed" in values:
+        table.pop("loading_rate", None)
+    system = scene.slider()
+    return apply_friction(system, {}, scene.name)
+
+
+def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | None = None,
+          allow_large: bool = False, **dims):
+    """Python API: sweep parameters of a scene; returns an xarray Dataset.
+
+    ``scene`` is a Scene, a scene file or a bundled scene name; each keyword is a parameter name
+    with a list of values with units (strings or pint Quantities), or category names. With
+    ``chunks`` (dimension -> chunk size) the result is dask-backed and lazy.
+
+    >>> sweep("san_andreas_1906.toml", slip_rate=["10 mm/yr", "35 mm/yr"], lithology=["granodiorite", "pyrite"])
+    """
+
+    scene = scene if isinstance(scene, Scene) else load_scene(scene)
+    allowed = parameters_for(scene.kind)
+    parsed = {}
+    for name, values in dims.items():
+        if name not in allowed:
+            hint = did_you_mean(name, allowed, n=3)
+            raise InputError(f"unknown parameter {name!r}{hint} (a {scene.kind} study sweeps: {', '.join(allowed)})")
+        values = values if isinstance(values, dict) else list(values) if not isinstance(values, (str, bytes)) else [values]
+        kind = allowed[name][0]
+        parsed[name] = _categories(name, values, scene.kind, name) if kind == "category" else _values(name, values, kind, name)
+    _check_consistent(scene, parsed, "sweep()")
+    if method not in ("auto", "closed_form", "exact_cycle"):
+        raise InputError(f"method must be auto, closed_form or exact_cycle, got {method!r}")
+    if not isinstance(tolerance, (int, float)) or isinstance(tolerance, bool) or not 0 < tolerance < 1:
+        raise InputError(f"tolerance must be a number between 0 and 1, got {tolerance!r}")
+    study = Study(name=scene.name, scene=scene, dims=parsed, method=method, tolerance=tolerance,
+                  text=_study_text(scene, method, tolerance, dims))
+    if chunks is None:  # everything in memory: refuse what will not fit (a chunked study stays lazy)
+
+        estimate = budget.study_estimate(study, None, 1, study.size)
+        budget.check(budget.Estimate(f"this in-memory sweep of {study.size:.3g} cells", memory=estimate.memory,
+                                     seconds=estimate.seconds), allow_large)
+        return finish(compute_block(study), study)
+    outputs = evaluate(study_inputs(study, chunks=chunks), study.kind, method, tolerance)
+    return finish(as_dataset(outputs, study), study)
+
+
+def _study_text(scene, method, tolerance, dims) -> str:
+
+    def literal(value):
+        if isinstance(value, str):
+            return '"' + value.replace('"', '\\"') + '"'
+        if isinstance(value, Quantity):
+            return f'"{value.magnitude!r} {value.units:~}"'
+        return repr(float(value))
+
+    lines = ["[study]", f'name = {literal(scene.name)}', f'base = {literal(scene.path.name if scene.path else scene.name)}',
+             f'method = "{method}"', f"tolerance = {tolerance!r}", "", "[sweep]"]
+    for name, values in dims.items():
+        if isinstance(values, dict):  # {"logspace": [start, stop, count]}
+            (rule, args), = values.items()
+            lines.append(f"{name} = {{ {rule} = [{', '.join(literal(v) if not isinstance(v, int) else str(v) for v in args)}] }}")
+            continue
+        values = list(values) if not isinstance(values, (str, bytes)) else [values]
+        lines.append(f"{name} = [{', '.join(literal(v) for v in values)}]")
+    return "\n".join(lines) + "\n"
+
+
+def finish(dataset, study):
+    """Global CF attributes and the embedded config that lets the file reproduce itself."""
+    from datetime import datetime, timezone
+
+
+    dataset.attrs.update({
+        "title": f"faultslip study: {study.name}",
+        "Conventions": "CF-1.8",
+        "source": f"faultslip {__version__}",
+        "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')}: faultslip sweep",
+        "faultslip_study": study.text,
+        "faultslip_base_scene": study.scene.text,
+        "faultslip_base_scene_name": study.base_name or (study.scene.path.name if study.scene.path else study.scene.name),
+        "method_requested": study.method,
+        "tolerance": study.tolerance,
+        "comment": "regime and method are flags (see flag_meanings); categorical dimensions are strings",
+    })
+    if study.description:
+        dataset.attrs["summary"] = study.description
+    return dataset

@@ -1,0 +1,645 @@
+"""Regional parameter maps: fault-segment tables and lon/lat rasters (``faultslip map``).
+
+Two input forms:
+
+* a **segment table** (CSV): each fault segment's trace as lon/lat vertices, its slip rate,
+  lithology, seismogenic depth and elastic-zone width, and optionally observed slip per event
+  and recurrence with their sources. Each segment is predicted with the study kernel along a
+  ``segment`` dimension (slip, recurrence, Mw for its geodetic length); a lon/lat raster then
+  carries each cell's nearest-segment prediction;
+* a **raster** (netCDF or CSV) of inputs on longitude and latitude: a lithology category, or
+  shear modulus, zone width, slip rate and normal stress directly; every cell is predicted.
+
+Distances are geodetic through ``obspy.geodetics``: segment lengths on the WGS84 ellipsoid
+(``gps2dist_azimuth``), nearest-segment distances as great circles on the sphere
+(``locations2degrees``, vectorised) to traces densified every ~1 km.
+
+Map files are TOML::
+
+    [map]
+    name = "San Andreas fault system"
+    base = "san_andreas_1906.toml"     # parameters a segment or cell does not give
+    [segments]
+    file = "../data/san_andreas_segments.csv"
+    [grid]
+    lon = { linspace = [-125.0, -114.5, 106] }   # degrees east
+    lat = { linspace = [32.5, 40.5, 81] }        # degrees north
+    max_distance = "60 km"                       # cells farther than this from every segment stay empty
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.errors import InputError, did_you_mean
+from faultslip.io.resources import bundled_dir, parse_toml, read_unit_csv
+from faultslip.units import to_si
+from faultslip import __version__
+from faultslip.fault.scene import parse_scene, read_text_file, resolve_path
+from faultslip.friction.materials import resolve_material
+from faultslip.io.resources import open_netcdf
+from faultslip.studies.grid import as_dataset, evaluate, normal_stress_input, Study
+
+SEGMENT_COLUMNS = {  # name -> (unit kind, required)
+    "segment": (None, True),
+    "trace": ("degree", True),
+    "slip_rate": ("speed", True),
+    "lithology": (None, True),
+    "seismogenic_depth": ("length", True),
+    "zone_width": ("length", True),
+    "name": (None, False),
+    "observed_slip": ("length", False),
+    "observed_slip_event": (None, False),
+    "observed_recurrence": ("time", False),
+}
+RASTER_VARIABLES = {
+    "lithology": None, "shear_modulus": "pressure", "zone_width": "length", "slip_rate": "speed",
+    "normal_stress": "pressure", "shear_stress": "pressure",
+}
+MAP_SCHEMA = {"map": {"name", "base", "description"}, "segments": {"file"}, "raster": {"file"},
+              "grid": {"lon", "lat", "max_distance"}}
+
+
+@dataclass
+class MapSpec:
+    name: str
+    scene: object
+    segments: object = None  # SegmentTable
+    raster: object = None  # xarray.Dataset of inputs on (lat, lon)
+    lon: np.ndarray | None = None
+    lat: np.ndarray | None = None
+    max_distance: float = 60e3
+    text: str = ""
+    description: str = ""
+    source_files: list = field(default_factory=list)
+    notes: list = field(default_factory=list)  # which bundled files were used, if any
+    inputs: list = field(default_factory=list)  # every file read: the map, its scene, its table
+
+
+@dataclass
+class SegmentTable:
+    ids: list
+    names: list
+    traces: list  # list of (n, 2) arrays of (lon, lat)
+    slip_rate: np.ndarray
+    lithology: list
+    seismogenic_depth: np.ndarray
+    zone_width: np.ndarray
+    observed_slip: np.ndarray
+    observed_recurrence: np.ndarray
+    observed_event: list
+    sources: dict  # column -> list of strings
+    path: str = ""
+
+    @property
+    def lengths(self) -> np.ndarray:
+        return np.array([trace_length(trace) for trace in self.traces])
+
+
+def _check_lon_lat(lon, lat, where):
+    lon, lat = np.asarray(lon, float), np.asarray(lat, float)
+    if not (np.all(np.isfinite(lon)) and np.all(np.isfinite(lat))):
+        raise InputError(f"{where}: longitude and latitude must be finite numbers")
+    if np.any(np.abs(lon) > 180):
+        raise InputError(f"{where}: longitude {lon[np.argmax(np.abs(lon))]:g} is out of range [-180, 180]")
+    if np.any(np.abs(lat) > 90):
+        raise InputError(f"{where}: latitude {lat[np.argmax(np.abs(lat))]:g} is out of range [-90, 90]")
+
+
+def parse_trace(text: str, where: str) -> np.ndarray:
+    """``"lon lat; lon lat; ..."`` (degrees) -> (n, 2) array, n >= 2."""
+    vertices = []
+    for part in str(text).split(";"):
+        part = part.strip()
+        if not part:
+            continue
+        fields = part.replace(",", " ").split()
+        if len(fields) != 2:
+            raise InputError(f"{where}: a trace vertex must be 'lon lat', got {part!r}")
+        try:
+            vertices.append((float(fields[0]), float(fields[1])))
+        except ValueError:
+            raise InputError(f"{where}: a trace vertex must be two numbers 'lon lat', got {part!r}") from None
+    if len(vertices) < 2:
+        raise InputError(f"{where}: a segment trace needs at least 2 vertices, got {len(vertices)}")
+    trace = np.array(vertices)
+    _check_lon_lat(trace[:, 0], trace[:, 1], where)
+    return trace
+
+
+def trace_length(trace) -> float:
+    """Geodetic length of a trace in m (WGS84 ellipsoid, obspy.geodetics.gps2dist_azimuth)."""
+    from obspy.geodetics import gps2dist_azimuth
+
+    return float(sum(gps2dist_azimuth(lat1, lon1, lat2, lon2)[0]
+                     for (lon1, lat1), (lon2, lat2) in zip(trace[:-1], trace[1:])))
+
+
+def read_segments(path) -> SegmentTable:
+    """Read and validate a segment table (CSV with ``name (unit)`` headers)."""
+    path = Path(path)
+    header, cells = read_unit_csv(path, f"segment table {path.name}")
+    names = [name for name, _ in header]
+    for name, _ in header:
+        if name not in SEGMENT_COLUMNS and not name.startswith("source"):
+            hint = did_you_mean(name, SEGMENT_COLUMNS)
+            raise InputError(f"segment table {path.name}: unknown column {name!r}{hint}")
+    for name, (kind, required) in SEGMENT_COLUMNS.items():
+        if required and name not in names:
+            raise InputError(f"segment table {path.name} lacks the column {name!r}")
+    units = dict(header)
+    rows = [(line, dict(zip(names, row))) for line, row in cells]
+    if not rows:
+        raise InputError(f"segment table {path.name} has no segments")
+
+    def quantity(line, row, column, kind, optional=False):
+        text = row.get(column, "")
+        if text == "":
+            if optional:
+                return math.nan
+            raise InputError(f"segment table {path.name}, row {line}: {column} is empty")
+        unit = units.get(column)
+        if unit is None:
+            raise InputError(f"segment table {path.name}: column {column!r} needs a unit in its header, "
+                             f"e.g. '{column} (mm/yr)'")
+        try:
+            return to_si(f"{text} {unit}", kind, f"segment table {path.name}, row {line}, {column}")
+        except InputError:
+            raise
+        except Exception:
+            raise InputError(f"segment table {path.name}, row {line}: {column} {text!r} is not a number") from None
+
+
+    table = {key: [] for key in ("ids", "names", "traces", "slip_rate", "lithology", "seismogenic_depth", "zone_width",
+                                 "observed_slip", "observed_recurrence", "observed_event")}
+    sources = {name: [] for name in names if name.startswith("source")}
+    if units.get("trace") not in (None, "degree", "degrees"):
+        raise InputError(f"segment table {path.name}: trace must be in degrees, header says {units['trace']!r}")
+    for line, row in rows:
+        where = f"segment table {path.name}, row {line}"
+        if not row["segment"]:
+            raise InputError(f"{where}: segment name is empty")
+        table["ids"].append(row["segment"])
+        table["names"].append(row.get("name") or row["segment"])
+        table["traces"].append(parse_trace(row["trace"], f"{where}, trace"))
+        table["slip_rate"].append(quantity(line, row, "slip_rate", "speed"))
+        try:
+            table["lithology"].append(resolve_material(row["lithology"]).name)
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+        table["seismogenic_depth"].append(quantity(line, row, "seismogenic_depth", "length"))
+        table["zone_width"].append(quantity(line, row, "zone_width", "length"))
+        table["observed_slip"].append(quantity(line, row, "observed_slip", "length", optional=True))
+        table["observed_recurrence"].append(quantity(line, row, "observed_recurrence", "time", optional=True))
+        table["observed_event"].append(row.get("observed_slip_event", ""))
+        for name in sources:
+            sources[name].append(row.get(name, ""))
+    if len(set(table["ids"])) != len(table["ids"]):
+        raise InputError(f"segment table {path.name} lists a segment twice")
+    for key in ("slip_rate", "seismogenic_depth", "zone_width"):
+        values = np.array(table[key])
+        if np.any(values <= 0):
+            bad = int(np.argmax(values <= 0))
+            raise InputError(f"segment table {path.name}, row {rows[bad][0]}: {key} must be positive")
+    return SegmentTable(table["ids"], table["names"], table["traces"], np.array(table["slip_rate"]), table["lithology"],
+                        np.array(table["seismogenic_depth"]), np.array(table["zone_width"]),
+                        np.array(table["observed_slip"]), np.array(table["observed_recurrence"]),
+                        table["observed_event"], sources, str(path))
+
+
+def read_raster(path):
+    """Inputs on (lat, lon) from netCDF (variables with units) or CSV (one row per cell)."""
+    import xarray as xr
+
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"raster file {str(path)!r} does not exist")
+    if path.suffix == ".nc":
+
+        data = open_netcdf(path, "raster")
+        for coordinate in ("lon", "lat"):
+            if coordinate not in data.coords:
+                raise InputError(f"raster {path.name} needs coordinates lon and lat (degrees); it has {list(data.coords)}")
+        out = xr.Dataset(coords={"lat": data["lat"].values.astype(float), "lon": data["lon"].values.astype(float)})
+        for name, variable in data.data_vars.items():
+            if name not in RASTER_VARIABLES:
+                hint = did_you_mean(name, RASTER_VARIABLES)
+                raise InputError(f"raster {path.name}: unknown variable {name!r}{hint}")
+            variable = variable.transpose("lat", "lon")
+            if RASTER_VARIABLES[name] is None:
+                out[name] = (("lat", "lon"), variable.values.astype(str))
+                continue
+            unit = variable.attrs.get("units")
+            if unit is None:
+                raise InputError(f"raster {path.name}: variable {name!r} has no units attribute")
+            values = variable.values.astype(float)
+            if np.isnan(values).any():
+                raise InputError(f"raster {path.name}: variable {name!r} contains NaN")
+            factor = to_si(f"1 {unit}", RASTER_VARIABLES[name], f"raster {path.name}, variable {name}")
+            out[name] = (("lat", "lon"), values * factor)
+    elif path.suffix == ".csv":
+        out = _raster_from_csv(path)
+    else:
+        raise InputError(f"raster {path.name} must be .nc or .csv")
+    _check_lon_lat(out["lon"].values, out["lat"].values, f"raster {path.name}")
+    if "lithology" not in out and not {"shear_modulus", "slip_rate"} <= set(out.data_vars):
+        raise InputError(f"raster {path.name} needs a lithology, or shear_modulus and slip_rate (and zone_width, normal_stress)")
+    return out
+
+
+def _raster_from_csv(path):
+    import xarray as xr
+
+    header, rows = read_unit_csv(path, f"raster {path.name}")
+    names = [n for n, _ in header]
+    units = dict(header)
+    for required in ("lon", "lat"):
+        if required not in names:
+            raise InputError(f"raster {path.name} needs columns lon and lat (degrees)")
+    for name in names:
+        if name not in ("lon", "lat") and name not in RASTER_VARIABLES:
+            hint = did_you_mean(name, RASTER_VARIABLES)
+            raise InputError(f"raster {path.name}: unknown column {name!r}{hint}")
+    columns = {name: [] for name in names}
+    for line, row in rows:
+        for name, cell in zip(names, row):
+            if name in ("lon", "lat"):
+                try:
+                    columns[name].append(float(cell))
+                except ValueError:
+                    raise InputError(f"raster {path.name}, row {line}: {name} {cell!r} is not a number") from None
+            elif RASTER_VARIABLES[name] is None:
+                columns[name].append(cell)
+            else:
+                if units.get(name) is None:
+                    raise InputError(f"raster {path.name}: column {name!r} needs a unit in its header")
+                columns[name].append(to_si(f"{cell} {units[name]}", RASTER_VARIABLES[name],
+                                           f"raster {path.name}, row {line}, {name}"))
+    lon = np.unique(columns["lon"])
+    lat = np.unique(columns["lat"])
+    out = xr.Dataset(coords={"lat": lat, "lon": lon})
+    i = np.searchsorted(lat, columns["lat"])
+    j = np.searchsorted(lon, columns["lon"])
+    if len(set(zip(i, j))) != len(i) or len(i) != lat.size * lon.size:
+        raise InputError(f"raster {path.name}: rows must cover every (lon, lat) pair of a regular grid exactly once")
+    for name in names:
+        if name in ("lon", "lat"):
+            continue
+        if RASTER_VARIABLES[name] is None:
+            grid = np.empty((lat.size, lon.size), dtype=object)
+        else:
+            grid = np.full((lat.size, lon.size), np.nan)
+        grid[i, j] = columns[name]
+        out[name] = (("lat", "lon"), grid.astype(str) if RASTER_VARIABLES[name] is None else grid)
+    return out
+
+
+#: The largest raster axis: 1e5 x 1e5 cells already need 80 GB per output.
+MAX_AXIS = 100_000
+
+
+def _number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _axis(spec, name, where):
+    usage = f"{where} {name} must be a list of degrees or {{ linspace = [start, stop, count] }}"
+    if isinstance(spec, dict):
+        args = spec.get("linspace")
+        if list(spec) != ["linspace"] or not isinstance(args, list) or len(args) != 3:
+            raise InputError(usage)
+        start, stop, count = args
+        if not (_number(start) and _number(stop)) or not isinstance(count, int) or isinstance(count, bool):
+            raise InputError(usage)
+        if not 1 <= count <= MAX_AXIS:
+            raise InputError(f"{where} {name} linspace count must lie between 1 and {MAX_AXIS}, got {count}")
+        values = np.linspace(float(start), float(stop), count)
+    elif isinstance(spec, list) and spec and all(_number(v) for v in spec):
+        if len(spec) > MAX_AXIS:
+            raise InputError(f"{where} {name} has more than {MAX_AXIS} values")
+        values = np.asarray(spec, dtype=float)
+    else:
+        raise InputError(usage)
+    if len(set(values.tolist())) != values.size:
+        raise InputError(f"{where} {name} repeats a value")
+    return values
+
+
+def load_map(path) -> MapSpec:
+    """Read a map file, its base scene and its input table or raster (paths relative to the file)."""
+
+    path, origin = resolve_path(path, "map file")
+    text = read_text_file(path, "map file")
+    document = parse_toml(text, path.name)
+    for table, content in document.items():
+        if table not in MAP_SCHEMA:
+            raise InputError(f"unknown table [{table}] in {path.name} (allowed: {', '.join(MAP_SCHEMA)})")
+        if not isinstance(content, dict):
+            raise InputError(f"{table} in {path.name} must be a table [{table}], got a value")
+        for key in content:
+            if key not in MAP_SCHEMA[table]:
+                hint = did_you_mean(key, MAP_SCHEMA[table])
+                raise InputError(f"unknown key {key!r} in [{table}] of {path.name}{hint}")
+    head = document.get("map", {})
+    if ("segments" in document) == ("raster" in document):
+        raise InputError(f"{path.name} needs exactly one input: a [segments] or a [raster] table")
+
+    for key in ("name", "base", "description"):
+        if key in head and not isinstance(head[key], str):
+            raise InputError(f"[map] {key} in {path.name} must be a string, got {head[key]!r}")
+    notes = [f"map: {origin}"] if origin else []
+
+    def resolve(name):
+        """Relative to the map file; a bare name with no such file there may mean a bundled data file."""
+        if not isinstance(name, str) or not name.strip():
+            raise InputError(f"{path.name}: file must name an input file, got {name!r}")
+        candidate = Path(name)
+        local = candidate if candidate.is_absolute() else path.parent / candidate
+        if local.is_file():
+            return local
+        bundled = bundled_dir("data") / candidate.name
+        if candidate.name == name and bundled.is_file():
+            notes.append(f"input: bundled data file {bundled.name} (no file {name!r} beside {path.name})")
+            return bundled
+        raise InputError(f"{path.name}: input file {name!r} does not exist")
+
+    base_path, base_origin = resolve_path(head.get("base", "san_andreas_1906.toml"), "scene", base_dir=path.parent)
+    scene = parse_scene(read_text_file(base_path, "scene file"), source=base_path.name, path=base_path)
+    if base_origin:
+        notes.append(f"scene: {base_origin}")
+    spec = MapSpec(name=head.get("name", path.stem), scene=scene, text=text, description=head.get("description", ""))
+    spec.notes = notes
+    if "segments" in document:
+        source = resolve(document["segments"].get("file", ""))
+        spec.segments = read_segments(source)
+    else:
+        source = resolve(document["raster"].get("file", ""))
+        spec.raster = read_raster(source)
+    spec.source_files.append(str(source))
+    spec.inputs = [path, base_path, source]
+    grid = document.get("grid", {})
+    if spec.segments is not None:
+        if "lon" not in grid or "lat" not in grid:
+            raise InputError(f"{path.name}: a segment map needs [grid] lon and lat for its raster")
+        spec.lon = _axis(grid["lon"], "lon", f"[grid] in {path.name}")
+        spec.lat = _axis(grid["lat"], "lat", f"[grid] in {path.name}")
+        _check_lon_lat(spec.lon, spec.lat[: spec.lon.size] if spec.lat.size >= spec.lon.size else spec.lat, f"[grid] in {path.name}")
+        _check_lon_lat(spec.lon[:1], spec.lat, f"[grid] in {path.name}")
+    if "max_distance" in grid:
+        spec.max_distance = to_si(grid["max_distance"], "length", f"[grid] max_distance in {path.name}")
+        if not spec.max_distance > 0:
+            raise InputError(f"[grid] max_distance in {path.name} must be positive, got {grid['max_distance']!r}")
+    return spec
+
+
+# --- predictions ------------------------------------------------------------
+
+
+def _fault_inputs_along(spec, dims_coords, lithology, overrides):
+    """Study-kernel inputs for per-segment or per-cell parameters (DataArrays on their dims)."""
+    import xarray as xr
+
+
+    fault = spec.scene.fault()
+    given = spec.scene.tables.get("fault", {})
+    inputs = {name: getattr(fault, name) for name in ("shear_modulus", "zone_width", "slip_rate", "mu_so", "mu_m", "b",
+                                                       "d", "rupture_length", "seismogenic_depth", "damping_ratio",
+                                                       "density", "shear_wave_speed")}
+    if "shear_wave_speed" not in given:
+        inputs["shear_wave_speed"] = None  # sqrt(G / rho) per segment or cell, as Fault derives it
+    if lithology is not None:
+        flat = np.asarray(lithology).ravel()
+        choices = {name: resolve_material(name) for name in set(flat)}
+        shape = np.shape(lithology)
+
+        def table(getter):
+            return xr.DataArray(np.array([getter(choices[n]) for n in flat], dtype=float).reshape(shape), **dims_coords)
+
+        inputs["shear_modulus"] = table(lambda c: c.shear_modulus if c.shear_modulus is not None else np.nan)
+        for key in ("mu_so", "mu_m", "b", "d"):
+            inputs[key] = table(lambda c, k=key: getattr(c.rate_law, k) if c.rate_law is not None else np.nan)
+        if np.isnan(inputs["shear_modulus"].values).any() or np.isnan(inputs["mu_so"].values).any():
+            bad = [n for n, c in choices.items() if c.shear_modulus is None or c.rate_law is None][0]
+            raise InputError(f"lithology {bad!r} lacks a shear modulus or friction preset; it cannot be mapped")
+    for name, values in overrides.items():
+        inputs[name] = xr.DataArray(values, **dims_coords)
+    inputs["normal_stress"] = normal_stress_input(inputs, overrides, given, fault)
+    inputs["radiation_damping"] = bool(fault.radiation_damping)
+    return inputs
+
+
+def predict_segments(spec, method="auto", tolerance=1e-6):
+    """Per-segment predictions (slip, recurrence, Mw for the segment's length) on dim ``segment``."""
+    import xarray as xr
+
+
+    table = spec.segments
+    coords = {"segment": ("segment", np.array(table.ids, dtype=object), {"long_name": "fault segment"})}
+    dims_coords = {"dims": ("segment",), "coords": coords}
+    lengths = table.lengths
+    inputs = _fault_inputs_along(spec, dims_coords, table.lithology, {
+        "slip_rate": table.slip_rate, "seismogenic_depth": table.seismogenic_depth, "zone_width": table.zone_width,
+        "rupture_length": lengths})
+    study = Study(name=spec.name, scene=spec.scene, dims={}, method=method, tolerance=tolerance)
+    dataset = as_dataset(evaluate(inputs, "fault", method, tolerance, outside="flag"), study)
+    extra = {
+        "name": (np.array(table.names, dtype=object), None, "segment name"),
+        "lithology": (np.array(table.lithology, dtype=object), None, "lithology or friction preset"),
+        "slip_rate": (table.slip_rate, "m/s", "long-term slip rate"),
+        "segment_length": (lengths, "m", "geodetic length of the trace (WGS84)"),
+        "seismogenic_depth": (table.seismogenic_depth, "m", "seismogenic depth H"),
+        "zone_width": (table.zone_width, "m", "elastic-zone half-width D"),
+        "observed_slip": (table.observed_slip, "m", "observed slip per event (where published)"),
+        "observed_recurrence": (table.observed_recurrence, "s", "observed paleoseismic recurrence (where published)"),
+        "observed_slip_event": (np.array(table.observed_event, dtype=object), None, "event of the observed slip"),
+    }
+    for name, (values, unit, long_name) in extra.items():
+        attrs = {"long_name": long_name, **({"units": unit} if unit else {})}
+        dataset[name] = xr.DataArray(values, dims=("segment",), coords=coords, attrs=attrs)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        dataset["recurrence_ratio"] = xr.DataArray(dataset["recurrence_period"].values / table.observed_recurrence,
+                                                   dims=("segment",), attrs={"units": "1", "long_name": "predicted / observed recurrence"})
+        dataset["slip_ratio"] = xr.DataArray(dataset["slip_per_event"].values / table.observed_slip, dims=("segment",),
+                                             attrs={"units": "1", "long_name": "predicted / observed slip per event"})
+    for column, values in table.sources.items():
+        dataset[column] = xr.DataArray(np.array(values, dtype=object), dims=("segment",), attrs={"long_name": column.replace("_", " ")})
+    dataset["trace_vertices"] = xr.DataArray(np.array(["; ".join(f"{lon:.4f} {lat:.4f}" for lon, lat in trace)
+                                                       for trace in table.traces], dtype=object), dims=("segment",),
+                                             attrs={"long_name": "trace as 'lon lat; ...' in degrees"})
+    return dataset
+
+
+def densify(trace, spacing=1000.0):
+    """Points along a trace every ~``spacing`` m (great-circle interpolation), as (lon, lat)."""
+    from obspy.geodetics import gps2dist_azimuth
+
+    points = [trace[0]]
+    for (lon1, lat1), (lon2, lat2) in zip(trace[:-1], trace[1:]):
+        distance = gps2dist_azimuth(lat1, lon1, lat2, lon2)[0]
+        count = max(1, int(math.ceil(distance / spacing)))
+        for fraction in np.arange(1, count + 1) / count:
+            points.append(_interpolate(lon1, lat1, lon2, lat2, fraction))
+    return np.array(points)
+
+
+def _interpolate(lon1, lat1, lon2, lat2, fraction):
+    """Point a fraction of the way along the great circle (spherical slerp)."""
+    p1 = np.array(_unit(lon1, lat1))
+    p2 = np.array(_unit(lon2, lat2))
+    omega = math.acos(max(-1.0, min(1.0, float(p1 @ p2))))
+    if omega < 1e-12:
+        return lon1, lat1
+    point = (math.sin((1 - fraction) * omega) * p1 + math.sin(fraction * omega) * p2) / math.sin(omega)
+    return math.degrees(math.atan2(point[1], point[0])), math.degrees(math.asin(point[2] / np.linalg.norm(point)))
+
+
+def _unit(lon, lat):
+    lon, lat = math.radians(lon), math.radians(lat)
+    return math.cos(lat) * math.cos(lon), math.cos(lat) * math.sin(lon), math.sin(lat)
+
+
+def nearest_segment(lon, lat, traces, block=4096):
+    """Index of and distance (m) to the nearest trace for every (lat, lon) cell (great circles)."""
+    from obspy.geodetics import degrees2kilometers, locations2degrees
+
+    points = [densify(trace) for trace in traces]
+    owner = np.concatenate([np.full(len(p), i) for i, p in enumerate(points)])
+    stacked = np.concatenate(points)
+    grid_lat, grid_lon = np.meshgrid(lat, lon, indexing="ij")
+    flat_lat, flat_lon = grid_lat.ravel(), grid_lon.ravel()
+    index = np.empty(flat_lat.size, dtype=np.int64)
+    distance = np.empty(flat_lat.size)
+    for start in range(0, flat_lat.size, block):  # bounded memory: cells x points in blocks
+        sl = slice(start, start + block)
+        degrees = locations2degrees(flat_lat[sl, None], flat_lon[sl, None], stacked[None, :, 1], stacked[None, :, 0])
+        nearest = np.argmin(degrees, axis=1)
+        index[sl] = owner[nearest]
+        distance[sl] = degrees2kilometers(degrees[np.arange(nearest.size), nearest]) * 1e3
+    return index.reshape(grid_lat.shape), distance.reshape(grid_lat.shape)
+
+
+def run_map(spec, method="auto", tolerance=1e-6):
+    """The map's dataset: per-segment predictions and a nearest-segment raster, or a predicted raster."""
+    import xarray as xr
+
+
+    if spec.segments is not None:
+        segments = predict_segments(spec, method, tolerance)
+        index, distance = nearest_segment(spec.lon, spec.lat, spec.segments.traces)
+        near = distance <= spec.max_distance
+        raster_coords = {"lat": ("lat", spec.lat, {"units": "degrees_north", "long_name": "latitude", "standard_name": "latitude"}),
+                         "lon": ("lon", spec.lon, {"units": "degrees_east", "long_name": "longitude", "standard_name": "longitude"})}
+        dataset = segments
+        dataset["nearest_segment"] = xr.DataArray(np.where(near, index, -1).astype(np.int32), dims=("lat", "lon"),
+                                                  coords=raster_coords, attrs={"long_name": "index of the nearest segment (-1: none within max_distance)", "units": "1"})
+        dataset["distance_to_segment"] = xr.DataArray(distance, dims=("lat", "lon"), coords=raster_coords,
+                                                      attrs={"units": "m", "long_name": "great-circle distance to the nearest trace"})
+        for name in ("slip_per_event", "recurrence_period", "moment_magnitude", "slip_rate"):
+            values = dataset[name].values[index]
+            dataset[f"map_{name}"] = xr.DataArray(np.where(near, values, np.nan), dims=("lat", "lon"), coords=raster_coords,
+                                                  attrs={**dataset[name].attrs, "long_name": f"nearest-segment {dataset[name].attrs.get('long_name', name)}"})
+        dataset.attrs["max_distance_m"] = spec.max_distance
+    else:
+        raster = spec.raster
+        coords = {"lat": ("lat", raster["lat"].values, {"units": "degrees_north", "standard_name": "latitude"}),
+                  "lon": ("lon", raster["lon"].values, {"units": "degrees_east", "standard_name": "longitude"})}
+        overrides = {name: raster[name].values for name in ("shear_modulus", "zone_width", "slip_rate", "normal_stress",
+                                                            "shear_stress") if name in raster}
+        lithology = raster["lithology"].values if "lithology" in raster else None
+        inputs = _fault_inputs_along(spec, {"dims": ("lat", "lon"), "coords": coords}, lithology, overrides)
+        study = Study(name=spec.name, scene=spec.scene, dims={}, method=method, tolerance=tolerance)
+        dataset = as_dataset(evaluate(inputs, "fault", method, tolerance, outside="flag"), study)
+        for name, values in overrides.items():
+            dataset[name] = xr.DataArray(values, dims=("lat", "lon"), coords=coords)
+        if lithology is not None:
+            dataset["lithology"] = xr.DataArray(lithology.astype(object), dims=("lat", "lon"), coords=coords)
+    from datetime import datetime, timezone
+
+    dataset.attrs.update({
+        "title": f"faultslip map: {spec.name}", "Conventions": "CF-1.8", "source": f"faultslip {__version__}",
+        "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')}: faultslip map",
+        "faultslip_map": spec.text, "faultslip_base_scene": spec.scene.text,
+        "input_files": "; ".join(Path(f).name for f in spec.source_files),
+        "comment": "approximate inputs; distances: WGS84 lengths, great-circle nearest distances (obspy.geodetics)",
+    })
+    if spec.description:
+        dataset.attrs["summary"] = spec.description
+    return dataset
+
+
+def observed_table(dataset) -> str:
+    """Predicted against observed recurrence and slip, with ratios, as Markdown."""
+    year = 365.25 * 86400
+    lines = ["| segment | slip rate (mm/yr) | predicted slip (m) | observed slip (m) | ratio | predicted recurrence (yr) "
+             "| observed recurrence (yr) | ratio |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for i, segment in enumerate(dataset["segment"].values):
+        row = dataset.isel(segment=i)
+        slip_obs, rec_obs = float(row["observed_slip"]), float(row["observed_recurrence"])
+
+        def fmt(value, scale=1.0, digits=3):
+            return "" if not np.isfinite(value) else f"{value / scale:.{digits}g}"
+
+        outside = "outside_domain" in dataset and int(row["outside_domain"]) == 1
+        predicted = "none: mu_m is not below mu_so (no stick-slip)" if outside else fmt(float(row["slip_per_event"]))
+        lines.append(f"| {segment} | {float(row['slip_rate']) * year * 1e3:.3g} | {predicted} | "
+                     f"{fmt(slip_obs)} | {fmt(float(row['slip_ratio']))} | {fmt(float(row['recurrence_period']), year)} | "
+                     f"{fmt(rec_obs, year)} | {fmt(float(row['recurrence_ratio']))} |")
+    return "\n".join(lines)
+
+
+def map_figure(dataset):
+    """Slip, recurrence and Mw maps with segment traces and unit-labelled colour bars."""
+    import matplotlib.pyplot as plt
+
+    year = 365.25 * 86400
+    prefix = "map_" if "map_slip_per_event" in dataset else ""
+    panels = [(f"{prefix}slip_per_event", 1.0, "slip per event (m)", "viridis"),
+              (f"{prefix}recurrence_period", year, "recurrence period (yr)", "magma_r"),
+              (f"{prefix}moment_magnitude", 1.0, "moment magnitude Mw", "plasma")]
+    panels = [p for p in panels if p[0] in dataset]
+    figure, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 5.2), constrained_layout=True, squeeze=False)
+    lat = dataset["lat"].values
+    for axis, (name, scale, label, cmap) in zip(axes[0], panels):
+        values = dataset[name].values / scale
+        mesh = axis.pcolormesh(dataset["lon"].values, lat, values, shading="auto", cmap=cmap)
+        figure.colorbar(mesh, ax=axis, label=label, shrink=0.8)
+        if "trace_vertices" in dataset:
+            for text in dataset["trace_vertices"].values:
+                trace = np.array([[float(v) for v in pair.split()] for pair in str(text).split(";")])
+                axis.plot(trace[:, 0], trace[:, 1], color="k", lw=1.2)
+        axis.set_aspect(1.0 / math.cos(math.radians(float(np.mean(lat)))))
+        axis.set_xlabel("longitude (°E)")
+        axis.set_ylabel("latitude (°N)")
+        axis.set_title(label, fontsize=10)
+        axis.grid(True, alpha=0.2)
+    figure.suptitle(dataset.attrs.get("title", "faultslip map"))
+    return figure
+
+
+def observed_figure(dataset):
+    """Predicted against observed recurrence and slip per event (log axes, 1:1 line)."""
+    import matplotlib.pyplot as plt
+
+    year = 365.25 * 86400
+    figure, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True)
+    for axis, (pred, obs, scale, label) in zip(axes, [("recurrence_period", "observed_recurrence", year, "recurrence (yr)"),
+                                                       ("slip_per_event", "observed_slip", 1.0, "slip per event (m)")]):
+        p, o = dataset[pred].values / scale, dataset[obs].values / scale
+        ok = np.isfinite(p) & np.isfinite(o) & (p > 0)
+        axis.loglog(o[ok], p[ok], "o", color="C3")
+        for k, (segment, x, y) in enumerate(zip(dataset["segment"].values[ok], o[ok], p[ok])):
+            axis.annotate(f"{segment} ({y / x:.2g}x)", (x, y), fontsize=8, xytext=(4, 4 if k % 2 == 0 else -12),
+                          textcoords="offset points")
+        if ok.any():
+            low, high = min(o[ok].min(), p[ok].min()) / 2, max(o[ok].max(), p[ok].max()) * 2
+            axis.loglog([low, high], [low, high], "k--", lw=0.8, label="1:1")
+        axis.set_xlabel(f"observed {label}")
+        axis.set_ylabel(f"predicted {label}")
+        axis.grid(True, which="both", alpha=0.3)
+        axis.legend(fontsize=8)
+    figure.suptitle(f"Predicted against observed: {dataset.attrs.get('title', '')}")
+    return figure

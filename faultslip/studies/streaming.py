@@ -1,0 +1,380 @@
+"""Running a study chunk by chunk: streamed to disk, resumable, local or on a dask cluster.
+
+The grid is cut into blocks of about ``chunk_cells`` cells (whole trailing dimensions first).
+Blocks are computed independently (:func:`faultslip.studies.grid.compute_block`, pure) by the chosen
+executor: in this process, a local process pool, a dask ``LocalCluster`` (``scheduler="local"``)
+or an existing dask.distributed cluster (``scheduler=ADDRESS``). At most two blocks per worker
+are in flight, so memory stays flat however large the grid; each finished block is written into
+``OUT.nc.partial`` (netCDF4, zlib) and recorded in ``OUT.nc.progress.json``. When every block is
+written the partial file is renamed over ``OUT.nc`` in one step: an interrupted run leaves the
+previous ``OUT.nc`` (or nothing) under the final name, and ``resume=True`` continues from the
+partial file if it belongs to the same study.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import os
+import time
+import warnings
+from concurrent.futures import FIRST_COMPLETED, wait
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.io.atomic import write_text_atomic
+from faultslip.errors import InputError
+from faultslip.io.outputs import check_output, output_lock
+from faultslip.io.processes import stop_pool, worker_pool
+from faultslip.io.resources import probe_netcdf
+from faultslip.studies.grid import compute_block, finish, parameters_for, parse_study
+
+DEFAULT_CHUNK_CELLS = 2**19
+#: netCDF4 compression filters: zlib is readable everywhere (default); zstd is ~2.5x faster to write
+#: and needs netCDF-C >= 4.9 with its plugins to read; none writes fastest and largest.
+COMPRESSIONS = ("zlib", "zstd", "none")
+FLOAT_FILL = np.nan
+INT_FILL = np.int8(-127)
+
+
+def plan_blocks(study, chunk_cells: int = DEFAULT_CHUNK_CELLS):
+    """Chunk size per dimension and the list of blocks (name -> slice), trailing dimensions whole first."""
+    if chunk_cells < 1:
+        raise InputError(f"--chunks must be a positive number of cells, got {chunk_cells}")
+    names = list(study.dims)
+    sizes = [len(study.dims[n]) for n in names]
+    chunks = [1] * len(names)
+    product = 1
+    for index in range(len(names) - 1, -1, -1):
+        if product * sizes[index] <= chunk_cells:
+            chunks[index] = sizes[index]
+            product *= sizes[index]
+        else:
+            chunks[index] = max(1, chunk_cells // product)
+            break
+    ranges = [range(0, size, chunk) for size, chunk in zip(sizes, chunks)]
+    blocks = [{n: slice(start, min(start + c, size)) for n, start, c, size in zip(names, starts, chunks, sizes)}
+              for starts in itertools.product(*ranges)]
+    return dict(zip(names, chunks)), blocks
+
+
+def _executor(scheduler, workers):
+    """(submit, wait_any, shutdown, label) for the chosen executor."""
+    if scheduler is None:
+        if workers <= 1:
+            return None, "in-process"
+        return worker_pool(workers), f"process pool ({workers} workers)"
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise InputError("--scheduler needs dask.distributed: pip install 'faultslip[dask]'") from None
+    if scheduler == "local":
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
+        return Client(cluster), f"dask LocalCluster ({workers} workers)"
+    try:
+        return Client(scheduler, timeout="10s"), f"dask cluster at {scheduler}"
+    except (OSError, TimeoutError) as exc:
+        raise InputError(f"cannot reach the dask scheduler at {scheduler!r}: {exc}") from None
+
+
+def _create(path, study, template, chunks, compression="zlib"):
+    """An empty netCDF4 file with the study's dimensions, coordinates, variables and attributes."""
+    import netCDF4
+
+
+    nc = netCDF4.Dataset(path, "w", format="NETCDF4")
+    names = list(study.dims)
+    for name in names:
+        nc.createDimension(name, len(study.dims[name]))
+        kind, unit, long_name = parameters_for(study.kind)[name]
+        if kind == "category":
+            variable = nc.createVariable(name, str, (name,))
+            variable[:] = np.array(study.dims[name], dtype=object)
+        else:
+            variable = nc.createVariable(name, "f8", (name,))
+            variable[:] = np.asarray(study.dims[name], dtype=float)
+            variable.units = unit
+        variable.long_name = long_name
+    for name, array in template.data_vars.items():
+        is_int = np.issubdtype(array.dtype, np.integer)
+        filters = {} if compression == "none" else {"compression": compression, "complevel": 1}
+        variable = nc.createVariable(name, "i1" if is_int else "f8", tuple(names), **filters,
+                                     chunksizes=tuple(chunks[n] for n in names) if names else None,
+                                     fill_value=INT_FILL if is_int else FLOAT_FILL)
+        for key, value in array.attrs.items():
+            variable.setncattr(key, value)
+        _no_chunk_cache(variable)
+    attrs = finish(template.copy(), study).attrs
+    for key, value in attrs.items():
+        nc.setncattr(key, value)
+    return nc
+
+
+def _no_chunk_cache(variable):
+    """Each block is written once, as whole chunks: HDF5's chunk cache would only hold memory.
+
+    By default it keeps up to tens of MiB of chunks per variable, so memory would grow with the
+    run until the caches filled; with a tiny cache every chunk is compressed and written at once.
+    """
+    variable.set_var_chunk_cache(size=1 << 20, nelems=1, preemption=1.0)
+
+
+def _write_block(nc, study, block, dataset):
+    names = list(study.dims)
+    index = tuple(block[n] for n in names)
+    for name in dataset.data_vars:
+        values = dataset[name].transpose(*names).values if names else dataset[name].values
+        nc[name][index] = values
+
+
+def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str | None = None, workers: int = 2,
+              resume: bool = False, progress=None, compression: str = "zlib", overwrite: bool = True,
+              inputs=()) -> dict:
+    """Compute ``study`` into ``output`` (netCDF4); returns a summary (blocks, cells, seconds, executor).
+
+    The output is checked before any work (folder, extension, an input of the run, an existing file
+    without ``overwrite``) and locked while it is written: a second run on the same output is refused.
+    """
+    if compression not in COMPRESSIONS:
+        raise InputError(f"compression must be one of {', '.join(COMPRESSIONS)}, got {compression!r}")
+    output = check_output(output, label="output", suffixes=(".nc",), inputs=inputs, overwrite=overwrite)
+    with output_lock(output, "faultslip sweep"):
+        return _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression)
+
+
+def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> set:
+    """Blocks already on disk from an interrupted run, or an empty set (with a warning saying why)."""
+    if not (partial.exists() or ledger.exists()):
+        return set()
+    if not resume:
+        warnings.warn(f"an interrupted run left {partial.name}; starting over (pass --resume to continue it)",
+                      stacklevel=3)
+        return set()
+    try:
+        record = json.loads(ledger.read_text(encoding="utf-8"))
+        done = {int(i) for i in record["done"]}
+        same = record.get("fingerprint") == fingerprint and record.get("blocks") == blocks
+    except (OSError, ValueError, KeyError, TypeError):
+        warnings.warn(f"the progress record {ledger.name} is unreadable; starting over", stacklevel=3)
+        return set()
+    if not same:
+        warnings.warn(f"{partial.name} belongs to a different study or chunking; starting over", stacklevel=3)
+        return set()
+    if not partial.exists() or any(not 0 <= i < blocks for i in done):
+        warnings.warn(f"{partial.name} is missing or inconsistent with its record; starting over", stacklevel=3)
+        return set()
+    return done
+
+
+def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression):
+
+    chunk_cells = chunk_cells or DEFAULT_CHUNK_CELLS
+    chunks, blocks = plan_blocks(study, chunk_cells)
+    partial = output.with_name(output.name + ".partial")
+    ledger = output.with_name(output.name + ".progress.json")
+    fingerprint = study.fingerprint()
+    done: set[int] = set()
+    started = time.perf_counter()
+    template = compute_block(study, {n: slice(0, 1) for n in study.dims})
+    done = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
+    import netCDF4
+
+    nc = None
+    if done:
+        try:
+            nc = netCDF4.Dataset(partial, "a")
+            for name in template.data_vars:
+                _no_chunk_cache(nc[name])
+        except (OSError, IndexError, KeyError, RuntimeError) as exc:  # truncated by a kill -9, or foreign
+            if nc is not None:
+                nc.close()
+            nc = None
+            warnings.warn(f"cannot continue {partial.name} ({exc}); starting over", stacklevel=2)
+            done = set()
+    if not done:
+        for stale in (partial, ledger):
+            if stale.exists():
+                stale.unlink()
+        try:
+            nc = _create(partial, study, template, chunks, compression)
+        except OSError as exc:
+            raise InputError(f"cannot write {partial.name}: {exc.strerror or exc}") from None
+    pending = [i for i in range(len(blocks)) if i not in done]
+    # one chunk (or none) left: a pool would only add start-up time
+    executor, label = _executor(scheduler, workers if len(pending) > 1 or scheduler else 1)
+
+    def record_progress():
+        write_text_atomic(ledger, json.dumps({"fingerprint": fingerprint, "blocks": len(blocks), "done": sorted(done)}))
+
+    record_progress()
+    last_saved = time.perf_counter()
+    try:
+        if executor is None:
+            for index in pending:
+                _write_block(nc, study, blocks[index], compute_block(study, blocks[index]))
+                done.add(index)
+                if progress:
+                    progress(len(done), len(blocks))
+                if time.perf_counter() - last_saved > 1.0:
+                    nc.sync()
+                    record_progress()
+                    last_saved = time.perf_counter()
+        else:
+            in_flight = {}
+            queue = iter(pending)
+            window = max(workers, 1) + 1  # blocks in flight: bounds memory whatever the grid size
+            is_dask = hasattr(executor, "gather")
+            for index in itertools.islice(queue, window):
+                in_flight[executor.submit(compute_block, study, blocks[index])] = index
+            while in_flight:
+                if is_dask:
+                    from distributed import wait as dask_wait
+
+                    finished = dask_wait(list(in_flight), return_when="FIRST_COMPLETED").done
+                else:
+                    finished = wait(list(in_flight), return_when=FIRST_COMPLETED).done
+                for future in finished:
+                    index = in_flight.pop(future)
+                    _write_block(nc, study, blocks[index], future.result())
+                    done.add(index)
+                    if progress:
+                        progress(len(done), len(blocks))
+                    following = next(queue, None)
+                    if following is not None:
+                        in_flight[executor.submit(compute_block, study, blocks[following])] = following
+                if time.perf_counter() - last_saved > 1.0:
+                    nc.sync()
+                    record_progress()
+                    last_saved = time.perf_counter()
+    except BaseException as exc:
+        _shutdown(executor, interrupted=True)  # first: no worker may keep running, or block the exit
+        nc.sync()
+        nc.close()
+        record_progress()  # what is on disk is complete block by block: --resume continues from here
+        if isinstance(exc, OSError):
+            raise InputError(f"writing {partial.name} failed: {exc.strerror or exc}; "
+                             "'--resume' continues once the cause is fixed") from None
+        raise
+    nc.close()
+    _shutdown(executor)
+    os.replace(partial, output)
+    if ledger.exists():
+        ledger.unlink()
+    return {"blocks": len(blocks), "resumed_blocks": len(blocks) - len(pending), "cells": study.size,
+            "chunks": chunks, "seconds": time.perf_counter() - started, "executor": label, "output": str(output)}
+
+
+def _shutdown(executor, interrupted: bool = False):
+    if executor is None:
+        return
+    if hasattr(executor, "gather"):  # a dask Client (and its LocalCluster, if it made one)
+        cluster = getattr(executor, "cluster", None)
+        executor.close()
+        if cluster is not None:
+            cluster.close()
+    else:
+        stop_pool(executor, interrupted=interrupted)
+
+
+def _largest_difference(a, b):
+    """Relative difference per element; equal values (also inf and NaN pairs) differ by 0."""
+    a, b = np.asarray(a), np.asarray(b)
+    if not np.issubdtype(a.dtype, np.floating):
+        return (a != b).astype(float)
+    same = (a == b) | (np.isnan(a) & np.isnan(b))
+    with np.errstate(invalid="ignore", over="ignore"):
+        scale = np.maximum(np.abs(a), np.abs(b))
+        return np.where(same, 0.0, np.abs(a - b) / np.where(scale > 0, scale, 1.0))
+
+
+#: Global attributes that describe the run, not its results: not compared by :func:`reproduce`.
+RUN_ATTRIBUTES = ("history", "source")
+
+
+def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrite: bool = False) -> dict:
+    """Re-run the study embedded in ``path`` and compare everything that carries results.
+
+    Every data variable, coordinate, variable attribute and global attribute (but the run's
+    ``history`` and ``source``) is compared. A variable, coordinate or attribute that is missing or
+    extra is a mismatch, and so is any value that differs by more than 1e-12 relative. The file
+    checked is never written: ``output`` must be another file.
+    """
+    import tempfile
+
+    import xarray as xr
+
+
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"file {str(path)!r} does not exist")
+    if path.is_dir():
+        raise InputError(f"{str(path)!r} is a folder, not a netCDF file")
+    keep = None
+    if output is not None:
+        keep = check_output(output, label="-o", suffixes=(".nc",), inputs=[path], overwrite=overwrite)
+
+    probe_netcdf(path, "file")  # a damaged file must not crash this process (see probe_netcdf)
+    try:
+        with xr.open_dataset(path) as original:
+            attrs = dict(original.attrs)
+    except Exception as exc:  # netCDF4/h5py raise many types on a damaged file; all mean "not readable"
+        raise InputError(f"cannot read {str(path)!r} as netCDF: {str(exc)[:200]}") from None
+    if not isinstance(attrs.get("faultslip_study"), str) or not isinstance(attrs.get("faultslip_base_scene"), str):
+        raise InputError(f"{path.name} carries no embedded study (faultslip_study attribute); it was not written by faultslip sweep")
+    study = parse_study(attrs["faultslip_study"], source=path.name, base_text=attrs["faultslip_base_scene"])
+    with tempfile.TemporaryDirectory(dir=(keep.parent if keep else None)) as scratch:
+        target = keep or Path(scratch) / "reproduced.nc"
+        summary = run_study(study, target, chunk_cells=chunk_cells, workers=workers, inputs=[path])
+        try:
+            with xr.open_dataset(path, chunks={}) as old, xr.open_dataset(target, chunks={}) as new:
+                comparison = compare_datasets(old, new)
+        except InputError:
+            raise
+        except Exception as exc:
+            raise InputError(f"cannot compare {path.name} with its reproduction: {str(exc)[:200]}") from None
+    worst = max(comparison["differences"].values()) if comparison["differences"] else 0.0
+    matches = worst <= 1e-12 and not any(comparison[k] for k in ("missing", "extra", "attribute_differences"))
+    return {"matches": matches, "largest_difference": worst, **comparison,
+            "cells": summary["cells"], "seconds": summary["seconds"]}
+
+
+def _same_value(a, b) -> bool:
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape:
+        return False
+    if np.issubdtype(a.dtype, np.floating) and np.issubdtype(b.dtype, np.floating):
+        return bool(np.all((a == b) | (np.isnan(a) & np.isnan(b))))
+    return bool(np.all(a == b))
+
+
+def compare_datasets(old, new) -> dict:
+    """What differs between a file and its reproduction: variables, coordinates and attributes.
+
+    Returns ``differences`` (name -> largest relative difference), ``missing`` (in the
+    reproduction, not in the file), ``extra`` (in the file only) and ``attribute_differences``.
+    """
+    import xarray as xr
+
+    differences, attribute_differences = {}, []
+    old_names = set(old.data_vars) | set(old.coords)
+    new_names = set(new.data_vars) | set(new.coords)
+    missing, extra = sorted(new_names - old_names), sorted(old_names - new_names)
+    for name in sorted(old_names & new_names):
+        a, b = old[name], new[name]
+        if a.dims != b.dims or a.shape != b.shape:
+            differences[name] = float("inf")
+            continue
+        if np.issubdtype(a.dtype, np.number) and np.issubdtype(b.dtype, np.number):
+            differences[name] = float(xr.apply_ufunc(_largest_difference, a, b, dask="parallelized",
+                                                     output_dtypes=[float]).max().compute())
+        else:
+            differences[name] = 0.0 if _same_value(a.values, b.values) else float("inf")
+        for key in sorted(set(a.attrs) | set(b.attrs)):
+            if key not in a.attrs or key not in b.attrs or not _same_value(a.attrs[key], b.attrs[key]):
+                attribute_differences.append(f"{name}:{key}")
+    for key in sorted((set(old.attrs) | set(new.attrs)) - set(RUN_ATTRIBUTES)):
+        if key not in old.attrs or key not in new.attrs or not _same_value(old.attrs[key], new.attrs[key]):
+            attribute_differences.append(key)
+    return {"differences": differences, "missing": missing, "extra": extra,
+            "attribute_differences": attribute_differences}
