@@ -1,0 +1,146 @@
+"""What every command shares: output checks and locks, worker caps, progress lines, small parsers."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+import time
+from pathlib import Path
+
+from faultslip.dynamics.closed_form import dashpot_for_damping_ratio
+from faultslip.dynamics.slider import SliderSystem
+from faultslip.errors import FaultslipError, InputError
+from faultslip.fault.scene import load_scene
+from faultslip.io.outputs import check_output, output_lock, same_file
+from faultslip.io.processes import usable_workers
+from faultslip.units import to_si
+
+
+def _emit(report, as_json: bool) -> int:
+    print(report.to_json() if as_json else report.to_text())
+    return 0
+
+
+def _outputs(args, specs, inputs=()):
+    """Check every output option before any work; returns {attribute: Path or None}.
+
+    ``specs`` maps an attribute of ``args`` to (label, allowed suffixes). Two options naming one
+    file are refused too.
+    """
+
+    checked = {}
+    for attribute, (label, suffixes) in specs.items():
+        value = getattr(args, attribute, None)
+        checked[attribute] = None if value is None else check_output(
+            value, label=label, suffixes=suffixes, inputs=inputs, overwrite=getattr(args, "overwrite", False))
+    paths = [(a, p) for a, p in checked.items() if p is not None]
+    for i, (first, a) in enumerate(paths):
+        for second, b in paths[i + 1:]:
+            if same_file(a, b):
+                raise FaultslipError(f"{specs[first][0]} and {specs[second][0]} name the same file {str(a)!r}")
+    return checked
+
+
+def _locked(*paths):
+    """Hold the output lock of every given path (None skipped) while the outputs are written."""
+
+
+    stack = contextlib.ExitStack()
+    for path in paths:
+        if path is not None:
+            stack.enter_context(output_lock(path, " ".join(["faultslip"] + sys.argv[1:3])))
+    return stack
+
+
+def _output_dir(args, default, names):
+    """Check an output folder and the files it will receive, before any work; create the folder."""
+
+
+    folder = check_output(args.output or default, label="-o", directory=True)
+    for name in names:
+        target = Path(folder) / name
+        if target.exists() and not args.overwrite:
+            raise FaultslipError(f"{str(target)!r} already exists; pass --overwrite to replace it")
+        if target.is_dir():
+            raise FaultslipError(f"{str(target)!r} is a folder; it cannot be written as a file")
+    folder.mkdir(exist_ok=True)
+    return folder
+
+
+def _workers(args, tasks=None) -> int:
+    """--workers capped at what helps; the cap is said on stderr (and in --json output)."""
+
+
+    if args.workers is None:  # not given: as many as help, silently
+        return usable_workers(os.cpu_count() or 1, tasks)[0]
+    workers, note = usable_workers(args.workers, tasks)
+    if note:
+        args.notes = getattr(args, "notes", []) + [note]
+        if not args.json:
+            print(f"faultslip: note: {note}", file=sys.stderr)
+    return workers
+
+
+def _note_origin(report, *origins):
+    for origin in origins:
+        if origin:
+            report.notes.insert(0, origin)
+
+
+def _tolerance(args):
+    if getattr(args, "tolerance", None) is None:
+        return None
+    value = _number(args.tolerance, "tolerance")
+    if not 0 < value < 1:
+
+        raise InputError(f"tolerance must be a relative error between 0 and 1, got {args.tolerance}")
+    return value
+
+
+def _number(text, name):
+    return to_si(text, "dimensionless", name)
+
+
+def _system_from_args(args):
+    if args.preset and getattr(args, "scene", None):
+        raise InputError("give a preset or a scene, not both")
+    if args.preset:
+        zeta = 0.0 if args.damping_ratio is None else _number(args.damping_ratio, "damping ratio")
+        return SliderSystem.from_preset(args.preset, loading_rate="1 1/s", damping_ratio=zeta)
+    if getattr(args, "scene", None):
+        system = load_scene(args.scene).slider()
+        if args.damping_ratio is not None:
+
+            zeta = _number(args.damping_ratio, "damping ratio")
+            system = system.with_(dashpot=float(dashpot_for_damping_ratio(zeta, system.stiffness, system.mass)))
+        return system
+    raise InputError("give --preset NAME (with --damping-ratio) or a scene file")
+
+
+def _progress(label):
+    """A one-line progress counter on stderr, only when it is a terminal."""
+    if not sys.stderr.isatty():
+        return None
+
+    def show(done, total):
+        end = "\n" if done == total else ""
+        print(f"\r{label}: {done}/{total}", end=end, file=sys.stderr, flush=True)
+
+    return show
+
+
+def _delayed_progress(label, enabled):
+    """Progress on stderr for runs longer than a few seconds, only on a terminal."""
+    if not enabled or not sys.stderr.isatty():
+        return None
+
+    started = time.perf_counter()
+
+    def show(done, total):
+        if time.perf_counter() - started < 2.0 and done < total:
+            return
+        print(f"\r{label}: {done}/{total} chunks ({100 * done / total:.0f} %)", end="\n" if done == total else "",
+              file=sys.stderr, flush=True)
+
+    return show

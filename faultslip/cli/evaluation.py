@@ -1,0 +1,73 @@
+"""Method evaluation commands: bench, stability."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from faultslip.cli.common import _locked, _number, _output_dir, _progress, _workers
+from faultslip.errors import FaultslipError, InputError
+from faultslip.evaluation import bench, stability
+from faultslip.evaluation.bench import markdown, method_names, standard_scenes, work_precision
+from faultslip.evaluation.stability import DAMPING_RATIOS, METHODS, RATIOS, SEPARATIONS, failure_text, stability_map
+from faultslip.io.atomic import save_figure, write_text_atomic
+from faultslip.io.netcdf import write_dataset
+
+
+def cmd_bench(args) -> int:
+    for name in args.scene or []:
+        if name not in standard_scenes():
+            raise InputError(f"unknown bench scene {name!r}; allowed: {', '.join(standard_scenes())}")
+    for name in args.method or []:
+        if name not in method_names():
+            raise InputError(f"unknown bench method {name!r}; allowed: {', '.join(method_names())}")
+    out = Path(_output_dir(args, "bench", [f"work_precision.{ext}" for ext in ("nc", "md", "png")]))
+    workers = _workers(args)
+    with _locked(out / "work_precision.nc"):
+        dataset = work_precision(quick=args.quick, workers=workers, scenes=args.scene, methods=args.method,
+                                 progress=None if args.json else _progress("bench"))
+        table = markdown(dataset)
+        write_dataset(dataset, out / "work_precision.nc")
+        write_text_atomic(out / "work_precision.md", table + "\n")
+        save_figure(bench.chart(dataset), out / "work_precision.png", dpi=120)
+    files = [str(out / f"work_precision.{ext}") for ext in ("nc", "md", "png")]
+    if args.json:
+        print(json.dumps({"files": files, "wall_time": {"value": dataset.attrs["total_wall_time_s"], "units": "s"},
+                          "scenes": [str(s) for s in dataset["scene"].values],
+                          "methods": [str(m) for m in dataset["method"].values]}, indent=2))
+    else:
+        print(table.split("\n\nOutcome")[0])
+        print(f"\nwrote {', '.join(files)} in {dataset.attrs['total_wall_time_s']:.1f} s")
+    return 0
+
+
+def cmd_stability(args) -> int:
+    def floats(values, default):
+        return tuple(sorted(_number(v, "grid value") for v in values)) if values else default
+
+    for name in args.method or []:
+        if name not in METHODS:
+            raise FaultslipError(f"unknown stability method {name!r}; allowed: {', '.join(METHODS)}")
+    ratios, dampings, separations = (floats(args.ratio, RATIOS), floats(args.damping_ratio, DAMPING_RATIOS),
+                                     floats(args.separation, SEPARATIONS))
+    if any(not 0 < r < 100 for r in ratios) or any(not 0 < s < 1e9 for s in separations):
+        raise FaultslipError("--ratio must lie in (0, 100) (theta / theta_c) and --separation in (0, 1e9)")
+    if any(not 0 < z < 1 for z in dampings):
+        raise FaultslipError("--damping-ratio must lie in (0, 1): a critical rate needs damping")
+    out = Path(_output_dir(args, "stability", [f"stability.{ext}" for ext in ("nc", "md", "png")]))
+    workers = _workers(args)
+    with _locked(out / "stability.nc"):
+        dataset = stability_map(ratios, dampings, separations, tuple(args.method or METHODS),
+                                workers=workers, progress=None if args.json else _progress("stability"))
+        text = failure_text(dataset)
+        write_dataset(dataset, out / "stability.nc")
+        write_text_atomic(out / "stability.md", text + "\n")
+        save_figure(stability.chart(dataset), out / "stability.png", dpi=120)
+    files = [str(out / f"stability.{ext}") for ext in ("nc", "md", "png")]
+    if args.json:
+        print(json.dumps({"files": files, "failure_regions": text.splitlines(),
+                          "wall_time": {"value": dataset.attrs["total_wall_time_s"], "units": "s"}}, indent=2))
+    else:
+        print(text)
+        print(f"\nwrote {', '.join(files)} in {dataset.attrs['total_wall_time_s']:.1f} s")
+    return 0

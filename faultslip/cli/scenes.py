@@ -1,0 +1,209 @@
+"""Scene and fault commands: run, fault, materials, methods, simulate, critical, cycle."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from faultslip.cli.common import _emit, _locked, _note_origin, _number, _output_dir, _outputs, _system_from_args, _tolerance
+from faultslip.dynamics.critical import comparison_dataset, comparison_markdown, critical
+from faultslip.dynamics.methods import describe_all, solve
+from faultslip.dynamics.simulate import simulate, summary_report
+from faultslip.errors import FaultslipError, InputError
+from faultslip.fault.scaling import Fault
+from faultslip.fault.scene import CHOICES, load_scene, run_scene
+from faultslip.friction.materials import lithologies, presets
+from faultslip.friction.registry import registry_path
+from faultslip.io import budget
+from faultslip.io.atomic import save_figure, write_text_atomic
+from faultslip.io.netcdf import write_dataset
+from faultslip.io.outputs import FIGURE_SUFFIXES
+from faultslip.plots.figures import critical_comparison_figure, sawtooth_figure
+from faultslip.units import to_si
+
+
+_FAULT_QUANTITIES = {
+    # flag -> Fault argument
+    "shear_modulus": "shear_modulus",
+    "zone_width": "zone_width",
+    "normal_stress": "normal_stress",
+    "shear_stress": "shear_stress",
+    "slip_rate": "slip_rate",
+    "rupture_length": "rupture_length",
+    "depth": "seismogenic_depth",
+    "density": "density",
+    "shear_wave_speed": "shear_wave_speed",
+}
+
+
+def cmd_run(args) -> int:
+    tolerance = _tolerance(args)
+    return _emit(run_scene(load_scene(args.scene), method=args.method, tolerance=tolerance), args.json)
+
+
+def cmd_fault(args) -> int:
+    inputs = {target: getattr(args, flag) for flag, target in _FAULT_QUANTITIES.items() if getattr(args, flag) is not None}
+    for key in ("mu_so", "mu_m", "damping_ratio"):
+        if getattr(args, key) is not None:
+            inputs[key] = getattr(args, key)
+    if args.rate_coefficient is not None:
+        inputs["b"] = args.rate_coefficient
+    if args.rate_exponent is not None:
+        inputs["d"] = args.rate_exponent
+    fault = Fault(lithology=args.lithology, radiation_damping=args.radiation_damping, name=args.name, **_required(inputs))
+    if args.observed_slip is not None:
+        return _emit(fault.infer_kinetic_friction(args.observed_slip).report(), args.json)
+    return _emit(fault.estimate(method=args.method or "auto", tolerance=_tolerance(args)).report(), args.json)
+
+
+def _required(inputs: dict) -> dict:
+    missing = [flag for flag in ("zone_width", "slip_rate") if flag not in inputs]
+    if missing:
+        raise InputError(f"missing {', '.join('--' + m.replace('_', '-') for m in missing)}, required for a fault estimate")
+    return inputs
+
+
+def cmd_materials(args) -> int:
+    preset_rows = []
+    for preset in presets().values():
+        row = {"name": preset.name, "material": preset.material, "condition": preset.condition,
+               "lithology": preset.lithology, "stick_slip": preset.stick_slip, "source": preset.source}
+        if preset.stick_slip:
+            law = preset.rate_law
+            row.update(mu_so=law.mu_so, mu_m=law.mu_m, b={"value": law.b, "units": f"s^{law.d:g}"}, d=law.d)
+        else:
+            row["friction"] = preset.friction
+        if preset.material == "user fit":
+            entry = preset.printed.get("registry", {})
+            row.update(user_fit=True, standard_errors=entry.get("standard_errors"), intervals_95=entry.get("intervals_95"),
+                       points=entry.get("points"), shear_modulus=({"value": entry["shear_modulus"], "units": "Pa"}
+                                                                  if entry.get("shear_modulus") else None))
+        if preset.normal_load is not None:
+            row.update(
+                normal_load={"value": preset.normal_load, "units": "N"},
+                stiffness={"value": preset.stiffness, "units": "N/m"},
+                mass={"value": preset.mass, "units": "kg"},
+            )
+        preset_rows.append(row)
+    lith_rows = [
+        {"name": lith.name, "shear_modulus": {"value": lith.shear_modulus, "units": "Pa"},
+         "default_preset": lith.default_preset, "source": lith.source}
+        for lith in lithologies().values()
+    ]
+    if args.json:
+        print(json.dumps({"presets": preset_rows, "lithologies": lith_rows}, indent=2))
+        return 0
+    print("Presets (seed 003 Table I; W, K of its apparatus; M = W/g)")
+    print(f"  {'name':<26}{'mu_so':>7}{'mu_m':>7}{'b (s^d)':>11}{'d':>8}{'W (N)':>9}{'K (N/m)':>11}{'M (kg)':>8}  source")
+    for row in preset_rows:
+        if row.get("user_fit"):
+            continue
+        if row["stick_slip"]:
+            print(f"  {row['name']:<26}{row['mu_so']:>7.3g}{row['mu_m']:>7.3g}{row['b']['value']:>11.4g}{row['d']:>8.4g}"
+                  f"{row['normal_load']['value']:>9.1f}{row['stiffness']['value']:>11.4g}{row['mass']['value']:>8.1f}  {row['source']}")
+        else:
+            print(f"  {row['name']:<26}  steady sliding, mu = {row['friction']:.2f} (no stick-slip)  {row['source']}")
+
+    user = [row for row in preset_rows if row.get("user_fit")]
+    print(f"\nUser fits ({registry_path()})" + ("" if user else ": none yet (faultslip fit DATA.csv --name NAME)"))
+    for row in user:
+        errors = row.get("standard_errors") or {}
+        modulus = row.get("shear_modulus")
+        print(f"  {row['name']:<26}{row['mu_so']:>7.3g}{row['mu_m']:>7.3g}{row['b']['value']:>11.4g}{row['d']:>8.4g}"
+              f"  (+- {errors.get('mu_so', float('nan')):.2g}, {errors.get('mu_m', float('nan')):.2g}, "
+              f"{errors.get('b', float('nan')):.2g}, {errors.get('d', float('nan')):.2g})"
+              + (f"  G = {modulus['value'] / 1e5:.4g} bar" if modulus else "") + f"  {row['source']}")
+    print("\nLithologies (shear modulus; default friction preset on a fault)")
+    for row in lith_rows:
+        print(f"  {row['name']:<14}G = {row['shear_modulus']['value'] / 1e5:.4g} bar  preset: "
+              f"{row['default_preset'] or '(none: give mu_so, mu_m)'}  {row['source']}")
+    return 0
+
+
+def cmd_methods(args) -> int:
+    rows = describe_all()
+    if args.json:
+        print(json.dumps({"methods": rows}, indent=2))
+        return 0
+    for row in rows:
+        print(f"{row['name']}\n  friction laws: {row['friction_laws']}\n  valid where:   {row['domain']}\n"
+              f"  cost:          {row['cost_model']}")
+    return 0
+
+
+def cmd_simulate(args) -> int:
+    scene = load_scene(args.scene)
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [scene.path])
+    settings = scene.simulation
+    if args.cycles is not None:
+        if args.cycles < 1:
+            raise FaultslipError(f"--cycles must be at least 1, got {args.cycles}")
+        settings["cycles"] = args.cycles
+    if args.slip_solver is not None:
+        allowed = CHOICES[("simulation", "slip_solver")]
+        if args.slip_solver not in allowed:
+            raise FaultslipError(f"--slip-solver must be one of {', '.join(allowed)}, got {args.slip_solver!r}")
+        settings["slip_solver"] = args.slip_solver
+    if args.rtol is not None:
+        rtol = _number(args.rtol, "--rtol")
+        if not 1e-14 <= rtol < 1:
+            raise FaultslipError(f"--rtol must lie in [1e-14, 1), got {args.rtol}")
+        settings["rtol"] = rtol
+    system = scene.slider()
+    integrated = not system.is_linear or settings.get("slip_solver", "auto") not in ("auto", "analytic")
+    budget.check(budget.simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64),
+                                            integrated, outputs["output"]), args.allow_large)
+    dataset = simulate(system, scene=scene.name, **settings)
+    dataset.attrs["scene_text"] = scene.text
+    report = summary_report(dataset, f"faultslip simulation: {scene.name}")
+    _note_origin(report, scene.origin and f"scene: {scene.origin}")
+    with _locked(outputs["output"], outputs["plot"]):
+        if outputs["output"]:
+            write_dataset(dataset, outputs["output"])
+            report.note(f"time series and event table written to {args.output}")
+        if outputs["plot"]:
+
+            save_figure(sawtooth_figure(dataset), outputs["plot"], dpi=150)
+            report.note(f"sawtooth record drawn to {args.plot}")
+    return _emit(report, args.json)
+
+
+def cmd_critical(args) -> int:
+    if args.table:
+        return _critical_table(args)
+
+    return _emit(critical(_system_from_args(args)).report(), args.json)
+
+
+def _critical_table(args) -> int:
+    out = Path(_output_dir(args, ".", [f"critical_comparison.{ext}" for ext in ("nc", "md", "png")]))
+    dataset = comparison_dataset()
+    markdown = comparison_markdown(dataset)
+    with _locked(out / "critical_comparison.nc"):
+        write_dataset(dataset, out / "critical_comparison.nc")
+        write_text_atomic(out / "critical_comparison.md", markdown + "\n")
+        save_figure(critical_comparison_figure(dataset), out / "critical_comparison.png", dpi=150)
+    if args.json:
+        print(json.dumps({"files": [str(out / f"critical_comparison.{ext}") for ext in ("nc", "md", "png")],
+                          "critical_loading_rate": {"value": dataset["critical_loading_rate"].values.tolist(), "units": "1/s"},
+                          "seed_appendix_I_loading_rate": {"value": dataset["seed_appendix_I_loading_rate"].values.tolist(), "units": "1/s"},
+                          "preset": [str(p) for p in dataset["preset"].values],
+                          "damping_ratio": dataset["damping_ratio"].values.tolist()}, indent=2))
+    else:
+        print(markdown)
+        print(f"\nwrote {out / 'critical_comparison.nc'}, .md and .png")
+    return 0
+
+
+def cmd_cycle(args) -> int:
+    scene = load_scene(args.scene)
+    system = scene.slider()
+    if (args.loading_rate is None) == (args.platform_speed is None):
+        raise InputError("give exactly one of --loading-rate or --platform-speed")
+    if args.loading_rate is not None:
+        system = system.at_loading_rate(to_si(args.loading_rate, "rate", "loading rate"))
+    else:
+        system = system.with_(platform_speed=to_si(args.platform_speed, "speed", "platform speed"))
+    tolerance = _tolerance(args) or scene.tolerance
+    solution = solve(system, method=args.method or scene.method, tolerance=tolerance, cycles=200)
+    return _emit(solution.report(f"faultslip cycle: {scene.name}"), args.json)

@@ -1,0 +1,113 @@
+"""Study and map commands: sweep, reproduce, map."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from faultslip.cli.common import _delayed_progress, _locked, _outputs, _tolerance, _workers
+from faultslip.errors import FaultslipError
+from faultslip.io import budget
+from faultslip.io.atomic import save_figure
+from faultslip.io.netcdf import write_dataset
+from faultslip.io.outputs import check_output, FIGURE_SUFFIXES
+from faultslip.studies.grid import load_study
+from faultslip.studies.maps import load_map, map_figure, observed_figure, observed_table, run_map
+from faultslip.studies.streaming import DEFAULT_CHUNK_CELLS, reproduce, run_study
+
+
+def cmd_sweep(args) -> int:
+    study = load_study(args.study)
+    inputs = [args.study, study.scene.path]
+    # --resume continues into the same output: an existing final file is still refused without --overwrite
+    output = check_output(args.output, label="-o", suffixes=(".nc",), inputs=inputs, overwrite=args.overwrite)
+    if args.chunks is not None and not 1 <= args.chunks <= 10**9:
+        raise FaultslipError(f"--chunks must be a number of cells from 1 to 1e9, got {args.chunks}")
+    chunk_cells = args.chunks or DEFAULT_CHUNK_CELLS
+    # at least this many chunks (whole trailing dimensions may make more); known without listing them
+    chunk_count = -(-study.size // chunk_cells)
+    workers = (args.workers or 2) if args.scheduler else _workers(args, chunk_count)
+    budget.check(budget.study_estimate(study, output, workers, chunk_cells, args.compression), args.allow_large)
+    summary = run_study(study, output, chunk_cells=chunk_cells, scheduler=args.scheduler, workers=workers,
+                        resume=args.resume, progress=_delayed_progress("sweep", not args.json),
+                        compression=args.compression, overwrite=args.overwrite, inputs=inputs)
+    if args.json:
+        print(json.dumps({"output": summary["output"], "cells": summary["cells"], "blocks": summary["blocks"],
+                          "resumed_blocks": summary["resumed_blocks"], "executor": summary["executor"],
+                          "wall_time": {"value": summary["seconds"], "units": "s"},
+                          "dimensions": {name: len(values) for name, values in study.dims.items()},
+                          "notes": getattr(args, "notes", []) + ([f"base scene: {study.scene.origin}"]
+                                                                 if study.scene.origin else [])}, indent=2))
+    else:
+        print(f"faultslip sweep: {study.name}")
+        print(f"  {summary['cells']} cells ({' x '.join(f'{n} {len(v)}' for n, v in study.dims.items())}) in "
+              f"{summary['blocks']} chunks on {summary['executor']}"
+              + (f", {summary['resumed_blocks']} reused" if summary["resumed_blocks"] else ""))
+        print(f"  wrote {summary['output']} in {summary['seconds']:.2f} s")
+    return 0
+
+
+def cmd_reproduce(args) -> int:
+    workers = _workers(args)
+    result = reproduce(args.file, output=args.output, workers=workers, overwrite=args.overwrite)
+    if args.json:
+        print(json.dumps({key: (None if isinstance(value, float) and not math.isfinite(value) else value)
+                          for key, value in result.items() if key != "differences"}
+                         | {"differences": {k: (v if math.isfinite(v) else None) for k, v in result["differences"].items()}},
+                         indent=2))
+    else:
+        verdict = "matches" if result["matches"] else "DIFFERS"
+        print(f"faultslip reproduce: {args.file} {verdict} (largest relative difference {result['largest_difference']:.3g} "
+              f"over {result['cells']} cells)")
+        for name, value in result["differences"].items():
+            print(f"  {name:26s} {value:.3g}")
+        for label, key in (("missing from the file", "missing"), ("not reproduced (extra in the file)", "extra"),
+                           ("attributes that differ", "attribute_differences")):
+            if result[key]:
+                print(f"  {label}: {', '.join(result[key])}")
+    return 0 if result["matches"] else 1
+
+
+def cmd_map(args) -> int:
+    spec = load_map(args.map)
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, spec.inputs)
+    observed = None
+    if outputs["plot"] is not None and spec.segments is not None:
+        target = Path(outputs["plot"])
+        observed = check_output(target.with_name(target.stem + "_observed" + target.suffix), label="--plot (observed)",
+                                inputs=spec.inputs + [outputs["output"]], overwrite=args.overwrite)
+    tolerance = _tolerance(args) or 1e-6
+    dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance)
+    plots = []
+    with _locked(outputs["output"], outputs["plot"], observed):
+        write_dataset(dataset, outputs["output"])
+        if outputs["plot"]:
+            save_figure(map_figure(dataset), outputs["plot"], dpi=150)
+            plots.append(args.plot)
+            if "observed_recurrence" in dataset and observed is not None:
+                save_figure(observed_figure(dataset), observed, dpi=150)
+                plots.append(str(observed))
+    if args.json:
+        year = 365.25 * 86400
+        rows = []
+        if "segment" in dataset.dims:
+            for i, segment in enumerate(dataset["segment"].values):
+                row = dataset.isel(segment=i)
+                rows.append({"segment": str(segment),
+                             "slip_per_event": {"value": float(row["slip_per_event"]), "units": "m"},
+                             "recurrence_period": {"value": float(row["recurrence_period"]) if math.isfinite(float(row["recurrence_period"])) else None, "units": "s"},
+                             "moment_magnitude": float(row["moment_magnitude"]) if math.isfinite(float(row["moment_magnitude"])) else None,
+                             "observed_recurrence": {"value": float(row["observed_recurrence"]) if math.isfinite(float(row["observed_recurrence"])) else None, "units": "s"},
+                             "recurrence_ratio": float(row["recurrence_ratio"]) if math.isfinite(float(row["recurrence_ratio"])) else None,
+                             "slip_ratio": float(row["slip_ratio"]) if math.isfinite(float(row["slip_ratio"])) else None})
+        print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"},
+                          "notes": spec.notes}, indent=2))
+    else:
+        print(f"faultslip map: {spec.name}")
+        for note in spec.notes:
+            print(f"  {note}")
+        if "segment" in dataset.dims:
+            print(observed_table(dataset))
+        print(f"\nwrote {args.output}" + (f", {', '.join(plots)}" if plots else ""))
+    return 0
