@@ -4,6 +4,8 @@ Every error a user can cause derives from :class:`FaultslipError`; the CLI
 turns it into one sentence on stderr and exit status 2.
 """
 
+import difflib
+
 
 class FaultslipError(Exception):
     """Base class of every error faultslip raises on purpose."""
@@ -27,7 +29,6 @@ class OutOfDomainWarning(UserWarning):
 
 def did_you_mean(name: str, allowed, n: int = 2, cutoff: float = 0.6) -> str:
     """``"; did you mean a, b?"`` for the close matches of ``name`` in ``allowed``, else ``""``."""
-    import difflib
 
     close = difflib.get_close_matches(name, list(allowed), n=n, cutoff=cutoff)
     return f"; did you mean {', '.join(close)}?" if close else ""

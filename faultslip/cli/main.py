@@ -11,7 +11,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import signal
 import sys
+import warnings
 
 from faultslip import __version__
 from faultslip.errors import FaultslipError
@@ -215,7 +218,6 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 
 def main(argv=None) -> int:
     """Run one command; returns the exit status (0, 1 machine error, 2 bad input, 130 interrupted)."""
-    import warnings
 
     try:
         warnings.showwarning = _show_warning
@@ -232,7 +234,6 @@ def main(argv=None) -> int:
         return 2
     except KeyboardInterrupt:
         if _AS_PROGRAM:  # answered once: a further Ctrl-C while cleaning up must not end in a traceback
-            import signal
 
             signal.signal(signal.SIGINT, signal.SIG_IGN)
         print("faultslip: interrupted; no output file was left half-written", file=sys.stderr)
@@ -241,7 +242,6 @@ def main(argv=None) -> int:
         print("faultslip: error: out of memory; make the run smaller (see --allow-large and the budget)", file=sys.stderr)
         return 1
     except BrokenPipeError:  # the reader (e.g. head) closed the pipe: stop quietly
-        import os
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
@@ -257,7 +257,6 @@ def console() -> None:
     Once main has answered (and printed its one line), a late Ctrl-C during interpreter shutdown
     (joining pool threads, atexit handlers) would otherwise end the process with a traceback.
     """
-    import signal
 
     global _AS_PROGRAM
     _AS_PROGRAM = True
@@ -267,7 +266,6 @@ def console() -> None:
         # A Ctrl-C that landed inside an import leaves CPython's "unhandled KeyboardInterrupt" flag
         # set, and the interpreter would then end itself with SIGINT (status -2) although the
         # interrupt was handled. Outputs are closed and pools stopped by now: leave at once.
-        import os
 
         sys.stdout.flush()
         sys.stderr.flush()

@@ -18,6 +18,7 @@ from faultslip.friction.laws import static_friction_excess
 from faultslip.dynamics.critical import cached_critical_dimensionless_rate
 from faultslip.dynamics.cycle import CycleResult, GROWING_OSCILLATION, STICK_SLIP
 from faultslip.errors import MethodError, OutOfDomainWarning
+import warnings
 
 
 def loading_rate(stiffness, platform_speed, normal_load):
@@ -237,7 +238,6 @@ def closed_form_cycle(system):
 
 def _warn_above_critical(system, eps, zeta):
     """The closed form always reports stick-slip; above theta_c that is the wrong regime."""
-    import warnings
 
 
     if zeta > 0 and eps >= cached_critical_dimensionless_rate(zeta):

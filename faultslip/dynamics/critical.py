@@ -218,7 +218,7 @@ def comparison_dataset(presets=COMPARISON_PRESETS, damping_ratios=COMPARISON_DAM
     Each preset runs on its Table I apparatus (W, K, M = W/g) with a dashpot giving the damping
     ratio. Vectorised: one call per method for the whole table.
     """
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
 
     chosen = [get_preset(name) for name in presets]

@@ -22,8 +22,6 @@ project's own methods are the closed form, the exact cycle and the event-driven 
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq, minimize_scalar
 
 from faultslip.errors import SolverError
 from faultslip.dynamics.simulate import _BudgetExceeded
@@ -53,11 +51,13 @@ class RegularizedFriction:
         return np.tanh(u / self.width) * (self.kinetic(u) + height * np.exp(-u / self.decay))
 
     def _peak(self, height):
+        from scipy.optimize import minimize_scalar  # heavy: imported where used
         result = minimize_scalar(lambda x: -self._shape(x * self.width, height), bounds=(0.0, 20 * STRIBECK_FACTOR),
                                  method="bounded", options={"xatol": 1e-12})
         return -result.fun
 
     def _calibrate(self, excess):
+        from scipy.optimize import brentq  # heavy: imported where used
         if excess <= 0:
             return 0.0
         return brentq(lambda h: self._peak(h) - self.mu_s, 0.0, 50.0 * excess + 1.0, xtol=1e-14, rtol=1e-13)
@@ -80,6 +80,7 @@ def simulate_regularized(system, cycles: int, width: float, solver: str = "Radau
     never zero), ``evaluations`` and ``regime``. Raises :class:`SolverError` when the budget of
     right-hand-side evaluations is exhausted or the step size collapses.
     """
+    from scipy.integrate import solve_ivp  # heavy: imported where used
     friction = RegularizedFriction(system, width)
     K, W, C, eta, V = system.stiffness, system.normal_load, system.dashpot, system.radiation_damper, system.platform_speed
     omega_n = system.natural_frequency

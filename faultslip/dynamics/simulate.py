@@ -24,8 +24,6 @@ import math
 import time as _time
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 from faultslip.dynamics.cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP
 from faultslip.errors import InputError, SolverError
@@ -58,6 +56,8 @@ class SlipOutcome:
 
 def _stick_duration(system, x_start):
     """Time until K x + C V reaches W mu_s during a stick that starts at x_start."""
+    from scipy.optimize import brentq  # heavy: imported where used
+
     law = system.static_law
     K, C, W, V = system.stiffness, system.dashpot, system.normal_load, system.platform_speed
     if not law.depends_on_stick_time:
@@ -117,6 +117,8 @@ def _analytic_slip(system, x_break, samples, horizon_periods):
 
 
 def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_periods, budget, counter):
+    from scipy.integrate import solve_ivp  # heavy: imported where used
+
     K, W, C, eta, V = system.stiffness, system.normal_load, system.dashpot, system.radiation_damper, system.platform_speed
     omega_n = system.natural_frequency
     speed_scale = omega_n * W / K  # velocity of one unit of Y
@@ -442,7 +444,7 @@ def _collect(segments, events, regime, evaluations, notes):
 
 def _dataset(system, name, solver, rtol, atol, elapsed, times, xs, vs, forces, phases, events, regime, evaluations,
              notes):
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     units = system.units
     V, W, K = system.platform_speed, system.normal_load, system.stiffness

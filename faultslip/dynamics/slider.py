@@ -26,6 +26,7 @@ from faultslip.errors import InputError
 from faultslip.friction.laws import ConstantKinetic, ConstantStatic, LinearKinetic, RateLaw, TimeOfStickLaw
 from faultslip.friction.materials import Preset, get_preset
 from faultslip.units import STANDARD_GRAVITY, to_si
+from dataclasses import replace
 
 #: SI unit of each dimensional attribute, lab scale / fault scale.
 SI_UNITS = {
@@ -144,7 +145,6 @@ class SliderSystem:
 
     def with_(self, **changes) -> "SliderSystem":
         """A copy with SI attributes changed (e.g. another platform speed)."""
-        from dataclasses import replace
 
         return replace(self, **changes)
 

@@ -24,6 +24,7 @@ from faultslip.dynamics.simulate import simulate
 from faultslip.dynamics.slider import SliderSystem
 from faultslip.fault.scene import load_scene
 from faultslip.io.processes import stop_pool, worker_pool
+import warnings
 
 STATUS = {0: "ok", 1: "exception", 2: "step_size_collapse", 3: "budget_exceeded", 4: "wrong_regime",
           5: "not_applicable", 6: "solver_failure"}
@@ -94,7 +95,6 @@ def _classify(error: Exception) -> int:
 def run_once(system, method: str, tolerance: float, cycles: int, budget: int):
     """One run: (amplitude, period, event_times, evaluations, regime) or raises."""
     if method == "closed_form":
-        import warnings
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -135,7 +135,6 @@ def measure(system, reference: Reference, method: str, tolerance: float, cycles:
     if not applicable:
         return dict(status=STATUS_CODE["not_applicable"], error=nan, error_amplitude=nan, error_period=nan,
                     error_event_times=nan, wall_time=nan, evaluations=-1)
-    import warnings
 
     times = []
     started = time.perf_counter()
@@ -200,7 +199,7 @@ def parallel_map(function, jobs, workers: int, progress=None):
 
 def work_precision(quick: bool = False, workers: int = 2, scenes=None, methods=None, progress=None):
     """Run the study and return an xarray Dataset with dims (scene, method, tolerance)."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     tolerances = QUICK_TOLERANCES if quick else FULL_TOLERANCES
     # budgets: (event-driven, regularised) right-hand-side evaluations per run
@@ -250,7 +249,7 @@ def work_precision(quick: bool = False, workers: int = 2, scenes=None, methods=N
 
 def chart(dataset):
     """Work-precision chart: log error against log wall time, one panel per scene, one line per method."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # heavy: imported where used
 
     scenes = list(dataset["scene"].values)
     columns = 3

@@ -29,6 +29,7 @@ from faultslip.dynamics.exact_cycle import exact_cycle
 from faultslip.dynamics.slider import SliderSystem
 from faultslip.evaluation.bench import run_once
 from faultslip.friction.laws import ConstantKinetic, LinearKinetic, RateLaw
+import warnings
 
 RATIOS = (1e-4, 1e-3, 1e-2, 0.1, 0.3, 0.6, 0.9, 1.1, 1.5, 3.0, 10.0)
 DAMPING_RATIOS = (-0.05, -0.02, 0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.5)
@@ -89,7 +90,6 @@ def _run(system, method, cycles, budget):
 
 def evaluate_cell(system, method: str, cycles: int = 3, budgets=(100_000, 100_000)):
     """(status, relative amplitude error, evaluations) of one method on one grid system."""
-    import warnings
 
 
     exact = exact_cycle(system)
@@ -121,7 +121,7 @@ def _row_job(args):
 def stability_map(ratios=RATIOS, damping_ratios=DAMPING_RATIOS, separations=SEPARATIONS, methods=METHODS,
                   cycles: int = 3, workers: int = 2, progress=None):
     """Evaluate every method on every grid cell; returns an xarray Dataset (ratio, damping_ratio, separation, method)."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     started = time.perf_counter()
     jobs = []
@@ -217,8 +217,8 @@ def failure_text(dataset) -> str:
 
 def chart(dataset):
     """One panel per method: worst outcome over zeta > 0 in the (theta/theta_c, separation) plane."""
-    import matplotlib.pyplot as plt
-    from matplotlib.colors import ListedColormap
+    import matplotlib.pyplot as plt  # heavy: imported where used
+    from matplotlib.colors import ListedColormap  # heavy: imported where used
 
     methods = list(dataset["method"].values)
     columns = 4

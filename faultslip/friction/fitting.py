@@ -354,7 +354,7 @@ def bootstrap_intervals(values, samples, dof) -> dict:
     Measured coverage (tests/test_fitting.py): about 95 % across the Table I presets; the plain
     percentile interval covered 93 % on the same fits.
     """
-    from scipy.stats import t
+    from scipy.stats import t  # heavy: imported where used
 
     quantile = float(t.ppf(0.975, max(dof, 1)))
     out = {}
@@ -442,7 +442,7 @@ def synthetic_data(preset, points=40, noise=0.005, seed=0, rates=None, amplitude
 
 def fit_figure(data: FrictionData, fit: FitResult):
     """Data, fit and 95 % band against log10 loading rate (the style of seed 003 Figs. 4-1 to 4-22)."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # heavy: imported where used
 
     panels = 2 if data.amplitude is not None else 1
     figure, axes = plt.subplots(1, panels, figsize=(5.6 * panels, 4.4), constrained_layout=True, squeeze=False)

@@ -16,6 +16,9 @@ except ModuleNotFoundError:  # Python < 3.11
     import tomli as tomllib
 
 from faultslip.errors import InputError
+import numpy as np
+import subprocess
+import sys
 
 _PACKAGE = Path(__file__).resolve().parent.parent  # faultslip/, this file being faultslip/io/resources.py
 
@@ -122,8 +125,6 @@ def probe_netcdf(path, label: str, data_limit: int = 2**26) -> None:
     segmentation fault while closing a file with a corrupt attribute): found by the fuzzer. The
     child takes that crash, and the damaged file becomes one sentence here.
     """
-    import subprocess
-    import sys
 
     try:
         result = subprocess.run([sys.executable, "-c", _PROBE, str(path), str(data_limit)], capture_output=True,
@@ -139,7 +140,7 @@ def probe_netcdf(path, label: str, data_limit: int = 2**26) -> None:
 
 def open_netcdf(path, label: str):
     """A netCDF file loaded into memory as an xarray Dataset; any failure to read it is one sentence."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     path = check_input_file(path, label)
     probe_netcdf(path, label)
@@ -153,7 +154,6 @@ def open_netcdf(path, label: str):
 
 def read_numeric_csv(path, label: str) -> dict:
     """:func:`read_unit_csv` with every cell a number: ``{name: (values, unit)}``."""
-    import numpy as np
 
 
     header, rows = read_unit_csv(path, label)

@@ -127,7 +127,7 @@ def sliding_velocity(record: Record, platform_speed: float, method: str = "auto"
     if method == "integrate" or (method == "auto" and record.acceleration is not None):
         if record.acceleration is None:
             raise InputError(f"record {record.source}: integrating needs an acceleration column")
-        from scipy.integrate import cumulative_trapezoid
+        from scipy.integrate import cumulative_trapezoid  # heavy: imported where used
 
         raw = cumulative_trapezoid(record.acceleration, record.time, initial=0.0)
         quiet = np.abs(record.acceleration) <= 1e-3 * np.max(np.abs(record.acceleration))  # stick: x'' = 0
@@ -226,7 +226,7 @@ def analyze_record(record: Record, mass, stiffness, normal_load, platform_speed=
 
 def hysteresis_figure(analysis: RecordAnalysis, title="Friction against sliding speed"):
     """mu against sliding speed: the loop a stick-slip cycle traces (seed 003 §3-2, seed 000 ch. 3)."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # heavy: imported where used
 
     figure, (left, right) = plt.subplots(1, 2, figsize=(11, 4.4), constrained_layout=True)
     left.plot(analysis.sliding_speed * 1e3, analysis.friction, lw=0.8)
@@ -288,7 +288,7 @@ def free_decay(amplitude_ratio: float, cycles: float, damped_frequency: float, s
 
 def free_decay_from_record(record: Record, stiffness: float) -> FreeDecay:
     """Free decay from a displacement record: log-amplitude slope of the peaks and their spacing."""
-    from scipy.signal import find_peaks
+    from scipy.signal import find_peaks  # heavy: imported where used
 
     x = record.displacement
     peaks, _ = find_peaks(x)

@@ -6,15 +6,10 @@ return the figure; saving goes through :func:`faultslip.io.atomic.save_figure`.
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg", force=False)  # headless by default; an interactive backend set by the user wins
-
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from faultslip.dynamics import closed_form  # noqa: E402
-from faultslip.friction.materials import Preset  # noqa: E402
+from faultslip.dynamics import closed_form
+from faultslip.friction.materials import Preset
 from faultslip.dynamics.critical import critical
 from faultslip.dynamics.exact_cycle import exact_cycle, slip_trajectory
 
@@ -30,6 +25,7 @@ def rate_law_figure(presets: list[Preset], rates=None):
     amplitude alpha = A0 (mu_s - mu_m) with A0 = 2W/K on each preset's
     apparatus (the seed's even-numbered figures, Table I note).
     """
+    plt = _pyplot()
     if rates is None:
         rates = np.logspace(np.log10(LAB_RATE_RANGE[0]), np.log10(LAB_RATE_RANGE[1]), 400)
     log_rate = np.log10(rates)
@@ -63,6 +59,7 @@ def phase_plane_figure(system, rate_factors=(0.3, 0.999, 1.5), critical_rate=Non
     trajectory returns to the line x' = V and a stick segment closes the limit cycle; at it
     the trajectory only touches the line; above it the trajectory spirals into steady sliding.
     """
+    plt = _pyplot()
 
     if critical_rate is None:
         critical_rate = critical(system).critical_loading_rate
@@ -90,6 +87,7 @@ def phase_plane_figure(system, rate_factors=(0.3, 0.999, 1.5), critical_rate=Non
 
 def sawtooth_figure(dataset, cycles: int = 6):
     """Spring force and displacement against time: the sawtooth record of stick-slip."""
+    plt = _pyplot()
     events = dataset["event_time"].values
     if events.size > 1:  # window on the limit cycle, not on the first loading from rest
         start = events[0] - 0.5 * (events[1] - events[0])
@@ -120,6 +118,7 @@ def sawtooth_figure(dataset, cycles: int = 6):
 
 def critical_comparison_figure(dataset):
     """Exact against seed (eq. I-22) critical loading rate across damping ratios."""
+    plt = _pyplot()
     figure, axis = plt.subplots(figsize=(7, 4.8), constrained_layout=True)
     zeta = dataset["damping_ratio"].values
     for index, preset in enumerate(dataset["preset"].values):
@@ -133,3 +132,13 @@ def critical_comparison_figure(dataset):
     axis.grid(True, which="both", alpha=0.3)
     axis.legend(fontsize=7, ncol=2)
     return figure
+
+
+def _pyplot():
+    """matplotlib.pyplot, headless by default (an interactive backend set by the user wins)."""
+    import matplotlib  # heavy: imported where used
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt  # heavy: imported where used
+
+    return plt

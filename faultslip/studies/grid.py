@@ -49,6 +49,7 @@ from faultslip.friction.materials import get_preset, resolve_material
 from faultslip.io import budget
 from faultslip.io.budget import MAX_DIMENSION_VALUES
 from faultslip.units import Quantity
+from datetime import datetime, timezone
 
 #: Sweepable parameters: name -> (unit kind, SI unit, long name). "category" is a string dimension.
 FAULT_PARAMETERS = {
@@ -248,7 +249,7 @@ def load_study(path) -> Study:
 
 
 def _coordinate(study, name, values, index=None):
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     kind, unit, long_name = parameters_for(study.kind)[name]
     values = values if index is None else values[index]
@@ -278,7 +279,7 @@ def study_inputs(study, block=None, chunks=None) -> dict:
 
 def _category_table(coordinate, getter):
     """A DataArray over a categorical dimension from a per-category lookup (None -> NaN)."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     values = [getter(name) for name in coordinate.values]
     return xr.DataArray(np.array([np.nan if v is None else v for v in values], dtype=float), dims=coordinate.dims,
@@ -371,7 +372,7 @@ def _lab_inputs(study, coords):
 
 def _ufunc(function, *args, dtype=float):
     """apply_ufunc for an elementwise numpy kernel: labels kept, dask chunks processed in parallel."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     if not any(isinstance(a, xr.DataArray) for a in args):
         return function(*args)
@@ -400,7 +401,7 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
     on the small dimensions they depend on; the grid-sized work is one call of :func:`cell_kernel`
     through :func:`xarray.apply_ufunc` (``dask="parallelized"``).
     """
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     mu_so, mu_m, b, d = (inputs[k] for k in ("mu_so", "mu_m", "b", "d"))
     if kind == "fault":
@@ -460,7 +461,7 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
 
 def _small_values(value):
     """The numpy values of a parameter-level quantity (computing it if dask-backed)."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     if isinstance(value, xr.DataArray):
         return np.asarray(value.compute().values if _is_lazy(value) else value.values, dtype=float)
@@ -468,7 +469,7 @@ def _small_values(value):
 
 
 def _is_lazy(value):
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     return isinstance(value, xr.DataArray) and value.chunks is not None
 
@@ -502,7 +503,7 @@ def as_dataset(outputs: dict, study, block=None):
     A swept parameter that no output depends on (the shear-wave speed without radiation damping)
     still labels every output, so the file has the grid the study asked for.
     """
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     arrays = {}
     for name, value in outputs.items():
@@ -549,7 +550,7 @@ def _needs_simulation(study) -> bool:
 
 def _simulated_block(study, block):
     """Cells whose friction has no closed form: one event-driven simulation per cell (vectorize)."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
 
     coords = {name: _coordinate(study, name, values, None if block is None else block.get(name, slice(None)))
@@ -657,7 +658,6 @@ def _study_text(scene, method, tolerance, dims) -> str:
 
 def finish(dataset, study):
     """Global CF attributes and the embedded config that lets the file reproduce itself."""
-    from datetime import datetime, timezone
 
 
     dataset.attrs.update({

@@ -43,6 +43,7 @@ from faultslip.fault.scene import parse_scene, read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
 from faultslip.studies.grid import as_dataset, evaluate, normal_stress_input, Study
+from datetime import datetime, timezone
 
 SEGMENT_COLUMNS = {  # name -> (unit kind, required)
     "segment": (None, True),
@@ -133,7 +134,7 @@ def parse_trace(text: str, where: str) -> np.ndarray:
 
 def trace_length(trace) -> float:
     """Geodetic length of a trace in m (WGS84 ellipsoid, obspy.geodetics.gps2dist_azimuth)."""
-    from obspy.geodetics import gps2dist_azimuth
+    from obspy.geodetics import gps2dist_azimuth  # heavy: imported where used
 
     return float(sum(gps2dist_azimuth(lat1, lon1, lat2, lon2)[0]
                      for (lon1, lat1), (lon2, lat2) in zip(trace[:-1], trace[1:])))
@@ -213,7 +214,7 @@ def read_segments(path) -> SegmentTable:
 
 def read_raster(path):
     """Inputs on (lat, lon) from netCDF (variables with units) or CSV (one row per cell)."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     path = Path(path)
     if not path.exists():
@@ -252,7 +253,7 @@ def read_raster(path):
 
 
 def _raster_from_csv(path):
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     header, rows = read_unit_csv(path, f"raster {path.name}")
     names = [n for n, _ in header]
@@ -401,7 +402,7 @@ def load_map(path) -> MapSpec:
 
 def _fault_inputs_along(spec, dims_coords, lithology, overrides):
     """Study-kernel inputs for per-segment or per-cell parameters (DataArrays on their dims)."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
 
     fault = spec.scene.fault()
@@ -434,7 +435,7 @@ def _fault_inputs_along(spec, dims_coords, lithology, overrides):
 
 def predict_segments(spec, method="auto", tolerance=1e-6):
     """Per-segment predictions (slip, recurrence, Mw for the segment's length) on dim ``segment``."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
 
     table = spec.segments
@@ -475,7 +476,7 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
 
 def densify(trace, spacing=1000.0):
     """Points along a trace every ~``spacing`` m (great-circle interpolation), as (lon, lat)."""
-    from obspy.geodetics import gps2dist_azimuth
+    from obspy.geodetics import gps2dist_azimuth  # heavy: imported where used
 
     points = [trace[0]]
     for (lon1, lat1), (lon2, lat2) in zip(trace[:-1], trace[1:]):
@@ -504,7 +505,7 @@ def _unit(lon, lat):
 
 def nearest_segment(lon, lat, traces, block=4096):
     """Index of and distance (m) to the nearest trace for every (lat, lon) cell (great circles)."""
-    from obspy.geodetics import degrees2kilometers, locations2degrees
+    from obspy.geodetics import degrees2kilometers, locations2degrees  # heavy: imported where used
 
     points = [densify(trace) for trace in traces]
     owner = np.concatenate([np.full(len(p), i) for i, p in enumerate(points)])
@@ -524,7 +525,7 @@ def nearest_segment(lon, lat, traces, block=4096):
 
 def run_map(spec, method="auto", tolerance=1e-6):
     """The map's dataset: per-segment predictions and a nearest-segment raster, or a predicted raster."""
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
 
     if spec.segments is not None:
@@ -557,7 +558,6 @@ def run_map(spec, method="auto", tolerance=1e-6):
             dataset[name] = xr.DataArray(values, dims=("lat", "lon"), coords=coords)
         if lithology is not None:
             dataset["lithology"] = xr.DataArray(lithology.astype(object), dims=("lat", "lon"), coords=coords)
-    from datetime import datetime, timezone
 
     dataset.attrs.update({
         "title": f"faultslip map: {spec.name}", "Conventions": "CF-1.8", "source": f"faultslip {__version__}",
@@ -593,7 +593,7 @@ def observed_table(dataset) -> str:
 
 def map_figure(dataset):
     """Slip, recurrence and Mw maps with segment traces and unit-labelled colour bars."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # heavy: imported where used
 
     year = 365.25 * 86400
     prefix = "map_" if "map_slip_per_event" in dataset else ""
@@ -622,7 +622,7 @@ def map_figure(dataset):
 
 def observed_figure(dataset):
     """Predicted against observed recurrence and slip per event (log axes, 1:1 line)."""
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # heavy: imported where used
 
     year = 365.25 * 86400
     figure, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True)

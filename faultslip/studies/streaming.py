@@ -29,6 +29,7 @@ from faultslip.io.outputs import check_output, output_lock
 from faultslip.io.processes import stop_pool, worker_pool
 from faultslip.io.resources import probe_netcdf
 from faultslip.studies.grid import compute_block, finish, parameters_for, parse_study
+import tempfile
 
 DEFAULT_CHUNK_CELLS = 2**19
 #: netCDF4 compression filters: zlib is readable everywhere (default); zstd is ~2.5x faster to write
@@ -66,7 +67,7 @@ def _executor(scheduler, workers):
             return None, "in-process"
         return worker_pool(workers), f"process pool ({workers} workers)"
     try:
-        from distributed import Client, LocalCluster
+        from distributed import Client, LocalCluster  # heavy: imported where used
     except ImportError:
         raise InputError("--scheduler needs dask.distributed: pip install 'faultslip[dask]'") from None
     if scheduler == "local":
@@ -80,7 +81,7 @@ def _executor(scheduler, workers):
 
 def _create(path, study, template, chunks, compression="zlib"):
     """An empty netCDF4 file with the study's dimensions, coordinates, variables and attributes."""
-    import netCDF4
+    import netCDF4  # heavy: imported where used
 
 
     nc = netCDF4.Dataset(path, "w", format="NETCDF4")
@@ -178,7 +179,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     started = time.perf_counter()
     template = compute_block(study, {n: slice(0, 1) for n in study.dims})
     done = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
-    import netCDF4
+    import netCDF4  # heavy: imported where used
 
     nc = None
     if done:
@@ -229,7 +230,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
                 in_flight[executor.submit(compute_block, study, blocks[index])] = index
             while in_flight:
                 if is_dask:
-                    from distributed import wait as dask_wait
+                    from distributed import wait as dask_wait  # heavy: imported where used
 
                     finished = dask_wait(list(in_flight), return_when="FIRST_COMPLETED").done
                 else:
@@ -300,9 +301,8 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     extra is a mismatch, and so is any value that differs by more than 1e-12 relative. The file
     checked is never written: ``output`` must be another file.
     """
-    import tempfile
 
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
 
     path = Path(path)
@@ -354,7 +354,7 @@ def compare_datasets(old, new) -> dict:
     Returns ``differences`` (name -> largest relative difference), ``missing`` (in the
     reproduction, not in the file), ``extra`` (in the file only) and ``attribute_differences``.
     """
-    import xarray as xr
+    import xarray as xr  # heavy: imported where used
 
     differences, attribute_differences = {}, []
     old_names = set(old.data_vars) | set(old.coords)

@@ -1,0 +1,58 @@
+"""Start-up time of the command line against ``python -c "import numpy"``, measured in one run.
+
+    python benchmarks/startup.py [--repeats 15]
+
+Targets (issue 10): ``faultslip --help`` at most 2x and ``faultslip fault ... --json`` at most 4.5x
+the time of importing numpy. Runs are interleaved and the medians compared; the program is
+started as ``python -m faultslip.cli`` so that no shell wrapper is timed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+from datetime import datetime, timezone
+from pathlib import Path
+
+FAULT = ["fault", "--lithology", "granodiorite", "--zone-width", "13 mi", "--shear-stress", "250 bar",
+         "--slip-rate", "2 in/yr", "--json"]
+COMMANDS = {
+    "import numpy": [sys.executable, "-c", "import numpy"],
+    "faultslip --help": [sys.executable, "-m", "faultslip.cli", "--help"],
+    "faultslip fault ... --json": [sys.executable, "-m", "faultslip.cli", *FAULT],
+}
+
+
+def main(argv=None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--repeats", type=int, default=15)
+    args = parser.parse_args(argv)
+    times = {name: [] for name in COMMANDS}
+    for name, command in COMMANDS.items():  # warm the file cache
+        subprocess.run(command, capture_output=True, check=True)
+    for _ in range(args.repeats):
+        for name, command in COMMANDS.items():
+            started = time.perf_counter()
+            subprocess.run(command, capture_output=True, check=True)
+            times[name].append(time.perf_counter() - started)
+    medians = {name: statistics.median(values) for name, values in times.items()}
+    base = medians["import numpy"]
+    result = {"seconds": medians, "ratio_to_numpy": {name: value / base for name, value in medians.items()},
+              "targets": {"faultslip --help": 2.0, "faultslip fault ... --json": 4.5},
+              "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
+              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+    out = Path(__file__).resolve().parent / "results" / "startup.json"
+    out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    for name, value in medians.items():
+        print(f"{name:28s} {value * 1e3:7.1f} ms  {value / base:5.2f}x numpy")
+    return result
+
+
+if __name__ == "__main__":
+    main()

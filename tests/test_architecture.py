@@ -1,0 +1,131 @@
+"""The package's layers point down only, with no import circles (docs/architecture.md).
+
+Every import statement in faultslip/ is read with ``ast``, including imports inside functions:
+
+* a module may import from its own subpackage, or from a lower layer;
+* imports at module level form no circle;
+* an import inside a function is only for a heavy optional dependency (xarray, matplotlib,
+  scipy, obspy, dask, netCDF4, ...) and says so in a comment, or for a platform module;
+* the command line starts without numpy, pint or the physics: ``--help`` imports none of them.
+"""
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
+#: Lowest first. Studies, lab and evaluation share a layer but may not import each other.
+LAYERS = {"core": 0, "io": 1, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
+          "plots": 6, "cli": 7}
+HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "pint"}
+PLATFORM = {"fcntl"}
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _room(module: str) -> str:
+    """The layer a module belongs to: its subpackage, or 'core' for faultslip's top-level modules."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 2 or (len(parts) == 2 and parts[1] in LAYERS) else "core"
+
+
+def _imports(path: Path):
+    """(target module, line, inside a function, source line) for every faultslip or third-party import."""
+    text = path.read_text(encoding="utf-8")
+    tree = ast.parse(text)
+    lines = text.splitlines()
+    inside = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            inside.update(id(sub) for sub in ast.walk(node) if isinstance(sub, (ast.Import, ast.ImportFrom)))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                yield alias.name, node.lineno, id(node) in inside, lines[node.lineno - 1]
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            assert node.level == 0, f"{path}:{node.lineno}: use absolute imports (faultslip.x.y)"
+            if node.module == "faultslip":  # from faultslip import ranges / __version__
+                for alias in node.names:
+                    target = f"faultslip.{alias.name}" if alias.name != "__version__" else "faultslip"
+                    yield target, node.lineno, id(node) in inside, lines[node.lineno - 1]
+            else:
+                for alias in node.names:
+                    candidate = f"{node.module}.{alias.name}"
+                    is_module = (PACKAGE.parent / (candidate.replace(".", "/") + ".py")).exists() or \
+                        (PACKAGE.parent / candidate.replace(".", "/")).is_dir()
+                    yield (candidate if is_module else node.module), node.lineno, id(node) in inside, \
+                        lines[node.lineno - 1]
+
+
+MODULES = {_module_name(p): p for p in sorted(PACKAGE.rglob("*.py"))}
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_imports_point_down_only(module):
+    source_room = _room(module)
+    for target, line, _, _ in _imports(MODULES[module]):
+        if not target.startswith("faultslip.") or target == "faultslip":
+            continue
+        target_room = _room(target)
+        if target_room == source_room:
+            continue
+        assert LAYERS[target_room] < LAYERS[source_room], (
+            f"{module}:{line} imports {target}: {target_room} is not below {source_room} (docs/architecture.md)")
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_imports_inside_functions_are_only_for_heavy_optional_dependencies(module):
+    for target, line, inside, text in _imports(MODULES[module]):
+        if not inside:
+            continue
+        top = target.split(".")[0]
+        if top in PLATFORM or (module == "faultslip" and top == "importlib"):
+            continue
+        assert top in HEAVY, f"{module}:{line} hides 'import {target}' in a function; import it at module level"
+        assert "#" in text and "heavy" in text.split("#", 1)[1], f"{module}:{line}: say why the import is here"
+
+
+def test_no_import_circles():
+    graph = {module: set() for module in MODULES}
+    for module, path in MODULES.items():
+        for target, _, inside, _ in _imports(path):
+            if not inside and target in MODULES and target != module:
+                graph[module].add(target)
+    state, stack = {}, []
+
+    def visit(node):
+        state[node] = "open"
+        stack.append(node)
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == "open":
+                cycle = stack[stack.index(nxt):] + [nxt]
+                raise AssertionError("import circle: " + " -> ".join(cycle))
+            if nxt not in state:
+                visit(nxt)
+        stack.pop()
+        state[node] = "done"
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module)
+
+
+def test_the_command_line_starts_without_the_physics():
+    code = ("import sys; from faultslip.cli.main import build_parser; build_parser(); "
+            "heavy = sorted(m for m in ('numpy', 'pint', 'scipy', 'xarray', 'matplotlib', 'faultslip.units') "
+            "if m in sys.modules); print(','.join(heavy))")
+    loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
+    assert loaded == "", f"building the parser loaded {loaded}"
+
+
+def test_the_folder_listing_is_the_architecture():
+    rooms = sorted(p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").exists())
+    assert rooms == sorted(name for name in LAYERS if name != "core")
+    loose = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__init__")
+    assert loose == ["errors", "ranges", "units"], loose
