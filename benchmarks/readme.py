@@ -93,10 +93,23 @@ def reliability_table() -> str | None:
     return "\n".join(rows) + "\n\n" + _machine(fuzz) + (f" Kills: {_machine(kills)[12:]}" if kills else "")
 
 
+def startup_table() -> str | None:
+    startup = _load("startup.json")
+    if startup is None:
+        return None
+    rows = ["| command | median wall time | against `python -c \"import numpy\"` | target |", "| --- | --- | --- | --- |"]
+    for name, seconds in startup["seconds"].items():
+        target = startup["targets"].get(name)
+        rows.append(f"| `{name}` | {seconds * 1e3:.0f} ms | {startup['ratio_to_numpy'][name]:.2f}× | "
+                    f"{'≤ %g×' % target if target else '—'} |")
+    return "\n".join(rows) + "\n\n" + _machine(startup)
+
+
 def update(readme: Path = ROOT / "README.md") -> list[str]:
     text = readme.read_text(encoding="utf-8")
     written = []
-    for name, render in (("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table)):
+    for name, render in (("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
+                         ("startup", startup_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

@@ -51,6 +51,10 @@ def main(argv=None) -> dict:
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     for name, value in medians.items():
         print(f"{name:28s} {value * 1e3:7.1f} ms  {value / base:5.2f}x numpy")
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import readme
+
+    readme.update()
     return result
 
 

@@ -37,7 +37,16 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="faultslip", description="Laboratory rock friction to earthquake slip and recurrence.")
     parser.add_argument("--version", action="version", version=f"faultslip {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    _scenes_commands(commands)
+    _studies_commands(commands)
+    _lab_commands(commands)
+    _evaluation_commands(commands)
+    _plots_commands(commands)
+    return parser
 
+
+def _scenes_commands(commands) -> None:
+    """Scene and fault commands (handlers in faultslip.cli.scenes)."""
     run = commands.add_parser("run", help="run a scene (default: the 1906 San Francisco scene)")
     run.add_argument("scene", nargs="?", help="scene TOML file or bundled scene name")
     _method_flags(run)
@@ -72,6 +81,10 @@ def build_parser() -> argparse.ArgumentParser:
     materials.add_argument("--json", action="store_true", help="print one JSON object")
     materials.set_defaults(handler="scenes:cmd_materials")
 
+    methods = commands.add_parser("methods", help="the solution methods: friction laws, domain and cost of each")
+    methods.add_argument("--json", action="store_true", help="print one JSON object")
+    methods.set_defaults(handler="scenes:cmd_methods")
+
     simulate = commands.add_parser("simulate", help="event-driven simulation of stick-slip cycles of a scene")
     simulate.add_argument("scene", help="scene TOML file or bundled scene name")
     simulate.add_argument("-o", "--output", help="write the time series and event table to OUT.nc")
@@ -102,27 +115,9 @@ def build_parser() -> argparse.ArgumentParser:
     cycle.add_argument("--json", action="store_true", help="print one JSON object")
     cycle.set_defaults(handler="scenes:cmd_cycle")
 
-    bench = commands.add_parser("bench", help="work-precision study of every method on standard scenes")
-    bench.add_argument("--quick", action="store_true", help="fewer tolerances and cycles (under 2 minutes on 2 cores)")
-    bench.add_argument("-o", "--output", default="bench", help="output directory (default: bench/)")
-    bench.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    bench.add_argument("--scene", action="append", help="only this standard scene (repeatable)")
-    bench.add_argument("--method", action="append", help="only this method (repeatable)")
-    bench.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
-    bench.add_argument("--json", action="store_true", help="print one JSON object")
-    bench.set_defaults(handler="evaluation:cmd_bench")
 
-    stability = commands.add_parser("stability", help="map where each method fails (rate, damping, separation)")
-    stability.add_argument("-o", "--output", default="stability", help="output directory (default: stability/)")
-    stability.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    stability.add_argument("--ratio", action="append", help="only these theta/theta_c values (repeatable)")
-    stability.add_argument("--damping-ratio", action="append", help="only these damping ratios (repeatable)")
-    stability.add_argument("--separation", action="append", help="only these stick/slip ratios (repeatable)")
-    stability.add_argument("--method", action="append", help="only this method (repeatable)")
-    stability.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
-    stability.add_argument("--json", action="store_true", help="print one JSON object")
-    stability.set_defaults(handler="evaluation:cmd_stability")
-
+def _studies_commands(commands) -> None:
+    """Study and map commands (handlers in faultslip.cli.studies)."""
     sweep = commands.add_parser("sweep", help="gridded parameter study to CF netCDF")
     sweep.add_argument("study", help="study TOML file")
     sweep.add_argument("-o", "--output", required=True, help="output netCDF file (written atomically)")
@@ -154,6 +149,9 @@ def build_parser() -> argparse.ArgumentParser:
     regional.add_argument("--json", action="store_true", help="print one JSON object")
     regional.set_defaults(handler="studies:cmd_map")
 
+
+def _lab_commands(commands) -> None:
+    """Laboratory commands (handlers in faultslip.cli.lab)."""
     fit = commands.add_parser("fit", help="fit the rate law (eq. 2-18) to laboratory data, with uncertainty")
     fit.add_argument("data", help="CSV or netCDF: loading_rate (or platform_speed, stiffness, normal_load), static_friction[, amplitude]")
     fit.add_argument("--name", help="save the fit under this name in the user registry")
@@ -190,10 +188,33 @@ def build_parser() -> argparse.ArgumentParser:
     decay.add_argument("--json", action="store_true", help="print one JSON object")
     decay.set_defaults(handler="lab:cmd_decay")
 
-    methods = commands.add_parser("methods", help="the solution methods: friction laws, domain and cost of each")
-    methods.add_argument("--json", action="store_true", help="print one JSON object")
-    methods.set_defaults(handler="scenes:cmd_methods")
 
+def _evaluation_commands(commands) -> None:
+    """Method evaluation commands (handlers in faultslip.cli.evaluation)."""
+    bench = commands.add_parser("bench", help="work-precision study of every method on standard scenes")
+    bench.add_argument("--quick", action="store_true", help="fewer tolerances and cycles (under 2 minutes on 2 cores)")
+    bench.add_argument("-o", "--output", default="bench", help="output directory (default: bench/)")
+    bench.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    bench.add_argument("--scene", action="append", help="only this standard scene (repeatable)")
+    bench.add_argument("--method", action="append", help="only this method (repeatable)")
+    bench.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
+    bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.set_defaults(handler="evaluation:cmd_bench")
+
+    stability = commands.add_parser("stability", help="map where each method fails (rate, damping, separation)")
+    stability.add_argument("-o", "--output", default="stability", help="output directory (default: stability/)")
+    stability.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    stability.add_argument("--ratio", action="append", help="only these theta/theta_c values (repeatable)")
+    stability.add_argument("--damping-ratio", action="append", help="only these damping ratios (repeatable)")
+    stability.add_argument("--separation", action="append", help="only these stick/slip ratios (repeatable)")
+    stability.add_argument("--method", action="append", help="only this method (repeatable)")
+    stability.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
+    stability.add_argument("--json", action="store_true", help="print one JSON object")
+    stability.set_defaults(handler="evaluation:cmd_stability")
+
+
+def _plots_commands(commands) -> None:
+    """Figure commands (handlers in faultslip.cli.plots)."""
     plot = commands.add_parser("plot", help="draw a figure")
     figures = plot.add_subparsers(dest="figure", metavar="FIGURE", parser_class=_Parser)
     rate_law = figures.add_parser("rate-law", help="mu_s and amplitude against log10 loading rate (seed Figs. 4-1 to 4-22)")
@@ -209,7 +230,6 @@ def build_parser() -> argparse.ArgumentParser:
     phase.add_argument("-o", "--output", required=True, help="output image")
     phase.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     phase.set_defaults(handler="plots:cmd_plot_phase_plane")
-    return parser
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
