@@ -50,6 +50,12 @@ def benchmarks_table() -> str | None:
     rows.append(f"| auto against the best fixed method, total over the standard scenes | "
                 f"{auto['total_auto_s'] * 1e3:.1f} ms vs {auto['total_best_fixed_s'] * 1e3:.1f} ms: "
                 f"**{auto['ratio_total']:.2f}×** |")
+    fit = latest.get("fit_bootstrap")
+    if fit:
+        rows.append(f"| fit: {fit['resamples']} bootstrap resamples of {fit['points']} points, batched Levenberg-Marquardt "
+                    f"with the analytic Jacobian vs one least_squares per resample | {fit['batched_s']:.2f} s vs "
+                    f"{fit['one_at_a_time_s']:.2f} s: **{fit['ratio']:.1f}×**; intervals agree to "
+                    f"{fit['interval_difference']:.0e} |")
     sweep = _load("sweep.json")
     if sweep and "sweep_overhead" in sweep:
         over = sweep["sweep_overhead"]

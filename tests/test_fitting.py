@@ -222,3 +222,35 @@ def test_a_saved_fit_works_in_studies_and_maps(tmp_path, monkeypatch):
                                        '[grid]\nlon = [-120.5, -119.5]\nlat = [35.0, 36.0]\n')
     mapped = run_map(load_map(tmp_path / "map.toml"))
     assert float(mapped["slip_per_event"].sel(segment="a")) > 0
+
+
+def test_batched_bootstrap_matches_one_fit_per_resample(monkeypatch):
+    """The resamples are solved all at once (Levenberg-Marquardt, analytic Jacobian); the same seed must
+    give the intervals of one scipy least_squares per resample, to least_squares' own tolerance."""
+    from faultslip.friction import fitting
+
+    data = synthetic_data(get_preset("granodiorite_water"), points=120, noise=0.005, seed=4)
+    batched = fitting.fit_rate_law(data, bootstrap=150, seed=7)
+    monkeypatch.setattr(fitting, "_batched_fit",
+                        lambda rate, mu, theta, *rest: (np.full((mu.shape[0], theta.size), np.nan), mu.shape[0]))
+    single = fitting.fit_rate_law(data, bootstrap=150, seed=7)
+    np.testing.assert_allclose(batched.bootstrap, single.bootstrap, rtol=1e-5)
+    for name in batched.intervals:
+        np.testing.assert_allclose(batched.intervals[name], single.intervals[name], rtol=1e-6)
+
+
+def test_analytic_jacobian_matches_finite_differences():
+    import math
+
+    from faultslip.friction.fitting import _model_and_jacobian
+
+    rate = np.geomspace(1e-4, 1e3, 30)
+    theta = np.array([[0.55, math.log(0.1), math.log(38.0), math.log(0.665)]])
+    _, jac = _model_and_jacobian(rate, theta, None)
+    for k in range(4):
+        step = np.zeros_like(theta)
+        step[0, k] = 1e-6
+        plus, _ = _model_and_jacobian(rate, theta + step, None)
+        minus, _ = _model_and_jacobian(rate, theta - step, None)
+        # central differences carry ~1e-10 absolute round-off: compare to that
+        np.testing.assert_allclose(jac[0, k], (plus - minus)[0] / 2e-6, rtol=1e-6, atol=1e-9)

@@ -265,6 +265,8 @@ def fit_rate_law(data: FrictionData, loss: str = "linear", bootstrap: int = 200,
         return least_squares(residuals, start, bounds=(lower, upper), loss=loss, f_scale=0.1 * scale_mu if loss != "linear" else 1.0,
                              args=(rate, mu, amplitude, apparatus, weight), x_scale="jac", max_nfev=2000)
 
+    solve.loss, solve.lower, solve.upper = loss, lower, upper
+
     weight = 0.0
     if data.amplitude is not None:  # scale the amplitude residuals to the friction ones (two passes)
         first = solve(data.loading_rate, data.static_friction, None, None, theta0, 0.0)
@@ -354,9 +356,9 @@ def bootstrap_intervals(values, samples, dof) -> dict:
     Measured coverage (tests/test_fitting.py): about 95 % across the Table I presets; the plain
     percentile interval covered 93 % on the same fits.
     """
-    from scipy.stats import t  # heavy: imported where used
+    from scipy.special import stdtrit  # heavy: imported where used (scipy.stats would add ~1 s for one quantile)
 
-    quantile = float(t.ppf(0.975, max(dof, 1)))
+    quantile = float(stdtrit(max(dof, 1), 0.975))  # Student-t quantile, as scipy.stats.t.ppf
     out = {}
     for index, name in enumerate(PARAMETERS):
         column = samples[:, index]
@@ -386,14 +388,100 @@ def _bootstrap(data, solve, theta, count, seed, weight, fixed_mu_m):
         fitted_alpha = data.apparatus_amplitude * (fitted - natural[1])
         residual_alpha = (data.amplitude - fitted_alpha) * inflate
         residual_alpha -= residual_alpha.mean()
-    samples = []
-    for _ in range(count):
-        pick = rng.integers(0, data.size, data.size)
-        mu = fitted + residual[pick]
-        amplitude = None if data.amplitude is None else fitted_alpha + residual_alpha[rng.integers(0, data.size, data.size)]
-        result = solve(data.loading_rate, mu, amplitude, data.apparatus_amplitude, theta, weight)
-        samples.append(_natural(result.x, fixed_mu_m))
-    return np.array(samples)
+    if data.amplitude is None:  # one call draws the same stream as one call per resample
+        picks = rng.integers(0, data.size, (count, data.size))
+        draws = [(fitted + residual[pick], None) for pick in picks]
+    else:
+        draws = []
+        for _ in range(count):  # friction and amplitude picks interleave in the stream
+            pick = rng.integers(0, data.size, data.size)
+            amplitude = fitted_alpha + residual_alpha[rng.integers(0, data.size, data.size)]
+            draws.append((fitted + residual[pick], amplitude))
+    thetas = np.full((count, theta.size), np.nan)
+    if data.amplitude is None and solve.loss == "linear":  # all resamples at once (see _batched_fit)
+        thetas, _ = _batched_fit(data.loading_rate, fitted[None, :] + residual[picks], theta, solve.lower,
+                                 solve.upper, fixed_mu_m)
+    for index in np.flatnonzero(~np.all(np.isfinite(thetas), axis=1)):  # the rest one by one
+        mu, amplitude = draws[index]
+        thetas[index] = solve(data.loading_rate, mu, amplitude, data.apparatus_amplitude, theta, weight).x
+    return np.array([_natural(t, fixed_mu_m) for t in thetas])
+
+
+def _model_and_jacobian(rate, thetas, fixed_mu_m):
+    """eq. 2-18 and its analytic derivatives in the fitted coordinates, for a batch of parameter rows.
+
+    Returns the model (rows, points) and the Jacobian (rows, parameters, points).
+
+    With g = Delta b r^d: mu = mu_m + Delta/(1 + g), d mu/d ln Delta = Delta/(1 + g)^2,
+    d mu/d ln b = -Delta g/(1 + g)^2 and d mu/d ln d = -Delta g d ln(r)/(1 + g)^2.
+    """
+    offset = 0 if fixed_mu_m is not None else 1
+    mu_m = np.full(thetas.shape[0], fixed_mu_m) if fixed_mu_m is not None else thetas[:, 0]
+    drop, b, d = (np.exp(thetas[:, offset + k])[:, None] for k in range(3))
+    log_rate = np.log(rate)[None, :]
+    g = drop * b * np.exp(d * log_rate)
+    inverse = 1.0 / (1.0 + g)
+    model = mu_m[:, None] + drop * inverse
+    # (rows, parameters, points): each derivative is one contiguous row, filled in place
+    jac = np.empty((thetas.shape[0], thetas.shape[1], rate.size))
+    if fixed_mu_m is None:
+        jac[:, 0] = 1.0
+    np.multiply(drop * inverse, inverse, out=jac[:, offset])
+    np.multiply(jac[:, offset], g, out=jac[:, offset + 1])
+    np.negative(jac[:, offset + 1], out=jac[:, offset + 1])
+    np.multiply(jac[:, offset + 1], d * log_rate, out=jac[:, offset + 2])
+    return model, jac
+
+
+def _batched_fit(rate, mu, theta, lower, upper, fixed_mu_m, iterations=200):
+    """Levenberg-Marquardt on every bootstrap resample at once (linear loss, friction only).
+
+    Starts each resample from the best fit, uses the analytic Jacobian, and stops a row when its
+    step and cost change reach round-off. Rows that end on a bound or do not converge are
+    returned as NaN, and the caller fits them one by one with scipy's bounded least_squares.
+    The minimum is the same, so the intervals agree with fitting one resample at a time to
+    least_squares' own tolerance (tests/test_fitting.py).
+    """
+    count = mu.shape[0]
+    thetas = np.repeat(theta[None, :], count, axis=0)
+    damping = np.full(count, 1e-6)  # the best fit is close: start as Gauss-Newton
+    model, jac = _model_and_jacobian(rate, thetas, fixed_mu_m)
+    residual = model - mu
+    cost = np.einsum("ij,ij->i", residual, residual)
+    active = np.ones(count, dtype=bool)
+    eye = np.eye(theta.size)
+    for _ in range(iterations):
+        rows = np.flatnonzero(active)
+        if rows.size == 0:
+            break
+        j, r = jac[rows], residual[rows]
+        normal = j @ j.transpose(0, 2, 1)  # batched BLAS on (rows, parameters, points)
+        gradient = (j @ r[..., None])[..., 0]
+        scaled = normal + damping[rows, None, None] * (normal * eye)
+        try:
+            step = -np.linalg.solve(scaled, gradient[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            return np.full_like(thetas, np.nan), 0
+        trial = np.clip(thetas[rows] + step, lower, upper)
+        trial_model, trial_jac = _model_and_jacobian(rate, trial, fixed_mu_m)
+        trial_residual = trial_model - mu[rows]
+        trial_cost = np.einsum("ij,ij->i", trial_residual, trial_residual)
+        better = trial_cost <= cost[rows]
+        # at the minimum a step changes the cost only by round-off, in either direction: done
+        change = np.abs(cost[rows] - trial_cost) / np.maximum(cost[rows], 1e-300)
+        moved = np.max(np.abs(trial - thetas[rows]), axis=1) / (1.0 + np.max(np.abs(thetas[rows]), axis=1))
+        done = (change < 1e-13) | (moved < 1e-11)  # tighter than least_squares' own 1e-8
+        accepted = rows[better]
+        thetas[accepted], jac[accepted], residual[accepted], cost[accepted] = (
+            trial[better], trial_jac[better], trial_residual[better], trial_cost[better])
+        damping[accepted] = np.maximum(damping[accepted] / 3.0, 1e-12)
+        damping[rows[~better]] *= 4.0
+        active[rows[done]] = False
+        active[rows[~better & ~done][damping[rows[~better & ~done]] > 1e12]] = False  # stuck: to least_squares
+    on_bound = np.any((thetas <= lower + 1e-9) | (thetas >= upper - 1e-9), axis=1)
+    unconverged = active | on_bound | (damping > 1e12)  # still moving, on a bound, or stuck
+    thetas[unconverged] = np.nan
+    return thetas, int(unconverged.sum())
 
 
 def constraint_flags(data, fit, result, lower, upper, fixed_mu_m) -> list:
