@@ -398,13 +398,20 @@ def _bootstrap(data, solve, theta, count, seed, weight, fixed_mu_m):
             amplitude = fitted_alpha + residual_alpha[rng.integers(0, data.size, data.size)]
             draws.append((fitted + residual[pick], amplitude))
     thetas = np.full((count, theta.size), np.nan)
-    if data.amplitude is None and solve.loss == "linear":  # all resamples at once (see _batched_fit)
-        thetas, _ = _batched_fit(data.loading_rate, fitted[None, :] + residual[picks], theta, solve.lower,
-                                 solve.upper, fixed_mu_m)
+    if data.amplitude is None and solve.loss == "linear":  # many resamples at once (see _batched_fit)
+        rows = max(1, BATCH_VALUES // data.size)  # a batch's Jacobian stays in cache, whatever the count
+        for start in range(0, count, rows):
+            chunk = slice(start, start + rows)
+            thetas[chunk], _ = _batched_fit(data.loading_rate, fitted[None, :] + residual[picks[chunk]], theta,
+                                            solve.lower, solve.upper, fixed_mu_m)
     for index in np.flatnonzero(~np.all(np.isfinite(thetas), axis=1)):  # the rest one by one
         mu, amplitude = draws[index]
         thetas[index] = solve(data.loading_rate, mu, amplitude, data.apparatus_amplitude, theta, weight).x
     return np.array([_natural(t, fixed_mu_m) for t in thetas])
+
+
+#: Data values per batch of resamples solved together: about 2 MB of Jacobian per batch.
+BATCH_VALUES = 65536
 
 
 def _model_and_jacobian(rate, thetas, fixed_mu_m):
