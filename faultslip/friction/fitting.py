@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from faultslip.errors import InputError, did_you_mean
 from faultslip.friction.laws import static_friction
@@ -262,6 +261,8 @@ def fit_rate_law(data: FrictionData, loss: str = "linear", bootstrap: int = 200,
         return out
 
     def solve(rate, mu, amplitude, apparatus, start, weight):
+        from scipy.optimize import least_squares  # heavy: imported where used
+
         return least_squares(residuals, start, bounds=(lower, upper), loss=loss, f_scale=0.1 * scale_mu if loss != "linear" else 1.0,
                              args=(rate, mu, amplitude, apparatus, weight), x_scale="jac", max_nfev=2000)
 
