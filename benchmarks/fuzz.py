@@ -332,6 +332,8 @@ def worker(job):
     warnings.simplefilter("ignore")
     folder = Path(tempfile.mkdtemp(prefix="faultslip-fuzz-"))
     os.environ["FAULTSLIP_REGISTRY"] = str(folder / "fits.json")
+    # a mutated input may legitimately ask for an hour of work; the fuzzer's budget is its time-out
+    os.environ["FAULTSLIP_TIME_BUDGET"] = str(timeout / 4)
     try:
         space = Workspace(folder)
         rng = random.Random(seed * 1_000_003 + start)

@@ -298,3 +298,16 @@ def test_lock_refusal_names_the_holder(tmp_path):
         holder.wait()
     with output_lock(target):  # the kernel released the dead holder's lock
         pass
+
+
+def test_the_time_budget_can_be_set_and_reproduce_checks_it(tmp_path, cli, monkeypatch, swept):
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "1e-9")
+    assert_clean_error(cli("reproduce", swept), "would need", "--allow-large")
+    assert cli("reproduce", swept, "--allow-large", "--json").code == 0
+
+
+def test_an_absurdly_slow_platform_is_refused_not_a_traceback(tmp_path, cli):
+    scene = tmp_path / "slow.toml"
+    text = (Path(__file__).resolve().parent.parent / "configs" / "lab_steel_dry_time_of_stick.toml").read_text()
+    scene.write_text(text.replace("platform_speed = \"8e-5 m/s\"", "platform_speed = \"1e-320 m/s\""))
+    assert_clean_error(cli("simulate", scene, "--cycles", "3"), "platform speed")

@@ -136,6 +136,7 @@ def _studies_commands(commands) -> None:
     reproduce.add_argument("file", help="a netCDF written by faultslip sweep")
     reproduce.add_argument("-o", "--output", help="keep the reproduced file here")
     reproduce.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    reproduce.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
     reproduce.add_argument("--workers", type=int, help="parallel workers (default: the cores, at most one per chunk)")
     reproduce.add_argument("--json", action="store_true", help="print one JSON object")
     reproduce.set_defaults(handler="studies:cmd_reproduce")

@@ -50,7 +50,8 @@ def cmd_sweep(args) -> int:
 
 def cmd_reproduce(args) -> int:
     workers = _workers(args)
-    result = reproduce(args.file, output=args.output, workers=workers, overwrite=args.overwrite)
+    result = reproduce(args.file, output=args.output, workers=workers, overwrite=args.overwrite,
+                       allow_large=args.allow_large)
     if args.json:
         print(json.dumps({key: (None if isinstance(value, float) and not math.isfinite(value) else value)
                           for key, value in result.items() if key != "differences"}

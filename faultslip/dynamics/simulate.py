@@ -71,7 +71,11 @@ def _stick_duration(system, x_start):
         return 0.0
     upper = getattr(law, "mu_upper", None)
     if upper is not None:  # mu_s <= mu_upper, so the force reaches the limit by then
-        hi = max((W * upper - C * V - K * x_start) / (K * V), 0.0) * (1 + 1e-12) + 1e-300
+        with np.errstate(over="ignore", divide="ignore"):
+            hi = max((W * upper - C * V - K * x_start) / (K * V), 0.0) * (1 + 1e-12) + 1e-300
+        if not np.isfinite(hi) or not np.isfinite(excess(hi)):
+            raise SolverError(f"simulate: a stick of {system.name} would last longer than a double can count "
+                              f"(platform speed {V:.3g} m/s); give a platform speed many orders of magnitude larger")
     else:
         hi = max(abs(x_start) / V, 1.0 / system.natural_frequency)
         while excess(hi) < 0:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from faultslip.errors import InputError
 
-#: Default wall-time budget in seconds.
+#: Default wall-time budget in seconds; the environment variable FAULTSLIP_TIME_BUDGET (seconds) sets another.
 TIME_BUDGET = 3600.0
 #: Cells per second per worker of a closed-form/exact-cycle study, including compression.
 STUDY_CELL_RATE = 4e5
@@ -87,10 +87,20 @@ class Estimate:
         return ", ".join(parts)
 
 
-def check(estimate: Estimate, allow_large: bool = False, time_budget: float = TIME_BUDGET) -> None:
+def time_budget() -> float:
+    """The wall-time budget in seconds: FAULTSLIP_TIME_BUDGET if set to a positive number, else one hour."""
+    try:
+        value = float(os.environ.get("FAULTSLIP_TIME_BUDGET", TIME_BUDGET))
+    except ValueError:
+        return TIME_BUDGET
+    return value if value > 0 else TIME_BUDGET
+
+
+def check(estimate: Estimate, allow_large: bool = False, seconds_allowed: float | None = None) -> None:
     """Refuse ``estimate`` if it exceeds the budget, unless ``allow_large``."""
     if allow_large:
         return
+    seconds_allowed = time_budget() if seconds_allowed is None else seconds_allowed
     reasons = []
     memory = available_memory()
     if estimate.memory > 0.5 * memory:
@@ -99,8 +109,8 @@ def check(estimate: Estimate, allow_large: bool = False, time_budget: float = TI
         disk = free_disk(estimate.output)
         if estimate.disk > disk:
             reasons.append(f"{_size(estimate.disk)} of disk ({_size(disk)} free)")
-    if estimate.seconds > time_budget:
-        reasons.append(f"about {_duration(estimate.seconds)} (the budget is {_duration(time_budget)})")
+    if estimate.seconds > seconds_allowed:
+        reasons.append(f"about {_duration(estimate.seconds)} (the budget is {_duration(seconds_allowed)})")
     if reasons:
         raise InputError(f"{estimate.what} would need {' and '.join(reasons)}; make it smaller, or pass "
                          f"{OVERRIDE} to run it anyway")

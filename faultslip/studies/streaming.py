@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.errors import InputError
 from faultslip.io.outputs import check_output, output_lock
@@ -293,7 +294,8 @@ def _largest_difference(a, b):
 RUN_ATTRIBUTES = ("history", "source")
 
 
-def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrite: bool = False) -> dict:
+def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrite: bool = False,
+              allow_large: bool = False) -> dict:
     """Re-run the study embedded in ``path`` and compare everything that carries results.
 
     Every data variable, coordinate, variable attribute and global attribute (but the run's
@@ -323,6 +325,9 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     if not isinstance(attrs.get("faultslip_study"), str) or not isinstance(attrs.get("faultslip_base_scene"), str):
         raise InputError(f"{path.name} carries no embedded study (faultslip_study attribute); it was not written by faultslip sweep")
     study = parse_study(attrs["faultslip_study"], source=path.name, base_text=attrs["faultslip_base_scene"])
+    # the embedded study is checked like any sweep before it runs again (a damaged file may ask for much)
+    budget.check(budget.study_estimate(study, keep or path, workers, chunk_cells or DEFAULT_CHUNK_CELLS),
+                 allow_large)
     with tempfile.TemporaryDirectory(dir=(keep.parent if keep else None)) as scratch:
         target = keep or Path(scratch) / "reproduced.nc"
         summary = run_study(study, target, chunk_cells=chunk_cells, workers=workers, inputs=[path])
