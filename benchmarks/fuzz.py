@@ -360,6 +360,10 @@ def worker(job):
                 failures[detail] = {"outcome": outcome, "kind": kind, "argv": [a for a in argv]}
             elif outcome == "timeout":
                 failures.setdefault(f"timeout {kind}", {"outcome": outcome, "kind": kind, "argv": argv})
+            if outcome in ("timeout", "traceback") and os.environ.get("FAULTSLIP_FUZZ_KEEP"):
+                keep = Path(os.environ["FAULTSLIP_FUZZ_KEEP"]) / f"{outcome}-{start}-{tally[outcome]}"
+                shutil.copytree(space.folder, keep, dirs_exist_ok=True)  # the inputs, to replay the case
+                (keep / "argv.json").write_text(json.dumps(argv), encoding="utf-8")
         return tally, {k: dict(v) for k, v in by_kind.items()}, failures, slowest
     finally:
         shutil.rmtree(folder, ignore_errors=True)
