@@ -34,6 +34,12 @@ def _exact_where(mask, zeta, eps):
     return out
 
 
+def _fits(buffer, *operands) -> bool:
+    """Whether ``buffer op= operand`` can run in place: a writeable array already of the result's shape."""
+    return (isinstance(buffer, np.ndarray) and buffer.flags.writeable and buffer.ndim > 0
+            and np.broadcast_shapes(buffer.shape, *(np.shape(o) for o in operands)) == buffer.shape)
+
+
 def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_so, mu_m, b, d, moment_factor,
                 drive_is_rate=False, method="auto", tolerance=1e-6):
     """Every output of one block of cells, in plain numpy (the only full-grid work of a study).
@@ -47,17 +53,20 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
                                                         mu_so, mu_m, b, d, moment_factor)))
     if drive_is_rate:
         rate = drive
-        speed = rate * load / stiffness
+        speed = rate * (load / stiffness)
     else:
         speed = drive
-        rate = stiffness * speed / load
+        rate = (stiffness / load) * speed  # the parameter factor first: one grid-sized operation
     drop = mu_so - mu_m
     # seed 003 eq. 2-18 as drop / (1 + drop b rate^d), in place on one grid-sized buffer
     # a fresh array spanning every input of eq. 2-18, so the in-place steps below never broadcast
     # into a smaller buffer (a swept mu_m or b adds dimensions that rate does not have)
-    excess = np.multiply(np.power(rate, d), drop * b, dtype=float)
-    if excess.ndim == 0:
-        excess = np.array(excess, dtype=float)
+    excess = np.array(np.power(rate, d), dtype=float, copy=None, ndmin=1)
+    if _fits(excess, drop, b):
+        excess *= drop * b
+    else:
+        excess = excess * (drop * b)
+    excess = excess.reshape(np.broadcast_shapes(np.shape(rate), np.shape(d), np.shape(drop), np.shape(b)))
     excess += 1.0
     np.divide(drop, excess, out=excess)
     has_excess = bool(np.all(np.asarray(drop) > 0))
@@ -79,8 +88,8 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
         use_closed = error <= tolerance
     else:
         use_closed = (eps <= 0.1 * eps_c) & (error <= tolerance)
-    length = load / stiffness * excess
-    stick_advance = length * overshoot_factor(zeta)  # eq. 2-19: the stress-drop slip x1 - x2
+    # eq. 2-19: the stress-drop slip x1 - x2 = (W / K) excess * overshoot, parameter factor first
+    stick_advance = (load / stiffness * overshoot_factor(zeta)) * excess
     slip_time = np.pi / (omega_n * np.sqrt(1.0 - zeta * zeta))
     all_closed, all_stick = bool(np.all(use_closed)), bool(np.all(sticks))
     if not all_closed:
@@ -88,12 +97,16 @@ def cell_kernel(stiffness, load, drive, omega_n, zeta, eps_c, critical_rate, mu_
         need_exact = sticks & ~use_closed
         if need_exact.any():
             exact = _exact_where(need_exact, zeta, eps)
-            stick_advance = np.where(need_exact, length * exact[1], stick_advance)
+            stick_advance = np.where(need_exact, (load / stiffness) * excess * exact[1], stick_advance)
             slip_time = np.where(need_exact, exact[2] / omega_n, slip_time)
     period = stick_advance / speed
     period += slip_time
     slip = speed * period  # slip per event: the sliding during the event, integral of u dt = V T
-    stress_drop = stiffness * stick_advance
+    if _fits(stick_advance, stiffness):  # the last use of stick_advance: reuse its buffer
+        stress_drop = stick_advance
+        stress_drop *= stiffness
+    else:
+        stress_drop = stiffness * stick_advance
     if all_stick:  # the common case: no masking needed
         regime = np.where(np.asarray(zeta) < 0, REGIME_CODES["growing_oscillation"], REGIME_CODES["stick_slip"]).astype(np.int8)
     else:

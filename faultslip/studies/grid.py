@@ -423,14 +423,23 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
         zeta = inputs["damping_ratio"] + inputs["kinetic_slope"] * load / (2 * np.sqrt(stiffness * mass))
         has_moment, moment_factor = False, np.nan
     # on the parameter dimensions only (small): refuse or flag the cells that fault would refuse
+    # labelled inputs (maps, lazy studies) or numpy arrays already aligned on the study's axes
+    # (:func:`aligned_values`, the in-memory fast path): the same arithmetic serves both
+    labelled = any(isinstance(v, xr.DataArray) for v in inputs.values())
     no_excess = None
     if outside == "refuse":
-        ranges.check_friction_drop(*(_small_values(v) for v in xr.broadcast(xr.DataArray(mu_so), xr.DataArray(mu_m))),
-                                   "in some cells of the study")
-    else:
+        pair = xr.broadcast(xr.DataArray(mu_so), xr.DataArray(mu_m)) if labelled else (mu_so, mu_m)
+        ranges.check_friction_drop(*(_small_values(v) for v in pair), "in some cells of the study")
+    elif labelled:
         no_excess = ~(xr.DataArray(mu_so) > xr.DataArray(mu_m))
         if bool(no_excess.any()):
             mu_m = xr.where(no_excess, 0.5 * xr.DataArray(mu_so), mu_m)  # a stand-in, masked below
+        else:
+            no_excess = None
+    else:
+        no_excess = ~np.greater(mu_so, mu_m)
+        if no_excess.any():
+            mu_m = np.where(no_excess, 0.5 * np.asarray(mu_so), mu_m)  # a stand-in, masked below
         else:
             no_excess = None
     zeta_values = _small_values(zeta)
@@ -452,11 +461,34 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
     if not has_moment:
         del outputs["seismic_moment"], outputs["moment_magnitude"]
     if no_excess is not None:
+        where = xr.where if labelled else np.where
         for name, value in outputs.items():
             fill = -1 if name in ("regime", "method") else np.nan
-            outputs[name] = xr.where(no_excess, fill, value).astype(value.dtype)
-        outputs["outside_domain"] = xr.broadcast(no_excess.astype(np.int8), outputs["regime"])[0]
+            outputs[name] = where(no_excess, fill, value).astype(value.dtype)
+        flag = no_excess.astype(np.int8)
+        outputs["outside_domain"] = (xr.broadcast(flag, outputs["regime"])[0] if labelled
+                                     else np.broadcast_to(flag, np.shape(outputs["regime"])))
     return outputs
+
+
+def aligned_values(inputs: dict, order) -> dict | None:
+    """The inputs as numpy arrays on the axes ``order`` (size 1 where an input does not vary).
+
+    The in-memory path of a block: plain numpy broadcasting then does what xarray's alignment
+    would, without its fixed cost of about 10 ms a block. None if an input is dask-backed.
+    """
+    import xarray as xr  # heavy: imported where used
+
+    aligned = {}
+    for name, value in inputs.items():
+        if isinstance(value, xr.DataArray):
+            if value.chunks is not None:
+                return None
+            present = [dim for dim in order if dim in value.dims]
+            shape = [value.sizes[dim] if dim in value.dims else 1 for dim in order]
+            value = value.transpose(*present).values.reshape(shape)
+        aligned[name] = value
+    return aligned
 
 
 def _small_values(value):
@@ -518,30 +550,57 @@ def as_dataset(outputs: dict, study, block=None):
     order = [d for d in study.dims if d in dataset.dims]
     dataset = dataset.transpose(*order) if order else dataset
     for name in dataset.data_vars:
-        if name == "regime":
-            dataset[name].attrs = {"long_name": "regime (stick-slip, steady sliding, growing oscillation; "
-                                                "-1: no prediction, see outside_domain)", **_flags(REGIME_CODES)}
-        elif name == "method":
-            dataset[name].attrs = {"long_name": "method used in this cell (-1: none)", **_flags(METHOD_CODES)}
-        elif name == "outside_domain":
-            dataset[name].attrs = {"long_name": "cell outside the model's domain (no prediction)",
-                                   **_flags({"predicted": 0, "no_static_excess_mu_m_not_below_mu_so": 1}),
-                                   "comment": "faultslip fault refuses such inputs: with mu_m >= mu_so there is no "
-                                              "stick-slip to predict (seed 003 eq. 2-18)"}
-        else:
-            unit, long_name = OUTPUT_ATTRS[name]
-            if name == "stress_drop" and study.kind == "lab":
-                unit, long_name = "N", "force drop K (x_break - x_restick)"
-            dataset[name].attrs = {"units": unit, "long_name": long_name}
+        dataset[name].attrs = output_attrs(name, study.kind)
     return dataset
+
+
+def output_attrs(name: str, kind: str) -> dict:
+    """CF attributes of one study output (``kind`` is fault or lab)."""
+    if name == "regime":
+        return {"long_name": "regime (stick-slip, steady sliding, growing oscillation; "
+                             "-1: no prediction, see outside_domain)", **_flags(REGIME_CODES)}
+    if name == "method":
+        return {"long_name": "method used in this cell (-1: none)", **_flags(METHOD_CODES)}
+    if name == "outside_domain":
+        return {"long_name": "cell outside the model's domain (no prediction)",
+                **_flags({"predicted": 0, "no_static_excess_mu_m_not_below_mu_so": 1}),
+                "comment": "faultslip fault refuses such inputs: with mu_m >= mu_so there is no "
+                           "stick-slip to predict (seed 003 eq. 2-18)"}
+    unit, long_name = OUTPUT_ATTRS[name]
+    if name == "stress_drop" and kind == "lab":
+        unit, long_name = "N", "force drop K (x_break - x_restick)"
+    return {"units": unit, "long_name": long_name}
+
+
+def _block_dataset(outputs: dict, study, block=None):
+    """A Dataset from numpy outputs on the study's axes (:func:`aligned_values`), every output over every dimension.
+
+    The same dataset :func:`as_dataset` builds from labelled outputs, built from variables
+    directly: an output constant along a swept dimension is a broadcast view, not a copy.
+    """
+    import xarray as xr  # heavy: imported where used
+
+    order = list(study.dims)
+    coords = {name: _coordinate(study, name, values, None if block is None else block.get(name, slice(None)))
+              for name, values in study.dims.items()}
+    shape = tuple(coords[name].size for name in order)
+    coords = {name: coordinate.variable for name, coordinate in coords.items()}
+    variables = {}
+    for name, value in outputs.items():
+        if name in coords:  # a swept input that is also an output (loading_rate): the coordinate holds it
+            coords[name].attrs = output_attrs(name, study.kind)
+        else:
+            variables[name] = xr.Variable(order, np.broadcast_to(value, shape), output_attrs(name, study.kind))
+    return xr.Dataset(variables, coords=coords)
 
 
 def compute_block(study, block=None):
     """The study outputs on one block (name -> slice of each swept dimension), computed in memory."""
     if _needs_simulation(study):
         return _simulated_block(study, block)
-    outputs = evaluate(study_inputs(study, block), study.kind, study.method, study.tolerance)
-    return as_dataset(outputs, study, block).compute()
+    inputs = aligned_values(study_inputs(study, block), list(study.dims))
+    outputs = evaluate(inputs, study.kind, study.method, study.tolerance)
+    return _block_dataset(outputs, study, block)
 
 
 def _needs_simulation(study) -> bool:
