@@ -34,7 +34,12 @@ zone_width = {{ linspace = ["5 km", "30 km", 1000] }}
 
 def bare_numpy(shape_g, repeats=5):
     """The closed-form outputs written inline in numpy, on the same inputs as the study."""
-    G = np.linspace(0.15e11, 0.35e11, shape_g)[:, None, None]
+    return bare_numpy_at(np.linspace(0.15e11, 0.35e11, shape_g))
+
+
+def bare_numpy_at(shear_moduli):
+    """The bare kernel on given shear moduli (Pa) and the study's 1000 x 1000 slip rates and widths."""
+    G = np.asarray(shear_moduli, dtype=float)[:, None, None]
     V = np.geomspace(1e-3, 0.1, 1000)[None, :, None] / 31557600.0
     D = np.linspace(5e3, 30e3, 1000)[None, None, :]
     tau, muso, mum, b, d, rho, L, H = 2.5e7, 0.65, 0.55, 38.0, 0.665, 2700.0, 434522.88, 12e3

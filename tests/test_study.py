@@ -165,7 +165,8 @@ def test_resume_ignores_a_partial_file_of_another_study(study, tmp_path, monkeyp
         run_study(study, out, chunk_cells=30, workers=1)
     restore()
     other = parse_study(STUDY.replace('"30 km"', '"25 km"'))
-    assert run_study(other, out, chunk_cells=30, workers=1, resume=True)["resumed_blocks"] == 0
+    with pytest.warns(UserWarning, match="belongs to a different study or chunking; starting over"):
+        assert run_study(other, out, chunk_cells=30, workers=1, resume=True)["resumed_blocks"] == 0
 
 
 def test_a_hard_kill_never_leaves_a_broken_file_under_the_final_name(tmp_path):

@@ -25,6 +25,7 @@ import numpy as np
 
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
+from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, padded
 from faultslip.errors import InputError
 from faultslip.io.outputs import check_output, output_lock
 from faultslip.io.processes import stop_pool, worker_pool
@@ -130,6 +131,88 @@ def _write_block(nc, study, block, dataset):
         nc[name][index] = values
 
 
+def encode_block(study, block, chunks, compression="zlib") -> dict:
+    """Worker task: compute one block and encode each output as the chunk HDF5 stores.
+
+    The block is one chunk of the file (:func:`plan_blocks`), so its bytes go to disk as they
+    are; the compression runs here, in the worker, in parallel with the other workers.
+    """
+    dataset = compute_block(study, block)
+    names = list(study.dims)
+    shape = tuple(chunks[n] for n in names)
+    encoded = {}
+    for name, variable in dataset.data_vars.items():
+        is_int = np.issubdtype(variable.dtype, np.integer)
+        values = variable.transpose(*names).values.astype(np.int8 if is_int else np.float64, copy=False)
+        encoded[name] = encode_chunk(padded(values, shape, INT_FILL if is_int else FLOAT_FILL), compression)
+    return encoded
+
+
+class _ChunkWriter:
+    """The parent's side of parallel compression: encoded chunks from the workers go to disk as bytes."""
+
+    def __init__(self, path, study, chunks, names, compression):
+        self.task = encode_block
+        self.extra = (chunks, compression)
+        self._dims = list(study.dims)
+        self._file = ChunkFile(path, names, compression)
+
+    def store(self, block, encoded):
+        offset = tuple(block[n].start for n in self._dims)
+        for name, data in encoded.items():
+            self._file.write(name, offset, data)
+
+    def sync(self):
+        self._file.flush()
+
+    def close(self):
+        self._file.close()
+
+
+class _NetcdfWriter:
+    """netCDF4 compresses in this process (zstd, or a study without dimensions, has no direct path)."""
+
+    def __init__(self, nc, study):
+        self.task = compute_block
+        self.extra = ()
+        self._nc, self._study = nc, study
+
+    def store(self, block, dataset):
+        _write_block(self._nc, self._study, block, dataset)
+
+    def sync(self):
+        self._nc.sync()
+
+    def close(self):
+        self._nc.close()
+
+
+def _open_writer(partial, study, template, chunks, compression, fresh: bool):
+    """The writer of ``partial``: created (``fresh``) or reopened to resume."""
+    import netCDF4  # heavy: imported where used
+
+    direct = compression in DIRECT_COMPRESSIONS and bool(study.dims)
+    if fresh:
+        try:
+            nc = _create(partial, study, template, chunks, compression)
+        except OSError as exc:
+            raise InputError(f"cannot write {partial.name}: {exc.strerror or exc}") from None
+        if not direct:
+            return _NetcdfWriter(nc, study)
+        nc.close()
+        return _ChunkWriter(partial, study, chunks, list(template.data_vars), compression)
+    if direct:
+        return _ChunkWriter(partial, study, chunks, list(template.data_vars), compression)
+    nc = netCDF4.Dataset(partial, "a")
+    try:
+        for name in template.data_vars:
+            _no_chunk_cache(nc[name])
+    except (IndexError, KeyError, RuntimeError):
+        nc.close()
+        raise
+    return _NetcdfWriter(nc, study)
+
+
 def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str | None = None, workers: int = 2,
               resume: bool = False, progress=None, compression: str = "zlib", overwrite: bool = True,
               inputs=()) -> dict:
@@ -180,46 +263,41 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     started = time.perf_counter()
     template = compute_block(study, {n: slice(0, 1) for n in study.dims})
     done = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
-    import netCDF4  # heavy: imported where used
-
-    nc = None
+    writer = None
     if done:
         try:
-            nc = netCDF4.Dataset(partial, "a")
-            for name in template.data_vars:
-                _no_chunk_cache(nc[name])
-        except (OSError, IndexError, KeyError, RuntimeError) as exc:  # truncated by a kill -9, or foreign
-            if nc is not None:
-                nc.close()
-            nc = None
+            writer = _open_writer(partial, study, template, chunks, compression, fresh=False)
+        except (OSError, IndexError, KeyError, RuntimeError, InputError) as exc:  # truncated by a kill -9, or foreign
             warnings.warn(f"cannot continue {partial.name} ({exc}); starting over", stacklevel=2)
             done = set()
     if not done:
         for stale in (partial, ledger):
             if stale.exists():
                 stale.unlink()
-        try:
-            nc = _create(partial, study, template, chunks, compression)
-        except OSError as exc:
-            raise InputError(f"cannot write {partial.name}: {exc.strerror or exc}") from None
+        writer = _open_writer(partial, study, template, chunks, compression, fresh=True)
     pending = [i for i in range(len(blocks)) if i not in done]
-    # one chunk (or none) left: a pool would only add start-up time
-    executor, label = _executor(scheduler, workers if len(pending) > 1 or scheduler else 1)
+    workers, reason = choose_execution(study, len(pending), workers, scheduler)
+    executor, label = _executor(scheduler, workers)
+    label = f"{label}{reason}"
+    task = writer.task
 
     def record_progress():
         write_text_atomic(ledger, json.dumps({"fingerprint": fingerprint, "blocks": len(blocks), "done": sorted(done)}))
+
+    def finished_block(index, result):
+        writer.store(blocks[index], result)
+        done.add(index)
+        if progress:
+            progress(len(done), len(blocks))
 
     record_progress()
     last_saved = time.perf_counter()
     try:
         if executor is None:
             for index in pending:
-                _write_block(nc, study, blocks[index], compute_block(study, blocks[index]))
-                done.add(index)
-                if progress:
-                    progress(len(done), len(blocks))
+                finished_block(index, task(study, blocks[index], *writer.extra))
                 if time.perf_counter() - last_saved > 1.0:
-                    nc.sync()
+                    writer.sync()
                     record_progress()
                     last_saved = time.perf_counter()
         else:
@@ -228,7 +306,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
             window = max(workers, 1) + 1  # blocks in flight: bounds memory whatever the grid size
             is_dask = hasattr(executor, "gather")
             for index in itertools.islice(queue, window):
-                in_flight[executor.submit(compute_block, study, blocks[index])] = index
+                in_flight[executor.submit(task, study, blocks[index], *writer.extra)] = index
             while in_flight:
                 if is_dask:
                     from distributed import wait as dask_wait  # heavy: imported where used
@@ -238,33 +316,54 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
                     finished = wait(list(in_flight), return_when=FIRST_COMPLETED).done
                 for future in finished:
                     index = in_flight.pop(future)
-                    _write_block(nc, study, blocks[index], future.result())
-                    done.add(index)
-                    if progress:
-                        progress(len(done), len(blocks))
+                    finished_block(index, future.result())
                     following = next(queue, None)
                     if following is not None:
-                        in_flight[executor.submit(compute_block, study, blocks[following])] = following
+                        in_flight[executor.submit(task, study, blocks[following], *writer.extra)] = following
                 if time.perf_counter() - last_saved > 1.0:
-                    nc.sync()
+                    writer.sync()
                     record_progress()
                     last_saved = time.perf_counter()
     except BaseException as exc:
         _shutdown(executor, interrupted=True)  # first: no worker may keep running, or block the exit
-        nc.sync()
-        nc.close()
+        writer.sync()
+        writer.close()
         record_progress()  # what is on disk is complete block by block: --resume continues from here
         if isinstance(exc, OSError):
             raise InputError(f"writing {partial.name} failed: {exc.strerror or exc}; "
                              "'--resume' continues once the cause is fixed") from None
         raise
-    nc.close()
+    writer.close()
     _shutdown(executor)
     os.replace(partial, output)
     if ledger.exists():
         ledger.unlink()
     return {"blocks": len(blocks), "resumed_blocks": len(blocks) - len(pending), "cells": study.size,
             "chunks": chunks, "seconds": time.perf_counter() - started, "executor": label, "output": str(output)}
+
+
+#: A process pool pays for itself from about this much single-process work (seconds): starting
+#: the workers and shipping the study costs tens of ms (measured in benchmarks/sweep_scale.py).
+POOL_WORTH_SECONDS = 0.25
+
+
+def choose_execution(study, pending_blocks: int, workers: int, scheduler=None) -> tuple[int, str]:
+    """``(workers, note)``: the executor this study needs; 1 runs in this process.
+
+    A named dask scheduler is always used as asked. Otherwise a small grid (one block, or less
+    work than :data:`POOL_WORTH_SECONDS` by the budget's rate) runs in this process, where a
+    pool would only add its start-up time; a large one runs on ``workers`` processes.
+    """
+    if scheduler is not None:
+        return workers, ""
+    if workers <= 1:
+        return 1, ""
+    if pending_blocks <= 1:
+        return 1, " (one block: a pool would only add start-up time)"
+    seconds = budget.study_estimate(study, None, 1, DEFAULT_CHUNK_CELLS).seconds
+    if seconds < POOL_WORTH_SECONDS:
+        return 1, f" (about {seconds * 1e3:.0f} ms of work: a pool would cost more than it saves)"
+    return workers, ""
 
 
 def _shutdown(executor, interrupted: bool = False):
