@@ -24,3 +24,45 @@ def write_dataset(dataset, path, *, compress: bool = True) -> None:
     with atomic_path(path) as temporary:
         dataset.to_netcdf(temporary, engine="netcdf4", format="NETCDF4",
                           encoding=compression_encoding(dataset) if compress else None)
+
+
+def create_chunked(path, dims: dict, coords: dict, variables: dict, attrs: dict, chunks: dict,
+                   compression: str = "zlib"):
+    """An open, empty netCDF4 file laid out for chunk-by-chunk writing.
+
+    ``dims`` maps each dimension to its size; ``coords`` maps a dimension to ``(values, attrs)``
+    (text values make a string coordinate); ``variables`` maps a name to ``(dims, dtype, fill,
+    attrs)`` with dtype ``"f8"`` or ``"i1"``; ``chunks`` gives the chunk size per dimension.
+    Variables use ``compression`` at level 1 with the byte shuffle (netCDF4's default), the
+    filters that :func:`faultslip.io.chunks.encode_chunk` applies in worker processes.
+    """
+    import netCDF4  # heavy: imported where used
+
+    nc = netCDF4.Dataset(path, "w", format="NETCDF4")
+    try:
+        for name, size in dims.items():
+            nc.createDimension(name, size)
+        for name, (values, coordinate_attrs) in coords.items():
+            values = np.asarray(values)
+            if values.dtype.kind in "OUT":
+                variable = nc.createVariable(name, str, (name,))
+                variable[:] = np.array([str(v) for v in values], dtype=object)
+            else:
+                variable = nc.createVariable(name, "f8", (name,))
+                variable[:] = values.astype(float)
+            for key, value in coordinate_attrs.items():
+                variable.setncattr(key, value)
+        for name, (variable_dims, dtype, fill, variable_attrs) in variables.items():
+            filters = {} if compression == "none" else {"compression": compression, "complevel": 1}
+            variable = nc.createVariable(name, dtype, tuple(variable_dims), **filters, fill_value=fill,
+                                         chunksizes=tuple(chunks[d] for d in variable_dims) if variable_dims else None)
+            for key, value in variable_attrs.items():
+                variable.setncattr(key, value)
+            # each chunk is written once, whole: HDF5's chunk cache would only hold memory
+            variable.set_var_chunk_cache(size=1 << 20, nelems=1, preemption=1.0)
+        for key, value in attrs.items():
+            nc.setncattr(key, value)
+    except BaseException:
+        nc.close()
+        raise
+    return nc

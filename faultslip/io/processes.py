@@ -11,6 +11,7 @@ a busy pool.
 from __future__ import annotations
 
 import ctypes
+import itertools
 import os
 import signal
 import sys
@@ -125,3 +126,36 @@ def stop_pool(pool, interrupted: bool = False) -> None:
             process.join(timeout=5)
     else:
         pool.shutdown(cancel_futures=True)
+
+
+def run_windowed(executor, task, items, handle, *, window: int, on_tick=None) -> None:
+    """Run ``task(*args)`` for each ``(key, args)`` of ``items``; ``handle(key, result)`` in this process.
+
+    ``executor`` is None (in this process, in order), a process pool or a dask Client. At most
+    ``window`` tasks are in flight, so memory stays flat however many items there are.
+    ``on_tick()`` runs after every handled batch (progress records, periodic flushes).
+    """
+    if executor is None:
+        for key, args in items:
+            handle(key, task(*args))
+            if on_tick:
+                on_tick()
+        return
+    is_dask = hasattr(executor, "gather")
+    if is_dask:
+        from distributed import wait as wait_any  # heavy: imported where used
+    else:
+        from concurrent.futures import wait as wait_any
+    items = iter(items)
+    in_flight = {}
+    for key, args in itertools.islice(items, max(window, 1)):
+        in_flight[executor.submit(task, *args)] = key
+    while in_flight:
+        for future in wait_any(list(in_flight), return_when="FIRST_COMPLETED").done:
+            key = in_flight.pop(future)
+            handle(key, future.result())
+            following = next(items, None)
+            if following is not None:
+                in_flight[executor.submit(task, *following[1])] = following[0]
+        if on_tick:
+            on_tick()

@@ -18,7 +18,6 @@ import json
 import os
 import time
 import warnings
-from concurrent.futures import FIRST_COMPLETED, wait
 from pathlib import Path
 
 import numpy as np
@@ -26,9 +25,10 @@ import numpy as np
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, padded
+from faultslip.io.netcdf import create_chunked
 from faultslip.errors import InputError
 from faultslip.io.outputs import check_output, output_lock
-from faultslip.io.processes import stop_pool, worker_pool
+from faultslip.io.processes import run_windowed, stop_pool, worker_pool
 from faultslip.io.resources import probe_netcdf
 from faultslip.studies.grid import compute_block, finish, parameters_for, parse_study
 import tempfile
@@ -81,37 +81,29 @@ def _executor(scheduler, workers):
         raise InputError(f"cannot reach the dask scheduler at {scheduler!r}: {exc}") from None
 
 
-def _create(path, study, template, chunks, compression="zlib"):
-    """An empty netCDF4 file with the study's dimensions, coordinates, variables and attributes."""
-    import netCDF4  # heavy: imported where used
+def file_layout(study, template):
+    """``(dims, coords, variables, attrs)`` of a study's output, for :func:`faultslip.io.netcdf.create_chunked`.
 
-
-    nc = netCDF4.Dataset(path, "w", format="NETCDF4")
-    names = list(study.dims)
-    for name in names:
-        nc.createDimension(name, len(study.dims[name]))
+    ``template`` is the study computed on one cell: it gives each output's type and attributes.
+    """
+    dims = {name: len(values) for name, values in study.dims.items()}
+    coords = {}
+    for name, values in study.dims.items():
         kind, unit, long_name = parameters_for(study.kind)[name]
         if kind == "category":
-            variable = nc.createVariable(name, str, (name,))
-            variable[:] = np.array(study.dims[name], dtype=object)
+            coords[name] = (np.array(values, dtype=object), {"long_name": long_name})
         else:
-            variable = nc.createVariable(name, "f8", (name,))
-            variable[:] = np.asarray(study.dims[name], dtype=float)
-            variable.units = unit
-        variable.long_name = long_name
+            coords[name] = (np.asarray(values, dtype=float), {"units": unit, "long_name": long_name})
+    variables = {}
     for name, array in template.data_vars.items():
         is_int = np.issubdtype(array.dtype, np.integer)
-        filters = {} if compression == "none" else {"compression": compression, "complevel": 1}
-        variable = nc.createVariable(name, "i1" if is_int else "f8", tuple(names), **filters,
-                                     chunksizes=tuple(chunks[n] for n in names) if names else None,
-                                     fill_value=INT_FILL if is_int else FLOAT_FILL)
-        for key, value in array.attrs.items():
-            variable.setncattr(key, value)
-        _no_chunk_cache(variable)
-    attrs = finish(template.copy(), study).attrs
-    for key, value in attrs.items():
-        nc.setncattr(key, value)
-    return nc
+        variables[name] = (tuple(dims), "i1" if is_int else "f8", INT_FILL if is_int else FLOAT_FILL, dict(array.attrs))
+    return dims, coords, variables, dict(finish(template.copy(), study).attrs)
+
+
+def _create(path, study, template, chunks, compression="zlib"):
+    """An empty netCDF4 file with the study's dimensions, coordinates, variables and attributes."""
+    return create_chunked(path, *file_layout(study, template), chunks=chunks, compression=compression)
 
 
 def _no_chunk_cache(variable):
@@ -292,38 +284,18 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
 
     record_progress()
     last_saved = time.perf_counter()
-    try:
-        if executor is None:
-            for index in pending:
-                finished_block(index, task(study, blocks[index], *writer.extra))
-                if time.perf_counter() - last_saved > 1.0:
-                    writer.sync()
-                    record_progress()
-                    last_saved = time.perf_counter()
-        else:
-            in_flight = {}
-            queue = iter(pending)
-            window = max(workers, 1) + 1  # blocks in flight: bounds memory whatever the grid size
-            is_dask = hasattr(executor, "gather")
-            for index in itertools.islice(queue, window):
-                in_flight[executor.submit(task, study, blocks[index], *writer.extra)] = index
-            while in_flight:
-                if is_dask:
-                    from distributed import wait as dask_wait  # heavy: imported where used
 
-                    finished = dask_wait(list(in_flight), return_when="FIRST_COMPLETED").done
-                else:
-                    finished = wait(list(in_flight), return_when=FIRST_COMPLETED).done
-                for future in finished:
-                    index = in_flight.pop(future)
-                    finished_block(index, future.result())
-                    following = next(queue, None)
-                    if following is not None:
-                        in_flight[executor.submit(task, study, blocks[following], *writer.extra)] = following
-                if time.perf_counter() - last_saved > 1.0:
-                    writer.sync()
-                    record_progress()
-                    last_saved = time.perf_counter()
+    def tick():
+        nonlocal last_saved
+        if time.perf_counter() - last_saved > 1.0:
+            writer.sync()
+            record_progress()
+            last_saved = time.perf_counter()
+
+    try:
+        # blocks in flight: bounds memory whatever the grid size
+        run_windowed(executor, writer.task, ((i, (study, blocks[i], *writer.extra)) for i in pending),
+                     finished_block, window=max(workers, 1) + 1, on_tick=tick)
     except BaseException as exc:
         _shutdown(executor, interrupted=True)  # first: no worker may keep running, or block the exit
         writer.sync()
