@@ -118,9 +118,13 @@ def _scenes_commands(commands) -> None:
 
 def _studies_commands(commands) -> None:
     """Study and map commands (handlers in faultslip.cli.studies)."""
-    sweep = commands.add_parser("sweep", help="gridded parameter study to CF netCDF")
+    sweep = commands.add_parser("sweep", help="gridded parameter study to CF netCDF (or a Zarr store)")
     sweep.add_argument("study", help="study TOML file")
-    sweep.add_argument("-o", "--output", required=True, help="output netCDF file (written atomically)")
+    sweep.add_argument("-o", "--output", required=True,
+                       help="output netCDF file, or Zarr store (OUT.zarr); written atomically")
+    sweep.add_argument("--format", choices=("netcdf", "zarr"),
+                       help="output format (default: from the suffix, .nc or .zarr); with --scheduler ADDRESS, "
+                            "zarr lets every worker write its own chunks")
     sweep.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
     sweep.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     sweep.add_argument("--scheduler", help="'local' for a dask LocalCluster, or the address of a dask scheduler")
@@ -131,6 +135,15 @@ def _studies_commands(commands) -> None:
                        help="netCDF4 filter (default zlib, readable everywhere; zstd writes ~2.5x faster)")
     sweep.add_argument("--json", action="store_true", help="print one JSON object")
     sweep.set_defaults(handler="studies:cmd_sweep")
+
+    convert = commands.add_parser("convert", help="convert a Zarr store written by sweep into one netCDF file")
+    convert.add_argument("store", help="a Zarr store (folder), e.g. written by faultslip sweep -o OUT.zarr")
+    convert.add_argument("-o", "--output", required=True, help="output netCDF file (written atomically)")
+    convert.add_argument("--workers", type=int, help="processes that compress chunks (default: the cores)")
+    convert.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    convert.add_argument("--allow-large", action="store_true", help="run even beyond the disk budget")
+    convert.add_argument("--json", action="store_true", help="print one JSON object")
+    convert.set_defaults(handler="studies:cmd_convert")
 
     reproduce = commands.add_parser("reproduce", help="re-run the study embedded in a sweep's netCDF and compare")
     reproduce.add_argument("file", help="a netCDF written by faultslip sweep")

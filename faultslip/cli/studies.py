@@ -1,4 +1,4 @@
-"""Study and map commands: sweep, reproduce, map."""
+"""Study and map commands: sweep, convert, reproduce, map."""
 
 from __future__ import annotations
 
@@ -14,14 +14,17 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, FIGURE_SUFFIXES
 from faultslip.studies.grid import load_study
 from faultslip.studies.maps import load_map, map_figure, observed_figure, observed_table, run_map
-from faultslip.studies.streaming import DEFAULT_CHUNK_CELLS, reproduce, run_study
+from faultslip.io.convert import zarr_to_netcdf
+from faultslip.studies.streaming import (DEFAULT_CHUNK_CELLS, check_study_output, output_format, reproduce,
+                                         run_study)
 
 
 def cmd_sweep(args) -> int:
     study = load_study(args.study)
     inputs = [args.study, study.scene.path]
     # --resume continues into the same output: an existing final file is still refused without --overwrite
-    output = check_output(args.output, label="-o", suffixes=(".nc",), inputs=inputs, overwrite=args.overwrite)
+    file_format = output_format(args.output, args.format)
+    output = check_study_output(args.output, file_format, inputs=inputs, overwrite=args.overwrite)
     if args.chunks is not None and not 1 <= args.chunks <= 10**9:
         raise FaultslipError(f"--chunks must be a number of cells from 1 to 1e9, got {args.chunks}")
     chunk_cells = args.chunks or DEFAULT_CHUNK_CELLS
@@ -31,7 +34,8 @@ def cmd_sweep(args) -> int:
     budget.check(budget.study_estimate(study, output, workers, chunk_cells, args.compression), args.allow_large)
     summary = run_study(study, output, chunk_cells=chunk_cells, scheduler=args.scheduler, workers=workers,
                         resume=args.resume, progress=_delayed_progress("sweep", not args.json),
-                        compression=args.compression, overwrite=args.overwrite, inputs=inputs)
+                        compression=args.compression, overwrite=args.overwrite, inputs=inputs,
+                        file_format=file_format)
     if args.json:
         print(json.dumps({"output": summary["output"], "cells": summary["cells"], "blocks": summary["blocks"],
                           "resumed_blocks": summary["resumed_blocks"], "executor": summary["executor"],
@@ -45,6 +49,18 @@ def cmd_sweep(args) -> int:
               f"{summary['blocks']} chunks on {summary['executor']}"
               + (f", {summary['resumed_blocks']} reused" if summary["resumed_blocks"] else ""))
         print(f"  wrote {summary['output']} in {summary['seconds']:.2f} s")
+    return 0
+
+
+def cmd_convert(args) -> int:
+    workers = args.workers or 2
+    summary = zarr_to_netcdf(args.store, args.output, workers=workers, overwrite=args.overwrite,
+                             allow_large=args.allow_large, progress=_delayed_progress("convert", not args.json))
+    if args.json:
+        print(json.dumps(summary | {"seconds": {"value": summary["seconds"], "units": "s"}}, indent=2))
+    else:
+        print(f"faultslip convert: {summary['input']} -> {summary['output']}: {summary['variables']} variables, "
+              f"{summary['chunks']} chunks on {summary['workers']} worker(s) in {summary['seconds']:.2f} s")
     return 0
 
 

@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 
 from faultslip.errors import InputError
+from faultslip.io.zarr_store import is_store
 
 #: Image formats matplotlib writes (its Agg, PDF, PS and SVG backends).
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg", ".eps", ".ps", ".tif", ".tiff", ".webp")
@@ -34,15 +35,26 @@ def same_file(a, b) -> bool:
 
 
 def check_output(path, *, label: str, suffixes=None, inputs=(), overwrite: bool = False,
-                 directory: bool = False) -> Path:
+                 directory: bool = False, store: bool = False) -> Path:
     """Refuse an unusable output path before any work starts; returns it as a Path.
 
     ``suffixes`` lists the allowed endings (None: any); ``inputs`` are files this run reads;
-    ``directory`` means ``path`` is a folder to write into (created if its parent exists).
+    ``directory`` means ``path`` is a folder to write into (created if its parent exists);
+    ``store`` means ``path`` is a Zarr store (a folder written whole): an existing one is replaced
+    only with ``overwrite``, and a folder that is not a store never.
     """
     target = Path(path)
     if not str(path).strip():
         raise InputError(f"{label}: the output path is empty")
+    if store and target.exists():
+        if not is_store(target):
+            what = "a folder" if target.is_dir() else "a file"
+            raise InputError(f"{label} {str(target)!r} is {what} but not a Zarr store; choose another output")
+        if not overwrite:
+            raise InputError(f"{label} {str(target)!r} already exists; pass --overwrite to replace it")
+        overwrite, target_is_store = True, True
+    else:
+        target_is_store = False
     if directory:
         if target.exists() and not target.is_dir():
             raise InputError(f"{label} {str(target)!r} is a file, not a folder")
@@ -50,7 +62,7 @@ def check_output(path, *, label: str, suffixes=None, inputs=(), overwrite: bool 
             raise InputError(f"{label}: the folder {str(target.parent)!r} that would hold {target.name!r} does not exist")
         return target
     parent = target.parent
-    if target.is_dir():
+    if target.is_dir() and not target_is_store:
         raise InputError(f"{label} {str(target)!r} is a folder; give a file name inside it")
     if not parent.is_dir():
         what = "is a file, not a folder" if parent.exists() else "does not exist"

@@ -18,6 +18,7 @@ import sys
 import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import wait as futures_wait
 from pathlib import Path
 from faultslip.errors import InputError
 
@@ -141,11 +142,10 @@ def run_windowed(executor, task, items, handle, *, window: int, on_tick=None) ->
             if on_tick:
                 on_tick()
         return
-    is_dask = hasattr(executor, "gather")
-    if is_dask:
+    if hasattr(executor, "gather"):  # a dask Client
         from distributed import wait as wait_any  # heavy: imported where used
     else:
-        from concurrent.futures import wait as wait_any
+        wait_any = futures_wait
     items = iter(items)
     in_flight = {}
     for key, args in itertools.islice(items, max(window, 1)):

@@ -26,6 +26,7 @@ from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, padded
 from faultslip.io.netcdf import create_chunked
+from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
 from faultslip.errors import InputError
 from faultslip.io.outputs import check_output, output_lock
 from faultslip.io.processes import run_windowed, stop_pool, worker_pool
@@ -37,6 +38,7 @@ DEFAULT_CHUNK_CELLS = 2**19
 #: netCDF4 compression filters: zlib is readable everywhere (default); zstd is ~2.5x faster to write
 #: and needs netCDF-C >= 4.9 with its plugins to read; none writes fastest and largest.
 COMPRESSIONS = ("zlib", "zstd", "none")
+FORMATS = ("netcdf", "zarr")
 FLOAT_FILL = np.nan
 INT_FILL = np.int8(-127)
 
@@ -179,10 +181,44 @@ class _NetcdfWriter:
         self._nc.close()
 
 
-def _open_writer(partial, study, template, chunks, compression, fresh: bool):
+def write_zarr_block(study, block, path) -> int:
+    """Worker task: compute one block and write it into its region of the Zarr store at ``path``.
+
+    Nothing but the cell count returns to the client: on a cluster every worker writes its own
+    chunks (the store must be on a file system the workers share).
+    """
+    dataset = compute_block(study, block)
+    write_region(path, dataset, dict(block))
+    return int(np.prod([s.stop - s.start for s in block.values()]))
+
+
+class _ZarrWriter:
+    """The client's side of a Zarr run: it lays the store out; the workers write the chunks."""
+
+    def __init__(self, path, study, template, chunks, compression, fresh: bool):
+        self.task = write_zarr_block
+        self.extra = (str(Path(path).resolve()),)
+        if fresh:
+            create_store(path, *file_layout(study, template), chunks=chunks, compression=compression)
+        elif not is_store(path):
+            raise InputError(f"{Path(path).name} is not a Zarr store")
+
+    def store(self, block, written):
+        pass
+
+    def sync(self):
+        pass
+
+    def close(self):
+        pass
+
+
+def _open_writer(partial, study, template, chunks, compression, fresh: bool, file_format: str = "netcdf"):
     """The writer of ``partial``: created (``fresh``) or reopened to resume."""
     import netCDF4  # heavy: imported where used
 
+    if file_format == "zarr":
+        return _ZarrWriter(partial, study, template, chunks, compression, fresh)
     direct = compression in DIRECT_COMPRESSIONS and bool(study.dims)
     if fresh:
         try:
@@ -205,19 +241,41 @@ def _open_writer(partial, study, template, chunks, compression, fresh: bool):
     return _NetcdfWriter(nc, study)
 
 
+def output_format(output, file_format: str | None = None) -> str:
+    """``"netcdf"`` or ``"zarr"``: as given, else from the output's suffix (.zarr is Zarr, anything else netCDF)."""
+    suffix = Path(str(output)).suffix.lower()
+    if file_format is None:
+        return "zarr" if suffix == ".zarr" else "netcdf"
+    if file_format not in FORMATS:
+        raise InputError(f"--format must be one of {', '.join(FORMATS)}, got {file_format!r}")
+    return file_format
+
+
+def check_study_output(output, file_format: str, inputs=(), overwrite: bool = False) -> Path:
+    """The checks of :func:`faultslip.io.outputs.check_output`, for a netCDF file or a Zarr store."""
+    if file_format == "zarr":
+        require_zarr()
+        return check_output(output, label="-o", suffixes=(".zarr",), inputs=inputs, overwrite=overwrite,
+                            store=True)
+    return check_output(output, label="-o", suffixes=(".nc",), inputs=inputs, overwrite=overwrite)
+
+
 def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str | None = None, workers: int = 2,
               resume: bool = False, progress=None, compression: str = "zlib", overwrite: bool = True,
-              inputs=()) -> dict:
-    """Compute ``study`` into ``output`` (netCDF4); returns a summary (blocks, cells, seconds, executor).
+              inputs=(), file_format: str | None = None) -> dict:
+    """Compute ``study`` into ``output`` (netCDF4, or a Zarr store); returns a summary (blocks, cells, seconds, executor).
 
     The output is checked before any work (folder, extension, an input of the run, an existing file
     without ``overwrite``) and locked while it is written: a second run on the same output is refused.
+    ``file_format`` is ``"netcdf"`` or ``"zarr"`` (default: from the suffix, .nc or .zarr).
     """
     if compression not in COMPRESSIONS:
         raise InputError(f"compression must be one of {', '.join(COMPRESSIONS)}, got {compression!r}")
-    output = check_output(output, label="output", suffixes=(".nc",), inputs=inputs, overwrite=overwrite)
+    file_format = output_format(output, file_format)
+    output = check_study_output(output, file_format, inputs, overwrite)
     with output_lock(output, "faultslip sweep"):
-        return _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression)
+        return _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression,
+                           file_format)
 
 
 def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> set:
@@ -244,7 +302,7 @@ def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, r
     return done
 
 
-def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression):
+def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression, file_format):
 
     chunk_cells = chunk_cells or DEFAULT_CHUNK_CELLS
     chunks, blocks = plan_blocks(study, chunk_cells)
@@ -258,15 +316,15 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     writer = None
     if done:
         try:
-            writer = _open_writer(partial, study, template, chunks, compression, fresh=False)
+            writer = _open_writer(partial, study, template, chunks, compression, fresh=False, file_format=file_format)
         except (OSError, IndexError, KeyError, RuntimeError, InputError) as exc:  # truncated by a kill -9, or foreign
             warnings.warn(f"cannot continue {partial.name} ({exc}); starting over", stacklevel=2)
             done = set()
     if not done:
-        for stale in (partial, ledger):
-            if stale.exists():
-                stale.unlink()
-        writer = _open_writer(partial, study, template, chunks, compression, fresh=True)
+        remove_store(partial)  # a partial netCDF file or Zarr store
+        if ledger.exists():
+            ledger.unlink()
+        writer = _open_writer(partial, study, template, chunks, compression, fresh=True, file_format=file_format)
     pending = [i for i in range(len(blocks)) if i not in done]
     workers, reason = choose_execution(study, len(pending), workers, scheduler)
     executor, label = _executor(scheduler, workers)
@@ -307,7 +365,10 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         raise
     writer.close()
     _shutdown(executor)
-    os.replace(partial, output)
+    if file_format == "zarr":
+        finish_store(partial, output)
+    else:
+        os.replace(partial, output)
     if ledger.exists():
         ledger.unlink()
     return {"blocks": len(blocks), "resumed_blocks": len(blocks) - len(pending), "cells": study.size,

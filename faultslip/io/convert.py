@@ -1,0 +1,111 @@
+"""Zarr store to netCDF4 file, chunk by chunk: memory stays flat however large the store.
+
+Every chunk of the store becomes one chunk of the file. Worker processes read their chunks from
+the store and encode them (byte shuffle, zlib level 1); this process only stores the bytes
+(:class:`faultslip.io.chunks.ChunkFile`), so the conversion runs on every core and holds at most
+a few chunks at a time. Values, fill values, coordinates and attributes are copied as stored:
+a sweep written to Zarr and converted is the file the same sweep writes to netCDF.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.errors import InputError
+from faultslip.io import budget
+from faultslip.io.chunks import ChunkFile, encode_chunk, padded
+from faultslip.io.netcdf import create_chunked
+from faultslip.io.outputs import check_output, output_lock
+from faultslip.io.processes import run_windowed, stop_pool, usable_workers, worker_pool
+from faultslip.io.zarr_store import open_store
+
+
+def _grid(store):
+    """``(dims, chunks)`` that every data variable of ``store`` shares, or an InputError."""
+    grids = {(variable.dims, tuple(variable.encoding.get("chunks") or variable.shape))
+             for variable in store.data_vars.values()}
+    if not grids:
+        raise InputError("the Zarr store holds no data variables to convert")
+    if len(grids) > 1:
+        raise InputError("the Zarr store's variables lie on different grids or chunks; "
+                         "faultslip convert copies stores whose variables share one grid (as faultslip sweep writes)")
+    dims, chunks = grids.pop()
+    return dims, dict(zip(dims, chunks))
+
+
+def _without_fill(attrs: dict) -> dict:
+    return {key: value for key, value in attrs.items() if key != "_FillValue"}
+
+
+def _encode_region(path, names, region, chunk_shape, fills):
+    """Worker task: read one chunk of each variable from the store and encode it as HDF5 stores it."""
+    import zarr  # heavy: imported where used
+
+    group = zarr.open_group(str(path), mode="r")
+    index = tuple(slice(start, stop) for start, stop in region)
+    return {name: encode_chunk(padded(np.asarray(group[name][index]), chunk_shape, fills[name]))
+            for name in names}
+
+
+def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = False, progress=None,
+                   allow_large: bool = False) -> dict:
+    """Convert the Zarr store at ``store_path`` into the netCDF4 file ``output``; returns a summary."""
+    store_path = Path(store_path)
+    store = open_store(store_path)
+    output = check_output(output, label="-o", suffixes=(".nc",), inputs=[store_path], overwrite=overwrite)
+    dims, chunks = _grid(store)
+    stored = sum(f.stat().st_size for f in store_path.rglob("*") if f.is_file())
+    # the file holds the same chunks with the same filters: about the store's size
+    budget.check(budget.Estimate(f"converting {store_path.name}", disk=stored * 1.1, output=output), allow_large)
+    coords = {name: (store[name].values, _without_fill(store[name].attrs)) for name in dims if name in store.coords}
+    missing = [name for name in dims if name not in coords]
+    if missing:
+        raise InputError(f"the Zarr store has no coordinate for dimension {missing[0]!r}; faultslip convert "
+                         "copies stores with a coordinate on every dimension")
+    variables, fills = {}, {}
+    for name, variable in store.data_vars.items():
+        fill = variable.attrs.get("_FillValue")
+        fills[name] = np.array(fill if fill is not None else 0, dtype=variable.dtype)[()]
+        variables[name] = (dims, variable.dtype.str.lstrip("<>|="), fill, _without_fill(variable.attrs))
+    sizes = {name: store.sizes[name] for name in dims}
+    starts = [range(0, sizes[d], chunks[d]) for d in dims]
+    regions = [tuple((start, min(start + chunks[d], sizes[d])) for d, start in zip(dims, corner))
+               for corner in itertools.product(*starts)]
+    workers, _ = usable_workers(workers, len(regions))
+    partial = output.with_name(output.name + ".partial")
+    started = time.perf_counter()
+    with output_lock(output, "faultslip convert"):
+        try:
+            create_chunked(partial, sizes, coords, variables, dict(store.attrs), chunks).close()
+        except OSError as exc:
+            raise InputError(f"cannot write {partial.name}: {exc.strerror or exc}") from None
+        names = list(variables)
+        chunk_shape = tuple(chunks[d] for d in dims)
+        pool = worker_pool(workers) if workers > 1 and len(regions) > 1 else None
+        done = 0
+        try:
+            with ChunkFile(partial, names, "zlib") as writer:
+                def store_chunks(region, encoded):
+                    nonlocal done
+                    for name, data in encoded.items():
+                        writer.write(name, tuple(start for start, _ in region), data)
+                    done += 1
+                    if progress:
+                        progress(done, len(regions))
+
+                run_windowed(pool, _encode_region,
+                             ((region, (str(store_path.resolve()), names, region, chunk_shape, fills))
+                              for region in regions), store_chunks, window=workers + 1)
+        except BaseException:
+            stop_pool(pool, interrupted=True)
+            partial.unlink(missing_ok=True)
+            raise
+        stop_pool(pool)
+        os.replace(partial, output)
+    return {"input": str(store_path), "output": str(output), "chunks": len(regions), "variables": len(names),
+            "seconds": time.perf_counter() - started, "workers": workers}

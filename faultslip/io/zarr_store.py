@@ -1,0 +1,131 @@
+"""Zarr stores written region by region, each region by the process that computed it.
+
+A Zarr store is a folder with one file per chunk, so many processes on many machines can write
+their own chunks at once, and nothing passes through the process that started the run. The
+layout (dimensions, coordinates, every variable's type, fill value, chunks and attributes) is
+written first from a description (:func:`create_store`); the regions are written after
+(:func:`write_region`); the consolidated metadata is written last (:func:`finish_store`).
+
+Stores use Zarr format 2 with the netCDF4 output's filters (byte shuffle, zlib level 1):
+zarr-python, xarray and netCDF-C's NCZarr all read it.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.errors import InputError
+
+ZARR_FORMAT = 2
+#: Files that mark a folder as a Zarr store (format 2 or 3): only such a folder is ever replaced.
+_MARKERS = (".zgroup", ".zmetadata", "zarr.json")
+
+
+def require_zarr() -> None:
+    """Refuse, in one sentence, a Zarr run where zarr or dask is not installed."""
+    try:
+        import dask.array  # noqa: F401  heavy: imported where used
+        import zarr  # noqa: F401  heavy: imported where used
+    except ImportError:
+        raise InputError("Zarr output needs zarr and dask: pip install 'faultslip[zarr]'") from None
+
+
+def is_store(path) -> bool:
+    """Whether ``path`` is a folder holding a Zarr store."""
+    path = Path(path)
+    return path.is_dir() and any((path / marker).exists() for marker in _MARKERS)
+
+
+def _codecs(dtype: str, compression: str) -> dict:
+    import numcodecs  # heavy: imported where used
+
+    if compression == "none":
+        return {"compressors": None}
+    codec = numcodecs.Zlib(level=1) if compression == "zlib" else numcodecs.Zstd(level=1)
+    itemsize = np.dtype(dtype).itemsize
+    return {"compressors": [codec], "filters": [numcodecs.Shuffle(elementsize=itemsize)] if itemsize > 1 else None}
+
+
+def create_store(path, dims: dict, coords: dict, variables: dict, attrs: dict, chunks: dict,
+                 compression: str = "zlib") -> None:
+    """Write a store's layout (no data) from the description of :func:`faultslip.io.netcdf.create_chunked`."""
+    require_zarr()
+    import dask.array as da  # heavy: imported where used
+    import xarray as xr  # heavy: imported where used
+
+    data_vars = {}
+    encoding = {}
+    for name, (variable_dims, dtype, fill, variable_attrs) in variables.items():
+        shape = tuple(dims[d] for d in variable_dims)
+        chunk_shape = tuple(chunks[d] for d in variable_dims)
+        data_vars[name] = (variable_dims, da.empty(shape, chunks=chunk_shape or (), dtype=dtype), variable_attrs)
+        encoding[name] = {"chunks": chunk_shape, "_FillValue": fill, **_codecs(dtype, compression)}
+    coordinates = {}
+    for name, (values, coordinate_attrs) in coords.items():
+        values = np.asarray(values)
+        coordinates[name] = (name, values.astype(str) if values.dtype.kind in "OUT" else values.astype(float),
+                             coordinate_attrs)
+        if values.dtype.kind not in "OUT":
+            encoding[name] = {"_FillValue": None}  # a coordinate has no missing values
+    dataset = xr.Dataset(data_vars, coords=coordinates, attrs=attrs)
+    try:
+        dataset.to_zarr(path, mode="w", compute=False, encoding=encoding, zarr_format=ZARR_FORMAT,
+                        consolidated=False)
+    except OSError as exc:
+        raise InputError(f"cannot write the Zarr store {path}: {exc.strerror or exc}") from None
+
+
+def write_region(path, dataset, region: dict) -> None:
+    """Write ``dataset``'s data variables into ``region`` (dimension -> slice) of the store at ``path``."""
+    dataset = dataset.drop_vars(list(dataset.coords))
+    dataset.to_zarr(path, region=region, mode="r+", zarr_format=ZARR_FORMAT, consolidated=False)
+
+
+def finish_store(partial, output) -> None:
+    """Consolidate ``partial``'s metadata and put it under ``output``, replacing an older store there.
+
+    The old store is renamed aside first, so ``output`` names either the old store or the new
+    one at every moment; the old one is deleted last.
+    """
+    import zarr  # heavy: imported where used
+
+    zarr.consolidate_metadata(str(partial), zarr_format=ZARR_FORMAT)
+    partial, output = Path(partial), Path(output)
+    aside = None
+    if output.exists():
+        if not is_store(output):  # checked before the run too; never delete a folder that is not a store
+            raise InputError(f"{output} exists and is not a Zarr store; refusing to replace it")
+        aside = output.with_name(f".{output.name}.old-{os.getpid()}")
+        os.replace(output, aside)
+    os.replace(partial, output)
+    if aside is not None:
+        shutil.rmtree(aside, ignore_errors=True)
+
+
+def remove_store(path) -> None:
+    """Delete a (partial) store folder, if it is one."""
+    path = Path(path)
+    if path.is_dir():
+        shutil.rmtree(path)
+    elif path.exists():
+        path.unlink()
+
+
+def open_store(path):
+    """The store at ``path`` as a lazy Dataset with its raw values and attributes (no CF decoding)."""
+    require_zarr()
+    import xarray as xr  # heavy: imported where used
+
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"{str(path)!r} does not exist")
+    if not is_store(path):
+        raise InputError(f"{str(path)!r} is not a Zarr store (no .zgroup, .zmetadata or zarr.json inside)")
+    try:
+        return xr.open_zarr(path, decode_cf=False, consolidated=None)
+    except Exception as exc:  # zarr raises many types on a damaged store; all mean "not readable"
+        raise InputError(f"cannot read the Zarr store {str(path)!r}: {str(exc)[:200]}") from None
