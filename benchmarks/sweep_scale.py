@@ -1,25 +1,44 @@
-"""Sweep benchmarks: overhead against bare numpy, and out-of-core grids with flat peak memory.
+"""Sweep benchmarks: the engine against bare numpy, the writer against a single-threaded one, work against size.
 
-    python benchmarks/sweep_scale.py            # sizes 1e7, 1e8, 5e8 cells (5e8 needs ~25 GB of disk)
-    python benchmarks/sweep_scale.py --quick    # sizes 1e6, 1e7
+    python benchmarks/sweep_scale.py                  # every figure; work against size from 1e4 to 1e8 cells
+    python benchmarks/sweep_scale.py --largest 1e9    # ... and the default path at 1e9 (~30 GB of disk)
+    python benchmarks/sweep_scale.py --quick          # engine, writer at 1e6, sizes 1e4 to 1e6
 
-Peak memory is the largest resident-set size of the whole process tree (the sweep and its
-workers), sampled every 0.1 s with psutil. Outputs go to a temporary directory and are removed.
+Each figure is a ratio against a baseline doing the same work, measured in the same run:
+
+1. **Engine.** ``compute_block`` (the in-memory study engine, xarray Dataset out) against a numpy
+   kernel written inline that computes the same 12 outputs of the same closed-form cells, at 1e6
+   and 1e7 cells. Targets: >= 0.8 and >= 0.9 of numpy's throughput.
+2. **Writer.** ``faultslip sweep`` with default options (1e7 cells, 12 outputs, zlib level 1 with
+   shuffle) against a single-threaded script that computes the same outputs with numpy and writes
+   them with netCDF4 (zlib level 1, shuffle, the same chunks). Both run as fresh processes.
+   Target: <= 0.75 of the script's wall time.
+3. **Work against size.** Wall time and peak memory of the whole process tree (the sweep and its
+   workers, sampled every 0.1 s with psutil) for each execution path: in process, the process
+   pool (default), a dask LocalCluster, and a Zarr store. Drawn to docs/figures/work_against_size.png.
+
+Outputs go to a temporary directory and are removed. Results: benchmarks/results/sweep.json,
+then the README tables (benchmarks/readme.py).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import platform
+import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
+from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
 
+ROOT = Path(__file__).resolve().parent.parent
 STUDY = """[study]
 name = "closed-form scale benchmark"
 base = "san_andreas_1906.toml"
@@ -27,21 +46,29 @@ method = "closed_form"
 
 [sweep]
 shear_modulus = {{ linspace = ["0.15e6 bar", "0.35e6 bar", {n_g}] }}
-slip_rate = {{ logspace = ["1 mm/yr", "100 mm/yr", 1000] }}
-zone_width = {{ linspace = ["5 km", "30 km", 1000] }}
+slip_rate = {{ logspace = ["1 mm/yr", "100 mm/yr", {n_v}] }}
+zone_width = {{ linspace = ["5 km", "30 km", {n_d}] }}
 """
+OUTPUTS = ("slip_per_event", "recurrence_period", "loading_rate", "static_friction", "stress_drop",
+           "critical_loading_rate", "regime", "method", "estimated_relative_error", "dimensionless_rate",
+           "seismic_moment", "moment_magnitude")
+YEAR = 31557600.0
 
 
-def bare_numpy(shape_g, repeats=5):
-    """The closed-form outputs written inline in numpy, on the same inputs as the study."""
-    return bare_numpy_at(np.linspace(0.15e11, 0.35e11, shape_g))
+def grid_shape(cells: float) -> tuple[int, int, int]:
+    """(shear moduli, slip rates, widths) for a grid of ``cells`` (1e4 and up; 1000 x 1000 from 1e6)."""
+    cells = int(cells)
+    if cells >= 1_000_000:
+        return cells // 1_000_000, 1000, 1000
+    side = int(round(np.sqrt(cells)))
+    return 1, side, side
 
 
-def bare_numpy_at(shear_moduli):
-    """The bare kernel on given shear moduli (Pa) and the study's 1000 x 1000 slip rates and widths."""
+def bare_kernel(shear_moduli, n_v=1000, n_d=1000):
+    """The closed-form outputs written inline in numpy (seed 003 eqs. 2-18 and 2-19), as a user would."""
     G = np.asarray(shear_moduli, dtype=float)[:, None, None]
-    V = np.geomspace(1e-3, 0.1, 1000)[None, :, None] / 31557600.0
-    D = np.linspace(5e3, 30e3, 1000)[None, None, :]
+    V = np.geomspace(1e-3, 0.1, n_v)[None, :, None] / YEAR
+    D = np.linspace(5e3, 30e3, n_d)[None, None, :]
     tau, muso, mum, b, d, rho, L, H = 2.5e7, 0.65, 0.55, 38.0, 0.665, 2700.0, 434522.88, 12e3
 
     def run():
@@ -67,29 +94,50 @@ def bare_numpy_at(shear_moduli):
     return run
 
 
-def overhead(repeats):
+def engine(cells: float, repeats: int) -> dict:
     from faultslip.studies.grid import compute_block, parse_study
 
-    study = parse_study(STUDY.format(n_g=1))  # 1e6 cells in memory
-    bare = bare_numpy(1)
-    compute_block(study)
-    bare()
+    n_g, n_v, n_d = grid_shape(cells)
+    study = parse_study(STUDY.format(n_g=n_g, n_v=n_v, n_d=n_d))
+    bare = bare_kernel(np.linspace(0.15e11, 0.35e11, n_g), n_v, n_d)
+    dataset, outputs = compute_block(study), bare()
+    np.testing.assert_allclose(dataset["slip_per_event"].values, outputs[0], rtol=1e-12)
+    np.testing.assert_allclose(dataset["moment_magnitude"].values, outputs[11], rtol=1e-12)
+    del dataset, outputs
     ours, theirs = [], []
-    for _ in range(repeats):
+    for _ in range(repeats):  # interleaved: both see the same machine state
         started = time.perf_counter()
-        dataset = compute_block(study)
+        compute_block(study)
         ours.append(time.perf_counter() - started)
         started = time.perf_counter()
-        outputs = bare()
+        bare()
         theirs.append(time.perf_counter() - started)
-    np.testing.assert_allclose(dataset["slip_per_event"].values, outputs[0], rtol=1e-12)
-    cells = 1e6
-    return {"cells": cells, "study_points_per_s": cells / statistics.median(ours),
-            "numpy_points_per_s": cells / statistics.median(theirs),
-            "fraction_of_numpy": statistics.median(theirs) / statistics.median(ours), "target": ">= 0.70"}
+    return {"cells": n_g * n_v * n_d, "engine_s": statistics.median(ours), "numpy_s": statistics.median(theirs),
+            "fraction_of_numpy": statistics.median(theirs) / statistics.median(ours),
+            "target": 0.8 if cells < 5e6 else 0.9}
 
 
-def peak_tree_rss(process):
+BASELINE_WRITER = r'''
+import sys, numpy as np, netCDF4
+sys.path.insert(0, {bench!r})
+from sweep_scale import OUTPUTS, bare_kernel
+n_g, path = {n_g}, {path!r}
+nc = netCDF4.Dataset(path, "w")
+for name, size in (("shear_modulus", n_g), ("slip_rate", 1000), ("zone_width", 1000)):
+    nc.createDimension(name, size)
+for name in OUTPUTS:
+    small = name in ("regime", "method")
+    nc.createVariable(name, "i1" if small else "f8", ("shear_modulus", "slip_rate", "zone_width"), zlib=True,
+                      complevel=1, shuffle=True, chunksizes={chunks})
+G = np.linspace(0.15e11, 0.35e11, n_g)
+for i in range(n_g):  # one shear modulus (1e6 cells) at a time: memory stays flat
+    for name, values in zip(OUTPUTS, bare_kernel(G[i:i + 1])()):
+        nc[name][i:i + 1] = values
+nc.close()
+'''
+
+
+def peak_tree_rss(process) -> int:
     import psutil
 
     peak = 0
@@ -104,62 +152,147 @@ def peak_tree_rss(process):
     return peak
 
 
-def scale(sizes, scheduler):
+def timed(command, cwd) -> dict:
+    started = time.perf_counter()
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=cwd)
+    peak = peak_tree_rss(process)
+    stdout, stderr = process.communicate()
+    seconds = time.perf_counter() - started
+    if process.returncode != 0:
+        raise SystemExit(f"{' '.join(map(str, command))} failed: {stderr}")
+    return {"seconds": seconds, "peak_memory_bytes": peak, "stdout": stdout}
+
+
+def _size_on_disk(path: Path) -> int:
+    return path.stat().st_size if path.is_file() else sum(f.stat().st_size for f in path.rglob("*") if f.is_file())
+
+
+def sweep_command(study: Path, out: Path, path: str) -> list:
+    command = [sys.executable, "-m", "faultslip.cli", "sweep", str(study), "-o", str(out), "--json"]
+    return command + {"in-process": ["--workers", "1"], "process pool": [], "dask LocalCluster": ["--scheduler", "local"],
+                      "zarr (process pool)": []}[path]
+
+
+def writer(cells: float) -> dict:
+    """Default sweep against the single-threaded numpy + netCDF4 writer, same outputs and chunks."""
+    from faultslip.studies.grid import parse_study
+    from faultslip.studies.streaming import DEFAULT_CHUNK_CELLS, plan_blocks
+
+    n_g, n_v, n_d = grid_shape(cells)
+    with tempfile.TemporaryDirectory(dir=Path.cwd()) as scratch:
+        scratch = Path(scratch)
+        study = scratch / "study.toml"
+        study.write_text(STUDY.format(n_g=n_g, n_v=n_v, n_d=n_d))
+        chunks, _ = plan_blocks(parse_study(study.read_text()), DEFAULT_CHUNK_CELLS)
+        script = scratch / "baseline.py"
+        script.write_text(BASELINE_WRITER.format(bench=str(ROOT / "benchmarks"), n_g=n_g, path=str(scratch / "base.nc"),
+                                                 chunks=tuple(chunks.values())))
+        rows = {"baseline": [], "ours": []}
+        for _ in range(2):  # alternated; the better of two each (the machine's noise is one-sided)
+            rows["baseline"].append(timed([sys.executable, str(script)], scratch))
+            rows["ours"].append(timed(sweep_command(study, scratch / "ours.nc", "process pool") + ["--overwrite"],
+                                      scratch))
+        import xarray as xr
+
+        with xr.open_dataset(scratch / "ours.nc") as a, xr.open_dataset(scratch / "base.nc") as b:
+            np.testing.assert_allclose(a["slip_per_event"].values, b["slip_per_event"].values, rtol=1e-12)
+        sizes = {"ours": _size_on_disk(scratch / "ours.nc"), "baseline": _size_on_disk(scratch / "base.nc")}
+    best = {k: min(v, key=lambda r: r["seconds"]) for k, v in rows.items()}
+    return {"cells": n_g * n_v * n_d, "chunks": chunks, "ours_s": best["ours"]["seconds"],
+            "baseline_s": best["baseline"]["seconds"], "ratio": best["ours"]["seconds"] / best["baseline"]["seconds"],
+            "ours_peak_memory_bytes": best["ours"]["peak_memory_bytes"],
+            "baseline_peak_memory_bytes": best["baseline"]["peak_memory_bytes"], "file_bytes": sizes,
+            "executor": json.loads(best["ours"]["stdout"])["executor"], "target": 0.75}
+
+
+PATHS = ("in-process", "process pool", "dask LocalCluster", "zarr (process pool)")
+
+
+def work_against_size(sizes, largest_paths_limit: float, largest: float | None) -> list:
     rows = []
-    for cells in sizes:
-        n_g = int(cells // 1_000_000)
-        with tempfile.TemporaryDirectory(dir=Path.cwd()) as scratch:
-            study = Path(scratch) / "study.toml"
-            study.write_text(STUDY.format(n_g=n_g))
-            out = Path(scratch) / "out.nc"
-            command = [sys.executable, "-m", "faultslip.cli", "sweep", str(study), "-o", str(out), "--json",
-                       "--chunks", "1000000", "--workers", "2"]
-            if scheduler:
-                command += ["--scheduler", scheduler]
-            started = time.perf_counter()
-            process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-            peak = peak_tree_rss(process)
-            stdout, stderr = process.communicate()
-            seconds = time.perf_counter() - started
-            if process.returncode != 0:
-                raise SystemExit(f"sweep of {cells:g} cells failed: {stderr}")
-            size = out.stat().st_size
-        raw = cells * (10 * 8 + 2)
-        rows.append({"cells": cells, "seconds": seconds, "points_per_s": cells / seconds,
-                     "peak_memory_bytes": peak, "output_bytes_raw": raw, "file_bytes": size,
-                     "raw_over_memory": raw / peak})
-        print(f"   {cells:9.0e} cells: {seconds:7.1f} s, {cells / seconds / 1e6:6.2f} M points/s, peak RSS "
-              f"{peak / 2**20:7.0f} MiB (outputs {raw / 2**30:.1f} GiB raw, {size / 2**30:.1f} GiB on disk)", flush=True)
+    for cells in sizes + ([largest] if largest else []):
+        n_g, n_v, n_d = grid_shape(cells)
+        paths = PATHS if cells <= largest_paths_limit else ("process pool",)
+        for path in paths:
+            with tempfile.TemporaryDirectory(dir=Path.cwd()) as scratch:
+                scratch = Path(scratch)
+                study = scratch / "study.toml"
+                study.write_text(STUDY.format(n_g=n_g, n_v=n_v, n_d=n_d))
+                out = scratch / ("out.zarr" if path.startswith("zarr") else "out.nc")
+                command = sweep_command(study, out, path) + (["--allow-large"] if cells > 1e8 else [])
+                result = timed(command, scratch)
+                size = _size_on_disk(out)
+                shutil.rmtree(out, ignore_errors=True) if out.is_dir() else out.unlink()
+            summary = json.loads(result["stdout"])
+            row = {"cells": n_g * n_v * n_d, "path": path, "seconds": result["seconds"],
+                   "peak_memory_bytes": result["peak_memory_bytes"], "bytes_on_disk": size,
+                   "executor": summary["executor"]}
+            rows.append(row)
+            print(f"   {row['cells']:8.0e} cells  {path:20s} {row['seconds']:8.2f} s  "
+                  f"{row['peak_memory_bytes'] / 2**20:6.0f} MiB  ({summary['executor']})", flush=True)
     return rows
+
+
+def chart(rows, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figure, (time_axis, memory_axis) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for name, marker in zip(PATHS, "osD^"):
+        points = sorted((r["cells"], r["seconds"], r["peak_memory_bytes"]) for r in rows if r["path"] == name)
+        if not points:
+            continue
+        cells, seconds, memory = zip(*points)
+        time_axis.loglog(cells, seconds, marker=marker, label=name)
+        memory_axis.semilogx(cells, np.array(memory) / 2**30, marker=marker, label=name)
+    time_axis.set(xlabel="cells", ylabel="wall time of the whole command (s)", title="work against size")
+    memory_axis.set(xlabel="cells", ylabel="peak memory, whole process tree (GiB)", title="peak memory")
+    memory_axis.axhline(2.0, color="0.5", linestyle="--", linewidth=1, label="2 GiB target")
+    memory_axis.set_ylim(bottom=0)
+    for axis in (time_axis, memory_axis):
+        axis.grid(True, which="both", alpha=0.3)
+        axis.legend(fontsize=8)
+    figure.suptitle("faultslip sweep, closed-form study, 12 outputs, zlib level 1 (benchmarks/sweep_scale.py)",
+                    fontsize=9)
+    figure.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    figure.savefig(path, dpi=110)
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="sizes 1e6 and 1e7 only")
-    parser.add_argument("--scheduler", default="local", help="dask scheduler for the scale runs (default: local)")
+    parser.add_argument("--quick", action="store_true", help="a quick pass: engine, writer at 1e6, sizes to 1e6")
+    parser.add_argument("--largest", type=float, help="also run the default path at this many cells (e.g. 1e9)")
     args = parser.parse_args(argv)
-    import os
-    import platform
-    from datetime import datetime, timezone
-
     results = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"),
-               "scheduler": args.scheduler}
-    print("4. sweep overhead: closed-form study against bare numpy on the same 1e6 cells")
-    results["sweep_overhead"] = r = overhead(5 if args.quick else 11)
-    print(f"   study {r['study_points_per_s'] / 1e6:.2f} M points/s, numpy {r['numpy_points_per_s'] / 1e6:.2f} M points/s "
-          f"-> {r['fraction_of_numpy']:.2f} of bare numpy (target >= 0.70)")
-    sizes = (1e6, 1e7) if args.quick else (1e7, 1e8, 5e8)
-    print(f"5. out-of-core closed-form sweeps, all outputs, dask scheduler {args.scheduler!r}")
-    results["sweep_scale"] = scale(sizes, args.scheduler)
-    out = Path(__file__).resolve().parent / "results"
+               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+    print("1. engine against a numpy kernel computing the same 12 outputs (in memory)")
+    results["engine"] = []
+    for cells in ((1e6,) if args.quick else (1e6, 1e7)):
+        row = engine(cells, 7 if args.quick else 15)
+        results["engine"].append(row)
+        print(f"   {row['cells']:.0e} cells: engine {row['engine_s'] * 1e3:.1f} ms, numpy {row['numpy_s'] * 1e3:.1f} ms "
+              f"-> {row['fraction_of_numpy']:.2f} of numpy (target >= {row['target']})", flush=True)
+    print("2. default sweep against a single-threaded numpy + netCDF4 (zlib 1, shuffle) writer")
+    results["writer"] = row = writer(1e6 if args.quick else 1e7)
+    print(f"   {row['cells']:.0e} cells: sweep {row['ours_s']:.2f} s ({row['executor']}), writer "
+          f"{row['baseline_s']:.2f} s -> {row['ratio']:.2f}x (target <= 0.75)", flush=True)
+    print("3. work against size, per execution path")
+    sizes = [1e4, 1e5, 1e6] if args.quick else [1e4, 1e5, 1e6, 1e7, 1e8]
+    results["work_against_size"] = work_against_size(sizes, 1e8, args.largest)
+    out = ROOT / "benchmarks" / "results"
     out.mkdir(exist_ok=True)
-    (out / ("sweep_quick.json" if args.quick else "sweep.json")).write_text(json.dumps(results, indent=2) + "\n")
+    name = "sweep_quick.json" if args.quick else "sweep.json"
+    (out / name).write_text(json.dumps(results, indent=2) + "\n")
     if not args.quick:
+        chart(results["work_against_size"], ROOT / "docs" / "figures" / "work_against_size.png")
+        sys.path.insert(0, str(ROOT / "benchmarks"))
         import readme
 
         readme.update()
-    print(f"wrote {out}")
+    print(f"wrote {out / name}")
 
 
 if __name__ == "__main__":
