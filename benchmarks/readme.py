@@ -57,24 +57,29 @@ def benchmarks_table() -> str | None:
                     f"{fit['one_at_a_time_s']:.2f} s: **{fit['ratio']:.1f}×**; intervals agree to "
                     f"{fit['interval_difference']:.0e} |")
     sweep = _load("sweep.json")
-    if sweep and "sweep_overhead" in sweep:
-        over = sweep["sweep_overhead"]
-        rows.append(f"| study engine against a numpy kernel computing the same 12 outputs, 1e6 cells in memory "
-                    f"| **{over['fraction_of_numpy']:.2f}** of numpy ({over['study_points_per_s'] / 1e6:.1f} vs "
-                    f"{over['numpy_points_per_s'] / 1e6:.1f} M points/s) |")
+    for row in (sweep or {}).get("engine", []):
+        rows.append(f"| study engine against a numpy kernel computing the same 12 outputs, {row['cells']:.0e} cells in "
+                    f"memory (target ≥ {row['target']}) | {row['engine_s'] * 1e3:.0f} ms vs {row['numpy_s'] * 1e3:.0f} ms: "
+                    f"**{row['fraction_of_numpy']:.2f}** of numpy's throughput |")
+    writer = (sweep or {}).get("writer")
+    if writer:
+        rows.append(f"| default `faultslip sweep` of {writer['cells']:.0e} cells, 12 outputs, against a single-threaded "
+                    f"numpy + netCDF4 writer (zlib 1, shuffle, same chunks), both whole commands (target ≤ "
+                    f"{writer['target']}) | {writer['ours_s']:.1f} s vs {writer['baseline_s']:.1f} s: "
+                    f"**{writer['ratio']:.2f}×**; peak memory {writer['ours_peak_memory_bytes'] / 2**20:.0f} vs "
+                    f"{writer['baseline_peak_memory_bytes'] / 2**20:.0f} MiB |")
     return "\n".join(rows) + "\n\n" + _machine(latest)
 
 
 def sweep_table() -> str | None:
     sweep = _load("sweep.json")
-    if not sweep or not sweep.get("sweep_scale"):
+    if not sweep or not sweep.get("work_against_size"):
         return None
-    rows = ["| cells | wall time | throughput | peak memory (whole process tree) | outputs raw / on disk |",
+    rows = ["| cells | execution path | wall time (whole command) | peak memory (whole process tree) | on disk |",
             "| --- | --- | --- | --- | --- |"]
-    for row in sweep["sweep_scale"]:
-        rows.append(f"| {row['cells']:.0e} | {row['seconds']:.0f} s | {row['cells'] / row['seconds'] / 1e6:.2f} M points/s "
-                    f"| **{row['peak_memory_bytes'] / 2**20:.0f} MiB** | {row['output_bytes_raw'] / 2**30:.1f} GiB / "
-                    f"{row['file_bytes'] / 2**30:.1f} GiB |")
+    for row in sweep["work_against_size"]:
+        rows.append(f"| {row['cells']:.0e} | {row['path']} | {row['seconds']:.1f} s | "
+                    f"**{row['peak_memory_bytes'] / 2**20:.0f} MiB** | {row['bytes_on_disk'] / 2**30:.2f} GiB |")
     return "\n".join(rows) + "\n\n" + _machine(sweep)
 
 

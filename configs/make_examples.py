@@ -3,8 +3,9 @@
 Every number comes from the model, never from a measurement: the friction data follow the wet
 granodiorite preset (seed 003 Table I row 11) with 1 % noise; the motion records are exact
 solutions of the glass (dry) slider (seed 003 Table I row 4). They exist so that every command
-that takes a file has a working example (`faultslip fit`, `record`, `decay`); they are labelled
-synthetic in configs/README.md.
+that takes a file has a working example (`faultslip fit`, `record`, `decay`, and `convert`, whose
+example is the Zarr store of study_lab_glass.toml); they are labelled synthetic in
+configs/README.md.
 """
 
 from pathlib import Path
@@ -44,7 +45,16 @@ def decay_record(path: Path) -> None:
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+def study_store(path: Path) -> None:
+    """study_lab_glass.toml swept into a Zarr store (needs zarr: pip install 'faultslip[zarr]')."""
+    from faultslip.studies.grid import load_study
+    from faultslip.studies.streaming import run_study
+
+    run_study(load_study(HERE / "study_lab_glass.toml"), path, workers=1, overwrite=True)
+
+
 if __name__ == "__main__":
     friction_data(HERE / "example_friction_data.csv")
     motion_record(HERE / "example_record.csv")
     decay_record(HERE / "example_decay_record.csv")
+    study_store(HERE / "example_lab_glass.zarr")

@@ -124,6 +124,21 @@ def test_the_command_line_starts_without_the_physics():
     assert loaded == "", f"building the parser loaded {loaded}"
 
 
+def test_a_netcdf_sweep_never_imports_dask_array(tmp_path):
+    """dask.array is for lazy studies and clusters: importing it costs about 0.4 s that a plain sweep never needs.
+
+    (pint imports dask's core, not dask.array, when dask is installed; that part is pint's.)
+    """
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\nbase = "san_andreas_1906.toml"\n[sweep]\nslip_rate = ["5 mm/yr", "50 mm/yr"]\n'
+                     'lithology = ["granodiorite", "pyrite_dry"]\n')
+    code = ("import sys; from faultslip.cli.main import main; "
+            f"main(['sweep', {str(study)!r}, '-o', {str(tmp_path / 'out.nc')!r}, '--json']); "
+            "print('dask.array' if 'dask.array' in sys.modules else 'no dask.array', file=sys.stderr)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert result.stderr.strip().splitlines()[-1] == "no dask.array", result.stderr
+
+
 def test_the_folder_listing_is_the_architecture():
     rooms = sorted(p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").exists())
     assert rooms == sorted(name for name in LAYERS if name != "core")
