@@ -266,28 +266,48 @@ def _coordinate(study, name, values, index=None):
     return holder["values"].rename(name)
 
 
-def study_inputs(study, block=None, chunks=None) -> dict:
-    """Every model input as a DataArray over only the dimensions it depends on (SI).
+def study_inputs(study, block=None, chunks=None, aligned: bool = False) -> dict:
+    """Every model input over only the dimensions it depends on (SI).
 
     ``block`` (name -> slice) restricts each swept dimension; ``chunks`` (name -> size)
-    makes the swept coordinates dask-chunked, so everything downstream is lazy.
+    makes the swept coordinates dask-chunked, so everything downstream is lazy. Inputs are
+    DataArrays, or with ``aligned`` numpy arrays on the study's axes (size 1 where an input does
+    not vary), which is how a block in memory is computed: numpy's broadcasting does what
+    xarray's alignment would, without its fixed cost (and without xarray's arithmetic, which
+    imports dask wherever dask is installed).
     """
     coords = {}
-    for name, values in study.dims.items():
+    names = list(study.dims)
+    for axis, (name, values) in enumerate(study.dims.items()):
         index = None if block is None else block.get(name, slice(None))
+        if aligned:
+            kind = parameters_for(study.kind)[name][0]
+            chosen = values if index is None else values[index]
+            data = np.array(chosen, dtype=object if kind == "category" else float)
+            coords[name] = data.reshape([data.size if i == axis else 1 for i in range(len(names))])
+            continue
         coords[name] = _coordinate(study, name, values, index)
         if chunks and name in chunks and parameters_for(study.kind)[name][0] != "category":
             coords[name] = coords[name].chunk({name: chunks[name]})
     return _fault_inputs(study, coords) if study.kind == "fault" else _lab_inputs(study, coords)
 
 
+def _labels(coordinate) -> list:
+    """The category names along a categorical coordinate (labelled or aligned numpy)."""
+    return [str(v) for v in np.ravel(np.asarray(coordinate, dtype=object))]
+
+
 def _category_table(coordinate, getter):
-    """A DataArray over a categorical dimension from a per-category lookup (None -> NaN)."""
+    """Values over a categorical dimension from a per-category lookup (None -> NaN), shaped like ``coordinate``."""
     import xarray as xr  # heavy: imported where used
 
-    values = [getter(name) for name in coordinate.values]
-    return xr.DataArray(np.array([np.nan if v is None else v for v in values], dtype=float), dims=coordinate.dims,
-                        coords=coordinate.coords)
+    values = [getter(name) for name in _labels(coordinate)]
+    data = np.array([np.nan if v is None else v for v in values], dtype=float)
+    if not isinstance(coordinate, xr.DataArray):  # aligned numpy: the same axes as the coordinate
+        return data.reshape(np.shape(coordinate))
+    # from a variable, as in _coordinate: the generic constructor would import dask
+    holder = xr.Dataset({"values": xr.Variable(coordinate.dims, data, fastpath=True)}, coords=coordinate.coords)
+    return holder["values"].rename(coordinate.name)
 
 
 def _fault_inputs(study, coords):
@@ -302,16 +322,16 @@ def _fault_inputs(study, coords):
         inputs["shear_wave_speed"] = None  # sqrt(G / rho) of each cell, as Fault derives it
     if "lithology" in coords:  # each category supplies G and the friction law unless swept
         lith = coords["lithology"]
-        choices = {name: resolve_material(name) for name in lith.values}
+        choices = {name: resolve_material(name) for name in _labels(lith)}
         if "shear_modulus" not in coords:
             inputs["shear_modulus"] = _category_table(lith, lambda n: choices[n].shear_modulus)
-            if np.isnan(inputs["shear_modulus"].values).any():
-                missing = [n for n in lith.values if choices[n].shear_modulus is None]
+            if np.isnan(np.asarray(inputs["shear_modulus"], dtype=float)).any():
+                missing = [n for n in _labels(lith) if choices[n].shear_modulus is None]
                 raise InputError(f"lithology {missing[0]!r} has no shear modulus; sweep shear_modulus as well")
         for key in ("mu_so", "mu_m", "b", "d"):
             if key not in coords:
                 table = {n: (getattr(choices[n].rate_law, key) if choices[n].rate_law is not None else None)
-                         for n in lith.values}
+                         for n in _labels(lith)}
                 if any(v is None for v in table.values()):
                     missing = [n for n, v in table.items() if v is None]
                     raise InputError(f"lithology {missing[0]!r} has no friction preset; give {key} in the base "
@@ -343,7 +363,7 @@ def _lab_inputs(study, coords):
     base = get_preset(scene_lab["preset"])
     inputs = {}
     if "preset" in coords:
-        chosen = {n: get_preset(n) for n in coords["preset"].values}
+        chosen = {n: get_preset(n) for n in _labels(coords["preset"])}
         for key in ("mu_so", "mu_m", "b", "d"):
             inputs[key] = _category_table(coords["preset"], lambda n, k=key: getattr(chosen[n].require_stick_slip(), k))
         inputs["normal_load"] = coords.get("normal_load", _category_table(coords["preset"], lambda n: chosen[n].normal_load))
@@ -428,7 +448,7 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
         has_moment, moment_factor = False, np.nan
     # on the parameter dimensions only (small): refuse or flag the cells that fault would refuse
     # labelled inputs (maps, lazy studies) or numpy arrays already aligned on the study's axes
-    # (:func:`aligned_values`, the in-memory fast path): the same arithmetic serves both
+    # (``study_inputs(..., aligned=True)``, the in-memory fast path): the same arithmetic serves both
     labelled = any(isinstance(v, xr.DataArray) for v in inputs.values())
     no_excess = None
     if outside == "refuse":
@@ -473,26 +493,6 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
         outputs["outside_domain"] = (xr.broadcast(flag, outputs["regime"])[0] if labelled
                                      else np.broadcast_to(flag, np.shape(outputs["regime"])))
     return outputs
-
-
-def aligned_values(inputs: dict, order) -> dict | None:
-    """The inputs as numpy arrays on the axes ``order`` (size 1 where an input does not vary).
-
-    The in-memory path of a block: plain numpy broadcasting then does what xarray's alignment
-    would, without its fixed cost of about 10 ms a block. None if an input is dask-backed.
-    """
-    import xarray as xr  # heavy: imported where used
-
-    aligned = {}
-    for name, value in inputs.items():
-        if isinstance(value, xr.DataArray):
-            if value.chunks is not None:
-                return None
-            present = [dim for dim in order if dim in value.dims]
-            shape = [value.sizes[dim] if dim in value.dims else 1 for dim in order]
-            value = value.transpose(*present).values.reshape(shape)
-        aligned[name] = value
-    return aligned
 
 
 def _small_values(value):
@@ -577,7 +577,7 @@ def output_attrs(name: str, kind: str) -> dict:
 
 
 def _block_dataset(outputs: dict, study, block=None):
-    """A Dataset from numpy outputs on the study's axes (:func:`aligned_values`), every output over every dimension.
+    """A Dataset from numpy outputs on the study's axes (``study_inputs(..., aligned=True)``), every output over every dimension.
 
     The same dataset :func:`as_dataset` builds from labelled outputs, built from variables
     directly: an output constant along a swept dimension is a broadcast view, not a copy.
@@ -603,8 +603,7 @@ def compute_block(study, block=None):
     """The study outputs on one block (name -> slice of each swept dimension), computed in memory."""
     if _needs_simulation(study):
         return _simulated_block(study, block)
-    inputs = aligned_values(study_inputs(study, block), list(study.dims))
-    outputs = evaluate(inputs, study.kind, study.method, study.tolerance)
+    outputs = evaluate(study_inputs(study, block, aligned=True), study.kind, study.method, study.tolerance)
     return _block_dataset(outputs, study, block)
 
 
