@@ -1,0 +1,779 @@
+"""The spring-slider under rate-and-state friction: quasi-static, quasi-dynamic and inertial.
+
+A slider of stiffness k is pulled through a spring by a load point moving at V_lp(t), against
+friction sigma_n mu(V, psi) (:mod:`faultslip.friction.rate_state`). Work is per unit area at
+fault scale (k = G / D in Pa/m, sigma_n in Pa, m = rho D in kg/m^2, eta = G / (2 c_s) in
+Pa s/m) or in forces at lab scale (k in N/m, sigma_n the normal load in N, m in kg): the
+equations are the same.
+
+* **quasi-static** (m = 0, eta = 0) and **quasi-dynamic** (m = 0, radiation damper eta,
+  Rice 1993): the time derivative of the force balance k (delta_lp - delta) - eta V = sigma_n mu
+  gives the slip speed explicitly, in x = ln(V / V0):
+
+      dx/dt = (k (V_lp - V) - sigma_n mu_psi dpsi/dt) / (sigma_n mu_x + eta V)               (1)
+
+  with mu_x = dmu/dx (a for the standard law) and mu_psi = dmu/dpsi (b). States (x, psi[, psi2],
+  slip). Without eta the quasi-static speed can diverge in finite time past an instability
+  (k < k_c): the solver says so and names the quasi-dynamic model instead of returning inf.
+* **inertial**: m dV/dt = tau - sigma_n mu(V, psi) - eta V, dtau/dt = k (V_lp - V), with the
+  regularised law (finite through V = 0). States (tau, V, psi[, psi2], slip).
+
+Solvers (all adaptive, all on the logarithmic states):
+
+* ``"lsoda"``: ODEPACK's LSODA through ``scipy.integrate.odeint``, which switches between Adams
+  and BDF as the problem turns stiff, given the analytic Jacobian of (1) and a right-hand side
+  in scalar math. The cheapest at lab scale (velocity steps, slide-hold-slide): ``auto`` picks it.
+* ``"dopri5"``: an embedded Dormand-Prince 5(4) pair with PI step control and its order-4
+  dense output, written for a handful of scalar states. It stops at an accepted step, which is
+  how fault-scale cycles find their events.
+* ``"radau"`` and ``"bdf"``: scipy's implicit solvers with the same analytic Jacobian.
+
+The load history is integrated segment by segment, restarting at every breakpoint (a velocity
+step is a jump in V_lp).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from faultslip.errors import InputError, SolverError
+from faultslip.friction.rate_state import RateStateLaw
+
+MODELS = ("quasi_static", "quasi_dynamic", "inertial")
+METHODS = ("auto", "lsoda", "dopri5", "radau", "bdf")
+#: Slip speed above which the slider is "in an event" (SEAS benchmark convention, 1 mm/s).
+EVENT_SPEED = 1e-3
+
+# Dormand & Prince (1980) 5(4) tableau: nodes, stages, 5th-order weights and the error weights
+# (5th minus embedded 4th order); Hairer, Norsett & Wanner, Solving ODEs I, Table 5.2.
+_C = (0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0)
+_A = ((),
+      (1 / 5,),
+      (3 / 40, 9 / 40),
+      (44 / 45, -56 / 15, 32 / 9),
+      (19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729),
+      (9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656))
+_B = (35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84)
+_E = (71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40)
+# continuous extension of order 4 (Shampine 1986), as a polynomial in the step fraction s:
+# y(t0 + s h) = y0 + h sum_i k_i sum_j _P[i][j] s^(j+1)
+_P = ((1.0, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432),
+      (0.0, 0.0, 0.0, 0.0),
+      (0.0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799),
+      (0.0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072),
+      (0.0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632),
+      (0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844),
+      (0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423))
+
+(A21,), (A31, A32), (A41, A42, A43), (A51, A52, A53, A54), (A61, A62, A63, A64, A65) = _A[1:]
+B1, _, B3, B4, B5, B6 = _B
+E1, _, E3, E4, E5, E6, E7 = _E
+_P_ARRAY = np.array(_P)
+
+
+# --- load-point histories -------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class LoadHistory:
+    """The load point's speed V_lp(t) (m/s): piecewise constant (``steps``) or piecewise linear (``table``).
+
+    ``times`` are the breakpoints (s, increasing, from 0); ``speeds`` the speed on each segment
+    (steps: one per segment) or at each breakpoint (table).
+    """
+
+    times: tuple
+    speeds: tuple
+    kind: str = "steps"
+
+    def __post_init__(self):
+        times, speeds = np.asarray(self.times, float), np.asarray(self.speeds, float)
+        if times.ndim != 1 or times.size < 2 or times[0] != 0.0 or np.any(np.diff(times) <= 0):
+            raise InputError("a load history needs increasing times starting at 0 s")
+        expected = times.size - 1 if self.kind == "steps" else times.size
+        if speeds.size != expected:
+            raise InputError(f"a {self.kind} load history with {times.size} times needs {expected} speeds")
+        if not np.all(np.isfinite(speeds)) or np.any(speeds < 0):
+            raise InputError("load-point speeds must be finite and not negative")
+
+    @property
+    def duration(self) -> float:
+        return float(self.times[-1])
+
+    @classmethod
+    def constant(cls, speed: float, duration: float) -> "LoadHistory":
+        return cls((0.0, float(duration)), (float(speed),))
+
+    @classmethod
+    def velocity_steps(cls, steps, duration: float) -> "LoadHistory":
+        """``steps`` = [(t_start, V), ...] with t_start of the first step 0; held until ``duration``."""
+        starts = [float(t) for t, _ in steps] + [float(duration)]
+        return cls(tuple(starts), tuple(float(v) for _, v in steps))
+
+    @classmethod
+    def slide_hold_slide(cls, speed: float, slide: float, holds) -> "LoadHistory":
+        """Slide for ``slide`` s at ``speed``, then for each hold time: hold (V_lp = 0), slide again."""
+        times, speeds, now = [0.0], [], 0.0
+        for hold in [None, *holds]:
+            if hold is not None:
+                now += float(hold)
+                times.append(now)
+                speeds.append(0.0)
+            now += float(slide)
+            times.append(now)
+            speeds.append(float(speed))
+        return cls(tuple(times), tuple(speeds))
+
+    @classmethod
+    def table(cls, times, speeds) -> "LoadHistory":
+        times = np.asarray(times, float)
+        return cls(tuple(times - times[0]), tuple(np.asarray(speeds, float)), kind="table")
+
+    def segments(self):
+        """(t0, t1, V at t0, V at t1) for each segment; within a segment the speed is linear in t."""
+        for i in range(len(self.times) - 1):
+            if self.kind == "steps":
+                yield self.times[i], self.times[i + 1], self.speeds[i], self.speeds[i]
+            else:
+                yield self.times[i], self.times[i + 1], self.speeds[i], self.speeds[i + 1]
+
+    def displacement(self, t):
+        """Load-point displacement (m) at times ``t`` (the integral of V_lp)."""
+        t = np.asarray(t, float)
+        total = np.zeros_like(t)
+        for t0, t1, v0, v1 in self.segments():
+            span = np.clip(t - t0, 0.0, t1 - t0)
+            total += v0 * span + 0.5 * (v1 - v0) / (t1 - t0) * span * span
+        return total
+
+
+# --- the slider ----------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class RateStateSlider:
+    """A spring-slider with rate-and-state friction (see the module docstring for units)."""
+
+    law: RateStateLaw
+    stiffness: float
+    normal_stress: float
+    mass: float = 0.0
+    damping: float = 0.0
+
+    def __post_init__(self):
+        for label, value in (("stiffness", self.stiffness), ("normal stress", self.normal_stress)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise InputError(f"the {label} must be a positive finite number, got {value!r}")
+        for label, value in (("mass", self.mass), ("damping", self.damping)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+                raise InputError(f"the {label} must be a finite number >= 0, got {value!r}")
+
+    @classmethod
+    def at_fault(cls, law, shear_modulus, zone_width, normal_stress, density=2700.0, shear_wave_speed=None,
+                 radiation_damping=True) -> "RateStateSlider":
+        """K = G / D, m = rho D, eta = G / (2 c_s) with c_s = sqrt(G / rho) unless given (per unit area)."""
+        wave_speed = shear_wave_speed or math.sqrt(shear_modulus / density)
+        return cls(law=law, stiffness=shear_modulus / zone_width, normal_stress=normal_stress,
+                   mass=density * zone_width,
+                   damping=shear_modulus / (2.0 * wave_speed) if radiation_damping else 0.0)
+
+    def critical_stiffness(self, speed=None, model="quasi_static"):
+        """k_c for ``model`` at steady sliding speed ``speed`` (:func:`faultslip.friction.rate_state.critical_stiffness`)."""
+        mass = self.mass if model == "inertial" else 0.0
+        damping = self.damping if model in ("quasi_dynamic", "inertial") else 0.0
+        return self.law.critical_stiffness(self.normal_stress, speed, mass, damping)
+
+
+# --- right-hand sides -------------------------------------------------------------
+
+
+def _friction_partials(law, x, psi, psi2):
+    """(mu, dmu/dx, dmu/dpsi, dmu/dpsi2) at x = ln(V / V0)."""
+    if law.regularized:
+        z = 0.5 * math.exp(x + (law.mu0 + law.b * psi + law.b2 * psi2) / law.a)
+        root = math.sqrt(1.0 + z * z)
+        weight = z / root
+        return law.a * math.asinh(z), law.a * weight, law.b * weight, law.b2 * weight
+    return law.mu0 + law.a * x + law.b * psi + law.b2 * psi2, law.a, law.b, law.b2
+
+
+def _psi_rate(law, speed, psi, critical_slip):
+    if law.evolution == "aging":
+        return (law.reference_speed * math.exp(-psi) - speed) / critical_slip
+    return -(speed / critical_slip) * (math.log(speed / law.reference_speed) + psi)
+
+
+def _quasi_rhs(slider, load, damping):
+    """f(t, y) for y = (x, psi, slip) or (x, psi, psi2, slip); quasi-static when damping = 0."""
+    law, k, sigma = slider.law, slider.stiffness, slider.normal_stress
+    v0, dc, dc2 = law.reference_speed, law.critical_slip, law.critical_slip2
+    exp, log = math.exp, math.log
+    if not law.two_state and not law.regularized:  # the common case, in as few operations as possible
+        sigma_a, sigma_b = sigma * law.a, sigma * law.b
+        if law.evolution == "aging":
+            def rhs(t, y):
+                speed = v0 * exp(y[0])
+                dpsi = (v0 * exp(-y[1]) - speed) / dc
+                return ((k * (load.speed(t) - speed) - sigma_b * dpsi) / (sigma_a + damping * speed), dpsi, speed)
+        else:
+            def rhs(t, y):
+                speed = v0 * exp(y[0])
+                dpsi = -(speed / dc) * (y[0] + y[1])
+                return ((k * (load.speed(t) - speed) - sigma_b * dpsi) / (sigma_a + damping * speed), dpsi, speed)
+        return rhs
+    two = law.two_state
+
+    def rhs(t, y):
+        x, psi = y[0], y[1]
+        psi2 = y[2] if two else 0.0
+        speed = v0 * exp(x)
+        mu, mu_x, mu_psi, mu_psi2 = _friction_partials(law, x, psi, psi2)
+        dpsi = _psi_rate(law, speed, psi, dc)
+        dpsi2 = _psi_rate(law, speed, psi2, dc2) if two else 0.0
+        dx = (k * (load.speed(t) - speed) - sigma * (mu_psi * dpsi + mu_psi2 * dpsi2)) / (sigma * mu_x + damping * speed)
+        return (dx, dpsi, dpsi2, speed) if two else (dx, dpsi, speed)
+
+    return rhs
+
+
+def _inertial_rhs(slider, load):
+    """f(t, y) for y = (tau, V, psi[, psi2], slip); the regularised law keeps V = 0 finite."""
+    law, k, sigma, m, eta = slider.law, slider.stiffness, slider.normal_stress, slider.mass, slider.damping
+    v0, dc, dc2, two = law.reference_speed, law.critical_slip, law.critical_slip2, law.two_state
+
+    def rhs(t, y):
+        tau, speed, psi = y[0], y[1], y[2]
+        psi2 = y[3] if two else 0.0
+        z = speed / (2.0 * v0) * math.exp((law.mu0 + law.b * psi + law.b2 * psi2) / law.a)
+        mu = law.a * math.asinh(z)
+        magnitude = max(abs(speed), 1e-300)
+        dpsi = _psi_rate(law, magnitude, psi, dc)
+        dv = (tau - sigma * mu - eta * speed) / m
+        dtau = k * (load.speed(t) - speed)
+        if two:
+            return (dtau, dv, dpsi, _psi_rate(law, magnitude, psi2, dc2), speed)
+        return (dtau, dv, dpsi, speed)
+
+    return rhs
+
+
+# --- the embedded solver ----------------------------------------------------------------
+
+
+class _StepCollapse(Exception):
+    """dopri5's step size fell below its floor: the problem is stiff (or singular) here."""
+
+    def __init__(self, t, message):
+        super().__init__(message)
+        self.t = t
+
+
+def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None, on_step=None, last_step=None):
+    """Integrate y' = rhs(t, y) (tuples of floats) from t0 to t_end; return (values at t_eval, y_end, steps, nfev).
+
+    Dormand-Prince 5(4) with a PI step controller (Hairer & Wanner II, IV.2) and the order-4
+    dense output for ``t_eval`` (sorted, within [t0, t_end]). ``atol`` is a tuple per state.
+    ``on_step(t, y)`` runs after each accepted step; if it returns True the integration stops there.
+    ``last_step`` (a dict), if given, receives the next step size under ``"h"``, to restart with.
+    Raises :class:`_StepCollapse` if the step size underflows.
+    """
+    n = len(y0)
+    y = tuple(float(v) for v in y0)
+    t = float(t0)
+    k1 = rhs(t, y)
+    nfev = 1
+    out = np.empty((len(t_eval), n))
+    next_out = 0
+    while next_out < len(t_eval) and t_eval[next_out] <= t:
+        out[next_out] = y
+        next_out += 1
+    span = t_end - t
+    if span <= 0:
+        return out[:next_out], y, t, 0, nfev
+    if h0 is None:  # Hairer, Norsett & Wanner I, II.4: a first step from the size of y, f and f'
+        scales = [atol[i] + rtol * abs(y[i]) for i in range(n)]
+        d0 = math.sqrt(sum((y[i] / scales[i]) ** 2 for i in range(n)) / n)
+        d1 = math.sqrt(sum((k1[i] / scales[i]) ** 2 for i in range(n)) / n)
+        h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+        h0 = min(h0, span)
+        try:
+            f1 = rhs(t + h0, tuple(y[i] + h0 * k1[i] for i in range(n)))
+            nfev += 1
+            d2 = math.sqrt(sum(((f1[i] - k1[i]) / scales[i]) ** 2 for i in range(n)) / n) / h0
+        except (OverflowError, ValueError, ZeroDivisionError):
+            d2 = math.inf
+        h1 = (0.01 / max(d1, d2)) ** 0.2 if max(d1, d2) > 1e-15 else max(1e-6, h0 * 1e-3)
+        h0 = min(100 * h0, h1, span)
+    h = max(h0, 1e-300)
+    previous_error = 1e-4
+    steps = 0
+    floor = 1e-14 * max(abs(t0), abs(t), 1e-300)
+    while t < t_end:
+        if steps >= max_steps:
+            raise SolverError(f"dopri5 took more than {max_steps} steps before t = {t_end:g} s")
+        if t + h > t_end:
+            h = t_end - t
+        try:
+            k2 = rhs(t + _C[1] * h, [yj + h * A21 * a1 for yj, a1 in zip(y, k1)])
+            k3 = rhs(t + _C[2] * h, [yj + h * (A31 * a1 + A32 * a2) for yj, a1, a2 in zip(y, k1, k2)])
+            k4 = rhs(t + _C[3] * h, [yj + h * (A41 * a1 + A42 * a2 + A43 * a3)
+                                     for yj, a1, a2, a3 in zip(y, k1, k2, k3)])
+            k5 = rhs(t + _C[4] * h, [yj + h * (A51 * a1 + A52 * a2 + A53 * a3 + A54 * a4)
+                                     for yj, a1, a2, a3, a4 in zip(y, k1, k2, k3, k4)])
+            k6 = rhs(t + h, [yj + h * (A61 * a1 + A62 * a2 + A63 * a3 + A64 * a4 + A65 * a5)
+                             for yj, a1, a2, a3, a4, a5 in zip(y, k1, k2, k3, k4, k5)])
+            y_new = [yj + h * (B1 * a1 + B3 * a3 + B4 * a4 + B5 * a5 + B6 * a6)
+                     for yj, a1, a3, a4, a5, a6 in zip(y, k1, k3, k4, k5, k6)]
+            k7 = rhs(t + h, y_new)
+            nfev += 6
+            error = 0.0
+            for yj, yn, a1, a3, a4, a5, a6, a7, tol in zip(y, y_new, k1, k3, k4, k5, k6, k7, atol):
+                e = h * (E1 * a1 + E3 * a3 + E4 * a4 + E5 * a5 + E6 * a6 + E7 * a7)
+                error += (e / (tol + rtol * max(abs(yj), abs(yn)))) ** 2
+            error = math.sqrt(error / n)
+        except (OverflowError, ValueError, ZeroDivisionError):  # a trial stage left the domain: smaller step
+            error = math.inf
+        if not math.isfinite(error):
+            h *= 0.1
+            if h < floor:
+                raise _StepCollapse(t, f"the solution stops being finite at t = {t:.6g} s")
+            continue
+        if error <= 1.0:
+            # accepted: dense output for the requested times inside this step
+            last = next_out
+            while last < len(t_eval) and t_eval[last] <= t + h:
+                last += 1
+            if last > next_out:  # the order-4 continuous extension, vectorised over the times in this step
+                fraction = (t_eval[next_out:last] - t) / h
+                powers = np.stack([fraction, fraction ** 2, fraction ** 3, fraction ** 4])
+                q = np.array((k1, k2, k3, k4, k5, k6, k7)).T @ _P_ARRAY  # (states, 4)
+                out[next_out:last] = np.asarray(y) + h * (q @ powers).T
+                next_out = last
+            t += h
+            y = y_new
+            k1 = k7
+            steps += 1
+            factor = 0.9 * error ** -0.14 * previous_error ** 0.08 if error > 0 else 5.0
+            h *= min(5.0, max(0.2, factor))
+            previous_error = max(error, 1e-4)
+            if on_step is not None and on_step(t, y):
+                if last_step is not None:
+                    last_step["h"] = h
+                return out[:next_out], y, t, steps, nfev
+        else:
+            h *= max(0.2, 0.9 * error ** -0.2)
+        floor = 4e-16 * max(abs(t), abs(t0), 1e-300) * 16  # a few float spacings of t
+        if h < floor:
+            raise _StepCollapse(t, f"the step size fell below {floor:.1e} s at t = {t:.6g} s")
+    return out, y, t, steps, nfev
+
+
+# --- simulation -------------------------------------------------------------------------
+
+
+@dataclass
+class RateStateRun:
+    """A rate-and-state simulation: time series and how it was obtained."""
+
+    time: np.ndarray
+    slip_speed: np.ndarray  # m/s
+    friction: np.ndarray
+    psi: np.ndarray  # ln(V0 theta / D_c)
+    slip: np.ndarray  # m
+    load_point: np.ndarray  # m
+    model: str
+    method: str
+    method_reason: str
+    steps: int
+    function_evaluations: int
+    wall_time: float
+    notes: list = field(default_factory=list)
+
+
+class _Load:
+    """V_lp(t) on the current segment of a load history (the solvers restart at each breakpoint)."""
+
+    __slots__ = ("start", "speed0", "slope")
+
+    def __init__(self):
+        self.start, self.speed0, self.slope = 0.0, 0.0, 0.0
+
+    def enter(self, t0, t1, v0, v1):
+        self.start, self.speed0, self.slope = t0, v0, (v1 - v0) / (t1 - t0)
+
+    def speed(self, t):
+        return self.speed0 + self.slope * (t - self.start)
+
+
+def _initial_state(slider, history, model, initial_speed, initial_psi):
+    law = slider.law
+    speed = initial_speed if initial_speed is not None else (history.speeds[0] or law.reference_speed)
+    if speed <= 0:
+        raise InputError("the initial slip speed must be positive (rate-and-state friction needs V > 0)")
+    psi = math.log(law.reference_speed / speed) if initial_psi is None else initial_psi  # steady state
+    if model == "inertial":
+        z = speed / (2 * law.reference_speed) * math.exp((law.mu0 + law.b * psi + law.b2 * psi) / law.a)
+        tau = slider.normal_stress * law.a * math.asinh(z) + slider.damping * speed
+        state = [tau, speed, psi] + ([psi] if law.two_state else []) + [0.0]
+        return tuple(state)
+    return tuple([math.log(speed / law.reference_speed), psi] + ([psi] if law.two_state else []) + [0.0])
+
+
+def _tolerances(slider, model, rtol):
+    """Absolute tolerances per state: the log variables are O(1-30), so rtol serves as atol there."""
+    law = slider.law
+    slip_scale = law.critical_slip * rtol
+    logs = [rtol] * (2 if law.two_state else 1)
+    if model == "inertial":
+        return tuple([slider.normal_stress * law.a * rtol, law.reference_speed * rtol] + logs + [slip_scale])
+    return tuple([rtol] + logs + [slip_scale])
+
+
+def _implicit_by_segment(rhs, jacobian, history, load, y0, t_eval, rtol, atol, method):
+    """scipy's Radau or BDF with the analytic Jacobian, restarted at each breakpoint of the load history."""
+    from scipy.integrate import solve_ivp  # heavy: imported where used
+
+    def f(t, y):
+        return np.array(rhs(t, y))
+
+    jac = None if jacobian is None else (lambda t, y: np.array(jacobian(t, y)))
+    pieces, nfev, steps, y = [], 0, 0, np.asarray(y0, float)
+    for t0, t1, v0, v1 in history.segments():
+        load.enter(t0, t1, v0, v1)
+        last = t1 == history.duration
+        wanted = t_eval[(t_eval >= t0) & ((t_eval < t1) | (last & (t_eval <= t1)))]
+        times = wanted if wanted.size and wanted[-1] == t1 else np.append(wanted, t1)
+        result = solve_ivp(f, (t0, t1), y, method="Radau" if method == "radau" else "BDF", t_eval=times,
+                           rtol=rtol, atol=np.asarray(atol), jac=jac)
+        if not result.success:
+            raise SolverError(f"{method} failed at t = {result.t[-1] if result.t.size else t0:.6g} s: {result.message}")
+        nfev += result.nfev
+        steps += result.nlu
+        pieces.append(result.y.T[:wanted.size])
+        y = result.y[:, -1]
+    return np.concatenate(pieces), steps, nfev
+
+
+def _quasi_jacobian(slider, load, damping):
+    """The analytic Jacobian of (1) and the state equations, one-state standard law (LSODA, Radau, BDF)."""
+    law, k, sigma = slider.law, slider.stiffness, slider.normal_stress
+    v0, dc, a, b = law.reference_speed, law.critical_slip, law.a, law.b
+    exp = math.exp
+    aging = law.evolution == "aging"
+
+    def jacobian(t, y):
+        x, psi = y[0], y[1]
+        speed = v0 * exp(x)
+        if aging:
+            recovery = v0 * exp(-psi)
+            dpsi = (recovery - speed) / dc
+            dpsi_dx, dpsi_dpsi = -speed / dc, -recovery / dc
+        else:
+            dpsi = -(speed / dc) * (x + psi)
+            dpsi_dx, dpsi_dpsi = -(speed / dc) * (x + psi + 1.0), -speed / dc
+        denominator = sigma * a + damping * speed
+        numerator = k * (load.speed(t) - speed) - sigma * b * dpsi
+        dx_dx = ((-k * speed - sigma * b * dpsi_dx) * denominator - numerator * damping * speed) / denominator ** 2
+        return ((dx_dx, -sigma * b * dpsi_dpsi / denominator, 0.0), (dpsi_dx, dpsi_dpsi, 0.0), (speed, 0.0, 0.0))
+
+    return jacobian
+
+
+def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model: str = "quasi_static",
+                        method: str = "auto", rtol: float = 1e-8, samples: int | None = None, t_eval=None,
+                        initial_speed: float | None = None, initial_psi: float | None = None,
+                        max_speed: float = 10.0) -> RateStateRun:
+    """Simulate ``slider`` under the load history; friction, speed, state and slip at ``t_eval``.
+
+    ``model`` is quasi_static, quasi_dynamic or inertial; ``method`` auto, dopri5, radau or bdf.
+    The slider starts at steady state at ``initial_speed`` (default: the first load-point speed).
+    A quasi-static slider whose speed passes ``max_speed`` (m/s) has met an instability it
+    cannot follow: a :class:`SolverError` says so and names the quasi-dynamic model.
+    """
+    if model not in MODELS:
+        raise InputError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
+    if method not in METHODS:
+        raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if not 1e-14 <= rtol <= 1e-2:
+        raise InputError(f"rtol must be between 1e-14 and 1e-2, got {rtol:g}")
+    if model == "inertial" and slider.mass <= 0:
+        raise InputError("the inertial model needs a mass > 0")
+    if model == "quasi_dynamic" and slider.damping <= 0:
+        raise InputError("the quasi-dynamic model needs a radiation damper eta > 0 (RateStateSlider.at_fault sets "
+                         "eta = G / (2 c_s))")
+    law = slider.law
+    if model == "inertial" and not law.regularized:  # V may reach 0: eq. (4) is finite there
+        slider = RateStateSlider(replace(law, regularized=True), slider.stiffness, slider.normal_stress,
+                                 slider.mass, slider.damping)
+        law = slider.law
+    duration = history.duration
+    if t_eval is None:
+        t_eval = np.linspace(0.0, duration, samples or 1001)
+    t_eval = np.asarray(t_eval, dtype=float)
+    if t_eval.ndim != 1 or np.any(np.diff(t_eval) < 0) or t_eval[0] < 0 or t_eval[-1] > duration:
+        raise InputError("t_eval must be sorted times within the load history")
+    load = _Load()
+    load.enter(*next(history.segments()))
+    damping = slider.damping if model == "quasi_dynamic" else 0.0
+    rhs = _inertial_rhs(slider, load) if model == "inertial" else _quasi_rhs(slider, load, damping)
+    y0 = _initial_state(slider, history, model, initial_speed, initial_psi)
+    atol = _tolerances(slider, model, rtol)
+    chosen = "lsoda" if method == "auto" else method
+    reason = ("LSODA with the analytic Jacobian: the cheapest at this tolerance (benchmarks/run.py), stiff or not"
+              if method == "auto" else "requested")
+    started = time.perf_counter()
+    notes = []
+    speed_index = 1 if model == "inertial" else 0
+
+    def too_fast(t, y):
+        speed = y[1] if model == "inertial" else law.reference_speed * math.exp(y[0])
+        return abs(speed) > max_speed and model == "quasi_static"
+
+    try:
+        if chosen == "lsoda":
+            jacobian = None if law.two_state or model == "inertial" else _quasi_jacobian(slider, load, damping)
+            values, steps, nfev = _lsoda_by_segment(rhs, jacobian, history, load, y0, t_eval, rtol, atol,
+                                                    max_speed if model == "quasi_static" else math.inf, slider)
+        elif chosen == "dopri5":
+            values, steps, nfev = _dopri5_by_segment(rhs, history, load, y0, t_eval, rtol, atol, too_fast, slider)
+        else:
+            if law.two_state or model == "inertial":
+                raise InputError(f"{chosen} is available for one-state quasi-static and quasi-dynamic sliders; "
+                                 "use method dopri5 or auto")
+            values, steps, nfev = _implicit_by_segment(rhs, _quasi_jacobian(slider, load, damping), history, load,
+                                                       y0, t_eval, rtol, atol, chosen)
+    except _StepCollapse as collapse:
+        if model == "quasi_static" and collapse.t < duration:
+            _diverged(slider, collapse.t)
+        if method != "auto" or law.two_state or model == "inertial":
+            raise SolverError(f"dopri5 failed ({collapse}); the problem is stiff here: use method radau") from None
+        notes.append(f"dopri5's step size collapsed at t = {collapse.t:.6g} s (stiff): solved with radau instead")
+        chosen, reason = "radau", "stiff: dopri5's step size collapsed"
+        values, steps, nfev = _implicit_by_segment(rhs, _quasi_jacobian(slider, load, damping), history, load, y0,
+                                                   t_eval, rtol, atol, chosen)
+    wall = time.perf_counter() - started
+    values = np.asarray(values)
+    if model == "inertial":
+        speed = values[:, 1]
+        psi = values[:, 2]
+        psi2 = values[:, 3] if law.two_state else 0.0
+    else:
+        speed = law.reference_speed * np.exp(values[:, 0])
+        psi = values[:, 1]
+        psi2 = values[:, 2] if law.two_state else 0.0
+    mu = law.friction(speed, psi, psi2)
+    if not (np.all(np.isfinite(mu)) and np.all(np.isfinite(speed))):
+        raise SolverError(f"{chosen} returned non-finite values for the {model} slider; tighten rtol or use radau")
+    return RateStateRun(time=t_eval, slip_speed=speed, friction=np.asarray(mu, float), psi=psi, slip=values[:, -1],
+                        load_point=history.displacement(t_eval), model=model, method=chosen, method_reason=reason,
+                        steps=steps, function_evaluations=nfev, wall_time=wall, notes=notes)
+
+
+class _Diverging(Exception):
+    def __init__(self, t):
+        super().__init__(t)
+        self.t = t
+
+
+def _lsoda_by_segment(rhs, jacobian, history, load, y0, t_eval, rtol, atol, max_speed, slider):
+    """odeint (LSODA) restarted at each breakpoint of the load history; refuses a diverging quasi-static speed."""
+    from scipy.integrate import odeint  # heavy: imported where used
+
+    limit = math.log(max_speed / slider.law.reference_speed) if math.isfinite(max_speed) else math.inf
+
+    def f(y, t):
+        if y[0] > limit:
+            raise _Diverging(t)
+        return rhs(t, y)
+
+    dfun = None if jacobian is None else (lambda y, t: jacobian(t, y))
+    pieces, nfev, steps, y = [], 0, 0, np.asarray(y0, float)
+    for t0, t1, v0, v1 in history.segments():
+        load.enter(t0, t1, v0, v1)
+        last = t1 == history.duration
+        wanted = t_eval[(t_eval >= t0) & ((t_eval < t1) | (last & (t_eval <= t1)))]
+        interior = wanted[wanted > t0]
+        times = np.concatenate([[t0], interior, [] if interior.size and interior[-1] == t1 else [t1]])
+        try:
+            solution, info = odeint(f, y, times, Dfun=dfun, rtol=rtol, atol=np.asarray(atol), full_output=True,
+                                    mxstep=500_000)
+        except _Diverging as stop:
+            _diverged(slider, stop.t)
+        except OverflowError:
+            raise SolverError("LSODA's trial state overflowed; tighten rtol or use method 'radau'") from None
+        if info["message"] != "Integration successful.":
+            raise SolverError(f"LSODA failed between {t0:g} and {t1:g} s: {info['message']}; use method 'radau'")
+        nfev += int(info["nfe"][-1])
+        steps += int(info["nst"][-1])
+        start_row = solution[:1] if wanted.size and wanted[0] == t0 else solution[:0]
+        pieces.append(np.vstack([start_row, solution[1:1 + interior.size]]))
+        y = solution[-1]
+    return np.concatenate(pieces), steps, nfev
+
+
+def _dopri5_by_segment(rhs, history, load, y0, t_eval, rtol, atol, stop, slider):
+    """dopri5 restarted at each breakpoint of the load history: its speed jumps there (a velocity step)."""
+    pieces, steps, nfev, y, h = [], 0, 0, y0, None
+    for t0, t1, v0, v1 in history.segments():
+        load.enter(t0, t1, v0, v1)
+        last = t1 == history.duration
+        inside = t_eval[(t_eval >= t0) & ((t_eval < t1) | last)]
+        values, y, t_end, segment_steps, segment_nfev = dopri5(rhs, t0, y, t1, inside, rtol, atol, on_step=stop)
+        steps, nfev = steps + segment_steps, nfev + segment_nfev
+        if t_end < t1:
+            _diverged(slider, t_end)
+        pieces.append(values)
+    return np.concatenate(pieces), steps, nfev
+
+
+def _diverged(slider, t):
+    k_c = slider.critical_stiffness()
+    raise SolverError(f"the quasi-static slider has no solution past t = {t:.6g} s: its slip speed diverges "
+                      f"(k / k_c = {slider.stiffness / k_c:.3g} < 1 for the linear boundary, or a large step with the "
+                      "slip law). Use model 'quasi_dynamic' (a radiation damper bounds the speed) or 'inertial'"
+                      if k_c > 0 else
+                      f"the quasi-static slider has no solution past t = {t:.6g} s: its slip speed diverges. "
+                      "Use model 'quasi_dynamic' or 'inertial'")
+
+
+# --- fault-scale earthquake cycles ---------------------------------------------------------
+
+
+@dataclass
+class RateStateCycles:
+    """Earthquake cycles of a quasi-dynamic (or quasi-static) rate-and-state fault, after spin-up.
+
+    Events are the intervals with slip speed above ``event_speed``. Per-event arrays cover the
+    recorded cycles; the scalar properties are their means.
+    """
+
+    event_times: np.ndarray  # s, event starts
+    slip_per_event: np.ndarray  # m, slip while V > event_speed
+    stress_drop: np.ndarray  # Pa, elastic stress before minus after
+    peak_slip_rate: np.ndarray  # m/s
+    cycle_slip: np.ndarray  # m, all slip from one event start to the next
+    plate_rate: float
+    stiffness_ratio: float  # K / K_c (quasi-static k_c)
+    model: str
+    steps: int
+    function_evaluations: int
+    wall_time: float
+    event_speed: float = EVENT_SPEED
+
+    @property
+    def recurrence(self) -> float:
+        return float(np.mean(np.diff(self.event_times)))
+
+    @property
+    def regime(self) -> str:
+        if self.stiffness_ratio >= 1:
+            return "stable_sliding" if self.event_times.size == 0 else "stick_slip"
+        return "stick_slip"
+
+    def summary(self) -> dict:
+        return {"recurrence_period": {"value": self.recurrence, "units": "s"},
+                "slip_per_event": {"value": float(np.mean(self.slip_per_event)), "units": "m"},
+                "stress_drop": {"value": float(np.mean(self.stress_drop)), "units": "Pa"},
+                "peak_slip_rate": {"value": float(np.max(self.peak_slip_rate)), "units": "m/s"},
+                "stiffness_ratio": self.stiffness_ratio, "cycles": int(self.slip_per_event.size),
+                "model": self.model, "function_evaluations": self.function_evaluations,
+                "wall_time": {"value": self.wall_time, "units": "s"}}
+
+
+def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 100, spin_up: int = 2,
+                 model: str = "quasi_dynamic", rtol: float = 1e-7, event_speed: float = EVENT_SPEED,
+                 max_time: float | None = None) -> RateStateCycles:
+    """Run ``spin_up + cycles`` earthquake cycles of a fault loaded at ``plate_rate`` (m/s) and measure them.
+
+    The fault starts at steady sliding at 1.01 times the plate rate (a small perturbation that an
+    unstable fault, K < K_c, grows into cycles). Integration is dopri5 on (ln V/V0, psi, slip),
+    stopping as soon as the last event has ended. A stable fault (K >= K_c, or b <= a) has no
+    events: that is refused with the ratio K / K_c, as are cycles that do not appear within
+    ``max_time`` (default: 1e5 loading times D_c / V_pl and at least a million years).
+    """
+    if model not in ("quasi_dynamic", "quasi_static"):
+        raise InputError("fault cycles run the quasi_dynamic model (or quasi_static, which fails at the first event)")
+    if not (plate_rate > 0 and math.isfinite(plate_rate)):
+        raise InputError(f"the plate rate must be a positive speed, got {plate_rate!r}")
+    if cycles < 1 or spin_up < 0:
+        raise InputError("cycles must be at least 1 and spin_up at least 0")
+    law = slider.law
+    k_c = slider.critical_stiffness() if not law.two_state else math.inf
+    ratio = slider.stiffness / k_c if k_c > 0 else math.inf
+    if ratio >= 1:
+        raise InputError(f"K / K_c = {ratio:.3g} >= 1: steady sliding is stable here (no earthquake cycles); "
+                         "cycles need K < K_c = sigma_n (b - a) / D_c")
+    damping = slider.damping if model == "quasi_dynamic" else 0.0
+    load = _Load()
+    load.enter(0.0, 1.0, plate_rate, plate_rate)
+    rhs = _quasi_rhs(slider, load, damping)
+    speed0 = 1.01 * plate_rate
+    y0 = tuple([math.log(speed0 / law.reference_speed), math.log(law.reference_speed / plate_rate)]
+               + ([math.log(law.reference_speed / plate_rate)] if law.two_state else []) + [0.0])
+    atol = _tolerances(slider, "quasi_dynamic", rtol)
+    horizon = max_time or max(1e5 * law.critical_slip / plate_rate, 1e6 * 3.15576e7)
+    threshold = math.log(event_speed / law.reference_speed)
+    sigma, k, v0 = slider.normal_stress, slider.stiffness, law.reference_speed
+    wanted = spin_up + cycles
+    record = {"start": [], "end": [], "peak": [], "slip_start": [], "slip_end": [], "tau_start": [], "tau_end": []}
+    state = {"inside": False, "peak": 0.0}
+
+    def elastic_stress(y):
+        psi2 = y[2] if law.two_state else 0.0
+        speed = v0 * math.exp(y[0])
+        return sigma * float(law.friction(speed, y[1], psi2)) + damping * speed
+
+    clock = {"offset": 0.0}  # the ODE is autonomous: restart the local time at every crossing
+
+    def on_step(t, y):
+        now = clock["offset"] + t
+        if y[0] > threshold:
+            if not state["inside"]:
+                state["inside"], state["peak"] = True, 0.0
+                record["start"].append(now)
+                record["slip_start"].append(y[-1])
+                record["tau_start"].append(elastic_stress(y))
+                return True
+            state["peak"] = max(state["peak"], v0 * math.exp(y[0]))
+        elif state["inside"]:
+            state["inside"] = False
+            record["end"].append(now)
+            record["peak"].append(state["peak"])
+            record["slip_end"].append(y[-1])
+            record["tau_end"].append(elastic_stress(y))
+            return True
+        return False
+
+    started = time.perf_counter()
+    steps = nfev = 0
+    y, step = y0, {"h": None}
+    try:
+        while len(record["end"]) <= wanted and clock["offset"] < horizon:
+            _, y, t_local, run_steps, run_nfev = dopri5(rhs, 0.0, y, horizon - clock["offset"], np.empty(0), rtol,
+                                                        atol, max_steps=5_000_000, h0=step["h"], on_step=on_step,
+                                                        last_step=step)
+            clock["offset"] += t_local
+            steps, nfev = steps + run_steps, nfev + run_nfev
+    except _StepCollapse as collapse:
+        if model == "quasi_static":
+            _diverged(slider, clock["offset"] + collapse.t)
+        raise SolverError(f"dopri5 failed in the quasi-dynamic fault cycles ({collapse}); tighten rtol") from None
+    t_end = clock["offset"]
+    wall = time.perf_counter() - started
+    ends = len(record["end"])
+    if ends <= wanted:
+        raise SolverError(f"only {ends} events in {t_end / 3.15576e7:.3g} years (K / K_c = {ratio:.3g}); the fault "
+                          f"creeps or its cycles are longer than max_time; raise max_time or check a, b and D_c")
+    chosen = slice(spin_up, spin_up + cycles)
+    starts = np.array(record["start"][spin_up:spin_up + cycles + 1])
+    slip_starts = np.array(record["slip_start"][spin_up:spin_up + cycles + 1])
+    return RateStateCycles(event_times=starts[:-1] if starts.size > cycles else starts,
+                           slip_per_event=np.array(record["slip_end"][chosen]) - np.array(record["slip_start"][chosen]),
+                           stress_drop=np.array(record["tau_start"][chosen]) - np.array(record["tau_end"][chosen]),
+                           peak_slip_rate=np.array(record["peak"][chosen]), cycle_slip=np.diff(slip_starts),
+                           plate_rate=plate_rate, stiffness_ratio=ratio, model=model, steps=steps,
+                           function_evaluations=nfev, wall_time=wall, event_speed=event_speed)

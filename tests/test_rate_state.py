@@ -1,0 +1,232 @@
+"""Rate-and-state friction: exact limits, the stability boundary, an independent integration, fault cycles."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.integrate import solve_ivp
+
+from faultslip.dynamics import rate_state as rs
+from faultslip.dynamics.rate_state import LoadHistory, RateStateSlider, fault_cycles, simulate_rate_state
+from faultslip.errors import InputError, SolverError
+from faultslip.friction.rate_state import (RateStateLaw, characteristic_roots, critical_stiffness, friction, get_law,
+                                           steady_state_friction)
+
+YEAR = 365.25 * 86400
+STEP = get_law("step_example")  # mu0 0.6, a 0.005, b 0.01, D_c 10 µm, V0 1 µm/s
+K_STEP = 1e-3 / 1e-6  # 1e-3 per µm, friction per metre (sigma_n = 1)
+
+
+def test_steady_state_and_the_regularised_form():
+    speeds = np.geomspace(1e-9, 1.0, 7)
+    expected = 0.6 + (0.005 - 0.01) * np.log(speeds / 1e-6)
+    assert np.allclose(steady_state_friction(speeds, 0.005, 0.01), expected, rtol=0, atol=1e-15)
+    psi = np.log(1e-6 / speeds)  # steady state
+    assert np.allclose(friction(speeds, psi, 0.005, 0.01), expected, rtol=0, atol=1e-14)
+    # eq. (4) differs from eq. (1) by about exp(-2 mu / a): nothing at these speeds
+    assert np.allclose(friction(speeds, psi, 0.005, 0.01, regularized=True), expected, rtol=0, atol=1e-13)
+    v = np.array([-1e-6, 0.0, 1e-6])
+    regular = friction(v, 0.0, 0.005, 0.01, regularized=True)
+    assert regular[1] == 0.0 and regular[0] == -regular[2]  # finite and odd through V = 0
+
+
+def test_laws_take_units_and_refuse_nonsense():
+    law = RateStateLaw.from_text(a="0.005", b="0.01", critical_slip="10 um", reference_speed="1 um/s")
+    assert law.critical_slip == pytest.approx(1e-5) and law.reference_speed == pytest.approx(1e-6)
+    with pytest.raises(InputError, match="D_c"):
+        RateStateLaw(a=0.01, b=0.01, critical_slip=-1.0)
+    with pytest.raises(InputError, match="evolution law"):
+        RateStateLaw(a=0.01, b=0.01, critical_slip=1e-5, evolution="ageing")
+    with pytest.raises(InputError, match="D_c2"):
+        RateStateLaw(a=0.01, b=0.01, critical_slip=1e-5, b2=0.004)
+    from faultslip.friction.rate_state import ILLUSTRATIVE
+
+    assert all("illustrative" in law.source for law in ILLUSTRATIVE.values())
+
+
+def test_critical_stiffness_special_cases():
+    sigma, a, b, dc, v = 5e7, 0.01, 0.015, 0.008, 1e-9
+    assert critical_stiffness(sigma, a, b, dc) == pytest.approx(sigma * (b - a) / dc)
+    m = 2670 * 10e3
+    assert critical_stiffness(sigma, a, b, dc, v, mass=m) == pytest.approx(
+        sigma * (b - a) / dc * (1 + m * v * v / (sigma * a * dc)), rel=1e-12)  # Rice & Ruina (1983)
+    eta = 3.2e10 / (2 * 3464.0)
+    assert critical_stiffness(sigma, a, b, dc, v, damping=eta) == pytest.approx((sigma * (b - a) - eta * v) / dc, rel=1e-12)
+
+
+@settings(max_examples=80, deadline=None)
+@given(a=st.floats(0.002, 0.02), excess=st.floats(0.1, 3.0), dc=st.floats(1e-6, 1e-2), speed=st.floats(1e-10, 1e-3),
+       mass=st.sampled_from([0.0, 1.0, 1e7]), damping=st.sampled_from([0.0, 1.0, 5e6]), sigma=st.floats(1e6, 1e8))
+def test_the_characteristic_equation_changes_stability_at_k_c(a, excess, dc, speed, mass, damping, sigma):
+    """Just above k_c every root has a negative real part; just below, one has a positive real part."""
+    b = a * (1 + excess)
+    k_c = critical_stiffness(sigma, a, b, dc, speed, mass, damping)
+    if not k_c > 0:  # radiation damping can stabilise every stiffness
+        return
+    above = characteristic_roots(k_c * 1.01, sigma, a, b, dc, speed, mass, damping)
+    below = characteristic_roots(k_c * 0.99, sigma, a, b, dc, speed, mass, damping)
+    assert np.max(above.real) < 0 < np.max(below.real)
+
+
+def _reference_step(evolution, times, k=K_STEP):
+    """An independent integration: linear variables (mu, theta), DOP853 at rtol 1e-13, restarted at the step."""
+    a, b, dc, mu0, v0 = 0.005, 0.01, 10e-6, 0.6, 1e-6
+
+    def f(t, y, load):
+        mu, theta = y
+        speed = v0 * np.exp((mu - mu0 - b * np.log(v0 * theta / dc)) / a)
+        rate = 1 - speed * theta / dc if evolution == "aging" else -(speed * theta / dc) * np.log(speed * theta / dc)
+        return [k * (load - speed), rate]
+
+    out, y = [], [0.6, dc / 1e-6]
+    for t0, t1, load in ((0.0, 10.0, 1e-6), (10.0, 40.0, 10e-6)):
+        sol = solve_ivp(f, (t0, t1), y, args=(load,), method="DOP853", rtol=1e-13, atol=1e-16, dense_output=True)
+        inside = times[(times >= t0) & ((times < t1) | (t1 == 40.0))]
+        out.append(sol.sol(inside)[0])
+        y = sol.y[:, -1]
+    return np.concatenate(out)
+
+
+@pytest.mark.parametrize("method", ["lsoda", "dopri5", "radau"])
+def test_velocity_step_agrees_with_an_independent_integration(method):
+    """The issue's step: 1 -> 10 µm/s at 10 s, 40 s at 100 Hz, aging law: within 1e-8 in friction."""
+    times = np.linspace(0.0, 40.0, 4001)
+    history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 10e-6)], 40.0)
+    run = simulate_rate_state(RateStateSlider(STEP, K_STEP, 1.0), history, t_eval=times, rtol=1e-10, method=method)
+    assert run.method == method
+    assert np.max(np.abs(run.friction - _reference_step("aging", times))) <= 1e-8
+    assert run.friction[-1] == pytest.approx(float(STEP.steady_state(10e-6)), abs=1e-7)  # near mu_ss, still relaxing
+    assert np.allclose(run.load_point[[0, 1000, 4000]], [0.0, 1e-5, 1e-5 + 30 * 1e-5])
+
+
+def test_auto_uses_lsoda_and_says_why():
+    history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 10e-6)], 40.0)
+    run = simulate_rate_state(RateStateSlider(STEP, K_STEP, 1.0), history, samples=401)
+    assert run.method == "lsoda" and "Jacobian" in run.method_reason
+
+
+def test_the_slip_law_step_of_the_issue_has_no_quasi_static_solution():
+    """With the slip law the same 10x step destabilises the slider at k = 2 k_c (Gu, Rice, Ruina & Tse 1984).
+
+    The independent DOP853 integration diverges there too (its step size underflows at t = 11.4 s).
+    """
+    slider = RateStateSlider(STEP.with_evolution("slip"), K_STEP, 1.0)
+    history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 10e-6)], 40.0)
+    for method in ("lsoda", "dopri5"):
+        with pytest.raises(SolverError, match="no solution past t = 11.*quasi_dynamic"):
+            simulate_rate_state(slider, history, samples=401, method=method)
+    # the independent integration in linear variables fails at the same moment
+    a, b, dc, v0 = 0.005, 0.01, 10e-6, 1e-6
+
+    def f(t, y):
+        speed = v0 * np.exp((y[0] - 0.6 - b * np.log(v0 * y[1] / dc)) / a)
+        return [K_STEP * (10e-6 - speed), -(speed * y[1] / dc) * np.log(speed * y[1] / dc)]
+
+    with np.errstate(all="ignore"):
+        reference = solve_ivp(f, (10.0, 40.0), [0.6, dc / 1e-6], method="DOP853", rtol=1e-12, atol=1e-16)
+    assert reference.status == -1 and reference.t[-1] == pytest.approx(11.355, abs=0.01)
+
+
+@pytest.mark.parametrize("ratio, step, stable", [(2.0, 5.0, True), (2.0, 10.0, False), (4.0, 10.0, True)])
+def test_the_slip_law_boundary_in_step_size_and_stiffness(ratio, step, stable):
+    """Gu et al. (1984): above k_c the slip law is stable for small steps and unstable for large ones.
+
+    Measured here: at k = 2 k_c the boundary lies between a 5x and a 10x step; at 4 k_c a 10x step is stable.
+    """
+    slider = RateStateSlider(STEP.with_evolution("slip"), ratio * STEP.critical_stiffness(1.0), 1.0)
+    history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, step * 1e-6)], 60.0)
+    if stable:
+        run = simulate_rate_state(slider, history, samples=601)
+        deviation = np.abs(run.friction - float(STEP.steady_state(step * 1e-6)))
+        assert deviation[-1] < 1e-3 * deviation[100:].max()  # the transient dies out
+    else:
+        with pytest.raises(SolverError, match="diverges"):
+            simulate_rate_state(slider, history, samples=601)
+
+
+def test_aging_law_is_stable_above_and_unstable_below_k_c_in_simulation():
+    """A 1 % step at k = 1.2 k_c dies out; at 0.8 k_c it grows until the quasi-static model fails."""
+    history = LoadHistory.velocity_steps([(0.0, 1e-6), (1.0, 1.01e-6)], 400.0)
+    k_c = STEP.critical_stiffness(1.0)
+    run = simulate_rate_state(RateStateSlider(STEP, 1.2 * k_c, 1.0), history, samples=4001)
+    deviation = np.abs(run.friction - float(STEP.steady_state(1.01e-6)))
+    assert deviation[3000:].max() < 0.5 * deviation[1000:2000].max()  # the oscillation's envelope decays
+    try:
+        run = simulate_rate_state(RateStateSlider(STEP, 0.8 * k_c, 1.0), history, samples=4001)
+    except SolverError as error:  # grown until the quasi-static speed diverged: said, with the ratio
+        assert "k / k_c = 0.8" in str(error)
+    else:
+        deviation = np.abs(run.friction - float(STEP.steady_state(1.01e-6)))
+        assert deviation[3000:].max() > 2 * deviation[1000:2000].max()  # the envelope grows
+
+
+def test_the_direct_effect_in_the_stiff_limit():
+    """For k -> infinity the friction jumps by a ln(V2 / V1) at a step before the state evolves."""
+    slider = RateStateSlider(STEP, 1e4 * STEP.critical_stiffness(1.0), 1.0)
+    history = LoadHistory.velocity_steps([(0.0, 1e-6), (1.0, 10e-6)], 3.0)
+    run = simulate_rate_state(slider, history, t_eval=np.linspace(0, 3.0, 30001), rtol=1e-10)
+    jump = run.friction.max() - 0.6
+    assert jump == pytest.approx(0.005 * math.log(10.0), rel=2e-3)
+
+
+def test_aging_law_heals_as_b_ln_t_hold():
+    """Slide-hold-slide: the peak on reloading grows by about b per e-fold of hold time (aging law)."""
+    slider = RateStateSlider(STEP, 1e3 * STEP.critical_stiffness(1.0), 1.0)
+    peaks = []
+    for hold in (100.0, 1000.0):
+        history = LoadHistory.slide_hold_slide(1e-6, 50.0, [hold])
+        run = simulate_rate_state(slider, history, t_eval=np.linspace(50.0 + hold, history.duration, 20001))
+        peaks.append(run.friction.max())
+    healing_rate = (peaks[1] - peaks[0]) / math.log(10.0)
+    assert healing_rate == pytest.approx(0.01, rel=0.1)
+
+
+def test_dopri5_tableau_is_dormand_prince():
+    from scipy.integrate._ivp.rk import RK45  # the same pair: a transcription check
+
+    matrix = np.zeros((6, 5))
+    for i, row in enumerate(rs._A):
+        matrix[i, :len(row)] = row
+    assert np.array_equal(matrix, RK45.A) and np.array_equal(np.array(rs._B), RK45.B)
+    assert np.array_equal(np.abs(rs._E), np.abs(RK45.E)) and np.allclose(np.array(rs._P), RK45.P, rtol=0, atol=1e-15)
+
+
+def test_load_histories_are_checked():
+    with pytest.raises(InputError, match="increasing times"):
+        LoadHistory((0.0, 0.0), (1e-6,))
+    with pytest.raises(InputError, match="needs 1 speeds"):
+        LoadHistory((0.0, 1.0), (1e-6, 2e-6))
+    with pytest.raises(InputError, match="not negative"):
+        LoadHistory.constant(-1e-6, 10.0)
+    history = LoadHistory.slide_hold_slide(1e-6, 10.0, [5.0, 20.0])
+    assert history.times == (0.0, 10.0, 15.0, 25.0, 45.0, 55.0) and history.speeds == (1e-6, 0.0, 1e-6, 0.0, 1e-6)
+    assert history.displacement(np.array([55.0]))[0] == pytest.approx(30e-6)
+    table = LoadHistory.table([0.0, 1.0, 2.0], [0.0, 2e-6, 2e-6])
+    assert table.displacement(np.array([2.0]))[0] == pytest.approx(1e-6 + 2e-6)
+
+
+BP1 = RateStateLaw(a=0.010, b=0.015, critical_slip=0.008, mu0=0.6, reference_speed=1e-6,
+                   source="SCEC SEAS BP1 values (Erickson et al. 2020): a_0 0.010, b_0 0.015, D_c 8 mm, sigma_n 50 MPa")
+
+
+def test_fault_cycles_balance_the_plate_and_report_their_regime():
+    slider = RateStateSlider.at_fault(BP1, shear_modulus=3.2e10, zone_width=20e3, normal_stress=50e6,
+                                      density=2670.0, shear_wave_speed=3464.0)
+    cycles = fault_cycles(slider, 1e-9, cycles=5)
+    assert cycles.stiffness_ratio == pytest.approx((3.2e10 / 20e3) / (50e6 * 0.005 / 0.008))
+    assert cycles.regime == "stick_slip" and cycles.slip_per_event.size == 5
+    # over a full cycle the fault slips as far as the plate moves
+    assert np.allclose(cycles.cycle_slip / (1e-9 * cycles.recurrence), 1.0, rtol=1e-3)
+    assert np.all(cycles.slip_per_event > 0) and np.all(cycles.stress_drop > 0)
+    assert 0.1 < cycles.peak_slip_rate.max() < 10.0  # radiation damping caps it near 2 c_s dtau / G
+
+
+def test_stable_faults_have_no_cycles():
+    strengthening = RateStateLaw(a=0.015, b=0.010, critical_slip=0.008)
+    with pytest.raises(InputError, match="steady sliding is stable"):
+        fault_cycles(RateStateSlider.at_fault(strengthening, 3.2e10, 20e3, 50e6), 1e-9)
+    stiff = RateStateSlider.at_fault(BP1, 3.2e10, 10.0, 50e6)  # K = G / D far above K_c
+    with pytest.raises(InputError, match="K / K_c = .* >= 1"):
+        fault_cycles(stiff, 1e-9)
