@@ -31,6 +31,11 @@ DIRECT_COMPRESSIONS = ("zlib", "none")
 ZLIB_LEVEL = 1
 
 
+def deflate_compress(data, level: int = ZLIB_LEVEL) -> bytes:
+    """A zlib stream of ``data`` (ISA-L where installed, else the standard library)."""
+    return _deflate.compress(data, level)
+
+
 def padded(values: np.ndarray, chunk_shape: tuple, fill) -> np.ndarray:
     """``values`` in a C-ordered array of ``chunk_shape``: an edge chunk is padded with ``fill``.
 
