@@ -3,7 +3,8 @@
 Every number comes from the model, never from a measurement: the friction data follow the wet
 granodiorite preset (seed 003 Table I row 11) with 1 % noise; the motion records are exact
 solutions of the glass (dry) slider (seed 003 Table I row 4). They exist so that every command
-that takes a file has a working example (`faultslip fit`, `record`, `decay`, and `convert`, whose
+that takes a file has a working example (`faultslip fit`, also `fit --law rate-state` with the
+velocity-step record, `record`, `decay`, and `convert`, whose
 example is the Zarr store of study_lab_glass.toml); they are labelled synthetic in
 configs/README.md.
 """
@@ -45,6 +46,21 @@ def decay_record(path: Path) -> None:
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+def velocity_steps(path: Path) -> None:
+    """A synthetic velocity-step record (1 -> 10 -> 1 µm/s) of a known law, with 2e-4 noise in friction."""
+    from faultslip.dynamics.rate_state import LoadHistory
+    from faultslip.friction.rate_state import RateStateLaw
+    from faultslip.lab.rate_state_fit import synthetic_step_record
+
+    law = RateStateLaw(a=0.006, b=0.009, critical_slip=15e-6, mu0=0.6, reference_speed=1e-6)
+    history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 10e-6), (20.0, 1e-6)], 40.0)
+    record = synthetic_step_record(law, 1e4, history, 801, noise=2e-4, seed=2026)
+    speed = [history.speeds[0] if t < 10 else history.speeds[1] if t < 20 else history.speeds[2] for t in record.time]
+    lines = ["time (s),friction,load_point_speed (um/s)"]
+    lines += [f"{t:.6g},{m:.7f},{v * 1e6:g}" for t, m, v in zip(record.time, record.friction, speed)]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
 def study_store(path: Path) -> None:
     """study_lab_glass.toml swept into a Zarr store (needs zarr: pip install 'faultslip[zarr]')."""
     from faultslip.studies.grid import load_study
@@ -57,4 +73,5 @@ if __name__ == "__main__":
     friction_data(HERE / "example_friction_data.csv")
     motion_record(HERE / "example_record.csv")
     decay_record(HERE / "example_decay_record.csv")
+    velocity_steps(HERE / "example_velocity_steps.csv")
     study_store(HERE / "example_lab_glass.zarr")

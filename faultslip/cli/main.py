@@ -40,6 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
     _scenes_commands(commands)
     _studies_commands(commands)
     _lab_commands(commands)
+    _rate_state_commands(commands)
     _evaluation_commands(commands)
     _plots_commands(commands)
     return parser
@@ -177,6 +178,12 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--bootstrap", type=int, default=200, help="bootstrap samples (default 200)")
     fit.add_argument("--seed", type=int, default=0, help="bootstrap seed (default 0): results are reproducible")
     fit.add_argument("--mu-m", help="fix the kinetic friction instead of fitting it")
+    fit.add_argument("--law", choices=("rate-law", "rate-state"), default="rate-law",
+                     help="rate-law: the seed's eq. 2-18 (default); rate-state: a, b and D_c from a velocity-step "
+                          "record (time, friction, load_point_speed or load_point_displacement)")
+    fit.add_argument("--stiffness", help="rate-state: the machine stiffness as friction per slip, e.g. '1e-2 1/um'")
+    fit.add_argument("--evolution", choices=("aging", "slip"), default="aging", help="rate-state: the state evolution law")
+    fit.add_argument("--two-state", action="store_true", help="rate-state: fit b2 and D_c2 as well")
     fit.add_argument("--json", action="store_true", help="print one JSON object")
     fit.set_defaults(handler="lab:cmd_fit")
 
@@ -201,6 +208,30 @@ def _lab_commands(commands) -> None:
     decay.add_argument("--frequency", help="damped frequency, e.g. '19.9 Hz'")
     decay.add_argument("--json", action="store_true", help="print one JSON object")
     decay.set_defaults(handler="lab:cmd_decay")
+
+
+def _rate_state_commands(commands) -> None:
+    """Rate-and-state commands (handlers in faultslip.cli.rate_state)."""
+    group = commands.add_parser("rate-state", help="rate-and-state friction: simulate, stability, fault cycles")
+    actions = group.add_subparsers(dest="action", metavar="ACTION", parser_class=_Parser)
+    simulate = actions.add_parser("simulate", help="a slider under a load history (velocity steps, slide-hold-slide)")
+    simulate.add_argument("scene", help="rate-and-state scene TOML (e.g. configs/rsf_velocity_step.toml)")
+    simulate.add_argument("--method", default="auto", help="auto, lsoda, dopri5, radau or bdf (default auto)")
+    simulate.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (default 1e-8)")
+    simulate.add_argument("-o", "--output", help="write the time series to this netCDF file")
+    simulate.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    simulate.add_argument("--json", action="store_true", help="print one JSON object")
+    simulate.set_defaults(handler="rate_state:cmd_simulate")
+    stability = actions.add_parser("stability", help="critical stiffness k_c (quasi-static, with damper, with inertia)")
+    stability.add_argument("scene", help="rate-and-state scene TOML")
+    stability.add_argument("--json", action="store_true", help="print one JSON object")
+    stability.set_defaults(handler="rate_state:cmd_stability")
+    cycles = actions.add_parser("cycles", help="quasi-dynamic earthquake cycles of a fault: recurrence, slip, stress drop")
+    cycles.add_argument("scene", help="rate-and-state scene TOML with a [fault] table (e.g. configs/rsf_fault_bp1.toml)")
+    cycles.add_argument("--cycles", type=int, default=20, help="cycles to measure after two of spin-up (default 20)")
+    cycles.add_argument("--json", action="store_true", help="print one JSON object")
+    cycles.set_defaults(handler="rate_state:cmd_cycles")
+    group.set_defaults(handler="rate_state:cmd_missing_action")
 
 
 def _evaluation_commands(commands) -> None:

@@ -181,10 +181,14 @@ class RateStateLaw:
         return critical_stiffness(normal_stress, self.a, self.b, self.critical_slip, speed, mass, damping)
 
     def describe(self) -> str:
-        second = f", b2 {self.b2:g}, D_c2 {self.critical_slip2 * 1e6:g} µm" if self.two_state else ""
+        second = f", b2 {self.b2:g}, D_c2 {_length(self.critical_slip2)}" if self.two_state else ""
         return (f"rate-and-state ({self.evolution} law{', regularised' if self.regularized else ''}): a {self.a:g}, "
-                f"b {self.b:g}, D_c {self.critical_slip * 1e6:g} µm{second}, mu0 {self.mu0:g}, "
+                f"b {self.b:g}, D_c {_length(self.critical_slip)}{second}, mu0 {self.mu0:g}, "
                 f"V0 {self.reference_speed:g} m/s ({self.source})")
+
+
+def _length(metres: float) -> str:
+    return f"{metres * 1e3:g} mm" if metres >= 1e-3 else f"{metres * 1e6:g} µm"
 
 
 #: Illustrative laboratory values. None of them is a fit to one experiment; each says so.

@@ -1,0 +1,79 @@
+"""The rate-and-state commands: simulate, stability, cycles, fit --law rate-state, and their refusals."""
+
+import pytest
+import xarray as xr
+
+from faultslip.errors import InputError
+from faultslip.fault.rate_state_scene import parse_rate_state_scene
+
+STEP = "configs/rsf_velocity_step.toml"
+BP1 = "configs/rsf_fault_bp1.toml"
+
+
+def test_simulate_reports_and_writes_the_time_series(cli, tmp_path):
+    out = tmp_path / "step.nc"
+    result = cli("rate-state", "simulate", STEP, "-o", out, "--json")
+    assert result.code == 0, result.err
+    report = result.json
+    assert report["method"] == "lsoda" and report["samples"] == 4001
+    assert report["final_friction"] == pytest.approx(report["steady_state_friction_at_final_speed"], abs=1e-7)
+    assert report["peak_friction"] > report["initial_friction"] == pytest.approx(0.6)
+    with xr.open_dataset(out) as ds:
+        assert ds["friction"].attrs["units"] == "1" and ds["time"].attrs["units"] == "s"
+        assert float(ds["load_point_displacement"][-1]) == pytest.approx(10e-6 + 30 * 10e-6)
+
+
+def test_stability_and_cycles_of_the_bp1_fault(cli):
+    stability = cli("rate-state", "stability", BP1, "--json").json
+    assert stability["stiffness_ratio"] == pytest.approx(1.6e6 / 3.125e7)
+    assert stability["critical_stiffness_quasi_static"]["value"] == pytest.approx(50e6 * 0.005 / 0.008)
+    assert stability["regime"].startswith("unstable")
+    cycles = cli("rate-state", "cycles", BP1, "--cycles", "3", "--json").json
+    assert cycles["cycles"] == 3 and cycles["plate_slip_balance"] == pytest.approx(1.0, rel=1e-3)
+    assert cycles["recurrence_period"]["units"] == "s" and cycles["slip_per_event"]["value"] > 0
+
+
+def test_fit_rate_state_recovers_the_example_record(cli):
+    result = cli("fit", "--law", "rate-state", "configs/example_velocity_steps.csv", "--stiffness", "1e-2 1/um",
+                 "--json")
+    assert result.code == 0, result.err
+    fit = result.json
+    assert fit["a"] == pytest.approx(0.006, rel=0.02) and fit["b"] == pytest.approx(0.009, rel=0.02)
+    assert fit["critical_slip"]["value"] == pytest.approx(15e-6, rel=0.03)
+
+
+@pytest.mark.parametrize("args, message", [
+    (("rate-state",), "needs an action"),
+    (("rate-state", "cycles", STEP), "describes a laboratory slider"),
+    (("rate-state", "simulate", BP1), "no \\[load\\] table"),
+    (("rate-state", "simulate", STEP, "--rtol", "1"), "--rtol must lie between"),
+    (("rate-state", "simulate", STEP, "--method", "euler"), "method must be one of"),
+    (("rate-state", "cycles", BP1, "--cycles", "0"), "--cycles must lie between"),
+    (("fit", "--law", "rate-state", "configs/example_velocity_steps.csv"), "needs --stiffness"),
+    (("fit", "--law", "rate-state", "configs/example_velocity_steps.csv", "--stiffness", "2 kg"), "a stiffness per normal load"),
+    (("fit", "--law", "rate-state", "configs/example_friction_data.csv", "--stiffness", "1e-2 1/um"), "unknown column"),
+])
+def test_refusals_are_one_sentence_and_exit_2(cli, args, message):
+    import re
+
+    result = cli(*args)
+    assert result.code == 2 and "Traceback" not in result.err
+    assert re.search(message, result.err), result.err
+    assert len(result.err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("text, message", [
+    ('[law]\npreset = "step_example"\n[load]\nduration = "1 s"\nspeed = "1 um/s"\n', "exactly one of \\[slider\\]"),
+    ('[law]\na = 0.01\nb = 0.01\n[slider]\nstiffness = "1 1/um"\n[load]\nduration = "1 s"\nspeed = "1 um/s"\n',
+     "needs critical_slip"),
+    ('[law]\npreset = "step_example"\nfoo = 1\n', "unknown key 'foo'"),
+    ('[law]\npreset = "step_example"\n[slider]\nstiffness = "1 1/um"\n[load]\nduration = "1 s"\n',
+     "needs steps, slide_hold_slide or speed"),
+    ('[law]\npreset = "step_example"\n[slider]\nstiffness = "1 1/um"\n[load]\nduration = "10 s"\n'
+     'steps = [["1 s", "1 um/s"]]\n', "must start at 0 s"),
+    ('[law]\npreset = "nope"\n[slider]\nstiffness = "1 1/um"\n', "unknown rate-and-state law"),
+    ('[law]\npreset = "step_example"\n[fault]\nshear_modulus = "30 GPa"\n', "needs zone_width"),
+])
+def test_bad_scenes_are_refused(text, message):
+    with pytest.raises(InputError, match=message):
+        parse_rate_state_scene(text, "scene.toml")
