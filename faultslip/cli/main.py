@@ -275,6 +275,11 @@ def _plots_commands(commands) -> None:
     phase.add_argument("-o", "--output", required=True, help="output image")
     phase.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     phase.set_defaults(handler="plots:cmd_plot_phase_plane")
+    stability = figures.add_parser("rate-state-stability", help="the slip law's critical step and k_c with a damper "
+                                                                "or inertia (docs/rate_state.md)")
+    stability.add_argument("-o", "--output", required=True, help="output image")
+    stability.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    stability.set_defaults(handler="plots:cmd_plot_rate_state_stability")
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):

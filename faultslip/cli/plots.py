@@ -1,4 +1,4 @@
-"""Figure commands: plot rate-law, plot phase-plane."""
+"""Figure commands: plot rate-law, plot phase-plane, plot rate-state-stability."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ from faultslip.friction.materials import get_preset, table_i_presets
 from faultslip.io.atomic import save_figure
 from faultslip.io.outputs import FIGURE_SUFFIXES
 from faultslip.plots.figures import phase_plane_figure, rate_law_figure
+from faultslip.plots.rate_state import stability_figure
 
 
 def cmd_plot_rate_law(args) -> int:
@@ -32,5 +33,13 @@ def cmd_plot_phase_plane(args) -> int:
             raise FaultslipError(f"--rate-factor must be positive (a multiple of theta_c), got {factor:g}")
     with _locked(output):
         save_figure(phase_plane_figure(system, factors), output, dpi=150)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def cmd_plot_rate_state_stability(args) -> int:
+    output = _outputs(args, {"output": ("-o", FIGURE_SUFFIXES)})["output"]
+    with _locked(output):
+        save_figure(stability_figure(), output, dpi=150)
     print(f"wrote {args.output}")
     return 0

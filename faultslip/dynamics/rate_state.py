@@ -424,13 +424,83 @@ def _initial_state(slider, history, model, initial_speed, initial_psi):
 
 
 def _tolerances(slider, model, rtol):
-    """Absolute tolerances per state: the log variables are O(1-30), so rtol serves as atol there."""
+    """Absolute tolerances per state: the log states are O(1-30), so rtol serves as their atol."""
     law = slider.law
     slip_scale = law.critical_slip * rtol
     logs = [rtol] * (2 if law.two_state else 1)
     if model == "inertial":
         return tuple([slider.normal_stress * law.a * rtol, law.reference_speed * rtol] + logs + [slip_scale])
     return tuple([rtol] + logs + [slip_scale])
+
+
+def _lsoda_two_states(slider, load, damping, history, t_eval, y0, rtol, atol, max_speed):
+    """The common case on LSODA: one-state standard law, quasi-static or quasi-dynamic, states (x, psi) only.
+
+    Slip follows from the force balance without integrating it: with the spring's stretch s,
+    k s = sigma_n mu + eta V at every instant, so delta = delta_lp - (sigma_n (mu - mu(0)) +
+    eta (V - V(0))) / k. Returns (values with a slip column, steps, evaluations).
+    """
+    from scipy.integrate import odeint  # heavy: imported where used
+
+    law, k, sigma = slider.law, slider.stiffness, slider.normal_stress
+    v0, dc, a, b = law.reference_speed, law.critical_slip, law.a, law.b
+    sigma_a, sigma_b = sigma * a, sigma * b
+    exp = math.exp
+    aging = law.evolution == "aging"
+    limit = math.log(max_speed / v0) if math.isfinite(max_speed) else math.inf
+
+    def f(y, t):
+        x, psi = y
+        if x > limit:
+            raise _Diverging(t)
+        speed = v0 * exp(x)
+        dpsi = (v0 * exp(-psi) - speed) / dc if aging else -(speed / dc) * (x + psi)
+        return ((k * (load.speed(t) - speed) - sigma_b * dpsi) / (sigma_a + damping * speed), dpsi)
+
+    def jac(y, t):
+        x, psi = y
+        speed = v0 * exp(x)
+        if aging:
+            recovery = v0 * exp(-psi)
+            dpsi = (recovery - speed) / dc
+            dpsi_dx, dpsi_dpsi = -speed / dc, -recovery / dc
+        else:
+            dpsi = -(speed / dc) * (x + psi)
+            dpsi_dx, dpsi_dpsi = -(speed / dc) * (x + psi + 1.0), -speed / dc
+        denominator = sigma_a + damping * speed
+        numerator = k * (load.speed(t) - speed) - sigma_b * dpsi
+        dx_dx = ((-k * speed - sigma_b * dpsi_dx) * denominator - numerator * damping * speed) / denominator ** 2
+        return ((dx_dx, -sigma_b * dpsi_dpsi / denominator), (dpsi_dx, dpsi_dpsi))
+
+    pieces, nfev, steps, y = [], 0, 0, np.asarray(y0[:2], float)
+    tolerances = np.asarray(atol[:2])
+    for t0, t1, v_start, v_end in history.segments():
+        load.enter(t0, t1, v_start, v_end)
+        last = t1 == history.duration
+        wanted = t_eval[(t_eval >= t0) & ((t_eval < t1) | (last & (t_eval <= t1)))]
+        interior = wanted[wanted > t0]
+        times = np.concatenate([[t0], interior, [] if interior.size and interior[-1] == t1 else [t1]])
+        try:
+            solution, info = odeint(f, y, times, Dfun=jac, rtol=rtol, atol=tolerances, full_output=True,
+                                    mxstep=500_000)
+        except _Diverging as stop:
+            _diverged(slider, stop.t)
+        except OverflowError:
+            raise SolverError("LSODA's trial state overflowed; tighten rtol or use method 'radau'") from None
+        if info["message"] != "Integration successful.":
+            raise SolverError(f"LSODA failed between {t0:g} and {t1:g} s: {info['message']}; use method 'radau'")
+        nfev += int(info["nfe"][-1])
+        steps += int(info["nst"][-1])
+        start_row = solution[:1] if wanted.size and wanted[0] == t0 else solution[:0]
+        pieces.append(np.vstack([start_row, solution[1:1 + interior.size]]))
+        y = solution[-1]
+    states = np.concatenate(pieces)
+    speed = v0 * np.exp(states[:, 0])
+    mu = law.mu0 + a * states[:, 0] + b * states[:, 1]
+    mu_start = law.mu0 + a * y0[0] + b * y0[1]
+    speed_start = v0 * math.exp(y0[0])
+    slip = history.displacement(t_eval) - (sigma * (mu - mu_start) + damping * (speed - speed_start)) / k
+    return np.column_stack([states, slip]), steps, nfev
 
 
 def _implicit_by_segment(rhs, jacobian, history, load, y0, t_eval, rtol, atol, method):
@@ -534,7 +604,10 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
         return abs(speed) > max_speed and model == "quasi_static"
 
     try:
-        if chosen == "lsoda":
+        if chosen == "lsoda" and not (law.two_state or law.regularized or model == "inertial"):
+            values, steps, nfev = _lsoda_two_states(slider, load, damping, history, t_eval, y0, rtol, atol,
+                                                    max_speed if model == "quasi_static" else math.inf)
+        elif chosen == "lsoda":
             jacobian = None if law.two_state or model == "inertial" else _quasi_jacobian(slider, load, damping)
             values, steps, nfev = _lsoda_by_segment(rhs, jacobian, history, load, y0, t_eval, rtol, atol,
                                                     max_speed if model == "quasi_static" else math.inf, slider)
@@ -777,3 +850,42 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
                            peak_slip_rate=np.array(record["peak"][chosen]), cycle_slip=np.diff(slip_starts),
                            plate_rate=plate_rate, stiffness_ratio=ratio, model=model, steps=steps,
                            function_evaluations=nfev, wall_time=wall, event_speed=event_speed)
+
+
+def critical_step_ratio(law: RateStateLaw, stiffness_ratio: float, *, largest: float = 1e4, tolerance: float = 0.01,
+                        relaxation_lengths: float = 200.0) -> float:
+    """The smallest velocity-step ratio V2 / V1 that destabilises a quasi-static slider at k = ratio k_c.
+
+    Found by bisection on log(V2/V1) with simulations (Gu, Rice, Ruina & Tse 1984 for the slip
+    law). Returns inf if a step of ``largest`` is still stable (as for the aging law above k_c),
+    and 1.0 below k_c, where any perturbation grows. A step is unstable when the quasi-static
+    speed diverges within ``relaxation_lengths`` D_c of slip at the new speed.
+    """
+    if law.two_state:
+        raise InputError("the critical step ratio is defined here for one-state laws")
+    if stiffness_ratio <= 1.0:
+        return 1.0
+    speed = law.reference_speed
+    slider = RateStateSlider(law, stiffness_ratio * law.critical_stiffness(1.0), 1.0)
+
+    def unstable(ratio):
+        settle = relaxation_lengths * law.critical_slip / (ratio * speed)
+        history = LoadHistory.velocity_steps([(0.0, speed), (1.0, ratio * speed)], 1.0 + settle)
+        try:
+            simulate_rate_state(slider, history, samples=3, rtol=1e-9)
+        except SolverError as error:
+            if "diverges" not in str(error):  # a solver failure is not an instability: say so
+                raise SolverError(f"the critical step search at V2/V1 = {ratio:.4g} failed: {error}") from None
+            return True
+        return False
+
+    if not unstable(largest):
+        return math.inf
+    low, high = 0.0, math.log(largest)
+    while high - low > tolerance:
+        middle = 0.5 * (low + high)
+        if unstable(math.exp(middle)):
+            high = middle
+        else:
+            low = middle
+    return math.exp(high)
