@@ -1,6 +1,8 @@
 """The rate-and-state commands: simulate, stability, cycles, fit --law rate-state, and their refusals."""
 
 import pytest
+
+from conftest import assert_clean_error
 import xarray as xr
 
 from faultslip.errors import InputError
@@ -35,9 +37,15 @@ def test_stability_and_cycles_of_the_bp1_fault(cli):
 
 def test_fit_rate_state_recovers_the_example_record(cli):
     result = cli("fit", "--law", "rate-state", "configs/example_velocity_steps.csv", "--stiffness", "1e-2 1/um",
-                 "--json")
+                 "--bootstrap", "6", "--json")
     assert result.code == 0, result.err
     fit = result.json
+    for name in ("a", "b", "critical_slip"):  # both intervals are in the JSON, and each holds its estimate
+        value = fit[name]["value"] if isinstance(fit[name], dict) else fit[name]
+        for key in (f"{name}_95", f"{name}_95_bootstrap"):
+            interval = fit[key]["value"] if isinstance(fit[key], dict) else fit[key]
+            assert interval[0] < value < interval[1], (key, interval, value)
+    assert fit["bootstrap_samples"] == 6
     assert fit["a"] == pytest.approx(0.006, rel=0.02) and fit["b"] == pytest.approx(0.009, rel=0.02)
     assert fit["critical_slip"]["value"] == pytest.approx(15e-6, rel=0.03)
 
@@ -77,3 +85,43 @@ def test_refusals_are_one_sentence_and_exit_2(cli, args, message):
 def test_bad_scenes_are_refused(text, message):
     with pytest.raises(InputError, match=message):
         parse_rate_state_scene(text, "scene.toml")
+
+
+def test_a_saved_rate_state_fit_predicts_a_fault_with_uncertainty_and_the_seed_law_beside(cli, monkeypatch):
+    """fit --name, then fault --lithology NAME: K / K_c over every resample, cycles, and the seed law."""
+    result = cli("fit", "--law", "rate-state", "configs/example_velocity_steps.csv", "--stiffness", "1e-2 1/um",
+                 "--bootstrap", "6", "--name", "test_gouge", "--shear-modulus", "30 GPa")
+    assert result.code == 0, result.err
+    from faultslip.friction.materials import user_presets, user_rate_state_fits
+
+    law, entry = user_rate_state_fits()["test_gouge"]
+    assert entry["kind"] == "rate_state" and len(entry["bootstrap"]) == 6
+    assert "test_gouge" not in user_presets()  # never read as a seed-law preset
+    # a small fault (D = 1 km, sigma_n 5 MPa, K / K_c about 0.03) keeps the cycles cheap
+    from faultslip.fault import rate_state_fault
+
+    monkeypatch.setattr(rate_state_fault, "fault_cycles", _fast_cycles(rate_state_fault.fault_cycles))
+    result = cli("fault", "--lithology", "test_gouge", "--zone-width", "1 km", "--normal-stress", "5 MPa",
+                 "--slip-rate", "30 mm/yr", "--json")
+    assert result.code == 0, result.err
+    out = result.json
+    ratio = out["stiffness_ratio"]
+    assert ratio == pytest.approx(30e9 / 1e3 * law.critical_slip / (5e6 * (law.b - law.a)), rel=1e-9)
+    low, high = out["stiffness_ratio_95"]["value"] if isinstance(out["stiffness_ratio_95"], dict) else out["stiffness_ratio_95"]
+    assert low <= ratio <= high
+    assert out["regime"].startswith("stick_slip")
+    assert out["slip_per_event"]["value"] > 0 and out["seed_law_slip_per_event"]["value"] > 0
+    for flags, message in ((("--mu-so", "0.6"), "do not apply"), (("--radiation-damping",), "do not apply")):
+        refused = cli("fault", "--lithology", "test_gouge", "--zone-width", "1 km", "--normal-stress", "5 MPa",
+                      "--slip-rate", "30 mm/yr", *flags)
+        assert_clean_error(refused, message)
+    refused = cli("fault", "--lithology", "granodiorite", "--zone-width", "13 mi", "--shear-stress", "250 bar",
+                  "--slip-rate", "2 in/yr", "--seed-law", "granodiorite")
+    assert_clean_error(refused, "--seed-law goes with a rate-and-state fit")
+
+
+def _fast_cycles(cycles):
+    def run(*args, **kwargs):
+        kwargs["cycles"] = min(kwargs.get("cycles", 2), 2)
+        return cycles(*args, **kwargs)
+    return run

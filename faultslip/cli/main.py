@@ -73,6 +73,8 @@ def _scenes_commands(commands) -> None:
     fault.add_argument("--density", help="rock density for M = rho D (default 2700 kg/m^3)")
     fault.add_argument("--shear-wave-speed", help="c_s for radiation damping (default 3.3 km/s)")
     fault.add_argument("--observed-slip", help="inverse: report the mu_m that reproduces this slip, e.g. '21 ft'")
+    fault.add_argument("--seed-law", help="with a rate-and-state fit as --lithology: the seed-law lithology or preset "
+                                          "estimated beside it on the same fault (default granodiorite)")
     fault.add_argument("--name", default="fault", help="a name for the report")
     _method_flags(fault)
     fault.add_argument("--json", action="store_true", help="print one JSON object")
@@ -175,7 +177,8 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--plot", help="draw data, fit and 95 % band to FILE.png")
     fit.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     fit.add_argument("--loss", default="linear", help="least-squares loss: linear, soft_l1, huber or cauchy (robust)")
-    fit.add_argument("--bootstrap", type=int, default=200, help="bootstrap samples (default 200)")
+    fit.add_argument("--bootstrap", type=int, help="bootstrap samples (default 200; 50 for --law rate-state, where "
+                                                    "each is a refit)")
     fit.add_argument("--seed", type=int, default=0, help="bootstrap seed (default 0): results are reproducible")
     fit.add_argument("--mu-m", help="fix the kinetic friction instead of fitting it")
     fit.add_argument("--law", choices=("rate-law", "rate-state"), default="rate-law",

@@ -10,9 +10,10 @@ from faultslip.dynamics.critical import comparison_dataset, comparison_markdown,
 from faultslip.dynamics.methods import describe_all, solve
 from faultslip.dynamics.simulate import simulate, summary_report
 from faultslip.errors import FaultslipError, InputError
+from faultslip.fault.rate_state_fault import estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
 from faultslip.fault.scene import CHOICES, load_scene, run_scene
-from faultslip.friction.materials import lithologies, presets
+from faultslip.friction.materials import lithologies, presets, resolve_material
 from faultslip.friction.registry import registry_path
 from faultslip.io import budget
 from faultslip.io.atomic import save_figure, write_text_atomic
@@ -43,6 +44,10 @@ def cmd_run(args) -> int:
 
 def cmd_fault(args) -> int:
     inputs = {target: getattr(args, flag) for flag, target in _FAULT_QUANTITIES.items() if getattr(args, flag) is not None}
+    if args.lithology and resolve_material(args.lithology).rate_state is not None:
+        return _fault_rate_state(args, inputs)
+    if args.seed_law:
+        raise InputError("--seed-law goes with a rate-and-state fit as --lithology")
     for key in ("mu_so", "mu_m", "damping_ratio"):
         if getattr(args, key) is not None:
             inputs[key] = getattr(args, key)
@@ -54,6 +59,18 @@ def cmd_fault(args) -> int:
     if args.observed_slip is not None:
         return _emit(fault.infer_kinetic_friction(args.observed_slip).report(), args.json)
     return _emit(fault.estimate(method=args.method or "auto", tolerance=_tolerance(args)).report(), args.json)
+
+
+def _fault_rate_state(args, inputs) -> int:
+    extra = [flag for flag in ("mu_so", "mu_m", "rate_coefficient", "rate_exponent", "damping_ratio",
+                               "observed_slip", "method") if getattr(args, flag, None) is not None]
+    if extra or args.radiation_damping:
+        flags = ", ".join("--" + f.replace("_", "-") for f in extra + (["radiation_damping"] if args.radiation_damping
+                                                                       else []))
+        raise InputError(f"{flags} do not apply to the rate-and-state fit {args.lithology!r} (its fault is always "
+                         "quasi-dynamic, with the radiation damper)")
+    estimate = estimate_fault_from_fit(args.lithology, inputs, seed_law=args.seed_law or "granodiorite")
+    return _emit(estimate.report(f"faultslip fault: {args.name} (rate-and-state fit {args.lithology!r})"), args.json)
 
 
 def _required(inputs: dict) -> dict:

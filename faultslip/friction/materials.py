@@ -22,6 +22,7 @@ from pathlib import Path
 from faultslip.friction import registry
 from faultslip.errors import InputError
 from faultslip.friction.laws import RateLaw
+from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.resources import data_path, read_table
 from faultslip.units import STANDARD_GRAVITY, to_si
 
@@ -155,6 +156,8 @@ def user_presets() -> dict[str, Preset]:
     out = {}
     bundled = set(_bundled_presets()) | set(_bundled_lithologies())
     for key, entry in registry.stored_entries().items():
+        if isinstance(entry, dict) and entry.get("kind") == "rate_state":
+            continue  # a rate-and-state fit: see user_rate_state_fits
         if key in bundled:
             warnings.warn(f"the fit registry entry {key!r} would shadow a bundled preset or lithology; it is ignored "
                           f"(rename it in {registry.registry_path()})", stacklevel=2)
@@ -173,8 +176,32 @@ def user_presets() -> dict[str, Preset]:
     return out
 
 
-def save_user_fit(name: str, fit, shear_modulus: float | None = None, note: str = "") -> Path:
-    """Store a fit of eq. 2-18 under ``name`` (snake_case) in the user registry; bundled names are refused."""
+def user_rate_state_fits() -> dict[str, tuple[RateStateLaw, dict]]:
+    """Rate-and-state fits from the registry: name -> (law, entry). A damaged entry is skipped with a warning."""
+    out = {}
+    for key, entry in registry.stored_entries().items():
+        if not (isinstance(entry, dict) and entry.get("kind") == "rate_state"):
+            continue
+        try:
+            law = RateStateLaw(a=float(entry["a"]), b=float(entry["b"]), critical_slip=float(entry["critical_slip"]),
+                               mu0=float(entry["mu0"]), reference_speed=float(entry["reference_speed"]),
+                               evolution=str(entry["evolution"]), b2=float(entry.get("b2") or 0.0),
+                               critical_slip2=(float(entry["critical_slip2"]) if entry.get("critical_slip2") else None),
+                               source=f"user fit of {Path(str(entry.get('source', '?'))).name} "
+                                      f"({entry.get('created', '')})")
+        except (KeyError, TypeError, ValueError, InputError) as exc:
+            detail = f"missing {exc}" if isinstance(exc, KeyError) else str(exc)
+            warnings.warn(f"the fit registry entry {key!r} is damaged ({detail}); it is skipped", stacklevel=2)
+            continue
+        out[key] = (law, entry)
+    return out
+
+
+def save_user_fit(name: str, fit, shear_modulus: float | None = None, note: str = "", source: str = "") -> Path:
+    """Store a fit (eq. 2-18, or rate-and-state) under ``name`` (snake_case) in the user registry.
+
+    Bundled names are refused. A rate-and-state fit is stored with ``kind = "rate_state"``.
+    """
     key = _normalise(name)
     if not key or not key.replace("_", "").isalnum():
         raise InputError(f"fit name {name!r} must be letters, digits and underscores")
@@ -183,6 +210,8 @@ def save_user_fit(name: str, fit, shear_modulus: float | None = None, note: str 
     entry = fit.to_record()
     entry.update(name=key, created=datetime.now(timezone.utc).isoformat(timespec="seconds"), note=note,
                  shear_modulus=shear_modulus)
+    if source:
+        entry["source"] = source
     return registry.save_entry(key, entry)
 
 
@@ -237,6 +266,9 @@ class MaterialChoice:
     name: str
     lithology: Lithology | None
     preset: Preset | None
+    #: a rate-and-state fit from the registry, and its entry (intervals, bootstrap resamples)
+    rate_state: RateStateLaw | None = None
+    rate_state_entry: dict | None = None
 
     @property
     def shear_modulus(self) -> float | None:
@@ -267,4 +299,10 @@ def resolve_material(name: str) -> MaterialChoice:
     if key in liths:
         lith = liths[key]
         return MaterialChoice(key, lith, table.get(lith.default_preset) if lith.default_preset else None)
-    raise _unknown("lithology or preset", name, list(table) + list(liths))
+    fits = user_rate_state_fits()
+    if key in fits:
+        law, entry = fits[key]
+        modulus = entry.get("shear_modulus")
+        lith = Lithology(key, float(modulus), key, law.source) if modulus else None
+        return MaterialChoice(key, lith, None, rate_state=law, rate_state_entry=entry)
+    raise _unknown("lithology or preset", name, list(table) + list(liths) + list(fits))
