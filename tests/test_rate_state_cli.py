@@ -125,3 +125,20 @@ def _fast_cycles(cycles):
         kwargs["cycles"] = min(kwargs.get("cycles", 2), 2)
         return cycles(*args, **kwargs)
     return run
+
+
+def test_cycles_put_the_seed_law_beside_on_the_same_fault(cli):
+    """The seed law on BP1's fault (G 32 GPa, D 20 km, sigma_n 50 MPa, V_pl 1e-9 m/s) with radiation damping
+    equals Fault.estimate with those inputs; measured: BP1 slips about 0.95 of the granodiorite seed law."""
+    from faultslip.fault.scaling import Fault
+
+    out = cli("rate-state", "cycles", BP1, "--cycles", "3", "--seed-law", "granodiorite", "--json").json
+    expected = Fault(lithology="granodiorite", shear_modulus="32 GPa", zone_width="20 km", normal_stress="50 MPa",
+                     slip_rate="1e-9 m/s", density="2670 kg/m^3", shear_wave_speed="3.464 km/s",
+                     radiation_damping=True).estimate()
+    assert out["seed_law_slip_per_event"]["value"] == pytest.approx(expected.slip_per_event, rel=1e-12)
+    assert out["seed_law_recurrence_period"]["value"] == pytest.approx(expected.recurrence_period, rel=1e-12)
+    assert out["slip_ratio_rate_state_to_seed"] == pytest.approx(
+        out["slip_per_event"]["value"] / expected.slip_per_event, rel=1e-12)
+    assert 0.5 < out["slip_ratio_rate_state_to_seed"] < 2.0
+    assert_clean_error(cli("rate-state", "cycles", BP1, "--seed-law", "basalt"), "basalt")

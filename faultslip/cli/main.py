@@ -232,6 +232,8 @@ def _rate_state_commands(commands) -> None:
     cycles = actions.add_parser("cycles", help="quasi-dynamic earthquake cycles of a fault: recurrence, slip, stress drop")
     cycles.add_argument("scene", help="rate-and-state scene TOML with a [fault] table (e.g. configs/rsf_fault_bp1.toml)")
     cycles.add_argument("--cycles", type=int, default=20, help="cycles to measure after two of spin-up (default 20)")
+    cycles.add_argument("--seed-law", help="a seed-law lithology or preset (e.g. granodiorite) to estimate beside, on "
+                                           "the same fault with radiation damping")
     cycles.add_argument("--json", action="store_true", help="print one JSON object")
     cycles.set_defaults(handler="rate_state:cmd_cycles")
     group.set_defaults(handler="rate_state:cmd_missing_action")

@@ -7,6 +7,7 @@ import math
 from faultslip.cli.common import _emit, _locked, _outputs
 from faultslip.dynamics.rate_state import fault_cycles, simulate_rate_state
 from faultslip.errors import FaultslipError
+from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.report import Report
@@ -121,5 +122,12 @@ def cmd_cycles(args) -> int:
                label="slip per cycle / (V_pl T)")
     report.add("model", result.model).add("steps", int(result.steps)).add("wall_time", result.wall_time, "s")
     report.note(f"events: slip speed above {result.event_speed:g} m/s (the SEAS convention)")
+    if args.seed_law:
+        seed = seed_law_fault(args.seed_law, slip_rate=scene.plate_rate, **scene.fault).estimate()
+        report.add("seed_law_slip_per_event", seed.slip_per_event, "m",
+                   label=f"seed law ({args.seed_law}) slip per event on the same fault")
+        report.add("seed_law_recurrence_period", seed.recurrence_period, "s", also=("yr",),
+                   label=f"seed law ({args.seed_law}) recurrence on the same fault")
+        report.add("slip_ratio_rate_state_to_seed", float(result.slip_per_event.mean()) / seed.slip_per_event)
     _scene_notes(report, scene)
     return _emit(report, args.json)

@@ -13,7 +13,7 @@ from faultslip.errors import FaultslipError, InputError
 from faultslip.fault.rate_state_fault import estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
 from faultslip.fault.scene import CHOICES, load_scene, run_scene
-from faultslip.friction.materials import lithologies, presets, resolve_material
+from faultslip.friction.materials import lithologies, presets, resolve_material, user_rate_state_fits
 from faultslip.friction.registry import registry_path
 from faultslip.io import budget
 from faultslip.io.atomic import save_figure, write_text_atomic
@@ -107,8 +107,18 @@ def cmd_materials(args) -> int:
          "default_preset": lith.default_preset, "source": lith.source}
         for lith in lithologies().values()
     ]
+    rate_state_rows = [
+        {"name": key, "a": law.a, "b": law.b, "critical_slip": {"value": law.critical_slip, "units": "m"},
+         "mu0": law.mu0, "reference_speed": {"value": law.reference_speed, "units": "m/s"},
+         "evolution": law.evolution, "intervals_95": entry.get("intervals_95"),
+         "bootstrap_samples": len(entry.get("bootstrap") or []), "source": law.source,
+         "shear_modulus": {"value": entry["shear_modulus"], "units": "Pa"} if entry.get("shear_modulus") else None}
+        for key, (law, entry) in user_rate_state_fits().items()]
     if args.json:
-        print(json.dumps({"presets": preset_rows, "lithologies": lith_rows}, indent=2))
+        document = {"presets": preset_rows, "lithologies": lith_rows}
+        if rate_state_rows:
+            document["rate_state_fits"] = rate_state_rows
+        print(json.dumps(document, indent=2))
         return 0
     print("Presets (seed 003 Table I; W, K of its apparatus; M = W/g)")
     print(f"  {'name':<26}{'mu_so':>7}{'mu_m':>7}{'b (s^d)':>11}{'d':>8}{'W (N)':>9}{'K (N/m)':>11}{'M (kg)':>8}  source")
@@ -130,6 +140,13 @@ def cmd_materials(args) -> int:
               f"  (+- {errors.get('mu_so', float('nan')):.2g}, {errors.get('mu_m', float('nan')):.2g}, "
               f"{errors.get('b', float('nan')):.2g}, {errors.get('d', float('nan')):.2g})"
               + (f"  G = {modulus['value'] / 1e5:.4g} bar" if modulus else "") + f"  {row['source']}")
+    if rate_state_rows:
+        print(f"\nRate-and-state fits ({registry_path()}; faultslip fit --law rate-state ... --name NAME)")
+        for row in rate_state_rows:
+            modulus = row["shear_modulus"]
+            print(f"  {row['name']:<26}a {row['a']:.4g}  b {row['b']:.4g}  D_c {row['critical_slip']['value']:.4g} m  "
+                  f"{row['evolution']} law, {row['bootstrap_samples']} resamples"
+                  + (f"  G = {modulus['value'] / 1e9:.4g} GPa" if modulus else "") + f"  {row['source']}")
     print("\nLithologies (shear modulus; default friction preset on a fault)")
     for row in lith_rows:
         print(f"  {row['name']:<14}G = {row['shear_modulus']['value'] / 1e5:.4g} bar  preset: "

@@ -178,6 +178,15 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
     return estimate
 
 
+def seed_law_fault(lithology: str, **values) -> Fault:
+    """The seed law's :class:`Fault` (eq. 2-18 of ``lithology``) on the same fault, radiation-damped as the
+    quasi-dynamic rate-and-state fault is. ``values``: SI numbers by Fault field name."""
+    units = {"shear_modulus": "Pa", "zone_width": "m", "normal_stress": "Pa", "slip_rate": "m/s",
+             "rupture_length": "m", "seismogenic_depth": "m", "density": "kg/m^3", "shear_wave_speed": "m/s"}
+    return Fault(lithology=lithology, radiation_damping=True,
+                 **{key: f"{value!r} {units[key]}" for key, value in values.items() if value is not None})
+
+
 def estimate_fault_from_fit(name: str, inputs: dict, *, seed_law: str | None = "granodiorite",
                             cycles: int = 5) -> RateStateFaultEstimate:
     """``fault --lithology NAME`` for a rate-and-state fit saved in the registry.
@@ -212,10 +221,9 @@ def estimate_fault_from_fit(name: str, inputs: dict, *, seed_law: str | None = "
         raise InputError(f"the fit {name!r} was saved without a shear modulus; give --shear-modulus, e.g. '30 GPa'")
     compare = None
     if seed_law:
-        units = {"pressure": "Pa", "length": "m", "speed": "m/s", "density": "kg/m^3"}
-        si = {key: f"{value!r} {units[kinds[key]]}" for key, value in values.items() if key != "shear_stress"}
-        si.update(shear_modulus=f"{modulus!r} Pa", normal_stress=f"{normal!r} Pa")
-        compare = Fault(lithology=seed_law, radiation_damping=True, **si)
+        given = {key: value for key, value in values.items() if key != "shear_stress"}
+        given.update(shear_modulus=modulus, normal_stress=normal)
+        compare = seed_law_fault(seed_law, **given)
     estimate = estimate_rate_state_fault(law, shear_modulus=modulus, zone_width=values["zone_width"],
                                          normal_stress=normal, plate_rate=values["slip_rate"],
                                          density=values.get("density", 2700.0),

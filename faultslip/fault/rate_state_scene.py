@@ -29,7 +29,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from faultslip.dynamics.rate_state import MODELS, LoadHistory, RateStateSlider
@@ -60,6 +60,8 @@ class RateStateScene:
     samples: int = 1001
     plate_rate: float | None = None
     origin: str = ""
+    #: a fault scene's inputs in SI (shear_modulus, zone_width, normal_stress, density, shear_wave_speed)
+    fault: dict = field(default_factory=dict)
 
 
 def _check_keys(table, allowed, section, source):
@@ -152,7 +154,7 @@ def parse_rate_state_scene(text: str, source: str = "<scene>") -> RateStateScene
         if "load" not in data:
             raise InputError(f"{source} needs a [load] table for a laboratory slider")
         history, samples = _history(data["load"], source)
-        kind, plate_rate = "lab", None
+        kind, plate_rate, fault_inputs = "lab", None, {}
     else:
         table = data["fault"]
         _check_keys(table, _FAULT_KEYS, "fault", source)
@@ -163,21 +165,24 @@ def parse_rate_state_scene(text: str, source: str = "<scene>") -> RateStateScene
         if not isinstance(radiation, bool):
             raise InputError(f"[fault] radiation_damping in {source} must be true or false")
         wave = to_si_scalar(table["shear_wave_speed"], "speed", "shear wave speed") if "shear_wave_speed" in table else None
-        slider = RateStateSlider.at_fault(law, to_si_scalar(table["shear_modulus"], "pressure", "shear modulus"),
-                                          to_si_scalar(table["zone_width"], "length", "zone width"),
-                                          to_si_scalar(table["normal_stress"], "pressure", "normal stress"),
-                                          to_si_scalar(table.get("density", "2700 kg/m^3"), "density", "density"),
-                                          wave, radiation)
+        fault = {"shear_modulus": to_si_scalar(table["shear_modulus"], "pressure", "shear modulus"),
+                 "zone_width": to_si_scalar(table["zone_width"], "length", "zone width"),
+                 "normal_stress": to_si_scalar(table["normal_stress"], "pressure", "normal stress"),
+                 "density": to_si_scalar(table.get("density", "2700 kg/m^3"), "density", "density"),
+                 "shear_wave_speed": wave}
+        slider = RateStateSlider.at_fault(law, fault["shear_modulus"], fault["zone_width"], fault["normal_stress"],
+                                          fault["density"], wave, radiation)
         plate_rate = to_si_scalar(table["plate_rate"], "speed", "plate rate")
         if not (plate_rate > 0 and math.isfinite(plate_rate)):
             raise InputError(f"[fault] plate_rate in {source} must be a positive speed")
         model = table.get("model", "quasi_dynamic")
         history, samples, kind = None, 0, "fault"
+        fault_inputs = fault
         if "load" in data:
             history, samples = _history(data["load"], source)
     if model not in MODELS:
         raise InputError(f"model in {source} must be one of {', '.join(MODELS)}, got {model!r}")
-    return RateStateScene(name, kind, law, slider, model, history, samples, plate_rate)
+    return RateStateScene(name, kind, law, slider, model, history, samples, plate_rate, fault=fault_inputs)
 
 
 def load_rate_state_scene(path) -> RateStateScene:
