@@ -252,3 +252,22 @@ def test_the_critical_step_ratio_bounds_the_slip_law_and_rises_with_stiffness():
         else:
             with pytest.raises(SolverError, match="diverges"):
                 simulate_rate_state(slider, history, samples=3, rtol=1e-9)
+
+
+def test_lsoda_and_dopri5_fault_cycles_agree_and_auto_picks_lsoda_when_stiff():
+    """A lab D_c (15 µm) on a 20 km fault: K / K_c = 2e-4, stiff ruptures. Both methods give the same
+    recurrence and slip (measured 1.2e-6 and 5e-6 apart); auto takes LSODA there and dopri5 at K / K_c 0.05."""
+    lab = RateStateLaw(a=0.006, b=0.009, critical_slip=15e-6, mu0=0.6, reference_speed=1e-6)
+    slider = RateStateSlider.at_fault(lab, 3e10, 20e3, 38.5e6, density=2670.0, shear_wave_speed=3464.0)
+    fast = fault_cycles(slider, 1.61e-9, cycles=2, spin_up=1)
+    assert fast.method == "lsoda" and fast.stiffness_ratio < 0.01
+    explicit = fault_cycles(slider, 1.61e-9, cycles=2, spin_up=1, method="dopri5")
+    assert fast.recurrence == pytest.approx(explicit.recurrence, rel=1e-4)
+    assert fast.slip_per_event.mean() == pytest.approx(explicit.slip_per_event.mean(), rel=1e-4)
+    assert fast.steps < explicit.steps / 10
+    assert fast.cycle_slip / (1.61e-9 * fast.recurrence) == pytest.approx(1.0, rel=1e-3)
+    bp1 = RateStateSlider.at_fault(RateStateLaw(a=0.010, b=0.015, critical_slip=0.008), 3.2e10, 20e3, 50e6,
+                                   density=2670.0, shear_wave_speed=3464.0)
+    assert fault_cycles(bp1, 1e-9, cycles=1, spin_up=1).method == "dopri5"
+    with pytest.raises(InputError, match="method must be"):
+        fault_cycles(bp1, 1e-9, method="euler")

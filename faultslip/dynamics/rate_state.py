@@ -736,6 +736,7 @@ class RateStateCycles:
     function_evaluations: int
     wall_time: float
     event_speed: float = EVENT_SPEED
+    method: str = "dopri5"
 
     @property
     def recurrence(self) -> float:
@@ -753,13 +754,13 @@ class RateStateCycles:
                 "stress_drop": {"value": float(np.mean(self.stress_drop)), "units": "Pa"},
                 "peak_slip_rate": {"value": float(np.max(self.peak_slip_rate)), "units": "m/s"},
                 "stiffness_ratio": self.stiffness_ratio, "cycles": int(self.slip_per_event.size),
-                "model": self.model, "function_evaluations": self.function_evaluations,
+                "model": self.model, "method": self.method, "function_evaluations": self.function_evaluations,
                 "wall_time": {"value": self.wall_time, "units": "s"}}
 
 
 def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 100, spin_up: int = 2,
                  model: str = "quasi_dynamic", rtol: float = 1e-7, event_speed: float = EVENT_SPEED,
-                 max_time: float | None = None) -> RateStateCycles:
+                 max_time: float | None = None, method: str = "auto") -> RateStateCycles:
     """Run ``spin_up + cycles`` earthquake cycles of a fault loaded at ``plate_rate`` (m/s) and measure them.
 
     The fault starts at steady sliding at 1.01 times the plate rate (a small perturbation that an
@@ -767,7 +768,16 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     stopping as soon as the last event has ended. A stable fault (K >= K_c, or b <= a) has no
     events: that is refused with the ratio K / K_c, as are cycles that do not appear within
     ``max_time`` (default: 1e5 loading times D_c / V_pl and at least a million years).
+
+    ``method``: "lsoda" (stiff/non-stiff switching, analytic Jacobian; one-state laws), "dopri5"
+    (explicit, any law), or "auto" (lsoda where K / K_c < 0.01, else dopri5). Events are found at
+    step ends by both. Measured, 100 cycles at SEAS BP1 (K / K_c 0.05): dopri5 0.94 s, LSODA
+    0.80 s, recurrence equal to 1.3e-6, plate balance 3e-8 against 1.3e-5. Five cycles with a lab
+    D_c of 15 µm on a 20 km fault (K / K_c 2e-4): dopri5's steps are stability-limited (305,000,
+    4.1 s) where LSODA takes 8,000 (0.54 s), recurrence equal to 1.2e-6.
     """
+    if method not in ("auto", "lsoda", "dopri5"):
+        raise InputError(f"method must be auto, lsoda or dopri5, got {method!r}")
     if model not in ("quasi_dynamic", "quasi_static"):
         raise InputError("fault cycles run the quasi_dynamic model (or quasi_static, which fails at the first event)")
     if not (plate_rate > 0 and math.isfinite(plate_rate)):
@@ -823,18 +833,28 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
 
     started = time.perf_counter()
     steps = nfev = 0
-    y, step = y0, {"h": None}
-    try:
-        while len(record["end"]) <= wanted and clock["offset"] < horizon:
-            _, y, t_local, run_steps, run_nfev = dopri5(rhs, 0.0, y, horizon - clock["offset"], np.empty(0), rtol,
-                                                        atol, max_steps=5_000_000, h0=step["h"], on_step=on_step,
-                                                        last_step=step)
-            clock["offset"] += t_local
-            steps, nfev = steps + run_steps, nfev + run_nfev
-    except _StepCollapse as collapse:
-        if model == "quasi_static":
-            _diverged(slider, clock["offset"] + collapse.t)
-        raise SolverError(f"dopri5 failed in the quasi-dynamic fault cycles ({collapse}); tighten rtol") from None
+    # auto: LSODA where the rupture is stiff (K / K_c < 0.01, a lab-scale D_c on a fault), dopri5 elsewhere,
+    # where it is as fast and balances the plate more tightly (3e-8 against LSODA's 1e-5 at BP1)
+    chosen_method = method if method != "auto" else ("lsoda" if ratio < 0.01 and not law.two_state else "dopri5")
+    if chosen_method == "lsoda" and law.two_state:
+        raise InputError("method 'lsoda' for fault cycles takes a one-state law (its Jacobian); use 'dopri5'")
+    if chosen_method == "lsoda":
+        steps, nfev, clock["offset"] = _lsoda_cycles(rhs, _quasi_jacobian(slider, load, damping), y0, rtol, atol,
+                                                     horizon, on_step, lambda: len(record["end"]) <= wanted, slider,
+                                                     model)
+    else:
+        y, step = y0, {"h": None}
+        try:
+            while len(record["end"]) <= wanted and clock["offset"] < horizon:
+                _, y, t_local, run_steps, run_nfev = dopri5(rhs, 0.0, y, horizon - clock["offset"], np.empty(0), rtol,
+                                                            atol, max_steps=5_000_000, h0=step["h"], on_step=on_step,
+                                                            last_step=step)
+                clock["offset"] += t_local
+                steps, nfev = steps + run_steps, nfev + run_nfev
+        except _StepCollapse as collapse:
+            if model == "quasi_static":
+                _diverged(slider, clock["offset"] + collapse.t)
+            raise SolverError(f"dopri5 failed in the quasi-dynamic fault cycles ({collapse}); tighten rtol") from None
     t_end = clock["offset"]
     wall = time.perf_counter() - started
     ends = len(record["end"])
@@ -849,7 +869,31 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
                            stress_drop=np.array(record["tau_start"][chosen]) - np.array(record["tau_end"][chosen]),
                            peak_slip_rate=np.array(record["peak"][chosen]), cycle_slip=np.diff(slip_starts),
                            plate_rate=plate_rate, stiffness_ratio=ratio, model=model, steps=steps,
-                           function_evaluations=nfev, wall_time=wall, event_speed=event_speed)
+                           function_evaluations=nfev, wall_time=wall, event_speed=event_speed, method=chosen_method)
+
+
+def _lsoda_cycles(rhs, jacobian, y0, rtol, atol, horizon, on_step, running, slider, model):
+    """Step scipy's LSODA through the cycles, calling ``on_step`` at every step end (absolute time)."""
+    from scipy.integrate import LSODA  # heavy: imported where used
+
+    solver = LSODA(rhs, 0.0, np.asarray(y0, float), horizon, rtol=rtol, atol=np.asarray(atol), jac=jacobian)
+    steps = 0
+    with np.errstate(over="raise", invalid="raise"):
+        while running() and solver.status == "running":
+            try:
+                message = solver.step()
+            except (OverflowError, FloatingPointError):
+                message = "the state overflowed"
+            if solver.status == "failed" or message:
+                if model == "quasi_static":
+                    _diverged(slider, solver.t)
+                raise SolverError(f"LSODA failed in the fault cycles at t = {solver.t:.6g} s ({message}); use method "
+                                  "'dopri5' or tighten rtol")
+            steps += 1
+            on_step(solver.t, solver.y)
+            if steps > 5_000_000:
+                raise SolverError(f"LSODA took more than 5000000 steps before t = {solver.t:.6g} s")
+    return steps, solver.nfev, solver.t
 
 
 def critical_step_ratio(law: RateStateLaw, stiffness_ratio: float, *, largest: float = 1e4, tolerance: float = 0.01,

@@ -115,7 +115,7 @@ def _resample_laws(law: RateStateLaw, entry: dict | None) -> list[RateStateLaw]:
 
 def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_width: float, normal_stress: float,
                               plate_rate: float, density: float = 2700.0, shear_wave_speed: float | None = None,
-                              cycles: int = 5, entry: dict | None = None, uncertainty_cycles: int = 8,
+                              cycles: int = 5, entry: dict | None = None, uncertainty_cycles: int = 20,
                               time_budget: float = 15.0,
                               rupture_length: float | None = None, seismogenic_depth: float | None = None,
                               seed_law: Fault | None = None) -> RateStateFaultEstimate:
