@@ -1,5 +1,7 @@
 """Bundled scenes load, validate and run; scene files state their units."""
 
+from pathlib import Path
+
 import pytest
 
 from faultslip.errors import InputError
@@ -45,3 +47,45 @@ def test_scene_keeps_its_text_for_provenance():
     scene = load_scene()
     assert scene.text.startswith("# The 1906 San Francisco earthquake")
     assert scene.sources["zone_width"].startswith("seed 003")
+
+
+def test_a_fault_scene_with_rate_state_friction_runs_its_cycles_beside_the_seed_law(cli):
+    """configs/san_andreas_1906_rate_state.toml: BP1 friction on the 1906 fault. The seed law beside is the
+    1906 scene's with radiation damping (4.65 m, 91.5 yr, as the README's radiation row); measured here
+    4.33 m every 87 yr for the rate-and-state fault, K / K_c = 0.050."""
+    from faultslip.fault.scaling import Fault
+
+    out = cli("run", "configs/san_andreas_1906_rate_state.toml", "--json").json
+    k = 0.25e6 * 1e5 / (13 * 1609.344)
+    sigma = 250e5 / 0.65
+    assert out["stiffness_ratio"] == pytest.approx(k * 0.008 / (sigma * 0.005), rel=1e-12)
+    assert out["regime"].startswith("stick_slip")
+    seed = Fault(lithology="granodiorite_water", shear_modulus="0.25e6 bar", zone_width="13 mi",
+                 shear_stress="250 bar", slip_rate="2 in/yr", mu_so=0.65, mu_m=0.55,
+                 radiation_damping=True).estimate()
+    assert out["seed_law_slip_per_event"]["value"] == pytest.approx(seed.slip_per_event, rel=1e-12)
+    assert 0.5 < out["slip_ratio_rate_state_to_seed"] < 2.0
+
+
+@pytest.mark.parametrize("extra, message", [
+    ('law = "rate_state"\nb = 0.015\ncritical_slip = "8 mm"\n', "needs a"),
+    ('law = "rate_state"\na = 0.01\nb = 0.015\ncritical_slip = "8 mm"\nstatic = "constant"\n', "one or the other"),
+    ('law = "rate_state"\nfit = "granodiorite_water"\n', "not a rate-and-state fit"),
+    ('law = "rate_state"\na = 0.01\nb = 0.015\ncritical_slip = "8 kg"\n', "critical_slip"),
+    ('law = "friction"\n', "law"),
+])
+def test_rate_state_scenes_are_refused_in_one_sentence(tmp_path, cli, extra, message):
+    from conftest import assert_clean_error
+
+    text = Path("configs/san_andreas_1906.toml").read_text().split("[simulation]")[0] + "[friction]\n" + extra
+    path = tmp_path / "scene.toml"
+    path.write_text(text)
+    assert_clean_error(cli("run", path), message)
+    if message == "needs a":
+        return
+    ok = tmp_path / "ok.toml"
+    ok.write_text(Path("configs/san_andreas_1906_rate_state.toml").read_text())
+    assert_clean_error(cli("simulate", ok), "rate-and-state friction")
+    study = tmp_path / "study.toml"
+    study.write_text('[study]\nbase = "ok.toml"\n[sweep]\nslip_rate = ["1 mm/yr", "2 mm/yr"]\n')
+    assert_clean_error(cli("sweep", study, "-o", tmp_path / "out.nc"), "rate-and-state friction")

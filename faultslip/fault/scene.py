@@ -32,7 +32,10 @@ from faultslip.errors import InputError
 from faultslip.io.resources import bundled_dir, config_path, parse_toml
 from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
 from faultslip.dynamics.slider import SliderSystem
+from faultslip.fault.rate_state_fault import estimate_rate_state_fault
 from faultslip.fault.scaling import Fault
+from faultslip.friction.materials import resolve_material
+from faultslip.friction.rate_state import RateStateLaw
 from faultslip.friction.laws import ConstantKinetic, ConstantStatic, LinearKinetic, PolynomialKinetic, TimeOfStickLaw
 from faultslip.units import to_si, to_si_scalar, units
 
@@ -77,6 +80,15 @@ SCHEMA: dict[str, dict[str, str | None]] = {
         "kinetic_slope": "slowness",
         "polynomial": "list",
         "polynomial_speed_unit": "unit",
+        # law = "rate_state": a fault's friction is rate-and-state (docs/rate_state.md)
+        "law": "choice",
+        "a": "dimensionless",
+        "b": "dimensionless",
+        "critical_slip": "length",
+        "mu0": "dimensionless",
+        "reference_speed": "speed",
+        "evolution": "choice",
+        "fit": None,
     },
     "simulation": {
         "cycles": "integer",
@@ -94,6 +106,8 @@ CHOICES = {
     ("method", "name"): METHOD_NAMES,
     ("friction", "static"): ("rate", "constant", "time_of_stick"),
     ("friction", "kinetic"): ("constant", "linear", "polynomial"),
+    ("friction", "law"): ("seed", "rate_state"),
+    ("friction", "evolution"): ("aging", "slip"),
     ("simulation", "slip_solver"): ("auto", "analytic", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA"),
 }
 SCENE_KINDS = ("fault", "lab")
@@ -120,6 +134,39 @@ class Scene:
         inputs = {k: v for k, v in self.tables.get("fault", {}).items() if k != "observed_slip"}
         inputs.setdefault("name", self.name)
         return inputs
+
+    @property
+    def rate_state(self) -> bool:
+        """Whether the scene's friction is rate-and-state (``[friction] law = "rate_state"``)."""
+        return self.tables.get("friction", {}).get("law", "seed") == "rate_state"
+
+    def rate_state_law(self):
+        """The ``[friction]`` table's rate-and-state law: a registry ``fit`` or a, b, critical_slip (SI)."""
+        spec = self.tables.get("friction", {})
+        seed_keys = sorted(set(spec) & {"static", "mu_s", "mu_lower", "mu_upper", "growth_rate", "kinetic",
+                                        "kinetic_slope", "polynomial", "polynomial_speed_unit"})
+        if seed_keys:
+            raise InputError(f"[friction] in {self.name} has law = \"rate_state\" and the seed-law key "
+                             f"{seed_keys[0]!r}; a scene's friction is one or the other")
+        if "fit" in spec:
+            if set(spec) - {"law", "fit"}:
+                raise InputError(f"[friction] in {self.name} names a fit; give its parameters there, not here")
+            choice = resolve_material(spec["fit"])
+            if choice.rate_state is None:
+                raise InputError(f"[friction] fit {spec['fit']!r} in {self.name} is not a rate-and-state fit "
+                                 "(faultslip fit --law rate-state ... --name NAME)")
+            return choice.rate_state, choice.rate_state_entry
+        missing = [key for key in ("a", "b", "critical_slip") if key not in spec]
+        if missing:
+            raise InputError(f"[friction] in {self.name} with law = \"rate_state\" needs {', '.join(missing)} "
+                             "(or fit = NAME)")
+        law = RateStateLaw(a=float(spec["a"]), b=float(spec["b"]),
+                           critical_slip=to_si_scalar(spec["critical_slip"], "length", "critical_slip"),
+                           mu0=float(spec.get("mu0", 0.6)),
+                           reference_speed=to_si_scalar(spec.get("reference_speed", "1 um/s"), "speed",
+                                                        "reference_speed"),
+                           evolution=spec.get("evolution", "aging"), source=self.sources.get("friction", "scene"))
+        return law, None
 
     @property
     def observed_slip(self):
@@ -154,6 +201,10 @@ class Scene:
 
     def slider(self):
         """The scene's :class:`~faultslip.dynamics.slider.SliderSystem`, with any ``[friction]`` laws applied."""
+        if self.rate_state:
+            raise InputError(f"{self.name} has rate-and-state friction: 'faultslip run' gives its cycles, and "
+                             "'faultslip rate-state cycles' or 'simulate' take a rate-state scene "
+                             "(configs/rsf_fault_bp1.toml)")
 
         if self.kind == "fault":
             system = SliderSystem.from_fault(self.fault())
@@ -347,6 +398,46 @@ def bundled_scenes() -> list[str]:
                   if "[scene]" in p.read_text(encoding="utf-8").splitlines())
 
 
+def _run_rate_state(scene: Scene):
+    """A fault scene with rate-and-state friction: cycles, K / K_c, and the scene's seed law beside."""
+    if scene.kind != "fault":
+        raise InputError(f"{scene.name}: [friction] law = \"rate_state\" applies to fault scenes; a laboratory "
+                         "slider under rate-and-state friction is a rate-state scene (configs/rsf_velocity_step.toml, "
+                         "faultslip rate-state simulate)")
+    if scene.observed_slip is not None:
+        raise InputError(f"{scene.name}: observed_slip (the inverse for mu_m) belongs to the seed law, not to "
+                         "rate-and-state friction")
+    law, entry = scene.rate_state_law()
+    inputs = {k: v for k, v in scene.fault_inputs.items() if k not in ("name", "radiation_damping", "damping_ratio")}
+    seed_keys = {"lithology", "mu_so", "mu_m", "b", "d"}
+    seed_law = None
+    if "lithology" in inputs or {"mu_so", "mu_m"} <= set(inputs):
+        seed_law = scene.fault().with_(radiation_damping=True)
+    values = {key: to_si_scalar(value, _FAULT_KINDS[key], key.replace("_", " "))
+              for key, value in inputs.items() if key not in seed_keys}
+    modulus = values.get("shear_modulus")
+    if modulus is None:
+        if seed_law is None:
+            raise InputError(f"[fault] in {scene.name} needs shear_modulus (or a lithology that has one)")
+        modulus = seed_law.shear_modulus
+    normal = values.get("normal_stress") or values["shear_stress"] / law.mu0
+    estimate = estimate_rate_state_fault(law, shear_modulus=modulus, zone_width=values["zone_width"],
+                                         normal_stress=normal, plate_rate=values["slip_rate"],
+                                         density=values.get("density", 2700.0),
+                                         shear_wave_speed=values.get("shear_wave_speed"), entry=entry,
+                                         rupture_length=values.get("rupture_length"),
+                                         seismogenic_depth=values.get("seismogenic_depth"), seed_law=seed_law)
+    if "shear_stress" in values and "normal_stress" not in values:
+        estimate.notes.append(f"sigma_n = tau / mu0 = {normal:.4g} Pa (mu0 = {law.mu0:.4g}); the seed law beside "
+                              "uses tau / mu_so")
+    return estimate.report(f"faultslip rate-and-state fault: {scene.name}")
+
+
+_FAULT_KINDS = {"shear_modulus": "pressure", "zone_width": "length", "normal_stress": "pressure",
+                "shear_stress": "pressure", "slip_rate": "speed", "rupture_length": "length",
+                "seismogenic_depth": "length", "density": "density", "shear_wave_speed": "speed"}
+
+
 def run_scene(scene: Scene, method: str | None = None, tolerance: float | None = None):
     """Evaluate a scene and return its :class:`~faultslip.io.report.Report`.
 
@@ -359,7 +450,9 @@ def run_scene(scene: Scene, method: str | None = None, tolerance: float | None =
     tolerance = scene.tolerance if tolerance is None else tolerance
     if method not in METHOD_NAMES:
         raise InputError(f"method must be one of {', '.join(METHOD_NAMES)}, got {method!r}")
-    if scene.kind == "fault":
+    if scene.rate_state:
+        report = _run_rate_state(scene)
+    elif scene.kind == "fault":
         fault = scene.fault()
         if scene.observed_slip is not None:
             report = fault.infer_kinetic_friction(scene.observed_slip).report()

@@ -196,6 +196,9 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
         base, origin = resolve_path(head["base"], "scene", base_dir=base_dir)
         scene = parse_scene(read_text_file(base, "scene file"), source=base.name, path=base)
         scene.origin = origin
+    if scene.rate_state:
+        raise InputError(f"the base scene of {source} has rate-and-state friction; studies sweep the seed law's "
+                         "scenes only for now (run the scene with 'faultslip run')")
     method = head.get("method", "auto")
     if method not in ("auto", "closed_form", "exact_cycle"):
         raise InputError(f"[study] method in {source} must be auto, closed_form or exact_cycle, got {method!r}")

@@ -370,6 +370,9 @@ def load_map(path) -> MapSpec:
 
     base_path, base_origin = resolve_path(head.get("base", "san_andreas_1906.toml"), "scene", base_dir=path.parent)
     scene = parse_scene(read_text_file(base_path, "scene file"), source=base_path.name, path=base_path)
+    if scene.rate_state:
+        raise InputError(f"the base scene {base_path.name} has rate-and-state friction; maps use the seed law's "
+                         "scenes only for now (run the scene with 'faultslip run')")
     if base_origin:
         notes.append(f"scene: {base_origin}")
     spec = MapSpec(name=head.get("name", path.stem), scene=scene, text=text, description=head.get("description", ""))
