@@ -440,8 +440,6 @@ def _lsoda_two_states(slider, load, damping, history, t_eval, y0, rtol, atol, ma
     k s = sigma_n mu + eta V at every instant, so delta = delta_lp - (sigma_n (mu - mu(0)) +
     eta (V - V(0))) / k. Returns (values with a slip column, steps, evaluations).
     """
-    from scipy.integrate import odeint  # heavy: imported where used
-
     law, k, sigma = slider.law, slider.stiffness, slider.normal_stress
     v0, dc, a, b = law.reference_speed, law.critical_slip, law.a, law.b
     sigma_a, sigma_b = sigma * a, sigma * b
@@ -457,44 +455,13 @@ def _lsoda_two_states(slider, load, damping, history, t_eval, y0, rtol, atol, ma
         dpsi = (v0 * exp(-psi) - speed) / dc if aging else -(speed / dc) * (x + psi)
         return ((k * (load.speed(t) - speed) - sigma_b * dpsi) / (sigma_a + damping * speed), dpsi)
 
-    def jac(y, t):
-        x, psi = y
-        speed = v0 * exp(x)
-        if aging:
-            recovery = v0 * exp(-psi)
-            dpsi = (recovery - speed) / dc
-            dpsi_dx, dpsi_dpsi = -speed / dc, -recovery / dc
-        else:
-            dpsi = -(speed / dc) * (x + psi)
-            dpsi_dx, dpsi_dpsi = -(speed / dc) * (x + psi + 1.0), -speed / dc
-        denominator = sigma_a + damping * speed
-        numerator = k * (load.speed(t) - speed) - sigma_b * dpsi
-        dx_dx = ((-k * speed - sigma_b * dpsi_dx) * denominator - numerator * damping * speed) / denominator ** 2
-        return ((dx_dx, -sigma_b * dpsi_dpsi / denominator), (dpsi_dx, dpsi_dpsi))
+    full = _quasi_jacobian(slider, load, damping)  # (x, psi, slip); slip enters neither equation
 
-    pieces, nfev, steps, y = [], 0, 0, np.asarray(y0[:2], float)
-    tolerances = np.asarray(atol[:2])
-    for t0, t1, v_start, v_end in history.segments():
-        load.enter(t0, t1, v_start, v_end)
-        last = t1 == history.duration
-        wanted = t_eval[(t_eval >= t0) & ((t_eval < t1) | (last & (t_eval <= t1)))]
-        interior = wanted[wanted > t0]
-        times = np.concatenate([[t0], interior, [] if interior.size and interior[-1] == t1 else [t1]])
-        try:
-            solution, info = odeint(f, y, times, Dfun=jac, rtol=rtol, atol=tolerances, full_output=True,
-                                    mxstep=500_000)
-        except _Diverging as stop:
-            _diverged(slider, stop.t)
-        except OverflowError:
-            raise SolverError("LSODA's trial state overflowed; tighten rtol or use method 'radau'") from None
-        if info["message"] != "Integration successful.":
-            raise SolverError(f"LSODA failed between {t0:g} and {t1:g} s: {info['message']}; use method 'radau'")
-        nfev += int(info["nfe"][-1])
-        steps += int(info["nst"][-1])
-        start_row = solution[:1] if wanted.size and wanted[0] == t0 else solution[:0]
-        pieces.append(np.vstack([start_row, solution[1:1 + interior.size]]))
-        y = solution[-1]
-    states = np.concatenate(pieces)
+    def jac(y, t):
+        rows = full(t, y)
+        return (rows[0][:2], rows[1][:2])
+
+    states, steps, nfev = _odeint_by_segment(f, jac, history, load, y0[:2], t_eval, rtol, atol[:2], slider)
     speed = v0 * np.exp(states[:, 0])
     mu = law.mu0 + a * states[:, 0] + b * states[:, 1]
     mu_start = law.mu0 + a * y0[0] + b * y0[1]
@@ -654,8 +621,6 @@ class _Diverging(Exception):
 
 def _lsoda_by_segment(rhs, jacobian, history, load, y0, t_eval, rtol, atol, max_speed, slider):
     """odeint (LSODA) restarted at each breakpoint of the load history; refuses a diverging quasi-static speed."""
-    from scipy.integrate import odeint  # heavy: imported where used
-
     limit = math.log(max_speed / slider.law.reference_speed) if math.isfinite(max_speed) else math.inf
 
     def f(y, t):
@@ -664,15 +629,27 @@ def _lsoda_by_segment(rhs, jacobian, history, load, y0, t_eval, rtol, atol, max_
         return rhs(t, y)
 
     dfun = None if jacobian is None else (lambda y, t: jacobian(t, y))
+    return _odeint_by_segment(f, dfun, history, load, y0, t_eval, rtol, atol, slider)
+
+
+def _odeint_by_segment(f, dfun, history, load, y0, t_eval, rtol, atol, slider):
+    """odeint restarted at each breakpoint of the load history, sampled at ``t_eval``.
+
+    ``f(y, t)`` raises :class:`_Diverging` where the quasi-static speed runs away. Returns
+    (states at t_eval, steps, function evaluations).
+    """
+    from scipy.integrate import odeint  # heavy: imported where used
+
     pieces, nfev, steps, y = [], 0, 0, np.asarray(y0, float)
-    for t0, t1, v0, v1 in history.segments():
-        load.enter(t0, t1, v0, v1)
+    tolerances = np.asarray(atol)
+    for t0, t1, v_start, v_end in history.segments():
+        load.enter(t0, t1, v_start, v_end)
         last = t1 == history.duration
         wanted = t_eval[(t_eval >= t0) & ((t_eval < t1) | (last & (t_eval <= t1)))]
         interior = wanted[wanted > t0]
         times = np.concatenate([[t0], interior, [] if interior.size and interior[-1] == t1 else [t1]])
         try:
-            solution, info = odeint(f, y, times, Dfun=dfun, rtol=rtol, atol=np.asarray(atol), full_output=True,
+            solution, info = odeint(f, y, times, Dfun=dfun, rtol=rtol, atol=tolerances, full_output=True,
                                     mxstep=500_000)
         except _Diverging as stop:
             _diverged(slider, stop.t)
