@@ -29,6 +29,12 @@ from faultslip.io.report import Report
 from faultslip.units import to_si
 
 YEAR = 365.25 * 86400.0
+#: a fault's quantities by Fault field name: (unit kind, SI unit)
+FAULT_QUANTITIES = {"shear_modulus": ("pressure", "Pa"), "zone_width": ("length", "m"),
+                    "normal_stress": ("pressure", "Pa"), "shear_stress": ("pressure", "Pa"),
+                    "slip_rate": ("speed", "m/s"), "rupture_length": ("length", "m"),
+                    "seismogenic_depth": ("length", "m"), "density": ("density", "kg/m^3"),
+                    "shear_wave_speed": ("speed", "m/s")}
 
 
 @dataclass
@@ -181,10 +187,8 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
 def seed_law_fault(lithology: str, **values) -> Fault:
     """The seed law's :class:`Fault` (eq. 2-18 of ``lithology``) on the same fault, radiation-damped as the
     quasi-dynamic rate-and-state fault is. ``values``: SI numbers by Fault field name."""
-    units = {"shear_modulus": "Pa", "zone_width": "m", "normal_stress": "Pa", "slip_rate": "m/s",
-             "rupture_length": "m", "seismogenic_depth": "m", "density": "kg/m^3", "shear_wave_speed": "m/s"}
     return Fault(lithology=lithology, radiation_damping=True,
-                 **{key: f"{value!r} {units[key]}" for key, value in values.items() if value is not None})
+                 **{key: f"{value!r} {FAULT_QUANTITIES[key][1]}" for key, value in values.items() if value is not None})
 
 
 def estimate_fault_from_fit(name: str, inputs: dict, *, seed_law: str | None = "granodiorite",
@@ -200,15 +204,12 @@ def estimate_fault_from_fit(name: str, inputs: dict, *, seed_law: str | None = "
     choice = resolve_material(name)
     if choice.rate_state is None:
         raise InputError(f"{name!r} is not a rate-and-state fit")
-    kinds = {"shear_modulus": "pressure", "zone_width": "length", "normal_stress": "pressure",
-             "shear_stress": "pressure", "slip_rate": "speed", "rupture_length": "length",
-             "seismogenic_depth": "length", "density": "density", "shear_wave_speed": "speed"}
-    unknown = sorted(set(inputs) - set(kinds))
+    unknown = sorted(set(inputs) - set(FAULT_QUANTITIES))
     if unknown:
         flags = ", ".join("--" + key.replace("_", "-").replace("seismogenic-", "") for key in unknown)
         raise InputError(f"{flags} do not apply to a rate-and-state fit ({name!r}): its friction is a, b and D_c, "
                          "and its faults are always quasi-dynamic")
-    values = {key: ranges.check(key, to_si(text, kinds[key], key.replace("_", " "))) for key, text in inputs.items()}
+    values = {key: ranges.check(key, to_si(text, FAULT_QUANTITIES[key][0], key.replace("_", " "))) for key, text in inputs.items()}
     for key in ("zone_width", "slip_rate"):
         if key not in values:
             raise InputError(f"missing --{key.replace('_', '-')}, required for a fault estimate")

@@ -32,7 +32,7 @@ from faultslip.errors import InputError
 from faultslip.io.resources import bundled_dir, config_path, parse_toml
 from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
 from faultslip.dynamics.slider import SliderSystem
-from faultslip.fault.rate_state_fault import estimate_rate_state_fault
+from faultslip.fault.rate_state_fault import FAULT_QUANTITIES, estimate_rate_state_fault
 from faultslip.fault.scaling import Fault
 from faultslip.friction.materials import resolve_material
 from faultslip.friction.rate_state import RateStateLaw
@@ -413,7 +413,7 @@ def _run_rate_state(scene: Scene):
     seed_law = None
     if "lithology" in inputs or {"mu_so", "mu_m"} <= set(inputs):
         seed_law = scene.fault().with_(radiation_damping=True)
-    values = {key: to_si_scalar(value, _FAULT_KINDS[key], key.replace("_", " "))
+    values = {key: to_si_scalar(value, FAULT_QUANTITIES[key][0], key.replace("_", " "))
               for key, value in inputs.items() if key not in seed_keys}
     modulus = values.get("shear_modulus")
     if modulus is None:
@@ -431,11 +431,6 @@ def _run_rate_state(scene: Scene):
         estimate.notes.append(f"sigma_n = tau / mu0 = {normal:.4g} Pa (mu0 = {law.mu0:.4g}); the seed law beside "
                               "uses tau / mu_so")
     return estimate.report(f"faultslip rate-and-state fault: {scene.name}")
-
-
-_FAULT_KINDS = {"shear_modulus": "pressure", "zone_width": "length", "normal_stress": "pressure",
-                "shear_stress": "pressure", "slip_rate": "speed", "rupture_length": "length",
-                "seismogenic_depth": "length", "density": "density", "shear_wave_speed": "speed"}
 
 
 def run_scene(scene: Scene, method: str | None = None, tolerance: float | None = None):
