@@ -23,6 +23,10 @@ class SolverError(FaultslipError, RuntimeError):
     """A numerical method failed; the message names method, scene and remedy."""
 
 
+class NoEventsError(SolverError):
+    """A fault run found no earthquakes within its time limit: it creeps, or slips too slowly to count."""
+
+
 class OutOfDomainWarning(UserWarning):
     """A method was used where it is known to be inaccurate."""
 
