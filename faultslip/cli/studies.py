@@ -15,7 +15,7 @@ from faultslip.io.outputs import check_output, FIGURE_SUFFIXES
 from faultslip.studies.grid import load_study
 from faultslip.studies.maps import load_map, map_figure, observed_figure, observed_table, run_map
 from faultslip.io.convert import zarr_to_netcdf
-from faultslip.studies.streaming import (DEFAULT_CHUNK_CELLS, check_study_output, output_format, reproduce,
+from faultslip.studies.streaming import (default_chunk_cells, rate_state_counts, check_study_output, output_format, reproduce,
                                          run_study)
 
 
@@ -27,7 +27,7 @@ def cmd_sweep(args) -> int:
     output = check_study_output(args.output, file_format, inputs=inputs, overwrite=args.overwrite)
     if args.chunks is not None and not 1 <= args.chunks <= 10**9:
         raise FaultslipError(f"--chunks must be a number of cells from 1 to 1e9, got {args.chunks}")
-    chunk_cells = args.chunks or DEFAULT_CHUNK_CELLS
+    chunk_cells = args.chunks or default_chunk_cells(study)
     # at least this many chunks (whole trailing dimensions may make more); known without listing them
     chunk_count = -(-study.size // chunk_cells)
     workers = (args.workers or 2) if args.scheduler else _workers(args, chunk_count)
@@ -36,20 +36,48 @@ def cmd_sweep(args) -> int:
                         resume=args.resume, progress=_delayed_progress("sweep", not args.json),
                         compression=args.compression, overwrite=args.overwrite, inputs=inputs,
                         file_format=file_format)
+    counts = rate_state_counts(output, file_format, study.tolerance) if study.kind == "rate_state" else None
     if args.json:
-        print(json.dumps({"output": summary["output"], "cells": summary["cells"], "blocks": summary["blocks"],
-                          "resumed_blocks": summary["resumed_blocks"], "executor": summary["executor"],
-                          "wall_time": {"value": summary["seconds"], "units": "s"},
-                          "dimensions": {name: len(values) for name, values in study.dims.items()},
-                          "notes": getattr(args, "notes", []) + ([f"base scene: {study.scene.origin}"]
-                                                                 if study.scene.origin else [])}, indent=2))
+        document = {"output": summary["output"], "cells": summary["cells"], "blocks": summary["blocks"],
+                    "resumed_blocks": summary["resumed_blocks"], "executor": summary["executor"],
+                    "wall_time": {"value": summary["seconds"], "units": "s"},
+                    "dimensions": {name: len(values) for name, values in study.dims.items()},
+                    "notes": getattr(args, "notes", []) + ([f"base scene: {study.scene.origin}"]
+                                                           if study.scene.origin else [])}
+        if counts is not None:
+            document["rate_state_cells"] = counts
+        print(json.dumps(document, indent=2))
     else:
         print(f"faultslip sweep: {study.name}")
         print(f"  {summary['cells']} cells ({' x '.join(f'{n} {len(v)}' for n, v in study.dims.items())}) in "
               f"{summary['blocks']} chunks on {summary['executor']}"
               + (f", {summary['resumed_blocks']} reused" if summary["resumed_blocks"] else ""))
+        if counts is not None:
+            for line in _rate_state_lines(counts, study):
+                print(f"  {line}")
         print(f"  wrote {summary['output']} in {summary['seconds']:.2f} s")
     return 0
+
+
+def _rate_state_lines(counts: dict, study) -> list[str]:
+    """What a rate-and-state sweep found, and any cell that needs attention, in sentences."""
+    regimes = ", ".join(f"{counts[name]} {name.replace('_', ' ')}" for name in
+                        ("stick_slip", "stable_sliding", "velocity_strengthening", "slow_or_creeping") if counts[name])
+    lines = [f"regimes (K / K_c in closed form): {regimes}"]
+    if study.cycles:
+        lines.append(f"cycles simulated in {counts['simulated']} cells ({study.cycles} each after spin-up, method "
+                     f"{study.method}); largest plate-balance error {counts.get('largest_estimated_relative_error', 0):.2g}")
+    if counts.get("above_tolerance"):
+        lines.append(f"note: {counts['above_tolerance']} cells' plate balance exceeds the tolerance {study.tolerance:g}: "
+                     "their cycles settle slowly (near K_c) or their events' edges fall between steps; "
+                     "estimated_relative_error holds each cell's")
+    if counts["solver_failed"]:
+        lines.append(f"warning: the cycles' solver failed in {counts['solver_failed']} cells (method flag -1, outputs "
+                     "NaN); rerun with method = \"lsoda\" or \"dopri5\", or a smaller tolerance")
+    if counts["slow_or_creeping"]:
+        lines.append(f"note: {counts['slow_or_creeping']} cells have K < K_c yet no slip faster than 1 mm/s within the "
+                     "run (near K_c the oscillation is slow): regime flag 3, slip 0")
+    return lines
 
 
 def cmd_convert(args) -> int:

@@ -168,6 +168,25 @@ class Scene:
                            evolution=spec.get("evolution", "aging"), source=self.sources.get("friction", "scene"))
         return law, None
 
+    def rate_state_fault_values(self, law=None, require_modulus: bool = True) -> tuple[dict, object]:
+        """A rate-and-state fault scene's ``[fault]`` quantities in SI by Fault field name, and the seed-law
+        :class:`Fault` to put beside it (its lithology or mu_so and mu_m, radiation-damped), or None.
+
+        ``shear_modulus`` comes from the lithology where the scene gives none (unless
+        ``require_modulus`` is false: a study may sweep it, or take it from a fit).
+        """
+        inputs = {k: v for k, v in self.fault_inputs.items() if k not in ("name", "radiation_damping", "damping_ratio")}
+        seed_law = None
+        if "lithology" in inputs or {"mu_so", "mu_m"} <= set(inputs):
+            seed_law = self.fault().with_(radiation_damping=True)
+        values = {key: to_si_scalar(value, FAULT_QUANTITIES[key][0], key.replace("_", " "))
+                  for key, value in inputs.items() if key in FAULT_QUANTITIES}
+        if "shear_modulus" not in values and seed_law is not None:
+            values["shear_modulus"] = seed_law.shear_modulus
+        if require_modulus and "shear_modulus" not in values:
+            raise InputError(f"[fault] in {self.name} needs shear_modulus (or a lithology that has one)")
+        return values, seed_law
+
     @property
     def observed_slip(self):
         return self.tables.get("fault", {}).get("observed_slip")
@@ -408,18 +427,8 @@ def _run_rate_state(scene: Scene):
         raise InputError(f"{scene.name}: observed_slip (the inverse for mu_m) belongs to the seed law, not to "
                          "rate-and-state friction")
     law, entry = scene.rate_state_law()
-    inputs = {k: v for k, v in scene.fault_inputs.items() if k not in ("name", "radiation_damping", "damping_ratio")}
-    seed_keys = {"lithology", "mu_so", "mu_m", "b", "d"}
-    seed_law = None
-    if "lithology" in inputs or {"mu_so", "mu_m"} <= set(inputs):
-        seed_law = scene.fault().with_(radiation_damping=True)
-    values = {key: to_si_scalar(value, FAULT_QUANTITIES[key][0], key.replace("_", " "))
-              for key, value in inputs.items() if key not in seed_keys}
-    modulus = values.get("shear_modulus")
-    if modulus is None:
-        if seed_law is None:
-            raise InputError(f"[fault] in {scene.name} needs shear_modulus (or a lithology that has one)")
-        modulus = seed_law.shear_modulus
+    values, seed_law = scene.rate_state_fault_values(law)
+    modulus = values["shear_modulus"]
     normal = values.get("normal_stress") or values["shear_stress"] / law.mu0
     estimate = estimate_rate_state_fault(law, shear_modulus=modulus, zone_width=values["zone_width"],
                                          normal_stress=normal, plate_rate=values["slip_rate"],

@@ -122,8 +122,7 @@ def study_estimate(study, output, workers: int, chunk_cells: int, compression: s
     outputs = 12
     raw = cells * outputs * 8.0
     disk = raw * (1.0 if compression == "none" else ZLIB_RATIO)
-    simulated = bool(study.scene.tables.get("friction"))
-    rate = (SIMULATED_CELL_RATE if simulated else STUDY_CELL_RATE) * max(workers, 1)
+    rate = max(workers, 1) / study.seconds_per_cell()
     block = min(cells, float(chunk_cells))
     memory = block * 40 * 8.0 * (max(workers, 1) + 1)  # ~40 grid-sized temporaries per block in flight
     return Estimate(what=f"this sweep of {cells:.3g} cells", memory=memory, disk=disk, seconds=cells / rate,

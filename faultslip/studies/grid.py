@@ -45,7 +45,13 @@ from faultslip import __version__
 from faultslip.dynamics.critical import critical_dimensionless_rate, solve_rate_law_critical
 from faultslip.dynamics.methods import solve
 from faultslip.fault.scene import apply_friction, load_scene, parse_scene, read_text_file, resolve_path, Scene
+from faultslip.fault.rate_state_cells import (CYCLE_METHODS, check_friction, estimated_seconds, evolution_codes, output_names,
+                                               rate_state_cells)
+from faultslip.fault.rate_state_cells import OUTPUT_ATTRS as RATE_STATE_OUTPUT_ATTRS
+from faultslip.fault.rate_state_cells import METHOD_CODES as RATE_STATE_METHOD_CODES
+from faultslip.fault.rate_state_cells import REGIME_CODES as RATE_STATE_REGIME_CODES
 from faultslip.friction.materials import get_preset, resolve_material
+from faultslip.friction.rate_state import EVOLUTION_LAWS
 from faultslip.io import budget
 from faultslip.io.budget import MAX_DIMENSION_VALUES
 from faultslip.units import Quantity
@@ -78,7 +84,23 @@ LAB_PARAMETERS = {
     "normal_load": ("force", "N", "normal load W"),
     "stiffness": ("stiffness", "N/m", "stiffness K"),
 }
-STUDY_KEYS = {"name", "base", "method", "tolerance", "description"}
+#: a fault whose base scene has rate-and-state friction ([friction] law = "rate_state")
+RATE_STATE_PARAMETERS = {
+    "fit": ("category", None, "saved rate-and-state fit (faultslip fit --law rate-state --name)"),
+    "evolution": ("category", None, "state evolution law (aging or slip)"),
+    "a": ("dimensionless", "1", "rate-and-state direct effect a"),
+    "b": ("dimensionless", "1", "rate-and-state evolution effect b"),
+    "critical_slip": ("length", "m", "critical slip distance D_c"),
+    "mu0": ("dimensionless", "1", "reference friction mu0 at V0"),
+    "reference_speed": ("speed", "m/s", "reference speed V0"),
+    **{name: FAULT_PARAMETERS[name] for name in ("shear_modulus", "zone_width", "normal_stress", "slip_rate",
+                                                  "rupture_length", "seismogenic_depth", "density",
+                                                  "shear_wave_speed")},
+    "shear_stress": ("pressure", "Pa", "shear stress tau (sigma_n = tau / mu0)"),
+}
+STUDY_KEYS = {"name", "base", "method", "tolerance", "description", "cycles"}
+#: [study] method: the seed law's methods, and the cycle methods of a rate-and-state study
+SEED_METHODS = ("auto", "closed_form", "exact_cycle")
 
 
 @dataclass
@@ -95,9 +117,12 @@ class Study:
     units_text: dict = field(default_factory=dict)
     base_name: str = ""  # the base scene as the study names it (stable across reproduction)
 
+    cycles: int = 0  # rate-and-state studies: cycles simulated per unstable cell (0: K / K_c only)
+    _cell_seconds: float | None = field(default=None, repr=False, compare=False)
+
     @property
     def kind(self) -> str:
-        return self.scene.kind
+        return study_kind(self.scene)
 
     @property
     def shape(self) -> tuple:
@@ -106,6 +131,14 @@ class Study:
     @property
     def size(self) -> int:
         return int(np.prod(self.shape)) if self.dims else 1
+
+    def seconds_per_cell(self) -> float:
+        """Estimated wall time per cell on one worker (for the budget and the block size)."""
+        if self.kind == "rate_state" and self.cycles:
+            if self._cell_seconds is None:
+                self._cell_seconds = _rate_state_cell_seconds(self)
+            return self._cell_seconds
+        return 1.0 / (budget.SIMULATED_CELL_RATE if _needs_simulation(self) else budget.STUDY_CELL_RATE)
 
     def fingerprint(self) -> str:
         """Hash of everything that determines the result (for resuming)."""
@@ -116,8 +149,29 @@ class Study:
         return digest.hexdigest()[:16]
 
 
+def study_kind(scene) -> str:
+    """fault, lab, or rate_state (a fault scene with rate-and-state friction)."""
+    return "rate_state" if scene.rate_state else scene.kind
+
+
 def parameters_for(kind: str) -> dict:
-    return FAULT_PARAMETERS if kind == "fault" else LAB_PARAMETERS
+    return {"fault": FAULT_PARAMETERS, "lab": LAB_PARAMETERS, "rate_state": RATE_STATE_PARAMETERS}[kind]
+
+
+def _method_and_cycles(kind, method, cycles, where):
+    """Validate [study] method and cycles (or sweep()'s) for a study of this kind."""
+    if kind == "rate_state":
+        if method not in CYCLE_METHODS:
+            raise InputError(f"{where} method of a rate-and-state study must be {', '.join(CYCLE_METHODS)} (how its "
+                             f"cycles are integrated), got {method!r}")
+        if not isinstance(cycles, int) or isinstance(cycles, bool) or not 0 <= cycles <= 1000:
+            raise InputError(f"{where} cycles must be a whole number from 0 (K / K_c only) to 1000, got {cycles!r}")
+        return
+    if method not in SEED_METHODS:
+        raise InputError(f"{where} method must be auto, closed_form or exact_cycle, got {method!r}")
+    if cycles:
+        raise InputError(f"{where} cycles applies to rate-and-state studies ([friction] law = \"rate_state\" in "
+                         "the base scene); a seed-law study finds its limit cycle without it")
 
 
 def _values(name, spec, kind, where):
@@ -158,10 +212,29 @@ def _categories(name, spec, kind, where):
     for value in spec:
         if not isinstance(value, str):
             raise InputError(f"{where} must list names as strings, got {value!r}")
-        out.append(resolve_material(value).name if kind == "fault" else get_preset(value).name)
+        out.append(_category_name(name, value, kind, where))
     if len(set(out)) != len(out):
         raise InputError(f"{where} lists a {name} twice")
     return out
+
+
+def _category_name(name, value, kind, where) -> str:
+    """The canonical name of one category, or a sentence saying why it is refused."""
+    if kind == "lab":
+        return get_preset(value).name
+    if name == "evolution":
+        if value not in EVOLUTION_LAWS:
+            raise InputError(f"{where}: evolution law must be one of {', '.join(EVOLUTION_LAWS)}, got {value!r}")
+        return value
+    choice = resolve_material(value)
+    if name == "fit":
+        if choice.rate_state is None:
+            raise InputError(f"{where}: {value!r} is not a rate-and-state fit (faultslip fit --law rate-state RECORD "
+                             "--name NAME saves one; faultslip materials lists them)")
+        if choice.rate_state.two_state:
+            raise InputError(f"{where}: the fit {value!r} has two state variables; fault predictions take a "
+                             "one-state law (K_c of a two-state law has no closed form)")
+    return choice.name
 
 
 def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None, base_text: str | None = None) -> Study:
@@ -196,16 +269,14 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
         base, origin = resolve_path(head["base"], "scene", base_dir=base_dir)
         scene = parse_scene(read_text_file(base, "scene file"), source=base.name, path=base)
         scene.origin = origin
-    if scene.rate_state:
-        raise InputError(f"the base scene of {source} has rate-and-state friction; studies sweep the seed law's "
-                         "scenes only for now (run the scene with 'faultslip run')")
+    kind = study_kind(scene)
     method = head.get("method", "auto")
-    if method not in ("auto", "closed_form", "exact_cycle"):
-        raise InputError(f"[study] method in {source} must be auto, closed_form or exact_cycle, got {method!r}")
+    cycles = head.get("cycles", 0)
+    _method_and_cycles(kind, method, cycles, f"[study] in {source}:")
     tolerance = head.get("tolerance", 1e-6)
     if not isinstance(tolerance, (int, float)) or isinstance(tolerance, bool) or not 0 < tolerance < 1:
         raise InputError(f"[study] tolerance in {source} must be a number between 0 and 1, got {tolerance!r}")
-    allowed = parameters_for(scene.kind)
+    allowed = parameters_for(kind)
     dims = {}
     units_text = {}
     for name, spec in document.get("sweep", {}).items():
@@ -213,18 +284,21 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
         if name not in allowed:
             hint = did_you_mean(name, allowed, n=3)
             raise InputError(f"unknown parameter {name!r} in [sweep] of {source}{hint} "
-                             f"(a {scene.kind} study sweeps: {', '.join(allowed)})")
-        kind = allowed[name][0]
-        dims[name] = _categories(name, spec, scene.kind, where) if kind == "category" else _values(name, spec, kind, where)
+                             f"(a {kind.replace('_', '-')} study sweeps: {', '.join(allowed)})")
+        unit_kind = allowed[name][0]
+        dims[name] = (_categories(name, spec, kind, where) if unit_kind == "category"
+                      else _values(name, spec, unit_kind, where))
         units_text[name] = spec
     _check_consistent(scene, dims, source)
     return Study(name=head.get("name", Path(source).stem), scene=scene, dims=dims, method=method,
                  tolerance=float(tolerance), text=text, description=head.get("description", ""), units_text=units_text,
-                 base_name=Path(head["base"]).name)
+                 base_name=Path(head["base"]).name, cycles=cycles)
 
 
 def _check_consistent(scene, dims, source):
-    if scene.kind == "fault":
+    if scene.rate_state:
+        _check_rate_state(scene, dims, source)
+    elif scene.kind == "fault":
         fault = scene.tables.get("fault", {})
         stress_in_base = "normal_stress" in fault or "shear_stress" in fault
         if "normal_stress" in dims and "shear_stress" in dims:
@@ -236,6 +310,32 @@ def _check_consistent(scene, dims, source):
     else:
         if "platform_speed" in dims and "loading_rate" in dims:
             raise InputError(f"{source} sweeps both platform_speed and loading_rate; sweep one (theta_dot = K V / W)")
+
+
+def _check_rate_state(scene, dims, source):
+    """A rate-and-state study's base and sweep together give every input once, in range."""
+    if scene.kind != "fault":
+        raise InputError(f"{source}: [friction] law = \"rate_state\" applies to fault scenes; a laboratory slider "
+                         "under rate-and-state friction is a rate-state scene (faultslip rate-state simulate)")
+    if scene.observed_slip is not None:
+        raise InputError(f"{source}: the base scene is an inverse (observed_slip); a study needs a forward scene")
+    friction = scene.tables.get("friction", {})
+    if "fit" not in dims and "fit" not in friction:
+        missing = [key for key in ("a", "b", "critical_slip") if key not in friction and key not in dims]
+        if missing:
+            raise InputError(f"{source}: the base scene's [friction] needs {', '.join(missing)} (or sweep it, or "
+                             "name a fit)")
+    given = scene.tables.get("fault", {})
+    if "normal_stress" in dims and "shear_stress" in dims:
+        raise InputError(f"{source} sweeps both normal_stress and shear_stress; sweep one (sigma_n = tau / mu0)")
+    if not ({"normal_stress", "shear_stress"} & (set(given) | set(dims))):
+        raise InputError(f"{source}: the base scene gives no stress; sweep normal_stress or shear_stress")
+    for key in ("zone_width", "slip_rate"):
+        if key not in given and key not in dims:
+            raise InputError(f"{source}: the base scene gives no {key}; give it in [fault] or sweep it")
+    # each swept friction parameter in its range (b <= a is allowed: those cells slide stably)
+    check_friction(dims.get("a", 0.5), dims.get("b", 0.5), dims.get("critical_slip", 1e-3), dims.get("mu0", 0.6),
+                   dims.get("reference_speed", 1e-6), f"[sweep] in {source}")
 
 
 def load_study(path) -> Study:
@@ -292,7 +392,8 @@ def study_inputs(study, block=None, chunks=None, aligned: bool = False) -> dict:
         coords[name] = _coordinate(study, name, values, index)
         if chunks and name in chunks and parameters_for(study.kind)[name][0] != "category":
             coords[name] = coords[name].chunk({name: chunks[name]})
-    return _fault_inputs(study, coords) if study.kind == "fault" else _lab_inputs(study, coords)
+    builders = {"fault": _fault_inputs, "lab": _lab_inputs, "rate_state": _rate_state_inputs}
+    return builders[study.kind](study, coords)
 
 
 def _labels(coordinate) -> list:
@@ -342,6 +443,76 @@ def _fault_inputs(study, coords):
                 inputs[key] = _category_table(lith, table.get)
     inputs["normal_stress"] = normal_stress_input(inputs, coords, given, fault)
     inputs["radiation_damping"] = bool(fault.radiation_damping)
+    return inputs
+
+
+def _category_names(coordinate, getter):
+    """Names over a categorical dimension from a per-category lookup, shaped like ``coordinate``."""
+    import xarray as xr  # heavy: imported where used
+
+    data = np.array([getter(name) for name in _labels(coordinate)], dtype=object)
+    if not isinstance(coordinate, xr.DataArray):
+        return data.reshape(np.shape(coordinate))
+    return xr.DataArray(data, dims=coordinate.dims, coords=coordinate.coords)
+
+
+#: rate-and-state friction inputs of the cell kernel, and the defaults of a scene's [friction]
+_RATE_STATE_FRICTION = {"a": None, "b": None, "critical_slip": None, "mu0": 0.6, "reference_speed": 1e-6,
+                        "evolution": "aging"}
+
+
+def _rate_state_inputs(study, coords):
+    """Keyword arguments of :func:`faultslip.fault.rate_state_cells.rate_state_cells` over the study's axes."""
+    scene = study.scene
+    friction = scene.tables.get("friction", {})
+    values, _ = scene.rate_state_fault_values(require_modulus=False)
+    if "fit" in friction:
+        law, _ = scene.rate_state_law()
+        if law.two_state:
+            raise InputError(f"the fit {friction['fit']!r} in {scene.name} has two state variables; fault predictions "
+                             "take a one-state law")
+        base = {key: getattr(law, key) for key in _RATE_STATE_FRICTION}
+        base_modulus = resolve_material(friction["fit"]).shear_modulus
+    else:
+        units = {"critical_slip": "length", "reference_speed": "speed"}
+        base = {key: default if key not in friction else to_si_scalar(friction[key], units[key], key)
+                if key in units else friction[key] if key == "evolution" else float(friction[key])
+                for key, default in _RATE_STATE_FRICTION.items()}
+        base_modulus = None
+    inputs = {}
+    fits = {name: resolve_material(name) for name in _labels(coords["fit"])} if "fit" in coords else {}
+    for key in _RATE_STATE_FRICTION:
+        if key in coords:
+            inputs[key] = coords[key]
+        elif fits and key == "evolution":
+            inputs[key] = _category_names(coords["fit"], lambda n: fits[n].rate_state.evolution)
+        elif fits:
+            inputs[key] = _category_table(coords["fit"], lambda n, k=key: getattr(fits[n].rate_state, k))
+        else:
+            inputs[key] = base[key]
+    for key in ("zone_width", "rupture_length", "seismogenic_depth", "density", "shear_wave_speed"):
+        inputs[key] = coords.get(key, values.get(key, {"density": 2700.0}.get(key)))
+    inputs["plate_rate"] = coords.get("slip_rate", values.get("slip_rate"))
+    if "shear_modulus" in coords:
+        inputs["shear_modulus"] = coords["shear_modulus"]
+    elif fits and all(choice.shear_modulus is not None for choice in fits.values()):
+        inputs["shear_modulus"] = _category_table(coords["fit"], lambda n: fits[n].shear_modulus)
+    else:
+        modulus = values.get("shear_modulus", base_modulus)
+        if modulus is None:
+            raise InputError(f"{scene.name} gives no shear modulus (nor does a fit or lithology); give "
+                             "shear_modulus in [fault] or sweep it")
+        inputs["shear_modulus"] = modulus
+    if "normal_stress" in coords or "shear_stress" in coords:
+        inputs["normal_stress"] = coords.get("normal_stress", coords.get("shear_stress") / inputs["mu0"]
+                                             if "shear_stress" in coords else None)
+    elif "normal_stress" in values:
+        inputs["normal_stress"] = values["normal_stress"]
+    else:
+        inputs["normal_stress"] = values["shear_stress"] / inputs["mu0"]
+    for key in ("rupture_length", "seismogenic_depth", "shear_wave_speed"):
+        if inputs[key] is None:
+            del inputs[key]
     return inputs
 
 
@@ -562,7 +733,9 @@ def as_dataset(outputs: dict, study, block=None):
 
 
 def output_attrs(name: str, kind: str) -> dict:
-    """CF attributes of one study output (``kind`` is fault or lab)."""
+    """CF attributes of one study output (``kind`` is fault, lab or rate_state)."""
+    if kind == "rate_state":
+        return _rate_state_attrs(name)
     if name == "regime":
         return {"long_name": "regime (stick-slip, steady sliding, growing oscillation; "
                              "-1: no prediction, see outside_domain)", **_flags(REGIME_CODES)}
@@ -576,6 +749,19 @@ def output_attrs(name: str, kind: str) -> dict:
     unit, long_name = OUTPUT_ATTRS[name]
     if name == "stress_drop" and kind == "lab":
         unit, long_name = "N", "force drop K (x_break - x_restick)"
+    return {"units": unit, "long_name": long_name}
+
+
+def _rate_state_attrs(name: str) -> dict:
+    if name == "regime":
+        return {"long_name": "regime: stick-slip (K < K_c), stable sliding (K >= K_c), velocity strengthening "
+                             "(b <= a), or slow or creeping (K < K_c, yet no slip faster than 1 mm/s in the run)",
+                **_flags(RATE_STATE_REGIME_CODES)}
+    if name == "method":
+        return {"long_name": "method of this cell: the closed form (K / K_c only), the cycles' integrator, or "
+                             "solver_failed (outputs NaN; try method lsoda or dopri5, or a tighter tolerance)",
+                **_flags(RATE_STATE_METHOD_CODES)}
+    unit, long_name = RATE_STATE_OUTPUT_ATTRS[name]
     return {"units": unit, "long_name": long_name}
 
 
@@ -604,10 +790,40 @@ def _block_dataset(outputs: dict, study, block=None):
 
 def compute_block(study, block=None):
     """The study outputs on one block (name -> slice of each swept dimension), computed in memory."""
+    if study.kind == "rate_state":
+        outputs = rate_state_cells(**study_inputs(study, block, aligned=True), cycles=study.cycles,
+                                   method=study.method, rtol=cycle_rtol(study.tolerance))
+        return _block_dataset(outputs, study, block)
     if _needs_simulation(study):
         return _simulated_block(study, block)
     outputs = evaluate(study_inputs(study, block, aligned=True), study.kind, study.method, study.tolerance)
     return _block_dataset(outputs, study, block)
+
+
+#: cells whose K / K_c a rate-and-state study's time estimate computes (a strided sample of the grid)
+_COST_SAMPLE = 20_000
+
+
+def _rate_state_cell_seconds(study) -> float:
+    """Seconds per cell of a rate-and-state study: its unstable fraction (closed form, on a strided sample)
+    times the cycles' measured cost."""
+    steps = {name: 1 for name in study.dims}
+    sizes = {name: len(values) for name, values in study.dims.items()}
+
+    def sampled():
+        return math.prod(-(-sizes[n] // steps[n]) for n in sizes)
+
+    while sampled() > _COST_SAMPLE:
+        widest = max(sizes, key=lambda n: -(-sizes[n] // steps[n]))
+        steps[widest] *= 2
+    block = {name: slice(None, None, step) for name, step in steps.items()}
+    ratio = rate_state_cells(**study_inputs(study, block, aligned=True))["stiffness_ratio"]
+    return estimated_seconds(ratio, study.cycles) / max(ratio.size, 1) + 1.0 / budget.STUDY_CELL_RATE
+
+
+def cycle_rtol(tolerance: float) -> float:
+    """The cycles' relative tolerance for a study's: a tenth (1e-7 for the default 1e-6, fault_cycles' own)."""
+    return tolerance / 10.0
 
 
 def _needs_simulation(study) -> bool:
@@ -664,44 +880,70 @@ def _cell_system(study, values):
 
 
 def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | None = None,
-          allow_large: bool = False, **dims):
+          allow_large: bool = False, cycles: int = 0, **dims):
     """Python API: sweep parameters of a scene; returns an xarray Dataset.
 
     ``scene`` is a Scene, a scene file or a bundled scene name; each keyword is a parameter name
     with a list of values with units (strings or pint Quantities), or category names. With
-    ``chunks`` (dimension -> chunk size) the result is dask-backed and lazy.
+    ``chunks`` (dimension -> chunk size) the result is dask-backed and lazy. A scene with
+    rate-and-state friction sweeps a, b, critical_slip, evolution, fit and the fault's quantities;
+    ``cycles`` > 0 simulates that many cycles in every unstable cell (``method``: auto, lsoda, dopri5).
 
     >>> sweep("san_andreas_1906.toml", slip_rate=["10 mm/yr", "35 mm/yr"], lithology=["granodiorite", "pyrite"])
+    >>> sweep("san_andreas_1906_rate_state.toml", critical_slip=["10 um", "1 mm", "8 mm"], cycles=3)
     """
 
     scene = scene if isinstance(scene, Scene) else load_scene(scene)
-    allowed = parameters_for(scene.kind)
+    kind = study_kind(scene)
+    allowed = parameters_for(kind)
     parsed = {}
     for name, values in dims.items():
         if name not in allowed:
             hint = did_you_mean(name, allowed, n=3)
-            raise InputError(f"unknown parameter {name!r}{hint} (a {scene.kind} study sweeps: {', '.join(allowed)})")
+            raise InputError(f"unknown parameter {name!r}{hint} (a {kind.replace('_', '-')} study sweeps: "
+                             f"{', '.join(allowed)})")
         values = values if isinstance(values, dict) else list(values) if not isinstance(values, (str, bytes)) else [values]
-        kind = allowed[name][0]
-        parsed[name] = _categories(name, values, scene.kind, name) if kind == "category" else _values(name, values, kind, name)
+        unit_kind = allowed[name][0]
+        parsed[name] = (_categories(name, values, kind, name) if unit_kind == "category"
+                        else _values(name, values, unit_kind, name))
     _check_consistent(scene, parsed, "sweep()")
-    if method not in ("auto", "closed_form", "exact_cycle"):
-        raise InputError(f"method must be auto, closed_form or exact_cycle, got {method!r}")
+    _method_and_cycles(kind, method, cycles, "sweep():")
     if not isinstance(tolerance, (int, float)) or isinstance(tolerance, bool) or not 0 < tolerance < 1:
         raise InputError(f"tolerance must be a number between 0 and 1, got {tolerance!r}")
     study = Study(name=scene.name, scene=scene, dims=parsed, method=method, tolerance=tolerance,
-                  text=_study_text(scene, method, tolerance, dims))
+                  text=_study_text(scene, method, tolerance, dims, cycles), cycles=cycles)
     if chunks is None:  # everything in memory: refuse what will not fit (a chunked study stays lazy)
 
         estimate = budget.study_estimate(study, None, 1, study.size)
         budget.check(budget.Estimate(f"this in-memory sweep of {study.size:.3g} cells", memory=estimate.memory,
                                      seconds=estimate.seconds), allow_large)
         return finish(compute_block(study), study)
+    if kind == "rate_state":
+        return finish(as_dataset(_lazy_rate_state(study_inputs(study, chunks=chunks), study), study), study)
     outputs = evaluate(study_inputs(study, chunks=chunks), study.kind, method, tolerance)
     return finish(as_dataset(outputs, study), study)
 
 
-def _study_text(scene, method, tolerance, dims) -> str:
+def _lazy_rate_state(inputs, study) -> dict:
+    """:func:`rate_state_cells` through :func:`xarray.apply_ufunc`: labelled, and lazy where inputs are chunked."""
+    import xarray as xr  # heavy: imported where used
+
+    inputs = {**inputs, "evolution": evolution_codes(inputs["evolution"])}
+    keys = list(inputs)
+    names = output_names(study.cycles, "rupture_length" in inputs and "seismogenic_depth" in inputs)
+    options = dict(cycles=study.cycles, method=study.method, rtol=cycle_rtol(study.tolerance))
+
+    def kernel(*arrays):
+        result = rate_state_cells(**dict(zip(keys, arrays)), **options)
+        return tuple(result[name] for name in names)
+
+    dtypes = [np.int8 if name in ("regime", "method") else float for name in names]
+    results = xr.apply_ufunc(kernel, *(inputs[key] for key in keys), output_core_dims=[[]] * len(names),
+                             dask="parallelized", output_dtypes=dtypes)
+    return dict(zip(names, results))
+
+
+def _study_text(scene, method, tolerance, dims, cycles: int = 0) -> str:
 
     def literal(value):
         if isinstance(value, str):
@@ -711,7 +953,7 @@ def _study_text(scene, method, tolerance, dims) -> str:
         return repr(float(value))
 
     lines = ["[study]", f'name = {literal(scene.name)}', f'base = {literal(scene.path.name if scene.path else scene.name)}',
-             f'method = "{method}"', f"tolerance = {tolerance!r}", "", "[sweep]"]
+             f'method = "{method}"', f"tolerance = {tolerance!r}"] + ([f"cycles = {cycles}"] if cycles else []) + ["", "[sweep]"]
     for name, values in dims.items():
         if isinstance(values, dict):  # {"logspace": [start, stop, count]}
             (rule, args), = values.items()

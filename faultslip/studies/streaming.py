@@ -31,6 +31,7 @@ from faultslip.errors import InputError
 from faultslip.io.outputs import check_output, output_lock
 from faultslip.io.processes import run_windowed, stop_pool, worker_pool
 from faultslip.io.resources import probe_netcdf
+from faultslip.fault.rate_state_cells import METHOD_CODES, REGIME_CODES
 from faultslip.studies.grid import compute_block, finish, parameters_for, parse_study
 import tempfile
 
@@ -41,6 +42,16 @@ COMPRESSIONS = ("zlib", "zstd", "none")
 FORMATS = ("netcdf", "zarr")
 FLOAT_FILL = np.nan
 INT_FILL = np.int8(-127)
+
+
+#: A block's target wall time: long enough to amortise its dispatch and write, short enough that slow
+#: cells (simulated, or rate-and-state cycles) spread over every worker.
+BLOCK_SECONDS = 2.0
+
+
+def default_chunk_cells(study) -> int:
+    """Cells per block when none is given: about :data:`BLOCK_SECONDS` of work, at most 2**19 cells."""
+    return int(min(DEFAULT_CHUNK_CELLS, max(1, BLOCK_SECONDS / study.seconds_per_cell())))
 
 
 def plan_blocks(study, chunk_cells: int = DEFAULT_CHUNK_CELLS):
@@ -305,7 +316,7 @@ def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, r
 
 def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression, file_format):
 
-    chunk_cells = chunk_cells or DEFAULT_CHUNK_CELLS
+    chunk_cells = chunk_cells or default_chunk_cells(study)
     chunks, blocks = plan_blocks(study, chunk_cells)
     partial = output.with_name(output.name + ".partial")
     ledger = output.with_name(output.name + ".progress.json")
@@ -374,6 +385,24 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         ledger.unlink()
     return {"blocks": len(blocks), "resumed_blocks": len(blocks) - len(pending), "cells": study.size,
             "chunks": chunks, "seconds": time.perf_counter() - started, "executor": label, "output": str(output)}
+
+
+def rate_state_counts(output, file_format: str = "netcdf", tolerance: float | None = None) -> dict:
+    """A finished rate-and-state study's cells by regime and method, and its largest declared error.
+
+    Read back chunk by chunk (dask), so memory stays flat however large the output.
+    """
+    import xarray as xr  # heavy: imported where used
+
+    with (xr.open_zarr(output) if file_format == "zarr" else xr.open_dataset(output, chunks={})) as dataset:
+        counts = {name: int((dataset["regime"] == code).sum()) for name, code in REGIME_CODES.items()}
+        counts["solver_failed"] = int((dataset["method"] == METHOD_CODES["solver_failed"]).sum())
+        counts["simulated"] = int((dataset["method"] > METHOD_CODES["closed_form"]).sum())
+        if "estimated_relative_error" in dataset:
+            counts["largest_estimated_relative_error"] = float(dataset["estimated_relative_error"].max())
+            if tolerance is not None:
+                counts["above_tolerance"] = int((dataset["estimated_relative_error"] > tolerance).sum())
+    return counts
 
 
 #: A process pool pays for itself from about this much single-process work (seconds): starting
@@ -458,8 +487,11 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     if not isinstance(attrs.get("faultslip_study"), str) or not isinstance(attrs.get("faultslip_base_scene"), str):
         raise InputError(f"{path.name} carries no embedded study (faultslip_study attribute); it was not written by faultslip sweep")
     study = parse_study(attrs["faultslip_study"], source=path.name, base_text=attrs["faultslip_base_scene"])
+    title = attrs.get("title")
+    if isinstance(title, str) and title.startswith("faultslip study: "):  # an unnamed study took its file's name
+        study.name = title.removeprefix("faultslip study: ")
     # the embedded study is checked like any sweep before it runs again (a damaged file may ask for much)
-    budget.check(budget.study_estimate(study, keep or path, workers, chunk_cells or DEFAULT_CHUNK_CELLS),
+    budget.check(budget.study_estimate(study, keep or path, workers, chunk_cells or default_chunk_cells(study)),
                  allow_large)
     with tempfile.TemporaryDirectory(dir=(keep.parent if keep else None)) as scratch:
         target = keep or Path(scratch) / "reproduced.nc"

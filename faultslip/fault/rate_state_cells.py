@@ -1,0 +1,215 @@
+"""Rate-and-state faults cell by cell: K / K_c in closed form everywhere, earthquake cycles where asked.
+
+The vectorised counterpart of :func:`faultslip.fault.rate_state_fault.estimate_rate_state_fault`
+for studies and maps. Every input is an SI array (or scalar) that broadcasts against the others.
+Each cell is seed 003's spring-slider scaled to a fault (§5-2): K = G / D, and quasi-statically
+
+    K_c = sigma_n (b - a) / D_c                                         (Ruina 1983)
+
+(the radiation damper lowers it by eta V_pl / D_c, a relative 1e-9 at plate rates: the closed
+form is the quasi-static one, as :func:`faultslip.dynamics.rate_state.fault_cycles` uses). Steady
+sliding is unstable where K < K_c and b > a; with ``cycles`` > 0 those cells are simulated
+quasi-dynamically, each distinct set of friction and fault inputs once (sweeping the rupture
+length, for example, costs nothing more), with the method chosen per cell as
+:func:`~faultslip.dynamics.rate_state.fault_cycles` does (LSODA where K / K_c < 0.01, dopri5
+elsewhere) unless one is named.
+
+Every simulated cell declares its error: the plate balance |mean cycle slip / (V_pl T) - 1|,
+zero for exactly periodic cycles, which grows where the cycles have not settled within the
+spin-up (near K / K_c = 1) or the solver drifts. A cell whose solver fails, or whose fault has
+no event faster than 1 mm/s within the time limit, is flagged (``method`` -1 or ``regime``
+slow_or_creeping), never filled with zeros.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from faultslip.dynamics.rate_state import EVENT_SPEED, RateStateSlider, cycle_method, fault_cycles
+from faultslip.errors import InputError, NoEventsError, SolverError
+from faultslip.fault.scaling import moment_magnitude, radiation_damper, seismic_moment
+from faultslip.friction.rate_state import EVOLUTION_LAWS, RateStateLaw, steady_state_friction
+
+#: regime flags: a cell's behaviour (closed form, or the cycles where they ran)
+REGIME_CODES = {"stick_slip": 0, "stable_sliding": 1, "velocity_strengthening": 2, "slow_or_creeping": 3}
+#: method flags: how a cell's outputs were found
+METHOD_CODES = {"solver_failed": -1, "closed_form": 0, "lsoda": 1, "dopri5": 2}
+#: cycle methods a study or map may name (auto: per cell)
+CYCLE_METHODS = ("auto", "lsoda", "dopri5")
+#: measured wall time per simulated cycle, spin-up included (benchmarks/run.py, "rate-state cell cost"):
+#: 6-11 ms a cycle from K / K_c = 6e-6 to 0.9 on 2 cores; up to ~20 s for a cell within 1e-3 of K_c
+SECONDS_PER_CYCLE = 0.012
+SPIN_UP = 2
+
+#: name -> (unit, long name) of every output
+OUTPUT_ATTRS = {
+    "stiffness": ("Pa/m", "fault stiffness K = G / D"),
+    "critical_stiffness": ("Pa/m", "critical stiffness K_c = sigma_n (b - a) / D_c (Ruina 1983)"),
+    "stiffness_ratio": ("1", "K / K_c (inf where b <= a: steady sliding is stable at every stiffness)"),
+    "steady_state_friction": ("1", "steady-state friction at the plate rate, mu0 + (a - b) ln(V_pl / V0)"),
+    "recurrence_period": ("s", "recurrence period of the simulated cycles (NaN without cycles)"),
+    "slip_per_event": ("m", "slip per event while the slip rate exceeds 1 mm/s (0 for steady sliding)"),
+    "stress_drop": ("Pa", "stress drop per event (0 for steady sliding)"),
+    "peak_slip_rate": ("m/s", "peak slip rate of the events (the plate rate for steady sliding)"),
+    "estimated_relative_error": ("1", "plate balance |mean cycle slip / (V_pl T) - 1| of the simulated cycles "
+                                      "(0 for the closed form)"),
+    "seismic_moment": ("N m", "seismic moment M0 = G L H (slip per event)"),
+    "moment_magnitude": ("1", "moment magnitude Mw = (2/3)(log10 M0 - 9.1), M0 in N m"),
+}
+
+
+def _evolution_codes(evolution) -> np.ndarray:
+    """Evolution-law names (str or array of str) as integer codes (index into EVOLUTION_LAWS); codes pass."""
+    if np.issubdtype(np.asarray(evolution).dtype, np.integer):
+        codes = np.asarray(evolution, dtype=np.int8)
+        if np.any((codes < 0) | (codes >= len(EVOLUTION_LAWS))):
+            raise InputError(f"evolution-law codes index {EVOLUTION_LAWS}, got {codes.ravel()[0]}")
+        return codes
+    names = np.asarray(evolution, dtype=object)
+    codes = np.empty(names.shape, dtype=np.int8)
+    for index, name in np.ndenumerate(names):
+        if str(name) not in EVOLUTION_LAWS:
+            raise InputError(f"evolution law must be one of {', '.join(EVOLUTION_LAWS)}, got {name!r}")
+        codes[index] = EVOLUTION_LAWS.index(str(name))
+    return codes
+
+
+def evolution_codes(evolution):
+    """Evolution-law names as int8 codes, labels kept for a DataArray (dask cannot chunk strings)."""
+    import xarray as xr  # heavy: imported where used
+
+    if isinstance(evolution, xr.DataArray):
+        return evolution.copy(data=_evolution_codes(evolution.values))
+    return _evolution_codes(evolution)
+
+
+def check_friction(a, b, critical_slip, mu0, reference_speed, where: str = "") -> None:
+    """Refuse rate-and-state parameters outside the ranges :class:`RateStateLaw` accepts (array-wise)."""
+    place = f" ({where})" if where else ""
+    for label, values, low, high, rule in (("a", a, 0.0, 1.0, "in (0, 1)"), ("b", b, 0.0, 1.0, "in [0, 1)"),
+                                           ("D_c", critical_slip, 1e-9, 10.0, "from 1 nm to 10 m"),
+                                           ("mu0", mu0, 0.0, np.inf, "positive"),
+                                           ("V0", reference_speed, 0.0, np.inf, "positive")):
+        values = np.asarray(values, dtype=float)
+        with np.errstate(invalid="ignore"):
+            if label == "b":
+                bad = ~((values >= low) & (values < high))
+            elif label == "D_c":
+                bad = ~((values >= low) & (values <= high))
+            else:
+                bad = ~((values > low) & (values < high))
+        if np.any(bad):
+            first = float(values[bad].flat[0])
+            raise InputError(f"rate-and-state {label} must be {rule}, got {first:g}{place}")
+
+
+def rate_state_cells(*, shear_modulus, zone_width, normal_stress, plate_rate, a, b, critical_slip, mu0=0.6,
+                     reference_speed=1e-6, evolution="aging", density=2700.0, shear_wave_speed=None,
+                     rupture_length=None, seismogenic_depth=None, cycles: int = 0, method: str = "auto",
+                     rtol: float = 1e-7) -> dict:
+    """Outputs of every cell (name -> array over the broadcast shape of the inputs), SI.
+
+    Always: ``stiffness``, ``critical_stiffness``, ``stiffness_ratio``, ``steady_state_friction``,
+    ``regime`` and ``method`` (int8 flags, see :data:`REGIME_CODES`, :data:`METHOD_CODES`).
+    With ``cycles`` > 0 also ``recurrence_period``, ``slip_per_event``, ``stress_drop``,
+    ``peak_slip_rate`` and ``estimated_relative_error``; with a rupture length and seismogenic
+    depth, ``seismic_moment`` and ``moment_magnitude``. ``rtol`` is the cycles' relative tolerance.
+    """
+    if method not in CYCLE_METHODS:
+        raise InputError(f"the cycle method must be one of {', '.join(CYCLE_METHODS)}, got {method!r}")
+    if not isinstance(cycles, int) or isinstance(cycles, bool) or not 0 <= cycles <= 1000:
+        raise InputError(f"cycles must be a whole number from 0 (closed form only) to 1000, got {cycles!r}")
+    check_friction(a, b, critical_slip, mu0, reference_speed)
+    evolution_code = _evolution_codes(evolution)
+    wave_speed = np.sqrt(np.divide(shear_modulus, density)) if shear_wave_speed is None else shear_wave_speed
+    has_moment = rupture_length is not None and seismogenic_depth is not None
+    sizes = (rupture_length, seismogenic_depth) if has_moment else (0.0, 0.0)
+    arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (
+        shear_modulus, zone_width, normal_stress, plate_rate, a, b, critical_slip, mu0, reference_speed, density,
+        wave_speed, *sizes)), evolution_code)
+    (modulus, width, sigma, plate, a, b, slip_scale, mu0, v0, rho, wave, length, depth), law_code = arrays[:-1], arrays[-1]
+    stiffness = modulus / width
+    critical = sigma * (b - a) / slip_scale
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(critical > 0, stiffness / critical, np.inf)
+    unstable = ratio < 1
+    regime = np.where(b <= a, REGIME_CODES["velocity_strengthening"],
+                      np.where(unstable, REGIME_CODES["stick_slip"], REGIME_CODES["stable_sliding"])).astype(np.int8)
+    outputs = {"stiffness": stiffness, "critical_stiffness": critical, "stiffness_ratio": ratio,
+               "steady_state_friction": steady_state_friction(plate, a, b, mu0, v0),
+               "regime": regime, "method": np.full(ratio.shape, METHOD_CODES["closed_form"], dtype=np.int8)}
+    if cycles:
+        outputs.update(_simulate_cells(unstable, (modulus, width, sigma, plate, a, b, slip_scale, mu0, v0, rho, wave),
+                                       law_code, cycles, method, rtol, outputs))
+        if has_moment:
+            moment = seismic_moment(modulus, length, depth, outputs["slip_per_event"])
+            with np.errstate(divide="ignore"):  # log10(0) = -inf where nothing slips: NaN, not a magnitude
+                outputs["seismic_moment"] = np.where(moment > 0, moment, np.nan)
+                outputs["moment_magnitude"] = np.where(moment > 0, moment_magnitude(moment), np.nan)
+    return outputs
+
+
+def _simulate_cells(unstable, columns, law_code, cycles, method, rtol, outputs) -> dict:
+    """Cycles of every distinct unstable cell; steady sliding (0 slip, plate-rate speed) elsewhere."""
+    shape = unstable.shape
+    plate = columns[3]
+    result = {"recurrence_period": np.full(shape, np.nan), "slip_per_event": np.zeros(shape),
+              "stress_drop": np.zeros(shape), "peak_slip_rate": plate.astype(float).copy(),
+              "estimated_relative_error": np.zeros(shape)}
+    if not unstable.any():
+        return result
+    table = np.column_stack([c[unstable] for c in columns] + [law_code[unstable]])
+    distinct, owner = np.unique(table, axis=0, return_inverse=True)
+    owner = owner.ravel()
+    found = np.full((distinct.shape[0], 5), np.nan)
+    codes = np.empty((distinct.shape[0], 2), dtype=np.int8)  # method, regime
+    for row_index, row in enumerate(distinct):
+        found[row_index], codes[row_index] = _one_cell(row, cycles, method, rtol)
+    for key, column in zip(("recurrence_period", "slip_per_event", "stress_drop", "peak_slip_rate",
+                            "estimated_relative_error"), found.T):
+        result[key][unstable] = column[owner]
+    outputs["method"][unstable] = codes[owner, 0]
+    outputs["regime"][unstable] = codes[owner, 1]
+    return result
+
+
+def _one_cell(row, cycles, method, rtol):
+    """(recurrence, slip, stress drop, peak rate, plate balance), (method code, regime code) of one cell."""
+    modulus, width, sigma, plate, a, b, slip_scale, mu0, v0, rho, wave, law_code = row
+    law = RateStateLaw(a=float(a), b=float(b), critical_slip=float(slip_scale), mu0=float(mu0),
+                       reference_speed=float(v0), evolution=EVOLUTION_LAWS[int(law_code)])
+    slider = RateStateSlider(law=law, stiffness=float(modulus / width), normal_stress=float(sigma),
+                             mass=float(rho * width), damping=float(radiation_damper(modulus, wave)))
+    chosen = cycle_method(method, slider.stiffness / slider.critical_stiffness(), law)
+    try:
+        run = fault_cycles(slider, float(plate), cycles=cycles, spin_up=SPIN_UP, method=chosen, rtol=rtol)
+    except NoEventsError:  # K < K_c, yet no slip faster than 1 mm/s: slow oscillation or creep, not failure
+        return (np.nan, 0.0, 0.0, np.nan, np.nan), (METHOD_CODES[chosen], REGIME_CODES["slow_or_creeping"])
+    except SolverError:
+        return (np.nan,) * 5, (METHOD_CODES["solver_failed"], REGIME_CODES["stick_slip"])
+    balance = abs(float(np.mean(run.cycle_slip)) / (plate * run.recurrence) - 1.0)
+    return ((run.recurrence, float(np.mean(run.slip_per_event)), float(np.mean(run.stress_drop)),
+             float(np.max(run.peak_slip_rate)), balance),
+            (METHOD_CODES[run.method], REGIME_CODES["stick_slip"]))
+
+
+def output_names(cycles: int, has_moment: bool) -> list[str]:
+    """The outputs :func:`rate_state_cells` gives, in order, for these options."""
+    names = ["stiffness", "critical_stiffness", "stiffness_ratio", "steady_state_friction", "regime", "method"]
+    if cycles:
+        names += ["recurrence_period", "slip_per_event", "stress_drop", "peak_slip_rate", "estimated_relative_error"]
+        if has_moment:
+            names += ["seismic_moment", "moment_magnitude"]
+    return names
+
+
+def estimated_seconds(stiffness_ratio, cycles: int) -> float:
+    """Rough wall time of :func:`rate_state_cells` for these ratios (one core): the unstable cells' cycles."""
+    if not cycles:
+        return 0.0
+    unstable = np.count_nonzero(np.asarray(stiffness_ratio) < 1)
+    return float(unstable) * (cycles + SPIN_UP) * SECONDS_PER_CYCLE
+
+
+__all__ = ["rate_state_cells", "output_names", "evolution_codes", "check_friction", "estimated_seconds", "REGIME_CODES", "METHOD_CODES",
+           "OUTPUT_ATTRS", "CYCLE_METHODS", "EVENT_SPEED"]
