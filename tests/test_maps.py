@@ -148,3 +148,43 @@ def test_bad_inputs_via_cli_exit_2_and_write_nothing(cli, tmp_path):
 def test_parse_trace_rejects_garbage():
     with pytest.raises(InputError, match="two numbers"):
         parse_trace("-120 x; -121 36", "t")
+
+
+def test_a_rate_state_map_gives_each_segment_its_faults_cycles(tmp_path):
+    """Each segment's slip and recurrence are rate_state_cells on that segment's fault (its lithology's G,
+    slip rate, zone width), with Mw from its length; the bundled example runs (configs/)."""
+    from faultslip.fault.rate_state_cells import rate_state_cells
+    from faultslip.friction.materials import resolve_material
+
+    table = HEADER + ("a,-120.5 35.0; -120.0 35.6,30,granodiorite,12,20\n"
+                      "b,-119.5 35.0; -119.2 35.5,10,black_marble,10,15\n")
+    config = _write_map(tmp_path, table)
+    config.write_text(config.read_text().replace("san_andreas_1906.toml", "san_andreas_1906_rate_state.toml")
+                      .replace("[segments]", "cycles = 2\n[segments]"))
+    spec = load_map(config)
+    ds = run_map(spec)
+    assert ds["method"].attrs["flag_meanings"] == "solver_failed closed_form lsoda dopri5"
+    # the map's own slip rates: one ulp of input moves the cycles by ~1e-7 (their rtol), so exact inputs
+    np.testing.assert_allclose(ds["slip_rate"].values, np.array([30, 10]) * 1e-3 / YEAR, rtol=1e-15)
+    for index, (lithology, depth, width) in enumerate([("granodiorite", 12e3, 20e3), ("black_marble", 10e3, 15e3)]):
+        one = rate_state_cells(shear_modulus=resolve_material(lithology).shear_modulus, zone_width=width,
+                               normal_stress=250e5 / 0.65, plate_rate=float(ds["slip_rate"][index]), a=0.010, b=0.015,
+                               critical_slip=0.008, mu0=0.65, cycles=2,
+                               rupture_length=float(ds["segment_length"][index]), seismogenic_depth=depth)
+        for name in ("slip_per_event", "recurrence_period", "moment_magnitude", "stiffness_ratio"):
+            assert float(ds[name][index]) == pytest.approx(float(one[name]), rel=1e-12), name
+    assert np.nanmax(ds["map_slip_per_event"].values) > 0
+    bundled = run_map(load_map("san_andreas_map_rate_state.toml"))
+    assert np.all(bundled["regime"].values == 0) and np.all(bundled["slip_per_event"].values > 0)
+
+
+@pytest.mark.parametrize("head, message", [
+    ('base = "san_andreas_1906_rate_state.toml"\ncycles = 0', "cycles in m.toml must be a whole number from 1"),
+    ('base = "san_andreas_1906_rate_state.toml"\nmethod = "closed_form"', "method in m.toml must be one of auto"),
+    ('base = "san_andreas_1906.toml"\ncycles = 3', "apply to a base scene with rate-and-state friction"),
+])
+def test_rate_state_map_options_are_checked(tmp_path, head, message):
+    config = _write_map(tmp_path, HEADER + "a,-120.5 35.0; -120.0 35.6,30,granodiorite,12,20\n")
+    config.write_text(config.read_text().replace('base = "san_andreas_1906.toml"', head))
+    with pytest.raises(InputError, match=message):
+        load_map(config)

@@ -160,3 +160,18 @@ def test_a_saved_fit_is_a_category(cli):
     np.testing.assert_allclose(out["stiffness_ratio"].values[0], expected, rtol=1e-12)
     with pytest.raises(InputError, match="not a rate-and-state fit"):
         sweep(BASE, fit=["granodiorite"])
+
+
+def test_the_bundled_rate_state_study_runs_and_spreads_over_blocks():
+    """configs/study_rate_state.toml: 26 cells, 24 unstable; blocks of about 2 s of work, not one block."""
+    from faultslip.studies.grid import compute_block, load_study
+    from faultslip.studies.streaming import default_chunk_cells, plan_blocks
+
+    study = load_study("configs/study_rate_state.toml")
+    assert study.cycles == 5 and study.size == 26
+    _, blocks = plan_blocks(study, default_chunk_cells(study))
+    assert len(blocks) >= 2
+    corner = compute_block(study, {"critical_slip": slice(0, 13, 12), "evolution": slice(0, 1)})
+    # a lab D_c (10 um) takes LSODA and has cycles; 20 cm is past K_c
+    assert corner["method"].values.ravel().tolist() == [1, 0]
+    assert corner["regime"].values.ravel().tolist() == [0, 1]

@@ -392,7 +392,7 @@ def study_inputs(study, block=None, chunks=None, aligned: bool = False) -> dict:
         coords[name] = _coordinate(study, name, values, index)
         if chunks and name in chunks and parameters_for(study.kind)[name][0] != "category":
             coords[name] = coords[name].chunk({name: chunks[name]})
-    builders = {"fault": _fault_inputs, "lab": _lab_inputs, "rate_state": _rate_state_inputs}
+    builders = {"fault": _fault_inputs, "lab": _lab_inputs, "rate_state": rate_state_inputs}
     return builders[study.kind](study, coords)
 
 
@@ -461,7 +461,7 @@ _RATE_STATE_FRICTION = {"a": None, "b": None, "critical_slip": None, "mu0": 0.6,
                         "evolution": "aging"}
 
 
-def _rate_state_inputs(study, coords):
+def rate_state_inputs(study, coords):
     """Keyword arguments of :func:`faultslip.fault.rate_state_cells.rate_state_cells` over the study's axes."""
     scene = study.scene
     friction = scene.tables.get("friction", {})
@@ -919,12 +919,12 @@ def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | N
                                      seconds=estimate.seconds), allow_large)
         return finish(compute_block(study), study)
     if kind == "rate_state":
-        return finish(as_dataset(_lazy_rate_state(study_inputs(study, chunks=chunks), study), study), study)
+        return finish(as_dataset(rate_state_outputs(study_inputs(study, chunks=chunks), study), study), study)
     outputs = evaluate(study_inputs(study, chunks=chunks), study.kind, method, tolerance)
     return finish(as_dataset(outputs, study), study)
 
 
-def _lazy_rate_state(inputs, study) -> dict:
+def rate_state_outputs(inputs, study) -> dict:
     """:func:`rate_state_cells` through :func:`xarray.apply_ufunc`: labelled, and lazy where inputs are chunked."""
     import xarray as xr  # heavy: imported where used
 

@@ -42,7 +42,8 @@ from faultslip import __version__
 from faultslip.fault.scene import parse_scene, read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
-from faultslip.studies.grid import as_dataset, evaluate, normal_stress_input, Study
+from faultslip.fault.rate_state_cells import CYCLE_METHODS
+from faultslip.studies.grid import as_dataset, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs, Study
 from datetime import datetime, timezone
 
 SEGMENT_COLUMNS = {  # name -> (unit kind, required)
@@ -61,7 +62,7 @@ RASTER_VARIABLES = {
     "lithology": None, "shear_modulus": "pressure", "zone_width": "length", "slip_rate": "speed",
     "normal_stress": "pressure", "shear_stress": "pressure",
 }
-MAP_SCHEMA = {"map": {"name", "base", "description"}, "segments": {"file"}, "raster": {"file"},
+MAP_SCHEMA = {"map": {"name", "base", "description", "cycles", "method"}, "segments": {"file"}, "raster": {"file"},
               "grid": {"lon", "lat", "max_distance"}}
 
 
@@ -79,6 +80,8 @@ class MapSpec:
     source_files: list = field(default_factory=list)
     notes: list = field(default_factory=list)  # which bundled files were used, if any
     inputs: list = field(default_factory=list)  # every file read: the map, its scene, its table
+    cycles: int = 5  # a rate-and-state base: cycles simulated per unstable segment or cell
+    cycle_method: str = "auto"  # ... and their integrator (auto, lsoda, dopri5)
 
 
 @dataclass
@@ -370,12 +373,20 @@ def load_map(path) -> MapSpec:
 
     base_path, base_origin = resolve_path(head.get("base", "san_andreas_1906.toml"), "scene", base_dir=path.parent)
     scene = parse_scene(read_text_file(base_path, "scene file"), source=base_path.name, path=base_path)
-    if scene.rate_state:
-        raise InputError(f"the base scene {base_path.name} has rate-and-state friction; maps use the seed law's "
-                         "scenes only for now (run the scene with 'faultslip run')")
     if base_origin:
         notes.append(f"scene: {base_origin}")
     spec = MapSpec(name=head.get("name", path.stem), scene=scene, text=text, description=head.get("description", ""))
+    if scene.rate_state:
+        spec.cycles, spec.cycle_method = head.get("cycles", 5), head.get("method", "auto")
+        if not isinstance(spec.cycles, int) or isinstance(spec.cycles, bool) or not 1 <= spec.cycles <= 1000:
+            raise InputError(f"[map] cycles in {path.name} must be a whole number from 1 to 1000 (a map predicts slip "
+                             f"and recurrence; a study gives K / K_c alone), got {spec.cycles!r}")
+        if spec.cycle_method not in CYCLE_METHODS:
+            raise InputError(f"[map] method in {path.name} must be one of {', '.join(CYCLE_METHODS)}, got "
+                             f"{spec.cycle_method!r}")
+    elif {"cycles", "method"} & set(head):
+        raise InputError(f"[map] cycles and method in {path.name} apply to a base scene with rate-and-state "
+                         "friction; a seed-law map takes --method")
     spec.notes = notes
     if "segments" in document:
         source = resolve(document["segments"].get("file", ""))
@@ -436,6 +447,44 @@ def _fault_inputs_along(spec, dims_coords, lithology, overrides):
     return inputs
 
 
+def _rate_state_along(spec, dims_coords, lithology, overrides, tolerance):
+    """Rate-and-state outputs for per-segment or per-cell parameters (DataArrays on their dims).
+
+    A lithology gives its shear modulus; one that names a saved rate-and-state fit also gives its
+    friction, where other lithologies take the base scene's [friction].
+    """
+    import xarray as xr  # heavy: imported where used
+
+    varying = {name: xr.DataArray(values, **dims_coords) for name, values in overrides.items()}
+    if lithology is not None:
+        flat = np.asarray(lithology).ravel()
+        choices = {name: resolve_material(name) for name in set(flat)}
+
+        def table(getter, dtype=float):
+            """A per-lithology value on the segments' or cells' dims (``getter`` takes the lithology's name)."""
+            return xr.DataArray(np.array([getter(n) for n in flat], dtype=dtype).reshape(np.shape(lithology)),
+                                **dims_coords)
+
+        if "shear_modulus" not in varying:
+            missing = sorted(n for n, c in choices.items() if c.shear_modulus is None)
+            if missing and "shear_modulus" not in spec.scene.tables.get("fault", {}):
+                raise InputError(f"lithology {missing[0]!r} has no shear modulus; it cannot be mapped")
+            if not missing:
+                varying["shear_modulus"] = table(lambda n: choices[n].shear_modulus)
+        if any(c.rate_state is not None for c in choices.values()):
+            needs_base = any(c.rate_state is None for c in choices.values())
+            base = spec.scene.rate_state_law()[0] if needs_base else None
+            laws = {n: c.rate_state or base for n, c in choices.items()}
+            if any(law.two_state for law in laws.values()):
+                raise InputError("a mapped fit has two state variables; fault predictions take a one-state law")
+            for key in ("a", "b", "critical_slip", "mu0", "reference_speed"):
+                varying[key] = table(lambda n, k=key: getattr(laws[n], k))
+            varying["evolution"] = table(lambda n: laws[n].evolution, dtype=object)
+    study = Study(name=spec.name, scene=spec.scene, dims={}, method=spec.cycle_method, tolerance=tolerance,
+                  cycles=spec.cycles)
+    return as_dataset(rate_state_outputs(rate_state_inputs(study, varying), study), study)
+
+
 def predict_segments(spec, method="auto", tolerance=1e-6):
     """Per-segment predictions (slip, recurrence, Mw for the segment's length) on dim ``segment``."""
     import xarray as xr  # heavy: imported where used
@@ -445,11 +494,14 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
     coords = {"segment": ("segment", np.array(table.ids, dtype=object), {"long_name": "fault segment"})}
     dims_coords = {"dims": ("segment",), "coords": coords}
     lengths = table.lengths
-    inputs = _fault_inputs_along(spec, dims_coords, table.lithology, {
-        "slip_rate": table.slip_rate, "seismogenic_depth": table.seismogenic_depth, "zone_width": table.zone_width,
-        "rupture_length": lengths})
-    study = Study(name=spec.name, scene=spec.scene, dims={}, method=method, tolerance=tolerance)
-    dataset = as_dataset(evaluate(inputs, "fault", method, tolerance, outside="flag"), study)
+    along = {"slip_rate": table.slip_rate, "seismogenic_depth": table.seismogenic_depth, "zone_width": table.zone_width,
+             "rupture_length": lengths}
+    if spec.scene.rate_state:
+        dataset = _rate_state_along(spec, dims_coords, table.lithology, along, tolerance)
+    else:
+        inputs = _fault_inputs_along(spec, dims_coords, table.lithology, along)
+        study = Study(name=spec.name, scene=spec.scene, dims={}, method=method, tolerance=tolerance)
+        dataset = as_dataset(evaluate(inputs, "fault", method, tolerance, outside="flag"), study)
     extra = {
         "name": (np.array(table.names, dtype=object), None, "segment name"),
         "lithology": (np.array(table.lithology, dtype=object), None, "lithology or friction preset"),
@@ -554,9 +606,13 @@ def run_map(spec, method="auto", tolerance=1e-6):
         overrides = {name: raster[name].values for name in ("shear_modulus", "zone_width", "slip_rate", "normal_stress",
                                                             "shear_stress") if name in raster}
         lithology = raster["lithology"].values if "lithology" in raster else None
-        inputs = _fault_inputs_along(spec, {"dims": ("lat", "lon"), "coords": coords}, lithology, overrides)
-        study = Study(name=spec.name, scene=spec.scene, dims={}, method=method, tolerance=tolerance)
-        dataset = as_dataset(evaluate(inputs, "fault", method, tolerance, outside="flag"), study)
+        dims_coords = {"dims": ("lat", "lon"), "coords": coords}
+        if spec.scene.rate_state:
+            dataset = _rate_state_along(spec, dims_coords, lithology, overrides, tolerance)
+        else:
+            inputs = _fault_inputs_along(spec, dims_coords, lithology, overrides)
+            study = Study(name=spec.name, scene=spec.scene, dims={}, method=method, tolerance=tolerance)
+            dataset = as_dataset(evaluate(inputs, "fault", method, tolerance, outside="flag"), study)
         for name, values in overrides.items():
             dataset[name] = xr.DataArray(values, dims=("lat", "lon"), coords=coords)
         if lithology is not None:
