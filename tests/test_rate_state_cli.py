@@ -1,5 +1,6 @@
 """The rate-and-state commands: simulate, stability, cycles, fit --law rate-state, and their refusals."""
 
+import numpy as np
 import pytest
 
 from conftest import assert_clean_error
@@ -142,3 +143,27 @@ def test_cycles_put_the_seed_law_beside_on_the_same_fault(cli):
         out["slip_per_event"]["value"] / expected.slip_per_event, rel=1e-12)
     assert 0.5 < out["slip_ratio_rate_state_to_seed"] < 2.0
     assert_clean_error(cli("rate-state", "cycles", BP1, "--seed-law", "basalt"), "basalt")
+
+
+def test_simulate_writes_a_rate_state_faults_cycles(cli, tmp_path):
+    """simulate of a fault scene with [friction] law = "rate_state": the integrator's steps as a time series
+    and the events; over the recorded cycles the fault slips as far as the plate moves (to 1e-5)."""
+    out, plot = tmp_path / "cycles.nc", tmp_path / "cycles.png"
+    result = cli("simulate", "configs/san_andreas_1906_rate_state.toml", "--cycles", "3", "-o", out, "--plot", plot,
+                 "--json")
+    assert result.code == 0, result.err
+    assert result.json["cycles"] == 3 and plot.stat().st_size > 10_000
+    with xr.open_dataset(out) as written:
+        assert written["slip_rate"].attrs["units"] == "m/s" and written.sizes["event"] == 3
+        starts = written["event_time"].values
+        slip = np.interp(starts, written["time"].values, written["slip"].values)
+        plate = written.attrs["plate_rate_m_per_s"]
+        assert np.diff(slip) / (plate * np.diff(starts)) == pytest.approx(np.ones(2), rel=1e-3)
+        assert written["slip_rate"].values.max() == pytest.approx(written["peak_slip_rate"].values.max(), rel=1e-12)
+    assert_clean_error(cli("simulate", "configs/san_andreas_1906_rate_state.toml", "--rtol", "1e-9"),
+                       "belong to the seed law's simulation")
+
+
+def test_run_refuses_a_seed_method_for_a_rate_state_scene_rather_than_ignore_it(cli):
+    assert_clean_error(cli("run", "configs/san_andreas_1906_rate_state.toml", "--method", "exact_cycle"),
+                       "is one of the seed law's")

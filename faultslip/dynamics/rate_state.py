@@ -714,6 +714,9 @@ class RateStateCycles:
     wall_time: float
     event_speed: float = EVENT_SPEED
     method: str = "dopri5"
+    #: with ``record=True``: every accepted step's time (s), slip rate (m/s), psi, slip (m) and elastic
+    #: shear stress (Pa) from the first recorded cycle on (the solver's own steps crowd into the events)
+    series: dict | None = None
 
     @property
     def recurrence(self) -> float:
@@ -746,7 +749,7 @@ def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw) -> str:
 
 def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 100, spin_up: int = 2,
                  model: str = "quasi_dynamic", rtol: float = 1e-7, event_speed: float = EVENT_SPEED,
-                 max_time: float | None = None, method: str = "auto") -> RateStateCycles:
+                 max_time: float | None = None, method: str = "auto", record: bool = False) -> RateStateCycles:
     """Run ``spin_up + cycles`` earthquake cycles of a fault loaded at ``plate_rate`` (m/s) and measure them.
 
     The fault starts at steady sliding at 1.01 times the plate rate (a small perturbation that an
@@ -761,6 +764,8 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     0.80 s, recurrence equal to 1.3e-6, plate balance 3e-8 against 1.3e-5. Five cycles with a lab
     D_c of 15 µm on a 20 km fault (K / K_c 2e-4): dopri5's steps are stability-limited (305,000,
     4.1 s) where LSODA takes 8,000 (0.54 s), recurrence equal to 1.2e-6.
+
+    ``record``: keep the time series of every step after spin-up in ``series`` (for plots and files).
     """
     if method not in ("auto", "lsoda", "dopri5"):
         raise InputError(f"method must be auto, lsoda or dopri5, got {method!r}")
@@ -799,6 +804,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     clock = {"offset": 0.0}  # the ODE is autonomous: restart the local time at every crossing
 
     previous = {"t": None, "y": None}
+    record_series = {"time": [], "state": []}
 
     def crossing(t, y):
         """Time and state where ln V crosses the threshold within the last step, taking ln V linear in t
@@ -836,6 +842,9 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
             record["tau_end"].append(elastic_stress(y_c))
             stop = True
         previous["t"], previous["y"] = now, tuple(y)
+        if record and len(record["start"]) > spin_up:
+            record_series["time"].append(now)
+            record_series["state"].append(tuple(y))
         return stop
 
     started = time.perf_counter()
@@ -867,6 +876,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
         raise NoEventsError(f"only {ends} events in {t_end / 3.15576e7:.3g} years (K / K_c = {ratio:.3g}); the fault "
                           f"creeps or its cycles are longer than max_time; raise max_time or check a, b and D_c")
     chosen = slice(spin_up, spin_up + cycles)
+    series = _series(record_series, record["start"][spin_up + cycles], elastic_stress, v0) if record else None
     starts = np.array(record["start"][spin_up:spin_up + cycles + 1])
     slip_starts = np.array(record["slip_start"][spin_up:spin_up + cycles + 1])
     return RateStateCycles(event_times=starts[:-1] if starts.size > cycles else starts,
@@ -874,7 +884,18 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
                            stress_drop=np.array(record["tau_start"][chosen]) - np.array(record["tau_end"][chosen]),
                            peak_slip_rate=np.array(record["peak"][chosen]), cycle_slip=np.diff(slip_starts),
                            plate_rate=plate_rate, stiffness_ratio=ratio, model=model, steps=steps,
-                           function_evaluations=nfev, wall_time=wall, event_speed=event_speed, method=chosen_method)
+                           function_evaluations=nfev, wall_time=wall, event_speed=event_speed, method=chosen_method,
+                           series=series)
+
+
+def _series(recorded, end, elastic_stress, reference_speed) -> dict:
+    """The recorded steps up to the start of the event after the last measured cycle, as arrays."""
+    times = np.array(recorded["time"])
+    keep = times <= end
+    states = [state for state, kept in zip(recorded["state"], keep) if kept]
+    columns = np.array(states, dtype=float)
+    return {"time": times[keep], "slip_rate": reference_speed * np.exp(columns[:, 0]), "psi": columns[:, 1],
+            "slip": columns[:, -1], "shear_stress": np.array([elastic_stress(state) for state in states])}
 
 
 def _lsoda_cycles(rhs, jacobian, y0, rtol, atol, horizon, on_step, running, slider, model):

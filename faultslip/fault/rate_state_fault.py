@@ -124,7 +124,7 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
                               cycles: int = 5, entry: dict | None = None, uncertainty_cycles: int = 20,
                               time_budget: float = 15.0,
                               rupture_length: float | None = None, seismogenic_depth: float | None = None,
-                              seed_law: Fault | None = None) -> RateStateFaultEstimate:
+                              seed_law: Fault | None = None, record: bool = False) -> RateStateFaultEstimate:
     """Earthquake cycles of a rate-and-state fault (SI inputs), quasi-dynamic with the radiation damper.
 
     ``entry`` is a registry entry with bootstrap resamples: K / K_c gets a 95 % interval over all of
@@ -132,6 +132,7 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
     after one of spin-up), as many as ``time_budget`` seconds allow (a stiff fault, K / K_c near
     1e-4, takes about a second a cycle); the report says how many were used.
     ``seed_law`` is a :class:`Fault` of the seed's law on the same fault, estimated beside.
+    ``record`` keeps the cycles' time series (:func:`cycles_dataset` writes it).
     """
     if law.two_state:
         raise InputError("fault predictions take a one-state law here (K_c of a two-state law has no closed form)")
@@ -144,7 +145,7 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
     estimate.notes.append(f"quasi-dynamic: radiation damper G / (2 c_s) = {radiation_damper(shear_modulus, wave):.4g} "
                           "Pa s/m; events are slip faster than 1 mm/s (the SEAS convention)")
     if estimate.stiffness_ratio < 1:
-        estimate.cycles = fault_cycles(slider, plate_rate, cycles=cycles)
+        estimate.cycles = fault_cycles(slider, plate_rate, cycles=cycles, record=record)
         if rupture_length is not None and seismogenic_depth is not None:
             estimate.moment = float(seismic_moment(shear_modulus, rupture_length, seismogenic_depth,
                                                    float(estimate.cycles.slip_per_event.mean())))
@@ -182,6 +183,34 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
     if seed_law is not None:
         estimate.seed_law = seed_law.estimate()
     return estimate
+
+
+def cycles_dataset(estimate: RateStateFaultEstimate, title: str):
+    """The recorded cycles of ``estimate`` (``record=True``) as a CF dataset: the time series on ``time``
+    (the solver's steps, dense in the events) and the events on ``event``."""
+    import xarray as xr  # heavy: imported where used
+
+    cycles = estimate.cycles
+    if cycles is None or cycles.series is None:
+        raise InputError("no cycles to write: the fault slides stably (K >= K_c) or was run without recording")
+    series = cycles.series
+    time = {"units": "s", "long_name": "time since the start of the run (spin-up included)"}
+    return xr.Dataset(
+        {"slip_rate": ("time", series["slip_rate"], {"units": "m/s", "long_name": "slip rate V"}),
+         "log_state": ("time", series["psi"], {"units": "1", "long_name": "psi = ln(V0 theta / D_c)"}),
+         "slip": ("time", series["slip"], {"units": "m", "long_name": "slip since the start of the run"}),
+         "shear_stress": ("time", series["shear_stress"],
+                          {"units": "Pa", "long_name": "elastic shear stress sigma_n mu + eta V"}),
+         "event_time": ("event", cycles.event_times, {**time, "long_name": "event start (slip rate above 1 mm/s)"}),
+         "slip_per_event": ("event", cycles.slip_per_event, {"units": "m", "long_name": "slip while V > 1 mm/s"}),
+         "stress_drop": ("event", cycles.stress_drop, {"units": "Pa", "long_name": "stress drop of the event"}),
+         "peak_slip_rate": ("event", cycles.peak_slip_rate, {"units": "m/s", "long_name": "peak slip rate"})},
+        coords={"time": ("time", series["time"], time)},
+        attrs={"title": title, "Conventions": "CF-1.8", "model": cycles.model, "method": cycles.method,
+               "law": estimate.law.describe(), "stiffness_ratio": cycles.stiffness_ratio,
+               "plate_rate_m_per_s": cycles.plate_rate, "scale": "fault",
+               "comment": "quasi-dynamic spring-slider fault (seed 003 §5-2 scaling) with rate-and-state friction; "
+                          "samples are the integrator's accepted steps"})
 
 
 def seed_law_fault(lithology: str, **values) -> Fault:

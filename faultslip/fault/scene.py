@@ -419,6 +419,11 @@ def bundled_scenes() -> list[str]:
 
 def _run_rate_state(scene: Scene):
     """A fault scene with rate-and-state friction: cycles, K / K_c, and the scene's seed law beside."""
+    return estimate_scene_rate_state(scene).report(f"faultslip rate-and-state fault: {scene.name}")
+
+
+def estimate_scene_rate_state(scene: Scene, cycles: int = 5, record: bool = False):
+    """The :class:`RateStateFaultEstimate` of a fault scene with ``[friction] law = "rate_state"``."""
     if scene.kind != "fault":
         raise InputError(f"{scene.name}: [friction] law = \"rate_state\" applies to fault scenes; a laboratory "
                          "slider under rate-and-state friction is a rate-state scene (configs/rsf_velocity_step.toml, "
@@ -435,11 +440,12 @@ def _run_rate_state(scene: Scene):
                                          density=values.get("density", 2700.0),
                                          shear_wave_speed=values.get("shear_wave_speed"), entry=entry,
                                          rupture_length=values.get("rupture_length"),
-                                         seismogenic_depth=values.get("seismogenic_depth"), seed_law=seed_law)
+                                         seismogenic_depth=values.get("seismogenic_depth"), seed_law=seed_law,
+                                         cycles=cycles, record=record)
     if "shear_stress" in values and "normal_stress" not in values:
         estimate.notes.append(f"sigma_n = tau / mu0 = {normal:.4g} Pa (mu0 = {law.mu0:.4g}); the seed law beside "
                               "uses tau / mu_so")
-    return estimate.report(f"faultslip rate-and-state fault: {scene.name}")
+    return estimate
 
 
 def run_scene(scene: Scene, method: str | None = None, tolerance: float | None = None):
@@ -455,6 +461,9 @@ def run_scene(scene: Scene, method: str | None = None, tolerance: float | None =
     if method not in METHOD_NAMES:
         raise InputError(f"method must be one of {', '.join(METHOD_NAMES)}, got {method!r}")
     if scene.rate_state:
+        if method != "auto":  # the seed law's methods: not to be accepted and then ignored
+            raise InputError(f"method {method!r} is one of the seed law's; a rate-and-state fault's cycles choose "
+                             "their integrator themselves (LSODA below K / K_c 0.01, dopri5 above)")
         report = _run_rate_state(scene)
     elif scene.kind == "fault":
         fault = scene.fault()
