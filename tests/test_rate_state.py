@@ -279,3 +279,45 @@ def test_lsoda_and_dopri5_fault_cycles_agree_and_auto_picks_lsoda_when_stiff():
     assert fault_cycles(bp1, 1e-9, cycles=1, spin_up=1).method == "dopri5"
     with pytest.raises(InputError, match="method must be"):
         fault_cycles(bp1, 1e-9, method="euler")
+
+
+def test_auto_picks_the_cheaper_integrator_by_its_cost_model_and_the_declared_error_holds():
+    """choose_cycle_method: dopri5 where the rupture is not stiff, LSODA below K / K_c ~ 0.012 (rtol 1e-7),
+    at the loosest rtol whose declared error meets the tolerance; the measured error against a 1e-11
+    reference stays below the declared one (2 cycles after 2 of spin-up, as calibrated)."""
+    from faultslip.dynamics.methods import describe_all
+    from faultslip.dynamics.rate_state_methods import choose_cycle_method, error_bound
+
+    assert [rs.cycle_method("auto", r, BP1) for r in (0.05, 0.013, 0.011, 1e-4)] == ["dopri5", "dopri5", "lsoda", "lsoda"]
+    names = [row["name"] for row in describe_all()]
+    assert "rate_state_dopri5" in names and "rate_state_lsoda" in names
+    for ratio, expected in ((0.05, "dopri5"), (1e-3, "lsoda")):
+        method, rtol, assessment, assessments = choose_cycle_method(ratio, 1e-5, cycles=4)
+        assert method == expected and len(assessments) == 2
+        assert assessment.estimated_error == error_bound(method, rtol) <= 1e-5
+        slider = RateStateSlider.at_fault(RateStateLaw(a=0.010, b=0.015, critical_slip=ratio * 50e6 * 0.005 / 1.6e6),
+                                          3.2e10, 20e3, 50e6, density=2670.0, shear_wave_speed=3464.0)
+        run = fault_cycles(slider, 1e-9, cycles=2, spin_up=2, method=method, rtol=rtol)
+        reference = fault_cycles(slider, 1e-9, cycles=2, spin_up=2, rtol=1e-11,
+                                 method="dopri5" if ratio > 0.01 else "lsoda")
+        measured = max(abs(run.recurrence / reference.recurrence - 1),
+                       abs(run.slip_per_event.mean() / reference.slip_per_event.mean() - 1))
+        assert measured <= assessment.estimated_error
+    with pytest.raises(InputError, match="steady sliding is stable"):
+        choose_cycle_method(1.5)
+    two_state = choose_cycle_method(1e-3, two_state=True)
+    assert two_state[0] == "dopri5"  # LSODA's Jacobian takes one state
+
+
+def test_the_rate_state_bench_measures_declared_errors_and_maps_failures(cli, tmp_path):
+    """A small bench: every ok run's measured error stays within its declared bound; dopri5 runs out of its
+    step budget (50,000 here) at a lab D_c on a fault (K / K_c 1e-6: ~9.3e6 steps a cycle) where LSODA succeeds, and the
+    quasi-static model diverges at the first event wherever K < K_c (it has no solution past it)."""
+    from faultslip.evaluation import rate_state_bench as bench
+
+    failures = bench.failure_map(ratios=(1e-6, 0.05), workers=1, budget=50_000)
+    status = {str(c): failures["status"].sel(column=c).values.tolist() for c in failures["column"].values}
+    assert status == {"quasi_static dopri5": [2, 2], "quasi_dynamic dopri5": [1, 0], "quasi_dynamic lsoda": [0, 0]}
+    job = bench._ratio_job((0.05, (1e-5, 1e-8)))[1]
+    for status_code, error, wall, steps, declared, predicted in job:  # (timings: benchmarks, not tests)
+        assert status_code == 0 and error <= declared and steps > 0 and predicted > 0

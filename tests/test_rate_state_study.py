@@ -41,7 +41,8 @@ def test_a_cells_cycles_are_the_faults_own():
     parameter the cycles do not depend on (rupture length) reuses them: M0 scales with L exactly."""
     law = RateStateLaw(a=0.010, b=0.015, critical_slip=0.008)
     slider = RateStateSlider.at_fault(law, 3.2e10, 20e3, 50e6, density=2670.0, shear_wave_speed=3464.0)
-    direct = fault_cycles(slider, 1e-9, cycles=3, spin_up=2)
+    # tolerance 1e-6: dopri5's declared error 10 rtol asks rtol 1e-7 (auto, K / K_c 0.05)
+    direct = fault_cycles(slider, 1e-9, cycles=3, spin_up=2, rtol=1e-7)
     out = rate_state_cells(shear_modulus=3.2e10, zone_width=20e3, normal_stress=50e6, plate_rate=1e-9, a=0.010,
                            b=0.015, critical_slip=0.008, density=2670.0, shear_wave_speed=3464.0,
                            rupture_length=np.array([50e3, 100e3, 200e3]), seismogenic_depth=15e3, cycles=3)
@@ -50,7 +51,7 @@ def test_a_cells_cycles_are_the_faults_own():
     assert np.all(out["method"] == METHOD_CODES["dopri5"]) and np.all(out["regime"] == REGIME_CODES["stick_slip"])
     assert out["seismic_moment"][1] / out["seismic_moment"][0] == pytest.approx(2.0, rel=1e-15)
     balance = abs(np.mean(direct.cycle_slip) / (1e-9 * direct.recurrence) - 1)
-    assert out["estimated_relative_error"][0] == pytest.approx(balance) and balance < 1e-5
+    assert out["estimated_relative_error"][0] == pytest.approx(max(balance, 10 * 1e-7)) and balance < 1e-5
 
 
 def test_stable_cells_slide_at_the_plate_rate_and_never_fake_events():
@@ -141,7 +142,12 @@ def test_the_budget_counts_only_the_unstable_cells_cycles(cli, tmp_path, monkeyp
     study.write_text(f'[study]\nbase = "{BASE}"\ncycles = 5\n[sweep]\n{grid}', encoding="utf-8")
     assert_clean_error(cli("sweep", study, "-o", tmp_path / "big.nc"), "allow-large")
     parsed = parse_study(study.read_text(encoding="utf-8"), "big.toml")
-    assert parsed.seconds_per_cell() == pytest.approx(7 * 0.012, rel=0.01)  # every cell unstable
+    # every cell unstable and stiff: LSODA at rtol 3e-9 (150 rtol <= 1e-6), 7 cycles by its calibrated
+    # cost model (faultslip.dynamics.rate_state_methods) and 10 ms per cell
+    from faultslip.dynamics.rate_state_methods import SECONDS_PER_STEP, steps_per_cycle
+
+    per_cell = 7 * steps_per_cycle("lsoda", 3e-9, 1e-3) * SECONDS_PER_STEP["lsoda"] + 0.01
+    assert parsed.seconds_per_cell() == pytest.approx(per_cell, rel=0.01) and 0.1 < per_cell < 0.3
     stable = parse_study(study.read_text(encoding="utf-8").replace('["1 um", "1 mm", 1000]', '["1 m", "2 m", 1000]'),
                          "big.toml")
     assert stable.seconds_per_cell() < 1e-5

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from faultslip.cli.common import _locked, _number, _output_dir, _progress, _workers
 from faultslip.errors import FaultslipError, InputError
-from faultslip.evaluation import bench, stability
+from faultslip.evaluation import bench, rate_state_bench, stability
 from faultslip.evaluation.bench import markdown, method_names, standard_scenes, work_precision
 from faultslip.evaluation.stability import DAMPING_RATIOS, METHODS, RATIOS, SEPARATIONS, failure_text, stability_map
 from faultslip.io.atomic import save_figure, write_text_atomic
@@ -70,4 +70,33 @@ def cmd_stability(args) -> int:
     else:
         print(text)
         print(f"\nwrote {', '.join(files)} in {dataset.attrs['total_wall_time_s']:.1f} s")
+    return 0
+
+
+def cmd_rate_state_bench(args) -> int:
+    names = [f"work_precision_rate_state.{ext}" for ext in ("nc", "md", "png")] + ["failure_map_rate_state.nc"]
+    out = Path(_output_dir(args, "bench", names))
+    workers = _workers(args)
+    ratios = tuple(float(r) for r in (1e-6, 1e-4, 1e-2, 0.3, 0.99)) if args.quick else rate_state_bench.MAP_RATIOS
+    with _locked(out / names[0]):
+        work = rate_state_bench.work_precision(quick=args.quick, workers=workers,
+                                               progress=None if args.json else _progress("rate-state bench"))
+        failures = rate_state_bench.failure_map(ratios, workers=workers,
+                                                progress=None if args.json else _progress("failure map"))
+        table = rate_state_bench.markdown(work)
+        text = rate_state_bench.failure_text(failures)
+        write_dataset(work, out / names[0])
+        write_dataset(failures, out / names[3])
+        write_text_atomic(out / names[1], table + "\n\nWhere each method fails (rtol 1e-7, "
+                          f"{rate_state_bench.STEP_BUDGET} steps):\n\n" + text + "\n")
+        save_figure(rate_state_bench.chart(work, failures), out / names[2], dpi=120)
+    files = [str(out / name) for name in names]
+    seconds = work.attrs["total_wall_time_s"] + failures.attrs["total_wall_time_s"]
+    if args.json:
+        print(json.dumps({"files": files, "failure_regions": text.splitlines(),
+                          "wall_time": {"value": seconds, "units": "s"}}, indent=2))
+    else:
+        print(table)
+        print("\nWhere each method fails:\n" + text)
+        print(f"\nwrote {', '.join(files)} in {seconds:.1f} s")
     return 0

@@ -236,6 +236,13 @@ def _rate_state_commands(commands) -> None:
                                            "the same fault with radiation damping")
     cycles.add_argument("--json", action="store_true", help="print one JSON object")
     cycles.set_defaults(handler="rate_state:cmd_cycles")
+    bench = actions.add_parser("bench", help="work-precision of the cycle integrators and where each method fails")
+    bench.add_argument("--quick", action="store_true", help="3 ratios, 3 tolerances, a coarse failure map (~30 s)")
+    bench.add_argument("-o", "--output", default="bench", help="output directory (default: bench/)")
+    bench.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    bench.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
+    bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.set_defaults(handler="evaluation:cmd_rate_state_bench")
     group.set_defaults(handler="rate_state:cmd_missing_action")
 
 

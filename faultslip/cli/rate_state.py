@@ -16,7 +16,7 @@ YEAR = 365.25 * 86400.0
 
 
 def cmd_missing_action(args) -> int:
-    raise FaultslipError("faultslip rate-state needs an action: simulate, stability or cycles")
+    raise FaultslipError("faultslip rate-state needs an action: simulate, stability, cycles or bench")
 
 
 def _scene_notes(report, scene):

@@ -29,11 +29,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from faultslip.dynamics.assessment import Assessment
 from faultslip.dynamics.closed_form import closed_form_cycle
 from faultslip.dynamics.critical import cached_critical_dimensionless_rate
 from faultslip.dynamics.cycle import STEADY_SLIDING, CycleResult
 from faultslip.errors import InputError, MethodError, OutOfDomainWarning
 from faultslip.dynamics.exact_cycle import exact_cycle, exact_cycle_error
+from faultslip.dynamics.rate_state_methods import CYCLE_METHODS as RATE_STATE_CYCLE_METHODS
 from faultslip.dynamics.regularized import simulate_regularized
 from faultslip.dynamics.simulate import simulate
 
@@ -50,18 +52,6 @@ INTEGRATOR_EVALUATIONS = {
 }
 INTEGRATOR_EVALUATION_TIME = {"DOP853": 2.0e-5, "RK45": 2.0e-5, "LSODA": 2.5e-5, "Radau": 5.0e-5}
 RTOL_LEVELS = tuple(10.0 ** -k for k in range(3, 13))  # 1e-3 ... 1e-12
-
-
-@dataclass
-class Assessment:
-    """What a method would do for a scene: applicable or not, why, its error and cost estimates."""
-
-    method: str
-    applicable: bool
-    reason: str
-    estimated_error: float = math.inf
-    estimated_cost: float = math.inf
-    settings: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -262,8 +252,9 @@ class SeedAppendixI(Method):
 
 
 def describe_all() -> list[dict]:
-    """Every method's declared name, friction laws, domain and cost model."""
-    return [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), *BASELINES.values(), SEED_APPENDIX_I)]
+    """Every method's declared name, friction laws, domain and cost model (the seed law's, then rate-and-state's)."""
+    return [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), *BASELINES.values(), SEED_APPENDIX_I,
+                                   *RATE_STATE_CYCLE_METHODS.values())]
 
 
 def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:

@@ -25,7 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics.rate_state import EVENT_SPEED, RateStateSlider, cycle_method, fault_cycles
+from faultslip.dynamics.rate_state import EVENT_SPEED, RateStateSlider, fault_cycles
+from faultslip.dynamics.rate_state_methods import CYCLE_METHODS as INTEGRATORS, choose_cycle_method
 from faultslip.errors import InputError, NoEventsError, SolverError
 from faultslip.fault.scaling import moment_magnitude, radiation_damper, seismic_moment
 from faultslip.friction.rate_state import EVOLUTION_LAWS, RateStateLaw, steady_state_friction
@@ -36,10 +37,9 @@ REGIME_CODES = {"stick_slip": 0, "stable_sliding": 1, "velocity_strengthening": 
 METHOD_CODES = {"solver_failed": -1, "closed_form": 0, "lsoda": 1, "dopri5": 2}
 #: cycle methods a study or map may name (auto: per cell)
 CYCLE_METHODS = ("auto", "lsoda", "dopri5")
-#: measured wall time per simulated cycle, spin-up included (benchmarks/run.py, "rate-state cell cost"):
-#: 6-11 ms a cycle from K / K_c = 6e-6 to 0.9 on 2 cores; up to ~20 s for a cell within 1e-3 of K_c
-SECONDS_PER_CYCLE = 0.012
 SPIN_UP = 2
+#: fixed cost of a simulated cell beside its integrator steps (law, slider, event bookkeeping), measured
+CELL_OVERHEAD = 0.01
 
 #: name -> (unit, long name) of every output
 OUTPUT_ATTRS = {
@@ -51,8 +51,8 @@ OUTPUT_ATTRS = {
     "slip_per_event": ("m", "slip per event while the slip rate exceeds 1 mm/s (0 for steady sliding)"),
     "stress_drop": ("Pa", "stress drop per event (0 for steady sliding)"),
     "peak_slip_rate": ("m/s", "peak slip rate of the events (the plate rate for steady sliding)"),
-    "estimated_relative_error": ("1", "plate balance |mean cycle slip / (V_pl T) - 1| of the simulated cycles "
-                                      "(0 for the closed form)"),
+    "estimated_relative_error": ("1", "the larger of the integrator's declared error (c rtol) and the measured plate "
+                                      "balance |mean cycle slip / (V_pl T) - 1| (0 for the closed form)"),
     "seismic_moment": ("N m", "seismic moment M0 = G L H (slip per event)"),
     "moment_magnitude": ("1", "moment magnitude Mw = (2/3)(log10 M0 - 9.1), M0 in N m"),
 }
@@ -106,14 +106,16 @@ def check_friction(a, b, critical_slip, mu0, reference_speed, where: str = "") -
 def rate_state_cells(*, shear_modulus, zone_width, normal_stress, plate_rate, a, b, critical_slip, mu0=0.6,
                      reference_speed=1e-6, evolution="aging", density=2700.0, shear_wave_speed=None,
                      rupture_length=None, seismogenic_depth=None, cycles: int = 0, method: str = "auto",
-                     rtol: float = 1e-7) -> dict:
+                     tolerance: float = 1e-6) -> dict:
     """Outputs of every cell (name -> array over the broadcast shape of the inputs), SI.
 
     Always: ``stiffness``, ``critical_stiffness``, ``stiffness_ratio``, ``steady_state_friction``,
     ``regime`` and ``method`` (int8 flags, see :data:`REGIME_CODES`, :data:`METHOD_CODES`).
     With ``cycles`` > 0 also ``recurrence_period``, ``slip_per_event``, ``stress_drop``,
     ``peak_slip_rate`` and ``estimated_relative_error``; with a rupture length and seismogenic
-    depth, ``seismic_moment`` and ``moment_magnitude``. ``rtol`` is the cycles' relative tolerance.
+    depth, ``seismic_moment`` and ``moment_magnitude``. ``tolerance`` is the relative error asked of the
+    cycles: each cell runs the cheapest integrator (or ``method``) at the loosest rtol whose declared error
+    meets it (:func:`faultslip.dynamics.rate_state_methods.choose_cycle_method`).
     """
     if method not in CYCLE_METHODS:
         raise InputError(f"the cycle method must be one of {', '.join(CYCLE_METHODS)}, got {method!r}")
@@ -140,7 +142,7 @@ def rate_state_cells(*, shear_modulus, zone_width, normal_stress, plate_rate, a,
                "regime": regime, "method": np.full(ratio.shape, METHOD_CODES["closed_form"], dtype=np.int8)}
     if cycles:
         outputs.update(_simulate_cells(unstable, (modulus, width, sigma, plate, a, b, slip_scale, mu0, v0, rho, wave),
-                                       law_code, cycles, method, rtol, outputs))
+                                       law_code, cycles, method, tolerance, outputs))
         if has_moment:
             moment = seismic_moment(modulus, length, depth, outputs["slip_per_event"])
             with np.errstate(divide="ignore"):  # log10(0) = -inf where nothing slips: NaN, not a magnitude
@@ -149,7 +151,7 @@ def rate_state_cells(*, shear_modulus, zone_width, normal_stress, plate_rate, a,
     return outputs
 
 
-def _simulate_cells(unstable, columns, law_code, cycles, method, rtol, outputs) -> dict:
+def _simulate_cells(unstable, columns, law_code, cycles, method, tolerance, outputs) -> dict:
     """Cycles of every distinct unstable cell; steady sliding (0 slip, plate-rate speed) elsewhere."""
     shape = unstable.shape
     plate = columns[3]
@@ -164,7 +166,7 @@ def _simulate_cells(unstable, columns, law_code, cycles, method, rtol, outputs) 
     found = np.full((distinct.shape[0], 5), np.nan)
     codes = np.empty((distinct.shape[0], 2), dtype=np.int8)  # method, regime
     for row_index, row in enumerate(distinct):
-        found[row_index], codes[row_index] = _one_cell(row, cycles, method, rtol)
+        found[row_index], codes[row_index] = _one_cell(row, cycles, method, tolerance)
     for key, column in zip(("recurrence_period", "slip_per_event", "stress_drop", "peak_slip_rate",
                             "estimated_relative_error"), found.T):
         result[key][unstable] = column[owner]
@@ -173,21 +175,26 @@ def _simulate_cells(unstable, columns, law_code, cycles, method, rtol, outputs) 
     return result
 
 
-def _one_cell(row, cycles, method, rtol):
+def _one_cell(row, cycles, method, tolerance):
     """(recurrence, slip, stress drop, peak rate, plate balance), (method code, regime code) of one cell."""
     modulus, width, sigma, plate, a, b, slip_scale, mu0, v0, rho, wave, law_code = row
     law = RateStateLaw(a=float(a), b=float(b), critical_slip=float(slip_scale), mu0=float(mu0),
                        reference_speed=float(v0), evolution=EVOLUTION_LAWS[int(law_code)])
     slider = RateStateSlider(law=law, stiffness=float(modulus / width), normal_stress=float(sigma),
                              mass=float(rho * width), damping=float(radiation_damper(modulus, wave)))
-    chosen = cycle_method(method, slider.stiffness / slider.critical_stiffness(), law)
+    ratio = slider.stiffness / slider.critical_stiffness()
+    if method == "auto":
+        chosen, rtol, assessment, _ = choose_cycle_method(ratio, tolerance, cycles + SPIN_UP)
+    else:
+        assessment = INTEGRATORS[method].assess(ratio, tolerance, cycles + SPIN_UP)
+        chosen, rtol = method, assessment.settings["rtol"]
     try:
         run = fault_cycles(slider, float(plate), cycles=cycles, spin_up=SPIN_UP, method=chosen, rtol=rtol)
     except NoEventsError:  # K < K_c, yet no slip faster than 1 mm/s: slow oscillation or creep, not failure
         return (np.nan, 0.0, 0.0, np.nan, np.nan), (METHOD_CODES[chosen], REGIME_CODES["slow_or_creeping"])
     except SolverError:
         return (np.nan,) * 5, (METHOD_CODES["solver_failed"], REGIME_CODES["stick_slip"])
-    balance = abs(float(np.mean(run.cycle_slip)) / (plate * run.recurrence) - 1.0)
+    balance = max(abs(float(np.mean(run.cycle_slip)) / (plate * run.recurrence) - 1.0), assessment.estimated_error)
     return ((run.recurrence, float(np.mean(run.slip_per_event)), float(np.mean(run.stress_drop)),
              float(np.max(run.peak_slip_rate)), balance),
             (METHOD_CODES[run.method], REGIME_CODES["stick_slip"]))
@@ -203,12 +210,22 @@ def output_names(cycles: int, has_moment: bool) -> list[str]:
     return names
 
 
-def estimated_seconds(stiffness_ratio, cycles: int) -> float:
-    """Rough wall time of :func:`rate_state_cells` for these ratios (one core): the unstable cells' cycles."""
+def estimated_seconds(stiffness_ratio, cycles: int, tolerance: float = 1e-6, method: str = "auto") -> float:
+    """Wall time of :func:`rate_state_cells` for these ratios on one core: every unstable cell's cycles
+    by the integrators' calibrated cost models, plus a fixed cost per cell."""
     if not cycles:
         return 0.0
-    unstable = np.count_nonzero(np.asarray(stiffness_ratio) < 1)
-    return float(unstable) * (cycles + SPIN_UP) * SECONDS_PER_CYCLE
+    ratios, counts = np.unique(np.asarray(stiffness_ratio, dtype=float), return_counts=True)
+    total = 0.0
+    for ratio, count in zip(ratios, counts):
+        if not ratio < 1:
+            continue
+        if method == "auto":
+            cost = choose_cycle_method(float(ratio), tolerance, cycles + SPIN_UP)[2].estimated_cost
+        else:
+            cost = INTEGRATORS[method].assess(float(ratio), tolerance, cycles + SPIN_UP).estimated_cost
+        total += count * (cost + CELL_OVERHEAD)
+    return total
 
 
 __all__ = ["rate_state_cells", "output_names", "evolution_codes", "check_friction", "estimated_seconds", "REGIME_CODES", "METHOD_CODES",

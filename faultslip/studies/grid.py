@@ -792,7 +792,7 @@ def compute_block(study, block=None):
     """The study outputs on one block (name -> slice of each swept dimension), computed in memory."""
     if study.kind == "rate_state":
         outputs = rate_state_cells(**study_inputs(study, block, aligned=True), cycles=study.cycles,
-                                   method=study.method, rtol=cycle_rtol(study.tolerance))
+                                   method=study.method, tolerance=study.tolerance)
         return _block_dataset(outputs, study, block)
     if _needs_simulation(study):
         return _simulated_block(study, block)
@@ -818,12 +818,8 @@ def _rate_state_cell_seconds(study) -> float:
         steps[widest] *= 2
     block = {name: slice(None, None, step) for name, step in steps.items()}
     ratio = rate_state_cells(**study_inputs(study, block, aligned=True))["stiffness_ratio"]
-    return estimated_seconds(ratio, study.cycles) / max(ratio.size, 1) + 1.0 / budget.STUDY_CELL_RATE
-
-
-def cycle_rtol(tolerance: float) -> float:
-    """The cycles' relative tolerance for a study's: a tenth (1e-7 for the default 1e-6, fault_cycles' own)."""
-    return tolerance / 10.0
+    return (estimated_seconds(ratio, study.cycles, study.tolerance, study.method) / max(ratio.size, 1)
+            + 1.0 / budget.STUDY_CELL_RATE)
 
 
 def _needs_simulation(study) -> bool:
@@ -931,7 +927,7 @@ def rate_state_outputs(inputs, study) -> dict:
     inputs = {**inputs, "evolution": evolution_codes(inputs["evolution"])}
     keys = list(inputs)
     names = output_names(study.cycles, "rupture_length" in inputs and "seismogenic_depth" in inputs)
-    options = dict(cycles=study.cycles, method=study.method, rtol=cycle_rtol(study.tolerance))
+    options = dict(cycles=study.cycles, method=study.method, tolerance=study.tolerance)
 
     def kernel(*arrays):
         result = rate_state_cells(**dict(zip(keys, arrays)), **options)

@@ -1,0 +1,132 @@
+"""Integrators of a rate-and-state fault's cycles behind the method interface: error and cost declared, auto by cost.
+
+A quasi-dynamic spring-slider fault (:func:`faultslip.dynamics.rate_state.fault_cycles`) spends
+centuries creeping and seconds rupturing. Two integrators:
+
+* ``dopri5``: explicit Dormand-Prince 5(4), any law. Between events its step is stability-limited
+  once the rupture is stiff: steps per cycle = max(N(rtol), 9.3 / (K / K_c)), where N(rtol) is
+  what accuracy alone needs (250 at rtol 1e-5, 450 at 1e-7, 1000 at 1e-9);
+* ``lsoda``: scipy's LSODA (Adams / BDF switching) with the analytic Jacobian, one-state laws:
+  600, 1100 and 1800 steps per cycle at those tolerances, nearly independent of K / K_c.
+
+Error model (relative error of recurrence and slip per event, event edges found by cubic Hermite
+interpolation at the threshold): <= c rtol with c = 10 for dopri5 (60 where its steps are at the
+stability limit and rtol is loose) and 150 for LSODA at rtol <= 1e-7 (its error control is loose
+above: c = 1000, measured 7e-3 at rtol 1e-5). Cost model: cycles x steps per cycle x seconds
+per step (16 us dopri5, 12 us LSODA). All constants come from ``faultslip rate-state bench`` on
+SEAS BP1 friction (a 0.010, b 0.015, sigma_n 50 MPa, G 32 GPa, D 20 km) with D_c set for K / K_c
+from 1e-5 to 0.9, against a reference at rtol 1e-11, 2 cycles after 2 of spin-up. Largest
+measured c: dopri5 7.4 (rtol 1e-9), 3 (1e-7), 55 (1e-5 at K / K_c 1e-5, stability-limited);
+LSODA 107 (1e-8 at K / K_c 0.9, and 1e-9 at 1e-5). Measured wall time is 0.7 to 2.2 times the
+cost model's. ``docs/rate_state.md`` has the chart.
+
+``auto`` takes the cheaper method whose declared error meets the tolerance: LSODA where the rupture
+is stiff (below K / K_c of about 0.01), dopri5 elsewhere.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from faultslip.dynamics.assessment import Assessment
+from faultslip.errors import InputError
+
+#: calibrated tolerances: the loosest that meets a requested error is used
+RTOL_LEVELS = (1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 3e-10, 1e-10)
+#: steps per cycle that accuracy alone needs, at rtol 1e-5, 1e-7, 1e-9 (interpolated in log rtol)
+ACCURACY_STEPS = {"dopri5": (250.0, 450.0, 1000.0), "lsoda": (600.0, 1100.0, 1800.0)}
+#: dopri5's stability limit between events: steps per cycle = STIFF_STEPS / (K / K_c)
+STIFF_STEPS = 9.3
+SECONDS_PER_STEP = {"dopri5": 16e-6, "lsoda": 12e-6}
+ERROR_CONSTANT = {"dopri5": 10.0, "lsoda": 150.0}
+#: LSODA's error control is loose above rtol 1e-7 (measured 7e-3 at rtol 1e-5)
+LSODA_LOOSE = (1e-7, 1000.0)
+#: dopri5 at its stability limit with a loose rtol (measured c = 55 at K / K_c 1e-5, rtol 1e-5)
+DOPRI5_STIFF = (1e-6, 60.0)
+
+
+def steps_per_cycle(method: str, rtol: float, stiffness_ratio: float) -> float:
+    """Integrator steps per earthquake cycle from the calibration (see the module docstring)."""
+    digits = -math.log10(rtol)
+    counts = np.log10(ACCURACY_STEPS[method])
+    # piecewise linear in (digits, log10 steps) through 5, 7 and 9 digits, extended by the end segments
+    segment = 0 if digits < 7 else 1
+    slope = (counts[segment + 1] - counts[segment]) / 2.0
+    accuracy = float(10 ** (counts[segment] + slope * (digits - (5 + 2 * segment))))
+    if method == "dopri5":
+        return max(accuracy, STIFF_STEPS / max(stiffness_ratio, 1e-300))
+    return accuracy
+
+
+def error_bound(method: str, rtol: float, stiffness_ratio: float = 0.1) -> float:
+    """Declared relative error of recurrence and slip per event at ``rtol`` for a fault at K / K_c."""
+    if method == "lsoda" and rtol > LSODA_LOOSE[0]:
+        return LSODA_LOOSE[1] * rtol
+    if method == "dopri5" and rtol > DOPRI5_STIFF[0] and STIFF_STEPS / max(stiffness_ratio, 1e-300) > \
+            steps_per_cycle("dopri5", rtol, 1.0):
+        return DOPRI5_STIFF[1] * rtol
+    return ERROR_CONSTANT[method] * rtol
+
+
+class CycleMethod:
+    """One integrator of a fault's cycles, with its declared domain, error and cost."""
+
+    def __init__(self, name: str, friction_laws: str, domain: str, cost_model: str):
+        self.integrator = name
+        self.name = f"rate_state_{name}"
+        self.friction_laws, self.domain, self.cost_model = friction_laws, domain, cost_model
+
+    def describe(self) -> dict:
+        return {"name": self.name, "friction_laws": self.friction_laws, "domain": self.domain,
+                "cost_model": self.cost_model}
+
+    def assess(self, stiffness_ratio: float, tolerance: float, cycles: int, two_state: bool = False,
+               rtol: float | None = None) -> Assessment:
+        """Error and cost for a fault at ``stiffness_ratio`` = K / K_c (at ``rtol``, or the loosest that suffices)."""
+        if not stiffness_ratio < 1:
+            return Assessment(self.name, False, f"K / K_c = {stiffness_ratio:.3g} >= 1: steady sliding is stable, "
+                              "there are no cycles to integrate")
+        if two_state and self.integrator == "lsoda":
+            return Assessment(self.name, False, "LSODA here takes one-state laws (its analytic Jacobian)")
+        if rtol is None:
+            fitting = [r for r in RTOL_LEVELS if error_bound(self.integrator, r, stiffness_ratio) <= tolerance]
+            rtol = fitting[0] if fitting else RTOL_LEVELS[-1]
+        steps = steps_per_cycle(self.integrator, rtol, stiffness_ratio)
+        cost = max(cycles, 1) * steps * SECONDS_PER_STEP[self.integrator]
+        error = error_bound(self.integrator, rtol, stiffness_ratio)
+        return Assessment(self.name, True, f"{self.integrator} at rtol {rtol:g}: about {steps:.3g} steps a cycle at "
+                          f"K / K_c = {stiffness_ratio:.3g}, error <= {error:.2g}", error, cost,
+                          {"method": self.integrator, "rtol": rtol})
+
+
+CYCLE_METHODS = {
+    "dopri5": CycleMethod("dopri5", "rate-and-state, one or two state variables (aging or slip law)",
+                          "any K / K_c < 1; its steps grow as 9.3 / (K / K_c) once ruptures are stiff",
+                          "cycles x max(N(rtol), 9.3 / (K/K_c)) steps x 16 us; N = 250, 450, 1000 at rtol 1e-5, 1e-7, 1e-9"),
+    "lsoda": CycleMethod("lsoda", "rate-and-state, one state variable (analytic Jacobian)",
+                         "any K / K_c < 1; error control loose above rtol 1e-7",
+                         "cycles x 600-1800 steps (rtol 1e-5 to 1e-9) x 12 us, nearly independent of K / K_c"),
+}
+
+
+def choose_cycle_method(stiffness_ratio: float, tolerance: float = 1e-6, cycles: int = 5,
+                        two_state: bool = False, rtol: float | None = None):
+    """``(method name, rtol, assessment, assessments)``: the cheapest integrator whose declared error meets
+    ``tolerance`` (at ``rtol`` if given); if none does, the most accurate, and the reason says so."""
+    if not 0 < tolerance < 1:
+        raise InputError(f"tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    assessments = [method.assess(stiffness_ratio, tolerance, cycles, two_state, rtol)
+                   for method in CYCLE_METHODS.values()]
+    usable = [a for a in assessments if a.applicable]
+    if not usable:
+        raise InputError(assessments[0].reason)
+    good = sorted((a for a in usable if a.estimated_error <= tolerance), key=lambda a: a.estimated_cost)
+    if good:
+        best, why = good[0], f"cheapest within tolerance {tolerance:g}"
+    else:
+        best, why = min(usable, key=lambda a: a.estimated_error), f"none reaches tolerance {tolerance:g}; the most accurate"
+    best = Assessment(best.method, True, f"{why}: {best.reason}", best.estimated_error, best.estimated_cost,
+                      best.settings)
+    return best.settings["method"], best.settings["rtol"], best, assessments

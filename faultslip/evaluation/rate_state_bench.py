@@ -1,0 +1,242 @@
+"""Rate-and-state fault cycles: work-precision of each integrator, and where each method fails.
+
+The fault is SEAS BP1's friction (a 0.010, b 0.015, sigma_n 50 MPa; Erickson et al. 2020) on a
+spring-slider fault with G 32 GPa, D 20 km, rho 2670 kg/m^3 and c_s 3464 m/s, loaded at 1e-9 m/s;
+D_c is set for each K / K_c = (G / D) D_c / (sigma_n (b - a)), from a lab-scale 1e-5 to 0.9.
+
+* :func:`work_precision`: each integrator at each rtol, 2 cycles after 2 of spin-up; the error is
+  the larger relative error of recurrence and slip per event against dopri5 (LSODA where
+  K / K_c < 0.01) at rtol 1e-11; cost is wall time and steps. The declared error and predicted
+  cost of :mod:`faultslip.dynamics.rate_state_methods` sit beside every measurement, and auto's
+  choice for a tolerance of 1e-6 is marked.
+* :func:`failure_map`: over a fine K / K_c grid, each model and integrator under a step budget:
+  ok, budget exceeded (dopri5 where stiff), diverges (the quasi-static model at its first event:
+  it has no solution past an instability), no events, or solver failure.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from faultslip.dynamics.rate_state import RateStateSlider, fault_cycles
+from faultslip.dynamics.rate_state_methods import choose_cycle_method, error_bound, steps_per_cycle, SECONDS_PER_STEP
+from faultslip.errors import NoEventsError, SolverError
+from faultslip.evaluation.bench import parallel_map
+from faultslip.friction.rate_state import RateStateLaw
+
+RATIOS = (1e-5, 1e-4, 1e-3, 0.01, 0.05, 0.3, 0.9)
+QUICK_RATIOS = (1e-4, 0.01, 0.3)
+RTOLS = (1e-5, 1e-6, 1e-7, 1e-8, 1e-9)
+QUICK_RTOLS = (1e-5, 1e-7, 1e-9)
+INTEGRATORS = ("dopri5", "lsoda")
+REFERENCE_RTOL = 1e-11
+CYCLES, SPIN_UP = 2, 2
+#: a run past this many steps is recorded as over budget (dopri5 needs ~9.3 / (K / K_c) a cycle)
+STEP_BUDGET = 400_000
+STATUS = {0: "ok", 1: "budget_exceeded", 2: "diverges", 3: "no_events", 4: "solver_failure", 5: "stable"}
+MAP_RATIOS = tuple(float(r) for r in np.geomspace(1e-6, 0.99, 25))
+MAP_COLUMNS = (("quasi_static", "dopri5"), ("quasi_dynamic", "dopri5"), ("quasi_dynamic", "lsoda"))
+BP1 = dict(a=0.010, b=0.015, normal_stress=50e6, shear_modulus=3.2e10, zone_width=20e3, density=2670.0,
+           shear_wave_speed=3464.0, plate_rate=1e-9)
+
+
+def bp1_slider(stiffness_ratio: float) -> RateStateSlider:
+    """SEAS BP1's fault with D_c chosen so that K / K_c = ``stiffness_ratio``."""
+    stiffness = BP1["shear_modulus"] / BP1["zone_width"]
+    critical_slip = stiffness_ratio * BP1["normal_stress"] * (BP1["b"] - BP1["a"]) / stiffness
+    law = RateStateLaw(a=BP1["a"], b=BP1["b"], critical_slip=critical_slip,
+                       source="SCEC SEAS BP1 friction (Erickson et al. 2020), D_c set for K / K_c")
+    return RateStateSlider.at_fault(law, BP1["shear_modulus"], BP1["zone_width"], BP1["normal_stress"],
+                                    density=BP1["density"], shear_wave_speed=BP1["shear_wave_speed"])
+
+
+def _run(slider, method, rtol, model="quasi_dynamic", budget=STEP_BUDGET):
+    """(status, run or None, wall time)."""
+    started = time.perf_counter()
+    try:
+        run = fault_cycles(slider, BP1["plate_rate"], cycles=CYCLES, spin_up=SPIN_UP, method=method, rtol=rtol,
+                           model=model, max_steps=budget)
+    except NoEventsError:
+        return 3, None, time.perf_counter() - started
+    except SolverError as error:
+        status = 1 if "steps" in str(error) else 2 if "diverges" in str(error) else 4
+        return status, None, time.perf_counter() - started
+    return 0, run, time.perf_counter() - started
+
+
+def _error(run, reference) -> float:
+    return max(abs(run.recurrence / reference.recurrence - 1),
+               abs(float(np.mean(run.slip_per_event)) / float(np.mean(reference.slip_per_event)) - 1), 1e-16)
+
+
+def _warm_up():
+    """Load LSODA's code once, so that its first measured run does not pay for the import."""
+    fault_cycles(bp1_slider(1e-3), BP1["plate_rate"], cycles=1, spin_up=0, method="lsoda", rtol=1e-4)
+
+
+def _ratio_job(args):
+    ratio, rtols = args
+    _warm_up()
+    slider = bp1_slider(ratio)
+    reference = fault_cycles(slider, BP1["plate_rate"], cycles=CYCLES, spin_up=SPIN_UP, rtol=REFERENCE_RTOL,
+                             method="lsoda" if ratio < 0.01 else "dopri5")
+    rows = []
+    for method in INTEGRATORS:
+        for rtol in rtols:
+            status, run, wall = _run(slider, method, rtol)
+            rows.append((status, _error(run, reference) if run else math.nan, wall, run.steps if run else -1,
+                         error_bound(method, rtol, ratio),
+                         (CYCLES + SPIN_UP) * steps_per_cycle(method, rtol, ratio) * SECONDS_PER_STEP[method]))
+    return ratio, rows
+
+
+def work_precision(quick: bool = False, workers: int = 2, progress=None):
+    """Dataset on (stiffness_ratio, integrator, rtol): measured error, wall time, steps, declared error, predicted cost."""
+    import xarray as xr  # heavy: imported where used
+
+    ratios, rtols = (QUICK_RATIOS, QUICK_RTOLS) if quick else (RATIOS, RTOLS)
+    started = time.perf_counter()
+    results = dict(parallel_map(_ratio_job, [(r, rtols) for r in ratios], workers, progress))
+    shape = (len(ratios), len(INTEGRATORS), len(rtols))
+    columns = [np.array([row[k] for r in ratios for row in results[r]]).reshape(shape) for k in range(6)]
+    chosen = [choose_cycle_method(r, 1e-6, CYCLES + SPIN_UP)[:2] for r in ratios]
+    dims = ("stiffness_ratio", "integrator", "rtol")
+    return xr.Dataset(
+        {"status": (dims, columns[0].astype(np.int8), {"units": "1", "long_name": "outcome",
+                                                       "flag_values": np.array(list(STATUS), dtype=np.int8),
+                                                       "flag_meanings": " ".join(STATUS.values())}),
+         "error": (dims, columns[1], {"units": "1", "long_name": "largest relative error of recurrence and slip per "
+                                                                "event against the rtol 1e-11 reference"}),
+         "wall_time": (dims, columns[2], {"units": "s", "long_name": f"wall time of {CYCLES + SPIN_UP} cycles"}),
+         "steps": (dims, columns[3].astype(np.int64), {"units": "1", "long_name": "accepted steps (-1: failed)"}),
+         "declared_error": (dims, columns[4], {"units": "1", "long_name": "error bound the method declares"}),
+         "predicted_time": (dims, columns[5], {"units": "s", "long_name": "wall time the cost model predicts"}),
+         "auto_method": ("stiffness_ratio", np.array([c[0] for c in chosen], dtype=object),
+                         {"long_name": "auto's choice for a tolerance of 1e-6"}),
+         "auto_rtol": ("stiffness_ratio", np.array([c[1] for c in chosen]), {"units": "1"})},
+        coords={"stiffness_ratio": ("stiffness_ratio", np.array(ratios), {"units": "1", "long_name": "K / K_c"}),
+                "integrator": ("integrator", np.array(INTEGRATORS, dtype=object)),
+                "rtol": ("rtol", np.array(rtols), {"units": "1", "long_name": "relative tolerance"})},
+        attrs={"title": "faultslip rate-and-state work-precision (SEAS BP1 friction, D_c set for K / K_c)",
+               "Conventions": "CF-1.8", "cycles": CYCLES, "spin_up": SPIN_UP, "step_budget": STEP_BUDGET,
+               "total_wall_time_s": time.perf_counter() - started, "quick": int(quick)})
+
+
+def _map_job(args):
+    ratio, budget = args
+    slider = bp1_slider(ratio)
+    cells = []
+    for model, method in MAP_COLUMNS:
+        status, run, wall = _run(slider, method, 1e-7, model, budget)
+        cells.append((status, run.steps if run else -1, wall))
+    return ratio, cells
+
+
+def failure_map(ratios=MAP_RATIOS, workers: int = 2, progress=None, budget: int = STEP_BUDGET):
+    """Dataset on (stiffness_ratio, column): the outcome, steps and wall time of each model and integrator
+    (``budget``: steps allowed a run)."""
+    import xarray as xr  # heavy: imported where used
+
+    started = time.perf_counter()
+    results = dict(parallel_map(_map_job, [(r, budget) for r in ratios], workers, progress))
+    status = np.array([[cell[0] for cell in results[r]] for r in ratios], dtype=np.int8)
+    steps = np.array([[cell[1] for cell in results[r]] for r in ratios], dtype=np.int64)
+    wall = np.array([[cell[2] for cell in results[r]] for r in ratios])
+    names = [f"{model} {method}" for model, method in MAP_COLUMNS]
+    dims = ("stiffness_ratio", "column")
+    return xr.Dataset(
+        {"status": (dims, status, {"units": "1", "long_name": "outcome", "flag_meanings": " ".join(STATUS.values()),
+                                   "flag_values": np.array(list(STATUS), dtype=np.int8)}),
+         "steps": (dims, steps, {"units": "1", "long_name": "accepted steps (-1: failed)"}),
+         "wall_time": (dims, wall, {"units": "s", "long_name": "wall time"})},
+        coords={"stiffness_ratio": ("stiffness_ratio", np.array(ratios), {"units": "1", "long_name": "K / K_c"}),
+                "column": ("column", np.array(names, dtype=object), {"long_name": "model and integrator"})},
+        attrs={"title": "where each rate-and-state method fails (SEAS BP1 friction, D_c set for K / K_c)",
+               "Conventions": "CF-1.8", "rtol": 1e-7, "step_budget": budget,
+               "total_wall_time_s": time.perf_counter() - started})
+
+
+def failure_text(dataset) -> str:
+    """One line per model and integrator: where it fails, and how."""
+    lines = []
+    ratios = dataset["stiffness_ratio"].values
+    for name in dataset["column"].values:
+        status = dataset["status"].sel(column=name).values
+        parts = []
+        for code, label in STATUS.items():
+            where = ratios[status == code]
+            if code and where.size:
+                parts.append(f"{label} at K / K_c {where.min():.2g} to {where.max():.2g} ({where.size} of {ratios.size})")
+        lines.append(f"- {name}: " + ("; ".join(parts) if parts else f"ok everywhere ({ratios.size} ratios)"))
+    return "\n".join(lines)
+
+
+def markdown(dataset) -> str:
+    """Measured against declared error and predicted against measured cost, per ratio and method, at each rtol."""
+    lines = ["| K / K_c | method | rtol | error | declared | wall time (s) | predicted (s) | steps |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for ratio in dataset["stiffness_ratio"].values:
+        for method in dataset["integrator"].values:
+            for rtol in dataset["rtol"].values:
+                cell = dataset.sel(stiffness_ratio=ratio, integrator=method, rtol=rtol)
+                status = STATUS[int(cell["status"])]
+                error = f"{float(cell['error']):.1e}" if status == "ok" else status
+                lines.append(f"| {ratio:g} | {method} | {rtol:g} | {error} | {float(cell['declared_error']):.0e} | "
+                             f"{float(cell['wall_time']):.3g} | {float(cell['predicted_time']):.3g} | "
+                             f"{int(cell['steps'])} |")
+    return "\n".join(lines)
+
+
+def chart(work, failures=None):
+    """Left panels: error against wall time per K / K_c (one line per integrator, declared bounds dashed,
+    auto's choice at 1e-6 ringed). Last panel: the failure map."""
+    import matplotlib.pyplot as plt  # heavy: imported where used
+
+    ratios = list(work["stiffness_ratio"].values)
+    panels = len(ratios) + (1 if failures is not None else 0)
+    columns = 4
+    rows = math.ceil(panels / columns)
+    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.5 * rows), constrained_layout=True,
+                                squeeze=False)
+    for axis, ratio in zip(axes.ravel(), ratios):
+        part = work.sel(stiffness_ratio=ratio)
+        for index, method in enumerate(work["integrator"].values):
+            row = part.sel(integrator=method)
+            ok = row["status"].values == 0
+            axis.loglog(row["wall_time"].values[ok], row["error"].values[ok], "o-", color=f"C{index}", ms=4,
+                        label=method)
+            axis.loglog(row["predicted_time"].values, row["declared_error"].values, "--", color=f"C{index}", lw=0.8,
+                        label=f"{method} declared")
+            over = row["status"].values == 1
+            if over.any():
+                axis.loglog(row["wall_time"].values[over], np.ones(over.sum()), "x", color=f"C{index}", ms=7)
+        method, rtol = str(part["auto_method"].values), float(part["auto_rtol"].values)
+        if rtol in part["rtol"].values:
+            pick = part.sel(integrator=method, rtol=rtol)
+            if int(pick["status"]) == 0:
+                axis.loglog(float(pick["wall_time"]), float(pick["error"]), "o", mfc="none", mec="k", ms=11,
+                            label="auto at 1e-6")
+        axis.axhline(1e-6, color="0.5", lw=0.6, ls=":")
+        axis.set_title(f"K / K_c = {ratio:g}", fontsize=9)
+        axis.set(xlabel="wall time (s)", ylabel="relative error")
+        axis.grid(True, which="both", alpha=0.25)
+    axes.ravel()[0].legend(fontsize=7)
+    if failures is not None:
+        axis = axes.ravel()[len(ratios)]
+        names = list(failures["column"].values)
+        status = failures["status"].values.T
+        from matplotlib.colors import ListedColormap  # heavy: matplotlib, imported where used
+
+        colours = ListedColormap(["#4caf50", "#ff9800", "#e53935", "#9e9e9e", "#6a1b9a", "#bbdefb"])
+        axis.pcolormesh(np.log10(failures["stiffness_ratio"].values), np.arange(len(names)), status, cmap=colours,
+                        vmin=-0.5, vmax=5.5, shading="nearest")
+        axis.set_yticks(range(len(names)), names, fontsize=7)
+        axis.set_xlabel("log10 K / K_c")
+        axis.set_title("outcome: ok, over budget, diverges,\nno events, solver failure", fontsize=8)
+    for axis in axes.ravel()[panels:]:
+        axis.set_visible(False)
+    figure.suptitle("Rate-and-state fault cycles: error against cost (dashed: declared), and where methods fail")
+    return figure
