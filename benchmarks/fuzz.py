@@ -171,7 +171,8 @@ class Workspace:
     def __init__(self, folder: Path):
         self.folder = folder
         self.scenes = sorted(p for p in CONFIGS.glob("*.toml") if "[scene]" in p.read_text(encoding="utf-8"))
-        self.studies = [CONFIGS / "study_san_andreas.toml", CONFIGS / "study_lab_glass.toml"]
+        self.studies = [CONFIGS / "study_san_andreas.toml", CONFIGS / "study_lab_glass.toml",
+                        CONFIGS / "study_rate_state.toml"]
         self.segments = (DATA / "san_andreas_segments.csv").read_text(encoding="utf-8")
         self.map_text = ('[map]\nname = "fuzz map"\nbase = "san_andreas_1906.toml"\n[segments]\nfile = "segments.csv"\n'
                          '[grid]\nlon = { linspace = [-124.0, -115.0, 10] }\nlat = { linspace = [33.0, 40.0, 8] }\n'
@@ -215,16 +216,21 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
     if kind == "study":
         seed = rng.choice(space.studies)
         text = seed.read_text(encoding="utf-8").replace("41]", "5]").replace("26]", "4]").replace("61]", "7]")
+        text = text.replace("13] }", "3] }").replace("cycles = 5", "cycles = 1")  # rate-state: few, short
         text = text.replace('base = "', f'base = "{CONFIGS}/')
         path = space.write("study.toml", mutate_toml(text, rng))
         return ["sweep", str(path), "-o", out, "--overwrite", "--workers", "1", "--json"]
     if kind == "map":
+        map_text = space.map_text
+        if rng.random() < 0.3:  # a rate-and-state base, one cycle per segment
+            map_text = map_text.replace('base = "san_andreas_1906.toml"',
+                                        'base = "san_andreas_1906_rate_state.toml"\ncycles = 1')
         if rng.random() < 0.5:
             space.write("segments.csv", mutate_csv(space.segments, rng))
-            path = space.write("map.toml", space.map_text)
+            path = space.write("map.toml", map_text)
         else:
             space.write("segments.csv", space.segments)
-            path = space.write("map.toml", mutate_toml(space.map_text, rng))
+            path = space.write("map.toml", mutate_toml(map_text, rng))
         return ["map", str(path), "-o", out, "--overwrite", "--json"]
     if kind == "fit":
         path = space.write("friction.csv", mutate_csv(space.friction, rng))

@@ -150,3 +150,62 @@ def test_a_study_without_swept_dimensions_is_one_cell(method):
     dataset = sweep("lab_glass_dry.toml", method=method)
     expected = solve(load_scene("lab_glass_dry.toml").slider(), tolerance=1e-6).cycle
     assert float(dataset["slip_per_event"]) == pytest.approx(expected.slip_per_event, rel=1e-5)
+
+
+RATE_STATE_VALUES = {
+    "a": [0.005, 0.010, 0.02],
+    "b": [0.0, 0.015, 0.012],
+    "critical_slip": ["10 um", "8 mm", "20 cm"],
+    "mu0": [0.6, 0.65, 0.7],
+    "reference_speed": ["1 um/s", "1 mm/s", "1e-9 m/s"],
+    "evolution": ["aging", "slip"],
+    "shear_modulus": ["0.2e6 bar", "30 GPa", "32 GPa"],
+    "zone_width": ["10 km", "20 km", "13 mi"],
+    "normal_stress": ["300 bar", "50 MPa", "10 MPa"],
+    "shear_stress": ["200 bar", "250 bar", "30 MPa"],
+    "slip_rate": ["10 mm/yr", "30 mm/yr", "2 in/yr"],
+    "rupture_length": ["100 km", "200 km", "270 mi"],
+    "seismogenic_depth": ["10 km", "15 km", "12 km"],
+    "density": ["2600 kg/m^3", "2800 kg/m^3", "3000 kg/m^3"],
+    "shear_wave_speed": ["3 km/s", "3.5 km/s", "2.8 km/s"],
+}
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(names=st.lists(st.sampled_from(sorted(RATE_STATE_VALUES)), min_size=1, max_size=4, unique=True),
+       sizes=st.lists(st.integers(1, 3), min_size=4, max_size=4))
+def test_every_rate_state_combination_gives_the_scalar_closed_form(names, sizes):
+    """Any subset of a rate-and-state study's parameters: every cell's K / K_c and steady-state friction
+    equal RateStateLaw's on that cell's fault, computed without grid code (issue 9's lesson)."""
+    from faultslip.fault.scene import load_scene as scene_of
+    from faultslip.friction.rate_state import RateStateLaw
+    from faultslip.units import to_si_scalar
+
+    if {"normal_stress", "shear_stress"} <= set(names):
+        return
+    dims = {n: RATE_STATE_VALUES[n][:size] for n, size in zip(names, sizes)}
+    out = sweep("san_andreas_1906_rate_state.toml", **dims)
+    base = scene_of("san_andreas_1906_rate_state.toml")
+    friction = base.tables["friction"]
+    units = {"critical_slip": "length", "reference_speed": "speed", "shear_modulus": "pressure",
+             "zone_width": "length", "normal_stress": "pressure", "shear_stress": "pressure", "slip_rate": "speed",
+             "rupture_length": "length", "seismogenic_depth": "length", "density": "density",
+             "shear_wave_speed": "speed"}
+
+    def si(name, value):
+        return value if name == "evolution" else to_si_scalar(value, units[name], name) if name in units \
+            else float(value)
+
+    for index in itertools.product(*(range(len(v)) for v in dims.values())):
+        cell = {n: si(n, dims[n][i]) for n, i in zip(dims, index)}
+        law = {k: cell.get(k, si(k, friction[k])) for k in ("a", "b", "critical_slip", "mu0", "reference_speed")}
+        law = RateStateLaw(evolution=cell.get("evolution", "aging"), **law)
+        modulus = cell.get("shear_modulus", 0.25e6 * 1e5)
+        width = cell.get("zone_width", 13 * 1609.344)
+        sigma = cell.get("normal_stress", cell.get("shear_stress", 250e5) / law.mu0)
+        plate = cell.get("slip_rate", 2 * 0.0254 / (365.25 * 86400))
+        got = out.isel({n: i for n, i in zip(dims, index)})
+        k_c = sigma * (law.b - law.a) / law.critical_slip
+        expected = modulus / width / k_c if k_c > 0 else np.inf
+        assert float(got["stiffness_ratio"]) == pytest.approx(expected, rel=1e-12)
+        assert float(got["steady_state_friction"]) == pytest.approx(float(law.steady_state(plate)), rel=1e-12)
