@@ -1,10 +1,15 @@
-"""Laboratory commands: fit, record, decay."""
+"""Laboratory commands: fit, record, decay, quasi-harmonic."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
+import numpy as np
 
 from faultslip import ranges
 from faultslip.cli.common import _emit, _locked, _number, _outputs
+from faultslip.dynamics.averaging import amplitude_against_speed, amplitude_table
+from faultslip.dynamics.averaging import report as averaging_report
 from faultslip.errors import FaultslipError, InputError
 from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_data
 from faultslip.friction.materials import save_user_fit
@@ -12,7 +17,9 @@ from faultslip.io.atomic import save_figure
 from faultslip.io.outputs import FIGURE_SUFFIXES
 from faultslip.io.report import Report
 from faultslip.lab.rate_state_fit import fit_velocity_steps, read_step_record
+from faultslip.lab.vibration_scene import load_vibration_scene
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
+from faultslip.plots.vibration import amplitude_speed_figure
 from faultslip.units import to_si
 
 
@@ -129,3 +136,31 @@ def cmd_decay(args) -> int:
         frequency = to_si(args.frequency, "frequency", "damped frequency")  # rad/s is converted to Hz
         result = free_decay(_number(args.ratio, "amplitude ratio"), _number(args.cycles, "cycles"), frequency, stiffness)
     return _emit(result.report(), args.json)
+
+
+def cmd_quasi_harmonic(args) -> int:
+    system, notes = load_vibration_scene(args.scene)
+    if args.speed:
+        system = replace(system, speed=to_si(args.speed, "speed", "--speed"))
+    plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])["plot"]
+    sweep = None
+    if args.speeds:
+        start, stop = (to_si(text, "speed", "--speeds") for text in args.speeds[:2])
+        count = int(_number(args.speeds[2], "--speeds count"))
+        if not (0 < start < stop and 2 <= count <= 2000):
+            raise InputError("--speeds needs START < STOP, both positive, and a count from 2 to 2000")
+        sweep = amplitude_against_speed(system, np.linspace(start, stop, count))
+    report = averaging_report(system, system.analyse(), sweep if args.json else None)
+    for key in ("origin", "description"):
+        if notes.get(key):
+            report.notes.insert(0, notes[key])
+    if plot:
+        if sweep is None:
+            raise InputError("--plot draws the amplitude against speed: give --speeds START STOP COUNT too")
+        with _locked(plot):
+            save_figure(amplitude_speed_figure(system, sweep), plot, dpi=150)
+        report.note(f"amplitude against speed drawn to {args.plot}")
+    code = _emit(report, args.json)
+    if sweep is not None and not args.json:
+        print("\n" + amplitude_table(sweep))
+    return code

@@ -41,6 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     _studies_commands(commands)
     _lab_commands(commands)
     _rate_state_commands(commands)
+    _vibration_commands(commands)
     _evaluation_commands(commands)
     _plots_commands(commands)
     return parser
@@ -211,6 +212,20 @@ def _lab_commands(commands) -> None:
     decay.add_argument("--frequency", help="damped frequency, e.g. '19.9 Hz'")
     decay.add_argument("--json", action="store_true", help="print one JSON object")
     decay.set_defaults(handler="lab:cmd_decay")
+
+
+def _vibration_commands(commands) -> None:
+    """Quasi-harmonic vibration (handler in faultslip.cli.lab)."""
+    vibration = commands.add_parser("quasi-harmonic", help="friction-induced vibration without sticking "
+                                                           "(seed 002, averaging)")
+    vibration.add_argument("scene", help="vibration scene TOML (e.g. configs/vibration_seed002.toml)")
+    vibration.add_argument("--speed", help="driving speed, overriding the scene's, e.g. '12.5 in/s'")
+    vibration.add_argument("--speeds", nargs=3, metavar=("START", "STOP", "COUNT"),
+                           help="amplitude against driving speed, e.g. '1 in/s' '16 in/s' 61")
+    vibration.add_argument("--plot", help="draw the friction curve and the amplitude against speed (needs --speeds)")
+    vibration.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    vibration.add_argument("--json", action="store_true", help="print one JSON object")
+    vibration.set_defaults(handler="lab:cmd_quasi_harmonic")
 
 
 def _rate_state_commands(commands) -> None:

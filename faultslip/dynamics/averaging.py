@@ -1,0 +1,374 @@
+"""Quasi-harmonic friction-induced vibration by Kryloff-Bogoliuboff averaging (seed 002, section 3).
+
+The slider of seed 002 eq. (10), driven at speed v under a friction-velocity curve f,
+
+    M X'' + r X' + k X = W f(v - X'),
+
+oscillates about a shifted rest position without ever sticking while |X'| < v. With
+X - X_0 = A sin(omega t + Phi) and A, Phi slowly varying (omega^2 = k / M), averaging over a
+period gives (seed 002 eqs. 20-21; the phase is unaffected since f depends on X' only)
+
+    A' = -r A / (2 M) + W / (2 pi M omega) * integral_0^2pi f(v - A omega cos b) cos b db.  (eq. 20)
+
+For a polynomial the integral is closed: expanding f about v, only the odd derivatives survive,
+
+    integral = -pi sum_{m odd} w_m f^(m)(v) / m! (A omega)^m,
+    w_m = 2 C(m + 1, (m + 1) / 2) / 2^(m + 1) = 1, 3/4, 5/8, 35/64, 63/128, ...
+
+(from integral_0^2pi cos^(m+1) b db = 2 pi C(m + 1, (m + 1)/2) / 2^(m + 1)), so that
+
+    A' = -(A / 2M) [r + W sum_{m odd} w_m f^(m)(v) / m! (A omega)^(m - 1)],
+
+whose nonzero roots are seed 002 eq. (23)'s limit cycles. Any other curve (tabulated, callable)
+goes by quadrature. Steady sliding (A = 0) is unstable where r + W f'(v) < 0; a limit cycle
+A* is stable where dA'/dA < 0 there. A vertical shift of f changes nothing here (only
+derivatives enter): the slider oscillates about another position with the same amplitude.
+
+Validity: the first-order averaged amplitude is accurate to O(eps), eps = (r + W max|f'|) / (M omega),
+the size of the nonlinear damping per radian (seed 002: "the nonlinear term is relatively small").
+Where A omega reaches v the sliding speed v - X' touches zero: the slider would stick, and the
+quasi-harmonic description ends; the stick-slip methods take over.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from faultslip.errors import InputError
+
+#: quadrature nodes for curves without a closed form (the trapezoidal rule is spectrally accurate
+#: for smooth periodic integrands); the estimate of its error compares with half as many
+QUADRATURE_NODES = 512
+#: measured error of the averaged limit-cycle amplitude against direct integration, 0.010 s^2 (symmetric
+#: curves) to 0.026 s^2 (with even terms), s = small_parameter (tests/test_averaging.py): declared 0.05 s^2
+ERROR_CONSTANT = 0.05
+
+
+def odd_weight(order: int) -> float:
+    """w_m = 2 C(m + 1, (m + 1) / 2) / 2^(m + 1) for odd m: the averaged weight of the (A omega)^m term."""
+    if order < 1 or order % 2 == 0:
+        raise InputError(f"the averaging weights belong to odd orders, got {order}")
+    return 2.0 * math.comb(order + 1, (order + 1) // 2) / 2.0 ** (order + 1)
+
+
+def polynomial_integral(coefficients, speed: float, amplitude_speed) -> np.ndarray:
+    """integral_0^2pi f(v - A omega cos b) cos b db for f(u) = sum c_n u^n (increasing powers), closed form.
+
+    ``amplitude_speed`` is A omega (scalar or array, m/s)."""
+    coefficients = np.asarray(coefficients, dtype=float)
+    amplitude_speed = np.asarray(amplitude_speed, dtype=float)
+    total = np.zeros_like(amplitude_speed)
+    derivative = coefficients
+    for order in range(1, coefficients.size):
+        derivative = np.polynomial.polynomial.polyder(derivative)
+        if order % 2:
+            taylor = np.polynomial.polynomial.polyval(speed, derivative) / math.factorial(order)
+            total = total - math.pi * odd_weight(order) * taylor * amplitude_speed ** order
+    return total
+
+
+def quadrature_integral(friction, speed: float, amplitude_speed, nodes: int = QUADRATURE_NODES):
+    """The same integral for any vectorised curve ``friction(u)``, by the periodic trapezoidal rule;
+    returns (values, estimated absolute error from halving the nodes)."""
+    amplitude_speed = np.atleast_1d(np.asarray(amplitude_speed, dtype=float))
+
+    def rule(count):
+        angles = 2.0 * math.pi * np.arange(count) / count
+        cosines = np.cos(angles)
+        values = friction(speed - amplitude_speed[:, None] * cosines[None, :]) * cosines[None, :]
+        return values.sum(axis=1) * (2.0 * math.pi / count)
+
+    fine, coarse = rule(nodes), rule(nodes // 2)
+    return fine, np.abs(fine - coarse)
+
+
+@dataclass
+class QuasiHarmonic:
+    """The averaged slider of seed 002 eq. (10), SI: mass M (kg), damping r (N s/m), stiffness k (N/m),
+    normal load W (N), driving speed v (m/s) and the friction curve, as polynomial coefficients in
+    increasing powers of the sliding speed (``coefficients``) or any vectorised callable (``friction``)."""
+
+    mass: float
+    damping: float
+    stiffness: float
+    normal_load: float
+    speed: float
+    coefficients: tuple | None = None
+    friction: object = None
+    name: str = "quasi-harmonic slider"
+
+    def __post_init__(self):
+        for label, value in (("mass", self.mass), ("stiffness", self.stiffness), ("normal load", self.normal_load),
+                             ("driving speed", self.speed)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise InputError(f"the {label} must be a positive finite number, got {value!r}")
+        if not (math.isfinite(self.damping) and self.damping >= 0):
+            raise InputError(f"the damping r must be a finite number >= 0, got {self.damping!r}")
+        if (self.coefficients is None) == (self.friction is None):
+            raise InputError("give the friction curve as polynomial coefficients or as a callable, one of them")
+        if self.coefficients is not None:
+            self.coefficients = tuple(float(c) for c in self.coefficients)
+            if not self.coefficients or not all(math.isfinite(c) for c in self.coefficients):
+                raise InputError("the friction polynomial needs finite coefficients")
+
+    @property
+    def angular_frequency(self) -> float:
+        return math.sqrt(self.stiffness / self.mass)
+
+    def curve(self, sliding_speed):
+        """f(u): the friction coefficient at sliding speed u."""
+        if self.coefficients is not None:
+            return np.polynomial.polynomial.polyval(sliding_speed, self.coefficients)
+        return np.asarray(self.friction(np.asarray(sliding_speed, dtype=float)), dtype=float)
+
+    def slope(self, sliding_speed, step: float | None = None):
+        """f'(u): exact for a polynomial, a central difference otherwise."""
+        if self.coefficients is not None:
+            return np.polynomial.polynomial.polyval(sliding_speed,
+                                                    np.polynomial.polynomial.polyder(self.coefficients))
+        h = step or 1e-6 * max(abs(self.speed), 1e-12)
+        return (self.curve(np.asarray(sliding_speed) + h) - self.curve(np.asarray(sliding_speed) - h)) / (2 * h)
+
+    def integral(self, amplitude):
+        """integral_0^2pi f(v - A omega cos b) cos b db, and its estimated error (0 in closed form)."""
+        amplitude_speed = np.asarray(amplitude, dtype=float) * self.angular_frequency
+        if self.coefficients is not None:
+            return polynomial_integral(self.coefficients, self.speed, amplitude_speed), np.zeros_like(amplitude_speed)
+        values, error = quadrature_integral(self.curve, self.speed, amplitude_speed)
+        return values.reshape(np.shape(amplitude_speed)), error.reshape(np.shape(amplitude_speed))
+
+    def amplitude_rate(self, amplitude):
+        """A' (m/s) from eq. (20)."""
+        amplitude = np.asarray(amplitude, dtype=float)
+        integral, _ = self.integral(amplitude)
+        omega = self.angular_frequency
+        return -self.damping * amplitude / (2 * self.mass) + self.normal_load * integral / (2 * math.pi * self.mass * omega)
+
+    @property
+    def steady_sliding_growth(self) -> float:
+        """Growth rate (1/s) of small oscillations about steady sliding: -(r + W f'(v)) / (2 M)."""
+        return -(self.damping + self.normal_load * float(self.slope(self.speed))) / (2 * self.mass)
+
+    def small_parameter(self, amplitude: float = 0.0) -> float:
+        """eps = (r + W max|f'|) / (M omega), f' over the sliding speeds v +- A omega of an oscillation of
+        amplitude A: the nonlinear damping per radian, whose smallness averaging assumes."""
+        reach = amplitude * self.angular_frequency
+        speeds = self.speed + np.linspace(-reach, reach, 201)
+        return float((self.damping + self.normal_load * np.max(np.abs(self.slope(speeds))))
+                     / (self.mass * self.angular_frequency))
+
+    def limit_cycles(self, largest: float | None = None, samples: int = 4000) -> list:
+        """Every nonzero root A* of A' = 0 up to ``largest`` (default: the no-stick limit v / omega, and
+        twice it to show the roots beyond), with its stability, sorted by amplitude."""
+        omega = self.angular_frequency
+        top = largest or 2.0 * self.speed / omega
+        grid = np.linspace(top / samples, top, samples)
+        rates = self.amplitude_rate(grid) / grid  # A'/A: the roots without the trivial A = 0
+        cycles = []
+        for i in np.nonzero(np.sign(rates[:-1]) * np.sign(rates[1:]) < 0)[0]:
+            low, high = grid[i], grid[i + 1]
+            for _ in range(80):
+                middle = 0.5 * (low + high)
+                if np.sign(self.amplitude_rate(middle) / middle) == np.sign(rates[i]):
+                    low = middle
+                else:
+                    high = middle
+            root = 0.5 * (low + high)
+            step = 1e-6 * root
+            derivative = float((self.amplitude_rate(root + step) - self.amplitude_rate(root - step)) / (2 * step))
+            cycles.append(LimitCycle(amplitude=root, stable=derivative < 0, decay_rate=derivative,
+                                     sticks=root * omega >= self.speed))
+        return cycles
+
+    def envelope(self, initial_amplitude: float, duration: float, samples: int = 401):
+        """A(t) from eq. (20) by an adaptive integrator: growth or decay toward a limit cycle."""
+        from scipy.integrate import solve_ivp  # heavy: imported where used
+
+        if not (initial_amplitude >= 0 and duration > 0):
+            raise InputError("the envelope needs an initial amplitude >= 0 and a positive duration")
+        times = np.linspace(0.0, duration, samples)
+        solution = solve_ivp(lambda t, a: self.amplitude_rate(a), (0.0, duration), [initial_amplitude],
+                             t_eval=times, rtol=1e-10, atol=1e-14 * max(initial_amplitude, 1e-12))
+        if not solution.success:
+            raise InputError(f"the amplitude equation failed to integrate: {solution.message}")
+        return times, solution.y[0]
+
+    def analyse(self) -> "QuasiHarmonicResult":
+        """Steady sliding's stability, the limit cycles, which one the slider settles on, and validity.
+
+        From small disturbances: steady sliding where it is stable (amplitude 0); else the smallest stable
+        limit cycle, if its peak speed A omega stays below v. If there is none, or it would stick, the
+        result is not valid (``valid`` False, amplitude NaN): the motion is stick-slip.
+        """
+        growth = self.steady_sliding_growth
+        cycles = self.limit_cycles()
+        notes = []
+        amplitude, valid, settled = 0.0, True, None
+        if growth > 0:  # small oscillations grow to the first stable cycle above zero
+            settled = next((c for c in cycles if c.stable), None)
+            if settled is None:
+                valid, amplitude = False, math.nan
+                notes.append("no stable limit cycle below twice the no-stick amplitude v / omega: the oscillation "
+                             "grows until the slider sticks (stick-slip); use the stick-slip methods")
+            elif settled.sticks:
+                valid, amplitude = False, math.nan
+                notes.append(f"the limit cycle's peak speed A omega = {settled.amplitude * self.angular_frequency:.4g} "
+                             f"m/s reaches the driving speed {self.speed:.4g} m/s: the slider would stick, so the "
+                             "quasi-harmonic solution does not hold; use the stick-slip methods")
+            else:
+                amplitude = settled.amplitude
+        elif any(c.stable and not c.sticks for c in cycles):
+            notes.append("steady sliding is stable, but a large disturbance can reach a stable limit cycle "
+                         f"(A = {next(c.amplitude for c in cycles if c.stable):.4g} m)")
+        eps = self.small_parameter(amplitude if valid else self.speed / self.angular_frequency)
+        if eps > 0.3:
+            notes.append(f"eps = (r + W max|f'|) / (M omega) = {eps:.3g} is not small: averaging's error "
+                         f"({ERROR_CONSTANT:g} eps^2 = {ERROR_CONSTANT * eps ** 2:.2g}) is large")
+        return QuasiHarmonicResult(steady_sliding_stable=growth < 0, growth_rate=growth, limit_cycles=cycles,
+                                   amplitude=amplitude, small_parameter=eps, valid=valid, notes=notes,
+                                   estimated_error=ERROR_CONSTANT * eps ** 2 if valid and amplitude > 0 else 0.0)
+
+
+@dataclass
+class LimitCycle:
+    amplitude: float  # m
+    stable: bool
+    decay_rate: float  # dA'/dA at the root (1/s): negative for a stable cycle
+    sticks: bool  # A omega >= v: outside the quasi-harmonic description
+
+
+@dataclass
+class QuasiHarmonicResult:
+    steady_sliding_stable: bool
+    growth_rate: float  # 1/s, of small oscillations about steady sliding
+    limit_cycles: list
+    amplitude: float  # m, the cycle the slider settles on from small disturbances (0: steady sliding)
+    small_parameter: float
+    valid: bool
+    notes: list = field(default_factory=list)
+    estimated_error: float = 0.0  # relative, of the amplitude (0.05 eps^2)
+
+
+def from_slider(system, name: str | None = None) -> QuasiHarmonic:
+    """The averaged model of a :class:`~faultslip.dynamics.slider.SliderSystem` whose kinetic law is a
+    polynomial or any curve: M, r (its dashpot), k, W and the platform speed v."""
+    law = system.kinetic_law
+    coefficients = getattr(law, "coefficients", None)
+    if coefficients is None and hasattr(law, "slope") and getattr(law, "is_linear", False):
+        coefficients = (law.mu_m, law.slope)
+    friction = None if coefficients is not None else law
+    return QuasiHarmonic(mass=system.mass, damping=system.dashpot, stiffness=system.stiffness,
+                         normal_load=system.normal_load, speed=system.platform_speed, coefficients=coefficients,
+                         friction=friction, name=name or system.name)
+
+
+def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 400.0, record_periods: float = 2.0,
+              rtol: float = 1e-10) -> dict:
+    """Eq. (10) integrated directly (DOP853) about the shifted rest position, Y = X - X_0:
+
+        M Y'' + r Y' + k Y = W [f(v - Y') - f(v)],
+
+    from Y = 0, Y' = A0 omega. Returns the amplitude (half the peak-to-peak Y) over the last
+    ``record_periods``, the time and the function evaluations; raises :class:`SolverError` naming
+    the time where the sliding speed v - Y' reaches zero (the slider would stick: eq. (10) with a
+    kinetic curve no longer describes it)."""
+    from scipy.integrate import solve_ivp  # heavy: imported where used
+
+    from faultslip.errors import SolverError
+
+    omega = system.angular_frequency
+    m, r, k, w, v = system.mass, system.damping, system.stiffness, system.normal_load, system.speed
+    base = float(system.curve(v))
+
+    def rhs(t, y):
+        return (y[1], (w * (float(system.curve(v - y[1])) - base) - r * y[1] - k * y[0]) / m)
+
+    def sticks(t, y):
+        return v - y[1]
+
+    sticks.terminal, sticks.direction = True, -1
+    period = 2 * math.pi / omega
+    end = periods * period
+    record_from = end - record_periods * period
+    samples = np.linspace(record_from, end, int(record_periods * 4096) + 1)  # the peaks to ~3e-7
+    solution = solve_ivp(rhs, (0.0, end), [0.0, initial_amplitude * omega], method="DOP853", rtol=rtol,
+                         atol=rtol * max(initial_amplitude, 1e-12) * omega, t_eval=samples, events=sticks,
+                         dense_output=False)
+    if solution.t_events[0].size:
+        raise SolverError(f"the sliding speed reaches zero at t = {solution.t_events[0][0]:.6g} s: the slider sticks, "
+                          "and the quasi-harmonic model ends there; use the stick-slip methods (faultslip simulate)")
+    if not solution.success:
+        raise SolverError(f"DOP853 failed on the quasi-harmonic slider: {solution.message}")
+    displacement = solution.y[0]
+    return {"amplitude": 0.5 * float(displacement.max() - displacement.min()), "time": end,
+            "function_evaluations": int(solution.nfev)}
+
+
+def estimated_error(system: QuasiHarmonic, amplitude: float) -> float:
+    """The declared relative error of an averaged limit-cycle amplitude: 0.05 eps^2."""
+    return ERROR_CONSTANT * system.small_parameter(amplitude) ** 2
+
+
+def amplitude_against_speed(system: QuasiHarmonic, speeds) -> dict:
+    """The settled amplitude at each driving speed (seed 002 Figs. 10-11): arrays of amplitude (m; 0 where
+    steady sliding is stable, NaN where the oscillation would stick), steady sliding's growth rate, and
+    the small parameter."""
+    speeds = np.asarray(speeds, dtype=float)
+    amplitude, growth, eps, sticks = (np.empty(speeds.size) for _ in range(4))
+    for i, speed in enumerate(speeds):
+        at = QuasiHarmonic(system.mass, system.damping, system.stiffness, system.normal_load, float(speed),
+                           system.coefficients, system.friction, system.name)
+        result = at.analyse()
+        amplitude[i] = result.amplitude
+        growth[i], eps[i], sticks[i] = result.growth_rate, result.small_parameter, not result.valid
+    return {"speed": speeds, "amplitude": amplitude, "growth_rate": growth, "small_parameter": eps,
+            "sticks": sticks.astype(bool)}
+
+
+def report(system: QuasiHarmonic, result: QuasiHarmonicResult, sweep: dict | None = None):
+    """The analysis as a :class:`~faultslip.io.report.Report` (``faultslip quasi-harmonic``)."""
+    from faultslip.io.report import Report
+
+    omega = system.angular_frequency
+    r = Report(f"faultslip quasi-harmonic vibration (seed 002, averaging): {system.name}")
+    r.add("mass", system.mass, "kg", also=("lb",)).add("stiffness", system.stiffness, "N/m", also=("lbf/in",))
+    r.add("damping", system.damping, "N*s/m", also=("lbf*s/in",)).add("normal_load", system.normal_load, "N",
+                                                                     also=("lbf",))
+    r.add("speed", system.speed, "m/s", also=("in/s",), label="driving speed v")
+    r.add("natural_frequency", omega / (2 * math.pi), "Hz", label="omega / 2 pi")
+    r.add("friction_slope", float(system.slope(system.speed)), "s/m", label="f'(v)")
+    r.add("growth_rate", result.growth_rate, "1/s", label="small oscillations grow at -(r + W f'(v)) / 2M")
+    regime = ("steady_sliding" if result.valid and result.amplitude == 0 else
+              "quasi_harmonic" if result.valid else "stick_slip")
+    r.add("regime", regime)
+    if result.valid:
+        r.add("amplitude", result.amplitude, "m", also=("in",), label="limit-cycle amplitude A")
+        r.add("peak_speed", result.amplitude * omega, "m/s", also=("in/s",), label="A omega (must stay below v)")
+        r.add("estimated_relative_error", result.estimated_error, label="0.05 eps^2 (measured against integration)")
+    r.add("small_parameter", result.small_parameter, label="eps = (r + W max|f'|) / (M omega)")
+    r.add("limit_cycles", [{"amplitude": {"value": float(c.amplitude), "units": "m"}, "stable": bool(c.stable),
+                            "sticks": bool(c.sticks)} for c in result.limit_cycles])
+    if sweep is not None:
+        r.add("amplitude_against_speed", [
+            {"speed": {"value": float(v), "units": "m/s"},
+             "amplitude": {"value": None if math.isnan(a) else float(a), "units": "m"}, "sticks": bool(s)}
+            for v, a, s in zip(sweep["speed"], sweep["amplitude"], sweep["sticks"])])
+    for note in result.notes:
+        r.note(note)
+    r.note("method: Kryloff-Bogoliuboff averaging of seed 002 eq. (20); polynomial curves in closed form "
+           "(weights 1, 3/4, 5/8, 35/64, ...)")
+    return r
+
+
+def amplitude_table(sweep: dict) -> str:
+    """The amplitude against driving speed as a Markdown table (in the seed's inches)."""
+    inch = 0.0254
+    lines = ["| driving speed (in/s) | amplitude (in) | regime |", "| --- | --- | --- |"]
+    for speed, amplitude, sticks in zip(sweep["speed"], sweep["amplitude"], sweep["sticks"]):
+        regime = "stick-slip" if sticks else "steady sliding" if amplitude == 0 else "quasi-harmonic"
+        shown = "" if sticks else f"{amplitude / inch:.4g}"
+        lines.append(f"| {speed / inch:.4g} | {shown} | {regime} |")
+    return "\n".join(lines)

@@ -1,0 +1,177 @@
+"""Quasi-harmonic vibration by Kryloff-Bogoliuboff averaging (seed 002 section 3): weights, limits, invariants."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from faultslip.dynamics.averaging import (QuasiHarmonic, integrate, odd_weight, polynomial_integral,
+                                          quadrature_integral)
+from faultslip.errors import InputError, SolverError
+
+
+def rayleigh(eps, speed=10.0, shift=0.0, quadratic=0.0):
+    """f(u) = shift - eps (u - v) + q eps (u - v)^2 + eps (u - v)^3 / 3 with M = k = W = 1, r = 0: eq. (12)
+    becomes Rayleigh's oscillator Y'' - eps (Y' - Y'^3 / 3) + Y = 0 (plus an even term), limit cycle A = 2."""
+    p = np.polynomial.Polynomial([-speed, 1.0])
+    f = shift - eps * p + quadratic * eps * p ** 2 + eps / 3 * p ** 3
+    return QuasiHarmonic(mass=1.0, damping=0.0, stiffness=1.0, normal_load=1.0, speed=speed,
+                         coefficients=tuple(f.coef))
+
+
+def test_the_odd_order_weights_are_the_averaged_cosine_powers():
+    """w_m = (1/pi) integral_0^2pi cos^(m+1) b db: 1, 3/4, 5/8, 35/64, 63/128 (seed 002 eq. 23 uses 3/4, 5/8)."""
+    assert [odd_weight(m) for m in (1, 3, 5, 7, 9)] == [1.0, 0.75, 0.625, 35 / 64, 63 / 128]
+    angles = np.linspace(0.0, 2 * math.pi, 4097)[:-1]
+    for m in (1, 3, 5, 7, 9):
+        assert odd_weight(m) == pytest.approx(np.mean(np.cos(angles) ** (m + 1)) * 2, rel=1e-13)
+    with pytest.raises(InputError, match="odd orders"):
+        odd_weight(2)
+
+
+@settings(max_examples=60, deadline=None)
+@given(coefficients=st.lists(st.floats(-2.0, 2.0), min_size=1, max_size=8),
+       speed=st.floats(0.1, 3.0), amplitude_speed=st.floats(0.0, 3.0))
+def test_closed_form_equals_quadrature_for_any_polynomial(coefficients, speed, amplitude_speed):
+    closed = polynomial_integral(coefficients, speed, amplitude_speed)
+    numeric, error = quadrature_integral(lambda u: np.polynomial.polynomial.polyval(u, coefficients), speed,
+                                         amplitude_speed)
+    scale = 1.0 + sum(abs(c) for c in coefficients) * (speed + amplitude_speed + 1.0) ** len(coefficients)
+    assert float(closed) == pytest.approx(float(numeric[0]), abs=1e-11 * scale)
+    assert float(error[0]) <= 1e-10 * scale
+
+
+@settings(max_examples=40, deadline=None)
+@given(shift=st.floats(-1.0, 1.0), eps=st.floats(0.01, 0.3), amplitude=st.floats(0.0, 5.0))
+def test_shifting_the_friction_curve_leaves_the_amplitude_unchanged(shift, eps, amplitude):
+    """Seed 002, curves (A) and (B): a vertical shift of f moves the rest position, not the oscillation."""
+    base, shifted = rayleigh(eps), rayleigh(eps, shift=shift)
+    assert float(shifted.amplitude_rate(amplitude)) == pytest.approx(float(base.amplitude_rate(amplitude)),
+                                                                     rel=1e-12, abs=1e-15)
+
+
+def test_a_linear_curve_gives_exponential_envelopes_and_the_steady_sliding_criterion():
+    """f = c0 + c1 u: A' = -(r + W c1) A / (2 M) exactly, so A(t) = A0 exp(-(r + W c1) t / (2 M)); steady
+    sliding is unstable exactly where r + W f'(v) < 0."""
+    system = QuasiHarmonic(mass=2.0, damping=0.3, stiffness=50.0, normal_load=10.0, speed=1.0,
+                           coefficients=(0.5, -0.05))
+    growth = -(0.3 + 10.0 * -0.05) / (2 * 2.0)
+    assert system.steady_sliding_growth == pytest.approx(growth, rel=1e-14) and growth > 0
+    times, amplitude = system.envelope(1e-3, 10.0)
+    np.testing.assert_allclose(amplitude, 1e-3 * np.exp(growth * times), rtol=1e-8)
+    assert not system.analyse().steady_sliding_stable
+    stable = QuasiHarmonic(mass=2.0, damping=0.6, stiffness=50.0, normal_load=10.0, speed=1.0, coefficients=(0.5, -0.05))
+    assert stable.steady_sliding_growth < 0 and stable.analyse().amplitude == 0.0
+
+
+def test_rayleighs_limit_cycle_and_seed_002_eq_23():
+    """The averaged amplitude equation of Rayleigh's oscillator has the stable root A = 2 (2 eps^2 / eps: any
+    eps); with a quintic term it is seed 002 eq. (23): (5/8) e (A w)^4 + (3/4) e' (A w)^2 + (r + W f'(v)) / W = 0."""
+    for eps in (0.01, 0.1):
+        cycles = rayleigh(eps).limit_cycles()
+        assert len(cycles) == 1 and cycles[0].stable and cycles[0].amplitude == pytest.approx(2.0, rel=1e-12)
+    # f'(v) = -1, f'''(v) / 3! = c3, f^(5)(v) / 5! = c5 with c3 = -1, c5 = 0.2 about v: eq. (23) in (A w)^2
+    v, c3, c5, w, r = 5.0, -1.0, 0.2, 2.0, 0.5
+    p = np.polynomial.Polynomial([-v, 1.0])
+    f = 0.3 - p + c3 * p ** 3 + c5 * p ** 5
+    system = QuasiHarmonic(mass=1.0, damping=r, stiffness=4.0, normal_load=w, speed=v, coefficients=tuple(f.coef))
+    # in x = A w: (5/8) c5 x^4 + (3/4) c3 x^2 + (r + W f'(v)) / W = 0 (the seed writes F(x') with
+    # alternating signs, e_2 = c5 and e_4 = c3 for this f; its -e_6 is f'(v))
+    roots = np.roots([(5 / 8) * c5, 0.0, (3 / 4) * c3, 0.0, (r + w * -1.0) / w])
+    expected = sorted(x.real / 2.0 for x in roots if abs(x.imag) < 1e-12 and x.real > 0)
+    assert len(expected) == 1 and expected[0] == pytest.approx(1.3108, rel=1e-4)
+    found = [c.amplitude for c in system.limit_cycles(largest=10.0)]
+    np.testing.assert_allclose(found, expected, rtol=1e-10)
+
+
+@pytest.mark.parametrize("eps, quadratic", [(0.1, 0.0), (0.03, 0.0), (0.1, 1.0), (0.03, 1.0)])
+def test_averaging_against_direct_integration_errs_as_eps_squared(eps, quadratic):
+    """Measured: the averaged amplitude's error is 0.010 s^2 (symmetric curve) to 0.026 s^2 (with an even
+    term), s the small parameter over the cycle: inside the declared 0.05 s^2."""
+    system = rayleigh(eps, quadratic=quadratic)
+    result = system.analyse()
+    direct = integrate(system, 0.95 * result.amplitude, periods=max(60.0, 8.0 / eps))
+    error = abs(direct["amplitude"] / result.amplitude - 1)
+    s = system.small_parameter(result.amplitude)
+    assert error <= 0.05 * s ** 2
+    assert error >= 0.005 * s ** 2  # and it is this size: the model of the error is not vacuous
+
+
+def test_where_the_oscillation_would_stick_the_quasi_harmonic_model_says_so():
+    """A w >= v: the sliding speed reaches zero; the analysis flags it and direct integration stops there."""
+    system = rayleigh(0.1, speed=1.5)  # A = 2, w = 1: peak speed 2 > v
+    result = system.analyse()
+    assert not result.valid and math.isnan(result.amplitude)
+    assert any("stick" in note for note in result.notes)
+    with pytest.raises(SolverError, match="sliding speed reaches zero"):
+        integrate(system, 1.9, periods=40)
+
+
+def test_bad_parameters_are_refused():
+    with pytest.raises(InputError, match="mass"):
+        QuasiHarmonic(mass=0.0, damping=0.0, stiffness=1.0, normal_load=1.0, speed=1.0, coefficients=(0.3,))
+    with pytest.raises(InputError, match="one of them"):
+        QuasiHarmonic(mass=1.0, damping=0.0, stiffness=1.0, normal_load=1.0, speed=1.0)
+    with pytest.raises(InputError, match="damping"):
+        QuasiHarmonic(mass=1.0, damping=-1.0, stiffness=1.0, normal_load=1.0, speed=1.0, coefficients=(0.3,))
+
+
+def test_any_curve_goes_by_quadrature_with_its_error():
+    """A tabulated-like curve (Bristow's form, 0.4 + 0.2 exp(-u / 2)) has no closed form: the quadrature's
+    estimate of its own error is below 1e-12, and it agrees with the polynomial of its Taylor series."""
+    system = QuasiHarmonic(mass=1.0, damping=0.01, stiffness=100.0, normal_load=1.0, speed=3.0,
+                           friction=lambda u: 0.4 + 0.2 * np.exp(-u / 2.0))
+    values, error = system.integral(np.array([0.05, 0.1]))
+    assert np.all(error < 1e-12)
+    taylor = [0.2 * math.exp(-1.5) * (-0.5) ** n / math.factorial(n) for n in range(25)]
+    shifted = np.polynomial.Polynomial(taylor)(np.polynomial.Polynomial([-3.0, 1.0]))
+    closed = polynomial_integral(shifted.coef, 3.0, np.array([0.05, 0.1]) * 10.0)
+    np.testing.assert_allclose(values, closed, rtol=1e-10)
+
+
+def test_the_seed_002_scene_has_the_cubics_closed_form_amplitude(cli, tmp_path):
+    """configs/vibration_seed002.toml: f = 0.5 - s u + s u^3 / (3 u_f^2) gives, from eq. (20) with weight 3/4,
+    (A omega)^2 = 4 (u_f^2 - v^2 - r u_f^2 / (W s)): 0.0841 in at 12.5 in/s, from the seed's k, M and r."""
+    out = cli("quasi-harmonic", "configs/vibration_seed002.toml", "--json").json
+    inch, lbf = 0.0254, 4.4482216152605
+    s, u_f, v = 0.01 / inch, 15 * inch, 12.5 * inch
+    r, w = 0.00368 * lbf / inch, 2 * lbf
+    omega = math.sqrt(70.5 * lbf / inch / (1.76 * 0.45359237))
+    expected = 2 * math.sqrt(u_f ** 2 - v ** 2 - r * u_f ** 2 / (w * s)) / omega
+    assert out["regime"] == "quasi_harmonic"
+    assert out["amplitude"]["value"] == pytest.approx(expected, rel=1e-9)
+    assert out["natural_frequency"]["value"] == pytest.approx(omega / (2 * math.pi), rel=1e-12)
+    plot = tmp_path / "amplitude.png"
+    swept = cli("quasi-harmonic", "configs/vibration_seed002.toml", "--speeds", "1 in/s", "16 in/s", "16",
+                "--plot", plot, "--json").json
+    regimes = [row["sticks"] for row in swept["amplitude_against_speed"]]
+    assert regimes[:12] == [True] * 12 and regimes[12:] == [False] * 4 and plot.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--plot", "x.png"), "give --speeds"),
+    (("--speeds", "5 in/s", "1 in/s", "3"), "START < STOP"),
+    (("--speed", "fast"), "--speed"),
+])
+def test_quasi_harmonic_refusals_are_one_sentence(cli, tmp_path, args, message):
+    from conftest import assert_clean_error
+
+    assert_clean_error(cli("quasi-harmonic", "configs/vibration_seed002.toml", *args), message)
+
+
+@pytest.mark.parametrize("text, message", [
+    ('[vibration]\nmass = "1 kg"\n[friction]\npolynomial = [0.3]\n', "needs stiffness"),
+    ('[vibration]\nmass = "1 kg"\nstiffness = "1 N/m"\nnormal_load = "1 N"\nspeed = "1 m/s"\n[friction]\n'
+     'polynomial = "0.3"\n', "must be a list of numbers"),
+    ('[vibration]\nmass = "1 kg"\nstiffness = "1 N/m"\nnormal_load = "1 N"\nspeed = "1 m/s"\nmas = 3\n'
+     '[friction]\npolynomial = [0.3]\n', "unknown key 'mas'"),
+    ('[vibration]\nmass = "1 m"\nstiffness = "1 N/m"\nnormal_load = "1 N"\nspeed = "1 m/s"\n[friction]\n'
+     'polynomial = [0.3]\n', "mass"),
+])
+def test_bad_vibration_scenes_name_the_problem(text, message):
+    from faultslip.lab.vibration_scene import parse_vibration_scene
+
+    with pytest.raises(InputError, match=message):
+        parse_vibration_scene(text, "v.toml")
