@@ -37,7 +37,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from faultslip.errors import InputError
+from faultslip.errors import InputError, SolverError
+from faultslip.io.report import Report
 
 #: quadrature nodes for curves without a closed form (the trapezoidal rule is spectrally accurate
 #: for smooth periodic integrands); the estimate of its error compares with half as many
@@ -277,8 +278,6 @@ def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 
     kinetic curve no longer describes it)."""
     from scipy.integrate import solve_ivp  # heavy: imported where used
 
-    from faultslip.errors import SolverError
-
     omega = system.angular_frequency
     m, r, k, w, v = system.mass, system.damping, system.stiffness, system.normal_load, system.speed
     base = float(system.curve(v))
@@ -330,8 +329,6 @@ def amplitude_against_speed(system: QuasiHarmonic, speeds) -> dict:
 
 def report(system: QuasiHarmonic, result: QuasiHarmonicResult, sweep: dict | None = None):
     """The analysis as a :class:`~faultslip.io.report.Report` (``faultslip quasi-harmonic``)."""
-    from faultslip.io.report import Report
-
     omega = system.angular_frequency
     r = Report(f"faultslip quasi-harmonic vibration (seed 002, averaging): {system.name}")
     r.add("mass", system.mass, "kg", also=("lb",)).add("stiffness", system.stiffness, "N/m", also=("lbf/in",))
