@@ -232,6 +232,12 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
             space.write("segments.csv", space.segments)
             path = space.write("map.toml", mutate_toml(map_text, rng))
         return ["map", str(path), "-o", out, "--overwrite", "--json"]
+    if kind == "vibration":
+        text = (CONFIGS / "vibration_seed002.toml").read_text(encoding="utf-8")
+        path = space.write("vibration.toml", mutate_toml(text, rng))
+        return ["quasi-harmonic", str(path), "--json"] + rng.choice(
+            [[], ["--speeds", "1 in/s", rng.choice(["16 in/s", "0 in/s", "1e9 in/s"]), rng.choice(["5", "1", "x"])],
+             ["--speed", rng.choice(["13 in/s", "-1 in/s", "1e30 m/s"])], ["--tolerance", rng.choice(["1e-2", "0", "2"])]])
     if kind == "fit":
         path = space.write("friction.csv", mutate_csv(space.friction, rng))
         return ["fit", str(path), "--bootstrap", "5", "--json"]
@@ -280,7 +286,7 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
 
 
 KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6, "netcdf": 8, "units": 20,
-         "options": 10}
+         "options": 10, "vibration": 4}
 
 
 class _Timeout(Exception):

@@ -78,13 +78,30 @@ def test_scene_reader(tmp_path_factory, scene, seed):
 
 
 @FUZZ
-@given(study=st.sampled_from(["study_san_andreas.toml", "study_lab_glass.toml"]), seed=st.integers(0, 2**32))
+@given(study=st.sampled_from(["study_san_andreas.toml", "study_lab_glass.toml", "study_rate_state.toml"]),
+       seed=st.integers(0, 2**32))
 def test_study_reader(tmp_path_factory, study, seed):
     from faultslip.studies.grid import load_study
 
     text = (ROOT / "configs" / study).read_text(encoding="utf-8").replace('base = "', f'base = "{ROOT}/configs/')
     path = _write(tmp_path_factory.mktemp("study") / "study.toml", _mutated(text, fuzz.mutate_toml, seed))
     _clean(load_study, path)
+
+
+@FUZZ
+@given(seed=st.integers(0, 2**32))
+def test_vibration_scene_reader_and_analysis(tmp_path_factory, seed):
+    """A mutated quasi-harmonic scene is read and analysed, or refused in one sentence."""
+    from faultslip.lab.vibration_scene import load_vibration_scene
+
+    text = (ROOT / "configs" / "vibration_seed002.toml").read_text(encoding="utf-8")
+    path = _write(tmp_path_factory.mktemp("vibration") / "v.toml", _mutated(text, fuzz.mutate_toml, seed))
+
+    def read_and_analyse():
+        system, _ = load_vibration_scene(path)
+        system.analyse()
+
+    _clean(read_and_analyse)
 
 
 @FUZZ

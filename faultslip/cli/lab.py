@@ -8,7 +8,7 @@ import numpy as np
 
 from faultslip import ranges
 from faultslip.cli.common import _emit, _locked, _number, _outputs
-from faultslip.dynamics.averaging import amplitude_against_speed, amplitude_table
+from faultslip.dynamics.averaging import amplitude_against_speed, amplitude_table, error_against_eps, settled_amplitude
 from faultslip.dynamics.averaging import report as averaging_report
 from faultslip.errors import FaultslipError, InputError
 from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_data
@@ -19,7 +19,7 @@ from faultslip.io.report import Report
 from faultslip.lab.rate_state_fit import fit_velocity_steps, read_step_record
 from faultslip.lab.vibration_scene import load_vibration_scene
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
-from faultslip.plots.vibration import amplitude_speed_figure
+from faultslip.plots.vibration import amplitude_speed_figure, error_figure
 from faultslip.units import to_si
 
 
@@ -150,7 +150,15 @@ def cmd_quasi_harmonic(args) -> int:
         if not (0 < start < stop and 2 <= count <= 2000):
             raise InputError("--speeds needs START < STOP, both positive, and a count from 2 to 2000")
         sweep = amplitude_against_speed(system, np.linspace(start, stop, count))
-    report = averaging_report(system, system.analyse(), sweep if args.json else None)
+    result = system.analyse()
+    tolerance = _number(args.tolerance, "--tolerance") if args.tolerance else 1e-3
+    settled = settled_amplitude(system, args.method, tolerance) if result.valid else None
+    report = averaging_report(system, result, sweep if args.json else None, settled)
+    if args.error_chart:
+        chart = _outputs(args, {"error_chart": ("--error-chart", FIGURE_SUFFIXES)}, [args.scene])["error_chart"]
+        with _locked(chart):
+            save_figure(error_figure(error_against_eps()), chart, dpi=150)
+        report.note(f"averaging's error against the small parameter drawn to {args.error_chart}")
     for key in ("origin", "description"):
         if notes.get(key):
             report.notes.insert(0, notes[key])

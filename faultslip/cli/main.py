@@ -223,6 +223,10 @@ def _vibration_commands(commands) -> None:
     vibration.add_argument("--speeds", nargs=3, metavar=("START", "STOP", "COUNT"),
                            help="amplitude against driving speed, e.g. '1 in/s' '16 in/s' 61")
     vibration.add_argument("--plot", help="draw the friction curve and the amplitude against speed (needs --speeds)")
+    vibration.add_argument("--method", default="auto", help="auto (averaging where its error meets the tolerance), "
+                                                              "averaging or integration")
+    vibration.add_argument("--tolerance", help="relative error asked of the amplitude (default 1e-3)")
+    vibration.add_argument("--error-chart", help="draw averaging's error against integration over eps (~20 s)")
     vibration.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     vibration.add_argument("--json", action="store_true", help="print one JSON object")
     vibration.set_defaults(handler="lab:cmd_quasi_harmonic")

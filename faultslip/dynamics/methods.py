@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from faultslip.dynamics.assessment import Assessment
+from faultslip.dynamics.averaging import METHODS as QUASI_HARMONIC_METHODS
 from faultslip.dynamics.closed_form import closed_form_cycle
 from faultslip.dynamics.critical import cached_critical_dimensionless_rate
 from faultslip.dynamics.cycle import STEADY_SLIDING, CycleResult
@@ -253,8 +254,10 @@ class SeedAppendixI(Method):
 
 def describe_all() -> list[dict]:
     """Every method's declared name, friction laws, domain and cost model (the seed law's, then rate-and-state's)."""
-    return [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), *BASELINES.values(), SEED_APPENDIX_I,
+    rows = [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), *BASELINES.values(), SEED_APPENDIX_I,
                                    *RATE_STATE_CYCLE_METHODS.values())]
+    return rows + [{key: row[key] for key in ("name", "friction_laws", "domain", "cost_model")}
+                   for row in QUASI_HARMONIC_METHODS.values()]
 
 
 def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:

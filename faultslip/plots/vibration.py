@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from faultslip.dynamics.averaging import ERROR_CONSTANT
 from faultslip.plots.figures import _pyplot
 
 INCH = 0.0254
@@ -31,4 +32,22 @@ def amplitude_speed_figure(system, sweep):
     amplitude.legend(fontsize=8)
     amplitude.grid(True, alpha=0.3)
     figure.suptitle(system.name)
+    return figure
+
+
+def error_figure(table):
+    """Averaging's measured error against direct integration over the small parameter, beside its declared
+    ERROR_CONSTANT eps^2 (Rayleigh curves with and without an even term)."""
+    plt = _pyplot()
+    figure, axis = plt.subplots(figsize=(6, 4.4), constrained_layout=True)
+    for index, quadratic in enumerate(np.unique(table["even_term"])):
+        chosen = table["even_term"] == quadratic
+        eps = table["small_parameter"][chosen]
+        axis.loglog(eps, table["error"][chosen], "o-", color=f"C{index}", label=f"measured, even term q = {quadratic:g}")
+        axis.loglog(eps, table["declared"][chosen], "--", color=f"C{index}", lw=0.8,
+                    label=f"declared {ERROR_CONSTANT:g} eps^2" if index == 0 else None)
+    axis.set(xlabel="small parameter eps = (r + W max|f'|) / (M omega)",
+             ylabel="relative error of the amplitude", title="averaging (seed 002 eq. 20) against integration")
+    axis.grid(True, which="both", alpha=0.3)
+    axis.legend(fontsize=8)
     return figure
