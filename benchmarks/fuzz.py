@@ -232,6 +232,11 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
             space.write("segments.csv", space.segments)
             path = space.write("map.toml", mutate_toml(map_text, rng))
         return ["map", str(path), "-o", out, "--overwrite", "--json"]
+    if kind == "nanoscale":
+        text = (CONFIGS / "nanoscale_seed001.toml").read_text(encoding="utf-8").replace("3000.0", "300.0")
+        path = space.write("nanoscale.toml", mutate_toml(text, rng))
+        return ["nanoscale", str(path), "--json"] + rng.choice([[], ["--no-run"], ["--damping", rng.choice(
+            ["13", "-1", "nan", "1e300", "x"])]])
     if kind == "vibration":
         text = (CONFIGS / "vibration_seed002.toml").read_text(encoding="utf-8")
         path = space.write("vibration.toml", mutate_toml(text, rng))
@@ -286,7 +291,7 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
 
 
 KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6, "netcdf": 8, "units": 20,
-         "options": 10, "vibration": 4}
+         "options": 10, "vibration": 4, "nanoscale": 3}
 
 
 class _Timeout(Exception):

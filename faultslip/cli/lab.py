@@ -1,4 +1,4 @@
-"""Laboratory commands: fit, record, decay, quasi-harmonic."""
+"""Laboratory commands: fit, record, decay, quasi-harmonic, nanoscale."""
 
 from __future__ import annotations
 
@@ -10,6 +10,9 @@ from faultslip import ranges
 from faultslip.cli.common import _emit, _locked, _number, _outputs
 from faultslip.dynamics.averaging import amplitude_against_speed, amplitude_table, error_against_eps, settled_amplitude
 from faultslip.dynamics.averaging import report as averaging_report
+from faultslip.dynamics.nanoscale import report as nanoscale_report
+from faultslip.dynamics.nanoscale import run_dataset as nanoscale_dataset
+from faultslip.dynamics.nanoscale import with_damping
 from faultslip.errors import FaultslipError, InputError
 from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_data
 from faultslip.friction.materials import save_user_fit
@@ -17,9 +20,11 @@ from faultslip.io.atomic import save_figure
 from faultslip.io.outputs import FIGURE_SUFFIXES
 from faultslip.io.report import Report
 from faultslip.lab.rate_state_fit import fit_velocity_steps, read_step_record
+from faultslip.lab.nanoscale_scene import load_nanoscale_scene
 from faultslip.lab.vibration_scene import load_vibration_scene
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
-from faultslip.plots.vibration import amplitude_speed_figure, error_figure
+from faultslip.io.netcdf import write_dataset
+from faultslip.plots.vibration import amplitude_speed_figure, error_figure, nanoscale_figure
 from faultslip.units import to_si
 
 
@@ -172,3 +177,24 @@ def cmd_quasi_harmonic(args) -> int:
     if sweep is not None and not args.json:
         print("\n" + amplitude_table(sweep))
     return code
+
+
+def cmd_nanoscale(args) -> int:
+    model, settings, notes = load_nanoscale_scene(args.scene)
+    if args.damping is not None:
+        model = with_damping(model, _number(args.damping, "--damping"))
+    paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
+    run = None if args.no_run else model.simulate(settings["duration"], settings["samples"])
+    report = nanoscale_report(model, run)
+    for key in ("origin", "description"):
+        if notes.get(key):
+            report.notes.insert(0, notes[key])
+    if run is not None and (paths["output"] or paths["plot"]):
+        with _locked(paths["output"], paths["plot"]):
+            if paths["output"]:
+                write_dataset(nanoscale_dataset(run), paths["output"])
+                report.note(f"time series written to {args.output}")
+            if paths["plot"]:
+                save_figure(nanoscale_figure(run), paths["plot"], dpi=150)
+                report.note(f"figure drawn to {args.plot}")
+    return _emit(report, args.json)

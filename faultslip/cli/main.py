@@ -230,6 +230,15 @@ def _vibration_commands(commands) -> None:
     vibration.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     vibration.add_argument("--json", action="store_true", help="print one JSON object")
     vibration.set_defaults(handler="lab:cmd_quasi_harmonic")
+    nano = commands.add_parser("nanoscale", help="nanoscale stick-slip with contact charging (seed 001's toy model)")
+    nano.add_argument("scene", help="nanoscale scene TOML (e.g. configs/nanoscale_seed001.toml)")
+    nano.add_argument("--damping", help="the damping A, overriding the scene's (stick-slip below A_c)")
+    nano.add_argument("--no-run", action="store_true", help="the threshold analysis only, no simulation")
+    nano.add_argument("-o", "--output", help="write the time series to this netCDF file")
+    nano.add_argument("--plot", help="draw force against displacement and the charge (seed 001 Fig. 3)")
+    nano.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    nano.add_argument("--json", action="store_true", help="print one JSON object")
+    nano.set_defaults(handler="lab:cmd_nanoscale")
 
 
 def _rate_state_commands(commands) -> None:

@@ -1,0 +1,234 @@
+"""Seed 001's nanoscale stick-slip toy model with contact charging (Ananthakrishna & Kumar, slides eqs. 1-4).
+
+Dimensionless (displacement in units of the slip scale, time in 1/omega), the tip X is pulled by
+a spring whose force F grows at the drive speed v_a, against viscous damping A X', a
+velocity-weakening law with its maximum at v_m, and the electrostatic adhesion of the charge Sigma:
+
+    X''      = F - A X' - phi(X') - f_ch Sigma^2,   phi(u) = (u / v_m) / (1 + (u / v_m)^2)   (1)
+    Sigma'   = (1 - Sigma) / tau - X' Sigma / a                                             (2)
+    Sigma_d' = X' Sigma / a            (charge deposited on the substrate)                   (3)
+    F'       = v_a - X'                                                                     (4)
+
+Steady sliding (X' = v_a) has Sigma* = 1 / (1 + tau v_a / a) and F* = A v_a + phi(v_a) + f_ch Sigma*^2.
+Linearised about it, with d = A + phi'(v_a), c = 1/tau + v_a/a, g = 2 f_ch Sigma* and h = Sigma*/a,
+
+    lambda^3 + (c + d) lambda^2 + (1 + c d - g h) lambda + c = 0,
+
+and Routh-Hurwitz puts the boundary at (c + d)(1 + c d - g h) = c, i.e. at
+d_c = [-(c^2 + 1 - g h) + sqrt((c^2 + 1 - g h)^2 + 4 c^2 g h)] / (2 c). The damping above which
+stick-slip disappears is therefore
+
+    A_c = -phi'(v_a) + d_c,   -phi'(v_a) = (1/v_m) ((v_a/v_m)^2 - 1) / (1 + (v_a/v_m)^2)^2,
+
+which is 12 for the slides' v_a = 0.02, v_m = 0.01 without charge (velocity weakening needs
+v_a > v_m); charging raises it by d_c ~ c g h / (1 + c^2) > 0 (1.26e-7 with the slides' f_ch).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from faultslip.errors import InputError, SolverError
+from faultslip.io.report import Report
+
+#: the slides' parameters ("The parameters used in the results reported here"), A = 3 in Fig. 3a
+SLIDES = {"damping": 3.0, "drive_speed": 0.02, "peak_speed": 0.01, "charging_time": 2.0, "charge_length": 1.57,
+          "charge_force": 2.56e-7}
+
+
+@dataclass(frozen=True)
+class NanoscaleModel:
+    """Eqs. (1)-(4), dimensionless. ``charge_force`` f_ch = 0 is the uncharged limit."""
+
+    damping: float = SLIDES["damping"]  # A
+    drive_speed: float = SLIDES["drive_speed"]  # v_a
+    peak_speed: float = SLIDES["peak_speed"]  # v_m
+    charging_time: float = SLIDES["charging_time"]  # tau
+    charge_length: float = SLIDES["charge_length"]  # a
+    charge_force: float = SLIDES["charge_force"]  # f_ch
+
+    def __post_init__(self):
+        # dimensionless: values beyond 1e-9 to 1e9 (0 allowed for A and f_ch) describe no experiment and
+        # overflow the model's squares
+        for label, value in (("damping A", self.damping), ("charge force f_ch", self.charge_force)):
+            if not (isinstance(value, (int, float)) and 0 <= value <= 1e9):
+                raise InputError(f"the {label} must be a number from 0 to 1e9 (dimensionless), got {value!r}")
+        for label, value in (("drive speed v_a", self.drive_speed), ("peak speed v_m", self.peak_speed),
+                             ("charging time tau", self.charging_time), ("charge length a", self.charge_length)):
+            if not (isinstance(value, (int, float)) and 1e-9 <= value <= 1e9):
+                raise InputError(f"the {label} must be a positive number from 1e-9 to 1e9 (dimensionless), "
+                                 f"got {value!r}")
+
+    def weakening(self, speed):
+        """phi(u) = (u / v_m) / (1 + (u / v_m)^2): rises to 1/2 at u = v_m and weakens beyond."""
+        ratio = np.asarray(speed, dtype=float) / self.peak_speed
+        return ratio / (1.0 + ratio * ratio)
+
+    def weakening_slope(self, speed):
+        """phi'(u) = (1 / v_m) (1 - (u/v_m)^2) / (1 + (u/v_m)^2)^2."""
+        ratio = np.asarray(speed, dtype=float) / self.peak_speed
+        return (1.0 - ratio * ratio) / (1.0 + ratio * ratio) ** 2 / self.peak_speed
+
+    @property
+    def steady_charge(self) -> float:
+        return 1.0 / (1.0 + self.charging_time * self.drive_speed / self.charge_length)
+
+    def _coupling(self):
+        c = 1.0 / self.charging_time + self.drive_speed / self.charge_length
+        sigma = self.steady_charge
+        return c, 2.0 * self.charge_force * sigma, sigma / self.charge_length
+
+    def characteristic_roots(self) -> np.ndarray:
+        """Roots of the cubic above: growth rates of small disturbances of steady sliding."""
+        c, g, h = self._coupling()
+        d = self.damping + float(self.weakening_slope(self.drive_speed))
+        return np.roots([1.0, c + d, 1.0 + c * d - g * h, c])
+
+    @property
+    def critical_damping(self) -> float:
+        """A_c: steady sliding is stable above it, stick-slip below (Routh-Hurwitz on the cubic)."""
+        c, g, h = self._coupling()
+        p = c * c + 1.0 - g * h
+        shift = (-p + math.sqrt(p * p + 4.0 * c * c * g * h)) / (2.0 * c)
+        return -float(self.weakening_slope(self.drive_speed)) + shift
+
+    @property
+    def stick_slip(self) -> bool:
+        return self.damping < self.critical_damping
+
+    def simulate(self, duration: float = 3000.0, samples: int = 6001, perturbation: float = 1e-3,
+                 rtol: float = 1e-8):
+        """Eqs. (1)-(4) from steady sliding with X' raised by ``perturbation``: time, X, X', F, Sigma, Sigma_d.
+
+        LSODA (the stuck phases are stiff: phi'(0) = 1 / v_m). Raises :class:`SolverError` naming the
+        method if it fails."""
+        from scipy.integrate import solve_ivp  # heavy: imported where used
+
+        if not (duration > 0 and math.isfinite(duration)) or not 2 <= samples <= 10_000_000:
+            raise InputError("duration must be positive and samples from 2 to 1e7")
+        v_a, a, tau, f_ch, damping = (self.drive_speed, self.charge_length, self.charging_time, self.charge_force,
+                                      self.damping)
+        sigma0 = self.steady_charge
+        force0 = damping * v_a + float(self.weakening(v_a)) + f_ch * sigma0 ** 2
+        v_m = self.peak_speed
+
+        def rhs(t, y):
+            speed, charge, force = y[1], y[3], y[2]
+            ratio = speed / v_m
+            return (speed, force - damping * speed - ratio / (1.0 + ratio * ratio) - f_ch * charge * charge,
+                    v_a - speed, (1.0 - charge) / tau - speed * charge / a, speed * charge / a)
+
+        start = [0.0, v_a * (1.0 + perturbation), force0, sigma0, 0.0]
+        if not all(math.isfinite(value) for value in start):
+            raise InputError(f"the steady-sliding force A v_a + phi(v_a) + f_ch Sigma*^2 = {force0:g} is not finite: "
+                             "the damping A, drive speed v_a or charge force f_ch is too large")
+        times = np.linspace(0.0, duration, samples)
+        try:
+            with np.errstate(over="ignore", invalid="ignore"):
+                solution = solve_ivp(rhs, (0.0, duration), start, method="LSODA", t_eval=times, rtol=rtol, atol=1e-12)
+        except (ValueError, ArithmeticError) as exc:  # scipy refuses non-finite states mid-run the same way
+            raise SolverError(f"LSODA failed on the nanoscale model ({exc}); the parameters drive the state to "
+                              "overflow") from None
+        if not solution.success:
+            raise SolverError(f"LSODA failed on the nanoscale model: {solution.message}; tighten rtol or "
+                              "shorten the duration")
+        if not np.all(np.isfinite(solution.y)):
+            raise SolverError("LSODA's state overflowed on the nanoscale model: the parameters (a large charge force "
+                              "f_ch or damping A?) drive it beyond floating point")
+        x, speed, force, charge, deposited = solution.y
+        return NanoscaleRun(time=times, displacement=x, speed=speed, force=force, charge=charge,
+                            deposited=deposited, model=self)
+
+
+@dataclass
+class NanoscaleRun:
+    time: np.ndarray
+    displacement: np.ndarray
+    speed: np.ndarray
+    force: np.ndarray
+    charge: np.ndarray
+    deposited: np.ndarray
+    model: NanoscaleModel
+
+    def force_swing(self, last: float = 0.5) -> float:
+        """Peak-to-peak force over the last fraction of the run: ~0 for steady sliding, the stick-slip swing else."""
+        tail = self.force[int((1 - last) * self.force.size):]
+        return float(tail.max() - tail.min())
+
+    def slip_events(self, last: float = 0.5) -> int:
+        """Slip events (X' rising through 2 v_a) over the last fraction of the run."""
+        tail = self.speed[int((1 - last) * self.speed.size):]
+        threshold = 2.0 * self.model.drive_speed
+        return int(np.count_nonzero((tail[:-1] < threshold) & (tail[1:] >= threshold)))
+
+    def charge_correlation(self) -> float:
+        """Correlation coefficient of displacement and deposited charge (seed 001: 'both have the same slope')."""
+        return float(np.corrcoef(self.displacement, self.deposited)[0, 1])
+
+
+def hertz_radius(normal_force: float, radius: float, modulus: float) -> float:
+    """Hertz contact radius a = (3 F_n R / (4 E*))^(1/3) (seed 001 eq. 5), m."""
+    return (3.0 * normal_force * radius / (4.0 * modulus)) ** (1.0 / 3.0)
+
+
+def jkr_radius(normal_force: float, radius: float, modulus: float, surface_energy: float) -> float:
+    """JKR contact radius a^3 = 3R/(4E*) (F + 3 pi gamma R + sqrt(6 pi R gamma F + (3 pi R gamma)^2)) (eq. 6), m."""
+    adhesion = 3.0 * math.pi * surface_energy * radius
+    return (3.0 * radius / (4.0 * modulus) * (normal_force + adhesion + math.sqrt(
+        6.0 * math.pi * radius * surface_energy * normal_force + adhesion ** 2))) ** (1.0 / 3.0)
+
+
+def dipole_force(contact_radius: float, charge_density: float, permittivity: float = 3.5,
+                 coefficient: float = 1.0) -> float:
+    """Attraction of the contact's dipole layer F_c = mu pi a^2 sigma^2 / (2 eps_0 kappa), N (seed 001, 'Why doubt').
+
+    The slides print sigma in the numerator once; the force of a charged layer goes as sigma^2 (their eq.
+    in (e) and the full model's pi R z sigma^2 / 2 eps_0 kappa), which is used here."""
+    return coefficient * math.pi * contact_radius ** 2 * charge_density ** 2 / (2.0 * 8.8541878128e-12 * permittivity)
+
+
+def with_damping(model: NanoscaleModel, damping: float) -> NanoscaleModel:
+    return replace(model, damping=damping)
+
+
+def report(model: NanoscaleModel, run: NanoscaleRun | None = None):
+    """The threshold analysis and, if run, the simulation, as a Report (``faultslip nanoscale``)."""
+    r = Report("faultslip nanoscale stick-slip with contact charging (seed 001, eqs. 1-4)")
+    r.add("damping", model.damping, label="A").add("drive_speed", model.drive_speed, label="v_a")
+    r.add("peak_speed", model.peak_speed, label="v_m").add("charging_time", model.charging_time, label="tau")
+    r.add("charge_length", model.charge_length, label="a").add("charge_force", model.charge_force, label="f_ch")
+    r.add("critical_damping", model.critical_damping, label="A_c (Routh-Hurwitz)")
+    r.add("critical_damping_uncharged", replace(model, charge_force=0.0).critical_damping,
+          label="A_c without charge, -phi'(v_a)")
+    r.add("regime", "stick_slip (A < A_c)" if model.stick_slip else "steady_sliding (A >= A_c)")
+    roots = model.characteristic_roots()
+    r.add("largest_growth_rate", float(np.max(roots.real)), label="largest Re(lambda) of small disturbances")
+    if run is not None:
+        r.add("duration", float(run.time[-1])).add("force_swing", run.force_swing(),
+                                                    label="force peak-to-peak, last half")
+        r.add("slip_events", run.slip_events(), label="slip events (X' through 2 v_a), last half")
+        deposited = run.deposited[-1] / max(run.displacement[-1], 1e-300)
+        r.add("deposited_per_displacement", float(deposited), label="Sigma_d / X at the end (Sigma*/a steady)")
+        r.add("charge_correlation", run.charge_correlation(), label="corr(X, Sigma_d)")
+    r.note("dimensionless: displacement in the slip scale D, time in 1/omega; the slides' parameters unless set")
+    return r
+
+
+def run_dataset(run: NanoscaleRun):
+    """The run as a CF dataset (dimensionless variables)."""
+    import xarray as xr  # heavy: imported where used
+
+    dims = ("time",)
+    model = run.model
+    return xr.Dataset(
+        {"displacement": (dims, run.displacement, {"units": "1", "long_name": "tip displacement X (in D)"}),
+         "speed": (dims, run.speed, {"units": "1", "long_name": "tip speed X'"}),
+         "force": (dims, run.force, {"units": "1", "long_name": "spring force F"}),
+         "charge": (dims, run.charge, {"units": "1", "long_name": "contact charge Sigma"}),
+         "deposited_charge": (dims, run.deposited, {"units": "1", "long_name": "charge deposited Sigma_d"})},
+        coords={"time": (dims, run.time, {"units": "1", "long_name": "time in 1/omega"})},
+        attrs={"title": "faultslip nanoscale model (seed 001 eqs. 1-4)", "Conventions": "CF-1.8",
+               **{key: float(getattr(model, key)) for key in SLIDES}})
