@@ -255,16 +255,49 @@ class QuasiHarmonicResult:
 
 
 def from_slider(system, name: str | None = None) -> QuasiHarmonic:
-    """The averaged model of a :class:`~faultslip.dynamics.slider.SliderSystem` whose kinetic law is a
-    polynomial or any curve: M, r (its dashpot), k, W and the platform speed v."""
+    """The averaged model of a :class:`~faultslip.dynamics.slider.SliderSystem` in its slip phase,
+    M x'' + C x' + K x = W mu(V - x') + eta (V - x'): r = C, and the radiation damper eta, which acts
+    on the sliding speed, joins the curve as eta u / W."""
     law = system.kinetic_law
     coefficients = getattr(law, "coefficients", None)
-    if coefficients is None and hasattr(law, "slope") and getattr(law, "is_linear", False):
+    if coefficients is None and getattr(law, "is_linear", False):
         coefficients = (law.mu_m, law.slope)
-    friction = None if coefficients is not None else law
+    extra = system.radiation_damper / system.normal_load
+    friction = None
+    if coefficients is not None:
+        coefficients = tuple(coefficients) + (0.0,) * max(0, 2 - len(coefficients))
+        coefficients = (coefficients[0], coefficients[1] + extra) + coefficients[2:]
+    else:
+        friction = (lambda u, curve=law: np.asarray(curve(u), dtype=float) + extra * np.asarray(u)) if extra else law
     return QuasiHarmonic(mass=system.mass, damping=system.dashpot, stiffness=system.stiffness,
                          normal_load=system.normal_load, speed=system.platform_speed, coefficients=coefficients,
                          friction=friction, name=name or system.name)
+
+
+def after_break_away(system, averaged: QuasiHarmonic | None = None) -> dict:
+    """Whether the slider, released from stick at break-away, sticks again (seed 003's slider).
+
+    At break-away x' = V and K x_b + C V = W mu_s, an offset Y_b = x_b - x_eq from steady sliding
+    (K x_eq = W mu(V) + eta V): the oscillation starts with amplitude A0 = sqrt(Y_b^2 + (V/omega)^2),
+    at the no-stick bound or above. It escapes sticking only if eq. (20) brings the amplitude below
+    V / omega within about one period (when x' next reaches V); otherwise the motion is stick-slip.
+    Returns A0, the amplitude after one period and ``sticks``."""
+    averaged = averaged or from_slider(system)
+    mu_s = system.rate_static_friction
+    if mu_s is None:
+        return {"sticks": True, "reason": "static friction depends on the time of stick: stick-slip methods"}
+    speed, omega = system.platform_speed, averaged.angular_frequency
+    offset = (system.normal_load * (mu_s - float(averaged.curve(speed))) - system.dashpot * speed) / system.stiffness
+    start = math.hypot(offset, speed / omega)
+    # break-away is at phase phi_b = acos(V / (A0 omega)) past a velocity peak; the next peak, where x'
+    # would first exceed V again, comes 2 pi - phi_b later
+    phase = math.acos(min(1.0, speed / (start * omega)))
+    _, amplitude = averaged.envelope(start, (2 * math.pi - phase) / omega, samples=3)
+    after = float(amplitude[-1])
+    sticks = after * omega >= speed
+    reason = (f"after break-away the averaged amplitude goes from {start:.4g} to {after:.4g} m by the next velocity "
+              f"peak, {'above' if sticks else 'below'} the no-stick bound V / omega = {speed / omega:.4g} m")
+    return {"sticks": sticks, "start": start, "after_one_period": after, "reason": reason}
 
 
 def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 400.0, record_periods: float = 2.0,

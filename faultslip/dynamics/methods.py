@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from faultslip.dynamics.assessment import Assessment
+from faultslip.dynamics import averaging
 from faultslip.dynamics.averaging import METHODS as QUASI_HARMONIC_METHODS
 from faultslip.dynamics.closed_form import closed_form_cycle
 from faultslip.dynamics.critical import cached_critical_dimensionless_rate
@@ -38,7 +39,7 @@ from faultslip.errors import InputError, MethodError, OutOfDomainWarning
 from faultslip.dynamics.exact_cycle import exact_cycle, exact_cycle_error
 from faultslip.dynamics.rate_state_methods import CYCLE_METHODS as RATE_STATE_CYCLE_METHODS
 from faultslip.dynamics.regularized import simulate_regularized
-from faultslip.dynamics.simulate import simulate
+from faultslip.dynamics.simulate import SUSTAINED_OSCILLATION, simulate
 
 DEFAULT_TOLERANCE = 1e-6
 OUTPUTS = ("amplitude", "period", "event_times", "time_series")
@@ -252,12 +253,61 @@ class SeedAppendixI(Method):
         raise MethodError("seed_appendix_I gives only the critical loading rate; use faultslip critical")
 
 
+class QuasiHarmonicAveraging(Method):
+    """Seed 002's averaging (faultslip.dynamics.averaging) for a slider that, once broken away, never
+    sticks again: a sustained quasi-harmonic oscillation or steady sliding."""
+
+    name = "quasi_harmonic_averaging"
+    friction_laws = "any kinetic law (polynomial in closed form, others by quadrature); rate or constant static law"
+    domain = ("after break-away eq. (20) brings the amplitude below V / omega by the next velocity peak (else the "
+              "slider sticks again: stick-slip, hand over); no events, no time series; error 0.1 eps^2")
+    cost_model = "an envelope over one period and a root search: about 2e-3 s"
+
+    def assess(self, system, outputs, tolerance, cycles):
+        if {"event_times", "time_series"} & set(outputs):
+            return Assessment(self.name, False, "averaging gives the settled amplitude and period, not events or a "
+                                                "time series")
+        if system.static_excess is None:
+            return Assessment(self.name, False, "static friction depends on the time of stick")
+        if system.static_excess <= 0:
+            return Assessment(self.name, False, "mu_s does not exceed mu_m: no break-away to start from")
+        averaged = averaging.from_slider(system)
+        start = averaging.after_break_away(system, averaged)
+        if start["sticks"]:
+            return Assessment(self.name, False, f"{start['reason']}: the slider sticks again (stick-slip)")
+        result = averaged.analyse()
+        if not result.valid:
+            return Assessment(self.name, False, result.notes[0] if result.notes else "the slider sticks")
+        eps = averaged.small_parameter(result.amplitude)
+        error = averaging.ERROR_CONSTANT * eps ** 2 if result.amplitude > 0 else 0.0
+        settles = (f"settles on a quasi-harmonic cycle A = {result.amplitude:.4g} m" if result.amplitude > 0
+                   else "decays to steady sliding")
+        return Assessment(self.name, True, f"{start['reason']}; it {settles} (eps = {eps:.3g}, error model "
+                                           f"0.1 eps^2 = {error:.2g})", error, 2e-3)
+
+    def run(self, system, cycles, settings):
+        averaged = averaging.from_slider(system)
+        result = averaged.analyse()
+        omega = averaged.angular_frequency
+        amplitude = result.amplitude
+        regime = SUSTAINED_OSCILLATION if amplitude > 0 else STEADY_SLIDING
+        nan = math.nan
+        cycle = CycleResult(
+            self.name, regime, system.loading_rate, system.platform_speed, system.rate_static_friction,
+            system.damping_ratio, system.dimensionless_rate if system.dimensionless_rate is not None else nan,
+            2.0 * amplitude, nan, 0.0, math.inf, 2.0 * math.pi / omega if amplitude > 0 else math.inf,
+            system.platform_speed + amplitude * omega, nan, system.scale,
+            extra={"quasi_harmonic_amplitude": (amplitude, "m", "averaged amplitude A (seed 002 eq. 20)"),
+                   "small_parameter": (result.small_parameter, None, "eps = (C + W max|f'|) / (M omega)")})
+        return cycle, np.array([]), None, 0
+
+
 def describe_all() -> list[dict]:
     """Every method's declared name, friction laws, domain and cost model (the seed law's, then rate-and-state's)."""
-    rows = [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), *BASELINES.values(), SEED_APPENDIX_I,
-                                   *RATE_STATE_CYCLE_METHODS.values())]
+    rows = [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), AVERAGING, *BASELINES.values(),
+                                   SEED_APPENDIX_I, *RATE_STATE_CYCLE_METHODS.values())]
     return rows + [{key: row[key] for key in ("name", "friction_laws", "domain", "cost_model")}
-                   for row in QUASI_HARMONIC_METHODS.values()]
+                   for row in QUASI_HARMONIC_METHODS.values() if row["name"] != AVERAGING.name]
 
 
 def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:
@@ -284,9 +334,10 @@ def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:
 
 CLOSED_FORM = ClosedForm()
 EXACT = ExactCycle()
+AVERAGING = QuasiHarmonicAveraging()
 INTEGRATORS = {solver: EventDriven(solver) for solver in ("DOP853", "RK45", "LSODA", "Radau")}
 METHODS = {CLOSED_FORM.name: CLOSED_FORM, EXACT.name: EXACT, **{m.name: m for m in INTEGRATORS.values()},
-           "simulate": INTEGRATORS["DOP853"]}
+           "simulate": INTEGRATORS["DOP853"], AVERAGING.name: AVERAGING}
 BASELINES = {f"regularized_{s}": Regularized(s) for s in ("RK45", "LSODA", "Radau")}
 SEED_APPENDIX_I = SeedAppendixI()
 
@@ -320,6 +371,8 @@ def choose(system, outputs=("amplitude", "period"), tolerance=DEFAULT_TOLERANCE,
             return method, Assessment(assessment.method, True, reason, assessment.estimated_error,
                                       assessment.estimated_cost, assessment.settings), assessments
     assessments += [method.assess(system, outputs, tolerance, cycles) for method in INTEGRATORS.values()]
+    if not system.is_linear:  # linear laws: the exact cycle is cheaper and exact
+        assessments.append(AVERAGING.assess(system, outputs, tolerance, cycles))
     usable = [a for a in assessments if a.applicable]
     good = sorted((a for a in usable if a.estimated_error <= tolerance), key=lambda a: a.estimated_cost)
     if good:
@@ -355,6 +408,9 @@ def solve(system, method: str = "auto", outputs=("amplitude", "period"), toleran
                           f"use {better.name} ({better_assessment.reason})", OutOfDomainWarning, stacklevel=2)
             if isinstance(chosen, (ClosedForm,)) and _linear_rate_system(system):
                 raise MethodError(f"{chosen.name} cannot describe {system.name}: {_linear_rate_system(system)}; "
+                                  f"use {better.name}")
+            if isinstance(chosen, QuasiHarmonicAveraging) and not assessment.applicable:
+                raise MethodError(f"{chosen.name} cannot describe {system.name}: {assessment.reason}; "
                                   f"use {better.name}")
             if isinstance(chosen, ExactCycle) and _linear_rate_system(system):
                 raise MethodError(f"{chosen.name} cannot describe {system.name}: {_linear_rate_system(system)}; "

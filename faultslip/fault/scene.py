@@ -100,7 +100,8 @@ SCHEMA: dict[str, dict[str, str | None]] = {
     "method": {"name": "choice", "tolerance": "dimensionless"},
     "sources": {},  # free text: any key, string values
 }
-METHOD_NAMES = ("auto", "closed_form", "exact_cycle", "simulate", "event_driven_DOP853", "event_driven_RK45",
+METHOD_NAMES = ("auto", "closed_form", "exact_cycle", "simulate", "quasi_harmonic_averaging", "event_driven_DOP853",
+                "event_driven_RK45",
                 "event_driven_LSODA", "event_driven_Radau")
 CHOICES = {
     ("method", "name"): METHOD_NAMES,
