@@ -224,7 +224,12 @@ def test_the_hand_over_after_break_away_agrees_with_event_driven_simulation(eps,
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         dataset = simulate(system, cycles=3, slip_solver="DOP853", rtol=1e-9)
-    assert after_break_away(system)["sticks"] == (dataset.attrs["regime"] == "stick_slip")
+    verdict = after_break_away(system)
+    # within 0.15 eps of the bound averaging declines to call it (hand_over_map: 100 sliders, 0 wrong calls;
+    # 36 others for validation, 0 wrong); (0.1, 1.0, 2.2) is such a case
+    assert verdict["marginal"] or verdict["sticks"] == (dataset.attrs["regime"] == "stick_slip")
+    if (eps, excess, speed) == (0.1, 1.0, 2.2):
+        assert verdict["marginal"]
 
 
 def test_auto_chooses_averaging_where_it_is_accurate_enough_and_hands_over_elsewhere():
@@ -239,7 +244,11 @@ def test_auto_chooses_averaging_where_it_is_accurate_enough_and_hands_over_elsew
     assert solution.cycle.regime == "sustained_oscillation"
     assert solution.cycle.amplitude == pytest.approx(4.0, rel=1e-12)  # peak-to-peak 2 A, A = 2
     assert solution.cycle.period == pytest.approx(2 * math.pi, rel=1e-15)
-    sticking = _rayleigh_slider(0.1, 1.0, 2.2)
+    sticking = _rayleigh_slider(0.1, 0.5, 1.5)
     assert choose(sticking, tolerance=1e-2, cycles=5)[0].name.startswith("event_driven")
     with pytest.warns(Warning), pytest.raises(MethodError, match="sticks again"):
         solve(sticking, method="quasi_harmonic_averaging", tolerance=1e-2)
+    close = _rayleigh_slider(0.1, 1.0, 2.2)  # 0.1 % from the bound: averaging defers
+    assert choose(close, tolerance=1e-2, cycles=5)[0].name.startswith("event_driven")
+    with pytest.warns(Warning), pytest.raises(MethodError, match="too close to call"):
+        solve(close, method="quasi_harmonic_averaging", tolerance=1e-2)

@@ -8,7 +8,8 @@ import numpy as np
 
 from faultslip import ranges
 from faultslip.cli.common import _emit, _locked, _number, _outputs
-from faultslip.dynamics.averaging import amplitude_against_speed, amplitude_table, error_against_eps, settled_amplitude
+from faultslip.dynamics.averaging import (amplitude_against_speed, amplitude_table, error_against_eps, hand_over_map,
+                                          settled_amplitude)
 from faultslip.dynamics.averaging import report as averaging_report
 from faultslip.dynamics.nanoscale import report as nanoscale_report
 from faultslip.dynamics.nanoscale import run_dataset as nanoscale_dataset
@@ -24,7 +25,7 @@ from faultslip.lab.nanoscale_scene import load_nanoscale_scene
 from faultslip.lab.vibration_scene import load_vibration_scene
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
 from faultslip.io.netcdf import write_dataset
-from faultslip.plots.vibration import amplitude_speed_figure, error_figure, nanoscale_figure
+from faultslip.plots.vibration import amplitude_speed_figure, error_figure, hand_over_figure, nanoscale_figure
 from faultslip.units import to_si
 
 
@@ -159,6 +160,11 @@ def cmd_quasi_harmonic(args) -> int:
     tolerance = _number(args.tolerance, "--tolerance") if args.tolerance else 1e-3
     settled = settled_amplitude(system, args.method, tolerance) if result.valid else None
     report = averaging_report(system, result, sweep if args.json else None, settled)
+    if args.hand_over_chart:
+        chart = _outputs(args, {"hand_over_chart": ("--hand-over-chart", FIGURE_SUFFIXES)}, [args.scene])["hand_over_chart"]
+        with _locked(chart):
+            save_figure(hand_over_figure(hand_over_map()), chart, dpi=150)
+        report.note(f"averaging's hand-over against event-driven simulation drawn to {args.hand_over_chart}")
     if args.error_chart:
         chart = _outputs(args, {"error_chart": ("--error-chart", FIGURE_SUFFIXES)}, [args.scene])["error_chart"]
         with _locked(chart):

@@ -227,6 +227,8 @@ def _vibration_commands(commands) -> None:
                                                               "averaging or integration")
     vibration.add_argument("--tolerance", help="relative error asked of the amplitude (default 1e-3)")
     vibration.add_argument("--error-chart", help="draw averaging's error against integration over eps (~20 s)")
+    vibration.add_argument("--hand-over-chart", help="draw where averaging hands over to stick-slip, against "
+                                                     "event-driven simulation (~70 s)")
     vibration.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     vibration.add_argument("--json", action="store_true", help="print one JSON object")
     vibration.set_defaults(handler="lab:cmd_quasi_harmonic")

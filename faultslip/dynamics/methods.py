@@ -273,6 +273,8 @@ class QuasiHarmonicAveraging(Method):
             return Assessment(self.name, False, "mu_s does not exceed mu_m: no break-away to start from")
         averaged = averaging.from_slider(system)
         start = averaging.after_break_away(system, averaged)
+        if start["marginal"]:
+            return Assessment(self.name, False, f"{start['reason']}; the event-driven methods decide")
         if start["sticks"]:
             return Assessment(self.name, False, f"{start['reason']}: the slider sticks again (stick-slip)")
         result = averaged.analyse()

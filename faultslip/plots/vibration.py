@@ -72,3 +72,37 @@ def nanoscale_figure(run):
     series.grid(True, alpha=0.3)
     figure.suptitle("seed 001 toy model: stick-slip and contact charging (eqs. 1-4)")
     return figure
+
+
+def hand_over_figure(table):
+    """Averaging's call after break-away against the event-driven simulation, per driving speed."""
+    plt = _pyplot()
+    speeds = np.unique(table["speed"])
+    figure, axes = plt.subplots(1, speeds.size, figsize=(3.3 * speeds.size, 3.6), constrained_layout=True,
+                                squeeze=False, sharey=True)
+    styles = {"stick-slip, agreed": ("s", "C3"), "quasi-harmonic, agreed": ("o", "C0"),
+              "declined (within 0.15 eps)": ("D", "0.6"), "wrong": ("X", "k")}
+    for axis, speed in zip(axes[0], speeds):
+        chosen = table["speed"] == speed
+        eps, excess = table["eps"][chosen], table["excess"][chosen]
+        predicted, simulated, marginal = (table[k][chosen] for k in ("predicted_sticks", "simulated_sticks", "marginal"))
+        groups = {"stick-slip, agreed": ~marginal & predicted & simulated,
+                  "quasi-harmonic, agreed": ~marginal & ~predicted & ~simulated,
+                  "declined (within 0.15 eps)": marginal, "wrong": ~marginal & (predicted != simulated)}
+        for label, mask in groups.items():
+            if mask.any():
+                marker, colour = styles[label]
+                axis.scatter(eps[mask], excess[mask] + 1e-3, marker=marker, color=colour, s=40, label=label)
+        axis.set(xscale="log", yscale="symlog", title=f"V = {speed:g} (A* omega = 2)", xlabel="e (curve's eps)")
+        axis.grid(True, alpha=0.3)
+    axes[0][0].set_ylabel("static excess mu_s - f(V)")
+    ticks = sorted(set(np.round(table["excess"], 6)))
+    for axis in axes[0]:
+        axis.set_yticks([t + 1e-3 for t in ticks], [f"{t:g}" for t in ticks])
+    handles = {}
+    for axis in axes[0]:
+        for handle, label in zip(*axis.get_legend_handles_labels()):
+            handles.setdefault(label, handle)
+    axes[0][-1].legend(handles.values(), handles.keys(), fontsize=7, loc="upper left", framealpha=0.9)
+    figure.suptitle("after break-away: averaging's hand-over against event-driven simulation")
+    return figure
