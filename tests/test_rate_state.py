@@ -228,6 +228,7 @@ def test_fault_cycles_balance_the_plate_and_report_their_regime():
     assert np.allclose(near.cycle_slip / (1e-9 * near.recurrence), 1.0, rtol=5e-5)
     assert near.cycle_slip.mean() / (1e-9 * near.recurrence) == pytest.approx(1.0, rel=1e-5)
     assert np.all(cycles.slip_per_event > 0) and np.all(cycles.stress_drop > 0)
+    assert cycles.series is None  # only record=True keeps the time series (it once leaked on by a name clash)
     assert 0.1 < cycles.peak_slip_rate.max() < 10.0  # radiation damping caps it near 2 c_s dtau / G
 
 

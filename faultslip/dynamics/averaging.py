@@ -295,6 +295,10 @@ def after_break_away(system, averaged: QuasiHarmonic | None = None) -> dict:
     speed, omega = system.platform_speed, averaged.angular_frequency
     offset = (system.normal_load * (mu_s - float(averaged.curve(speed))) - system.dashpot * speed) / system.stiffness
     start = math.hypot(offset, speed / omega)
+    if float(averaged.amplitude_rate(start)) >= 0 and start * omega >= speed:  # grows from the bound: sticks
+        return {"sticks": True, "marginal": False, "start": start, "after_one_period": start,
+                "reason": f"after break-away the averaged amplitude {start:.4g} m grows (A' >= 0) from the no-stick "
+                          f"bound V / omega = {speed / omega:.4g} m"}
     # break-away is at phase phi_b = acos(V / (A0 omega)) past a velocity peak; the next peak, where x'
     # would first exceed V again, comes 2 pi - phi_b later
     phase = math.acos(min(1.0, speed / (start * omega)))

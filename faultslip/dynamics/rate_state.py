@@ -798,6 +798,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     threshold = math.log(event_speed / law.reference_speed)
     sigma, k, v0 = slider.normal_stress, slider.stiffness, law.reference_speed
     wanted = spin_up + cycles
+    keep_series = bool(record)  # the events dict below takes the name
     record = {"start": [], "end": [], "peak": [], "slip_start": [], "slip_end": [], "tau_start": [], "tau_end": []}
     state = {"inside": False, "peak": 0.0}
 
@@ -841,6 +842,8 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
         return t_prev + high * h, state
 
     def on_step(t, y):
+        # y is the integrator's own new state (dopri5 makes a new list each step; LSODA's caller copies):
+        # kept by reference, the interseismic fast path costs two assignments
         now = clock["offset"] + t
         stop = False
         if y[0] > threshold:
@@ -861,8 +864,9 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
             record["slip_end"].append(y_c[-1])
             record["tau_end"].append(elastic_stress(y_c))
             stop = True
-        previous["t"], previous["y"] = now, tuple(y)
-        if record and len(record["start"]) > spin_up:
+        previous["t"] = now
+        previous["y"] = y
+        if keep_series and len(record["start"]) > spin_up:
             record_series["time"].append(now)
             record_series["state"].append(tuple(y))
         return stop
@@ -897,7 +901,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
         raise NoEventsError(f"only {ends} events in {t_end / 3.15576e7:.3g} years (K / K_c = {ratio:.3g}); the fault "
                           f"creeps or its cycles are longer than max_time; raise max_time or check a, b and D_c")
     chosen = slice(spin_up, spin_up + cycles)
-    series = _series(record_series, record["start"][spin_up + cycles], elastic_stress, v0) if record else None
+    series = _series(record_series, record["start"][spin_up + cycles], elastic_stress, v0) if keep_series else None
     starts = np.array(record["start"][spin_up:spin_up + cycles + 1])
     slip_starts = np.array(record["slip_start"][spin_up:spin_up + cycles + 1])
     return RateStateCycles(event_times=starts[:-1] if starts.size > cycles else starts,
@@ -937,7 +941,7 @@ def _lsoda_cycles(rhs, jacobian, y0, rtol, atol, horizon, on_step, running, slid
                 raise SolverError(f"LSODA failed in the fault cycles at t = {solver.t:.6g} s ({message}); use method "
                                   "'dopri5' or tighten rtol")
             steps += 1
-            on_step(solver.t, solver.y)
+            on_step(solver.t, solver.y.copy())  # kept by reference there
             if steps > max_steps:
                 raise SolverError(f"LSODA took more than {max_steps} steps (its budget) before t = {solver.t:.6g} s")
     return steps, solver.nfev, solver.t
