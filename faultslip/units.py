@@ -278,7 +278,7 @@ def parse_quantity_text(value: str, kind: str, name: str, default_unit: str | No
     match = _NUMBER.match(text)
     if match is None:
         raise InputError(f"{name}: cannot read {value!r}; it must start with a number, e.g. {_example(kind)}")
-    number_text = match.group(0).replace(" ", "")
+    number_text = "".join(match.group(0).split())  # "- 5" or "-\r0": the sign may be spaced by any whitespace
     magnitude = float(number_text)
     if not math.isfinite(magnitude):
         raise InputError(f"{name}: {value!r} is out of range (a double holds about 1.8e308 at most)")

@@ -179,3 +179,11 @@ def test_the_audits_unit_strings(text, needle):
         return
     with pytest.raises(InputError, match=needle):
         to_si(text, "length", "x")
+
+
+def test_a_sign_spaced_by_any_whitespace_reads_or_refuses_in_one_sentence():
+    """Found by the unit-parser property: '-\\r0' matched the number pattern (\\s after the sign) but
+    float() was given the carriage return and raised ValueError."""
+    assert to_si("-\r5 km", "length", "x") == -5000.0
+    with pytest.raises(InputError, match="bare number"):
+        to_si("-\r0", "acceleration", "x")

@@ -12,6 +12,8 @@ from faultslip.dynamics.closed_form import dashpot_for_damping_ratio
 from faultslip.dynamics.slider import SliderSystem
 from faultslip.errors import FaultslipError, InputError
 from faultslip.fault.scene import load_scene
+from faultslip.io.atomic import save_figure
+from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, output_lock, same_file
 from faultslip.io.processes import usable_workers
 from faultslip.units import to_si
@@ -144,3 +146,15 @@ def _delayed_progress(label, enabled):
               file=sys.stderr, flush=True)
 
     return show
+
+
+def _save_run(report, outputs: dict, args, dataset, figure, series: str = "time series", drawing: str = "figure"):
+    """Write a run's dataset to ``-o`` and draw ``figure()`` (called only if asked) to ``--plot``, locked
+    against a second writer, each noted in the report."""
+    with _locked(outputs.get("output"), outputs.get("plot")):
+        if outputs.get("output"):
+            write_dataset(dataset, outputs["output"])
+            report.note(f"{series} written to {args.output}")
+        if outputs.get("plot"):
+            save_figure(figure(), outputs["plot"], dpi=150)
+            report.note(f"{drawing} drawn to {args.plot}")

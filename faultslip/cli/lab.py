@@ -7,7 +7,7 @@ from dataclasses import replace
 import numpy as np
 
 from faultslip import ranges
-from faultslip.cli.common import _emit, _locked, _number, _outputs
+from faultslip.cli.common import _emit, _locked, _number, _outputs, _save_run
 from faultslip.dynamics.averaging import (amplitude_against_speed, amplitude_table, error_against_eps, hand_over_map,
                                           settled_amplitude)
 from faultslip.dynamics.averaging import report as averaging_report
@@ -24,7 +24,6 @@ from faultslip.lab.rate_state_fit import fit_velocity_steps, read_step_record
 from faultslip.lab.nanoscale_scene import load_nanoscale_scene
 from faultslip.lab.vibration_scene import load_vibration_scene
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
-from faultslip.io.netcdf import write_dataset
 from faultslip.plots.vibration import amplitude_speed_figure, error_figure, hand_over_figure, nanoscale_figure
 from faultslip.units import to_si
 
@@ -195,12 +194,7 @@ def cmd_nanoscale(args) -> int:
     for key in ("origin", "description"):
         if notes.get(key):
             report.notes.insert(0, notes[key])
-    if run is not None and (paths["output"] or paths["plot"]):
-        with _locked(paths["output"], paths["plot"]):
-            if paths["output"]:
-                write_dataset(nanoscale_dataset(run), paths["output"])
-                report.note(f"time series written to {args.output}")
-            if paths["plot"]:
-                save_figure(nanoscale_figure(run), paths["plot"], dpi=150)
-                report.note(f"figure drawn to {args.plot}")
+    if run is not None:
+        _save_run(report, paths, args, nanoscale_dataset(run) if paths["output"] else None,
+                  lambda: nanoscale_figure(run))
     return _emit(report, args.json)

@@ -5,7 +5,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from faultslip.cli.common import _emit, _locked, _note_origin, _number, _output_dir, _outputs, _system_from_args, _tolerance
+from faultslip.cli.common import (_emit, _locked, _note_origin, _number, _output_dir, _outputs, _save_run,
+                                  _system_from_args, _tolerance)
 from faultslip.dynamics.critical import comparison_dataset, comparison_markdown, critical
 from faultslip.dynamics.methods import describe_all, solve
 from faultslip.dynamics.simulate import simulate, summary_report
@@ -194,14 +195,8 @@ def cmd_simulate(args) -> int:
     dataset.attrs["scene_text"] = scene.text
     report = summary_report(dataset, f"faultslip simulation: {scene.name}")
     _note_origin(report, scene.origin and f"scene: {scene.origin}")
-    with _locked(outputs["output"], outputs["plot"]):
-        if outputs["output"]:
-            write_dataset(dataset, outputs["output"])
-            report.note(f"time series and event table written to {args.output}")
-        if outputs["plot"]:
-
-            save_figure(sawtooth_figure(dataset), outputs["plot"], dpi=150)
-            report.note(f"sawtooth record drawn to {args.plot}")
+    _save_run(report, outputs, args, dataset, lambda: sawtooth_figure(dataset), "time series and event table",
+              "sawtooth record")
     return _emit(report, args.json)
 
 
@@ -222,13 +217,8 @@ def _simulate_rate_state(args, scene, outputs) -> int:
     dataset = cycles_dataset(estimate, f"faultslip rate-and-state cycles: {scene.name}")
     dataset.attrs["scene_text"] = scene.text
     report.add("samples", int(dataset.sizes["time"]), label="time samples (the integrator's steps)")
-    with _locked(outputs["output"], outputs["plot"]):
-        if outputs["output"]:
-            write_dataset(dataset, outputs["output"])
-            report.note(f"time series and event table written to {args.output}")
-        if outputs["plot"]:
-            save_figure(cycles_figure(dataset), outputs["plot"], dpi=150)
-            report.note(f"cycles drawn to {args.plot}")
+    _save_run(report, outputs, args, dataset, lambda: cycles_figure(dataset), "time series and event table",
+              "cycles")
     return _emit(report, args.json)
 
 

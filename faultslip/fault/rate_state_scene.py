@@ -36,7 +36,7 @@ from faultslip.dynamics.rate_state import MODELS, LoadHistory, RateStateSlider
 from faultslip.errors import InputError
 from faultslip.fault.scene import read_text_file, resolve_path
 from faultslip.friction.rate_state import RateStateLaw, get_law
-from faultslip.io.resources import parse_toml
+from faultslip.io.resources import check_table_keys, parse_toml
 from faultslip.units import to_si_scalar
 
 _LAW_KEYS = {"preset", "a", "b", "critical_slip", "mu0", "reference_speed", "evolution", "b2", "critical_slip2",
@@ -65,11 +65,7 @@ class RateStateScene:
 
 
 def _check_keys(table, allowed, section, source):
-    if not isinstance(table, dict):
-        raise InputError(f"[{section}] in {source} must be a table")
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise InputError(f"unknown key {unknown[0]!r} in [{section}] of {source} (allowed: {', '.join(sorted(allowed))})")
+    check_table_keys(table, allowed, section, source)
 
 
 def _law(table, source) -> RateStateLaw:

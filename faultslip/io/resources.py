@@ -190,3 +190,29 @@ def parse_toml(text: str, source: str) -> dict:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{source} is not valid TOML: {exc}") from None
+
+
+def check_toml_layout(data: dict, tables: dict, source: str, what: str, top_level=("name", "description")) -> None:
+    """One sentence for a TOML document's first unknown table or key.
+
+    ``tables`` maps each allowed table to its allowed keys (None: any key); ``top_level`` are the
+    plain values allowed outside tables; ``what`` names the document ("a vibration scene")."""
+    unknown = sorted(set(data) - set(tables) - set(top_level))
+    if unknown:
+        listed = ", ".join(f"[{name}]" for name in tables)
+        raise InputError(f"unknown table {unknown[0]!r} in {source} ({what} has {listed})")
+    for table, allowed in tables.items():
+        if table not in data:
+            continue
+        check_table_keys(data[table], allowed, table, source)
+
+
+def check_table_keys(content, allowed, table: str, source: str) -> None:
+    """``[table]`` must be a table whose keys are all in ``allowed`` (None: any key)."""
+    if not isinstance(content, dict):
+        raise InputError(f"[{table}] in {source} must be a table")
+    if allowed is None:
+        return
+    extra = sorted(set(content) - set(allowed))
+    if extra:
+        raise InputError(f"unknown key {extra[0]!r} in [{table}] of {source} (allowed: {', '.join(sorted(allowed))})")

@@ -21,7 +21,7 @@ from pathlib import Path
 from faultslip.dynamics.nanoscale import SLIDES, NanoscaleModel
 from faultslip.errors import InputError
 from faultslip.fault.scene import read_text_file, resolve_path
-from faultslip.io.resources import parse_toml
+from faultslip.io.resources import check_toml_layout, parse_toml
 
 _RUN = {"duration", "samples"}
 
@@ -29,18 +29,9 @@ _RUN = {"duration", "samples"}
 def parse_nanoscale_scene(text: str, source: str = "<scene>") -> tuple[NanoscaleModel, dict, dict]:
     """(model, run settings, notes) from scene TOML."""
     data = parse_toml(text, source)
-    unknown = sorted(set(data) - {"name", "description", "nanoscale", "run", "sources"})
-    if unknown:
-        raise InputError(f"unknown table {unknown[0]!r} in {source} (a nanoscale scene has [nanoscale], [run] and "
-                         "[sources])")
-    for table, allowed in (("nanoscale", set(SLIDES)), ("run", _RUN)):
-        content = data.get(table, {})
-        if not isinstance(content, dict):
-            raise InputError(f"[{table}] in {source} must be a table")
-        extra = sorted(set(content) - allowed)
-        if extra:
-            raise InputError(f"unknown key {extra[0]!r} in [{table}] of {source} (allowed: {', '.join(sorted(allowed))})")
-        for key, value in content.items():
+    check_toml_layout(data, {"nanoscale": set(SLIDES), "run": _RUN, "sources": None}, source, "a nanoscale scene")
+    for table in ("nanoscale", "run"):
+        for key, value in data.get(table, {}).items():
             if not isinstance(value, (int, float)) or isinstance(value, bool):
                 raise InputError(f"[{table}] {key} in {source} must be a number (the model is dimensionless), "
                                  f"got {value!r}")
