@@ -252,3 +252,29 @@ def test_auto_chooses_averaging_where_it_is_accurate_enough_and_hands_over_elsew
     assert choose(close, tolerance=1e-2, cycles=5)[0].name.startswith("event_driven")
     with pytest.warns(Warning), pytest.raises(MethodError, match="too close to call"):
         solve(close, method="quasi_harmonic_averaging", tolerance=1e-2)
+
+
+def test_a_study_cell_takes_averaging_where_auto_does(tmp_path):
+    """A lab study whose kinetic law is Rayleigh-like about V on dry steel (omega 183 1/s, W/M = g): at
+    tolerance 1e-2 its cell is solved by averaging (method flag 3), a sustained oscillation (regime 3) of
+    peak-to-peak swing 4 U / omega, U = 0.3 V the curve's speed scale (A omega = 2U)."""
+    from faultslip.dynamics.slider import SliderSystem
+    from faultslip.studies.grid import sweep
+
+    base = SliderSystem.from_preset("steel_dry", platform_speed="1 in/s")
+    omega, g, speed = base.natural_frequency, base.normal_load / base.mass, base.platform_speed
+    scale, eps = 0.3 * speed, 0.05
+    p = np.polynomial.Polynomial([-speed, 1.0])
+    curve = 0.3 - (eps * omega / g) * p + (eps * omega / (3 * g * scale ** 2)) * p ** 3
+    scene = tmp_path / "quasi_harmonic.toml"
+    scene.write_text(f'[scene]\nkind = "lab"\nname = "quasi-harmonic steel"\n[lab]\npreset = "steel_dry"\n'
+                     f'platform_speed = "{speed!r} m/s"\n[friction]\nstatic = "constant"\nmu_s = {0.3 + 1e-4}\n'
+                     f'kinetic = "polynomial"\npolynomial = {[float(c) for c in curve.coef]}\n', encoding="utf-8")
+    ds = sweep(scene, tolerance=1e-2, platform_speed=[f"{speed!r} m/s"])
+    assert ds["method"].values.tolist() == [3] and ds["regime"].values.tolist() == [3]
+    assert ds["method"].attrs["flag_meanings"].split()[3] == "quasi_harmonic_averaging"
+    from faultslip.dynamics.methods import solve
+    from faultslip.fault.scene import load_scene
+
+    cycle = solve(load_scene(scene).slider(), tolerance=1e-2).cycle
+    assert cycle.amplitude == pytest.approx(4 * scale / omega, rel=1e-9)

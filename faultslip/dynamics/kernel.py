@@ -15,7 +15,7 @@ from faultslip.dynamics.closed_form import overshoot_factor
 from faultslip.dynamics.exact_cycle import exact_cycle_error, slip_cycle
 from faultslip.dynamics.methods import ClosedForm
 
-METHOD_CODES = {"closed_form": 0, "exact_cycle": 1, "event_driven": 2}
+METHOD_CODES = {"closed_form": 0, "exact_cycle": 1, "event_driven": 2, "quasi_harmonic_averaging": 3}
 REGIME_CODES = {"stick_slip": 0, "steady_sliding": 1, "growing_oscillation": 2, "sustained_oscillation": 3}
 
 

@@ -839,20 +839,21 @@ def _simulated_block(study, block):
         system = _cell_system(study, dict(zip(names, values)))
         solution = solve(system, tolerance=study.tolerance, cycles=400)
         c = solution.cycle
+        method = ("quasi_harmonic_averaging" if solution.method == "quasi_harmonic_averaging" else "event_driven")
         return (c.slip_per_event if c.regime != "steady_sliding" else 0.0, c.period, system.loading_rate,
                 c.static_friction, c.stress_drop if c.regime != "steady_sliding" else 0.0,
-                REGIME_CODES.get(c.regime, 3), solution.estimated_relative_error)
+                REGIME_CODES.get(c.regime, 3), solution.estimated_relative_error, METHOD_CODES[method])
 
     grids = xr.broadcast(*coords.values()) if coords else []
-    results = np.vectorize(cell, otypes=[float] * 7)(*[g.values for g in grids]) if coords else cell()
+    results = np.vectorize(cell, otypes=[float] * 8)(*[g.values for g in grids]) if coords else cell()
     shape = grids[0].shape if coords else ()
     dims = grids[0].dims if coords else ()
     keys = ["slip_per_event", "recurrence_period", "loading_rate", "static_friction", "stress_drop", "regime",
-            "estimated_relative_error"]
+            "estimated_relative_error", "method"]
     outputs = {k: xr.DataArray(np.asarray(v).reshape(shape), dims=dims, coords={n: coords[n] for n in dims})
                for k, v in zip(keys, results)}
     outputs["regime"] = outputs["regime"].astype(np.int8)
-    outputs["method"] = xr.full_like(outputs["regime"], METHOD_CODES["event_driven"])
+    outputs["method"] = outputs["method"].astype(np.int8)  # per cell: averaging where auto chose it
     return as_dataset(outputs, study)
 
 
