@@ -278,3 +278,23 @@ def test_a_study_cell_takes_averaging_where_auto_does(tmp_path):
 
     cycle = solve(load_scene(scene).slider(), tolerance=1e-2).cycle
     assert cycle.amplitude == pytest.approx(4 * scale / omega, rel=1e-9)
+
+
+def test_the_v_r_plane_matches_the_cubics_closed_form_boundaries():
+    """For f = 0.5 - s u + s u^3 / (3 u_f^2): steady sliding where r >= W s (1 - v^2/u_f^2); otherwise
+    (A omega)^2 = 4 (u_f^2 - v^2 - r u_f^2 / (W s)), stick-slip where that reaches v^2."""
+    from faultslip.dynamics.averaging import REGION_CODES, regions
+    from faultslip.lab.vibration_scene import load_vibration_scene
+
+    system, _ = load_vibration_scene("configs/vibration_seed002.toml")
+    inch, lbf = 0.0254, 4.4482216152605
+    s, u_f, w = 0.01 / inch, 15 * inch, 2 * lbf
+    speeds = np.linspace(10.05, 14.95, 21) * inch  # off the degenerate point v = u_f, r = 0
+    dampings = np.linspace(0.0, 0.02, 9) * lbf / inch
+    table = regions(system, speeds, dampings)
+    for i, r in enumerate(dampings):
+        for j, v in enumerate(speeds):
+            squared = 4 * (u_f ** 2 - v ** 2 - r * u_f ** 2 / (w * s))
+            expected = ("steady_sliding" if r >= w * s * (1 - v ** 2 / u_f ** 2) else
+                        "stick_slip" if squared >= v ** 2 else "quasi_harmonic")
+            assert table["regime"][i, j] == REGION_CODES[expected], (r, v)

@@ -9,7 +9,7 @@ import numpy as np
 from faultslip import ranges
 from faultslip.cli.common import _emit, _locked, _number, _outputs, _save_run
 from faultslip.dynamics.averaging import (amplitude_against_speed, amplitude_table, error_against_eps, hand_over_map,
-                                          settled_amplitude)
+                                          regions, settled_amplitude)
 from faultslip.dynamics.averaging import report as averaging_report
 from faultslip.dynamics.nanoscale import report as nanoscale_report
 from faultslip.dynamics.nanoscale import run_dataset as nanoscale_dataset
@@ -24,7 +24,8 @@ from faultslip.lab.rate_state_fit import fit_velocity_steps, read_step_record
 from faultslip.lab.nanoscale_scene import load_nanoscale_scene
 from faultslip.lab.vibration_scene import load_vibration_scene
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
-from faultslip.plots.vibration import amplitude_speed_figure, error_figure, hand_over_figure, nanoscale_figure
+from faultslip.plots.vibration import (amplitude_speed_figure, error_figure, hand_over_figure, nanoscale_figure,
+                                       regions_figure)
 from faultslip.units import to_si
 
 
@@ -159,6 +160,18 @@ def cmd_quasi_harmonic(args) -> int:
     tolerance = _number(args.tolerance, "--tolerance") if args.tolerance else 1e-3
     settled = settled_amplitude(system, args.method, tolerance) if result.valid else None
     report = averaging_report(system, result, sweep if args.json else None, settled)
+    if args.regions:
+        chart = _outputs(args, {"regions": ("--regions", FIGURE_SUFFIXES)}, [args.scene])["regions"]
+        if not (args.speeds and args.dampings):
+            raise InputError("--regions draws the (v, r) plane: give --speeds START STOP COUNT and --dampings too")
+        low, high = (to_si(text, "damping", "--dampings") for text in args.dampings[:2])
+        count = int(_number(args.dampings[2], "--dampings count"))
+        if not (0 <= low < high and 2 <= count <= 200):
+            raise InputError("--dampings needs 0 <= START < STOP and a count from 2 to 200")
+        with _locked(chart):
+            save_figure(regions_figure(system, regions(system, sweep["speed"], np.linspace(low, high, count))),
+                        chart, dpi=150)
+        report.note(f"the (v, r) plane drawn to {args.regions}")
     if args.hand_over_chart:
         chart = _outputs(args, {"hand_over_chart": ("--hand-over-chart", FIGURE_SUFFIXES)}, [args.scene])["hand_over_chart"]
         with _locked(chart):

@@ -223,6 +223,9 @@ def _vibration_commands(commands) -> None:
     vibration.add_argument("--speeds", nargs=3, metavar=("START", "STOP", "COUNT"),
                            help="amplitude against driving speed, e.g. '1 in/s' '16 in/s' 61")
     vibration.add_argument("--plot", help="draw the friction curve and the amplitude against speed (needs --speeds)")
+    vibration.add_argument("--dampings", nargs=3, metavar=("START", "STOP", "COUNT"),
+                           help="damping coefficients for --regions, e.g. '0 lbf*s/in' '0.02 lbf*s/in' 41")
+    vibration.add_argument("--regions", help="draw the (v, r) plane of regimes (needs --speeds and --dampings)")
     vibration.add_argument("--method", default="auto", help="auto (averaging where its error meets the tolerance), "
                                                               "averaging or integration")
     vibration.add_argument("--tolerance", help="relative error asked of the amplitude (default 1e-3)")

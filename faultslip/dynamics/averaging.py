@@ -530,3 +530,26 @@ def hand_over_map(eps_values=(0.003, 0.01, 0.03, 0.1, 0.3), excess_values=(0.0, 
     table = np.array(rows, dtype=float)
     return {"speed": table[:, 0], "eps": table[:, 1], "excess": table[:, 2], "predicted_sticks": table[:, 3] > 0,
             "marginal": table[:, 3] < 0, "simulated_sticks": table[:, 4] > 0}
+
+
+#: regime codes of :func:`regions`
+REGION_CODES = {"steady_sliding": 0, "quasi_harmonic": 1, "stick_slip": 2}
+
+
+def regions(system: QuasiHarmonic, speeds, dampings) -> dict:
+    """The (v, r) plane of seed 002's Figs. 10-11: at each driving speed and damping coefficient, steady
+    sliding, a quasi-harmonic cycle (its amplitude) or stick-slip (the cycle would reach A omega = v).
+    Returns ``regime`` codes (:data:`REGION_CODES`) and ``amplitude`` (m, NaN where it sticks) on
+    (damping, speed)."""
+    speeds, dampings = np.asarray(speeds, dtype=float), np.asarray(dampings, dtype=float)
+    regime = np.empty((dampings.size, speeds.size), dtype=np.int8)
+    amplitude = np.empty((dampings.size, speeds.size))
+    for i, damping in enumerate(dampings):
+        swept = amplitude_against_speed(QuasiHarmonic(system.mass, float(damping), system.stiffness,
+                                                      system.normal_load, system.speed, system.coefficients,
+                                                      system.friction, system.name), speeds)
+        amplitude[i] = swept["amplitude"]
+        regime[i] = np.where(swept["sticks"], REGION_CODES["stick_slip"],
+                             np.where(swept["amplitude"] > 0, REGION_CODES["quasi_harmonic"],
+                                      REGION_CODES["steady_sliding"]))
+    return {"speed": speeds, "damping": dampings, "regime": regime, "amplitude": amplitude}

@@ -106,3 +106,23 @@ def hand_over_figure(table):
     axes[0][-1].legend(handles.values(), handles.keys(), fontsize=7, loc="upper left", framealpha=0.9)
     figure.suptitle("after break-away: averaging's hand-over against event-driven simulation")
     return figure
+
+
+def regions_figure(system, table):
+    """Seed 002's (v, r) plane: steady sliding, quasi-harmonic vibration (amplitude contours) and stick-slip."""
+    from matplotlib.colors import ListedColormap  # heavy: matplotlib, imported where used
+
+    plt = _pyplot()
+    figure, axis = plt.subplots(figsize=(7, 4.6), constrained_layout=True)
+    speeds, dampings = table["speed"] / INCH, table["damping"] / (4.4482216152605 / INCH)
+    axis.pcolormesh(speeds, dampings, table["regime"], cmap=ListedColormap(["#e3f2fd", "#fff3e0", "#ffcdd2"]),
+                    vmin=-0.5, vmax=2.5, shading="nearest")
+    amplitude = np.ma.masked_where(table["regime"] != 1, table["amplitude"] / INCH)
+    if amplitude.count() > 3:
+        lines = axis.contour(speeds, dampings, amplitude, levels=np.linspace(0, float(amplitude.max()), 6)[1:-1],
+                             colors="C3", linewidths=0.8)
+        axis.clabel(lines, fontsize=7, fmt="%.3g in")
+    axis.set(xlabel="driving speed v (in/s)", ylabel="damping coefficient r (lbf s/in)",
+             title="steady sliding (blue), quasi-harmonic (orange, amplitude), stick-slip (red)")
+    figure.suptitle(system.name, fontsize=10)
+    return figure
