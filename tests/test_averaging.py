@@ -298,3 +298,24 @@ def test_the_v_r_plane_matches_the_cubics_closed_form_boundaries():
             expected = ("steady_sliding" if r >= w * s * (1 - v ** 2 / u_f ** 2) else
                         "stick_slip" if squared >= v ** 2 else "quasi_harmonic")
             assert table["regime"][i, j] == REGION_CODES[expected], (r, v)
+
+
+def test_a_tabulated_curve_goes_by_quadrature_and_agrees_with_its_polynomial(tmp_path):
+    """The example cubic sampled every 0.25 in/s from 0 to 30 in/s, as a [friction] table (PCHIP): the
+    amplitude at 12.5 in/s agrees with the polynomial's closed form to 1e-3; bad tables are refused."""
+    from faultslip.lab.vibration_scene import parse_vibration_scene
+
+    text = open("configs/vibration_seed002.toml", encoding="utf-8").read()
+    polynomial, _ = parse_vibration_scene(text, "v.toml")
+    speeds = np.arange(0.0, 30.0001, 0.25)
+    values = 0.5 - 0.01 * speeds + 0.01 * speeds ** 3 / (3 * 15.0 ** 2)
+    rows = "[" + ", ".join(f"[{float(u)!r}, {float(f)!r}]" for u, f in zip(speeds, values)) + "]"
+    tabulated_text = text.replace("polynomial = [0.5, -0.01, 0.0, 1.4814814814814815e-05]", f"table = {rows}") \
+        .replace("polynomial_speed_unit", "table_speed_unit")
+    tabulated, _ = parse_vibration_scene(tabulated_text, "t.toml")
+    assert tabulated.coefficients is None
+    assert tabulated.analyse().amplitude == pytest.approx(polynomial.analyse().amplitude, rel=1e-3)
+    for table, message in (("[[0, 0.5], [1, 0.4]]", "at least 3"), ("[[0, 0.5], [2, 0.4], [1, 0.3]]", "increasing"),
+                           ("[[0, 0.5], [5, 0.4], [10, 0.3]]", "twice the driving speed")):
+        with pytest.raises(InputError, match=message):
+            parse_vibration_scene(tabulated_text.replace(f"table = {rows}", f"table = {table}"), "t.toml")
