@@ -28,7 +28,7 @@ import numpy as np
 from faultslip.dynamics.rate_state import EVENT_SPEED, RateStateSlider, fault_cycles
 from faultslip.dynamics.rate_state_methods import CYCLE_METHODS as INTEGRATORS, choose_cycle_method
 from faultslip.errors import InputError, NoEventsError, SolverError
-from faultslip.fault.scaling import moment_magnitude, radiation_damper, seismic_moment
+from faultslip.fault.scaling import moment_magnitude, seismic_moment
 from faultslip.friction.rate_state import EVOLUTION_LAWS, RateStateLaw, steady_state_friction
 
 #: regime flags: a cell's behaviour (closed form, or the cycles where they ran)
@@ -180,8 +180,8 @@ def _one_cell(row, cycles, method, tolerance):
     modulus, width, sigma, plate, a, b, slip_scale, mu0, v0, rho, wave, law_code = row
     law = RateStateLaw(a=float(a), b=float(b), critical_slip=float(slip_scale), mu0=float(mu0),
                        reference_speed=float(v0), evolution=EVOLUTION_LAWS[int(law_code)])
-    slider = RateStateSlider(law=law, stiffness=float(modulus / width), normal_stress=float(sigma),
-                             mass=float(rho * width), damping=float(radiation_damper(modulus, wave)))
+    slider = RateStateSlider.at_fault(law, float(modulus), float(width), float(sigma), density=float(rho),
+                                      shear_wave_speed=float(wave))
     ratio = slider.stiffness / slider.critical_stiffness()
     if method == "auto":
         chosen, rtol, assessment, _ = choose_cycle_method(ratio, tolerance, cycles + SPIN_UP)
