@@ -319,3 +319,41 @@ def test_a_tabulated_curve_goes_by_quadrature_and_agrees_with_its_polynomial(tmp
                            ("[[0, 0.5], [5, 0.4], [10, 0.3]]", "twice the driving speed")):
         with pytest.raises(InputError, match=message):
             parse_vibration_scene(tabulated_text.replace(f"table = {rows}", f"table = {table}"), "t.toml")
+
+
+def test_seed_002_figures_9_to_11_in_kind():
+    """Seed 002's statements about its Figs. 9-11, on four Bristow-type curves (the seed draws but does not
+    tabulate its own): A and B (B = A - 0.18) give the same branch; the branches rise with speed at a
+    similar rate and end near each curve's flattening speed; more damping ends the branch earlier. And the
+    finding recorded in docs/seed_discrepancies.md: the rising branch has A omega > v (the slider sticks)."""
+    from faultslip.lab.seed002_curves import CURVES, INCH_PER_S, seed_branch, termination_speed
+
+    speeds = np.arange(1, 41) * 0.5 * INCH_PER_S
+    branches = {name: seed_branch(CURVES[name], speeds) for name in "ABCD"}
+    np.testing.assert_allclose(branches["B"]["amplitude"], branches["A"]["amplitude"], rtol=1e-9, atol=0)
+    for name in "ACD":
+        flattening = CURVES[name].flattening_speed
+        ends = termination_speed(branches[name])
+        assert 0.85 * flattening <= ends <= 1.05 * flattening, (name, ends / INCH_PER_S)
+        alive = branches[name]["amplitude"] > 0
+        assert alive[: int(np.argmax(~alive))].all() and branches[name]["sticks"][alive].all()
+        assert np.all(np.diff(branches[name]["amplitude"][alive]) > 0)  # rises with speed
+    # about the same rate: the mean slope dA/dv over 2-7 in/s agrees within a factor 1.6 across A, C, D
+    window = (speeds >= 2 * INCH_PER_S) & (speeds <= 7 * INCH_PER_S)
+    slopes = [np.polyfit(speeds[window], branches[n]["amplitude"][window], 1)[0] for n in "ACD"]
+    assert max(slopes) / min(slopes) < 1.6
+    ends = [termination_speed(seed_branch(CURVES["A"], speeds, factor)) for factor in (1.0, 2.0, 4.0)]
+    assert ends[0] > ends[1] > ends[2]
+    # the regime-aware analysis agrees that the branch sticks
+    from faultslip.lab.seed002_curves import slider
+    assert not slider(CURVES["A"], 5 * INCH_PER_S).analyse().valid
+
+
+def test_plot_seed002_command(cli, tmp_path):
+    out = cli("plot", "seed002", "-o", str(tmp_path / "f.png"), "--json").json
+    assert (tmp_path / "f.png").stat().st_size > 10_000
+    ends = {key: value["value"] / 0.0254 for key, value in out.items() if key.endswith("_ends")}
+    assert ends["curve_A_ends"] == pytest.approx(14.0) and ends["curve_B_ends"] == pytest.approx(14.0)
+    assert ends["curve_A_damping_x4_ends"] < ends["curve_A_damping_x1_ends"]
+    again = cli("plot", "seed002", "-o", str(tmp_path / "f.png"))  # refuses to overwrite, before any work
+    assert again.code == 2 and "overwrite" in again.err

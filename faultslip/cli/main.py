@@ -325,6 +325,12 @@ def _plots_commands(commands) -> None:
     stability.add_argument("-o", "--output", required=True, help="output image")
     stability.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     stability.set_defaults(handler="plots:cmd_plot_rate_state_stability")
+    seed002 = figures.add_parser("seed002", help="seed 002 Figs. 9-11 in kind: four friction curves, amplitude against "
+                                                 "speed, damping (docs/quasi_harmonic.md)")
+    seed002.add_argument("-o", "--output", required=True, help="output image")
+    seed002.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    seed002.add_argument("--json", action="store_true", help="print the termination speeds as one JSON object")
+    seed002.set_defaults(handler="plots:cmd_plot_seed002")
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):

@@ -1,15 +1,18 @@
-"""Figure commands: plot rate-law, plot phase-plane, plot rate-state-stability."""
+"""Figure commands: plot rate-law, plot phase-plane, plot rate-state-stability, plot seed002."""
 
 from __future__ import annotations
 
 
-from faultslip.cli.common import _locked, _number, _outputs, _system_from_args
+from faultslip.cli.common import _emit, _locked, _number, _outputs, _system_from_args
 from faultslip.errors import FaultslipError
 from faultslip.friction.materials import get_preset, table_i_presets
 from faultslip.io.atomic import save_figure
 from faultslip.io.outputs import FIGURE_SUFFIXES
 from faultslip.plots.figures import phase_plane_figure, rate_law_figure
+from faultslip.io.report import Report
+from faultslip.lab.seed002_curves import figures_9_to_11
 from faultslip.plots.rate_state import stability_figure
+from faultslip.plots.vibration import seed002_figures
 
 
 def cmd_plot_rate_law(args) -> int:
@@ -43,3 +46,21 @@ def cmd_plot_rate_state_stability(args) -> int:
         save_figure(stability_figure(), output, dpi=150)
     print(f"wrote {args.output}")
     return 0
+
+
+def cmd_plot_seed002(args) -> int:
+    output = _outputs(args, {"output": ("-o", FIGURE_SUFFIXES)})["output"]
+    table = figures_9_to_11()
+    with _locked(output):
+        save_figure(seed002_figures(table), output, dpi=150)
+    report = Report("seed 002 Figs. 9-11 in kind: where each averaged branch ends")
+    for name, speed in table["termination"].items():
+        curve = table["curves"][name]
+        report.add(f"curve_{name}_ends", speed, "m/s", also=("in/s",),
+                   label=f"({name}) ends; flattens at {curve.flattening_speed / 0.0254:g} in/s")
+    for factor, speed in table["damped_termination"].items():
+        report.add(f"curve_A_damping_x{factor:g}_ends", speed, "m/s", also=("in/s",), label=f"(A), damping x {factor:g}, ends")
+    report.add("figure", str(output))
+    report.note("every amplitude on the rising branches has A omega > v: the slider would stick there "
+                "(docs/seed_discrepancies.md)")
+    return _emit(report, args.json)

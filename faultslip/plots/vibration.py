@@ -126,3 +126,35 @@ def regions_figure(system, table):
              title="steady sliding (blue), quasi-harmonic (orange, amplitude), stick-slip (red)")
     figure.suptitle(system.name, fontsize=10)
     return figure
+
+
+def seed002_figures(table):
+    """Seed 002 Figs. 9-11 in kind: the four friction curves, each curve's averaged amplitude against the
+    driving speed, and curve (A) at several dampings; the no-stick bound A = v / omega dashed (above it the
+    slider would stick)."""
+    plt = _pyplot()
+    figure, (curves, branches, damped) = plt.subplots(1, 3, figsize=(15, 4.4), constrained_layout=True)
+    speeds = table["speeds"] / INCH
+    grid = np.linspace(0.0, speeds.max() * 1.25, 400)
+    for index, (name, curve) in enumerate(table["curves"].items()):
+        curves.plot(grid, curve(grid * INCH), color=f"C{index}", label=f"({name}) {curve.description}")
+    curves.set(xlabel="sliding speed (in/s)", ylabel="friction coefficient f", title="Fig. 9: friction curves")
+    curves.legend(fontsize=7)
+    omega = None
+    for index, (name, branch) in enumerate(table["branches"].items()):
+        alive = branch["amplitude"] > 0
+        omega = branch["peak_speed"][alive][0] / branch["amplitude"][alive][0] if alive.any() else omega
+        style = "--" if name == "B" else "o-"
+        branches.plot(speeds, branch["amplitude"] / INCH, style, color=f"C{index}", ms=3, label=f"({name})")
+    for index, (factor, branch) in enumerate(table["damped"].items()):
+        damped.plot(speeds, branch["amplitude"] / INCH, "o-", color=f"C{index}", ms=3, label=f"damping x {factor:g}")
+    for axis, title in ((branches, "Fig. 10: amplitude against speed"), (damped, "Fig. 11: curve (A), damping")):
+        if omega:
+            axis.plot(speeds, speeds / omega, ":", color="0.4", label="A omega = v (no-stick bound)")
+        axis.set(xlabel="driving speed v (in/s)", ylabel="amplitude A (in)", title=title)
+        axis.legend(fontsize=7)
+    for axis in (curves, branches, damped):
+        axis.grid(True, alpha=0.3)
+    figure.suptitle("seed 002 theoretical curves in kind (illustrative curves; above the dotted line the slider "
+                    "would stick)", fontsize=10)
+    return figure
