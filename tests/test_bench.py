@@ -70,3 +70,40 @@ def test_simulation_dataset_records_method_and_error():
     ds = simulate(load_scene("lab_steel_dry_polynomial.toml").slider(), cycles=3, rtol=1e-8)
     assert ds.attrs["method"] == "event_driven" and ds.attrs["estimated_relative_error"] == pytest.approx(1e-8)
     assert "DOP853" in ds.attrs["method_reason"]
+
+
+def test_averaging_on_the_work_precision_chart():
+    """Averaging against direct integration on a quasi-harmonic scene; on a stick-slip scene it declines."""
+    from faultslip.evaluation.bench import vibration_scenes
+
+    ds = work_precision(quick=True, workers=1, scenes=["vibration_rayleigh_small", "steel_polynomial"],
+                        methods=["quasi_harmonic_averaging", "quasi_harmonic_integration", "event_driven_DOP853"])
+    vib = ds.sel({"scene": "vibration_rayleigh_small"})
+    averaged = vib.sel({"method": "quasi_harmonic_averaging"})
+    system = vibration_scenes()["vibration_rayleigh_small"][0]
+    declared = 0.1 * system.small_parameter(2.0) ** 2  # ERROR_CONSTANT eps^2 at the cycle A = 2
+    assert np.all(averaged["status"].values == STATUS_CODE["ok"])
+    assert 1e-5 < averaged["error"].values[0] <= declared  # measured 2.2e-4 against 2.25e-3
+    integrated = vib.sel({"method": "quasi_harmonic_integration"})
+    assert integrated["error"].values[2] < 1e-7 < integrated["error"].values[0]  # rtol 1e-9 against 1e-3
+    assert integrated["wall_time"].values[2] > 10 * averaged["wall_time"].values[0]
+    assert int(vib["status"].sel({"method": "event_driven_DOP853"}).values[0]) == STATUS_CODE["not_applicable"]
+    steel = ds.sel({"scene": "steel_polynomial"})
+    assert np.all(steel["status"].sel({"method": "quasi_harmonic_averaging"}).values == STATUS_CODE["declined"])
+    assert "declined" in markdown(ds)
+
+
+def test_averaging_on_the_stability_map_never_claims_the_wrong_regime():
+    """Where the exact cycle sticks, averaging hands over; where it slides steadily, averaging says so."""
+    ds = stability_map(ratios=(0.1, 0.9, 1.5), damping_ratios=(-0.02, 0.3), separations=(1.0, 1e4),
+                       methods=("exact_cycle", "quasi_harmonic_averaging"), workers=1)
+    averaged = ds["status"].sel({"method": "quasi_harmonic_averaging"}).values
+    assert not np.any(averaged == STATUS_CODE["wrong_regime"])
+    assert int(ds["status"].sel({"method": "quasi_harmonic_averaging", "ratio": 1.5, "damping_ratio": 0.3,
+                                 "separation": 1.0})) == STATUS_CODE["ok"]
+    realisable = averaged != 7
+    assert set(averaged[realisable]) == {STATUS_CODE["ok"], STATUS_CODE["declined"]}
+    # it declines exactly where the exact cycle sticks (a finite amplitude error there)
+    sticks = np.isfinite(ds["amplitude_error"].sel({"method": "exact_cycle"}).values)
+    assert np.array_equal(averaged[realisable] == STATUS_CODE["declined"], sticks[realisable])
+    assert "handing over" in failure_text(ds)

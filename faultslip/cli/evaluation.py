@@ -8,7 +8,7 @@ from pathlib import Path
 from faultslip.cli.common import _locked, _number, _output_dir, _progress, _workers
 from faultslip.errors import FaultslipError, InputError
 from faultslip.evaluation import bench, rate_state_bench, stability
-from faultslip.evaluation.bench import markdown, method_names, standard_scenes, work_precision
+from faultslip.evaluation.bench import all_scenes, markdown, method_names, work_precision
 from faultslip.evaluation.stability import DAMPING_RATIOS, METHODS, RATIOS, SEPARATIONS, failure_text, stability_map
 from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.netcdf import write_dataset
@@ -16,8 +16,8 @@ from faultslip.io.netcdf import write_dataset
 
 def cmd_bench(args) -> int:
     for name in args.scene or []:
-        if name not in standard_scenes():
-            raise InputError(f"unknown bench scene {name!r}; allowed: {', '.join(standard_scenes())}")
+        if name not in all_scenes():
+            raise InputError(f"unknown bench scene {name!r}; allowed: {', '.join(all_scenes())}")
     for name in args.method or []:
         if name not in method_names():
             raise InputError(f"unknown bench method {name!r}; allowed: {', '.join(method_names())}")

@@ -35,7 +35,7 @@ RATIOS = (1e-4, 1e-3, 1e-2, 0.1, 0.3, 0.6, 0.9, 1.1, 1.5, 3.0, 10.0)
 DAMPING_RATIOS = (-0.05, -0.02, 0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.5)
 SEPARATIONS = (1.0, 1e2, 1e4, 1e6, 1e8, 1e10)
 METHODS = ("closed_form", "exact_cycle", "event_driven_RK45", "event_driven_DOP853", "event_driven_Radau",
-           "event_driven_LSODA", "regularized_RK45", "regularized_LSODA")
+           "event_driven_LSODA", "regularized_RK45", "regularized_LSODA", "quasi_harmonic_averaging")
 UNREALISABLE = 7
 STATUS_ALL = {**STATUS, UNREALISABLE: "unrealisable"}
 MAX_EXPONENT = 4.0
@@ -203,7 +203,8 @@ def failure_text(dataset) -> str:
             count = int(mask.sum())
             if not count:
                 continue
-            parts.append(f"{name.replace('_', ' ')} in {count} of {total} cells ({_where(mask)})")
+            said = "declined, handing over (outside its domain, said so)" if code == STATUS_CODE["declined"] else name
+            parts.append(f"{said.replace('_', ' ')} in {count} of {total} cells ({_where(mask)})")
         ok = (part == STATUS_CODE["ok"]) & realisable
         inaccurate = ok & (err > 1e-3)
         if int(inaccurate.sum()):
@@ -225,22 +226,26 @@ def chart(dataset):
     rows = math.ceil(len(methods) / columns)
     figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.6 * rows), constrained_layout=True, squeeze=False)
     damped = dataset.sel({"damping_ratio": dataset["damping_ratio"].values[dataset["damping_ratio"].values > 0]})
-    # outcome classes: 0 ok & accurate, 1 ok but error > 1e-6, 2 wrong regime, 3 budget, 4 other failure, 5 unrealisable
-    colours = ListedColormap(["#2ca02c", "#bcbd22", "#d62728", "#9467bd", "#ff7f0e", "#dddddd"])
-    labels = ["error <= 1e-6", "error > 1e-6", "wrong regime", "budget exceeded", "exception / step collapse / solver failure", "unrealisable"]
+    # outcome classes, by severity: ok & accurate, ok but error > 1e-6, declined (outside its domain, said
+    # so), wrong regime, budget, other failure; unrealisable cells are shown but never the worst
+    colours = ListedColormap(["#2ca02c", "#bcbd22", "#9ecae1", "#d62728", "#9467bd", "#ff7f0e", "#dddddd"])
+    labels = ["error <= 1e-6", "error > 1e-6", "declined (outside its domain)", "wrong regime", "budget exceeded",
+              "exception / step collapse / solver failure", "unrealisable"]
+    unrealisable_class = len(labels) - 1
     for axis, method in zip(axes.ravel(), methods):
         part = damped.sel({"method": method})
         code = part["status"].values
         err = part["amplitude_error"].values
-        cls = np.full(code.shape, 5)
+        cls = np.full(code.shape, unrealisable_class)
         cls[(code == 0) & ~(err > 1e-6)] = 0
         cls[(code == 0) & (err > 1e-6)] = 1
-        cls[code == STATUS_CODE["wrong_regime"]] = 2
-        cls[code == STATUS_CODE["budget_exceeded"]] = 3
-        cls[np.isin(code, [STATUS_CODE["exception"], STATUS_CODE["step_size_collapse"], STATUS_CODE["solver_failure"]])] = 4
-        worst = np.where(cls == 5, -1, cls).max(axis=1)  # worst over zeta, ignoring unrealisable cells
-        worst = np.where(worst < 0, 5, worst)
-        axis.imshow(worst.T, origin="lower", cmap=colours, vmin=-0.5, vmax=5.5, aspect="auto")
+        cls[code == STATUS_CODE["declined"]] = 2
+        cls[code == STATUS_CODE["wrong_regime"]] = 3
+        cls[code == STATUS_CODE["budget_exceeded"]] = 4
+        cls[np.isin(code, [STATUS_CODE["exception"], STATUS_CODE["step_size_collapse"], STATUS_CODE["solver_failure"]])] = 5
+        worst = np.where(cls == unrealisable_class, -1, cls).max(axis=1)  # worst over zeta, ignoring unrealisable
+        worst = np.where(worst < 0, unrealisable_class, worst)
+        axis.imshow(worst.T, origin="lower", cmap=colours, vmin=-0.5, vmax=unrealisable_class + 0.5, aspect="auto")
         axis.set_xticks(range(dataset.sizes["ratio"]), [f"{r:g}" for r in dataset["ratio"].values], rotation=60, fontsize=7)
         axis.set_yticks(range(dataset.sizes["separation"]), [f"{s:g}" for s in dataset["separation"].values], fontsize=7)
         axis.axvline(np.searchsorted(dataset["ratio"].values, 1.0) - 0.5, color="k", lw=0.8, ls="--")
@@ -249,7 +254,7 @@ def chart(dataset):
         axis.set_ylabel("stick / slip duration")
     for axis in axes.ravel()[len(methods):]:
         axis.set_visible(False)
-    handles = [plt.Rectangle((0, 0), 1, 1, color=colours(i)) for i in range(6)]
-    figure.legend(handles, labels, loc="lower center", ncol=6, fontsize=8, bbox_to_anchor=(0.5, -0.04))
+    handles = [plt.Rectangle((0, 0), 1, 1, color=colours(i)) for i in range(len(labels))]
+    figure.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, bbox_to_anchor=(0.5, -0.07))
     figure.suptitle(f"Stability map: worst outcome over zeta > 0 (rtol {dataset.attrs['rtol']:g}; dashed: theta_c)")
     return figure
