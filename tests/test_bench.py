@@ -7,6 +7,8 @@ import xarray as xr
 from faultslip.evaluation.bench import STATUS_CODE, markdown, work_precision
 from faultslip.evaluation.stability import failure_text, stability_map
 
+from conftest import assert_clean_error
+
 
 def test_work_precision_dataset_on_one_scene():
     ds = work_precision(quick=True, workers=1, scenes=["fault_1906"],
@@ -45,6 +47,14 @@ def test_bench_and_stability_cli(cli, tmp_path):
                  "--workers", "1", "-o", tmp_path / "s", "--json")
     assert result.code == 0, result.err
     assert any("closed_form" in line for line in result.json["failure_regions"])
+    # the default grid's own corners are accepted (negative damping, separation 1e10): the command once
+    # refused its own defaults
+    corner = cli("stability", "--ratio", "0.1", "--damping-ratio", "-0.05", "--separation", "1e10", "--method",
+                 "exact_cycle", "--workers", "1", "-o", tmp_path / "c", "--json")
+    assert corner.code == 0, corner.err
+    from faultslip.evaluation.stability import DAMPING_RATIOS, SEPARATIONS
+    assert min(DAMPING_RATIOS) > -1 and max(SEPARATIONS) <= 1e12
+    assert_clean_error(cli("stability", "--separation", "0.5", "-o", tmp_path / "d"), "--separation in [1, 1e12]")
     bad = cli("bench", "--quick", "--scene", "mars", "-o", tmp_path / "x")
     assert bad.code == 2 and "unknown bench scene 'mars'" in bad.err
 
@@ -107,3 +117,15 @@ def test_averaging_on_the_stability_map_never_claims_the_wrong_regime():
     sticks = np.isfinite(ds["amplitude_error"].sel({"method": "exact_cycle"}).values)
     assert np.array_equal(averaged[realisable] == STATUS_CODE["declined"], sticks[realisable])
     assert "handing over" in failure_text(ds)
+
+
+def test_the_bench_seed002_scene_is_the_bundled_vibration_scene():
+    """evaluation sits beside lab, so the bench builds seed 002's scene itself: it must equal the config's."""
+    from faultslip.evaluation.bench import vibration_scenes
+    from faultslip.lab.vibration_scene import load_vibration_scene
+
+    bench = vibration_scenes()["vibration_seed002"][0]
+    bundled, _ = load_vibration_scene("configs/vibration_seed002.toml")
+    for key in ("mass", "stiffness", "damping", "normal_load", "speed"):
+        assert getattr(bench, key) == pytest.approx(getattr(bundled, key), rel=1e-14)
+    np.testing.assert_allclose(bench.coefficients, bundled.coefficients, rtol=1e-14)

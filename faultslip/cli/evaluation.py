@@ -50,10 +50,12 @@ def cmd_stability(args) -> int:
             raise FaultslipError(f"unknown stability method {name!r}; allowed: {', '.join(METHODS)}")
     ratios, dampings, separations = (floats(args.ratio, RATIOS), floats(args.damping_ratio, DAMPING_RATIOS),
                                      floats(args.separation, SEPARATIONS))
-    if any(not 0 < r < 100 for r in ratios) or any(not 0 < s < 1e9 for s in separations):
-        raise FaultslipError("--ratio must lie in (0, 100) (theta / theta_c) and --separation in (0, 1e9)")
-    if any(not 0 < z < 1 for z in dampings):
-        raise FaultslipError("--damping-ratio must lie in (0, 1): a critical rate needs damping")
+    # the same ranges as the default grid (zeta <= 0: negative or no damping, rows without a critical rate)
+    if any(not 0 < r <= 100 for r in ratios) or any(not 1 <= s <= 1e12 for s in separations):
+        raise FaultslipError("--ratio must lie in (0, 100] (theta / theta_c) and --separation in [1, 1e12] (stick "
+                             "over slip duration)")
+    if any(not -1 < z < 1 for z in dampings):
+        raise FaultslipError("--damping-ratio must lie in (-1, 1)")
     out = Path(_output_dir(args, "stability", [f"stability.{ext}" for ext in ("nc", "md", "png")]))
     workers = _workers(args)
     with _locked(out / "stability.nc"):

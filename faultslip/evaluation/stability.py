@@ -225,7 +225,9 @@ def chart(dataset):
     columns = 4
     rows = math.ceil(len(methods) / columns)
     figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.6 * rows), constrained_layout=True, squeeze=False)
-    damped = dataset.sel({"damping_ratio": dataset["damping_ratio"].values[dataset["damping_ratio"].values > 0]})
+    zetas = dataset["damping_ratio"].values
+    # the worst over zeta > 0 (where a critical rate exists); a grid with none shows its undamped rows
+    damped = dataset.sel({"damping_ratio": zetas[zetas > 0] if (zetas > 0).any() else zetas})
     # outcome classes, by severity: ok & accurate, ok but error > 1e-6, declined (outside its domain, said
     # so), wrong regime, budget, other failure; unrealisable cells are shown but never the worst
     colours = ListedColormap(["#2ca02c", "#bcbd22", "#9ecae1", "#d62728", "#9467bd", "#ff7f0e", "#dddddd"])
