@@ -74,12 +74,58 @@ def test_the_cli_runs_the_slides_model_and_refuses_bad_scenes(cli, tmp_path):
     quiet = cli("nanoscale", "configs/nanoscale_seed001.toml", "--damping", "13", "--no-run", "--json").json
     assert quiet["regime"].startswith("steady_sliding") and "force_swing" not in quiet
     bad = tmp_path / "bad.toml"
-    bad.write_text('[nanoscale]\ndamping = "3 N"\n', encoding="utf-8")
+    bad.write_text('[friction]\nlaw = "nanoscale"\n[slider]\ndamping = "3 N"\n', encoding="utf-8")
     assert_clean_error(cli("nanoscale", bad), "must be a number")
-    bad.write_text('[nanoscale]\ndrive_speed = -1\n', encoding="utf-8")
+    bad.write_text('[friction]\nlaw = "nanoscale"\n[slider]\ndrive_speed = -1\n', encoding="utf-8")
     assert_clean_error(cli("nanoscale", bad), "drive speed")
+    bad.write_text('[slider]\ndamping = 3\n', encoding="utf-8")
+    assert_clean_error(cli("nanoscale", bad), 'law = "nanoscale"')
     assert_clean_error(cli("nanoscale", "configs/nanoscale_seed001.toml", "--damping", "-2"), "damping")
-    with pytest.raises(InputError, match="unknown key"):
-        from faultslip.lab.nanoscale_scene import parse_nanoscale_scene
+    from faultslip.lab.nanoscale_scene import parse_nanoscale_scene
 
-        parse_nanoscale_scene("[nanoscale]\ndamp = 3\n", "n.toml")
+    with pytest.raises(InputError, match="unknown key"):
+        parse_nanoscale_scene('[friction]\nlaw = "nanoscale"\n[slider]\ndamp = 3\n', "n.toml")
+    with pytest.raises(InputError, match="tolerance"):
+        parse_nanoscale_scene('[friction]\nlaw = "nanoscale"\n[method]\ntolerance = 2\n', "n.toml")
+
+
+def test_lsoda_swing_error_is_within_its_declared_bound():
+    """The force swing at rtol 1e-6 and 1e-8 against rtol 1e-12 (measured 6.2e-6 and 2.7e-7 for A = 3: about
+    30 rtol) stays below the declared LSODA_ERROR_CONSTANT rtol = 100 rtol."""
+    from faultslip.dynamics.nanoscale import LSODA_ERROR_CONSTANT
+
+    model = NanoscaleModel()
+    reference = model.simulate(1500.0, 3001, rtol=1e-12).force_swing()
+    for rtol in (1e-6, 1e-8):
+        error = abs(model.simulate(1500.0, 3001, rtol=rtol).force_swing() / reference - 1)
+        assert rtol < error < LSODA_ERROR_CONSTANT * rtol, (rtol, error)
+
+
+def test_run_and_simulate_take_a_nanoscale_scene_and_auto_integrates_only_when_needed(cli, tmp_path):
+    text = open("configs/nanoscale_seed001.toml", encoding="utf-8").read().replace("3000.0", "600.0")
+    scene = tmp_path / "nano.toml"
+    scene.write_text(text, encoding="utf-8")
+    out = cli("run", scene, "--json").json
+    assert out["method"] == "nanoscale_LSODA" and out["estimated_relative_error"] == pytest.approx(1e-6)
+    assert out["slip_events"] > 5
+    quiet = tmp_path / "quiet.toml"
+    quiet.write_text(text.replace("damping = 3.0", "damping = 13.0"), encoding="utf-8")
+    steady = cli("run", quiet, "--json").json
+    assert steady["method"] == "nanoscale_linear_stability" and steady["force_swing"] == 0.0
+    assert "duration" not in steady  # nothing integrated
+    assert "regime alone" not in steady["method_reason"] and "small disturbances decay" in steady["method_reason"]
+    forced = cli("run", scene, "--method", "nanoscale_linear_stability", "--json").json
+    assert forced["regime"].startswith("stick_slip") and "force_swing" not in forced
+    simulated = cli("simulate", scene, "-o", tmp_path / "n.nc", "--plot", tmp_path / "n.png", "--json")
+    assert simulated.code == 0, simulated.err
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "n.nc") as data:
+        assert data.sizes["time"] == 6001 and data.attrs["damping"] == 3.0
+    assert (tmp_path / "n.png").stat().st_size > 10_000
+    assert_clean_error(cli("simulate", scene, "--cycles", "3"), "--cycles applies to seed-law scenes")
+    assert_clean_error(cli("run", scene, "--method", "closed_form"), "must be one of auto")
+    from faultslip.fault.scene import load_scene
+
+    with pytest.raises(InputError, match="nanoscale scene"):
+        load_scene(str(scene))

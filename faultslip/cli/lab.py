@@ -11,6 +11,7 @@ from faultslip.cli.common import _emit, _locked, _number, _outputs, _save_run
 from faultslip.dynamics.averaging import (amplitude_against_speed, amplitude_table, error_against_eps, hand_over_map,
                                           regions, settled_amplitude)
 from faultslip.dynamics.averaging import report as averaging_report
+from faultslip.dynamics.nanoscale import choose_method
 from faultslip.dynamics.nanoscale import report as nanoscale_report
 from faultslip.dynamics.nanoscale import run_dataset as nanoscale_dataset
 from faultslip.dynamics.nanoscale import with_damping
@@ -202,8 +203,9 @@ def cmd_nanoscale(args) -> int:
     if args.damping is not None:
         model = with_damping(model, _number(args.damping, "--damping"))
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
-    run = None if args.no_run else model.simulate(settings["duration"], settings["samples"])
-    report = nanoscale_report(model, run)
+    choice = choose_method(model, ("regime", "force_swing", "time_series"), "nanoscale_LSODA", settings["tolerance"])
+    run = None if args.no_run else model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol)
+    report = nanoscale_report(model, run, None if args.no_run else choice)
     for key in ("origin", "description"):
         if notes.get(key):
             report.notes.insert(0, notes[key])

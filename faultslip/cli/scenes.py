@@ -9,6 +9,9 @@ from faultslip.cli.common import (_emit, _locked, _note_origin, _number, _output
                                   _system_from_args, _tolerance)
 from faultslip.dynamics.critical import comparison_dataset, comparison_markdown, critical
 from faultslip.dynamics.methods import describe_all, solve
+from faultslip.dynamics.nanoscale import choose_method
+from faultslip.dynamics.nanoscale import report as nanoscale_report
+from faultslip.dynamics.nanoscale import run_dataset as nanoscale_dataset
 from faultslip.dynamics.simulate import simulate, summary_report
 from faultslip.errors import FaultslipError, InputError
 from faultslip.fault.rate_state_fault import cycles_dataset, estimate_fault_from_fit
@@ -20,8 +23,10 @@ from faultslip.io import budget
 from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES
+from faultslip.lab.nanoscale_scene import is_nanoscale_scene, load_nanoscale_scene
 from faultslip.plots.figures import critical_comparison_figure, sawtooth_figure
 from faultslip.plots.rate_state import cycles_figure
+from faultslip.plots.vibration import nanoscale_figure
 from faultslip.units import to_si
 
 
@@ -41,7 +46,40 @@ _FAULT_QUANTITIES = {
 
 def cmd_run(args) -> int:
     tolerance = _tolerance(args)
+    if args.scene is not None and is_nanoscale_scene(args.scene):
+        return _run_nanoscale(args, tolerance)
     return _emit(run_scene(load_scene(args.scene), method=args.method, tolerance=tolerance), args.json)
+
+
+def _run_nanoscale(args, tolerance) -> int:
+    """A nanoscale scene (seed 001): the regime in closed form, integrated only where the swing needs it."""
+    model, settings, notes = load_nanoscale_scene(args.scene)
+    method = args.method or settings["method"]
+    # the closed form, when asked for by name, answers the regime alone
+    wanted = ("regime",) if method == "nanoscale_linear_stability" else ("regime", "force_swing")
+    choice = choose_method(model, wanted, method, tolerance or settings["tolerance"])
+    run = (model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol)
+           if choice.method == "nanoscale_LSODA" else None)
+    report = nanoscale_report(model, run, choice, f"faultslip nanoscale scene: {notes['name']}")
+    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    return _emit(report, args.json)
+
+
+def _simulate_nanoscale(args) -> int:
+    """A nanoscale scene's time series (LSODA), the report and the seed 001 Fig. 3 plot."""
+    extra = [flag for flag in ("cycles", "slip_solver", "rtol") if getattr(args, flag) is not None]
+    if extra:
+        raise InputError(f"--{extra[0].replace('_', '-')} applies to seed-law scenes; a nanoscale scene sets its "
+                         "run in [run] and its accuracy in [method] tolerance")
+    model, settings, notes = load_nanoscale_scene(args.scene)
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
+    choice = choose_method(model, ("regime", "force_swing", "time_series"), "auto", settings["tolerance"])
+    run = model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol)
+    report = nanoscale_report(model, run, choice, f"faultslip nanoscale simulation: {notes['name']}")
+    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    _save_run(report, outputs, args, nanoscale_dataset(run) if outputs["output"] else None,
+              lambda: nanoscale_figure(run), "time series", "seed 001 Fig. 3")
+    return _emit(report, args.json)
 
 
 def cmd_fault(args) -> int:
@@ -168,6 +206,8 @@ def cmd_methods(args) -> int:
 
 
 def cmd_simulate(args) -> int:
+    if is_nanoscale_scene(args.scene):
+        return _simulate_nanoscale(args)
     scene = load_scene(args.scene)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [scene.path])
     if scene.rate_state:

@@ -53,6 +53,10 @@ QUADRATURE_NODES = 512
 ERROR_CONSTANT = 0.1
 #: averaging declines to say whether the slider sticks again within this many eps of the no-stick bound
 HAND_OVER_MARGIN = 0.15
+#: seed 002's apparatus in SI: equivalent mass 1.76 lb and r = 0.00368 lbf s/in (Appendix C, as printed),
+#: k = 70.5 lbf/in (Appendix B); the normal load W = 2 lbf is illustrative (configs/vibration_seed002.toml)
+SEED002_APPARATUS = {"mass": 1.76 * 0.45359237, "stiffness": 70.5 * 4.4482216152605 / 0.0254,
+                     "damping": 0.00368 * 4.4482216152605 / 0.0254, "normal_load": 2 * 4.4482216152605}
 
 
 def odd_weight(order: int) -> float:

@@ -190,13 +190,75 @@ def dipole_force(contact_radius: float, charge_density: float, permittivity: flo
     return coefficient * math.pi * contact_radius ** 2 * charge_density ** 2 / (2.0 * 8.8541878128e-12 * permittivity)
 
 
+#: measured error of the LSODA force swing against rtol 1e-12: 27-30 rtol (slides' model, A = 3 and 7, rtol
+#: 1e-4 to 1e-10; tests/test_nanoscale.py); declared 100 rtol
+LSODA_ERROR_CONSTANT = 100.0
+#: ``faultslip methods`` entries: the regime in closed form, the cycle by integration
+METHODS = {
+    "nanoscale_linear_stability": {
+        "name": "nanoscale_linear_stability", "friction_laws": "nanoscale (seed 001 eqs. 1-4)",
+        "domain": "the regime from small disturbances and the threshold A_c (Routh-Hurwitz); no swing or time series "
+                  "where it sticks and slips; exact to round-off away from A = A_c",
+        "cost_model": "a cubic's coefficients: about 1e-5 s"},
+    "nanoscale_LSODA": {
+        "name": "nanoscale_LSODA", "friction_laws": "nanoscale (seed 001 eqs. 1-4)",
+        "domain": "any parameters; the force swing, slip events, charge and the time series",
+        "cost_model": "LSODA (stiff stuck phases): 0.4 s at rtol 1e-4 to 1.7 s at 1e-10 for 3000 time units; "
+                      f"error of the force swing {LSODA_ERROR_CONSTANT:g} rtol"},
+}
+NANOSCALE_METHODS = ("auto", "nanoscale_linear_stability", "nanoscale_LSODA")
+NANOSCALE_OUTPUTS = ("regime", "force_swing", "time_series")
+
+
+@dataclass
+class NanoscaleChoice:
+    method: str
+    reason: str
+    estimated_error: float  # relative, of the force swing (0: exact)
+    rtol: float | None = None
+
+
+def choose_method(model: NanoscaleModel, outputs=("regime", "force_swing"), method: str = "auto",
+                  tolerance: float = 1e-6) -> NanoscaleChoice:
+    """The cheapest method that gives ``outputs`` within ``tolerance``: the closed form where the regime
+    settles the question (or steady sliding, whose swing is 0), else LSODA at rtol = tolerance / 100."""
+    if method not in NANOSCALE_METHODS:
+        raise InputError(f"the nanoscale method must be one of {', '.join(NANOSCALE_METHODS)}, got {method!r}")
+    unknown = [o for o in outputs if o not in NANOSCALE_OUTPUTS]
+    if unknown:
+        raise InputError(f"unknown output {unknown[0]!r}; allowed: {', '.join(NANOSCALE_OUTPUTS)}")
+    if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
+        raise InputError(f"tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    rtol = min(1e-4, max(1e-12, tolerance / LSODA_ERROR_CONSTANT))
+    integration = NanoscaleChoice("nanoscale_LSODA", "", LSODA_ERROR_CONSTANT * rtol, rtol)
+    closed_enough = "time_series" not in outputs and ("force_swing" not in outputs or not model.stick_slip)
+    if method == "nanoscale_linear_stability":
+        if not closed_enough:
+            wanted = "a time series" if "time_series" in outputs else "the stick-slip force swing"
+            raise InputError(f"nanoscale_linear_stability gives the regime and A_c, not {wanted}: use "
+                             "nanoscale_LSODA or auto")
+        return NanoscaleChoice(method, "requested", 0.0)
+    if method == "nanoscale_LSODA":
+        integration.reason = "requested"
+        return integration
+    if closed_enough:
+        why = ("only the regime is asked" if "force_swing" not in outputs else
+               f"A = {model.damping:g} >= A_c = {model.critical_damping:.6g}: small disturbances decay, the swing is 0")
+        return NanoscaleChoice("nanoscale_linear_stability", f"closed form suffices: {why}", 0.0)
+    integration.reason = (("a time series is asked" if "time_series" in outputs else
+                            f"A = {model.damping:g} < A_c = {model.critical_damping:.6g}: stick-slip, whose swing "
+                            "needs integration") + f"; rtol {rtol:g} for tolerance {tolerance:g}")
+    return integration
+
+
 def with_damping(model: NanoscaleModel, damping: float) -> NanoscaleModel:
     return replace(model, damping=damping)
 
 
-def report(model: NanoscaleModel, run: NanoscaleRun | None = None):
-    """The threshold analysis and, if run, the simulation, as a Report (``faultslip nanoscale``)."""
-    r = Report("faultslip nanoscale stick-slip with contact charging (seed 001, eqs. 1-4)")
+def report(model: NanoscaleModel, run: NanoscaleRun | None = None, choice: NanoscaleChoice | None = None,
+           title: str = "faultslip nanoscale stick-slip with contact charging (seed 001, eqs. 1-4)"):
+    """The threshold analysis and, if run, the simulation, as a Report (``faultslip nanoscale``, ``run``)."""
+    r = Report(title)
     r.add("damping", model.damping, label="A").add("drive_speed", model.drive_speed, label="v_a")
     r.add("peak_speed", model.peak_speed, label="v_m").add("charging_time", model.charging_time, label="tau")
     r.add("charge_length", model.charge_length, label="a").add("charge_force", model.charge_force, label="f_ch")
@@ -206,6 +268,11 @@ def report(model: NanoscaleModel, run: NanoscaleRun | None = None):
     r.add("regime", "stick_slip (A < A_c)" if model.stick_slip else "steady_sliding (A >= A_c)")
     roots = model.characteristic_roots()
     r.add("largest_growth_rate", float(np.max(roots.real)), label="largest Re(lambda) of small disturbances")
+    if choice is not None:
+        r.add("method", choice.method).add("method_reason", choice.reason, label="why this method")
+        r.add("estimated_relative_error", choice.estimated_error, label="estimated relative error (force swing)")
+        if run is None and not model.stick_slip:
+            r.add("force_swing", 0.0, label="force peak-to-peak (steady sliding)")
     if run is not None:
         r.add("duration", float(run.time[-1])).add("force_swing", run.force_swing(),
                                                     label="force peak-to-peak, last half")

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.errors import FaultslipError, SolverError
-from faultslip.dynamics.averaging import QuasiHarmonic, integrate, settle_periods
+from faultslip.dynamics.averaging import SEED002_APPARATUS, QuasiHarmonic, integrate, settle_periods
 from faultslip.dynamics.closed_form import closed_form_cycle
 from faultslip.dynamics.critical import critical
 from faultslip.dynamics.exact_cycle import exact_cycle
@@ -25,9 +25,7 @@ from faultslip.dynamics.regularized import simulate_regularized
 from faultslip.dynamics.simulate import simulate
 from faultslip.dynamics.slider import SliderSystem
 from faultslip.fault.scene import load_scene
-from faultslip.lab.vibration_scene import load_vibration_scene
 from faultslip.io.processes import stop_pool, worker_pool
-from faultslip.io.resources import config_path
 import warnings
 
 STATUS = {0: "ok", 1: "exception", 2: "step_size_collapse", 3: "budget_exceeded", 4: "wrong_regime",
@@ -84,7 +82,10 @@ def rayleigh_vibration(eps: float) -> QuasiHarmonic:
 
 def vibration_scenes():
     """Quasi-harmonic scenes (seed 002, no sticking): name -> (QuasiHarmonic, description)."""
-    seed002, _ = load_vibration_scene(config_path("vibration_seed002.toml"))
+    inch = 0.0254  # configs/vibration_seed002.toml: f = 0.5 - s u + s u^3 / (3 u_f^2), s 0.01 per in/s, u_f 15 in/s
+    seed002 = QuasiHarmonic(**SEED002_APPARATUS, speed=12.5 * inch,
+                            coefficients=(0.5, -0.01 / inch, 0.0, 0.01 / (3 * 15.0 ** 2) / inch ** 3),
+                            name="seed 002 apparatus, Bristow-type friction curve")
     return {"vibration_seed002": (seed002, "seed 002 apparatus, cubic curve at 12.5 in/s (eps 0.054)"),
             "vibration_rayleigh_small": (rayleigh_vibration(0.05), "Rayleigh's curve, eps 0.15"),
             "vibration_rayleigh_large": (rayleigh_vibration(0.4), "Rayleigh's curve, eps 1.2 (averaging strained)")}

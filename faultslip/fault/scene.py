@@ -243,6 +243,10 @@ def _suggest(key: str, allowed) -> str:
 def parse_scene(text: str, source: str = "<scene>", path: Path | None = None) -> Scene:
     """Parse and validate scene TOML text. Raises :class:`InputError` naming the offending key."""
     document = parse_toml(text, source)
+    friction = document.get("friction")
+    if isinstance(friction, dict) and friction.get("law") == "nanoscale":
+        raise InputError(f"{source} is a nanoscale scene (seed 001): 'faultslip run', 'simulate' and 'nanoscale' take "
+                         "it; studies and maps take seed-law or rate-and-state scenes")
     for table, content in document.items():
         if table not in SCHEMA:
             raise InputError(

@@ -1,45 +1,70 @@
-"""Nanoscale scenes (seed 001's toy model): the dimensionless parameters and the run's length.
+"""Nanoscale scenes (seed 001's toy model): a dimensionless slider with ``[friction] law = "nanoscale"``.
 
 ::
 
-    [nanoscale]          # every key optional: the slides' values otherwise
-    damping = 3.0        # A
-    drive_speed = 0.02   # v_a
-    peak_speed = 0.01    # v_m
-    charging_time = 2.0  # tau
-    charge_length = 1.57 # a
-    charge_force = 2.56e-7
+    name = "seed 001 toy model, A = 3"
+    [slider]                 # dimensionless: mass = stiffness = 1, time in 1/omega, length in the slip scale
+    damping = 3.0            # A
+    drive_speed = 0.02       # v_a
+    [friction]
+    law = "nanoscale"
+    peak_speed = 0.01        # v_m: velocity weakening above it
+    charging_time = 2.0      # tau
+    charge_length = 1.57     # a
+    charge_force = 2.56e-7   # f_ch (0: the uncharged limit)
     [run]
-    duration = 3000.0    # in 1/omega
+    duration = 3000.0        # in 1/omega
     samples = 6001
+    [method]
+    name = "auto"            # auto | nanoscale_linear_stability | nanoscale_LSODA
+    tolerance = 1e-6         # relative, of the force swing
+
+Every number is optional (the slides' values otherwise) except ``law``. ``faultslip run``,
+``simulate`` and ``nanoscale`` take such a scene.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from faultslip.dynamics.nanoscale import SLIDES, NanoscaleModel
+from faultslip.dynamics.nanoscale import NANOSCALE_METHODS, NanoscaleModel
 from faultslip.errors import InputError
 from faultslip.fault.scene import read_text_file, resolve_path
 from faultslip.io.resources import check_toml_layout, parse_toml
 
+_SLIDER = {"damping", "drive_speed"}
+_FRICTION = {"law", "peak_speed", "charging_time", "charge_length", "charge_force"}
 _RUN = {"duration", "samples"}
+_METHOD = {"name", "tolerance"}
 
 
 def parse_nanoscale_scene(text: str, source: str = "<scene>") -> tuple[NanoscaleModel, dict, dict]:
-    """(model, run settings, notes) from scene TOML."""
+    """(model, run settings with the method, notes) from scene TOML."""
     data = parse_toml(text, source)
-    check_toml_layout(data, {"nanoscale": set(SLIDES), "run": _RUN, "sources": None}, source, "a nanoscale scene")
-    for table in ("nanoscale", "run"):
+    check_toml_layout(data, {"slider": _SLIDER, "friction": _FRICTION, "run": _RUN, "method": _METHOD,
+                             "sources": None}, source, "a nanoscale scene")
+    law = data.get("friction", {}).get("law")
+    if law != "nanoscale":
+        raise InputError(f"[friction] in {source} needs law = \"nanoscale\" for a nanoscale scene, got {law!r}")
+    for table in ("slider", "friction", "run"):
         for key, value in data.get(table, {}).items():
-            if not isinstance(value, (int, float)) or isinstance(value, bool):
+            if key != "law" and (not isinstance(value, (int, float)) or isinstance(value, bool)):
                 raise InputError(f"[{table}] {key} in {source} must be a number (the model is dimensionless), "
                                  f"got {value!r}")
     run = dict(data.get("run", {}))
     if "samples" in run and run["samples"] != int(run["samples"]):
         raise InputError(f"[run] samples in {source} must be a whole number")
-    settings = {"duration": float(run.get("duration", 3000.0)), "samples": int(run.get("samples", 6001))}
-    model = NanoscaleModel(**{key: float(value) for key, value in data.get("nanoscale", {}).items()})
+    method = dict(data.get("method", {}))
+    name = method.get("name", "auto")
+    if name not in NANOSCALE_METHODS:
+        raise InputError(f"[method] name in {source} must be one of {', '.join(NANOSCALE_METHODS)}, got {name!r}")
+    tolerance = method.get("tolerance", 1e-6)
+    if not isinstance(tolerance, (int, float)) or isinstance(tolerance, bool) or not 0 < tolerance < 1:
+        raise InputError(f"[method] tolerance in {source} must be a relative error between 0 and 1, got {tolerance!r}")
+    settings = {"duration": float(run.get("duration", 3000.0)), "samples": int(run.get("samples", 6001)),
+                "method": name, "tolerance": float(tolerance)}
+    values = {**data.get("slider", {}), **{k: v for k, v in data.get("friction", {}).items() if k != "law"}}
+    model = NanoscaleModel(**{key: float(value) for key, value in values.items()})
     notes = {"name": str(data.get("name", Path(source).stem)), "description": str(data.get("description", ""))}
     return model, settings, notes
 
@@ -50,3 +75,15 @@ def load_nanoscale_scene(path):
     if origin:
         notes["origin"] = origin
     return model, settings, notes
+
+
+def is_nanoscale_scene(argument) -> bool:
+    """Whether a scene argument names a nanoscale scene (``[friction] law = "nanoscale"``); False for anything
+    unreadable, which the seed-law scene reader then reports."""
+    try:
+        path, _ = resolve_path(argument, "scene")
+        data = parse_toml(read_text_file(path, "scene file"), path.name)
+    except InputError:
+        return False
+    friction = data.get("friction")
+    return isinstance(friction, dict) and friction.get("law") == "nanoscale"

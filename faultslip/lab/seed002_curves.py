@@ -29,14 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from faultslip.dynamics.averaging import QuasiHarmonic
-from faultslip.units import to_si_scalar
+from faultslip.dynamics.averaging import SEED002_APPARATUS, QuasiHarmonic
 
-#: seed 002 Appendix C (mass, damping), Appendix B (stiffness); W illustrative (vibration_seed002.toml)
-APPARATUS = {"mass": to_si_scalar("1.76 lb", "mass", "mass"),
-             "stiffness": to_si_scalar("70.5 lbf/in", "stiffness", "stiffness"),
-             "damping": to_si_scalar("0.00368 lbf*s/in", "damping", "damping"),
-             "normal_load": to_si_scalar("2 lbf", "force", "normal load")}
+APPARATUS = SEED002_APPARATUS
 INCH_PER_S = 0.0254
 #: amplitudes are searched up to A omega = this speed (well past any curve's flattening)
 SEARCH_SPEED = 80 * INCH_PER_S
