@@ -357,3 +357,33 @@ def test_plot_seed002_command(cli, tmp_path):
     assert ends["curve_A_damping_x4_ends"] < ends["curve_A_damping_x1_ends"]
     again = cli("plot", "seed002", "-o", str(tmp_path / "f.png"))  # refuses to overwrite, before any work
     assert again.code == 2 and "overwrite" in again.err
+
+
+def test_run_and_simulate_take_a_vibration_scene(cli, tmp_path):
+    """Rayleigh's curve (limit cycle A = 2 exactly by averaging): run answers by averaging; simulate integrates
+    eq. (10) from 5 % of it, grows onto the cycle, and agrees with averaging to its declared 0.1 eps^2."""
+    eps = 0.05
+    p = np.polynomial.Polynomial([-10.0, 1.0])
+    curve = -eps * p + eps / 3 * p ** 3
+    scene = tmp_path / "rayleigh.toml"
+    scene.write_text('name = "rayleigh"\n[vibration]\nmass = "1 kg"\nstiffness = "1 N/m"\nnormal_load = "1 N"\n'
+                     f'speed = "10 m/s"\n[friction]\npolynomial = {list(map(float, curve.coef))}\n', encoding="utf-8")
+    out = cli("run", scene, "--tolerance", "1e-2", "--json").json
+    assert out["regime"] == "quasi_harmonic" and out["method"] == "averaging"
+    assert out["amplitude"]["value"] == pytest.approx(2.0, rel=1e-9)
+    tight = cli("run", scene, "--json").json  # 0.1 eps^2 = 2.3e-3 misses the default 1e-3: integrated
+    assert tight["method"] == "integration" and tight["amplitude"]["value"] == pytest.approx(2.0, rel=2.3e-3)
+    simulated = cli("simulate", scene, "-o", tmp_path / "r.nc", "--plot", tmp_path / "r.png", "--json")
+    assert simulated.code == 0, simulated.err
+    result = simulated.json
+    assert result["initial_amplitude"]["value"] == pytest.approx(0.1)
+    declared = 0.1 * (3 * eps) ** 2  # eps over the cycle: 3 e (max |f'| = 2 e at u = v +- 2)
+    assert result["averaging_relative_error"] < declared
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "r.nc") as data:
+        assert data["displacement"].attrs["units"] == "m" and data["envelope"].values[-1] == pytest.approx(2.0, rel=1e-3)
+    from conftest import assert_clean_error
+
+    assert_clean_error(cli("simulate", scene, "--rtol", "1e-6"), "--rtol applies to seed-law scenes")
+    assert_clean_error(cli("run", scene, "--method", "closed_form"), "a vibration scene takes --method")

@@ -8,6 +8,8 @@ from pathlib import Path
 from faultslip.cli.common import (_emit, _locked, _note_origin, _number, _output_dir, _outputs, _save_run,
                                   _system_from_args, _tolerance)
 from faultslip.dynamics.critical import comparison_dataset, comparison_markdown, critical
+from faultslip.dynamics.averaging import report as averaging_report
+from faultslip.dynamics.averaging import settled_amplitude, simulate_vibration, vibration_dataset
 from faultslip.dynamics.methods import describe_all, solve
 from faultslip.dynamics.nanoscale import choose_method
 from faultslip.dynamics.nanoscale import report as nanoscale_report
@@ -23,10 +25,12 @@ from faultslip.io import budget
 from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES
+from faultslip.io.report import Report
 from faultslip.lab.nanoscale_scene import is_nanoscale_scene, load_nanoscale_scene
+from faultslip.lab.vibration_scene import is_vibration_scene, load_vibration_scene
 from faultslip.plots.figures import critical_comparison_figure, sawtooth_figure
 from faultslip.plots.rate_state import cycles_figure
-from faultslip.plots.vibration import nanoscale_figure
+from faultslip.plots.vibration import nanoscale_figure, vibration_series_figure
 from faultslip.units import to_si
 
 
@@ -48,6 +52,8 @@ def cmd_run(args) -> int:
     tolerance = _tolerance(args)
     if args.scene is not None and is_nanoscale_scene(args.scene):
         return _run_nanoscale(args, tolerance)
+    if args.scene is not None and is_vibration_scene(args.scene):
+        return _run_vibration(args, tolerance)
     return _emit(run_scene(load_scene(args.scene), method=args.method, tolerance=tolerance), args.json)
 
 
@@ -62,6 +68,45 @@ def _run_nanoscale(args, tolerance) -> int:
            if choice.method == "nanoscale_LSODA" else None)
     report = nanoscale_report(model, run, choice, f"faultslip nanoscale scene: {notes['name']}")
     _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    return _emit(report, args.json)
+
+
+def _run_vibration(args, tolerance) -> int:
+    """A vibration scene (seed 002): the settled amplitude, by averaging where it is accurate enough."""
+    system, notes = load_vibration_scene(args.scene)
+    method = {None: "auto", "auto": "auto", "quasi_harmonic_averaging": "averaging",
+              "quasi_harmonic_integration": "integration"}.get(args.method)
+    if method is None:
+        raise InputError(f"a vibration scene takes --method auto, quasi_harmonic_averaging or "
+                         f"quasi_harmonic_integration, got {args.method!r}")
+    result = system.analyse()
+    settled = settled_amplitude(system, method, tolerance or 1e-3) if result.valid else None
+    report = averaging_report(system, result, None, settled)
+    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    return _emit(report, args.json)
+
+
+def _simulate_vibration(args) -> int:
+    """A vibration scene's eq. (10) time series from a small disturbance, beside the averaged envelope."""
+    extra = [flag for flag in ("cycles", "slip_solver", "rtol") if getattr(args, flag) is not None]
+    if extra:
+        raise InputError(f"--{extra[0].replace('_', '-')} applies to seed-law scenes; a vibration scene is integrated "
+                         "by DOP853 at rtol 1e-10 until its cycle settles")
+    system, notes = load_vibration_scene(args.scene)
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
+    run = simulate_vibration(system)
+    report = Report(f"faultslip quasi-harmonic simulation (seed 002 eq. 10): {system.name}")
+    report.add("duration", float(run["time"][-1]), "s").add("samples", int(run["time"].size))
+    report.add("initial_amplitude", run["initial_amplitude"], "m", also=("in",), label="disturbance at t = 0")
+    report.add("amplitude", run["amplitude"], "m", also=("in",), label="amplitude over the last two periods")
+    report.add("averaged_amplitude", run["averaged_amplitude"], "m", also=("in",), label="averaging (eq. 20)")
+    if run["averaged_amplitude"] > 0:
+        report.add("averaging_relative_error", abs(run["averaged_amplitude"] / run["amplitude"] - 1),
+                   label="|averaged / integrated - 1|")
+    report.add("function_evaluations", run["function_evaluations"])
+    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    _save_run(report, outputs, args, vibration_dataset(run) if outputs["output"] else None,
+              lambda: vibration_series_figure(run), "time series", "displacement and envelope")
     return _emit(report, args.json)
 
 
@@ -208,6 +253,8 @@ def cmd_methods(args) -> int:
 def cmd_simulate(args) -> int:
     if is_nanoscale_scene(args.scene):
         return _simulate_nanoscale(args)
+    if is_vibration_scene(args.scene):
+        return _simulate_vibration(args)
     scene = load_scene(args.scene)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [scene.path])
     if scene.rate_state:

@@ -109,3 +109,14 @@ def load_vibration_scene(path) -> tuple[QuasiHarmonic, dict]:
     if origin:
         notes["origin"] = origin
     return system, notes
+
+
+def is_vibration_scene(argument) -> bool:
+    """Whether a scene argument names a vibration scene (a ``[vibration]`` table); False for anything
+    unreadable, which the seed-law scene reader then reports."""
+    try:
+        path, _ = resolve_path(argument, "scene")
+        data = parse_toml(read_text_file(path, "scene file"), path.name)
+    except InputError:
+        return False
+    return isinstance(data.get("vibration"), dict)

@@ -158,3 +158,17 @@ def seed002_figures(table):
     figure.suptitle("seed 002 theoretical curves in kind (illustrative curves; above the dotted line the slider "
                     "would stick)", fontsize=10)
     return figure
+
+
+def vibration_series_figure(run):
+    """Seed 002 eq. (10) integrated: the displacement about the rest position inside eq. (20)'s envelope."""
+    plt = _pyplot()
+    figure, axis = plt.subplots(figsize=(9, 3.8), constrained_layout=True)
+    axis.plot(run["time"], run["displacement"] / INCH, color="C0", lw=0.5, label="Y (eq. 10, DOP853)")
+    for sign in (1, -1):
+        axis.plot(run["time"], sign * run["envelope"] / INCH, color="C3", lw=1.2,
+                  label="averaged envelope (eq. 20)" if sign == 1 else None)
+    axis.set(xlabel="time (s)", ylabel="displacement about rest (in)", title=run["system"].name)
+    axis.legend(fontsize=8, loc="lower right")
+    axis.grid(True, alpha=0.3)
+    return figure
