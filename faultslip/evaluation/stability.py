@@ -257,6 +257,6 @@ def chart(dataset):
     for axis in axes.ravel()[len(methods):]:
         axis.set_visible(False)
     handles = [plt.Rectangle((0, 0), 1, 1, color=colours(i)) for i in range(len(labels))]
-    figure.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, bbox_to_anchor=(0.5, -0.07))
+    figure.legend(handles, labels, loc="outside lower center", ncol=4, fontsize=8)
     figure.suptitle(f"Stability map: worst outcome over zeta > 0 (rtol {dataset.attrs['rtol']:g}; dashed: theta_c)")
     return figure

@@ -30,6 +30,7 @@ from faultslip.dynamics.kernel import cell_kernel
 from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
 from faultslip.dynamics.slider import SliderSystem
 from faultslip.errors import InputError
+from faultslip.fault import empirical
 from faultslip.friction.laws import RateLaw
 from faultslip.friction.materials import MaterialChoice, resolve_material
 from faultslip.io.report import Report
@@ -378,6 +379,14 @@ class FaultEstimate:
             **_propagated_uncertainty(fault, method, tolerance),
         )
 
+    def empirical(self) -> list:
+        """The slip per event and Mw beside W&C (1994) and Leonard (2010), strike-slip (needs L and H)."""
+        if self.moment_magnitude is None:
+            return []
+        f = self.fault
+        return empirical.compare(self.slip_per_event, self.moment_magnitude, f.rupture_length, f.seismogenic_depth,
+                                 "strike-slip")
+
     def report(self) -> Report:
         f = self.fault
         r = _inputs_section(Report(f"faultslip fault estimate: {f.name}"), f)
@@ -417,6 +426,7 @@ class FaultEstimate:
             r.add("seismic_moment", self.seismic_moment, "N*m", "seismic moment M0 = G L H (slip per event)")
             r.add("moment_magnitude", self.moment_magnitude, label="moment magnitude Mw")
             r.note(f"Mw = (2/3)(log10 M0 - {MW_CONSTANT}) with M0 in N m (IASPEI 2013 standard).")
+            empirical.add_to_report(r, self.empirical())
         r.note("A year is the Julian year, 365.25 d.")
         if f.b == 0:
             r.note("No rate law (b = 0): static friction is taken as rate-independent, mu_s = mu_so.")

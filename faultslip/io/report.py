@@ -107,6 +107,8 @@ def _number(value: float) -> str:
 
 def _format_item(item: Item) -> str:
     if not item.is_quantity:
+        if isinstance(item.value, dict) and "summary" in item.value:  # a structured row: its one-line summary
+            return str(item.value["summary"])
         if isinstance(item.value, float):
             return _number(item.value)
         return str(item.value)

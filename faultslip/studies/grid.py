@@ -39,6 +39,7 @@ import numpy as np
 from faultslip import ranges
 from faultslip.dynamics.kernel import KERNEL_OUTPUTS, METHOD_CODES, REGIME_CODES, cell_kernel
 from faultslip.errors import InputError, did_you_mean
+from faultslip.fault import empirical
 from faultslip.io.resources import parse_toml
 from faultslip.units import STANDARD_GRAVITY, to_si, to_si_scalar
 from faultslip import __version__
@@ -658,6 +659,9 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
     outputs = dict(zip(KERNEL_OUTPUTS, results))
     if not has_moment:
         del outputs["seismic_moment"], outputs["moment_magnitude"]
+    else:  # the empirical expectation beside the prediction (W&C 1994, strike-slip: the seed's faults)
+        outputs.update(empirical.gridded(outputs["slip_per_event"], outputs["moment_magnitude"],
+                                         inputs["rupture_length"]))
     if no_excess is not None:
         where = xr.where if labelled else np.where
         for name, value in outputs.items():
@@ -700,6 +704,7 @@ OUTPUT_ATTRS = {
     "dimensionless_rate": ("1", "eps = theta_dot / (omega_n (mu_s - mu_m))"),
     "seismic_moment": ("N m", "seismic moment M0 = G L H alpha"),
     "moment_magnitude": ("1", "moment magnitude Mw = (2/3)(log10 M0 - 9.1), M0 in N m"),
+    **empirical.GRIDDED_ATTRS,
 }
 
 
