@@ -187,3 +187,30 @@ def test_a_sign_spaced_by_any_whitespace_reads_or_refuses_in_one_sentence():
     assert to_si("-\r5 km", "length", "x") == -5000.0
     with pytest.raises(InputError, match="bare number"):
         to_si("-\r0", "acceleration", "x")
+
+
+@FUZZ
+@given(seed=st.integers(0, 2**32), which=st.sampled_from(["csv", "quakeml"]))
+def test_catalog_readers(tmp_path_factory, seed, which):
+    """A mutated CSV or QuakeML catalog is read (every event in range) or refused in one sentence."""
+    from faultslip.io.catalogs import read_catalog, write_quakeml
+
+    folder = tmp_path_factory.mktemp("catalog")
+    text = (ROOT / "configs" / "catalog_san_andreas.csv").read_text(encoding="utf-8")
+    if which == "csv":
+        path = _write(folder / "c.csv", _mutated(text, fuzz.mutate_csv, seed))
+    else:
+        source = read_catalog(ROOT / "configs" / "catalog_san_andreas.csv")
+        write_quakeml(source.time, source.latitude, source.longitude, [1e4] * len(source), source.magnitude,
+                      folder / "c.xml", names=source.name)
+        raw = (folder / "c.xml").read_bytes()
+        path = folder / "c.xml"
+        mutated = _mutated(raw.decode("utf-8"), fuzz.mutate_csv, seed)  # text edits: tags, values, lines
+        text_edit = mutated if isinstance(mutated, bytes) else mutated.encode("utf-8", "surrogatepass")
+        path.write_bytes(fuzz.mutate_bytes(raw, random.Random(seed)) if seed % 2 else text_edit)
+
+    def read_and_check():
+        catalog = read_catalog(path)
+        assert len(catalog) > 0 and (abs(catalog.latitude) <= 90).all()
+
+    _clean(read_and_check)

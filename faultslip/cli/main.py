@@ -43,8 +43,31 @@ def build_parser() -> argparse.ArgumentParser:
     _rate_state_commands(commands)
     _vibration_commands(commands)
     _evaluation_commands(commands)
+    _seismology_commands(commands)
     _plots_commands(commands)
     return parser
+
+
+def _seismology_commands(commands) -> None:
+    """Catalogs and seismology's formats (handlers in faultslip.cli.seismology)."""
+    catalog = commands.add_parser("catalog", help="observed recurrence and magnitude of a fault's events beside the "
+                                                  "prediction (QuakeML or CSV catalog)")
+    catalog.add_argument("catalog", help="catalog: QuakeML (.xml, .quakeml, .qml) or CSV")
+    catalog.add_argument("--fault", required=True, help="fault scene (its [fault] trace selects the events)")
+    catalog.add_argument("--trace", help="fault trace 'lon lat; lon lat; ...' in degrees (default: the scene's)")
+    catalog.add_argument("--max-distance", default="25 km", help="events within this distance of the trace (25 km)")
+    catalog.add_argument("--min-magnitude", help="smallest magnitude kept")
+    catalog.add_argument("--max-magnitude", help="largest magnitude kept (e.g. to leave out a great earthquake)")
+    catalog.add_argument("--since", help="first time kept, ISO 8601 (e.g. 1850-01-01)")
+    catalog.add_argument("--until", help="last time kept, ISO 8601")
+    catalog.add_argument("--as-of", help="date of the conditional probability (default: now)")
+    catalog.add_argument("--horizon", default="30 yr", help="probability horizon (30 yr)")
+    catalog.add_argument("--bootstrap", type=int, default=1000, help="parametric bootstrap samples (1000)")
+    catalog.add_argument("--seed", type=int, default=0, help="random seed of the bootstrap")
+    catalog.add_argument("--plot", help="draw the events and the recurrence to FILE.png")
+    catalog.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    catalog.add_argument("--json", action="store_true", help="print one JSON object")
+    catalog.set_defaults(handler="seismology:cmd_catalog")
 
 
 def _scenes_commands(commands) -> None:

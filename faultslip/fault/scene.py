@@ -37,6 +37,7 @@ from faultslip.fault.scaling import Fault
 from faultslip.friction.materials import resolve_material
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.friction.laws import ConstantKinetic, ConstantStatic, LinearKinetic, PolynomialKinetic, TimeOfStickLaw
+from faultslip.io.geo import parse_trace
 from faultslip.units import to_si, to_si_scalar, units
 
 #: Allowed keys of each table; value is the unit kind (None: a plain value).
@@ -60,6 +61,8 @@ SCHEMA: dict[str, dict[str, str | None]] = {
         "density": "density",
         "shear_wave_speed": "speed",
         "observed_slip": "length",
+        # the fault's surface trace, "lon lat; lon lat; ..." (degrees): where its catalog events are
+        "trace": "trace",
     },
     "lab": {
         "preset": None,
@@ -132,7 +135,7 @@ class Scene:
 
     @property
     def fault_inputs(self) -> dict:
-        inputs = {k: v for k, v in self.tables.get("fault", {}).items() if k != "observed_slip"}
+        inputs = {k: v for k, v in self.tables.get("fault", {}).items() if k not in ("observed_slip", "trace")}
         inputs.setdefault("name", self.name)
         return inputs
 
@@ -187,6 +190,12 @@ class Scene:
         if require_modulus and "shear_modulus" not in values:
             raise InputError(f"[fault] in {self.name} needs shear_modulus (or a lithology that has one)")
         return values, seed_law
+
+    @property
+    def trace(self):
+        """The ``[fault] trace`` as an (n, 2) array of (lon, lat) degrees, or None."""
+        text = self.tables.get("fault", {}).get("trace")
+        return None if text is None else parse_trace(text, f"[fault] trace in {self.name}")
 
     @property
     def observed_slip(self):
@@ -304,6 +313,11 @@ def _check_value(table, key, value, kind, source):
     if kind == "list":
         if not isinstance(value, list) or not value or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in value):
             raise InputError(f"{where} must be a list of numbers (coefficients in increasing powers), got {value!r}")
+        return
+    if kind == "trace":
+        if not isinstance(value, str):
+            raise InputError(f"{where} must be a string of vertices \"lon lat; lon lat; ...\" in degrees, got {value!r}")
+        parse_trace(value, where)
         return
     if kind == "unit":
         try:

@@ -1,0 +1,176 @@
+"""Predicted against observed recurrence and magnitude (``faultslip catalog``).
+
+The events on a fault are those within ``max_distance`` of its trace (great circles), above a
+magnitude and inside a time window. Their intervals are summarised and fitted with the lognormal and
+Brownian-passage-time renewal models (:mod:`faultslip.fault.recurrence`); the scene's prediction
+(the seed law, or rate-and-state friction where the scene has it) is set beside them as ratios and as
+the percentile of the predicted recurrence within each fitted model.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from faultslip.errors import InputError
+from faultslip.fault import recurrence
+from faultslip.fault.scene import Scene, estimate_scene_rate_state
+from faultslip.io.catalogs import Catalog
+from faultslip.io.geo import distance_to_trace
+from faultslip.io.report import Report
+
+YEAR = recurrence.SECONDS_PER_YEAR
+
+
+@dataclass
+class Prediction:
+    law: str  # "seed" or "rate_state"
+    recurrence: float | None  # s (None: no stick-slip)
+    slip_per_event: float | None  # m
+    magnitude: float | None
+
+
+@dataclass
+class CatalogComparison:
+    selected: Catalog
+    distances: np.ndarray  # m, of the selected events
+    criteria: dict
+    prediction: Prediction
+    summary: dict | None = None
+    fits: dict = field(default_factory=dict)  # model -> RenewalFit
+    elapsed: float | None = None  # s since the last event at as_of
+    horizon: float | None = None
+    as_of: np.datetime64 | None = None
+    notes: list = field(default_factory=list)
+
+    def report(self, title: str) -> Report:
+        r = Report(title)
+        r.add("events", len(self.selected), label="events selected")
+        for key, value in self.criteria.items():
+            r.add(key, value)
+        rows = [{"time": str(t), "magnitude": float(m), "name": n,
+                 "distance": {"value": None if math.isnan(d) else float(d), "units": "m"}}
+                for t, m, n, d in zip(self.selected.time, self.selected.magnitude, self.selected.name, self.distances)]
+        r.add("event_list", {"events": rows, "summary": ", ".join(f"{str(t)[:10]} M{m:g}" for t, m in
+                                                                 zip(self.selected.time, self.selected.magnitude))},
+              label="events")
+        r.section("Observed")
+        if self.summary is not None:
+            r.add("observed_mean_interval", self.summary["mean"], "s", also=("yr",), label="mean interval")
+            r.add("observed_cv", self.summary["cv"], label="coefficient of variation (ddof 1)")
+            r.add("observed_intervals", self.summary["count"], label="intervals")
+        r.add("observed_max_magnitude", float(self.selected.magnitude.max()), label="largest magnitude")
+        for model, fitted in self.fits.items():
+            r.add(f"{model}_mean", fitted.mean, "s", also=("yr",), label=f"{model}: mean recurrence (ML)")
+            r.add(f"{model}_mean_95", list(fitted.mean_95), "s", also=("yr",), label=f"{model}: mean, 95 % bootstrap")
+            r.add(f"{model}_aperiodicity", fitted.aperiodicity, label=f"{model}: aperiodicity")
+            r.add(f"{model}_aperiodicity_95", list(fitted.aperiodicity_95), label=f"{model}: aperiodicity, 95 %")
+            if fitted.probability is not None:
+                r.add(f"{model}_probability", fitted.probability,
+                      label=f"{model}: P(event in {self.horizon / YEAR:g} yr | {self.elapsed / YEAR:.1f} yr elapsed)")
+                if fitted.probability_95 is not None:
+                    r.add(f"{model}_probability_95", list(fitted.probability_95), label=f"{model}: probability, 95 %")
+        p = self.prediction
+        r.section(f"Predicted ({'rate-and-state friction' if p.law == 'rate_state' else 'seed law'})")
+        if p.recurrence is None:
+            r.add("predicted_regime", "no stick-slip: the model predicts no characteristic events")
+        else:
+            r.add("predicted_recurrence", p.recurrence, "s", also=("yr",), label="predicted recurrence")
+            r.add("predicted_slip_per_event", p.slip_per_event, "m", label="predicted slip per event")
+            if self.summary is not None:
+                r.add("recurrence_ratio", p.recurrence / self.summary["mean"], label="predicted / observed mean interval")
+            for model, fitted in self.fits.items():
+                law = recurrence.distribution(model, fitted.mean, fitted.aperiodicity)
+                r.add(f"{model}_percentile", float(law.cdf(p.recurrence)),
+                      label=f"{model}: percentile of the prediction in the fitted model")
+        if p.magnitude is not None:
+            r.add("predicted_magnitude", p.magnitude, label="predicted Mw")
+            r.add("magnitude_difference", p.magnitude - float(self.selected.magnitude.max()),
+                  label="predicted Mw - largest observed")
+        for note in self.notes:
+            r.note(note)
+        return r
+
+
+def select(catalog: Catalog, trace=None, max_distance: float = 25e3, min_magnitude: float | None = None,
+           since=None, until=None, max_magnitude: float | None = None):
+    """(the events on the fault, their distances to the trace in m; NaN without a trace)."""
+    if not max_distance > 0:
+        raise InputError(f"max_distance must be positive, got {max_distance:g} m")
+    keep = np.ones(len(catalog), dtype=bool)
+    distances = np.full(len(catalog), math.nan)
+    if trace is not None:
+        distances = distance_to_trace(catalog.longitude, catalog.latitude, trace)
+        keep &= distances <= max_distance
+    if min_magnitude is not None:
+        keep &= catalog.magnitude >= min_magnitude
+    if max_magnitude is not None:
+        keep &= catalog.magnitude <= max_magnitude
+    if since is not None:
+        keep &= catalog.time >= since
+    if until is not None:
+        keep &= catalog.time <= until
+    return catalog.subset(keep), distances[keep]
+
+
+def predict(scene: Scene) -> Prediction:
+    """The scene's recurrence, slip and Mw: rate-and-state friction where the scene has it, else the seed law."""
+    if scene.kind != "fault":
+        raise InputError(f"{scene.name} is a {scene.kind} scene; the catalog comparison needs a fault scene")
+    if scene.rate_state:
+        estimate = estimate_scene_rate_state(scene)
+        cycles = estimate.cycles
+        if cycles is None:
+            return Prediction("rate_state", None, None, None)
+        return Prediction("rate_state", float(cycles.recurrence), float(cycles.slip_per_event.mean()), estimate.magnitude)
+    estimate = scene.fault().estimate()
+    if estimate.regime != "stick_slip":
+        return Prediction("seed", None, None, None)
+    return Prediction("seed", float(estimate.recurrence_period), float(estimate.slip_per_event),
+                      estimate.moment_magnitude)
+
+
+def compare(catalog: Catalog, scene: Scene, trace=None, max_distance: float = 25e3, min_magnitude=None, since=None,
+            until=None, as_of=None, horizon: float = 30 * YEAR, bootstrap: int = 1000, seed: int = 0,
+            max_magnitude=None) -> CatalogComparison:
+    """Select the fault's events, fit their recurrence and set the scene's prediction beside them."""
+    if not horizon > 0:
+        raise InputError("the probability horizon must be positive")
+    selected, distances = select(catalog, trace, max_distance, min_magnitude, since, until, max_magnitude)
+    if len(selected) == 0:
+        raise InputError(f"no event of {catalog.path and catalog.path.split('/')[-1] or 'the catalog'} passes the "
+                         "selection (distance to the trace, magnitude, time); widen --max-distance or lower "
+                         "--min-magnitude")
+    criteria = {"max_distance": f"{max_distance / 1e3:g} km" if trace is not None else "no trace: every location",
+                "min_magnitude": min_magnitude if min_magnitude is not None else "none",
+                "max_magnitude": max_magnitude if max_magnitude is not None else "none"}
+    comparison = CatalogComparison(selected, distances, criteria, predict(scene), horizon=horizon,
+                                   notes=list(catalog.notes))
+    if len(selected) < 3:
+        comparison.notes.append(f"{len(selected)} event(s): too few intervals for a renewal fit (3 events at least); "
+                                "only magnitudes are compared")
+        return comparison
+    gaps = recurrence.intervals(selected.seconds())
+    comparison.summary = recurrence.summary(gaps)
+    if gaps.min() < 0.01 * gaps.mean():  # a renewal model describes mainshocks, not their fore- or aftershocks
+        comparison.notes.append(f"the shortest interval, {gaps.min() / 86400:.3g} days, is under 1 % of the mean: the "
+                                "selection holds clustered events (foreshocks, aftershocks or a larger earthquake); "
+                                "decluster it, e.g. with --max-magnitude or a time window, before trusting the fits")
+    last = selected.seconds()[-1]
+    if as_of is None:
+        as_of = np.datetime64("now", "ms")
+    elapsed = float(np.datetime64(as_of, "ms").astype(np.int64) / 1e3 - last)
+    if elapsed < 0:
+        raise InputError("--as-of lies before the last selected event")
+    comparison.as_of, comparison.elapsed = np.datetime64(as_of, "ms"), elapsed
+    for index, model in enumerate(recurrence.MODELS):
+        comparison.fits[model] = recurrence.fit(model, gaps, bootstrap=bootstrap, seed=seed + index, elapsed=elapsed,
+                                                horizon=horizon)
+    comparison.notes.append(f"probabilities as of {str(comparison.as_of)[:10]} ({elapsed / YEAR:.1f} yr after the last "
+                            f"event), {bootstrap} parametric bootstrap samples (seed {seed})")
+    if len(selected) < 10:
+        comparison.notes.append(f"{comparison.summary['count']} intervals: the renewal parameters are loosely "
+                                "constrained; read the 95 % ranges")
+    return comparison

@@ -1,0 +1,136 @@
+"""Observed recurrence: intervals, renewal models and the conditional probability of the next event.
+
+Two renewal models with their maximum-likelihood fits (closed forms, checked against scipy.stats):
+
+- **lognormal**: ln T ~ N(ln m, s^2); m-hat = exp(mean ln T), s-hat = std(ln T) (ddof 0). Its mean is
+  m exp(s^2 / 2) and its aperiodicity (coefficient of variation) sqrt(exp(s^2) - 1).
+- **Brownian passage time** (Matthews, Ellsworth & Reasenberg 2002, BSSA 92(6)): the inverse Gaussian
+  with mean mu and aperiodicity alpha, f(t) = sqrt(mu / (2 pi alpha^2 t^3)) exp(-(t - mu)^2 / (2 mu alpha^2 t));
+  mu-hat = mean T, 1/lambda-hat = mean(1/T - 1/mu-hat), alpha-hat = sqrt(mu-hat / lambda-hat). In scipy,
+  ``invgauss(alpha^2, scale=mu / alpha^2)``.
+
+Uncertainty is a seeded parametric bootstrap: intervals drawn from the fitted model, refitted; the
+95 % ranges are percentiles. The conditional probability of an event within a horizon given the time
+elapsed since the last one is (F(t + h) - F(t)) / (1 - F(t)) (Working Group on California Earthquake
+Probabilities; Matthews et al. 2002 eq. 9).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from faultslip.errors import InputError
+
+MODELS = ("lognormal", "bpt")
+SECONDS_PER_YEAR = 365.25 * 86400.0
+
+
+def intervals(times_seconds) -> np.ndarray:
+    """Inter-event times (s) of event times (s), sorted; at least two events."""
+    times = np.sort(np.asarray(times_seconds, dtype=float))
+    if times.size < 2:
+        raise InputError(f"recurrence needs at least 2 events, got {times.size}")
+    gaps = np.diff(times)
+    if np.any(gaps <= 0):
+        raise InputError("two events share an origin time: intervals must be positive")
+    return gaps
+
+
+def _check(values) -> np.ndarray:
+    values = np.asarray(values, dtype=float)
+    if values.size < 2 or not np.all(np.isfinite(values) & (values > 0)):
+        raise InputError("a renewal fit needs at least 2 positive, finite intervals")
+    return values
+
+
+def fit_parameters(model: str, values) -> tuple[float, float]:
+    """(mean, aperiodicity) by maximum likelihood; ``values`` may be (n,) or (B, n) for B samples at once."""
+    values = np.asarray(values, dtype=float)
+    if model == "lognormal":
+        logs = np.log(values)
+        spread = logs.std(axis=-1)
+        return np.exp(logs.mean(axis=-1) + 0.5 * spread ** 2), np.sqrt(np.expm1(spread ** 2))
+    if model == "bpt":
+        mean = values.mean(axis=-1)
+        inverse_shape = (1.0 / values).mean(axis=-1) - 1.0 / mean
+        return mean, np.sqrt(mean * np.maximum(inverse_shape, 0.0))
+    raise InputError(f"renewal model must be one of {', '.join(MODELS)}, got {model!r}")
+
+
+def distribution(model: str, mean: float, aperiodicity: float):
+    """The frozen scipy.stats distribution of a renewal model with this mean and aperiodicity."""
+    from scipy import stats  # heavy: imported where used
+
+    if not (mean > 0 and aperiodicity > 0):
+        raise InputError("a renewal model needs a positive mean and aperiodicity")
+    if model == "lognormal":
+        sigma = math.sqrt(math.log1p(aperiodicity ** 2))
+        return stats.lognorm(sigma, scale=mean * math.exp(-0.5 * sigma ** 2))
+    if model == "bpt":
+        return stats.invgauss(aperiodicity ** 2, scale=mean / aperiodicity ** 2)
+    raise InputError(f"renewal model must be one of {', '.join(MODELS)}, got {model!r}")
+
+
+def conditional_probability(model: str, mean: float, aperiodicity: float, elapsed: float, horizon: float) -> float:
+    """P(an event within ``horizon`` | none for ``elapsed``) = (F(t + h) - F(t)) / (1 - F(t))."""
+    if elapsed < 0 or horizon <= 0:
+        raise InputError("the time since the last event must be >= 0 and the horizon positive")
+    law = distribution(model, mean, aperiodicity)
+    survive = float(law.sf(elapsed))
+    if survive <= 0.0:
+        return 1.0
+    return float((survive - law.sf(elapsed + horizon)) / survive)
+
+
+@dataclass
+class RenewalFit:
+    model: str
+    mean: float  # s
+    aperiodicity: float
+    mean_95: tuple
+    aperiodicity_95: tuple
+    log_likelihood: float
+    probability: float | None = None  # in the horizon, given the elapsed time
+    probability_95: tuple | None = None
+
+
+def fit(model: str, values, bootstrap: int = 1000, seed: int = 0, elapsed: float | None = None,
+        horizon: float | None = None) -> RenewalFit:
+    """Maximum-likelihood fit with a seeded parametric bootstrap of its 95 % ranges (and of the conditional
+    probability, if ``elapsed`` and ``horizon`` are given)."""
+    values = _check(values)
+    if not 0 <= bootstrap <= 100_000:
+        raise InputError(f"bootstrap must lie between 0 and 100000 samples, got {bootstrap}")
+    mean, aperiodicity = (float(v) for v in fit_parameters(model, values))
+    if not aperiodicity > 0:
+        raise InputError("the intervals are all equal: no aperiodicity to fit (a periodic sequence)")
+    law = distribution(model, mean, aperiodicity)
+    log_likelihood = float(np.sum(law.logpdf(values)))
+    result = RenewalFit(model, mean, aperiodicity, (math.nan, math.nan), (math.nan, math.nan), log_likelihood)
+    asked = elapsed is not None and horizon is not None
+    if asked:
+        result.probability = conditional_probability(model, mean, aperiodicity, elapsed, horizon)
+    if bootstrap:
+        samples = law.rvs(size=(bootstrap, values.size), random_state=np.random.default_rng(seed))
+        means, aperiodicities = fit_parameters(model, samples)
+        usable = aperiodicities > 0
+        means, aperiodicities = means[usable], aperiodicities[usable]
+        result.mean_95 = tuple(float(v) for v in np.percentile(means, [2.5, 97.5]))
+        result.aperiodicity_95 = tuple(float(v) for v in np.percentile(aperiodicities, [2.5, 97.5]))
+        if asked:
+            probabilities = [conditional_probability(model, m, a, elapsed, horizon) for m, a in
+                             zip(means, aperiodicities)]
+            result.probability_95 = tuple(float(v) for v in np.percentile(probabilities, [2.5, 97.5]))
+    return result
+
+
+def summary(values) -> dict:
+    """Count, mean, standard deviation (ddof 1) and coefficient of variation of the intervals (s)."""
+    values = _check(values)
+    mean = float(values.mean())
+    spread = float(values.std(ddof=1))
+    return {"count": int(values.size), "mean": mean, "std": spread, "cv": spread / mean,
+            "shortest": float(values.min()), "longest": float(values.max())}

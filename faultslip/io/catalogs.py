@@ -1,0 +1,222 @@
+"""Earthquake catalogs in and out: QuakeML through obspy, and plain CSV.
+
+A CSV catalog has ``name (unit)`` headers, one event per row::
+
+    time,latitude (degree),longitude (degree),depth (km),magnitude,magnitude_type,name,source
+    1966-06-28T04:26:14,35.955,-120.498,9,6.0,Mw,Parkfield 1966,Bakun & McEvilly (1984)
+
+``time`` is ISO 8601 in UTC (a date alone is midnight); ``depth``, ``magnitude_type``, ``name`` and
+any ``source...`` columns are optional. QuakeML (``.xml``, ``.quakeml``, ``.qml``) is read with
+:func:`obspy.read_events`, each event's preferred (else first) origin and magnitude; events with
+neither are counted and left out, never silently.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.errors import InputError
+from faultslip.io.atomic import atomic_path
+from faultslip.io.resources import read_unit_csv
+from faultslip.units import to_si
+
+#: a catalog file larger than this is refused before it is parsed (QuakeML is verbose: ~2 kB an event)
+MAX_CATALOG_BYTES = 512 * 2**20
+QUAKEML_SUFFIXES = (".xml", ".quakeml", ".qml")
+CATALOG_COLUMNS = {"time", "latitude", "longitude", "depth", "magnitude", "magnitude_type", "name"}
+SECONDS_PER_YEAR = 365.25 * 86400.0
+
+
+@dataclass
+class Catalog:
+    """Events sorted by time: UTC times as datetime64[ms], degrees, depth in m, magnitudes."""
+
+    time: np.ndarray
+    latitude: np.ndarray
+    longitude: np.ndarray
+    depth: np.ndarray
+    magnitude: np.ndarray
+    magnitude_type: list
+    name: list
+    source: list
+    path: str = ""
+    notes: list = field(default_factory=list)
+
+    def __len__(self) -> int:
+        return int(self.time.size)
+
+    def subset(self, mask) -> "Catalog":
+        mask = np.asarray(mask, dtype=bool)
+        pick = lambda values: [v for v, keep in zip(values, mask) if keep]  # noqa: E731
+        return Catalog(self.time[mask], self.latitude[mask], self.longitude[mask], self.depth[mask],
+                       self.magnitude[mask], pick(self.magnitude_type), pick(self.name), pick(self.source),
+                       self.path, list(self.notes))
+
+    def seconds(self) -> np.ndarray:
+        """Times as seconds since 1970-01-01 UTC (float)."""
+        return self.time.astype("datetime64[ms]").astype(np.int64) / 1e3
+
+
+def parse_time(text, where: str) -> np.datetime64:
+    """An ISO 8601 UTC time (or date) as datetime64[ms]; one sentence if it is not one."""
+    from obspy import UTCDateTime  # heavy: imported where used
+
+    try:
+        moment = UTCDateTime(str(text).strip())
+    except Exception:  # obspy raises TypeError, ValueError or its own for bad strings
+        raise InputError(f"{where}: {text!r} is not an ISO 8601 time such as 1966-06-28T04:26:14") from None
+    return np.datetime64(int(round(moment.timestamp * 1e3)), "ms")
+
+
+def _check_file(path: Path, what: str) -> None:
+    if not path.exists():
+        raise InputError(f"{what} {str(path)!r} does not exist")
+    if path.is_dir():
+        raise InputError(f"{what} {str(path)!r} is a folder, not a file")
+    size = path.stat().st_size
+    if size > MAX_CATALOG_BYTES:
+        raise InputError(f"{what} {path.name} is {size / 2**20:.0f} MiB; the limit is {MAX_CATALOG_BYTES // 2**20} MiB")
+    if size == 0:
+        raise InputError(f"{what} {path.name} is empty")
+
+
+def read_catalog(path) -> Catalog:
+    """A QuakeML or CSV catalog, sorted by time. Raises :class:`InputError` in one sentence."""
+    path = Path(path)
+    _check_file(path, "catalog")
+    suffix = path.suffix.lower()
+    if suffix in QUAKEML_SUFFIXES:
+        catalog = _read_quakeml(path)
+    elif suffix == ".csv":
+        catalog = _read_csv(path)
+    else:
+        raise InputError(f"catalog {path.name}: unknown format {suffix or '(no suffix)'!r}; give QuakeML "
+                         f"({', '.join(QUAKEML_SUFFIXES)}) or CSV (.csv)")
+    if len(catalog) == 0:
+        raise InputError(f"catalog {path.name} has no events with an origin time, location and magnitude")
+    order = np.argsort(catalog.time, kind="stable")
+    return catalog if np.all(order == np.arange(len(catalog))) else _reorder(catalog, order)
+
+
+def _reorder(catalog: Catalog, order) -> Catalog:
+    pick = lambda values: [values[i] for i in order]  # noqa: E731
+    return Catalog(catalog.time[order], catalog.latitude[order], catalog.longitude[order], catalog.depth[order],
+                   catalog.magnitude[order], pick(catalog.magnitude_type), pick(catalog.name), pick(catalog.source),
+                   catalog.path, catalog.notes)
+
+
+def _read_quakeml(path: Path) -> Catalog:
+    from obspy import read_events  # heavy: imported where used
+
+    try:
+        events = read_events(str(path), format="QUAKEML")
+    except Exception as exc:  # lxml and obspy raise many types for malformed XML
+        reason = str(exc).splitlines()[0][:160] if str(exc) else type(exc).__name__
+        raise InputError(f"catalog {path.name} is not readable QuakeML ({reason})") from None
+    rows, skipped = [], 0
+    for event in events:
+        origin = event.preferred_origin() or (event.origins[0] if event.origins else None)
+        magnitude = event.preferred_magnitude() or (event.magnitudes[0] if event.magnitudes else None)
+        if origin is None or magnitude is None or origin.time is None or origin.latitude is None \
+                or origin.longitude is None or magnitude.mag is None:
+            skipped += 1
+            continue
+        names = [d.text for d in event.event_descriptions if d.text]
+        rows.append((np.datetime64(int(round(origin.time.timestamp * 1e3)), "ms"), float(origin.latitude),
+                     float(origin.longitude), float(origin.depth) if origin.depth is not None else math.nan,
+                     float(magnitude.mag), magnitude.magnitude_type or "", names[0] if names else str(event.resource_id),
+                     (event.creation_info.agency_id if event.creation_info and event.creation_info.agency_id else "")))
+    catalog = _from_rows(rows, str(path))
+    if skipped:
+        catalog.notes.append(f"{skipped} event(s) in {path.name} had no origin time, location or magnitude and were "
+                             "left out")
+    _check_locations(catalog, path.name)
+    return catalog
+
+
+def _from_rows(rows, path: str) -> Catalog:
+    columns = list(zip(*rows)) if rows else [[]] * 8
+    return Catalog(np.array(columns[0], dtype="datetime64[ms]"), np.array(columns[1], float),
+                   np.array(columns[2], float), np.array(columns[3], float), np.array(columns[4], float),
+                   list(columns[5]), list(columns[6]), list(columns[7]), path)
+
+
+def _check_locations(catalog: Catalog, name: str) -> None:
+    bad = ~((np.abs(catalog.latitude) <= 90) & (np.abs(catalog.longitude) <= 180) & np.isfinite(catalog.magnitude))
+    if bad.any():
+        index = int(np.argmax(bad))
+        raise InputError(f"catalog {name}: event {catalog.name[index]!r} has latitude {catalog.latitude[index]:g}, "
+                         f"longitude {catalog.longitude[index]:g}, magnitude {catalog.magnitude[index]:g}: out of range")
+
+
+def _read_csv(path: Path) -> Catalog:
+    label = f"catalog {path.name}"
+    header, cells = read_unit_csv(path, label)
+    names = [name for name, _ in header]
+    units = dict(header)
+    for name in names:
+        if name not in CATALOG_COLUMNS and not name.startswith("source"):
+            raise InputError(f"{label}: unknown column {name!r}; a catalog has {', '.join(sorted(CATALOG_COLUMNS))} "
+                             "and source columns")
+    for required in ("time", "latitude", "longitude", "magnitude"):
+        if required not in names:
+            raise InputError(f"{label} lacks the column {required!r}")
+    for column in ("latitude", "longitude"):
+        if units.get(column) not in (None, "degree", "degrees"):
+            raise InputError(f"{label}: {column} must be in degrees, the header says {units[column]!r}")
+    depth_unit = units.get("depth")
+    if "depth" in names and depth_unit is None:
+        raise InputError(f"{label}: the depth column needs a unit in its header, e.g. 'depth (km)'")
+    rows = []
+    for line, values in cells:
+        row = dict(zip(names, values))
+        where = f"{label}, row {line}"
+
+        def number(column):
+            try:
+                value = float(row[column])
+            except ValueError:
+                raise InputError(f"{where}: {column} {row[column]!r} is not a number") from None
+            if not math.isfinite(value):
+                raise InputError(f"{where}: {column} must be finite")
+            return value
+
+        depth = (to_si(f"{row['depth']} {depth_unit}", "length", f"{where}, depth")
+                 if row.get("depth") else math.nan)
+        sources = "; ".join(row[c] for c in names if c.startswith("source") and row[c])
+        rows.append((parse_time(row["time"], f"{where}, time"), number("latitude"), number("longitude"), depth,
+                     number("magnitude"), row.get("magnitude_type", ""), row.get("name") or f"row {line}", sources))
+    catalog = _from_rows(rows, str(path))
+    _check_locations(catalog, path.name)
+    return catalog
+
+
+def write_quakeml(times, latitude, longitude, depth, magnitudes, path, names=None, magnitude_type: str = "Mw",
+                  agency: str = "faultslip", comment: str = "") -> None:
+    """Events as an obspy Catalog in QuakeML: UTC times as datetime64 or seconds since 1970, degrees,
+    depth in m. Written through a temporary file and renamed (atomic)."""
+    from obspy import UTCDateTime  # heavy: imported where used
+    from obspy.core import event as quakeml  # heavy: imported where used
+
+    catalog = quakeml.Catalog(description=comment or "faultslip synthetic events")
+    count = len(magnitudes)
+    for index in range(count):
+        when = times[index]
+        seconds = (float(np.datetime64(when, "ms").astype(np.int64)) / 1e3 if isinstance(when, np.datetime64)
+                   else float(when))
+        origin = quakeml.Origin(time=UTCDateTime(seconds), latitude=float(latitude[index]), longitude=float(longitude[index]),
+                        depth=float(depth[index]))
+        magnitude = quakeml.Magnitude(mag=float(magnitudes[index]), magnitude_type=magnitude_type, origin_id=origin.resource_id)
+        event = quakeml.Event(origins=[origin], magnitudes=[magnitude], creation_info=quakeml.CreationInfo(agency_id=agency),
+                      event_descriptions=[quakeml.EventDescription(text=names[index] if names else f"event {index + 1}")])
+        if comment:
+            event.comments.append(quakeml.Comment(text=comment))
+        event.preferred_origin_id = origin.resource_id
+        event.preferred_magnitude_id = magnitude.resource_id
+        catalog.append(event)
+    with atomic_path(path) as temporary:
+        catalog.write(str(temporary), format="QUAKEML")
