@@ -214,3 +214,21 @@ def test_catalog_readers(tmp_path_factory, seed, which):
         assert len(catalog) > 0 and (abs(catalog.latitude) <= 90).all()
 
     _clean(read_and_check)
+
+
+@FUZZ
+@given(seed=st.integers(0, 2**32))
+def test_miniseed_record_reader(tmp_path_factory, seed):
+    """A corrupted miniSEED record is read as a record or refused in one sentence."""
+    import numpy as np
+
+    from faultslip.io.waveforms import build_stream, write_stream
+    from faultslip.lab.records import read_record
+
+    folder = tmp_path_factory.mktemp("mseed")
+    stream = build_stream(100.0, {"D": np.sin(np.linspace(0, 20, 600)) * 1e-4, "F": np.full(600, 0.6)}, 0.0)
+    write_stream(stream, folder / "clean.mseed")
+    raw = (folder / "clean.mseed").read_bytes()
+    path = folder / "r.mseed"
+    path.write_bytes(fuzz.mutate_bytes(raw, random.Random(seed)))
+    _clean(read_record, path)

@@ -121,6 +121,12 @@ def _scenes_commands(commands) -> None:
     simulate.add_argument("--cycles", type=int, help="number of stick-slip cycles (default: the scene's, else 100)")
     simulate.add_argument("--slip-solver", help="analytic, RK45, RK23, DOP853, Radau, BDF or LSODA (default auto)")
     simulate.add_argument("--rtol", help="integrator relative tolerance (default 1e-10)")
+    simulate.add_argument("--stream", help="write displacement, slip, slip rate and friction as an obspy Stream: "
+                                           "OUT.mseed, or OUT.sac (one file per channel)")
+    simulate.add_argument("--events", help="write the events as QuakeML (OUT.xml) with Mw from M0 (fault scenes)")
+    simulate.add_argument("--sampling-rate", help="stream sampling rate in Hz (default: 20 samples per slip phase, "
+                                                  "within 2e6 samples)")
+    simulate.add_argument("--start-time", help="UTC time of model time 0, ISO 8601 (default 2000-01-01)")
     simulate.add_argument("--json", action="store_true", help="print one JSON object")
     simulate.set_defaults(handler="scenes:cmd_simulate")
 
@@ -215,7 +221,8 @@ def _lab_commands(commands) -> None:
     fit.set_defaults(handler="lab:cmd_fit")
 
     record = commands.add_parser("record", help="friction and stick-slip events from a measured motion record")
-    record.add_argument("record", help="CSV or netCDF: time, displacement, and acceleration or force")
+    record.add_argument("record", help="CSV or netCDF (time, displacement, and acceleration or force), or miniSEED "
+                                         "or SAC (channels by component code: D, A, N, V; docs/catalogs.md)")
     record.add_argument("--stiffness", required=True, help="spring stiffness K, e.g. '1.94e4 lbf/in'")
     record.add_argument("--normal-load", required=True, help="normal load W, e.g. '225.8 lbf'")
     record.add_argument("--mass", help="moving mass M (default W/g)")

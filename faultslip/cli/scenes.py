@@ -14,17 +14,20 @@ from faultslip.dynamics.methods import describe_all, solve
 from faultslip.dynamics.nanoscale import choose_method
 from faultslip.dynamics.nanoscale import report as nanoscale_report
 from faultslip.dynamics.nanoscale import run_dataset as nanoscale_dataset
-from faultslip.dynamics.simulate import simulate, summary_report
+from faultslip.dynamics.simulate import simulate, summary_report, uniform_channels
 from faultslip.errors import FaultslipError, InputError
 from faultslip.fault.rate_state_fault import cycles_dataset, estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
 from faultslip.fault.scene import CHOICES, estimate_scene_rate_state, load_scene, run_scene
+from faultslip.fault.synthetic import simulated_events
 from faultslip.friction.materials import lithologies, presets, resolve_material, user_rate_state_fits
 from faultslip.friction.registry import registry_path
 from faultslip.io import budget
 from faultslip.io.atomic import save_figure, write_text_atomic
+from faultslip.io.catalogs import QUAKEML_SUFFIXES, parse_time, write_quakeml
 from faultslip.io.netcdf import write_dataset
-from faultslip.io.outputs import FIGURE_SUFFIXES
+from faultslip.io.outputs import FIGURE_SUFFIXES, check_output
+from faultslip.io.waveforms import MAX_SAMPLES, STREAM_SUFFIXES, build_stream, sac_path, write_stream
 from faultslip.io.report import Report
 from faultslip.lab.nanoscale_scene import is_nanoscale_scene, load_nanoscale_scene
 from faultslip.lab.vibration_scene import is_vibration_scene, load_vibration_scene
@@ -256,9 +259,23 @@ def cmd_simulate(args) -> int:
     if is_vibration_scene(args.scene):
         return _simulate_vibration(args)
     scene = load_scene(args.scene)
-    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [scene.path])
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
+                              "stream": ("--stream", tuple(STREAM_SUFFIXES)), "events": ("--events", QUAKEML_SUFFIXES)},
+                       [scene.path])
     if scene.rate_state:
+        if outputs["stream"] or outputs["events"]:
+            raise InputError("--stream and --events apply to seed-law scenes; a rate-and-state scene's cycles are "
+                             "written with -o")
         return _simulate_rate_state(args, scene, outputs)
+    if outputs["stream"] and outputs["stream"].suffix.lower() == ".sac":  # one file per component, checked now
+        for component in ("D", "S", "R", "F"):
+            check_output(sac_path(outputs["stream"], component), label="--stream", suffixes=(".sac",),
+                         inputs=[scene.path], overwrite=args.overwrite)
+    if outputs["events"] and scene.kind != "fault":
+        raise InputError("--events writes earthquakes with Mw from M0: it needs a fault scene")
+    rate = _number(args.sampling_rate, "--sampling-rate") if args.sampling_rate else None
+    start = (float(parse_time(args.start_time, "--start-time").astype("datetime64[ms]").astype("int64")) / 1e3
+             if args.start_time else 946684800.0)
     settings = scene.simulation
     if args.cycles is not None:
         if args.cycles < 1:
@@ -284,6 +301,21 @@ def cmd_simulate(args) -> int:
     _note_origin(report, scene.origin and f"scene: {scene.origin}")
     _save_run(report, outputs, args, dataset, lambda: sawtooth_figure(dataset), "time series and event table",
               "sawtooth record")
+    if outputs["stream"]:
+        rate, channels, note = uniform_channels(dataset, rate, 10 * MAX_SAMPLES if args.allow_large else MAX_SAMPLES)
+        stream = build_stream(rate, channels, start_seconds=start)
+        with _locked(outputs["stream"]):
+            written = write_stream(stream, outputs["stream"])
+        report.note(f"stream of {', '.join(t.id for t in stream)} at {rate:.4g} Hz ({stream[0].stats.npts} samples) "
+                    f"written to {', '.join(str(p) for p in written)}" + (f"; {note}" if note else ""))
+    if outputs["events"]:
+        events = simulated_events(dataset, scene.fault(), scene.trace, start)
+        with _locked(outputs["events"]):
+            write_quakeml(events["times"], events["latitude"], events["longitude"], events["depth"],
+                          events["magnitude"], outputs["events"], names=events["names"],
+                          comment=f"faultslip simulation of {scene.name}")
+        report.note(f"{len(events['names'])} events (Mw {float(events['magnitude'].max()):.2f}) written as QuakeML "
+                    f"to {args.events}" + (f"; {events['note']}" if events["note"] else ""))
     return _emit(report, args.json)
 
 

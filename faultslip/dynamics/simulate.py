@@ -556,3 +556,43 @@ def summary_report(dataset, title: str | None = None):
     for note in filter(None, attrs.get("regime_verification", "").split("; ")):
         r.note(note)
     return r
+
+
+def uniform_channels(dataset, sampling_rate: float | None = None, max_samples: int = 2_000_000,
+                     samples_per_slip: int = 20) -> tuple[float, dict, str]:
+    """A simulation on a uniform time grid, for a seismological Stream: (sampling rate in Hz, {component:
+    samples}, note). Components (faultslip.io.waveforms): D the slider displacement x, S the cumulative slip
+    s(t) = V t - (x(t) - x(0)), both exact between samples in stick and linear in slip; R the slip rate as
+    the mean over each sample interval (slip is conserved); F the friction coefficient. The default rate puts ``samples_per_slip`` samples in a slip phase, lowered if
+    the run would need more than ``max_samples`` (the note then says how the events are averaged)."""
+    time = dataset["time"].values
+    speed = float(dataset.attrs["platform_speed"])
+    duration = float(time[-1] - time[0])
+    if not duration > 0:
+        raise InputError("the simulation has no duration to sample")
+    note = ""
+    if sampling_rate is None:
+        slips = dataset["slip_duration"].values if "slip_duration" in dataset else np.array([])
+        slips = slips[np.isfinite(slips) & (slips > 0)]
+        sampling_rate = samples_per_slip / float(np.median(slips)) if slips.size else 1000 / duration
+        if duration * sampling_rate > max_samples - 1:
+            limited = (max_samples - 1) / duration
+            note = (f"{max_samples:,} samples over {duration:.4g} s: {limited:.3g} Hz, so each slip phase "
+                    f"({float(np.median(slips)) if slips.size else math.nan:.3g} s) is averaged over "
+                    f"{1 / limited:.3g} s (slip is conserved; give a sampling rate and a shorter run to resolve it)")
+            sampling_rate = limited
+    count = int(math.floor(duration * sampling_rate)) + 1
+    if count > max_samples:
+        raise InputError(f"{count:,} samples at {sampling_rate:g} Hz exceed {max_samples:,}; lower the sampling rate "
+                         "or the number of cycles")
+    if count < 2:
+        raise InputError(f"{sampling_rate:g} Hz gives fewer than 2 samples over {duration:.4g} s")
+    grid = time[0] + np.arange(count) / sampling_rate
+    x = dataset["displacement"].values
+    slip = speed * (time - time[0]) - (x - x[0])
+    on_grid = np.interp(grid, time, slip)
+    rate = np.empty(count)
+    rate[1:] = np.diff(on_grid) * sampling_rate
+    rate[0] = rate[1] if count > 1 else 0.0
+    friction = np.interp(grid, time, dataset["friction_coefficient"].values)
+    return float(sampling_rate), {"D": np.interp(grid, time, x), "S": on_grid, "R": rate, "F": friction}, note

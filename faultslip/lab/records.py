@@ -14,8 +14,8 @@ Free decay (seed 002 Appendix C): the log decrement of amplitudes N cycles apart
 frequency give the decay constant Delta = ln(X_n / X_{n+N}) f_d / N, the damping ratio, and,
 with the known stiffness, the mass M = K / omega_n^2 and the damping coefficient r = 2 M Delta.
 
-Readers are pluggable: :func:`register_reader` adds a file format (the seismology issue adds
-obspy's); CSV and netCDF are built in.
+Readers are pluggable: :func:`register_reader` adds a file format. CSV and netCDF are built in, and
+miniSEED and SAC come through obspy (channels mapped by component code, :mod:`faultslip.io.waveforms`).
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_csv
+from faultslip.io.waveforms import STREAM_SUFFIXES, channels_by_quantity, read_stream
 from faultslip.units import unit_factor
 from faultslip.dynamics.exact_cycle import _Oscillator, exact_cycle
 from faultslip.dynamics.simulate import _equilibrium, _stick_duration
@@ -116,8 +117,29 @@ def _record_from_columns(columns, source):
     return Record(si["time"], si["displacement"], si.get("acceleration"), si.get("force"), si.get("velocity"), source)
 
 
+def _read_stream(path: Path) -> Record:
+    """miniSEED or SAC through obspy (faultslip.io.waveforms): channels by component code, D displacement
+    (m), A acceleration (m/s^2), N force (N), V velocity (m/s); other components are ignored. A SAC file
+    ``STEM.X.sac`` brings its siblings ``STEM.*.sac``, one channel each."""
+    if path.suffix.lower() == ".sac":
+        stem = path.name[: -len(".sac")].rsplit(".", 1)[0] if path.name.count(".") >= 2 else path.stem
+        files = sorted(path.parent.glob(f"{stem}.*.sac")) or [path]
+        stream = read_stream(files[0])
+        for extra in files[1:]:
+            stream += read_stream(extra)
+    else:
+        stream = read_stream(path)
+    time, found = channels_by_quantity(stream, f"record {path.name}")
+    if "displacement" not in found:
+        raise InputError(f"record {path.name} has no displacement channel (component code D, in m)")
+    return Record(time, found["displacement"], found.get("acceleration"), found.get("force"), found.get("velocity"),
+                  path.name)
+
+
 register_reader(".csv", _read_csv)
 register_reader(".nc", _read_netcdf)
+for _suffix in STREAM_SUFFIXES:
+    register_reader(_suffix, _read_stream)
 
 
 def sliding_velocity(record: Record, platform_speed: float, method: str = "auto"):

@@ -1,0 +1,164 @@
+"""Synthetic records as obspy Streams (miniSEED, SAC), and lab records read back from them.
+
+Channel codes follow the SEED convention band + instrument + component. The band code comes from
+the sampling rate (SEED manual, Appendix A, broadband family: F >= 1000 Hz, C >= 250, H >= 80,
+B >= 10, M > 1, L ~ 1, V ~ 0.1, U ~ 0.01, R 1e-3-1e-4, P 1e-4-1e-5, T 1e-5-1e-6, Q < 1e-6). The
+instrument code is Y ("non-specific instrument": these are models, not sensors). The component
+code names the quantity, in SI:
+
+====  ======================================  =====
+code  quantity                                units
+====  ======================================  =====
+D     displacement of the slider              m
+V     velocity of the slider                  m/s
+A     acceleration of the slider              m/s^2
+N     force (friction force)                  N
+S     slip: cumulative sliding distance       m
+R     slip rate: sliding speed                m/s
+F     friction coefficient                    1
+====  ======================================  =====
+
+miniSEED stores float64 samples and no units, SAC float32 with one file per trace
+(``STEM.COMPONENT.sac``, e.g. ``run.V.sac``); the mapping above is how ``faultslip record`` reads
+them back.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.errors import InputError
+from faultslip.io.atomic import atomic_path
+
+COMPONENTS = {"D": ("displacement", "m"), "V": ("velocity", "m/s"), "A": ("acceleration", "m/s^2"),
+              "N": ("force", "N"), "S": ("slip", "m"), "R": ("slip_rate", "m/s"), "F": ("friction_coefficient", "1")}
+STREAM_SUFFIXES = {".mseed": "MSEED", ".miniseed": "MSEED", ".sac": "SAC"}
+#: at most this many samples per trace unless the caller allows more
+MAX_SAMPLES = 2_000_000
+#: a record read back holds at most this many samples per channel (400 MB of float64)
+MAX_READ_SAMPLES = 50_000_000
+_BANDS = ((1000.0, "F"), (250.0, "C"), (80.0, "H"), (10.0, "B"), (1.0 + 1e-9, "M"), (0.5, "L"), (0.05, "V"),
+          (0.005, "U"), (1e-4, "R"), (1e-5, "P"), (1e-6, "T"), (0.0, "Q"))
+
+
+def band_code(sampling_rate: float) -> str:
+    """The SEED band code of a sampling rate (Hz), broadband family."""
+    if not (sampling_rate > 0 and math.isfinite(sampling_rate)):
+        raise InputError(f"the sampling rate must be positive, got {sampling_rate!r}")
+    return next(code for low, code in _BANDS if sampling_rate >= low)
+
+
+def stream_format(path) -> str:
+    suffix = Path(path).suffix.lower()
+    if suffix not in STREAM_SUFFIXES:
+        raise InputError(f"{Path(path).name}: a stream is written as miniSEED (.mseed, .miniseed) or SAC (.sac), "
+                         f"not {suffix or '(no suffix)'!r}")
+    return STREAM_SUFFIXES[suffix]
+
+
+def build_stream(sampling_rate: float, channels: dict, start_seconds: float = 946684800.0, network: str = "XX",
+                 station: str = "FSLIP", location: str = "00"):
+    """An obspy Stream of uniformly sampled channels: ``channels`` maps a component code (see
+    :data:`COMPONENTS`) to its samples (SI). ``start_seconds`` is the first sample's UTC time as seconds
+    since 1970 (default 2000-01-01, a nominal epoch for model time)."""
+    from obspy import Stream, Trace, UTCDateTime  # heavy: imported where used
+
+    band = band_code(sampling_rate)
+    traces = []
+    for component, samples in channels.items():
+        if component not in COMPONENTS:
+            raise InputError(f"unknown component {component!r}; allowed: {', '.join(COMPONENTS)}")
+        samples = np.ascontiguousarray(samples, dtype=np.float64)
+        header = {"network": network, "station": station[:5], "location": location, "channel": f"{band}Y{component}",
+                  "sampling_rate": float(sampling_rate), "starttime": UTCDateTime(start_seconds)}
+        traces.append(Trace(samples, header=header))
+    return Stream(traces)
+
+
+def sac_path(path, component: str) -> Path:
+    """The SAC file of one component of a stream written to ``path`` (STEM.COMPONENT.sac)."""
+    path = Path(path)
+    return path.with_name(f"{path.stem}.{component}.sac")
+
+
+def write_stream(stream, path) -> list:
+    """miniSEED (float64, one file) or SAC (float32, ``STEM.COMPONENT.sac`` per trace), atomically. Returns
+    the paths written."""
+    path = Path(path)
+    kind = stream_format(path)
+    if kind == "MSEED":
+        with atomic_path(path) as temporary:
+            stream.write(str(temporary), format="MSEED", encoding="FLOAT64")
+        return [path]
+    written = []
+    for trace in stream:
+        target = sac_path(path, trace.stats.channel[-1])
+        with atomic_path(target) as temporary:
+            trace.write(str(temporary), format="SAC")
+        written.append(target)
+    return written
+
+
+def read_stream(path):
+    """A miniSEED or SAC file through obspy.read, in one sentence if it is not one."""
+    from obspy import read  # heavy: imported where used
+
+    path = Path(path)
+    kind = stream_format(path)
+    try:
+        headers = read(str(path), format=kind, headonly=True)  # sizes first: a corrupt header can claim anything
+        total = sum(int(trace.stats.npts) for trace in headers)
+        if total > MAX_READ_SAMPLES:
+            raise InputError(f"{path.name} holds {total:,} samples; the limit is {MAX_READ_SAMPLES:,}")
+        stream = read(str(path), format=kind)
+    except InputError:
+        raise
+    except Exception as exc:  # obspy raises many types for corrupt records
+        reason = str(exc).splitlines()[0][:160] if str(exc) else type(exc).__name__
+        raise InputError(f"{path.name} is not readable {'miniSEED' if kind == 'MSEED' else 'SAC'} ({reason})") from None
+    if len(stream) == 0:
+        raise InputError(f"{path.name} holds no traces")
+    return stream
+
+
+def channels_by_quantity(stream, source: str) -> tuple[np.ndarray, dict]:
+    """(time in s from the first sample, {quantity: samples}) from a Stream, by the component code of each
+    channel; the traces must share their start, rate and length (merged per channel first)."""
+    stream = stream.copy()
+    for trace_id in {trace.id for trace in stream}:  # a gap is filled: bound the joined length first
+        parts = [trace for trace in stream if trace.id == trace_id]
+        span = max(t.stats.endtime for t in parts) - min(t.stats.starttime for t in parts)
+        if span * max(t.stats.sampling_rate for t in parts) > MAX_READ_SAMPLES:
+            raise InputError(f"{source}: channel {trace_id} spans {span:.4g} s at {parts[0].stats.sampling_rate:g} Hz, "
+                             f"more than {MAX_READ_SAMPLES:,} samples once its gaps are filled")
+    try:
+        stream.merge(method=1, fill_value="interpolate")
+    except Exception as exc:  # obspy raises a bare Exception for traces it cannot join (e.g. differing rates)
+        raise InputError(f"{source}: the records of one channel cannot be joined ({str(exc).splitlines()[0][:120]})") \
+            from None
+    found = {}
+    reference = None
+    for trace in stream:
+        component = trace.stats.channel[-1:].upper()
+        if component not in COMPONENTS:
+            continue
+        quantity = COMPONENTS[component][0]
+        if quantity in found:
+            raise InputError(f"{source}: two channels carry the {quantity} ({component}); keep one station and location")
+        stats = (float(trace.stats.starttime.timestamp), float(trace.stats.sampling_rate), int(trace.stats.npts))
+        if reference is None:
+            reference = stats
+        elif abs(stats[0] - reference[0]) > 0.5 / reference[1] or stats[1] != reference[1] or stats[2] != reference[2]:
+            raise InputError(f"{source}: the channels differ in start, sampling rate or length; trim them to one window")
+        data = np.asarray(trace.data, dtype=float)
+        if not np.all(np.isfinite(data)):
+            raise InputError(f"{source}: channel {trace.stats.channel} has non-finite samples")
+        found[quantity] = data
+    if reference is None:
+        raise InputError(f"{source}: no channel ends in a known component code ({', '.join(COMPONENTS)}: "
+                         + ", ".join(f"{c} {q}" for c, (q, _) in COMPONENTS.items()) + ")")
+    time = np.arange(reference[2]) / reference[1]
+    return time, found
