@@ -232,3 +232,14 @@ def test_miniseed_record_reader(tmp_path_factory, seed):
     path = folder / "r.mseed"
     path.write_bytes(fuzz.mutate_bytes(raw, random.Random(seed)))
     _clean(read_record, path)
+
+
+@FUZZ
+@given(seed=st.integers(0, 2**32))
+def test_geojson_fault_reader(tmp_path_factory, seed):
+    """A mutated GAF GeoJSON fault file is read (traces in range) or refused in one sentence."""
+    from faultslip.io.geojson import read_fault_geojson
+
+    text = (ROOT / "data" / "gem_faults_example.geojson").read_text(encoding="utf-8")
+    path = _write(tmp_path_factory.mktemp("geojson") / "f.geojson", _mutated(text, fuzz.mutate_csv, seed))
+    _clean(read_fault_geojson, path)

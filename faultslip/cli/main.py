@@ -191,6 +191,9 @@ def _studies_commands(commands) -> None:
     regional.add_argument("map", help="map TOML file")
     regional.add_argument("-o", "--output", required=True, help="output netCDF file")
     regional.add_argument("--plot", help="draw the maps to FILE.png (and predicted vs observed to FILE_observed.png)")
+    regional.add_argument("--nrml", help="write each segment as an OpenQuake simple-fault source (NRML 0.5) to FILE.xml")
+    regional.add_argument("--mfd", default="characteristic", help="NRML magnitude-frequency distribution: "
+                                                                  "characteristic or truncated_gr (moment-balanced)")
     regional.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     _method_flags(regional)
     regional.add_argument("--json", action="store_true", help="print one JSON object")

@@ -7,13 +7,14 @@ import math
 from pathlib import Path
 
 from faultslip.cli.common import _delayed_progress, _locked, _outputs, _tolerance, _workers
-from faultslip.errors import FaultslipError
+from faultslip.errors import FaultslipError, InputError
 from faultslip.io import budget
 from faultslip.io.atomic import save_figure
 from faultslip.io.netcdf import write_dataset
+from faultslip.io.nrml import MFD_KINDS, write_source_model
 from faultslip.io.outputs import check_output, FIGURE_SUFFIXES
 from faultslip.studies.grid import load_study
-from faultslip.studies.maps import load_map, map_figure, observed_figure, observed_table, run_map
+from faultslip.studies.maps import load_map, map_figure, nrml_segments, observed_figure, observed_table, run_map
 from faultslip.io.convert import zarr_to_netcdf
 from faultslip.studies.streaming import (default_chunk_cells, rate_state_counts, check_study_output, output_format, reproduce,
                                          run_study)
@@ -116,7 +117,12 @@ def cmd_reproduce(args) -> int:
 
 def cmd_map(args) -> int:
     spec = load_map(args.map)
-    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, spec.inputs)
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
+                              "nrml": ("--nrml", (".xml",))}, spec.inputs)
+    if outputs["nrml"] and spec.segments is None:
+        raise InputError("--nrml writes fault sources: it needs a segment map ([segments]), not a raster")
+    if args.mfd not in MFD_KINDS:
+        raise InputError(f"--mfd must be one of {', '.join(MFD_KINDS)}, got {args.mfd!r}")
     observed = None
     if outputs["plot"] is not None and spec.segments is not None:
         target = Path(outputs["plot"])
@@ -125,8 +131,11 @@ def cmd_map(args) -> int:
     tolerance = _tolerance(args) or 1e-6
     dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance)
     plots = []
-    with _locked(outputs["output"], outputs["plot"], observed):
+    with _locked(outputs["output"], outputs["plot"], observed, outputs["nrml"]):
         write_dataset(dataset, outputs["output"])
+        if outputs["nrml"]:
+            sources = write_source_model(outputs["nrml"], nrml_segments(spec, dataset), spec.name, args.mfd)
+            spec.notes.append(f"{sources} simple-fault source(s), {args.mfd} MFD, written as NRML to {args.nrml}")
         if outputs["plot"]:
             save_figure(map_figure(dataset), outputs["plot"], dpi=150)
             plots.append(args.plot)

@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from faultslip.io.geo import _check_lon_lat, densify, nearest_segment, parse_trace, trace_length  # noqa: F401 (re-exported)
+from faultslip.io.geojson import read_fault_geojson
 from faultslip.errors import InputError, did_you_mean
 from faultslip.io.resources import bundled_dir, parse_toml, read_unit_csv
 from faultslip.units import to_si
@@ -99,10 +100,41 @@ class SegmentTable:
     observed_event: list
     sources: dict  # column -> list of strings
     path: str = ""
+    #: from GeoJSON (GEM GAF): slip_type, dip and rake (degrees), upper_depth (m); a CSV table takes the seed's
+    #: vertical strike-slip defaults (dip 90, rake 180: dextral, upper depth 0)
+    geometry: dict = field(default_factory=dict)
 
     @property
     def lengths(self) -> np.ndarray:
         return np.array([trace_length(trace) for trace in self.traces])
+
+
+def segments_from_geojson(path, scene) -> SegmentTable:
+    """A GEM GAF GeoJSON fault file as a segment table. GeoJSON carries no lithology or elastic-zone width:
+    each fault takes the base scene's (its [fault] lithology and zone_width), and its seismogenic depth is
+    lower - upper, else the scene's; the notes say which faults took defaults."""
+    faults = read_fault_geojson(path)
+    given = scene.tables.get("fault", {})
+    if "lithology" not in given:
+        raise InputError(f"{Path(path).name} carries no lithology: the map's base scene needs a [fault] lithology")
+    base = scene.fault()
+    count = len(faults.ids)
+    depth = np.where(np.isnan(faults.lower_depth), base.seismogenic_depth or np.nan,
+                     faults.lower_depth - np.nan_to_num(faults.upper_depth))
+    if np.isnan(depth).any():
+        raise InputError(f"{Path(path).name}: a fault has no seismogenic depths and the base scene no "
+                         "seismogenic_depth to fall back on")
+    lithology = resolve_material(given["lithology"]).name
+    notes = list(faults.notes) + [f"{Path(path).name}: lithology {lithology} and zone width "
+                                  f"{base.zone_width / 1e3:.4g} km from the base scene for every fault"]
+    nan = np.full(count, np.nan)
+    return SegmentTable(ids=faults.ids, names=faults.names, traces=faults.traces, slip_rate=faults.slip_rate,
+                        lithology=[lithology] * count, seismogenic_depth=depth,
+                        zone_width=np.full(count, base.zone_width), observed_slip=nan, observed_recurrence=nan.copy(),
+                        observed_event=[""] * count, sources={"notes": notes}, path=str(path),
+                        geometry={"slip_type": faults.slip_type, "dip": np.where(np.isnan(faults.dip), 90.0, faults.dip),
+                                  "rake": np.where(np.isnan(faults.rake), 180.0, faults.rake),
+                                  "upper_depth": np.nan_to_num(faults.upper_depth)})
 
 
 def read_segments(path) -> SegmentTable:
@@ -352,7 +384,11 @@ def load_map(path) -> MapSpec:
     spec.notes = notes
     if "segments" in document:
         source = resolve(document["segments"].get("file", ""))
-        spec.segments = read_segments(source)
+        if source.suffix.lower() in (".geojson", ".json"):
+            spec.segments = segments_from_geojson(source, scene)
+            spec.notes.extend(spec.segments.sources.pop("notes", []))
+        else:
+            spec.segments = read_segments(source)
     else:
         source = resolve(document["raster"].get("file", ""))
         spec.raster = read_raster(source)
@@ -615,3 +651,23 @@ def observed_figure(dataset):
         axis.legend(fontsize=8)
     figure.suptitle(f"Predicted against observed: {dataset.attrs.get('title', '')}")
     return figure
+
+
+def nrml_segments(spec, dataset) -> list[dict]:
+    """Each mapped segment's geometry and prediction, for :func:`faultslip.io.nrml.write_source_model`: the
+    trace, dip, rake and upper depth from GeoJSON (else vertical, dextral, from the surface), the lower depth
+    upper + seismogenic depth, and the predicted Mw and recurrence (NaN where there is no stick-slip)."""
+    table = spec.segments
+    if table is None:
+        raise InputError("an NRML source model needs fault segments ([segments]), not a raster map")
+    count = len(table.ids)
+    geometry = table.geometry or {}
+    dip = geometry.get("dip", np.full(count, 90.0))
+    rake = geometry.get("rake", np.full(count, 180.0))
+    upper = geometry.get("upper_depth", np.zeros(count))
+    magnitude = dataset["moment_magnitude"].values
+    recurrence = dataset["recurrence_period"].values
+    return [{"id": table.ids[i], "name": table.names[i], "trace": table.traces[i], "dip": float(dip[i]),
+             "rake": float(rake[i]), "upper_depth": float(upper[i]),
+             "lower_depth": float(upper[i] + table.seismogenic_depth[i]), "magnitude": float(magnitude[i]),
+             "recurrence": float(recurrence[i])} for i in range(count)]

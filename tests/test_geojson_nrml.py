@@ -1,0 +1,109 @@
+"""GeoJSON fault traces in (GEM Global Active Faults schema) and OpenQuake NRML sources out."""
+
+import json
+import math
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from conftest import assert_clean_error
+from faultslip.errors import InputError
+from faultslip.io.geojson import MM_PER_YEAR, parse_tuple, read_fault_geojson
+from faultslip.io.nrml import GML_NAMESPACE, NRML_NAMESPACE, gutenberg_richter_a_value
+
+NS = {"n": NRML_NAMESPACE, "gml": GML_NAMESPACE}
+
+
+def test_gaf_tuples():
+    assert parse_tuple("(33,30,36)", "x") == (33.0, 30.0, 36.0)
+    assert parse_tuple("(12,,)", "x")[0] == 12.0 and math.isnan(parse_tuple("(12,,)", "x")[1])
+    assert parse_tuple(7, "x")[0] == 7.0
+    for bad in ("(a,b,c)", "(1,2,3,4)", True, [1]):
+        with pytest.raises(InputError):
+            parse_tuple(bad, "x")
+
+
+def test_the_bundled_gaf_file_is_read_with_defaults_said():
+    faults = read_fault_geojson("data/gem_faults_example.geojson")
+    assert faults.names[0] == "San Andreas (Parkfield)" and len(faults.ids) == 6
+    assert faults.slip_rate[0] == pytest.approx(33 * MM_PER_YEAR)
+    assert faults.rake[faults.ids.index("GAR")] == 0.0  # sinistral, from the slip type
+    assert any("Calaveras" in note for note in faults.notes)
+
+
+def _feature(**properties):
+    return {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [[-120, 36], [-119, 35]]},
+            "properties": properties}
+
+
+@pytest.mark.parametrize("document, message", [
+    ({"type": "FeatureCollection", "features": [_feature(name="x")]}, "no positive net_slip_rate"),
+    ({"type": "FeatureCollection", "features": [_feature(name="x", net_slip_rate="(5,,)", slip_type="Wobbly")]},
+     "not a GAF term"),
+    ({"type": "FeatureCollection", "features": [_feature(name="x", net_slip_rate="(5,,)", average_dip="(120,,)")]},
+     "average_dip"),
+    ({"type": "FeatureCollection", "features": []}, "no features"),
+    ({"type": "Feature"}, "FeatureCollection"),
+    ({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {"net_slip_rate": 5},
+                                                 "geometry": {"type": "Point", "coordinates": [0, 0]}}]},
+     "LineString"),
+])
+def test_malformed_gaf_files_are_refused_in_one_sentence(tmp_path, document, message):
+    path = tmp_path / "f.geojson"
+    path.write_text(json.dumps(document), encoding="utf-8")
+    with pytest.raises(InputError, match=message):
+        read_fault_geojson(path)
+
+
+def test_truncated_gr_is_moment_balanced():
+    """The a-value puts the GR moment rate exactly on the characteristic one (integrated independently)."""
+    magnitude, rate = 7.2, 1 / 150.0
+    moment_rate = rate * 10 ** (1.5 * magnitude + 9.1)
+    a = gutenberg_richter_a_value(moment_rate, magnitude - 1.0, magnitude + 0.1)
+    from scipy.integrate import quad
+
+    released, _ = quad(lambda m: math.log(10) * 10 ** (a - m) * 10 ** (1.5 * m + 9.1), magnitude - 1.0, magnitude + 0.1)
+    assert released == pytest.approx(moment_rate, rel=1e-6)
+
+
+@pytest.mark.parametrize("mfd", ["characteristic", "truncated_gr"])
+def test_map_from_geojson_writes_an_nrml_source_model(cli, tmp_path, mfd):
+    out = cli("map", "configs/california_faults_map.toml", "-o", tmp_path / "m.nc", "--nrml", tmp_path / "s.xml",
+              "--mfd", mfd, "--json")
+    assert out.code == 0, out.err
+    root = ET.parse(tmp_path / "s.xml").getroot()
+    assert root.tag == f"{{{NRML_NAMESPACE}}}nrml"
+    sources = root.findall(".//n:simpleFaultSource", NS)
+    assert [s.get("id") for s in sources] == ["SA-PKF", "SA-CAR", "HAY", "SJC", "GAR", "CAL"]
+    parkfield = sources[0]
+    positions = [float(v) for v in parkfield.find(".//gml:posList", NS).text.split()]
+    assert positions[:2] == [-120.6, 36.0]
+    assert float(parkfield.find(".//n:lowerSeismoDepth", NS).text) == 12.0
+    row = out.json["segments"][0]
+    if mfd == "characteristic":
+        bins = parkfield.find("n:incrementalMFD", NS)
+        assert float(bins.get("minMag")) == pytest.approx(row["moment_magnitude"], abs=1e-3)
+        rate = float(bins.find("n:occurRates", NS).text)
+        assert rate == pytest.approx(365.25 * 86400 / row["recurrence_period"]["value"], rel=1e-6)
+    else:
+        gr = parkfield.find("n:truncGutenbergRichterMFD", NS)
+        assert float(gr.get("bValue")) == 1.0 and float(gr.get("maxMag")) == pytest.approx(row["moment_magnitude"] + 0.1,
+                                                                                            abs=1e-3)
+    assert float(sources[4].find("n:rake", NS).text) == 0.0  # Garlock, sinistral
+
+
+def test_nrml_refusals(cli, tmp_path):
+    assert_clean_error(cli("map", "configs/california_faults_map.toml", "-o", tmp_path / "m.nc", "--nrml",
+                           tmp_path / "s.txt"), "--nrml")
+    assert_clean_error(cli("map", "configs/california_faults_map.toml", "-o", tmp_path / "m.nc", "--nrml",
+                           tmp_path / "s.xml", "--mfd", "tapered"), "--mfd must be one of")
+
+
+def test_openquake_parses_the_source_model_where_installed(cli, tmp_path):
+    nrml = pytest.importorskip("openquake.hazardlib.nrml", reason="the OpenQuake engine is not installed")
+    out = cli("map", "configs/california_faults_map.toml", "-o", tmp_path / "m.nc", "--nrml", tmp_path / "s.xml")
+    assert out.code == 0, out.err
+    model = nrml.to_python(str(tmp_path / "s.xml"))
+    sources = [source for group in model for source in group]
+    assert len(sources) == 6 and sources[0].source_id == "SA-PKF"
