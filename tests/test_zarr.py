@@ -43,7 +43,8 @@ def test_a_zarr_sweep_converts_to_the_netcdf_sweep(study, tmp_path):
     run_study(study, direct, chunk_cells=4, workers=1)
     assert is_store(store) and (store / ".zmetadata").exists()  # consolidated, readable without listing
     summary = zarr_to_netcdf(store, converted, workers=2)
-    assert summary["chunks"] == len(plan_blocks(study, 4)[1]) == 18 and summary["variables"] == 12
+    # 12 predictions and the 5 empirical-scaling variables (W&C 1994 beside the slip and Mw)
+    assert summary["chunks"] == len(plan_blocks(study, 4)[1]) == 18 and summary["variables"] == 17
     with xr.open_dataset(converted, decode_cf=False) as a, xr.open_dataset(direct, decode_cf=False) as b:
         assert _same(a, b)
         assert a["slip_per_event"].encoding["chunksizes"] == b["slip_per_event"].encoding["chunksizes"]

@@ -9,7 +9,7 @@ from faultslip.cli.common import (_emit, _locked, _note_origin, _number, _output
                                   _system_from_args, _tolerance)
 from faultslip.dynamics.critical import comparison_dataset, comparison_markdown, critical
 from faultslip.dynamics.averaging import report as averaging_report
-from faultslip.dynamics.averaging import settled_amplitude, simulate_vibration, vibration_dataset
+from faultslip.dynamics.averaging import settled_amplitude, simulate_vibration, vibration_dataset, vibration_report
 from faultslip.dynamics.methods import describe_all, solve
 from faultslip.dynamics.nanoscale import choose_method
 from faultslip.dynamics.nanoscale import report as nanoscale_report
@@ -28,7 +28,6 @@ from faultslip.io.catalogs import QUAKEML_SUFFIXES, parse_time, write_quakeml
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES, check_output
 from faultslip.io.waveforms import MAX_SAMPLES, STREAM_SUFFIXES, build_stream, sac_path, write_stream
-from faultslip.io.report import Report
 from faultslip.lab.nanoscale_scene import is_nanoscale_scene, load_nanoscale_scene
 from faultslip.lab.vibration_scene import is_vibration_scene, load_vibration_scene
 from faultslip.plots.figures import critical_comparison_figure, sawtooth_figure
@@ -89,24 +88,20 @@ def _run_vibration(args, tolerance) -> int:
     return _emit(report, args.json)
 
 
-def _simulate_vibration(args) -> int:
-    """A vibration scene's eq. (10) time series from a small disturbance, beside the averaged envelope."""
+def _refuse_seed_law_flags(args, why: str) -> None:
+    """The seed law's simulation flags, refused for a scene of another kind."""
     extra = [flag for flag in ("cycles", "slip_solver", "rtol") if getattr(args, flag) is not None]
     if extra:
-        raise InputError(f"--{extra[0].replace('_', '-')} applies to seed-law scenes; a vibration scene is integrated "
-                         "by DOP853 at rtol 1e-10 until its cycle settles")
+        raise InputError(f"--{extra[0].replace('_', '-')} applies to seed-law scenes; {why}")
+
+
+def _simulate_vibration(args) -> int:
+    """A vibration scene's eq. (10) time series from a small disturbance, beside the averaged envelope."""
+    _refuse_seed_law_flags(args, "a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles")
     system, notes = load_vibration_scene(args.scene)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
     run = simulate_vibration(system)
-    report = Report(f"faultslip quasi-harmonic simulation (seed 002 eq. 10): {system.name}")
-    report.add("duration", float(run["time"][-1]), "s").add("samples", int(run["time"].size))
-    report.add("initial_amplitude", run["initial_amplitude"], "m", also=("in",), label="disturbance at t = 0")
-    report.add("amplitude", run["amplitude"], "m", also=("in",), label="amplitude over the last two periods")
-    report.add("averaged_amplitude", run["averaged_amplitude"], "m", also=("in",), label="averaging (eq. 20)")
-    if run["averaged_amplitude"] > 0:
-        report.add("averaging_relative_error", abs(run["averaged_amplitude"] / run["amplitude"] - 1),
-                   label="|averaged / integrated - 1|")
-    report.add("function_evaluations", run["function_evaluations"])
+    report = vibration_report(run)
     _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
     _save_run(report, outputs, args, vibration_dataset(run) if outputs["output"] else None,
               lambda: vibration_series_figure(run), "time series", "displacement and envelope")
@@ -115,10 +110,7 @@ def _simulate_vibration(args) -> int:
 
 def _simulate_nanoscale(args) -> int:
     """A nanoscale scene's time series (LSODA), the report and the seed 001 Fig. 3 plot."""
-    extra = [flag for flag in ("cycles", "slip_solver", "rtol") if getattr(args, flag) is not None]
-    if extra:
-        raise InputError(f"--{extra[0].replace('_', '-')} applies to seed-law scenes; a nanoscale scene sets its "
-                         "run in [run] and its accuracy in [method] tolerance")
+    _refuse_seed_law_flags(args, "a nanoscale scene sets its run in [run] and its accuracy in [method] tolerance")
     model, settings, notes = load_nanoscale_scene(args.scene)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
     choice = choose_method(model, ("regime", "force_swing", "time_series"), "auto", settings["tolerance"])

@@ -320,6 +320,22 @@ def after_break_away(system, averaged: QuasiHarmonic | None = None) -> dict:
     return {"sticks": sticks, "marginal": marginal, "start": start, "after_one_period": after, "reason": reason}
 
 
+def _equation_10(system: QuasiHarmonic):
+    """Eq. (10) about the rest position, M Y'' + r Y' + k Y = W [f(v - Y') - f(v)], as (rhs, event): the event
+    is terminal where the sliding speed v - Y' falls through zero (the slider would stick)."""
+    m, r, k, w, v = system.mass, system.damping, system.stiffness, system.normal_load, system.speed
+    base = float(system.curve(v))
+
+    def rhs(t, y):
+        return (y[1], (w * (float(system.curve(v - y[1])) - base) - r * y[1] - k * y[0]) / m)
+
+    def sticks(t, y):
+        return v - y[1]
+
+    sticks.terminal, sticks.direction = True, -1
+    return rhs, sticks
+
+
 def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 400.0, record_periods: float = 2.0,
               rtol: float = 1e-10) -> dict:
     """Eq. (10) integrated directly (DOP853) about the shifted rest position, Y = X - X_0:
@@ -333,16 +349,7 @@ def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 
     from scipy.integrate import solve_ivp  # heavy: imported where used
 
     omega = system.angular_frequency
-    m, r, k, w, v = system.mass, system.damping, system.stiffness, system.normal_load, system.speed
-    base = float(system.curve(v))
-
-    def rhs(t, y):
-        return (y[1], (w * (float(system.curve(v - y[1])) - base) - r * y[1] - k * y[0]) / m)
-
-    def sticks(t, y):
-        return v - y[1]
-
-    sticks.terminal, sticks.direction = True, -1
+    rhs, sticks = _equation_10(system)
     period = 2 * math.pi / omega
     end = periods * period
     record_from = end - record_periods * period
@@ -387,16 +394,7 @@ def simulate_vibration(system: QuasiHarmonic, periods: float | None = None, samp
         raise InputError(f"{periods:g} periods at {samples_per_period} samples each is outside 2 to "
                          f"{MAX_SERIES_SAMPLES:,} samples")
     start = 0.05 * result.amplitude if result.amplitude > 0 else 0.5 * system.speed / omega
-    m, r, k, w, v = system.mass, system.damping, system.stiffness, system.normal_load, system.speed
-    base = float(system.curve(v))
-
-    def rhs(t, y):
-        return (y[1], (w * (float(system.curve(v - y[1])) - base) - r * y[1] - k * y[0]) / m)
-
-    def sticks(t, y):
-        return v - y[1]
-
-    sticks.terminal, sticks.direction = True, -1
+    rhs, sticks = _equation_10(system)
     times = np.linspace(0.0, periods * period, samples)
     solution = solve_ivp(rhs, (0.0, times[-1]), [0.0, start * omega], method="DOP853", rtol=rtol,
                          atol=rtol * max(start, 1e-12) * omega, t_eval=times, events=sticks, dense_output=True)
@@ -412,6 +410,20 @@ def simulate_vibration(system: QuasiHarmonic, periods: float | None = None, samp
     return {"time": times, "displacement": solution.y[0], "velocity": solution.y[1], "envelope": envelope,
             "amplitude": 0.5 * float(tail.max() - tail.min()), "averaged_amplitude": result.amplitude,
             "initial_amplitude": start, "function_evaluations": int(solution.nfev), "system": system}
+
+
+def vibration_report(run: dict):
+    """:func:`simulate_vibration`'s run as a :class:`~faultslip.io.report.Report` (``faultslip simulate``)."""
+    report = Report(f"faultslip quasi-harmonic simulation (seed 002 eq. 10): {run['system'].name}")
+    report.add("duration", float(run["time"][-1]), "s").add("samples", int(run["time"].size))
+    report.add("initial_amplitude", run["initial_amplitude"], "m", also=("in",), label="disturbance at t = 0")
+    report.add("amplitude", run["amplitude"], "m", also=("in",), label="amplitude over the last two periods")
+    report.add("averaged_amplitude", run["averaged_amplitude"], "m", also=("in",), label="averaging (eq. 20)")
+    if run["averaged_amplitude"] > 0:
+        report.add("averaging_relative_error", abs(run["averaged_amplitude"] / run["amplitude"] - 1),
+                   label="|averaged / integrated - 1|")
+    report.add("function_evaluations", run["function_evaluations"])
+    return report
 
 
 def vibration_dataset(run: dict):

@@ -430,6 +430,16 @@ def load_scene(path_or_name=None) -> Scene:
     return scene
 
 
+def scene_document(argument) -> dict | None:
+    """A scene argument's parsed TOML, to tell scene kinds apart (nanoscale, vibration, seed law); None for
+    anything unreadable, which the reader of the kind then reports in its own words."""
+    try:
+        path, _ = resolve_path(argument, "scene")
+        return parse_toml(read_text_file(path, "scene file"), path.name)
+    except InputError:
+        return None
+
+
 def bundled_scenes() -> list[str]:
     """Bundled scene files (configs/ also holds studies and maps, which are not scenes)."""
     return sorted(p.name for p in bundled_dir("configs").glob("*.toml")

@@ -21,7 +21,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.atomic import atomic_path
-from faultslip.io.resources import read_unit_csv
+from faultslip.io.resources import check_input_file, read_unit_csv
 from faultslip.units import to_si
 
 #: a catalog file larger than this is refused before it is parsed (QuakeML is verbose: ~2 kB an event)
@@ -73,10 +73,7 @@ def parse_time(text, where: str) -> np.datetime64:
 
 
 def _check_file(path: Path, what: str) -> None:
-    if not path.exists():
-        raise InputError(f"{what} {str(path)!r} does not exist")
-    if path.is_dir():
-        raise InputError(f"{what} {str(path)!r} is a folder, not a file")
+    check_input_file(path, what)
     size = path.stat().st_size
     if size > MAX_CATALOG_BYTES:
         raise InputError(f"{what} {path.name} is {size / 2**20:.0f} MiB; the limit is {MAX_CATALOG_BYTES // 2**20} MiB")

@@ -29,7 +29,7 @@ from pathlib import Path
 
 from faultslip.dynamics.nanoscale import NANOSCALE_METHODS, NanoscaleModel
 from faultslip.errors import InputError
-from faultslip.fault.scene import read_text_file, resolve_path
+from faultslip.fault.scene import read_text_file, resolve_path, scene_document
 from faultslip.io.resources import check_toml_layout, parse_toml
 
 _SLIDER = {"damping", "drive_speed"}
@@ -80,10 +80,5 @@ def load_nanoscale_scene(path):
 def is_nanoscale_scene(argument) -> bool:
     """Whether a scene argument names a nanoscale scene (``[friction] law = "nanoscale"``); False for anything
     unreadable, which the seed-law scene reader then reports."""
-    try:
-        path, _ = resolve_path(argument, "scene")
-        data = parse_toml(read_text_file(path, "scene file"), path.name)
-    except InputError:
-        return False
-    friction = data.get("friction")
+    friction = (scene_document(argument) or {}).get("friction")
     return isinstance(friction, dict) and friction.get("law") == "nanoscale"

@@ -25,7 +25,7 @@ import numpy as np
 
 from faultslip.dynamics.averaging import QuasiHarmonic
 from faultslip.errors import InputError
-from faultslip.fault.scene import read_text_file, resolve_path
+from faultslip.fault.scene import read_text_file, resolve_path, scene_document
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar, unit_factor
 
@@ -114,9 +114,4 @@ def load_vibration_scene(path) -> tuple[QuasiHarmonic, dict]:
 def is_vibration_scene(argument) -> bool:
     """Whether a scene argument names a vibration scene (a ``[vibration]`` table); False for anything
     unreadable, which the seed-law scene reader then reports."""
-    try:
-        path, _ = resolve_path(argument, "scene")
-        data = parse_toml(read_text_file(path, "scene file"), path.name)
-    except InputError:
-        return False
-    return isinstance(data.get("vibration"), dict)
+    return isinstance((scene_document(argument) or {}).get("vibration"), dict)

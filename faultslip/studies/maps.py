@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from faultslip.io.geo import _check_lon_lat, densify, nearest_segment, parse_trace, trace_length  # noqa: F401 (re-exported)
+from faultslip.io.geo import _check_lon_lat, nearest_segment, parse_trace, trace_length  # noqa: F401 (re-exported)
 from faultslip.io.geojson import read_fault_geojson
 from faultslip.errors import InputError, did_you_mean
 from faultslip.io.resources import bundled_dir, parse_toml, read_unit_csv
