@@ -358,6 +358,18 @@ def _plots_commands(commands) -> None:
     stability.add_argument("-o", "--output", required=True, help="output image")
     stability.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     stability.set_defaults(handler="plots:cmd_plot_rate_state_stability")
+    animate = commands.add_parser("animate", help="animate a scene's stick-slip: block, spring and platform beside "
+                                                  "the phase plane and the friction trace (GIF)")
+    animate.add_argument("scene", help="scene TOML file or bundled scene name")
+    animate.add_argument("-o", "--output", required=True, help="output GIF, e.g. slider.gif")
+    animate.add_argument("--frames", type=int, default=120, help="frames (default 120, at most 2000)")
+    animate.add_argument("--fps", type=int, default=20, help="frames per second (default 20)")
+    animate.add_argument("--cycles", type=int, default=2, help="stick-slip cycles shown (default 2)")
+    animate.add_argument("--slip-share", type=float, default=0.5, help="share of the frames given to slip phases "
+                                                                      "(default 0.5: the time axis is compressed)")
+    animate.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    animate.add_argument("--json", action="store_true", help="print one JSON object")
+    animate.set_defaults(handler="plots:cmd_animate")
     seed002 = figures.add_parser("seed002", help="seed 002 Figs. 9-11 in kind: four friction curves, amplitude against "
                                                  "speed, damping (docs/quasi_harmonic.md)")
     seed002.add_argument("-o", "--output", required=True, help="output image")

@@ -1,4 +1,4 @@
-"""Figure commands: plot rate-law, plot phase-plane, plot rate-state-stability, plot seed002."""
+"""Figure commands: plot rate-law, plot phase-plane, plot rate-state-stability, plot seed002, animate."""
 
 from __future__ import annotations
 
@@ -13,6 +13,9 @@ from faultslip.io.report import Report
 from faultslip.lab.seed002_curves import figures_9_to_11
 from faultslip.plots.rate_state import stability_figure
 from faultslip.plots.vibration import seed002_figures
+from faultslip.plots.animation import MAX_FRAMES, animation, save_gif
+from faultslip.dynamics.simulate import simulate
+from faultslip.fault.scene import load_scene
 
 
 def cmd_plot_rate_law(args) -> int:
@@ -63,4 +66,30 @@ def cmd_plot_seed002(args) -> int:
     report.add("figure", str(output))
     report.note("every amplitude on the rising branches has A omega > v: the slider would stick there "
                 "(docs/seed_discrepancies.md)")
+    return _emit(report, args.json)
+
+
+def cmd_animate(args) -> int:
+    output = _outputs(args, {"output": ("-o", (".gif",))}, [args.scene])["output"]
+    if not 1 <= args.cycles <= 50:
+        raise FaultslipError(f"--cycles must be from 1 to 50, got {args.cycles}")
+    if not 1 <= args.fps <= 60:  # checked before any work, as are the frames and the share below
+        raise FaultslipError(f"--fps must be from 1 to 60, got {args.fps}")
+    if not 2 <= args.frames <= MAX_FRAMES:
+        raise FaultslipError(f"--frames must be from 2 to {MAX_FRAMES}, got {args.frames}")
+    if not 0 < args.slip_share < 1:
+        raise FaultslipError(f"--slip-share must lie strictly between 0 and 1, got {args.slip_share}")
+    scene = load_scene(args.scene)
+    system = scene.slider()
+    dataset = simulate(system, cycles=args.cycles + 1, scene=scene.name)
+    events = dataset["event_time"].values
+    if events.size >= 2:  # from the first event: the limit cycle, not the first loading from rest
+        dataset = dataset.sel(time=slice(events[0] - 0.25 * (events[1] - events[0]), None))
+    movie, figure, compression = animation(dataset, frames=args.frames, slip_share=args.slip_share)
+    with _locked(output):
+        save_gif(movie, figure, output, fps=args.fps)
+    report = Report(f"faultslip animate: {scene.name}")
+    report.add("frames", args.frames).add("fps", args.fps).add("cycles", int(max(events.size - 1, 0)))
+    report.add("compression", compression, label="a stick plays this many times faster than a slip")
+    report.add("output", str(output))
     return _emit(report, args.json)

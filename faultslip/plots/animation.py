@@ -1,0 +1,130 @@
+"""The stick-slip slider as an animation (``faultslip animate``): block, spring and moving platform beside
+the phase-plane trajectory and the friction trace, all synchronised.
+
+Seed 003's apparatus: a spring of stiffness K anchored on the left holds a block on a platform moving at
+V; the block rides the platform while it sticks and slips back when the spring force reaches static
+friction. Frames are spaced evenly in *warped* time: each slip phase gets ``slip_share`` of the frames
+in proportion to its duration beside the sticks, so a fault's 20 s ruptures between century-long sticks
+stay visible. The title states the compression: how much faster a stick plays than a slip.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from faultslip.errors import InputError
+from faultslip.io.atomic import atomic_path
+from faultslip.plots.figures import _pyplot
+
+#: frames allowed in one GIF (a teacher's laptop, and file sizes of a few MB)
+MAX_FRAMES = 2000
+
+
+def frame_times(dataset, frames: int, slip_share: float = 0.5) -> tuple[np.ndarray, float]:
+    """Times of the frames over the recorded cycles, and the compression (stick speed-up over slip speed-up).
+
+    Slip phases take ``slip_share`` of the frames (or their true share, if that is larger), sticks the rest,
+    each spread evenly in time within its kind."""
+    if not 2 <= frames <= MAX_FRAMES:
+        raise InputError(f"frames must be from 2 to {MAX_FRAMES}, got {frames}")
+    if not 0 < slip_share < 1:
+        raise InputError(f"slip_share must lie strictly between 0 and 1, got {slip_share}")
+    time = dataset["time"].values
+    slipping = dataset["phase"].values == 1
+    steps = np.diff(time)
+    slip_time = float(np.sum(steps[slipping[1:]]))
+    stick_time = float(np.sum(steps[~slipping[1:]]))
+    total = slip_time + stick_time
+    if slip_time <= 0 or stick_time <= 0:  # one kind only: plain time
+        return np.linspace(time[0], time[-1], frames), 1.0
+    share = max(slip_share, slip_time / total)
+    # warped clock: a slip second weighs share / slip_time, a stick second (1 - share) / stick_time
+    weight = np.where(slipping[1:], share / slip_time, (1 - share) / stick_time)
+    warped = np.concatenate([[0.0], np.cumsum(steps * weight)])
+    targets = np.linspace(0.0, warped[-1], frames)
+    compression = (share / slip_time) / ((1 - share) / stick_time)
+    return np.interp(targets, warped, time), float(compression)
+
+
+def _spring(x0, x1, y, coils=8, height=0.18):
+    xs = np.linspace(x0, x1, 2 * coils + 3)
+    ys = np.full_like(xs, y)
+    ys[1:-1:2] += height
+    ys[2:-1:2] -= height
+    ys[1], ys[-2] = y, y
+    return xs, ys
+
+
+def animation(dataset, frames: int = 120, slip_share: float = 0.5, title: str = ""):
+    """A :class:`matplotlib.animation.FuncAnimation` of a simulation (:func:`faultslip.dynamics.simulate.simulate`)
+    and the compression factor. Lengths are drawn in units of the cycle's swing."""
+    from matplotlib import animation as mpl_animation  # heavy: imported where used
+
+    plt = _pyplot()
+    times, compression = frame_times(dataset, frames, slip_share)
+    time = dataset["time"].values
+    x = dataset["displacement"].values
+    velocity = dataset["velocity"].values
+    friction = dataset["friction_coefficient"].values
+    speed = float(dataset.attrs["platform_speed"])
+    fault = dataset.attrs.get("scale") == "fault"
+    time_unit, time_scale = ("yr", 3.15576e7) if fault else ("s", 1.0)
+    positions = np.interp(times, time, x)
+    velocities = np.interp(times, time, velocity)
+    frictions = np.interp(times, time, friction)
+    swing = max(float(np.ptp(x[time >= time[len(time) // 3]])), 1e-30)
+    centre = float(np.mean(x[time >= time[len(time) // 3]]))
+
+    figure, (scene, phase, trace) = plt.subplots(1, 3, figsize=(12, 3.6), constrained_layout=True,
+                                                 gridspec_kw={"width_ratios": [1.4, 1, 1.2]})
+    scene.set(xlim=(-3.2, 2.2), ylim=(-1.0, 1.2), xticks=[], yticks=[], title="block, spring and platform")
+    scene.plot([-3.0, -3.0], [0.05, 0.75], color="k", lw=3)  # the anchor
+    spring_line, = scene.plot([], [], color="0.3", lw=1.5)
+    block = plt.Rectangle((0, 0.05), 0.7, 0.7, color="C1")
+    scene.add_patch(block)
+    scene.add_patch(plt.Rectangle((-3.2, -0.35), 5.4, 0.4, color="0.75"))
+    ticks = [scene.plot([], [], color="0.45", lw=1)[0] for _ in range(12)]
+    status = scene.text(-3.1, -0.85, "", fontsize=8)
+
+    phase.plot(x / swing, velocity / speed, color="0.8", lw=0.8)
+    marker, = phase.plot([], [], "o", color="C3")
+    phase.set(xlabel="displacement x / swing", ylabel="velocity x' / V", title="phase plane")
+    trace.plot(time / time_scale, friction, color="0.7", lw=0.8)
+    cursor = trace.axvline(times[0] / time_scale, color="C3")
+    now, = trace.plot([], [], "o", color="C3")
+    trace.set(xlabel=f"time ({time_unit})", ylabel="friction coefficient", title="friction")
+    for axis in (phase, trace):
+        axis.grid(True, alpha=0.3)
+    figure.suptitle((title or dataset.attrs.get("scene", "")) + (f" - time compressed: a stick plays {compression:.3g}x "
+                                                                 "faster than a slip" if compression != 1 else ""),
+                    fontsize=9)
+
+    def draw(index):
+        left = (positions[index] - centre) / swing  # block position in swings about its mean
+        block.set_x(left - 0.35)
+        spring_line.set_data(*_spring(-3.0, left - 0.35, 0.4))
+        belt = (speed * (times[index] - times[0]) / swing) % 0.45  # the platform's marks move at V
+        for k, tick in enumerate(ticks):
+            position = -3.2 + belt + 0.45 * k
+            tick.set_data([position, position], [-0.35, 0.05] if position < 2.2 else [np.nan, np.nan])
+        sliding = abs(velocities[index] - speed) > 1e-6 * speed
+        status.set_text(f"{'SLIP' if sliding else 'stick'}   t = {times[index] / time_scale:.4g} {time_unit}")
+        block.set_color("C3" if sliding else "C1")
+        marker.set_data([positions[index] / swing], [velocities[index] / speed])
+        cursor.set_xdata([times[index] / time_scale] * 2)
+        now.set_data([times[index] / time_scale], [frictions[index]])
+        return [block, spring_line, marker, cursor, now, status, *ticks]
+
+    movie = mpl_animation.FuncAnimation(figure, draw, frames=len(times), blit=False)
+    return movie, figure, compression
+
+
+def save_gif(movie, figure, path, fps: int = 20, dpi: int = 80) -> None:
+    """Write the animation as a GIF through pillow, atomically (a temporary file, then renamed)."""
+    from matplotlib.animation import PillowWriter  # heavy: imported where used
+
+    if not 1 <= fps <= 60:
+        raise InputError(f"fps must be from 1 to 60, got {fps}")
+    with atomic_path(path, suffix=".gif") as temporary:
+        movie.save(str(temporary), writer=PillowWriter(fps=fps), dpi=dpi)
+    _pyplot().close(figure)

@@ -1,0 +1,42 @@
+"""faultslip animate: a GIF of the slider beside the phase plane and friction, at lab and fault scale."""
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from conftest import assert_clean_error
+from faultslip.dynamics.simulate import simulate
+from faultslip.errors import InputError
+from faultslip.fault.scene import load_scene
+from faultslip.plots.animation import frame_times
+
+
+def test_frames_give_slip_phases_their_share_and_state_the_compression():
+    """1906: slips of 21.6 s between sticks of ~127 yr. Half the frames fall in slips, so a stick plays
+    (share / slip time) / ((1 - share) / stick time) = stick / slip = 1.85e8 times faster per cycle."""
+    dataset = simulate(load_scene("san_andreas_1906.toml").slider(), cycles=3)
+    times, compression = frame_times(dataset, 200)
+    slipping = np.interp(times, dataset["time"].values, (dataset["phase"].values == 1).astype(float)) > 0.5
+    assert 0.4 < slipping.mean() < 0.6
+    steps = np.diff(dataset["time"].values)
+    sliding = dataset["phase"].values[1:] == 1
+    assert compression == pytest.approx(steps[~sliding].sum() / steps[sliding].sum(), rel=1e-9)
+    assert np.all(np.diff(times) >= 0)
+    with pytest.raises(InputError, match="frames"):
+        frame_times(dataset, 1)
+
+
+@pytest.mark.parametrize("scene", ["configs/lab_glass_dry.toml", "san_andreas_1906.toml"])
+def test_the_gif_has_the_frames_asked_for(cli, tmp_path, scene):
+    out = cli("animate", scene, "-o", tmp_path / "a.gif", "--frames", "12", "--fps", "10", "--json")
+    assert out.code == 0, out.err
+    with Image.open(tmp_path / "a.gif") as gif:
+        assert gif.n_frames == 12 and gif.size == (960, 288)
+    assert out.json["compression"] > 100  # the time axis is compressed, and the report says how much
+
+
+def test_animate_refuses_bad_requests(cli, tmp_path):
+    assert_clean_error(cli("animate", "configs/lab_glass_dry.toml", "-o", tmp_path / "a.png"), "-o")
+    assert_clean_error(cli("animate", "configs/lab_glass_dry.toml", "-o", tmp_path / "a.gif", "--frames", "1"),
+                       "--frames must be from 2")
+    assert_clean_error(cli("animate", "configs/lab_glass_dry.toml", "-o", tmp_path / "a.gif", "--fps", "500"), "fps")
