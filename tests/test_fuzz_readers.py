@@ -243,3 +243,18 @@ def test_geojson_fault_reader(tmp_path_factory, seed):
     text = (ROOT / "data" / "gem_faults_example.geojson").read_text(encoding="utf-8")
     path = _write(tmp_path_factory.mktemp("geojson") / "f.geojson", _mutated(text, fuzz.mutate_csv, seed))
     _clean(read_fault_geojson, path)
+
+
+@FUZZ
+@given(seed=st.integers(0, 2**32))
+def test_accelerometer_reader_and_analysis(tmp_path_factory, seed):
+    """A mutated phyphox export is read and analysed, or refused in one sentence."""
+    from faultslip.lab.classroom import analyse, read_accelerometer
+
+    lines = (ROOT / "configs" / "example_phyphox.csv").read_text(encoding="utf-8").splitlines()[:400]
+    path = _write(tmp_path_factory.mktemp("phyphox") / "p.csv", _mutated("\n".join(lines) + "\n", fuzz.mutate_csv, seed))
+
+    def read_and_analyse():
+        analyse(read_accelerometer(path))
+
+    _clean(read_and_analyse)

@@ -24,7 +24,10 @@ from faultslip.io.report import Report
 from faultslip.lab.rate_state_fit import fit_velocity_steps, read_step_record
 from faultslip.lab.nanoscale_scene import load_nanoscale_scene
 from faultslip.lab.vibration_scene import load_vibration_scene
+from faultslip.lab.classroom import analyse as analyse_classroom
+from faultslip.lab.classroom import is_accelerometer_csv, read_accelerometer
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
+from faultslip.plots.figures import classroom_figure
 from faultslip.plots.vibration import (amplitude_speed_figure, error_figure, hand_over_figure, nanoscale_figure,
                                        regions_figure)
 from faultslip.units import to_si
@@ -117,6 +120,12 @@ def cmd_record(args) -> int:
             ranges.check(name, to_si(getattr(args, flag), kind, f"--{flag.replace('_', '-')}"))
     if args.dashpot and not to_si(args.dashpot, "damping", "dashpot") >= 0:
         raise FaultslipError(f"--dashpot must not be negative, got {args.dashpot}")
+    if is_accelerometer_csv(args.record):  # the classroom experiment: acceleration alone (docs/classroom.md)
+        return _record_classroom(args, plot)
+    if args.axis:
+        raise InputError("--axis applies to accelerometer records (phyphox); this record has a displacement")
+    if not (args.stiffness and args.normal_load):
+        raise InputError("a motion record needs --stiffness and --normal-load (seed 003 eq. 3-2)")
     record = read_record(args.record)
     speed = to_si(args.platform_speed, "speed", "platform speed") if args.platform_speed else None
     analysis = analyze_record(record, to_si(args.mass, "mass", "mass") if args.mass else
@@ -130,6 +139,18 @@ def cmd_record(args) -> int:
         with _locked(plot):
             save_figure(hysteresis_figure(analysis), plot, dpi=150)
         report.note(f"mu against sliding speed drawn to {args.plot}")
+    return _emit(report, args.json)
+
+
+def _record_classroom(args, plot) -> int:
+    if args.axis and args.axis not in ("x", "y", "z"):
+        raise InputError(f"--axis must be x, y or z, got {args.axis!r}")
+    analysis = analyse_classroom(read_accelerometer(args.record), axis=args.axis)
+    report = analysis.report(f"faultslip record (classroom stick-slip): {args.record}")
+    if plot:
+        with _locked(plot):
+            save_figure(classroom_figure(analysis), plot, dpi=150)
+        report.note(f"acceleration with its slip phases drawn to {args.plot}")
     return _emit(report, args.json)
 
 

@@ -223,11 +223,14 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--json", action="store_true", help="print one JSON object")
     fit.set_defaults(handler="lab:cmd_fit")
 
-    record = commands.add_parser("record", help="friction and stick-slip events from a measured motion record")
+    record = commands.add_parser("record", help="friction and stick-slip events from a measured motion record, or a "
+                                                "phone's accelerometer (phyphox) in the classroom experiment")
     record.add_argument("record", help="CSV or netCDF (time, displacement, and acceleration or force), or miniSEED "
                                          "or SAC (channels by component code: D, A, N, V; docs/catalogs.md)")
-    record.add_argument("--stiffness", required=True, help="spring stiffness K, e.g. '1.94e4 lbf/in'")
-    record.add_argument("--normal-load", required=True, help="normal load W, e.g. '225.8 lbf'")
+    record.add_argument("--stiffness", help="spring stiffness K, e.g. '1.94e4 lbf/in' (motion records)")
+    record.add_argument("--normal-load", help="normal load W, e.g. '225.8 lbf' (motion records)")
+    record.add_argument("--axis", help="pulling axis of an accelerometer record (x, y or z; default: the largest "
+                                       "spread)")
     record.add_argument("--mass", help="moving mass M (default W/g)")
     record.add_argument("--dashpot", help="dashpot C, e.g. '0 N*s/m' (default 0, as seed 003 eq. 3-2)")
     record.add_argument("--platform-speed", help="platform speed V (default: the median slider speed)")

@@ -142,3 +142,22 @@ def _pyplot():
     import matplotlib.pyplot as plt  # heavy: imported where used
 
     return plt
+
+
+def classroom_figure(analysis):
+    """The classroom record: acceleration along the pull with its slip phases shaded, and each slip's friction
+    drop against time."""
+    plt = _pyplot()
+    figure, (trace, drops) = plt.subplots(2, 1, figsize=(10, 5.2), constrained_layout=True, sharex=True)
+    record = analysis.record
+    signal = record.acceleration[analysis.axis]
+    trace.plot(record.time, signal - np.median(signal), color="C0", lw=0.7, label=f"acceleration {analysis.axis}")
+    for index, (start, duration) in enumerate(zip(analysis.starts, analysis.durations)):
+        trace.axvspan(start, start + duration, color="C3", alpha=0.25, label="slip" if index == 0 else None)
+    trace.set(ylabel="acceleration (m/s^2)", title=f"{record.source}: stick and slip")
+    trace.legend(fontsize=8, loc="upper right")
+    drops.plot(analysis.starts, analysis.friction_drop, "o", color="C3")
+    drops.set(xlabel="time (s)", ylabel="mu_s - mu_k", title="friction drop of each slip (a at break-away / g)")
+    for axis in (trace, drops):
+        axis.grid(True, alpha=0.3)
+    return figure
