@@ -4,7 +4,7 @@ The slider of seed 002 eq. (10), driven at speed v under a friction-velocity cur
 
     M X'' + r X' + k X = W f(v - X'),
 
-oscillates about a shifted rest position without ever sticking while |X'| < v. With
+oscillates about a shifted rest position without ever sticking while ``|X'| < v``. With
 X - X_0 = A sin(omega t + Phi) and A, Phi slowly varying (omega^2 = k / M), averaging over a
 period gives (seed 002 eqs. 20-21; the phase is unaffected since f depends on X' only)
 
@@ -24,7 +24,7 @@ goes by quadrature. Steady sliding (A = 0) is unstable where r + W f'(v) < 0; a 
 A* is stable where dA'/dA < 0 there. A vertical shift of f changes nothing here (only
 derivatives enter): the slider oscillates about another position with the same amplitude.
 
-Validity: the first-order averaged amplitude is accurate to O(eps), eps = (r + W max|f'|) / (M omega),
+Validity: the first-order averaged amplitude is accurate to O(eps), ``eps = (r + W max|f'|) / (M omega)``,
 the size of the nonlinear damping per radian (seed 002: "the nonlinear term is relatively small").
 Where A omega reaches v the sliding speed v - X' touches zero: the slider would stick, and the
 quasi-harmonic description ends; the stick-slip methods take over.
@@ -165,7 +165,7 @@ class QuasiHarmonic:
         return -(self.damping + self.normal_load * float(self.slope(self.speed))) / (2 * self.mass)
 
     def small_parameter(self, amplitude: float = 0.0) -> float:
-        """eps = (r + W max|f'|) / (M omega), f' over the sliding speeds v +- A omega of an oscillation of
+        """``eps = (r + W max|f'|) / (M omega)``, f' over the sliding speeds v +- A omega of an oscillation of
         amplitude A: the nonlinear damping per radian, whose smallness averaging assumes."""
         reach = amplitude * self.angular_frequency
         speeds = self.speed + np.linspace(-reach, reach, 201)

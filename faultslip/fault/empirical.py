@@ -164,7 +164,7 @@ def compare(slip_per_event: float, magnitude: float, rupture_length_m: float, se
     """The physical slip per event and Mw beside W&C 1994 and Leonard 2010 for the same rupture (L x H).
 
     The physical slip is an average over the fault; W&C's average displacement is measured at the surface,
-    which is why a ratio near 1 and |z| < 2 is agreement, not more."""
+    which is why a ratio near 1 and ``|z| < 2`` is agreement, not more."""
     area = rupture_length_m * seismogenic_depth
     leonard_setting = "strike-slip" if slip_type in ("strike-slip", "all") else "dip-slip"
     rows = []

@@ -10,7 +10,7 @@ axis is the one named, or the one with the largest spread; its median (gravity's
 phone, sensor offset) is removed.
 
 **Stick and slip.** While the phone sticks, its acceleration is sensor noise; a slip is a burst. A
-sample belongs to a slip where |a| exceeds ``threshold`` times the robust noise level (1.4826 times
+sample belongs to a slip where ``|a|`` exceeds ``threshold`` times the robust noise level (1.4826 times
 the median absolute deviation). A slip accelerates and then decelerates, quiet for a moment at its zero
 crossing, so a burst joins the one before it when the gap is shorter than that burst (or ``merge_time``).
 

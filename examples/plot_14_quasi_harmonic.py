@@ -1,0 +1,18 @@
+"""
+Quasi-harmonic vibration by averaging
+=====================================
+
+Seed 002: where friction falls with speed, steady sliding can give way to an oscillation that never
+sticks. Kryloff-Bogoliuboff averaging gives its amplitude in closed form for a polynomial curve;
+where the cycle would reach the driving speed the slider sticks, and averaging hands over.
+"""
+import numpy as np
+
+from faultslip.dynamics.averaging import amplitude_against_speed
+from faultslip.io.resources import config_path
+from faultslip.lab.vibration_scene import load_vibration_scene
+from faultslip.plots.vibration import amplitude_speed_figure
+
+system, _ = load_vibration_scene(config_path("vibration_seed002.toml"))
+sweep = amplitude_against_speed(system, np.linspace(0.0254, 16 * 0.0254, 61))
+amplitude_speed_figure(system, sweep)
