@@ -327,7 +327,9 @@ def chart(dataset):
     rows = math.ceil(len(scenes) / columns)
     figure, axes = plt.subplots(rows, columns, figsize=(5 * columns, 3.8 * rows), constrained_layout=True, squeeze=False)
     methods = list(dataset["method"].values)
-    styles = {m: (f"C{i % 10}", "o" if m in TOLERANCE_FREE else ".-") for i, m in enumerate(methods)}
+    palette = plt.get_cmap("tab20").colors  # more methods than the 10 default colours: none may share one
+    styles = {m: (palette[(2 * i) % 20 + (2 * i) // 20], "o" if m in TOLERANCE_FREE else ".-")
+              for i, m in enumerate(methods)}
     for axis, scene in zip(axes.ravel(), scenes):
         part = dataset.sel({"scene": scene})
         for method in methods:
