@@ -134,11 +134,7 @@ def cmd_record(args) -> int:
                               speed, to_si(args.dashpot, "damping", "dashpot") if args.dashpot else 0.0,
                               velocity_method=args.velocity)
     report = analysis.report(f"faultslip record analysis: {args.record}")
-    if plot:
-
-        with _locked(plot):
-            save_figure(hysteresis_figure(analysis), plot, dpi=150)
-        report.note(f"mu against sliding speed drawn to {args.plot}")
+    _save_run(report, {"plot": plot}, args, None, lambda: hysteresis_figure(analysis), drawing="mu against sliding speed")
     return _emit(report, args.json)
 
 
@@ -147,10 +143,8 @@ def _record_classroom(args, plot) -> int:
         raise InputError(f"--axis must be x, y or z, got {args.axis!r}")
     analysis = analyse_classroom(read_accelerometer(args.record), axis=args.axis)
     report = analysis.report(f"faultslip record (classroom stick-slip): {args.record}")
-    if plot:
-        with _locked(plot):
-            save_figure(classroom_figure(analysis), plot, dpi=150)
-        report.note(f"acceleration with its slip phases drawn to {args.plot}")
+    _save_run(report, {"plot": plot}, args, None, lambda: classroom_figure(analysis),
+              drawing="acceleration with its slip phases")
     return _emit(report, args.json)
 
 
