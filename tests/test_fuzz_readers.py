@@ -258,3 +258,18 @@ def test_accelerometer_reader_and_analysis(tmp_path_factory, seed):
         analyse(read_accelerometer(path))
 
     _clean(read_and_analyse)
+
+
+@FUZZ
+@given(seed=st.integers(0, 2**32))
+def test_surface_reader_and_statistics(tmp_path_factory, seed):
+    """A mutated surface map is read and described, or refused in one sentence."""
+    from faultslip.lab.surfaces import read_surface, statistics
+
+    lines = (ROOT / "configs" / "example_surface.csv").read_text(encoding="utf-8").splitlines()[:1025]  # 16 rows
+    path = _write(tmp_path_factory.mktemp("surface") / "s.csv", _mutated("\n".join(lines) + "\n", fuzz.mutate_csv, seed))
+
+    def read_and_describe():
+        statistics(read_surface(path).levelled())
+
+    _clean(read_and_describe)

@@ -44,8 +44,31 @@ def build_parser() -> argparse.ArgumentParser:
     _vibration_commands(commands)
     _evaluation_commands(commands)
     _seismology_commands(commands)
+    _surface_commands(commands)
     _plots_commands(commands)
     return parser
+
+
+def _surface_commands(commands) -> None:
+    """Rough surfaces (handlers in faultslip.cli.surfaces)."""
+    surface = commands.add_parser("surface", help="rough-surface statistics and contact by truncation (seed 000)")
+    surface.add_argument("surface", nargs="?", help="profile or map: CSV (x, z or x, y, z with units) or netCDF (height)")
+    surface.add_argument("--synthetic", nargs=2, metavar=("RMS", "LENGTH"),
+                         help="a Gaussian surface instead: RMS and correlation length, e.g. '2 um' '20 um'")
+    surface.add_argument("--size", type=int, default=256, help="synthetic points a side (default 256)")
+    surface.add_argument("--profile", action="store_true", help="a synthetic profile rather than a map")
+    surface.add_argument("--seed", type=int, default=0, help="random seed of the synthetic surface")
+    surface.add_argument("--modulus", help="Young's modulus E, e.g. '210 GPa' (for the plasticity index)")
+    surface.add_argument("--poisson", default="0.3", help="Poisson's ratio (default 0.3)")
+    surface.add_argument("--hardness", help="hardness H, e.g. '208 kgf/mm^2'")
+    surface.add_argument("--flow-pressure", help="plastic flow pressure p_c for the contact, e.g. '280 N/mm^2'")
+    surface.add_argument("--load", help="load L: the approach where p_c A = L (needs --flow-pressure)")
+    surface.add_argument("--against", default="inverted", help="counter-surface: inverted (its own inverted copy, "
+                                                               "as seed 000) or flat")
+    surface.add_argument("--plot", help="draw the surface, autocorrelation, height density and contact to FILE.png")
+    surface.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    surface.add_argument("--json", action="store_true", help="print one JSON object")
+    surface.set_defaults(handler="surfaces:cmd_surface")
 
 
 def _seismology_commands(commands) -> None:
