@@ -50,6 +50,7 @@ if not math.isclose(units.Quantity(1, "year").to("s").magnitude, JULIAN_YEAR):
 #: kind -> (pint dimensionality, SI unit string, phrase used in messages)
 KINDS: dict[str, tuple[str, str, str]] = {
     "length": ("[length]", "m", "a length"),
+    "area": ("[area]", "m^2", "an area"),
     "speed": ("[length]/[time]", "m/s", "a speed"),
     "time": ("[time]", "s", "a time"),
     "rate": ("1/[time]", "1/s", "a rate (1/time)"),
@@ -387,6 +388,7 @@ def _finite(magnitude, name):
 
 _EXAMPLES = {
     "length": '"13 mi" or "20 km"',
+    "area": '"1 mm^2"',
     "speed": '"2 in/yr" or "24 mm/yr"',
     "time": '"100 yr" or "3 ms"',
     "rate": '"5e-11 1/s"',

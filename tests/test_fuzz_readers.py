@@ -273,3 +273,14 @@ def test_surface_reader_and_statistics(tmp_path_factory, seed):
         statistics(read_surface(path).levelled())
 
     _clean(read_and_describe)
+
+
+@FUZZ
+@given(seed=st.integers(0, 2**32))
+def test_rough_surface_scene_reader(tmp_path_factory, seed):
+    """A mutated rough-surface scene (seed 000) builds its slider or is refused in one sentence."""
+    from faultslip.lab.rough_slider import load_rough_scene
+
+    text = (ROOT / "configs" / "rough_surface_seed000.toml").read_text(encoding="utf-8").replace(
+        "synthetic_size = 128", "synthetic_size = 32")
+    _clean(load_rough_scene, _write(tmp_path_factory.mktemp("rough") / "r.toml", _mutated(text, fuzz.mutate_toml, seed)))

@@ -29,6 +29,7 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES, check_output
 from faultslip.io.waveforms import MAX_SAMPLES, STREAM_SUFFIXES, build_stream, sac_path, write_stream
 from faultslip.lab.nanoscale_scene import is_nanoscale_scene, load_nanoscale_scene
+from faultslip.lab.rough_slider import is_rough_scene, load_rough_scene
 from faultslip.lab.vibration_scene import is_vibration_scene, load_vibration_scene
 from faultslip.plots.figures import critical_comparison_figure, sawtooth_figure
 from faultslip.plots.rate_state import cycles_figure
@@ -56,6 +57,12 @@ def cmd_run(args) -> int:
         return _run_nanoscale(args, tolerance)
     if args.scene is not None and is_vibration_scene(args.scene):
         return _run_vibration(args, tolerance)
+    if args.scene is not None and is_rough_scene(args.scene):  # seed 000: a kinetic law on seed 003's engine
+        system, details, settings = load_rough_scene(args.scene)
+        solution = solve(system, method=args.method or "auto", tolerance=tolerance or 1e-6, cycles=settings["cycles"])
+        report = solution.report(f"faultslip rough-surface slider (seed 000): {system.name}")
+        _rough_details(report, details)
+        return _emit(report, args.json)
     return _emit(run_scene(load_scene(args.scene), method=args.method, tolerance=tolerance), args.json)
 
 
@@ -85,6 +92,30 @@ def _run_vibration(args, tolerance) -> int:
     settled = settled_amplitude(system, method, tolerance or 1e-3) if result.valid else None
     report = averaging_report(system, result, None, settled)
     _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    return _emit(report, args.json)
+
+
+def _rough_details(report, details) -> None:
+    report.section("Rough surfaces (seed 000 AD1.3)")
+    report.add("static_friction_model", details["static_friction"], label="mu_s = p_s / H")
+    report.add("area_fraction_at_rest", details["area_fraction_at_rest"], label="real / nominal area at rest (L / H A_n)")
+    report.add("separation_per_speed", details["separation_per_speed"], "s", label="separation per sliding speed c RMS (m per m/s)")
+    report.add("natural_frequency", details["natural_frequency"], "Hz", label="sqrt(k/M) / 2 pi")
+
+
+def _simulate_rough(args) -> int:
+    """A rough-surface scene's stick-slip on seed 003's event-driven engine."""
+    system, details, settings = load_rough_scene(args.scene)
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
+    cycles = args.cycles or settings["cycles"]
+    if not 1 <= cycles <= 10_000:
+        raise FaultslipError(f"--cycles must be from 1 to 10000, got {cycles}")
+    dataset = simulate(system, cycles=cycles, slip_solver=args.slip_solver or "DOP853",
+                       rtol=_number(args.rtol, "--rtol") if args.rtol else 1e-8, scene=system.name)
+    report = summary_report(dataset, f"faultslip simulation (seed 000 rough surfaces): {system.name}")
+    _rough_details(report, details)
+    _save_run(report, outputs, args, dataset, lambda: sawtooth_figure(dataset), "time series and event table",
+              "sawtooth record")
     return _emit(report, args.json)
 
 
@@ -250,6 +281,8 @@ def cmd_simulate(args) -> int:
         return _simulate_nanoscale(args)
     if is_vibration_scene(args.scene):
         return _simulate_vibration(args)
+    if is_rough_scene(args.scene):
+        return _simulate_rough(args)
     scene = load_scene(args.scene)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                               "stream": ("--stream", tuple(STREAM_SUFFIXES)), "events": ("--events", QUAKEML_SUFFIXES)},
