@@ -183,6 +183,13 @@ class Workspace:
         decay_lines = (CONFIGS / "example_decay_record.csv").read_text(encoding="utf-8").splitlines()
         self.decay = "\n".join(decay_lines[:1200]) + "\n"
         self.netcdf = self._small_sweep()
+        self.catalog = (CONFIGS / "catalog_san_andreas.csv").read_text(encoding="utf-8")
+        self.geojson = (DATA / "gem_faults_example.geojson").read_text(encoding="utf-8")
+        phyphox_lines = (CONFIGS / "example_phyphox.csv").read_text(encoding="utf-8").splitlines()
+        self.phyphox = "\n".join(phyphox_lines[:800]) + "\n"
+        surface_lines = (CONFIGS / "example_surface.csv").read_text(encoding="utf-8").splitlines()
+        self.surface = "\n".join(surface_lines[:1025]) + "\n"
+        self.quakeml, self.mseed = self._seismology_files()
 
     def _small_sweep(self) -> bytes:
         study = self.folder / "seed_study.toml"
@@ -194,6 +201,20 @@ class Workspace:
 
             assert main(["sweep", str(study), "-o", str(out), "--overwrite", "--workers", "1"]) == 0
         return out.read_bytes()
+
+    def _seismology_files(self) -> tuple[bytes, bytes]:
+        """A QuakeML catalog and a miniSEED record to corrupt (written by faultslip itself)."""
+        import numpy as np
+
+        from faultslip.io.catalogs import read_catalog, write_quakeml
+        from faultslip.io.waveforms import build_stream, write_stream
+
+        catalog = read_catalog(CONFIGS / "catalog_san_andreas.csv")
+        write_quakeml(catalog.time, catalog.latitude, catalog.longitude, [1e4] * len(catalog), catalog.magnitude,
+                      self.folder / "seed.xml", names=catalog.name)
+        stream = build_stream(200.0, {"D": 1e-5 * np.sin(np.linspace(0, 60, 2000)), "N": np.ones(2000)}, 0.0)
+        write_stream(stream, self.folder / "seed.mseed")
+        return (self.folder / "seed.xml").read_bytes(), (self.folder / "seed.mseed").read_bytes()
 
     def write(self, name: str, content) -> Path:
         path = self.folder / name
@@ -287,11 +308,35 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
             ["plot", "rate-law", "-o", rng.choice([str(space.folder / "p.png"), str(space.folder / "p.xyz"),
                                                    str(space.folder)]), "--overwrite"],
         ])
+    if kind == "catalog":
+        if rng.random() < 0.5:
+            path = space.write("catalog.csv", mutate_csv(space.catalog, rng))
+        else:
+            path = space.write("catalog.xml", mutate_bytes(space.quakeml, rng))
+        return ["catalog", str(path), "--fault", str(CONFIGS / "parkfield.toml"), "--bootstrap", "20", "--as-of",
+                rng.choice(["2026-01-01"] * 4 + ["1800-01-01", "nope"]), "--json"]
+    if kind == "geojson":
+        space.write("faults.geojson", mutate_csv(space.geojson, rng))
+        path = space.write("gaf_map.toml", space.map_text.replace('file = "segments.csv"', 'file = "faults.geojson"'))
+        return ["map", str(path), "-o", out, "--overwrite", "--json"] + rng.choice(
+            [[], ["--nrml", str(space.folder / "s.xml"), "--mfd", rng.choice(["characteristic", "truncated_gr", "x"])]])
+    if kind == "mseed":
+        path = space.write("record.mseed", mutate_bytes(space.mseed, rng))
+        return ["record", str(path), "--stiffness", "1e4 N/m", "--normal-load", "10 N", "--json"]
+    if kind == "phyphox":
+        path = space.write("phone.csv", mutate_csv(space.phyphox, rng))
+        return ["record", str(path), "--json"] + rng.choice([[], ["--axis", rng.choice(["x", "y", "w"])]])
+    if kind == "surface":
+        path = space.write("surface.csv", mutate_csv(space.surface, rng))
+        return ["surface", str(path), "--json"] + rng.choice(
+            [[], ["--modulus", rng.choice(["210 GPa", "-1 GPa", "1e400 Pa"]), "--hardness", "2 GPa"],
+             ["--flow-pressure", "280 N/mm^2", "--load", rng.choice(["0.01 N", "1e9 N", "-1 N"])]])
     raise ValueError(kind)
 
 
 KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6, "netcdf": 8, "units": 20,
-         "options": 10, "vibration": 4, "nanoscale": 3}
+         "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
+         "surface": 3}
 
 
 class _Timeout(Exception):

@@ -103,3 +103,16 @@ def test_studies_and_maps_carry_the_empirical_variables(tmp_path, cli):
         finite = np.isfinite(ratio)
         np.testing.assert_allclose(ratio[finite], (data["slip_per_event"].values / expected)[finite], rtol=1e-12)
         assert data["empirical_slip_z"].attrs["units"] == "1"
+
+
+def test_a_rupture_outside_the_relations_range_is_said_not_divided_by_zero(cli):
+    """Found by the CLI fuzzer: a 1e-300 m rupture put W&C's expected displacement beyond floating point and
+    the ratio divided by zero. The comparison now says it is out of range, and the JSON stays valid."""
+    rows = compare(1.0, -330.0, 1e-300, 12e3)
+    assert math.isnan(rows[1].ratio) or rows[1].ratio > 0
+    out = cli("fault", "--lithology", "granite", "--zone-width", "13 mi", "--shear-stress", "250 bar", "--slip-rate",
+              "2 in/yr", "--shear-modulus", "0.25e6 bar", "--rupture-length", "1e-300 m", "--depth", "12 km",
+              "--mu-so", "0.65", "--mu-m", "0.55", "--json")
+    assert out.code == 0, out.err
+    assert any("outside the relation's range" in value["summary"] for key, value in out.json.items()
+               if key.startswith("empirical_"))

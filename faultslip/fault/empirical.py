@@ -143,19 +143,27 @@ class Comparison:
 
     @property
     def ratio(self) -> float:
+        # a rupture far outside the relations' range can put the expectation at 0 or beyond floating point
+        if not (math.isfinite(self.expected) and self.expected > 0 and math.isfinite(self.predicted)):
+            return math.nan
         return self.predicted / self.expected
 
     @property
     def z_score(self) -> float | None:
         if self.sigma is None:
             return None
-        difference = self.predicted - self.expected if self.is_magnitude else math.log10(self.ratio)
-        return difference / self.sigma
+        if self.is_magnitude:
+            difference = self.predicted - self.expected
+        else:
+            ratio = self.ratio
+            difference = math.log10(ratio) if ratio > 0 else math.nan
+        return difference / self.sigma if math.isfinite(difference) else None
 
     def as_dict(self) -> dict:
+        finite = lambda value: value if value is not None and math.isfinite(value) else None  # noqa: E731 (JSON)
         return {"quantity": self.quantity, "relation": self.relation,
-                "predicted": {"value": self.predicted, "units": self.units},
-                "expected": {"value": self.expected, "units": self.units}, "ratio": self.ratio,
+                "predicted": {"value": finite(self.predicted), "units": self.units},
+                "expected": {"value": finite(self.expected), "units": self.units}, "ratio": finite(self.ratio),
                 "sigma": self.sigma, "z_score": self.z_score, "note": self.note}
 
 
@@ -191,8 +199,11 @@ def add_to_report(report, rows: list[Comparison]):
     report.section("Empirical scaling beside the prediction (W&C 1994, Leonard 2010)")
     for index, row in enumerate(rows):
         z = "" if row.z_score is None else f", z = {row.z_score:+.2f}"
-        shown = (f"expects {row.expected:.3g} {row.units}: ratio {row.ratio:.3g}{z}" if not row.is_magnitude
-                 else f"expects Mw {row.expected:.2f}: difference {row.predicted - row.expected:+.2f}{z}")
+        if not math.isfinite(row.ratio if not row.is_magnitude else row.predicted - row.expected):
+            shown = "outside the relation's range (no comparison)"
+        else:
+            shown = (f"expects {row.expected:.3g} {row.units}: ratio {row.ratio:.3g}{z}" if not row.is_magnitude
+                     else f"expects Mw {row.expected:.2f}: difference {row.predicted - row.expected:+.2f}{z}")
         report.add(f"empirical_{index}", {**row.as_dict(), "summary": shown + (f" ({row.note})" if row.note else "")},
                    label=row.relation)
     report.note("z = log10(predicted / expected) / sigma for displacements, (predicted - expected) / sigma for Mw; "
