@@ -68,12 +68,12 @@ def benchmarks_table() -> str | None:
                     f"({cycles['steps']} dopri5 steps; recurrence {cycles['recurrence_years']:.0f} yr) |")
     sweep = _load("sweep.json")
     for row in (sweep or {}).get("engine", []):
-        rows.append(f"| study engine against a numpy kernel computing the same 12 outputs, {row['cells']:.0e} cells in "
+        rows.append(f"| study engine against a numpy kernel computing the same 17 outputs, {row['cells']:.0e} cells in "
                     f"memory (target ≥ {row['target']}) | {row['engine_s'] * 1e3:.0f} ms vs {row['numpy_s'] * 1e3:.0f} ms: "
                     f"**{row['fraction_of_numpy']:.2f}** of numpy's throughput |")
     writer = (sweep or {}).get("writer")
     if writer:
-        rows.append(f"| default `faultslip sweep` of {writer['cells']:.0e} cells, 12 outputs, against a single-threaded "
+        rows.append(f"| default `faultslip sweep` of {writer['cells']:.0e} cells, 17 outputs, against a single-threaded "
                     f"numpy + netCDF4 writer (zlib 1, shuffle, same chunks), both whole commands (target ≤ "
                     f"{writer['target']}) | {writer['ours_s']:.1f} s vs {writer['baseline_s']:.1f} s: "
                     f"**{writer['ratio']:.2f}×**; peak memory {writer['ours_peak_memory_bytes'] / 2**20:.0f} vs "

@@ -7,9 +7,9 @@
 Each figure is a ratio against a baseline doing the same work, measured in the same run:
 
 1. **Engine.** ``compute_block`` (the in-memory study engine, xarray Dataset out) against a numpy
-   kernel written inline that computes the same 12 outputs of the same closed-form cells, at 1e6
+   kernel written inline that computes the same 17 outputs of the same closed-form cells, at 1e6
    and 1e7 cells. Targets: >= 0.8 and >= 0.9 of numpy's throughput.
-2. **Writer.** ``faultslip sweep`` with default options (1e7 cells, 12 outputs, zlib level 1 with
+2. **Writer.** ``faultslip sweep`` with default options (1e7 cells, 17 outputs, zlib level 1 with
    shuffle) against a single-threaded script that computes the same outputs with numpy and writes
    them with netCDF4 (zlib level 1, shuffle, the same chunks). Both run as fresh processes.
    Target: <= 0.75 of the script's wall time.
@@ -51,7 +51,8 @@ zone_width = {{ linspace = ["5 km", "30 km", {n_d}] }}
 """
 OUTPUTS = ("slip_per_event", "recurrence_period", "loading_rate", "static_friction", "stress_drop",
            "critical_loading_rate", "regime", "method", "estimated_relative_error", "dimensionless_rate",
-           "seismic_moment", "moment_magnitude")
+           "seismic_moment", "moment_magnitude", "empirical_slip", "empirical_slip_ratio", "empirical_slip_z",
+           "empirical_magnitude", "empirical_magnitude_z")
 YEAR = 31557600.0
 
 
@@ -89,7 +90,12 @@ def bare_kernel(shear_moduli, n_v=1000, n_d=1000):
         crit = np.full(slip.shape, np.inf)
         regime = np.zeros(slip.shape, np.int8)
         method = np.zeros(slip.shape, np.int8)
-        return slip, per, th, mus, drop, crit, regime, method, err, eps, M0, Mw
+        # Wells & Coppersmith (1994) strike-slip, as the study reports beside the prediction
+        expected = 10.0 ** (-6.32 + 0.90 * Mw)
+        ratio = np.where(slip > 0, slip / expected, np.nan)
+        from_length = np.full(slip.shape, 5.16 + 1.12 * np.log10(L / 1e3))
+        return (slip, per, th, mus, drop, crit, regime, method, err, eps, M0, Mw, expected, ratio,
+                np.log10(ratio) / 0.28, from_length, (Mw - from_length) / 0.28)
 
     return run
 
@@ -103,6 +109,7 @@ def engine(cells: float, repeats: int) -> dict:
     dataset, outputs = compute_block(study), bare()
     np.testing.assert_allclose(dataset["slip_per_event"].values, outputs[0], rtol=1e-12)
     np.testing.assert_allclose(dataset["moment_magnitude"].values, outputs[11], rtol=1e-12)
+    np.testing.assert_allclose(dataset["empirical_slip_z"].values, outputs[14], rtol=1e-10, atol=1e-12)
     del dataset, outputs
     ours, theirs = [], []
     for _ in range(repeats):  # interleaved: both see the same machine state
@@ -254,7 +261,7 @@ def chart(rows, path: Path) -> None:
     for axis in (time_axis, memory_axis):
         axis.grid(True, which="both", alpha=0.3)
         axis.legend(fontsize=8)
-    figure.suptitle("faultslip sweep, closed-form study, 12 outputs, zlib level 1 (benchmarks/sweep_scale.py)",
+    figure.suptitle("faultslip sweep, closed-form study, 17 outputs, zlib level 1 (benchmarks/sweep_scale.py)",
                     fontsize=9)
     figure.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -268,7 +275,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     results = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
                "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
-    print("1. engine against a numpy kernel computing the same 12 outputs (in memory)")
+    print("1. engine against a numpy kernel computing the same 17 outputs (in memory)")
     results["engine"] = []
     for cells in ((1e6,) if args.quick else (1e6, 1e7)):
         row = engine(cells, 7 if args.quick else 15)
