@@ -23,9 +23,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.units import JULIAN_YEAR
 
 MODELS = ("lognormal", "bpt")
-SECONDS_PER_YEAR = 365.25 * 86400.0
+SECONDS_PER_YEAR = JULIAN_YEAR
 
 
 def intervals(times_seconds) -> np.ndarray:

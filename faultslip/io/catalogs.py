@@ -28,7 +28,6 @@ from faultslip.units import to_si
 MAX_CATALOG_BYTES = 512 * 2**20
 QUAKEML_SUFFIXES = (".xml", ".quakeml", ".qml")
 CATALOG_COLUMNS = {"time", "latitude", "longitude", "depth", "magnitude", "magnitude_type", "name"}
-SECONDS_PER_YEAR = 365.25 * 86400.0
 
 
 @dataclass

@@ -33,8 +33,13 @@ def parse_trace(text: str, where: str) -> np.ndarray:
             vertices.append((float(fields[0]), float(fields[1])))
         except ValueError:
             raise InputError(f"{where}: a trace vertex must be two numbers 'lon lat', got {part!r}") from None
+    return trace_from_vertices(vertices, where, "a segment trace")
+
+
+def trace_from_vertices(vertices, where: str, what: str = "a fault trace") -> np.ndarray:
+    """(lon, lat) vertices as an (n, 2) trace: at least 2, in range; one sentence otherwise."""
     if len(vertices) < 2:
-        raise InputError(f"{where}: a segment trace needs at least 2 vertices, got {len(vertices)}")
+        raise InputError(f"{where}: {what} needs at least 2 vertices, got {len(vertices)}")
     trace = np.array(vertices)
     _check_lon_lat(trace[:, 0], trace[:, 1], where)
     return trace

@@ -34,10 +34,11 @@ from pathlib import Path
 import numpy as np
 
 from faultslip.errors import InputError
-from faultslip.io.geo import _check_lon_lat
+from faultslip.io.geo import trace_from_vertices
+from faultslip.units import JULIAN_YEAR
 
 MAX_GEOJSON_BYTES = 64 * 2**20
-MM_PER_YEAR = 1e-3 / (365.25 * 86400.0)
+MM_PER_YEAR = 1e-3 / JULIAN_YEAR
 #: GAF slip types and the rake that represents each (Aki & Richards convention)
 SLIP_TYPE_RAKE = {"Dextral": 180.0, "Sinistral": 0.0, "Reverse": 90.0, "Normal": -90.0, "Dextral-Normal": -135.0,
                   "Dextral-Reverse": 135.0, "Sinistral-Normal": -45.0, "Sinistral-Reverse": 45.0,
@@ -119,11 +120,7 @@ def _line(geometry, where: str) -> np.ndarray:
                     and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in point)):
                 raise InputError(f"{where}: a vertex must be [lon, lat] numbers, got {point!r}")
             vertices.append((_number(point[0], where), _number(point[1], where)))
-    if len(vertices) < 2:
-        raise InputError(f"{where}: a fault trace needs at least 2 vertices, got {len(vertices)}")
-    trace = np.array(vertices)
-    _check_lon_lat(trace[:, 0], trace[:, 1], where)
-    return trace
+    return trace_from_vertices(vertices, where)
 
 
 def read_fault_geojson(path) -> GeoJSONFaults:

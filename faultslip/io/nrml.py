@@ -23,11 +23,12 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.atomic import atomic_path
+from faultslip.units import JULIAN_YEAR
 
 NRML_NAMESPACE = "http://openquake.org/xmlschema/nrml/0.5"
 GML_NAMESPACE = "http://www.opengis.net/gml"
 MFD_KINDS = ("characteristic", "truncated_gr")
-YEAR = 365.25 * 86400.0
+YEAR = JULIAN_YEAR
 B_VALUE = 1.0
 
 

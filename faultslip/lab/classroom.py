@@ -129,8 +129,8 @@ def read_accelerometer(path) -> AccelerometerRecord:
         if unit is None:
             raise InputError(f"{label}: column {name!r} needs a unit, e.g. '{name} (m/s^2)'")
         si = values * unit_factor(unit, "acceleration", f"{label}, {name}")
-        if not np.all(np.isfinite(si)):
-            raise InputError(f"{label}: column {name!r} has non-finite values")
+        if not np.all(np.isfinite(si)) or np.max(np.abs(si)) > 1e6:  # a phone's sensor reads ~160 m/s^2 at most
+            raise InputError(f"{label}: column {name!r} has values that are not finite or beyond 1e6 m/s^2")
         axis = lowered[-1] if lowered[-1] in AXES and (lowered.endswith(" " + lowered[-1]) or lowered in
                                                        ("ax", "ay", "az")) else lowered
         acceleration[axis] = si
