@@ -37,6 +37,7 @@ from faultslip.dynamics.critical import cached_critical_dimensionless_rate
 from faultslip.dynamics.cycle import STEADY_SLIDING, CycleResult
 from faultslip.errors import InputError, MethodError, OutOfDomainWarning
 from faultslip.dynamics.exact_cycle import exact_cycle, exact_cycle_error
+from faultslip.dynamics.asperity import METHODS as ASPERITY_METHODS
 from faultslip.dynamics.nanoscale import METHODS as NANOSCALE_METHODS
 from faultslip.dynamics.rate_state_methods import CYCLE_METHODS as RATE_STATE_CYCLE_METHODS
 from faultslip.dynamics.regularized import simulate_regularized
@@ -307,12 +308,12 @@ class QuasiHarmonicAveraging(Method):
 
 def describe_all() -> list[dict]:
     """Every method's declared name, friction laws, domain and cost model (the seed law's, rate-and-state's,
-    the quasi-harmonic and the nanoscale ones)."""
+    the quasi-harmonic, the nanoscale and the asperity ones)."""
     rows = [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), AVERAGING, *BASELINES.values(),
                                    SEED_APPENDIX_I, *RATE_STATE_CYCLE_METHODS.values())]
     declared = [row for row in QUASI_HARMONIC_METHODS.values() if row["name"] != AVERAGING.name]
     return rows + [{key: row[key] for key in ("name", "friction_laws", "domain", "cost_model")}
-                   for row in declared + list(NANOSCALE_METHODS.values())]
+                   for row in declared + list(NANOSCALE_METHODS.values()) + list(ASPERITY_METHODS.values())]
 
 
 def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:

@@ -1,0 +1,644 @@
+"""Seed 004's block on a moving platform with asperity friction (Bengisu & Akay 1999, eqs. 9-29).
+
+A rigid block of mass M, held by a spring K and dashpot C, rests under gravity on a platform moving at
+v. Its state is (x, x', y, y', A_r, A_a): tangential and normal displacement and speed, and the
+normal projections of the resisting and assisting contact areas (eq. 22, with s' = x' - v, h' = y'):
+
+    M x'' + C x' + K x = -F_t,   M y'' = -M g + F_n                                        (21)
+    alpha (<Z'>^2 + 1) A_r' = -(alpha <Z'> d<Z'>/dt + y' - <Z'> s') A_r                     (22)
+    alpha (<Z'>^2 + 1) A_a' = -(alpha <Z'> d<Z'>/dt + y' + <Z'> s') A_a,   alpha = 1/(gamma pi r)
+
+with F_t and F_n from eqs. (17) and (20), <Z'> from eqs. (25) and (27) at the approach dh = -y
+(y = 0 at first contact). Adhesion is set-valued at s' = 0: the block sticks while the adhesive force
+needed, |C v + K x + F_t,def|, stays below tau A_n + beta F_n (the paper: adhesion "maintains, even for
+a short moment, zero relative velocity"). Integration is event-driven (slip -> stick -> slip).
+
+Choices the paper leaves open (docs/asperity.md shows how the results depend on each):
+
+* **summits.** Eq. (22) alone lets the growing family win for ever: the block climbs to the slope
+  cut-off and friction loses its deformation part (tested). At the cut-off the contacts are at the
+  summits; sliding on carries them onto the opposite faces, so the families exchange (A_r <-> A_a)
+  when the climbing family dominates. The block then descends and climbs again, sliding the eq. (29)
+  wavelength per cycle: the paper's "combined normal and tangential oscillation".
+* **initial state.** Sliding at the adhesive equilibrium x = (tau A* + beta M g)/K, at rest, at
+  approach dh0 (0.3 um, "the maximum relative approach considered") with equal families carrying
+  A* = M g sqrt(gamma) / K_H. dh0 sets dh_max and so lambda.
+* **contact density gamma**: the mean contact area 1/gamma (default 1/(pi r alpha) with alpha = 0.1 um).
+
+Two methods solve it (:data:`METHODS`): ``asperity_LSODA`` integrates all six states; the cheaper
+``asperity_quasistatic`` drops the normal inertia (F_n(t) = M g), leaving (x, x', dh, ln(A_r/A_a)),
+and declines speeds where following the surface needs a downward acceleration above g.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from faultslip.errors import InputError
+from faultslip.friction import asperity as contact
+from faultslip.io.report import Report
+from faultslip.units import STANDARD_GRAVITY
+
+SLIP_BACKWARD, STICK, SLIP_FORWARD = -1, 0, 1
+_ROOT_2_PI = math.sqrt(2.0 / math.pi)
+_ROOT_2 = math.sqrt(2.0)
+
+
+@dataclass(frozen=True)
+class AsperityModel:
+    """Seed 004's dynamic system in SI; the defaults are Table I case 6 at 3.6 mm/s."""
+
+    platform_speed: float = 3.6e-3  # v, m/s
+    mass: float = contact.TABLE_I_COMMON["mass"]  # M, kg
+    natural_frequency: float = 10.0  # f0 = sqrt(K/M) / (2 pi), Hz
+    dashpot: float = 2.0  # C, kg/s
+    slope_std: float = 0.1  # s, rad
+    shear_strength: float = 9.8e6  # tau, Pa
+    pressure_coefficient: float = 0.075  # beta
+    composite_modulus: float = contact.TABLE_I_COMMON["composite_modulus"]  # E, Pa
+    asperity_radius: float = contact.TABLE_I_COMMON["asperity_radius"]  # r, m (Hertz and alpha)
+    slope_radius: float = contact.SLOPE_RADIUS  # rho of eq. (27), m
+    loss_factor: float = contact.TABLE_I_COMMON["loss_factor"]  # eta, N s/m
+    contact_length: float = 1e-7  # alpha = 1/(gamma pi r), m
+    slope_cutoff: float = contact.SLOPE_CUTOFF  # m
+    initial_approach: float = 0.3e-6  # dh0, m
+    summit_exchange: bool = True
+    gravity: float = STANDARD_GRAVITY
+    name: str = "seed 004 asperity slider"
+
+    def __post_init__(self):
+        limits = {"platform_speed": (1e-7, 10.0, "m/s"), "mass": (1e-4, 1e4, "kg"),
+                  "natural_frequency": (0.01, 1e4, "Hz"), "dashpot": (0.0, 1e6, "kg/s"),
+                  "slope_std": (1e-3, 1.0, "rad"), "shear_strength": (0.0, 1e10, "Pa"),
+                  "pressure_coefficient": (0.0, 1.0, ""), "composite_modulus": (1e6, 1e13, "Pa"),
+                  "asperity_radius": (1e-8, 1e-2, "m"), "slope_radius": (1e-8, 1e-2, "m"),
+                  "loss_factor": (0.0, 1e8, "N s/m"), "contact_length": (1e-11, 1e-3, "m"),
+                  "slope_cutoff": (1e-13, 1e-6, "m"), "initial_approach": (1e-10, 1e-4, "m"),
+                  "gravity": (0.01, 100.0, "m/s^2")}
+        for key, (low, high, unit) in limits.items():
+            value = getattr(self, key)
+            if not (isinstance(value, (int, float)) and not isinstance(value, bool) and low <= value <= high):
+                raise InputError(f"the asperity model's {key.replace('_', ' ')} must be a number from {low:g} to "
+                                 f"{high:g} {unit}, got {value!r}")
+        if self.initial_approach <= self.slope_cutoff:
+            raise InputError(f"the initial approach ({self.initial_approach:g} m) must exceed the slope cut-off "
+                             f"({self.slope_cutoff:g} m): below it the contacts carry no slope")
+
+    @classmethod
+    def table_case(cls, case: int, **changes) -> "AsperityModel":
+        """Seed 004 Table I case 1-8 (C = 2 kg/s, the dynamic runs' value, unless changed)."""
+        if case not in contact.TABLE_I:
+            raise InputError(f"seed 004 Table I has cases 1-8, got {case!r}")
+        values = {**contact.TABLE_I[case], "name": f"seed 004 Table I case {case}", **changes}
+        return replace(cls(), **values)
+
+    # --- derived constants ---
+    @property
+    def stiffness(self) -> float:
+        return self.mass * (2.0 * math.pi * self.natural_frequency) ** 2
+
+    @property
+    def contact_density(self) -> float:
+        """gamma = 1/(pi r alpha), contacts per m^2 of real contact area."""
+        return 1.0 / (math.pi * self.asperity_radius * self.contact_length)
+
+    @property
+    def hertz(self) -> float:
+        return float(contact.hertz_constant(self.composite_modulus, self.asperity_radius))
+
+    @property
+    def weight(self) -> float:
+        return self.mass * self.gravity
+
+    @property
+    def resting_area(self) -> float:
+        """A* = M g sqrt(gamma) / K_H: the real contact area carrying the weight (eq. 17, no slope)."""
+        return self.weight * math.sqrt(self.contact_density) / self.hertz
+
+    @property
+    def wavelength(self) -> float:
+        return float(contact.friction_wavelength(self.initial_approach, self.slope_std, self.slope_radius,
+                                                 self.slope_cutoff))
+
+    def critical_speeds(self, orders=(1, 2, 3, 4, 5, 6)) -> np.ndarray:
+        return contact.critical_speeds(self.natural_frequency, self.wavelength, orders)
+
+    @property
+    def contact_loss_speed(self) -> float:
+        return float(contact.contact_loss_speed(self.initial_approach, self.slope_std, self.slope_radius,
+                                                self.gravity))
+
+    @property
+    def adhesive_friction(self) -> float:
+        """tau A* + beta M g: the adhesion a sliding block must overcome, N."""
+        return self.shear_strength * self.resting_area + self.pressure_coefficient * self.weight
+
+    def slope(self, approach: float):
+        """(<Z'>, d<Z'>/d dh, <Z'^2>) at one approach, with the paper's cut-off (zero below it, or held at its
+        value with the summit exchange, which sends the block back down): the scalar form of
+        :func:`faultslip.friction.asperity.mean_contact_slope` and its companions (tested equal), called
+        ~1e5 times per simulated second."""
+        if approach < self.slope_cutoff:
+            if not self.summit_exchange:
+                return 0.0, 0.0, 0.0
+            approach = self.slope_cutoff  # at the summits: the block leaves them on the exchanged family's slope
+        s = self.slope_std
+        ratio2 = approach / self.slope_radius / (s * s)  # (Z'_max / s)^2
+        capped = ratio2 >= 9.0
+        if capped:
+            ratio2 = 9.0
+        decay = math.exp(-0.5 * ratio2)
+        mean = s * _ROOT_2_PI * -math.expm1(-0.5 * ratio2)
+        derivative = 0.0 if capped else _ROOT_2_PI / (2.0 * s * self.slope_radius) * decay
+        ratio = math.sqrt(ratio2)
+        square = s * s * (math.erf(ratio / _ROOT_2) - _ROOT_2_PI * ratio * decay)
+        return mean, derivative, square
+
+    def describe(self) -> dict:
+        return {"platform_speed": (self.platform_speed, "m/s"), "mass": (self.mass, "kg"),
+                "natural_frequency": (self.natural_frequency, "Hz"), "stiffness": (self.stiffness, "N/m"),
+                "dashpot": (self.dashpot, "kg/s"), "slope_std": (self.slope_std, "rad"),
+                "shear_strength": (self.shear_strength, "Pa"), "pressure_coefficient": (self.pressure_coefficient, "1"),
+                "composite_modulus": (self.composite_modulus, "Pa"), "asperity_radius": (self.asperity_radius, "m"),
+                "slope_radius": (self.slope_radius, "m"), "loss_factor": (self.loss_factor, "N*s/m"),
+                "contact_length": (self.contact_length, "m"), "contact_density": (self.contact_density, "1/m^2"),
+                "slope_cutoff": (self.slope_cutoff, "m"), "initial_approach": (self.initial_approach, "m"),
+                "resting_area": (self.resting_area, "m^2")}
+
+
+# --------------------------------------------------------------------------- the two right-hand sides
+class _FullSystem:
+    """The six states (x, x', y, y', ln A_r, ln A_a); logarithms keep the areas positive."""
+
+    names = ("x", "x_dot", "y", "y_dot", "log_resisting", "log_assisting")
+
+    def __init__(self, model: AsperityModel):
+        self.m = model
+        self.alpha = model.contact_length
+        self.k_area = model.hertz / math.sqrt(model.contact_density)
+        self.k_rate = model.loss_factor / (math.pi * model.asperity_radius)
+
+    def initial(self):
+        m = self.m
+        half = math.log(0.5 * m.resting_area)
+        return np.array([m.adhesive_friction / m.stiffness, 0.0, -m.initial_approach, 0.0, half, half])
+
+    def approach(self, state):
+        return -state[2]
+
+    def log_ratio(self, state):
+        return state[4] - state[5]
+
+    def exchange(self, state):
+        state[4], state[5] = state[5], state[4]
+
+    def parts(self, state, sliding_speed):
+        """Contact quantities at a state: areas, slope, deformation force and adhesion capacity."""
+        m = self.m
+        resisting, assisting = math.exp(state[4]), math.exp(state[5])
+        area = resisting + assisting
+        z, dz, z2 = m.slope(-state[2])
+        scale = self.alpha * (1.0 + z * z)
+        climb = state[3] * (1.0 - self.alpha * z * dz)  # y' + alpha <Z'> d<Z'>/dt, with d dh/dt = -y'
+        rate_r = -(climb - z * sliding_speed) / scale
+        rate_a = -(climb + z * sliding_speed) / scale
+        area_rate = resisting * rate_r + assisting * rate_a
+        force = self.k_area * area * (1.0 + 0.25 * z2) + self.k_rate * area_rate * (1.0 + 0.5 * z2)
+        tangential = z * (resisting - assisting)
+        deformation_friction = tangential / area * force
+        capacity = m.shear_strength * area + m.pressure_coefficient * force
+        normal_adhesion = m.shear_strength * tangential + m.pressure_coefficient * deformation_friction
+        return force, deformation_friction, capacity, normal_adhesion, rate_r, rate_a, area
+
+    def rhs(self, t, state, mode):
+        m = self.m
+        if mode == STICK:
+            force, friction_d, capacity, normal_adhesion, rate_r, rate_a, _ = self.parts(state, 0.0)
+            share = self.needed(state, friction_d) / capacity if capacity > 0 else 0.0
+            normal = force - share * normal_adhesion
+            return [m.platform_speed, 0.0, state[3], normal / m.mass - m.gravity, rate_r, rate_a]
+        force, friction_d, capacity, normal_adhesion, rate_r, rate_a, _ = self.parts(state, state[1] - m.platform_speed)
+        friction = friction_d + mode * capacity
+        normal = force - mode * normal_adhesion
+        return [state[1], (-m.dashpot * state[1] - m.stiffness * state[0] - friction) / m.mass,
+                state[3], normal / m.mass - m.gravity, rate_r, rate_a]
+
+    def needed(self, state, friction_d=None):
+        """The adhesive force that keeps the block stuck: -(C v + K x) - F_t,def."""
+        m = self.m
+        if friction_d is None:
+            friction_d = self.parts(state, 0.0)[1]
+        return -(m.dashpot * m.platform_speed + m.stiffness * state[0]) - friction_d
+
+    def capacity(self, state):
+        return self.parts(state, 0.0)[2]
+
+    def forces(self, state, mode):
+        """(F_t, F_n, F_t,def, A_n) along a stored state."""
+        m = self.m
+        sliding = 0.0 if mode == STICK else state[1] - m.platform_speed
+        force, friction_d, capacity, normal_adhesion, _, _, area = self.parts(state, sliding)
+        share = (self.needed(state, friction_d) / capacity if capacity > 0 else 0.0) if mode == STICK else mode
+        return friction_d + share * capacity, force - share * normal_adhesion, friction_d, area
+
+
+class _QuasiStaticSystem(_FullSystem):
+    """Normal inertia dropped: F_n = M g holds at every instant, so A_n follows the slope (eq. 17) and
+    y' = <Z'> s' tanh(L/2) / (1 - alpha <Z'> d<Z'>/d dh) keeps the area constant; states (x, x', dh, L)."""
+
+    names = ("x", "x_dot", "approach", "log_ratio")
+
+    def initial(self):
+        m = self.m
+        return np.array([m.adhesive_friction / m.stiffness, 0.0, m.initial_approach, 0.0])
+
+    def approach(self, state):
+        return state[2]
+
+    def log_ratio(self, state):
+        return state[3]
+
+    def exchange(self, state):
+        state[3] = -state[3]
+
+    def parts(self, state, sliding_speed):
+        m = self.m
+        z, dz, z2 = m.slope(state[2])
+        area = m.weight / (self.k_area * (1.0 + 0.25 * z2))
+        share = math.tanh(0.5 * state[3])
+        tangential = z * share * area
+        force = m.weight
+        deformation_friction = z * share * force
+        capacity = m.shear_strength * area + m.pressure_coefficient * force
+        log_rate = 2.0 * z * sliding_speed / (self.alpha * (1.0 + z * z))
+        approach_rate = -z * sliding_speed * share / (1.0 - self.alpha * z * dz)
+        return force, deformation_friction, capacity, 0.0 * tangential, log_rate, approach_rate, area
+
+    def rhs(self, t, state, mode):
+        m = self.m
+        if mode == STICK:
+            return [m.platform_speed, 0.0, 0.0, 0.0]
+        _, friction_d, capacity, _, log_rate, approach_rate, _ = self.parts(state, state[1] - m.platform_speed)
+        friction = friction_d + mode * capacity
+        return [state[1], (-m.dashpot * state[1] - m.stiffness * state[0] - friction) / m.mass,
+                approach_rate, log_rate]
+
+
+# --------------------------------------------------------------------------- methods and their declarations
+METHODS = {
+    "asperity_wavelength": {
+        "name": "asperity_wavelength", "friction_laws": "asperity (seed 004)",
+        "domain": "critical speeds v_cn = f0 lambda / n and the contact-loss speed only (eqs. 28-29)",
+        "cost_model": "closed form, microseconds",
+        "declared_error": "0.1 of the simulated critical speed (measured 3-5 %, docs/asperity.md)"},
+    "asperity_quasistatic": {
+        "name": "asperity_quasistatic", "friction_laws": "asperity (seed 004)",
+        "domain": "contact kept: platform speed below the contact-loss speed; normal inertia neglected",
+        "cost_model": "4-state DOP853 with stick events, ~0.1 s per simulated second at 3.6 mm/s",
+        "declared_error": "0.05 in the stick fraction and mean friction against asperity_LSODA (docs/asperity.md)"},
+    "asperity_LSODA": {
+        "name": "asperity_LSODA", "friction_laws": "asperity (seed 004)",
+        "domain": "all speeds with contact; stops and reports contact loss (F_n(t) reaching 0) as a failure",
+        "cost_model": "6-state LSODA with stick events, resolving the kHz normal mode: ~0.3 s per simulated second "
+                      "at 3.6 mm/s, ~10 s at 0.3 m/s",
+        "declared_error": "rtol of the integration (the reference)"},
+}
+QUASISTATIC_ERROR = 0.05
+WAVELENGTH_ERROR = 0.1
+
+
+@dataclass
+class AsperityRun:
+    """A simulated time series and how it went."""
+
+    model: AsperityModel
+    method: str
+    time: np.ndarray
+    states: np.ndarray
+    mode: np.ndarray
+    friction: np.ndarray
+    normal_force: np.ndarray
+    deformation_friction: np.ndarray
+    normal_area: np.ndarray
+    approach: np.ndarray
+    status: str = "ok"  # ok | contact_lost | solver_failure | declined
+    reason: str = ""
+    summits: int = 0
+    sticks: int = 0
+    elapsed: float = 0.0
+    notes: list = field(default_factory=list)
+
+    @property
+    def speed(self):
+        return self.states[1]
+
+    @property
+    def displacement(self):
+        return self.states[0]
+
+
+def simulate(model: AsperityModel, duration: float = 6.0, method: str = "asperity_LSODA", rtol: float = 1e-8,
+             samples_per_second: float = 2000.0, max_seconds: float | None = None) -> AsperityRun:
+    """Integrate the block for ``duration`` s with ``method``; a contact loss or solver failure ends the run early
+    and is reported in ``status`` and ``reason``, never as numbers past it."""
+    if method not in ("asperity_LSODA", "asperity_quasistatic"):
+        raise InputError(f"asperity simulation method must be asperity_LSODA or asperity_quasistatic, got {method!r}")
+    if not (isinstance(duration, (int, float)) and 0 < duration <= 1e4):
+        raise InputError(f"the asperity run's duration must be from 0 to 1e4 s, got {duration!r}")
+    if not 1e-12 <= rtol <= 1e-2:
+        raise InputError(f"rtol must be from 1e-12 to 1e-2, got {rtol!r}")
+    system = _FullSystem(model) if method == "asperity_LSODA" else _QuasiStaticSystem(model)
+    if method == "asperity_quasistatic" and model.platform_speed >= model.contact_loss_speed:
+        return _declined(model, method, f"v = {model.platform_speed:.4g} m/s is above the contact-loss speed "
+                         f"{model.contact_loss_speed:.4g} m/s, where the surface falls away faster than g and the "
+                         "quasi-static normal balance fails; use asperity_LSODA, which reports the loss")
+    solver = "LSODA" if method == "asperity_LSODA" else "DOP853"
+    state = system.initial()
+    size = state.size
+    atol = (np.array([1e-12, 1e-10, 1e-15, 1e-12, 1e-9, 1e-9]) if size == 6 else np.array([1e-12, 1e-10, 1e-15, 1e-9]))
+    v = model.platform_speed
+    t, mode = 0.0, SLIP_BACKWARD
+    grid = np.linspace(0.0, duration, max(int(duration * samples_per_second), 2) + 1)
+    pieces, summits, sticks, status, reason = [], 0, 0, "ok", ""
+    started = time.perf_counter()
+    def never(t_, s, *_):  # without the exchange the summits are not events (eq. 22 alone)
+        return 1.0
+
+    while t < duration:
+        def summit(t_, s, *_):
+            return system.approach(s) - model.slope_cutoff
+        summit.terminal, summit.direction = True, -1
+
+        def lost(t_, s, *_, mode=mode):  # contact forces push: F_n(t) < 0 would need the surfaces to pull
+            return system.forces(s, mode)[1] / model.weight if size == 6 else 1.0
+        lost.terminal, lost.direction = True, -1
+        if mode == STICK:
+            def change(t_, s, *_):
+                return abs(system.needed(s)) - system.capacity(s)
+            change.direction = 1
+        else:
+            def change(t_, s, *_):
+                return s[1] - v
+            change.direction = -mode
+        change.terminal = True
+        inside = grid[(grid > t) & (grid < duration)]
+        if max_seconds is not None and time.perf_counter() - started > max_seconds:
+            status, reason = "budget_exceeded", f"stopped at t = {t:.4g} s after {max_seconds:g} s of computing"
+            break
+        sol = solve_ivp(system.rhs, (t, duration), state, method=solver, args=(mode,), rtol=rtol, atol=atol,
+                        events=[summit if model.summit_exchange else never, change, lost], t_eval=np.concatenate([[t], inside]) if inside.size else None)
+        if sol.status < 0 or not np.all(np.isfinite(sol.y)):
+            status, reason = "solver_failure", f"{solver} failed at t = {t:.4g} s: {sol.message}"
+            break
+        end = sol.y_events and any(e.size for e in sol.t_events)
+        state = (sol.y_events[[e.size > 0 for e in sol.t_events].index(True)][0].copy() if end
+                 else sol.y[:, -1].copy())
+        t_end = sol.t_events[[e.size > 0 for e in sol.t_events].index(True)][0] if end else sol.t[-1]
+        pieces.append((np.append(sol.t, t_end) if end else sol.t, np.column_stack([sol.y, state]) if end else sol.y,
+                       mode))
+        t = float(t_end)
+        if not end:
+            break
+        which = [e.size > 0 for e in sol.t_events].index(True)
+        if which == 2:
+            status = "contact_lost"
+            reason = (f"contact lost at t = {t:.4g} s: the normal contact force F_n(t) reaches zero, so the block "
+                      f"leaves the surface and the model no longer applies (seed 004 Sec. IV.D); lower the platform "
+                      f"speed (closed-form estimate of the limit {model.contact_loss_speed:.3g} m/s)")
+            break
+        if which == 0:
+            climbing_dominant = (system.log_ratio(state) > 0) == (state[1] - v > 0)
+            if mode != STICK and model.summit_exchange and climbing_dominant:
+                system.exchange(state)
+                summits += 1
+            if size == 6:  # carried by its momentum just past the cut-off: no immediate second crossing
+                state[2] = -model.slope_cutoff * (1.0 - 1e-9)
+            else:  # quasi-static: the exchanged family now carries the block down from the summit
+                state[2] = model.slope_cutoff * (1.0 + 1e-9)
+            continue
+        needed = system.needed(state)
+        if mode != STICK:
+            state[1] = v
+            if abs(needed) <= system.capacity(state):
+                mode, sticks = STICK, sticks + 1
+                continue
+        mode = SLIP_FORWARD if needed > 0 else SLIP_BACKWARD
+        state[1] = v + mode * 1e-15
+        if len(pieces) > 2_000_000:
+            status, reason = "solver_failure", "more than 2e6 stick and slip phases: chattering"
+            break
+    elapsed = time.perf_counter() - started
+    return _assemble(model, method, system, pieces, status, reason, summits, sticks, elapsed)
+
+
+def _declined(model, method, reason):
+    empty = np.zeros(0)
+    return AsperityRun(model, method, empty, np.zeros((6, 0)), empty, empty, empty, empty, empty, empty,
+                       status="declined", reason=reason)
+
+
+def _assemble(model, method, system, pieces, status, reason, summits, sticks, elapsed):
+    times = np.concatenate([p[0] for p in pieces]) if pieces else np.zeros(0)
+    states = np.concatenate([p[1] for p in pieces], axis=1) if pieces else np.zeros((len(system.names), 0))
+    modes = np.concatenate([np.full(p[0].size, p[2]) for p in pieces]) if pieces else np.zeros(0)
+    keep = np.concatenate([[True], np.diff(times) > 0]) if times.size else np.zeros(0, bool)
+    times, states, modes = times[keep], states[:, keep], modes[keep]
+    values = np.array([system.forces(states[:, i], int(modes[i])) for i in range(times.size)]).reshape(-1, 4)
+    approach = -states[2] if states.shape[0] == 6 else states[2]
+    if states.shape[0] == 4:  # normal speed of the quasi-static block, for a uniform output
+        states = np.vstack([states[:2], -states[2:3], np.gradient(-states[2], times) if times.size > 1 else
+                            np.zeros_like(times), states[3:4]])
+    return AsperityRun(model, method, times, states, modes, values[:, 0], values[:, 1], values[:, 2], values[:, 3],
+                       approach, status, reason, summits, sticks, elapsed)
+
+
+# --------------------------------------------------------------------------- analysis
+@dataclass
+class Response:
+    """The settled response: the paper's averages, stick, the loops per period and the dominant frequency."""
+
+    mean_friction: float  # m-bar: time average of F_t / F_n (friction on the block along the platform's motion)
+    mean_deformation_friction: float  # m-bar_D
+    stick_fraction: float
+    velocity_range: tuple
+    loops: int  # response period over the natural period (1, 2, 3 at v_c1, v_c2, v_c3); 0 if not periodic
+    dominant_frequency: float
+    friction_frequency: float  # summits per second: f_f of eq. (28)
+    stick_slip: bool
+
+
+def analyse(run: AsperityRun, settle: float = 0.5) -> Response:
+    """The response after discarding the first ``settle`` fraction (the paper excludes transients)."""
+    if run.status not in ("ok",) or run.time.size < 10:
+        raise InputError(f"the {run.method} run has no settled response to analyse: {run.reason or run.status}")
+    t = run.time
+    start = t[0] + settle * (t[-1] - t[0])
+    sel = t >= start
+    span = t[-1] - start
+    ts, speed = t[sel], run.speed[sel]
+    ratio = -run.friction[sel] / run.normal_force[sel]
+    ratio_d = -run.deformation_friction[sel] / run.normal_force[sel]
+    mean = float(np.trapezoid(ratio, ts) / span)
+    mean_d = float(np.trapezoid(ratio_d, ts) / span)
+    stick = float(np.trapezoid((run.mode[sel] == STICK).astype(float), ts) / span)
+    uniform = np.linspace(start, t[-1], 4096)
+    u = np.interp(uniform, t, run.speed) - np.interp(uniform, t, run.speed).mean()
+    spectrum = np.abs(np.fft.rfft(u * np.hanning(u.size)))
+    freqs = np.fft.rfftfreq(u.size, uniform[1] - uniform[0])
+    dominant = float(freqs[1:][np.argmax(spectrum[1:])]) if u.any() else 0.0
+    loops = _loops(uniform, u, run.model.natural_frequency)
+    summit_rate = run.model.platform_speed / run.model.wavelength
+    return Response(mean, mean_d, stick, (float(speed.min()), float(speed.max())), loops, dominant, summit_rate,
+                    stick > 1e-3)
+
+
+def _loops(times, speed, natural_frequency) -> int:
+    """The smallest n <= 6 with the speed repeating after n natural periods (correlation > 0.98), else 0."""
+    if not np.any(speed):
+        return 0
+    dt = times[1] - times[0]
+    for n in range(1, 7):
+        lag = int(round(n / natural_frequency / dt))
+        if lag >= speed.size // 2:
+            break
+        a, b = speed[:-lag], speed[lag:]
+        if np.std(a) > 0 and np.std(b) > 0 and np.corrcoef(a, b)[0, 1] > 0.98:
+            return n
+    return 0
+
+
+def speed_sweep(model: AsperityModel, speeds, duration: float = 3.0, method: str = "asperity_quasistatic",
+                rtol: float = 1e-7):
+    """m-bar, m-bar_D, stick fraction and loops against platform speed (seed 004 Figs. 5-7), as an xarray Dataset.
+
+    Cells that fail (contact loss, declined, solver failure) carry NaN and their status, never numbers."""
+    import xarray as xr  # heavy: imported where used
+
+    speeds = np.asarray(speeds, float)
+    rows = {k: np.full(speeds.size, np.nan) for k in ("mean_friction", "mean_deformation_friction",
+                                                       "stick_fraction", "loops", "elapsed")}
+    status = []
+    for i, speed in enumerate(speeds):
+        run = simulate(replace(model, platform_speed=float(speed)), duration, method, rtol)
+        status.append(run.status)
+        rows["elapsed"][i] = run.elapsed
+        if run.status == "ok":
+            response = analyse(run)
+            rows["mean_friction"][i] = response.mean_friction
+            rows["mean_deformation_friction"][i] = response.mean_deformation_friction
+            rows["stick_fraction"][i] = response.stick_fraction
+            rows["loops"][i] = response.loops
+    attrs = {"mean_friction": ("1", "time-averaged F_t/F_n (m-bar)"),
+             "mean_deformation_friction": ("1", "time-averaged deformation part (m-bar_D)"),
+             "stick_fraction": ("1", "fraction of time stuck"), "loops": ("1", "response period / natural period"),
+             "elapsed": ("s", "computing time")}
+    data = {k: ("platform_speed", v, {"units": attrs[k][0], "long_name": attrs[k][1]}) for k, v in rows.items()}
+    data["status"] = ("platform_speed", np.array(status, dtype=str))
+    return xr.Dataset(data, coords={"platform_speed": ("platform_speed", speeds, {"units": "m/s"})},
+                      attrs={"title": f"seed 004 speed sweep: {model.name}", "method": method,
+                             "Conventions": "CF-1.8", "wavelength_m": model.wavelength,
+                             "critical_speeds_m_per_s": model.critical_speeds()})
+
+
+def peak_speeds(sweep, variable: str = "mean_deformation_friction") -> np.ndarray:
+    """Speeds of the local maxima of a sweep variable (the paper's Tables II-III), highest first."""
+    values = np.nan_to_num(sweep[variable].values, nan=-np.inf)
+    speeds = sweep["platform_speed"].values
+    inner = np.where((values[1:-1] > values[:-2]) & (values[1:-1] >= values[2:]))[0] + 1
+    return np.sort(speeds[inner])[::-1]
+
+
+# --------------------------------------------------------------------------- method choice and report
+@dataclass
+class AsperityChoice:
+    method: str
+    reason: str
+    estimated_error: float
+
+
+def choose_method(model: AsperityModel, outputs=("response",), tolerance: float = 0.05,
+                  method: str = "auto") -> AsperityChoice:
+    """The cheapest method accurate enough: the closed form for critical speeds alone, the quasi-static
+    integration where contact holds and its declared error meets the tolerance, the full one otherwise."""
+    names = ("auto", *METHODS)
+    if method not in names:
+        raise InputError(f"asperity method must be one of {', '.join(names)}, got {method!r}")
+    if method != "auto":
+        error = {"asperity_wavelength": WAVELENGTH_ERROR, "asperity_quasistatic": QUASISTATIC_ERROR,
+                 "asperity_LSODA": 0.0}[method]
+        return AsperityChoice(method, "requested", error)
+    if set(outputs) <= {"critical_speeds"} and tolerance >= WAVELENGTH_ERROR:
+        return AsperityChoice("asperity_wavelength", "only critical speeds are asked: eqs. (28)-(29) in closed form",
+                              WAVELENGTH_ERROR)
+    loss = model.contact_loss_speed
+    if model.platform_speed < 0.5 * loss and tolerance >= QUASISTATIC_ERROR:
+        return AsperityChoice("asperity_quasistatic", f"v = {model.platform_speed:.3g} m/s is below half the "
+                              f"contact-loss speed {loss:.3g} m/s, and the declared error {QUASISTATIC_ERROR:g} meets "
+                              f"tolerance {tolerance:g}", QUASISTATIC_ERROR)
+    why = (f"tolerance {tolerance:g} is below the quasi-static method's declared error {QUASISTATIC_ERROR:g}"
+           if tolerance < QUASISTATIC_ERROR else
+           f"v = {model.platform_speed:.3g} m/s is within a factor 2 of the contact-loss speed {loss:.3g} m/s")
+    return AsperityChoice("asperity_LSODA", f"{why}: the full six-state integration", 1e-6)
+
+
+def report(model: AsperityModel, run: AsperityRun | None = None, choice: AsperityChoice | None = None,
+           title: str = "faultslip asperity friction (seed 004, Bengisu & Akay 1999)") -> Report:
+    r = Report(title)
+    for key, (value, unit) in model.describe().items():
+        r.add(key, value, unit)
+    r.add("wavelength", model.wavelength, "m", label="lambda, eq. (29) at dh_max = initial approach")
+    for n, speed in enumerate(model.critical_speeds((1, 2, 3)), start=1):
+        r.add(f"critical_speed_{n}", float(speed), "m/s", label=f"v_c{n} = f0 lambda / {n} (eq. 28)")
+    r.add("contact_loss_speed", model.contact_loss_speed, "m/s",
+          label="speed where following the surface needs more than g")
+    if choice is not None:
+        r.add("method", choice.method).add("method_reason", choice.reason, label="why this method")
+        r.add("estimated_error", choice.estimated_error, label="declared error of the method")
+    if run is not None:
+        r.add("status", run.status)
+        if run.reason:
+            r.add("status_reason", run.reason)
+        r.add("duration", float(run.time[-1]) if run.time.size else 0.0, "s")
+        r.add("summits", run.summits, label="summit crossings (families exchanged)")
+        r.add("computing_time", run.elapsed, "s")
+        if run.status == "ok" and run.time.size > 10:
+            response = analyse(run)
+            r.add("mean_friction", response.mean_friction, label="m-bar, last half")
+            r.add("mean_deformation_friction", response.mean_deformation_friction, label="m-bar_D, last half")
+            r.add("stick_fraction", response.stick_fraction, label="fraction of time stuck, last half")
+            r.add("regime", "stick_slip" if response.stick_slip else "sliding (sustained oscillation)")
+            r.add("loops", response.loops, label="response period / natural period (0: not periodic)")
+            r.add("dominant_frequency", response.dominant_frequency, "Hz", label="dominant frequency of x'")
+            r.add("friction_frequency", response.friction_frequency, "Hz", label="f_f = v / lambda (eq. 28)")
+    r.note("choices the paper leaves open (docs/asperity.md): summit exchange, initial state at the adhesive "
+           "equilibrium with equal families at the initial approach, contact density from alpha, rho = 120 um")
+    return r
+
+
+def run_dataset(run: AsperityRun):
+    """The time series as a CF dataset."""
+    import xarray as xr  # heavy: imported where used
+
+    dims = ("time",)
+    variables = {
+        "displacement": (run.states[0], "m", "tangential displacement x"),
+        "speed": (run.states[1], "m/s", "tangential speed x'"),
+        "normal_displacement": (run.states[2], "m", "normal displacement y (0 at first contact)"),
+        "approach": (run.approach, "m", "relative approach dh"),
+        "friction": (run.friction, "N", "friction force F_t(t) (eq. 20)"),
+        "normal_force": (run.normal_force, "N", "normal force F_n(t) (eq. 20)"),
+        "deformation_friction": (run.deformation_friction, "N", "deformation part (A_t/A_n) F_n"),
+        "normal_area": (run.normal_area, "m^2", "real contact area A_n"),
+        "stuck": (run.mode == STICK, "1", "1 while stuck"),
+    }
+    data = {k: (dims, np.asarray(v), {"units": u, "long_name": n}) for k, (v, u, n) in variables.items()}
+    data["stuck"] = (dims, (run.mode == STICK).astype("i1"), {"units": "1", "long_name": "1 while stuck"})
+    return xr.Dataset(data, coords={"time": (dims, run.time, {"units": "s"})},
+                      attrs={"title": f"faultslip asperity run: {run.model.name}", "Conventions": "CF-1.8",
+                             "method": run.method, "status": run.status, "status_reason": run.reason,
+                             **{k: v for k, (v, _) in run.model.describe().items()}})
