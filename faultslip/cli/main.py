@@ -303,6 +303,20 @@ def _vibration_commands(commands) -> None:
     nano.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     nano.add_argument("--json", action="store_true", help="print one JSON object")
     nano.set_defaults(handler="lab:cmd_nanoscale")
+    asperity = commands.add_parser("asperity", help="asperity friction (seed 004): m_D and stick against platform speed")
+    asperity.add_argument("scene", help="asperity scene TOML (e.g. configs/asperity_seed004.toml)")
+    asperity.add_argument("--from", dest="low", default="0.8 mm/s", help="lowest platform speed (default 0.8 mm/s)")
+    asperity.add_argument("--to", dest="high", default="5 mm/s", help="highest platform speed (default 5 mm/s)")
+    asperity.add_argument("--points", type=int, default=43, help="speeds in the sweep (default 43)")
+    asperity.add_argument("--dashpot", help="the tangential damping C, overriding the scene's (200 kg/s: the paper's "
+                                            "averages)")
+    asperity.add_argument("--method", default="asperity_quasistatic",
+                          help="asperity_quasistatic (default) or asperity_LSODA (the six states, ~20x slower)")
+    asperity.add_argument("-o", "--output", help="write the sweep to this netCDF file")
+    asperity.add_argument("--plot", help="draw m_D and the stick fraction against speed (Figs. 6-7)")
+    asperity.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    asperity.add_argument("--json", action="store_true", help="print one JSON object")
+    asperity.set_defaults(handler="lab:cmd_asperity")
 
 
 def _rate_state_commands(commands) -> None:

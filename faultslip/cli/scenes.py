@@ -28,6 +28,12 @@ from faultslip.io.catalogs import QUAKEML_SUFFIXES, parse_time, write_quakeml
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES, check_output
 from faultslip.io.waveforms import MAX_SAMPLES, STREAM_SUFFIXES, build_stream, sac_path, write_stream
+from faultslip.dynamics.asperity import choose_method as asperity_choose
+from faultslip.dynamics.asperity import report as asperity_report
+from faultslip.dynamics.asperity import run_dataset as asperity_dataset
+from faultslip.dynamics.asperity import simulate as asperity_simulate
+from faultslip.lab.asperity_scene import is_asperity_scene, load_asperity_scene
+from faultslip.plots.asperity import response_figure as asperity_response_figure
 from faultslip.lab.nanoscale_scene import is_nanoscale_scene, load_nanoscale_scene
 from faultslip.lab.rough_slider import is_rough_scene, load_rough_scene
 from faultslip.lab.vibration_scene import is_vibration_scene, load_vibration_scene
@@ -53,6 +59,8 @@ _FAULT_QUANTITIES = {
 
 def cmd_run(args) -> int:
     tolerance = _tolerance(args)
+    if args.scene is not None and is_asperity_scene(args.scene):
+        return _run_asperity(args, tolerance)
     if args.scene is not None and is_nanoscale_scene(args.scene):
         return _run_nanoscale(args, tolerance)
     if args.scene is not None and is_vibration_scene(args.scene):
@@ -77,6 +85,36 @@ def _run_nanoscale(args, tolerance) -> int:
            if choice.method == "nanoscale_LSODA" else None)
     report = nanoscale_report(model, run, choice, f"faultslip nanoscale scene: {notes['name']}")
     _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    return _emit(report, args.json)
+
+
+def _run_asperity(args, tolerance) -> int:
+    """An asperity scene (seed 004): critical speeds in closed form, the response where it is asked."""
+    model, settings, notes = load_asperity_scene(args.scene)
+    choice = asperity_choose(model, ("response",), tolerance or settings["tolerance"], args.method or settings["method"])
+    run = (asperity_simulate(model, settings["duration"], choice.method)
+           if choice.method != "asperity_wavelength" else None)
+    report = asperity_report(model, run, choice, f"faultslip asperity scene (seed 004): {notes['name']}")
+    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    return _emit(report, args.json)
+
+
+def _simulate_asperity(args) -> int:
+    """An asperity scene's time series, its report and the seed 004 response figure."""
+    _refuse_seed_law_flags(args, "an asperity scene sets its run in [run] duration and its method in [method]")
+    model, settings, notes = load_asperity_scene(args.scene)
+    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
+    choice = asperity_choose(model, ("response", "time_series"), settings["tolerance"], settings["method"])
+    if choice.method == "asperity_wavelength":
+        raise InputError("asperity_wavelength gives critical speeds only; a simulation needs asperity_quasistatic "
+                         "or asperity_LSODA in [method] name")
+    run = asperity_simulate(model, settings["duration"], choice.method)
+    report = asperity_report(model, run, choice, f"faultslip asperity simulation (seed 004): {notes['name']}")
+    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    if run.status != "ok":
+        raise FaultslipError(f"{choice.method} did not finish {notes['name']}: {run.reason}")
+    _save_run(report, outputs, args, asperity_dataset(run) if outputs["output"] else None,
+              lambda: asperity_response_figure(run), "time series", "seed 004 response panels")
     return _emit(report, args.json)
 
 
@@ -277,6 +315,8 @@ def cmd_methods(args) -> int:
 
 
 def cmd_simulate(args) -> int:
+    if is_asperity_scene(args.scene):
+        return _simulate_asperity(args)
     if is_nanoscale_scene(args.scene):
         return _simulate_nanoscale(args)
     if is_vibration_scene(args.scene):
