@@ -272,3 +272,13 @@ def test_cli_bad_input_exits_2_with_one_sentence(cli, args, match):
     assert result.code == 2
     assert "Traceback" not in result.err
     assert any(token in result.err for token in match.split("|"))
+
+
+def test_integrator_map_names_contact_loss_and_declines():
+    from faultslip.evaluation.asperity_map import OUTCOMES, asperity_map
+
+    grid = asperity_map([3.6e-3, 0.4], [0.1], duration=0.05)
+    outcome = lambda method: [OUTCOMES[c] for c in grid["outcome"].sel({"method": method}).values[0]]  # noqa: E731
+    assert outcome("asperity_quasistatic") == ["sliding", "declined"]
+    assert outcome("asperity_LSODA") == ["sliding", "contact_lost"]
+    assert np.isnan(grid["stick_fraction"].sel({"method": "asperity_LSODA"}).values[0, 1])  # no numbers past failure

@@ -12,6 +12,7 @@ from faultslip.dynamics.averaging import (amplitude_against_speed, amplitude_tab
                                           regions, settled_amplitude)
 from faultslip.dynamics.averaging import report as averaging_report
 from faultslip.dynamics.asperity import peak_speeds, speed_sweep
+from faultslip.evaluation.asperity_map import OUTCOMES, asperity_map
 from faultslip.dynamics.asperity import report as asperity_report
 from faultslip.dynamics.nanoscale import choose_method
 from faultslip.dynamics.nanoscale import report as nanoscale_report
@@ -27,6 +28,7 @@ from faultslip.lab.rate_state_fit import fit_velocity_steps, read_step_record
 from faultslip.lab.asperity_scene import load_asperity_scene
 from faultslip.lab.nanoscale_scene import load_nanoscale_scene
 from faultslip.io.netcdf import write_dataset
+from faultslip.plots.asperity import map_figure as asperity_map_figure
 from faultslip.plots.asperity import sweep_figure as asperity_sweep_figure
 from faultslip.lab.vibration_scene import load_vibration_scene
 from faultslip.lab.classroom import analyse as analyse_classroom
@@ -235,6 +237,10 @@ def cmd_nanoscale(args) -> int:
     return _emit(report, args.json)
 
 
+MAP_SPEEDS = (1e-3, 3.6e-3, 0.03, 0.1, 0.2, 0.3, 0.45, 0.7)
+MAP_SLOPE_STDS = (0.1, 0.2, 0.3)
+
+
 def cmd_asperity(args) -> int:
     """Seed 004: a speed sweep of the asperity slider (m_D, stick, loops), its peaks against eqs. (28)-(29)."""
     model, settings, notes = load_asperity_scene(args.scene)
@@ -248,7 +254,8 @@ def cmd_asperity(args) -> int:
         model = replace(model, dashpot=to_si(args.dashpot, "damping", "--dashpot", "N*s/m"))
     if args.method not in ("asperity_quasistatic", "asperity_LSODA"):
         raise InputError(f"--method must be asperity_quasistatic or asperity_LSODA, got {args.method!r}")
-    paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
+    paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
+                            "map": ("--map", FIGURE_SUFFIXES)}, [args.scene])
     replace(model, platform_speed=low), replace(model, platform_speed=high)  # both ends validated before work
     speeds = np.linspace(low, high, count)
     sweep = speed_sweep(model, speeds, duration=settings["duration"], method=args.method)
@@ -263,7 +270,17 @@ def cmd_asperity(args) -> int:
     if failed:
         report.add("failed_cells", failed, label="cells without a result, by reason")
     report.add("computing_time", float(sweep["elapsed"].sum()), "s")
-    with _locked(paths["output"], paths["plot"]):
+    if paths["map"]:  # where each integrator works, over speed and slope spread (~30 s)
+        grid = asperity_map(MAP_SPEEDS, MAP_SLOPE_STDS, replace(model, dashpot=200.0), duration=0.2)
+        report.section("Integrator map (C = 200 kg/s)")
+        for method in grid["method"].values:
+            codes = grid["outcome"].sel({"method": method}).values.ravel()
+            report.add(f"map_{method}", {OUTCOMES[c]: int((codes == c).sum()) for c in sorted(set(codes))},
+                       label=f"{method}: cells by outcome")
+    with _locked(paths["output"], paths["plot"], paths["map"]):
+        if paths["map"]:
+            save_figure(asperity_map_figure(grid), paths["map"])
+            report.note(f"integrator map written to {args.map}")
         if paths["output"]:
             write_dataset(sweep, paths["output"])
             report.note(f"sweep written to {args.output}")

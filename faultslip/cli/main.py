@@ -314,6 +314,8 @@ def _vibration_commands(commands) -> None:
                           help="asperity_quasistatic (default) or asperity_LSODA (the six states, ~20x slower)")
     asperity.add_argument("-o", "--output", help="write the sweep to this netCDF file")
     asperity.add_argument("--plot", help="draw m_D and the stick fraction against speed (Figs. 6-7)")
+    asperity.add_argument("--map", help="also draw where each integrator works, over speed (1 mm/s-0.7 m/s) and "
+                                        "slope spread (0.1-0.3), contact loss marked (~30 s)")
     asperity.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     asperity.add_argument("--json", action="store_true", help="print one JSON object")
     asperity.set_defaults(handler="lab:cmd_asperity")

@@ -67,3 +67,29 @@ def sweep_figure(sweeps, labels):
         axis.grid(True, alpha=0.3)
         axis.legend(fontsize=8)
     return figure
+
+
+def map_figure(dataset, contact_loss_speeds=None):
+    """One panel per method: the outcome of each (slope spread, speed) cell, failures named."""
+    from matplotlib.colors import ListedColormap
+
+    from faultslip.evaluation.asperity_map import OUTCOMES
+
+    plt = _pyplot()
+    methods = list(dataset["method"].values)
+    figure, axes = plt.subplots(1, len(methods), figsize=(5.2 * len(methods), 3.8), constrained_layout=True,
+                                squeeze=False)
+    colours = ListedColormap(["#2ca02c", "#9ecae1", "#d62728", "#bdbdbd", "#ff7f0e", "#9467bd"])
+    speeds = dataset["platform_speed"].values
+    spreads = dataset["slope_std"].values
+    for axis, method in zip(axes[0], methods):
+        codes = dataset["outcome"].sel({"method": method}).values
+        axis.pcolormesh(np.arange(speeds.size + 1), np.arange(spreads.size + 1), codes, cmap=colours, vmin=-0.5,
+                        vmax=len(OUTCOMES) - 0.5)
+        axis.set_xticks(np.arange(speeds.size) + 0.5, [f"{v * 1e3:.3g}" for v in speeds], rotation=60, fontsize=7)
+        axis.set_yticks(np.arange(spreads.size) + 0.5, [f"{s:g}" for s in spreads])
+        axis.set(xlabel="platform speed (mm/s)", ylabel="slope standard deviation s", title=method)
+    handles = [plt.Rectangle((0, 0), 1, 1, color=colours(i)) for i in range(len(OUTCOMES))]
+    figure.legend(handles, OUTCOMES, loc="outside lower center", ncol=len(OUTCOMES), fontsize=8)
+    figure.suptitle("seed 004: where each integrator works (red: contact lost, grey: declined)")
+    return figure
