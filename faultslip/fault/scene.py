@@ -440,6 +440,22 @@ def scene_document(argument) -> dict | None:
         return None
 
 
+def has_friction_law(argument, law: str) -> bool:
+    """Whether a scene argument's ``[friction]`` names ``law``; False for anything unreadable."""
+    friction = (scene_document(argument) or {}).get("friction")
+    return isinstance(friction, dict) and friction.get("law") == law
+
+
+def load_law_scene(path, what: str, parser):
+    """Resolve, read and parse a scene of one friction law with ``parser(text, source)``; the bundled origin,
+    if any, goes into the notes (the parser's third result)."""
+    path, origin = resolve_path(path, what)
+    model, settings, notes = parser(read_text_file(path, what), path.name)
+    if origin:
+        notes["origin"] = origin
+    return model, settings, notes
+
+
 def bundled_scenes() -> list[str]:
     """Bundled scene files (configs/ also holds studies and maps, which are not scenes)."""
     return sorted(p.name for p in bundled_dir("configs").glob("*.toml")

@@ -37,7 +37,7 @@ from pathlib import Path
 
 from faultslip.dynamics.asperity import METHODS, AsperityModel
 from faultslip.errors import InputError
-from faultslip.fault.scene import read_text_file, resolve_path, scene_document
+from faultslip.fault.scene import has_friction_law, load_law_scene
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar
 
@@ -91,14 +91,10 @@ def parse_asperity_scene(text: str, source: str = "<scene>") -> tuple[AsperityMo
 
 
 def load_asperity_scene(path):
-    path, origin = resolve_path(path, "asperity scene")
-    model, settings, notes = parse_asperity_scene(read_text_file(path, "asperity scene"), path.name)
-    if origin:
-        notes["origin"] = origin
-    return model, settings, notes
+    return load_law_scene(path, "asperity scene", parse_asperity_scene)
 
 
 def is_asperity_scene(argument) -> bool:
-    """Whether a scene argument names an asperity scene; False for anything unreadable."""
-    friction = (scene_document(argument) or {}).get("friction")
-    return isinstance(friction, dict) and friction.get("law") == "asperity"
+    """Whether a scene argument names a asperity scene (``[friction] law = "asperity"``); False for anything unreadable,
+    which the seed-law scene reader then reports."""
+    return has_friction_law(argument, "asperity")

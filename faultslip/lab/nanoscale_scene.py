@@ -29,7 +29,7 @@ from pathlib import Path
 
 from faultslip.dynamics.nanoscale import NANOSCALE_METHODS, NanoscaleModel
 from faultslip.errors import InputError
-from faultslip.fault.scene import read_text_file, resolve_path, scene_document
+from faultslip.fault.scene import has_friction_law, load_law_scene
 from faultslip.io.resources import check_toml_layout, parse_toml
 
 _SLIDER = {"damping", "drive_speed"}
@@ -70,15 +70,10 @@ def parse_nanoscale_scene(text: str, source: str = "<scene>") -> tuple[Nanoscale
 
 
 def load_nanoscale_scene(path):
-    path, origin = resolve_path(path, "nanoscale scene")
-    model, settings, notes = parse_nanoscale_scene(read_text_file(path, "nanoscale scene"), path.name)
-    if origin:
-        notes["origin"] = origin
-    return model, settings, notes
+    return load_law_scene(path, "nanoscale scene", parse_nanoscale_scene)
 
 
 def is_nanoscale_scene(argument) -> bool:
-    """Whether a scene argument names a nanoscale scene (``[friction] law = "nanoscale"``); False for anything
-    unreadable, which the seed-law scene reader then reports."""
-    friction = (scene_document(argument) or {}).get("friction")
-    return isinstance(friction, dict) and friction.get("law") == "nanoscale"
+    """Whether a scene argument names a nanoscale scene (``[friction] law = "nanoscale"``); False for anything unreadable,
+    which the seed-law scene reader then reports."""
+    return has_friction_law(argument, "nanoscale")

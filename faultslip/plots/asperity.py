@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from faultslip.dynamics.asperity import STICK, analyse
+from faultslip.evaluation.asperity_map import OUTCOMES
 from faultslip.plots.figures import _pyplot
 
 
@@ -71,9 +72,7 @@ def sweep_figure(sweeps, labels):
 
 def map_figure(dataset, contact_loss_speeds=None):
     """One panel per method: the outcome of each (slope spread, speed) cell, failures named."""
-    from matplotlib.colors import ListedColormap
-
-    from faultslip.evaluation.asperity_map import OUTCOMES
+    from matplotlib.colors import ListedColormap  # heavy: matplotlib is imported only when drawing
 
     plt = _pyplot()
     methods = list(dataset["method"].values)
