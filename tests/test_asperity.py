@@ -282,3 +282,31 @@ def test_integrator_map_names_contact_loss_and_declines():
     assert outcome("asperity_quasistatic") == ["sliding", "declined"]
     assert outcome("asperity_LSODA") == ["sliding", "contact_lost"]
     assert np.isnan(grid["stick_fraction"].sel({"method": "asperity_LSODA"}).values[0, 1])  # no numbers past failure
+
+
+_VALUES = st.one_of(st.floats(allow_nan=True), st.integers(-10**30, 10**30), st.booleans(),
+                    st.sampled_from(['"3.6 mm/s"', '"60 um"', '"9.8 MPa"', '"1 kg"', '"abc"', '"1e999 m"', '[1, 2]',
+                                     '"-1 Hz"', '{a = 1}', '""']))
+_KEYS = st.sampled_from(["mass", "natural_frequency", "dashpot", "platform_speed", "slope_std", "shear_strength",
+                         "pressure_coefficient", "asperity_radius", "slope_radius", "contact_length", "slope_cutoff",
+                         "initial_approach", "table_case", "summit_exchange", "loss_factor", "duration"])
+
+
+@given(st.lists(st.tuples(_KEYS, _VALUES), max_size=4), st.binary(max_size=20))
+@settings(max_examples=200, deadline=None)
+def test_scene_reader_fuzz_gives_models_or_one_sentence(entries, noise):
+    lines = ["[friction]", 'law = "asperity"']
+    for key, value in entries:
+        rendered = repr(value).lower() if isinstance(value, (bool, float, int)) else value
+        if isinstance(value, float):
+            rendered = {"nan": "nan", "inf": "inf", "-inf": "-inf"}.get(repr(value), repr(value))
+        table = "run" if key == "duration" else ("slider" if key in ("mass", "natural_frequency", "dashpot",
+                                                                      "platform_speed") else "friction")
+        lines.append(f"[{table}]\n{key} = {rendered}" if table != "friction" else f"{key} = {rendered}")
+    text = "\n".join(lines) + "\n" + noise.decode("latin-1")
+    try:
+        model, _, _ = parse_asperity_scene(text)
+    except InputError as error:
+        assert "\n" not in str(error).strip()
+    else:
+        assert model.platform_speed > 0 and model.initial_approach > model.slope_cutoff
