@@ -56,3 +56,6 @@ def save_figure(figure, path, **kwargs) -> None:
     fmt = target.suffix.lstrip(".").lower() or "png"
     with atomic_path(target) as temporary:
         figure.savefig(temporary, format=fmt, **kwargs)
+    import matplotlib.pyplot as plt  # heavy: matplotlib only once a figure exists
+
+    plt.close(figure)  # a saved figure is done with; pyplot would otherwise keep every one open
