@@ -256,7 +256,8 @@ def cmd_asperity(args) -> int:
         raise InputError(f"--method must be asperity_quasistatic or asperity_LSODA, got {args.method!r}")
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                             "map": ("--map", FIGURE_SUFFIXES)}, [args.scene])
-    replace(model, platform_speed=low), replace(model, platform_speed=high)  # both ends validated before work
+    for speed in (low, high):  # the model refuses an out-of-range speed before any cell runs
+        replace(model, platform_speed=speed)
     speeds = np.linspace(low, high, count)
     sweep = speed_sweep(model, speeds, duration=settings["duration"], method=args.method)
     report = asperity_report(model, None, None, f"faultslip asperity speed sweep (seed 004): {notes['name']}")

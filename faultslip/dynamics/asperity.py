@@ -271,13 +271,12 @@ class _QuasiStaticSystem(_FullSystem):
         z, dz, z2 = m.slope(state[2])
         area = m.weight / (self.k_area * (1.0 + 0.25 * z2))
         share = math.tanh(0.5 * state[3])
-        tangential = z * share * area
         force = m.weight
         deformation_friction = z * share * force
         capacity = m.shear_strength * area + m.pressure_coefficient * force
         log_rate = 2.0 * z * sliding_speed / (self.alpha * (1.0 + z * z))
         approach_rate = -z * sliding_speed * share / (1.0 - self.alpha * z * dz)
-        return force, deformation_friction, capacity, 0.0 * tangential, log_rate, approach_rate, area
+        return force, deformation_friction, capacity, 0.0, log_rate, approach_rate, area
 
     def rhs(self, t, state, mode):
         m = self.m
@@ -395,16 +394,13 @@ def simulate(model: AsperityModel, duration: float = 6.0, method: str = "asperit
         if sol.status < 0 or not np.all(np.isfinite(sol.y)):
             status, reason = "solver_failure", f"{solver} failed at t = {t:.4g} s: {sol.message}"
             break
-        end = sol.y_events and any(e.size for e in sol.t_events)
-        state = (sol.y_events[[e.size > 0 for e in sol.t_events].index(True)][0].copy() if end
-                 else sol.y[:, -1].copy())
-        t_end = sol.t_events[[e.size > 0 for e in sol.t_events].index(True)][0] if end else sol.t[-1]
-        pieces.append((np.append(sol.t, t_end) if end else sol.t, np.column_stack([sol.y, state]) if end else sol.y,
-                       mode))
-        t = float(t_end)
-        if not end:
+        which = next((i for i, times in enumerate(sol.t_events) if times.size), None)
+        if which is None:  # reached the end of the run
+            pieces.append((sol.t, sol.y, mode))
+            t = float(sol.t[-1])
             break
-        which = [e.size > 0 for e in sol.t_events].index(True)
+        state, t = sol.y_events[which][0].copy(), float(sol.t_events[which][0])
+        pieces.append((np.append(sol.t, t), np.column_stack([sol.y, state]), mode))
         if which == 2:
             status = "contact_lost"
             reason = (f"contact lost at t = {t:.4g} s: the normal contact force F_n(t) reaches zero, so the block "
