@@ -271,6 +271,9 @@ class QuasiHarmonicAveraging(Method):
                                                 "time series")
         if system.static_excess is None:
             return Assessment(self.name, False, "static friction depends on the time of stick")
+        if getattr(system.kinetic_law, "holds_peak", False):
+            return Assessment(self.name, False, "friction depends on the slip's history (separation held past the "
+                                                "peak speed); averaging needs a curve mu(u)")
         if system.static_excess <= 0:
             return Assessment(self.name, False, "mu_s does not exceed mu_m: no break-away to start from")
         averaged = averaging.from_slider(system)

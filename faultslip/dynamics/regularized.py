@@ -40,6 +40,10 @@ class RegularizedFriction:
         if excess is None:
             raise SolverError("regularised friction: the time-of-stick law has no fixed static limit; "
                               "use the event-driven simulator")
+        if getattr(system.kinetic_law, "holds_peak", False):
+            raise SolverError("regularised friction: the kinetic law remembers the slip's peak speed (surfaces held "
+                              "apart through the deceleration), which a smooth mu(u) cannot; use the event-driven "
+                              "simulator")
         self.kinetic = system.kinetic_law
         self.width = width
         self.decay = stribeck_factor * width

@@ -47,7 +47,7 @@ class _BadFriction(Exception):
 class SlipOutcome:
     """One slip phase: samples, end state and per-event quantities (SI, local time)."""
 
-    __slots__ = ("times", "x", "v", "duration", "x_end", "x_max", "x_min", "v_min", "regime", "evaluations")
+    __slots__ = ("times", "x", "v", "friction", "duration", "x_end", "x_max", "x_min", "v_min", "regime", "evaluations")
 
     def __init__(self, **kw):
         for key in self.__slots__:
@@ -121,6 +121,12 @@ def _analytic_slip(system, x_break, samples, horizon_periods):
 
 
 def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_periods, budget, counter):
+    """One slip phase by a scipy integrator, in sub-phases when the kinetic law remembers the slip.
+
+    A law with ``holds_peak`` (friction after the fastest moment depends on that peak, e.g. surfaces
+    held apart through the deceleration) is integrated up to the first maximum of the sliding speed
+    with mu(u), then with ``after_peak``; should the speed exceed the peak again, afresh.
+    """
     from scipy.integrate import solve_ivp  # heavy: imported where used
 
     K, W, C, eta, V = system.stiffness, system.normal_load, system.dashpot, system.radiation_damper, system.platform_speed
@@ -128,6 +134,13 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
     speed_scale = omega_n * W / K  # velocity of one unit of Y
     kinetic = system.kinetic_law
     y_v = V / speed_scale
+    memory = bool(getattr(kinetic, "holds_peak", False))
+
+    def unheld(s, sliding):
+        return kinetic(sliding)
+
+    friction = [unheld]  # mu(s, sliding) of the current sub-phase
+    peak = [math.inf]  # the sliding speed at which the current hold began
 
     def rhs(s, state):
         counter[0] += 1
@@ -135,14 +148,18 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
             raise _BudgetExceeded
         velocity = state[1] * speed_scale
         sliding = V - velocity
-        mu = kinetic(sliding)
+        mu = friction[0](s, sliding)
         if not (mu >= 0 and np.isfinite(mu)):  # also catches a diverging solution (inf, NaN)
             raise _BadFriction(sliding, mu)
         return [state[1], mu + (eta * sliding - C * velocity) / W - state[0]]
 
     def jacobian(s, state):
         sliding = V - state[1] * speed_scale
-        dmu = float(kinetic.derivative(sliding))
+        if friction[0] is unheld:
+            dmu = float(kinetic.derivative(sliding))
+        else:  # the held friction, by a central difference
+            step = 1e-7 * max(1.0, abs(sliding))
+            dmu = float(friction[0](s, sliding + step) - friction[0](s, sliding - step)) / (2 * step)
         return [[0.0, 1.0], [-1.0, -(dmu * speed_scale) - (eta + C) * speed_scale / W]]
 
     def end_of_slip(s, state):
@@ -156,62 +173,151 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
 
     def fastest(s, state):  # x'' = 0: the velocity extrema, for the peak sliding speed
         sliding = V - state[1] * speed_scale
-        return float(kinetic(sliding)) + (eta * sliding - C * state[1] * speed_scale) / W - state[0]
+        return float(friction[0](s, sliding)) + (eta * sliding - C * state[1] * speed_scale) / W - state[0]
+
+    def peaked(s, state):  # the sliding speed's maximum: the hold begins
+        return fastest(s, state)
+
+    peaked.terminal = True
+    peaked.direction = 1
+
+    def beyond_peak(s, state):  # clearly faster than the held peak: a new, higher peak is to be found
+        # The peak's located position is off by the event tolerance, so the speed may creep past it; the held
+        # law takes max(peak, u) and stays continuous, and only a rise of 1e-6 ends the hold.
+        return V - state[1] * speed_scale - peak[0] * (1 + 1e-6)
+
+    beyond_peak.terminal = True
+    beyond_peak.direction = 1
 
     excess = system.static_excess if system.static_excess is not None else abs(float(kinetic(0.0)))
     scale = max(excess if excess else 0.0, 1e-6)
     options = dict(method=solver, rtol=rtol, atol=atol if atol is not None else rtol * 1e-3 * scale,
-                   dense_output=True, events=[end_of_slip, at_rest, fastest])
+                   dense_output=True)
     if solver in ("Radau", "BDF", "LSODA"):
         options["jac"] = jacobian
     start = [K * x_break / W, y_v]
-    try:
-        solution = solve_ivp(rhs, (0.0, 2 * np.pi * horizon_periods), start, **options)
-    except _BadFriction as bad:
-        raise SolverError(
-            f"simulate ({solver}): the kinetic law of {system.name} gives friction {float(bad.mu):.3g} at sliding "
-            f"speed {float(bad.sliding):.3g} m/s; friction must stay finite and non-negative, so the law is used "
-            "outside its valid speed range (the slip runs away); limit its velocity weakening or add damping"
-        ) from None
-    except _BudgetExceeded:
-        raise SolverError(
-            f"simulate ({solver}, rtol={rtol:g}): budget of {budget} function evaluations exceeded in a slip phase "
-            f"of {system.name}; use the exact cycle for linear laws, a looser rtol, or a larger budget"
-        ) from None
-    if solution.status == -1:
-        raise SolverError(
-            f"simulate ({solver}, rtol={rtol:g}) failed in a slip phase of {system.name}: {solution.message} "
-            "Try a stiff method (Radau, LSODA) or a looser rtol."
-        )
-    ended = solution.status == 1 and solution.t_events[0].size > 0
+    horizon = 2 * np.pi * horizon_periods
+    pieces, rests, extrema = [], [], []  # (solution, friction) per sub-phase; x extrema; velocity extrema
+    s_now, state_now, evaluations, ended = 0.0, start, 0, False
+    while True:
+        held = friction[0] is not unheld
+        events = [end_of_slip, at_rest, fastest] + ([beyond_peak] if held else [peaked] if memory else [])
+        try:
+            solution = solve_ivp(rhs, (s_now, horizon), state_now, events=events, **options)
+        except _BadFriction as bad:
+            raise SolverError(
+                f"simulate ({solver}): the kinetic law of {system.name} gives friction {float(bad.mu):.3g} at sliding "
+                f"speed {float(bad.sliding):.3g} m/s; friction must stay finite and non-negative, so the law is used "
+                "outside its valid speed range (the slip runs away); limit its velocity weakening or add damping"
+            ) from None
+        except _BudgetExceeded:
+            raise SolverError(
+                f"simulate ({solver}, rtol={rtol:g}): budget of {budget} function evaluations exceeded in a slip phase "
+                f"of {system.name}; use the exact cycle for linear laws, a looser rtol, or a larger budget"
+            ) from None
+        if solution.status == -1:
+            raise SolverError(
+                f"simulate ({solver}, rtol={rtol:g}) failed in a slip phase of {system.name}: {solution.message} "
+                "Try a stiff method (Radau, LSODA) or a looser rtol."
+            )
+        evaluations += solution.nfev
+        ended = solution.status == 1 and solution.t_events[0].size > 0
+        s_stop = float(solution.t_events[0][0]) if ended else float(solution.t[-1])
+        missed = _missed_end(solution, s_now, y_v, options["atol"])
+        if missed is not None and missed < s_stop:
+            ended, s_stop = True, missed
+        before = [times <= s_stop for times in solution.t_events]
+        rests.append(solution.y_events[1][before[1], 0] if solution.t_events[1].size else np.array([]))
+        extrema.append(solution.y_events[2][before[2], 1] if solution.t_events[2].size else np.array([]))
+        switch = solution.status == 1 and len(events) == 4 and solution.t_events[3].size > 0
+        if ended:  # the phase's end: cut the dense output there
+            pieces.append((solution, friction[0], s_now, s_stop))
+            end_state = solution.sol(s_stop) if missed == s_stop else solution.y_events[0][0]
+            break
+        pieces.append((solution, friction[0], s_now, float(solution.t[-1])))
+        if not switch:
+            break
+        s_now, state_now = float(solution.t_events[3][0]), solution.y_events[3][0]
+        if held:
+            friction[0], peak[0] = unheld, math.inf
+        else:
+            top, since = V - state_now[1] * speed_scale, s_now
+
+            def hold(s, sliding, top=top, since=since):
+                return kinetic.after_peak(top, (s - since) / omega_n, sliding)
+
+            friction[0], peak[0] = hold, top
+
+    def sample(s):
+        """States and friction at local times ``s`` across the sub-phases."""
+        ends = np.array([piece[3] for piece in pieces])
+        which = np.minimum(np.searchsorted(ends, s, side="left"), len(pieces) - 1)
+        states = np.empty((2, s.size))
+        mu = np.empty(s.size)
+        for index, (solution, law, _, _) in enumerate(pieces):
+            chosen = which == index
+            if np.any(chosen):
+                states[:, chosen] = solution.sol(s[chosen])
+                mu[chosen] = [float(law(si, V - yi * speed_scale)) for si, yi in zip(s[chosen], states[1, chosen])] \
+                    if law is not unheld else kinetic(V - states[1, chosen] * speed_scale)
+        return states, mu
+
     if not ended:
-        x_scaled, y_scaled = solution.y[:, -1]
-        equilibrium = float(kinetic(V)) + eta * V / W
+        last_solution, last_law, _, s_last = pieces[-1]
+        x_scaled, y_scaled = last_solution.y[:, -1]
+        equilibrium = float(last_law(s_last, V)) + eta * V / W
         initial = math.hypot(start[0] - equilibrium, start[1])
         final = math.hypot(x_scaled - equilibrium, y_scaled)
         # decaying (even slowly, e.g. zeta = 0.01 over the horizon) -> steady sliding; a limit
         # cycle that keeps its size without sticking -> sustained (quasi-harmonic) oscillation
         regime = STEADY_SLIDING if final < 0.1 * initial else SUSTAINED_OSCILLATION
-        s = np.linspace(0.0, solution.t[-1], max(samples, 40 * horizon_periods))
-        states = solution.sol(s)
-        return SlipOutcome(times=s / omega_n, x=states[0] * W / K, v=states[1] * speed_scale, duration=np.inf,
-                           regime=regime, evaluations=solution.nfev)
-    s_end = float(solution.t_events[0][0])
-    end_state = solution.y_events[0][0]
+        s = np.linspace(0.0, s_last, max(samples, 40 * horizon_periods))
+        states, mu = sample(s)
+        return SlipOutcome(times=s / omega_n, x=states[0] * W / K, v=states[1] * speed_scale, friction=mu,
+                           duration=np.inf, regime=regime, evaluations=evaluations)
+    s_end = pieces[-1][3]
     s = np.linspace(0.0, s_end, samples)
-    states = solution.sol(s)
+    states, mu = sample(s)
     x = states[0] * W / K
     v = states[1] * speed_scale
     x[-1], v[-1] = end_state[0] * W / K, V
-    rests = solution.y_events[1][:, 0] * W / K if solution.t_events[1].size else np.array([])
-    candidates = np.concatenate([x, rests])
-    extrema = solution.y_events[2][:, 1] if solution.t_events[2].size else np.array([])
-    velocity_min = float(min(np.min(states[1]), np.min(extrema, initial=np.inf))) * speed_scale
+    candidates = np.concatenate([x] + [r * W / K for r in rests])
+    velocity_min = float(min(np.min(states[1]), np.min(np.concatenate(extrema), initial=np.inf))) * speed_scale
     # negative net damping: the slip oscillation grows (same label as the exact cycle)
     regime = GROWING_OSCILLATION if system.damping_ratio < 0 else STICK_SLIP
-    return SlipOutcome(times=s / omega_n, x=x, v=v, duration=s_end / omega_n, x_end=float(end_state[0] * W / K),
-                       x_max=float(candidates.max()), x_min=float(candidates.min()), v_min=velocity_min,
-                       regime=regime, evaluations=solution.nfev)
+    return SlipOutcome(times=s / omega_n, x=x, v=v, friction=mu, duration=s_end / omega_n,
+                       x_end=float(end_state[0] * W / K), x_max=float(candidates.max()), x_min=float(candidates.min()),
+                       v_min=velocity_min, regime=regime, evaluations=evaluations)
+
+
+def _missed_end(solution, s_from, y_v, tolerance):
+    """The end of slip (x' back up to V) that the event search stepped over, or None.
+
+    A sign change is looked for only between steps, so a crossing that is nearly a tangency (the
+    velocity just touching V at its maximum, as when mu(0) = mu_s) can fall inside one step and be
+    missed; the slip would then run on for whole extra periods. The velocity's extrema are found
+    reliably (x'' changes sign transversally): the first maximum at or above V, to the integrator's
+    tolerance, proves a crossing since the extremum before it, which is found on the dense output.
+    """
+    from scipy.optimize import brentq  # heavy: imported where used
+
+    times, states = solution.t_events[2], solution.y_events[2]
+    if times.size == 0:
+        return None
+    later = times > s_from + 1e-12 * max(1.0, abs(s_from))  # an extremum at the very start is the break-away itself
+    above = np.flatnonzero(later & (states[:, 1] >= y_v - tolerance))
+    if not above.size:
+        return None
+    s_top = float(times[above[0]])
+    previous = times[later & (times < s_top)]
+    s_low = float(previous[-1]) if previous.size else s_from
+
+    def gap(s):
+        return float(solution.sol(s)[1]) - y_v
+
+    if gap(s_top) <= 0 or gap(s_low) >= 0:
+        return s_top  # a tangency to within tolerance
+    return brentq(gap, s_low, s_top, xtol=1e-14 * max(1.0, s_top), rtol=4 * np.finfo(float).eps)
 
 
 def simulate(
@@ -303,8 +409,8 @@ def _stick_segment(system, t, x, stick):
 
 def _slip_segment(system, t, slip):
     sliding = system.platform_speed - slip.v[1:]
-    return (t + slip.times[1:], slip.x[1:], slip.v[1:],
-            system.normal_load * np.asarray(system.kinetic_law(sliding), dtype=float),
+    mu = slip.friction[1:] if slip.friction is not None else system.kinetic_law(sliding)
+    return (t + slip.times[1:], slip.x[1:], slip.v[1:], system.normal_load * np.asarray(mu, dtype=float),
             np.ones(len(slip.times) - 1, dtype=np.int8))
 
 

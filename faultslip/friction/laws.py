@@ -312,3 +312,102 @@ class CallableKinetic:
         u = np.asarray(sliding_speed, dtype=float)
         h = step * np.maximum(1.0, np.abs(u))
         return (self.function(u + h) - self.function(np.maximum(u - h, 0.0))) / (u + h - np.maximum(u - h, 0.0))
+
+
+#: How the surfaces' separation follows the sliding speed (see :class:`SeparatingSurfacesKinetic`).
+SEPARATION_MEMORIES = ("none", "held", "falling")
+STANDARD_GRAVITY = 9.80665  # m/s^2
+
+
+@dataclass(frozen=True)
+class SeparatingSurfacesKinetic:
+    """Friction of rough surfaces that part as they slide, with the separation's memory of the slip.
+
+    Sliding at speed u parts the surfaces by h = k_h |u| (seed 000 eq. 27; k_h = c RMS in its addendum
+    AD1.3, c h0 in chapter 5), and friction is a function of the separation, mu = f(h). How h follows
+    the slip is the ``memory``:
+
+    - ``"none"``: h = k_h |u| at every instant (AD1.3: "simple interpolation on a fixed curve").
+    - ``"held"``: after the slip's fastest moment the surfaces stay apart at h_peak = k_h u_peak
+      until they come to rest relative to each other (seed 000 §5.4, the dotted line of its fig. 5.8;
+      the runs of its figs. 5.9-5.24).
+    - ``"falling"``: after the peak the surfaces fall back together from rest at ``fall_acceleration``
+      a, h = max(h_peak - a tau^2 / 2, k_h |u|) a time tau after the peak (seed 000 §4.5: "one possible
+      reason for the surfaces' taking a finite time to fall together is simple inertia").
+
+    At rest the surfaces close to h = 0 again, so each slip phase starts afresh. The engine
+    (:func:`faultslip.dynamics.simulate.simulate`) switches to :meth:`after_peak` at the first maximum
+    of the sliding speed in a slip phase, and back if the speed later exceeds that peak.
+
+    Parameters
+    ----------
+    friction_at_separation : callable
+        mu(h), vectorised, h in m (>= 0); finite and non-negative.
+    separation_per_speed : float
+        k_h in m per m/s (that is, s).
+    memory : {"none", "held", "falling"}
+    fall_acceleration : float
+        a in m/s^2 for ``"falling"``; default standard gravity.
+    """
+
+    friction_at_separation: object
+    separation_per_speed: float
+    memory: str = "none"
+    fall_acceleration: float = STANDARD_GRAVITY
+    name: str = "separating surfaces"
+
+    is_linear = False
+
+    def __post_init__(self):
+        if not callable(self.friction_at_separation):
+            raise InputError(f"kinetic law {self.name!r}: friction_at_separation must be callable")
+        if not (np.isfinite(self.separation_per_speed) and self.separation_per_speed >= 0):
+            raise InputError(f"the separation per sliding speed must be >= 0 s, got {self.separation_per_speed!r}")
+        if self.memory not in SEPARATION_MEMORIES:
+            raise InputError(f"unknown separation memory {self.memory!r}; allowed: {', '.join(SEPARATION_MEMORIES)}")
+        if not (np.isfinite(self.fall_acceleration) and self.fall_acceleration > 0):
+            raise InputError(f"the fall acceleration must be positive (m/s^2), got {self.fall_acceleration!r}")
+        value = float(np.asarray(self.friction_at_separation(0.0)))
+        if not (np.isfinite(value) and value >= 0):
+            raise InputError(f"kinetic law {self.name!r} must give a finite friction >= 0 at rest, got {value}")
+
+    @property
+    def holds_peak(self) -> bool:
+        """Whether friction after the slip's fastest moment depends on that peak (the engine asks)."""
+        return self.memory != "none"
+
+    @property
+    def mu_m(self) -> float:
+        return float(np.asarray(self.friction_at_separation(0.0)))
+
+    @property
+    def slope(self) -> float:
+        return float(self.derivative(0.0))
+
+    def separation(self, sliding_speed):
+        """h = k_h |u| (m), the separation the speed alone sets."""
+        return self.separation_per_speed * np.abs(np.asarray(sliding_speed, dtype=float))
+
+    def __call__(self, sliding_speed):
+        return self.friction_at_separation(self.separation(sliding_speed))
+
+    def derivative(self, sliding_speed, step=1e-7):
+        u = np.asarray(sliding_speed, dtype=float)
+        h = step * np.maximum(1.0, np.abs(u))
+        low = np.maximum(u - h, 0.0)
+        return (self(u + h) - self(low)) / (u + h - low)
+
+    def separation_after_peak(self, peak_speed, elapsed, sliding_speed):
+        """h (m) a time ``elapsed`` (s) after the sliding speed peaked at ``peak_speed`` (m/s)."""
+        now = self.separation(sliding_speed)
+        peak = self.separation_per_speed * abs(float(peak_speed))
+        if self.memory == "none":
+            return now
+        if self.memory == "held":
+            return np.maximum(peak, now)
+        fallen = peak - 0.5 * self.fall_acceleration * np.asarray(elapsed, dtype=float) ** 2
+        return np.maximum(fallen, now)
+
+    def after_peak(self, peak_speed, elapsed, sliding_speed):
+        """mu after the peak: f at :meth:`separation_after_peak`."""
+        return self.friction_at_separation(self.separation_after_peak(peak_speed, elapsed, sliding_speed))
