@@ -134,10 +134,15 @@ def _run_vibration(args, tolerance) -> int:
 
 
 def _rough_details(report, details) -> None:
-    report.section("Rough surfaces (seed 000 AD1.3)")
+    report.section("Rough surfaces (seed 000)")
     report.add("static_friction_model", details["static_friction"], label="mu_s = p_s / H")
     report.add("area_fraction_at_rest", details["area_fraction_at_rest"], label="real / nominal area at rest (L / H A_n)")
-    report.add("separation_per_speed", details["separation_per_speed"], "s", label="separation per sliding speed c RMS (m per m/s)")
+    report.add("compression_at_rest", details["compression_at_rest"], "m", label="static compression h0 (H A(h0) = L)")
+    reference = "RMS" if details["separation_reference"] == "rms" else "h0"
+    report.add("separation_per_speed", details["separation_per_speed"], "s",
+               label=f"separation per sliding speed c {reference} (m per m/s)")
+    report.add("separation_memory", details["separation_memory"],
+               label="separation memory (none, held, falling)")
     report.add("natural_frequency", details["natural_frequency"], "Hz", label="sqrt(k/M) / 2 pi")
 
 
