@@ -19,7 +19,7 @@ author = "the faultslip developers"
 release = version = faultslip.__version__
 extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.mathjax", "numpydoc", "sphinx_gallery.gen_gallery"]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
-exclude_patterns = ["_build", "asperity_results.md", "figures/*.md", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip"]
+exclude_patterns = ["_build", "asperity_results.md", "surfaces_results.md", "figures/*.md", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip"]
 myst_heading_anchors = 3
 html_theme = "pydata_sphinx_theme"
 html_title = "faultslip"

@@ -35,3 +35,38 @@ def surface_figure(surface, stats: dict, contact: dict | None = None):
     for axis in axes[1:]:
         axis.grid(True, alpha=0.3)
     return fig
+
+
+def separation_figure(records: dict, sweeps: dict):
+    """Seed 000 chapter 5 in one figure: x(t) as c grows (its figs. 5.9-5.14), the friction-velocity loop
+    (fig. 5.18) and the separation (fig. 5.20) with each memory, and the amplitude against c.
+
+    ``records`` maps a label to (dataset, separation in m) for the time-series panels; labels starting
+    with "c =" go to panel (a), the others to (b) and (c). ``sweeps`` maps a label to a
+    :func:`~faultslip.lab.rough_slider.separation_sweep` dataset.
+    """
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 4, figsize=(17, 3.8), constrained_layout=True)
+    for label, (record, _) in records.items():
+        if label.startswith("c ="):
+            axes[0].plot(record["time"], record["displacement"] * 1e3, lw=0.8, label=label)
+    axes[0].set(xlabel="t (s)", ylabel="x (mm)", title="(a) x vs t as c grows (figs. 5.9-5.14)")
+    for label, (record, separation) in records.items():
+        if label.startswith("c ="):
+            continue
+        slipping = record["phase"].values == 1
+        axes[1].plot(record["sliding_speed"].values[slipping] * 1e3, record["friction_coefficient"].values[slipping],
+                     ".", ms=2, label=label)
+        axes[2].plot(record["time"], separation * 1e9, lw=0.8, label=label)
+    axes[1].set(xlabel="sliding speed (mm/s)", ylabel="mu", title="(b) friction in slip (fig. 5.18)")
+    axes[2].set(xlabel="t (s)", ylabel="separation (nm)", title="(c) separation (fig. 5.20)")
+    for label, sweep in sweeps.items():
+        for memory in sweep["memory"].values:
+            axes[3].plot(sweep["separation_coefficient"] * 1e-3, sweep["relative_amplitude"].sel(memory=memory), "o-",
+                         ms=3, label=f"{label}, {memory}")
+    axes[3].axhline(1.0, color="0.5", ls=":")
+    axes[3].set(xlabel="c (s/mm)", ylabel="amplitude / break-away x", title="(d) amplitude against c")
+    for axis in axes:
+        axis.grid(True, alpha=0.3)
+        axis.legend(fontsize=7)
+    return fig
