@@ -281,37 +281,46 @@ class PolynomialKinetic:
         return np.polynomial.polynomial.polyval(sliding_speed, deriv)
 
 
-@dataclass(frozen=True)
-class CallableKinetic:
-    """Any kinetic law given as a callable ``mu(sliding_speed)`` (vectorised, SI)."""
-
-    function: object
-    name: str = "callable"
+class _CurveKinetic:
+    """What every nonlinear kinetic law derives from its own values: mu_m = mu(0), the slope at rest and
+    a one-sided-at-zero central difference (sliding speed u >= 0)."""
 
     is_linear = False
 
-    def __post_init__(self):
-        if not callable(self.function):
-            raise InputError(f"kinetic law {self.name!r} is not callable")
-        value = float(np.asarray(self.function(0.0)))
+    def _check_at_rest(self):
+        value = float(np.asarray(self(0.0)))
         if not (np.isfinite(value) and value >= 0):
             raise InputError(f"kinetic law {self.name!r} must give a finite friction >= 0 at rest, got {value}")
 
     @property
     def mu_m(self) -> float:
-        return float(np.asarray(self.function(0.0)))
+        return float(np.asarray(self(0.0)))
 
     @property
     def slope(self) -> float:
         return float(self.derivative(0.0))
 
-    def __call__(self, sliding_speed):
-        return self.function(sliding_speed)
-
     def derivative(self, sliding_speed, step=1e-7):
         u = np.asarray(sliding_speed, dtype=float)
         h = step * np.maximum(1.0, np.abs(u))
-        return (self.function(u + h) - self.function(np.maximum(u - h, 0.0))) / (u + h - np.maximum(u - h, 0.0))
+        low = np.maximum(u - h, 0.0)
+        return (self(u + h) - self(low)) / (u + h - low)
+
+
+@dataclass(frozen=True)
+class CallableKinetic(_CurveKinetic):
+    """Any kinetic law given as a callable ``mu(sliding_speed)`` (vectorised, SI)."""
+
+    function: object
+    name: str = "callable"
+
+    def __post_init__(self):
+        if not callable(self.function):
+            raise InputError(f"kinetic law {self.name!r} is not callable")
+        self._check_at_rest()
+
+    def __call__(self, sliding_speed):
+        return self.function(sliding_speed)
 
 
 #: How the surfaces' separation follows the sliding speed (see :class:`SeparatingSurfacesKinetic`).
@@ -320,7 +329,7 @@ STANDARD_GRAVITY = 9.80665  # m/s^2
 
 
 @dataclass(frozen=True)
-class SeparatingSurfacesKinetic:
+class SeparatingSurfacesKinetic(_CurveKinetic):
     """Friction of rough surfaces that part as they slide, with the separation's memory of the slip.
 
     Sliding at speed u parts the surfaces by h = k_h |u| (seed 000 eq. 27; k_h = c RMS in its addendum
@@ -356,8 +365,6 @@ class SeparatingSurfacesKinetic:
     fall_acceleration: float = STANDARD_GRAVITY
     name: str = "separating surfaces"
 
-    is_linear = False
-
     def __post_init__(self):
         if not callable(self.friction_at_separation):
             raise InputError(f"kinetic law {self.name!r}: friction_at_separation must be callable")
@@ -367,22 +374,12 @@ class SeparatingSurfacesKinetic:
             raise InputError(f"unknown separation memory {self.memory!r}; allowed: {', '.join(SEPARATION_MEMORIES)}")
         if not (np.isfinite(self.fall_acceleration) and self.fall_acceleration > 0):
             raise InputError(f"the fall acceleration must be positive (m/s^2), got {self.fall_acceleration!r}")
-        value = float(np.asarray(self.friction_at_separation(0.0)))
-        if not (np.isfinite(value) and value >= 0):
-            raise InputError(f"kinetic law {self.name!r} must give a finite friction >= 0 at rest, got {value}")
+        self._check_at_rest()
 
     @property
     def holds_peak(self) -> bool:
         """Whether friction after the slip's fastest moment depends on that peak (the engine asks)."""
         return self.memory != "none"
-
-    @property
-    def mu_m(self) -> float:
-        return float(np.asarray(self.friction_at_separation(0.0)))
-
-    @property
-    def slope(self) -> float:
-        return float(self.derivative(0.0))
 
     def separation(self, sliding_speed):
         """h = k_h |u| (m), the separation the speed alone sets."""
@@ -390,12 +387,6 @@ class SeparatingSurfacesKinetic:
 
     def __call__(self, sliding_speed):
         return self.friction_at_separation(self.separation(sliding_speed))
-
-    def derivative(self, sliding_speed, step=1e-7):
-        u = np.asarray(sliding_speed, dtype=float)
-        h = step * np.maximum(1.0, np.abs(u))
-        low = np.maximum(u - h, 0.0)
-        return (self(u + h) - self(low)) / (u + h - low)
 
     def separation_after_peak(self, peak_speed, elapsed, sliding_speed):
         """h (m) a time ``elapsed`` (s) after the sliding speed peaked at ``peak_speed`` (m/s)."""
