@@ -20,7 +20,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
 #: Lowest first. Studies, lab and evaluation share a layer but may not import each other.
 LAYERS = {"core": 0, "io": 1, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
           "plots": 6, "cli": 7}
-HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "pint", "h5py", "zarr", "numcodecs"}
+HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "pint", "h5py", "zarr", "numcodecs", "numba"}
 PLATFORM = {"fcntl"}
 
 

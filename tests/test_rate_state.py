@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from faultslip.dynamics import rate_state as rs
+from faultslip.dynamics import rate_state_compiled as rsc
 from faultslip.dynamics.rate_state import LoadHistory, RateStateSlider, fault_cycles, simulate_rate_state
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.rate_state import (RateStateLaw, characteristic_roots, critical_stiffness, friction, get_law,
@@ -89,9 +90,11 @@ def _reference_step(evolution, times, k=K_STEP):
     return np.concatenate(out)
 
 
-@pytest.mark.parametrize("method", ["lsoda", "dopri5", "radau"])
+@pytest.mark.parametrize("method", ["lsoda", "dopri5", "radau", "dopri5_compiled"])
 def test_velocity_step_agrees_with_an_independent_integration(method):
     """The issue's step: 1 -> 10 µm/s at 10 s, 40 s at 100 Hz, aging law: within 1e-8 in friction."""
+    if method == "dopri5_compiled" and not rsc.available():
+        pytest.skip("numba is not installed")
     times = np.linspace(0.0, 40.0, 4001)
     history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 10e-6)], 40.0)
     run = simulate_rate_state(RateStateSlider(STEP, K_STEP, 1.0), history, t_eval=times, rtol=1e-10, method=method)
@@ -101,10 +104,53 @@ def test_velocity_step_agrees_with_an_independent_integration(method):
     assert np.allclose(run.load_point[[0, 1000, 4000]], [0.0, 1e-5, 1e-5 + 30 * 1e-5])
 
 
-def test_auto_uses_lsoda_and_says_why():
+def test_auto_takes_the_compiled_kernel_where_numba_is_and_lsoda_elsewhere(monkeypatch):
     history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 10e-6)], 40.0)
-    run = simulate_rate_state(RateStateSlider(STEP, K_STEP, 1.0), history, samples=401)
+    slider = RateStateSlider(STEP, K_STEP, 1.0)
+    if rsc.available():
+        run = simulate_rate_state(slider, history, samples=401)
+        assert run.method == "dopri5_compiled" and "numba" in run.method_reason
+    monkeypatch.setattr(rsc, "available", lambda: False)
+    run = simulate_rate_state(slider, history, samples=401)
     assert run.method == "lsoda" and "Jacobian" in run.method_reason
+    with pytest.raises(InputError, match="needs numba"):
+        simulate_rate_state(slider, history, samples=401, method="dopri5_compiled")
+
+
+@pytest.mark.parametrize("evolution", ["aging", "slip"])
+@pytest.mark.parametrize("model, damping", [("quasi_static", 0.0), ("quasi_dynamic", 3e3)])
+def test_the_compiled_kernel_agrees_with_itself_as_python_and_with_lsoda(evolution, model, damping):
+    """The kernel compiled and as plain Python take the same steps; both agree with LSODA at rtol 1e-10."""
+    law = STEP.with_evolution(evolution)
+    history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 3e-6), (25.0, 1e-6)], 40.0)
+    times = np.linspace(0.0, 40.0, 801)
+    slider = RateStateSlider(law, K_STEP, 1.0, damping=damping)
+    y0 = (0.0, 0.0)
+    plain = rsc.integrate(law, K_STEP, 1.0, damping, history.segments(), 40.0, y0, times, 1e-10, (1e-10, 1e-10),
+                          math.inf, compiled=False)
+    assert plain[3] == rsc.OK and plain[0].shape == (801, 2)
+    if rsc.available():
+        fast = rsc.integrate(law, K_STEP, 1.0, damping, history.segments(), 40.0, y0, times, 1e-10, (1e-10, 1e-10),
+                             math.inf)
+        assert fast[1:4] == plain[1:4]  # the same steps, evaluations and status
+        np.testing.assert_allclose(fast[0], plain[0], rtol=0, atol=1e-12)
+    lsoda = simulate_rate_state(slider, history, t_eval=times, rtol=1e-10, method="lsoda", model=model)
+    mu = law.mu0 + law.a * plain[0][:, 0] + law.b * plain[0][:, 1]
+    np.testing.assert_allclose(mu, lsoda.friction, rtol=0, atol=1e-8)
+
+
+def test_a_stiff_problem_hands_over_from_the_compiled_kernel_to_lsoda(monkeypatch):
+    """The kernel's step budget stands in for stiffness: auto notes the hand-over and LSODA's answer is used."""
+    if not rsc.available():
+        pytest.skip("numba is not installed")
+    history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 10e-6)], 40.0)
+    slider = RateStateSlider(STEP, K_STEP, 1.0)
+    original = rsc.integrate
+    monkeypatch.setattr(rsc, "integrate", lambda *args, **kw: original(*args, **{**kw, "max_steps": 5}))
+    run = simulate_rate_state(slider, history, samples=401)
+    assert run.method == "lsoda" and "gave up" in run.notes[0]
+    with pytest.raises(SolverError, match="dopri5_compiled gave up"):
+        simulate_rate_state(slider, history, samples=401, method="dopri5_compiled")
 
 
 def test_the_slip_law_step_of_the_issue_has_no_quasi_static_solution():
@@ -114,7 +160,7 @@ def test_the_slip_law_step_of_the_issue_has_no_quasi_static_solution():
     """
     slider = RateStateSlider(STEP.with_evolution("slip"), K_STEP, 1.0)
     history = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 10e-6)], 40.0)
-    for method in ("lsoda", "dopri5"):
+    for method in ("lsoda", "dopri5") + (("dopri5_compiled",) if rsc.available() else ()):
         with pytest.raises(SolverError, match="no solution past t = 11.*quasi_dynamic"):
             simulate_rate_state(slider, history, samples=401, method=method)
     # the independent integration in linear variables fails at the same moment
@@ -184,7 +230,10 @@ def test_aging_law_heals_as_b_ln_t_hold():
 
 
 def test_dopri5_tableau_is_dormand_prince():
+    """The tableau shared by the Python integrator and the compiled kernel (faultslip.dynamics.dormand_prince)."""
     from scipy.integrate._ivp.rk import RK45  # the same pair: a transcription check
+
+    from faultslip.dynamics import dormand_prince as rs
 
     matrix = np.zeros((6, 5))
     for i, row in enumerate(rs._A):

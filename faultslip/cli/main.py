@@ -327,7 +327,7 @@ def _rate_state_commands(commands) -> None:
     actions = group.add_subparsers(dest="action", metavar="ACTION", parser_class=_Parser)
     simulate = actions.add_parser("simulate", help="a slider under a load history (velocity steps, slide-hold-slide)")
     simulate.add_argument("scene", help="rate-and-state scene TOML (e.g. configs/rsf_velocity_step.toml)")
-    simulate.add_argument("--method", default="auto", help="auto, lsoda, dopri5, radau or bdf (default auto)")
+    simulate.add_argument("--method", default="auto", help="auto, lsoda, dopri5, dopri5_compiled (needs numba), radau or bdf (default auto)")
     simulate.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (default 1e-8)")
     simulate.add_argument("-o", "--output", help="write the time series to this netCDF file")
     simulate.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")

@@ -41,38 +41,18 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from faultslip.errors import InputError, NoEventsError, SolverError
+from faultslip.dynamics.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64,
+                                               A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7, _C, _P)
+from faultslip.dynamics import rate_state_compiled
 from faultslip.dynamics.rate_state_methods import CYCLE_METHODS, SECONDS_PER_STEP, steps_per_cycle
 from faultslip.friction.rate_state import RateStateLaw
 
 MODELS = ("quasi_static", "quasi_dynamic", "inertial")
-METHODS = ("auto", "lsoda", "dopri5", "radau", "bdf")
+METHODS = ("auto", "lsoda", "dopri5", "dopri5_compiled", "radau", "bdf")
 #: Slip speed above which the slider is "in an event" (SEAS benchmark convention, 1 mm/s).
 EVENT_SPEED = 1e-3
 
-# Dormand & Prince (1980) 5(4) tableau: nodes, stages, 5th-order weights and the error weights
-# (5th minus embedded 4th order); Hairer, Norsett & Wanner, Solving ODEs I, Table 5.2.
-_C = (0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0)
-_A = ((),
-      (1 / 5,),
-      (3 / 40, 9 / 40),
-      (44 / 45, -56 / 15, 32 / 9),
-      (19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729),
-      (9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656))
-_B = (35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84)
-_E = (71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40)
-# continuous extension of order 4 (Shampine 1986), as a polynomial in the step fraction s:
-# y(t0 + s h) = y0 + h sum_i k_i sum_j _P[i][j] s^(j+1)
-_P = ((1.0, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432),
-      (0.0, 0.0, 0.0, 0.0),
-      (0.0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799),
-      (0.0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072),
-      (0.0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632),
-      (0.0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844),
-      (0.0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423))
 
-(A21,), (A31, A32), (A41, A42, A43), (A51, A52, A53, A54), (A61, A62, A63, A64, A65) = _A[1:]
-B1, _, B3, B4, B5, B6 = _B
-E1, _, E3, E4, E5, E6, E7 = _E
 _P_ARRAY = np.array(_P)
 
 
@@ -463,12 +443,35 @@ def _lsoda_two_states(slider, load, damping, history, t_eval, y0, rtol, atol, ma
         return (rows[0][:2], rows[1][:2])
 
     states, steps, nfev = _odeint_by_segment(f, jac, history, load, y0[:2], t_eval, rtol, atol[:2], slider)
-    speed = v0 * np.exp(states[:, 0])
-    mu = law.mu0 + a * states[:, 0] + b * states[:, 1]
-    mu_start = law.mu0 + a * y0[0] + b * y0[1]
-    speed_start = v0 * math.exp(y0[0])
-    slip = history.displacement(t_eval) - (sigma * (mu - mu_start) + damping * (speed - speed_start)) / k
-    return np.column_stack([states, slip]), steps, nfev
+    return _with_slip(states, slider, damping, history.displacement(t_eval), y0), steps, nfev
+
+
+def _with_slip(states, slider, damping, load_point, y0):
+    """(x, psi) at t_eval with the slip column from the force balance (see :func:`_lsoda_two_states`)."""
+    law, k, sigma = slider.law, slider.stiffness, slider.normal_stress
+    speed = law.reference_speed * np.exp(states[:, 0])
+    mu = law.mu0 + law.a * states[:, 0] + law.b * states[:, 1]
+    mu_start = law.mu0 + law.a * y0[0] + law.b * y0[1]
+    speed_start = law.reference_speed * math.exp(y0[0])
+    slip = load_point - (sigma * (mu - mu_start) + damping * (speed - speed_start)) / k
+    return np.column_stack([states, slip])
+
+
+def _compiled_two_states(slider, damping, history, t_eval, load_point, y0, rtol, atol, max_speed, model):
+    """The one-state slider on the compiled Dormand-Prince kernel (:mod:`faultslip.dynamics.rate_state_compiled`).
+
+    Returns (values, steps, nfev), or None where the kernel gave up on a stiff problem (its step
+    budget), so that the caller can hand over to LSODA.
+    """
+    states, steps, nfev, status, t_stop = rate_state_compiled.integrate(
+        slider.law, slider.stiffness, slider.normal_stress, damping, history.segments(), history.duration, y0[:2],
+        t_eval, rtol, atol[:2], max_speed)
+    if status == rate_state_compiled.DIVERGED or (status == rate_state_compiled.STEP_COLLAPSE
+                                                   and model == "quasi_static"):
+        _diverged(slider, t_stop)
+    if status != rate_state_compiled.OK:
+        return None
+    return _with_slip(states, slider, damping, load_point, y0), steps, nfev
 
 
 def _implicit_by_segment(rhs, jacobian, history, load, y0, t_eval, rtol, atol, method):
@@ -527,7 +530,10 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
                         max_speed: float = 10.0) -> RateStateRun:
     """Simulate ``slider`` under the load history; friction, speed, state and slip at ``t_eval``.
 
-    ``model`` is quasi_static, quasi_dynamic or inertial; ``method`` auto, dopri5, radau or bdf.
+    ``model`` is quasi_static, quasi_dynamic or inertial; ``method`` auto, lsoda, dopri5, dopri5_compiled,
+    radau or bdf. ``auto`` takes dopri5_compiled (the numba-compiled kernel of
+    :mod:`faultslip.dynamics.rate_state_compiled`) for one-state quasi-static and quasi-dynamic sliders
+    where numba is installed, handing over to LSODA if it runs out of steps, and LSODA otherwise.
     The slider starts at steady state at ``initial_speed`` (default: the first load-point speed).
     A quasi-static slider whose speed passes ``max_speed`` (m/s) has met an instability it
     cannot follow: a :class:`SolverError` says so and names the quasi-dynamic model.
@@ -560,10 +566,21 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
     rhs = _inertial_rhs(slider, load) if model == "inertial" else _quasi_rhs(slider, load, damping)
     y0 = _initial_state(slider, history, model, initial_speed, initial_psi)
     atol = _tolerances(slider, model, rtol)
-    chosen = "lsoda" if method == "auto" else method
-    reason = ("LSODA with the analytic Jacobian: the cheapest at this tolerance (benchmarks/run.py), stiff or not"
-              if method == "auto" else "requested")
+    common = not (law.two_state or law.regularized or model == "inertial")  # (x, psi) alone
+    if method == "dopri5_compiled" and not common:
+        raise InputError("dopri5_compiled integrates one-state, unregularised, quasi-static or quasi-dynamic sliders; "
+                         "use method auto")
+    if method == "dopri5_compiled" and not rate_state_compiled.available():
+        raise InputError("dopri5_compiled needs numba: pip install 'faultslip[fast]', or use method auto")
+    if method == "auto" and common and rate_state_compiled.available():
+        chosen, reason = "dopri5_compiled", ("Dormand-Prince 5(4) compiled by numba on the log states: the cheapest "
+                                             "at this tolerance (benchmarks/run.py); LSODA takes over if it is stiff")
+    else:
+        chosen = "lsoda" if method == "auto" else method
+        reason = ("LSODA with the analytic Jacobian: the cheapest at this tolerance without numba (benchmarks/run.py), "
+                  "stiff or not" if method == "auto" else "requested")
     started = time.perf_counter()
+    load_point = history.displacement(t_eval)
     notes = []
     speed_index = 1 if model == "inertial" else 0
 
@@ -572,7 +589,19 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
         return abs(speed) > max_speed and model == "quasi_static"
 
     try:
-        if chosen == "lsoda" and not (law.two_state or law.regularized or model == "inertial"):
+        compiled = None
+        if chosen == "dopri5_compiled":
+            compiled = _compiled_two_states(slider, damping, history, t_eval, load_point, y0, rtol, atol,
+                                            max_speed if model == "quasi_static" else math.inf, model)
+            if compiled is None:
+                if method != "auto":
+                    raise SolverError("dopri5_compiled gave up (its step budget or step size ran out: the problem is "
+                                      "stiff here); use method lsoda or radau")
+                notes.append("the compiled dopri5 gave up (stiff): solved with LSODA instead")
+                chosen, reason = "lsoda", "stiff: the compiled dopri5 ran out of steps"
+        if compiled is not None:
+            values, steps, nfev = compiled
+        elif chosen == "lsoda" and common:
             values, steps, nfev = _lsoda_two_states(slider, load, damping, history, t_eval, y0, rtol, atol,
                                                     max_speed if model == "quasi_static" else math.inf)
         elif chosen == "lsoda":
@@ -610,7 +639,7 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
     if not (np.all(np.isfinite(mu)) and np.all(np.isfinite(speed))):
         raise SolverError(f"{chosen} returned non-finite values for the {model} slider; tighten rtol or use radau")
     return RateStateRun(time=t_eval, slip_speed=speed, friction=np.asarray(mu, float), psi=psi, slip=values[:, -1],
-                        load_point=history.displacement(t_eval), model=model, method=chosen, method_reason=reason,
+                        load_point=load_point, model=model, method=chosen, method_reason=reason,
                         steps=steps, function_evaluations=nfev, wall_time=wall, notes=notes)
 
 
