@@ -296,8 +296,9 @@ def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None,
     while t < t_end:
         if steps >= max_steps:
             raise SolverError(f"dopri5 took more than {max_steps} steps before t = {t_end:g} s")
-        if t + h > t_end:
-            h = t_end - t
+        t_next = t + h
+        if t_next >= t_end:  # the last step lands on t_end exactly (t + (t_end - t) may miss it by an ulp)
+            h, t_next = t_end - t, t_end
         try:
             k2 = rhs(t + _C[1] * h, [yj + h * A21 * a1 for yj, a1 in zip(y, k1)])
             k3 = rhs(t + _C[2] * h, [yj + h * (A31 * a1 + A32 * a2) for yj, a1, a2 in zip(y, k1, k2)])
@@ -326,7 +327,7 @@ def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None,
         if error <= 1.0:
             # accepted: dense output for the requested times inside this step
             last = next_out
-            while last < len(t_eval) and t_eval[last] <= t + h:
+            while last < len(t_eval) and t_eval[last] <= t_next:
                 last += 1
             if last > next_out:  # the order-4 continuous extension, vectorised over the times in this step
                 fraction = (t_eval[next_out:last] - t) / h
@@ -334,7 +335,7 @@ def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None,
                 q = np.array((k1, k2, k3, k4, k5, k6, k7)).T @ _P_ARRAY  # (states, 4)
                 out[next_out:last] = np.asarray(y) + h * (q @ powers).T
                 next_out = last
-            t += h
+            t = t_next
             y = y_new
             k1 = k7
             steps += 1

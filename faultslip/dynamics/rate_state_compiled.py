@@ -83,8 +83,9 @@ def _kernel(x, psi, t0, t1, v_start, v_slope, aging, v0, dc, k, sigma_a, sigma_b
     while t < t1:
         if steps >= max_steps:
             return TOO_MANY_STEPS, t, x, psi, steps, nfev, h
-        if t + h > t1:
-            h = t1 - t
+        t_next = t + h
+        if t_next >= t1:  # the last step lands on t1 exactly (t + (t1 - t) may miss it by an ulp)
+            h, t_next = t1 - t, t1
         k2x, k2p = _rates(t + C2 * h, x + h * A21 * k1x, psi + h * A21 * k1p, aging, v0, dc, k, sigma_a, sigma_b,
                           damping, t0, v_start, v_slope)
         k3x, k3p = _rates(t + C3 * h, x + h * (A31 * k1x + A32 * k2x), psi + h * (A31 * k1p + A32 * k2p), aging, v0,
@@ -109,7 +110,7 @@ def _kernel(x, psi, t0, t1, v_start, v_slope, aging, v0, dc, k, sigma_a, sigma_b
         if not math.isfinite(error):  # a trial stage left the domain (exp overflow): a smaller step
             h *= 0.1
         elif error <= 1.0:
-            while next_out < n_out and t_eval[next_out] <= t + h:  # the order-4 continuous extension
+            while next_out < n_out and t_eval[next_out] <= t_next:  # the order-4 continuous extension
                 s = (t_eval[next_out] - t) / h
                 s2 = s * s
                 s3 = s2 * s
@@ -123,7 +124,7 @@ def _kernel(x, psi, t0, t1, v_start, v_slope, aging, v0, dc, k, sigma_a, sigma_b
                 out[next_out, 0] = x + h * (w1 * k1x + w3 * k3x + w4 * k4x + w5 * k5x + w6 * k6x + w7 * k7x)
                 out[next_out, 1] = psi + h * (w1 * k1p + w3 * k3p + w4 * k4p + w5 * k5p + w6 * k6p + w7 * k7p)
                 next_out += 1
-            t += h
+            t = t_next
             x, psi = x_new, psi_new
             k1x, k1p = k7x, k7p
             steps += 1
