@@ -27,6 +27,12 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
+def _overwrite_and_json(parser) -> None:
+    """The two flags of every command that writes files and prints a report."""
+    parser.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+
+
 def _method_flags(parser):
     parser.add_argument("--method", help="solution method, see 'faultslip methods' (default: auto, the cheapest "
                         "method whose error model meets the tolerance)")
@@ -66,8 +72,7 @@ def _surface_commands(commands) -> None:
     surface.add_argument("--against", default="inverted", help="counter-surface: inverted (its own inverted copy, "
                                                                "as seed 000) or flat")
     surface.add_argument("--plot", help="draw the surface, autocorrelation, height density and contact to FILE.png")
-    surface.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    surface.add_argument("--json", action="store_true", help="print one JSON object")
+    _overwrite_and_json(surface)
     surface.set_defaults(handler="surfaces:cmd_surface")
 
 
@@ -88,8 +93,7 @@ def _seismology_commands(commands) -> None:
     catalog.add_argument("--bootstrap", type=int, default=1000, help="parametric bootstrap samples (1000)")
     catalog.add_argument("--seed", type=int, default=0, help="random seed of the bootstrap")
     catalog.add_argument("--plot", help="draw the events and the recurrence to FILE.png")
-    catalog.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    catalog.add_argument("--json", action="store_true", help="print one JSON object")
+    _overwrite_and_json(catalog)
     catalog.set_defaults(handler="seismology:cmd_catalog")
 
 
@@ -159,8 +163,7 @@ def _scenes_commands(commands) -> None:
     critical.add_argument("--damping-ratio", help="damping ratio zeta of the dashpot")
     critical.add_argument("--table", action="store_true", help="write the exact-vs-seed comparison (nc, md, png)")
     critical.add_argument("-o", "--output", help="directory for --table (default: current)")
-    critical.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    critical.add_argument("--json", action="store_true", help="print one JSON object")
+    _overwrite_and_json(critical)
     critical.set_defaults(handler="scenes:cmd_critical")
 
     cycle = commands.add_parser("cycle", help="exact stick-slip cycle of a scene at a loading rate")
@@ -259,8 +262,7 @@ def _lab_commands(commands) -> None:
     record.add_argument("--platform-speed", help="platform speed V (default: the median slider speed)")
     record.add_argument("--velocity", default="auto", help="auto, differentiate (x) or integrate (x'')")
     record.add_argument("--plot", help="draw mu against sliding speed to FILE.png")
-    record.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    record.add_argument("--json", action="store_true", help="print one JSON object")
+    _overwrite_and_json(record)
     record.set_defaults(handler="lab:cmd_record")
 
     decay = commands.add_parser("decay", help="system identification from free decay (seed 002 Appendix C)")
@@ -291,8 +293,7 @@ def _vibration_commands(commands) -> None:
     vibration.add_argument("--error-chart", help="draw averaging's error against integration over eps (~20 s)")
     vibration.add_argument("--hand-over-chart", help="draw where averaging hands over to stick-slip, against "
                                                      "event-driven simulation (~70 s)")
-    vibration.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    vibration.add_argument("--json", action="store_true", help="print one JSON object")
+    _overwrite_and_json(vibration)
     vibration.set_defaults(handler="lab:cmd_quasi_harmonic")
     nano = commands.add_parser("nanoscale", help="nanoscale stick-slip with contact charging (seed 001's toy model)")
     nano.add_argument("scene", help="nanoscale scene TOML (e.g. configs/nanoscale_seed001.toml)")
@@ -300,8 +301,7 @@ def _vibration_commands(commands) -> None:
     nano.add_argument("--no-run", action="store_true", help="the threshold analysis only, no simulation")
     nano.add_argument("-o", "--output", help="write the time series to this netCDF file")
     nano.add_argument("--plot", help="draw force against displacement and the charge (seed 001 Fig. 3)")
-    nano.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    nano.add_argument("--json", action="store_true", help="print one JSON object")
+    _overwrite_and_json(nano)
     nano.set_defaults(handler="lab:cmd_nanoscale")
     asperity = commands.add_parser("asperity", help="asperity friction (seed 004): m_D and stick against platform speed")
     asperity.add_argument("scene", help="asperity scene TOML (e.g. configs/asperity_seed004.toml)")
@@ -316,8 +316,7 @@ def _vibration_commands(commands) -> None:
     asperity.add_argument("--plot", help="draw m_D and the stick fraction against speed (Figs. 6-7)")
     asperity.add_argument("--map", help="also draw where each integrator works, over speed (1 mm/s-0.7 m/s) and "
                                         "slope spread (0.1-0.3), contact loss marked (~30 s)")
-    asperity.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    asperity.add_argument("--json", action="store_true", help="print one JSON object")
+    _overwrite_and_json(asperity)
     asperity.set_defaults(handler="lab:cmd_asperity")
 
 
@@ -330,8 +329,7 @@ def _rate_state_commands(commands) -> None:
     simulate.add_argument("--method", default="auto", help="auto, lsoda, dopri5, dopri5_compiled (needs numba), radau or bdf (default auto)")
     simulate.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (default 1e-8)")
     simulate.add_argument("-o", "--output", help="write the time series to this netCDF file")
-    simulate.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    simulate.add_argument("--json", action="store_true", help="print one JSON object")
+    _overwrite_and_json(simulate)
     simulate.set_defaults(handler="rate_state:cmd_simulate")
     stability = actions.add_parser("stability", help="critical stiffness k_c (quasi-static, with damper, with inertia)")
     stability.add_argument("scene", help="rate-and-state scene TOML")
@@ -409,8 +407,7 @@ def _plots_commands(commands) -> None:
     animate.add_argument("--cycles", type=int, default=2, help="stick-slip cycles shown (default 2)")
     animate.add_argument("--slip-share", type=float, default=0.5, help="share of the frames given to slip phases "
                                                                       "(default 0.5: the time axis is compressed)")
-    animate.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    animate.add_argument("--json", action="store_true", help="print one JSON object")
+    _overwrite_and_json(animate)
     animate.set_defaults(handler="plots:cmd_animate")
     seed002 = figures.add_parser("seed002", help="seed 002 Figs. 9-11 in kind: four friction curves, amplitude against "
                                                  "speed, damping (docs/quasi_harmonic.md)")
