@@ -15,6 +15,10 @@ class InputError(FaultslipError, ValueError):
     """Bad input: a wrong unit, an unknown name, a non-physical value."""
 
 
+class OutputError(FaultslipError):
+    """An output cannot be written: a full disk, a folder without permission, a planted lock."""
+
+
 class MethodError(FaultslipError):
     """A solution method was asked for outside its domain of validity."""
 

@@ -40,7 +40,12 @@ def _feature(**properties):
 @pytest.mark.parametrize("document, message", [
     ({"type": "FeatureCollection", "features": [_feature(name="x")]}, "no positive net_slip_rate"),
     ({"type": "FeatureCollection", "features": [_feature(name="x", net_slip_rate="(5,,)", slip_type="Wobbly")]},
-     "not a GAF term"),
+     "no feature is left"),
+    ({"type": "FeatureCollection", "features": [_feature(name="x", net_slip_rate="(5,,)", slip_type={})]},
+     "slip_type must be a GAF term"),
+    ({"type": "FeatureCollection", "features": [_feature(name="x", net_slip_rate="(5,,)", catalog_id="A"),
+                                                _feature(name="y", net_slip_rate="(5,,)", catalog_id="A")]},
+     "share catalog_id 'A'"),
     ({"type": "FeatureCollection", "features": [_feature(name="x", net_slip_rate="(5,,)", average_dip="(120,,)")]},
      "average_dip"),
     ({"type": "FeatureCollection", "features": []}, "no features"),
@@ -54,6 +59,43 @@ def test_malformed_gaf_files_are_refused_in_one_sentence(tmp_path, document, mes
     path.write_text(json.dumps(document), encoding="utf-8")
     with pytest.raises(InputError, match=message):
         read_fault_geojson(path)
+
+
+@pytest.mark.parametrize("term, rake", [
+    ("Dextral_Transform", 180.0), ("Sinistral_Transform", 0.0), ("Subduction_Thrust", 90.0),
+    ("Normal-Strike-Slip", -135.0), ("Reverse-Strike-Slip", 135.0), ("Blind Thrust", 90.0),
+    ("Dextral-Oblique", 180.0), ("dextral_normal", -135.0), ("Spreading_Ridge", -90.0), ("Anticline", 90.0),
+])
+def test_the_whole_gaf_vocabulary_maps_to_a_rake(tmp_path, term, rake):
+    path = tmp_path / "f.geojson"
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
+        _feature(name="x", net_slip_rate="(5,,)", slip_type=term)]}), encoding="utf-8")
+    assert read_fault_geojson(path).rake[0] == rake
+
+
+def test_an_unknown_slip_type_skips_that_feature_with_a_warning_naming_it(tmp_path):
+    path = tmp_path / "f.geojson"
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": [
+        _feature(name="kept", net_slip_rate="(5,,)", slip_type="Dextral", catalog_id="A"),
+        _feature(name="odd", net_slip_rate="(5,,)", slip_type="Wobbly", catalog_id="B")]}), encoding="utf-8")
+    with pytest.warns(UserWarning, match="'odd' \\('Wobbly'\\)"):
+        faults = read_fault_geojson(path)
+    assert faults.names == ["kept"]
+
+
+def test_a_multilinestring_becomes_separate_sections_not_one_joined_trace(tmp_path):
+    """Joining the parts would add the jump between them to the trace (the audit: Mw 7.19 -> 7.50)."""
+    from faultslip.io.geo import trace_length
+
+    parts = [[[-120.0, 36.0], [-120.0, 36.5]], [[-118.0, 35.0], [-118.0, 35.5]]]
+    feature = {"type": "Feature", "geometry": {"type": "MultiLineString", "coordinates": parts},
+               "properties": {"name": "split", "catalog_id": "S", "net_slip_rate": "(5,,)"}}
+    path = tmp_path / "f.geojson"
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": [feature]}), encoding="utf-8")
+    faults = read_fault_geojson(path)
+    assert faults.ids == ["S:1", "S:2"]
+    lengths = [trace_length(trace) for trace in faults.traces]
+    assert lengths == pytest.approx([55.5e3, 55.5e3], rel=0.01)  # half a degree of latitude each, no jump
 
 
 def test_truncated_gr_is_moment_balanced():

@@ -233,7 +233,7 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--name", help="save the fit under this name in the user registry")
     fit.add_argument("--shear-modulus", help="shear modulus of the rock, stored with the fit for fault predictions")
     fit.add_argument("--note", help="a note stored with the fit (e.g. rock and condition)")
-    fit.add_argument("--plot", help="draw data, fit and 95 % band to FILE.png")
+    fit.add_argument("--plot", help="draw data, fit and 95 %% band to FILE.png")
     fit.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     fit.add_argument("--loss", default="linear", help="least-squares loss: linear, soft_l1, huber or cauchy (robust)")
     fit.add_argument("--bootstrap", type=int, help="bootstrap samples (default 200; 50 for --law rate-state, where "
@@ -418,7 +418,9 @@ def _plots_commands(commands) -> None:
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
-    print(f"faultslip: warning: {message}", file=sys.stderr)
+    """One line per warning: a library's multi-line advice is cut to its first line."""
+    text = " ".join(str(message).strip().splitlines()[0].split()) if str(message).strip() else category.__name__
+    print(f"faultslip: warning: {text}", file=sys.stderr)
 
 
 def main(argv=None) -> int:

@@ -14,10 +14,13 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.nrml import MFD_KINDS, write_source_model
 from faultslip.io.outputs import check_output, FIGURE_SUFFIXES
 from faultslip.studies.grid import load_study
-from faultslip.studies.maps import load_map, map_figure, nrml_segments, observed_figure, observed_table, run_map
-from faultslip.io.convert import zarr_to_netcdf
+from faultslip.studies.maps import (has_observations, load_map, map_figure, nrml_segments, observed_figure,
+                                    observed_table, run_map, segment_rows)from faultslip.io.convert import zarr_to_netcdf
 from faultslip.studies.streaming import (default_chunk_cells, rate_state_counts, check_study_output, output_format, reproduce,
                                          run_study)
+
+#: Segments printed in the text table; all of them are in the netCDF file and in --json.
+MOST_ROWS = 50
 
 
 def cmd_sweep(args) -> int:
@@ -139,22 +142,22 @@ def cmd_map(args) -> int:
         if outputs["plot"]:
             save_figure(map_figure(dataset), outputs["plot"], dpi=150)
             plots.append(args.plot)
-            if "observed_recurrence" in dataset and observed is not None:
+            if observed is not None and has_observations(dataset):
                 save_figure(observed_figure(dataset), observed, dpi=150)
                 plots.append(str(observed))
+            elif observed is not None:
+                spec.notes.append("no segment has an observed slip or recurrence: the observed figure is not drawn")
     if args.json:
         year = 365.25 * 86400
-        rows = []
-        if "segment" in dataset.dims:
-            for i, segment in enumerate(dataset["segment"].values):
-                row = dataset.isel(segment=i)
-                rows.append({"segment": str(segment),
-                             "slip_per_event": {"value": float(row["slip_per_event"]), "units": "m"},
-                             "recurrence_period": {"value": float(row["recurrence_period"]) if math.isfinite(float(row["recurrence_period"])) else None, "units": "s"},
-                             "moment_magnitude": float(row["moment_magnitude"]) if math.isfinite(float(row["moment_magnitude"])) else None,
-                             "observed_recurrence": {"value": float(row["observed_recurrence"]) if math.isfinite(float(row["observed_recurrence"])) else None, "units": "s"},
-                             "recurrence_ratio": float(row["recurrence_ratio"]) if math.isfinite(float(row["recurrence_ratio"])) else None,
-                             "slip_ratio": float(row["slip_ratio"]) if math.isfinite(float(row["slip_ratio"])) else None})
+        def value(number):
+            return number if math.isfinite(number) else None
+
+        rows = [{"segment": row["segment"], "slip_per_event": {"value": value(row["slip_per_event"]), "units": "m"},
+                 "recurrence_period": {"value": value(row["recurrence_period"]), "units": "s"},
+                 "moment_magnitude": value(row["moment_magnitude"]),
+                 "observed_recurrence": {"value": value(row["observed_recurrence"]), "units": "s"},
+                 "recurrence_ratio": value(row["recurrence_ratio"]), "slip_ratio": value(row["slip_ratio"])}
+                for row in (segment_rows(dataset) if "segment" in dataset.dims else [])]
         print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"},
                           "notes": spec.notes}, indent=2))
     else:
@@ -162,6 +165,6 @@ def cmd_map(args) -> int:
         for note in spec.notes:
             print(f"  {note}")
         if "segment" in dataset.dims:
-            print(observed_table(dataset))
+            print(observed_table(dataset, most=MOST_ROWS))
         print(f"\nwrote {args.output}" + (f", {', '.join(plots)}" if plots else ""))
     return 0

@@ -29,6 +29,7 @@ from pathlib import Path
 
 from faultslip import ranges
 from faultslip.errors import InputError
+from faultslip.io import gate
 from faultslip.io.resources import bundled_dir, config_path, parse_toml
 from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
 from faultslip.dynamics.slider import SliderSystem
@@ -400,19 +401,9 @@ def resolve_path(argument, what: str, base_dir: Path | None = None) -> tuple[Pat
     raise InputError(f"{what} {text!r} does not exist")
 
 
-def read_text_file(path: Path, what: str, limit: int = 16 * 2**20) -> str:
-    """A UTF-8 text file, refused cleanly if unreadable, too large or not UTF-8."""
-    try:
-        size = path.stat().st_size
-        if size > limit:
-            raise InputError(f"{what} {str(path)!r} is {size / 2**20:.0f} MiB; a config is at most {limit // 2**20} MiB")
-        data = path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"cannot read {what} {str(path)!r}: {exc.strerror or exc}") from None
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{what} {str(path)!r} is not UTF-8 text (byte {exc.start}); save it as UTF-8") from None
+def read_text_file(path: Path, what: str) -> str:
+    """A UTF-8 config file through the gate (:func:`faultslip.io.gate.read_text`)."""
+    return gate.read_text(path, what, "config")
 
 
 def load_scene(path_or_name=None) -> Scene:

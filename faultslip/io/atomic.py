@@ -1,17 +1,23 @@
-"""Atomic output: write to a temporary file in the target directory, then rename.
+"""One way out: every file faultslip writes passes :func:`atomic_path`.
 
-An interrupted run therefore leaves either nothing or the complete previous
-file under the final name, never a truncated one.
+It holds the output's lock (:func:`faultslip.io.outputs.output_lock`, taken here unless the run
+already holds it), writes to a temporary file in the target's folder and renames it into place.
+An interrupted run therefore leaves either nothing or the complete previous file under the
+final name, never a truncated one; a full disk (ENOSPC, or the HDF5 and netCDF libraries' own
+words for it) becomes one sentence and leaves no partial file.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
-from faultslip.errors import InputError
+from faultslip.errors import InputError, OutputError
+from faultslip.io.outputs import output_lock
 
 
 @contextlib.contextmanager
@@ -25,18 +31,56 @@ def atomic_path(path, suffix: str | None = None):
     directory = target.parent if str(target.parent) else Path(".")
     if not directory.is_dir():
         raise InputError(f"output directory {str(directory)!r} does not exist")
-    handle, temporary = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=suffix if suffix is not None else (target.suffix or ".tmp") + ".tmp", dir=directory
-    )
-    os.close(handle)
+    with output_lock(target, "faultslip"):
+        try:
+            handle, temporary = tempfile.mkstemp(
+                prefix=f".{target.name}.", suffix=suffix if suffix is not None else (target.suffix or ".tmp") + ".tmp",
+                dir=directory)
+        except OSError as exc:
+            raise _as_output_error(exc, target, directory) from None
+        os.close(handle)
+        try:
+            yield Path(temporary)
+            os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; a normal file respects the umask
+            os.replace(temporary, target)
+        except BaseException as exc:
+            full = disk_is_full(exc, directory)
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(temporary)
+            if full:
+                raise full_disk_error(target, directory) from None
+            raise
+
+
+#: Free bytes below which a failed write is put down to a full disk (HDF5 says only "HDF error").
+NEARLY_FULL = 4 * 2**20
+
+
+def disk_is_full(exc: BaseException, directory) -> bool:
+    """Whether ``exc``, raised while writing into ``directory``, means the disk is full."""
+    if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        return True
+    if isinstance(exc, (KeyboardInterrupt, SystemExit, MemoryError)):
+        return False
+    try:  # HDF5, netCDF-C, zarr and PIL report a full disk in their own words: ask the disk
+        return shutil.disk_usage(directory).free < NEARLY_FULL
+    except OSError:
+        return False
+
+
+def full_disk_error(target, directory) -> OutputError:
     try:
-        yield Path(temporary)
-        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; a normal file respects the umask
-        os.replace(temporary, target)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(temporary)
-        raise
+        free = f"{shutil.disk_usage(directory).free / 1e3:.0f} kB free"
+    except OSError:
+        free = "no space"
+    return OutputError(f"the disk holding {str(directory)!r} is full ({free}) while writing {Path(target).name}; "
+                       "nothing was left behind; free some space or choose another folder")
+
+
+def _as_output_error(exc: OSError, target, directory) -> OutputError:
+    if disk_is_full(exc, directory):
+        return full_disk_error(target, directory)
+    return OutputError(f"cannot write {str(target)!r}: {exc.strerror or exc}")
 
 
 def _umask() -> int:
@@ -59,3 +103,30 @@ def save_figure(figure, path, **kwargs) -> None:
     import matplotlib.pyplot as plt  # heavy: matplotlib only once a figure exists
 
     plt.close(figure)  # a saved figure is done with; pyplot would otherwise keep every one open
+
+
+@contextlib.contextmanager
+def partial_output(target, keep_on_interrupt: bool = False, remove=None):
+    """The guard of an output written in place over many steps (a sweep, a conversion) as ``TARGET.partial``.
+
+    The caller holds the output's lock and renames the partial into place when it is complete.
+    On failure the partial is removed (``remove`` deletes it: a file by default, a store folder if
+    given), except on an interruption with ``keep_on_interrupt`` (a resumable sweep keeps its
+    blocks); a full disk is one sentence, and a partial file written into a full disk is never
+    kept, since HDF5 may have left it inconsistent.
+    """
+    target = Path(target)
+    partial = target.with_name(target.name + ".partial")
+    directory = target.parent if str(target.parent) else Path(".")
+    remove = remove or (lambda path: Path(path).unlink(missing_ok=True))
+    try:
+        yield partial
+    except BaseException as exc:
+        full = disk_is_full(exc, directory)
+        interrupted = isinstance(exc, (KeyboardInterrupt, SystemExit)) or getattr(exc, "resumable", False)
+        if full or not (keep_on_interrupt and interrupted):
+            with contextlib.suppress(OSError):
+                remove(partial)
+        if full:
+            raise full_disk_error(target, directory) from None
+        raise

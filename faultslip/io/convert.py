@@ -20,9 +20,11 @@ from faultslip.errors import InputError
 from faultslip.io import budget
 from faultslip.io.chunks import ChunkFile, encode_chunk, padded
 from faultslip.io.netcdf import create_chunked
+from faultslip.io.atomic import partial_output
 from faultslip.io.outputs import check_output, output_lock
 from faultslip.io.processes import run_windowed, stop_pool, usable_workers, worker_pool
-from faultslip.io.zarr_store import open_store
+from faultslip.io.gate import decoding
+from faultslip.io.zarr_store import open_store, verify_store
 
 
 def _grid(store):
@@ -38,18 +40,44 @@ def _grid(store):
     return dims, dict(zip(dims, chunks))
 
 
-def _without_fill(attrs: dict) -> dict:
-    return {key: value for key, value in attrs.items() if key != "_FillValue"}
-
-
 def _encode_region(path, names, region, chunk_shape, fills):
     """Worker task: read one chunk of each variable from the store and encode it as HDF5 stores it."""
     import zarr  # heavy: imported where used
 
     group = zarr.open_group(str(path), mode="r")
     index = tuple(slice(start, stop) for start, stop in region)
-    return {name: encode_chunk(padded(np.asarray(group[name][index]), chunk_shape, fills[name]))
-            for name in names}
+    encoded = {}
+    for name in names:
+        try:
+            values = np.asarray(group[name][index])
+        except Exception as exc:  # noqa: BLE001  a checksum or decompression failure: the chunk is damaged
+            where = ".".join(str(start // size) for (start, _), size in zip(region, chunk_shape)) or "0"
+            raise InputError(f"the Zarr store {Path(path).name}: chunk {where} of {name!r} is damaged "
+                             f"({' '.join(str(exc).split())[:100]})") from None
+        encoded[name] = encode_chunk(padded(values, chunk_shape, fills[name]))
+    return encoded
+
+
+def _netcdf_attrs(attrs: dict, where: str) -> dict:
+    """Attributes netCDF can hold (text, numbers, lists of one of them); anything else is one sentence."""
+    checked = {}
+    for key, value in attrs.items():
+        if key == "_FillValue":
+            continue
+        values = value if isinstance(value, list) else [value]
+        kinds = {type(v) for v in values}
+        ok = bool(values) and (kinds <= {str} or kinds <= {int, float}) and not any(isinstance(v, bool) for v in values)
+        if not isinstance(key, str) or not key or not ok:
+            raise InputError(f"the Zarr store's attribute {key!r} of {where} is {json_kind(value)}, which a netCDF "
+                             "attribute cannot hold; the store was not written by faultslip or has been edited")
+        checked[key] = value
+    return checked
+
+
+def json_kind(value) -> str:
+    return ("null" if value is None else "a table" if isinstance(value, dict) else "true/false"
+            if isinstance(value, bool) else "an empty list" if value == [] else "a mixed list"
+            if isinstance(value, list) else type(value).__name__)
 
 
 def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = False, progress=None,
@@ -57,12 +85,15 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
     """Convert the Zarr store at ``store_path`` into the netCDF4 file ``output``; returns a summary."""
     store_path = Path(store_path)
     store = open_store(store_path)
+    verify_store(store_path)
     output = check_output(output, label="-o", suffixes=(".nc",), inputs=[store_path], overwrite=overwrite)
     dims, chunks = _grid(store)
     stored = sum(f.stat().st_size for f in store_path.rglob("*") if f.is_file())
     # the file holds the same chunks with the same filters: about the store's size
     budget.check(budget.Estimate(f"converting {store_path.name}", disk=stored * 1.1, output=output), allow_large)
-    coords = {name: (store[name].values, _without_fill(store[name].attrs)) for name in dims if name in store.coords}
+    with decoding(store_path, "Zarr store", "a faultslip store"):
+        coords = {name: (store[name].values, _netcdf_attrs(store[name].attrs, repr(name)))
+                  for name in dims if name in store.coords}
     missing = [name for name in dims if name not in coords]
     if missing:
         raise InputError(f"the Zarr store has no coordinate for dimension {missing[0]!r}; faultslip convert "
@@ -70,22 +101,19 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
     variables, fills = {}, {}
     for name, variable in store.data_vars.items():
         fill = variable.attrs.get("_FillValue")
-        fills[name] = np.array(fill if fill is not None else 0, dtype=variable.dtype)[()]
-        variables[name] = (dims, variable.dtype.str.lstrip("<>|="), fill, _without_fill(variable.attrs))
+        with decoding(store_path, "Zarr store", f"a faultslip store (the fill value of {name!r})"):
+            fills[name] = np.array(fill if fill is not None else 0, dtype=variable.dtype)[()]
+        variables[name] = (dims, variable.dtype.str.lstrip("<>|="), fill, _netcdf_attrs(variable.attrs, repr(name)))
     sizes = {name: store.sizes[name] for name in dims}
     starts = [range(0, sizes[d], chunks[d]) for d in dims]
     regions = [tuple((start, min(start + chunks[d], sizes[d])) for d, start in zip(dims, corner))
                for corner in itertools.product(*starts)]
     workers, _ = usable_workers(workers, len(regions))
-    partial = output.with_name(output.name + ".partial")
     started = time.perf_counter()
-    with output_lock(output, "faultslip convert"):
-        try:
-            create_chunked(partial, sizes, coords, variables, dict(store.attrs), chunks).close()
-        except OSError as exc:
-            raise InputError(f"cannot write {partial.name}: {exc.strerror or exc}") from None
-        names = list(variables)
-        chunk_shape = tuple(chunks[d] for d in dims)
+    names = list(variables)
+    chunk_shape = tuple(chunks[d] for d in dims)
+    with output_lock(output, "faultslip convert", overwrite=overwrite), partial_output(output) as partial:
+        create_chunked(partial, sizes, coords, variables, _netcdf_attrs(dict(store.attrs), "the store"), chunks).close()
         pool = worker_pool(workers) if workers > 1 and len(regions) > 1 else None
         done = 0
         try:
@@ -103,7 +131,6 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
                               for region in regions), store_chunks, window=workers + 1)
         except BaseException:
             stop_pool(pool, interrupted=True)
-            partial.unlink(missing_ok=True)
             raise
         stop_pool(pool)
         os.replace(partial, output)

@@ -11,8 +11,10 @@ The kernel drops a lock when its process dies, so a crashed run never leaves a s
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
+import stat
 import time
 from pathlib import Path
 
@@ -83,47 +85,105 @@ def _lock_path(target: Path) -> Path:
     return target.with_name(f".{target.name}.lock")
 
 
+#: Locks this process holds: lock path -> [file descriptor, depth]; a nested claim of one output reuses it.
+_HELD: dict = {}
+
+
+def _open_lock(lock: Path) -> int:
+    """A descriptor on the lock file, created if absent; never through a symlink, never a foreign file.
+
+    ``O_CREAT|O_EXCL|O_NOFOLLOW`` creates it without following anything planted at its path; an
+    existing one is opened with ``O_NOFOLLOW`` and must be a regular file with one link (a planted
+    symlink, FIFO or hard link to another file is refused, and nothing is truncated).
+    """
+    flags = os.O_RDWR | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        return os.open(lock, flags | os.O_CREAT | os.O_EXCL, 0o644)
+    except FileExistsError:
+        pass
+    try:
+        descriptor = os.open(lock, flags)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP or lock.is_symlink():
+            raise InputError(f"the lock file {str(lock)!r} is a symbolic link, which faultslip never follows; "
+                             "remove it and run again") from None
+        raise InputError(f"cannot take the lock {str(lock)!r}: {exc.strerror or exc}") from None
+    info = os.fstat(descriptor)
+    if not stat.S_ISREG(info.st_mode) or info.st_nlink != 1:
+        os.close(descriptor)
+        raise InputError(f"the lock file {str(lock)!r} is not a plain file of faultslip's (a link or a special "
+                         "file); remove it and run again")
+    return descriptor
+
+
 @contextlib.contextmanager
-def output_lock(path, command: str = "faultslip"):
+def output_lock(path, command: str = "faultslip", overwrite: bool = True, label: str = "-o"):
     """Hold an exclusive lock on ``path`` as an output; a second holder gets an :class:`InputError`.
 
-    The lock file records the holder's pid, command and start time, which the refusal quotes.
-    Without ``fcntl`` (Windows) the lock is a no-op.
+    The lock and the existence check are taken together: once the lock is held, an output that
+    exists is refused unless ``overwrite`` (so two runs cannot both find it absent and write it).
+    The lock file records the holder's pid, command and start time, which the refusal quotes;
+    ``flock`` on it means a killed holder leaves no stale lock. Claims nest within one process.
+    Without ``fcntl`` (Windows) only the existence check is made.
     """
+    target = Path(path)
+    lock = _lock_path(target)
+    key = str(lock.resolve(strict=False)) if not lock.is_symlink() else str(lock)
+    if key in _HELD:
+        _HELD[key][1] += 1
+        try:
+            yield
+        finally:
+            _HELD[key][1] -= 1
+        return
     try:
         import fcntl
     except ImportError:  # no flock: nothing to hold
-        yield
-        return
-    target = Path(path)
-    lock = _lock_path(target)
-    while True:
-        handle = open(lock, "a+", encoding="utf-8")
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            handle.seek(0)
-            holder = _describe_holder(handle.read())
-            handle.close()
-            raise InputError(f"{target.name} is being written by another faultslip run ({holder}); "
-                             "wait for it to finish or choose another output") from None
-        # the file we locked may have been unlinked by a holder that just finished: lock the new one
-        try:
-            if os.fstat(handle.fileno()).st_ino == os.stat(lock).st_ino:
-                break
-        except FileNotFoundError:
-            pass
-        handle.close()
-    handle.seek(0)
-    handle.truncate()
-    handle.write(json.dumps({"pid": os.getpid(), "command": command, "started": time.time()}))
-    handle.flush()
+        fcntl = None
+    descriptor = None
+    if fcntl is not None:
+        while True:
+            descriptor = _open_lock(lock)
+            try:
+                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                os.lseek(descriptor, 0, os.SEEK_SET)
+                holder = _describe_holder(os.read(descriptor, 4096).decode("utf-8", "replace"))
+                os.close(descriptor)
+                raise InputError(f"{target.name} is being written by another faultslip run ({holder}); "
+                                 "wait for it to finish or choose another output") from None
+            # the file we locked may have been unlinked by a holder that just finished: lock the new one
+            try:
+                if os.fstat(descriptor).st_ino == os.stat(lock, follow_symlinks=False).st_ino:
+                    break
+            except FileNotFoundError:
+                pass
+            os.close(descriptor)
     try:
-        yield
+        if not overwrite and (target.exists() or target.is_symlink()):
+            raise InputError(f"{label} {str(target)!r} already exists; pass --overwrite to replace it")
+        if descriptor is not None:
+            os.ftruncate(descriptor, 0)
+            os.lseek(descriptor, 0, os.SEEK_SET)
+            os.write(descriptor, json.dumps({"pid": os.getpid(), "command": command,
+                                             "started": time.time()}).encode())
+        _HELD[key] = [descriptor, 1]
+        try:
+            yield
+        finally:
+            del _HELD[key]
     finally:
-        with contextlib.suppress(OSError):
-            os.unlink(lock)
-        handle.close()
+        if descriptor is not None:
+            with contextlib.suppress(OSError):
+                if os.fstat(descriptor).st_ino == os.stat(lock, follow_symlinks=False).st_ino:
+                    os.unlink(lock)
+            os.close(descriptor)
+
+
+def holds_lock(path) -> bool:
+    """Whether this process holds the output lock of ``path``."""
+    lock = _lock_path(Path(path))
+    return str(lock.resolve(strict=False)) in _HELD
 
 
 def _describe_holder(text: str) -> str:
@@ -147,10 +207,11 @@ def file_lock(path, timeout: float = 30.0):
     target.parent.mkdir(parents=True, exist_ok=True)
     lock = _lock_path(target)
     deadline = time.monotonic() + timeout
-    with open(lock, "a+", encoding="utf-8") as handle:
+    descriptor = _open_lock(lock)
+    try:
         while True:
             try:
-                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
                 break
             except BlockingIOError:
                 if time.monotonic() > deadline:
@@ -160,4 +221,6 @@ def file_lock(path, timeout: float = 30.0):
         try:
             yield
         finally:
-            fcntl.flock(handle, fcntl.LOCK_UN)
+            fcntl.flock(descriptor, fcntl.LOCK_UN)
+    finally:
+        os.close(descriptor)

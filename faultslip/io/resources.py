@@ -10,12 +10,8 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python < 3.11
-    import tomli as tomllib
-
 from faultslip.errors import InputError
+from faultslip.io import gate
 import numpy as np
 import subprocess
 import sys
@@ -55,10 +51,11 @@ def read_unit_csv(path, label: str):
     x.csv") and the row: unreadable file, empty file, invalid CSV, wrong number of fields.
     """
 
+    gate.check_input(path, label, "table")
     try:
-        handle = open(path, newline="", encoding="utf-8")
+        handle = open(path, newline="", encoding="utf-8-sig")
     except OSError as exc:
-        raise InputError(f"cannot read {label}: {exc}") from None
+        raise InputError(f"cannot read {label}: {exc.strerror or exc}") from None
     with handle:
         try:
             reader = csv.reader(handle)
@@ -84,22 +81,9 @@ def read_unit_csv(path, label: str):
     return header, rows
 
 
-#: Largest input file read whole (CSV or netCDF): anything bigger is refused before reading.
-MAX_INPUT_BYTES = 2 * 2**30
-
-
-def check_input_file(path, label: str) -> Path:
-    """An input file that exists, is a file and is not too large to read whole."""
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"{label} {str(path)!r} does not exist")
-    if path.is_dir():
-        raise InputError(f"{label} {str(path)!r} is a folder, not a file")
-    size = path.stat().st_size
-    if size > MAX_INPUT_BYTES:
-        raise InputError(f"{label} {str(path)!r} is {size / 2**30:.1f} GiB; inputs are read whole, at most "
-                         f"{MAX_INPUT_BYTES / 2**30:.0f} GiB")
-    return path
+def check_input_file(path, label: str, kind: str = "table") -> Path:
+    """An input file through the gate (:func:`faultslip.io.gate.check_input`)."""
+    return gate.check_input(path, label, kind)
 
 
 #: Run in a child process by :func:`probe_netcdf`: everything xarray reads when it opens a file.
@@ -146,14 +130,11 @@ def open_netcdf(path, label: str):
     """A netCDF file loaded into memory as an xarray Dataset; any failure to read it is one sentence."""
     import xarray as xr  # heavy: imported where used
 
-    path = check_input_file(path, label)
+    path = check_input_file(path, label, "netcdf")
     probe_netcdf(path, label)
-    try:
+    with gate.decoding(path, label, "netCDF", silence=True):
         with xr.open_dataset(path) as opened:
             return opened.load()
-    except Exception as exc:  # netCDF4, h5py and xarray raise many types on a damaged file: all mean unreadable
-        reason = " ".join(str(exc).split())[:160] or type(exc).__name__
-        raise InputError(f"cannot read {label} {path.name} as netCDF ({reason})") from None
 
 
 def read_numeric_csv(path, label: str) -> dict:
@@ -184,12 +165,7 @@ def read_table(path: Path) -> list[dict[str, tuple[str, str | None]]]:
     return rows
 
 
-def parse_toml(text: str, source: str) -> dict:
-    """Parse TOML text; a syntax error becomes one :class:`InputError` naming ``source``."""
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{source} is not valid TOML: {exc}") from None
+parse_toml = gate.parse_toml
 
 
 def check_toml_layout(data: dict, tables: dict, source: str, what: str, top_level=("name", "description")) -> None:

@@ -20,6 +20,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.chunks import deflate_compress
+from faultslip.io.gate import decoding
 
 ZARR_FORMAT = 2
 #: Files that mark a folder as a Zarr store (format 2 or 3): only such a folder is ever replaced.
@@ -66,13 +67,22 @@ def _fast_zlib():
 
 
 def _codecs(dtype: str, compression: str) -> dict:
+    """Filters and compressor of one array: byte shuffle, a CRC-32C checksum, then zlib or zstd.
+
+    The checksum (numcodecs' ``crc32c``) is the last filter, so it covers every byte the chunk
+    decodes to: a bit flip in the stored chunk either breaks the decompression or fails the
+    checksum, and is refused by name, never read as a wrong value (zarr format 2 has no place
+    for a checksum after the compressor).
+    """
     import numcodecs  # heavy: imported where used
 
+    itemsize = np.dtype(dtype).itemsize if np.dtype(dtype).kind not in "OUT" else 1
+    filters = ([numcodecs.Shuffle(elementsize=itemsize)] if itemsize > 1 and compression != "none" else [])
+    filters.append(numcodecs.CRC32C())
     if compression == "none":
-        return {"compressors": None}
+        return {"compressors": None, "filters": filters}
     codec = _fast_zlib() if compression == "zlib" else numcodecs.Zstd(level=1)
-    itemsize = np.dtype(dtype).itemsize
-    return {"compressors": [codec], "filters": [numcodecs.Shuffle(elementsize=itemsize)] if itemsize > 1 else None}
+    return {"compressors": [codec], "filters": filters}
 
 
 def create_store(path, dims: dict, coords: dict, variables: dict, attrs: dict, chunks: dict,
@@ -94,12 +104,12 @@ def create_store(path, dims: dict, coords: dict, variables: dict, attrs: dict, c
         values = np.asarray(values)
         coordinates[name] = (name, values.astype(str) if values.dtype.kind in "OUT" else values.astype(float),
                              coordinate_attrs)
-        if values.dtype.kind not in "OUT":
-            encoding[name] = {"_FillValue": None}  # a coordinate has no missing values
+        if values.dtype.kind not in "OUT":  # a coordinate has no missing values; it is checksummed too
+            encoding[name] = {"_FillValue": None, **_codecs("f8", compression)}
     dataset = xr.Dataset(data_vars, coords=coordinates, attrs=attrs)
     try:
         dataset.to_zarr(path, mode="w", compute=False, encoding=encoding, zarr_format=ZARR_FORMAT,
-                        consolidated=False)
+                        consolidated=False, write_empty_chunks=True)
     except OSError as exc:
         raise InputError(f"cannot write the Zarr store {path}: {exc.strerror or exc}") from None
 
@@ -108,7 +118,9 @@ def write_region(path, dataset, region: dict) -> None:
     """Write ``dataset``'s data variables into ``region`` (dimension -> slice) of the store at ``path``."""
     _fast_zlib()  # this process (a worker, perhaps on another machine) encodes with ISA-L too
     dataset = dataset.drop_vars(list(dataset.coords))
-    dataset.to_zarr(path, region=region, mode="r+", zarr_format=ZARR_FORMAT, consolidated=False)
+    # every chunk is written, fill or not: a chunk missing from a finished store is then damage
+    dataset.to_zarr(path, region=region, mode="r+", zarr_format=ZARR_FORMAT, consolidated=False,
+                    write_empty_chunks=True)
 
 
 def finish_store(partial, output) -> None:
@@ -151,7 +163,46 @@ def open_store(path):
         raise InputError(f"{str(path)!r} does not exist")
     if not is_store(path):
         raise InputError(f"{str(path)!r} is not a Zarr store (no .zgroup, .zmetadata or zarr.json inside)")
-    try:
+    with decoding(path, "Zarr store", "Zarr", silence=True):  # no metadata consolidated: xarray warns, needlessly
         return xr.open_zarr(path, decode_cf=False, consolidated=None)
-    except Exception as exc:  # zarr raises many types on a damaged store; all mean "not readable"
-        raise InputError(f"cannot read the Zarr store {str(path)!r}: {str(exc)[:200]}") from None
+
+
+def chunk_keys(shape, chunks, separator: str = ".") -> list[str]:
+    """The keys of every chunk of a zarr format 2 array of ``shape`` in ``chunks``."""
+    import itertools
+
+    if not shape:
+        return ["0"]
+    counts = [max(-(-size // chunk), 1) if size else 0 for size, chunk in zip(shape, chunks)]
+    return [separator.join(str(i) for i in index) for index in itertools.product(*(range(n) for n in counts))]
+
+
+def verify_store(path) -> None:
+    """Refuse, naming the first one, a store with a missing chunk or an array without a checksum.
+
+    Every array of a store faultslip writes has every chunk on disk (written whole, fill or
+    not) and a CRC-32C filter; the bytes themselves are checked as each chunk is decoded.
+    """
+    import json
+
+    path = Path(path)
+    for meta in sorted(path.rglob(".zarray")):
+        name = meta.parent.relative_to(path).as_posix()
+        try:
+            array = json.loads(meta.read_text(encoding="utf-8"))
+            shape, chunks = tuple(array["shape"]), tuple(array["chunks"])
+            separator = array.get("dimension_separator") or "."
+            filters = array.get("filters") or []
+            if not all(isinstance(n, int) and n >= 0 for n in shape + chunks) or len(shape) != len(chunks):
+                raise ValueError("shape or chunks are not whole numbers")
+        except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
+            raise InputError(f"the Zarr store {path.name}: the metadata of {name!r} is damaged ({exc})") from None
+        if not any(isinstance(f, dict) and f.get("id") == "crc32c" for f in filters):
+            raise InputError(f"the Zarr store {path.name}: array {name!r} has no checksum, so its chunks cannot be "
+                             "verified; write it again with this faultslip (sweep -o OUT.zarr)")
+        if 0 in shape:
+            continue
+        for key in chunk_keys(shape, chunks, separator):
+            if not (meta.parent / key).is_file():
+                raise InputError(f"the Zarr store {path.name} is missing chunk {key} of {name!r}; it is damaged "
+                                 "or unfinished, and a missing chunk is never filled in")

@@ -38,9 +38,10 @@ from faultslip.dynamics.simulate import simulate
 from faultslip.dynamics.slider import SliderSystem
 from faultslip.errors import InputError
 from faultslip.friction.laws import ConstantKinetic, ConstantStatic
+from faultslip.io import gate
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.report import Report
-from faultslip.io.resources import check_input_file, split_header
+from faultslip.io.resources import split_header
 from faultslip.units import STANDARD_GRAVITY, unit_factor
 
 AXES = ("x", "y", "z")
@@ -64,12 +65,17 @@ def _dialect(text: str) -> tuple[str, bool]:
     return ",", False
 
 
+#: Fastest sampling of a phone's accelerometer that a record may claim (phones give 100-500 Hz).
+MAX_PHONE_RATE = 5000.0
+
+
 def is_accelerometer_csv(path) -> bool:
     """Whether a CSV's header is an accelerometer's (a time column and acceleration columns, no displacement)."""
     try:
-        with open(path, encoding="utf-8-sig", errors="replace") as handle:
-            first = handle.readline()
-    except OSError:
+        gate.check_input(path, "record", "table")
+        with open(path, "rb") as handle:
+            first = handle.read(65536).decode("utf-8-sig", errors="replace").splitlines()[0]
+    except (OSError, InputError, IndexError):
         return False
     names = [split_header(cell.strip().strip('"'))[0].lower() for cell in first.replace(";", ",").replace("\t", ",")
              .split(",")]
@@ -79,12 +85,9 @@ def is_accelerometer_csv(path) -> bool:
 
 def read_accelerometer(path) -> AccelerometerRecord:
     """A phyphox export or a generic accelerometer CSV, in SI; one sentence for anything malformed."""
-    path = check_input_file(path, "accelerometer record")
-    label = f"accelerometer record {path.name}"
-    try:
-        text = path.read_bytes().decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{label} is not UTF-8 text (byte {exc.start})") from None
+    label = f"accelerometer record {Path(path).name}"
+    text = gate.read_text(path, "accelerometer record", "table")
+    path = Path(path)
     if not text.strip():
         raise InputError(f"{label} is empty")
     delimiter, decimal_comma = _dialect(text)
@@ -94,6 +97,9 @@ def read_accelerometer(path) -> AccelerometerRecord:
         raise InputError(f"{label} is not valid CSV ({exc})") from None
     header = [split_header(cell) for cell in rows[0]]
     names = [name for name, _ in header]
+    repeated = sorted({name for name in names if names.count(name) > 1})
+    if repeated:
+        raise InputError(f"{label}: the column {repeated[0]!r} appears twice in the header")
     phyphox = names[0] == "Time" and any(name.endswith(" x") and "cceleration" in name for name in names)
     body = [row for row in rows[1:] if any(cell.strip() for cell in row)]
     if len(body) < 20:
@@ -119,6 +125,10 @@ def read_accelerometer(path) -> AccelerometerRecord:
     time_values = time_values * unit_factor(time_unit, "time", f"{label}, time")
     if not np.all(np.isfinite(time_values)) or np.any(np.diff(time_values) <= 0):
         raise InputError(f"{label}: time must be finite and increase strictly")
+    rate = 1.0 / float(np.median(np.diff(time_values)))
+    if rate > MAX_PHONE_RATE:
+        raise InputError(f"{label}: read with its time in {time_unit!r}, it samples at {rate:.3g} Hz, beyond any "
+                         f"phone's accelerometer ({MAX_PHONE_RATE:g} Hz at most); check the time column's unit")
     acceleration = {}
     for name, (values, unit) in columns.items():
         lowered = name.lower()
@@ -255,6 +265,12 @@ def analyse(record: AccelerometerRecord, axis: str | None = None, threshold: flo
         durations.append(float(time[end] - time[start]))
         drop, omega, pull = fit_slip(time[start:end + 1] - 0.5 * (time[start - 1] + time[start]),
                                      direction * signal[start:end + 1])
+        if not (drop > 0 and pull > 0):  # the slider's law gives both positive: this burst is not a slip
+            notes.append(f"the burst at {time[start]:.3g} s does not follow the slider's law (fitted drop "
+                         f"{drop:.3g} m/s^2, pull speed {pull:.3g} m/s); left out")
+            starts.pop()
+            durations.pop()
+            continue
         peaks.append(drop)
         omegas.append(omega)
         pulls.append(pull)

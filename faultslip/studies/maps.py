@@ -579,24 +579,41 @@ def run_map(spec, method="auto", tolerance=1e-6):
     return dataset
 
 
-def observed_table(dataset) -> str:
-    """Predicted against observed recurrence and slip, with ratios, as Markdown."""
+def segment_rows(dataset) -> list[dict]:
+    """Each segment's predicted and observed values as plain floats (NaN where absent), read column-wise."""
+    names = ("slip_rate", "slip_per_event", "recurrence_period", "moment_magnitude", "observed_slip",
+             "observed_recurrence", "slip_ratio", "recurrence_ratio", "outside_domain")
+    columns = {name: (np.asarray(dataset[name].values, dtype=float) if name in dataset
+                      else np.full(dataset.sizes["segment"], np.nan)) for name in names}
+    return [{"segment": str(segment), **{name: float(columns[name][i]) for name in names}}
+            for i, segment in enumerate(dataset["segment"].values)]
+
+
+def observed_table(dataset, most: int | None = None) -> str:
+    """Predicted against observed recurrence and slip, with ratios, as Markdown (the first ``most`` rows)."""
     year = 365.25 * 86400
     lines = ["| segment | slip rate (mm/yr) | predicted slip (m) | observed slip (m) | ratio | predicted recurrence (yr) "
              "| observed recurrence (yr) | ratio |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
-    for i, segment in enumerate(dataset["segment"].values):
-        row = dataset.isel(segment=i)
-        slip_obs, rec_obs = float(row["observed_slip"]), float(row["observed_recurrence"])
 
-        def fmt(value, scale=1.0, digits=3):
-            return "" if not np.isfinite(value) else f"{value / scale:.{digits}g}"
+    def fmt(value, scale=1.0, digits=3):
+        return "" if not np.isfinite(value) else f"{value / scale:.{digits}g}"
 
-        outside = "outside_domain" in dataset and int(row["outside_domain"]) == 1
-        predicted = "none: mu_m is not below mu_so (no stick-slip)" if outside else fmt(float(row["slip_per_event"]))
-        lines.append(f"| {segment} | {float(row['slip_rate']) * year * 1e3:.3g} | {predicted} | "
-                     f"{fmt(slip_obs)} | {fmt(float(row['slip_ratio']))} | {fmt(float(row['recurrence_period']), year)} | "
-                     f"{fmt(rec_obs, year)} | {fmt(float(row['recurrence_ratio']))} |")
+    rows = segment_rows(dataset)
+    for row in rows[:most]:
+        outside = row["outside_domain"] == 1
+        predicted = "none: mu_m is not below mu_so (no stick-slip)" if outside else fmt(row["slip_per_event"])
+        lines.append(f"| {row['segment']} | {row['slip_rate'] * year * 1e3:.3g} | {predicted} | "
+                     f"{fmt(row['observed_slip'])} | {fmt(row['slip_ratio'])} | {fmt(row['recurrence_period'], year)} | "
+                     f"{fmt(row['observed_recurrence'], year)} | {fmt(row['recurrence_ratio'])} |")
+    if most is not None and len(rows) > most:
+        lines.append(f"| ... {len(rows) - most} more segments in the netCDF file | | | | | | | |")
     return "\n".join(lines)
+
+
+def has_observations(dataset) -> bool:
+    """Whether any segment carries an observed slip or recurrence."""
+    return any(name in dataset and bool(np.isfinite(np.asarray(dataset[name].values, dtype=float)).any())
+               for name in ("observed_recurrence", "observed_slip"))
 
 
 def map_figure(dataset):

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import re
 import os
 import time
 import warnings
@@ -75,6 +76,19 @@ def plan_blocks(study, chunk_cells: int = DEFAULT_CHUNK_CELLS):
     return dict(zip(names, chunks)), blocks
 
 
+#: A dask scheduler's address: "local", or [protocol://]host:port.
+_ADDRESS = re.compile(r"^(?:(?:tcp|tls|inproc|ucx|ws|wss)://)?[A-Za-z0-9_.\-\[\]:]*[A-Za-z0-9_.\-\]]:\d{1,5}$")
+
+
+def check_scheduler(scheduler) -> None:
+    """Refuse, before any work, a ``--scheduler`` that is neither ``local`` nor an address with a port."""
+    if scheduler is None or scheduler == "local":
+        return
+    if not isinstance(scheduler, str) or not _ADDRESS.match(scheduler.strip()):
+        raise InputError(f"--scheduler must be 'local' or a dask scheduler's address with its port, e.g. "
+                         f"'tcp://10.0.0.5:8786', got {scheduler!r}")
+
+
 def _executor(scheduler, workers):
     """(submit, wait_any, shutdown, label) for the chosen executor."""
     if scheduler is None:
@@ -91,7 +105,7 @@ def _executor(scheduler, workers):
         return Client(cluster), f"dask LocalCluster ({workers} workers; without --scheduler the process pool is faster here)"
     try:
         return Client(scheduler, timeout="10s"), f"dask cluster at {scheduler}"
-    except (OSError, TimeoutError) as exc:
+    except (OSError, TimeoutError, ValueError) as exc:
         raise InputError(f"cannot reach the dask scheduler at {scheduler!r}: {exc}") from None
 
 
@@ -283,9 +297,10 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
     """
     if compression not in COMPRESSIONS:
         raise InputError(f"compression must be one of {', '.join(COMPRESSIONS)}, got {compression!r}")
+    check_scheduler(scheduler)
     file_format = output_format(output, file_format)
     output = check_study_output(output, file_format, inputs, overwrite)
-    with output_lock(output, "faultslip sweep"):
+    with output_lock(output, "faultslip sweep", overwrite=overwrite):
         return _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression,
                            file_format)
 

@@ -1,0 +1,212 @@
+"""One way in: every file faultslip reads passes this gate.
+
+The gate checks a path before a byte is read, and turns whatever a decoder raises into one
+sentence that names the file:
+
+* :func:`check_input` accepts a regular file (or, where asked, a directory store) and refuses a
+  device, FIFO or socket (``/dev/zero`` would never end) and anything larger than the limit of
+  its kind, naming the limit;
+* :func:`read_bytes` and :func:`read_text` read at most that limit, so a file that grows, or a
+  ``/proc`` file whose size says 0, cannot exhaust memory;
+* :func:`parse_toml` bounds the nesting depth before the recursive TOML parser sees the text;
+* :func:`decoding` wraps a third-party decoder (netCDF/HDF5, zlib, zarr, obspy, lxml, json,
+  csv, UTF-8): any exception it raises becomes an :class:`~faultslip.errors.InputError`, and
+  :func:`quiet` keeps the libraries' own stderr chatter (``Exception ignored ...``, multi-line
+  warnings) from reaching the user.
+
+A new reader uses these and never guards itself.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import gc
+import os
+import stat
+import sys
+import warnings
+from pathlib import Path
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python < 3.11
+    import tomli as tomllib
+
+from faultslip.errors import FaultslipError, InputError
+
+MiB = 2**20
+#: Largest file of each kind read whole; :func:`check_input` refuses larger ones before reading.
+LIMITS = {
+    "config": 16 * MiB,  # TOML scenes, studies, maps; the fit registry
+    "table": 512 * MiB,  # CSV and whitespace tables: lab data, records, segments, catalogs
+    "geojson": 64 * MiB,
+    "netcdf": 2048 * MiB,
+    "waveform": 512 * MiB,  # miniSEED, SAC
+    "catalog": 256 * MiB,  # QuakeML
+}
+#: Deepest nesting of arrays and inline tables accepted in TOML (real files use 2 or 3).
+MAX_TOML_DEPTH = 32
+
+
+def _size(n: float) -> str:
+    return f"{n / 2**30:.1f} GiB" if n >= 2**30 else f"{n / MiB:.0f} MiB" if n >= MiB else f"{n / 1024:.0f} kiB"
+
+
+def check_input(path, label: str, kind: str = "table", *, store: bool = False, limit: int | None = None) -> Path:
+    """``path`` as a Path if it is a readable regular file (or, with ``store``, a folder) within the limit.
+
+    Refused in one sentence: a missing path, a folder (unless ``store``), a device, FIFO or socket,
+    and a file larger than ``LIMITS[kind]`` (or ``limit``).
+    """
+    path = Path(path)
+    limit = LIMITS[kind] if limit is None else limit
+    try:
+        info = path.stat()
+    except FileNotFoundError:
+        raise InputError(f"{label} {str(path)!r} does not exist") from None
+    except OSError as exc:
+        raise InputError(f"cannot read {label} {str(path)!r}: {exc.strerror or exc}") from None
+    if stat.S_ISDIR(info.st_mode):
+        if store:
+            return path
+        raise InputError(f"{label} {str(path)!r} is a folder, not a file")
+    if not stat.S_ISREG(info.st_mode):
+        what = ("a device" if stat.S_ISCHR(info.st_mode) or stat.S_ISBLK(info.st_mode) else
+                "a pipe" if stat.S_ISFIFO(info.st_mode) else "a socket" if stat.S_ISSOCK(info.st_mode) else
+                "not a regular file")
+        raise InputError(f"{label} {str(path)!r} is {what}; faultslip reads regular files only")
+    if info.st_size > limit:
+        raise InputError(f"{label} {str(path)!r} is {_size(info.st_size)}; the limit for such a file is "
+                         f"{_size(limit)}")
+    if not os.access(path, os.R_OK):
+        raise InputError(f"cannot read {label} {str(path)!r}: permission denied")
+    return path
+
+
+def read_bytes(path, label: str, kind: str = "table", limit: int | None = None) -> bytes:
+    """The checked file's bytes, reading no more than its limit whatever the file claims."""
+    path = check_input(path, label, kind, limit=limit)
+    limit = LIMITS[kind] if limit is None else limit
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read(limit + 1)
+    except OSError as exc:
+        raise InputError(f"cannot read {label} {str(path)!r}: {exc.strerror or exc}") from None
+    if len(data) > limit:
+        raise InputError(f"{label} {str(path)!r} is larger than the limit for such a file, {_size(limit)}")
+    return data
+
+
+def read_text(path, label: str, kind: str = "config", limit: int | None = None) -> str:
+    """The checked file as UTF-8 text (a byte-order mark is dropped)."""
+    data = read_bytes(path, label, kind, limit)
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{label} {str(path)!r} is not UTF-8 text (byte {exc.start}); save it as UTF-8") from None
+
+
+def toml_depth(text: str) -> int:
+    """The deepest nesting of ``[`` and ``{`` in TOML ``text`` outside strings and comments."""
+    depth = deepest = 0
+    i, n = 0, len(text)
+    while i < n:
+        char = text[i]
+        if char == "#":
+            end = text.find("\n", i)
+            i = n if end < 0 else end
+            continue
+        if char in "\"'":
+            triple = text.startswith(char * 3, i)
+            quote = char * 3 if triple else char
+            j = i + len(quote)
+            while j < n:
+                if char == '"' and text[j] == "\\":
+                    j += 2
+                    continue
+                if text.startswith(quote, j):
+                    break
+                if not triple and text[j] == "\n":
+                    break
+                j += 1
+            i = j + len(quote)
+            continue
+        if char in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif char in "]}":
+            depth = max(depth - 1, 0)
+        i += 1
+    return deepest
+
+
+def parse_toml(text: str, source: str) -> dict:
+    """Parse TOML text; a syntax error or nesting beyond :data:`MAX_TOML_DEPTH` is one sentence naming ``source``."""
+    if toml_depth(text) > MAX_TOML_DEPTH:
+        raise InputError(f"{source} nests arrays or tables more than {MAX_TOML_DEPTH} deep; faultslip reads "
+                         "TOML nested at most that deep")
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{source} is not valid TOML: {exc}") from None
+    except RecursionError:  # defence in depth: the depth scan should have refused it
+        raise InputError(f"{source} nests arrays or tables too deep to read") from None
+
+
+def read_toml(path, label: str) -> dict:
+    """A TOML file through the gate."""
+    path = Path(path)
+    return parse_toml(read_text(path, label, "config"), path.name)
+
+
+def _first_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return (text[:160] or type(exc).__name__)
+
+
+@contextlib.contextmanager
+def quiet():
+    """Silence what decoding libraries print behind our back: warnings, unraisable-exception reports
+    (``Exception ignored in ...``, from finalisers run by the garbage collector) and the C-level stderr."""
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda unraisable: None
+    saved = None
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+    except (OSError, ValueError, AttributeError):  # no real stderr (a notebook): the Python hooks suffice
+        saved = None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                yield
+            finally:
+                gc.collect()  # finalisers of half-built objects run now, while reports are swallowed
+    finally:
+        if saved is not None:
+            with contextlib.suppress(OSError, ValueError):
+                sys.stderr.flush()
+            os.dup2(saved, 2)
+            os.close(saved)
+        sys.unraisablehook = hook
+
+
+@contextlib.contextmanager
+def decoding(path, label: str, what: str, silence: bool = False):
+    """Run a decoder of ``path``: any exception it raises becomes one sentence,
+    "cannot read LABEL NAME as WHAT (reason)". ``silence`` also applies :func:`quiet`."""
+    name = Path(path).name
+    try:
+        with (quiet() if silence else contextlib.nullcontext()):
+            yield
+    except FaultslipError:
+        raise
+    except (KeyboardInterrupt, SystemExit):
+        raise
+    except MemoryError:
+        raise InputError(f"cannot read {label} {name} as {what}: it needs more memory than is available") from None
+    except Exception as exc:  # noqa: BLE001  every decoder raises its own types; all mean "not readable"
+        raise InputError(f"cannot read {label} {name} as {what} ({_first_line(exc)})") from None
