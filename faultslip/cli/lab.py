@@ -226,7 +226,8 @@ def cmd_nanoscale(args) -> int:
         model = with_damping(model, _number(args.damping, "--damping"))
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
     choice = choose_method(model, ("regime", "force_swing", "time_series"), "nanoscale_LSODA", settings["tolerance"])
-    run = None if args.no_run else model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol)
+    run = None if args.no_run else model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol,
+                                                        allow_large=args.allow_large)
     report = nanoscale_report(model, run, None if args.no_run else choice)
     for key in ("origin", "description"):
         if notes.get(key):

@@ -221,6 +221,7 @@ def _studies_commands(commands) -> None:
     regional.add_argument("--mfd", default="characteristic", help="NRML magnitude-frequency distribution: "
                                                                   "characteristic or truncated_gr (moment-balanced)")
     regional.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    regional.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
     _method_flags(regional)
     regional.add_argument("--json", action="store_true", help="print one JSON object")
     regional.set_defaults(handler="studies:cmd_map")
@@ -299,6 +300,7 @@ def _vibration_commands(commands) -> None:
     nano.add_argument("scene", help="nanoscale scene TOML (e.g. configs/nanoscale_seed001.toml)")
     nano.add_argument("--damping", help="the damping A, overriding the scene's (stick-slip below A_c)")
     nano.add_argument("--no-run", action="store_true", help="the threshold analysis only, no simulation")
+    nano.add_argument("--allow-large", action="store_true", help="run even beyond the time and memory budget")
     nano.add_argument("-o", "--output", help="write the time series to this netCDF file")
     nano.add_argument("--plot", help="draw force against displacement and the charge (seed 001 Fig. 3)")
     _overwrite_and_json(nano)

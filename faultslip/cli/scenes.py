@@ -27,7 +27,7 @@ from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.catalogs import QUAKEML_SUFFIXES, parse_time, write_quakeml
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES, check_output
-from faultslip.io.waveforms import MAX_SAMPLES, STREAM_SUFFIXES, build_stream, sac_path, write_stream
+from faultslip.io.waveforms import MAX_SAMPLES, STREAM_SUFFIXES, build_stream, check_datable, sac_path, write_stream
 from faultslip.dynamics.asperity import choose_method as asperity_choose
 from faultslip.dynamics.asperity import report as asperity_report
 from faultslip.dynamics.asperity import run_dataset as asperity_dataset
@@ -188,7 +188,8 @@ def _simulate_nanoscale(args) -> int:
     model, settings, notes = load_nanoscale_scene(args.scene)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
     choice = choose_method(model, ("regime", "force_swing", "time_series"), "auto", settings["tolerance"])
-    run = model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol)
+    run = model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol,
+                         allow_large=getattr(args, "allow_large", False))
     report = nanoscale_report(model, run, choice, f"faultslip nanoscale simulation: {notes['name']}")
     _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
     _save_run(report, outputs, args, nanoscale_dataset(run) if outputs["output"] else None,
@@ -366,6 +367,8 @@ def cmd_simulate(args) -> int:
     budget.check(budget.simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64),
                                             integrated, outputs["output"]), args.allow_large)
     dataset = simulate(system, scene=scene.name, **settings)
+    if outputs["stream"] or outputs["events"]:  # before anything is written
+        check_datable(start, float(dataset["time"].values[-1]), settings.get("cycles", 100))
     dataset.attrs["scene_text"] = scene.text
     report = summary_report(dataset, f"faultslip simulation: {scene.name}")
     _note_origin(report, scene.origin and f"scene: {scene.origin}")

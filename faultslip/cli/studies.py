@@ -14,8 +14,9 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.nrml import MFD_KINDS, write_source_model
 from faultslip.io.outputs import check_output, FIGURE_SUFFIXES
 from faultslip.studies.grid import load_study
-from faultslip.studies.maps import (has_observations, load_map, map_figure, nrml_segments, observed_figure,
-                                    observed_table, run_map, segment_rows)from faultslip.io.convert import zarr_to_netcdf
+from faultslip.studies.maps import (check_map_size, has_observations, load_map, map_figure, nrml_segments, observed_figure,
+                                    observed_table, run_map, segment_rows)
+from faultslip.io.convert import zarr_to_netcdf
 from faultslip.studies.streaming import (default_chunk_cells, rate_state_counts, check_study_output, output_format, reproduce,
                                          run_study)
 
@@ -132,7 +133,8 @@ def cmd_map(args) -> int:
         observed = check_output(target.with_name(target.stem + "_observed" + target.suffix), label="--plot (observed)",
                                 inputs=spec.inputs + [outputs["output"]], overwrite=args.overwrite)
     tolerance = _tolerance(args) or 1e-6
-    dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance)
+    check_map_size(spec, outputs["output"], args.allow_large)
+    dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance, allow_large=True)
     plots = []
     with _locked(outputs["output"], outputs["plot"], observed, outputs["nrml"]):
         write_dataset(dataset, outputs["output"])

@@ -238,10 +238,10 @@ class QuasiHarmonic:
         eps = self.small_parameter(amplitude if valid else self.speed / self.angular_frequency)
         if eps > 0.3:
             notes.append(f"eps = (r + W max|f'|) / (M omega) = {eps:.3g} is not small: averaging's error "
-                         f"({ERROR_CONSTANT:g} eps^2 = {ERROR_CONSTANT * eps ** 2:.2g}) is large")
+                         f"({ERROR_CONSTANT:g} eps^2 = {ERROR_CONSTANT * eps * eps:.2g}) is large")
         return QuasiHarmonicResult(steady_sliding_stable=growth < 0, growth_rate=growth, limit_cycles=cycles,
                                    amplitude=amplitude, small_parameter=eps, valid=valid, notes=notes,
-                                   estimated_error=ERROR_CONSTANT * eps ** 2 if valid and amplitude > 0 else 0.0)
+                                   estimated_error=ERROR_CONSTANT * eps * eps if valid and amplitude > 0 else 0.0)
 
 
 @dataclass

@@ -32,6 +32,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from faultslip.errors import InputError, SolverError
+from faultslip.io import budget
 from faultslip.io.report import Report
 
 #: the slides' parameters ("The parameters used in the results reported here"), A = 3 in Fig. 3a
@@ -100,7 +101,7 @@ class NanoscaleModel:
         return self.damping < self.critical_damping
 
     def simulate(self, duration: float = 3000.0, samples: int = 6001, perturbation: float = 1e-3,
-                 rtol: float = 1e-8):
+                 rtol: float = 1e-8, allow_large: bool = False):
         """Eqs. (1)-(4) from steady sliding with X' raised by ``perturbation``: time, X, X', F, Sigma, Sigma_d.
 
         LSODA (the stuck phases are stiff: phi'(0) = 1 / v_m). Raises :class:`SolverError` naming the
@@ -109,6 +110,7 @@ class NanoscaleModel:
 
         if not (duration > 0 and math.isfinite(duration)) or not 2 <= samples <= 10_000_000:
             raise InputError("duration must be positive and samples from 2 to 1e7")
+        budget.check(budget.nanoscale_estimate(duration, samples), allow_large)  # before any work
         v_a, a, tau, f_ch, damping = (self.drive_speed, self.charge_length, self.charging_time, self.charge_force,
                                       self.damping)
         sigma0 = self.steady_charge

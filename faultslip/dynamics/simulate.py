@@ -452,6 +452,13 @@ def _periodic_run(system, cycles, x_start, samples, horizon_periods, name):
     return _collect(head + tiled, events, regime, 0, [])
 
 
+def _relative_change(new: float, old: float) -> float:
+    """|new / old - 1|, with 0 for two zeros and infinity for a change from zero."""
+    if old == 0:
+        return 0.0 if new == 0 else math.inf
+    return abs(new / old - 1)
+
+
 def _stepped_run(system, cycles, x, solver, rtol, atol, samples, horizon_periods, max_evaluations, verify_regime,
                  stop_when_converged, name):
     """Cycle by cycle: integrated slip phases, or a static limit that depends on the stick time."""
@@ -499,8 +506,8 @@ def _stepped_run(system, cycles, x, solver, rtol, atol, samples, horizon_periods
         if stop_when_converged is not None and len(events["event_time"]) >= 3:
             amplitudes, breaks = events["amplitude"], events["event_time"]
             last_period, previous_period = breaks[-1] - breaks[-2], breaks[-2] - breaks[-3]
-            if (abs(amplitudes[-1] / amplitudes[-2] - 1) < stop_when_converged
-                    and abs(last_period / previous_period - 1) < stop_when_converged):
+            if (_relative_change(amplitudes[-1], amplitudes[-2]) < stop_when_converged
+                    and _relative_change(last_period, previous_period) < stop_when_converged):
                 break
     if regime == STICK_SLIP and _decaying(system, events["stress_drop"]):
         regime = STEADY_SLIDING

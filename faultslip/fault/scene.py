@@ -366,7 +366,14 @@ def apply_friction(system, spec: dict, name: str = "scene"):
         _need(spec, ("polynomial",), "kinetic = \"polynomial\"", name)
         unit = units.Quantity(1, spec.get("polynomial_speed_unit", "m/s")).to("m/s").magnitude
         changes["kinetic_law"] = PolynomialKinetic([c / unit**k for k, c in enumerate(spec["polynomial"])])
-    return system.with_(**changes)
+    updated = system.with_(**changes)
+    law = updated.static_law
+    highest = float(law.mu_upper if hasattr(law, "mu_upper") else law.limit(0.0))
+    if not updated.mu_m < highest:
+        raise InputError(f"[friction] in {name}: kinetic friction at rest, {updated.mu_m:.4g}, is not below the "
+                         f"highest static friction, {highest:.4g}; static friction is at least kinetic, so such a "
+                         "slider never sticks and slips")
+    return updated
 
 
 def _need(spec, keys, what, name):

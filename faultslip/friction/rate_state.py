@@ -37,6 +37,10 @@ from faultslip.units import to_si_scalar
 EVOLUTION_LAWS = ("aging", "slip")
 
 
+#: Largest reference friction mu0 accepted: rocks give 0.6-0.85 (Byerlee 1978), clean metals up to ~1.5.
+MAX_MU0 = 2.0
+
+
 def steady_state_friction(speed, a, b, mu0=0.6, reference_speed=1e-6, b2=0.0):
     """mu_ss = mu0 + (a - b - b2) ln(V / V0), eq. (3). ``speed`` and ``reference_speed`` in m/s."""
     return mu0 + (a - b - b2) * np.log(np.asarray(speed, dtype=float) / reference_speed)
@@ -142,6 +146,9 @@ class RateStateLaw:
             raise InputError(f"D_c = {self.critical_slip:g} m is outside 1 nm - 10 m; laboratory values are 1-100 µm")
         if self.reference_speed <= 0:
             raise InputError(f"V0 must be a positive speed, got {self.reference_speed:g} m/s")
+        if not 0 < self.mu0 < MAX_MU0:
+            raise InputError(f"rate-and-state mu0 = {self.mu0:g} is outside (0, {MAX_MU0:g}); the friction of rock at the "
+                             "reference speed is about 0.6 (Byerlee), of any solid well below 2")
         if self.evolution not in EVOLUTION_LAWS:
             raise InputError(f"evolution law must be one of {', '.join(EVOLUTION_LAWS)}, got {self.evolution!r}")
         if self.b2 and (self.critical_slip2 is None or not self.critical_slip2 > 0):

@@ -62,7 +62,8 @@ def _size(n: float) -> str:
 def _duration(seconds: float) -> str:
     for unit, scale in (("days", 86400.0), ("hours", 3600.0), ("minutes", 60.0)):
         if seconds >= scale:
-            return f"{seconds / scale:.3g} {unit}"
+            value = f"{seconds / scale:.3g}"
+            return f"{value} {unit[:-1] if value == '1' else unit}"
     return f"{seconds:.2g} s"
 
 
@@ -116,12 +117,22 @@ def check(estimate: Estimate, allow_large: bool = False, seconds_allowed: float 
                          f"{OVERRIDE} to run it anyway")
 
 
+#: Bytes of a netCDF4 file besides its data: HDF5's superblock and object headers, and per variable its
+#: header, attributes and chunk index (measured: 51 kB for a 17-output sweep of 12 cells).
+NETCDF_OVERHEAD, NETCDF_PER_VARIABLE = 16e3, 3e3
+
+
+def netcdf_disk(raw_bytes: float, variables: int, compression: str = "zlib") -> float:
+    """Disk bytes of a netCDF4 file holding ``raw_bytes`` of data in ``variables`` variables."""
+    return raw_bytes * (1.0 if compression == "none" else ZLIB_RATIO) + NETCDF_OVERHEAD + NETCDF_PER_VARIABLE * variables
+
+
 def study_estimate(study, output, workers: int, chunk_cells: int, compression: str = "zlib") -> Estimate:
     """Memory, disk and time of a sweep, from its shape alone (nothing is allocated)."""
     cells = float(study.size)
-    outputs = 12
+    outputs = 17
     raw = cells * outputs * 8.0
-    disk = raw * (1.0 if compression == "none" else ZLIB_RATIO)
+    disk = netcdf_disk(raw, outputs + len(study.dims), compression)
     rate = max(workers, 1) / study.seconds_per_cell()
     block = min(cells, float(chunk_cells))
     memory = block * 40 * 8.0 * (max(workers, 1) + 1)  # ~40 grid-sized temporaries per block in flight
@@ -136,3 +147,27 @@ def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, ou
     seconds = float(cycles) * (2.5e-3 if integrated else 2e-6) + rows * 1e-8
     return Estimate(what=f"a simulation of {cycles:.3g} cycles", memory=memory, disk=rows * 6 * 8.0 if output else 0.0,
                     seconds=seconds, output=output)
+
+
+#: Seconds of LSODA per unit of nanoscale time (1/omega), measured on seed 001's scene (2 cores, 2026-11-24:
+#: 30,000 units in 9 s); taken 2x for a slower machine.
+NANOSCALE_SECONDS_PER_UNIT = 6e-4
+
+
+def nanoscale_estimate(duration: float, samples: int) -> Estimate:
+    """Time and memory of a nanoscale run over ``duration`` (in 1/omega) kept at ``samples`` points."""
+    return Estimate(what=f"a nanoscale run over {duration:.3g}/omega", seconds=duration * NANOSCALE_SECONDS_PER_UNIT,
+                    memory=float(samples) * 6 * 8.0 * 3)
+
+
+#: Bytes held per cell of a map's raster (coordinates, unit vectors, nearest index and distance, four maps).
+MAP_BYTES_PER_CELL = 200.0
+#: Bytes per densified trace point (unit vector, owner, k-d tree), and cells a second through the tree.
+MAP_BYTES_PER_POINT, MAP_CELLS_PER_SECOND = 120.0, 2e6
+
+
+def map_estimate(cells: float, trace_points: float, output=None) -> Estimate:
+    """Memory, disk and time of a map of ``cells`` raster cells against ``trace_points`` densified trace points."""
+    return Estimate(what=f"this map of {cells:.3g} cells", memory=cells * MAP_BYTES_PER_CELL
+                    + trace_points * MAP_BYTES_PER_POINT, disk=netcdf_disk(cells * 6 * 8.0, 12) if output else 0.0,
+                    seconds=(cells + trace_points) / MAP_CELLS_PER_SECOND, output=output)

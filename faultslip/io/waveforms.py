@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.io import gate
 from faultslip.io.atomic import atomic_path
 
 COMPONENTS = {"D": ("displacement", "m"), "V": ("velocity", "m/s"), "A": ("acceleration", "m/s^2"),
@@ -57,6 +58,21 @@ def stream_format(path) -> str:
         raise InputError(f"{Path(path).name}: a stream is written as miniSEED (.mseed, .miniseed) or SAC (.sac), "
                          f"not {suffix or '(no suffix)'!r}")
     return STREAM_SUFFIXES[suffix]
+
+
+#: The last instant miniSEED, SAC and QuakeML can date (obspy's UTCDateTime ends with year 9999).
+LAST_DATABLE = 253402300799.0  # 9999-12-31T23:59:59 UTC, in s since 1970
+
+
+def check_datable(start_seconds: float, span: float, cycles: int) -> None:
+    """Refuse, in one sentence, a record that would end after year 9999 (its start in s since 1970, span in s)."""
+    if start_seconds + span <= LAST_DATABLE:
+        return
+    years = span / (365.25 * 86400)
+    fitting = int(cycles * (LAST_DATABLE - start_seconds) / span) if span > 0 else 0
+    raise InputError(f"the simulation spans {years:,.0f} years from its start time, past year 9999, the last that "
+                     f"miniSEED, SAC and QuakeML can date; simulate at most {max(fitting, 0)} cycles (--cycles) or "
+                     "give an earlier --start-time")
 
 
 def build_stream(sampling_rate: float, channels: dict, start_seconds: float = 946684800.0, network: str = "XX",
@@ -106,19 +122,15 @@ def read_stream(path):
     """A miniSEED or SAC file through obspy.read, in one sentence if it is not one."""
     from obspy import read  # heavy: imported where used
 
-    path = Path(path)
+    path = gate.check_input(path, "record", "waveform")
     kind = stream_format(path)
-    try:
+    # obspy prints "Exception ignored" reports and multi-line warnings for a damaged record: silenced
+    with gate.decoding(path, "record", "miniSEED" if kind == "MSEED" else "SAC", silence=True):
         headers = read(str(path), format=kind, headonly=True)  # sizes first: a corrupt header can claim anything
         total = sum(int(trace.stats.npts) for trace in headers)
         if total > MAX_READ_SAMPLES:
             raise InputError(f"{path.name} holds {total:,} samples; the limit is {MAX_READ_SAMPLES:,}")
         stream = read(str(path), format=kind)
-    except InputError:
-        raise
-    except Exception as exc:  # obspy raises many types for corrupt records
-        reason = str(exc).splitlines()[0][:160] if str(exc) else type(exc).__name__
-        raise InputError(f"{path.name} is not readable {'miniSEED' if kind == 'MSEED' else 'SAC'} ({reason})") from None
     if len(stream) == 0:
         raise InputError(f"{path.name} holds no traces")
     return stream

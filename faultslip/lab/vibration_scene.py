@@ -19,6 +19,7 @@ Unlike seed 003's slider, the mass is the beam's equivalent mass, not the normal
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -63,7 +64,15 @@ def parse_vibration_scene(text: str, source: str = "<scene>") -> tuple[QuasiHarm
         if not isinstance(coefficients, list) or not coefficients or not all(
                 isinstance(c, (int, float)) and not isinstance(c, bool) for c in coefficients):
             raise InputError(f"[friction] polynomial in {source} must be a list of numbers (increasing powers)")
-        si = tuple(float(c) / scale ** power for power, c in enumerate(coefficients))  # c_n (s/m)^n
+        with np.errstate(over="ignore", invalid="ignore"):
+            si = tuple(float(c) / scale ** power for power, c in enumerate(coefficients))  # c_n (s/m)^n
+            swept = np.linspace(0.0, 2.0 * values["speed"], 201)  # the sliding speeds a cycle can reach
+            friction_swept = np.polynomial.polynomial.polyval(swept, np.array(si))
+        worst = int(np.argmax(np.where(np.isfinite(friction_swept), np.abs(friction_swept), np.inf)))
+        if not all(math.isfinite(c) for c in si) or not abs(friction_swept[worst]) <= MAX_FRICTION:
+            raise InputError(f"[friction] polynomial in {source} gives friction {friction_swept[worst]:.3g} at "
+                             f"{swept[worst] / scale:.3g} {unit}, within the speeds a cycle sweeps (0 to twice the "
+                             f"driving speed); a friction coefficient lies within +-{MAX_FRICTION:g}")
     else:
         curve = tabulated_curve(friction["table"], scale, values["speed"], source)
     name = str(data.get("name", Path(source).stem))
@@ -73,6 +82,10 @@ def parse_vibration_scene(text: str, source: str = "<scene>") -> tuple[QuasiHarm
     if not isinstance(sources, dict) or not all(isinstance(v, str) for v in sources.values()):
         raise InputError(f"[sources] in {source} must map names to citation strings")
     return system, {"description": str(data.get("description", "")), **sources}
+
+
+#: Largest friction coefficient a law may give over its operating speeds (rock and metal give 0.1-1).
+MAX_FRICTION = 10.0
 
 
 def tabulated_curve(rows, scale: float, speed: float, source: str):

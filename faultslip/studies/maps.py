@@ -38,6 +38,7 @@ import numpy as np
 from faultslip.io.geo import _check_lon_lat, nearest_segment, parse_trace, trace_length  # noqa: F401 (re-exported)
 from faultslip.io.geojson import read_fault_geojson
 from faultslip.errors import InputError, did_you_mean
+from faultslip.io import budget
 from faultslip.io.resources import bundled_dir, parse_toml, read_unit_csv
 from faultslip.units import to_si
 from faultslip import __version__
@@ -527,10 +528,23 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
     return dataset
 
 
-def run_map(spec, method="auto", tolerance=1e-6):
-    """The map's dataset: per-segment predictions and a nearest-segment raster, or a predicted raster."""
+def check_map_size(spec, output=None, allow_large: bool = False) -> None:
+    """Refuse, before any work, a map beyond the machine's memory, disk or time budget."""
+    if spec.segments is not None:
+        cells = float(np.size(spec.lat)) * float(np.size(spec.lon))
+        points = sum(trace_length(trace) for trace in spec.segments.traces) / 1000.0 + len(spec.segments.traces)
+    else:
+        cells, points = float(spec.raster["lat"].size) * float(spec.raster["lon"].size), 0.0
+    budget.check(budget.map_estimate(cells, points, output), allow_large)
+
+
+def run_map(spec, method="auto", tolerance=1e-6, allow_large: bool = False):
+    """The map's dataset: per-segment predictions and a nearest-segment raster, or a predicted raster.
+
+    The map's size is checked against the budget first (``allow_large`` lifts it)."""
     import xarray as xr  # heavy: imported where used
 
+    check_map_size(spec, allow_large=allow_large)
 
     if spec.segments is not None:
         segments = predict_segments(spec, method, tolerance)
@@ -567,6 +581,7 @@ def run_map(spec, method="auto", tolerance=1e-6):
         if lithology is not None:
             dataset["lithology"] = xr.DataArray(lithology.astype(object), dims=("lat", "lon"), coords=coords)
 
+    dataset.attrs["tolerance"] = float(tolerance)  # the relative error asked of every method
     dataset.attrs.update({
         "title": f"faultslip map: {spec.name}", "Conventions": "CF-1.8", "source": f"faultslip {__version__}",
         "history": f"{datetime.now(timezone.utc).isoformat(timespec='seconds')}: faultslip map",
@@ -616,6 +631,27 @@ def has_observations(dataset) -> bool:
                for name in ("observed_recurrence", "observed_slip"))
 
 
+#: A field whose spread is within this fraction of its size draws as one colour (round-off is no signal).
+CONSTANT_SPREAD = 1e-9
+
+
+def colour_limits(values, spread: float = CONSTANT_SPREAD) -> tuple[tuple, float | None]:
+    """``((vmin, vmax), constant)`` for a colour scale: a field constant to the relative ``spread`` (at least
+    :data:`CONSTANT_SPREAD`; a map passes its methods' declared error, below which a difference is no
+    signal) gets a window of +-1 % around its value, and ``constant`` is that value; otherwise its range."""
+    spread = max(spread, CONSTANT_SPREAD)
+    finite = np.asarray(values, dtype=float)
+    finite = finite[np.isfinite(finite)]
+    if finite.size == 0:
+        return (None, None), None
+    low, high = float(finite.min()), float(finite.max())
+    if high - low <= spread * max(abs(low), abs(high)):
+        middle = 0.5 * (low + high)
+        half = 0.01 * abs(middle) or 1.0
+        return (middle - half, middle + half), middle
+    return (low, high), None
+
+
 def map_figure(dataset):
     """Slip, recurrence and Mw maps with segment traces and unit-labelled colour bars."""
     import matplotlib.pyplot as plt  # heavy: imported where used
@@ -630,8 +666,16 @@ def map_figure(dataset):
     lat = dataset["lat"].values
     for axis, (name, scale, label, cmap) in zip(axes[0], panels):
         values = dataset[name].values / scale
-        mesh = axis.pcolormesh(dataset["lon"].values, lat, values, shading="auto", cmap=cmap)
-        figure.colorbar(mesh, ax=axis, label=label, shrink=0.8)
+        # a spread within the tolerance the map was computed to is no signal (Mw is absolute: not scaled)
+        limits, constant = colour_limits(values, 0.0 if "moment_magnitude" in name
+                                         else float(dataset.attrs.get("tolerance", CONSTANT_SPREAD)))
+        mesh = axis.pcolormesh(dataset["lon"].values, lat, values, shading="auto", cmap=cmap,
+                               vmin=limits[0], vmax=limits[1])
+        bar = figure.colorbar(mesh, ax=axis, label=label, shrink=0.8)
+        if constant is not None:  # one value: one tick, not a range of round-off
+            bar.set_ticks([constant])
+            bar.set_ticklabels([f"{constant:.6g}"])
+            label = f"{label}: {constant:.6g} everywhere"
         if "trace_vertices" in dataset:
             for text in dataset["trace_vertices"].values:
                 trace = np.array([[float(v) for v in pair.split()] for pair in str(text).split(";")])
