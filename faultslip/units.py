@@ -435,3 +435,10 @@ def _json_number(value):
 def convert(value_si, si: str, target: str) -> float:
     """Convert an SI magnitude to ``target`` units (for human-readable reports)."""
     return units.Quantity(value_si, si).to(target).magnitude
+
+
+#: CF attributes of a run's model time. It is an elapsed time in seconds, not a date: CF's time
+#: axis (``axis = "T"``) needs an epoch ("seconds since ..."), which a run has only when a user
+#: dates it (``simulate --start-time`` dates the miniSEED stream and the QuakeML events).
+ELAPSED_TIME_ATTRS = {"units": "s", "long_name": "time since the start of the run",
+                      "comment": "elapsed model time, not a date; simulate --start-time dates the stream and events"}

@@ -4,8 +4,12 @@ Regenerate on purpose (and say why in the commit) with::
 
     FAULTSLIP_REGENERATE_GOLDEN=1 pytest tests/test_golden.py
 
-Numbers are compared to 1e-9 relative (the same code on another machine or library build may
-differ in the last bits); texts exactly. Wall times, dates and paths are left out.
+Numbers are compared to a relative tolerance that comes from the algorithm that computed them, not
+from the last machine's digits: 1e-9 for closed forms and integrations run far tighter than that,
+and 100 times the least-squares tolerance for fits (the fit stops once a step moves the
+parameters by less than its tolerance, so another BLAS kernel, processor or scipy release moves
+the result by about that, times the problem's conditioning: measured 1.6e-8 between two
+machines). Texts are compared exactly. Wall times, dates and paths are left out.
 """
 
 import json
@@ -19,6 +23,11 @@ ROOT = Path(__file__).resolve().parent.parent
 GOLDEN = Path(__file__).resolve().parent / "golden"
 CONFIGS = ROOT / "configs"
 SCENES = sorted(p.name for p in CONFIGS.glob("*.toml") if "[scene]" in p.read_text(encoding="utf-8"))
+from faultslip.friction.fitting import LEAST_SQUARES_TOLERANCE
+
+#: Relative tolerance of each command's numbers, where it is not DEFAULT_TOLERANCE (see the module).
+DEFAULT_TOLERANCE = 1e-9
+TOLERANCE = {"fit_example": 100 * LEAST_SQUARES_TOLERANCE}
 VOLATILE = {"wall_time", "seconds", "created", "output", "files", "date", "history"}
 
 COMMANDS = {f"run_{name[:-5]}": ["run", name, "--json"] for name in SCENES}
@@ -57,18 +66,18 @@ def _strip(value):
     return value
 
 
-def _same(a, b, where="") -> list:
+def _same(a, b, where="", tolerance=DEFAULT_TOLERANCE) -> list:
     if isinstance(a, dict) and isinstance(b, dict):
         problems = [f"{where}: keys {sorted(set(a) ^ set(b))}"] if set(a) != set(b) else []
         for key in set(a) & set(b):
-            problems += _same(a[key], b[key], f"{where}.{key}")
+            problems += _same(a[key], b[key], f"{where}.{key}", tolerance)
         return problems
     if isinstance(a, list) and isinstance(b, list):
         if len(a) != len(b):
             return [f"{where}: {len(a)} items against {len(b)}"]
-        return [p for i, (x, y) in enumerate(zip(a, b)) for p in _same(x, y, f"{where}[{i}]")]
+        return [p for i, (x, y) in enumerate(zip(a, b)) for p in _same(x, y, f"{where}[{i}]", tolerance)]
     if isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool):
-        if math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-300) or (math.isnan(a) and math.isnan(b)):
+        if math.isclose(a, b, rel_tol=tolerance, abs_tol=1e-300) or (math.isnan(a) and math.isnan(b)):
             return []
         return [f"{where}: {a!r} against golden {b!r}"]
     return [] if a == b else [f"{where}: {a!r} against golden {b!r}"]
@@ -87,5 +96,5 @@ def test_json_output_matches_its_golden_file(name, cli, tmp_path, monkeypatch):
         path.write_text(json.dumps(got, indent=1, sort_keys=True) + "\n", encoding="utf-8")
         return
     assert path.exists(), f"no golden file for {name}: run with FAULTSLIP_REGENERATE_GOLDEN=1"
-    problems = _same(got, json.loads(path.read_text(encoding="utf-8")))
+    problems = _same(got, json.loads(path.read_text(encoding="utf-8")), tolerance=TOLERANCE.get(name, DEFAULT_TOLERANCE))
     assert not problems, "\n".join(problems[:20])

@@ -39,6 +39,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.errors import InputError
 from faultslip.friction import asperity as contact
 from faultslip.io.report import Report
@@ -638,7 +639,7 @@ def run_dataset(run: AsperityRun):
     }
     data = {k: (dims, np.asarray(v), {"units": u, "long_name": n}) for k, (v, u, n) in variables.items()}
     data["stuck"] = (dims, (run.mode == STICK).astype("i1"), {"units": "1", "long_name": "1 while stuck"})
-    return xr.Dataset(data, coords={"time": (dims, run.time, {"units": "s"})},
+    return xr.Dataset(data, coords={"time": (dims, run.time, ELAPSED_TIME_ATTRS)},
                       attrs={"title": f"faultslip asperity run: {run.model.name}", "Conventions": "CF-1.8",
                              "method": run.method, "status": run.status, "status_reason": run.reason,
                              **{k: v for k, (v, _) in run.model.describe().items()}})

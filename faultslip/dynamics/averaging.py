@@ -40,6 +40,7 @@ import numpy as np
 
 from faultslip.dynamics.simulate import simulate
 from faultslip.dynamics.slider import SliderSystem
+from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.laws import ConstantStatic, PolynomialKinetic
 from faultslip.io.report import Report
@@ -436,7 +437,7 @@ def vibration_dataset(run: dict):
         {"displacement": (dims, run["displacement"], {"units": "m", "long_name": "displacement Y about the rest position"}),
          "velocity": (dims, run["velocity"], {"units": "m/s", "long_name": "velocity Y'"}),
          "envelope": (dims, run["envelope"], {"units": "m", "long_name": "averaged amplitude A(t), seed 002 eq. (20)"})},
-        coords={"time": (dims, run["time"], {"units": "s", "long_name": "time"})},
+        coords={"time": (dims, run["time"], ELAPSED_TIME_ATTRS)},
         attrs={"title": f"faultslip quasi-harmonic vibration (seed 002 eq. 10): {system.name}", "Conventions": "CF-1.8",
                "mass_kg": system.mass, "stiffness_N_per_m": system.stiffness, "damping_N_s_per_m": system.damping,
                "normal_load_N": system.normal_load, "speed_m_per_s": system.speed,

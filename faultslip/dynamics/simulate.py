@@ -26,6 +26,7 @@ import time as _time
 import numpy as np
 
 from faultslip.dynamics.cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP
+from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.errors import InputError, SolverError
 from faultslip.dynamics.exact_cycle import _Oscillator, slip_cycle
 from faultslip.io.report import Report
@@ -597,7 +598,7 @@ def _dataset(system, name, solver, rtol, atol, elapsed, times, xs, vs, forces, p
             "static_friction": var("event", events["static_friction"], "1", "holding force over W at break-away"),
         },
         coords={
-            "time": ("time", np.asarray(times, dtype=float), {"units": "s", "long_name": "time", "axis": "T"}),
+            "time": ("time", np.asarray(times, dtype=float), ELAPSED_TIME_ATTRS),
             "event": ("event", np.arange(event_times.size), {"long_name": "event number", "units": "1"}),
         },
     )

@@ -62,6 +62,11 @@ class FrictionData:
         return int(self.loading_rate.size)
 
 
+#: Relative tolerances of the least-squares fit (scipy's defaults, stated): it stops once a step changes the
+#: parameters or the cost by less than this, so a fitted value is known to about this, times the conditioning.
+LEAST_SQUARES_TOLERANCE = 1e-8
+
+
 def _read_columns(path: Path) -> dict:
     if path.suffix == ".nc":
         data = open_netcdf(path, "friction data")
@@ -264,7 +269,8 @@ def fit_rate_law(data: FrictionData, loss: str = "linear", bootstrap: int = 200,
         from scipy.optimize import least_squares  # heavy: imported where used
 
         return least_squares(residuals, start, bounds=(lower, upper), loss=loss, f_scale=0.1 * scale_mu if loss != "linear" else 1.0,
-                             args=(rate, mu, amplitude, apparatus, weight), x_scale="jac", max_nfev=2000)
+                             args=(rate, mu, amplitude, apparatus, weight), x_scale="jac", max_nfev=2000,
+                             xtol=LEAST_SQUARES_TOLERANCE, ftol=LEAST_SQUARES_TOLERANCE, gtol=LEAST_SQUARES_TOLERANCE)
 
     solve.loss, solve.lower, solve.upper = loss, lower, upper
 

@@ -117,14 +117,16 @@ def _open_lock(lock: Path) -> int:
 
 
 @contextlib.contextmanager
-def output_lock(path, command: str = "faultslip", overwrite: bool = True, label: str = "-o"):
+def output_lock(path, command: str = "faultslip", overwrite: bool = True, label: str = "-o", wait: float = 0.0):
     """Hold an exclusive lock on ``path`` as an output; a second holder gets an :class:`InputError`.
 
     The lock and the existence check are taken together: once the lock is held, an output that
     exists is refused unless ``overwrite`` (so two runs cannot both find it absent and write it).
     The lock file records the holder's pid, command and start time, which the refusal quotes;
     ``flock`` on it means a killed holder leaves no stale lock. Claims nest within one process.
-    Without ``fcntl`` (Windows) only the existence check is made.
+    ``wait`` > 0 waits that many seconds for a holder to finish instead of refusing at once (a
+    read-modify-write of a shared file such as the fit registry). Without ``fcntl`` (Windows)
+    only the existence check is made.
     """
     target = Path(path)
     lock = _lock_path(target)
@@ -141,6 +143,7 @@ def output_lock(path, command: str = "faultslip", overwrite: bool = True, label:
     except ImportError:  # no flock: nothing to hold
         fcntl = None
     descriptor = None
+    deadline = time.monotonic() + wait
     if fcntl is not None:
         while True:
             descriptor = _open_lock(lock)
@@ -150,8 +153,12 @@ def output_lock(path, command: str = "faultslip", overwrite: bool = True, label:
                 os.lseek(descriptor, 0, os.SEEK_SET)
                 holder = _describe_holder(os.read(descriptor, 4096).decode("utf-8", "replace"))
                 os.close(descriptor)
+                if time.monotonic() < deadline:
+                    time.sleep(0.02)
+                    continue
                 raise InputError(f"{target.name} is being written by another faultslip run ({holder}); "
-                                 "wait for it to finish or choose another output") from None
+                                 + ("try again when it has finished" if wait else
+                                    "wait for it to finish or choose another output")) from None
             # the file we locked may have been unlinked by a holder that just finished: lock the new one
             try:
                 if os.fstat(descriptor).st_ino == os.stat(lock, follow_symlinks=False).st_ino:
@@ -195,32 +202,7 @@ def _describe_holder(text: str) -> str:
         return "another process"
 
 
-@contextlib.contextmanager
 def file_lock(path, timeout: float = 30.0):
-    """Wait (up to ``timeout`` s) for an exclusive lock on ``path``: read-modify-write of shared files."""
-    try:
-        import fcntl
-    except ImportError:
-        yield
-        return
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    lock = _lock_path(target)
-    deadline = time.monotonic() + timeout
-    descriptor = _open_lock(lock)
-    try:
-        while True:
-            try:
-                fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                break
-            except BlockingIOError:
-                if time.monotonic() > deadline:
-                    raise InputError(f"{target.name} is locked by another faultslip run for more than {timeout:g} s; "
-                                     "try again when it has finished") from None
-                time.sleep(0.02)
-        try:
-            yield
-        finally:
-            fcntl.flock(descriptor, fcntl.LOCK_UN)
-    finally:
-        os.close(descriptor)
+    """Wait (up to ``timeout`` s) for the lock of a shared file that is read, changed and written again."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    return output_lock(path, "faultslip (shared file)", wait=timeout)

@@ -733,19 +733,25 @@ def as_dataset(outputs: dict, study, block=None):
     order = [d for d in study.dims if d in dataset.dims]
     dataset = dataset.transpose(*order) if order else dataset
     for name in dataset.data_vars:
-        dataset[name].attrs = output_attrs(name, study.kind)
+        dataset[name].attrs = output_attrs(name, study.kind, "outside_domain" in dataset.data_vars)
     return dataset
 
 
-def output_attrs(name: str, kind: str) -> dict:
-    """CF attributes of one study output (``kind`` is fault, lab or rate_state)."""
+def output_attrs(name: str, kind: str, outside_domain: bool = False) -> dict:
+    """CF attributes of one study output (``kind`` is fault, lab or rate_state).
+
+    ``outside_domain``: the study has cells without a prediction, flagged -1 in regime and method
+    and explained by the ``outside_domain`` variable; -1 is then one of the ``flag_values``."""
     if kind == "rate_state":
         return _rate_state_attrs(name)
-    if name == "regime":
-        return {"long_name": "regime (stick-slip, steady sliding, growing oscillation; "
-                             "-1: no prediction, see outside_domain)", **_flags(REGIME_CODES)}
-    if name == "method":
-        return {"long_name": "method used in this cell (-1: none)", **_flags(METHOD_CODES)}
+    if name in ("regime", "method"):
+        codes = {**({"no_prediction": -1} if outside_domain else {}),
+                 **(REGIME_CODES if name == "regime" else METHOD_CODES)}
+        long_name = ("regime (stick-slip, steady sliding, growing oscillation)" if name == "regime"
+                     else "method used in this cell")
+        if outside_domain:
+            long_name += "; -1: no prediction, the variable outside_domain says why"
+        return {"long_name": long_name, **_flags(codes)}
     if name == "outside_domain":
         return {"long_name": "cell outside the model's domain (no prediction)",
                 **_flags({"predicted": 0, "no_static_excess_mu_m_not_below_mu_so": 1}),
@@ -788,8 +794,8 @@ def _block_dataset(outputs: dict, study, block=None):
         if name in coords:  # a swept input that is also an output (loading_rate): the coordinate holds it
             coords[name].attrs = output_attrs(name, study.kind)
         else:
-            variables[name] = xr.Variable(order, np.broadcast_to(value, shape), output_attrs(name, study.kind),
-                                          fastpath=True)
+            variables[name] = xr.Variable(order, np.broadcast_to(value, shape),
+                                          output_attrs(name, study.kind, "outside_domain" in outputs), fastpath=True)
     return xr.Dataset(variables, coords=coords)
 
 
