@@ -437,7 +437,11 @@ def main(argv=None) -> int:
             parser.print_help(sys.stderr)
             return 2
         module, function = handler.split(":")
-        return getattr(importlib.import_module(f"faultslip.cli.{module}"), function)(args)
+        command = getattr(importlib.import_module(f"faultslip.cli.{module}"), function)
+        from faultslip.io.atomic import transaction  # heavy: brings numpy, which --help must not load
+
+        with transaction():  # a command's outputs appear together when it succeeds, or none do
+            return command(args)
     except FaultslipError as exc:
         print(f"faultslip: error: {exc}", file=sys.stderr)
         return 2

@@ -20,6 +20,7 @@ import os
 import warnings
 from pathlib import Path
 
+from faultslip.io import gate
 from faultslip.io.atomic import write_text_atomic
 from faultslip.errors import InputError
 from faultslip.io.outputs import file_lock
@@ -41,9 +42,10 @@ def load() -> dict:
     path = registry_path()
     if not path.exists():
         return {}
+    text = gate.read_text(path, "fit registry", "config")
     try:
-        document = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        document = json.loads(text)
+    except (ValueError, RecursionError) as exc:
         raise InputError(f"the fit registry {str(path)!r} is unreadable ({exc}); move it aside or set FAULTSLIP_REGISTRY") from None
     if not isinstance(document, dict) or not isinstance(document.get("fits"), dict):
         raise InputError(f"the fit registry {str(path)!r} is not a faultslip registry; move it aside or set FAULTSLIP_REGISTRY")
@@ -60,7 +62,8 @@ def save_entry(key: str, entry: dict) -> Path:
     with file_lock(path):
         entries = load()
         entries[key] = entry
-        write_text_atomic(path, json.dumps({"faultslip_registry": VERSION, "fits": entries}, indent=1) + "\n")
+        write_text_atomic(path, json.dumps({"faultslip_registry": VERSION, "fits": entries}, indent=1) + "\n",
+                          immediate=True)  # written under the lock, or a concurrent fit is lost
     return path
 
 
@@ -72,7 +75,8 @@ def remove_entry(key: str) -> None:
         if key not in entries:
             raise InputError(f"no fit named {key!r} in {path}")
         del entries[key]
-        write_text_atomic(path, json.dumps({"faultslip_registry": VERSION, "fits": entries}, indent=1) + "\n")
+        write_text_atomic(path, json.dumps({"faultslip_registry": VERSION, "fits": entries}, indent=1) + "\n",
+                          immediate=True)  # written under the lock, or a concurrent fit is lost
 
 
 def stored_entries() -> dict:

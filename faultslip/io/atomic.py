@@ -17,15 +17,47 @@ import tempfile
 from pathlib import Path
 
 from faultslip.errors import InputError, OutputError
-from faultslip.io.outputs import output_lock
+from faultslip.io.outputs import disk_is_full, full_disk_error, output_lock
+
+
+#: Renames deferred by an open :func:`transaction`: (temporary, target) pairs.
+_PENDING: list | None = None
 
 
 @contextlib.contextmanager
-def atomic_path(path, suffix: str | None = None):
+def transaction():
+    """Every output written inside appears at the end, together, or none does.
+
+    The CLI runs each command in one: a run that writes a netCDF file and then fails on its
+    figure (a full disk, a bad option found late) leaves neither behind. Nested transactions
+    join the outermost.
+    """
+    global _PENDING
+    if _PENDING is not None:
+        yield
+        return
+    _PENDING = pending = []
+    try:
+        yield
+        _PENDING = None
+        for temporary, target in pending:
+            os.replace(temporary, target)
+    except BaseException:
+        for temporary, _ in pending:
+            with contextlib.suppress(OSError):
+                os.unlink(temporary)
+        raise
+    finally:
+        _PENDING = None
+
+
+@contextlib.contextmanager
+def atomic_path(path, suffix: str | None = None, immediate: bool = False):
     """Yield a temporary path next to ``path``; on success rename it over ``path``.
 
     On any exception (including KeyboardInterrupt) the temporary file is
-    removed and ``path`` is untouched.
+    removed and ``path`` is untouched. Inside a :func:`transaction` the rename waits for the
+    transaction's end, unless ``immediate`` (a progress record, a registry updated under its lock).
     """
     target = Path(path)
     directory = target.parent if str(target.parent) else Path(".")
@@ -42,7 +74,10 @@ def atomic_path(path, suffix: str | None = None):
         try:
             yield Path(temporary)
             os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; a normal file respects the umask
-            os.replace(temporary, target)
+            if _PENDING is not None and not immediate:
+                _PENDING.append((temporary, target))
+            else:
+                os.replace(temporary, target)
         except BaseException as exc:
             full = disk_is_full(exc, directory)
             with contextlib.suppress(FileNotFoundError):
@@ -52,45 +87,14 @@ def atomic_path(path, suffix: str | None = None):
             raise
 
 
-#: Free bytes below which a failed write is put down to a full disk (HDF5 says only "HDF error").
-NEARLY_FULL = 4 * 2**20
-
-
-def disk_is_full(exc: BaseException, directory) -> bool:
-    """Whether ``exc``, raised while writing into ``directory``, means the disk is full."""
-    if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):
-        return True
-    if isinstance(exc, (KeyboardInterrupt, SystemExit, MemoryError)):
-        return False
-    try:  # HDF5, netCDF-C, zarr and PIL report a full disk in their own words: ask the disk
-        return shutil.disk_usage(directory).free < NEARLY_FULL
-    except OSError:
-        return False
-
-
-def full_disk_error(target, directory) -> OutputError:
-    try:
-        free = f"{shutil.disk_usage(directory).free / 1e3:.0f} kB free"
-    except OSError:
-        free = "no space"
-    return OutputError(f"the disk holding {str(directory)!r} is full ({free}) while writing {Path(target).name}; "
-                       "nothing was left behind; free some space or choose another folder")
-
-
-def _as_output_error(exc: OSError, target, directory) -> OutputError:
-    if disk_is_full(exc, directory):
-        return full_disk_error(target, directory)
-    return OutputError(f"cannot write {str(target)!r}: {exc.strerror or exc}")
-
-
 def _umask() -> int:
     current = os.umask(0)
     os.umask(current)
     return current
 
 
-def write_text_atomic(path, text: str) -> None:
-    with atomic_path(path) as temporary:
+def write_text_atomic(path, text: str, immediate: bool = False) -> None:
+    with atomic_path(path, immediate=immediate) as temporary:
         temporary.write_text(text, encoding="utf-8")
 
 

@@ -223,5 +223,5 @@ def write_quakeml(times, latitude, longitude, depth, magnitudes, path, names=Non
         event.preferred_origin_id = origin.resource_id
         event.preferred_magnitude_id = magnitude.resource_id
         catalog.append(event)
-    with atomic_path(path) as temporary:
+    with atomic_path(path) as temporary, gate.quiet():
         catalog.write(str(temporary), format="QUAKEML")

@@ -14,11 +14,12 @@ import contextlib
 import errno
 import json
 import os
+import shutil
 import stat
 import time
 from pathlib import Path
 
-from faultslip.errors import InputError
+from faultslip.errors import InputError, OutputError
 from faultslip.io.zarr_store import is_store
 
 #: Image formats matplotlib writes (its Agg, PDF, PS and SVG backends).
@@ -81,6 +82,37 @@ def check_output(path, *, label: str, suffixes=None, inputs=(), overwrite: bool 
     return target
 
 
+#: Free bytes below which a failed write is put down to a full disk (HDF5 says only "HDF error").
+NEARLY_FULL = 4 * 2**20
+
+
+def disk_is_full(exc: BaseException, directory) -> bool:
+    """Whether ``exc``, raised while writing into ``directory``, means the disk is full."""
+    if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        return True
+    if isinstance(exc, (KeyboardInterrupt, SystemExit, MemoryError)):
+        return False
+    try:  # HDF5, netCDF-C, zarr and PIL report a full disk in their own words: ask the disk
+        return shutil.disk_usage(directory).free < NEARLY_FULL
+    except OSError:
+        return False
+
+
+def full_disk_error(target, directory) -> OutputError:
+    try:
+        free = f"{shutil.disk_usage(directory).free / 1e3:.0f} kB free"
+    except OSError:
+        free = "no space"
+    return OutputError(f"the disk holding {str(directory)!r} is full ({free}) while writing {Path(target).name}; "
+                       "nothing was left behind; free some space or choose another folder")
+
+
+def _as_output_error(exc: OSError, target, directory) -> OutputError:
+    if disk_is_full(exc, directory):
+        return full_disk_error(target, directory)
+    return OutputError(f"cannot write {str(target)!r}: {exc.strerror or exc}")
+
+
 def _lock_path(target: Path) -> Path:
     return target.with_name(f".{target.name}.lock")
 
@@ -101,6 +133,10 @@ def _open_lock(lock: Path) -> int:
         return os.open(lock, flags | os.O_CREAT | os.O_EXCL, 0o644)
     except FileExistsError:
         pass
+    except OSError as exc:
+        if disk_is_full(exc, lock.parent):
+            raise full_disk_error(lock, lock.parent) from None
+        raise OutputError(f"cannot create the lock {str(lock)!r}: {exc.strerror or exc}") from None
     try:
         descriptor = os.open(lock, flags)
     except OSError as exc:
@@ -170,10 +206,15 @@ def output_lock(path, command: str = "faultslip", overwrite: bool = True, label:
         if not overwrite and (target.exists() or target.is_symlink()):
             raise InputError(f"{label} {str(target)!r} already exists; pass --overwrite to replace it")
         if descriptor is not None:
-            os.ftruncate(descriptor, 0)
-            os.lseek(descriptor, 0, os.SEEK_SET)
-            os.write(descriptor, json.dumps({"pid": os.getpid(), "command": command,
-                                             "started": time.time()}).encode())
+            try:
+                os.ftruncate(descriptor, 0)
+                os.lseek(descriptor, 0, os.SEEK_SET)
+                os.write(descriptor, json.dumps({"pid": os.getpid(), "command": command,
+                                                 "started": time.time()}).encode())
+            except OSError as exc:  # the holder's record is a courtesy; a full disk is not
+                if disk_is_full(exc, lock.parent):
+                    raise full_disk_error(target, lock.parent) from None
+                raise
         _HELD[key] = [descriptor, 1]
         try:
             yield

@@ -106,13 +106,13 @@ def write_stream(stream, path) -> list:
     path = Path(path)
     kind = stream_format(path)
     if kind == "MSEED":
-        with atomic_path(path) as temporary:
+        with atomic_path(path) as temporary, gate.quiet():  # obspy reports each failed record on stderr
             stream.write(str(temporary), format="MSEED", encoding="FLOAT64")
         return [path]
     written = []
     for trace in stream:
         target = sac_path(path, trace.stats.channel[-1])
-        with atomic_path(target) as temporary:
+        with atomic_path(target) as temporary, gate.quiet():
             trace.write(str(temporary), format="SAC")
         written.append(target)
     return written

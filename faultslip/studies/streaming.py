@@ -23,13 +23,13 @@ from pathlib import Path
 
 import numpy as np
 
-from faultslip.io import budget
+from faultslip.io import budget, gate
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, padded
 from faultslip.io.netcdf import create_chunked
 from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
 from faultslip.errors import InputError
-from faultslip.io.outputs import check_output, output_lock
+from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock
 from faultslip.io.processes import run_windowed, stop_pool, worker_pool
 from faultslip.io.resources import probe_netcdf
 from faultslip.fault.rate_state_cells import METHOD_CODES, REGIME_CODES
@@ -351,7 +351,11 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         remove_store(partial)  # a partial netCDF file or Zarr store
         if ledger.exists():
             ledger.unlink()
-        writer = _open_writer(partial, study, template, chunks, compression, fresh=True, file_format=file_format)
+        try:
+            writer = _open_writer(partial, study, template, chunks, compression, fresh=True, file_format=file_format)
+        except BaseException as exc:
+            _abandon(exc, None, partial, ledger, output)
+            raise
     pending = [i for i in range(len(blocks)) if i not in done]
     workers, reason = choose_execution(study, len(pending), workers, scheduler)
     executor, label = _executor(scheduler, workers)
@@ -359,7 +363,8 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     task = writer.task
 
     def record_progress():
-        write_text_atomic(ledger, json.dumps({"fingerprint": fingerprint, "blocks": len(blocks), "done": sorted(done)}))
+        write_text_atomic(ledger, json.dumps({"fingerprint": fingerprint, "blocks": len(blocks), "done": sorted(done)}),
+                          immediate=True)  # a resume reads it after a kill: it cannot wait for the run's end
 
     def finished_block(index, result):
         writer.store(blocks[index], result)
@@ -383,8 +388,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
                      finished_block, window=max(workers, 1) + 1, on_tick=tick)
     except BaseException as exc:
         _shutdown(executor, interrupted=True)  # first: no worker may keep running, or block the exit
-        writer.sync()
-        writer.close()
+        _abandon(exc, writer, partial, ledger, output)
         record_progress()  # what is on disk is complete block by block: --resume continues from here
         if isinstance(exc, OSError):
             raise InputError(f"writing {partial.name} failed: {exc.strerror or exc}; "
@@ -442,6 +446,23 @@ def choose_execution(study, pending_blocks: int, workers: int, scheduler=None) -
     if seconds < POOL_WORTH_SECONDS:
         return 1, f" (about {seconds * 1e3:.0f} ms of work: a pool would cost more than it saves)"
     return workers, ""
+
+
+def _abandon(exc, writer, partial: Path, ledger: Path, output: Path) -> None:
+    """Close an interrupted run's writer. On a full disk the partial output may be inconsistent (HDF5 stops
+    mid-write): it and its progress record are removed and the full disk is one sentence."""
+    with gate.quiet():  # h5py reports its objects' failed clean-up on stderr: no news to the user
+        if writer is not None:
+            for step in (writer.sync, writer.close):
+                try:
+                    step()
+                except Exception:  # noqa: BLE001  a writer that failed may fail to close: the disk decides
+                    if not disk_is_full(exc, output.parent):
+                        raise
+    if disk_is_full(exc, output.parent):
+        remove_store(partial)
+        ledger.unlink(missing_ok=True)
+        raise full_disk_error(output, output.parent) from None
 
 
 def _shutdown(executor, interrupted: bool = False):
