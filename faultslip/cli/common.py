@@ -12,7 +12,7 @@ from faultslip.dynamics.closed_form import dashpot_for_damping_ratio
 from faultslip.dynamics.slider import SliderSystem
 from faultslip.errors import FaultslipError, InputError
 from faultslip.fault.scene import load_scene
-from faultslip.io.atomic import save_figure
+from faultslip.io.atomic import claim, save_figure
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, output_lock, same_file
 from faultslip.io.processes import usable_workers
@@ -41,7 +41,13 @@ def _outputs(args, specs, inputs=()):
         for second, b in paths[i + 1:]:
             if same_file(a, b):
                 raise FaultslipError(f"{specs[first][0]} and {specs[second][0]} name the same file {str(a)!r}")
+    for attribute, path in paths:  # held to the command's end: a second writer is refused before any work
+        claim(path, _command_name(), getattr(args, "overwrite", False), specs[attribute][0])
     return checked
+
+
+def _command_name() -> str:
+    return " ".join(["faultslip"] + [word for word in sys.argv[1:3] if not word.startswith("-")][:2])
 
 
 def _locked(*paths):
@@ -51,7 +57,7 @@ def _locked(*paths):
     stack = contextlib.ExitStack()
     for path in paths:
         if path is not None:
-            stack.enter_context(output_lock(path, " ".join(["faultslip"] + sys.argv[1:3])))
+            stack.enter_context(output_lock(path, _command_name()))
     return stack
 
 

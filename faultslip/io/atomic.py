@@ -22,6 +22,21 @@ from faultslip.io.outputs import disk_is_full, full_disk_error, output_lock
 
 #: Renames deferred by an open :func:`transaction`: (temporary, target) pairs.
 _PENDING: list | None = None
+#: The locks an open transaction holds until its end (:func:`claim`).
+_CLAIMS: contextlib.ExitStack | None = None
+
+
+def claim(path, command: str = "faultslip", overwrite: bool = True, label: str = "-o") -> None:
+    """Take the lock of an output at the start of a command and hold it to the transaction's end.
+
+    The existence check is made under the lock (see :func:`faultslip.io.outputs.output_lock`):
+    a second writer of any kind, or an output that appeared meanwhile, is refused before any work.
+    Outside a transaction the lock is taken and released at once (a check only).
+    """
+    if _CLAIMS is None:
+        with output_lock(path, command, overwrite, label):
+            return
+    _CLAIMS.enter_context(output_lock(path, command, overwrite, label))
 
 
 @contextlib.contextmanager
@@ -32,23 +47,25 @@ def transaction():
     figure (a full disk, a bad option found late) leaves neither behind. Nested transactions
     join the outermost.
     """
-    global _PENDING
+    global _PENDING, _CLAIMS
     if _PENDING is not None:
         yield
         return
     _PENDING = pending = []
-    try:
-        yield
-        _PENDING = None
-        for temporary, target in pending:
-            os.replace(temporary, target)
-    except BaseException:
-        for temporary, _ in pending:
-            with contextlib.suppress(OSError):
-                os.unlink(temporary)
-        raise
-    finally:
-        _PENDING = None
+    with contextlib.ExitStack() as claims:  # released last, after the renames
+        _CLAIMS = claims
+        try:
+            yield
+            _PENDING = None
+            for temporary, target in pending:
+                os.replace(temporary, target)
+        except BaseException:
+            for temporary, _ in pending:
+                with contextlib.suppress(OSError):
+                    os.unlink(temporary)
+            raise
+        finally:
+            _PENDING, _CLAIMS = None, None
 
 
 @contextlib.contextmanager
