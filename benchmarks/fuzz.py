@@ -4,7 +4,12 @@
 
 Each case mutates one bundled or example input (scene, study, map with its segment table, lab
 friction CSV, motion record, free-decay record, a sweep's netCDF, or unit strings for ``fault``)
-and runs the matching command in-process through ``faultslip.cli.main``. Outcomes:
+and runs the matching command in-process through ``faultslip.cli.main``. Issue 26 added the
+readers' and writers' hard cases: Zarr stores with damaged, missing or re-attributed chunks;
+TOML nested hundreds deep; device files, FIFOs and folders given as inputs; symlinks, hard
+links and FIFOs planted at an output's lock; writes into a full disk (a tmpfs of a few hundred
+kB, where the fuzzer may mount one); and a second writer of another kind holding the output
+(a forked process with the lock). Outcomes:
 
 * ``ok``: exit 0;
 * ``mismatch``: ``reproduce`` found that a (mutated) file differs from its reproduction: exit 1;
@@ -30,6 +35,7 @@ import platform
 import random
 import shutil
 import signal
+import subprocess
 import sys
 import tempfile
 import time
@@ -190,6 +196,31 @@ class Workspace:
         surface_lines = (CONFIGS / "example_surface.csv").read_text(encoding="utf-8").splitlines()
         self.surface = "\n".join(surface_lines[:1025]) + "\n"
         self.quakeml, self.mseed = self._seismology_files()
+        self.fifo = folder / "pipe.toml"
+        os.mkfifo(self.fifo)
+        self.full = self._tmpfs()
+        self.victims: list[Path] = []
+        self.holders: list[int] = []
+
+    def _tmpfs(self) -> Path | None:
+        """A 300 kB tmpfs for the full-disk cases (root only); None where it cannot be mounted."""
+        mount = self.folder / "full"
+        mount.mkdir()
+        made = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=300k", "tmpfs", str(mount)], capture_output=True)
+        return mount if made.returncode == 0 else None
+
+    def release(self) -> None:
+        """Kill the lock holders of the last case and check that no planted victim was written through."""
+        for pid in self.holders:
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
+            with contextlib.suppress(ChildProcessError):
+                os.waitpid(pid, 0)
+        self.holders.clear()
+        for victim in self.victims:
+            if victim.read_text(encoding="utf-8") != "precious":
+                raise AssertionError(f"{victim} was written through a planted lock")
+        self.victims.clear()
 
     def _small_sweep(self) -> bytes:
         study = self.folder / "seed_study.toml"
@@ -326,6 +357,53 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
     if kind == "phyphox":
         path = space.write("phone.csv", mutate_csv(space.phyphox, rng))
         return ["record", str(path), "--json"] + rng.choice([[], ["--axis", rng.choice(["x", "y", "w"])]])
+    if kind == "zarr":
+        store = space.folder / "store.zarr"
+        shutil.rmtree(store, ignore_errors=True)
+        shutil.copytree(CONFIGS / "example_lab_glass.zarr", store)
+        damage_store(store, rng)
+        return ["convert", str(store), "-o", out, "--overwrite", "--workers", "1", "--json"]
+    if kind == "deep":
+        depth = rng.choice([33, 100, 500, 3000])
+        opener, closer = rng.choice([("[", "]"), ("{ a = ", " }")])
+        nested = opener * depth + closer * depth
+        target = rng.choice(["scene", "study", "map", "reproduce"])
+        if target == "reproduce":  # the study that reproduce parses from a netCDF's attribute
+            import netCDF4
+
+            path = space.write("deep.nc", space.netcdf)
+            with netCDF4.Dataset(path, "a") as nc:
+                nc.setncattr("faultslip_study", f"[study]\nname = {nested}\n")
+            return ["reproduce", str(path), "--workers", "1", "--json"]
+        path = space.write(f"deep_{target}.toml", f"[{target}]\nname = \"deep\"\nx = {nested}\n")
+        return {"scene": ["run", str(path), "--json"], "study": ["sweep", str(path), "-o", out, "--overwrite"],
+                "map": ["map", str(path), "-o", out, "--overwrite"]}[target]
+    if kind == "device":
+        special = rng.choice(["/dev/zero", "/dev/null", "/dev/urandom", str(space.fifo), str(space.folder)])
+        return rng.choice([["run", special], ["fit", special], ["record", special],
+                           ["record", special, "--stiffness", "1 N/m", "--normal-load", "1 N"],
+                           ["catalog", special, "--fault", str(CONFIGS / "parkfield.toml")],
+                           ["convert", special, "-o", out], ["reproduce", special], ["surface", special],
+                           ["decay", special, "--stiffness", "1 N/m"], ["sweep", special, "-o", out]])
+    if kind in ("lock", "full", "race"):
+        folder = space.full if kind == "full" and space.full is not None else space.folder
+        argv, target = writer_case(space, rng, folder)
+        if kind == "lock":
+            plant_lock(target, rng, space)
+        elif kind == "full":
+            pad = folder / "pad"
+            pad.unlink(missing_ok=True)
+            free = shutil.disk_usage(folder).free
+            pad.write_bytes(b"\0" * max(0, free - rng.choice([0, 4096, 40_000, 120_000])))
+        else:
+            space.holders.append(hold_lock(target, rng.choice(["faultslip sweep", "faultslip map", "faultslip fit"])))
+        return argv
+    if kind == "gaf":
+        document = json.loads(space.geojson)
+        mutate_gaf(document, rng)
+        space.write("faults.geojson", json.dumps(document))
+        path = space.write("gaf_map.toml", space.map_text.replace('file = "segments.csv"', 'file = "faults.geojson"'))
+        return ["map", str(path), "-o", out, "--overwrite", "--json", "--nrml", str(space.folder / "s.xml")]
     if kind == "surface":
         path = space.write("surface.csv", mutate_csv(space.surface, rng))
         return ["surface", str(path), "--json"] + rng.choice(
@@ -336,7 +414,127 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
 
 KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6, "netcdf": 8, "units": 20,
          "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
-         "surface": 3}
+         "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3}
+
+#: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
+WRITERS = [
+    (["sweep", "STUDY", "-o", "TARGET.nc", "--workers", "1"], "TARGET.nc"),
+    (["sweep", "STUDY", "-o", "TARGET.zarr", "--workers", "1"], "TARGET.zarr"),
+    (["map", "MAP", "-o", "TARGET.nc", "--plot", "TARGET.png", "--nrml", "TARGET.xml"], "TARGET.nc"),
+    (["map", "MAP", "-o", "other.nc", "--plot", "TARGET.png"], "TARGET.png"),
+    (["map", "MAP", "-o", "other.nc", "--nrml", "TARGET.xml"], "TARGET.xml"),
+    (["fit", str(CONFIGS / "example_friction_data.csv"), "--bootstrap", "5", "--plot", "TARGET.png"], "TARGET.png"),
+    (["simulate", "lab_glass_dry.toml", "--cycles", "3", "-o", "TARGET.nc", "--plot", "TARGET.png"], "TARGET.nc"),
+    (["simulate", "lab_glass_dry.toml", "--cycles", "3", "--stream", "TARGET.mseed"], "TARGET.mseed"),
+    (["simulate", "lab_glass_dry.toml", "--cycles", "3", "--stream", "TARGET.sac"], "TARGET.D.sac"),
+    (["simulate", "san_andreas_1906.toml", "--cycles", "3", "--events", "TARGET.xml"], "TARGET.xml"),
+    (["animate", "lab_glass_dry.toml", "-o", "TARGET.gif", "--frames", "4"], "TARGET.gif"),
+    (["convert", str(CONFIGS / "example_lab_glass.zarr"), "-o", "TARGET.nc", "--workers", "1"], "TARGET.nc"),
+]
+
+
+def writer_case(space, rng, folder: Path) -> tuple[list[str], Path]:
+    """A writer command into ``folder`` and the output its lock guards."""
+    argv, target = rng.choice(WRITERS)
+    study = space.write("writer_study.toml", '[study]\nbase = "' + str(CONFIGS / "san_andreas_1906.toml")
+                        + '"\n[sweep]\nslip_rate = ["10 mm/yr", "30 mm/yr"]\n')
+    space.write("segments.csv", space.segments)
+    map_path = space.write("writer_map.toml", space.map_text)
+    for stale in folder.glob("TARGET*"):
+        shutil.rmtree(stale, ignore_errors=True) if stale.is_dir() else stale.unlink()
+    (folder / "other.nc").unlink(missing_ok=True)
+    replaced = [str(folder / a) if a.startswith(("TARGET", "other.")) else a for a in argv]
+    replaced = [str(study) if a == "STUDY" else str(map_path) if a == "MAP" else a for a in replaced]
+    return replaced + ["--overwrite"], folder / target
+
+
+def plant_lock(target: Path, rng, space) -> None:
+    """A symlink, a hard link or a FIFO at the output's lock path (none may be followed or truncated)."""
+    lock = target.with_name(f".{target.name}.lock")
+    if lock.exists() or lock.is_symlink():
+        lock.unlink()
+    victim = space.folder / "victim.txt"
+    victim.write_text("precious", encoding="utf-8")
+    choice = rng.choice(["symlink", "hardlink", "fifo", "dangling"])
+    if choice == "symlink":
+        lock.symlink_to(victim)
+    elif choice == "hardlink":
+        os.link(victim, lock)
+    elif choice == "fifo":
+        os.mkfifo(lock)
+    else:
+        lock.symlink_to(space.folder / "nowhere" / "x")
+    space.victims.append(victim)
+
+
+def hold_lock(target: Path, command: str) -> int:
+    """A forked process holding the output's lock as another faultslip run would; returns its pid."""
+    import fcntl
+
+    lock = target.with_name(f".{target.name}.lock")
+    ready_read, ready_write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: lock, say so, wait to be killed
+        try:
+            descriptor = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            fcntl.flock(descriptor, fcntl.LOCK_EX)
+            os.write(descriptor, json.dumps({"pid": os.getpid(), "command": command, "started": time.time()}).encode())
+            os.write(ready_write, b"1")
+            time.sleep(120)
+        finally:
+            os._exit(0)
+    os.read(ready_read, 1)
+    os.close(ready_read)
+    os.close(ready_write)
+    return pid
+
+
+def damage_store(store: Path, rng) -> None:
+    """Delete or corrupt a chunk, or give an attribute a value netCDF cannot hold."""
+    chunks = sorted(p for p in store.rglob("*") if p.is_file() and not p.name.startswith("."))
+    choice = rng.random()
+    if choice < 0.3:
+        rng.choice(chunks).unlink()
+    elif choice < 0.7:
+        chunk = rng.choice(chunks)
+        chunk.write_bytes(mutate_bytes(chunk.read_bytes(), rng))
+    elif choice < 0.9:
+        attrs = rng.choice(sorted(store.rglob(".zattrs")))
+        document = json.loads(attrs.read_text(encoding="utf-8"))
+        document[rng.choice(["bad", "units", "long_name", "_FillValue"])] = rng.choice(
+            [None, {}, {"a": 1}, [], [1, "a"], True, 1e308, "x" * 10_000])
+        attrs.write_text(json.dumps(document), encoding="utf-8")
+        (store / ".zmetadata").unlink(missing_ok=True)
+    else:
+        meta = rng.choice(sorted(store.rglob(".zarray")))
+        meta.write_bytes(mutate_bytes(meta.read_bytes(), rng))
+        (store / ".zmetadata").unlink(missing_ok=True)
+
+
+GAF_TERMS = ["Dextral_Transform", "Sinistral_Transform", "Subduction_Thrust", "Normal-Strike-Slip",
+             "Reverse-Strike-Slip", "Blind Thrust", "Dextral-Oblique", "Wobbly", "", None, {}, [], 5, "dextral"]
+
+
+def mutate_gaf(document: dict, rng) -> None:
+    """GeoJSON-level mutations: GAF slip types, MultiLineStrings, repeated ids, odd values."""
+    features = document["features"]
+    for _ in range(rng.randint(1, 4)):
+        feature = rng.choice(features)
+        choice = rng.random()
+        if choice < 0.35:
+            feature["properties"]["slip_type"] = rng.choice(GAF_TERMS)
+        elif choice < 0.55:
+            line = feature["geometry"]["coordinates"]
+            cut = rng.randint(1, max(1, len(line) - 1))
+            feature["geometry"] = {"type": "MultiLineString", "coordinates": rng.choice(
+                [[line[:cut + 1], line[cut:]], [line, [[c[0] + 1.0, c[1]] for c in line]], [], [[]]])}
+        elif choice < 0.7:
+            other = rng.choice(features)
+            feature["properties"]["catalog_id"] = other["properties"].get("catalog_id")
+        else:
+            key = rng.choice(["net_slip_rate", "average_dip", "average_rake", "upper_seis_depth", "lower_seis_depth",
+                              "name", "catalog_id"])
+            feature["properties"][key] = rng.choice([None, {}, [], "(,,)", "(1e400,,)", -5, "(-5,,)", "x", True])
 
 
 class _Timeout(Exception):
@@ -415,6 +613,15 @@ def worker(job):
                     if (space.folder / name).exists():
                         shutil.copy(space.folder / name, Path(os.environ["FAULTSLIP_FUZZ_LOG"]).parent / name)
             outcome, detail, seconds = run_case(argv, timeout)
+            try:
+                space.release()
+            except AssertionError as exc:
+                outcome, detail = "traceback", str(exc)
+            if outcome in ("ok", "clean") and kind in ("full", "race", "lock"):
+                left = [p.name for p in (space.full if kind == "full" and space.full else space.folder).glob("*")
+                        if ".partial" in p.name or ".tmp" in p.name]
+                if left:  # nothing half-written may stay behind
+                    outcome, detail = "unclean", f"left behind: {left[:3]}"
             slowest = max(slowest, seconds)
             tally[outcome] += 1
             by_kind[kind][outcome] += 1
@@ -428,6 +635,7 @@ def worker(job):
                 (keep / "argv.json").write_text(json.dumps(argv), encoding="utf-8")
         return tally, {k: dict(v) for k, v in by_kind.items()}, failures, slowest
     finally:
+        subprocess.run(["umount", "-l", str(folder / "full")], capture_output=True)
         shutil.rmtree(folder, ignore_errors=True)
 
 
