@@ -109,6 +109,18 @@ def reliability_table() -> str | None:
             f"| refused with one sentence, exit 2 | {outcomes.get('clean', 0):,} |",
             f"| tracebacks and multi-line errors | **{sum(outcomes.get(k, 0) for k in ('traceback', 'unclean', 'environment'))}** |",
             f"| cases over the fuzzer's {fuzz.get('timeout_s', 60):g} s limit | {outcomes.get('timeout', 0)} |"]
+    hard = {"zarr": "damaged Zarr stores (missing, corrupted or re-attributed chunks)",
+            "deep": "TOML nested 33 to 3,000 deep", "device": "devices, FIFOs and folders given as files",
+            "lock": "symlinks, hard links and FIFOs planted at an output's lock",
+            "full": "writes into a full disk (300 kB tmpfs)", "race": "a second writer of another kind holding the output",
+            "gaf": "GAF GeoJSON: slip types, MultiLineStrings, repeated ids"}
+    by_input = fuzz.get("by_input", {})
+    for kind, label in hard.items():
+        if kind in by_input:
+            counts = by_input[kind]
+            bad = sum(counts.get(k, 0) for k in ("traceback", "unclean", "environment", "timeout"))
+            rows.append(f"| of which {label} | {sum(counts.values()):,}: {counts.get('ok', 0)} answered, "
+                        f"{counts.get('clean', 0)} refused in one sentence, {bad} failures |")
     if kills:
         k, r = kills["kills"], kills["races"]
         rows += [f"| sweeps killed at random moments (`benchmarks/kills.py`) | {k['kill -9']} kill -9 and "

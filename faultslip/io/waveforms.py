@@ -69,7 +69,7 @@ def check_datable(start_seconds: float, span: float, cycles: int) -> None:
     if start_seconds + span <= LAST_DATABLE:
         return
     years = span / (365.25 * 86400)
-    fitting = int(cycles * (LAST_DATABLE - start_seconds) / span) if span > 0 else 0
+    fitting = int(cycles * (LAST_DATABLE - start_seconds) / span) - 1 if span > 0 else 0  # -1: the run ends past its last event
     raise InputError(f"the simulation spans {years:,.0f} years from its start time, past year 9999, the last that "
                      f"miniSEED, SAC and QuakeML can date; simulate at most {max(fitting, 0)} cycles (--cycles) or "
                      "give an earlier --start-time")
