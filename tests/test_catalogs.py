@@ -75,7 +75,7 @@ def test_csv_and_quakeml_round_trip_through_obspy(tmp_path):
 def test_bad_catalogs_are_refused_in_one_sentence(tmp_path, cli):
     bad = tmp_path / "bad.xml"
     bad.write_text("<q:quakeml xmlns:q='http://quakeml.org/xmlns/quakeml/1.2'><eventParameters", encoding="utf-8")
-    with pytest.raises(InputError, match="not readable QuakeML"):
+    with pytest.raises(InputError, match="cannot read catalog bad.xml as QuakeML"):
         read_catalog(bad)
     csv = tmp_path / "bad.csv"
     csv.write_text("time,latitude (degree),longitude (degree),magnitude\n1906-13-40,37,-122,7.9\n", encoding="utf-8")

@@ -18,6 +18,7 @@ import warnings
 
 from faultslip import __version__
 from faultslip.errors import FaultslipError
+from faultslip.io.atomic import transaction
 
 
 class _Parser(argparse.ArgumentParser):
@@ -438,8 +439,6 @@ def main(argv=None) -> int:
             return 2
         module, function = handler.split(":")
         command = getattr(importlib.import_module(f"faultslip.cli.{module}"), function)
-        from faultslip.io.atomic import transaction  # heavy: brings numpy, which --help must not load
-
         with transaction():  # a command's outputs appear together when it succeeds, or none do
             return command(args)
     except FaultslipError as exc:

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import itertools
 import os
 import shutil
-import tempfile
 from pathlib import Path
 
 from faultslip.errors import InputError, OutputError
@@ -82,12 +82,10 @@ def atomic_path(path, suffix: str | None = None, immediate: bool = False):
         raise InputError(f"output directory {str(directory)!r} does not exist")
     with output_lock(target, "faultslip"):
         try:
-            handle, temporary = tempfile.mkstemp(
-                prefix=f".{target.name}.", suffix=suffix if suffix is not None else (target.suffix or ".tmp") + ".tmp",
-                dir=directory)
+            temporary = _new_temporary(directory, target.name,
+                                       suffix if suffix is not None else (target.suffix or ".tmp") + ".tmp")
         except OSError as exc:
             raise _as_output_error(exc, target, directory) from None
-        os.close(handle)
         try:
             yield Path(temporary)
             os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; a normal file respects the umask
@@ -102,6 +100,21 @@ def atomic_path(path, suffix: str | None = None, immediate: bool = False):
             if full:
                 raise full_disk_error(target, directory) from None
             raise
+
+
+_SERIAL = itertools.count()
+
+
+def _new_temporary(directory: Path, name: str, suffix: str) -> str:
+    """A new empty file ``.NAME.PID.N{suffix}`` in ``directory``, created with O_EXCL (as mkstemp, without
+    importing tempfile's random machinery into every command's start)."""
+    while True:
+        path = directory / f".{name}.{os.getpid()}.{next(_SERIAL)}{suffix}"
+        try:
+            os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0), 0o600))
+            return str(path)
+        except FileExistsError:
+            continue
 
 
 def _umask() -> int:

@@ -85,7 +85,6 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
     """Convert the Zarr store at ``store_path`` into the netCDF4 file ``output``; returns a summary."""
     store_path = Path(store_path)
     store = open_store(store_path)
-    verify_store(store_path)
     output = check_output(output, label="-o", suffixes=(".nc",), inputs=[store_path], overwrite=overwrite)
     dims, chunks = _grid(store)
     stored = sum(f.stat().st_size for f in store_path.rglob("*") if f.is_file())
@@ -98,6 +97,7 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
     if missing:
         raise InputError(f"the Zarr store has no coordinate for dimension {missing[0]!r}; faultslip convert "
                          "copies stores with a coordinate on every dimension")
+    verify_store(store_path)  # every chunk present and checksummed, before a byte is written
     variables, fills = {}, {}
     for name, variable in store.data_vars.items():
         fill = variable.attrs.get("_FillValue")

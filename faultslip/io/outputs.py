@@ -20,7 +20,16 @@ import time
 from pathlib import Path
 
 from faultslip.errors import InputError, OutputError
-from faultslip.io.zarr_store import is_store
+
+#: Files that mark a folder as a Zarr store (format 2 or 3): only such a folder is ever replaced.
+_MARKERS = (".zgroup", ".zmetadata", "zarr.json")
+
+
+def is_store(path) -> bool:
+    """Whether ``path`` is a folder holding a Zarr store."""
+    path = Path(path)
+    return path.is_dir() and any((path / marker).exists() for marker in _MARKERS)
+
 
 #: Image formats matplotlib writes (its Agg, PDF, PS and SVG backends).
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg", ".eps", ".ps", ".tif", ".tiff", ".webp")

@@ -12,6 +12,8 @@ zarr-python, xarray and netCDF-C's NCZarr all read it.
 
 from __future__ import annotations
 
+import itertools
+import json
 import os
 import shutil
 from pathlib import Path
@@ -21,10 +23,9 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.io.chunks import deflate_compress
 from faultslip.io.gate import decoding
+from faultslip.io.outputs import is_store  # noqa: F401  (defined with the output checks; used here too)
 
 ZARR_FORMAT = 2
-#: Files that mark a folder as a Zarr store (format 2 or 3): only such a folder is ever replaced.
-_MARKERS = (".zgroup", ".zmetadata", "zarr.json")
 
 
 def require_zarr() -> None:
@@ -34,12 +35,6 @@ def require_zarr() -> None:
         import zarr  # noqa: F401  heavy: imported where used
     except ImportError:
         raise InputError("Zarr output needs zarr and dask: pip install 'faultslip[zarr]'") from None
-
-
-def is_store(path) -> bool:
-    """Whether ``path`` is a folder holding a Zarr store."""
-    path = Path(path)
-    return path.is_dir() and any((path / marker).exists() for marker in _MARKERS)
 
 
 _FAST_ZLIB = {}
@@ -104,8 +99,9 @@ def create_store(path, dims: dict, coords: dict, variables: dict, attrs: dict, c
         values = np.asarray(values)
         coordinates[name] = (name, values.astype(str) if values.dtype.kind in "OUT" else values.astype(float),
                              coordinate_attrs)
-        if values.dtype.kind not in "OUT":  # a coordinate has no missing values; it is checksummed too
-            encoding[name] = {"_FillValue": None, **_codecs("f8", compression)}
+        # a coordinate has no missing values; text or numbers, it is checksummed too
+        encoding[name] = {**({} if values.dtype.kind in "OUT" else {"_FillValue": None}),
+                          **_codecs("U" if values.dtype.kind in "OUT" else "f8", compression)}
     dataset = xr.Dataset(data_vars, coords=coordinates, attrs=attrs)
     try:
         dataset.to_zarr(path, mode="w", compute=False, encoding=encoding, zarr_format=ZARR_FORMAT,
@@ -169,8 +165,6 @@ def open_store(path):
 
 def chunk_keys(shape, chunks, separator: str = ".") -> list[str]:
     """The keys of every chunk of a zarr format 2 array of ``shape`` in ``chunks``."""
-    import itertools
-
     if not shape:
         return ["0"]
     counts = [max(-(-size // chunk), 1) if size else 0 for size, chunk in zip(shape, chunks)]
@@ -183,7 +177,6 @@ def verify_store(path) -> None:
     Every array of a store faultslip writes has every chunk on disk (written whole, fill or
     not) and a CRC-32C filter; the bytes themselves are checked as each chunk is decoded.
     """
-    import json
 
     path = Path(path)
     for meta in sorted(path.rglob(".zarray")):
