@@ -440,8 +440,8 @@ def writer_case(space, rng, folder: Path) -> tuple[list[str], Path]:
                         + '"\n[sweep]\nslip_rate = ["10 mm/yr", "30 mm/yr"]\n')
     space.write("segments.csv", space.segments)
     map_path = space.write("writer_map.toml", space.map_text)
-    for stale in folder.glob("TARGET*"):
-        shutil.rmtree(stale, ignore_errors=True) if stale.is_dir() else stale.unlink()
+    for stale in [*folder.glob("TARGET*"), *folder.glob(".TARGET*"), *folder.glob(".other.nc*")]:
+        shutil.rmtree(stale, ignore_errors=True) if stale.is_dir() and not stale.is_symlink() else stale.unlink()
     (folder / "other.nc").unlink(missing_ok=True)
     replaced = [str(folder / a) if a.startswith(("TARGET", "other.")) else a for a in argv]
     replaced = [str(study) if a == "STUDY" else str(map_path) if a == "MAP" else a for a in replaced]
@@ -471,21 +471,30 @@ def hold_lock(target: Path, command: str) -> int:
     """A forked process holding the output's lock as another faultslip run would; returns its pid."""
     import fcntl
 
+    import select
+
     lock = target.with_name(f".{target.name}.lock")
+    if lock.is_symlink() or lock.exists():  # what an earlier case planted there
+        lock.unlink()
     ready_read, ready_write = os.pipe()
     pid = os.fork()
     if pid == 0:  # the child: lock, say so, wait to be killed
         try:
-            descriptor = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
-            fcntl.flock(descriptor, fcntl.LOCK_EX)
+            descriptor = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o644)
+            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
             os.write(descriptor, json.dumps({"pid": os.getpid(), "command": command, "started": time.time()}).encode())
             os.write(ready_write, b"1")
             time.sleep(120)
+        except BaseException:  # noqa: BLE001  the parent must never wait for a child that failed
+            os.write(ready_write, b"0")
         finally:
             os._exit(0)
-    os.read(ready_read, 1)
+    ready, _, _ = select.select([ready_read], [], [], 10.0)
+    answer = os.read(ready_read, 1) if ready else b"0"
     os.close(ready_read)
     os.close(ready_write)
+    if answer != b"1":
+        raise RuntimeError(f"the lock holder for {target.name} could not take its lock")
     return pid
 
 
