@@ -532,7 +532,7 @@ def mutate_gaf(document: dict, rng) -> None:
         choice = rng.random()
         if choice < 0.35:
             feature["properties"]["slip_type"] = rng.choice(GAF_TERMS)
-        elif choice < 0.55:
+        elif choice < 0.55 and feature["geometry"].get("type") == "LineString":
             line = feature["geometry"]["coordinates"]
             cut = rng.randint(1, max(1, len(line) - 1))
             feature["geometry"] = {"type": "MultiLineString", "coordinates": rng.choice(

@@ -19,7 +19,7 @@ import pytest
 PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
 #: Lowest first. Studies, lab and evaluation share a layer but may not import each other.
 LAYERS = {"core": 0, "io": 1, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
-          "plots": 6, "cli": 7}
+          "plots": 6, "models": 7, "cli": 8}
 HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "pint", "h5py", "zarr", "numcodecs", "numba"}
 PLATFORM = {"fcntl"}
 
@@ -144,3 +144,17 @@ def test_the_folder_listing_is_the_architecture():
     assert rooms == sorted(name for name in LAYERS if name != "core")
     loose = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__init__")
     assert loose == ["errors", "ranges", "units"], loose
+
+
+#: Names that tell scene kinds apart by their contents: only faultslip.models.registry may use them.
+SNIFFERS = {"is_asperity_scene", "is_nanoscale_scene", "is_vibration_scene", "is_rough_scene", "has_friction_law",
+            "scene_document"}
+
+
+@pytest.mark.parametrize("module", sorted(m for m in MODULES if m.startswith("faultslip.cli")))
+def test_the_command_line_holds_no_scene_kind_dispatch(module):
+    """run and simulate ask faultslip.models for a scene's family; no if-chain over kinds lives in cli/."""
+    tree = ast.parse(MODULES[module].read_text(encoding="utf-8"))
+    used = {node.id for node in ast.walk(tree) if isinstance(node, ast.Name)} | \
+           {alias.name for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) for alias in node.names}
+    assert not used & SNIFFERS, f"{module} tells scene kinds apart itself ({sorted(used & SNIFFERS)}); ask faultslip.models"

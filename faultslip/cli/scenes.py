@@ -5,41 +5,23 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from faultslip.cli.common import (_emit, _locked, _note_origin, _number, _output_dir, _outputs, _save_run,
-                                  _system_from_args, _tolerance)
+from faultslip import models
+from faultslip.cli.common import _emit, _locked, _number, _output_dir, _outputs, _save_run, _system_from_args, _tolerance
 from faultslip.dynamics.critical import comparison_dataset, comparison_markdown, critical
-from faultslip.dynamics.averaging import report as averaging_report
-from faultslip.dynamics.averaging import settled_amplitude, simulate_vibration, vibration_dataset, vibration_report
 from faultslip.dynamics.methods import describe_all, solve
-from faultslip.dynamics.nanoscale import choose_method
-from faultslip.dynamics.nanoscale import report as nanoscale_report
-from faultslip.dynamics.nanoscale import run_dataset as nanoscale_dataset
-from faultslip.dynamics.simulate import simulate, summary_report, uniform_channels
-from faultslip.errors import FaultslipError, InputError
-from faultslip.fault.rate_state_fault import cycles_dataset, estimate_fault_from_fit
+from faultslip.errors import InputError
+from faultslip.fault.rate_state_fault import estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
-from faultslip.fault.scene import CHOICES, estimate_scene_rate_state, load_scene, run_scene
-from faultslip.fault.synthetic import simulated_events
+from faultslip.fault.scene import load_scene
 from faultslip.friction.materials import lithologies, presets, resolve_material, user_rate_state_fits
 from faultslip.friction.registry import registry_path
-from faultslip.io import budget
 from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.catalogs import QUAKEML_SUFFIXES, parse_time, write_quakeml
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES, check_output
-from faultslip.io.waveforms import MAX_SAMPLES, STREAM_SUFFIXES, build_stream, check_datable, sac_path, write_stream
-from faultslip.dynamics.asperity import choose_method as asperity_choose
-from faultslip.dynamics.asperity import report as asperity_report
-from faultslip.dynamics.asperity import run_dataset as asperity_dataset
-from faultslip.dynamics.asperity import simulate as asperity_simulate
-from faultslip.lab.asperity_scene import is_asperity_scene, load_asperity_scene
-from faultslip.plots.asperity import response_figure as asperity_response_figure
-from faultslip.lab.nanoscale_scene import is_nanoscale_scene, load_nanoscale_scene
-from faultslip.lab.rough_slider import is_rough_scene, load_rough_scene
-from faultslip.lab.vibration_scene import is_vibration_scene, load_vibration_scene
-from faultslip.plots.figures import critical_comparison_figure, sawtooth_figure
-from faultslip.plots.rate_state import cycles_figure
-from faultslip.plots.vibration import nanoscale_figure, vibration_series_figure
+from faultslip.io.waveforms import (DEFAULT_START, MAX_SAMPLES, STREAM_SUFFIXES, check_datable, sac_path,
+                                    write_stream)
+from faultslip.plots.figures import critical_comparison_figure
 from faultslip.units import to_si
 
 
@@ -58,143 +40,8 @@ _FAULT_QUANTITIES = {
 
 
 def cmd_run(args) -> int:
-    tolerance = _tolerance(args)
-    if args.scene is not None and is_asperity_scene(args.scene):
-        return _run_asperity(args, tolerance)
-    if args.scene is not None and is_nanoscale_scene(args.scene):
-        return _run_nanoscale(args, tolerance)
-    if args.scene is not None and is_vibration_scene(args.scene):
-        return _run_vibration(args, tolerance)
-    if args.scene is not None and is_rough_scene(args.scene):  # seed 000: a kinetic law on seed 003's engine
-        system, details, settings = load_rough_scene(args.scene)
-        solution = solve(system, method=args.method or "auto", tolerance=tolerance or 1e-6, cycles=settings["cycles"])
-        report = solution.report(f"faultslip rough-surface slider (seed 000): {system.name}")
-        _rough_details(report, details)
-        return _emit(report, args.json)
-    return _emit(run_scene(load_scene(args.scene), method=args.method, tolerance=tolerance), args.json)
-
-
-def _run_nanoscale(args, tolerance) -> int:
-    """A nanoscale scene (seed 001): the regime in closed form, integrated only where the swing needs it."""
-    model, settings, notes = load_nanoscale_scene(args.scene)
-    method = args.method or settings["method"]
-    # the closed form, when asked for by name, answers the regime alone
-    wanted = ("regime",) if method == "nanoscale_linear_stability" else ("regime", "force_swing")
-    choice = choose_method(model, wanted, method, tolerance or settings["tolerance"])
-    run = (model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol)
-           if choice.method == "nanoscale_LSODA" else None)
-    report = nanoscale_report(model, run, choice, f"faultslip nanoscale scene: {notes['name']}")
-    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
-    return _emit(report, args.json)
-
-
-def _run_asperity(args, tolerance) -> int:
-    """An asperity scene (seed 004): critical speeds in closed form, the response where it is asked."""
-    model, settings, notes = load_asperity_scene(args.scene)
-    choice = asperity_choose(model, ("response",), tolerance or settings["tolerance"], args.method or settings["method"])
-    run = (asperity_simulate(model, settings["duration"], choice.method)
-           if choice.method != "asperity_wavelength" else None)
-    report = asperity_report(model, run, choice, f"faultslip asperity scene (seed 004): {notes['name']}")
-    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
-    return _emit(report, args.json)
-
-
-def _simulate_asperity(args) -> int:
-    """An asperity scene's time series, its report and the seed 004 response figure."""
-    _refuse_seed_law_flags(args, "an asperity scene sets its run in [run] duration and its method in [method]")
-    model, settings, notes = load_asperity_scene(args.scene)
-    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
-    choice = asperity_choose(model, ("response", "time_series"), settings["tolerance"], settings["method"])
-    if choice.method == "asperity_wavelength":
-        raise InputError("asperity_wavelength gives critical speeds only; a simulation needs asperity_quasistatic "
-                         "or asperity_LSODA in [method] name")
-    run = asperity_simulate(model, settings["duration"], choice.method)
-    report = asperity_report(model, run, choice, f"faultslip asperity simulation (seed 004): {notes['name']}")
-    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
-    if run.status != "ok":
-        raise FaultslipError(f"{choice.method} did not finish {notes['name']}: {run.reason}")
-    _save_run(report, outputs, args, asperity_dataset(run) if outputs["output"] else None,
-              lambda: asperity_response_figure(run), "time series", "seed 004 response panels")
-    return _emit(report, args.json)
-
-
-def _run_vibration(args, tolerance) -> int:
-    """A vibration scene (seed 002): the settled amplitude, by averaging where it is accurate enough."""
-    system, notes = load_vibration_scene(args.scene)
-    method = {None: "auto", "auto": "auto", "quasi_harmonic_averaging": "averaging",
-              "quasi_harmonic_integration": "integration"}.get(args.method)
-    if method is None:
-        raise InputError(f"a vibration scene takes --method auto, quasi_harmonic_averaging or "
-                         f"quasi_harmonic_integration, got {args.method!r}")
-    result = system.analyse()
-    settled = settled_amplitude(system, method, tolerance or 1e-3) if result.valid else None
-    report = averaging_report(system, result, None, settled)
-    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
-    return _emit(report, args.json)
-
-
-def _rough_details(report, details) -> None:
-    report.section("Rough surfaces (seed 000)")
-    report.add("static_friction_model", details["static_friction"], label="mu_s = p_s / H")
-    report.add("area_fraction_at_rest", details["area_fraction_at_rest"], label="real / nominal area at rest (L / H A_n)")
-    report.add("compression_at_rest", details["compression_at_rest"], "m", label="static compression h0 (H A(h0) = L)")
-    reference = "RMS" if details["separation_reference"] == "rms" else "h0"
-    report.add("separation_per_speed", details["separation_per_speed"], "s",
-               label=f"separation per sliding speed c {reference} (m per m/s)")
-    report.add("separation_memory", details["separation_memory"],
-               label="separation memory (none, held, falling)")
-    report.add("natural_frequency", details["natural_frequency"], "Hz", label="sqrt(k/M) / 2 pi")
-
-
-def _simulate_rough(args) -> int:
-    """A rough-surface scene's stick-slip on seed 003's event-driven engine."""
-    system, details, settings = load_rough_scene(args.scene)
-    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
-    cycles = args.cycles or settings["cycles"]
-    if not 1 <= cycles <= 10_000:
-        raise FaultslipError(f"--cycles must be from 1 to 10000, got {cycles}")
-    dataset = simulate(system, cycles=cycles, slip_solver=args.slip_solver or "DOP853",
-                       rtol=_number(args.rtol, "--rtol") if args.rtol else 1e-8, scene=system.name)
-    report = summary_report(dataset, f"faultslip simulation (seed 000 rough surfaces): {system.name}")
-    _rough_details(report, details)
-    _save_run(report, outputs, args, dataset, lambda: sawtooth_figure(dataset), "time series and event table",
-              "sawtooth record")
-    return _emit(report, args.json)
-
-
-def _refuse_seed_law_flags(args, why: str) -> None:
-    """The seed law's simulation flags, refused for a scene of another kind."""
-    extra = [flag for flag in ("cycles", "slip_solver", "rtol") if getattr(args, flag) is not None]
-    if extra:
-        raise InputError(f"--{extra[0].replace('_', '-')} applies to seed-law scenes; {why}")
-
-
-def _simulate_vibration(args) -> int:
-    """A vibration scene's eq. (10) time series from a small disturbance, beside the averaged envelope."""
-    _refuse_seed_law_flags(args, "a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles")
-    system, notes = load_vibration_scene(args.scene)
-    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
-    run = simulate_vibration(system)
-    report = vibration_report(run)
-    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
-    _save_run(report, outputs, args, vibration_dataset(run) if outputs["output"] else None,
-              lambda: vibration_series_figure(run), "time series", "displacement and envelope")
-    return _emit(report, args.json)
-
-
-def _simulate_nanoscale(args) -> int:
-    """A nanoscale scene's time series (LSODA), the report and the seed 001 Fig. 3 plot."""
-    _refuse_seed_law_flags(args, "a nanoscale scene sets its run in [run] and its accuracy in [method] tolerance")
-    model, settings, notes = load_nanoscale_scene(args.scene)
-    outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
-    choice = choose_method(model, ("regime", "force_swing", "time_series"), "auto", settings["tolerance"])
-    run = model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol,
-                         allow_large=getattr(args, "allow_large", False))
-    report = nanoscale_report(model, run, choice, f"faultslip nanoscale simulation: {notes['name']}")
-    _note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
-    _save_run(report, outputs, args, nanoscale_dataset(run) if outputs["output"] else None,
-              lambda: nanoscale_figure(run), "time series", "seed 001 Fig. 3")
-    return _emit(report, args.json)
+    """Any scene, whatever its model family (faultslip.models): its report."""
+    return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args)).report(), args.json)
 
 
 def cmd_fault(args) -> int:
@@ -321,96 +168,47 @@ def cmd_methods(args) -> int:
 
 
 def cmd_simulate(args) -> int:
-    if is_asperity_scene(args.scene):
-        return _simulate_asperity(args)
-    if is_nanoscale_scene(args.scene):
-        return _simulate_nanoscale(args)
-    if is_vibration_scene(args.scene):
-        return _simulate_vibration(args)
-    if is_rough_scene(args.scene):
-        return _simulate_rough(args)
-    scene = load_scene(args.scene)
+    """Any scene's time series, whatever its model family (faultslip.models); the stream and the events where
+    the family records them."""
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                               "stream": ("--stream", tuple(STREAM_SUFFIXES)), "events": ("--events", QUAKEML_SUFFIXES)},
-                       [scene.path])
-    if scene.rate_state:
-        if outputs["stream"] or outputs["events"]:
-            raise InputError("--stream and --events apply to seed-law scenes; a rate-and-state scene's cycles are "
-                             "written with -o")
-        return _simulate_rate_state(args, scene, outputs)
+                       [args.scene])
     if outputs["stream"] and outputs["stream"].suffix.lower() == ".sac":  # one file per component, checked now
         for component in ("D", "S", "R", "F"):
             check_output(sac_path(outputs["stream"], component), label="--stream", suffixes=(".sac",),
-                         inputs=[scene.path], overwrite=args.overwrite)
-    if outputs["events"] and scene.kind != "fault":
-        raise InputError("--events writes earthquakes with Mw from M0: it needs a fault scene")
+                         inputs=[args.scene], overwrite=args.overwrite)
     rate = _number(args.sampling_rate, "--sampling-rate") if args.sampling_rate else None
     start = (float(parse_time(args.start_time, "--start-time").astype("datetime64[ms]").astype("int64")) / 1e3
-             if args.start_time else 946684800.0)
-    settings = scene.simulation
-    if args.cycles is not None:
-        if args.cycles < 1:
-            raise FaultslipError(f"--cycles must be at least 1, got {args.cycles}")
-        settings["cycles"] = args.cycles
-    if args.slip_solver is not None:
-        allowed = CHOICES[("simulation", "slip_solver")]
-        if args.slip_solver not in allowed:
-            raise FaultslipError(f"--slip-solver must be one of {', '.join(allowed)}, got {args.slip_solver!r}")
-        settings["slip_solver"] = args.slip_solver
-    if args.rtol is not None:
-        rtol = _number(args.rtol, "--rtol")
-        if not 1e-14 <= rtol < 1:
-            raise FaultslipError(f"--rtol must lie in [1e-14, 1), got {args.rtol}")
-        settings["rtol"] = rtol
-    system = scene.slider()
-    integrated = not system.is_linear or settings.get("slip_solver", "auto") not in ("auto", "analytic")
-    budget.check(budget.simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64),
-                                            integrated, outputs["output"]), args.allow_large)
-    dataset = simulate(system, scene=scene.name, **settings)
+             if args.start_time else DEFAULT_START)
+    result = models.simulate(args.scene, cycles=args.cycles, slip_solver=args.slip_solver,
+                             rtol=_number(args.rtol, "--rtol") if args.rtol is not None else None,
+                             allow_large=args.allow_large, stream=bool(outputs["stream"]),
+                             events=bool(outputs["events"]), output=outputs["output"])
+    report = result.report()
+    series = result.series
     if outputs["stream"] or outputs["events"]:  # before anything is written
-        check_datable(start, float(dataset["time"].values[-1]), settings.get("cycles", 100))
-    dataset.attrs["scene_text"] = scene.text
-    report = summary_report(dataset, f"faultslip simulation: {scene.name}")
-    _note_origin(report, scene.origin and f"scene: {scene.origin}")
-    _save_run(report, outputs, args, dataset, lambda: sawtooth_figure(dataset), "time series and event table",
-              "sawtooth record")
+        check_datable(start, float(series["time"].values[-1]), int(series.sizes.get("event", 1)))
+    if series is None:
+        if outputs["output"] or outputs["plot"]:
+            report.note("nothing to write: this run recorded no time series")
+        return _emit(report, args.json)
+    _save_run(report, outputs, args, result.to_xarray() if outputs["output"] else None, result.plot,
+              "time series and event table" if "event" in series.dims else "time series", "figure")
     if outputs["stream"]:
-        rate, channels, note = uniform_channels(dataset, rate, 10 * MAX_SAMPLES if args.allow_large else MAX_SAMPLES)
-        stream = build_stream(rate, channels, start_seconds=start)
+        stream, sampling, note = result.extras["stream"](rate, start,
+                                                         10 * MAX_SAMPLES if args.allow_large else MAX_SAMPLES)
         with _locked(outputs["stream"]):
             written = write_stream(stream, outputs["stream"])
-        report.note(f"stream of {', '.join(t.id for t in stream)} at {rate:.4g} Hz ({stream[0].stats.npts} samples) "
-                    f"written to {', '.join(str(p) for p in written)}" + (f"; {note}" if note else ""))
+        report.note(f"stream of {', '.join(t.id for t in stream)} at {sampling:.4g} Hz ({stream[0].stats.npts} "
+                    f"samples) written to {', '.join(str(p) for p in written)}" + (f"; {note}" if note else ""))
     if outputs["events"]:
-        events = simulated_events(dataset, scene.fault(), scene.trace, start)
+        events = result.extras["events"](start)
         with _locked(outputs["events"]):
             write_quakeml(events["times"], events["latitude"], events["longitude"], events["depth"],
                           events["magnitude"], outputs["events"], names=events["names"],
-                          comment=f"faultslip simulation of {scene.name}")
+                          comment=f"faultslip simulation of {report.title.removeprefix('faultslip simulation: ')}")
         report.note(f"{len(events['names'])} events (Mw {float(events['magnitude'].max()):.2f}) written as QuakeML "
                     f"to {args.events}" + (f"; {events['note']}" if events["note"] else ""))
-    return _emit(report, args.json)
-
-
-def _simulate_rate_state(args, scene, outputs) -> int:
-    """simulate of a fault scene with rate-and-state friction: its quasi-dynamic cycles as a time series."""
-    if args.slip_solver is not None or args.rtol is not None:
-        raise FaultslipError("--slip-solver and --rtol belong to the seed law's simulation; a rate-and-state fault's "
-                             "cycles run at rtol 1e-7 with the method auto picks")
-    cycles = 5 if args.cycles is None else args.cycles
-    if not 1 <= cycles <= 1000:
-        raise FaultslipError(f"--cycles must be from 1 to 1000 for a rate-and-state fault, got {cycles}")
-    estimate = estimate_scene_rate_state(scene, cycles=cycles, record=True)
-    report = estimate.report(f"faultslip simulation (rate-and-state fault): {scene.name}")
-    _note_origin(report, scene.origin and f"scene: {scene.origin}")
-    if estimate.cycles is None:
-        report.note("steady sliding is stable here (K >= K_c): no cycles to record")
-        return _emit(report, args.json)
-    dataset = cycles_dataset(estimate, f"faultslip rate-and-state cycles: {scene.name}")
-    dataset.attrs["scene_text"] = scene.text
-    report.add("samples", int(dataset.sizes["time"]), label="time samples (the integrator's steps)")
-    _save_run(report, outputs, args, dataset, lambda: cycles_figure(dataset), "time series and event table",
-              "cycles")
     return _emit(report, args.json)
 
 

@@ -123,7 +123,7 @@ def _history(table, source) -> tuple[LoadHistory, int]:
 
 def parse_rate_state_scene(text: str, source: str = "<scene>") -> RateStateScene:
     data = parse_toml(text, source)
-    unknown = sorted(set(data) - {"name", "law", "slider", "fault", "load"})
+    unknown = sorted(set(data) - {"name", "family", "law", "slider", "fault", "load"})
     if unknown:
         raise InputError(f"unknown section {unknown[0]!r} in {source} (a rate-and-state scene has [law], [slider] "
                          "or [fault], and [load])")

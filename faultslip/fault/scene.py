@@ -258,6 +258,8 @@ def parse_scene(text: str, source: str = "<scene>", path: Path | None = None) ->
         raise InputError(f"{source} is a nanoscale scene (seed 001): 'faultslip run', 'simulate' and 'nanoscale' take "
                          "it; studies and maps take seed-law or rate-and-state scenes")
     for table, content in document.items():
+        if table == "family" and isinstance(content, str):  # the model family's name (faultslip.models)
+            continue
         if table not in SCHEMA:
             raise InputError(
                 f"unknown table [{table}] in {source}; {_suggest(table, SCHEMA)}allowed tables: {', '.join(SCHEMA)}"

@@ -10,14 +10,12 @@ words for it) becomes one sentence and leaves no partial file.
 from __future__ import annotations
 
 import contextlib
-import errno
 import itertools
 import os
-import shutil
 from pathlib import Path
 
-from faultslip.errors import InputError, OutputError
-from faultslip.io.outputs import disk_is_full, full_disk_error, output_lock
+from faultslip.errors import InputError
+from faultslip.io.outputs import as_output_error, disk_is_full, full_disk_error, output_lock
 
 
 #: Renames deferred by an open :func:`transaction`: (temporary, target) pairs.
@@ -85,7 +83,7 @@ def atomic_path(path, suffix: str | None = None, immediate: bool = False):
             temporary = _new_temporary(directory, target.name,
                                        suffix if suffix is not None else (target.suffix or ".tmp") + ".tmp")
         except OSError as exc:
-            raise _as_output_error(exc, target, directory) from None
+            raise as_output_error(exc, target, directory) from None
         try:
             yield Path(temporary)
             os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes 0600; a normal file respects the umask

@@ -116,7 +116,7 @@ def full_disk_error(target, directory) -> OutputError:
                        "nothing was left behind; free some space or choose another folder")
 
 
-def _as_output_error(exc: OSError, target, directory) -> OutputError:
+def as_output_error(exc: OSError, target, directory) -> OutputError:
     if disk_is_full(exc, directory):
         return full_disk_error(target, directory)
     return OutputError(f"cannot write {str(target)!r}: {exc.strerror or exc}")

@@ -168,7 +168,8 @@ def read_table(path: Path) -> list[dict[str, tuple[str, str | None]]]:
 parse_toml = gate.parse_toml
 
 
-def check_toml_layout(data: dict, tables: dict, source: str, what: str, top_level=("name", "description")) -> None:
+def check_toml_layout(data: dict, tables: dict, source: str, what: str,
+                      top_level=("name", "description", "family")) -> None:
     """One sentence for a TOML document's first unknown table or key.
 
     ``tables`` maps each allowed table to its allowed keys (None: any key); ``top_level`` are the

@@ -60,6 +60,8 @@ def stream_format(path) -> str:
     return STREAM_SUFFIXES[suffix]
 
 
+#: Model time 0 of a stream or catalog when no start time is given: 2000-01-01T00:00:00 UTC, in s since 1970.
+DEFAULT_START = 946684800.0
 #: The last instant miniSEED, SAC and QuakeML can date (obspy's UTCDateTime ends with year 9999).
 LAST_DATABLE = 253402300799.0  # 9999-12-31T23:59:59 UTC, in s since 1970
 

@@ -1,0 +1,47 @@
+"""Every model family behind one contract: a scene in, a :class:`Result` out.
+
+>>> import faultslip
+>>> result = faultslip.run("san_andreas_1906.toml")
+>>> result["slip_per_event"]            # a pint Quantity  # doctest: +SKIP
+>>> result.method, result.estimated_relative_error  # doctest: +SKIP
+>>> result.to_xarray()                  # CF attributes, as the CLI writes  # doctest: +SKIP
+
+A scene names its family with ``family = "..."`` (:data:`FAMILIES`); :func:`family_of` reads it.
+The families: the seed 003 spring-slider (the default), the rate-and-state slider, seed 002's
+quasi-harmonic vibration, seed 001's nanoscale model, seed 004's asperities and seed 000's rough
+surfaces.
+"""
+
+from __future__ import annotations
+
+from faultslip.models import asperity, nanoscale, rate_state_slider, rough_surface, spring_slider, vibration  # noqa: F401
+from faultslip.errors import InputError
+from faultslip.models.registry import FAMILIES, Family, family_of, register
+from faultslip.models.result import Result
+
+__all__ = ["FAMILIES", "Family", "Result", "family_of", "register", "run", "simulate"]
+
+
+#: Options every family may be given: where the run's output goes (for a disk estimate) and the budget's
+#: override; a family that has no use for them ignores them.
+UNIVERSAL = ("output", "allow_large")
+
+
+def run(scene=None, method: str | None = None, tolerance: float | None = None) -> Result:
+    """Evaluate a scene (a path, or a bundled scene's name; None: the 1906 San Francisco scene).
+
+    ``method`` is one of the family's methods or ``"auto"`` (the cheapest whose declared error
+    meets ``tolerance``, a relative error; each family has its default).
+    """
+    return family_of(scene).run(scene, method=method, tolerance=tolerance)
+
+
+def simulate(scene=None, **options) -> Result:
+    """Simulate a scene's time series with the family's options (``cycles``, ``slip_solver``, ``rtol``,
+    ``allow_large``, ...); an option the family does not take is refused in one sentence."""
+    family = family_of(scene)
+    given = {name: value for name, value in options.items() if value is not None and value is not False}
+    extra = [name for name in given if name not in family.simulate_options and name not in UNIVERSAL]
+    if extra:
+        raise InputError(f"--{extra[0].replace('_', '-')} applies to seed-law scenes; {family.why}")
+    return family.simulate(scene, **{name: value for name, value in given.items() if name in family.simulate_options})

@@ -1,0 +1,132 @@
+"""The rate-and-state slider as a model family: a laboratory slider's velocity steps and slide-hold-slides, and
+a fault's quasi-dynamic earthquake cycles on one spring-block (Dieterich-Ruina friction)."""
+
+from __future__ import annotations
+
+from faultslip.dynamics.rate_state import fault_cycles, simulate_rate_state
+from faultslip.errors import InputError
+from faultslip.fault.rate_state_fault import seed_law_fault
+from faultslip.fault.rate_state_scene import load_rate_state_scene
+from faultslip.io.report import Report
+from faultslip.models.registry import Family, register
+from faultslip.models.result import Result
+from faultslip.plots.figures import _pyplot
+
+
+def _scene_notes(report, scene) -> None:
+    report.note(scene.law.describe())
+    if scene.origin:
+        report.note(f"scene: {scene.origin}")
+
+
+def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
+    """A laboratory slider's friction through its load history ([load]: steps, slide-hold-slide or a speed)."""
+    scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
+    if scene.history is None:
+        raise InputError(f"{scene.name} has no [load] table to simulate; for a fault's cycles use "
+                         "'faultslip rate-state cycles'")
+    if not (isinstance(rtol, float) and 1e-14 <= rtol <= 1e-2):
+        raise InputError(f"--rtol must lie between 1e-14 and 1e-2, got {rtol}")
+    history = simulate_rate_state(scene.slider, scene.history, model=scene.model, method=method, rtol=rtol,
+                                  samples=scene.samples)
+    law = scene.law
+    final_speed = scene.history.speeds[-1] if scene.history.kind == "steps" else None
+    report = Report(f"faultslip rate-state simulate: {scene.name}")
+    report.add("model", scene.model).add("method", history.method)
+    report.add("method_reason", history.method_reason, label="why")
+    report.add("duration", float(history.time[-1]), "s").add("samples", int(history.time.size))
+    report.add("initial_friction", float(history.friction[0])).add("peak_friction", float(history.friction.max()))
+    report.add("final_friction", float(history.friction[-1]))
+    if final_speed:
+        report.add("steady_state_friction_at_final_speed", float(law.steady_state(final_speed)),
+                   label="mu_ss at the last load speed")
+    report.add("slip", float(history.slip[-1]), "m").add("peak_slip_speed", float(history.slip_speed.max()), "m/s")
+    report.add("steps", int(history.steps)).add("function_evaluations", int(history.function_evaluations))
+    report.add("wall_time", history.wall_time, "s")
+    for note in history.notes:
+        report.note(note)
+    _scene_notes(report, scene)
+
+    def dataset():
+        import xarray as xr  # heavy: imported where used
+
+        return xr.Dataset(
+            {"friction": ("time", history.friction, {"units": "1", "long_name": "friction coefficient"}),
+             "slip_speed": ("time", history.slip_speed, {"units": "m/s", "long_name": "slip speed V"}),
+             "log_state": ("time", history.psi, {"units": "1", "long_name": "psi = ln(V0 theta / D_c)"}),
+             "slip": ("time", history.slip, {"units": "m", "long_name": "slip since the start"}),
+             "load_point_displacement": ("time", history.load_point,
+                                         {"units": "m", "long_name": "load-point displacement"})},
+            coords={"time": ("time", history.time, {"units": "s", "long_name": "time since the start of the run"})},
+            attrs={"title": f"faultslip rate-state simulation: {scene.name}", "Conventions": "CF-1.8",
+                   "model": scene.model, "method": history.method, "law": law.describe()})
+
+    def figure():
+        plt = _pyplot()
+        drawing, axes = plt.subplots(2, 1, figsize=(7, 5.5), sharex=True, constrained_layout=True)
+        axes[0].plot(history.time, history.friction, color="C0")
+        axes[0].set_ylabel("friction")
+        axes[1].semilogy(history.time, history.slip_speed, color="C3")
+        axes[1].set_ylabel("slip speed (m/s)")
+        axes[1].set_xlabel("time (s)")
+        drawing.suptitle(report.title, fontsize=10)
+        return drawing
+
+    return Result("rate_state_slider", report, dataset(), figure)
+
+
+def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None) -> Result:
+    """A fault's quasi-dynamic earthquake cycles ([fault]), with the seed law on the same fault beside them."""
+    scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
+    if not 1 <= count <= 10_000:
+        raise InputError(f"--cycles must lie between 1 and 10000, got {count}")
+    if scene.kind != "fault":
+        raise InputError(f"{scene.name} describes a laboratory slider; fault cycles need a [fault] table with "
+                         "shear_modulus, zone_width, normal_stress and plate_rate")
+    result = fault_cycles(scene.slider, scene.plate_rate, cycles=count,
+                          model="quasi_dynamic" if scene.model != "quasi_static" else "quasi_static")
+    report = Report(f"faultslip rate-state cycles: {scene.name}")
+    report.add("recurrence_period", result.recurrence, "s", also=("yr",))
+    report.add("slip_per_event", float(result.slip_per_event.mean()), "m")
+    report.add("stress_drop", float(result.stress_drop.mean()), "Pa", also=("MPa",))
+    report.add("peak_slip_rate", float(result.peak_slip_rate.max()), "m/s")
+    report.add("stiffness_ratio", result.stiffness_ratio, label="K / K_c (quasi-static k_c)")
+    report.add("regime", result.regime).add("cycles", int(result.slip_per_event.size))
+    report.add("plate_slip_balance", float((result.cycle_slip / (result.plate_rate * result.recurrence)).mean()),
+               label="slip per cycle / (V_pl T)")
+    report.add("model", result.model).add("steps", int(result.steps)).add("wall_time", result.wall_time, "s")
+    report.note(f"events: slip speed above {result.event_speed:g} m/s (the SEAS convention)")
+    if seed_law:
+        seed = seed_law_fault(seed_law, slip_rate=scene.plate_rate, **scene.fault).estimate()
+        report.add("seed_law_slip_per_event", seed.slip_per_event, "m",
+                   label=f"seed law ({seed_law}) slip per event on the same fault")
+        report.add("seed_law_recurrence_period", seed.recurrence_period, "s", also=("yr",),
+                   label=f"seed law ({seed_law}) recurrence on the same fault")
+        report.add("slip_ratio_rate_state_to_seed", float(result.slip_per_event.mean()) / seed.slip_per_event)
+    _scene_notes(report, scene)
+    return Result("rate_state_slider", report)
+
+
+def run(scene, method=None, tolerance=None) -> Result:
+    """A laboratory slider's load history, or a fault's cycles: what the scene describes."""
+    loaded = load_rate_state_scene(scene)
+    if method not in (None, "auto") or tolerance is not None:
+        raise InputError("a rate-and-state scene chooses its integrator and tolerance itself (rtol 1e-8 for a "
+                         "load history, 1e-7 for cycles); use 'faultslip rate-state simulate --method' to choose one")
+    return velocity_step(loaded) if loaded.kind == "lab" else earthquake_cycles(loaded)
+
+
+def simulate(scene, cycles=None) -> Result:
+    """The same as :func:`run`; ``cycles`` sets a fault's number of earthquake cycles (default 5)."""
+    loaded = load_rate_state_scene(scene)
+    if loaded.kind == "lab":
+        if cycles is not None:
+            raise InputError("--cycles counts a fault's earthquake cycles; a laboratory slider runs its [load] history")
+        return velocity_step(loaded)
+    return earthquake_cycles(loaded, 5 if cycles is None else cycles)
+
+
+FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: velocity steps in the lab, quasi-dynamic "
+                         "cycles of a fault on one spring-block", run, simulate, table="law",
+                         simulate_options=("cycles",),
+                         why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles"))

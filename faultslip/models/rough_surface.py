@@ -1,0 +1,50 @@
+"""Seed 000's rough-surface slider as a model family: friction from real contact on seed 003's engine."""
+
+from __future__ import annotations
+
+from faultslip.dynamics.methods import solve
+from faultslip.dynamics.simulate import simulate as integrate
+from faultslip.dynamics.simulate import summary_report
+from faultslip.errors import InputError
+from faultslip.lab.rough_slider import load_rough_scene
+from faultslip.models.registry import Family, register
+from faultslip.models.result import Result
+from faultslip.plots.figures import sawtooth_figure
+
+
+def _details(report, details) -> None:
+    report.section("Rough surfaces (seed 000)")
+    report.add("static_friction_model", details["static_friction"], label="mu_s = p_s / H")
+    report.add("area_fraction_at_rest", details["area_fraction_at_rest"], label="real / nominal area at rest (L / H A_n)")
+    report.add("compression_at_rest", details["compression_at_rest"], "m", label="static compression h0 (H A(h0) = L)")
+    reference = "RMS" if details["separation_reference"] == "rms" else "h0"
+    report.add("separation_per_speed", details["separation_per_speed"], "s",
+               label=f"separation per sliding speed c {reference} (m per m/s)")
+    report.add("separation_memory", details["separation_memory"], label="separation memory (none, held, falling)")
+    report.add("natural_frequency", details["natural_frequency"], "Hz", label="sqrt(k/M) / 2 pi")
+
+
+def run(scene, method=None, tolerance=None) -> Result:
+    """The stick-slip cycle of a rough-surface scene, by the cheapest accurate method."""
+    system, details, settings = load_rough_scene(scene)
+    solution = solve(system, method=method or "auto", tolerance=tolerance or 1e-6, cycles=settings["cycles"])
+    report = solution.report(f"faultslip rough-surface slider (seed 000): {system.name}")
+    _details(report, details)
+    return Result("rough_surface", report)
+
+
+def simulate(scene, cycles=None, slip_solver=None, rtol=None) -> Result:
+    """The event-driven simulation of the scene's stick-slip, DOP853 unless ``slip_solver`` says otherwise."""
+    system, details, settings = load_rough_scene(scene)
+    cycles = cycles or settings["cycles"]
+    if not 1 <= cycles <= 10_000:
+        raise InputError(f"--cycles must be from 1 to 10000, got {cycles}")
+    dataset = integrate(system, cycles=cycles, slip_solver=slip_solver or "DOP853", rtol=rtol or 1e-8, scene=system.name)
+    report = summary_report(dataset, f"faultslip simulation (seed 000 rough surfaces): {system.name}")
+    _details(report, details)
+    return Result("rough_surface", report, dataset, lambda: sawtooth_figure(dataset))
+
+
+FAMILY = register(Family("rough_surface", "seed 000: a slider on rough surfaces, friction from real contact", run,
+                         simulate, friction_law="rough_surface", simulate_options=("cycles", "slip_solver", "rtol"),
+                         why="a rough-surface scene takes --cycles, --slip-solver and --rtol"))

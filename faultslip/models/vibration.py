@@ -1,0 +1,45 @@
+"""Seed 002's quasi-harmonic vibration as a model family: the settled amplitude, averaged where accurate enough,
+and eq. (10) integrated onto its cycle inside the averaged envelope."""
+
+from __future__ import annotations
+
+from faultslip.dynamics.averaging import report as averaging_report
+from faultslip.dynamics.averaging import settled_amplitude, simulate_vibration, vibration_dataset, vibration_report
+from faultslip.errors import InputError
+from faultslip.lab.vibration_scene import load_vibration_scene
+from faultslip.models.registry import Family, register
+from faultslip.models.result import Result
+from faultslip.models.common import note_origin
+from faultslip.plots.vibration import vibration_series_figure
+
+#: --method names of the CLI and their averaging methods
+METHODS = {None: "auto", "auto": "auto", "quasi_harmonic_averaging": "averaging",
+           "quasi_harmonic_integration": "integration"}
+
+
+def run(scene, method=None, tolerance=None) -> Result:
+    """The settled amplitude of a vibration scene (seed 002): by averaging where it is accurate enough."""
+    system, notes = load_vibration_scene(scene)
+    chosen = METHODS.get(method)
+    if chosen is None:
+        raise InputError(f"a vibration scene takes --method auto, quasi_harmonic_averaging or "
+                         f"quasi_harmonic_integration, got {method!r}")
+    analysis = system.analyse()
+    settled = settled_amplitude(system, chosen, tolerance or 1e-3) if analysis.valid else None
+    report = averaging_report(system, analysis, None, settled)
+    note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    return Result("vibration", report)
+
+
+def simulate(scene) -> Result:
+    """Eq. (10) from a small disturbance onto its limit cycle, beside the averaged envelope."""
+    system, notes = load_vibration_scene(scene)
+    integrated = simulate_vibration(system)
+    report = vibration_report(integrated)
+    note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    return Result("vibration", report, vibration_dataset(integrated), lambda: vibration_series_figure(integrated))
+
+
+FAMILY = register(Family("vibration", "seed 002: friction-induced vibration without sticking (quasi-harmonic)",
+                         run, simulate, table="vibration",
+                         why="a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles"))
