@@ -21,6 +21,7 @@ parameter.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -28,7 +29,7 @@ import numpy as np
 
 from faultslip.errors import InputError, did_you_mean
 from faultslip.friction.laws import static_friction
-from faultslip.io.resources import open_netcdf, read_numeric_csv
+from faultslip.io.resources import open_netcdf, read_numeric_csv, split_header
 from faultslip.units import to_si
 from faultslip.friction.laws import RateLaw
 from faultslip.io.report import Report
@@ -85,49 +86,71 @@ def _read_columns(path: Path) -> dict:
     return read_numeric_csv(path, path.name)
 
 
-def read_friction_data(path, fixed_mu_m: float | None = None) -> FrictionData:
-    """Read and validate friction data (CSV or netCDF); every check raises one clear sentence."""
+def _table_columns(table) -> dict:
+    """A DataFrame's or mapping's columns as ``{name: (values, unit)}``, the unit from a ``"name (unit)"`` header."""
+    columns = {}
+    for header in list(table.keys()):
+        name, unit = split_header(str(header))
+        if name in columns:
+            raise InputError(f"the table's column {name!r} appears twice")
+        try:
+            values = np.asarray(table[header], dtype=float).ravel()
+        except (TypeError, ValueError):
+            raise InputError(f"the table's column {name!r} is not numeric") from None
+        columns[name] = (values, unit)
+    return columns
 
-    path = check_input_file(path, "data file")
-    columns = _read_columns(path)
+
+def read_friction_data(source, fixed_mu_m: float | None = None) -> FrictionData:
+    """Read and validate friction data; every check raises one clear sentence.
+
+    ``source`` is a CSV or netCDF file, or a table in memory: a pandas DataFrame or a mapping of
+    column to values, whose column names carry their units as the CSV's do
+    (``"loading_rate (1/s)"``, ``"static_friction"``).
+    """
+    if hasattr(source, "columns") or isinstance(source, Mapping):
+        columns, label, origin = _table_columns(source), "the table", "table in memory"
+    else:
+        path = check_input_file(source, "data file")
+        columns, label, origin = _read_columns(path), path.name, str(path)
     for name in columns:
         if name not in COLUMNS:
             hint = did_you_mean(name, COLUMNS)
-            raise InputError(f"{path.name}: unknown column {name!r}{hint} (allowed: {', '.join(COLUMNS)})")
+            raise InputError(f"{label}: unknown column {name!r}{hint} (allowed: {', '.join(COLUMNS)})")
 
     def si(name):
         values, unit = columns[name]
         kind = COLUMNS[name]
         if kind == "dimensionless":
             if unit not in (None, "", "1"):
-                raise InputError(f"{path.name}: {name} is dimensionless, but its header gives the unit {unit!r}")
+                raise InputError(f"{label}: {name} is dimensionless, but its header gives the unit {unit!r}")
             out = values
         else:
             if unit in (None, ""):
-                raise InputError(f"{path.name}: column {name!r} needs a unit in its header, e.g. '{name} ("
+                raise InputError(f"{label}: column {name!r} needs a unit in its header, e.g. '{name} ("
                                  f"{'1/s' if kind == 'rate' else 'in/s' if kind == 'speed' else 'lbf/in' if kind == 'stiffness' else 'lbf' if kind == 'force' else 'in'})'")
-            out = values * to_si(f"1 {unit}", kind, f"{path.name}, column {name}")
+            out = values * to_si(f"1 {unit}", kind, f"{label}, column {name}")
         if not np.all(np.isfinite(out)):
             row = int(np.argmax(~np.isfinite(out))) + 2
-            raise InputError(f"{path.name}, row {row}: {name} is NaN or infinite")
+            raise InputError(f"{label}, row {row}: {name} is NaN or infinite")
         return out
 
     if "static_friction" not in columns:
-        raise InputError(f"{path.name} needs a static_friction column")
+        raise InputError(f"{label} needs a static_friction column")
     mu = si("static_friction")
     if "loading_rate" in columns:
         if "platform_speed" in columns:
-            raise InputError(f"{path.name} gives both loading_rate and platform_speed; give one")
+            raise InputError(f"{label} gives both loading_rate and platform_speed; give one")
         rate = si("loading_rate")
     elif {"platform_speed", "stiffness", "normal_load"} <= set(columns):
         rate = si("stiffness") * si("platform_speed") / si("normal_load")  # seed 003 eq. 2-3
     else:
-        raise InputError(f"{path.name} needs loading_rate, or platform_speed with stiffness and normal_load")
+        raise InputError(f"{label} needs loading_rate, or platform_speed with stiffness and normal_load")
     if np.any(rate <= 0):
         row = int(np.argmax(rate <= 0)) + 2
-        raise InputError(f"{path.name}, row {row}: loading rate must be positive, got {rate[row - 2]:g} 1/s")
+        raise InputError(f"{label}, row {row}: loading rate must be positive, got {rate[row - 2]:g} 1/s")
     if np.any(mu < 0):
-        raise InputError(f"{path.name}: static friction must be non-negative")
+        raise InputError(f"{label}: static friction must be non-negative")
     amplitude = apparatus = None
     load = stiffness = None
     if "normal_load" in columns and "stiffness" in columns:
@@ -139,12 +162,12 @@ def read_friction_data(path, fixed_mu_m: float | None = None) -> FrictionData:
         elif load is not None:
             apparatus = 2.0 * load / stiffness  # A0 = 2W/K, seed 003 Table I note
         else:
-            raise InputError(f"{path.name}: fitting amplitude needs A0 = 2W/K: give normal_load and stiffness "
+            raise InputError(f"{label}: fitting amplitude needs A0 = 2W/K: give normal_load and stiffness "
                              "columns, or apparatus_amplitude")
     kinetic = fixed_mu_m
     if "kinetic_friction" in columns:
         kinetic = float(np.mean(si("kinetic_friction")))
-    data = FrictionData(rate, mu, amplitude, apparatus, kinetic, str(path), load, stiffness)
+    data = FrictionData(rate, mu, amplitude, apparatus, kinetic, origin, load, stiffness)
     check_data(data)
     return data
 
@@ -242,11 +265,16 @@ def starting_values(data: FrictionData, fixed_mu_m=None):
     return mu_so, mu_m, max(b, 1e-30), d
 
 
-def fit_rate_law(data: FrictionData, loss: str = "linear", bootstrap: int = 200, seed: int = 0,
+def fit_rate_law(data, loss: str = "linear", bootstrap: int = 200, seed: int = 0,
                  fixed_mu_m: float | None = None) -> FitResult:
-    """Fit mu_so, mu_m, b, d (see module docstring); ``bootstrap`` resamples with a seeded generator."""
+    """Fit mu_so, mu_m, b, d (see module docstring); ``bootstrap`` resamples with a seeded generator.
+
+    ``data`` is :class:`FrictionData`, or anything :func:`read_friction_data` reads: a file, a pandas
+    DataFrame or a mapping of columns with units in their names."""
     if loss not in LOSSES:
         raise InputError(f"robust loss must be one of {', '.join(LOSSES)}, got {loss!r}")
+    if not isinstance(data, FrictionData):  # a file, a DataFrame or a mapping of columns
+        data = read_friction_data(data, fixed_mu_m)
     fixed_mu_m = fixed_mu_m if fixed_mu_m is not None else data.kinetic_friction
     check_data(data)
     mu_so, mu_m, b, d = starting_values(data, fixed_mu_m)

@@ -105,13 +105,26 @@ def _number(value: float) -> str:
     return f"{value:.5g}"
 
 
+def _plain_text(value) -> str:
+    """A plain field as a reader wants it: numbers rounded to their meaning, lists and tables one line."""
+    if isinstance(value, bool) or value is None:
+        return str(value)
+    if isinstance(value, float):
+        return _number(value)
+    if hasattr(value, "item") and getattr(value, "ndim", 1) == 0:  # a numpy scalar
+        return _plain_text(value.item())
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_plain_text(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return ", ".join(f"{key}: {_plain_text(v)}" for key, v in value.items())
+    return str(value)
+
+
 def _format_item(item: Item) -> str:
     if not item.is_quantity:
         if isinstance(item.value, dict) and "summary" in item.value:  # a structured row: its one-line summary
             return str(item.value["summary"])
-        if isinstance(item.value, float):
-            return _number(item.value)
-        return str(item.value)
+        return _plain_text(item.value)
     if isinstance(item.value, (list, tuple)):  # a range
         text = ("[" + ", ".join(_number(float(v)) for v in item.value) + "]"
                 + (f" {item.units}" if item.units not in ("1", "") else ""))
