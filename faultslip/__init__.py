@@ -28,7 +28,7 @@ _EXPORTS = {
     "dynamics.critical": ("critical",),
     "studies.grid": ("sweep",),
     "units": ("JULIAN_YEAR", "units"),
-    "models": ("run", "Result", "family_of", "FAMILIES"),
+    "models": ("run", "Result", "family_of", "families"),
 }
 _WHERE = {name: module for module, names in _EXPORTS.items() for name in names}
 __all__ = sorted(_WHERE)

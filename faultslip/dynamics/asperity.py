@@ -37,7 +37,6 @@ import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.errors import InputError
@@ -346,6 +345,8 @@ def simulate(model: AsperityModel, duration: float = 6.0, method: str = "asperit
              samples_per_second: float = 2000.0, max_seconds: float | None = None) -> AsperityRun:
     """Integrate the block for ``duration`` s with ``method``; a contact loss or solver failure ends the run early
     and is reported in ``status`` and ``reason``, never as numbers past it."""
+    from scipy.integrate import solve_ivp  # heavy: imported where used (a closed-form run never integrates)
+
     if method not in ("asperity_LSODA", "asperity_quasistatic"):
         raise InputError(f"asperity simulation method must be asperity_LSODA or asperity_quasistatic, got {method!r}")
     if not (isinstance(duration, (int, float)) and 0 < duration <= 1e4):

@@ -6,7 +6,8 @@
 >>> result.method, result.estimated_relative_error  # doctest: +SKIP
 >>> result.to_xarray()                  # CF attributes, as the CLI writes  # doctest: +SKIP
 
-A scene names its family with ``family = "..."`` (:data:`FAMILIES`); :func:`family_of` reads it.
+A scene names its family with ``family = "..."`` (:data:`DECLARATIONS`); :func:`family_of` reads it,
+and imports that family's module alone.
 The families: the seed 003 spring-slider (the default), the rate-and-state slider, seed 002's
 quasi-harmonic vibration, seed 001's nanoscale model, seed 004's asperities and seed 000's rough
 surfaces.
@@ -14,12 +15,12 @@ surfaces.
 
 from __future__ import annotations
 
-from faultslip.models import asperity, nanoscale, rate_state_slider, rough_surface, spring_slider, vibration  # noqa: F401
 from faultslip.errors import InputError
-from faultslip.models.registry import FAMILIES, Family, family_of, register
+from faultslip.models.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
 from faultslip.models.result import Result
 
-__all__ = ["FAMILIES", "Family", "Result", "family_of", "register", "run", "simulate"]
+__all__ = ["DECLARATIONS", "FAMILIES", "Family", "Result", "families", "family_of", "load", "register", "run",
+           "simulate"]
 
 
 #: Options every family may be given: where the run's output goes (for a disk estimate) and the budget's

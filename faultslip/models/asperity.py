@@ -41,5 +41,4 @@ def simulate(scene) -> Result:
 
 
 FAMILY = register(Family("asperity", "seed 004: a block on asperities, stick fraction and period", run, simulate,
-                         friction_law="asperity",
                          why="an asperity scene sets its run in [run] duration and its method in [method]"))

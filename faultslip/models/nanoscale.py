@@ -38,5 +38,5 @@ def simulate(scene, allow_large: bool = False) -> Result:
 
 
 FAMILY = register(Family("nanoscale", "seed 001: nanoscale stick-slip with contact charging", run, simulate,
-                         friction_law="nanoscale", simulate_options=("allow_large",),
+                         simulate_options=("allow_large",),
                          why="a nanoscale scene sets its run in [run] and its accuracy in [method] tolerance"))

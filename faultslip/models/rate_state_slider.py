@@ -127,6 +127,6 @@ def simulate(scene, cycles=None) -> Result:
 
 
 FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: velocity steps in the lab, quasi-dynamic "
-                         "cycles of a fault on one spring-block", run, simulate, table="law",
+                         "cycles of a fault on one spring-block", run, simulate,
                          simulate_options=("cycles",),
                          why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles"))

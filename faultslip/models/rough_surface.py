@@ -46,5 +46,5 @@ def simulate(scene, cycles=None, slip_solver=None, rtol=None) -> Result:
 
 
 FAMILY = register(Family("rough_surface", "seed 000: a slider on rough surfaces, friction from real contact", run,
-                         simulate, friction_law="rough_surface", simulate_options=("cycles", "slip_solver", "rtol"),
+                         simulate, simulate_options=("cycles", "slip_solver", "rtol"),
                          why="a rough-surface scene takes --cycles, --slip-solver and --rtol"))

@@ -41,5 +41,5 @@ def simulate(scene) -> Result:
 
 
 FAMILY = register(Family("vibration", "seed 002: friction-induced vibration without sticking (quasi-harmonic)",
-                         run, simulate, table="vibration",
+                         run, simulate,
                          why="a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles"))
