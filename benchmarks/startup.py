@@ -2,8 +2,8 @@
 
     python benchmarks/startup.py [--repeats 15]
 
-Targets (issue 10): ``faultslip --help`` at most 2x and ``faultslip fault ... --json`` at most 4.5x
-the time of importing numpy. Runs are interleaved and the medians compared; the program is
+Targets (issue 32): ``faultslip --help`` at most 1x and ``faultslip fault ... --json`` at most 3x
+the time of importing numpy (issue 10 had asked for 2x and 4.5x). Runs are interleaved and the medians compared; the program is
 started as ``python -m faultslip.cli`` so that no shell wrapper is timed.
 """
 
@@ -44,7 +44,7 @@ def main(argv=None) -> dict:
     medians = {name: statistics.median(values) for name, values in times.items()}
     base = medians["import numpy"]
     result = {"seconds": medians, "ratio_to_numpy": {name: value / base for name, value in medians.items()},
-              "targets": {"faultslip --help": 2.0, "faultslip fault ... --json": 4.5},
+              "targets": {"faultslip --help": 1.0, "faultslip fault ... --json": 3.0},
               "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
     out = Path(__file__).resolve().parent / "results" / "startup.json"
