@@ -158,3 +158,19 @@ def test_run_time_is_an_elapsed_time_not_a_dateless_time_axis(cli, tmp_path):
         attrs = dataset["time"].attrs
     assert attrs["units"] == "s" and "axis" not in attrs  # CF: a time axis needs "since"; a duration does not
     assert np.issubdtype(dataset["time"].dtype, np.floating)
+
+
+def test_dopri5_starts_from_a_state_far_beyond_its_scale():
+    """A mutated rate-and-state map (fuzzer seed 2611) overflowed the first-step estimate's squares."""
+    from faultslip.dynamics.rate_state import dopri5
+    from faultslip.errors import SolverError
+
+    def rhs(t, y):
+        return (1e200 * y[1], -y[0])
+
+    from faultslip.dynamics.rate_state import _StepCollapse
+
+    # the state's own scale is reached: dopri5 says where the solution stops being finite (its callers name the
+    # method and the scene); before, the first-step estimate raised OverflowError
+    with pytest.raises((SolverError, _StepCollapse)):
+        dopri5(rhs, 0.0, (1e200, 1e200), 1e-3, np.array([1e-3]), 1e-6, (1e-12, 1e-12), max_steps=2000)

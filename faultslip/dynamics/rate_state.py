@@ -253,6 +253,15 @@ class _StepCollapse(Exception):
         self.t = t
 
 
+
+def _scaled_rms(values) -> float:
+    """The root mean square of ``values``; infinity where a square overflows (a state far beyond its scale)."""
+    try:
+        return math.sqrt(sum(v * v for v in values) / len(values))
+    except OverflowError:
+        return math.inf
+
+
 def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None, on_step=None, last_step=None):
     """Integrate y' = rhs(t, y) (tuples of floats) from t0 to t_end; return (values at t_eval, y_end, steps, nfev).
 
@@ -277,8 +286,8 @@ def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None,
         return out[:next_out], y, t, 0, nfev
     if h0 is None:  # Hairer, Norsett & Wanner I, II.4: a first step from the size of y, f and f'
         scales = [atol[i] + rtol * abs(y[i]) for i in range(n)]
-        d0 = math.sqrt(sum((y[i] / scales[i]) ** 2 for i in range(n)) / n)
-        d1 = math.sqrt(sum((k1[i] / scales[i]) ** 2 for i in range(n)) / n)
+        d0 = _scaled_rms([y[i] / scales[i] for i in range(n)])
+        d1 = _scaled_rms([k1[i] / scales[i] for i in range(n)])
         h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
         h0 = min(h0, span)
         try:
@@ -289,6 +298,8 @@ def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None,
             d2 = math.inf
         h1 = (0.01 / max(d1, d2)) ** 0.2 if max(d1, d2) > 1e-15 else max(1e-6, h0 * 1e-3)
         h0 = min(100 * h0, h1, span)
+        if not (math.isfinite(h0) and h0 > 0):  # a state far beyond its scale: start small, the control adapts
+            h0 = 1e-6 * span
     h = max(h0, 1e-300)
     previous_error = 1e-4
     steps = 0
