@@ -6,7 +6,7 @@ Seed 003's apparatus: a block on a moving platform, held by a spring. Dry glass 
 spring force builds, then slips: the spring force traces a sawtooth.
 """
 import faultslip
-from faultslip.plots.figures import sawtooth_figure
+from faultslip import sawtooth_figure
 
 scene = faultslip.load_scene("lab_glass_dry.toml")
 record = faultslip.simulate(scene.slider(), cycles=8, scene=scene.name)

@@ -6,7 +6,7 @@ Below the critical loading rate the slider sticks and slips (a limit cycle that 
 x' = V); above it, damping wins and the slider slides steadily.
 """
 import faultslip
-from faultslip.plots.figures import phase_plane_figure
+from faultslip import phase_plane_figure
 
 system = faultslip.SliderSystem.from_preset("glass_dry", loading_rate="1 1/s", damping_ratio=0.05)
 result = faultslip.critical(system)

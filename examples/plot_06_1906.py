@@ -7,7 +7,7 @@ plate rate of 2 in/yr. faultslip computes every intermediate number (the seed's 
 slips: docs/seed_discrepancies.md).
 """
 import faultslip
-from faultslip.plots.figures import sawtooth_figure
+from faultslip import sawtooth_figure
 
 scene = faultslip.load_scene("san_andreas_1906.toml")
 estimate = scene.fault().estimate()

@@ -7,9 +7,7 @@ bootstrap intervals, then carry the fit's uncertainty into a fault's slip and re
 """
 import numpy as np
 
-from faultslip import Fault, fit_rate_law, read_friction_data
-from faultslip.friction.fitting import fit_figure
-from faultslip.io.resources import config_path
+from faultslip import Fault, config_path, fit_figure, fit_rate_law, read_friction_data
 
 data = read_friction_data(config_path("example_friction_data.csv"))
 fit = fit_rate_law(data, bootstrap=100, seed=1)

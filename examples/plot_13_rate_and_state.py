@@ -8,9 +8,7 @@ oscillation of a stiffness near critical.
 """
 import matplotlib.pyplot as plt
 
-from faultslip.dynamics.rate_state import simulate_rate_state
-from faultslip.fault.rate_state_scene import load_rate_state_scene
-from faultslip.io.resources import config_path
+from faultslip import config_path, load_rate_state_scene, simulate_rate_state
 
 scene = load_rate_state_scene(config_path("rsf_velocity_step.toml"))
 run = simulate_rate_state(scene.slider, scene.history, model=scene.model, samples=scene.samples)

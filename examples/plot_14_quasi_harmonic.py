@@ -8,10 +8,7 @@ where the cycle would reach the driving speed the slider sticks, and averaging h
 """
 import numpy as np
 
-from faultslip.dynamics.averaging import amplitude_against_speed
-from faultslip.io.resources import config_path
-from faultslip.lab.vibration_scene import load_vibration_scene
-from faultslip.plots.vibration import amplitude_speed_figure
+from faultslip import amplitude_against_speed, amplitude_speed_figure, config_path, load_vibration_scene
 
 system, _ = load_vibration_scene(config_path("vibration_seed002.toml"))
 sweep = amplitude_against_speed(system, np.linspace(0.0254, 16 * 0.0254, 61))

@@ -8,14 +8,10 @@ Parkfield segment (configs/parkfield.toml).
 """
 import numpy as np
 
-from faultslip.evaluation.catalogs import compare
-from faultslip.fault.scene import load_scene
-from faultslip.io.catalogs import read_catalog
-from faultslip.io.resources import config_path
-from faultslip.plots.catalogs import catalog_figure
+from faultslip import catalog_figure, compare_catalog, config_path, load_scene, read_catalog
 
 scene = load_scene(config_path("parkfield.toml"))
-comparison = compare(read_catalog(config_path("catalog_san_andreas.csv")), scene, trace=scene.trace,
+comparison = compare_catalog(read_catalog(config_path("catalog_san_andreas.csv")), scene, trace=scene.trace,
                      max_magnitude=6.5, as_of=np.datetime64("2026-01-01"), bootstrap=300)
 print(comparison.report("Parkfield").to_text())
 catalog_figure(comparison, "Parkfield M~6 sequence against the seed law")

@@ -9,10 +9,8 @@ memoryless model, where friction retraces its path.
 """
 import matplotlib.pyplot as plt
 
-from faultslip.dynamics.simulate import simulate
-from faultslip.io.resources import config_path
-from faultslip.lab.rough_slider import load_rough_scene, rough_surface_slider, separation_history
-from faultslip.lab.surfaces import gaussian_surface
+from faultslip import (config_path, gaussian_surface, load_rough_scene, rough_surface_slider, separation_history,
+                       simulate)
 
 system, details, _ = load_rough_scene(config_path("rough_surface_chapter5.toml"))
 print(f"h0 = {details['compression_at_rest'] * 1e6:.2f} um, separation per speed {details['separation_per_speed']:.3g} s")

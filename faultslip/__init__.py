@@ -29,8 +29,44 @@ _EXPORTS = {
     "studies.grid": ("sweep",),
     "units": ("JULIAN_YEAR", "units"),
     "models": ("run", "Result", "family_of", "families"),
+    # every capability of the command line, by topic (docs/api.rst)
+    "io.resources": ("config_path",),
+    "io.catalogs": ("read_catalog", "write_quakeml"),
+    "io.waveforms": ("build_stream", "read_stream", "write_stream"),
+    "studies.maps": ("load_map", "run_map", "map_figure", "observed_table"),
+    "fault.recurrence": ("conditional_probability",),
+    "fault.empirical": ("magnitude_from_length", "magnitude_from_area", "average_displacement",
+                        "maximum_displacement", "rupture_length", "rupture_area"),
+    "fault.rate_state_scene": ("load_rate_state_scene",),
+    "dynamics.rate_state": ("simulate_rate_state", "fault_cycles"),
+    "lab.rate_state_fit": ("read_step_record", "fit_velocity_steps"),
+    "lab.records": ("read_record", "analyze_record", "free_decay", "free_decay_from_record"),
+    "lab.classroom": ("read_accelerometer",),
+    "lab.surfaces": ("gaussian_surface", "read_surface", "truncation_contact", "approach_for_load"),
+    "lab.vibration_scene": ("load_vibration_scene",),
+    "lab.rough_slider": ("load_rough_scene", "rough_surface_slider", "separation_history"),
+    "dynamics.averaging": ("QuasiHarmonic", "amplitude_against_speed"),
+    "dynamics.nanoscale": ("NanoscaleModel",),
+    "dynamics.asperity": ("AsperityModel",),
+    "plots.figures": ("sawtooth_figure", "phase_plane_figure", "rate_law_figure", "classroom_figure"),
+    "plots.catalogs": ("catalog_figure",),
+    "plots.surfaces": ("surface_figure",),
+    "plots.vibration": ("nanoscale_figure", "amplitude_speed_figure"),
 }
-_WHERE = {name: module for module, names in _EXPORTS.items() for name in names}
+#: Public names whose module's own name would be ambiguous at the top level: name -> (module, attribute).
+_ALIASES = {
+    "compare_catalog": ("evaluation.catalogs", "compare"),
+    "fit_renewal": ("fault.recurrence", "fit"),
+    "compare_empirical": ("fault.empirical", "compare"),
+    "analyse_accelerometer": ("lab.classroom", "analyse"),
+    "surface_statistics": ("lab.surfaces", "statistics"),
+    "analyse_asperity": ("dynamics.asperity", "analyse"),
+    "simulate_asperity": ("dynamics.asperity", "simulate"),
+    "asperity_figure": ("plots.asperity", "response_figure"),
+    "fit_figure": ("friction.fitting", "fit_figure"),
+    "simulate_scene": ("models", "simulate"),
+}
+_WHERE = {name: (module, name) for module, names in _EXPORTS.items() for name in names} | _ALIASES
 __all__ = sorted(_WHERE)
 
 
@@ -38,7 +74,8 @@ def __getattr__(name):
     if name in _WHERE:
         import importlib
 
-        value = getattr(importlib.import_module(f".{_WHERE[name]}", __name__), name)
+        module, attribute = _WHERE[name]
+        value = getattr(importlib.import_module(f".{module}", __name__), attribute)
         globals()[name] = value
         return value
     raise AttributeError(f"module 'faultslip' has no attribute {name!r}")

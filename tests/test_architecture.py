@@ -158,3 +158,30 @@ def test_the_command_line_holds_no_scene_kind_dispatch(module):
     used = {node.id for node in ast.walk(tree) if isinstance(node, ast.Name)} | \
            {alias.name for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) for alias in node.names}
     assert not used & SNIFFERS, f"{module} tells scene kinds apart itself ({sorted(used & SNIFFERS)}); ask faultslip.models"
+
+
+EXAMPLES = sorted((PACKAGE.parent / "examples").glob("*.py"))
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=lambda p: p.name)
+def test_gallery_examples_use_the_public_api_only(example):
+    """Whatever the gallery shows, a user can import: the names of 'import faultslip' and faultslip.models."""
+    import faultslip
+
+    tree = ast.parse(example.read_text(encoding="utf-8"))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("faultslip"):
+            assert node.module in ("faultslip", "faultslip.models"), (
+                f"{example.name}:{node.lineno} imports the internal module {node.module}; export what it needs "
+                "from faultslip/__init__.py")
+            if node.module == "faultslip":
+                private = [a.name for a in node.names if a.name not in faultslip.__all__]
+                assert not private, f"{example.name}:{node.lineno}: {private} are not public names of faultslip"
+
+
+def test_the_api_reference_lists_every_public_name():
+    import faultslip
+
+    text = (PACKAGE.parent / "docs" / "api.rst").read_text(encoding="utf-8")
+    missing = [name for name in faultslip.__all__ if f"``{name}``" not in text]
+    assert not missing, f"docs/api.rst does not list {missing}"
