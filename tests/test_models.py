@@ -106,3 +106,14 @@ def test_the_rate_and_state_slider_runs_through_run_too(cli):
     years = result.json["recurrence_period"]["value"] / (365.25 * 86400)
     assert 100 < years < 200  # one spring-block with BP1 friction: about 140 yr (docs/rate_state.md)
     assert np.isclose(result.json["plate_slip_balance"], 1.0, atol=0.01)
+
+
+def test_a_fault_estimate_gives_its_values_with_units():
+    """Fault.estimate() kept bare SI floats; its quantities now carry units (seed 003 §5-2, computed)."""
+    estimate = faultslip.Fault(lithology="granodiorite_water", shear_modulus="0.25e6 bar", zone_width="13 mi",
+                               shear_stress="250 bar", slip_rate="2 in/yr").estimate()
+    assert estimate["slip_per_event"].to("ft").magnitude == pytest.approx(21.12, abs=0.01)
+    assert estimate["recurrence_period"].to("yr").magnitude == pytest.approx(126.7, abs=0.1)
+    assert estimate.quantities()["stress_drop"].to("bar").magnitude == pytest.approx(76.9, abs=0.1)
+    with pytest.raises(KeyError, match="not a quantity"):
+        estimate["slip"]

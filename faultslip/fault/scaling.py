@@ -343,6 +343,22 @@ class FaultEstimate:
     recurrence_period_95: tuple | None = None
     uncertainty_samples: int = 0
 
+    #: The SI unit of each quantity ("": dimensionless), for :meth:`quantities`.
+    UNITS = {"stiffness": "Pa/m", "normal_stress": "Pa", "loading_rate": "1/s", "static_friction": "",
+             "damping_ratio": "", "slip_per_event": "m", "stress_drop_slip": "m", "low_rate_amplitude": "m",
+             "recurrence_period": "s", "stress_drop": "Pa", "seismic_moment": "N*m", "moment_magnitude": ""}
+
+    def quantities(self) -> dict:
+        """Every predicted value as a pint Quantity: ``estimate.quantities()["recurrence_period"].to("yr")``."""
+        return {name: Quantity(getattr(self, name), unit or "dimensionless") for name, unit in self.UNITS.items()
+                if getattr(self, name) is not None}
+
+    def __getitem__(self, name: str):
+        """One predicted value with its units, e.g. ``estimate["slip_per_event"].to("ft")``."""
+        if name not in self.UNITS:
+            raise KeyError(f"{name!r} is not a quantity of the estimate ({', '.join(self.UNITS)})")
+        return self.quantities()[name]
+
     @classmethod
     def from_fault(cls, fault: Fault, method: str = "auto", tolerance: float | None = None) -> "FaultEstimate":
         law = fault.rate_law
