@@ -28,7 +28,7 @@ from faultslip.io.atomic import write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, padded
 from faultslip.io.netcdf import create_chunked
 from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
-from faultslip.errors import InputError
+from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock
 from faultslip.io.processes import run_windowed, stop_pool, worker_pool
 from faultslip.io.resources import probe_netcdf
@@ -301,8 +301,17 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
     file_format = output_format(output, file_format)
     output = check_study_output(output, file_format, inputs, overwrite)
     with output_lock(output, "faultslip sweep", overwrite=overwrite):
-        return _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression,
-                           file_format)
+        try:
+            return _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression,
+                               file_format)
+        except FaultslipError:
+            raise
+        except Exception as exc:  # zarr and HDF5 fail on a full disk in their own words, anywhere in the run
+            if disk_is_full(exc, output.parent):
+                remove_store(output.with_name(output.name + ".partial"))
+                output.with_name(output.name + ".progress.json").unlink(missing_ok=True)
+                raise full_disk_error(output, output.parent) from None
+            raise
 
 
 def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> set:
