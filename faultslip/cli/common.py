@@ -90,12 +90,6 @@ def _workers(args, tasks=None) -> int:
     return workers
 
 
-def _note_origin(report, *origins):
-    for origin in origins:
-        if origin:
-            report.notes.insert(0, origin)
-
-
 def _tolerance(args):
     if getattr(args, "tolerance", None) is None:
         return None

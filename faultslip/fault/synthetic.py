@@ -6,9 +6,10 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.fault.scaling import moment_magnitude, seismic_moment
+from faultslip.io.waveforms import DEFAULT_START
 
 
-def simulated_events(dataset, fault, trace=None, start_seconds: float = 946684800.0) -> dict:
+def simulated_events(dataset, fault, trace=None, start_seconds: float = DEFAULT_START) -> dict:
     """Event origin times (s since 1970: ``start_seconds`` plus the model time of each event), the trace's
     middle vertex as epicentre (0 N 0 E without a trace, said in ``note``), half the seismogenic depth, and
     Mw = (2/3)(log10 M0 - 9.1) with M0 = G L H slip (Aki 1966)."""

@@ -138,27 +138,20 @@ def save_figure(figure, path, **kwargs) -> None:
 
 
 @contextlib.contextmanager
-def partial_output(target, keep_on_interrupt: bool = False, remove=None):
-    """The guard of an output written in place over many steps (a sweep, a conversion) as ``TARGET.partial``.
+def partial_output(target):
+    """The guard of an output written in place over many steps as ``TARGET.partial`` (a conversion).
 
-    The caller holds the output's lock and renames the partial into place when it is complete.
-    On failure the partial is removed (``remove`` deletes it: a file by default, a store folder if
-    given), except on an interruption with ``keep_on_interrupt`` (a resumable sweep keeps its
-    blocks); a full disk is one sentence, and a partial file written into a full disk is never
-    kept, since HDF5 may have left it inconsistent.
+    The caller holds the output's lock and renames the partial into place when it is complete. On
+    any failure the partial is removed; a full disk is one sentence.
     """
     target = Path(target)
     partial = target.with_name(target.name + ".partial")
     directory = target.parent if str(target.parent) else Path(".")
-    remove = remove or (lambda path: Path(path).unlink(missing_ok=True))
     try:
         yield partial
     except BaseException as exc:
         full = disk_is_full(exc, directory)
-        interrupted = isinstance(exc, (KeyboardInterrupt, SystemExit)) or getattr(exc, "resumable", False)
-        if full or not (keep_on_interrupt and interrupted):
-            with contextlib.suppress(OSError):
-                remove(partial)
+        partial.unlink(missing_ok=True)
         if full:
             raise full_disk_error(target, directory) from None
         raise

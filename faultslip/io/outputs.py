@@ -126,8 +126,8 @@ def _lock_path(target: Path) -> Path:
     return target.with_name(f".{target.name}.lock")
 
 
-#: Locks this process holds: lock path -> [file descriptor, depth]; a nested claim of one output reuses it.
-_HELD: dict = {}
+#: Lock paths this process holds: a nested claim of one output (a command's claim, then its write) reuses it.
+_HELD: set = set()
 
 
 def _open_lock(lock: Path) -> int:
@@ -177,11 +177,7 @@ def output_lock(path, command: str = "faultslip", overwrite: bool = True, label:
     lock = _lock_path(target)
     key = str(lock.resolve(strict=False)) if not lock.is_symlink() else str(lock)
     if key in _HELD:
-        _HELD[key][1] += 1
-        try:
-            yield
-        finally:
-            _HELD[key][1] -= 1
+        yield
         return
     try:
         import fcntl
@@ -224,23 +220,17 @@ def output_lock(path, command: str = "faultslip", overwrite: bool = True, label:
                 if disk_is_full(exc, lock.parent):
                     raise full_disk_error(target, lock.parent) from None
                 raise
-        _HELD[key] = [descriptor, 1]
+        _HELD.add(key)
         try:
             yield
         finally:
-            del _HELD[key]
+            _HELD.discard(key)
     finally:
         if descriptor is not None:
             with contextlib.suppress(OSError):
                 if os.fstat(descriptor).st_ino == os.stat(lock, follow_symlinks=False).st_ino:
                     os.unlink(lock)
             os.close(descriptor)
-
-
-def holds_lock(path) -> bool:
-    """Whether this process holds the output lock of ``path``."""
-    lock = _lock_path(Path(path))
-    return str(lock.resolve(strict=False)) in _HELD
 
 
 def _describe_holder(text: str) -> str:

@@ -45,6 +45,10 @@ _BANDS = ((1000.0, "F"), (250.0, "C"), (80.0, "H"), (10.0, "B"), (1.0 + 1e-9, "M
           (0.005, "U"), (1e-4, "R"), (1e-5, "P"), (1e-6, "T"), (0.0, "Q"))
 
 
+#: Model time 0 of a stream or catalog when no start time is given: 2000-01-01T00:00:00 UTC, in s since 1970.
+DEFAULT_START = 946684800.0
+
+
 def band_code(sampling_rate: float) -> str:
     """The SEED band code of a sampling rate (Hz), broadband family."""
     if not (sampling_rate > 0 and math.isfinite(sampling_rate)):
@@ -60,8 +64,6 @@ def stream_format(path) -> str:
     return STREAM_SUFFIXES[suffix]
 
 
-#: Model time 0 of a stream or catalog when no start time is given: 2000-01-01T00:00:00 UTC, in s since 1970.
-DEFAULT_START = 946684800.0
 #: The last instant miniSEED, SAC and QuakeML can date (obspy's UTCDateTime ends with year 9999).
 LAST_DATABLE = 253402300799.0  # 9999-12-31T23:59:59 UTC, in s since 1970
 
@@ -77,7 +79,7 @@ def check_datable(start_seconds: float, span: float, cycles: int) -> None:
                      "give an earlier --start-time")
 
 
-def build_stream(sampling_rate: float, channels: dict, start_seconds: float = 946684800.0, network: str = "XX",
+def build_stream(sampling_rate: float, channels: dict, start_seconds: float = DEFAULT_START, network: str = "XX",
                  station: str = "FSLIP", location: str = "00"):
     """An obspy Stream of uniformly sampled channels: ``channels`` maps a component code (see
     :data:`COMPONENTS`) to its samples (SI). ``start_seconds`` is the first sample's UTC time as seconds

@@ -21,7 +21,7 @@ def run(scene, method=None, tolerance=None) -> Result:
     choice = choose_method(model, ("response",), tolerance or settings["tolerance"], method or settings["method"])
     response = integrate(model, settings["duration"], choice.method) if choice.method != "asperity_wavelength" else None
     report = asperity_report(model, response, choice, f"faultslip asperity scene (seed 004): {notes['name']}")
-    note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    note_origin(report, notes.get("origin"))
     return Result("asperity", report)
 
 
@@ -34,7 +34,7 @@ def simulate(scene) -> Result:
                          "or asperity_LSODA in [method] name")
     response = integrate(model, settings["duration"], choice.method)
     report = asperity_report(model, response, choice, f"faultslip asperity simulation (seed 004): {notes['name']}")
-    note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    note_origin(report, notes.get("origin"))
     if response.status != "ok":
         raise SolverError(f"{choice.method} did not finish {notes['name']}: {response.reason}")
     return Result("asperity", report, run_dataset(response), lambda: response_figure(response))

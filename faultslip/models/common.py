@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 
-def note_origin(report, text) -> None:
-    """Say where a bundled scene came from (nothing for a user's file)."""
-    if text:
-        report.note(text)
+def note_origin(report, origin) -> None:
+    """Say first where a bundled scene came from (``origin`` is empty for a user's own file)."""
+    if origin:
+        report.notes.insert(0, f"scene: {origin}")

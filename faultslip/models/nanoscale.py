@@ -23,7 +23,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False) -> Result
     integrated = (model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol, allow_large=allow_large)
                   if choice.method == "nanoscale_LSODA" else None)
     report = nanoscale_report(model, integrated, choice, f"faultslip nanoscale scene: {notes['name']}")
-    note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    note_origin(report, notes.get("origin"))
     return Result("nanoscale", report)
 
 
@@ -33,7 +33,7 @@ def simulate(scene, allow_large: bool = False) -> Result:
     choice = choose_method(model, ("regime", "force_swing", "time_series"), "auto", settings["tolerance"])
     integrated = model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol, allow_large=allow_large)
     report = nanoscale_report(model, integrated, choice, f"faultslip nanoscale simulation: {notes['name']}")
-    note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    note_origin(report, notes.get("origin"))
     return Result("nanoscale", report, run_dataset(integrated), lambda: nanoscale_figure(integrated))
 
 

@@ -11,6 +11,7 @@ from faultslip.io.report import Report
 from faultslip.models.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.figures import _pyplot
+from faultslip.units import ELAPSED_TIME_ATTRS
 
 
 def _scene_notes(report, scene) -> None:
@@ -47,19 +48,18 @@ def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
         report.note(note)
     _scene_notes(report, scene)
 
-    def dataset():
-        import xarray as xr  # heavy: imported where used
+    import xarray as xr  # heavy: imported where used
 
-        return xr.Dataset(
-            {"friction": ("time", history.friction, {"units": "1", "long_name": "friction coefficient"}),
-             "slip_speed": ("time", history.slip_speed, {"units": "m/s", "long_name": "slip speed V"}),
-             "log_state": ("time", history.psi, {"units": "1", "long_name": "psi = ln(V0 theta / D_c)"}),
-             "slip": ("time", history.slip, {"units": "m", "long_name": "slip since the start"}),
-             "load_point_displacement": ("time", history.load_point,
-                                         {"units": "m", "long_name": "load-point displacement"})},
-            coords={"time": ("time", history.time, {"units": "s", "long_name": "time since the start of the run"})},
-            attrs={"title": f"faultslip rate-state simulation: {scene.name}", "Conventions": "CF-1.8",
-                   "model": scene.model, "method": history.method, "law": law.describe()})
+    series = xr.Dataset(
+        {"friction": ("time", history.friction, {"units": "1", "long_name": "friction coefficient"}),
+         "slip_speed": ("time", history.slip_speed, {"units": "m/s", "long_name": "slip speed V"}),
+         "log_state": ("time", history.psi, {"units": "1", "long_name": "psi = ln(V0 theta / D_c)"}),
+         "slip": ("time", history.slip, {"units": "m", "long_name": "slip since the start"}),
+         "load_point_displacement": ("time", history.load_point,
+                                     {"units": "m", "long_name": "load-point displacement"})},
+        coords={"time": ("time", history.time, ELAPSED_TIME_ATTRS)},
+        attrs={"title": f"faultslip rate-state simulation: {scene.name}", "Conventions": "CF-1.8",
+               "model": scene.model, "method": history.method, "law": law.describe()})
 
     def figure():
         plt = _pyplot()
@@ -72,7 +72,7 @@ def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
         drawing.suptitle(report.title, fontsize=10)
         return drawing
 
-    return Result("rate_state_slider", report, dataset(), figure)
+    return Result("rate_state_slider", report, series, figure)
 
 
 def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None) -> Result:

@@ -60,7 +60,7 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
     dataset = integrate(system, scene=loaded.name, **settings)
     dataset.attrs["scene_text"] = loaded.text
     report = summary_report(dataset, f"faultslip simulation: {loaded.name}")
-    note_origin(report, loaded.origin and f"scene: {loaded.origin}")
+    note_origin(report, loaded.origin)
 
     def make_stream(rate, start, most):
         sampling, channels, note = uniform_channels(dataset, rate, most)
@@ -83,7 +83,7 @@ def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
         raise InputError(f"--cycles must be from 1 to 1000 for a rate-and-state fault, got {cycles}")
     estimate = estimate_scene_rate_state(scene, cycles=cycles, record=True)
     report = estimate.report(f"faultslip simulation (rate-and-state fault): {scene.name}")
-    note_origin(report, scene.origin and f"scene: {scene.origin}")
+    note_origin(report, scene.origin)
     if estimate.cycles is None:
         report.note("steady sliding is stable here (K >= K_c): no cycles to record")
         return Result("spring_slider", report)

@@ -27,7 +27,7 @@ def run(scene, method=None, tolerance=None) -> Result:
     analysis = system.analyse()
     settled = settled_amplitude(system, chosen, tolerance or 1e-3) if analysis.valid else None
     report = averaging_report(system, analysis, None, settled)
-    note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    note_origin(report, notes.get("origin"))
     return Result("vibration", report)
 
 
@@ -36,7 +36,7 @@ def simulate(scene) -> Result:
     system, notes = load_vibration_scene(scene)
     integrated = simulate_vibration(system)
     report = vibration_report(integrated)
-    note_origin(report, notes.get("origin") and f"scene: {notes['origin']}")
+    note_origin(report, notes.get("origin"))
     return Result("vibration", report, vibration_dataset(integrated), lambda: vibration_series_figure(integrated))
 
 
