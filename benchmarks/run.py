@@ -88,7 +88,7 @@ def competent_cycles(system, cycles, rtol, x0=0.0):
     """A competent user's stick-slip sequence: stick end by brentq on the static law, slip by solve_ivp.
 
     Returns the break-away times and stress drops of ``cycles`` events (the same work as
-    faultslip.dynamics.simulate's event table) and the evaluations used.
+    faultslip.dynamics.spring_slider.simulate's event table) and the evaluations used.
     """
     from scipy.optimize import brentq
 
@@ -128,15 +128,15 @@ def exact_against_integrators(repeats):
     (a) One limit cycle: exact_cycle against stick (analytic, as anyone would) plus one solve_ivp slip
         phase with events. (b) 100 cycles that really differ: Cameron's time-of-stick law from an
         unloaded spring, a transient toward the limit cycle, where every stick and slip must be
-        computed; faultslip.dynamics.simulate (analytic slip phases) against the same loop in scipy.
+        computed; faultslip.dynamics.spring_slider.simulate (analytic slip phases) against the same loop in scipy.
     The earlier figure (120x) compared one analytic cycle copied 100 times with 100 integrated
     slip phases: not the same work.
     """
-    from faultslip.dynamics.critical import critical
-    from faultslip.dynamics.exact_cycle import exact_cycle
+    from faultslip.dynamics.spring_slider.critical import critical
+    from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
     from faultslip.fault.scene import load_scene
-    from faultslip.dynamics.simulate import simulate
-    from faultslip.dynamics.slider import SliderSystem
+    from faultslip.dynamics.spring_slider.simulate import simulate
+    from faultslip.dynamics.spring_slider.slider import SliderSystem
 
     base = SliderSystem.from_preset("glass_dry", loading_rate="1 1/s", damping_ratio=0.01)
     system = base.at_loading_rate(0.1 * critical(base).critical_loading_rate)
@@ -191,9 +191,9 @@ def exact_against_integrators(repeats):
 def fault_scale(repeats, budget):
     """100 cycles of the 1906 scene: the project's simulator against generic integration."""
     from faultslip.errors import SolverError
-    from faultslip.dynamics.regularized import simulate_regularized
+    from faultslip.dynamics.spring_slider.regularized import simulate_regularized
     from faultslip.fault.scene import load_scene
-    from faultslip.dynamics.simulate import simulate
+    from faultslip.dynamics.spring_slider.simulate import simulate
 
     system = load_scene("san_andreas_1906.toml").slider()
     ours, data = timed(lambda: simulate(system, cycles=100), repeats)
@@ -215,10 +215,10 @@ def fault_scale(repeats, budget):
 def auto_against_best_fixed(repeats):
     """Over the standard scenes: solve(method="auto") against the cheapest fixed method meeting 1e-6."""
     from faultslip.evaluation.bench import standard_scenes
-    from faultslip.dynamics.closed_form import closed_form_cycle
-    from faultslip.dynamics.exact_cycle import exact_cycle
+    from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
+    from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
     from faultslip.dynamics.methods import choose, solve
-    from faultslip.dynamics.simulate import simulate
+    from faultslip.dynamics.spring_slider.simulate import simulate
 
     rows = {}
     for name, (system, _) in standard_scenes().items():
@@ -278,7 +278,7 @@ def rate_state_step(repeats):
     """
     from scipy.integrate import odeint, solve_ivp
 
-    from faultslip.dynamics.rate_state import LoadHistory, RateStateSlider, simulate_rate_state
+    from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, simulate_rate_state
     from faultslip.friction.rate_state import get_law
 
     a, b, dc, mu0, v0, k = 0.005, 0.01, 10e-6, 0.6, 1e-6, 1e-3 / 1e-6
@@ -323,7 +323,7 @@ def rate_state_step(repeats):
 def rate_state_cycles(repeats):
     """100 quasi-dynamic cycles at fault scale: SCEC SEAS BP1's friction (a 0.010, b 0.015, D_c 8 mm,
     sigma_n 50 MPa, V_pl 1e-9 m/s, G 32 GPa, c_s 3464 m/s) on a slider with K = G / 20 km."""
-    from faultslip.dynamics.rate_state import RateStateSlider, fault_cycles
+    from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
     from faultslip.friction.rate_state import RateStateLaw
 
     law = RateStateLaw(a=0.010, b=0.015, critical_slip=0.008, mu0=0.6, reference_speed=1e-6)

@@ -19,10 +19,10 @@ from pathlib import Path
 import numpy as np
 
 os.environ.setdefault("MPLBACKEND", "Agg")
-from faultslip.dynamics.simulate import simulate  # noqa: E402
+from faultslip.dynamics.spring_slider.simulate import simulate  # noqa: E402
 from faultslip.friction.laws import STANDARD_GRAVITY  # noqa: E402
 from faultslip.io.atomic import save_figure, write_text_atomic  # noqa: E402
-from faultslip.lab.rough_slider import rough_surface_slider, separation_history, separation_sweep  # noqa: E402
+from faultslip.models.rough_surface.scene import rough_surface_slider, separation_history, separation_sweep  # noqa: E402
 from faultslip.lab.surfaces import gaussian_surface  # noqa: E402
 from faultslip.plots.surfaces import separation_figure  # noqa: E402
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from faultslip.friction.materials import get_preset
 from faultslip.lab.records import synthetic_record
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 
 HERE = Path(__file__).resolve().parent
 
@@ -48,7 +48,7 @@ def decay_record(path: Path) -> None:
 
 def velocity_steps(path: Path) -> None:
     """A synthetic velocity-step record (1 -> 10 -> 1 µm/s) of a known law, with 2e-4 noise in friction."""
-    from faultslip.dynamics.rate_state import LoadHistory
+    from faultslip.dynamics.rate_state.slider import LoadHistory
     from faultslip.friction.rate_state import RateStateLaw
     from faultslip.lab.rate_state_fit import synthetic_step_record
 

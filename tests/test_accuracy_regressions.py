@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from faultslip.cli.main import main
-from faultslip.dynamics.exact_cycle import exact_cycle
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
 from faultslip.dynamics.methods import solve
 from faultslip.fault.scene import load_scene
-from faultslip.dynamics.simulate import simulate
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.simulate import simulate
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 
 
 def _cameron_system(speed):
@@ -88,7 +88,7 @@ def test_decay_reads_an_angular_frequency_as_angular(capsys):
 
 def _eps_c_without_dashpot_force(zeta):
     """eps_c if the break-away ignored the dashpot force C V (U(0) = 1, as seed 003 App. I eq. I-1)."""
-    from faultslip.dynamics.exact_cycle import slip_cycle
+    from faultslip.dynamics.spring_slider.exact_cycle import slip_cycle
 
     lo, hi = 1e-9, 1e3
     for _ in range(200):
@@ -100,7 +100,7 @@ def _eps_c_without_dashpot_force(zeta):
 @pytest.mark.parametrize("zeta, overestimate", [(0.01, 0.058), (0.1, 0.157), (0.2, 0.172), (0.5, 0.089), (0.9, 0.001)])
 def test_the_dashpot_force_at_break_away_matters_at_moderate_damping(zeta, overestimate):
     """docs/seed_discrepancies.md: ignoring C V overestimates eps_c by 6-17 % for zeta 0.01-0.5 (computed here)."""
-    from faultslip.dynamics.critical import critical_dimensionless_rate
+    from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rate
 
     ratio = _eps_c_without_dashpot_force(zeta) / float(critical_dimensionless_rate(zeta)) - 1
     assert ratio == pytest.approx(overestimate, abs=0.001)
@@ -109,9 +109,9 @@ def test_the_dashpot_force_at_break_away_matters_at_moderate_damping(zeta, overe
 @pytest.mark.parametrize("zeta, slip_error", [(0.01, -0.375), (0.1, -0.131), (0.2, -0.028), (0.5, 0.041)])
 def test_closed_form_error_at_nine_tenths_of_the_critical_rate(zeta, slip_error):
     """docs/methods.md: the closed form is > 10 % off at 0.9 theta_c only for light damping (zeta <= 0.1)."""
-    from faultslip.dynamics.closed_form import overshoot_factor
-    from faultslip.dynamics.critical import critical_dimensionless_rate
-    from faultslip.dynamics.exact_cycle import slip_cycle
+    from faultslip.dynamics.spring_slider.closed_form import overshoot_factor
+    from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rate
+    from faultslip.dynamics.spring_slider.exact_cycle import slip_cycle
 
     eps = 0.9 * float(critical_dimensionless_rate(zeta))
     cycle = slip_cycle(zeta, eps)

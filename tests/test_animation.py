@@ -5,7 +5,7 @@ import pytest
 from PIL import Image
 
 from conftest import assert_clean_error
-from faultslip.dynamics.simulate import simulate
+from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.errors import InputError
 from faultslip.fault.scene import load_scene
 from faultslip.plots.animation import frame_times

@@ -20,7 +20,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
 #: Lowest first. Studies, lab and evaluation share a layer but may not import each other.
 LAYERS = {"core": 0, "io": 1, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
           "plots": 6, "models": 7, "cli": 8}
-HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "pint", "h5py", "zarr", "numcodecs", "numba"}
+HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "tqdm", "pint", "h5py", "zarr", "numcodecs", "numba"}
 PLATFORM = {"fcntl"}
 
 
@@ -185,3 +185,30 @@ def test_the_api_reference_lists_every_public_name():
     text = (PACKAGE.parent / "docs" / "api.rst").read_text(encoding="utf-8")
     missing = [name for name in faultslip.__all__ if f"``{name}``" not in text]
     assert not missing, f"docs/api.rst does not list {missing}"
+
+
+#: The families in dynamics/: each imports only itself, the shared machinery and, for seed 002's
+#: averaging built on it, the spring-slider. The method hierarchy (methods, kernel) sits above them.
+DYNAMICS_FAMILIES = {"spring_slider": set(), "rate_state": set(), "vibration": {"spring_slider"},
+                     "nanoscale": set(), "asperity": set()}
+DYNAMICS_HUB = {"methods", "kernel"}
+
+
+def test_dynamics_is_families_and_shared_machinery_not_one_room():
+    room = PACKAGE / "dynamics"
+    top_modules = sorted(p.stem for p in room.glob("*.py") if p.stem != "__init__")
+    assert set(top_modules) <= set(DYNAMICS_FAMILIES) | DYNAMICS_HUB, (
+        f"dynamics/ holds {top_modules}: a new family is a module or subpackage declared in DYNAMICS_FAMILIES")
+    packages = sorted(p.name for p in room.iterdir() if p.is_dir() and (p / "__init__.py").exists())
+    assert set(packages) <= set(DYNAMICS_FAMILIES) | {"shared"}
+    for module, path in MODULES.items():
+        parts = module.split(".")
+        if len(parts) < 3 or parts[1] != "dynamics" or parts[2] not in DYNAMICS_FAMILIES | {"shared": 0}:
+            continue
+        family = parts[2]
+        allowed = {family, "shared"} | DYNAMICS_FAMILIES.get(family, set())
+        for target, line, _, _ in _imports(path):
+            tparts = target.split(".")
+            if target.startswith("faultslip.dynamics.") and len(tparts) > 2:
+                assert tparts[2] in allowed, (
+                    f"{module}:{line} imports {target}: a family uses only itself and dynamics.shared")

@@ -16,7 +16,7 @@ from faultslip.dynamics.asperity import (AsperityModel, analyse, choose_method, 
                                          speed_sweep)
 from faultslip.errors import InputError
 from faultslip.friction import asperity as contact
-from faultslip.lab.asperity_scene import parse_asperity_scene
+from faultslip.models.asperity.scene import parse_asperity_scene
 
 CONFIG = "configs/asperity_seed004.toml"
 

@@ -162,13 +162,13 @@ def test_run_time_is_an_elapsed_time_not_a_dateless_time_axis(cli, tmp_path):
 
 def test_dopri5_starts_from_a_state_far_beyond_its_scale():
     """A mutated rate-and-state map (fuzzer seed 2611) overflowed the first-step estimate's squares."""
-    from faultslip.dynamics.rate_state import dopri5
+    from faultslip.dynamics.rate_state.slider import dopri5
     from faultslip.errors import SolverError
 
     def rhs(t, y):
         return (1e200 * y[1], -y[0])
 
-    from faultslip.dynamics.rate_state import _StepCollapse
+    from faultslip.dynamics.rate_state.slider import _StepCollapse
 
     # the state's own scale is reached: dopri5 says where the solution stops being finite (its callers name the
     # method and the scene); before, the first-step estimate raised OverflowError

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from faultslip.dynamics.averaging import (QuasiHarmonic, integrate, odd_weight, polynomial_integral,
+from faultslip.dynamics.vibration import (QuasiHarmonic, integrate, odd_weight, polynomial_integral,
                                           quadrature_integral)
 from faultslip.errors import InputError, SolverError
 
@@ -90,7 +90,7 @@ def test_rayleighs_limit_cycle_and_seed_002_eq_23():
 def test_averaging_against_direct_integration_errs_as_eps_squared(eps, quadratic):
     """Measured: the averaged amplitude's error is 0.010 s^2 (symmetric curve) to 0.026 s^2 (with an even
     term), s the small parameter over the cycle: inside the declared 0.1 s^2."""
-    from faultslip.dynamics.averaging import ERROR_CONSTANT, settle_periods
+    from faultslip.dynamics.vibration import ERROR_CONSTANT, settle_periods
 
     system = rayleigh(eps, quadratic=quadratic)
     result = system.analyse()
@@ -102,7 +102,7 @@ def test_averaging_against_direct_integration_errs_as_eps_squared(eps, quadratic
 
 
 def test_auto_takes_averaging_where_accurate_enough_and_integrates_elsewhere():
-    from faultslip.dynamics.averaging import settled_amplitude
+    from faultslip.dynamics.vibration import settled_amplitude
 
     system = rayleigh(0.05)
     loose = settled_amplitude(system, "auto", 1e-2)
@@ -190,7 +190,7 @@ def test_quasi_harmonic_refusals_are_one_sentence(cli, tmp_path, args, message):
      'polynomial = [0.3]\n', "mass"),
 ])
 def test_bad_vibration_scenes_name_the_problem(text, message):
-    from faultslip.lab.vibration_scene import parse_vibration_scene
+    from faultslip.models.vibration.scene import parse_vibration_scene
 
     with pytest.raises(InputError, match=message):
         parse_vibration_scene(text, "v.toml")
@@ -199,7 +199,7 @@ def test_bad_vibration_scenes_name_the_problem(text, message):
 def _rayleigh_slider(eps, excess, speed):
     """Seed 003's slider (M = K = W = 1) with a Rayleigh kinetic curve about V and static friction
     mu_s = f(V) + excess: its slip phase is Rayleigh's oscillator, limit cycle A = 2."""
-    from faultslip.dynamics.slider import SliderSystem
+    from faultslip.dynamics.spring_slider.slider import SliderSystem
     from faultslip.friction.laws import ConstantStatic, PolynomialKinetic
 
     p = np.polynomial.Polynomial([-speed, 1.0])
@@ -217,8 +217,8 @@ def test_the_hand_over_after_break_away_agrees_with_event_driven_simulation(eps,
     regime in every case, including (0.1, 1.0, 2.2), 0.4 % from the bound."""
     import warnings
 
-    from faultslip.dynamics.averaging import after_break_away
-    from faultslip.dynamics.simulate import simulate
+    from faultslip.dynamics.vibration import after_break_away
+    from faultslip.dynamics.spring_slider.simulate import simulate
 
     system = _rayleigh_slider(eps, excess, speed)
     with warnings.catch_warnings():
@@ -258,7 +258,7 @@ def test_a_study_cell_takes_averaging_where_auto_does(tmp_path):
     """A lab study whose kinetic law is Rayleigh-like about V on dry steel (omega 183 1/s, W/M = g): at
     tolerance 1e-2 its cell is solved by averaging (method flag 3), a sustained oscillation (regime 3) of
     peak-to-peak swing 4 U / omega, U = 0.3 V the curve's speed scale (A omega = 2U)."""
-    from faultslip.dynamics.slider import SliderSystem
+    from faultslip.dynamics.spring_slider.slider import SliderSystem
     from faultslip.studies.grid import sweep
 
     base = SliderSystem.from_preset("steel_dry", platform_speed="1 in/s")
@@ -283,8 +283,8 @@ def test_a_study_cell_takes_averaging_where_auto_does(tmp_path):
 def test_the_v_r_plane_matches_the_cubics_closed_form_boundaries():
     """For f = 0.5 - s u + s u^3 / (3 u_f^2): steady sliding where r >= W s (1 - v^2/u_f^2); otherwise
     (A omega)^2 = 4 (u_f^2 - v^2 - r u_f^2 / (W s)), stick-slip where that reaches v^2."""
-    from faultslip.dynamics.averaging import REGION_CODES, regions
-    from faultslip.lab.vibration_scene import load_vibration_scene
+    from faultslip.dynamics.vibration import REGION_CODES, regions
+    from faultslip.models.vibration.scene import load_vibration_scene
 
     system, _ = load_vibration_scene("configs/vibration_seed002.toml")
     inch, lbf = 0.0254, 4.4482216152605
@@ -303,7 +303,7 @@ def test_the_v_r_plane_matches_the_cubics_closed_form_boundaries():
 def test_a_tabulated_curve_goes_by_quadrature_and_agrees_with_its_polynomial(tmp_path):
     """The example cubic sampled every 0.25 in/s from 0 to 30 in/s, as a [friction] table (PCHIP): the
     amplitude at 12.5 in/s agrees with the polynomial's closed form to 1e-3; bad tables are refused."""
-    from faultslip.lab.vibration_scene import parse_vibration_scene
+    from faultslip.models.vibration.scene import parse_vibration_scene
 
     text = open("configs/vibration_seed002.toml", encoding="utf-8").read()
     polynomial, _ = parse_vibration_scene(text, "v.toml")

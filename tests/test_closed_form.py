@@ -7,8 +7,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from faultslip.dynamics import closed_form as cf
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider import closed_form as cf
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 
 W, K = 1000.0, 3.4e6
 mu_m_st = st.floats(0.05, 0.8)

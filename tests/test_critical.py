@@ -3,15 +3,15 @@
 import numpy as np
 import pytest
 
-from faultslip.dynamics.critical import (
+from faultslip.dynamics.spring_slider.critical import (
     comparison_dataset,
     comparison_markdown,
     critical,
     critical_dimensionless_rate,
     seed_critical_loading_rate,
 )
-from faultslip.dynamics.exact_cycle import _Oscillator, exact_cycle
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, exact_cycle
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 
 PRESETS = ["steel_heavy_petrolatum", "glass_dry", "pyrite_dry", "granodiorite_water"]
 ZETAS = [0.001, 0.01, 0.05, 0.2, 0.3]

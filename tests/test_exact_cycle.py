@@ -6,11 +6,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from faultslip.dynamics.closed_form import closed_form_cycle, overshoot_factor
+from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle, overshoot_factor
 from faultslip.errors import MethodError
-from faultslip.dynamics.exact_cycle import exact_cycle, exact_cycle_arrays, slip_cycle
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_arrays, slip_cycle
 from faultslip.friction.laws import PolynomialKinetic
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 
 
 def _integrate(zeta, eps):
@@ -79,7 +79,7 @@ def test_closed_form_agrees_with_exact_at_low_rate_on_a_preset():
 
 
 def test_closed_form_is_wrong_near_the_critical_rate_and_warns_above_it():
-    from faultslip.dynamics.critical import critical
+    from faultslip.dynamics.spring_slider.critical import critical
     from faultslip.errors import OutOfDomainWarning
 
     system = SliderSystem.from_preset("glass_dry", loading_rate="1 1/s", damping_ratio=0.05)
@@ -177,8 +177,8 @@ def _relative_errors(zeta, eps):
 
 @pytest.mark.parametrize("zeta", [-0.9, -0.3, -0.01, -1e-6, 0.0, 1e-8, 1e-4, 0.05, 0.3, 0.7, 0.95])
 def test_exact_cycle_meets_its_stated_error_over_the_plane(zeta):
-    from faultslip.dynamics.critical import critical_dimensionless_rate
-    from faultslip.dynamics.exact_cycle import exact_cycle_error
+    from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rate
+    from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle_error
 
     eps_c = float(critical_dimensionless_rate(zeta)) if zeta > 0 else np.inf
     for eps in [1e-12, 1e-6, 1e-3, 0.1, 0.5, 1.0, 2.0, 10.0, 1e3, 1e6, 1e9, 1e12, 1e15]:
@@ -193,8 +193,8 @@ def test_exact_cycle_meets_its_stated_error_over_the_plane(zeta):
 @pytest.mark.parametrize("zeta", [1e-3, 0.05, 0.5, 0.9])
 @pytest.mark.parametrize("closeness", [1e-1, 1e-3, 1e-5, 1e-8, 1e-12])
 def test_exact_cycle_error_grows_as_stated_near_the_critical_rate(zeta, closeness):
-    from faultslip.dynamics.critical import critical_dimensionless_rate
-    from faultslip.dynamics.exact_cycle import exact_cycle_error
+    from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rate
+    from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle_error
 
     eps_c = float(critical_dimensionless_rate(zeta))
     eps = eps_c * (1 - closeness)
@@ -207,7 +207,7 @@ def test_undamped_high_rate_keeps_the_whole_stress_drop():
     """Issue 9: at 1000 1/s on glass (eps ~ 1e9) the exact cycle lost the end of slip and gave half
     the stress drop. Undamped, the stress drop is exactly 2 W (mu_s - mu_m) and the stick time
     2 (mu_s - mu_m) / theta_dot (the slider swings symmetrically about the sliding equilibrium)."""
-    from faultslip.dynamics.slider import SliderSystem
+    from faultslip.dynamics.spring_slider.slider import SliderSystem
 
     system = SliderSystem.from_preset("glass_dry", loading_rate="1000 1/s")
     cycle = exact_cycle(system)

@@ -92,7 +92,7 @@ def test_study_reader(tmp_path_factory, study, seed):
 @given(seed=st.integers(0, 2**32))
 def test_vibration_scene_reader_and_analysis(tmp_path_factory, seed):
     """A mutated quasi-harmonic scene is read and analysed, or refused in one sentence."""
-    from faultslip.lab.vibration_scene import load_vibration_scene
+    from faultslip.models.vibration.scene import load_vibration_scene
 
     text = (ROOT / "configs" / "vibration_seed002.toml").read_text(encoding="utf-8")
     path = _write(tmp_path_factory.mktemp("vibration") / "v.toml", _mutated(text, fuzz.mutate_toml, seed))
@@ -279,7 +279,7 @@ def test_surface_reader_and_statistics(tmp_path_factory, seed):
 @given(seed=st.integers(0, 2**32))
 def test_rough_surface_scene_reader(tmp_path_factory, seed):
     """A mutated rough-surface scene (seed 000) builds its slider or is refused in one sentence."""
-    from faultslip.lab.rough_slider import load_rough_scene
+    from faultslip.models.rough_surface.scene import load_rough_scene
 
     text = (ROOT / "configs" / "rough_surface_seed000.toml").read_text(encoding="utf-8").replace(
         "synthetic_size = 128", "synthetic_size = 32")

@@ -10,13 +10,13 @@ import numpy as np
 import pytest
 
 from faultslip.evaluation.bench import STATUS_CODE, measure, reference_for, standard_scenes
-from faultslip.dynamics.closed_form import closed_form_cycle
-from faultslip.dynamics.critical import cached_critical_dimensionless_rate
+from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
+from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
 from faultslip.errors import MethodError, OutOfDomainWarning
-from faultslip.dynamics.exact_cycle import exact_cycle, slip_cycle
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, slip_cycle
 from faultslip.dynamics.methods import INTEGRATOR_ERROR_CONSTANT, ClosedForm, choose, solve
 from faultslip.fault.scene import load_scene
-from faultslip.dynamics.simulate import simulate
+from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.evaluation.stability import evaluate_cell, grid_system
 
 
@@ -166,7 +166,7 @@ def test_regularized_stiff_integration_breaks_down_at_fault_scale_separation(sce
 
 
 def test_regularized_friction_never_truly_sticks():
-    from faultslip.dynamics.regularized import simulate_regularized
+    from faultslip.dynamics.spring_slider.regularized import simulate_regularized
 
     system = grid_system(0.6, 0.05, 1.0)
     result = simulate_regularized(system, 3, 1e-2 * system.platform_speed, "RK45", rtol=1e-6, max_evaluations=10**6)

@@ -117,3 +117,14 @@ def test_a_fault_estimate_gives_its_values_with_units():
     assert estimate.quantities()["stress_drop"].to("bar").magnitude == pytest.approx(76.9, abs=0.1)
     with pytest.raises(KeyError, match="not a quantity"):
         estimate["slip"]
+
+
+def test_run_takes_allow_large_where_a_family_has_a_budget(cli, monkeypatch):
+    """A nanoscale run beyond the time budget is refused before any work; --allow-large runs it."""
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "1e-6")
+    refused = cli("run", CONFIGS / "nanoscale_seed001.toml", "--json")
+    assert refused.code == 2 and "--allow-large" in refused.err
+    allowed = cli("run", CONFIGS / "nanoscale_seed001.toml", "--json", "--allow-large")
+    assert allowed.code == 0, allowed.err
+    # a family without a budget needs no permission, and takes the flag without complaint
+    assert cli("run", "san_andreas_1906.toml", "--json", "--allow-large").code == 0

@@ -81,7 +81,7 @@ def test_the_cli_runs_the_slides_model_and_refuses_bad_scenes(cli, tmp_path):
     bad.write_text('[slider]\ndamping = 3\n', encoding="utf-8")
     assert_clean_error(cli("nanoscale", bad), 'law = "nanoscale"')
     assert_clean_error(cli("nanoscale", "configs/nanoscale_seed001.toml", "--damping", "-2"), "damping")
-    from faultslip.lab.nanoscale_scene import parse_nanoscale_scene
+    from faultslip.models.nanoscale.scene import parse_nanoscale_scene
 
     with pytest.raises(InputError, match="unknown key"):
         parse_nanoscale_scene('[friction]\nlaw = "nanoscale"\n[slider]\ndamp = 3\n', "n.toml")

@@ -8,9 +8,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from faultslip.dynamics import rate_state as rs
-from faultslip.dynamics import rate_state_compiled as rsc
-from faultslip.dynamics.rate_state import LoadHistory, RateStateSlider, fault_cycles, simulate_rate_state
+from faultslip.dynamics.rate_state import slider as rs
+from faultslip.dynamics.rate_state import compiled as rsc
+from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, fault_cycles, simulate_rate_state
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.rate_state import (RateStateLaw, characteristic_roots, critical_stiffness, friction, get_law,
                                            steady_state_friction)
@@ -230,10 +230,10 @@ def test_aging_law_heals_as_b_ln_t_hold():
 
 
 def test_dopri5_tableau_is_dormand_prince():
-    """The tableau shared by the Python integrator and the compiled kernel (faultslip.dynamics.dormand_prince)."""
+    """The tableau shared by the Python integrator and the compiled kernel (faultslip.dynamics.shared.dormand_prince)."""
     from scipy.integrate._ivp.rk import RK45  # the same pair: a transcription check
 
-    from faultslip.dynamics import dormand_prince as rs
+    from faultslip.dynamics.shared import dormand_prince as rs
 
     matrix = np.zeros((6, 5))
     for i, row in enumerate(rs._A):
@@ -336,7 +336,7 @@ def test_auto_picks_the_cheaper_integrator_by_its_cost_model_and_the_declared_er
     at the loosest rtol whose declared error meets the tolerance; the measured error against a 1e-11
     reference stays below the declared one (2 cycles after 2 of spin-up, as calibrated)."""
     from faultslip.dynamics.methods import describe_all
-    from faultslip.dynamics.rate_state_methods import choose_cycle_method, error_bound
+    from faultslip.dynamics.rate_state.methods import choose_cycle_method, error_bound
 
     assert [rs.cycle_method("auto", r, BP1) for r in (0.05, 0.013, 0.011, 1e-4)] == ["dopri5", "dopri5", "lsoda", "lsoda"]
     names = [row["name"] for row in describe_all()]

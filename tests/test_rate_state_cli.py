@@ -18,7 +18,7 @@ def test_simulate_reports_and_writes_the_time_series(cli, tmp_path):
     result = cli("rate-state", "simulate", STEP, "-o", out, "--json")
     assert result.code == 0, result.err
     report = result.json
-    from faultslip.dynamics.rate_state_compiled import available
+    from faultslip.dynamics.rate_state.compiled import available
 
     assert report["method"] == ("dopri5_compiled" if available() else "lsoda") and report["samples"] == 4001
     assert report["final_friction"] == pytest.approx(report["steady_state_friction_at_final_speed"], abs=1e-7)

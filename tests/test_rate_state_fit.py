@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from faultslip.dynamics.rate_state import LoadHistory
+from faultslip.dynamics.rate_state.slider import LoadHistory
 from faultslip.errors import InputError
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.lab.rate_state_fit import (fit_velocity_steps, read_step_record, step_record_from_columns,

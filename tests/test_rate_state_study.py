@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from conftest import assert_clean_error
-from faultslip.dynamics.rate_state import RateStateSlider, fault_cycles
+from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_cells import METHOD_CODES, REGIME_CODES, rate_state_cells
 from faultslip.friction.rate_state import RateStateLaw
@@ -143,8 +143,8 @@ def test_the_budget_counts_only_the_unstable_cells_cycles(cli, tmp_path, monkeyp
     assert_clean_error(cli("sweep", study, "-o", tmp_path / "big.nc"), "allow-large")
     parsed = parse_study(study.read_text(encoding="utf-8"), "big.toml")
     # every cell unstable and stiff: LSODA at rtol 3e-9 (150 rtol <= 1e-6), 7 cycles by its calibrated
-    # cost model (faultslip.dynamics.rate_state_methods) and 10 ms per cell
-    from faultslip.dynamics.rate_state_methods import SECONDS_PER_STEP, steps_per_cycle
+    # cost model (faultslip.dynamics.rate_state.methods) and 10 ms per cell
+    from faultslip.dynamics.rate_state.methods import SECONDS_PER_STEP, steps_per_cycle
 
     per_cell = 7 * steps_per_cycle("lsoda", 3e-9, 1e-3) * SECONDS_PER_STEP["lsoda"] + 0.01
     assert parsed.seconds_per_cell() == pytest.approx(per_cell, rel=0.01) and 0.1 < per_cell < 0.3

@@ -5,7 +5,7 @@ import pytest
 import xarray as xr
 
 from faultslip.errors import InputError
-from faultslip.dynamics.exact_cycle import exact_cycle
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
 from faultslip.lab.records import (
     Record,
     analyze_record,
@@ -15,7 +15,7 @@ from faultslip.lab.records import (
     register_reader,
     synthetic_record,
 )
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.units import to_si
 
 LBF_PER_IN = 4.4482216152605 / 0.0254

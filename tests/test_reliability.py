@@ -87,8 +87,10 @@ def test_pool_workers_die_with_a_killed_parent(tmp_path):
 @needs_linux
 def test_ctrl_c_to_the_process_group_gives_one_line_and_exit_130(tmp_path):
     out = tmp_path / "big.nc"
+    # a terminal's Ctrl-C reaches a program started with SIGINT at its default; a shell's background job (as a
+    # CI runner may start pytest) ignores SIGINT and its children inherit that, so the test sets it back
     process = _faultslip("sweep", _slow_study(tmp_path), "-o", out, "--chunks", "10", "--workers", "2",
-                         start_new_session=True)
+                         start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     assert _wait_for_progress(out, process)
     workers = children(process.pid)
     os.killpg(process.pid, signal.SIGINT)  # as a terminal's Ctrl-C: every process of the group

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from conftest import assert_clean_error
-from faultslip.dynamics.simulate import simulate
-from faultslip.lab.rough_slider import load_rough_scene, rough_surface_slider
+from faultslip.dynamics.spring_slider.simulate import simulate
+from faultslip.models.rough_surface.scene import load_rough_scene, rough_surface_slider
 from faultslip.lab.surfaces import gaussian_surface
 
 SURFACE = gaussian_surface(3.26e-6, 60e-6, size=96, seed=2026)
@@ -79,11 +79,11 @@ def test_the_scene_runs_through_run_and_simulate(cli, tmp_path):
 from hypothesis import given, settings, strategies as st  # noqa: E402
 
 from faultslip.dynamics.methods import AVERAGING, solve  # noqa: E402
-from faultslip.dynamics.slider import SliderSystem  # noqa: E402
+from faultslip.dynamics.spring_slider.slider import SliderSystem  # noqa: E402
 from faultslip.errors import SolverError  # noqa: E402
 from faultslip.friction.laws import (STANDARD_GRAVITY, ConstantStatic, LinearKinetic,  # noqa: E402
                                      SeparatingSurfacesKinetic)
-from faultslip.lab.rough_slider import separation_history, separation_sweep  # noqa: E402
+from faultslip.models.rough_surface.scene import separation_history, separation_sweep  # noqa: E402
 
 MU_S = 0.3
 
@@ -105,7 +105,7 @@ def _quiet_simulate(system, **kw):
 @pytest.mark.parametrize("static, rtol", [(MU_S + 0.01, 1e-7), (MU_S, 1e-5)])
 def test_without_memory_the_law_is_the_linear_law_of_the_exact_cycle(static, rtol):
     """memory "none" with mu linear in h is LinearKinetic(MU_S, -weakening k_h): the integrated slip agrees with
-    the analytic cycle (faultslip.dynamics.exact_cycle). With mu_s = mu(0), as for rough surfaces, the slip starts
+    the analytic cycle (faultslip.dynamics.spring_slider.exact_cycle). With mu_s = mu(0), as for rough surfaces, the slip starts
     at rest in equilibrium and ends in a near-tangency the event search used to step over, running on for one
     or two extra periods (slip durations 2x and 3x the exact ones); the engine now finds it from the velocity's
     extrema. So near a tangency the end is ill-conditioned, hence the looser tolerance."""

@@ -4,13 +4,13 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from faultslip.dynamics.critical import critical
+from faultslip.dynamics.spring_slider.critical import critical
 from faultslip.errors import InputError, SolverError
-from faultslip.dynamics.exact_cycle import exact_cycle
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
 from faultslip.friction.laws import CallableKinetic, ConstantKinetic, PolynomialKinetic, TimeOfStickLaw
 from faultslip.fault.scene import load_scene
-from faultslip.dynamics.simulate import simulate
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.simulate import simulate
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 
 YEAR = 365.25 * 86400
 

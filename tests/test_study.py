@@ -50,8 +50,8 @@ def test_every_cell_matches_the_scalar_fault_estimate(study):
 
 
 def test_lab_study_uses_the_exact_cycle_and_finds_steady_sliding():
-    from faultslip.dynamics.exact_cycle import exact_cycle
-    from faultslip.dynamics.slider import SliderSystem
+    from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
+    from faultslip.dynamics.spring_slider.slider import SliderSystem
 
     ds = sweep("lab_glass_dry.toml", loading_rate=["0.01 1/s", "0.1 1/s", "1 1/s"], damping_ratio=[0.0, 0.05])
     assert set(np.unique(ds["method"].values)) == {1}  # exact cycle: the closed form misses 1e-6 here

@@ -17,7 +17,7 @@ from faultslip.errors import InputError
 from faultslip.fault.scaling import Fault
 from faultslip.dynamics.methods import solve
 from faultslip.fault.scene import load_scene
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.studies.grid import FAULT_PARAMETERS, LAB_PARAMETERS, sweep
 
 FAULT_VALUES = {

@@ -5,17 +5,17 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
-import time
 from pathlib import Path
 
-from faultslip.dynamics.closed_form import dashpot_for_damping_ratio
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.closed_form import dashpot_for_damping_ratio
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.errors import FaultslipError, InputError
 from faultslip.fault.scene import load_scene
 from faultslip.io.atomic import claim, save_figure
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, output_lock, same_file
 from faultslip.io.processes import usable_workers
+from faultslip.io.progress import Progress
 from faultslip.units import to_si
 
 
@@ -120,32 +120,10 @@ def _system_from_args(args):
     raise InputError("give --preset NAME (with --damping-ratio) or a scene file")
 
 
-def _progress(label):
-    """A one-line progress counter on stderr, only when it is a terminal."""
-    if not sys.stderr.isatty():
-        return None
-
-    def show(done, total):
-        end = "\n" if done == total else ""
-        print(f"\r{label}: {done}/{total}", end=end, file=sys.stderr, flush=True)
-
-    return show
-
-
-def _delayed_progress(label, enabled):
-    """Progress on stderr for runs longer than a few seconds, only on a terminal."""
-    if not enabled or not sys.stderr.isatty():
-        return None
-
-    started = time.perf_counter()
-
-    def show(done, total):
-        if time.perf_counter() - started < 2.0 and done < total:
-            return
-        print(f"\r{label}: {done}/{total} chunks ({100 * done / total:.0f} %)", end="\n" if done == total else "",
-              file=sys.stderr, flush=True)
-
-    return show
+def _progress(label, enabled=True, unit="it"):
+    """Progress on stderr (faultslip.io.progress): a bar on a terminal, log lines when redirected; none
+    with --json or for work shorter than two seconds."""
+    return Progress(label, unit) if enabled else None
 
 
 def _save_run(report, outputs: dict, args, dataset, figure, series: str = "time series", drawing: str = "figure"):

@@ -25,7 +25,7 @@ def cmd_bench(args) -> int:
     workers = _workers(args)
     with _locked(out / "work_precision.nc"):
         dataset = work_precision(quick=args.quick, workers=workers, scenes=args.scene, methods=args.method,
-                                 progress=None if args.json else _progress("bench"))
+                                 progress=_progress("bench", not args.json))
         table = markdown(dataset)
         write_dataset(dataset, out / "work_precision.nc")
         write_text_atomic(out / "work_precision.md", table + "\n")
@@ -60,7 +60,7 @@ def cmd_stability(args) -> int:
     workers = _workers(args)
     with _locked(out / "stability.nc"):
         dataset = stability_map(ratios, dampings, separations, tuple(args.method or METHODS),
-                                workers=workers, progress=None if args.json else _progress("stability"))
+                                workers=workers, progress=_progress("stability", not args.json))
         text = failure_text(dataset)
         write_dataset(dataset, out / "stability.nc")
         write_text_atomic(out / "stability.md", text + "\n")
@@ -82,9 +82,9 @@ def cmd_rate_state_bench(args) -> int:
     ratios = tuple(float(r) for r in (1e-6, 1e-4, 1e-2, 0.3, 0.99)) if args.quick else rate_state_bench.MAP_RATIOS
     with _locked(out / names[0]):
         work = rate_state_bench.work_precision(quick=args.quick, workers=workers,
-                                               progress=None if args.json else _progress("rate-state bench"))
+                                               progress=_progress("rate-state bench", not args.json))
         failures = rate_state_bench.failure_map(ratios, workers=workers,
-                                                progress=None if args.json else _progress("failure map"))
+                                                progress=_progress("failure map", not args.json))
         table = rate_state_bench.markdown(work)
         text = rate_state_bench.failure_text(failures)
         write_dataset(work, out / names[0])

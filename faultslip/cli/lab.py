@@ -7,10 +7,10 @@ from dataclasses import replace
 import numpy as np
 
 from faultslip import ranges
-from faultslip.cli.common import _emit, _locked, _number, _outputs, _save_run
-from faultslip.dynamics.averaging import (amplitude_against_speed, amplitude_table, error_against_eps, hand_over_map,
+from faultslip.cli.common import _emit, _locked, _number, _outputs, _progress, _save_run
+from faultslip.dynamics.vibration import (amplitude_against_speed, amplitude_table, error_against_eps, hand_over_map,
                                           regions, settled_amplitude)
-from faultslip.dynamics.averaging import report as averaging_report
+from faultslip.dynamics.vibration import report as averaging_report
 from faultslip.dynamics.asperity import peak_speeds, speed_sweep
 from faultslip.evaluation.asperity_map import OUTCOMES, asperity_map
 from faultslip.dynamics.asperity import report as asperity_report
@@ -25,12 +25,12 @@ from faultslip.io.atomic import save_figure
 from faultslip.io.outputs import FIGURE_SUFFIXES
 from faultslip.io.report import Report
 from faultslip.lab.rate_state_fit import fit_velocity_steps, read_step_record
-from faultslip.lab.asperity_scene import load_asperity_scene
-from faultslip.lab.nanoscale_scene import load_nanoscale_scene
+from faultslip.models.asperity.scene import load_asperity_scene
+from faultslip.models.nanoscale.scene import load_nanoscale_scene
 from faultslip.io.netcdf import write_dataset
 from faultslip.plots.asperity import map_figure as asperity_map_figure
 from faultslip.plots.asperity import sweep_figure as asperity_sweep_figure
-from faultslip.lab.vibration_scene import load_vibration_scene
+from faultslip.models.vibration.scene import load_vibration_scene
 from faultslip.lab.classroom import analyse as analyse_classroom
 from faultslip.lab.classroom import is_accelerometer_csv, read_accelerometer
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
@@ -260,7 +260,8 @@ def cmd_asperity(args) -> int:
     for speed in (low, high):  # the model refuses an out-of-range speed before any cell runs
         replace(model, platform_speed=speed)
     speeds = np.linspace(low, high, count)
-    sweep = speed_sweep(model, speeds, duration=settings["duration"], method=args.method)
+    sweep = speed_sweep(model, speeds, duration=settings["duration"], method=args.method,
+                        progress=_progress("speed sweep", not args.json, "speed"))
     report = asperity_report(model, None, None, f"faultslip asperity speed sweep (seed 004): {notes['name']}")
     report.section("Sweep")
     report.add("method", args.method).add("points", count)

@@ -103,6 +103,7 @@ def _scenes_commands(commands) -> None:
     run = commands.add_parser("run", help="run a scene (default: the 1906 San Francisco scene)")
     run.add_argument("scene", nargs="?", help="scene TOML file or bundled scene name")
     _method_flags(run)
+    run.add_argument("--allow-large", action="store_true", help="run even beyond the time and memory budget")
     run.add_argument("--json", action="store_true", help="print one JSON object")
     run.set_defaults(handler="scenes:cmd_run")
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 
-from faultslip.cli.common import _emit, _locked, _number, _outputs, _system_from_args
+from faultslip.cli.common import _emit, _locked, _number, _outputs, _progress, _system_from_args
 from faultslip.errors import FaultslipError
 from faultslip.friction.materials import get_preset, table_i_presets
 from faultslip.io.atomic import save_figure
@@ -14,7 +14,7 @@ from faultslip.lab.seed002_curves import figures_9_to_11
 from faultslip.plots.rate_state import stability_figure
 from faultslip.plots.vibration import seed002_figures
 from faultslip.plots.animation import MAX_FRAMES, animation, save_gif
-from faultslip.dynamics.simulate import simulate
+from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.fault.scene import load_scene
 
 
@@ -87,7 +87,7 @@ def cmd_animate(args) -> int:
         dataset = dataset.sel(time=slice(events[0] - 0.25 * (events[1] - events[0]), None))
     movie, figure, compression = animation(dataset, frames=args.frames, slip_share=args.slip_share)
     with _locked(output):
-        save_gif(movie, figure, output, fps=args.fps)
+        save_gif(movie, figure, output, fps=args.fps, progress=_progress("animate", not getattr(args, "json", False), "frame"))
     report = Report(f"faultslip animate: {scene.name}")
     report.add("frames", args.frames).add("fps", args.fps).add("cycles", int(max(events.size - 1, 0)))
     report.add("compression", compression, label="a stick plays this many times faster than a slip")

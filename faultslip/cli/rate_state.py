@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from faultslip.cli.common import _emit, _locked, _outputs
+from faultslip.cli.common import _emit, _locked, _outputs, _progress
 from faultslip.errors import FaultslipError
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.netcdf import write_dataset
@@ -69,4 +69,5 @@ def cmd_stability(args) -> int:
 
 
 def cmd_cycles(args) -> int:
-    return _emit(earthquake_cycles(args.scene, args.cycles, args.seed_law).report(), args.json)
+    return _emit(earthquake_cycles(args.scene, args.cycles, args.seed_law,
+                                   progress=_progress("cycles", not args.json, "event")).report(), args.json)

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from faultslip import models
 from faultslip.cli.common import _emit, _locked, _number, _output_dir, _outputs, _save_run, _system_from_args, _tolerance
-from faultslip.dynamics.critical import comparison_dataset, comparison_markdown, critical
+from faultslip.dynamics.spring_slider.critical import comparison_dataset, comparison_markdown, critical
 from faultslip.dynamics.methods import describe_all, solve
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import estimate_fault_from_fit
@@ -41,7 +41,8 @@ _FAULT_QUANTITIES = {
 
 def cmd_run(args) -> int:
     """Any scene, whatever its model family (faultslip.models): its report."""
-    return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args)).report(), args.json)
+    return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args),
+                            allow_large=args.allow_large).report(), args.json)
 
 
 def cmd_fault(args) -> int:

@@ -6,7 +6,7 @@ import json
 import math
 from pathlib import Path
 
-from faultslip.cli.common import _delayed_progress, _locked, _outputs, _tolerance, _workers
+from faultslip.cli.common import _progress, _locked, _outputs, _tolerance, _workers
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io import budget
 from faultslip.io.atomic import save_figure
@@ -38,7 +38,7 @@ def cmd_sweep(args) -> int:
     workers = (args.workers or 2) if args.scheduler else _workers(args, chunk_count)
     budget.check(budget.study_estimate(study, output, workers, chunk_cells, args.compression), args.allow_large)
     summary = run_study(study, output, chunk_cells=chunk_cells, scheduler=args.scheduler, workers=workers,
-                        resume=args.resume, progress=_delayed_progress("sweep", not args.json),
+                        resume=args.resume, progress=_progress("sweep", not args.json, "chunk"),
                         compression=args.compression, overwrite=args.overwrite, inputs=inputs,
                         file_format=file_format)
     counts = rate_state_counts(output, file_format, study.tolerance) if study.kind == "rate_state" else None
@@ -88,7 +88,7 @@ def _rate_state_lines(counts: dict, study) -> list[str]:
 def cmd_convert(args) -> int:
     workers = args.workers or 2
     summary = zarr_to_netcdf(args.store, args.output, workers=workers, overwrite=args.overwrite,
-                             allow_large=args.allow_large, progress=_delayed_progress("convert", not args.json))
+                             allow_large=args.allow_large, progress=_progress("convert", not args.json, "chunk"))
     if args.json:
         print(json.dumps(summary | {"seconds": {"value": summary["seconds"], "units": "s"}}, indent=2))
     else:

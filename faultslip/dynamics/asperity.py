@@ -41,6 +41,7 @@ import numpy as np
 from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.errors import InputError
 from faultslip.friction import asperity as contact
+from faultslip.io.progress import reporter
 from faultslip.io.report import Report
 from faultslip.units import STANDARD_GRAVITY
 
@@ -511,13 +512,15 @@ def _loops(times, speed, natural_frequency) -> int:
 
 
 def speed_sweep(model: AsperityModel, speeds, duration: float = 3.0, method: str = "asperity_quasistatic",
-                rtol: float = 1e-7):
+                rtol: float = 1e-7, progress=None):
     """m-bar, m-bar_D, stick fraction and loops against platform speed (seed 004 Figs. 5-7), as an xarray Dataset.
 
-    Cells that fail (contact loss, declined, solver failure) carry NaN and their status, never numbers."""
+    Cells that fail (contact loss, declined, solver failure) carry NaN and their status, never numbers.
+    ``progress``: True for a bar, or a callable (done, total) (:mod:`faultslip.io.progress`)."""
     import xarray as xr  # heavy: imported where used
 
     speeds = np.asarray(speeds, float)
+    progress = reporter(progress, "speed sweep", "speed")
     rows = {k: np.full(speeds.size, np.nan) for k in ("mean_friction", "mean_deformation_friction",
                                                        "stick_fraction", "loops", "elapsed")}
     status = []
@@ -531,6 +534,8 @@ def speed_sweep(model: AsperityModel, speeds, duration: float = 3.0, method: str
             rows["mean_deformation_friction"][i] = response.mean_deformation_friction
             rows["stick_fraction"][i] = response.stick_fraction
             rows["loops"][i] = response.loops
+        if progress:
+            progress(i + 1, speeds.size)
     attrs = {"mean_friction": ("1", "time-averaged F_t/F_n (m-bar)"),
              "mean_deformation_friction": ("1", "time-averaged deformation part (m-bar_D)"),
              "stick_fraction": ("1", "fraction of time stuck"), "loops": ("1", "response period / natural period"),

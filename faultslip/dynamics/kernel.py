@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics.closed_form import overshoot_factor
-from faultslip.dynamics.exact_cycle import exact_cycle_error, slip_cycle
+from faultslip.dynamics.spring_slider.closed_form import overshoot_factor
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle_error, slip_cycle
 from faultslip.dynamics.methods import ClosedForm
 
 METHOD_CODES = {"closed_form": 0, "exact_cycle": 1, "event_driven": 2, "quasi_harmonic_averaging": 3}

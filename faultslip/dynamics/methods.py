@@ -29,19 +29,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from faultslip.dynamics.assessment import Assessment
-from faultslip.dynamics import averaging
-from faultslip.dynamics.averaging import METHODS as QUASI_HARMONIC_METHODS
-from faultslip.dynamics.closed_form import closed_form_cycle
-from faultslip.dynamics.critical import cached_critical_dimensionless_rate
-from faultslip.dynamics.cycle import STEADY_SLIDING, CycleResult
+from faultslip.dynamics.shared.assessment import Assessment
+from faultslip.dynamics import vibration as averaging
+from faultslip.dynamics.vibration import METHODS as QUASI_HARMONIC_METHODS
+from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
+from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
+from faultslip.dynamics.shared.cycle import STEADY_SLIDING, CycleResult
 from faultslip.errors import InputError, MethodError, OutOfDomainWarning
-from faultslip.dynamics.exact_cycle import exact_cycle, exact_cycle_error
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_error
 from faultslip.dynamics.asperity import METHODS as ASPERITY_METHODS
 from faultslip.dynamics.nanoscale import METHODS as NANOSCALE_METHODS
-from faultslip.dynamics.rate_state_methods import CYCLE_METHODS as RATE_STATE_CYCLE_METHODS
-from faultslip.dynamics.regularized import simulate_regularized
-from faultslip.dynamics.simulate import SUSTAINED_OSCILLATION, simulate
+from faultslip.dynamics.rate_state.methods import CYCLE_METHODS as RATE_STATE_CYCLE_METHODS
+from faultslip.dynamics.spring_slider.regularized import simulate_regularized
+from faultslip.dynamics.spring_slider.simulate import SUSTAINED_OSCILLATION, simulate
 
 DEFAULT_TOLERANCE = 1e-6
 OUTPUTS = ("amplitude", "period", "event_times", "time_series")
@@ -256,7 +256,7 @@ class SeedAppendixI(Method):
 
 
 class QuasiHarmonicAveraging(Method):
-    """Seed 002's averaging (faultslip.dynamics.averaging) for a slider that, once broken away, never
+    """Seed 002's averaging (faultslip.dynamics.vibration) for a slider that, once broken away, never
     sticks again: a sustained quasi-harmonic oscillation or steady sliding."""
 
     name = "quasi_harmonic_averaging"

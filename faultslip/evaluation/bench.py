@@ -16,15 +16,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.errors import FaultslipError, SolverError
-from faultslip.dynamics.averaging import SEED002_APPARATUS, QuasiHarmonic, integrate, settle_periods
-from faultslip.dynamics.closed_form import closed_form_cycle
-from faultslip.dynamics.critical import critical
-from faultslip.dynamics.exact_cycle import exact_cycle
+from faultslip.dynamics.vibration import SEED002_APPARATUS, QuasiHarmonic, integrate, settle_periods
+from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
+from faultslip.dynamics.spring_slider.critical import critical
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
 from faultslip.dynamics.methods import AVERAGING
-from faultslip.dynamics.regularized import simulate_regularized
-from faultslip.dynamics.simulate import simulate
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.regularized import simulate_regularized
+from faultslip.dynamics.spring_slider.simulate import simulate
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.fault.scene import load_scene
+from faultslip.io.progress import reporter
 from faultslip.io.processes import stop_pool, worker_pool
 import warnings
 
@@ -249,8 +250,10 @@ def _scene_job(args):
 
 
 def parallel_map(function, jobs, workers: int, progress=None):
-    """``function`` over ``jobs`` in a process pool (or in this process), reporting progress."""
+    """``function`` over ``jobs`` in a process pool (or in this process), reporting progress
+    (``progress``: True for a bar, or a callable (done, total); :mod:`faultslip.io.progress`)."""
 
+    progress = reporter(progress, "jobs", "job")
     outcomes = []
     mapped = worker_pool(min(workers, len(jobs))) if workers > 1 and len(jobs) > 1 else None
     try:

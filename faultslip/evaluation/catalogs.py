@@ -20,6 +20,7 @@ from faultslip.fault.scene import Scene, estimate_scene_rate_state
 from faultslip.io.catalogs import Catalog
 from faultslip.io.geo import distance_to_trace
 from faultslip.io.report import Report
+from faultslip.units import to_si_scalar
 
 YEAR = recurrence.SECONDS_PER_YEAR
 
@@ -45,7 +46,7 @@ class CatalogComparison:
     as_of: np.datetime64 | None = None
     notes: list = field(default_factory=list)
 
-    def report(self, title: str) -> Report:
+    def report(self, title: str = "faultslip catalog comparison") -> Report:
         r = Report(title)
         r.add("events", len(self.selected), label="events selected")
         for key, value in self.criteria.items():
@@ -135,7 +136,13 @@ def predict(scene: Scene) -> Prediction:
 def compare(catalog: Catalog, scene: Scene, trace=None, max_distance: float = 25e3, min_magnitude=None, since=None,
             until=None, as_of=None, horizon: float = 30 * YEAR, bootstrap: int = 1000, seed: int = 0,
             max_magnitude=None) -> CatalogComparison:
-    """Select the fault's events, fit their recurrence and set the scene's prediction beside them."""
+    """Select the fault's events, fit their recurrence and set the scene's prediction beside them.
+
+    ``max_distance`` and ``horizon`` take units ("25 km", "30 yr", a Quantity) or floats in metres and
+    seconds.
+    """
+    max_distance = to_si_scalar(max_distance, "length", "max_distance", default_unit="m")
+    horizon = to_si_scalar(horizon, "time", "horizon", default_unit="s")
     if not horizon > 0:
         raise InputError("the probability horizon must be positive")
     selected, distances = select(catalog, trace, max_distance, min_magnitude, since, until, max_magnitude)

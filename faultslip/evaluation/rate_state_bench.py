@@ -7,7 +7,7 @@ D_c is set for each K / K_c = (G / D) D_c / (sigma_n (b - a)), from a lab-scale 
 * :func:`work_precision`: each integrator at each rtol, 2 cycles after 2 of spin-up; the error is
   the larger relative error of recurrence and slip per event against dopri5 (LSODA where
   K / K_c < 0.01) at rtol 1e-11; cost is wall time and steps. The declared error and predicted
-  cost of :mod:`faultslip.dynamics.rate_state_methods` sit beside every measurement, and auto's
+  cost of :mod:`faultslip.dynamics.rate_state.methods` sit beside every measurement, and auto's
   choice for a tolerance of 1e-6 is marked.
 * :func:`failure_map`: over a fine K / K_c grid, each model and integrator under a step budget:
   ok, budget exceeded (dopri5 where stiff), diverges (the quasi-static model at its first event:
@@ -21,8 +21,8 @@ import time
 
 import numpy as np
 
-from faultslip.dynamics.rate_state import RateStateSlider, fault_cycles
-from faultslip.dynamics.rate_state_methods import choose_cycle_method, error_bound, steps_per_cycle, SECONDS_PER_STEP
+from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
+from faultslip.dynamics.rate_state.methods import choose_cycle_method, error_bound, steps_per_cycle, SECONDS_PER_STEP
 from faultslip.errors import NoEventsError, SolverError
 from faultslip.evaluation.bench import parallel_map
 from faultslip.friction.rate_state import RateStateLaw

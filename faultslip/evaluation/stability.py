@@ -24,9 +24,9 @@ import numpy as np
 
 from faultslip.evaluation.bench import STATUS, STATUS_CODE, _classify, parallel_map
 from faultslip.errors import FaultslipError
-from faultslip.dynamics.critical import cached_critical_dimensionless_rate
-from faultslip.dynamics.exact_cycle import exact_cycle
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.evaluation.bench import run_once
 from faultslip.friction.laws import ConstantKinetic, LinearKinetic, RateLaw
 import warnings

@@ -7,11 +7,11 @@ Each cell is seed 003's spring-slider scaled to a fault (§5-2): K = G / D, and 
     K_c = sigma_n (b - a) / D_c                                         (Ruina 1983)
 
 (the radiation damper lowers it by eta V_pl / D_c, a relative 1e-9 at plate rates: the closed
-form is the quasi-static one, as :func:`faultslip.dynamics.rate_state.fault_cycles` uses). Steady
+form is the quasi-static one, as :func:`faultslip.dynamics.rate_state.slider.fault_cycles` uses). Steady
 sliding is unstable where K < K_c and b > a; with ``cycles`` > 0 those cells are simulated
 quasi-dynamically, each distinct set of friction and fault inputs once (sweeping the rupture
 length, for example, costs nothing more), with the method chosen per cell as
-:func:`~faultslip.dynamics.rate_state.fault_cycles` does (LSODA where K / K_c < 0.01, dopri5
+:func:`~faultslip.dynamics.rate_state.slider.fault_cycles` does (LSODA where K / K_c < 0.01, dopri5
 elsewhere) unless one is named.
 
 Every simulated cell declares its error: the plate balance |mean cycle slip / (V_pl T) - 1|,
@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics.rate_state import EVENT_SPEED, RateStateSlider, fault_cycles
-from faultslip.dynamics.rate_state_methods import CYCLE_METHODS as INTEGRATORS, choose_cycle_method
+from faultslip.dynamics.rate_state.slider import EVENT_SPEED, RateStateSlider, fault_cycles
+from faultslip.dynamics.rate_state.methods import CYCLE_METHODS as INTEGRATORS, choose_cycle_method
 from faultslip.errors import InputError, NoEventsError, SolverError
 from faultslip.fault.scaling import moment_magnitude, seismic_moment
 from faultslip.friction.rate_state import EVOLUTION_LAWS, RateStateLaw, steady_state_friction
@@ -115,7 +115,7 @@ def rate_state_cells(*, shear_modulus, zone_width, normal_stress, plate_rate, a,
     ``peak_slip_rate`` and ``estimated_relative_error``; with a rupture length and seismogenic
     depth, ``seismic_moment`` and ``moment_magnitude``. ``tolerance`` is the relative error asked of the
     cycles: each cell runs the cheapest integrator (or ``method``) at the loosest rtol whose declared error
-    meets it (:func:`faultslip.dynamics.rate_state_methods.choose_cycle_method`).
+    meets it (:func:`faultslip.dynamics.rate_state.methods.choose_cycle_method`).
     """
     if method not in CYCLE_METHODS:
         raise InputError(f"the cycle method must be one of {', '.join(CYCLE_METHODS)}, got {method!r}")

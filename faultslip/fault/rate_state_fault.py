@@ -6,7 +6,7 @@ eta = G / (2 c_s) (Rice 1993). Steady sliding is unstable where
 
     K < K_c = sigma_n (b - a) / D_c                                    (Ruina 1983)
 
-and there the fault has earthquake cycles, simulated by :func:`faultslip.dynamics.rate_state.fault_cycles`.
+and there the fault has earthquake cycles, simulated by :func:`faultslip.dynamics.rate_state.slider.fault_cycles`.
 A fitted law's bootstrap resamples carry its uncertainty into K / K_c (closed form, every
 resample) and into recurrence and slip per event (cycles of a subset of resamples).
 """
@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from faultslip import ranges
-from faultslip.dynamics.rate_state import RateStateSlider, fault_cycles
+from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
 from faultslip.errors import FaultslipError, InputError
 from faultslip.fault.scaling import Fault, moment_magnitude, radiation_damper, seismic_moment
 from faultslip.friction.materials import resolve_material

@@ -32,7 +32,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from faultslip.dynamics.rate_state import MODELS, LoadHistory, RateStateSlider
+from faultslip.dynamics.rate_state.slider import MODELS, LoadHistory, RateStateSlider
 from faultslip.errors import InputError
 from faultslip.fault.scene import read_text_file, resolve_path
 from faultslip.friction.rate_state import RateStateLaw, get_law

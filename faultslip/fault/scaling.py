@@ -22,13 +22,13 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from faultslip.dynamics import closed_form
+from faultslip.dynamics.spring_slider import closed_form
 
 from faultslip import ranges
-from faultslip.dynamics.critical import critical_dimensionless_rate, solve_rate_law_critical
+from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rate, solve_rate_law_critical
 from faultslip.dynamics.kernel import cell_kernel
 from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.errors import InputError
 from faultslip.fault import empirical
 from faultslip.friction.laws import RateLaw

@@ -32,7 +32,7 @@ from faultslip.errors import InputError
 from faultslip.io import gate
 from faultslip.io.resources import bundled_dir, config_path, parse_toml
 from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.fault.rate_state_fault import FAULT_QUANTITIES, estimate_rate_state_fault
 from faultslip.fault.scaling import Fault
 from faultslip.friction.materials import resolve_material
@@ -223,14 +223,14 @@ class Scene:
 
     @property
     def simulation(self) -> dict:
-        """Settings of the ``[simulation]`` table (keyword arguments of :func:`faultslip.dynamics.simulate.simulate`)."""
+        """Settings of the ``[simulation]`` table (keyword arguments of :func:`faultslip.dynamics.spring_slider.simulate.simulate`)."""
         settings = dict(self.tables.get("simulation", {}))
         if "rtol" in settings:
             settings["rtol"] = float(settings["rtol"])
         return settings
 
     def slider(self):
-        """The scene's :class:`~faultslip.dynamics.slider.SliderSystem`, with any ``[friction]`` laws applied."""
+        """The scene's :class:`~faultslip.dynamics.spring_slider.slider.SliderSystem`, with any ``[friction]`` laws applied."""
         if self.rate_state:
             raise InputError(f"{self.name} has rate-and-state friction: 'faultslip run' gives its cycles, and "
                              "'faultslip rate-state cycles' or 'simulate' take a rate-state scene "

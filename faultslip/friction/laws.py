@@ -345,7 +345,7 @@ class SeparatingSurfacesKinetic(_CurveKinetic):
       reason for the surfaces' taking a finite time to fall together is simple inertia").
 
     At rest the surfaces close to h = 0 again, so each slip phase starts afresh. The engine
-    (:func:`faultslip.dynamics.simulate.simulate`) switches to :meth:`after_peak` at the first maximum
+    (:func:`faultslip.dynamics.spring_slider.simulate.simulate`) switches to :meth:`after_peak` at the first maximum
     of the sliding speed in a slip phase, and back if the speed later exceeds that peak.
 
     Parameters

@@ -30,17 +30,12 @@ OVERRIDE = "--allow-large"
 
 
 def available_memory() -> float:
-    """Bytes of memory available now (Linux MemAvailable; else total physical memory)."""
+    """Bytes of memory available now (psutil: MemAvailable on Linux, its equivalent elsewhere)."""
+    import psutil  # heavy: imported where used (a budget check, not every command)
+
     try:
-        with open("/proc/meminfo", encoding="ascii") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024.0
-    except OSError:
-        pass
-    try:
-        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):
+        return float(psutil.virtual_memory().available)
+    except (psutil.Error, OSError, RuntimeError):  # an unusual container without the kernel's figures
         return 8.0 * 2**30
 
 

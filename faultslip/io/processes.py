@@ -19,36 +19,37 @@ import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures import wait as futures_wait
-from pathlib import Path
 from faultslip.errors import InputError
 
 _PR_SET_PDEATHSIG = 1
 
 
-def _stat(pid: int):
-    """State and parent pid of a process from /proc (Linux), or None if it is gone."""
-    try:
-        fields = (Path("/proc") / str(pid) / "stat").read_text().rsplit(")", 1)[1].split()
-    except (OSError, IndexError):
-        return None
-    return fields[0], int(fields[1])
-
-
 def is_alive(pid: int) -> bool:
-    """Whether ``pid`` runs (a zombie is not alive). Linux: reads /proc."""
-    stat = _stat(pid)
-    return stat is not None and stat[0] != "Z"
+    """Whether ``pid`` runs (a zombie is not alive), on any platform psutil knows."""
+    import psutil  # heavy: imported where used (only the watchdog and its tests ask)
+
+    try:
+        return psutil.Process(pid).status() != psutil.STATUS_ZOMBIE
+    except psutil.Error:
+        return False
 
 
 def children(pid: int) -> list[int]:
-    """Live child processes of ``pid`` (Linux: reads /proc), e.g. to check that a pool's workers are gone."""
-    found = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            stat = _stat(int(entry.name))
-            if stat is not None and stat[1] == pid and stat[0] != "Z":
-                found.append(int(entry.name))
-    return found
+    """Live child processes of ``pid``, e.g. to check that a pool's workers are gone."""
+    import psutil  # heavy: imported where used
+
+    try:
+        found = psutil.Process(pid).children()
+    except psutil.Error:
+        return []
+    alive = []
+    for child in found:
+        try:
+            if child.status() != psutil.STATUS_ZOMBIE:
+                alive.append(child.pid)
+        except psutil.Error:  # gone between the listing and the look
+            pass
+    return alive
 
 
 def usable_workers(requested: int, tasks: int | None = None) -> tuple[int, str]:

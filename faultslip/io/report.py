@@ -115,6 +115,8 @@ def _plain_text(value) -> str:
         return _plain_text(value.item())
     if isinstance(value, (list, tuple)):
         return "[" + ", ".join(_plain_text(v) for v in value) + "]"
+    if isinstance(value, dict) and set(value) == {"value", "units"}:  # a quantity inside a structured field
+        return f"{_plain_text(value['value'])} {value['units']}".rstrip()
     if isinstance(value, dict):
         return ", ".join(f"{key}: {_plain_text(v)}" for key, v in value.items())
     return str(value)

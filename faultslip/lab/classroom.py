@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from faultslip.dynamics.simulate import simulate
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.simulate import simulate
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.errors import InputError
 from faultslip.friction.laws import ConstantKinetic, ConstantStatic
 from faultslip.io import gate
@@ -181,7 +181,7 @@ class ClassroomAnalysis:
         stop = (2 * np.pi - 2 * np.arctan(drop / (omega * pull))) / omega
         return pull * (stop - np.sin(omega * stop) / omega) + drop / omega ** 2 * (1 - np.cos(omega * stop))
 
-    def report(self, title: str) -> Report:
+    def report(self, title: str = "faultslip classroom: stick-slip analysis") -> Report:
         r = Report(title)
         r.add("format", self.record.kind).add("axis", self.axis, label="pulling axis")
         r.add("samples", int(self.record.time.size)).add("duration", float(self.record.time[-1]), "s")

@@ -3,7 +3,7 @@
 A record gives friction against time with the load point's speed (a ``load_point_speed``
 column, or ``load_point_displacement`` from which the speed is taken segment by segment) and the
 machine's stiffness in friction per unit slip (k / sigma_n, e.g. "1e-3 1/um"). The model is the
-quasi-static slider of :mod:`faultslip.dynamics.rate_state`, started at steady state at the
+quasi-static slider of :mod:`faultslip.dynamics.rate_state.slider`, started at steady state at the
 first speed, V0 that speed and mu0 the friction there. ``a``, ``b``, ``D_c`` and ``mu0`` (and, for
 a two-state law, ``b2`` and ``D_c2``) minimise the squared misfit in friction (scipy's
 least_squares, trust-region reflective, on log D_c so that D_c stays positive). Intervals come
@@ -22,11 +22,11 @@ from pathlib import Path
 
 import numpy as np
 
-from faultslip.dynamics.rate_state import LoadHistory, RateStateSlider, simulate_rate_state
+from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, simulate_rate_state
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.rate_state import RateStateLaw
-from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_csv
-from faultslip.units import unit_factor
+from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_csv, split_header
+from faultslip.units import to_si_scalar, unit_factor
 
 STEP_COLUMNS = {"time": "time", "friction": "dimensionless", "load_point_speed": "speed",
                 "load_point_displacement": "length"}
@@ -50,6 +50,28 @@ def _speeds_from_displacement(time, displacement, source):
     starts = [0] + [int(i) + 1 for i in changes if i + 1 < speed.size]
     merged = [starts[0]] + [s for prev, s in zip(starts, starts[1:]) if s - prev > 2]
     return merged, speed
+
+
+def step_record(table, source: str = "<table>") -> StepRecord:
+    """A velocity-step record from a pandas DataFrame or a mapping of columns, as a notebook holds one.
+
+    Column names carry their units as in a CSV header (``"time (s)"``, ``"load_point_speed (um/s)"``),
+    or a column is a pint Quantity array under its bare name; see :data:`STEP_COLUMNS`.
+    """
+    if hasattr(table, "columns") and hasattr(table, "to_dict"):  # a pandas DataFrame
+        items = [(str(column), table[column].to_numpy()) for column in table.columns]
+    elif isinstance(table, dict):
+        items = [(str(column), values) for column, values in table.items()]
+    else:
+        raise InputError(f"a velocity-step record is a DataFrame, a mapping of columns or a file, got "
+                         f"{type(table).__name__}")
+    columns = {}
+    for header, values in items:
+        name, unit = split_header(header)
+        if hasattr(values, "units") and hasattr(values, "magnitude"):  # a pint Quantity column
+            values, unit = values.magnitude, str(values.units)
+        columns[name] = (np.asarray(values, dtype=float), unit)
+    return step_record_from_columns(columns, source)
 
 
 def step_record_from_columns(columns: dict, source: str) -> StepRecord:
@@ -158,11 +180,17 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
                        initial=None, rtol: float = 1e-10, bootstrap: int = 0, seed: int = 0) -> RateStateFit:
     """Fit a, b, D_c (and b2, D_c2) of a quasi-static slider with ``stiffness`` (friction per metre) to ``record``.
 
+    ``record`` is a :class:`StepRecord`, a pandas DataFrame or a mapping of columns (:func:`step_record`);
+    ``stiffness`` a float in 1/m or a string or Quantity with units ("1e-3 1/um").
+
     ``bootstrap`` resamples (seeded by ``seed``) add bootstrap intervals; each costs one refit.
     """
     from scipy.optimize import least_squares  # heavy: imported where used
     from scipy.special import stdtrit  # heavy: imported where used
 
+    if not isinstance(record, StepRecord):
+        record = step_record(record)
+    stiffness = to_si_scalar(stiffness, "inverse_length", "the stiffness", default_unit="1/m")
     if not (stiffness > 0 and math.isfinite(stiffness)):
         raise InputError(f"the stiffness must be a positive number of friction per metre, got {stiffness!r}")
     # the slider starts at steady state: friction is mu0 until the first step (its median resists noise)

@@ -30,8 +30,8 @@ from faultslip.errors import InputError
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_csv
 from faultslip.io.waveforms import STREAM_SUFFIXES, channels_by_quantity, read_stream
 from faultslip.units import unit_factor
-from faultslip.dynamics.exact_cycle import _Oscillator, exact_cycle
-from faultslip.dynamics.simulate import _equilibrium, _stick_duration
+from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, exact_cycle
+from faultslip.dynamics.spring_slider.simulate import _equilibrium, _stick_duration
 from faultslip.io.report import Report
 
 RECORD_COLUMNS = {"time": "time", "displacement": "length", "acceleration": "acceleration", "force": "force",

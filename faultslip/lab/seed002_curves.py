@@ -19,7 +19,7 @@ becomes negative, where the slider would stick. The seed's polynomials (10th and
 supply friction there by extrapolation; which branch appears then depends on the fit (measured: (C)
 has the branch with a 10th-degree fit and none with a 12th). Here the curve is extended to negative
 sliding speeds as f(|u|), which is definite, and :func:`seed_branch` flags every such amplitude as
-stick-slip, the regime :class:`~faultslip.dynamics.averaging.QuasiHarmonic` reports for it
+stick-slip, the regime :class:`~faultslip.dynamics.vibration.QuasiHarmonic` reports for it
 (docs/seed_discrepancies.md).
 """
 
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from faultslip.dynamics.averaging import SEED002_APPARATUS, QuasiHarmonic
+from faultslip.dynamics.vibration import SEED002_APPARATUS, QuasiHarmonic
 
 APPARATUS = SEED002_APPARATUS
 INCH_PER_S = 0.0254

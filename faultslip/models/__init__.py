@@ -25,16 +25,20 @@ __all__ = ["DECLARATIONS", "FAMILIES", "Family", "Result", "families", "family_o
 
 #: Options every family may be given: where the run's output goes (for a disk estimate) and the budget's
 #: override; a family that has no use for them ignores them.
-UNIVERSAL = ("output", "allow_large")
+UNIVERSAL = ("output", "allow_large", "overwrite")
 
 
-def run(scene=None, method: str | None = None, tolerance: float | None = None) -> Result:
+def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False) -> Result:
     """Evaluate a scene (a path, or a bundled scene's name; None: the 1906 San Francisco scene).
 
     ``method`` is one of the family's methods or ``"auto"`` (the cheapest whose declared error
-    meets ``tolerance``, a relative error; each family has its default).
+    meets ``tolerance``, a relative error; each family has its default). ``allow_large`` runs
+    beyond the time and memory budget, for a family whose run has one (a family without one
+    needs no permission).
     """
-    return family_of(scene).run(scene, method=method, tolerance=tolerance)
+    family = family_of(scene)
+    options = {"allow_large": allow_large} if allow_large and "allow_large" in family.run_options else {}
+    return family.run(scene, method=method, tolerance=tolerance, **options)
 
 
 def simulate(scene=None, **options) -> Result:

@@ -3,7 +3,7 @@ a fault's quasi-dynamic earthquake cycles on one spring-block (Dieterich-Ruina f
 
 from __future__ import annotations
 
-from faultslip.dynamics.rate_state import fault_cycles, simulate_rate_state
+from faultslip.dynamics.rate_state.slider import fault_cycles, simulate_rate_state
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.fault.rate_state_scene import load_rate_state_scene
@@ -75,8 +75,10 @@ def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
     return Result("rate_state_slider", report, series, figure)
 
 
-def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None) -> Result:
-    """A fault's quasi-dynamic earthquake cycles ([fault]), with the seed law on the same fault beside them."""
+def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None, progress=None) -> Result:
+    """A fault's quasi-dynamic earthquake cycles ([fault]), with the seed law on the same fault beside them.
+
+    ``progress``: True for a bar, or a callable (done, total) over events (:mod:`faultslip.io.progress`)."""
     scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
     if not 1 <= count <= 10_000:
         raise InputError(f"--cycles must lie between 1 and 10000, got {count}")
@@ -84,7 +86,7 @@ def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None) -> Res
         raise InputError(f"{scene.name} describes a laboratory slider; fault cycles need a [fault] table with "
                          "shear_modulus, zone_width, normal_stress and plate_rate")
     result = fault_cycles(scene.slider, scene.plate_rate, cycles=count,
-                          model="quasi_dynamic" if scene.model != "quasi_static" else "quasi_static")
+                          model="quasi_dynamic" if scene.model != "quasi_static" else "quasi_static", progress=progress)
     report = Report(f"faultslip rate-state cycles: {scene.name}")
     report.add("recurrence_period", result.recurrence, "s", also=("yr",))
     report.add("slip_per_event", float(result.slip_per_event.mean()), "m")

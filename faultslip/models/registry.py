@@ -33,6 +33,7 @@ class Family:
     run: Callable
     simulate: Callable
     simulate_options: tuple = ()  # the options of simulate beyond the scene (cycles, slip_solver, rtol, ...)
+    run_options: tuple = ()  # the options of run beyond method and tolerance (allow_large)
     why: str = ""  # why the other options do not apply, said when one is given
 
 

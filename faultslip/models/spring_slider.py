@@ -3,8 +3,8 @@ static-friction rate law, Cameron's time-of-stick law or rate-and-state friction
 
 from __future__ import annotations
 
-from faultslip.dynamics.simulate import simulate as integrate
-from faultslip.dynamics.simulate import summary_report, uniform_channels
+from faultslip.dynamics.spring_slider.simulate import simulate as integrate
+from faultslip.dynamics.spring_slider.simulate import summary_report, uniform_channels
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import cycles_dataset
 from faultslip.fault.scene import CHOICES, estimate_scene_rate_state, load_scene, run_scene

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.io.progress import reporter
 from faultslip.io.atomic import atomic_path
 from faultslip.plots.figures import _pyplot
 
@@ -56,7 +57,7 @@ def _spring(x0, x1, y, coils=8, height=0.18):
 
 
 def animation(dataset, frames: int = 120, slip_share: float = 0.5, title: str = ""):
-    """A :class:`matplotlib.animation.FuncAnimation` of a simulation (:func:`faultslip.dynamics.simulate.simulate`)
+    """A :class:`matplotlib.animation.FuncAnimation` of a simulation (:func:`faultslip.dynamics.spring_slider.simulate.simulate`)
     and the compression factor. Lengths are drawn in units of the cycle's swing."""
     from matplotlib import animation as mpl_animation  # heavy: imported where used
 
@@ -119,12 +120,16 @@ def animation(dataset, frames: int = 120, slip_share: float = 0.5, title: str = 
     return movie, figure, compression
 
 
-def save_gif(movie, figure, path, fps: int = 20, dpi: int = 80) -> None:
-    """Write the animation as a GIF through pillow, atomically (a temporary file, then renamed)."""
+def save_gif(movie, figure, path, fps: int = 20, dpi: int = 80, progress=None) -> None:
+    """Write the animation as a GIF through pillow, atomically (a temporary file, then renamed).
+
+    ``progress``: True for a bar, or a callable (done, total) over frames (:mod:`faultslip.io.progress`)."""
     from matplotlib.animation import PillowWriter  # heavy: imported where used
 
     if not 1 <= fps <= 60:
         raise InputError(f"fps must be from 1 to 60, got {fps}")
     with atomic_path(path, suffix=".gif") as temporary:
-        movie.save(str(temporary), writer=PillowWriter(fps=fps), dpi=dpi)
+        progress = reporter(progress, "animation", "frame")
+        movie.save(str(temporary), writer=PillowWriter(fps=fps), dpi=dpi,
+                   progress_callback=(lambda frame, total: progress(frame + 1, total)) if progress else None)
     _pyplot().close(figure)

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics import closed_form
+from faultslip.dynamics.spring_slider import closed_form
 from faultslip.friction.materials import Preset
-from faultslip.dynamics.critical import critical
-from faultslip.dynamics.exact_cycle import exact_cycle, slip_trajectory
+from faultslip.dynamics.spring_slider.critical import critical
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, slip_trajectory
 
 #: Loading-rate range of the seed 003 apparatus (V = 1e-6 to 2 in/s, K = 1.94e4 lb/in, W 137.8-430.6 lb).
 LAB_RATE_RANGE = (1e-5, 1e3)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics.rate_state import critical_step_ratio
+from faultslip.dynamics.rate_state.slider import critical_step_ratio
 from faultslip.friction.rate_state import RateStateLaw, critical_stiffness, get_law
 from faultslip.plots.figures import _pyplot
 

@@ -43,7 +43,7 @@ def separation_figure(records: dict, sweeps: dict):
 
     ``records`` maps a label to (dataset, separation in m) for the time-series panels; labels starting
     with "c =" go to panel (a), the others to (b) and (c). ``sweeps`` maps a label to a
-    :func:`~faultslip.lab.rough_slider.separation_sweep` dataset.
+    :func:`~faultslip.models.rough_surface.scene.separation_sweep` dataset.
     """
     plt = _pyplot()
     fig, axes = plt.subplots(1, 4, figsize=(17, 3.8), constrained_layout=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics.averaging import ERROR_CONSTANT
+from faultslip.dynamics.vibration import ERROR_CONSTANT
 from faultslip.plots.figures import _pyplot
 
 INCH = 0.0254

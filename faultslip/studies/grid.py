@@ -43,7 +43,7 @@ from faultslip.fault import empirical
 from faultslip.io.resources import parse_toml
 from faultslip.units import STANDARD_GRAVITY, to_si, to_si_scalar
 from faultslip import __version__
-from faultslip.dynamics.critical import critical_dimensionless_rate, solve_rate_law_critical
+from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rate, solve_rate_law_critical
 from faultslip.dynamics.methods import solve
 from faultslip.fault.scene import apply_friction, load_scene, parse_scene, read_text_file, resolve_path, Scene
 from faultslip.fault.rate_state_cells import (CYCLE_METHODS, check_friction, estimated_seconds, evolution_codes, output_names,

@@ -40,9 +40,9 @@ from faultslip.io.geojson import read_fault_geojson
 from faultslip.errors import InputError, did_you_mean
 from faultslip.io import budget
 from faultslip.io.resources import bundled_dir, parse_toml, read_unit_csv
-from faultslip.units import to_si
+from faultslip.units import si_unit, to_si
 from faultslip import __version__
-from faultslip.fault.scene import parse_scene, read_text_file, resolve_path
+from faultslip.fault.scene import Scene, load_scene, parse_scene, read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
 from faultslip.fault.rate_state_cells import CYCLE_METHODS
@@ -136,6 +136,99 @@ def segments_from_geojson(path, scene) -> SegmentTable:
                         geometry={"slip_type": faults.slip_type, "dip": np.where(np.isnan(faults.dip), 90.0, faults.dip),
                                   "rake": np.where(np.isnan(faults.rake), 180.0, faults.rake),
                                   "upper_depth": np.nan_to_num(faults.upper_depth)})
+
+
+def segment_map(segments, lon, lat, scene=None, max_distance="60 km", name="map", description="",
+                cycles: int = 5, cycle_method: str = "auto") -> MapSpec:
+    """A segment map from Python objects, the same :class:`MapSpec` that :func:`load_map` reads.
+
+    Parameters
+    ----------
+    segments : pandas.DataFrame or mapping of column name to sequence
+        One row per segment, with the columns of a segment table (:data:`SEGMENT_COLUMNS`):
+        ``segment``, ``trace`` (a sequence of (lon, lat) pairs in degrees, or ``"lon lat; ..."``),
+        ``slip_rate``, ``lithology``, ``seismogenic_depth``, ``zone_width`` and optionally
+        ``name``, ``observed_slip``, ``observed_recurrence``. Each quantity is a string with units
+        (``"24 mm/yr"``), a pint Quantity (a column may be one Quantity array) or a float in SI.
+    lon, lat : array_like
+        The raster's axes in degrees east and north.
+    scene : Scene, path or bundled name, optional
+        Parameters a segment does not give (default: the 1906 scene).
+    max_distance : str, Quantity or float (m)
+        Cells farther than this from every segment stay empty.
+    """
+    if not isinstance(scene, Scene):
+        scene = load_scene(scene)
+    if hasattr(segments, "to_dict") and hasattr(segments, "columns"):  # a pandas DataFrame
+        columns = {str(column): list(segments[column]) for column in segments.columns}
+    elif isinstance(segments, dict):
+        columns = dict(segments)
+    else:
+        raise InputError(f"segments must be a pandas DataFrame or a mapping of column to values, got "
+                         f"{type(segments).__name__}")
+    for column in columns:
+        if column not in SEGMENT_COLUMNS and not column.startswith("source"):
+            raise InputError(f"segments: unknown column {column!r}{did_you_mean(column, SEGMENT_COLUMNS)}")
+    for column, (kind, required) in SEGMENT_COLUMNS.items():
+        if required and column not in columns:
+            raise InputError(f"segments lack the column {column!r}")
+    count = len(list(columns["segment"]))
+    if count == 0:
+        raise InputError("segments: the table has no segments")
+
+    def values(column, kind, optional=False):
+        raw = columns.get(column)
+        if raw is None:
+            return np.full(count, math.nan)
+        if not isinstance(raw, str) and hasattr(raw, "units") and hasattr(raw, "magnitude"):  # one Quantity array
+            out = np.atleast_1d(np.asarray(to_si(raw, kind, f"segments {column}"), dtype=float))
+        else:
+            raw = list(raw)
+            if len(raw) != count:
+                raise InputError(f"segments: column {column!r} has {len(raw)} values for {count} segments")
+            out = np.array([math.nan if optional and (item is None or item == "" or
+                                                      (isinstance(item, float) and math.isnan(item)))
+                            else to_si(item, kind, f"segments {column}, row {row + 1}", default_unit=si_unit(kind))
+                            for row, item in enumerate(raw)], dtype=float)
+        if out.shape != (count,):
+            raise InputError(f"segments: column {column!r} has {out.size} values for {count} segments")
+        return out
+
+    ids = [str(item) for item in columns["segment"]]
+    if len(set(ids)) != count:
+        raise InputError("segments list a segment twice")
+    traces = []
+    for row, trace in enumerate(columns["trace"]):
+        where = f"segments, row {row + 1}, trace"
+        text = trace if isinstance(trace, str) else "; ".join(f"{float(x)!r} {float(y)!r}" for x, y in
+                                                               np.asarray(trace, dtype=float).reshape(-1, 2))
+        traces.append(parse_trace(text, where))
+    lithology = []
+    for row, item in enumerate(columns["lithology"]):
+        try:
+            lithology.append(resolve_material(str(item)).name)
+        except InputError as exc:
+            raise InputError(f"segments, row {row + 1}: {exc}") from None
+    table = SegmentTable(ids, [str(item) for item in columns.get("name", ids)], traces, values("slip_rate", "speed"),
+                         lithology, values("seismogenic_depth", "length"), values("zone_width", "length"),
+                         values("observed_slip", "length", True), values("observed_recurrence", "time", True),
+                         [str(item or "") for item in columns.get("observed_slip_event", [""] * count)],
+                         {column: [str(item) for item in columns[column]] for column in columns
+                          if column.startswith("source")}, "<segments>")
+    for key in ("slip_rate", "seismogenic_depth", "zone_width"):
+        if np.any(~(getattr(table, key) > 0)):
+            raise InputError(f"segments: {key} must be positive (row {int(np.argmax(~(getattr(table, key) > 0))) + 1})")
+    spec = MapSpec(name=name, scene=scene, segments=table, description=description, cycles=cycles,
+                   cycle_method=cycle_method)
+    spec.lon = _axis(np.asarray(lon, dtype=float).ravel().tolist(), "lon", "segment_map")
+    spec.lat = _axis(np.asarray(lat, dtype=float).ravel().tolist(), "lat", "segment_map")
+    _check_lon_lat(spec.lon, spec.lat, "segment_map")
+    spec.max_distance = to_si(max_distance, "length", "max_distance", default_unit="m")
+    if not spec.max_distance > 0:
+        raise InputError(f"max_distance must be positive, got {max_distance!r}")
+    if scene.rate_state and cycle_method not in CYCLE_METHODS:
+        raise InputError(f"cycle_method must be one of {', '.join(CYCLE_METHODS)}, got {cycle_method!r}")
+    return spec
 
 
 def read_segments(path) -> SegmentTable:

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from faultslip.io.progress import reporter
 from faultslip.io import budget, gate
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, padded
@@ -294,7 +295,9 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
     The output is checked before any work (folder, extension, an input of the run, an existing file
     without ``overwrite``) and locked while it is written: a second run on the same output is refused.
     ``file_format`` is ``"netcdf"`` or ``"zarr"`` (default: from the suffix, .nc or .zarr).
+    ``progress``: True for a bar, or a callable (done, total) over blocks (:mod:`faultslip.io.progress`).
     """
+    progress = reporter(progress, "sweep", "chunk")
     if compression not in COMPRESSIONS:
         raise InputError(f"compression must be one of {', '.join(COMPRESSIONS)}, got {compression!r}")
     check_scheduler(scheduler)

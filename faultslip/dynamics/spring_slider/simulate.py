@@ -7,7 +7,7 @@ The friction discontinuity is never smoothed. The simulation alternates:
   time-of-stick law mu_s(t_stick) it is the single root of a convex function, located by
   Brent's method on an analytic bracket. A stick phase is never stepped through, so fault-scale
   interseismic periods (~1e9-1e10 s) cost nothing.
-* **slip**, from (x_break, V): analytic for linear kinetic laws (see :mod:`faultslip.dynamics.exact_cycle`),
+* **slip**, from (x_break, V): analytic for linear kinetic laws (see :mod:`faultslip.dynamics.spring_slider.exact_cycle`),
   otherwise integrated by a scipy method with dense output in scaled variables
   X = K x / W, Y = K x' / (W omega_n), s = omega_n t. The end of slip (x' returns to V,
   sliding speed 0) is a terminal event located by scipy's root finder to the integrator's
@@ -25,10 +25,10 @@ import time as _time
 
 import numpy as np
 
-from faultslip.dynamics.cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP
+from faultslip.dynamics.shared.cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP
 from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.errors import InputError, SolverError
-from faultslip.dynamics.exact_cycle import _Oscillator, slip_cycle
+from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, slip_cycle
 from faultslip.io.report import Report
 
 INTEGRATORS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
@@ -336,7 +336,7 @@ def simulate(
     verify_regime: bool = True,
     stop_when_converged: float | None = None,
 ):
-    """Simulate ``cycles`` stick-slip cycles of a :class:`~faultslip.dynamics.slider.SliderSystem`.
+    """Simulate ``cycles`` stick-slip cycles of a :class:`~faultslip.dynamics.spring_slider.slider.SliderSystem`.
 
     Parameters
     ----------

@@ -14,7 +14,7 @@ The right-hand side (quasi-static when eta = 0):
     x' = (k (V_lp(t) - V) - sigma_n b psi') / (sigma_n a + eta V),
 
 with V_lp linear on each segment of the load history. Step control and dense output follow
-:func:`faultslip.dynamics.rate_state.dopri5` (PI controller, order-4 continuous extension).
+:func:`faultslip.dynamics.rate_state.slider.dopri5` (PI controller, order-4 continuous extension).
 """
 
 from __future__ import annotations
@@ -23,7 +23,8 @@ import math
 
 import numpy as np
 
-from faultslip.dynamics.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64,
+from faultslip.dynamics.shared.compiler import available  # noqa: F401 (the family's probe, re-exported)
+from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64,
                                                A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7, _C, _P)
 
 #: kernel status codes
@@ -141,21 +142,6 @@ def _kernel(x, psi, t0, t1, v_start, v_slope, aging, v0, dc, k, sigma_a, sigma_b
 
 
 _COMPILED = []
-
-
-_AVAILABLE = []
-
-
-def available() -> bool:
-    """Whether numba imports here, so that the compiled kernel can be used (probed once)."""
-    if not _AVAILABLE:
-        try:
-            import numba  # noqa: F401  heavy: optional dependency (faultslip[fast]), only probed
-        except ImportError:
-            _AVAILABLE.append(False)
-        else:
-            _AVAILABLE.append(True)
-    return _AVAILABLE[0]
 
 
 def kernel(compiled: bool = True):

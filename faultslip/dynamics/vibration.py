@@ -38,8 +38,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from faultslip.dynamics.simulate import simulate
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.simulate import simulate
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.laws import ConstantStatic, PolynomialKinetic
@@ -266,7 +266,7 @@ class QuasiHarmonicResult:
 
 
 def from_slider(system, name: str | None = None) -> QuasiHarmonic:
-    """The averaged model of a :class:`~faultslip.dynamics.slider.SliderSystem` in its slip phase,
+    """The averaged model of a :class:`~faultslip.dynamics.spring_slider.slider.SliderSystem` in its slip phase,
     M x'' + C x' + K x = W mu(V - x') + eta (V - x'): r = C, and the radiation damper eta, which acts
     on the sliding speed, joins the curve as eta u / W."""
     law = system.kinetic_law

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from faultslip.dynamics.averaging import QuasiHarmonic
+from faultslip.dynamics.vibration import QuasiHarmonic
 from faultslip.errors import InputError
 from faultslip.fault.scene import read_text_file, resolve_path, scene_document
 from faultslip.io.resources import check_toml_layout, parse_toml

@@ -8,7 +8,7 @@ from faultslip.dynamics.asperity import report as asperity_report
 from faultslip.dynamics.asperity import run_dataset
 from faultslip.dynamics.asperity import simulate as integrate
 from faultslip.errors import InputError, SolverError
-from faultslip.lab.asperity_scene import load_asperity_scene
+from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.common import note_origin
 from faultslip.models.registry import Family, register
 from faultslip.models.result import Result

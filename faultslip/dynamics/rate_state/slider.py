@@ -41,11 +41,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from faultslip.errors import InputError, NoEventsError, SolverError
-from faultslip.dynamics.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64,
+from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64,
                                                A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7, _C, _P)
-from faultslip.dynamics import rate_state_compiled
-from faultslip.dynamics.rate_state_methods import CYCLE_METHODS, SECONDS_PER_STEP, steps_per_cycle
+from faultslip.dynamics.rate_state import compiled as rate_state_compiled
+from faultslip.dynamics.rate_state.methods import CYCLE_METHODS, SECONDS_PER_STEP, steps_per_cycle
 from faultslip.friction.rate_state import RateStateLaw
+from faultslip.io.progress import reporter
 
 MODELS = ("quasi_static", "quasi_dynamic", "inertial")
 METHODS = ("auto", "lsoda", "dopri5", "dopri5_compiled", "radau", "bdf")
@@ -470,7 +471,7 @@ def _with_slip(states, slider, damping, load_point, y0):
 
 
 def _compiled_two_states(slider, damping, history, t_eval, load_point, y0, rtol, atol, max_speed, model):
-    """The one-state slider on the compiled Dormand-Prince kernel (:mod:`faultslip.dynamics.rate_state_compiled`).
+    """The one-state slider on the compiled Dormand-Prince kernel (:mod:`faultslip.dynamics.rate_state.compiled`).
 
     Returns (values, steps, nfev), or None where the kernel gave up on a stiff problem (its step
     budget), so that the caller can hand over to LSODA.
@@ -544,7 +545,7 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
 
     ``model`` is quasi_static, quasi_dynamic or inertial; ``method`` auto, lsoda, dopri5, dopri5_compiled,
     radau or bdf. ``auto`` takes dopri5_compiled (the numba-compiled kernel of
-    :mod:`faultslip.dynamics.rate_state_compiled`) for one-state quasi-static and quasi-dynamic sliders
+    :mod:`faultslip.dynamics.rate_state.compiled`) for one-state quasi-static and quasi-dynamic sliders
     where numba is installed, handing over to LSODA if it runs out of steps, and LSODA otherwise.
     The slider starts at steady state at ``initial_speed`` (default: the first load-point speed).
     A quasi-static slider whose speed passes ``max_speed`` (m/s) has met an instability it
@@ -782,7 +783,7 @@ class RateStateCycles:
 
 def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw, rtol: float = 1e-7) -> str:
     """The method :func:`fault_cycles` uses: ``method``, or for "auto" the cheaper at ``rtol`` by the
-    calibrated cost models (:mod:`faultslip.dynamics.rate_state_methods`): LSODA where the rupture is
+    calibrated cost models (:mod:`faultslip.dynamics.rate_state.methods`): LSODA where the rupture is
     stiff (below K / K_c of about 0.012 at rtol 1e-7), dopri5 elsewhere. Two-state laws take dopri5."""
     if method != "auto":
         return method
@@ -794,7 +795,7 @@ def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw, rtol: f
 def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 100, spin_up: int = 2,
                  model: str = "quasi_dynamic", rtol: float = 1e-7, event_speed: float = EVENT_SPEED,
                  max_time: float | None = None, method: str = "auto", record: bool = False,
-                 max_steps: int = 5_000_000) -> RateStateCycles:
+                 max_steps: int = 5_000_000, progress=None) -> RateStateCycles:
     """Run ``spin_up + cycles`` earthquake cycles of a fault loaded at ``plate_rate`` (m/s) and measure them.
 
     The fault starts at steady sliding at 1.01 times the plate rate (a small perturbation that an
@@ -812,7 +813,9 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
 
     ``record``: keep the time series of every step after spin-up in ``series`` (for plots and files).
     ``max_steps``: the step budget; past it the run stops with a SolverError saying so.
+    ``progress``: True for a bar, or a callable (done, total) over events (:mod:`faultslip.io.progress`).
     """
+    progress = reporter(progress, "cycles", "event")
     if method not in ("auto", "lsoda", "dopri5"):
         raise InputError(f"method must be auto, lsoda or dopri5, got {method!r}")
     if model not in ("quasi_dynamic", "quasi_static"):
@@ -904,6 +907,8 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
             record["peak"].append(state["peak"])
             record["slip_end"].append(y_c[-1])
             record["tau_end"].append(elastic_stress(y_c))
+            if progress:
+                progress(len(record["end"]), wanted + 1)
             stop = True
         previous["t"] = now
         previous["y"] = y

@@ -3,10 +3,10 @@ and eq. (10) integrated onto its cycle inside the averaged envelope."""
 
 from __future__ import annotations
 
-from faultslip.dynamics.averaging import report as averaging_report
-from faultslip.dynamics.averaging import settled_amplitude, simulate_vibration, vibration_dataset, vibration_report
+from faultslip.dynamics.vibration import report as averaging_report
+from faultslip.dynamics.vibration import settled_amplitude, simulate_vibration, vibration_dataset, vibration_report
 from faultslip.errors import InputError
-from faultslip.lab.vibration_scene import load_vibration_scene
+from faultslip.models.vibration.scene import load_vibration_scene
 from faultslip.models.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.models.common import note_origin

@@ -21,7 +21,7 @@ from functools import cached_property
 
 import numpy as np
 
-from faultslip.dynamics import closed_form
+from faultslip.dynamics.spring_slider import closed_form
 from faultslip.errors import InputError
 from faultslip.friction.laws import ConstantKinetic, ConstantStatic, LinearKinetic, RateLaw, TimeOfStickLaw
 from faultslip.friction.materials import Preset, get_preset

@@ -1,6 +1,6 @@
 """Integrators of a rate-and-state fault's cycles behind the method interface: error and cost declared, auto by cost.
 
-A quasi-dynamic spring-slider fault (:func:`faultslip.dynamics.rate_state.fault_cycles`) spends
+A quasi-dynamic spring-slider fault (:func:`faultslip.dynamics.rate_state.slider.fault_cycles`) spends
 centuries creeping and seconds rupturing. Two integrators:
 
 * ``dopri5``: explicit Dormand-Prince 5(4), any law. Between events its step is stability-limited
@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from faultslip.dynamics.assessment import Assessment
+from faultslip.dynamics.shared.assessment import Assessment
 from faultslip.errors import InputError
 
 #: calibrated tolerances: the loosest that meets a requested error is used

@@ -1,7 +1,7 @@
 """The Dormand & Prince (1980) 5(4) Runge-Kutta pair and its order-4 continuous extension (Shampine 1986).
 
-Shared by the pure-Python integrator (:func:`faultslip.dynamics.rate_state.dopri5`) and the compiled
-kernel (:mod:`faultslip.dynamics.rate_state_compiled`). Hairer, Norsett & Wanner, Solving ODEs I,
+Shared by the pure-Python integrator (:func:`faultslip.dynamics.rate_state.slider.dopri5`) and the compiled
+kernel (:mod:`faultslip.dynamics.rate_state.compiled`). Hairer, Norsett & Wanner, Solving ODEs I,
 Table 5.2; tests compare every coefficient with scipy's RK45.
 """
 

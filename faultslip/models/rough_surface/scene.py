@@ -30,8 +30,8 @@ import numpy as np
 
 from pathlib import Path
 
-from faultslip.dynamics.simulate import simulate
-from faultslip.dynamics.slider import SliderSystem
+from faultslip.dynamics.spring_slider.simulate import simulate
+from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.errors import InputError, SolverError
 from faultslip.fault.scene import read_text_file, resolve_path, scene_document
 from faultslip.friction.laws import (SEPARATION_MEMORIES, STANDARD_GRAVITY, ConstantStatic,
@@ -189,7 +189,7 @@ def separation_sweep(surface: Surface, *, mass: float, stiffness: float, normal_
                                          {"units": "s m-1", "long_name": f"c (separation = c {separation_reference} |u|)"})}
     data = {name: (("memory", "separation_coefficient"), values[name], {"units": units[name]}) for name in names}
     data["regime"] = (("memory", "separation_coefficient"), regimes.astype(str))
-    return xr.Dataset(data, coords=coords, attrs={"source": "faultslip.lab.rough_slider.separation_sweep (seed 000 §5.5)",
+    return xr.Dataset(data, coords=coords, attrs={"source": "faultslip.models.rough_surface.scene.separation_sweep (seed 000 §5.5)",
                                                   "separation_reference": separation_reference})
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from faultslip.dynamics.nanoscale import choose_method
 from faultslip.dynamics.nanoscale import report as nanoscale_report
 from faultslip.dynamics.nanoscale import run_dataset
-from faultslip.lab.nanoscale_scene import load_nanoscale_scene
+from faultslip.models.nanoscale.scene import load_nanoscale_scene
 from faultslip.models.common import note_origin
 from faultslip.models.registry import Family, register
 from faultslip.models.result import Result
@@ -38,5 +38,5 @@ def simulate(scene, allow_large: bool = False) -> Result:
 
 
 FAMILY = register(Family("nanoscale", "seed 001: nanoscale stick-slip with contact charging", run, simulate,
-                         simulate_options=("allow_large",),
+                         simulate_options=("allow_large",), run_options=("allow_large",),
                          why="a nanoscale scene sets its run in [run] and its accuracy in [method] tolerance"))

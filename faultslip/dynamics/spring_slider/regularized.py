@@ -24,8 +24,8 @@ from __future__ import annotations
 import numpy as np
 
 from faultslip.errors import SolverError
-from faultslip.dynamics.simulate import _BudgetExceeded
-from faultslip.dynamics.exact_cycle import exact_cycle
+from faultslip.dynamics.spring_slider.simulate import _BudgetExceeded
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
 
 STRIBECK_FACTOR = 10.0
 

@@ -4,7 +4,7 @@ Exact condition
 ---------------
 Stick-slip stops where the slip trajectory only just touches x' = V again: the first velocity
 maximum after break-away equals V (tangency: x' = V, x'' = 0; seed Fig. 2-8b). In the
-dimensionless form of :mod:`faultslip.dynamics.exact_cycle` this is a condition on
+dimensionless form of :mod:`faultslip.dynamics.spring_slider.exact_cycle` this is a condition on
 :math:`\\epsilon = \\dot\\theta/(\\omega_n(\\mu_s-\\mu_m))` alone, :math:`\\epsilon = \\epsilon_c(\\zeta)`,
 found by root-finding on the analytic velocity maximum. With the rate law it becomes
 
@@ -32,7 +32,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from faultslip.dynamics.exact_cycle import _Oscillator, _require_linear_rate_system
+from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, _require_linear_rate_system
 from faultslip.errors import InputError
 from faultslip.io.report import Report
 from faultslip.friction.materials import get_preset
@@ -181,7 +181,7 @@ class CriticalResult:
 
 
 def critical(system) -> CriticalResult:
-    """Exact and seed critical loading rates for a :class:`~faultslip.dynamics.slider.SliderSystem`."""
+    """Exact and seed critical loading rates for a :class:`~faultslip.dynamics.spring_slider.slider.SliderSystem`."""
     _require_linear_rate_system(system, "critical loading rate")
     law = system.static_law
     if not hasattr(law, "mu_so"):

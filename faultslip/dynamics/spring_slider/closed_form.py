@@ -4,7 +4,7 @@ The closed form assumes the slip phase starts from rest relative to the
 ground (platform speed neglected during slip). It is exact only as the loading
 rate tends to zero; its error grows with the dimensionless rate
 ``epsilon = theta_dot / (omega_n (mu_s - mu_m))`` (see
-:mod:`faultslip.dynamics.exact_cycle`), and above the critical loading rate it predicts
+:mod:`faultslip.dynamics.spring_slider.exact_cycle`), and above the critical loading rate it predicts
 stick-slip where there is none.
 
 All functions are pure and vectorised (numpy, xarray). SI units throughout.
@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from faultslip.friction.laws import static_friction_excess
-from faultslip.dynamics.critical import cached_critical_dimensionless_rate
-from faultslip.dynamics.cycle import CycleResult, GROWING_OSCILLATION, STICK_SLIP
+from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
+from faultslip.dynamics.shared.cycle import CycleResult, GROWING_OSCILLATION, STICK_SLIP
 from faultslip.errors import MethodError, OutOfDomainWarning
 import warnings
 
@@ -194,7 +194,7 @@ def peak_slip_speed(stiffness, mass, normal_load, static_excess, damping_ratio=0
 
 
 def closed_form_cycle(system):
-    """The seed's closed-form cycle for a :class:`faultslip.dynamics.slider.SliderSystem`.
+    """The seed's closed-form cycle for a :class:`faultslip.dynamics.spring_slider.slider.SliderSystem`.
 
     Requires a rate- or constant static law (the limit must not depend on the
     stick time) and uses the kinetic law's friction at rest as mu_m and its

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics.cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP, CycleResult
+from faultslip.dynamics.shared.cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP, CycleResult
 from faultslip.errors import InputError, MethodError
 
 #: Regime codes in the vectorised arrays.
@@ -302,7 +302,7 @@ def _require_linear_rate_system(system, method="exact cycle"):
 
 
 def exact_cycle(system) -> CycleResult:
-    """The exact limit cycle of a :class:`~faultslip.dynamics.slider.SliderSystem` with a linear kinetic law."""
+    """The exact limit cycle of a :class:`~faultslip.dynamics.spring_slider.slider.SliderSystem` with a linear kinetic law."""
     _require_linear_rate_system(system)
     q = exact_cycle_arrays(
         system.loading_rate, system.normal_load, system.stiffness, system.mass,

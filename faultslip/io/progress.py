@@ -1,0 +1,92 @@
+"""Progress of long work, through one library (tqdm), wherever the user watches.
+
+A long function takes ``progress``: ``None`` or ``False`` for silence, ``True`` for a bar, or a
+callable ``(done, total)``. :func:`reporter` turns ``True`` into a tqdm bar that suits where the
+output goes:
+
+* a terminal: a live bar on stderr, shown after ``delay`` seconds so quick runs stay quiet;
+* a notebook (an IPython kernel is running): ``tqdm.auto``'s widget, or its text bar without
+  ipywidgets;
+* stderr redirected to a file or a pipe: one plain log line every ``interval`` seconds, and a last
+  line when the work ends, instead of carriage returns a log cannot show.
+
+tqdm (MPL-2.0/MIT) is small, pure Python and kept; it is imported only when a bar is shown.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+
+class _LogLines:
+    """A text stream for tqdm that writes each refresh as one line (a log file has no carriage return)."""
+
+    def __init__(self, stream):
+        self.stream = stream
+        self.last = ""
+
+    def write(self, text):
+        line = text.replace("\r", "").replace("\x1b[A", "").strip()
+        if line and line != self.last:
+            self.last = line
+            self.stream.write(time.strftime("%H:%M:%S ") + line + "\n")
+
+    def flush(self):
+        self.stream.flush()
+
+
+def _in_notebook() -> bool:
+    shell = sys.modules.get("IPython")
+    try:
+        return shell is not None and shell.get_ipython() is not None and \
+            "IPKernelApp" in shell.get_ipython().config
+    except Exception:  # an IPython without a kernel, or an unusual shell: not a notebook
+        return False
+
+
+class Progress:
+    """A callable ``(done, total)`` over one tqdm bar; closes itself when ``done`` reaches ``total``."""
+
+    def __init__(self, label: str, unit: str = "it", delay: float = 2.0, interval: float = 30.0, stream=None):
+        self.label, self.unit, self.delay, self.interval = label, unit, delay, interval
+        self.stream = stream if stream is not None else sys.stderr
+        self.bar = None
+
+    def _open(self, total):
+        if _in_notebook():
+            from tqdm.auto import tqdm  # heavy: imported where used (the widget or text bar)
+
+            return tqdm(total=total, desc=self.label, unit=self.unit, delay=self.delay)
+        from tqdm import tqdm  # heavy: imported where used
+
+        if getattr(self.stream, "isatty", lambda: False)():
+            return tqdm(total=total, desc=self.label, unit=self.unit, delay=self.delay, file=self.stream,
+                        dynamic_ncols=True)
+        return tqdm(total=total, desc=self.label, unit=self.unit, delay=self.delay, file=_LogLines(self.stream),
+                    mininterval=self.interval, maxinterval=self.interval, ascii=True, ncols=80)
+
+    def __call__(self, done: int, total: int | None = None) -> None:
+        if self.bar is None:
+            self.bar = self._open(total)
+        elif total is not None and self.bar.total != total:
+            self.bar.total = total
+        self.bar.update(done - self.bar.n)
+        if total is not None and done >= total:
+            self.close()
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+
+
+def reporter(progress, label: str, unit: str = "it"):
+    """``progress`` as a callable ``(done, total)`` or None: True gives a :class:`Progress` bar."""
+    if progress is None or progress is False:
+        return None
+    if progress is True:
+        return Progress(label, unit)
+    if callable(progress):
+        return progress
+    raise TypeError(f"progress must be True, False, None or a callable (done, total), got {progress!r}")
