@@ -28,8 +28,9 @@ class _LogLines:
 
     def write(self, text):
         line = text.replace("\r", "").replace("\x1b[A", "").strip()
-        if line and line != self.last:
-            self.last = line
+        count = line.split("[", 1)[0]  # label, bar and done/total: a refresh that moved nothing is not a line
+        if line and count != self.last:
+            self.last = count
             self.stream.write(time.strftime("%H:%M:%S ") + line + "\n")
 
     def flush(self):
