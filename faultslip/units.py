@@ -7,45 +7,156 @@ documents a default unit. Inside the package everything is SI.
 
 The year is the Julian year, 365.25 d (pint's ``year``; pinned here and in the
 tests). Seed 003 used 365 d, a 0.07 % difference.
+
+pint loads on first need, not at import. Every factor pint gives for a unit text is kept in a
+small file in the user's cache folder (:func:`_memo`), keyed to the installed pint, so that a
+command whose units were seen before starts without pint (0.13 s of a closed-form answer's
+0.5 s). A unit that is new, wrong or unknown always asks pint itself.
 """
 
 from __future__ import annotations
 
 import functools
+import importlib.util
+import json
 import math
 import numbers
+import os
 import re
+import sys
+import tempfile
+from pathlib import Path
 
 import numpy as np
-import pint
 
 from faultslip.errors import InputError
 
 
-
-def _registry() -> pint.UnitRegistry:
-    """pint's registry, built from its definitions cached on disk after the first run.
-
-    Parsing pint's definition files takes about 0.2 s at every start; with ``cache_folder`` pint
-    keeps the parsed result in the user cache folder and a later start reads it in ~0.02 s. A
-    cache folder that cannot be written only costs the parse.
-    """
-    try:
-        return pint.UnitRegistry(cache_folder=":auto:")
-    except Exception:  # noqa: BLE001 (an unwritable or damaged cache must never stop faultslip)
-        return pint.UnitRegistry()
-
-
-units = _registry()
-Quantity = units.Quantity
 
 #: Seconds in one Julian year (365.25 d): the only year faultslip uses.
 JULIAN_YEAR = 365.25 * 86400.0
 #: Standard gravity, used for a load given as a mass (W = M g).
 STANDARD_GRAVITY = 9.80665
 
-if not math.isclose(units.Quantity(1, "year").to("s").magnitude, JULIAN_YEAR):
-    raise ImportError("pint's year is not the Julian year; faultslip requires 365.25 d")
+_REGISTRY = None
+#: Set by the command line: load pint with its probe for dask answered "absent". pint.compat
+#: imports dask.base (0.1 s) only so that a Quantity can wrap a dask array; the command line never
+#: makes one (its quantities are SI floats, its dask arrays stay bare inside xarray), and a later
+#: ``import dask`` works as usual. The Python API leaves it False: a notebook may wrap dask arrays.
+PINT_WITHOUT_DASK = False
+
+
+def _import_pint():
+    if not PINT_WITHOUT_DASK or "dask" in sys.modules or "pint" in sys.modules:
+        import pint  # heavy: imported where used
+
+        return pint
+    sys.modules["dask"] = None  # find_spec("dask") is None while pint loads; removed at once below
+    try:
+        import pint  # heavy: imported where used
+    finally:
+        del sys.modules["dask"]
+    return pint
+
+
+def registry():
+    """pint's registry, loaded on first use and built from its definitions cached on disk.
+
+    Parsing pint's definition files takes about 0.2 s; with ``cache_folder`` pint keeps the
+    parsed result in the user cache folder and a later start reads it in ~0.02 s. A cache folder
+    that cannot be written only costs the parse.
+    """
+    global _REGISTRY
+    if _REGISTRY is None:
+        pint = _import_pint()  # 0.13 s: a command whose units are memoised never needs it
+        try:
+            built = pint.UnitRegistry(cache_folder=":auto:")
+        except Exception:  # noqa: BLE001 (an unwritable or damaged cache must never stop faultslip)
+            built = pint.UnitRegistry()
+        if not math.isclose(built.Quantity(1, "year").to("s").magnitude, JULIAN_YEAR):
+            raise ImportError("pint's year is not the Julian year; faultslip requires 365.25 d")
+        _REGISTRY = built
+    return _REGISTRY
+
+
+def __getattr__(name):  # PEP 562: ``units`` and ``Quantity`` load pint when first asked for
+    if name == "units":
+        return registry()
+    if name == "Quantity":
+        return registry().Quantity
+    raise AttributeError(f"module 'faultslip.units' has no attribute {name!r}")
+
+
+def quantity(value, unit: str):
+    """A pint Quantity of ``value`` in ``unit`` (pint loads on first use)."""
+    return registry().Quantity(value, unit)
+
+
+def is_quantity(value) -> bool:
+    """Whether ``value`` is a pint Quantity; without pint loaded, nothing can be one."""
+    pint = sys.modules.get("pint")
+    return pint is not None and isinstance(value, pint.Quantity)
+
+
+# --- pint's answers, memoised on disk ---------------------------------------------------------
+
+_MEMO: dict | None = None
+#: Entries kept at most: the file stays small however many units a user tries.
+MEMO_ENTRIES = 4096
+
+
+def _memo_path() -> Path:
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "faultslip" / "unit_factors.json"
+
+
+def _pint_fingerprint() -> str:
+    """Which pint answers: its installed file (path and modification time), found without importing it."""
+    spec = importlib.util.find_spec("pint")
+    origin = (spec.origin or "") if spec is not None else ""
+    try:
+        return f"{origin}:{os.stat(origin).st_mtime_ns}"
+    except OSError:
+        return origin
+
+
+def _memo() -> dict:
+    """The memo of pint's factors, read from disk once; a missing, damaged or stale memo is empty."""
+    global _MEMO
+    if _MEMO is None:
+        _MEMO = {}
+        try:
+            stored = json.loads(_memo_path().read_text(encoding="utf-8"))
+            if stored.get("pint") == _pint_fingerprint() and isinstance(stored.get("factors"), dict):
+                _MEMO = {key: (value[0], value[1]) for key, value in stored["factors"].items()
+                         if isinstance(value, list) and len(value) == 2 and isinstance(value[0], float)
+                         and math.isfinite(value[0]) and isinstance(value[1], str)}
+        except (OSError, ValueError, AttributeError, TypeError):
+            pass
+    return _MEMO
+
+
+def _remember(key: str, answer: tuple) -> None:
+    """Keep one of pint's answers; the file is replaced atomically, and a failed write costs nothing."""
+    memo = _memo()
+    memo[key] = answer
+    for old in list(memo)[: max(0, len(memo) - MEMO_ENTRIES)]:
+        memo.pop(old)
+    path = _memo_path()
+    temporary = None
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=".unit_factors.", suffix=".tmp")
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            json.dump({"pint": _pint_fingerprint(), "factors": {k: list(v) for k, v in memo.items()}}, stream)
+        os.replace(temporary, path)
+    except OSError:
+        if temporary is not None:
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass
+
 
 #: kind -> (pint dimensionality, SI unit string, phrase used in messages)
 KINDS: dict[str, tuple[str, str, str]] = {
@@ -77,11 +188,11 @@ _GRAVITATIONAL = {"force", "stiffness", "damping"}
 
 
 def _dimensionality(kind: str):
-    return units.get_dimensionality(KINDS[kind][0])
+    return registry().get_dimensionality(KINDS[kind][0])
 
 
 def _describe(value) -> str:
-    if isinstance(value, pint.Quantity):
+    if is_quantity(value):
         return f"{value:~P}"
     return str(value)
 
@@ -207,7 +318,21 @@ def _check_unit_grammar(tokens, original: str, name: str) -> str:
 
 @functools.lru_cache(maxsize=4096)
 def _unit_factor(unit_text: str, kind: str):
-    """(multiplier to the SI unit of ``kind``, note) for a pint-ready unit; raises pint errors or ValueError."""
+    """(multiplier to the SI unit of ``kind``, note) for a pint-ready unit; raises pint errors or ValueError.
+
+    pint's answer is memoised on disk (:func:`_memo`); a unit pint refuses is never memoised."""
+    key = f"{kind}\x1f{unit_text}"
+    known = _memo().get(key)
+    if known is not None:
+        return known
+    answer = _pint_unit_factor(unit_text, kind)
+    _remember(key, (float(answer[0]), answer[1]))
+    return answer
+
+
+def _pint_unit_factor(unit_text: str, kind: str):
+    units = registry()
+    pint = _import_pint()
     dims = _dimensionality(kind)
     quantity = units.Quantity(1.0, unit_text)
     root = quantity.to_root_units()
@@ -241,20 +366,30 @@ def unit_factor(unit_text: str, kind: str, name: str) -> float:
 def _lookup(clean: str, kind: str, name: str, original: str):
     try:
         return _unit_factor(clean, kind)
+    except Exception as error:  # pint raises many types on odd text; every one is the user's input
+        raise _unit_error(error, clean, kind, name, original) from None
+
+
+def _unit_error(error, clean, kind, name, original) -> InputError:
+    """One sentence for a unit pint refused (pint is loaded: it was asked)."""
+    pint = _import_pint()
+
+    try:
+        raise error
     except pint.UndefinedUnitError as exc:
         unknown = ", ".join(repr(u) for u in getattr(exc, "unit_names", ()) or ()) or repr(clean)
-        raise InputError(f"{name}: unknown unit {unknown} in {original!r}; give a number with units such as "
-                         f"{_example(kind)}") from None
+        return InputError(f"{name}: unknown unit {unknown} in {original!r}; give a number with units such as "
+                         f"{_example(kind)}")
     except pint.DimensionalityError:
         if kind == "dimensionless":
-            raise InputError(f"{name} must be a dimensionless number, got {original}") from None
-        raise InputError(f"{name} must be {KINDS[kind][2]} such as {_example(kind)}, got {original}") from None
+            return InputError(f"{name} must be a dimensionless number, got {original}")
+        return InputError(f"{name} must be {KINDS[kind][2]} such as {_example(kind)}, got {original}")
     except ValueError as exc:
         if str(exc) == "angle":
-            raise InputError(f"{name} must be {KINDS[kind][2]}; an angle unit has no meaning here, got {original!r}") from None
-        raise InputError(f"{name}: cannot read {original!r}; give a number with units such as {_example(kind)}") from None
+            return InputError(f"{name} must be {KINDS[kind][2]}; an angle unit has no meaning here, got {original!r}")
+        return InputError(f"{name}: cannot read {original!r}; give a number with units such as {_example(kind)}")
     except Exception:  # pint raises many types on odd text; every one is the user's input
-        raise InputError(f"{name}: cannot read {original!r}; give a number with units such as {_example(kind)}") from None
+        return InputError(f"{name}: cannot read {original!r}; give a number with units such as {_example(kind)}")
 
 
 def parse_quantity_text(value: str, kind: str, name: str, default_unit: str | None = None) -> float:
@@ -328,7 +463,7 @@ def to_si(value, kind: str, name: str, default_unit: str | None = None):
         raise InputError(f"{name} must be {KINDS[kind][2]}, got {value!r}")
     if isinstance(value, str):
         return parse_quantity_text(value, kind, name, default_unit)
-    if isinstance(value, pint.Quantity):
+    if is_quantity(value):
         try:
             magnitude = np.asarray(value.magnitude, dtype=float)
             unit_text = str(value.units)
@@ -342,7 +477,7 @@ def to_si(value, kind: str, name: str, default_unit: str | None = None):
 
 def to_si_scalar(value, kind: str, name: str, default_unit: str | None = None) -> float:
     """:func:`to_si` for one value from a file: a list, table, date or boolean is refused."""
-    if isinstance(value, bool) or not isinstance(value, (str, int, float, pint.Quantity)):
+    if isinstance(value, bool) or not (isinstance(value, (str, int, float)) or is_quantity(value)):
         raise InputError(f"{name} must be a single value such as {_example(kind)}, got {_short(value)}")
     result = to_si(value, kind, name, default_unit)
     if np.ndim(result):
@@ -434,7 +569,22 @@ def _json_number(value):
 
 def convert(value_si, si: str, target: str) -> float:
     """Convert an SI magnitude to ``target`` units (for human-readable reports)."""
-    return units.Quantity(value_si, si).to(target).magnitude
+    return value_si * _conversion(si, target)
+
+
+@functools.lru_cache(maxsize=256)
+def _conversion(si: str, target: str) -> float:
+    """The factor from ``si`` to ``target`` (multiplicative units only), memoised like unit factors."""
+    key = f"convert\x1f{si}\x1f{target}"
+    known = _memo().get(key)
+    if known is not None:
+        return known[0]
+    units = registry()
+    if units.Quantity(0.0, si).to(target).magnitude != 0.0:
+        raise ValueError(f"{si} to {target} is not a multiplicative conversion")
+    factor = float(units.Quantity(1.0, si).to(target).magnitude)
+    _remember(key, (factor, ""))
+    return factor
 
 
 #: CF attributes of a run's model time. It is an elapsed time in seconds, not a date: CF's time

@@ -1,6 +1,8 @@
 """Units at the boundary: parsing, the Julian year, and rejected inputs."""
 
+import json
 import math
+import os
 
 import numpy as np
 import pint
@@ -82,3 +84,78 @@ def test_load_in_pounds_mass_is_read_as_a_weight():
     assert to_si("225.8 lb", "force", "W") == pytest.approx(to_si("225.8 lbf", "force", "W"), rel=1e-12)
     with pytest.raises(InputError):
         to_si("2 kg", "length", "D")  # the gravitational reading applies to forces only
+
+
+# --- pint on demand, its answers memoised (issue 32's start-up target) ---------------------------
+
+def _fresh_memo(monkeypatch, folder):
+    import faultslip.units as fu
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(folder))
+    monkeypatch.setattr(fu, "_MEMO", None)
+    fu._unit_factor.cache_clear()
+    fu._conversion.cache_clear()
+    return fu
+
+
+@pytest.mark.parametrize("text, kind", [("13 mi", "length"), ("2 in/yr", "speed"), ("0.25e6 bar", "pressure"),
+                                        ("225.8 lb", "force"), ("125 rad/s", "frequency"), ("1e-3 1/um", "inverse_length"),
+                                        ("3.8 MPa*s/m", "stress_damping"), ("100 yr", "time")])
+def test_the_memo_gives_exactly_what_pint_gives(monkeypatch, tmp_path, text, kind):
+    fu = _fresh_memo(monkeypatch, tmp_path)
+    first = fu.to_si(text, kind, "x")  # asks pint and remembers
+    fu = _fresh_memo(monkeypatch, tmp_path)
+    again = fu.to_si(text, kind, "x")  # read from the file
+    assert again == first
+    stored = json.loads((tmp_path / "faultslip" / "unit_factors.json").read_text())
+    for key, (factor, note) in stored["factors"].items():
+        kind_, unit = key.split("\x1f", 1)
+        assert fu._pint_unit_factor(unit, kind_) == (factor, note)
+
+
+def test_a_stale_or_damaged_memo_is_ignored_and_rewritten(monkeypatch, tmp_path):
+    fu = _fresh_memo(monkeypatch, tmp_path)
+    path = tmp_path / "faultslip" / "unit_factors.json"
+    path.parent.mkdir(parents=True)
+    path.write_text(json.dumps({"pint": "another pint", "factors": {"length\x1fmi": [1.0, ""]}}))
+    assert fu.to_si("1 mi", "length", "x") == 1609.344
+    fu = _fresh_memo(monkeypatch, tmp_path)
+    path.write_text("{not json")
+    assert fu.to_si("1 mi", "length", "x") == 1609.344
+    assert json.loads(path.read_text())["factors"]["length\x1fmi"] == [1609.344, ""]
+
+
+def test_an_unwritable_cache_costs_only_the_lookup(monkeypatch, tmp_path):
+    blocked = tmp_path / "file"
+    blocked.write_text("a file where the folder would be")
+    fu = _fresh_memo(monkeypatch, blocked)
+    assert fu.to_si("13 mi", "length", "x") == pytest.approx(20921.472)
+    with pytest.raises(InputError, match="unknown unit"):
+        fu.to_si("13 zorkmids", "length", "x")
+
+
+def test_a_closed_form_command_with_known_units_starts_without_pint(tmp_path):
+    import subprocess
+    import sys
+
+    code = ("import sys; from faultslip.cli.main import main; "
+            "main(['fault', '--lithology', 'granodiorite', '--zone-width', '13 mi', '--shear-stress', '250 bar', "
+            "'--slip-rate', '2 in/yr', '--json']); print('pint' in sys.modules, 'dask' in sys.modules, file=sys.stderr)")
+    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path))
+    runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+            for _ in range(2)]
+    assert all(run.returncode == 0 for run in runs), runs[0].stderr
+    assert runs[0].stdout == runs[1].stdout  # the memo changes nothing in the answer
+    assert runs[0].stderr.split()[-2:] == ["True", "False"]  # the first run asked pint, without dask
+    assert runs[1].stderr.split()[-2:] == ["False", "False"]  # the second did not need it
+
+
+def test_pint_loaded_without_its_dask_probe_leaves_dask_importable():
+    import subprocess
+    import sys
+
+    code = ("import faultslip.units as fu; fu.PINT_WITHOUT_DASK = True; fu.registry(); import pint.compat, dask.array; "
+            "print(pint.compat.HAS_DASK, dask.array.ones(3).sum().compute())")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["False", "3.0"]

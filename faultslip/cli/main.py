@@ -439,6 +439,8 @@ def main(argv=None) -> int:
             parser.print_help(sys.stderr)
             return 2
         module, function = handler.split(":")
+        # pint, when a command needs it, loads without its dask probe (faultslip.units.PINT_WITHOUT_DASK)
+        importlib.import_module("faultslip.units").PINT_WITHOUT_DASK = True
         command = getattr(importlib.import_module(f"faultslip.cli.{module}"), function)
         with transaction():  # a command's outputs appear together when it succeeds, or none do
             return command(args)

@@ -34,7 +34,7 @@ from faultslip.fault import empirical
 from faultslip.friction.laws import RateLaw
 from faultslip.friction.materials import MaterialChoice, resolve_material
 from faultslip.io.report import Report
-from faultslip.units import Quantity, si_unit, to_si
+from faultslip.units import quantity, si_unit, to_si
 
 #: Constant of the moment magnitude, Mw = (2/3)(log10 M0[N m] - 9.1): the
 #: IASPEI (2013) standard. Hanks & Kanamori (1979) is equivalent to 9.05; pass
@@ -247,7 +247,7 @@ class Fault:
             if f.name == "material":
                 continue
             if f.name in _QUANTITY_FIELDS and value is not None:
-                value = Quantity(value, si_unit(_QUANTITY_FIELDS[f.name][0]))
+                value = quantity(value, si_unit(_QUANTITY_FIELDS[f.name][0]))
             keep[f.name] = value
         if changes.get("shear_stress") is not None:
             keep["normal_stress"] = None
@@ -350,7 +350,7 @@ class FaultEstimate:
 
     def quantities(self) -> dict:
         """Every predicted value as a pint Quantity: ``estimate.quantities()["recurrence_period"].to("yr")``."""
-        return {name: Quantity(getattr(self, name), unit or "dimensionless") for name, unit in self.UNITS.items()
+        return {name: quantity(getattr(self, name), unit or "dimensionless") for name, unit in self.UNITS.items()
                 if getattr(self, name) is not None}
 
     def __getitem__(self, name: str):

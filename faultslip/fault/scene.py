@@ -39,7 +39,7 @@ from faultslip.friction.materials import resolve_material
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.friction.laws import ConstantKinetic, ConstantStatic, LinearKinetic, PolynomialKinetic, TimeOfStickLaw
 from faultslip.io.geo import parse_trace
-from faultslip.units import to_si, to_si_scalar, units
+from faultslip.units import registry, to_si, to_si_scalar
 
 #: Allowed keys of each table; value is the unit kind (None: a plain value).
 SCHEMA: dict[str, dict[str, str | None]] = {
@@ -324,7 +324,7 @@ def _check_value(table, key, value, kind, source):
         return
     if kind == "unit":
         try:
-            ok = units.Quantity(1, value).dimensionality == units.get_dimensionality("[length]/[time]")
+            ok = registry().Quantity(1, value).dimensionality == registry().get_dimensionality("[length]/[time]")
         except Exception:
             ok = False
         if not ok:
@@ -366,7 +366,7 @@ def apply_friction(system, spec: dict, name: str = "scene"):
         changes["kinetic_law"] = LinearKinetic(mu_m, to_si(spec["kinetic_slope"], "slowness", "kinetic_slope"))
     elif kinetic == "polynomial":
         _need(spec, ("polynomial",), "kinetic = \"polynomial\"", name)
-        unit = units.Quantity(1, spec.get("polynomial_speed_unit", "m/s")).to("m/s").magnitude
+        unit = registry().Quantity(1, spec.get("polynomial_speed_unit", "m/s")).to("m/s").magnitude
         changes["kinetic_law"] = PolynomialKinetic([c / unit**k for k, c in enumerate(spec["polynomial"])])
     updated = system.with_(**changes)
     law = updated.static_law

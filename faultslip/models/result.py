@@ -8,7 +8,7 @@ from typing import Callable
 
 from faultslip.errors import InputError
 from faultslip.io.report import Report
-from faultslip.units import Quantity
+from faultslip.units import quantity
 
 
 @dataclass
@@ -51,7 +51,7 @@ class Result:
         for item in self.summary.items:
             if item.key == key:
                 if item.is_quantity and isinstance(item.value, (int, float)) and not isinstance(item.value, bool):
-                    return Quantity(item.value, "dimensionless" if item.units in ("1", "") else item.units)
+                    return quantity(item.value, "dimensionless" if item.units in ("1", "") else item.units)
                 return item.value
         raise KeyError(f"{key!r} is not among this result's values ({', '.join(self.keys())})")
 

@@ -55,7 +55,7 @@ from faultslip.friction.materials import get_preset, resolve_material
 from faultslip.friction.rate_state import EVOLUTION_LAWS
 from faultslip.io import budget
 from faultslip.io.budget import MAX_DIMENSION_VALUES
-from faultslip.units import Quantity
+from faultslip.units import is_quantity
 from datetime import datetime, timezone
 
 #: Sweepable parameters: name -> (unit kind, SI unit, long name). "category" is a string dimension.
@@ -956,7 +956,7 @@ def _study_text(scene, method, tolerance, dims, cycles: int = 0) -> str:
     def literal(value):
         if isinstance(value, str):
             return '"' + value.replace('"', '\\"') + '"'
-        if isinstance(value, Quantity):
+        if is_quantity(value):
             return f'"{value.magnitude!r} {value.units:~}"'
         return repr(float(value))
 
