@@ -190,7 +190,7 @@ def test_the_api_reference_lists_every_public_name():
 #: The families in dynamics/: each imports only itself, the shared machinery and, for seed 002's
 #: averaging built on it, the spring-slider. The method hierarchy (methods, kernel) sits above them.
 DYNAMICS_FAMILIES = {"spring_slider": set(), "rate_state": set(), "vibration": {"spring_slider"},
-                     "nanoscale": set(), "asperity": set()}
+                     "nanoscale": set(), "asperity": set(), "fault_2d": set()}
 DYNAMICS_HUB = {"methods", "kernel"}
 
 

@@ -156,6 +156,9 @@ def _scenes_commands(commands) -> None:
     simulate.add_argument("--sampling-rate", help="stream sampling rate in Hz (default: 20 samples per slip phase, "
                                                   "within 2e6 samples)")
     simulate.add_argument("--start-time", help="UTC time of model time 0, ISO 8601 (default 2000-01-01)")
+    simulate.add_argument("--output-dir", help="a 2-D fault's run folder: SEAS station files, slip profiles, events and "
+                                               "netCDF, with checkpoints for --resume")
+    simulate.add_argument("--resume", action="store_true", help="continue a 2-D fault run from its last checkpoint")
     simulate.add_argument("--json", action="store_true", help="print one JSON object")
     simulate.set_defaults(handler="scenes:cmd_simulate")
 

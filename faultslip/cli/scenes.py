@@ -184,7 +184,8 @@ def cmd_simulate(args) -> int:
     result = models.simulate(args.scene, cycles=args.cycles, slip_solver=args.slip_solver,
                              rtol=_number(args.rtol, "--rtol") if args.rtol is not None else None,
                              allow_large=args.allow_large, stream=bool(outputs["stream"]),
-                             events=bool(outputs["events"]), output=outputs["output"])
+                             events=bool(outputs["events"]), output=outputs["output"], output_dir=args.output_dir,
+                             resume=args.resume, overwrite=args.overwrite)
     report = result.report()
     series = result.series
     if outputs["stream"] or outputs["events"]:  # before anything is written

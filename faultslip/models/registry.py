@@ -46,6 +46,7 @@ DECLARATIONS = {
     "nanoscale": ("faultslip.models.nanoscale", None, "nanoscale"),
     "asperity": ("faultslip.models.asperity", None, "asperity"),
     "rough_surface": ("faultslip.models.rough_surface", None, "rough_surface"),
+    "fault_2d": ("faultslip.models.fault_2d", None, None),  # declared by family = "fault_2d" alone
 }
 
 #: The families loaded so far, by name (:func:`load` fills it).

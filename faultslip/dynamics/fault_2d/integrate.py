@@ -1,0 +1,359 @@
+"""Earthquake cycles of a 2-D fault: adaptive Dormand-Prince 5(4) stepping, recording, restart.
+
+The state is (slip, psi) on every element. The step's error is the embedded 4th-order estimate,
+measured on both, element by element, against ``rtol`` times max(|y|, scale) with the scale D_c
+for slip and 1 for psi (the infinity norm), and the step adapts from years between events to
+milliseconds within them without a restart (Hairer, Norsett & Wanner, Solving ODEs I, II.4).
+
+Recording follows SCEC SEAS BP1 (Erickson et al. 2020): at every step, the stations' slip,
+log10 slip rate, shear stress and log10 state; slip profiles every ``profile_interval`` between
+events and every ``coseismic_interval`` within them; and an event catalogue, an event being the
+time the peak slip rate on the fault exceeds ``event_speed`` (1e-3 m/s).
+
+A run given a ``folder`` streams its records to files there and writes a checkpoint (every
+``checkpoint_every`` seconds of computing, atomically). ``resume=True`` continues from the last
+checkpoint: the state, the step size, the stage derivative kept by the pair's first-same-as-last
+property and the force balance's warm start are all restored, so the continued run is
+bit-identical to one never stopped.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import time as clock
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.dynamics.fault_2d.kernel import StressKernel
+from faultslip.dynamics.fault_2d.model import Fault2D, ForceBalance
+from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62,
+                                                      A63, A64, A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7)
+from faultslip.errors import InputError, SolverError
+from faultslip.io.progress import reporter
+
+YEAR = 365.25 * 86400.0
+#: The SEAS BP1 stations' depths (m).
+BP1_STATIONS = (0.0, 2500.0, 5000.0, 7500.0, 10000.0, 12500.0, 15000.0, 17500.0, 20000.0, 25000.0, 30000.0,
+                35000.0)
+#: Peak slip rate that starts and ends an event (SEAS convention).
+EVENT_SPEED = 1e-3
+#: The checkpoint's layout; a checkpoint of another version is refused, never misread.
+CHECKPOINT_VERSION = 1
+STATION_FIELDS = ("slip", "log10_slip_rate", "shear_stress", "log10_state")
+_C2, _C3, _C4, _C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
+
+
+@dataclass
+class Fault2DRun:
+    """What a run recorded (SI units; stations and profiles as arrays over time)."""
+
+    fault: Fault2D
+    station_depths: np.ndarray
+    station_time: np.ndarray  # (steps + 1,)
+    stations: dict  # field -> (steps + 1, stations)
+    profile_time: np.ndarray
+    profile_max_speed: np.ndarray
+    profiles: np.ndarray  # (profiles, elements): slip
+    profile_log10_slip_rate: np.ndarray  # (profiles, elements)
+    events: dict  # start, end, hypocentre_depth, peak_speed (arrays), slip (events, elements)
+    steps: int
+    rejected: int
+    function_evaluations: int
+    wall_time: float
+    duration: float
+    rtol: float
+    kernel: str
+    final_slip: np.ndarray
+    final_state: np.ndarray
+    final_time: float
+    min_step: float
+    max_step: float
+    resumed_from: float | None = None
+    notes: list = field(default_factory=list)
+
+    @property
+    def event_count(self) -> int:
+        return int(self.events["start"].size)
+
+
+class _Stations:
+    """Linear interpolation between element centres; a depth beyond the first or last centre takes it."""
+
+    def __init__(self, depths, fault: Fault2D):
+        self.depths = np.asarray(depths, float)
+        if np.any(self.depths < 0) or np.any(self.depths > fault.width):
+            raise InputError(f"station depths must lie on the fault, from 0 to {fault.width:g} m")
+        centres = fault.depth
+        position = np.clip((self.depths - centres[0]) / fault.element_size, 0.0, fault.count - 1.0)
+        self.lower = np.minimum(np.floor(position).astype(int), fault.count - 2)
+        self.weight = position - self.lower
+
+    def __call__(self, values: np.ndarray) -> np.ndarray:
+        return values[self.lower] * (1.0 - self.weight) + values[self.lower + 1] * self.weight
+
+
+class _Store:
+    """Rows appended to a float64 file (or kept in memory without a folder); truncated on resume."""
+
+    def __init__(self, path: Path | None, width: int, rows_kept: int = 0):
+        self.path, self.width, self.buffer, self.rows = path, width, [], rows_kept
+        self.memory = []
+        if path is not None:
+            if rows_kept:
+                with open(path, "r+b") as handle:
+                    handle.truncate(rows_kept * width * 8)
+            else:
+                path.write_bytes(b"")
+
+    def append(self, row: np.ndarray) -> None:
+        self.buffer.append(row)
+        self.rows += 1
+        if len(self.buffer) >= 4096:
+            self.flush()
+
+    def flush(self) -> None:
+        if not self.buffer:
+            return
+        block = np.asarray(self.buffer, dtype=np.float64).reshape(-1, self.width)
+        self.buffer = []
+        if self.path is None:
+            self.memory.append(block)
+            return
+        with open(self.path, "ab") as handle:
+            block.tofile(handle)
+            handle.flush()
+            os.fsync(handle.fileno())
+
+    def read(self) -> np.ndarray:
+        self.flush()
+        if self.path is None:
+            return np.concatenate(self.memory) if self.memory else np.empty((0, self.width))
+        return np.fromfile(self.path, dtype=np.float64).reshape(-1, self.width)[: self.rows]
+
+
+def fingerprint(fault: Fault2D, settings: dict) -> str:
+    """A digest of everything that decides a run's numbers: a checkpoint of another run is refused."""
+    digest = hashlib.sha256()
+    for key in ("a", "b", "critical_slip", "normal_stress", "initial_shear_stress", "initial_state"):
+        digest.update(np.ascontiguousarray(getattr(fault, key)).tobytes())
+    scalars = {key: getattr(fault, key) for key in ("element_size", "shear_modulus", "shear_wave_speed", "plate_rate",
+                                                   "reference_speed", "reference_friction", "evolution")}
+    digest.update(json.dumps({**scalars, **settings}, sort_keys=True, default=repr).encode())
+    return digest.hexdigest()
+
+
+def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=BP1_STATIONS, kernel: str = "auto",
+               profile_interval: float = 5 * YEAR, coseismic_interval: float = 1.0, event_speed: float = EVENT_SPEED,
+               folder=None, resume: bool = False, checkpoint_every: float = 60.0, max_steps: int = 20_000_000,
+               stop_after_steps: int | None = None, progress=None, initial_step: float = 1.0) -> Fault2DRun:
+    """Integrate ``fault`` from t = 0 to ``duration`` (s) and record stations, profiles and events.
+
+    ``folder``: stream records and checkpoints there (a run can then be resumed). ``stop_after_steps``
+    stops as a kill would, right after a checkpoint at that step (for tests of restart).
+    ``progress``: True for a bar, or a callable (done, total) in years (:mod:`faultslip.io.progress`).
+    """
+    if not (duration > 0 and math.isfinite(duration)):
+        raise InputError(f"the duration must be a positive time, got {duration!r}")
+    if not 1e-14 <= rtol <= 1e-2:
+        raise InputError(f"rtol must lie between 1e-14 and 1e-2, got {rtol!r}")
+    if not (profile_interval > 0 and coseismic_interval > 0 and event_speed > 0):
+        raise InputError("the profile intervals and the event speed must be positive")
+    operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, kernel)
+    balance = ForceBalance(fault, operator)
+    recorder = _Stations(stations, fault)
+    settings = {"duration": duration, "rtol": rtol, "stations": [float(d) for d in recorder.depths],
+                "profile_interval": profile_interval, "coseismic_interval": coseismic_interval,
+                "event_speed": event_speed, "kernel": operator.method}
+    digest = fingerprint(fault, settings)
+    folder = Path(folder) if folder is not None else None
+    count = fault.count
+    station_width = 1 + len(STATION_FIELDS) * recorder.depths.size
+    checkpoint = folder / "checkpoint.npz" if folder is not None else None
+    scale = np.concatenate([fault.critical_slip, np.ones(count)])
+    theta_offset = np.log10(fault.critical_slip / fault.reference_speed)
+    inverse_b_ln10 = np.where(fault.b > 0, 1.0 / (np.where(fault.b > 0, fault.b, 1.0) * math.log(10.0)), 0.0)
+
+    def derivative(t, y):
+        speed, psi_rate, stress = balance.rates(t, y[:count], y[count:])
+        return np.concatenate([speed, psi_rate]), speed, stress
+
+    def station_row(t, y, speed, stress):
+        psi = y[count:]
+        with np.errstate(divide="ignore"):
+            log_speed = np.log10(speed)
+        log_theta = theta_offset + (psi - fault.reference_friction) * inverse_b_ln10
+        return np.concatenate([[t], recorder(y[:count]), recorder(log_speed),
+                               recorder(stress - fault.damping * speed), recorder(log_theta)])
+
+    def profile_row(t, y, speed):
+        with np.errstate(divide="ignore"):
+            return np.concatenate([[t, speed.max()], y[:count], np.log10(speed)])
+
+    resumed_from = None
+    if resume:
+        if checkpoint is None or not checkpoint.is_file():
+            raise InputError(f"nothing to resume: {folder} holds no checkpoint of a 2-D fault run")
+        saved = _read_checkpoint(checkpoint, digest)
+        t, y, h, k1 = float(saved["t"]), saved["y"].copy(), float(saved["h"]), saved["k1"].copy()
+        balance.u = saved["u"].copy()
+        speed, stress = saved["speed"].copy(), saved["stress"].copy()
+        steps, rejected, evaluations = (int(v) for v in saved["counters"][:3])
+        min_step, max_step, wall_before = (float(v) for v in saved["steps_range"])
+        event = json.loads(str(saved["event"]))
+        event_slip = saved["event_slip"].copy()
+        last_profile, last_coseismic = (float(v) for v in saved["profile_times"])
+        stations_store = _Store(folder / "stations.f8", station_width, int(saved["rows"][0]))
+        profiles_store = _Store(folder / "profiles.f8", 2 * count + 2, int(saved["rows"][1]))
+        events_store = _Store(folder / "events.f8", count + 5, int(saved["rows"][2]))
+        resumed_from = t
+    else:
+        if folder is not None:
+            folder.mkdir(parents=True, exist_ok=True)
+        t, h = 0.0, float(initial_step)
+        y = np.concatenate([np.zeros(count), fault.initial_state])
+        k1, speed, stress = derivative(t, y)
+        steps = rejected = 0
+        evaluations = 1
+        min_step, max_step, wall_before = math.inf, 0.0, 0.0
+        event = {"inside": False, "start": 0.0, "hypocentre": 0.0, "peak": 0.0}
+        event_slip = np.zeros(count)
+        last_profile, last_coseismic = -math.inf, -math.inf
+        stations_store = _Store(folder / "stations.f8" if folder else None, station_width)
+        profiles_store = _Store(folder / "profiles.f8" if folder else None, 2 * count + 2)
+        events_store = _Store(folder / "events.f8" if folder else None, count + 5)
+        stations_store.append(station_row(t, y, speed, stress))
+        profiles_store.append(profile_row(t, y, speed))
+        last_profile = t
+
+    def save():
+        stations_store.flush()
+        profiles_store.flush()
+        events_store.flush()
+        _write_checkpoint(checkpoint, digest=digest, t=t, y=y, h=h, k1=k1, u=balance.u, speed=speed, stress=stress,
+                          counters=np.array([steps, rejected, evaluations]),
+                          steps_range=np.array([min_step, max_step, wall_before + clock.perf_counter() - started]),
+                          event=json.dumps(event), event_slip=event_slip,
+                          profile_times=np.array([last_profile, last_coseismic]),
+                          rows=np.array([stations_store.rows, profiles_store.rows, events_store.rows]))
+
+    progress = reporter(progress, "2-D fault", "yr")
+    started = clock.perf_counter()
+    last_save = last_report = started
+    log_threshold = math.log(event_speed)
+    while t < duration:
+        if steps >= max_steps:
+            raise SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
+                              f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
+        h = min(h, duration - t)
+        k2 = derivative(t + _C2 * h, y + h * (A21 * k1))[0]
+        k3 = derivative(t + _C3 * h, y + h * (A31 * k1 + A32 * k2))[0]
+        k4 = derivative(t + _C4 * h, y + h * (A41 * k1 + A42 * k2 + A43 * k3))[0]
+        k5 = derivative(t + _C5 * h, y + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4))[0]
+        k6 = derivative(t + h, y + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5))[0]
+        y_new = y + h * (B1 * k1 + B3 * k3 + B4 * k4 + B5 * k5 + B6 * k6)
+        k7, speed_new, stress_new = derivative(t + h, y_new)
+        evaluations += 6
+        error = h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7)
+        norm = float(np.max(np.abs(error) / (rtol * np.maximum(np.maximum(np.abs(y), np.abs(y_new)), scale))))
+        if not math.isfinite(norm):
+            norm = math.inf
+        if norm > 1.0:
+            rejected += 1
+            h *= max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
+            if h <= 8 * np.spacing(max(abs(t), 1.0)):  # t + h would no longer differ from t
+                raise SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
+                                  f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
+            continue
+        previous_log_peak = math.log(max(speed.max(), 1e-300))
+        t_old = t
+        t, y, k1, speed, stress = t + h, y_new, k7, speed_new, stress_new
+        steps += 1
+        min_step, max_step = min(min_step, h), max(max_step, h)
+        h *= min(5.0, max(0.2, 0.9 * norm ** -0.2)) if norm > 0 else 5.0
+        stations_store.append(station_row(t, y, speed, stress))
+        peak = float(speed.max())
+        log_peak = math.log(max(peak, 1e-300))
+        if not event["inside"] and peak > event_speed:
+            fraction = (log_threshold - previous_log_peak) / (log_peak - previous_log_peak)
+            event.update(inside=True, start=t_old + fraction * (t - t_old),
+                         hypocentre=float(fault.depth[int(np.argmax(speed))]), peak=peak)
+            event_slip = y[:count].copy()
+        elif event["inside"]:
+            event["peak"] = max(event["peak"], peak)
+            if peak < event_speed:
+                fraction = (log_threshold - previous_log_peak) / (log_peak - previous_log_peak)
+                end = t_old + fraction * (t - t_old)
+                events_store.append(np.concatenate([[event["start"], end, event["hypocentre"], event["peak"], 0.0],
+                                                    y[:count] - event_slip]))
+                event["inside"] = False
+        if peak > event_speed:
+            if t - last_coseismic >= coseismic_interval:
+                profiles_store.append(profile_row(t, y, speed))
+                last_coseismic = t
+        elif t - last_profile >= profile_interval:
+            profiles_store.append(profile_row(t, y, speed))
+            last_profile = t
+        now = clock.perf_counter()
+        if progress and now - last_report > 1.0:
+            progress(int(t / YEAR), int(math.ceil(duration / YEAR)))
+            last_report = now
+        if checkpoint is not None and (now - last_save > checkpoint_every or steps == stop_after_steps):
+            save()
+            last_save = now
+            if steps == stop_after_steps:
+                raise _Stopped(t)
+    if progress:
+        progress(int(math.ceil(duration / YEAR)), int(math.ceil(duration / YEAR)))
+    wall = wall_before + clock.perf_counter() - started
+    if checkpoint is not None:
+        save()
+    station_rows = stations_store.read()
+    profile_rows = profiles_store.read()
+    event_rows = events_store.read()
+    stations_out = {name: station_rows[:, 1 + i * recorder.depths.size: 1 + (i + 1) * recorder.depths.size]
+                    for i, name in enumerate(STATION_FIELDS)}
+    events = {"start": event_rows[:, 0], "end": event_rows[:, 1], "hypocentre_depth": event_rows[:, 2],
+              "peak_slip_rate": event_rows[:, 3], "slip": event_rows[:, 5:]}
+    run = Fault2DRun(fault, recorder.depths, station_rows[:, 0], stations_out, profile_rows[:, 0], profile_rows[:, 1],
+                     profile_rows[:, 2:count + 2], profile_rows[:, count + 2:], events, steps, rejected, evaluations, wall, duration, rtol, operator.method,
+                     y[:count].copy(), y[count:].copy(), t, min_step, max_step, resumed_from)
+    if event["inside"]:
+        run.notes.append(f"an event was under way at the end (started at {event['start'] / YEAR:.6g} yr); it is not "
+                         "in the catalogue")
+    return run
+
+
+class _Stopped(Exception):
+    """Raised by ``stop_after_steps``: the run stopped as a kill would, with its checkpoint written."""
+
+    def __init__(self, time):
+        super().__init__(f"stopped at t = {time:.17g} s")
+        self.time = time
+
+
+def _write_checkpoint(path: Path, **arrays) -> None:
+    temporary = path.with_name(path.name + ".tmp")
+    with open(temporary, "wb") as handle:
+        np.savez(handle, version=CHECKPOINT_VERSION, **arrays)
+        handle.flush()
+        os.fsync(handle.fileno())
+    os.replace(temporary, path)
+
+
+def _read_checkpoint(path: Path, digest: str) -> dict:
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            saved = {key: data[key] for key in data.files}
+    except (OSError, ValueError, KeyError) as exc:
+        raise InputError(f"cannot read the checkpoint {path} ({exc}); start the run again without --resume") from None
+    if int(saved.get("version", -1)) != CHECKPOINT_VERSION:
+        raise InputError(f"{path} is a checkpoint of another faultslip version; start the run again")
+    if str(saved.get("digest")) != digest:
+        raise InputError(f"{path} is the checkpoint of a different run (scene, rtol, stations or duration changed); "
+                         "start again without --resume, or restore the settings it was made with")
+    return saved

@@ -1,0 +1,110 @@
+"""The antiplane elastic stress of uniform-slip elements on a vertical fault in a half-space.
+
+A screw dislocation patch with uniform slip s from depth d1 to d2 (z positive down) in a full space
+changes the shear stress on the fault plane at depth z by (Segall 2010, Earthquake and Volcano
+Deformation, eq. 2.xx for a screw dislocation; Rice 1993, JGR 98, 9885):
+
+    tau(z) = G s / (2 pi) [1 / (z - d2) - 1 / (z - d1)].
+
+The traction-free surface z = 0 is the image patch from -d2 to -d1 with the same slip:
+
+    + G s / (2 pi) [1 / (z + d1) - 1 / (z + d2)].
+
+On N elements of size h from the surface down (element j from j h to (j + 1) h), the stress at
+the centre of element i, z_i = (i + 1/2) h, from unit slip on element j is
+
+    K_ij = G / (2 pi h) [1/(i - j - 1/2) - 1/(i - j + 1/2) + 1/(i + j + 1/2) - 1/(i + j + 3/2)],
+
+a Toeplitz part (depending on i - j) plus a Hankel part (on i + j). Both are convolutions, so K x
+costs O(N log N) by FFT against O(N^2) dense. Uniform slip everywhere, down to infinite depth, is
+a rigid motion with no stress: the rows of K plus the semi-infinite part below the last element
+sum to zero, which is why the fault is written in slip deficit, K (delta - V_pl t).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from faultslip.errors import InputError
+
+#: Element counts at and below which the dense product is faster than the FFT (measured on the
+#: 2-core benchmark machine: dense 19 us against FFT 59 us at N = 300, 1.1 ms against 96 us at N = 1600).
+DENSE_LIMIT = 512
+
+
+def _toeplitz_column(count: int) -> np.ndarray:
+    """t_k = 1/(k - 1/2) - 1/(k + 1/2) for k = 0 .. count - 1 (even in k)."""
+    k = np.arange(count, dtype=float)
+    return 1.0 / (k - 0.5) - 1.0 / (k + 0.5)
+
+
+def _hankel_sequence(count: int) -> np.ndarray:
+    """h_m = 1/(m + 1/2) - 1/(m + 3/2) for m = i + j = 0 .. 2 count - 2."""
+    m = np.arange(2 * count - 1, dtype=float)
+    return 1.0 / (m + 0.5) - 1.0 / (m + 1.5)
+
+
+def dense_matrix(count: int, element_size: float, shear_modulus: float) -> np.ndarray:
+    """K (Pa per m of slip) as a dense (count, count) matrix."""
+    i = np.arange(count)[:, None]
+    j = np.arange(count)[None, :]
+    t = _toeplitz_column(count)[np.abs(i - j)]
+    h = _hankel_sequence(count)[i + j]
+    return shear_modulus / (2.0 * math.pi * element_size) * (t + h)
+
+
+def deep_loading(count: int, element_size: float, shear_modulus: float) -> np.ndarray:
+    """Stress at each element per metre of uniform slip on the fault below the last element."""
+    depth = (np.arange(count) + 0.5) * element_size
+    bottom = count * element_size
+    return shear_modulus / (2.0 * math.pi) * (1.0 / (bottom - depth) + 1.0 / (depth + bottom))
+
+
+class StressKernel:
+    """``kernel(slip)`` is K slip (Pa), by a dense product for small N and by FFT above.
+
+    The FFT form (length L >= 2 N - 1) takes the Toeplitz part as a circular convolution and the
+    Hankel part as one with the reversed slip, shifted by N - 1; the reversed slip's spectrum is
+    the conjugate of the slip's times a phase, so one forward and one inverse real FFT give K x.
+    Its round-off against the dense product is ~1e-15 of the largest stress (tested).
+    """
+
+    def __init__(self, count: int, element_size: float, shear_modulus: float, method: str = "auto"):
+        if count < 2:
+            raise InputError(f"a 2-D fault needs at least 2 elements, got {count}")
+        if method not in ("auto", "dense", "fft"):
+            raise InputError(f"the stress kernel is dense, fft or auto, got {method!r}")
+        self.count, self.element_size, self.shear_modulus = count, element_size, shear_modulus
+        self.method = method if method != "auto" else ("dense" if count <= DENSE_LIMIT else "fft")
+        scale = shear_modulus / (2.0 * math.pi * element_size)
+        if self.method == "dense":
+            self.matrix = dense_matrix(count, element_size, shear_modulus)
+            return
+        from scipy import fft  # heavy: imported where used
+
+        self._fft = fft
+        length = fft.next_fast_len(2 * count - 1, real=True)
+        self.length = length
+        t = _toeplitz_column(count)
+        circulant = np.zeros(length)  # the symmetric Toeplitz column, wrapped: t_0..t_{N-1}, then t_{N-1}..t_1
+        circulant[:count] = t
+        circulant[length - count + 1:] = t[:0:-1]
+        h = _hankel_sequence(count)
+        shifted = np.zeros(length)  # g[m] = h[m + N - 1] for m in -(N-1)..N-1, wrapped
+        shifted[:count] = h[count - 1:]
+        shifted[length - count + 1:] = h[: count - 1]
+        frequency = np.arange(length // 2 + 1)
+        phase = np.exp(-2j * np.pi * frequency * (count - 1) / length)  # reversal: X_rev = phase conj(X)
+        self._toeplitz_hat = scale * fft.rfft(circulant)
+        self._hankel_hat = scale * fft.rfft(shifted) * phase
+        self._padded = np.zeros(length)
+
+    def __call__(self, slip: np.ndarray) -> np.ndarray:
+        if self.method == "dense":
+            return self.matrix @ slip
+        self._padded[: self.count] = slip  # the tail stays zero: no padding copy inside the FFT
+        spectrum = self._fft.rfft(self._padded)
+        both = self._toeplitz_hat * spectrum + self._hankel_hat * np.conj(spectrum)
+        return self._fft.irfft(both, self.length)[: self.count]

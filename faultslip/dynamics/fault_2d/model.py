@@ -1,0 +1,216 @@
+"""The 2-D fault's parameters in depth, its force balance and its rates.
+
+Quasi-dynamic force balance on each element (Rice 1993; SEAS BP1, Erickson et al. 2020, SRL 91,
+874, eqs. 1-6), with the regularised rate-and-state friction:
+
+    tau_0 + K (delta - V_pl t) - eta V = sigma_n a asinh[V / (2 V_0) exp(psi / a)],   eta = G / (2 c_s),
+
+    aging law:  d psi / dt = (b V_0 / D_c) [exp((f_0 - psi) / b) - V / V_0],
+    slip law:   d psi / dt = -(V / D_c) [psi - f_0 + b ln(V / V_0)],
+
+with psi = f_0 + b ln(V_0 theta / D_c). The slip rate is solved element by element in
+u = asinh[V / (2 V_0) exp(psi / a)], so that V = 2 V_0 exp(-psi / a) sinh(u) and
+
+    g(u) = sigma_n a u + 2 eta V_0 exp(-psi / a) sinh(u) - tau_qs = 0.
+
+g is increasing and convex in u where tau_qs > 0 (concave where < 0), so Newton's method converges
+from any start, after one step monotonically; u is ln(V / V_0) + psi / a for V well above
+V_0 exp(-psi / a), the logarithm of the slip rate, which keeps the solve well conditioned from
+1e-20 m/s to metres per second.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from faultslip.dynamics.fault_2d import compiled as compiled_kernel
+from faultslip.errors import InputError, SolverError
+
+#: Newton iterations allowed for the slip rate; more means the state is not finite.
+NEWTON_ITERATIONS = 80
+
+
+@dataclass
+class Fault2D:
+    """A vertical strike-slip fault from the surface to ``width``, in N elements of ``element_size``.
+
+    Every array holds one value per element (its centre at depth (i + 1/2) h). SI units.
+    """
+
+    element_size: float  # m
+    a: np.ndarray
+    b: np.ndarray
+    critical_slip: np.ndarray  # m
+    normal_stress: np.ndarray  # Pa
+    shear_modulus: float  # Pa
+    shear_wave_speed: float  # m/s
+    plate_rate: float  # m/s, imposed below the fault
+    reference_speed: float  # m/s, V_0
+    reference_friction: float  # f_0
+    initial_shear_stress: np.ndarray  # Pa (tau_0)
+    initial_state: np.ndarray  # psi at t = 0
+    evolution: str = "aging"
+    name: str = "2-D fault"
+    notes: list = field(default_factory=list)
+
+    def __post_init__(self):
+        arrays = ("a", "b", "critical_slip", "normal_stress", "initial_shear_stress", "initial_state")
+        count = None
+        for key in arrays:
+            value = np.ascontiguousarray(getattr(self, key), dtype=float)
+            if value.ndim != 1 or (count is not None and value.size != count):
+                raise InputError(f"2-D fault: {key} must hold one value per element")
+            if not np.all(np.isfinite(value)):
+                raise InputError(f"2-D fault: {key} must be finite")
+            count = value.size
+            setattr(self, key, value)
+        for key in ("a", "critical_slip", "normal_stress"):
+            if np.any(getattr(self, key) <= 0):
+                raise InputError(f"2-D fault: {key} must be positive everywhere")
+        if np.any(self.b < 0):
+            raise InputError("2-D fault: b must not be negative")
+        for key in ("element_size", "shear_modulus", "shear_wave_speed", "plate_rate", "reference_speed"):
+            value = getattr(self, key)
+            if not (math.isfinite(value) and value > 0):
+                raise InputError(f"2-D fault: {key} must be a positive number, got {value!r}")
+        if self.evolution not in ("aging", "slip"):
+            raise InputError(f"2-D fault: evolution must be aging or slip, got {self.evolution!r}")
+
+    @property
+    def count(self) -> int:
+        return self.a.size
+
+    @property
+    def width(self) -> float:
+        return self.count * self.element_size
+
+    @property
+    def depth(self) -> np.ndarray:
+        return (np.arange(self.count) + 0.5) * self.element_size
+
+    @property
+    def damping(self) -> float:
+        """Radiation damping eta = G / (2 c_s) (Pa s/m)."""
+        return self.shear_modulus / (2.0 * self.shear_wave_speed)
+
+    def nucleation_size(self) -> float:
+        """h* = (pi / 2) G D_c b / [sigma_n (b - a)^2] at the weakest element (Rubin & Ampuero 2005, eq. 42)."""
+        weakening = self.b - self.a
+        where = weakening > 0
+        if not np.any(where):
+            return math.inf
+        values = math.pi / 2 * self.shear_modulus * self.critical_slip[where] * self.b[where] / (
+            self.normal_stress[where] * weakening[where] ** 2)
+        return float(values.min())
+
+    def process_zone(self) -> float:
+        """L_b = G D_c / (sigma_n b), the cohesive-zone scale an element must resolve (Day et al. 2005)."""
+        with np.errstate(divide="ignore"):
+            values = self.shear_modulus * self.critical_slip / (self.normal_stress * self.b)
+        return float(np.min(values))
+
+    def seismogenic_width(self) -> float:
+        """Depth extent of the velocity-weakening part (b > a)."""
+        return float(np.sum(self.b > self.a) * self.element_size)
+
+    def state_to_theta(self, psi: np.ndarray) -> np.ndarray:
+        """theta = (D_c / V_0) exp((psi - f_0) / b) (s); for b = 0 the state has no meaning (returns D_c / V_0)."""
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            safe_b = np.where(self.b > 0, self.b, 1.0)
+            return self.critical_slip / self.reference_speed * np.exp(np.where(self.b > 0,
+                                                                              (psi - self.reference_friction) / safe_b, 0.0))
+
+
+class ForceBalance:
+    """The slip rate and the state rate of every element; keeps the last u as a warm start.
+
+    ``compiled``: the numba kernel (:mod:`faultslip.dynamics.fault_2d.compiled`) where numba is here
+    (None: where available), else the same iteration vectorised in numpy.
+    """
+
+    def __init__(self, fault: Fault2D, kernel, compiled: bool | None = None):
+        self.fault, self.kernel = fault, kernel
+        self.sigma_a = fault.normal_stress * fault.a
+        self.inverse_a = 1.0 / fault.a
+        self.damping = fault.damping
+        self.two_v0_eta = 2.0 * fault.reference_speed * fault.damping
+        self.aging_rate = fault.b * fault.reference_speed / fault.critical_slip
+        self.inverse_b = np.where(fault.b > 0, 1.0 / np.where(fault.b > 0, fault.b, 1.0), 0.0)
+        self.aging = fault.evolution == "aging"
+        self.compiled = compiled_kernel.available() if compiled is None else compiled
+        self._balance = compiled_kernel.balance() if self.compiled else None
+        self.u = None  # the last solution, a warm start (part of a checkpoint)
+
+    def quasi_static_stress(self, time: float, slip: np.ndarray) -> np.ndarray:
+        """tau_0 + K (delta - V_pl t): the stress without radiation damping (Pa)."""
+        return self.fault.initial_shear_stress + self.kernel(slip - self.fault.plate_rate * time)
+
+    def _failed(self, element: int):
+        raise SolverError(f"2-D fault: the force balance did not converge at element {element} (depth "
+                          f"{self.fault.depth[element]:.4g} m) after {NEWTON_ITERATIONS} Newton steps; the state "
+                          "is not finite there. Tighten rtol")
+
+    def slip_rate(self, stress: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(V, u) from the force balance at quasi-static stress ``stress`` and state ``psi`` (numpy)."""
+        coefficient = self.two_v0_eta * np.exp(-psi * self.inverse_a)
+        u = self.u.copy() if self.u is not None else stress / self.sigma_a
+        for _ in range(NEWTON_ITERATIONS):
+            step = (self.sigma_a * u + coefficient * np.sinh(u) - stress) / (self.sigma_a + coefficient * np.cosh(u))
+            u = u - step
+            if np.all(np.abs(step) <= 1e-10 * (1.0 + np.abs(u))):  # the error left is of the order of step^2
+                break
+        else:
+            self._failed(int(np.argmax(np.abs(step))))
+        if not np.all(np.isfinite(u)):
+            self._failed(int(np.argmax(~np.isfinite(u))))
+        self.u = u
+        return coefficient * np.sinh(u) / self.damping, u
+
+    def rates(self, time: float, slip: np.ndarray, psi: np.ndarray):
+        """(V, d psi / dt, quasi-static stress)."""
+        stress = self.quasi_static_stress(time, slip)
+        fault = self.fault
+        if self.compiled:
+            if self.u is None:
+                self.u = stress / self.sigma_a
+            speed, psi_rate = np.empty_like(stress), np.empty_like(stress)
+            self._balance(stress, psi, self.u, self.sigma_a, self.inverse_a, self.two_v0_eta, 1.0 / self.damping,
+                          self.aging, self.aging_rate, fault.reference_friction, self.inverse_b,
+                          fault.reference_speed, fault.critical_slip, fault.b, speed, psi_rate, NEWTON_ITERATIONS)
+            if not np.isfinite(speed.sum()):
+                self._failed(int(np.argmax(~np.isfinite(speed))))
+            return speed, psi_rate, stress
+        speed, _ = self.slip_rate(stress, psi)
+        if self.aging:
+            psi_rate = self.aging_rate * (np.exp((fault.reference_friction - psi) * self.inverse_b)
+                                          - speed / fault.reference_speed)
+        else:
+            psi_rate = -(speed / fault.critical_slip) * (psi - fault.reference_friction
+                                                         + fault.b * np.log(speed / fault.reference_speed))
+        return speed, psi_rate, stress
+
+
+def steady_initial_conditions(a, b, normal_stress, damping, initial_speed, reference_speed, reference_friction,
+                              stress_a=None):
+    """SEAS BP1's initial stress and state: sliding at ``initial_speed`` everywhere, in steady state
+    where a = ``stress_a`` (BP1: a_max), the state set so that V = initial_speed at every depth.
+
+        tau_0 = sigma_n a_max asinh[V_init / (2 V_0) exp((f_0 + b ln(V_0 / V_init)) / a_max)] + eta V_init,
+        psi_0 = a ln[(2 V_0 / V_init) sinh((tau_0 - eta V_init) / (a sigma_n))]
+
+    (Erickson et al. 2020, BP1 eqs. 8-9, with theta written as psi).
+    """
+    a = np.asarray(a, float)
+    stress_a = a.max() if stress_a is None else stress_a
+    tau0 = normal_stress * stress_a * np.arcsinh(initial_speed / (2 * reference_speed) * np.exp(
+        (reference_friction + b * np.log(reference_speed / initial_speed)) / stress_a)) + damping * initial_speed
+    # a ln(2 V0 / V sinh(x)) with x = (tau0 - eta V) / (a sigma): sinh(x) overflows past x ~ 710, so
+    # ln sinh(x) = x + ln((1 - exp(-2x)) / 2) for large x
+    x = (tau0 - damping * initial_speed) / (a * normal_stress)
+    log_sinh = np.where(x > 20, x + np.log1p(-np.exp(-2 * np.minimum(x, 700))) - math.log(2.0),
+                        np.log(np.sinh(np.minimum(x, 20))))
+    psi0 = a * (np.log(2 * reference_speed / initial_speed) + log_sinh)
+    return np.broadcast_to(tau0, a.shape).astype(float), np.asarray(psi0, float)

@@ -1,0 +1,100 @@
+"""The SCEC SEAS benchmarks' ASCII files: on-fault station time series and slip profiles.
+
+Layout (SEAS BP1 description, Erickson et al. 2020, and the community upload checker): ``#``
+header lines naming the problem, code, element size, time steps and columns; one line of column
+names; then one row per time. Station files are named ``fltst_dpXXX`` with XXX the depth in
+hundreds of metres (``fltst_dp025`` at 2.5 km) and hold time (s), slip (m), log10 slip rate
+(log10 m/s), shear stress (MPa) and log10 state (log10 s). The slip-profile file
+``devol.dat`` holds a first row of depths (m) after two zeros, then time (s), the peak slip rate
+(m/s) and the slip (m) at every depth. Numbers are written with 15 significant digits, as the
+checker asks.
+"""
+
+from __future__ import annotations
+
+import math
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.errors import InputError
+from faultslip.io import gate
+from faultslip.io.atomic import write_text_atomic
+
+STATION_COLUMNS = ("t", "slip", "slip_rate", "shear_stress", "state")
+
+
+def station_file_name(depth: float) -> str:
+    """``fltst_dp025`` for 2.5 km: the depth in hundreds of metres, three digits."""
+    return f"fltst_dp{int(round(depth / 100.0)):03d}"
+
+
+def _header(problem: str, code: str, version: str, element_size: float, extra: list) -> list:
+    now = datetime.now(timezone.utc).strftime("%Y/%m/%d")
+    return [f"# problem={problem}", f"# author=faultslip", f"# date={now}", f"# code={code}",
+            f"# code_version={version}", f"# element_size={element_size:g} m", *extra]
+
+
+def write_station(path, time, slip, log10_slip_rate, shear_stress_mpa, log10_state, *, depth: float,
+                  element_size: float, problem: str = "SEAS Benchmark BP1-QD", code: str = "faultslip",
+                  version: str = "") -> None:
+    """One station's time series in the SEAS layout, written atomically."""
+    time = np.asarray(time, float)
+    steps = np.diff(time)
+    extra = [f"# location= on fault, {depth / 1e3:g} km depth",
+             f"# minimum_time_step={steps.min() if steps.size else 0.0:.15g}",
+             f"# maximum_time_step={steps.max() if steps.size else 0.0:.15g}",
+             f"# num_time_steps={time.size}",
+             "# Column #1 = Time (s)", "# Column #2 = Slip (m)", "# Column #3 = Slip rate (log10 m/s)",
+             "# Column #4 = Shear stress (MPa)", "# Column #5 = State (log10 s)",
+             "# The line below lists the names of the data fields:"]
+    rows = np.column_stack([time, slip, log10_slip_rate, shear_stress_mpa, log10_state])
+    body = "\n".join(" ".join(f"{v:.15g}" for v in row) for row in rows)
+    text = "\n".join(_header(problem, code, version, element_size, extra) + [" ".join(STATION_COLUMNS)]) + "\n"
+    write_text_atomic(path, text + body + "\n")
+
+
+def write_profiles(path, time, max_slip_rate, slip, depths, *, element_size: float,
+                   problem: str = "SEAS Benchmark BP1-QD", code: str = "faultslip", version: str = "") -> None:
+    """Slip profiles (rows: times; columns: depths) in the SEAS ``devol`` layout, written atomically."""
+    depths = np.asarray(depths, float)
+    extra = ["# Row #1 = Depth (m) with two zeros first", "# Column #1 = Time (s)",
+             "# Column #2 = Max slip rate (m/s)", f"# Columns #3-{depths.size + 2} = Slip (m)",
+             "# The line below lists the names of the data fields:"]
+    lines = _header(problem, code, version, element_size, extra) + ["t max_slip_rate slip"]
+    lines.append(" ".join(f"{v:.15g}" for v in np.concatenate([[0.0, 0.0], depths])))
+    rows = np.column_stack([np.asarray(time, float), np.asarray(max_slip_rate, float), np.asarray(slip, float)])
+    lines.extend(" ".join(f"{v:.15g}" for v in row) for row in rows)
+    write_text_atomic(path, "\n".join(lines) + "\n")
+
+
+def read_seas(path) -> tuple[dict, list, np.ndarray]:
+    """(header fields, column names, rows) of a SEAS ASCII file; one sentence for anything malformed."""
+    label = f"SEAS file {Path(path).name}"
+    text = gate.read_text(path, "SEAS file", "table")
+    header, names, rows = {}, None, []
+    for number, line in enumerate(text.splitlines(), start=1):
+        stripped = line.strip()
+        if not stripped:
+            continue
+        if stripped.startswith("#"):
+            key, _, value = stripped[1:].partition("=")
+            if value:
+                header[key.strip()] = value.strip()
+            continue
+        if names is None:
+            names = stripped.split()
+            continue
+        try:
+            values = [float(v) for v in stripped.split()]
+        except ValueError:
+            raise InputError(f"{label}, line {number}: not a row of numbers") from None
+        if rows and len(values) != len(rows[0]):
+            raise InputError(f"{label}, line {number}: {len(values)} values where the rows above have {len(rows[0])}")
+        if not all(math.isfinite(v) or math.isinf(v) for v in values):
+            raise InputError(f"{label}, line {number}: a value is not a number")
+        rows.append(values)
+    if names is None or not rows:
+        raise InputError(f"{label} has no data rows")
+    return header, names, np.asarray(rows, float)

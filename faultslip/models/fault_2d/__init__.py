@@ -1,0 +1,197 @@
+"""The 2-D fault as a model family: quasi-dynamic earthquake cycles on a vertical strike-slip fault in
+an elastic half-space (SEAS BP1), its SEAS station files, CF netCDF, event catalogue and figures."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from faultslip import __version__
+from faultslip.dynamics.fault_2d.analysis import moment_magnitude, summarise
+from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun, run_cycles
+from faultslip.errors import InputError
+from faultslip.io.atomic import write_text_atomic
+from faultslip.io.netcdf import write_dataset
+from faultslip.io.outputs import output_lock
+from faultslip.io.report import Report
+from faultslip.io.seas import station_file_name, write_profiles, write_station
+from faultslip.models.common import note_origin
+from faultslip.models.fault_2d.scene import Fault2DScene, load_fault_2d_scene
+from faultslip.models.registry import Family, register
+from faultslip.models.result import Result
+from faultslip.plots.fault_2d import cumulative_slip_figure, slip_rate_figure
+from faultslip.units import ELAPSED_TIME_ATTRS
+
+#: Relative spread of the last intervals within which a sequence is called settled (periodic).
+SETTLE_TOLERANCE = 1e-3
+
+
+def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float | None = None,
+                   allow_large: bool = False, progress=None, overwrite: bool = False,
+                   settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
+    """Run a 2-D fault scene; with ``output_dir``, stream the run there (checkpointed: ``resume=True``
+    continues a stopped run bit for bit) and write the SEAS station files, slip profiles, event
+    catalogue and CF netCDF when it ends."""
+    loaded = load_fault_2d_scene(scene, allow_large=allow_large)
+    rtol = loaded.rtol if rtol is None else rtol
+    folder = Path(output_dir) if output_dir is not None else None
+    if folder is not None:
+        if folder.exists() and not folder.is_dir():
+            raise InputError(f"--output-dir {folder} is a file; give a folder for the run's files")
+        if resume and not (folder / "checkpoint.npz").is_file():
+            raise InputError(f"--resume: {folder} holds no checkpoint of a 2-D fault run")
+        if not resume and folder.is_dir() and any(folder.iterdir()) and not overwrite:
+            raise InputError(f"--output-dir {folder} is not empty; pass --resume to continue its run, or --overwrite")
+        folder.mkdir(parents=True, exist_ok=True)
+        with output_lock(folder / "run", "faultslip simulate (2-D fault)", overwrite=True, label="--output-dir"):
+            run = _run(loaded, rtol, folder, resume, progress)
+            result = _result(loaded, run, settle_tolerance)
+            write_outputs(loaded, run, folder, result)
+        result.summary.note(f"SEAS station files, slip profiles (devol.dat), events.csv and fault_2d.nc written to "
+                            f"{folder}")
+        return result
+    return _result(loaded, _run(loaded, rtol, None, False, progress), settle_tolerance)
+
+
+def _run(loaded: Fault2DScene, rtol, folder, resume, progress) -> Fault2DRun:
+    return run_cycles(loaded.fault, loaded.duration, rtol=rtol, stations=loaded.stations, kernel=loaded.kernel,
+                      profile_interval=loaded.profile_interval, coseismic_interval=loaded.coseismic_interval,
+                      folder=folder, resume=resume, progress=progress)
+
+
+def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> Result:
+    summary = summarise(run, settle_tolerance)
+    fault = run.fault
+    report = Report(f"faultslip 2-D fault: {loaded.name}")
+    report.add("method", "fault_2d")
+    report.add("method_reason", "a 2-D fault scene: quasi-dynamic boundary elements with the exact antiplane "
+                                "half-space kernel, Dormand-Prince 5(4) stepping")
+    report.add("elements", fault.count).add("element_size", fault.element_size, "m")
+    report.add("fault_width", fault.width, "m", also=("km",), label="frictional width W_f")
+    report.add("seismogenic_width", fault.seismogenic_width(), "m", also=("km",), label="velocity-weakening width")
+    report.add("nucleation_size", fault.nucleation_size(), "m", label="h* = (pi/2) G D_c b / (sigma_n (b - a)^2)")
+    report.add("process_zone", fault.process_zone(), "m", label="L_b = G D_c / (sigma_n b)")
+    report.add("resolution", fault.process_zone() / fault.element_size, label="elements per L_b")
+    report.add("events", summary.events).add("system_size_events", summary.system_events)
+    report.add("recurrence_interval", summary.recurrence_interval, "s", also=("yr",))
+    report.add("settled", bool(summary.settled),
+               label=f"periodic: last intervals agree to {settle_tolerance:g}")
+    report.add("recurrence_spread", summary.recurrence_spread if math.isfinite(summary.recurrence_spread) else None,
+               label="relative spread of the last intervals")
+    report.add("slip_per_event", summary.surface_slip_per_event, "m", label="surface slip per event")
+    report.add("mean_slip_per_event", summary.mean_slip_per_event, "m", label="slip per event, mean over the "
+                                                                              "velocity-weakening width")
+    report.add("moment_per_length", summary.moment_per_length, "N", label="seismic moment per metre along strike")
+    if loaded.fault_length is not None and summary.moment_per_length > 0:
+        report.add("moment_magnitude", moment_magnitude(summary.moment_per_length, loaded.fault_length),
+                   label=f"Mw for a fault {loaded.fault_length / 1e3:g} km long")
+    report.add("hypocentre_depth", summary.hypocentre_depth, "m", also=("km",))
+    report.add("peak_slip_rate", summary.peak_slip_rate, "m/s")
+    report.add("plate_slip_balance", summary.plate_slip_balance_surface,
+               label="slip per cycle at the shallowest station / (V_pl T)")
+    report.add("plate_slip_balance_range", list(summary.plate_slip_balance_range), "1",
+               label="the same at every station (min, max)")
+    report.add("deep_creep_rate", summary.creep_rate_deep, "m/s", label="slip rate at the bottom element at the end")
+    report.add("estimated_relative_error", summary.recurrence_spread if not summary.settled else
+               max(summary.recurrence_spread, 10 * run.rtol),
+               label="declared: the spread of the last intervals (settling), or 10 rtol")
+    report.add("duration", run.duration, "s", also=("yr",))
+    report.add("rtol", run.rtol).add("kernel", run.kernel)
+    report.add("steps", run.steps).add("rejected_steps", run.rejected)
+    report.add("min_step", run.min_step, "s").add("max_step", run.max_step, "s", also=("yr",))
+    report.add("wall_time", run.wall_time, "s")
+    if summary.note:
+        report.note(summary.note)
+    for note in run.notes:
+        report.note(note)
+    if run.resumed_from is not None:
+        report.note(f"continued from the checkpoint at {run.resumed_from / YEAR:.6g} yr")
+    resolution = fault.process_zone() / fault.element_size
+    if resolution < 3:
+        report.note(f"the elements resolve L_b with {resolution:.2g} each (3 or more are needed for a converged "
+                    "rupture); refine element_size")
+    note_origin(report, loaded.origin)
+    return Result("fault_2d", report, to_dataset(loaded, run), lambda: cumulative_slip_figure(run),
+                  extras={"run": run, "slip_rate_figure": lambda: slip_rate_figure(run)})
+
+
+def to_dataset(loaded: Fault2DScene, run: Fault2DRun):
+    """The run as CF netCDF: station series on (time, station), profiles on (profile_time, depth), events."""
+    import xarray as xr  # heavy: imported where used
+
+    depth = ("depth", run.fault.depth, {"units": "m", "long_name": "depth of the element centre", "positive": "down"})
+    station = ("station", run.station_depths, {"units": "m", "long_name": "station depth", "positive": "down"})
+    units = {"slip": ("m", "slip"), "log10_slip_rate": ("1", "log10 of the slip rate in m/s"),
+             "shear_stress": ("Pa", "shear stress (frictional strength)"),
+             "log10_state": ("1", "log10 of the state theta in s")}
+    data = {f"station_{name}": (("time", "station"), values, {"units": units[name][0], "long_name": units[name][1]})
+            for name, values in run.stations.items()}
+    data["profile_slip"] = (("profile_time", "depth"), run.profiles, {"units": "m", "long_name": "cumulative slip"})
+    data["profile_log10_slip_rate"] = (("profile_time", "depth"), run.profile_log10_slip_rate,
+                                       {"units": "1", "long_name": "log10 of the slip rate in m/s"})
+    data["profile_max_slip_rate"] = ("profile_time", run.profile_max_speed, {"units": "m/s"})
+    data["event_start"] = ("event", run.events["start"], {"units": "s", "long_name": "peak slip rate above 1e-3 m/s"})
+    data["event_end"] = ("event", run.events["end"], {"units": "s"})
+    data["event_hypocentre_depth"] = ("event", run.events["hypocentre_depth"], {"units": "m"})
+    data["event_peak_slip_rate"] = ("event", run.events["peak_slip_rate"], {"units": "m/s"})
+    data["event_slip"] = (("event", "depth"), run.events["slip"], {"units": "m", "long_name": "slip in the event"})
+    moment = run.fault.shear_modulus * run.events["slip"].sum(axis=1) * run.fault.element_size
+    data["event_moment_per_length"] = ("event", moment, {"units": "N", "long_name": "seismic moment per metre"})
+    fault = run.fault
+    data["a"] = ("depth", fault.a, {"units": "1"})
+    data["b"] = ("depth", fault.b, {"units": "1"})
+    data["critical_slip"] = ("depth", fault.critical_slip, {"units": "m"})
+    data["normal_stress"] = ("depth", fault.normal_stress, {"units": "Pa"})
+    coords = {"time": ("time", run.station_time, ELAPSED_TIME_ATTRS), "station": station, "depth": depth,
+              "profile_time": ("profile_time", run.profile_time, ELAPSED_TIME_ATTRS),
+              "event": ("event", np.arange(run.event_count))}
+    return xr.Dataset(data, coords=coords, attrs={
+        "title": f"faultslip 2-D fault: {loaded.name}", "Conventions": "CF-1.8", "source": f"faultslip {__version__}",
+        "shear_modulus_Pa": fault.shear_modulus, "shear_wave_speed_m_per_s": fault.shear_wave_speed,
+        "plate_rate_m_per_s": fault.plate_rate, "evolution": fault.evolution, "rtol": run.rtol, "steps": run.steps})
+
+
+def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: Result) -> None:
+    """The SEAS files, the event catalogue (CSV with units) and the netCDF in ``folder``, each atomic."""
+    fault = run.fault
+    stress_mpa = run.stations["shear_stress"] / 1e6
+    for k, depth in enumerate(run.station_depths):
+        write_station(folder / station_file_name(depth), run.station_time, run.stations["slip"][:, k],
+                      run.stations["log10_slip_rate"][:, k], stress_mpa[:, k], run.stations["log10_state"][:, k],
+                      depth=float(depth), element_size=fault.element_size, version=__version__)
+    write_profiles(folder / "devol.dat", run.profile_time, run.profile_max_speed, run.profiles, fault.depth,
+                   element_size=fault.element_size, version=__version__)
+    moment = fault.shear_modulus * run.events["slip"].sum(axis=1) * fault.element_size
+    lines = ["start (s),end (s),hypocentre_depth (m),peak_slip_rate (m/s),surface_slip (m),moment_per_length (N)"
+             + (",moment_magnitude" if loaded.fault_length else "")]
+    for i in range(run.event_count):
+        row = [run.events["start"][i], run.events["end"][i], run.events["hypocentre_depth"][i],
+               run.events["peak_slip_rate"][i], run.events["slip"][i, 0], moment[i]]
+        if loaded.fault_length:
+            row.append(moment_magnitude(moment[i], loaded.fault_length) if moment[i] > 0 else float("nan"))
+        lines.append(",".join(f"{value:.10g}" for value in row))
+    write_text_atomic(folder / "events.csv", "\n".join(lines) + "\n")
+    write_dataset(result.to_xarray(), folder / "fault_2d.nc")
+
+
+def run(scene, method=None, tolerance=None, allow_large: bool = False) -> Result:
+    """A 2-D fault scene's cycles (its one method); ``tolerance`` is the settling tolerance of the
+    recurrence (default 1e-3)."""
+    if method not in (None, "auto", "fault_2d"):
+        raise InputError(f"a 2-D fault scene runs the 2-D model (method fault_2d), got {method!r}")
+    return simulate_fault(scene, allow_large=allow_large,
+                          settle_tolerance=tolerance if tolerance is not None else SETTLE_TOLERANCE)
+
+
+def simulate(scene, output_dir=None, resume: bool = False, rtol=None, allow_large: bool = False,
+             overwrite: bool = False) -> Result:
+    return simulate_fault(scene, output_dir=output_dir, resume=resume, rtol=rtol, allow_large=allow_large,
+                          overwrite=overwrite, progress=True)
+
+
+FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",
+                         run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite"),
+                         run_options=("allow_large",),
+                         why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol"))

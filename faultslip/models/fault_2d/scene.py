@@ -1,0 +1,243 @@
+"""2-D fault scenes: ``family = "fault_2d"``, friction that may vary with depth, and a run.
+
+::
+
+    family = "fault_2d"
+    name = "SEAS BP1-QD"
+    [fault]
+    density = "2670 kg/m^3"
+    shear_wave_speed = "3.464 km/s"
+    width = "40 km"              # W_f, the frictional fault; below it, steady slip at the plate rate
+    element_size = "25 m"
+    plate_rate = "1e-9 m/s"
+    evolution = "aging"          # or "slip"
+    [friction]                   # each: a number, or a profile in depth
+    reference_speed = "1e-6 m/s"
+    reference_friction = 0.6
+    b = 0.015
+    critical_slip = "8 mm"
+    normal_stress = "50 MPa"
+    a = { shallow = 0.010, deep = 0.025, depth = "15 km", transition = "3 km" }   # BP1's ramp
+    # or a = { depth = ["0 km", "15 km", "18 km", "40 km"], value = [0.010, 0.010, 0.025, 0.025] }
+    [initial]
+    initial_speed = "1e-9 m/s"   # BP1: V = V_init everywhere, steady state where a = a_max
+    [run]
+    duration = "3000 yr"
+    rtol = 1e-8
+    stations = ["0 km", "2.5 km", ...]   # default: BP1's twelve
+    profile_interval = "5 yr"
+    coseismic_interval = "1 s"
+    fault_length = "100 km"     # optional: the along-strike length that turns moment per length into Mw
+
+A profile in depth is either a table (``depth`` and ``value``, linear in between, constant beyond)
+or BP1's ramp: ``shallow`` above ``depth``, rising linearly over ``transition`` to ``deep``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from faultslip.dynamics.fault_2d.integrate import BP1_STATIONS, YEAR
+from faultslip.dynamics.fault_2d.model import Fault2D, steady_initial_conditions
+from faultslip.errors import InputError
+from faultslip.fault.scene import read_text_file, resolve_path
+from faultslip.io.resources import check_toml_layout, parse_toml
+from faultslip.units import to_si_scalar
+
+_FAULT = {"density", "shear_wave_speed", "shear_modulus", "width", "element_size", "plate_rate", "evolution"}
+_FRICTION = {"reference_speed", "reference_friction", "a", "b", "critical_slip", "normal_stress"}
+_INITIAL = {"initial_speed"}
+_RUN = {"duration", "rtol", "stations", "profile_interval", "coseismic_interval", "fault_length", "kernel"}
+_PROFILE_KINDS = {"a": "dimensionless", "b": "dimensionless", "critical_slip": "length", "normal_stress": "pressure"}
+#: Largest element count a scene may ask for (memory and time grow with it; --allow-large lifts it).
+MAX_ELEMENTS = 20_000
+
+
+@dataclass
+class Fault2DScene:
+    """A 2-D fault scene: the fault (built at its element size), its run settings and where it came from."""
+
+    name: str
+    fault: Fault2D
+    duration: float
+    rtol: float = 1e-8
+    stations: tuple = BP1_STATIONS
+    profile_interval: float = 5 * YEAR
+    coseismic_interval: float = 1.0
+    fault_length: float | None = None
+    kernel: str = "auto"
+    settings: dict = field(default_factory=dict)  # the parsed friction and geometry, to rebuild at another size
+    origin: str = ""
+    path: str = ""
+
+    def at_element_size(self, element_size: float) -> "Fault2DScene":
+        """The same scene on elements of another size (for convergence studies)."""
+        return replace(self, fault=build_fault(self.settings, element_size, self.name))
+
+
+def _profile(spec, kind: str, where: str):
+    """A function of depth (m) for one friction parameter."""
+    if not isinstance(spec, dict):
+        value = to_si_scalar(spec, kind, where) if kind != "dimensionless" else _number(spec, where)
+        return lambda depth: np.full(depth.shape, value)
+    if set(spec) == {"depth", "value"}:
+        depths, values = spec["depth"], spec["value"]
+        if not (isinstance(depths, list) and isinstance(values, list) and len(depths) == len(values) >= 1):
+            raise InputError(f"{where}: depth and value must be lists of the same length")
+        z = np.array([to_si_scalar(d, "length", f"{where} depth") for d in depths])
+        v = np.array([to_si_scalar(x, kind, f"{where} value") if kind != "dimensionless" else _number(x, where)
+                      for x in values])
+        if np.any(np.diff(z) <= 0):
+            raise InputError(f"{where}: depths must increase")
+        return lambda depth: np.interp(depth, z, v)
+    if set(spec) == {"shallow", "deep", "depth", "transition"}:
+        convert = (lambda x, w: _number(x, w)) if kind == "dimensionless" else (lambda x, w: to_si_scalar(x, kind, w))
+        shallow, deep = convert(spec["shallow"], f"{where} shallow"), convert(spec["deep"], f"{where} deep")
+        top = to_si_scalar(spec["depth"], "length", f"{where} depth")
+        transition = to_si_scalar(spec["transition"], "length", f"{where} transition")
+        if top < 0 or transition <= 0:
+            raise InputError(f"{where}: depth must not be negative and transition must be positive")
+        return lambda depth: shallow + (deep - shallow) * np.clip((depth - top) / transition, 0.0, 1.0)
+    raise InputError(f"{where} must be a number, {{ depth = [...], value = [...] }} or "
+                     "{ shallow, deep, depth, transition }")
+
+
+def _number(value, where) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"{where} must be a number, got {value!r}")
+    return float(value)
+
+
+def build_fault(settings: dict, element_size: float, name: str) -> Fault2D:
+    """The fault on elements of ``element_size`` from parsed settings (see :func:`parse_fault_2d_scene`)."""
+    width = settings["width"]
+    count = int(round(width / element_size))
+    if count < 2 or not math.isclose(count * element_size, width, rel_tol=1e-9):
+        raise InputError(f"the element size {element_size:g} m must divide the fault width {width:g} m into 2 "
+                         "elements or more")
+    if count > settings.get("max_elements", MAX_ELEMENTS):
+        raise InputError(f"{count} elements exceed the limit of {MAX_ELEMENTS} (memory and time grow with them); "
+                         "choose a larger element_size, or pass --allow-large")
+    depth = (np.arange(count) + 0.5) * element_size
+    values = {key: settings["profiles"][key](depth) for key in _PROFILE_KINDS}
+    for key in ("a", "critical_slip", "normal_stress"):
+        if np.any(values[key] <= 0):
+            raise InputError(f"[friction] {key} must be positive at every depth")
+    damping = settings["shear_modulus"] / (2 * settings["shear_wave_speed"])
+    tau0, psi0 = steady_initial_conditions(values["a"], values["b"], values["normal_stress"], damping,
+                                           settings["initial_speed"], settings["reference_speed"],
+                                           settings["reference_friction"], stress_a=float(values["a"].max()))
+    return Fault2D(element_size, values["a"], values["b"], values["critical_slip"], values["normal_stress"],
+                   settings["shear_modulus"], settings["shear_wave_speed"], settings["plate_rate"],
+                   settings["reference_speed"], settings["reference_friction"], tau0, psi0,
+                   evolution=settings["evolution"], name=name)
+
+
+def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool = False) -> Fault2DScene:
+    data = parse_toml(text, source)
+    check_toml_layout(data, {"fault": _FAULT, "friction": _FRICTION, "initial": _INITIAL, "run": _RUN,
+                             "sources": None}, source, "a 2-D fault scene")
+    if data.get("family", "fault_2d") != "fault_2d":
+        raise InputError(f"{source} declares family {data.get('family')!r}; a 2-D fault scene is family = \"fault_2d\"")
+    fault, friction = data.get("fault", {}), data.get("friction", {})
+    initial, run = data.get("initial", {}), data.get("run", {})
+    for table, keys in (("fault", ("width", "element_size", "plate_rate", "shear_wave_speed")),
+                        ("friction", ("a", "b", "critical_slip", "normal_stress", "reference_speed",
+                                      "reference_friction")), ("run", ("duration",))):
+        for key in keys:
+            if key not in data.get(table, {}):
+                raise InputError(f"[{table}] {key} is missing in {source}")
+    speed = to_si_scalar(fault["shear_wave_speed"], "speed", f"[fault] shear_wave_speed in {source}")
+    if "shear_modulus" in fault:
+        modulus = to_si_scalar(fault["shear_modulus"], "pressure", f"[fault] shear_modulus in {source}")
+    elif "density" in fault:
+        modulus = to_si_scalar(fault["density"], "density", f"[fault] density in {source}") * speed ** 2
+    else:
+        raise InputError(f"[fault] in {source} needs shear_modulus or density (G = rho c_s^2)")
+    settings = {
+        "width": to_si_scalar(fault["width"], "length", f"[fault] width in {source}"),
+        "shear_modulus": modulus, "shear_wave_speed": speed,
+        "plate_rate": to_si_scalar(fault["plate_rate"], "speed", f"[fault] plate_rate in {source}"),
+        "evolution": fault.get("evolution", "aging"),
+        "reference_speed": to_si_scalar(friction["reference_speed"], "speed", f"[friction] reference_speed in {source}"),
+        "reference_friction": _number(friction["reference_friction"], f"[friction] reference_friction in {source}"),
+        "initial_speed": to_si_scalar(initial.get("initial_speed", fault["plate_rate"]), "speed",
+                                      f"[initial] initial_speed in {source}"),
+        "profiles": {key: _profile(friction[key], kind, f"[friction] {key} in {source}")
+                     for key, kind in _PROFILE_KINDS.items()},
+        "max_elements": math.inf if allow_large else MAX_ELEMENTS,
+    }
+    for key in ("width", "shear_modulus", "shear_wave_speed", "plate_rate", "reference_speed", "initial_speed"):
+        if not settings[key] > 0:
+            raise InputError(f"{key} in {source} must be positive")
+    if settings["evolution"] not in ("aging", "slip"):
+        raise InputError(f"[fault] evolution in {source} must be aging or slip, got {settings['evolution']!r}")
+    element_size = to_si_scalar(fault["element_size"], "length", f"[fault] element_size in {source}")
+    if not element_size > 0:
+        raise InputError(f"[fault] element_size in {source} must be positive")
+    name = data.get("name", "2-D fault")
+    built = build_fault(settings, element_size, name)
+    duration = to_si_scalar(run["duration"], "time", f"[run] duration in {source}")
+    if not duration > 0:
+        raise InputError(f"[run] duration in {source} must be positive")
+    rtol = run.get("rtol", 1e-8)
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-14 <= rtol <= 1e-2:
+        raise InputError(f"[run] rtol in {source} must be a number from 1e-14 to 1e-2, got {rtol!r}")
+    stations = run.get("stations")
+    if stations is None:
+        stations = BP1_STATIONS
+    elif not isinstance(stations, list) or not stations:
+        raise InputError(f"[run] stations in {source} must be a list of depths")
+    else:
+        stations = tuple(to_si_scalar(s, "length", f"[run] stations in {source}") for s in stations)
+    if any(s < 0 or s > settings["width"] for s in stations):
+        raise InputError(f"[run] stations in {source} must lie on the fault, from 0 to {settings['width']:g} m")
+    length = run.get("fault_length")
+    kernel = run.get("kernel", "auto")
+    if kernel not in ("auto", "dense", "fft"):
+        raise InputError(f"[run] kernel in {source} must be auto, dense or fft, got {kernel!r}")
+    return Fault2DScene(
+        name=name, fault=built, duration=duration, rtol=float(rtol), stations=tuple(stations),
+        profile_interval=to_si_scalar(run.get("profile_interval", "5 yr"), "time", f"[run] profile_interval in {source}"),
+        coseismic_interval=to_si_scalar(run.get("coseismic_interval", "1 s"), "time",
+                                        f"[run] coseismic_interval in {source}"),
+        fault_length=to_si_scalar(length, "length", f"[run] fault_length in {source}") if length is not None else None,
+        kernel=kernel, settings=settings)
+
+
+def load_fault_2d_scene(path, allow_large: bool = False) -> Fault2DScene:
+    if isinstance(path, Fault2DScene):
+        return path
+    resolved, origin = resolve_path(path, "scene")
+    scene = parse_fault_2d_scene(read_text_file(resolved, "scene file"), resolved.name, allow_large)
+    scene.origin, scene.path = origin, str(resolved)
+    return scene
+
+
+def from_one_slider(rate_state_scene, element_size: float | None = None, duration: float | None = None,
+                    rtol: float = 1e-8) -> Fault2DScene:
+    """The 2-D fault a one-slider rate-and-state fault scene stands for: its friction uniform from the
+    surface to its zone width, loaded by steady slip at the plate rate below (the geometry in which K = G / D
+    is the one-slider's stiffness). Elements resolve L_b = G D_c / (sigma_n b) with 8 each unless given."""
+    law, fault = rate_state_scene.law, rate_state_scene.fault
+    modulus, width = fault["shear_modulus"], fault["zone_width"]
+    speed = fault.get("shear_wave_speed") or 3464.0
+    sigma = fault["normal_stress"]
+    process = modulus * law.critical_slip / (sigma * law.b) if law.b > 0 else width / 64
+    if element_size is None:
+        count = max(16, int(math.ceil(width / (process / 8))))
+        element_size = width / count
+    settings = {"width": width, "shear_modulus": modulus, "shear_wave_speed": speed,
+                "plate_rate": rate_state_scene.plate_rate, "evolution": law.evolution,
+                "reference_speed": law.reference_speed, "reference_friction": law.mu0,
+                "initial_speed": rate_state_scene.plate_rate, "max_elements": MAX_ELEMENTS,
+                "profiles": {"a": _profile(law.a, "dimensionless", "a"), "b": _profile(law.b, "dimensionless", "b"),
+                             "critical_slip": _profile(law.critical_slip, "length", "critical_slip"),
+                             "normal_stress": _profile(sigma, "pressure", "normal_stress")}}
+    name = f"{rate_state_scene.name} (2-D)"
+    built = build_fault(settings, element_size, name)
+    return Fault2DScene(name=name, fault=built, duration=duration or 0.0, rtol=rtol,
+                        stations=tuple(s for s in (0.0, width / 4, width / 2, 3 * width / 4)), settings=settings)

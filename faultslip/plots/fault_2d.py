@@ -1,0 +1,54 @@
+"""Figures of a 2-D fault run: cumulative slip (the field's standard picture) and log10 V in space-time."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
+from faultslip.plots.figures import _pyplot
+
+
+def cumulative_slip_figure(run: Fault2DRun, title: str = ""):
+    """Slip profiles against depth: blue every profile interval between events, red every coseismic
+    interval within them (Lapusta et al. 2000, Fig. 3; SEAS BP1, Erickson et al. 2020, Fig. 4)."""
+    plt = _pyplot()
+    figure, axis = plt.subplots(figsize=(7.5, 5.0), constrained_layout=True)
+    depth_km = run.fault.depth / 1e3
+    coseismic = run.profile_max_speed > 1e-3
+    for rows, colour, width in ((~coseismic, "C0", 0.6), (coseismic, "C3", 0.5)):
+        for profile in run.profiles[rows]:
+            axis.plot(profile, depth_km, color=colour, lw=width)
+    axis.invert_yaxis()
+    axis.set(xlabel="cumulative slip (m)", ylabel="depth (km)",
+             title=title or f"{run.fault.name}: cumulative slip ({run.event_count} events)")
+    axis.plot([], [], color="C0", label="between events (every profile interval)")
+    axis.plot([], [], color="C3", label="within events (every coseismic interval)")
+    axis.legend(loc="lower right", fontsize=8)
+    return figure
+
+
+def slip_rate_figure(run: Fault2DRun, title: str = ""):
+    """log10 slip rate on the fault against the profile index: time runs unevenly, a profile every
+    few years between events and every second within them, so that both show (SEAS BP1's convention)."""
+    plt = _pyplot()
+    figure, axis = plt.subplots(figsize=(9, 4.6), constrained_layout=True)
+    depth_km = run.fault.depth / 1e3
+    values = np.clip(run.profile_log10_slip_rate, -12, 1)
+    image = axis.pcolormesh(np.arange(values.shape[0]), depth_km, values.T, cmap="magma", shading="auto",
+                            vmin=-12, vmax=1)
+    axis.invert_yaxis()
+    axis.set(xlabel="profile index (between events: every profile interval; within: every coseismic interval)",
+             ylabel="depth (km)", title=title or f"{run.fault.name}: log10 slip rate in space and time")
+    figure.colorbar(image, ax=axis, label="log10 V (m/s)")
+    return figure
+
+
+def station_figure(run: Fault2DRun, title: str = ""):
+    """Slip rate at the stations against time (years)."""
+    plt = _pyplot()
+    figure, axis = plt.subplots(figsize=(8, 4.2), constrained_layout=True)
+    for k, depth in enumerate(run.station_depths):
+        axis.plot(run.station_time / YEAR, run.stations["log10_slip_rate"][:, k], lw=0.7, label=f"{depth / 1e3:g} km")
+    axis.set(xlabel="time (yr)", ylabel="log10 slip rate (m/s)", title=title or f"{run.fault.name}: stations")
+    axis.legend(fontsize=7, ncol=2)
+    return figure

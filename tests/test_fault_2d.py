@@ -1,0 +1,201 @@
+"""The 2-D fault (issue 33): its kernel against exact crack solutions, its force balance, restart bit
+for bit, SEAS files, and the cycle invariants on a coarse fault."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from faultslip.dynamics.fault_2d import compiled
+from faultslip.dynamics.fault_2d.analysis import summarise
+from faultslip.dynamics.fault_2d.integrate import YEAR, _Stopped, run_cycles
+from faultslip.dynamics.fault_2d.kernel import StressKernel, deep_loading, dense_matrix
+from faultslip.dynamics.fault_2d.model import Fault2D, ForceBalance, steady_initial_conditions
+from faultslip.errors import InputError
+from faultslip.io.seas import read_seas, station_file_name, write_station
+from faultslip.models.fault_2d.scene import load_fault_2d_scene, parse_fault_2d_scene
+
+CONFIGS = Path(__file__).resolve().parent.parent / "configs"
+G = 2670 * 3464.0 ** 2
+STATIONS = (0.0, 2e3, 5e3, 8e3, 12e3, 19e3)
+
+
+def small_fault(element_size=500.0, width=20e3, critical_slip=0.024, evolution="aging"):
+    """A BP1-like fault, smaller and coarser: velocity weakening above 8 km, strengthening below 10 km."""
+    count = int(round(width / element_size))
+    depth = (np.arange(count) + 0.5) * element_size
+    a = 0.010 + 0.015 * np.clip((depth - 8e3) / 2e3, 0, 1)
+    b = np.full(count, 0.015)
+    sigma = np.full(count, 50e6)
+    dc = np.full(count, critical_slip)
+    tau0, psi0 = steady_initial_conditions(a, b, sigma, G / (2 * 3464.0), 1e-9, 1e-6, 0.6, stress_a=0.025)
+    return Fault2D(element_size, a, b, dc, sigma, G, 3464.0, 1e-9, 1e-6, 0.6, tau0, psi0, evolution=evolution)
+
+
+# --- the kernel -------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("count", [2, 3, 17, 64, 513, 1000])
+def test_the_fft_product_equals_the_dense_one(count):
+    rng = np.random.default_rng(count)
+    slip = rng.normal(size=count)
+    dense = dense_matrix(count, 25.0, G) @ slip
+    fft = StressKernel(count, 25.0, G, "fft")(slip)
+    assert np.max(np.abs(fft - dense)) <= 1e-12 * np.max(np.abs(dense_matrix(count, 25.0, G))) * np.abs(slip).sum()
+
+
+def test_uniform_slip_to_infinite_depth_is_a_rigid_motion():
+    for count in (5, 100, 1600):
+        rows = dense_matrix(count, 25.0, G).sum(axis=1) + deep_loading(count, 25.0, G)
+        assert np.max(np.abs(rows)) <= 1e-9 * G / 25.0
+
+
+def test_a_surface_breaking_crack_has_the_exact_elliptical_slip():
+    """Uniform stress drop on a fault from the surface to depth a: by the free surface's image it is half of
+    a full-space mode III crack of length 2a, slip 2 (stress drop / G) sqrt(a^2 - z^2) (Knopoff 1958)."""
+    depth_extent, drop = 10e3, 3e6
+    for count, tolerance in ((200, 0.02), (800, 0.01)):
+        size = depth_extent / count
+        z = (np.arange(count) + 0.5) * size
+        slip = np.linalg.solve(dense_matrix(count, size, G), -np.full(count, drop))
+        exact = 2 * drop / G * np.sqrt(depth_extent ** 2 - z ** 2)
+        inside = z < 0.9 * depth_extent  # the tip's square root converges slowly on uniform elements
+        assert np.max(np.abs(slip[inside] / exact[inside] - 1)) < tolerance
+        # its potency per length, pi a^2 drop / (2 G) (half the full-space crack's), to the tip too
+        assert slip.sum() * size == pytest.approx(math.pi * depth_extent ** 2 * drop / (2 * G), rel=tolerance)
+
+
+# --- the force balance ------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("evolution", ["aging", "slip"])
+def test_the_force_balance_holds_and_both_kernels_agree(evolution):
+    fault = small_fault(evolution=evolution)
+    operator = StressKernel(fault.count, fault.element_size, G)
+    slip = np.linspace(0, 3.0, fault.count)
+    psi = fault.initial_state - np.linspace(0, 0.2, fault.count)
+    results = []
+    for use_numba in ([True, False] if compiled.available() else [False]):
+        balance = ForceBalance(fault, operator, compiled=use_numba)
+        speed, psi_rate, stress = balance.rates(3e9, slip, psi)
+        friction = fault.normal_stress * fault.a * np.arcsinh(speed / (2 * fault.reference_speed)
+                                                              * np.exp(psi / fault.a))
+        np.testing.assert_allclose(friction + fault.damping * speed, stress, rtol=1e-13, atol=1e-6)
+        results.append((speed, psi_rate))
+    for other in results[1:]:
+        np.testing.assert_allclose(other[0], results[0][0], rtol=1e-12)
+        np.testing.assert_allclose(other[1], results[0][1], rtol=1e-10, atol=1e-20)
+
+
+def test_the_initial_state_slides_steadily_at_the_initial_speed():
+    """BP1's initial stress and state give V = V_init everywhere (Erickson et al. 2020, eqs. 8-9)."""
+    fault = load_fault_2d_scene(CONFIGS / "seas_bp1.toml").at_element_size(500.0).fault
+    balance = ForceBalance(fault, StressKernel(fault.count, fault.element_size, fault.shear_modulus))
+    speed, psi_rate, _ = balance.rates(0.0, np.zeros(fault.count), fault.initial_state)
+    np.testing.assert_allclose(speed, 1e-9, rtol=1e-10)
+    # steady state (d psi / dt = 0) where a = a_max only
+    deep = fault.a == fault.a.max()
+    assert np.max(np.abs(psi_rate[deep])) < 1e-12 * fault.b[0] * 1e-9 / fault.critical_slip[0] + 1e-25
+
+
+# --- cycles, restart and files -----------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def cycles():
+    fault = small_fault()
+    return fault, run_cycles(fault, 700 * YEAR, rtol=1e-7, stations=STATIONS)
+
+
+def test_cycles_repeat_and_balance_the_plate(cycles):
+    fault, run = cycles
+    summary = summarise(run, tolerance=0.02)
+    assert summary.system_events >= 4
+    # over a cycle every station slips V_pl T (the fault keeps up with the plate): to 1 %
+    assert summary.plate_slip_balance_range[0] == pytest.approx(1.0, abs=0.01)
+    assert summary.plate_slip_balance_range[1] == pytest.approx(1.0, abs=0.01)
+    # far below the locked zone the fault creeps near the plate rate (its average over a cycle is the plate rate,
+    # checked above; between events the rate there swings by some per cent as afterslip decays)
+    assert summary.creep_rate_deep == pytest.approx(fault.plate_rate, rel=0.1)
+    # while near the surface the fault is locked between events (the last station row precedes no event)
+    interseismic = run.stations["log10_slip_rate"][-1]
+    assert interseismic[0] < math.log10(fault.plate_rate) - 2
+    # the events nucleate in the velocity-weakening zone and rupture to the surface
+    assert np.all(run.events["hypocentre_depth"] < 10e3)
+    assert summary.surface_slip_per_event > 0.5 * summary.mean_slip_per_event
+    # the event (peak slip rate above 1e-3 m/s) carries most of the surface's slip per cycle, V_pl T; the rest
+    # is its slow tail, after the peak fell below the threshold
+    assert 0.75 < summary.surface_slip_per_event / (fault.plate_rate * summary.recurrence_interval) < 1.0
+
+
+def test_a_stopped_run_continues_bit_for_bit(tmp_path):
+    fault = small_fault(element_size=1000.0)
+    duration = 260 * YEAR
+    whole = run_cycles(fault, duration, rtol=1e-7, folder=tmp_path / "whole", stations=STATIONS)
+    assert whole.event_count >= 1
+    with pytest.raises(_Stopped):
+        run_cycles(fault, duration, rtol=1e-7, folder=tmp_path / "part", stop_after_steps=whole.steps // 2,
+                   stations=STATIONS)
+    # a write after the checkpoint that the kill interrupted is cut back on resume
+    with open(tmp_path / "part" / "stations.f8", "ab") as handle:
+        handle.write(b"\0" * 37)
+    resumed = run_cycles(fault, duration, rtol=1e-7, folder=tmp_path / "part", resume=True, stations=STATIONS)
+    assert resumed.resumed_from is not None
+    assert np.array_equal(resumed.final_slip, whole.final_slip)
+    assert np.array_equal(resumed.final_state, whole.final_state)
+    assert resumed.steps == whole.steps
+    for name in whole.stations:
+        assert np.array_equal(resumed.stations[name], whole.stations[name])
+    assert np.array_equal(resumed.events["slip"], whole.events["slip"])
+    # a checkpoint of another run is refused
+    with pytest.raises(InputError, match="different run"):
+        run_cycles(fault, duration, rtol=1e-6, folder=tmp_path / "part", resume=True, stations=STATIONS)
+
+
+def test_station_files_are_written_and_read_back(tmp_path):
+    time = np.array([0.0, 1.5, 3.0e9])
+    values = [np.array([0.0, 1e-3, 2.5]), np.array([-9.0, -2.5, 0.3]), np.array([29.2, 30.0, 25.1]),
+              np.array([8.9, 9.0, 1.2])]
+    path = tmp_path / station_file_name(2500.0)
+    assert path.name == "fltst_dp025"
+    write_station(path, time, *values, depth=2500.0, element_size=25.0)
+    header, names, rows = read_seas(path)
+    assert names == ["t", "slip", "slip_rate", "shear_stress", "state"]
+    assert header["location"] == "on fault, 2.5 km depth" and header["num_time_steps"] == "3"
+    np.testing.assert_allclose(rows, np.column_stack([time, *values]), rtol=1e-14)
+
+
+def test_the_cli_writes_the_seas_files_and_resumes(tmp_path, cli):
+    scene = tmp_path / "small.toml"
+    text = (CONFIGS / "seas_bp1.toml").read_text()
+    text = text.replace('element_size = "25 m"', 'element_size = "1 km"').replace('duration = "3000 yr"',
+                                                                                 'duration = "120 yr"')
+    scene.write_text(text)
+    out = tmp_path / "run"
+    done = cli("simulate", scene, "--output-dir", out, "--json")
+    assert done.code == 0, done.err
+    names = sorted(p.name for p in out.iterdir())
+    assert "fltst_dp000" in names and "fltst_dp350" in names and "devol.dat" in names and "fault_2d.nc" in names
+    _, columns, rows = read_seas(out / "devol.dat")
+    assert columns == ["t", "max_slip_rate", "slip"] and rows.shape[1] == 40 + 2
+    again = cli("simulate", scene, "--output-dir", out, "--json")
+    assert again.code == 2 and "--resume" in again.err
+    resumed = cli("simulate", scene, "--output-dir", out, "--resume", "--json")  # the run had ended: nothing to add
+    assert resumed.code == 0, resumed.err
+    assert resumed.json["steps"] == done.json["steps"]
+
+
+@pytest.mark.parametrize("change, message", [
+    ('element_size = "25 m"', "element size"),
+    ('a = { shallow = 0.010, deep = 0.025, depth = "15 km", transition = "3 km" }', "must be a number"),
+    ('critical_slip = "8 mm"', "critical_slip"),
+    ('duration = "3000 yr"', "duration"),
+])
+def test_bad_scenes_are_one_sentence(change, message):
+    text = (CONFIGS / "seas_bp1.toml").read_text()
+    replacement = {'element_size = "25 m"': 'element_size = "7 m"',
+                   'a = { shallow = 0.010, deep = 0.025, depth = "15 km", transition = "3 km" }': 'a = { x = 1 }',
+                   'critical_slip = "8 mm"': 'critical_slip = "-8 mm"',
+                   'duration = "3000 yr"': 'duration = "3 kg"'}[change]
+    with pytest.raises(InputError, match=message):
+        parse_fault_2d_scene(text.replace(change, replacement), "bad.toml")
