@@ -1,8 +1,10 @@
 """The 2-D fault's force balance and state rate, element by element, compiled by numba where it is here.
 
 The same equations as :class:`faultslip.dynamics.fault_2d.model.ForceBalance` (see there), in one
-pass over the elements, shared between the cores (the elements are independent): Newton's method
-on u = asinh[V / (2 V_0) exp(psi / a)] from the last solution, each element to its own convergence
+pass over the elements (one thread: numba's parallel loop measured no faster at 1,600 elements, and
+oversubscribed the cores when runs go side by side in processes): Newton's method
+on u = asinh[V / (2 V_0) exp(psi / a)] from the last solution, safeguarded by the bracket
+[0, tau / (sigma_n a)] that holds the root (a step leaving it bisects), each element to its own convergence
 (a step |du| <= 1e-10 (1 + |u|) leaves an error of the order of its square), then V and d psi / dt.
 """
 
@@ -19,18 +21,33 @@ def _balance(stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, ag
              v0, critical_slip, b, speed, psi_rate, iterations):
     """Fill ``speed`` and ``psi_rate``; ``u`` is updated in place. An element whose Newton iteration
     fails gets a NaN speed (the caller names it)."""
-    for i in _elements(stress.shape[0]):
+    for i in range(stress.shape[0]):
         coefficient = two_v0_eta * math.exp(-psi[i] * inverse_a[i])
+        tau = stress[i]
+        # the root lies between 0 and tau / (sigma_n a): g is monotone, and the bracket keeps each
+        # Newton step honest (a step that leaves it is a bisection instead)
+        low = min(0.0, tau / sigma_a[i])
+        high = max(0.0, tau / sigma_a[i])
         x = u[i]
+        if not low <= x <= high:
+            x = high if tau >= 0 else low
         converged = False
         for _ in range(iterations):
             e = math.exp(x)
             inverse = 1.0 / e
-            step = ((sigma_a[i] * x + coefficient * 0.5 * (e - inverse) - stress[i])
-                    / (sigma_a[i] + coefficient * 0.5 * (e + inverse)))
-            x -= step
+            residual = sigma_a[i] * x + coefficient * 0.5 * (e - inverse) - tau
+            if residual > 0:
+                high = x
+            else:
+                low = x
+            proposal = x - residual / (sigma_a[i] + coefficient * 0.5 * (e + inverse))
+            newton = low < proposal < high
+            if not newton:
+                proposal = 0.5 * (low + high)
+            step = x - proposal
+            x = proposal
             # the error left after a Newton step is of the order of the step squared: 1e-10 leaves round-off
-            if abs(step) <= 1e-10 * (1.0 + abs(x)):
+            if (newton and abs(step) <= 1e-10 * (1.0 + abs(x))) or high - low <= 4e-16 * (1.0 + abs(x)):
                 converged = True
                 break
         if not converged or not math.isfinite(x):
@@ -45,9 +62,6 @@ def _balance(stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, ag
             psi_rate[i] = -(v / critical_slip[i]) * (psi[i] - f0 + b[i] * math.log(v / v0))
 
 
-_elements = range  # numba.prange when compiled: the elements are independent, so the answer is the same
-
-
 def balance(compiled: bool = True):
     """The force balance, compiled by numba on first use (cached on disk), or as plain Python."""
     if not compiled:
@@ -55,7 +69,5 @@ def balance(compiled: bool = True):
     if not _COMPILED:
         import numba  # heavy: optional dependency (faultslip[fast]), imported only when the kernel is wanted
 
-        namespace = dict(_balance.__globals__, _elements=numba.prange)
-        source = type(_balance)(_balance.__code__, namespace, _balance.__name__)
-        _COMPILED.append(numba.njit(cache=True, parallel=True)(source))
+        _COMPILED.append(numba.njit(cache=True)(_balance))
     return _COMPILED[0]

@@ -30,7 +30,7 @@ from faultslip.dynamics.fault_2d import compiled as compiled_kernel
 from faultslip.errors import InputError, SolverError
 
 #: Newton iterations allowed for the slip rate; more means the state is not finite.
-NEWTON_ITERATIONS = 80
+NEWTON_ITERATIONS = 200  # safeguarded: bisection alone would need ~60 from a double's range
 
 
 @dataclass
@@ -156,11 +156,21 @@ class ForceBalance:
     def slip_rate(self, stress: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(V, u) from the force balance at quasi-static stress ``stress`` and state ``psi`` (numpy)."""
         coefficient = self.two_v0_eta * np.exp(-psi * self.inverse_a)
-        u = self.u.copy() if self.u is not None else stress / self.sigma_a
+        bound = stress / self.sigma_a
+        low, high = np.minimum(0.0, bound), np.maximum(0.0, bound)  # the root lies between them (g is monotone)
+        u = self.u.copy() if self.u is not None else high.copy()
+        outside = (u < low) | (u > high)
+        u[outside] = np.where(stress >= 0, high, low)[outside]
         for _ in range(NEWTON_ITERATIONS):
-            step = (self.sigma_a * u + coefficient * np.sinh(u) - stress) / (self.sigma_a + coefficient * np.cosh(u))
-            u = u - step
-            if np.all(np.abs(step) <= 1e-10 * (1.0 + np.abs(u))):  # the error left is of the order of step^2
+            residual = self.sigma_a * u + coefficient * np.sinh(u) - stress
+            high = np.where(residual > 0, u, high)
+            low = np.where(residual > 0, low, u)
+            proposal = u - residual / (self.sigma_a + coefficient * np.cosh(u))
+            leaves = ~((low < proposal) & (proposal < high))
+            proposal[leaves] = 0.5 * (low + high)[leaves]  # a step leaving the bracket bisects it
+            step = u - proposal
+            u = proposal
+            if np.all((~leaves & (np.abs(step) <= 1e-10 * (1.0 + np.abs(u)))) | (high - low <= 4e-16 * (1.0 + np.abs(u)))):
                 break
         else:
             self._failed(int(np.argmax(np.abs(step))))
@@ -175,7 +185,7 @@ class ForceBalance:
         fault = self.fault
         if self.compiled:
             if self.u is None:
-                self.u = stress / self.sigma_a
+                self.u = stress / self.sigma_a  # the bracket's outer end
             speed, psi_rate = np.empty_like(stress), np.empty_like(stress)
             self._balance(stress, psi, self.u, self.sigma_a, self.inverse_a, self.two_v0_eta, 1.0 / self.damping,
                           self.aging, self.aging_rate, fault.reference_friction, self.inverse_b,
