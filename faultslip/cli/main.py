@@ -382,6 +382,13 @@ def _evaluation_commands(commands) -> None:
     stability.add_argument("--json", action="store_true", help="print one JSON object")
     stability.set_defaults(handler="evaluation:cmd_stability")
 
+    error = commands.add_parser("model-error", help="one slider's error against the 2-D fault over W / h*, and a scene's")
+    error.add_argument("scene", nargs="?", help="a rate-and-state fault scene: its declared model error")
+    error.add_argument("--tolerance", help="the model error allowed: where one slider suffices")
+    error.add_argument("--plot", help="draw the model-error map to FILE.png")
+    _overwrite_and_json(error)
+    error.set_defaults(handler="evaluation:cmd_model_error")
+
 
 def _plots_commands(commands) -> None:
     """Figure commands (handlers in faultslip.cli.plots)."""

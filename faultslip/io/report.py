@@ -43,6 +43,14 @@ class Report:
         self.items.append(Item(key, value, units, label or key.replace("_", " "), tuple(also)))
         return self
 
+    def set(self, key, value) -> "Report":
+        """Replace the value of an item already reported (its units and label stay)."""
+        for item in self.items:
+            if item.key == key:
+                item.value = value
+                return self
+        raise KeyError(key)
+
     def note(self, text: str) -> "Report":
         self.notes.append(text)
         return self

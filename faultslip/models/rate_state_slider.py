@@ -3,11 +3,16 @@ a fault's quasi-dynamic earthquake cycles on one spring-block (Dieterich-Ruina f
 
 from __future__ import annotations
 
+import math
+
 from faultslip.dynamics.rate_state.slider import fault_cycles, simulate_rate_state
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.report import Report
+from faultslip.models.fault_2d import simulate_fault
+from faultslip.models.fault_2d.scene import from_one_slider
+from faultslip.models.model_error import declared_model_error
 from faultslip.models.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.figures import _pyplot
@@ -109,13 +114,61 @@ def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None, progre
     return Result("rate_state_slider", report)
 
 
+#: The methods of a fault scene: one slider (K = G / D) or the 2-D fault it stands for.
+FAULT_METHODS = ("auto", "one_slider", "fault_2d")
+
+
 def run(scene, method=None, tolerance=None) -> Result:
-    """A laboratory slider's load history, or a fault's cycles: what the scene describes."""
+    """A laboratory slider's load history, or a fault's cycles: what the scene describes.
+
+    A fault scene's methods are ``one_slider`` (one quasi-dynamic spring-block, K = G / D) and
+    ``fault_2d`` (the 2-D fault with the same friction from the surface to D, loaded below).
+    ``tolerance`` is the model error allowed: ``auto`` takes one slider where its declared error
+    against the 2-D fault (faultslip.models.model_error, from the shipped calibration) meets it,
+    and the 2-D fault otherwise; without a tolerance it takes one slider and declares its error.
+    """
     loaded = load_rate_state_scene(scene)
-    if method not in (None, "auto") or tolerance is not None:
-        raise InputError("a rate-and-state scene chooses its integrator and tolerance itself (rtol 1e-8 for a "
-                         "load history, 1e-7 for cycles); use 'faultslip rate-state simulate --method' to choose one")
-    return velocity_step(loaded) if loaded.kind == "lab" else earthquake_cycles(loaded)
+    if loaded.kind == "lab":
+        if method not in (None, "auto") or tolerance is not None:
+            raise InputError("a rate-and-state laboratory scene chooses its integrator and tolerance itself (rtol "
+                             "1e-8); use 'faultslip rate-state simulate --method' to choose one")
+        return velocity_step(loaded)
+    method = method or "auto"
+    if method not in FAULT_METHODS:
+        raise InputError(f"a rate-and-state fault runs one of {', '.join(FAULT_METHODS)}, got {method!r}")
+    if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance):
+        raise InputError(f"the tolerance of a fault's model error must be a positive number, got {tolerance!r}")
+    fault = loaded.fault
+    error, ratio, how = declared_model_error(loaded.law, fault["shear_modulus"], fault["normal_stress"],
+                                             fault["zone_width"])
+    if method == "fault_2d" or (method == "auto" and tolerance is not None and not error <= tolerance):
+        reason = ("asked for by name" if method == "fault_2d" else
+                  f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "
+                  f"{tolerance:g}")
+        return _two_d(loaded, reason)
+    result = earthquake_cycles(loaded)
+    report = result.summary
+    report.add("method", "one_slider")
+    if method == "one_slider":
+        report.add("method_reason", "asked for by name")
+    elif tolerance is None:
+        report.add("method_reason", "one spring-block, K = G / D (no model tolerance given: give one, or "
+                                    "--method fault_2d, for the 2-D fault)")
+    else:
+        report.add("method_reason", f"one slider's declared model error {error:.2g} meets the tolerance {tolerance:g}")
+    report.add("model_error", error if math.isfinite(error) else None,
+               label="declared model error against the 2-D fault (relative, recurrence or slip)")
+    report.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
+    report.note(f"model error: {how}")
+    return result
+
+
+def _two_d(loaded, reason: str, elements_per_process_zone: float = 8.0) -> Result:
+    block = fault_cycles(loaded.slider, loaded.plate_rate, cycles=3)
+    scene = from_one_slider(loaded, duration=14 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
+    result = simulate_fault(scene)
+    result.summary.set("method_reason", f"the 2-D fault with the scene's friction from the surface to D: {reason}")
+    return result
 
 
 def simulate(scene, cycles=None) -> Result:

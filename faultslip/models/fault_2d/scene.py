@@ -105,6 +105,11 @@ def _profile(spec, kind: str, where: str):
                      "{ shallow, deep, depth, transition }")
 
 
+def _constant(value: float):
+    """A profile of one SI value at every depth."""
+    return lambda depth: np.full(np.shape(depth), float(value))
+
+
 def _number(value, where) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise InputError(f"{where} must be a number, got {value!r}")
@@ -218,25 +223,25 @@ def load_fault_2d_scene(path, allow_large: bool = False) -> Fault2DScene:
 
 
 def from_one_slider(rate_state_scene, element_size: float | None = None, duration: float | None = None,
-                    rtol: float = 1e-8) -> Fault2DScene:
+                    rtol: float = 1e-8, elements_per_process_zone: float = 8.0) -> Fault2DScene:
     """The 2-D fault a one-slider rate-and-state fault scene stands for: its friction uniform from the
     surface to its zone width, loaded by steady slip at the plate rate below (the geometry in which K = G / D
-    is the one-slider's stiffness). Elements resolve L_b = G D_c / (sigma_n b) with 8 each unless given."""
+    is the one-slider's stiffness). Elements resolve L_b = G D_c / (sigma_n b) with
+    ``elements_per_process_zone`` each (8) unless ``element_size`` is given."""
     law, fault = rate_state_scene.law, rate_state_scene.fault
     modulus, width = fault["shear_modulus"], fault["zone_width"]
     speed = fault.get("shear_wave_speed") or 3464.0
     sigma = fault["normal_stress"]
     process = modulus * law.critical_slip / (sigma * law.b) if law.b > 0 else width / 64
     if element_size is None:
-        count = max(16, int(math.ceil(width / (process / 8))))
+        count = max(16, int(math.ceil(width / (process / elements_per_process_zone))))
         element_size = width / count
     settings = {"width": width, "shear_modulus": modulus, "shear_wave_speed": speed,
                 "plate_rate": rate_state_scene.plate_rate, "evolution": law.evolution,
                 "reference_speed": law.reference_speed, "reference_friction": law.mu0,
                 "initial_speed": rate_state_scene.plate_rate, "max_elements": MAX_ELEMENTS,
-                "profiles": {"a": _profile(law.a, "dimensionless", "a"), "b": _profile(law.b, "dimensionless", "b"),
-                             "critical_slip": _profile(law.critical_slip, "length", "critical_slip"),
-                             "normal_stress": _profile(sigma, "pressure", "normal_stress")}}
+                "profiles": {"a": _constant(law.a), "b": _constant(law.b), "critical_slip": _constant(law.critical_slip),
+                             "normal_stress": _constant(sigma)}}
     name = f"{rate_state_scene.name} (2-D)"
     built = build_fault(settings, element_size, name)
     return Fault2DScene(name=name, fault=built, duration=duration or 0.0, rtol=rtol,

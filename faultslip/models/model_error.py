@@ -1,0 +1,146 @@
+"""The one-slider model's error against the 2-D fault, calibrated and shipped (issue 33).
+
+A rate-and-state fault reduced to one spring-block (K = G / D) stands for a fault whose friction is
+uniform from the surface to D, loaded by steady slip below (:func:`from_one_slider`). How well the
+block reproduces that fault is governed by W / h*, the width over the nucleation size
+h* = (pi / 2) G D_c b / [sigma_n (b - a)^2] (Rubin & Ampuero 2005). Near 1 the whole fault slips
+together, but more softly than the block: a surface-breaking fault slipping over D has the
+stiffness 2 G / (pi D) (the mode III crack's mean slip), 0.64 of the block's G / D, so it slips
+more and recurs less often. Well above 1, ruptures nucleate, grow and arrest in ways a block
+cannot, and the sequence can alternate between partial and full ruptures.
+
+:func:`calibrate` runs both models over W / h* (changing D_c, the rest of SEAS BP1's friction on a
+20 km fault) and measures the block's relative error in recurrence and in slip per event (the 2-D
+slip averaged over the velocity-weakening width); the model error is the larger. The table
+``data/fault_2d_model_error.json`` is that calibration, computed by
+``python benchmarks/fault_2d_calibration.py`` and shipped with its provenance;
+:func:`declared_model_error` interpolates it (linear in log W / h*) for a scene.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+from datetime import datetime, timezone
+
+import numpy as np
+
+from faultslip import __version__
+from faultslip.dynamics.fault_2d.analysis import summarise
+from faultslip.dynamics.fault_2d.integrate import YEAR, run_cycles
+from faultslip.dynamics.rate_state.slider import fault_cycles
+from faultslip.errors import InputError
+from faultslip.io.resources import bundled_dir
+from faultslip.models.fault_2d.scene import from_one_slider
+
+CALIBRATION_FILE = "fault_2d_model_error.json"
+#: W / h* of the shipped calibration.
+RATIOS = (1.25, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
+
+
+def nucleation_ratio(law, shear_modulus: float, normal_stress: float, width: float) -> float:
+    """W / h*, h* = (pi / 2) G D_c b / [sigma_n (b - a)^2]; infinite h* (b <= a) gives 0."""
+    if law.b <= law.a:
+        return 0.0
+    nucleation = math.pi / 2 * shear_modulus * law.critical_slip * law.b / (normal_stress * (law.b - law.a) ** 2)
+    return width / nucleation
+
+
+def _scene_at_ratio(scene, ratio: float):
+    law = scene.law
+    current = nucleation_ratio(law, scene.fault["shear_modulus"], scene.fault["normal_stress"],
+                               scene.fault["zone_width"])
+    changed = replace(law, critical_slip=law.critical_slip * current / ratio)
+    return replace(scene, law=changed, slider=replace(scene.slider, law=changed))
+
+
+def compare(scene, elements_per_process_zone: float = 4.0, cycles: int = 10, rtol: float = 1e-7) -> dict:
+    """One slider against the 2-D fault it stands for: recurrence and slip per event of both."""
+    law, fault = scene.law, scene.fault
+    width = fault["zone_width"]
+    process = fault["shear_modulus"] * law.critical_slip / (fault["normal_stress"] * law.b)
+    count = max(16, int(math.ceil(width / (process / elements_per_process_zone))))
+    block = fault_cycles(scene.slider, scene.plate_rate, cycles=5)
+    two_d = from_one_slider(scene, element_size=width / count)
+    # long enough for the spin-up and ``cycles`` events at the block's recurrence (the 2-D one is shorter)
+    duration = (cycles + 3) * block.recurrence
+    run = run_cycles(two_d.fault, duration, rtol=rtol, stations=two_d.stations)
+    summary = summarise(run, tolerance=0.01)
+    starts, slip = run.events["start"], run.events["slip"]
+    system = np.flatnonzero(slip[:, 0] >= 0.5 * slip[:, 0].max()) if starts.size else np.empty(0, int)
+    later = system[1:]  # the first event follows the start-up, not a cycle
+    if later.size < 2:
+        raise InputError(f"the 2-D fault had {system.size} system-size events in {duration / YEAR:.4g} yr: too few to "
+                         "compare (is W / h* below 1?)")
+    weakening = two_d.fault.b > two_d.fault.a
+    recurrence = float(np.mean(np.diff(starts[later])))
+    mean_slip = float(np.mean(slip[later][:, weakening].mean(axis=1)))
+    recurrence_error = block.recurrence / recurrence - 1
+    slip_error = float(block.slip_per_event.mean()) / mean_slip - 1
+    return {"width_over_nucleation": nucleation_ratio(law, fault["shear_modulus"], fault["normal_stress"], width),
+            "critical_slip": law.critical_slip, "elements": count, "duration": duration,
+            "recurrence_2d": recurrence, "recurrence_one_slider": block.recurrence,
+            "recurrence_2d_spread": float(np.std(np.diff(starts[later])) / recurrence),
+            "slip_2d": mean_slip, "slip_one_slider": float(block.slip_per_event.mean()),
+            "recurrence_error": recurrence_error, "slip_error": slip_error,
+            "model_error": max(abs(recurrence_error), abs(slip_error)), "events_2d": int(later.size),
+            "settled_2d": bool(summary.settled), "steps_2d": run.steps, "wall_time_2d": run.wall_time}
+
+
+def calibration_row(base_scene, ratio: float, elements_per_process_zone: float = 4.0) -> dict:
+    """One row of the calibration; a 2-D fault without earthquakes (it creeps) is a model error of 1."""
+    scene = _scene_at_ratio(base_scene, ratio)
+    try:
+        return compare(scene, elements_per_process_zone)
+    except InputError as exc:
+        return {"width_over_nucleation": ratio, "critical_slip": scene.law.critical_slip, "model_error": 1.0,
+                "events_2d": 0, "note": f"{exc}: the block has earthquakes where the fault creeps"}
+
+
+def calibrate(base_scene, ratios=RATIOS, elements_per_process_zone: float = 4.0, progress=None) -> dict:
+    """The calibration table over ``ratios`` of W / h* (D_c changed, everything else of the base scene kept)."""
+    rows = []
+    for done, ratio in enumerate(ratios, start=1):
+        rows.append(calibration_row(base_scene, ratio, elements_per_process_zone))
+        if progress:
+            progress(done, len(ratios))
+    return {"provenance": {"computed_by": "benchmarks/fault_2d_calibration.py", "faultslip": __version__,
+                           "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"),
+                           "base_scene": getattr(base_scene, "name", ""),
+                           "elements_per_process_zone": elements_per_process_zone,
+                           "definition": "model error = max(|T_block / T_2d - 1|, |slip_block / mean slip_2d - 1|); "
+                                         "2-D: uniform friction from the surface to D, steady slip below; "
+                                         "means over system-size events after the first"},
+            "rows": rows}
+
+
+def load_calibration() -> dict:
+    path = bundled_dir("data") / CALIBRATION_FILE
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise InputError(f"the model-error calibration {path} cannot be read ({exc}); reinstall faultslip or run "
+                         "benchmarks/fault_2d_calibration.py") from None
+
+
+def declared_model_error(law, shear_modulus: float, normal_stress: float, width: float,
+                         calibration: dict | None = None) -> tuple[float, float, str]:
+    """(model error, W / h*, how it was found) of a one-slider fault, from the shipped calibration."""
+    table = calibration or load_calibration()
+    ratios = np.array([row["width_over_nucleation"] for row in table["rows"]])
+    errors = np.array([row["model_error"] for row in table["rows"]])
+    order = np.argsort(ratios)
+    ratios, errors = ratios[order], errors[order]
+    ratio = nucleation_ratio(law, shear_modulus, normal_stress, width)
+    if ratio <= 0:
+        return math.nan, ratio, "b <= a: the fault creeps, neither model has earthquakes"
+    if ratio < ratios[0]:
+        return float(errors[0]), ratio, (f"W / h* = {ratio:.3g} is below the calibration ({ratios[0]:.3g} to "
+                                         f"{ratios[-1]:.3g}): its nearest value is declared; below about 1 a 2-D "
+                                         "fault may creep where the block slips")
+    if ratio > ratios[-1]:
+        return float(errors.max()), ratio, (f"W / h* = {ratio:.3g} is beyond the calibration ({ratios[0]:.3g} to "
+                                            f"{ratios[-1]:.3g}): its largest value is declared")
+    value = float(np.interp(math.log(ratio), np.log(ratios), errors))
+    return value, ratio, f"interpolated in the shipped calibration at W / h* = {ratio:.3g}"
