@@ -143,11 +143,31 @@ def startup_table() -> str | None:
     return "\n".join(rows) + "\n\n" + _machine(startup)
 
 
+def fault_2d_table() -> str | None:
+    result = _load("fault_2d.json")
+    if result is None:
+        return None
+    rows = ["| run | elements | recurrence | surface slip per event | settled (spread) | steps | wall time |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for row in result["convergence"] + [result["timed_at_loosest"]]:
+        rows.append(f"| BP1, {row['element_size_m']:g} m, {row['years']:g} yr, rtol {row['rtol']:g} | {row['elements']} | "
+                    f"{row['recurrence_yr']:.5f} yr | {row['surface_slip_m']:.5f} m | {row['settled']} "
+                    f"({row['recurrence_spread']:.1e}) | {row['steps']:,} | {row['wall_s'] / 60:.1f} min |")
+    difference = result["difference_coarse_fine"]
+    rows.append("")
+    rows.append(f"Between the two element sizes: recurrence {difference['recurrence'] * 100:.3f} %, surface slip "
+                f"{difference['surface_slip'] * 100:.3f} %. The loosest rtol whose recurrence (100 m, "
+                f"{result['tolerance_study'][0]['years']:g} yr) stays within 0.1 % of the tightest's: "
+                f"{result['loosest_rtol']:g} (" + ", ".join(
+                    f"{row['rtol']:g}: {row['recurrence_error']:.1e}" for row in result["tolerance_study"]) + ").")
+    return "\n".join(rows) + "\n\n" + _machine(result)
+
+
 def update(readme: Path = ROOT / "README.md") -> list[str]:
     text = readme.read_text(encoding="utf-8")
     written = []
     for name, render in (("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
-                         ("startup", startup_table)):
+                         ("startup", startup_table), ("fault_2d", fault_2d_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

@@ -52,6 +52,11 @@ _EXPORTS = {
     "plots.catalogs": ("catalog_figure",),
     "plots.surfaces": ("surface_figure",),
     "plots.vibration": ("nanoscale_figure", "amplitude_speed_figure"),
+    "models.fault_2d.scene": ("load_fault_2d_scene",),
+    "models.fault_2d": ("simulate_fault",),
+    "models.model_error": ("declared_model_error", "load_calibration"),
+    "plots.fault_2d": ("cumulative_slip_figure", "slip_rate_figure", "model_error_figure"),
+    "io.seas": ("read_seas",),
 }
 #: Public names whose module's own name would be ambiguous at the top level: name -> (module, attribute).
 _ALIASES = {

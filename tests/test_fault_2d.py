@@ -199,3 +199,69 @@ def test_bad_scenes_are_one_sentence(change, message):
                    'duration = "3000 yr"': 'duration = "3 kg"'}[change]
     with pytest.raises(InputError, match=message):
         parse_fault_2d_scene(text.replace(change, replacement), "bad.toml")
+
+
+# --- the one slider's model error against the 2-D fault ---------------------------------------------
+
+def test_the_shipped_calibration_is_complete_and_declares_errors():
+    from faultslip.models.model_error import RATIOS, declared_model_error, load_calibration, nucleation_ratio
+    from faultslip.fault.rate_state_scene import load_rate_state_scene
+
+    table = load_calibration()
+    ratios = [row["width_over_nucleation"] for row in table["rows"]]
+    assert ratios == pytest.approx(sorted(RATIOS), rel=1e-9)
+    assert all(0 <= row["model_error"] for row in table["rows"])
+    assert table["provenance"]["computed_by"] == "benchmarks/fault_2d_calibration.py"
+    scene = load_rate_state_scene(CONFIGS / "rsf_fault_bp1.toml")
+    fault = scene.fault
+    error, ratio, how = declared_model_error(scene.law, fault["shear_modulus"], fault["normal_stress"],
+                                             fault["zone_width"], table)
+    # h* = (pi/2) G D_c b / (sigma (b-a)^2) = 4.83 km for BP1's friction at G = 32 GPa: W / h* = 20 / 4.83
+    assert ratio == pytest.approx(20e3 / (math.pi / 2 * 32e9 * 0.008 * 0.015 / (50e6 * 0.005 ** 2)), rel=1e-9)
+    assert ratio == pytest.approx(nucleation_ratio(scene.law, 32e9, 50e6, 20e3))
+    rows = sorted(table["rows"], key=lambda row: row["width_over_nucleation"])
+    below = [row for row in rows if row["width_over_nucleation"] <= ratio][-1]
+    above = [row for row in rows if row["width_over_nucleation"] >= ratio][0]
+    assert min(below["model_error"], above["model_error"]) <= error <= max(below["model_error"], above["model_error"])
+    assert "interpolated" in how
+
+
+def test_one_slider_declares_its_model_error_and_auto_obeys_a_tolerance(cli):
+    from faultslip.models.model_error import declared_model_error
+    from faultslip.fault.rate_state_scene import load_rate_state_scene
+
+    scene = load_rate_state_scene(CONFIGS / "rsf_fault_bp1.toml")
+    error, _, _ = declared_model_error(scene.law, scene.fault["shear_modulus"], scene.fault["normal_stress"],
+                                       scene.fault["zone_width"])
+    plain = cli("run", CONFIGS / "rsf_fault_bp1.toml", "--json")
+    assert plain.code == 0, plain.err
+    assert plain.json["method"] == "one_slider" and plain.json["model_error"] == pytest.approx(error)
+    loose = cli("run", CONFIGS / "rsf_fault_bp1.toml", "--tolerance", str(2 * error), "--json")
+    assert loose.json["method"] == "one_slider" and "meets the tolerance" in loose.json["method_reason"]
+    refused = cli("run", CONFIGS / "rsf_fault_bp1.toml", "--method", "two_blocks", "--json")
+    assert refused.code == 2 and "one_slider" in refused.err
+
+
+def test_auto_runs_the_2d_fault_where_one_slider_is_not_good_enough():
+    """A tolerance below the declared error sends auto to the 2-D fault, which says why (a short, coarse fault)."""
+    import faultslip
+    from faultslip.fault.rate_state_scene import parse_rate_state_scene
+
+    # W / h* = 10 km / 6.04 km = 1.66: whole-fault events, a quick 2-D run on 3 elements per L_b
+    text = (CONFIGS / "rsf_fault_bp1.toml").read_text().replace('zone_width = "20 km"', 'zone_width = "10 km"')
+    text = text.replace('critical_slip = "8 mm"', 'critical_slip = "10 mm"')
+    scene = parse_rate_state_scene(text, "narrow.toml")
+    from faultslip.models import rate_state_slider
+
+    result = rate_state_slider._two_d(scene, "test", elements_per_process_zone=3)
+    assert result.method == "fault_2d" and "test" in result.method_reason
+    assert result["events"] >= 3
+    assert isinstance(result, faultslip.Result)
+
+
+def test_the_model_error_command_draws_the_map(tmp_path, cli):
+    out = tmp_path / "error.png"
+    done = cli("model-error", CONFIGS / "rsf_fault_bp1.toml", "--tolerance", "0.1", "--plot", out, "--json")
+    assert done.code == 0, done.err
+    assert out.stat().st_size > 10_000
+    assert 0 < done.json["width_over_nucleation"] and "one_slider_suffices" in done.json

@@ -22,6 +22,7 @@ SCENES = {
     "nanoscale": "nanoscale_seed001.toml",
     "asperity": "asperity_seed004.toml",
     "rough_surface": "rough_surface_seed000.toml",
+    "fault_2d": "fault_2d_small.toml",
 }
 
 
