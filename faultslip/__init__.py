@@ -52,7 +52,7 @@ _EXPORTS = {
     "plots.catalogs": ("catalog_figure",),
     "plots.surfaces": ("surface_figure",),
     "plots.vibration": ("nanoscale_figure", "amplitude_speed_figure"),
-    "models.fault_2d.scene": ("load_fault_2d_scene",),
+    "fault.fault_2d_scene": ("load_fault_2d_scene",),
     "models.fault_2d": ("simulate_fault",),
     "models.model_error": ("declared_model_error", "load_calibration"),
     "plots.fault_2d": ("cumulative_slip_figure", "slip_rate_figure", "model_error_figure"),

@@ -16,7 +16,7 @@ from faultslip.dynamics.fault_2d.kernel import StressKernel, deep_loading, dense
 from faultslip.dynamics.fault_2d.model import Fault2D, ForceBalance, steady_initial_conditions
 from faultslip.errors import InputError
 from faultslip.io.seas import read_seas, station_file_name, write_station
-from faultslip.models.fault_2d.scene import load_fault_2d_scene, parse_fault_2d_scene
+from faultslip.fault.fault_2d_scene import load_fault_2d_scene, parse_fault_2d_scene
 
 CONFIGS = Path(__file__).resolve().parent.parent / "configs"
 G = 2670 * 3464.0 ** 2
@@ -265,3 +265,52 @@ def test_the_model_error_command_draws_the_map(tmp_path, cli):
     assert done.code == 0, done.err
     assert out.stat().st_size > 10_000
     assert 0 < done.json["width_over_nucleation"] and "one_slider_suffices" in done.json
+
+
+# --- studies on the 2-D fault -----------------------------------------------------------------------
+
+def test_a_2d_study_equals_the_runs_and_does_not_depend_on_the_workers(tmp_path, cli):
+    import xarray as xr
+
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\nbase = "{CONFIGS / "fault_2d_small.toml"}"\n[sweep]\n'
+                     'critical_slip = ["24 mm", "30 mm"]\n')
+    one = cli("sweep", study, "-o", tmp_path / "one.nc", "--workers", "1", "--json")
+    two = cli("sweep", study, "-o", tmp_path / "two.nc", "--workers", "2", "--json")
+    assert one.code == 0 and two.code == 0, one.err + two.err
+    with xr.open_dataset(tmp_path / "one.nc") as a, xr.open_dataset(tmp_path / "two.nc") as b:
+        for name in a.data_vars:
+            assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
+        direct = load_fault_2d_scene(CONFIGS / "fault_2d_small.toml")
+        run = run_cycles(direct.fault, direct.duration, rtol=direct.rtol, stations=direct.stations)
+        assert float(a["recurrence_interval"].sel(critical_slip=0.024)) == summarise(run).recurrence_interval
+        assert a["recurrence_interval"].attrs["units"] == "s"
+    assert not (tmp_path / "one.nc.cells").exists()  # the cells' checkpoints go when the study is done
+
+
+def test_a_stopped_cell_of_a_2d_study_continues_from_its_checkpoint(tmp_path):
+    from faultslip.studies.grid import compute_block, parse_study
+
+    text = f'[study]\nbase = "{CONFIGS / "fault_2d_small.toml"}"\n[sweep]\ncritical_slip = ["24 mm"]\n'
+    study = parse_study(text, "s.toml")
+    whole = compute_block(study)
+    study.work_dir = tmp_path
+    scene = study.scene.with_values(critical_slip=0.024)
+    import hashlib
+
+    key = hashlib.sha256(repr(sorted([("critical_slip", 0.024)])).encode()).hexdigest()[:16]
+    with pytest.raises(_Stopped):
+        run_cycles(scene.fault, scene.duration, rtol=scene.rtol, stations=scene.stations, folder=tmp_path / key,
+                   stop_after_steps=500)
+    continued = compute_block(study)
+    for name in whole.data_vars:
+        assert np.array_equal(whole[name].values, continued[name].values, equal_nan=True), name
+
+
+def test_a_2d_study_refuses_what_it_cannot_sweep(tmp_path):
+    from faultslip.studies.grid import parse_study
+
+    with pytest.raises(InputError, match="sweeps"):
+        parse_study(f'[study]\nbase = "{CONFIGS / "fault_2d_small.toml"}"\n[sweep]\nzone_width = ["5 km"]\n', "s.toml")
+    with pytest.raises(InputError, match="leave method and cycles out"):
+        parse_study(f'[study]\nbase = "{CONFIGS / "fault_2d_small.toml"}"\ncycles = 3\n[sweep]\nb = [0.015]\n', "s.toml")

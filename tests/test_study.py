@@ -143,12 +143,12 @@ def test_interrupted_sweep_keeps_the_previous_file_and_resumes(study, tmp_path, 
     previous = parse_study(STUDY.replace('"5 mm/yr"', '"6 mm/yr"'))
     run_study(previous, out, chunk_cells=30, workers=1)
     before = out.read_bytes()
-    restore = _interrupt_on_call(monkeypatch, 5)
+    restore = _interrupt_on_call(monkeypatch, 4)  # the layout's template block comes from grid.template_block
     with pytest.raises(KeyboardInterrupt):
         run_study(study, out, chunk_cells=30, workers=1)  # 6 blocks; Ctrl-C while computing the 4th
     assert out.read_bytes() == before  # the final name still holds the complete previous file
     partial, ledger = out.with_name("study.nc.partial"), out.with_name("study.nc.progress.json")
-    assert partial.exists() and len(json.loads(ledger.read_text())["done"]) == 3  # template, 3 blocks, then Ctrl-C
+    assert partial.exists() and len(json.loads(ledger.read_text())["done"]) == 3  # 3 blocks, then Ctrl-C
     restore()
     summary = run_study(study, out, chunk_cells=30, workers=1, resume=True)
     assert summary["resumed_blocks"] == 3 and not partial.exists() and not ledger.exists()

@@ -32,7 +32,7 @@ from faultslip.dynamics.fault_2d.integrate import YEAR, run_cycles
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
 from faultslip.io.resources import bundled_dir
-from faultslip.models.fault_2d.scene import from_one_slider
+from faultslip.fault.fault_2d_scene import from_one_slider
 
 CALIBRATION_FILE = "fault_2d_model_error.json"
 #: W / h* of the shipped calibration.

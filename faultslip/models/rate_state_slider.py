@@ -11,7 +11,7 @@ from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.report import Report
 from faultslip.models.fault_2d import simulate_fault
-from faultslip.models.fault_2d.scene import from_one_slider
+from faultslip.fault.fault_2d_scene import from_one_slider
 from faultslip.models.model_error import declared_model_error
 from faultslip.models.registry import Family, register
 from faultslip.models.result import Result

@@ -45,7 +45,11 @@ from faultslip.units import STANDARD_GRAVITY, to_si, to_si_scalar
 from faultslip import __version__
 from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rate, solve_rate_law_critical
 from faultslip.dynamics.methods import solve
-from faultslip.fault.scene import apply_friction, load_scene, parse_scene, read_text_file, resolve_path, Scene
+from faultslip.dynamics.fault_2d.analysis import summarise as summarise_fault_2d
+from faultslip.dynamics.fault_2d.integrate import YEAR as _YEAR, run_cycles as run_fault_2d
+from faultslip.fault.fault_2d_scene import SWEEPABLE as FAULT_2D_PARAMETERS
+from faultslip.fault.fault_2d_scene import Fault2DScene, is_fault_2d_document, load_fault_2d_scene, parse_fault_2d_scene
+from faultslip.fault.scene import apply_friction, load_scene, parse_scene, read_text_file, resolve_path, Scene, scene_document
 from faultslip.fault.rate_state_cells import (CYCLE_METHODS, check_friction, estimated_seconds, evolution_codes, output_names,
                                                rate_state_cells)
 from faultslip.fault.rate_state_cells import OUTPUT_ATTRS as RATE_STATE_OUTPUT_ATTRS
@@ -120,6 +124,8 @@ class Study:
 
     cycles: int = 0  # rate-and-state studies: cycles simulated per unstable cell (0: K / K_c only)
     _cell_seconds: float | None = field(default=None, repr=False, compare=False)
+    #: 2-D fault studies: the folder of per-cell checkpoints (set by the streaming runner; None: in memory)
+    work_dir: object = field(default=None, compare=False)
 
     @property
     def kind(self) -> str:
@@ -135,6 +141,8 @@ class Study:
 
     def seconds_per_cell(self) -> float:
         """Estimated wall time per cell on one worker (for the budget and the block size)."""
+        if self.kind == "fault_2d":
+            return fault_2d_cell_seconds(self.scene)
         if self.kind == "rate_state" and self.cycles:
             if self._cell_seconds is None:
                 self._cell_seconds = _rate_state_cell_seconds(self)
@@ -151,16 +159,42 @@ class Study:
 
 
 def study_kind(scene) -> str:
-    """fault, lab, or rate_state (a fault scene with rate-and-state friction)."""
+    """fault, lab, rate_state (a fault scene with rate-and-state friction) or fault_2d (a 2-D fault scene)."""
+    if isinstance(scene, Fault2DScene):
+        return "fault_2d"
     return "rate_state" if scene.rate_state else scene.kind
 
 
 def parameters_for(kind: str) -> dict:
-    return {"fault": FAULT_PARAMETERS, "lab": LAB_PARAMETERS, "rate_state": RATE_STATE_PARAMETERS}[kind]
+    return {"fault": FAULT_PARAMETERS, "lab": LAB_PARAMETERS, "rate_state": RATE_STATE_PARAMETERS,
+            "fault_2d": FAULT_2D_PARAMETERS}[kind]
+
+
+#: Seconds per element and simulated year of a 2-D fault run (SEAS BP1 at 25 m: 3000 yr, 1,600
+#: elements, 742 s on the 2-core benchmark machine, benchmarks/fault_2d.py), for budgets and blocks.
+FAULT_2D_SECONDS_PER_ELEMENT_YEAR = 1.6e-4
+
+
+def fault_2d_cell_seconds(scene) -> float:
+    return FAULT_2D_SECONDS_PER_ELEMENT_YEAR * scene.fault.count * scene.duration / _YEAR
+
+
+def _base_scene(text: str, source: str, path=None):
+    """A study's base: a 2-D fault scene (family = "fault_2d") or a seed-law or rate-and-state scene."""
+    if is_fault_2d_document(parse_toml(text, source)):
+        scene = parse_fault_2d_scene(text, source)
+        scene.path = path
+        return scene
+    return parse_scene(text, source=source, path=path)
 
 
 def _method_and_cycles(kind, method, cycles, where):
     """Validate [study] method and cycles (or sweep()'s) for a study of this kind."""
+    if kind == "fault_2d":
+        if method not in ("auto", "fault_2d") or cycles:
+            raise InputError(f"{where} a 2-D fault study runs the 2-D model for the base scene's [run] duration; "
+                             "leave method and cycles out")
+        return
     if kind == "rate_state":
         if method not in CYCLE_METHODS:
             raise InputError(f"{where} method of a rate-and-state study must be {', '.join(CYCLE_METHODS)} (how its "
@@ -264,11 +298,11 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
     if not isinstance(head["base"], str):
         raise InputError(f"[study] base in {source} must be a file name string, got {head['base']!r}")
     if base_text is not None:
-        scene = parse_scene(base_text, source=str(head["base"]))
+        scene = _base_scene(base_text, str(head["base"]))
     else:  # relative to the study file; a bare name may also mean a bundled scene
 
         base, origin = resolve_path(head["base"], "scene", base_dir=base_dir)
-        scene = parse_scene(read_text_file(base, "scene file"), source=base.name, path=base)
+        scene = _base_scene(read_text_file(base, "scene file"), base.name, path=base)
         scene.origin = origin
     kind = study_kind(scene)
     method = head.get("method", "auto")
@@ -297,6 +331,9 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
 
 
 def _check_consistent(scene, dims, source):
+    if isinstance(scene, Fault2DScene):
+        scene.with_values(**{name: values[0] for name, values in dims.items()})  # e.g. a ramp to sweep
+        return
     if scene.rate_state:
         _check_rate_state(scene, dims, source)
     elif scene.kind == "fault":
@@ -738,12 +775,15 @@ def as_dataset(outputs: dict, study, block=None):
 
 
 def output_attrs(name: str, kind: str, outside_domain: bool = False) -> dict:
-    """CF attributes of one study output (``kind`` is fault, lab or rate_state).
+    """CF attributes of one study output (``kind`` is fault, lab, rate_state or fault_2d).
 
     ``outside_domain``: the study has cells without a prediction, flagged -1 in regime and method
     and explained by the ``outside_domain`` variable; -1 is then one of the ``flag_values``."""
     if kind == "rate_state":
         return _rate_state_attrs(name)
+    if kind == "fault_2d":
+        unit, long_name = FAULT_2D_OUTPUTS[name]
+        return {"units": unit, "long_name": long_name}
     if name in ("regime", "method"):
         codes = {**({"no_prediction": -1} if outside_domain else {}),
                  **(REGIME_CODES if name == "regime" else METHOD_CODES)}
@@ -799,8 +839,71 @@ def _block_dataset(outputs: dict, study, block=None):
     return xr.Dataset(variables, coords=coords)
 
 
+def template_block(study):
+    """A one-cell block with the study's outputs, for the file's layout: computed, except for a 2-D fault,
+    whose cell is minutes of work, so its layout is NaN with the same variables."""
+    first = {n: slice(0, 1) for n in study.dims}
+    if study.kind != "fault_2d":
+        return compute_block(study, first)
+    outputs = {name: np.full((1,) * len(study.dims), np.nan) for name in FAULT_2D_OUTPUTS}
+    return _block_dataset(outputs, study, first)
+
+
+#: A 2-D fault cell's outputs: name -> (units, long name).
+FAULT_2D_OUTPUTS = {
+    "recurrence_interval": ("s", "recurrence interval of system-size events (the last; NaN if fewer than two)"),
+    "recurrence_spread": ("1", "relative spread of the last three intervals (settled where <= 1e-3)"),
+    "settled": ("1", "1 where the sequence has settled (periodic to 1e-3), 0 where it has not"),
+    "slip_per_event": ("m", "surface slip of the last system-size event"),
+    "mean_slip_per_event": ("m", "slip of the last system-size event, mean over the velocity-weakening width"),
+    "moment_per_length": ("N", "seismic moment per metre along strike of the last system-size event"),
+    "events": ("1", "events in the run (peak slip rate above 1e-3 m/s)"),
+    "peak_slip_rate": ("m/s", "largest slip rate in the run"),
+    "nucleation_size": ("m", "h* = (pi/2) G D_c b / (sigma_n (b - a)^2)"),
+    "plate_slip_balance": ("1", "slip per cycle at the shallowest station / (V_pl T)"),
+    "steps": ("1", "Dormand-Prince steps taken"),
+}
+
+
+def _fault_2d_block(study, block):
+    """One 2-D fault run per cell, each checkpointed in ``study.work_dir`` (a resumed study continues a
+    cell where it stopped); the result of a cell does not depend on the block or the worker."""
+    import xarray as xr  # heavy: imported where used
+
+    coords = {name: _coordinate(study, name, values, None if block is None else block.get(name, slice(None)))
+              for name, values in study.dims.items()}
+    names = list(coords)
+    grids = xr.broadcast(*coords.values()) if coords else []
+    shape = grids[0].shape if coords else ()
+    flat = [np.asarray(g.values).ravel() for g in grids]
+    outputs = {name: np.full(int(np.prod(shape)) if shape else 1, np.nan) for name in FAULT_2D_OUTPUTS}
+    for cell in range(flat[0].size if flat else 1):
+        values = {name: flat[k][cell] for k, name in enumerate(names)}
+        scene = study.scene.with_values(**values)
+        folder = None
+        if study.work_dir is not None:
+            key = hashlib.sha256(repr(sorted((n, float(v)) for n, v in values.items())).encode()).hexdigest()[:16]
+            folder = Path(study.work_dir) / key
+        resume = folder is not None and (folder / "checkpoint.npz").is_file()
+        run = run_fault_2d(scene.fault, scene.duration, rtol=scene.rtol, stations=scene.stations, kernel=scene.kernel,
+                           profile_interval=scene.profile_interval, coseismic_interval=scene.coseismic_interval,
+                           folder=folder, resume=resume)
+        summary = summarise_fault_2d(run)
+        row = {"recurrence_interval": summary.recurrence_interval, "recurrence_spread": summary.recurrence_spread,
+               "settled": float(summary.settled), "slip_per_event": summary.surface_slip_per_event,
+               "mean_slip_per_event": summary.mean_slip_per_event, "moment_per_length": summary.moment_per_length,
+               "events": float(summary.events), "peak_slip_rate": summary.peak_slip_rate,
+               "nucleation_size": scene.fault.nucleation_size(),
+               "plate_slip_balance": summary.plate_slip_balance_surface, "steps": float(run.steps)}
+        for name, value in row.items():
+            outputs[name][cell] = value if value is not None and math.isfinite(value) else np.nan
+    return _block_dataset({name: values.reshape(shape) for name, values in outputs.items()}, study, block)
+
+
 def compute_block(study, block=None):
     """The study outputs on one block (name -> slice of each swept dimension), computed in memory."""
+    if study.kind == "fault_2d":
+        return _fault_2d_block(study, block)
     if study.kind == "rate_state":
         outputs = rate_state_cells(**study_inputs(study, block, aligned=True), cycles=study.cycles,
                                    method=study.method, tolerance=study.tolerance)
@@ -901,7 +1004,9 @@ def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | N
     >>> sweep("san_andreas_1906_rate_state.toml", critical_slip=["10 um", "1 mm", "8 mm"], cycles=3)
     """
 
-    scene = scene if isinstance(scene, Scene) else load_scene(scene)
+    if not isinstance(scene, (Scene, Fault2DScene)):
+        document = scene_document(scene)
+        scene = load_fault_2d_scene(scene) if is_fault_2d_document(document) else load_scene(scene)
     kind = study_kind(scene)
     allowed = parameters_for(kind)
     parsed = {}

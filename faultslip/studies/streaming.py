@@ -17,6 +17,7 @@ import itertools
 import json
 import re
 import os
+import shutil
 import time
 import warnings
 from pathlib import Path
@@ -34,7 +35,7 @@ from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, ou
 from faultslip.io.processes import run_windowed, stop_pool, worker_pool
 from faultslip.io.resources import probe_netcdf
 from faultslip.fault.rate_state_cells import METHOD_CODES, REGIME_CODES
-from faultslip.studies.grid import compute_block, finish, parameters_for, parse_study
+from faultslip.studies.grid import compute_block, finish, parameters_for, parse_study, template_block
 import tempfile
 
 DEFAULT_CHUNK_CELLS = 2**19
@@ -350,7 +351,10 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     fingerprint = study.fingerprint()
     done: set[int] = set()
     started = time.perf_counter()
-    template = compute_block(study, {n: slice(0, 1) for n in study.dims})
+    if study.kind == "fault_2d":  # each cell checkpoints its run here: a resumed study continues it
+        study.work_dir = output.with_name(output.name + ".cells")
+        study.work_dir.mkdir(exist_ok=True)
+    template = template_block(study)
     done = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
     writer = None
     if done:
@@ -360,6 +364,9 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
             warnings.warn(f"cannot continue {partial.name} ({exc}); starting over", stacklevel=2)
             done = set()
     if not done:
+        if study.work_dir is not None:  # a fresh start: no cell continues a run of another study
+            shutil.rmtree(study.work_dir, ignore_errors=True)
+            study.work_dir.mkdir()
         remove_store(partial)  # a partial netCDF file or Zarr store
         if ledger.exists():
             ledger.unlink()
@@ -414,6 +421,8 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         os.replace(partial, output)
     if ledger.exists():
         ledger.unlink()
+    if study.work_dir is not None:
+        shutil.rmtree(study.work_dir, ignore_errors=True)
     return {"blocks": len(blocks), "resumed_blocks": len(blocks) - len(pending), "cells": study.size,
             "chunks": chunks, "seconds": time.perf_counter() - started, "executor": label, "output": str(output)}
 

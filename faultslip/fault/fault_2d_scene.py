@@ -71,18 +71,55 @@ class Fault2DScene:
     kernel: str = "auto"
     settings: dict = field(default_factory=dict)  # the parsed friction and geometry, to rebuild at another size
     origin: str = ""
-    path: str = ""
+    path: object = None  # the scene file (a Path), if read from one
+    text: str = ""  # the scene file as read (studies embed it to reproduce themselves)
 
     def at_element_size(self, element_size: float) -> "Fault2DScene":
         """The same scene on elements of another size (for convergence studies)."""
         return replace(self, fault=build_fault(self.settings, element_size, self.name))
+
+    def with_values(self, **values) -> "Fault2DScene":
+        """The scene with parameters replaced, in SI (what a study sweeps; :data:`SWEEPABLE`)."""
+        settings = dict(self.settings, profiles=dict(self.settings["profiles"]))
+        ramp = dict(settings.get("a_ramp") or {})
+        element_size = self.fault.element_size
+        for name, value in values.items():
+            if name not in SWEEPABLE:
+                raise InputError(f"a 2-D fault study sweeps {', '.join(SWEEPABLE)}, not {name!r}")
+            value = float(value)
+            if name in ("critical_slip", "normal_stress", "b"):
+                settings["profiles"][name] = _constant(value)
+            elif name in ("seismogenic_depth", "a_deep"):
+                if not ramp:
+                    raise InputError(f"sweeping {name} needs a as BP1's ramp, a = {{ shallow, deep, depth, transition }}")
+                ramp["depth" if name == "seismogenic_depth" else "deep"] = value
+            elif name == "element_size":
+                element_size = value
+            else:
+                settings[name] = value
+        if ramp:
+            settings["a_ramp"] = ramp
+            settings["profiles"]["a"] = _ramp(ramp["shallow"], ramp["deep"], ramp["depth"], ramp["transition"])
+        return replace(self, fault=build_fault(settings, element_size, self.name), settings=settings)
+
+
+#: What a study may sweep on a 2-D fault: name -> (unit kind, SI unit, meaning).
+SWEEPABLE = {
+    "critical_slip": ("length", "m", "critical slip distance D_c (uniform in depth)"),
+    "normal_stress": ("pressure", "Pa", "effective normal stress sigma_n (uniform in depth)"),
+    "b": ("dimensionless", "1", "evolution effect b (uniform in depth)"),
+    "seismogenic_depth": ("length", "m", "depth H where a starts to rise (BP1's ramp)"),
+    "a_deep": ("dimensionless", "1", "a below the ramp, a_max (BP1's ramp)"),
+    "plate_rate": ("speed", "m/s", "plate rate V_pl"),
+    "element_size": ("length", "m", "boundary element size"),
+}
 
 
 def _profile(spec, kind: str, where: str):
     """A function of depth (m) for one friction parameter."""
     if not isinstance(spec, dict):
         value = to_si_scalar(spec, kind, where) if kind != "dimensionless" else _number(spec, where)
-        return lambda depth: np.full(depth.shape, value)
+        return _Constant(value)
     if set(spec) == {"depth", "value"}:
         depths, values = spec["depth"], spec["value"]
         if not (isinstance(depths, list) and isinstance(values, list) and len(depths) == len(values) >= 1):
@@ -92,7 +129,7 @@ def _profile(spec, kind: str, where: str):
                       for x in values])
         if np.any(np.diff(z) <= 0):
             raise InputError(f"{where}: depths must increase")
-        return lambda depth: np.interp(depth, z, v)
+        return _Table(z, v)
     if set(spec) == {"shallow", "deep", "depth", "transition"}:
         convert = (lambda x, w: _number(x, w)) if kind == "dimensionless" else (lambda x, w: to_si_scalar(x, kind, w))
         shallow, deep = convert(spec["shallow"], f"{where} shallow"), convert(spec["deep"], f"{where} deep")
@@ -100,14 +137,52 @@ def _profile(spec, kind: str, where: str):
         transition = to_si_scalar(spec["transition"], "length", f"{where} transition")
         if top < 0 or transition <= 0:
             raise InputError(f"{where}: depth must not be negative and transition must be positive")
-        return lambda depth: shallow + (deep - shallow) * np.clip((depth - top) / transition, 0.0, 1.0)
+        return _ramp(shallow, deep, top, transition)
     raise InputError(f"{where} must be a number, {{ depth = [...], value = [...] }} or "
                      "{ shallow, deep, depth, transition }")
 
 
-def _constant(value: float):
-    """A profile of one SI value at every depth."""
-    return lambda depth: np.full(np.shape(depth), float(value))
+@dataclass(frozen=True)
+class _Constant:
+    """A profile of one SI value at every depth (a class, not a closure: studies send scenes to workers)."""
+
+    value: float
+
+    def __call__(self, depth):
+        return np.full(np.shape(depth), float(self.value))
+
+
+@dataclass(frozen=True)
+class _Table:
+    """Linear between tabulated depths, constant beyond."""
+
+    depths: np.ndarray
+    values: np.ndarray
+
+    def __call__(self, depth):
+        return np.interp(depth, self.depths, self.values)
+
+
+@dataclass(frozen=True)
+class _Ramp:
+    """BP1's profile: ``shallow`` above ``top``, rising linearly over ``transition`` to ``deep``."""
+
+    shallow: float
+    deep: float
+    top: float
+    transition: float
+
+    def __call__(self, depth):
+        return self.shallow + (self.deep - self.shallow) * np.clip((np.asarray(depth) - self.top) / self.transition,
+                                                                    0.0, 1.0)
+
+
+def _ramp(shallow: float, deep: float, top: float, transition: float) -> _Ramp:
+    return _Ramp(shallow, deep, top, transition)
+
+
+def _constant(value: float) -> _Constant:
+    return _Constant(float(value))
 
 
 def _number(value, where) -> float:
@@ -173,6 +248,12 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
                                       f"[initial] initial_speed in {source}"),
         "profiles": {key: _profile(friction[key], kind, f"[friction] {key} in {source}")
                      for key, kind in _PROFILE_KINDS.items()},
+        "a_ramp": ({"shallow": _number(friction["a"]["shallow"], "a shallow"),
+                    "deep": _number(friction["a"]["deep"], "a deep"),
+                    "depth": to_si_scalar(friction["a"]["depth"], "length", "a depth"),
+                    "transition": to_si_scalar(friction["a"]["transition"], "length", "a transition")}
+                   if isinstance(friction["a"], dict) and set(friction["a"]) == {"shallow", "deep", "depth",
+                                                                                 "transition"} else None),
         "max_elements": math.inf if allow_large else MAX_ELEMENTS,
     }
     for key in ("width", "shear_modulus", "shear_wave_speed", "plate_rate", "reference_speed", "initial_speed"):
@@ -210,7 +291,12 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
         coseismic_interval=to_si_scalar(run.get("coseismic_interval", "1 s"), "time",
                                         f"[run] coseismic_interval in {source}"),
         fault_length=to_si_scalar(length, "length", f"[run] fault_length in {source}") if length is not None else None,
-        kernel=kernel, settings=settings)
+        kernel=kernel, settings=settings, text=text)
+
+
+def is_fault_2d_document(document) -> bool:
+    """Whether a parsed TOML document declares the 2-D fault family."""
+    return isinstance(document, dict) and document.get("family") == "fault_2d"
 
 
 def load_fault_2d_scene(path, allow_large: bool = False) -> Fault2DScene:
@@ -218,7 +304,7 @@ def load_fault_2d_scene(path, allow_large: bool = False) -> Fault2DScene:
         return path
     resolved, origin = resolve_path(path, "scene")
     scene = parse_fault_2d_scene(read_text_file(resolved, "scene file"), resolved.name, allow_large)
-    scene.origin, scene.path = origin, str(resolved)
+    scene.origin, scene.path = origin, resolved
     return scene
 
 
