@@ -88,6 +88,22 @@ def test_the_force_balance_holds_and_both_kernels_agree(evolution):
         np.testing.assert_allclose(other[1], results[0][1], rtol=1e-10, atol=1e-20)
 
 
+def test_an_absurd_trial_state_gives_nan_for_the_step_to_reject_not_an_error():
+    """A rejected step's trial state may load an element beyond any finite slip rate (|tau / (sigma_n a)| > 700,
+    or V overflowing): the balance answers NaN there, both kernels alike, and finite values elsewhere."""
+    fault = load_fault_2d_scene(CONFIGS / "fault_2d_small.toml").fault
+    slip = np.zeros(fault.count)
+    slip[3] = 1e4
+    answers = []
+    for use_numba in ([True, False] if compiled.available() else [False]):
+        balance = ForceBalance(fault, StressKernel(fault.count, fault.element_size, G), compiled=use_numba)
+        speed, _, _ = balance.rates(0.0, slip, fault.initial_state)
+        assert np.any(np.isnan(speed)) and np.any(np.isfinite(speed))
+        answers.append(speed)
+    for other in answers[1:]:
+        np.testing.assert_allclose(other, answers[0], rtol=1e-12)
+
+
 def test_the_initial_state_slides_steadily_at_the_initial_speed():
     """BP1's initial stress and state give V = V_init everywhere (Erickson et al. 2020, eqs. 8-9)."""
     fault = load_fault_2d_scene(CONFIGS / "seas_bp1.toml").at_element_size(500.0).fault

@@ -4,7 +4,7 @@ The same equations as :class:`faultslip.dynamics.fault_2d.model.ForceBalance` (s
 pass over the elements (one thread: numba's parallel loop measured no faster at 1,600 elements, and
 oversubscribed the cores when runs go side by side in processes): Newton's method
 on u = asinh[V / (2 V_0) exp(psi / a)] from the last solution, safeguarded by the bracket
-[0, tau / (sigma_n a)] that holds the root (a step leaving it bisects), each element to its own convergence
+from 0 to the nearer of tau / (sigma_n a) and asinh(tau / c) that holds the root (a step leaving it bisects), each element to its own convergence
 (a step |du| <= 1e-10 (1 + |u|) leaves an error of the order of its square), then V and d psi / dt.
 """
 
@@ -19,15 +19,22 @@ _COMPILED = []
 
 def _balance(stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b,
              v0, critical_slip, b, speed, psi_rate, iterations):
-    """Fill ``speed`` and ``psi_rate``; ``u`` is updated in place. An element whose Newton iteration
-    fails gets a NaN speed (the caller names it)."""
+    """Fill ``speed`` and ``psi_rate``; ``u`` is updated in place. An element whose state has no finite
+    slip rate, or whose iteration fails, gets NaN: the integrator rejects that trial step."""
     for i in range(stress.shape[0]):
         coefficient = two_v0_eta * math.exp(-psi[i] * inverse_a[i])
         tau = stress[i]
         # the root lies between 0 and tau / (sigma_n a): g is monotone, and the bracket keeps each
         # Newton step honest (a step that leaves it is a bisection instead)
-        low = min(0.0, tau / sigma_a[i])
-        high = max(0.0, tau / sigma_a[i])
+        # both tau / (sigma_n a) (no damping term) and asinh(tau / c) (no friction term) lie beyond the root
+        outer = tau / sigma_a[i]
+        if abs(outer) >= 700.0 or coefficient == 0.0:  # V would overflow: an absurd trial state, which the step rejects
+            speed[i] = math.nan
+            psi_rate[i] = math.nan
+            continue
+        outer = min(outer, math.asinh(tau / coefficient)) if tau >= 0 else max(outer, math.asinh(tau / coefficient))
+        low = min(0.0, outer)
+        high = max(0.0, outer)
         x = u[i]
         if not low <= x <= high:
             x = high if tau >= 0 else low
@@ -36,6 +43,8 @@ def _balance(stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, ag
             e = math.exp(x)
             inverse = 1.0 / e
             residual = sigma_a[i] * x + coefficient * 0.5 * (e - inverse) - tau
+            if not math.isfinite(residual):  # no finite slip rate here: an absurd trial state
+                break
             if residual > 0:
                 high = x
             else:

@@ -217,6 +217,10 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         t, h = 0.0, float(initial_step)
         y = np.concatenate([np.zeros(count), fault.initial_state])
         k1, speed, stress = derivative(t, y)
+        if not np.all(np.isfinite(k1)):
+            bad = int(np.argmax(~np.isfinite(k1[:count]) | ~np.isfinite(k1[count:])))
+            raise InputError(f"2-D fault: the initial stress and state give no finite slip rate at depth "
+                             f"{fault.depth[bad]:.4g} m; check [initial] and the friction there")
         steps = rejected = 0
         evaluations = 1
         min_step, max_step, wall_before = math.inf, 0.0, 0.0

@@ -154,18 +154,34 @@ class ForceBalance:
                           "is not finite there. Tighten rtol")
 
     def slip_rate(self, stress: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(V, u) from the force balance at quasi-static stress ``stress`` and state ``psi`` (numpy)."""
+        """(V, u) from the force balance at quasi-static stress ``stress`` and state ``psi`` (numpy); NaN where
+        the state has no finite slip rate (|tau / (sigma_n a)| beyond 700), which the integrator rejects."""
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return self._slip_rate(stress, psi)
+
+    def _slip_rate(self, stress, psi):
         coefficient = self.two_v0_eta * np.exp(-psi * self.inverse_a)
         bound = stress / self.sigma_a
+        absurd = ~(np.abs(bound) < 700.0) | ~(coefficient > 0)  # V would overflow: a trial state to reject
+        stress = np.where(absurd, 0.0, stress)
+        coefficient = np.where(absurd, 1.0, coefficient)
+        # both tau / (sigma_n a) (no damping term) and asinh(tau / c) (no friction term) lie beyond the root
+        asinh_bound = np.arcsinh(stress / coefficient)
+        bound = np.where(absurd, 0.0, np.where(stress >= 0, np.minimum(bound, asinh_bound),
+                                                np.maximum(bound, asinh_bound)))
         low, high = np.minimum(0.0, bound), np.maximum(0.0, bound)  # the root lies between them (g is monotone)
         u = self.u.copy() if self.u is not None else high.copy()
         outside = (u < low) | (u > high)
         u[outside] = np.where(stress >= 0, high, low)[outside]
         for _ in range(NEWTON_ITERATIONS):
             residual = self.sigma_a * u + coefficient * np.sinh(u) - stress
+            overflow = ~np.isfinite(residual)  # no finite slip rate here: an absurd trial state
+            if np.any(overflow):
+                absurd |= overflow
+                residual[overflow] = 0.0
             high = np.where(residual > 0, u, high)
             low = np.where(residual > 0, low, u)
-            proposal = u - residual / (self.sigma_a + coefficient * np.cosh(u))
+            proposal = u - residual / (self.sigma_a + np.where(absurd, 0.0, coefficient * np.cosh(u)))
             leaves = ~((low < proposal) & (proposal < high))
             proposal[leaves] = 0.5 * (low + high)[leaves]  # a step leaving the bracket bisects it
             step = u - proposal
@@ -174,10 +190,8 @@ class ForceBalance:
                 break
         else:
             self._failed(int(np.argmax(np.abs(step))))
-        if not np.all(np.isfinite(u)):
-            self._failed(int(np.argmax(~np.isfinite(u))))
         self.u = u
-        return coefficient * np.sinh(u) / self.damping, u
+        return np.where(absurd, np.nan, coefficient * np.sinh(u) / self.damping), u
 
     def rates(self, time: float, slip: np.ndarray, psi: np.ndarray):
         """(V, d psi / dt, quasi-static stress)."""
@@ -190,17 +204,18 @@ class ForceBalance:
             self._balance(stress, psi, self.u, self.sigma_a, self.inverse_a, self.two_v0_eta, 1.0 / self.damping,
                           self.aging, self.aging_rate, fault.reference_friction, self.inverse_b,
                           fault.reference_speed, fault.critical_slip, fault.b, speed, psi_rate, NEWTON_ITERATIONS)
-            if not np.isfinite(speed.sum()):
-                self._failed(int(np.argmax(~np.isfinite(speed))))
-            return speed, psi_rate, stress
+            return speed, psi_rate, stress  # NaN where a trial state has no finite slip rate: the step is rejected
         speed, _ = self.slip_rate(stress, psi)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return speed, self._psi_rate(speed, psi), stress
+
+    def _psi_rate(self, speed, psi):
+        fault = self.fault
         if self.aging:
-            psi_rate = self.aging_rate * (np.exp((fault.reference_friction - psi) * self.inverse_b)
-                                          - speed / fault.reference_speed)
-        else:
-            psi_rate = -(speed / fault.critical_slip) * (psi - fault.reference_friction
-                                                         + fault.b * np.log(speed / fault.reference_speed))
-        return speed, psi_rate, stress
+            return self.aging_rate * (np.exp((fault.reference_friction - psi) * self.inverse_b)
+                                      - speed / fault.reference_speed)
+        return -(speed / fault.critical_slip) * (psi - fault.reference_friction
+                                                 + fault.b * np.log(speed / fault.reference_speed))
 
 
 def steady_initial_conditions(a, b, normal_stress, damping, initial_speed, reference_speed, reference_friction,
