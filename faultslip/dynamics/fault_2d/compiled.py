@@ -26,44 +26,58 @@ def _balance(stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, ag
         tau = stress[i]
         # the root lies between 0 and tau / (sigma_n a): g is monotone, and the bracket keeps each
         # Newton step honest (a step that leaves it is a bisection instead)
-        # both tau / (sigma_n a) (no damping term) and asinh(tau / c) (no friction term) lie beyond the root
-        outer = tau / sigma_a[i]
+        outer = tau / sigma_a[i]  # beyond the root: g(outer) = c sinh(outer) has the sign of tau
         if abs(outer) >= 700.0 or coefficient == 0.0:  # V would overflow: an absurd trial state, which the step rejects
             speed[i] = math.nan
             psi_rate[i] = math.nan
             continue
-        outer = min(outer, math.asinh(tau / coefficient)) if tau >= 0 else max(outer, math.asinh(tau / coefficient))
         low = min(0.0, outer)
         high = max(0.0, outer)
         x = u[i]
         if not low <= x <= high:
-            x = high if tau >= 0 else low
+            x = outer
         converged = False
-        for _ in range(iterations):
+        sinh_x = 0.0
+        for iteration in range(iterations):
             e = math.exp(x)
             inverse = 1.0 / e
-            residual = sigma_a[i] * x + coefficient * 0.5 * (e - inverse) - tau
+            sinh_x = 0.5 * (e - inverse)
+            cosh_x = 0.5 * (e + inverse)
+            if iteration == 0 and abs(coefficient * sinh_x) > abs(tau):
+                # asinh(tau / c), where the friction term vanishes, is beyond the root too: a start past it
+                # (a far warm start, or tau / (sigma_n a)) moves there, else Newton walks back a unit a step
+                x = math.asinh(tau / coefficient)
+                if tau >= 0:
+                    high = x
+                else:
+                    low = x
+                continue
+            residual = sigma_a[i] * x + coefficient * sinh_x - tau
             if not math.isfinite(residual):  # no finite slip rate here: an absurd trial state
                 break
             if residual > 0:
                 high = x
             else:
                 low = x
-            proposal = x - residual / (sigma_a[i] + coefficient * 0.5 * (e + inverse))
-            newton = low < proposal < high
+            step = residual / (sigma_a[i] + coefficient * cosh_x)
+            proposal = x - step
+            newton = low <= proposal <= high  # inclusive: at the root the step may land on the bound just set
             if not newton:
                 proposal = 0.5 * (low + high)
-            step = x - proposal
+                step = x - proposal
             x = proposal
+            sinh_x -= step * cosh_x  # sinh at the new x to first order: the error is of the order of step^2
             # the error left after a Newton step is of the order of the step squared: 1e-10 leaves round-off
             if (newton and abs(step) <= 1e-10 * (1.0 + abs(x))) or high - low <= 4e-16 * (1.0 + abs(x)):
-                converged = True
+                converged = newton or high - low <= 4e-16 * (1.0 + abs(x))
+                if not newton:
+                    sinh_x = math.sinh(x)
                 break
         if not converged or not math.isfinite(x):
             speed[i] = math.nan
             continue
         u[i] = x
-        v = coefficient * math.sinh(x) * inverse_damping
+        v = coefficient * sinh_x * inverse_damping
         speed[i] = v
         if aging:
             psi_rate[i] = aging_rate[i] * (math.exp((f0 - psi[i]) * inverse_b[i]) - v / v0)

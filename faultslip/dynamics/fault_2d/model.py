@@ -165,14 +165,17 @@ class ForceBalance:
         absurd = ~(np.abs(bound) < 700.0) | ~(coefficient > 0)  # V would overflow: a trial state to reject
         stress = np.where(absurd, 0.0, stress)
         coefficient = np.where(absurd, 1.0, coefficient)
-        # both tau / (sigma_n a) (no damping term) and asinh(tau / c) (no friction term) lie beyond the root
-        asinh_bound = np.arcsinh(stress / coefficient)
-        bound = np.where(absurd, 0.0, np.where(stress >= 0, np.minimum(bound, asinh_bound),
-                                                np.maximum(bound, asinh_bound)))
+        bound = np.where(absurd, 0.0, bound)
         low, high = np.minimum(0.0, bound), np.maximum(0.0, bound)  # the root lies between them (g is monotone)
-        u = self.u.copy() if self.u is not None else high.copy()
+        u = self.u.copy() if self.u is not None else bound.copy()
         outside = (u < low) | (u > high)
-        u[outside] = np.where(stress >= 0, high, low)[outside]
+        u[outside] = bound[outside]
+        # asinh(tau / c), where the friction term vanishes, is beyond the root too: a start past it moves there
+        past = np.abs(coefficient * np.sinh(u)) > np.abs(stress)
+        if np.any(past):
+            u[past] = np.arcsinh(stress[past] / coefficient[past])
+            high = np.where(past & (stress >= 0), u, high)
+            low = np.where(past & (stress < 0), u, low)
         for _ in range(NEWTON_ITERATIONS):
             residual = self.sigma_a * u + coefficient * np.sinh(u) - stress
             overflow = ~np.isfinite(residual)  # no finite slip rate here: an absurd trial state
@@ -182,7 +185,7 @@ class ForceBalance:
             high = np.where(residual > 0, u, high)
             low = np.where(residual > 0, low, u)
             proposal = u - residual / (self.sigma_a + np.where(absurd, 0.0, coefficient * np.cosh(u)))
-            leaves = ~((low < proposal) & (proposal < high))
+            leaves = ~((low <= proposal) & (proposal <= high))  # inclusive: at the root a step may land on a bound
             proposal[leaves] = 0.5 * (low + high)[leaves]  # a step leaving the bracket bisects it
             step = u - proposal
             u = proposal
