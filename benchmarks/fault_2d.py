@@ -52,7 +52,7 @@ def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--sizes", type=float, nargs="+", default=[50.0, 25.0])
-    parser.add_argument("--rtols", type=float, nargs="+", default=[1e-5, 1e-6, 1e-7, 1e-8, 1e-9])
+    parser.add_argument("--rtols", type=float, nargs="+", default=[1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9])
     parser.add_argument("--tolerance-years", type=float, default=1500.0)
     args = parser.parse_args(argv)
     years = 1000.0 if args.quick else 3000.0
