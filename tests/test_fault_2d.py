@@ -347,3 +347,59 @@ def test_bp1_at_100_m_is_within_its_discretisation_error_of_the_converged_run():
     assert summary.surface_slip_per_event == pytest.approx(2.47156, rel=2e-3)
     # the budget: every station slips V_pl T over the last cycle
     assert summary.plate_slip_balance_range == pytest.approx((1.0, 1.0), abs=1e-4)
+
+
+def test_a_run_beyond_the_budget_is_refused_before_any_work(tmp_path, cli, monkeypatch):
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "60")
+    refused = cli("simulate", CONFIGS / "seas_bp1.toml", "--output-dir", tmp_path / "bp1", "--json")
+    assert refused.code == 2 and "--allow-large" in refused.err and "2-D fault run" in refused.err
+    assert not (tmp_path / "bp1").exists()  # nothing was made
+
+
+_ODD = ['"5 m)"', '"\u22125 km"', '"1,5 km"', '"10**400 m"', '"3 kg"', "-1", "0", "1e309", '"nan m"', "true", "[]",
+        "{ x = 1 }", '"0.1 um"', '"9e99 km"', '""', "[1, 2]", '{ depth = ["1 km"], value = [0.01, 0.02] }',
+        '{ shallow = 0.01, deep = 0.025, depth = "-1 km", transition = "0 km" }', '"aging"', "0.015"]
+_LINES = [line for line in (CONFIGS / "seas_bp1.toml").read_text().splitlines()
+          if "=" in line and not line.lstrip().startswith(("#", "[", "family", "name", "benchmark"))]
+
+
+def test_the_2d_scene_reader_answers_odd_values_in_one_sentence():
+    """A fuzz of the reader: every value of the BP1 scene replaced by odd ones, alone and in pairs."""
+    hypothesis = pytest.importorskip("hypothesis")
+    from hypothesis import strategies as st
+
+    text = (CONFIGS / "seas_bp1.toml").read_text()
+
+    @hypothesis.settings(max_examples=150, deadline=None, derandomize=True, database=None,
+                         suppress_health_check=list(hypothesis.HealthCheck))
+    @hypothesis.given(st.lists(st.tuples(st.sampled_from(_LINES), st.sampled_from(_ODD)), min_size=1, max_size=2))
+    def check(changes):
+        mutated = text
+        for line, value in changes:
+            key = line.split("=", 1)[0]
+            mutated = mutated.replace(line, f"{key}= {value}")
+        try:
+            scene = parse_fault_2d_scene(mutated, "fuzz.toml")
+        except InputError as exc:
+            message = str(exc)
+            assert message and "\n" not in message and "Traceback" not in message
+            return
+        assert scene.fault.count <= 20_000 and np.all(np.isfinite(scene.fault.initial_state))
+
+    check()
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"\xff\xfe\x00garbage", "SEAS file"),
+    (b"# problem=x\nt slip\n", "no data rows"),
+    (b"t slip\n1 2\n3\n", "values where the rows above have"),
+    (b"t slip\n1 x\n", "not a row of numbers"),
+    (b"", "no data rows"),
+])
+def test_malformed_seas_files_are_one_sentence(tmp_path, content, message):
+    path = tmp_path / "fltst_dp000"
+    path.write_bytes(content)
+    with pytest.raises(InputError, match=message):
+        read_seas(path)
+    with pytest.raises(InputError):
+        read_seas(tmp_path)  # a folder is not a file

@@ -155,6 +155,22 @@ def nanoscale_estimate(duration: float, samples: int) -> Estimate:
                     memory=float(samples) * 6 * 8.0 * 3)
 
 
+#: Seconds per element and simulated year of a 2-D fault run, and steps per simulated year: SEAS BP1 at
+#: 25 m, 1,600 elements, 3000 yr at rtol 1e-8 took 366.8 s and 262,150 steps on the 2-core benchmark
+#: machine (benchmarks/fault_2d.py, 2026-11-24).
+FAULT_2D_SECONDS_PER_ELEMENT_YEAR = 366.8 / (1600 * 3000)
+FAULT_2D_STEPS_PER_YEAR = 262_150 / 3000
+
+
+def fault_2d_estimate(elements: int, years: float, stations: int, output=None) -> Estimate:
+    """Time, memory and disk of a 2-D fault run: station rows every step (in memory, and as SEAS text)."""
+    rows = FAULT_2D_STEPS_PER_YEAR * years
+    return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr",
+                    seconds=FAULT_2D_SECONDS_PER_ELEMENT_YEAR * elements * years,
+                    memory=rows * (1 + 4 * stations) * 8.0 * 2, disk=rows * stations * 100.0 if output else 0.0,
+                    output=output)
+
+
 #: Bytes held per cell of a map's raster (coordinates, unit vectors, nearest index and distance, four maps).
 MAP_BYTES_PER_CELL = 200.0
 #: Bytes per densified trace point (unit vector, owner, k-d tree), and cells a second through the tree.

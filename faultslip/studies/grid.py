@@ -170,13 +170,9 @@ def parameters_for(kind: str) -> dict:
             "fault_2d": FAULT_2D_PARAMETERS}[kind]
 
 
-#: Seconds per element and simulated year of a 2-D fault run (SEAS BP1 at 25 m: 3000 yr, 1,600
-#: elements, 742 s on the 2-core benchmark machine, benchmarks/fault_2d.py), for budgets and blocks.
-FAULT_2D_SECONDS_PER_ELEMENT_YEAR = 1.6e-4
-
-
 def fault_2d_cell_seconds(scene) -> float:
-    return FAULT_2D_SECONDS_PER_ELEMENT_YEAR * scene.fault.count * scene.duration / _YEAR
+    """A 2-D fault cell's run time, from the measured cost per element and year (io.budget)."""
+    return budget.FAULT_2D_SECONDS_PER_ELEMENT_YEAR * scene.fault.count * scene.duration / _YEAR
 
 
 def _base_scene(text: str, source: str, path=None):

@@ -12,6 +12,7 @@ from faultslip import __version__
 from faultslip.dynamics.fault_2d.analysis import moment_magnitude, summarise
 from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun, run_cycles
 from faultslip.errors import InputError
+from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import output_lock
@@ -36,6 +37,8 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
     catalogue and CF netCDF when it ends."""
     loaded = load_fault_2d_scene(scene, allow_large=allow_large)
     rtol = loaded.rtol if rtol is None else rtol
+    budget.check(budget.fault_2d_estimate(loaded.fault.count, loaded.duration / YEAR, len(loaded.stations),
+                                          output_dir), allow_large)  # before any work
     folder = Path(output_dir) if output_dir is not None else None
     if folder is not None:
         if folder.exists() and not folder.is_dir():
