@@ -40,7 +40,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from faultslip.dynamics.fault_2d.integrate import BP1_STATIONS, YEAR
+from faultslip.dynamics.fault_2d.integrate import BP1_STATIONS, YEAR, run_cycles
 from faultslip.dynamics.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip.errors import InputError
 from faultslip.fault.scene import read_text_file, resolve_path
@@ -77,6 +77,12 @@ class Fault2DScene:
     def at_element_size(self, element_size: float) -> "Fault2DScene":
         """The same scene on elements of another size (for convergence studies)."""
         return replace(self, fault=build_fault(self.settings, element_size, self.name))
+
+    def run(self, rtol: float | None = None, folder=None, resume: bool = False, progress=None):
+        """Integrate this scene with its own settings (:func:`faultslip.dynamics.fault_2d.integrate.run_cycles`)."""
+        return run_cycles(self.fault, self.duration, rtol=self.rtol if rtol is None else rtol, stations=self.stations,
+                          kernel=self.kernel, profile_interval=self.profile_interval,
+                          coseismic_interval=self.coseismic_interval, folder=folder, resume=resume, progress=progress)
 
     def with_values(self, **values) -> "Fault2DScene":
         """The scene with parameters replaced, in SI (what a study sweeps; :data:`SWEEPABLE`)."""

@@ -28,7 +28,7 @@ import numpy as np
 
 from faultslip import __version__
 from faultslip.dynamics.fault_2d.analysis import summarise
-from faultslip.dynamics.fault_2d.integrate import YEAR, run_cycles
+from faultslip.dynamics.fault_2d.integrate import YEAR
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
 from faultslip.io.resources import bundled_dir
@@ -62,10 +62,10 @@ def compare(scene, elements_per_process_zone: float = 4.0, cycles: int = 10, rto
     process = fault["shear_modulus"] * law.critical_slip / (fault["normal_stress"] * law.b)
     count = max(16, int(math.ceil(width / (process / elements_per_process_zone))))
     block = fault_cycles(scene.slider, scene.plate_rate, cycles=5)
-    two_d = from_one_slider(scene, element_size=width / count)
     # long enough for the spin-up and ``cycles`` events at the block's recurrence (the 2-D one is shorter)
     duration = (cycles + 3) * block.recurrence
-    run = run_cycles(two_d.fault, duration, rtol=rtol, stations=two_d.stations)
+    two_d = from_one_slider(scene, element_size=width / count, duration=duration)
+    run = two_d.run(rtol)
     summary = summarise(run, tolerance=0.01)
     starts, slip = run.events["start"], run.events["slip"]
     system = np.flatnonzero(slip[:, 0] >= 0.5 * slip[:, 0].max()) if starts.size else np.empty(0, int)

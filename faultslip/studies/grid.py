@@ -46,7 +46,7 @@ from faultslip import __version__
 from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rate, solve_rate_law_critical
 from faultslip.dynamics.methods import solve
 from faultslip.dynamics.fault_2d.analysis import summarise as summarise_fault_2d
-from faultslip.dynamics.fault_2d.integrate import YEAR as _YEAR, run_cycles as run_fault_2d
+from faultslip.dynamics.fault_2d.integrate import YEAR as _YEAR
 from faultslip.fault.fault_2d_scene import SWEEPABLE as FAULT_2D_PARAMETERS
 from faultslip.fault.fault_2d_scene import Fault2DScene, is_fault_2d_document, load_fault_2d_scene, parse_fault_2d_scene
 from faultslip.fault.scene import apply_friction, load_scene, parse_scene, read_text_file, resolve_path, Scene, scene_document
@@ -881,9 +881,7 @@ def _fault_2d_block(study, block):
             key = hashlib.sha256(repr(sorted((n, float(v)) for n, v in values.items())).encode()).hexdigest()[:16]
             folder = Path(study.work_dir) / key
         resume = folder is not None and (folder / "checkpoint.npz").is_file()
-        run = run_fault_2d(scene.fault, scene.duration, rtol=scene.rtol, stations=scene.stations, kernel=scene.kernel,
-                           profile_interval=scene.profile_interval, coseismic_interval=scene.coseismic_interval,
-                           folder=folder, resume=resume)
+        run = scene.run(folder=folder, resume=resume)
         summary = summarise_fault_2d(run)
         row = {"recurrence_interval": summary.recurrence_interval, "recurrence_spread": summary.recurrence_spread,
                "settled": float(summary.settled), "slip_per_event": summary.surface_slip_per_event,

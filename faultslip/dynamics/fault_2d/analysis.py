@@ -58,7 +58,7 @@ def summarise(run: Fault2DRun, tolerance: float = 1e-3) -> Fault2DSummary:
         last_event = system[-1]
         surface_slip = float(surface[last_event])
         mean_slip = float(slip[last_event][weakening].mean()) if np.any(weakening) else math.nan
-        moment = float(fault.shear_modulus * slip[last_event].sum() * fault.element_size)
+        moment = float(run.moments_per_length()[last_event])
         hypocentre = float(run.events["hypocentre_depth"][last_event])
     else:
         surface_slip = mean_slip = moment = hypocentre = math.nan

@@ -80,6 +80,10 @@ class Fault2DRun:
     def event_count(self) -> int:
         return int(self.events["start"].size)
 
+    def moments_per_length(self) -> np.ndarray:
+        """Seismic moment per metre along strike of each event, G times the slip integrated in depth (N)."""
+        return self.fault.shear_modulus * self.events["slip"].sum(axis=1) * self.fault.element_size
+
 
 class _Stations:
     """Linear interpolation between element centres; a depth beyond the first or last centre takes it."""

@@ -10,7 +10,7 @@ import numpy as np
 
 from faultslip import __version__
 from faultslip.dynamics.fault_2d.analysis import moment_magnitude, summarise
-from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun, run_cycles
+from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.errors import InputError
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
@@ -61,19 +61,13 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
             raise InputError(f"--output-dir {folder} is not empty; pass --resume to continue its run, or --overwrite")
         folder.mkdir(parents=True, exist_ok=True)
         with output_lock(folder / "run", "faultslip simulate (2-D fault)", overwrite=True, label="--output-dir"):
-            run = _run(loaded, rtol, folder, resume, progress)
+            run = loaded.run(rtol, folder, resume, progress)
             result = _result(loaded, run, settle_tolerance)
             write_outputs(loaded, run, folder, result)
         result.summary.note(f"SEAS station files, slip profiles (devol.dat), events.csv and fault_2d.nc written to "
                             f"{folder}")
         return result
-    return _result(loaded, _run(loaded, rtol, None, False, progress), settle_tolerance)
-
-
-def _run(loaded: Fault2DScene, rtol, folder, resume, progress) -> Fault2DRun:
-    return run_cycles(loaded.fault, loaded.duration, rtol=rtol, stations=loaded.stations, kernel=loaded.kernel,
-                      profile_interval=loaded.profile_interval, coseismic_interval=loaded.coseismic_interval,
-                      folder=folder, resume=resume, progress=progress)
+    return _result(loaded, loaded.run(rtol, progress=progress), settle_tolerance)
 
 
 def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> Result:
@@ -154,8 +148,7 @@ def to_dataset(loaded: Fault2DScene, run: Fault2DRun):
     data["event_hypocentre_depth"] = ("event", run.events["hypocentre_depth"], {"units": "m"})
     data["event_peak_slip_rate"] = ("event", run.events["peak_slip_rate"], {"units": "m/s"})
     data["event_slip"] = (("event", "depth"), run.events["slip"], {"units": "m", "long_name": "slip in the event"})
-    moment = run.fault.shear_modulus * run.events["slip"].sum(axis=1) * run.fault.element_size
-    data["event_moment_per_length"] = ("event", moment, {"units": "N", "long_name": "seismic moment per metre"})
+    data["event_moment_per_length"] = ("event", run.moments_per_length(), {"units": "N", "long_name": "seismic moment per metre"})
     fault = run.fault
     data["a"] = ("depth", fault.a, {"units": "1"})
     data["b"] = ("depth", fault.b, {"units": "1"})
@@ -180,7 +173,7 @@ def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: R
                       depth=float(depth), element_size=fault.element_size, version=__version__)
     write_profiles(folder / "devol.dat", run.profile_time, run.profile_max_speed, run.profiles, fault.depth,
                    element_size=fault.element_size, version=__version__)
-    moment = fault.shear_modulus * run.events["slip"].sum(axis=1) * fault.element_size
+    moment = run.moments_per_length()
     lines = ["start (s),end (s),hypocentre_depth (m),peak_slip_rate (m/s),surface_slip (m),moment_per_length (N)"
              + (",moment_magnitude" if loaded.fault_length else "")]
     for i in range(run.event_count):
