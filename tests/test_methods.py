@@ -64,10 +64,12 @@ def test_auto_picks_the_cheapest_sufficient_integrator_for_a_nonlinear_law():
     assert loose.dataset.attrs["estimated_relative_error"] == pytest.approx(1e-6)
 
 
-def test_time_of_stick_law_goes_to_the_simulator():
+def test_time_of_stick_law_goes_to_the_exact_map():
+    """Cameron's law with a constant kinetic friction: analytic slip phases, the steady cycle by the
+    re-stick map (the closed form and the exact cycle need a static limit independent of the stick)."""
     system = load_scene("lab_steel_dry_time_of_stick.toml").slider()
     method, assessment, candidates = choose(system)
-    assert method.name.startswith("event_driven")
+    assert method.name == "exact_map"
     assert not candidates[0].applicable and "time of stick" in candidates[0].reason
 
 

@@ -228,7 +228,9 @@ def cmd_nanoscale(args) -> int:
     choice = choose_method(model, ("regime", "force_swing", "time_series"), "nanoscale_LSODA", settings["tolerance"])
     run = None if args.no_run else model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol,
                                                         allow_large=args.allow_large)
-    report = nanoscale_report(model, run, None if args.no_run else choice)
+    cycle = model.settled_cycle(settings["tolerance"], rtol=choice.rtol, allow_large=args.allow_large) \
+        if run is not None and model.stick_slip else None
+    report = nanoscale_report(model, run, None if args.no_run else choice, cycle=cycle)
     for key in ("origin", "description"):
         if notes.get(key):
             report.notes.insert(0, notes[key])

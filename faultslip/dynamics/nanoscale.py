@@ -31,6 +31,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from faultslip.dynamics.shared.settling import Settling, aitken, assess_settling, bifurcation_note
 from faultslip.errors import InputError, SolverError
 from faultslip.io import budget
 from faultslip.io.report import Report
@@ -111,17 +112,10 @@ class NanoscaleModel:
         if not (duration > 0 and math.isfinite(duration)) or not 2 <= samples <= 10_000_000:
             raise InputError("duration must be positive and samples from 2 to 1e7")
         budget.check(budget.nanoscale_estimate(duration, samples), allow_large)  # before any work
-        v_a, a, tau, f_ch, damping = (self.drive_speed, self.charge_length, self.charging_time, self.charge_force,
-                                      self.damping)
+        v_a, f_ch, damping = self.drive_speed, self.charge_force, self.damping
         sigma0 = self.steady_charge
         force0 = damping * v_a + float(self.weakening(v_a)) + f_ch * sigma0 ** 2
-        v_m = self.peak_speed
-
-        def rhs(t, y):
-            speed, charge, force = y[1], y[3], y[2]
-            ratio = speed / v_m
-            return (speed, force - damping * speed - ratio / (1.0 + ratio * ratio) - f_ch * charge * charge,
-                    v_a - speed, (1.0 - charge) / tau - speed * charge / a, speed * charge / a)
+        rhs = self._rhs()
 
         start = [0.0, v_a * (1.0 + perturbation), force0, sigma0, 0.0]
         if not all(math.isfinite(value) for value in start):
@@ -130,7 +124,8 @@ class NanoscaleModel:
         times = np.linspace(0.0, duration, samples)
         try:
             with np.errstate(over="ignore", invalid="ignore"):
-                solution = solve_ivp(rhs, (0.0, duration), start, method="LSODA", t_eval=times, rtol=rtol, atol=1e-12)
+                solution = solve_ivp(rhs, (0.0, duration), start, method="LSODA", t_eval=times, rtol=rtol, atol=1e-12,
+                                     dense_output=True)
         except (ValueError, ArithmeticError) as exc:  # scipy refuses non-finite states mid-run the same way
             raise SolverError(f"LSODA failed on the nanoscale model ({exc}); the parameters drive the state to "
                               "overflow") from None
@@ -142,7 +137,203 @@ class NanoscaleModel:
                               "f_ch or damping A?) drive it beyond floating point")
         x, speed, force, charge, deposited = solution.y
         return NanoscaleRun(time=times, displacement=x, speed=speed, force=force, charge=charge,
-                            deposited=deposited, model=self)
+                            deposited=deposited, model=self,
+                            cycles=_cycles(_locate_events(solution, self._cycle_events(rhs)), self), rtol=rtol)
+
+    def _rhs(self):
+        v_a, a, tau, f_ch, damping, v_m = (self.drive_speed, self.charge_length, self.charging_time, self.charge_force,
+                                           self.damping, self.peak_speed)
+
+        def rhs(t, y):
+            speed, charge, force = y[1], y[3], y[2]
+            ratio = speed / v_m
+            return (speed, force - damping * speed - ratio / (1.0 + ratio * ratio) - f_ch * charge * charge,
+                    v_a - speed, (1.0 - charge) / tau - speed * charge / a, speed * charge / a)
+
+        return rhs
+
+    def _cycle_events(self, rhs):
+        """Events located on the dense solution: X' through v_a upward (the force's maximum, F' = v_a - X'
+        changing sign) and downward (its minimum), and X'' = 0 rising (the speed's minimum)."""
+        v_a = self.drive_speed
+
+        def up(t, y):
+            return y[1] - v_a
+        up.direction = 1.0
+
+        def down(t, y):
+            return y[1] - v_a
+        down.direction = -1.0
+
+        def slowest(t, y):
+            return rhs(t, y)[1]
+        slowest.direction = 1.0
+        return [up, down, slowest]
+
+    def settled_cycle(self, tolerance: float = 1e-6, rtol: float | None = None, max_cycles: int = 3000,
+                      chunk: float = 400.0, max_time: float = 2e5, allow_large: bool = False) -> "NanoscaleCycle":
+        """The steady cycle below A_c, shown to have settled (issue 27).
+
+        Starts stuck (X' = 0 at the steady-sliding force: a large disturbance, approached from above),
+        integrates with LSODA and measures every cycle between upward crossings of X' = v_a: the force
+        swing from the located extrema of the dense solution, the period and the least speed. The
+        shared :func:`~faultslip.dynamics.shared.settling.assess_settling` judges the cycles; while
+        unsettled, the map on the section X' = v_a is restarted from the Aitken-extrapolated (F, Sigma)
+        (Steffensen), which reaches the cycle near A_c where the natural approach takes ~1 / (A_c - A)
+        periods. The regime follows what the cycle does: it sticks (the least speed falls below
+        STICK_FRACTION v_m), oscillates without sticking, or decays to steady sliding.
+        """
+        from scipy.integrate import solve_ivp  # heavy: imported where used
+
+        rtol = rtol if rtol is not None else min(1e-4, max(1e-12, tolerance / LSODA_ERROR_CONSTANT))
+        # the worst case, integrating to max_time, within the budget before any work
+        budget.check(budget.nanoscale_estimate(max_time, 2), allow_large)
+        noise = LSODA_ERROR_CONSTANT * rtol
+        rhs = self._rhs()
+        events = self._cycle_events(rhs)
+        sigma0 = self.steady_charge
+        force0 = self.damping * self.drive_speed + float(self.weakening(self.drive_speed)) + \
+            self.charge_force * sigma0 ** 2
+        state = np.array([0.0, 0.0, force0, sigma0, 0.0])
+        t = 0.0
+        history, crossings, restarts, total = [], [], 0, 0
+        verdict, rho = None, math.nan
+        floor = (self.drive_speed, 0.0, self.drive_speed)  # swing and least speed against v_a: both may vanish
+        pending = {"top": None, "bottom": None, "slowest": math.inf}
+        while total < max_cycles and t < max_time:  # max_time: a run whose cycles never complete ends too
+            with np.errstate(over="ignore", invalid="ignore"):
+                solution = solve_ivp(rhs, (t, t + chunk), state, method="LSODA", rtol=rtol, atol=1e-12,
+                                     dense_output=True)
+            if not solution.success or not np.all(np.isfinite(solution.y[:, -1])):
+                raise SolverError(f"LSODA failed on the nanoscale cycle at t = {t:g}: {solution.message}; tighten "
+                                  "the tolerance")
+            located = _locate_events(solution, events)
+            marks = sorted([(float(time), kind, state_at) for kind, (times, states) in
+                            enumerate(zip(*located)) for time, state_at in zip(times, states)],
+                           key=lambda item: item[0])
+            restart = None
+            for time, kind, at in marks:
+                if kind == 2:
+                    pending["slowest"] = min(pending["slowest"], float(at[1]))
+                elif kind == 1:
+                    pending["bottom"] = float(at[2])
+                else:
+                    if pending["top"] is not None and pending["bottom"] is not None:
+                        history.append([pending["top"][1] - pending["bottom"], time - pending["top"][0],
+                                        pending["slowest"]])
+                        crossings.append(at.copy())
+                        total += 1
+                    pending = {"top": (time, float(at[2])), "bottom": None, "slowest": math.inf}
+                    if len(history) >= 4:
+                        verdict = assess_settling(history, max(tolerance, noise), floor,
+                                                  ("force swing", "period", "least speed"), noise=noise,
+                                                  contraction_hint=rho)
+                        if 0 < verdict.contraction < 1:
+                            rho = max(rho, verdict.contraction) if math.isfinite(rho) else verdict.contraction
+                        if verdict.settled:
+                            break
+                        if restarts < 12 and verdict.contraction < 1:
+                            target = aitken(*[crossing[2:4] for crossing in crossings[-3:]])
+                            if np.all(np.isfinite(target)):
+                                restart = np.array([at[0], self.drive_speed, target[0], target[1], at[4]])
+                                restart_time = time
+                                break
+            if verdict is not None and verdict.settled:
+                break
+            if restart is not None:
+                state, t, restarts = restart, restart_time, restarts + 1
+                history, crossings = [], []
+                pending = {"top": (t, float(restart[2])), "bottom": None, "slowest": math.inf}
+            else:
+                state, t = solution.y[:, -1], float(solution.t[-1])
+        if verdict is None:
+            verdict = Settling(False, total, math.nan, math.inf, np.full(3, math.nan),
+                               f"fewer than four cycles completed within {max_time:g} time units")
+        swing, period, slowest = (history[-1] if history else (math.nan,) * 3)
+        # the verdict is relative to max(swing, v_a): back to the swing's own scale. LSODA's error in the swing
+        # scales with the force itself (~30 rtol F*, A = 3 and A = 0.994 A_c), so a small swing near A_c
+        # carries it relative to F*, not to the swing
+        scale = max(abs(swing), 1e-300)
+        remaining = max(noise * max(1.0, force0 / scale),
+                        float(verdict.remaining) * max(abs(swing), self.drive_speed) / scale)
+        return NanoscaleCycle(float(swing), float(period), float(slowest), verdict, total, restarts, rtol,
+                              remaining, self)
+
+
+#: A cycle sticks when its least speed falls below this fraction of v_m: onto the rising, static-like branch
+#: of phi (u < v_m, where friction grows with speed); above it the tip oscillates on the weakening branch.
+STICK_FRACTION = 1.0
+OSCILLATING = "oscillating_sliding"
+
+
+def cycle_regime(model: "NanoscaleModel", swing: float, least_speed: float, settled: bool) -> str:
+    """What the settled cycle does: sticks, oscillates without sticking, or slides steadily."""
+    if not math.isfinite(swing) or swing <= 1e-9 * max(model.drive_speed, 1e-300):
+        return "steady_sliding"
+    if least_speed < STICK_FRACTION * model.peak_speed:
+        return "stick_slip"
+    return OSCILLATING
+
+
+@dataclass
+class NanoscaleCycle:
+    """The settled cycle: its force swing (from the located extrema), period and least speed."""
+
+    force_swing: float
+    period: float
+    least_speed: float
+    settling: Settling
+    cycles: int
+    restarts: int
+    rtol: float
+    estimated_error: float  # relative, of the force swing: the integrator's, or what settling left
+    model: "NanoscaleModel"
+
+    @property
+    def regime(self) -> str:
+        return cycle_regime(self.model, self.force_swing, self.least_speed, self.settling.settled)
+
+
+def _locate_events(solution, events):
+    """(times, states) per event function, located on the dense solution itself.
+
+    scipy's own event location compares signs at the step ends from the integrator's states but
+    root-finds on the interpolant, and near a tangency the two disagree ("f(a) and f(b) must have
+    different signs"); here both come from the interpolant, so a bracket always holds a root.
+    """
+    from scipy.optimize import brentq  # heavy: imported where used
+
+    steps = solution.t
+    states = solution.sol(steps)
+    found_times, found_states = [], []
+    for event in events:
+        values = np.array([event(t, states[:, i]) for i, t in enumerate(steps)])
+        if event.direction > 0:
+            crossings = np.flatnonzero((values[:-1] < 0) & (values[1:] >= 0))
+        else:
+            crossings = np.flatnonzero((values[:-1] > 0) & (values[1:] <= 0))
+        times = [brentq(lambda t: event(t, solution.sol(t)), steps[i], steps[i + 1], xtol=1e-13, rtol=1e-15)
+                 if values[i + 1] != 0 else steps[i + 1] for i in crossings]
+        found_times.append(np.array(times, float))
+        found_states.append(solution.sol(np.array(times)).T if times else np.empty((0, states.shape[0])))
+    return found_times, found_states
+
+
+def _cycles(located, model) -> np.ndarray:
+    """Per cycle of a run (rows): force swing, period and least speed, from the located events."""
+    (ups, downs, slow), (up_states, down_states, slow_states) = located
+    up_force = up_states[:, 2] if ups.size else np.empty(0)
+    down_force = down_states[:, 2] if downs.size else np.empty(0)
+    slow_speed = slow_states[:, 1] if slow.size else np.empty(0)
+    rows = []
+    for i in range(ups.size - 1):
+        inside = (downs > ups[i]) & (downs < ups[i + 1])
+        if not inside.any():
+            continue
+        lowest = slow_speed[(slow > ups[i]) & (slow < ups[i + 1])]
+        rows.append([up_force[i] - down_force[inside][-1], ups[i + 1] - ups[i],
+                     float(lowest.min()) if lowest.size else math.inf])
+    return np.array(rows, float).reshape(-1, 3)
 
 
 @dataclass
@@ -154,11 +345,26 @@ class NanoscaleRun:
     charge: np.ndarray
     deposited: np.ndarray
     model: NanoscaleModel
+    cycles: np.ndarray = None  # rows: force swing, period, least speed per cycle (located on the dense solution)
+    rtol: float = 1e-8
 
     def force_swing(self, last: float = 0.5) -> float:
-        """Peak-to-peak force over the last fraction of the run: ~0 for steady sliding, the stick-slip swing else."""
-        tail = self.force[int((1 - last) * self.force.size):]
-        return float(tail.max() - tail.min())
+        """Peak-to-peak force over the cycles in the last fraction of the run, from the located extrema of
+        the dense solution (not the samples); 0 where no cycle completes (steady sliding)."""
+        if self.cycles is None or not self.cycles.size:
+            tail = self.force[int((1 - last) * self.force.size):]
+            return float(tail.max() - tail.min()) if self.cycles is None else 0.0
+        return float(self.cycles[-1, 0])
+
+    def settling(self, tolerance: float = 1e-6) -> Settling:
+        """Whether the run's cycles settled (the shared test), with the integrator's error as its noise."""
+        noise = LSODA_ERROR_CONSTANT * self.rtol
+        if self.cycles is None or self.cycles.shape[0] < 2:
+            return Settling(False, 0 if self.cycles is None else self.cycles.shape[0], math.nan, math.inf,
+                            np.full(3, math.nan), "fewer than two complete cycles in the run")
+        return assess_settling(self.cycles, max(tolerance, noise), (self.model.drive_speed, 0.0,
+                                                                    self.model.drive_speed),
+                               ("force swing", "period", "least speed"), noise=noise)
 
     def slip_events(self, last: float = 0.5) -> int:
         """Slip events (X' rising through 2 v_a) over the last fraction of the run."""
@@ -258,8 +464,11 @@ def with_damping(model: NanoscaleModel, damping: float) -> NanoscaleModel:
 
 
 def report(model: NanoscaleModel, run: NanoscaleRun | None = None, choice: NanoscaleChoice | None = None,
-           title: str = "faultslip nanoscale stick-slip with contact charging (seed 001, eqs. 1-4)"):
-    """The threshold analysis and, if run, the simulation, as a Report (``faultslip nanoscale``, ``run``)."""
+           title: str = "faultslip nanoscale stick-slip with contact charging (seed 001, eqs. 1-4)",
+           cycle: NanoscaleCycle | None = None):
+    """The threshold analysis, the settled cycle and the run's time series, as a Report (``faultslip
+    nanoscale``, ``run``). The regime is what the settled cycle does (it sticks, oscillates without
+    sticking, or slides steadily); without one, only what linear stability says."""
     r = Report(title)
     r.add("damping", model.damping, label="A").add("drive_speed", model.drive_speed, label="v_a")
     r.add("peak_speed", model.peak_speed, label="v_m").add("charging_time", model.charging_time, label="tau")
@@ -267,21 +476,55 @@ def report(model: NanoscaleModel, run: NanoscaleRun | None = None, choice: Nanos
     r.add("critical_damping", model.critical_damping, label="A_c (Routh-Hurwitz)")
     r.add("critical_damping_uncharged", replace(model, charge_force=0.0).critical_damping,
           label="A_c without charge, -phi'(v_a)")
-    r.add("regime", "stick_slip (A < A_c)" if model.stick_slip else "steady_sliding (A >= A_c)")
+    if cycle is not None:
+        where = "A < A_c" if model.stick_slip else "A >= A_c"
+        r.add("regime", f"{cycle.regime} ({where}; what the settled cycle does)")
+    elif model.stick_slip:
+        r.add("regime", "unstable_sliding (A < A_c): steady sliding is unstable; whether the tip sticks needs the "
+                        "cycle (integration)")
+    else:
+        r.add("regime", "steady_sliding (A >= A_c)")
     roots = model.characteristic_roots()
     r.add("largest_growth_rate", float(np.max(roots.real)), label="largest Re(lambda) of small disturbances")
+    error = None
     if choice is not None:
         r.add("method", choice.method).add("method_reason", choice.reason, label="why this method")
-        r.add("estimated_relative_error", choice.estimated_error, label="estimated relative error (force swing)")
-        if run is None and not model.stick_slip:
+        error = choice.estimated_error
+        if run is None and cycle is None and not model.stick_slip:
             r.add("force_swing", 0.0, label="force peak-to-peak (steady sliding)")
+    if cycle is not None:
+        r.add("force_swing", cycle.force_swing, label="force peak-to-peak of the settled cycle (located extrema)")
+        r.add("period", cycle.period, label="period of the settled cycle")
+        r.add("least_speed", cycle.least_speed, label="least speed X' in the cycle (sticks below v_m)")
+        r.add("settled", bool(cycle.settling.settled), label="the cycle settled")
+        r.add("cycles", int(cycle.cycles), label="cycles integrated to settle")
+        error = cycle.estimated_error if error is None else max(error, cycle.estimated_error)
+        if not cycle.settling.settled:
+            r.note(f"the cycle did not settle: {cycle.settling.reason}")
+        if cycle.restarts:
+            r.note(f"the cycle map was restarted {cycle.restarts} times from its extrapolated fixed point (Steffensen)")
     if run is not None:
-        r.add("duration", float(run.time[-1])).add("force_swing", run.force_swing(),
-                                                    label="force peak-to-peak, last half")
+        r.add("duration", float(run.time[-1]))
+        r.add("run_force_swing", run.force_swing(), label="force peak-to-peak of the run's last cycle")
         r.add("slip_events", run.slip_events(), label="slip events (X' through 2 v_a), last half")
         deposited = run.deposited[-1] / max(run.displacement[-1], 1e-300)
         r.add("deposited_per_displacement", float(deposited), label="Sigma_d / X at the end (Sigma*/a steady)")
         r.add("charge_correlation", run.charge_correlation(), label="corr(X, Sigma_d)")
+        if cycle is None and not model.stick_slip:
+            r.add("force_swing", 0.0, label="force peak-to-peak (steady sliding: disturbances decay, A >= A_c)")
+        elif cycle is None:
+            verdict = run.settling(choice.estimated_error if choice is not None and choice.estimated_error else 1e-6)
+            r.add("force_swing", run.force_swing(), label="force peak-to-peak of the run's last cycle")
+            r.add("settled", bool(verdict.settled), label="the run's cycles settled")
+            if model.stick_slip:
+                error = max(error or 0.0, float(verdict.remaining)) if verdict.cycles >= 2 else math.inf
+                if not verdict.settled:
+                    r.note(f"the run's cycles have not settled: {verdict.reason}; its swing is a transient")
+    if error is not None:
+        r.add("estimated_relative_error", error, label="estimated relative error (force swing)")
+    near = bifurcation_note("the critical damping A_c", "A", model.damping, model.critical_damping)
+    if near:
+        r.note(near)
     r.note("dimensionless: displacement in the slip scale D, time in 1/omega; the slides' parameters unless set")
     return r
 

@@ -82,6 +82,7 @@ class RateStateFaultEstimate:
             r.add("stress_drop", float(c.stress_drop.mean()), "Pa", also=("MPa",))
             r.add("peak_slip_rate", float(c.peak_slip_rate.max()), "m/s")
             r.add("cycles", int(c.slip_per_event.size)).add("model", c.model)
+            c.report_settling(r)
             if self.moment is not None:
                 r.add("seismic_moment", self.moment, "N*m", label="M0 = G L H (slip per event)")
                 r.add("moment_magnitude", self.magnitude, label="Mw")

@@ -102,6 +102,7 @@ def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None, progre
     report.add("plate_slip_balance", float((result.cycle_slip / (result.plate_rate * result.recurrence)).mean()),
                label="slip per cycle / (V_pl T)")
     report.add("model", result.model).add("steps", int(result.steps)).add("wall_time", result.wall_time, "s")
+    result.report_settling(report)
     report.note(f"events: slip speed above {result.event_speed:g} m/s (the SEAS convention)")
     if seed_law:
         seed = seed_law_fault(seed_law, slip_rate=scene.plate_rate, **scene.fault).estimate()
