@@ -100,3 +100,23 @@ def test_readers_and_the_cli(cli, tmp_path):
     assert_clean_error(cli("surface", bad), "length")
     with pytest.raises(InputError, match="at least 8"):
         Surface(np.zeros(4), 1e-6)
+
+
+def test_truncation_touches_the_summits_first_on_a_skewed_surface():
+    """Issue 27, case 1: contact started at min(h + h'), so a flat touched a map's lowest cells first (on a
+    positively skewed surface the area at 0.5 um was 120 times the true peaks'). Now the overlap at an
+    approach delta is exactly the cells within delta of the highest point, against a flat, and within delta
+    of the largest h + h' against the turned-over copy, whose first touch is where both are high."""
+    base = gaussian_surface(1e-6, 20e-6, size=64, seed=5)
+    skewed = Surface(np.exp(base.height / 1e-6) * 1e-6, base.dx, base.dy, "skewed")  # long upper tail
+    top = skewed.height - skewed.height.mean()
+    assert float(((top - top.mean()) ** 3).mean() / top.std() ** 3) > 1.0  # positively skewed
+    for delta in (0.05e-6, 0.5e-6, 2e-6):
+        flat = truncation_contact(skewed, [delta], flat_like(skewed), redistribute=False)
+        assert flat["area"][0] == pytest.approx(np.count_nonzero(top >= top.max() - delta) * skewed.cell_area)
+        reach = top + top[::-1, ::-1]
+        copy = truncation_contact(skewed, [delta], redistribute=False)
+        assert copy["area"][0] == pytest.approx(np.count_nonzero(reach >= reach.max() - delta) * skewed.cell_area)
+    # the first contact is at the summit, not in a valley
+    first = truncation_contact(skewed, [1e-12], flat_like(skewed), redistribute=False)
+    assert first["area"][0] == skewed.cell_area and first["contacts"][0] == 1

@@ -227,17 +227,25 @@ def statistics(surface: Surface) -> dict:
 
 def truncation_contact(surface: Surface, approaches, counter: Surface | None = None,
                        flow_pressure: float | None = None, redistribute: bool = True) -> dict:
-    """Contact of ``surface`` with ``counter`` (default: its own inverted copy, as seed 000 §5.3; a flat with
-    :func:`flat_like`) at each approach (m) from first touch: real area (m^2), contacts (connected patches),
-    displaced volume (m^3), and with ``flow_pressure`` (Pa) the load p_c A (N)."""
+    """Contact of ``surface`` with ``counter`` at each approach (m) from first touch: real area (m^2), contacts
+    (connected patches), displaced volume (m^3), and with ``flow_pressure`` (Pa) the load p_c A (N).
+
+    ``counter`` is a surface as measured (heights up), turned over onto ``surface``: its heights then point
+    down, mirrored. The default is a copy of ``surface`` itself (seed 000 §5.3); :func:`flat_like` gives a
+    flat. With the gap g(x) = d - h(x) - h'(x) between the mean planes d apart, h' the turned-over
+    counter's protrusion, the bodies first touch where h + h' is largest, and at an approach delta past
+    first touch they overlap where delta > max(h + h') - (h + h'): the highest summits first (issue 27:
+    this read min(h + h'), which touched the valleys first).
+    """
     from scipy import ndimage  # heavy: imported where used
 
     top = surface.height - surface.height.mean()
-    other = (counter.height - counter.height.mean()) if counter is not None else -top[::-1, ::-1] if surface.is_map \
-        else -top[::-1]
-    if other.shape != top.shape:
+    facing = top if counter is None else counter.height - counter.height.mean()
+    if facing.shape != top.shape:
         raise InputError("the two surfaces must share their grid")
-    gap0 = float(np.min(top - other))  # the gap at first touch is zero
+    protrusion = facing[::-1, ::-1] if surface.is_map else facing[::-1]  # turned over: mirrored, pointing down
+    reach = top + protrusion
+    separation = float(reach.max()) - reach  # zero where they first touch
     approaches = np.atleast_1d(np.asarray(approaches, dtype=float))
     if np.any(approaches < 0):
         raise InputError("approaches are measured from first touch and must not be negative")
@@ -246,7 +254,7 @@ def truncation_contact(surface: Surface, approaches, counter: Surface | None = N
     for i, approach in enumerate(approaches):
         effective = approach
         for _ in range(20 if redistribute else 1):  # the displaced volume raises the surface evenly: less overlap
-            overlap = np.maximum(effective - (top - other - gap0), 0.0)
+            overlap = np.maximum(effective - separation, 0.0)
             displaced = float(overlap.sum() * surface.cell_area)
             corrected = approach - displaced / total if redistribute else approach
             if abs(corrected - effective) <= 1e-12 * max(approach, 1e-30):
