@@ -93,6 +93,9 @@ def _seismology_commands(commands) -> None:
     catalog.add_argument("--horizon", default="30 yr", help="probability horizon (30 yr)")
     catalog.add_argument("--bootstrap", type=int, default=1000, help="parametric bootstrap samples (1000)")
     catalog.add_argument("--seed", type=int, default=0, help="random seed of the bootstrap")
+    catalog.add_argument("--cluster-fraction", default="0.01",
+                         help="intervals under this fraction of the mean are fore/aftershocks and are declustered "
+                              "(0.01); 'refuse' stops instead")
     catalog.add_argument("--plot", help="draw the events and the recurrence to FILE.png")
     _overwrite_and_json(catalog)
     catalog.set_defaults(handler="seismology:cmd_catalog")

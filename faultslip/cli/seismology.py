@@ -28,8 +28,15 @@ def cmd_catalog(args) -> int:
               for key in ("since", "until", "as_of")}
     magnitudes = {key: _number(getattr(args, key), f"--{key.replace('_', '-')}") if getattr(args, key) else None
                   for key in ("min_magnitude", "max_magnitude")}
+    if args.cluster_fraction == "refuse":
+        cluster_fraction = None
+    else:
+        cluster_fraction = _number(args.cluster_fraction, "--cluster-fraction")
+        if not 0 < cluster_fraction < 1:
+            raise InputError(f"--cluster-fraction must lie between 0 and 1 (or be 'refuse'), got {args.cluster_fraction}")
     catalog = read_catalog(args.catalog)
     comparison = compare(catalog, scene, trace=trace, max_distance=to_si(args.max_distance, "length", "--max-distance"),
+                         cluster_fraction=cluster_fraction,
                          horizon=to_si(args.horizon, "time", "--horizon"), bootstrap=args.bootstrap, seed=args.seed,
                          as_of=window["as_of"] if window["as_of"] is not None else np.datetime64("now", "ms"),
                          since=window["since"], until=window["until"], **magnitudes)

@@ -45,10 +45,13 @@ class CatalogComparison:
     horizon: float | None = None
     as_of: np.datetime64 | None = None
     notes: list = field(default_factory=list)
+    mainshocks: Catalog | None = None  # the selection declustered, when it held clusters
 
     def report(self, title: str = "faultslip catalog comparison") -> Report:
         r = Report(title)
         r.add("events", len(self.selected), label="events selected")
+        if self.mainshocks is not None:
+            r.add("mainshocks", len(self.mainshocks), label="mainshocks after declustering (what the fits use)")
         for key, value in self.criteria.items():
             r.add(key, value)
         rows = [{"time": str(t), "magnitude": float(m), "name": n,
@@ -133,13 +136,42 @@ def predict(scene: Scene) -> Prediction:
                       estimate.moment_magnitude)
 
 
+#: Intervals shorter than this fraction of the mean are clustering (fore- and aftershocks), not renewal.
+CLUSTER_FRACTION = 0.01
+
+
+def decluster(selected: Catalog, fraction: float = CLUSTER_FRACTION) -> tuple[Catalog, list]:
+    """The mainshocks of ``selected``: while the shortest interval is under ``fraction`` of the mean
+    interval, its two events are one cluster, represented by the larger (the earlier on a tie); the mean
+    is recomputed after each merge. Returns (declustered catalog, [(removed name or time, kept), ...])."""
+    keep = np.ones(len(selected), bool)
+    removed = []
+    seconds, magnitude = selected.seconds(), np.asarray(selected.magnitude, float)
+    while keep.sum() >= 3:
+        index = np.flatnonzero(keep)
+        gaps = np.diff(seconds[index])
+        shortest = int(np.argmin(gaps))
+        if gaps[shortest] >= fraction * gaps.mean():
+            break
+        first, second = index[shortest], index[shortest + 1]
+        weaker = second if np.nan_to_num(magnitude[first], nan=-9) >= np.nan_to_num(magnitude[second], nan=-9) \
+            else first
+        kept = first if weaker == second else second
+        keep[weaker] = False
+        label = lambda i: selected.name[i] or str(selected.time[i])[:19]  # noqa: E731
+        removed.append((label(weaker), label(kept), float(gaps[shortest])))
+    return selected.subset(keep), removed
+
+
 def compare(catalog: Catalog, scene: Scene, trace=None, max_distance: float = 25e3, min_magnitude=None, since=None,
             until=None, as_of=None, horizon: float = 30 * YEAR, bootstrap: int = 1000, seed: int = 0,
-            max_magnitude=None) -> CatalogComparison:
+            max_magnitude=None, cluster_fraction: float | None = CLUSTER_FRACTION) -> CatalogComparison:
     """Select the fault's events, fit their recurrence and set the scene's prediction beside them.
 
     ``max_distance`` and ``horizon`` take units ("25 km", "30 yr", a Quantity) or floats in metres and
-    seconds.
+    seconds. A renewal model describes mainshocks: intervals under ``cluster_fraction`` of the mean are
+    declustered (:func:`decluster`, the rule and the removed events in the notes); ``None`` refuses such
+    a selection instead.
     """
     max_distance = to_si_scalar(max_distance, "length", "max_distance", default_unit="m")
     horizon = to_si_scalar(horizon, "time", "horizon", default_unit="s")
@@ -160,11 +192,25 @@ def compare(catalog: Catalog, scene: Scene, trace=None, max_distance: float = 25
                                 "only magnitudes are compared")
         return comparison
     gaps = recurrence.intervals(selected.seconds())
+    if gaps.min() < (cluster_fraction or CLUSTER_FRACTION) * gaps.mean():
+        # a renewal model describes mainshocks, not their fore- or aftershocks
+        if cluster_fraction is None:
+            raise InputError(f"the shortest interval, {gaps.min() / 86400:.3g} days, is under "
+                             f"{CLUSTER_FRACTION:.0%} of the mean: the selection holds clustered events (foreshocks "
+                             "or aftershocks) that a renewal model does not describe; decluster it (the default) or "
+                             "narrow it with --max-magnitude or a time window")
+        selected, removed = decluster(selected, cluster_fraction)
+        comparison.mainshocks = selected
+        comparison.notes.append(
+            f"declustered: while the shortest interval was under {cluster_fraction:.3g} of the mean interval, its "
+            f"smaller event was taken as a fore- or aftershock of the larger and removed ({len(removed)} removed: " +
+            "; ".join(f"{weak} {gap / 86400:.3g} days from {strong}" for weak, strong, gap in removed) + ")")
+        if len(selected) < 3:
+            comparison.notes.append(f"{len(selected)} mainshock(s) after declustering: too few intervals for a "
+                                    "renewal fit; only magnitudes are compared")
+            return comparison
+        gaps = recurrence.intervals(selected.seconds())
     comparison.summary = recurrence.summary(gaps)
-    if gaps.min() < 0.01 * gaps.mean():  # a renewal model describes mainshocks, not their fore- or aftershocks
-        comparison.notes.append(f"the shortest interval, {gaps.min() / 86400:.3g} days, is under 1 % of the mean: the "
-                                "selection holds clustered events (foreshocks, aftershocks or a larger earthquake); "
-                                "decluster it, e.g. with --max-magnitude or a time window, before trusting the fits")
     last = selected.seconds()[-1]
     if as_of is None:
         as_of = np.datetime64("now", "ms")
@@ -175,6 +221,9 @@ def compare(catalog: Catalog, scene: Scene, trace=None, max_distance: float = 25
     for index, model in enumerate(recurrence.MODELS):
         comparison.fits[model] = recurrence.fit(model, gaps, bootstrap=bootstrap, seed=seed + index, elapsed=elapsed,
                                                 horizon=horizon)
+        if comparison.fits[model].widened:
+            comparison.notes.append(f"{model}: the 95 % bootstrap range of its {', '.join(comparison.fits[model].widened)}"
+                                    " is widened to contain the estimate (the resampled estimates are skewed past it)")
     comparison.notes.append(f"probabilities as of {str(comparison.as_of)[:10]} ({elapsed / YEAR:.1f} yr after the last "
                             f"event), {bootstrap} parametric bootstrap samples (seed {seed})")
     if len(selected) < 10:

@@ -21,6 +21,7 @@ import numpy as np
 
 from faultslip import ranges
 from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
+from faultslip.intervals import percentile_interval
 from faultslip.errors import FaultslipError, InputError
 from faultslip.fault.scaling import Fault, moment_magnitude, radiation_damper, seismic_moment
 from faultslip.friction.materials import resolve_material
@@ -155,7 +156,7 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
     if resamples:
         ratios = np.array([slider.stiffness * s.critical_slip / (normal_stress * (s.b - s.a)) if s.b > s.a else np.inf
                            for s in resamples])
-        estimate.uncertainty["stiffness_ratio"] = tuple(float(q) for q in np.quantile(ratios, [0.025, 0.975]))
+        estimate.uncertainty["stiffness_ratio"] = percentile_interval(ratios, estimate.stiffness_ratio)[:2]
         unstable = ratios < 1
         estimate.notes.append(f"{int(unstable.sum())} of {ratios.size} bootstrap resamples of the fit give "
                               "earthquake cycles (K < K_c)")
@@ -174,8 +175,10 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
                 recurrence.append(run.recurrence)
                 slip.append(float(run.slip_per_event.mean()))
             if len(recurrence) >= 5:
-                estimate.uncertainty["recurrence_period"] = tuple(float(q) for q in np.quantile(recurrence, [0.025, 0.975]))
-                estimate.uncertainty["slip_per_event"] = tuple(float(q) for q in np.quantile(slip, [0.025, 0.975]))
+                estimate.uncertainty["recurrence_period"] = percentile_interval(recurrence,
+                                                                                estimate.cycles.recurrence)[:2]
+                estimate.uncertainty["slip_per_event"] = percentile_interval(
+                    slip, float(estimate.cycles.slip_per_event.mean()))[:2]
                 estimate.notes.append(f"recurrence and slip intervals from cycles of {len(recurrence)} resamples "
                                       "(percentiles: a spread, not a coverage-tested interval)")
             else:

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.intervals import percentile_interval
 from faultslip.units import JULIAN_YEAR
 
 MODELS = ("lognormal", "bpt")
@@ -96,6 +97,8 @@ class RenewalFit:
     log_likelihood: float
     probability: float | None = None  # in the horizon, given the elapsed time
     probability_95: tuple | None = None
+    #: ranges widened to contain their estimate (the bootstrap distribution is skewed past it)
+    widened: tuple = ()
 
 
 def fit(model: str, values, bootstrap: int = 1000, seed: int = 0, elapsed: float | None = None,
@@ -119,12 +122,19 @@ def fit(model: str, values, bootstrap: int = 1000, seed: int = 0, elapsed: float
         means, aperiodicities = fit_parameters(model, samples)
         usable = aperiodicities > 0
         means, aperiodicities = means[usable], aperiodicities[usable]
-        result.mean_95 = tuple(float(v) for v in np.percentile(means, [2.5, 97.5]))
-        result.aperiodicity_95 = tuple(float(v) for v in np.percentile(aperiodicities, [2.5, 97.5]))
+        widened = []
+        *result.mean_95, wide = percentile_interval(means, mean)
+        widened += ["mean"] if wide else []
+        *result.aperiodicity_95, wide = percentile_interval(aperiodicities, aperiodicity)
+        widened += ["aperiodicity"] if wide else []
         if asked:
             probabilities = [conditional_probability(model, m, a, elapsed, horizon) for m, a in
                              zip(means, aperiodicities)]
-            result.probability_95 = tuple(float(v) for v in np.percentile(probabilities, [2.5, 97.5]))
+            *result.probability_95, wide = percentile_interval(probabilities, result.probability)
+            widened += ["probability"] if wide else []
+            result.probability_95 = tuple(result.probability_95)
+        result.mean_95, result.aperiodicity_95, result.widened = tuple(result.mean_95), tuple(
+            result.aperiodicity_95), tuple(widened)
     return result
 
 

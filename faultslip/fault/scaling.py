@@ -29,6 +29,7 @@ from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rat
 from faultslip.dynamics.kernel import cell_kernel
 from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
 from faultslip.dynamics.spring_slider.slider import SliderSystem
+from faultslip.intervals import percentile_interval
 from faultslip.errors import InputError
 from faultslip.fault import empirical
 from faultslip.friction.laws import RateLaw
@@ -288,8 +289,9 @@ def _inputs_section(r: Report, f: Fault) -> Report:
     return r
 
 
-def _propagated_uncertainty(fault, method, tolerance) -> dict:
-    """95 % ranges of slip and recurrence from a user fit's bootstrap samples (vectorised)."""
+def _propagated_uncertainty(fault, method, tolerance, slip_estimate=math.nan, period_estimate=math.nan) -> dict:
+    """95 % ranges of slip and recurrence from a user fit's bootstrap samples (vectorised), each containing
+    its estimate (:func:`faultslip.intervals.percentile_interval`)."""
     material = fault.material
     stored = None
     if material is not None and material.preset is not None and isinstance(material.preset.printed, dict):
@@ -312,8 +314,8 @@ def _propagated_uncertainty(fault, method, tolerance) -> dict:
                           method=method if method in ("closed_form", "exact_cycle") else "auto",
                           tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance)
     slip, period = outputs[0], outputs[1]
-    return {"slip_per_event_95": tuple(float(v) for v in np.nanpercentile(slip, [2.5, 97.5])),
-            "recurrence_period_95": tuple(float(v) for v in np.nanpercentile(period, [2.5, 97.5])),
+    return {"slip_per_event_95": tuple(percentile_interval(slip, slip_estimate)[:2]),
+            "recurrence_period_95": tuple(percentile_interval(period, period_estimate)[:2]),
             "uncertainty_samples": int(samples.shape[0])}
 
 
@@ -392,7 +394,7 @@ class FaultEstimate:
             method_reason=solution.method_reason,
             estimated_relative_error=solution.estimated_relative_error,
             regime=cycle.regime,
-            **_propagated_uncertainty(fault, method, tolerance),
+            **_propagated_uncertainty(fault, method, tolerance, slip, cycle.period),
         )
 
     def empirical(self) -> list:
