@@ -39,6 +39,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from faultslip.units import ELAPSED_TIME_ATTRS
+from faultslip.dynamics.shared.settling import assess_settling
 from faultslip.errors import InputError
 from faultslip.friction import asperity as contact
 from faultslip.io.progress import reporter
@@ -469,6 +470,23 @@ class Response:
     dominant_frequency: float
     friction_frequency: float  # summits per second: f_f of eq. (28)
     stick_slip: bool
+    #: the analysed half in SETTLING_WINDOWS equal windows: has m-bar settled across them? (issue 27)
+    settling: object = None
+
+    @property
+    def settling_error(self) -> float:
+        """m-bar's declared settling error: the shared verdict's remaining distance, or the windows' spread."""
+        verdict = self.settling
+        if verdict is None:
+            return math.nan
+        return float(verdict.remaining) if math.isfinite(verdict.remaining) else float(
+            np.ptp(self._windows) / max(abs(np.mean(self._windows)), 1e-300))
+
+    _windows: tuple = ()
+
+
+#: Windows of the analysed half whose mean frictions the shared settling test compares.
+SETTLING_WINDOWS = 6
 
 
 def analyse(run: AsperityRun, settle: float = 0.5) -> Response:
@@ -492,8 +510,16 @@ def analyse(run: AsperityRun, settle: float = 0.5) -> Response:
     dominant = float(freqs[1:][np.argmax(spectrum[1:])]) if u.any() else 0.0
     loops = _loops(uniform, u, run.model.natural_frequency)
     summit_rate = run.model.platform_speed / run.model.wavelength
+    edges = np.linspace(start, t[-1], SETTLING_WINDOWS + 1)
+    windows = []
+    for low, high in zip(edges[:-1], edges[1:]):
+        inside = (t >= low) & (t <= high)
+        if np.count_nonzero(inside) >= 2:
+            windows.append(float(np.trapezoid(-run.friction[inside] / run.normal_force[inside], t[inside])
+                                 / (t[inside][-1] - t[inside][0])))
+    verdict = assess_settling(windows, 1e-3, names=("m-bar",)) if len(windows) >= 2 else None
     return Response(mean, mean_d, stick, (float(speed.min()), float(speed.max())), loops, dominant, summit_rate,
-                    stick > 1e-3)
+                    stick > 1e-3, verdict, tuple(windows))
 
 
 def _loops(times, speed, natural_frequency) -> int:
@@ -616,6 +642,10 @@ def report(model: AsperityModel, run: AsperityRun | None = None, choice: Asperit
         if run.status == "ok" and run.time.size > 10:
             response = analyse(run)
             r.add("mean_friction", response.mean_friction, label="m-bar, last half")
+            r.add("mean_friction_settling_error", response.settling_error,
+                  label="m-bar's settling error (its windows' approach, or their spread)")
+            if response.settling is not None and not response.settling.settled:
+                r.note(f"m-bar over {SETTLING_WINDOWS} windows of the last half: {response.settling.reason}")
             r.add("mean_deformation_friction", response.mean_deformation_friction, label="m-bar_D, last half")
             r.add("stick_fraction", response.stick_fraction, label="fraction of time stuck, last half")
             r.add("regime", "stick_slip" if response.stick_slip else "sliding (sustained oscillation)")

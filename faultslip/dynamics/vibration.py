@@ -41,6 +41,7 @@ import numpy as np
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.units import ELAPSED_TIME_ATTRS
+from faultslip.dynamics.shared.settling import assess_settling
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.laws import ConstantStatic, PolynomialKinetic
 from faultslip.io.report import Report
@@ -337,35 +338,52 @@ def _equation_10(system: QuasiHarmonic):
     return rhs, sticks
 
 
-def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 400.0, record_periods: float = 2.0,
-              rtol: float = 1e-10) -> dict:
+def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 400.0, record_periods: float = 6.0,
+              rtol: float = 1e-10, extensions: int = 4) -> dict:
     """Eq. (10) integrated directly (DOP853) about the shifted rest position, Y = X - X_0:
 
         M Y'' + r Y' + k Y = W [f(v - Y') - f(v)],
 
-    from Y = 0, Y' = A0 omega. Returns the amplitude (half the peak-to-peak Y) over the last
-    ``record_periods``, the time and the function evaluations; raises :class:`SolverError` naming
-    the time where the sliding speed v - Y' reaches zero (the slider would stick: eq. (10) with a
-    kinetic curve no longer describes it)."""
+    from Y = 0, Y' = A0 omega. The amplitude (half the peak-to-peak Y) is measured period by period
+    over the last ``record_periods`` from the dense output (4096 samples a period, peaks to ~3e-7),
+    and the shared settling test (:func:`~faultslip.dynamics.shared.settling.assess_settling`) judges
+    them; an unsettled run is continued by ``periods`` up to ``extensions`` times, and what remains is
+    returned as ``settling_error``. Raises :class:`SolverError` naming the time where the sliding speed
+    v - Y' reaches zero (the slider would stick: eq. (10) with a kinetic curve no longer describes it)."""
     from scipy.integrate import solve_ivp  # heavy: imported where used
 
     omega = system.angular_frequency
     rhs, sticks = _equation_10(system)
     period = 2 * math.pi / omega
-    end = periods * period
-    record_from = end - record_periods * period
-    samples = np.linspace(record_from, end, int(record_periods * 4096) + 1)  # the peaks to ~3e-7
-    solution = solve_ivp(rhs, (0.0, end), [0.0, initial_amplitude * omega], method="DOP853", rtol=rtol,
-                         atol=rtol * max(initial_amplitude, 1e-12) * omega, t_eval=samples, events=sticks,
-                         dense_output=False)
-    if solution.t_events[0].size:
-        raise SolverError(f"the sliding speed reaches zero at t = {solution.t_events[0][0]:.6g} s: the slider sticks, "
-                          "and the quasi-harmonic model ends there; use the stick-slip methods (faultslip simulate)")
-    if not solution.success:
-        raise SolverError(f"DOP853 failed on the quasi-harmonic slider: {solution.message}")
-    displacement = solution.y[0]
-    return {"amplitude": 0.5 * float(displacement.max() - displacement.min()), "time": end,
-            "function_evaluations": int(solution.nfev)}
+    state, start, evaluations = [0.0, initial_amplitude * omega], 0.0, 0
+    for _ in range(extensions + 1):
+        end = start + periods * period
+        solution = solve_ivp(rhs, (start, end), state, method="DOP853", rtol=rtol,
+                             atol=rtol * max(initial_amplitude, 1e-12) * omega, events=sticks, dense_output=True)
+        evaluations += int(solution.nfev)
+        if solution.t_events[0].size:
+            raise SolverError(f"the sliding speed reaches zero at t = {solution.t_events[0][0]:.6g} s: the slider "
+                              "sticks, and the quasi-harmonic model ends there; use the stick-slip methods (faultslip "
+                              "simulate)")
+        if not solution.success:
+            raise SolverError(f"DOP853 failed on the quasi-harmonic slider: {solution.message}")
+        count = int(min(record_periods, periods))
+        amplitudes = []
+        for index in range(count):
+            window = np.linspace(end - (count - index) * period, end - (count - index - 1) * period, 4097)
+            displacement = solution.sol(window)[0]
+            amplitudes.append(0.5 * float(displacement.max() - displacement.min()))
+        verdict = assess_settling(amplitudes, INTEGRATION_ERROR, floor=system.speed / omega * 1e-9,
+                                  names=("amplitude",), noise=PEAK_SAMPLING_ERROR)
+        state, start = solution.y[:, -1], end
+        if verdict.settled:
+            break
+    return {"amplitude": amplitudes[-1], "time": end, "function_evaluations": evaluations, "settling": verdict,
+            "settling_error": float(verdict.remaining)}
+
+
+#: Relative error of a peak read from 4096 samples a period: (pi / 4096)^2 / 2 ~ 3e-7.
+PEAK_SAMPLING_ERROR = 3e-7
 
 
 #: a simulated time series is at most this many samples (about 48 MB of float64 over three series)
@@ -569,7 +587,10 @@ def settled_amplitude(system: QuasiHarmonic, method: str = "auto", tolerance: fl
         return {"amplitude": result.amplitude, "method": "averaging", "estimated_relative_error":
                 result.estimated_error, "reason": reason if method == "averaging" else "steady sliding"}
     run = integrate(system, result.amplitude, periods=settle_periods(system, result))
-    return {"amplitude": run["amplitude"], "method": "integration", "estimated_relative_error": INTEGRATION_ERROR,
+    error = max(INTEGRATION_ERROR, run["settling_error"])
+    if not run["settling"].settled:
+        reason = f"{reason}; {run['settling'].reason}"
+    return {"amplitude": run["amplitude"], "method": "integration", "estimated_relative_error": error,
             "reason": reason, "function_evaluations": run["function_evaluations"]}
 
 
