@@ -725,13 +725,22 @@ def _dopri5_by_segment(rhs, history, load, y0, t_eval, rtol, atol, stop, slider)
 
 
 def _diverged(slider, t):
+    """Refuse a quasi-static run whose slip speed diverged, naming the cause: linear instability below k_c,
+    or above it a velocity step too large for the slip law (Gu, Rice, Ruina & Tse 1984: a finite step
+    destabilises a slider that small disturbances cannot)."""
     k_c = slider.critical_stiffness()
-    raise SolverError(f"the quasi-static slider has no solution past t = {t:.6g} s: its slip speed diverges "
-                      f"(k / k_c = {slider.stiffness / k_c:.3g} < 1 for the linear boundary, or a large step with the "
-                      "slip law). Use model 'quasi_dynamic' (a radiation damper bounds the speed) or 'inertial'"
-                      if k_c > 0 else
-                      f"the quasi-static slider has no solution past t = {t:.6g} s: its slip speed diverges. "
-                      "Use model 'quasi_dynamic' or 'inertial'")
+    ratio = slider.stiffness / k_c if k_c > 0 else math.inf
+    if ratio < 1:
+        cause = (f"k / k_c = {ratio:.3g} < 1: steady sliding is linearly unstable, and without inertia or a radiation "
+                 "damper nothing bounds the speed")
+    elif slider.law.evolution == "slip":
+        cause = (f"k / k_c = {ratio:.3g} >= 1, so small disturbances decay; the velocity step is larger than the slip "
+                 "law's critical step at this stiffness (Gu et al. 1984: faultslip.dynamics.rate_state.slider."
+                 "critical_step_ratio), and a large enough step destabilises it")
+    else:
+        cause = f"k / k_c = {ratio:.3g}: the step drove the state past what the quasi-static balance can follow"
+    raise SolverError(f"the quasi-static slider has no solution past t = {t:.6g} s: its slip speed diverges ({cause}). "
+                      "Use model 'quasi_dynamic' (a radiation damper bounds the speed) or 'inertial'")
 
 
 # --- fault-scale earthquake cycles ---------------------------------------------------------
