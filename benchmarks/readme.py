@@ -163,11 +163,43 @@ def fault_2d_table() -> str | None:
     return "\n".join(rows) + "\n\n" + _machine(result)
 
 
+def fault_2d_qdyn_table() -> str | None:
+    result = _load("fault_2d_qdyn.json")
+    if result is None:
+        return None
+    rows = ["| code, solver | loosest tolerance within 0.1 % of its own converged recurrence | recurrence "
+            "(its converged value) | surface slip | steps | wall time, whole process |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for name, code in result["codes"].items():
+        timed = code.get("timed")
+        study = [row for row in code["study"] if "failed" not in row]
+        failed = [row for row in code["study"] if "failed" in row]
+        converged = min(study, key=lambda row: row["tolerance"])["recurrence_yr"] if study else float("nan")
+        failures = (" (failed at " + ", ".join(f"{row['tolerance']:g}" for row in failed) + ": " +
+                    failed[0]["failed"] + ")") if failed else ""
+        if timed is None or "failed" in timed:
+            rows.append(f"| {name} | none{failures} | | | | not timed |")
+            continue
+        rows.append(f"| {name} | {code['setting']:g}{failures} | {timed['recurrence_yr']:.4f} yr "
+                    f"({converged:.4f} yr) | {timed['surface_slip_m']:.4f} m | {timed['steps']:,} | "
+                    f"{timed['wall_s'] / 60:.1f} min |")
+    rows.append("")
+    if result.get("ratio_faultslip_over_best_peer"):
+        rows.append(f"faultslip / {result['best_peer']} = **{result['ratio_faultslip_over_best_peer']:.2f}** "
+                    f"(wall time of the whole process, BP1 for {result['years']:g} yr on {result['elements']} "
+                    f"elements of {result['element_size_m']:.4g} m, each code at its own fair tolerance, "
+                    f"measured one after the other in this run; QDYN commit {result.get('qdyn_commit') or 'unknown'}).")
+    elif result.get("qdyn_missing"):
+        rows.append(f"QDYN was not run on this machine: {result['qdyn_missing']}.")
+    return "\n".join(rows) + "\n\n" + _machine(result)
+
+
 def update(readme: Path = ROOT / "README.md") -> list[str]:
     text = readme.read_text(encoding="utf-8")
     written = []
     for name, render in (("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
-                         ("startup", startup_table), ("fault_2d", fault_2d_table)):
+                         ("startup", startup_table), ("fault_2d", fault_2d_table),
+                         ("fault_2d_qdyn", fault_2d_qdyn_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

@@ -387,3 +387,24 @@ def test_run_and_simulate_take_a_vibration_scene(cli, tmp_path):
 
     assert_clean_error(cli("simulate", scene, "--rtol", "1e-6"), "--rtol applies to seed-law scenes")
     assert_clean_error(cli("run", scene, "--method", "closed_form"), "a vibration scene takes --method")
+
+
+@settings(max_examples=3, deadline=None)
+@given(distance=st.one_of(st.floats(0.005, 0.01), st.floats(0.2, 0.6)))
+def test_the_integrated_amplitude_declares_a_true_error_near_the_hopf_point(distance):
+    """Issue 27: Rayleigh's oscillator with damping r = eps (1 - d) loses steady sliding at r = eps (a Hopf
+    point) with the cycle A = 2 sqrt(d); within 1 % of it the approach takes ~1 / (eps d) periods. The
+    integrated amplitude's declared error (its settling test included) holds against a run four times
+    longer at rtol 1e-12."""
+    from faultslip.dynamics.vibration import settle_periods, settled_amplitude
+
+    eps = 1.0
+    base = rayleigh(eps)
+    system = QuasiHarmonic(mass=1.0, damping=eps * (1 - distance), stiffness=1.0, normal_load=1.0,
+                           speed=base.speed, coefficients=base.coefficients)
+    answer = settled_amplitude(system, method="integration")
+    result = system.analyse()
+    reference = integrate(system, result.amplitude, periods=4 * settle_periods(system, result), rtol=1e-12)
+    error = abs(answer["amplitude"] / reference["amplitude"] - 1)
+    assert error <= answer["estimated_relative_error"], (distance, error, answer["estimated_relative_error"])
+    assert reference["amplitude"] == pytest.approx(2 * math.sqrt(distance), rel=0.05)  # the averaged law, eps = 1

@@ -47,4 +47,7 @@ def test_long_library_work_reports_through_the_callable():
     scene = load_rate_state_scene(Path(__file__).resolve().parent.parent / "configs" / "rsf_fault_bp1.toml")
     seen = []
     fault_cycles(scene.slider, scene.plate_rate, cycles=2, progress=lambda done, total: seen.append((done, total)))
-    assert seen == [(n, 5) for n in range(1, 6)]  # 2 of spin-up, 2 measured, and the start of the next
+    # spin-up until the sequence settles, 2 measured, and the start of the next: the count reaches the total
+    done, totals = zip(*seen)
+    assert list(done) == list(range(1, len(seen) + 1)) and totals[-1] == done[-1] >= 5
+    assert list(totals) == sorted(totals)

@@ -968,8 +968,9 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
             record["peak"].append(state["peak"])
             record["slip_end"].append(y_c[-1])
             record["tau_end"].append(elastic_stress(y_c))
-            if progress:
-                progress(len(record["end"]), wanted + 1)
+            if progress:  # the total grows while the sequence settles: spin-up, then the measured cycles
+                done = len(record["end"])
+                progress(done, max(settling["spin_up"] + cycles + 1, done + (0 if settling["done"] else 1)))
             stop = True
         previous["t"] = now
         previous["y"] = y
