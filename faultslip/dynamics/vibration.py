@@ -350,7 +350,6 @@ def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 
     them; an unsettled run is continued by ``periods`` up to ``extensions`` times, and what remains is
     returned as ``settling_error``. Raises :class:`SolverError` naming the time where the sliding speed
     v - Y' reaches zero (the slider would stick: eq. (10) with a kinetic curve no longer describes it)."""
-    from scipy.integrate import solve_ivp  # heavy: imported where used
 
     omega = system.angular_frequency
     rhs, sticks = _equation_10(system)
@@ -358,15 +357,8 @@ def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 
     state, start, evaluations = [0.0, initial_amplitude * omega], 0.0, 0
     for _ in range(extensions + 1):
         end = start + periods * period
-        solution = solve_ivp(rhs, (start, end), state, method="DOP853", rtol=rtol,
-                             atol=rtol * max(initial_amplitude, 1e-12) * omega, events=sticks, dense_output=True)
+        solution = _dop853(rhs, sticks, (start, end), state, rtol, rtol * max(initial_amplitude, 1e-12) * omega)
         evaluations += int(solution.nfev)
-        if solution.t_events[0].size:
-            raise SolverError(f"the sliding speed reaches zero at t = {solution.t_events[0][0]:.6g} s: the slider "
-                              "sticks, and the quasi-harmonic model ends there; use the stick-slip methods (faultslip "
-                              "simulate)")
-        if not solution.success:
-            raise SolverError(f"DOP853 failed on the quasi-harmonic slider: {solution.message}")
         count = int(min(record_periods, periods))
         amplitudes = []
         for index in range(count):
@@ -380,6 +372,21 @@ def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 
             break
     return {"amplitude": amplitudes[-1], "time": end, "function_evaluations": evaluations, "settling": verdict,
             "settling_error": float(verdict.remaining)}
+
+
+def _dop853(rhs, sticks, span, state, rtol, atol, times=None):
+    """Eq. (10) by DOP853 with dense output; refused where the slider would stick or the solver fails."""
+    from scipy.integrate import solve_ivp  # heavy: imported where used
+
+    solution = solve_ivp(rhs, span, state, method="DOP853", rtol=rtol, atol=atol, t_eval=times, events=sticks,
+                         dense_output=True)
+    if solution.t_events[0].size:
+        raise SolverError(f"the sliding speed reaches zero at t = {solution.t_events[0][0]:.6g} s: the slider sticks, "
+                          "and the quasi-harmonic model ends there; use the stick-slip methods (faultslip simulate "
+                          "on a seed-003 scene)")
+    if not solution.success:
+        raise SolverError(f"DOP853 failed on the quasi-harmonic slider: {solution.message}")
+    return solution
 
 
 #: Relative error of a peak read from 4096 samples a period: (pi / 4096)^2 / 2 ~ 3e-7.
@@ -400,7 +407,6 @@ def simulate_vibration(system: QuasiHarmonic, periods: float | None = None, samp
     displacement Y about the rest position (m), its velocity (m/s), the averaged envelope A(t) (m), the
     amplitude over the last two periods, the averaged one, and the evaluations. Raises
     :class:`SolverError` where the sliding speed reaches zero (the slider sticks)."""
-    from scipy.integrate import solve_ivp  # heavy: imported where used
 
     result = system.analyse()
     if not result.valid:
@@ -415,14 +421,8 @@ def simulate_vibration(system: QuasiHarmonic, periods: float | None = None, samp
     start = 0.05 * result.amplitude if result.amplitude > 0 else 0.5 * system.speed / omega
     rhs, sticks = _equation_10(system)
     times = np.linspace(0.0, periods * period, samples)
-    solution = solve_ivp(rhs, (0.0, times[-1]), [0.0, start * omega], method="DOP853", rtol=rtol,
-                         atol=rtol * max(start, 1e-12) * omega, t_eval=times, events=sticks, dense_output=True)
-    if solution.t_events[0].size:
-        raise SolverError(f"the sliding speed reaches zero at t = {solution.t_events[0][0]:.6g} s: the slider sticks, "
-                          "and the quasi-harmonic model ends there; use the stick-slip methods (faultslip simulate "
-                          "on a seed-003 scene)")
-    if not solution.success:
-        raise SolverError(f"DOP853 failed on the quasi-harmonic slider: {solution.message}")
+    solution = _dop853(rhs, sticks, (0.0, times[-1]), [0.0, start * omega], rtol, rtol * max(start, 1e-12) * omega,
+                       times)
     _, envelope = system.envelope(start, times[-1], samples=samples)
     # the peaks from the dense output, 4096 samples a period (to ~3e-7), not from the coarser series
     tail = solution.sol(np.linspace(times[-1] - 2 * period, times[-1], 8193))[0]
