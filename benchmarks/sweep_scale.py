@@ -87,13 +87,15 @@ def bare_kernel(shear_moduli, n_v=1000, n_d=1000):
         M0 = G * L * H * slip
         Mw = 2 / 3 * (np.log10(M0) - 9.1)
         err = 1.5 * eps * eps
-        crit = np.full(slip.shape, np.inf)
-        regime = np.zeros(slip.shape, np.int8)
-        method = np.zeros(slip.shape, np.int8)
+        # constant outputs as 0-stride views, as the engine keeps them (issue 28: materialising them here
+        # was work the engine does not do)
+        crit = np.broadcast_to(np.inf, slip.shape)
+        regime = np.broadcast_to(np.int8(0), slip.shape)
+        method = np.broadcast_to(np.int8(0), slip.shape)
         # Wells & Coppersmith (1994) strike-slip, as the study reports beside the prediction
         expected = 10.0 ** (-6.32 + 0.90 * Mw)
         ratio = np.where(slip > 0, slip / expected, np.nan)
-        from_length = np.full(slip.shape, 5.16 + 1.12 * np.log10(L / 1e3))
+        from_length = np.broadcast_to(5.16 + 1.12 * np.log10(L / 1e3), slip.shape)
         return (slip, per, th, mus, drop, crit, regime, method, err, eps, M0, Mw, expected, ratio,
                 np.log10(ratio) / 0.28, from_length, (Mw - from_length) / 0.28)
 
