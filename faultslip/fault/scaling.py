@@ -446,6 +446,9 @@ class FaultEstimate:
             r.note(f"Mw = (2/3)(log10 M0 - {MW_CONSTANT}) with M0 in N m (IASPEI 2013 standard).")
             empirical.add_to_report(r, self.empirical())
         r.note("A year is the Julian year, 365.25 d.")
+        r.note("Model error against a 2-D fault: not declared for the seed's static-friction law, because the "
+               "2-D fault (docs/fault_2d.md) carries rate-and-state friction; a rate-and-state scene of the same "
+               "fault declares its one-slider model error against it (faultslip model-error).")
         if f.b == 0:
             r.note("No rate law (b = 0): static friction is taken as rate-independent, mu_s = mu_so.")
         return r
