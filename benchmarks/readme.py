@@ -64,6 +64,14 @@ def benchmarks_table() -> str | None:
         rows.append(f"| rate-and-state velocity step (aging law, 4001 samples) at ≤ 1e-8 in friction: faultslip "
                     f"(auto: {step.get('method', 'lsoda')}, log states) vs {step['baseline']} (target ≥ 3×) | "
                     f"{step['ours_s'] * 1e3:.2f} ms vs {step['baseline_s'] * 1e3:.2f} ms: **{step['ratio']:.1f}×** |")
+        peer = step.get("rsfmodel")
+        if peer and peer.get("available"):
+            rows.append(f"| the same step against rsfmodel's own code (jrleeman/rsfmodel, odeint through its model "
+                        f"class), at its loosest rtol meeting 1e-8 ({peer['rtol']:g}) and at its default 1e-12 | "
+                        f"{peer['seconds'] * 1e3:.1f} ms and {peer['default_seconds'] * 1e3:.1f} ms against our "
+                        f"{peer['ours_s'] * 1e3:.2f} ms: **{peer['ratio']:.0f}×** and **{peer['default_ratio']:.0f}×** |")
+        elif peer:
+            rows.append(f"| the same step against rsfmodel's own code | not run on this machine: {peer['reason']} |")
         if "lsoda_s" in step:
             rows.append(f"| the same step without numba (auto takes LSODA with the analytic Jacobian); the compiled "
                         f"kernel's first call in a process, compile or cache load, is {step['first_call_s']:.1f} s, "
