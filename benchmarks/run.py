@@ -332,11 +332,52 @@ def rate_state_step(repeats):
     rtol_base = _loosest(lambda r: np.max(np.abs(baseline(r) - reference)) <= 1e-8)
     ours_s, base_s, ours_mu, base_mu = side_by_side(lambda: ours(rtol_ours), lambda: baseline(rtol_base), repeats)
     lsoda_s, base2_s, _, _ = side_by_side(lambda: ours(rtol_lsoda, "lsoda"), lambda: baseline(rtol_base), repeats)
-    return {"ours_s": ours_s, "baseline_s": base_s, "ratio": base_s / ours_s, "rtol_ours": rtol_ours, "method": method,
+    peer = rsfmodel_peer(lambda: ours(rtol_ours), reference, repeats)
+    return {"rsfmodel": peer, "ours_s": ours_s, "baseline_s": base_s, "ratio": base_s / ours_s, "rtol_ours": rtol_ours, "method": method,
             "first_call_s": first_call, "lsoda_s": lsoda_s, "lsoda_ratio": base2_s / lsoda_s, "rtol_lsoda": rtol_lsoda,
             "rtol_baseline": rtol_base, "error_ours": float(np.max(np.abs(ours_mu - reference))),
             "error_baseline": float(np.max(np.abs(base_mu - reference))), "target": 3.0,
             "baseline": "scipy.integrate.odeint on (mu, theta), math.exp/math.log right-hand side, tcrit at the step"}
+
+
+def rsfmodel_peer(ours, reference, repeats) -> dict:
+    """rsfmodel's own code (github jrleeman/rsfmodel, its velocity_step_one_state example, the same step in
+    um and um/s) beside ours: at the loosest rtol meeting 1e-8 in friction against the same reference, and
+    at its default rtol 1e-12. RSFMODEL_DIR is a checkout; without one the row says so. Its
+    ``scipy.integrate.cumtrapz`` was removed from scipy: aliased to ``cumulative_trapezoid``."""
+    import os
+
+    import scipy.integrate
+
+    path = os.environ.get("RSFMODEL_DIR")
+    if not path or not os.path.isfile(os.path.join(path, "rsfmodel", "rsf.py")):
+        return {"available": False, "reason": "no rsfmodel checkout (set RSFMODEL_DIR)"}
+    sys.path.insert(0, path)
+    if not hasattr(scipy.integrate, "cumtrapz"):
+        scipy.integrate.cumtrapz = scipy.integrate.cumulative_trapezoid
+    from rsfmodel import rsf, staterelations
+
+    def run(rtol):
+        model = rsf.Model()
+        model.mu0, model.a, model.k, model.v, model.vref = 0.6, 0.005, 1e-3, 1.0, 1.0
+        state = staterelations.DieterichState()
+        state.b, state.Dc = 0.01, 10.0
+        model.state_relations = [state]
+        model.time = np.arange(0, 40.01, 0.01)
+        velocity = np.ones_like(model.time)
+        velocity[10 * 100:] = 10.0
+        model.loadpoint_velocity = velocity
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            model.solve(rtol=rtol, atol=rtol)
+        return model.results.friction
+
+    rtol = _loosest(lambda r: np.max(np.abs(run(r) - reference)) <= 1e-8)
+    ours_s, fair_s, _, fair = side_by_side(ours, lambda: run(rtol), max(3, repeats // 3))
+    _, default_s, _, default = side_by_side(ours, lambda: run(1e-12), max(3, repeats // 3))
+    return {"available": True, "rtol": rtol, "seconds": fair_s, "ours_s": ours_s, "ratio": fair_s / ours_s,
+            "default_seconds": default_s, "default_ratio": default_s / ours_s,
+            "error": float(np.max(np.abs(fair - reference))), "default_error": float(np.max(np.abs(default - reference)))}
 
 
 def rate_state_cycles(repeats):
