@@ -158,3 +158,9 @@ def test_rate_state_declared_error_holds_within_1_percent_of_k_c(ratio):
     reference = fault_cycles(slider, 1e-9, cycles=2, rtol=1e-9, settle=1e-8)
     error = abs(run.recurrence / reference.recurrence - 1)
     assert error <= run.estimated_relative_error, (ratio, error, run.estimated_relative_error)
+
+
+def test_the_result_names_cameron_s_critical_speed_when_near_it():
+    near = solve(CAMERON.with_(platform_speed=0.996 * CRITICAL_SPEED))
+    assert "below Cameron's critical speed V_c" in near.method_reason
+    assert "critical speed" not in solve(CAMERON).method_reason  # 8e-5 m/s, half of V_c

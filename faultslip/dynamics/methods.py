@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from faultslip.dynamics.shared.assessment import Assessment
+from faultslip.dynamics.shared.settling import bifurcation_note
 from faultslip.dynamics import vibration as averaging
 from faultslip.dynamics.vibration import METHODS as QUASI_HARMONIC_METHODS
 from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
@@ -202,13 +203,26 @@ class ExactMap(Method):
         if not -1 < system.damping_ratio < 1:
             return Assessment(self.name, False, f"damping ratio {system.damping_ratio:.3g} is outside (-1, 1)")
         wanted = max(cycles, 40) if {"time_series", "event_times"} & set(outputs) else 40
-        return Assessment(self.name, True, "linear kinetic law with time-of-stick static friction: analytic slip "
-                          "phases, the steady cycle by Steffensen iteration of the re-stick map",
-                          SETTLED_ERROR, 1e-3 + 1.5e-3 * wanted)
+        reason = ("linear kinetic law with time-of-stick static friction: analytic slip phases, the steady cycle by "
+                  "Steffensen iteration of the re-stick map")
+        near = _near_cameron_critical_speed(system)
+        return Assessment(self.name, True, f"{reason}; {near}" if near else reason, SETTLED_ERROR,
+                          1e-3 + 1.5e-3 * wanted)
 
     def run(self, system, cycles, settings):
         dataset = simulate(system, cycles=cycles, slip_solver="analytic", stop_when_converged=settings.get("converge"))
         return _cycle_from_dataset(system, dataset, self.name), dataset["event_time"].values, dataset, 0
+
+
+def _near_cameron_critical_speed(system) -> str | None:
+    """Cameron's V_c = c alpha_m (seed 002 eq. 9 as alpha -> 0, alpha_m = 2 W (mu_u - mu_k) / K), named when
+    the platform speed is within 10 % of it (undamped, constant kinetic friction: where eq. 9 holds)."""
+    law, kinetic = system.static_law, system.kinetic_law
+    if not all(hasattr(law, key) for key in ("mu_upper", "growth_rate")) or not hasattr(kinetic, "mu_m") or \
+            system.damping_ratio != 0 or getattr(kinetic, "slope", 0.0):
+        return None
+    critical = law.growth_rate * 2 * system.normal_load * (law.mu_upper - kinetic.mu_m) / system.stiffness
+    return bifurcation_note("Cameron's critical speed V_c = c alpha_m", "V", system.platform_speed, critical, "m/s")
 
 
 #: The exact map's own error once settled: its stick root is found to ~1e-12 relative.

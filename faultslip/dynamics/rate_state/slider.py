@@ -896,7 +896,6 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     horizon = max_time or max(1e5 * law.critical_slip / plate_rate, 1e6 * 3.15576e7)
     threshold = math.log(event_speed / law.reference_speed)
     sigma, k, v0 = slider.normal_stress, slider.stiffness, law.reference_speed
-    wanted = spin_up + cycles
     keep_series = bool(record)  # the events dict below takes the name
     record = {"start": [], "end": [], "peak": [], "slip_start": [], "slip_end": [], "tau_start": [], "tau_end": []}
     state = {"inside": False, "peak": 0.0}
@@ -982,8 +981,6 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     started = time.perf_counter()
     steps = nfev = 0
     chosen_method = cycle_method(method, ratio, law, rtol)
-    if settle is not None:
-        wanted = spin_up + max_settling_cycles + cycles  # lowered to the settled spin-up + cycles once settled
     if chosen_method == "lsoda" and law.two_state:
         raise InputError("method 'lsoda' for fault cycles takes a one-state law (its Jacobian); use 'dopri5'")
     if chosen_method == "lsoda":
