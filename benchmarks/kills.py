@@ -29,7 +29,8 @@ import numpy as np
 
 from faultslip.io.processes import children, is_alive
 
-STUDY = ('[study]\nbase = "lab_steel_dry_time_of_stick.toml"\n[sweep]\n'
+# every cell integrated (DOP853 slip phases of a polynomial kinetic law, ~30 ms): slow enough to kill mid-run
+STUDY = ('[study]\nbase = "lab_steel_dry_polynomial.toml"\n[sweep]\n'
          'platform_speed = { logspace = ["1e-5 m/s", "1e-4 m/s", 300] }\n')
 
 

@@ -34,9 +34,10 @@ def _study(tmp_path, count=6, name="s.toml"):
 
 
 def _slow_study(tmp_path, count=300):
-    """A study whose every cell is simulated (Cameron's law): slow enough to interrupt, ~ms per cell."""
+    """A study whose every cell is integrated (a polynomial kinetic law, DOP853 slip phases): ~30 ms per cell,
+    slow enough to interrupt. (Cameron's law served until its exact map made its cells ~10 times faster.)"""
     path = tmp_path / "slow.toml"
-    path.write_text('[study]\nbase = "lab_steel_dry_time_of_stick.toml"\n[sweep]\n'
+    path.write_text('[study]\nbase = "lab_steel_dry_polynomial.toml"\n[sweep]\n'
                     f'platform_speed = {{ logspace = ["1e-5 m/s", "1e-4 m/s", {count}] }}\n')
     return path
 
