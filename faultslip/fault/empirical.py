@@ -1,17 +1,23 @@
-"""Empirical earthquake scaling: Wells & Coppersmith (1994) and Leonard (2010).
+"""Empirical earthquake scaling: Wells & Coppersmith (1994) and Leonard (2010), in all their published forms.
 
 Wells, D. L. & Coppersmith, K. J. (1994), New empirical relationships among magnitude, rupture length,
-rupture width, rupture area and surface displacement, BSSA 84(4), 974-1002, Tables 2A and 2B:
-ordinary least squares of the form ``y = a + b x`` with x or y a log10 quantity (lengths in km, areas
-in km^2, displacements in m) and ``sigma`` the standard deviation of y, by slip type. Where W&C call a
-relation not significant at 95 % (reverse-fault displacements), it is still given and flagged.
+rupture width, rupture area and surface displacement, BSSA 84(4), 974-1002, Tables 2A and 2B: ordinary
+least squares of the form ``y = a + b x`` with x or y a log10 quantity (lengths in km, areas in km^2,
+displacements in m) and ``sigma`` the standard deviation of y, by slip type, in both directions (W&C fit
+y(x) and x(y) separately, so the two are not exact inverses). Where W&C call a relation not significant at
+95 % (reverse-fault displacements), it is still given and flagged. Their Table 2C (displacement against
+surface length) is not carried.
 
-Leonard, M. (2010), Earthquake fault scaling: self-consistent relating of rupture length, width,
-average displacement and moment release, BSSA 100(5A), 1971-1988, Table 6: Mw = log10(A) + a
-(A in km^2) for interplate strike-slip (3.99) and dip-slip (4.00) faults and stable continental
-regions (4.19). His average displacement follows from M0 = mu A D with mu = 3.3e10 Pa and
-M0 = 10^(1.5 Mw + 9.05) N m (his own constants). Leonard gives asymmetric ranges, not one sigma, so
-only ratios are reported for his relations.
+Leonard, M. (2010), Earthquake fault scaling: self-consistent relating of rupture length, width, average
+displacement and moment release, BSSA 100(5A), 1971-1988. His relations follow from three statements
+(his eqs. 3-6 and Table 5): the width W = L for small ruptures, then W = C1 L^(2/3) (L, W in m), and for
+interplate strike-slip faults W stays at its value at L = 45 km beyond it; the average displacement
+D = C2 sqrt(A); and M0 = mu A D with mu = 3.3e10 Pa. Table 5 gives C1 and C2 with ranges, by setting. Every
+relation here is computed from those constants, and the magnitude from M0 with
+Mw = (2/3)(log10 M0 - 9.1): that constant is the one that reproduces his Table 6 coefficients (a test
+recomputes them), whereas 9.05 would shift them all by +0.03. His surface-rupture-length forms
+(Table 6: Mw = 1.52 log10 SRL + 4.33 strike-slip, + 4.40 dip-slip) are regressions, carried as printed.
+Leonard gives ranges from the ranges of C1 and C2, not one sigma, so his relations carry (low, high).
 
 Functions take and return SI (m, m^2) and magnitudes. :func:`compare` puts a physical prediction
 beside the empirical expectation as a ratio and a z-score, z = log10(predicted / expected) / sigma
@@ -39,31 +45,72 @@ WELLS_COPPERSMITH_1994 = {
                                          "normal": (4.34, 1.54, 0.31), "all": (4.38, 1.49, 0.26)},
     "subsurface_length_from_magnitude": {"strike-slip": (-2.57, 0.62, 0.15), "reverse": (-2.42, 0.58, 0.16),
                                          "normal": (-1.88, 0.50, 0.17), "all": (-2.44, 0.59, 0.16)},
+    "magnitude_from_width": {"strike-slip": (3.80, 2.59, 0.45), "reverse": (4.37, 1.95, 0.32),
+                             "normal": (4.04, 2.11, 0.31), "all": (4.06, 2.25, 0.41)},
+    "width_from_magnitude": {"strike-slip": (-0.76, 0.27, 0.14), "reverse": (-1.61, 0.41, 0.15),
+                             "normal": (-1.14, 0.35, 0.12), "all": (-1.01, 0.32, 0.15)},
     "magnitude_from_area": {"strike-slip": (3.98, 1.02, 0.23), "reverse": (4.33, 0.90, 0.25),
                             "normal": (3.93, 1.02, 0.25), "all": (4.07, 0.98, 0.24)},
     "area_from_magnitude": {"strike-slip": (-3.42, 0.90, 0.22), "reverse": (-3.99, 0.98, 0.26),
                             "normal": (-2.87, 0.82, 0.22), "all": (-3.49, 0.91, 0.24)},
-    "width_from_magnitude": {"strike-slip": (-0.76, 0.27, 0.14), "reverse": (-1.61, 0.41, 0.15),
-                             "normal": (-1.14, 0.35, 0.12), "all": (-1.01, 0.32, 0.15)},
-    "average_displacement_from_magnitude": {"strike-slip": (-6.32, 0.90, 0.28), "reverse": (-0.74, 0.08, 0.38),
-                                            "normal": (-4.45, 0.63, 0.33), "all": (-4.80, 0.69, 0.36)},
+    "magnitude_from_maximum_displacement": {"strike-slip": (6.81, 0.78, 0.29), "reverse": (6.52, 0.44, 0.52),
+                                            "normal": (6.61, 0.71, 0.34), "all": (6.69, 0.74, 0.40)},
     "maximum_displacement_from_magnitude": {"strike-slip": (-7.03, 1.03, 0.34), "reverse": (-1.84, 0.29, 0.42),
                                             "normal": (-5.90, 0.89, 0.38), "all": (-5.46, 0.82, 0.42)},
+    "magnitude_from_average_displacement": {"strike-slip": (7.04, 0.89, 0.28), "reverse": (6.64, 0.13, 0.50),
+                                            "normal": (6.78, 0.65, 0.33), "all": (6.93, 0.82, 0.39)},
+    "average_displacement_from_magnitude": {"strike-slip": (-6.32, 0.90, 0.28), "reverse": (-0.74, 0.08, 0.38),
+                                            "normal": (-4.45, 0.63, 0.33), "all": (-4.80, 0.69, 0.36)},
 }
 #: W&C's relations not significant at the 95 % level (their Table 2B: reverse-fault displacements)
-NOT_SIGNIFICANT = {("average_displacement_from_magnitude", "reverse"),
-                   ("maximum_displacement_from_magnitude", "reverse")}
-#: Leonard 2010 Table 6: Mw = log10(A / km^2) + a
-LEONARD_2010_AREA = {"strike-slip": 3.99, "dip-slip": 4.00, "stable-continental": 4.19}
-LEONARD_SHEAR_MODULUS = 3.3e10  # Pa, Leonard's (2010) rigidity
-LEONARD_MOMENT_CONSTANT = 9.05  # M0 = 10^(1.5 Mw + 9.05) N m, Leonard's (2010) convention
-
+NOT_SIGNIFICANT = {(relation, "reverse") for relation in WELLS_COPPERSMITH_1994 if "displacement" in relation}
 KM, KM2 = 1e3, 1e6
+#: the quantity on the non-magnitude side of each W&C relation: its SI scale from W&C's units, and its name
+_WC_QUANTITY = {"surface_length": (KM, "surface rupture length"), "subsurface_length": (KM, "subsurface rupture length"),
+                "width": (KM, "rupture width"), "area": (KM2, "rupture area"),
+                "maximum_displacement": (1.0, "maximum displacement"),
+                "average_displacement": (1.0, "average displacement")}
+
+LEONARD_SETTINGS = ("strike-slip", "dip-slip", "stable-continental")
+#: Leonard 2010 Table 5: setting -> (C1 in m^(1/3), C2), each (preferred, low, high)
+LEONARD_2010_CONSTANTS = {"strike-slip": ((15.0, 11.0, 20.0), (3.7e-5, 1.5e-5, 9.0e-5)),
+                          "dip-slip": ((17.5, 12.0, 25.0), (3.8e-5, 1.5e-5, 12e-5)),
+                          "stable-continental": ((13.5, 11.0, 17.0), (7.3e-5, 5.0e-5, 10e-5))}
+#: Length (m) beyond which an interplate strike-slip rupture's width stays constant (Leonard 2010 §"width")
+LEONARD_SATURATION_LENGTH = {"strike-slip": 45e3}
+#: Leonard 2010 Table 6, surface rupture length: setting -> (slope, intercept) of Mw = slope log10(SRL/km) + intercept
+LEONARD_2010_SURFACE_LENGTH = {"strike-slip": (1.52, 4.33), "dip-slip": (1.52, 4.40)}
+LEONARD_SHEAR_MODULUS = 3.3e10  # Pa, Leonard's (2010) rigidity
+#: M0 = 10^(1.5 Mw + 9.1) N m: the constant with which his Table 5 constants give his Table 6 (a test shows it)
+LEONARD_MOMENT_CONSTANT = 9.1
+_BOUNDS = {"preferred": 0, "low": 1, "high": 2}
+
+
+def slip_type_from_rake(rake) -> str:
+    """W&C's slip type from the rake (degrees, Aki & Richards): within 45 degrees of horizontal, strike-slip;
+    otherwise reverse (rake > 0) or normal: the convention of OpenQuake's ``WC1994``."""
+    rake = float(rake)
+    if not math.isfinite(rake) or not -180.0 <= rake <= 180.0:
+        raise InputError(f"the rake must be an angle from -180 to 180 degrees, got {rake!r}")
+    if -45.0 <= rake <= 45.0 or rake >= 135.0 or rake <= -135.0:
+        return "strike-slip"
+    return "reverse" if rake > 0 else "normal"
+
+
+def leonard_setting(slip_type: str, stable_continental: bool = False) -> str:
+    """Leonard's setting for a W&C slip type: stable continental, else strike-slip or dip-slip."""
+    if slip_type not in SLIP_TYPES:
+        raise InputError(f"slip type must be one of {', '.join(SLIP_TYPES)}, got {slip_type!r}")
+    if stable_continental:
+        return "stable-continental"
+    return "strike-slip" if slip_type in ("strike-slip", "all") else "dip-slip"
 
 
 def _coefficients(relation: str, slip_type: str):
     if slip_type not in SLIP_TYPES:
         raise InputError(f"slip type must be one of {', '.join(SLIP_TYPES)}, got {slip_type!r}")
+    if relation not in WELLS_COPPERSMITH_1994:
+        raise InputError(f"W&C (1994) relation must be one of {', '.join(WELLS_COPPERSMITH_1994)}, got {relation!r}")
     return WELLS_COPPERSMITH_1994[relation][slip_type]
 
 
@@ -74,58 +121,185 @@ def _positive(values, what: str):
     return array
 
 
+def _finite(values, what: str):
+    array = np.asarray(values, dtype=float)
+    if not np.all(np.isfinite(array)):
+        raise InputError(f"the {what} must be finite")
+    return array
+
+
+def wells_coppersmith_1994(relation: str, value, slip_type: str = "all"):
+    """Any W&C (1994) Table 2A/2B relation by name, in SI: ``magnitude_from_X`` takes X in m (lengths,
+    widths, displacements) or m^2 (area) and returns (Mw, sigma of Mw); ``X_from_magnitude`` takes Mw and
+    returns (X in m or m^2, sigma of log10 X). X is surface_length, subsurface_length, width, area,
+    maximum_displacement or average_displacement."""
+    a, b, sigma = _coefficients(relation, slip_type)
+    if relation.startswith("magnitude_from_"):
+        scale, what = _WC_QUANTITY[relation.removeprefix("magnitude_from_")]
+        return a + b * np.log10(_positive(value, what) / scale), sigma
+    scale, _ = _WC_QUANTITY[relation.removesuffix("_from_magnitude")]
+    return scale * 10.0 ** (a + b * _finite(value, "magnitude")), sigma
+
+
 def magnitude_from_length(surface_length, slip_type: str = "all"):
     """Mw = a + b log10(SRL / km) (W&C 1994 Table 2A); returns (Mw, sigma)."""
-    a, b, sigma = _coefficients("magnitude_from_surface_length", slip_type)
-    return a + b * np.log10(_positive(surface_length, "rupture length") / KM), sigma
+    return wells_coppersmith_1994("magnitude_from_surface_length", surface_length, slip_type)
+
+
+def magnitude_from_subsurface_length(subsurface_length, slip_type: str = "all"):
+    """Mw = a + b log10(RLD / km) (W&C 1994 Table 2A); returns (Mw, sigma)."""
+    return wells_coppersmith_1994("magnitude_from_subsurface_length", subsurface_length, slip_type)
+
+
+def magnitude_from_width(width, slip_type: str = "all"):
+    """Mw = a + b log10(RW / km), RW the down-dip rupture width (W&C 1994 Table 2A); returns (Mw, sigma)."""
+    return wells_coppersmith_1994("magnitude_from_width", width, slip_type)
 
 
 def magnitude_from_area(area, slip_type: str = "all"):
     """Mw = a + b log10(RA / km^2) (W&C 1994 Table 2A); returns (Mw, sigma)."""
-    a, b, sigma = _coefficients("magnitude_from_area", slip_type)
-    return a + b * np.log10(_positive(area, "rupture area") / KM2), sigma
+    return wells_coppersmith_1994("magnitude_from_area", area, slip_type)
+
+
+def magnitude_from_displacement(displacement, slip_type: str = "all", kind: str = "average"):
+    """Mw = a + b log10(D / m), D the average or maximum surface displacement (W&C 1994 Table 2B);
+    returns (Mw, sigma)."""
+    if kind not in ("average", "maximum"):
+        raise InputError(f"the displacement kind must be average or maximum, got {kind!r}")
+    return wells_coppersmith_1994(f"magnitude_from_{kind}_displacement", displacement, slip_type)
 
 
 def rupture_length(magnitude, slip_type: str = "all"):
     """Surface rupture length (m) from log10(SRL / km) = a + b Mw (W&C 1994 Table 2A); returns (m, sigma of log10)."""
-    a, b, sigma = _coefficients("surface_length_from_magnitude", slip_type)
-    return KM * 10.0 ** (a + b * np.asarray(magnitude, dtype=float)), sigma
+    return wells_coppersmith_1994("surface_length_from_magnitude", magnitude, slip_type)
+
+
+def subsurface_rupture_length(magnitude, slip_type: str = "all"):
+    """Subsurface rupture length (m) from log10(RLD / km) = a + b Mw (W&C 1994 Table 2A); (m, sigma of log10)."""
+    return wells_coppersmith_1994("subsurface_length_from_magnitude", magnitude, slip_type)
+
+
+def rupture_width(magnitude, slip_type: str = "all"):
+    """Down-dip rupture width (m) from log10(RW / km) = a + b Mw (W&C 1994 Table 2A); (m, sigma of log10)."""
+    return wells_coppersmith_1994("width_from_magnitude", magnitude, slip_type)
 
 
 def rupture_area(magnitude, slip_type: str = "all"):
     """Rupture area (m^2) from log10(RA / km^2) = a + b Mw (W&C 1994 Table 2A); returns (m^2, sigma of log10)."""
-    a, b, sigma = _coefficients("area_from_magnitude", slip_type)
-    return KM2 * 10.0 ** (a + b * np.asarray(magnitude, dtype=float)), sigma
+    return wells_coppersmith_1994("area_from_magnitude", magnitude, slip_type)
 
 
 def average_displacement(magnitude, slip_type: str = "all"):
     """Average surface displacement (m) from log10(AD / m) = a + b Mw (W&C 1994 Table 2B); (m, sigma of log10)."""
-    a, b, sigma = _coefficients("average_displacement_from_magnitude", slip_type)
-    return 10.0 ** (a + b * np.asarray(magnitude, dtype=float)), sigma
+    return wells_coppersmith_1994("average_displacement_from_magnitude", magnitude, slip_type)
 
 
 def maximum_displacement(magnitude, slip_type: str = "all"):
     """Maximum surface displacement (m) from log10(MD / m) = a + b Mw (W&C 1994 Table 2B); (m, sigma of log10)."""
-    a, b, sigma = _coefficients("maximum_displacement_from_magnitude", slip_type)
-    return 10.0 ** (a + b * np.asarray(magnitude, dtype=float)), sigma
+    return wells_coppersmith_1994("maximum_displacement_from_magnitude", magnitude, slip_type)
 
 
-def _leonard_constant(setting: str) -> float:
-    if setting not in LEONARD_2010_AREA:
-        raise InputError(f"Leonard (2010) setting must be one of {', '.join(LEONARD_2010_AREA)}, got {setting!r}")
-    return LEONARD_2010_AREA[setting]
+# --- Leonard (2010): every form from Table 5's C1 and C2 -------------------------------------------------------
+
+def _leonard_constants(setting: str, bound: str):
+    if setting not in LEONARD_2010_CONSTANTS:
+        raise InputError(f"Leonard (2010) setting must be one of {', '.join(LEONARD_SETTINGS)}, got {setting!r}")
+    if bound not in _BOUNDS:
+        raise InputError(f"the bound must be one of {', '.join(_BOUNDS)}, got {bound!r}")
+    c1, c2 = LEONARD_2010_CONSTANTS[setting]
+    return c1[_BOUNDS[bound]], c2[_BOUNDS[bound]]
 
 
-def leonard_magnitude_from_area(area, setting: str = "strike-slip"):
-    """Mw = log10(A / km^2) + a (Leonard 2010 Table 6)."""
-    return np.log10(_positive(area, "rupture area") / KM2) + _leonard_constant(setting)
+def _leonard_magnitude_to_moment(magnitude):
+    return 10.0 ** (1.5 * np.asarray(magnitude, dtype=float) + LEONARD_MOMENT_CONSTANT)
 
 
-def leonard_average_displacement(area, setting: str = "strike-slip"):
-    """Average displacement (m) D = M0 / (mu A) implied by Leonard's Mw(A), with his mu and M0(Mw) constants."""
+def _leonard_corners(setting: str, c1: float):
+    """(L1, L2, W2): W = L up to L1 = C1^3 (where C1 L^(2/3) = L); W = C1 L^(2/3) up to L2; W = W2 beyond."""
+    first = c1 ** 3
+    saturation = LEONARD_SATURATION_LENGTH.get(setting, math.inf)
+    return first, saturation, c1 * saturation ** (2.0 / 3.0) if math.isfinite(saturation) else math.inf
+
+
+def leonard_width(length, setting: str = "strike-slip", bound: str = "preferred"):
+    """Rupture width W (m) for a length L (m): W = L for L <= C1^3, C1 L^(2/3) above, constant beyond 45 km for
+    interplate strike-slip faults (Leonard 2010 eqs. 3-4, Table 5)."""
+    c1, _ = _leonard_constants(setting, bound)
+    length = _positive(length, "rupture length")
+    first, saturation, saturated = _leonard_corners(setting, c1)
+    return np.where(length <= first, length, np.where(length <= saturation, c1 * length ** (2.0 / 3.0), saturated))
+
+
+def leonard_average_displacement(area, setting: str = "strike-slip", bound: str = "preferred"):
+    """Average displacement D = C2 sqrt(A) (m) over a rupture of area A (m^2) (Leonard 2010 eq. 6, Table 5)."""
+    _, c2 = _leonard_constants(setting, bound)
+    return c2 * np.sqrt(_positive(area, "rupture area"))
+
+
+def leonard_moment_from_area(area, setting: str = "strike-slip", bound: str = "preferred"):
+    """M0 = mu A D = mu C2 A^(3/2) (N m), mu = 3.3e10 Pa (Leonard 2010)."""
     area = _positive(area, "rupture area")
-    moment = 10.0 ** (1.5 * leonard_magnitude_from_area(area, setting) + LEONARD_MOMENT_CONSTANT)
-    return moment / (LEONARD_SHEAR_MODULUS * area)
+    return LEONARD_SHEAR_MODULUS * area * leonard_average_displacement(area, setting, bound)
+
+
+def leonard_magnitude_from_area(area, setting: str = "strike-slip", bound: str = "preferred"):
+    """Mw from the area (m^2): log10(A / km^2) + 3.99 strike-slip, 4.00 dip-slip, 4.19 stable continental as
+    Table 6 prints them, here computed from C2 (Leonard 2010)."""
+    _, c2 = _leonard_constants(setting, bound)
+    # in logarithms: a tiny rupture's moment would underflow to zero
+    log_moment = math.log10(LEONARD_SHEAR_MODULUS * c2) + 1.5 * np.log10(_positive(area, "rupture area"))
+    return (log_moment - LEONARD_MOMENT_CONSTANT) / 1.5
+
+
+def leonard_magnitude_from_length(length, setting: str = "strike-slip", bound: str = "preferred"):
+    """Mw from the rupture length (m) through W(L): 1.67 log10(L / km) + 4.17 strike-slip, 4.24 dip-slip,
+    4.32 stable continental in Table 6's middle segment, here computed from C1 and C2 (Leonard 2010)."""
+    length = _positive(length, "rupture length")
+    return leonard_magnitude_from_area(length * leonard_width(length, setting, bound), setting, bound)
+
+
+def leonard_magnitude_from_surface_length(surface_length, setting: str = "strike-slip"):
+    """Mw = 1.52 log10(SRL / km) + 4.33 strike-slip, 4.40 dip-slip (Leonard 2010 Table 6, as printed)."""
+    if setting not in LEONARD_2010_SURFACE_LENGTH:
+        raise InputError(f"Leonard (2010) gives surface-length forms for {', '.join(LEONARD_2010_SURFACE_LENGTH)} "
+                         f"only, not {setting!r}")
+    slope, intercept = LEONARD_2010_SURFACE_LENGTH[setting]
+    return slope * np.log10(_positive(surface_length, "surface rupture length") / KM) + intercept
+
+
+def leonard_area_from_magnitude(magnitude, setting: str = "strike-slip", bound: str = "preferred"):
+    """Rupture area A = (M0 / (mu C2))^(2/3) (m^2) for a magnitude (Leonard 2010)."""
+    _, c2 = _leonard_constants(setting, bound)
+    moment = _leonard_magnitude_to_moment(_finite(magnitude, "magnitude"))
+    return (moment / (LEONARD_SHEAR_MODULUS * c2)) ** (2.0 / 3.0)
+
+
+def leonard_length_from_magnitude(magnitude, setting: str = "strike-slip", bound: str = "preferred"):
+    """Rupture length (m) for a magnitude: A = L W(L) inverted segment by segment (L = sqrt(A), (A/C1)^(3/5),
+    A / W_max) (Leonard 2010)."""
+    c1, _ = _leonard_constants(setting, bound)
+    area = leonard_area_from_magnitude(magnitude, setting, bound)
+    first, saturation, saturated = _leonard_corners(setting, c1)
+    return np.where(area <= first ** 2, np.sqrt(area),
+                    np.where(area <= saturation * saturated, (area / c1) ** 0.6, area / saturated))
+
+
+def leonard_width_from_magnitude(magnitude, setting: str = "strike-slip", bound: str = "preferred"):
+    """Rupture width (m) for a magnitude, W = A / L (Leonard 2010)."""
+    return leonard_area_from_magnitude(magnitude, setting, bound) / leonard_length_from_magnitude(magnitude, setting,
+                                                                                                   bound)
+
+
+def leonard_displacement_from_magnitude(magnitude, setting: str = "strike-slip", bound: str = "preferred"):
+    """Average displacement (m) for a magnitude, D = C2 sqrt(A) (Leonard 2010)."""
+    return leonard_average_displacement(leonard_area_from_magnitude(magnitude, setting, bound), setting, bound)
+
+
+def leonard_range(function, value, setting: str = "strike-slip"):
+    """(low, high) of one of the Leonard functions above over Table 5's ranges of C1 and C2 (both bounds
+    together, ordered): his uncertainty, which is a range, not a sigma."""
+    low, high = function(value, setting, "low"), function(value, setting, "high")
+    return np.minimum(low, high), np.maximum(low, high)
 
 
 @dataclass(frozen=True)
@@ -174,23 +348,23 @@ def compare(slip_per_event: float, magnitude: float, rupture_length_m: float, se
     The physical slip is an average over the fault; W&C's average displacement is measured at the surface,
     which is why a ratio near 1 and ``|z| < 2`` is agreement, not more."""
     area = rupture_length_m * seismogenic_depth
-    leonard_setting = "strike-slip" if slip_type in ("strike-slip", "all") else "dip-slip"
+    setting = leonard_setting(slip_type)
     rows = []
     expected, sigma = average_displacement(magnitude, slip_type)
     note = "not significant at 95 % (W&C 1994)" if ("average_displacement_from_magnitude", slip_type) in \
         NOT_SIGNIFICANT else ""
     rows.append(Comparison("slip_per_event", f"W&C 1994 AD(Mw), {slip_type}", slip_per_event, float(expected), "m",
                            sigma, note=note))
-    rows.append(Comparison("slip_per_event", f"Leonard 2010 D(A), {leonard_setting}", slip_per_event,
-                           float(leonard_average_displacement(area, leonard_setting)), "m", None))
+    rows.append(Comparison("slip_per_event", f"Leonard 2010 D(A), {setting}", slip_per_event,
+                           float(leonard_average_displacement(area, setting)), "m", None))
     expected, sigma = magnitude_from_length(rupture_length_m, slip_type)
     rows.append(Comparison("moment_magnitude", f"W&C 1994 Mw(SRL), {slip_type}", magnitude, float(expected), None,
                            sigma, is_magnitude=True))
     expected, sigma = magnitude_from_area(area, slip_type)
     rows.append(Comparison("moment_magnitude", f"W&C 1994 Mw(RA), {slip_type}", magnitude, float(expected), None,
                            sigma, is_magnitude=True))
-    rows.append(Comparison("moment_magnitude", f"Leonard 2010 Mw(A), {leonard_setting}", magnitude,
-                           float(leonard_magnitude_from_area(area, leonard_setting)), None, None, is_magnitude=True))
+    rows.append(Comparison("moment_magnitude", f"Leonard 2010 Mw(A), {setting}", magnitude,
+                           float(leonard_magnitude_from_area(area, setting)), None, None, is_magnitude=True))
     return rows
 
 
