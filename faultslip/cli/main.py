@@ -226,8 +226,21 @@ def _studies_commands(commands) -> None:
     regional.add_argument("-o", "--output", required=True, help="output netCDF file")
     regional.add_argument("--plot", help="draw the maps to FILE.png (and predicted vs observed to FILE_observed.png)")
     regional.add_argument("--nrml", help="write each segment as an OpenQuake simple-fault source (NRML 0.5) to FILE.xml")
-    regional.add_argument("--mfd", default="characteristic", help="NRML magnitude-frequency distribution: "
-                                                                  "characteristic or truncated_gr (moment-balanced)")
+    regional.add_argument("--mfd", default="characteristic", help="NRML magnitude-frequency distribution, balanced "
+                          "on the segment's moment rate: characteristic (Youngs & Coppersmith 1985), truncated_gr or "
+                          "single_bin (default characteristic)")
+    regional.add_argument("--b-value", default="1.0", help="Gutenberg-Richter b-value of the MFD (default 1.0)")
+    regional.add_argument("--min-magnitude", default="5.0", help="lowest magnitude of the MFD (default 5.0)")
+    regional.add_argument("--mfd-bin-width", default="0.1", help="magnitude bin width of the MFD (default 0.1)")
+    regional.add_argument("--moment-constant", default="9.1", help="c of M0 = 10^(1.5 Mw + c) in the moment balance: "
+                          "9.1, faultslip's Mw (default), or 9.05, the engine's MFD code")
+    regional.add_argument("--scaling-relations", help="a logic-tree branch per relation, e.g. "
+                          "'faultslip,WC1994,Leonard2010' or 'faultslip:0.5,WC1994:0.25,Leonard2010:0.25': each "
+                          "branch's characteristic Mw from that relation, the same moment rate (default faultslip)")
+    regional.add_argument("--stable-continental", action="store_true",
+                          help="Leonard (2010) branch and comparison for a stable continental region")
+    regional.add_argument("--engine-job", help="also write an OpenQuake classical job (FILE.ini) over the sources")
+    regional.add_argument("--sites", help="the job's sites: 'lon lat; lon lat' in degrees")
     regional.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     regional.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
     _method_flags(regional)

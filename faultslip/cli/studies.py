@@ -6,15 +6,17 @@ import json
 import math
 from pathlib import Path
 
-from faultslip.cli.common import _progress, _locked, _outputs, _tolerance, _workers
+from faultslip.cli.common import _number, _progress, _locked, _outputs, _tolerance, _workers
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io import budget
 from faultslip.io.atomic import save_figure
 from faultslip.io.netcdf import write_dataset
-from faultslip.io.nrml import MFD_KINDS, write_source_model
 from faultslip.io.outputs import check_output, FIGURE_SUFFIXES
 from faultslip.studies.grid import load_study
-from faultslip.studies.maps import (check_map_size, has_observations, load_map, map_figure, nrml_segments, observed_figure,
+from faultslip.io.atomic import claim
+from faultslip.fault import mfd as mfds
+from faultslip.studies import hazard
+from faultslip.studies.maps import (check_map_size, has_observations, load_map, map_figure, observed_figure,
                                     observed_table, run_map, segment_rows)
 from faultslip.io.convert import zarr_to_netcdf
 from faultslip.studies.streaming import (default_chunk_cells, rate_state_counts, check_study_output, output_format, reproduce,
@@ -119,14 +121,50 @@ def cmd_reproduce(args) -> int:
     return 0 if result["matches"] else 1
 
 
+def _hazard_options(args, spec, outputs) -> dict | None:
+    """Check the NRML and engine-job options and claim every file they will write, before any work."""
+    if args.mfd not in mfds.KINDS:
+        raise InputError(f"--mfd must be one of {', '.join(mfds.KINDS)}, got {args.mfd!r}")
+    relations = hazard.parse_relations(args.scaling_relations)
+    wanted = outputs["nrml"] is not None
+    if not wanted:
+        for flag, value in (("--engine-job", outputs["engine_job"]), ("--sites", args.sites),
+                            ("--scaling-relations", args.scaling_relations)):
+            if value is not None:
+                raise InputError(f"{flag} describes NRML sources: give --nrml FILE.xml too")
+        return None
+    if spec.segments is None:
+        raise InputError("--nrml writes fault sources: it needs a segment map ([segments]), not a raster")
+    if (outputs["engine_job"] is None) != (args.sites is None):
+        raise InputError("--engine-job and --sites go together: the job computes hazard at the sites")
+    options = {"relations": relations, "kind": args.mfd,
+               "b_value": _number(args.b_value, "--b-value"), "min_magnitude": _number(args.min_magnitude,
+                                                                                     "--min-magnitude"),
+               "bin_width": _number(args.mfd_bin_width, "--mfd-bin-width"),
+               "moment_constant": _number(args.moment_constant, "--moment-constant"),
+               "sites": hazard.parse_sites(args.sites) if args.sites is not None else None}
+    if options["moment_constant"] not in (9.1, 9.05):
+        raise InputError(f"--moment-constant must be 9.1 (faultslip's Mw) or 9.05 (Hanks & Kanamori, the engine's "
+                         f"MFD code), got {args.moment_constant}")
+    # the branch files and the engine job's logic trees, checked and held like -o
+    extra = [path for path in hazard.branch_paths(outputs["nrml"], relations).values() if path != outputs["nrml"]]
+    if outputs["engine_job"] is not None:
+        job = outputs["engine_job"]
+        if len(relations) == 1:
+            extra.append(job.with_name(f"{job.stem}_source_model_logic_tree.xml"))
+        extra.append(job.with_name(f"{job.stem}_gmpe_logic_tree.xml"))
+    for path in extra:
+        checked = check_output(path, label="--nrml", suffixes=(".xml",), inputs=spec.inputs, overwrite=args.overwrite)
+        claim(checked, "faultslip map", args.overwrite, "--nrml")
+    options["extra"] = extra
+    return options
+
+
 def cmd_map(args) -> int:
     spec = load_map(args.map)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
-                              "nrml": ("--nrml", (".xml",))}, spec.inputs)
-    if outputs["nrml"] and spec.segments is None:
-        raise InputError("--nrml writes fault sources: it needs a segment map ([segments]), not a raster")
-    if args.mfd not in MFD_KINDS:
-        raise InputError(f"--mfd must be one of {', '.join(MFD_KINDS)}, got {args.mfd!r}")
+                              "nrml": ("--nrml", (".xml",)), "engine_job": ("--engine-job", (".ini",))}, spec.inputs)
+    options = _hazard_options(args, spec, outputs)
     observed = None
     if outputs["plot"] is not None and spec.segments is not None:
         target = Path(outputs["plot"])
@@ -135,12 +173,29 @@ def cmd_map(args) -> int:
     tolerance = _tolerance(args) or 1e-6
     check_map_size(spec, outputs["output"], args.allow_large)
     dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance, allow_large=True)
-    plots = []
-    with _locked(outputs["output"], outputs["plot"], observed, outputs["nrml"]):
+    plots, sources, written = [], [], None
+    if options is not None:  # built before anything is written: a refusal leaves nothing behind
+        sources = hazard.hazard_sources(spec, dataset, args.stable_continental)
+        models = hazard.source_models(sources, options["relations"], options["kind"], options["min_magnitude"],
+                                      options["b_value"], options["bin_width"], options["moment_constant"],
+                                      args.stable_continental)
+    with _locked(outputs["output"], outputs["plot"], observed, outputs["nrml"], outputs["engine_job"],
+                 *(options["extra"] if options else [])):
         write_dataset(dataset, outputs["output"])
-        if outputs["nrml"]:
-            sources = write_source_model(outputs["nrml"], nrml_segments(spec, dataset), spec.name, args.mfd)
-            spec.notes.append(f"{sources} simple-fault source(s), {args.mfd} MFD, written as NRML to {args.nrml}")
+        if options is not None:
+            written = hazard.write_hazard_model(outputs["nrml"], models, options["relations"], spec.name)
+            branches = ", ".join(f"{name} {weight:g}" for name, weight in options["relations"])
+            spec.notes.append(f"{max(written['sources'].values())} simple-fault source(s), {args.mfd} MFD "
+                              f"(b = {options['b_value']:g} from Mw {options['min_magnitude']:g}, bins of "
+                              f"{options['bin_width']:g}), moment-balanced, per scaling relation ({branches}), "
+                              f"written as NRML to {', '.join(written['files'])}")
+            if outputs["engine_job"] is not None:
+                job_files = hazard.write_engine_job(outputs["engine_job"], str(outputs["nrml"]),
+                                                    len(options["relations"]) > 1, options["sites"],
+                                                    bin_width=options["bin_width"], description=spec.name)
+                written["files"] += job_files
+                spec.notes.append(f"OpenQuake classical job at {len(options['sites'])} site(s): "
+                                  f"oq engine --run {outputs['engine_job']}")
         if outputs["plot"]:
             save_figure(map_figure(dataset), outputs["plot"], dpi=150)
             plots.append(args.plot)
@@ -160,13 +215,20 @@ def cmd_map(args) -> int:
                  "observed_recurrence": {"value": value(row["observed_recurrence"]), "units": "s"},
                  "recurrence_ratio": value(row["recurrence_ratio"]), "slip_ratio": value(row["slip_ratio"])}
                 for row in (segment_rows(dataset) if "segment" in dataset.dims else [])]
+        hazard_json = None if written is None else {
+            "files": written["files"], "mfd": args.mfd,
+            "relations": [{"relation": name, "weight": weight} for name, weight in options["relations"]],
+            "sources": hazard.sources_json(sources, models)}
         print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"},
-                          "notes": spec.notes}, indent=2))
+                          "hazard": hazard_json, "notes": spec.notes}, indent=2))
     else:
         print(f"faultslip map: {spec.name}")
         for note in spec.notes:
             print(f"  {note}")
         if "segment" in dataset.dims:
             print(observed_table(dataset, most=MOST_ROWS))
-        print(f"\nwrote {args.output}" + (f", {', '.join(plots)}" if plots else ""))
+        if sources:
+            print("\n" + hazard.magnitude_table(sources[:MOST_ROWS]))
+        print(f"\nwrote {args.output}" + (f", {', '.join(plots)}" if plots else "")
+              + (f", {', '.join(written['files'])}" if written else ""))
     return 0

@@ -1,17 +1,18 @@
-"""Predicted segments as an OpenQuake source model (NRML 0.5 simple-fault sources).
+"""Fault sources as an OpenQuake source model, and a logic tree over source models (NRML 0.5).
 
 Each segment becomes a ``simpleFaultSource``: its trace (``gml:LineString``), dip, upper and lower
-seismogenic depths (km), rake, the Wells & Coppersmith (1994) magnitude-scaling relation and a
-rupture aspect ratio of 2, and a magnitude-frequency distribution built from the prediction:
+seismogenic depths (km), its magnitude-scaling relation (``WC1994`` unless given), a rupture aspect
+ratio of 2, its rake, and its magnitude-frequency distribution (:mod:`faultslip.fault.mfd`, passed in
+built): an ``incrementalMFD`` (first bin centre and width, one annual rate per bin) or a
+``truncGutenbergRichterMFD`` (a- and b-value and bounds on the bin edges; the engine bins it by the job's
+``width_of_mfd_bin``, which must then equal the distribution's bin width). Rates and a-values are written
+to ten significant digits, so the moment rate a reader sums back holds to 1e-9.
 
-- ``characteristic``: one bin of width 0.1 at the predicted Mw, with the annual rate 1/T
-  (an ``incrementalMFD``). Its moment rate is M0(Mw)/T = G L H V: moment-balanced by construction.
-- ``truncated_gr``: a ``truncGutenbergRichterMFD`` with b = 1 from Mw - 1 to Mw + 0.1, its a-value
-  set so that its moment rate equals the characteristic one (moment balance, with
-  M0 = 10^(1.5 Mw + 9.1) N m).
-
-The file is written atomically. The tests parse it back and check the structure, and, where the
-OpenQuake engine is installed, load it with ``openquake.hazardlib.nrml``.
+A logic tree (``logicTree``, one ``sourceModel`` branch set) weighs several such source models, one per
+magnitude-scaling relation. The namespace is ``http://openquake.org/xmlns/nrml/0.5``, which the engine's
+logic-tree reader requires (its source-model parser alone also accepts others). Files are written
+atomically; the tests parse every file with the engine's own parser and run a hazard calculation on
+them where the engine is installed.
 """
 
 from __future__ import annotations
@@ -23,74 +24,90 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.atomic import atomic_path
-from faultslip.units import JULIAN_YEAR
 
-NRML_NAMESPACE = "http://openquake.org/xmlschema/nrml/0.5"
+NRML_NAMESPACE = "http://openquake.org/xmlns/nrml/0.5"
 GML_NAMESPACE = "http://www.opengis.net/gml"
-MFD_KINDS = ("characteristic", "truncated_gr")
-YEAR = JULIAN_YEAR
-B_VALUE = 1.0
+#: the engine's magnitude-scaling relation names a source may carry
+ENGINE_SCALING_RELATIONS = ("WC1994", "Leonard2014_Interplate", "Leonard2014_SCR", "Leonard2010_SCR")
 
 
-def _moment(magnitude):
-    return 10.0 ** (1.5 * np.asarray(magnitude, dtype=float) + 9.1)
+def _element(parent, tag: str, text: str | None = None, **attributes):
+    node = ET.SubElement(parent, f"{{{NRML_NAMESPACE}}}{tag}", **attributes)
+    if text is not None:
+        node.text = text
+    return node
 
 
-def gutenberg_richter_a_value(moment_rate: float, min_magnitude: float, max_magnitude: float,
-                              b_value: float = B_VALUE) -> float:
-    """The a-value whose truncated Gutenberg-Richter distribution, with annual rate density
-    n(m) = b ln10 10^(a - b m) on [min, max], releases ``moment_rate`` (N m per year)."""
-    magnitudes = np.linspace(min_magnitude, max_magnitude, 2001)
-    per_unit_a = b_value * math.log(10.0) * 10.0 ** (-b_value * magnitudes) * _moment(magnitudes)
-    integral = float(np.sum(0.5 * (per_unit_a[1:] + per_unit_a[:-1]) * np.diff(magnitudes)))
-    return math.log10(moment_rate / integral)
-
-
-def write_source_model(path, segments: list[dict], name: str, mfd: str = "characteristic",
-                       tectonic_region: str = "Active Shallow Crust") -> int:
-    """Write ``segments`` (dicts: id, name, trace (n, 2) lon/lat, dip, rake, upper_depth and lower_depth in m,
-    magnitude, recurrence in s) as NRML; segments without stick-slip (no magnitude or recurrence) are left
-    out. Returns how many sources were written."""
-    if mfd not in MFD_KINDS:
-        raise InputError(f"the magnitude-frequency distribution must be one of {', '.join(MFD_KINDS)}, got {mfd!r}")
+def _root():
     ET.register_namespace("", NRML_NAMESPACE)
     ET.register_namespace("gml", GML_NAMESPACE)
-    nrml = ET.Element(f"{{{NRML_NAMESPACE}}}nrml")
-    model = ET.SubElement(nrml, f"{{{NRML_NAMESPACE}}}sourceModel", name=name)
-    group = ET.SubElement(model, f"{{{NRML_NAMESPACE}}}sourceGroup", name="faultslip predictions",
-                          tectonicRegion=tectonic_region)
+    return ET.Element(f"{{{NRML_NAMESPACE}}}nrml")
+
+
+def _write(root, path) -> None:
+    ET.indent(root)
+    with atomic_path(path) as temporary:
+        ET.ElementTree(root).write(temporary, encoding="utf-8", xml_declaration=True)
+
+
+def _mfd_element(source, mfd) -> None:
+    """``mfd`` is a :class:`faultslip.fault.mfd.MagnitudeFrequency` (read by its attributes)."""
+    if mfd.kind == "truncated_gr":
+        p = mfd.parameters
+        _element(source, "truncGutenbergRichterMFD", aValue=f"{p['a_value']:.10f}", bValue=f"{p['b_value']:.10g}",
+                 minMag=f"{p['min_magnitude_edge']:.10g}", maxMag=f"{p['max_magnitude_edge']:.10g}")
+        return
+    bins = _element(source, "incrementalMFD", minMag=f"{mfd.min_magnitude:.10g}", binWidth=f"{mfd.bin_width:.10g}")
+    _element(bins, "occurRates", " ".join(f"{rate:.10e}" for rate in np.asarray(mfd.rates, dtype=float)))
+
+
+def write_source_model(path, segments: list[dict], name: str, tectonic_region: str = "Active Shallow Crust") -> int:
+    """Write ``segments`` (dicts: id, name, trace (n, 2) lon/lat, dip, rake, upper_depth and lower_depth in m,
+    ``mfd`` a magnitude-frequency distribution or None, optional ``scaling_relation``) as NRML; segments
+    without a distribution (no stick-slip) are left out. Returns how many sources were written."""
+    root = _root()
+    model = _element(root, "sourceModel", name=name)
+    group = _element(model, "sourceGroup", name="faultslip predictions", tectonicRegion=tectonic_region)
     written = 0
     for segment in segments:
-        magnitude, recurrence = segment["magnitude"], segment["recurrence"]
-        if not (magnitude is not None and math.isfinite(magnitude) and recurrence is not None
-                and math.isfinite(recurrence) and recurrence > 0):
+        mfd = segment.get("mfd")
+        if mfd is None:
             continue
-        source = ET.SubElement(group, f"{{{NRML_NAMESPACE}}}simpleFaultSource", id=str(segment["id"]),
-                               name=str(segment["name"]), tectonicRegion=tectonic_region)
-        geometry = ET.SubElement(source, f"{{{NRML_NAMESPACE}}}simpleFaultGeometry")
+        relation = segment.get("scaling_relation", "WC1994")
+        if relation not in ENGINE_SCALING_RELATIONS:
+            raise InputError(f"the engine's scaling relation must be one of {', '.join(ENGINE_SCALING_RELATIONS)}, "
+                             f"got {relation!r}")
+        source = _element(group, "simpleFaultSource", id=str(segment["id"]), name=str(segment["name"]),
+                          tectonicRegion=tectonic_region)
+        geometry = _element(source, "simpleFaultGeometry")
         line = ET.SubElement(geometry, f"{{{GML_NAMESPACE}}}LineString")
         ET.SubElement(line, f"{{{GML_NAMESPACE}}}posList").text = " ".join(
             f"{lon:.5f} {lat:.5f}" for lon, lat in np.asarray(segment["trace"], dtype=float))
-        ET.SubElement(geometry, f"{{{NRML_NAMESPACE}}}dip").text = f"{segment['dip']:g}"
-        ET.SubElement(geometry, f"{{{NRML_NAMESPACE}}}upperSeismoDepth").text = f"{segment['upper_depth'] / 1e3:g}"
-        ET.SubElement(geometry, f"{{{NRML_NAMESPACE}}}lowerSeismoDepth").text = f"{segment['lower_depth'] / 1e3:g}"
-        ET.SubElement(source, f"{{{NRML_NAMESPACE}}}magScaleRel").text = "WC1994"
-        ET.SubElement(source, f"{{{NRML_NAMESPACE}}}ruptAspectRatio").text = "2.0"
-        rate = YEAR / recurrence
-        if mfd == "characteristic":
-            bins = ET.SubElement(source, f"{{{NRML_NAMESPACE}}}incrementalMFD", minMag=f"{magnitude:.3f}",
-                                 binWidth="0.1")
-            ET.SubElement(bins, f"{{{NRML_NAMESPACE}}}occurRates").text = f"{rate:.6e}"
-        else:
-            low, high = magnitude - 1.0, magnitude + 0.1
-            a_value = gutenberg_richter_a_value(rate * float(_moment(magnitude)), low, high)
-            ET.SubElement(source, f"{{{NRML_NAMESPACE}}}truncGutenbergRichterMFD", aValue=f"{a_value:.5f}",
-                          bValue=f"{B_VALUE:g}", minMag=f"{low:.3f}", maxMag=f"{high:.3f}")
-        ET.SubElement(source, f"{{{NRML_NAMESPACE}}}rake").text = f"{segment['rake']:g}"
+        _element(geometry, "dip", f"{segment['dip']:g}")
+        _element(geometry, "upperSeismoDepth", f"{segment['upper_depth'] / 1e3:g}")
+        _element(geometry, "lowerSeismoDepth", f"{segment['lower_depth'] / 1e3:g}")
+        _element(source, "magScaleRel", relation)
+        _element(source, "ruptAspectRatio", "2.0")
+        _mfd_element(source, mfd)
+        _element(source, "rake", f"{segment['rake']:g}")
         written += 1
     if not written:
         raise InputError("no segment has stick-slip (a magnitude and a recurrence): nothing to write as NRML")
-    ET.indent(nrml)
-    with atomic_path(path) as temporary:
-        ET.ElementTree(nrml).write(temporary, encoding="utf-8", xml_declaration=True)
+    _write(root, path)
     return written
+
+
+def write_logic_tree(path, branches: list[tuple[str, str, float]]) -> None:
+    """A source-model logic tree: ``branches`` of (branch id, source-model file name relative to ``path``,
+    weight); the weights must sum to 1 (to 1e-9: the engine checks it)."""
+    weights = [weight for _, _, weight in branches]
+    if not branches or not all(math.isfinite(w) and w > 0 for w in weights) or abs(sum(weights) - 1.0) > 1e-9:
+        raise InputError(f"logic-tree weights must be positive and sum to 1, got {weights}")
+    root = _root()
+    tree = _element(root, "logicTree", logicTreeID="faultslip")
+    branch_set = _element(tree, "logicTreeBranchSet", uncertaintyType="sourceModel", branchSetID="scaling_relations")
+    for branch_id, file_name, weight in branches:
+        branch = _element(branch_set, "logicTreeBranch", branchID=branch_id)
+        _element(branch, "uncertaintyModel", file_name)
+        _element(branch, "uncertaintyWeight", repr(float(weight)))
+    _write(root, path)

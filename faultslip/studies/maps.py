@@ -805,23 +805,3 @@ def observed_figure(dataset):
         axis.legend(fontsize=8)
     figure.suptitle(f"Predicted against observed: {dataset.attrs.get('title', '')}")
     return figure
-
-
-def nrml_segments(spec, dataset) -> list[dict]:
-    """Each mapped segment's geometry and prediction, for :func:`faultslip.io.nrml.write_source_model`: the
-    trace, dip, rake and upper depth from GeoJSON (else vertical, dextral, from the surface), the lower depth
-    upper + seismogenic depth, and the predicted Mw and recurrence (NaN where there is no stick-slip)."""
-    table = spec.segments
-    if table is None:
-        raise InputError("an NRML source model needs fault segments ([segments]), not a raster map")
-    count = len(table.ids)
-    geometry = table.geometry or {}
-    dip = geometry.get("dip", np.full(count, 90.0))
-    rake = geometry.get("rake", np.full(count, 180.0))
-    upper = geometry.get("upper_depth", np.zeros(count))
-    magnitude = dataset["moment_magnitude"].values
-    recurrence = dataset["recurrence_period"].values
-    return [{"id": table.ids[i], "name": table.names[i], "trace": table.traces[i], "dip": float(dip[i]),
-             "rake": float(rake[i]), "upper_depth": float(upper[i]),
-             "lower_depth": float(upper[i] + table.seismogenic_depth[i]), "magnitude": float(magnitude[i]),
-             "recurrence": float(recurrence[i])} for i in range(count)]

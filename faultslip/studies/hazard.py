@@ -1,0 +1,317 @@
+"""From a segment map to a hazard engine: moment-balanced sources, scaling-relation branches, an engine job.
+
+Each mapped segment with stick-slip has faultslip's characteristic event (Mw, recurrence T) and a
+moment rate, the seismic moment over T (= G L H V: slip per event = V T). :func:`hazard_sources` puts
+beside faultslip's Mw the magnitudes that the empirical relations give for the same rupture (length L,
+width H, area L H): Wells & Coppersmith (1994) Mw(RA) and Mw(SRL) with their sigmas, Leonard (2010) Mw(A)
+and Mw(L) with his ranges (:mod:`faultslip.fault.empirical`).
+
+:func:`source_models` turns them into one source model per magnitude-scaling relation, a logic-tree
+branch each (``faultslip``, ``WC1994``, ``Leonard2010``): every branch releases the same moment rate,
+spread by a magnitude-frequency distribution (:mod:`faultslip.fault.mfd`) around that relation's
+magnitude. :func:`write_hazard_model` writes them as NRML (:mod:`faultslip.io.nrml`), and
+:func:`write_engine_job` an OpenQuake classical job over them (sites, one GMPE, PGA).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.errors import InputError
+from faultslip.fault import empirical, mfd as mfds
+from faultslip.io.atomic import write_text_atomic
+from faultslip.io.nrml import write_logic_tree, write_source_model
+from faultslip.units import JULIAN_YEAR
+
+#: branch name -> the engine's magnitude-scaling relation its sources carry (Leonard 2014's interplate
+#: relations keep Leonard 2010's Mw(A) constants, 3.99 and 4.00; his stable-continental one is Leonard2010_SCR)
+RELATIONS = {"faultslip": "WC1994", "WC1994": "WC1994", "Leonard2010": "Leonard2014_Interplate"}
+#: an OpenQuake GMPE for active shallow crust (NGA-West2), and PGA levels in g
+DEFAULT_GMPE = "BooreEtAl2014"
+DEFAULT_LEVELS = (0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0, 1.5, 2.0)
+
+
+@dataclass(frozen=True)
+class HazardSource:
+    """One segment's characteristic event and the empirical magnitudes for its rupture."""
+
+    id: str
+    name: str
+    trace: np.ndarray
+    dip: float
+    rake: float
+    upper_depth: float  # m
+    lower_depth: float  # m
+    length: float  # m, the rupture length faultslip used
+    width: float  # m, the seismogenic depth faultslip used
+    slip_type: str
+    magnitude: float  # faultslip's Mw
+    recurrence: float  # s
+    moment_rate: float  # N m per year
+    empirical: dict  # relation label -> {"magnitude", "sigma" or "range"}
+
+    @property
+    def has_event(self) -> bool:
+        return math.isfinite(self.magnitude) and math.isfinite(self.recurrence) and self.recurrence > 0
+
+    def branch_magnitude(self, relation: str, stable_continental: bool = False) -> float:
+        """The characteristic magnitude on a branch: faultslip's, W&C's Mw(RA) or Leonard's Mw(A)."""
+        if relation == "faultslip":
+            return self.magnitude
+        area = self.length * self.width
+        if relation == "WC1994":
+            return float(empirical.magnitude_from_area(area, self.slip_type)[0])
+        if relation == "Leonard2010":
+            return float(empirical.leonard_magnitude_from_area(
+                area, empirical.leonard_setting(self.slip_type, stable_continental)))
+        raise InputError(f"scaling relation must be one of {', '.join(RELATIONS)}, got {relation!r}")
+
+    def as_dict(self) -> dict:
+        finite = lambda value: value if math.isfinite(value) else None  # noqa: E731 (JSON)
+        return {"id": self.id, "name": self.name, "slip_type": self.slip_type,
+                "magnitude": finite(self.magnitude), "recurrence": {"value": finite(self.recurrence), "units": "s"},
+                "moment_rate": {"value": finite(self.moment_rate), "units": "N m/yr"},
+                "rupture": {"length": {"value": self.length, "units": "m"}, "width": {"value": self.width, "units": "m"}},
+                "empirical": self.empirical}
+
+
+def _empirical_magnitudes(length: float, width: float, slip_type: str, stable_continental: bool) -> dict:
+    area = length * width
+    setting = empirical.leonard_setting(slip_type, stable_continental)
+    rows = {}
+    value, sigma = empirical.magnitude_from_area(area, slip_type)
+    rows[f"W&C 1994 Mw(RA), {slip_type}"] = {"magnitude": float(value), "sigma": sigma}
+    value, sigma = empirical.magnitude_from_length(length, slip_type)
+    rows[f"W&C 1994 Mw(SRL), {slip_type}"] = {"magnitude": float(value), "sigma": sigma}
+    low, high = empirical.leonard_range(empirical.leonard_magnitude_from_area, area, setting)
+    rows[f"Leonard 2010 Mw(A), {setting}"] = {
+        "magnitude": float(empirical.leonard_magnitude_from_area(area, setting)), "range": [float(low), float(high)]}
+    low, high = empirical.leonard_range(empirical.leonard_magnitude_from_length, length, setting)
+    rows[f"Leonard 2010 Mw(L), {setting}"] = {
+        "magnitude": float(empirical.leonard_magnitude_from_length(length, setting)), "range": [float(low), float(high)]}
+    return rows
+
+
+def hazard_sources(spec, dataset, stable_continental: bool = False) -> list[HazardSource]:
+    """Every mapped segment as a :class:`HazardSource`: geometry from the segment table (GeoJSON's dip, rake
+    and upper depth, else vertical, dextral, from the surface), faultslip's event and moment rate from the
+    map's ``dataset``, and the empirical magnitudes for the same rupture."""
+    table = spec.segments
+    if table is None:
+        raise InputError("hazard sources need fault segments ([segments]), not a raster map")
+    count = len(table.ids)
+    geometry = table.geometry or {}
+    dip = geometry.get("dip", np.full(count, 90.0))
+    rake = geometry.get("rake", np.full(count, 180.0))
+    upper = geometry.get("upper_depth", np.zeros(count))
+    magnitude = dataset["moment_magnitude"].values
+    recurrence = dataset["recurrence_period"].values
+    moment = dataset["seismic_moment"].values
+    length = dataset["segment_length"].values
+    width = dataset["seismogenic_depth"].values
+    sources = []
+    for i in range(count):
+        slip_type = empirical.slip_type_from_rake(float(rake[i]))
+        event = math.isfinite(magnitude[i]) and math.isfinite(recurrence[i]) and recurrence[i] > 0
+        sources.append(HazardSource(
+            id=str(table.ids[i]), name=str(table.names[i]), trace=np.asarray(table.traces[i], dtype=float),
+            dip=float(dip[i]), rake=float(rake[i]), upper_depth=float(upper[i]),
+            lower_depth=float(upper[i] + table.seismogenic_depth[i]), length=float(length[i]), width=float(width[i]),
+            slip_type=slip_type, magnitude=float(magnitude[i]), recurrence=float(recurrence[i]),
+            moment_rate=float(moment[i] / recurrence[i] * JULIAN_YEAR) if event else math.nan,
+            empirical=_empirical_magnitudes(float(length[i]), float(width[i]), slip_type, stable_continental)))
+    return sources
+
+
+def parse_relations(text: str | None) -> list[tuple[str, float]]:
+    """``"faultslip,WC1994:0.3,Leonard2010"`` -> branches with weights; unweighted ones share what is left."""
+    if text is None or not text.strip():
+        return [("faultslip", 1.0)]
+    branches, given = [], 0.0
+    for part in text.split(","):
+        name, _, weight = part.strip().partition(":")
+        if name not in RELATIONS:
+            raise InputError(f"scaling relation must be one of {', '.join(RELATIONS)}, got {name!r}")
+        if name in [b[0] for b in branches]:
+            raise InputError(f"scaling relation {name!r} is given twice")
+        try:
+            value = float(weight) if weight else math.nan
+        except ValueError:
+            raise InputError(f"the weight of {name!r} must be a number, got {weight!r}") from None
+        if weight and not (math.isfinite(value) and 0 < value <= 1):
+            raise InputError(f"the weight of {name!r} must be in (0, 1], got {weight!r}")
+        given += value if weight else 0.0
+        branches.append((name, value))
+    unweighted = [name for name, value in branches if math.isnan(value)]
+    rest = 1.0 - given
+    if (unweighted and rest <= 1e-12) or (not unweighted and abs(rest) > 1e-9):
+        raise InputError(f"the scaling relations' weights must sum to 1, got {given:g} for the weighted ones")
+    return [(name, rest / len(unweighted) if math.isnan(value) else value) for name, value in branches]
+
+
+def source_models(sources: list[HazardSource], relations: list[tuple[str, float]], kind: str = "characteristic",
+                  min_magnitude: float = mfds.MIN_MAGNITUDE, b_value: float = mfds.B_VALUE,
+                  bin_width: float = mfds.BIN_WIDTH, moment_constant: float = mfds.MOMENT_CONSTANT,
+                  stable_continental: bool = False) -> dict:
+    """relation -> list of NRML segment dicts, each with its moment-balanced ``mfd`` (None without stick-slip)."""
+    if kind not in mfds.KINDS:
+        raise InputError(f"the magnitude-frequency distribution must be one of {', '.join(mfds.KINDS)}, got {kind!r}")
+    models = {}
+    for relation, _ in relations:
+        engine_relation = "Leonard2010_SCR" if relation == "Leonard2010" and stable_continental else RELATIONS[relation]
+        segments = []
+        for source in sources:
+            distribution = None
+            if source.has_event:
+                magnitude = source.branch_magnitude(relation, stable_continental)
+                try:
+                    distribution = mfds.build(kind, source.moment_rate, magnitude, min_magnitude, b_value, bin_width,
+                                              moment_constant)
+                except InputError as exc:
+                    raise InputError(f"segment {source.id} ({relation} Mw {magnitude:.2f}): {exc}") from None
+            segments.append({"id": source.id, "name": source.name, "trace": source.trace, "dip": source.dip,
+                             "rake": source.rake, "upper_depth": source.upper_depth,
+                             "lower_depth": source.lower_depth, "mfd": distribution,
+                             "scaling_relation": engine_relation})
+        models[relation] = segments
+    return models
+
+
+def sources_json(sources: list[HazardSource], models: dict) -> list[dict]:
+    """Each source with its distribution on every branch (JSON-ready)."""
+    by_id = {relation: {segment["id"]: segment["mfd"] for segment in segments} for relation, segments in models.items()}
+    return [source.as_dict() | {"mfd": {relation: (None if by_id[relation][source.id] is None
+                                                   else by_id[relation][source.id].as_dict())
+                                        for relation in models}} for source in sources]
+
+
+def magnitude_table(sources: list[HazardSource]) -> str:
+    """faultslip's Mw beside the empirical magnitudes for the same rupture, as a Markdown table."""
+    labels = list(sources[0].empirical) if sources else []
+    short = [label.split(",")[0] for label in labels]
+    lines = ["| segment | moment rate (N m/yr) | faultslip Mw | " + " | ".join(short) + " |",
+             "| --- | --- | --- | " + " | ".join("---" for _ in labels) + " |"]
+    for source in sources:
+        cells = []
+        for label in labels:
+            row = source.empirical[label]
+            spread = (f" ± {row['sigma']:.2f}" if "sigma" in row
+                      else f" ({row['range'][0]:.2f}-{row['range'][1]:.2f})")
+            cells.append(f"{row['magnitude']:.2f}{spread}")
+        rate = f"{source.moment_rate:.3g}" if math.isfinite(source.moment_rate) else "no stick-slip"
+        magnitude = f"{source.magnitude:.2f}" if math.isfinite(source.magnitude) else ""
+        lines.append(f"| {source.id} | {rate} | {magnitude} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def branch_paths(path, relations: list[tuple[str, float]]) -> dict:
+    """Where each source model goes: ``path`` itself for one relation; else ``path`` holds the logic tree and
+    each branch's model sits beside it as ``<stem>_<relation>.xml``."""
+    path = Path(path)
+    if len(relations) == 1:
+        return {relations[0][0]: path}
+    return {name: path.with_name(f"{path.stem}_{name.lower()}{path.suffix}") for name, _ in relations}
+
+
+def write_hazard_model(path, models: dict, relations: list[tuple[str, float]], name: str) -> dict:
+    """Write the source models (and, for several relations, the logic tree at ``path``); returns
+    {"files": [...], "sources": count per relation}."""
+    paths = branch_paths(path, relations)
+    counts = {relation: write_source_model(paths[relation], models[relation], f"{name} ({relation})")
+              for relation, _ in relations}
+    files = [str(p) for p in paths.values()]
+    if len(relations) > 1:
+        write_logic_tree(path, [(relation, paths[relation].name, weight) for relation, weight in relations])
+        files.insert(0, str(path))
+    return {"files": files, "sources": counts}
+
+
+def parse_sites(text: str) -> list[tuple[float, float]]:
+    """``"-122.42 37.77; -120.5 35.9"``: longitude and latitude in degrees, pairs separated by semicolons."""
+    sites = []
+    for part in (text or "").split(";"):
+        if not part.strip():
+            continue
+        values = part.replace(",", " ").split()
+        try:
+            lon, lat = (float(v) for v in values)
+        except ValueError:
+            raise InputError(f"a site is 'longitude latitude' in degrees, got {part.strip()!r}") from None
+        if not (-180 <= lon <= 180 and -90 <= lat <= 90):
+            raise InputError(f"site {part.strip()!r} is not a longitude from -180 to 180 and a latitude from -90 to 90")
+        sites.append((lon, lat))
+    if not sites:
+        raise InputError("give at least one site as 'longitude latitude' (degrees), sites separated by ';'")
+    return sites
+
+
+def write_engine_job(path, source_model: str, is_logic_tree: bool, sites: list[tuple[float, float]],
+                     gmpe: str = DEFAULT_GMPE, levels=DEFAULT_LEVELS, investigation_time: float = 50.0,
+                     bin_width: float = mfds.BIN_WIDTH, vs30: float = 760.0, description: str = "faultslip sources",
+                     tectonic_region: str = "Active Shallow Crust") -> list[str]:
+    """An OpenQuake classical-PSHA job (``oq engine --run FILE.ini``): the sites, one GMPE, PGA at ``levels``
+    (g), Poissonian over ``investigation_time`` years, ``width_of_mfd_bin`` = the distributions' bin width.
+    A single source model gets a one-branch logic tree beside the job. Returns the files written."""
+    path = Path(path)
+    folder = path.parent
+    written = []
+    if not is_logic_tree:
+        tree = path.with_name(f"{path.stem}_source_model_logic_tree.xml")
+        write_logic_tree(tree, [("faultslip", os.path.relpath(source_model, folder), 1.0)])
+        source_model, written = str(tree), [str(tree)]
+    gmpe_tree = path.with_name(f"{path.stem}_gmpe_logic_tree.xml")
+    write_text_atomic(gmpe_tree, f"""<?xml version='1.0' encoding='utf-8'?>
+<nrml xmlns="http://openquake.org/xmlns/nrml/0.5">
+  <logicTree logicTreeID="gmpe">
+    <logicTreeBranchSet uncertaintyType="gmpeModel" branchSetID="gmpe" applyToTectonicRegionType="{tectonic_region}">
+      <logicTreeBranch branchID="{gmpe}">
+        <uncertaintyModel>{gmpe}</uncertaintyModel>
+        <uncertaintyWeight>1.0</uncertaintyWeight>
+      </logicTreeBranch>
+    </logicTreeBranchSet>
+  </logicTree>
+</nrml>
+""")
+    site_text = ", ".join(f"{lon:.6f} {lat:.6f}" for lon, lat in sites)
+    level_text = ", ".join(f"{level:g}" for level in levels)
+    write_text_atomic(path, f"""# written by faultslip: a classical PSHA over faultslip's fault sources
+[general]
+description = {description}
+calculation_mode = classical
+random_seed = 23
+
+[geometry]
+sites = {site_text}
+
+[logic_tree]
+number_of_logic_tree_samples = 0
+
+[erf]
+rupture_mesh_spacing = 2.0
+width_of_mfd_bin = {bin_width:g}
+area_source_discretization = 10.0
+
+[site_params]
+reference_vs30_type = measured
+reference_vs30_value = {vs30:g}
+reference_depth_to_1pt0km_per_sec = 40.0
+reference_depth_to_2pt5km_per_sec = 1.0
+
+[calculation]
+source_model_logic_tree_file = {os.path.relpath(source_model, folder)}
+gsim_logic_tree_file = {gmpe_tree.name}
+investigation_time = {investigation_time:g}
+intensity_measure_types_and_levels = {{"PGA": [{level_text}]}}
+truncation_level = 3
+maximum_distance = 300.0
+
+[output]
+export_dir = .
+mean = true
+""")
+    return written + [str(gmpe_tree), str(path)]
