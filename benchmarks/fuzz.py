@@ -350,7 +350,14 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         space.write("faults.geojson", mutate_csv(space.geojson, rng))
         path = space.write("gaf_map.toml", space.map_text.replace('file = "segments.csv"', 'file = "faults.geojson"'))
         return ["map", str(path), "-o", out, "--overwrite", "--json"] + rng.choice(
-            [[], ["--nrml", str(space.folder / "s.xml"), "--mfd", rng.choice(["characteristic", "truncated_gr", "x"])]])
+            [[], ["--nrml", str(space.folder / "s.xml"), "--mfd",
+                  rng.choice(["characteristic", "truncated_gr", "single_bin", "x"]),
+                  "--scaling-relations", rng.choice(["faultslip", "faultslip,WC1994,Leonard2010", "WC1994:0.7,x",
+                                                     "Leonard2010:0.2,faultslip:0.2", ""]),
+                  "--min-magnitude", rng.choice(["5.0", "7.9", "-40", "nan", "5 m"]),
+                  "--b-value", rng.choice(["1.0", "0", "0.8", "inf"])]
+             + rng.choice([[], ["--engine-job", str(space.folder / "j.ini"),
+                                "--sites", rng.choice(["-120 36", "-120", "500 0; 1 1", ""])]])])
     if kind == "mseed":
         path = space.write("record.mseed", mutate_bytes(space.mseed, rng))
         return ["record", str(path), "--stiffness", "1e4 N/m", "--normal-load", "10 N", "--json"]

@@ -143,6 +143,7 @@ def _hazard_options(args, spec, outputs) -> dict | None:
                "bin_width": _number(args.mfd_bin_width, "--mfd-bin-width"),
                "moment_constant": _number(args.moment_constant, "--moment-constant"),
                "sites": hazard.parse_sites(args.sites) if args.sites is not None else None}
+    mfds.check_parameters(options["b_value"], options["bin_width"], min_magnitude=options["min_magnitude"])
     if options["moment_constant"] not in (9.1, 9.05):
         raise InputError(f"--moment-constant must be 9.1 (faultslip's Mw) or 9.05 (Hanks & Kanamori, the engine's "
                          f"MFD code), got {args.moment_constant}")

@@ -78,9 +78,8 @@ class MagnitudeFrequency:
                 "moment_constant": self.moment_constant, **self.parameters}
 
 
-def _check(moment_rate, b_value, bin_width, **magnitudes) -> None:
-    if not (math.isfinite(moment_rate) and moment_rate > 0):
-        raise InputError(f"the moment rate must be positive and finite, got {moment_rate!r} N m/yr")
+def check_parameters(b_value: float = B_VALUE, bin_width: float = BIN_WIDTH, **magnitudes) -> None:
+    """Refuse a b-value, bin width or magnitude no distribution can take (before any work)."""
     if not (math.isfinite(b_value) and 0 < b_value <= 3):
         raise InputError(f"the b-value must be between 0 and 3, got {b_value!r}")
     if not (math.isfinite(bin_width) and 0.001 <= bin_width <= 0.5):
@@ -88,6 +87,12 @@ def _check(moment_rate, b_value, bin_width, **magnitudes) -> None:
     for name, value in magnitudes.items():
         if not (math.isfinite(value) and -2 <= value <= 10.5):
             raise InputError(f"the {name.replace('_', ' ')} must be a magnitude from -2 to 10.5, got {value!r}")
+
+
+def _check(moment_rate, b_value, bin_width, **magnitudes) -> None:
+    if not (math.isfinite(moment_rate) and moment_rate > 0):
+        raise InputError(f"the moment rate must be positive and finite, got {moment_rate!r} N m/yr")
+    check_parameters(b_value, bin_width, **magnitudes)
 
 
 def _balanced(kind, edges, shape, moment_rate, moment_constant, parameters) -> MagnitudeFrequency:
