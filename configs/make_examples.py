@@ -61,6 +61,27 @@ def velocity_steps(path: Path) -> None:
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+def raw_velocity_steps(path: Path) -> None:
+    """A synthetic raw rig record: five velocity steps and a 60 s hold of a known law (aging, a 0.008,
+    b 0.012, D_c 20 µm, mu0 0.62), written as a rig would: time (s), load-point displacement (µm), shear
+    and normal load (kN) on a 5 x 5 cm sample at 10 MPa, machine stiffness 2e8 N/m (200 kN/mm), 10 Hz,
+    noise on the loads and the LVDT, and a slip-weakening drift of -0.003 per mm."""
+    from faultslip.dynamics.rate_state.slider import LoadHistory
+    from faultslip.friction.rate_state import RateStateLaw
+    from faultslip.lab.raw_records import synthetic_raw_record
+
+    law = RateStateLaw(a=0.008, b=0.012, critical_slip=20e-6, mu0=0.62, reference_speed=1e-6)
+    history = LoadHistory((0.0, 100.0, 130.0, 230.0, 245.0, 300.0, 360.0, 420.0),
+                          (1e-6, 10e-6, 1e-6, 30e-6, 3e-6, 0.0, 3e-6))
+    raw = synthetic_raw_record(law, 2e8, 0.0025, 25e3, history, rate=10.0, drift=-3.0, seed=2026)
+    lines = ["# synthetic raw record written by configs/make_examples.py (faultslip): not a measurement",
+             "# law: aging, a 0.008, b 0.012, D_c 20 um, mu0 0.62 at 1 um/s; machine 2e8 N/m; area 25 cm^2",
+             "time(s) load_point_displacement(um) shear_load(kN) normal_load(kN)"]
+    lines += [f"{t:.2f} {d * 1e6:.4f} {s * 0.0025 / 1e3:.5f} {n * 0.0025 / 1e3:.4f}"
+              for t, d, s, n in zip(raw.time, raw.load_point_displacement, raw.shear_stress, raw.normal_stress)]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
 def study_store(path: Path) -> None:
     """study_lab_glass.toml swept into a Zarr store (needs zarr: pip install 'faultslip[zarr]')."""
     from faultslip.studies.grid import load_study
@@ -74,4 +95,5 @@ if __name__ == "__main__":
     motion_record(HERE / "example_record.csv")
     decay_record(HERE / "example_decay_record.csv")
     velocity_steps(HERE / "example_velocity_steps.csv")
+    raw_velocity_steps(HERE / "example_raw_velocity_steps.txt")
     study_store(HERE / "example_lab_glass.zarr")

@@ -21,7 +21,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
 LAYERS = {"core": 0, "io": 1, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
           "plots": 6, "models": 7, "cli": 8}
 HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "tqdm", "pint", "h5py", "zarr", "numcodecs", "numba"}
-PLATFORM = {"fcntl"}
+PLATFORM = {"fcntl", "multiprocessing"}
 
 
 def _module_name(path: Path) -> str:

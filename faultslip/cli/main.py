@@ -255,7 +255,7 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--name", help="save the fit under this name in the user registry")
     fit.add_argument("--shear-modulus", help="shear modulus of the rock, stored with the fit for fault predictions")
     fit.add_argument("--note", help="a note stored with the fit (e.g. rock and condition)")
-    fit.add_argument("--plot", help="draw data, fit and 95 %% band to FILE.png")
+    fit.add_argument("--plot", help="draw data, fit and 95 %% band (rate-state: the posterior's bands) to FILE.png")
     fit.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     fit.add_argument("--loss", default="linear", help="least-squares loss: linear, soft_l1, huber or cauchy (robust)")
     fit.add_argument("--bootstrap", type=int, help="bootstrap samples (default 200; 50 for --law rate-state, where "
@@ -265,7 +265,27 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--law", choices=("rate-law", "rate-state"), default="rate-law",
                      help="rate-law: the seed's eq. 2-18 (default); rate-state: a, b and D_c from a velocity-step "
                           "record (time, friction, load_point_speed or load_point_displacement)")
-    fit.add_argument("--stiffness", help="rate-state: the machine stiffness as friction per slip, e.g. '1e-2 1/um'")
+    fit.add_argument("--stiffness", help="rate-state: the machine stiffness as friction per slip ('1e-2 1/um'), "
+                                          "stress per slip ('50 MPa/mm') or force per slip ('200 kN/mm', with --area)")
+    fit.add_argument("--area", help="rate-state, raw record: the sample's contact area, turning loads into stresses")
+    fit.add_argument("--units", help="rate-state, raw record: units the file does not give, 'time=ms,shear_load=kN'")
+    fit.add_argument("--detrend", default="none", choices=("none", "linear", "quadratic"),
+                     help="rate-state, raw record: remove a trend in slip from the friction (stated in the report)")
+    fit.add_argument("--steps", help="rate-state, raw record: the step times instead of detecting them, '100 s, 130 s'")
+    fit.add_argument("--min-change", default="0.3", help="rate-state, raw record: the smallest relative change of the "
+                                                          "load point's speed detected as a step (default 0.3)")
+    fit.add_argument("--each-step", action="store_true", help="rate-state, raw record: also fit each step on its own")
+    fit.add_argument("--posterior", action="store_true", help="rate-state: sample the Bayesian posterior (emcee) "
+                                                               "until it has converged")
+    fit.add_argument("--samples", type=int, default=10_000, help="posterior draws after burn-in (default 10000)")
+    fit.add_argument("--walkers", type=int, help="posterior: emcee walkers (default 4 per parameter, at least 16)")
+    fit.add_argument("--max-steps", type=int, default=20_000, help="posterior: refuse if not converged within these "
+                                                                   "steps (default 20000)")
+    fit.add_argument("--prior", action="append", help="posterior prior, SI: 'a=uniform:0:0.05', "
+                                                      "'critical_slip=loguniform:1e-7:1e-3', 'b=normal:0.012:0.002' "
+                                                      "(repeat)")
+    fit.add_argument("--corner", help="posterior: draw the corner plot to FILE.png")
+    fit.add_argument("--workers", type=int, help="posterior: likelihood worker processes (default 1)")
     fit.add_argument("--evolution", choices=("aging", "slip"), default="aging", help="rate-state: the state evolution law")
     fit.add_argument("--two-state", action="store_true", help="rate-state: fit b2 and D_c2 as well")
     fit.add_argument("--json", action="store_true", help="print one JSON object")

@@ -51,6 +51,7 @@ class RateStateFaultEstimate:
     moment: float | None = None
     magnitude: float | None = None
     uncertainty: dict = field(default_factory=dict)  # name -> (low, high) 95 %
+    distribution: dict = field(default_factory=dict)  # name -> its QUANTILES over the fit's draws
     seed_law: object = None  # FaultEstimate of the seed law on the same fault, if asked
     notes: list = field(default_factory=list)
 
@@ -89,7 +90,11 @@ class RateStateFaultEstimate:
                 r.add("moment_magnitude", self.magnitude, label="Mw")
         for name, (low, high) in self.uncertainty.items():
             unit = {"recurrence_period": "s", "slip_per_event": "m"}.get(name, "1")
-            r.add(f"{name}_95", [low, high], unit, label=f"{name} 95 % (from the fit's bootstrap resamples)")
+            r.add(f"{name}_95", [low, high], unit, label=f"{name} 95 % (from the fit's draws)")
+        for name, values in self.distribution.items():
+            unit = {"recurrence_period": "s", "slip_per_event": "m"}.get(name, "1")
+            r.add(f"{name}_quantiles", values, unit,
+                  label=f"{name} at the {', '.join(f'{q:g}' for q in QUANTILES)} % quantiles of the fit's draws")
         if self.seed_law is not None:
             seed = self.seed_law
             r.add("seed_law_lithology", seed.fault.lithology or "given mu_so, mu_m")
@@ -103,14 +108,19 @@ class RateStateFaultEstimate:
         return r
 
 
+#: the percentiles of a prediction's distribution over a fit's draws
+QUANTILES = (2.5, 16.0, 50.0, 84.0, 97.5)
+
+
 def _resample_laws(law: RateStateLaw, entry: dict | None) -> list[RateStateLaw]:
-    """The bootstrap resamples stored with a fit, as laws (empty if the fit has none)."""
-    if not entry or not entry.get("bootstrap"):
+    """The draws stored with a fit (posterior draws, or bootstrap resamples), as laws (empty if it has none)."""
+    stored = (entry or {}).get("samples") or (entry or {}).get("bootstrap")
+    if not stored:
         return []
     names = entry.get("names") or ["mu0", "a", "b", "critical_slip"]
-    rows = np.asarray(entry["bootstrap"], dtype=float)
+    rows = np.asarray(stored, dtype=float)
     if rows.ndim != 2 or rows.shape[1] != len(names):
-        raise InputError("the fit's stored bootstrap resamples do not match its parameters; refit it with --name")
+        raise InputError("the fit's stored draws do not match its parameters; refit it with --name")
     laws = []
     for row in rows:
         values = dict(zip(names, row))
@@ -158,7 +168,9 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
                            for s in resamples])
         estimate.uncertainty["stiffness_ratio"] = percentile_interval(ratios, estimate.stiffness_ratio)[:2]
         unstable = ratios < 1
-        estimate.notes.append(f"{int(unstable.sum())} of {ratios.size} bootstrap resamples of the fit give "
+        what = "posterior draws" if entry.get("samples_kind") == "posterior" else "bootstrap resamples"
+        estimate.distribution["stiffness_ratio"] = np.percentile(ratios, QUANTILES).tolist()
+        estimate.notes.append(f"{int(unstable.sum())} of {ratios.size} {what} of the fit give "
                               "earthquake cycles (K < K_c)")
         if estimate.cycles is not None and unstable.sum() >= 5:
             chosen = [s for s, u in zip(resamples, unstable) if u][:uncertainty_cycles]
@@ -175,11 +187,13 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
                 recurrence.append(run.recurrence)
                 slip.append(float(run.slip_per_event.mean()))
             if len(recurrence) >= 5:
+                estimate.distribution["recurrence_period"] = np.percentile(recurrence, QUANTILES).tolist()
+                estimate.distribution["slip_per_event"] = np.percentile(slip, QUANTILES).tolist()
                 estimate.uncertainty["recurrence_period"] = percentile_interval(recurrence,
                                                                                 estimate.cycles.recurrence)[:2]
                 estimate.uncertainty["slip_per_event"] = percentile_interval(
                     slip, float(estimate.cycles.slip_per_event.mean()))[:2]
-                estimate.notes.append(f"recurrence and slip intervals from cycles of {len(recurrence)} resamples "
+                estimate.notes.append(f"recurrence and slip intervals from cycles of {len(recurrence)} {what} "
                                       "(percentiles: a spread, not a coverage-tested interval)")
             else:
                 estimate.notes.append(f"only {len(recurrence)} resamples' cycles ran within {time_budget:g} s: no "

@@ -152,6 +152,66 @@ def read_numeric_csv(path, label: str) -> dict:
     return {name: (np.array(columns[name]), unit) for name, unit in header}
 
 
+def read_numeric_text(path, label: str) -> dict:
+    """A whitespace-delimited table as rigs write it: ``{name: (values, unit)}``.
+
+    Lines starting with ``#`` are comments. The first other line names the columns, each name
+    optionally with its unit as ``name(unit)`` or ``name[unit]``; a second line that is not numbers
+    gives the units instead (``s mm kN kN``, or ``-`` for none). Every problem is one
+    :class:`InputError` sentence naming ``label`` and the line."""
+    gate.check_input(path, label, "table")
+    try:
+        with open(path, encoding="utf-8-sig") as handle:
+            lines = [(number, line.split()) for number, line in enumerate(handle, start=1)
+                     if line.strip() and not line.lstrip().startswith("#")]
+    except UnicodeDecodeError:
+        raise InputError(f"{label} is not text (UTF-8)") from None
+    except OSError as exc:
+        raise InputError(f"cannot read {label}: {exc.strerror or exc}") from None
+    if not lines:
+        raise InputError(f"{label} is empty")
+
+    def numeric(cells):
+        try:
+            [float(cell) for cell in cells]
+        except ValueError:
+            return False
+        return True
+
+    header = []
+    for token in lines[0][1]:
+        for opening, closing in (("(", ")"), ("[", "]")):
+            if token.endswith(closing) and opening in token:
+                name, unit = token[:-1].split(opening, 1)
+                header.append((name, unit or None))
+                break
+        else:
+            header.append((token, None))
+    rest = lines[1:]
+    if rest and not numeric(rest[0][1]):
+        number, units = rest[0]
+        if len(units) != len(header):
+            raise InputError(f"{label}, line {number}: {len(units)} units for {len(header)} columns")
+        header = [(name, None if unit in ("-", "1") else unit.strip("()[]")) for (name, _), unit in zip(header, units)]
+        rest = rest[1:]
+    names = [name for name, _ in header]
+    repeated = sorted({name for name in names if names.count(name) > 1})
+    if repeated:
+        raise InputError(f"{label}: the column {repeated[0]!r} appears twice in the header")
+    if not rest:
+        raise InputError(f"{label} holds no rows of numbers under its header")
+    columns = {name: [] for name in names}
+    for number, cells in rest:
+        if len(cells) != len(header):
+            raise InputError(f"{label}, line {number}: {len(cells)} fields, expected {len(header)}")
+        for name, cell in zip(names, cells):
+            try:
+                columns[name].append(float(cell))
+            except ValueError:
+                raise InputError(f"{label}, line {number}: {name} {cell!r} is not a number") from None
+    return {name: (np.array(columns[name]), unit) for name, unit in header}
+
+
 def read_table(path: Path) -> list[dict[str, tuple[str, str | None]]]:
     """Rows of a bundled CSV as ``{name: (text, unit)}``, text kept as printed."""
     with open(path, newline="", encoding="utf-8") as handle:

@@ -657,6 +657,26 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
                         steps=steps, function_evaluations=nfev, wall_time=wall, notes=notes)
 
 
+def quasi_static_friction(law, stiffness: float, history: LoadHistory, t_eval, rtol: float = 1e-8) -> np.ndarray:
+    """Friction of the quasi-static slider (unit normal stress, spring ``stiffness`` in friction per metre)
+    at ``t_eval``: the likelihood's inner loop (fits, posteriors), so the one-state law goes straight to the
+    compiled kernel when numba is installed, without the run's slip, load-point and bookkeeping;
+    everything else, and a kernel that gives up, goes through :func:`simulate_rate_state`."""
+    if not (law.two_state or law.regularized) and rate_state_compiled.available():
+        slider = RateStateSlider(law, stiffness, 1.0)
+        y0 = _initial_state(slider, history, "quasi_static", None, None)
+        atol = _tolerances(slider, "quasi_static", rtol)
+        states, _, _, status, t_stop = rate_state_compiled.integrate(
+            law, stiffness, 1.0, 0.0, history.segments(), history.duration, y0[:2], t_eval, rtol, atol[:2], 10.0)
+        if status == rate_state_compiled.OK:
+            mu = law.friction(law.reference_speed * np.exp(states[:, 0]), states[:, 1], 0.0)
+            if np.all(np.isfinite(mu)):
+                return np.asarray(mu, dtype=float)
+        elif status in (rate_state_compiled.DIVERGED, rate_state_compiled.STEP_COLLAPSE):
+            _diverged(slider, t_stop)
+    return simulate_rate_state(RateStateSlider(law, stiffness, 1.0), history, t_eval=t_eval, rtol=rtol).friction
+
+
 class _Diverging(Exception):
     def __init__(self, t):
         super().__init__(t)

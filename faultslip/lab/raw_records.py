@@ -1,0 +1,448 @@
+"""Raw velocity-step and slide-hold-slide records, as a rig writes them, made ready for a rate-and-state fit.
+
+A rig writes time, the load point's displacement and the shear and normal load (or stress), in its
+own units: a CSV with ``name (unit)`` headers, a whitespace-delimited text file (``name(unit)``
+headers or a line of units under the names), or netCDF with ``units`` attributes. Units missing
+from the file are given by the caller (``units={"shear_load": "kN"}``). RSFit3000 (Skarbek & Savage
+2019) and xlook do the same preparation by hand; here it is one call, :func:`prepare_record`:
+
+1. **friction** mu = tau / sigma_n, loads divided by the sample's contact ``area``;
+2. **machine stiffness**: the machine (with the sample) is the spring of the slider. Given as a
+   stiffness K in N/m (with the area), Pa/m or directly as friction per slip, the fit's spring is
+   k = K / (sigma_n A) in 1/m, and the sample's own displacement is the load point's less the
+   machine's elastic stretch, delta_s = delta_lp - mu / k;
+3. **steps and holds** (:func:`detect_steps`): the load-point speed from moving least-squares slopes
+   of the displacement; a change of more than ``min_change`` (30 %) between the slopes on either
+   side is a step, placed where two straight lines, joined there, fit the displacement best; a
+   segment slower than a thousandth of the median speed is a hold. Step times given by the user
+   replace the detection;
+4. **detrending** (stated in the result): friction often drifts with slip. A polynomial of degree
+   1 or 2 in delta_s is fitted to the steady-state tails of the sliding segments, each speed with
+   its own level (the velocity dependence), and removed from the whole record. A record that
+   returns to a speed it ran at before pins the trend; one that does not leaves only each tail's
+   own slope, which the report's coefficient then carries with its noise.
+
+The result carries a :class:`faultslip.lab.rate_state_fit.StepRecord` for the joint fit and
+windows for each step's own fit (:func:`fit_each_step`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, simulate_rate_state
+from faultslip.errors import InputError, SolverError
+from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_csv, read_numeric_text, split_header
+from faultslip.lab.rate_state_fit import StepRecord, fit_velocity_steps, step_record_from_columns
+from faultslip.units import to_si_scalar, unit_factor
+
+RAW_COLUMNS = {"time": "time", "load_point_displacement": "length", "shear_load": "force",
+               "normal_load": "force", "shear_stress": "pressure", "normal_stress": "pressure"}
+MIN_CHANGE = 0.3  # a speed change of 30 % or more is a step
+HOLD_FRACTION = 1e-3  # slower than this fraction of the median speed: a hold
+TAIL_FRACTION = 0.3  # the steady-state tail of a segment used for detrending
+
+
+@dataclass
+class RawRecord:
+    """A rig's record in SI: time (s), load-point displacement (m), shear and normal stress (Pa)."""
+
+    time: np.ndarray
+    load_point_displacement: np.ndarray
+    shear_stress: np.ndarray
+    normal_stress: np.ndarray
+    source: str = ""
+    notes: list = field(default_factory=list)
+
+    @property
+    def friction(self) -> np.ndarray:
+        return self.shear_stress / self.normal_stress
+
+
+def _columns_to_raw(columns: dict, source: str, units: dict | None, area) -> RawRecord:
+    units = dict(units or {})
+    for name in units:
+        if name not in RAW_COLUMNS:
+            raise InputError(f"raw record {source}: a unit was given for {name!r}, which is not one of its columns "
+                             f"({', '.join(RAW_COLUMNS)})")
+    unknown = [name for name in columns if name not in RAW_COLUMNS]
+    if unknown:
+        raise InputError(f"raw record {source}: unknown column {unknown[0]!r} (allowed: {', '.join(RAW_COLUMNS)})")
+    for required in ("time", "load_point_displacement"):
+        if required not in columns:
+            raise InputError(f"raw record {source} needs a {required} column")
+    notes = []
+    si = {}
+    for name, (values, unit) in columns.items():
+        unit = units.get(name, unit)
+        if not unit:
+            raise InputError(f"raw record {source}: column {name!r} has no unit; give it in the header "
+                             f"('{name} (unit)') or with units, e.g. --units {name}=...")
+        si[name] = np.asarray(values, dtype=float) * unit_factor(unit, RAW_COLUMNS[name],
+                                                                  f"raw record {source}, column {name}")
+    stresses = {}
+    for kind in ("shear", "normal"):
+        if f"{kind}_stress" in si:
+            stresses[kind] = si[f"{kind}_stress"]
+        elif f"{kind}_load" in si:
+            if area is None:
+                raise InputError(f"raw record {source} gives the {kind} load: give the sample's contact area "
+                                 f"(--area) to make it a stress")
+            stresses[kind] = si[f"{kind}_load"] / area
+            notes.append(f"{kind} stress = {kind} load / {area:.4g} m^2")
+        else:
+            raise InputError(f"raw record {source} needs a {kind}_load or {kind}_stress column")
+    time, displacement = si["time"], si["load_point_displacement"]
+    if time.size < 50:
+        raise InputError(f"raw record {source} has {time.size} rows; steps need at least 50")
+    for name, values in (("time", time), ("load_point_displacement", displacement), ("shear", stresses["shear"]),
+                         ("normal", stresses["normal"])):
+        if not np.all(np.isfinite(values)):
+            raise InputError(f"raw record {source}: the {name} column holds values that are not finite numbers")
+    if np.any(np.diff(time) <= 0):
+        raise InputError(f"raw record {source}: times must increase")
+    if np.any(stresses["normal"] <= 0):
+        raise InputError(f"raw record {source}: the normal stress must be positive (compression) throughout")
+    return RawRecord(time - time[0], displacement - displacement[0], stresses["shear"], stresses["normal"], source,
+                     notes)
+
+
+def raw_record(table, units: dict | None = None, area=None, source: str = "<table>") -> RawRecord:
+    """A raw record from a pandas DataFrame or a mapping of columns (``"time (s)"`` headers, pint Quantity
+    columns, or bare names with ``units``); ``area`` (m^2, or a string with units) turns loads into stresses."""
+    if hasattr(table, "columns") and hasattr(table, "to_dict"):
+        items = [(str(column), table[column].to_numpy()) for column in table.columns]
+    elif isinstance(table, dict):
+        items = list(table.items())
+    else:
+        raise InputError(f"a raw record is a DataFrame, a mapping of columns or a file, got {type(table).__name__}")
+    columns = {}
+    for header, values in items:
+        name, unit = split_header(str(header))
+        if hasattr(values, "units") and hasattr(values, "magnitude"):
+            values, unit = values.magnitude, str(values.units)
+        columns[name] = (np.asarray(values, dtype=float), unit)
+    return _columns_to_raw(columns, source, units, _area(area))
+
+
+def _area(area):
+    if area is None:
+        return None
+    value = to_si_scalar(area, "area", "the contact area", default_unit="m^2")
+    if not (math.isfinite(value) and value > 0):
+        raise InputError(f"the contact area must be positive, got {area!r}")
+    return value
+
+
+def read_raw_record(path, units: dict | None = None, area=None) -> RawRecord:
+    """A raw record from CSV (``name (unit)`` headers), whitespace-delimited text (``.txt``, ``.dat``,
+    ``.tsv``: see :func:`faultslip.io.resources.read_numeric_text`) or netCDF (``units`` attributes)."""
+    path = check_input_file(path, "raw record")
+    label = f"raw record {path.name}"
+    if path.suffix.lower() == ".nc":
+        data = open_netcdf(path, "raw record")
+        columns = {name: (data[name].values, data[name].attrs.get("units")) for name in
+                   list(data.data_vars) + list(data.coords) if name in RAW_COLUMNS}
+    elif path.suffix.lower() in (".txt", ".dat", ".tsv"):
+        columns = read_numeric_text(path, label)
+    else:
+        columns = read_numeric_csv(path, label)
+    return _columns_to_raw(columns, path.name, units, _area(area))
+
+
+def is_raw_table(names) -> bool:
+    """Whether columns named ``names`` are a raw record (loads or stresses) rather than a friction record."""
+    names = set(names)
+    return "friction" not in names and bool(names & {"shear_load", "shear_stress"})
+
+
+def _window_slopes(time, displacement, width):
+    """Least-squares slopes of displacement over the ``width`` samples left and right of each sample."""
+    n = time.size
+    c = lambda values: np.concatenate(([0.0], np.cumsum(values)))  # noqa: E731
+    st, sd, stt, std = c(time), c(displacement), c(time * time), c(time * displacement)
+
+    def slope(lo, hi):
+        count = hi - lo
+        mean_t = (st[hi] - st[lo]) / count
+        mean_d = (sd[hi] - sd[lo]) / count
+        var = (stt[hi] - stt[lo]) / count - mean_t ** 2
+        cov = (std[hi] - std[lo]) / count - mean_t * mean_d
+        return cov / np.maximum(var, 1e-300)
+
+    index = np.arange(n)
+    left = slope(np.clip(index - width, 0, n), np.clip(index, 1, n))
+    right = slope(np.clip(index, 0, n - 1), np.clip(index + width, 1, n))
+    return left, right
+
+
+def _hinge_time(time, displacement, lo, hi):
+    """The time in samples [lo, hi) where two straight lines joined there fit the displacement best."""
+    best, best_error = lo, math.inf
+    t, d = time[lo:hi], displacement[lo:hi]
+    for k in range(2, t.size - 2):
+        knot = t[k]
+        design = np.column_stack([np.ones_like(t), np.minimum(t - knot, 0.0), np.maximum(t - knot, 0.0)])
+        coefficients, residual, *_ = np.linalg.lstsq(design, d, rcond=None)
+        error = float(residual[0]) if residual.size else float(np.sum((design @ coefficients - d) ** 2))
+        if error < best_error:
+            best, best_error = lo + k, error
+    return float(time[best])
+
+
+def _segment_speeds(time, displacement, boundaries):
+    """Each segment's load-point speed: the slope of a straight line through its middle 80 %."""
+    speeds = []
+    for start, end in zip(boundaries[:-1], boundaries[1:]):
+        inside = (time >= start + 0.1 * (end - start)) & (time <= end - 0.1 * (end - start))
+        if inside.sum() < 3:
+            inside = (time >= start) & (time <= end)
+        if inside.sum() < 2:
+            raise InputError(f"the segment from {start:.4g} s to {end:.4g} s holds fewer than two samples")
+        speeds.append(float(np.polyfit(time[inside], displacement[inside], 1)[0]))
+    return speeds
+
+
+def detect_steps(time, displacement, min_change: float = MIN_CHANGE, width: int | None = None,
+                 step_times=None) -> LoadHistory:
+    """The load history (segment start times and constant speeds) of a load-point displacement record.
+
+    With ``step_times`` the segments are the user's and only their speeds are measured."""
+    time, displacement = np.asarray(time, dtype=float), np.asarray(displacement, dtype=float)
+    n = time.size
+    if step_times is not None:
+        steps = sorted(float(t) for t in step_times)
+        if any(not (time[0] < t < time[-1]) for t in steps):
+            raise InputError(f"step times must lie inside the record (0 to {time[-1]:.6g} s), got {steps}")
+        boundaries = [float(time[0])] + steps + [float(time[-1])]
+    else:
+        if not 0.01 <= min_change <= 10:
+            raise InputError(f"the smallest speed change taken for a step must be from 0.01 to 10, got {min_change}")
+        width = width or max(5, n // 200)
+        left, right = _window_slopes(time, displacement, width)
+        # speeds below 2 % of the typical one count as equal: an LVDT's noise in a hold makes no steps
+        typical = float(np.median(np.abs(left[width:])))
+        floor = max(0.02 * typical, 1e-30)
+        score = np.abs(np.log((np.abs(right) + floor) / (np.abs(left) + floor)))
+        score[:width] = score[-width:] = 0.0
+        threshold = math.log1p(min_change)
+        candidates = []
+        order = np.argsort(score)[::-1]
+        taken = np.zeros(n, dtype=bool)
+        for i in order:
+            if score[i] < threshold:
+                break
+            if taken[max(0, i - width):i + width + 1].any():
+                continue
+            taken[i] = True
+            candidates.append(int(i))
+        refined = sorted(_hinge_time(time, displacement, max(0, i - 2 * width), min(n, i + 2 * width + 1))
+                         for i in candidates)
+        # two candidates on the flanks of one change (a hold's slow start) refine to one time: keep one
+        spacing = width * float(np.median(np.diff(time)))
+        steps = [t for k, t in enumerate(refined) if k == 0 or t - refined[k - 1] > spacing]
+        boundaries = [float(time[0])] + steps + [float(time[-1])]
+    speeds = _segment_speeds(time, displacement, boundaries)
+    typical = max(abs(s) for s in speeds)
+    speeds = [0.0 if abs(s) < HOLD_FRACTION * typical else s for s in speeds]
+    if step_times is None:  # neighbours at one speed (a hold cut by noise) are one segment, measured again
+        kept = [0]
+        for i in range(1, len(speeds)):
+            a, b = speeds[kept[-1]], speeds[i]
+            if not ((a == 0.0 and b == 0.0) or (a > 0 and b > 0 and abs(math.log(b / a)) < 0.5 * math.log1p(min_change))):
+                kept.append(i)
+        if len(kept) < len(speeds):
+            boundaries = [boundaries[i] for i in kept] + [boundaries[-1]]
+            speeds = _segment_speeds(time, displacement, boundaries)
+            speeds = [0.0 if abs(s) < HOLD_FRACTION * typical else s for s in speeds]
+    if speeds[0] <= 0:
+        raise InputError("the record must start sliding: its first segment has no positive load-point speed")
+    if any(s < 0 for s in speeds):
+        raise InputError("a segment runs the load point backwards (negative speed); faultslip fits forward loading")
+    return LoadHistory(tuple(boundaries), tuple(speeds))
+
+
+@dataclass
+class PreparedRecord:
+    """A raw record made ready: the step record to fit, the spring, the steps and the stated corrections."""
+
+    record: StepRecord  # detrended friction, detected load history
+    stiffness: float  # the fit's spring, friction per metre
+    sample_displacement: np.ndarray  # m: load point less the machine's stretch
+    raw_friction: np.ndarray
+    trend: np.ndarray  # the removed trend, friction at each sample
+    trend_coefficients: list  # c_j of sum_j c_j (delta_s / 1 mm)^j
+    detrend: str
+    raw: RawRecord
+    notes: list = field(default_factory=list)
+
+    @property
+    def steps(self) -> list[float]:
+        return list(self.record.history.times[1:-1])
+
+    def summary(self) -> dict:
+        history = self.record.history
+        return {"steps": [{"time": {"value": t, "units": "s"}, "speed_before": {"value": a, "units": "m/s"},
+                           "speed_after": {"value": b, "units": "m/s"}, "hold": b == 0.0}
+                          for t, a, b in zip(history.times[1:-1], history.speeds[:-1], history.speeds[1:])],
+                "stiffness": {"value": self.stiffness, "units": "1/m"}, "detrend": self.detrend,
+                "trend_coefficients_per_mm": self.trend_coefficients, "notes": self.notes}
+
+
+def _stiffness(stiffness, normal_stress: float, area) -> tuple[float, str]:
+    """The fit's spring in friction per metre from K in 1/m, Pa/m or N/m (with the area)."""
+    text = str(stiffness)
+    for kind, convert in (("inverse_length", lambda v: v), ("stress_per_length", lambda v: v / normal_stress),
+                          ("stiffness", None)):
+        try:
+            value = to_si_scalar(stiffness, kind, "the stiffness", default_unit="1/m" if kind == "inverse_length" else None)
+        except InputError:
+            continue
+        if convert is None:
+            if area is None:
+                raise InputError(f"a machine stiffness in force per length ({text}) needs the sample's contact area "
+                                 "(--area) to become friction per slip")
+            return value / (normal_stress * area), f"k = K / (sigma_n A) = {text} / ({normal_stress:.4g} Pa x " \
+                                                   f"{area:.4g} m^2)"
+        return convert(value), (f"k = {text}" if kind == "inverse_length" else
+                                f"k = K / sigma_n = {text} / {normal_stress:.4g} Pa")
+    raise InputError(f"the stiffness {text!r} must be friction per slip (1/um), stress per slip (MPa/mm) or force "
+                     "per slip (kN/mm, with --area)")
+
+
+def prepare_record(raw: RawRecord, stiffness, *, area=None, detrend: str = "none", step_times=None,
+                   min_change: float = MIN_CHANGE) -> PreparedRecord:
+    """Friction, the fit's spring, the sample's displacement, the steps and holds, and the stated trend
+    removed (``detrend`` none, linear or quadratic)."""
+    if detrend not in ("none", "linear", "quadratic"):
+        raise InputError(f"detrend must be none, linear or quadratic, got {detrend!r}")
+    normal = float(np.median(raw.normal_stress))
+    spring, spring_note = _stiffness(stiffness, normal, _area(area))
+    if not (math.isfinite(spring) and spring > 0):
+        raise InputError(f"the stiffness must be positive, got {stiffness!r}")
+    friction = raw.friction
+    sample = raw.load_point_displacement - (friction - friction[0]) / spring
+    history = detect_steps(raw.time, raw.load_point_displacement, min_change=min_change, step_times=step_times)
+    notes = list(raw.notes) + [spring_note, f"{len(history.speeds) - 1} step(s) "
+                               + ("given" if step_times is not None else "detected")
+                               + (f", {sum(s == 0 for s in history.speeds)} hold(s)" if 0.0 in history.speeds else "")]
+    trend = np.zeros_like(friction)
+    coefficients = []
+    if detrend != "none":
+        degree = 1 if detrend == "linear" else 2
+        scale = 1e-3  # polynomial in millimetres: coefficients of order one
+        # one level per distinct speed (within 5 %): segments that return to a speed identify the trend
+        rows, segment_of, groups = [], [], []
+        for i, speed in enumerate(history.speeds):
+            if speed <= 0:
+                continue
+            group = next((g for g, value in enumerate(groups) if abs(speed / value - 1) < 0.05), None)
+            if group is None:
+                groups.append(speed)
+                group = len(groups) - 1
+            start, end = history.times[i], history.times[i + 1]
+            tail = (raw.time >= end - TAIL_FRACTION * (end - start)) & (raw.time <= end)
+            rows.extend(np.flatnonzero(tail))
+            segment_of.extend([group] * int(tail.sum()))
+        rows = np.asarray(rows)
+        if rows.size < len(groups) + degree + 2:
+            raise InputError("too few steady-state samples to fit a trend; fit without detrending")
+        levels = np.zeros((rows.size, len(groups)))
+        levels[np.arange(rows.size), segment_of] = 1.0
+        powers = np.column_stack([(sample[rows] / scale) ** j for j in range(1, degree + 1)])
+        solution, *_ = np.linalg.lstsq(np.hstack([levels, powers]), friction[rows], rcond=None)
+        coefficients = [float(c) for c in solution[len(groups):]]
+        trend = sum(c * (sample / scale) ** (j + 1) for j, c in enumerate(coefficients))
+        notes.append(f"{detrend} trend in the sample's displacement removed, fitted to the last "
+                     f"{TAIL_FRACTION:.0%} of each sliding segment with a level per speed: "
+                     + ", ".join(f"{c:+.4g} per mm^{j + 1}" for j, c in enumerate(coefficients))
+                     + "; the fit's intervals are conditional on it (its own uncertainty is not carried)")
+    record = StepRecord(raw.time, friction - trend, history, raw.source)
+    return PreparedRecord(record, spring, sample, friction, trend, coefficients, detrend, raw, notes)
+
+
+def step_windows(prepared: PreparedRecord, lead: float = 0.5) -> list[tuple[float, float]]:
+    """Each step's window: from ``lead`` of the sliding segment before it to the next step, or, for a hold,
+    through the hold and the reslide after it (slide-hold-slide)."""
+    times, speeds = prepared.record.history.times, prepared.record.history.speeds
+    windows = []
+    for i in range(1, len(times) - 1):
+        if speeds[i - 1] <= 0:
+            continue  # a reslide: inside its hold's window
+        end = times[i + 2] if speeds[i] == 0 and i + 2 < len(times) else times[i + 1]
+        windows.append((times[i] - lead * (times[i] - times[i - 1]), end))
+    return windows
+
+
+def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=None) -> list[dict]:
+    """Each step's own fit (its window started at steady state at the speed before it): a list of
+    ``{"step", "window", "fit"}`` or ``{"step", "window", "error"}`` where a window does not constrain the law."""
+    record, results = prepared.record, []
+    boundaries, speeds = record.history.times, record.history.speeds
+    for number, (start, end) in enumerate(windows or step_windows(prepared), start=1):
+        inside = (record.time >= start) & (record.time <= end)
+        entry = {"step": number, "window": (float(start), float(end))}
+        first = max(i for i, t in enumerate(boundaries[:-1]) if t <= start)
+        inner = [t for t in boundaries[1:-1] if start < t < end]
+        if not inner or speeds[first] <= 0 or inside.sum() < 20:
+            entry["error"] = "the window holds no step from sliding, or fewer than 20 samples"
+            results.append(entry)
+            continue
+        origin = float(record.time[inside][0])
+        times = record.time[inside] - origin
+        history = LoadHistory((0.0, *(t - origin for t in inner), float(times[-1])),
+                              tuple(speeds[first:first + len(inner) + 1]))
+        window = StepRecord(times, record.friction[inside], history, f"{record.source} step {number}")
+        try:
+            entry["fit"] = fit_velocity_steps(window, prepared.stiffness, evolution=evolution)
+        except (SolverError, InputError) as exc:
+            entry["error"] = str(exc)
+        results.append(entry)
+    return results
+
+
+def synthetic_raw_record(law, machine_stiffness: float, area: float, normal_load: float, history: LoadHistory,
+                         rate: float = 10.0, friction_noise: float = 1e-4, load_noise: float = 2e-4,
+                         displacement_noise: float = 2e-8, drift: float = 0.0, seed: int = 0) -> RawRecord:
+    """A raw record made by the model, as a rig would write it: the slider of ``law`` on a spring
+    K / (sigma_n A) sampled at ``rate`` Hz; Gaussian noise on the shear stress (``friction_noise`` times
+    sigma_n), on the normal load (relative ``load_noise``) and on the load-point displacement (m); a
+    linear ``drift`` in friction per metre of the load point's travel. SI in and out."""
+    normal = normal_load / area
+    spring = machine_stiffness / (normal * area)
+    times = np.arange(0.0, history.duration + 0.5 / rate, 1.0 / rate)
+    times = times[times <= history.duration]
+    run = simulate_rate_state(RateStateSlider(law, spring, 1.0), history, t_eval=times, rtol=1e-10)
+    rng = np.random.default_rng(seed)
+    load_point = np.zeros_like(times)
+    for start, end, speed in zip(history.times[:-1], history.times[1:], history.speeds):
+        load_point += speed * np.clip(times - start, 0.0, end - start)
+    friction = run.friction + drift * load_point
+    normal_stress = normal * (1.0 + load_noise * rng.standard_normal(times.size))
+    shear = friction * normal + friction_noise * normal * rng.standard_normal(times.size)
+    return RawRecord(times, load_point + displacement_noise * rng.standard_normal(times.size), shear, normal_stress,
+                     "synthetic")
+
+
+def load_record(path, units: dict | None = None, area=None):
+    """A friction record (:class:`StepRecord`: time, friction, load-point speed or displacement) or a raw rig
+    record (:class:`RawRecord`: loads or stresses), whichever the file's columns are."""
+    path = check_input_file(path, "velocity-step record")
+    label = f"velocity-step record {path.name}"
+    if path.suffix.lower() == ".nc":
+        data = open_netcdf(path, "velocity-step record")
+        columns = {name: (data[name].values, data[name].attrs.get("units"))
+                   for name in list(data.data_vars) + list(data.coords)}
+    elif path.suffix.lower() in (".txt", ".dat", ".tsv"):
+        columns = read_numeric_text(path, label)
+    else:
+        columns = read_numeric_csv(path, label)
+    if is_raw_table(columns):
+        return _columns_to_raw(columns, path.name, units, _area(area))
+    if units or area is not None:
+        raise InputError(f"{label} holds friction already: --units and --area apply to raw records (loads or "
+                         "stresses)")
+    return step_record_from_columns(columns, path.name)

@@ -1,0 +1,322 @@
+"""Raw lab records in (rig units, machine stiffness, trend, steps and holds), Bayesian posteriors out.
+
+Provenance: the records are the model's own (:func:`synthetic_raw_record`, known law); rsfmodel's truth
+values are copied, with their source, beside faultslip's own computation of the same experiments.
+"""
+
+import json
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from conftest import assert_clean_error
+from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, simulate_rate_state
+from faultslip.errors import InputError, SolverError
+from faultslip.friction.rate_state import RateStateLaw
+from faultslip.io.resources import read_numeric_text
+from faultslip.lab.posterior import Prior, parse_prior, sample_posterior
+from faultslip.lab.rate_state_fit import fit_velocity_steps
+from faultslip.lab.raw_records import (RawRecord, detect_steps, fit_each_step, load_record, prepare_record, raw_record,
+                                       read_raw_record, synthetic_raw_record)
+
+UM = 1e-6
+LAW = RateStateLaw(a=0.008, b=0.012, critical_slip=20 * UM, mu0=0.62, reference_speed=1 * UM)
+AREA, NORMAL_LOAD, MACHINE = 0.0025, 25e3, 2e8  # 25 cm^2 at 10 MPa, 200 kN/mm: k = 8000 / m
+EXAMPLE = "configs/example_raw_velocity_steps.txt"
+
+
+def _small(seed=0, noise=1e-4, drift=0.0):
+    """Two steps (1 -> 10 -> 1 um/s), 5 Hz: a record small enough to sample in a few seconds."""
+    history = LoadHistory((0.0, 20.0, 40.0, 100.0), (1 * UM, 10 * UM, 1 * UM))
+    return synthetic_raw_record(LAW, MACHINE, AREA, NORMAL_LOAD, history, rate=5.0, friction_noise=noise,
+                                load_noise=0.0, displacement_noise=5e-9, drift=drift, seed=seed)
+
+
+# --- reading -----------------------------------------------------------------------------------------------
+
+def test_whitespace_text_with_units_inline_or_on_their_own_line(tmp_path):
+    inline = tmp_path / "a.txt"
+    inline.write_text("# rig 3\ntime(s) load_point_displacement[um]\n0 0\n1 1.5\n")
+    columns = read_numeric_text(inline, "x")
+    assert columns["time"][1] == "s" and columns["load_point_displacement"][1] == "um"
+    separate = tmp_path / "b.dat"
+    separate.write_text("time shear_load\n(ms) kN\n0 1\n2 3\n")
+    columns = read_numeric_text(separate, "x")
+    assert columns["time"][1] == "ms" and columns["shear_load"][0].tolist() == [1.0, 3.0]
+    for text, words in (("time x\n0 1\n2\n", "1 fields, expected 2"),
+                        ("time x\ns m km\n0 1\n", "units for 2 columns"), ("a a\n1 2\n", "twice"),
+                        ("", "empty"), ("t v\n1 2\n3 nope\n", "not a number"),
+                        ("t v\ns m\n", "no rows")):
+        path = tmp_path / "bad.txt"
+        path.write_text(text)
+        with pytest.raises(InputError, match=words):
+            read_numeric_text(path, "x")
+
+
+def test_the_example_reads_the_same_from_text_csv_and_netcdf(tmp_path):
+    import xarray as xr
+
+    text = read_raw_record(EXAMPLE, area="25 cm^2")
+    header = "time (s),load_point_displacement (um),shear_load (kN),normal_load (kN)"
+    rows = np.loadtxt(EXAMPLE, comments="#", skiprows=3)
+    csv = tmp_path / "r.csv"
+    csv.write_text(header + "\n" + "\n".join(",".join(f"{v:.6f}" for v in row) for row in rows) + "\n")
+    from_csv = read_raw_record(csv, area="25 cm^2")
+    netcdf = tmp_path / "r.nc"
+    xr.Dataset({name: ("time", rows[:, i], {"units": unit}) for i, (name, unit) in
+                enumerate((("load_point_displacement", "um"), ("shear_load", "kN"), ("normal_load", "kN")), start=1)},
+               coords={"time": ("time", rows[:, 0], {"units": "s"})}).to_netcdf(netcdf)
+    from_nc = read_raw_record(netcdf, area="25 cm^2")
+    for other in (from_csv, from_nc):
+        np.testing.assert_allclose(other.friction, text.friction, rtol=1e-9)
+        np.testing.assert_allclose(other.load_point_displacement, text.load_point_displacement, atol=1e-12)
+
+
+def test_a_notebook_table_is_a_raw_record():
+    raw = raw_record({"time (s)": np.arange(60.0), "load_point_displacement (um)": np.arange(60.0),
+                      "shear_load (kN)": np.full(60, 15.5), "normal_load (kN)": np.full(60, 25.0)}, area="25 cm^2")
+    assert raw.friction[0] == pytest.approx(0.62) and raw.normal_stress[0] == pytest.approx(1e7)
+
+
+def test_units_and_area_are_demanded_and_overridable(tmp_path):
+    path = tmp_path / "r.txt"
+    path.write_text("time load_point_displacement shear_stress normal_stress\n"
+                    + "\n".join(f"{t} {t} {6.2} {10}" for t in range(60)) + "\n")
+    with pytest.raises(InputError, match="has no unit"):
+        read_raw_record(path)
+    raw = read_raw_record(path, units={"time": "s", "load_point_displacement": "um", "shear_stress": "MPa",
+                                       "normal_stress": "MPa"})
+    assert raw.friction[0] == pytest.approx(0.62) and raw.load_point_displacement[-1] == pytest.approx(59e-6)
+    with pytest.raises(InputError, match="not one of its columns"):
+        read_raw_record(path, units={"temperature": "K"})
+    loads = tmp_path / "l.txt"
+    loads.write_text("time(s) load_point_displacement(um) shear_load(kN) normal_load(kN)\n"
+                     + "\n".join(f"{t} {t} 1 2" for t in range(60)) + "\n")
+    with pytest.raises(InputError, match="contact area"):
+        read_raw_record(loads)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.binary(max_size=400), st.sampled_from((".txt", ".csv")))
+def test_fuzzed_raw_files_fail_in_one_sentence(tmp_path_factory, payload, suffix):
+    """Whatever bytes arrive, a raw record is read or refused with an InputError, never another exception."""
+    path = tmp_path_factory.mktemp("fuzz") / f"r{suffix}"
+    header = b"time(s) load_point_displacement(um) shear_load(kN) normal_load(kN)\n" if suffix == ".txt" else \
+        b"time (s),load_point_displacement (um),shear_load (kN),normal_load (kN)\n"
+    path.write_bytes(header + payload)
+    try:
+        record = load_record(path, area="25 cm^2")
+    except InputError as exc:
+        assert "\n" not in str(exc).strip()
+    else:
+        assert isinstance(record, RawRecord)
+
+
+# --- preparing ---------------------------------------------------------------------------------------------
+
+def test_steps_holds_stiffness_and_trend_of_the_example():
+    """The shipped record (configs/make_examples.py: steps at 100, 130, 230, 245 s, a hold from 300 to 360 s,
+    drift -0.003 per mm) comes back to within a sample; the three forms of the same stiffness agree."""
+    raw = read_raw_record(EXAMPLE, area="25 cm^2")
+    prepared = prepare_record(raw, "200 kN/mm", area="25 cm^2", detrend="linear")
+    history = prepared.record.history
+    np.testing.assert_allclose(history.times, [0, 100, 130, 230, 245, 300, 360, 420], atol=0.1)
+    np.testing.assert_allclose(history.speeds, [1e-6, 1e-5, 1e-6, 3e-5, 3e-6, 0.0, 3e-6], rtol=2e-3, atol=1e-9)
+    assert prepared.stiffness == pytest.approx(8000.0, rel=1e-3)  # 2e8 N/m / (1e7 Pa x 0.0025 m^2), measured sigma_n
+    for form in ("8e-3 1/um", "80 MPa/mm"):
+        assert prepare_record(raw, form).stiffness == pytest.approx(prepared.stiffness, rel=1e-3)
+    # the trend: -0.003 per mm of load-point travel, recovered within 15 %
+    assert prepared.trend_coefficients[0] == pytest.approx(-0.003, rel=0.15)
+    # the machine's stretch: sample slip = load point less (mu - mu_start) / k
+    np.testing.assert_allclose(prepared.sample_displacement,
+                               raw.load_point_displacement - (raw.friction - raw.friction[0]) / prepared.stiffness)
+
+
+def test_given_step_times_replace_detection_and_bad_ones_are_refused():
+    raw = _small()
+    history = detect_steps(raw.time, raw.load_point_displacement, step_times=[20.0, 40.0])
+    assert history.times == (0.0, 20.0, 40.0, raw.time[-1])
+    np.testing.assert_allclose(history.speeds, [1e-6, 1e-5, 1e-6], rtol=1e-3)
+    with pytest.raises(InputError, match="inside the record"):
+        detect_steps(raw.time, raw.load_point_displacement, step_times=[500.0])
+    with pytest.raises(InputError, match="detrend"):
+        prepare_record(raw, "8e-3 1/um", detrend="cubic")
+    with pytest.raises(InputError, match="stiffness"):
+        prepare_record(raw, "3 kg")
+
+
+def test_each_step_and_the_joint_fit_recover_the_law():
+    """On the shipped example every step's own fit and the joint fit land within 2 % of the law it was made
+    from (measured: within 1 %)."""
+    prepared = prepare_record(read_raw_record(EXAMPLE, area="25 cm^2"), "200 kN/mm", area="25 cm^2",
+                              detrend="linear")
+    joint = fit_velocity_steps(prepared.record, prepared.stiffness)
+    fits = [entry["fit"] for entry in fit_each_step(prepared)]
+    assert len(fits) == 5  # four steps and the slide-hold-slide
+    for fit in fits + [joint]:
+        assert fit.parameters["a"] == pytest.approx(0.008, rel=0.02)
+        assert fit.parameters["b"] == pytest.approx(0.012, rel=0.02)
+        assert fit.parameters["critical_slip"] == pytest.approx(20e-6, rel=0.02)
+
+
+# --- rsfmodel's truth values -------------------------------------------------------------------------------
+
+#: rsfmodel (github.com/jrleeman/rsfmodel, commit d04d546), tests/rsf_tests.py: friction at t = 0..40 s of its
+#: velocity-step examples (mu0 0.6, 1 -> 10 um/s at t = 10 s, V_ref 1 um/s), to 8 decimals. Copied for
+#: comparison only; faultslip computes the same experiments itself below.
+RSFMODEL = {
+    ("aging", 0.005, 0.01, 10, None, None, 1e-3): [
+        0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.60720485, 0.60186637, 0.5840091, 0.58563096,
+        0.58899543, 0.58998186, 0.58879751, 0.58803412, 0.58825653, 0.58858313, 0.58860319, 0.58848625, 0.58844431,
+        0.58847472, 0.58849913, 0.58849522, 0.58848506, 0.58848348, 0.58848674, 0.5884883, 0.58848756, 0.58848677,
+        0.5884868, 0.58848711, 0.58848718, 0.5884871, 0.58848704, 0.58848706, 0.58848708, 0.58848708],
+    ("slip", 0.01, 0.005, 10, None, None, 1e-3): [
+        0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.60839299, 0.6146288, 0.61663335, 0.61451424,
+        0.61239234, 0.61152559, 0.61133979, 0.61138186, 0.61145348, 0.61149781, 0.61151494, 0.61151781, 0.61151612,
+        0.61151421, 0.61151317, 0.61151282, 0.61151279, 0.61151285, 0.6115129, 0.61151292, 0.61151293, 0.61151293,
+        0.61151293, 0.61151293, 0.61151293, 0.61151293, 0.61151293, 0.61151293, 0.61151293, 0.61151293],
+    ("aging", 0.012, 0.0185, 5, 0.0088, 50, 3e-3): [
+        0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.61777816, 0.56719338, 0.57926411, 0.58134415,
+        0.5741353, 0.57495495, 0.57393578, 0.57211002, 0.5714098, 0.57046462, 0.56953958, 0.56884951, 0.56819716,
+        0.56762505, 0.56715188, 0.56674236, 0.5663961, 0.56610841, 0.56586767, 0.565668, 0.56550353, 0.56536809,
+        0.56525698, 0.56516614, 0.56509194, 0.56503146, 0.56498223, 0.5649422, 0.56490967, 0.56488327],
+    ("slip", 0.012, 0.0185, 5, 0.0088, 50, 8e-3): [
+        0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.57317487, 0.57620828, 0.57423257, 0.57241419,
+        0.57098114, 0.56981792, 0.56887496, 0.56810967, 0.56748807, 0.56698283, 0.56657196, 0.56623767, 0.56596561,
+        0.56574412, 0.56556376, 0.56541686, 0.5652972, 0.56519972, 0.56512029, 0.56505557, 0.56500283, 0.56495985,
+        0.56492482, 0.56489628, 0.56487301, 0.56485404, 0.56483859, 0.56482599, 0.56481572, 0.56480735],
+}
+
+
+def _rsfmodel_experiment(evolution, a, b, dc, b2, dc2, k, method="auto"):
+    law = RateStateLaw(a=a, b=b, critical_slip=dc * UM, mu0=0.6, reference_speed=1 * UM, evolution=evolution,
+                       b2=b2 or 0.0, critical_slip2=dc2 * UM if dc2 else None)
+    run = simulate_rate_state(RateStateSlider(law, k / UM, 1.0), LoadHistory((0.0, 10.0, 40.0), (1 * UM, 10 * UM)),
+                              t_eval=np.arange(0.0, 40.01, 1.0), rtol=1e-12, method=method)
+    return run.friction
+
+
+@pytest.mark.parametrize("case", list(RSFMODEL))
+def test_rsfmodel_truth_values_are_reproduced(case):
+    """faultslip's forward model (the fit's and the posterior's) against rsfmodel's stored truth: within
+    1e-8 (measured 5e-9, the truth's own rounding); and against faultslip's LSODA path, to 1e-9."""
+    ours = _rsfmodel_experiment(*case)
+    np.testing.assert_allclose(ours, RSFMODEL[case], atol=1e-8)
+    np.testing.assert_allclose(ours, _rsfmodel_experiment(*case, method="lsoda"), atol=1e-9)
+
+
+def test_rsfmodel_experiments_agree_with_an_independent_integration():
+    """The same experiments written out here in rsfmodel's own variables (friction and the states theta, in
+    um and s) and integrated by scipy's Radau: faultslip's compiled path agrees to 1e-8, one-state and
+    two-state, aging and slip."""
+    from scipy.integrate import solve_ivp
+
+    for evolution, a, b, dc, b2, dc2, k in RSFMODEL:
+        def rates(t, y, a=a, b=b, dc=dc, b2=b2, dc2=dc2, k=k, evolution=evolution):
+            mu, states = y[0], y[1:]
+            pairs = [(b, dc)] + ([(b2, dc2)] if b2 else [])
+            v = math.exp((mu - 0.6 - sum(bi * math.log(th / di) for (bi, di), th in zip(pairs, states))) / a)
+            lp = 1.0 if t < 10 else 10.0
+            if evolution == "aging":
+                evolve = [1 - v * th / di for (_, di), th in zip(pairs, states)]
+            else:
+                evolve = [-(v * th / di) * math.log(v * th / di) for (_, di), th in zip(pairs, states)]
+            return [k * (lp - v)] + evolve
+
+        start = [0.6, dc] + ([dc2] if b2 else [])
+        first = solve_ivp(rates, (0, 10), start, method="Radau", rtol=1e-12, atol=1e-14,
+                          t_eval=np.arange(0.0, 10.01, 1.0))
+        second = solve_ivp(rates, (10, 40), first.y[:, -1], method="Radau", rtol=1e-12, atol=1e-14,
+                           t_eval=np.arange(10.0, 40.01, 1.0))
+        reference = np.concatenate([first.y[0], second.y[0][1:]])
+        np.testing.assert_allclose(_rsfmodel_experiment(evolution, a, b, dc, b2, dc2, k), reference, atol=1e-8)
+
+
+# --- the posterior -----------------------------------------------------------------------------------------
+
+def test_the_posterior_converges_covers_the_law_and_is_reproducible():
+    prepared = prepare_record(_small(seed=3), "8e-3 1/um")
+    posterior = sample_posterior(prepared.record, prepared.stiffness, samples=2000, seed=5)
+    assert max(posterior.r_hat.values()) < 1.05 and min(posterior.effective_sample_size.values()) >= 400
+    assert posterior.steps > 50 * max(posterior.autocorrelation_time.values())
+    intervals = posterior.intervals()
+    for name, truth in (("a", 0.008), ("b", 0.012), ("critical_slip", 20e-6)):
+        low, high = intervals[name]
+        assert low < truth < high
+    assert float(np.median(posterior.noise)) == pytest.approx(1e-4 * 1.0, rel=0.2)  # shear noise / sigma_n
+    again = sample_posterior(prepared.record, prepared.stiffness, samples=2000, seed=5)
+    np.testing.assert_array_equal(again.samples, posterior.samples)
+    entry = posterior.to_record()
+    assert entry["samples_kind"] == "posterior" and len(entry["samples"]) <= 500
+    band = posterior.predictive(prepared.record, draws=200)
+    low, median, high = band["model"]
+    assert np.all(low <= median) and np.all(median <= high)
+    inside = np.mean((prepared.record.friction >= band["data"][0]) & (prepared.record.friction <= band["data"][1]))
+    assert 0.9 < inside <= 1.0  # the predictive band holds ~95 % of the record
+
+
+def test_an_unconverged_posterior_is_refused_with_its_diagnostics():
+    prepared = prepare_record(_small(seed=3), "8e-3 1/um")
+    with pytest.raises(SolverError, match="did not converge.*autocorrelation time.*R-hat.*effective samples"):
+        sample_posterior(prepared.record, prepared.stiffness, samples=2000, max_steps=250, seed=1)
+
+
+def test_priors_are_stated_changeable_and_checked():
+    assert parse_prior("a=uniform:0:0.05") == ("a", Prior("uniform", 0.0, 0.05))
+    assert Prior("loguniform", 1e-7, 1e-3).log_density(1e-5) == pytest.approx(-math.log(1e-5))
+    assert Prior("normal", 0.01, 0.002).log_density(0.5) < -1000
+    for text, words in (("c=uniform:0:1", "one of"), ("a=uniform:1:0", "low < high"), ("a=flat:0:1", "one of"),
+                        ("b=normal:0", "name=kind"), ("critical_slip=loguniform:0:1", "positive")):
+        with pytest.raises(InputError, match=words):
+            parse_prior(text)
+    prepared = prepare_record(_small(seed=3), "8e-3 1/um")
+    with pytest.raises(SolverError, match="priors exclude"):
+        sample_posterior(prepared.record, prepared.stiffness, priors={"a": Prior("uniform", 0.02, 0.05)},
+                         samples=500)
+
+
+def test_posterior_coverage_small_study():
+    """The fast form of benchmarks/fit_coverage.py: 8 seeded records, 3 parameters each; the 95 % credible
+    intervals must hold the truth in at least 21 of 24 (at 95 % the chance of fewer is 3 %; the seeds are fixed,
+    and 24 of 24 were measured)."""
+    hits = 0
+    for seed in range(8):
+        prepared = prepare_record(_small(seed=100 + seed, noise=3e-4), "8e-3 1/um")
+        posterior = sample_posterior(prepared.record, prepared.stiffness, samples=1000, seed=seed)
+        intervals = posterior.intervals()
+        hits += sum(intervals[name][0] < truth < intervals[name][1]
+                    for name, truth in (("a", 0.008), ("b", 0.012), ("critical_slip", 20e-6)))
+    assert hits >= 21
+
+
+# --- one command -------------------------------------------------------------------------------------------
+
+def test_one_command_from_raw_record_to_fault_distribution(cli, tmp_path):
+    raw = _small(seed=4)
+    path = tmp_path / "rig.txt"
+    path.write_text("time(s) load_point_displacement(mm) shear_load(kN) normal_load(kN)\n" + "\n".join(
+        f"{t:.3f} {d * 1e3:.7f} {s * AREA / 1e3:.6f} {n * AREA / 1e3:.6f}"
+        for t, d, s, n in zip(raw.time, raw.load_point_displacement, raw.shear_stress, raw.normal_stress)) + "\n")
+    out = cli("fit", path, "--law", "rate-state", "--stiffness", "200 kN/mm", "--area", "25 cm^2", "--posterior",
+              "--samples", "2000", "--each-step", "--plot", tmp_path / "fit.png", "--corner", tmp_path / "corner.png",
+              "--name", "rig_gouge", "--json")
+    assert out.code == 0, out.err
+    assert out.json["a_posterior"]["r_hat"] < 1.05
+    assert out.json["step_1"]["time"]["value"] == pytest.approx(20.0, abs=0.3)
+    assert (tmp_path / "fit.png").stat().st_size > 10_000 and (tmp_path / "corner.png").stat().st_size > 10_000
+    fault = cli("fault", "--lithology", "rig_gouge", "--zone-width", "10 km", "--normal-stress", "100 MPa",
+                "--slip-rate", "30 mm/yr", "--shear-modulus", "30 GPa", "--json")
+    assert fault.code == 0, fault.err
+    quantiles = fault.json["stiffness_ratio_quantiles"]["value"]
+    assert quantiles == sorted(quantiles) and quantiles[0] < quantiles[-1]
+    assert any("posterior draws" in note for note in fault.json["notes"])
+    # bad inputs: one sentence each
+    assert_clean_error(cli("fit", path, "--law", "rate-state", "--stiffness", "200 kN/mm"), "contact area")
+    assert_clean_error(cli("fit", path, "--law", "rate-state", "--stiffness", "8e-3 1/um", "--corner",
+                           tmp_path / "c2.png"), "--posterior")
+    assert_clean_error(cli("fit", path, "--law", "rate-state", "--stiffness", "8e-3 1/um", "--area", "25 cm^2",
+                           "--posterior", "--prior", "a=uniform:1:0"), "low < high")
+    assert json.loads(json.dumps(out.json))  # valid JSON throughout
