@@ -17,7 +17,9 @@ import faultslip  # noqa: E402
 project = "faultslip"
 author = "the faultslip developers"
 release = version = faultslip.__version__
-extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.mathjax", "numpydoc", "sphinx_gallery.gen_gallery"]
+# sphinx-mathjax-offline serves MathJax from the built site: math renders with no network (no CDN)
+extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.mathjax", "sphinx-mathjax-offline", "numpydoc",
+              "sphinx_gallery.gen_gallery"]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 exclude_patterns = ["_build", "asperity_results.md", "surfaces_results.md", "figures/*.md", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip"]
 myst_heading_anchors = 3

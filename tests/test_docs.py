@@ -24,3 +24,11 @@ def test_sphinx_builds_the_site_with_the_gallery_executed(tmp_path):
     assert len(gallery) >= 15
     images = list((tmp_path / "html" / "_images").glob("sphx_glr_plot_*.png"))
     assert len(images) >= 15  # every example drew its figure
+    # offline: no page loads a script, a style sheet or a font from the network (MathJax ships with the site)
+    import re
+
+    remote = re.compile(r'(?:src|href)="(https?:)?//[^"]+\.(?:js|css|woff2?)(?:\?[^"]*)?"')
+    for html in (tmp_path / "html").rglob("*.html"):
+        found = remote.search(html.read_text(encoding="utf-8"))
+        assert found is None, f"{html.name} loads {found.group(0)} from the network"
+    assert "classroom_lab.png" in (tmp_path / "html" / "classroom.html").read_text(encoding="utf-8")

@@ -164,9 +164,24 @@ def _fit_rate_state(args) -> int:
     report.add("bootstrap_samples", int(fit.bootstrap.shape[0]), label=f"bootstrap resamples (seed {args.seed})")
     for note in fit.notes:
         report.note(note)
-    if prepared is not None and args.each_step:
+    windows = None
+    if args.windows:
+        if prepared is None:
+            raise FaultslipError("--windows sets raw records' step windows; this record holds friction already")
+        windows = []
+        for part in args.windows.split(","):
+            start, separator, end = part.strip().partition(" - ")
+            if not separator:
+                raise FaultslipError(f"--windows takes 'start - end' pairs with units, separated by commas, "
+                                     f"e.g. '50 s - 130 s'; got {part.strip()!r}")
+            pair = (to_si(start, "time", "--windows"), to_si(end, "time", "--windows"))
+            if not 0 <= pair[0] < pair[1] <= record.time[-1]:
+                raise FaultslipError(f"window {part.strip()!r} must lie inside the record (0 to {record.time[-1]:g} s) "
+                                     "and end after it starts")
+            windows.append(pair)
+    if prepared is not None and (args.each_step or windows):
         report.section("Each step's own fit")
-        for entry in fit_each_step(prepared, evolution=args.evolution):
+        for entry in fit_each_step(prepared, evolution=args.evolution, windows=windows):
             start, end = entry["window"]
             if "fit" in entry:
                 p = entry["fit"].parameters

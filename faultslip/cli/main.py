@@ -53,6 +53,12 @@ def build_parser() -> argparse.ArgumentParser:
     _seismology_commands(commands)
     _surface_commands(commands)
     _plots_commands(commands)
+    classroom = commands.add_parser("classroom", help="an interactive stick-slip lab in the browser (served locally)")
+    classroom.add_argument("--port", type=int, default=5006, help="the local port (default 5006)")
+    classroom.add_argument("--address", default="127.0.0.1", help="the address to serve on (default 127.0.0.1: "
+                                                                  "this machine only)")
+    classroom.add_argument("--open", action="store_true", help="open the app in the default browser")
+    classroom.set_defaults(handler="apps:cmd_classroom")
     return parser
 
 
@@ -275,6 +281,8 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--min-change", default="0.3", help="rate-state, raw record: the smallest relative change of the "
                                                           "load point's speed detected as a step (default 0.3)")
     fit.add_argument("--each-step", action="store_true", help="rate-state, raw record: also fit each step on its own")
+    fit.add_argument("--windows", help="rate-state, raw record: each step's fit window instead of the automatic "
+                                       "ones, '50 s - 130 s, 115 s - 230 s' (implies --each-step)")
     fit.add_argument("--posterior", action="store_true", help="rate-state: sample the Bayesian posterior (emcee) "
                                                                "until it has converged")
     fit.add_argument("--samples", type=int, default=10_000, help="posterior draws after burn-in (default 10000)")

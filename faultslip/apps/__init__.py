@@ -1,0 +1,1 @@
+"""Apps served to a browser (faultslip classroom)."""

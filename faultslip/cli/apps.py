@@ -1,0 +1,23 @@
+"""Apps served to a browser: classroom."""
+
+from __future__ import annotations
+
+import sys
+
+from faultslip.apps.classroom import serve
+from faultslip.errors import FaultslipError
+
+
+def cmd_classroom(args) -> int:
+    if not 1 <= args.port <= 65535:
+        raise FaultslipError(f"--port must be from 1 to 65535, got {args.port}")
+    def announce(url):
+        print(f"faultslip classroom: open {url} in a browser (Ctrl-C stops it)", flush=True)
+
+    try:
+        serve(port=args.port, address=args.address, open_browser=args.open, announce=announce)
+    except OSError as exc:
+        raise FaultslipError(f"cannot serve on {args.address}:{args.port}: {exc.strerror or exc}") from None
+    except KeyboardInterrupt:
+        print("faultslip classroom: stopped", file=sys.stderr)
+    return 0
