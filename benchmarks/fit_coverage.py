@@ -121,7 +121,7 @@ def _figure(result, path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    figure, axis = plt.subplots(figsize=(7, 4))
+    figure, axis = plt.subplots(figsize=(9, 4))
     kinds = ("covariance", "bootstrap", "posterior")
     names = list(TRUTH)
     width = 0.25
@@ -135,7 +135,7 @@ def _figure(result, path) -> None:
     axis.set_ylim(0.8, 1.0)
     axis.set_ylabel("fraction of 95 % intervals holding the truth")
     axis.set_title(f"Coverage on synthetic raw records ({result['machine']}, {result['date']})", fontsize=9)
-    axis.legend(fontsize=7, loc="lower right")
+    axis.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     figure.tight_layout()
     figure.savefig(path, dpi=130)
 

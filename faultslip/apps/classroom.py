@@ -173,11 +173,40 @@ def _fmt(value, unit="", digits=4):
     return "–" if value is None or not math.isfinite(value) else f"{value:.{digits}g}{(' ' + unit) if unit else ''}"
 
 
+#: The block, its spring and the platform, stepped through the sawtooth's samples 20 times a second (BokehJS).
+ANIMATION = """
+let frame = 0;
+setInterval(() => {
+  const data = saw.data;
+  const get = (key) => (data instanceof Map) ? data.get(key) : data[key];
+  const x = get('x'), t = get('t');
+  if (!x || x.length === 0) { return; }
+  const n = x.length;
+  const step = Math.max(1, Math.floor(n / 120));
+  const i = frame % n; frame += step;
+  let lo = Infinity, hi = -Infinity, sum = 0;
+  for (const v of x) { lo = Math.min(lo, v); hi = Math.max(hi, v); sum += v; }
+  const span = Math.max(hi - lo, 1e-12);
+  const bx = Math.max(-0.9, Math.min(0.9, (x[i] - sum / n) / span * 0.6));
+  block.data = {x: [bx], y: [0.45]};
+  const xs = [], ys = [];
+  for (let k = 0; k < 25; k++) {
+    xs.push(-1.1 + (bx - 0.15 + 1.1) * k / 24);
+    ys.push(0.45 + ((k > 0 && k < 24) ? 0.08 * Math.sin(10 * Math.PI * k / 24) : 0));
+  }
+  spring.data = {x: xs, y: ys};
+  marker.data = {x: [t[i] / Math.max(t[n - 1], 1e-30) * 2.0 - 1.0], y: [0.05]};
+}, 50);
+"""
+
+
 def make_document(doc) -> None:
     """Build the three views into a Bokeh document (the server calls this for each browser session)."""
     from bokeh.layouts import column, row  # heavy: Bokeh loads only when the app is served
     from bokeh.models import (Button, ColumnDataSource, Div, FileInput, Select, Slider,  # heavy: as above
                               TabPanel, Tabs)
+    from bokeh.events import DocumentReady  # heavy: as above
+    from bokeh.models import CustomJS  # heavy: as above
     from bokeh.plotting import figure  # heavy: as above
 
     # 1. the slider lab
@@ -212,8 +241,8 @@ def make_document(doc) -> None:
     stage.scatter("x", "y", source=marker_source, marker="triangle", size=14, color="#555555")
     stage.rect("x", "y", width=0.3, height=0.5, source=block_source, color="steelblue")
     stage.line("x", "y", source=spring_source, line_width=2, color="darkorange")
-    status = Div(text="", name="lab_status", sizing_mode="stretch_width")
-    state = {"frame": 0, "lab": None}
+    status = Div(text="", name="lab_status", width=900, height=48)  # fixed: a new text re-lays out nothing
+    state = {"lab": None}
 
     def redraw(attr, old, new):
         try:
@@ -222,7 +251,7 @@ def make_document(doc) -> None:
         except FaultslipError as exc:
             status.text = f"<b style='color:#b00'>{exc}</b>"
             return
-        state["lab"], state["frame"] = lab, 0
+        state["lab"] = lab
         saw_source.data = {"t": lab["time"] * 1e3, "force": lab["spring_force"], "x": lab["displacement"] * 1e6}
         phase_source.data = {"x": np.asarray(lab["x"]) * 1e6, "v": np.asarray(lab["v"]) * 1e3}
         stick_source.data = ({"x": [v * 1e6 for v in lab["stick_x"]], "v": [lab["pull_speed"] * 1e3] * 2}
@@ -233,30 +262,14 @@ def make_document(doc) -> None:
                        f"critical pull speed {critical_text}<br><small>method: {lab['method']} "
                        f"({lab['method_reason']}); declared error {lab['estimated_relative_error']:.1g}</small>")
 
-    def animate():
-        lab = state["lab"]
-        if lab is None or len(lab["time"]) == 0:
-            return
-        count = len(lab["time"])
-        index = state["frame"] % count
-        state["frame"] += max(1, count // 120)
-        span = max(float(np.ptp(lab["displacement"])), 1e-12)
-        offset = (lab["displacement"][index] - float(np.mean(lab["displacement"]))) / span * 0.6
-        block_x = float(np.clip(offset, -0.9, 0.9))
-        block_source.data = {"x": [block_x], "y": [0.45]}
-        anchor = -1.1
-        points = np.linspace(anchor, block_x - 0.15, 25)
-        wiggle = 0.08 * np.sin(np.linspace(0, 10 * math.pi, 25)) * (np.arange(25) % 24 > 0)
-        spring_source.data = {"x": points, "y": 0.45 + wiggle}
-        marker_source.data = {"x": [((lab["platform"][index] / max(lab["platform"][-1], 1e-30)) * 2.0 - 1.0)],
-                              "y": [0.05]}
-
     for widget in (preset, law):
         widget.on_change("value", redraw)
     for widget in (stiffness, pull, mass, damping):
         widget.on_change("value_throttled", redraw)  # on release; a drag redraws once, not per pixel
     redraw(None, None, None)
-    doc.add_periodic_callback(animate, 60)
+    # the animation runs in the browser, from the sawtooth already there: no server traffic between knob changes
+    doc.js_on_event(DocumentReady, CustomJS(args=dict(saw=saw_source, block=block_source, spring=spring_source,
+                                                      marker=marker_source), code=ANIMATION))
     lab_view = column(row(column(preset, law, stiffness, pull, mass, damping, width=320), phase),
                       status, saw, stage, sizing_mode="stretch_width")
 
