@@ -227,9 +227,9 @@ def test_rsfmodel_experiments_agree_with_an_independent_integration():
             return [k * (lp - v)] + evolve
 
         start = [0.6, dc] + ([dc2] if b2 else [])
-        first = solve_ivp(rates, (0, 10), start, method="Radau", rtol=1e-12, atol=1e-14,
+        first = solve_ivp(rates, (0, 10), start, method="Radau", rtol=1e-11, atol=1e-13,
                           t_eval=np.arange(0.0, 10.01, 1.0))
-        second = solve_ivp(rates, (10, 40), first.y[:, -1], method="Radau", rtol=1e-12, atol=1e-14,
+        second = solve_ivp(rates, (10, 40), first.y[:, -1], method="Radau", rtol=1e-11, atol=1e-13,
                            t_eval=np.arange(10.0, 40.01, 1.0))
         reference = np.concatenate([first.y[0], second.y[0][1:]])
         np.testing.assert_allclose(_rsfmodel_experiment(evolution, a, b, dc, b2, dc2, k), reference, atol=1e-8)
@@ -279,17 +279,17 @@ def test_priors_are_stated_changeable_and_checked():
 
 
 def test_posterior_coverage_small_study():
-    """The fast form of benchmarks/fit_coverage.py: 8 seeded records, 3 parameters each; the 95 % credible
-    intervals must hold the truth in at least 21 of 24 (at 95 % the chance of fewer is 3 %; the seeds are fixed,
-    and 24 of 24 were measured)."""
+    """The fast form of benchmarks/fit_coverage.py: 6 seeded records, 3 parameters each; the 95 % credible
+    intervals must hold the truth in at least 16 of 18 (at 95 % the chance of fewer is 6 %; the seeds are fixed,
+    and 18 of 18 were measured)."""
     hits = 0
-    for seed in range(8):
+    for seed in range(6):
         prepared = prepare_record(_small(seed=100 + seed, noise=3e-4), "8e-3 1/um")
         posterior = sample_posterior(prepared.record, prepared.stiffness, samples=1000, seed=seed)
         intervals = posterior.intervals()
         hits += sum(intervals[name][0] < truth < intervals[name][1]
                     for name, truth in (("a", 0.008), ("b", 0.012), ("critical_slip", 20e-6)))
-    assert hits >= 21
+    assert hits >= 16
 
 
 # --- one command -------------------------------------------------------------------------------------------
