@@ -193,6 +193,8 @@ class Workspace:
         self.geojson = (DATA / "gem_faults_example.geojson").read_text(encoding="utf-8")
         phyphox_lines = (CONFIGS / "example_phyphox.csv").read_text(encoding="utf-8").splitlines()
         self.phyphox = "\n".join(phyphox_lines[:800]) + "\n"
+        raw_lines = (CONFIGS / "example_raw_velocity_steps.txt").read_text(encoding="utf-8").splitlines()
+        self.raw = "\n".join(raw_lines[:1400]) + "\n"  # the first two steps
         surface_lines = (CONFIGS / "example_surface.csv").read_text(encoding="utf-8").splitlines()
         self.surface = "\n".join(surface_lines[:1025]) + "\n"
         self.quakeml, self.mseed = self._seismology_files()
@@ -298,6 +300,16 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
     if kind == "fit":
         path = space.write("friction.csv", mutate_csv(space.friction, rng))
         return ["fit", str(path), "--bootstrap", "5", "--json"]
+    if kind == "raw":
+        path = space.write(rng.choice(["rig.txt", "rig.dat"]), mutate_csv(space.raw, rng))
+        return ["fit", str(path), "--law", "rate-state", "--stiffness",
+                rng.choice(["200 kN/mm", "80 MPa/mm", "8e-3 1/um", "-1 kN/mm", "3 kg", "nan 1/um"]),
+                "--area", rng.choice(["25 cm^2", "0 m^2", "1 m", "abc"]), "--json"] + rng.choice(
+            [[], ["--detrend", rng.choice(["linear", "quadratic"])], ["--steps", rng.choice(["100 s", "500 s", "x"])],
+             ["--each-step"], ["--windows", rng.choice(["50 s - 130 s", "9 s - 1 s", "a - b", "50 s to 60 s"])],
+             ["--posterior", "--samples", "200", "--max-steps", "200", "--prior",
+              rng.choice(["a=uniform:0:0.05", "a=uniform:1:0", "zz=normal:0:1", "b=lognormal:0:1"])],
+             ["--units", rng.choice(["time=ms", "shear_load=kg", "speed=m/s", "time"])]])
     if kind == "record":
         path = space.write("record.csv", mutate_csv(space.record, rng))
         return ["record", str(path), "--stiffness", "1.94e4 lbf/in", "--normal-load", "137.8 lbf", "--json"]
@@ -421,7 +433,7 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
 
 KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6, "netcdf": 8, "units": 20,
          "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
-         "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3}
+         "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [
