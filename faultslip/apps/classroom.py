@@ -242,7 +242,6 @@ def make_document(doc) -> None:
     stage.rect("x", "y", width=0.3, height=0.5, source=block_source, color="steelblue")
     stage.line("x", "y", source=spring_source, line_width=2, color="darkorange")
     status = Div(text="", name="lab_status", width=900, height=48)  # fixed: a new text re-lays out nothing
-    state = {"lab": None}
 
     def redraw(attr, old, new):
         try:
@@ -251,7 +250,6 @@ def make_document(doc) -> None:
         except FaultslipError as exc:
             status.text = f"<b style='color:#b00'>{exc}</b>"
             return
-        state["lab"] = lab
         saw_source.data = {"t": lab["time"] * 1e3, "force": lab["spring_force"], "x": lab["displacement"] * 1e6}
         phase_source.data = {"x": np.asarray(lab["x"]) * 1e6, "v": np.asarray(lab["v"]) * 1e3}
         stick_source.data = ({"x": [v * 1e6 for v in lab["stick_x"]], "v": [lab["pull_speed"] * 1e3] * 2}

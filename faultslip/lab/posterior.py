@@ -313,12 +313,13 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
                        for n in names])
     spread = np.where(np.isfinite(spread) & (spread > 0), spread, 1e-3 * np.maximum(np.abs(centre), 1e-6))
     rng = np.random.default_rng(seed)
-    start = []
+    start, tries = [], 0
     while len(start) < walkers:  # a small ball around the fit, inside the priors
         trial = centre + 0.1 * spread * rng.standard_normal(len(names))
+        tries += 1
         if math.isfinite(log_posterior(trial)[0]):
             start.append(trial)
-        elif len(start) == 0 and rng.random() < 0.01:
+        elif not start and tries >= 100:
             raise SolverError("no start near the least-squares fit has a finite posterior: the priors exclude it; "
                               "widen them")
     pool = _Pool(log_posterior, workers) if workers > 1 else None

@@ -137,19 +137,24 @@ def _area(area):
     return value
 
 
+def _read_columns(path, what: str, only=None) -> tuple:
+    """(path, {name: (values, unit)}) of a table through the reader gate: netCDF (``units`` attributes),
+    whitespace text (``.txt``, ``.dat``, ``.tsv``) or CSV; ``only`` keeps netCDF's named variables."""
+    path = check_input_file(path, what)
+    label = f"{what} {path.name}"
+    if path.suffix.lower() == ".nc":
+        data = open_netcdf(path, what)
+        names = [n for n in list(data.data_vars) + list(data.coords) if only is None or n in only]
+        return path, {name: (data[name].values, data[name].attrs.get("units")) for name in names}
+    if path.suffix.lower() in (".txt", ".dat", ".tsv"):
+        return path, read_numeric_text(path, label)
+    return path, read_numeric_csv(path, label)
+
+
 def read_raw_record(path, units: dict | None = None, area=None) -> RawRecord:
     """A raw record from CSV (``name (unit)`` headers), whitespace-delimited text (``.txt``, ``.dat``,
     ``.tsv``: see :func:`faultslip.io.resources.read_numeric_text`) or netCDF (``units`` attributes)."""
-    path = check_input_file(path, "raw record")
-    label = f"raw record {path.name}"
-    if path.suffix.lower() == ".nc":
-        data = open_netcdf(path, "raw record")
-        columns = {name: (data[name].values, data[name].attrs.get("units")) for name in
-                   list(data.data_vars) + list(data.coords) if name in RAW_COLUMNS}
-    elif path.suffix.lower() in (".txt", ".dat", ".tsv"):
-        columns = read_numeric_text(path, label)
-    else:
-        columns = read_numeric_csv(path, label)
+    path, columns = _read_columns(path, "raw record", only=RAW_COLUMNS)
     return _columns_to_raw(columns, path.name, units, _area(area))
 
 
@@ -430,16 +435,8 @@ def synthetic_raw_record(law, machine_stiffness: float, area: float, normal_load
 def load_record(path, units: dict | None = None, area=None):
     """A friction record (:class:`StepRecord`: time, friction, load-point speed or displacement) or a raw rig
     record (:class:`RawRecord`: loads or stresses), whichever the file's columns are."""
-    path = check_input_file(path, "velocity-step record")
+    path, columns = _read_columns(path, "velocity-step record")
     label = f"velocity-step record {path.name}"
-    if path.suffix.lower() == ".nc":
-        data = open_netcdf(path, "velocity-step record")
-        columns = {name: (data[name].values, data[name].attrs.get("units"))
-                   for name in list(data.data_vars) + list(data.coords)}
-    elif path.suffix.lower() in (".txt", ".dat", ".tsv"):
-        columns = read_numeric_text(path, label)
-    else:
-        columns = read_numeric_csv(path, label)
     if is_raw_table(columns):
         return _columns_to_raw(columns, path.name, units, _area(area))
     if units or area is not None:
