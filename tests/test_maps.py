@@ -163,7 +163,7 @@ def test_a_rate_state_map_gives_each_segment_its_faults_cycles(tmp_path):
                       .replace("[segments]", "cycles = 2\n[segments]"))
     spec = load_map(config)
     ds = run_map(spec)
-    assert ds["method"].attrs["flag_meanings"] == "solver_failed closed_form lsoda dopri5"
+    assert ds["method"].attrs["flag_meanings"] == "solver_failed closed_form lsoda dopri5 dopri5_compiled"
     # the map's own slip rates: one ulp of input moves the cycles by ~1e-7 (their rtol), so exact inputs
     np.testing.assert_allclose(ds["slip_rate"].values, np.array([30, 10]) * 1e-3 / YEAR, rtol=1e-15)
     for index, (lithology, depth, width) in enumerate([("granodiorite", 12e3, 20e3), ("black_marble", 10e3, 15e3)]):

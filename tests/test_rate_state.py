@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
+from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.rate_state import slider as rs
 from faultslip.dynamics.rate_state import compiled as rsc
 from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, fault_cycles, simulate_rate_state
@@ -273,7 +274,8 @@ def test_fault_cycles_balance_the_plate_and_report_their_regime():
     assert cycles.cycle_slip.mean() / (1e-9 * cycles.recurrence) == pytest.approx(1.0, rel=1e-5)
     near = fault_cycles(RateStateSlider.at_fault(BP1, 3.2e10, 20e3 * 0.0512 / 0.54, 50e6, density=2670.0,
                                                  shear_wave_speed=3464.0), 1e-9, cycles=5)
-    assert near.stiffness_ratio == pytest.approx(0.54) and near.method == "dopri5"
+    assert near.stiffness_ratio == pytest.approx(0.54) and near.method == ("dopri5_compiled" if native.available()
+                                                                          else "dopri5")
     assert np.allclose(near.cycle_slip / (1e-9 * near.recurrence), 1.0, rtol=5e-5)
     assert near.cycle_slip.mean() / (1e-9 * near.recurrence) == pytest.approx(1.0, rel=1e-5)
     assert np.all(cycles.slip_per_event > 0) and np.all(cycles.stress_drop > 0)
@@ -328,7 +330,7 @@ def test_lsoda_and_dopri5_fault_cycles_agree_and_auto_picks_lsoda_when_stiff():
     assert fast.cycle_slip / (1.61e-9 * fast.recurrence) == pytest.approx(1.0, rel=1e-3)
     bp1 = RateStateSlider.at_fault(RateStateLaw(a=0.010, b=0.015, critical_slip=0.008), 3.2e10, 20e3, 50e6,
                                    density=2670.0, shear_wave_speed=3464.0)
-    assert fault_cycles(bp1, 1e-9, cycles=1, spin_up=1).method == "dopri5"
+    assert fault_cycles(bp1, 1e-9, cycles=1, spin_up=1).method == ("dopri5_compiled" if native.available() else "dopri5")
     with pytest.raises(InputError, match="method must be"):
         fault_cycles(bp1, 1e-9, method="euler")
 
@@ -340,12 +342,20 @@ def test_auto_picks_the_cheaper_integrator_by_its_cost_model_and_the_declared_er
     from faultslip.dynamics.methods import describe_all
     from faultslip.dynamics.rate_state.methods import choose_cycle_method, error_bound
 
-    assert [rs.cycle_method("auto", r, BP1) for r in (0.05, 0.013, 0.011, 1e-4)] == ["dopri5", "dopri5", "lsoda", "lsoda"]
+    with pytest.MonkeyPatch.context() as patch:  # the Python integrators alone
+        patch.setattr(native, "_cycles", None)
+        assert [rs.cycle_method("auto", r, BP1) for r in (0.05, 0.013, 0.011, 1e-4)] == ["dopri5", "dopri5", "lsoda",
+                                                                                          "lsoda"]
+    if native.available():  # the C stepper, 0.4 us a step, until its stability-limited steps cost more than LSODA's
+        assert [rs.cycle_method("auto", r, BP1) for r in (0.05, 0.011, 1e-3, 1e-4)] == [
+            "dopri5_compiled", "dopri5_compiled", "dopri5_compiled", "lsoda"]
     names = [row["name"] for row in describe_all()]
     assert "rate_state_dopri5" in names and "rate_state_lsoda" in names
-    for ratio, expected in ((0.05, "dopri5"), (1e-3, "lsoda")):
+    compiled = native.available()
+    for ratio, expected in ((0.05, "dopri5_compiled" if compiled else "dopri5"),
+                            (1e-3, "dopri5_compiled" if compiled else "lsoda"), (1e-4, "lsoda")):
         method, rtol, assessment, assessments = choose_cycle_method(ratio, 1e-5, cycles=4)
-        assert method == expected and len(assessments) == 2
+        assert method == expected and len(assessments) == 3
         assert assessment.estimated_error == error_bound(method, rtol) <= 1e-5
         slider = RateStateSlider.at_fault(RateStateLaw(a=0.010, b=0.015, critical_slip=ratio * 50e6 * 0.005 / 1.6e6),
                                           3.2e10, 20e3, 50e6, density=2670.0, shear_wave_speed=3464.0)
@@ -373,3 +383,65 @@ def test_the_rate_state_bench_measures_declared_errors_and_maps_failures(cli, tm
     job = bench._ratio_job((0.05, (1e-5, 1e-8)))[1]
     for status_code, error, wall, steps, declared, predicted in job:  # (timings: benchmarks, not tests)
         assert status_code == 0 and error <= declared and steps > 0 and predicted > 0
+
+
+# --- the C fault-cycle stepper (dopri5_compiled) --------------------------------------------------------
+
+needs_stepper = pytest.mark.skipif(not native.available(), reason="the C stepper was not built (no C compiler "
+                                                                  "at install time)")
+
+
+def test_the_c_stepper_is_built_wherever_a_compiler_is():
+    """pip install builds faultslip.dynamics.rate_state._cycles (hatch_build.py) where a C compiler is;
+    a silent fall-back there would leave every fault cycle 50 times slower."""
+    import shutil
+    import sysconfig
+
+    compiler = (sysconfig.get_config_var("CC") or "cc").split()[0]
+    if shutil.which(compiler) is None:
+        pytest.skip(f"no C compiler ({compiler}) here: the pure-Python scheme serves")
+    assert native.available()
+
+
+@needs_stepper
+@settings(max_examples=12, deadline=None)
+@given(ratio=st.floats(0.02, 0.95), evolution=st.sampled_from(["aging", "slip"]),
+       rtol=st.sampled_from([1e-6, 1e-7, 1e-8]))
+def test_the_c_stepper_takes_the_python_schemes_steps_and_events(ratio, evolution, rtol):
+    """dopri5_compiled is dopri5 stepped in C: the same accepted steps and event edges (Hermite crossings).
+    Measured at BP1 from K / K_c 0.05 to 0.97, both laws: equal step counts, recurrence equal to 4e-15,
+    slip and stress drop to 1.2e-10, peak speed to 9e-10 (libm's exp against Python's, summed over steps)."""
+    law = BP1.with_evolution(evolution)
+    slider = RateStateSlider.at_fault(law, 3.2e10, 20e3 * 0.0512 / ratio, 50e6, density=2670.0,
+                                      shear_wave_speed=3464.0)
+    python, compiled = (fault_cycles(slider, 1e-9, cycles=2, spin_up=2, rtol=rtol, method=method)
+                        for method in ("dopri5", "dopri5_compiled"))
+    assert compiled.method == "dopri5_compiled" and compiled.spin_up == python.spin_up
+    assert compiled.restarts == python.restarts
+    assert abs(compiled.steps - python.steps) <= 2 + python.steps // 1000
+    assert compiled.recurrence == pytest.approx(python.recurrence, rel=1e-8)
+    for name in ("slip_per_event", "stress_drop", "peak_slip_rate", "cycle_slip"):
+        np.testing.assert_allclose(getattr(compiled, name), getattr(python, name), rtol=1e-7)
+
+
+@needs_stepper
+def test_the_c_stepper_says_where_it_cannot_serve(monkeypatch):
+    slider = RateStateSlider.at_fault(BP1, 3.2e10, 20e3, 50e6, density=2670.0, shear_wave_speed=3464.0)
+    assert fault_cycles(slider, 1e-9, cycles=1, record=True).method == "dopri5"  # auto: the series needs every step
+    with pytest.raises(InputError, match="records no time series; use 'dopri5'"):
+        fault_cycles(slider, 1e-9, cycles=1, record=True, method="dopri5_compiled")
+    two = RateStateLaw(a=0.010, b=0.015, critical_slip=0.008, b2=0.002, critical_slip2=0.08)
+    with pytest.raises(InputError, match="one-state, unregularised laws; use 'dopri5'"):
+        fault_cycles(RateStateSlider.at_fault(two, 3.2e10, 20e3, 50e6), 1e-9, method="dopri5_compiled")
+    # quasi-static: no solution past the first event, said as dopri5 says it
+    with pytest.raises(SolverError) as python_says:
+        fault_cycles(slider, 1e-9, cycles=1, model="quasi_static", method="dopri5")
+    with pytest.raises(SolverError) as c_says:
+        fault_cycles(slider, 1e-9, cycles=1, model="quasi_static", method="dopri5_compiled")
+    assert str(c_says.value).split(" at ")[0] == str(python_says.value).split(" at ")[0]
+    with pytest.raises(SolverError, match="dopri5_compiled took more than 100 steps"):
+        fault_cycles(slider, 1e-9, cycles=1, method="dopri5_compiled", max_steps=100)
+    monkeypatch.setattr(native, "_cycles", None)
+    with pytest.raises(InputError, match="not built with this install.*use 'dopri5'"):
+        fault_cycles(slider, 1e-9, method="dopri5_compiled")
+    assert fault_cycles(slider, 1e-9, cycles=1).method == "dopri5"

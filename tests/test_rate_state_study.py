@@ -7,6 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from conftest import assert_clean_error
+from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_cells import METHOD_CODES, REGIME_CODES, rate_state_cells
@@ -48,7 +49,8 @@ def test_a_cells_cycles_are_the_faults_own():
                            rupture_length=np.array([50e3, 100e3, 200e3]), seismogenic_depth=15e3, cycles=3)
     assert np.all(out["recurrence_period"] == direct.recurrence)
     assert np.all(out["slip_per_event"] == np.mean(direct.slip_per_event))
-    assert np.all(out["method"] == METHOD_CODES["dopri5"]) and np.all(out["regime"] == REGIME_CODES["stick_slip"])
+    assert direct.method == ("dopri5_compiled" if native.available() else "dopri5")  # the same integrator as auto's
+    assert np.all(out["method"] == METHOD_CODES[direct.method]) and np.all(out["regime"] == REGIME_CODES["stick_slip"])
     assert out["seismic_moment"][1] / out["seismic_moment"][0] == pytest.approx(2.0, rel=1e-15)
     balance = abs(np.mean(direct.cycle_slip) / (1e-9 * direct.recurrence) - 1)
     assert out["estimated_relative_error"][0] == pytest.approx(max(balance, 10 * 1e-7)) and balance < 1e-5
@@ -86,9 +88,9 @@ def test_sweep_in_memory_and_lazy_agree_and_carry_cf_flags():
     for name in eager.data_vars:
         np.testing.assert_array_equal(eager[name].values, lazy[name].values)
     assert eager["critical_slip"].attrs["units"] == "m"
-    assert eager["method"].attrs["flag_meanings"] == "solver_failed closed_form lsoda dopri5"
+    assert eager["method"].attrs["flag_meanings"] == "solver_failed closed_form lsoda dopri5 dopri5_compiled"
     # auto: LSODA at a lab D_c (K / K_c 6e-5), dopri5 at BP1's 8 mm; 20 cm is past K_c (stable)
-    assert eager["method"].values[:, 0].tolist() == [1, 2, 0]
+    assert eager["method"].values[:, 0].tolist() == [1, 3 if native.available() else 2, 0]
     assert eager["regime"].values[2].tolist() == [1, 1]
     # the slip law's events are smaller than the aging law's on this fault (measured 0.83 at 8 mm)
     ratio = eager["slip_per_event"].values[1, 1] / eager["slip_per_event"].values[1, 0]
@@ -142,12 +144,15 @@ def test_the_budget_counts_only_the_unstable_cells_cycles(cli, tmp_path, monkeyp
     study.write_text(f'[study]\nbase = "{BASE}"\ncycles = 5\n[sweep]\n{grid}', encoding="utf-8")
     assert_clean_error(cli("sweep", study, "-o", tmp_path / "big.nc"), "allow-large")
     parsed = parse_study(study.read_text(encoding="utf-8"), "big.toml")
-    # every cell unstable and stiff: LSODA at rtol 3e-9 (150 rtol <= 1e-6), 7 cycles by its calibrated
-    # cost model (faultslip.dynamics.rate_state.methods) and 10 ms per cell
+    # every cell unstable and stiff: at most LSODA's cost at rtol 3e-9 (150 rtol <= 1e-6), 7 cycles by its
+    # calibrated cost model (faultslip.dynamics.rate_state.methods), and 10 ms per cell; auto takes the C
+    # stepper where it is built and cheaper (its steps grow as 9.3 / (K / K_c))
     from faultslip.dynamics.rate_state.methods import SECONDS_PER_STEP, steps_per_cycle
 
     per_cell = 7 * steps_per_cycle("lsoda", 3e-9, 1e-3) * SECONDS_PER_STEP["lsoda"] + 0.01
-    assert parsed.seconds_per_cell() == pytest.approx(per_cell, rel=0.01) and 0.1 < per_cell < 0.3
+    assert 0.01 < parsed.seconds_per_cell() <= per_cell * 1.01 and 0.1 < per_cell < 0.3
+    if not native.available():
+        assert parsed.seconds_per_cell() == pytest.approx(per_cell, rel=0.01)
     stable = parse_study(study.read_text(encoding="utf-8").replace('["1 um", "1 mm", 1000]', '["1 m", "2 m", 1000]'),
                          "big.toml")
     assert stable.seconds_per_cell() < 1e-5
@@ -175,7 +180,9 @@ def test_the_bundled_rate_state_study_runs_and_spreads_over_blocks():
 
     study = load_study("configs/study_rate_state.toml")
     assert study.cycles == 5 and study.size == 26
-    _, blocks = plan_blocks(study, default_chunk_cells(study))
+    with pytest.MonkeyPatch.context() as patch:  # the Python integrators: several seconds of work, several blocks
+        patch.setattr(native, "_cycles", None)
+        _, blocks = plan_blocks(study, default_chunk_cells(study))
     assert len(blocks) >= 2
     corner = compute_block(study, {"critical_slip": slice(0, 13, 12), "evolution": slice(0, 1)})
     # a lab D_c (10 um) takes LSODA and has cycles; 20 cm is past K_c

@@ -5,7 +5,8 @@ from pathlib import Path
 import pytest
 
 from faultslip.errors import InputError
-from faultslip.fault.scene import bundled_scenes, load_scene, parse_scene, run_scene
+from faultslip.fault.scene import load_scene, parse_scene, run_scene
+from faultslip.io.resources import bundled_scenes
 
 
 def test_bundled_scenes_include_1906_granite_and_every_table_i_preset():

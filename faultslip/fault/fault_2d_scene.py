@@ -43,7 +43,7 @@ import numpy as np
 from faultslip.dynamics.fault_2d.integrate import BP1_STATIONS, YEAR, run_cycles
 from faultslip.dynamics.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip.errors import InputError
-from faultslip.fault.scene import read_text_file, resolve_path
+from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar
 

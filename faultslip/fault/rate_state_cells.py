@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.rate_state.slider import EVENT_SPEED, RateStateSlider, fault_cycles
 from faultslip.dynamics.rate_state.methods import CYCLE_METHODS as INTEGRATORS, choose_cycle_method
 from faultslip.errors import InputError, NoEventsError, SolverError
@@ -34,9 +35,9 @@ from faultslip.friction.rate_state import EVOLUTION_LAWS, RateStateLaw, steady_s
 #: regime flags: a cell's behaviour (closed form, or the cycles where they ran)
 REGIME_CODES = {"stick_slip": 0, "stable_sliding": 1, "velocity_strengthening": 2, "slow_or_creeping": 3}
 #: method flags: how a cell's outputs were found
-METHOD_CODES = {"solver_failed": -1, "closed_form": 0, "lsoda": 1, "dopri5": 2}
+METHOD_CODES = {"solver_failed": -1, "closed_form": 0, "lsoda": 1, "dopri5": 2, "dopri5_compiled": 3}
 #: cycle methods a study or map may name (auto: per cell)
-CYCLE_METHODS = ("auto", "lsoda", "dopri5")
+CYCLE_METHODS = ("auto", "lsoda", "dopri5", "dopri5_compiled")
 SPIN_UP = 2
 #: fixed cost of a simulated cell beside its integrator steps (law, slider, event bookkeeping), measured
 CELL_OVERHEAD = 0.01
@@ -103,6 +104,16 @@ def check_friction(a, b, critical_slip, mu0, reference_speed, where: str = "") -
             raise InputError(f"rate-and-state {label} must be {rule}, got {first:g}{place}")
 
 
+def check_cycle_method(method, where: str = "the cycle method") -> None:
+    """Refuse, before any work, a cycles' integrator that is not one, or that this install did not build."""
+    if method not in CYCLE_METHODS:
+        raise InputError(f"{where} must be one of {', '.join(CYCLE_METHODS)} (how the cycles are integrated), "
+                         f"got {method!r}")
+    if method == "dopri5_compiled" and not native.available():
+        raise InputError(f"{where} dopri5_compiled was not built with this install (no C compiler at install "
+                         "time); use dopri5, the same scheme in Python, or auto")
+
+
 def rate_state_cells(*, shear_modulus, zone_width, normal_stress, plate_rate, a, b, critical_slip, mu0=0.6,
                      reference_speed=1e-6, evolution="aging", density=2700.0, shear_wave_speed=None,
                      rupture_length=None, seismogenic_depth=None, cycles: int = 0, method: str = "auto",
@@ -117,8 +128,7 @@ def rate_state_cells(*, shear_modulus, zone_width, normal_stress, plate_rate, a,
     cycles: each cell runs the cheapest integrator (or ``method``) at the loosest rtol whose declared error
     meets it (:func:`faultslip.dynamics.rate_state.methods.choose_cycle_method`).
     """
-    if method not in CYCLE_METHODS:
-        raise InputError(f"the cycle method must be one of {', '.join(CYCLE_METHODS)}, got {method!r}")
+    check_cycle_method(method)
     if not isinstance(cycles, int) or isinstance(cycles, bool) or not 0 <= cycles <= 1000:
         raise InputError(f"cycles must be a whole number from 0 (closed form only) to 1000, got {cycles!r}")
     check_friction(a, b, critical_slip, mu0, reference_speed)
@@ -228,5 +238,5 @@ def estimated_seconds(stiffness_ratio, cycles: int, tolerance: float = 1e-6, met
     return total
 
 
-__all__ = ["rate_state_cells", "output_names", "evolution_codes", "check_friction", "estimated_seconds", "REGIME_CODES", "METHOD_CODES",
+__all__ = ["rate_state_cells", "check_cycle_method", "output_names", "evolution_codes", "check_friction", "estimated_seconds", "REGIME_CODES", "METHOD_CODES",
            "OUTPUT_ATTRS", "CYCLE_METHODS", "EVENT_SPEED"]

@@ -34,7 +34,7 @@ from pathlib import Path
 
 from faultslip.dynamics.rate_state.slider import MODELS, LoadHistory, RateStateSlider
 from faultslip.errors import InputError
-from faultslip.fault.scene import read_text_file, resolve_path
+from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.rate_state import RateStateLaw, get_law
 from faultslip.io.resources import check_table_keys, parse_toml
 from faultslip.units import to_si_scalar

@@ -29,8 +29,7 @@ from pathlib import Path
 
 from faultslip import ranges
 from faultslip.errors import InputError
-from faultslip.io import gate
-from faultslip.io.resources import bundled_dir, config_path, parse_toml
+from faultslip.io.resources import config_path, parse_toml, read_text_file, resolve_path, scene_document
 from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.fault.rate_state_fault import FAULT_QUANTITIES, estimate_rate_state_fault
@@ -384,37 +383,6 @@ def _need(spec, keys, what, name):
         raise InputError(f"[friction] with {what} in {name} needs {', '.join(missing)}")
 
 
-def resolve_path(argument, what: str, base_dir: Path | None = None) -> tuple[Path, str]:
-    """A file argument as ``(path, origin)``: paths are paths, and only a bare name may mean a bundled file.
-
-    A path with a folder in it (``configs/x.toml``, ``./x.toml``) must exist. A bare name
-    (``x.toml`` or ``x``) is looked up in ``base_dir`` (or the current folder) first and then
-    among the bundled configs; ``origin`` then says that the bundled file was used.
-    """
-    text = str(argument)
-    if not text.strip():
-        raise InputError(f"{what}: the file name is empty")
-    path = Path(text)
-    bare = path.name == text and not path.is_absolute()
-    local = (base_dir / path) if (base_dir is not None and not path.is_absolute()) else path
-    if local.exists():
-        if local.is_dir():
-            raise InputError(f"{what} {text!r} is a folder, not a file")
-        return local, ""
-    if bare:
-        bundled = config_path(path.name if path.suffix else f"{path.name}.toml")
-        if bundled.is_file():
-            return bundled, f"bundled {what} {bundled.name} (no file {text!r} here)"
-        raise InputError(f"{what} {text!r} does not exist here or among the bundled configs "
-                         f"({', '.join(bundled_scenes())})")
-    raise InputError(f"{what} {text!r} does not exist")
-
-
-def read_text_file(path: Path, what: str) -> str:
-    """A UTF-8 config file through the gate (:func:`faultslip.io.gate.read_text`)."""
-    return gate.read_text(path, what, "config")
-
-
 def load_scene(path_or_name=None) -> Scene:
     """Load a scene from a path, or a bundled scene by bare file name (default: the 1906 scene).
 
@@ -428,16 +396,6 @@ def load_scene(path_or_name=None) -> Scene:
     scene = parse_scene(text, source=path.name, path=path)
     scene.origin = origin
     return scene
-
-
-def scene_document(argument) -> dict | None:
-    """A scene argument's parsed TOML, to tell scene kinds apart (nanoscale, vibration, seed law); None for
-    anything unreadable, which the reader of the kind then reports in its own words."""
-    try:
-        path, _ = resolve_path(argument, "scene")
-        return parse_toml(read_text_file(path, "scene file"), path.name)
-    except InputError:
-        return None
 
 
 def has_friction_law(argument, law: str) -> bool:
@@ -454,12 +412,6 @@ def load_law_scene(path, what: str, parser):
     if origin:
         notes["origin"] = origin
     return model, settings, notes
-
-
-def bundled_scenes() -> list[str]:
-    """Bundled scene files (configs/ also holds studies and maps, which are not scenes)."""
-    return sorted(p.name for p in bundled_dir("configs").glob("*.toml")
-                  if "[scene]" in p.read_text(encoding="utf-8").splitlines())
 
 
 def _run_rate_state(scene: Scene):

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from faultslip.errors import InputError, did_you_mean
-from faultslip.fault.scene import resolve_path, scene_document
+from faultslip.io.resources import resolve_path, scene_document
 
 
 @dataclass(frozen=True)

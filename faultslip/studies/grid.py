@@ -49,8 +49,9 @@ from faultslip.dynamics.fault_2d.analysis import summarise as summarise_fault_2d
 from faultslip.dynamics.fault_2d.integrate import YEAR as _YEAR
 from faultslip.fault.fault_2d_scene import SWEEPABLE as FAULT_2D_PARAMETERS
 from faultslip.fault.fault_2d_scene import Fault2DScene, is_fault_2d_document, load_fault_2d_scene, parse_fault_2d_scene
-from faultslip.fault.scene import apply_friction, load_scene, parse_scene, read_text_file, resolve_path, Scene, scene_document
-from faultslip.fault.rate_state_cells import (CYCLE_METHODS, check_friction, estimated_seconds, evolution_codes, output_names,
+from faultslip.fault.scene import apply_friction, load_scene, parse_scene, Scene
+from faultslip.io.resources import read_text_file, resolve_path, scene_document
+from faultslip.fault.rate_state_cells import (check_cycle_method, check_friction, estimated_seconds, evolution_codes, output_names,
                                                rate_state_cells)
 from faultslip.fault.rate_state_cells import OUTPUT_ATTRS as RATE_STATE_OUTPUT_ATTRS
 from faultslip.fault.rate_state_cells import METHOD_CODES as RATE_STATE_METHOD_CODES
@@ -192,9 +193,7 @@ def _method_and_cycles(kind, method, cycles, where):
                              "leave method and cycles out")
         return
     if kind == "rate_state":
-        if method not in CYCLE_METHODS:
-            raise InputError(f"{where} method of a rate-and-state study must be {', '.join(CYCLE_METHODS)} (how its "
-                             f"cycles are integrated), got {method!r}")
+        check_cycle_method(method, f"{where} method of a rate-and-state study")
         if not isinstance(cycles, int) or isinstance(cycles, bool) or not 0 <= cycles <= 1000:
             raise InputError(f"{where} cycles must be a whole number from 0 (K / K_c only) to 1000, got {cycles!r}")
         return
@@ -992,7 +991,7 @@ def sweep(scene, method: str = "auto", tolerance: float = 1e-6, chunks: dict | N
     with a list of values with units (strings or pint Quantities), or category names. With
     ``chunks`` (dimension -> chunk size) the result is dask-backed and lazy. A scene with
     rate-and-state friction sweeps a, b, critical_slip, evolution, fit and the fault's quantities;
-    ``cycles`` > 0 simulates that many cycles in every unstable cell (``method``: auto, lsoda, dopri5).
+    ``cycles`` > 0 simulates that many cycles in every unstable cell (``method``: auto, lsoda, dopri5, dopri5_compiled).
 
     >>> sweep("san_andreas_1906.toml", slip_rate=["10 mm/yr", "35 mm/yr"], lithology=["granodiorite", "pyrite"])
     >>> sweep("san_andreas_1906_rate_state.toml", critical_slip=["10 um", "1 mm", "8 mm"], cycles=3)

@@ -42,10 +42,11 @@ from faultslip.io import budget
 from faultslip.io.resources import bundled_dir, parse_toml, read_unit_csv
 from faultslip.units import si_unit, to_si
 from faultslip import __version__
-from faultslip.fault.scene import Scene, load_scene, parse_scene, read_text_file, resolve_path
+from faultslip.fault.scene import Scene, load_scene, parse_scene
+from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
-from faultslip.fault.rate_state_cells import CYCLE_METHODS
+from faultslip.fault.rate_state_cells import check_cycle_method
 from faultslip.studies.grid import as_dataset, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs, Study
 from datetime import datetime, timezone
 
@@ -84,7 +85,7 @@ class MapSpec:
     notes: list = field(default_factory=list)  # which bundled files were used, if any
     inputs: list = field(default_factory=list)  # every file read: the map, its scene, its table
     cycles: int = 5  # a rate-and-state base: cycles simulated per unstable segment or cell
-    cycle_method: str = "auto"  # ... and their integrator (auto, lsoda, dopri5)
+    cycle_method: str = "auto"  # ... and their integrator (auto, lsoda, dopri5, dopri5_compiled)
 
 
 @dataclass
@@ -226,8 +227,8 @@ def segment_map(segments, lon, lat, scene=None, max_distance="60 km", name="map"
     spec.max_distance = to_si(max_distance, "length", "max_distance", default_unit="m")
     if not spec.max_distance > 0:
         raise InputError(f"max_distance must be positive, got {max_distance!r}")
-    if scene.rate_state and cycle_method not in CYCLE_METHODS:
-        raise InputError(f"cycle_method must be one of {', '.join(CYCLE_METHODS)}, got {cycle_method!r}")
+    if scene.rate_state:
+        check_cycle_method(cycle_method, "cycle_method")
     return spec
 
 
@@ -469,9 +470,7 @@ def load_map(path) -> MapSpec:
         if not isinstance(spec.cycles, int) or isinstance(spec.cycles, bool) or not 1 <= spec.cycles <= 1000:
             raise InputError(f"[map] cycles in {path.name} must be a whole number from 1 to 1000 (a map predicts slip "
                              f"and recurrence; a study gives K / K_c alone), got {spec.cycles!r}")
-        if spec.cycle_method not in CYCLE_METHODS:
-            raise InputError(f"[map] method in {path.name} must be one of {', '.join(CYCLE_METHODS)}, got "
-                             f"{spec.cycle_method!r}")
+        check_cycle_method(spec.cycle_method, f"[map] method in {path.name}")
     elif {"cycles", "method"} & set(head):
         raise InputError(f"[map] cycles and method in {path.name} apply to a base scene with rate-and-state "
                          "friction; a seed-law map takes --method")

@@ -44,6 +44,7 @@ from faultslip.errors import InputError, NoEventsError, SolverError
 from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64,
                                                A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7, _C, _P)
 from faultslip.dynamics.rate_state import compiled as rate_state_compiled
+from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.shared.settling import aitken, assess_settling, bifurcation_note
 from faultslip.dynamics.rate_state.methods import CYCLE_METHODS, SECONDS_PER_STEP, steps_per_cycle
 from faultslip.friction.rate_state import RateStateLaw
@@ -841,15 +842,32 @@ class RateStateCycles:
                 "wall_time": {"value": self.wall_time, "units": "s"}}
 
 
-def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw, rtol: float = 1e-7) -> str:
-    """The method :func:`fault_cycles` uses: ``method``, or for "auto" the cheaper at ``rtol`` by the
-    calibrated cost models (:mod:`faultslip.dynamics.rate_state.methods`): LSODA where the rupture is
-    stiff (below K / K_c of about 0.012 at rtol 1e-7), dopri5 elsewhere. Two-state laws take dopri5."""
+def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw, rtol: float = 1e-7,
+                 record: bool = False) -> str:
+    """The method :func:`fault_cycles` uses: ``method``, or for "auto" the cheapest at ``rtol`` by the
+    calibrated cost models (:mod:`faultslip.dynamics.rate_state.methods`) among those that take the law:
+    dopri5_compiled where it was built (one-state, unregularised laws; not when the series is recorded),
+    else LSODA where the rupture is stiff (below K / K_c of about 0.012 at rtol 1e-7) and dopri5 elsewhere.
+    Two-state laws take dopri5."""
     if method != "auto":
         return method
     if law.two_state:
         return "dopri5"
-    return min(CYCLE_METHODS, key=lambda name: steps_per_cycle(name, rtol, stiffness_ratio) * SECONDS_PER_STEP[name])
+    names = [name for name in CYCLE_METHODS if name != "dopri5_compiled"
+             or (native.available() and not law.regularized and not record)]
+    return min(names, key=lambda name: steps_per_cycle(name, rtol, stiffness_ratio) * SECONDS_PER_STEP[name])
+
+
+def _refuse_compiled(law: RateStateLaw, record: bool) -> None:
+    """dopri5_compiled asked for where it cannot serve: say why and what to use."""
+    if not native.available():
+        raise InputError("dopri5_compiled was not built with this install (no C compiler at install time); use "
+                         "'dopri5', the same scheme in Python, or method 'auto'")
+    if law.two_state or law.regularized:
+        raise InputError("dopri5_compiled integrates one-state, unregularised laws; use 'dopri5'")
+    if record:
+        raise InputError("dopri5_compiled steps from event edge to event edge and records no time series; use "
+                         "'dopri5', the same scheme, to record one")
 
 
 #: The default settling tolerance of fault cycles (relative, on interval, slip and state per cycle).
@@ -891,8 +909,8 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     ``None`` measures after exactly ``spin_up`` cycles (the benchmarks' fixed work).
     """
     progress = reporter(progress, "cycles", "event")
-    if method not in ("auto", "lsoda", "dopri5"):
-        raise InputError(f"method must be auto, lsoda or dopri5, got {method!r}")
+    if method not in ("auto", "lsoda", "dopri5", "dopri5_compiled"):
+        raise InputError(f"method must be auto, lsoda, dopri5 or dopri5_compiled, got {method!r}")
     if model not in ("quasi_dynamic", "quasi_static"):
         raise InputError("fault cycles run the quasi_dynamic model (or quasi_static, which fails at the first event)")
     if not (plate_rate > 0 and math.isfinite(plate_rate)):
@@ -962,6 +980,29 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
         state[0] = threshold
         return t_prev + high * h, state
 
+    def event_start(t_c, y_c, x_after):
+        """An event begins at (t_c, y_c); x_after is ln(V / V0) at the end of the step that crossed."""
+        state["inside"], state["peak"] = True, v0 * math.exp(x_after)
+        record["start"].append(t_c)
+        record["slip_start"].append(y_c[-1])
+        record["tau_start"].append(elastic_stress(y_c))
+        if not settling["done"]:
+            _settling_step(settling, record, y_c, spin_up, settle, law.two_state or chosen_method == "lsoda",
+                           max_settling_cycles, CYCLE_NOISE * rtol)
+
+    def event_end(t_c, y_c):
+        state["inside"] = False
+        record["end"].append(t_c)
+        record["peak"].append(state["peak"])
+        record["slip_end"].append(y_c[-1])
+        record["tau_end"].append(elastic_stress(y_c))
+        if progress:  # the total grows while the sequence settles: spin-up, then the measured cycles
+            done = len(record["end"])
+            progress(done, max(settling["spin_up"] + cycles + 1, done + (0 if settling["done"] else 1)))
+
+    def running():
+        return not settling["done"] or len(record["end"]) <= settling["spin_up"] + cycles
+
     def on_step(t, y):
         # y is the integrator's own new state (dopri5 makes a new list each step; LSODA's caller copies):
         # kept by reference, the interseismic fast path costs two assignments
@@ -969,27 +1010,12 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
         stop = False
         if y[0] > threshold:
             if not state["inside"]:
-                t_c, y_c = crossing(now, y)
-                state["inside"], state["peak"] = True, v0 * math.exp(y[0])
-                record["start"].append(t_c)
-                record["slip_start"].append(y_c[-1])
-                record["tau_start"].append(elastic_stress(y_c))
-                if not settling["done"]:
-                    _settling_step(settling, record, y_c, spin_up, settle, law.two_state or chosen_method == "lsoda",
-                                   max_settling_cycles, CYCLE_NOISE * rtol)
+                event_start(*crossing(now, y), y[0])
                 stop = True
             else:
                 state["peak"] = max(state["peak"], v0 * math.exp(y[0]))
         elif state["inside"]:
-            t_c, y_c = crossing(now, y)
-            state["inside"] = False
-            record["end"].append(t_c)
-            record["peak"].append(state["peak"])
-            record["slip_end"].append(y_c[-1])
-            record["tau_end"].append(elastic_stress(y_c))
-            if progress:  # the total grows while the sequence settles: spin-up, then the measured cycles
-                done = len(record["end"])
-                progress(done, max(settling["spin_up"] + cycles + 1, done + (0 if settling["done"] else 1)))
+            event_end(*crossing(now, y))
             stop = True
         previous["t"] = now
         previous["y"] = y
@@ -1000,20 +1026,45 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
 
     started = time.perf_counter()
     steps = nfev = 0
-    chosen_method = cycle_method(method, ratio, law, rtol)
+    chosen_method = cycle_method(method, ratio, law, rtol, record=keep_series)
     if chosen_method == "lsoda" and law.two_state:
         raise InputError("method 'lsoda' for fault cycles takes a one-state law (its Jacobian); use 'dopri5'")
+    if chosen_method == "dopri5_compiled":
+        _refuse_compiled(law, keep_series)
     if chosen_method == "lsoda":
         steps, nfev, clock["offset"] = _lsoda_cycles(rhs, _quasi_jacobian(slider, load, damping), y0, rtol, atol,
-                                                     horizon, on_step,
-                                                     lambda: not settling["done"] or len(record["end"]) <=
-                                                     settling["spin_up"] + cycles,
-                                                     slider, model, max_steps)
+                                                     horizon, on_step, running, slider, model, max_steps)
+    elif chosen_method == "dopri5_compiled":  # the same scheme stepped in C from one event edge to the next
+        y, h = y0, -1.0
+        fixed = (law.evolution == "aging", v0, law.critical_slip, k, sigma * law.a, sigma * law.b, damping,
+                 plate_rate)
+        while running() and clock["offset"] < horizon:
+            if settling["restart"] is not None:  # Steffensen: continue from the extrapolated fixed point
+                y, settling["restart"], h = settling["restart"], None, -1.0
+            status, t_local, x, psi, slip, run_steps, run_nfev, h, t_c, psi_c, slip_c, peak = native.run(
+                *y, h, horizon - clock["offset"], rtol, *atol, *fixed, state["inside"], threshold, max_steps - steps)
+            steps, nfev = steps + run_steps, nfev + run_nfev
+            if status == native.STEP_COLLAPSE:
+                if model == "quasi_static":
+                    _diverged(slider, clock["offset"] + t_local)
+                raise SolverError(f"dopri5_compiled failed in the quasi-dynamic fault cycles (the step size fell to "
+                                  f"{h:.1e} s at t = {clock['offset'] + t_local:.6g} s); tighten rtol")
+            if status == native.TOO_MANY_STEPS:
+                raise SolverError(f"dopri5_compiled took more than {max_steps} steps (its budget) before "
+                                  f"t = {clock['offset'] + t_local:.6g} s")
+            if state["inside"] and math.isfinite(peak):
+                state["peak"] = max(state["peak"], v0 * math.exp(peak))
+            if status == native.CROSSED:
+                if state["inside"]:
+                    event_end(clock["offset"] + t_c, [threshold, psi_c, slip_c])
+                else:
+                    event_start(clock["offset"] + t_c, [threshold, psi_c, slip_c], x)
+            clock["offset"] += t_local
+            y = (x, psi, slip)
     else:
         y, step = y0, {"h": None}
         try:
-            while (not settling["done"] or len(record["end"]) <= settling["spin_up"] + cycles) \
-                    and clock["offset"] < horizon:
+            while running() and clock["offset"] < horizon:
                 if settling["restart"] is not None:  # Steffensen: continue from the extrapolated fixed point
                     y, settling["restart"], step["h"] = settling["restart"], None, None
                 _, y, t_local, run_steps, run_nfev = dopri5(rhs, 0.0, y, horizon - clock["offset"], np.empty(0), rtol,

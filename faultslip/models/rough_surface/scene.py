@@ -33,7 +33,7 @@ from pathlib import Path
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.errors import InputError, SolverError
-from faultslip.fault.scene import read_text_file, resolve_path, scene_document
+from faultslip.io.resources import read_text_file, resolve_path, scene_document
 from faultslip.friction.laws import (SEPARATION_MEMORIES, STANDARD_GRAVITY, ConstantStatic,
                                      SeparatingSurfacesKinetic)
 from faultslip.io.resources import check_toml_layout, parse_toml

@@ -26,7 +26,7 @@ import numpy as np
 
 from faultslip.dynamics.vibration import QuasiHarmonic
 from faultslip.errors import InputError
-from faultslip.fault.scene import read_text_file, resolve_path, scene_document
+from faultslip.io.resources import read_text_file, resolve_path, scene_document
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar, unit_factor
 
