@@ -796,10 +796,16 @@ class RateStateCycles:
     spin_up: int = 0
     restarts: int = 0
     rtol: float = 1e-7
+    #: s, the start of the event after the last measured cycle: every cycle's interval, the last's too
+    next_event_time: float = math.nan
 
     @property
     def recurrence(self) -> float:
-        return float(np.mean(np.diff(self.event_times)))
+        """The mean interval of the measured cycles, from each one's event start to the next's (the same
+        intervals whose slip ``cycle_slip`` holds; one cycle has one)."""
+        starts = self.event_times if math.isnan(self.next_event_time) else np.append(self.event_times,
+                                                                                   self.next_event_time)
+        return float(np.mean(np.diff(starts))) if starts.size > 1 else math.nan
 
     @property
     def estimated_relative_error(self) -> float:
@@ -1090,6 +1096,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     starts = np.array(record["start"][spin_up:spin_up + cycles + 1])
     slip_starts = np.array(record["slip_start"][spin_up:spin_up + cycles + 1])
     return RateStateCycles(event_times=starts[:-1] if starts.size > cycles else starts,
+                           next_event_time=float(starts[-1]) if starts.size > cycles else math.nan,
                            slip_per_event=np.array(record["slip_end"][chosen]) - np.array(record["slip_start"][chosen]),
                            stress_drop=np.array(record["tau_start"][chosen]) - np.array(record["tau_end"][chosen]),
                            peak_slip_rate=np.array(record["peak"][chosen]), cycle_slip=np.diff(slip_starts),
