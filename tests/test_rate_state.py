@@ -410,7 +410,7 @@ def test_the_c_stepper_is_built_wherever_a_compiler_is():
 def test_the_c_stepper_takes_the_python_schemes_steps_and_events(ratio, evolution, rtol):
     """dopri5_compiled is dopri5 stepped in C: the same accepted steps and event edges (Hermite crossings).
     Measured at BP1 from K / K_c 0.05 to 0.97, both laws: equal step counts, recurrence equal to 4e-15,
-    slip and stress drop to 1.2e-10, peak speed to 9e-10 (libm's exp against Python's, summed over steps)."""
+    slip and stress drop to 1.2e-10 (libm's exp against Python's, summed over steps)."""
     law = BP1.with_evolution(evolution)
     slider = RateStateSlider.at_fault(law, 3.2e10, 20e3 * 0.0512 / ratio, 50e6, density=2670.0,
                                       shear_wave_speed=3464.0)
@@ -420,8 +420,11 @@ def test_the_c_stepper_takes_the_python_schemes_steps_and_events(ratio, evolutio
     assert compiled.restarts == python.restarts
     assert abs(compiled.steps - python.steps) <= 2 + python.steps // 1000
     assert compiled.recurrence == pytest.approx(python.recurrence, rel=1e-8)
-    for name in ("slip_per_event", "stress_drop", "peak_slip_rate", "cycle_slip"):
-        np.testing.assert_allclose(getattr(compiled, name), getattr(python, name), rtol=1e-7)
+    for name in ("slip_per_event", "stress_drop", "cycle_slip"):
+        np.testing.assert_allclose(getattr(compiled, name), getattr(python, name), rtol=1e-8)
+    # the peak is the fastest step end: near K_c (a restart from an extrapolated state) rounding moves the
+    # steps by ulps and the sampled peak by up to 1.2e-7 (found at K / K_c 0.94, rtol 1e-7)
+    np.testing.assert_allclose(compiled.peak_slip_rate, python.peak_slip_rate, rtol=1e-6)
 
 
 @needs_stepper
@@ -445,3 +448,15 @@ def test_the_c_stepper_says_where_it_cannot_serve(monkeypatch):
     with pytest.raises(InputError, match="not built with this install.*use 'dopri5'"):
         fault_cycles(slider, 1e-9, method="dopri5_compiled")
     assert fault_cycles(slider, 1e-9, cycles=1).method == "dopri5"
+
+
+def test_one_cycle_has_a_recurrence_and_its_plate_balance():
+    """The recurrence is the mean interval from each measured event start to the next (the intervals whose
+    slip cycle_slip holds), so one measured cycle has one; it once averaged one interval fewer, and --cycles 1
+    printed NaN with two warnings."""
+    slider = RateStateSlider.at_fault(BP1, 3.2e10, 20e3, 50e6, density=2670.0, shear_wave_speed=3464.0)
+    one, three = fault_cycles(slider, 1e-9, cycles=1), fault_cycles(slider, 1e-9, cycles=3)
+    assert one.cycle_slip.size == 1 and math.isfinite(one.recurrence)
+    assert one.cycle_slip[0] / (1e-9 * one.recurrence) == pytest.approx(1.0, rel=1e-5)
+    assert one.recurrence == pytest.approx(three.recurrence, rel=1e-6)  # a settled sequence
+    assert three.recurrence == pytest.approx((three.next_event_time - three.event_times[0]) / 3, rel=1e-14)
