@@ -15,13 +15,7 @@ from faultslip.io.atomic import claim, save_figure
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, output_lock, same_file
 from faultslip.io.processes import usable_workers
-from faultslip.io.progress import Progress
 from faultslip.units import to_si
-
-
-def _emit(report, as_json: bool) -> int:
-    print(report.to_json() if as_json else report.to_text())
-    return 0
 
 
 def _outputs(args, specs, inputs=()):
@@ -118,12 +112,6 @@ def _system_from_args(args):
             system = system.with_(dashpot=float(dashpot_for_damping_ratio(zeta, system.stiffness, system.mass)))
         return system
     raise InputError("give --preset NAME (with --damping-ratio) or a scene file")
-
-
-def _progress(label, enabled=True, unit="it"):
-    """Progress on stderr (faultslip.io.progress): a bar on a terminal, log lines when redirected; none
-    with --json or for work shorter than two seconds."""
-    return Progress(label, unit) if enabled else None
 
 
 def _save_run(report, outputs: dict, args, dataset, figure, series: str = "time series", drawing: str = "figure"):

@@ -5,7 +5,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from faultslip.cli.common import _emit, _locked, _number, _output_dir, _outputs, _progress, _workers
+from faultslip.cli.common import _locked, _number, _output_dir, _outputs, _workers
+from faultslip.cli.printing import _emit, _progress
 from faultslip.io.outputs import FIGURE_SUFFIXES
 from faultslip.errors import FaultslipError, InputError
 from faultslip.evaluation import bench, rate_state_bench, stability

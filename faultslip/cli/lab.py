@@ -7,7 +7,8 @@ from dataclasses import replace
 import numpy as np
 
 from faultslip import ranges
-from faultslip.cli.common import _emit, _locked, _number, _outputs, _progress, _save_run
+from faultslip.cli.common import _locked, _number, _outputs, _save_run
+from faultslip.cli.printing import _emit, _progress
 from faultslip.dynamics.vibration import (amplitude_against_speed, amplitude_table, error_against_eps, hand_over_map,
                                           regions, settled_amplitude)
 from faultslip.dynamics.vibration import report as averaging_report

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 
-from faultslip.cli.common import _emit, _locked, _number, _outputs, _progress, _system_from_args
+from faultslip.cli.common import _locked, _number, _outputs, _system_from_args
+from faultslip.cli.printing import _emit, _progress
 from faultslip.errors import FaultslipError
 from faultslip.friction.materials import get_preset, table_i_presets
 from faultslip.io.atomic import save_figure

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 
-from faultslip.cli.common import _emit, _locked, _outputs, _progress
+from faultslip.cli.common import _locked, _outputs
+from faultslip.cli.printing import _emit, _progress
 from faultslip.errors import FaultslipError
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.netcdf import write_dataset
@@ -68,6 +69,7 @@ def cmd_stability(args) -> int:
     return _emit(report, args.json)
 
 
-def cmd_cycles(args) -> int:
+def cmd_cycles_beside_seed_law(args) -> int:
+    """rate-state cycles --seed-law: the cycles, and the seed law on the same fault (the parser routes here)."""
     return _emit(earthquake_cycles(args.scene, args.cycles, args.seed_law,
                                    progress=_progress("cycles", not args.json, "event")).report(), args.json)

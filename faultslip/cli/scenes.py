@@ -6,7 +6,8 @@ import json
 from pathlib import Path
 
 from faultslip import models
-from faultslip.cli.common import _emit, _locked, _number, _output_dir, _outputs, _save_run, _system_from_args, _tolerance
+from faultslip.cli.common import _locked, _number, _output_dir, _outputs, _save_run, _system_from_args, _tolerance
+from faultslip.cli.printing import _emit
 from faultslip.dynamics.spring_slider.critical import comparison_dataset, comparison_markdown, critical
 from faultslip.dynamics.methods import describe_all, solve
 from faultslip.errors import InputError

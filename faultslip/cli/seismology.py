@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.cli.common import _emit, _locked, _number, _outputs
+from faultslip.cli.common import _locked, _number, _outputs
+from faultslip.cli.printing import _emit
 from faultslip.errors import InputError
 from faultslip.evaluation.catalogs import compare
 from faultslip.fault.scene import load_scene

@@ -6,7 +6,8 @@ import json
 import math
 from pathlib import Path
 
-from faultslip.cli.common import _number, _progress, _locked, _outputs, _tolerance, _workers
+from faultslip.cli.common import _number, _locked, _outputs, _tolerance, _workers
+from faultslip.cli.printing import _progress
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io import budget
 from faultslip.io.atomic import save_figure

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.cli.common import _emit, _number, _outputs, _save_run
+from faultslip.cli.common import _number, _outputs, _save_run
+from faultslip.cli.printing import _emit
 from faultslip.errors import InputError
 from faultslip.friction.contact import (contact_modulus, elastic_contact_hardness, greenwood_williamson,
                                         hirst_hollander_index, plasticity_index)

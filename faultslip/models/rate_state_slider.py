@@ -7,22 +7,36 @@ import math
 
 from faultslip.dynamics.rate_state.slider import fault_cycles, simulate_rate_state
 from faultslip.errors import InputError
-from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.report import Report
 from faultslip.models.fault_2d import simulate_fault
 from faultslip.fault.fault_2d_scene import from_one_slider
 from faultslip.models.model_error import declared_model_error
+from faultslip.fault.rate_state_fault import seed_law_fault
+from faultslip.models import rate_state_cycles
+from faultslip.models.rate_state_cycles import _scene_notes
 from faultslip.models.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.figures import _pyplot
 from faultslip.units import ELAPSED_TIME_ATTRS
 
 
-def _scene_notes(report, scene) -> None:
-    report.note(scene.law.describe())
-    if scene.origin:
-        report.note(f"scene: {scene.origin}")
+def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None, progress=None) -> Result:
+    """A fault's quasi-dynamic earthquake cycles ([fault]), with the seed law on the same fault beside them
+    (:func:`faultslip.models.rate_state_cycles.earthquake_cycles`, then the seed law's estimate).
+
+    ``progress``: True for a bar, or a callable (done, total) over events (:mod:`faultslip.io.progress`)."""
+    scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
+    result = rate_state_cycles.earthquake_cycles(scene, count, progress)
+    if seed_law:
+        report = result.summary
+        seed = seed_law_fault(seed_law, slip_rate=scene.plate_rate, **scene.fault).estimate()
+        report.add("seed_law_slip_per_event", seed.slip_per_event, "m",
+                   label=f"seed law ({seed_law}) slip per event on the same fault")
+        report.add("seed_law_recurrence_period", seed.recurrence_period, "s", also=("yr",),
+                   label=f"seed law ({seed_law}) recurrence on the same fault")
+        report.add("slip_ratio_rate_state_to_seed", report["slip_per_event"] / seed.slip_per_event)
+    return result
 
 
 def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
@@ -78,41 +92,6 @@ def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
         return drawing
 
     return Result("rate_state_slider", report, series, figure)
-
-
-def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None, progress=None) -> Result:
-    """A fault's quasi-dynamic earthquake cycles ([fault]), with the seed law on the same fault beside them.
-
-    ``progress``: True for a bar, or a callable (done, total) over events (:mod:`faultslip.io.progress`)."""
-    scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
-    if not 1 <= count <= 10_000:
-        raise InputError(f"--cycles must lie between 1 and 10000, got {count}")
-    if scene.kind != "fault":
-        raise InputError(f"{scene.name} describes a laboratory slider; fault cycles need a [fault] table with "
-                         "shear_modulus, zone_width, normal_stress and plate_rate")
-    result = fault_cycles(scene.slider, scene.plate_rate, cycles=count,
-                          model="quasi_dynamic" if scene.model != "quasi_static" else "quasi_static", progress=progress)
-    report = Report(f"faultslip rate-state cycles: {scene.name}")
-    report.add("recurrence_period", result.recurrence, "s", also=("yr",))
-    report.add("slip_per_event", float(result.slip_per_event.mean()), "m")
-    report.add("stress_drop", float(result.stress_drop.mean()), "Pa", also=("MPa",))
-    report.add("peak_slip_rate", float(result.peak_slip_rate.max()), "m/s")
-    report.add("stiffness_ratio", result.stiffness_ratio, label="K / K_c (quasi-static k_c)")
-    report.add("regime", result.regime).add("cycles", int(result.slip_per_event.size))
-    report.add("plate_slip_balance", float((result.cycle_slip / (result.plate_rate * result.recurrence)).mean()),
-               label="slip per cycle / (V_pl T)")
-    report.add("model", result.model).add("steps", int(result.steps)).add("wall_time", result.wall_time, "s")
-    result.report_settling(report)
-    report.note(f"events: slip speed above {result.event_speed:g} m/s (the SEAS convention)")
-    if seed_law:
-        seed = seed_law_fault(seed_law, slip_rate=scene.plate_rate, **scene.fault).estimate()
-        report.add("seed_law_slip_per_event", seed.slip_per_event, "m",
-                   label=f"seed law ({seed_law}) slip per event on the same fault")
-        report.add("seed_law_recurrence_period", seed.recurrence_period, "s", also=("yr",),
-                   label=f"seed law ({seed_law}) recurrence on the same fault")
-        report.add("slip_ratio_rate_state_to_seed", float(result.slip_per_event.mean()) / seed.slip_per_event)
-    _scene_notes(report, scene)
-    return Result("rate_state_slider", report)
 
 
 #: The methods of a fault scene: one slider (K = G / D) or the 2-D fault it stands for.
