@@ -13,6 +13,7 @@ from faultslip.io import budget
 from faultslip.io.atomic import save_figure
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, FIGURE_SUFFIXES
+from faultslip.io.processes import retain_freed_memory
 from faultslip.studies.grid import load_study
 from faultslip.io.atomic import claim
 from faultslip.fault import mfd as mfds
@@ -28,6 +29,7 @@ MOST_ROWS = 50
 
 
 def cmd_sweep(args) -> int:
+    retain_freed_memory()  # this process computes blocks too (in process, or as the pool's parent)
     study = load_study(args.study)
     inputs = [args.study, study.scene.path]
     # --resume continues into the same output: an existing final file is still refused without --overwrite

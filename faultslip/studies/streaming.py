@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import math
 import re
 import os
 import shutil
@@ -32,10 +33,10 @@ from faultslip.io.netcdf import create_chunked
 from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock
-from faultslip.io.processes import run_windowed, stop_pool, worker_pool
+from faultslip.io.processes import SharedRing, run_windowed, shared_segment, stop_pool, worker_pool
 from faultslip.io.resources import probe_netcdf
 from faultslip.fault.rate_state_cells import METHOD_CODES, REGIME_CODES
-from faultslip.studies.grid import compute_block, finish, parameters_for, parse_study, template_block
+from faultslip.studies.grid import block_arrays, compute_block, finish, parameters_for, parse_study, template_block
 import tempfile
 
 DEFAULT_CHUNK_CELLS = 2**19
@@ -159,36 +160,76 @@ def encode_block(study, block, chunks, compression="zlib") -> dict:
     The block is one chunk of the file (:func:`plan_blocks`), so its bytes go to disk as they
     are; the compression runs here, in the worker, in parallel with the other workers.
     """
-    dataset = compute_block(study, block)
-    names = list(study.dims)
-    shape = tuple(chunks[n] for n in names)
+    shape = tuple(chunks[n] for n in study.dims)
     encoded = {}
-    for name, variable in dataset.data_vars.items():
-        is_int = np.issubdtype(variable.dtype, np.integer)
-        values = variable.transpose(*names).values.astype(np.int8 if is_int else np.float64, copy=False)
+    for name, values in block_arrays(study, block).items():
+        is_int = np.issubdtype(values.dtype, np.integer)
+        values = values.astype(np.int8 if is_int else np.float64, copy=False)
         encoded[name] = encode_chunk(padded(values, shape, INT_FILL if is_int else FLOAT_FILL), compression)
     return encoded
 
 
+def encode_block_shared(study, block, chunks, compression, segment: str) -> dict:
+    """Pool worker task: :func:`encode_block`, its chunks written into the shared-memory ``segment``
+    (:class:`faultslip.io.processes.SharedRing`); returns name -> (offset, length) there, or the bytes of
+    a chunk that did not fit."""
+    view = shared_segment(segment)
+    layout, offset = {}, 0
+    for name, data in encode_block(study, block, chunks, compression).items():
+        if offset + len(data) <= len(view):
+            view[offset:offset + len(data)] = data
+            layout[name] = (offset, len(data))
+            offset += len(data)
+        else:
+            layout[name] = data
+    return layout
+
+
 class _ChunkWriter:
-    """The parent's side of parallel compression: encoded chunks from the workers go to disk as bytes."""
+    """The parent's side of parallel compression: encoded chunks from the workers go to disk as bytes,
+    handed over in shared memory by a local process pool (:meth:`share`), else as the task's result."""
 
     def __init__(self, path, study, chunks, names, compression):
         self.task = encode_block
         self.extra = (chunks, compression)
         self._dims = list(study.dims)
         self._file = ChunkFile(path, names, compression)
+        self._ring = None
+        # the largest encoded block: every output's whole chunk, deflate's worst case (+0.1 % and 64 kB)
+        self._block_bytes = sum(math.prod(chunks.values()) * (1 if name in ("regime", "method") else 8)
+                                for name in names)
 
-    def store(self, block, encoded):
+    def share(self, tasks_in_flight: int):
+        """Take results from a local process pool through ``tasks_in_flight`` shared-memory segments."""
+        self._ring = SharedRing(tasks_in_flight, self._block_bytes * 1.001 + 65536)
+        self.task = encode_block_shared
+
+    def lease(self) -> tuple:
+        """The extra argument of the next task: a free segment (none without :meth:`share`)."""
+        return (self._ring.lease(),) if self._ring is not None else ()
+
+    def store(self, block, encoded, lease=()):
         offset = tuple(block[n].start for n in self._dims)
-        for name, data in encoded.items():
-            self._file.write(name, offset, data)
+        view = self._ring.view(lease[0]) if lease else None
+        try:
+            for name, data in encoded.items():
+                if isinstance(data, tuple):
+                    start, length = data
+                    data = view[start:start + length]
+                self._file.write(name, offset, data)
+        finally:
+            if lease:
+                self._ring.release(lease[0])
 
     def sync(self):
         self._file.flush()
 
     def close(self):
-        self._file.close()
+        try:
+            self._file.close()
+        finally:
+            if self._ring is not None:
+                self._ring.close()
 
 
 class _NetcdfWriter:
@@ -199,7 +240,10 @@ class _NetcdfWriter:
         self.extra = ()
         self._nc, self._study = nc, study
 
-    def store(self, block, dataset):
+    def lease(self) -> tuple:
+        return ()
+
+    def store(self, block, dataset, lease=()):
         _write_block(self._nc, self._study, block, dataset)
 
     def sync(self):
@@ -231,7 +275,10 @@ class _ZarrWriter:
         elif not is_store(path):
             raise InputError(f"{Path(path).name} is not a Zarr store")
 
-    def store(self, block, written):
+    def lease(self) -> tuple:
+        return ()
+
+    def store(self, block, written, lease=()):
         pass
 
     def sync(self):
@@ -377,16 +424,26 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
             raise
     pending = [i for i in range(len(blocks)) if i not in done]
     workers, reason = choose_execution(study, len(pending), workers, scheduler)
+    window = max(workers, 1) + 1
+    if scheduler is None and workers > 1 and isinstance(writer, _ChunkWriter):
+        # a local pool's workers hand their chunks over in shared memory, not through the result pipe; made
+        # before the workers fork, so that they share this process's resource tracker
+        writer.share(window)
     executor, label = _executor(scheduler, workers)
     label = f"{label}{reason}"
-    task = writer.task
+    leases = {}
+
+    def tasks():
+        for i in pending:
+            leases[i] = writer.lease()
+            yield i, (study, blocks[i], *writer.extra, *leases[i])
 
     def record_progress():
         write_text_atomic(ledger, json.dumps({"fingerprint": fingerprint, "blocks": len(blocks), "done": sorted(done)}),
                           immediate=True)  # a resume reads it after a kill: it cannot wait for the run's end
 
     def finished_block(index, result):
-        writer.store(blocks[index], result)
+        writer.store(blocks[index], result, leases.pop(index))
         done.add(index)
         if progress:
             progress(len(done), len(blocks))
@@ -403,8 +460,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
 
     try:
         # blocks in flight: bounds memory whatever the grid size
-        run_windowed(executor, writer.task, ((i, (study, blocks[i], *writer.extra)) for i in pending),
-                     finished_block, window=max(workers, 1) + 1, on_tick=tick)
+        run_windowed(executor, writer.task, tasks(), finished_block, window=window, on_tick=tick)
     except BaseException as exc:
         _shutdown(executor, interrupted=True)  # first: no worker may keep running, or block the exit
         _abandon(exc, writer, partial, ledger, output)
