@@ -80,7 +80,8 @@ def benchmarks_table() -> str | None:
     if cycles:
         rows.append(f"| 100 quasi-dynamic rate-and-state cycles at fault scale (SEAS BP1 friction, K / K_c = "
                     f"{cycles['stiffness_ratio']:.2f}; target < 1 s) | **{cycles['seconds']:.2f} s** "
-                    f"({cycles['steps']} dopri5 steps; recurrence {cycles['recurrence_years']:.0f} yr) |")
+                    f"({cycles['steps']} {cycles.get('method', 'dopri5')} steps; recurrence "
+                    f"{cycles['recurrence_years']:.0f} yr) |")
     sweep = _load("sweep.json")
     for row in (sweep or {}).get("engine", []):
         rows.append(f"| study engine against a numpy kernel computing the same 17 outputs, {row['cells']:.0e} cells in "
@@ -93,6 +94,27 @@ def benchmarks_table() -> str | None:
                     f"{writer['target']}) | {writer['ours_s']:.1f} s vs {writer['baseline_s']:.1f} s: "
                     f"**{writer['ratio']:.2f}×**; peak memory {writer['ours_peak_memory_bytes'] / 2**20:.0f} vs "
                     f"{writer['baseline_peak_memory_bytes'] / 2**20:.0f} MiB |")
+    bottom = (sweep or {}).get("floor")
+    if bottom:
+        parts = bottom["parts_s"]
+        seconds = bottom["sweep_s"]
+        rows.append(f"| default `faultslip sweep` of {bottom['cells']:.0e} cells against the machine's floor computed in "
+                    f"the same run: numpy kernel {parts['kernel']:.2f} s + shuffle {parts['shuffle']:.2f} s + ISA-L "
+                    f"level 1 {parts['deflate']:.2f} s of CPU over {bottom['cores']} cores, plus a buffered write of "
+                    f"{bottom['compressed_bytes'] / 1e9:.2f} GB ({parts['write']:.2f} s) (target ≤ 2×) | "
+                    f"{seconds['default (2 workers)']:.2f} s vs {bottom['floor_s']:.2f} s: "
+                    f"**{bottom['ratio_to_floor']:.2f}×** the floor; of it, the whole command's fixed cost (Python, "
+                    f"imports, layout, the file) is the one-cell sweep's {seconds['one cell']:.2f} s |")
+        rows.append(f"| the second core: the default sweep (2 workers) against `--workers 1`, whole commands, median of "
+                    f"{bottom['repeats']} interleaved (target ≥ 1.6×) | {seconds['default (2 workers)']:.2f} s vs "
+                    f"{seconds['--workers 1']:.2f} s: **{bottom['second_worker_speedup']:.2f}×**; without the fixed "
+                    f"{seconds['one cell']:.2f} s, "
+                    f"{(seconds['--workers 1'] - seconds['one cell']) / (seconds['default (2 workers)'] - seconds['one cell']):.2f}× |")
+    pool = {row["cells"]: row["peak_memory_bytes"] for row in (sweep or {}).get("work_against_size", [])
+            if row["path"] == "process pool"}
+    if 1e7 in pool and 1e8 in pool:
+        rows.append(f"| peak memory of the default sweep (whole process tree), 1e7 against 1e8 cells (target: within 5 %) "
+                    f"| {pool[1e7] / 2**20:.0f} vs {pool[1e8] / 2**20:.0f} MiB: **{pool[1e8] / pool[1e7] - 1:+.1%}** |")
     return "\n".join(rows) + "\n\n" + _machine(latest)
 
 
@@ -205,6 +227,42 @@ def fault_2d_qdyn_table() -> str | None:
     return "\n".join(rows) + "\n\n" + _machine(result)
 
 
+def spring_block_qdyn_table() -> str | None:
+    result = _load("spring_block_qdyn.json")
+    if result is None:
+        return None
+    ours = result["faultslip"]
+    rows = ["| code, solver | setting | recurrence (error against converged) | whole process, median |",
+            "| --- | --- | --- | --- |"]
+    error = ours.get("recurrence_error")
+    rows.append(f"| faultslip `rate-state cycles --cycles 100 --json` ({ours.get('command_integrator') or ours['integrator']}) "
+                f"| rtol {ours['rtol']:g} (its default) | {ours['recurrence_yr']:.7f} yr"
+                f"{f' ({error:.1e})' if error is not None else ''} | **{result['wall_s']['faultslip'] * 1e3:.0f} ms** |")
+    for name, peer in result.get("qdyn", {}).items():
+        chosen = next(row for row in peer["study"] if row["accuracy"] == peer["accuracy"])
+        for label, wall in result["wall_s"].items():
+            if label.startswith(f"QDYN {name},"):
+                rows.append(f"| {label} | ACC {peer['accuracy']:g} (loosest within 1e-6) | "
+                            f"{chosen['recurrence_yr']:.7f} yr ({chosen['recurrence_error']:.1e}) | {wall * 1e3:.0f} ms |")
+    rows.append("")
+    if result.get("ratio_faultslip_over_best_peer"):
+        startup = result.get("startup_s", {})
+        rows.append(f"faultslip / the fastest QDYN run ({result['best_peer']}) = "
+                    f"**{result['ratio_faultslip_over_best_peer']:.2f}** (target ≤ 0.5); against QDYN writing the "
+                    f"time series its events come from ({result['fair_peer']}): "
+                    f"**{result['ratio_faultslip_over_fair_peer']:.2f}**. {result['cycles']} cycles after spin-up, "
+                    f"{result['simulated_years']:.0f} simulated years, each run a whole process, interleaved, median of "
+                    f"the repeats; QDYN commit {result.get('qdyn_commit') or 'unknown'}. Where the time goes: "
+                    f"faultslip's cycles take {ours['cycles_wall_s'] * 1e3:.0f} ms ({ours['steps']:,} steps), the "
+                    f"interpreter {startup.get('python', float('nan')) * 1e3:.0f} ms and numpy's import "
+                    f"{(startup.get('python + numpy', float('nan')) - startup.get('python', float('nan'))) * 1e3:.0f} ms; "
+                    f"QDYN over one simulated second takes {startup.get('QDYN, 1 s simulated', float('nan')) * 1e3:.0f} ms, "
+                    f"its start-up.")
+    elif result.get("qdyn_missing"):
+        rows.append(f"QDYN was not run on this machine: {result['qdyn_missing']}.")
+    return "\n".join(rows) + "\n\n" + _machine(result)
+
+
 def lab_fits_table() -> str | None:
     speed, coverage = _load("posterior_speed.json"), _load("fit_coverage.json")
     if speed is None and coverage is None:
@@ -250,7 +308,8 @@ def update(readme: Path = ROOT / "README.md") -> list[str]:
     written = []
     for name, render in (("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
                          ("startup", startup_table), ("fault_2d", fault_2d_table),
-                         ("fault_2d_qdyn", fault_2d_qdyn_table), ("lab_fits", lab_fits_table),
+                         ("fault_2d_qdyn", fault_2d_qdyn_table), ("spring_block_qdyn", spring_block_qdyn_table),
+                         ("lab_fits", lab_fits_table),
                          ("classroom", classroom_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
