@@ -138,6 +138,16 @@ def qdyn_available(qdyn: Path | None) -> str | None:
     return None
 
 
+def write_input(model, folder: Path) -> None:
+    """QDYN's own writer puts qdyn.in in the working folder: run it in ``folder``."""
+    here = os.getcwd()
+    try:
+        os.chdir(folder)
+        model.write_input()
+    finally:
+        os.chdir(here)
+
+
 def qdyn_run(qdyn: Path, elements: int, years: float, accuracy: float, solver: int, work: Path) -> dict:
     folder = work / f"qdyn_{elements}_{years:g}_{accuracy:g}_{solver}"
     shutil.rmtree(folder, ignore_errors=True)
@@ -165,12 +175,7 @@ def qdyn_run(qdyn: Path, elements: int, years: float, accuracy: float, solver: i
                                  0, elements - 1))
     iot[stations] = 1
     model.mesh_dict["IOT"] = iot
-    here = os.getcwd()
-    try:
-        os.chdir(folder)
-        model.write_input()
-    finally:
-        os.chdir(here)
+    write_input(model, folder)
     status, wall = _timed([str(qdyn / "src" / "qdyn")], folder, folder / "log.txt")
     row = {"code": "QDYN", "solver": SOLVERS[solver], "tolerance": accuracy, "elements": elements, "years": years,
            "wall_s": wall, "status": status}

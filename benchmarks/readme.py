@@ -222,7 +222,12 @@ def fault_2d_qdyn_table() -> str | None:
                     f"(wall time of the whole process, BP1 for {result['years']:g} yr on {result['elements']} "
                     f"elements of {result['element_size_m']:.4g} m, each code at its own fair tolerance, "
                     f"measured one after the other in this run; QDYN commit {result.get('qdyn_commit') or 'unknown'}).")
-    elif result.get("qdyn_missing"):
+    return _peer_closing(rows, result)
+
+
+def _peer_closing(rows: list, result: dict) -> str:
+    """A peer table's end: why QDYN did not run, if it did not, and the machine and date."""
+    if not result.get("ratio_faultslip_over_best_peer") and result.get("qdyn_missing"):
         rows.append(f"QDYN was not run on this machine: {result['qdyn_missing']}.")
     return "\n".join(rows) + "\n\n" + _machine(result)
 
@@ -258,9 +263,7 @@ def spring_block_qdyn_table() -> str | None:
                     f"{(startup.get('python + numpy', float('nan')) - startup.get('python', float('nan'))) * 1e3:.0f} ms; "
                     f"QDYN over one simulated second takes {startup.get('QDYN, 1 s simulated', float('nan')) * 1e3:.0f} ms, "
                     f"its start-up.")
-    elif result.get("qdyn_missing"):
-        rows.append(f"QDYN was not run on this machine: {result['qdyn_missing']}.")
-    return "\n".join(rows) + "\n\n" + _machine(result)
+    return _peer_closing(rows, result)
 
 
 def lab_fits_table() -> str | None:

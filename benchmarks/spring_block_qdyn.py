@@ -48,7 +48,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from fault_2d_qdyn import SOLVERS, _commit, qdyn_available  # noqa: E402
+from fault_2d_qdyn import SOLVERS, _commit, qdyn_available, write_input  # noqa: E402
 from faultslip.dynamics.rate_state.slider import fault_cycles  # noqa: E402
 from faultslip.fault.rate_state_scene import load_rate_state_scene  # noqa: E402
 
@@ -99,12 +99,7 @@ def qdyn_input(qdyn: Path, folder: Path, scene, accuracy: float, solver: int, ev
                          "MU_SS": law.mu0, "V_SS": law.reference_speed, "V_0": 1.01 * scene.plate_rate,
                          "TH_0": law.critical_slip / scene.plate_rate}})
     model.render_mesh()
-    here = os.getcwd()
-    try:
-        os.chdir(folder)
-        model.write_input()
-    finally:
-        os.chdir(here)
+    write_input(model, folder)
 
 
 def qdyn_recurrence(folder: Path) -> tuple[float, int]:
