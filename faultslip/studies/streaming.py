@@ -48,6 +48,11 @@ FLOAT_FILL = np.nan
 INT_FILL = np.int8(-127)
 
 
+def stored(dtype) -> tuple:
+    """How an output is stored: (numpy type, fill value); flags as int8, everything else as float64."""
+    return (np.int8, INT_FILL) if np.issubdtype(dtype, np.integer) else (np.float64, FLOAT_FILL)
+
+
 #: A block's target wall time: long enough to amortise its dispatch and write, short enough that slow
 #: cells (simulated, or rate-and-state cycles) spread over every worker.
 BLOCK_SECONDS = 2.0
@@ -127,8 +132,8 @@ def file_layout(study, template):
             coords[name] = (np.asarray(values, dtype=float), {"units": unit, "long_name": long_name})
     variables = {}
     for name, array in template.data_vars.items():
-        is_int = np.issubdtype(array.dtype, np.integer)
-        variables[name] = (tuple(dims), "i1" if is_int else "f8", INT_FILL if is_int else FLOAT_FILL, dict(array.attrs))
+        kind, fill = stored(array.dtype)
+        variables[name] = (tuple(dims), np.dtype(kind).str[1:], fill, dict(array.attrs))
     return dims, coords, variables, dict(finish(template.copy(), study).attrs)
 
 
@@ -163,9 +168,8 @@ def encode_block(study, block, chunks, compression="zlib") -> dict:
     shape = tuple(chunks[n] for n in study.dims)
     encoded = {}
     for name, values in block_arrays(study, block).items():
-        is_int = np.issubdtype(values.dtype, np.integer)
-        values = values.astype(np.int8 if is_int else np.float64, copy=False)
-        encoded[name] = encode_chunk(padded(values, shape, INT_FILL if is_int else FLOAT_FILL), compression)
+        kind, fill = stored(values.dtype)
+        encoded[name] = encode_chunk(padded(values.astype(kind, copy=False), shape, fill), compression)
     return encoded
 
 
@@ -189,15 +193,15 @@ class _ChunkWriter:
     """The parent's side of parallel compression: encoded chunks from the workers go to disk as bytes,
     handed over in shared memory by a local process pool (:meth:`share`), else as the task's result."""
 
-    def __init__(self, path, study, chunks, names, compression):
+    def __init__(self, path, study, chunks, template, compression):
         self.task = encode_block
         self.extra = (chunks, compression)
         self._dims = list(study.dims)
-        self._file = ChunkFile(path, names, compression)
+        self._file = ChunkFile(path, list(template.data_vars), compression)
         self._ring = None
         # the largest encoded block: every output's whole chunk, deflate's worst case (+0.1 % and 64 kB)
-        self._block_bytes = sum(math.prod(chunks.values()) * (1 if name in ("regime", "method") else 8)
-                                for name in names)
+        self._block_bytes = sum(math.prod(chunks.values()) * np.dtype(stored(output.dtype)[0]).itemsize
+                                for output in template.data_vars.values())
 
     def share(self, tasks_in_flight: int):
         """Take results from a local process pool through ``tasks_in_flight`` shared-memory segments."""
@@ -303,9 +307,9 @@ def _open_writer(partial, study, template, chunks, compression, fresh: bool, fil
         if not direct:
             return _NetcdfWriter(nc, study)
         nc.close()
-        return _ChunkWriter(partial, study, chunks, list(template.data_vars), compression)
+        return _ChunkWriter(partial, study, chunks, template, compression)
     if direct:
-        return _ChunkWriter(partial, study, chunks, list(template.data_vars), compression)
+        return _ChunkWriter(partial, study, chunks, template, compression)
     nc = netCDF4.Dataset(partial, "a")
     try:
         for name in template.data_vars:
