@@ -40,6 +40,35 @@ RULES: dict[str, tuple[str, str, str]] = {
     "normal_load": (POSITIVE, "normal load", "N"),
     "stiffness": (POSITIVE, "stiffness", "N/m"),
     "mass": (POSITIVE, "mass", "kg"),
+    "b_value": (POSITIVE, "Gutenberg-Richter b-value", ""),
+    "element_size": (POSITIVE, "element size", "m"),
+    "fault_length": (POSITIVE, "fault length", "m"),
+    "area": (POSITIVE, "sample area", "m^2"),
+    "reference_friction": (POSITIVE, "reference friction f0", ""),
+    "critical_slip": (POSITIVE, "critical slip distance D_c", "m"),
+    "plate_rate": (POSITIVE, "plate rate", "m/s"),
+    "time_budget": (POSITIVE, "time budget FAULTSLIP_TIME_BUDGET", "s"),
+    "min_magnitude": (FINITE, "minimum magnitude", ""),
+    "max_magnitude": (FINITE, "maximum magnitude", ""),
+    "characteristic_magnitude": (FINITE, "characteristic magnitude", ""),
+    "bin_width": (POSITIVE, "magnitude bin width", ""),
+}
+
+#: Bounds (inclusive, SI) beyond the rule: values outside them are not physical, or would overflow the
+#: arithmetic done on them (an area of 1e-300 m^2 divides a load into infinity). Each bound says why.
+BOUNDS: dict[str, tuple[float, float]] = {
+    "b_value": (0.2, 3.0),  # tectonic catalogues: 0.5-1.5; beyond, the GR balance loses its meaning
+    "element_size": (1e-3, 1e5),  # 1 mm (lab faults) to 100 km
+    "fault_length": (1.0, 1e7),  # 1 m to 10,000 km: longer than any plate boundary
+    "area": (1e-10, 1e4),  # 10 um^2 (a micro-contact) to 1 ha (the largest rotary-shear rigs are ~1 m^2)
+    "reference_friction": (1e-3, 3.0),  # rock friction lies near 0.6 (Byerlee); 3 bounds any measured value
+    "critical_slip": (1e-9, 10.0),  # nm (nanoscale contacts) to 10 m (seismic slip weakening)
+    "plate_rate": (1e-15, 1.0),  # from sub-mm per Myr to 1 m/s
+    "time_budget": (1e-9, 1e9),  # up to 30 years of computing (a tiny budget refuses every run: tests use it)
+    "min_magnitude": (-2.0, 10.5),  # what the engine's MFDs take
+    "bin_width": (1e-3, 0.5),
+    "max_magnitude": (-2.0, 10.5),
+    "characteristic_magnitude": (-2.0, 10.5),
 }
 
 
@@ -78,7 +107,25 @@ def check(name: str, value, where: str = ""):
         shown = f"{first:g} {unit}".rstrip()
         place = f" ({where})" if where else ""
         raise InputError(f"{label} {_PHRASES[rule]}, got {shown}{place}")
+    if name in BOUNDS:
+        low, high = BOUNDS[name]
+        outside = (values < low) | (values > high)
+        if np.any(outside):
+            first = float(values[outside].flat[0]) if values.ndim else float(values)
+            place = f" ({where})" if where else ""
+            raise InputError(f"{label} must lie between {low:g} and {high:g} {unit}".rstrip()
+                             + f", got {first:g} {unit}".rstrip() + place)
     return value
+
+
+def parse_number(name: str, text, where: str = "") -> float:
+    """A number given as text (an option, an environment variable) checked against the range of ``name``."""
+    try:
+        value = float(str(text).strip())
+    except ValueError:
+        label = RULES[name][1] if name in RULES else name
+        raise InputError(f"{label} must be a number, got {text!r}{f' ({where})' if where else ''}") from None
+    return check(name, value, where)
 
 
 def check_friction_drop(mu_so, mu_m, where: str = ""):

@@ -25,6 +25,8 @@ tests and the benchmark call without a browser.
 from __future__ import annotations
 
 import base64
+import html
+import ipaddress
 import math
 import tempfile
 from pathlib import Path
@@ -169,6 +171,12 @@ def experiment(content: bytes, filename: str = "upload.csv") -> dict:
 
 # --- the Bokeh document ------------------------------------------------------------------------------------
 
+def _text(value) -> str:
+    """Anything that reaches the page from a run or an upload (a file's name, its header, an error quoting its
+    cells) as text, never as markup: the status panels render HTML."""
+    return html.escape(str(value), quote=True)
+
+
 def _fmt(value, unit="", digits=4):
     return "–" if value is None or not math.isfinite(value) else f"{value:.{digits}g}{(' ' + unit) if unit else ''}"
 
@@ -248,17 +256,17 @@ def make_document(doc) -> None:
             lab = slider_lab(preset.value, stiffness=10 ** stiffness.value, pull_speed=10 ** pull.value * 1e-6,
                              mass=10 ** mass.value, damping_ratio=damping.value, law=law.value)
         except FaultslipError as exc:
-            status.text = f"<b style='color:#b00'>{exc}</b>"
+            status.text = f"<b style='color:#b00'>{_text(exc)}</b>"
             return
         saw_source.data = {"t": lab["time"] * 1e3, "force": lab["spring_force"], "x": lab["displacement"] * 1e6}
         phase_source.data = {"x": np.asarray(lab["x"]) * 1e6, "v": np.asarray(lab["v"]) * 1e3}
         stick_source.data = ({"x": [v * 1e6 for v in lab["stick_x"]], "v": [lab["pull_speed"] * 1e3] * 2}
                              if lab["stick_x"] else {"x": [], "v": []})
         critical_text = _fmt(lab["critical_pull_speed"] * 1e6, "µm/s")
-        status.text = (f"<b>regime: {lab['regime'].replace('_', ' ')}</b> · amplitude "
+        status.text = (f"<b>regime: {_text(lab['regime'].replace('_', ' '))}</b> · amplitude "
                        f"{_fmt(lab['amplitude'] * 1e6, 'µm')} · period {_fmt(lab['period'] * 1e3, 'ms')} · "
-                       f"critical pull speed {critical_text}<br><small>method: {lab['method']} "
-                       f"({lab['method_reason']}); declared error {lab['estimated_relative_error']:.1g}</small>")
+                       f"critical pull speed {critical_text}<br><small>method: {_text(lab['method'])} "
+                       f"({_text(lab['method_reason'])}); declared error {lab['estimated_relative_error']:.1g}</small>")
 
     for widget in (preset, law):
         widget.on_change("value", redraw)
@@ -291,12 +299,12 @@ def make_document(doc) -> None:
                                 q["shear_stress"].value * 1e5, q["slip_rate"].value * 1e-3 / JULIAN_YEAR,
                                 q["rupture_length"].value * 1e3, q["seismogenic_depth"].value * 1e3)
         except FaultslipError as exc:
-            quake_status.text = f"<b style='color:#b00'>{exc}</b>"
+            quake_status.text = f"<b style='color:#b00'>{_text(exc)}</b>"
             return
         quake_status.text = (f"<h3>slip per event {_fmt(result['slip_per_event'], 'm', 3)} · recurrence "
                              f"{_fmt(result['recurrence_period'] / JULIAN_YEAR, 'yr', 4)} · Mw "
                              f"{_fmt(result['moment_magnitude'], '', 3)}</h3><small>regime "
-                             f"{result['regime'].replace('_', ' ')}; method {result['method']}; normal stress "
+                             f"{_text(result['regime'].replace('_', ' '))}; method {_text(result['method'])}; normal stress "
                              f"τ/μso = {_fmt(result['normal_stress'] / 1e5, 'bar')}</small>")
 
     def load_1906():
@@ -336,7 +344,7 @@ def make_document(doc) -> None:
         try:
             result = experiment(base64.b64decode(upload.value), upload.filename or "upload.csv")
         except FaultslipError as exc:
-            upload_status.text = f"<b style='color:#b00'>{exc}</b>"
+            upload_status.text = f"<b style='color:#b00'>{_text(exc)}</b>"
             trace_source.data = {"t": [], "a": []}
             slips_source.data = {"left": [], "right": [], "bottom": [], "top": []}
             return
@@ -349,12 +357,12 @@ def make_document(doc) -> None:
                              "bottom": np.full(result["starts"].size, -reach), "top": np.full(result["starts"].size, reach)}
         r = result["report"]
         if result["events"]:
-            upload_status.text = (f"<b>{result['events']} slips</b> on axis {result['axis']} · μs − μk "
+            upload_status.text = (f"<b>{result['events']} slips</b> on axis {_text(result['axis'])} · μs − μk "
                                   f"{_fmt(r['friction_drop'], '', 3)} (median) · pull speed "
                                   f"{_fmt(r['pull_speed']['value'] * 1e3, 'mm/s', 3)} · slip duration "
                                   f"{_fmt(r['slip_duration']['value'], 's', 3)}")
         else:
-            upload_status.text = f"no slip found in {result['filename']}: pull more slowly, or press the phone down"
+            upload_status.text = f"no slip found in {_text(result['filename'])}: pull more slowly, or press the phone down"
 
     upload.on_change("filename", uploaded)
     experiment_view = column(upload, upload_status, trace, questions, sizing_mode="stretch_width")
@@ -365,17 +373,39 @@ def make_document(doc) -> None:
     doc.title = "faultslip classroom"
 
 
+def check_address(address) -> str:
+    """The address to serve on: an IPv4 or IPv6 literal, or ``localhost``; anything else is one sentence."""
+    text = str(address).strip()
+    if text.startswith("[") and text.endswith("]"):
+        text = text[1:-1]
+    if text == "localhost":
+        return text
+    try:
+        parsed = ipaddress.ip_address(text)
+    except ValueError:
+        raise InputError(f"--address must be an IP address (127.0.0.1, ::1, 0.0.0.0, ::) or localhost, got "
+                         f"{str(address)!r}") from None
+    if parsed.version == 6 and not (parsed.is_loopback or parsed.is_unspecified):
+        raise InputError(f"--address {text}: an IPv6 server is reached as localhost, so it serves on ::1 or :: "
+                         "(every interface); for another IPv6 address give a host name that resolves to it")
+    return str(parsed)
+
+
 def serve(port: int = 5006, address: str = "127.0.0.1", open_browser: bool = False, announce=print) -> None:
     """Serve the app until interrupted; ``announce`` receives its address first."""
     from bokeh.application import Application  # heavy: Bokeh loads only when the app is served
     from bokeh.application.handlers.function import FunctionHandler  # heavy: as above
     from bokeh.server.server import Server  # heavy: as above
 
-    origins = [f"{address}:{port}", f"localhost:{port}", f"127.0.0.1:{port}"]
+    address = check_address(address)
+    # Bokeh's websocket-origin list cannot hold an IPv6 literal (it splits host:port at every colon), so an
+    # IPv6 server is reached as localhost, which browsers resolve to ::1 as well as 127.0.0.1
+    ipv6 = ":" in address
+    origins = [f"localhost:{port}", f"127.0.0.1:{port}"] + ([] if ipv6 else [f"{address}:{port}"])
     server = Server({"/": Application(FunctionHandler(make_document))}, port=port, address=address,
                     allow_websocket_origin=origins, num_procs=1)
     server.start()
-    url = f"http://{'localhost' if address in ('127.0.0.1', '0.0.0.0') else address}:{server.port}/"
+    url = f"http://{'localhost' if ipv6 or address in ('127.0.0.1', '0.0.0.0') else address}:{server.port}/"
     announce(url)
     if open_browser:
         import webbrowser  # a platform module: only when asked to open a browser

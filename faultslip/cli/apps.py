@@ -4,13 +4,15 @@ from __future__ import annotations
 
 import sys
 
-from faultslip.apps.classroom import serve
+from faultslip.apps.classroom import check_address, serve
 from faultslip.errors import FaultslipError
 
 
 def cmd_classroom(args) -> int:
     if not 1 <= args.port <= 65535:
         raise FaultslipError(f"--port must be from 1 to 65535, got {args.port}")
+    check_address(args.address)  # before anything starts
+
     def announce(url):
         print(f"faultslip classroom: open {url} in a browser (Ctrl-C stops it)", flush=True)
 

@@ -25,7 +25,7 @@ from faultslip.lab.posterior import parse_prior, sample_posterior
 from faultslip.lab.raw_records import RawRecord, fit_each_step, load_record, prepare_record
 from faultslip.plots.posterior import corner_figure, record_fit_figure
 from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_data
-from faultslip.friction.materials import save_user_fit
+from faultslip.friction.materials import check_fit_name, save_user_fit
 from faultslip.io.atomic import save_figure
 from faultslip.io.outputs import FIGURE_SUFFIXES
 from faultslip.io.report import Report
@@ -46,6 +46,8 @@ from faultslip.units import to_si
 
 
 def cmd_fit(args) -> int:
+    if args.name is not None:  # before any work: a fit is never computed only to be refused at the end
+        check_fit_name(args.name, args.overwrite)
     if args.law == "rate-state":
         return _fit_rate_state(args)
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.data])["plot"]
@@ -72,7 +74,7 @@ def cmd_fit(args) -> int:
         report.note(f"plot written to {args.plot}")
     if args.name:  # only after the fit succeeded: a failed fit never touches the registry
 
-        path = save_user_fit(args.name, fit, shear_modulus=modulus, note=args.note or "")
+        path = save_user_fit(args.name, fit, shear_modulus=modulus, note=args.note or "", overwrite=args.overwrite)
         report.note(f"saved as {args.name!r} in {path}; use it with 'faultslip fault --lithology {args.name} ...'")
     return _emit(report, args.json)
 
@@ -235,7 +237,8 @@ def _fit_rate_state(args) -> int:
                 "each resample refitted; posterior: emcee, converged before it is reported; all coverage-tested on "
                 "synthetic records (tests/test_rate_state_fit.py, tests/test_raw_records.py)")
     if args.name:  # only after the fit succeeded: a failed fit never touches the registry
-        path = save_user_fit(args.name, saved, shear_modulus=modulus, note=args.note or "", source=str(args.data))
+        path = save_user_fit(args.name, saved, shear_modulus=modulus, note=args.note or "", source=str(args.data),
+                             overwrite=args.overwrite)
         report.note(f"saved as {args.name!r} in {path} with its {'posterior draws' if posterior else 'resamples'}; "
                     f"use it with 'faultslip fault --lithology {args.name} ...'")
     return _emit(report, args.json)

@@ -192,8 +192,9 @@ def cmd_simulate(args) -> int:
     if outputs["stream"] or outputs["events"]:  # before anything is written
         check_datable(start, float(series["time"].values[-1]), int(series.sizes.get("event", 1)))
     if series is None:
-        if outputs["output"] or outputs["plot"]:
-            report.note("nothing to write: this run recorded no time series")
+        if outputs["output"] or outputs["plot"]:  # asked for files that cannot be made: never a silent exit 0
+            raise InputError(f"{report.title}: this run recorded no time series (it slides stably, or its family "
+                             "records none), so -o and --plot have nothing to write; run it without them")
         return _emit(report, args.json)
     _save_run(report, outputs, args, result.to_xarray() if outputs["output"] else None, result.plot,
               "time series and event table" if "event" in series.dims else "time series", "figure")

@@ -42,7 +42,9 @@ import numpy as np
 
 from faultslip.dynamics.fault_2d.integrate import BP1_STATIONS, YEAR, run_cycles
 from faultslip.dynamics.fault_2d.model import Fault2D, steady_initial_conditions
+from faultslip import ranges
 from faultslip.errors import InputError
+from faultslip.io.seas import station_file_name
 from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar
@@ -200,6 +202,7 @@ def _number(value, where) -> float:
 def build_fault(settings: dict, element_size: float, name: str) -> Fault2D:
     """The fault on elements of ``element_size`` from parsed settings (see :func:`parse_fault_2d_scene`)."""
     width = settings["width"]
+    ranges.check("element_size", element_size, f"the element size of {name}")
     count = int(round(width / element_size))
     if count < 2 or not math.isclose(count * element_size, width, rel_tol=1e-9):
         raise InputError(f"the element size {element_size:g} m must divide the fault width {width:g} m into 2 "
@@ -212,6 +215,7 @@ def build_fault(settings: dict, element_size: float, name: str) -> Fault2D:
     for key in ("a", "critical_slip", "normal_stress"):
         if np.any(values[key] <= 0):
             raise InputError(f"[friction] {key} must be positive at every depth")
+    ranges.check("critical_slip", values["critical_slip"], f"[friction] critical_slip of {name}")
     damping = settings["shear_modulus"] / (2 * settings["shear_wave_speed"])
     tau0, psi0 = steady_initial_conditions(values["a"], values["b"], values["normal_stress"], damping,
                                            settings["initial_speed"], settings["reference_speed"],
@@ -268,8 +272,9 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
     if settings["evolution"] not in ("aging", "slip"):
         raise InputError(f"[fault] evolution in {source} must be aging or slip, got {settings['evolution']!r}")
     element_size = to_si_scalar(fault["element_size"], "length", f"[fault] element_size in {source}")
-    if not element_size > 0:
-        raise InputError(f"[fault] element_size in {source} must be positive")
+    ranges.check("element_size", element_size, f"[fault] element_size in {source}")
+    for key in ("reference_friction", "plate_rate"):
+        ranges.check(key, settings[key], f"{key} in {source}")
     name = data.get("name", "2-D fault")
     built = build_fault(settings, element_size, name)
     duration = to_si_scalar(run["duration"], "time", f"[run] duration in {source}")
@@ -287,7 +292,16 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
         stations = tuple(to_si_scalar(s, "length", f"[run] stations in {source}") for s in stations)
     if any(s < 0 or s > settings["width"] for s in stations):
         raise InputError(f"[run] stations in {source} must lie on the fault, from 0 to {settings['width']:g} m")
+    names = [station_file_name(s) for s in stations]
+    repeated = sorted({name for name in names if names.count(name) > 1})
+    if repeated:
+        depths = ", ".join(f"{s / 1e3:g} km" for s, name in zip(stations, names) if name == repeated[0])
+        raise InputError(f"[run] stations in {source}: {depths} would share the SEAS file {repeated[0]} (stations "
+                         "are named to 100 m); give each station its own depth, 100 m or more apart")
     length = run.get("fault_length")
+    if length is not None:
+        length = ranges.check("fault_length", to_si_scalar(length, "length", f"[run] fault_length in {source}"),
+                              f"[run] fault_length in {source}")
     kernel = run.get("kernel", "auto")
     if kernel not in ("auto", "dense", "fft"):
         raise InputError(f"[run] kernel in {source} must be auto, dense or fft, got {kernel!r}")
@@ -296,7 +310,7 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
         profile_interval=to_si_scalar(run.get("profile_interval", "5 yr"), "time", f"[run] profile_interval in {source}"),
         coseismic_interval=to_si_scalar(run.get("coseismic_interval", "1 s"), "time",
                                         f"[run] coseismic_interval in {source}"),
-        fault_length=to_si_scalar(length, "length", f"[run] fault_length in {source}") if length is not None else None,
+        fault_length=length,
         kernel=kernel, settings=settings, text=text)
 
 

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from faultslip import ranges
 from faultslip.errors import InputError
 
 MOMENT_CONSTANT = 9.1  # faultslip's Mw = (2/3)(log10 M0 - 9.1) (fault.scaling.MW_CONSTANT)
@@ -79,14 +80,12 @@ class MagnitudeFrequency:
 
 
 def check_parameters(b_value: float = B_VALUE, bin_width: float = BIN_WIDTH, **magnitudes) -> None:
-    """Refuse a b-value, bin width or magnitude no distribution can take (before any work)."""
-    if not (math.isfinite(b_value) and 0 < b_value <= 3):
-        raise InputError(f"the b-value must be between 0 and 3, got {b_value!r}")
-    if not (math.isfinite(bin_width) and 0.001 <= bin_width <= 0.5):
-        raise InputError(f"the magnitude bin width must be from 0.001 to 0.5, got {bin_width!r}")
+    """Refuse a b-value, bin width or magnitude no distribution can take (before any work), by the
+    ranges every input of these kinds passes (:data:`faultslip.ranges.BOUNDS`)."""
+    ranges.check("b_value", b_value)
+    ranges.check("bin_width", bin_width)
     for name, value in magnitudes.items():
-        if not (math.isfinite(value) and -2 <= value <= 10.5):
-            raise InputError(f"the {name.replace('_', ' ')} must be a magnitude from -2 to 10.5, got {value!r}")
+        ranges.check(name if name in ranges.RULES else "min_magnitude", value, name.replace("_", " "))
 
 
 def _check(moment_rate, b_value, bin_width, **magnitudes) -> None:

@@ -197,22 +197,39 @@ def user_rate_state_fits() -> dict[str, tuple[RateStateLaw, dict]]:
     return out
 
 
-def save_user_fit(name: str, fit, shear_modulus: float | None = None, note: str = "", source: str = "") -> Path:
-    """Store a fit (eq. 2-18, or rate-and-state) under ``name`` (snake_case) in the user registry.
+def check_fit_name(name, overwrite: bool = False) -> str:
+    """The registry key of a fit to be saved as ``name``, checked before any fitting starts.
 
-    Bundled names are refused. A rate-and-state fit is stored with ``kind = "rate_state"``.
+    Refused in one sentence: an empty name, one that is not letters, digits and underscores, a
+    bundled preset's or lithology's name, and, unless ``overwrite``, the name of a saved fit.
     """
-    key = _normalise(name)
-    if not key or not key.replace("_", "").isalnum():
+    key = _normalise(str(name))
+    if not key:
+        raise InputError("the fit's name (--name) is empty; give the name to save it under")
+    if not key.replace("_", "").isalnum():
         raise InputError(f"fit name {name!r} must be letters, digits and underscores")
     if key in _bundled_presets() or key in _bundled_lithologies():
         raise InputError(f"{key!r} is a bundled preset or lithology; choose another name for the fit")
+    if not overwrite and key in registry.load():
+        raise InputError(f"a fit named {key!r} is saved already in {registry.registry_path()}; pass --overwrite to "
+                         "replace it, or choose another name")
+    return key
+
+
+def save_user_fit(name: str, fit, shear_modulus: float | None = None, note: str = "", source: str = "",
+                  overwrite: bool = False) -> Path:
+    """Store a fit (eq. 2-18, or rate-and-state) under ``name`` (snake_case) in the user registry.
+
+    Bundled names are refused, and a saved fit is replaced only with ``overwrite``. A
+    rate-and-state fit is stored with ``kind = "rate_state"``.
+    """
+    key = check_fit_name(name, overwrite)
     entry = fit.to_record()
     entry.update(name=key, created=datetime.now(timezone.utc).isoformat(timespec="seconds"), note=note,
                  shear_modulus=shear_modulus)
     if source:
         entry["source"] = source
-    return registry.save_entry(key, entry)
+    return registry.save_entry(key, entry, overwrite)
 
 
 def remove_user_fit(name: str) -> None:

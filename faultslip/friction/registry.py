@@ -52,15 +52,19 @@ def load() -> dict:
     return document["fits"]
 
 
-def save_entry(key: str, entry: dict) -> Path:
+def save_entry(key: str, entry: dict, overwrite: bool = False) -> Path:
     """Store one entry under ``key`` (already checked by :func:`faultslip.friction.materials.save_user_fit`).
 
-    Read-modify-write under a lock, written atomically: a concurrent save is never lost.
+    Read-modify-write under a lock, written atomically: a concurrent save is never lost, and an
+    entry saved meanwhile under the same key is replaced only with ``overwrite``.
     """
     path = registry_path()
     path.parent.mkdir(parents=True, exist_ok=True)
     with file_lock(path):
         entries = load()
+        if key in entries and not overwrite:
+            raise InputError(f"a fit named {key!r} is saved already in {path}; pass --overwrite to replace it, or "
+                             "choose another name")
         entries[key] = entry
         write_text_atomic(path, json.dumps({"faultslip_registry": VERSION, "fits": entries}, indent=1) + "\n",
                           immediate=True)  # written under the lock, or a concurrent fit is lost

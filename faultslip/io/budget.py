@@ -14,6 +14,7 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
+from faultslip import ranges
 from faultslip.errors import InputError
 
 #: Default wall-time budget in seconds; the environment variable FAULTSLIP_TIME_BUDGET (seconds) sets another.
@@ -84,12 +85,14 @@ class Estimate:
 
 
 def time_budget() -> float:
-    """The wall-time budget in seconds: FAULTSLIP_TIME_BUDGET if set to a positive number, else one hour."""
-    try:
-        value = float(os.environ.get("FAULTSLIP_TIME_BUDGET", TIME_BUDGET))
-    except ValueError:
+    """The wall-time budget in seconds: FAULTSLIP_TIME_BUDGET where set, else one hour.
+
+    A value that is not a number of seconds within :data:`faultslip.ranges.BOUNDS` (empty, ``nan``,
+    negative, zero, text) is refused in one sentence: it never silently means the default."""
+    text = os.environ.get("FAULTSLIP_TIME_BUDGET")
+    if text is None:
         return TIME_BUDGET
-    return value if value > 0 else TIME_BUDGET
+    return ranges.parse_number("time_budget", text, "the environment variable, in seconds")
 
 
 def check(estimate: Estimate, allow_large: bool = False, seconds_allowed: float | None = None) -> None:

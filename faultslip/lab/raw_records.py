@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, simulate_rate_state
+from faultslip import ranges
 from faultslip.errors import InputError, SolverError
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_csv, read_numeric_text, split_header
 from faultslip.lab.rate_state_fit import StepRecord, fit_velocity_steps, step_record_from_columns
@@ -132,9 +133,7 @@ def _area(area):
     if area is None:
         return None
     value = to_si_scalar(area, "area", "the contact area", default_unit="m^2")
-    if not (math.isfinite(value) and value > 0):
-        raise InputError(f"the contact area must be positive, got {area!r}")
-    return value
+    return ranges.check("area", value, f"--area {area}")
 
 
 def _read_columns(path, what: str, only=None) -> tuple:
@@ -310,8 +309,11 @@ def _stiffness(stiffness, normal_stress: float, area) -> tuple[float, str]:
             if area is None:
                 raise InputError(f"a machine stiffness in force per length ({text}) needs the sample's contact area "
                                  "(--area) to become friction per slip")
-            return value / (normal_stress * area), f"k = K / (sigma_n A) = {text} / ({normal_stress:.4g} Pa x " \
-                                                   f"{area:.4g} m^2)"
+            spring = value / (normal_stress * _area(area))
+            if not (math.isfinite(spring) and spring > 0):  # K / (sigma_n A) can overflow on extreme inputs
+                raise InputError(f"the stiffness {text} over sigma_n A = {normal_stress:.4g} Pa x {_area(area):.4g} m^2 "
+                                 "is no finite friction per slip; check --stiffness, --area and the normal load")
+            return spring, f"k = K / (sigma_n A) = {text} / ({normal_stress:.4g} Pa x {_area(area):.4g} m^2)"
         return convert(value), (f"k = {text}" if kind == "inverse_length" else
                                 f"k = K / sigma_n = {text} / {normal_stress:.4g} Pa")
     raise InputError(f"the stiffness {text!r} must be friction per slip (1/um), stress per slip (MPa/mm) or force "

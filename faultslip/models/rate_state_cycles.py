@@ -11,6 +11,7 @@ from __future__ import annotations
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_scene import load_rate_state_scene
+from faultslip.fault.rate_state_series import cycles_series
 from faultslip.io.report import Report
 from faultslip.models.result import Result
 
@@ -21,11 +22,12 @@ def _scene_notes(report, scene) -> None:
         report.note(f"scene: {scene.origin}")
 
 
-def earthquake_cycles(scene, count: int = 5, progress=None) -> Result:
+def earthquake_cycles(scene, count: int = 5, progress=None, record: bool = False) -> Result:
     """A fault's quasi-dynamic earthquake cycles ([fault]) on one spring-block (K = G / D); with the seed law
     beside them: :func:`faultslip.models.rate_state_slider.earthquake_cycles`.
 
-    ``progress``: True for a bar, or a callable (done, total) over events (:mod:`faultslip.io.progress`)."""
+    ``progress``: True for a bar, or a callable (done, total) over events (:mod:`faultslip.io.progress`).
+    ``record``: keep every step's time series (``simulate``), as the Result's series and figure."""
     scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
     if not 1 <= count <= 10_000:
         raise InputError(f"--cycles must lie between 1 and 10000, got {count}")
@@ -33,7 +35,8 @@ def earthquake_cycles(scene, count: int = 5, progress=None) -> Result:
         raise InputError(f"{scene.name} describes a laboratory slider; fault cycles need a [fault] table with "
                          "shear_modulus, zone_width, normal_stress and plate_rate")
     result = fault_cycles(scene.slider, scene.plate_rate, cycles=count,
-                          model="quasi_dynamic" if scene.model != "quasi_static" else "quasi_static", progress=progress)
+                          model="quasi_dynamic" if scene.model != "quasi_static" else "quasi_static", progress=progress,
+                          record=record)
     report = Report(f"faultslip rate-state cycles: {scene.name}")
     report.add("recurrence_period", result.recurrence, "s", also=("yr",))
     report.add("slip_per_event", float(result.slip_per_event.mean()), "m")
@@ -48,4 +51,6 @@ def earthquake_cycles(scene, count: int = 5, progress=None) -> Result:
     result.report_settling(report)
     report.note(f"events: slip speed above {result.event_speed:g} m/s (the SEAS convention)")
     _scene_notes(report, scene)
-    return Result("rate_state_slider", report)
+    if not record or result.series is None:  # a stably sliding fault records no cycles
+        return Result("rate_state_slider", report)
+    return Result("rate_state_slider", report, cycles_series(result, scene.law, report.title))

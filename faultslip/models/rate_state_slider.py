@@ -18,6 +18,7 @@ from faultslip.models.rate_state_cycles import _scene_notes
 from faultslip.models.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.figures import _pyplot
+from faultslip.plots.rate_state import cycles_figure
 from faultslip.units import ELAPSED_TIME_ATTRS
 
 
@@ -158,7 +159,10 @@ def simulate(scene, cycles=None) -> Result:
         if cycles is not None:
             raise InputError("--cycles counts a fault's earthquake cycles; a laboratory slider runs its [load] history")
         return velocity_step(loaded)
-    return earthquake_cycles(loaded, 5 if cycles is None else cycles)
+    result = rate_state_cycles.earthquake_cycles(loaded, 5 if cycles is None else cycles, record=True)
+    if result.series is not None:
+        result.figure = lambda: cycles_figure(result.series)
+    return result
 
 
 FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: velocity steps in the lab, quasi-dynamic "

@@ -47,7 +47,7 @@ from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
 from faultslip.fault.rate_state_cells import check_cycle_method
-from faultslip.studies.grid import as_dataset, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs, Study
+from faultslip.studies.grid import SEED_METHODS, as_dataset, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs, Study
 from datetime import datetime, timezone
 
 SEGMENT_COLUMNS = {  # name -> (unit kind, required)
@@ -637,6 +637,13 @@ def run_map(spec, method="auto", tolerance=1e-6, allow_large: bool = False):
     import xarray as xr  # heavy: imported where used
 
     check_map_size(spec, allow_large=allow_large)
+    if spec.scene.rate_state:
+        if method != "auto":  # its cells choose their integrator by K / K_c, as 'faultslip run' does
+            raise InputError(f"--method {method!r}: a rate-and-state map's segments choose their cycle integrator "
+                             "themselves; leave --method out (auto)")
+    elif method not in SEED_METHODS:
+        raise InputError(f"--method must be one of {', '.join(SEED_METHODS)} for a map, got {method!r}"
+                         + did_you_mean(str(method), SEED_METHODS))
 
     if spec.segments is not None:
         segments = predict_segments(spec, method, tolerance)

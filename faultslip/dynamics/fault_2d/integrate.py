@@ -22,7 +22,6 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import os
 import time as clock
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -35,6 +34,7 @@ from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A
                                                       A63, A64, A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7)
 from faultslip.errors import InputError, SolverError
 from faultslip.io.progress import reporter
+from faultslip.io.records import RecordStream, read_checkpoint, write_checkpoint
 
 YEAR = 365.25 * 86400.0
 #: The SEAS BP1 stations' depths (m).
@@ -45,6 +45,8 @@ EVENT_SPEED = 1e-3
 #: The checkpoint's layout; a checkpoint of another version is refused, never misread.
 CHECKPOINT_VERSION = 1
 STATION_FIELDS = ("slip", "log10_slip_rate", "shear_stress", "log10_state")
+#: The record streams a run with a folder appends to, in the checkpoint's order.
+STREAM_FILES = ("stations.f8", "profiles.f8", "events.f8")
 _C2, _C3, _C4, _C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
 
 
@@ -99,45 +101,6 @@ class _Stations:
 
     def __call__(self, values: np.ndarray) -> np.ndarray:
         return values[self.lower] * (1.0 - self.weight) + values[self.lower + 1] * self.weight
-
-
-class _Store:
-    """Rows appended to a float64 file (or kept in memory without a folder); truncated on resume."""
-
-    def __init__(self, path: Path | None, width: int, rows_kept: int = 0):
-        self.path, self.width, self.buffer, self.rows = path, width, [], rows_kept
-        self.memory = []
-        if path is not None:
-            if rows_kept:
-                with open(path, "r+b") as handle:
-                    handle.truncate(rows_kept * width * 8)
-            else:
-                path.write_bytes(b"")
-
-    def append(self, row: np.ndarray) -> None:
-        self.buffer.append(row)
-        self.rows += 1
-        if len(self.buffer) >= 4096:
-            self.flush()
-
-    def flush(self) -> None:
-        if not self.buffer:
-            return
-        block = np.asarray(self.buffer, dtype=np.float64).reshape(-1, self.width)
-        self.buffer = []
-        if self.path is None:
-            self.memory.append(block)
-            return
-        with open(self.path, "ab") as handle:
-            block.tofile(handle)
-            handle.flush()
-            os.fsync(handle.fileno())
-
-    def read(self) -> np.ndarray:
-        self.flush()
-        if self.path is None:
-            return np.concatenate(self.memory) if self.memory else np.empty((0, self.width))
-        return np.fromfile(self.path, dtype=np.float64).reshape(-1, self.width)[: self.rows]
 
 
 def fingerprint(fault: Fault2D, settings: dict) -> str:
@@ -200,20 +163,21 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
 
     resumed_from = None
     if resume:
-        if checkpoint is None or not checkpoint.is_file():
+        if checkpoint is None or not (checkpoint.is_file() or checkpoint.is_symlink()):
             raise InputError(f"nothing to resume: {folder} holds no checkpoint of a 2-D fault run")
-        saved = _read_checkpoint(checkpoint, digest)
+        saved = _read_checkpoint(checkpoint, digest, count)
         t, y, h, k1 = float(saved["t"]), saved["y"].copy(), float(saved["h"]), saved["k1"].copy()
-        balance.u = saved["u"].copy()
+        balance.u = saved["u"].copy() if saved["u"].size else None
         speed, stress = saved["speed"].copy(), saved["stress"].copy()
         steps, rejected, evaluations = (int(v) for v in saved["counters"][:3])
         min_step, max_step, wall_before = (float(v) for v in saved["steps_range"])
-        event = json.loads(str(saved["event"]))
+        event = _event_record(saved["event"], checkpoint)
         event_slip = saved["event_slip"].copy()
         last_profile, last_coseismic = (float(v) for v in saved["profile_times"])
-        stations_store = _Store(folder / "stations.f8", station_width, int(saved["rows"][0]))
-        profiles_store = _Store(folder / "profiles.f8", 2 * count + 2, int(saved["rows"][1]))
-        events_store = _Store(folder / "events.f8", count + 5, int(saved["rows"][2]))
+        rows, digests = [int(v) for v in saved["rows"]], [str(v) for v in saved["stream_digests"]]
+        streams = [RecordStream(folder / name, width, kept, stream_digest) for name, width, kept, stream_digest
+                   in zip(STREAM_FILES, (station_width, 2 * count + 2, count + 5), rows, digests)]
+        stations_store, profiles_store, events_store = streams
         resumed_from = t
     else:
         if folder is not None:
@@ -231,98 +195,115 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         event = {"inside": False, "start": 0.0, "hypocentre": 0.0, "peak": 0.0}
         event_slip = np.zeros(count)
         last_profile, last_coseismic = -math.inf, -math.inf
-        stations_store = _Store(folder / "stations.f8" if folder else None, station_width)
-        profiles_store = _Store(folder / "profiles.f8" if folder else None, 2 * count + 2)
-        events_store = _Store(folder / "events.f8" if folder else None, count + 5)
+        streams = [RecordStream(folder / name if folder else None, width) for name, width
+                   in zip(STREAM_FILES, (station_width, 2 * count + 2, count + 5))]
+        stations_store, profiles_store, events_store = streams
         stations_store.append(station_row(t, y, speed, stress))
         profiles_store.append(profile_row(t, y, speed))
         last_profile = t
 
     def save():
-        stations_store.flush()
-        profiles_store.flush()
-        events_store.flush()
-        _write_checkpoint(checkpoint, digest=digest, t=t, y=y, h=h, k1=k1, u=balance.u, speed=speed, stress=stress,
-                          counters=np.array([steps, rejected, evaluations]),
-                          steps_range=np.array([min_step, max_step, wall_before + clock.perf_counter() - started]),
-                          event=json.dumps(event), event_slip=event_slip,
-                          profile_times=np.array([last_profile, last_coseismic]),
-                          rows=np.array([stations_store.rows, profiles_store.rows, events_store.rows]))
+        for stream in streams:
+            stream.sync()
+        write_checkpoint(checkpoint, version=CHECKPOINT_VERSION, digest=digest, t=t, y=y, h=h, k1=k1,
+                         u=balance.u if balance.u is not None else np.empty(0), speed=speed, stress=stress,
+                         counters=np.array([steps, rejected, evaluations]),
+                         steps_range=np.array([min_step, max_step, wall_before + clock.perf_counter() - started]),
+                         event=json.dumps(event), event_slip=event_slip,
+                         profile_times=np.array([last_profile, last_coseismic]),
+                         rows=np.array([stream.rows for stream in streams]),
+                         stream_digests=np.array([stream.digest() for stream in streams]))
 
-    progress = reporter(progress, "2-D fault", "yr")
-    started = clock.perf_counter()
-    last_save = last_report = started
-    log_threshold = math.log(event_speed)
-    while t < duration:
-        if steps >= max_steps:
-            raise SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
-                              f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
-        h = min(h, duration - t)
-        k2 = derivative(t + _C2 * h, y + h * (A21 * k1))[0]
-        k3 = derivative(t + _C3 * h, y + h * (A31 * k1 + A32 * k2))[0]
-        k4 = derivative(t + _C4 * h, y + h * (A41 * k1 + A42 * k2 + A43 * k3))[0]
-        k5 = derivative(t + _C5 * h, y + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4))[0]
-        k6 = derivative(t + h, y + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5))[0]
-        y_new = y + h * (B1 * k1 + B3 * k3 + B4 * k4 + B5 * k5 + B6 * k6)
-        k7, speed_new, stress_new = derivative(t + h, y_new)
-        evaluations += 6
-        error = h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7)
-        norm = float(np.max(np.abs(error) / (rtol * np.maximum(np.maximum(np.abs(y), np.abs(y_new)), scale))))
-        if not math.isfinite(norm):
-            norm = math.inf
-        if norm > 1.0:
-            rejected += 1
-            h *= max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
-            if h <= 8 * np.spacing(max(abs(t), 1.0)):  # t + h would no longer differ from t
-                raise SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
-                                  f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
-            continue
-        previous_log_peak = math.log(max(speed.max(), 1e-300))
-        t_old = t
-        t, y, k1, speed, stress = t + h, y_new, k7, speed_new, stress_new
-        steps += 1
-        min_step, max_step = min(min_step, h), max(max_step, h)
-        h *= min(5.0, max(0.2, 0.9 * norm ** -0.2)) if norm > 0 else 5.0
-        stations_store.append(station_row(t, y, speed, stress))
-        peak = float(speed.max())
-        log_peak = math.log(max(peak, 1e-300))
-        if not event["inside"] and peak > event_speed:
-            fraction = (log_threshold - previous_log_peak) / (log_peak - previous_log_peak)
-            event.update(inside=True, start=t_old + fraction * (t - t_old),
-                         hypocentre=float(fault.depth[int(np.argmax(speed))]), peak=peak)
-            event_slip = y[:count].copy()
-        elif event["inside"]:
-            event["peak"] = max(event["peak"], peak)
-            if peak < event_speed:
+    try:
+        progress = reporter(progress, "2-D fault", "yr")
+        started = clock.perf_counter()
+        last_save = last_report = started
+        log_threshold = math.log(event_speed)
+        while t < duration:
+            if steps >= max_steps:
+                raise SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
+                                  f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
+            h = min(h, duration - t)
+            k2 = derivative(t + _C2 * h, y + h * (A21 * k1))[0]
+            k3 = derivative(t + _C3 * h, y + h * (A31 * k1 + A32 * k2))[0]
+            k4 = derivative(t + _C4 * h, y + h * (A41 * k1 + A42 * k2 + A43 * k3))[0]
+            k5 = derivative(t + _C5 * h, y + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4))[0]
+            k6 = derivative(t + h, y + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5))[0]
+            y_new = y + h * (B1 * k1 + B3 * k3 + B4 * k4 + B5 * k5 + B6 * k6)
+            k7, speed_new, stress_new = derivative(t + h, y_new)
+            evaluations += 6
+            error = h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7)
+            norm = float(np.max(np.abs(error) / (rtol * np.maximum(np.maximum(np.abs(y), np.abs(y_new)), scale))))
+            if not math.isfinite(norm):
+                norm = math.inf
+            if norm > 1.0:
+                rejected += 1
+                h *= max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
+                if h <= 8 * np.spacing(max(abs(t), 1.0)):  # t + h would no longer differ from t
+                    raise SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
+                                      f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
+                continue
+            previous_log_peak = math.log(max(speed.max(), 1e-300))
+            t_old = t
+            t, y, k1, speed, stress = t + h, y_new, k7, speed_new, stress_new
+            steps += 1
+            min_step, max_step = min(min_step, h), max(max_step, h)
+            h *= min(5.0, max(0.2, 0.9 * norm ** -0.2)) if norm > 0 else 5.0
+            stations_store.append(station_row(t, y, speed, stress))
+            peak = float(speed.max())
+            log_peak = math.log(max(peak, 1e-300))
+            if not event["inside"] and peak > event_speed:
                 fraction = (log_threshold - previous_log_peak) / (log_peak - previous_log_peak)
-                end = t_old + fraction * (t - t_old)
-                events_store.append(np.concatenate([[event["start"], end, event["hypocentre"], event["peak"], 0.0],
-                                                    y[:count] - event_slip]))
-                event["inside"] = False
-        if peak > event_speed:
-            if t - last_coseismic >= coseismic_interval:
+                event.update(inside=True, start=t_old + fraction * (t - t_old),
+                             hypocentre=float(fault.depth[int(np.argmax(speed))]), peak=peak)
+                event_slip = y[:count].copy()
+            elif event["inside"]:
+                event["peak"] = max(event["peak"], peak)
+                if peak < event_speed:
+                    fraction = (log_threshold - previous_log_peak) / (log_peak - previous_log_peak)
+                    end = t_old + fraction * (t - t_old)
+                    events_store.append(np.concatenate([[event["start"], end, event["hypocentre"], event["peak"], 0.0],
+                                                        y[:count] - event_slip]))
+                    event["inside"] = False
+            if peak > event_speed:
+                if t - last_coseismic >= coseismic_interval:
+                    profiles_store.append(profile_row(t, y, speed))
+                    last_coseismic = t
+            elif t - last_profile >= profile_interval:
                 profiles_store.append(profile_row(t, y, speed))
-                last_coseismic = t
-        elif t - last_profile >= profile_interval:
-            profiles_store.append(profile_row(t, y, speed))
-            last_profile = t
-        now = clock.perf_counter()
-        if progress and now - last_report > 1.0:
-            progress(int(t / YEAR), int(math.ceil(duration / YEAR)))
-            last_report = now
-        if checkpoint is not None and (now - last_save > checkpoint_every or steps == stop_after_steps):
+                last_profile = t
+            now = clock.perf_counter()
+            if progress and now - last_report > 1.0:
+                progress(int(t / YEAR), int(math.ceil(duration / YEAR)))
+                last_report = now
+            if checkpoint is not None and (now - last_save > checkpoint_every or steps == stop_after_steps):
+                save()
+                last_save = now
+                if steps == stop_after_steps:
+                    raise _Stopped(t)
+        if progress:
+            progress(int(math.ceil(duration / YEAR)), int(math.ceil(duration / YEAR)))
+        wall = wall_before + clock.perf_counter() - started
+        if checkpoint is not None:
             save()
-            last_save = now
-            if steps == stop_after_steps:
-                raise _Stopped(t)
-    if progress:
-        progress(int(math.ceil(duration / YEAR)), int(math.ceil(duration / YEAR)))
-    wall = wall_before + clock.perf_counter() - started
-    if checkpoint is not None:
-        save()
-    station_rows = stations_store.read()
-    profile_rows = profiles_store.read()
-    event_rows = events_store.read()
+        station_rows = stations_store.read()
+        profile_rows = profiles_store.read()
+        event_rows = events_store.read()
+    except _Stopped:
+        _close(streams)
+        raise
+    except KeyboardInterrupt:  # the last checkpoint stands: the run can be resumed
+        _close(streams)
+        raise
+    except BaseException:
+        if resume or checkpoint is None:
+            _close(streams)  # the checkpoint before this attempt stands; resume truncates what followed it
+        else:  # a fresh run that failed leaves nothing behind
+            for stream in streams:
+                stream.remove()
+            checkpoint.unlink(missing_ok=True)
+        raise
+    _close(streams)
     stations_out = {name: station_rows[:, 1 + i * recorder.depths.size: 1 + (i + 1) * recorder.depths.size]
                     for i, name in enumerate(STATION_FIELDS)}
     events = {"start": event_rows[:, 0], "end": event_rows[:, 1], "hypocentre_depth": event_rows[:, 2],
@@ -344,22 +325,34 @@ class _Stopped(Exception):
         self.time = time
 
 
-def _write_checkpoint(path: Path, **arrays) -> None:
-    temporary = path.with_name(path.name + ".tmp")
-    with open(temporary, "wb") as handle:
-        np.savez(handle, version=CHECKPOINT_VERSION, **arrays)
-        handle.flush()
-        os.fsync(handle.fileno())
-    os.replace(temporary, path)
+def _close(streams) -> None:
+    for stream in streams:
+        stream.close()
 
 
-def _read_checkpoint(path: Path, digest: str) -> dict:
+def _checkpoint_layout(count: int) -> dict:
+    """What a checkpoint of a run on ``count`` elements holds: (dtype kinds, shape) per array."""
+    state, field = (2 * count,), (count,)
+    return {"version": ("iu", ()), "digest": ("U", ()), "t": ("f", ()), "y": ("f", state), "h": ("f", ()),
+            "k1": ("f", state), "u": ("f", (None,)), "speed": ("f", field), "stress": ("f", field),
+            "counters": ("iu", (3,)), "steps_range": ("f", (3,)), "event": ("U", ()), "event_slip": ("f", field),
+            "profile_times": ("f", (2,)), "rows": ("iu", (3,)), "stream_digests": ("U", (3,))}
+
+
+def _event_record(text, path: Path) -> dict:
+    """The event under way at the checkpoint, checked (the checkpoint's digest already vouches for it)."""
     try:
-        with np.load(path, allow_pickle=False) as data:
-            saved = {key: data[key] for key in data.files}
-    except (OSError, ValueError, KeyError) as exc:
-        raise InputError(f"cannot read the checkpoint {path} ({exc}); start the run again without --resume") from None
-    if int(saved.get("version", -1)) != CHECKPOINT_VERSION:
+        event = json.loads(str(text))
+        return {"inside": bool(event["inside"]), "start": float(event["start"]),
+                "hypocentre": float(event["hypocentre"]), "peak": float(event["peak"])}
+    except (ValueError, KeyError, TypeError):
+        raise InputError(f"the checkpoint {str(path)!r} holds no readable event record; start the run again "
+                         "without --resume") from None
+
+
+def _read_checkpoint(path: Path, digest: str, count: int) -> dict:
+    saved = read_checkpoint(path, _checkpoint_layout(count), "2-D fault checkpoint")
+    if int(saved["version"]) != CHECKPOINT_VERSION:
         raise InputError(f"{path} is a checkpoint of another faultslip version; start the run again")
     if str(saved.get("digest")) != digest:
         raise InputError(f"{path} is the checkpoint of a different run (scene, rtol, stations or duration changed); "

@@ -3,7 +3,9 @@ an elastic half-space (SEAS BP1), its SEAS station files, CF netCDF, event catal
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -59,11 +61,26 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
             raise InputError(f"--resume: {folder} holds no checkpoint of a 2-D fault run")
         if not resume and folder.is_dir() and any(folder.iterdir()) and not overwrite:
             raise InputError(f"--output-dir {folder} is not empty; pass --resume to continue its run, or --overwrite")
-        folder.mkdir(parents=True, exist_ok=True)
-        with output_lock(folder / "run", "faultslip simulate (2-D fault)", overwrite=True, label="--output-dir"):
-            run = loaded.run(rtol, folder, resume, progress)
-            result = _result(loaded, run, settle_tolerance)
-            write_outputs(loaded, run, folder, result)
+        if folder.is_symlink():
+            raise InputError(f"--output-dir {folder} is a symbolic link, which faultslip never follows; give the "
+                             "folder itself")
+        created = not folder.exists()
+        if created and not folder.parent.is_dir():
+            raise InputError(f"--output-dir: the folder {str(folder.parent)!r} that would hold {folder.name!r} "
+                             "does not exist")
+        if not os.access(folder if not created else folder.parent, os.W_OK | os.X_OK):
+            raise InputError(f"--output-dir {folder} is not writable; choose a folder you can write to")
+        folder.mkdir(exist_ok=True)
+        try:
+            with output_lock(folder / "run", "faultslip simulate (2-D fault)", overwrite=True, label="--output-dir"):
+                run = loaded.run(rtol, folder, resume, progress)
+                result = _result(loaded, run, settle_tolerance)
+                write_outputs(loaded, run, folder, result)
+        except Exception:
+            if created:  # a folder this run made and left empty goes too
+                with contextlib.suppress(OSError):
+                    folder.rmdir()
+            raise
         result.summary.note(f"SEAS station files, slip profiles (devol.dat), events.csv and fault_2d.nc written to "
                             f"{folder}")
         return result
