@@ -17,6 +17,7 @@ command whose units were seen before starts without pint (0.13 s of a closed-for
 from __future__ import annotations
 
 import functools
+import hashlib
 import importlib.util
 import json
 import math
@@ -106,8 +107,16 @@ MEMO_ENTRIES = 4096
 
 
 def _memo_path() -> Path:
+    """The memo of this environment: its name carries a digest of the interpreter, its prefix (the virtual
+    environment) and the pint install, so environments sharing a home folder never invalidate each other's."""
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "faultslip" / "unit_factors.json"
+    return Path(base) / "faultslip" / f"unit_factors-{_environment_key()}.json"
+
+
+@functools.lru_cache(maxsize=1)
+def _environment_key() -> str:
+    text = "\x1f".join((sys.version, sys.prefix, sys.executable, _pint_fingerprint()))
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def _pint_fingerprint() -> str:

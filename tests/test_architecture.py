@@ -231,3 +231,86 @@ def test_dynamics_is_families_and_shared_machinery_not_one_room():
             if target.startswith("faultslip.dynamics.") and len(tparts) > 2:
                 assert tparts[2] in allowed, (
                     f"{module}:{line} imports {target}: a family uses only itself and dynamics.shared")
+
+
+#: Calls that open, save, load, map or rename a file: outside io/, none may stand (the door of issue 41: the
+#: gate reads, bounded and in one sentence; the guard writes, locked, without following links, atomically).
+FILE_CALLS = {"open", "os.open", "os.fdopen", "os.replace", "os.rename", "os.renames", "os.link", "os.symlink",
+              "shutil.move", "shutil.copy", "shutil.copyfile", "shutil.copy2", "shutil.copytree", "np.save", "np.savez",
+              "np.savez_compressed", "np.load", "np.memmap", "np.fromfile", "np.savetxt", "np.loadtxt", "np.genfromtxt",
+              "netCDF4.Dataset", "h5py.File", "xr.open_dataset", "xr.open_zarr", "xr.open_mfdataset",
+              "xr.load_dataset", "xarray.open_dataset", "obspy.read", "read_events", "zarr.open", "zarr.open_group",
+              "tempfile.mkstemp", "tempfile.NamedTemporaryFile", "pickle.load", "pickle.dump"}
+#: Methods that do the same on a Path, an array, a Dataset or a figure (whatever the receiver is called),
+#: unless called on the gate itself (gate.read_text is the door).
+FILE_METHODS = {"write_text", "write_bytes", "read_text", "read_bytes", "tofile", "to_netcdf", "to_zarr", "savefig",
+                "symlink_to", "hardlink_to", "memmap"}
+#: The only exceptions, each with its reason: (module, function) -> why.
+FILE_CALL_EXCEPTIONS = {
+    ("faultslip.units", "_memo"): "core, below io/: its own per-environment cache of pint's factors, no user path",
+    ("faultslip.units", "_remember"): "the same cache, written atomically; a failed write costs only a lookup",
+    ("faultslip.cli.main", "main"): "os.devnull over a closed stdout (a broken pipe), no user path",
+}
+
+
+def _call_name(node):
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        inner = _call_name(node.value)
+        return f"{inner}.{node.attr}" if inner else None
+    return None
+
+
+def _file_calls(path: Path):
+    """(line, call, enclosing function) for every file call in ``path``."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    owner = {}
+    # the innermost enclosing function wins: walk functions outermost first, later (inner) ones overwrite
+    functions = [n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))]
+    for function in functions:
+        for sub in ast.walk(function):
+            owner[id(sub)] = function.name
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        name = _call_name(node.func)
+        method = node.func.attr if isinstance(node.func, ast.Attribute) else None
+        receiver = _call_name(node.func.value) if isinstance(node.func, ast.Attribute) else None
+        if name in FILE_CALLS or (method in FILE_METHODS and receiver != "gate"):
+            yield node.lineno, name or method, owner.get(id(node), "<module>")
+
+
+@pytest.mark.parametrize("module", sorted(m for m in MODULES if not m.startswith("faultslip.io")))
+def test_every_file_is_opened_through_the_door(module):
+    """No open, save, load, memmap or rename of a file outside io/: new code reads through the gate
+    (faultslip.io.gate, io.resources, io.records) and writes through the guard (io.atomic, io.records)."""
+    offenders = [f"{module}:{line} calls {call}" for line, call, function in _file_calls(MODULES[module])
+                 if (module, function) not in FILE_CALL_EXCEPTIONS]
+    assert not offenders, ("files are opened outside io/: " + "; ".join(offenders)
+                           + " (read through faultslip.io.gate, write through faultslip.io.atomic)")
+
+
+def test_the_door_check_sees_what_it_must():
+    """The scanner finds each kind of call it lists (a check that cannot fail is no check)."""
+    import textwrap
+
+    sample = PACKAGE.parent / "tests" / "_door_sample.py"
+    sample.write_text(textwrap.dedent("""
+        def f(path, data, figure, dataset):
+            open(path)
+            np.load(path)
+            np.memmap(path)
+            os.replace(path, path)
+            path.write_text("x")
+            figure.savefig(path)
+            dataset.to_netcdf(path)
+            xr.open_dataset(path)
+            gate.read_text(path, "x")
+    """))
+    try:
+        found = {call for _, call, _ in _file_calls(sample)}
+    finally:
+        sample.unlink()
+    assert found == {"open", "np.load", "np.memmap", "os.replace", "path.write_text", "figure.savefig",
+                     "dataset.to_netcdf", "xr.open_dataset"}

@@ -107,7 +107,7 @@ def test_the_memo_gives_exactly_what_pint_gives(monkeypatch, tmp_path, text, kin
     fu = _fresh_memo(monkeypatch, tmp_path)
     again = fu.to_si(text, kind, "x")  # read from the file
     assert again == first
-    stored = json.loads((tmp_path / "faultslip" / "unit_factors.json").read_text())
+    stored = json.loads(fu._memo_path().read_text())
     for key, (factor, note) in stored["factors"].items():
         kind_, unit = key.split("\x1f", 1)
         assert fu._pint_unit_factor(unit, kind_) == (factor, note)
@@ -115,7 +115,7 @@ def test_the_memo_gives_exactly_what_pint_gives(monkeypatch, tmp_path, text, kin
 
 def test_a_stale_or_damaged_memo_is_ignored_and_rewritten(monkeypatch, tmp_path):
     fu = _fresh_memo(monkeypatch, tmp_path)
-    path = tmp_path / "faultslip" / "unit_factors.json"
+    path = fu._memo_path()
     path.parent.mkdir(parents=True)
     path.write_text(json.dumps({"pint": "another pint", "factors": {"length\x1fmi": [1.0, ""]}}))
     assert fu.to_si("1 mi", "length", "x") == 1609.344
@@ -123,6 +123,20 @@ def test_a_stale_or_damaged_memo_is_ignored_and_rewritten(monkeypatch, tmp_path)
     path.write_text("{not json")
     assert fu.to_si("1 mi", "length", "x") == 1609.344
     assert json.loads(path.read_text())["factors"]["length\x1fmi"] == [1609.344, ""]
+
+
+def test_each_environment_keeps_its_own_memo(monkeypatch, tmp_path):
+    """Two virtual environments sharing a home folder (CI's and a developer's) kept invalidating one memo
+    file, and every first command paid pint's import again: the memo's name now carries the environment."""
+    fu = _fresh_memo(monkeypatch, tmp_path)
+    here = fu._memo_path()
+    assert here.parent == tmp_path / "faultslip"
+    monkeypatch.setattr(fu.sys, "prefix", "/another/venv")
+    fu._environment_key.cache_clear()
+    try:
+        assert fu._memo_path() != here
+    finally:
+        fu._environment_key.cache_clear()
 
 
 def test_an_unwritable_cache_costs_only_the_lookup(monkeypatch, tmp_path):

@@ -28,7 +28,6 @@ import base64
 import html
 import ipaddress
 import math
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -38,6 +37,7 @@ from faultslip.dynamics.spring_slider.critical import critical
 from faultslip.dynamics.spring_slider.exact_cycle import slip_trajectory
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.errors import FaultslipError, InputError
+from faultslip.io.uploads import scratch_copy
 from faultslip.fault.scaling import Fault
 from faultslip.fault.scene import load_scene
 from faultslip.friction.laws import ConstantStatic
@@ -154,9 +154,7 @@ def experiment(content: bytes, filename: str = "upload.csv") -> dict:
     suffix = Path(filename).suffix.lower() or ".csv"
     if suffix not in (".csv", ".txt"):
         raise InputError(f"{filename!r} is not a CSV export: phyphox's 'Export data' gives a .csv file")
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / f"upload{suffix}"
-        path.write_bytes(content)
+    with scratch_copy(content, suffix) as path:
         try:
             record = read_accelerometer(path)
             result = analyse(record)

@@ -155,3 +155,15 @@ def partial_output(target):
         if full:
             raise full_disk_error(target, directory) from None
         raise
+
+
+def commit(partial, target) -> None:
+    """Rename a complete ``partial`` (written in place over many steps, under the output's lock) onto
+    ``target``: the one rename of such outputs; a failure is one sentence."""
+    target = Path(target)
+    directory = target.parent if str(target.parent) else Path(".")
+    try:
+        os.replace(partial, target)
+    except OSError as exc:
+        raise as_output_error(exc, target, directory) from None
+

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import gc
+import json
 import os
 import stat
 import sys
@@ -95,6 +96,23 @@ def read_bytes(path, label: str, kind: str = "table", limit: int | None = None) 
     if len(data) > limit:
         raise InputError(f"{label} {str(path)!r} is larger than the limit for such a file, {_size(limit)}")
     return data
+
+
+def read_head(path, label: str, kind: str = "table", size: int = 65536) -> bytes:
+    """At most the first ``size`` bytes of a checked file (a header to sniff), whatever its length."""
+    path = check_input(path, label, kind)
+    try:
+        with open(path, "rb") as handle:
+            return handle.read(size)
+    except OSError as exc:
+        raise InputError(f"cannot read {label} {str(path)!r}: {exc.strerror or exc}") from None
+
+
+def read_json(path, label: str, kind: str = "config"):
+    """A JSON file through the gate; anything unreadable is one sentence naming it."""
+    text = read_text(path, label, kind)
+    with decoding(path, label, "JSON"):
+        return json.loads(text)
 
 
 def read_text(path, label: str, kind: str = "config", limit: int | None = None) -> str:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from faultslip.io.atomic import atomic_path
@@ -66,3 +68,13 @@ def create_chunked(path, dims: dict, coords: dict, variables: dict, attrs: dict,
         nc.close()
         raise
     return nc
+
+
+def open_for_append(path):
+    """An existing netCDF4 file (a sweep's partial output, this run's own) opened to write more chunks."""
+    import netCDF4  # heavy: imported where used
+
+    try:
+        return netCDF4.Dataset(path, "a")
+    except OSError as exc:
+        raise InputError(f"cannot reopen {Path(path).name} to continue it: {exc.strerror or exc}") from None

@@ -7,6 +7,8 @@ top-level directories of the repository.
 
 from __future__ import annotations
 
+import contextlib
+
 import csv
 from pathlib import Path
 
@@ -135,6 +137,23 @@ def open_netcdf(path, label: str):
     with gate.decoding(path, label, "netCDF", silence=True):
         with xr.open_dataset(path) as opened:
             return opened.load()
+
+
+@contextlib.contextmanager
+def open_dataset_lazily(path, label: str, *, zarr: bool = False, checked: bool = False):
+    """A netCDF file (or a Zarr store) opened lazily with dask chunks, through the gate: what a finished study
+    is read back with, chunk by chunk. ``checked``: the file was probed already (one this run wrote)."""
+    import xarray as xr  # heavy: imported where used
+
+    path = Path(path)
+    if not checked:
+        path = check_input_file(path, label, "netcdf") if not zarr else gate.check_input(path, label, store=True)
+        if not zarr:
+            probe_netcdf(path, label)
+    with gate.decoding(path, label, "a Zarr store" if zarr else "netCDF", silence=True):
+        opened = xr.open_zarr(path) if zarr else xr.open_dataset(path, chunks={})
+    with opened:
+        yield opened
 
 
 def read_numeric_csv(path, label: str) -> dict:

@@ -72,10 +72,8 @@ MAX_PHONE_RATE = 5000.0
 def is_accelerometer_csv(path) -> bool:
     """Whether a CSV's header is an accelerometer's (a time column and acceleration columns, no displacement)."""
     try:
-        gate.check_input(path, "record", "table")
-        with open(path, "rb") as handle:
-            first = handle.read(65536).decode("utf-8-sig", errors="replace").splitlines()[0]
-    except (OSError, InputError, IndexError):
+        first = gate.read_head(path, "record", "table").decode("utf-8-sig", errors="replace").splitlines()[0]
+    except (InputError, IndexError):
         return False
     names = [split_header(cell.strip().strip('"'))[0].lower() for cell in first.replace(";", ",").replace("\t", ",")
              .split(",")]

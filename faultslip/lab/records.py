@@ -284,9 +284,14 @@ class FreeDecay:
         r.add("damped_frequency", self.damped_frequency, "Hz", "damped frequency f_d")
         if self.standard_errors:
             units = {"decay_constant": "1/s", "damped_frequency": "Hz", "mass": "kg", "damping_ratio": "1"}
+            values = {"decay_constant": self.decay_constant, "damped_frequency": self.damped_frequency,
+                      "mass": self.mass, "damping_ratio": self.damping_ratio}
             for name, error in self.standard_errors.items():
-                r.add(f"{name}_standard_error", error, units[name],
-                      f"standard error of {name.replace('_', ' ')} (least-squares fit of the record)")
+                label = f"standard error of {name.replace('_', ' ')} (least-squares fit of the record)"
+                if error < FIT_RESOLUTION * abs(values[name]):  # the fit's own convergence, not the data's scatter
+                    r.add(f"{name}_standard_error", BELOW_ROUND_OFF, label=label)
+                else:
+                    r.add(f"{name}_standard_error", error, units[name], label)
         r.add("natural_frequency", self.natural_frequency, "rad/s", "natural frequency omega_n")
         r.add("damping_ratio", self.damping_ratio, label="damping ratio zeta")
         r.add("stiffness", self.stiffness, "N/m", "stiffness k", also=("lbf/in",))
@@ -295,6 +300,13 @@ class FreeDecay:
         r.add("damping_coefficient", self.damping_coefficient, "N*s/m", "damping coefficient r = 2 M Delta",
               also=("lbf*s/in",))
         return r
+
+
+#: curve_fit's (MINPACK lmdif's) default step tolerance: the fit stops once a step changes the parameters by
+#: less than this relative amount, so a standard error below it times the value says nothing about the record
+#: (a noiseless record's errors are round-off, and differ between machines and BLAS kernels by 2-3x).
+FIT_RESOLUTION = 1.49012e-8
+BELOW_ROUND_OFF = "below round-off"
 
 
 def free_decay(amplitude_ratio: float, cycles: float, damped_frequency: float, stiffness: float) -> FreeDecay:

@@ -19,7 +19,6 @@ slip averaged over the velocity-weakening width); the model error is the larger.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import replace
 from datetime import datetime, timezone
@@ -30,6 +29,7 @@ from faultslip import __version__
 from faultslip.dynamics.fault_2d.analysis import summarise
 from faultslip.dynamics.fault_2d.integrate import YEAR
 from faultslip.dynamics.rate_state.slider import fault_cycles
+from faultslip.io import gate
 from faultslip.errors import InputError
 from faultslip.io.resources import bundled_dir
 from faultslip.fault.fault_2d_scene import from_one_slider
@@ -118,10 +118,9 @@ def calibrate(base_scene, ratios=RATIOS, elements_per_process_zone: float = 4.0,
 def load_calibration() -> dict:
     path = bundled_dir("data") / CALIBRATION_FILE
     try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise InputError(f"the model-error calibration {path} cannot be read ({exc}); reinstall faultslip or run "
-                         "benchmarks/fault_2d_calibration.py") from None
+        return gate.read_json(path, "the model-error calibration")
+    except InputError as exc:
+        raise InputError(f"{exc}; reinstall faultslip or run benchmarks/fault_2d_calibration.py") from None
 
 
 def declared_model_error(law, shear_modulus: float, normal_stress: float, width: float,

@@ -17,7 +17,6 @@ import itertools
 import json
 import math
 import re
-import os
 import shutil
 import time
 import warnings
@@ -27,14 +26,14 @@ import numpy as np
 
 from faultslip.io.progress import reporter
 from faultslip.io import budget, gate
-from faultslip.io.atomic import write_text_atomic
+from faultslip.io.atomic import commit, write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, padded
-from faultslip.io.netcdf import create_chunked
+from faultslip.io.netcdf import create_chunked, open_for_append
 from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock
 from faultslip.io.processes import SharedRing, run_windowed, shared_segment, stop_pool, worker_pool
-from faultslip.io.resources import probe_netcdf
+from faultslip.io.resources import open_dataset_lazily
 from faultslip.fault.rate_state_cells import METHOD_CODES, REGIME_CODES
 from faultslip.studies.grid import block_arrays, compute_block, finish, parameters_for, parse_study, template_block
 import tempfile
@@ -294,8 +293,6 @@ class _ZarrWriter:
 
 def _open_writer(partial, study, template, chunks, compression, fresh: bool, file_format: str = "netcdf"):
     """The writer of ``partial``: created (``fresh``) or reopened to resume."""
-    import netCDF4  # heavy: imported where used
-
     if file_format == "zarr":
         return _ZarrWriter(partial, study, template, chunks, compression, fresh)
     direct = compression in DIRECT_COMPRESSIONS and bool(study.dims)
@@ -310,7 +307,7 @@ def _open_writer(partial, study, template, chunks, compression, fresh: bool, fil
         return _ChunkWriter(partial, study, chunks, template, compression)
     if direct:
         return _ChunkWriter(partial, study, chunks, template, compression)
-    nc = netCDF4.Dataset(partial, "a")
+    nc = open_for_append(partial)
     try:
         for name in template.data_vars:
             _no_chunk_cache(nc[name])
@@ -378,10 +375,10 @@ def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, r
                       stacklevel=3)
         return set()
     try:
-        record = json.loads(ledger.read_text(encoding="utf-8"))
+        record = gate.read_json(ledger, "progress record")
         done = {int(i) for i in record["done"]}
         same = record.get("fingerprint") == fingerprint and record.get("blocks") == blocks
-    except (OSError, ValueError, KeyError, TypeError):
+    except (InputError, ValueError, KeyError, TypeError, AttributeError):
         warnings.warn(f"the progress record {ledger.name} is unreadable; starting over", stacklevel=3)
         return set()
     if not same:
@@ -478,7 +475,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     if file_format == "zarr":
         finish_store(partial, output)
     else:
-        os.replace(partial, output)
+        commit(partial, output)
     if ledger.exists():
         ledger.unlink()
     if study.work_dir is not None:
@@ -492,9 +489,7 @@ def rate_state_counts(output, file_format: str = "netcdf", tolerance: float | No
 
     Read back chunk by chunk (dask), so memory stays flat however large the output.
     """
-    import xarray as xr  # heavy: imported where used
-
-    with (xr.open_zarr(output) if file_format == "zarr" else xr.open_dataset(output, chunks={})) as dataset:
+    with open_dataset_lazily(output, "study output", zarr=file_format == "zarr", checked=True) as dataset:
         counts = {name: int((dataset["regime"] == code).sum()) for name, code in REGIME_CODES.items()}
         counts["solver_failed"] = int((dataset["method"] == METHOD_CODES["solver_failed"]).sum())
         counts["simulated"] = int((dataset["method"] > METHOD_CODES["closed_form"]).sum())
@@ -582,10 +577,6 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     extra is a mismatch, and so is any value that differs by more than 1e-12 relative. The file
     checked is never written: ``output`` must be another file.
     """
-
-    import xarray as xr  # heavy: imported where used
-
-
     path = Path(path)
     if not path.exists():
         raise InputError(f"file {str(path)!r} does not exist")
@@ -595,12 +586,8 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     if output is not None:
         keep = check_output(output, label="-o", suffixes=(".nc",), inputs=[path], overwrite=overwrite)
 
-    probe_netcdf(path, "file")  # a damaged file must not crash this process (see probe_netcdf)
-    try:
-        with xr.open_dataset(path) as original:
-            attrs = dict(original.attrs)
-    except Exception as exc:  # netCDF4/h5py raise many types on a damaged file; all mean "not readable"
-        raise InputError(f"cannot read {str(path)!r} as netCDF: {str(exc)[:200]}") from None
+    with open_dataset_lazily(path, "file") as original:  # probed first: a damaged file must not crash this process
+        attrs = dict(original.attrs)
     if not isinstance(attrs.get("faultslip_study"), str) or not isinstance(attrs.get("faultslip_base_scene"), str):
         raise InputError(f"{path.name} carries no embedded study (faultslip_study attribute); it was not written by faultslip sweep")
     study = parse_study(attrs["faultslip_study"], source=path.name, base_text=attrs["faultslip_base_scene"])
@@ -614,7 +601,8 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
         target = keep or Path(scratch) / "reproduced.nc"
         summary = run_study(study, target, chunk_cells=chunk_cells, workers=workers, inputs=[path])
         try:
-            with xr.open_dataset(path, chunks={}) as old, xr.open_dataset(target, chunks={}) as new:
+            with open_dataset_lazily(path, "file", checked=True) as old, \
+                    open_dataset_lazily(target, "reproduced file", checked=True) as new:
                 comparison = compare_datasets(old, new)
         except InputError:
             raise
