@@ -28,7 +28,7 @@ from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_d
 from faultslip.friction.materials import check_fit_name, save_user_fit
 from faultslip.io.atomic import save_figure
 from faultslip.io.outputs import FIGURE_SUFFIXES
-from faultslip.io.report import Report
+from faultslip.io.report import Report, display_unit, significant
 from faultslip.lab.rate_state_fit import fit_velocity_steps
 from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.nanoscale.scene import load_nanoscale_scene
@@ -77,6 +77,18 @@ def cmd_fit(args) -> int:
         path = save_user_fit(args.name, fit, shear_modulus=modulus, note=args.note or "", overwrite=args.overwrite)
         report.note(f"saved as {args.name!r} in {path}; use it with 'faultslip fault --lithology {args.name} ...'")
     return _emit(report, args.json)
+
+
+#: The rate-and-state parameters in words, for reports.
+PARAMETER_WORDS = {"mu0": "mu0, steady friction at V0", "a": "a, direct effect", "b": "b, evolution effect",
+                   "critical_slip": "D_c, critical slip distance", "b2": "b2, second evolution effect",
+                   "critical_slip2": "D_c2, second critical slip distance"}
+
+
+def _shown(value, low, high, units):
+    """A posterior figure in the unit and to the digits its interval supports (faultslip.io.report)."""
+    unit, factor = display_unit([low, high], units or "1")
+    return f"{significant(value / factor, (high - low) / factor / 10)}{(' ' + unit) if unit else ''}"
 
 
 def _parse_units(text):
@@ -155,16 +167,18 @@ def _fit_rate_state(args) -> int:
     units = {"mu0": None, "a": None, "b": None, "critical_slip": "m", "b2": None, "critical_slip2": "m"}
     for name, value in fit.parameters.items():
         low, high = fit.intervals[name]
-        report.add(name, value, units[name], label=f"{name} (95 %: {low:.4g} to {high:.4g}, covariance)")
-        report.add(f"{name}_95", [low, high], units[name] or "1", label=f"{name} 95 % (covariance, t quantile)")
+        words = PARAMETER_WORDS.get(name, name)
+        report.add(name, value, units[name] or "1", label=words, error=(high - low) / 2)
+        report.add(f"{name}_95", [low, high], units[name] or "1", label="  95 % interval (covariance)")
         if name in fit.bootstrap_intervals:
             low, high = fit.bootstrap_intervals[name]
-            report.add(f"{name}_95_bootstrap", [low, high], units[name] or "1",
-                       label=f"{name} 95 % (bootstrap SE, t quantile)")
+            report.add(f"{name}_95_bootstrap", [low, high], units[name] or "1", label="  95 % interval (bootstrap)")
     report.add("reference_speed", fit.law.reference_speed, "m/s", label="V0 (the first load-point speed)")
     report.add("evolution", fit.law.evolution).add("residual_rms", fit.residual_rms, label="rms misfit in friction")
     report.add("points", fit.points).add("model_evaluations", fit.evaluations)
-    report.add("bootstrap_samples", int(fit.bootstrap.shape[0]), label=f"bootstrap resamples (seed {args.seed})")
+    resamples = int(fit.bootstrap.shape[0])
+    report.add("bootstrap_samples", resamples, label=f"bootstrap resamples (seed {args.seed})" if resamples else
+               "bootstrap resamples (none asked for)")
     for note in fit.notes:
         report.note(note)
     windows = None
@@ -210,8 +224,10 @@ def _fit_rate_state(args) -> int:
                                              "r_hat": row["r_hat"], "effective_sample_size":
                                                  row["effective_sample_size"],
                                              "autocorrelation_time": row["autocorrelation_time"]},
-                       label=f"{name}: median {row['median']:.5g}, 95 % {low:.5g} to {high:.5g}; prior "
-                             f"{row['prior']}; R-hat {row['r_hat']:.4f}, ESS {row['effective_sample_size']:.0f}")
+                       label=f"{PARAMETER_WORDS.get(name, name)}: median {_shown(row['median'], low, high, units[name])}"
+                             f", 95 % {_shown(low, low, high, units[name])} to {_shown(high, low, high, units[name])}; "
+                             f"R-hat {row['r_hat']:.3f}, {row['effective_sample_size']:.0f} effective samples; "
+                             f"prior {row['prior']}")
         report.add("posterior_draws", summary["draws"], label=f"draws after burn-in ({summary['walkers']} walkers, "
                                                                f"{summary['steps']} steps, burn-in {summary['burn_in']})")
         report.add("posterior_seconds", summary["seconds"], "s")

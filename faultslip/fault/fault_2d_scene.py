@@ -45,6 +45,7 @@ from faultslip.dynamics.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.io.seas import station_file_name
+from faultslip.io import budget
 from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar
@@ -85,6 +86,21 @@ class Fault2DScene:
         return run_cycles(self.fault, self.duration, rtol=self.rtol if rtol is None else rtol, stations=self.stations,
                           kernel=self.kernel, profile_interval=self.profile_interval,
                           coseismic_interval=self.coseismic_interval, folder=folder, resume=resume, progress=progress)
+
+    def estimated_steps(self, rtol: float | None = None) -> float:
+        """The steps this scene's run takes (an upper estimate from its D_c, V_pl, f0-free scales and element
+        size: :func:`faultslip.io.budget.fault_2d_steps`)."""
+        fault = self.fault
+        return budget.fault_2d_steps(years=self.duration / YEAR, plate_rate=fault.plate_rate,
+                                     element_size=fault.element_size, process_zone=fault.process_zone(),
+                                     nucleation_size=fault.nucleation_size(),
+                                     seismogenic_width=fault.seismogenic_width(),
+                                     rtol=self.rtol if rtol is None else rtol)
+
+    def estimate(self, rtol: float | None = None, output=None):
+        """What a run of this scene needs (:class:`faultslip.io.budget.Estimate`), before it starts."""
+        return budget.fault_2d_estimate(self.fault.count, self.duration / YEAR, len(self.stations), output,
+                                        steps=self.estimated_steps(rtol))
 
     def with_values(self, **values) -> "Fault2DScene":
         """The scene with parameters replaced, in SI (what a study sweeps; :data:`SWEEPABLE`)."""

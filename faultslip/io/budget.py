@@ -9,6 +9,7 @@ magnitude, meant to stop a two-week run or a 100 GB allocation, not to predict t
 
 from __future__ import annotations
 
+import math
 import os
 import shutil
 from dataclasses import dataclass
@@ -158,19 +159,41 @@ def nanoscale_estimate(duration: float, samples: int) -> Estimate:
                     memory=float(samples) * 6 * 8.0 * 3)
 
 
-#: Seconds per element and simulated year of a 2-D fault run, and steps per simulated year: SEAS BP1 at
-#: 25 m, 1,600 elements, 3000 yr at rtol 1e-8 took 366.8 s and 262,150 steps on the 2-core benchmark
-#: machine (benchmarks/fault_2d.py, 2026-11-24).
-FAULT_2D_SECONDS_PER_ELEMENT_YEAR = 366.8 / (1600 * 3000)
-FAULT_2D_STEPS_PER_YEAR = 262_150 / 3000
+#: A 2-D fault run's steps per simulated year (benchmarks/fault_2d_cost.py fits it to measured step counts,
+#: which do not depend on the machine): A (V_pl / 1e-9 m/s) (W / h*) (rtol / 1e-7)^-0.18 g(h / L_b), where
+#: W is the velocity-weakening width, h* the nucleation size, L_b the process zone and h the element size.
+#: More cycles (a faster plate) and more partial ruptures (W >> h*) cost steps in proportion; an element
+#: coarser than L_b makes the sequence irregular (g = (h / L_b)^0.31) and a finer one sharpens the fronts
+#: (g grows as (L_b / h)^0.45 below h = L_b / 4, from BP1 at 50 and 25 m). Fitted over D_c 6-48 mm,
+#: V_pl 1e-10 to 1e-8 m/s, h 250 m to 2 km, rtol 1e-7 and 1e-5, and BP1: within 0.75-1.4x of the measured
+#: steps; the estimate takes twice the fit, so that it errs long.
+FAULT_2D_STEPS = {"scale": 15.0, "plate_rate": 1.02, "width_over_nucleation": 0.99, "rtol": -0.18,
+                  "coarse": 0.31, "fine": 0.45, "fine_below": 0.25, "margin": 2.0}
+#: Seconds per Dormand-Prince step (six force balances and the stress kernel) on N elements: c0 + c1 N,
+#: measured 0.13 ms at 40 elements, 0.92 ms at 800 and 1.40 ms at 1,600 on the 2-core benchmark machine
+#: (benchmarks/fault_2d.py, 2026-11-24), taken twice for a busy machine.
+FAULT_2D_STEP_SECONDS = (1e-4, 8.5e-7, 2.0)
 
 
-def fault_2d_estimate(elements: int, years: float, stations: int, output=None) -> Estimate:
-    """Time, memory and disk of a 2-D fault run: station rows every step (in memory, and as SEAS text)."""
-    rows = FAULT_2D_STEPS_PER_YEAR * years
-    return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr",
-                    seconds=FAULT_2D_SECONDS_PER_ELEMENT_YEAR * elements * years,
-                    memory=rows * (1 + 4 * stations) * 8.0 * 2, disk=rows * stations * 100.0 if output else 0.0,
+def fault_2d_steps(*, years: float, plate_rate: float, element_size: float, process_zone: float,
+                   nucleation_size: float, seismogenic_width: float, rtol: float) -> float:
+    """Steps a 2-D fault run takes over ``years`` (an upper estimate, from :data:`FAULT_2D_STEPS`)."""
+    c = FAULT_2D_STEPS
+    ratio = element_size / process_zone
+    resolution = ratio ** c["coarse"] * max(1.0, c["fine_below"] / ratio) ** c["fine"]
+    partial = max(seismogenic_width, element_size) / nucleation_size if math.isfinite(nucleation_size) else 0.1
+    per_year = (c["scale"] * (plate_rate / 1e-9) ** c["plate_rate"] * partial ** c["width_over_nucleation"]
+                * (rtol / 1e-7) ** c["rtol"] * resolution)
+    return c["margin"] * per_year * years + 100.0
+
+
+def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *, steps: float) -> Estimate:
+    """Time, memory and disk of a 2-D fault run of ``steps`` steps (:func:`fault_2d_steps`): station rows every
+    step (in memory, and as SEAS text)."""
+    c0, c1, margin = FAULT_2D_STEP_SECONDS
+    return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps)",
+                    seconds=margin * steps * (c0 + c1 * elements),
+                    memory=steps * (1 + 4 * stations) * 8.0 * 2, disk=steps * stations * 100.0 if output else 0.0,
                     output=output)
 
 

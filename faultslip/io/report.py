@@ -15,6 +15,10 @@ from dataclasses import dataclass, field
 from faultslip.units import convert, quantity_json
 
 
+#: Widest label column in a text report; a longer label is printed on its own line.
+LABEL_WIDTH = 46
+
+
 @dataclass
 class Item:
     key: str
@@ -22,6 +26,7 @@ class Item:
     units: str | None = None  # None: a plain (non-physical) field
     label: str = ""
     also: tuple[str, ...] = ()  # extra display units for the text report
+    error: float | None = None  # absolute uncertainty (SI): the text shows the digits it supports
 
     @property
     def is_quantity(self) -> bool:
@@ -39,8 +44,8 @@ class Report:
         self.sections[heading] = len(self.items)
         return self
 
-    def add(self, key, value, units=None, label="", also=()) -> "Report":
-        self.items.append(Item(key, value, units, label or key.replace("_", " "), tuple(also)))
+    def add(self, key, value, units=None, label="", also=(), error=None) -> "Report":
+        self.items.append(Item(key, value, units, label or key.replace("_", " "), tuple(also), error))
         return self
 
     def set(self, key, value) -> "Report":
@@ -81,17 +86,70 @@ class Report:
     def to_text(self) -> str:
         lines = [self.title, "=" * len(self.title)]
         starts = {index: heading for heading, index in self.sections.items()}
-        width = max((len(item.label) for item in self.items), default=10) + 2
+        width = min(max((len(item.label) for item in self.items), default=10), LABEL_WIDTH) + 2
         for index, item in enumerate(self.items):
             if index in starts:
                 lines.append("")
                 lines.append(starts[index])
-            lines.append(f"  {item.label:<{width}}{_format_item(item)}")
+            shown = _format_item(item)
+            if not shown:
+                lines.append(f"  {item.label}")
+            elif len(item.label) > LABEL_WIDTH:  # a long label takes its own line rather than widening every row
+                lines.append(f"  {item.label}")
+                lines.append(f"  {'':<{width}}{shown}")
+            else:
+                lines.append(f"  {item.label:<{width}}{shown}")
         if self.notes:
             lines.append("")
             lines.append("Notes")
             lines.extend(f"  - {text}" for text in self.notes)
         return "\n".join(lines)
+
+
+#: Display units for text reports, chosen by magnitude (JSON and files stay SI): (SI unit) -> [(threshold on
+#: |value| in SI, unit, SI per unit)], the first whose threshold the value reaches. The Julian year is the
+#: astronomers' (and pint's) 365.25 days.
+JULIAN_YEAR = 365.25 * 86400.0
+DISPLAY_UNITS = {
+    "m": [(1e4, "km", 1e3), (1.0, "m", 1.0), (1e-3, "mm", 1e-3), (1e-6, "µm", 1e-6), (0.0, "nm", 1e-9)],
+    "s": [(0.5 * JULIAN_YEAR, "yr", JULIAN_YEAR), (86400.0, "days", 86400.0), (3600.0, "h", 3600.0),
+          (60.0, "min", 60.0), (1.0, "s", 1.0), (1e-3, "ms", 1e-3), (0.0, "µs", 1e-6)],
+    "Pa": [(1e9, "GPa", 1e9), (1e6, "MPa", 1e6), (1e3, "kPa", 1e3), (0.0, "Pa", 1.0)],
+    "m/s": [(1e-3, "m/s", 1.0), (1e-6, "µm/s", 1e-6), (0.0, "mm/yr", 1e-3 / JULIAN_YEAR)],
+}
+
+
+def display_unit(values, units: str | None) -> tuple[str, float]:
+    """The unit a person reads ``values`` (SI, in ``units``) in, and its size in SI: µm for D_c, years for a
+    recurrence, MPa for a stress; no unit for a dimensionless value."""
+    if units in (None, "1", ""):
+        return "", 1.0
+    table = DISPLAY_UNITS.get(units)
+    finite = [abs(float(v)) for v in values if v is not None and math.isfinite(float(v)) and v != 0]
+    if table is None or not finite:
+        return units, 1.0
+    size = max(finite)
+    for threshold, unit, factor in table:
+        if size >= threshold:
+            return unit, factor
+    return units, 1.0
+
+
+def significant(value: float, uncertainty: float | None = None) -> str:
+    """``value`` to the digits its ``uncertainty`` (absolute, same units) supports: the uncertainty's first two
+    significant figures fix the last digit shown. Without one, five significant figures."""
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "n/a"
+    if math.isinf(value):
+        return "inf" if value > 0 else "-inf"
+    if uncertainty is None or not math.isfinite(uncertainty) or uncertainty <= 0:
+        return _number(value)
+    last = math.floor(math.log10(uncertainty)) - 1  # the decade of the uncertainty's second figure
+    magnitude = abs(value)
+    if magnitude >= 1e6 or (magnitude and magnitude < 1e-4):
+        digits = max(1, math.floor(math.log10(magnitude)) - last + 1) if magnitude else 2
+        return f"{value:.{min(digits, 17)}g}"
+    return f"{value:.{min(max(-last, 0), 17)}f}"
 
 
 def _plain(value):
@@ -134,17 +192,24 @@ def _format_item(item: Item) -> str:
     if not item.is_quantity:
         if isinstance(item.value, dict) and "summary" in item.value:  # a structured row: its one-line summary
             return str(item.value["summary"])
+        if isinstance(item.value, dict):  # a structured row says itself in its label; JSON carries the fields
+            return ""
         return _plain_text(item.value)
-    if isinstance(item.value, (list, tuple)):  # a range
-        text = ("[" + ", ".join(_number(float(v)) for v in item.value) + "]"
-                + (f" {item.units}" if item.units not in ("1", "") else ""))
-        if item.also:
-            text += "  (" + ", ".join("[" + ", ".join(_number(convert(float(v), item.units, u)) for v in item.value)
-                                      + f"] {u}" for u in item.also) + ")"
-        return text
+    if isinstance(item.value, (list, tuple)):  # a range, in one display unit
+        values = [float(v) if v is not None else math.nan for v in item.value]
+        unit, factor = display_unit(values, item.units)
+        width = max(values) - min(values) if all(math.isfinite(v) for v in values) and len(values) > 1 else None
+        shown = [significant(v / factor, width / factor / 10 if width else None) for v in values]
+        return " to ".join(shown) + (f" {unit}" if unit else "") if len(values) == 2 else \
+            "[" + ", ".join(shown) + "]" + (f" {unit}" if unit else "")
     value = float(item.value)
-    text = f"{_number(value)} {item.units}".rstrip()
-    if item.also and math.isfinite(value):
-        extra = ", ".join(f"{_number(convert(value, item.units or '', unit))} {unit}" for unit in item.also)
+    unit, factor = display_unit([value], item.units)
+    error = item.error / factor if item.error is not None else None
+    text = f"{significant(value / factor, error)} {unit}".rstrip()
+    if error is not None and math.isfinite(error) and error > 0:
+        text += f" ± {significant(error, error)}"
+    extras = [u for u in item.also if u != unit]
+    if extras and math.isfinite(value):
+        extra = ", ".join(f"{_number(convert(value, item.units or '', u))} {u}" for u in extras)
         text += f"  ({extra})"
     return text

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import difflib
 import hashlib
+import itertools
 import math
 import sys
 from dataclasses import dataclass, field
@@ -144,7 +145,9 @@ class Study:
     def seconds_per_cell(self) -> float:
         """Estimated wall time per cell on one worker (for the budget and the block size)."""
         if self.kind == "fault_2d":
-            return fault_2d_cell_seconds(self.scene)
+            if self._cell_seconds is None:
+                self._cell_seconds = fault_2d_cell_seconds(self.scene, self.dims)
+            return self._cell_seconds
         if self.kind == "rate_state" and self.cycles:
             if self._cell_seconds is None:
                 self._cell_seconds = _rate_state_cell_seconds(self)
@@ -172,9 +175,20 @@ def parameters_for(kind: str) -> dict:
             "fault_2d": FAULT_2D_PARAMETERS}[kind]
 
 
-def fault_2d_cell_seconds(scene) -> float:
-    """A 2-D fault cell's run time, from the measured cost per element and year (io.budget)."""
-    return budget.FAULT_2D_SECONDS_PER_ELEMENT_YEAR * scene.fault.count * scene.duration / _YEAR
+def fault_2d_cell_seconds(scene, dims: dict | None = None) -> float:
+    """A 2-D fault cell's mean run time over the study's cells (each cell's own element size, D_c, V_pl...):
+    :meth:`Fault2DScene.estimate`. A grid of more than 256 cells is estimated from its corners and centre."""
+    dims = dims or {}
+    names = list(dims)
+    if not names:
+        return scene.estimate().seconds
+    axes = [np.asarray(dims[name]) for name in names]
+    if int(np.prod([axis.size for axis in axes])) <= 256:
+        cells = itertools.product(*axes)
+    else:
+        cells = itertools.product(*[np.unique(axis[[0, axis.size // 2, -1]]) for axis in axes])
+    seconds = [scene.with_values(**dict(zip(names, (float(v) for v in cell)))).estimate().seconds for cell in cells]
+    return float(np.mean(seconds))
 
 
 def _base_scene(text: str, source: str, path=None):

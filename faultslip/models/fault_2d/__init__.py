@@ -51,8 +51,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
     catalogue and CF netCDF when it ends."""
     loaded = load_fault_2d_scene(scene, allow_large=allow_large)
     rtol = loaded.rtol if rtol is None else rtol
-    budget.check(budget.fault_2d_estimate(loaded.fault.count, loaded.duration / YEAR, len(loaded.stations),
-                                          output_dir), allow_large)  # before any work
+    budget.check(loaded.estimate(rtol, output_dir), allow_large)  # before any work
     folder = Path(output_dir) if output_dir is not None else None
     if folder is not None:
         if folder.exists() and not folder.is_dir():
