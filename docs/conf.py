@@ -23,6 +23,8 @@ extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.mathjax", "sphinx
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 exclude_patterns = ["_build", "asperity_results.md", "surfaces_results.md", "figures/*.md", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip"]
 myst_heading_anchors = 3
+# $...$ and $$...$$ render as mathematics (MathJax, served offline above)
+myst_enable_extensions = ["dollarmath"]
 html_theme = "pydata_sphinx_theme"
 html_title = "faultslip"
 html_theme_options = {"navigation_with_keys": False, "show_toc_level": 2}

@@ -140,3 +140,35 @@ def test_the_earthquake_tab_answers_from_its_knobs(page):
     assert not math.isnan(expected["moment_magnitude"])
     page.execute_script("Bokeh.documents[0].get_model_by_name('tabs').active = 0;")
     json.dumps(text)
+
+
+HOSTILE = ['<img src=x onerror="window.__pwned=1">.csv', "<script>window.__pwned=1</script>.csv",
+           "\"><svg onload=window.__pwned=1>.csv"]
+
+
+@needs_browser
+@pytest.mark.parametrize("name", HOSTILE)
+def test_an_uploaded_name_or_header_never_runs_as_script(page, name):
+    """A file named <img src=x onerror=alert(1)>.csv ran script in the page: the status panels render HTML, and
+    the name, the header and the cells reached them unescaped. Hostile names and contents go in; the page's DOM
+    must hold them as text (no new element, no handler run)."""
+    import base64
+
+    page.execute_script("Bokeh.documents[0].get_model_by_name('tabs').active = 2; window.__pwned = 0;")
+    content = ("time (s),<img src=x onerror=window.__pwned=1> (m/s^2)\n0,<script>window.__pwned=1</script>\n"
+               ).encode()
+    for payload in (content, b"not a csv <b onmouseover=window.__pwned=1>x</b>\n"):
+        page.execute_script(f"""const m = Bokeh.documents[0].get_model_by_name('upload');
+            m.value = {base64.b64encode(payload).decode()!r}; m.filename = {name!r};""")
+        marker = name[:6]
+        browser.wait_for(page, "return Bokeh.documents[0].get_model_by_name('upload_status').text.includes("
+                               f"{json.dumps(marker.replace('<', '&lt;').replace('>', '&gt;').replace(chr(34), '&quot;'))});")
+        page.execute_script("return new Promise(r => setTimeout(r, 300));")  # let any planted handler fire
+        injected = page.execute_script(
+            "const roots = [document]; const found = [];"
+            "for (const host of document.querySelectorAll('*')) { if (host.shadowRoot) roots.push(host.shadowRoot); }"
+            "for (const root of roots) { for (const el of root.querySelectorAll('img, script, svg, b[onmouseover]')) {"
+            "  if ((el.outerHTML || '').includes('__pwned')) found.push(el.outerHTML); } }"
+            "return found;")
+        assert injected == [] and page.execute_script("return window.__pwned") == 0
+    page.execute_script("Bokeh.documents[0].get_model_by_name('tabs').active = 0;")

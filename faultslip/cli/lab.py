@@ -168,7 +168,7 @@ def _fit_rate_state(args) -> int:
     for name, value in fit.parameters.items():
         low, high = fit.intervals[name]
         words = PARAMETER_WORDS.get(name, name)
-        report.add(name, value, units[name] or "1", label=words, error=(high - low) / 2)
+        report.add(name, value, units[name], label=words, error=(high - low) / 2)
         report.add(f"{name}_95", [low, high], units[name] or "1", label="  95 % interval (covariance)")
         if name in fit.bootstrap_intervals:
             low, high = fit.bootstrap_intervals[name]

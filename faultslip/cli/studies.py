@@ -60,7 +60,7 @@ def cmd_sweep(args) -> int:
     else:
         print(f"faultslip sweep: {study.name}")
         print(f"  {summary['cells']} cells ({' x '.join(f'{n} {len(v)}' for n, v in study.dims.items())}) in "
-              f"{summary['blocks']} chunks on {summary['executor']}"
+              f"{_count(summary['blocks'], 'chunk')}, {_where(summary['executor'])}"
               + (f", {summary['resumed_blocks']} reused" if summary["resumed_blocks"] else ""))
         if counts is not None:
             for line in _rate_state_lines(counts, study):
@@ -98,7 +98,8 @@ def cmd_convert(args) -> int:
         print(json.dumps(summary | {"seconds": {"value": summary["seconds"], "units": "s"}}, indent=2))
     else:
         print(f"faultslip convert: {summary['input']} -> {summary['output']}: {summary['variables']} variables, "
-              f"{summary['chunks']} chunks on {summary['workers']} worker(s) in {summary['seconds']:.2f} s")
+              f"{_count(summary['chunks'], 'chunk')} on {_count(summary['workers'], 'worker')} in "
+              f"{summary['seconds']:.2f} s")
     return 0
 
 
@@ -162,6 +163,17 @@ def _hazard_options(args, spec, outputs) -> dict | None:
         claim(checked, "faultslip map", args.overwrite, "--nrml")
     options["extra"] = extra
     return options
+
+
+def _count(number, noun: str) -> str:
+    """'1 chunk', '3 chunks'."""
+    return f"{number} {noun}{'' if number == 1 else 's'}"
+
+
+def _where(executor: str) -> str:
+    """How a sweep ran, as a phrase: 'in this process', 'on a process pool (2 workers)', ..."""
+    return "in this process" + executor.removeprefix("in-process") if executor.startswith("in-process") else \
+        f"on {executor}"
 
 
 def cmd_map(args) -> int:

@@ -37,10 +37,15 @@ def cmd_surface(args) -> int:
         if args.hardness:
             hardness = to_si(args.hardness, "pressure", "--hardness")
             plasticity["plasticity_index"] = (plasticity_index(modulus, hardness, stats["summit_sigma"],
-                                                               stats["summit_radius"]), "psi = (E'/H) sqrt(s/R) (eq. 36)")
+                                                               stats["summit_radius"]),
+                                                "plasticity index from the summits, psi = (E'/H) sqrt(s/R) (Greenwood "
+                                                "& Williamson; eq. 36): s, R the summits' height spread and radius")
             plasticity["hirst_hollander_index"] = (hirst_hollander_index(modulus, hardness, stats["rms"],
                                                                          stats["correlation_length"]),
-                                                   "psi = 0.6 (E'/H)(sigma/beta*) (eq. 15)")
+                                                   "plasticity index from the profile, psi = 0.6 (E'/H)(sigma/beta*) "
+                                                   "(Hirst & Hollander; eq. 15): sigma, beta* the heights' rms and "
+                                                   "correlation length; the two differ as summit and profile "
+                                                   "statistics do, both > 1 means plastic contact")
     counter = flat_like(surface) if args.against == "flat" else None
     if args.against not in ("flat", "inverted"):
         raise InputError(f"--against must be flat or inverted, got {args.against!r}")

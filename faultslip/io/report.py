@@ -194,6 +194,8 @@ def _format_item(item: Item) -> str:
             return str(item.value["summary"])
         if isinstance(item.value, dict):  # a structured row says itself in its label; JSON carries the fields
             return ""
+        if item.error is not None and isinstance(item.value, float) and item.error > 0:
+            return f"{significant(item.value, item.error)} ± {significant(item.error, item.error)}"
         return _plain_text(item.value)
     if isinstance(item.value, (list, tuple)):  # a range, in one display unit
         values = [float(v) if v is not None else math.nan for v in item.value]

@@ -90,6 +90,13 @@ def animation(dataset, frames: int = 120, slip_share: float = 0.5, title: str = 
     phase.plot(x / swing, velocity / speed, color="0.8", lw=0.8)
     marker, = phase.plot([], [], "o", color="C3")
     phase.set(xlabel="displacement x / swing", ylabel="velocity x' / V", title="phase plane")
+    # at fault scale a slip runs at ~1e8 plate rates: a symmetric log axis reads it, where a linear one printed
+    # -3e8 under a 1e8 offset; no offset either way
+    if np.nanmax(np.abs(velocity / speed)) > 1e3:
+        phase.set_yscale("symlog", linthresh=1.0)
+    else:
+        phase.ticklabel_format(axis="y", useOffset=False)
+    phase.ticklabel_format(axis="x", useOffset=False)
     trace.plot(time / time_scale, friction, color="0.7", lw=0.8)
     cursor = trace.axvline(times[0] / time_scale, color="C3")
     now, = trace.plot([], [], "o", color="C3")

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from faultslip.io.report import display_unit
+
 from faultslip.dynamics.spring_slider import closed_form
 from faultslip.friction.materials import Preset
 from faultslip.dynamics.spring_slider.critical import critical
@@ -96,10 +98,15 @@ def sawtooth_figure(dataset, cycles: int = 6):
         start, end = None, None
     part = dataset.sel(time=slice(start, end))
     fault = dataset.attrs.get("scale") == "fault"
-    length_scale, length_unit = (1.0, "m") if fault else (1e-6, "µm")
-    time_scale, time_unit = (3.15576e7, "yr") if fault else (1e-3, "ms")
+    # axes a person reads: time from the window's start, in the unit its span calls for (a lab window 22 s
+    # long at t = 55 s read "55000-77000 ms"), lengths likewise
+    times = part["time"].values
+    origin = float(times[0]) if times.size else 0.0
+    time_unit, time_scale = display_unit([float(times[-1]) - origin if times.size else 0.0], "s")
+    length_unit, length_scale = display_unit([float(np.nanmax(np.abs(part["displacement"].values)))
+                                              if times.size else 0.0], "m")
     figure, (ax_force, ax_x) = plt.subplots(2, 1, figsize=(9, 5.5), sharex=True, constrained_layout=True)
-    t = part["time"].values / time_scale
+    t = (times - origin) / time_scale
     force = part["spring_force"]
     ax_force.plot(t, force.values / (1e5 if fault else 1.0), color="C0", lw=1.2)
     ax_force.set_ylabel(f"spring force K x ({'bar' if fault else force.attrs['units']})")
@@ -108,7 +115,8 @@ def sawtooth_figure(dataset, cycles: int = 6):
     slipping = part["phase"].values == 1
     ax_x.plot(t[slipping], displacement[slipping], ".", color="C3", ms=2, label="slip")
     ax_x.set_ylabel(f"displacement x ({length_unit})")
-    ax_x.set_xlabel(f"time ({time_unit})")
+    start_unit, start_scale = display_unit([origin], "s")
+    ax_x.set_xlabel(f"time ({time_unit}) since t = {origin / start_scale:.4g} {start_unit}".rstrip())
     ax_x.legend(fontsize=8)
     for axis in (ax_force, ax_x):
         axis.grid(True, alpha=0.3)
