@@ -122,7 +122,7 @@ def test_cli_sweep_writes_counts_and_reproduces(cli, tmp_path):
     (f'[study]\nbase = "{BASE}"\nmethod = "closed_form"\n[sweep]\na = [0.01]\n', "method of a rate-and-state study"),
     (f'[study]\nbase = "{BASE}"\ncycles = -1\n[sweep]\na = [0.01]\n', "cycles must be a whole number"),
     (f'[study]\nbase = "{BASE}"\n[sweep]\na = [0.01, 1.5]\n', "rate-and-state a must be in (0, 1)"),
-    (f'[study]\nbase = "{BASE}"\n[sweep]\ncritical_slip = ["1 km"]\n', "D_c must be from 1 nm to 10 m"),
+    (f'[study]\nbase = "{BASE}"\n[sweep]\ncritical_slip = ["1 km"]\n', "D_c must lie between 1e-09 and 10 m"),
     (f'[study]\nbase = "{BASE}"\n[sweep]\nevolution = ["ageing"]\n', "evolution law must be one of"),
     (f'[study]\nbase = "{BASE}"\n[sweep]\nfit = ["granodiorite"]\n', "not a rate-and-state fit"),
     (f'[study]\nbase = "{BASE}"\n[sweep]\nmu_so = [0.6]\n', "unknown parameter 'mu_so'"),
