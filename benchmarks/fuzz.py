@@ -4,7 +4,13 @@
 
 Each case mutates one bundled or example input (scene, study, map with its segment table, lab
 friction CSV, motion record, free-decay record, a sweep's netCDF, or unit strings for ``fault``)
-and runs the matching command in-process through ``faultslip.cli.main``. Issue 26 added the
+and runs the matching command in-process through ``faultslip.cli.main``. Issue 41 added the 2-D
+fault: mutated scenes, surgery on a stopped run's checkpoint (bytes flipped or cut, arrays re-saved,
+dropped or edited, a link in its place) and on its record streams (flipped, cut, grown, deleted, or
+replaced by a link to a victim file that must stay untouched), then ``--resume``; the hazard options
+(b-value, magnitudes, bin width, moment constant, scaling relations, method); and classroom uploads
+with hostile names and headers, analysed as the app does, where whatever reaches the page must hold
+no markup. Issue 26 added the
 readers' and writers' hard cases: Zarr stores with damaged, missing or re-attributed chunks;
 TOML nested hundreds deep; device files, FIFOs and folders given as inputs; symlinks, hard
 links and FIFOs planted at an output's lock; writes into a full disk (a tmpfs of a few hundred
@@ -198,6 +204,7 @@ class Workspace:
         surface_lines = (CONFIGS / "example_surface.csv").read_text(encoding="utf-8").splitlines()
         self.surface = "\n".join(surface_lines[:1025]) + "\n"
         self.quakeml, self.mseed = self._seismology_files()
+        self.fault_2d, self.stopped = self._stopped_2d_run()
         self.fifo = folder / "pipe.toml"
         os.mkfifo(self.fifo)
         self.full = self._tmpfs()
@@ -234,6 +241,25 @@ class Workspace:
 
             assert main(["sweep", str(study), "-o", str(out), "--overwrite", "--workers", "1"]) == 0
         return out.read_bytes()
+
+    def _stopped_2d_run(self) -> tuple[str, Path]:
+        """A small 2-D fault scene (2 km elements, 150 yr: about a second) and a run of it stopped right after
+        a checkpoint, as a kill would leave it: the seed of the checkpoint-surgery and record-stream cases."""
+        from faultslip.dynamics.fault_2d.integrate import _Stopped, run_cycles
+        from faultslip.fault.fault_2d_scene import load_fault_2d_scene
+
+        text = (CONFIGS / "fault_2d_small.toml").read_text(encoding="utf-8")
+        text = text.replace('element_size = "500 m"', 'element_size = "2 km"').replace('duration = "600 yr"',
+                                                                                     'duration = "150 yr"')
+        scene = self.write("fault_2d.toml", text)
+        loaded = load_fault_2d_scene(scene)
+        stopped = self.folder / "stopped_2d"
+        try:
+            run_cycles(loaded.fault, loaded.duration, rtol=loaded.rtol, stations=loaded.stations, folder=stopped,
+                       stop_after_steps=300)
+        except _Stopped:
+            pass
+        return text, stopped
 
     def _seismology_files(self) -> tuple[bytes, bytes]:
         """A QuakeML catalog and a miniSEED record to corrupt (written by faultslip itself)."""
@@ -428,12 +454,106 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         return ["surface", str(path), "--json"] + rng.choice(
             [[], ["--modulus", rng.choice(["210 GPa", "-1 GPa", "1e400 Pa"]), "--hardness", "2 GPa"],
              ["--flow-pressure", "280 N/mm^2", "--load", rng.choice(["0.01 N", "1e9 N", "-1 N"])]])
+    if kind == "fault_2d":
+        path = space.write("fault_2d_case.toml", mutate_toml(space.fault_2d, rng))
+        return rng.choice([["run", str(path), "--json"],
+                           ["simulate", str(path), "--output-dir", str(space.folder / "run_2d"), "--overwrite",
+                            "--json"]])
+    if kind in ("checkpoint", "stream"):
+        folder = space.folder / "resume_2d"
+        shutil.rmtree(folder, ignore_errors=True)
+        shutil.copytree(space.stopped, folder, symlinks=True)
+        if kind == "checkpoint":
+            damage_checkpoint(folder / "checkpoint.npz", rng)
+        else:
+            damage_stream(folder / rng.choice(["stations.f8", "profiles.f8", "events.f8"]), rng, space)
+        return ["simulate", str(space.folder / "fault_2d.toml"), "--output-dir", str(folder), "--resume", "--json"]
+    if kind == "hazard":
+        space.write("segments.csv", space.segments)
+        path = space.write("map.toml", space.map_text)
+        argv = ["map", str(path), "-o", out, "--overwrite", "--json", "--nrml", str(space.folder / "h.xml"),
+                "--mfd", rng.choice(["characteristic", "truncated_gr", "single_bin", "gr", ""])]
+        for flag, values in (("--b-value", ["1.0", "1e-300", "0", "-1", "3.01", "nan", "1e300", "x"]),
+                             ("--min-magnitude", ["5.0", "-3", "11", "nan", "inf", "7.9"]),
+                             ("--mfd-bin-width", ["0.1", "1e-300", "0", "0.7", "-0.1", "nan"]),
+                             ("--moment-constant", ["9.1", "9.05", "9", "nan"]),
+                             ("--scaling-relations", ["faultslip", "WC1994:0.5,Leonard2010:0.5", "WC1994:2", ":",
+                                                      "faultslip,faultslip"])):
+            if rng.random() < 0.6:
+                argv += [flag, rng.choice(values)]
+        if rng.random() < 0.2:
+            argv += ["--method", rng.choice(["auto", "closed_form", "bogus", "exact_cycle", ""])]
+        return argv
+    if kind == "upload":
+        name = rng.choice(["phone.csv", "<img src=x onerror=alert(1)>.csv", "../../etc/passwd", "a.txt", "x.exe",
+                           "\u0000.csv", "<script>alert(1)</script>", "", "é.csv", "a" * 300 + ".csv"])
+        content = mutate_csv(space.phyphox, rng)
+        if rng.random() < 0.3:
+            content = (content if isinstance(content, bytes) else content.encode("utf-8", "surrogatepass"))
+            content = content.replace(b"Time", b"<img src=x onerror=alert(1)>", 1)
+        path = space.write("upload.bin", content)
+        return ["__upload__", str(path), name]
     raise ValueError(kind)
+
+
+def damage_checkpoint(path: Path, rng) -> None:
+    """Surgery on a 2-D run's checkpoint: bytes flipped, cut or emptied, arrays re-saved, dropped or edited."""
+    import numpy as np
+
+    how = rng.choice(["bytes", "truncate", "empty", "resave", "drop", "edit", "link", "delete", "text"])
+    data = path.read_bytes()
+    if how == "bytes":
+        path.write_bytes(mutate_bytes(data, rng))
+    elif how == "truncate":
+        path.write_bytes(data[: rng.randrange(len(data))])
+    elif how == "empty":
+        path.write_bytes(b"")
+    elif how == "text":
+        path.write_text("checkpoint", encoding="utf-8")
+    elif how == "delete":
+        path.unlink()
+    elif how == "link":
+        path.unlink()
+        path.symlink_to(path.parent / "stations.f8")
+    else:
+        with np.load(io.BytesIO(data)) as archive:
+            arrays = {key: archive[key] for key in archive.files}
+        if how == "resave":
+            arrays.pop("checksum", None)
+        elif how == "drop":
+            arrays.pop(rng.choice(sorted(arrays)))
+        else:
+            key = rng.choice(sorted(k for k in arrays if arrays[k].dtype.kind == "f"))
+            arrays[key] = arrays[key] * rng.choice([2.0, -1.0, float("nan")])
+        buffer = io.BytesIO()
+        np.savez(buffer, **arrays)
+        path.write_bytes(buffer.getvalue())
+
+
+def damage_stream(path: Path, rng, space) -> None:
+    """A record stream flipped, cut, grown, deleted, or replaced by a link to a victim (never to be written)."""
+    how = rng.choice(["bytes", "truncate", "grow", "delete", "symlink", "hardlink"])
+    data = path.read_bytes()
+    if how == "bytes":
+        path.write_bytes(mutate_bytes(data, rng))
+    elif how == "truncate":
+        path.write_bytes(data[: rng.randrange(max(1, len(data)))])
+    elif how == "grow":  # a write after the checkpoint, which resume cuts back: the run goes on
+        path.write_bytes(data + bytes(rng.randrange(1, 100)))
+    elif how == "delete":
+        path.unlink()
+    else:
+        victim = space.folder / f"victim_{len(space.victims)}.txt"
+        victim.write_text("precious", encoding="utf-8")
+        space.victims.append(victim)
+        path.unlink()
+        (path.symlink_to if how == "symlink" else lambda target: os.link(target, path))(victim)
 
 
 KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6, "netcdf": 8, "units": 20,
          "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
-         "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6}
+         "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6,
+         "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [
@@ -573,6 +693,28 @@ def _alarm(signum, frame):
     raise _Timeout
 
 
+def upload_case(path: str, name: str):
+    """A classroom upload as the app handles it: analysed, or refused in one sentence; whatever the page shows of
+    it must hold no markup (faultslip.apps.classroom escapes it)."""
+    from faultslip.apps.classroom import _text, experiment
+    from faultslip.errors import FaultslipError
+
+    content = Path(path).read_bytes()
+    try:
+        result = experiment(content, name or "upload.csv")
+        shown = _text(result["filename"])
+    except FaultslipError as exc:
+        if "\n" in str(exc):
+            return 2, "two lines"
+        shown = _text(exc)
+        if "<" in shown or ">" in shown:
+            return 2, f"markup reached the page: {shown[:120]}"
+        return 2, None
+    if "<" in shown or ">" in shown:
+        return 2, f"markup reached the page: {shown[:120]}"
+    return 0, None
+
+
 def run_case(argv: list[str], timeout: float):
     from faultslip.cli.main import main
 
@@ -583,7 +725,14 @@ def run_case(argv: list[str], timeout: float):
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             try:
-                code = main(argv)
+                if argv[0] == "__upload__":
+                    code, problem = upload_case(argv[1], argv[2])
+                    if problem:
+                        return "unclean", problem, time.perf_counter() - started
+                    if code == 2:
+                        print("faultslip: error: refused", file=sys.stderr)
+                else:
+                    code = main(argv)
             except SystemExit as exit_:  # argparse
                 code = exit_.code if isinstance(exit_.code, int) else 2
     except _Timeout:

@@ -146,7 +146,13 @@ def reliability_table() -> str | None:
             "deep": "TOML nested 33 to 3,000 deep", "device": "devices, FIFOs and folders given as files",
             "lock": "symlinks, hard links and FIFOs planted at an output's lock",
             "full": "writes into a full disk (300 kB tmpfs)", "race": "a second writer of another kind holding the output",
-            "gaf": "GAF GeoJSON: slip types, MultiLineStrings, repeated ids"}
+            "gaf": "GAF GeoJSON: slip types, MultiLineStrings, repeated ids",
+            "fault_2d": "mutated 2-D fault scenes (run, and simulate into a folder)",
+            "checkpoint": "a stopped 2-D run's checkpoint flipped, cut, emptied, re-saved, edited or linked, then --resume",
+            "stream": "its record streams flipped, cut, grown, deleted or linked to a victim file, then --resume",
+            "hazard": "hazard options: b-value, magnitudes, bin width, moment constant, scaling relations",
+            "raw": "raw rig records with stiffness, area, trend, steps, windows, priors and posteriors",
+            "upload": "classroom uploads with hostile names and headers (no markup may reach the page)"}
     by_input = fuzz.get("by_input", {})
     for kind, label in hard.items():
         if kind in by_input:

@@ -390,3 +390,13 @@ def test_a_run_estimated_over_the_budget_is_refused_before_work(tmp_path, cli, m
     result = cli("simulate", CONFIGS / "fault_2d_small.toml", "--output-dir", tmp_path / "out")
     assert_clean_error(result, "--allow-large")
     assert not (tmp_path / "out").exists()
+
+
+def test_an_output_path_that_is_not_utf8_is_one_sentence_and_leaves_nothing(tmp_path, cli, monkeypatch):
+    """An output path that is not valid UTF-8 raised UnicodeEncodeError from netCDF4, with a folder left behind."""
+    monkeypatch.chdir(tmp_path)
+    bad = os.fsdecode(b"bad\xff.nc")
+    assert_clean_error(cli("simulate", "lab_glass_dry.toml", "--cycles", "3", "-o", bad), "UTF-8")
+    folder = os.fsdecode(b"dir\xff")
+    assert_clean_error(cli("simulate", tiny_scene(tmp_path), "--output-dir", folder), "UTF-8")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]

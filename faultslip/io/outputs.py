@@ -58,6 +58,7 @@ def check_output(path, *, label: str, suffixes=None, inputs=(), overwrite: bool 
     target = Path(path)
     if not str(path).strip():
         raise InputError(f"{label}: the output path is empty")
+    check_encodable(target, label)
     if store and target.exists():
         if not is_store(target):
             what = "a folder" if target.is_dir() else "a file"
@@ -89,6 +90,20 @@ def check_output(path, *, label: str, suffixes=None, inputs=(), overwrite: bool 
     if not os.access(parent, os.W_OK):
         raise InputError(f"{label}: the folder {str(parent)!r} is not writable")
     return target
+
+
+def check_encodable(path, label: str) -> Path:
+    """Refuse a path that is not valid UTF-8 (bytes the file system allows but netCDF-C, HDF5 and the
+    formats' own metadata cannot name): one sentence before any work, instead of netCDF4's
+    UnicodeEncodeError after it."""
+    text = os.fsdecode(os.fspath(path))
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        shown = text.encode("utf-8", "backslashreplace").decode("ascii", "backslashreplace")
+        raise InputError(f"{label} {shown!r} is not valid UTF-8 (the netCDF library cannot name such a file); "
+                         "choose a name in UTF-8") from None
+    return Path(path)
 
 
 #: Free bytes below which a failed write is put down to a full disk (HDF5 says only "HDF error").
@@ -154,7 +169,9 @@ def _open_lock(lock: Path) -> int:
                              "remove it and run again") from None
         raise InputError(f"cannot take the lock {str(lock)!r}: {exc.strerror or exc}") from None
     info = os.fstat(descriptor)
-    if not stat.S_ISREG(info.st_mode) or info.st_nlink != 1:
+    # one link: ours; none: a holder that just finished unlinked it (output_lock sees the inode change and
+    # opens the new one); more: a hard link planted to another file
+    if not stat.S_ISREG(info.st_mode) or info.st_nlink > 1:
         os.close(descriptor)
         raise InputError(f"the lock file {str(lock)!r} is not a plain file of faultslip's (a link or a special "
                          "file); remove it and run again")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import textwrap
 from dataclasses import dataclass, field
 
 from faultslip.units import convert, quantity_json
@@ -17,6 +18,8 @@ from faultslip.units import convert, quantity_json
 
 #: Widest label column in a text report; a longer label is printed on its own line.
 LABEL_WIDTH = 46
+#: Width a sentence-row (a label without a value) is folded to.
+LINE_WIDTH = 110
 
 
 @dataclass
@@ -92,17 +95,23 @@ class Report:
                 lines.append("")
                 lines.append(starts[index])
             shown = _format_item(item)
-            if not shown:
-                lines.append(f"  {item.label}")
-            elif len(item.label) > LABEL_WIDTH:  # a long label takes its own line rather than widening every row
-                lines.append(f"  {item.label}")
-                lines.append(f"  {'':<{width}}{shown}")
-            else:
-                lines.append(f"  {item.label:<{width}}{shown}")
+            if not shown:  # a sentence of its own, folded to a readable width
+                lines.extend(textwrap.wrap(item.label, width=LINE_WIDTH, initial_indent="  ",
+                                           subsequent_indent="      ", break_on_hyphens=False))
+            else:  # a long label takes its own line rather than widening every row; a long value is folded
+                indent = " " * (width + 2)
+                first = indent if len(item.label) > LABEL_WIDTH else f"  {item.label:<{width}}"
+                if len(item.label) > LABEL_WIDTH:
+                    lines.append(f"  {item.label}")
+                lines.extend(textwrap.wrap(shown, width=max(LINE_WIDTH, width + 40), initial_indent=first,
+                                           subsequent_indent=indent, break_on_hyphens=False,
+                                           break_long_words=False) or [first.rstrip()])
         if self.notes:
             lines.append("")
             lines.append("Notes")
-            lines.extend(f"  - {text}" for text in self.notes)
+            for text in self.notes:  # folded, so that no line of a report runs past a terminal's width
+                lines.extend(textwrap.wrap(text, width=LINE_WIDTH, initial_indent="  - ", subsequent_indent="    ",
+                                           break_on_hyphens=False, break_long_words=False) or ["  -"])
         return "\n".join(lines)
 
 

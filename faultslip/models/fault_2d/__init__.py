@@ -17,7 +17,7 @@ from faultslip.errors import InputError
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
-from faultslip.io.outputs import output_lock
+from faultslip.io.outputs import check_encodable, output_lock
 from faultslip.io.report import Report
 from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
@@ -60,6 +60,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
             raise InputError(f"--resume: {folder} holds no checkpoint of a 2-D fault run")
         if not resume and folder.is_dir() and any(folder.iterdir()) and not overwrite:
             raise InputError(f"--output-dir {folder} is not empty; pass --resume to continue its run, or --overwrite")
+        check_encodable(folder, "--output-dir")
         if folder.is_symlink():
             raise InputError(f"--output-dir {folder} is a symbolic link, which faultslip never follows; give the "
                              "folder itself")
