@@ -28,6 +28,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+from faultslip.constants import JULIAN_YEAR, STANDARD_GRAVITY  # noqa: F401 (re-exported)
 import numpy as np
 
 from faultslip.errors import InputError
@@ -35,9 +36,7 @@ from faultslip.errors import InputError
 
 
 #: Seconds in one Julian year (365.25 d): the only year faultslip uses.
-JULIAN_YEAR = 365.25 * 86400.0
 #: Standard gravity, used for a load given as a mass (W = M g).
-STANDARD_GRAVITY = 9.80665
 
 _REGISTRY = None
 #: Set by the command line: load pint with its probe for dask answered "absent". pint.compat

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from faultslip.constants import STANDARD_GRAVITY
 import numpy as np
 
 from faultslip import ranges
@@ -279,7 +280,7 @@ def cmd_record(args) -> int:
     record = read_record(args.record)
     speed = to_si(args.platform_speed, "speed", "platform speed") if args.platform_speed else None
     analysis = analyze_record(record, to_si(args.mass, "mass", "mass") if args.mass else
-                              to_si(args.normal_load, "force", "normal load") / 9.80665,
+                              to_si(args.normal_load, "force", "normal load") / STANDARD_GRAVITY,
                               to_si(args.stiffness, "stiffness", "stiffness"), to_si(args.normal_load, "force", "normal load"),
                               speed, to_si(args.dashpot, "damping", "dashpot") if args.dashpot else 0.0,
                               velocity_method=args.velocity)

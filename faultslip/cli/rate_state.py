@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+from faultslip.constants import JULIAN_YEAR
 from faultslip.cli.common import _locked, _outputs
 from faultslip.cli.printing import _emit, _progress
 from faultslip.errors import FaultslipError
@@ -12,7 +13,7 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.report import Report
 from faultslip.models.rate_state_slider import earthquake_cycles, velocity_step
 
-YEAR = 365.25 * 86400.0
+YEAR = JULIAN_YEAR
 
 
 def cmd_missing_action(args) -> int:

@@ -6,6 +6,7 @@ import json
 import math
 from pathlib import Path
 
+from faultslip.constants import JULIAN_YEAR
 from faultslip.cli.common import _number, _locked, _outputs, _tolerance, _workers
 from faultslip.cli.printing import _progress
 from faultslip.errors import FaultslipError, InputError
@@ -221,7 +222,7 @@ def cmd_map(args) -> int:
             elif observed is not None:
                 spec.notes.append("no segment has an observed slip or recurrence: the observed figure is not drawn")
     if args.json:
-        year = 365.25 * 86400
+        year = JULIAN_YEAR
         def value(number):
             return number if math.isfinite(number) else None
 

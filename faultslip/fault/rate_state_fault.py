@@ -17,6 +17,7 @@ import math
 import time
 from dataclasses import dataclass, field
 
+from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
 from faultslip import ranges
@@ -30,7 +31,7 @@ from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.report import Report
 from faultslip.units import to_si
 
-YEAR = 365.25 * 86400.0
+YEAR = JULIAN_YEAR
 #: a fault's quantities by Fault field name: (unit kind, SI unit)
 FAULT_QUANTITIES = {"shear_modulus": ("pressure", "Pa"), "zone_width": ("length", "m"),
                     "normal_stress": ("pressure", "Pa"), "shear_stress": ("pressure", "Pa"),

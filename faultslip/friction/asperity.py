@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+from faultslip.constants import STANDARD_GRAVITY
 import numpy as np
 
 #: Table I of seed 004 (steel on copper, composite modulus 77 800 MPa). C = 2 kg/s in the dynamic
@@ -128,7 +129,7 @@ def critical_speeds(natural_frequency, wavelength, orders=(1, 2, 3)):
     return np.asarray([natural_frequency * wavelength / n for n in orders], float)
 
 
-def contact_loss_speed(max_approach, slope_std, slope_radius=SLOPE_RADIUS, gravity=9.80665):
+def contact_loss_speed(max_approach, slope_std, slope_radius=SLOPE_RADIUS, gravity=STANDARD_GRAVITY):
     """The platform speed above which the block cannot follow the surface down off the summits, m/s.
 
     Leaving a summit the approach grows as dh ~ e^(c v t / L) (<Z'> ~ c dh / L for dh << L), so the

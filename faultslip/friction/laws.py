@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from faultslip.constants import STANDARD_GRAVITY
 import numpy as np
 
 from faultslip.errors import InputError
@@ -325,7 +326,6 @@ class CallableKinetic(_CurveKinetic):
 
 #: How the surfaces' separation follows the sliding speed (see :class:`SeparatingSurfacesKinetic`).
 SEPARATION_MEMORIES = ("none", "held", "falling")
-STANDARD_GRAVITY = 9.80665  # m/s^2
 
 
 @dataclass(frozen=True)

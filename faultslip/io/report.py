@@ -13,6 +13,7 @@ import math
 import textwrap
 from dataclasses import dataclass, field
 
+from faultslip.constants import JULIAN_YEAR
 from faultslip.units import convert, quantity_json
 
 
@@ -118,7 +119,6 @@ class Report:
 #: Display units for text reports, chosen by magnitude (JSON and files stay SI): (SI unit) -> [(threshold on
 #: |value| in SI, unit, SI per unit)], the first whose threshold the value reaches. The Julian year is the
 #: astronomers' (and pint's) 365.25 days.
-JULIAN_YEAR = 365.25 * 86400.0
 DISPLAY_UNITS = {
     "m": [(1e4, "km", 1e3), (1.0, "m", 1.0), (1e-3, "mm", 1e-3), (1e-6, "µm", 1e-6), (0.0, "nm", 1e-9)],
     "s": [(0.5 * JULIAN_YEAR, "yr", JULIAN_YEAR), (86400.0, "days", 86400.0), (3600.0, "h", 3600.0),

@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
 from faultslip.errors import InputError
@@ -72,7 +73,7 @@ def check_datable(start_seconds: float, span: float, cycles: int) -> None:
     """Refuse, in one sentence, a record that would end after year 9999 (its start in s since 1970, span in s)."""
     if start_seconds + span <= LAST_DATABLE:
         return
-    years = span / (365.25 * 86400)
+    years = span / JULIAN_YEAR
     fitting = int(cycles * (LAST_DATABLE - start_seconds) / span) - 1 if span > 0 else 0  # -1: the run ends past its last event
     raise InputError(f"the simulation spans {years:,.0f} years from its start time, past year 9999, the last that "
                      f"miniSEED, SAC and QuakeML can date; simulate at most {max(fitting, 0)} cycles (--cycles) or "

@@ -24,6 +24,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from faultslip.constants import STANDARD_GRAVITY
 import numpy as np
 
 from faultslip.errors import InputError
@@ -296,7 +297,7 @@ class FreeDecay:
         r.add("damping_ratio", self.damping_ratio, label="damping ratio zeta")
         r.add("stiffness", self.stiffness, "N/m", "stiffness k", also=("lbf/in",))
         r.add("mass", self.mass, "kg", "mass M = k / omega_n^2", also=("lb",))
-        r.add("mass_weight", self.mass * 9.80665, "N", "its weight M g", also=("lbf",))
+        r.add("mass_weight", self.mass * STANDARD_GRAVITY, "N", "its weight M g", also=("lbf",))
         r.add("damping_coefficient", self.damping_coefficient, "N*s/m", "damping coefficient r = 2 M Delta",
               also=("lbf*s/in",))
         return r

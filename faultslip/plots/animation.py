@@ -10,6 +10,7 @@ stay visible. The title states the compression: how much faster a stick plays th
 
 from __future__ import annotations
 
+from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
 from faultslip.errors import InputError
@@ -69,7 +70,7 @@ def animation(dataset, frames: int = 120, slip_share: float = 0.5, title: str = 
     friction = dataset["friction_coefficient"].values
     speed = float(dataset.attrs["platform_speed"])
     fault = dataset.attrs.get("scale") == "fault"
-    time_unit, time_scale = ("yr", 3.15576e7) if fault else ("s", 1.0)
+    time_unit, time_scale = ("yr", JULIAN_YEAR) if fault else ("s", 1.0)
     positions = np.interp(times, time, x)
     velocities = np.interp(times, time, velocity)
     frictions = np.interp(times, time, friction)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
 from faultslip.dynamics.rate_state.slider import critical_step_ratio
@@ -52,7 +53,7 @@ def stability_figure(law: RateStateLaw | None = None, stiffness_ratios=None):
 def cycles_figure(dataset):
     """A rate-and-state fault's cycles: slip rate (log) and shear stress against time in years, events marked."""
     plt = _pyplot()
-    year = 365.25 * 86400.0
+    year = JULIAN_YEAR
     years = dataset["time"].values / year
     figure, (rate, stress) = plt.subplots(2, 1, figsize=(9, 5.6), sharex=True, constrained_layout=True)
     rate.semilogy(years, dataset["slip_rate"].values, color="C0", lw=1)

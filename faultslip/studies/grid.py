@@ -48,7 +48,6 @@ from faultslip import __version__
 from faultslip.dynamics.spring_slider.critical import critical_dimensionless_rate, solve_rate_law_critical
 from faultslip.dynamics.methods import solve
 from faultslip.dynamics.fault_2d.analysis import summarise as summarise_fault_2d
-from faultslip.dynamics.fault_2d.integrate import YEAR as _YEAR
 from faultslip.fault.fault_2d_scene import SWEEPABLE as FAULT_2D_PARAMETERS
 from faultslip.fault.fault_2d_scene import Fault2DScene, is_fault_2d_document, load_fault_2d_scene, parse_fault_2d_scene
 from faultslip.fault.scene import apply_friction, load_scene, parse_scene, Scene

@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
 from faultslip.io.geo import _check_lon_lat, nearest_segment, parse_trace, trace_length  # noqa: F401 (re-exported)
@@ -705,7 +706,7 @@ def segment_rows(dataset) -> list[dict]:
 
 def observed_table(dataset, most: int | None = None) -> str:
     """Predicted against observed recurrence and slip, with ratios, as Markdown (the first ``most`` rows)."""
-    year = 365.25 * 86400
+    year = JULIAN_YEAR
     lines = ["| segment | slip rate (mm/yr) | predicted slip (m) | observed slip (m) | ratio | predicted recurrence (yr) "
              "| observed recurrence (yr) | ratio |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
 
@@ -755,7 +756,7 @@ def map_figure(dataset):
     """Slip, recurrence and Mw maps with segment traces and unit-labelled colour bars."""
     import matplotlib.pyplot as plt  # heavy: imported where used
 
-    year = 365.25 * 86400
+    year = JULIAN_YEAR
     prefix = "map_" if "map_slip_per_event" in dataset else ""
     panels = [(f"{prefix}slip_per_event", 1.0, "slip per event (m)", "viridis"),
               (f"{prefix}recurrence_period", year, "recurrence period (yr)", "magma_r"),
@@ -792,7 +793,7 @@ def observed_figure(dataset):
     """Predicted against observed recurrence and slip per event (log axes, 1:1 line)."""
     import matplotlib.pyplot as plt  # heavy: imported where used
 
-    year = 365.25 * 86400
+    year = JULIAN_YEAR
     figure, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True)
     for axis, (pred, obs, scale, label) in zip(axes, [("recurrence_period", "observed_recurrence", year, "recurrence (yr)"),
                                                        ("slip_per_event", "observed_slip", 1.0, "slip per event (m)")]):

@@ -26,6 +26,7 @@ import time as clock
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
 from faultslip.dynamics.fault_2d.kernel import StressKernel
@@ -36,7 +37,7 @@ from faultslip.errors import InputError, SolverError
 from faultslip.io.progress import reporter
 from faultslip.io.records import RecordStream, read_checkpoint, write_checkpoint
 
-YEAR = 365.25 * 86400.0
+YEAR = JULIAN_YEAR
 #: The SEAS BP1 stations' depths (m).
 BP1_STATIONS = (0.0, 2500.0, 5000.0, 7500.0, 10000.0, 12500.0, 15000.0, 17500.0, 20000.0, 25000.0, 30000.0,
                 35000.0)

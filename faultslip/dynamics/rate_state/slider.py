@@ -38,6 +38,7 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 
+from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
 from faultslip.errors import InputError, NoEventsError, SolverError
@@ -937,7 +938,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     y0 = tuple([math.log(speed0 / law.reference_speed), math.log(law.reference_speed / plate_rate)]
                + ([math.log(law.reference_speed / plate_rate)] if law.two_state else []) + [0.0])
     atol = _tolerances(slider, "quasi_dynamic", rtol)
-    horizon = max_time or max(1e5 * law.critical_slip / plate_rate, 1e6 * 3.15576e7)
+    horizon = max_time or max(1e5 * law.critical_slip / plate_rate, 1e6 * JULIAN_YEAR)
     threshold = math.log(event_speed / law.reference_speed)
     sigma, k, v0 = slider.normal_stress, slider.stiffness, law.reference_speed
     keep_series = bool(record)  # the events dict below takes the name
@@ -1089,7 +1090,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     spin_up = settling["spin_up"]
     wanted = spin_up + cycles
     if ends <= wanted:
-        raise NoEventsError(f"only {ends} events in {t_end / 3.15576e7:.3g} years (K / K_c = {ratio:.3g}); the fault "
+        raise NoEventsError(f"only {ends} events in {t_end / JULIAN_YEAR:.3g} years (K / K_c = {ratio:.3g}); the fault "
                           f"creeps or its cycles are longer than max_time; raise max_time or check a, b and D_c")
     chosen = slice(spin_up, spin_up + cycles)
     series = _series(record_series, record["start"][spin_up + cycles], elastic_stress, v0) if keep_series else None

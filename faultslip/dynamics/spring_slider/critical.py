@@ -30,6 +30,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import lru_cache
 
+from faultslip.constants import STANDARD_GRAVITY
 import numpy as np
 
 from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, _require_linear_rate_system
@@ -229,7 +230,7 @@ def comparison_dataset(presets=COMPARISON_PRESETS, damping_ratios=COMPARISON_DAM
     d = np.array([p.rate_law.d for p in chosen])[:, None]
     load = np.array([p.normal_load for p in chosen])[:, None]
     stiffness = np.array([p.stiffness for p in chosen])[:, None]
-    omega_n = np.sqrt(stiffness / (load / 9.80665))
+    omega_n = np.sqrt(stiffness / (load / STANDARD_GRAVITY))
     exact = critical_loading_rate(omega_n, zeta, mu_so, mu_m, b, d)
     seed = seed_critical_loading_rate(omega_n, zeta, mu_so, mu_m, b, d)
     dims = ("preset", "damping_ratio")
