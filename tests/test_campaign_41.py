@@ -400,3 +400,20 @@ def test_an_output_path_that_is_not_utf8_is_one_sentence_and_leaves_nothing(tmp_
     folder = os.fsdecode(b"dir\xff")
     assert_clean_error(cli("simulate", tiny_scene(tmp_path), "--output-dir", folder), "UTF-8")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]
+
+
+def test_the_fuzzers_findings_are_one_sentence(tmp_path, cli):
+    """benchmarks/fuzz.py at seed 4142 found two: a 2-D fault without weakening (b = 0: L_b infinite) divided by
+    zero in the budget's estimate, and a nanoscale scene with samples = inf overflowed int()."""
+    text = (CONFIGS / "fault_2d_small.toml").read_text().replace("b = 0.015", "b = 0.0")
+    text = text.replace('element_size = "500 m"', 'element_size = "2 km"').replace('"600 yr"', '"50 yr"')
+    scene = tmp_path / "no_weakening.toml"
+    scene.write_text(text)
+    result = cli("run", scene, "--json")
+    assert result.code in (0, 2) and "Traceback" not in result.err
+    if result.code == 2:
+        assert_clean_error(result)
+    for samples in ("inf", "nan", "-3"):
+        nanoscale = tmp_path / "n.toml"
+        nanoscale.write_text(f'family = "nanoscale"\n[friction]\nlaw = "nanoscale"\n[run]\nsamples = {samples}\n')
+        assert_clean_error(cli("nanoscale", nanoscale, "--json", "--no-run"), "samples")

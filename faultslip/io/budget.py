@@ -179,7 +179,9 @@ def fault_2d_steps(*, years: float, plate_rate: float, element_size: float, proc
                    nucleation_size: float, seismogenic_width: float, rtol: float) -> float:
     """Steps a 2-D fault run takes over ``years`` (an upper estimate, from :data:`FAULT_2D_STEPS`)."""
     c = FAULT_2D_STEPS
-    ratio = element_size / process_zone
+    # a fault without weakening (b = 0 everywhere: L_b infinite) creeps: its resolution costs nothing extra
+    ratio = element_size / process_zone if 0 < process_zone < math.inf else 1.0
+    ratio = min(max(ratio, 1e-6), 1e6)
     resolution = ratio ** c["coarse"] * max(1.0, c["fine_below"] / ratio) ** c["fine"]
     partial = max(seismogenic_width, element_size) / nucleation_size if math.isfinite(nucleation_size) else 0.1
     per_year = (c["scale"] * (plate_rate / 1e-9) ** c["plate_rate"] * partial ** c["width_over_nucleation"]

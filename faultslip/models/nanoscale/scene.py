@@ -25,6 +25,8 @@ Every number is optional (the slides' values otherwise) except ``law``. ``faults
 
 from __future__ import annotations
 
+import math
+
 from pathlib import Path
 
 from faultslip.dynamics.nanoscale import NANOSCALE_METHODS, NanoscaleModel
@@ -52,8 +54,12 @@ def parse_nanoscale_scene(text: str, source: str = "<scene>") -> tuple[Nanoscale
                 raise InputError(f"[{table}] {key} in {source} must be a number (the model is dimensionless), "
                                  f"got {value!r}")
     run = dict(data.get("run", {}))
-    if "samples" in run and run["samples"] != int(run["samples"]):
-        raise InputError(f"[run] samples in {source} must be a whole number")
+    samples = run.get("samples", 6001)
+    if not (math.isfinite(samples) and samples == int(samples) and 2 <= samples <= 10_000_000):
+        raise InputError(f"[run] samples in {source} must be a whole number from 2 to 10,000,000, got {samples!r}")
+    duration = run.get("duration", 3000.0)
+    if not (math.isfinite(duration) and duration > 0):
+        raise InputError(f"[run] duration in {source} must be a positive number (in 1/omega), got {duration!r}")
     method = dict(data.get("method", {}))
     name = method.get("name", "auto")
     if name not in NANOSCALE_METHODS:
