@@ -32,6 +32,10 @@ def test_sphinx_builds_the_site_with_the_gallery_executed(tmp_path):
         found = remote.search(html.read_text(encoding="utf-8"))
         assert found is None, f"{html.name} loads {found.group(0)} from the network"
     assert "classroom_lab.png" in (tmp_path / "html" / "classroom.html").read_text(encoding="utf-8")
+    # the physics page's equations are mathematics for MathJax, not code blocks: eq. 2-18 as the code computes it
+    physics = (tmp_path / "html" / "physics.html").read_text(encoding="utf-8")
+    assert physics.count('class="math') >= 3 and "\\mu_{so} - \\mu_m" in physics
+    assert "mu_s = mu_m + (mu_so - mu_m) / (1 + b theta_dot^d)" not in physics
 
 
 def test_every_data_example_runs_as_configs_readme_shows_it(tmp_path, cli, monkeypatch):
