@@ -417,3 +417,29 @@ def test_the_fuzzers_findings_are_one_sentence(tmp_path, cli):
         nanoscale = tmp_path / "n.toml"
         nanoscale.write_text(f'family = "nanoscale"\n[friction]\nlaw = "nanoscale"\n[run]\nsamples = {samples}\n')
         assert_clean_error(cli("nanoscale", nanoscale, "--json", "--no-run"), "samples")
+
+
+@pytest.fixture
+def tiny_disk(tmp_path):
+    """A 40 kB tmpfs (root only; skipped where it cannot be mounted)."""
+    import subprocess
+
+    mount = tmp_path / "tiny"
+    mount.mkdir()
+    made = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=40k", "tmpfs", str(mount)], capture_output=True)
+    if made.returncode != 0:
+        pytest.skip("cannot mount a tmpfs here (root only)")
+    try:
+        yield mount
+    finally:
+        subprocess.run(["umount", "-l", str(mount)], capture_output=True)
+
+
+def test_a_2d_run_into_a_full_disk_leaves_nothing_behind(tmp_path, tiny_disk, cli):
+    """Into a 40 kB tmpfs a 2-D run said "nothing was left behind" but left checkpoint.npz and three record files."""
+    scene = tiny_scene(tmp_path)
+    for folder in (tiny_disk / "new", tiny_disk / "made"):
+        if folder.name == "made":
+            folder.mkdir()
+        assert_clean_error(cli("simulate", scene, "--output-dir", folder, "--allow-large"), "full")
+    assert sorted(p.name for p in tiny_disk.rglob("*")) == ["made"]
