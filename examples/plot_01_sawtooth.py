@@ -9,6 +9,6 @@ import faultslip
 from faultslip import sawtooth_figure
 
 scene = faultslip.load_scene("lab_glass_dry.toml")
-record = faultslip.simulate(scene.slider(), cycles=8, scene=scene.name)
+record = faultslip.simulate_slider(scene.slider(), cycles=8, scene=scene.name)
 print(f"slip per event {float(record['slip'][-1]) * 1e6:.2f} um, period {float(record['period'][-1]):.3f} s")
 sawtooth_figure(record)

@@ -10,7 +10,7 @@ memoryless model, where friction retraces its path.
 import matplotlib.pyplot as plt
 
 from faultslip import (config_path, gaussian_surface, load_rough_scene, rough_surface_slider, separation_history,
-                       simulate)
+                       simulate_slider)
 
 system, details, _ = load_rough_scene(config_path("rough_surface_chapter5.toml"))
 print(f"h0 = {details['compression_at_rest'] * 1e6:.2f} um, separation per speed {details['separation_per_speed']:.3g} s")
@@ -19,7 +19,7 @@ fig, (loop, gap) = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True
 for memory in ("none", "held"):
     slider, _ = rough_surface_slider(surface, 600.0, 12.66e3, 30.0, 0.2e-3, 2.8e8, 8.25e7, 20.0, memory=memory,
                                      separation_reference="static_compression")
-    record = simulate(slider, cycles=3, slip_solver="DOP853", rtol=1e-8)
+    record = simulate_slider(slider, cycles=3, slip_solver="DOP853", rtol=1e-8)
     slipping = record["phase"].values == 1
     loop.plot(record["sliding_speed"].values[slipping] * 1e3, record["friction_coefficient"].values[slipping], ".",
               ms=3, label=memory)

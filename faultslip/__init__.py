@@ -18,17 +18,16 @@ _EXPORTS = {
     "fault.scaling": ("Fault", "moment_magnitude", "seismic_moment"),
     "friction.laws": ("CallableKinetic", "ConstantKinetic", "ConstantStatic", "LinearKinetic", "PolynomialKinetic",
                       "RateLaw", "TimeOfStickLaw", "static_friction"),
-    "friction.materials": ("get_lithology", "get_preset", "lithologies", "presets"),
+    "friction.materials": ("get_lithology", "get_preset", "lithologies", "presets", "fits", "save_fit"),
     "friction.fitting": ("fit_rate_law", "read_friction_data"),
     "fault.scene": ("load_scene", "run_scene"),
     "dynamics.spring_slider.slider": ("SliderSystem",),
     "dynamics.methods": ("solve",),
-    "dynamics.spring_slider.simulate": ("simulate",),
     "dynamics.spring_slider.exact_cycle": ("exact_cycle",),
     "dynamics.spring_slider.critical": ("critical",),
     "studies.grid": ("sweep",),
     "units": ("JULIAN_YEAR", "units"),
-    "models": ("run", "Result", "family_of", "families"),
+    "models": ("run", "simulate", "Result", "family_of", "families"),
     # every capability of the command line, by topic (docs/api.rst)
     "io.resources": ("config_path",),
     "io.catalogs": ("read_catalog", "write_quakeml"),
@@ -79,6 +78,7 @@ _ALIASES = {
     "asperity_figure": ("plots.asperity", "response_figure"),
     "fit_figure": ("friction.fitting", "fit_figure"),
     "simulate_scene": ("models", "simulate"),
+    "simulate_slider": ("dynamics.spring_slider.simulate", "simulate"),
 }
 _WHERE = {name: (module, name) for module, names in _EXPORTS.items() for name in names} | _ALIASES
 __all__ = sorted(_WHERE)

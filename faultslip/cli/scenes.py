@@ -14,7 +14,7 @@ from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
 from faultslip.fault.scene import load_scene
-from faultslip.friction.materials import lithologies, presets, resolve_material, user_rate_state_fits
+from faultslip.friction.materials import bundled_lithologies, presets, resolve_material, user_rate_state_fits
 from faultslip.friction.registry import registry_path
 from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.catalogs import QUAKEML_SUFFIXES, parse_time, write_quakeml
@@ -109,7 +109,7 @@ def cmd_materials(args) -> int:
     lith_rows = [
         {"name": lith.name, "shear_modulus": {"value": lith.shear_modulus, "units": "Pa"},
          "default_preset": lith.default_preset, "source": lith.source}
-        for lith in lithologies().values()
+        for lith in bundled_lithologies().values()  # the user's fits have rows of their own below
     ]
     rate_state_rows = [
         {"name": key, "a": law.a, "b": law.b, "critical_slip": {"value": law.critical_slip, "units": "m"},

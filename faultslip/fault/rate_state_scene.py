@@ -182,6 +182,8 @@ def parse_rate_state_scene(text: str, source: str = "<scene>") -> RateStateScene
 
 
 def load_rate_state_scene(path) -> RateStateScene:
+    if isinstance(path, RateStateScene):  # loaded already
+        return path
     path, origin = resolve_path(path, "rate-and-state scene")
     scene = parse_rate_state_scene(read_text_file(path, "rate-and-state scene"), path.name)
     scene.origin = origin

@@ -388,6 +388,8 @@ def load_scene(path_or_name=None) -> Scene:
 
     A bundled scene is used only for a bare name with no such file here; ``Scene.origin`` says so.
     """
+    if isinstance(path_or_name, Scene):  # loaded already
+        return path_or_name
     if path_or_name is None:
         path, origin = config_path(DEFAULT_SCENE), f"bundled scene {DEFAULT_SCENE} (the default)"
     else:

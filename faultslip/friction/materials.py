@@ -70,7 +70,7 @@ class Lithology:
     """A rock type with the shear modulus quoted in seed 003."""
 
     name: str
-    shear_modulus: float  # Pa
+    shear_modulus: float | None  # Pa (None: a saved fit stored without one)
     default_preset: str | None
     source: str
 
@@ -241,8 +241,56 @@ def user_fit_entry(name: str) -> dict | None:
 
 
 def lithologies() -> dict[str, Lithology]:
-    """All lithologies by name."""
+    """All lithologies by name: the bundled ones and the user's saved fits (what ``fault --lithology`` takes and
+    ``faultslip materials`` lists). A saved fit's shear modulus is the one it was saved with (None: none)."""
+    merged = dict(_bundled_lithologies())
+    entries = registry.stored_entries()
+    for name in list(user_presets()) + list(user_rate_state_fits()):
+        entry = entries.get(name, {})
+        modulus = entry.get("shear_modulus")
+        merged[name] = Lithology(name=name, shear_modulus=float(modulus) if modulus is not None else None,
+                                 default_preset=name if name in user_presets() else None,
+                                 source=f"user fit ({entry.get('kind', 'rate_law')}, saved {entry.get('created', '')})")
+    return merged
+
+
+def bundled_lithologies() -> dict[str, Lithology]:
+    """The lithologies shipped with faultslip (data/lithologies.csv), without the user's fits."""
     return dict(_bundled_lithologies())
+
+
+def fits() -> dict[str, dict]:
+    """The user's saved fits by name, as the registry stores them (law, parameters, intervals, note, source)."""
+    return {name: dict(entry) for name, entry in registry.stored_entries().items() if isinstance(entry, dict)}
+
+
+def save_fit(name: str, fit, shear_modulus=None, note: str = "", overwrite: bool = False) -> Path:
+    """Save a fit (:func:`~faultslip.friction.fitting.fit_rate_law`, or a rate-and-state fit or posterior) under
+    ``name`` in the user registry, for ``fault --lithology NAME`` and :func:`lithologies`.
+
+    Parameters
+    ----------
+    name : str
+        Letters, digits and underscores; not a bundled preset's or lithology's name.
+    fit : RateLawFit or RateStateFit or Posterior
+        What to save (its ``to_record()``).
+    shear_modulus : float or str, optional
+        The rock's shear modulus, Pa or text with units ("30 GPa"), kept for fault predictions.
+    note : str
+        A note kept with the fit (rock, condition).
+    overwrite : bool
+        Replace a fit already saved under ``name`` (refused otherwise).
+
+    Returns
+    -------
+    pathlib.Path
+        The registry file.
+    """
+    modulus = None
+    if shear_modulus is not None:
+        modulus = shear_modulus if isinstance(shear_modulus, (int, float)) else to_si(shear_modulus, "pressure",
+                                                                                         "shear modulus")
+    return save_user_fit(name, fit, shear_modulus=modulus, note=note, overwrite=overwrite)
 
 
 def table_i_presets() -> list[Preset]:
@@ -306,7 +354,7 @@ def resolve_material(name: str) -> MaterialChoice:
     """
     key = _normalise(name)
     table = presets()
-    liths = lithologies()
+    liths = bundled_lithologies()  # a saved fit resolves below, as a preset or a rate-and-state law
     if key in table:
         preset = table[key]
         stored = preset.printed.get("registry") if isinstance(preset.printed, dict) else None

@@ -15,6 +15,8 @@ surfaces.
 
 from __future__ import annotations
 
+import importlib
+
 from faultslip.errors import InputError
 from faultslip.models.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
 from faultslip.models.result import Result
@@ -28,25 +30,69 @@ __all__ = ["DECLARATIONS", "FAMILIES", "Family", "Result", "families", "family_o
 UNIVERSAL = ("output", "allow_large", "overwrite")
 
 
-def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False) -> Result:
-    """Evaluate a scene (a path, or a bundled scene's name; None: the 1906 San Francisco scene).
+def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False,
+        **quantities) -> Result:
+    """Evaluate a scene, as ``faultslip run`` does.
 
-    ``method`` is one of the family's methods or ``"auto"`` (the cheapest whose declared error
-    meets ``tolerance``, a relative error; each family has its default). ``allow_large`` runs
-    beyond the time and memory budget, for a family whose run has one (a family without one
-    needs no permission).
+    Parameters
+    ----------
+    scene : str, path, scene object or None
+        A scene file, a bundled scene's name, or a scene object (:func:`faultslip.load_scene`'s Scene, a
+        :class:`faultslip.Fault`, a rate-and-state or 2-D fault scene). None: the 1906 San Francisco scene,
+        unless ``quantities`` describe a fault.
+    method : str, optional
+        One of the family's methods, or ``"auto"``: the cheapest whose declared error meets ``tolerance``.
+    tolerance : float, optional
+        The relative error allowed (each family has its default).
+    allow_large : bool
+        Run beyond the time and memory budget, for a family whose run has one.
+    **quantities
+        A fault's inputs as keywords with units, as ``faultslip fault`` takes them: ``lithology="granodiorite"``,
+        ``zone_width="13 mi"``, ``shear_stress="250 bar"``, ``slip_rate="2 in/yr"``, ...
+
+    Returns
+    -------
+    Result
+        Values as pint Quantities (``result["slip_per_event"]``), the method and its declared error, the
+        report, ``to_xarray()`` and the figure.
     """
+    if quantities:
+        if scene is not None:
+            raise InputError("give a scene or a fault's quantities as keywords, not both")
+        scene = _fault(quantities)
     family = family_of(scene)
     options = {"allow_large": allow_large} if allow_large and "allow_large" in family.run_options else {}
     return family.run(scene, method=method, tolerance=tolerance, **options)
 
 
 def simulate(scene=None, **options) -> Result:
-    """Simulate a scene's time series with the family's options (``cycles``, ``slip_solver``, ``rtol``,
-    ``allow_large``, ...); an option the family does not take is refused in one sentence."""
+    """Simulate a scene's time series, as ``faultslip simulate`` does.
+
+    Parameters
+    ----------
+    scene : str, path, scene object or None
+        As for :func:`run`. A :class:`faultslip.SliderSystem` is simulated as it is
+        (:func:`faultslip.simulate_slider`, which returns the time series Dataset).
+    **options
+        The family's options (``cycles``, ``slip_solver``, ``rtol``, ``allow_large``, ...); one the family
+        does not take is refused in one sentence naming the family.
+
+    Returns
+    -------
+    Result
+        With the time series (``result.time_series()``, ``to_xarray()``) and the family's figure (``plot()``).
+    """
+    if hasattr(scene, "is_linear") and hasattr(scene, "kinetic_law"):  # a SliderSystem: the integrator itself
+        return importlib.import_module("faultslip.dynamics.spring_slider.simulate").simulate(scene, **options)
     family = family_of(scene)
     given = {name: value for name, value in options.items() if value is not None and value is not False}
     extra = [name for name in given if name not in family.simulate_options and name not in UNIVERSAL]
     if extra:
-        raise InputError(f"--{extra[0].replace('_', '-')} applies to seed-law scenes; {family.why}")
+        raise InputError(f"{extra[0]} (--{extra[0].replace('_', '-')}) is not an option of a {family.name} scene; "
+                         f"{family.why or 'see faultslip simulate --help'}")
     return family.simulate(scene, **{name: value for name, value in given.items() if name in family.simulate_options})
+
+
+def _fault(quantities: dict):
+    """A :class:`faultslip.Fault` from keywords with units (the fault command's inputs)."""
+    return importlib.import_module("faultslip.fault.scaling").Fault(**quantities)

@@ -12,6 +12,7 @@ dynamics bring scipy's integrators, which a closed-form fault estimate never nee
 from __future__ import annotations
 
 import importlib
+import os
 from dataclasses import dataclass
 from typing import Callable
 
@@ -47,6 +48,15 @@ DECLARATIONS = {
     "asperity": ("faultslip.models.asperity", None, "asperity"),
     "rough_surface": ("faultslip.models.rough_surface", None, "rough_surface"),
     "fault_2d": ("faultslip.models.fault_2d", None, None),  # declared by family = "fault_2d" alone
+}
+
+#: Scene objects a family's run and simulate take as they are, by qualified class name (told apart without
+#: importing a family): what :func:`faultslip.load_scene` and the families' loaders return, and a Fault.
+SCENE_TYPES = {
+    "faultslip.fault.scene.Scene": "spring_slider",
+    "faultslip.fault.scaling.Fault": "spring_slider",
+    "faultslip.fault.rate_state_scene.RateStateScene": "rate_state_slider",
+    "faultslip.fault.fault_2d_scene.Fault2DScene": "fault_2d",
 }
 
 #: The families loaded so far, by name (:func:`load` fills it).
@@ -90,10 +100,18 @@ def _declared(document: dict) -> str | None:
 
 
 def family_of(scene=None) -> Family:
-    """The family of a scene file or bundled scene name (None: the default 1906 scene, a spring-slider)."""
+    """The family of a scene file, a bundled scene's name or a scene object (None: the default 1906 scene, a
+    spring-slider)."""
     default = next(iter(DECLARATIONS))
     if scene is None:
         return load(default)
+    if not isinstance(scene, (str, os.PathLike)):
+        kind = f"{type(scene).__module__}.{type(scene).__qualname__}"
+        if kind not in SCENE_TYPES:
+            raise InputError(f"a scene is a path, a bundled scene's name or a scene object "
+                             f"({', '.join(name.rsplit('.', 1)[1] for name in SCENE_TYPES)}), not a "
+                             f"{type(scene).__name__}")
+        return load(SCENE_TYPES[kind])
     path, _ = resolve_path(scene, "scene")
     document = scene_document(str(path))
     if document is None:  # unreadable: the spring-slider's reader says why in its own words

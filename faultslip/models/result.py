@@ -64,17 +64,28 @@ class Result:
         scalar quantity as a 0-d variable with its ``units``; the method and its declared error as attributes."""
         import xarray as xr  # heavy: imported where used
 
-        variables = {}
+        variables, ranges = {}, {}
         for item in (self.summary.items if self.series is None else ()):  # a run's time series is its data
             value = item.value
+            if _is_range(item):  # a 95 % range: the 2.5 and 97.5 % quantiles, beside the value it qualifies
+                ranges[item.key] = (("quantile",), [float(v) for v in value],
+                                    {"long_name": item.label, "units": item.units or "1"})
+                continue
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 continue
-            attrs = {"long_name": item.label}
-            if item.is_quantity:
-                attrs["units"] = item.units
+            # CF: a dimensionless number (a ratio, a count, a friction coefficient) has units "1"
+            attrs = {"long_name": item.label, "units": item.units if item.is_quantity and item.units else "1"}
             variables[item.key] = ((), float(value), attrs)
+        for key in ranges:  # CF ancillary variables: the value names its uncertainty
+            base = key.removesuffix("_95")
+            if base in variables:
+                variables[base][2]["ancillary_variables"] = key
         dataset = self.series.copy() if self.series is not None else xr.Dataset()
         dataset = dataset.assign(**{name: xr.Variable(*spec) for name, spec in variables.items()})
+        if ranges:
+            dataset = dataset.assign_coords(quantile=("quantile", [0.025, 0.975], {
+                "long_name": "probability of the quantile", "units": "1"}))
+            dataset = dataset.assign(**{name: xr.Variable(*spec) for name, spec in ranges.items()})
         dataset.attrs.update({key: value for key, value in {
             "title": self.summary.title, "faultslip_family": self.family, "method": self.method,
             "method_reason": self.method_reason, "estimated_relative_error": self.estimated_relative_error,
@@ -99,3 +110,10 @@ class Result:
 
     def __str__(self) -> str:
         return self.summary.to_text()
+
+
+def _is_range(item) -> bool:
+    """A reported 95 % range: two finite numbers under a key ending in _95."""
+    value = item.value
+    return (item.key.endswith("_95") and isinstance(value, (list, tuple)) and len(value) == 2
+            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))

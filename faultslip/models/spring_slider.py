@@ -8,6 +8,7 @@ from faultslip.dynamics.spring_slider.simulate import summary_report, uniform_ch
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import cycles_dataset
 from faultslip.fault.scene import CHOICES, estimate_scene_rate_state, load_scene, run_scene
+from faultslip.fault.scaling import Fault
 from faultslip.fault.synthetic import simulated_events
 from faultslip.io import budget
 from faultslip.io.waveforms import build_stream
@@ -19,7 +20,10 @@ from faultslip.plots.rate_state import cycles_figure
 
 
 def run(scene=None, method=None, tolerance=None) -> Result:
-    """A fault scene's slip and recurrence (or the inverse for mu_m), a lab scene's limit cycle."""
+    """A fault scene's slip and recurrence (or the inverse for mu_m), a lab scene's limit cycle; a
+    :class:`~faultslip.fault.scaling.Fault` gives its estimate, as ``faultslip fault`` does."""
+    if isinstance(scene, Fault):
+        return Result("spring_slider", scene.estimate(method=method or "auto", tolerance=tolerance).report())
     return Result("spring_slider", run_scene(load_scene(scene), method=method, tolerance=tolerance))
 
 
@@ -31,6 +35,9 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
     fault); ``output`` is where the time series goes, for the disk estimate. The result's ``extras``
     build them: ``extras["stream"](rate, start, most)`` and ``extras["events"](start)``.
     """
+    if isinstance(scene, Fault):
+        raise InputError("a Fault object carries no simulation settings: simulate its scene (a file, or "
+                         "faultslip.load_scene), or run(fault) for its estimate")
     loaded = load_scene(scene)
     if loaded.rate_state:
         if stream or events:

@@ -173,7 +173,7 @@ def to_dataset(loaded: Fault2DScene, run: Fault2DRun):
     data["normal_stress"] = ("depth", fault.normal_stress, {"units": "Pa"})
     coords = {"time": ("time", run.station_time, ELAPSED_TIME_ATTRS), "station": station, "depth": depth,
               "profile_time": ("profile_time", run.profile_time, ELAPSED_TIME_ATTRS),
-              "event": ("event", np.arange(run.event_count))}
+              "event": ("event", np.arange(run.event_count), {"units": "1", "long_name": "event number"})}
     return xr.Dataset(data, coords=coords, attrs={
         "title": f"faultslip 2-D fault: {loaded.name}", "Conventions": "CF-1.8", "source": f"faultslip {__version__}",
         "shear_modulus_Pa": fault.shear_modulus, "shear_wave_speed_m_per_s": fault.shear_wave_speed,
