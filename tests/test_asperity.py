@@ -265,7 +265,7 @@ def test_cli_run_simulate_and_sweep(cli, tmp_path):
     (("asperity", CONFIG, "--from", "5 mm/s", "--to", "1 mm/s"), "--from must be below --to"),
     (("asperity", CONFIG, "--points", "1"), "--points"),
     (("asperity", CONFIG, "--from", "3 kg"), "--from"),
-    (("simulate", CONFIG, "--cycles", "3"), "--cycles applies to seed-law scenes"),
+    (("simulate", CONFIG, "--cycles", "3"), "--cycles) is not an option of an asperity scene"),
 ])
 def test_cli_bad_input_exits_2_with_one_sentence(cli, args, match):
     result = cli(*args)

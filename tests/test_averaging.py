@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from faultslip.dynamics.vibration import (QuasiHarmonic, integrate, odd_weight, polynomial_integral,
@@ -385,12 +385,13 @@ def test_run_and_simulate_take_a_vibration_scene(cli, tmp_path):
         assert data["displacement"].attrs["units"] == "m" and data["envelope"].values[-1] == pytest.approx(2.0, rel=1e-3)
     from conftest import assert_clean_error
 
-    assert_clean_error(cli("simulate", scene, "--rtol", "1e-6"), "--rtol applies to seed-law scenes")
+    assert_clean_error(cli("simulate", scene, "--rtol", "1e-6"), "--rtol) is not an option of a vibration scene")
     assert_clean_error(cli("run", scene, "--method", "closed_form"), "a vibration scene takes --method")
 
 
 @settings(max_examples=3, deadline=None)
 @given(distance=st.one_of(st.floats(0.005, 0.01), st.floats(0.2, 0.6)))
+@example(distance=0.0064)  # A = 0.16 fell on a node of limit_cycles' grid and went unseen (found by a dev run)
 def test_the_integrated_amplitude_declares_a_true_error_near_the_hopf_point(distance):
     """Issue 27: Rayleigh's oscillator with damping r = eps (1 - d) loses steady sliding at r = eps (a Hopf
     point) with the cycle A = 2 sqrt(d); within 1 % of it the approach takes ~1 / (eps d) periods. The

@@ -87,7 +87,7 @@ def test_an_option_a_family_does_not_take_is_one_sentence_naming_the_family(cli)
     with pytest.raises(InputError, match="not an option of a vibration scene"):
         models.simulate(CONFIGS / "vibration_seed002.toml", slip_solver="DOP853")
     assert_clean_error(cli("simulate", CONFIGS / "asperity_seed004.toml", "--cycles", "3"),
-                       "not an option of a asperity scene")
+                       "not an option of an asperity scene")
     assert_clean_error(cli("simulate", CONFIGS / "vibration_seed002.toml", "--output-dir", "x"), "vibration scene")
 
 

@@ -125,7 +125,7 @@ def test_run_and_simulate_take_a_nanoscale_scene_and_auto_integrates_only_when_n
     with xr.open_dataset(tmp_path / "n.nc") as data:
         assert data.sizes["time"] == 6001 and data.attrs["damping"] == 3.0
     assert (tmp_path / "n.png").stat().st_size > 10_000
-    assert_clean_error(cli("simulate", scene, "--cycles", "3"), "--cycles applies to seed-law scenes")
+    assert_clean_error(cli("simulate", scene, "--cycles", "3"), "--cycles) is not an option of a nanoscale scene")
     assert_clean_error(cli("run", scene, "--method", "closed_form"), "must be one of auto")
     from faultslip.fault.scene import load_scene
 

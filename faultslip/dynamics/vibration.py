@@ -181,16 +181,24 @@ class QuasiHarmonic:
         top = largest or 2.0 * self.speed / omega
         grid = np.linspace(top / samples, top, samples)
         rates = self.amplitude_rate(grid) / grid  # A'/A: the roots without the trivial A = 0
+        signs = np.sign(rates)
         cycles = []
-        for i in np.nonzero(np.sign(rates[:-1]) * np.sign(rates[1:]) < 0)[0]:
-            low, high = grid[i], grid[i + 1]
-            for _ in range(80):
-                middle = 0.5 * (low + high)
-                if np.sign(self.amplitude_rate(middle) / middle) == np.sign(rates[i]):
-                    low = middle
-                else:
-                    high = middle
-            root = 0.5 * (low + high)
+        # a sign change between two nodes, or a root on a node itself (a sign change across a zero): A = 0.16 fell
+        # on the node 32 x 0.005 for Rayleigh's oscillator at d = 0.0064, and the cycle went unseen
+        between = np.nonzero(signs[:-1] * signs[1:] < 0)[0]
+        on_node = [i for i in np.nonzero(signs == 0)[0] if 0 < i < samples - 1 and signs[i - 1] * signs[i + 1] < 0]
+        for i in sorted(list(between) + on_node):
+            if signs[i] == 0:
+                root = float(grid[i])
+            else:
+                low, high = grid[i], grid[i + 1]
+                for _ in range(80):
+                    middle = 0.5 * (low + high)
+                    if np.sign(self.amplitude_rate(middle) / middle) == signs[i]:
+                        low = middle
+                    else:
+                        high = middle
+                root = 0.5 * (low + high)
             step = 1e-6 * root
             derivative = float((self.amplitude_rate(root + step) - self.amplitude_rate(root - step)) / (2 * step))
             cycles.append(LimitCycle(amplitude=root, stable=derivative < 0, decay_rate=derivative,

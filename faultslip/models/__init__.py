@@ -88,7 +88,8 @@ def simulate(scene=None, **options) -> Result:
     given = {name: value for name, value in options.items() if value is not None and value is not False}
     extra = [name for name in given if name not in family.simulate_options and name not in UNIVERSAL]
     if extra:
-        raise InputError(f"{extra[0]} (--{extra[0].replace('_', '-')}) is not an option of a {family.name} scene; "
+        article = "an" if family.name[0] in "aeiou" else "a"
+        raise InputError(f"{extra[0]} (--{extra[0].replace('_', '-')}) is not an option of {article} {family.name} scene; "
                          f"{family.why or 'see faultslip simulate --help'}")
     return family.simulate(scene, **{name: value for name, value in given.items() if name in family.simulate_options})
 
