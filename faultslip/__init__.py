@@ -47,6 +47,7 @@ _EXPORTS = {
     "lab.raw_records": ("read_raw_record", "raw_record", "prepare_record", "detect_steps", "fit_each_step",
                         "synthetic_raw_record"),
     "lab.posterior": ("sample_posterior", "parse_prior", "Prior"),
+    "lab.fit_workflow": ("fit_record",),
     "plots.posterior": ("corner_figure", "record_fit_figure"),
     "lab.records": ("read_record", "analyze_record", "free_decay", "free_decay_from_record"),
     "lab.classroom": ("read_accelerometer",),

@@ -243,3 +243,20 @@ def test_saved_fits_are_public_and_listed_with_the_lithologies(tmp_path, monkeyp
     faultslip.save_fit("marble_a", fit, overwrite=True)
     with pytest.raises(InputError, match="empty"):
         faultslip.save_fit("", fit)
+
+
+def test_the_rate_state_fit_is_one_call_in_python_with_the_cli_numbers(cli):
+    """The fit workflow lived in cli/lab.py (149 lines); it is faultslip.fit_record, and the command only parses,
+    draws and prints: both give the same numbers."""
+    args = dict(stiffness="200 kN/mm", area="25 cm^2", bootstrap=5, seed=2)
+    result = faultslip.fit_record(CONFIGS / "example_raw_velocity_steps.txt", **args)
+    printed = cli("fit", CONFIGS / "example_raw_velocity_steps.txt", "--law", "rate-state", "--stiffness",
+                  args["stiffness"], "--area", args["area"], "--bootstrap", "5", "--seed", "2", "--json").json
+    computed = _numbers(result.report.to_dict())
+    shown = _numbers(printed)
+    assert computed.keys() <= shown.keys()
+    for key, value in computed.items():
+        assert shown[key] == pytest.approx(value, rel=1e-12, nan_ok=True), key
+    assert result.fit.parameters["critical_slip"] == pytest.approx(20e-6, rel=0.1)  # the record's truth: 20 um
+    with pytest.raises(InputError, match="--windows"):
+        faultslip.fit_record(CONFIGS / "example_velocity_steps.csv", 1e4, windows=[(1.0, 2.0)])

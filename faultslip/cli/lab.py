@@ -22,15 +22,13 @@ from faultslip.dynamics.nanoscale import run_dataset as nanoscale_dataset
 from faultslip.dynamics.nanoscale import with_damping
 from faultslip.dynamics.rate_state.slider import RateStateSlider, simulate_rate_state
 from faultslip.errors import FaultslipError, InputError
-from faultslip.lab.posterior import parse_prior, sample_posterior
-from faultslip.lab.raw_records import RawRecord, fit_each_step, load_record, prepare_record
+from faultslip.lab.fit_workflow import INTERVALS_NOTE, fit_record
+from faultslip.lab.posterior import parse_prior
 from faultslip.plots.posterior import corner_figure, record_fit_figure
 from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_data
 from faultslip.friction.materials import check_fit_name, save_user_fit
 from faultslip.io.atomic import save_figure
 from faultslip.io.outputs import FIGURE_SUFFIXES
-from faultslip.io.report import Report, display_unit, significant
-from faultslip.lab.rate_state_fit import fit_velocity_steps
 from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.nanoscale.scene import load_nanoscale_scene
 from faultslip.io.netcdf import write_dataset
@@ -80,18 +78,6 @@ def cmd_fit(args) -> int:
     return _emit(report, args.json)
 
 
-#: The rate-and-state parameters in words, for reports.
-PARAMETER_WORDS = {"mu0": "mu0, steady friction at V0", "a": "a, direct effect", "b": "b, evolution effect",
-                   "critical_slip": "D_c, critical slip distance", "b2": "b2, second evolution effect",
-                   "critical_slip2": "D_c2, second critical slip distance"}
-
-
-def _shown(value, low, high, units):
-    """A posterior figure in the unit and to the digits its interval supports (faultslip.io.report)."""
-    unit, factor = display_unit([low, high], units or "1")
-    return f"{significant(value / factor, (high - low) / factor / 10)}{(' ' + unit) if unit else ''}"
-
-
 def _parse_units(text):
     """``"time=ms, shear_load=kN"`` -> {name: unit}."""
     units = {}
@@ -106,8 +92,7 @@ def _parse_units(text):
 
 
 def _fit_rate_state(args) -> int:
-    """fit --law rate-state: a, b and D_c (and b2, D_c2) from a velocity-step record, friction or raw, with
-    95 % intervals, each step's own fit, and a posterior on request."""
+    """fit --law rate-state: parse the options, run faultslip.lab.fit_workflow.fit_record, draw, save, print."""
     if args.stiffness is None:
         raise FaultslipError("fit --law rate-state needs --stiffness: the machine stiffness as friction per slip "
                              "('1e-2 1/um'), stress per slip ('50 MPa/mm') or force per slip ('200 kN/mm', with "
@@ -118,147 +103,54 @@ def _fit_rate_state(args) -> int:
                        [args.data])
     if outputs["corner"] is not None and not args.posterior:
         raise FaultslipError("--corner draws the posterior: give --posterior too")
-    bootstrap = (0 if args.posterior else 50) if args.bootstrap is None else args.bootstrap
-    if not (bootstrap == 0 or 2 <= bootstrap <= 10_000):
-        raise FaultslipError(f"--bootstrap must be 0 or lie between 2 and 10000 resamples, got {bootstrap}")
-    if args.seed < 0:
-        raise FaultslipError(f"--seed must not be negative, got {args.seed}")
-    priors = dict(parse_prior(text) for text in (args.prior or []))
-    if priors and not args.posterior:
-        raise FaultslipError("--prior sets the posterior's priors: give --posterior too")
     modulus = None
     if args.shear_modulus:
         modulus = ranges.check("shear_modulus", to_si(args.shear_modulus, "pressure", "shear modulus"))
-    steps = None
-    if args.steps:
-        steps = [to_si(part, "time", "--steps") for part in args.steps.split(",") if part.strip()]
-    min_change = _number(args.min_change, "--min-change")
-    loaded = load_record(args.data, units=_parse_units(args.units), area=args.area)
-    report = Report(f"faultslip fit --law rate-state: {args.data}")
-    prepared = None
-    if isinstance(loaded, RawRecord):
-        prepared = prepare_record(loaded, args.stiffness, area=args.area, detrend=args.detrend, step_times=steps,
-                                  min_change=min_change)
-        record, stiffness = prepared.record, prepared.stiffness
-        report.section("The raw record, prepared")
-        report.add("stiffness", stiffness, "1/m", label="the fit's spring k (friction per slip)")
-        for i, (t, before, after) in enumerate(zip(record.history.times[1:-1], record.history.speeds[:-1],
-                                                   record.history.speeds[1:]), start=1):
-            report.add(f"step_{i}", {"time": {"value": t, "units": "s"}, "speed_before": {"value": before,
-                                                                                           "units": "m/s"},
-                                     "speed_after": {"value": after, "units": "m/s"}},
-                       label=f"step {i} at {t:.4g} s: {before * 1e6:.4g} -> {after * 1e6:.4g} um/s"
-                       + (" (hold)" if after == 0 else ""))
-        report.add("detrend", args.detrend, label="trend removed (stated)")
-        if prepared.trend_coefficients:
-            report.add("trend_per_mm", prepared.trend_coefficients, "1",
-                       label="trend coefficients, friction per mm^j of the sample's slip")
-        for note in prepared.notes:
-            report.note(note)
-    else:
-        if steps is not None or args.detrend != "none":
-            raise FaultslipError("--steps and --detrend prepare raw records; this record holds friction already")
-        record = loaded
-        stiffness = to_si(args.stiffness, "inverse_length", "--stiffness")
-        if not stiffness > 0:
-            raise FaultslipError(f"--stiffness must be positive, got {args.stiffness}")
-    fit = fit_velocity_steps(record, stiffness, evolution=args.evolution, two_state=args.two_state,
-                             bootstrap=bootstrap, seed=args.seed)
-    report.section("Least-squares fit over the whole record")
-    units = {"mu0": None, "a": None, "b": None, "critical_slip": "m", "b2": None, "critical_slip2": "m"}
-    for name, value in fit.parameters.items():
-        low, high = fit.intervals[name]
-        words = PARAMETER_WORDS.get(name, name)
-        report.add(name, value, units[name], label=words, error=(high - low) / 2)
-        report.add(f"{name}_95", [low, high], units[name] or "1", label="  95 % interval (covariance)")
-        if name in fit.bootstrap_intervals:
-            low, high = fit.bootstrap_intervals[name]
-            report.add(f"{name}_95_bootstrap", [low, high], units[name] or "1", label="  95 % interval (bootstrap)")
-    report.add("reference_speed", fit.law.reference_speed, "m/s", label="V0 (the first load-point speed)")
-    report.add("evolution", fit.law.evolution).add("residual_rms", fit.residual_rms, label="rms misfit in friction")
-    report.add("points", fit.points).add("model_evaluations", fit.evaluations)
-    resamples = int(fit.bootstrap.shape[0])
-    report.add("bootstrap_samples", resamples, label=f"bootstrap resamples (seed {args.seed})" if resamples else
-               "bootstrap resamples (none asked for)")
-    for note in fit.notes:
-        report.note(note)
-    windows = None
-    if args.windows:
-        if prepared is None:
-            raise FaultslipError("--windows sets raw records' step windows; this record holds friction already")
-        windows = []
-        for part in args.windows.split(","):
-            start, separator, end = part.strip().partition(" - ")
-            if not separator:
-                raise FaultslipError(f"--windows takes 'start - end' pairs with units, separated by commas, "
-                                     f"e.g. '50 s - 130 s'; got {part.strip()!r}")
-            pair = (to_si(start, "time", "--windows"), to_si(end, "time", "--windows"))
-            if not 0 <= pair[0] < pair[1] <= record.time[-1]:
-                raise FaultslipError(f"window {part.strip()!r} must lie inside the record (0 to {record.time[-1]:g} s) "
-                                     "and end after it starts")
-            windows.append(pair)
-    if prepared is not None and (args.each_step or windows):
-        report.section("Each step's own fit")
-        for entry in fit_each_step(prepared, evolution=args.evolution, windows=windows):
-            start, end = entry["window"]
-            if "fit" in entry:
-                p = entry["fit"].parameters
-                report.add(f"step_fit_{entry['step']}", {name: {"value": value, "units": units[name] or "1"}
-                                                         for name, value in p.items()},
-                           label=f"step {entry['step']} ({start:.4g}-{end:.4g} s): a {p['a']:.4g}, b {p['b']:.4g}, "
-                                 f"D_c {p['critical_slip'] * 1e6:.4g} um")
-            else:
-                report.add(f"step_fit_{entry['step']}", {"error": entry["error"]},
-                           label=f"step {entry['step']} ({start:.4g}-{end:.4g} s): {entry['error']}")
-    posterior, saved = None, fit
-    if args.posterior:
-        posterior = sample_posterior(record, stiffness, evolution=args.evolution, two_state=args.two_state,
-                                     priors=priors, samples=args.samples, walkers=args.walkers, seed=args.seed,
-                                     max_steps=args.max_steps, workers=args.workers or 1, initial_fit=fit)
-        saved = posterior
-        report.section("Posterior (emcee)")
-        summary = posterior.to_dict()
-        for name, row in summary["parameters"].items():
-            low, high = row["credible_95"]
-            report.add(f"{name}_posterior", {"median": row["median"], "credible_95": [low, high],
-                                             "units": row["units"], "prior": row["prior"],
-                                             "r_hat": row["r_hat"], "effective_sample_size":
-                                                 row["effective_sample_size"],
-                                             "autocorrelation_time": row["autocorrelation_time"]},
-                       label=f"{PARAMETER_WORDS.get(name, name)}: median {_shown(row['median'], low, high, units[name])}"
-                             f", 95 % {_shown(low, low, high, units[name])} to {_shown(high, low, high, units[name])}; "
-                             f"R-hat {row['r_hat']:.3f}, {row['effective_sample_size']:.0f} effective samples; "
-                             f"prior {row['prior']}")
-        report.add("posterior_draws", summary["draws"], label=f"draws after burn-in ({summary['walkers']} walkers, "
-                                                               f"{summary['steps']} steps, burn-in {summary['burn_in']})")
-        report.add("posterior_seconds", summary["seconds"], "s")
-        report.note("noise: Jeffreys prior 1/sigma, integrated out; median sigma "
-                    f"{summary['noise']['median']:.3g}")
-        for note in posterior.notes:
-            report.note(note)
+    steps = [to_si(part, "time", "--steps") for part in args.steps.split(",") if part.strip()] if args.steps else None
+    result = fit_record(args.data, args.stiffness, area=args.area, units=_parse_units(args.units),
+                        detrend=args.detrend, steps=steps, min_change=_number(args.min_change, "--min-change"),
+                        evolution=args.evolution, two_state=args.two_state,
+                        bootstrap=(0 if args.posterior else 50) if args.bootstrap is None else args.bootstrap,
+                        seed=args.seed, windows=_parse_windows(args.windows), each_step=args.each_step,
+                        posterior=args.posterior, priors=dict(parse_prior(text) for text in (args.prior or [])),
+                        samples=args.samples, walkers=args.walkers, max_steps=args.max_steps,
+                        workers=args.workers or 1)
+    report, posterior = result.report, result.posterior
     if outputs["plot"] is not None or outputs["corner"] is not None:
         with _locked(outputs["plot"], outputs["corner"]):
             if outputs["plot"] is not None:
-                law = posterior.law() if posterior is not None else fit.law
-                curve = simulate_rate_state(RateStateSlider(law, stiffness, 1.0), record.history,
-                                            t_eval=record.time, rtol=1e-9).friction
-                band = posterior.predictive(record, seed=args.seed) if posterior is not None else None
-                save_figure(record_fit_figure(record, curve, band, title=f"{args.data}: {law.evolution} law",
-                                              raw_friction=None if prepared is None else prepared.raw_friction,
-                                              trend=None), outputs["plot"], dpi=150)
+                law = posterior.law() if posterior is not None else result.fit.law
+                curve = simulate_rate_state(RateStateSlider(law, result.stiffness, 1.0), result.record.history,
+                                            t_eval=result.record.time, rtol=1e-9).friction
+                band = posterior.predictive(result.record, seed=args.seed) if posterior is not None else None
+                raw = None if result.prepared is None else result.prepared.raw_friction
+                save_figure(record_fit_figure(result.record, curve, band, title=f"{args.data}: {law.evolution} law",
+                                              raw_friction=raw, trend=None), outputs["plot"], dpi=150)
                 report.note(f"record and fit drawn to {args.plot}")
             if outputs["corner"] is not None:
                 save_figure(corner_figure(posterior), outputs["corner"], dpi=130)
                 report.note(f"corner plot drawn to {args.corner}")
-    report.note("covariance intervals: s^2 (J^T J)^-1 at the optimum; bootstrap intervals: residual bootstrap, "
-                "each resample refitted; posterior: emcee, converged before it is reported; all coverage-tested on "
-                "synthetic records (tests/test_rate_state_fit.py, tests/test_raw_records.py)")
+    report.note(INTERVALS_NOTE)
     if args.name:  # only after the fit succeeded: a failed fit never touches the registry
-        path = save_user_fit(args.name, saved, shear_modulus=modulus, note=args.note or "", source=str(args.data),
-                             overwrite=args.overwrite)
+        path = save_user_fit(args.name, result.saved, shear_modulus=modulus, note=args.note or "",
+                             source=str(args.data), overwrite=args.overwrite)
         report.note(f"saved as {args.name!r} in {path} with its {'posterior draws' if posterior else 'resamples'}; "
                     f"use it with 'faultslip fault --lithology {args.name} ...'")
     return _emit(report, args.json)
+
+
+def _parse_windows(text):
+    """--windows '50 s - 130 s, 200 s - 260 s' as [(start, end)] in seconds."""
+    if not text:
+        return None
+    windows = []
+    for part in text.split(","):
+        start, separator, end = part.strip().partition(" - ")
+        if not separator:
+            raise FaultslipError(f"--windows takes 'start - end' pairs with units, separated by commas, "
+                                 f"e.g. '50 s - 130 s'; got {part.strip()!r}")
+        windows.append((to_si(start, "time", "--windows"), to_si(end, "time", "--windows")))
+    return windows
 
 
 def cmd_record(args) -> int:

@@ -1,0 +1,223 @@
+"""A rate-and-state fit of one laboratory record, start to end: what ``faultslip fit --law rate-state`` runs.
+
+:func:`fit_record` reads the record (friction, or a rig's raw loads), prepares a raw one (the fit's spring
+from the machine stiffness, the steps and holds, a stated trend removed), fits the whole record with its
+covariance and bootstrap intervals, fits each step on request, and samples the posterior on request. It
+returns a :class:`RecordFit`: the report and everything a figure or the fit registry needs. The command
+line only parses options, draws and prints (issue 40: no workflow in ``cli/``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from faultslip.errors import InputError
+from faultslip.io.report import Report, display_unit, significant
+from faultslip.lab.posterior import sample_posterior
+from faultslip.lab.raw_records import RawRecord, fit_each_step, load_record, prepare_record
+from faultslip.lab.rate_state_fit import fit_velocity_steps
+from faultslip.units import to_si
+
+#: The rate-and-state parameters in words, for reports.
+PARAMETER_WORDS = {"mu0": "mu0, steady friction at V0", "a": "a, direct effect", "b": "b, evolution effect",
+                   "critical_slip": "D_c, critical slip distance", "b2": "b2, second evolution effect",
+                   "critical_slip2": "D_c2, second critical slip distance"}
+#: Each parameter's SI unit (None: dimensionless).
+PARAMETER_UNITS = {"mu0": None, "a": None, "b": None, "critical_slip": "m", "b2": None, "critical_slip2": "m"}
+#: How the intervals were made, said under every fit.
+INTERVALS_NOTE = ("covariance intervals: s^2 (J^T J)^-1 at the optimum; bootstrap intervals: residual bootstrap, "
+                  "each resample refitted; posterior: emcee, converged before it is reported; all coverage-tested on "
+                  "synthetic records (tests/test_rate_state_fit.py, tests/test_raw_records.py)")
+
+
+@dataclass
+class RecordFit:
+    """What :func:`fit_record` found: the report, the (prepared) record, the fit's spring (friction per metre),
+    the least-squares fit and, on request, the posterior."""
+
+    report: Report
+    record: object  # StepRecord
+    prepared: object | None  # PreparedRecord of a raw record, else None
+    stiffness: float  # 1/m
+    fit: object  # RateStateFit
+    posterior: object | None = None  # Posterior
+
+    @property
+    def saved(self):
+        """What the registry keeps: the posterior's draws where there is one, else the fit and its resamples."""
+        return self.posterior if self.posterior is not None else self.fit
+
+
+def _shown(value, low, high, units):
+    """A figure in the unit and to the digits its interval supports (faultslip.io.report)."""
+    unit, factor = display_unit([low, high], units or "1")
+    return f"{significant(value / factor, (high - low) / factor / 10)}{(' ' + unit) if unit else ''}"
+
+
+def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend: str = "none", steps=None,
+               min_change: float | None = None, evolution: str = "aging", two_state: bool = False,
+               bootstrap: int = 50, seed: int = 0, windows=None, each_step: bool = False, posterior: bool = False,
+               priors: dict | None = None, samples=None, walkers=None, max_steps=None, workers: int = 1,
+               title: str | None = None) -> RecordFit:
+    """Fit a rate-and-state law to a velocity-step record.
+
+    Parameters
+    ----------
+    data : str or path
+        The record: friction (time, friction, load-point speed or displacement) or a rig's raw loads.
+    stiffness : str or float
+        The machine stiffness: friction per slip (1/m, or "1e-2 1/um"), stress per slip ("50 MPa/mm") or force
+        per slip ("200 kN/mm", with ``area``). A friction record takes it as friction per slip.
+    area : str or float, optional
+        The sample's contact area (m^2, or text with units): turns loads into stresses.
+    units : dict, optional
+        Units of bare column names of a raw record, by column.
+    detrend : {"none", "linear", "quadratic"}
+        A stated trend of friction with the sample's slip, removed with a level per speed (raw records).
+    steps : list of float, optional
+        The steps' times (s), instead of detecting them (raw records).
+    min_change : float, optional
+        The smallest relative speed change detected as a step (raw records).
+    evolution : {"aging", "slip"}
+        The state evolution law.
+    two_state : bool
+        Fit a second state variable (b2, D_c2).
+    bootstrap : int
+        Residual-bootstrap resamples, each refitted (0: none).
+    seed : int
+        The bootstrap's and the posterior's random seed.
+    windows : list of (float, float), optional
+        Step windows (s) for each step's own fit (raw records).
+    each_step : bool
+        Fit each detected step on its own as well.
+    posterior : bool
+        Sample the posterior of the parameters (emcee), reported only once converged.
+    priors : dict, optional
+        Priors by parameter (:func:`faultslip.lab.posterior.parse_prior`).
+    samples, walkers, max_steps, workers
+        The sampler's settings (its defaults where None).
+    title : str, optional
+        The report's title.
+
+    Returns
+    -------
+    RecordFit
+        The report, the record, the fit's spring k (1/m), the fit and the posterior.
+    """
+    if not (bootstrap == 0 or 2 <= bootstrap <= 10_000):
+        raise InputError(f"--bootstrap must be 0 or lie between 2 and 10000 resamples, got {bootstrap}")
+    if seed < 0:
+        raise InputError(f"--seed must not be negative, got {seed}")
+    if priors and not posterior:
+        raise InputError("--prior sets the posterior's priors: give --posterior too")
+    loaded = load_record(data, units=units, area=area)
+    report = Report(title or f"faultslip fit --law rate-state: {data}")
+    prepared = None
+    if isinstance(loaded, RawRecord):
+        prepared = prepare_record(loaded, stiffness, area=area, detrend=detrend, step_times=steps,
+                                  **({} if min_change is None else {"min_change": min_change}))
+        record, spring = prepared.record, prepared.stiffness
+        _prepared_section(report, record, prepared, detrend)
+    else:
+        if steps is not None or detrend != "none":
+            raise InputError("--steps and --detrend prepare raw records; this record holds friction already")
+        if windows:
+            raise InputError("--windows sets raw records' step windows; this record holds friction already")
+        record = loaded
+        spring = stiffness if isinstance(stiffness, (int, float)) else to_si(stiffness, "inverse_length",
+                                                                               "--stiffness")
+        if not spring > 0:
+            raise InputError(f"--stiffness must be positive, got {stiffness}")
+    fit = fit_velocity_steps(record, spring, evolution=evolution, two_state=two_state, bootstrap=bootstrap,
+                             seed=seed)
+    _fit_section(report, fit, seed)
+    if windows:
+        for start, end in windows:
+            if not 0 <= start < end <= record.time[-1]:
+                raise InputError(f"window {start:g} s - {end:g} s must lie inside the record (0 to "
+                                 f"{record.time[-1]:g} s) and end after it starts")
+    if prepared is not None and (each_step or windows):
+        _each_step_section(report, prepared, evolution, windows)
+    sampled = None
+    if posterior:
+        settings = {key: value for key, value in (("samples", samples), ("walkers", walkers),
+                                                  ("max_steps", max_steps)) if value is not None}
+        sampled = sample_posterior(record, spring, evolution=evolution, two_state=two_state, priors=priors or {},
+                                   seed=seed, workers=workers or 1, initial_fit=fit, **settings)
+        _posterior_section(report, sampled)
+    return RecordFit(report, record, prepared, spring, fit, sampled)
+
+
+def _prepared_section(report: Report, record, prepared, detrend: str) -> None:
+    report.section("The raw record, prepared")
+    report.add("stiffness", prepared.stiffness, "1/m", label="the fit's spring k (friction per slip)")
+    for i, (t, before, after) in enumerate(zip(record.history.times[1:-1], record.history.speeds[:-1],
+                                               record.history.speeds[1:]), start=1):
+        report.add(f"step_{i}", {"time": {"value": t, "units": "s"}, "speed_before": {"value": before, "units": "m/s"},
+                                 "speed_after": {"value": after, "units": "m/s"}},
+                   label=f"step {i} at {t:.4g} s: {before * 1e6:.4g} -> {after * 1e6:.4g} um/s"
+                   + (" (hold)" if after == 0 else ""))
+    report.add("detrend", detrend, label="trend removed (stated)")
+    if prepared.trend_coefficients:
+        report.add("trend_per_mm", prepared.trend_coefficients, "1",
+                   label="trend coefficients, friction per mm^j of the sample's slip")
+    for note in prepared.notes:
+        report.note(note)
+
+
+def _fit_section(report: Report, fit, seed: int) -> None:
+    report.section("Least-squares fit over the whole record")
+    for name, value in fit.parameters.items():
+        low, high = fit.intervals[name]
+        unit = PARAMETER_UNITS[name]
+        report.add(name, value, unit, label=PARAMETER_WORDS.get(name, name), error=(high - low) / 2)
+        report.add(f"{name}_95", [low, high], unit or "1", label="  95 % interval (covariance)")
+        if name in fit.bootstrap_intervals:
+            low, high = fit.bootstrap_intervals[name]
+            report.add(f"{name}_95_bootstrap", [low, high], unit or "1", label="  95 % interval (bootstrap)")
+    report.add("reference_speed", fit.law.reference_speed, "m/s", label="V0 (the first load-point speed)")
+    report.add("evolution", fit.law.evolution).add("residual_rms", fit.residual_rms, label="rms misfit in friction")
+    report.add("points", fit.points).add("model_evaluations", fit.evaluations)
+    resamples = int(fit.bootstrap.shape[0])
+    report.add("bootstrap_samples", resamples, label=f"bootstrap resamples (seed {seed})" if resamples else
+               "bootstrap resamples (none asked for)")
+    for note in fit.notes:
+        report.note(note)
+
+
+def _each_step_section(report: Report, prepared, evolution: str, windows) -> None:
+    report.section("Each step's own fit")
+    for entry in fit_each_step(prepared, evolution=evolution, windows=windows):
+        start, end = entry["window"]
+        if "fit" in entry:
+            p = entry["fit"].parameters
+            report.add(f"step_fit_{entry['step']}", {name: {"value": value, "units": PARAMETER_UNITS[name] or "1"}
+                                                     for name, value in p.items()},
+                       label=f"step {entry['step']} ({start:.4g}-{end:.4g} s): a {p['a']:.4g}, b {p['b']:.4g}, "
+                             f"D_c {p['critical_slip'] * 1e6:.4g} um")
+        else:
+            report.add(f"step_fit_{entry['step']}", {"error": entry["error"]},
+                       label=f"step {entry['step']} ({start:.4g}-{end:.4g} s): {entry['error']}")
+
+
+def _posterior_section(report: Report, posterior) -> None:
+    report.section("Posterior (emcee)")
+    summary = posterior.to_dict()
+    for name, row in summary["parameters"].items():
+        low, high = row["credible_95"]
+        unit = PARAMETER_UNITS[name]
+        report.add(f"{name}_posterior", {"median": row["median"], "credible_95": [low, high],
+                                         "units": row["units"], "prior": row["prior"],
+                                         "r_hat": row["r_hat"], "effective_sample_size":
+                                             row["effective_sample_size"],
+                                         "autocorrelation_time": row["autocorrelation_time"]},
+                   label=f"{PARAMETER_WORDS.get(name, name)}: median {_shown(row['median'], low, high, unit)}"
+                         f", 95 % {_shown(low, low, high, unit)} to {_shown(high, low, high, unit)}; "
+                         f"R-hat {row['r_hat']:.3f}, {row['effective_sample_size']:.0f} effective samples; "
+                         f"prior {row['prior']}")
+    report.add("posterior_draws", summary["draws"], label=f"draws after burn-in ({summary['walkers']} walkers, "
+                                                           f"{summary['steps']} steps, burn-in {summary['burn_in']})")
+    report.add("posterior_seconds", summary["seconds"], "s")
+    report.note(f"noise: Jeffreys prior 1/sigma, integrated out; median sigma {summary['noise']['median']:.3g}")
+    for note in posterior.notes:
+        report.note(note)
