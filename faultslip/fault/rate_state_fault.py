@@ -86,6 +86,10 @@ class RateStateFaultEstimate:
             r.add("stress_drop", float(c.stress_drop.mean()), "Pa", also=("MPa",))
             r.add("peak_slip_rate", float(c.peak_slip_rate.max()), "m/s")
             r.add("cycles", int(c.slip_per_event.size)).add("model", c.model)
+            # the same method names as the rate-and-state slider family's fault runs: one spring-block, K = G / D
+            r.add("method", "one_slider")
+            r.add("method_reason", "one quasi-dynamic spring-block, K = G / D (the 2-D fault it stands for runs with "
+                                   "--method fault_2d on a rate-and-state scene)")
             c.report_settling(r)
             if self.moment is not None:
                 r.add("seismic_moment", self.moment, "N*m", label="M0 = G L H (slip per event)")
