@@ -39,6 +39,7 @@ from faultslip.dynamics.shared.cycle import STEADY_SLIDING, CycleResult
 from faultslip.errors import InputError, MethodError, OutOfDomainWarning
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_error
 from faultslip.dynamics.asperity import METHODS as ASPERITY_METHODS
+from faultslip.dynamics.fault_2d.analysis import METHODS as FAULT_2D_METHODS
 from faultslip.dynamics.nanoscale import METHODS as NANOSCALE_METHODS
 from faultslip.dynamics.rate_state.methods import CYCLE_METHODS as RATE_STATE_CYCLE_METHODS
 from faultslip.dynamics.spring_slider.regularized import simulate_regularized
@@ -360,12 +361,13 @@ class QuasiHarmonicAveraging(Method):
 
 def describe_all() -> list[dict]:
     """Every method's declared name, friction laws, domain and cost model (the seed law's, rate-and-state's,
-    the quasi-harmonic, the nanoscale and the asperity ones)."""
+    the quasi-harmonic, the nanoscale, the asperity and the 2-D fault ones)."""
     rows = [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), AVERAGING, *BASELINES.values(),
                                    SEED_APPENDIX_I, *RATE_STATE_CYCLE_METHODS.values())]
     declared = [row for row in QUASI_HARMONIC_METHODS.values() if row["name"] != AVERAGING.name]
     return rows + [{key: row[key] for key in ("name", "friction_laws", "domain", "cost_model")}
-                   for row in declared + list(NANOSCALE_METHODS.values()) + list(ASPERITY_METHODS.values())]
+                   for row in declared + list(NANOSCALE_METHODS.values()) + list(ASPERITY_METHODS.values())
+                   + list(FAULT_2D_METHODS.values())]
 
 
 def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:

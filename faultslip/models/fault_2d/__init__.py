@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from faultslip import __version__
-from faultslip.dynamics.fault_2d.analysis import moment_magnitude, summarise
+from faultslip.dynamics.fault_2d.analysis import discretisation_error, moment_magnitude, summarise  # noqa: F401
 from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.errors import InputError
 from faultslip.io import budget
@@ -29,18 +29,6 @@ from faultslip.units import ELAPSED_TIME_ATTRS
 
 #: Relative spread of the last intervals within which a sequence is called settled (periodic).
 SETTLE_TOLERANCE = 1e-3
-
-
-#: BP1's recurrence at 100 m (3.42 elements per L_b) lies 0.108 % below the 25 m value, at 50 m (6.8)
-#: 0.020 % (benchmarks/fault_2d.py, tests/test_fault_2d.py). Declared: 0.12 % at 3.42 per L_b (the 25 m
-#: value is itself off by the 25 m error), falling as (h / L_b)^2, more slowly than measured (safe).
-DISCRETISATION_AT_REFERENCE, REFERENCE_RESOLUTION, DISCRETISATION_ORDER = 1.2e-3, 3.42, 2.0
-
-
-def discretisation_error(resolution: float) -> float:
-    """The recurrence's relative error from the element size, at ``resolution`` elements per L_b, scaled
-    from BP1's measured convergence (an estimate for other faults: it assumes BP1's rupture style)."""
-    return DISCRETISATION_AT_REFERENCE * (REFERENCE_RESOLUTION / resolution) ** DISCRETISATION_ORDER
 
 
 def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float | None = None,
