@@ -20,7 +20,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
 #: Lowest first. Studies, lab and evaluation share a layer but may not import each other.
 LAYERS = {"core": 0, "io": 1, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
           "plots": 6, "models": 7, "cli": 8, "apps": 7.5}
-HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "tqdm", "pint", "h5py", "zarr", "numcodecs", "numba", "bokeh", "selenium"}
+HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "tqdm", "pint", "h5py", "zarr", "numcodecs", "numba", "bokeh", "selenium", "PIL"}
 PLATFORM = {"fcntl", "multiprocessing", "webbrowser"}
 
 

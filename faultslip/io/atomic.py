@@ -137,6 +137,13 @@ def save_figure(figure, path, **kwargs) -> None:
     plt.close(figure)  # a saved figure is done with; pyplot would otherwise keep every one open
 
 
+def save_frames(frames, path, duration_ms: int) -> None:
+    """Save pillow images as an animated GIF (``duration_ms`` a frame, looping), atomically."""
+    with atomic_path(path, suffix=".gif") as temporary:
+        frames[0].save(str(temporary), format="GIF", save_all=True, append_images=frames[1:], duration=duration_ms,
+                       loop=0)
+
+
 @contextlib.contextmanager
 def partial_output(target):
     """The guard of an output written in place over many steps as ``TARGET.partial`` (a conversion).

@@ -15,7 +15,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.progress import reporter
-from faultslip.io.atomic import atomic_path
+from faultslip.io.atomic import save_frames
 from faultslip.plots.figures import _pyplot
 
 #: frames allowed in one GIF (a teacher's laptop, and file sizes of a few MB)
@@ -125,6 +125,7 @@ def animation(dataset, frames: int = 120, slip_share: float = 0.5, title: str = 
         return [block, spring_line, marker, cursor, now, status, *ticks]
 
     movie = mpl_animation.FuncAnimation(figure, draw, frames=len(times), blit=False)
+    movie.faultslip_frames = (draw, len(times))  # save_gif renders them itself (one draw a frame)
     return movie, figure, compression
 
 
@@ -132,12 +133,29 @@ def save_gif(movie, figure, path, fps: int = 20, dpi: int = 80, progress=None) -
     """Write the animation as a GIF through pillow, atomically (a temporary file, then renamed).
 
     ``progress``: True for a bar, or a callable (done, total) over frames (:mod:`faultslip.io.progress`)."""
-    from matplotlib.animation import PillowWriter  # heavy: imported where used
+    from PIL import Image  # heavy: pillow comes with matplotlib; only a GIF needs it
 
     if not 1 <= fps <= 60:
         raise InputError(f"fps must be from 1 to 60, got {fps}")
-    with atomic_path(path, suffix=".gif") as temporary:
-        progress = reporter(progress, "animation", "frame")
-        movie.save(str(temporary), writer=PillowWriter(fps=fps), dpi=dpi,
-                   progress_callback=(lambda frame, total: progress(frame + 1, total)) if progress else None)
+    draw, count = movie.faultslip_frames
+    movie.pause()  # the frames are rendered below, not by the animation's timer
+    progress = reporter(progress, "animation", "frame")
+    # Matplotlib's writer saved every frame through savefig: the figure drawn about three times a frame and its
+    # constrained layout solved each time (43 % of the run, issue 43). The layout is solved once, on the
+    # first frame at the GIF's dpi, then frozen; each frame is then drawn once into the canvas's buffer.
+    figure.set_dpi(dpi)
+    canvas = figure.canvas
+    draw(0)
+    canvas.draw()
+    figure.set_layout_engine("none")
+    frames = []
+    for index in range(count):
+        draw(index)
+        canvas.draw()
+        width, height = canvas.get_width_height(physical=True)
+        frames.append(Image.frombuffer("RGBA", (width, height), bytes(canvas.buffer_rgba()), "raw", "RGBA", 0, 1)
+                      .convert("RGB"))  # opaque frames: RGB quantises to GIF's palette better than RGBA
+        if progress:
+            progress(index + 1, count)
+    save_frames(frames, path, int(1000 / fps))
     _pyplot().close(figure)
