@@ -314,3 +314,25 @@ def test_an_absurdly_slow_platform_is_refused_not_a_traceback(tmp_path, cli):
     text = (Path(__file__).resolve().parent.parent / "configs" / "lab_steel_dry_time_of_stick.toml").read_text()
     scene.write_text(text.replace("platform_speed = \"8e-5 m/s\"", "platform_speed = \"1e-320 m/s\""))
     assert_clean_error(cli("simulate", scene, "--cycles", "3"), "platform speed")
+
+
+def test_a_finished_pool_sweep_leaves_no_process_in_its_group(tmp_path):
+    """Issue 43: processes were left in the default sweep's process group after it exited. The shared-memory
+    segments' resource tracker outlived the sweep and, reparented to a PID 1 that reaps nothing (this
+    micro-VM's init, a container's), stayed a zombie until that init's next sweep; it is now stopped and reaped
+    at exit."""
+    study = tmp_path / "pool.toml"
+    study.write_text('[study]\nbase = "san_andreas_1906.toml"\n[sweep]\n'
+                     'slip_rate = { logspace = ["5 mm/yr", "50 mm/yr", 2000] }\n'
+                     'zone_width = { linspace = ["5 km", "30 km", 1000] }\n')
+    process = subprocess.Popen([sys.executable, "-m", "faultslip.cli", "sweep", str(study), "-o",
+                                str(tmp_path / "pool.nc"), "--workers", "2", "--json"], start_new_session=True,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    out, err = process.communicate(timeout=300)
+    assert process.returncode == 0, err
+    assert "pool" in json.loads(out)["executor"]  # the run this is about: a pool with shared memory
+    # at once: the tracker is reaped before the sweep itself exits, so nothing of the group outlives it (left to
+    # itself, the tracker exited after its parent, and this micro-VM's PID 1 reaped its zombie a second or so later)
+    listing = subprocess.run(["ps", "-o", "pid=,stat=,cmd=", "-g", str(process.pid)], capture_output=True, text=True)
+    left = [line for line in listing.stdout.splitlines() if line.strip()]
+    assert left == [], left
