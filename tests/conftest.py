@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import subprocess
 
 import matplotlib
 import pytest
@@ -58,3 +60,17 @@ def assert_clean_error(result, *needles):
     assert len(lines) == 1, result.err
     for needle in needles:
         assert needle.lower() in result.err.lower(), (needle, result.err)
+
+
+@contextlib.contextmanager
+def mounted_tmpfs(folder, size: str):
+    """A tmpfs of ``size`` ("40k", "300k") mounted at ``folder`` (created), unmounted afterwards; the test is
+    skipped where mounting is not allowed (it needs root, as CI has)."""
+    folder.mkdir()
+    made = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(folder)], capture_output=True)
+    if made.returncode != 0:
+        pytest.skip("a tmpfs cannot be mounted here (needs root); the full-disk cases need one")
+    try:
+        yield folder
+    finally:
+        subprocess.run(["umount", "-l", str(folder)], capture_output=True)

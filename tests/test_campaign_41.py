@@ -14,7 +14,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import assert_clean_error
+from conftest import assert_clean_error, mounted_tmpfs
 from faultslip.dynamics.fault_2d.integrate import STREAM_FILES, YEAR, _Stopped, run_cycles
 from faultslip.errors import InputError
 from faultslip.fault.fault_2d_scene import load_fault_2d_scene
@@ -422,17 +422,8 @@ def test_the_fuzzers_findings_are_one_sentence(tmp_path, cli):
 @pytest.fixture
 def tiny_disk(tmp_path):
     """A 40 kB tmpfs (root only; skipped where it cannot be mounted)."""
-    import subprocess
-
-    mount = tmp_path / "tiny"
-    mount.mkdir()
-    made = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=40k", "tmpfs", str(mount)], capture_output=True)
-    if made.returncode != 0:
-        pytest.skip("cannot mount a tmpfs here (root only)")
-    try:
+    with mounted_tmpfs(tmp_path / "tiny", "40k") as mount:
         yield mount
-    finally:
-        subprocess.run(["umount", "-l", str(mount)], capture_output=True)
 
 
 def test_a_2d_run_into_a_full_disk_leaves_nothing_behind(tmp_path, tiny_disk, cli):

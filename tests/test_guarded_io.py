@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 from hypothesis import given, strategies as st
 
-from conftest import assert_clean_error
+from conftest import assert_clean_error, mounted_tmpfs
 from faultslip.errors import InputError
 from faultslip.io import gate
 from faultslip.io.outputs import output_lock
@@ -215,13 +215,8 @@ def test_a_command_that_fails_late_leaves_none_of_its_outputs(tmp_path, cli, mon
 @pytest.fixture
 def full_disk(tmp_path):
     """A tmpfs of 300 kB (root only); skipped where mounting is not allowed."""
-    mount = tmp_path / "full"
-    mount.mkdir()
-    made = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=300k", "tmpfs", str(mount)], capture_output=True)
-    if made.returncode != 0:
-        pytest.skip("a tmpfs cannot be mounted here (needs root); the fuzzer's full-disk cases need one too")
-    yield mount
-    subprocess.run(["umount", "-l", str(mount)], capture_output=True)
+    with mounted_tmpfs(tmp_path / "full", "300k") as mount:
+        yield mount
 
 
 @pytest.mark.parametrize("argv", [
