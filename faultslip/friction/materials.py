@@ -245,11 +245,12 @@ def lithologies() -> dict[str, Lithology]:
     ``faultslip materials`` lists). A saved fit's shear modulus is the one it was saved with (None: none)."""
     merged = dict(_bundled_lithologies())
     entries = registry.stored_entries()
-    for name in list(user_presets()) + list(user_rate_state_fits()):
+    rate_law_fits = user_presets()  # read once: each call reads the registry file again
+    for name in list(rate_law_fits) + list(user_rate_state_fits()):
         entry = entries.get(name, {})
         modulus = entry.get("shear_modulus")
         merged[name] = Lithology(name=name, shear_modulus=float(modulus) if modulus is not None else None,
-                                 default_preset=name if name in user_presets() else None,
+                                 default_preset=name if name in rate_law_fits else None,
                                  source=f"user fit ({entry.get('kind', 'rate_law')}, saved {entry.get('created', '')})")
     return merged
 

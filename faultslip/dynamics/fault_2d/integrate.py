@@ -141,6 +141,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     folder = Path(folder) if folder is not None else None
     count = fault.count
     station_width = 1 + len(STATION_FIELDS) * recorder.depths.size
+    widths = (station_width, 2 * count + 2, count + 5)  # stations, profiles, events: the rows of STREAM_FILES
     checkpoint = folder / "checkpoint.npz" if folder is not None else None
     scale = np.concatenate([fault.critical_slip, np.ones(count)])
     theta_offset = np.log10(fault.critical_slip / fault.reference_speed)
@@ -177,7 +178,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         last_profile, last_coseismic = (float(v) for v in saved["profile_times"])
         rows, digests = [int(v) for v in saved["rows"]], [str(v) for v in saved["stream_digests"]]
         streams = [RecordStream(folder / name, width, kept, stream_digest) for name, width, kept, stream_digest
-                   in zip(STREAM_FILES, (station_width, 2 * count + 2, count + 5), rows, digests)]
+                   in zip(STREAM_FILES, widths, rows, digests)]
         stations_store, profiles_store, events_store = streams
         resumed_from = t
     else:
@@ -196,8 +197,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         event = {"inside": False, "start": 0.0, "hypocentre": 0.0, "peak": 0.0}
         event_slip = np.zeros(count)
         last_profile, last_coseismic = -math.inf, -math.inf
-        streams = [RecordStream(folder / name if folder else None, width) for name, width
-                   in zip(STREAM_FILES, (station_width, 2 * count + 2, count + 5))]
+        streams = [RecordStream(folder / name if folder else None, width) for name, width in zip(STREAM_FILES, widths)]
         stations_store, profiles_store, events_store = streams
         stations_store.append(station_row(t, y, speed, stress))
         profiles_store.append(profile_row(t, y, speed))
@@ -290,21 +290,17 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         station_rows = stations_store.read()
         profile_rows = profiles_store.read()
         event_rows = events_store.read()
-    except _Stopped:
-        _close(streams)
-        raise
-    except KeyboardInterrupt:  # the last checkpoint stands: the run can be resumed
-        _close(streams)
-        raise
-    except BaseException:
-        if resume or checkpoint is None:
-            _close(streams)  # the checkpoint before this attempt stands; resume truncates what followed it
-        else:  # a fresh run that failed leaves nothing behind
+    except BaseException as exc:
+        # a fresh run that failed leaves nothing behind; a stop, an interrupt or a resumed run keeps the last
+        # checkpoint (a resume truncates what followed it)
+        if not (isinstance(exc, (_Stopped, KeyboardInterrupt)) or resume or checkpoint is None):
             for stream in streams:
                 stream.remove()
             checkpoint.unlink(missing_ok=True)
         raise
-    _close(streams)
+    finally:
+        for stream in streams:
+            stream.close()
     stations_out = {name: station_rows[:, 1 + i * recorder.depths.size: 1 + (i + 1) * recorder.depths.size]
                     for i, name in enumerate(STATION_FIELDS)}
     events = {"start": event_rows[:, 0], "end": event_rows[:, 1], "hypocentre_depth": event_rows[:, 2],
@@ -324,11 +320,6 @@ class _Stopped(Exception):
     def __init__(self, time):
         super().__init__(f"stopped at t = {time:.17g} s")
         self.time = time
-
-
-def _close(streams) -> None:
-    for stream in streams:
-        stream.close()
 
 
 def _checkpoint_layout(count: int) -> dict:
