@@ -18,7 +18,7 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
 #: Lowest first. Studies, lab and evaluation share a layer but may not import each other.
-LAYERS = {"core": 0, "io": 1, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
+LAYERS = {"core": 0, "io": 1, "contract": 1.5, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
           "plots": 6, "models": 7, "cli": 8, "apps": 7.5}
 HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "tqdm", "pint", "h5py", "zarr", "numcodecs", "numba", "bokeh", "selenium", "PIL"}
 PLATFORM = {"fcntl", "multiprocessing", "webbrowser"}
@@ -165,7 +165,7 @@ def test_the_folder_listing_is_the_architecture():
     assert loose == ["constants", "errors", "intervals", "ranges", "units"], loose
 
 
-#: Names that tell scene kinds apart by their contents: only faultslip.models.registry may use them.
+#: Names that tell scene kinds apart by their contents: only faultslip.contract.registry may use them.
 SNIFFERS = {"is_asperity_scene", "is_nanoscale_scene", "is_vibration_scene", "is_rough_scene", "has_friction_law",
             "scene_document"}
 

@@ -158,8 +158,13 @@ def toml_depth(text: str) -> int:
     return deepest
 
 
-def parse_toml(text: str, source: str) -> dict:
-    """Parse TOML text; a syntax error or nesting beyond :data:`MAX_TOML_DEPTH` is one sentence naming ``source``."""
+def parse_toml(text: str | dict, source: str) -> dict:
+    """Parse TOML text; a syntax error or nesting beyond :data:`MAX_TOML_DEPTH` is one sentence naming ``source``.
+
+    A document parsed already (a sweep cell's scene, :class:`faultslip.contract.scenes.TomlScene`) is
+    returned as it is, so a family's reader takes either."""
+    if isinstance(text, dict):
+        return text
     if toml_depth(text) > MAX_TOML_DEPTH:
         raise InputError(f"{source} nests arrays or tables more than {MAX_TOML_DEPTH} deep; faultslip reads "
                          "TOML nested at most that deep")

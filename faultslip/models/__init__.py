@@ -18,7 +18,7 @@ from __future__ import annotations
 import importlib
 
 from faultslip.errors import InputError
-from faultslip.models.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
+from faultslip.contract.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
 from faultslip.models.result import Result
 
 __all__ = ["DECLARATIONS", "FAMILIES", "Family", "Result", "families", "family_of", "load", "register", "run",

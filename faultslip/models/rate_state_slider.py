@@ -15,7 +15,7 @@ from faultslip.models.model_error import declared_model_error
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.models import rate_state_cycles
 from faultslip.models.rate_state_cycles import _scene_notes
-from faultslip.models.registry import Family, register
+from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.figures import _pyplot
 from faultslip.plots.rate_state import cycles_figure

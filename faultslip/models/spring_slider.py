@@ -13,7 +13,7 @@ from faultslip.fault.synthetic import simulated_events
 from faultslip.io import budget
 from faultslip.io.waveforms import build_stream
 from faultslip.models.common import note_origin
-from faultslip.models.registry import Family, register
+from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.figures import sawtooth_figure
 from faultslip.plots.rate_state import cycles_figure

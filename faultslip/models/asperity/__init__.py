@@ -10,7 +10,7 @@ from faultslip.dynamics.asperity import simulate as integrate
 from faultslip.errors import InputError, SolverError
 from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.common import note_origin
-from faultslip.models.registry import Family, register
+from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.asperity import response_figure
 

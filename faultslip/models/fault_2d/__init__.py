@@ -22,7 +22,7 @@ from faultslip.io.report import Report
 from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
 from faultslip.fault.fault_2d_scene import Fault2DScene, load_fault_2d_scene
-from faultslip.models.registry import Family, register
+from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.fault_2d import cumulative_slip_figure, slip_rate_figure
 from faultslip.units import ELAPSED_TIME_ATTRS

@@ -8,7 +8,7 @@ from faultslip.dynamics.nanoscale import report as nanoscale_report
 from faultslip.dynamics.nanoscale import run_dataset
 from faultslip.models.nanoscale.scene import load_nanoscale_scene
 from faultslip.models.common import note_origin
-from faultslip.models.registry import Family, register
+from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.vibration import nanoscale_figure
 

@@ -7,7 +7,7 @@ from faultslip.dynamics.spring_slider.simulate import simulate as integrate
 from faultslip.dynamics.spring_slider.simulate import summary_report
 from faultslip.errors import InputError
 from faultslip.models.rough_surface.scene import load_rough_scene
-from faultslip.models.registry import Family, register
+from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.figures import sawtooth_figure
 

@@ -7,7 +7,7 @@ from faultslip.dynamics.vibration import report as averaging_report
 from faultslip.dynamics.vibration import settled_amplitude, simulate_vibration, vibration_dataset, vibration_report
 from faultslip.errors import InputError
 from faultslip.models.vibration.scene import load_vibration_scene
-from faultslip.models.registry import Family, register
+from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.models.common import note_origin
 from faultslip.plots.vibration import vibration_series_figure

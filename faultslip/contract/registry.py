@@ -1,0 +1,173 @@
+"""The model families, how a scene names its family, and each family's contract.
+
+A scene names its family in one key, ``family = "vibration"`` at the top of its TOML. A scene
+written before that key existed is read by the one declaration each family makes here: the
+table that is its own (``[vibration]``, ``[law]``) or the ``[friction] law`` it uses. The
+command line, :func:`faultslip.run` and the sweep engine ask :func:`family_of` and nothing
+else; a new family is one module with a :class:`Family` and one :func:`declare` (or one line in
+:data:`DECLARATIONS`). A family's module is imported when a scene of it runs, so a command that
+needs one family loads no other (seed 004's dynamics bring scipy's integrators, which a
+closed-form fault estimate never needs).
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from dataclasses import dataclass
+from typing import Callable
+
+from faultslip.errors import InputError, did_you_mean
+from faultslip.io.resources import parse_toml, read_text_file, resolve_path, scene_document
+
+
+@dataclass(frozen=True)
+class Family:
+    """One model family's contract.
+
+    ``run(scene, method, tolerance)`` and ``simulate(scene, **options)`` return a
+    :class:`~faultslip.models.result.Result`; ``scene`` is a path, a bundled name or a scene object.
+    ``read_scene(text, source, path)`` reads a scene file into the object a sweep varies (it has
+    ``name``, ``text``, ``path`` and ``with_values(**si)``); ``cells`` is the family's sweep
+    (:class:`faultslip.contract.cells.Cells`): its parameters, outputs, methods and ``evaluate``
+    over a block of cells.
+    """
+
+    name: str
+    description: str
+    run: Callable
+    simulate: Callable
+    simulate_options: tuple = ()  # the options of simulate beyond the scene (cycles, slip_solver, rtol, ...)
+    run_options: tuple = ()  # the options of run beyond method and tolerance (allow_large)
+    why: str = ""  # why the other options do not apply, said when one is given
+    read_scene: Callable | None = None
+    cells: object = None
+
+
+@dataclass(frozen=True)
+class Declaration:
+    """Where a family lives, and what declares it in a scene without a ``family`` key."""
+
+    module: str
+    table: str | None = None  # a table of its own ([vibration], [law])
+    friction_law: str | None = None  # or the [friction] law it uses
+
+
+#: Every family. The first is the default.
+DECLARATIONS = {
+    "spring_slider": Declaration("faultslip.models.spring_slider"),
+    "rate_state_slider": Declaration("faultslip.models.rate_state_slider", table="law"),
+    "vibration": Declaration("faultslip.models.vibration", table="vibration"),
+    "nanoscale": Declaration("faultslip.models.nanoscale", friction_law="nanoscale"),
+    "asperity": Declaration("faultslip.models.asperity", friction_law="asperity"),
+    "rough_surface": Declaration("faultslip.models.rough_surface", friction_law="rough_surface"),
+    "fault_2d": Declaration("faultslip.models.fault_2d"),  # declared by family = "fault_2d" alone
+}
+
+#: Scene objects a family's run and simulate take as they are, by qualified class name (told apart without
+#: importing a family): what :func:`faultslip.load_scene` and the families' loaders return, and a Fault. A
+#: scene object with a ``family`` attribute (:class:`faultslip.contract.scenes.TomlScene`) names its own.
+SCENE_TYPES = {
+    "faultslip.fault.scene.Scene": "spring_slider",
+    "faultslip.fault.scaling.Fault": "spring_slider",
+    "faultslip.fault.rate_state_scene.RateStateScene": "rate_state_slider",
+    "faultslip.fault.fault_2d_scene.Fault2DScene": "fault_2d",
+}
+
+#: The families loaded so far, by name (:func:`load` fills it).
+FAMILIES: dict[str, Family] = {}
+
+
+def declare(name: str, module: str, table: str | None = None, friction_law: str | None = None) -> None:
+    """Add a family: the one line a new family needs (its module then registers its :class:`Family`)."""
+    if not name.isidentifier():
+        raise InputError(f"a family's name is an identifier, got {name!r}")
+    DECLARATIONS[name] = Declaration(module, table, friction_law)
+
+
+def register(family: Family) -> Family:
+    """Called by a family's module: its :class:`Family` joins :data:`FAMILIES`."""
+    FAMILIES[family.name] = family
+    return family
+
+
+def load(name: str) -> Family:
+    """The family ``name``, its module imported on first use."""
+    if name not in FAMILIES:
+        if name not in DECLARATIONS:
+            raise InputError(f"{name!r} is not one of faultslip's model families ({', '.join(DECLARATIONS)})"
+                             f"{did_you_mean(name, DECLARATIONS)}")
+        importlib.import_module(DECLARATIONS[name].module)
+    return FAMILIES[name]
+
+
+def families() -> dict[str, Family]:
+    """Every family, loaded."""
+    return {name: load(name) for name in DECLARATIONS}
+
+
+def _declared(document: dict) -> str | None:
+    declared = document.get("family")
+    if declared is not None:
+        if not isinstance(declared, str) or declared not in DECLARATIONS:
+            raise InputError(f"family {declared!r} is not one of faultslip's model families "
+                             f"({', '.join(DECLARATIONS)}){did_you_mean(str(declared), DECLARATIONS)}")
+        return declared
+    friction = document.get("friction")
+    law = friction.get("law") if isinstance(friction, dict) else None
+    for name, declaration in DECLARATIONS.items():
+        if declaration.friction_law is not None and law == declaration.friction_law:
+            return name
+    for name, declaration in DECLARATIONS.items():
+        if declaration.table is not None and declaration.table in document:
+            return name
+    return None
+
+
+def family_of_document(document: dict) -> Family:
+    """The family of a parsed scene file."""
+    return load(_declared(document) or next(iter(DECLARATIONS)))
+
+
+def family_of(scene=None) -> Family:
+    """The family of a scene file, a bundled scene's name or a scene object (None: the default 1906 scene, a
+    spring-slider)."""
+    default = next(iter(DECLARATIONS))
+    if scene is None:
+        return load(default)
+    if not isinstance(scene, (str, os.PathLike)):
+        own = getattr(scene, "family", None)
+        if isinstance(own, str) and own in DECLARATIONS:
+            return load(own)
+        kind = f"{type(scene).__module__}.{type(scene).__qualname__}"
+        if kind not in SCENE_TYPES:
+            raise InputError(f"a scene is a path, a bundled scene's name or a scene object "
+                             f"({', '.join(name.rsplit('.', 1)[1] for name in SCENE_TYPES)}), not a "
+                             f"{type(scene).__name__}")
+        return load(SCENE_TYPES[kind])
+    path, _ = resolve_path(scene, "scene")
+    document = scene_document(str(path))
+    if document is None:  # unreadable: the spring-slider's reader says why in its own words
+        return load(default)
+    return load(_declared(document) or default)
+
+
+def read_scene(scene, base_dir=None):
+    """A scene file (or a bundled scene's name) read by its family into the object a sweep varies; a scene
+    object is returned as it is. (scene object, family)."""
+    if not isinstance(scene, (str, os.PathLike)):
+        return scene, family_of(scene)
+    path, origin = resolve_path(scene, "scene", base_dir=base_dir)
+    text = read_text_file(path, "scene file")
+    return read_scene_text(text, path.name, path, origin)
+
+
+def read_scene_text(text: str, source: str, path=None, origin: str = ""):
+    """A scene's text read by its family: (scene object, family)."""
+    family = family_of_document(parse_toml(text, source))
+    if family.read_scene is None:
+        raise InputError(f"a {family.name} scene cannot be read for a study")
+    scene = family.read_scene(text, source, path)
+    if origin:
+        scene.origin = origin
+    return scene, family
