@@ -183,7 +183,7 @@ class Workspace:
     def __init__(self, folder: Path):
         self.folder = folder
         self.scenes = sorted(p for p in CONFIGS.glob("*.toml") if "[scene]" in p.read_text(encoding="utf-8"))
-        self.studies = [CONFIGS / "study_san_andreas.toml", CONFIGS / "study_lab_glass.toml",
+        self.studies = [CONFIGS / "study_spring_slider.toml", CONFIGS / "study_lab_glass.toml",
                         CONFIGS / "study_rate_state.toml"]
         self.segments = (DATA / "san_andreas_segments.csv").read_text(encoding="utf-8")
         self.map_text = ('[map]\nname = "fuzz map"\nbase = "san_andreas_1906.toml"\n[segments]\nfile = "segments.csv"\n'

@@ -31,7 +31,7 @@ def test_every_help_text_renders(cli, words):
 
 
 def test_an_unknown_scheduler_is_one_sentence_before_any_work(cli, tmp_path):
-    result = cli("sweep", CONFIGS / "study_san_andreas.toml", "-o", tmp_path / "s.nc", "--scheduler", "x")
+    result = cli("sweep", CONFIGS / "study_spring_slider.toml", "-o", tmp_path / "s.nc", "--scheduler", "x")
     assert_clean_error(result, "--scheduler", "'x'")
     assert not list(tmp_path.iterdir())
 
@@ -143,7 +143,7 @@ def test_no_observed_figure_is_written_where_nothing_is_observed(cli, tmp_path):
 
 def test_sweep_flags_list_every_value_they_use(tmp_path):
     """-1 in regime and method must be a flag value, named, and explained by outside_domain."""
-    from faultslip.studies.grid import output_attrs
+    from faultslip.fault.spring_slider_cells import output_attrs
 
     plain = output_attrs("regime", "fault")
     assert -1 not in plain["flag_values"] and "outside_domain" not in plain["long_name"]

@@ -374,7 +374,7 @@ def test_a_2d_runs_step_estimate_covers_what_it_takes(tmp_path, changes):
 
 def test_a_2d_study_is_budgeted_cell_by_cell(tmp_path):
     """A swept element size changes each cell's cost: the study's estimate follows it."""
-    from faultslip.studies.grid import fault_2d_cell_seconds
+    from faultslip.fault.fault_2d_cells import fault_2d_cell_seconds
 
     loaded = load_fault_2d_scene(CONFIGS / "fault_2d_small.toml")
     coarse = fault_2d_cell_seconds(loaded, {"element_size": np.array([2000.0])})

@@ -78,7 +78,7 @@ def test_scene_reader(tmp_path_factory, scene, seed):
 
 
 @FUZZ
-@given(study=st.sampled_from(["study_san_andreas.toml", "study_lab_glass.toml", "study_rate_state.toml"]),
+@given(study=st.sampled_from(["study_spring_slider.toml", "study_lab_glass.toml", "study_rate_state.toml"]),
        seed=st.integers(0, 2**32))
 def test_study_reader(tmp_path_factory, study, seed):
     from faultslip.studies.grid import load_study

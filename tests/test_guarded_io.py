@@ -46,7 +46,7 @@ def test_a_fifo_is_refused_without_blocking(tmp_path, cli):
 
 def test_a_study_whose_base_is_a_device_is_refused(tmp_path, cli):
     study = tmp_path / "study.toml"
-    study.write_text((CONFIGS / "study_san_andreas.toml").read_text(encoding="utf-8")
+    study.write_text((CONFIGS / "study_spring_slider.toml").read_text(encoding="utf-8")
                      .replace('base = "san_andreas_1906.toml"', 'base = "/dev/zero"'), encoding="utf-8")
     assert 'base = "/dev/zero"' in study.read_text(encoding="utf-8")
     assert_clean_error(cli("sweep", study, "-o", tmp_path / "s.nc"), "device")
@@ -119,8 +119,8 @@ HOLDER = textwrap.dedent("""
 
 #: One command of each writer kind, each writing OUT (a netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = {
-    "sweep netCDF": ["sweep", CONFIGS / "study_san_andreas.toml", "-o", "OUT.nc"],
-    "sweep Zarr": ["sweep", CONFIGS / "study_san_andreas.toml", "-o", "OUT.zarr"],
+    "sweep netCDF": ["sweep", CONFIGS / "study_spring_slider.toml", "-o", "OUT.nc"],
+    "sweep Zarr": ["sweep", CONFIGS / "study_spring_slider.toml", "-o", "OUT.zarr"],
     "map netCDF": ["map", CONFIGS / "san_andreas_map.toml", "-o", "OUT.nc"],
     "map figure": ["map", CONFIGS / "san_andreas_map.toml", "-o", "other.nc", "--plot", "OUT.png"],
     "map NRML": ["map", CONFIGS / "san_andreas_map.toml", "-o", "other.nc", "--nrml", "OUT.xml"],
@@ -221,8 +221,8 @@ def full_disk(tmp_path):
 
 @pytest.mark.parametrize("argv", [
     ["map", CONFIGS / "california_faults_map.toml", "-o", "FULL/m.nc", "--plot", "FULL/m.png"],
-    ["sweep", CONFIGS / "study_san_andreas.toml", "-o", "FULL/s.nc", "--allow-large"],
-    ["sweep", CONFIGS / "study_san_andreas.toml", "-o", "FULL/s.zarr", "--allow-large"],
+    ["sweep", CONFIGS / "study_spring_slider.toml", "-o", "FULL/s.nc", "--allow-large"],
+    ["sweep", CONFIGS / "study_spring_slider.toml", "-o", "FULL/s.zarr", "--allow-large"],
     ["simulate", "lab_glass_dry.toml", "--stream", "FULL/g.mseed"],
 ])
 def test_a_full_disk_is_one_sentence_and_leaves_nothing(full_disk, argv):

@@ -104,9 +104,9 @@ def test_cli_sweep_writes_counts_and_reproduces(cli, tmp_path):
     out = tmp_path / "rs.nc"
     result = cli("sweep", study, "-o", out, "--json")
     assert result.code == 0, result.err
-    counts = result.json["rate_state_cells"]
-    assert counts == {**counts, "stick_slip": 2, "stable_sliding": 1, "velocity_strengthening": 3,
-                      "solver_failed": 0, "simulated": 2}
+    counts = result.json["cells_by_flag"]
+    assert counts["regime"] == {**counts["regime"], "stick_slip": 2, "stable_sliding": 1, "velocity_strengthening": 3}
+    assert counts["method"]["solver_failed"] == 0 and counts["method"]["closed_form"] == 4  # two cells simulated
     assert counts["largest_estimated_relative_error"] < 1e-4
     with xr.open_dataset(out) as written:
         assert written["stiffness_ratio"].dims == ("critical_slip", "a")

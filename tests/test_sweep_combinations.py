@@ -18,7 +18,8 @@ from faultslip.fault.scaling import Fault
 from faultslip.dynamics.methods import solve
 from faultslip.fault.scene import load_scene
 from faultslip.dynamics.spring_slider.slider import SliderSystem
-from faultslip.studies.grid import FAULT_PARAMETERS, LAB_PARAMETERS, sweep
+from faultslip.fault.spring_slider_cells import FAULT_PARAMETERS, LAB_PARAMETERS
+from faultslip.studies.grid import sweep
 
 FAULT_VALUES = {
     "lithology": ["granodiorite", "pyrite", "black_marble"],

@@ -22,7 +22,7 @@ from faultslip.studies import hazard
 from faultslip.studies.maps import (check_map_size, has_observations, load_map, map_figure, observed_figure,
                                     observed_table, run_map, segment_rows)
 from faultslip.io.convert import zarr_to_netcdf
-from faultslip.studies.streaming import (default_chunk_cells, rate_state_counts, check_study_output, output_format, reproduce,
+from faultslip.studies.streaming import (default_chunk_cells, cell_counts, check_study_output, output_format, reproduce,
                                          run_study)
 
 #: Segments printed in the text table; all of them are in the netCDF file and in --json.
@@ -47,7 +47,7 @@ def cmd_sweep(args) -> int:
                         resume=args.resume, progress=_progress("sweep", not args.json, "chunk"),
                         compression=args.compression, overwrite=args.overwrite, inputs=inputs,
                         file_format=file_format)
-    counts = rate_state_counts(output, file_format, study.tolerance) if study.kind == "rate_state" else None
+    counts = cell_counts(output, file_format, study.tolerance) if study.cells.counted(study) else {}
     if args.json:
         document = {"output": summary["output"], "cells": summary["cells"], "blocks": summary["blocks"],
                     "resumed_blocks": summary["resumed_blocks"], "executor": summary["executor"],
@@ -55,39 +55,36 @@ def cmd_sweep(args) -> int:
                     "dimensions": {name: len(values) for name, values in study.dims.items()},
                     "notes": getattr(args, "notes", []) + ([f"base scene: {study.scene.origin}"]
                                                            if study.scene.origin else [])}
-        if counts is not None:
-            document["rate_state_cells"] = counts
+        if counts:
+            document["cells_by_flag"] = counts
         print(json.dumps(document, indent=2))
     else:
         print(f"faultslip sweep: {study.name}")
         print(f"  {summary['cells']} cells ({' x '.join(f'{n} {len(v)}' for n, v in study.dims.items())}) in "
               f"{_count(summary['blocks'], 'chunk')}, {_where(summary['executor'])}"
               + (f", {summary['resumed_blocks']} reused" if summary["resumed_blocks"] else ""))
-        if counts is not None:
-            for line in _rate_state_lines(counts, study):
-                print(f"  {line}")
+        for line in _count_lines(counts, study):
+            print(f"  {line}")
         print(f"  wrote {summary['output']} in {summary['seconds']:.2f} s")
     return 0
 
 
-def _rate_state_lines(counts: dict, study) -> list[str]:
-    """What a rate-and-state sweep found, and any cell that needs attention, in sentences."""
-    regimes = ", ".join(f"{counts[name]} {name.replace('_', ' ')}" for name in
-                        ("stick_slip", "stable_sliding", "velocity_strengthening", "slow_or_creeping") if counts[name])
-    lines = [f"regimes (K / K_c in closed form): {regimes}"]
-    if study.cycles:
-        lines.append(f"cycles simulated in {counts['simulated']} cells ({study.cycles} each after spin-up, method "
-                     f"{study.method}); largest plate-balance error {counts.get('largest_estimated_relative_error', 0):.2g}")
+def _count_lines(counts: dict, study) -> list[str]:
+    """What a sweep found (its cells by each flag), and any cell that needs attention, in sentences."""
+    lines = []
+    for name, by_meaning in counts.items():
+        if isinstance(by_meaning, dict):
+            found = ", ".join(f"{count} {meaning.replace('_', ' ')}" for meaning, count in by_meaning.items() if count)
+            lines.append(f"{name}: {found or 'no cell'}")
+    if "largest_estimated_relative_error" in counts:
+        lines.append(f"largest estimated relative error {counts['largest_estimated_relative_error']:.2g}")
     if counts.get("above_tolerance"):
-        lines.append(f"note: {counts['above_tolerance']} cells' plate balance exceeds the tolerance {study.tolerance:g}: "
-                     "their cycles settle slowly (near K_c) or their events' edges fall between steps; "
-                     "estimated_relative_error holds each cell's")
-    if counts["solver_failed"]:
-        lines.append(f"warning: the cycles' solver failed in {counts['solver_failed']} cells (method flag -1, outputs "
-                     "NaN); rerun with method = \"lsoda\" or \"dopri5\", or a smaller tolerance")
-    if counts["slow_or_creeping"]:
-        lines.append(f"note: {counts['slow_or_creeping']} cells have K < K_c yet no slip faster than 1 mm/s within the "
-                     "run (near K_c the oscillation is slow): regime flag 3, slip 0")
+        lines.append(f"note: {counts['above_tolerance']} cells' estimated error exceeds the tolerance "
+                     f"{study.tolerance:g}; estimated_relative_error holds each cell's")
+    failed = sum(by_meaning.get("solver_failed", 0) for by_meaning in counts.values() if isinstance(by_meaning, dict))
+    if failed:
+        lines.append(f"warning: the solver failed in {failed} cells (method flag solver_failed, outputs NaN); "
+                     "rerun with another method or a smaller tolerance")
     return lines
 
 

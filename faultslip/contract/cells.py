@@ -37,8 +37,12 @@ class Cells(Protocol):
     def parameters(self, scene) -> dict[str, Parameter]:
         """The parameters a study of ``scene`` may sweep."""
 
-    def check(self, study, where: str) -> None:
-        """Refuse, in one sentence, a study whose method, cycles or swept values this family cannot take."""
+    def category(self, scene, name: str, value: str, where: str) -> str:
+        """The canonical name of one value of a categorical parameter, or a sentence saying why it is refused."""
+
+    def check(self, study, where: str, source: str) -> None:
+        """Refuse, in one sentence, a study whose method, cycles or swept values this family cannot take
+        (``where`` prefixes a message about the [study] table, ``source`` names the study)."""
 
     def outputs(self, study) -> dict[str, Output] | None:
         """The outputs of every cell, declared (None: the engine computes one cell to learn them)."""
@@ -48,6 +52,10 @@ class Cells(Protocol):
 
     def seconds_per_cell(self, study) -> float:
         """Estimated wall time of one cell on one worker."""
+
+    def counted(self, study) -> bool:
+        """Whether a finished sweep reports its cells counted by flag (cells simulated one by one, which differ
+        in regime or may fail); a closed-form sweep skips the read-back."""
 
     def evaluate(self, study, values: dict) -> dict:
         """Every output over the block whose swept values are ``values`` (name -> array on the study's axes)."""
@@ -91,13 +99,17 @@ class PerCell:
     def seconds_per_cell(self, study) -> float:
         return self.seconds
 
-    def check(self, study, where: str) -> None:
+    def counted(self, study) -> bool:
+        return True
+
+    def check(self, study, where: str, source: str) -> None:
         if study.method not in self.methods:
             raise InputError(f"{where} method of {self.label} is one of {', '.join(self.methods)}, got "
                              f"{study.method!r}")
         if study.cycles:
             raise InputError(f"{where} cycles applies to rate-and-state studies; {self.label} runs each cell as "
                              "its scene says")
+        self.read(study.scene)  # the base scene as it is
         for name, values in study.dims.items():  # every value on its own, then the corners together
             for value in values:
                 self.read(study.scene.with_values(**{name: value}))
@@ -107,40 +119,67 @@ class PerCell:
                 self.read(study.scene.with_values(**{name: values[i]
                                                      for (name, values), i in zip(study.dims.items(), index)}))
 
+    def category(self, scene, name: str, value: str, where: str) -> str:
+        return value  # read and checked with the cell's scene (check)
+
     def evaluate(self, study, values: dict) -> dict:
-        outputs = self.outputs(study)
-        names = list(values)
-        if any(labelled(v) for v in values.values()):
-            import xarray as xr  # heavy: imported where used (a lazy study)
-
-            def kernel(*arrays):
-                block = self._block(study, dict(zip(names, arrays)), outputs)
-                return tuple(block[name] for name in outputs)
-
-            results = xr.apply_ufunc(kernel, *(values[n] for n in names), output_core_dims=[[]] * len(outputs),
-                                     dask="parallelized", output_dtypes=[spec.dtype for spec in outputs.values()])
-            results = results if isinstance(results, tuple) else (results,)
-            return dict(zip(outputs, results))
-        return self._block(study, values, outputs)
-
-    def _block(self, study, values: dict, outputs: dict) -> dict:
-        names = list(values)
-        arrays = np.broadcast_arrays(*(np.asarray(values[n]) for n in names)) if names else []
-        shape = arrays[0].shape if names else ()
-        block = {name: np.full(shape, spec.fill, spec.dtype) for name, spec in outputs.items()}
         method = None if study.method == "auto" else study.method
-        for index in np.ndindex(shape):
-            cell = {name: array[index] for name, array in zip(names, arrays)}
-            scene = study.scene.with_values(**{n: v if isinstance(v, str) else float(v) for n, v in cell.items()})
+        names = list(values)
+
+        def cell(**inputs):
+            scene = study.scene.with_values(**inputs)
             try:
                 result = self.run(scene, method=method, tolerance=study.tolerance)
             except FaultslipError as exc:
-                where = ", ".join(f"{n} = {v:.6g}" if not isinstance(v, str) else f"{n} = {v}"
-                                  for n, v in ((n, cell[n]) for n in names))
+                where = ", ".join(f"{n} = {inputs[n]}" if isinstance(inputs[n], str) else f"{n} = {inputs[n]:.6g}"
+                                  for n in names)
                 raise type(exc)(f"the cell {where or '(the base scene)'} of {self.label}: {exc}") from None
-            for name, spec in outputs.items():
-                block[name][index] = cell_value(result, spec)
-        return block
+            return {name: cell_value(result, spec) for name, spec in self.outputs(study).items()}
+
+        return evaluate_by_cell(values, self.outputs(study), cell)
+
+
+def aligned(dims: dict, parameters: dict, block: dict | None = None) -> dict:
+    """Each swept parameter's values on the study's axes (size 1 along the others): numpy broadcasting then
+    does what xarray's alignment would, without its cost. ``block`` (name -> slice) restricts each dimension."""
+    values = {}
+    for axis, (name, chosen) in enumerate(dims.items()):
+        index = None if block is None else block.get(name, slice(None))
+        chosen = chosen if index is None else chosen[index]
+        data = np.array(chosen, dtype=object if parameters[name].is_category else float)
+        values[name] = data.reshape([data.size if i == axis else 1 for i in range(len(dims))])
+    return values
+
+
+def evaluate_by_cell(values: dict, outputs: dict, cell: Callable) -> dict:
+    """``cell(**inputs) -> {output: value}`` on every cell of a block: numpy arrays on the study's axes, or
+    labelled (dask-chunked) DataArrays, each chunk then evaluated where dask runs it. ``outputs`` maps each
+    output to its :class:`Output` (its type and its value where a cell has none)."""
+    names = list(values)
+
+    def block(*arrays):
+        arrays = np.broadcast_arrays(*(np.asarray(a) for a in arrays)) if arrays else []
+        shape = arrays[0].shape if arrays else ()
+        result = {name: np.full(shape, spec.fill, spec.dtype) for name, spec in outputs.items()}
+        for index in np.ndindex(shape):
+            inputs = {n: (v if isinstance(v, str) else float(v))
+                      for n, v in ((n, a[index]) for n, a in zip(names, arrays))}
+            for name, value in cell(**inputs).items():
+                result[name][index] = value
+        return result
+
+    if any(labelled(v) for v in values.values()):
+        import xarray as xr  # heavy: imported where used (a lazy study)
+
+        def kernel(*arrays):
+            computed = block(*arrays)
+            return tuple(computed[name] for name in outputs)
+
+        results = xr.apply_ufunc(kernel, *(values[n] for n in names), output_core_dims=[[]] * len(outputs),
+                                 dask="parallelized", output_dtypes=[spec.dtype for spec in outputs.values()])
+        results = results if isinstance(results, tuple) else (results,)
+        return dict(zip(outputs, results))
+    return block(*(values[n] for n in names))
 
 
 def cell_value(result, spec: Output):

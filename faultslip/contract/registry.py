@@ -97,7 +97,12 @@ def load(name: str) -> Family:
         if name not in DECLARATIONS:
             raise InputError(f"{name!r} is not one of faultslip's model families ({', '.join(DECLARATIONS)})"
                              f"{did_you_mean(name, DECLARATIONS)}")
-        importlib.import_module(DECLARATIONS[name].module)
+        module = importlib.import_module(DECLARATIONS[name].module)
+        declared = getattr(module, "FAMILY", None)  # imported before, and forgotten since: register it again
+        if name not in FAMILIES and getattr(declared, "name", None) == name:
+            register(declared)
+        if name not in FAMILIES:
+            raise InputError(f"{DECLARATIONS[name].module} registers no family named {name!r}")
     return FAMILIES[name]
 
 

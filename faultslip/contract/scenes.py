@@ -7,10 +7,10 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from faultslip.errors import InputError
-from faultslip.io.resources import parse_toml
+from faultslip.io.resources import parse_toml, read_text_file, resolve_path
 
 
-@dataclass(frozen=True)
+@dataclass
 class TomlScene:
     """A family's scene file with some of its values replaced (``with_values``), read by the family's own reader.
 
@@ -25,7 +25,7 @@ class TomlScene:
     parameters: dict
     path: Path | None = None
     overrides: tuple = ()
-    origin: str = field(default="", compare=False)
+    origin: str = field(default="", compare=False)  # where a bundled scene came from
 
     @property
     def name(self) -> str:
@@ -67,3 +67,13 @@ def toml_reader(family: str, parameters: dict):
         return TomlScene(family, text, source, parameters, path)
 
     return read_scene
+
+
+def scene_source(argument, what: str):
+    """``(text or document, source name, folder, origin)`` of a scene argument, for a family's reader: a file
+    or a bundled scene's name is resolved and read through the gate; a :class:`TomlScene` gives its document
+    with the replaced values."""
+    if isinstance(argument, TomlScene):
+        return argument.document(), argument.source, argument.base_dir, argument.origin
+    path, origin = resolve_path(argument, what)
+    return read_text_file(path, what), path.name, path.parent, origin

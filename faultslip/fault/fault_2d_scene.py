@@ -231,11 +231,18 @@ def build_fault(settings: dict, element_size: float, name: str) -> Fault2D:
     for key in ("a", "critical_slip", "normal_stress"):
         if np.any(values[key] <= 0):
             raise InputError(f"[friction] {key} must be positive at every depth")
+    for key in ("a", "b"):  # the rate-and-state coefficients of rock lie well inside (0, 1)
+        if not np.all((values[key] > 0) & (values[key] < 1)):
+            raise InputError(f"[friction] {key} of {name} must lie in (0, 1) at every depth (rock: about 0.005-0.03)")
     ranges.check("critical_slip", values["critical_slip"], f"[friction] critical_slip of {name}")
     damping = settings["shear_modulus"] / (2 * settings["shear_wave_speed"])
-    tau0, psi0 = steady_initial_conditions(values["a"], values["b"], values["normal_stress"], damping,
-                                           settings["initial_speed"], settings["reference_speed"],
-                                           settings["reference_friction"], stress_a=float(values["a"].max()))
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # refused below if not finite
+        tau0, psi0 = steady_initial_conditions(values["a"], values["b"], values["normal_stress"], damping,
+                                               settings["initial_speed"], settings["reference_speed"],
+                                               settings["reference_friction"], stress_a=float(values["a"].max()))
+    if not (np.all(np.isfinite(tau0)) and np.all(np.isfinite(psi0))):
+        raise InputError(f"{name}: the initial steady state (BP1 eqs. 8-9) overflows with these f0, a and b; "
+                         "f0 + b ln(V0 / V_init) must stay within a few hundred times a")
     return Fault2D(element_size, values["a"], values["b"], values["critical_slip"], values["normal_stress"],
                    settings["shear_modulus"], settings["shear_wave_speed"], settings["plate_rate"],
                    settings["reference_speed"], settings["reference_friction"], tau0, psi0,

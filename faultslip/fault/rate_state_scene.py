@@ -33,8 +33,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from faultslip.dynamics.rate_state.slider import MODELS, LoadHistory, RateStateSlider
+from faultslip.contract.scenes import scene_source
 from faultslip.errors import InputError
-from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.rate_state import RateStateLaw, get_law
 from faultslip.io.resources import check_table_keys, parse_toml
 from faultslip.units import to_si_scalar
@@ -184,7 +184,7 @@ def parse_rate_state_scene(text: str, source: str = "<scene>") -> RateStateScene
 def load_rate_state_scene(path) -> RateStateScene:
     if isinstance(path, RateStateScene):  # loaded already
         return path
-    path, origin = resolve_path(path, "rate-and-state scene")
-    scene = parse_rate_state_scene(read_text_file(path, "rate-and-state scene"), path.name)
+    text, source, _, origin = scene_source(path, "rate-and-state scene")
+    scene = parse_rate_state_scene(text, source)
     scene.origin = origin
     return scene

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from faultslip import ranges
+from faultslip.contract.scenes import scene_source
 from faultslip.errors import InputError
 from faultslip.io.resources import config_path, parse_toml, read_text_file, resolve_path, scene_document
 from faultslip.dynamics.methods import DEFAULT_TOLERANCE, solve
@@ -409,8 +410,8 @@ def has_friction_law(argument, law: str) -> bool:
 def load_law_scene(path, what: str, parser):
     """Resolve, read and parse a scene of one friction law with ``parser(text, source)``; the bundled origin,
     if any, goes into the notes (the parser's third result)."""
-    path, origin = resolve_path(path, what)
-    model, settings, notes = parser(read_text_file(path, what), path.name)
+    text, source, _, origin = scene_source(path, what)
+    model, settings, notes = parser(text, source)
     if origin:
         notes["origin"] = origin
     return model, settings, notes

@@ -6,6 +6,9 @@ from __future__ import annotations
 import math
 
 from faultslip.dynamics.rate_state.slider import fault_cycles, simulate_rate_state
+from faultslip.contract.cells import PerCell
+from faultslip.contract.scenes import toml_reader
+from faultslip.contract.specs import Output, Parameter
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.report import Report
@@ -165,7 +168,60 @@ def simulate(scene, cycles=None) -> Result:
     return result
 
 
+#: What a rate-and-state study sweeps: the law, and a fault's inputs ([law] and [fault] of the scene).
+LAW_PARAMETERS = {name: Parameter(name, kind, unit, long_name, ("law", name)) for name, kind, unit, long_name in (
+    ("a", "dimensionless", "1", "direct effect a"),
+    ("b", "dimensionless", "1", "evolution effect b"),
+    ("critical_slip", "length", "m", "critical slip distance D_c"),
+    ("mu0", "dimensionless", "1", "reference friction mu0 at V0"),
+    ("reference_speed", "speed", "m/s", "reference speed V0"),
+    ("evolution", "category", None, "state evolution law (aging or slip)"),
+)}
+FAULT_PARAMETERS = {name: Parameter(name, kind, unit, long_name, ("fault", name)) for name, kind, unit, long_name in (
+    ("shear_modulus", "pressure", "Pa", "shear modulus G"),
+    ("zone_width", "length", "m", "elastic-zone width D (K = G / D)"),
+    ("normal_stress", "pressure", "Pa", "effective normal stress"),
+    ("plate_rate", "speed", "m/s", "plate rate V_pl"),
+    ("density", "density", "kg/m^3", "rock density rho (m = rho D)"),
+    ("shear_wave_speed", "speed", "m/s", "shear-wave speed c_s (radiation damper G / (2 c_s))"),
+)}
+PARAMETERS = {**LAW_PARAMETERS, **FAULT_PARAMETERS}
+FAULT_OUTPUTS = {spec.name: spec for spec in (
+    Output("regime", "1", "regime of the cycles",
+           flags=("stick_slip", "stable_sliding", "velocity_strengthening", "slow_or_creeping")),
+    Output("recurrence_period", "s", "recurrence period of the settled cycles"),
+    Output("slip_per_event", "m", "slip per event"),
+    Output("stress_drop", "Pa", "stress drop"),
+    Output("peak_slip_rate", "m/s", "peak slip rate"),
+    Output("stiffness_ratio", "1", "K / K_c (quasi-static K_c)"),
+    Output("plate_slip_balance", "1", "slip per cycle / (V_pl T)"),
+    Output("model_error", "1", "declared model error of one slider against the 2-D fault (relative)"),
+    Output("width_over_nucleation", "1", "W / h*, what governs the model error"),
+    Output("method", "1", "method of this cell", flags=("one_slider", "fault_2d")),
+    Output("estimated_relative_error", "1", "estimated relative error (integrator scatter, or the settling)"),
+)}
+LAB_OUTPUTS = {spec.name: spec for spec in (
+    Output("initial_friction", "1", "friction at the start of the load history"),
+    Output("peak_friction", "1", "largest friction in the run"),
+    Output("final_friction", "1", "friction at the end of the run"),
+    Output("steady_state_friction_at_final_speed", "1", "steady-state friction at the final load-point speed"),
+    Output("slip", "m", "slip over the run"),
+    Output("peak_slip_speed", "m/s", "largest slip speed"),
+    Output("method", "1", "integrator of this cell", flags=("lsoda", "dopri5", "dopri5_compiled")),
+)}
+
+
+def _is_fault(scene) -> bool:
+    return "fault" in scene.document()
+
+
+CELLS = PerCell("a rate-and-state study",
+                lambda scene: PARAMETERS if _is_fault(scene) else LAW_PARAMETERS,
+                lambda scene: FAULT_OUTPUTS if _is_fault(scene) else LAB_OUTPUTS,
+                run, load_rate_state_scene, methods=("auto", "one_slider"), seconds=0.05)
+
 FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: velocity steps in the lab, quasi-dynamic "
                          "cycles of a fault on one spring-block", run, simulate,
                          simulate_options=("cycles",),
-                         why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles"))
+                         why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles",
+                         read_scene=toml_reader("rate_state_slider", PARAMETERS), cells=CELLS))

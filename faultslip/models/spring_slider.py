@@ -9,6 +9,7 @@ from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import cycles_dataset
 from faultslip.fault.scene import CHOICES, estimate_scene_rate_state, load_scene, run_scene
 from faultslip.fault.scaling import Fault
+from faultslip.fault.spring_slider_cells import CELLS, read_scene
 from faultslip.fault.synthetic import simulated_events
 from faultslip.io import budget
 from faultslip.io.waveforms import build_stream
@@ -102,4 +103,5 @@ def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
 
 FAMILY = register(Family("spring_slider", "seed 003: the spring-slider, in the lab and scaled to a fault (the "
                          "default)", run, simulate, simulate_options=("cycles", "slip_solver", "rtol", "stream",
-                                                                     "events", "output", "allow_large")))
+                                                                     "events", "output", "allow_large"),
+                         read_scene=read_scene, cells=CELLS))

@@ -48,7 +48,8 @@ from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
 from faultslip.fault.rate_state_cells import check_cycle_method
-from faultslip.studies.grid import SEED_METHODS, as_dataset, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs, Study
+from faultslip.fault.spring_slider_cells import SEED_METHODS, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs
+from faultslip.studies.grid import Study, as_dataset
 from datetime import datetime, timezone
 
 SEGMENT_COLUMNS = {  # name -> (unit kind, required)

@@ -34,8 +34,7 @@ from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock
 from faultslip.io.processes import SharedRing, run_windowed, shared_segment, stop_pool, worker_pool
 from faultslip.io.resources import open_dataset_lazily
-from faultslip.fault.rate_state_cells import METHOD_CODES, REGIME_CODES
-from faultslip.studies.grid import block_arrays, compute_block, finish, parameters_for, parse_study, template_block
+from faultslip.studies.grid import block_arrays, compute_block, finish, parse_study, template_block
 import tempfile
 
 DEFAULT_CHUNK_CELLS = 2**19
@@ -124,11 +123,9 @@ def file_layout(study, template):
     dims = {name: len(values) for name, values in study.dims.items()}
     coords = {}
     for name, values in study.dims.items():
-        kind, unit, long_name = parameters_for(study.kind)[name]
-        if kind == "category":
-            coords[name] = (np.array(values, dtype=object), {"long_name": long_name})
-        else:
-            coords[name] = (np.asarray(values, dtype=float), {"units": unit, "long_name": long_name})
+        parameter = study.parameters[name]
+        data = np.array(values, dtype=object) if parameter.is_category else np.asarray(values, dtype=float)
+        coords[name] = (data, parameter.attrs())
     variables = {}
     for name, array in template.data_vars.items():
         kind, fill = stored(array.dtype)
@@ -399,7 +396,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     fingerprint = study.fingerprint()
     done: set[int] = set()
     started = time.perf_counter()
-    if study.kind == "fault_2d":  # each cell checkpoints its run here: a resumed study continues it
+    if study.cells.checkpoints:  # each cell checkpoints its run here: a resumed study continues it
         study.work_dir = output.with_name(output.name + ".cells")
         study.work_dir.mkdir(exist_ok=True)
     template = template_block(study)
@@ -484,19 +481,24 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
             "chunks": chunks, "seconds": time.perf_counter() - started, "executor": label, "output": str(output)}
 
 
-def rate_state_counts(output, file_format: str = "netcdf", tolerance: float | None = None) -> dict:
-    """A finished rate-and-state study's cells by regime and method, and its largest declared error.
+def cell_counts(output, file_format: str = "netcdf", tolerance: float | None = None) -> dict:
+    """A finished study's cells counted by every flag it has (regime, method, ... by their meanings), and its
+    largest declared error, of any family (the flags are the family's declared outputs).
 
     Read back chunk by chunk (dask), so memory stays flat however large the output.
     """
+    counts = {}
     with open_dataset_lazily(output, "study output", zarr=file_format == "zarr", checked=True) as dataset:
-        counts = {name: int((dataset["regime"] == code).sum()) for name, code in REGIME_CODES.items()}
-        counts["solver_failed"] = int((dataset["method"] == METHOD_CODES["solver_failed"]).sum())
-        counts["simulated"] = int((dataset["method"] > METHOD_CODES["closed_form"]).sum())
+        for name, variable in dataset.data_vars.items():
+            meanings = str(variable.attrs.get("flag_meanings", "")).split()
+            values = np.atleast_1d(variable.attrs.get("flag_values", []))
+            if meanings and len(meanings) == len(values):
+                counts[name] = {meaning: int((variable == code).sum()) for meaning, code in zip(meanings, values)}
         if "estimated_relative_error" in dataset:
-            counts["largest_estimated_relative_error"] = float(dataset["estimated_relative_error"].max())
+            error = dataset["estimated_relative_error"]
+            counts["largest_estimated_relative_error"] = float(error.max())
             if tolerance is not None:
-                counts["above_tolerance"] = int((dataset["estimated_relative_error"] > tolerance).sum())
+                counts["above_tolerance"] = int((error > tolerance).sum())
     return counts
 
 

@@ -21,6 +21,7 @@ from faultslip.io.outputs import check_encodable, output_lock
 from faultslip.io.report import Report
 from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
+from faultslip.fault.fault_2d_cells import CELLS, read_scene
 from faultslip.fault.fault_2d_scene import Fault2DScene, load_fault_2d_scene
 from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
@@ -209,4 +210,5 @@ def simulate(scene, output_dir=None, resume: bool = False, rtol=None, allow_larg
 FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",
                          run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite"),
                          run_options=("allow_large",),
-                         why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol"))
+                         why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
+                         read_scene=read_scene, cells=CELLS))

@@ -6,6 +6,10 @@ from __future__ import annotations
 from faultslip.dynamics.nanoscale import choose_method
 from faultslip.dynamics.nanoscale import report as nanoscale_report
 from faultslip.dynamics.nanoscale import run_dataset
+from faultslip.contract.cells import PerCell
+from faultslip.contract.scenes import toml_reader
+from faultslip.contract.specs import Output, Parameter
+from faultslip.dynamics.nanoscale import NANOSCALE_METHODS
 from faultslip.models.nanoscale.scene import load_nanoscale_scene
 from faultslip.models.common import note_origin
 from faultslip.contract.registry import Family, register
@@ -41,6 +45,27 @@ def simulate(scene, allow_large: bool = False) -> Result:
     return Result("nanoscale", report, run_dataset(integrated), lambda: nanoscale_figure(integrated))
 
 
+#: What a nanoscale study sweeps (seed 001's dimensionless inputs) and writes.
+PARAMETERS = {name: Parameter(name, "dimensionless", "1", long_name, (table, name), number=True)
+              for name, table, long_name in (
+                  ("damping", "slider", "damping A"), ("drive_speed", "slider", "drive speed v_a"),
+                  ("peak_speed", "friction", "peak speed v_m"), ("charging_time", "friction", "charging time tau"),
+                  ("charge_length", "friction", "charge length a"), ("charge_force", "friction", "charge force f_ch"))}
+OUTPUTS = {spec.name: spec for spec in (
+    Output("regime", "1", "regime of the settled cycle (or, by linear stability, of steady sliding)",
+           flags=("stick_slip", "oscillating_sliding", "unstable_sliding", "steady_sliding")),
+    Output("critical_damping", "1", "A_c, the damping below which steady sliding is unstable (Routh-Hurwitz)"),
+    Output("largest_growth_rate", "1", "largest Re(lambda) of small disturbances, in omega"),
+    Output("force_swing", "1", "force peak-to-peak of the settled cycle"),
+    Output("period", "1", "period of the settled cycle, in 1/omega"),
+    Output("least_speed", "1", "least speed in the cycle (the tip sticks below v_m)"),
+    Output("method", "1", "method of this cell", flags=("nanoscale_linear_stability", "nanoscale_LSODA")),
+    Output("estimated_relative_error", "1", "estimated relative error of the force swing"),
+)}
+CELLS = PerCell("a nanoscale study", PARAMETERS, OUTPUTS, run, load_nanoscale_scene, methods=NANOSCALE_METHODS,
+                seconds=0.5)
+
 FAMILY = register(Family("nanoscale", "seed 001: nanoscale stick-slip with contact charging", run, simulate,
                          simulate_options=("allow_large",), run_options=("allow_large",),
-                         why="a nanoscale scene sets its run in [run] and its accuracy in [method] tolerance"))
+                         why="a nanoscale scene sets its run in [run] and its accuracy in [method] tolerance",
+                         read_scene=toml_reader("nanoscale", PARAMETERS), cells=CELLS))

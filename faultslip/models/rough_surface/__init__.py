@@ -5,6 +5,11 @@ from __future__ import annotations
 from faultslip.dynamics.methods import solve
 from faultslip.dynamics.spring_slider.simulate import simulate as integrate
 from faultslip.dynamics.spring_slider.simulate import summary_report
+from faultslip.contract.cells import PerCell
+from faultslip.contract.scenes import toml_reader
+from faultslip.contract.specs import Output, Parameter
+from faultslip.dynamics.kernel import REGIME_CODES
+from faultslip.dynamics.methods import METHODS
 from faultslip.errors import InputError
 from faultslip.models.rough_surface.scene import load_rough_scene
 from faultslip.contract.registry import Family, register
@@ -45,6 +50,33 @@ def simulate(scene, cycles=None, slip_solver=None, rtol=None) -> Result:
     return Result("rough_surface", report, dataset, lambda: sawtooth_figure(dataset))
 
 
+#: What a rough-surface study sweeps ([slider] and [friction] of seed 000's scene) and writes.
+PARAMETERS = {name: Parameter(name, kind, unit, long_name, (table, name)) for name, table, kind, unit, long_name in (
+    ("mass", "slider", "mass", "kg", "mass M"),
+    ("stiffness", "slider", "stiffness", "N/m", "stiffness k"),
+    ("normal_load", "slider", "force", "N", "normal load L"),
+    ("platform_speed", "slider", "speed", "m/s", "platform speed V0"),
+    ("hardness", "friction", "pressure", "Pa", "hardness H"),
+    ("shear_strength", "friction", "pressure", "Pa", "shear strength of the junctions"),
+    ("separation_coefficient", "friction", "slowness", "s/m", "separation coefficient c (RMS per m/s)"),
+)}
+#: the event-driven and averaged methods of seed 003's engine a rough-surface cell may take
+_METHODS = tuple(name for name in METHODS if name.startswith("event_driven") or name == "quasi_harmonic_averaging")
+OUTPUTS = {spec.name: spec for spec in (
+    Output("regime", "1", "regime of the cycle", flags=tuple(REGIME_CODES)),
+    Output("slip_per_event", "m", "slip per event, integral of u dt = V T"),
+    Output("period", "s", "cycle period T"),
+    Output("static_friction", "1", "static friction mu_s"),
+    Output("stress_drop", "N", "force drop"),
+    Output("peak_slip_speed", "m/s", "peak sliding speed"),
+    Output("loading_rate", "1/s", "loading rate theta_dot"),
+    Output("method", "1", "method of this cell", flags=_METHODS),
+    Output("estimated_relative_error", "1", "estimated relative error of the method"),
+)}
+CELLS = PerCell("a rough-surface study", PARAMETERS, OUTPUTS, run, load_rough_scene, methods=("auto", *_METHODS),
+                seconds=0.5)
+
 FAMILY = register(Family("rough_surface", "seed 000: a slider on rough surfaces, friction from real contact", run,
                          simulate, simulate_options=("cycles", "slip_solver", "rtol"),
-                         why="a rough-surface scene takes --cycles, --slip-solver and --rtol"))
+                         why="a rough-surface scene takes --cycles, --slip-solver and --rtol",
+                         read_scene=toml_reader("rough_surface", PARAMETERS), cells=CELLS))

@@ -32,8 +32,9 @@ from pathlib import Path
 
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
+from faultslip.contract.scenes import scene_source
 from faultslip.errors import InputError, SolverError
-from faultslip.io.resources import read_text_file, resolve_path, scene_document
+from faultslip.io.resources import resolve_path, scene_document
 from faultslip.friction.laws import (SEPARATION_MEMORIES, STANDARD_GRAVITY, ConstantStatic,
                                      SeparatingSurfacesKinetic)
 from faultslip.io.resources import check_toml_layout, parse_toml
@@ -268,8 +269,8 @@ def parse_rough_scene(text: str, source: str = "<scene>", base_dir=None) -> tupl
 
 
 def load_rough_scene(path):
-    path, _ = resolve_path(path, "rough-surface scene")
-    return parse_rough_scene(read_text_file(path, "rough-surface scene"), path.name, base_dir=path.parent)
+    text, source, folder, _ = scene_source(path, "rough-surface scene")
+    return parse_rough_scene(text, source, base_dir=folder)
 
 
 def is_rough_scene(argument) -> bool:

@@ -5,6 +5,9 @@ from __future__ import annotations
 
 from faultslip.dynamics.vibration import report as averaging_report
 from faultslip.dynamics.vibration import settled_amplitude, simulate_vibration, vibration_dataset, vibration_report
+from faultslip.contract.cells import PerCell
+from faultslip.contract.scenes import toml_reader
+from faultslip.contract.specs import Output, parameters
 from faultslip.errors import InputError
 from faultslip.models.vibration.scene import load_vibration_scene
 from faultslip.contract.registry import Family, register
@@ -40,6 +43,29 @@ def simulate(scene) -> Result:
     return Result("vibration", report, vibration_dataset(integrated), lambda: vibration_series_figure(integrated))
 
 
+#: What a vibration study sweeps ([vibration] of the scene) and writes.
+PARAMETERS = parameters({
+    "mass": ("mass", "kg", "equivalent mass M"),
+    "stiffness": ("stiffness", "N/m", "stiffness k"),
+    "damping": ("damping", "N*s/m", "damping r"),
+    "normal_load": ("force", "N", "normal load W"),
+    "speed": ("speed", "m/s", "driving speed v"),
+}, "vibration")
+OUTPUTS = {spec.name: spec for spec in (
+    Output("regime", "1", "regime: quasi-harmonic vibration, steady sliding, or stick-slip (outside the averaging)",
+           flags=("quasi_harmonic", "steady_sliding", "stick_slip")),
+    Output("amplitude", "m", "limit-cycle amplitude A (NaN where the slider sticks)"),
+    Output("peak_speed", "m/s", "A omega, the largest vibration speed"),
+    Output("natural_frequency", "Hz", "omega / 2 pi"),
+    Output("growth_rate", "1/s", "growth rate of small oscillations, -(r + W f'(v)) / 2M"),
+    Output("small_parameter", "1", "eps = (r + W max|f'|) / (M omega), small where averaging holds"),
+    Output("method", "1", "method of this cell", flags=("averaging", "integration")),
+    Output("estimated_relative_error", "1", "estimated relative error of the amplitude"),
+)}
+CELLS = PerCell("a vibration study", PARAMETERS, OUTPUTS, run, load_vibration_scene,
+                methods=("auto", "quasi_harmonic_averaging", "quasi_harmonic_integration"), seconds=0.15)
+
 FAMILY = register(Family("vibration", "seed 002: friction-induced vibration without sticking (quasi-harmonic)",
                          run, simulate,
-                         why="a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles"))
+                         why="a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles",
+                         read_scene=toml_reader("vibration", PARAMETERS), cells=CELLS))

@@ -25,8 +25,9 @@ from pathlib import Path
 import numpy as np
 
 from faultslip.dynamics.vibration import QuasiHarmonic
+from faultslip.contract.scenes import scene_source
 from faultslip.errors import InputError
-from faultslip.io.resources import read_text_file, resolve_path, scene_document
+from faultslip.io.resources import scene_document
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar, unit_factor
 
@@ -118,8 +119,8 @@ def tabulated_curve(rows, scale: float, speed: float, source: str):
 
 
 def load_vibration_scene(path) -> tuple[QuasiHarmonic, dict]:
-    path, origin = resolve_path(path, "vibration scene")
-    system, notes = parse_vibration_scene(read_text_file(path, "vibration scene"), path.name)
+    text, source, _, origin = scene_source(path, "vibration scene")
+    system, notes = parse_vibration_scene(text, source)
     if origin:
         notes["origin"] = origin
     return system, notes

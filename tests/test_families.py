@@ -1,0 +1,203 @@
+"""Every family through one contract (issue 40): the conformance check, every family swept, and a test family
+that is one module and one declare() line."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import faultslip
+from conftest import assert_clean_error
+from faultslip import contract
+from faultslip.models.checks import check_family, check_units, read_or_refuse
+
+ROOT = Path(__file__).resolve().parent.parent
+CONFIGS = ROOT / "configs"
+
+#: Each family's example scene, a small sweep of it, and its simulation's options for the check.
+CASES = {
+    "spring_slider": ("lab_glass_dry.toml", {"damping_ratio": [0.0, 0.1]}, {"cycles": 2}),
+    "rate_state_slider": ("rsf_fault_bp1.toml", {"critical_slip": ["4 mm", "8 mm"]}, {"cycles": 2}),
+    "vibration": ("vibration_seed002.toml", {"speed": ["11 in/s", "12.5 in/s"]}, {}),
+    "nanoscale": ("nanoscale_seed001.toml", {"damping": [3.0, 13.0]}, {}),
+    "asperity": ("asperity_seed004.toml", {"platform_speed": ["2 mm/s", "3.6 mm/s"]}, {}),
+    "rough_surface": ("rough_surface_seed000.toml", {"separation_coefficient": ["0 s/m", "0.8 s/m"]}, {"cycles": 2}),
+    "fault_2d": ("fault_2d_small.toml", {"critical_slip": ["24 mm", "30 mm"]}, None),
+}
+
+
+def test_every_family_has_a_case_and_a_study():
+    assert sorted(CASES) == sorted(name for name in contract.DECLARATIONS if name in CASES or
+                                   contract.DECLARATIONS[name].module.startswith("faultslip."))
+    for name in CASES:
+        assert (CONFIGS / f"study_{name}.toml").is_file(), f"configs/study_{name}.toml"
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_every_family_passes_the_conformance_check(name, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # a simulation that writes its output does it here
+    scene, values, options = CASES[name]
+    checked = check_family(name, CONFIGS / scene, values, simulate=options is not None,
+                           simulate_options=options or {})
+    assert checked["dataset"].attrs["faultslip_family"] == name
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_every_family_sweeps_its_example_study_to_cf_with_units(name, cli, tmp_path):
+    import xarray as xr
+
+    out = tmp_path / "study.nc"
+    result = cli("sweep", CONFIGS / f"study_{name}.toml", "-o", out, "--json")
+    assert result.code == 0, result.err
+    with xr.open_dataset(out) as written:
+        check_units(written, f"study_{name}.toml")
+        assert written.attrs["faultslip_family"] == name and written.attrs["Conventions"].startswith("CF")
+        assert all(written.sizes[n] > 1 for n in written.dims)
+    again = cli("reproduce", out, "--json")  # the file embeds what reproduces it, for every family
+    assert again.code == 0 and again.json["matches"], again.err
+
+
+def test_a_per_cell_sweep_is_the_runs_of_its_cells():
+    """A swept cell holds what faultslip.run gives for that scene (the same code; no second implementation)."""
+    dataset = faultslip.sweep("nanoscale_seed001.toml", damping=[3.0, 7.0])
+    for damping in (3.0, 7.0):
+        text = (CONFIGS / "nanoscale_seed001.toml").read_text(encoding="utf-8").replace(
+            "damping = 3.0", f"damping = {damping}")
+        result = faultslip.run(faultslip.contract.registry.read_scene_text(text, "n.toml")[0])
+        assert float(dataset["force_swing"].sel(damping=damping)) == result["force_swing"]  # dimensionless
+
+
+def test_a_lazy_per_cell_sweep_equals_the_eager_one():
+    eager = faultslip.sweep("rsf_fault_bp1.toml", critical_slip=["4 mm", "8 mm", "16 mm"], b=[0.012, 0.015])
+    lazy = faultslip.sweep("rsf_fault_bp1.toml", critical_slip=["4 mm", "8 mm", "16 mm"], b=[0.012, 0.015],
+                           chunks={"critical_slip": 2})
+    assert lazy["slip_per_event"].chunks is not None
+    assert (lazy.compute()["slip_per_event"] == eager["slip_per_event"]).all()
+
+
+@pytest.mark.parametrize("study, message", [
+    ('[study]\nbase = "vibration_seed002.toml"\n[sweep]\nspeed = ["-1 in/s"]\n', "speed"),
+    ('[study]\nbase = "vibration_seed002.toml"\n[sweep]\nspeeds = ["1 in/s"]\n', "did you mean speed"),
+    ('[study]\nbase = "vibration_seed002.toml"\nmethod = "exact_cycle"\n[sweep]\nspeed = ["1 in/s"]\n',
+     "method of a vibration study"),
+    ('[study]\nbase = "nanoscale_seed001.toml"\ncycles = 3\n[sweep]\ndamping = [1.0]\n', "cycles applies"),
+    ('[study]\nbase = "rsf_velocity_step.toml"\n[sweep]\na = [0.01]\n', "preset or the parameters"),
+    ('[study]\nbase = "asperity_seed004.toml"\n[sweep]\nplatform_speed = ["1 kg"]\n', "platform_speed"),
+    ('[study]\nbase = "rough_surface_seed000.toml"\n[sweep]\nmass = []\n', "empty"),
+])
+def test_a_bad_study_of_any_family_is_one_sentence(study, message, cli, tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(study, encoding="utf-8")
+    result = cli("sweep", path, "-o", tmp_path / "o.nc")
+    assert_clean_error(result, message)
+    assert not (tmp_path / "o.nc").exists()
+
+
+# --- the scene readers, fuzzed ------------------------------------------------------------------------
+
+#: the example scene of each family whose reader a study uses
+_TEXTS = {name: (CONFIGS / scene).read_text(encoding="utf-8") for name, (scene, _, _) in CASES.items()}
+_VALUES = st.one_of(st.integers(-10**12, 10**12).map(str), st.floats(allow_nan=True).map(repr),
+                    st.text(alphabet='"0123456789.e-+ kmsNPaGMin/^*()[]{}=,#\\\n', max_size=16),
+                    st.sampled_from(['"1 m"', '"-3 km/s"', '"nan Pa"', '"1e400 N"', '""', "true", "[]", "{}", '"x"']))
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_every_scene_reader_reads_or_refuses_in_one_sentence(name, data):
+    """Any value in any line of a family's scene is read, or refused in one sentence, never a traceback."""
+    lines = _TEXTS[name].splitlines()
+    candidates = [i for i, line in enumerate(lines) if "=" in line and not line.lstrip().startswith("#")]
+    index = data.draw(st.sampled_from(candidates))
+    key = lines[index].split("=", 1)[0]
+    lines[index] = f"{key}= {data.draw(_VALUES)}"
+    refused = read_or_refuse(name, "\n".join(lines))
+    assert refused is None or (refused.strip() and "\n" not in refused.strip()), refused
+
+
+# --- a family is one module and one line -----------------------------------------------------------------
+
+TEST_SCENE = """family = "constant_friction"
+[slider]
+stiffness = "1e5 N/m"
+normal_load = "100 N"
+mass = "1 kg"
+platform_speed = "1 mm/s"
+[friction]
+static = 0.6
+kinetic = 0.5
+"""
+
+
+@pytest.fixture
+def constant_friction(tmp_path):
+    """The test family, declared by its one line (and forgotten afterwards)."""
+    contract.declare("constant_friction", "families.constant_friction")
+    scene = tmp_path / "constant.toml"
+    scene.write_text(TEST_SCENE, encoding="utf-8")
+    yield scene
+    contract.DECLARATIONS.pop("constant_friction", None)
+    contract.FAMILIES.pop("constant_friction", None)
+
+
+def test_a_test_family_is_one_module_and_one_line(constant_friction, cli, tmp_path):
+    import xarray as xr
+
+    checked = check_family("constant_friction", constant_friction, {"normal_load": ["50 N", "100 N"]},
+                           simulate_options={"cycles": 2})
+    # slip per event 2 (mu_s - mu_k) W / K, exactly
+    assert checked["dataset"]["slip_per_event"].values.tolist() == pytest.approx([1e-4, 2e-4], rel=1e-12)
+    result = faultslip.run(constant_friction)
+    assert result["slip_per_event"].to("mm").magnitude == pytest.approx(0.2, rel=1e-12)
+    assert result.method == "closed_form"
+    # the command line takes it with no edit in cli/
+    printed = cli("run", constant_friction, "--json")
+    assert printed.code == 0 and printed.json["slip_per_event"]["value"] == pytest.approx(2e-4), printed.err
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\nbase = "{constant_friction.name}"\n[sweep]\n'
+                     'static_friction = [0.6, 0.7]\nplatform_speed = ["1 mm/s", "2 mm/s", "4 mm/s"]\n', encoding="utf-8")
+    out = tmp_path / "c.nc"
+    swept = cli("sweep", study, "-o", out, "--json")
+    assert swept.code == 0, swept.err
+    with xr.open_dataset(out) as written:
+        check_units(written, "constant-friction study")
+        assert written["slip_per_event"].sel(static_friction=0.7).values == pytest.approx([4e-4] * 3)
+    assert cli("simulate", constant_friction, "--cycles", "2", "--json").code == 0
+
+
+def test_a_test_family_sweeps_on_the_pool(constant_friction, cli, tmp_path):
+    """A pool's workers learn a family declared at run time from the study they are sent."""
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\nbase = "{constant_friction.name}"\n[sweep]\n'
+                     'stiffness = { logspace = ["1e4 N/m", "1e6 N/m", 400] }\nmass = ["1 kg", "2 kg"]\n',
+                     encoding="utf-8")
+    result = cli("sweep", study, "-o", tmp_path / "p.nc", "--workers", "2", "--chunks", "100", "--json")
+    assert result.code == 0, result.err
+    assert result.json["blocks"] > 1
+
+
+# --- the engine knows no family --------------------------------------------------------------------------
+
+ENGINE = ["faultslip/studies/grid.py", "faultslip/studies/streaming.py", "faultslip/cli/studies.py",
+          "faultslip/models/checks.py"]
+
+
+@pytest.mark.parametrize("module", ENGINE)
+def test_the_sweep_engine_names_no_family(module):
+    """No family's name, module or scene kind appears in the sweep engine: it asks the contract."""
+    tree = ast.parse((ROOT / module).read_text(encoding="utf-8"))
+    families = set(contract.DECLARATIONS) | {"fault", "lab", "rate_state"}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str):
+            assert node.value not in families, f"{module}:{node.lineno} names {node.value!r}"
+        if isinstance(node, ast.Attribute) and node.attr == "kind":  # a scene's or a study's kind, not a dtype's
+            assert not any(word in ast.unparse(node.value) for word in ("scene", "study")), \
+                f"{module}:{node.lineno} asks a scene's kind"
+        if isinstance(node, ast.ImportFrom) and node.module:
+            assert not node.module.startswith(("faultslip.models.", "faultslip.fault.")) or \
+                node.module == "faultslip.models.result", f"{module}:{node.lineno} imports {node.module}"
