@@ -195,12 +195,13 @@ def test_loose_integrators_find_the_tangent_restick_near_the_critical_rate(scene
 
 
 def test_every_method_declares_its_interface(cli):
-    from faultslip.dynamics.methods import describe_all
+    from faultslip.contract import families, method_rows
 
-    rows = describe_all()
+    rows = method_rows()
     names = {row["name"] for row in rows}
     assert {"closed_form", "exact_cycle", "event_driven_DOP853", "event_driven_RK45", "event_driven_Radau",
             "event_driven_LSODA", "regularized_RK45", "regularized_LSODA", "seed_appendix_I"} <= names
     for row in rows:
-        assert row["friction_laws"] and row["domain"] and row["cost_model"], row
+        assert row["friction_laws"] and row["domain"] and row["cost_model"] and row["families"], row
+    assert all(family.methods for family in families().values())  # every family declares its methods
     assert cli("methods", "--json").json["methods"] == rows

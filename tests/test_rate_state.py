@@ -339,7 +339,7 @@ def test_auto_picks_the_cheaper_integrator_by_its_cost_model_and_the_declared_er
     """choose_cycle_method: dopri5 where the rupture is not stiff, LSODA below K / K_c ~ 0.012 (rtol 1e-7),
     at the loosest rtol whose declared error meets the tolerance; the measured error against a 1e-11
     reference stays below the declared one (2 cycles after 2 of spin-up, as calibrated)."""
-    from faultslip.dynamics.methods import describe_all
+    from faultslip.contract import method_rows
     from faultslip.dynamics.rate_state.methods import choose_cycle_method, error_bound
 
     with pytest.MonkeyPatch.context() as patch:  # the Python integrators alone
@@ -349,7 +349,7 @@ def test_auto_picks_the_cheaper_integrator_by_its_cost_model_and_the_declared_er
     if native.available():  # the C stepper, 0.4 us a step, until its stability-limited steps cost more than LSODA's
         assert [rs.cycle_method("auto", r, BP1) for r in (0.05, 0.011, 1e-3, 1e-4)] == [
             "dopri5_compiled", "dopri5_compiled", "dopri5_compiled", "lsoda"]
-    names = [row["name"] for row in describe_all()]
+    names = [row["name"] for row in method_rows()]
     assert "rate_state_dopri5" in names and "rate_state_lsoda" in names
     compiled = native.available()
     for ratio, expected in ((0.05, "dopri5_compiled" if compiled else "dopri5"),

@@ -9,7 +9,8 @@ from faultslip import models
 from faultslip.cli.common import _locked, _number, _output_dir, _outputs, _save_run, _system_from_args, _tolerance
 from faultslip.cli.printing import _emit
 from faultslip.dynamics.spring_slider.critical import comparison_dataset, comparison_markdown, critical
-from faultslip.dynamics.methods import describe_all, solve
+from faultslip.contract import method_rows
+from faultslip.dynamics.methods import solve
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
@@ -159,13 +160,13 @@ def cmd_materials(args) -> int:
 
 
 def cmd_methods(args) -> int:
-    rows = describe_all()
+    rows = method_rows()
     if args.json:
         print(json.dumps({"methods": rows}, indent=2))
         return 0
     for row in rows:
         print(f"{row['name']}\n  friction laws: {row['friction_laws']}\n  valid where:   {row['domain']}\n"
-              f"  cost:          {row['cost_model']}")
+              f"  cost:          {row['cost_model']}\n  families:      {', '.join(row['families'])}")
     return 0
 
 

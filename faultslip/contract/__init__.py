@@ -9,8 +9,8 @@ entry points name plug-ins.
 """
 
 from faultslip.contract.registry import (DECLARATIONS, FAMILIES, SCENE_TYPES, Declaration, Family, declare,
-                                         families, family_of, family_of_document, load, register)
+                                         families, family_of, family_of_document, load, method_rows, register)
 from faultslip.contract.specs import Output, Parameter, flags_attrs
 
 __all__ = ["DECLARATIONS", "Declaration", "FAMILIES", "Family", "Output", "Parameter", "SCENE_TYPES", "declare",
-           "families", "family_of", "family_of_document", "flags_attrs", "load", "register"]
+           "families", "family_of", "family_of_document", "flags_attrs", "load", "method_rows", "register"]

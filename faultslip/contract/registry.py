@@ -42,6 +42,8 @@ class Family:
     why: str = ""  # why the other options do not apply, said when one is given
     read_scene: Callable | None = None
     cells: object = None
+    #: () -> the family's methods, each {name, friction_laws, domain, cost_model} ('faultslip methods')
+    methods: Callable | None = None
 
 
 @dataclass(frozen=True)
@@ -109,6 +111,20 @@ def load(name: str) -> Family:
 def families() -> dict[str, Family]:
     """Every family, loaded."""
     return {name: load(name) for name in DECLARATIONS}
+
+
+#: the fields of a method's declaration, as 'faultslip methods' prints them
+METHOD_FIELDS = ("name", "friction_laws", "domain", "cost_model")
+
+
+def method_rows() -> list[dict]:
+    """Every family's methods, each once, with the families that use it (what ``faultslip methods`` prints)."""
+    rows: dict[str, dict] = {}
+    for name, family in families().items():
+        for row in (family.methods() if family.methods else []):
+            entry = rows.setdefault(row["name"], {key: row[key] for key in METHOD_FIELDS} | {"families": []})
+            entry["families"].append(name)
+    return list(rows.values())
 
 
 def _declared(document: dict) -> str | None:

@@ -25,23 +25,18 @@ from __future__ import annotations
 import math
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from faultslip.dynamics.shared.assessment import Assessment
 from faultslip.dynamics.shared.settling import bifurcation_note
 from faultslip.dynamics import vibration as averaging
-from faultslip.dynamics.vibration import METHODS as QUASI_HARMONIC_METHODS
 from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
 from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
 from faultslip.dynamics.shared.cycle import STEADY_SLIDING, CycleResult
 from faultslip.errors import InputError, MethodError, OutOfDomainWarning
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_error
-from faultslip.dynamics.asperity import METHODS as ASPERITY_METHODS
-from faultslip.dynamics.fault_2d.analysis import METHODS as FAULT_2D_METHODS
-from faultslip.dynamics.nanoscale import METHODS as NANOSCALE_METHODS
-from faultslip.dynamics.rate_state.methods import CYCLE_METHODS as RATE_STATE_CYCLE_METHODS
 from faultslip.dynamics.spring_slider.regularized import simulate_regularized
 from faultslip.dynamics.spring_slider.simulate import SUSTAINED_OSCILLATION, simulate
 
@@ -359,15 +354,16 @@ class QuasiHarmonicAveraging(Method):
         return cycle, np.array([]), None, 0
 
 
-def describe_all() -> list[dict]:
-    """Every method's declared name, friction laws, domain and cost model (the seed law's, rate-and-state's,
-    the quasi-harmonic, the nanoscale, the asperity and the 2-D fault ones)."""
-    rows = [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), AVERAGING, *BASELINES.values(),
-                                   SEED_APPENDIX_I, *RATE_STATE_CYCLE_METHODS.values())]
-    declared = [row for row in QUASI_HARMONIC_METHODS.values() if row["name"] != AVERAGING.name]
-    return rows + [{key: row[key] for key in ("name", "friction_laws", "domain", "cost_model")}
-                   for row in declared + list(NANOSCALE_METHODS.values()) + list(ASPERITY_METHODS.values())
-                   + list(FAULT_2D_METHODS.values())]
+def describe_seed_methods() -> list[dict]:
+    """The seed law's methods as ``faultslip methods`` lists them (name, friction laws, domain, cost model):
+    the spring-slider family's (faultslip.contract.method_rows gathers every family's)."""
+    return [m.describe() for m in (CLOSED_FORM, EXACT, *INTEGRATORS.values(), AVERAGING, *BASELINES.values(),
+                                   SEED_APPENDIX_I)]
+
+
+def describe_integrators() -> list[dict]:
+    """The event-driven integrators and the averaging, which seed 003's engine lends to other sliders (seed 000)."""
+    return [m.describe() for m in (*INTEGRATORS.values(), AVERAGING)]
 
 
 def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from faultslip.contract.cells import cell_value
-from faultslip.contract.registry import load, read_scene
+from faultslip.contract.registry import METHOD_FIELDS, load, read_scene
 from faultslip.errors import FaultslipError
 from faultslip.models.result import Result
 from faultslip.io.netcdf import write_dataset
@@ -71,6 +71,9 @@ def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, si
              f"{name}: a family declares read_scene and cells (faultslip.contract)")
     for attribute in ("label", "checkpoints", "default_tolerance"):
         _require(hasattr(family.cells, attribute), f"{name}: its cells have no {attribute}")
+    rows = family.methods() if family.methods else []
+    _require(rows and all(row.get(key) for row in rows for key in METHOD_FIELDS),
+             f"{name}: declares its methods, each with {', '.join(METHOD_FIELDS)} ('faultslip methods')")
     # the run: a Result of this family, its Dataset with units, its report
     result = family.run(scene)
     _require(isinstance(result, Result) and result.family == name, f"{name}: run returns a Result of the family")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from faultslip.dynamics.rate_state.methods import CYCLE_METHODS
 from faultslip.dynamics.rate_state.slider import fault_cycles, simulate_rate_state
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
@@ -224,4 +225,5 @@ FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: veloci
                          "cycles of a fault on one spring-block", run, simulate,
                          simulate_options=("cycles",),
                          why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles",
-                         read_scene=toml_reader("rate_state_slider", PARAMETERS), cells=CELLS))
+                         read_scene=toml_reader("rate_state_slider", PARAMETERS), cells=CELLS,
+                         methods=lambda: [method.describe() for method in CYCLE_METHODS.values()]))

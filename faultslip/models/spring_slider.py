@@ -3,6 +3,7 @@ static-friction rate law, Cameron's time-of-stick law or rate-and-state friction
 
 from __future__ import annotations
 
+from faultslip.dynamics.methods import describe_seed_methods
 from faultslip.dynamics.spring_slider.simulate import simulate as integrate
 from faultslip.dynamics.spring_slider.simulate import summary_report, uniform_channels
 from faultslip.errors import InputError
@@ -104,4 +105,4 @@ def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
 FAMILY = register(Family("spring_slider", "seed 003: the spring-slider, in the lab and scaled to a fault (the "
                          "default)", run, simulate, simulate_options=("cycles", "slip_solver", "rtol", "stream",
                                                                      "events", "output", "allow_large"),
-                         read_scene=read_scene, cells=CELLS))
+                         read_scene=read_scene, cells=CELLS, methods=describe_seed_methods))

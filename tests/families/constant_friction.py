@@ -121,8 +121,11 @@ def simulate(scene, cycles=None) -> Result:
     return Result("constant_friction", report, series, figure)
 
 
+METHODS = [{"name": "constant_friction_closed_form", "friction_laws": "constant static and kinetic friction",
+            "domain": "an undamped slider: every loading rate", "cost_model": "O(1)"}]
 CELLS = PerCell("a constant-friction study", PARAMETERS, OUTPUTS, run, read, methods=("auto", "closed_form"),
                 seconds=1e-4)
 FAMILY = register(Family("constant_friction", "a spring-slider with constant friction (a test family)", run,
                          simulate, simulate_options=("cycles",), read_scene=toml_reader("constant_friction",
-                                                                                        PARAMETERS), cells=CELLS))
+                                                                                        PARAMETERS), cells=CELLS,
+                         methods=lambda: METHODS))

@@ -75,4 +75,5 @@ CELLS = PerCell("an asperity study", PARAMETERS, OUTPUTS, run, load_asperity_sce
 
 FAMILY = register(Family("asperity", "seed 004: a block on asperities, stick fraction and period", run, simulate,
                          why="an asperity scene sets its run in [run] duration and its method in [method]",
-                         read_scene=toml_reader("asperity", PARAMETERS), cells=CELLS))
+                         read_scene=toml_reader("asperity", PARAMETERS), cells=CELLS,
+                         methods=lambda: list(METHODS.values())))

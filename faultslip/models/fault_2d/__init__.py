@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from faultslip import __version__
-from faultslip.dynamics.fault_2d.analysis import discretisation_error, moment_magnitude, summarise  # noqa: F401
+from faultslip.dynamics.fault_2d.analysis import METHODS, discretisation_error, moment_magnitude, summarise  # noqa: F401
 from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.errors import InputError
 from faultslip.io import budget
@@ -211,4 +211,4 @@ FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an 
                          run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite"),
                          run_options=("allow_large",),
                          why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
-                         read_scene=read_scene, cells=CELLS))
+                         read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values())))

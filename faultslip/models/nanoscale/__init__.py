@@ -9,6 +9,7 @@ from faultslip.dynamics.nanoscale import run_dataset
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
+from faultslip.dynamics.nanoscale import METHODS as DECLARED_METHODS
 from faultslip.dynamics.nanoscale import NANOSCALE_METHODS
 from faultslip.models.nanoscale.scene import load_nanoscale_scene
 from faultslip.models.common import note_origin
@@ -68,4 +69,5 @@ CELLS = PerCell("a nanoscale study", PARAMETERS, OUTPUTS, run, load_nanoscale_sc
 FAMILY = register(Family("nanoscale", "seed 001: nanoscale stick-slip with contact charging", run, simulate,
                          simulate_options=("allow_large",), run_options=("allow_large",),
                          why="a nanoscale scene sets its run in [run] and its accuracy in [method] tolerance",
-                         read_scene=toml_reader("nanoscale", PARAMETERS), cells=CELLS))
+                         read_scene=toml_reader("nanoscale", PARAMETERS), cells=CELLS,
+                         methods=lambda: list(DECLARED_METHODS.values())))

@@ -9,7 +9,7 @@ from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.dynamics.kernel import REGIME_CODES
-from faultslip.dynamics.methods import METHODS
+from faultslip.dynamics.methods import METHODS, describe_integrators
 from faultslip.errors import InputError
 from faultslip.models.rough_surface.scene import load_rough_scene
 from faultslip.contract.registry import Family, register
@@ -79,4 +79,5 @@ CELLS = PerCell("a rough-surface study", PARAMETERS, OUTPUTS, run, load_rough_sc
 FAMILY = register(Family("rough_surface", "seed 000: a slider on rough surfaces, friction from real contact", run,
                          simulate, simulate_options=("cycles", "slip_solver", "rtol"),
                          why="a rough-surface scene takes --cycles, --slip-solver and --rtol",
-                         read_scene=toml_reader("rough_surface", PARAMETERS), cells=CELLS))
+                         read_scene=toml_reader("rough_surface", PARAMETERS), cells=CELLS,
+                         methods=describe_integrators))

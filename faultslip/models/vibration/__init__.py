@@ -8,6 +8,7 @@ from faultslip.dynamics.vibration import settled_amplitude, simulate_vibration, 
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, parameters
+from faultslip.dynamics.vibration import METHODS as DECLARED_METHODS
 from faultslip.errors import InputError
 from faultslip.models.vibration.scene import load_vibration_scene
 from faultslip.contract.registry import Family, register
@@ -68,4 +69,5 @@ CELLS = PerCell("a vibration study", PARAMETERS, OUTPUTS, run, load_vibration_sc
 FAMILY = register(Family("vibration", "seed 002: friction-induced vibration without sticking (quasi-harmonic)",
                          run, simulate,
                          why="a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles",
-                         read_scene=toml_reader("vibration", PARAMETERS), cells=CELLS))
+                         read_scene=toml_reader("vibration", PARAMETERS), cells=CELLS,
+                         methods=lambda: list(DECLARED_METHODS.values())))
