@@ -285,3 +285,27 @@ def test_a_store_without_checksums_is_refused(store, tmp_path, cli):
     array["filters"] = [f for f in array["filters"] if f["id"] != "crc32c"]
     meta.write_text(json.dumps(array), encoding="utf-8")
     assert_clean_error(cli("convert", store, "-o", tmp_path / "c.nc"), "no checksum")
+
+
+def test_a_lock_removed_between_its_two_opens_is_created_again(tmp_path, monkeypatch):
+    """A holder that finishes unlinks its lock; a claimant whose O_EXCL create found it, and whose plain open
+    then finds nothing, creates it afresh instead of refusing (concurrent fits lost one this way)."""
+    import os
+
+    from faultslip.io import outputs
+
+    lock = tmp_path / ".o.nc.lock"
+    lock.write_text("", encoding="utf-8")
+    real_open, calls = os.open, []
+
+    def racing_open(path, flags, *args):
+        calls.append(flags)
+        if not flags & os.O_CREAT and len(calls) == 2:  # the holder unlinks it just now
+            os.unlink(path)
+            raise FileNotFoundError(2, "No such file or directory")
+        return real_open(path, flags, *args)
+
+    monkeypatch.setattr(outputs.os, "open", racing_open)
+    descriptor = outputs._open_lock(lock)
+    os.close(descriptor)
+    assert len(calls) == 3 and calls[2] & os.O_EXCL and lock.is_file()

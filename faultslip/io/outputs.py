@@ -145,29 +145,37 @@ def _lock_path(target: Path) -> Path:
 _HELD: set = set()
 
 
-def _open_lock(lock: Path) -> int:
+def _open_lock(lock: Path, attempts: int = 100) -> int:
     """A descriptor on the lock file, created if absent; never through a symlink, never a foreign file.
 
     ``O_CREAT|O_EXCL|O_NOFOLLOW`` creates it without following anything planted at its path; an
     existing one is opened with ``O_NOFOLLOW`` and must be a regular file with one link (a planted
-    symlink, FIFO or hard link to another file is refused, and nothing is truncated).
+    symlink, FIFO or hard link to another file is refused, and nothing is truncated). A holder that
+    finishes removes its lock: one that vanishes between the two opens is created afresh.
     """
     flags = os.O_RDWR | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
-    try:
-        return os.open(lock, flags | os.O_CREAT | os.O_EXCL, 0o644)
-    except FileExistsError:
-        pass
-    except OSError as exc:
-        if disk_is_full(exc, lock.parent):
-            raise full_disk_error(lock, lock.parent) from None
-        raise OutputError(f"cannot create the lock {str(lock)!r}: {exc.strerror or exc}") from None
-    try:
-        descriptor = os.open(lock, flags)
-    except OSError as exc:
-        if exc.errno == errno.ELOOP or lock.is_symlink():
-            raise InputError(f"the lock file {str(lock)!r} is a symbolic link, which faultslip never follows; "
-                             "remove it and run again") from None
-        raise InputError(f"cannot take the lock {str(lock)!r}: {exc.strerror or exc}") from None
+    for _ in range(attempts):
+        try:
+            return os.open(lock, flags | os.O_CREAT | os.O_EXCL, 0o644)
+        except FileExistsError:
+            pass
+        except OSError as exc:
+            if disk_is_full(exc, lock.parent):
+                raise full_disk_error(lock, lock.parent) from None
+            raise OutputError(f"cannot create the lock {str(lock)!r}: {exc.strerror or exc}") from None
+        try:
+            descriptor = os.open(lock, flags)
+            break
+        except FileNotFoundError:  # removed by its holder after our create found it: create it again
+            continue
+        except OSError as exc:
+            if exc.errno == errno.ELOOP or lock.is_symlink():
+                raise InputError(f"the lock file {str(lock)!r} is a symbolic link, which faultslip never follows; "
+                                 "remove it and run again") from None
+            raise InputError(f"cannot take the lock {str(lock)!r}: {exc.strerror or exc}") from None
+    else:
+        raise InputError(f"cannot take the lock {str(lock)!r}: other runs create and remove it faster than it "
+                         "can be opened; run again")
     info = os.fstat(descriptor)
     # one link: ours; none: a holder that just finished unlinked it (output_lock sees the inode change and
     # opens the new one); more: a hard link planted to another file
