@@ -201,3 +201,43 @@ def test_the_sweep_engine_names_no_family(module):
         if isinstance(node, ast.ImportFrom) and node.module:
             assert not node.module.startswith(("faultslip.models.", "faultslip.fault.")) or \
                 node.module == "faultslip.models.result", f"{module}:{node.lineno} imports {node.module}"
+
+
+# --- one entrance per physics (issue 40, item 4) ---------------------------------------------------------
+
+OWN_FORM_1906 = """name = "1906 in the rate-and-state slider's own form"
+[law]
+a = 0.010
+b = 0.015
+critical_slip = "8 mm"
+mu0 = 0.65
+reference_speed = "1 um/s"
+evolution = "aging"
+[fault]
+shear_modulus = "0.25e6 bar"
+zone_width = "13 mi"
+normal_stress = "{normal} Pa"
+plate_rate = "2 in/yr"
+density = "2700 kg/m^3"
+"""
+
+
+def test_one_rate_and_state_block_is_one_family_whatever_its_files_shape(tmp_path, cli):
+    """The seed-law form ([fault] slip_rate, [friction] law = "rate_state") reads as the rate-and-state slider,
+    says so and names the family's own form; on the same fault both forms give the same cycles."""
+    older = faultslip.run("san_andreas_1906_rate_state.toml")
+    assert older.family == "rate_state_slider" and older.method == "one_slider"
+    assert any("[law] with [fault] plate_rate" in note for note in older.report().notes)
+    assert faultslip.models.family_of(CONFIGS / "san_andreas_1906_rate_state.toml").name == "rate_state_slider"
+    assert faultslip.run(faultslip.load_scene("san_andreas_1906_rate_state.toml")).family == "rate_state_slider"
+    normal = older["normal_stress"].to("Pa").magnitude  # tau / mu0 = 250 bar / 0.65
+    scene = tmp_path / "own.toml"
+    scene.write_text(OWN_FORM_1906.format(normal=repr(normal)), encoding="utf-8")
+    own = faultslip.run(scene)
+    assert own.family == "rate_state_slider"
+    for key in ("slip_per_event", "recurrence_period"):  # the same physics, through either door
+        assert own[key].to_base_units().magnitude == pytest.approx(older[key].to_base_units().magnitude, rel=1e-3)
+    simulated = cli("simulate", "san_andreas_1906_rate_state.toml", "--cycles", "2", "--json")
+    assert simulated.code == 0, simulated.err
+    swept = faultslip.sweep("san_andreas_1906_rate_state.toml", critical_slip=["4 mm", "8 mm"])
+    assert swept.attrs["faultslip_family"] == "rate_state_slider"

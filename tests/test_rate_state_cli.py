@@ -168,4 +168,4 @@ def test_simulate_writes_a_rate_state_faults_cycles(cli, tmp_path):
 
 def test_run_refuses_a_seed_method_for_a_rate_state_scene_rather_than_ignore_it(cli):
     assert_clean_error(cli("run", "configs/san_andreas_1906_rate_state.toml", "--method", "exact_cycle"),
-                       "is one of the seed law's")
+                       "runs one slider (method auto or one_slider)")

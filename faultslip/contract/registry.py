@@ -41,7 +41,7 @@ class Family:
     run_options: tuple = ()  # the options of run beyond method and tolerance (allow_large)
     why: str = ""  # why the other options do not apply, said when one is given
     read_scene: Callable | None = None
-    cells: object = None
+    cells: object = None  # a Cells, or scene -> Cells for a family whose scenes come in more than one shape
     #: () -> the family's methods, each {name, friction_laws, domain, cost_model} ('faultslip methods')
     methods: Callable | None = None
 
@@ -58,7 +58,8 @@ class Declaration:
 #: Every family. The first is the default.
 DECLARATIONS = {
     "spring_slider": Declaration("faultslip.models.spring_slider"),
-    "rate_state_slider": Declaration("faultslip.models.rate_state_slider", table="law"),
+    # its own form ([law]), and the older one: a seed-law fault scene with [friction] law = "rate_state"
+    "rate_state_slider": Declaration("faultslip.models.rate_state_slider", table="law", friction_law="rate_state"),
     "vibration": Declaration("faultslip.models.vibration", table="vibration"),
     "nanoscale": Declaration("faultslip.models.nanoscale", friction_law="nanoscale"),
     "asperity": Declaration("faultslip.models.asperity", friction_law="asperity"),
@@ -111,6 +112,12 @@ def load(name: str) -> Family:
 def families() -> dict[str, Family]:
     """Every family, loaded."""
     return {name: load(name) for name in DECLARATIONS}
+
+
+def cells_of(family: Family, scene):
+    """The :class:`~faultslip.contract.cells.Cells` that sweep ``scene`` (a family may have one per scene shape)."""
+    cells = family.cells
+    return cells(scene) if callable(cells) and not hasattr(cells, "evaluate") else cells
 
 
 #: the fields of a method's declaration, as 'faultslip methods' prints them

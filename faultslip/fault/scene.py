@@ -145,6 +145,12 @@ class Scene:
         """Whether the scene's friction is rate-and-state (``[friction] law = "rate_state"``)."""
         return self.tables.get("friction", {}).get("law", "seed") == "rate_state"
 
+    @property
+    def family(self) -> str:
+        """The model family of this scene (:func:`faultslip.contract.family_of`): a fault with rate-and-state
+        friction is one rate-and-state block, whatever the shape of its file."""
+        return "rate_state_slider" if self.rate_state else "spring_slider"
+
     def rate_state_law(self):
         """The ``[friction]`` table's rate-and-state law: a registry ``fit`` or a, b, critical_slip (SI)."""
         spec = self.tables.get("friction", {})

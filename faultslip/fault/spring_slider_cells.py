@@ -594,11 +594,15 @@ def scene_kind(scene) -> str:
 
 
 class SpringSliderCells:
-    """The spring-slider family's sweep (:class:`faultslip.contract.cells.Cells`): vectorised over a block."""
+    """The seed law's sweep (:class:`faultslip.contract.cells.Cells`), vectorised over a block; and, as
+    :data:`RATE_STATE_CELLS`, a fault scene's with ``[friction] law = "rate_state"`` (the older form of the
+    rate-and-state slider's scenes): K / K_c in closed form and cycles where asked, vectorised too."""
 
-    label = "a spring-slider study"
     checkpoints = False
     default_tolerance = 1e-6
+
+    def __init__(self, label: str = "a spring-slider study"):
+        self.label = label
 
     def parameters(self, scene) -> dict:
         return {"fault": FAULT_PARAMETERS, "lab": LAB_PARAMETERS, "rate_state": RATE_STATE_PARAMETERS}[scene_kind(scene)]
@@ -640,6 +644,8 @@ class SpringSliderCells:
 
 
 CELLS = SpringSliderCells()
+#: the same engine on a rate-and-state fault scene of the older form (the rate-and-state slider's family)
+RATE_STATE_CELLS = SpringSliderCells("a rate-and-state study")
 
 
 def read_scene(text: str, source: str, path=None):

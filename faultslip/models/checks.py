@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from faultslip.contract.cells import cell_value
-from faultslip.contract.registry import METHOD_FIELDS, load, read_scene
+from faultslip.contract.registry import METHOD_FIELDS, cells_of, load, read_scene
 from faultslip.errors import FaultslipError
 from faultslip.models.result import Result
 from faultslip.io.netcdf import write_dataset
@@ -69,8 +69,6 @@ def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, si
     family = load(name)
     _require(family.read_scene is not None and family.cells is not None,
              f"{name}: a family declares read_scene and cells (faultslip.contract)")
-    for attribute in ("label", "checkpoints", "default_tolerance"):
-        _require(hasattr(family.cells, attribute), f"{name}: its cells have no {attribute}")
     rows = family.methods() if family.methods else []
     _require(rows and all(row.get(key) for row in rows for key in METHOD_FIELDS),
              f"{name}: declares its methods, each with {', '.join(METHOD_FIELDS)} ('faultslip methods')")
@@ -82,15 +80,18 @@ def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, si
     # a scene read for a study varies by its declared parameters, and reads back
     loaded, found = read_scene(scene)
     _require(found.name == name, f"{name}: its scene reads as a {found.name} scene")
-    parameters = family.cells.parameters(loaded)
+    cells = cells_of(family, loaded)
+    for attribute in ("label", "checkpoints", "default_tolerance"):
+        _require(hasattr(cells, attribute), f"{name}: its cells have no {attribute}")
+    parameters = cells.parameters(loaded)
     _require(parameters and all(p.name == key for key, p in parameters.items()),
              f"{name}: declares its sweepable parameters by name")
     for key in sweep_values:
         _require(key in parameters, f"{name}: {key} is not among its sweepable parameters")
     # the declared outputs are the run's, in their units and flags
-    study = Study(name="check", scene=loaded, dims={}, method="auto", tolerance=family.cells.default_tolerance,
+    study = Study(name="check", scene=loaded, dims={}, method="auto", tolerance=cells.default_tolerance,
                   family=family)
-    outputs = family.cells.outputs(study)
+    outputs = cells.outputs(study)
     if outputs is not None:
         for output in outputs.values():
             try:
@@ -134,10 +135,11 @@ def read_or_refuse(name: str, text: str) -> str | None:
     family = load(name)
     try:
         scene = family.read_scene(text, "fuzzed.toml", None)
-        study = Study(name="fuzz", scene=scene, dims={}, method="auto", tolerance=family.cells.default_tolerance,
+        cells = cells_of(family, scene)
+        study = Study(name="fuzz", scene=scene, dims={}, method="auto", tolerance=cells.default_tolerance,
                       family=family)
-        family.cells.parameters(scene)
-        family.cells.check(study, "[study] in fuzz:", "fuzz")
+        cells.parameters(scene)
+        cells.check(study, "[study] in fuzz:", "fuzz")
     except FaultslipError as exc:
         return str(exc)
     return None

@@ -4,6 +4,7 @@ a fault's quasi-dynamic earthquake cycles on one spring-block (Dieterich-Ruina f
 from __future__ import annotations
 
 import math
+import os
 
 from faultslip.dynamics.rate_state.methods import CYCLE_METHODS
 from faultslip.dynamics.rate_state.slider import fault_cycles, simulate_rate_state
@@ -11,6 +12,12 @@ from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.errors import InputError
+from faultslip.fault.rate_state_fault import cycles_dataset
+from faultslip.fault.scene import Scene, estimate_scene_rate_state, has_friction_law, load_scene, run_scene
+from faultslip.fault.spring_slider_cells import RATE_STATE_CELLS
+from faultslip.fault.spring_slider_cells import read_scene as read_seed_law_scene
+from faultslip.io.resources import parse_toml
+from faultslip.models.common import note_origin
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.report import Report
 from faultslip.models.fault_2d import simulate_fault
@@ -102,6 +109,52 @@ def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
 #: The methods of a fault scene: one slider (K = G / D) or the 2-D fault it stands for.
 FAULT_METHODS = ("auto", "one_slider", "fault_2d")
 
+#: What a scene of the older form is told (issue 40: one family, whatever the shape of its file).
+OLDER_FORM = ("read as one rate-and-state block from the seed-law form of a fault scene ([fault] slip_rate with "
+              "[friction] law = \"rate_state\"); the rate-and-state slider's own form is [law] with [fault] "
+              "plate_rate (configs/rsf_fault_bp1.toml)")
+
+
+def _older_form(scene):
+    """The seed-law :class:`~faultslip.fault.scene.Scene` of a scene in the older form, else None."""
+    if isinstance(scene, Scene):
+        return scene if scene.rate_state else None
+    if isinstance(scene, (str, os.PathLike)) and has_friction_law(scene, "rate_state"):
+        return load_scene(scene)
+    return None
+
+
+def _run_older_form(scene, method, tolerance) -> Result:
+    if method not in (None, "auto", "one_slider"):
+        raise InputError(f"a rate-and-state fault in the seed-law form runs one slider (method auto or one_slider), "
+                         f"got {method!r}; the 2-D fault takes the family's own form ([law] with [fault] plate_rate)")
+    report = run_scene(scene, method="auto", tolerance=tolerance)
+    report.note(OLDER_FORM)
+    return Result("rate_state_slider", report)
+
+
+def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
+    """A fault scene with rate-and-state friction: its quasi-dynamic cycles as a time series."""
+    if slip_solver is not None or rtol is not None:
+        raise InputError("--slip-solver and --rtol belong to the seed law's simulation; a rate-and-state fault's "
+                         "cycles run at rtol 1e-7 with the method auto picks")
+    cycles = 5 if cycles is None else cycles
+    if not 1 <= cycles <= 1000:
+        raise InputError(f"--cycles must be from 1 to 1000 for a rate-and-state fault, got {cycles}")
+    estimate = estimate_scene_rate_state(scene, cycles=cycles, record=True)
+    report = estimate.report(f"faultslip simulation (rate-and-state fault): {scene.name}")
+    note_origin(report, scene.origin)
+    report.note(OLDER_FORM)
+    if estimate.cycles is None:
+        report.note("steady sliding is stable here (K >= K_c): no cycles to record")
+        return Result("rate_state_slider", report)
+    dataset = cycles_dataset(estimate, f"faultslip rate-and-state cycles: {scene.name}")
+    dataset.attrs["scene_text"] = scene.text
+    report.add("samples", int(dataset.sizes["time"]), label="time samples (the integrator's steps)")
+    return Result("rate_state_slider", report, dataset, lambda: cycles_figure(dataset))
+
+
+
 
 def run(scene, method=None, tolerance=None) -> Result:
     """A laboratory slider's load history, or a fault's cycles: what the scene describes.
@@ -112,6 +165,9 @@ def run(scene, method=None, tolerance=None) -> Result:
     against the 2-D fault (faultslip.models.model_error, from the shipped calibration) meets it,
     and the 2-D fault otherwise; without a tolerance it takes one slider and declares its error.
     """
+    older = _older_form(scene)
+    if older is not None:
+        return _run_older_form(older, method, tolerance)
     loaded = load_rate_state_scene(scene)
     if loaded.kind == "lab":
         if method not in (None, "auto") or tolerance is not None:
@@ -156,8 +212,14 @@ def _two_d(loaded, reason: str, elements_per_process_zone: float = 8.0) -> Resul
     return result
 
 
-def simulate(scene, cycles=None) -> Result:
+def simulate(scene, cycles=None, slip_solver=None, rtol=None) -> Result:
     """The same as :func:`run`; ``cycles`` sets a fault's number of earthquake cycles (default 5)."""
+    older = _older_form(scene)
+    if older is not None:
+        return _rate_state_cycles(older, cycles, slip_solver, rtol)
+    if slip_solver is not None or rtol is not None:
+        raise InputError("--slip-solver and --rtol belong to the seed law's simulation; a rate-and-state slider's "
+                         "integrator and tolerance are chosen for it")
     loaded = load_rate_state_scene(scene)
     if loaded.kind == "lab":
         if cycles is not None:
@@ -216,14 +278,29 @@ def _is_fault(scene) -> bool:
     return "fault" in scene.document()
 
 
-CELLS = PerCell("a rate-and-state study",
-                lambda scene: PARAMETERS if _is_fault(scene) else LAW_PARAMETERS,
-                lambda scene: FAULT_OUTPUTS if _is_fault(scene) else LAB_OUTPUTS,
-                run, load_rate_state_scene, methods=("auto", "one_slider"), seconds=0.05)
+PER_CELL = PerCell("a rate-and-state study",
+                   lambda scene: PARAMETERS if _is_fault(scene) else LAW_PARAMETERS,
+                   lambda scene: FAULT_OUTPUTS if _is_fault(scene) else LAB_OUTPUTS,
+                   run, load_rate_state_scene, methods=("auto", "one_slider"), seconds=0.05)
+_READ_OWN = toml_reader("rate_state_slider", PARAMETERS)
+
+
+def read_scene(text: str, source: str, path=None):
+    """A study's base: the family's own form as a TomlScene, the older seed-law form as its Scene."""
+    friction = parse_toml(text, source).get("friction")
+    if isinstance(friction, dict) and friction.get("law") == "rate_state":
+        return read_seed_law_scene(text, source, path)
+    return _READ_OWN(text, source, path)
+
+
+def cells(scene):
+    """The older form sweeps vectorised (K / K_c in closed form, cycles where asked); the family's own form
+    cell by cell, each a run."""
+    return RATE_STATE_CELLS if isinstance(scene, Scene) else PER_CELL
 
 FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: velocity steps in the lab, quasi-dynamic "
                          "cycles of a fault on one spring-block", run, simulate,
-                         simulate_options=("cycles",),
+                         simulate_options=("cycles", "slip_solver", "rtol"),
                          why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles",
-                         read_scene=toml_reader("rate_state_slider", PARAMETERS), cells=CELLS,
+                         read_scene=read_scene, cells=cells,
                          methods=lambda: [method.describe() for method in CYCLE_METHODS.values()]))

@@ -7,18 +7,16 @@ from faultslip.dynamics.methods import describe_seed_methods
 from faultslip.dynamics.spring_slider.simulate import simulate as integrate
 from faultslip.dynamics.spring_slider.simulate import summary_report, uniform_channels
 from faultslip.errors import InputError
-from faultslip.fault.rate_state_fault import cycles_dataset
-from faultslip.fault.scene import CHOICES, estimate_scene_rate_state, load_scene, run_scene
+from faultslip.fault.scene import CHOICES, load_scene, run_scene
 from faultslip.fault.scaling import Fault
 from faultslip.fault.spring_slider_cells import CELLS, read_scene
 from faultslip.fault.synthetic import simulated_events
 from faultslip.io import budget
 from faultslip.io.waveforms import build_stream
 from faultslip.models.common import note_origin
-from faultslip.contract.registry import Family, register
+from faultslip.contract.registry import Family, load, register
 from faultslip.models.result import Result
 from faultslip.plots.figures import sawtooth_figure
-from faultslip.plots.rate_state import cycles_figure
 
 
 def run(scene=None, method=None, tolerance=None) -> Result:
@@ -26,7 +24,10 @@ def run(scene=None, method=None, tolerance=None) -> Result:
     :class:`~faultslip.fault.scaling.Fault` gives its estimate, as ``faultslip fault`` does."""
     if isinstance(scene, Fault):
         return Result("spring_slider", scene.estimate(method=method or "auto", tolerance=tolerance).report())
-    return Result("spring_slider", run_scene(load_scene(scene), method=method, tolerance=tolerance))
+    loaded = load_scene(scene)
+    if loaded.rate_state:  # one rate-and-state block: its own family, whatever the shape of its file
+        return load(loaded.family).run(loaded, method=method, tolerance=tolerance)
+    return Result("spring_slider", run_scene(loaded, method=method, tolerance=tolerance))
 
 
 def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: bool = False, stream: bool = False,
@@ -45,7 +46,7 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
         if stream or events:
             raise InputError("--stream and --events apply to seed-law scenes; a rate-and-state scene's cycles are "
                              "written with -o")
-        return _rate_state_cycles(loaded, cycles, slip_solver, rtol)
+        return load(loaded.family).simulate(loaded, cycles=cycles, slip_solver=slip_solver, rtol=rtol)
     if events and loaded.kind != "fault":
         raise InputError("--events writes earthquakes with Mw from M0: it needs a fault scene")
     settings = loaded.simulation
@@ -80,26 +81,6 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
 
     return Result("spring_slider", report, dataset, lambda: sawtooth_figure(dataset),
                   extras={"stream": make_stream, **({"events": make_events} if loaded.kind == "fault" else {})})
-
-
-def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
-    """A fault scene with rate-and-state friction: its quasi-dynamic cycles as a time series."""
-    if slip_solver is not None or rtol is not None:
-        raise InputError("--slip-solver and --rtol belong to the seed law's simulation; a rate-and-state fault's "
-                         "cycles run at rtol 1e-7 with the method auto picks")
-    cycles = 5 if cycles is None else cycles
-    if not 1 <= cycles <= 1000:
-        raise InputError(f"--cycles must be from 1 to 1000 for a rate-and-state fault, got {cycles}")
-    estimate = estimate_scene_rate_state(scene, cycles=cycles, record=True)
-    report = estimate.report(f"faultslip simulation (rate-and-state fault): {scene.name}")
-    note_origin(report, scene.origin)
-    if estimate.cycles is None:
-        report.note("steady sliding is stable here (K >= K_c): no cycles to record")
-        return Result("spring_slider", report)
-    dataset = cycles_dataset(estimate, f"faultslip rate-and-state cycles: {scene.name}")
-    dataset.attrs["scene_text"] = scene.text
-    report.add("samples", int(dataset.sizes["time"]), label="time samples (the integrator's steps)")
-    return Result("spring_slider", report, dataset, lambda: cycles_figure(dataset))
 
 
 FAMILY = register(Family("spring_slider", "seed 003: the spring-slider, in the lab and scaled to a fault (the "

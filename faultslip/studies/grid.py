@@ -34,7 +34,7 @@ import numpy as np
 
 from faultslip import __version__, ranges
 from faultslip.contract.cells import aligned
-from faultslip.contract.registry import DECLARATIONS, family_of, load, read_scene, read_scene_text
+from faultslip.contract.registry import DECLARATIONS, cells_of, family_of, load, read_scene, read_scene_text
 from faultslip.errors import InputError, did_you_mean
 from faultslip.io import budget
 from faultslip.io.budget import MAX_DIMENSION_VALUES
@@ -89,7 +89,7 @@ class Study:
     @property
     def cells(self):
         """The family's sweep (:class:`faultslip.contract.cells.Cells`)."""
-        return self.family.cells
+        return cells_of(self.family, self.scene)
 
     @property
     def parameters(self) -> dict:
@@ -217,7 +217,7 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
         scene, family = read_scene_text(base_text, str(head["base"]))
     else:  # relative to the study file; a bare name may also mean a bundled scene
         scene, family = read_scene(head["base"], base_dir=base_dir)
-    cells = family.cells
+    cells = cells_of(family, scene)
     tolerance = _check_tolerance(head.get("tolerance", cells.default_tolerance), f"[study] in {source}:")
     dims, units_text = {}, {}
     for name, spec in document.get("sweep", {}).items():
@@ -412,7 +412,7 @@ def sweep(scene, method: str = "auto", tolerance: float | None = None, chunks: d
     >>> sweep("vibration_seed002.toml", speed=["5 in/s", "10 in/s", "15 in/s"])
     """
     scene, family = read_scene(scene)
-    cells = family.cells
+    cells = cells_of(family, scene)
     parsed = {}
     for name, values in dims.items():
         parameter = _sweepable(cells, scene, name, "")
