@@ -2,45 +2,32 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
-
-from faultslip.constants import STANDARD_GRAVITY
 import numpy as np
 
 from faultslip import ranges
 from faultslip.cli.common import _locked, _number, _outputs, _save_run
 from faultslip.cli.printing import _emit, _progress
-from faultslip.dynamics.vibration import (amplitude_against_speed, amplitude_table, error_against_eps, hand_over_map,
-                                          regions, settled_amplitude)
-from faultslip.dynamics.vibration import report as averaging_report
-from faultslip.dynamics.asperity import peak_speeds, speed_sweep
-from faultslip.evaluation.asperity_map import OUTCOMES, asperity_map
-from faultslip.dynamics.asperity import report as asperity_report
-from faultslip.dynamics.nanoscale import choose_method
-from faultslip.dynamics.nanoscale import report as nanoscale_report
-from faultslip.dynamics.nanoscale import run_dataset as nanoscale_dataset
-from faultslip.dynamics.nanoscale import with_damping
+from faultslip.constants import STANDARD_GRAVITY
 from faultslip.dynamics.rate_state.slider import RateStateSlider, simulate_rate_state
+from faultslip.dynamics.vibration import amplitude_table, error_against_eps, hand_over_map, regions
 from faultslip.errors import FaultslipError, InputError
-from faultslip.lab.fit_workflow import INTERVALS_NOTE, fit_record
-from faultslip.lab.posterior import parse_prior
-from faultslip.plots.posterior import corner_figure, record_fit_figure
 from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_data
 from faultslip.friction.materials import check_fit_name, save_user_fit
 from faultslip.io.atomic import save_figure
-from faultslip.io.outputs import FIGURE_SUFFIXES
-from faultslip.models.asperity.scene import load_asperity_scene
-from faultslip.models.nanoscale.scene import load_nanoscale_scene
 from faultslip.io.netcdf import write_dataset
-from faultslip.plots.asperity import map_figure as asperity_map_figure
-from faultslip.plots.asperity import sweep_figure as asperity_sweep_figure
-from faultslip.models.vibration.scene import load_vibration_scene
+from faultslip.io.outputs import FIGURE_SUFFIXES
 from faultslip.lab.classroom import analyse as analyse_classroom
 from faultslip.lab.classroom import is_accelerometer_csv, read_accelerometer
+from faultslip.lab.fit_workflow import INTERVALS_NOTE, fit_record
+from faultslip.lab.posterior import parse_prior
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
+from faultslip.models.asperity import speed_study
+from faultslip.models.nanoscale import swing
+from faultslip.models.vibration import amplitude_study
+from faultslip.plots.asperity import map_figure as asperity_map_figure
 from faultslip.plots.figures import classroom_figure
-from faultslip.plots.vibration import (amplitude_speed_figure, error_figure, hand_over_figure, nanoscale_figure,
-                                       regions_figure)
+from faultslip.plots.posterior import corner_figure, record_fit_figure
+from faultslip.plots.vibration import error_figure, hand_over_figure, regions_figure
 from faultslip.units import to_si
 
 
@@ -204,21 +191,15 @@ def cmd_decay(args) -> int:
 
 
 def cmd_quasi_harmonic(args) -> int:
-    system, notes = load_vibration_scene(args.scene)
-    if args.speed:
-        system = replace(system, speed=to_si(args.speed, "speed", "--speed"))
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])["plot"]
-    sweep = None
+    speeds = None
     if args.speeds:
-        start, stop = (to_si(text, "speed", "--speeds") for text in args.speeds[:2])
-        count = int(_number(args.speeds[2], "--speeds count"))
-        if not (0 < start < stop and 2 <= count <= 2000):
-            raise InputError("--speeds needs START < STOP, both positive, and a count from 2 to 2000")
-        sweep = amplitude_against_speed(system, np.linspace(start, stop, count))
-    result = system.analyse()
-    tolerance = _number(args.tolerance, "--tolerance") if args.tolerance else 1e-3
-    settled = settled_amplitude(system, args.method, tolerance) if result.valid else None
-    report = averaging_report(system, result, sweep if args.json else None, settled)
+        speeds = (args.speeds[0], args.speeds[1], int(_number(args.speeds[2], "--speeds count")))
+    if plot and speeds is None:
+        raise InputError("--plot draws the amplitude against speed: give --speeds START STOP COUNT too")
+    result = amplitude_study(args.scene, speed=args.speed, speeds=speeds, method=args.method,
+                             tolerance=_number(args.tolerance, "--tolerance") if args.tolerance else 1e-3)
+    report, sweep, system = result.report(), result.extras["sweep"], result.extras["system"]
     if args.regions:
         chart = _outputs(args, {"regions": ("--regions", FIGURE_SUFFIXES)}, [args.scene])["regions"]
         if not (args.speeds and args.dampings):
@@ -241,14 +222,9 @@ def cmd_quasi_harmonic(args) -> int:
         with _locked(chart):
             save_figure(error_figure(error_against_eps()), chart, dpi=150)
         report.note(f"averaging's error against the small parameter drawn to {args.error_chart}")
-    for key in ("origin", "description"):
-        if notes.get(key):
-            report.notes.insert(0, notes[key])
     if plot:
-        if sweep is None:
-            raise InputError("--plot draws the amplitude against speed: give --speeds START STOP COUNT too")
         with _locked(plot):
-            save_figure(amplitude_speed_figure(system, sweep), plot, dpi=150)
+            save_figure(result.plot(), plot, dpi=150)
         report.note(f"amplitude against speed drawn to {args.plot}")
     code = _emit(report, args.json)
     if sweep is not None and not args.json:
@@ -257,75 +233,30 @@ def cmd_quasi_harmonic(args) -> int:
 
 
 def cmd_nanoscale(args) -> int:
-    model, settings, notes = load_nanoscale_scene(args.scene)
-    if args.damping is not None:
-        model = with_damping(model, _number(args.damping, "--damping"))
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
-    choice = choose_method(model, ("regime", "force_swing", "time_series"), "nanoscale_LSODA", settings["tolerance"])
-    run = None if args.no_run else model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol,
-                                                        allow_large=args.allow_large)
-    cycle = model.settled_cycle(settings["tolerance"], rtol=choice.rtol, allow_large=args.allow_large) \
-        if run is not None and model.stick_slip else None
-    report = nanoscale_report(model, run, None if args.no_run else choice, cycle=cycle)
-    for key in ("origin", "description"):
-        if notes.get(key):
-            report.notes.insert(0, notes[key])
-    if run is not None:
-        _save_run(report, paths, args, nanoscale_dataset(run) if paths["output"] else None,
-                  lambda: nanoscale_figure(run))
+    result = swing(args.scene, damping=None if args.damping is None else _number(args.damping, "--damping"),
+                   integrate=not args.no_run, allow_large=args.allow_large)
+    report = result.report()
+    if result.series is not None:
+        _save_run(report, paths, args, result.series if paths["output"] else None, result.plot)
     return _emit(report, args.json)
-
-
-MAP_SPEEDS = (1e-3, 3.6e-3, 0.03, 0.1, 0.2, 0.3, 0.45, 0.7)
-MAP_SLOPE_STDS = (0.1, 0.2, 0.3)
 
 
 def cmd_asperity(args) -> int:
     """Seed 004: a speed sweep of the asperity slider (m_D, stick, loops), its peaks against eqs. (28)-(29)."""
-    model, settings, notes = load_asperity_scene(args.scene)
-    low, high = (to_si(text, "speed", name, "m/s") for text, name in ((args.low, "--from"), (args.high, "--to")))
-    if not (0 < low < high):
-        raise InputError(f"--from must be below --to and positive, got {low:g} and {high:g} m/s")
-    count = args.points
-    if not 3 <= count <= 2000:
-        raise InputError(f"--points must be from 3 to 2000, got {count}")
-    if args.dashpot is not None:
-        model = replace(model, dashpot=to_si(args.dashpot, "damping", "--dashpot", "N*s/m"))
-    if args.method not in ("asperity_quasistatic", "asperity_LSODA"):
-        raise InputError(f"--method must be asperity_quasistatic or asperity_LSODA, got {args.method!r}")
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                             "map": ("--map", FIGURE_SUFFIXES)}, [args.scene])
-    for speed in (low, high):  # the model refuses an out-of-range speed before any cell runs
-        replace(model, platform_speed=speed)
-    speeds = np.linspace(low, high, count)
-    sweep = speed_sweep(model, speeds, duration=settings["duration"], method=args.method,
-                        progress=_progress("speed sweep", not args.json, "speed"))
-    report = asperity_report(model, None, None, f"faultslip asperity speed sweep (seed 004): {notes['name']}")
-    report.section("Sweep")
-    report.add("method", args.method).add("points", count)
-    peaks = peak_speeds(sweep)
-    report.add("peak_speeds", [float(p) for p in peaks], "m/s", label="local maxima of m_D (Tables II-III)")
-    sticking = sweep["platform_speed"].values[sweep["stick_fraction"].fillna(0).values > 1e-3]
-    report.add("stick_slip_speeds", [float(s) for s in sticking], "m/s", label="speeds with stick")
-    failed = {str(v): int((sweep["status"].values == v).sum()) for v in set(sweep["status"].values) if v != "ok"}
-    if failed:
-        report.add("failed_cells", failed, label="cells without a result, by reason")
-    report.add("computing_time", float(sweep["elapsed"].sum()), "s")
-    if paths["map"]:  # where each integrator works, over speed and slope spread (~30 s)
-        grid = asperity_map(MAP_SPEEDS, MAP_SLOPE_STDS, replace(model, dashpot=200.0), duration=0.2)
-        report.section("Integrator map (C = 200 kg/s)")
-        for method in grid["method"].values:
-            codes = grid["outcome"].sel({"method": method}).values.ravel()
-            report.add(f"map_{method}", {OUTCOMES[c]: int((codes == c).sum()) for c in sorted(set(codes))},
-                       label=f"{method}: cells by outcome")
+    result = speed_study(args.scene, args.low, args.high, args.points, dashpot=args.dashpot, method=args.method,
+                         integrator_map=bool(paths["map"]), progress=_progress("speed sweep", not args.json, "speed"))
+    report = result.report()
     with _locked(paths["output"], paths["plot"], paths["map"]):
         if paths["map"]:
-            save_figure(asperity_map_figure(grid), paths["map"])
+            save_figure(asperity_map_figure(result.extras["map"]), paths["map"])
             report.note(f"integrator map written to {args.map}")
         if paths["output"]:
-            write_dataset(sweep, paths["output"])
+            write_dataset(result.series, paths["output"])
             report.note(f"sweep written to {args.output}")
         if paths["plot"]:
-            save_figure(asperity_sweep_figure([sweep], [notes["name"]]), paths["plot"])
+            save_figure(result.plot(), paths["plot"])
             report.note(f"figure written to {args.plot}")
     return _emit(report, args.json)

@@ -524,7 +524,8 @@ def report(system: QuasiHarmonic, result: QuasiHarmonicResult, sweep: dict | Non
         r.add("amplitude_against_speed", [
             {"speed": {"value": float(v), "units": "m/s"},
              "amplitude": {"value": None if math.isnan(a) else float(a), "units": "m"}, "sticks": bool(s)}
-            for v, a, s in zip(sweep["speed"], sweep["amplitude"], sweep["sticks"])])
+            for v, a, s in zip(sweep["speed"], sweep["amplitude"], sweep["sticks"])],
+              in_text=False)  # the text shows it as amplitude_table
     for note in result.notes:
         r.note(note)
     r.note("method: Kryloff-Bogoliuboff averaging of seed 002 eq. (20); polynomial curves in closed form "

@@ -31,6 +31,7 @@ class Item:
     label: str = ""
     also: tuple[str, ...] = ()  # extra display units for the text report
     error: float | None = None  # absolute uncertainty (SI): the text shows the digits it supports
+    in_text: bool = True  # False: a table for the JSON, which the text report shows as a table of its own
 
     @property
     def is_quantity(self) -> bool:
@@ -48,8 +49,8 @@ class Report:
         self.sections[heading] = len(self.items)
         return self
 
-    def add(self, key, value, units=None, label="", also=(), error=None) -> "Report":
-        self.items.append(Item(key, value, units, label or key.replace("_", " "), tuple(also), error))
+    def add(self, key, value, units=None, label="", also=(), error=None, in_text: bool = True) -> "Report":
+        self.items.append(Item(key, value, units, label or key.replace("_", " "), tuple(also), error, in_text))
         return self
 
     def set(self, key, value) -> "Report":
@@ -95,6 +96,8 @@ class Report:
             if index in starts:
                 lines.append("")
                 lines.append(starts[index])
+            if not item.in_text:
+                continue
             shown = _format_item(item)
             if not shown:  # a sentence of its own, folded to a readable width
                 lines.extend(textwrap.wrap(item.label, width=LINE_WIDTH, initial_indent="  ",

@@ -3,6 +3,10 @@ the cheapest accurate integrator."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
+import numpy as np
+
 from faultslip.dynamics.asperity import choose_method
 from faultslip.dynamics.asperity import report as asperity_report
 from faultslip.dynamics.asperity import run_dataset
@@ -10,13 +14,15 @@ from faultslip.dynamics.asperity import simulate as integrate
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
-from faultslip.dynamics.asperity import METHODS
+from faultslip.dynamics.asperity import METHODS, peak_speeds, speed_sweep
 from faultslip.errors import InputError, SolverError
 from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.common import note_origin
 from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
-from faultslip.plots.asperity import response_figure
+from faultslip.evaluation.asperity_map import OUTCOMES, asperity_map
+from faultslip.plots.asperity import response_figure, sweep_figure
+from faultslip.units import to_si
 
 
 def run(scene, method=None, tolerance=None) -> Result:
@@ -27,6 +33,74 @@ def run(scene, method=None, tolerance=None) -> Result:
     report = asperity_report(model, response, choice, f"faultslip asperity scene (seed 004): {notes['name']}")
     note_origin(report, notes.get("origin"))
     return Result("asperity", report)
+
+
+#: the integrator map's speeds (m/s) and slope spreads (rad): where each integrator works (about 30 s)
+MAP_SPEEDS = (1e-3, 3.6e-3, 0.03, 0.1, 0.2, 0.3, 0.45, 0.7)
+MAP_SLOPE_STDS = (0.1, 0.2, 0.3)
+
+
+def speed_study(scene, low, high, points: int = 40, dashpot=None, method: str = "asperity_quasistatic",
+                integrator_map: bool = False, progress=None) -> Result:
+    """The asperity slider swept over platform speed: m_D, stick and loops, its peaks against eqs. (28)-(29)
+    (seed 004 Tables II-III; ``faultslip asperity``).
+
+    Parameters
+    ----------
+    scene : str, path or TomlScene
+        An asperity scene.
+    low, high : str or Quantity
+        The platform speeds swept, with units ("1 mm/s").
+    points : int
+        Speeds in the sweep, from 3 to 2000.
+    dashpot : str or Quantity, optional
+        The dashpot C replacing the scene's ("200 kg/s").
+    method : str
+        asperity_quasistatic or asperity_LSODA.
+    integrator_map : bool
+        Also map where each integrator works, over speed and slope spread (about 30 s).
+    progress : callable, optional
+        ``(done, total)`` over speeds (:mod:`faultslip.io.progress`).
+
+    Returns
+    -------
+    Result
+        The report (peak speeds in m/s, ...), the sweep's Dataset over platform speed, its figure, and
+        ``extras["map"]`` the integrator map's Dataset where asked.
+    """
+    model, settings, notes = load_asperity_scene(scene)
+    low, high = (to_si(text, "speed", name, "m/s") for text, name in ((low, "--from"), (high, "--to")))
+    if not (0 < low < high):
+        raise InputError(f"--from must be below --to and positive, got {low:g} and {high:g} m/s")
+    if isinstance(points, bool) or not isinstance(points, int) or not 3 <= points <= 2000:
+        raise InputError(f"--points must be from 3 to 2000, got {points}")
+    if dashpot is not None:
+        model = replace(model, dashpot=to_si(dashpot, "damping", "--dashpot", "N*s/m"))
+    if method not in ("asperity_quasistatic", "asperity_LSODA"):
+        raise InputError(f"--method must be asperity_quasistatic or asperity_LSODA, got {method!r}")
+    for speed in (low, high):  # the model refuses an out-of-range speed before any cell runs
+        replace(model, platform_speed=speed)
+    sweep = speed_sweep(model, np.linspace(low, high, points), duration=settings["duration"], method=method,
+                        progress=progress)
+    report = asperity_report(model, None, None, f"faultslip asperity speed sweep (seed 004): {notes['name']}")
+    report.section("Sweep")
+    report.add("method", method).add("points", points)
+    report.add("peak_speeds", [float(p) for p in peak_speeds(sweep)], "m/s", label="local maxima of m_D (Tables II-III)")
+    sticking = sweep["platform_speed"].values[sweep["stick_fraction"].fillna(0).values > 1e-3]
+    report.add("stick_slip_speeds", [float(s) for s in sticking], "m/s", label="speeds with stick")
+    failed = {str(v): int((sweep["status"].values == v).sum()) for v in set(sweep["status"].values) if v != "ok"}
+    if failed:
+        report.add("failed_cells", failed, label="cells without a result, by reason")
+    report.add("computing_time", float(sweep["elapsed"].sum()), "s")
+    grid = None
+    if integrator_map:
+        grid = asperity_map(MAP_SPEEDS, MAP_SLOPE_STDS, replace(model, dashpot=200.0), duration=0.2)
+        report.section("Integrator map (C = 200 kg/s)")
+        for name in grid["method"].values:
+            codes = grid["outcome"].sel({"method": name}).values.ravel()
+            report.add(f"map_{name}", {OUTCOMES[c]: int((codes == c).sum()) for c in sorted(set(codes))},
+                       label=f"{name}: cells by outcome")
+    return Result("asperity", report, sweep, lambda: sweep_figure([sweep], [notes["name"]]), extras={"map": grid})
 
 
 def simulate(scene) -> Result:

@@ -3,7 +3,7 @@ closed form, the LSODA run only where the swing needs it."""
 
 from __future__ import annotations
 
-from faultslip.dynamics.nanoscale import choose_method
+from faultslip.dynamics.nanoscale import choose_method, with_damping
 from faultslip.dynamics.nanoscale import report as nanoscale_report
 from faultslip.dynamics.nanoscale import run_dataset
 from faultslip.contract.cells import PerCell
@@ -31,6 +31,42 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False) -> Result
     report = nanoscale_report(model, None, choice, f"faultslip nanoscale scene: {notes['name']}", cycle=cycle)
     note_origin(report, notes.get("origin"))
     return Result("nanoscale", report)
+
+
+def swing(scene, damping: float | None = None, integrate: bool = True, allow_large: bool = False) -> Result:
+    """The regime, the threshold A_c and the settled force swing (``faultslip nanoscale``).
+
+    Parameters
+    ----------
+    scene : str, path or TomlScene
+        A nanoscale scene (seed 001's dimensionless toy model).
+    damping : float, optional
+        The damping A replacing the scene's.
+    integrate : bool
+        Run LSODA over the scene's [run] (False: the linear stability alone, ``--no-run``).
+    allow_large : bool
+        Run beyond the time and memory budget.
+
+    Returns
+    -------
+    Result
+        The report (dimensionless), the run's Dataset and seed 001's Fig. 3 where integrated.
+    """
+    model, settings, notes = load_nanoscale_scene(scene)
+    if damping is not None:
+        model = with_damping(model, damping)
+    choice = choose_method(model, ("regime", "force_swing", "time_series"), "nanoscale_LSODA", settings["tolerance"])
+    integrated = model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol,
+                                allow_large=allow_large) if integrate else None
+    cycle = (model.settled_cycle(settings["tolerance"], rtol=choice.rtol, allow_large=allow_large)
+             if integrated is not None and model.stick_slip else None)
+    report = nanoscale_report(model, integrated, choice if integrate else None, cycle=cycle)
+    for key in ("origin", "description"):
+        if notes.get(key):
+            report.notes.insert(0, notes[key])
+    if integrated is None:
+        return Result("nanoscale", report)
+    return Result("nanoscale", report, run_dataset(integrated), lambda: nanoscale_figure(integrated))
 
 
 def simulate(scene, allow_large: bool = False) -> Result:

@@ -3,18 +3,24 @@ and eq. (10) integrated onto its cycle inside the averaged envelope."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
+import numpy as np
+
 from faultslip.dynamics.vibration import report as averaging_report
-from faultslip.dynamics.vibration import settled_amplitude, simulate_vibration, vibration_dataset, vibration_report
+from faultslip.dynamics.vibration import (amplitude_against_speed, settled_amplitude, simulate_vibration,
+                                          vibration_dataset, vibration_report)
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, parameters
 from faultslip.dynamics.vibration import METHODS as DECLARED_METHODS
 from faultslip.errors import InputError
+from faultslip.units import to_si
 from faultslip.models.vibration.scene import load_vibration_scene
 from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.models.common import note_origin
-from faultslip.plots.vibration import vibration_series_figure
+from faultslip.plots.vibration import amplitude_speed_figure, vibration_series_figure
 
 #: --method names of the CLI and their averaging methods
 METHODS = {None: "auto", "auto": "auto", "quasi_harmonic_averaging": "averaging",
@@ -33,6 +39,49 @@ def run(scene, method=None, tolerance=None) -> Result:
     report = averaging_report(system, analysis, None, settled)
     note_origin(report, notes.get("origin"))
     return Result("vibration", report)
+
+
+def amplitude_study(scene, speed=None, speeds=None, method: str = "auto", tolerance: float = 1e-3) -> Result:
+    """The settled amplitude at one driving speed, and against speed (``faultslip quasi-harmonic``).
+
+    Parameters
+    ----------
+    scene : str, path or TomlScene
+        A vibration scene (seed 002's apparatus).
+    speed : str or Quantity, optional
+        A driving speed with units replacing the scene's ("12 in/s").
+    speeds : tuple, optional
+        ``(start, stop, count)``: the amplitude against driving speed over that many speeds (seed 002 Figs.
+        10-11), in the report's JSON and the figure.
+    method : str
+        auto, averaging or integration (``faultslip quasi-harmonic --method``).
+    tolerance : float
+        The amplitude's relative error allowed.
+
+    Returns
+    -------
+    Result
+        The report (amplitude in m, growth rate in 1/s, ...), ``extras["sweep"]`` the arrays against speed, and
+        ``plot()`` the amplitude against speed.
+    """
+    system, notes = load_vibration_scene(scene)
+    if speed is not None:
+        system = replace(system, speed=to_si(speed, "speed", "--speed"))
+    sweep = None
+    if speeds is not None:
+        start, stop = (to_si(text, "speed", "--speeds") for text in speeds[:2])
+        count = speeds[2]
+        if not (0 < start < stop and isinstance(count, int) and 2 <= count <= 2000):
+            raise InputError("--speeds needs START < STOP, both positive, and a count from 2 to 2000")
+        sweep = amplitude_against_speed(system, np.linspace(start, stop, count))
+    analysis = system.analyse()
+    settled = settled_amplitude(system, method, tolerance) if analysis.valid else None
+    report = averaging_report(system, analysis, sweep, settled)
+    for key in ("origin", "description"):
+        if notes.get(key):
+            report.notes.insert(0, notes[key])
+    figure = (lambda: amplitude_speed_figure(system, sweep)) if sweep is not None else None
+    return Result("vibration", report, figure=figure, extras={"sweep": sweep, "system": system})
 
 
 def simulate(scene) -> Result:
