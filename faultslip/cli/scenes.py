@@ -10,11 +10,9 @@ from faultslip.cli.common import _locked, _number, _output_dir, _outputs, _save_
 from faultslip.cli.printing import _emit
 from faultslip.dynamics.spring_slider.critical import comparison_dataset, comparison_markdown, critical
 from faultslip.contract import method_rows
-from faultslip.dynamics.methods import solve
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
-from faultslip.fault.scene import load_scene
 from faultslip.friction.materials import bundled_lithologies, presets, resolve_material, user_rate_state_fits
 from faultslip.friction.registry import registry_path
 from faultslip.io.atomic import save_figure, write_text_atomic
@@ -24,7 +22,7 @@ from faultslip.io.outputs import FIGURE_SUFFIXES, check_output
 from faultslip.io.waveforms import (DEFAULT_START, MAX_SAMPLES, STREAM_SUFFIXES, check_datable, sac_path,
                                     write_stream)
 from faultslip.plots.figures import critical_comparison_figure
-from faultslip.units import to_si
+from faultslip.models.spring_slider import cycle as scene_cycle
 
 
 _FAULT_QUANTITIES = {
@@ -245,14 +243,6 @@ def _critical_table(args) -> int:
 
 
 def cmd_cycle(args) -> int:
-    scene = load_scene(args.scene)
-    system = scene.slider()
-    if (args.loading_rate is None) == (args.platform_speed is None):
-        raise InputError("give exactly one of --loading-rate or --platform-speed")
-    if args.loading_rate is not None:
-        system = system.at_loading_rate(to_si(args.loading_rate, "rate", "loading rate"))
-    else:
-        system = system.with_(platform_speed=to_si(args.platform_speed, "speed", "platform speed"))
-    tolerance = _tolerance(args) or scene.tolerance
-    solution = solve(system, method=args.method or scene.method, tolerance=tolerance, cycles=200)
-    return _emit(solution.report(f"faultslip cycle: {scene.name}"), args.json)
+    result = scene_cycle(args.scene, loading_rate=args.loading_rate, platform_speed=args.platform_speed,
+                         method=args.method, tolerance=_tolerance(args))
+    return _emit(result.report(), args.json)

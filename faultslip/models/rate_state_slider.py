@@ -212,6 +212,53 @@ def _two_d(loaded, reason: str, elements_per_process_zone: float = 8.0) -> Resul
     return result
 
 
+def stability(scene) -> Result:
+    """The critical stiffness k_c of a rate-and-state slider or fault, quasi-static, with the radiation damper
+    and with inertia, and k / k_c (``faultslip rate-state stability``; Ruina 1983, Rice and Ruina 1983).
+
+    Parameters
+    ----------
+    scene : str, path or RateStateScene
+        A rate-and-state scene (a laboratory slider or a fault) with one state variable.
+
+    Returns
+    -------
+    Result
+        k_c in the scene's stiffness unit (Pa/m on a fault; 1/m for friction per slip; N/m), k / k_c and the
+        regime it implies.
+    """
+    scene = load_rate_state_scene(scene)
+    slider, law = scene.slider, scene.law
+    if law.two_state:
+        raise InputError("the critical stiffness of a two-state law has no closed form here; give one state variable")
+    speed = scene.plate_rate if scene.kind == "fault" else scene.history.speeds[0]
+    report = Report(f"faultslip rate-state stability: {scene.name}")
+    k_c = slider.critical_stiffness()
+    unit = "Pa/m" if scene.kind == "fault" else ("1/m" if slider.normal_stress == 1.0 else "N/m")
+    report.add("stiffness", slider.stiffness, unit)
+    report.add("sliding_speed", speed, "m/s", label="steady sliding speed")
+    report.add("critical_stiffness_quasi_static", k_c, unit, label="k_c = sigma_n (b - a) / D_c")
+    ratio = slider.stiffness / k_c if k_c > 0 else math.inf
+    report.add("stiffness_ratio", ratio if math.isfinite(ratio) else None, label="k / k_c (quasi-static)")
+    if slider.damping > 0:
+        report.add("critical_stiffness_quasi_dynamic", slider.critical_stiffness(speed, "quasi_dynamic"), unit,
+                   label="k_c with the radiation damper")
+    if slider.mass > 0:
+        report.add("critical_stiffness_inertial", slider.critical_stiffness(speed, "inertial"), unit,
+                   label="k_c with inertia (and damper)")
+    if law.b <= law.a:
+        regime = "velocity strengthening (b <= a): steady sliding is stable for every stiffness"
+    elif ratio > 1:
+        regime = "stable to small perturbations (k > k_c)"
+        if law.evolution == "slip":
+            regime += "; with the slip law a large enough velocity step still destabilises it (Gu et al. 1984)"
+    else:
+        regime = "unstable (k < k_c): stick-slip or earthquake cycles"
+    report.add("regime", regime)
+    _scene_notes(report, scene)
+    return Result("rate_state_slider", report)
+
+
 def simulate(scene, cycles=None, slip_solver=None, rtol=None) -> Result:
     """The same as :func:`run`; ``cycles`` sets a fault's number of earthquake cycles (default 5)."""
     older = _older_form(scene)

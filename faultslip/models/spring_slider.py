@@ -3,7 +3,7 @@ static-friction rate law, Cameron's time-of-stick law or rate-and-state friction
 
 from __future__ import annotations
 
-from faultslip.dynamics.methods import describe_seed_methods
+from faultslip.dynamics.methods import describe_seed_methods, solve
 from faultslip.dynamics.spring_slider.simulate import simulate as integrate
 from faultslip.dynamics.spring_slider.simulate import summary_report, uniform_channels
 from faultslip.errors import InputError
@@ -17,6 +17,7 @@ from faultslip.models.common import note_origin
 from faultslip.contract.registry import Family, load, register
 from faultslip.models.result import Result
 from faultslip.plots.figures import sawtooth_figure
+from faultslip.units import to_si
 
 
 def run(scene=None, method=None, tolerance=None) -> Result:
@@ -28,6 +29,41 @@ def run(scene=None, method=None, tolerance=None) -> Result:
     if loaded.rate_state:  # one rate-and-state block: its own family, whatever the shape of its file
         return load(loaded.family).run(loaded, method=method, tolerance=tolerance)
     return Result("spring_slider", run_scene(loaded, method=method, tolerance=tolerance))
+
+
+def cycle(scene, loading_rate=None, platform_speed=None, method: str | None = None,
+          tolerance: float | None = None) -> Result:
+    """The exact stick-slip limit cycle of a lab scene's slider at another loading rate or platform speed
+    (``faultslip cycle``).
+
+    Parameters
+    ----------
+    scene : str, path or Scene
+        A seed-law scene.
+    loading_rate : str or Quantity, optional
+        The loading rate theta_dot = K V / W, with units ("0.5 1/s"); give it or ``platform_speed``.
+    platform_speed : str or Quantity, optional
+        The platform speed V, with units ("1 mm/s").
+    method : str, optional
+        One of the seed law's methods (the scene's [method] otherwise).
+    tolerance : float, optional
+        The relative error allowed (the scene's otherwise).
+
+    Returns
+    -------
+    Result
+        The cycle: slip per event (m), period (s), static friction, the method and its declared error.
+    """
+    loaded = load_scene(scene)
+    system = loaded.slider()
+    if (loading_rate is None) == (platform_speed is None):
+        raise InputError("give exactly one of --loading-rate or --platform-speed")
+    if loading_rate is not None:
+        system = system.at_loading_rate(to_si(loading_rate, "rate", "loading rate"))
+    else:
+        system = system.with_(platform_speed=to_si(platform_speed, "speed", "platform speed"))
+    solution = solve(system, method=method or loaded.method, tolerance=tolerance or loaded.tolerance, cycles=200)
+    return Result("spring_slider", solution.report(f"faultslip cycle: {loaded.name}"))
 
 
 def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: bool = False, stream: bool = False,
