@@ -54,7 +54,7 @@ def test_a_single_summit_is_a_hertz_contact():
 @settings(max_examples=12, deadline=None)
 @given(st.floats(0.5e-6, 5e-6), st.floats(10e-6, 40e-6), st.integers(0, 1000))
 def test_synthetic_surfaces_have_the_statistics_asked_for(rms, length, seed):
-    """RMS exact; a Gaussian's CLA = sqrt(2/pi) RMS, skewness 0, kurtosis 3; beta* within 30 % on a 256-point map."""
+    """RMS exact; a Gaussian's CLA = sqrt(2/pi) RMS, skewness 0, kurtosis 3; beta* within the scatter of every seed on a 256-point map."""
     surface = gaussian_surface(rms, length, size=256, seed=seed)
     stats = statistics(surface)
     assert stats["rms"] == pytest.approx(rms, rel=1e-9)
@@ -63,7 +63,9 @@ def test_synthetic_surfaces_have_the_statistics_asked_for(rms, length, seed):
     # rms or length, the spacing being length / 8) skewness has sd 0.066 and kurtosis 0.099; the bounds are
     # 5 sd (seed 855, a 4.8-sd map with skewness -0.314, broke the old 0.25)
     assert abs(stats["skewness"]) < 5 * 0.066 and abs(stats["kurtosis"] - 3) < 5 * 0.099
-    assert stats["correlation_length"] == pytest.approx(length, rel=0.3)
+    # beta* scatters likewise: over all 1001 seeds its ratio to the length asked for has mean 1.031 and sd 0.086,
+    # from 0.821 (seed 148) to 1.431 (seed 620; seed 300's 1.39 broke the old 30 %): the bounds hold every seed
+    assert 0.8 <= stats["correlation_length"] / length <= 1.45
 
 
 def test_synthetic_surfaces_are_gaussian_on_average():

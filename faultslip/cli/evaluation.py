@@ -14,10 +14,7 @@ from faultslip.evaluation.bench import all_scenes, markdown, method_names, work_
 from faultslip.evaluation.stability import DAMPING_RATIOS, METHODS, RATIOS, SEPARATIONS, failure_text, stability_map
 from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.netcdf import write_dataset
-from faultslip.io.report import Report
-from faultslip.fault.rate_state_scene import load_rate_state_scene
-from faultslip.models.model_error import declared_model_error, load_calibration
-from faultslip.plots.fault_2d import model_error_figure
+from faultslip.models.model_error import model_error_result
 
 
 def cmd_bench(args) -> int:
@@ -114,31 +111,10 @@ def cmd_model_error(args) -> int:
     """The shipped calibration of one slider against the 2-D fault, a scene's declared error, the chart."""
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene] if args.scene else [])["plot"]
     tolerance = _number(args.tolerance, "--tolerance") if args.tolerance is not None else None
-    if tolerance is not None and not tolerance > 0:
-        raise InputError(f"--tolerance must be positive, got {args.tolerance}")
-    table = load_calibration()
-    report = Report("faultslip model error: one slider (K = G / D) against the 2-D fault")
-    for row in table["rows"]:
-        key = f"w_over_h_{row['width_over_nucleation']:.3g}".replace(".", "_")
-        report.add(key, row["model_error"], label=f"W / h* = {row['width_over_nucleation']:.3g}: model error"
-                   + ("" if "recurrence_error" not in row else
-                      f" (recurrence {row['recurrence_error']:+.2f}, slip {row['slip_error']:+.2f})"))
-    if args.scene:
-        scene = load_rate_state_scene(args.scene)
-        if scene.kind != "fault":
-            raise InputError(f"{args.scene} is a laboratory slider; the model error is a fault's ([fault] table)")
-        error, ratio, how = declared_model_error(scene.law, scene.fault["shear_modulus"],
-                                                 scene.fault["normal_stress"], scene.fault["zone_width"], table)
-        report.add("width_over_nucleation", ratio, label=f"{scene.name}: W / h*")
-        report.add("model_error", error, label=f"{scene.name}: declared model error")
-        if tolerance is not None:
-            report.add("one_slider_suffices", bool(error <= tolerance), label=f"one slider suffices at {tolerance:g}")
-        report.note(how)
-    provenance = table.get("provenance", {})
-    report.note(f"calibration: {provenance.get('computed_by', '?')}, {provenance.get('date', '?')}; "
-                f"{provenance.get('definition', '')}")
+    result = model_error_result(args.scene, tolerance)
+    report = result.report()
     if plot:
         with _locked(plot):
-            save_figure(model_error_figure(table, tolerance), plot, dpi=150)
+            save_figure(result.plot(), plot, dpi=150)
         report.note(f"model-error map drawn to {args.plot}")
     return _emit(report, args.json)

@@ -29,9 +29,11 @@ from pathlib import Path
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.friction.contact import (contact_modulus, elastic_contact_hardness, greenwood_williamson,
+                                        hirst_hollander_index, plasticity_index)
 from faultslip.io.report import Report
 from faultslip.io.resources import open_netcdf, read_numeric_csv
-from faultslip.units import unit_factor
+from faultslip.units import to_si, unit_factor
 
 #: a surface holds at most this many heights (a map of 4000 x 4000)
 MAX_HEIGHTS = 16_000_000
@@ -338,3 +340,90 @@ def report(surface: Surface, stats: dict, contact: dict | None = None, gw: dict 
         r.add("greenwood_williamson", {"points": points, "summary": summary},
               label="Greenwood-Williamson (elastic, Gaussian summits)")
     return r
+
+
+@dataclass
+class SurfaceAnalysis:
+    """What ``faultslip surface`` computes: the surface, its statistics, its contact and the report."""
+
+    surface: Surface
+    stats: dict
+    contact: dict
+    report: Report
+
+
+def analyse_surface(path=None, synthetic=None, size: int = 256, profile: bool = False, seed: int = 0, modulus=None,
+                    poisson: float = 0.3, hardness=None, against: str = "inverted", flow_pressure=None,
+                    load=None) -> SurfaceAnalysis:
+    """A rough surface's statistics and its contact by truncation (seed 000; ``faultslip surface``).
+
+    Parameters
+    ----------
+    path : str or path, optional
+        A measured surface (a height map or profile file); or give ``synthetic``.
+    synthetic : tuple, optional
+        ``(rms, correlation_length)`` with units ("2 um", "20 um"): a Gaussian surface of ``size`` points a side
+        (a profile if ``profile``), from ``seed``.
+    modulus : str or Quantity, optional
+        Young's modulus ("200 GPa"): the contact modulus, the elastic contact hardness, the Greenwood-Williamson
+        contact and, with ``hardness``, the plasticity indices (seed 000 eqs. 15, 36-38).
+    poisson : float
+        Poisson's ratio.
+    hardness : str or Quantity, optional
+        The softer surface's hardness.
+    against : str
+        The counter-surface: ``inverted`` (its own inverted copy) or ``flat``.
+    flow_pressure : str or Quantity, optional
+        The flow pressure p_c of plastic contact (seed 000 eq. 23).
+    load : str or Quantity, optional
+        A normal load: the approach that carries it (needs ``flow_pressure``).
+
+    Returns
+    -------
+    SurfaceAnalysis
+        The surface, its statistics (m, 1/m^2, ...), its contact against approach, and the report.
+    """
+    if (path is None) == (synthetic is None):
+        raise InputError("give a surface file, or --synthetic RMS CORRELATION_LENGTH (e.g. '2 um' '20 um')")
+    if path is not None:
+        surface = read_surface(path)
+    else:
+        rms, length = (to_si(text, "length", "--synthetic") for text in synthetic)
+        surface = gaussian_surface(rms, length, size=size, profile=profile, seed=seed)
+    surface = surface.levelled()
+    stats = statistics(surface)
+    plasticity = {}
+    if modulus:
+        contact_e = contact_modulus(to_si(modulus, "pressure", "--modulus"), poisson)
+        plasticity["contact_modulus"] = (contact_e, "E' = E / (2 (1 - nu^2)), like surfaces (seed 000 eq. 37), Pa")
+        plasticity["elastic_contact_hardness"] = (elastic_contact_hardness(contact_e, stats["summit_sigma"],
+                                                                           stats["summit_radius"]),
+                                                  "H' = 0.25 E' sqrt(s/R) (eq. 38), Pa")
+        if hardness:
+            softer = to_si(hardness, "pressure", "--hardness")
+            plasticity["plasticity_index"] = (plasticity_index(contact_e, softer, stats["summit_sigma"],
+                                                               stats["summit_radius"]),
+                                                "plasticity index from the summits, psi = (E'/H) sqrt(s/R) (Greenwood "
+                                                "& Williamson; eq. 36): s, R the summits' height spread and radius")
+            plasticity["hirst_hollander_index"] = (hirst_hollander_index(contact_e, softer, stats["rms"],
+                                                                         stats["correlation_length"]),
+                                                   "plasticity index from the profile, psi = 0.6 (E'/H)(sigma/beta*) "
+                                                   "(Hirst & Hollander; eq. 15): sigma, beta* the heights' rms and "
+                                                   "correlation length; the two differ as summit and profile "
+                                                   "statistics do, both > 1 means plastic contact")
+    if against not in ("flat", "inverted"):
+        raise InputError(f"--against must be flat or inverted, got {against!r}")
+    counter = flat_like(surface) if against == "flat" else None
+    flow = to_si(flow_pressure, "pressure", "--flow-pressure") if flow_pressure else None
+    contact = truncation_contact(surface, np.linspace(0.0, 2.0 * stats["rms"], 9), counter, flow)
+    at_load = None
+    if load:
+        if flow is None:
+            raise InputError("--load needs --flow-pressure (all contacts plastic: L = p_c A, seed 000 eq. 23)")
+        at_load = approach_for_load(surface, to_si(load, "force", "--load"), flow, counter)
+    gw = None
+    if modulus and surface.is_map and np.isfinite(stats["summit_radius"]):
+        gw = greenwood_williamson(np.linspace(0.0, 2.0, 5) * stats["summit_sigma"], stats["summit_density"],
+                                  stats["summit_radius"], stats["summit_sigma"], plasticity["contact_modulus"][0],
+                                  contact["nominal_area"])
+    return SurfaceAnalysis(surface, stats, contact, report(surface, stats, contact, gw, plasticity, at_load))

@@ -31,6 +31,10 @@ from faultslip.dynamics.fault_2d.integrate import YEAR
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.io import gate
 from faultslip.errors import InputError
+from faultslip.fault.rate_state_scene import load_rate_state_scene
+from faultslip.io.report import Report
+from faultslip.models.result import Result
+from faultslip.plots.fault_2d import model_error_figure
 from faultslip.io.resources import bundled_dir
 from faultslip.fault.fault_2d_scene import from_one_slider
 
@@ -143,3 +147,45 @@ def declared_model_error(law, shear_modulus: float, normal_stress: float, width:
                                             f"{ratios[-1]:.3g}): its largest value is declared")
     value = float(np.interp(math.log(ratio), np.log(ratios), errors))
     return value, ratio, f"interpolated in the shipped calibration at W / h* = {ratio:.3g}"
+
+
+def model_error_result(scene=None, tolerance: float | None = None):
+    """The shipped calibration of one slider (K = G / D) against the 2-D fault over W / h*, and a scene's
+    declared model error (``faultslip model-error``).
+
+    Parameters
+    ----------
+    scene : str, path or RateStateScene, optional
+        A rate-and-state fault scene: its W / h* and declared model error.
+    tolerance : float, optional
+        A model error allowed: whether one slider suffices.
+
+    Returns
+    -------
+    Result
+        The calibration's model error at each W / h* (relative), the scene's, and ``plot()`` the map.
+    """
+    if tolerance is not None and not tolerance > 0:
+        raise InputError(f"--tolerance must be positive, got {tolerance}")
+    table = load_calibration()
+    report = Report("faultslip model error: one slider (K = G / D) against the 2-D fault")
+    for row in table["rows"]:
+        key = f"w_over_h_{row['width_over_nucleation']:.3g}".replace(".", "_")
+        report.add(key, row["model_error"], label=f"W / h* = {row['width_over_nucleation']:.3g}: model error"
+                   + ("" if "recurrence_error" not in row else
+                      f" (recurrence {row['recurrence_error']:+.2f}, slip {row['slip_error']:+.2f})"))
+    if scene is not None:
+        loaded = load_rate_state_scene(scene)
+        if loaded.kind != "fault":
+            raise InputError(f"{scene} is a laboratory slider; the model error is a fault's ([fault] table)")
+        error, ratio, how = declared_model_error(loaded.law, loaded.fault["shear_modulus"],
+                                                 loaded.fault["normal_stress"], loaded.fault["zone_width"], table)
+        report.add("width_over_nucleation", ratio, label=f"{loaded.name}: W / h*")
+        report.add("model_error", error, label=f"{loaded.name}: declared model error")
+        if tolerance is not None:
+            report.add("one_slider_suffices", bool(error <= tolerance), label=f"one slider suffices at {tolerance:g}")
+        report.note(how)
+    provenance = table.get("provenance", {})
+    report.note(f"calibration: {provenance.get('computed_by', '?')}, {provenance.get('date', '?')}; "
+                f"{provenance.get('definition', '')}")
+    return Result("rate_state_slider", report, figure=lambda: model_error_figure(table, tolerance))
