@@ -80,6 +80,17 @@ _ALIASES = {
     "fit_figure": ("friction.fitting", "fit_figure"),
     "simulate_scene": ("models", "simulate"),
     "simulate_slider": ("dynamics.spring_slider.simulate", "simulate"),
+    # the computing commands' own functions (tests/test_cli_api.py: the same numbers as their --json)
+    "scene_cycle": ("models.spring_slider", "cycle"),
+    "amplitude_study": ("models.vibration", "amplitude_study"),
+    "nanoscale_swing": ("models.nanoscale", "swing"),
+    "asperity_speed_study": ("models.asperity", "speed_study"),
+    "rate_state_stability": ("models.rate_state_slider", "stability"),
+    "velocity_step": ("models.rate_state_slider", "velocity_step"),
+    "earthquake_cycles": ("models.rate_state_cycles", "earthquake_cycles"),
+    "model_error": ("models.model_error", "model_error_result"),
+    "analyse_surface": ("lab.surfaces", "analyse_surface"),
+    "check_family": ("models.checks", "check_family"),
 }
 _WHERE = {name: (module, name) for module, names in _EXPORTS.items() for name in names} | _ALIASES
 __all__ = sorted(_WHERE)
