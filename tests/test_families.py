@@ -241,3 +241,25 @@ def test_one_rate_and_state_block_is_one_family_whatever_its_files_shape(tmp_pat
     assert simulated.code == 0, simulated.err
     swept = faultslip.sweep("san_andreas_1906_rate_state.toml", critical_slip=["4 mm", "8 mm"])
     assert swept.attrs["faultslip_family"] == "rate_state_slider"
+
+
+BRANCH_FREE = sorted(str(p.relative_to(ROOT)) for folder in ("cli", "apps")
+                     for p in (ROOT / "faultslip" / folder).glob("*.py"))
+
+
+@pytest.mark.parametrize("module", BRANCH_FREE)
+def test_the_command_line_and_the_apps_branch_on_no_family(module):
+    """cli/ and apps/ parse, call and print: no comparison with a family's name or a scene's kind, no question of
+    a scene's kind, family or friction, no isinstance on a scene type (the library chooses the model)."""
+    tree = ast.parse((ROOT / module).read_text(encoding="utf-8"))
+    families = set(contract.DECLARATIONS) | {"fault", "lab", "rate_state"}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Compare):
+            for side in (node.left, *node.comparators):
+                if isinstance(side, ast.Constant) and side.value in families:
+                    raise AssertionError(f"{module}:{node.lineno} compares with {side.value!r}")
+        if isinstance(node, ast.Attribute) and node.attr in ("kind", "rate_state", "family"):
+            assert not any(word in ast.unparse(node.value) for word in ("scene", "study", "material")), \
+                f"{module}:{node.lineno} asks {ast.unparse(node)}"
+        if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "isinstance" and len(node.args) == 2:
+            assert "Scene" not in ast.unparse(node.args[1]), f"{module}:{node.lineno} dispatches on a scene type"

@@ -11,9 +11,7 @@ from faultslip.cli.printing import _emit
 from faultslip.dynamics.spring_slider.critical import comparison_dataset, comparison_markdown, critical
 from faultslip.contract import method_rows
 from faultslip.errors import InputError
-from faultslip.fault.rate_state_fault import estimate_fault_from_fit
-from faultslip.fault.scaling import Fault
-from faultslip.friction.materials import bundled_lithologies, presets, resolve_material, user_rate_state_fits
+from faultslip.friction.materials import bundled_lithologies, presets, user_rate_state_fits
 from faultslip.friction.registry import registry_path
 from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.catalogs import QUAKEML_SUFFIXES, parse_time, write_quakeml
@@ -22,6 +20,7 @@ from faultslip.io.outputs import FIGURE_SUFFIXES, check_output
 from faultslip.io.waveforms import (DEFAULT_START, MAX_SAMPLES, STREAM_SUFFIXES, check_datable, sac_path,
                                     write_stream)
 from faultslip.plots.figures import critical_comparison_figure
+from faultslip.models.fault_estimate import fault_estimate
 from faultslip.models.spring_slider import cycle as scene_cycle
 
 
@@ -47,40 +46,13 @@ def cmd_run(args) -> int:
 
 def cmd_fault(args) -> int:
     inputs = {target: getattr(args, flag) for flag, target in _FAULT_QUANTITIES.items() if getattr(args, flag) is not None}
-    if args.lithology and resolve_material(args.lithology).rate_state is not None:
-        return _fault_rate_state(args, inputs)
-    if args.seed_law:
-        raise InputError("--seed-law goes with a rate-and-state fit as --lithology")
-    for key in ("mu_so", "mu_m", "damping_ratio"):
-        if getattr(args, key) is not None:
-            inputs[key] = getattr(args, key)
-    if args.rate_coefficient is not None:
-        inputs["b"] = args.rate_coefficient
-    if args.rate_exponent is not None:
-        inputs["d"] = args.rate_exponent
-    fault = Fault(lithology=args.lithology, radiation_damping=args.radiation_damping, name=args.name, **_required(inputs))
-    if args.observed_slip is not None:
-        return _emit(fault.infer_kinetic_friction(args.observed_slip).report(), args.json)
-    return _emit(fault.estimate(method=args.method or "auto", tolerance=_tolerance(args)).report(), args.json)
-
-
-def _fault_rate_state(args, inputs) -> int:
-    extra = [flag for flag in ("mu_so", "mu_m", "rate_coefficient", "rate_exponent", "damping_ratio",
-                               "observed_slip", "method") if getattr(args, flag, None) is not None]
-    if extra or args.radiation_damping:
-        flags = ", ".join("--" + f.replace("_", "-") for f in extra + (["radiation_damping"] if args.radiation_damping
-                                                                       else []))
-        raise InputError(f"{flags} do not apply to the rate-and-state fit {args.lithology!r} (its fault is always "
-                         "quasi-dynamic, with the radiation damper)")
-    estimate = estimate_fault_from_fit(args.lithology, inputs, seed_law=args.seed_law or "granodiorite")
-    return _emit(estimate.report(f"faultslip fault: {args.name} (rate-and-state fit {args.lithology!r})"), args.json)
-
-
-def _required(inputs: dict) -> dict:
-    missing = [flag for flag in ("zone_width", "slip_rate") if flag not in inputs]
-    if missing:
-        raise InputError(f"missing {', '.join('--' + m.replace('_', '-') for m in missing)}, required for a fault estimate")
-    return inputs
+    seed_law = {"mu_so": args.mu_so, "mu_m": args.mu_m, "damping_ratio": args.damping_ratio,
+                "b": args.rate_coefficient, "d": args.rate_exponent}
+    result = fault_estimate(args.lithology, method=args.method, tolerance=_tolerance(args),
+                            observed_slip=args.observed_slip, seed_law=args.seed_law,
+                            radiation_damping=args.radiation_damping, name=args.name,
+                            **inputs, **{key: value for key, value in seed_law.items() if value is not None})
+    return _emit(result.report(), args.json)
 
 
 def cmd_materials(args) -> int:

@@ -59,7 +59,9 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
     if quantities:
         if scene is not None:
             raise InputError("give a scene or a fault's quantities as keywords, not both")
-        scene = _fault(quantities)
+        # the model the lithology calls for: the seed law, or a saved rate-and-state fit (faultslip fault)
+        return importlib.import_module("faultslip.models.fault_estimate").fault_estimate(
+            method=method, tolerance=tolerance, **quantities)
     family = family_of(scene)
     options = {"allow_large": allow_large} if allow_large and "allow_large" in family.run_options else {}
     return family.run(scene, method=method, tolerance=tolerance, **options)
@@ -94,6 +96,4 @@ def simulate(scene=None, **options) -> Result:
     return family.simulate(scene, **{name: value for name, value in given.items() if name in family.simulate_options})
 
 
-def _fault(quantities: dict):
-    """A :class:`faultslip.Fault` from keywords with units (the fault command's inputs)."""
-    return importlib.import_module("faultslip.fault.scaling").Fault(**quantities)
+
