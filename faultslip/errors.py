@@ -8,11 +8,25 @@ import difflib
 
 
 class FaultslipError(Exception):
-    """Base class of every error faultslip raises on purpose."""
+    """Base class of every error faultslip raises on purpose.
+
+    Parameters
+    ----------
+    message : str
+        One sentence for the user (every error faultslip raises on purpose): what went wrong, where, and what to do; the command line prints it
+        alone and exits with status 2.
+    """
 
 
 class InputError(FaultslipError, ValueError):
-    """Bad input: a wrong unit, an unknown name, a non-physical value."""
+    """Bad input: a wrong unit, an unknown name, a non-physical value.
+
+    Parameters
+    ----------
+    message : str
+        One sentence for the user (bad input): what went wrong, where, and what to do; the command line prints it
+        alone and exits with status 2.
+    """
 
 
 class OutputError(FaultslipError):
@@ -20,11 +34,25 @@ class OutputError(FaultslipError):
 
 
 class MethodError(FaultslipError):
-    """A solution method was asked for outside its domain of validity."""
+    """A solution method was asked for outside its domain of validity.
+
+    Parameters
+    ----------
+    message : str
+        One sentence for the user (a method asked for outside its domain): what went wrong, where, and what to do; the command line prints it
+        alone and exits with status 2.
+    """
 
 
 class SolverError(FaultslipError, RuntimeError):
-    """A numerical method failed; the message names method, scene and remedy."""
+    """A numerical method failed; the message names method, scene and remedy.
+
+    Parameters
+    ----------
+    message : str
+        One sentence for the user (a failed method): what went wrong, where, and what to do; the command line prints it
+        alone and exits with status 2.
+    """
 
 
 class NoEventsError(SolverError):
@@ -32,7 +60,14 @@ class NoEventsError(SolverError):
 
 
 class OutOfDomainWarning(UserWarning):
-    """A method was used where it is known to be inaccurate."""
+    """A method was used where it is known to be inaccurate.
+
+    Parameters
+    ----------
+    message : str
+        One sentence for the user (a method used where it is known to be inaccurate): what went wrong, where, and what to do; the command line prints it
+        alone and exits with status 2.
+    """
 
 
 def did_you_mean(name: str, allowed, n: int = 2, cutoff: float = 0.6) -> str:

@@ -314,3 +314,25 @@ def test_the_door_check_sees_what_it_must():
         sample.unlink()
     assert found == {"open", "np.load", "np.memmap", "os.replace", "path.write_text", "figure.savefig",
                      "dataset.to_netcdf", "xr.open_dataset"}
+
+
+def test_every_public_function_documents_its_parameters_and_returns():
+    """numpydoc sections on every name of ``import faultslip``, as MetPy's calc has (issue 40, item 8): a function
+    with parameters has a Parameters section, every function a Returns section, a class Parameters or
+    Attributes; their units are in the sections' text."""
+    import inspect
+
+    import faultslip
+
+    missing = []
+    for name in faultslip.__all__:
+        obj = getattr(faultslip, name)
+        doc = inspect.getdoc(obj) or ""
+        if inspect.isclass(obj):
+            if "Parameters\n---" not in doc and "Attributes\n---" not in doc:
+                missing.append(name)
+        elif inspect.isfunction(obj):
+            takes = [p for p in inspect.signature(obj).parameters.values() if p.name not in ("self", "cls")]
+            if (takes and "Parameters\n---" not in doc) or "Returns\n---" not in doc:
+                missing.append(name)
+    assert not missing, f"public names without numpydoc Parameters / Returns: {missing}"

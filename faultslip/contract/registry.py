@@ -110,7 +110,13 @@ def load(name: str) -> Family:
 
 
 def families() -> dict[str, Family]:
-    """Every family, loaded."""
+    """Every family, loaded.
+
+    Returns
+    -------
+    dict
+        Family name -> :class:`Family`, each family's module imported.
+    """
     return {name: load(name) for name in DECLARATIONS}
 
 
@@ -159,7 +165,18 @@ def family_of_document(document: dict) -> Family:
 
 def family_of(scene=None) -> Family:
     """The family of a scene file, a bundled scene's name or a scene object (None: the default 1906 scene, a
-    spring-slider)."""
+    spring-slider).
+
+    Parameters
+    ----------
+    scene : str, path or scene object, optional
+        A scene file, a bundled scene's name, or a scene object.
+
+    Returns
+    -------
+    Family
+        The family the scene names, by its ``family`` key or its declaring table.
+    """
     default = next(iter(DECLARATIONS))
     if scene is None:
         return load(default)

@@ -53,7 +53,41 @@ _ROOT_2 = math.sqrt(2.0)
 
 @dataclass(frozen=True)
 class AsperityModel:
-    """Seed 004's dynamic system in SI; the defaults are Table I case 6 at 3.6 mm/s."""
+    """Seed 004's dynamic system in SI; the defaults are Table I case 6 at 3.6 mm/s.
+
+    Parameters
+    ----------
+    platform_speed : float
+        Platform speed v (m/s).
+    mass : float
+        Block mass M (kg).
+    natural_frequency : float
+        Natural frequency f0 = sqrt(K / M) / 2 pi (Hz).
+    dashpot : float
+        Tangential damping C (N s/m).
+    slope_std : float
+        Standard deviation s of the asperity slopes (rad).
+    shear_strength : float
+        Shear strength tau of the adhesion law (Pa; eq. 18).
+    pressure_coefficient : float
+        Pressure coefficient beta of the adhesion law (dimensionless).
+    composite_modulus : float
+        Composite elastic modulus (Pa).
+    asperity_radius, slope_radius : float
+        Asperity radius r and slope radius rho (m; eq. 27).
+    loss_factor : float
+        Normal loss factor eta (N s/m).
+    contact_length : float
+        alpha = 1 / (gamma pi r), the contact-density choice (m).
+    slope_cutoff, initial_approach : float
+        Slope cutoff and initial approach (m).
+    summit_exchange : bool
+        Exchange the asperity families at the summits (docs/asperity.md).
+    gravity : float
+        Acceleration of gravity (m/s^2).
+    name : str
+        A name for reports.
+    """
 
     platform_speed: float = 3.6e-3  # v, m/s
     mass: float = contact.TABLE_I_COMMON["mass"]  # M, kg
@@ -346,7 +380,28 @@ class AsperityRun:
 def simulate(model: AsperityModel, duration: float = 6.0, method: str = "asperity_LSODA", rtol: float = 1e-8,
              samples_per_second: float = 2000.0, max_seconds: float | None = None) -> AsperityRun:
     """Integrate the block for ``duration`` s with ``method``; a contact loss or solver failure ends the run early
-    and is reported in ``status`` and ``reason``, never as numbers past it."""
+    and is reported in ``status`` and ``reason``, never as numbers past it.
+
+    Parameters
+    ----------
+    model : AsperityModel
+        The slider.
+    duration : float
+        Simulated time (s).
+    method : str
+        asperity_quasistatic or asperity_LSODA.
+    rtol : float
+        Relative tolerance.
+    samples_per_second : float
+        Output rate (Hz).
+    max_seconds : float, optional
+        A wall-time limit (s).
+
+    Returns
+    -------
+    AsperityRun
+        The states against time (s, m, m/s, N), ``status`` and ``reason``.
+    """
     from scipy.integrate import solve_ivp  # heavy: imported where used (a closed-form run never integrates)
 
     if method not in ("asperity_LSODA", "asperity_quasistatic"):
@@ -490,7 +545,21 @@ SETTLING_WINDOWS = 6
 
 
 def analyse(run: AsperityRun, settle: float = 0.5) -> Response:
-    """The response after discarding the first ``settle`` fraction (the paper excludes transients)."""
+    """The response after discarding the first ``settle`` fraction (the paper excludes transients).
+
+    Parameters
+    ----------
+    run : AsperityRun
+        :func:`simulate_asperity`'s run.
+    settle : float
+        The fraction of the run discarded as transient.
+
+    Returns
+    -------
+    Response
+        Mean friction and deformation friction (dimensionless), stick fraction, loops and the dominant
+        frequencies (Hz).
+    """
     if run.status not in ("ok",) or run.time.size < 10:
         raise InputError(f"the {run.method} run has no settled response to analyse: {run.reason or run.status}")
     t = run.time

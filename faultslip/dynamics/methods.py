@@ -448,6 +448,26 @@ def solve(system, method: str = "auto", outputs=("amplitude", "period"), toleran
 
     A forced method outside its domain, or less accurate than the tolerance, still runs but warns
     (:class:`~faultslip.errors.OutOfDomainWarning`) and names the method auto would use.
+
+    Parameters
+    ----------
+    system : SliderSystem
+        The slider.
+    method : str
+        A method's name (``faultslip methods``) or auto.
+    outputs : tuple
+        What is wanted (amplitude, period, time_series).
+    tolerance : float
+        Relative error allowed.
+    cycles : int
+        Cycles run by an integrator.
+    converge : float, optional
+        The settling tolerance.
+
+    Returns
+    -------
+    Solution
+        The cycle (m, s), the method, its declared error and ``report()``.
     """
     outputs = _check_request(outputs, tolerance, cycles)
     if method == "auto":

@@ -43,7 +43,23 @@ SLIDES = {"damping": 3.0, "drive_speed": 0.02, "peak_speed": 0.01, "charging_tim
 
 @dataclass(frozen=True)
 class NanoscaleModel:
-    """Eqs. (1)-(4), dimensionless. ``charge_force`` f_ch = 0 is the uncharged limit."""
+    """Eqs. (1)-(4), dimensionless. ``charge_force`` f_ch = 0 is the uncharged limit.
+
+    Parameters
+    ----------
+    damping : float
+        A, the damping (dimensionless; stick-slip below A_c).
+    drive_speed : float
+        v_a, the drive speed (dimensionless).
+    peak_speed : float
+        v_m, the speed above which friction weakens (dimensionless).
+    charging_time : float
+        tau, the charging time (in 1/omega).
+    charge_length : float
+        a, the charge length (in the slip scale).
+    charge_force : float
+        f_ch, the force of the deposited charge (0: the uncharged limit).
+    """
 
     damping: float = SLIDES["damping"]  # A
     drive_speed: float = SLIDES["drive_speed"]  # v_a

@@ -103,7 +103,27 @@ def quadrature_integral(friction, speed: float, amplitude_speed, nodes: int = QU
 class QuasiHarmonic:
     """The averaged slider of seed 002 eq. (10), SI: mass M (kg), damping r (N s/m), stiffness k (N/m),
     normal load W (N), driving speed v (m/s) and the friction curve, as polynomial coefficients in
-    increasing powers of the sliding speed (``coefficients``) or any vectorised callable (``friction``)."""
+    increasing powers of the sliding speed (``coefficients``) or any vectorised callable (``friction``).
+
+    Parameters
+    ----------
+    mass : float
+        Equivalent mass M (kg).
+    damping : float
+        Damping r (N s/m).
+    stiffness : float
+        Stiffness k (N/m).
+    normal_load : float
+        Normal load W (N).
+    speed : float
+        Driving speed v (m/s).
+    coefficients : tuple, optional
+        The friction curve's polynomial coefficients in increasing powers of the sliding speed ((s/m)^k).
+    friction : callable, optional
+        Or the friction curve as a vectorised callable of the sliding speed (m/s).
+    name : str
+        A name for reports.
+    """
 
     mass: float
     damping: float
@@ -479,7 +499,21 @@ def estimated_error(system: QuasiHarmonic, amplitude: float) -> float:
 def amplitude_against_speed(system: QuasiHarmonic, speeds) -> dict:
     """The settled amplitude at each driving speed (seed 002 Figs. 10-11): arrays of amplitude (m; 0 where
     steady sliding is stable, NaN where the oscillation would stick), steady sliding's growth rate, and
-    the small parameter."""
+    the small parameter.
+
+    Parameters
+    ----------
+    system : QuasiHarmonic
+        The averaged slider.
+    speeds : array_like
+        Driving speeds (m/s).
+
+    Returns
+    -------
+    dict
+        ``speed`` (m/s), ``amplitude`` (m), ``growth_rate`` (1/s), ``small_parameter`` (dimensionless) and
+        ``sticks`` (bool), one value per speed.
+    """
     speeds = np.asarray(speeds, dtype=float)
     amplitude, growth, eps, sticks = (np.empty(speeds.size) for _ in range(4))
     for i, speed in enumerate(speeds):

@@ -172,6 +172,34 @@ def compare(catalog: Catalog, scene: Scene, trace=None, max_distance: float = 25
     seconds. A renewal model describes mainshocks: intervals under ``cluster_fraction`` of the mean are
     declustered (:func:`decluster`, the rule and the removed events in the notes); ``None`` refuses such
     a selection instead.
+
+    Parameters
+    ----------
+    catalog : Catalog
+        :func:`read_catalog`'s catalog.
+    scene : Scene
+        The fault scene whose prediction is compared.
+    trace : array_like, optional
+        The fault trace ((lon, lat) in degrees); the scene's otherwise.
+    max_distance : str, Quantity or float
+        Events within this distance of the trace (m).
+    min_magnitude, max_magnitude : float, optional
+        The magnitudes kept.
+    since, until, as_of : numpy.datetime64, optional
+        The time window, and the date of the conditional probability.
+    horizon : str, Quantity or float
+        The probability's horizon (s).
+    bootstrap : int
+        Parametric bootstrap samples of the 95 % ranges.
+    seed : int
+        The bootstrap's seed.
+    cluster_fraction : float or None
+        Intervals under this fraction of the mean are declustered (None: refused).
+
+    Returns
+    -------
+    CatalogComparison
+        The selected events, the renewal fits with their 95 % ranges, the prediction beside them, ``report()``.
     """
     max_distance = to_si_scalar(max_distance, "length", "max_distance", default_unit="m")
     horizon = to_si_scalar(horizon, "time", "horizon", default_unit="s")

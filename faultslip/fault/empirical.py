@@ -132,7 +132,22 @@ def wells_coppersmith_1994(relation: str, value, slip_type: str = "all"):
     """Any W&C (1994) Table 2A/2B relation by name, in SI: ``magnitude_from_X`` takes X in m (lengths,
     widths, displacements) or m^2 (area) and returns (Mw, sigma of Mw); ``X_from_magnitude`` takes Mw and
     returns (X in m or m^2, sigma of log10 X). X is surface_length, subsurface_length, width, area,
-    maximum_displacement or average_displacement."""
+    maximum_displacement or average_displacement.
+
+    Parameters
+    ----------
+    relation : str
+        The relation's name.
+    value : float or array_like
+        Its argument (m, m^2 or Mw).
+    slip_type : str
+        all, strike-slip, reverse or normal.
+
+    Returns
+    -------
+    tuple
+        The value and its sigma.
+    """
     a, b, sigma = _coefficients(relation, slip_type)
     if relation.startswith("magnitude_from_"):
         scale, what = _WC_QUANTITY[relation.removeprefix("magnitude_from_")]
@@ -142,7 +157,20 @@ def wells_coppersmith_1994(relation: str, value, slip_type: str = "all"):
 
 
 def magnitude_from_length(surface_length, slip_type: str = "all"):
-    """Mw = a + b log10(SRL / km) (W&C 1994 Table 2A); returns (Mw, sigma)."""
+    """Mw = a + b log10(SRL / km) (W&C 1994 Table 2A); returns (Mw, sigma).
+
+    Parameters
+    ----------
+    surface_length : float or array_like
+        The surface rupture length (m).
+    slip_type : str
+        all, strike-slip, reverse or normal.
+
+    Returns
+    -------
+    tuple
+        Mw and its standard deviation.
+    """
     return wells_coppersmith_1994("magnitude_from_surface_length", surface_length, slip_type)
 
 
@@ -152,25 +180,79 @@ def magnitude_from_subsurface_length(subsurface_length, slip_type: str = "all"):
 
 
 def magnitude_from_width(width, slip_type: str = "all"):
-    """Mw = a + b log10(RW / km), RW the down-dip rupture width (W&C 1994 Table 2A); returns (Mw, sigma)."""
+    """Mw = a + b log10(RW / km), RW the down-dip rupture width (W&C 1994 Table 2A); returns (Mw, sigma).
+
+    Parameters
+    ----------
+    width : float or array_like
+        The down-dip rupture width (m).
+    slip_type : str
+        all, strike-slip, reverse or normal.
+
+    Returns
+    -------
+    tuple
+        Mw and its standard deviation.
+    """
     return wells_coppersmith_1994("magnitude_from_width", width, slip_type)
 
 
 def magnitude_from_area(area, slip_type: str = "all"):
-    """Mw = a + b log10(RA / km^2) (W&C 1994 Table 2A); returns (Mw, sigma)."""
+    """Mw = a + b log10(RA / km^2) (W&C 1994 Table 2A); returns (Mw, sigma).
+
+    Parameters
+    ----------
+    area : float or array_like
+        The rupture area (m^2).
+    slip_type : str
+        all, strike-slip, reverse or normal.
+
+    Returns
+    -------
+    tuple
+        Mw and its standard deviation.
+    """
     return wells_coppersmith_1994("magnitude_from_area", area, slip_type)
 
 
 def magnitude_from_displacement(displacement, slip_type: str = "all", kind: str = "average"):
     """Mw = a + b log10(D / m), D the average or maximum surface displacement (W&C 1994 Table 2B);
-    returns (Mw, sigma)."""
+    returns (Mw, sigma).
+
+    Parameters
+    ----------
+    displacement : float or array_like
+        The average or maximum surface displacement (m).
+    slip_type : str
+        all, strike-slip, reverse or normal.
+    kind : str
+        average or maximum.
+
+    Returns
+    -------
+    tuple
+        Mw and its standard deviation.
+    """
     if kind not in ("average", "maximum"):
         raise InputError(f"the displacement kind must be average or maximum, got {kind!r}")
     return wells_coppersmith_1994(f"magnitude_from_{kind}_displacement", displacement, slip_type)
 
 
 def rupture_length(magnitude, slip_type: str = "all"):
-    """Surface rupture length (m) from log10(SRL / km) = a + b Mw (W&C 1994 Table 2A); returns (m, sigma of log10)."""
+    """Surface rupture length (m) from log10(SRL / km) = a + b Mw (W&C 1994 Table 2A); returns (m, sigma of log10).
+
+    Parameters
+    ----------
+    magnitude : float or array_like
+        Moment magnitude Mw.
+    slip_type : str
+        all, strike-slip, reverse or normal (W&C 1994's regressions).
+
+    Returns
+    -------
+    tuple
+        The surface rupture length (m) and the standard deviation of its log10.
+    """
     return wells_coppersmith_1994("surface_length_from_magnitude", magnitude, slip_type)
 
 
@@ -180,22 +262,74 @@ def subsurface_rupture_length(magnitude, slip_type: str = "all"):
 
 
 def rupture_width(magnitude, slip_type: str = "all"):
-    """Down-dip rupture width (m) from log10(RW / km) = a + b Mw (W&C 1994 Table 2A); (m, sigma of log10)."""
+    """Down-dip rupture width (m) from log10(RW / km) = a + b Mw (W&C 1994 Table 2A); (m, sigma of log10).
+
+    Parameters
+    ----------
+    magnitude : float or array_like
+        Moment magnitude Mw.
+    slip_type : str
+        all, strike-slip, reverse or normal (W&C 1994's regressions).
+
+    Returns
+    -------
+    tuple
+        The down-dip rupture width (m) and the standard deviation of its log10.
+    """
     return wells_coppersmith_1994("width_from_magnitude", magnitude, slip_type)
 
 
 def rupture_area(magnitude, slip_type: str = "all"):
-    """Rupture area (m^2) from log10(RA / km^2) = a + b Mw (W&C 1994 Table 2A); returns (m^2, sigma of log10)."""
+    """Rupture area (m^2) from log10(RA / km^2) = a + b Mw (W&C 1994 Table 2A); returns (m^2, sigma of log10).
+
+    Parameters
+    ----------
+    magnitude : float or array_like
+        Moment magnitude Mw.
+    slip_type : str
+        all, strike-slip, reverse or normal (W&C 1994's regressions).
+
+    Returns
+    -------
+    tuple
+        The rupture area (m^2) and the standard deviation of its log10.
+    """
     return wells_coppersmith_1994("area_from_magnitude", magnitude, slip_type)
 
 
 def average_displacement(magnitude, slip_type: str = "all"):
-    """Average surface displacement (m) from log10(AD / m) = a + b Mw (W&C 1994 Table 2B); (m, sigma of log10)."""
+    """Average surface displacement (m) from log10(AD / m) = a + b Mw (W&C 1994 Table 2B); (m, sigma of log10).
+
+    Parameters
+    ----------
+    magnitude : float or array_like
+        Moment magnitude Mw.
+    slip_type : str
+        all, strike-slip, reverse or normal (W&C 1994's regressions).
+
+    Returns
+    -------
+    tuple
+        The average surface displacement (m) and the standard deviation of its log10.
+    """
     return wells_coppersmith_1994("average_displacement_from_magnitude", magnitude, slip_type)
 
 
 def maximum_displacement(magnitude, slip_type: str = "all"):
-    """Maximum surface displacement (m) from log10(MD / m) = a + b Mw (W&C 1994 Table 2B); (m, sigma of log10)."""
+    """Maximum surface displacement (m) from log10(MD / m) = a + b Mw (W&C 1994 Table 2B); (m, sigma of log10).
+
+    Parameters
+    ----------
+    magnitude : float or array_like
+        Moment magnitude Mw.
+    slip_type : str
+        all, strike-slip, reverse or normal (W&C 1994's regressions).
+
+    Returns
+    -------
+    tuple
+        The maximum surface displacement (m) and the standard deviation of its log10.
+    """
     return wells_coppersmith_1994("maximum_displacement_from_magnitude", magnitude, slip_type)
 
 
@@ -223,7 +357,22 @@ def _leonard_corners(setting: str, c1: float):
 
 def leonard_width(length, setting: str = "strike-slip", bound: str = "preferred"):
     """Rupture width W (m) for a length L (m): W = L for L <= C1^3, C1 L^(2/3) above, constant beyond 45 km for
-    interplate strike-slip faults (Leonard 2010 eqs. 3-4, Table 5)."""
+    interplate strike-slip faults (Leonard 2010 eqs. 3-4, Table 5).
+
+    Parameters
+    ----------
+    length : float or array_like
+        Rupture length L (m).
+    setting : str
+        strike-slip, dip-slip or stable-continental (Leonard 2010 Table 5).
+    bound : str
+        preferred, low or high: Table 5's constants.
+
+    Returns
+    -------
+    float or ndarray
+        Rupture width W (m).
+    """
     c1, _ = _leonard_constants(setting, bound)
     length = _positive(length, "rupture length")
     first, saturation, saturated = _leonard_corners(setting, c1)
@@ -244,7 +393,22 @@ def leonard_moment_from_area(area, setting: str = "strike-slip", bound: str = "p
 
 def leonard_magnitude_from_area(area, setting: str = "strike-slip", bound: str = "preferred"):
     """Mw from the area (m^2): log10(A / km^2) + 3.99 strike-slip, 4.00 dip-slip, 4.19 stable continental as
-    Table 6 prints them, here computed from C2 (Leonard 2010)."""
+    Table 6 prints them, here computed from C2 (Leonard 2010).
+
+    Parameters
+    ----------
+    area : float or array_like
+        Rupture area (m^2).
+    setting : str
+        strike-slip, dip-slip or stable-continental (Leonard 2010 Table 5).
+    bound : str
+        preferred, low or high: Table 5's constants.
+
+    Returns
+    -------
+    float or ndarray
+        Mw.
+    """
     _, c2 = _leonard_constants(setting, bound)
     # in logarithms: a tiny rupture's moment would underflow to zero
     log_moment = math.log10(LEONARD_SHEAR_MODULUS * c2) + 1.5 * np.log10(_positive(area, "rupture area"))
@@ -253,7 +417,22 @@ def leonard_magnitude_from_area(area, setting: str = "strike-slip", bound: str =
 
 def leonard_magnitude_from_length(length, setting: str = "strike-slip", bound: str = "preferred"):
     """Mw from the rupture length (m) through W(L): 1.67 log10(L / km) + 4.17 strike-slip, 4.24 dip-slip,
-    4.32 stable continental in Table 6's middle segment, here computed from C1 and C2 (Leonard 2010)."""
+    4.32 stable continental in Table 6's middle segment, here computed from C1 and C2 (Leonard 2010).
+
+    Parameters
+    ----------
+    length : float or array_like
+        Rupture length (m).
+    setting : str
+        strike-slip, dip-slip or stable-continental (Leonard 2010 Table 5).
+    bound : str
+        preferred, low or high: Table 5's constants.
+
+    Returns
+    -------
+    float or ndarray
+        Mw.
+    """
     length = _positive(length, "rupture length")
     return leonard_magnitude_from_area(length * leonard_width(length, setting, bound), setting, bound)
 
@@ -268,7 +447,22 @@ def leonard_magnitude_from_surface_length(surface_length, setting: str = "strike
 
 
 def leonard_area_from_magnitude(magnitude, setting: str = "strike-slip", bound: str = "preferred"):
-    """Rupture area A = (M0 / (mu C2))^(2/3) (m^2) for a magnitude (Leonard 2010)."""
+    """Rupture area A = (M0 / (mu C2))^(2/3) (m^2) for a magnitude (Leonard 2010).
+
+    Parameters
+    ----------
+    magnitude : float or array_like
+        Moment magnitude Mw.
+    setting : str
+        strike-slip, dip-slip or stable-continental (Leonard 2010 Table 5).
+    bound : str
+        preferred, low or high: Table 5's constants.
+
+    Returns
+    -------
+    float or ndarray
+        Rupture area (m^2).
+    """
     _, c2 = _leonard_constants(setting, bound)
     moment = _leonard_magnitude_to_moment(_finite(magnitude, "magnitude"))
     return (moment / (LEONARD_SHEAR_MODULUS * c2)) ** (2.0 / 3.0)
@@ -276,7 +470,22 @@ def leonard_area_from_magnitude(magnitude, setting: str = "strike-slip", bound: 
 
 def leonard_length_from_magnitude(magnitude, setting: str = "strike-slip", bound: str = "preferred"):
     """Rupture length (m) for a magnitude: A = L W(L) inverted segment by segment (L = sqrt(A), (A/C1)^(3/5),
-    A / W_max) (Leonard 2010)."""
+    A / W_max) (Leonard 2010).
+
+    Parameters
+    ----------
+    magnitude : float or array_like
+        Moment magnitude Mw.
+    setting : str
+        strike-slip, dip-slip or stable-continental (Leonard 2010 Table 5).
+    bound : str
+        preferred, low or high: Table 5's constants.
+
+    Returns
+    -------
+    float or ndarray
+        Rupture length (m).
+    """
     c1, _ = _leonard_constants(setting, bound)
     area = leonard_area_from_magnitude(magnitude, setting, bound)
     first, saturation, saturated = _leonard_corners(setting, c1)
@@ -297,7 +506,22 @@ def leonard_displacement_from_magnitude(magnitude, setting: str = "strike-slip",
 
 def leonard_range(function, value, setting: str = "strike-slip"):
     """(low, high) of one of the Leonard functions above over Table 5's ranges of C1 and C2 (both bounds
-    together, ordered): his uncertainty, which is a range, not a sigma."""
+    together, ordered): his uncertainty, which is a range, not a sigma.
+
+    Parameters
+    ----------
+    function : callable
+        One of the Leonard functions.
+    value : float
+        Its argument (SI).
+    setting : str
+        strike-slip, dip-slip or stable-continental.
+
+    Returns
+    -------
+    tuple
+        (low, high) in the function's units.
+    """
     low, high = function(value, setting, "low"), function(value, setting, "high")
     return np.minimum(low, high), np.maximum(low, high)
 
@@ -346,7 +570,26 @@ def compare(slip_per_event: float, magnitude: float, rupture_length_m: float, se
     """The physical slip per event and Mw beside W&C 1994 and Leonard 2010 for the same rupture (L x H).
 
     The physical slip is an average over the fault; W&C's average displacement is measured at the surface,
-    which is why a ratio near 1 and ``|z| < 2`` is agreement, not more."""
+    which is why a ratio near 1 and ``|z| < 2`` is agreement, not more.
+
+    Parameters
+    ----------
+    slip_per_event : float
+        The physical slip per event (m).
+    magnitude : float
+        Its Mw.
+    rupture_length_m : float
+        Rupture length L (m).
+    seismogenic_depth : float
+        Seismogenic depth H (m).
+    slip_type : str
+        strike-slip, reverse, normal or all.
+
+    Returns
+    -------
+    list of Comparison
+        Each relation's expectation, its ratio to the physical value and the z-score.
+    """
     area = rupture_length_m * seismogenic_depth
     setting = leonard_setting(slip_type)
     rows = []

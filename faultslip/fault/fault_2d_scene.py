@@ -343,6 +343,19 @@ def is_fault_2d_document(document) -> bool:
 
 
 def load_fault_2d_scene(path, allow_large: bool = False) -> Fault2DScene:
+    """A 2-D fault scene (``family = "fault_2d"``) from a file or a bundled scene's name.
+
+    Parameters
+    ----------
+    path : str or path
+        The scene.
+    allow_large : bool
+        Allow more elements than the budget.
+
+    Returns
+    -------
+    Fault2DScene
+    """
     if isinstance(path, Fault2DScene):
         return path
     resolved, origin = resolve_path(path, "scene")

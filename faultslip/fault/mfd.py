@@ -111,7 +111,28 @@ def youngs_coppersmith_1985(moment_rate: float, characteristic_magnitude: float,
 
     Density n(m) = beta 10^(-b m) (beta = b ln 10) for min <= m < Mc - 0.25 and the constant
     beta 10^(-b (Mc - 1.25)) on [Mc - 0.25, Mc + 0.25], integrated exactly over each bin and scaled to the
-    budget. The bins run down from Mc + 0.25 to the last edge at or above ``min_magnitude``."""
+    budget. The bins run down from Mc + 0.25 to the last edge at or above ``min_magnitude``.
+
+    Parameters
+    ----------
+    moment_rate : float
+        The budget (N m/yr).
+    characteristic_magnitude : float
+        Mc.
+    min_magnitude : float
+        Mw.
+    b_value : float
+        b.
+    bin_width : float
+        The bins' width.
+    moment_constant : float
+        The constant of Mw.
+
+    Returns
+    -------
+    MagnitudeFrequency
+        Bin magnitudes and rates (1/yr).
+    """
     _check(moment_rate, b_value, bin_width, characteristic_magnitude=characteristic_magnitude,
            min_magnitude=min_magnitude)
     top = characteristic_magnitude + CHARACTERISTIC_HALF_WIDTH
@@ -140,7 +161,26 @@ def truncated_gutenberg_richter(moment_rate: float, max_magnitude: float, min_ma
 
     The bounds are put on multiples of ``bin_width`` (the engine does the same), each bin's rate is
     10^(a - b m_lo) - 10^(a - b m_hi), and the a-value (of the cumulative rate, events per year) is the one
-    that meets the budget: a = log10(budget / sum_i (10^(-b lo_i) - 10^(-b hi_i)) M0(m_i))."""
+    that meets the budget: a = log10(budget / sum_i (10^(-b lo_i) - 10^(-b hi_i)) M0(m_i)).
+
+    Parameters
+    ----------
+    moment_rate : float
+        The budget (N m/yr).
+    max_magnitude, min_magnitude : float
+        The bounds (Mw).
+    b_value : float
+        b.
+    bin_width : float
+        The bins' width.
+    moment_constant : float
+        The constant of Mw.
+
+    Returns
+    -------
+    MagnitudeFrequency
+        Bin magnitudes and rates (1/yr).
+    """
     _check(moment_rate, b_value, bin_width, max_magnitude=max_magnitude, min_magnitude=min_magnitude)
     low_edge = round(min_magnitude / bin_width) * bin_width
     high_edge = round(max_magnitude / bin_width) * bin_width
@@ -161,7 +201,24 @@ def truncated_gutenberg_richter(moment_rate: float, max_magnitude: float, min_ma
 def single_bin(moment_rate: float, magnitude: float, bin_width: float = BIN_WIDTH,
                moment_constant: float = MOMENT_CONSTANT) -> MagnitudeFrequency:
     """The characteristic event alone: one bin centred on Mw with the rate budget / M0(Mw) (= 1/T when the
-    budget is faultslip's own)."""
+    budget is faultslip's own).
+
+    Parameters
+    ----------
+    moment_rate : float
+        The moment budget (N m/yr).
+    magnitude : float
+        Mw.
+    bin_width : float
+        The bin's width.
+    moment_constant : float
+        The constant of Mw.
+
+    Returns
+    -------
+    MagnitudeFrequency
+        Bin magnitudes and rates (1/yr).
+    """
     _check(moment_rate, B_VALUE, bin_width, magnitude=magnitude)
     rate = moment_rate / float(moment(magnitude, moment_constant))
     return MagnitudeFrequency("single_bin", float(magnitude), bin_width, np.array([rate]), moment_constant,

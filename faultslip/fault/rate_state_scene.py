@@ -182,6 +182,19 @@ def parse_rate_state_scene(text: str, source: str = "<scene>") -> RateStateScene
 
 
 def load_rate_state_scene(path) -> RateStateScene:
+    """A rate-and-state scene ([law], and [slider] with [load] or [fault]) from a file, a bundled scene's name or a
+    scene varied for a sweep.
+
+    Parameters
+    ----------
+    path : str, path, TomlScene or RateStateScene
+        The scene.
+
+    Returns
+    -------
+    RateStateScene
+        The law, the slider (SI) and the load history or plate rate (m/s).
+    """
     if isinstance(path, RateStateScene):  # loaded already
         return path
     text, source, _, origin = scene_source(path, "rate-and-state scene")

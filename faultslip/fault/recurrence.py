@@ -77,7 +77,26 @@ def distribution(model: str, mean: float, aperiodicity: float):
 
 
 def conditional_probability(model: str, mean: float, aperiodicity: float, elapsed: float, horizon: float) -> float:
-    """P(an event within ``horizon`` | none for ``elapsed``) = (F(t + h) - F(t)) / (1 - F(t))."""
+    """P(an event within ``horizon`` | none for ``elapsed``) = (F(t + h) - F(t)) / (1 - F(t)).
+
+    Parameters
+    ----------
+    model : str
+        The renewal model: bpt (Brownian passage time), lognormal, weibull or poisson.
+    mean : float
+        Mean recurrence (s).
+    aperiodicity : float
+        The coefficient of variation (dimensionless).
+    elapsed : float
+        Time since the last event (s).
+    horizon : float
+        The window (s).
+
+    Returns
+    -------
+    float
+        The probability (dimensionless).
+    """
     if elapsed < 0 or horizon <= 0:
         raise InputError("the time since the last event must be >= 0 and the horizon positive")
     law = distribution(model, mean, aperiodicity)
@@ -104,7 +123,26 @@ class RenewalFit:
 def fit(model: str, values, bootstrap: int = 1000, seed: int = 0, elapsed: float | None = None,
         horizon: float | None = None) -> RenewalFit:
     """Maximum-likelihood fit with a seeded parametric bootstrap of its 95 % ranges (and of the conditional
-    probability, if ``elapsed`` and ``horizon`` are given)."""
+    probability, if ``elapsed`` and ``horizon`` are given).
+
+    Parameters
+    ----------
+    model : str
+        bpt, lognormal, weibull or poisson.
+    values : array_like
+        Observed intervals (s).
+    bootstrap : int
+        Parametric bootstrap samples.
+    seed : int
+        The bootstrap's seed.
+    elapsed, horizon : float, optional
+        Time since the last event and the window (s): the conditional probability.
+
+    Returns
+    -------
+    RenewalFit
+        Mean (s), aperiodicity, the log-likelihood and the 95 % ranges.
+    """
     values = _check(values)
     if not 0 <= bootstrap <= 100_000:
         raise InputError(f"bootstrap must lie between 0 and 100000 samples, got {bootstrap}")

@@ -60,7 +60,22 @@ def normal_stress_from_shear_stress(shear_stress, mu_so):
 
 
 def seismic_moment(shear_modulus, rupture_length, seismogenic_depth, slip):
-    r"""Seismic moment :math:`M_0 = G L H \bar u` in N m (Aki 1966)."""
+    r"""Seismic moment :math:`M_0 = G L H \bar u` in N m (Aki 1966).
+
+    Parameters
+    ----------
+    shear_modulus : float or array_like
+        G (Pa).
+    rupture_length, seismogenic_depth : float or array_like
+        L and H (m).
+    slip : float or array_like
+        Average slip (m).
+
+    Returns
+    -------
+    float or ndarray
+        M0 (N m).
+    """
     return shear_modulus * rupture_length * seismogenic_depth * slip
 
 
@@ -68,6 +83,18 @@ def moment_magnitude(seismic_moment, constant=MW_CONSTANT):
     r"""Moment magnitude :math:`M_w = \tfrac{2}{3}(\log_{10} M_0 - 9.1)`, :math:`M_0` in N m.
 
     The constant 9.1 is the IASPEI (2013) standard; see :data:`MW_CONSTANT`.
+
+    Parameters
+    ----------
+    seismic_moment : float or array_like
+        M0 (N m).
+    constant : float
+        The constant of the definition.
+
+    Returns
+    -------
+    float or ndarray
+        Mw.
     """
     return (2.0 / 3.0) * (np.log10(seismic_moment) - constant)
 
@@ -134,6 +161,35 @@ class Fault:
     ``"granodiorite_water"``) supplies G and the friction law (mu_so, mu_m, b,
     d) unless they are given. Without a friction preset (e.g. granite) give
     mu_so and mu_m; b then defaults to 0, a rate-independent static friction.
+
+    Parameters
+    ----------
+    slip_rate : str, Quantity or float
+        Tectonic slip rate V ("2 in/yr"; m/s as a float).
+    zone_width : str, Quantity or float
+        Elastic-zone half-width D ("13 mi"; m); K = G / D.
+    shear_modulus : str, Quantity or float, optional
+        G ("0.25e6 bar"; Pa); the lithology's otherwise.
+    normal_stress, shear_stress : str, Quantity or float, optional
+        Effective normal stress, or shear stress tau with sigma_n = tau / mu_so (Pa); give one.
+    lithology : str, optional
+        A lithology, a Table I preset or a saved fit (``faultslip materials``).
+    mu_so, mu_m, b, d : float, optional
+        The rate law of eq. 2-18 (dimensionless; b in s^d), replacing the lithology's.
+    rupture_length, seismogenic_depth : str, Quantity or float, optional
+        L and H (m): the seismic moment M0 = G L H u and Mw.
+    damping_ratio : float
+        Damping ratio of the slider's dashpot.
+    radiation_damping : bool
+        Add the radiation damper G / (2 c_s).
+    density : str, Quantity or float
+        Rock density rho (kg/m^3): the mass per unit area M = rho D.
+    shear_wave_speed : str, Quantity or float, optional
+        c_s (m/s; sqrt(G / rho) otherwise).
+    name : str
+        A name for reports.
+    material : MaterialChoice, optional
+        A resolved material (internal; ``lithology`` resolves one).
     """
 
     slip_rate: object

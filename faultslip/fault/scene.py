@@ -394,6 +394,15 @@ def load_scene(path_or_name=None) -> Scene:
     """Load a scene from a path, or a bundled scene by bare file name (default: the 1906 scene).
 
     A bundled scene is used only for a bare name with no such file here; ``Scene.origin`` says so.
+
+    Parameters
+    ----------
+    path_or_name : str or path, optional
+        A scene file or a bundled scene's name.
+
+    Returns
+    -------
+    Scene
     """
     if isinstance(path_or_name, Scene):  # loaded already
         return path_or_name
@@ -461,6 +470,19 @@ def run_scene(scene: Scene, method: str | None = None, tolerance: float | None =
     implied kinetic friction (seed 003 §5-2). A lab scene gives its stick-slip limit cycle. The
     method is the scene's ``[method]`` (default ``auto``: the cheapest one that meets the
     tolerance, 1e-6 relative unless the scene or caller says otherwise).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    method : str, optional
+        The seed law's method.
+    tolerance : float, optional
+        Relative error allowed.
+
+    Returns
+    -------
+    Report
     """
     method = method or scene.method
     tolerance = scene.tolerance if tolerance is None else tolerance

@@ -107,6 +107,18 @@ def read_friction_data(source, fixed_mu_m: float | None = None) -> FrictionData:
     ``source`` is a CSV or netCDF file, or a table in memory: a pandas DataFrame or a mapping of
     column to values, whose column names carry their units as the CSV's do
     (``"loading_rate (1/s)"``, ``"static_friction"``).
+
+    Parameters
+    ----------
+    source : path, DataFrame or mapping
+        The measurements.
+    fixed_mu_m : float, optional
+        A kinetic friction held fixed.
+
+    Returns
+    -------
+    FrictionData
+        Loading rate (1/s) and static friction (dimensionless).
     """
     if hasattr(source, "columns") or isinstance(source, Mapping):
         columns, label, origin = _table_columns(source), "the table", "table in memory"
@@ -270,7 +282,26 @@ def fit_rate_law(data, loss: str = "linear", bootstrap: int = 200, seed: int = 0
     """Fit mu_so, mu_m, b, d (see module docstring); ``bootstrap`` resamples with a seeded generator.
 
     ``data`` is :class:`FrictionData`, or anything :func:`read_friction_data` reads: a file, a pandas
-    DataFrame or a mapping of columns with units in their names."""
+    DataFrame or a mapping of columns with units in their names.
+
+    Parameters
+    ----------
+    data : FrictionData, path, DataFrame or mapping
+        Static friction (dimensionless) against loading rate (1/s).
+    loss : str
+        linear, soft_l1, huber or cauchy.
+    bootstrap : int
+        Resamples of the 95 % intervals.
+    seed : int
+        The resamples' seed.
+    fixed_mu_m : float, optional
+        Hold mu_m at this value.
+
+    Returns
+    -------
+    FitResult
+        mu_so, mu_m (dimensionless), b (s^d), d, their 95 % intervals and ``report()``.
+    """
     if loss not in LOSSES:
         raise InputError(f"robust loss must be one of {', '.join(LOSSES)}, got {loss!r}")
     if not isinstance(data, FrictionData):  # a file, a DataFrame or a mapping of columns
@@ -571,7 +602,19 @@ def synthetic_data(preset, points=40, noise=0.005, seed=0, rates=None, amplitude
 
 
 def fit_figure(data: FrictionData, fit: FitResult):
-    """Data, fit and 95 % band against log10 loading rate (the style of seed 003 Figs. 4-1 to 4-22)."""
+    """Data, fit and 95 % band against log10 loading rate (the style of seed 003 Figs. 4-1 to 4-22).
+
+    Parameters
+    ----------
+    data : FrictionData
+        The measured static friction against loading rate.
+    fit : FitResult
+        :func:`fit_rate_law`'s fit.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     import matplotlib.pyplot as plt  # heavy: imported where used
 
     panels = 2 if data.amplitude is not None else 1

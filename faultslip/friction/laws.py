@@ -56,6 +56,18 @@ def static_friction(loading_rate, mu_so, mu_m, b, d):
     :math:`\mu_s \to \mu_{so}` as :math:`\dot\theta \to 0` and
     :math:`\mu_s \to \mu_m` as :math:`\dot\theta \to \infty`. See
     :func:`static_friction_excess` for units and references.
+
+    Parameters
+    ----------
+    loading_rate : array_like
+        theta_dot (1/s).
+    mu_so, mu_m, b, d : array_like
+        The rate law.
+
+    Returns
+    -------
+    ndarray or float
+        mu_s (dimensionless).
     """
     return mu_m + static_friction_excess(loading_rate, mu_so, mu_m, b, d)
 
@@ -144,7 +156,13 @@ class RateLaw:
 
 @dataclass(frozen=True)
 class ConstantStatic:
-    """A rate- and time-independent static friction coefficient."""
+    """A rate- and time-independent static friction coefficient.
+
+    Parameters
+    ----------
+    mu_s : float
+        The static friction coefficient (dimensionless).
+    """
 
     mu_s: float
 
@@ -174,6 +192,13 @@ class TimeOfStickLaw:
 
     With a stick time of :math:`\\alpha/V` it gives a critical velocity
     :math:`V_c = c\\,\\alpha_m` (seed 002 eq. 9 and the limit below it).
+
+    Parameters
+    ----------
+    mu_lower, mu_upper : float
+        Static friction after no stick and after a long one (dimensionless).
+    growth_rate : float
+        c, the rate at which static friction grows with the time of stick (1/s).
     """
 
     mu_lower: float
@@ -199,7 +224,13 @@ class TimeOfStickLaw:
 
 @dataclass(frozen=True)
 class ConstantKinetic:
-    """Kinetic friction independent of sliding speed."""
+    """Kinetic friction independent of sliding speed.
+
+    Parameters
+    ----------
+    mu_m : float
+        The kinetic friction coefficient (dimensionless).
+    """
 
     mu_m: float
 
@@ -227,6 +258,13 @@ class LinearKinetic:
     ``slope`` is :math:`\beta` in s/m. :math:`\beta > 0` adds damping
     :math:`\beta W` to the slip phase; :math:`\beta < 0` (friction weakening
     with speed) removes it and can make the slip oscillation grow.
+
+    Parameters
+    ----------
+    mu_m : float
+        Kinetic friction at rest relative to the platform (dimensionless).
+    slope : float
+        beta (s/m): the change of friction per unit of the speed difference V - x'.
     """
 
     mu_m: float
@@ -252,6 +290,11 @@ class PolynomialKinetic:
     ``coefficients`` are in increasing powers of the sliding speed u (m/s):
     ``c_k`` has units (s/m)^k. Seed 002 writes the same sextic in decreasing
     powers (its c_1 ... c_7).
+
+    Parameters
+    ----------
+    coefficients : tuple of float
+        c_0, c_1, ... in increasing powers of the sliding speed (c_k in (s/m)^k); mu is dimensionless.
     """
 
     coefficients: tuple
@@ -310,7 +353,16 @@ class _CurveKinetic:
 
 @dataclass(frozen=True)
 class CallableKinetic(_CurveKinetic):
-    """Any kinetic law given as a callable ``mu(sliding_speed)`` (vectorised, SI)."""
+    """Any kinetic law given as a callable ``mu(sliding_speed)`` (vectorised, SI).
+
+    Parameters
+    ----------
+    function : callable
+        ``mu(sliding_speed)``: the kinetic friction coefficient (dimensionless) at sliding speeds in m/s,
+        vectorised over numpy arrays.
+    name : str
+        A name for reports.
+    """
 
     function: object
     name: str = "callable"

@@ -141,7 +141,13 @@ def _bundled_lithologies() -> dict[str, Lithology]:
 
 
 def presets() -> dict[str, Preset]:
-    """All presets by name: Table I, the steady-sliding materials and the user's fits."""
+    """All presets by name: Table I, the steady-sliding materials and the user's fits.
+
+    Returns
+    -------
+    dict
+        Name -> :class:`Preset` (rate law, apparatus in N and N/m, sources).
+    """
     merged = dict(_bundled_presets())
     merged.update(user_presets())
     return merged
@@ -242,7 +248,13 @@ def user_fit_entry(name: str) -> dict | None:
 
 def lithologies() -> dict[str, Lithology]:
     """All lithologies by name: the bundled ones and the user's saved fits (what ``fault --lithology`` takes and
-    ``faultslip materials`` lists). A saved fit's shear modulus is the one it was saved with (None: none)."""
+    ``faultslip materials`` lists). A saved fit's shear modulus is the one it was saved with (None: none).
+
+    Returns
+    -------
+    dict
+        Name -> :class:`Lithology` (shear modulus in Pa, density in kg/m^3, friction preset, sources).
+    """
     merged = dict(_bundled_lithologies())
     entries = registry.stored_entries()
     rate_law_fits = user_presets()  # read once: each call reads the registry file again
@@ -261,7 +273,13 @@ def bundled_lithologies() -> dict[str, Lithology]:
 
 
 def fits() -> dict[str, dict]:
-    """The user's saved fits by name, as the registry stores them (law, parameters, intervals, note, source)."""
+    """The user's saved fits by name, as the registry stores them (law, parameters, intervals, note, source).
+
+    Returns
+    -------
+    dict
+        Fit name -> the registry's entry: its law, parameters (SI), intervals, note and source.
+    """
     return {name: dict(entry) for name, entry in registry.stored_entries().items() if isinstance(entry, dict)}
 
 
@@ -316,12 +334,34 @@ def _lookup(kind: str, name: str, table: dict):
 
 
 def get_preset(name: str) -> Preset:
-    """A preset by name (case and separators are forgiven)."""
+    """A preset by name (case and separators are forgiven).
+
+    Parameters
+    ----------
+    name : str
+        A preset's name (Table I, steady-sliding materials, saved fits).
+
+    Returns
+    -------
+    Preset
+        Its rate law and apparatus (N, N/m), with sources.
+    """
     return _lookup("preset", name, presets())
 
 
 def get_lithology(name: str) -> Lithology:
-    """A lithology by name (case and separators are forgiven)."""
+    """A lithology by name (case and separators are forgiven).
+
+    Parameters
+    ----------
+    name : str
+        A lithology's name.
+
+    Returns
+    -------
+    Lithology
+        Its shear modulus (Pa), density and friction preset, with sources.
+    """
     return _lookup("lithology", name, lithologies())
 
 

@@ -77,7 +77,18 @@ def _check_file(path: Path, what: str) -> None:
 
 
 def read_catalog(path) -> Catalog:
-    """A QuakeML or CSV catalog, sorted by time. Raises :class:`InputError` in one sentence."""
+    """A QuakeML or CSV catalog, sorted by time. Raises :class:`InputError` in one sentence.
+
+    Parameters
+    ----------
+    path : str or path
+        The catalog.
+
+    Returns
+    -------
+    Catalog
+        Times, coordinates (degrees), depths (m) and magnitudes.
+    """
     path = Path(path)
     _check_file(path, "catalog")
     suffix = path.suffix.lower()
@@ -203,7 +214,33 @@ def _read_csv(path: Path) -> Catalog:
 def write_quakeml(times, latitude, longitude, depth, magnitudes, path, names=None, magnitude_type: str = "Mw",
                   agency: str = "faultslip", comment: str = "") -> None:
     """Events as an obspy Catalog in QuakeML: UTC times as datetime64 or seconds since 1970, degrees,
-    depth in m. Written through a temporary file and renamed (atomic)."""
+    depth in m. Written through a temporary file and renamed (atomic).
+
+    Parameters
+    ----------
+    times : array_like
+        datetime64 or seconds since 1970.
+    latitude, longitude : array_like
+        Degrees.
+    depth : array_like
+        m.
+    magnitudes : array_like
+        Mw.
+    path : str or path
+        The file.
+    names : list, optional
+        Event names.
+    magnitude_type : str
+        Mw.
+    agency : str
+        The agency.
+    comment : str
+        A comment.
+
+    Returns
+    -------
+    None
+    """
     from obspy import UTCDateTime  # heavy: imported where used
     from obspy.core import event as quakeml  # heavy: imported where used
 

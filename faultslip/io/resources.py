@@ -34,6 +34,18 @@ def data_path(name: str) -> Path:
 
 
 def config_path(name: str) -> Path:
+    """A bundled file of ``configs/`` by name.
+
+    Parameters
+    ----------
+    name : str
+        The file's name ("san_andreas_1906.toml").
+
+    Returns
+    -------
+    pathlib.Path
+        Where the installed package holds it.
+    """
     return bundled_dir("configs") / name
 
 

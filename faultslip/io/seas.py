@@ -70,7 +70,18 @@ def write_profiles(path, time, max_slip_rate, slip, depths, *, element_size: flo
 
 
 def read_seas(path) -> tuple[dict, list, np.ndarray]:
-    """(header fields, column names, rows) of a SEAS ASCII file; one sentence for anything malformed."""
+    """(header fields, column names, rows) of a SEAS ASCII file; one sentence for anything malformed.
+
+    Parameters
+    ----------
+    path : str or path
+        A SEAS station or profile file.
+
+    Returns
+    -------
+    tuple
+        (header fields, column names, rows in the file's SI units).
+    """
     label = f"SEAS file {Path(path).name}"
     text = gate.read_text(path, "SEAS file", "table")
     header, names, rows = {}, None, []

@@ -84,7 +84,24 @@ def build_stream(sampling_rate: float, channels: dict, start_seconds: float = DE
                  station: str = "FSLIP", location: str = "00"):
     """An obspy Stream of uniformly sampled channels: ``channels`` maps a component code (see
     :data:`COMPONENTS`) to its samples (SI). ``start_seconds`` is the first sample's UTC time as seconds
-    since 1970 (default 2000-01-01, a nominal epoch for model time)."""
+    since 1970 (default 2000-01-01, a nominal epoch for model time).
+
+    Parameters
+    ----------
+    sampling_rate : float
+        Samples per second (Hz).
+    channels : dict
+        Component code -> samples in SI (m, m/s, N, ...).
+    start_seconds : float
+        UTC time of the first sample, in s since 1970.
+    network, station, location : str
+        SEED codes.
+
+    Returns
+    -------
+    obspy.Stream
+        One trace per component, with the units in each trace's stats.
+    """
     from obspy import Stream, Trace, UTCDateTime  # heavy: imported where used
 
     band = band_code(sampling_rate)
@@ -107,7 +124,20 @@ def sac_path(path, component: str) -> Path:
 
 def write_stream(stream, path) -> list:
     """miniSEED (float64, one file) or SAC (float32, ``STEM.COMPONENT.sac`` per trace), atomically. Returns
-    the paths written."""
+    the paths written.
+
+    Parameters
+    ----------
+    stream : obspy.Stream
+        The stream.
+    path : str or path
+        .mseed or .sac.
+
+    Returns
+    -------
+    list
+        The paths written.
+    """
     path = Path(path)
     kind = stream_format(path)
     if kind == "MSEED":
@@ -124,7 +154,17 @@ def write_stream(stream, path) -> list:
 
 
 def read_stream(path):
-    """A miniSEED or SAC file through obspy.read, in one sentence if it is not one."""
+    """A miniSEED or SAC file through obspy.read, in one sentence if it is not one.
+
+    Parameters
+    ----------
+    path : str or path
+        The waveform file.
+
+    Returns
+    -------
+    obspy.Stream
+    """
     from obspy import read  # heavy: imported where used
 
     path = gate.check_input(path, "record", "waveform")

@@ -82,7 +82,18 @@ def is_accelerometer_csv(path) -> bool:
 
 
 def read_accelerometer(path) -> AccelerometerRecord:
-    """A phyphox export or a generic accelerometer CSV, in SI; one sentence for anything malformed."""
+    """A phyphox export or a generic accelerometer CSV, in SI; one sentence for anything malformed.
+
+    Parameters
+    ----------
+    path : str or path
+        A CSV file.
+
+    Returns
+    -------
+    AccelerometerRecord
+        Time (s) and acceleration (m/s^2) by axis.
+    """
     label = f"accelerometer record {Path(path).name}"
     text = gate.read_text(path, "accelerometer record", "table")
     path = Path(path)
@@ -211,7 +222,24 @@ class ClassroomAnalysis:
 
 def analyse(record: AccelerometerRecord, axis: str | None = None, threshold: float = 6.0,
             merge_time: float = 0.05) -> ClassroomAnalysis:
-    """Stick and slip phases, the friction drop and the event statistics of a record (see the module)."""
+    """Stick and slip phases, the friction drop and the event statistics of a record (see the module).
+
+    Parameters
+    ----------
+    record : AccelerometerRecord
+        :func:`read_accelerometer`'s record (m/s^2 against s).
+    axis : str, optional
+        x, y or z: the axis along the pull (the one with the largest swing otherwise).
+    threshold : float
+        A slip is where ``|a|`` exceeds this many times the record's noise level (dimensionless).
+    merge_time : float
+        Slips closer than this (s) are one.
+
+    Returns
+    -------
+    ClassroomAnalysis
+        The stick and slip phases, the friction drops (dimensionless) and the event statistics, with ``report()``.
+    """
     if axis is not None and axis not in record.acceleration:
         raise InputError(f"axis {axis!r} is not in the record (it has {', '.join(record.acceleration)})")
     if not threshold > 1 or not merge_time >= 0:

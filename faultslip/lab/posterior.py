@@ -56,7 +56,16 @@ BLOCK = 100
 @dataclass(frozen=True)
 class Prior:
     """A prior on one parameter: uniform or log-uniform on [first, second], normal (mean, sd), or
-    log-normal (median, sd of the natural logarithm)."""
+    log-normal (median, sd of the natural logarithm).
+
+    Parameters
+    ----------
+    kind : str
+        uniform, loguniform, normal or lognormal.
+    first, second : float
+        The bounds (uniform, log-uniform), mean and sd (normal), or median and sd of the natural logarithm
+        (log-normal), in the parameter's SI unit.
+    """
 
     kind: str
     first: float
@@ -100,7 +109,18 @@ DEFAULT_PRIORS = {"mu0": Prior("uniform", 0.0, 2.0), "a": Prior("uniform", 1e-5,
 
 
 def parse_prior(text: str) -> tuple[str, Prior]:
-    """``"a=uniform:0:0.05"``, ``"critical_slip=loguniform:1e-7:1e-3"``, ``"b=normal:0.012:0.002"`` (SI)."""
+    """``"a=uniform:0:0.05"``, ``"critical_slip=loguniform:1e-7:1e-3"``, ``"b=normal:0.012:0.002"`` (SI).
+
+    Parameters
+    ----------
+    text : str
+        ``name=kind:first:second``.
+
+    Returns
+    -------
+    tuple
+        (parameter name, :class:`Prior`).
+    """
     name, _, spec = str(text).partition("=")
     name = name.strip()
     if name not in DEFAULT_PRIORS:
@@ -289,7 +309,40 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
                      max_steps: int = 20_000, rtol: float = 1e-7, workers: int = 1, initial_fit=None) -> Posterior:
     """Sample the posterior of (mu0, a, b, D_c[, b2, D_c2]) given ``record`` on a spring of ``stiffness``
     (friction per metre) until the chain has converged (module docstring) and holds at least ``samples``
-    draws after burn-in; raise :class:`SolverError` with the diagnostics if ``max_steps`` come first."""
+    draws after burn-in; raise :class:`SolverError` with the diagnostics if ``max_steps`` come first.
+
+    Parameters
+    ----------
+    record : StepRecord
+        The record.
+    stiffness : float
+        The spring (1/m).
+    evolution : str
+        aging or slip.
+    two_state : bool
+        A second state variable.
+    priors : dict, optional
+        Parameter -> :class:`Prior`.
+    samples : int
+        Draws after burn-in.
+    walkers : int, optional
+        Ensemble walkers.
+    seed : int
+        The seed.
+    max_steps : int
+        The step budget.
+    rtol : float
+        The integrator's tolerance.
+    workers : int
+        Processes.
+    initial_fit : RateStateFit, optional
+        Where the walkers start.
+
+    Returns
+    -------
+    Posterior
+        Draws of the parameters (SI), the diagnostics and ``report()``.
+    """
     if not 100 <= samples <= 1_000_000:
         raise InputError(f"the number of posterior draws must be from 100 to 1e6, got {samples}")
     if not 100 <= max_steps <= 10_000_000:

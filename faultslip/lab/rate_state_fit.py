@@ -57,6 +57,17 @@ def step_record(table, source: str = "<table>") -> StepRecord:
 
     Column names carry their units as in a CSV header (``"time (s)"``, ``"load_point_speed (um/s)"``),
     or a column is a pint Quantity array under its bare name; see :data:`STEP_COLUMNS`.
+
+    Parameters
+    ----------
+    table : DataFrame or mapping
+        The record's columns.
+    source : str
+        A name for messages.
+
+    Returns
+    -------
+    StepRecord
     """
     if hasattr(table, "columns") and hasattr(table, "to_dict"):  # a pandas DataFrame
         items = [(str(column), table[column].to_numpy()) for column in table.columns]
@@ -116,7 +127,18 @@ def step_record_from_columns(columns: dict, source: str) -> StepRecord:
 
 
 def read_step_record(path) -> StepRecord:
-    """A velocity-step record from CSV (units in the headers) or netCDF (units attributes)."""
+    """A velocity-step record from CSV (units in the headers) or netCDF (units attributes).
+
+    Parameters
+    ----------
+    path : str or path
+        The record.
+
+    Returns
+    -------
+    StepRecord
+        Time (s), friction (dimensionless) and the load-point speed (m/s).
+    """
     path = check_input_file(path, "velocity-step record")
     if path.suffix.lower() == ".nc":
         data = open_netcdf(path, "velocity-step record")
@@ -184,6 +206,30 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
     ``stiffness`` a float in 1/m or a string or Quantity with units ("1e-3 1/um").
 
     ``bootstrap`` resamples (seeded by ``seed``) add bootstrap intervals; each costs one refit.
+
+    Parameters
+    ----------
+    record : StepRecord, DataFrame or mapping
+        Friction against time through the velocity steps.
+    stiffness : float, str or Quantity
+        The spring as friction per slip (1/m).
+    evolution : str
+        aging or slip.
+    two_state : bool
+        Fit a second state variable (b2, D_c2).
+    initial : dict, optional
+        Starting values (SI).
+    rtol : float
+        The integrator's relative tolerance.
+    bootstrap : int
+        Resamples of the intervals.
+    seed : int
+        Their seed.
+
+    Returns
+    -------
+    RateStateFit
+        a, b (dimensionless), D_c (m), their intervals and ``report()``.
     """
     from scipy.optimize import least_squares  # heavy: imported where used
     from scipy.special import stdtrit  # heavy: imported where used

@@ -113,7 +113,23 @@ def _columns_to_raw(columns: dict, source: str, units: dict | None, area) -> Raw
 
 def raw_record(table, units: dict | None = None, area=None, source: str = "<table>") -> RawRecord:
     """A raw record from a pandas DataFrame or a mapping of columns (``"time (s)"`` headers, pint Quantity
-    columns, or bare names with ``units``); ``area`` (m^2, or a string with units) turns loads into stresses."""
+    columns, or bare names with ``units``); ``area`` (m^2, or a string with units) turns loads into stresses.
+
+    Parameters
+    ----------
+    table : DataFrame or mapping
+        The record's columns.
+    units : dict, optional
+        Column -> unit, for bare column names.
+    area : str, Quantity or float, optional
+        The sample's area (m^2).
+    source : str
+        A name for messages.
+
+    Returns
+    -------
+    RawRecord
+    """
     if hasattr(table, "columns") and hasattr(table, "to_dict"):
         items = [(str(column), table[column].to_numpy()) for column in table.columns]
     elif isinstance(table, dict):
@@ -152,7 +168,21 @@ def _read_columns(path, what: str, only=None) -> tuple:
 
 def read_raw_record(path, units: dict | None = None, area=None) -> RawRecord:
     """A raw record from CSV (``name (unit)`` headers), whitespace-delimited text (``.txt``, ``.dat``,
-    ``.tsv``: see :func:`faultslip.io.resources.read_numeric_text`) or netCDF (``units`` attributes)."""
+    ``.tsv``: see :func:`faultslip.io.resources.read_numeric_text`) or netCDF (``units`` attributes).
+
+    Parameters
+    ----------
+    path : str or path
+        The record.
+    units : dict, optional
+        Column -> unit, for bare column names.
+    area : str, Quantity or float, optional
+        The sample's area (m^2).
+
+    Returns
+    -------
+    RawRecord
+    """
     path, columns = _read_columns(path, "raw record", only=RAW_COLUMNS)
     return _columns_to_raw(columns, path.name, units, _area(area))
 
@@ -214,7 +244,26 @@ def detect_steps(time, displacement, min_change: float = MIN_CHANGE, width: int 
                  step_times=None) -> LoadHistory:
     """The load history (segment start times and constant speeds) of a load-point displacement record.
 
-    With ``step_times`` the segments are the user's and only their speeds are measured."""
+    With ``step_times`` the segments are the user's and only their speeds are measured.
+
+    Parameters
+    ----------
+    time : array_like
+        Sample times (s).
+    displacement : array_like
+        Load-point displacement (m).
+    min_change : float
+        The smallest relative change of speed that is a step.
+    width : int, optional
+        The smoothing window (samples).
+    step_times : array_like, optional
+        The user's step times (s).
+
+    Returns
+    -------
+    LoadHistory
+        Segment start times (s) and speeds (m/s).
+    """
     time, displacement = np.asarray(time, dtype=float), np.asarray(displacement, dtype=float)
     n = time.size
     if step_times is not None:
@@ -323,7 +372,29 @@ def _stiffness(stiffness, normal_stress: float, area) -> tuple[float, str]:
 def prepare_record(raw: RawRecord, stiffness, *, area=None, detrend: str = "none", step_times=None,
                    min_change: float = MIN_CHANGE) -> PreparedRecord:
     """Friction, the fit's spring, the sample's displacement, the steps and holds, and the stated trend
-    removed (``detrend`` none, linear or quadratic)."""
+    removed (``detrend`` none, linear or quadratic).
+
+    Parameters
+    ----------
+    raw : RawRecord
+        :func:`read_raw_record`'s record.
+    stiffness : str, Quantity or float
+        The machine stiffness: friction per slip (1/m), stress per slip (Pa/m) or force per slip (N/m, with
+        ``area``).
+    area : str, Quantity or float, optional
+        The sample's area (m^2).
+    detrend : str
+        none, linear or quadratic.
+    step_times : array_like, optional
+        The steps' times (s).
+    min_change : float
+        The smallest relative change of speed that is a step.
+
+    Returns
+    -------
+    PreparedRecord
+        Friction (dimensionless), the spring (1/m), the load history and the holds.
+    """
     if detrend not in ("none", "linear", "quadratic"):
         raise InputError(f"detrend must be none, linear or quadratic, got {detrend!r}")
     normal = float(np.median(raw.normal_stress))
@@ -386,7 +457,22 @@ def step_windows(prepared: PreparedRecord, lead: float = 0.5) -> list[tuple[floa
 
 def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=None) -> list[dict]:
     """Each step's own fit (its window started at steady state at the speed before it): a list of
-    ``{"step", "window", "fit"}`` or ``{"step", "window", "error"}`` where a window does not constrain the law."""
+    ``{"step", "window", "fit"}`` or ``{"step", "window", "error"}`` where a window does not constrain the law.
+
+    Parameters
+    ----------
+    prepared : PreparedRecord
+        :func:`prepare_record`'s record.
+    evolution : str
+        aging or slip.
+    windows : list, optional
+        (start, end) times of each step's window (s).
+
+    Returns
+    -------
+    list of dict
+        Per step: its window (s) and its fit (a, b, D_c in m) or the reason it has none.
+    """
     record, results = prepared.record, []
     boundaries, speeds = record.history.times, record.history.speeds
     for number, (start, end) in enumerate(windows or step_windows(prepared), start=1):
@@ -417,7 +503,31 @@ def synthetic_raw_record(law, machine_stiffness: float, area: float, normal_load
     """A raw record made by the model, as a rig would write it: the slider of ``law`` on a spring
     K / (sigma_n A) sampled at ``rate`` Hz; Gaussian noise on the shear stress (``friction_noise`` times
     sigma_n), on the normal load (relative ``load_noise``) and on the load-point displacement (m); a
-    linear ``drift`` in friction per metre of the load point's travel. SI in and out."""
+    linear ``drift`` in friction per metre of the load point's travel. SI in and out.
+
+    Parameters
+    ----------
+    law : RateStateLaw
+        The friction law.
+    machine_stiffness : float
+        K (N/m).
+    area : float
+        A (m^2).
+    normal_load : float
+        N.
+    history : LoadHistory
+        The load history.
+    rate : float
+        Samples per second.
+    friction_noise, load_noise, displacement_noise, drift : float
+        The noise and drift described above.
+    seed : int
+        The noise's seed.
+
+    Returns
+    -------
+    RawRecord
+    """
     normal = normal_load / area
     spring = machine_stiffness / (normal * area)
     times = np.arange(0.0, history.duration + 0.5 / rate, 1.0 / rate)

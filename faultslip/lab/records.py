@@ -76,6 +76,18 @@ def register_reader(suffix: str, reader) -> None:
 
 
 def read_record(path) -> Record:
+    """A motion record from CSV (``name (unit)`` headers) or netCDF.
+
+    Parameters
+    ----------
+    path : str or path
+        The record.
+
+    Returns
+    -------
+    Record
+        Time (s) and displacement (m), with velocity (m/s) where recorded.
+    """
     path = check_input_file(path, "record file")
     reader = _READERS.get(path.suffix.lower())
     if reader is None:
@@ -208,6 +220,30 @@ def analyze_record(record: Record, mass, stiffness, normal_load, platform_speed=
     ``platform_speed`` defaults to the median slider velocity (the slider moves with the platform
     most of the time). A sample slips when its sliding speed exceeds ``threshold`` times the
     largest sliding speed; only cycles between two break-aways count as complete events.
+
+    Parameters
+    ----------
+    record : Record
+        :func:`read_record`'s record (time in s, displacement in m).
+    mass : float
+        M (kg).
+    stiffness : float
+        K (N/m).
+    normal_load : float
+        W (N).
+    platform_speed : float, optional
+        V (m/s).
+    dashpot : float
+        Dashpot (N s/m).
+    velocity_method : str
+        auto, differentiate or integrate.
+    threshold : float
+        The fraction of the largest sliding speed above which a sample slips.
+
+    Returns
+    -------
+    RecordAnalysis
+        Friction (dimensionless), sliding speed (m/s), phases and per-event quantities, with ``report()``.
     """
     for value, name in ((mass, "mass"), (stiffness, "stiffness"), (normal_load, "normal load")):
         if not (np.isfinite(value) and value > 0):
@@ -315,6 +351,22 @@ def free_decay(amplitude_ratio: float, cycles: float, damped_frequency: float, s
 
     X_n / X_{n+N} = exp(Delta N T_d) with T_d = 1/f_d, so Delta = ln(ratio) f_d / N;
     omega_n = sqrt(omega_d^2 + Delta^2), M = k / omega_n^2, r = 2 M Delta, zeta = Delta / omega_n.
+
+    Parameters
+    ----------
+    amplitude_ratio : float
+        X_n / X_{n+N}.
+    cycles : float
+        N.
+    damped_frequency : float
+        f_d (Hz).
+    stiffness : float
+        k (N/m).
+
+    Returns
+    -------
+    FreeDecay
+        Decay constant Delta (1/s), damping ratio, mass M (kg) and damping coefficient r (N s/m), with ``report()``.
     """
     if not amplitude_ratio > 1:
         raise InputError(f"free decay: the amplitude ratio must exceed 1 (amplitudes fall), got {amplitude_ratio}")
@@ -335,6 +387,18 @@ def free_decay_from_record(record: Record, stiffness: float) -> FreeDecay:
     The peaks alone put the frequency on the sample grid (issue 27: 0.3 % off in M and 0.16 % in zeta on the
     bundled record); the fit reads it between samples, and its covariance gives the standard errors of
     Delta, f_d and, to first order, of M = k / (omega_d^2 + Delta^2) and zeta = Delta / omega_n.
+
+    Parameters
+    ----------
+    record : Record
+        A free-decay displacement record (s, m).
+    stiffness : float
+        k (N/m).
+
+    Returns
+    -------
+    FreeDecay
+        Delta (1/s), f_d (Hz), M (kg), zeta and r (N s/m) with standard errors, and ``report()``.
     """
     from scipy.optimize import curve_fit  # heavy: imported where used
     from scipy.signal import find_peaks  # heavy: imported where used

@@ -9,7 +9,7 @@ length (exponential autocorrelation, Whitehouse & Archard's model, seed 000 eq. 
 **Statistics** (seed 000 §1.7, AD1.2): CLA (Ra, eq. 12), RMS (Rq), skewness and kurtosis of the heights;
 the autocorrelation along x (eq. 13) and its correlation length beta* (where it falls to 1/e); the
 summits (local maxima: 3-point on a profile, 8-neighbour on a map), their density, the spread of their
-heights and their mean radius 1 / |curvature| (second differences); the height density by a Gaussian
+heights and their mean radius 1 / ``|curvature|`` (second differences); the height density by a Gaussian
 kernel estimate (non-parametric, as the seed reads it off the map, fig. AD2.2).
 
 **Contact by truncation** (seed 000 §5.3, after Pullen & Williamson): the surface is pressed against
@@ -89,7 +89,27 @@ def gaussian_surface(rms: float, correlation_length: float, size: int = 256, spa
                      profile: bool = False, seed: int = 0) -> Surface:
     """A Gaussian random surface with exponential autocorrelation C(beta) = exp(-beta / beta*) (seed 000
     eq. 14): white noise filtered in Fourier space by the square root of the exponential's spectrum,
-    rescaled to the exact RMS. ``spacing`` defaults to beta* / 8."""
+    rescaled to the exact RMS. ``spacing`` defaults to beta* / 8.
+
+    Parameters
+    ----------
+    rms : float
+        RMS height (m).
+    correlation_length : float
+        beta* (m).
+    size : int
+        Points a side.
+    spacing : float, optional
+        Sample spacing (m).
+    profile : bool
+        A profile rather than a map.
+    seed : int
+        The noise's seed.
+
+    Returns
+    -------
+    Surface
+    """
     if not (rms > 0 and correlation_length > 0 and 16 <= size <= 4096):
         raise InputError("a synthetic surface needs a positive RMS and correlation length and 16 to 4096 points a side")
     spacing = spacing or correlation_length / 8.0
@@ -111,7 +131,18 @@ def gaussian_surface(rms: float, correlation_length: float, size: int = 256, spa
 
 
 def read_surface(path) -> Surface:
-    """A profile or map from CSV or netCDF (see the module); heights and lengths with units."""
+    """A profile or map from CSV or netCDF (see the module); heights and lengths with units.
+
+    Parameters
+    ----------
+    path : str or path
+        The surface file.
+
+    Returns
+    -------
+    Surface
+        Heights (m) on a grid of spacing (m).
+    """
     path = Path(path)
     label = f"surface {path.name}"
     if path.suffix.lower() == ".nc":
@@ -209,7 +240,19 @@ def summits(surface: Surface) -> dict:
 
 
 def statistics(surface: Surface) -> dict:
-    """Seed 000's surface statistics (see the module), SI."""
+    """Seed 000's surface statistics (see the module), SI.
+
+    Parameters
+    ----------
+    surface : Surface
+        The surface.
+
+    Returns
+    -------
+    dict
+        RMS and CLA (m), skewness, kurtosis, correlation length (m), summit density (1/m^2), radius (m) and
+        height spread (m).
+    """
     from scipy import stats  # heavy: imported where used
 
     z = surface.height - surface.height.mean()
@@ -238,6 +281,24 @@ def truncation_contact(surface: Surface, approaches, counter: Surface | None = N
     counter's protrusion, the bodies first touch where h + h' is largest, and at an approach delta past
     first touch they overlap where delta > max(h + h') - (h + h'): the highest summits first (issue 27:
     this read min(h + h'), which touched the valleys first).
+
+    Parameters
+    ----------
+    surface : Surface
+        The surface.
+    approaches : array_like
+        Approaches from first touch (m).
+    counter : Surface, optional
+        The counter-surface.
+    flow_pressure : float, optional
+        p_c (Pa).
+    redistribute : bool
+        Redistribute the displaced volume.
+
+    Returns
+    -------
+    dict
+        Real area (m^2), contacts, displaced volume (m^3) and load (N) against approach.
     """
     from scipy import ndimage  # heavy: imported where used
 
@@ -282,7 +343,24 @@ def flat_like(surface: Surface) -> Surface:
 
 
 def approach_for_load(surface: Surface, load: float, flow_pressure: float, counter: Surface | None = None) -> dict:
-    """The approach where p_c A = L (seed 000 eq. 23), by bisection on the truncation contact."""
+    """The approach where p_c A = L (seed 000 eq. 23), by bisection on the truncation contact.
+
+    Parameters
+    ----------
+    surface : Surface
+        The surface.
+    load : float
+        Normal load L (N).
+    flow_pressure : float
+        Flow pressure p_c (Pa).
+    counter : Surface, optional
+        The counter-surface (its own inverted copy otherwise).
+
+    Returns
+    -------
+    dict
+        The approach (m), real area (m^2), contacts and the load carried (N).
+    """
     if not (load > 0 and flow_pressure > 0):
         raise InputError("the load and the flow pressure must be positive")
     needed = load / flow_pressure

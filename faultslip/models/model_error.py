@@ -120,6 +120,13 @@ def calibrate(base_scene, ratios=RATIOS, elements_per_process_zone: float = 4.0,
 
 
 def load_calibration() -> dict:
+    """The shipped calibration of one slider against the 2-D fault (``data/model_error.json``).
+
+    Returns
+    -------
+    dict
+        ``rows``: W / h* and the model error (relative) of each calibrated fault; ``provenance``.
+    """
     path = bundled_dir("data") / CALIBRATION_FILE
     try:
         return gate.read_json(path, "the model-error calibration")
@@ -129,7 +136,27 @@ def load_calibration() -> dict:
 
 def declared_model_error(law, shear_modulus: float, normal_stress: float, width: float,
                          calibration: dict | None = None) -> tuple[float, float, str]:
-    """(model error, W / h*, how it was found) of a one-slider fault, from the shipped calibration."""
+    """(model error, W / h*, how it was found) of a one-slider fault, from the shipped calibration.
+
+    Parameters
+    ----------
+    law : RateStateLaw
+        The fault's friction.
+    shear_modulus : float
+        G (Pa).
+    normal_stress : float
+        sigma_n (Pa).
+    width : float
+        W, the width of the velocity-weakening zone (m; D of the one slider).
+    calibration : dict, optional
+        The calibration table (the shipped one otherwise).
+
+    Returns
+    -------
+    tuple
+        (model error, W / h*, how it was found): the relative error of one slider against the 2-D fault, in
+        recurrence or slip, whichever is larger (dimensionless).
+    """
     table = calibration or load_calibration()
     ratios = np.array([row["width_over_nucleation"] for row in table["rows"]])
     errors = np.array([row["model_error"] for row in table["rows"]])

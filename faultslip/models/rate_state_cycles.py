@@ -27,7 +27,24 @@ def earthquake_cycles(scene, count: int = 5, progress=None, record: bool = False
     beside them: :func:`faultslip.models.rate_state_slider.earthquake_cycles`.
 
     ``progress``: True for a bar, or a callable (done, total) over events (:mod:`faultslip.io.progress`).
-    ``record``: keep every step's time series (``simulate``), as the Result's series and figure."""
+    ``record``: keep every step's time series (``simulate``), as the Result's series and figure.
+
+    Parameters
+    ----------
+    scene : str, path or RateStateScene
+        A rate-and-state fault scene ([law] and [fault]).
+    count : int
+        Cycles measured after the spin-up, from 1 to 10000.
+    progress : bool or callable, optional
+        A progress bar, or ``(done, total)`` over events.
+    record : bool
+        Keep every step's time series.
+
+    Returns
+    -------
+    Result
+        Recurrence (s), slip per event (m), stress drop (Pa), peak slip rate (m/s), K / K_c and the settling.
+    """
     scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
     if not 1 <= count <= 10_000:
         raise InputError(f"--cycles must lie between 1 and 10000, got {count}")

@@ -41,18 +41,34 @@ def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None, progre
     scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
     result = rate_state_cycles.earthquake_cycles(scene, count, progress)
     if seed_law:
-        report = result.summary
         seed = seed_law_fault(seed_law, slip_rate=scene.plate_rate, **scene.fault).estimate()
-        report.add("seed_law_slip_per_event", seed.slip_per_event, "m",
+        slip = result.values["slip_per_event"].to("m").magnitude
+        result.add("seed_law_slip_per_event", seed.slip_per_event, "m",
                    label=f"seed law ({seed_law}) slip per event on the same fault")
-        report.add("seed_law_recurrence_period", seed.recurrence_period, "s", also=("yr",),
+        result.add("seed_law_recurrence_period", seed.recurrence_period, "s", also=("yr",),
                    label=f"seed law ({seed_law}) recurrence on the same fault")
-        report.add("slip_ratio_rate_state_to_seed", report["slip_per_event"] / seed.slip_per_event)
+        result.add("slip_ratio_rate_state_to_seed", slip / seed.slip_per_event)
     return result
 
 
 def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
-    """A laboratory slider's friction through its load history ([load]: steps, slide-hold-slide or a speed)."""
+    """A laboratory slider's friction through its load history ([load]: steps, slide-hold-slide or a speed).
+
+    Parameters
+    ----------
+    scene : str, path or RateStateScene
+        A laboratory rate-and-state scene.
+    method : str
+        The integrator (auto, lsoda, dopri5, dopri5_compiled, radau, bdf).
+    rtol : float
+        Relative tolerance.
+
+    Returns
+    -------
+    Result
+        Friction at the start, peak and end (dimensionless), slip (m), peak slip speed (m/s), the time series
+        and figure.
+    """
     scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
     if scene.history is None:
         raise InputError(f"{scene.name} has no [load] table to simulate; for a fault's cycles use "
@@ -188,19 +204,18 @@ def run(scene, method=None, tolerance=None) -> Result:
                   f"{tolerance:g}")
         return _two_d(loaded, reason)
     result = earthquake_cycles(loaded)
-    report = result.summary
-    report.add("method", "one_slider")
+    result.add("method", "one_slider")
     if method == "one_slider":
-        report.add("method_reason", "asked for by name")
+        result.add("method_reason", "asked for by name")
     elif tolerance is None:
-        report.add("method_reason", "one spring-block, K = G / D (no model tolerance given: give one, or "
+        result.add("method_reason", "one spring-block, K = G / D (no model tolerance given: give one, or "
                                     "--method fault_2d, for the 2-D fault)")
     else:
-        report.add("method_reason", f"one slider's declared model error {error:.2g} meets the tolerance {tolerance:g}")
-    report.add("model_error", error if math.isfinite(error) else None,
+        result.add("method_reason", f"one slider's declared model error {error:.2g} meets the tolerance {tolerance:g}")
+    result.add("model_error", error if math.isfinite(error) else None,
                label="declared model error against the 2-D fault (relative, recurrence or slip)")
-    report.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
-    report.note(f"model error: {how}")
+    result.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
+    result.note(f"model error: {how}")
     return result
 
 
@@ -208,7 +223,7 @@ def _two_d(loaded, reason: str, elements_per_process_zone: float = 8.0) -> Resul
     block = fault_cycles(loaded.slider, loaded.plate_rate, cycles=3)
     scene = from_one_slider(loaded, duration=14 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
     result = simulate_fault(scene)
-    result.summary.set("method_reason", f"the 2-D fault with the scene's friction from the surface to D: {reason}")
+    result.set("method_reason", f"the 2-D fault with the scene's friction from the surface to D: {reason}")
     return result
 
 

@@ -1,81 +1,196 @@
-"""The one result every model family returns: quantities with units, the method, its declared error, and the
-family's report, dataset and figure (issue 32's contract, in the spirit of scikit-learn's estimator API)."""
+"""The one result every model family returns: typed values with units, the method, its declared error, and the
+family's dataset and figure (issue 32's contract, in the spirit of scikit-learn's estimator API and pvlib's
+``ModelChainResult``).
+
+A family builds its answer as a :class:`~faultslip.io.report.Report` (values with units, labels, notes); the
+Result takes the values out of it once, as typed entries, and derives the report, the Dataset and the JSON from
+them. ``result.values`` is a mapping of pint Quantities; nothing is found by scanning text.
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
 from typing import Callable
 
 from faultslip.errors import InputError
-from faultslip.io.report import Report
+from faultslip.io.report import Item, Report
 from faultslip.units import quantity
 
 
-@dataclass
+@dataclass(frozen=True)
+class Entry:
+    """One value of a Result: the number (SI) or text, its units (None: a plain value) and how it is shown."""
+
+    key: str
+    value: object
+    units: str | None
+    label: str
+    also: tuple = ()
+    error: float | None = None
+    in_text: bool = True
+
+    @property
+    def is_number(self) -> bool:
+        return isinstance(self.value, (int, float)) and not isinstance(self.value, bool)
+
+    @property
+    def is_range(self) -> bool:
+        """A 95 % range: two numbers under a key ending in _95."""
+        value = self.value
+        return (self.key.endswith("_95") and isinstance(value, (list, tuple)) and len(value) == 2
+                and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
+
+    def typed(self):
+        """The value as a pint Quantity where it has units (a range as a pair of them), else as it is."""
+        if self.units is None:
+            return self.value
+        unit = "dimensionless" if self.units in ("1", "") else self.units
+        if self.is_number:
+            return quantity(self.value, unit)
+        if self.is_range:
+            return tuple(quantity(v, unit) for v in self.value)
+        return self.value
+
+
+class Values(Mapping):
+    """A Result's values by key: pint Quantities where they have units, plain values otherwise (a regime)."""
+
+    def __init__(self, entries: dict):
+        self._entries = entries
+
+    def __getitem__(self, key):
+        if key not in self._entries:
+            raise KeyError(f"{key!r} is not among this result's values ({', '.join(self._entries)})")
+        return self._entries[key].typed()
+
+    def __iter__(self):
+        return iter(self._entries)
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+
 class Result:
     """What :func:`faultslip.run` and :func:`faultslip.simulate` return, whatever the model family.
 
-    ``result["slip_per_event"]`` is a pint Quantity (or a plain value for a label such as the
-    regime); ``method``, ``method_reason`` and ``estimated_relative_error`` say how it was
-    computed; :meth:`report` is what the CLI prints, :meth:`to_xarray` what it writes (CF
-    attributes), :meth:`plot` the family's figure and :meth:`time_series` the run, where the
-    family simulates.
+    Attributes
+    ----------
+    family : str
+        The model family (``faultslip.contract.DECLARATIONS``).
+    values : Mapping
+        Every value by key: a pint Quantity where it has units (``result.values["slip_per_event"]``, also
+        ``result["slip_per_event"]``), a plain value for a label such as the regime; a 95 % range (``*_95``)
+        is a pair of Quantities.
+    method, method_reason : str or None
+        The method that computed the values, and why it was chosen.
+    estimated_relative_error : float or None
+        The method's declared relative error (what ``auto`` compared with the tolerance).
+    notes : list of str
+        What the reader should know: the scene's origin, sources, caveats.
+    series : xarray.Dataset or None
+        A simulation's time series.
+    extras : dict
+        Family capabilities (the seed law's ``stream`` and ``events``, a sweep's arrays, ...).
+
+    :meth:`report` is what the CLI prints, :meth:`to_xarray` what it writes (CF attributes), :meth:`plot` the
+    family's figure and :meth:`time_series` the run, where the family simulates.
     """
 
-    family: str
-    summary: Report
-    series: object = None  # an xarray Dataset of the run, where the family simulated
-    figure: Callable | None = None  # () -> matplotlib Figure
-    extras: dict = field(default_factory=dict)  # family capabilities, e.g. "stream" and "events" of the seed law
+    def __init__(self, family: str, summary: Report, series=None, figure: Callable | None = None,
+                 extras: dict | None = None):
+        self.family = family
+        self.title = summary.title
+        self._entries = {item.key: Entry(item.key, item.value, item.units, item.label, item.also, item.error,
+                                         item.in_text) for item in summary.items}
+        self._sections = dict(summary.sections)  # heading -> index of its first entry
+        self.notes = list(summary.notes)
+        self.series = series  # an xarray Dataset of the run, where the family simulated
+        self.figure = figure  # () -> matplotlib Figure
+        self.extras = dict(extras or {})
+
+    # --- typed access ---------------------------------------------------------------------------------------
+
+    @property
+    def values(self) -> Values:
+        return Values(self._entries)
+
+    def _plain(self, key):
+        entry = self._entries.get(key)
+        return None if entry is None else entry.value
 
     @property
     def method(self) -> str | None:
-        return self.summary["method"] if "method" in self.summary else None
+        return self._plain("method")
 
     @property
     def method_reason(self) -> str | None:
-        return self.summary["method_reason"] if "method_reason" in self.summary else None
+        return self._plain("method_reason")
 
     @property
     def estimated_relative_error(self) -> float | None:
-        for key in ("estimated_relative_error", "estimated_error"):
-            if key in self.summary:
-                return self.summary[key]
-        return None
+        """The declared relative error; seed 004's families report theirs as ``estimated_error`` (its declared
+        error of the method, relative), which is the same quantity."""
+        value = self._plain("estimated_relative_error")
+        return self._plain("estimated_error") if value is None else value
 
     def keys(self) -> list[str]:
-        return [item.key for item in self.summary.items]
+        return list(self._entries)
 
     def __getitem__(self, key):
-        """A reported value: a pint Quantity where it has units, else the plain value."""
-        for item in self.summary.items:
-            if item.key == key:
-                if item.is_quantity and isinstance(item.value, (int, float)) and not isinstance(item.value, bool):
-                    return quantity(item.value, "dimensionless" if item.units in ("1", "") else item.units)
-                return item.value
-        raise KeyError(f"{key!r} is not among this result's values ({', '.join(self.keys())})")
+        """A value: a pint Quantity where it has units, else the plain value."""
+        return self.values[key]
+
+    def __contains__(self, key) -> bool:
+        return key in self._entries
+
+    # --- what a family adds after the fact ------------------------------------------------------------------
+
+    def add(self, key: str, value, units: str | None = None, label: str = "", also=()) -> "Result":
+        """Add a value (SI, in ``units``; None for a plain value)."""
+        self._entries[key] = Entry(key, value, units, label or key.replace("_", " "), tuple(also))
+        return self
+
+    def set(self, key: str, value) -> "Result":
+        """Replace a value (its units and label stay)."""
+        if key not in self._entries:
+            raise KeyError(key)
+        self._entries[key] = replace(self._entries[key], value=value)
+        return self
+
+    def note(self, text: str) -> "Result":
+        self.notes.append(text)
+        return self
+
+    # --- derived: the report, the Dataset --------------------------------------------------------------------
 
     def report(self) -> Report:
-        """The text and JSON report the CLI prints."""
-        return self.summary
+        """The text and JSON report the CLI prints, derived from the values (a new Report each call)."""
+        report = Report(self.title, notes=list(self.notes), sections=dict(self._sections))
+        report.items = [Item(e.key, e.value, e.units, e.label, e.also, e.error, e.in_text)
+                        for e in self._entries.values()]
+        return report
+
+    @property
+    def summary(self) -> Report:
+        """The report (an older name of :meth:`report`)."""
+        return self.report()
 
     def to_xarray(self):
         """The result as an xarray Dataset, the schema the CLI writes: a simulation's time series, or else every
-        scalar quantity as a 0-d variable with its ``units``; the method and its declared error as attributes."""
+        number as a 0-d variable with its ``units`` (CF: "1" for a number) and every 95 % range beside it on a
+        ``quantile`` dimension (its value's ``ancillary_variables``); the method and its declared error as
+        attributes."""
         import xarray as xr  # heavy: imported where used
 
         variables, ranges = {}, {}
-        for item in (self.summary.items if self.series is None else ()):  # a run's time series is its data
-            value = item.value
-            if _is_range(item):  # a 95 % range: the 2.5 and 97.5 % quantiles, beside the value it qualifies
-                ranges[item.key] = (("quantile",), [float(v) for v in value],
-                                    {"long_name": item.label, "units": item.units or "1"})
-                continue
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                continue
-            # CF: a dimensionless number (a ratio, a count, a friction coefficient) has units "1"
-            attrs = {"long_name": item.label, "units": item.units if item.is_quantity and item.units else "1"}
-            variables[item.key] = ((), float(value), attrs)
+        for entry in (self._entries.values() if self.series is None else ()):  # a run's time series is its data
+            if entry.is_range:  # the 2.5 and 97.5 % quantiles, beside the value it qualifies
+                ranges[entry.key] = (("quantile",), [float(v) for v in entry.value],
+                                     {"long_name": entry.label, "units": entry.units or "1"})
+            elif entry.is_number:
+                variables[entry.key] = ((), float(entry.value),
+                                        {"long_name": entry.label, "units": entry.units or "1"})
         for key in ranges:  # CF ancillary variables: the value names its uncertainty
             base = key.removesuffix("_95")
             if base in variables:
@@ -87,7 +202,7 @@ class Result:
                 "long_name": "probability of the quantile", "units": "1"}))
             dataset = dataset.assign(**{name: xr.Variable(*spec) for name, spec in ranges.items()})
         dataset.attrs.update({key: value for key, value in {
-            "title": self.summary.title, "faultslip_family": self.family, "method": self.method,
+            "title": self.title, "faultslip_family": self.family, "method": self.method,
             "method_reason": self.method_reason, "estimated_relative_error": self.estimated_relative_error,
         }.items() if value is not None})
         dataset.attrs.setdefault("Conventions", "CF-1.8")
@@ -106,14 +221,10 @@ class Result:
         return self.figure()
 
     def _repr_pretty_(self, printer, cycle):  # IPython shows the report
-        printer.text(self.summary.to_text())
+        printer.text(self.report().to_text())
 
     def __str__(self) -> str:
-        return self.summary.to_text()
+        return self.report().to_text()
 
-
-def _is_range(item) -> bool:
-    """A reported 95 % range: two finite numbers under a key ending in _95."""
-    value = item.value
-    return (item.key.endswith("_95") and isinstance(value, (list, tuple)) and len(value) == 2
-            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
+    def __repr__(self) -> str:
+        return f"<faultslip Result of {self.family}: {self.title}>"

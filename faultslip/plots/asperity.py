@@ -10,7 +10,17 @@ from faultslip.plots.figures import _pyplot
 
 
 def response_figure(run):
-    """Phase plane (x against x'), friction F_t/F_n against relative speed, and the spectrum of x' (Figs. 8-14)."""
+    """Phase plane (x against x'), friction F_t/F_n against relative speed, and the spectrum of x' (Figs. 8-14).
+
+    Parameters
+    ----------
+    run : AsperityRun
+        :func:`simulate_asperity`'s run.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     figure, (phase, friction, spectrum) = plt.subplots(1, 3, figsize=(13, 4.0), constrained_layout=True)
     half = run.time >= run.time[0] + 0.5 * (run.time[-1] - run.time[0])

@@ -12,7 +12,19 @@ YEAR = recurrence.SECONDS_PER_YEAR
 
 def catalog_figure(comparison, title: str):
     """Left: the events' magnitudes against time. Right: the observed intervals with the fitted renewal
-    densities and the predicted recurrence."""
+    densities and the predicted recurrence.
+
+    Parameters
+    ----------
+    comparison : CatalogComparison
+        :func:`compare_catalog`'s comparison.
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     figure, (timeline, density) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
     events = comparison.selected

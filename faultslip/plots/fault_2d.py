@@ -10,7 +10,19 @@ from faultslip.plots.figures import _pyplot
 
 def cumulative_slip_figure(run: Fault2DRun, title: str = ""):
     """Slip profiles against depth: blue every profile interval between events, red every coseismic
-    interval within them (Lapusta et al. 2000, Fig. 3; SEAS BP1, Erickson et al. 2020, Fig. 4)."""
+    interval within them (Lapusta et al. 2000, Fig. 3; SEAS BP1, Erickson et al. 2020, Fig. 4).
+
+    Parameters
+    ----------
+    run : Fault2DRun
+        A 2-D fault's run with its profiles.
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     figure, axis = plt.subplots(figsize=(7.5, 5.0), constrained_layout=True)
     depth_km = run.fault.depth / 1e3
@@ -29,7 +41,19 @@ def cumulative_slip_figure(run: Fault2DRun, title: str = ""):
 
 def slip_rate_figure(run: Fault2DRun, title: str = ""):
     """log10 slip rate on the fault against the profile index: time runs unevenly, a profile every
-    few years between events and every second within them, so that both show (SEAS BP1's convention)."""
+    few years between events and every second within them, so that both show (SEAS BP1's convention).
+
+    Parameters
+    ----------
+    run : Fault2DRun
+        A 2-D fault's run.
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     figure, axis = plt.subplots(figsize=(9, 4.6), constrained_layout=True)
     depth_km = run.fault.depth / 1e3
@@ -56,7 +80,19 @@ def station_figure(run: Fault2DRun, title: str = ""):
 
 def model_error_figure(table: dict, tolerance: float | None = None):
     """The model-error map: the one slider's error against the 2-D fault over W / h* (the shipped
-    calibration), its recurrence and slip apart, and where one slider suffices for a tolerance."""
+    calibration), its recurrence and slip apart, and where one slider suffices for a tolerance.
+
+    Parameters
+    ----------
+    table : dict
+        :func:`load_calibration`'s table.
+    tolerance : float, optional
+        A model error allowed.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     rows = [row for row in table["rows"]]
     ratio = np.array([row["width_over_nucleation"] for row in rows])

@@ -26,6 +26,17 @@ def rate_law_figure(presets: list[Preset], rates=None):
     dashed (the style of the seed's odd-numbered Figs. 4-1 to 4-21). Right:
     amplitude alpha = A0 (mu_s - mu_m) with A0 = 2W/K on each preset's
     apparatus (the seed's even-numbered figures, Table I note).
+
+    Parameters
+    ----------
+    presets : list of Preset
+        The presets drawn.
+    rates : array_like, optional
+        Loading rates (1/s).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     plt = _pyplot()
     if rates is None:
@@ -60,6 +71,19 @@ def phase_plane_figure(system, rate_factors=(0.3, 0.999, 1.5), critical_rate=Non
     Like seed 003 Figs. 2-7, 2-8 and 4-24 to 4-27: below the critical rate the slip
     trajectory returns to the line x' = V and a stick segment closes the limit cycle; at it
     the trajectory only touches the line; above it the trajectory spirals into steady sliding.
+
+    Parameters
+    ----------
+    system : SliderSystem
+        The slider.
+    rate_factors : tuple
+        Loading rates as fractions of the critical one.
+    critical_rate : float, optional
+        theta_c (1/s).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     plt = _pyplot()
 
@@ -88,7 +112,19 @@ def phase_plane_figure(system, rate_factors=(0.3, 0.999, 1.5), critical_rate=Non
 
 
 def sawtooth_figure(dataset, cycles: int = 6):
-    """Spring force and displacement against time: the sawtooth record of stick-slip."""
+    """Spring force and displacement against time: the sawtooth record of stick-slip.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A simulation's time series.
+    cycles : int
+        Cycles drawn.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     events = dataset["event_time"].values
     if events.size > 1:  # window on the limit cycle, not on the first loading from rest
@@ -154,7 +190,17 @@ def _pyplot():
 
 def classroom_figure(analysis):
     """The classroom record: acceleration along the pull with its slip phases shaded, and each slip's friction
-    drop against time."""
+    drop against time.
+
+    Parameters
+    ----------
+    analysis : ClassroomAnalysis
+        :func:`analyse_accelerometer`'s analysis.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     figure, (trace, drops) = plt.subplots(2, 1, figsize=(10, 5.2), constrained_layout=True, sharex=True)
     record = analysis.record

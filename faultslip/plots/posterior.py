@@ -11,7 +11,21 @@ SCALES = {"critical_slip": 1e6, "critical_slip2": 1e6}
 
 def corner_figure(posterior, truths: dict | None = None, bins: int = 40):
     """Every parameter's marginal (with the median and 95 % credible interval) and every pair's joint
-    density, as 2-D histograms; ``truths`` draws known values (synthetic records)."""
+    density, as 2-D histograms; ``truths`` draws known values (synthetic records).
+
+    Parameters
+    ----------
+    posterior : Posterior
+        :func:`sample_posterior`'s draws.
+    truths : dict, optional
+        Known values by parameter (SI).
+    bins : int
+        Histogram bins.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     import matplotlib.pyplot as plt  # heavy: imported where used
 
     names = posterior.names
@@ -65,7 +79,25 @@ def corner_figure(posterior, truths: dict | None = None, bins: int = 40):
 def record_fit_figure(record, law_friction, band: dict | None = None, title: str = "", raw_friction=None,
                       trend=None):
     """The record's friction, the fitted law over it and (with ``band`` from
-    :meth:`faultslip.lab.posterior.Posterior.predictive`) the posterior bands; below, the load point's speed."""
+    :meth:`faultslip.lab.posterior.Posterior.predictive`) the posterior bands; below, the load point's speed.
+
+    Parameters
+    ----------
+    record : StepRecord
+        The record.
+    law_friction : array_like
+        The fitted law's friction at the record's times.
+    band : dict, optional
+        The posterior predictive bands.
+    title : str
+        The figure's title.
+    raw_friction, trend : array_like, optional
+        The raw friction and the removed trend.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     import matplotlib.pyplot as plt  # heavy: imported where used
 
     figure, (top, bottom) = plt.subplots(2, 1, figsize=(10, 6), sharex=True, gridspec_kw={"height_ratios": [3, 1]})

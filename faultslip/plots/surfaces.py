@@ -11,7 +11,21 @@ from faultslip.plots.figures import _pyplot
 
 
 def surface_figure(surface, stats: dict, contact: dict | None = None):
-    """The surface (profile or map), its autocorrelation, its height density and the contact curve."""
+    """The surface (profile or map), its autocorrelation, its height density and the contact curve.
+
+    Parameters
+    ----------
+    surface : Surface
+        The surface.
+    stats : dict
+        :func:`surface_statistics`'s statistics.
+    contact : dict, optional
+        :func:`truncation_contact`'s contact.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     fig, axes = plt.subplots(1, 4 if contact is not None else 3, figsize=(15, 3.6), constrained_layout=True)
     if surface.is_map:

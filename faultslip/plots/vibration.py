@@ -12,7 +12,19 @@ INCH = 0.0254
 
 def amplitude_speed_figure(system, sweep):
     """Left: the friction-velocity curve (seed 002 Fig. 9). Right: the averaged limit-cycle amplitude against
-    the driving speed (Figs. 10-11), stick-slip speeds shaded, both in the seed's inches."""
+    the driving speed (Figs. 10-11), stick-slip speeds shaded, both in the seed's inches.
+
+    Parameters
+    ----------
+    system : QuasiHarmonic
+        The averaged slider.
+    sweep : dict
+        :func:`amplitude_against_speed`'s arrays.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     figure, (curve, amplitude) = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
     speeds = sweep["speed"]
@@ -54,7 +66,17 @@ def error_figure(table):
 
 
 def nanoscale_figure(run):
-    """Seed 001 Fig. 3: force against displacement, and displacement with deposited charge against time."""
+    """Seed 001 Fig. 3: force against displacement, and displacement with deposited charge against time.
+
+    Parameters
+    ----------
+    run : NanoscaleRun
+        A nanoscale run.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = _pyplot()
     figure, (phase, series) = plt.subplots(1, 2, figsize=(10.5, 4.2), constrained_layout=True)
     half = run.time.size // 2

@@ -100,7 +100,22 @@ def _empirical_magnitudes(length: float, width: float, slip_type: str, stable_co
 def hazard_sources(spec, dataset, stable_continental: bool = False) -> list[HazardSource]:
     """Every mapped segment as a :class:`HazardSource`: geometry from the segment table (GeoJSON's dip, rake
     and upper depth, else vertical, dextral, from the surface), faultslip's event and moment rate from the
-    map's ``dataset``, and the empirical magnitudes for the same rupture."""
+    map's ``dataset``, and the empirical magnitudes for the same rupture.
+
+    Parameters
+    ----------
+    spec : MapSpec
+        The map (:func:`load_map`).
+    dataset : xarray.Dataset
+        The map's predictions (:func:`run_map`).
+    stable_continental : bool
+        Use the stable-continental scaling relations.
+
+    Returns
+    -------
+    list of HazardSource
+        One per segment: geometry (degrees, km), event rate (1/yr), moment rate (N m/yr) and magnitudes.
+    """
     table = spec.segments
     if table is None:
         raise InputError("hazard sources need fault segments ([segments]), not a raster map")
@@ -158,7 +173,26 @@ def source_models(sources: list[HazardSource], relations: list[tuple[str, float]
                   min_magnitude: float = mfds.MIN_MAGNITUDE, b_value: float = mfds.B_VALUE,
                   bin_width: float = mfds.BIN_WIDTH, moment_constant: float = mfds.MOMENT_CONSTANT,
                   stable_continental: bool = False) -> dict:
-    """relation -> list of NRML segment dicts, each with its moment-balanced ``mfd`` (None without stick-slip)."""
+    """relation -> list of NRML segment dicts, each with its moment-balanced ``mfd`` (None without stick-slip).
+
+    Parameters
+    ----------
+    sources : list of HazardSource
+        :func:`hazard_sources`'s sources.
+    relations : list of tuple
+        (relation, weight) pairs.
+    kind : str
+        characteristic, youngs_coppersmith or truncated_gr.
+    min_magnitude, b_value, bin_width, moment_constant : float
+        The distribution's parameters.
+    stable_continental : bool
+        Stable-continental relations.
+
+    Returns
+    -------
+    dict
+        Relation -> list of NRML segment dicts with their ``mfd`` (rates in 1/yr).
+    """
     if kind not in mfds.KINDS:
         raise InputError(f"the magnitude-frequency distribution must be one of {', '.join(mfds.KINDS)}, got {kind!r}")
     models = {}
@@ -220,7 +254,24 @@ def branch_paths(path, relations: list[tuple[str, float]]) -> dict:
 
 def write_hazard_model(path, models: dict, relations: list[tuple[str, float]], name: str) -> dict:
     """Write the source models (and, for several relations, the logic tree at ``path``); returns
-    {"files": [...], "sources": count per relation}."""
+    {"files": [...], "sources": count per relation}.
+
+    Parameters
+    ----------
+    path : str or path
+        The file (NRML).
+    models : dict
+        :func:`source_models`'s models.
+    relations : list of tuple
+        (relation, weight).
+    name : str
+        The model's name.
+
+    Returns
+    -------
+    dict
+        ``files`` written and ``sources`` per relation.
+    """
     paths = branch_paths(path, relations)
     counts = {relation: write_source_model(paths[relation], models[relation], f"{name} ({relation})")
               for relation, _ in relations}
@@ -256,7 +307,38 @@ def write_engine_job(path, source_model: str, is_logic_tree: bool, sites: list[t
                      tectonic_region: str = "Active Shallow Crust") -> list[str]:
     """An OpenQuake classical-PSHA job (``oq engine --run FILE.ini``): the sites, one GMPE, PGA at ``levels``
     (g), Poissonian over ``investigation_time`` years, ``width_of_mfd_bin`` = the distributions' bin width.
-    A single source model gets a one-branch logic tree beside the job. Returns the files written."""
+    A single source model gets a one-branch logic tree beside the job. Returns the files written.
+
+    Parameters
+    ----------
+    path : str or path
+        The job file (.ini).
+    source_model : str
+        The source model or logic tree file.
+    is_logic_tree : bool
+        Whether it is a logic tree.
+    sites : list of tuple
+        (lon, lat) in degrees.
+    gmpe : str
+        The ground-motion model.
+    levels : tuple
+        PGA levels (g).
+    investigation_time : float
+        Years.
+    bin_width : float
+        The MFD bin width.
+    vs30 : float
+        m/s.
+    description : str
+        The job's description.
+    tectonic_region : str
+        The region type.
+
+    Returns
+    -------
+    list of str
+        The files written.
+    """
     path = Path(path)
     folder = path.parent
     written = []

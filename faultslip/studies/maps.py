@@ -159,6 +159,10 @@ def segment_map(segments, lon, lat, scene=None, max_distance="60 km", name="map"
         Parameters a segment does not give (default: the 1906 scene).
     max_distance : str, Quantity or float (m)
         Cells farther than this from every segment stay empty.
+
+    Returns
+    -------
+    MapSpec
     """
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
@@ -425,7 +429,17 @@ def _axis(spec, name, where):
 
 
 def load_map(path) -> MapSpec:
-    """Read a map file, its base scene and its input table or raster (paths relative to the file)."""
+    """Read a map file, its base scene and its input table or raster (paths relative to the file).
+
+    Parameters
+    ----------
+    path : str or path
+        A map file (TOML).
+
+    Returns
+    -------
+    MapSpec
+    """
 
     path, origin = resolve_path(path, "map file")
     text = read_text_file(path, "map file")
@@ -635,7 +649,24 @@ def check_map_size(spec, output=None, allow_large: bool = False) -> None:
 def run_map(spec, method="auto", tolerance=1e-6, allow_large: bool = False):
     """The map's dataset: per-segment predictions and a nearest-segment raster, or a predicted raster.
 
-    The map's size is checked against the budget first (``allow_large`` lifts it)."""
+    The map's size is checked against the budget first (``allow_large`` lifts it).
+
+    Parameters
+    ----------
+    spec : MapSpec
+        :func:`load_map`'s or :func:`segment_map`'s map.
+    method : str
+        The seed law's method.
+    tolerance : float
+        Relative error allowed.
+    allow_large : bool
+        Lift the budget.
+
+    Returns
+    -------
+    xarray.Dataset
+        Slip per event (m), recurrence (s), Mw and the empirical relations on segments or a raster.
+    """
     import xarray as xr  # heavy: imported where used
 
     check_map_size(spec, allow_large=allow_large)
@@ -706,7 +737,20 @@ def segment_rows(dataset) -> list[dict]:
 
 
 def observed_table(dataset, most: int | None = None) -> str:
-    """Predicted against observed recurrence and slip, with ratios, as Markdown (the first ``most`` rows)."""
+    """Predicted against observed recurrence and slip, with ratios, as Markdown (the first ``most`` rows).
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        :func:`run_map`'s dataset with observations.
+    most : int, optional
+        Rows shown.
+
+    Returns
+    -------
+    str
+        Markdown.
+    """
     year = JULIAN_YEAR
     lines = ["| segment | slip rate (mm/yr) | predicted slip (m) | observed slip (m) | ratio | predicted recurrence (yr) "
              "| observed recurrence (yr) | ratio |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
@@ -754,7 +798,17 @@ def colour_limits(values, spread: float = CONSTANT_SPREAD) -> tuple[tuple, float
 
 
 def map_figure(dataset):
-    """Slip, recurrence and Mw maps with segment traces and unit-labelled colour bars."""
+    """Slip, recurrence and Mw maps with segment traces and unit-labelled colour bars.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        :func:`run_map`'s dataset.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     import matplotlib.pyplot as plt  # heavy: imported where used
 
     year = JULIAN_YEAR

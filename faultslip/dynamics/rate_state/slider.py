@@ -553,6 +553,34 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
     The slider starts at steady state at ``initial_speed`` (default: the first load-point speed).
     A quasi-static slider whose speed passes ``max_speed`` (m/s) has met an instability it
     cannot follow: a :class:`SolverError` says so and names the quasi-dynamic model.
+
+    Parameters
+    ----------
+    slider : RateStateSlider
+        The slider.
+    history : LoadHistory
+        Load-point speeds (m/s) from times (s).
+    model : str
+        quasi_static, quasi_dynamic or inertial.
+    method : str
+        The integrator.
+    rtol : float
+        Relative tolerance.
+    samples : int, optional
+        Output samples.
+    t_eval : array_like, optional
+        Output times (s).
+    initial_speed : float, optional
+        m/s.
+    initial_psi : float, optional
+        The initial state.
+    max_speed : float
+        The largest slip speed allowed (m/s).
+
+    Returns
+    -------
+    RateStateRun
+        Friction (dimensionless), speed (m/s), state and slip (m) at the output times.
     """
     if model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
@@ -914,6 +942,41 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     is restarted from its Aitken-extrapolated fixed point (Steffensen). A sequence still unsettled
     after ``max_settling_cycles`` is measured anyway, its remaining distance declared in ``settling``.
     ``None`` measures after exactly ``spin_up`` cycles (the benchmarks' fixed work).
+
+    Parameters
+    ----------
+    slider : RateStateSlider
+        The fault's spring-block (:meth:`RateStateSlider.at_fault`).
+    plate_rate : float
+        V_pl (m/s).
+    cycles, spin_up : int
+        Cycles measured, after ``spin_up`` more.
+    model : str
+        quasi_dynamic or quasi_static.
+    rtol : float
+        The integrator's relative tolerance.
+    event_speed : float
+        Slip rate above which the fault is in an event (m/s).
+    max_time : float, optional
+        The longest simulated time (s).
+    method : str
+        auto, lsoda, dopri5 or dopri5_compiled.
+    record : bool
+        Keep every step's time series.
+    max_steps : int
+        The step budget.
+    progress : callable, optional
+        ``(done, total)`` over events.
+    settle : float, optional
+        The settling tolerance of the cycle (None: no settling check).
+    max_settling_cycles : int
+        The most cycles run to settle.
+
+    Returns
+    -------
+    RateStateCycles
+        Recurrence (s), slip per event (m), stress drop (Pa), peak slip rate (m/s) per cycle, K / K_c, the
+        regime and the settling.
     """
     progress = reporter(progress, "cycles", "event")
     if method not in ("auto", "lsoda", "dopri5", "dopri5_compiled"):

@@ -34,6 +34,11 @@ def loading_rate(stiffness, platform_speed, normal_load):
         V in m/s (for a fault, the tectonic slip rate).
     normal_load : array_like
         W in N (lab) or the effective normal stress in Pa (fault).
+
+    Returns
+    -------
+    ndarray or float
+        theta_dot (1/s).
     """
     return stiffness * platform_speed / normal_load
 
@@ -127,6 +132,24 @@ def rate_law_amplitude(loading_rate, normal_load, stiffness, mu_so, mu_m, b, d, 
     Falls monotonically as the loading rate rises, tends to
     :math:`(W/K)(\mu_{so}-\mu_m)(1+e^{-\lambda\pi})` as it tends to 0, to 0 as
     it tends to infinity, and is 0 when :math:`\mu_{so} = \mu_m`.
+
+    Parameters
+    ----------
+    loading_rate : array_like
+        theta_dot (1/s).
+    normal_load : array_like
+        W (N or Pa).
+    stiffness : array_like
+        K (N/m or Pa/m).
+    mu_so, mu_m, b, d : array_like
+        The rate law of eq. 2-18.
+    damping_ratio : array_like
+        zeta.
+
+    Returns
+    -------
+    ndarray or float
+        alpha (m).
     """
     excess = static_friction_excess(loading_rate, mu_so, mu_m, b, d)
     return slip_amplitude(normal_load, stiffness, excess, damping_ratio)
@@ -199,6 +222,16 @@ def closed_form_cycle(system):
     Requires a rate- or constant static law (the limit must not depend on the
     stick time) and uses the kinetic law's friction at rest as mu_m and its
     slope in the damping ratio.
+
+    Parameters
+    ----------
+    system : SliderSystem
+        A slider with a rate- or constant static law.
+
+    Returns
+    -------
+    CycleResult
+        Slip per event (m), period (s), static friction (dimensionless), stress drop (N or Pa) and the regime.
     """
 
     excess = system.static_excess

@@ -182,7 +182,19 @@ class CriticalResult:
 
 
 def critical(system) -> CriticalResult:
-    """Exact and seed critical loading rates for a :class:`~faultslip.dynamics.spring_slider.slider.SliderSystem`."""
+    """Exact and seed critical loading rates for a :class:`~faultslip.dynamics.spring_slider.slider.SliderSystem`.
+
+    Parameters
+    ----------
+    system : SliderSystem
+        The slider.
+
+    Returns
+    -------
+    CriticalResult
+        The exact critical loading rate theta_c (1/s), the seed's Appendix I value and their ratio, with
+        ``report()``.
+    """
     _require_linear_rate_system(system, "critical loading rate")
     law = system.static_law
     if not hasattr(law, "mu_so"):

@@ -302,7 +302,18 @@ def _require_linear_rate_system(system, method="exact cycle"):
 
 
 def exact_cycle(system) -> CycleResult:
-    """The exact limit cycle of a :class:`~faultslip.dynamics.spring_slider.slider.SliderSystem` with a linear kinetic law."""
+    """The exact limit cycle of a :class:`~faultslip.dynamics.spring_slider.slider.SliderSystem` with a linear kinetic law.
+
+    Parameters
+    ----------
+    system : SliderSystem
+        A slider with a rate- or constant static law and a constant or linear kinetic law.
+
+    Returns
+    -------
+    CycleResult
+        Slip per event (m), period (s), stick and slip durations (s), static friction and the regime.
+    """
     _require_linear_rate_system(system)
     q = exact_cycle_arrays(
         system.loading_rate, system.normal_load, system.stiffness, system.mass,

@@ -42,6 +42,28 @@ class SliderSystem:
     Build one with :meth:`from_preset` (a Table I laboratory scene) or
     :meth:`from_fault` (one slider per unit fault area), or directly from SI
     floats (``scale`` says whether W is a force in N or a stress in Pa).
+
+    Parameters
+    ----------
+    mass : float
+        M (kg; kg/m^2 per unit fault area).
+    stiffness : float
+        K (N/m; Pa/m per unit area).
+    normal_load : float
+        W (N; the effective normal stress in Pa per unit area).
+    platform_speed : float
+        V (m/s; the tectonic slip rate on a fault).
+    static_law, kinetic_law : friction laws
+        The static law (:class:`RateLaw`, :class:`ConstantStatic`, :class:`TimeOfStickLaw`) and the kinetic law
+        (:class:`ConstantKinetic`, :class:`LinearKinetic`, :class:`PolynomialKinetic`, :class:`CallableKinetic`).
+    dashpot, radiation_damper : float
+        Damping coefficients (N s/m; Pa s/m per unit area).
+    scale : str
+        ``lab`` or ``fault``: whether W is a force or a stress.
+    name : str
+        A name for reports.
+    info : dict
+        Where the values came from (reports quote it).
     """
 
     mass: float

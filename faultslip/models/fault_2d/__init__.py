@@ -37,7 +37,32 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
                    settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
     """Run a 2-D fault scene; with ``output_dir``, stream the run there (checkpointed: ``resume=True``
     continues a stopped run bit for bit) and write the SEAS station files, slip profiles, event
-    catalogue and CF netCDF when it ends."""
+    catalogue and CF netCDF when it ends.
+
+    Parameters
+    ----------
+    scene : str, path or Fault2DScene
+        A 2-D fault scene.
+    output_dir : str or path, optional
+        Where the run streams and its files go.
+    resume : bool
+        Continue a stopped run.
+    rtol : float, optional
+        The integrator's tolerance.
+    allow_large : bool
+        Lift the budget.
+    progress : callable, optional
+        ``(done, total)``.
+    overwrite : bool
+        Replace earlier files.
+    settle_tolerance : float
+        The settling tolerance of the sequence.
+
+    Returns
+    -------
+    Result
+        Recurrence (s), slip per event (m), moment per length (N), the settling and the run's Dataset.
+    """
     loaded = load_fault_2d_scene(scene, allow_large=allow_large)
     rtol = loaded.rtol if rtol is None else rtol
     budget.check(loaded.estimate(rtol, output_dir), allow_large)  # before any work
@@ -70,7 +95,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
                 with contextlib.suppress(OSError):
                     folder.rmdir()
             raise
-        result.summary.note(f"SEAS station files, slip profiles (devol.dat), events.csv and fault_2d.nc written to "
+        result.note(f"SEAS station files, slip profiles (devol.dat), events.csv and fault_2d.nc written to "
                             f"{folder}")
         return result
     return _result(loaded, loaded.run(rtol, progress=progress), settle_tolerance)

@@ -102,7 +102,42 @@ def rough_surface_slider(surface: Surface, mass: float, stiffness: float, normal
                          nominal_area: float = 1e-6, name: str = "rough-surface slider", *, memory: str = "none",
                          fall_acceleration: float = STANDARD_GRAVITY,
                          separation_reference: str = "rms") -> tuple[SliderSystem, dict]:
-    """Seed 000's apparatus on seed 003's slider engine: mass M, spring K, load L, drive V0."""
+    """Seed 000's apparatus on seed 003's slider engine: mass M, spring K, load L, drive V0.
+
+    Parameters
+    ----------
+    surface : Surface
+        The surfaces' heights.
+    mass : float
+        M (kg).
+    stiffness : float
+        K (N/m).
+    normal_load : float
+        L (N).
+    platform_speed : float
+        V0 (m/s).
+    hardness : float
+        H (Pa).
+    shear_strength : float
+        Shear strength of the junctions (Pa).
+    separation_coefficient : float
+        c (s/m).
+    nominal_area : float
+        A_n (m^2).
+    name : str
+        A name for reports.
+    memory : str
+        none, held or falling: the separation after the fastest moment of a slip.
+    fall_acceleration : float
+        m/s^2, with ``memory = "falling"``.
+    separation_reference : str
+        rms or h0.
+
+    Returns
+    -------
+    tuple
+        (the SliderSystem, its details: static friction, area fraction, compression in m, ...).
+    """
     static, kinetic, details = rough_surface_law(surface, normal_load, hardness, shear_strength,
                                                  separation_coefficient, nominal_area, memory, fall_acceleration,
                                                  separation_reference)
@@ -118,6 +153,18 @@ def separation_history(dataset, kinetic) -> np.ndarray:
     Zero while stuck; in each slip phase h = k_h |u| up to the phase's fastest moment so far, then
     as the law's memory says (:meth:`SeparatingSurfacesKinetic.separation_after_peak`), from the
     running peak of the sliding speed and the time since it.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A rough-surface simulation.
+    kinetic : SeparatingSurfacesKinetic
+        The slider's kinetic law.
+
+    Returns
+    -------
+    ndarray
+        h(t) (m).
     """
     sliding = np.abs(np.asarray(dataset["sliding_speed"].values, dtype=float))
     times = np.asarray(dataset["time"].values, dtype=float)
@@ -269,6 +316,18 @@ def parse_rough_scene(text: str, source: str = "<scene>", base_dir=None) -> tupl
 
 
 def load_rough_scene(path):
+    """A rough-surface scene (``[friction] law = "rough_surface"``).
+
+    Parameters
+    ----------
+    path : str, path or TomlScene
+        The scene.
+
+    Returns
+    -------
+    tuple
+        (the slider, its rough-surface details, the simulation settings).
+    """
     text, source, folder, _ = scene_source(path, "rough-surface scene")
     return parse_rough_scene(text, source, base_dir=folder)
 

@@ -119,6 +119,18 @@ def tabulated_curve(rows, scale: float, speed: float, source: str):
 
 
 def load_vibration_scene(path) -> tuple[QuasiHarmonic, dict]:
+    """A vibration scene (seed 002's apparatus, a ``[vibration]`` table).
+
+    Parameters
+    ----------
+    path : str, path or TomlScene
+        The scene.
+
+    Returns
+    -------
+    tuple
+        (the averaged slider, the scene's notes and sources).
+    """
     text, source, _, origin = scene_source(path, "vibration scene")
     system, notes = parse_vibration_scene(text, source)
     if origin:
