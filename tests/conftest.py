@@ -74,3 +74,17 @@ def mounted_tmpfs(folder, size: str):
         yield folder
     finally:
         subprocess.run(["umount", "-l", str(folder)], capture_output=True)
+
+
+#: what differs from one run to the next: wall times (and the asperity sweep's per-cell seconds)
+VOLATILE_NUMBERS = {"wall_time", "seconds", "posterior_seconds", "computing_time", "elapsed"}
+
+
+def report_numbers(value, where=""):
+    """Every number in a report's JSON, by its path, wall times left out: what the CLI/API equality tests compare."""
+    if isinstance(value, dict):
+        return {k: v for key, item in value.items() if key not in VOLATILE_NUMBERS
+                for k, v in report_numbers(item, f"{where}.{key}").items()}
+    if isinstance(value, list):
+        return {k: v for i, item in enumerate(value) for k, v in report_numbers(item, f"{where}[{i}]").items()}
+    return {where: value} if isinstance(value, (int, float)) and not isinstance(value, bool) else {}

@@ -12,21 +12,11 @@ import numpy as np
 import pytest
 
 import faultslip
+from conftest import report_numbers
 from faultslip.units import to_si
 
 CONFIGS = Path(__file__).resolve().parent.parent / "configs"
-#: what differs from one run to the next: wall times, and where a figure or file went
-VOLATILE = {"wall_time", "seconds", "posterior_seconds", "computing_time", "elapsed"}
-
-
-def _numbers(value, where=""):
-    """Every number in a report's JSON, by its path."""
-    if isinstance(value, dict):
-        return {k: v for key, item in value.items() if key not in VOLATILE
-                for k, v in _numbers(item, f"{where}.{key}").items()}
-    if isinstance(value, list):
-        return {k: v for i, item in enumerate(value) for k, v in _numbers(item, f"{where}[{i}]").items()}
-    return {where: value} if isinstance(value, (int, float)) and not isinstance(value, bool) else {}
+_numbers = report_numbers
 
 
 def _report(result):

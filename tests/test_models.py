@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import faultslip
-from conftest import assert_clean_error
+from conftest import assert_clean_error, report_numbers
 from faultslip import models
 from faultslip.errors import InputError
 
@@ -142,17 +142,7 @@ RUNNABLE = sorted(p.name for p in CONFIGS.glob("*.toml")
                   if p.name != "seas_bp1.toml" and __import__("faultslip.contract.registry").contract.registry._declared(
                       __import__("tomllib").loads(p.read_text(encoding="utf-8"))) is not None
                   or "[scene]" in p.read_text(encoding="utf-8"))
-VOLATILE = {"wall_time", "seconds", "posterior_seconds", "computing_time"}
-
-
-def _numbers(value, where=""):
-    """Every number in a report's JSON, by its path."""
-    if isinstance(value, dict):
-        return {k: v for key, item in value.items() if key not in VOLATILE
-                for k, v in _numbers(item, f"{where}.{key}").items()}
-    if isinstance(value, list):
-        return {k: v for i, item in enumerate(value) for k, v in _numbers(item, f"{where}[{i}]").items()}
-    return {where: value} if isinstance(value, (int, float)) and not isinstance(value, bool) else {}
+_numbers = report_numbers
 
 
 @pytest.mark.parametrize("scene", RUNNABLE)
