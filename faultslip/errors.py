@@ -75,3 +75,13 @@ def did_you_mean(name: str, allowed, n: int = 2, cutoff: float = 0.6) -> str:
 
     close = difflib.get_close_matches(name, list(allowed), n=n, cutoff=cutoff)
     return f"; did you mean {', '.join(close)}?" if close else ""
+
+
+def beside(value: float, reference: float, digits: int = 3) -> str:
+    """``value`` with at least ``digits`` significant digits and as many more (up to 15) as tell it apart from
+    ``reference`` in a message: K / K_c = 1.003 against 1, not "1 >= 1"."""
+    for precision in range(digits, 16):
+        text = f"{value:.{precision}g}"
+        if value == reference or text != f"{reference:.{precision}g}":
+            return text
+    return repr(value)

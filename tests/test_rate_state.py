@@ -476,3 +476,26 @@ def test_one_cycle_has_a_recurrence_and_its_plate_balance():
     assert one.cycle_slip[0] / (1e-9 * one.recurrence) == pytest.approx(1.0, rel=1e-5)
     assert one.recurrence == pytest.approx(three.recurrence, rel=1e-6)  # a settled sequence
     assert three.recurrence == pytest.approx((three.next_event_time - three.event_times[0]) / 3, rel=1e-14)
+
+
+def test_a_stable_fault_is_refused_with_a_ratio_that_tells_it_from_one():
+    """K / K_c = 1.003 read "K / K_c = 1 >= 1" (issue 42); the ratio now shows the digits that tell it from 1."""
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from faultslip.errors import beside
+
+    law = RateStateLaw(a=0.010, b=0.015, critical_slip=0.008)
+    slider = RateStateSlider.at_fault(law, 32e9, 20e3, 50e6)
+    k_c = slider.critical_stiffness()
+    stable = RateStateSlider.at_fault(RateStateLaw(a=0.010, b=0.015, critical_slip=0.008 * 1.003 * k_c / slider.stiffness),
+                                      32e9, 20e3, 50e6)
+    with pytest.raises(InputError, match=r"K / K_c = 1\.003 >= 1"):
+        fault_cycles(stable, 1e-9, cycles=1)
+
+    @settings(max_examples=200, deadline=None)
+    @given(st.floats(1.0, 2.0, exclude_min=True))
+    def shown_apart(ratio):
+        assert float(beside(ratio, 1.0)) != 1.0
+
+    shown_apart()

@@ -32,7 +32,7 @@ import numpy as np
 
 from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.shared.assessment import Assessment
-from faultslip.errors import InputError
+from faultslip.errors import InputError, beside
 
 #: calibrated tolerances: the loosest that meets a requested error is used
 RTOL_LEVELS = (1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 3e-10, 1e-10)
@@ -88,7 +88,7 @@ class CycleMethod:
                rtol: float | None = None) -> Assessment:
         """Error and cost for a fault at ``stiffness_ratio`` = K / K_c (at ``rtol``, or the loosest that suffices)."""
         if not stiffness_ratio < 1:
-            return Assessment(self.name, False, f"K / K_c = {stiffness_ratio:.3g} >= 1: steady sliding is stable, "
+            return Assessment(self.name, False, f"K / K_c = {beside(stiffness_ratio, 1.0)} >= 1: steady sliding is stable, "
                               "there are no cycles to integrate")
         if two_state and self.integrator == "lsoda":
             return Assessment(self.name, False, "LSODA here takes one-state laws (its analytic Jacobian)")

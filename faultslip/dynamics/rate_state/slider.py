@@ -41,7 +41,7 @@ from dataclasses import dataclass, field, replace
 from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
-from faultslip.errors import InputError, NoEventsError, SolverError
+from faultslip.errors import InputError, NoEventsError, SolverError, beside
 from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64,
                                                A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7, _C, _P)
 from faultslip.dynamics.rate_state import compiled as rate_state_compiled
@@ -784,7 +784,7 @@ def _diverged(slider, t):
         cause = (f"k / k_c = {ratio:.3g} < 1: steady sliding is linearly unstable, and without inertia or a radiation "
                  "damper nothing bounds the speed")
     elif slider.law.evolution == "slip":
-        cause = (f"k / k_c = {ratio:.3g} >= 1, so small disturbances decay; the velocity step is larger than the slip "
+        cause = (f"k / k_c = {beside(ratio, 1.0)} >= 1, so small disturbances decay; the velocity step is larger than the slip "
                  "law's critical step at this stiffness (Gu et al. 1984: faultslip.dynamics.rate_state.slider."
                  "critical_step_ratio), and a large enough step destabilises it")
     else:
@@ -991,7 +991,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     k_c = slider.critical_stiffness() if not law.two_state else math.inf
     ratio = slider.stiffness / k_c if k_c > 0 else math.inf
     if ratio >= 1:
-        raise InputError(f"K / K_c = {ratio:.3g} >= 1: steady sliding is stable here (no earthquake cycles); "
+        raise InputError(f"K / K_c = {beside(ratio, 1.0)} >= 1: steady sliding is stable here (no earthquake cycles); "
                          "cycles need K < K_c = sigma_n (b - a) / D_c")
     damping = slider.damping if model == "quasi_dynamic" else 0.0
     load = _Load()
