@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from faultslip.dynamics.fault_2d import compiled
 from faultslip.dynamics.fault_2d.analysis import summarise
@@ -185,15 +187,25 @@ def test_the_cli_writes_the_seas_files_and_resumes(tmp_path, cli):
     scene = tmp_path / "small.toml"
     text = (CONFIGS / "seas_bp1.toml").read_text()
     text = text.replace('element_size = "25 m"', 'element_size = "1 km"').replace('duration = "3000 yr"',
-                                                                                 'duration = "120 yr"')
+                                                                                 'duration = "260 yr"')
     scene.write_text(text)
     out = tmp_path / "run"
     done = cli("simulate", scene, "--output-dir", out, "--json")
     assert done.code == 0, done.err
     names = sorted(p.name for p in out.iterdir())
     assert "fltst_dp000" in names and "fltst_dp350" in names and "devol.dat" in names and "fault_2d.nc" in names
-    _, columns, rows = read_seas(out / "devol.dat")
+    header, columns, rows = read_seas(out / "devol.dat")
     assert columns == ["t", "max_slip_rate", "slip"] and rows.shape[1] == 40 + 2
+    # as the SEAS writers give it (issue 42): the maximum slip rate in log10 m/s, the scene named as the problem
+    text = (out / "devol.dat").read_text()
+    assert "# Column #2 = Max slip rate (log10 m/s)" in text and "problem=faultslip 2-D fault:" in text
+    import xarray as xr
+    with xr.open_dataset(out / "fault_2d.nc") as written:
+        speeds = written["profile_max_slip_rate"].values
+    assert np.allclose(rows[1:, 1], np.log10(speeds), rtol=0, atol=1e-12)
+    # event times at full precision: each number reads back as the float it was (not rounded to 10 digits)
+    lines = (out / "events.csv").read_text().splitlines()[1:]
+    assert lines and all(repr(float(field)) == field for line in lines for field in line.split(","))
     again = cli("simulate", scene, "--output-dir", out, "--json")
     assert again.code == 2 and "--resume" in again.err
     resumed = cli("simulate", scene, "--output-dir", out, "--resume", "--json")  # the run had ended: nothing to add
@@ -413,3 +425,68 @@ def test_the_declared_error_covers_the_element_size():
     coarse = scene.fault.process_zone() / 100.0
     assert discretisation_error(coarse) >= abs(78.2657 / 78.3505 - 1)
     assert discretisation_error(scene.fault.process_zone() / 50.0) >= abs(78.3346 / 78.3505 - 1)
+
+
+# --- sequences as they are (issue 42) ---------------------------------------------------------------------
+
+def test_a_period_three_sequence_is_a_supercycle_of_three():
+    from faultslip.dynamics.fault_2d.analysis import classify
+
+    years = 365.25 * 86400.0
+    spin_up = [120.0, 95.0, 88.0, 81.0]
+    cycle = [98.13, 70.49, 84.20]
+    for extra in (0, 1, 2):  # whatever the run's length, the same answer
+        intervals = np.array(spin_up + cycle * 4 + cycle[:extra]) * years
+        sequence = classify(intervals, 1e-3)
+        assert sequence.kind == "periodic" and sequence.period == 3
+        assert sorted(sequence.intervals / years) == pytest.approx(sorted(cycle))
+        assert sequence.mean_interval / years == pytest.approx(np.mean(cycle), rel=1e-12)
+
+
+def test_a_periodic_sequence_takes_its_shortest_period_and_an_unsettled_one_is_called_so():
+    from faultslip.dynamics.fault_2d.analysis import classify
+
+    assert classify(np.array([5.0, 3.0, 2.0, 2.0, 2.0])).period == 1
+    assert classify(np.array([1.0, 2.0] * 3)).period == 2
+    assert classify(np.array([3.0, 2.5, 2.2])).kind == "unsettled"
+    assert classify(np.array([])).kind == "unsettled"
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**31 - 1))
+def test_an_aperiodic_sequence_declares_the_sampling_error_of_its_mean(seed):
+    """Irregular intervals (no period up to 8) are called aperiodic: the mean of the intervals after the first
+    eight, their coefficient of variation, and sd / sqrt(n) / mean as the declared error of the mean."""
+    from faultslip.dynamics.fault_2d.analysis import MAX_PERIOD, classify
+
+    rng = np.random.default_rng(seed)
+    intervals = rng.lognormal(0.0, 0.3, 40)
+    sequence = classify(intervals, 1e-3)
+    assert sequence.kind == "aperiodic" and sequence.period == 0
+    measured = intervals[MAX_PERIOD:]
+    assert sequence.mean_interval == pytest.approx(measured.mean(), rel=1e-12)
+    assert sequence.mean_error == pytest.approx(measured.std(ddof=1) / np.sqrt(measured.size) / measured.mean(),
+                                                rel=1e-12)
+
+
+def test_a_run_stopped_before_its_first_checkpoint_leaves_nothing_to_resume(tmp_path, cli):
+    """Stopped (killed, interrupted) before its first checkpoint, a fresh run leaves no streams; a folder that
+    holds no checkpoint is not offered --resume, which would refuse (issue 42)."""
+    fault = small_fault(element_size=1000.0)
+
+    def interrupt(done, total):  # Ctrl-C at the first progress report, long before a checkpoint is due
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_cycles(fault, 260 * YEAR, rtol=1e-7, folder=tmp_path / "part", progress=interrupt, stations=STATIONS)
+    assert not [p.name for p in (tmp_path / "part").iterdir()]
+    scene = tmp_path / "small.toml"
+    scene.write_text((CONFIGS / "seas_bp1.toml").read_text().replace('element_size = "25 m"', 'element_size = "1 km"')
+                     .replace('duration = "3000 yr"', 'duration = "120 yr"'))
+    out = tmp_path / "run"
+    out.mkdir()
+    (out / "stations.f8").write_bytes(b"")
+    refused = cli("simulate", scene, "--output-dir", out)
+    assert refused.code == 2 and "no checkpoint to resume" in refused.err and "--overwrite" in refused.err
+    again = cli("simulate", scene, "--output-dir", out, "--resume")
+    assert again.code == 2 and "start it without --resume" in again.err

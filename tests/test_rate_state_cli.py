@@ -169,3 +169,12 @@ def test_simulate_writes_a_rate_state_faults_cycles(cli, tmp_path):
 def test_run_refuses_a_seed_method_for_a_rate_state_scene_rather_than_ignore_it(cli):
     assert_clean_error(cli("run", "configs/san_andreas_1906_rate_state.toml", "--method", "exact_cycle"),
                        "runs one slider (method auto or one_slider)")
+
+
+def test_an_escalation_to_the_2d_fault_is_estimated_and_budgeted_before_any_work(cli, monkeypatch):
+    """'run rsf_fault_bp1.toml --tolerance 0.3' escalated silently to a six-minute 2-D run (issue 42): it now
+    states the estimate first, and above the budget it asks for --allow-large before any work."""
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "1")
+    refused = cli("run", "configs/rsf_fault_bp1.toml", "--tolerance", "0.3")
+    assert refused.code == 2 and "escalating" in refused.err and "--allow-large" in refused.err
+    assert "2-D fault" in refused.err

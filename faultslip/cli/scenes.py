@@ -7,7 +7,7 @@ from pathlib import Path
 
 from faultslip import models
 from faultslip.cli.common import _locked, _number, _output_dir, _outputs, _save_run, _system_from_args, _tolerance
-from faultslip.cli.printing import _emit
+from faultslip.cli.printing import _emit, _progress
 from faultslip.dynamics.spring_slider.critical import comparison_dataset, comparison_markdown, critical
 from faultslip.contract import method_rows
 from faultslip.errors import InputError
@@ -40,8 +40,8 @@ _FAULT_QUANTITIES = {
 
 def cmd_run(args) -> int:
     """Any scene, whatever its model family (faultslip.models): its report."""
-    return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args),
-                            allow_large=args.allow_large).report(), args.json)
+    return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args), allow_large=args.allow_large,
+                            progress=_progress("run", not args.json, "yr")).report(), args.json)
 
 
 def cmd_fault(args) -> int:

@@ -19,9 +19,12 @@ PARAMETERS = parameters(SWEEPABLE)
 
 #: A 2-D fault cell's outputs.
 OUTPUTS = {spec.name: spec for spec in (
-    Output("recurrence_interval", "s", "recurrence interval of system-size events (the last; NaN if fewer than two)"),
-    Output("recurrence_spread", "1", "relative spread of the last three intervals (settled where <= 1e-3)"),
-    Output("settled", "1", "1 where the sequence has settled (periodic to 1e-3), 0 where it has not"),
+    Output("recurrence_interval", "s", "mean interval between system-size events over a supercycle, or over an "
+                                       "aperiodic run (NaN with fewer than two events)"),
+    Output("recurrence_spread", "1", "largest change of an interval over a supercycle (periodic), or the intervals' "
+                                     "coefficient of variation (aperiodic)"),
+    Output("settled", "1", "1 where the sequence is periodic (any period up to 8, to 1e-3), 0 where it is not"),
+    Output("period", "1", "events in the supercycle (1: every event alike; 0: aperiodic or unsettled)"),
     Output("slip_per_event", "m", "surface slip of the last system-size event"),
     Output("mean_slip_per_event", "m", "slip of the last system-size event, mean over the velocity-weakening width"),
     Output("moment_per_length", "N", "seismic moment per metre along strike of the last system-size event"),
@@ -95,6 +98,7 @@ class Fault2DCells:
             summary = summarise(run)
             row = {"recurrence_interval": summary.recurrence_interval,
                    "recurrence_spread": summary.recurrence_spread, "settled": float(summary.settled),
+                   "period": float(summary.sequence.period),
                    "slip_per_event": summary.surface_slip_per_event,
                    "mean_slip_per_event": summary.mean_slip_per_event,
                    "moment_per_length": summary.moment_per_length, "events": float(summary.events),

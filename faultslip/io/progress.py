@@ -67,6 +67,10 @@ class Progress:
         return tqdm(total=total, desc=self.label, unit=self.unit, delay=self.delay, file=_LogLines(self.stream),
                     mininterval=self.interval, maxinterval=self.interval, ascii=True, ncols=80)
 
+    def announce(self, text: str) -> None:
+        """One line on the stream before the work starts (what it will cost), whatever the bar's delay."""
+        print(f"faultslip: {text}", file=self.stream, flush=True)
+
     def __call__(self, done: int, total: int | None = None) -> None:
         if self.bar is None:
             self.bar = self._open(total)

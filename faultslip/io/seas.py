@@ -32,7 +32,7 @@ def station_file_name(depth: float) -> str:
 
 def _header(problem: str, code: str, version: str, element_size: float, extra: list) -> list:
     now = datetime.now(timezone.utc).strftime("%Y/%m/%d")
-    return [f"# problem={problem}", f"# author=faultslip", f"# date={now}", f"# code={code}",
+    return [f"# problem={problem}", "# author=faultslip", f"# date={now}", f"# code={code}",
             f"# code_version={version}", f"# element_size={element_size:g} m", *extra]
 
 
@@ -57,14 +57,17 @@ def write_station(path, time, slip, log10_slip_rate, shear_stress_mpa, log10_sta
 
 def write_profiles(path, time, max_slip_rate, slip, depths, *, element_size: float,
                    problem: str = "SEAS Benchmark BP1-QD", code: str = "faultslip", version: str = "") -> None:
-    """Slip profiles (rows: times; columns: depths) in the SEAS ``devol`` layout, written atomically."""
+    """Slip profiles (rows: times; columns: depths) in the SEAS ``devol`` layout, written atomically; the maximum
+    slip rate (given in m/s) is written as log10, as the SEAS writers do."""
     depths = np.asarray(depths, float)
     extra = ["# Row #1 = Depth (m) with two zeros first", "# Column #1 = Time (s)",
-             "# Column #2 = Max slip rate (m/s)", f"# Columns #3-{depths.size + 2} = Slip (m)",
+             "# Column #2 = Max slip rate (log10 m/s)", f"# Columns #3-{depths.size + 2} = Slip (m)",
              "# The line below lists the names of the data fields:"]
     lines = _header(problem, code, version, element_size, extra) + ["t max_slip_rate slip"]
     lines.append(" ".join(f"{v:.15g}" for v in np.concatenate([[0.0, 0.0], depths])))
-    rows = np.column_stack([np.asarray(time, float), np.asarray(max_slip_rate, float), np.asarray(slip, float)])
+    with np.errstate(divide="ignore"):  # log10, as the SEAS writers give it (a rate of 0 is -inf)
+        log10_rate = np.log10(np.asarray(max_slip_rate, float))
+    rows = np.column_stack([np.asarray(time, float), log10_rate, np.asarray(slip, float)])
     lines.extend(" ".join(f"{v:.15g}" for v in row) for row in rows)
     write_text_atomic(path, "\n".join(lines) + "\n")
 

@@ -31,7 +31,7 @@ UNIVERSAL = ("output", "allow_large", "overwrite")
 
 
 def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False,
-        **quantities) -> Result:
+        progress=None, **quantities) -> Result:
     """Evaluate a scene, as ``faultslip run`` does.
 
     Parameters
@@ -46,6 +46,8 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
         The relative error allowed (each family has its default).
     allow_large : bool
         Run beyond the time and memory budget, for a family whose run has one.
+    progress : callable, optional
+        ``(done, total)``: progress of a long run (an escalation to the 2-D fault), for a family that reports it.
     **quantities
         A fault's inputs as keywords with units, as ``faultslip fault`` takes them: ``lithology="granodiorite"``,
         ``zone_width="13 mi"``, ``shear_stress="250 bar"``, ``slip_rate="2 in/yr"``, ...
@@ -64,6 +66,8 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
             method=method, tolerance=tolerance, **quantities)
     family = family_of(scene)
     options = {"allow_large": allow_large} if allow_large and "allow_large" in family.run_options else {}
+    if progress is not None and "progress" in family.run_options:  # a family whose run may be long reports it
+        options["progress"] = progress
     return family.run(scene, method=method, tolerance=tolerance, **options)
 
 

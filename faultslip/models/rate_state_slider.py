@@ -16,6 +16,7 @@ from faultslip.fault.rate_state_fault import cycles_dataset
 from faultslip.fault.scene import Scene, estimate_scene_rate_state, has_friction_law, load_scene, run_scene
 from faultslip.fault.spring_slider_cells import RATE_STATE_CELLS
 from faultslip.fault.spring_slider_cells import read_scene as read_seed_law_scene
+from faultslip.io import budget
 from faultslip.io.resources import parse_toml
 from faultslip.models.common import note_origin
 from faultslip.fault.rate_state_scene import load_rate_state_scene
@@ -172,7 +173,7 @@ def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
 
 
 
-def run(scene, method=None, tolerance=None) -> Result:
+def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=None) -> Result:
     """A laboratory slider's load history, or a fault's cycles: what the scene describes.
 
     A fault scene's methods are ``one_slider`` (one quasi-dynamic spring-block, K = G / D) and
@@ -202,7 +203,7 @@ def run(scene, method=None, tolerance=None) -> Result:
         reason = ("asked for by name" if method == "fault_2d" else
                   f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "
                   f"{tolerance:g}")
-        return _two_d(loaded, reason)
+        return _two_d(loaded, reason, allow_large=allow_large, progress=progress)
     result = earthquake_cycles(loaded)
     result.add("method", "one_slider")
     if method == "one_slider":
@@ -219,11 +220,21 @@ def run(scene, method=None, tolerance=None) -> Result:
     return result
 
 
-def _two_d(loaded, reason: str, elements_per_process_zone: float = 8.0) -> Result:
+def _two_d(loaded, reason: str, elements_per_process_zone: float = 8.0, allow_large: bool = False,
+           progress=None) -> Result:
+    """Escalate to the 2-D fault: its run is estimated and checked against the budget before any work (above it,
+    ``allow_large`` is needed), it reports progress, and its answer carries its own declared error."""
     block = fault_cycles(loaded.slider, loaded.plate_rate, cycles=3)
     scene = from_one_slider(loaded, duration=14 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
-    result = simulate_fault(scene)
+    estimate = scene.estimate()
+    estimate.what = f"escalating {loaded.name} to the 2-D fault ({reason})"
+    budget.check(estimate, allow_large)
+    if progress is not None and hasattr(progress, "announce"):
+        progress.announce(f"escalating to the 2-D fault: {estimate.describe()}")
+    result = simulate_fault(scene, allow_large=allow_large, progress=progress)
     result.set("method_reason", f"the 2-D fault with the scene's friction from the surface to D: {reason}")
+    result.note(f"escalated to the 2-D fault, estimated before it started at {estimate.describe()}; its declared "
+                "error is the 2-D run's own (estimated_relative_error)")
     return result
 
 
@@ -364,5 +375,5 @@ FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: veloci
                          "cycles of a fault on one spring-block", run, simulate,
                          simulate_options=("cycles", "slip_solver", "rtol"),
                          why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles",
-                         read_scene=read_scene, cells=cells,
+                         run_options=("allow_large", "progress"), read_scene=read_scene, cells=cells,
                          methods=lambda: [method.describe() for method in CYCLE_METHODS.values()]))

@@ -16,26 +16,82 @@ import numpy as np
 
 from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
 
-#: Intervals compared to call a sequence periodic.
+#: Intervals compared to call a sequence periodic (period 1: the last three agree).
 SETTLED_INTERVALS = 3
+#: The longest period looked for (SEAS BP1 variants show period-2 and period-3 supercycles).
+MAX_PERIOD = 8
+
+
+@dataclass
+class Sequence:
+    """What the system-size events do once the spin-up is over.
+
+    ``kind`` is ``periodic`` (period ``period``: the last ``period`` intervals repeat, within ``tolerance``,
+    in the two supercycles before them), ``aperiodic`` (no period up to :data:`MAX_PERIOD` in a run long
+    enough to show one: three supercycles of the longest), or ``unsettled`` (too few intervals to tell).
+    ``intervals`` are the measured ones (s): a supercycle's for a periodic sequence, every one after the
+    first supercycle's worth for an aperiodic one. ``spread`` is the largest relative difference between an
+    interval and the same interval one supercycle earlier (periodic), or the coefficient of variation
+    (aperiodic). ``mean_error`` is the declared relative error of ``mean_interval``: the spread of a periodic
+    sequence, the sampling error of the mean (sd / sqrt(n) / mean) of an aperiodic one.
+    """
+
+    kind: str
+    period: int
+    intervals: np.ndarray
+    mean_interval: float
+    spread: float
+    mean_error: float
+    first_event: int  # index (into the system-size events) of the first event of the measured window
+
+
+def classify(intervals: np.ndarray, tolerance: float = 1e-3) -> Sequence:
+    """Classify a sequence of intervals (s) between system-size events: periodic with the shortest period
+    p <= :data:`MAX_PERIOD` whose last 3p intervals repeat with period p to ``tolerance`` (relative to their
+    mean), aperiodic where a run of at least 3 x :data:`MAX_PERIOD` intervals shows none, unsettled otherwise."""
+    intervals = np.asarray(intervals, dtype=float)
+    count = intervals.size
+    for period in range(1, MAX_PERIOD + 1):
+        if count < SETTLED_INTERVALS * period:
+            break
+        window = intervals[-SETTLED_INTERVALS * period:]
+        mean = float(window.mean())
+        spread = float(np.max(np.abs(window[period:] - window[:-period])) / mean)
+        if spread <= tolerance:
+            last = intervals[-period:]
+            return Sequence("periodic", period, last, float(last.mean()), spread, spread, count - period)
+    if count >= SETTLED_INTERVALS * MAX_PERIOD:
+        measured = intervals[MAX_PERIOD:]  # the first supercycle's worth of the longest period: spin-up
+        mean = float(measured.mean())
+        deviation = float(measured.std(ddof=1))
+        return Sequence("aperiodic", 0, measured, mean, deviation / mean, deviation / math.sqrt(measured.size) / mean,
+                        MAX_PERIOD)
+    if count == 0:
+        return Sequence("unsettled", 0, intervals, math.nan, math.inf, math.inf, 0)
+    last = intervals[-SETTLED_INTERVALS:]
+    spread = float((last.max() - last.min()) / last.mean()) if last.size > 1 else math.inf
+    return Sequence("unsettled", 0, intervals[-1:], float(intervals[-1]), spread, spread, count - 1)
 
 
 @dataclass
 class Fault2DSummary:
     events: int
     system_events: int
-    recurrence_interval: float  # s, the last settled interval (NaN if fewer than 2 system-size events)
-    recurrence_spread: float  # relative spread of the last SETTLED_INTERVALS intervals
-    settled: bool
-    surface_slip_per_event: float  # m, last system-size event
-    mean_slip_per_event: float  # m, averaged over the velocity-weakening width
-    moment_per_length: float  # N (N m per m along strike), last system-size event
+    recurrence_interval: float  # s: the mean interval of the measured window (a supercycle, or the aperiodic run)
+    recurrence_spread: float  # the sequence's spread (periodic) or coefficient of variation (aperiodic)
+    settled: bool  # periodic, of any period up to MAX_PERIOD
+    surface_slip_per_event: float  # m, mean over the measured window's system-size events
+    mean_slip_per_event: float  # m, the same averaged over the velocity-weakening width
+    moment_per_length: float  # N (N m per m along strike), mean over the window
     hypocentre_depth: float  # m, last system-size event
-    peak_slip_rate: float  # m/s over the run
-    plate_slip_balance_surface: float  # slip at the shallowest station over the last cycle / (V_pl T)
+    peak_slip_rate: float  # m/s, over the measured window's events (the spin-up's left out)
+    plate_slip_balance_surface: float  # slip at the shallowest station over the window / (V_pl window)
     plate_slip_balance_range: tuple  # (min, max) over the stations
     creep_rate_deep: float  # m/s, slip rate at the bottom element at the end (steady at V_pl)
     note: str = ""
+    sequence: Sequence | None = None
+    event_slips: tuple = ()  # m, surface slip of each event of the window
+    event_hypocentres: tuple = ()  # m, hypocentre depth of each event of the window
 
 
 def summarise(run: Fault2DRun, tolerance: float = 1e-3) -> Fault2DSummary:
@@ -46,26 +102,22 @@ def summarise(run: Fault2DRun, tolerance: float = 1e-3) -> Fault2DSummary:
     surface = slip[:, 0] if count else np.empty(0)
     system = np.flatnonzero(surface >= 0.5 * surface.max()) if count else np.empty(0, int)
     intervals = np.diff(starts[system]) if system.size > 1 else np.empty(0)
-    if intervals.size >= 1:
-        recurrence = float(intervals[-1])
-        last = intervals[-SETTLED_INTERVALS:]
-        spread = float((last.max() - last.min()) / last.mean()) if last.size > 1 else math.inf
-    else:
-        recurrence, spread = math.nan, math.inf
-    settled = intervals.size >= SETTLED_INTERVALS and spread <= tolerance
+    sequence = classify(intervals, tolerance)
+    # the measured window: the system-size events from the window's first to the last (inclusive)
+    window = system[sequence.first_event:] if system.size else system
+    closing = window[1:] if window.size > 1 else window  # the events that close the window's intervals
     weakening = fault.b > fault.a
-    if system.size:
-        last_event = system[-1]
-        surface_slip = float(surface[last_event])
-        mean_slip = float(slip[last_event][weakening].mean()) if np.any(weakening) else math.nan
-        moment = float(run.moments_per_length()[last_event])
-        hypocentre = float(run.events["hypocentre_depth"][last_event])
+    if closing.size:
+        surface_slip = float(surface[closing].mean())
+        mean_slip = float(slip[closing][:, weakening].mean()) if np.any(weakening) else math.nan
+        moment = float(run.moments_per_length()[closing].mean())
+        hypocentre = float(run.events["hypocentre_depth"][system[-1]])
     else:
         surface_slip = mean_slip = moment = hypocentre = math.nan
     balance_surface, balance_range = math.nan, (math.nan, math.nan)
-    if system.size > 1:
-        # slip over the last full cycle at every station, between the two last system-size event starts
-        first, second = starts[system[-2]], starts[system[-1]]
+    if window.size > 1:
+        # slip over the whole window at every station (whole supercycles), against the plate's
+        first, second = starts[window[0]], starts[window[-1]]
         station_slip = run.stations["slip"]
         cycle_slip = np.array([np.interp(second, run.station_time, station_slip[:, k])
                                - np.interp(first, run.station_time, station_slip[:, k])
@@ -74,15 +126,30 @@ def summarise(run: Fault2DRun, tolerance: float = 1e-3) -> Fault2DSummary:
         shallowest = int(np.argmin(run.station_depths))
         balance_surface = float(cycle_slip[shallowest] / expected)
         balance_range = (float(cycle_slip.min() / expected), float(cycle_slip.max() / expected))
-    peak = float(run.events["peak_slip_rate"].max()) if count else float(run.profile_max_speed.max())
+    if count and window.size:  # the settled events' peak: every event from the window's first on
+        peak = float(run.events["peak_slip_rate"][window[0]:].max())
+    elif count:
+        peak = float(run.events["peak_slip_rate"].max())
+    else:
+        peak = float(run.profile_max_speed.max())
     deep = float(10 ** run.profile_log10_slip_rate[-1, -1]) if run.profile_time.size else math.nan
     note = ""
-    if not settled:
-        note = (f"the sequence has not settled: the last {min(intervals.size, SETTLED_INTERVALS)} intervals between "
-                f"system-size events differ by {spread:.3g} (relative), more than {tolerance:g}; run longer"
+    if sequence.kind == "aperiodic":
+        note = (f"the sequence is aperiodic (no period up to {MAX_PERIOD} within {tolerance:g}): the recurrence is "
+                f"the mean of {sequence.intervals.size} intervals, coefficient of variation {sequence.spread:.3g}, "
+                f"its sampling error {sequence.mean_error:.2g} declared")
+    elif sequence.kind == "unsettled":
+        note = (f"the sequence has not settled: no period up to {MAX_PERIOD} repeats within {tolerance:g} in its "
+                f"{intervals.size} intervals between system-size events; run longer"
                 if intervals.size else "fewer than two system-size events: no recurrence; run longer")
-    return Fault2DSummary(count, int(system.size), recurrence, spread, settled, surface_slip, mean_slip, moment,
-                          hypocentre, peak, balance_surface, balance_range, deep, note)
+    elif sequence.period > 1:
+        note = (f"a period-{sequence.period} supercycle of {years(float(sequence.intervals.sum())):.6g} yr: intervals "
+                + ", ".join(f"{years(v):.5g}" for v in sequence.intervals) + " yr; the recurrence is their mean")
+    return Fault2DSummary(count, int(system.size), sequence.mean_interval, sequence.spread,
+                          sequence.kind == "periodic", surface_slip, mean_slip, moment, hypocentre, peak,
+                          balance_surface, balance_range, deep, note, sequence,
+                          tuple(float(v) for v in surface[closing]),
+                          tuple(float(v) for v in run.events["hypocentre_depth"][closing]))
 
 
 def moment_magnitude(moment_per_length: float, fault_length: float) -> float:

@@ -292,8 +292,10 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         event_rows = events_store.read()
     except BaseException as exc:
         # a fresh run that failed leaves nothing behind; a stop, an interrupt or a resumed run keeps the last
-        # checkpoint (a resume truncates what followed it)
-        if not (isinstance(exc, (_Stopped, KeyboardInterrupt)) or resume or checkpoint is None):
+        # checkpoint (a resume truncates what followed it); one stopped before its first checkpoint has nothing
+        # to resume, so it too leaves nothing
+        stopped = isinstance(exc, (_Stopped, KeyboardInterrupt))
+        if checkpoint is not None and not resume and not (stopped and checkpoint.is_file()):
             for stream in streams:
                 stream.remove()
             checkpoint.unlink(missing_ok=True)

@@ -70,10 +70,14 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
     if folder is not None:
         if folder.exists() and not folder.is_dir():
             raise InputError(f"--output-dir {folder} is a file; give a folder for the run's files")
-        if resume and not (folder / "checkpoint.npz").is_file():
-            raise InputError(f"--resume: {folder} holds no checkpoint of a 2-D fault run")
+        checkpointed = (folder / "checkpoint.npz").is_file()
+        if resume and not checkpointed:
+            raise InputError(f"--resume: {folder} holds no checkpoint of a 2-D fault run (a run stopped before its "
+                             "first checkpoint leaves none); start it without --resume")
         if not resume and folder.is_dir() and any(folder.iterdir()) and not overwrite:
-            raise InputError(f"--output-dir {folder} is not empty; pass --resume to continue its run, or --overwrite")
+            raise InputError(f"--output-dir {folder} is not empty; " + (
+                "pass --resume to continue the run it holds, or --overwrite to start again" if checkpointed else
+                "it holds no checkpoint to resume: pass --overwrite to start again, or choose an empty folder"))
         check_encodable(folder, "--output-dir")
         if folder.is_symlink():
             raise InputError(f"--output-dir {folder} is a symbolic link, which faultslip never follows; give the "
@@ -115,12 +119,27 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
     report.add("process_zone", fault.process_zone(), "m", label="L_b = G D_c / (sigma_n b)")
     report.add("resolution", fault.process_zone() / fault.element_size, label="elements per L_b")
     report.add("events", summary.events).add("system_size_events", summary.system_events)
-    report.add("recurrence_interval", summary.recurrence_interval, "s", also=("yr",))
+    sequence = summary.sequence
+    report.add("sequence", sequence.kind if sequence.period <= 1 else f"period_{sequence.period}",
+               label="the sequence: periodic, period_p (a supercycle of p events), aperiodic or unsettled")
+    report.add("recurrence_interval", summary.recurrence_interval, "s", also=("yr",),
+               label="mean interval between system-size events (over a supercycle, or the aperiodic run)")
+    if sequence.period > 1:
+        report.add("supercycle", float(sequence.intervals.sum()), "s", also=("yr",),
+                   label=f"period of the {sequence.period}-event supercycle")
+        report.add("intervals", [float(v) for v in sequence.intervals], "s", label="each interval of the supercycle")
+        report.add("event_slips", list(summary.event_slips), "m", label="each event's surface slip")
+        report.add("event_hypocentres", list(summary.event_hypocentres), "m", label="each event's hypocentre depth")
     report.add("settled", bool(summary.settled),
-               label=f"periodic: last intervals agree to {settle_tolerance:g}")
+               label=f"periodic (of any period up to 8): each interval repeats a supercycle later to {settle_tolerance:g}")
     report.add("recurrence_spread", summary.recurrence_spread if math.isfinite(summary.recurrence_spread) else None,
-               label="relative spread of the last intervals")
-    report.add("slip_per_event", summary.surface_slip_per_event, "m", label="surface slip per event")
+               label=("coefficient of variation of the intervals" if sequence.kind == "aperiodic" else
+                      "largest relative change of an interval over a supercycle"))
+    if sequence.kind == "aperiodic":
+        report.add("recurrence_sampling_error", sequence.mean_error,
+                   label=f"sampling error of the mean interval (sd / sqrt({sequence.intervals.size}) / mean)")
+    report.add("slip_per_event", summary.surface_slip_per_event, "m",
+               label="surface slip per event (mean over the measured events)")
     report.add("mean_slip_per_event", summary.mean_slip_per_event, "m", label="slip per event, mean over the "
                                                                               "velocity-weakening width")
     report.add("moment_per_length", summary.moment_per_length, "N", label="seismic moment per metre along strike")
@@ -137,8 +156,9 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
     discretisation = discretisation_error(fault.process_zone() / fault.element_size)
     report.add("discretisation_error", discretisation,
                label="element size's error in recurrence (BP1's measured convergence)")
-    report.add("estimated_relative_error", max(summary.recurrence_spread, 10 * run.rtol, discretisation),
-               label="declared: the largest of settling (spread), the element size and 10 rtol")
+    report.add("estimated_relative_error", max(sequence.mean_error, 10 * run.rtol, discretisation),
+               label="declared: the largest of the sequence's (settling, or an aperiodic mean's sampling error), "
+                     "the element size's and 10 rtol")
     report.add("duration", run.duration, "s", also=("yr",))
     report.add("rtol", run.rtol).add("kernel", run.kernel)
     report.add("steps", run.steps).add("rejected_steps", run.rejected)
@@ -197,13 +217,14 @@ def to_dataset(loaded: Fault2DScene, run: Fault2DRun):
 def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: Result) -> None:
     """The SEAS files, the event catalogue (CSV with units) and the netCDF in ``folder``, each atomic."""
     fault = run.fault
+    problem = f"faultslip 2-D fault: {loaded.name}"  # the scene's own problem, BP1 or not
     stress_mpa = run.stations["shear_stress"] / 1e6
     for k, depth in enumerate(run.station_depths):
         write_station(folder / station_file_name(depth), run.station_time, run.stations["slip"][:, k],
                       run.stations["log10_slip_rate"][:, k], stress_mpa[:, k], run.stations["log10_state"][:, k],
-                      depth=float(depth), element_size=fault.element_size, version=__version__)
+                      depth=float(depth), element_size=fault.element_size, version=__version__, problem=problem)
     write_profiles(folder / "devol.dat", run.profile_time, run.profile_max_speed, run.profiles, fault.depth,
-                   element_size=fault.element_size, version=__version__)
+                   element_size=fault.element_size, version=__version__, problem=problem)
     moment = run.moments_per_length()
     lines = ["start (s),end (s),hypocentre_depth (m),peak_slip_rate (m/s),surface_slip (m),moment_per_length (N)"
              + (",moment_magnitude" if loaded.fault_length else "")]
@@ -212,7 +233,7 @@ def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: R
                run.events["peak_slip_rate"][i], run.events["slip"][i, 0], moment[i]]
         if loaded.fault_length:
             row.append(moment_magnitude(moment[i], loaded.fault_length) if moment[i] > 0 else float("nan"))
-        lines.append(",".join(f"{value:.10g}" for value in row))
+        lines.append(",".join(repr(float(value)) for value in row))  # full precision: times reach 1e10 s
     write_text_atomic(folder / "events.csv", "\n".join(lines) + "\n")
     write_dataset(result.to_xarray(), folder / "fault_2d.nc")
 
