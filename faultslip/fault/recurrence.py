@@ -9,8 +9,15 @@ Two renewal models with their maximum-likelihood fits (closed forms, checked aga
   mu-hat = mean T, 1/lambda-hat = mean(1/T - 1/mu-hat), alpha-hat = sqrt(mu-hat / lambda-hat). In scipy,
   ``invgauss(alpha^2, scale=mu / alpha^2)``.
 
-Uncertainty is a seeded parametric bootstrap: intervals drawn from the fitted model, refitted; the
-95 % ranges are percentiles. The conditional probability of an event within a horizon given the time
+Uncertainty comes from generalized pivotal quantities (Weerahandi 1993; for the inverse Gaussian Ye, Ma & Wang
+2010), seeded: draws of the parameters given the data whose percentiles are the 95 % ranges. For the lognormal,
+with y = ln T, n intervals, their mean y-bar and variance S^2 (ddof 1), U ~ chi^2(n - 1) and Z ~ N(0, 1):
+s^2 = (n - 1) S^2 / U and m = y-bar - Z sqrt(s^2 / n). For the BPT, with V = sum(1/T - 1/T-bar) ~ chi^2(n - 1) /
+lambda independent of T-bar: lambda = U / V, and from n lambda (T-bar - mu)^2 / (mu^2 T-bar) ~ chi^2(1),
+mu = T-bar / (1 + Z sqrt(T-bar / (n lambda))) (unbounded where the denominator is not positive). The mean and
+the aperiodicity follow from each draw. Over 2000 synthetic catalogs of 12 events per distribution
+(benchmarks/renewal_coverage.py, docs/catalogs.md) the ranges hold the truth 94-96 % of the time, where the
+parametric bootstrap's percentiles held it 91 % (mean) and 80.5 % (aperiodicity). The conditional probability of an event within a horizon given the time
 elapsed since the last one is (F(t + h) - F(t)) / (1 - F(t)) (Working Group on California Earthquake
 Probabilities; Matthews et al. 2002 eq. 9).
 """
@@ -59,6 +66,47 @@ def fit_parameters(model: str, values) -> tuple[float, float]:
         mean = values.mean(axis=-1)
         inverse_shape = (1.0 / values).mean(axis=-1) - 1.0 / mean
         return mean, np.sqrt(mean * np.maximum(inverse_shape, 0.0))
+    raise InputError(f"renewal model must be one of {', '.join(MODELS)}, got {model!r}")
+
+
+def pivotal_draws(model: str, values, count: int, rng) -> tuple[np.ndarray, np.ndarray]:
+    """``count`` draws of (mean, aperiodicity) from the generalized pivotal quantities of ``values`` (the
+    module docstring): their percentiles are the 95 % ranges.
+
+    Parameters
+    ----------
+    model : str
+        lognormal or bpt.
+    values : array_like
+        The observed intervals (s).
+    count : int
+        Draws.
+    rng : numpy.random.Generator
+        The seeded generator.
+
+    Returns
+    -------
+    tuple of ndarray
+        Means (s; infinite where the BPT pivot leaves the mean unbounded) and aperiodicities.
+    """
+    values = np.asarray(values, dtype=float)
+    n = values.size
+    chi = rng.chisquare(n - 1, count)
+    normal = rng.standard_normal(count)
+    if model == "lognormal":
+        logs = np.log(values)
+        variance = (n - 1) * logs.var(ddof=1) / chi
+        location = logs.mean() - normal * np.sqrt(variance / n)
+        with np.errstate(over="ignore"):  # few intervals: a draw's variance may be vast, its mean unbounded
+            return np.exp(location + 0.5 * variance), np.sqrt(np.expm1(variance))
+    if model == "bpt":
+        mean = values.mean()
+        shape = chi / np.sum(1.0 / values - 1.0 / mean)
+        denominator = 1.0 + normal * np.sqrt(mean / (n * shape))
+        positive = denominator > 0
+        means = np.full(count, np.inf)
+        means[positive] = mean / denominator[positive]
+        return means, np.sqrt(means / shape)
     raise InputError(f"renewal model must be one of {', '.join(MODELS)}, got {model!r}")
 
 
@@ -122,8 +170,8 @@ class RenewalFit:
 
 def fit(model: str, values, bootstrap: int = 1000, seed: int = 0, elapsed: float | None = None,
         horizon: float | None = None) -> RenewalFit:
-    """Maximum-likelihood fit with a seeded parametric bootstrap of its 95 % ranges (and of the conditional
-    probability, if ``elapsed`` and ``horizon`` are given).
+    """Maximum-likelihood fit with seeded generalized-pivotal 95 % ranges (module docstring) of the mean, the
+    aperiodicity and, if ``elapsed`` and ``horizon`` are given, the conditional probability.
 
     Parameters
     ----------
@@ -132,9 +180,9 @@ def fit(model: str, values, bootstrap: int = 1000, seed: int = 0, elapsed: float
     values : array_like
         Observed intervals (s).
     bootstrap : int
-        Parametric bootstrap samples.
+        Draws of the pivotal quantities (0: no ranges).
     seed : int
-        The bootstrap's seed.
+        Their seed.
     elapsed, horizon : float, optional
         Time since the last event and the window (s): the conditional probability.
 
@@ -156,18 +204,17 @@ def fit(model: str, values, bootstrap: int = 1000, seed: int = 0, elapsed: float
     if asked:
         result.probability = conditional_probability(model, mean, aperiodicity, elapsed, horizon)
     if bootstrap:
-        samples = law.rvs(size=(bootstrap, values.size), random_state=np.random.default_rng(seed))
-        means, aperiodicities = fit_parameters(model, samples)
-        usable = aperiodicities > 0
-        means, aperiodicities = means[usable], aperiodicities[usable]
+        means, aperiodicities = pivotal_draws(model, values, bootstrap, np.random.default_rng(seed))
         widened = []
         *result.mean_95, wide = percentile_interval(means, mean)
         widened += ["mean"] if wide else []
         *result.aperiodicity_95, wide = percentile_interval(aperiodicities, aperiodicity)
         widened += ["aperiodicity"] if wide else []
         if asked:
-            probabilities = [conditional_probability(model, m, a, elapsed, horizon) for m, a in
-                             zip(means, aperiodicities)]
+            # draws with an unbounded BPT mean have no distribution to evaluate: left out (rare past 5 intervals)
+            with np.errstate(divide="ignore", invalid="ignore"):  # a vast draw's NaN is left out of the range
+                probabilities = [conditional_probability(model, m, a, elapsed, horizon) for m, a in
+                                 zip(means, aperiodicities) if math.isfinite(m) and math.isfinite(a) and a > 0]
             *result.probability_95, wide = percentile_interval(probabilities, result.probability)
             widened += ["probability"] if wide else []
             result.probability_95 = tuple(result.probability_95)
