@@ -25,10 +25,11 @@ CONFIGS = ROOT / "configs"
 
 
 def tiny_scene(tmp_path, **replace) -> Path:
-    """configs/fault_2d_small.toml on 2 km elements over 150 yr (two events): a run of about a second."""
+    """configs/fault_2d_small.toml on 500 m elements (2 per L_b, the coarsest run without --allow-underresolved)
+    over 300 yr (two events): a run of about a second."""
     text = (CONFIGS / "fault_2d_small.toml").read_text()
-    text = text.replace('element_size = "500 m"', 'element_size = "2 km"').replace('duration = "600 yr"',
-                                                                                 'duration = "150 yr"')
+    text = text.replace('element_size = "250 m"', 'element_size = "500 m"').replace('duration = "600 yr"',
+                                                                                  'duration = "300 yr"')
     for old, new in replace.items():
         assert old in text, old
         text = text.replace(old, new)
@@ -249,7 +250,7 @@ def test_stations_that_would_share_a_seas_file_are_refused(tmp_path, cli, statio
 
 @pytest.mark.parametrize("change, message", [
     (('fault_length = "50 km"', 'fault_length = "0 km"'), "fault length"),
-    (('element_size = "500 m"', 'element_size = "1e-308 m"'), "element size"),
+    (('element_size = "250 m"', 'element_size = "1e-308 m"'), "element size"),
     (('reference_friction = 0.6', 'reference_friction = -0.6'), "reference friction"),
     (('plate_rate = "1e-9 m/s"', 'plate_rate = "1e300 m/s"'), "plate rate"),
     (('critical_slip = "24 mm"', 'critical_slip = "1e-300 m"'), "critical slip"),

@@ -168,7 +168,7 @@ def test_run_takes_a_path_a_name_a_scene_object_or_keywords_with_units():
         assert result["slip_per_event"].to("m").magnitude == pytest.approx(
             by_name["slip_per_event"].to("m").magnitude, rel=1e-12)
         assert result["recurrence_period"].to("yr").magnitude == pytest.approx(126.72, abs=0.01)
-    two_d = faultslip.load_fault_2d_scene("fault_2d_small.toml").with_values(element_size=2000.0)
+    two_d = faultslip.load_fault_2d_scene("fault_2d_small.toml").with_values(element_size=500.0)
     assert faultslip.run(two_d).family == "fault_2d"
     assert faultslip.run(faultslip.load_rate_state_scene("rsf_velocity_step.toml")).family == "rate_state_slider"
     with pytest.raises(InputError, match="scene object"):
@@ -194,7 +194,7 @@ def test_every_variable_of_every_family_carries_units(family):
     """A dimensionless Result variable had no units attribute (CF wants "1"); the nanoscale Dataset had none."""
     scene = CONFIGS / SCENES[family]
     if family == "fault_2d":
-        scene = faultslip.load_fault_2d_scene(scene).with_values(element_size=2000.0)
+        scene = faultslip.load_fault_2d_scene(scene).with_values(element_size=500.0)
     for result in (faultslip.run(scene), faultslip.simulate(scene)):
         dataset = result.to_xarray()
         numeric = [n for n in list(dataset.data_vars) + list(dataset.coords) if dataset[n].dtype.kind in "fiu"]

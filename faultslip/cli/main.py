@@ -149,6 +149,9 @@ def _scenes_commands(commands) -> None:
     run.add_argument("scene", nargs="?", help="scene TOML file or bundled scene name")
     _method_flags(run)
     run.add_argument("--allow-large", action="store_true", help="run even beyond the time and memory budget")
+    run.add_argument("--allow-underresolved", action="store_true",
+                     help="run a 2-D fault coarser than 2 elements per L_b, where sequences change character; the "
+                          "answer is then qualitative")
     run.add_argument("--json", action="store_true", help="print one JSON object")
     run.set_defaults(handler="scenes:cmd_run")
 
@@ -191,6 +194,8 @@ def _scenes_commands(commands) -> None:
     simulate.add_argument("-o", "--output", help="write the time series and event table to OUT.nc")
     simulate.add_argument("--plot", help="draw the sawtooth record to FILE.png")
     simulate.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
+    simulate.add_argument("--allow-underresolved", action="store_true",
+                          help="run a 2-D fault coarser than 2 elements per L_b (a qualitative answer)")
     simulate.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     simulate.add_argument("--cycles", type=int, help="number of stick-slip cycles (default: the scene's, else 100)")
     simulate.add_argument("--slip-solver", help="analytic, RK45, RK23, DOP853, Radau, BDF or LSODA (default auto)")

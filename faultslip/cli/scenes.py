@@ -41,7 +41,8 @@ _FAULT_QUANTITIES = {
 def cmd_run(args) -> int:
     """Any scene, whatever its model family (faultslip.models): its report."""
     return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args), allow_large=args.allow_large,
-                            progress=_progress("run", not args.json, "yr")).report(), args.json)
+                            progress=_progress("run", not args.json, "yr"),
+                            allow_underresolved=args.allow_underresolved).report(), args.json)
 
 
 def cmd_fault(args) -> int:
@@ -157,7 +158,8 @@ def cmd_simulate(args) -> int:
                              rtol=_number(args.rtol, "--rtol") if args.rtol is not None else None,
                              allow_large=args.allow_large, stream=bool(outputs["stream"]),
                              events=bool(outputs["events"]), output=outputs["output"], output_dir=args.output_dir,
-                             resume=args.resume, overwrite=args.overwrite)
+                             resume=args.resume, overwrite=args.overwrite,
+                             allow_underresolved=args.allow_underresolved)
     report = result.report()
     series = result.series
     if outputs["stream"] or outputs["events"]:  # before anything is written

@@ -71,7 +71,11 @@ class Fault2DCells:
         if study.method not in ("auto", "fault_2d") or study.cycles:
             raise InputError(f"{where} a 2-D fault study runs the 2-D model for the base scene's [run] duration; "
                              "leave method and cycles out")
-        study.scene.with_values(**{name: values[0] for name, values in study.dims.items()})  # e.g. a ramp to sweep
+        names = list(study.dims)
+        corners = np.array(np.meshgrid(*[[0, len(v) - 1] for v in study.dims.values()], indexing="ij"))
+        for index in corners.reshape(len(names), -1).T if names else [()]:  # L_b is monotone in each parameter
+            cell = study.scene.with_values(**{name: study.dims[name][i] for name, i in zip(names, index)})
+            cell.require_resolution()
 
     def outputs(self, study) -> dict:
         return OUTPUTS

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from faultslip.dynamics.fault_2d.integrate import BP1_STATIONS, YEAR, run_cycles
+from faultslip.dynamics.fault_2d.analysis import MIN_RESOLUTION
 from faultslip.dynamics.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip import ranges
 from faultslip.errors import InputError
@@ -76,6 +77,26 @@ class Fault2DScene:
     origin: str = ""
     path: object = None  # the scene file (a Path), if read from one
     text: str = ""  # the scene file as read (studies embed it to reproduce themselves)
+
+    @property
+    def resolution(self) -> float:
+        """Elements per L_b = G D_c / (sigma_n b) (the smallest over depth)."""
+        return self.fault.process_zone() / self.fault.element_size
+
+    def require_resolution(self, allow_underresolved: bool = False) -> None:
+        """Refuse, before any work, elements too coarse for the sequence to keep its character
+        (:data:`faultslip.dynamics.fault_2d.analysis.MIN_RESOLUTION` per L_b), naming the element size needed and
+        its cost; ``allow_underresolved`` runs it anyway, as a qualitative answer."""
+        if allow_underresolved or self.resolution >= MIN_RESOLUTION:
+            return
+        width = self.fault.element_size * self.fault.count
+        count = math.ceil(width * MIN_RESOLUTION / self.fault.process_zone())
+        needed = self.at_element_size(width / count)
+        raise InputError(f"{self.name}: elements of {self.fault.element_size:g} m resolve L_b = "
+                         f"{self.fault.process_zone():.4g} m with {self.resolution:.2g} each; below "
+                         f"{MIN_RESOLUTION:g} per L_b a sequence changes character (benchmarks/fault_2d_resolution.py). "
+                         f"Use element_size = \"{width / count:.6g} m\" ({count} elements, "
+                         f"{needed.estimate().describe()}), or --allow-underresolved for a qualitative answer")
 
     def at_element_size(self, element_size: float) -> "Fault2DScene":
         """The same scene on elements of another size (for convergence studies)."""

@@ -31,7 +31,7 @@ UNIVERSAL = ("output", "allow_large", "overwrite")
 
 
 def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False,
-        progress=None, **quantities) -> Result:
+        progress=None, allow_underresolved: bool = False, **quantities) -> Result:
     """Evaluate a scene, as ``faultslip run`` does.
 
     Parameters
@@ -48,6 +48,8 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
         Run beyond the time and memory budget, for a family whose run has one.
     progress : callable, optional
         ``(done, total)``: progress of a long run (an escalation to the 2-D fault), for a family that reports it.
+    allow_underresolved : bool
+        Run a discretised fault coarser than its sequences keep their character at, as a qualitative answer.
     **quantities
         A fault's inputs as keywords with units, as ``faultslip fault`` takes them: ``lithology="granodiorite"``,
         ``zone_width="13 mi"``, ``shear_stress="250 bar"``, ``slip_rate="2 in/yr"``, ...
@@ -68,6 +70,11 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
     options = {"allow_large": allow_large} if allow_large and "allow_large" in family.run_options else {}
     if progress is not None and "progress" in family.run_options:  # a family whose run may be long reports it
         options["progress"] = progress
+    if allow_underresolved:
+        if "allow_underresolved" not in family.run_options:
+            raise InputError(f"allow_underresolved (--allow-underresolved) applies to discretised faults, not to a "
+                             f"{family.name} scene")
+        options["allow_underresolved"] = True
     return family.run(scene, method=method, tolerance=tolerance, **options)
 
 

@@ -161,16 +161,25 @@ def years(seconds: float) -> float:
     return seconds / YEAR
 
 
-#: BP1's recurrence at 100 m (3.42 elements per L_b) lies 0.108 % below the 25 m value, at 50 m (6.8)
-#: 0.020 % (benchmarks/fault_2d.py, tests/test_fault_2d.py). Declared: 0.12 % at 3.42 per L_b (the 25 m
-#: value is itself off by the 25 m error), falling as (h / L_b)^2, more slowly than measured (safe).
-DISCRETISATION_AT_REFERENCE, REFERENCE_RESOLUTION, DISCRETISATION_ORDER = 1.2e-3, 3.42, 2.0
+#: Elements per L_b = G D_c / (sigma_n b) below which a sequence changes character: BP1 at 1.5 per L_b (227 m)
+#: ran 13 events in 700 yr, irregular, against 7 periodic ones from 2 per L_b up (benchmarks/fault_2d_resolution.py,
+#: results/fault_2d_resolution.json; the SEAS studies saw the same below Lambda_0 / dz ~ 1-2). Runs below it are
+#: refused unless asked for as qualitative (allow_underresolved).
+MIN_RESOLUTION = 2.0
+#: The recurrence's discretisation error, a bound through every run of benchmarks/fault_2d_resolution.py on three
+#: faults (BP1: 0.36 % at 2 per L_b, 0.17 % at 3, 0.098 % at 4, measured order 1.85-2.5 against the Richardson
+#: limit; the two others below it): 1 % at MIN_RESOLUTION, falling as (MIN_RESOLUTION / r)^1.8, the slowest
+#: order measured (tests/test_fault_2d.py checks that it covers every measured run).
+DISCRETISATION_AT_MINIMUM, DISCRETISATION_ORDER = 1e-2, 1.8
 
 
 def discretisation_error(resolution: float) -> float:
-    """The recurrence's relative error from the element size, at ``resolution`` elements per L_b, scaled
-    from BP1's measured convergence (an estimate for other faults: it assumes BP1's rupture style)."""
-    return DISCRETISATION_AT_REFERENCE * (REFERENCE_RESOLUTION / resolution) ** DISCRETISATION_ORDER
+    """The recurrence's relative error from the element size at ``resolution`` elements per L_b: the bound
+    measured on three faults of different W / h* and Lambda_0 (:data:`DISCRETISATION_AT_MINIMUM`); infinite below
+    :data:`MIN_RESOLUTION`, where the sequence itself is not to be trusted."""
+    if resolution < MIN_RESOLUTION:
+        return math.inf
+    return DISCRETISATION_AT_MINIMUM * (MIN_RESOLUTION / resolution) ** DISCRETISATION_ORDER
 
 
 #: The 2-D fault as a method, for 'faultslip methods' (faultslip.dynamics.methods.describe_all).
@@ -178,9 +187,10 @@ METHODS = {
     "fault_2d": {
         "name": "fault_2d", "friction_laws": "rate-and-state (aging or slip law), depth-varying (SEAS BP1)",
         "domain": "a vertical strike-slip fault in an elastic half-space, quasi-dynamic (radiation damping); "
-                  "elements of 3 or more per L_b = G D_c / (sigma_n b); declared error in recurrence: the largest "
-                  f"of the settling spread, 10 rtol and the element size's {DISCRETISATION_AT_REFERENCE:g} "
-                  f"(3.42 h / L_b)^{DISCRETISATION_ORDER:g}, from BP1's measured convergence",
+                  f"elements of {MIN_RESOLUTION:g} or more per L_b = G D_c / (sigma_n b) (coarser runs are refused: "
+                  "their sequences change character); declared error in recurrence: the largest of the "
+                  f"sequence's, 10 rtol and the element size's {DISCRETISATION_AT_MINIMUM:g} "
+                  f"({MIN_RESOLUTION:g} h / L_b)^{DISCRETISATION_ORDER:g}, a bound measured on three faults",
         "cost_model": "Dormand-Prince 5(4) steps: about 15 (V_pl / 1e-9 m/s) (W / h*) (rtol / 1e-7)^-0.18 a simulated "
                       "year, times the resolution's factor (faultslip.io.budget.fault_2d_steps), each step "
                       "0.1 ms + 0.85 us per element; BP1 at 25 m over 3000 yr: 262,150 steps, 6 min"},

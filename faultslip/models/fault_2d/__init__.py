@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from faultslip import __version__
-from faultslip.dynamics.fault_2d.analysis import METHODS, discretisation_error, moment_magnitude, summarise  # noqa: F401
+from faultslip.dynamics.fault_2d.analysis import (METHODS, MIN_RESOLUTION, discretisation_error,  # noqa: F401
+                                                   moment_magnitude, summarise)
 from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.errors import InputError
 from faultslip.io import budget
@@ -34,7 +35,7 @@ SETTLE_TOLERANCE = 1e-3
 
 def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float | None = None,
                    allow_large: bool = False, progress=None, overwrite: bool = False,
-                   settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
+                   settle_tolerance: float = SETTLE_TOLERANCE, allow_underresolved: bool = False) -> Result:
     """Run a 2-D fault scene; with ``output_dir``, stream the run there (checkpointed: ``resume=True``
     continues a stopped run bit for bit) and write the SEAS station files, slip profiles, event
     catalogue and CF netCDF when it ends.
@@ -65,7 +66,8 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
     """
     loaded = load_fault_2d_scene(scene, allow_large=allow_large)
     rtol = loaded.rtol if rtol is None else rtol
-    budget.check(loaded.estimate(rtol, output_dir), allow_large)  # before any work
+    loaded.require_resolution(allow_underresolved)  # before any work
+    budget.check(loaded.estimate(rtol, output_dir), allow_large)
     folder = Path(output_dir) if output_dir is not None else None
     if folder is not None:
         if folder.exists() and not folder.is_dir():
@@ -153,12 +155,20 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
     report.add("plate_slip_balance_range", list(summary.plate_slip_balance_range), "1",
                label="the same at every station (min, max)")
     report.add("deep_creep_rate", summary.creep_rate_deep, "m/s", label="slip rate at the bottom element at the end")
-    discretisation = discretisation_error(fault.process_zone() / fault.element_size)
-    report.add("discretisation_error", discretisation,
-               label="element size's error in recurrence (BP1's measured convergence)")
-    report.add("estimated_relative_error", max(sequence.mean_error, 10 * run.rtol, discretisation),
-               label="declared: the largest of the sequence's (settling, or an aperiodic mean's sampling error), "
-                     "the element size's and 10 rtol")
+    resolution = fault.process_zone() / fault.element_size
+    discretisation = discretisation_error(resolution)
+    if math.isfinite(discretisation):
+        report.add("discretisation_error", discretisation,
+                   label="element size's error in recurrence (a bound measured on three faults)")
+        report.add("estimated_relative_error", max(sequence.mean_error, 10 * run.rtol, discretisation),
+                   label="declared: the largest of the sequence's (settling, or an aperiodic mean's sampling "
+                         "error), the element size's and 10 rtol")
+    else:  # run as asked below the resolution where sequences keep their character: no error to declare
+        report.add("discretisation_error", None, label="element size's error in recurrence (none declared: "
+                                                       "under-resolved)")
+        report.add("estimated_relative_error", None, label="declared error (none: the answer is qualitative)")
+        report.note(f"under-resolved: {resolution:.2g} elements per L_b, below {MIN_RESOLUTION:g}, where sequences "
+                    "change character; the answer is qualitative (run as asked with allow_underresolved)")
     report.add("duration", run.duration, "s", also=("yr",))
     report.add("rtol", run.rtol).add("kernel", run.kernel)
     report.add("steps", run.steps).add("rejected_steps", run.rejected)
@@ -170,10 +180,6 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
         report.note(note)
     if run.resumed_from is not None:
         report.note(f"continued from the checkpoint at {run.resumed_from / YEAR:.6g} yr")
-    resolution = fault.process_zone() / fault.element_size
-    if resolution < 3:
-        report.note(f"the elements resolve L_b with {resolution:.2g} each (3 or more are needed for a converged "
-                    "rupture); refine element_size")
     note_origin(report, loaded.origin)
     return Result("fault_2d", report, to_dataset(loaded, run), lambda: cumulative_slip_figure(run),
                   extras={"run": run, "slip_rate_figure": lambda: slip_rate_figure(run)})
@@ -238,23 +244,24 @@ def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: R
     write_dataset(result.to_xarray(), folder / "fault_2d.nc")
 
 
-def run(scene, method=None, tolerance=None, allow_large: bool = False) -> Result:
+def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_underresolved: bool = False) -> Result:
     """A 2-D fault scene's cycles (its one method); ``tolerance`` is the settling tolerance of the
     recurrence (default 1e-3)."""
     if method not in (None, "auto", "fault_2d"):
         raise InputError(f"a 2-D fault scene runs the 2-D model (method fault_2d), got {method!r}")
-    return simulate_fault(scene, allow_large=allow_large,
+    return simulate_fault(scene, allow_large=allow_large, allow_underresolved=allow_underresolved,
                           settle_tolerance=tolerance if tolerance is not None else SETTLE_TOLERANCE)
 
 
 def simulate(scene, output_dir=None, resume: bool = False, rtol=None, allow_large: bool = False,
-             overwrite: bool = False) -> Result:
+             overwrite: bool = False, allow_underresolved: bool = False) -> Result:
     return simulate_fault(scene, output_dir=output_dir, resume=resume, rtol=rtol, allow_large=allow_large,
-                          overwrite=overwrite, progress=True)
+                          overwrite=overwrite, progress=True, allow_underresolved=allow_underresolved)
 
 
 FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",
-                         run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite"),
-                         run_options=("allow_large",),
+                         run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite",
+                                                          "allow_underresolved"),
+                         run_options=("allow_large", "allow_underresolved"),
                          why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
                          read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values())))
