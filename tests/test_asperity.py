@@ -310,3 +310,20 @@ def test_scene_reader_fuzz_gives_models_or_one_sentence(entries, noise):
         assert "\n" not in str(error).strip()
     else:
         assert model.platform_speed > 0 and model.initial_approach > model.slope_cutoff
+
+
+def test_every_asperity_method_converges_or_declares_and_none_declares_zero():
+    """asperity_LSODA declared an error of 0.0 and ignored the tolerance (issue 42): each run now measures its
+    statistics' change against a tighter rtol, declares it (with the quasi-static model's own 5 %), and tightens
+    until it meets the tolerance or says it could not."""
+    import faultslip
+
+    for method in ("asperity_LSODA", "asperity_quasistatic"):
+        result = faultslip.run("asperity_seed004.toml", method=method, tolerance=0.01)
+        declared, numerical = result.estimated_relative_error, result["numerical_error"]
+        assert declared > 0 and numerical <= 0.01 and declared >= numerical
+        if method == "asperity_quasistatic":
+            assert declared >= 0.05
+    strict = faultslip.run("asperity_seed004.toml", method="asperity_LSODA", tolerance=1e-14)
+    assert strict.estimated_relative_error > 0
+    assert strict["numerical_error"] <= 1e-14 or any("did not converge" in note for note in strict.notes)

@@ -3,6 +3,8 @@ the cheapest accurate integrator."""
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import replace
 
 import numpy as np
@@ -14,7 +16,8 @@ from faultslip.dynamics.asperity import simulate as integrate
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
-from faultslip.dynamics.asperity import METHODS, peak_speeds, speed_sweep
+from faultslip.dynamics.asperity import (CONVERGENCE_RTOLS, METHODS, QUASISTATIC_ERROR, converged_run, peak_speeds,
+                                         speed_sweep)
 from faultslip.errors import InputError, SolverError
 from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.common import note_origin
@@ -28,9 +31,20 @@ from faultslip.units import to_si
 def run(scene, method=None, tolerance=None) -> Result:
     """Critical speeds in closed form, the response where it is asked."""
     model, settings, notes = load_asperity_scene(scene)
-    choice = choose_method(model, ("response",), tolerance or settings["tolerance"], method or settings["method"])
-    response = integrate(model, settings["duration"], choice.method) if choice.method != "asperity_wavelength" else None
+    tolerance = tolerance or settings["tolerance"]
+    choice = choose_method(model, ("response",), tolerance, method or settings["method"])
+    response, numerical, met = None, 0.0, True
+    if choice.method != "asperity_wavelength":  # converge or declare: the integration's own error is measured
+        response, numerical, met = converged_run(model, settings["duration"], choice.method, tolerance)
+        model_error = QUASISTATIC_ERROR if choice.method == "asperity_quasistatic" else 0.0
+        choice = replace(choice, estimated_error=max(model_error, numerical))
     report = asperity_report(model, response, choice, f"faultslip asperity scene (seed 004): {notes['name']}")
+    if response is not None:
+        report.add("numerical_error", numerical if math.isfinite(numerical) else None,
+                   label="the statistics' change from rtol to a tighter one (measured)")
+        if not met:
+            report.note(f"{choice.method} did not converge to the tolerance {tolerance:g} down to rtol "
+                        f"{CONVERGENCE_RTOLS[-1]:g}: its measured change {numerical:.3g} is declared")
     note_origin(report, notes.get("origin"))
     return Result("asperity", report)
 
