@@ -164,3 +164,20 @@ def test_the_result_names_cameron_s_critical_speed_when_near_it():
     near = solve(CAMERON.with_(platform_speed=0.996 * CRITICAL_SPEED))
     assert "below Cameron's critical speed V_c" in near.method_reason
     assert "critical speed" not in solve(CAMERON).method_reason  # 8e-5 m/s, half of V_c
+
+
+def test_a_spiralling_approach_is_called_slow_not_absent():
+    """Aging-law cycles at K / K_c = 0.997 approach their steady cycle spiralling (single ratios of successive
+    changes above 1) and were told "no steady cycle is approached" (issue 42); they settle after ~1000 yr. The
+    trend over a longer window tells the two apart, and the remaining distance it declares covers the truth."""
+    from faultslip.dynamics.shared.settling import assess_settling
+
+    n = np.arange(40)
+    limit = 1.0
+    spiral = limit + 0.05 * 0.97 ** n * np.cos(1.3 * n)
+    verdict = assess_settling(spiral, 1e-6)
+    assert not verdict.settled and "spiral" in verdict.reason and "no steady cycle" not in verdict.reason
+    assert 0.9 < verdict.contraction < 1.0
+    assert verdict.remaining >= abs(spiral[-1] - limit) / limit
+    growing = 1.0 + 0.05 * 1.01 ** n * np.cos(1.3 * n)
+    assert "no steady cycle is approached" in assess_settling(growing, 1e-6).reason

@@ -25,6 +25,8 @@ import numpy as np
 ROUND_OFF = 1e-13
 #: Ratios of successive differences whose largest is the contraction rate.
 WINDOW = 4
+#: Cycles over which a spiralling approach's average contraction is measured.
+TREND_WINDOW = 16
 #: The geometric tail is declared twice over: the contraction is measured on a few cycles and drifts
 #: where the approach is not yet linear (0.02 % short for Cameron's law 1 % below V_c without it).
 TAIL_SAFETY = 2.0
@@ -114,9 +116,23 @@ def assess_settling(history, tolerance: float, floor=None, names=None, noise: fl
     if 0 < contraction_hint < 1 and not rho >= 1:  # measured earlier on larger, cleaner differences
         rho = max(rho, contraction_hint) if math.isfinite(rho) else contraction_hint
     if not rho < 1:
-        return Settling(False, count, rho, math.inf, q[-1].copy(),
-                        f"successive cycles still change by {last:.2g} ({worst}) and the changes do not shrink "
-                        f"(ratio {rho:.3g} per cycle): no steady cycle is approached")
+        # an approach that spirals in (near a Hopf bifurcation the cycle map's contraction is complex) makes
+        # single ratios exceed 1 while the changes still shrink on the whole: the trend over a longer window
+        # (the envelope: the largest change in each half of the window, robust to the spiral's phase)
+        span = min(TREND_WINDOW, change.size)
+        half = span // 2
+        early, late = change[-span:-span + half].max(), change[-half:].max()
+        trend = (late / early) ** (1.0 / (span - half)) if span >= 8 and early > 0 else math.inf
+        if not trend < 1:
+            return Settling(False, count, rho, math.inf, q[-1].copy(),
+                            f"successive cycles still change by {last:.2g} ({worst}) and the changes do not shrink "
+                            f"over the last {span + 1} cycles (ratio {rho:.3g} per cycle): no steady cycle is approached")
+        remaining = TAIL_SAFETY * late * trend / (1 - trend)
+        return Settling(False, count, trend, remaining, q[-1].copy(),
+                        f"not settled after {count} cycles: the cycles spiral in (single ratios up to {rho:.3g}, "
+                        f"{trend:.4g} per cycle over the last {span + 1}), so the steady cycle is still "
+                        f"~{remaining:.2g} away; ~{max(math.log(tolerance / remaining) / math.log(trend), 1):.3g} more "
+                        f"cycles to reach {tolerance:g}")
     # the tail (doubled: rho drifts as the approach leaves the linear regime), plus the round-off of
     # differences of O(1) numbers summed over it
     remaining = TAIL_SAFETY * last * rho / (1 - rho) + 8 * np.finfo(float).eps / (1 - rho)
