@@ -499,3 +499,21 @@ def test_a_stable_fault_is_refused_with_a_ratio_that_tells_it_from_one():
         assert float(beside(ratio, 1.0)) != 1.0
 
     shown_apart()
+
+
+@settings(max_examples=12, deadline=None)
+@given(evolution=st.sampled_from(["aging", "slip"]), closeness=st.floats(0.5, 3.0))
+def test_the_declared_cycle_error_holds_near_k_c(evolution, closeness):
+    """Near K_c the cycle map amplifies the integrator's error (issue 42: slip-law cycles at K / K_c = 0.997 were
+    1.25e-6 off against 1e-6 declared; measured here to 2.4e-5 for the aging law at rtol 1e-7). The declared
+    error, k rtol / (1 - K / K_c) near K_c, holds against rtol 1e-11 for K / K_c from 0.95 to 0.999."""
+    ratio = 1.0 - 10.0 ** -(1.0 + closeness * 2.0 / 3.0)  # 0.9 ... 0.999, log-uniform in 1 - K / K_c
+    base = RateStateSlider.at_fault(RateStateLaw(a=0.010, b=0.015, critical_slip=0.008), 32e9, 20e3, 50e6)
+    critical_slip = 0.008 * ratio * base.critical_stiffness() / base.stiffness
+    slider = RateStateSlider.at_fault(RateStateLaw(a=0.010, b=0.015, critical_slip=critical_slip, evolution=evolution),
+                                      32e9, 20e3, 50e6)
+    reference = fault_cycles(slider, 1e-9, cycles=2, rtol=1e-11)
+    run = fault_cycles(slider, 1e-9, cycles=2, rtol=1e-7)
+    error = max(abs(run.recurrence / reference.recurrence - 1),
+                abs(run.slip_per_event.mean() / reference.slip_per_event.mean() - 1))
+    assert error <= run.estimated_relative_error, (ratio, error, run.estimated_relative_error)

@@ -27,6 +27,9 @@ ROUND_OFF = 1e-13
 WINDOW = 4
 #: Cycles over which a spiralling approach's average contraction is measured.
 TREND_WINDOW = 16
+#: Changes that stall below this many times the method's nominal per-cycle error are its scatter, not a
+#: sequence that fails to settle (aging-law cycles at K / K_c = 0.997 stalled at 25 rtol, issue 42).
+STALL_FACTOR = 100.0
 #: The geometric tail is declared twice over: the contraction is measured on a few cycles and drifts
 #: where the approach is not yet linear (0.02 % short for Cameron's law 1 % below V_c without it).
 TAIL_SAFETY = 2.0
@@ -123,6 +126,17 @@ def assess_settling(history, tolerance: float, floor=None, names=None, noise: fl
         half = span // 2
         early, late = change[-span:-span + half].max(), change[-half:].max()
         trend = (late / early) ** (1.0 / (span - half)) if span >= 8 and early > 0 else math.inf
+        level = float(change[-span:].max())
+        if not trend < 1 and span >= 8 and noise > ROUND_OFF and level <= STALL_FACTOR * noise:
+            # the changes neither shrink nor grow, at the method's own scale: the sequence has settled to the
+            # integrator's scatter, which is larger here than its nominal error (near a bifurcation the map
+            # amplifies it); that scatter, amplified as the contraction measured earlier says, is what remains
+            gain = 1.0 / (1.0 - contraction_hint) if 0 < contraction_hint < 1 else 1.0
+            return Settling(True, count, contraction_hint, TAIL_SAFETY * level * gain, q[-1].copy(),
+                            f"settled after {count} cycles to the integrator's scatter: successive cycles differ by "
+                            f"up to {level:.2g} over the last {span + 1} without shrinking or growing, "
+                            f"{level / noise:.2g} times the nominal {noise:.2g}; declared {TAIL_SAFETY * level * gain:.2g}"
+                            " (a tighter rtol shrinks it)")
         if not trend < 1:
             return Settling(False, count, rho, math.inf, q[-1].copy(),
                             f"successive cycles still change by {last:.2g} ({worst}) and the changes do not shrink "
