@@ -533,3 +533,23 @@ def test_a_coarse_fault_is_refused_before_any_work_naming_the_size_it_needs(tmp_
     study.write_text(f'[study]\nbase = "{CONFIGS / "fault_2d_small.toml"}"\n[sweep]\nelement_size = ["250 m", "1 km"]\n')
     swept = cli("sweep", study, "-o", tmp_path / "s.nc")
     assert swept.code == 2 and "sequence changes character" in swept.err and not (tmp_path / "s.nc").exists()
+
+
+def test_richardson_on_request_declares_what_two_resolutions_show(cli):
+    """--richardson runs the small scene at 250 m and 125 m: the extrapolated recurrence, and a declared
+    discretisation error (twice the correction) that covers the finer run's distance from the resolved limit
+    measured by benchmarks/fault_2d_resolution.py."""
+    import json
+
+    results = json.loads((Path(__file__).resolve().parent.parent / "benchmarks" / "results" /
+                          "fault_2d_resolution.json").read_text())
+    limit = next(f for f in results["faults"] if f["name"] == "small")["reference_yr"] * YEAR
+    done = cli("run", CONFIGS / "fault_2d_small.toml", "--richardson", "--json")
+    assert done.code == 0, done.err
+    report = done.json
+    fine = report["recurrence_interval"]["value"]
+    assert report["element_size"]["value"] == 125.0 and report["recurrence_coarse"]["value"] != fine
+    assert abs(fine / limit - 1) <= report["discretisation_error"] <= report["estimated_relative_error"]
+    assert "recurrence_extrapolated" in report
+    refused = cli("run", "rsf_fault_bp1.toml", "--richardson")
+    assert refused.code == 2 and "discretised faults" in refused.err

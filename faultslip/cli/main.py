@@ -152,6 +152,9 @@ def _scenes_commands(commands) -> None:
     run.add_argument("--allow-underresolved", action="store_true",
                      help="run a 2-D fault coarser than 2 elements per L_b, where sequences change character; the "
                           "answer is then qualitative")
+    run.add_argument("--richardson", action="store_true",
+                     help="a 2-D fault: run it again on elements half the size and declare the discretisation error "
+                          "the two show (Richardson extrapolation)")
     run.add_argument("--json", action="store_true", help="print one JSON object")
     run.set_defaults(handler="scenes:cmd_run")
 

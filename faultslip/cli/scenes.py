@@ -42,7 +42,8 @@ def cmd_run(args) -> int:
     """Any scene, whatever its model family (faultslip.models): its report."""
     return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args), allow_large=args.allow_large,
                             progress=_progress("run", not args.json, "yr"),
-                            allow_underresolved=args.allow_underresolved).report(), args.json)
+                            allow_underresolved=args.allow_underresolved, richardson=args.richardson).report(),
+                 args.json)
 
 
 def cmd_fault(args) -> int:

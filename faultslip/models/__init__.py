@@ -31,7 +31,7 @@ UNIVERSAL = ("output", "allow_large", "overwrite")
 
 
 def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False,
-        progress=None, allow_underresolved: bool = False, **quantities) -> Result:
+        progress=None, allow_underresolved: bool = False, richardson: bool = False, **quantities) -> Result:
     """Evaluate a scene, as ``faultslip run`` does.
 
     Parameters
@@ -50,6 +50,9 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
         ``(done, total)``: progress of a long run (an escalation to the 2-D fault), for a family that reports it.
     allow_underresolved : bool
         Run a discretised fault coarser than its sequences keep their character at, as a qualitative answer.
+    richardson : bool
+        Run a discretised fault again on elements half the size, and declare the discretisation error the two
+        show (Richardson) instead of the a-priori bound.
     **quantities
         A fault's inputs as keywords with units, as ``faultslip fault`` takes them: ``lithology="granodiorite"``,
         ``zone_width="13 mi"``, ``shear_stress="250 bar"``, ``slip_rate="2 in/yr"``, ...
@@ -70,11 +73,12 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
     options = {"allow_large": allow_large} if allow_large and "allow_large" in family.run_options else {}
     if progress is not None and "progress" in family.run_options:  # a family whose run may be long reports it
         options["progress"] = progress
-    if allow_underresolved:
-        if "allow_underresolved" not in family.run_options:
-            raise InputError(f"allow_underresolved (--allow-underresolved) applies to discretised faults, not to a "
-                             f"{family.name} scene")
-        options["allow_underresolved"] = True
+    for flag, asked in (("allow_underresolved", allow_underresolved), ("richardson", richardson)):
+        if asked:
+            if flag not in family.run_options:
+                raise InputError(f"{flag} (--{flag.replace('_', '-')}) applies to discretised faults, not to a "
+                                 f"{family.name} scene")
+            options[flag] = True
     return family.run(scene, method=method, tolerance=tolerance, **options)
 
 

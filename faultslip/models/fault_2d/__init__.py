@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from faultslip import __version__
-from faultslip.dynamics.fault_2d.analysis import (METHODS, MIN_RESOLUTION, discretisation_error,  # noqa: F401
-                                                   moment_magnitude, summarise)
+from faultslip.dynamics.fault_2d.analysis import (DISCRETISATION_ORDER, METHODS, MIN_RESOLUTION,  # noqa: F401
+                                                   discretisation_error, moment_magnitude, summarise)
 from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.errors import InputError
 from faultslip.io import budget
@@ -244,13 +244,73 @@ def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: R
     write_dataset(result.to_xarray(), folder / "fault_2d.nc")
 
 
-def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_underresolved: bool = False) -> Result:
+def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_underresolved: bool = False,
+        richardson: bool = False) -> Result:
     """A 2-D fault scene's cycles (its one method); ``tolerance`` is the settling tolerance of the
-    recurrence (default 1e-3)."""
+    recurrence (default 1e-3); ``richardson`` also runs the scene on elements half the size
+    (:func:`richardson_run`)."""
     if method not in (None, "auto", "fault_2d"):
         raise InputError(f"a 2-D fault scene runs the 2-D model (method fault_2d), got {method!r}")
+    settle = tolerance if tolerance is not None else SETTLE_TOLERANCE
+    if richardson:
+        return richardson_run(scene, allow_large=allow_large, settle_tolerance=settle)
     return simulate_fault(scene, allow_large=allow_large, allow_underresolved=allow_underresolved,
-                          settle_tolerance=tolerance if tolerance is not None else SETTLE_TOLERANCE)
+                          settle_tolerance=settle)
+
+
+def richardson_run(scene, allow_large: bool = False, settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
+    """The scene on its own elements and on elements half their size, and the recurrence extrapolated
+    (Richardson, at the slowest order measured, :data:`DISCRETISATION_ORDER`): the discretisation error then
+    declared is what the two runs show (twice the extrapolation's correction to the finer run), not the a-priori
+    bound, where both sequences have the same period.
+
+    Parameters
+    ----------
+    scene : str, path or Fault2DScene
+        A 2-D fault scene, resolved (2 or more elements per L_b).
+    allow_large : bool
+        Run the two beyond the budget (the finer costs several times the scene's own).
+    settle_tolerance : float
+        The sequences' settling tolerance.
+
+    Returns
+    -------
+    Result
+        The finer run's answer, with ``recurrence_extrapolated`` (s), both runs' recurrences and the declared
+        discretisation error.
+    """
+    loaded = load_fault_2d_scene(scene, allow_large=allow_large)
+    loaded.require_resolution()
+    finer = loaded.at_element_size(loaded.fault.element_size / 2)
+    estimates = [loaded.estimate(), finer.estimate()]
+    budget.check(budget.Estimate(f"the two runs of {loaded.name} (Richardson)", memory=estimates[1].memory,
+                                 seconds=estimates[0].seconds + estimates[1].seconds), allow_large)
+    coarse = simulate_fault(loaded, allow_large=True, settle_tolerance=settle_tolerance)
+    result = simulate_fault(finer, allow_large=True, settle_tolerance=settle_tolerance)
+    t_coarse, t_fine = (r.values["recurrence_interval"].to("s").magnitude for r in (coarse, result))
+    same = coarse.values["sequence"] == result.values["sequence"] and math.isfinite(t_coarse) and math.isfinite(t_fine)
+    result.add("recurrence_coarse", t_coarse, "s", also=("yr",), label="recurrence on the scene's own elements")
+    if not same:
+        result.note("Richardson: the two resolutions' sequences differ; the a-priori discretisation bound stands")
+        return result
+    correction = (t_fine - t_coarse) / (2 ** DISCRETISATION_ORDER - 1)
+    extrapolated = t_fine + correction
+    shown = 2 * abs(correction) / extrapolated
+    result.add("recurrence_extrapolated", extrapolated, "s", also=("yr",),
+               label=f"recurrence extrapolated (Richardson, order {DISCRETISATION_ORDER:g})")
+    if "recurrence_sampling_error" in result:  # the sequence's own error, as the single run declared it
+        sequence_error = float(result.values["recurrence_sampling_error"])
+    else:
+        spread = result.values["recurrence_spread"]
+        sequence_error = float(spread) if result.values["settled"] and spread is not None else math.inf
+    result.add("discretisation_error", shown, label="element size's error in recurrence (Richardson: twice the "
+                                                    "extrapolation's correction)")
+    declared = max(shown, 10 * finer.rtol, sequence_error)
+    result.add("estimated_relative_error", declared if math.isfinite(declared) else None,
+               label="declared: the largest of the sequence's, the element size's (Richardson) and 10 rtol")
+    result.note(f"Richardson: {loaded.fault.element_size:g} m and {finer.fault.element_size:g} m elements; the "
+                f"a-priori bound would have declared {discretisation_error(finer.resolution):.2g}")
+    return result
 
 
 def simulate(scene, output_dir=None, resume: bool = False, rtol=None, allow_large: bool = False,
@@ -262,6 +322,6 @@ def simulate(scene, output_dir=None, resume: bool = False, rtol=None, allow_larg
 FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",
                          run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite",
                                                           "allow_underresolved"),
-                         run_options=("allow_large", "allow_underresolved"),
+                         run_options=("allow_large", "allow_underresolved", "richardson"),
                          why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
                          read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values())))
