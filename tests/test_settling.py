@@ -197,3 +197,13 @@ def test_changes_stalled_at_the_integrators_scatter_are_settled_to_it_and_declar
     assert verdict.remaining >= deviation
     # far above the method's scale, the same stall is not settled
     assert not assess_settling(1.0 + 1e-2 * rng.standard_normal((30, 3)), 1e-6, noise=1e-6).settled
+
+
+def test_a_slow_drift_is_not_taken_for_scatter():
+    """A transient still growing slowly near a Hopf bifurcation keeps the sign of its changes: it has not settled,
+    however small the changes (issue 27's nanoscale case at A = 11.999), where scatter changes sign at random."""
+    from faultslip.dynamics.shared.settling import assess_settling
+
+    n = np.arange(30)
+    drift = np.column_stack([1.0 + 1e-6 * n * (1 + 0.01 * np.sin(n)), np.ones(30), np.ones(30)])
+    assert not assess_settling(drift, 1e-6, noise=1e-7).settled

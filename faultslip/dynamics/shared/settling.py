@@ -127,7 +127,11 @@ def assess_settling(history, tolerance: float, floor=None, names=None, noise: fl
         early, late = change[-span:-span + half].max(), change[-half:].max()
         trend = (late / early) ** (1.0 / (span - half)) if span >= 8 and early > 0 else math.inf
         level = float(change[-span:].max())
-        if not trend < 1 and span >= 8 and noise > ROUND_OFF and level <= STALL_FACTOR * noise:
+        # scatter changes sign at random; a slow drift (a growing transient near a bifurcation) keeps its sign
+        signed = np.diff(q, axis=0)[-span:] / scale
+        flips = np.count_nonzero(np.diff(np.sign(signed), axis=0), axis=0)
+        scattered = bool(np.all(flips >= span // 4))
+        if not trend < 1 and span >= 8 and scattered and noise > ROUND_OFF and level <= STALL_FACTOR * noise:
             # the changes neither shrink nor grow, at the method's own scale: the sequence has settled to the
             # integrator's scatter, which is larger here than its nominal error (near a bifurcation the map
             # amplifies it); that scatter, amplified as the contraction measured earlier says, is what remains
