@@ -570,6 +570,8 @@ def quantity_json(value, unit: str) -> dict:
 
 
 def _json_number(value):
+    if value is None:  # a bound that does not exist (an unbounded range)
+        return None
     value = float(value)
     # JSON has no NaN or infinity; null means "does not exist" (e.g. no recurrence).
     return None if not math.isfinite(value) else value

@@ -182,3 +182,20 @@ def test_the_renewal_ranges_hold_the_truth_95_percent_of_the_time(model):
         low, high, _ = percentile_interval(aperiodicities, aperiodicity)
         held[1] += low <= truth_aperiodicity <= high
     assert np.all(np.abs(held / catalogs - 0.95) <= 0.02), held / catalogs
+
+
+def test_a_range_the_intervals_cannot_bound_is_printed_as_unbounded(cli, tmp_path):
+    """Three events, intervals 1 yr and 60 yr: the BPT mean's pivotal range is unbounded above. The fuzzer found
+    its infinity breaking the JSON (issue 42's pivotal ranges); it is null in the JSON, a note in the text."""
+    catalog = tmp_path / "c.csv"
+    catalog.write_text("time,latitude,longitude,depth (km),magnitude\n"
+                       "1900-01-01T00:00:00,35.9,-120.5,8,6.0\n1901-01-01T00:00:00,35.9,-120.5,8,6.0\n"
+                       "1961-01-01T00:00:00,35.9,-120.5,8,6.0\n", encoding="utf-8")
+    for extra in (["--json"], []):
+        done = cli("catalog", catalog, "--fault", "parkfield.toml", "--as-of", "2026-01-01", "--bootstrap", "2000",
+                   "--cluster-fraction", "refuse", *extra)
+        assert done.code == 0, done.err
+    report = cli("catalog", catalog, "--fault", "parkfield.toml", "--as-of", "2026-01-01", "--bootstrap", "2000",
+                 "--cluster-fraction", "refuse", "--json").json
+    assert report["bpt_mean_95"]["value"][1] is None
+    assert any("unbounded above" in note for note in report["notes"])

@@ -68,14 +68,16 @@ class CatalogComparison:
         r.add("observed_max_magnitude", float(self.selected.magnitude.max()), label="largest magnitude")
         for model, fitted in self.fits.items():
             r.add(f"{model}_mean", fitted.mean, "s", also=("yr",), label=f"{model}: mean recurrence (ML)")
-            r.add(f"{model}_mean_95", list(fitted.mean_95), "s", also=("yr",), label=f"{model}: mean, 95 % bootstrap")
+            r.add(f"{model}_mean_95", _bounds(fitted.mean_95), "s", also=("yr",), label=f"{model}: mean, 95 % range")
             r.add(f"{model}_aperiodicity", fitted.aperiodicity, label=f"{model}: aperiodicity")
-            r.add(f"{model}_aperiodicity_95", list(fitted.aperiodicity_95), label=f"{model}: aperiodicity, 95 %")
+            r.add(f"{model}_aperiodicity_95", _bounds(fitted.aperiodicity_95), label=f"{model}: aperiodicity, 95 %")
+            if not all(math.isfinite(v) for v in (*fitted.mean_95, *fitted.aperiodicity_95)):
+                r.note(f"{model}: a 95 % range is unbounded above (null): the intervals are too few to bound it")
             if fitted.probability is not None:
                 r.add(f"{model}_probability", fitted.probability,
                       label=f"{model}: P(event in {self.horizon / YEAR:g} yr | {self.elapsed / YEAR:.1f} yr elapsed)")
                 if fitted.probability_95 is not None:
-                    r.add(f"{model}_probability_95", list(fitted.probability_95), label=f"{model}: probability, 95 %")
+                    r.add(f"{model}_probability_95", _bounds(fitted.probability_95), label=f"{model}: probability, 95 %")
         p = self.prediction
         r.section(f"Predicted ({'rate-and-state friction' if p.law == 'rate_state' else 'seed law'})")
         if p.recurrence is None:
@@ -258,3 +260,8 @@ def compare(catalog: Catalog, scene: Scene, trace=None, max_distance: float = 25
         comparison.notes.append(f"{comparison.summary['count']} intervals: the renewal parameters are loosely "
                                 "constrained; read the 95 % ranges")
     return comparison
+
+
+def _bounds(pair) -> list:
+    """A 95 % range for a report: an unbounded end (too few intervals for the pivot to bound it) is None."""
+    return [float(v) if math.isfinite(v) else None for v in pair]

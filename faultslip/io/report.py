@@ -165,10 +165,15 @@ def significant(value: float, uncertainty: float | None = None) -> str:
 
 
 def _plain(value):
+    """A plain field for JSON: non-finite numbers are null, inside lists and tables too (JSON has no infinity)."""
     if isinstance(value, float) and not math.isfinite(value):
         return None
-    if hasattr(value, "item"):  # numpy scalar
+    if hasattr(value, "item") and getattr(value, "ndim", 0) == 0:  # numpy scalar
         return _plain(value.item())
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {key: _plain(v) for key, v in value.items()}
     return value
 
 
