@@ -12,7 +12,7 @@ from faultslip.contract.specs import Output, Parameter
 from faultslip.dynamics.nanoscale import METHODS as DECLARED_METHODS
 from faultslip.dynamics.nanoscale import NANOSCALE_METHODS
 from faultslip.models.nanoscale.scene import load_nanoscale_scene
-from faultslip.models.common import note_origin
+from faultslip.models.common import note_origin, note_scene
 from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
 from faultslip.plots.vibration import nanoscale_figure
@@ -61,9 +61,7 @@ def swing(scene, damping: float | None = None, integrate: bool = True, allow_lar
     cycle = (model.settled_cycle(settings["tolerance"], rtol=choice.rtol, allow_large=allow_large)
              if integrated is not None and model.stick_slip else None)
     report = nanoscale_report(model, integrated, choice if integrate else None, cycle=cycle)
-    for key in ("origin", "description"):
-        if notes.get(key):
-            report.notes.insert(0, notes[key])
+    note_scene(report, notes)
     if integrated is None:
         return Result("nanoscale", report)
     return Result("nanoscale", report, run_dataset(integrated), lambda: nanoscale_figure(integrated))

@@ -19,7 +19,7 @@ from faultslip.units import to_si
 from faultslip.models.vibration.scene import load_vibration_scene
 from faultslip.contract.registry import Family, register
 from faultslip.models.result import Result
-from faultslip.models.common import note_origin
+from faultslip.models.common import note_origin, note_scene
 from faultslip.plots.vibration import amplitude_speed_figure, vibration_series_figure
 
 #: --method names of the CLI and their averaging methods
@@ -77,9 +77,7 @@ def amplitude_study(scene, speed=None, speeds=None, method: str = "auto", tolera
     analysis = system.analyse()
     settled = settled_amplitude(system, method, tolerance) if analysis.valid else None
     report = averaging_report(system, analysis, sweep, settled)
-    for key in ("origin", "description"):
-        if notes.get(key):
-            report.notes.insert(0, notes[key])
+    note_scene(report, notes)
     figure = (lambda: amplitude_speed_figure(system, sweep)) if sweep is not None else None
     return Result("vibration", report, figure=figure, extras={"sweep": sweep, "system": system})
 
