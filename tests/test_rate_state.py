@@ -430,14 +430,22 @@ def test_the_c_stepper_takes_the_python_schemes_steps_and_events(ratio, evolutio
     law = BP1.with_evolution(evolution)
     slider = RateStateSlider.at_fault(law, 3.2e10, 20e3 * 0.0512 / ratio, 50e6, density=2670.0,
                                       shear_wave_speed=3464.0)
-    python, compiled = (fault_cycles(slider, 1e-9, cycles=2, spin_up=2, rtol=rtol, method=method)
+    # the same fixed work (settle=None: the spin-up is not decided at the integrator's scatter, where libm's last
+    # bit may tip a verdict one cycle earlier or later)
+    python, compiled = (fault_cycles(slider, 1e-9, cycles=2, spin_up=4, rtol=rtol, method=method, settle=None)
                         for method in ("dopri5", "dopri5_compiled"))
-    assert compiled.method == "dopri5_compiled" and compiled.spin_up == python.spin_up
-    assert compiled.restarts == python.restarts
+    assert compiled.method == "dopri5_compiled" and compiled.spin_up == python.spin_up == 4
     assert abs(compiled.steps - python.steps) <= 2 + python.steps // 1000
     assert compiled.recurrence == pytest.approx(python.recurrence, rel=1e-8)
     for name in ("slip_per_event", "stress_drop", "cycle_slip"):
         np.testing.assert_allclose(getattr(compiled, name), getattr(python, name), rtol=1e-8)
+    # settled, each declares the distance left, and the two answers lie within what they declare
+    python, compiled = (fault_cycles(slider, 1e-9, cycles=2, spin_up=2, rtol=rtol, method=method)
+                        for method in ("dopri5", "dopri5_compiled"))
+    assert python.settling.settled and compiled.settling.settled
+    declared = python.settling.remaining + compiled.settling.remaining + 20 * rtol
+    assert declared < 1e-4  # far from K_c nothing amplifies the scatter
+    assert compiled.recurrence == pytest.approx(python.recurrence, rel=declared)
     # the peak is the fastest step end: near K_c (a restart from an extrapolated state) rounding moves the
     # steps by ulps and the sampled peak by up to 1.2e-7 (found at K / K_c 0.94, rtol 1e-7)
     np.testing.assert_allclose(compiled.peak_slip_rate, python.peak_slip_rate, rtol=1e-6)
