@@ -20,10 +20,10 @@ from pathlib import Path
 import numpy as np
 
 os.environ.setdefault("MPLBACKEND", "Agg")
-from faultslip.dynamics.asperity import AsperityModel, analyse, peak_speeds, simulate, speed_sweep  # noqa: E402
-from faultslip.friction.asperity import CONTACT_LOSS_SPEEDS, TABLE_II, TABLE_III  # noqa: E402
+from faultslip.models.asperity.dynamics import AsperityModel, analyse, peak_speeds, simulate, speed_sweep  # noqa: E402
+from faultslip.models.asperity.friction import CONTACT_LOSS_SPEEDS, TABLE_II, TABLE_III  # noqa: E402
 from faultslip.io.atomic import save_figure, write_text_atomic  # noqa: E402
-from faultslip.plots.asperity import response_figure, sweep_figure  # noqa: E402
+from faultslip.models.asperity.figures import response_figure, sweep_figure  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 

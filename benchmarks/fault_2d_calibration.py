@@ -4,8 +4,8 @@
 
 Each row runs the 2-D fault (uniform SEAS BP1 friction from the surface to D = 20 km, steady slip
 below, 4 elements per L_b, ten cycles after the spin-up) and the one-block fault with K = G / D
-(faultslip.models.model_error.compare), changing D_c to set W / h*. Writes
-data/fault_2d_model_error.json, which faultslip.models.model_error.declared_model_error reads and
+(faultslip.models.fault_2d.calibration.compare), changing D_c to set W / h*. Writes
+data/fault_2d_model_error.json, which faultslip.models.rate_state_slider.model_error.declared_model_error reads and
 the one-slider methods declare. --quick computes three ratios into benchmarks/results/ instead.
 """
 
@@ -22,7 +22,8 @@ sys.path.insert(0, str(ROOT))
 
 from faultslip.fault.rate_state_scene import load_rate_state_scene  # noqa: E402
 from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
-from faultslip.models import model_error  # noqa: E402
+from faultslip.models.fault_2d import calibration as model_error  # noqa: E402
+from faultslip.models.rate_state_slider import model_error as declared  # noqa: E402
 
 BASE = ROOT / "configs" / "rsf_fault_bp1.toml"
 
@@ -53,7 +54,7 @@ def main(argv=None):
         stop_pool(pool)
     table["rows"] = sorted(rows, key=lambda row: row["width_over_nucleation"])
     out = (ROOT / "benchmarks" / "results" / "fault_2d_calibration_quick.json" if args.quick
-           else ROOT / "data" / model_error.CALIBRATION_FILE)
+           else ROOT / "data" / declared.CALIBRATION_FILE)
     out.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
     print(f"written to {out}")
 

@@ -56,8 +56,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from faultslip.dynamics.fault_2d.integrate import YEAR  # noqa: E402
-from faultslip.fault.fault_2d_scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
+from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
 
 SCENE = ROOT / "configs" / "seas_bp1.toml"
 WIDTH = 40e3

@@ -7,7 +7,7 @@ Each fault runs at resolutions r = L_b / dz (elements per L_b = G D_c / (sigma_n
 reference is the Richardson extrapolation of the two finest (order measured from the three finest). For each
 run: the recurrence's relative error against the reference, and the sequence it found (periodic of period p,
 aperiodic, unsettled). Writes benchmarks/results/fault_2d_resolution.json; the bound and the refusal in
-faultslip/dynamics/fault_2d/analysis.py are read from it (tests/test_fault_2d.py checks they cover every run).
+faultslip/models/fault_2d/analysis.py are read from it (tests/test_fault_2d.py checks they cover every run).
 """
 
 from __future__ import annotations
@@ -24,9 +24,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from faultslip.dynamics.fault_2d.analysis import summarise  # noqa: E402
-from faultslip.dynamics.fault_2d.integrate import YEAR, run_cycles  # noqa: E402
-from faultslip.fault.fault_2d_scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
+from faultslip.models.fault_2d.integrate import YEAR, run_cycles  # noqa: E402
+from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
 
 #: (name, scene, values replaced, years): BP1; the small fault (W / h* below 1); a short-D_c, high-stress one
 FAULTS = [

@@ -137,7 +137,7 @@ def test_a_cycle_run_loads_only_what_it_needs():
             "    main(['rate-state', 'cycles', 'configs/rsf_fault_bp1.toml', '--cycles', '1', '--json'])\n"
             "print(','.join(sorted(m for m in sys.modules if m in ('scipy', 'xarray', 'matplotlib', 'pint', 'netCDF4', "
             "'numba', 'dask', 'h5py', 'faultslip.fault.scaling', 'faultslip.dynamics.methods', 'faultslip.cli.common', "
-            "'faultslip.models.rate_state_slider', 'faultslip.models.fault_2d', 'faultslip.fault.scene'))))")
+            "'faultslip.models.rate_state_slider.family', 'faultslip.models.fault_2d.family', 'faultslip.fault.scene'))))")
     loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                             cwd=root).stdout.strip()
     assert loaded == "", f"a cycle run loaded {loaded}"
@@ -206,10 +206,10 @@ def test_the_api_reference_lists_every_public_name():
     assert not missing, f"docs/api.rst does not list {missing}"
 
 
-#: The families in dynamics/: each imports only itself, the shared machinery and, for seed 002's
-#: averaging built on it, the spring-slider. The method hierarchy (methods, kernel) sits above them.
-DYNAMICS_FAMILIES = {"spring_slider": set(), "rate_state": set(), "vibration": {"spring_slider"},
-                     "nanoscale": set(), "asperity": set(), "fault_2d": set()}
+#: The numerics in dynamics/ that several families and applications share: each imports only itself, the shared
+#: machinery and, for seed 002's averaging built on it, the spring-slider. The method hierarchy (methods, kernel)
+#: sits above them. A family's numerics that nothing else uses live in its own folder (models/<family>/).
+DYNAMICS_FAMILIES = {"spring_slider": set(), "rate_state": set(), "vibration": {"spring_slider"}}
 DYNAMICS_HUB = {"methods", "kernel"}
 
 
@@ -231,6 +231,38 @@ def test_dynamics_is_families_and_shared_machinery_not_one_room():
             if target.startswith("faultslip.dynamics.") and len(tparts) > 2:
                 assert tparts[2] in allowed, (
                     f"{module}:{line} imports {target}: a family uses only itself and dynamics.shared")
+
+
+FAMILY_FOLDERS = sorted(p.name for p in (PACKAGE / "models").iterdir() if (p / "family.py").exists())
+
+
+def test_a_family_is_one_folder_and_no_module_outside_it_imports_it():
+    """Families as vertical slices (issue 40): each registered family is ``models/<name>/`` with its declaration in
+    ``family.py``; only its own folder imports it. Everything else reaches a family through the contract
+    (``faultslip.contract.load``, ``cells_of``, ``Family.refine``) or the public names of ``import faultslip``."""
+    from faultslip import contract
+
+    declared = {name: declaration.module for name, declaration in contract.DECLARATIONS.items()}
+    assert declared == {name: f"faultslip.models.{name}.family" for name in FAMILY_FOLDERS}, declared
+    for module, path in MODULES.items():
+        parts = module.split(".")
+        own = parts[2] if len(parts) > 2 and parts[1] == "models" and parts[2] in FAMILY_FOLDERS else None
+        for target, line, _, _ in _imports(path):
+            tparts = target.split(".")
+            if len(tparts) > 2 and tparts[:2] == ["faultslip", "models"] and tparts[2] in FAMILY_FOLDERS:
+                assert tparts[2] == own, (
+                    f"{module}:{line} imports {target}: only models/{tparts[2]}/ may; go through the contract "
+                    "or the public API (import faultslip)")
+
+
+def test_the_test_family_is_one_folder_too():
+    """The test family is a folder like every family's, declared by one line in tests/test_families.py."""
+    folder = PACKAGE.parent / "tests" / "families" / "constant_friction"
+    assert sorted(p.name for p in folder.glob("*.py")) == ["__init__.py", "family.py", "figures.py", "scene.py"]
+    for path in folder.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("faultslip.models."):
+                raise AssertionError(f"{path.name}:{node.lineno} imports {node.module}: a family needs only the contract")
 
 
 #: Calls that open, save, load, map or rename a file: outside io/, none may stand (the door of issue 41: the

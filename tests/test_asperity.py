@@ -12,10 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from faultslip.dynamics.asperity import (AsperityModel, analyse, choose_method, peak_speeds, simulate,
+from faultslip.models.asperity.dynamics import (AsperityModel, analyse, choose_method, peak_speeds, simulate,
                                          speed_sweep)
 from faultslip.errors import InputError
-from faultslip.friction import asperity as contact
+from faultslip.models.asperity import friction as contact
 from faultslip.models.asperity.scene import parse_asperity_scene
 
 CONFIG = "configs/asperity_seed004.toml"
@@ -275,7 +275,7 @@ def test_cli_bad_input_exits_2_with_one_sentence(cli, args, match):
 
 
 def test_integrator_map_names_contact_loss_and_declines():
-    from faultslip.evaluation.asperity_map import OUTCOMES, asperity_map
+    from faultslip.models.asperity.speed_map import OUTCOMES, asperity_map
 
     grid = asperity_map([3.6e-3, 0.4], [0.1], duration=0.05)
     outcome = lambda method: [OUTCOMES[c] for c in grid["outcome"].sel({"method": method}).values[0]]  # noqa: E731

@@ -15,9 +15,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from conftest import assert_clean_error, mounted_tmpfs
-from faultslip.dynamics.fault_2d.integrate import STREAM_FILES, YEAR, _Stopped, run_cycles
+from faultslip.models.fault_2d.integrate import STREAM_FILES, YEAR, _Stopped, run_cycles
 from faultslip.errors import InputError
-from faultslip.fault.fault_2d_scene import load_fault_2d_scene
+from faultslip.models.fault_2d.scene import load_fault_2d_scene
 from faultslip.io.records import RecordStream, read_checkpoint, write_checkpoint
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -198,7 +198,7 @@ def test_a_read_only_output_folder_is_refused_before_work(tmp_path, cli):
 
 def test_a_failed_fresh_run_leaves_nothing_behind(tmp_path, monkeypatch):
     """A 2-D run into a full tmpfs said "nothing was left behind" but left checkpoint.npz and three record files."""
-    from faultslip.dynamics.fault_2d import integrate
+    from faultslip.models.fault_2d import integrate
 
     loaded = load_fault_2d_scene(tiny_scene(tmp_path))
     calls = {"n": 0}
@@ -375,7 +375,7 @@ def test_a_2d_runs_step_estimate_covers_what_it_takes(tmp_path, changes):
 
 def test_a_2d_study_is_budgeted_cell_by_cell(tmp_path):
     """A swept element size changes each cell's cost: the study's estimate follows it."""
-    from faultslip.fault.fault_2d_cells import fault_2d_cell_seconds
+    from faultslip.models.fault_2d.cells import fault_2d_cell_seconds
 
     loaded = load_fault_2d_scene(CONFIGS / "fault_2d_small.toml")
     coarse = fault_2d_cell_seconds(loaded, {"element_size": np.array([2000.0])})

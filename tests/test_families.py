@@ -120,7 +120,7 @@ def test_every_scene_reader_reads_or_refuses_in_one_sentence(name, data):
     assert refused is None or (refused.strip() and "\n" not in refused.strip()), refused
 
 
-# --- a family is one module and one line -----------------------------------------------------------------
+# --- a family is one folder and one line -----------------------------------------------------------------
 
 TEST_SCENE = """family = "constant_friction"
 [slider]
@@ -137,7 +137,7 @@ kinetic = 0.5
 @pytest.fixture
 def constant_friction(tmp_path):
     """The test family, declared by its one line (and forgotten afterwards)."""
-    contract.declare("constant_friction", "families.constant_friction")
+    contract.declare("constant_friction", "families.constant_friction.family")
     scene = tmp_path / "constant.toml"
     scene.write_text(TEST_SCENE, encoding="utf-8")
     yield scene
@@ -145,7 +145,7 @@ def constant_friction(tmp_path):
     contract.FAMILIES.pop("constant_friction", None)
 
 
-def test_a_test_family_is_one_module_and_one_line(constant_friction, cli, tmp_path):
+def test_a_test_family_is_one_folder_and_one_line(constant_friction, cli, tmp_path):
     import xarray as xr
 
     checked = check_family("constant_friction", constant_friction, {"normal_load": ["50 N", "100 N"]},
@@ -200,7 +200,7 @@ def test_the_sweep_engine_names_no_family(module):
                 f"{module}:{node.lineno} asks a scene's kind"
         if isinstance(node, ast.ImportFrom) and node.module:
             assert not node.module.startswith(("faultslip.models.", "faultslip.fault.")) or \
-                node.module == "faultslip.models.result", f"{module}:{node.lineno} imports {node.module}"
+                node.module == "faultslip.contract.result", f"{module}:{node.lineno} imports {node.module}"
 
 
 # --- one entrance per physics (issue 40, item 4) ---------------------------------------------------------

@@ -11,14 +11,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from faultslip.dynamics.fault_2d import compiled
-from faultslip.dynamics.fault_2d.analysis import summarise
-from faultslip.dynamics.fault_2d.integrate import YEAR, _Stopped, run_cycles
-from faultslip.dynamics.fault_2d.kernel import StressKernel, deep_loading, dense_matrix
-from faultslip.dynamics.fault_2d.model import Fault2D, ForceBalance, steady_initial_conditions
+from faultslip.models.fault_2d import compiled
+from faultslip.models.fault_2d.analysis import summarise
+from faultslip.models.fault_2d.integrate import YEAR, _Stopped, run_cycles
+from faultslip.models.fault_2d.kernel import StressKernel, deep_loading, dense_matrix
+from faultslip.models.fault_2d.model import Fault2D, ForceBalance, steady_initial_conditions
 from faultslip.errors import InputError
 from faultslip.io.seas import read_seas, station_file_name, write_station
-from faultslip.fault.fault_2d_scene import load_fault_2d_scene, parse_fault_2d_scene
+from faultslip.models.fault_2d.scene import load_fault_2d_scene, parse_fault_2d_scene
 
 CONFIGS = Path(__file__).resolve().parent.parent / "configs"
 G = 2670 * 3464.0 ** 2
@@ -232,7 +232,9 @@ def test_bad_scenes_are_one_sentence(change, message):
 # --- the one slider's model error against the 2-D fault ---------------------------------------------
 
 def test_the_shipped_calibration_is_complete_and_declares_errors():
-    from faultslip.models.model_error import RATIOS, declared_model_error, load_calibration, nucleation_ratio
+    from faultslip.friction.rate_state import nucleation_ratio
+    from faultslip.models.fault_2d.calibration import RATIOS
+    from faultslip.models.rate_state_slider.model_error import declared_model_error, load_calibration
     from faultslip.fault.rate_state_scene import load_rate_state_scene
 
     table = load_calibration()
@@ -255,7 +257,7 @@ def test_the_shipped_calibration_is_complete_and_declares_errors():
 
 
 def test_one_slider_declares_its_model_error_and_auto_obeys_a_tolerance(cli):
-    from faultslip.models.model_error import declared_model_error
+    from faultslip.models.rate_state_slider.model_error import declared_model_error
     from faultslip.fault.rate_state_scene import load_rate_state_scene
 
     scene = load_rate_state_scene(CONFIGS / "rsf_fault_bp1.toml")
@@ -279,9 +281,12 @@ def test_auto_runs_the_2d_fault_where_one_slider_is_not_good_enough():
     text = (CONFIGS / "rsf_fault_bp1.toml").read_text().replace('zone_width = "20 km"', 'zone_width = "10 km"')
     text = text.replace('critical_slip = "8 mm"', 'critical_slip = "10 mm"')
     scene = parse_rate_state_scene(text, "narrow.toml")
-    from faultslip.models import rate_state_slider
+    from faultslip import contract
+    from faultslip.models.rate_state_slider.family import RICHER
 
-    result = rate_state_slider._two_d(scene, "test", elements_per_process_zone=3)
+    # the one slider escalates through the contract: the richer family it declares refines its scene
+    assert RICHER == "fault_2d"
+    result = contract.load(RICHER).refine(scene, "test", elements_per_process_zone=3)
     assert result.method == "fault_2d" and "test" in result.method_reason
     assert result["events"] >= 3
     assert isinstance(result, faultslip.Result)
@@ -420,7 +425,7 @@ def test_malformed_seas_files_are_one_sentence(tmp_path, content, message):
 def test_the_declared_error_covers_the_element_size():
     """At 100 m the declared error must cover the 0.11 % by which BP1's recurrence lies below the 25 m run
     (benchmarks/fault_2d.py; the Richardson limit's own comparison is test_the_declared_discretisation_error_...)."""
-    from faultslip.models.fault_2d import discretisation_error
+    from faultslip.models.fault_2d.family import discretisation_error
 
     scene = load_fault_2d_scene(CONFIGS / "seas_bp1.toml")
     coarse = scene.fault.process_zone() / 100.0
@@ -431,7 +436,7 @@ def test_the_declared_error_covers_the_element_size():
 # --- sequences as they are (issue 42) ---------------------------------------------------------------------
 
 def test_a_period_three_sequence_is_a_supercycle_of_three():
-    from faultslip.dynamics.fault_2d.analysis import classify
+    from faultslip.models.fault_2d.analysis import classify
 
     years = 365.25 * 86400.0
     spin_up = [120.0, 95.0, 88.0, 81.0]
@@ -445,7 +450,7 @@ def test_a_period_three_sequence_is_a_supercycle_of_three():
 
 
 def test_a_periodic_sequence_takes_its_shortest_period_and_an_unsettled_one_is_called_so():
-    from faultslip.dynamics.fault_2d.analysis import classify
+    from faultslip.models.fault_2d.analysis import classify
 
     assert classify(np.array([5.0, 3.0, 2.0, 2.0, 2.0])).period == 1
     assert classify(np.array([1.0, 2.0] * 3)).period == 2
@@ -458,7 +463,7 @@ def test_a_periodic_sequence_takes_its_shortest_period_and_an_unsettled_one_is_c
 def test_an_aperiodic_sequence_declares_the_sampling_error_of_its_mean(seed):
     """Irregular intervals (no period up to 8) are called aperiodic: the mean of the intervals after the first
     eight, their coefficient of variation, and sd / sqrt(n) / mean as the declared error of the mean."""
-    from faultslip.dynamics.fault_2d.analysis import MAX_PERIOD, classify
+    from faultslip.models.fault_2d.analysis import MAX_PERIOD, classify
 
     rng = np.random.default_rng(seed)
     intervals = rng.lognormal(0.0, 0.3, 40)
@@ -501,7 +506,7 @@ def test_the_declared_discretisation_error_covers_every_measured_run():
     measured error against the resolved limit in every run; below it BP1's sequence changed character."""
     import json
 
-    from faultslip.dynamics.fault_2d.analysis import MIN_RESOLUTION, discretisation_error
+    from faultslip.models.fault_2d.analysis import MIN_RESOLUTION, discretisation_error
 
     results = json.loads((Path(__file__).resolve().parent.parent / "benchmarks" / "results" /
                           "fault_2d_resolution.json").read_text())

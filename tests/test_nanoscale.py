@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from conftest import assert_clean_error
-from faultslip.dynamics.nanoscale import (NanoscaleModel, dipole_force, hertz_radius, jkr_radius)
+from faultslip.models.nanoscale.dynamics import (NanoscaleModel, dipole_force, hertz_radius, jkr_radius)
 from faultslip.errors import InputError
 
 
@@ -92,7 +92,7 @@ def test_the_cli_runs_the_slides_model_and_refuses_bad_scenes(cli, tmp_path):
 def test_lsoda_swing_error_is_within_its_declared_bound():
     """The force swing at rtol 1e-6 and 1e-8 against rtol 1e-12 (measured 6.2e-6 and 2.7e-7 for A = 3: about
     30 rtol) stays below the declared LSODA_ERROR_CONSTANT rtol = 100 rtol."""
-    from faultslip.dynamics.nanoscale import LSODA_ERROR_CONSTANT
+    from faultslip.models.nanoscale.dynamics import LSODA_ERROR_CONSTANT
 
     model = NanoscaleModel()
     reference = model.simulate(1500.0, 3001, rtol=1e-12).force_swing()

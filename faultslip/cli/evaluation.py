@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import faultslip
+
 import json
 from pathlib import Path
 
@@ -14,7 +16,6 @@ from faultslip.evaluation.bench import all_scenes, markdown, method_names, work_
 from faultslip.evaluation.stability import DAMPING_RATIOS, METHODS, RATIOS, SEPARATIONS, failure_text, stability_map
 from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.netcdf import write_dataset
-from faultslip.models.model_error import model_error_result
 
 
 def cmd_bench(args) -> int:
@@ -111,7 +112,7 @@ def cmd_model_error(args) -> int:
     """The shipped calibration of one slider against the 2-D fault, a scene's declared error, the chart."""
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene] if args.scene else [])["plot"]
     tolerance = _number(args.tolerance, "--tolerance") if args.tolerance is not None else None
-    result = model_error_result(args.scene, tolerance)
+    result = faultslip.model_error(args.scene, tolerance)
     report = result.report()
     if plot:
         with _locked(plot):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+import faultslip
 from faultslip import ranges
 from faultslip.cli.common import _locked, _number, _outputs, _save_run
 from faultslip.cli.printing import _emit, _progress
@@ -21,10 +22,6 @@ from faultslip.lab.classroom import is_accelerometer_csv, read_accelerometer
 from faultslip.lab.fit_workflow import INTERVALS_NOTE, fit_record
 from faultslip.lab.posterior import parse_prior
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
-from faultslip.models.asperity import speed_study
-from faultslip.models.nanoscale import swing
-from faultslip.models.vibration import amplitude_study
-from faultslip.plots.asperity import map_figure as asperity_map_figure
 from faultslip.plots.figures import classroom_figure
 from faultslip.plots.posterior import corner_figure, record_fit_figure
 from faultslip.plots.vibration import error_figure, hand_over_figure, regions_figure
@@ -197,7 +194,7 @@ def cmd_quasi_harmonic(args) -> int:
         speeds = (args.speeds[0], args.speeds[1], int(_number(args.speeds[2], "--speeds count")))
     if plot and speeds is None:
         raise InputError("--plot draws the amplitude against speed: give --speeds START STOP COUNT too")
-    result = amplitude_study(args.scene, speed=args.speed, speeds=speeds, method=args.method,
+    result = faultslip.amplitude_study(args.scene, speed=args.speed, speeds=speeds, method=args.method,
                              tolerance=_number(args.tolerance, "--tolerance") if args.tolerance else 1e-3)
     report, sweep, system = result.report(), result.extras["sweep"], result.extras["system"]
     if args.regions:
@@ -234,7 +231,7 @@ def cmd_quasi_harmonic(args) -> int:
 
 def cmd_nanoscale(args) -> int:
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
-    result = swing(args.scene, damping=None if args.damping is None else _number(args.damping, "--damping"),
+    result = faultslip.nanoscale_swing(args.scene, damping=None if args.damping is None else _number(args.damping, "--damping"),
                    integrate=not args.no_run, allow_large=args.allow_large)
     report = result.report()
     if result.series is not None:
@@ -246,12 +243,12 @@ def cmd_asperity(args) -> int:
     """Seed 004: a speed sweep of the asperity slider (m_D, stick, loops), its peaks against eqs. (28)-(29)."""
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                             "map": ("--map", FIGURE_SUFFIXES)}, [args.scene])
-    result = speed_study(args.scene, args.low, args.high, args.points, dashpot=args.dashpot, method=args.method,
+    result = faultslip.asperity_speed_study(args.scene, args.low, args.high, args.points, dashpot=args.dashpot, method=args.method,
                          integrator_map=bool(paths["map"]), progress=_progress("speed sweep", not args.json, "speed"))
     report = result.report()
     with _locked(paths["output"], paths["plot"], paths["map"]):
         if paths["map"]:
-            save_figure(asperity_map_figure(result.extras["map"]), paths["map"])
+            save_figure(result.extras["map_figure"](), paths["map"])
             report.note(f"integrator map written to {args.map}")
         if paths["output"]:
             write_dataset(result.series, paths["output"])

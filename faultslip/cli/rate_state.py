@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
+import faultslip
 from faultslip.cli.common import _locked, _outputs
 from faultslip.cli.printing import _emit, _progress
 from faultslip.errors import FaultslipError
 from faultslip.io.netcdf import write_dataset
-from faultslip.models.rate_state_slider import earthquake_cycles, stability, velocity_step
 
 
 def cmd_missing_action(args) -> int:
@@ -15,7 +15,7 @@ def cmd_missing_action(args) -> int:
 
 def cmd_simulate(args) -> int:
     output = _outputs(args, {"output": ("-o", (".nc",))}, [args.scene])["output"]
-    result = velocity_step(args.scene, method=args.method, rtol=args.rtol)
+    result = faultslip.velocity_step(args.scene, method=args.method, rtol=args.rtol)
     report = result.report()
     if output:
         with _locked(output):
@@ -25,10 +25,10 @@ def cmd_simulate(args) -> int:
 
 
 def cmd_stability(args) -> int:
-    return _emit(stability(args.scene).report(), args.json)
+    return _emit(faultslip.rate_state_stability(args.scene).report(), args.json)
 
 
 def cmd_cycles_beside_seed_law(args) -> int:
     """rate-state cycles --seed-law: the cycles, and the seed law on the same fault (the parser routes here)."""
-    return _emit(earthquake_cycles(args.scene, args.cycles, args.seed_law,
+    return _emit(faultslip.earthquake_cycles_beside_seed_law(args.scene, args.cycles, args.seed_law,
                                    progress=_progress("cycles", not args.json, "event")).report(), args.json)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import faultslip
 from faultslip import models
 from faultslip.cli.common import _locked, _number, _output_dir, _outputs, _save_run, _system_from_args, _tolerance
 from faultslip.cli.printing import _emit, _progress
@@ -21,7 +22,6 @@ from faultslip.io.waveforms import (DEFAULT_START, MAX_SAMPLES, STREAM_SUFFIXES,
                                     write_stream)
 from faultslip.plots.figures import critical_comparison_figure
 from faultslip.models.fault_estimate import fault_estimate
-from faultslip.models.spring_slider import cycle as scene_cycle
 
 
 _FAULT_QUANTITIES = {
@@ -218,6 +218,6 @@ def _critical_table(args) -> int:
 
 
 def cmd_cycle(args) -> int:
-    result = scene_cycle(args.scene, loading_rate=args.loading_rate, platform_speed=args.platform_speed,
+    result = faultslip.scene_cycle(args.scene, loading_rate=args.loading_rate, platform_speed=args.platform_speed,
                          method=args.method, tolerance=_tolerance(args))
     return _emit(result.report(), args.json)

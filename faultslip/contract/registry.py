@@ -26,7 +26,7 @@ class Family:
     """One model family's contract.
 
     ``run(scene, method, tolerance)`` and ``simulate(scene, **options)`` return a
-    :class:`~faultslip.models.result.Result`; ``scene`` is a path, a bundled name or a scene object.
+    :class:`~faultslip.contract.result.Result`; ``scene`` is a path, a bundled name or a scene object.
     ``read_scene(text, source, path)`` reads a scene file into the object a sweep varies (it has
     ``name``, ``text``, ``path`` and ``with_values(**si)``); ``cells`` is the family's sweep
     (:class:`faultslip.contract.cells.Cells`): its parameters, outputs, methods and ``evaluate``
@@ -44,6 +44,9 @@ class Family:
     cells: object = None  # a Cells, or scene -> Cells for a family whose scenes come in more than one shape
     #: () -> the family's methods, each {name, friction_laws, domain, cost_model} ('faultslip methods')
     methods: Callable | None = None
+    #: (a coarser family's scene, reason, allow_large=, progress=) -> Result: the scene run on this richer model,
+    #: for a family that escalates to it (the rate-and-state slider's fault to the 2-D fault)
+    refine: Callable | None = None
 
 
 @dataclass(frozen=True)
@@ -57,14 +60,14 @@ class Declaration:
 
 #: Every family. The first is the default.
 DECLARATIONS = {
-    "spring_slider": Declaration("faultslip.models.spring_slider"),
+    "spring_slider": Declaration("faultslip.models.spring_slider.family"),
     # its own form ([law]), and the older one: a seed-law fault scene with [friction] law = "rate_state"
-    "rate_state_slider": Declaration("faultslip.models.rate_state_slider", table="law", friction_law="rate_state"),
-    "vibration": Declaration("faultslip.models.vibration", table="vibration"),
-    "nanoscale": Declaration("faultslip.models.nanoscale", friction_law="nanoscale"),
-    "asperity": Declaration("faultslip.models.asperity", friction_law="asperity"),
-    "rough_surface": Declaration("faultslip.models.rough_surface", friction_law="rough_surface"),
-    "fault_2d": Declaration("faultslip.models.fault_2d"),  # declared by family = "fault_2d" alone
+    "rate_state_slider": Declaration("faultslip.models.rate_state_slider.family", table="law", friction_law="rate_state"),
+    "vibration": Declaration("faultslip.models.vibration.family", table="vibration"),
+    "nanoscale": Declaration("faultslip.models.nanoscale.family", friction_law="nanoscale"),
+    "asperity": Declaration("faultslip.models.asperity.family", friction_law="asperity"),
+    "rough_surface": Declaration("faultslip.models.rough_surface.family", friction_law="rough_surface"),
+    "fault_2d": Declaration("faultslip.models.fault_2d.family"),  # declared by family = "fault_2d" alone
 }
 
 #: Scene objects a family's run and simulate take as they are, by qualified class name (told apart without
@@ -74,7 +77,7 @@ SCENE_TYPES = {
     "faultslip.fault.scene.Scene": "spring_slider",
     "faultslip.fault.scaling.Fault": "spring_slider",
     "faultslip.fault.rate_state_scene.RateStateScene": "rate_state_slider",
-    "faultslip.fault.fault_2d_scene.Fault2DScene": "fault_2d",
+    "faultslip.models.fault_2d.scene.Fault2DScene": "fault_2d",
 }
 
 #: The families loaded so far, by name (:func:`load` fills it).

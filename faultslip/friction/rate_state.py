@@ -221,3 +221,11 @@ def get_law(name: str) -> RateStateLaw:
         return ILLUSTRATIVE[name]
     except KeyError:
         raise InputError(f"unknown rate-and-state law {name!r}; bundled: {', '.join(ILLUSTRATIVE)}") from None
+
+
+def nucleation_ratio(law, shear_modulus: float, normal_stress: float, width: float) -> float:
+    """W / h*, h* = (pi / 2) G D_c b / [sigma_n (b - a)^2]; infinite h* (b <= a) gives 0."""
+    if law.b <= law.a:
+        return 0.0
+    nucleation = math.pi / 2 * shear_modulus * law.critical_slip * law.b / (normal_stress * (law.b - law.a) ** 2)
+    return width / nucleation

@@ -19,7 +19,7 @@ import importlib
 
 from faultslip.errors import InputError
 from faultslip.contract.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
-from faultslip.models.result import Result
+from faultslip.contract.result import Result
 
 __all__ = ["DECLARATIONS", "FAMILIES", "Family", "Result", "families", "family_of", "load", "register", "run",
            "simulate"]

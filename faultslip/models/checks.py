@@ -17,7 +17,7 @@ import numpy as np
 from faultslip.contract.cells import cell_value
 from faultslip.contract.registry import METHOD_FIELDS, cells_of, load, read_scene
 from faultslip.errors import FaultslipError
-from faultslip.models.result import Result
+from faultslip.contract.result import Result
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.resources import open_dataset_lazily
 from faultslip.studies.grid import Study, sweep

@@ -11,7 +11,7 @@ from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
 from faultslip.friction.materials import resolve_material
-from faultslip.models.result import Result
+from faultslip.contract.result import Result
 
 #: the seed law's own inputs, which a rate-and-state fit does not take
 SEED_LAW_ONLY = ("mu_so", "mu_m", "b", "d", "damping_ratio")

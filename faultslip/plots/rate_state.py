@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
 from faultslip.dynamics.rate_state.slider import critical_step_ratio
@@ -47,26 +46,4 @@ def stability_figure(law: RateStateLaw | None = None, stiffness_ratios=None):
     right.set_ylim(-0.5, 2.5)
     right.legend(fontsize=8)
     right.grid(True, which="both", alpha=0.3)
-    return figure
-
-
-def cycles_figure(dataset):
-    """A rate-and-state fault's cycles: slip rate (log) and shear stress against time in years, events marked."""
-    plt = _pyplot()
-    year = JULIAN_YEAR
-    years = dataset["time"].values / year
-    figure, (rate, stress) = plt.subplots(2, 1, figsize=(9, 5.6), sharex=True, constrained_layout=True)
-    rate.semilogy(years, dataset["slip_rate"].values, color="C0", lw=1)
-    rate.axhline(1e-3, color="0.5", lw=0.8, ls="--", label="event threshold 1 mm/s")
-    rate.axhline(float(dataset.attrs["plate_rate_m_per_s"]), color="C2", lw=0.8, ls=":", label="plate rate")
-    rate.set(ylabel="slip rate (m/s)")
-    rate.legend(fontsize=8, loc="center left")
-    stress.plot(years, dataset["shear_stress"].values / 1e6, color="C3", lw=1)
-    stress.set(xlabel="time (yr)", ylabel="shear stress (MPa)")
-    for axis in (rate, stress):
-        for start in dataset["event_time"].values / year:
-            axis.axvline(start, color="0.8", lw=0.6, zorder=0)
-        axis.grid(True, alpha=0.3)
-    figure.suptitle(f"{dataset.attrs.get('title', 'rate-and-state cycles')} (K / K_c "
-                    f"{float(dataset.attrs['stiffness_ratio']):.3g}, {dataset.attrs.get('method', '')})", fontsize=10)
     return figure

@@ -10,43 +10,6 @@ from faultslip.plots.figures import _pyplot
 INCH = 0.0254
 
 
-def amplitude_speed_figure(system, sweep):
-    """Left: the friction-velocity curve (seed 002 Fig. 9). Right: the averaged limit-cycle amplitude against
-    the driving speed (Figs. 10-11), stick-slip speeds shaded, both in the seed's inches.
-
-    Parameters
-    ----------
-    system : QuasiHarmonic
-        The averaged slider.
-    sweep : dict
-        :func:`amplitude_against_speed`'s arrays.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    plt = _pyplot()
-    figure, (curve, amplitude) = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
-    speeds = sweep["speed"]
-    grid = np.linspace(0.0, 1.3 * speeds.max(), 400)
-    curve.plot(grid / INCH, system.curve(grid), color="C0")
-    curve.set(xlabel="sliding speed (in/s)", ylabel="friction coefficient f", title="friction-velocity curve")
-    curve.grid(True, alpha=0.3)
-    values = sweep["amplitude"] / INCH
-    amplitude.plot(speeds / INCH, np.where(np.isnan(values), np.nan, values), "o-", color="C3", ms=3,
-                   label="quasi-harmonic amplitude A")
-    sticks = sweep["sticks"]
-    if sticks.any():
-        low, high = speeds[sticks].min() / INCH, speeds[sticks].max() / INCH
-        amplitude.axvspan(low, high, color="0.85", label="stick-slip (A omega would reach v)")
-    amplitude.set(xlabel="driving speed v (in/s)", ylabel="amplitude (in)",
-                  title="averaged limit cycle (seed 002 eq. 20)")
-    amplitude.legend(fontsize=8)
-    amplitude.grid(True, alpha=0.3)
-    figure.suptitle(system.name)
-    return figure
-
-
 def error_figure(table):
     """Averaging's measured error against direct integration over the small parameter, beside its declared
     ERROR_CONSTANT eps^2 (Rayleigh curves with and without an even term)."""
@@ -62,37 +25,6 @@ def error_figure(table):
              ylabel="relative error of the amplitude", title="averaging (seed 002 eq. 20) against integration")
     axis.grid(True, which="both", alpha=0.3)
     axis.legend(fontsize=8)
-    return figure
-
-
-def nanoscale_figure(run):
-    """Seed 001 Fig. 3: force against displacement, and displacement with deposited charge against time.
-
-    Parameters
-    ----------
-    run : NanoscaleRun
-        A nanoscale run.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    plt = _pyplot()
-    figure, (phase, series) = plt.subplots(1, 2, figsize=(10.5, 4.2), constrained_layout=True)
-    half = run.time.size // 2
-    phase.plot(run.displacement[half:], run.force[half:], color="C0", lw=0.8)
-    phase.set(xlabel="displacement X", ylabel="force F", title=f"force against displacement (A = {run.model.damping:g})")
-    phase.grid(True, alpha=0.3)
-    window = slice(int(0.93 * run.time.size), None)  # a few events: the staircase of stick and slip
-    series.plot(run.time[window], run.displacement[window], color="C0", label="displacement X")
-    twin = series.twinx()
-    twin.plot(run.time[window], run.deposited[window], color="C3", ls="--", label="deposited charge Sigma_d")
-    series.set(xlabel="time (1/omega)", ylabel="X")
-    twin.set_ylabel("Sigma_d")
-    lines = series.get_legend_handles_labels()[0] + twin.get_legend_handles_labels()[0]
-    series.legend(lines, [line.get_label() for line in lines], fontsize=8, loc="upper left")
-    series.grid(True, alpha=0.3)
-    figure.suptitle("seed 001 toy model: stick-slip and contact charging (eqs. 1-4)")
     return figure
 
 
@@ -179,18 +111,4 @@ def seed002_figures(table):
         axis.grid(True, alpha=0.3)
     figure.suptitle("seed 002 theoretical curves in kind (illustrative curves; above the dotted line the slider "
                     "would stick)", fontsize=10)
-    return figure
-
-
-def vibration_series_figure(run):
-    """Seed 002 eq. (10) integrated: the displacement about the rest position inside eq. (20)'s envelope."""
-    plt = _pyplot()
-    figure, axis = plt.subplots(figsize=(9, 3.8), constrained_layout=True)
-    axis.plot(run["time"], run["displacement"] / INCH, color="C0", lw=0.5, label="Y (eq. 10, DOP853)")
-    for sign in (1, -1):
-        axis.plot(run["time"], sign * run["envelope"] / INCH, color="C3", lw=1.2,
-                  label="averaged envelope (eq. 20)" if sign == 1 else None)
-    axis.set(xlabel="time (s)", ylabel="displacement about rest (in)", title=run["system"].name)
-    axis.legend(fontsize=8, loc="lower right")
-    axis.grid(True, alpha=0.3)
     return figure

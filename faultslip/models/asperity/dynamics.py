@@ -41,7 +41,7 @@ import numpy as np
 from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.dynamics.shared.settling import assess_settling
 from faultslip.errors import InputError
-from faultslip.friction import asperity as contact
+from faultslip.models.asperity import friction as contact
 from faultslip.io.progress import reporter
 from faultslip.io.report import Report
 from faultslip.units import STANDARD_GRAVITY
@@ -177,7 +177,7 @@ class AsperityModel:
     def slope(self, approach: float):
         """(<Z'>, d<Z'>/d dh, <Z'^2>) at one approach, with the paper's cut-off (zero below it, or held at its
         value with the summit exchange, which sends the block back down): the scalar form of
-        :func:`faultslip.friction.asperity.mean_contact_slope` and its companions (tested equal), called
+        :func:`faultslip.models.asperity.friction.mean_contact_slope` and its companions (tested equal), called
         ~1e5 times per simulated second."""
         if approach < self.slope_cutoff:
             if not self.summit_exchange:

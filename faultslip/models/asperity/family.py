@@ -9,22 +9,22 @@ from dataclasses import replace
 
 import numpy as np
 
-from faultslip.dynamics.asperity import choose_method
-from faultslip.dynamics.asperity import report as asperity_report
-from faultslip.dynamics.asperity import run_dataset
-from faultslip.dynamics.asperity import simulate as integrate
+from faultslip.models.asperity.dynamics import choose_method
+from faultslip.models.asperity.dynamics import report as asperity_report
+from faultslip.models.asperity.dynamics import run_dataset
+from faultslip.models.asperity.dynamics import simulate as integrate
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
-from faultslip.dynamics.asperity import (CONVERGENCE_RTOLS, METHODS, QUASISTATIC_ERROR, converged_run, peak_speeds,
+from faultslip.models.asperity.dynamics import (CONVERGENCE_RTOLS, METHODS, QUASISTATIC_ERROR, converged_run, peak_speeds,
                                          speed_sweep)
 from faultslip.errors import InputError, SolverError
 from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.common import note_origin
 from faultslip.contract.registry import Family, register
-from faultslip.models.result import Result
-from faultslip.evaluation.asperity_map import OUTCOMES, asperity_map
-from faultslip.plots.asperity import response_figure, sweep_figure
+from faultslip.contract.result import Result
+from faultslip.models.asperity.speed_map import OUTCOMES, asperity_map
+from faultslip.models.asperity.figures import map_figure, response_figure, sweep_figure
 from faultslip.units import to_si
 
 
@@ -80,7 +80,7 @@ def speed_study(scene, low, high, points: int = 40, dashpot=None, method: str = 
     -------
     Result
         The report (peak speeds in m/s, ...), the sweep's Dataset over platform speed, its figure, and
-        ``extras["map"]`` the integrator map's Dataset where asked.
+        ``extras["map"]`` the integrator map's Dataset where asked, ``extras["map_figure"]`` its figure.
     """
     model, settings, notes = load_asperity_scene(scene)
     low, high = (to_si(text, "speed", name, "m/s") for text, name in ((low, "--from"), (high, "--to")))
@@ -114,7 +114,8 @@ def speed_study(scene, low, high, points: int = 40, dashpot=None, method: str = 
             codes = grid["outcome"].sel({"method": name}).values.ravel()
             report.add(f"map_{name}", {OUTCOMES[c]: int((codes == c).sum()) for c in sorted(set(codes))},
                        label=f"{name}: cells by outcome")
-    return Result("asperity", report, sweep, lambda: sweep_figure([sweep], [notes["name"]]), extras={"map": grid})
+    return Result("asperity", report, sweep, lambda: sweep_figure([sweep], [notes["name"]]), extras={"map": grid,
+                  "map_figure": None if grid is None else (lambda: map_figure(grid))})
 
 
 def simulate(scene) -> Result:

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics.asperity import STICK, analyse
-from faultslip.evaluation.asperity_map import OUTCOMES
+from faultslip.models.asperity.dynamics import STICK, analyse
+from faultslip.models.asperity.speed_map import OUTCOMES
 from faultslip.plots.figures import _pyplot
 
 

@@ -1,7 +1,7 @@
 """Asperity friction from deformation and adhesion (seed 004: Bengisu & Akay 1999, J. Acoust. Soc. Am. 105, 194).
 
 Small pure functions of the paper's contact model; the six-state slider lives in
-:mod:`faultslip.dynamics.asperity`. Symbols follow the paper: contact slope Z', its standard
+:mod:`faultslip.models.asperity.dynamics`. Symbols follow the paper: contact slope Z', its standard
 deviation s, relative approach dh = h_max - h, the Hertz radius r, the slope radius rho of eq. (27),
 the contact-density constant gamma of eq. (4) (contacts per unit real contact area), tau and beta of
 the adhesion law (18). Lengths in m, forces in N, areas in m^2.

@@ -35,7 +35,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from faultslip.dynamics.asperity import METHODS, AsperityModel
+from faultslip.models.asperity.dynamics import METHODS, AsperityModel
 from faultslip.errors import InputError
 from faultslip.fault.scene import has_friction_law, load_law_scene
 from faultslip.io.resources import check_toml_layout, parse_toml

@@ -13,7 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from faultslip.dynamics.asperity import AsperityModel, analyse, simulate
+from faultslip.models.asperity.dynamics import AsperityModel, analyse, simulate
 from faultslip.errors import InputError
 
 OUTCOMES = ("stick_slip", "sliding", "contact_lost", "declined", "solver_failure", "budget_exceeded")

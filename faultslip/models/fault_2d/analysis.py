@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
+from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 
 #: Intervals compared to call a sequence periodic (period 1: the last three agree).
 SETTLED_INTERVALS = 3

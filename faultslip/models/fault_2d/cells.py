@@ -11,9 +11,9 @@ import numpy as np
 
 from faultslip.contract.cells import evaluate_by_cell
 from faultslip.contract.specs import Output, parameters
-from faultslip.dynamics.fault_2d.analysis import summarise
+from faultslip.models.fault_2d.analysis import summarise
 from faultslip.errors import InputError
-from faultslip.fault.fault_2d_scene import SWEEPABLE, parse_fault_2d_scene
+from faultslip.models.fault_2d.scene import SWEEPABLE, parse_fault_2d_scene
 
 PARAMETERS = parameters(SWEEPABLE)
 

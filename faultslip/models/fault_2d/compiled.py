@@ -1,6 +1,6 @@
 """The 2-D fault's force balance and state rate, element by element, compiled by numba where it is here.
 
-The same equations as :class:`faultslip.dynamics.fault_2d.model.ForceBalance` (see there), in one
+The same equations as :class:`faultslip.models.fault_2d.model.ForceBalance` (see there), in one
 pass over the elements (one thread: numba's parallel loop measured no faster at 1,600 elements, and
 oversubscribed the cores when runs go side by side in processes): Newton's method
 on u = asinh[V / (2 V_0) exp(psi / a)] from the last solution, safeguarded by the bracket

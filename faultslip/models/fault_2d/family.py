@@ -11,9 +11,10 @@ from pathlib import Path
 import numpy as np
 
 from faultslip import __version__
-from faultslip.dynamics.fault_2d.analysis import (DISCRETISATION_ORDER, METHODS, MIN_RESOLUTION,  # noqa: F401
+from faultslip.models.fault_2d.analysis import (DISCRETISATION_ORDER, METHODS, MIN_RESOLUTION,  # noqa: F401
                                                    discretisation_error, moment_magnitude, summarise)
-from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
+from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
+from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
@@ -22,11 +23,11 @@ from faultslip.io.outputs import check_encodable, output_lock
 from faultslip.io.report import Report
 from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
-from faultslip.fault.fault_2d_cells import CELLS, read_scene
-from faultslip.fault.fault_2d_scene import Fault2DScene, load_fault_2d_scene
+from faultslip.models.fault_2d.cells import CELLS, read_scene
+from faultslip.models.fault_2d.scene import Fault2DScene, from_one_slider, load_fault_2d_scene
 from faultslip.contract.registry import Family, register
-from faultslip.models.result import Result
-from faultslip.plots.fault_2d import cumulative_slip_figure, slip_rate_figure
+from faultslip.contract.result import Result
+from faultslip.models.fault_2d.figures import cumulative_slip_figure, slip_rate_figure
 from faultslip.units import ELAPSED_TIME_ATTRS
 
 #: Relative spread of the last intervals within which a sequence is called settled (periodic).
@@ -319,9 +320,48 @@ def simulate(scene, output_dir=None, resume: bool = False, rtol=None, allow_larg
                           overwrite=overwrite, progress=True, allow_underresolved=allow_underresolved)
 
 
+def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.0, allow_large: bool = False,
+                      progress=None) -> Result:
+    """A one-slider rate-and-state fault run as the 2-D fault it stands for (its friction from the surface to D,
+    loaded below): the run is estimated and checked against the budget before any work (above it,
+    ``allow_large`` is needed), it reports progress, and its answer carries its own declared error.
+
+    Parameters
+    ----------
+    loaded : RateStateScene
+        A rate-and-state fault scene (one slider).
+    reason : str
+        Why the one slider was not enough (said in the result).
+    elements_per_process_zone : float
+        Elements per process zone L_b of the 2-D fault.
+    allow_large : bool
+        Run beyond the time and memory budget.
+    progress : callable, optional
+        ``(done, total)`` progress, with ``announce(text)`` if it has one.
+
+    Returns
+    -------
+    Result
+        The 2-D fault's answer, with ``method_reason`` naming the escalation.
+    """
+    block = fault_cycles(loaded.slider, loaded.plate_rate, cycles=3)
+    scene = from_one_slider(loaded, duration=14 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
+    estimate = scene.estimate()
+    estimate.what = f"escalating {loaded.name} to the 2-D fault ({reason})"
+    budget.check(estimate, allow_large)
+    if progress is not None and hasattr(progress, "announce"):
+        progress.announce(f"escalating to the 2-D fault: {estimate.describe()}")
+    result = simulate_fault(scene, allow_large=allow_large, progress=progress)
+    result.set("method_reason", f"the 2-D fault with the scene's friction from the surface to D: {reason}")
+    result.note(f"escalated to the 2-D fault, estimated before it started at {estimate.describe()}; its declared "
+                "error is the 2-D run's own (estimated_relative_error)")
+    return result
+
+
 FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",
                          run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite",
                                                           "allow_underresolved"),
                          run_options=("allow_large", "allow_underresolved", "richardson"),
                          why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
-                         read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values())))
+                         read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values()),
+                         refine=refine_one_slider))

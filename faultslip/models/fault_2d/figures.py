@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics.fault_2d.integrate import YEAR, Fault2DRun
+from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.plots.figures import _pyplot
 
 
@@ -75,45 +75,4 @@ def station_figure(run: Fault2DRun, title: str = ""):
         axis.plot(run.station_time / YEAR, run.stations["log10_slip_rate"][:, k], lw=0.7, label=f"{depth / 1e3:g} km")
     axis.set(xlabel="time (yr)", ylabel="log10 slip rate (m/s)", title=title or f"{run.fault.name}: stations")
     axis.legend(fontsize=7, ncol=2)
-    return figure
-
-
-def model_error_figure(table: dict, tolerance: float | None = None):
-    """The model-error map: the one slider's error against the 2-D fault over W / h* (the shipped
-    calibration), its recurrence and slip apart, and where one slider suffices for a tolerance.
-
-    Parameters
-    ----------
-    table : dict
-        :func:`load_calibration`'s table.
-    tolerance : float, optional
-        A model error allowed.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    plt = _pyplot()
-    rows = [row for row in table["rows"]]
-    ratio = np.array([row["width_over_nucleation"] for row in rows])
-    total = np.array([row["model_error"] for row in rows])
-    recurrence = np.array([row.get("recurrence_error", np.nan) for row in rows])
-    slip = np.array([row.get("slip_error", np.nan) for row in rows])
-    figure, axis = plt.subplots(figsize=(7.5, 4.6), constrained_layout=True)
-    axis.plot(ratio, total, "o-", color="k", label="model error (the larger)")
-    axis.plot(ratio, np.abs(recurrence), "s--", color="C0", label="|recurrence error|")
-    axis.plot(ratio, np.abs(slip), "^--", color="C3", label="|slip-per-event error|")
-    if tolerance is not None:
-        axis.axhline(tolerance, color="C2", lw=1)
-        good = total <= tolerance
-        if np.any(good):
-            axis.fill_between(ratio, 0, tolerance, where=good, color="C2", alpha=0.15,
-                              label=f"one slider suffices (tolerance {tolerance:g})")
-    axis.set_xscale("log")
-    axis.set_xticks(ratio, [f"{value:g}" for value in ratio])
-    axis.minorticks_off()
-    axis.set(xlabel="W / h* (fault width over nucleation size)", ylabel="relative error of one slider (K = G / D)",
-             title="where one slider suffices: its error against the 2-D fault")
-    axis.grid(True, which="both", alpha=0.3)
-    axis.legend(fontsize=8)
     return figure

@@ -29,8 +29,8 @@ from pathlib import Path
 from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
-from faultslip.dynamics.fault_2d.kernel import StressKernel
-from faultslip.dynamics.fault_2d.model import Fault2D, ForceBalance
+from faultslip.models.fault_2d.kernel import StressKernel
+from faultslip.models.fault_2d.model import Fault2D, ForceBalance
 from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62,
                                                       A63, A64, A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7)
 from faultslip.errors import InputError, SolverError

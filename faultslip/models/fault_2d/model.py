@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from faultslip.dynamics.fault_2d import compiled as compiled_kernel
+from faultslip.models.fault_2d import compiled as compiled_kernel
 from faultslip.errors import InputError, SolverError
 
 #: Newton iterations allowed for the slip rate; more means the state is not finite.
@@ -127,7 +127,7 @@ class Fault2D:
 class ForceBalance:
     """The slip rate and the state rate of every element; keeps the last u as a warm start.
 
-    ``compiled``: the numba kernel (:mod:`faultslip.dynamics.fault_2d.compiled`) where numba is here
+    ``compiled``: the numba kernel (:mod:`faultslip.models.fault_2d.compiled`) where numba is here
     (None: where available), else the same iteration vectorised in numpy.
     """
 

@@ -40,9 +40,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from faultslip.dynamics.fault_2d.integrate import BP1_STATIONS, YEAR, run_cycles
-from faultslip.dynamics.fault_2d.analysis import MIN_RESOLUTION
-from faultslip.dynamics.fault_2d.model import Fault2D, steady_initial_conditions
+from faultslip.models.fault_2d.integrate import BP1_STATIONS, YEAR, run_cycles
+from faultslip.models.fault_2d.analysis import MIN_RESOLUTION
+from faultslip.models.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.io.seas import station_file_name
@@ -85,7 +85,7 @@ class Fault2DScene:
 
     def require_resolution(self, allow_underresolved: bool = False) -> None:
         """Refuse, before any work, elements too coarse for the sequence to keep its character
-        (:data:`faultslip.dynamics.fault_2d.analysis.MIN_RESOLUTION` per L_b), naming the element size needed and
+        (:data:`faultslip.models.fault_2d.analysis.MIN_RESOLUTION` per L_b), naming the element size needed and
         its cost; ``allow_underresolved`` runs it anyway, as a qualitative answer."""
         if allow_underresolved or self.resolution >= MIN_RESOLUTION:
             return
@@ -103,7 +103,7 @@ class Fault2DScene:
         return replace(self, fault=build_fault(self.settings, element_size, self.name))
 
     def run(self, rtol: float | None = None, folder=None, resume: bool = False, progress=None):
-        """Integrate this scene with its own settings (:func:`faultslip.dynamics.fault_2d.integrate.run_cycles`)."""
+        """Integrate this scene with its own settings (:func:`faultslip.models.fault_2d.integrate.run_cycles`)."""
         return run_cycles(self.fault, self.duration, rtol=self.rtol if rtol is None else rtol, stations=self.stations,
                           kernel=self.kernel, profile_interval=self.profile_interval,
                           coseismic_interval=self.coseismic_interval, folder=folder, resume=resume, progress=progress)

@@ -3,19 +3,19 @@ closed form, the LSODA run only where the swing needs it."""
 
 from __future__ import annotations
 
-from faultslip.dynamics.nanoscale import choose_method, with_damping
-from faultslip.dynamics.nanoscale import report as nanoscale_report
-from faultslip.dynamics.nanoscale import run_dataset
+from faultslip.models.nanoscale.dynamics import choose_method, with_damping
+from faultslip.models.nanoscale.dynamics import report as nanoscale_report
+from faultslip.models.nanoscale.dynamics import run_dataset
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
-from faultslip.dynamics.nanoscale import METHODS as DECLARED_METHODS
-from faultslip.dynamics.nanoscale import NANOSCALE_METHODS
+from faultslip.models.nanoscale.dynamics import METHODS as DECLARED_METHODS
+from faultslip.models.nanoscale.dynamics import NANOSCALE_METHODS
 from faultslip.models.nanoscale.scene import load_nanoscale_scene
 from faultslip.models.common import note_origin, note_scene
 from faultslip.contract.registry import Family, register
-from faultslip.models.result import Result
-from faultslip.plots.vibration import nanoscale_figure
+from faultslip.contract.result import Result
+from faultslip.models.nanoscale.figures import nanoscale_figure
 
 
 def run(scene, method=None, tolerance=None, allow_large: bool = False) -> Result:

@@ -29,7 +29,7 @@ import math
 
 from pathlib import Path
 
-from faultslip.dynamics.nanoscale import NANOSCALE_METHODS, NanoscaleModel
+from faultslip.models.nanoscale.dynamics import NANOSCALE_METHODS, NanoscaleModel
 from faultslip.errors import InputError
 from faultslip.fault.scene import has_friction_law, load_law_scene
 from faultslip.io.resources import check_toml_layout, parse_toml

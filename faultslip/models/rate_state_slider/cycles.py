@@ -1,7 +1,7 @@
 """A fault's quasi-dynamic earthquake cycles on one rate-and-state spring-block: the report of
 ``faultslip rate-state cycles``.
 
-Kept apart from :mod:`faultslip.models.rate_state_slider` so that a cycle run, often one short process,
+Kept apart from :mod:`faultslip.models.rate_state_slider.family` so that a cycle run, often one short process,
 loads no other model family, plotting or the 2-D fault (``benchmarks/spring_block_qdyn.py`` times it
 whole against QDYN).
 """
@@ -13,7 +13,7 @@ from faultslip.errors import InputError
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.fault.rate_state_series import cycles_series
 from faultslip.io.report import Report
-from faultslip.models.result import Result
+from faultslip.contract.result import Result
 
 
 def _scene_notes(report, scene) -> None:

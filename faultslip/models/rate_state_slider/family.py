@@ -7,7 +7,7 @@ import math
 import os
 
 from faultslip.dynamics.rate_state.methods import CYCLE_METHODS
-from faultslip.dynamics.rate_state.slider import fault_cycles, simulate_rate_state
+from faultslip.dynamics.rate_state.slider import simulate_rate_state
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
@@ -16,29 +16,43 @@ from faultslip.fault.rate_state_fault import cycles_dataset
 from faultslip.fault.scene import Scene, estimate_scene_rate_state, has_friction_law, load_scene, run_scene
 from faultslip.fault.spring_slider_cells import RATE_STATE_CELLS
 from faultslip.fault.spring_slider_cells import read_scene as read_seed_law_scene
-from faultslip.io import budget
 from faultslip.io.resources import parse_toml
 from faultslip.models.common import note_origin
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.report import Report
-from faultslip.models.fault_2d import simulate_fault
-from faultslip.fault.fault_2d_scene import from_one_slider
-from faultslip.models.model_error import declared_model_error
 from faultslip.fault.rate_state_fault import seed_law_fault
-from faultslip.models import rate_state_cycles
-from faultslip.models.rate_state_cycles import _scene_notes
-from faultslip.contract.registry import Family, register
-from faultslip.models.result import Result
+from faultslip.models.rate_state_slider import cycles as rate_state_cycles
+from faultslip.models.rate_state_slider.cycles import _scene_notes
+from faultslip.contract.registry import Family, load, register
+from faultslip.contract.result import Result
 from faultslip.plots.figures import _pyplot
-from faultslip.plots.rate_state import cycles_figure
+from faultslip.models.rate_state_slider.figures import cycles_figure
+from faultslip.models.rate_state_slider.model_error import declared_model_error
 from faultslip.units import ELAPSED_TIME_ATTRS
 
 
 def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None, progress=None) -> Result:
     """A fault's quasi-dynamic earthquake cycles ([fault]), with the seed law on the same fault beside them
-    (:func:`faultslip.models.rate_state_cycles.earthquake_cycles`, then the seed law's estimate).
+    (:func:`faultslip.models.rate_state_slider.cycles.earthquake_cycles`, then the seed law's estimate;
+    ``faultslip rate-state cycles --seed-law``).
 
-    ``progress``: True for a bar, or a callable (done, total) over events (:mod:`faultslip.io.progress`)."""
+    Parameters
+    ----------
+    scene : str, path or RateStateScene
+        A rate-and-state fault scene ([law] and [fault]).
+    count : int
+        Cycles measured after the spin-up.
+    seed_law : str, optional
+        A seed-law lithology or preset (``granodiorite``) estimated on the same fault (G, D, sigma_n, plate rate).
+    progress : bool or callable, optional
+        True for a bar, or a callable (done, total) over events (:mod:`faultslip.io.progress`).
+
+    Returns
+    -------
+    Result
+        The cycles' slip per event (m), recurrence (s) and their declared error; with ``seed_law``, the seed
+        law's slip per event (m) and recurrence (s) beside them, and the ratio of the slips (dimensionless).
+    """
     scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
     result = rate_state_cycles.earthquake_cycles(scene, count, progress)
     if seed_law:
@@ -179,7 +193,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     A fault scene's methods are ``one_slider`` (one quasi-dynamic spring-block, K = G / D) and
     ``fault_2d`` (the 2-D fault with the same friction from the surface to D, loaded below).
     ``tolerance`` is the model error allowed: ``auto`` takes one slider where its declared error
-    against the 2-D fault (faultslip.models.model_error, from the shipped calibration) meets it,
+    against the 2-D fault (faultslip.models.rate_state_slider.model_error, from the shipped calibration) meets it,
     and the 2-D fault otherwise; without a tolerance it takes one slider and declares its error.
     """
     older = _older_form(scene)
@@ -225,22 +239,11 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     return result
 
 
-def _two_d(loaded, reason: str, elements_per_process_zone: float = 8.0, allow_large: bool = False,
-           progress=None) -> Result:
-    """Escalate to the 2-D fault: its run is estimated and checked against the budget before any work (above it,
-    ``allow_large`` is needed), it reports progress, and its answer carries its own declared error."""
-    block = fault_cycles(loaded.slider, loaded.plate_rate, cycles=3)
-    scene = from_one_slider(loaded, duration=14 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
-    estimate = scene.estimate()
-    estimate.what = f"escalating {loaded.name} to the 2-D fault ({reason})"
-    budget.check(estimate, allow_large)
-    if progress is not None and hasattr(progress, "announce"):
-        progress.announce(f"escalating to the 2-D fault: {estimate.describe()}")
-    result = simulate_fault(scene, allow_large=allow_large, progress=progress)
-    result.set("method_reason", f"the 2-D fault with the scene's friction from the surface to D: {reason}")
-    result.note(f"escalated to the 2-D fault, estimated before it started at {estimate.describe()}; its declared "
-                "error is the 2-D run's own (estimated_relative_error)")
-    return result
+def _two_d(loaded, reason: str, allow_large: bool = False, progress=None) -> Result:
+    """Escalate to the richer model the family declares (:data:`RICHER`), through the contract: it builds the
+    2-D fault this one slider stands for, estimates and budgets its run before any work, reports progress, and
+    its answer carries its own declared error."""
+    return load(RICHER).refine(loaded, reason, allow_large=allow_large, progress=progress)
 
 
 def stability(scene) -> Result:
@@ -375,6 +378,9 @@ def cells(scene):
     """The older form sweeps vectorised (K / K_c in closed form, cycles where asked); the family's own form
     cell by cell, each a run."""
     return RATE_STATE_CELLS if isinstance(scene, Scene) else PER_CELL
+
+#: The family a fault's cycles escalate to when one slider's model error is too large.
+RICHER = "fault_2d"
 
 FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: velocity steps in the lab, quasi-dynamic "
                          "cycles of a fault on one spring-block", run, simulate,

@@ -13,7 +13,7 @@ from faultslip.dynamics.methods import METHODS, describe_integrators
 from faultslip.errors import InputError
 from faultslip.models.rough_surface.scene import load_rough_scene
 from faultslip.contract.registry import Family, register
-from faultslip.models.result import Result
+from faultslip.contract.result import Result
 from faultslip.plots.figures import sawtooth_figure
 
 

@@ -15,7 +15,7 @@ from faultslip.io import budget
 from faultslip.io.waveforms import build_stream
 from faultslip.models.common import note_origin
 from faultslip.contract.registry import Family, load, register
-from faultslip.models.result import Result
+from faultslip.contract.result import Result
 from faultslip.plots.figures import sawtooth_figure
 from faultslip.units import to_si
 

@@ -18,9 +18,9 @@ from faultslip.errors import InputError
 from faultslip.units import to_si
 from faultslip.models.vibration.scene import load_vibration_scene
 from faultslip.contract.registry import Family, register
-from faultslip.models.result import Result
+from faultslip.contract.result import Result
 from faultslip.models.common import note_origin, note_scene
-from faultslip.plots.vibration import amplitude_speed_figure, vibration_series_figure
+from faultslip.models.vibration.figures import amplitude_speed_figure, vibration_series_figure
 
 #: --method names of the CLI and their averaging methods
 METHODS = {None: "auto", "auto": "auto", "quasi_harmonic_averaging": "averaging",
