@@ -263,3 +263,51 @@ def test_the_command_line_and_the_apps_branch_on_no_family(module):
                 f"{module}:{node.lineno} asks {ast.unparse(node)}"
         if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "isinstance" and len(node.args) == 2:
             assert "Scene" not in ast.unparse(node.args[1]), f"{module}:{node.lineno} dispatches on a scene type"
+
+
+# --- every family streams: Zarr, resumed, and on the pool ------------------------------------------------
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_every_family_streams_to_zarr_resumes_and_sweeps_on_the_pool_and_on_dask(name, tmp_path, monkeypatch):
+    """Every family's example study, as a Zarr store interrupted after two chunks and resumed, on a pool of two
+    worker processes, and on a dask LocalCluster of two, holds what the in-process netCDF sweep holds: every
+    variable, coordinate and attribute (the reproduce command's comparison, which must find no difference)."""
+    pytest.importorskip("zarr")
+    import xarray as xr
+
+    import faultslip.studies.streaming as streaming
+    from faultslip.studies.grid import load_study
+    from faultslip.studies.streaming import compare_datasets, run_study
+
+    study = load_study(CONFIGS / f"study_{name}.toml")
+    cells = 1
+    for values in study.dims.values():
+        cells *= len(values)
+    chunk = max(1, cells // 4)
+    reference = tmp_path / "reference.nc"
+    run_study(study, reference, chunk_cells=chunk, workers=1)
+    real, calls = streaming.compute_block, {"n": 0}
+
+    def interrupted(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    store = tmp_path / "study.zarr"
+    monkeypatch.setattr(streaming, "compute_block", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, store, chunk_cells=chunk, workers=1)
+    monkeypatch.setattr(streaming, "compute_block", real)
+    assert run_study(study, store, chunk_cells=chunk, workers=1, resume=True)["resumed_blocks"] == 2
+    pooled = tmp_path / "pooled.nc"
+    summary = run_study(study, pooled, chunk_cells=chunk, workers=2)
+    assert "process" in summary["executor"] or "pool" in summary["executor"], summary["executor"]
+    clustered = tmp_path / "clustered.zarr"
+    assert run_study(study, clustered, chunk_cells=chunk, scheduler="local", workers=2)["executor"].startswith("dask")
+    with xr.open_dataset(reference) as expected, xr.open_zarr(store) as resumed, xr.open_dataset(pooled) as pool, \
+            xr.open_zarr(clustered) as cluster:
+        for other in (resumed, pool, cluster):
+            comparison = compare_datasets(expected, other)
+            assert not (comparison["missing"] or comparison["extra"] or comparison["attribute_differences"]), comparison
+            assert max(comparison["differences"].values()) == 0.0, comparison["differences"]
