@@ -311,3 +311,49 @@ def test_every_family_streams_to_zarr_resumes_and_sweeps_on_the_pool_and_on_dask
             comparison = compare_datasets(expected, other)
             assert not (comparison["missing"] or comparison["extra"] or comparison["attribute_differences"]), comparison
             assert max(comparison["differences"].values()) == 0.0, comparison["differences"]
+
+
+# --- run's and simulate's options come from one table ----------------------------------------------------
+
+def test_every_option_a_family_declares_is_in_the_table_and_every_option_has_a_family():
+    """The command line's run and simulate flags are generated from faultslip.contract.options; each option a
+    family takes is there, and each option there is taken by some family (no flag that nothing reads)."""
+    from faultslip.contract.options import OPTIONS, UNIVERSAL, options_of
+
+    taken = {"run": set(), "simulate": set()}
+    for name in contract.DECLARATIONS:
+        family = contract.load(name)
+        for command, names in (("run", family.run_options), ("simulate", family.simulate_options)):
+            for option in names:
+                if option == "progress":  # Python's callable, the command line's bar
+                    continue
+                assert option in OPTIONS and command in OPTIONS[option].commands, (name, command, option)
+                taken[command].add(option)
+    for command in taken:
+        family_options = {option.name for option in options_of(command) if option.family}
+        assert family_options - set(UNIVERSAL) <= taken[command], (command, family_options - taken[command])
+
+
+@pytest.mark.parametrize("command", ["run", "simulate"])
+def test_the_command_lines_flags_are_the_tables(command):
+    from faultslip.cli.main import build_parser
+    from faultslip.contract.options import options_of
+
+    import argparse
+
+    parser = build_parser([command])
+    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    flags = {a.dest for a in commands.choices[command]._actions if a.option_strings}
+    assert flags - {"help", "json", "method", "tolerance"} == {option.name for option in options_of(command)}
+
+
+@pytest.mark.parametrize("scene, option, family", [
+    ("vibration_seed002.toml", ["--output-dir", "x"], "vibration"),
+    ("nanoscale_seed001.toml", ["--cycles", "3"], "nanoscale"),
+    ("lab_glass_dry.toml", ["--resume"], "spring_slider"),
+])
+def test_an_option_a_family_does_not_take_is_refused_naming_that_family(scene, option, family, cli, tmp_path):
+    result = cli("simulate", CONFIGS / scene, *option)
+    assert_clean_error(result, f"not an option of a {family} scene" if family[0] not in "aeiou" else
+                       f"not an option of an {family} scene")
+    assert not (tmp_path / "x").exists()

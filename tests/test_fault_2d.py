@@ -557,4 +557,4 @@ def test_richardson_on_request_declares_what_two_resolutions_show(cli):
     assert abs(fine / limit - 1) <= report["discretisation_error"] <= report["estimated_relative_error"]
     assert "recurrence_extrapolated" in report
     refused = cli("run", "rsf_fault_bp1.toml", "--richardson")
-    assert refused.code == 2 and "discretised faults" in refused.err
+    assert refused.code == 2 and "not an option of a rate_state_slider scene" in refused.err

@@ -9,7 +9,6 @@ from faultslip import ranges
 from faultslip.cli.common import _locked, _number, _outputs, _save_run
 from faultslip.cli.printing import _emit, _progress
 from faultslip.constants import STANDARD_GRAVITY
-from faultslip.dynamics.rate_state.slider import RateStateSlider, simulate_rate_state
 from faultslip.dynamics.vibration import amplitude_table, error_against_eps, hand_over_map, regions
 from faultslip.errors import FaultslipError, InputError
 from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_data
@@ -103,13 +102,10 @@ def _fit_rate_state(args) -> int:
     if outputs["plot"] is not None or outputs["corner"] is not None:
         with _locked(outputs["plot"], outputs["corner"]):
             if outputs["plot"] is not None:
-                law = posterior.law() if posterior is not None else result.fit.law
-                curve = simulate_rate_state(RateStateSlider(law, result.stiffness, 1.0), result.record.history,
-                                            t_eval=result.record.time, rtol=1e-9).friction
-                band = posterior.predictive(result.record, seed=args.seed) if posterior is not None else None
-                raw = None if result.prepared is None else result.prepared.raw_friction
-                save_figure(record_fit_figure(result.record, curve, band, title=f"{args.data}: {law.evolution} law",
-                                              raw_friction=raw, trend=None), outputs["plot"], dpi=150)
+                fitted = result.fitted_friction(seed=args.seed)
+                save_figure(record_fit_figure(result.record, fitted["friction"], fitted["band"],
+                                              title=f"{args.data}: {fitted['law'].evolution} law",
+                                              raw_friction=fitted["raw_friction"], trend=None), outputs["plot"], dpi=150)
                 report.note(f"record and fit drawn to {args.plot}")
             if outputs["corner"] is not None:
                 save_figure(corner_figure(posterior), outputs["corner"], dpi=130)

@@ -17,6 +17,7 @@ import sys
 import warnings
 
 from faultslip import __version__
+from faultslip.contract.options import options_of
 from faultslip.errors import FaultslipError
 from faultslip.io.atomic import transaction
 
@@ -45,6 +46,16 @@ def _overwrite_and_json(parser) -> None:
     """The two flags of every command that writes files and prints a report."""
     parser.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def _family_options(parser, command: str) -> None:
+    """run's and simulate's flags, from the options the families declare (faultslip.contract.options)."""
+    for option in options_of(command):
+        names = (option.short, option.flag) if option.short else (option.flag,)
+        if option.kind == "switch":
+            parser.add_argument(*names, action="store_true", help=option.help)
+        else:
+            parser.add_argument(*names, type=int if option.kind == "count" else None, help=option.help)
 
 
 def _method_flags(parser):
@@ -148,13 +159,7 @@ def _scenes_commands(commands) -> None:
     run = commands.add_parser("run", help="run a scene (default: the 1906 San Francisco scene)")
     run.add_argument("scene", nargs="?", help="scene TOML file or bundled scene name")
     _method_flags(run)
-    run.add_argument("--allow-large", action="store_true", help="run even beyond the time and memory budget")
-    run.add_argument("--allow-underresolved", action="store_true",
-                     help="run a 2-D fault coarser than 2 elements per L_b, where sequences change character; the "
-                          "answer is then qualitative")
-    run.add_argument("--richardson", action="store_true",
-                     help="a 2-D fault: run it again on elements half the size and declare the discretisation error "
-                          "the two show (Richardson extrapolation)")
+    _family_options(run, "run")
     run.add_argument("--json", action="store_true", help="print one JSON object")
     run.set_defaults(handler="scenes:cmd_run")
 
@@ -194,24 +199,7 @@ def _scenes_commands(commands) -> None:
 
     simulate = commands.add_parser("simulate", help="event-driven simulation of stick-slip cycles of a scene")
     simulate.add_argument("scene", help="scene TOML file or bundled scene name")
-    simulate.add_argument("-o", "--output", help="write the time series and event table to OUT.nc")
-    simulate.add_argument("--plot", help="draw the sawtooth record to FILE.png")
-    simulate.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
-    simulate.add_argument("--allow-underresolved", action="store_true",
-                          help="run a 2-D fault coarser than 2 elements per L_b (a qualitative answer)")
-    simulate.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    simulate.add_argument("--cycles", type=int, help="number of stick-slip cycles (default: the scene's, else 100)")
-    simulate.add_argument("--slip-solver", help="analytic, RK45, RK23, DOP853, Radau, BDF or LSODA (default auto)")
-    simulate.add_argument("--rtol", help="integrator relative tolerance (default 1e-10)")
-    simulate.add_argument("--stream", help="write displacement, slip, slip rate and friction as an obspy Stream: "
-                                           "OUT.mseed, or OUT.sac (one file per channel)")
-    simulate.add_argument("--events", help="write the events as QuakeML (OUT.xml) with Mw from M0 (fault scenes)")
-    simulate.add_argument("--sampling-rate", help="stream sampling rate in Hz (default: 20 samples per slip phase, "
-                                                  "within 2e6 samples)")
-    simulate.add_argument("--start-time", help="UTC time of model time 0, ISO 8601 (default 2000-01-01)")
-    simulate.add_argument("--output-dir", help="a 2-D fault's run folder: SEAS station files, slip profiles, events and "
-                                               "netCDF, with checkpoints for --resume")
-    simulate.add_argument("--resume", action="store_true", help="continue a 2-D fault run from its last checkpoint")
+    _family_options(simulate, "simulate")
     simulate.add_argument("--json", action="store_true", help="print one JSON object")
     simulate.set_defaults(handler="scenes:cmd_simulate")
 

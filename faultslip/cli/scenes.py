@@ -11,6 +11,7 @@ from faultslip.cli.common import _locked, _number, _output_dir, _outputs, _save_
 from faultslip.cli.printing import _emit, _progress
 from faultslip.dynamics.spring_slider.critical import comparison_dataset, comparison_markdown, critical
 from faultslip.contract import method_rows
+from faultslip.contract.options import options_of
 from faultslip.errors import InputError
 from faultslip.friction.materials import bundled_lithologies, presets, user_rate_state_fits
 from faultslip.friction.registry import registry_path
@@ -40,10 +41,9 @@ _FAULT_QUANTITIES = {
 
 def cmd_run(args) -> int:
     """Any scene, whatever its model family (faultslip.models): its report."""
-    return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args), allow_large=args.allow_large,
-                            progress=_progress("run", not args.json, "yr"),
-                            allow_underresolved=args.allow_underresolved, richardson=args.richardson).report(),
-                 args.json)
+    options = {option.name: getattr(args, option.name) for option in options_of("run") if option.family}
+    return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args),
+                            progress=_progress("run", not args.json, "yr"), **options).report(), args.json)
 
 
 def cmd_fault(args) -> int:
@@ -155,12 +155,7 @@ def cmd_simulate(args) -> int:
     rate = _number(args.sampling_rate, "--sampling-rate") if args.sampling_rate else None
     start = (float(parse_time(args.start_time, "--start-time").astype("datetime64[ms]").astype("int64")) / 1e3
              if args.start_time else DEFAULT_START)
-    result = models.simulate(args.scene, cycles=args.cycles, slip_solver=args.slip_solver,
-                             rtol=_number(args.rtol, "--rtol") if args.rtol is not None else None,
-                             allow_large=args.allow_large, stream=bool(outputs["stream"]),
-                             events=bool(outputs["events"]), output=outputs["output"], output_dir=args.output_dir,
-                             resume=args.resume, overwrite=args.overwrite,
-                             allow_underresolved=args.allow_underresolved)
+    result = models.simulate(args.scene, **_simulate_options(args, outputs))
     report = result.report()
     series = result.series
     if outputs["stream"] or outputs["events"]:  # before anything is written
@@ -188,6 +183,22 @@ def cmd_simulate(args) -> int:
         report.note(f"{len(events['names'])} events (Mw {float(events['magnitude'].max()):.2f}) written as QuakeML "
                     f"to {args.events}" + (f"; {events['note']}" if events["note"] else ""))
     return _emit(report, args.json)
+
+
+def _simulate_options(args, outputs) -> dict:
+    """simulate's options as the families take them (faultslip.contract.options): numbers read, files checked, and
+    a file the command writes from the result (--stream, --events) asked for as True."""
+    options = {}
+    for option in options_of("simulate"):
+        if not option.family:
+            continue
+        value = getattr(args, option.name)
+        if option.name in outputs:  # a file checked above: the family is told where, or only that it is wanted
+            value = outputs[option.name] if option.name == "output" else bool(outputs[option.name])
+        elif option.kind == "number" and value is not None:
+            value = _number(value, option.flag)
+        options[option.name] = value
+    return options
 
 
 def cmd_critical(args) -> int:

@@ -8,9 +8,20 @@ and ``cli/`` ask this layer and never name a family; a family's own modules regi
 entry points name plug-ins.
 """
 
-from faultslip.contract.registry import (DECLARATIONS, FAMILIES, SCENE_TYPES, Declaration, Family, declare,
-                                         families, family_of, family_of_document, load, method_rows, register)
-from faultslip.contract.specs import Output, Parameter, flags_attrs
+import importlib
 
-__all__ = ["DECLARATIONS", "Declaration", "FAMILIES", "Family", "Output", "Parameter", "SCENE_TYPES", "declare",
-           "families", "family_of", "family_of_document", "flags_attrs", "load", "method_rows", "register"]
+# Loaded on first use (PEP 562): the command line's parser reads faultslip.contract.options without numpy.
+_EXPORTS = {"registry": ("DECLARATIONS", "FAMILIES", "SCENE_TYPES", "Declaration", "Family", "declare", "families",
+                         "family_of", "family_of_document", "load", "method_rows", "register"),
+            "specs": ("Output", "Parameter", "flags_attrs"),
+            "options": ("OPTIONS", "Option", "options_of")}
+_WHERE = {name: module for module, names in _EXPORTS.items() for name in names}
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name):
+    if name in _WHERE:
+        value = getattr(importlib.import_module(f"faultslip.contract.{_WHERE[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'faultslip.contract' has no attribute {name!r}")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from faultslip.dynamics.rate_state.slider import RateStateSlider, simulate_rate_state
 from faultslip.errors import InputError
 from faultslip.io.report import Report, display_unit, significant
 from faultslip.lab.posterior import sample_posterior
@@ -41,6 +42,28 @@ class RecordFit:
     stiffness: float  # 1/m
     fit: object  # RateStateFit
     posterior: object | None = None  # Posterior
+
+    def fitted_friction(self, seed: int = 0) -> dict:
+        """The fitted law's friction through the record's own load history, for a figure of record and fit.
+
+        Parameters
+        ----------
+        seed : int
+            The seed of the posterior predictive band's draws.
+
+        Returns
+        -------
+        dict
+            ``law`` (the posterior's mean law where there is a posterior, else the fit's), ``friction`` (the law's
+            friction at the record's times, dimensionless, rtol 1e-9), ``band`` (the posterior predictive band, or
+            None) and ``raw_friction`` (a raw record's friction before its trend was removed, or None).
+        """
+        law = self.posterior.law() if self.posterior is not None else self.fit.law
+        friction = simulate_rate_state(RateStateSlider(law, self.stiffness, 1.0), self.record.history,
+                                       t_eval=self.record.time, rtol=1e-9).friction
+        band = self.posterior.predictive(self.record, seed=seed) if self.posterior is not None else None
+        return {"law": law, "friction": friction, "band": band,
+                "raw_friction": None if self.prepared is None else self.prepared.raw_friction}
 
     @property
     def saved(self):

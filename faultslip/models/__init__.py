@@ -18,6 +18,7 @@ from __future__ import annotations
 import importlib
 
 from faultslip.errors import InputError
+from faultslip.contract.options import OPTIONS, UNIVERSAL
 from faultslip.contract.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
 from faultslip.contract.result import Result
 
@@ -25,9 +26,12 @@ __all__ = ["DECLARATIONS", "FAMILIES", "Family", "Result", "families", "family_o
            "simulate"]
 
 
-#: Options every family may be given: where the run's output goes (for a disk estimate) and the budget's
-#: override; a family that has no use for them ignores them.
-UNIVERSAL = ("output", "allow_large", "overwrite")
+def _not_an_option(name: str, family) -> str:
+    """One sentence: the option is not the family's, and what the family takes instead."""
+    article = "an" if family.name[0] in "aeiou" else "a"
+    flag = OPTIONS[name].flag if name in OPTIONS else f"--{name.replace('_', '-')}"
+    return (f"{name} ({flag}) is not an option of {article} {family.name} scene; "
+            f"{family.why or 'see faultslip simulate --help'}")
 
 
 def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False,
@@ -70,15 +74,17 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
         return importlib.import_module("faultslip.models.fault_estimate").fault_estimate(
             method=method, tolerance=tolerance, **quantities)
     family = family_of(scene)
-    options = {"allow_large": allow_large} if allow_large and "allow_large" in family.run_options else {}
+    options = {}
     if progress is not None and "progress" in family.run_options:  # a family whose run may be long reports it
         options["progress"] = progress
-    for flag, asked in (("allow_underresolved", allow_underresolved), ("richardson", richardson)):
-        if asked:
-            if flag not in family.run_options:
-                raise InputError(f"{flag} (--{flag.replace('_', '-')}) applies to discretised faults, not to a "
-                                 f"{family.name} scene")
-            options[flag] = True
+    for name, asked in (("allow_large", allow_large), ("allow_underresolved", allow_underresolved),
+                        ("richardson", richardson)):
+        if not asked:
+            continue
+        if name in family.run_options:
+            options[name] = asked
+        elif name not in UNIVERSAL:
+            raise InputError(_not_an_option(name, family))
     return family.run(scene, method=method, tolerance=tolerance, **options)
 
 
@@ -105,9 +111,7 @@ def simulate(scene=None, **options) -> Result:
     given = {name: value for name, value in options.items() if value is not None and value is not False}
     extra = [name for name in given if name not in family.simulate_options and name not in UNIVERSAL]
     if extra:
-        article = "an" if family.name[0] in "aeiou" else "a"
-        raise InputError(f"{extra[0]} (--{extra[0].replace('_', '-')}) is not an option of {article} {family.name} scene; "
-                         f"{family.why or 'see faultslip simulate --help'}")
+        raise InputError(_not_an_option(extra[0], family))
     return family.simulate(scene, **{name: value for name, value in given.items() if name in family.simulate_options})
 
 
