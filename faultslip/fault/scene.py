@@ -416,6 +416,33 @@ def load_scene(path_or_name=None) -> Scene:
     return scene
 
 
+def fault_scene(name: str = "fault", **quantities) -> Scene:
+    """A fault scene from its quantities as keywords with units, read as a scene file's ``[fault]`` table is.
+
+    Parameters
+    ----------
+    name : str
+        The scene's name.
+    **quantities
+        The ``[fault]`` table's keys: ``lithology``, ``zone_width="13 mi"``, ``shear_stress="250 bar"`` or
+        ``normal_stress``, ``slip_rate="2 in/yr"``, ``shear_modulus``, ``rupture_length``, ``seismogenic_depth``,
+        the seed law's ``mu_so``, ``mu_m``, ... Values are strings with units or pint Quantities.
+
+    Returns
+    -------
+    Scene
+        A fault scene (``kind = "fault"``), checked as a file's would be.
+    """
+    def plain(value):
+        return f"{value.magnitude!r} {value.units}" if hasattr(value, "magnitude") and hasattr(value, "units") \
+            else value
+
+    fault = {key: plain(value) for key, value in quantities.items() if value is not None}
+    scene = parse_scene({"scene": {"kind": "fault", "name": name}, "fault": fault}, "the keywords")
+    scene.origin = "a fault given as keywords"
+    return scene
+
+
 def has_friction_law(argument, law: str) -> bool:
     """Whether a scene argument's ``[friction]`` names ``law``; False for anything unreadable."""
     friction = (scene_document(argument) or {}).get("friction")

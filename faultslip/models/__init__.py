@@ -97,8 +97,10 @@ def simulate(scene=None, **options) -> Result:
         As for :func:`run`. A :class:`faultslip.SliderSystem` is simulated as it is
         (:func:`faultslip.simulate_slider`, which returns the time series Dataset).
     **options
-        The family's options (``cycles``, ``slip_solver``, ``rtol``, ``allow_large``, ...); one the family
-        does not take is refused in one sentence naming the family.
+        The family's options (``cycles``, ``slip_solver``, ``rtol``, ``allow_large``, ...; the table
+        :data:`faultslip.contract.options.OPTIONS`); one the family does not take is refused in one sentence
+        naming the family. Any other keyword is a fault's quantity with units, as :func:`run` takes them
+        (``lithology="granodiorite"``, ``zone_width="13 mi"``, ...): the fault is simulated as a scene.
 
     Returns
     -------
@@ -107,6 +109,12 @@ def simulate(scene=None, **options) -> Result:
     """
     if hasattr(scene, "is_linear") and hasattr(scene, "kinetic_law"):  # a SliderSystem: the integrator itself
         return importlib.import_module("faultslip.dynamics.spring_slider.simulate").simulate(scene, **options)
+    quantities = {name: value for name, value in options.items() if name not in OPTIONS}
+    if quantities:  # a fault as keywords with units, as run takes it
+        if scene is not None:
+            raise InputError(f"give a scene or a fault's quantities as keywords, not both ({', '.join(quantities)})")
+        scene = importlib.import_module("faultslip.fault.scene").fault_scene(**quantities)
+        options = {name: value for name, value in options.items() if name in OPTIONS}
     family = family_of(scene)
     given = {name: value for name, value in options.items() if value is not None and value is not False}
     extra = [name for name in given if name not in family.simulate_options and name not in UNIVERSAL]
