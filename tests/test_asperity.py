@@ -327,3 +327,28 @@ def test_every_asperity_method_converges_or_declares_and_none_declares_zero():
     strict = faultslip.run("asperity_seed004.toml", method="asperity_LSODA", tolerance=1e-14)
     assert strict.estimated_relative_error > 0
     assert strict["numerical_error"] <= 1e-14 or any("did not converge" in note for note in strict.notes)
+
+
+@pytest.mark.parametrize("order", [1, 2, 3])
+def test_the_quasistatic_method_holds_its_declared_error_just_above_each_critical_speed(order):
+    """Issue 42: 1.7 % above a critical speed v_cn = f0 lambda / n, where the response changes fastest with speed,
+    the quasi-static stick fraction lies within what it declares of the six-state LSODA reference (measured
+    0.1-0.8 % at n = 1 to 3 on the shipped scene, against the declared 5 %), and both declare a nonzero error."""
+    from pathlib import Path
+
+    import faultslip
+    from faultslip.models.asperity.scene import load_asperity_scene
+
+    configs = Path(__file__).resolve().parent.parent / "configs"
+    model, _, _ = load_asperity_scene(configs / "asperity_seed004.toml")
+    speed = 1.017 * float(model.critical_speeds()[order - 1])
+    text = (configs / "asperity_seed004.toml").read_text(encoding="utf-8").replace(
+        'platform_speed = "3.6 mm/s"', f'platform_speed = "{speed * 1e3!r} mm/s"')
+    scene = faultslip.contract.registry.read_scene_text(text, "near_critical.toml")[0]
+    quasistatic = faultslip.run(scene, method="asperity_quasistatic", tolerance=0.01)
+    reference = faultslip.run(scene, method="asperity_LSODA", tolerance=0.01)
+    fraction = float(quasistatic["stick_fraction"])
+    truth = float(reference["stick_fraction"])
+    assert truth > 0.05  # stick-slip: the fraction is a measured quantity, not a zero
+    assert abs(fraction / truth - 1) <= quasistatic.estimated_relative_error + reference.estimated_relative_error
+    assert quasistatic.estimated_relative_error >= 0.05 and reference.estimated_relative_error > 0

@@ -376,3 +376,20 @@ def test_simulate_takes_a_fault_as_keywords_with_units_as_run_does():
         faultslip.simulate(lithology="granodiorite", zone_width="13 mi", slip_rate="2 in/yr", sheer_stress="250 bar")
     with pytest.raises(faultslip.InputError, match="not both"):
         faultslip.simulate("san_andreas_1906.toml", zone_width="13 mi")
+
+
+def test_a_rate_and_state_study_flags_the_cells_that_have_no_cycles():
+    """A cell where K >= K_c (or b <= a) is flagged with its regime and left without cycles, not a refusal of the
+    study: the study maps where the cycles are (configs/study_rate_state_slider.toml's grid has one such cell)."""
+    import numpy as np
+
+    dataset = faultslip.sweep("rsf_fault_bp1.toml", method="one_slider",
+                              critical_slip={"logspace": ["2 mm", "32 mm", 5]}, b=[0.012, 0.015, 0.02])
+    regimes = dataset["regime"].attrs["flag_meanings"].split()
+    codes = dict(zip(regimes, dataset["regime"].attrs["flag_values"]))
+    stable = dataset["regime"] == codes["stable_sliding"]
+    assert int(stable.sum()) >= 1 and int((dataset["regime"] == codes["stick_slip"]).sum()) >= 1
+    mask, ratio = stable.values, dataset["stiffness_ratio"].values
+    assert np.all(ratio[mask] >= 1) and np.all(ratio[~mask] < 1)
+    assert np.all(np.isnan(dataset["slip_per_event"].values[mask]))
+    assert np.all(dataset["slip_per_event"].values[~mask] > 0)

@@ -108,7 +108,9 @@ def test_the_rate_and_state_slider_runs_through_run_too(cli):
     result = cli("run", CONFIGS / "rsf_fault_bp1.toml", "--json")
     assert result.code == 0, result.err
     years = result.json["recurrence_period"]["value"] / (365.25 * 86400)
-    assert 100 < years < 200  # one spring-block with BP1 friction: about 140 yr (docs/rate_state.md)
+    # one spring-block with BP1's friction on its 15 km seismogenic width: within its declared model error of
+    # BP1's 2-D recurrence, 78.35 yr (benchmarks/results/fault_2d_resolution.json)
+    assert abs(years / 78.35 - 1) <= result.json["model_error"]
     assert np.isclose(result.json["plate_slip_balance"], 1.0, atol=0.01)
 
 
@@ -137,9 +139,10 @@ def test_run_takes_allow_large_where_a_family_has_a_budget(cli, monkeypatch):
 
 # --- one Python API with the CLI's numbers (issue 40, item 6) ------------------------------------------------
 
-#: Every bundled scene file, each family's included; BP1 at 25 m takes minutes (benchmarks/fault_2d.py runs it).
+#: Every bundled scene file, each family's included; BP1 at 25 m takes minutes (benchmarks/fault_2d.py runs it),
+#: and its period-3 variant at 50 m most of one (tests/test_fault_2d.py runs it at 100 m).
 RUNNABLE = sorted(p.name for p in CONFIGS.glob("*.toml")
-                  if p.name != "seas_bp1.toml" and __import__("faultslip.contract.registry").contract.registry._declared(
+                  if not p.name.startswith("seas_bp1") and __import__("faultslip.contract.registry").contract.registry._declared(
                       __import__("tomllib").loads(p.read_text(encoding="utf-8"))) is not None
                   or "[scene]" in p.read_text(encoding="utf-8"))
 _numbers = report_numbers

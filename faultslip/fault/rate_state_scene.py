@@ -14,9 +14,10 @@
     stiffness = "1e-3 1/um"       # friction per slip (k / sigma_n), or a stiffness with normal_load
     model = "quasi_static"        # quasi_static, quasi_dynamic (needs damping) or inertial (needs mass)
 
-    [fault]                       # ... or a fault (per unit area): K = G / D, eta = G / (2 c_s), m = rho D
+    [fault]                       # ... or a fault (per unit area): eta = G / (2 c_s), m = rho G / K
     shear_modulus = "32 GPa"
-    zone_width = "20 km"
+    seismogenic_width = "15 km"   # W: K = c G / W, c calibrated against the 2-D fault (faultslip.fault.one_slider)
+                                  # or zone_width = "20 km": the seed's section 5-2 reduction, K = G / D
     normal_stress = "50 MPa"
     plate_rate = "1e-9 m/s"
 
@@ -35,6 +36,7 @@ from pathlib import Path
 from faultslip.dynamics.rate_state.slider import MODELS, LoadHistory, RateStateSlider
 from faultslip.contract.scenes import scene_source
 from faultslip.errors import InputError
+from faultslip.fault.one_slider import REDUCTIONS, stiffness_factor
 from faultslip.friction.rate_state import RateStateLaw, get_law
 from faultslip.io.resources import check_table_keys, parse_toml
 from faultslip.units import to_si_scalar
@@ -42,7 +44,7 @@ from faultslip.units import to_si_scalar
 _LAW_KEYS = {"preset", "a", "b", "critical_slip", "mu0", "reference_speed", "evolution", "b2", "critical_slip2",
              "regularized", "source"}
 _SLIDER_KEYS = {"stiffness", "normal_load", "mass", "damping", "model"}
-_FAULT_KEYS = {"shear_modulus", "zone_width", "normal_stress", "plate_rate", "density", "shear_wave_speed", "model",
+_FAULT_KEYS = {"shear_modulus", "zone_width", "seismogenic_width", "normal_stress", "plate_rate", "density", "shear_wave_speed", "model",
                "radiation_damping"}
 _LOAD_KEYS = {"steps", "slide_hold_slide", "speed", "duration", "samples"}
 
@@ -60,8 +62,14 @@ class RateStateScene:
     samples: int = 1001
     plate_rate: float | None = None
     origin: str = ""
-    #: a fault scene's inputs in SI (shear_modulus, zone_width, normal_stress, density, shear_wave_speed)
+    #: a fault scene's inputs in SI (shear_modulus, zone_width, normal_stress, density, shear_wave_speed);
+    #: ``zone_width`` is the block's G / K (D itself for the seed's reduction)
     fault: dict = field(default_factory=dict)
+    #: how the block's stiffness comes from the fault (faultslip.fault.one_slider.REDUCTIONS): "geometric", from
+    #: the seismogenic width, or "zone_width", the seed's section 5-2 reduction
+    reduction: str = "zone_width"
+    #: m: the width the scene states (W, or D for the seed's reduction)
+    width: float | None = None
 
 
 def _check_keys(table, allowed, section, source):
@@ -150,19 +158,25 @@ def parse_rate_state_scene(text: str, source: str = "<scene>") -> RateStateScene
         if "load" not in data:
             raise InputError(f"{source} needs a [load] table for a laboratory slider")
         history, samples = _history(data["load"], source)
-        kind, plate_rate, fault_inputs = "lab", None, {}
+        kind, plate_rate, fault_inputs, reduction, width = "lab", None, {}, "zone_width", None
     else:
         table = data["fault"]
         _check_keys(table, _FAULT_KEYS, "fault", source)
-        for key in ("shear_modulus", "zone_width", "normal_stress", "plate_rate"):
+        for key in ("shear_modulus", "normal_stress", "plate_rate"):
             if key not in table:
                 raise InputError(f"[fault] in {source} needs {key}")
+        stated = [key for key in REDUCTIONS if key in table]
+        if len(stated) != 1:
+            raise InputError(f"[fault] in {source} needs one of seismogenic_width (W: K = c G / W, the stiffness "
+                             "calibrated against the 2-D fault) and zone_width (D: the seed's reduction K = G / D)")
+        reduction = REDUCTIONS[stated[0]]
+        width = to_si_scalar(table[stated[0]], "length", stated[0].replace("_", " "))
         radiation = table.get("radiation_damping", True)
         if not isinstance(radiation, bool):
             raise InputError(f"[fault] radiation_damping in {source} must be true or false")
         wave = to_si_scalar(table["shear_wave_speed"], "speed", "shear wave speed") if "shear_wave_speed" in table else None
         fault = {"shear_modulus": to_si_scalar(table["shear_modulus"], "pressure", "shear modulus"),
-                 "zone_width": to_si_scalar(table["zone_width"], "length", "zone width"),
+                 "zone_width": width if reduction == "zone_width" else width / stiffness_factor(),
                  "normal_stress": to_si_scalar(table["normal_stress"], "pressure", "normal stress"),
                  "density": to_si_scalar(table.get("density", "2700 kg/m^3"), "density", "density"),
                  "shear_wave_speed": wave}
@@ -178,7 +192,8 @@ def parse_rate_state_scene(text: str, source: str = "<scene>") -> RateStateScene
             history, samples = _history(data["load"], source)
     if model not in MODELS:
         raise InputError(f"model in {source} must be one of {', '.join(MODELS)}, got {model!r}")
-    return RateStateScene(name, kind, law, slider, model, history, samples, plate_rate, fault=fault_inputs)
+    return RateStateScene(name, kind, law, slider, model, history, samples, plate_rate, fault=fault_inputs,
+                          reduction=reduction, width=width)
 
 
 def load_rate_state_scene(path) -> RateStateScene:

@@ -388,11 +388,11 @@ def load_fault_2d_scene(path, allow_large: bool = False) -> Fault2DScene:
 def from_one_slider(rate_state_scene, element_size: float | None = None, duration: float | None = None,
                     rtol: float = 1e-8, elements_per_process_zone: float = 8.0) -> Fault2DScene:
     """The 2-D fault a one-slider rate-and-state fault scene stands for: its friction uniform from the
-    surface to its zone width, loaded by steady slip at the plate rate below (the geometry in which K = G / D
-    is the one-slider's stiffness). Elements resolve L_b = G D_c / (sigma_n b) with
+    surface to the width it states (W, or the seed's D), loaded by steady slip at the plate rate below. Elements resolve L_b = G D_c / (sigma_n b) with
     ``elements_per_process_zone`` each (8) unless ``element_size`` is given."""
     law, fault = rate_state_scene.law, rate_state_scene.fault
-    modulus, width = fault["shear_modulus"], fault["zone_width"]
+    # the width the scene states: its seismogenic width W, or the seed's zone width D
+    modulus, width = fault["shear_modulus"], getattr(rate_state_scene, "width", None) or fault["zone_width"]
     speed = fault.get("shear_wave_speed") or 3464.0
     sigma = fault["normal_stress"]
     process = modulus * law.critical_slip / (sigma * law.b) if law.b > 0 else width / 64

@@ -18,6 +18,7 @@ from faultslip.fault.spring_slider_cells import RATE_STATE_CELLS
 from faultslip.fault.spring_slider_cells import read_scene as read_seed_law_scene
 from faultslip.io.resources import parse_toml
 from faultslip.models.common import note_origin
+from faultslip.fault.one_slider import DESCRIPTIONS
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.io.report import Report
 from faultslip.fault.rate_state_fault import seed_law_fault
@@ -137,7 +138,8 @@ def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
     return Result("rate_state_slider", report, series, figure)
 
 
-#: The methods of a fault scene: one slider (K = G / D) or the 2-D fault it stands for.
+#: The methods of a fault scene: one slider (its stiffness from the fault's geometry, or the seed's K = G / D) or the
+#: 2-D fault it stands for.
 FAULT_METHODS = ("auto", "one_slider", "fault_2d")
 
 #: What a scene of the older form is told (issue 40: one family, whatever the shape of its file).
@@ -190,8 +192,9 @@ def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
 def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=None) -> Result:
     """A laboratory slider's load history, or a fault's cycles: what the scene describes.
 
-    A fault scene's methods are ``one_slider`` (one quasi-dynamic spring-block, K = G / D) and
-    ``fault_2d`` (the 2-D fault with the same friction from the surface to D, loaded below).
+    A fault scene's methods are ``one_slider`` (one quasi-dynamic spring-block, K = c G / W from the seismogenic
+    width W, or the seed's K = G / D from the zone width D; :mod:`faultslip.fault.one_slider`) and ``fault_2d``
+    (the 2-D fault with the same friction from the surface to W, loaded below).
     ``tolerance`` is the model error allowed: ``auto`` takes one slider where its declared error
     against the 2-D fault (faultslip.models.rate_state_slider.model_error, from the shipped calibration) meets it,
     and the 2-D fault otherwise; without a tolerance it takes one slider and declares its error.
@@ -212,7 +215,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
         raise InputError(f"the tolerance of a fault's model error must be a positive number, got {tolerance!r}")
     fault = loaded.fault
     error, ratio, how = declared_model_error(loaded.law, fault["shear_modulus"], fault["normal_stress"],
-                                             fault["zone_width"])
+                                             loaded.width, reduction=loaded.reduction)
     if method == "fault_2d" or (method == "auto" and tolerance is not None and not error <= tolerance):
         reason = ("asked for by name" if method == "fault_2d" else
                   f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "
@@ -223,19 +226,20 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     if method == "one_slider":
         result.add("method_reason", "asked for by name")
     elif tolerance is None:
-        result.add("method_reason", "one spring-block, K = G / D (no model tolerance given: give one, or "
-                                    "--method fault_2d, for the 2-D fault)")
+        result.add("method_reason", f"one spring-block, {DESCRIPTIONS[loaded.reduction]} (no model tolerance "
+                                    "given: give one, or --method fault_2d, for the 2-D fault)")
     else:
         result.add("method_reason", f"one slider's declared model error {error:.2g} meets the tolerance {tolerance:g}")
     result.add("model_error", error if math.isfinite(error) else None,
-               label="declared model error against the 2-D fault (relative, recurrence or slip)")
+               label="declared model error against the 2-D fault (relative, recurrence or slip; null: unbounded)")
+    result.add("stiffness", loaded.slider.stiffness, "Pa/m", label=f"the block's stiffness ({DESCRIPTIONS[loaded.reduction]})")
     result.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
     result.note(f"model error: {how}")
     numerical = result.estimated_relative_error
-    if math.isfinite(error) and (numerical is None or error > numerical):  # lead with the error that dominates
+    if not math.isnan(error) and (numerical is None or error > numerical):  # lead with the error that dominates
         result.add("numerical_error", numerical, label="the cycles' own error (integrator scatter, or the settling left)")
-        result.add("estimated_relative_error", error,
-                   label="declared error (the model error, which dominates)")
+        result.add("estimated_relative_error", error if math.isfinite(error) else None,
+                   label="declared error (the model error, which dominates; null: unbounded, outside the calibration)")
     return result
 
 
@@ -323,10 +327,11 @@ LAW_PARAMETERS = {name: Parameter(name, kind, unit, long_name, ("law", name)) fo
 )}
 FAULT_PARAMETERS = {name: Parameter(name, kind, unit, long_name, ("fault", name)) for name, kind, unit, long_name in (
     ("shear_modulus", "pressure", "Pa", "shear modulus G"),
-    ("zone_width", "length", "m", "elastic-zone width D (K = G / D)"),
+    ("seismogenic_width", "length", "m", "seismogenic width W (K = c G / W, c calibrated against the 2-D fault)"),
+    ("zone_width", "length", "m", "elastic-zone width D (the seed's reduction, K = G / D)"),
     ("normal_stress", "pressure", "Pa", "effective normal stress"),
     ("plate_rate", "speed", "m/s", "plate rate V_pl"),
-    ("density", "density", "kg/m^3", "rock density rho (m = rho D)"),
+    ("density", "density", "kg/m^3", "rock density rho (m = rho G / K)"),
     ("shear_wave_speed", "speed", "m/s", "shear-wave speed c_s (radiation damper G / (2 c_s))"),
 )}
 PARAMETERS = {**LAW_PARAMETERS, **FAULT_PARAMETERS}
@@ -359,10 +364,25 @@ def _is_fault(scene) -> bool:
     return "fault" in scene.document()
 
 
+def _cell(scene, method=None, tolerance=None) -> Result:
+    """One cell of a study. A fault that can have no earthquake cycles (b <= a, or K >= K_c) is a cell flagged with
+    its regime, not a refusal of the whole study: a study maps where the cycles are (as the seed law's does)."""
+    loaded = load_rate_state_scene(scene)
+    if loaded.kind == "fault":
+        law, slider = loaded.law, loaded.slider
+        ratio = slider.stiffness / slider.critical_stiffness() if law.b > law.a else math.inf
+        if not ratio < 1:
+            report = Report(f"faultslip rate-state cell: {loaded.name}")
+            report.add("regime", "velocity_strengthening" if law.b <= law.a else "stable_sliding")
+            report.add("stiffness_ratio", ratio if math.isfinite(ratio) else None)
+            return Result("rate_state_slider", report)
+    return run(loaded, method=method, tolerance=tolerance)
+
+
 PER_CELL = PerCell("a rate-and-state study",
                    lambda scene: PARAMETERS if _is_fault(scene) else LAW_PARAMETERS,
                    lambda scene: FAULT_OUTPUTS if _is_fault(scene) else LAB_OUTPUTS,
-                   run, load_rate_state_scene, methods=("auto", "one_slider"), seconds=0.05)
+                   _cell, load_rate_state_scene, methods=("auto", "one_slider"), seconds=0.05)
 _READ_OWN = toml_reader("rate_state_slider", PARAMETERS)
 
 

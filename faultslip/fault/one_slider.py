@@ -1,0 +1,74 @@
+"""One spring-block for a rate-and-state fault: its stiffness from the fault's geometry, and the calibration that
+says how far the block stands from the 2-D fault (issue 42).
+
+A one-slider scene states the seismogenic (velocity-weakening) width W, or, for the seed's section 5-2 reduction,
+the elastic-zone width D. The block's stiffness is then
+
+* ``K = c G / W`` with ``c`` the factor calibrated against a designed set of 2-D faults
+  (``benchmarks/fault_2d_calibration.py``: the c whose worst model error over the set is smallest; 2 / pi would be
+  the stiffness of a surface-breaking crack of width W under a uniform stress drop), or
+* ``K = G / D``, the seed's reduction, named as such.
+
+The calibration, ``data/fault_2d_model_error.json``, holds both: for each reduction, the largest model error
+(times a safety factor) at each W / h* of the designed set, and its coverage on faults held out of it.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+from faultslip.errors import InputError
+from faultslip.io import gate
+from faultslip.io.resources import bundled_dir
+
+CALIBRATION_FILE = "fault_2d_model_error.json"
+HIERARCHY_FILE = "fault_2d_hierarchy.json"
+#: The reductions a scene may ask for, by the [fault] key that states its width.
+REDUCTIONS = {"seismogenic_width": "geometric", "zone_width": "zone_width"}
+#: What each reduction is called in a report.
+DESCRIPTIONS = {"geometric": "K = c G / W from the seismogenic width W (c calibrated against the 2-D fault)",
+                "zone_width": "the seed's section 5-2 reduction, K = G / D from the elastic-zone width D"}
+
+
+@lru_cache(maxsize=1)
+def load_calibration() -> dict:
+    """The shipped calibration of one slider against the 2-D fault (``data/fault_2d_model_error.json``).
+
+    Returns
+    -------
+    dict
+        ``geometric`` and ``zone_width``: each with its ``stiffness_factor`` c, ``rows`` (W / h* and the declared
+        model error, relative), and the ``held_out`` faults with their true and declared errors; ``provenance``.
+    """
+    path = bundled_dir("data") / CALIBRATION_FILE
+    try:
+        table = gate.read_json(path, "the model-error calibration")
+    except InputError as exc:
+        raise InputError(f"{exc}; reinstall faultslip or run benchmarks/fault_2d_calibration.py") from None
+    if not all(isinstance(table.get(key), dict) and table[key].get("rows") for key in REDUCTIONS.values()):
+        raise InputError(f"{path.name} lacks a reduction's rows; rerun benchmarks/fault_2d_calibration.py")
+    return table
+
+
+def stiffness_factor() -> float:
+    """c of the geometric stiffness K = c G / W, from the shipped calibration (dimensionless).
+
+    Returns
+    -------
+    float
+        The factor whose worst model error over the designed 2-D faults is smallest.
+    """
+    return float(load_calibration()["geometric"]["stiffness_factor"])
+
+
+def load_hierarchy() -> dict | None:
+    """Speed against accuracy on SEAS BP1 (``data/fault_2d_hierarchy.json``, benchmarks/hierarchy_chart.py).
+
+    Returns
+    -------
+    dict or None
+        ``points`` (each method's cost in s, error against the converged 2-D answer and declared error), or None
+        where the file is not installed.
+    """
+    path = bundled_dir("data") / HIERARCHY_FILE
+    return gate.read_json(path, "the speed-accuracy chart's data") if path.is_file() else None
