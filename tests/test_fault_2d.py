@@ -332,7 +332,8 @@ def test_auto_runs_the_2d_fault_where_one_slider_is_not_good_enough():
     from faultslip.fault.rate_state_scene import parse_rate_state_scene
 
     # W / h* = 10 km / 6.04 km = 1.66: whole-fault events, a quick 2-D run on 3 elements per L_b
-    text = (CONFIGS / "rsf_fault_bp1.toml").read_text().replace('zone_width = "20 km"', 'zone_width = "10 km"')
+    text = (CONFIGS / "rsf_fault_bp1.toml").read_text().replace('seismogenic_width = "15 km"',
+                                                                'seismogenic_width = "10 km"')
     text = text.replace('critical_slip = "8 mm"', 'critical_slip = "10 mm"')
     scene = parse_rate_state_scene(text, "narrow.toml")
     from faultslip import contract
