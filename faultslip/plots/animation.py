@@ -141,17 +141,23 @@ def save_gif(movie, figure, path, fps: int = 20, dpi: int = 80, progress=None) -
     movie.pause()  # the frames are rendered below, not by the animation's timer
     progress = reporter(progress, "animation", "frame")
     # Matplotlib's writer saved every frame through savefig: the figure drawn about three times a frame and its
-    # constrained layout solved each time (43 % of the run, issue 43). The layout is solved once, on the
-    # first frame at the GIF's dpi, then frozen; each frame is then drawn once into the canvas's buffer.
+    # constrained layout solved each time (43 % of the run, issue 43). Here the layout is solved once, on the first
+    # frame at the GIF's dpi, then frozen; the still parts (axes, ticks, labels, the grey curves) are drawn once
+    # into a background, and each frame restores it and draws only the artists that move (blitting).
     figure.set_dpi(dpi)
     canvas = figure.canvas
-    draw(0)
+    moving = draw(0)
     canvas.draw()
     figure.set_layout_engine("none")
+    for artist in moving:
+        artist.set_animated(True)
+    canvas.draw()  # the background: everything but the moving artists
+    background = canvas.copy_from_bbox(figure.bbox)
     frames = []
     for index in range(count):
-        draw(index)
-        canvas.draw()
+        canvas.restore_region(background)
+        for artist in draw(index):
+            figure.draw_artist(artist)
         width, height = canvas.get_width_height(physical=True)
         frames.append(Image.frombuffer("RGBA", (width, height), bytes(canvas.buffer_rgba()), "raw", "RGBA", 0, 1)
                       .convert("RGB"))  # opaque frames: RGB quantises to GIF's palette better than RGBA
