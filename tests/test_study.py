@@ -339,3 +339,30 @@ def test_a_blocks_arrays_are_its_datasets_variables():
         expected = dataset[name].transpose(*study.dims).values
         assert values.dtype == expected.dtype and values.shape == expected.shape
         np.testing.assert_array_equal(values, expected)
+
+
+@pytest.mark.parametrize("executor", [[], ["--workers", "2"], ["--scheduler", "local", "--workers", "2"]],
+                         ids=["default", "pool", "dask"])
+def test_no_process_of_a_sweep_outlives_it(executor, tmp_path):
+    """Issue 43: processes were left in a sweep's process group after it exited. The sweep runs in its own session;
+    the moment it has exited, nothing of its process group is left (a dask LocalCluster's worker used to be)."""
+    import os
+    from pathlib import Path
+
+    import psutil
+
+    configs = Path(__file__).resolve().parent.parent / "configs"
+    command = [sys.executable, "-m", "faultslip.cli", "sweep", str(configs / "study_spring_slider.toml"),
+               "-o", str(tmp_path / "out.nc"), "--chunks", "2000", "--json", *executor]
+    run = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, err = run.communicate(timeout=300)
+    assert run.returncode == 0, err.decode()
+    left = []
+    for process in psutil.process_iter(["pid"]):
+        try:
+            if process.pid != os.getpid() and os.getpgid(process.pid) == run.pid and \
+                    process.status() != psutil.STATUS_ZOMBIE:
+                left.append((process.pid, process.name()))
+        except (ProcessLookupError, psutil.Error):
+            pass
+    assert not left, left

@@ -139,6 +139,44 @@ def worker_pool(workers: int) -> ProcessPoolExecutor:
     return pool
 
 
+def descendants() -> list:
+    """This process's descendants now (psutil Processes): what a cluster started, to be reaped after it closes."""
+    import psutil  # heavy: imported where used
+
+    try:
+        return psutil.Process().children(recursive=True)
+    except psutil.Error:
+        return []
+
+
+def reap(processes, timeout: float = 10.0) -> None:
+    """Wait up to ``timeout`` s for ``processes`` to exit, then kill those left: nothing a run started outlives
+    it (a dask LocalCluster's nanny returns before its worker process has gone). A multiprocessing resource
+    tracker among them is killed at once: it ignores SIGTERM and would wait for its parent's exit, holding nothing
+    once its cluster has closed."""
+    import psutil  # heavy: imported where used
+
+    def tracker(process):
+        try:
+            return "resource_tracker" in " ".join(process.cmdline())
+        except psutil.Error:
+            return False
+
+    trackers = [process for process in processes if tracker(process)]
+    for process in trackers:
+        try:
+            process.kill()
+        except psutil.Error:
+            pass
+    _, alive = psutil.wait_procs(processes, timeout=timeout)
+    for process in alive:
+        try:
+            process.kill()
+        except psutil.Error:
+            pass
+    psutil.wait_procs(alive, timeout=timeout)
+
+
 def stop_pool(pool, interrupted: bool = False) -> None:
     """Shut a pool down; after an interrupt or error, terminate its workers rather than wait for them."""
     if pool is None:

@@ -32,7 +32,7 @@ from faultslip.io.netcdf import create_chunked, open_for_append
 from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock
-from faultslip.io.processes import SharedRing, run_windowed, shared_segment, stop_pool, worker_pool
+from faultslip.io.processes import SharedRing, descendants, reap, run_windowed, shared_segment, stop_pool, worker_pool
 from faultslip.io.resources import open_dataset_lazily
 from faultslip.studies.grid import block_arrays, compute_block, finish, parse_study, template_block
 import tempfile
@@ -106,7 +106,10 @@ def _executor(scheduler, workers):
     except ImportError:
         raise InputError("--scheduler needs dask.distributed: pip install 'faultslip[dask]'") from None
     if scheduler == "local":
+        before = {process.pid for process in descendants()}
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
+        # its nannies and workers, to be reaped when it closes (not the process's other children)
+        cluster.faultslip_processes = [process for process in descendants() if process.pid not in before]
         # only when asked: on one machine the process pool does the same work faster (docs/studies.md)
         return Client(cluster), f"dask LocalCluster ({workers} workers; without --scheduler the process pool is faster here)"
     try:
@@ -548,9 +551,11 @@ def _shutdown(executor, interrupted: bool = False):
         return
     if hasattr(executor, "gather"):  # a dask Client (and its LocalCluster, if it made one)
         cluster = getattr(executor, "cluster", None)
+        started = getattr(cluster, "faultslip_processes", [])
         executor.close()
         if cluster is not None:
             cluster.close()
+            reap(started)  # the cluster's worker processes, gone before the sweep returns
     else:
         stop_pool(executor, interrupted=interrupted)
 
