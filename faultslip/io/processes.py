@@ -152,23 +152,18 @@ def descendants() -> list:
 def reap(processes, timeout: float = 10.0) -> None:
     """Wait up to ``timeout`` s for ``processes`` to exit, then kill those left: nothing a run started outlives
     it (a dask LocalCluster's nanny returns before its worker process has gone). A multiprocessing resource
-    tracker among them is killed at once: it ignores SIGTERM and would wait for its parent's exit, holding nothing
-    once its cluster has closed."""
+    tracker is left alone: it is the process's own, shared with what else it runs, and it exits by itself, its
+    clean-up done, when the process does."""
     import psutil  # heavy: imported where used
 
     def tracker(process):
         try:
             return "resource_tracker" in " ".join(process.cmdline())
         except psutil.Error:
-            return False
+            return True  # gone already
 
-    trackers = [process for process in processes if tracker(process)]
-    for process in trackers:
-        try:
-            process.kill()
-        except psutil.Error:
-            pass
-    _, alive = psutil.wait_procs(processes, timeout=timeout)
+    workers = [process for process in processes if not tracker(process)]
+    _, alive = psutil.wait_procs(workers, timeout=timeout)
     for process in alive:
         try:
             process.kill()
