@@ -393,3 +393,11 @@ def test_a_rate_and_state_study_flags_the_cells_that_have_no_cycles():
     assert np.all(ratio[mask] >= 1) and np.all(ratio[~mask] < 1)
     assert np.all(np.isnan(dataset["slip_per_event"].values[mask]))
     assert np.all(dataset["slip_per_event"].values[~mask] > 0)
+
+
+def test_every_method_declares_its_error(cli):
+    """'faultslip methods' lists, for every method of every family, the error it declares beside its domain and
+    cost (what auto chooses by); the conformance check requires it of every family."""
+    rows = cli("methods", "--json").json["methods"]
+    assert {family for row in rows for family in row["families"]} >= set(CASES)
+    assert all(row["declared_error"].strip() for row in rows), [row["name"] for row in rows if not row["declared_error"]]

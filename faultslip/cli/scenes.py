@@ -138,7 +138,8 @@ def cmd_methods(args) -> int:
         return 0
     for row in rows:
         print(f"{row['name']}\n  friction laws: {row['friction_laws']}\n  valid where:   {row['domain']}\n"
-              f"  cost:          {row['cost_model']}\n  families:      {', '.join(row['families'])}")
+              f"  cost:          {row['cost_model']}\n  error:         {row['declared_error']}\n"
+              f"  families:      {', '.join(row['families'])}")
     return 0
 
 

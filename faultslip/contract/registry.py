@@ -130,7 +130,9 @@ def cells_of(family: Family, scene):
 
 
 #: the fields of a method's declaration, as 'faultslip methods' prints them
-METHOD_FIELDS = ("name", "friction_laws", "domain", "cost_model")
+#: What every method declares: its name, the friction laws it takes, where it holds, what it costs, and the error
+#: it declares there (what ``faultslip methods`` prints and ``auto`` chooses by).
+METHOD_FIELDS = ("name", "friction_laws", "domain", "cost_model", "declared_error")
 
 
 def method_rows() -> list[dict]:

@@ -585,13 +585,13 @@ METHODS = {
                                    "no sticking",
                   "domain": "small eps = (r + W max|f'|) / (M omega); A omega < v (else stick-slip: hand over)",
                   "cost_model": "a root search on the amplitude equation: about 1e-3 s",
-                  "error_model": "0.1 eps^2 relative (measured 0.010-0.049 eps^2 against integration)"},
+                  "declared_error": "0.1 eps^2 relative (measured 0.010-0.049 eps^2 against integration)"},
     "integration": {"name": "quasi_harmonic_integration",
                     "friction_laws": "any friction-velocity curve; stops where the slider would stick",
                     "domain": "any eps; runs until the limit cycle has settled (16 / its decay rate)",
                     "cost_model": "DOP853 at rtol 1e-10: about 100 right-hand sides per period, for 16 / (decay "
                                   "rate x period) periods: seconds, more near the onset (Hopf) speed",
-                    "error_model": "about 1e-6 relative (peaks sampled 4096 times a period, the approach to the "
+                    "declared_error": "about 1e-6 relative (peaks sampled 4096 times a period, the approach to the "
                                    "cycle decayed by e^-16)"},
 }
 INTEGRATION_ERROR = 1e-6

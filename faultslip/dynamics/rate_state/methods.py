@@ -93,7 +93,9 @@ class CycleMethod:
 
     def describe(self) -> dict:
         return {"name": self.name, "friction_laws": self.friction_laws, "domain": self.domain,
-                "cost_model": self.cost_model}
+                "cost_model": self.cost_model,
+                "declared_error": ("c rtol per cycle quantity, c calibrated per integrator against a reference "
+                                   "(near K_c amplified by 2 / (1 - K / K_c)), and the settling left")}
 
     def assess(self, stiffness_ratio: float, tolerance: float, cycles: int, two_state: bool = False,
                rtol: float | None = None) -> Assessment:

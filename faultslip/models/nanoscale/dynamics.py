@@ -423,12 +423,15 @@ METHODS = {
         "name": "nanoscale_linear_stability", "friction_laws": "nanoscale (seed 001 eqs. 1-4)",
         "domain": "the regime from small disturbances and the threshold A_c (Routh-Hurwitz); no swing or time series "
                   "where it sticks and slips; exact to round-off away from A = A_c",
-        "cost_model": "a cubic's coefficients: about 1e-5 s"},
+        "cost_model": "a cubic's coefficients: about 1e-5 s",
+        "declared_error": "round-off, away from A = A_c; the regime within 1e-9 of A_c is handed to LSODA"},
     "nanoscale_LSODA": {
         "name": "nanoscale_LSODA", "friction_laws": "nanoscale (seed 001 eqs. 1-4)",
         "domain": "any parameters; the force swing, slip events, charge and the time series",
         "cost_model": "LSODA (stiff stuck phases): 0.4 s at rtol 1e-4 to 1.7 s at 1e-10 for 3000 time units; "
-                      f"error of the force swing {LSODA_ERROR_CONSTANT:g} rtol"},
+                      f"error of the force swing {LSODA_ERROR_CONSTANT:g} rtol",
+        "declared_error": f"{LSODA_ERROR_CONSTANT:g} rtol in the force swing (measured against rtol 1e-12), and the "
+                          "settling left near the Hopf threshold"},
 }
 NANOSCALE_METHODS = ("auto", "nanoscale_linear_stability", "nanoscale_LSODA")
 NANOSCALE_OUTPUTS = ("regime", "force_swing", "time_series")
