@@ -345,7 +345,9 @@ def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.
         The 2-D fault's answer, with ``method_reason`` naming the escalation.
     """
     block = fault_cycles(loaded.slider, loaded.plate_rate, cycles=3)
-    scene = from_one_slider(loaded, duration=14 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
+    # enough system-size events to tell a period up to 3 from the spin-up: the block may recur up to its declared
+    # model error (0.75) sooner than the 2-D fault
+    scene = from_one_slider(loaded, duration=24 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
     estimate = scene.estimate()
     estimate.what = f"escalating {loaded.name} to the 2-D fault ({reason})"
     budget.check(estimate, allow_large)
