@@ -69,6 +69,9 @@ _EXPORTS = {
     "models.fault_2d.figures": ("cumulative_slip_figure", "slip_rate_figure"),
     "models.rate_state_slider.figures": ("model_error_figure",),
     "io.seas": ("read_seas",),
+    "fault.predictability": ("predictability",),
+    "evaluation.predictability": ("catalog_predictability",),
+    "plots.predictability": ("predictability_figure",),
 }
 #: Public names whose module's own name would be ambiguous at the top level: name -> (module, attribute).
 _ALIASES = {

@@ -78,6 +78,8 @@ CASES = {
                  "2 GPa"],
                 lambda: faultslip.analyse_surface(synthetic=("2 um", "20 um"), size=64, modulus="200 GPa",
                                                   hardness="2 GPa")),
+    "predictability": (["predictability", CONFIGS / "catalog_san_andreas.csv", "--name", "Parkfield"],
+                       lambda: faultslip.catalog_predictability(CONFIGS / "catalog_san_andreas.csv", name="Parkfield")),
     "catalog": (["catalog", CONFIGS / "catalog_san_andreas.csv", "--fault", "san_andreas_1906.toml",
                  "--as-of", "2026-01-01", "--bootstrap", "200"],
                 lambda: faultslip.compare_catalog(

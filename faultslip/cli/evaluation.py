@@ -119,3 +119,15 @@ def cmd_model_error(args) -> int:
             save_figure(result.plot(), plot, dpi=150)
         report.note(f"model-error map drawn to {args.plot}")
     return _emit(report, args.json)
+
+
+def cmd_predictability(args) -> int:
+    """A catalogue's recurrence models tested (faultslip.catalog_predictability), and QuakeCaster's figure."""
+    plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.catalog])["plot"]
+    result = faultslip.catalog_predictability(args.catalog, name=args.name, seed=args.seed)
+    report = result.report(f"faultslip predictability: {args.catalog}" + (f" ({args.name})" if args.name else ""))
+    if plot:
+        with _locked(plot):
+            save_figure(faultslip.predictability_figure(result), plot, dpi=150)
+        report.note(f"figure drawn to {args.plot}")
+    return _emit(report, args.json)

@@ -465,6 +465,15 @@ def _evaluation_commands(commands) -> None:
     _overwrite_and_json(error)
     error.set_defaults(handler="evaluation:cmd_model_error")
 
+    predict = commands.add_parser("predictability", help="test a catalogue's recurrence: time-predictable, "
+                                                         "slip-predictable, periodic or Poisson (QuakeCaster's exercise)")
+    predict.add_argument("catalog", help="catalog: QuakeML (.xml, .quakeml, .qml) or CSV")
+    predict.add_argument("--name", help="keep the events whose name holds this text (e.g. Parkfield)")
+    predict.add_argument("--seed", type=int, default=0, help="the bootstrap's seed (default 0)")
+    predict.add_argument("--plot", help="draw the staircase and the correlations to FILE.png")
+    _overwrite_and_json(predict)
+    predict.set_defaults(handler="evaluation:cmd_predictability")
+
 
 def _plots_commands(commands) -> None:
     """Figure commands (handlers in faultslip.cli.plots)."""
