@@ -71,6 +71,7 @@ _EXPORTS = {
     "io.seas": ("read_seas",),
     "fault.predictability": ("predictability",),
     "evaluation.predictability": ("catalog_predictability",),
+    "lab.look_files": ("read_look", "parse_look"),
     "plots.predictability": ("predictability_figure",),
 }
 #: Public names whose module's own name would be ambiguous at the top level: name -> (module, attribute).
