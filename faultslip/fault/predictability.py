@@ -103,9 +103,9 @@ def correlation(x, y) -> tuple[float, tuple[float, float]]:
     x, y = np.asarray(x, float), np.asarray(y, float)
     if x.size < 4:
         raise InputError(f"a correlation's 95 % range needs 4 pairs or more, got {x.size}")
-    dx, dy = x - x.mean(), y - y.mean()
     if not (_varies(x) and _varies(y)):  # equal sizes (a catalogue's nominal magnitudes): nothing to correlate
         return 0.0, (-1.0, 1.0)
+    dx, dy = x - x.mean(), y - y.mean()
     scale = math.sqrt(float(np.sum(dx * dx) * np.sum(dy * dy)))
     r = float(np.clip(np.sum(dx * dy) / scale, -1.0, 1.0))
     if abs(r) == 1.0:
