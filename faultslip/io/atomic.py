@@ -126,6 +126,15 @@ def write_text_atomic(path, text: str, immediate: bool = False) -> None:
         temporary.write_text(text, encoding="utf-8")
 
 
+def write_chunks_atomic(path, chunks) -> None:
+    """Write the text ``chunks`` (an iterable of strings) to ``path`` atomically, one at a time, so that a
+    long file is never held whole in memory."""
+    with atomic_path(path) as temporary:
+        with open(temporary, "w", encoding="utf-8") as handle:
+            for chunk in chunks:
+                handle.write(chunk)
+
+
 def save_figure(figure, path, **kwargs) -> None:
     """Save a matplotlib figure atomically; the format follows the file name."""
     target = Path(path)

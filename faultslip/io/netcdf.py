@@ -19,13 +19,52 @@ def compression_encoding(dataset, level: int = 4) -> dict:
     return encoding
 
 
+#: A data variable larger than this is written a block of rows at a time (xarray would read it whole first).
+STREAM_BYTES = 1 << 20
+
+
 def write_dataset(dataset, path, *, compress: bool = True) -> None:
-    """Write ``dataset`` to ``path`` (netCDF4 engine): temporary file, then rename."""
+    """Write ``dataset`` to ``path`` (netCDF4 engine): temporary file, then rename.
+
+    Data variables over :data:`STREAM_BYTES` of numbers (a long run's series, which may still be on
+    disk unread) are written a block of leading-dimension rows at a time into the file xarray made for
+    the rest, so that writing holds one block, not the variable."""
     if not str(path).endswith(".nc"):
         raise InputError(f"output file {str(path)!r} must end in .nc (netCDF4)")
+    large = [name for name, variable in dataset.data_vars.items()
+             if variable.ndim > 0 and variable.dtype.kind == "f" and variable.size * variable.dtype.itemsize > STREAM_BYTES
+             and not variable.chunks and not variable.encoding]  # a variable read from a file keeps its encoding
+    rest = dataset.drop_vars(large)
     with atomic_path(path) as temporary:
-        dataset.to_netcdf(temporary, engine="netcdf4", format="NETCDF4",
-                          encoding=compression_encoding(dataset) if compress else None)
+        rest.to_netcdf(temporary, engine="netcdf4", format="NETCDF4",
+                       encoding=compression_encoding(rest) if compress else None)
+        if large:
+            _append_in_blocks(temporary, dataset, large, compress)
+
+
+def _append_in_blocks(path, dataset, names, compress: bool) -> None:
+    """Each variable of ``names`` into the netCDF at ``path``, its rows read and written a block at a time, with
+    the encoding xarray gives a float variable (NaN as the fill value; zlib level 4 if ``compress``)."""
+    import netCDF4  # heavy: imported where used
+
+    with netCDF4.Dataset(path, "a") as nc:
+        for name in names:
+            variable = dataset[name].variable
+            for dim in variable.dims:
+                if dim not in nc.dimensions:
+                    nc.createDimension(dim, dataset.sizes[dim])
+            filters = {"zlib": True, "complevel": 4} if compress else {}
+            row_bytes = max(1, variable.size // max(1, variable.shape[0])) * variable.dtype.itemsize
+            block = max(1, min(STREAM_BYTES // row_bytes, variable.shape[0]))
+            # a block is one whole chunk, written once: HDF5's chunk cache (16 MiB a variable by default, kept to
+            # the file's close) would only hold memory
+            target = nc.createVariable(name, variable.dtype, variable.dims, fill_value=np.nan,
+                                       chunksizes=(block,) + variable.shape[1:], **filters)
+            target.set_var_chunk_cache(size=block * row_bytes + (1 << 16), nelems=1, preemption=1.0)
+            for key, value in variable.attrs.items():
+                target.setncattr(key, value)
+            for start in range(0, variable.shape[0], block):
+                target[start:start + block] = variable[start:start + block].values
 
 
 def create_chunked(path, dims: dict, coords: dict, variables: dict, attrs: dict, chunks: dict,

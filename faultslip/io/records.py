@@ -33,8 +33,11 @@ from faultslip.io import gate
 from faultslip.io.atomic import atomic_path
 from faultslip.io.outputs import as_output_error
 
-#: Rows buffered before they are written (a write per step would cost a system call per step).
-BUFFER_ROWS = 4096
+#: Bytes of rows buffered before they are written: a write per step would cost a system call per step, and a
+#: count of rows would hold megabytes of a wide stream (a 2-D fault's profiles are 16 kB a row).
+BUFFER_BYTES = 1 << 20
+#: Bytes of a finished record read at a time: what a run keeps in memory stays flat in its length.
+BLOCK_BYTES = 1 << 20
 _FLAGS = getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
 _RESUME = "start the run again without --resume"
 
@@ -113,7 +116,7 @@ class RecordStream:
     def append(self, row) -> None:
         self.buffer.append(row)
         self.rows += 1
-        if len(self.buffer) >= BUFFER_ROWS:
+        if len(self.buffer) * self.width * 8 >= BUFFER_BYTES:
             self.flush()
 
     def flush(self) -> None:
@@ -149,7 +152,9 @@ class RecordStream:
         """Every row, from the open descriptor (the path is not opened again)."""
         self.flush()
         if self.path is None:
-            return np.concatenate(self.memory) if self.memory else np.empty((0, self.width))
+            if len(self.memory) != 1:  # joined once, so that reading again costs no copy
+                self.memory = [np.concatenate(self.memory) if self.memory else np.empty((0, self.width))]
+            return self.memory[0]
         size = self.rows * self.width * 8
         data = bytearray()
         while len(data) < size:
@@ -158,6 +163,14 @@ class RecordStream:
                 raise InputError(f"the record file {str(self.path)!r} was truncated while the run wrote it")
             data += chunk
         return np.frombuffer(bytes(data), dtype=np.float64).reshape(-1, self.width)
+
+    def columns(self, columns: slice):
+        """Columns ``columns`` of every row: an array for a stream kept in memory; for a file, a
+        :class:`RecordColumns` that reads it a block at a time, so that a long run's records stay on disk."""
+        self.flush()
+        if self.path is None:
+            return self.read()[:, columns]
+        return RecordColumns(self.path, self.width, self.rows, columns)
 
     def close(self) -> None:
         if self.descriptor is not None:
@@ -171,6 +184,97 @@ class RecordStream:
         if self.path is not None:
             with contextlib.suppress(OSError):
                 os.unlink(self.path)
+
+
+class RecordColumns:
+    """Read-only columns of a finished record file, read from disk when indexed.
+
+    Indexing as numpy's on two dimensions (rows by an int, slice, mask or index array; columns by
+    an int or slice) reads only the rows asked for, a block of :data:`BLOCK_BYTES` at a time, so
+    that ``run.stations["slip"][:, k]`` over a run of centuries holds one column, never the file.
+    ``numpy.asarray`` reads it all. :func:`lazy_data` hands it to xarray unread.
+    """
+
+    def __init__(self, path, width: int, rows: int, columns: slice = slice(None)):
+        self.path, self.width, self.rows = Path(path), int(width), int(rows)
+        self.selected = np.arange(self.width)[columns]
+        self.shape = (self.rows, int(self.selected.size))
+        self.ndim, self.dtype = 2, np.dtype(np.float64)
+        self.nbytes = self.shape[0] * self.shape[1] * 8
+
+    def __len__(self) -> int:
+        return self.rows
+
+    def __array__(self, dtype=None, copy=None):
+        values = self[:, :]
+        return values if dtype is None else values.astype(dtype)
+
+    def __getitem__(self, key):
+        key = key if isinstance(key, tuple) else (key,)
+        if len(key) > 2 or any(part is Ellipsis or part is None for part in key):
+            raise IndexError("a record's columns take at most a row and a column index")
+        columns = self.selected[key[1] if len(key) == 2 else slice(None)]
+        picked = np.arange(self.rows)[key[0]]
+        single = picked.ndim == 0
+        wanted, inverse = np.unique(np.atleast_1d(picked), return_inverse=True)
+        per_block = max(1, BLOCK_BYTES // (8 * self.width))
+        parts = []
+        if wanted.size:
+            descriptor = self._open()
+            try:
+                for block in np.unique(wanted // per_block):
+                    rows = wanted[(wanted >= block * per_block) & (wanted < (block + 1) * per_block)]
+                    first, last = int(rows[0]), int(rows[-1]) + 1
+                    data = self._pread(descriptor, first, last)
+                    if rows.size != last - first:  # only the rows asked for (a run of them needs no copy)
+                        data = data[rows - first]
+                    parts.append(data[:, columns].copy())  # a view would keep the whole block alive
+            finally:
+                os.close(descriptor)
+        shape = (0,) + np.empty((0, self.width))[:, columns].shape[1:]
+        values = np.concatenate(parts)[inverse.ravel()] if parts else np.empty(shape)
+        return values[0] if single else values
+
+    def _open(self) -> int:
+        try:
+            return os.open(self.path, os.O_RDONLY | _FLAGS)
+        except FileNotFoundError:
+            raise InputError(f"the record file {str(self.path)!r} of this run is gone (its output folder was "
+                             "changed); run it again") from None
+        except OSError as exc:
+            raise _refuse_link(self.path, exc) from None
+
+    def _pread(self, descriptor: int, first: int, last: int) -> np.ndarray:
+        """Rows ``first`` to ``last`` read straight into one array (no intermediate copies)."""
+        data = np.empty((last - first, self.width))
+        view, offset = memoryview(data).cast("B"), first * self.width * 8
+        done = 0
+        while done < view.nbytes:
+            count = os.preadv(descriptor, [view[done:]], offset + done)
+            if count == 0:
+                raise InputError(f"the record file {str(self.path)!r} was truncated after the run wrote it; run it "
+                                 "again")
+            done += count
+        return data
+
+
+def lazy_data(values):
+    """``values`` as xarray takes data: a :class:`RecordColumns` wrapped so that xarray reads it only
+    when indexed or written (a block at a time by :func:`faultslip.io.netcdf.write_dataset`); an array
+    as it is."""
+    if not isinstance(values, RecordColumns):
+        return values
+    from xarray.backends import BackendArray  # heavy: imported where used
+    from xarray.core import indexing  # heavy: imported where used
+
+    class _Backend(BackendArray):
+        shape, dtype = values.shape, values.dtype
+
+        def __getitem__(self, key):
+            return indexing.explicit_indexing_adapter(key, self.shape, indexing.IndexingSupport.BASIC,
+                                                      values.__getitem__)
+
+    return indexing.LazilyIndexedArray(_Backend())
 
 
 def _checksum(arrays: dict) -> str:

@@ -20,7 +20,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io import gate
-from faultslip.io.atomic import write_text_atomic
+from faultslip.io.atomic import write_chunks_atomic
 
 STATION_COLUMNS = ("t", "slip", "slip_rate", "shear_stress", "state")
 
@@ -49,10 +49,18 @@ def write_station(path, time, slip, log10_slip_rate, shear_stress_mpa, log10_sta
              "# Column #1 = Time (s)", "# Column #2 = Slip (m)", "# Column #3 = Slip rate (log10 m/s)",
              "# Column #4 = Shear stress (MPa)", "# Column #5 = State (log10 s)",
              "# The line below lists the names of the data fields:"]
-    rows = np.column_stack([time, slip, log10_slip_rate, shear_stress_mpa, log10_state])
-    body = "\n".join(" ".join(f"{v:.15g}" for v in row) for row in rows)
     text = "\n".join(_header(problem, code, version, element_size, extra) + [" ".join(STATION_COLUMNS)]) + "\n"
-    write_text_atomic(path, text + body + "\n")
+    columns = (time, slip, log10_slip_rate, shear_stress_mpa, log10_state)
+    write_chunks_atomic(path, _chunks(text, lambda a, b: np.column_stack([np.asarray(c[a:b], float) for c in columns]),
+                                      time.size))
+
+
+def _chunks(head: str, rows, count: int, block: int = 8192):
+    """``head``, then ``rows(a, b)`` formatted with 15 significant digits, ``block`` rows at a time (a run's
+    records are written without ever being held whole, as text or as numbers)."""
+    yield head
+    for start in range(0, count, block):
+        yield "".join(" ".join(f"{v:.15g}" for v in row) + "\n" for row in rows(start, min(start + block, count)))
 
 
 def write_profiles(path, time, max_slip_rate, slip, depths, *, element_size: float,
@@ -67,9 +75,11 @@ def write_profiles(path, time, max_slip_rate, slip, depths, *, element_size: flo
     lines.append(" ".join(f"{v:.15g}" for v in np.concatenate([[0.0, 0.0], depths])))
     with np.errstate(divide="ignore"):  # log10, as the SEAS writers give it (a rate of 0 is -inf)
         log10_rate = np.log10(np.asarray(max_slip_rate, float))
-    rows = np.column_stack([np.asarray(time, float), log10_rate, np.asarray(slip, float)])
-    lines.extend(" ".join(f"{v:.15g}" for v in row) for row in rows)
-    write_text_atomic(path, "\n".join(lines) + "\n")
+    time = np.asarray(time, float)
+    # slip may be a run's RecordColumns on disk: read a block of rows at a time
+    block = max(1, (1 << 20) // (8 * max(1, depths.size)))
+    write_chunks_atomic(path, _chunks("\n".join(lines) + "\n", lambda a, b: np.column_stack(
+        [time[a:b], log10_rate[a:b], np.asarray(slip[a:b], float)]), time.size, block))
 
 
 def read_seas(path) -> tuple[dict, list, np.ndarray]:

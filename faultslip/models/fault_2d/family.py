@@ -20,6 +20,7 @@ from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_encodable, output_lock
+from faultslip.io.records import lazy_data
 from faultslip.io.report import Report
 from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
@@ -195,10 +196,14 @@ def to_dataset(loaded: Fault2DScene, run: Fault2DRun):
     units = {"slip": ("m", "slip"), "log10_slip_rate": ("1", "log10 of the slip rate in m/s"),
              "shear_stress": ("Pa", "shear stress (frictional strength)"),
              "log10_state": ("1", "log10 of the state theta in s")}
-    data = {f"station_{name}": (("time", "station"), values, {"units": units[name][0], "long_name": units[name][1]})
+    # a run with a folder hands its series over unread: xarray reads them when indexed, and write_dataset a block
+    # at a time
+    data = {f"station_{name}": (("time", "station"), lazy_data(values),
+                                {"units": units[name][0], "long_name": units[name][1]})
             for name, values in run.stations.items()}
-    data["profile_slip"] = (("profile_time", "depth"), run.profiles, {"units": "m", "long_name": "cumulative slip"})
-    data["profile_log10_slip_rate"] = (("profile_time", "depth"), run.profile_log10_slip_rate,
+    data["profile_slip"] = (("profile_time", "depth"), lazy_data(run.profiles),
+                            {"units": "m", "long_name": "cumulative slip"})
+    data["profile_log10_slip_rate"] = (("profile_time", "depth"), lazy_data(run.profile_log10_slip_rate),
                                        {"units": "1", "long_name": "log10 of the slip rate in m/s"})
     data["profile_max_slip_rate"] = ("profile_time", run.profile_max_speed, {"units": "m/s"})
     data["event_start"] = ("event", run.events["start"], {"units": "s", "long_name": "peak slip rate above 1e-3 m/s"})
@@ -225,11 +230,11 @@ def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: R
     """The SEAS files, the event catalogue (CSV with units) and the netCDF in ``folder``, each atomic."""
     fault = run.fault
     problem = f"faultslip 2-D fault: {loaded.name}"  # the scene's own problem, BP1 or not
-    stress_mpa = run.stations["shear_stress"] / 1e6
-    for k, depth in enumerate(run.station_depths):
+    for k, depth in enumerate(run.station_depths):  # a station's columns at a time: the run may be on disk
         write_station(folder / station_file_name(depth), run.station_time, run.stations["slip"][:, k],
-                      run.stations["log10_slip_rate"][:, k], stress_mpa[:, k], run.stations["log10_state"][:, k],
-                      depth=float(depth), element_size=fault.element_size, version=__version__, problem=problem)
+                      run.stations["log10_slip_rate"][:, k], run.stations["shear_stress"][:, k] / 1e6,
+                      run.stations["log10_state"][:, k], depth=float(depth), element_size=fault.element_size,
+                      version=__version__, problem=problem)
     write_profiles(folder / "devol.dat", run.profile_time, run.profile_max_speed, run.profiles, fault.depth,
                    element_size=fault.element_size, version=__version__, problem=problem)
     moment = run.moments_per_length()

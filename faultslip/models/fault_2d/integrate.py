@@ -58,11 +58,11 @@ class Fault2DRun:
     fault: Fault2D
     station_depths: np.ndarray
     station_time: np.ndarray  # (steps + 1,)
-    stations: dict  # field -> (steps + 1, stations)
+    stations: dict  # field -> (steps + 1, stations): an array, or RecordColumns read from the run's folder
     profile_time: np.ndarray
     profile_max_speed: np.ndarray
-    profiles: np.ndarray  # (profiles, elements): slip
-    profile_log10_slip_rate: np.ndarray  # (profiles, elements)
+    profiles: np.ndarray  # (profiles, elements): slip (an array, or RecordColumns)
+    profile_log10_slip_rate: np.ndarray  # (profiles, elements) (an array, or RecordColumns)
     events: dict  # start, end, hypocentre_depth, peak_speed (arrays), slip (events, elements)
     steps: int
     rejected: int
@@ -287,8 +287,6 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         wall = wall_before + clock.perf_counter() - started
         if checkpoint is not None:
             save()
-        station_rows = stations_store.read()
-        profile_rows = profiles_store.read()
         event_rows = events_store.read()
     except BaseException as exc:
         # a fresh run that failed leaves nothing behind; a stop, an interrupt or a resumed run keeps the last
@@ -303,13 +301,19 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     finally:
         for stream in streams:
             stream.close()
-    stations_out = {name: station_rows[:, 1 + i * recorder.depths.size: 1 + (i + 1) * recorder.depths.size]
+    # a run with a folder leaves its station series and profiles on disk, read when indexed (memory flat in the
+    # run's length: issue 43); times and the events, a few numbers a row, are read now
+    width = recorder.depths.size
+    stations_out = {name: stations_store.columns(slice(1 + i * width, 1 + (i + 1) * width))
                     for i, name in enumerate(STATION_FIELDS)}
+    profile_times = np.asarray(profiles_store.columns(slice(0, 2)))
     events = {"start": event_rows[:, 0], "end": event_rows[:, 1], "hypocentre_depth": event_rows[:, 2],
               "peak_slip_rate": event_rows[:, 3], "slip": event_rows[:, 5:]}
-    run = Fault2DRun(fault, recorder.depths, station_rows[:, 0], stations_out, profile_rows[:, 0], profile_rows[:, 1],
-                     profile_rows[:, 2:count + 2], profile_rows[:, count + 2:], events, steps, rejected, evaluations, wall, duration, rtol, operator.method,
-                     y[:count].copy(), y[count:].copy(), t, min_step, max_step, resumed_from)
+    run = Fault2DRun(fault, recorder.depths, np.asarray(stations_store.columns(slice(0, 1)))[:, 0], stations_out,
+                     profile_times[:, 0], profile_times[:, 1], profiles_store.columns(slice(2, count + 2)),
+                     profiles_store.columns(slice(count + 2, 2 * count + 2)), events, steps, rejected, evaluations,
+                     wall, duration, rtol, operator.method, y[:count].copy(), y[count:].copy(), t, min_step, max_step,
+                     resumed_from)
     if event["inside"]:
         run.notes.append(f"an event was under way at the end (started at {event['start'] / YEAR:.6g} yr); it is not "
                          "in the catalogue")
