@@ -68,6 +68,7 @@ DECLARATIONS = {
     "asperity": Declaration("faultslip.models.asperity.family", friction_law="asperity"),
     "rough_surface": Declaration("faultslip.models.rough_surface.family", friction_law="rough_surface"),
     "fault_2d": Declaration("faultslip.models.fault_2d.family"),  # declared by family = "fault_2d" alone
+    "spring_chain": Declaration("faultslip.models.spring_chain.family"),  # declared by family = "spring_chain" alone
 }
 
 #: Scene objects a family's run and simulate take as they are, by qualified class name (told apart without

@@ -1,0 +1,1 @@
+"""A chain of spring-blocks (Burridge & Knopoff 1967): a fault of many blocks whose catalogue has sizes."""

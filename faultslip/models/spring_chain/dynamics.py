@@ -1,0 +1,432 @@
+r"""A chain of spring-blocks (Burridge & Knopoff 1967), event by event: analytic sticks, exact slips.
+
+N blocks of mass m, each pulled by a leaf spring k_p (and a dashpot c, in parallel) from a plate moving
+at V, neighbours joined by coupling springs k_c (free ends). Block i holds while the force on it,
+
+.. math:: F_i = k_p (V t - x_i) + c (V - \dot x_i) + k_c \sum_{j \sim i} (x_j - x_i),
+
+stays within its static limit, |F_i| <= W \mu_{s,i} (the seed's rate-law static friction, a threshold for
+each block); a slipping block feels the kinetic friction W \mu_k against its motion:
+
+.. math:: m \ddot x_i = F_i - W \mu_k \, \mathrm{sign}(\dot x_i).
+
+A block pulled back past -W mu_s,i by its neighbours slips backwards, as Burridge & Knopoff's blocks may.
+
+**Sticks** are analytic: with every block held, every force grows at k_p V, so the next block to fail is
+the one with the least headroom W mu_s,i - F_i, after headroom / (k_p V). Nothing is stepped through the
+interseismic time.
+
+**Slips** are exact. With the slipping set S fixed, the equations are linear with constant coefficients
+and a forcing linear in time: m x'' + c x' + K_S x = A + B tau, K_S the tridiagonal stiffness of S
+(the held blocks fixed). Its modes (K_S = Phi Lambda Phi^T, scipy's ``eigh_tridiagonal``) are damped
+oscillators with the closed-form solution
+
+.. math:: q_j(\tau) = P_{0j} + P_{1j} \tau + e^{-\gamma \tau} (C_j \cos \omega_{dj} \tau + D_j \sin \omega_{dj} \tau),
+
+gamma = c / 2m, omega_dj^2 = lambda_j / m - gamma^2 (every mode underdamped: c < 2 sqrt(k_p m)). A
+sub-phase ends at the first of: a slipping block's speed returning to zero (it sticks if |F_i| <= W mu_s,i,
+else slips on, in the direction of F_i), or a held block's |F_i| reaching its limit (it joins). Each is bracketed on a grid of 32
+points per period of the fastest mode and located by Brent's method on the closed form to 1e-13 of the
+step. Blocks that stop or fail together (identical blocks) do so in one sub-phase. An event ends when no
+block slips.
+
+Failures are never silent: a slip that outlives its horizon or more sub-phases than the budget raise :class:`~faultslip.errors.SolverError`, saying which and what to do.
+"""
+
+from __future__ import annotations
+
+import math
+import time as clock
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from faultslip.errors import InputError, SolverError
+
+#: Grid points per period of the fastest mode that bracket a sub-phase's end.
+SAMPLES_PER_PERIOD = 32
+#: Relative tolerance within which blocks stop or fail together.
+TOGETHER = 1e-10
+
+
+@dataclass(frozen=True)
+class Chain:
+    """A spring-block chain in SI: N blocks, their static limits and the shared kinetic friction.
+
+    Parameters
+    ----------
+    mass : float
+        m of each block (kg).
+    leaf_stiffness : float
+        k_p, the spring from each block to the plate (N/m).
+    coupling_stiffness : float
+        k_c, the spring between neighbours (N/m; 0 uncouples them).
+    normal_load : float
+        W on each block (N).
+    platform_speed : float
+        V, the plate's speed (m/s).
+    static_friction : array
+        mu_s,i of each block (its length is the number of blocks).
+    kinetic_friction : float
+        mu_k while a block slips (below every mu_s,i).
+    dashpot : float
+        c between each block and the plate (N s/m), below 2 sqrt(k_p m).
+    name : str
+        For reports.
+    """
+
+    mass: float
+    leaf_stiffness: float
+    coupling_stiffness: float
+    normal_load: float
+    platform_speed: float
+    static_friction: np.ndarray
+    kinetic_friction: float
+    dashpot: float = 0.0
+    name: str = "spring-block chain"
+
+    def __post_init__(self):
+        for key in ("mass", "leaf_stiffness", "normal_load", "platform_speed"):
+            value = getattr(self, key)
+            if not (math.isfinite(value) and value > 0):
+                raise InputError(f"the chain's {key.replace('_', ' ')} must be positive, got {value!r}")
+        if not (math.isfinite(self.coupling_stiffness) and self.coupling_stiffness >= 0):
+            raise InputError(f"the chain's coupling stiffness must be zero or positive, got {self.coupling_stiffness!r}")
+        static = np.asarray(self.static_friction, float)
+        if static.ndim != 1 or static.size < 1:
+            raise InputError("the chain needs a static friction for each of at least one block")
+        if not (math.isfinite(self.kinetic_friction) and self.kinetic_friction >= 0):
+            raise InputError(f"the kinetic friction must be zero or positive, got {self.kinetic_friction!r}")
+        if not np.all(np.isfinite(static)) or not np.all(static > self.kinetic_friction):
+            raise InputError(f"every block's static friction must exceed the kinetic friction {self.kinetic_friction:g} "
+                             f"(the smallest is {static.min():g}): without a drop there is no stick-slip")
+        critical = 2 * math.sqrt(self.leaf_stiffness * self.mass)
+        if not (math.isfinite(self.dashpot) and 0 <= self.dashpot < critical):
+            raise InputError(f"the dashpot must be from 0 to below critical damping 2 sqrt(k_p m) = {critical:.4g} N s/m, "
+                             f"got {self.dashpot!r}")
+        object.__setattr__(self, "static_friction", static)
+
+    @property
+    def blocks(self) -> int:
+        return int(self.static_friction.size)
+
+    @property
+    def damping_ratio(self) -> float:
+        """zeta = c / (2 sqrt(k_p m)), of a block alone."""
+        return self.dashpot / (2 * math.sqrt(self.leaf_stiffness * self.mass))
+
+    def neighbours(self) -> np.ndarray:
+        """How many neighbours each block has (free ends)."""
+        degree = np.full(self.blocks, 2.0)
+        degree[[0, -1]] = 1.0
+        if self.blocks == 1:
+            degree[:] = 0.0
+        return degree
+
+    def forces(self, x: np.ndarray, v: np.ndarray, t: float) -> np.ndarray:
+        """F_i on every block at positions ``x``, speeds ``v`` and time ``t`` (friction aside)."""
+        coupling = np.zeros_like(x)
+        if self.blocks > 1:
+            difference = np.diff(x)
+            coupling[:-1] += difference
+            coupling[1:] -= difference
+        return (self.leaf_stiffness * (self.platform_speed * t - x) + self.dashpot * (self.platform_speed - v)
+                + self.coupling_stiffness * coupling)
+
+
+@dataclass
+class ChainRun:
+    """A chain's catalogue: one row per event (SI), and the state it ended in."""
+
+    chain: Chain
+    start: np.ndarray  # (events,) s
+    end: np.ndarray  # (events,) s
+    first_block: np.ndarray  # (events,) the block that failed first (the hypocentre)
+    blocks_slipped: np.ndarray  # (events,) how many blocks slipped
+    slip: np.ndarray  # (events, blocks) m
+    peak_speed: np.ndarray  # (events,) m/s
+    subphases: int
+    wall_time: float
+    final_position: np.ndarray
+    final_time: float
+    notes: list = field(default_factory=list)
+
+    @property
+    def events(self) -> int:
+        return int(self.start.size)
+
+    @property
+    def total_slip(self) -> np.ndarray:
+        """Slip summed over the blocks of each event (m): the event's potency per patch area."""
+        return self.slip.sum(axis=1)
+
+
+class _Modes:
+    """The closed-form motion of the slipping set S over one sub-phase (see the module)."""
+
+    def __init__(self, chain: Chain, slipping: np.ndarray, degree: np.ndarray, x: np.ndarray, v: np.ndarray,
+                 t0: float, direction: np.ndarray):
+        from scipy.linalg import eigh_tridiagonal  # heavy: imported where used
+
+        m, kp, kc, V = chain.mass, chain.leaf_stiffness, chain.coupling_stiffness, chain.platform_speed
+        self.index = slipping
+        diagonal = kp + kc * degree[slipping]
+        held = np.zeros(chain.blocks, bool)
+        held[:] = True
+        held[slipping] = False
+        pull = np.zeros(slipping.size)  # k_c times the held neighbours' positions
+        for offset in (-1, 1):
+            neighbour = slipping + offset
+            inside = (neighbour >= 0) & (neighbour < chain.blocks)
+            fixed = np.zeros(slipping.size, bool)
+            fixed[inside] = held[neighbour[inside]]
+            pull[fixed] += kc * x[neighbour[fixed]]
+        constant = (kp * V * t0 + chain.dashpot * V - chain.normal_load * chain.kinetic_friction * direction[slipping]
+                    + pull)
+        if slipping.size == 1:
+            values, vectors = diagonal, np.ones((1, 1))
+        else:
+            adjacent = np.diff(slipping) == 1
+            values, vectors = eigh_tridiagonal(diagonal, np.where(adjacent, -kc, 0.0))
+        self.vectors = vectors
+        gamma = chain.dashpot / (2 * m)
+        omega2 = values / m
+        self.gamma, self.omega_d = gamma, np.sqrt(omega2 - gamma ** 2)
+        alpha = vectors.T @ constant / m
+        beta = vectors.T @ np.full(slipping.size, kp * V) / m
+        self.p1 = beta / omega2
+        self.p0 = (alpha - 2 * gamma * self.p1) / omega2
+        q0, dq0 = vectors.T @ x[slipping], vectors.T @ v[slipping]
+        self.c = q0 - self.p0
+        self.d = (dq0 - self.p1 + gamma * self.c) / self.omega_d
+
+    def modal(self, tau):
+        """(q, dq/dt) of every mode at ``tau``: modes x times for an array of times, or vectors for a number."""
+        tau = np.asarray(tau, float)
+        if tau.ndim:
+            tau = tau[None, :]
+            wd, c, d, p0, p1 = (a[:, None] for a in (self.omega_d, self.c, self.d, self.p0, self.p1))
+        else:
+            wd, c, d, p0, p1 = self.omega_d, self.c, self.d, self.p0, self.p1
+        decay = np.exp(-self.gamma * tau)
+        cos, sin = np.cos(wd * tau), np.sin(wd * tau)
+        q = p0 + p1 * tau + decay * (c * cos + d * sin)
+        dq = p1 + decay * ((-self.gamma * c + wd * d) * cos + (-self.gamma * d - wd * c) * sin)
+        return q, dq
+
+    def state(self, tau):
+        """(positions, speeds) of the slipping blocks at ``tau`` (a number, or an array: blocks x times)."""
+        q, dq = self.modal(tau)
+        return self.vectors @ q, self.vectors @ dq
+
+    def speed(self, tau: float, row: int) -> float:
+        """The speed of slipping block ``row`` at ``tau`` (one row of the modes: cheap, for root finding)."""
+        return float(self.vectors[row] @ self.modal(tau)[1])
+
+
+def _first_crossing(values: np.ndarray, at_or_below: bool) -> np.ndarray:
+    """Index of the first grid point of each row at or below zero (``at_or_below``) or at or above zero; -1 if
+    none."""
+    hit = values <= 0.0 if at_or_below else values >= 0.0
+    first = np.argmax(hit, axis=1)
+    return np.where(hit.any(axis=1), first, -1)
+
+
+def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subphases: int | None = None) -> ChainRun:
+    """Run ``chain`` from rest until ``events`` events have happened (see the module).
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    events : int
+        How many events to record.
+    initial_position : array, optional
+        Each block's position at t = 0 (m; default all at 0, the plate's springs unstretched).
+    max_subphases : int, optional
+        A budget of slip sub-phases (default 50 per block per event).
+
+    Returns
+    -------
+    ChainRun
+    """
+    from scipy.optimize import brentq  # heavy: imported where used
+
+    if not (isinstance(events, (int, np.integer)) and events >= 1):
+        raise InputError(f"the chain needs at least one event to run, got {events!r}")
+    n = chain.blocks
+    x = np.zeros(n) if initial_position is None else np.array(initial_position, float)
+    if x.shape != (n,) or not np.all(np.isfinite(x)):
+        raise InputError(f"the initial positions must be {n} finite numbers, one a block")
+    v = np.zeros(n)
+    t = 0.0
+    kp, V, W = chain.leaf_stiffness, chain.platform_speed, chain.normal_load
+    limits = W * chain.static_friction
+    degree = chain.neighbours()
+    budget = max_subphases or 50 * n * events + 1000
+    starts, ends, firsts, sizes, slips, peaks = [], [], [], [], [], []
+    subphases = 0
+    began = clock.perf_counter()
+    scale = chain.normal_load * (chain.static_friction.max() - chain.kinetic_friction)
+    while len(starts) < events:
+        # stick: every force grows at k_p V; the least headroom fails first (and any within TOGETHER of it). A
+        # start that holds a block past -W mu_s (neighbours far ahead) lets it go backwards at once.
+        force = chain.forces(x, v, t)
+        headroom = np.where(force < -limits, -np.inf, limits - force)
+        wait = max(float(headroom.min()), 0.0) / (kp * V)
+        t += wait
+        headroom -= kp * V * wait
+        slipping = np.flatnonzero(headroom <= TOGETHER * scale)
+        first = int(slipping[np.argmin(headroom[slipping])])
+        direction = np.where(force < -limits, -1.0, 1.0)
+        x_before, t_start, peak = x.copy(), t, 0.0
+        slipped = np.zeros(n, bool)
+        while slipping.size:
+            subphases += 1
+            if subphases > budget:
+                raise SolverError(f"the chain: more than {budget} slip sub-phases at t = {t:.6g} s; raise "
+                                  "max_subphases, or fewer blocks or events")
+            slipped[slipping] = True
+            modes = _Modes(chain, slipping, degree, x, v, t, direction)
+            tau, stops, joins = _next_change(chain, modes, slipping, x, v, t, limits, direction, brentq)
+            xs, vs = modes.state(tau)
+            peak = max(peak, float(_peak_speed(modes, tau)))
+            x[slipping], v[slipping] = xs, vs
+            t += tau
+            v[slipping[stops]] = 0.0
+            force = chain.forces(x, v, t)
+            stopped = slipping[stops]
+            # a stopped block holds if its limit does; else it slips on, the way its force pushes
+            stay = stopped[np.abs(force[stopped]) > limits[stopped]]
+            direction[stay] = np.sign(force[stay])
+            direction[joins] = np.where(force[joins] < 0, -1.0, 1.0)
+            held = np.setdiff1d(stopped, stay)
+            slipping = np.union1d(np.setdiff1d(slipping, held), joins)
+        starts.append(t_start)
+        ends.append(t)
+        firsts.append(first)
+        sizes.append(int(slipped.sum()))
+        slips.append(x - x_before)
+        peaks.append(peak)
+    return ChainRun(chain, np.array(starts), np.array(ends), np.array(firsts), np.array(sizes), np.array(slips),
+                    np.array(peaks), subphases, clock.perf_counter() - began, x.copy(), t)
+
+
+def _peak_speed(modes: _Modes, tau: float, samples: int = 16) -> float:
+    """The largest block speed over the sub-phase, on a grid (a record, not a decision)."""
+    grid = np.linspace(0.0, tau, samples)
+    return float(np.abs(modes.state(grid)[1]).max())
+
+
+def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
+    """(tau, which slipping blocks stop, which held blocks join) at the sub-phase's first change."""
+    n = chain.blocks
+    kp, kc, V = chain.leaf_stiffness, chain.coupling_stiffness, chain.platform_speed
+    held = np.ones(n, bool)
+    held[slipping] = False
+    # held blocks next to a slipping one feel it; the rest only the plate (linear in time, exact below)
+    near = np.zeros(n, bool)
+    for offset in (-1, 1):
+        neighbour = slipping + offset
+        neighbour = neighbour[(neighbour >= 0) & (neighbour < n)]
+        near[neighbour] = True
+    near &= held
+    near_index = np.flatnonzero(near)
+    far_index = np.flatnonzero(held & ~near)
+    force0 = chain.forces(x, v, t0)
+    far_wait = (limits[far_index] - force0[far_index]) / (kp * V) if far_index.size else np.empty(0)
+    period = 2 * math.pi / float(modes.omega_d.max())
+    step = period / SAMPLES_PER_PERIOD
+    slowest = 2 * math.pi / float(modes.omega_d.min())
+    position_in_s = {int(b): k for k, b in enumerate(slipping)}
+
+    def near_force(xs, tau):
+        """Force on each near held block (rows) at the grid's times (columns)."""
+        total = kp * (V * (t0 + tau) - x[near_index, None]) + chain.dashpot * V
+        for offset in (-1, 1):
+            neighbour = near_index + offset
+            for row, (block, other) in enumerate(zip(near_index, neighbour)):
+                if 0 <= other < n:
+                    moving = position_in_s.get(int(other))
+                    total[row] = total[row] + kc * ((xs[moving] if moving is not None else x[other]) - x[block])
+        return total
+
+    start, span = 0.0, 0.75 * slowest
+    for _ in range(200):
+        grid = start + step * np.arange(1, int(math.ceil(span / step)) + 1)
+        xs, vs = modes.state(grid)
+        candidates = []  # (bracket low, bracket high, kind, row)
+        stop = _first_crossing(vs * direction[slipping, None], at_or_below=True)
+        for row in np.flatnonzero(stop >= 0):
+            k = int(stop[row])
+            low = grid[k - 1] if k > 0 else start
+            candidates.append((low, grid[k], "stop", int(row)))
+        if near_index.size:
+            excess = np.abs(near_force(xs, grid)) - limits[near_index, None]
+            join = _first_crossing(excess, at_or_below=False)
+            for row in np.flatnonzero(join >= 0):
+                k = int(join[row])
+                candidates.append((grid[k - 1] if k > 0 else start, grid[k], "join", int(row)))
+        for row, wait in enumerate(far_wait):
+            if wait <= grid[-1]:
+                candidates.append((max(wait, 0.0), max(wait, 0.0), "far", row))
+        if candidates:
+            break
+        start, span = grid[-1], 2 * slowest
+    else:
+        raise SolverError(f"the chain: a slip of {slipping.size} block(s) from t = {t0:.6g} s neither ended nor spread "
+                          "within 200 of its slowest periods; the coupling may be too stiff for the leaf springs")
+    # refine in order of their brackets: a later bracket matters only if it starts before the best root so far
+    candidates.sort(key=lambda item: (item[0], item[1]))
+    roots, best = [], math.inf
+    for low, high, kind, row in candidates:
+        if low > best:
+            break
+        if kind == "far":
+            root = low
+        else:
+            # g > 0 before the change and <= 0 after it: a stopping block's speed along its slip, or a joining
+            # block's headroom W mu_s - |F|
+            if kind == "stop":
+                def g(tau, row=row):
+                    return modes.speed(tau, row) * direction[slipping[row]]
+            else:
+                def g(tau, row=row):
+                    xs_tau = modes.state(tau)[0]
+                    return float(limits[near_index[row]] - abs(near_force(xs_tau[:, None], np.array([tau]))[row, 0]))
+            # a block starting from rest steps off its zero speed at tau = 0; a held block already at its limit joins
+            a = low if g(low) > 0.0 else (_off_zero(g, low, high) if kind == "stop" else None)
+            if a is None:  # no room before the change: it happens at the bracket's start
+                root = low
+            elif g(high) > 0.0:  # the grid saw the change and the closed form, to round-off, not quite: its end
+                root = high
+            else:
+                root = brentq(g, a, high, xtol=1e-13 * max(high, 1e-300), rtol=4 * np.finfo(float).eps)
+        roots.append((root, kind, row))
+        best = min(best, root)
+    tau = min(root for root, _, _ in roots)
+    # everything that happens within TOGETHER of tau happens now (identical blocks stop and fail together)
+    xs, vs = modes.state(tau)
+    speed_scale = max(float(np.abs(vs).max()), float(np.abs(v[slipping]).max()), 1e-300)
+    # at tau = 0 (a block joined at once) the blocks just set going have not stopped: they have not moved
+    stops = (vs * direction[slipping] <= TOGETHER * speed_scale) if tau > 0 else np.zeros(slipping.size, bool)
+    stops |= np.isin(np.arange(slipping.size), [row for root, kind, row in roots if kind == "stop" and root <= tau])
+    joins = []
+    if near_index.size:
+        excess = np.abs(near_force(xs[:, None], np.array([tau]))[:, 0]) - limits[near_index]
+        joins.extend(near_index[excess >= -TOGETHER * np.abs(limits[near_index])].tolist())
+        joins.extend(near_index[row] for root, kind, row in roots if kind == "join" and root <= tau)
+    if far_index.size:
+        joins.extend(far_index[far_wait <= tau * (1 + TOGETHER)].tolist())
+    return tau, stops, np.unique(np.array(joins, int))
+
+
+def _off_zero(function, low: float, high: float):
+    """A point just after ``low`` where ``function`` is positive (a block starting from rest speeds up first),
+    or None if none is found before ``high`` (the slip ends within the first grid step)."""
+    width = high - low
+    for power in range(1, 40):
+        trial = low + width * 2.0 ** -power
+        if function(trial) > 0.0:
+            return trial
+    return None

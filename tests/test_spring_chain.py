@@ -1,0 +1,163 @@
+"""The spring-block chain (issue 45, item 1): its exact checks (one block is the exact cycle, uncoupled blocks are
+independent sliders, identical blocks move as one, the plate's balance), invariants on random chains, the
+b-value's maximum likelihood, and the family through the command line."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import faultslip
+from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
+from faultslip.dynamics.spring_slider.slider import SliderSystem
+from faultslip.errors import InputError
+from faultslip.fault.gutenberg_richter import b_value
+from faultslip.friction.laws import ConstantKinetic, ConstantStatic
+
+from conftest import assert_clean_error
+
+CHAIN = Path(__file__).resolve().parent.parent / "configs" / "spring_chain.toml"
+
+
+def _chain(**kw):
+    from faultslip.models.spring_chain.dynamics import Chain
+
+    values = dict(mass=2.0, leaf_stiffness=1e4, coupling_stiffness=0.0, normal_load=100.0, platform_speed=1e-3,
+                  static_friction=np.array([0.6]), kinetic_friction=0.4, dashpot=0.0)
+    values.update(kw)
+    return Chain(**values)
+
+
+def _simulate(chain, events, **kw):
+    from faultslip.models.spring_chain.dynamics import simulate_chain
+
+    return simulate_chain(chain, events, **kw)
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.3])
+def test_one_block_is_the_exact_cycle(zeta):
+    mass, stiffness = 2.0, 1e4
+    dashpot = 2 * zeta * math.sqrt(stiffness * mass)
+    run = _simulate(_chain(dashpot=dashpot), 6)
+    exact = exact_cycle(SliderSystem(mass=mass, stiffness=stiffness, normal_load=100.0, platform_speed=1e-3,
+                                     static_law=ConstantStatic(0.6), kinetic_law=ConstantKinetic(0.4), dashpot=dashpot))
+    np.testing.assert_allclose(run.slip[:, 0], exact.slip_per_event, rtol=1e-10)
+    np.testing.assert_allclose(np.diff(run.start), exact.period, rtol=1e-10)
+    np.testing.assert_allclose(run.end - run.start, exact.slip_duration, rtol=1e-9)
+    # slip per event = V T, the cycle's own balance
+    assert run.slip[-1, 0] == pytest.approx(1e-3 * (run.start[-1] - run.start[-2]), rel=1e-10)
+
+
+def test_uncoupled_blocks_are_independent_sliders():
+    """Without coupling each block repeats its own exact cycle. Two blocks that happen to fail within one slip's
+    duration are one event of the catalogue (they slip together), so each block's slips are compared, and its
+    lone slider's start must fall within the event that holds the block's slip."""
+    static = np.array([0.55, 0.62, 0.7])
+    together = _simulate(_chain(static_friction=static, dashpot=20.0), 30)
+    for block, mu in enumerate(static):
+        mine = np.flatnonzero(together.slip[:, block] > 0)
+        alone = _simulate(_chain(static_friction=np.array([mu]), dashpot=20.0), mine.size)
+        np.testing.assert_allclose(together.slip[mine, block], alone.slip[:, 0], rtol=1e-10)
+        assert np.all(together.start[mine] <= alone.start * (1 + 1e-12))
+        assert np.all(alone.start <= together.end[mine] * (1 + 1e-12))
+    assert np.mean(together.blocks_slipped == 1) > 0.8
+
+
+def test_identical_blocks_from_identical_starts_move_as_one():
+    blocks = 12
+    run = _simulate(_chain(static_friction=np.full(blocks, 0.6), coupling_stiffness=5e4, dashpot=30.0), 5)
+    one = _simulate(_chain(dashpot=30.0), 5)
+    assert np.all(run.blocks_slipped == blocks)
+    np.testing.assert_allclose(run.slip, np.repeat(one.slip, blocks, axis=1), rtol=1e-9)
+    np.testing.assert_allclose(run.start, one.start, rtol=1e-10)
+
+
+def test_the_plate_balance_holds_within_the_stored_stretch_and_the_slips_add_up():
+    """Each block's slip over a run against the plate's V T. They differ by what the springs still hold, which
+    is bounded: |k_p (V T - x_i) + c V + k_c sum(x_j - x_i)| <= W mu_s,i for a held block. So the balance is
+    checked against that bound (it falls as 1/T), not against a tolerance: it is checked on every block."""
+    from faultslip.models.spring_chain.family import statistics
+    from faultslip.models.spring_chain.scene import load_chain_scene
+
+    loaded = load_chain_scene(CHAIN)
+    run = _simulate(loaded.chain, 400, initial_position=loaded.initial_position)
+    stats = statistics(loaded, run)
+    excess = np.abs(stats["plate_balance_each"] - 1)
+    assert np.all(excess <= stats["plate_balance_bound_each"])
+    # the catalogue's slips are the blocks' displacements, exactly
+    np.testing.assert_allclose(run.slip.sum(axis=0), run.final_position - loaded.initial_position, rtol=1e-12,
+                               atol=1e-15)
+
+
+@settings(max_examples=25, deadline=None)
+@given(blocks=st.integers(2, 6), coupling=st.floats(0.0, 20.0), spread=st.floats(0.0, 0.9),
+       zeta=st.floats(0.0, 0.6), seed=st.integers(0, 1000))
+def test_a_random_chain_slips_in_order_and_only_where_it_says(blocks, coupling, spread, zeta, seed):
+    rng = np.random.default_rng(seed)
+    static = 0.4 + 0.2 * (1 + spread * rng.uniform(-1, 1, blocks))
+    chain = _chain(mass=1.0, leaf_stiffness=1.0, normal_load=1.0, coupling_stiffness=coupling, static_friction=static,
+                   dashpot=2 * zeta)
+    start = rng.uniform(0, 0.1, blocks)
+    run = _simulate(chain, 40, initial_position=start)
+    assert np.all(np.diff(run.start) >= 0) and np.all(run.end >= run.start)
+    assert np.all((run.slip != 0).sum(axis=1) <= run.blocks_slipped)
+    first = run.slip[np.arange(run.events), run.first_block]
+    assert np.all(first != 0)  # the first block to fail slipped: forward, or back where the start held it past -W mu_s
+    assert np.all(first[run.start > 0] > 0)  # after the start, every event begins with a forward failure
+    np.testing.assert_allclose(run.slip.sum(axis=0), run.final_position - start, rtol=1e-12, atol=1e-14)
+    # no held block is ever past its limit at the end of an event
+    force = chain.forces(run.final_position, np.zeros(blocks), run.final_time)
+    assert np.all(np.abs(force) <= chain.normal_load * static * (1 + 1e-9))
+
+
+def test_the_b_value_is_akis_maximum_likelihood_with_its_exact_interval():
+    magnitudes = np.array([2.0, 2.1, 2.3, 2.2, 3.0, 2.05, 2.6])
+    found = b_value(magnitudes, completeness=2.0)
+    assert found["b"] == pytest.approx(math.log10(math.e) / (magnitudes.mean() - 2.0), rel=1e-14)
+    binned = b_value(np.round(magnitudes, 1), completeness=2.0, bin_width=0.1)
+    assert binned["b"] == pytest.approx(math.log10(math.e) / (np.round(magnitudes, 1).mean() - 1.95), rel=1e-14)
+    # coverage: 400 Gutenberg-Richter catalogues of b = 1 (seeded), the 95 % interval holds the truth in 95 % of them
+    rng = np.random.default_rng(45)
+    covered = 0
+    for _ in range(400):
+        sample = 2.0 + rng.exponential(1 / math.log(10), 150)
+        low, high = b_value(sample, completeness=2.0)["interval"]
+        covered += low <= 1.0 <= high
+    assert 0.92 <= covered / 400 <= 0.98  # binomial 99 % range of 400 draws at 0.95
+    with pytest.raises(InputError, match="at least two"):
+        b_value([2.0])
+    with pytest.raises(InputError, match="no spread"):
+        b_value([2.0, 2.0, 2.0])
+
+
+def test_the_chain_family_runs_simulates_and_writes_quakeml(cli, tmp_path):
+    result = faultslip.run(CHAIN)
+    assert result.family == "spring_chain"
+    low, high = result["b_value_interval"]
+    assert low < result["b_value"] < high
+    # the example (50 blocks, +-50 % spread, k_c / k_p = 10): sizes span more than a magnitude unit
+    assert result["magnitude_max"] - result["magnitude_min"] > 1.0
+    out = cli("simulate", CHAIN, "--cycles", "50", "--events", tmp_path / "c.xml", "--json")
+    assert out.code == 0, out.err
+    from obspy import read_events
+
+    assert len(read_events(str(tmp_path / "c.xml"))) == 50
+    assert_clean_error(cli("simulate", CHAIN, "--cycles", "0"), "--cycles")
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ('blocks = 50', 'blocks = 0', "blocks"),
+    ('threshold_spread = 0.5', 'threshold_spread = 1.5', "threshold_spread"),
+    ('damping_ratio = 0.1', 'damping_ratio = "a lot"', "damping_ratio"),
+    ('leaf_stiffness = "1 kN/m"', 'leaf_stiffness = "1 kg"', "leaf_stiffness"),
+    ('preset = "granodiorite_water"', 'preset = "cheese"', "cheese"),
+])
+def test_bad_chain_scenes_are_one_sentence(old, new, message, tmp_path, cli):
+    path = tmp_path / "chain.toml"
+    path.write_text(CHAIN.read_text(encoding="utf-8").replace(old, new), encoding="utf-8")
+    assert_clean_error(cli("run", path), message)
