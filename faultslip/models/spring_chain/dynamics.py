@@ -338,22 +338,36 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
     period = 2 * math.pi / float(modes.omega_d.max())
     step = period / SAMPLES_PER_PERIOD
     slowest = 2 * math.pi / float(modes.omega_d.min())
-    position_in_s = {int(b): k for k, b in enumerate(slipping)}
+    # a near block's force: the plate's pull, its held neighbours' (fixed over the sub-phase), and k_c times each
+    # slipping neighbour's position, kept as (row, position in S) pairs
+    position_in_s = np.full(n, -1)
+    position_in_s[slipping] = np.arange(slipping.size)
+    fixed = force0[near_index] - kp * V * t0  # at tau = 0, less the plate's share that grows with time
+    rows, moving = [], []
+    for offset in (-1, 1):
+        other = near_index + offset
+        inside = (other >= 0) & (other < n)
+        slips = np.zeros(near_index.size, bool)
+        slips[inside] = position_in_s[other[inside]] >= 0
+        fixed[slips] -= kc * x[other[slips]]  # its position moves: taken from the closed form instead
+        rows.extend(np.flatnonzero(slips).tolist())
+        moving.extend(position_in_s[other[slips]].tolist())
+    rows, moving = np.array(rows, int), np.array(moving, int)
 
     def near_force(xs, tau):
-        """Force on each near held block (rows) at the grid's times (columns)."""
-        total = kp * (V * (t0 + tau) - x[near_index, None]) + chain.dashpot * V
-        for offset in (-1, 1):
-            neighbour = near_index + offset
-            for row, (block, other) in enumerate(zip(near_index, neighbour)):
-                if 0 <= other < n:
-                    moving = position_in_s.get(int(other))
-                    total[row] = total[row] + kc * ((xs[moving] if moving is not None else x[other]) - x[block])
+        """Force on each near held block (rows) at the grid's times (columns); ``xs`` the slipping blocks' positions
+        (blocks x times)."""
+        total = fixed[:, None] + kp * V * (t0 + np.asarray(tau, float))[None, :]
+        np.add.at(total, rows, kc * xs[moving])
         return total
 
-    start, span = 0.0, 0.75 * slowest
-    for _ in range(200):
-        grid = start + step * np.arange(1, int(math.ceil(span / step)) + 1)
+    # windows that grow from one period of the fastest mode: most sub-phases end within a few (a block stops or a
+    # neighbour joins), so the closed form is evaluated little beyond the change; the 200 windows reach far past
+    # 200 of the slowest periods
+    start, points = 0.0, SAMPLES_PER_PERIOD
+    horizon = 200 * slowest
+    while start < horizon:
+        grid = start + step * np.arange(1, points + 1)
         xs, vs = modes.state(grid)
         candidates = []  # (bracket low, bracket high, kind, row)
         stop = _first_crossing(vs * direction[slipping, None], at_or_below=True)
@@ -372,7 +386,7 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
                 candidates.append((max(wait, 0.0), max(wait, 0.0), "far", row))
         if candidates:
             break
-        start, span = grid[-1], 2 * slowest
+        start, points = grid[-1], min(2 * points, 64 * SAMPLES_PER_PERIOD)
     else:
         raise SolverError(f"the chain: a slip of {slipping.size} block(s) from t = {t0:.6g} s neither ended nor spread "
                           "within 200 of its slowest periods; the coupling may be too stiff for the leaf springs")
@@ -391,9 +405,12 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
                 def g(tau, row=row):
                     return modes.speed(tau, row) * direction[slipping[row]]
             else:
-                def g(tau, row=row):
-                    xs_tau = modes.state(tau)[0]
-                    return float(limits[near_index[row]] - abs(near_force(xs_tau[:, None], np.array([tau]))[row, 0]))
+                pulls = moving[rows == row]
+
+                def g(tau, row=row, pulls=pulls):
+                    q = modes.modal(tau)[0]
+                    force = fixed[row] + kp * V * (t0 + tau) + kc * float((modes.vectors[pulls] @ q).sum())
+                    return float(limits[near_index[row]] - abs(force))
             # a block starting from rest steps off its zero speed at tau = 0; a held block already at its limit joins
             a = low if g(low) > 0.0 else (_off_zero(g, low, high) if kind == "stop" else None)
             if a is None:  # no room before the change: it happens at the bracket's start
