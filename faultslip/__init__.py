@@ -73,6 +73,10 @@ _EXPORTS = {
     "evaluation.predictability": ("catalog_predictability",),
     "lab.look_files": ("read_look", "parse_look"),
     "plots.predictability": ("predictability_figure",),
+    "fault.gutenberg_richter": ("b_value",),
+    "models.spring_chain.scene": ("load_chain_scene", "parse_chain_scene"),
+    "models.spring_chain.dynamics": ("Chain", "simulate_chain"),
+    "models.spring_chain.figures": ("chain_figure",),
 }
 #: Public names whose module's own name would be ambiguous at the top level: name -> (module, attribute).
 _ALIASES = {
@@ -99,6 +103,7 @@ _ALIASES = {
     "model_error": ("models.rate_state_slider.model_error", "model_error_result"),
     "analyse_surface": ("lab.surfaces", "analyse_surface"),
     "check_family": ("models.checks", "check_family"),
+    "chain_statistics": ("models.spring_chain.family", "statistics"),
 }
 _WHERE = {name: (module, name) for module, names in _EXPORTS.items() for name in names} | _ALIASES
 __all__ = sorted(_WHERE)

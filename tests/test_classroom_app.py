@@ -7,16 +7,19 @@ models (faultslip.apps.browser). They are skipped, with the reason, only where n
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+import faultslip
 from faultslip.apps import browser
 from faultslip.apps.classroom import earthquake, experiment, scene_1906, slider_lab
 from faultslip.errors import InputError
 from faultslip.units import JULIAN_YEAR
 
 EXAMPLE = "configs/example_phyphox.csv"
+ROOT = Path(__file__).resolve().parent.parent
 
 
 def test_the_lab_follows_the_seeds_trend_and_its_critical_speed():
@@ -171,4 +174,34 @@ def test_an_uploaded_name_or_header_never_runs_as_script(page, name):
             "  if ((el.outerHTML || '').includes('__pwned')) found.push(el.outerHTML); } }"
             "return found;")
         assert injected == [] and page.execute_script("return window.__pwned") == 0
+    page.execute_script("Bokeh.documents[0].get_model_by_name('tabs').active = 0;")
+
+
+def test_the_chain_view_is_the_chain_family():
+    """The classroom's chain is configs/spring_chain.toml with its knobs: the same catalogue as faultslip.run."""
+    from faultslip.apps.classroom import chain_lab
+
+    lab = chain_lab()
+    result = faultslip.run(ROOT / "configs" / "spring_chain.toml")
+    assert lab["b"]["b"] == pytest.approx(result["b_value"], rel=1e-12)
+    assert lab["system_events"] == result["system_size_events"]
+    one = chain_lab(blocks=1, events=20)
+    assert one["b"] is None and one["predictability"].verdicts["periodic"]
+    with pytest.raises(InputError, match="1 to 100 blocks"):
+        chain_lab(blocks=0)
+
+
+@needs_browser
+def test_the_chain_tab_answers_from_its_knobs(page):
+    from faultslip.apps.classroom import chain_lab
+
+    page.execute_script("Bokeh.documents[0].get_model_by_name('tabs').active = 3;")
+    before = _status(page, "chain_status")
+    browser.set_knob(page, "chain_blocks", 20)
+    browser.wait_for(page, f"return Bokeh.documents[0].get_model_by_name('chain_status').text !== {before!r};")
+    text = _status(page, "chain_status")
+    expected = chain_lab(blocks=20)
+    assert f"b = {expected['b']['b']:.3g}" in text
+    assert len(browser.column(page, "chain_events_source", "t")) == 200
+    assert len(browser.column(page, "chain_mfd_source", "m")) == np.isfinite(expected["magnitude"]).sum()
     page.execute_script("Bokeh.documents[0].get_model_by_name('tabs').active = 0;")

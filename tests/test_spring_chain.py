@@ -161,3 +161,35 @@ def test_bad_chain_scenes_are_one_sentence(old, new, message, tmp_path, cli):
     path = tmp_path / "chain.toml"
     path.write_text(CHAIN.read_text(encoding="utf-8").replace(old, new), encoding="utf-8")
     assert_clean_error(cli("run", path), message)
+
+
+def test_integrated_slips_find_the_closed_forms_events():
+    """The same chain with its slips integrated by DOP853 at rtol 1e-11 (scipy's terminal events) gives the closed
+    form's catalogue: the same blocks in each event and the same times, to the integrator's tolerance, over the
+    events before the chaotic chain's round-off grows (here all 25)."""
+    rng = np.random.default_rng(3)
+    blocks = 8
+    chain = _chain(mass=1.0, leaf_stiffness=1000.0, coupling_stiffness=5000.0, normal_load=10.0, platform_speed=1e-4,
+                   static_friction=0.55 + 0.055 * (1 + 0.5 * rng.uniform(-1, 1, blocks)), kinetic_friction=0.55,
+                   dashpot=2 * 0.2 * math.sqrt(1000.0))
+    start = rng.uniform(0, 2e-5, blocks)
+    exact = _simulate(chain, 25, initial_position=start)
+    integrated = _simulate(chain, 25, initial_position=start, slip_solver="DOP853", rtol=1e-11)
+    assert np.array_equal(exact.blocks_slipped, integrated.blocks_slipped)
+    np.testing.assert_allclose(integrated.start, exact.start, rtol=1e-8)
+    np.testing.assert_allclose(integrated.slip, exact.slip, rtol=1e-6, atol=1e-12)
+    with pytest.raises(InputError, match="slip solver"):
+        _simulate(chain, 2, slip_solver="Euler")
+
+
+def test_students_test_the_chains_catalogue_for_predictability():
+    """Issue 45: the predictability tests run on the chain as on a real sequence. Identical blocks are one slider:
+    periodic (CV 0 exactly) with equal slips; the example's 50 heterogeneous blocks are not periodic."""
+    identical = _simulate(_chain(static_friction=np.full(6, 0.6), coupling_stiffness=5e4, dashpot=30.0), 12)
+    periodic = faultslip.predictability(identical.start, identical.total_slip)
+    assert periodic.aperiodicity == pytest.approx(0.0, abs=1e-9) and periodic.verdicts["periodic"]
+    result = faultslip.run(CHAIN)
+    run = result.extras["run"]
+    found = faultslip.predictability(run.start, run.total_slip)
+    assert not found.verdicts["periodic"]
+    assert found.intervals.size == run.events - 1

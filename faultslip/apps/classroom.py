@@ -17,9 +17,12 @@ Three views, each a tab:
    button loads the seed's 1906 San Francisco example.
 3. **Your own experiment**: a phyphox CSV, checked like every input (one sentence for a bad file), read
    and analysed as ``faultslip record`` does, with the lesson's questions beside it.
+4. **A fault of many blocks**: the spring-block chain (``configs/spring_chain.toml``) with knobs for the
+   number of blocks, the coupling and the spread of the static limits: its catalogue, its
+   magnitude-frequency distribution with Aki's b-value and interval, and the predictability test.
 
-The physics lives in pure functions (:func:`slider_lab`, :func:`earthquake`, :func:`experiment`) that the
-tests and the benchmark call without a browser.
+The physics lives in pure functions (:func:`slider_lab`, :func:`earthquake`, :func:`experiment`,
+:func:`chain_lab`) that the tests and the benchmark call without a browser.
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+import faultslip
 from faultslip.dynamics.methods import solve
 from faultslip.dynamics.spring_slider.critical import critical
 from faultslip.dynamics.spring_slider.exact_cycle import slip_trajectory
@@ -42,7 +46,7 @@ from faultslip.fault.scaling import Fault
 from faultslip.fault.scene import load_scene
 from faultslip.friction.laws import ConstantStatic
 from faultslip.friction.materials import presets
-from faultslip.io.resources import config_path
+from faultslip.io.resources import config_path, parse_toml, read_text_file
 from faultslip.lab.classroom import analyse, read_accelerometer
 from faultslip.units import JULIAN_YEAR
 
@@ -169,6 +173,47 @@ def experiment(content: bytes, filename: str = "upload.csv") -> dict:
 
 # --- the Bokeh document ------------------------------------------------------------------------------------
 
+def chain_lab(blocks: int = 50, coupling_ratio: float = 10.0, spread: float = 0.5, events: int = 200) -> dict:
+    """The classroom's chain: ``configs/spring_chain.toml`` with its blocks, coupling and spread changed.
+
+    Parameters
+    ----------
+    blocks : int
+        Number of blocks (1 to 100).
+    coupling_ratio : float
+        k_c / k_p.
+    spread : float
+        The spread of the static limits (0 to 0.9).
+    events : int
+        Events to run.
+
+    Returns
+    -------
+    dict
+        ``start`` (s), ``first`` and ``last`` block of each event, ``magnitude``, ``b`` (the b-value's dict or
+        None), ``system_events``, ``recurrence_cv``, ``predictability`` (:func:`faultslip.predictability`) and
+        ``slip_after``: each event's total slip with the interval that follows it.
+    """
+    if not (isinstance(blocks, (int, np.integer)) and 1 <= blocks <= 100):
+        raise InputError(f"the classroom chain has 1 to 100 blocks, got {blocks!r}")
+    path = config_path("spring_chain.toml")
+    document = parse_toml(read_text_file(path, "spring-block chain scene"), path.name)
+    leaf = faultslip.parse_chain_scene(document, path.name).chain.leaf_stiffness
+    document["chain"].update(blocks=int(blocks), threshold_spread=float(spread),
+                             coupling_stiffness=f"{float(coupling_ratio) * leaf!r} N/m")
+    document["run"]["events"] = int(events)
+    loaded = faultslip.parse_chain_scene(document, path.name)
+    run = faultslip.simulate_chain(loaded.chain, loaded.events, initial_position=loaded.initial_position)
+    stats = faultslip.chain_statistics(loaded, run)
+    moved = run.slip != 0
+    first = np.where(moved.any(axis=1), moved.argmax(axis=1), 0)
+    last = np.where(moved.any(axis=1), run.chain.blocks - 1 - moved[:, ::-1].argmax(axis=1), 0)
+    return {"start": run.start, "first": first, "last": last, "magnitude": stats["magnitude"], "b": stats["b"],
+            "system_events": stats["system_events"], "recurrence_cv": stats["recurrence_cv"],
+            "predictability": faultslip.predictability(run.start, run.total_slip),
+            "slip_after": (run.total_slip[:-1], np.diff(run.start))}
+
+
 def _text(value) -> str:
     """Anything that reaches the page from a run or an upload (a file's name, its header, an error quoting its
     cells) as text, never as markup: the status panels render HTML."""
@@ -207,7 +252,7 @@ setInterval(() => {
 
 
 def make_document(doc) -> None:
-    """Build the three views into a Bokeh document (the server calls this for each browser session)."""
+    """Build the four views into a Bokeh document (the server calls this for each browser session)."""
     from bokeh.layouts import column, row  # heavy: Bokeh loads only when the app is served
     from bokeh.models import (Button, ColumnDataSource, Div, FileInput, Select, Slider,  # heavy: as above
                               TabPanel, Tabs)
@@ -364,9 +409,65 @@ def make_document(doc) -> None:
 
     upload.on_change("filename", uploaded)
     experiment_view = column(upload, upload_status, trace, questions, sizing_mode="stretch_width")
+
+    # 4. a fault of many blocks
+    chain_blocks = Slider(title="blocks", start=1, end=100, step=1, value=50, name="chain_blocks")
+    chain_coupling = Slider(title="coupling k_c / k_p", start=0.0, end=30.0, step=0.5, value=10.0,
+                            name="chain_coupling")
+    chain_spread = Slider(title="spread of the static limits", start=0.0, end=0.9, step=0.05, value=0.5,
+                          name="chain_spread")
+    events_source = ColumnDataSource(data={"t": [], "first": [], "last": []}, name="chain_events_source")
+    mfd_source = ColumnDataSource(data={"m": [], "n": []}, name="chain_mfd_source")
+    gr_source = ColumnDataSource(data={"m": [], "n": []}, name="chain_gr_source")
+    pred_source = ColumnDataSource(data={"slip": [], "after": []}, name="chain_pred_source")
+    catalogue = figure(height=260, sizing_mode="stretch_width", title="the catalogue: blocks each event slipped",
+                       x_axis_label="time (s)", y_axis_label="block", name="chain_catalogue")
+    catalogue.segment(x0="t", y0="first", x1="t", y1="last", source=events_source, color="firebrick", line_width=2)
+    mfd = figure(height=260, width=380, y_axis_type="log", title="magnitude-frequency",
+                 x_axis_label="magnitude M", y_axis_label="events with magnitude ≥ M", name="chain_mfd")
+    mfd.scatter("m", "n", source=mfd_source, size=4)
+    mfd.line("m", "n", source=gr_source, color="firebrick", line_width=2)
+    pred = figure(height=260, width=380, title="time-predictable? slip against the wait after it",
+                  x_axis_label="slip summed over the blocks (mm)", y_axis_label="interval after (s)",
+                  name="chain_predictability")
+    pred.scatter("slip", "after", source=pred_source, size=4, color="seagreen")
+    chain_status = Div(text="", name="chain_status", width=900, height=60)
+
+    def chain(attr, old, new):
+        try:
+            lab = chain_lab(int(chain_blocks.value), chain_coupling.value, chain_spread.value)
+        except FaultslipError as exc:
+            chain_status.text = f"<b style='color:#b00'>{_text(exc)}</b>"
+            return
+        events_source.data = {"t": lab["start"], "first": lab["first"] - 0.4, "last": lab["last"] + 0.4}
+        magnitude = np.sort(lab["magnitude"][np.isfinite(lab["magnitude"])])
+        mfd_source.data = {"m": magnitude, "n": np.arange(magnitude.size, 0, -1)}
+        b = lab["b"]
+        if b is not None:
+            line = np.linspace(b["completeness"], magnitude.max(), 20)
+            gr_source.data = {"m": line, "n": 10 ** (b["a"] - b["b"] * line)}
+        else:
+            gr_source.data = {"m": [], "n": []}
+        slip, after = lab["slip_after"]
+        pred_source.data = {"slip": slip * 1e3, "after": after}
+        found = lab["predictability"]
+        verdicts = ", ".join(name.replace("_", "-") for name, held in found.verdicts.items() if held) or "none"
+        b_text = (f"b = {b['b']:.3g} ({b['interval'][0]:.3g}–{b['interval'][1]:.3g})" if b is not None else
+                  "no b-value (every event the same size)")
+        chain_status.text = (f"<b>{b_text}</b> · {lab['system_events']} system-size events, their CV "
+                             f"{_fmt(lab['recurrence_cv'], '', 2)} · r(slip, interval after) "
+                             f"{found.time_correlation:.2f}<br><small>models the catalogue supports: "
+                             f"{_text(verdicts)}</small>")
+
+    for widget in (chain_blocks, chain_coupling, chain_spread):
+        widget.on_change("value_throttled", chain)
+    chain(None, None, None)
+    chain_view = column(row(column(chain_blocks, chain_coupling, chain_spread, width=320), mfd, pred), chain_status,
+                        catalogue, sizing_mode="stretch_width")
     doc.add_root(Tabs(tabs=[TabPanel(child=lab_view, title="The slider lab"),
                             TabPanel(child=quake_view, title="Stick-slip to earthquakes"),
-                            TabPanel(child=experiment_view, title="Your own experiment")], name="tabs",
+                            TabPanel(child=experiment_view, title="Your own experiment"),
+                            TabPanel(child=chain_view, title="A fault of many blocks")], name="tabs",
                        sizing_mode="stretch_width"))
     doc.title = "faultslip classroom"
 

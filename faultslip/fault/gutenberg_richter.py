@@ -60,7 +60,7 @@ def b_value(magnitudes, completeness: float | None = None, bin_width: float = 0.
         raise InputError(f"a b-value needs at least two magnitudes at or above M_c = {cutoff:g}, got {kept.size}")
     origin = cutoff - bin_width / 2
     excess = float(np.sum(kept - origin))
-    if not excess > 0:
+    if not excess > 0 or float(np.ptp(kept)) <= 1e-9 * max(1.0, abs(cutoff)):  # equal to round-off: no spread
         raise InputError(f"every magnitude at or above M_c = {cutoff:g} equals it: the catalogue has no spread to give "
                          "a b-value")
     count = kept.size

@@ -136,7 +136,21 @@ class Chain:
 
 @dataclass
 class ChainRun:
-    """A chain's catalogue: one row per event (SI), and the state it ended in."""
+    """A chain's catalogue: one row per event (SI), and the state it ended in.
+
+    Attributes
+    ----------
+    start, end : array
+        Each event's first failure and last stop (s).
+    first_block : array
+        The block that failed first (the hypocentre).
+    blocks_slipped : array
+        How many blocks slipped in each event.
+    slip : array
+        (events, blocks): each block's slip in each event (m).
+    peak_speed : array
+        Each event's fastest block speed (m/s).
+    """
 
     chain: Chain
     start: np.ndarray  # (events,) s
@@ -232,7 +246,13 @@ def _first_crossing(values: np.ndarray, at_or_below: bool) -> np.ndarray:
     return np.where(hit.any(axis=1), first, -1)
 
 
-def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subphases: int | None = None) -> ChainRun:
+#: How a slip sub-phase is solved: the closed form (exact), or scipy's integrators with terminal events (the
+#: generic way, and the baseline the closed form's speed is measured against in benchmarks/spring_chain_speed.py).
+SLIP_SOLVERS = ("closed_form", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+
+
+def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subphases: int | None = None,
+                   slip_solver: str = "closed_form", rtol: float = 1e-10) -> ChainRun:
     """Run ``chain`` from rest until ``events`` events have happened (see the module).
 
     Parameters
@@ -245,6 +265,11 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
         Each block's position at t = 0 (m; default all at 0, the plate's springs unstretched).
     max_subphases : int, optional
         A budget of slip sub-phases (default 50 per block per event).
+    slip_solver : str
+        ``closed_form`` (exact), or a scipy integrator (``DOP853``, ``RK45``, ``Radau``) with terminal events at
+        ``rtol``: the same sub-phases, found by integration.
+    rtol : float
+        The integrator's relative tolerance (not used by the closed form).
 
     Returns
     -------
@@ -254,6 +279,10 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
 
     if not (isinstance(events, (int, np.integer)) and events >= 1):
         raise InputError(f"the chain needs at least one event to run, got {events!r}")
+    if slip_solver not in SLIP_SOLVERS:
+        raise InputError(f"the chain's slip solver must be one of {', '.join(SLIP_SOLVERS)}, got {slip_solver!r}")
+    if not 1e-14 <= rtol <= 1e-3:
+        raise InputError(f"the chain's rtol must lie from 1e-14 to 1e-3, got {rtol!r}")
     n = chain.blocks
     x = np.zeros(n) if initial_position is None else np.array(initial_position, float)
     if x.shape != (n,) or not np.all(np.isfinite(x)):
@@ -287,10 +316,15 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
                 raise SolverError(f"the chain: more than {budget} slip sub-phases at t = {t:.6g} s; raise "
                                   "max_subphases, or fewer blocks or events")
             slipped[slipping] = True
-            modes = _Modes(chain, slipping, degree, x, v, t, direction)
-            tau, stops, joins = _next_change(chain, modes, slipping, x, v, t, limits, direction, brentq)
-            xs, vs = modes.state(tau)
-            peak = max(peak, float(_peak_speed(modes, tau)))
+            if slip_solver == "closed_form":
+                modes = _Modes(chain, slipping, degree, x, v, t, direction)
+                tau, stops, joins = _next_change(chain, modes, slipping, x, v, t, limits, direction, brentq)
+                xs, vs = modes.state(tau)
+                peak = max(peak, float(_peak_speed(modes, tau)))
+            else:
+                tau, stops, joins, xs, vs, fastest = _integrated_change(chain, slipping, x, v, t, limits, direction,
+                                                                        slip_solver, rtol)
+                peak = max(peak, fastest)
             x[slipping], v[slipping] = xs, vs
             t += tau
             v[slipping[stops]] = 0.0
@@ -436,6 +470,75 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
     if far_index.size:
         joins.extend(far_index[far_wait <= tau * (1 + TOGETHER)].tolist())
     return tau, stops, np.unique(np.array(joins, int))
+
+
+def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rtol):
+    """The sub-phase by integration (scipy's ``solve_ivp`` with a terminal event for each slipping block's stop
+    and each held neighbour's limit): (tau, stops, joins, positions, speeds, peak speed)."""
+    from scipy.integrate import solve_ivp  # heavy: imported where used
+
+    n, count = chain.blocks, slipping.size
+    kp, V, W, m = chain.leaf_stiffness, chain.platform_speed, chain.normal_load, chain.mass
+    held = np.ones(n, bool)
+    held[slipping] = False
+    near = np.zeros(n, bool)
+    for offset in (-1, 1):
+        other = slipping + offset
+        near[other[(other >= 0) & (other < n)]] = True
+    near_index, far_index = np.flatnonzero(near & held), np.flatnonzero(held & ~near)
+    force0 = chain.forces(x, v, t0)
+    far_wait = (limits[far_index] - force0[far_index]) / (kp * V) if far_index.size else np.empty(0)
+    omega = math.sqrt((kp + 4 * chain.coupling_stiffness) / m)
+    horizon = min(float(far_wait.min()) if far_wait.size else math.inf,
+                  200 * 2 * math.pi / math.sqrt(kp / m))
+    if horizon <= 0:  # a held block is at its limit already: it joins before anything moves
+        return (0.0, np.zeros(count, bool), far_index[far_wait <= 0], x[slipping].copy(), v[slipping].copy(), 0.0)
+    friction = W * chain.kinetic_friction * direction[slipping]
+    work_x, work_v = x.copy(), v.copy()
+
+    def forces(tau, y):
+        work_x[slipping], work_v[slipping] = y[:count], y[count:]
+        return chain.forces(work_x, work_v, t0 + tau)
+
+    def rhs(tau, y):
+        return np.concatenate([y[count:], (forces(tau, y)[slipping] - friction) / m])
+
+    def stop(row):
+        def event(tau, y):
+            return y[count + row] * direction[slipping[row]] if tau > 0 else 1.0
+        event.terminal, event.direction = True, -1
+        return event
+
+    def join(block):
+        def event(tau, y):
+            return limits[block] - abs(forces(tau, y)[block])
+        event.terminal, event.direction = True, -1
+        return event
+
+    events = [stop(row) for row in range(count)] + [join(block) for block in near_index]
+    solution = solve_ivp(rhs, (0.0, horizon), np.concatenate([x[slipping], v[slipping]]), method=solver, rtol=rtol,
+                         atol=1e-14 * max(1.0, float(np.abs(x).max())), events=events,
+                         first_step=min(horizon, 1e-3 * 2 * math.pi / omega))
+    if solution.status < 0:
+        raise SolverError(f"the chain: {solver} failed in a slip of {count} block(s) at t = {t0:.6g} s "
+                          f"({solution.message}); use slip_solver = \"closed_form\", which is exact")
+    tau = float(solution.t[-1])
+    y = solution.y[:, -1]
+    if solution.status == 0 and tau < horizon * (1 - 1e-12):
+        raise SolverError(f"the chain: a slip of {count} block(s) from t = {t0:.6g} s did not end within "
+                          f"{horizon:.3g} s; use slip_solver = \"closed_form\"")
+    hit = [k for k, times in enumerate(solution.t_events) if times.size]
+    stops = np.zeros(count, bool)
+    joins = []
+    for k in hit:
+        if k < count:
+            stops[k] = True
+        else:
+            joins.append(int(near_index[k - count]))
+    if far_index.size:
+        joins.extend(far_index[far_wait <= tau * (1 + TOGETHER)].tolist())
+    fastest = float(np.abs(solution.y[count:]).max()) if solution.y.size else 0.0
+    return tau, stops, np.unique(np.array(joins, int)), y[:count], y[count:], fastest
 
 
 def _off_zero(function, low: float, high: float):

@@ -22,7 +22,7 @@ from faultslip.fault.scaling import moment_magnitude
 from faultslip.io.report import Report
 from faultslip.io.waveforms import DEFAULT_START
 from faultslip.models.common import note_origin
-from faultslip.models.spring_chain.dynamics import SAMPLES_PER_PERIOD, ChainRun, simulate_chain
+from faultslip.models.spring_chain.dynamics import SAMPLES_PER_PERIOD, SLIP_SOLVERS, ChainRun, simulate_chain
 from faultslip.models.spring_chain.figures import chain_figure
 from faultslip.models.spring_chain.scene import load_chain_scene
 
@@ -35,6 +35,13 @@ METHOD = {"name": "chain_event_driven_exact",
           "declared_error": f"the closed form's round-off: each sub-phase's end is bracketed on {SAMPLES_PER_PERIOD} "
                             "points a period of its fastest mode and located by Brent's method to 1e-13 of the step "
                             "(one block agrees with the exact cycle to 1e-10)"}
+INTEGRATED = {"name": "chain_event_driven_integrated",
+              "friction_laws": METHOD["friction_laws"],
+              "domain": METHOD["domain"] + "; slip_solver = DOP853, RK45, RK23, Radau, BDF or LSODA",
+              "cost_model": "scipy's solve_ivp with a terminal event a slipping block and a held neighbour: about 2.6 "
+                            "times the closed form's time at 100 blocks (benchmarks/spring_chain_speed.py)",
+              "declared_error": "the integrator's rtol (default 1e-10) on each sub-phase's end; a chaotic chain's "
+                                "catalogue departs from the closed form's after tens of events, its statistics do not"}
 
 
 def _catalogue(loaded, run: ChainRun):
@@ -75,7 +82,22 @@ def _catalogue(loaded, run: ChainRun):
 
 
 def statistics(loaded, run: ChainRun) -> dict:
-    """What a chain's catalogue says: b-value, system-size recurrence and its scatter, the plate's balance."""
+    """What a chain's catalogue says: b-value, system-size recurrence and its scatter, the plate's balance.
+
+    Parameters
+    ----------
+    loaded : ChainScene
+        The scene (its moment per slip and its start).
+    run : ChainRun
+        Its run.
+
+    Returns
+    -------
+    dict
+        ``b`` (:func:`faultslip.fault.gutenberg_richter.b_value`, or None with ``b_reason``), ``magnitude_range``,
+        ``system_events``, ``recurrence`` (s), ``recurrence_cv``, ``plate_balance`` (min, max of each block's slip /
+        (V t)) with ``plate_balance_bound`` and the per-block arrays, and ``magnitude``.
+    """
     moment = loaded.shear_modulus * loaded.patch_area * run.total_slip
     with np.errstate(divide="ignore", invalid="ignore"):  # an event whose slips cancel has no magnitude
         magnitude = np.where(moment > 0, moment_magnitude(np.maximum(moment, 1e-300)), np.nan)
@@ -115,10 +137,10 @@ def statistics(loaded, run: ChainRun) -> dict:
     return stats
 
 
-def _report(loaded, run: ChainRun, stats: dict, title: str) -> Report:
+def _report(loaded, run: ChainRun, stats: dict, title: str, method: str = METHOD["name"]) -> Report:
     chain = run.chain
     report = Report(title)
-    report.add("method", METHOD["name"])
+    report.add("method", method)
     report.add("blocks", chain.blocks).add("events", run.events)
     report.add("friction", loaded.friction)
     report.add("coupling_ratio", chain.coupling_stiffness / chain.leaf_stiffness, label="k_c / k_p")
@@ -151,14 +173,22 @@ def _report(loaded, run: ChainRun, stats: dict, title: str) -> Report:
     return report
 
 
-def _run(scene, events=None, title="faultslip spring-block chain"):
+def _run(scene, events=None, title="faultslip spring-block chain", slip_solver=None, rtol=None):
     loaded = load_chain_scene(scene)
     count = loaded.events if events is None else events
     if not (isinstance(count, (int, np.integer)) and not isinstance(count, bool) and 1 <= count <= 1_000_000):
         raise InputError(f"--cycles (the chain's events) must be a whole number from 1 to 1,000,000, got {count!r}")
-    run = simulate_chain(loaded.chain, int(count), initial_position=loaded.initial_position)
+    solver = "closed_form" if slip_solver in (None, "auto", "analytic") else slip_solver
+    if solver not in SLIP_SOLVERS:
+        raise InputError(f"--slip-solver for a spring-block chain must be analytic (the closed form) or one of "
+                         f"{', '.join(SLIP_SOLVERS[1:])}, got {slip_solver!r}")
+    run = simulate_chain(loaded.chain, int(count), initial_position=loaded.initial_position, slip_solver=solver,
+                         rtol=1e-10 if rtol is None else rtol)
     stats = statistics(loaded, run)
-    return loaded, run, stats, _report(loaded, run, stats, f"{title}: {loaded.name}")
+    report = _report(loaded, run, stats, f"{title}: {loaded.name}",
+                     METHOD["name"] if solver == "closed_form" else INTEGRATED["name"])
+    report.add("slip_solver", "analytic (closed form)" if solver == "closed_form" else solver)
+    return loaded, run, stats, report
 
 
 def run(scene, method=None, tolerance=None) -> Result:
@@ -170,10 +200,12 @@ def run(scene, method=None, tolerance=None) -> Result:
     return Result("spring_chain", report, dataset, lambda: chain_figure(dataset, stats), extras={"run": chain_run})
 
 
-def simulate(scene, cycles=None, events=False, output=None) -> Result:
-    """The chain's events (``cycles`` of them, the scene's otherwise) with their catalogue; ``events`` asks for
-    QuakeML (``extras["events"](start)``)."""
-    loaded, chain_run, stats, report = _run(scene, cycles, "faultslip simulation of a spring-block chain")
+def simulate(scene, cycles=None, slip_solver=None, rtol=None, events=False, output=None) -> Result:
+    """The chain's events (``cycles`` of them, the scene's otherwise) with their catalogue; ``slip_solver`` analytic
+    (the closed form, default) or a scipy integrator at ``rtol``; ``events`` asks for QuakeML
+    (``extras["events"](start)``)."""
+    loaded, chain_run, stats, report = _run(scene, cycles, "faultslip simulation of a spring-block chain",
+                                            slip_solver, rtol)
     dataset = _catalogue(loaded, chain_run)
 
     def make_events(start=DEFAULT_START):
@@ -215,7 +247,8 @@ CELLS = PerCell("a spring-block chain study", PARAMETERS, OUTPUTS, run, load_cha
                 methods=("auto", METHOD["name"]), seconds=5.0)
 
 FAMILY = register(Family("spring_chain", "a chain of spring-blocks (Burridge & Knopoff): catalogues with sizes", run,
-                         simulate, simulate_options=("cycles", "events"),
-                         why="a spring-block chain takes --cycles (its events) and --events (QuakeML)",
+                         simulate, simulate_options=("cycles", "slip_solver", "rtol", "events"),
+                         why="a spring-block chain takes --cycles (its events), --slip-solver, --rtol and --events "
+                             "(QuakeML)",
                          read_scene=toml_reader("spring_chain", PARAMETERS), cells=CELLS,
-                         methods=lambda: [dict(METHOD)]))
+                         methods=lambda: [dict(METHOD), dict(INTEGRATED)]))

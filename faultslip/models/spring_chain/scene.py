@@ -57,7 +57,21 @@ MAX_BLOCKS, MAX_EVENTS = 2000, 1_000_000
 
 @dataclass(frozen=True)
 class ChainScene:
-    """A chain scene read: the chain, where it starts, the moment of a block's slip, and the run's length."""
+    """A chain scene read.
+
+    Attributes
+    ----------
+    chain : Chain
+        The blocks, springs and friction.
+    initial_position : array
+        Each block's position at t = 0 (m).
+    shear_modulus, patch_area : float
+        G (Pa) and A (m^2): an event's moment is G A sum(slip).
+    events : int
+        How many events a run records.
+    system_size : float
+        The share of the blocks that makes an event system-size.
+    """
 
     name: str
     chain: Chain
@@ -82,7 +96,20 @@ def _number(table: dict, key: str, default, source: str, low=None, high=None, wh
 
 
 def parse_chain_scene(text_or_document, source: str = "<scene>") -> ChainScene:
-    """A :class:`ChainScene` from scene TOML (or its parsed document); one sentence for anything wrong."""
+    """A chain scene from its TOML text (see the module); one sentence for anything wrong.
+
+    Parameters
+    ----------
+    text_or_document : str or dict
+        The scene's TOML, or its parsed document.
+    source : str
+        The scene's name in messages.
+
+    Returns
+    -------
+    ChainScene
+        The chain, its start, the moment of a block's slip and the run's length.
+    """
     data = parse_toml(text_or_document, source) if isinstance(text_or_document, str) else text_or_document
     check_toml_layout(data, {"chain": _CHAIN, "friction": _FRICTION, "moment": _MOMENT, "run": _RUN,
                              "sources": None}, source, "a spring-block chain scene")
@@ -153,7 +180,18 @@ def _friction(table: dict, loading_rate: float, source: str) -> tuple[float, flo
 
 
 def load_chain_scene(scene) -> ChainScene:
-    """A chain scene from a file, a bundled scene's name or a study's cell (a TomlScene)."""
+    """A chain scene from a file, a bundled scene's name or a study's cell.
+
+    Parameters
+    ----------
+    scene : str, path, TomlScene or ChainScene
+        The scene.
+
+    Returns
+    -------
+    ChainScene
+        The scene read (:func:`parse_chain_scene`).
+    """
     if isinstance(scene, ChainScene):
         return scene
     text, source, _, _ = scene_source(scene, "spring-block chain scene")
