@@ -277,6 +277,15 @@ def _studies_commands(commands) -> None:
                           "branch's characteristic Mw from that relation, the same moment rate (default faultslip)")
     regional.add_argument("--stable-continental", action="store_true",
                           help="Leonard (2010) branch and comparison for a stable continental region")
+    regional.add_argument("--time-dependent", help="write each segment's rupture as a time-dependent source: a "
+                          "logic tree FILE.xml over a renewal branch and a Poissonian one (non-parametric NRML)")
+    regional.add_argument("--renewal", default="bpt:0.5", help="the renewal model and its aperiodicity for "
+                          "--time-dependent: bpt:A or lognormal:A (default bpt:0.5)")
+    regional.add_argument("--last-ruptures", help="each segment's last rupture for --time-dependent, as decimal "
+                          "years: 'SA-PKF=2004.74; SA-CAR=1857.02'")
+    regional.add_argument("--forecast-year", help="the decimal year the investigation time starts (default: now)")
+    regional.add_argument("--investigation-time", default="50 yr", help="the window of --time-dependent (default "
+                          "50 yr; an engine job uses it too)")
     regional.add_argument("--engine-job", help="also write an OpenQuake classical job (FILE.ini) over the sources")
     regional.add_argument("--sites", help="the job's sites: 'lon lat; lon lat' in degrees")
     regional.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from datetime import datetime, timezone
 import math
 from pathlib import Path
 
@@ -16,6 +17,7 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, FIGURE_SUFFIXES
 from faultslip.io.processes import retain_freed_memory
 from faultslip.studies.grid import load_study
+from faultslip.units import to_si
 from faultslip.io.atomic import claim
 from faultslip.fault import mfd as mfds
 from faultslip.studies import hazard
@@ -163,6 +165,37 @@ def _hazard_options(args, spec, outputs) -> dict | None:
     return options
 
 
+def _renewal_options(args, spec, outputs) -> dict | None:
+    """Check the time-dependent options and claim the branch files, before any work (None: not asked)."""
+    given = [flag for flag, value in (("--last-ruptures", args.last_ruptures), ("--forecast-year", args.forecast_year))
+             if value is not None]
+    if outputs["time_dependent"] is None:
+        if given:
+            raise InputError(f"{given[0]} describes time-dependent sources: give --time-dependent FILE.xml too")
+        return None
+    if spec.segments is None:
+        raise InputError("--time-dependent writes fault sources: it needs a segment map ([segments]), not a raster")
+    if args.last_ruptures is None:
+        raise InputError("--time-dependent needs each segment's last rupture: --last-ruptures 'SEGMENT=YEAR; ...'")
+    model, aperiodicity = hazard.parse_renewal(args.renewal)
+    last = hazard.parse_last_ruptures(args.last_ruptures)
+    now = datetime.now(timezone.utc)
+    forecast = (_number(args.forecast_year, "--forecast-year") if args.forecast_year is not None else
+                now.year + (now.timetuple().tm_yday - 1) / 365.25)
+    late = sorted(key for key, year in last.items() if year > forecast)
+    if late:
+        raise InputError(f"--last-ruptures: segment {late[0]} ruptured in {last[late[0]]:g}, after the forecast year "
+                         f"{forecast:g}")
+    window = to_si(args.investigation_time, "time", "--investigation-time")
+    path = outputs["time_dependent"]
+    extra = [path.with_name(f"{path.stem}_{name}{path.suffix}") for name in ("poisson", model)]
+    for item in extra:
+        claim(check_output(item, label="--time-dependent", suffixes=(".xml",), inputs=spec.inputs,
+                           overwrite=args.overwrite), "faultslip map", args.overwrite, "--time-dependent")
+    return {"model": model, "aperiodicity": aperiodicity, "last": last, "forecast_year": forecast,
+            "investigation_time": window, "extra": extra}
+
+
 def _count(number, noun: str) -> str:
     """'1 chunk', '3 chunks'."""
     return f"{number} {noun}{'' if number == 1 else 's'}"
@@ -177,8 +210,10 @@ def _where(executor: str) -> str:
 def cmd_map(args) -> int:
     spec = load_map(args.map)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
-                              "nrml": ("--nrml", (".xml",)), "engine_job": ("--engine-job", (".ini",))}, spec.inputs)
+                              "nrml": ("--nrml", (".xml",)), "engine_job": ("--engine-job", (".ini",)),
+                              "time_dependent": ("--time-dependent", (".xml",))}, spec.inputs)
     options = _hazard_options(args, spec, outputs)
+    renewal = _renewal_options(args, spec, outputs)
     observed = None
     if outputs["plot"] is not None and spec.segments is not None:
         target = Path(outputs["plot"])
@@ -193,8 +228,15 @@ def cmd_map(args) -> int:
         models = hazard.source_models(sources, options["relations"], options["kind"], options["min_magnitude"],
                                       options["b_value"], options["bin_width"], options["moment_constant"],
                                       args.stable_continental)
+    renewal_sources = None
+    if renewal is not None:  # also before anything is written
+        sources = sources or hazard.hazard_sources(spec, dataset, args.stable_continental)
+        renewal_sources = hazard.time_dependent_sources(
+            sources, {key: (renewal["forecast_year"] - year) * JULIAN_YEAR for key, year in renewal["last"].items()},
+            renewal["model"], renewal["aperiodicity"], renewal["investigation_time"])
     with _locked(outputs["output"], outputs["plot"], observed, outputs["nrml"], outputs["engine_job"],
-                 *(options["extra"] if options else [])):
+                 outputs["time_dependent"], *(options["extra"] if options else []),
+                 *(renewal["extra"] if renewal else [])):
         write_dataset(dataset, outputs["output"])
         if options is not None:
             written = hazard.write_hazard_model(outputs["nrml"], models, options["relations"], spec.name)
@@ -210,6 +252,12 @@ def cmd_map(args) -> int:
                 written["files"] += job_files
                 spec.notes.append(f"OpenQuake classical job at {len(options['sites'])} site(s): "
                                   f"oq engine --run {outputs['engine_job']}")
+        if renewal_sources is not None:
+            td = hazard.write_time_dependent_model(outputs["time_dependent"], renewal_sources, spec.name)
+            spec.notes.append(f"{len(renewal_sources)} time-dependent source(s), {renewal['model']} with aperiodicity "
+                              f"{renewal['aperiodicity']:g} from {renewal['forecast_year']:g} over "
+                              f"{renewal['investigation_time'] / JULIAN_YEAR:g} yr, beside their Poissonian twins, "
+                              f"written as NRML to {', '.join(td['files'])}")
         if outputs["plot"]:
             save_figure(map_figure(dataset), outputs["plot"], dpi=150)
             plots.append(args.plot)
@@ -233,6 +281,8 @@ def cmd_map(args) -> int:
             "files": written["files"], "mfd": args.mfd,
             "relations": [{"relation": name, "weight": weight} for name, weight in options["relations"]],
             "sources": hazard.sources_json(sources, models)}
+        if renewal_sources is not None:
+            hazard_json = (hazard_json or {}) | {"time_dependent": [s.as_dict() for s in renewal_sources]}
         print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"},
                           "hazard": hazard_json, "notes": spec.notes}, indent=2))
     else:

@@ -97,6 +97,54 @@ def write_source_model(path, segments: list[dict], name: str, tectonic_region: s
     return written
 
 
+def occurrence_probabilities(probability: float) -> str:
+    """``"P0 P1"``, the probabilities of no rupture and of one in the investigation time, as ``probs_occur``
+    writes them: the larger is written to 17 significant digits and the smaller is 1 minus it, which is exact
+    (Sterbenz), so that the two sum to 1 exactly as the engine requires, and P1 is ``probability`` to 1 ulp."""
+    if not 0.0 <= probability <= 1.0:
+        raise InputError(f"an occurrence probability must lie from 0 to 1, got {probability!r}")
+    if probability <= 0.5:
+        none = float(f"{1.0 - probability:.17g}")
+        one = 1.0 - none
+    else:
+        one = float(f"{probability:.17g}")
+        none = 1.0 - one
+    return f"{none!r} {one!r}"
+
+
+def write_nonparametric_model(path, ruptures: list[dict], name: str, investigation_time: float,
+                              tectonic_region: str = "Active Shallow Crust") -> int:
+    """Write ``ruptures`` as ``nonParametricSeismicSource`` elements, one rupture each: a ``simpleFaultRupture``
+    of the whole segment (dicts: id, name, trace (n, 2) lon/lat, dip, rake, upper_depth and lower_depth in m,
+    magnitude, and ``probability`` of one rupture within ``investigation_time`` years). The hypocentre is at
+    the trace's middle vertex, half-way down. Returns how many sources were written."""
+    if not (math.isfinite(investigation_time) and investigation_time > 0):
+        raise InputError(f"the investigation time must be a positive number of years, got {investigation_time!r}")
+    root = _root()
+    model = _element(root, "sourceModel", name=name, investigation_time=repr(float(investigation_time)))
+    group = _element(model, "sourceGroup", name="faultslip time-dependent", tectonicRegion=tectonic_region)
+    for rupture in ruptures:
+        source = _element(group, "nonParametricSeismicSource", id=str(rupture["id"]), name=str(rupture["name"]),
+                          tectonicRegion=tectonic_region)
+        node = _element(source, "simpleFaultRupture", probs_occur=occurrence_probabilities(rupture["probability"]))
+        _element(node, "magnitude", f"{rupture['magnitude']:.10g}")
+        _element(node, "rake", f"{rupture['rake']:g}")
+        trace = np.asarray(rupture["trace"], dtype=float)
+        lon, lat = trace[len(trace) // 2]
+        _element(node, "hypocenter", lon=f"{lon:.5f}", lat=f"{lat:.5f}",
+                 depth=f"{(rupture['upper_depth'] + rupture['lower_depth']) / 2e3:g}")
+        geometry = _element(node, "simpleFaultGeometry")
+        line = ET.SubElement(geometry, f"{{{GML_NAMESPACE}}}LineString")
+        ET.SubElement(line, f"{{{GML_NAMESPACE}}}posList").text = " ".join(f"{x:.5f} {y:.5f}" for x, y in trace)
+        _element(geometry, "dip", f"{rupture['dip']:g}")
+        _element(geometry, "upperSeismoDepth", f"{rupture['upper_depth'] / 1e3:g}")
+        _element(geometry, "lowerSeismoDepth", f"{rupture['lower_depth'] / 1e3:g}")
+    if not ruptures:
+        raise InputError("no segment has a rupture to write as a time-dependent source")
+    _write(root, path)
+    return len(ruptures)
+
+
 def write_logic_tree(path, branches: list[tuple[str, str, float]]) -> None:
     """A source-model logic tree: ``branches`` of (branch id, source-model file name relative to ``path``,
     weight); the weights must sum to 1 (to 1e-9: the engine checks it)."""

@@ -25,7 +25,8 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.fault import empirical, mfd as mfds
 from faultslip.io.atomic import write_text_atomic
-from faultslip.io.nrml import write_logic_tree, write_source_model
+from faultslip.fault.recurrence import conditional_probability
+from faultslip.io.nrml import write_logic_tree, write_nonparametric_model, write_source_model
 from faultslip.units import JULIAN_YEAR
 
 #: branch name -> the engine's magnitude-scaling relation its sources carry (Leonard 2014's interplate
@@ -280,6 +281,175 @@ def write_hazard_model(path, models: dict, relations: list[tuple[str, float]], n
         write_logic_tree(path, [(relation, paths[relation].name, weight) for relation, weight in relations])
         files.insert(0, str(path))
     return {"files": files, "sources": counts}
+
+
+#: renewal models a time-dependent source may take (faultslip.fault.recurrence)
+RENEWAL_MODELS = ("bpt", "lognormal")
+
+
+@dataclass(frozen=True)
+class TimeDependentSource:
+    """A segment's rupture with its probability in the investigation time, by a renewal model and by Poisson."""
+
+    source: HazardSource
+    model: str
+    mean: float  # s, the renewal model's mean recurrence
+    aperiodicity: float
+    elapsed: float  # s since the last rupture
+    investigation_time: float  # s
+    probability: float  # P(a rupture within the investigation time | none for ``elapsed``), the renewal model's
+    poisson_probability: float  # 1 - exp(-t / mean): the memoryless branch beside it
+
+    def as_dict(self) -> dict:
+        return {"id": self.source.id, "model": self.model, "mean": {"value": self.mean, "units": "s"},
+                "aperiodicity": self.aperiodicity, "elapsed": {"value": self.elapsed, "units": "s"},
+                "investigation_time": {"value": self.investigation_time, "units": "s"},
+                "probability": self.probability, "poisson_probability": self.poisson_probability}
+
+
+def time_dependent_sources(sources: list[HazardSource], elapsed: dict, model: str = "bpt", aperiodicity: float = 0.5,
+                           investigation_time: float = 50 * JULIAN_YEAR, means: dict | None = None
+                           ) -> list[TimeDependentSource]:
+    """Each segment's rupture as a time-dependent source: a renewal model (BPT or lognormal) with the time since
+    the last rupture gives the probability of a rupture within the investigation time,
+    P = (F(e + t) - F(e)) / (1 - F(e)) (:func:`faultslip.fault.recurrence.conditional_probability`), beside the
+    Poissonian 1 - exp(-t / T).
+
+    Parameters
+    ----------
+    sources : list of HazardSource
+        The map's sources (:func:`hazard_sources`); those without stick-slip are left out.
+    elapsed : dict
+        Source id -> time since its last rupture (s); every source with stick-slip needs one.
+    model : str
+        ``bpt`` (Brownian passage time) or ``lognormal``.
+    aperiodicity : float
+        The renewal model's coefficient of variation (WGCEP's BPT: 0.5).
+    investigation_time : float
+        The window (s).
+    means : dict, optional
+        Source id -> mean recurrence (s), e.g. a catalogue's renewal fit; faultslip's predicted recurrence
+        otherwise.
+
+    Returns
+    -------
+    list of TimeDependentSource
+        One per source with stick-slip.
+    """
+    if model not in RENEWAL_MODELS:
+        raise InputError(f"a time-dependent source's renewal model must be one of {', '.join(RENEWAL_MODELS)}, "
+                         f"got {model!r}")
+    if isinstance(aperiodicity, bool) or not (isinstance(aperiodicity, (int, float)) and 0 < aperiodicity <= 5):
+        raise InputError(f"the aperiodicity (coefficient of variation) must lie above 0 and at most 5, got "
+                         f"{aperiodicity!r}")
+    if not (math.isfinite(investigation_time) and investigation_time > 0):
+        raise InputError(f"the investigation time must be positive, got {investigation_time!r} s")
+    means = means or {}
+    known = {source.id for source in sources}
+    strays = sorted((set(elapsed) | set(means)) - known)
+    if strays:
+        raise InputError(f"no segment {strays[0]!r} in the map (its segments: {', '.join(sorted(known))})")
+    made = []
+    for source in sources:
+        if not source.has_event:
+            continue
+        if source.id not in elapsed:
+            raise InputError(f"segment {source.id} has no time since its last rupture: give one for every segment "
+                             "with stick-slip")
+        since = float(elapsed[source.id])
+        if not (math.isfinite(since) and since >= 0):
+            raise InputError(f"segment {source.id}: the time since its last rupture must be zero or positive, got "
+                             f"{since!r} s")
+        mean = float(means.get(source.id, source.recurrence))
+        if not (math.isfinite(mean) and mean > 0):
+            raise InputError(f"segment {source.id}: the mean recurrence must be positive, got {mean!r} s")
+        made.append(TimeDependentSource(
+            source, model, mean, float(aperiodicity), since, float(investigation_time),
+            conditional_probability(model, mean, float(aperiodicity), since, float(investigation_time)),
+            -math.expm1(-investigation_time / mean)))
+    if not made:
+        raise InputError("no segment has stick-slip (a magnitude and a recurrence): nothing is time-dependent")
+    return made
+
+
+def parse_renewal(text: str) -> tuple[str, float]:
+    """``"bpt:0.5"`` or ``"lognormal:0.6"``: a renewal model and its aperiodicity (default 0.5)."""
+    name, _, value = str(text).strip().partition(":")
+    if name not in RENEWAL_MODELS:
+        raise InputError(f"--renewal is MODEL:APERIODICITY with MODEL one of {', '.join(RENEWAL_MODELS)}, got {text!r}")
+    try:
+        aperiodicity = float(value) if value.strip() else 0.5
+    except ValueError:
+        raise InputError(f"--renewal {text!r}: the aperiodicity after ':' must be a number") from None
+    return name, aperiodicity
+
+
+def parse_last_ruptures(text: str) -> dict:
+    """``"SA-PKF=2004.74; SA-CAR=1857.02"``: each segment's last rupture as a decimal year."""
+    years = {}
+    for part in (text or "").split(";"):
+        if not part.strip():
+            continue
+        key, sep, value = part.partition("=")
+        try:
+            year = float(value)
+        except ValueError:
+            year = math.nan
+        if not sep or not key.strip() or not math.isfinite(year):
+            raise InputError(f"--last-ruptures takes 'SEGMENT=YEAR' pairs separated by ';' (a decimal year), got "
+                             f"{part.strip()!r}")
+        if key.strip() in years:
+            raise InputError(f"--last-ruptures names segment {key.strip()} twice")
+        years[key.strip()] = year
+    if not years:
+        raise InputError("--last-ruptures needs at least one 'SEGMENT=YEAR'")
+    return years
+
+
+def write_time_dependent_model(path, sources: list[TimeDependentSource], name: str, renewal_weight: float = 0.5
+                               ) -> dict:
+    """The time-dependent sources and their Poissonian twins as two source models under one logic tree at
+    ``path`` (``<stem>_poisson.xml`` and ``<stem>_<model>.xml`` beside it): the same whole-segment ruptures,
+    non-parametric, with the renewal model's probability on one branch and 1 - exp(-t / T) on the other.
+
+    Parameters
+    ----------
+    path : str or path
+        The logic tree (NRML).
+    sources : list of TimeDependentSource
+        :func:`time_dependent_sources`'s sources (one model and investigation time).
+    name : str
+        The model's name.
+    renewal_weight : float
+        The renewal branch's weight (the Poissonian branch has the rest).
+
+    Returns
+    -------
+    dict
+        ``files`` written, and each branch's ``probabilities`` by source id.
+    """
+    if not sources:
+        raise InputError("no time-dependent source to write")
+    if not 0 < renewal_weight < 1:
+        raise InputError(f"the renewal branch's weight must lie between 0 and 1, got {renewal_weight!r}")
+    models, spans = {s.model for s in sources}, {s.investigation_time for s in sources}
+    if len(models) > 1 or len(spans) > 1:
+        raise InputError("time-dependent sources written together share one renewal model and investigation time")
+    model, years = models.pop(), spans.pop() / JULIAN_YEAR
+    path = Path(path)
+    branches = {"poisson": path.with_name(f"{path.stem}_poisson{path.suffix}"),
+                model: path.with_name(f"{path.stem}_{model}{path.suffix}")}
+    probabilities = {"poisson": {s.source.id: s.poisson_probability for s in sources},
+                     model: {s.source.id: s.probability for s in sources}}
+    for branch, file in branches.items():
+        ruptures = [{"id": s.source.id, "name": s.source.name, "trace": s.source.trace, "dip": s.source.dip,
+                     "rake": s.source.rake, "upper_depth": s.source.upper_depth, "lower_depth": s.source.lower_depth,
+                     "magnitude": s.source.magnitude, "probability": probabilities[branch][s.source.id]}
+                    for s in sources]
+        write_nonparametric_model(file, ruptures, f"{name} ({branch})", years)
+    write_logic_tree(path, [("poisson", branches["poisson"].name, 1 - renewal_weight),
+                            (model, branches[model].name, renewal_weight)])
+    return {"files": [str(path)] + [str(p) for p in branches.values()], "probabilities": probabilities}
 
 
 def parse_sites(text: str) -> list[tuple[float, float]]:
