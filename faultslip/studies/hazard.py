@@ -49,7 +49,7 @@ class HazardSource:
     upper_depth: float  # m
     lower_depth: float  # m
     length: float  # m, the rupture length faultslip used
-    width: float  # m, the seismogenic depth faultslip used
+    width: float  # m, the rupture's down-dip width H / sin(dip) (H for a vertical fault)
     slip_type: str
     magnitude: float  # faultslip's Mw
     recurrence: float  # s
@@ -129,7 +129,8 @@ def hazard_sources(spec, dataset, stable_continental: bool = False) -> list[Haza
     recurrence = dataset["recurrence_period"].values
     moment = dataset["seismic_moment"].values
     length = dataset["segment_length"].values
-    width = dataset["seismogenic_depth"].values
+    # a dipping rupture's width is down dip, H / sin(dip): its area, moment and empirical magnitudes take it
+    width = (dataset["down_dip_width"] if "down_dip_width" in dataset else dataset["seismogenic_depth"]).values
     sources = []
     for i in range(count):
         slip_type = empirical.slip_type_from_rake(float(rake[i]))

@@ -63,6 +63,8 @@ SEGMENT_COLUMNS = {  # name -> (unit kind, required)
     "observed_slip": ("length", False),
     "observed_slip_event": (None, False),
     "observed_recurrence": ("time", False),
+    "dip": ("degree", False),  # degrees, 0 to 90 (default 90: vertical)
+    "rake": ("degree", False),  # degrees, Aki & Richards (default 180: dextral)
 }
 RASTER_VARIABLES = {
     "lithology": None, "shear_modulus": "pressure", "zone_width": "length", "slip_rate": "speed",
@@ -107,6 +109,16 @@ class SegmentTable:
     #: from GeoJSON (GEM GAF): slip_type, dip and rake (degrees), upper_depth (m); a CSV table takes the seed's
     #: vertical strike-slip defaults (dip 90, rake 180: dextral, upper depth 0)
     geometry: dict = field(default_factory=dict)
+
+    @property
+    def dips(self) -> np.ndarray:
+        """Each segment's dip (degrees): the table's or GeoJSON's, else 90."""
+        return np.asarray(self.geometry.get("dip", np.full(len(self.ids), 90.0)), dtype=float)
+
+    @property
+    def down_dip_widths(self) -> np.ndarray:
+        """The rupture's down-dip width H / sin(dip) (m): what a dipping fault's moment and area take."""
+        return self.seismogenic_depth / np.sin(np.radians(self.dips))
 
     @property
     def lengths(self) -> np.ndarray:
@@ -221,7 +233,9 @@ def segment_map(segments, lon, lat, scene=None, max_distance="60 km", name="map"
                          values("observed_slip", "length", True), values("observed_recurrence", "time", True),
                          [str(item or "") for item in columns.get("observed_slip_event", [""] * count)],
                          {column: [str(item) for item in columns[column]] for column in columns
-                          if column.startswith("source")}, "<segments>")
+                          if column.startswith("source")}, "<segments>",
+                         geometry=segment_geometry(columns.get("dip", [None] * count), columns.get("rake", [None] * count),
+                                                   "segments"))
     for key in ("slip_rate", "seismogenic_depth", "zone_width"):
         if np.any(~(getattr(table, key) > 0)):
             raise InputError(f"segments: {key} must be positive (row {int(np.argmax(~(getattr(table, key) > 0))) + 1})")
@@ -236,6 +250,28 @@ def segment_map(segments, lon, lat, scene=None, max_distance="60 km", name="map"
     if scene.rate_state:
         check_cycle_method(cycle_method, "cycle_method")
     return spec
+
+
+def segment_geometry(dips, rakes, where: str) -> dict:
+    """Dip and rake (degrees) of each segment as a table's ``geometry``: a blank is 90 (vertical) or 180
+    (dextral); a dip outside (0, 90] or a rake outside [-180, 180] is one sentence naming the row."""
+    geometry = {}
+    for column, raw, default in (("dip", dips, 90.0), ("rake", rakes, 180.0)):
+        values = []
+        for row, item in enumerate(raw):
+            text = "" if item is None or (isinstance(item, float) and math.isnan(item)) else str(item).strip()
+            try:
+                degrees = float(text) if text else default
+            except ValueError:
+                raise InputError(f"{where}, row {row + 1}: {column} {text!r} is not a number of degrees") from None
+            fine = 0.0 < degrees <= 90.0 if column == "dip" else -180.0 <= degrees <= 180.0
+            if not fine:
+                limits = "above 0 and at most 90" if column == "dip" else "from -180 to 180"
+                raise InputError(f"{where}, row {row + 1}: {column} must lie {limits} degrees, got {degrees:g}")
+            values.append(degrees)
+        geometry[column] = np.array(values, dtype=float)
+    geometry["upper_depth"] = np.zeros(len(geometry["dip"]))
+    return geometry
 
 
 def read_segments(path) -> SegmentTable:
@@ -274,7 +310,7 @@ def read_segments(path) -> SegmentTable:
 
 
     table = {key: [] for key in ("ids", "names", "traces", "slip_rate", "lithology", "seismogenic_depth", "zone_width",
-                                 "observed_slip", "observed_recurrence", "observed_event")}
+                                 "observed_slip", "observed_recurrence", "observed_event", "dip", "rake")}
     sources = {name: [] for name in names if name.startswith("source")}
     if units.get("trace") not in (None, "degree", "degrees"):
         raise InputError(f"segment table {path.name}: trace must be in degrees, header says {units['trace']!r}")
@@ -295,6 +331,11 @@ def read_segments(path) -> SegmentTable:
         table["observed_slip"].append(quantity(line, row, "observed_slip", "length", optional=True))
         table["observed_recurrence"].append(quantity(line, row, "observed_recurrence", "time", optional=True))
         table["observed_event"].append(row.get("observed_slip_event", ""))
+        for column in ("dip", "rake"):
+            if row.get(column) and units.get(column) not in ("degree", "degrees", "deg"):
+                raise InputError(f"segment table {path.name}: column {column!r} must be in degrees, e.g. "
+                                 f"'{column} (degree)'")
+            table[column].append(row.get(column, ""))
         for name in sources:
             sources[name].append(row.get(name, ""))
     if len(set(table["ids"])) != len(table["ids"]):
@@ -307,7 +348,8 @@ def read_segments(path) -> SegmentTable:
     return SegmentTable(table["ids"], table["names"], table["traces"], np.array(table["slip_rate"]), table["lithology"],
                         np.array(table["seismogenic_depth"]), np.array(table["zone_width"]),
                         np.array(table["observed_slip"]), np.array(table["observed_recurrence"]),
-                        table["observed_event"], sources, str(path))
+                        table["observed_event"], sources, str(path),
+                        geometry=segment_geometry(table["dip"], table["rake"], f"segment table {path.name}"))
 
 
 def read_raster(path):
@@ -601,7 +643,9 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
     coords = {"segment": ("segment", np.array(table.ids, dtype=object), {"long_name": "fault segment"})}
     dims_coords = {"dims": ("segment",), "coords": coords}
     lengths = table.lengths
-    along = {"slip_rate": table.slip_rate, "seismogenic_depth": table.seismogenic_depth, "zone_width": table.zone_width,
+    # a dipping fault ruptures its down-dip width H / sin(dip): the moment G L W slip takes W. The block's
+    # stiffness keeps the seed's choice, G / D with the elastic zone D, whatever the dip (map notes say so)
+    along = {"slip_rate": table.slip_rate, "seismogenic_depth": table.down_dip_widths, "zone_width": table.zone_width,
              "rupture_length": lengths}
     if spec.scene.rate_state:
         dataset = _rate_state_along(spec, dims_coords, table.lithology, along, tolerance)
@@ -615,11 +659,18 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
         "slip_rate": (table.slip_rate, "m/s", "long-term slip rate"),
         "segment_length": (lengths, "m", "geodetic length of the trace (WGS84)"),
         "seismogenic_depth": (table.seismogenic_depth, "m", "seismogenic depth H"),
+        "dip": (table.dips, "degree", "dip of the fault"),
+        "down_dip_width": (table.down_dip_widths, "m", "rupture width down dip, H / sin(dip): the moment's width"),
         "zone_width": (table.zone_width, "m", "elastic-zone half-width D"),
         "observed_slip": (table.observed_slip, "m", "observed slip per event (where published)"),
         "observed_recurrence": (table.observed_recurrence, "s", "observed paleoseismic recurrence (where published)"),
         "observed_slip_event": (np.array(table.observed_event, dtype=object), None, "event of the observed slip"),
     }
+    dipping = [str(i) for i, dip in zip(table.ids, table.dips) if dip < 90.0]
+    if dipping and hasattr(spec, "notes"):
+        spec.notes.append(f"dipping segments ({', '.join(dipping)}): the moment and the rupture area take the down-dip "
+                          "width H / sin(dip); the block's stiffness G / D keeps the elastic-zone width D, the same "
+                          "geometric choice as for a vertical fault")
     for name, (values, unit, long_name) in extra.items():
         attrs = {"long_name": long_name, **({"units": unit} if unit else {})}
         dataset[name] = xr.DataArray(values, dims=("segment",), coords=coords, attrs=attrs)
