@@ -182,7 +182,8 @@ class Workspace:
 
     def __init__(self, folder: Path):
         self.folder = folder
-        self.scenes = sorted(p for p in CONFIGS.glob("*.toml") if "[scene]" in p.read_text(encoding="utf-8"))
+        self.scenes = sorted(p for p in CONFIGS.glob("*.toml") if "[scene]" in p.read_text(encoding="utf-8")
+                             or 'family = "spring_chain"' in p.read_text(encoding="utf-8"))
         self.studies = [CONFIGS / "study_spring_slider.toml", CONFIGS / "study_lab_glass.toml",
                         CONFIGS / "study_rate_state.toml"]
         self.segments = (DATA / "san_andreas_segments.csv").read_text(encoding="utf-8")
@@ -478,9 +479,17 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
                              ("--mfd-bin-width", ["0.1", "1e-300", "0", "0.7", "-0.1", "nan"]),
                              ("--moment-constant", ["9.1", "9.05", "9", "nan"]),
                              ("--scaling-relations", ["faultslip", "WC1994:0.5,Leonard2010:0.5", "WC1994:2", ":",
-                                                      "faultslip,faultslip"])):
+                                                      "faultslip,faultslip"]),
+                             ("--renewal", ["bpt:0.5", "lognormal:0.3", "bpt:0", "weibull:1", "bpt:x", "lognormal:6"]),
+                             ("--forecast-year", ["2026", "1800", "nan", "x", "1e300"]),
+                             ("--investigation-time", ["50 yr", "0 yr", "-1 yr", "50 m", "x"])):
             if rng.random() < 0.6:
                 argv += [flag, rng.choice(values)]
+        if rng.random() < 0.5:  # time-dependent sources: each segment's last rupture, or a broken list of them
+            ids = [line.split(",")[0] for line in space.segments.splitlines()[1:] if line.strip()]
+            whole = "; ".join(f"{segment}={rng.choice(['1857', '1906.3', '2004.74', '1690'])}" for segment in ids)
+            argv += ["--time-dependent", str(space.folder / "td.xml"), "--last-ruptures",
+                     rng.choice([whole, whole + "; nowhere=1900", "=", "a=b", "", ids[0] + "=2999" if ids else "x=1"])]
         if rng.random() < 0.2:
             argv += ["--method", rng.choice(["auto", "closed_form", "bogus", "exact_cycle", ""])]
         return argv
