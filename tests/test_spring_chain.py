@@ -193,3 +193,15 @@ def test_students_test_the_chains_catalogue_for_predictability():
     found = faultslip.predictability(run.start, run.total_slip)
     assert not found.verdicts["periodic"]
     assert found.intervals.size == run.events - 1
+
+
+def test_the_chain_animates_one_event_a_frame_and_a_family_without_animation_says_so(cli, tmp_path):
+    from PIL import Image
+
+    out = cli("animate", CHAIN, "-o", tmp_path / "chain.gif", "--frames", "12", "--json")
+    assert out.code == 0, out.err
+    assert out.json["events"] == 12 and out.json["b_value"] == pytest.approx(faultslip.run(CHAIN)["b_value"])
+    with Image.open(tmp_path / "chain.gif") as gif:
+        assert gif.n_frames == 12
+    assert_clean_error(cli("animate", "seas_bp1.toml", "-o", tmp_path / "bp1.gif"), "no animation")
+    assert not (tmp_path / "bp1.gif").exists()

@@ -14,9 +14,8 @@ from faultslip.io.report import Report
 from faultslip.lab.seed002_curves import figures_9_to_11
 from faultslip.plots.rate_state import stability_figure
 from faultslip.plots.vibration import seed002_figures
-from faultslip.plots.animation import MAX_FRAMES, animation, save_gif
-from faultslip.dynamics.spring_slider.simulate import simulate
-from faultslip.fault.scene import load_scene
+from faultslip.plots.animation import MAX_FRAMES, save_gif
+from faultslip import models
 
 
 def cmd_plot_rate_law(args) -> int:
@@ -80,17 +79,14 @@ def cmd_animate(args) -> int:
         raise FaultslipError(f"--frames must be from 2 to {MAX_FRAMES}, got {args.frames}")
     if not 0 < args.slip_share < 1:
         raise FaultslipError(f"--slip-share must lie strictly between 0 and 1, got {args.slip_share}")
-    scene = load_scene(args.scene)
-    system = scene.slider()
-    dataset = simulate(system, cycles=args.cycles + 1, scene=scene.name)
-    events = dataset["event_time"].values
-    if events.size >= 2:  # from the first event: the limit cycle, not the first loading from rest
-        dataset = dataset.sel(time=slice(events[0] - 0.25 * (events[1] - events[0]), None))
-    movie, figure, compression = animation(dataset, frames=args.frames, slip_share=args.slip_share)
+    movie, figure, details = models.animate(args.scene, cycles=args.cycles, frames=args.frames,
+                                            slip_share=args.slip_share)
     with _locked(output):
         save_gif(movie, figure, output, fps=args.fps, progress=_progress("animate", not getattr(args, "json", False), "frame"))
-    report = Report(f"faultslip animate: {scene.name}")
-    report.add("frames", args.frames).add("fps", args.fps).add("cycles", int(max(events.size - 1, 0)))
-    report.add("compression", compression, label="a stick plays this many times faster than a slip")
+    report = Report(f"faultslip animate: {details.pop('title')}")
+    report.add("frames", args.frames).add("fps", args.fps)
+    for key, value in details.items():
+        value, label = value if isinstance(value, tuple) else (value, None)
+        report.add(key, value, label=label)
     report.add("output", str(output))
     return _emit(report, args.json)

@@ -47,6 +47,9 @@ class Family:
     #: (a coarser family's scene, reason, allow_large=, progress=) -> Result: the scene run on this richer model,
     #: for a family that escalates to it (the rate-and-state slider's fault to the 2-D fault)
     refine: Callable | None = None
+    #: (scene, cycles=, frames=, slip_share=) -> (movie, figure, details): the family's animation for
+    #: ``faultslip animate`` (:func:`faultslip.plots.animation.save_gif` writes it); None: it has none
+    animate: Callable | None = None
 
 
 @dataclass(frozen=True)

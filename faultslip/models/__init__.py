@@ -22,8 +22,8 @@ from faultslip.contract.options import OPTIONS, UNIVERSAL
 from faultslip.contract.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
 from faultslip.contract.result import Result
 
-__all__ = ["DECLARATIONS", "FAMILIES", "Family", "Result", "families", "family_of", "load", "register", "run",
-           "simulate"]
+__all__ = ["DECLARATIONS", "FAMILIES", "Family", "Result", "animate", "families", "family_of", "load", "register",
+           "run", "simulate"]
 
 
 def _not_an_option(name: str, family) -> str:
@@ -123,4 +123,30 @@ def simulate(scene=None, **options) -> Result:
     return family.simulate(scene, **{name: value for name, value in given.items() if name in family.simulate_options})
 
 
+def animate(scene, cycles: int = 2, frames: int = 120, slip_share: float = 0.5):
+    """A scene's animation, as ``faultslip animate`` draws it: the scene's family's own (a slider's block, spring
+    and platform; a chain's blocks and catalogue).
 
+    Parameters
+    ----------
+    scene : str, path or scene object
+        A scene whose family animates.
+    cycles : int
+        Cycles (a slider) or events (a chain) to show.
+    frames : int
+        Frames of the animation.
+    slip_share : float
+        The share of the frames given to slips (a slider).
+
+    Returns
+    -------
+    tuple
+        (movie, figure, details): :func:`faultslip.plots.animation.save_gif` writes the movie; ``details`` are
+        what the command reports (with units where they have them).
+    """
+    family = family_of(scene)
+    if family.animate is None:
+        able = sorted(name for name, declared in families().items() if declared.animate is not None)
+        raise InputError(f"faultslip animate draws {', '.join(able)} scenes; {scene} is a {family.name} scene, "
+                         "which has no animation (its figure: faultslip simulate SCENE --plot FILE.png)")
+    return family.animate(scene, cycles=cycles, frames=frames, slip_share=slip_share)

@@ -23,7 +23,7 @@ from faultslip.io.report import Report
 from faultslip.io.waveforms import DEFAULT_START
 from faultslip.models.common import note_origin
 from faultslip.models.spring_chain.dynamics import SAMPLES_PER_PERIOD, SLIP_SOLVERS, ChainRun, simulate_chain
-from faultslip.models.spring_chain.figures import chain_figure
+from faultslip.models.spring_chain.figures import chain_animation, chain_figure
 from faultslip.models.spring_chain.scene import load_chain_scene
 
 METHOD = {"name": "chain_event_driven_exact",
@@ -224,6 +224,16 @@ def simulate(scene, cycles=None, slip_solver=None, rtol=None, events=False, outp
                   extras={"run": chain_run, "events": make_events})
 
 
+def animate(scene, cycles: int = 2, frames: int = 120, slip_share: float = 0.5):
+    """The chain's last ``frames`` events (the scene's events run), one a frame (``cycles`` and ``slip_share``, a
+    slider's, do not apply: a chain's frame is an event)."""
+    loaded, chain_run, stats, _ = _run(scene)
+    movie, figure = chain_animation(chain_run, frames, f"{loaded.name}: b = "
+                                    f"{stats['b']['b']:.2f}" if stats["b"] is not None else loaded.name)
+    return movie, figure, {"title": loaded.name, "events": min(frames, chain_run.events),
+                           "b_value": stats["b"]["b"] if stats["b"] is not None else None}
+
+
 #: What a chain study sweeps and writes.
 PARAMETERS = {
     **{name: Parameter(name, kind, unit, long_name, ("chain", name)) for name, kind, unit, long_name in (
@@ -251,4 +261,4 @@ FAMILY = register(Family("spring_chain", "a chain of spring-blocks (Burridge & K
                          why="a spring-block chain takes --cycles (its events), --slip-solver, --rtol and --events "
                              "(QuakeML)",
                          read_scene=toml_reader("spring_chain", PARAMETERS), cells=CELLS,
-                         methods=lambda: [dict(METHOD), dict(INTEGRATED)]))
+                         methods=lambda: [dict(METHOD), dict(INTEGRATED)], animate=animate))

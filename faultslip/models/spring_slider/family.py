@@ -16,6 +16,7 @@ from faultslip.io.waveforms import build_stream
 from faultslip.models.common import note_origin
 from faultslip.contract.registry import Family, load, register
 from faultslip.contract.result import Result
+from faultslip.plots.animation import animation
 from faultslip.plots.figures import sawtooth_figure
 from faultslip.units import to_si
 
@@ -64,6 +65,22 @@ def cycle(scene, loading_rate=None, platform_speed=None, method: str | None = No
         system = system.with_(platform_speed=to_si(platform_speed, "speed", "platform speed"))
     solution = solve(system, method=method or loaded.method, tolerance=tolerance or loaded.tolerance, cycles=200)
     return Result("spring_slider", solution.report(f"faultslip cycle: {loaded.name}"))
+
+
+def animate(scene, cycles: int = 2, frames: int = 120, slip_share: float = 0.5):
+    """The slider's block, spring and platform beside its phase plane and friction, over ``cycles`` limit cycles
+    (from the first event: the limit cycle, not the first loading from rest)."""
+    loaded = load_scene(scene)
+    if loaded.rate_state:
+        raise InputError("faultslip animate draws a seed-law slider; a rate-and-state scene's cycles are drawn by "
+                         "faultslip simulate SCENE --plot FILE.png")
+    dataset = integrate(loaded.slider(), cycles=cycles + 1, scene=loaded.name)
+    events = dataset["event_time"].values
+    if events.size >= 2:
+        dataset = dataset.sel(time=slice(events[0] - 0.25 * (events[1] - events[0]), None))
+    movie, figure, compression = animation(dataset, frames=frames, slip_share=slip_share)
+    return movie, figure, {"title": loaded.name, "cycles": int(max(events.size - 1, 0)),
+                           "compression": (compression, "a stick plays this many times faster than a slip")}
 
 
 def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: bool = False, stream: bool = False,
@@ -122,4 +139,4 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
 FAMILY = register(Family("spring_slider", "seed 003: the spring-slider, in the lab and scaled to a fault (the "
                          "default)", run, simulate, simulate_options=("cycles", "slip_solver", "rtol", "stream",
                                                                      "events", "output", "allow_large"),
-                         read_scene=read_scene, cells=CELLS, methods=describe_seed_methods))
+                         read_scene=read_scene, cells=CELLS, methods=describe_seed_methods, animate=animate))
