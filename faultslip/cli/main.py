@@ -105,6 +105,9 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
     classroom.add_argument("--address", default="127.0.0.1", help="the address to serve on (default 127.0.0.1: "
                                                                   "this machine only)")
     classroom.add_argument("--open", action="store_true", help="open the app in the default browser")
+    classroom.add_argument("--export", help="write the lesson as one self-contained HTML file (FILE.html) that opens "
+                           "offline without Python, and serve nothing")
+    classroom.add_argument("--overwrite", action="store_true", help="replace an exported file that already exists")
     classroom.set_defaults(handler="apps:cmd_classroom")
     return parser
 
