@@ -45,8 +45,9 @@ def test_animate_refuses_bad_requests(cli, tmp_path):
 def test_the_frozen_layout_draws_what_matplotlibs_writer_draws(tmp_path):
     """save_gif solves the layout once, draws the still parts once and blits only the moving artists each frame
     (matplotlib's PillowWriter saved every frame through savefig: about three draws and a constrained-layout solve
-    a frame, 43 % of the time). Its frames are matplotlib's own, pixel for pixel (benchmarks/animation_speed.py:
-    12.4x faster a frame)."""
+    a frame, 43 % of the time), and maps every frame onto one palette (pillow's writer built one a frame, most of
+    what remained). Its frames are matplotlib's own to the GIF's quantisation (benchmarks/animation_speed.py:
+    33.7x faster a frame)."""
     from matplotlib.animation import PillowWriter
 
     from faultslip.plots.animation import animation, save_gif
@@ -63,5 +64,7 @@ def test_the_frozen_layout_draws_what_matplotlibs_writer_draws(tmp_path):
             theirs.seek(frame)
             a = np.asarray(ours.convert("RGB"), dtype=float)
             b = np.asarray(theirs.convert("RGB"), dtype=float)
-            # identical here; two neighbouring frames differ by 2-4 on average, so this tells any moved artist
-            assert np.mean(np.abs(a - b)) < 0.1
+            # both GIFs are quantised, each its own way (matplotlib's writer builds a palette a frame, save_gif one
+            # for all: faultslip.plots.animation.paletted), and differ by about 0.2 on average; two neighbouring
+            # frames differ by 2-4, so this still tells any moved artist
+            assert np.mean(np.abs(a - b)) < 0.5
