@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 import faultslip
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
 from faultslip.dynamics.spring_slider.slider import SliderSystem
-from faultslip.errors import InputError
+from faultslip.errors import InputError, SolverError
 from faultslip.fault.gutenberg_richter import b_value
 from faultslip.friction.laws import ConstantKinetic, ConstantStatic
 
@@ -103,7 +103,11 @@ def test_a_random_chain_slips_in_order_and_only_where_it_says(blocks, coupling, 
     chain = _chain(mass=1.0, leaf_stiffness=1.0, normal_load=1.0, coupling_stiffness=coupling, static_friction=static,
                    dashpot=2 * zeta)
     start = rng.uniform(0, 0.1, blocks)
-    run = _simulate(chain, 40, initial_position=start)
+    try:
+        run = _simulate(chain, 40, initial_position=start)
+    except SolverError as exc:  # heavy damping: a block that never sticks is refused, as a slider above critical
+        assert "slides steadily" in str(exc) and zeta > 0
+        return
     assert np.all(np.diff(run.start) >= 0) and np.all(run.end >= run.start)
     assert np.all((run.slip != 0).sum(axis=1) <= run.blocks_slipped)
     first = run.slip[np.arange(run.events), run.first_block]

@@ -108,7 +108,7 @@ class Fault2D:
 
     def process_zone(self) -> float:
         """L_b = G D_c / (sigma_n b), the cohesive-zone scale an element must resolve (Day et al. 2005)."""
-        with np.errstate(divide="ignore"):
+        with np.errstate(divide="ignore", over="ignore"):  # a vanishing sigma_n b gives an unbounded L_b, not a warning
             values = self.shear_modulus * self.critical_slip / (self.normal_stress * self.b)
         return float(np.min(values))
 

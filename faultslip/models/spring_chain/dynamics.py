@@ -47,6 +47,8 @@ from faultslip.errors import InputError, SolverError
 SAMPLES_PER_PERIOD = 32
 #: Relative tolerance within which blocks stop or fail together.
 TOGETHER = 1e-10
+#: An event that lasts this many of a lone block's periods without every block sticking is steady sliding.
+STEADY_PERIODS = 200
 
 
 @dataclass(frozen=True)
@@ -297,6 +299,7 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
     subphases = 0
     began = clock.perf_counter()
     scale = chain.normal_load * (chain.static_friction.max() - chain.kinetic_friction)
+    slowest_period = 2 * math.pi * math.sqrt(chain.mass / chain.leaf_stiffness)  # a lone block's, the chain's longest
     while len(starts) < events:
         # stick: every force grows at k_p V; the least headroom fails first (and any within TOGETHER of it). A
         # start that holds a block past -W mu_s (neighbours far ahead) lets it go backwards at once.
@@ -315,6 +318,12 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
             if subphases > budget:
                 raise SolverError(f"the chain: more than {budget} slip sub-phases at t = {t:.6g} s; raise "
                                   "max_subphases, or fewer blocks or events")
+            if t - t_start > STEADY_PERIODS * slowest_period:  # a slip that never ends is steady sliding
+                raise SolverError(
+                    f"the chain slides steadily: block(s) {', '.join(str(int(b)) for b in slipping[:5])} have slipped "
+                    f"for {(t - t_start) / slowest_period:.0f} of a block's periods without sticking, as a slider "
+                    f"above its critical loading rate does (damping ratio {chain.damping_ratio:.3g}); lower the "
+                    "damping or the plate speed for stick-slip")
             slipped[slipping] = True
             if slip_solver == "closed_form":
                 modes = _Modes(chain, slipping, degree, x, v, t, direction)
