@@ -27,7 +27,7 @@ CASES = {
     "asperity": ("asperity_seed004.toml", {"platform_speed": ["2 mm/s", "3.6 mm/s"]}, {}),
     "rough_surface": ("rough_surface_seed000.toml", {"separation_coefficient": ["0 s/m", "0.8 s/m"]}, {"cycles": 2}),
     "fault_2d": ("fault_2d_small.toml", {"critical_slip": ["24 mm", "30 mm"]}, None),
-    "spring_chain": ("spring_chain.toml", {"threshold_spread": [0.3, 0.5]}, {"cycles": 20}),
+    "spring_chain": ("spring_chain_small.toml", {"threshold_spread": [0.3, 0.5]}, {"cycles": 20}),
 }
 
 

@@ -17,6 +17,8 @@ Drawing is plain ``<canvas>``: no plotting library, so the file stays small (wel
 
 from __future__ import annotations
 
+import copy
+import functools
 import html
 import json
 import math
@@ -32,7 +34,7 @@ MAX_BYTES = 5 * 1024 * 1024
 
 
 def lesson_data() -> dict:
-    """What the page carries: each stick-slip preset's rate law and apparatus (SI), and the precomputed chains.
+    """What the page carries (computed once a process: the chains take seconds): each stick-slip preset's rate law and apparatus (SI), and the precomputed chains.
 
     Returns
     -------
@@ -40,6 +42,11 @@ def lesson_data() -> dict:
         ``presets`` (name -> mu_so, mu_m, b, d, stiffness N/m, normal load N, mass kg = W / g) and ``chains`` (a
         list of {coupling, spread, b, interval, magnitudes, system_events, recurrence_cv}).
     """
+    return copy.deepcopy(_lesson_data())
+
+
+@functools.lru_cache(maxsize=1)
+def _lesson_data() -> dict:
     presets = {}
     for name in stick_slip_presets():
         preset = get_preset(name)
