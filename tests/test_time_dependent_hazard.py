@@ -164,3 +164,25 @@ def test_the_map_command_writes_them_and_refuses_what_does_not_fit(cli, sources,
                            "--forecast-year", "2026"], "after the forecast year")):
         assert_clean_error(cli(*base, *extra), words)
     assert not (tmp_path / "n.nc").exists() and not (tmp_path / "x.xml").exists()
+
+
+def test_the_map_commands_engine_job_runs_the_time_dependent_model(cli, tmp_path):
+    """Without --nrml, --engine-job runs the time-dependent logic tree over its own investigation time."""
+    pytest.importorskip("openquake.engine", reason="the OpenQuake engine is not installed")
+    oq = shutil.which("oq", path=os.path.dirname(sys.executable)) or shutil.which("oq")
+    if oq is None:
+        pytest.skip("the OpenQuake engine's 'oq' command is not on the path")
+    out = cli("map", MAP, "-o", tmp_path / "m.nc", "--time-dependent", tmp_path / "td.xml", "--last-ruptures", LAST,
+              "--forecast-year", "2026", "--investigation-time", "30 yr", "--engine-job", tmp_path / "job.ini",
+              "--sites", "-120.43 35.87", "--json")
+    assert out.code == 0, out.err
+    assert "investigation_time = 30" in (tmp_path / "job.ini").read_text()
+    environment = dict(os.environ, OQ_DATADIR=str(tmp_path / "oqdata"), OQ_DISTRIBUTE="no")
+    run = subprocess.run([oq, "engine", "--run", str(tmp_path / "job.ini"), "--exports", "csv"], capture_output=True,
+                         text=True, env=environment, timeout=600)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    assert len(list(tmp_path.glob("hazard_curve-mean-PGA*.csv"))) == 1
+    from conftest import assert_clean_error
+
+    assert_clean_error(cli("map", MAP, "-o", tmp_path / "n.nc", "--time-dependent", tmp_path / "x.xml",
+                           "--last-ruptures", LAST, "--engine-job", tmp_path / "j.ini"), "go together")

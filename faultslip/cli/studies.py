@@ -132,8 +132,10 @@ def _hazard_options(args, spec, outputs) -> dict | None:
     relations = hazard.parse_relations(args.scaling_relations)
     wanted = outputs["nrml"] is not None
     if not wanted:
-        for flag, value in (("--engine-job", outputs["engine_job"]), ("--sites", args.sites),
-                            ("--scaling-relations", args.scaling_relations)):
+        # without --nrml, an engine job may still run the time-dependent sources (checked in _renewal_options)
+        job_flags = () if outputs["time_dependent"] is not None else (("--engine-job", outputs["engine_job"]),
+                                                                       ("--sites", args.sites))
+        for flag, value in (*job_flags, ("--scaling-relations", args.scaling_relations)):
             if value is not None:
                 raise InputError(f"{flag} describes NRML sources: give --nrml FILE.xml too")
         return None
@@ -189,11 +191,17 @@ def _renewal_options(args, spec, outputs) -> dict | None:
     window = to_si(args.investigation_time, "time", "--investigation-time")
     path = outputs["time_dependent"]
     extra = [path.with_name(f"{path.stem}_{name}{path.suffix}") for name in ("poisson", model)]
+    job = outputs["engine_job"] if outputs["nrml"] is None else None  # with --nrml, the job runs those sources
+    if outputs["nrml"] is None and (outputs["engine_job"] is None) != (args.sites is None):
+        raise InputError("--engine-job and --sites go together: the job computes hazard at the sites")
+    if job is not None:
+        extra.append(job.with_name(f"{job.stem}_gmpe_logic_tree.xml"))
     for item in extra:
         claim(check_output(item, label="--time-dependent", suffixes=(".xml",), inputs=spec.inputs,
                            overwrite=args.overwrite), "faultslip map", args.overwrite, "--time-dependent")
     return {"model": model, "aperiodicity": aperiodicity, "last": last, "forecast_year": forecast,
-            "investigation_time": window, "extra": extra}
+            "investigation_time": window, "extra": extra, "job": job,
+            "sites": hazard.parse_sites(args.sites) if job is not None else None}
 
 
 def _count(number, noun: str) -> str:
@@ -254,6 +262,12 @@ def cmd_map(args) -> int:
                                   f"oq engine --run {outputs['engine_job']}")
         if renewal_sources is not None:
             td = hazard.write_time_dependent_model(outputs["time_dependent"], renewal_sources, spec.name)
+            if renewal["job"] is not None:  # the engine runs the time-dependent logic tree over its own window
+                td["files"] += hazard.write_engine_job(renewal["job"], str(outputs["time_dependent"]), True,
+                                                       renewal["sites"], description=f"{spec.name} (time-dependent)",
+                                                       investigation_time=renewal["investigation_time"] / JULIAN_YEAR)
+                spec.notes.append(f"OpenQuake classical job over the time-dependent sources at "
+                                  f"{len(renewal['sites'])} site(s): oq engine --run {renewal['job']}")
             spec.notes.append(f"{len(renewal_sources)} time-dependent source(s), {renewal['model']} with aperiodicity "
                               f"{renewal['aperiodicity']:g} from {renewal['forecast_year']:g} over "
                               f"{renewal['investigation_time'] / JULIAN_YEAR:g} yr, beside their Poissonian twins, "
