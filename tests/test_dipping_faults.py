@@ -97,3 +97,30 @@ def test_the_geojson_dip_reaches_the_moment(tmp_path):
         'lat = { linspace = [35.0, 36.5, 4] }\nmax_distance = "40 km"\n', encoding="utf-8")
     data = run_map(load_map(tmp_path / "map.toml"))
     assert float(data["down_dip_width"].values[0]) == pytest.approx(12e3 * math.sqrt(2), rel=1e-12)
+
+
+def test_a_single_dipping_fault_takes_its_down_dip_width(cli):
+    """faultslip fault (and Fault) with --dip: M0 = G L (H / sin dip) slip by hand, the report names W and says the
+    stiffness keeps the elastic-zone width; a vertical fault is unchanged."""
+    from faultslip.fault.scaling import Fault
+
+    base = dict(lithology="granodiorite", zone_width="13 mi", shear_stress="250 bar", slip_rate="2 in/yr",
+                rupture_length="100 km", seismogenic_depth="15 km")
+    vertical = Fault(**base).estimate()
+    thrust = Fault(**base, dip=30, rake=90).estimate()
+    assert thrust.slip_per_event == pytest.approx(vertical.slip_per_event, rel=1e-15)  # the slider does not change
+    shear_modulus = Fault(**base).shear_modulus
+    assert thrust.seismic_moment == pytest.approx(shear_modulus * 100e3 * 30e3 * thrust.slip_per_event, rel=1e-12)
+    assert vertical.seismic_moment == pytest.approx(shear_modulus * 100e3 * 15e3 * vertical.slip_per_event,
+                                                    rel=1e-12)
+    rows = {row["relation"] if isinstance(row, dict) and "relation" in row else str(row): row
+            for row in thrust.empirical()}
+    assert any("reverse" in str(key) for key in rows), rows
+    out = cli("fault", "--lithology", "granodiorite", "--zone-width", "13 mi", "--shear-stress", "250 bar",
+              "--slip-rate", "2 in/yr", "--rupture-length", "100 km", "--depth", "15 km", "--dip", "30", "--rake", "90",
+              "--json")
+    assert out.code == 0, out.err
+    assert out.json["rupture_width"]["value"] == pytest.approx(30e3, rel=1e-12)
+    assert any("keeps the elastic-zone width" in note for note in out.json["notes"])
+    assert_clean_error(cli("fault", "--lithology", "granodiorite", "--zone-width", "13 mi", "--shear-stress",
+                           "250 bar", "--slip-rate", "2 in/yr", "--dip", "95"), "dip must lie")

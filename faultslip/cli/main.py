@@ -180,6 +180,8 @@ def _scenes_commands(commands) -> None:
     fault.add_argument("--rate-exponent", help="d of eq. 2-18")
     fault.add_argument("--rupture-length", help="rupture length L for M0 and Mw, e.g. '270 mi'")
     fault.add_argument("--depth", help="seismogenic depth H for M0 and Mw, e.g. '12 km'")
+    fault.add_argument("--dip", help="dip in degrees (default 90): the moment takes the down-dip width H / sin(dip)")
+    fault.add_argument("--rake", help="rake in degrees (default 180, dextral): the slip type of the empirical relations")
     fault.add_argument("--damping-ratio", help="damping ratio zeta of the slip phase (default 0)")
     fault.add_argument("--radiation-damping", action="store_true", help="add the radiation damper G/(2 c_s)")
     fault.add_argument("--density", help="rock density for M = rho D (default 2700 kg/m^3)")

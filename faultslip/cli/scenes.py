@@ -49,7 +49,7 @@ def cmd_run(args) -> int:
 def cmd_fault(args) -> int:
     inputs = {target: getattr(args, flag) for flag, target in _FAULT_QUANTITIES.items() if getattr(args, flag) is not None}
     seed_law = {"mu_so": args.mu_so, "mu_m": args.mu_m, "damping_ratio": args.damping_ratio,
-                "b": args.rate_coefficient, "d": args.rate_exponent}
+                "b": args.rate_coefficient, "d": args.rate_exponent, "dip": args.dip, "rake": args.rake}
     result = fault_estimate(args.lithology, method=args.method, tolerance=_tolerance(args),
                             observed_slip=args.observed_slip, seed_law=args.seed_law,
                             radiation_damping=args.radiation_damping, name=args.name,

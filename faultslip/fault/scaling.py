@@ -146,7 +146,7 @@ _QUANTITY_FIELDS = {
     "density": ("density", "density"),
     "shear_wave_speed": ("speed", "shear-wave speed"),
 }
-_NUMBER_FIELDS = {"mu_so", "mu_m", "b", "d", "damping_ratio"}
+_NUMBER_FIELDS = {"mu_so", "mu_m", "b", "d", "damping_ratio", "dip", "rake"}
 
 
 @dataclass(frozen=True)
@@ -177,7 +177,11 @@ class Fault:
     mu_so, mu_m, b, d : float, optional
         The rate law of eq. 2-18 (dimensionless; b in s^d), replacing the lithology's.
     rupture_length, seismogenic_depth : str, Quantity or float, optional
-        L and H (m): the seismic moment M0 = G L H u and Mw.
+        L and H (m): the seismic moment M0 = G L W u and Mw, with W = H / sin(dip) the down-dip width.
+    dip, rake : float
+        Degrees (90 and 180 by default: vertical, dextral). The dip sets the rupture's width down dip, W = H / sin(dip);
+        the rake its slip type for the empirical relations. The block's stiffness G / D keeps the elastic-zone
+        width D whatever the dip: the same geometric choice as for a vertical fault.
     damping_ratio : float
         Damping ratio of the slider's dashpot.
     radiation_damping : bool
@@ -204,6 +208,8 @@ class Fault:
     d: float | None = None
     rupture_length: object = None
     seismogenic_depth: object = None
+    dip: float = 90.0
+    rake: float = 180.0
     damping_ratio: float = 0.0
     radiation_damping: bool = False
     density: object = f"{DEFAULT_DENSITY} kg/m^3"
@@ -249,6 +255,10 @@ class Fault:
                     "seismogenic_depth", "normal_stress", "shear_stress", "mu_so", "mu_m", "b", "d", "damping_ratio"):
             if getattr(self, key) is not None:
                 ranges.check(key, getattr(self, key))
+        if not 0.0 < self.dip <= 90.0:
+            raise InputError(f"the dip must lie above 0 and at most 90 degrees, got {self.dip:g}")
+        if not -180.0 <= self.rake <= 180.0:
+            raise InputError(f"the rake must lie from -180 to 180 degrees, got {self.rake:g}")
         if (self.normal_stress is None) == (self.shear_stress is None):
             raise InputError("give exactly one of normal stress or shear stress (sigma_n = tau / mu_so)")
         RateLaw(self.mu_so, self.mu_so if self.mu_m is None else self.mu_m, self.b, self.d)  # validates
@@ -272,6 +282,13 @@ class Fault:
     @property
     def stiffness(self) -> float:
         return fault_stiffness(self.shear_modulus, self.zone_width)
+
+    @property
+    def rupture_width(self) -> float | None:
+        """W = H / sin(dip), the rupture's width down dip (m): what its moment and area take."""
+        if self.seismogenic_depth is None:
+            return None
+        return self.seismogenic_depth / math.sin(math.radians(self.dip))
 
     @property
     def loading_rate(self) -> float:
@@ -430,7 +447,7 @@ class FaultEstimate:
         slip = cycle.slip_per_event  # the relative sliding of the event: the slip of an earthquake
         moment = magnitude = None
         if fault.rupture_length is not None and fault.seismogenic_depth is not None:
-            moment = float(seismic_moment(fault.shear_modulus, fault.rupture_length, fault.seismogenic_depth, slip))
+            moment = float(seismic_moment(fault.shear_modulus, fault.rupture_length, fault.rupture_width, slip))
             magnitude = float(moment_magnitude(moment))
         return cls(
             fault=fault,
@@ -458,8 +475,8 @@ class FaultEstimate:
         if self.moment_magnitude is None:
             return []
         f = self.fault
-        return empirical.compare(self.slip_per_event, self.moment_magnitude, f.rupture_length, f.seismogenic_depth,
-                                 "strike-slip")
+        return empirical.compare(self.slip_per_event, self.moment_magnitude, f.rupture_length, f.rupture_width,
+                                 empirical.slip_type_from_rake(f.rake))
 
     def report(self) -> Report:
         f = self.fault
@@ -473,6 +490,12 @@ class FaultEstimate:
             r.add("rupture_length", f.rupture_length, "m", "rupture length L", also=("km", "mi"))
         if f.seismogenic_depth is not None:
             r.add("seismogenic_depth", f.seismogenic_depth, "m", "seismogenic depth H", also=("km",))
+            if f.dip != 90.0:
+                r.add("dip", f.dip, "degree", "dip").add("rake", f.rake, "degree", "rake")
+                r.add("rupture_width", f.rupture_width, "m", "rupture width down dip W = H / sin(dip)", also=("km",))
+                r.note(f"dipping at {f.dip:g} degrees: the moment and the empirical relations take W = H / sin(dip) = "
+                       f"{f.rupture_width / 1e3:.4g} km; the block's stiffness G / D keeps the elastic-zone width D, "
+                       "the same geometric choice as for a vertical fault")
         r.section("Method")
         r.add("method", self.method)
         r.add("method_reason", self.method_reason, label="why this method")

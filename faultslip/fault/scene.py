@@ -57,6 +57,8 @@ SCHEMA: dict[str, dict[str, str | None]] = {
         "d": "dimensionless",
         "rupture_length": "length",
         "seismogenic_depth": "length",
+        "dip": "dimensionless",  # degrees (default 90)
+        "rake": "dimensionless",  # degrees (default 180)
         "damping_ratio": "dimensionless",
         "radiation_damping": None,
         "density": "density",
