@@ -124,3 +124,18 @@ def test_a_single_dipping_fault_takes_its_down_dip_width(cli):
     assert any("keeps the elastic-zone width" in note for note in out.json["notes"])
     assert_clean_error(cli("fault", "--lithology", "granodiorite", "--zone-width", "13 mi", "--shear-stress",
                            "250 bar", "--slip-rate", "2 in/yr", "--dip", "95"), "dip must lie")
+
+
+def test_a_tables_upper_depth_reaches_the_nrml(tmp_path):
+    """A segment table's upper_depth column: the seismogenic zone from 3 km down H = 15 km, so 3 to 18 km in NRML."""
+    header = HEADER.replace("rake (degree)\n", "rake (degree),upper_depth (km)\n")
+    rows = "thrust,a buried thrust,-118.60 34.30; -118.20 34.35,5,granodiorite,15,20,30,90,3\n"
+    (tmp_path / "segments.csv").write_text(header + rows, encoding="utf-8")
+    (tmp_path / "map.toml").write_text(
+        f'[map]\nname = "buried"\nbase = "{ROOT / "configs" / "san_andreas_1906.toml"}"\n\n'
+        '[segments]\nfile = "segments.csv"\n\n[grid]\nlon = { linspace = [-121.0, -116.0, 11] }\n'
+        'lat = { linspace = [34.0, 37.5, 8] }\nmax_distance = "40 km"\n', encoding="utf-8")
+    spec = load_map(tmp_path / "map.toml")
+    sources = hazard.hazard_sources(spec, run_map(spec))
+    assert sources[0].upper_depth == pytest.approx(3e3) and sources[0].lower_depth == pytest.approx(18e3)
+    assert sources[0].width == pytest.approx(30e3, rel=1e-12)

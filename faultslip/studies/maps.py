@@ -64,6 +64,7 @@ SEGMENT_COLUMNS = {  # name -> (unit kind, required)
     "observed_slip_event": (None, False),
     "observed_recurrence": ("time", False),
     "dip": ("degree", False),  # degrees, 0 to 90 (default 90: vertical)
+    "upper_depth": ("length", False),  # the seismogenic zone's top (default 0: the surface); H below it
     "rake": ("degree", False),  # degrees, Aki & Richards (default 180: dextral)
 }
 RASTER_VARIABLES = {
@@ -235,7 +236,7 @@ def segment_map(segments, lon, lat, scene=None, max_distance="60 km", name="map"
                          {column: [str(item) for item in columns[column]] for column in columns
                           if column.startswith("source")}, "<segments>",
                          geometry=segment_geometry(columns.get("dip", [None] * count), columns.get("rake", [None] * count),
-                                                   "segments"))
+                                                   "segments", values("upper_depth", "length", True)))
     for key in ("slip_rate", "seismogenic_depth", "zone_width"):
         if np.any(~(getattr(table, key) > 0)):
             raise InputError(f"segments: {key} must be positive (row {int(np.argmax(~(getattr(table, key) > 0))) + 1})")
@@ -252,7 +253,7 @@ def segment_map(segments, lon, lat, scene=None, max_distance="60 km", name="map"
     return spec
 
 
-def segment_geometry(dips, rakes, where: str) -> dict:
+def segment_geometry(dips, rakes, where: str, upper_depths=None) -> dict:
     """Dip and rake (degrees) of each segment as a table's ``geometry``: a blank is 90 (vertical) or 180
     (dextral); a dip outside (0, 90] or a rake outside [-180, 180] is one sentence naming the row."""
     geometry = {}
@@ -270,7 +271,10 @@ def segment_geometry(dips, rakes, where: str) -> dict:
                 raise InputError(f"{where}, row {row + 1}: {column} must lie {limits} degrees, got {degrees:g}")
             values.append(degrees)
         geometry[column] = np.array(values, dtype=float)
-    geometry["upper_depth"] = np.zeros(len(geometry["dip"]))
+    upper = np.zeros(len(geometry["dip"])) if upper_depths is None else np.nan_to_num(np.asarray(upper_depths, float))
+    if np.any(upper < 0):
+        raise InputError(f"{where}, row {int(np.argmax(upper < 0)) + 1}: upper_depth must be zero or below the surface")
+    geometry["upper_depth"] = upper
     return geometry
 
 
@@ -310,7 +314,7 @@ def read_segments(path) -> SegmentTable:
 
 
     table = {key: [] for key in ("ids", "names", "traces", "slip_rate", "lithology", "seismogenic_depth", "zone_width",
-                                 "observed_slip", "observed_recurrence", "observed_event", "dip", "rake")}
+                                 "observed_slip", "observed_recurrence", "observed_event", "dip", "rake", "upper_depth")}
     sources = {name: [] for name in names if name.startswith("source")}
     if units.get("trace") not in (None, "degree", "degrees"):
         raise InputError(f"segment table {path.name}: trace must be in degrees, header says {units['trace']!r}")
@@ -331,6 +335,7 @@ def read_segments(path) -> SegmentTable:
         table["observed_slip"].append(quantity(line, row, "observed_slip", "length", optional=True))
         table["observed_recurrence"].append(quantity(line, row, "observed_recurrence", "time", optional=True))
         table["observed_event"].append(row.get("observed_slip_event", ""))
+        table["upper_depth"].append(quantity(line, row, "upper_depth", "length", optional=True))
         for column in ("dip", "rake"):
             if row.get(column) and units.get(column) not in ("degree", "degrees", "deg"):
                 raise InputError(f"segment table {path.name}: column {column!r} must be in degrees, e.g. "
@@ -349,7 +354,8 @@ def read_segments(path) -> SegmentTable:
                         np.array(table["seismogenic_depth"]), np.array(table["zone_width"]),
                         np.array(table["observed_slip"]), np.array(table["observed_recurrence"]),
                         table["observed_event"], sources, str(path),
-                        geometry=segment_geometry(table["dip"], table["rake"], f"segment table {path.name}"))
+                        geometry=segment_geometry(table["dip"], table["rake"], f"segment table {path.name}",
+                                                  table["upper_depth"]))
 
 
 def read_raster(path):
