@@ -72,6 +72,7 @@ _EXPORTS = {
     "fault.predictability": ("predictability",),
     "evaluation.predictability": ("catalog_predictability",),
     "lab.look_files": ("read_look", "parse_look"),
+    "lab.look_reduction": ("run_r_file", "run_commands"),
     "plots.predictability": ("predictability_figure",),
     "fault.gutenberg_richter": ("b_value",),
     "models.spring_chain.scene": ("load_chain_scene", "parse_chain_scene"),

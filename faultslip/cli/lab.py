@@ -16,10 +16,12 @@ from faultslip.friction.materials import check_fit_name, save_user_fit
 from faultslip.io.atomic import save_figure
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES
+from faultslip.io.report import Report
 from faultslip.lab.classroom import analyse as analyse_classroom
 from faultslip.lab.classroom import is_accelerometer_csv, read_accelerometer
 from faultslip.lab.fit_workflow import INTERVALS_NOTE, fit_record
 from faultslip.lab.posterior import parse_prior
+from faultslip.lab.look_reduction import run_r_file
 from faultslip.lab.records import analyze_record, free_decay, free_decay_from_record, hysteresis_figure, read_record
 from faultslip.plots.figures import classroom_figure
 from faultslip.plots.posterior import corner_figure, record_fit_figure
@@ -252,4 +254,21 @@ def cmd_asperity(args) -> int:
         if paths["plot"]:
             save_figure(result.plot(), paths["plot"])
             report.note(f"figure written to {args.plot}")
+    return _emit(report, args.json)
+
+
+def cmd_reduce(args) -> int:
+    """An xlook r-file's reduction: each slot's name, unit, records and range; the columns to netCDF with -o."""
+    outputs = _outputs(args, {"output": ("-o", (".nc",))}, [args.r_file])
+    reduction = run_r_file(args.r_file)
+    report = Report(f"faultslip reduce: {reduction.source}")
+    report.add("commands", reduction.commands)
+    for name, (values, unit) in reduction.as_dict().items():
+        finite = values[np.isfinite(values)]
+        report.add(name, [float(finite.min()), float(finite.max())] if finite.size else None, None,
+                   f"{name} ({unit}): {values.size} records, min and max")
+    if outputs["output"]:
+        with _locked(outputs["output"]):
+            write_dataset(reduction.to_dataset(), outputs["output"])
+        report.note(f"reduced columns written to {outputs['output']}")
     return _emit(report, args.json)

@@ -302,6 +302,14 @@ def _studies_commands(commands) -> None:
 
 def _lab_commands(commands) -> None:
     """Laboratory commands (handlers in faultslip.cli.lab)."""
+    reduce = commands.add_parser("reduce", help="run an xlook r-file on its biax data file: the reduced columns "
+                                                "(stresses, displacements, friction) to CF netCDF")
+    reduce.add_argument("r_file", help="the r-file (its 'read' command names a data file beside it), e.g. "
+                                       "data/p655/p655_r")
+    reduce.add_argument("-o", "--output", help="write the reduced columns to OUT.nc")
+    reduce.add_argument("--overwrite", action="store_true", help="replace an output that already exists")
+    reduce.add_argument("--json", action="store_true", help="print one JSON object")
+    reduce.set_defaults(handler="lab:cmd_reduce")
     fit = commands.add_parser("fit", help="fit the rate law (eq. 2-18) to laboratory data, with uncertainty")
     fit.add_argument("data", help="CSV or netCDF: loading_rate (or platform_speed, stiffness, normal_load), static_friction[, amplitude]")
     fit.add_argument("--name", help="save the fit under this name in the user registry")

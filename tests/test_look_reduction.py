@@ -1,0 +1,131 @@
+"""xlook's r-files (issue 46, item 1): every command by hand, Penn State's p655 reduced end to end and slot by slot
+against pylook (every difference traced to a command), and every malformed line refused in one sentence."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from faultslip.errors import InputError
+from faultslip.lab.look_files import LookFile
+from faultslip.lab.look_reduction import run_commands, run_r_file
+
+ROOT = Path(__file__).resolve().parent.parent
+P655 = ROOT / "data" / "p655" / "p655_r"
+
+
+def _look():
+    columns = {"t": np.arange(6.0), "disp": np.array([0.0, 1.0, 3.0, 6.0, 10.0, 15.0]),
+               "load": np.array([2.0, 4.0, 4.0, 8.0, 8.0, 16.0])}
+    return LookFile("x", columns, {"t": "s", "disp": "micron", "load": "MPa"})
+
+
+def _run(text):
+    return run_commands(text, "test_r", look=_look())
+
+
+def test_every_command_by_hand():
+    r = _run("math 2 / 3 : 4 ratio .\nmath 2 * 2 = 5 double micron")
+    np.testing.assert_array_equal(r.column(4), [0, 0.25, 0.75, 0.75, 1.25, 0.9375])
+    np.testing.assert_array_equal(r.column(5), 2 * _look().columns["disp"])
+    assert r.names[4] == "ratio" and r.units[5] == "micron" and r.names[0] == "rec_num"
+    # math_int: records 1 to 3, both included; -1 is the last record, included
+    np.testing.assert_array_equal(_run("math_int 2 * 0 = 2 1 3 d micron").column(2), [0, 0, 0, 0, 10, 15])
+    np.testing.assert_array_equal(_run("math_int 2 + 1 = 6 4 -1 d micron").column(6), [0, 1, 3, 6, 11, 16])
+    np.testing.assert_array_equal(_run("summation 1 6 T s").column(6), [0, 1, 3, 6, 10, 15])
+    np.testing.assert_array_equal(_run("power 2 1 6 t2 s^2").column(6), np.arange(6.0) ** 2)
+    np.testing.assert_array_equal(_run("zero 2 3").column(2), [-6, -5, -3, 0, 4, 9])
+    # offset_int: the step from record 2 to 4 removed from 4 on; y holds records 2 and 3 at record 2's value
+    np.testing.assert_array_equal(_run("offset_int 2 2 4 y").column(2), [0, 1, 3, 3, 3, 8])
+    np.testing.assert_array_equal(_run("offset_int 2 2 4 n").column(2), [0, 1, 3, 6, 3, 8])
+    # ec: DISP - LOAD / SLOPE on records 1 to -1 (record 0 kept)
+    np.testing.assert_array_equal(_run("ec 2 3 6 1 -1 2.0 ec micron").column(6), [0, -1, 1, 2, 6, 7])
+    # strain: sum of d disp / thickness from record 1 (0 there), held after the range
+    thick = "math 1 * 0 = 7 h micron\nmath 7 + 2 = 7 h micron\n"
+    np.testing.assert_allclose(_run(thick + "strain 2 7 6 1 4 gamma .").column(6), [0, 0, 1, 2.5, 4.5, 4.5])
+    # r_row removes records 2 to 3 from every column; r_col clears a slot
+    removed = _run("r_row 2 3\nr_col 3")
+    np.testing.assert_array_equal(removed.column(2), [0, 1, 10, 15])
+    assert removed.column(3) is None and removed.names[3] is None
+    assert "load" not in removed.as_dict() and removed.as_dict()["disp"][1] == "micron"
+
+
+def test_p655_reduces_to_friction_and_agrees_with_pylook_where_pylook_reads_the_same():
+    """Penn State's p655 (Ghost Rocks gouge, 2005): the r-file's 39 commands give shear and normal stress in MPa, the
+    layer thickness and the friction mu = tau / sigma_n, about 0.50 while sliding. Against pylook's interpreter
+    (benchmarks/rfile_against_pylook.py): the slots no range or ec touches are bit for bit pylook's; normal stress
+    and mu differ only at the last record (pylook's -1 stops before it); the layer thickness and ec_disp differ from
+    the first record its ec changes (pylook's ec leaves LOAD / SLOPE); strain is faultslip's alone."""
+    r = run_r_file(P655)
+    assert r.commands == 39 and r.column(6).size == 86813  # one record axed (r_row 86283 86283)
+    assert [r.names[s] for s in (1, 2, 3, 4, 5, 6, 7, 8)] == ["LP_disp", "Shear_stress", "layer_thick.", "Nor_stress",
+                                                               "Time", "mu", "shear_str", "ec_disp"]
+    sliding = r.column(6)[5000:80000]
+    assert 0.45 < float(np.median(sliding)) < 0.55  # measured 0.501
+    compared = {row["slot"]: row for row in json.loads(
+        (ROOT / "benchmarks" / "results" / "rfile_against_pylook.json").read_text())["slots"]}
+    assert all(compared[slot]["identical"] for slot in (0, 1, 2, 5))
+    for slot in (4, 6):
+        assert compared[slot]["records_differing"] == 1 and compared[slot]["first_differing"] == [86812]
+    assert compared[8]["first_differing"][0] == 1460 and compared[3]["first_differing"][0] == 43
+    assert compared[7]["in_pylook"] is False
+
+
+@pytest.mark.parametrize("line, words", [
+    ("plot 1 2", "does not know the command 'plot'"),
+    ("math 1 * 2 = 4 name", "takes 7 arguments"),
+    ("math 40 * 2 = 4 n u", "slot number from 0 to 31"),
+    ("math 9 * 2 = 4 n u", "column 9 holds no data"),
+    ("math 1 ^ 2 = 4 n u", "one of * / + -"),
+    ("math 1 * x = 4 n u", "not a number"),
+    ("math 1 * 2 ? 4 n u", "':' (column with column)"),
+    ("math_int 1 * 2 = 4 3 99 n u", "not within the data"),
+    ("math_int 1 * 2 = 4 4 2 n u", "not within the data"),
+    ("offset_int 2 1 3 maybe", "hold the records between"),
+    ("ec 2 3 6 0 -1 0 n u", "must not be 0"),
+    ("r_row a b", "two whole numbers"),
+])
+def test_a_malformed_line_is_one_sentence_naming_it(line, words):
+    with pytest.raises(InputError, match=re.escape(words)) as raised:
+        _run(line)
+    assert "line 1" in str(raised.value) and "\n" not in str(raised.value)
+
+
+def test_a_missing_data_file_is_one_sentence(tmp_path):
+    (tmp_path / "r").write_text("begin\nread nowhere/p999\nmath 1 * 2 = 4 n u\nend\n")
+    with pytest.raises(InputError, match="does not exist"):
+        run_r_file(tmp_path / "r")
+    with pytest.raises(InputError, match="holds no data"):
+        run_commands("zero 1 0", "r")
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.text(alphabet="mathintzeroffsec_rolw 0123456789-.*/+=:yn#,", max_size=40), max_size=6))
+def test_any_r_file_runs_or_is_refused_in_one_sentence(lines):
+    try:
+        _run("\n".join(lines))
+    except InputError as exc:
+        assert str(exc).strip() and "\n" not in str(exc)
+
+
+def test_the_reduce_command_writes_cf_netcdf_with_the_r_files_units(cli, tmp_path):
+    import xarray as xr
+
+    out = cli("reduce", P655, "-o", tmp_path / "p655.nc", "--json")
+    assert out.code == 0, out.err
+    assert out.json["commands"] == 39
+    with xr.open_dataset(tmp_path / "p655.nc") as data:
+        assert data.sizes["record"] == 86813
+        assert data["Shear_stress"].attrs["units"] == "MPa" and data["mu"].attrs["units"] == "1"
+        assert data["mu"].attrs["xlook_units"] == "." and data["ec_disp"].attrs["units"] == "micron"
+        np.testing.assert_array_equal(data["mu"].values, run_r_file(P655).column(6))
+    from conftest import assert_clean_error
+
+    (tmp_path / "bad_r").write_text("read p655intact100l\nplot 1 2\n")
+    assert_clean_error(cli("reduce", tmp_path / "bad_r"), "does not know the command")
