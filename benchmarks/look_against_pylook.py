@@ -43,17 +43,26 @@ print(json.dumps({"columns": out, "name": metadata.get("name"), "records": metad
 """
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def in_pylook(python: str, script: str, target: Path, folder: str) -> tuple[dict, str]:
+    """Run ``script`` in pylook's own interpreter on ``target``, its arrays dumped in ``folder``: (the JSON it
+    prints last, pylook's version)."""
+    done = subprocess.run([python, "-c", script, str(target), folder], capture_output=True, text=True, check=True)
+    version = subprocess.run([python, "-c", "import pylook; print(pylook.__version__)"], capture_output=True,
+                             text=True, check=True).stdout.strip()
+    return json.loads(done.stdout.strip().splitlines()[-1]), version
+
+
+def pylook_arguments(description: str):
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--pylook-python", required=True, help="an interpreter with pylook installed")
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv=None):
+    args = pylook_arguments(__doc__.split("\n\n")[0]).parse_args(argv)
     ours = read_look(FILE)
     with tempfile.TemporaryDirectory() as folder:
-        done = subprocess.run([args.pylook_python, "-c", DUMP, str(FILE), folder], capture_output=True, text=True,
-                              check=True)
-        theirs = json.loads(done.stdout.strip().splitlines()[-1])
-        version = subprocess.run([args.pylook_python, "-c", "import pylook; print(pylook.__version__)"],
-                                 capture_output=True, text=True, check=True).stdout.strip()
+        theirs, version = in_pylook(args.pylook_python, DUMP, FILE, folder)
         rows = []
         for name, column in ours.columns.items():
             entry = theirs["columns"].get(name)

@@ -21,9 +21,7 @@ Writes benchmarks/results/rfile_against_pylook.json.
 
 from __future__ import annotations
 
-import argparse
 import json
-import subprocess
 import sys
 import tempfile
 from datetime import datetime, timezone
@@ -33,8 +31,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from faultslip.lab.look_reduction import run_r_file  # noqa: E402
+from look_against_pylook import in_pylook, pylook_arguments  # noqa: E402
 
 R_FILE = ROOT / "data" / "p655" / "p655_r"
 #: the record the r-file's ``r_row 86283 86283`` removes, which pylook's slice keeps
@@ -59,16 +59,10 @@ print(json.dumps({"slots": out, "warnings": [str(w.message) for w in caught]}))
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--pylook-python", required=True, help="an interpreter with pylook installed")
-    args = parser.parse_args(argv)
+    args = pylook_arguments(__doc__.split("\n\n")[0]).parse_args(argv)
     ours = run_r_file(R_FILE)
     with tempfile.TemporaryDirectory() as folder:
-        done = subprocess.run([args.pylook_python, "-c", DUMP, str(R_FILE), folder], capture_output=True, text=True,
-                              check=True)
-        theirs = json.loads(done.stdout.strip().splitlines()[-1])
-        version = subprocess.run([args.pylook_python, "-c", "import pylook; print(pylook.__version__)"],
-                                 capture_output=True, text=True, check=True).stdout.strip()
+        theirs, version = in_pylook(args.pylook_python, DUMP, R_FILE, folder)
         rows = []
         for slot in range(len(ours.data)):
             mine = ours.data[slot]
