@@ -106,3 +106,14 @@ def test_bad_sequences_are_refused_in_one_sentence(cli, tmp_path):
                        "no event")
     assert_clean_error(cli("predictability", tmp_path / "none.csv"), "does not exist")
     assert faultslip.predictability is predictability
+
+
+def test_the_single_slider_is_periodic_as_its_exact_cycle_says(cli, tmp_path):
+    """Issue 45: the tests run on the slider too. The 1906 scene's simulated events, written as QuakeML and read
+    back as a catalogue, are periodic: every interval the exact cycle's period, the CV 0 to round-off."""
+    out = cli("simulate", "san_andreas_1906.toml", "--cycles", "12", "--events", tmp_path / "slider.xml", "--json")
+    assert out.code == 0, out.err
+    found = cli("predictability", tmp_path / "slider.xml", "--json")
+    assert found.code == 0, found.err
+    assert found.json["periodic"] is True and found.json["poisson"] is False
+    assert found.json["aperiodicity"] < 1e-6
