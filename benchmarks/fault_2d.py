@@ -23,6 +23,8 @@ import sys
 from datetime import datetime, timezone
 from pathlib import Path
 
+import numpy as np
+
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
@@ -54,7 +56,13 @@ def main(argv=None) -> dict:
     parser.add_argument("--sizes", type=float, nargs="+", default=[50.0, 25.0])
     parser.add_argument("--rtols", type=float, nargs="+", default=[1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9])
     parser.add_argument("--tolerance-years", type=float, default=1500.0)
+    parser.add_argument("--finer", type=float, help="run only this finer element size (m) for 3000 yr at rtol 1e-8 and "
+                        "add it to the saved results, with its convergence against the finest saved run")
+    parser.add_argument("--keep-finer", action="store_true", help="with --finer: keep the saved run at that size and "
+                        "run the next coarser one again, so that both costs come from this machine and code")
     args = parser.parse_args(argv)
+    if args.finer is not None:
+        return _finer(args.finer, args.keep_finer)
     years = 1000.0 if args.quick else 3000.0
     sizes = [200.0, 100.0] if args.quick else args.sizes
     print("convergence:")
@@ -77,12 +85,47 @@ def main(argv=None) -> dict:
               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"), "quick": args.quick}
     out = ROOT / "benchmarks" / "results" / ("fault_2d_quick.json" if args.quick else "fault_2d.json")
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
-    print(f"written to {out}")
-    if not args.quick:
-        sys.path.insert(0, str(Path(__file__).resolve().parent))
-        import readme
+    print(f"written to {out}; python benchmarks/readme.py writes the README's table")
+    return result
 
-        readme.update()
+
+def _finer(size: float, keep_finer: bool = False) -> dict:
+    """One more convergence row at ``size`` (3000 yr, rtol 1e-8), its differences from the next coarser row, and
+    where its cost went against that row: steps, cost per step, and the N log N an FFT product scales as.
+    ``keep_finer``: the saved row at ``size`` stays and the coarser row is run again (both costs then come from
+    this machine and code)."""
+    out = ROOT / "benchmarks" / "results" / "fault_2d.json"
+    result = json.loads(out.read_text(encoding="utf-8"))
+    saved = {r["element_size_m"]: r for r in result["convergence"]}
+    coarser = [r for r in result["convergence"] if r["element_size_m"] > size]
+    if not coarser:
+        raise SystemExit(f"--finer {size:g} m has no coarser saved run to converge against")
+    previous = min(coarser, key=lambda row: row["element_size_m"])
+    if keep_finer:
+        if size not in saved:
+            raise SystemExit(f"--keep-finer: no saved run at {size:g} m")
+        print(f"the saved {size:g} m run kept; {previous['element_size_m']:g} m run again:")
+        previous = one(previous["element_size_m"], 3000.0, 1e-8)
+        result["convergence"] = [r for r in result["convergence"] if r["element_size_m"] != previous["element_size_m"]]
+        result["convergence"].insert(0, previous)
+        result["convergence"].sort(key=lambda r: -r["element_size_m"])
+        row = saved[size]
+    else:
+        print("convergence, one size finer:")
+        row = one(size, 3000.0, 1e-8)
+    ratio = row["elements"] / previous["elements"]
+    result["convergence"] = [r for r in result["convergence"] if r["element_size_m"] != size] + [row]
+    result["convergence"].sort(key=lambda r: -r["element_size_m"])
+    result["finer"] = {
+        "sizes_m": [previous["element_size_m"], size],
+        "recurrence_difference": abs(previous["recurrence_yr"] / row["recurrence_yr"] - 1),
+        "surface_slip_difference": abs(previous["surface_slip_m"] / row["surface_slip_m"] - 1),
+        "cost_ratio": row["wall_s"] / previous["wall_s"], "steps_ratio": row["steps"] / previous["steps"],
+        "cost_per_step_ratio": (row["wall_s"] / row["steps"]) / (previous["wall_s"] / previous["steps"]),
+        "n_log_n_ratio": ratio * np.log(row["elements"]) / np.log(previous["elements"]),
+        "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+    out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    print(result["finer"])
     return result
 
 

@@ -199,6 +199,16 @@ def fault_2d_table() -> str | None:
                 f"{result['tolerance_study'][0]['years']:g} yr) stays within 0.1 % of the tightest's: "
                 f"{result['loosest_rtol']:g} (relative differences: " + ", ".join(
                     f"{row['rtol']:g}: {row['recurrence_error']:.1e}" for row in result["tolerance_study"]) + ").")
+    finer = result.get("finer")
+    if finer:
+        coarse, fine = finer["sizes_m"]
+        rows.append("")
+        rows.append(f"{fine:g} m against {coarse:g} m: recurrence {finer['recurrence_difference'] * 100:.4f} %, surface "
+                    f"slip {finer['surface_slip_difference'] * 100:.4f} %. Its cost is {finer['cost_ratio']:.2f}× "
+                    f"{coarse:g} m's: {finer['steps_ratio']:.2f}× the steps (finer elements resolve faster slip, so the "
+                    f"steps through each rupture shorten) and {finer['cost_per_step_ratio']:.2f}× the cost a step, "
+                    + ("within" if finer["cost_per_step_ratio"] <= finer["n_log_n_ratio"] else "above")
+                    + f" the {finer['n_log_n_ratio']:.2f}× that an N log N product predicts for twice the elements.")
     return "\n".join(rows) + "\n\n" + _machine(result)
 
 
