@@ -205,9 +205,7 @@ def chain_lab(blocks: int = 50, coupling_ratio: float = 10.0, spread: float = 0.
     loaded = faultslip.parse_chain_scene(document, path.name)
     run = faultslip.simulate_chain(loaded.chain, loaded.events, initial_position=loaded.initial_position)
     stats = faultslip.chain_statistics(loaded, run)
-    moved = run.slip != 0
-    first = np.where(moved.any(axis=1), moved.argmax(axis=1), 0)
-    last = np.where(moved.any(axis=1), run.chain.blocks - 1 - moved[:, ::-1].argmax(axis=1), 0)
+    first, last = run.extents()
     return {"start": run.start, "first": first, "last": last, "magnitude": stats["magnitude"], "b": stats["b"],
             "system_events": stats["system_events"], "recurrence_cv": stats["recurrence_cv"],
             "predictability": faultslip.predictability(run.start, run.total_slip),

@@ -171,10 +171,22 @@ class ChainRun:
     def events(self) -> int:
         return int(self.start.size)
 
+    def extents(self) -> tuple[np.ndarray, np.ndarray]:
+        """The first and last block each event moved (what the catalogue's figures draw)."""
+        return slipped_extents(self.slip)
+
     @property
     def total_slip(self) -> np.ndarray:
         """Slip summed over the blocks of each event (m): the event's potency per patch area."""
         return self.slip.sum(axis=1)
+
+
+def slipped_extents(slip: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, last) block with a nonzero slip in each row of ``slip`` (events x blocks); 0 for an empty row."""
+    moved = slip != 0
+    some = moved.any(axis=1)
+    return (np.where(some, moved.argmax(axis=1), 0),
+            np.where(some, slip.shape[1] - 1 - moved[:, ::-1].argmax(axis=1), 0))
 
 
 class _Modes:

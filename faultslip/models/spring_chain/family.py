@@ -44,13 +44,18 @@ INTEGRATED = {"name": "chain_event_driven_integrated",
                                 "catalogue departs from the closed form's after tens of events, its statistics do not"}
 
 
+def _moments(loaded, run: ChainRun) -> tuple[np.ndarray, np.ndarray]:
+    """Each event's moment G A sum(slip) (N m) and Mw; an event whose slips cancel has no magnitude (NaN)."""
+    moment = loaded.shear_modulus * loaded.patch_area * run.total_slip
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return moment, np.where(moment > 0, moment_magnitude(np.maximum(moment, 1e-300)), np.nan)
+
+
 def _catalogue(loaded, run: ChainRun):
     """The catalogue as an xarray Dataset with CF units: one row per event, the slip of every block."""
     import xarray as xr  # heavy: imported where used
 
-    moment = loaded.shear_modulus * loaded.patch_area * run.total_slip
-    with np.errstate(divide="ignore"):
-        magnitude = np.where(moment > 0, moment_magnitude(np.maximum(moment, 1e-300)), np.nan)
+    moment, magnitude = _moments(loaded, run)
     event = np.arange(run.events)
     # the time series: every block's position at the start and after each event (a staircase per block)
     position = np.cumsum(np.vstack([np.zeros(run.chain.blocks), run.slip]), axis=0) + (
@@ -98,9 +103,7 @@ def statistics(loaded, run: ChainRun) -> dict:
         ``system_events``, ``recurrence`` (s), ``recurrence_cv``, ``plate_balance`` (min, max of each block's slip /
         (V t)) with ``plate_balance_bound`` and the per-block arrays, and ``magnitude``.
     """
-    moment = loaded.shear_modulus * loaded.patch_area * run.total_slip
-    with np.errstate(divide="ignore", invalid="ignore"):  # an event whose slips cancel has no magnitude
-        magnitude = np.where(moment > 0, moment_magnitude(np.maximum(moment, 1e-300)), np.nan)
+    _, magnitude = _moments(loaded, run)
     sized = magnitude[np.isfinite(magnitude)]
     stats = {"magnitude_range": (float(sized.min()), float(sized.max())) if sized.size else (math.nan, math.nan)}
     try:

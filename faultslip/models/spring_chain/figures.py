@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from faultslip.models.spring_chain.dynamics import slipped_extents
 from faultslip.plots.figures import _pyplot
 
 
@@ -29,9 +30,7 @@ def chain_figure(catalogue, stats: dict, title: str = ""):
     figure, (events, frequency, intervals) = plt.subplots(1, 3, figsize=(12.5, 4.2), constrained_layout=True)
     start = catalogue["event_start"].values
     slip = catalogue["slip"].values
-    slipped = slip > 0
-    first = np.where(slipped.any(axis=1), slipped.argmax(axis=1), 0)
-    last = np.where(slipped.any(axis=1), slip.shape[1] - 1 - slipped[:, ::-1].argmax(axis=1), 0)
+    first, last = slipped_extents(slip)
     scale, unit = (365.25 * 86400.0, "yr") if start.size and start[-1] > 3e7 else (1.0, "s")
     events.vlines(start / scale, first - 0.4, last + 0.4, color="C3", lw=0.8)
     events.set(xlabel=f"time ({unit})", ylabel="block", title="events: the blocks each slipped")
@@ -94,9 +93,7 @@ def chain_animation(run, frames: int = 120, title: str = ""):
               xlabel="block", ylabel="force / its static limit", title="the blocks after each event (red: slipped)")
     state.axhline(1.0, color="C3", lw=0.8, ls="--")
     slipped_start = run.start[first:] / scale
-    moved = run.slip[first:] != 0
-    low = np.where(moved.any(axis=1), moved.argmax(axis=1), 0)
-    high = np.where(moved.any(axis=1), chain.blocks - 1 - moved[:, ::-1].argmax(axis=1), 0)
+    low, high = slipped_extents(run.slip[first:])
     catalogue.vlines(slipped_start, low - 0.4, high + 0.4, color="0.8", lw=1.2)
     growing = catalogue.vlines([], [], [], color="C3", lw=1.5)
     current = catalogue.vlines([], [], [], color="k", lw=3)
