@@ -39,11 +39,22 @@ def _simulate(chain, events, **kw):
     return simulate_chain(chain, events, **kw)
 
 
+def _compiled():
+    from faultslip.models.spring_chain.dynamics import compiled_available
+
+    return compiled_available()
+
+
+#: the closed form in Python and, where it was built, in C: every exact check holds for both
+EXACT = ["closed_form"] + (["closed_form_compiled"] if _compiled() else [])
+
+
+@pytest.mark.parametrize("solver", EXACT)
 @pytest.mark.parametrize("zeta", [0.0, 0.3])
-def test_one_block_is_the_exact_cycle(zeta):
+def test_one_block_is_the_exact_cycle(zeta, solver):
     mass, stiffness = 2.0, 1e4
     dashpot = 2 * zeta * math.sqrt(stiffness * mass)
-    run = _simulate(_chain(dashpot=dashpot), 6)
+    run = _simulate(_chain(dashpot=dashpot), 6, slip_solver=solver)
     exact = exact_cycle(SliderSystem(mass=mass, stiffness=stiffness, normal_load=100.0, platform_speed=1e-3,
                                      static_law=ConstantStatic(0.6), kinetic_law=ConstantKinetic(0.4), dashpot=dashpot))
     np.testing.assert_allclose(run.slip[:, 0], exact.slip_per_event, rtol=1e-10)
@@ -53,25 +64,28 @@ def test_one_block_is_the_exact_cycle(zeta):
     assert run.slip[-1, 0] == pytest.approx(1e-3 * (run.start[-1] - run.start[-2]), rel=1e-10)
 
 
-def test_uncoupled_blocks_are_independent_sliders():
+@pytest.mark.parametrize("solver", EXACT)
+def test_uncoupled_blocks_are_independent_sliders(solver):
     """Without coupling each block repeats its own exact cycle. Two blocks that happen to fail within one slip's
     duration are one event of the catalogue (they slip together), so each block's slips are compared, and its
     lone slider's start must fall within the event that holds the block's slip."""
     static = np.array([0.55, 0.62, 0.7])
-    together = _simulate(_chain(static_friction=static, dashpot=20.0), 30)
+    together = _simulate(_chain(static_friction=static, dashpot=20.0), 30, slip_solver=solver)
     for block, mu in enumerate(static):
         mine = np.flatnonzero(together.slip[:, block] > 0)
-        alone = _simulate(_chain(static_friction=np.array([mu]), dashpot=20.0), mine.size)
+        alone = _simulate(_chain(static_friction=np.array([mu]), dashpot=20.0), mine.size, slip_solver=solver)
         np.testing.assert_allclose(together.slip[mine, block], alone.slip[:, 0], rtol=1e-10)
         assert np.all(together.start[mine] <= alone.start * (1 + 1e-12))
         assert np.all(alone.start <= together.end[mine] * (1 + 1e-12))
     assert np.mean(together.blocks_slipped == 1) > 0.8
 
 
-def test_identical_blocks_from_identical_starts_move_as_one():
+@pytest.mark.parametrize("solver", EXACT)
+def test_identical_blocks_from_identical_starts_move_as_one(solver):
     blocks = 12
-    run = _simulate(_chain(static_friction=np.full(blocks, 0.6), coupling_stiffness=5e4, dashpot=30.0), 5)
-    one = _simulate(_chain(dashpot=30.0), 5)
+    run = _simulate(_chain(static_friction=np.full(blocks, 0.6), coupling_stiffness=5e4, dashpot=30.0), 5,
+                    slip_solver=solver)
+    one = _simulate(_chain(dashpot=30.0), 5, slip_solver=solver)
     assert np.all(run.blocks_slipped == blocks)
     np.testing.assert_allclose(run.slip, np.repeat(one.slip, blocks, axis=1), rtol=1e-9)
     np.testing.assert_allclose(run.start, one.start, rtol=1e-10)
@@ -96,15 +110,15 @@ def test_the_plate_balance_holds_within_the_stored_stretch_and_the_slips_add_up(
 
 @settings(max_examples=25, deadline=None)
 @given(blocks=st.integers(2, 6), coupling=st.floats(0.0, 20.0), spread=st.floats(0.0, 0.9),
-       zeta=st.floats(0.0, 0.6), seed=st.integers(0, 1000))
-def test_a_random_chain_slips_in_order_and_only_where_it_says(blocks, coupling, spread, zeta, seed):
+       zeta=st.floats(0.0, 0.6), seed=st.integers(0, 1000), solver=st.sampled_from(EXACT))
+def test_a_random_chain_slips_in_order_and_only_where_it_says(blocks, coupling, spread, zeta, seed, solver):
     rng = np.random.default_rng(seed)
     static = 0.4 + 0.2 * (1 + spread * rng.uniform(-1, 1, blocks))
     chain = _chain(mass=1.0, leaf_stiffness=1.0, normal_load=1.0, coupling_stiffness=coupling, static_friction=static,
                    dashpot=2 * zeta)
     start = rng.uniform(0, 0.1, blocks)
     try:
-        run = _simulate(chain, 40, initial_position=start)
+        run = _simulate(chain, 40, initial_position=start, slip_solver=solver)
     except SolverError as exc:  # heavy damping: a block that never sticks is refused, as a slider above critical
         assert "slides steadily" in str(exc) and zeta > 0
         return
@@ -184,6 +198,53 @@ def test_integrated_slips_find_the_closed_forms_events():
     np.testing.assert_allclose(integrated.slip, exact.slip, rtol=1e-6, atol=1e-12)
     with pytest.raises(InputError, match="slip solver"):
         _simulate(chain, 2, slip_solver="Euler")
+
+
+@pytest.mark.skipif(not _compiled(), reason="the compiled chain was not built with this install (no C compiler)")
+def test_the_compiled_loop_is_the_python_closed_form_to_round_off():
+    """``_chain.c`` runs the same sticks, sub-phases, grid and tolerances as Python's closed form, with each run's
+    modes from the discrete sine and cosine transforms rather than scipy's eigensolver: the same catalogue to
+    round-off over the events before the chaotic chain's round-off grows (it grows about tenfold in 8 events,
+    from 1e-16: 1e-12 by event 25, so 1e-9 is a thousandfold margin for another compiler's libm), on a chain
+    whose ends are free and whose slipping runs have fixed ends, so that every kind of run's modes is used."""
+    rng = np.random.default_rng(3)
+    blocks = 8
+    chain = _chain(mass=1.0, leaf_stiffness=1000.0, coupling_stiffness=5000.0, normal_load=10.0, platform_speed=1e-4,
+                   static_friction=0.55 + 0.055 * (1 + 0.5 * rng.uniform(-1, 1, blocks)), kinetic_friction=0.55,
+                   dashpot=2 * 0.2 * math.sqrt(1000.0))
+    start = rng.uniform(0, 2e-5, blocks)
+    python = _simulate(chain, 25, initial_position=start, slip_solver="closed_form")
+    compiled = _simulate(chain, 25, initial_position=start, slip_solver="closed_form_compiled")
+    assert np.array_equal(python.blocks_slipped, compiled.blocks_slipped)
+    assert np.array_equal(python.first_block, compiled.first_block)
+    assert python.subphases == compiled.subphases
+    np.testing.assert_allclose(compiled.start, python.start, rtol=1e-9)
+    np.testing.assert_allclose(compiled.end, python.end, rtol=1e-9)
+    np.testing.assert_allclose(compiled.slip, python.slip, rtol=0, atol=1e-9 * np.abs(python.slip).max())
+    np.testing.assert_allclose(compiled.peak_speed, python.peak_speed, rtol=1e-9)
+    np.testing.assert_allclose(compiled.final_position, python.final_position, rtol=1e-9)
+    # its failures are the Python loop's, in the same words
+    with pytest.raises(SolverError, match="more than 5 slip sub-phases"):
+        _simulate(chain, 60, initial_position=start, slip_solver="closed_form_compiled", max_subphases=5)
+    sliding = _chain(mass=1.0, leaf_stiffness=1.0, normal_load=1.0, static_friction=np.array([0.6, 0.61]),
+                     coupling_stiffness=1.0, platform_speed=0.1, dashpot=1.0)
+    said = set()
+    for solver in EXACT:
+        with pytest.raises(SolverError, match="neither ended nor spread") as raised:
+            _simulate(sliding, 3, slip_solver=solver)
+        said.add(str(raised.value))
+    assert len(said) == 1
+
+
+def test_without_the_build_auto_runs_the_python_closed_form_and_compiled_says_why(monkeypatch):
+    from faultslip.models.spring_chain import dynamics
+
+    monkeypatch.setattr(dynamics, "_chain", None)
+    assert dynamics.chosen_solver("auto") == "closed_form"
+    run = _simulate(_chain(), 2)
+    assert run.events == 2
+    with pytest.raises(InputError, match="not built with this install"):
+        _simulate(_chain(), 2, slip_solver="closed_form_compiled")
 
 
 def test_students_test_the_chains_catalogue_for_predictability():

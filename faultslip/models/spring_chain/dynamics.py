@@ -30,6 +30,12 @@ points per period of the fastest mode and located by Brent's method on the close
 step. Blocks that stop or fail together (identical blocks) do so in one sub-phase. An event ends when no
 block slips.
 
+The same loop runs compiled (``_chain.c``, built at install where a C compiler is) as the slip solver
+``closed_form_compiled``, which ``auto`` chooses when it was built: the same sticks, sub-phases, grid and
+tolerances, with each run of neighbouring slipping blocks' modes in closed form (the discrete sine and
+cosine transforms' eigenpairs) rather than from an eigensolver. Python's ``closed_form`` stays as the
+reference it is tested against.
+
 Failures are never silent: a slip that outlives its horizon or more sub-phases than the budget raise :class:`~faultslip.errors.SolverError`, saying which and what to do.
 """
 
@@ -42,6 +48,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from faultslip.errors import InputError, SolverError
+
+try:
+    from faultslip.models.spring_chain import _chain
+except ImportError:  # built only where a C compiler was found at install
+    _chain = None
 
 #: Grid points per period of the fastest mode that bracket a sub-phase's end.
 SAMPLES_PER_PERIOD = 32
@@ -262,11 +273,25 @@ def _first_crossing(values: np.ndarray, at_or_below: bool) -> np.ndarray:
 
 #: How a slip sub-phase is solved: the closed form (exact), or scipy's integrators with terminal events (the
 #: generic way, and the baseline the closed form's speed is measured against in benchmarks/spring_chain_speed.py).
-SLIP_SOLVERS = ("closed_form", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+SLIP_SOLVERS = ("auto", "closed_form", "closed_form_compiled", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+#: the solvers that integrate (scipy's)
+INTEGRATORS = SLIP_SOLVERS[3:]
+
+
+def compiled_available() -> bool:
+    """Whether the compiled event loop (``_chain.c``) was built with this install."""
+    return _chain is not None
+
+
+def chosen_solver(slip_solver: str) -> str:
+    """What ``slip_solver`` runs: ``auto`` is the compiled closed form where it was built, else Python's."""
+    if slip_solver == "auto":
+        return "closed_form_compiled" if compiled_available() else "closed_form"
+    return slip_solver
 
 
 def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subphases: int | None = None,
-                   slip_solver: str = "closed_form", rtol: float = 1e-10) -> ChainRun:
+                   slip_solver: str = "auto", rtol: float = 1e-10) -> ChainRun:
     """Run ``chain`` from rest until ``events`` events have happened (see the module).
 
     Parameters
@@ -280,7 +305,8 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
     max_subphases : int, optional
         A budget of slip sub-phases (default 50 per block per event).
     slip_solver : str
-        ``closed_form`` (exact), or a scipy integrator (``DOP853``, ``RK45``, ``Radau``) with terminal events at
+        ``auto`` (the compiled closed form where it was built, else Python's), ``closed_form`` (exact, in
+        Python), ``closed_form_compiled`` (exact, in C), or a scipy integrator (``DOP853``, ``RK45``, ``Radau``) with terminal events at
         ``rtol``: the same sub-phases, found by integration.
     rtol : float
         The integrator's relative tolerance (not used by the closed form).
@@ -297,6 +323,10 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
         raise InputError(f"the chain's slip solver must be one of {', '.join(SLIP_SOLVERS)}, got {slip_solver!r}")
     if not 1e-14 <= rtol <= 1e-3:
         raise InputError(f"the chain's rtol must lie from 1e-14 to 1e-3, got {rtol!r}")
+    slip_solver = chosen_solver(slip_solver)
+    if slip_solver == "closed_form_compiled" and not compiled_available():
+        raise InputError("the compiled chain (closed_form_compiled) was not built with this install (no C compiler "
+                         "at install); use slip_solver = \"closed_form\", the same scheme in Python")
     n = chain.blocks
     x = np.zeros(n) if initial_position is None else np.array(initial_position, float)
     if x.shape != (n,) or not np.all(np.isfinite(x)):
@@ -307,6 +337,8 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
     limits = W * chain.static_friction
     degree = chain.neighbours()
     budget = max_subphases or 50 * n * events + 1000
+    if slip_solver == "closed_form_compiled":
+        return _compiled(chain, events, x, budget)
     starts, ends, firsts, sizes, slips, peaks = [], [], [], [], [], []
     subphases = 0
     began = clock.perf_counter()
@@ -365,6 +397,34 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
         peaks.append(peak)
     return ChainRun(chain, np.array(starts), np.array(ends), np.array(firsts), np.array(sizes), np.array(slips),
                     np.array(peaks), subphases, clock.perf_counter() - began, x.copy(), t)
+
+
+def _compiled(chain: Chain, events: int, x: np.ndarray, budget: int) -> ChainRun:
+    """The loop of :func:`simulate_chain` in C (``_chain.run``), with the same failures."""
+    n = chain.blocks
+    start, end, peak = np.zeros(events), np.zeros(events), np.zeros(events)
+    first, size = np.zeros(events, np.int64), np.zeros(events, np.int64)
+    slip = np.zeros((events, n))
+    began = clock.perf_counter()
+    status, done, subphases, t, t_start, count, blocks = _chain.run(
+        chain.mass, chain.leaf_stiffness, chain.coupling_stiffness, chain.normal_load, chain.platform_speed,
+        chain.kinetic_friction, chain.dashpot, np.ascontiguousarray(chain.normal_load * chain.static_friction), x,
+        0.0, events, budget, start, end, first, size, slip, peak)
+    if status == 1:
+        raise SolverError(f"the chain: more than {budget} slip sub-phases at t = {t:.6g} s; raise max_subphases, or "
+                          "fewer blocks or events")
+    if status == 2:
+        slowest_period = 2 * math.pi * math.sqrt(chain.mass / chain.leaf_stiffness)
+        raise SolverError(
+            f"the chain slides steadily: block(s) {', '.join(str(b) for b in blocks)} have slipped for "
+            f"{(t - t_start) / slowest_period:.0f} of a block's periods without sticking, as a slider above its "
+            f"critical loading rate does (damping ratio {chain.damping_ratio:.3g}); lower the damping or the plate "
+            "speed for stick-slip")
+    if status == 3:
+        raise SolverError(f"the chain: a slip of {count} block(s) from t = {t:.6g} s neither ended nor spread within 200 "
+                          "of its slowest periods; the coupling may be too stiff for the leaf springs")
+    return ChainRun(chain, start, end, first, size, slip, peak, int(subphases), clock.perf_counter() - began, x.copy(),
+                    float(t))
 
 
 def _peak_speed(modes: _Modes, tau: float, samples: int = 16) -> float:

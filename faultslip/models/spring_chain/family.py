@@ -22,7 +22,8 @@ from faultslip.fault.scaling import moment_magnitude
 from faultslip.io.report import Report
 from faultslip.io.waveforms import DEFAULT_START
 from faultslip.models.common import note_origin
-from faultslip.models.spring_chain.dynamics import SAMPLES_PER_PERIOD, SLIP_SOLVERS, ChainRun, simulate_chain
+from faultslip.models.spring_chain.dynamics import (INTEGRATORS, SAMPLES_PER_PERIOD, SLIP_SOLVERS, ChainRun,
+                                                    chosen_solver, simulate_chain)
 from faultslip.models.spring_chain.figures import chain_animation, chain_figure
 from faultslip.models.spring_chain.scene import load_chain_scene
 
@@ -30,16 +31,18 @@ METHOD = {"name": "chain_event_driven_exact",
           "friction_laws": "the seed's rate-law static friction (a threshold for each block) or constant static; "
                            "constant kinetic friction",
           "domain": "1 to 2000 blocks; damping below critical (c < 2 sqrt(k_p m)); blocks slip either way",
-          "cost_model": "O(sub-phases x n^2) with n the blocks slipping: about 0.1-1 ms a sub-phase, 2 or more "
-                        "sub-phases a block an event",
+          "cost_model": "O(sub-phases x n^2) with n the blocks slipping, 2 or more sub-phases a block an event: "
+                        "about 4 us a sub-phase compiled (closed_form_compiled, auto's choice where it was built), "
+                        "0.4 ms in Python (closed_form); 100 blocks, 10,000 events in 1.5 s compiled "
+                        "(benchmarks/spring_chain_speed.py)",
           "declared_error": f"the closed form's round-off: each sub-phase's end is bracketed on {SAMPLES_PER_PERIOD} "
                             "points a period of its fastest mode and located by Brent's method to 1e-13 of the step "
                             "(one block agrees with the exact cycle to 1e-10)"}
 INTEGRATED = {"name": "chain_event_driven_integrated",
               "friction_laws": METHOD["friction_laws"],
-              "domain": METHOD["domain"] + "; slip_solver = DOP853, RK45, RK23, Radau, BDF or LSODA",
-              "cost_model": "scipy's solve_ivp with a terminal event a slipping block and a held neighbour: about 2.6 "
-                            "times the closed form's time at 100 blocks (benchmarks/spring_chain_speed.py)",
+              "domain": METHOD["domain"] + "; slip_solver = " + ", ".join(INTEGRATORS),
+              "cost_model": "scipy's solve_ivp with a terminal event a slipping block and a held neighbour: about 2.7 "
+                            "times the Python closed form's time at 100 blocks (benchmarks/spring_chain_speed.py)",
               "declared_error": "the integrator's rtol (default 1e-10) on each sub-phase's end; a chaotic chain's "
                                 "catalogue departs from the closed form's after tens of events, its statistics do not"}
 
@@ -181,16 +184,17 @@ def _run(scene, events=None, title="faultslip spring-block chain", slip_solver=N
     count = loaded.events if events is None else events
     if not (isinstance(count, (int, np.integer)) and not isinstance(count, bool) and 1 <= count <= 1_000_000):
         raise InputError(f"--cycles (the chain's events) must be a whole number from 1 to 1,000,000, got {count!r}")
-    solver = "closed_form" if slip_solver in (None, "auto", "analytic") else slip_solver
+    solver = chosen_solver("auto" if slip_solver in (None, "analytic") else slip_solver)
     if solver not in SLIP_SOLVERS:
-        raise InputError(f"--slip-solver for a spring-block chain must be analytic (the closed form) or one of "
+        raise InputError(f"--slip-solver for a spring-block chain must be auto, analytic (the closed form) or one of "
                          f"{', '.join(SLIP_SOLVERS[1:])}, got {slip_solver!r}")
     run = simulate_chain(loaded.chain, int(count), initial_position=loaded.initial_position, slip_solver=solver,
                          rtol=1e-10 if rtol is None else rtol)
     stats = statistics(loaded, run)
     report = _report(loaded, run, stats, f"{title}: {loaded.name}",
-                     METHOD["name"] if solver == "closed_form" else INTEGRATED["name"])
-    report.add("slip_solver", "analytic (closed form)" if solver == "closed_form" else solver)
+                     INTEGRATED["name"] if solver in INTEGRATORS else METHOD["name"])
+    report.add("slip_solver", {"closed_form": "analytic (closed form, in Python)",
+                               "closed_form_compiled": "analytic (closed form, compiled)"}.get(solver, solver))
     return loaded, run, stats, report
 
 
@@ -204,8 +208,9 @@ def run(scene, method=None, tolerance=None) -> Result:
 
 
 def simulate(scene, cycles=None, slip_solver=None, rtol=None, events=False, output=None) -> Result:
-    """The chain's events (``cycles`` of them, the scene's otherwise) with their catalogue; ``slip_solver`` analytic
-    (the closed form, default) or a scipy integrator at ``rtol``; ``events`` asks for QuakeML
+    """The chain's events (``cycles`` of them, the scene's otherwise) with their catalogue; ``slip_solver`` auto
+    or analytic (the closed form, compiled where it was built), closed_form (in Python), closed_form_compiled,
+    or a scipy integrator at ``rtol``; ``events`` asks for QuakeML
     (``extras["events"](start)``)."""
     loaded, chain_run, stats, report = _run(scene, cycles, "faultslip simulation of a spring-block chain",
                                             slip_solver, rtol)
