@@ -268,7 +268,9 @@ def _studies_commands(commands) -> None:
     regional.add_argument("map", help="map TOML file")
     regional.add_argument("-o", "--output", required=True, help="output netCDF file")
     regional.add_argument("--plot", help="draw the maps to FILE.png (and predicted vs observed to FILE_observed.png)")
-    regional.add_argument("--nrml", help="write each segment as an OpenQuake simple-fault source (NRML 0.5) to FILE.xml")
+    regional.add_argument("--nrml", help="write each segment as an OpenQuake simple-fault source (NRML 0.5) to FILE.xml; "
+                          "a map with a [rupture_set] table adds its fault system's multi-fault ruptures as "
+                          "logic-tree branches (docs/hazard.md)")
     regional.add_argument("--mfd", default="characteristic", help="NRML magnitude-frequency distribution, balanced "
                           "on the segment's moment rate: characteristic (Youngs & Coppersmith 1985), truncated_gr or "
                           "single_bin (default characteristic)")

@@ -154,10 +154,14 @@ def _hazard_options(args, spec, outputs) -> dict | None:
         raise InputError(f"--moment-constant must be 9.1 (faultslip's Mw) or 9.05 (Hanks & Kanamori, the engine's "
                          f"MFD code), got {args.moment_constant}")
     # the branch files and the engine job's logic trees, checked and held like -o
-    extra = [path for path in hazard.branch_paths(outputs["nrml"], relations).values() if path != outputs["nrml"]]
+    system = spec.rupture_rules is not None
+    extra = [path for path in hazard.branch_paths(outputs["nrml"], relations, system).values()
+             if path != outputs["nrml"]]
+    if system:
+        extra += list(hazard.system_paths(outputs["nrml"], relations).values())
     if outputs["engine_job"] is not None:
         job = outputs["engine_job"]
-        if len(relations) == 1:
+        if len(relations) == 1 and not system:
             extra.append(job.with_name(f"{job.stem}_source_model_logic_tree.xml"))
         extra.append(job.with_name(f"{job.stem}_gmpe_logic_tree.xml"))
     for path in extra:
@@ -230,12 +234,14 @@ def cmd_map(args) -> int:
     tolerance = _tolerance(args) or 1e-6
     check_map_size(spec, outputs["output"], args.allow_large)
     dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance, allow_large=True)
-    plots, sources, written = [], [], None
+    plots, sources, written, systems = [], [], None, {}
     if options is not None:  # built before anything is written: a refusal leaves nothing behind
         sources = hazard.hazard_sources(spec, dataset, args.stable_continental)
         models = hazard.source_models(sources, options["relations"], options["kind"], options["min_magnitude"],
                                       options["b_value"], options["bin_width"], options["moment_constant"],
                                       args.stable_continental)
+        systems = hazard.system_models(spec, dataset, options["relations"], args.stable_continental,
+                                       options["bin_width"])
     renewal_sources = None
     if renewal is not None:  # also before anything is written
         sources = sources or hazard.hazard_sources(spec, dataset, args.stable_continental)
@@ -247,19 +253,30 @@ def cmd_map(args) -> int:
                  *(renewal["extra"] if renewal else [])):
         write_dataset(dataset, outputs["output"])
         if options is not None:
-            written = hazard.write_hazard_model(outputs["nrml"], models, options["relations"], spec.name)
+            written = hazard.write_hazard_model(outputs["nrml"], models, options["relations"], spec.name, systems,
+                                                options["bin_width"], options["moment_constant"])
             branches = ", ".join(f"{name} {weight:g}" for name, weight in options["relations"])
-            spec.notes.append(f"{max(written['sources'].values())} simple-fault source(s), {args.mfd} MFD "
+            for result in systems.values():
+                spec.notes.append(f"fault system, {result.notes[0]}; weight {result.rules.weight:g} against the "
+                                  "per-segment sources in the logic tree")
+            segment_counts = [count for key, count in written["sources"].items() if not key.endswith("_system")]
+            spec.notes.append(f"{max(segment_counts, default=0)} simple-fault source(s), {args.mfd} MFD "
                               f"(b = {options['b_value']:g} from Mw {options['min_magnitude']:g}, bins of "
                               f"{options['bin_width']:g}), moment-balanced, per scaling relation ({branches}), "
                               f"written as NRML to {', '.join(written['files'])}")
             if outputs["engine_job"] is not None:
                 job_files = hazard.write_engine_job(outputs["engine_job"], str(outputs["nrml"]),
-                                                    len(options["relations"]) > 1, options["sites"],
-                                                    bin_width=options["bin_width"], description=spec.name)
+                                                    len(options["relations"]) > 1 or bool(systems), options["sites"],
+                                                    bin_width=options["bin_width"], description=spec.name,
+                                                    infer_occur_rates=bool(systems),
+                                                    # a multiFaultSource's rates are read from one-year
+                                                    # probabilities, and the engine wants the job's time to match
+                                                    investigation_time=1.0 if systems else 50.0)
                 written["files"] += job_files
-                spec.notes.append(f"OpenQuake classical job at {len(options['sites'])} site(s): "
-                                  f"oq engine --run {outputs['engine_job']}")
+                spec.notes.append(f"OpenQuake classical job at {len(options['sites'])} site(s)"
+                                  + (", over 1 yr (annual probabilities: the fault system's multiFaultSource gives "
+                                     "its rates as one-year probabilities)" if systems else "")
+                                  + f": oq engine --run {outputs['engine_job']}")
         if renewal_sources is not None:
             td = hazard.write_time_dependent_model(outputs["time_dependent"], renewal_sources, spec.name)
             if renewal["job"] is not None:  # the engine runs the time-dependent logic tree over its own window
@@ -294,7 +311,9 @@ def cmd_map(args) -> int:
         hazard_json = None if written is None else {
             "files": written["files"], "mfd": args.mfd,
             "relations": [{"relation": name, "weight": weight} for name, weight in options["relations"]],
-            "sources": hazard.sources_json(sources, models)}
+            "sources": hazard.sources_json(sources, models),
+            "rupture_sets": {name: result.summary() | {"rules": result.rules.as_dict()}
+                             for name, result in systems.items()} or None}
         if renewal_sources is not None:
             hazard_json = (hazard_json or {}) | {"time_dependent": [s.as_dict() for s in renewal_sources]}
         print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"},

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 
 import numpy as np
 
@@ -54,6 +55,24 @@ def trace_length(trace) -> float:
 
 #: Mean Earth radius (m) of obspy's degrees2kilometers, so distances match obspy's spherical ones.
 EARTH_RADIUS = 6371e3
+
+
+def azimuth(start, end) -> float:
+    """Initial great-circle azimuth from ``start`` to ``end`` (lon, lat in degrees), degrees clockwise from north."""
+    lon1, lat1, lon2, lat2 = map(math.radians, (*start, *end))
+    return math.degrees(math.atan2(math.sin(lon2 - lon1) * math.cos(lat2), math.cos(lat1) * math.sin(lat2)
+                                   - math.sin(lat1) * math.cos(lat2) * math.cos(lon2 - lon1))) % 360.0
+
+
+def destination(lon: float, lat: float, bearing: float, distance: float) -> tuple[float, float]:
+    """The point ``distance`` m from (lon, lat) along ``bearing`` degrees from north (a sphere of
+    :data:`EARTH_RADIUS`)."""
+    angle, course = distance / EARTH_RADIUS, math.radians(bearing)
+    phi, lam = math.radians(lat), math.radians(lon)
+    phi2 = math.asin(math.sin(phi) * math.cos(angle) + math.cos(phi) * math.sin(angle) * math.cos(course))
+    lam2 = lam + math.atan2(math.sin(course) * math.sin(angle) * math.cos(phi),
+                            math.cos(angle) - math.sin(phi) * math.sin(phi2))
+    return math.degrees(lam2), math.degrees(phi2)
 
 
 def _unit_vectors(lon, lat) -> np.ndarray:

@@ -8,8 +8,14 @@ built): an ``incrementalMFD`` (first bin centre and width, one annual rate per b
 ``width_of_mfd_bin``, which must then equal the distribution's bin width). Rates and a-values are written
 to ten significant digits, so the moment rate a reader sums back holds to 1e-9.
 
+A fault system's rupture set is a ``multiFaultSource`` (:func:`write_multi_fault_model`): one
+``multiPlanesRupture`` a rupture, naming its sections by index in a ``geometryModel`` of ``kiteSurface``
+sections (:func:`write_sections`), each section a profile down dip at every trace vertex. Its annual
+rates are written as one-year occurrence probabilities, P0 = exp(-rate), which the engine turns back into
+rates with the job's ``infer_occur_rates = true``; a background share goes beside it as an ``areaSource``.
+
 A logic tree (``logicTree``, one ``sourceModel`` branch set) weighs several such source models, one per
-magnitude-scaling relation. The namespace is ``http://openquake.org/xmlns/nrml/0.5``, which the engine's
+magnitude-scaling relation (and per rupture model: segments alone, or the fault system). The namespace is ``http://openquake.org/xmlns/nrml/0.5``, which the engine's
 logic-tree reader requires (its source-model parser alone also accepts others). Files are written
 atomically; the tests parse every file with the engine's own parser and run a hazard calculation on
 them where the engine is installed.
@@ -24,6 +30,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.atomic import atomic_path
+from faultslip.io.geo import azimuth, destination
 
 NRML_NAMESPACE = "http://openquake.org/xmlns/nrml/0.5"
 GML_NAMESPACE = "http://www.opengis.net/gml"
@@ -143,6 +150,84 @@ def write_nonparametric_model(path, ruptures: list[dict], name: str, investigati
         raise InputError("no segment has a rupture to write as a time-dependent source")
     _write(root, path)
     return len(ruptures)
+
+
+def section_profiles(trace, dip: float, upper_depth: float, lower_depth: float) -> list:
+    """A section's ``kiteSurface`` profiles: at each trace vertex, (lon, lat, depth km) at the upper seismogenic
+    depth and, (lower - upper) / tan(dip) further down dip (to the right of the strike, Aki & Richards), at the
+    lower one."""
+    trace = np.asarray(trace, float)
+    reach = 0.0 if dip >= 90.0 else (lower_depth - upper_depth) / math.tan(math.radians(dip))
+    profiles = []
+    for i, (lon, lat) in enumerate(trace):
+        a, b = (trace[i], trace[i + 1]) if i + 1 < len(trace) else (trace[i - 1], trace[i])
+        bottom = destination(lon, lat, azimuth(a, b) + 90.0, reach) if reach else (lon, lat)
+        profiles.append(((lon, lat, upper_depth / 1e3), (*bottom, lower_depth / 1e3)))
+    return profiles
+
+
+def write_sections(path, sections: list[dict], name: str = "faultslip fault sections") -> int:
+    """Write ``sections`` (dicts: trace (n, 2) lon/lat, dip, upper_depth and lower_depth in m; optional name) as
+    an NRML ``geometryModel`` of ``kiteSurface`` sections with ids 0, 1, ... (the indexes a
+    ``multiPlanesRupture`` names). Returns how many were written."""
+    if not sections:
+        raise InputError("a fault system needs at least one section to write")
+    root = _root()
+    model = _element(root, "geometryModel", name=name)
+    for index, section in enumerate(sections):
+        node = _element(model, "section", id=str(index), name=str(section.get("name", index)))
+        surface = _element(node, "kiteSurface")
+        for top, bottom in section_profiles(section["trace"], section["dip"], section["upper_depth"],
+                                            section["lower_depth"]):
+            profile = _element(surface, "profile")
+            line = ET.SubElement(profile, f"{{{GML_NAMESPACE}}}LineString")
+            ET.SubElement(line, f"{{{GML_NAMESPACE}}}posList").text = " ".join(f"{v:.6f}" for v in (*top, *bottom))
+    _write(root, path)
+    return len(sections)
+
+
+def write_multi_fault_model(path, ruptures: list[dict], name: str, background: dict | None = None,
+                            tectonic_region: str = "Active Shallow Crust") -> int:
+    """Write a fault system's ruptures (dicts: magnitude, rake, sections (indexes into :func:`write_sections`'s
+    file), rate in 1/yr) as one ``multiFaultSource``, each rupture's rate as its one-year probabilities
+    "exp(-rate) 1-exp(-rate)" (the job needs ``infer_occur_rates = true``); ruptures without a rate are left
+    out. ``background`` (dict: polygon (n, 2) lon/lat, upper_depth and lower_depth in m, ``mfd`` a truncated
+    Gutenberg-Richter distribution, rake) adds an ``areaSource``. Returns how many ruptures were written."""
+    root = _root()
+    model = _element(root, "sourceModel", name=name, investigation_time="1.0")
+    group = _element(model, "sourceGroup", name="faultslip fault system", tectonicRegion=tectonic_region)
+    source = _element(group, "multiFaultSource", id="fault_system", name=name)
+    written = 0
+    for rupture in ruptures:
+        rate = float(rupture["rate"])
+        if not (math.isfinite(rate) and rate > 0):
+            continue
+        node = _element(source, "multiPlanesRupture", probs_occur=occurrence_probabilities(-math.expm1(-rate)))
+        _element(node, "magnitude", f"{rupture['magnitude']:.10g}")
+        _element(node, "sectionIndexes", indexes=",".join(str(int(i)) for i in rupture["sections"]))
+        _element(node, "rake", f"{rupture['rake']:g}")
+        written += 1
+    if not written:
+        raise InputError("no rupture of the fault system has a rate: nothing to write as a multiFaultSource")
+    if background is not None and background["mfd"] is not None:
+        area = _element(group, "areaSource", id="background", name=f"{name}: background", tectonicRegion=tectonic_region)
+        geometry = _element(area, "areaGeometry")
+        polygon = ET.SubElement(geometry, f"{{{GML_NAMESPACE}}}Polygon")
+        ring = ET.SubElement(ET.SubElement(polygon, f"{{{GML_NAMESPACE}}}exterior"), f"{{{GML_NAMESPACE}}}LinearRing")
+        ET.SubElement(ring, f"{{{GML_NAMESPACE}}}posList").text = " ".join(
+            f"{lon:.5f} {lat:.5f}" for lon, lat in np.asarray(background["polygon"], float))
+        _element(geometry, "upperSeismoDepth", f"{background['upper_depth'] / 1e3:g}")
+        _element(geometry, "lowerSeismoDepth", f"{background['lower_depth'] / 1e3:g}")
+        _element(area, "magScaleRel", "WC1994")
+        _element(area, "ruptAspectRatio", "1.5")
+        _mfd_element(area, background["mfd"])
+        planes = _element(area, "nodalPlaneDist")
+        _element(planes, "nodalPlane", probability="1.0", strike="0.0", dip="90.0", rake=f"{background['rake']:g}")
+        depths = _element(area, "hypoDepthDist")
+        _element(depths, "hypoDepth", probability="1.0",
+                 depth=f"{(background['upper_depth'] + background['lower_depth']) / 2e3:g}")
+    _write(root, path)
+    return written
 
 
 def write_logic_tree(path, branches: list[tuple[str, str, float]]) -> None:

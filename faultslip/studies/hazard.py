@@ -26,7 +26,9 @@ from faultslip.errors import InputError
 from faultslip.fault import empirical, mfd as mfds
 from faultslip.io.atomic import write_text_atomic
 from faultslip.fault.recurrence import conditional_probability
-from faultslip.io.nrml import write_logic_tree, write_nonparametric_model, write_source_model
+from faultslip.io.nrml import (write_logic_tree, write_multi_fault_model, write_nonparametric_model, write_sections,
+                               write_source_model)
+from faultslip.studies import rupture_sets
 from faultslip.units import JULIAN_YEAR
 
 #: branch name -> the engine's magnitude-scaling relation its sources carry (Leonard 2014's interplate
@@ -245,18 +247,40 @@ def magnitude_table(sources: list[HazardSource]) -> str:
     return "\n".join(lines)
 
 
-def branch_paths(path, relations: list[tuple[str, float]]) -> dict:
-    """Where each source model goes: ``path`` itself for one relation; else ``path`` holds the logic tree and
-    each branch's model sits beside it as ``<stem>_<relation>.xml``."""
+def branch_paths(path, relations: list[tuple[str, float]], system: bool = False) -> dict:
+    """Where each source model goes: ``path`` itself for one relation without a rupture set; else ``path`` holds
+    the logic tree and each branch's model sits beside it as ``<stem>_<relation>.xml``."""
     path = Path(path)
-    if len(relations) == 1:
+    if len(relations) == 1 and not system:
         return {relations[0][0]: path}
     return {name: path.with_name(f"{path.stem}_{name.lower()}{path.suffix}") for name, _ in relations}
 
 
-def write_hazard_model(path, models: dict, relations: list[tuple[str, float]], name: str) -> dict:
-    """Write the source models (and, for several relations, the logic tree at ``path``); returns
-    {"files": [...], "sources": count per relation}.
+def system_paths(path, relations: list[tuple[str, float]]) -> dict:
+    """Where a rupture set's files go beside ``path``: ``sections`` (``<stem>_sections.xml``) and, per relation,
+    its ``multiFaultSource`` (``<stem>_system_<relation>.xml``)."""
+    path = Path(path)
+    return {"sections": path.with_name(f"{path.stem}_sections{path.suffix}"),
+            **{name: path.with_name(f"{path.stem}_system_{name.lower()}{path.suffix}") for name, _ in relations}}
+
+
+def system_models(spec, dataset, relations: list[tuple[str, float]], stable_continental: bool = False,
+                  bin_width: float = mfds.BIN_WIDTH) -> dict:
+    """relation -> :class:`~faultslip.studies.rupture_sets.RuptureSet` of the map's ``[rupture_set]`` rules."""
+    if spec.rupture_rules is None:
+        return {}
+    return {name: rupture_sets.rupture_set(spec, dataset, spec.rupture_rules, name, stable_continental, bin_width)
+            for name, _ in relations}
+
+
+def write_hazard_model(path, models: dict, relations: list[tuple[str, float]], name: str, systems: dict | None = None,
+                       bin_width: float = mfds.BIN_WIDTH, moment_constant: float = mfds.MOMENT_CONSTANT) -> dict:
+    """Write the source models (and, for several relations or a rupture set, the logic tree at ``path``);
+    returns {"files": [...], "sources": count per relation}.
+
+    With ``systems`` (:func:`system_models`), each relation has a second branch, the fault system's
+    ``multiFaultSource`` (and its background) over one sections file, weighted by the rules' ``weight``
+    against the per-segment sources.
 
     Parameters
     ----------
@@ -274,12 +298,29 @@ def write_hazard_model(path, models: dict, relations: list[tuple[str, float]], n
     dict
         ``files`` written and ``sources`` per relation.
     """
-    paths = branch_paths(path, relations)
-    counts = {relation: write_source_model(paths[relation], models[relation], f"{name} ({relation})")
-              for relation, _ in relations}
-    files = [str(p) for p in paths.values()]
-    if len(relations) > 1:
-        write_logic_tree(path, [(relation, paths[relation].name, weight) for relation, weight in relations])
+    systems = systems or {}
+    share = next(iter(systems.values())).rules.weight if systems else 0.0
+    paths = branch_paths(path, relations, bool(systems))
+    counts, files, branches = {}, [], []
+    if share < 1.0:
+        for relation, weight in relations:
+            counts[relation] = write_source_model(paths[relation], models[relation], f"{name} ({relation})")
+            files.append(str(paths[relation]))
+            branches.append((relation, paths[relation].name, weight * (1.0 - share)))
+    if systems:
+        where = system_paths(path, relations)
+        write_sections(where["sections"], rupture_sets.nrml_sections(next(iter(systems.values()))),
+                       f"{name}: fault sections")
+        files.append(str(where["sections"]))
+        for relation, weight in relations:
+            result = systems[relation]
+            counts[f"{relation}_system"] = write_multi_fault_model(
+                where[relation], rupture_sets.nrml_ruptures(result), f"{name} (fault system, {relation})",
+                rupture_sets.background_source(result, bin_width, moment_constant))
+            files.append(str(where[relation]))
+            branches.append((f"{relation}_system", f"{where[relation].name} {where['sections'].name}", weight * share))
+    if len(branches) > 1 or systems:
+        write_logic_tree(path, branches)
         files.insert(0, str(path))
     return {"files": files, "sources": counts}
 
@@ -475,7 +516,7 @@ def parse_sites(text: str) -> list[tuple[float, float]]:
 def write_engine_job(path, source_model: str, is_logic_tree: bool, sites: list[tuple[float, float]],
                      gmpe: str = DEFAULT_GMPE, levels=DEFAULT_LEVELS, investigation_time: float = 50.0,
                      bin_width: float = mfds.BIN_WIDTH, vs30: float = 760.0, description: str = "faultslip sources",
-                     tectonic_region: str = "Active Shallow Crust") -> list[str]:
+                     tectonic_region: str = "Active Shallow Crust", infer_occur_rates: bool = False) -> list[str]:
     """An OpenQuake classical-PSHA job (``oq engine --run FILE.ini``): the sites, one GMPE, PGA at ``levels``
     (g), Poissonian over ``investigation_time`` years, ``width_of_mfd_bin`` = the distributions' bin width.
     A single source model gets a one-branch logic tree beside the job. Returns the files written.
@@ -504,6 +545,9 @@ def write_engine_job(path, source_model: str, is_logic_tree: bool, sites: list[t
         The job's description.
     tectonic_region : str
         The region type.
+    infer_occur_rates : bool
+        Read the occurrence probabilities of multi-fault ruptures as one-year Poisson rates (a fault system's
+        ``multiFaultSource``, :func:`faultslip.io.nrml.write_multi_fault_model`).
 
     Returns
     -------
@@ -562,6 +606,7 @@ investigation_time = {investigation_time:g}
 intensity_measure_types_and_levels = {{"PGA": [{level_text}]}}
 truncation_level = 3
 maximum_distance = 300.0
+{"infer_occur_rates = true" if infer_occur_rates else ""}
 
 [output]
 export_dir = .

@@ -50,6 +50,7 @@ from faultslip.io.resources import open_netcdf
 from faultslip.fault.rate_state_cells import check_cycle_method
 from faultslip.fault.spring_slider_cells import SEED_METHODS, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs
 from faultslip.studies.grid import Study, as_dataset
+from faultslip.studies.rupture_sets import RULE_KEYS, parse_rules
 from datetime import datetime, timezone
 
 SEGMENT_COLUMNS = {  # name -> (unit kind, required)
@@ -72,7 +73,7 @@ RASTER_VARIABLES = {
     "normal_stress": "pressure", "shear_stress": "pressure",
 }
 MAP_SCHEMA = {"map": {"name", "base", "description", "cycles", "method"}, "segments": {"file"}, "raster": {"file"},
-              "grid": {"lon", "lat", "max_distance"}}
+              "grid": {"lon", "lat", "max_distance"}, "rupture_set": set(RULE_KEYS)}
 
 
 @dataclass
@@ -91,6 +92,7 @@ class MapSpec:
     inputs: list = field(default_factory=list)  # every file read: the map, its scene, its table
     cycles: int = 5  # a rate-and-state base: cycles simulated per unstable segment or cell
     cycle_method: str = "auto"  # ... and their integrator (auto, lsoda, dopri5, dopri5_compiled)
+    rupture_rules: object = None  # studies.rupture_sets.Rules, from a [rupture_set] table
 
 
 @dataclass
@@ -559,6 +561,10 @@ def load_map(path) -> MapSpec:
         spec.lat = _axis(grid["lat"], "lat", f"[grid] in {path.name}")
         _check_lon_lat(spec.lon, spec.lat[: spec.lon.size] if spec.lat.size >= spec.lon.size else spec.lat, f"[grid] in {path.name}")
         _check_lon_lat(spec.lon[:1], spec.lat, f"[grid] in {path.name}")
+    if "rupture_set" in document:
+        if spec.segments is None:
+            raise InputError(f"[rupture_set] in {path.name} joins fault sections: it needs [segments], not a raster")
+        spec.rupture_rules = parse_rules(document["rupture_set"], f"[rupture_set] in {path.name}", spec.segments.ids)
     if "max_distance" in grid:
         spec.max_distance = to_si(grid["max_distance"], "length", f"[grid] max_distance in {path.name}")
         if not spec.max_distance > 0:

@@ -1,0 +1,622 @@
+r"""Fault-system rupture sets: ruptures that jump between sections, with rates that keep every section's slip rate.
+
+A map's faults become **sections** (each mapped segment, or its subsections of about ``subsection_length``
+along strike, as UCERF3 cuts faults; Field et al. 2014, BSSA 104(3), 1122-1180). The **ruptures** are the
+sequences of neighbouring sections the stated rules allow (Milner et al. 2013, UCERF3 appendix T):
+
+- two sections of one fault are neighbours end to end; two faults are joined, once, at their closest
+  sections, if those are no further apart than ``max_jump``;
+- a rupture takes each fault once, as one run of its sections, and turns by no more than
+  ``max_azimuth_change`` from one section's direction of travel to the next one's;
+- it has from ``min_sections`` to ``max_sections`` sections.
+
+**Magnitudes and slips** (N m, m): on the ``faultslip`` branch a rupture slips each section by faultslip's
+slip per event for that section's fault, so M0 = G sum_s A_s D_s; on the empirical branches (W&C 1994
+Mw(RA), Leonard 2010 Mw(A)) the rupture's area gives Mw and a uniform slip M0 / (G A).
+
+**Rates** r_k >= 0 (1/yr) solve, by scipy's non-negative least squares (Lawson & Hanson 1974),
+
+.. math:: \sum_k D_{sk} r_k = (1 - f_{a,s})(1 - f_b) V_s \quad\text{for every section } s,
+
+the slip-rate budget after the aseismic (non-mainshock) fraction f_a and the background share f_b, held to
+1e-6 relative, while the system's incremental magnitude-frequency distribution N_j = sum_{k in bin j} r_k
+follows the stated shape up to a free level c (each bin's misfit relative to its target):
+
+- ``gr``: Gutenberg-Richter, N_j proportional to 10^(-b m_j);
+- ``characteristic``: each fault's faultslip-predicted event (its Mw, at its moment rate) in its bin.
+
+The slip rows are weighted far above the shape rows, and the rates on the active set are then corrected
+onto the slip constraints exactly (least norm), so the budget holds to round-off; a shape the slip rates
+cannot follow shows as the misfit, which the result reports. NNLS's solutions are sparse: at most as many
+ruptures carry a rate as there are sections and bins. The background's share of the moment rate goes to
+an area source around the faults (a truncated Gutenberg-Richter distribution).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from faultslip.errors import InputError, SolverError
+from faultslip.fault import empirical, mfd as mfds
+from faultslip.fault.scaling import moment_magnitude
+from faultslip.io.geo import EARTH_RADIUS, azimuth, densify, destination, trace_length
+from faultslip.units import JULIAN_YEAR, to_si
+
+#: the target shapes of the system's magnitude-frequency distribution
+SHAPES = ("gr", "characteristic")
+#: the magnitude relations a rupture set takes (as the per-segment branches; studies.hazard.RELATIONS)
+RELATIONS = ("faultslip", "WC1994", "Leonard2010")
+#: more ruptures than this is refused: a rule set that loose needs tighter rules, not more memory
+MAX_RUPTURES = 200_000
+#: the slip-rate budget's relative tolerance
+BUDGET_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class Rules:
+    """What makes a rupture: jump, turn and size (SI: m, degrees)."""
+
+    max_jump: float = 5e3
+    max_azimuth_change: float = 60.0
+    min_sections: int = 1
+    max_sections: int | None = None
+    subsection_length: float | None = None
+    shape: str = "gr"
+    b_value: float = 1.0
+    aseismic_fraction: float | dict = 0.0  # one number, or segment id -> fraction
+    background_share: float = 0.0
+    background_magnitudes: tuple = (5.0, 6.5)
+    weight: float = 0.5  # the system branches' share of the logic tree
+
+    def as_dict(self) -> dict:
+        return {"max_jump": {"value": self.max_jump, "units": "m"}, "max_azimuth_change": self.max_azimuth_change,
+                "min_sections": self.min_sections, "max_sections": self.max_sections,
+                "subsection_length": None if self.subsection_length is None else
+                {"value": self.subsection_length, "units": "m"},
+                "shape": self.shape, "b_value": self.b_value, "aseismic_fraction": self.aseismic_fraction,
+                "background_share": self.background_share, "background_magnitudes": list(self.background_magnitudes),
+                "weight": self.weight}
+
+
+#: the keys of a map's [rupture_set] table
+RULE_KEYS = ("max_jump", "max_azimuth_change", "min_sections", "max_sections", "subsection_length", "mfd", "b_value",
+             "aseismic_fraction", "background_share", "background_min_magnitude", "background_max_magnitude",
+             "weight")
+
+
+def parse_rules(table: dict, where: str, segment_ids=()) -> Rules:
+    """A map's ``[rupture_set]`` table as :class:`Rules`, each bad value refused in one sentence."""
+    def whole(key, default, low):
+        value = table.get(key, default)
+        if value is None:
+            return None
+        if not isinstance(value, int) or isinstance(value, bool) or value < low:
+            raise InputError(f"{where}: {key} must be a whole number of at least {low}, got {value!r}")
+        return value
+
+    def fraction(value, what, top=1.0):
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or not (0.0 <= value < top):
+            raise InputError(f"{where}: {what} must be a number from 0 to below {top:g}, got {value!r}")
+        return float(value)
+
+    max_jump = to_si(table.get("max_jump", "5 km"), "length", f"{where} max_jump")
+    if not (math.isfinite(max_jump) and max_jump >= 0):
+        raise InputError(f"{where}: max_jump must be a distance of 0 or more, got {table.get('max_jump')!r}")
+    turn = table.get("max_azimuth_change", 60.0)
+    if not isinstance(turn, (int, float)) or isinstance(turn, bool) or not 0 <= turn <= 180:
+        raise InputError(f"{where}: max_azimuth_change must be degrees from 0 to 180, got {turn!r}")
+    low, high = whole("min_sections", 1, 1), whole("max_sections", None, 1)
+    if high is not None and high < low:
+        raise InputError(f"{where}: max_sections ({high}) is below min_sections ({low})")
+    length = None
+    if "subsection_length" in table:
+        length = to_si(table["subsection_length"], "length", f"{where} subsection_length")
+        if not (math.isfinite(length) and length >= 1e3):
+            raise InputError(f"{where}: subsection_length must be at least 1 km, got {table['subsection_length']!r}")
+    shape = table.get("mfd", "gr")
+    if shape not in SHAPES:
+        raise InputError(f"{where}: mfd must be one of {', '.join(SHAPES)}, got {shape!r}")
+    b_value = table.get("b_value", 1.0)
+    if not isinstance(b_value, (int, float)) or isinstance(b_value, bool) or not 0.3 <= b_value <= 2.5:
+        raise InputError(f"{where}: b_value must be a number from 0.3 to 2.5, got {b_value!r}")
+    aseismic = table.get("aseismic_fraction", 0.0)
+    if isinstance(aseismic, dict):
+        unknown = sorted(set(aseismic) - set(map(str, segment_ids)))
+        if unknown:
+            raise InputError(f"{where}: aseismic_fraction names segment {unknown[0]!r}, which the map does not have")
+        aseismic = {str(key): fraction(value, f"aseismic_fraction of {key}") for key, value in aseismic.items()}
+    else:
+        aseismic = fraction(aseismic, "aseismic_fraction")
+    background = fraction(table.get("background_share", 0.0), "background_share")
+    magnitudes = (table.get("background_min_magnitude", 5.0), table.get("background_max_magnitude", 6.5))
+    if not all(isinstance(m, (int, float)) and not isinstance(m, bool) and 3 <= m <= 9 for m in magnitudes) or \
+            magnitudes[1] <= magnitudes[0]:
+        raise InputError(f"{where}: the background's magnitudes must run from 3 to 9, minimum below maximum, "
+                         f"got {magnitudes[0]!r} to {magnitudes[1]!r}")
+    weight = table.get("weight", 0.5)
+    if not isinstance(weight, (int, float)) or isinstance(weight, bool) or not 0 < weight <= 1:
+        raise InputError(f"{where}: weight (the rupture set's share of the logic tree) must be in (0, 1], got {weight!r}")
+    return Rules(max_jump, float(turn), low, high, length, shape, float(b_value), aseismic, background,
+                 (float(magnitudes[0]), float(magnitudes[1])), float(weight))
+
+
+@dataclass
+class Sections:
+    """A fault system's sections (SI), each belonging to one mapped fault (``fault``, an index)."""
+
+    ids: list
+    names: list
+    fault: np.ndarray
+    fault_ids: list
+    traces: list
+    dip: np.ndarray
+    rake: np.ndarray
+    upper_depth: np.ndarray
+    lower_depth: np.ndarray
+    length: np.ndarray
+    slip_rate: np.ndarray  # m/s
+    slip_per_event: np.ndarray  # m, faultslip's for the section's fault
+    fault_magnitude: np.ndarray  # faultslip's Mw for the whole fault
+    fault_moment_rate: np.ndarray  # N m/yr, the whole fault's
+    aseismic: np.ndarray
+
+    @property
+    def count(self) -> int:
+        return len(self.ids)
+
+    @property
+    def width(self) -> np.ndarray:
+        """Down-dip width (lower - upper) / sin(dip) (m)."""
+        return (self.lower_depth - self.upper_depth) / np.sin(np.radians(self.dip))
+
+    @property
+    def area(self) -> np.ndarray:
+        return self.length * self.width
+
+
+def _cumulative_distance(points: np.ndarray) -> np.ndarray:
+    lon, lat = np.radians(points[:, 0]), np.radians(points[:, 1])
+    half = (np.sin(np.diff(lat) / 2) ** 2 + np.cos(lat[:-1]) * np.cos(lat[1:]) * np.sin(np.diff(lon) / 2) ** 2)
+    return np.concatenate([[0.0], np.cumsum(2 * EARTH_RADIUS * np.arcsin(np.sqrt(np.clip(half, 0, 1))))])
+
+
+def split_trace(trace, pieces: int) -> list:
+    """``trace`` cut into ``pieces`` of equal length along it (great circles; each keeps the vertices inside it
+    that are more than 1 km from its ends)."""
+    trace = np.asarray(trace, float)
+    if pieces == 1:
+        return [trace]
+    points = densify(trace, 100.0)
+    along = _cumulative_distance(points)
+    vertex_along = _cumulative_distance(trace)  # the densified points lie on the great circles between vertices
+    cuts = np.linspace(0.0, along[-1], pieces + 1)
+    cut_points = np.column_stack([np.interp(cuts, along, points[:, 0]), np.interp(cuts, along, points[:, 1])])
+    out = []
+    for i in range(pieces):
+        # a vertex within 1 km of a cut would leave a sliver the engine's surfaces cannot mesh: the cut stands for it
+        inside = trace[(vertex_along > cuts[i] + 1e3) & (vertex_along < cuts[i + 1] - 1e3)]
+        out.append(np.vstack([cut_points[i], *inside, cut_points[i + 1]]) if len(inside) else cut_points[i:i + 2])
+    return out
+
+
+def fault_sections(spec, dataset, rules: Rules) -> Sections:
+    """The map's faults as sections (or subsections of ``rules.subsection_length``), with faultslip's slip per
+    event and event for each fault, from the map's predictions ``dataset``."""
+    table = spec.segments
+    if table is None:
+        raise InputError("a rupture set needs fault segments ([segments]), not a raster map")
+    geometry = table.geometry or {}
+    count = len(table.ids)
+    dip = np.asarray(geometry.get("dip", np.full(count, 90.0)), float)
+    rake = np.asarray(geometry.get("rake", np.full(count, 180.0)), float)
+    upper = np.asarray(geometry.get("upper_depth", np.zeros(count)), float)
+    slip = dataset["slip_per_event"].values
+    magnitude = dataset["moment_magnitude"].values
+    recurrence = dataset["recurrence_period"].values
+    moment = dataset["seismic_moment"].values
+    rows = {key: [] for key in ("ids", "names", "fault", "traces", "dip", "rake", "upper", "lower", "length", "rate",
+                                "slip", "magnitude", "moment_rate", "aseismic")}
+    for i, trace in enumerate(table.traces):
+        length = trace_length(trace)
+        pieces = 1 if rules.subsection_length is None else max(1, int(round(length / rules.subsection_length)))
+        fraction = (rules.aseismic_fraction.get(str(table.ids[i]), 0.0) if isinstance(rules.aseismic_fraction, dict)
+                    else rules.aseismic_fraction)
+        stick_slip = math.isfinite(slip[i]) and math.isfinite(recurrence[i]) and recurrence[i] > 0
+        for j, piece in enumerate(split_trace(trace, pieces)):
+            rows["ids"].append(str(table.ids[i]) if pieces == 1 else f"{table.ids[i]}.{j + 1}")
+            rows["names"].append(str(table.names[i]) if pieces == 1 else f"{table.names[i]} {j + 1}/{pieces}")
+            rows["fault"].append(i)
+            rows["traces"].append(piece)
+            rows["length"].append(trace_length(piece))
+            for key, value in (("dip", dip[i]), ("rake", rake[i]), ("upper", upper[i]),
+                               ("lower", upper[i] + table.seismogenic_depth[i]), ("rate", table.slip_rate[i]),
+                               ("slip", slip[i] if stick_slip else math.nan),
+                               ("magnitude", magnitude[i] if stick_slip else math.nan),
+                               ("moment_rate", moment[i] / recurrence[i] * JULIAN_YEAR if stick_slip else math.nan),
+                               ("aseismic", fraction)):
+                rows[key].append(float(value))
+    array = lambda key: np.array(rows[key], float)  # noqa: E731
+    return Sections(rows["ids"], rows["names"], np.array(rows["fault"]), [str(x) for x in table.ids], rows["traces"],
+                    array("dip"), array("rake"), array("upper"), array("lower"), array("length"), array("rate"),
+                    array("slip"), array("magnitude"), array("moment_rate"), array("aseismic"))
+
+
+def _turn(a: float, b: float) -> float:
+    return abs((a - b + 180.0) % 360.0 - 180.0)
+
+
+def _distance(a, b) -> float:
+    return float(_cumulative_distance(np.array([a, b], float))[-1])
+
+
+def connections(sections: Sections, rules: Rules) -> dict:
+    """section -> {neighbour: (the end of the section a rupture leaves by, the end of the neighbour it enters by)},
+    ends as 0 (first vertex) and 1 (last)."""
+    links = {s: {} for s in range(sections.count)}
+    ends = [(np.asarray(t[0]), np.asarray(t[-1])) for t in sections.traces]
+    for s in range(sections.count - 1):  # subsections of one fault, end to end
+        if sections.fault[s] == sections.fault[s + 1]:
+            links[s][s + 1], links[s + 1][s] = (1, 0), (0, 1)
+    faults = np.unique(sections.fault)
+    dense = [densify(t, 500.0) for t in sections.traces]
+    for i, a in enumerate(faults):
+        for b in faults[i + 1:]:
+            best = (math.inf, None, None)
+            for s in np.flatnonzero(sections.fault == a):
+                for t in np.flatnonzero(sections.fault == b):
+                    gap = _closest(dense[s], dense[t])
+                    if gap < best[0]:
+                        best = (gap, int(s), int(t))
+            gap, s, t = best
+            if s is not None and gap <= rules.max_jump:
+                # a rupture leaves one section, and enters the other, by the end nearer the other
+                near_s, near_t = _near_end(ends[s], dense[t]), _near_end(ends[t], dense[s])
+                links[s][t], links[t][s] = (near_s, near_t), (near_t, near_s)
+    return links
+
+
+def _closest(a: np.ndarray, b: np.ndarray) -> float:
+    from scipy.spatial.distance import cdist  # heavy: imported where used
+
+    va = _vectors(a)
+    vb = _vectors(b)
+    chord = cdist(va, vb).min()
+    return float(2 * EARTH_RADIUS * math.asin(min(chord / 2, 1.0)))
+
+
+def _vectors(points):
+    lon, lat = np.radians(points[:, 0]), np.radians(points[:, 1])
+    return np.column_stack([np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)])
+
+
+def _near_end(ends, other: np.ndarray) -> int:
+    """0 if the section's first vertex is nearer ``other`` than its last, else 1."""
+    return int(_closest(np.array([ends[1]]), other) < _closest(np.array([ends[0]]), other))
+
+
+def enumerate_ruptures(sections: Sections, rules: Rules) -> list[tuple]:
+    """Every rupture the rules allow, as a tuple of section indices in order along the rupture (each once)."""
+    links = connections(sections, rules)
+    most = rules.max_sections or sections.count
+    direction = {}  # (section, entry end) -> azimuth of travel through it
+
+    def heading(s, entry):
+        key = (s, entry)
+        if key not in direction:
+            trace = sections.traces[s]
+            a, b = (trace[0], trace[-1]) if entry == 0 else (trace[-1], trace[0])
+            direction[key] = azimuth(a, b)
+        return direction[key]
+
+    found = set()
+    stack = []
+    for s in range(sections.count):
+        for entry in (0, 1):  # a rupture may run through its first section either way
+            stack.append(((s,), entry, frozenset([sections.fault[s]])))
+    while stack:
+        path, entry, faults = stack.pop()
+        if len(path) >= rules.min_sections:
+            found.add(min(path, path[::-1]))
+            if len(found) > MAX_RUPTURES:
+                raise InputError(f"the rupture rules allow more than {MAX_RUPTURES:,} ruptures: lower max_jump, "
+                                 "max_azimuth_change or max_sections, or lengthen subsection_length")
+        if len(path) >= most:
+            continue
+        last = path[-1]
+        for neighbour, (leaves, enters) in links[last].items():
+            if leaves != 1 - entry or neighbour in path:
+                continue  # a rupture leaves a section by the end it did not enter by
+            if sections.fault[neighbour] != sections.fault[last] and sections.fault[neighbour] in faults:
+                continue  # each fault once, as one run
+            if _turn(heading(last, entry), heading(neighbour, enters)) > rules.max_azimuth_change:
+                continue
+            stack.append((path + (neighbour,), enters, faults | {sections.fault[neighbour]}))
+    ruptures = sorted(found, key=lambda p: (len(p), p))
+    if not ruptures:
+        raise InputError(f"the rupture rules allow no rupture: no run of {rules.min_sections} or more sections is "
+                         "joined within max_jump and max_azimuth_change")
+    return ruptures
+
+
+@dataclass
+class RuptureSet:
+    """A fault system's ruptures, their magnitudes, slips and solved rates on one relation's branch."""
+
+    relation: str
+    sections: Sections
+    rules: Rules
+    ruptures: list  # tuples of section indices
+    magnitude: np.ndarray
+    slip: np.ndarray  # (sections, ruptures) m
+    rate: np.ndarray  # 1/yr
+    budget: np.ndarray  # m/yr each section must release
+    bins: np.ndarray  # bin centres of the target
+    target: np.ndarray  # the target's rates (1/yr) at its solved level
+    background_moment_rate: float  # N m/yr
+    shear_modulus: float
+    notes: list = field(default_factory=list)
+
+    @property
+    def released(self) -> np.ndarray:
+        """Slip rate each section releases (m/yr)."""
+        return self.slip @ self.rate
+
+    @property
+    def budget_error(self) -> float:
+        """The largest |released - budget| / budget over the sections with a budget."""
+        has = self.budget > 0
+        return float(np.max(np.abs(self.released[has] - self.budget[has]) / self.budget[has])) if has.any() else 0.0
+
+    @property
+    def participation(self) -> np.ndarray:
+        """Each section's rate of ruptures it takes part in (1/yr)."""
+        return (self.slip > 0).astype(float) @ self.rate
+
+    def system_mfd(self) -> np.ndarray:
+        """The solved rates summed into the target's bins (1/yr)."""
+        return _binned(self.magnitude, self.rate, self.bins)
+
+    def b_value(self) -> float:
+        """The solved distribution's b-value: the slope of log10 of its incremental rates, least squares over the
+        bins that have a rate."""
+        rates = self.system_mfd()
+        has = rates > 0
+        if has.sum() < 2:
+            return math.nan
+        return float(-np.polyfit(self.bins[has], np.log10(rates[has]), 1)[0])
+
+    def shape_misfit(self) -> float:
+        """RMS of (solved - target) / target over the target's bins (0 when the shape is followed exactly; 1 for
+        a bin left empty)."""
+        return float(np.sqrt(np.mean((self.system_mfd() / self.target - 1.0) ** 2)))
+
+    def moment_rate(self) -> float:
+        """The ruptures' moment rate (N m/yr)."""
+        return float(np.sum(self.rate * mfds.moment(self.magnitude)))
+
+    def summary(self) -> dict:
+        used = self.rate > 0
+        return {"relation": self.relation, "sections": self.sections.count, "ruptures": len(self.ruptures),
+                "ruptures_with_rate": int(used.sum()),
+                "multi_fault_ruptures_with_rate": int(sum(1 for k in np.flatnonzero(used)
+                                                          if len({self.sections.fault[s] for s in self.ruptures[k]}) > 1)),
+                "budget_error": self.budget_error, "b_value": self.b_value(), "target_b_value": self.rules.b_value
+                if self.rules.shape == "gr" else None, "shape": self.rules.shape, "shape_misfit": self.shape_misfit(),
+                "magnitude_range": [float(self.magnitude.min()), float(self.magnitude.max())],
+                "moment_rate": {"value": self.moment_rate(), "units": "N m/yr"},
+                "background_moment_rate": {"value": self.background_moment_rate, "units": "N m/yr"},
+                "participation": [{"section": sid, "rate": {"value": float(rate), "units": "1/yr"}}
+                                  for sid, rate in zip(self.sections.ids, self.participation)]}
+
+
+def _binned(magnitude, rate, bins) -> np.ndarray:
+    width = bins[1] - bins[0] if bins.size > 1 else 0.1
+    index = np.clip(np.floor((magnitude - (bins[0] - width / 2)) / width + 1e-9).astype(int), 0, bins.size - 1)
+    return np.bincount(index, weights=rate, minlength=bins.size)
+
+
+def rupture_magnitudes(sections: Sections, ruptures: list, relation: str, shear_modulus: float,
+                       stable_continental: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """(Mw of each rupture, slip matrix (sections, ruptures) in m) on ``relation``'s branch (see the module)."""
+    if relation not in RELATIONS:
+        raise InputError(f"a rupture set's relation must be one of {', '.join(RELATIONS)}, got {relation!r}")
+    area = sections.area
+    magnitude = np.empty(len(ruptures))
+    slip = np.zeros((sections.count, len(ruptures)))
+    for k, members in enumerate(ruptures):
+        members = list(members)
+        total = float(area[members].sum())
+        if relation == "faultslip":
+            if not np.all(np.isfinite(sections.slip_per_event[members])):
+                magnitude[k] = math.nan
+                continue
+            slip[members, k] = sections.slip_per_event[members]
+            magnitude[k] = float(moment_magnitude(shear_modulus * float(np.sum(area[members] * slip[members, k]))))
+            continue
+        # the rupture's slip type is its largest section's
+        slip_type = empirical.slip_type_from_rake(float(sections.rake[members][np.argmax(area[members])]))
+        if relation == "WC1994":
+            magnitude[k] = float(empirical.magnitude_from_area(total, slip_type)[0])
+        else:
+            magnitude[k] = float(empirical.leonard_magnitude_from_area(
+                total, empirical.leonard_setting(slip_type, stable_continental)))
+        slip[members, k] = float(mfds.moment(magnitude[k])) / (shear_modulus * total)
+    return magnitude, slip
+
+
+def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip: np.ndarray, rules: Rules,
+                relation: str, shear_modulus: float, bin_width: float = 0.1) -> RuptureSet:
+    """Rates that release every section's slip-rate budget and follow the stated shape (see the module)."""
+    from scipy.optimize import nnls  # heavy: imported where used
+
+    usable = np.isfinite(magnitude)
+    budget = sections.slip_rate * JULIAN_YEAR * (1 - sections.aseismic) * (1 - rules.background_share)
+    stuck = [sections.ids[s] for s in range(sections.count)
+             if budget[s] > 0 and not np.any(slip[s, usable] > 0)]
+    if stuck:
+        raise InputError(f"section {stuck[0]} has a slip rate but no rupture to release it (it has no stick-slip on "
+                         f"this branch, or min_sections is larger than any run through it)")
+    columns = np.flatnonzero(usable)
+    low = math.floor(magnitude[columns].min() / bin_width + 0.5) * bin_width
+    high = math.floor(magnitude[columns].max() / bin_width + 0.5) * bin_width
+    bins = np.round(np.arange(low, high + bin_width / 2, bin_width), 10)
+    if rules.shape == "gr":
+        shape = 10.0 ** (-rules.b_value * bins)
+    else:  # each fault's faultslip event, at its moment rate, in its bin
+        shape = np.zeros(bins.size)
+        faults = sorted(set(sections.fault.tolist()))
+        for f in faults:
+            first = int(np.flatnonzero(sections.fault == f)[0])
+            m, rate = sections.fault_magnitude[first], sections.fault_moment_rate[first]
+            if math.isfinite(m) and math.isfinite(rate):
+                shape += _binned(np.array([m]), np.array([rate / float(mfds.moment(m))]), bins)
+    occupied = _binned(magnitude[columns], np.ones(columns.size), bins) > 0
+    targeted = occupied & (shape > 0)  # a bin no rupture reaches, or the shape leaves empty, is not fitted
+    if not targeted.any():
+        raise InputError("the stated magnitude-frequency shape puts no rate where the ruptures' magnitudes are")
+    has = budget > 0
+    slip_rows = slip[np.ix_(has, columns)] / budget[has, None]  # each row's target is 1
+    membership = np.zeros((bins.size, columns.size))
+    index = np.clip(np.floor((magnitude[columns] - (bins[0] - bin_width / 2)) / bin_width + 1e-9).astype(int), 0,
+                    bins.size - 1)
+    membership[index, np.arange(columns.size)] = 1.0
+    shape_rows = membership[targeted] / shape[targeted, None]
+    # columns scaled so each rate is of order one: the rate that would release its smallest section alone
+    scale = 1.0 / np.max(slip_rows, axis=0)
+    slip_rows, shape_rows = slip_rows * scale, shape_rows * scale
+    solution = None
+    for weight in (1e3, 1e5, 1e7, 1e9):
+        # unknowns: the scaled rates and the shape's level c (>= 0, in the shape rows as -c)
+        matrix = np.block([[weight * slip_rows, np.zeros((slip_rows.shape[0], 1))],
+                           [shape_rows, -np.ones((shape_rows.shape[0], 1))]])
+        rhs = np.concatenate([weight * np.ones(slip_rows.shape[0]), np.zeros(shape_rows.shape[0])])
+        x, _ = nnls(matrix, rhs, maxiter=50 * matrix.shape[1])
+        scaled = _onto_budget(x[:-1], slip_rows)
+        if scaled is not None:
+            solution, level = scaled, x[-1]
+            break
+    if solution is None:
+        raise SolverError(f"the rupture rates ({relation}): scipy's NNLS found no non-negative rates that release "
+                          f"every section's slip rate to {BUDGET_TOLERANCE:g}; loosen the rules (more ruptures) or "
+                          "give mfd = \"gr\" a smaller b_value")
+    rate = np.zeros(len(ruptures))
+    rate[columns] = solution * scale
+    rate[rate < 1e-12 * rate.max()] = 0.0  # round-off of the active-set solve, not a rupture's rate
+    if level <= 0:  # the shape rows are fitted by a zero level only if the slip rows left no room: report it as is
+        level = float(np.sum(_binned(magnitude, rate, bins)[targeted] / shape[targeted]) / targeted.sum())
+    target = np.where(targeted, level * shape, np.nan)
+    moment_budget = float(np.sum(shear_modulus * sections.area * sections.slip_rate * JULIAN_YEAR *
+                                 (1 - sections.aseismic)))
+    result = RuptureSet(relation, sections, rules, ruptures, magnitude, slip, rate, budget, bins[targeted],
+                        target[targeted], rules.background_share * moment_budget, shear_modulus)
+    if result.budget_error > BUDGET_TOLERANCE:
+        raise SolverError(f"the rupture rates ({relation}) release the slip rates only to {result.budget_error:.1e}, "
+                          f"not {BUDGET_TOLERANCE:g}; loosen the rules (more ruptures)")
+    return result
+
+
+def _onto_budget(x: np.ndarray, rows: np.ndarray):
+    """``x`` corrected by the least-norm step on its nonzero entries so that ``rows @ x = 1`` exactly, or None if
+    that would make a rate negative or leave the budget beyond tolerance."""
+    active = np.flatnonzero(x > 0)
+    if active.size == 0:
+        return None
+    residual = 1.0 - rows @ x
+    if np.max(np.abs(residual)) <= BUDGET_TOLERANCE / 10:  # NNLS met the budget already
+        return x
+    step = np.linalg.lstsq(rows[:, active], residual, rcond=None)[0]
+    corrected = x.copy()
+    corrected[active] += step
+    roundoff = corrected[active] > -1e-12 * corrected[active].max()
+    corrected[active] = np.where(roundoff, np.maximum(corrected[active], 0.0), corrected[active])
+    if np.any(corrected[active] < 0):
+        return None
+    if np.max(np.abs(rows @ corrected - 1.0)) > BUDGET_TOLERANCE / 10:
+        return None
+    return corrected
+
+
+def rupture_set(spec, dataset, rules: Rules, relation: str = "faultslip", stable_continental: bool = False,
+                bin_width: float = 0.1) -> RuptureSet:
+    """The map's fault system on ``relation``'s branch: sections, ruptures, magnitudes and solved rates.
+
+    Parameters
+    ----------
+    spec : MapSpec
+        A segment map (:func:`faultslip.studies.maps.load_map`).
+    dataset : xarray.Dataset
+        Its predictions (:func:`faultslip.studies.maps.run_map`).
+    rules : Rules
+        :func:`parse_rules`'s rules.
+    relation : str
+        faultslip, WC1994 or Leonard2010.
+    stable_continental : bool
+        Leonard's stable-continental relations.
+    bin_width : float
+        The target's magnitude bins.
+
+    Returns
+    -------
+    RuptureSet
+    """
+    sections = fault_sections(spec, dataset, rules)
+    ruptures = enumerate_ruptures(sections, rules)
+    shear_modulus = float(spec.scene.fault().shear_modulus)
+    magnitude, slip = rupture_magnitudes(sections, ruptures, relation, shear_modulus, stable_continental)
+    result = solve_rates(sections, ruptures, magnitude, slip, rules, relation, shear_modulus, bin_width)
+    result.notes.append(f"{relation}: {sections.count} sections, {len(ruptures)} ruptures "
+                        f"({int((result.rate > 0).sum())} with a rate), slip rates released to "
+                        f"{result.budget_error:.1e}, b-value of the solved distribution {result.b_value():.3f}")
+    return result
+
+
+# --- what the engine reads -------------------------------------------------------------------------------
+
+def nrml_sections(result: RuptureSet) -> list[dict]:
+    """The sections as :func:`faultslip.io.nrml.write_sections` takes them."""
+    s = result.sections
+    return [{"name": s.names[i], "trace": s.traces[i], "dip": s.dip[i], "upper_depth": s.upper_depth[i],
+             "lower_depth": s.lower_depth[i]} for i in range(s.count)]
+
+
+def nrml_ruptures(result: RuptureSet) -> list[dict]:
+    """The ruptures as :func:`faultslip.io.nrml.write_multi_fault_model` takes them (each with the rake of its
+    largest section)."""
+    area = result.sections.area
+    rows = []
+    for k, members in enumerate(result.ruptures):
+        members = list(members)
+        rows.append({"magnitude": result.magnitude[k], "sections": members, "rate": result.rate[k],
+                     "rake": float(result.sections.rake[members][np.argmax(area[members])])})
+    return rows
+
+
+#: how far the background's polygon reaches beyond the faults' convex hull (m)
+BACKGROUND_MARGIN = 20e3
+
+
+def background_source(result: RuptureSet, bin_width: float = 0.1, moment_constant: float = mfds.MOMENT_CONSTANT):
+    """The background share as an area source: the faults' convex hull widened by :data:`BACKGROUND_MARGIN`, a
+    truncated Gutenberg-Richter distribution of the rules' b-value and magnitudes carrying its moment rate (None
+    without a background share)."""
+    from scipy.spatial import ConvexHull  # heavy: imported where used
+
+    if not result.background_moment_rate > 0:
+        return None
+    points = np.vstack(result.sections.traces)
+    centre = points.mean(axis=0)
+    try:
+        hull = points[ConvexHull(points).vertices]
+    except Exception:  # noqa: BLE001 - collinear traces have no hull: a box around them instead
+        low, high = points.min(axis=0), points.max(axis=0)
+        hull = np.array([[low[0], low[1]], [high[0], low[1]], [high[0], high[1]], [low[0], high[1]]])
+    polygon = np.array([destination(lon, lat, azimuth(centre, (lon, lat)), BACKGROUND_MARGIN) for lon, lat in hull])
+    low, high = result.rules.background_magnitudes
+    distribution = mfds.build("truncated_gr", result.background_moment_rate, high, low, result.rules.b_value,
+                              bin_width, moment_constant)
+    return {"polygon": polygon, "upper_depth": float(result.sections.upper_depth.min()),
+            "lower_depth": float(result.sections.lower_depth.max()), "mfd": distribution,
+            "rake": float(np.median(result.sections.rake))}
