@@ -295,6 +295,13 @@ def _studies_commands(commands) -> None:
                           "50 yr; an engine job uses it too)")
     regional.add_argument("--engine-job", help="also write an OpenQuake classical job (FILE.ini) over the sources")
     regional.add_argument("--sites", help="the job's sites: 'lon lat; lon lat' in degrees")
+    regional.add_argument("--displacement-hazard", metavar="SITE", help="the annual rate of exceeding each "
+                          "displacement at a site on a fault trace, 'lon lat' in degrees (principal displacement: "
+                          "Petersen et al. 2011's profile; with --plot also FILE_displacement.png)")
+    regional.add_argument("--displacement-model", default="faultslip", help="faultslip (its slip per event as the "
+                          "rupture's average displacement, default) or petersen_2011 (the level from Mw)")
+    regional.add_argument("--displacements", help="the displacements of the curve, e.g. '0.1 m, 1 m, 3 m, 10 ft' "
+                          "(default 41 from 1 cm to 30 m)")
     regional.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     regional.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
     _method_flags(regional)

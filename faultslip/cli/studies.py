@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 from datetime import datetime, timezone
 import math
+
+import numpy as np
 from pathlib import Path
 
 from faultslip.constants import JULIAN_YEAR
@@ -20,7 +22,9 @@ from faultslip.studies.grid import load_study
 from faultslip.units import to_si
 from faultslip.io.atomic import claim
 from faultslip.fault import mfd as mfds
-from faultslip.studies import hazard
+from faultslip.fault.displacement import MODELS as DISPLACEMENT_MODELS
+from faultslip.plots.displacement import displacement_hazard_figure
+from faultslip.studies import displacement_hazard, hazard, rupture_sets
 from faultslip.studies.maps import (check_map_size, has_observations, load_map, map_figure, observed_figure,
                                     observed_table, run_map, segment_rows)
 from faultslip.io.convert import zarr_to_netcdf
@@ -208,6 +212,37 @@ def _renewal_options(args, spec, outputs) -> dict | None:
             "sites": hazard.parse_sites(args.sites) if job is not None else None}
 
 
+def _displacement_options(args, spec, outputs) -> dict | None:
+    """Check the displacement-hazard options and claim its figure, before any work (None: not asked)."""
+    if args.displacement_hazard is None:
+        for flag, value, default in (("--displacement-model", args.displacement_model, "faultslip"),
+                                     ("--displacements", args.displacements, None)):
+            if value != default:
+                raise InputError(f"{flag} describes a displacement hazard: give --displacement-hazard 'LON LAT' too")
+        return None
+    if spec.segments is None:
+        raise InputError("--displacement-hazard needs fault segments ([segments]), not a raster map")
+    sites = hazard.parse_sites(args.displacement_hazard)
+    if len(sites) != 1:
+        raise InputError(f"--displacement-hazard takes one site, 'lon lat' in degrees, got {len(sites)}")
+    if args.displacement_model not in DISPLACEMENT_MODELS:
+        raise InputError(f"--displacement-model must be one of {', '.join(DISPLACEMENT_MODELS)}, "
+                         f"got {args.displacement_model!r}")
+    displacements = None
+    if args.displacements is not None:
+        parts = [part for part in args.displacements.replace(";", ",").split(",") if part.strip()]
+        displacements = sorted(to_si(part.strip(), "length", "--displacements") for part in parts)
+        if not displacements or displacements[0] <= 0:
+            raise InputError("--displacements must be positive lengths with units, e.g. '0.1 m, 1 m, 3 m'")
+    figure = None
+    if outputs["plot"] is not None:
+        target = Path(outputs["plot"])
+        figure = check_output(target.with_name(target.stem + "_displacement" + target.suffix),
+                              label="--plot (displacement hazard)", inputs=spec.inputs + [outputs["output"]],
+                              overwrite=args.overwrite)
+    return {"site": sites[0], "model": args.displacement_model, "displacements": displacements, "figure": figure}
+
+
 def _count(number, noun: str) -> str:
     """'1 chunk', '3 chunks'."""
     return f"{number} {noun}{'' if number == 1 else 's'}"
@@ -226,6 +261,7 @@ def cmd_map(args) -> int:
                               "time_dependent": ("--time-dependent", (".xml",))}, spec.inputs)
     options = _hazard_options(args, spec, outputs)
     renewal = _renewal_options(args, spec, outputs)
+    displacement = _displacement_options(args, spec, outputs)
     observed = None
     if outputs["plot"] is not None and spec.segments is not None:
         target = Path(outputs["plot"])
@@ -242,6 +278,17 @@ def cmd_map(args) -> int:
                                       args.stable_continental)
         systems = hazard.system_models(spec, dataset, options["relations"], args.stable_continental,
                                        options["bin_width"])
+    site_hazard = None
+    if displacement is not None:  # also before anything is written: a site off every trace leaves nothing behind
+        system = systems.get("faultslip") or next(iter(systems.values()), None)
+        if system is None and spec.rupture_rules is not None:
+            system = rupture_sets.rupture_set(spec, dataset, spec.rupture_rules, "faultslip")
+        site_hazard = displacement_hazard.displacement_hazard(spec, dataset, displacement["site"],
+                                                              displacement["model"], displacement["displacements"],
+                                                              system)
+        for name, variable in site_hazard.to_dataset().data_vars.items():
+            dataset[f"displacement_hazard_{name}" if not name.startswith("annual") else f"displacement_{name}"] = variable
+        spec.notes.extend(f"displacement hazard: {note}" for note in site_hazard.notes)
     renewal_sources = None
     if renewal is not None:  # also before anything is written
         sources = sources or hazard.hazard_sources(spec, dataset, args.stable_continental)
@@ -250,6 +297,7 @@ def cmd_map(args) -> int:
             renewal["model"], renewal["aperiodicity"], renewal["investigation_time"])
     with _locked(outputs["output"], outputs["plot"], observed, outputs["nrml"], outputs["engine_job"],
                  outputs["time_dependent"], *(options["extra"] if options else []),
+                 *([displacement["figure"]] if displacement and displacement["figure"] else []),
                  *(renewal["extra"] if renewal else [])):
         write_dataset(dataset, outputs["output"])
         if options is not None:
@@ -297,6 +345,9 @@ def cmd_map(args) -> int:
                 plots.append(str(observed))
             elif observed is not None:
                 spec.notes.append("no segment has an observed slip or recurrence: the observed figure is not drawn")
+            if site_hazard is not None:
+                save_figure(displacement_hazard_figure(site_hazard), displacement["figure"], dpi=150)
+                plots.append(str(displacement["figure"]))
     if args.json:
         year = JULIAN_YEAR
         def value(number):
@@ -317,7 +368,8 @@ def cmd_map(args) -> int:
         if renewal_sources is not None:
             hazard_json = (hazard_json or {}) | {"time_dependent": [s.as_dict() for s in renewal_sources]}
         print(json.dumps({"output": args.output, "plots": plots, "segments": rows, "year": {"value": year, "units": "s"},
-                          "hazard": hazard_json, "notes": spec.notes}, indent=2))
+                          "hazard": hazard_json, "displacement_hazard": site_hazard.as_dict() if site_hazard else None,
+                          "notes": spec.notes}, indent=2))
     else:
         print(f"faultslip map: {spec.name}")
         for note in spec.notes:
@@ -326,6 +378,15 @@ def cmd_map(args) -> int:
             print(observed_table(dataset, most=MOST_ROWS))
         if sources:
             print("\n" + hazard.magnitude_table(sources[:MOST_ROWS]))
+        if site_hazard is not None:
+            lon, lat = site_hazard.site
+            print(f"\nfault-displacement hazard at {lon:g}, {lat:g} (on {site_hazard.fault}, {site_hazard.model}):")
+            for wanted in (0.1, 1.0, 3.0, 10.0):
+                if site_hazard.displacements[0] <= wanted <= site_hazard.displacements[-1]:
+                    rate = float(np.exp(np.interp(math.log(wanted), np.log(site_hazard.displacements),
+                                                  np.log(np.maximum(site_hazard.rate, 1e-300)))))
+                    print(f"  D > {wanted:g} m: {rate:.3g} /yr" + (f" (return period {1 / rate:.3g} yr)"
+                                                                     if rate > 1e-300 else ""))
         print(f"\nwrote {args.output}" + (f", {', '.join(plots)}" if plots else "")
               + (f", {', '.join(written['files'])}" if written else ""))
     return 0

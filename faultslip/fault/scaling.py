@@ -362,18 +362,19 @@ def _inputs_section(r: Report, f: Fault) -> Report:
     return r
 
 
-def _propagated_uncertainty(fault, method, tolerance, slip_estimate=math.nan, period_estimate=math.nan) -> dict:
-    """95 % ranges of slip and recurrence from a user fit's bootstrap samples (vectorised), each containing
-    its estimate (:func:`faultslip.intervals.percentile_interval`)."""
+def fitted_draws(fault, method="auto", tolerance=None):
+    """(slip per event (m), recurrence (s)) for each of the bootstrap samples stored with a user fit that is
+    ``fault``'s material (vectorised), or None: a bundled preset has none, and a fault whose fitted constants
+    were overridden no longer has the fit's uncertainty."""
     material = fault.material
     stored = None
     if material is not None and material.preset is not None and isinstance(material.preset.printed, dict):
         stored = material.preset.printed.get("registry")
     if not stored or not stored.get("bootstrap"):
-        return {}
+        return None
     law = material.preset.rate_law
     if (fault.mu_so, fault.mu_m, fault.b, fault.d) != (law.mu_so, law.mu_m, law.b, law.d):
-        return {}  # the user overrode the fitted constants: the fit's uncertainty no longer applies
+        return None
     samples = np.asarray(stored["bootstrap"], dtype=float)
     mu_so, mu_m, b, d = samples.T
     stiffness, load, speed = fault.stiffness, fault.effective_normal_stress, fault.slip_rate
@@ -386,10 +387,19 @@ def _propagated_uncertainty(fault, method, tolerance, slip_estimate=math.nan, pe
     outputs = cell_kernel(stiffness, load, speed, omega_n, zeta, eps_c, critical, mu_so, mu_m, b, d, np.nan,
                           method=method if method in ("closed_form", "exact_cycle") else "auto",
                           tolerance=DEFAULT_TOLERANCE if tolerance is None else tolerance)
-    slip, period = outputs[0], outputs[1]
+    return np.asarray(outputs[0], float), np.asarray(outputs[1], float)
+
+
+def _propagated_uncertainty(fault, method, tolerance, slip_estimate=math.nan, period_estimate=math.nan) -> dict:
+    """95 % ranges of slip and recurrence from a user fit's bootstrap samples (:func:`fitted_draws`), each
+    containing its estimate (:func:`faultslip.intervals.percentile_interval`)."""
+    draws = fitted_draws(fault, method, tolerance)
+    if draws is None:
+        return {}
+    slip, period = draws
     return {"slip_per_event_95": tuple(percentile_interval(slip, slip_estimate)[:2]),
             "recurrence_period_95": tuple(percentile_interval(period, period_estimate)[:2]),
-            "uncertainty_samples": int(samples.shape[0])}
+            "uncertainty_samples": int(slip.size)}
 
 
 @dataclass(frozen=True)
