@@ -176,3 +176,53 @@ def test_refusals_in_python():
         fdh.displacement_hazard_curve([1.0], [0.01], [7.0], [0.5])
     with pytest.raises(InputError, match="model"):
         fdh.displacement_hazard_curve([1.0], [0.01], [7.0], [0.5], [1.0], model="x")
+
+
+# --- the fault map a hazard analyst reads (issue 44, item 6) -----------------------------------------------
+
+def _map_dataset():
+    from faultslip.studies.maps import load_map, run_map
+
+    return run_map(load_map(MAP))
+
+
+def test_the_fault_map_is_projected_with_coastlines_and_colours_each_trace_by_its_value():
+    pytest.importorskip("mpl_toolkits.basemap", reason="the maps extra (basemap) is not installed")
+    from matplotlib.collections import LineCollection
+
+    from faultslip.plots.fault_maps import fault_system_figure
+
+    dataset = _map_dataset()
+    figure = fault_system_figure(dataset, resolution="c")
+    panels = [axes for axes in figure.axes if axes.get_title()]
+    assert len(panels) == 4
+    slip_rate = panels[0]
+    traces = [c for c in slip_rate.collections if isinstance(c, LineCollection) and c.get_array() is not None]
+    assert len(traces) == 1
+    np.testing.assert_allclose(traces[0].get_array(), dataset["slip_rate"].values * YEAR * 1e3, rtol=1e-12)
+    # projected: Lambert conformal metres, not degrees; and the coastline is drawn beneath
+    x = np.concatenate([segment[:, 0] for segment in traces[0].get_segments()])
+    assert x.min() > 1e4
+    assert len(slip_rate.collections) > 3  # coastlines, countries, states and the continents' fill
+    # a field the map computed to one value is one colour with one tick, not a range of round-off
+    assert "on every fault" in panels[1].get_title()
+    participation = [c for c in panels[3].collections if isinstance(c, LineCollection) and c.get_array() is not None]
+    np.testing.assert_allclose(participation[0].get_array(), YEAR / dataset["recurrence_period"].values, rtol=1e-12)
+
+
+def test_without_basemap_the_fault_map_says_so(monkeypatch):
+    import builtins
+
+    from faultslip.plots.fault_maps import fault_system_figure
+
+    real = builtins.__import__
+
+    def no_basemap(name, *args, **kwargs):
+        if name.startswith("mpl_toolkits.basemap"):
+            raise ImportError("no basemap")
+        return real(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_basemap)
+    figure = fault_system_figure(_map_dataset())
+    assert "install faultslip[maps]" in figure._suptitle.get_text()
+    assert figure.axes[0].get_xlabel() == "longitude (°E)"

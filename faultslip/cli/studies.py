@@ -24,6 +24,7 @@ from faultslip.io.atomic import claim
 from faultslip.fault import mfd as mfds
 from faultslip.fault.displacement import MODELS as DISPLACEMENT_MODELS
 from faultslip.plots.displacement import displacement_hazard_figure
+from faultslip.plots.fault_maps import fault_system_figure
 from faultslip.studies import displacement_hazard, hazard, rupture_sets
 from faultslip.studies.maps import (check_map_size, has_observations, load_map, map_figure, observed_figure,
                                     observed_table, run_map, segment_rows)
@@ -262,11 +263,14 @@ def cmd_map(args) -> int:
     options = _hazard_options(args, spec, outputs)
     renewal = _renewal_options(args, spec, outputs)
     displacement = _displacement_options(args, spec, outputs)
-    observed = None
+    observed = traces_figure = None
     if outputs["plot"] is not None and spec.segments is not None:
         target = Path(outputs["plot"])
         observed = check_output(target.with_name(target.stem + "_observed" + target.suffix), label="--plot (observed)",
                                 inputs=spec.inputs + [outputs["output"]], overwrite=args.overwrite)
+        traces_figure = check_output(target.with_name(target.stem + "_faults" + target.suffix),
+                                     label="--plot (fault traces)", inputs=spec.inputs + [outputs["output"]],
+                                     overwrite=args.overwrite)
     tolerance = _tolerance(args) or 1e-6
     check_map_size(spec, outputs["output"], args.allow_large)
     dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance, allow_large=True)
@@ -279,10 +283,10 @@ def cmd_map(args) -> int:
         systems = hazard.system_models(spec, dataset, options["relations"], args.stable_continental,
                                        options["bin_width"])
     site_hazard = None
+    system = systems.get("faultslip") or next(iter(systems.values()), None)
+    if system is None and spec.rupture_rules is not None and (displacement is not None or traces_figure is not None):
+        system = rupture_sets.rupture_set(spec, dataset, spec.rupture_rules, "faultslip")
     if displacement is not None:  # also before anything is written: a site off every trace leaves nothing behind
-        system = systems.get("faultslip") or next(iter(systems.values()), None)
-        if system is None and spec.rupture_rules is not None:
-            system = rupture_sets.rupture_set(spec, dataset, spec.rupture_rules, "faultslip")
         site_hazard = displacement_hazard.displacement_hazard(spec, dataset, displacement["site"],
                                                               displacement["model"], displacement["displacements"],
                                                               system)
@@ -295,7 +299,7 @@ def cmd_map(args) -> int:
         renewal_sources = hazard.time_dependent_sources(
             sources, {key: (renewal["forecast_year"] - year) * JULIAN_YEAR for key, year in renewal["last"].items()},
             renewal["model"], renewal["aperiodicity"], renewal["investigation_time"])
-    with _locked(outputs["output"], outputs["plot"], observed, outputs["nrml"], outputs["engine_job"],
+    with _locked(outputs["output"], outputs["plot"], observed, traces_figure, outputs["nrml"], outputs["engine_job"],
                  outputs["time_dependent"], *(options["extra"] if options else []),
                  *([displacement["figure"]] if displacement and displacement["figure"] else []),
                  *(renewal["extra"] if renewal else [])):
@@ -345,6 +349,11 @@ def cmd_map(args) -> int:
                 plots.append(str(observed))
             elif observed is not None:
                 spec.notes.append("no segment has an observed slip or recurrence: the observed figure is not drawn")
+            if traces_figure is not None:
+                participation = None if system is None else (
+                    system.sections.traces, system.participation, f"the fault system's ruptures ({system.relation})")
+                save_figure(fault_system_figure(dataset, participation), traces_figure, dpi=150)
+                plots.append(str(traces_figure))
             if site_hazard is not None:
                 save_figure(displacement_hazard_figure(site_hazard), displacement["figure"], dpi=150)
                 plots.append(str(displacement["figure"]))
