@@ -336,6 +336,9 @@ def _lab_commands(commands) -> None:
                           "record (time, friction, load_point_speed or load_point_displacement)")
     fit.add_argument("--stiffness", help="rate-state: the machine stiffness as friction per slip ('1e-2 1/um'), "
                                           "stress per slip ('50 MPa/mm') or force per slip ('200 kN/mm', with --area)")
+    fit.add_argument("--stiffness-free", action="store_true", help="rate-state: fit the machine stiffness too, "
+                     "started at --stiffness (a posterior's prior: log-normal about it, a factor of 2 as one sd; "
+                     "--prior stiffness=... replaces it)")
     fit.add_argument("--area", help="rate-state, raw record: the sample's contact area, turning loads into stresses")
     fit.add_argument("--units", help="rate-state, raw record: units the file does not give, 'time=ms,shear_load=kN'")
     fit.add_argument("--detrend", default="none", choices=("none", "linear", "quadratic"),

@@ -22,9 +22,11 @@ from faultslip.units import to_si
 #: The rate-and-state parameters in words, for reports.
 PARAMETER_WORDS = {"mu0": "mu0, steady friction at V0", "a": "a, direct effect", "b": "b, evolution effect",
                    "critical_slip": "D_c, critical slip distance", "b2": "b2, second evolution effect",
-                   "critical_slip2": "D_c2, second critical slip distance"}
+                   "critical_slip2": "D_c2, second critical slip distance",
+                   "stiffness": "k, machine stiffness (fitted, friction per slip)"}
 #: Each parameter's SI unit (None: dimensionless).
-PARAMETER_UNITS = {"mu0": None, "a": None, "b": None, "critical_slip": "m", "b2": None, "critical_slip2": "m"}
+PARAMETER_UNITS = {"mu0": None, "a": None, "b": None, "critical_slip": "m", "b2": None, "critical_slip2": "m",
+                   "stiffness": "1/m"}
 #: How the intervals were made, said under every fit.
 INTERVALS_NOTE = ("covariance intervals: s^2 (J^T J)^-1 at the optimum; bootstrap intervals: residual bootstrap, "
                   "each resample refitted; posterior: emcee, converged before it is reported; all coverage-tested on "
@@ -81,7 +83,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
                min_change: float | None = None, evolution: str = "aging", two_state: bool = False,
                bootstrap: int = 50, seed: int = 0, windows=None, each_step: bool = False, posterior: bool = False,
                priors: dict | None = None, samples=None, walkers=None, max_steps=None, workers: int = 1,
-               title: str | None = None) -> RecordFit:
+               title: str | None = None, stiffness_free: bool = False) -> RecordFit:
     """Fit a rate-and-state law to a velocity-step record.
 
     Parameters
@@ -121,6 +123,8 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         The sampler's settings (its defaults where None).
     title : str, optional
         The report's title.
+    stiffness_free : bool
+        Fit the machine stiffness too, from ``stiffness`` (its prior's median in a posterior).
 
     Returns
     -------
@@ -152,7 +156,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         if not spring > 0:
             raise InputError(f"--stiffness must be positive, got {stiffness}")
     fit = fit_velocity_steps(record, spring, evolution=evolution, two_state=two_state, bootstrap=bootstrap,
-                             seed=seed)
+                             seed=seed, stiffness_free=stiffness_free)
     _fit_section(report, fit, seed)
     if windows:
         for start, end in windows:
@@ -166,8 +170,11 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         settings = {key: value for key, value in (("samples", samples), ("walkers", walkers),
                                                   ("max_steps", max_steps)) if value is not None}
         sampled = sample_posterior(record, spring, evolution=evolution, two_state=two_state, priors=priors or {},
-                                   seed=seed, workers=workers or 1, initial_fit=fit, **settings)
+                                   seed=seed, workers=workers or 1, initial_fit=fit, stiffness_free=stiffness_free,
+                                   **settings)
         _posterior_section(report, sampled)
+    if stiffness_free:  # the record's spring is the fitted one from here on (figures, predictions)
+        spring = sampled.median()["stiffness"] if sampled is not None else fit.parameters["stiffness"]
     return RecordFit(report, record, prepared, spring, fit, sampled)
 
 

@@ -10,7 +10,9 @@ p(sigma) ~ 1/sigma, sigma integrates out exactly,
 so the sampler moves in the law's parameters only, and each draw's sigma is reported as
 sqrt(SSR / n). Priors are stated and changeable (:func:`parse_prior`); the defaults are broad:
 uniform mu0 on [0, 2], a on [1e-5, 0.1], b and b2 on [0, 0.1], log-uniform D_c on [1e-8, 1e-2] m and
-D_c2 on [1e-8, 1e-1] m. D_c and D_c2 are sampled as their logarithms.
+D_c2 on [1e-8, 1e-1] m. D_c and D_c2 are sampled as their logarithms. A free machine stiffness k (friction
+per slip, sampled as ln k) has by default a log-normal prior about the stated stiffness, one sd of ln k being
+ln 2 (a factor of two: labs know their machine's stiffness that well, and fit it because it biases D_c).
 
 emcee's affine-invariant ensemble (Foreman-Mackey et al. 2013; a mixture of differential-evolution
 moves, which mix faster on these correlated parameters) starts in a small ball around the least-squares
@@ -44,8 +46,10 @@ from faultslip.friction.rate_state import RateStateLaw
 from faultslip.lab.rate_state_fit import StepRecord, fit_velocity_steps
 
 PRIOR_KINDS = ("uniform", "loguniform", "normal", "lognormal")
-LOG_SAMPLED = ("critical_slip", "critical_slip2")
-UNITS = {"mu0": "1", "a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m"}
+LOG_SAMPLED = ("critical_slip", "critical_slip2", "stiffness")
+UNITS = {"mu0": "1", "a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m", "stiffness": "1/m"}
+#: a free machine stiffness's default prior: log-normal about the stated value, a factor of 2 as one sd of ln k
+STIFFNESS_SPREAD = math.log(2.0)
 MIN_EFFECTIVE = 400
 MAX_R_HAT = 1.05
 TAU_FACTOR = 50
@@ -123,9 +127,9 @@ def parse_prior(text: str) -> tuple[str, Prior]:
     """
     name, _, spec = str(text).partition("=")
     name = name.strip()
-    if name not in DEFAULT_PRIORS:
-        raise InputError(f"a prior is set on one of {', '.join(DEFAULT_PRIORS)}, as name=kind:first:second; "
-                         f"got {text!r}")
+    if name not in DEFAULT_PRIORS and name != "stiffness":
+        raise InputError(f"a prior is set on one of {', '.join(DEFAULT_PRIORS)} or stiffness, as "
+                         f"name=kind:first:second; got {text!r}")
     parts = spec.split(":")
     if len(parts) != 3:
         raise InputError(f"prior {text!r} must read name=kind:first:second, e.g. a=uniform:0:0.05")
@@ -189,6 +193,12 @@ class Posterior:
                             reference_speed=self.reference_speed, evolution=self.evolution,
                             b2=values.get("b2", 0.0), critical_slip2=values.get("critical_slip2"), source="posterior")
 
+    def spring(self, row=None) -> float:
+        """The stiffness of a draw (``row``) or the median, where it was sampled; the stated one otherwise."""
+        if "stiffness" not in self.names:
+            return self.stiffness
+        return float(dict(zip(self.names, self.median().values() if row is None else row))["stiffness"])
+
     def predictive(self, record: StepRecord, draws: int = 200, level: float = 0.95, seed: int = 0) -> dict:
         """Posterior bands over the record: of the model (credible) and of new data (model plus each draw's
         noise), from ``draws`` draws; {"time", "model": (low, median, high), "data": (low, high)}."""
@@ -197,8 +207,8 @@ class Posterior:
         curves, data = [], []
         for index in chosen:
             try:
-                run = simulate_rate_state(RateStateSlider(self.law(self.samples[index]), self.stiffness, 1.0),
-                                          record.history, t_eval=record.time, rtol=1e-8)
+                run = simulate_rate_state(RateStateSlider(self.law(self.samples[index]), self.spring(self.samples[index]),
+                                                          1.0), record.history, t_eval=record.time, rtol=1e-8)
             except FaultslipError:
                 continue
             curves.append(run.friction)
@@ -263,7 +273,8 @@ class _LogPosterior:
             law = RateStateLaw(a=params["a"], b=params["b"], critical_slip=params["critical_slip"], mu0=params["mu0"],
                                reference_speed=self.reference_speed, evolution=self.evolution,
                                b2=params.get("b2", 0.0), critical_slip2=params.get("critical_slip2"))
-            friction = quasi_static_friction(law, self.stiffness, self.history, self.time, self.rtol)
+            friction = quasi_static_friction(law, params.get("stiffness", self.stiffness), self.history, self.time,
+                                             self.rtol)
         except FaultslipError:
             return -math.inf, math.nan
         misfit = friction - self.friction
@@ -306,7 +317,8 @@ class _Pool:
 
 def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "aging", two_state: bool = False,
                      priors: dict | None = None, samples: int = 10_000, walkers: int | None = None, seed: int = 0,
-                     max_steps: int = 20_000, rtol: float = 1e-7, workers: int = 1, initial_fit=None) -> Posterior:
+                     max_steps: int = 20_000, rtol: float = 1e-7, workers: int = 1, initial_fit=None,
+                     stiffness_free: bool = False) -> Posterior:
     """Sample the posterior of (mu0, a, b, D_c[, b2, D_c2]) given ``record`` on a spring of ``stiffness``
     (friction per metre) until the chain has converged (module docstring) and holds at least ``samples``
     draws after burn-in; raise :class:`SolverError` with the diagnostics if ``max_steps`` come first.
@@ -337,6 +349,9 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
         Processes.
     initial_fit : RateStateFit, optional
         Where the walkers start.
+    stiffness_free : bool
+        Sample the machine stiffness k too (prior: log-normal about ``stiffness``, sd of ln k = ln 2, unless
+        ``priors`` sets one).
 
     Returns
     -------
@@ -347,8 +362,11 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
         raise InputError(f"the number of posterior draws must be from 100 to 1e6, got {samples}")
     if not 100 <= max_steps <= 10_000_000:
         raise InputError(f"the chain's longest length must be from 100 to 1e7 steps, got {max_steps}")
-    names = ["mu0", "a", "b", "critical_slip"] + (["b2", "critical_slip2"] if two_state else [])
-    chosen = dict(DEFAULT_PRIORS)
+    names = (["mu0", "a", "b", "critical_slip"] + (["b2", "critical_slip2"] if two_state else [])
+             + (["stiffness"] if stiffness_free else []))
+    chosen = dict(DEFAULT_PRIORS, stiffness=Prior("lognormal", stiffness, STIFFNESS_SPREAD))
+    if "stiffness" in (priors or {}) and not stiffness_free:
+        raise InputError("a prior on the stiffness needs the stiffness free (--stiffness-free)")
     for name, prior in (priors or {}).items():
         if name not in chosen:
             raise InputError(f"a prior is set on one of {', '.join(DEFAULT_PRIORS)}, got {name!r}")
@@ -358,7 +376,10 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
     if walkers < 2 * len(names) or walkers % 2:
         raise InputError(f"the ensemble needs an even number of walkers, at least {2 * len(names)}, got {walkers}")
     started = clock.perf_counter()
-    fit = initial_fit or fit_velocity_steps(record, stiffness, evolution=evolution, two_state=two_state)
+    fit = initial_fit or fit_velocity_steps(record, stiffness, evolution=evolution, two_state=two_state,
+                                            stiffness_free=stiffness_free)
+    if stiffness_free and "stiffness" not in fit.parameters:
+        raise InputError("the posterior's starting fit must have the stiffness free too")
     reference_speed = fit.law.reference_speed
     log_posterior = _LogPosterior(record, stiffness, names, chosen, reference_speed, evolution, rtol)
     centre = np.array([math.log(fit.parameters[n]) if n in LOG_SAMPLED else fit.parameters[n] for n in names])

@@ -166,7 +166,8 @@ class RateStateFit:
     seed: int = 0
 
     def to_dict(self) -> dict:
-        units = {"mu0": "1", "a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m"}
+        units = {"mu0": "1", "a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m",
+                 "stiffness": "1/m"}
         return {"law": self.law.evolution, "mu0": self.law.mu0, "reference_speed": {"value": self.law.reference_speed,
                                                                                  "units": "m/s"},
                 "parameters": {name: {"value": value, "standard_error": self.standard_errors[name],
@@ -198,9 +199,16 @@ def _law(values, names, reference_speed, evolution):
                         source="fitted")
 
 
+#: how far from its stated value a free stiffness may go (a factor either way)
+STIFFNESS_RANGE = 100.0
+
+
 def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str = "aging", two_state: bool = False,
-                       initial=None, rtol: float = 1e-10, bootstrap: int = 0, seed: int = 0) -> RateStateFit:
-    """Fit a, b, D_c (and b2, D_c2) of a quasi-static slider with ``stiffness`` (friction per metre) to ``record``.
+                       initial=None, rtol: float = 1e-10, bootstrap: int = 0, seed: int = 0,
+                       stiffness_free: bool = False) -> RateStateFit:
+    """Fit a, b, D_c (and b2, D_c2) of a quasi-static slider with ``stiffness`` (friction per metre) to ``record``;
+    with ``stiffness_free`` the machine's stiffness is fitted too, from ``stiffness`` (as RSFit3000 does,
+    Skarbek & Savage 2019: the apparatus' effective stiffness is poorly known and biases D_c).
 
     ``record`` is a :class:`StepRecord`, a pandas DataFrame or a mapping of columns (:func:`step_record`);
     ``stiffness`` a float in 1/m or a string or Quantity with units ("1e-3 1/um").
@@ -225,11 +233,14 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
         Resamples of the intervals.
     seed : int
         Their seed.
+    stiffness_free : bool
+        Fit the stiffness k (1/m) too, started at ``stiffness`` and bounded within a factor of
+        :data:`STIFFNESS_RANGE` of it.
 
     Returns
     -------
     RateStateFit
-        a, b (dimensionless), D_c (m), their intervals and ``report()``.
+        a, b (dimensionless), D_c (m) (and k, 1/m), their intervals and ``report()``.
     """
     from scipy.optimize import least_squares  # heavy: imported where used
     from scipy.special import stdtrit  # heavy: imported where used
@@ -253,14 +264,21 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
         start += [guess.get("b2", 0.005), math.log(guess.get("critical_slip2", 100e-6))]
         lower += [0.0, math.log(1e-8)]
         upper += [0.5, math.log(1.0)]
+    if stiffness_free:
+        names.append("log_stiffness")
+        start.append(math.log(guess.get("stiffness", stiffness)))
+        lower.append(math.log(stiffness / STIFFNESS_RANGE))
+        upper.append(math.log(stiffness * STIFFNESS_RANGE))
+        start[-1] = min(max(start[-1], lower[-1]), upper[-1])
     evaluations = {"n": 0}
 
     def model(values, tolerance):
         evaluations["n"] += 1
         try:
             law = _law(values, names, reference_speed, evolution)
+            spring = math.exp(values[-1]) if stiffness_free else stiffness
             # the compiled kernel where it serves (one state, numba), LSODA otherwise: ~10x fewer seconds a fit
-            return quasi_static_friction(law, stiffness, record.history, record.time, tolerance)
+            return quasi_static_friction(law, spring, record.history, record.time, tolerance)
         except (SolverError, InputError):
             return None
 
