@@ -175,3 +175,51 @@ def test_fit_stiffness_free_from_the_command_line(cli, tmp_path):
     from conftest import assert_clean_error
 
     assert_clean_error(cli("fit", path, "--stiffness-free"), "--stiffness-free")
+    assert_clean_error(cli("fit", path, "--select-law"), "--select-law")
+    chosen = cli("fit", "--law", "rate-state", path, "--stiffness", "1e-3 1/um", "--select-law", "--bootstrap", "0",
+                 "--json")
+    assert chosen.code == 0, chosen.err
+    assert chosen.json["law_selected"] == "aging"
+    assert chosen.json["law_slip"]["delta_bic"] > 10
+
+
+# --- which law the record supports (issue 46, item 3) ------------------------------------------------------
+
+LONG = LoadHistory.velocity_steps([(0.0, 1e-6), (10.0, 10e-6), (20.0, 1e-6), (60.0, 10e-6)], 100.0)
+GENERATORS = {"aging": TRUE, "slip": TRUE.with_evolution("slip"),
+              "aging_two_state": RateStateLaw(a=0.006, b=0.006, critical_slip=10e-6, mu0=0.6, reference_speed=1e-6,
+                                              b2=0.004, critical_slip2=200e-6)}
+
+
+@pytest.mark.parametrize("generator", list(GENERATORS))
+def test_law_selection_names_the_law_that_made_the_record(generator):
+    """Noisy synthetic records of each law (two seeds each): BIC names the generating law, by very strong
+    evidence (Delta BIC > 10 against the runner-up), and the winner takes nearly all the Schwarz weight."""
+    from faultslip.lab.law_selection import evidence, select_law
+
+    for seed in (0, 1):
+        record = synthetic_step_record(GENERATORS[generator], STIFFNESS, LONG, 801, noise=3e-4, seed=seed)
+        selection = select_law(record, STIFFNESS)
+        assert selection.chosen == generator, selection.to_dict()
+        second = selection.runner_up
+        assert second["delta"] > 10 and evidence(second["delta"]) == "very strong"
+        winner = next(row for row in selection.rows if row["law"] == generator)
+        assert winner["weight"] > 0.99
+        n = record.time.size
+        assert winner["bic"] == pytest.approx(n * np.log(winner["ssr"] / n) + winner["parameters"] * np.log(n))
+
+
+def test_law_selection_refusals_and_an_unconstrained_second_state():
+    from faultslip.lab.law_selection import evidence, select_law
+
+    record = synthetic_step_record(TRUE, STIFFNESS, LONG, 401, noise=3e-4, seed=0)
+    with pytest.raises(InputError, match="two or more"):
+        select_law(record, STIFFNESS, candidates=("aging",))
+    with pytest.raises(InputError, match="two or more"):
+        select_law(record, STIFFNESS, candidates=("aging", "rate"))
+    # a two-state fit of a one-state record: its D_c2 is not constrained, and the fit says so instead of overflowing
+    fit = fit_velocity_steps(record, STIFFNESS, two_state=True)
+    assert fit.intervals["critical_slip2"][1] > 1e3 * fit.intervals["critical_slip2"][0]
+    assert any("not constrained" in note for note in fit.notes)
+    assert [evidence(d) for d in (0.5, 3, 7, 12)] == ["not worth more than a bare mention", "positive", "strong",
+                                                      "very strong"]

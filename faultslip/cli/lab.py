@@ -34,8 +34,9 @@ def cmd_fit(args) -> int:
         check_fit_name(args.name, args.overwrite)
     if args.law == "rate-state":
         return _fit_rate_state(args)
-    if args.stiffness_free:
-        raise FaultslipError("--stiffness-free fits the machine stiffness of a rate-and-state record (--law rate-state)")
+    for flag, given in (("--stiffness-free", args.stiffness_free), ("--select-law", args.select_law)):
+        if given:
+            raise FaultslipError(f"{flag} applies to a rate-and-state record (--law rate-state)")
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.data])["plot"]
     if args.bootstrap is None:
         args.bootstrap = 200
@@ -101,7 +102,7 @@ def _fit_rate_state(args) -> int:
                         seed=args.seed, windows=_parse_windows(args.windows), each_step=args.each_step,
                         posterior=args.posterior, priors=dict(parse_prior(text) for text in (args.prior or [])),
                         samples=args.samples, walkers=args.walkers, max_steps=args.max_steps,
-                        workers=args.workers or 1, stiffness_free=args.stiffness_free)
+                        workers=args.workers or 1, stiffness_free=args.stiffness_free, select=args.select_law)
     report, posterior = result.report, result.posterior
     if outputs["plot"] is not None or outputs["corner"] is not None:
         with _locked(outputs["plot"], outputs["corner"]):

@@ -16,6 +16,7 @@ from faultslip.errors import InputError
 from faultslip.io.report import Report, display_unit, significant
 from faultslip.lab.posterior import sample_posterior
 from faultslip.lab.raw_records import RawRecord, fit_each_step, load_record, prepare_record
+from faultslip.lab.law_selection import select_law
 from faultslip.lab.rate_state_fit import fit_velocity_steps
 from faultslip.units import to_si
 
@@ -44,6 +45,7 @@ class RecordFit:
     stiffness: float  # 1/m
     fit: object  # RateStateFit
     posterior: object | None = None  # Posterior
+    selection: object | None = None  # LawSelection
 
     def fitted_friction(self, seed: int = 0) -> dict:
         """The fitted law's friction through the record's own load history, for a figure of record and fit.
@@ -83,7 +85,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
                min_change: float | None = None, evolution: str = "aging", two_state: bool = False,
                bootstrap: int = 50, seed: int = 0, windows=None, each_step: bool = False, posterior: bool = False,
                priors: dict | None = None, samples=None, walkers=None, max_steps=None, workers: int = 1,
-               title: str | None = None, stiffness_free: bool = False) -> RecordFit:
+               title: str | None = None, stiffness_free: bool = False, select: bool = False) -> RecordFit:
     """Fit a rate-and-state law to a velocity-step record.
 
     Parameters
@@ -125,6 +127,9 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         The report's title.
     stiffness_free : bool
         Fit the machine stiffness too, from ``stiffness`` (its prior's median in a posterior).
+    select : bool
+        Also fit the aging, slip and two-state aging laws and say which the record supports, by BIC
+        (:func:`faultslip.lab.law_selection.select_law`).
 
     Returns
     -------
@@ -158,6 +163,10 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
     fit = fit_velocity_steps(record, spring, evolution=evolution, two_state=two_state, bootstrap=bootstrap,
                              seed=seed, stiffness_free=stiffness_free)
     _fit_section(report, fit, seed)
+    selection = None
+    if select:
+        selection = select_law(record, spring, stiffness_free=stiffness_free)
+        _selection_section(report, selection)
     if windows:
         for start, end in windows:
             if not 0 <= start < end <= record.time[-1]:
@@ -175,7 +184,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         _posterior_section(report, sampled)
     if stiffness_free:  # the record's spring is the fitted one from here on (figures, predictions)
         spring = sampled.median()["stiffness"] if sampled is not None else fit.parameters["stiffness"]
-    return RecordFit(report, record, prepared, spring, fit, sampled)
+    return RecordFit(report, record, prepared, spring, fit, sampled, selection)
 
 
 def _prepared_section(report: Report, record, prepared, detrend: str) -> None:
@@ -213,6 +222,20 @@ def _fit_section(report: Report, fit, seed: int) -> None:
                "bootstrap resamples (none asked for)")
     for note in fit.notes:
         report.note(note)
+
+
+def _selection_section(report: Report, selection) -> None:
+    report.section("Which law the record supports (BIC)")
+    for row in selection.rows:
+        if "bic" in row:
+            report.add(f"law_{row['law']}", {"parameters": row["parameters"], "bic": row["bic"], "delta_bic": row["delta"],
+                                             "weight": row["weight"]},
+                       label=f"{row['law']}: {row['parameters']} parameters, BIC {row['bic']:.6g}, Delta "
+                             f"{row['delta']:.3g}, Schwarz weight {row['weight']:.3g}")
+        else:
+            report.add(f"law_{row['law']}", {"error": row["error"]}, label=f"{row['law']}: not fitted ({row['error']})")
+    report.add("law_selected", selection.chosen, label="the law the record supports")
+    report.note(selection.verdict())
 
 
 def _each_step_section(report: Report, prepared, evolution: str, windows) -> None:

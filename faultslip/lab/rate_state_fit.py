@@ -199,6 +199,11 @@ def _law(values, names, reference_speed, evolution):
                         source="fitted")
 
 
+def _exp_interval(centre: float, half: float) -> tuple[float, float]:
+    """(e^(centre - half), e^(centre + half)), an unbounded end where the exponential overflows."""
+    return (math.exp(max(centre - half, -745.0)), math.exp(centre + half) if centre + half < 709.0 else math.inf)
+
+
 #: how far from its stated value a free stiffness may go (a factor either way)
 STIFFNESS_RANGE = 100.0
 
@@ -304,18 +309,21 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
                           "(add a velocity step, or fit one state variable)") from None
     quantile = float(stdtrit(dof, 0.975))
     law = _law(result.x, names, reference_speed, evolution)
-    parameters, errors, intervals = {}, {}, {}
+    parameters, errors, intervals, notes = {}, {}, {}, []
     for i, name in enumerate(names):
         value, error = float(result.x[i]), math.sqrt(max(covariance[i, i], 0.0))
         if name.startswith("log_"):
             real = name[4:]
             parameters[real] = math.exp(value)
             errors[real] = math.exp(value) * error  # delta method
-            intervals[real] = (math.exp(value - quantile * error), math.exp(value + quantile * error))
+            # a parameter the record does not constrain has an error of hundreds of e-folds: [0, inf), said so
+            intervals[real] = _exp_interval(value, quantile * error)
+            if quantile * error > math.log(1e3):
+                notes.append(f"{real} is not constrained by the record: its 95 % interval spans more than a factor "
+                             "of 1e6")
         else:
             parameters[name], errors[name] = value, error
             intervals[name] = (value - quantile * error, value + quantile * error)
-    notes = []
     if any(abs(result.active_mask)):
         notes.append("a parameter ended on its bound: its interval is not reliable")
     samples, boot_intervals = np.empty((0, count)), {}
@@ -347,7 +355,7 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
             spread = float(np.std(raw[:, i], ddof=1))
             value = float(result.x[i])
             if name.startswith("log_"):
-                boot_intervals[name[4:]] = (math.exp(value - quantile * spread), math.exp(value + quantile * spread))
+                boot_intervals[name[4:]] = _exp_interval(value, quantile * spread)
             else:
                 boot_intervals[name] = (value - quantile * spread, value + quantile * spread)
     return RateStateFit(law=law, parameters=parameters, standard_errors=errors, intervals=intervals,

@@ -1,0 +1,115 @@
+"""Which state-evolution law a velocity-step record supports: aging, slip, or two state variables.
+
+Each candidate is fitted by least squares (:func:`faultslip.lab.rate_state_fit.fit_velocity_steps`) and scored
+by the Bayesian information criterion for Gaussian errors of unknown variance (Schwarz 1978):
+
+    BIC = n ln(SSR / n) + p ln n,
+
+n the record's points, p the law's parameters (mu0, a, b, D_c; a second state adds b2 and D_c2; a free
+stiffness adds k). The lowest BIC wins. Delta BIC approximates 2 ln of the Bayes factor against the winner, read on
+Kass & Raftery's (1995, JASA 90, 773-795, §3.2) scale: 0-2 not worth more than a bare mention, 2-6 positive, 6-10
+strong, above 10 very strong. The Schwarz weights exp(-Delta/2) / sum say the same as probabilities among the
+candidates (equal prior odds). A candidate whose fit fails is listed with the reason and takes no weight.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from faultslip.errors import FaultslipError, InputError
+from faultslip.lab.rate_state_fit import fit_velocity_steps
+
+#: candidate -> (evolution, two_state)
+LAWS = {"aging": ("aging", False), "slip": ("slip", False), "aging_two_state": ("aging", True),
+        "slip_two_state": ("slip", True)}
+DEFAULT_CANDIDATES = ("aging", "slip", "aging_two_state")
+#: Kass & Raftery (1995): the lower edge of each category of Delta BIC (about 2 ln B)
+EVIDENCE = ((10.0, "very strong"), (6.0, "strong"), (2.0, "positive"), (0.0, "not worth more than a bare mention"))
+
+
+def evidence(delta: float) -> str:
+    """Kass & Raftery's (1995) words for a Delta BIC (about 2 ln of the Bayes factor)."""
+    for edge, words in EVIDENCE:
+        if delta >= edge:
+            return words
+    return EVIDENCE[-1][1]
+
+
+@dataclass
+class LawSelection:
+    """Each candidate's fit and score, and the verdict."""
+
+    rows: list  # dicts: law, parameters, ssr, bic, delta, weight, fit (or error)
+    points: int
+    notes: list = field(default_factory=list)
+
+    @property
+    def chosen(self) -> str:
+        return min((row for row in self.rows if "bic" in row), key=lambda row: row["bic"])["law"]
+
+    @property
+    def runner_up(self) -> dict | None:
+        scored = sorted((row for row in self.rows if "bic" in row), key=lambda row: row["bic"])
+        return scored[1] if len(scored) > 1 else None
+
+    def verdict(self) -> str:
+        second = self.runner_up
+        if second is None:
+            return f"only the {self.chosen} law could be fitted"
+        return (f"the record supports the {self.chosen} law over the {second['law']} law by Delta BIC = "
+                f"{second['delta']:.3g} ({evidence(second['delta'])} evidence, Kass & Raftery 1995)")
+
+    def to_dict(self) -> dict:
+        return {"criterion": "BIC = n ln(SSR/n) + p ln n (Schwarz 1978)", "points": self.points,
+                "chosen": self.chosen, "verdict": self.verdict(),
+                "candidates": [{key: value for key, value in row.items() if key != "fit"} for row in self.rows],
+                "notes": self.notes}
+
+
+def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free: bool = False) -> LawSelection:
+    """Fit each candidate law to ``record`` and score it by BIC (see the module).
+
+    Parameters
+    ----------
+    record : StepRecord
+        A velocity-step record (friction against time).
+    stiffness : float
+        The machine stiffness as friction per slip (1/m); the start of a free one.
+    candidates : sequence of str
+        Among :data:`LAWS`: aging, slip, aging_two_state, slip_two_state.
+    stiffness_free : bool
+        Fit the stiffness in every candidate.
+
+    Returns
+    -------
+    LawSelection
+        Each candidate's parameters, SSR, BIC, Delta BIC and Schwarz weight, and the verdict.
+    """
+    unknown = [name for name in candidates if name not in LAWS]
+    if unknown or len(set(candidates)) < 2:
+        raise InputError(f"law selection compares two or more of {', '.join(LAWS)}, got {', '.join(candidates)}")
+    rows = []
+    for name in candidates:
+        evolution, two_state = LAWS[name]
+        try:
+            fit = fit_velocity_steps(record, stiffness, evolution=evolution, two_state=two_state,
+                                     stiffness_free=stiffness_free)
+        except FaultslipError as error:
+            rows.append({"law": name, "error": str(error)})
+            continue
+        n, p = fit.points, len(fit.parameters)
+        ssr = fit.residual_rms ** 2 * n
+        rows.append({"law": name, "parameters": p, "ssr": ssr, "bic": n * math.log(ssr / n) + p * math.log(n),
+                     "values": dict(fit.parameters), "fit": fit, "notes": list(fit.notes)})
+    scored = [row for row in rows if "bic" in row]
+    if not scored:
+        raise InputError("no candidate law could be fitted to the record: " + "; ".join(row["error"] for row in rows))
+    best = min(row["bic"] for row in scored)
+    weights = np.array([math.exp(-(row["bic"] - best) / 2) for row in scored])
+    for row, weight in zip(scored, weights / weights.sum()):
+        row["delta"] = row["bic"] - best
+        row["weight"] = float(weight)
+    return LawSelection(rows, int(record.time.size))
