@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import argparse
+import json
+import math
+import tempfile
+
 import numpy as np
 
 import faultslip
@@ -14,6 +19,7 @@ from faultslip.errors import FaultslipError, InputError
 from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_data
 from faultslip.friction.materials import check_fit_name, save_user_fit
 from faultslip.io.atomic import save_figure
+from faultslip.io.bundle import compare_numbers, extract_record, package_versions, read_bundle, write_bundle
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES
 from faultslip.io.report import Report
@@ -29,9 +35,34 @@ from faultslip.plots.vibration import error_figure, hand_over_figure, regions_fi
 from faultslip.units import to_si
 
 
+#: the options of 'faultslip fit' a bundle records and a replay sets again (outputs and the registry aside)
+FIT_OPTIONS = ("law", "loss", "bootstrap", "seed", "mu_m", "stiffness", "select_law", "stiffness_free", "area", "units",
+               "detrend", "steps", "min_change", "each_step", "windows", "posterior", "samples", "walkers", "max_steps",
+               "prior", "workers", "evolution", "two_state", "shear_modulus")
+
+
 def cmd_fit(args) -> int:
+    if args.replay is not None:
+        return _replay_fit(args)
+    if args.data is None:
+        raise FaultslipError("fit needs a data file (or --replay FIT.zip)")
+    bundle = _outputs(args, {"bundle": ("--bundle", (".zip",))}, [args.data])["bundle"]
     if args.name is not None:  # before any work: a fit is never computed only to be refused at the end
         check_fit_name(args.name, args.overwrite)
+    report, draws = _fit(args)
+    if bundle is not None:
+        options = {name: getattr(args, name) for name in FIT_OPTIONS}
+        with _locked(bundle):
+            manifest = write_bundle(bundle, record_path=args.data, options=options, report=report.to_dict(),
+                                    draws=draws)
+        report.note(f"bundle written to {args.bundle}: the record (SHA-256 {manifest['record']['sha256'][:12]}...), "
+                    f"every option, the versions, the draws and this report; replay it with 'faultslip fit --replay "
+                    f"{args.bundle}'")
+    return _emit(report, args.json)
+
+
+def _fit(args):
+    """Run the fit the options ask for: (its report, its draws by kind for a bundle)."""
     if args.law == "rate-state":
         return _fit_rate_state(args)
     for flag, given in (("--stiffness-free", args.stiffness_free), ("--select-law", args.select_law)):
@@ -48,22 +79,73 @@ def cmd_fit(args) -> int:
         raise FaultslipError(f"--seed must not be negative, got {args.seed}")
     modulus = None
     if args.shear_modulus:
-
         modulus = ranges.check("shear_modulus", to_si(args.shear_modulus, "pressure", "shear modulus"))
     fixed = None if args.mu_m is None else _number(args.mu_m, "mu_m")
     data = read_friction_data(args.data, fixed_mu_m=fixed)
     fit = fit_rate_law(data, loss=args.loss, bootstrap=args.bootstrap, seed=args.seed, fixed_mu_m=fixed)
     report = fit.report(f"faultslip fit: {args.data}")
     if plot:
-
         with _locked(plot):
             save_figure(fit_figure(data, fit), plot, dpi=150)
         report.note(f"plot written to {args.plot}")
     if args.name:  # only after the fit succeeded: a failed fit never touches the registry
-
         path = save_user_fit(args.name, fit, shear_modulus=modulus, note=args.note or "", overwrite=args.overwrite)
         report.note(f"saved as {args.name!r} in {path}; use it with 'faultslip fault --lithology {args.name} ...'")
-    return _emit(report, args.json)
+    return report, {"bootstrap": (["mu_so", "mu_m", "b", "d"], fit.bootstrap)}
+
+
+def _replay_fit(args) -> int:
+    """fit --replay FIT.zip: the bundle's fit again, on its own record and options; every number compared."""
+    given = [flag for flag, value in (("a data file", args.data), ("--bundle", args.bundle), ("--name", args.name),
+                                      ("--plot", args.plot), ("--corner", args.corner)) if value]
+    if given:
+        raise FaultslipError(f"--replay runs the bundle's own fit: it takes no {given[0]}")
+    bundle = read_bundle(args.replay)
+    options = bundle.manifest["options"]
+    unknown = sorted(set(options) - set(FIT_OPTIONS))
+    if unknown:
+        raise FaultslipError(f"fit bundle {args.replay}: option {unknown[0]!r} is not one 'faultslip fit' has")
+    with tempfile.TemporaryDirectory(prefix="faultslip-replay-") as folder:
+        record = extract_record(bundle, folder)
+        replay = argparse.Namespace(**{**vars(args), **options, "data": str(record), "replay": None, "bundle": None,
+                                       "name": None, "plot": None, "corner": None, "json": True})
+        report, draws = _fit(replay)
+    comparison = compare_numbers(bundle.report, report.to_dict())
+    moved_draws = []
+    for kind, (names, values) in bundle.draws.items():
+        again = np.asarray(draws.get(kind, ([], np.empty((0, 0))))[1], dtype=float)
+        if again.shape != values.shape or not np.array_equal(again, values):
+            change = (float(np.max(np.abs(again - values)) / max(float(np.max(np.abs(values))), 1e-300))
+                      if again.shape == values.shape else math.inf)
+            moved_draws.append((kind, change))
+    versions = bundle.manifest.get("versions", {})
+    now = package_versions()
+    differ = sorted(name for name in set(versions) | set(now) if versions.get(name) != now.get(name))
+    identical = not comparison["moved"] and not moved_draws and not comparison["missing"]
+    result = {"bundle": str(args.replay), "identical": identical, "numbers_compared": comparison["compared"],
+              "numbers_moved": [{"key": key, "bundle": old, "replay": new, "relative_change": change}
+                                for key, old, new, change in comparison["moved"]],
+              "numbers_missing": comparison["missing"],
+              "draws_compared": {kind: list(values.shape) for kind, (_, values) in bundle.draws.items()},
+              "draws_moved": [{"kind": kind, "largest_relative_change": change} for kind, change in moved_draws],
+              "versions_that_differ": {name: [versions.get(name), now.get(name)] for name in differ}}
+    if args.json:
+        print(json.dumps(result, indent=2, allow_nan=False, default=str))
+    else:
+        print(f"faultslip fit --replay {args.replay}")
+        print(f"  {comparison['compared']} numbers and "
+              f"{sum(values.size for _, values in bundle.draws.values())} draws compared")
+        if differ:
+            print("  versions that differ: " + ", ".join(f"{n} {versions.get(n)} -> {now.get(n)}" for n in differ))
+        if identical:
+            print("  replayed bit for bit: every number and every draw is the same")
+        for key, old, new, change in comparison["moved"][:40]:
+            print(f"  moved: {key}: {old!r} -> {new!r} (relative {change:.2e})")
+        for kind, change in moved_draws:
+            print(f"  draws moved: {kind} (largest relative change {change:.2e})")
+        for key in comparison["missing"][:20]:
+            print(f"  missing from the replay: {key}")
+    return 0 if identical else 1
 
 
 def _parse_units(text):
@@ -121,7 +203,10 @@ def _fit_rate_state(args) -> int:
                              source=str(args.data), overwrite=args.overwrite)
         report.note(f"saved as {args.name!r} in {path} with its {'posterior draws' if posterior else 'resamples'}; "
                     f"use it with 'faultslip fault --lithology {args.name} ...'")
-    return _emit(report, args.json)
+    draws = {"bootstrap": (list(result.fit.parameters), result.fit.bootstrap)}
+    if posterior is not None:
+        draws["posterior"] = (list(posterior.names), posterior.samples)
+    return report, draws
 
 
 def _parse_windows(text):

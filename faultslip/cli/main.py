@@ -320,7 +320,12 @@ def _lab_commands(commands) -> None:
     reduce.add_argument("--json", action="store_true", help="print one JSON object")
     reduce.set_defaults(handler="lab:cmd_reduce")
     fit = commands.add_parser("fit", help="fit the rate law (eq. 2-18) to laboratory data, with uncertainty")
-    fit.add_argument("data", help="CSV or netCDF: loading_rate (or platform_speed, stiffness, normal_load), static_friction[, amplitude]")
+    fit.add_argument("data", nargs="?", help="CSV or netCDF: loading_rate (or platform_speed, stiffness, normal_load), "
+                     "static_friction[, amplitude]")
+    fit.add_argument("--bundle", help="also write FIT.zip: the record, every option, the versions, the draws and the "
+                     "report, readable without faultslip (JSON and netCDF inside)")
+    fit.add_argument("--replay", help="run a bundle's fit again (FIT.zip) and say which numbers moved, and by how "
+                     "much: none on the same versions")
     fit.add_argument("--name", help="save the fit under this name in the user registry")
     fit.add_argument("--shear-modulus", help="shear modulus of the rock, stored with the fit for fault predictions")
     fit.add_argument("--note", help="a note stored with the fit (e.g. rock and condition)")

@@ -44,6 +44,7 @@ LIMITS = {
     "netcdf": 2048 * MiB,
     "waveform": 512 * MiB,  # miniSEED, SAC
     "catalog": 256 * MiB,  # QuakeML
+    "bundle": 1024 * MiB,  # fit bundles (a record, its report and draws, zipped)
 }
 #: Deepest nesting of arrays and inline tables accepted in TOML (real files use 2 or 3).
 MAX_TOML_DEPTH = 32

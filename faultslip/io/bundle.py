@@ -1,0 +1,192 @@
+"""A fit bundle: everything that made a fit, in one zip that opens without faultslip.
+
+``faultslip fit ... --bundle FIT.zip`` writes, and ``faultslip fit --replay FIT.zip`` reads:
+
+- ``manifest.json``: the format, when and with what it was made (``versions``: Python, faultslip, numpy,
+  scipy, emcee, numba, ...), the command's options and seed, and the record's name, size and SHA-256;
+- ``record/<name>``: the input record's bytes, as read;
+- ``report.json``: every number the fit reported, as ``faultslip fit --json`` prints it;
+- ``draws.nc``: the bootstrap resamples and posterior draws as netCDF (classic format, which any netCDF
+  reader opens), one variable per kind of draw on dimensions ``draw`` and ``parameter``.
+
+:func:`compare_numbers` walks two reports and lists every number that moved; a replay on the same versions
+moves none.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import math
+import platform
+import zipfile
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+import numpy as np
+
+from faultslip.errors import InputError
+from faultslip.io.atomic import atomic_path
+from faultslip.io.gate import check_input, decoding, read_bytes
+
+FORMAT = "faultslip-fit-bundle/1"
+MANIFEST, REPORT, DRAWS, RECORD_FOLDER = "manifest.json", "report.json", "draws.nc", "record/"
+#: the packages whose versions a bundle records (those a fit's numbers depend on)
+PACKAGES = ("faultslip", "numpy", "scipy", "emcee", "numba", "xarray", "netCDF4", "pint")
+#: report keys whose numbers measure the machine, not the fit: never compared
+UNTIMED = ("seconds", "wall", "elapsed")
+
+
+def package_versions() -> dict:
+    """{package: version} of :data:`PACKAGES` (None where not installed) and Python's."""
+    versions = {"python": platform.python_version()}
+    for name in PACKAGES:
+        try:
+            versions[name] = version(name)
+        except PackageNotFoundError:
+            versions[name] = None
+    return versions
+
+
+@dataclass
+class Bundle:
+    """A bundle's contents: the manifest, the record's name and bytes, the report and the draws."""
+
+    manifest: dict
+    record_name: str
+    record: bytes
+    report: dict
+    draws: dict = field(default_factory=dict)  # kind -> (names, array (draws, parameters))
+
+
+def _draws_netcdf(draws: dict) -> bytes:
+    import xarray as xr  # heavy: imported where used
+
+    data, coords = {}, {}
+    for kind, (names, values) in draws.items():
+        values = np.asarray(values, dtype=float)
+        if values.size == 0:
+            continue
+        dims = (f"{kind}_draw", f"{kind}_parameter")
+        data[kind] = (dims, values, {"long_name": f"{kind.replace('_', ' ')} draws, natural scale (SI)"})
+        coords[f"{kind}_parameter"] = (f"{kind}_parameter", np.array(list(names), dtype=str))
+    dataset = xr.Dataset(data, coords=coords, attrs={"Conventions": "CF-1.10", "source": FORMAT})
+    return bytes(dataset.to_netcdf(format="NETCDF3_64BIT"))
+
+
+def write_bundle(path, *, record_path, options: dict, report: dict, draws: dict | None = None,
+                 command: str = "faultslip fit") -> dict:
+    """Write a fit bundle to ``path`` (atomically); returns its manifest.
+
+    Parameters
+    ----------
+    path : str or path
+        The zip to write.
+    record_path : str or path
+        The record the fit read (its bytes go in whole).
+    options : dict
+        Every option of the command, JSON-ready.
+    report : dict
+        The fit's report (``Report.to_dict()``).
+    draws : dict, optional
+        kind -> (parameter names, array of draws (draws, parameters)).
+    command : str
+        What made it.
+
+    Returns
+    -------
+    dict
+        The manifest.
+    """
+    record = read_bytes(record_path, "the fit's record", "table")
+    manifest = {"format": FORMAT, "command": command, "created": datetime.now(timezone.utc).isoformat(),
+                "versions": package_versions(), "options": options,
+                "record": {"name": Path(record_path).name, "original_path": str(record_path), "bytes": len(record),
+                           "sha256": hashlib.sha256(record).hexdigest()}}
+    with atomic_path(path) as temporary:
+        with zipfile.ZipFile(temporary, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+            archive.writestr(MANIFEST, json.dumps(manifest, indent=2))
+            archive.writestr(RECORD_FOLDER + manifest["record"]["name"], record)
+            archive.writestr(REPORT, json.dumps(report, indent=2, allow_nan=False))
+            if draws:
+                archive.writestr(DRAWS, _draws_netcdf(draws))
+    return manifest
+
+
+def read_bundle(path) -> Bundle:
+    """Read and check a fit bundle; every fault in it is one sentence naming the file."""
+    import xarray as xr  # heavy: imported where used
+
+    path = check_input(path, "fit bundle", "bundle")
+    with decoding(path, "fit bundle", "a zip"):
+        data = read_bytes(path, "fit bundle", "bundle")
+        archive = zipfile.ZipFile(io.BytesIO(data))
+        names = archive.namelist()
+    if MANIFEST not in names or REPORT not in names:
+        raise InputError(f"fit bundle {path.name} has no {MANIFEST} and {REPORT}: it is not a faultslip fit bundle")
+    with decoding(path, "fit bundle", "JSON"):
+        manifest = json.loads(archive.read(MANIFEST).decode("utf-8"))
+        report = json.loads(archive.read(REPORT).decode("utf-8"))
+    if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
+        raise InputError(f"fit bundle {path.name} is not in the format {FORMAT}")
+    entry = manifest.get("record")
+    if not (isinstance(entry, dict) and isinstance(entry.get("name"), str) and isinstance(entry.get("sha256"), str)
+            and isinstance(manifest.get("options"), dict) and isinstance(report, dict)):
+        raise InputError(f"fit bundle {path.name}: its manifest lacks the record's name and checksum or the options")
+    name = entry["name"]
+    if "/" in name or "\\" in name or name in ("", ".", ".."):
+        raise InputError(f"fit bundle {path.name}: the record's name {name!r} is not a plain file name")
+    if RECORD_FOLDER + name not in names:
+        raise InputError(f"fit bundle {path.name} does not hold its record {name!r}")
+    with decoding(path, "fit bundle", "a zip"):
+        record = archive.read(RECORD_FOLDER + name)
+    if hashlib.sha256(record).hexdigest() != entry["sha256"]:
+        raise InputError(f"fit bundle {path.name}: its record {name!r} does not match its SHA-256; the bundle was "
+                         "changed after it was written")
+    draws = {}
+    if DRAWS in names:
+        with decoding(path, "fit bundle", "netCDF draws"):
+            with xr.open_dataset(io.BytesIO(archive.read(DRAWS)), engine="scipy") as dataset:
+                for kind in dataset.data_vars:
+                    draws[kind] = ([str(v) for v in dataset[f"{kind}_parameter"].values],
+                                   np.asarray(dataset[kind].values, dtype=float))
+    return Bundle(manifest, name, record, report, draws)
+
+
+def extract_record(bundle: Bundle, folder) -> Path:
+    """Write a bundle's record into ``folder`` under its own name (a reader picks its format by the name)."""
+    target = Path(folder) / bundle.record_name
+    with atomic_path(target, immediate=True) as temporary:  # read back at once, inside the command's transaction
+        Path(temporary).write_bytes(bundle.record)
+    return target
+
+
+def _numbers(value, prefix=""):
+    """(dotted key, number) for every number in a report, skipping what measures the machine."""
+    if isinstance(value, dict):
+        for key, item in value.items():
+            if any(word in str(key) for word in UNTIMED):
+                continue
+            yield from _numbers(item, f"{prefix}.{key}" if prefix else str(key))
+    elif isinstance(value, list):
+        for index, item in enumerate(value):
+            yield from _numbers(item, f"{prefix}[{index}]")
+    elif isinstance(value, (int, float)) and not isinstance(value, bool):
+        yield prefix, float(value)
+
+
+def compare_numbers(old: dict, new: dict) -> dict:
+    """Every number of ``old`` against ``new``: {"compared", "moved": [(key, old, new, relative change)],
+    "missing": [keys in old only], "extra": [keys in new only]}."""
+    first, second = dict(_numbers(old)), dict(_numbers(new))
+    moved = []
+    for key, value in first.items():
+        if key in second and not (value == second[key] or (math.isnan(value) and math.isnan(second[key]))):
+            other = second[key]
+            scale = max(abs(value), abs(other), 1e-300)
+            moved.append((key, value, other, abs(other - value) / scale))
+    return {"compared": sum(1 for key in first if key in second), "moved": moved,
+            "missing": sorted(set(first) - set(second)), "extra": sorted(set(second) - set(first))}

@@ -1,0 +1,134 @@
+"""A fit bundle (issue 46, item 5): written beside a fit, readable without faultslip, replayed bit for bit, moved
+numbers named, and every malformed bundle refused in one sentence."""
+
+import io
+import json
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from conftest import assert_clean_error
+from faultslip.errors import InputError
+from faultslip.io.bundle import FORMAT, read_bundle
+
+CONFIGS = Path(__file__).resolve().parent.parent / "configs"
+
+
+def _members(path) -> dict:
+    with zipfile.ZipFile(path) as archive:
+        return {name: archive.read(name) for name in archive.namelist()}
+
+
+def _rewrite(path, members: dict) -> None:
+    with zipfile.ZipFile(path, "w") as archive:
+        for name, data in members.items():
+            archive.writestr(name, data)
+
+
+def test_a_rate_law_bundle_replays_bit_for_bit_and_opens_without_faultslip(cli, tmp_path):
+    import xarray as xr
+
+    bundle = tmp_path / "fit.zip"
+    out = cli("fit", CONFIGS / "example_friction_data.csv", "--bootstrap", "40", "--seed", "3", "--bundle", bundle,
+              "--json")
+    assert out.code == 0, out.err
+    members = _members(bundle)
+    manifest = json.loads(members["manifest.json"])
+    assert manifest["format"] == FORMAT and manifest["options"]["seed"] == 3 and manifest["options"]["bootstrap"] == 40
+    assert manifest["versions"]["numpy"] == np.__version__
+    assert members["record/example_friction_data.csv"] == (CONFIGS / "example_friction_data.csv").read_bytes()
+    report = json.loads(members["report.json"])
+    assert report["mu_so"] == out.json["mu_so"]
+    # the draws are plain netCDF: xarray's scipy backend (no faultslip) reads them
+    with xr.open_dataset(io.BytesIO(members["draws.nc"]), engine="scipy") as draws:
+        assert draws["bootstrap"].shape == (40, 4)
+        assert list(draws["bootstrap_parameter"].values) == ["mu_so", "mu_m", "b", "d"]
+    replay = cli("fit", "--replay", bundle, "--json")
+    assert replay.code == 0, replay.out + replay.err
+    assert replay.json["identical"] and replay.json["numbers_compared"] >= 15 and not replay.json["numbers_moved"]
+    assert replay.json["draws_compared"] == {"bootstrap": [40, 4]}
+
+
+def test_a_rate_state_posterior_bundle_replays_bit_for_bit(cli, tmp_path):
+    bundle = tmp_path / "rs.zip"
+    out = cli("fit", "--law", "rate-state", CONFIGS / "example_velocity_steps.csv", "--stiffness", "1e-2 1/um",
+              "--posterior", "--samples", "400", "--bootstrap", "0", "--seed", "2", "--bundle", bundle)
+    assert out.code == 0, out.err
+    replay = cli("fit", "--replay", bundle, "--json")
+    assert replay.code == 0, replay.out + replay.err
+    assert replay.json["identical"] and "posterior" in replay.json["draws_compared"]
+
+
+def test_a_replay_names_what_moved_and_the_versions_that_differ(cli, tmp_path):
+    bundle = tmp_path / "fit.zip"
+    assert cli("fit", CONFIGS / "example_friction_data.csv", "--bootstrap", "20", "--bundle", bundle).code == 0
+    members = _members(bundle)
+    report = json.loads(members["report.json"])
+    report["mu_so"] *= 1 + 1e-6
+    manifest = json.loads(members["manifest.json"])
+    manifest["versions"]["numpy"] = "0.0.1"
+    members["report.json"], members["manifest.json"] = json.dumps(report), json.dumps(manifest)
+    _rewrite(bundle, members)
+    replay = cli("fit", "--replay", bundle, "--json")
+    assert replay.code == 1
+    moved = {row["key"]: row for row in replay.json["numbers_moved"]}
+    assert list(moved) == ["mu_so"] and moved["mu_so"]["relative_change"] == pytest.approx(1e-6, rel=1e-3)
+    assert replay.json["versions_that_differ"]["numpy"] == ["0.0.1", np.__version__]
+
+
+def _good(tmp_path, cli) -> dict:
+    bundle = tmp_path / "good.zip"
+    assert cli("fit", CONFIGS / "example_friction_data.csv", "--bootstrap", "10", "--bundle", bundle).code == 0
+    return _members(bundle)
+
+
+@pytest.mark.parametrize("spoil, message", [
+    (lambda m: {"notes.txt": b"hello"}, "not a faultslip fit bundle"),
+    (lambda m: {**m, "manifest.json": b"{not json"}, "JSON"),
+    (lambda m: {**m, "manifest.json": json.dumps({**json.loads(m["manifest.json"]), "format": "x/9"}).encode()},
+     "format"),
+    (lambda m: {**m, "record/example_friction_data.csv": m["record/example_friction_data.csv"] + b"1,2\n"}, "SHA-256"),
+    (lambda m: {k: v for k, v in m.items() if not k.startswith("record/")}, "does not hold its record"),
+    (lambda m: {**m, "manifest.json": json.dumps({**json.loads(m["manifest.json"]),
+                                                  "record": {"name": "../x.csv", "sha256": "0"}}).encode()},
+     "not a plain file name"),
+    (lambda m: {**m, "manifest.json": json.dumps({**json.loads(m["manifest.json"]),
+                                                  "options": {**json.loads(m["manifest.json"])["options"],
+                                                              "rm_rf": True}}).encode()}, "rm_rf"),
+    (lambda m: {**m, "draws.nc": b"CDF\x02garbage"}, "netCDF"),
+])
+def test_malformed_bundles_are_one_sentence(cli, tmp_path, spoil, message):
+    members = spoil(_good(tmp_path, cli))
+    bad = tmp_path / "bad.zip"
+    _rewrite(bad, members)
+    assert_clean_error(cli("fit", "--replay", bad), message)
+
+
+def test_replay_refusals(cli, tmp_path):
+    (tmp_path / "not.zip").write_bytes(b"PK\x03\x04 but not a zip")
+    assert_clean_error(cli("fit", "--replay", tmp_path / "not.zip"), "zip")
+    assert_clean_error(cli("fit", "--replay", tmp_path / "missing.zip"), "missing.zip")
+    assert_clean_error(cli("fit", CONFIGS / "example_friction_data.csv", "--replay", tmp_path / "not.zip"),
+                       "takes no a data file")
+    assert_clean_error(cli("fit"), "needs a data file")
+    assert_clean_error(cli("fit", CONFIGS / "example_friction_data.csv", "--bundle", tmp_path / "fit.txt"), ".zip")
+
+
+@settings(max_examples=60, deadline=None)
+@given(data=st.binary(max_size=2000), zipped=st.booleans())
+def test_the_bundle_reader_refuses_anything_else_in_one_sentence(tmp_path_factory, data, zipped):
+    path = tmp_path_factory.mktemp("fuzz") / "fuzz.zip"
+    if zipped:
+        buffer = io.BytesIO()
+        with zipfile.ZipFile(buffer, "w") as archive:
+            archive.writestr("manifest.json", data)
+            archive.writestr("report.json", data)
+        data = buffer.getvalue()
+    path.write_bytes(data)
+    with pytest.raises(InputError) as raised:
+        read_bundle(path)
+    assert "\n" not in str(raised.value)
