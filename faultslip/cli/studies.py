@@ -22,7 +22,6 @@ from faultslip.studies.grid import load_study
 from faultslip.units import to_si
 from faultslip.io.atomic import claim
 from faultslip.fault import mfd as mfds
-from faultslip.fault.displacement import MODELS as DISPLACEMENT_MODELS
 from faultslip.plots.displacement import displacement_hazard_figure
 from faultslip.plots.fault_maps import fault_system_figure
 from faultslip.studies import displacement_hazard, hazard, rupture_sets
@@ -226,8 +225,8 @@ def _displacement_options(args, spec, outputs) -> dict | None:
     sites = hazard.parse_sites(args.displacement_hazard)
     if len(sites) != 1:
         raise InputError(f"--displacement-hazard takes one site, 'lon lat' in degrees, got {len(sites)}")
-    if args.displacement_model not in DISPLACEMENT_MODELS:
-        raise InputError(f"--displacement-model must be one of {', '.join(DISPLACEMENT_MODELS)}, "
+    if args.displacement_model not in displacement_hazard.MODELS:
+        raise InputError(f"--displacement-model must be one of {', '.join(displacement_hazard.MODELS)}, "
                          f"got {args.displacement_model!r}")
     displacements = None
     if args.displacements is not None:

@@ -24,6 +24,8 @@ from faultslip.fault.scaling import Fault, fitted_draws
 from faultslip.io.geo import EARTH_RADIUS, densify, trace_length
 from faultslip.units import JULIAN_YEAR
 
+#: the displacement models (faultslip.fault.displacement)
+MODELS = fdh.MODELS
 #: how near a fault's trace a site must be for principal displacement (m)
 ON_FAULT = 1e3
 #: displacements a curve is drawn at by default (m): 1 cm to 30 m
