@@ -110,3 +110,65 @@ def test_damaged_bytes_are_read_or_refused_never_a_traceback(seed, cut):
         parse_look(bytes(good[:len(good) - cut]), "fuzz.look")
     except InputError as exc:
         assert str(exc).strip() and "\n" not in str(exc)
+
+
+# --- xlook's ASCII export (issue 46, item 1) ---------------------------------------------------------------
+
+def _ascii_export(columns: dict, units: dict) -> str:
+    """A run as xlook's 'type' command exports it (the layout Leeman's biaxread reads): the records, the column
+    labels, names and units in 12-character fields after a margin of 5, each column's records, then the rows."""
+    names = list(columns)
+    records = len(next(iter(columns.values())))
+    lines = [f"number of records = {records}", "     " + "".join(f"col {i + 1}".ljust(12) for i in range(len(names))),
+             "     " + "".join(name.ljust(12) for name in names),
+             "     " + "".join((units[name] or ".").ljust(12) for name in names),
+             "     " + "".join(f"{records} recs".ljust(12) for _ in names)]
+    table = np.column_stack([columns[name] for name in names])
+    lines += [f"{row + 1:8d} " + " ".join(f"{value:.17g}" for value in values) for row, values in enumerate(table)]
+    return "\n".join(lines) + "\n"
+
+
+def test_an_ascii_export_of_p655_reads_as_its_binary_file(tmp_path):
+    """The first 2,000 records of p655 exported as text read back bit for bit (17 significant digits), through the
+    same read_look that an r-file's 'read' command uses."""
+    look = faultslip.read_look(P655)
+    columns = {name: values[:2000] for name, values in look.columns.items()}
+    path = tmp_path / "p655.txt"
+    path.write_text(_ascii_export(columns, look.units), encoding="utf-8")
+    read = read_look(path)
+    assert read.layout == ("ascii",) and list(read.columns) == list(look.columns)
+    assert read.units == look.units
+    for name in columns:
+        assert np.array_equal(read.columns[name], columns[name])
+
+
+@settings(max_examples=60, deadline=None)
+@given(data=st.data())
+def test_ascii_exports_read_back_what_was_written(data):
+    from faultslip.lab.look_files import parse_look_ascii
+
+    count = data.draw(st.integers(1, 8))
+    records = data.draw(st.integers(1, 30))
+    values = st.floats(allow_nan=False, allow_infinity=False)
+    columns = {f"c{i}": np.array(data.draw(st.lists(values, min_size=records, max_size=records)))
+               for i in range(count)}
+    units = {name: data.draw(st.sampled_from(["", "mm", "MPa", "sec"])) for name in columns}
+    read = parse_look_ascii(_ascii_export(columns, units), "t.txt")
+    assert read.units == units and all(np.array_equal(read.columns[n], columns[n]) for n in columns)
+
+
+@pytest.mark.parametrize("spoil, message", [
+    (lambda t: t.replace("number of records = 3", "records: 3"), "not an xlook ASCII export"),
+    (lambda t: t.replace("number of records = 3", "number of records = three"), "number of records = N"),
+    (lambda t: t.replace("number of records = 3", "number of records = 4"), "every one of its"),
+    (lambda t: t.rsplit("\n", 2)[0] + "\n", "has 2 rows"),
+    (lambda t: t.replace(" 1.5 ", " x ", 1), "data row 1"),
+    (lambda t: "\n".join(t.splitlines()[:3]), "not an xlook ASCII export"),
+])
+def test_a_malformed_ascii_export_is_one_sentence(spoil, message):
+    from faultslip.lab.look_files import parse_look_ascii
+
+    good = _ascii_export({"a": np.array([1.5, 2.0, 3.0]), "b": np.array([1.5, 4.0, 5.0])}, {"a": "s", "b": "MPa"})
+    with pytest.raises(InputError, match=message) as raised:
+        parse_look_ascii(spoil(good), "bad.txt")
+    assert "\n" not in str(raised.value)

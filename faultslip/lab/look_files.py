@@ -12,6 +12,17 @@ The layout, as xlook writes it (documented by pylook, Leeman Geophysical, BSD-3;
 Which of the three layouts a file has follows from its size, the only thing that tells them apart; a file that
 matches none is refused in one sentence, as are a header that claims more than the file holds, and a column whose
 length differs from the records'. The bytes come through the reader gate (:func:`faultslip.io.gate.read_bytes`).
+
+xlook also exports a run as text (its ``type`` command, read by Leeman's biaxread; :func:`parse_look_ascii`):
+
+* ``number of records = N``;
+* a line of column labels (``col 1  col 2 ...``), one a column;
+* the columns' names and then their units, each in 12-character fields after a 5-character margin (``.`` for
+  none);
+* each column's number of records (``N recs``);
+* the rows: the record's number, then one value a column.
+
+:func:`read_look` reads either kind, by the first bytes.
 """
 
 from __future__ import annotations
@@ -102,8 +113,82 @@ def parse_look(data: bytes, source: str = "<look file>") -> LookFile:
     return LookFile(name, columns, units, source, layout)
 
 
+ASCII_MARK = b"number of records"
+#: the width of a name or unit field in an ASCII export, after its margin
+ASCII_FIELD, ASCII_MARGIN = 12, 5
+
+
+def _fields(line: str, count: int) -> list:
+    """``count`` fixed-width fields of an ASCII export's header line (names or units), stripped."""
+    body = line[ASCII_MARGIN:]
+    return [body[ASCII_FIELD * i:ASCII_FIELD * (i + 1)].strip() for i in range(count)]
+
+
+def parse_look_ascii(text: str, source: str = "<look export>") -> LookFile:
+    """An xlook ASCII export (see the module) from its text.
+
+    Parameters
+    ----------
+    text : str
+        The whole file.
+    source : str
+        Its name, for messages.
+
+    Returns
+    -------
+    LookFile
+        Every column, in file order, as float64, with its unit (an empty string for xlook's ``.``).
+    """
+    lines = text.splitlines()
+    if len(lines) < 5 or not lines[0].strip().startswith("number of records"):
+        raise InputError(f"{source} is not an xlook ASCII export: it must open with 'number of records = N' and four "
+                         "header lines")
+    try:
+        records = int(lines[0].split("=", 1)[1])
+    except (IndexError, ValueError):
+        raise InputError(f"{source}: its first line must read 'number of records = N', got {lines[0].strip()!r}") \
+            from None
+    count = lines[1].split().count("col")
+    if not (0 < count <= 32 and 0 < records < 2**31):
+        raise InputError(f"{source} is not an xlook ASCII export: {records} records in {count} columns (1 to 32)")
+    names, units = _fields(lines[2], count), _fields(lines[3], count)
+    lengths = lines[4].split("recs")
+    if any(not name for name in names) or len(set(names)) != count:
+        raise InputError(f"{source}: its third line must name {count} different columns, 12 characters each after "
+                         f"a margin of 5; got {names}")
+    try:
+        lengths = [int(part) for part in lengths if part.strip()]
+    except ValueError:
+        raise InputError(f"{source}: its fifth line must give each column's records as 'N recs'") from None
+    if len(lengths) != count or any(length != records for length in lengths):
+        raise InputError(f"{source}: every one of its {count} columns must have the file's {records} records, "
+                         f"got {lengths}")
+    rows = [line for line in lines[5:] if line.strip()]
+    if len(rows) != records:
+        raise InputError(f"{source} says it holds {records} records but has {len(rows)} rows of data")
+    try:
+        table = np.array([row.split() for row in rows], dtype=np.float64)
+    except ValueError:
+        bad = next(i for i, row in enumerate(rows) if len(row.split()) != count + 1 or not _numeric(row))
+        raise InputError(f"{source}: data row {bad + 1} must hold the record's number and {count} numbers, got "
+                         f"{rows[bad].strip()[:60]!r}") from None
+    if table.ndim != 2 or table.shape[1] != count + 1:
+        raise InputError(f"{source}: every data row must hold the record's number and {count} numbers")
+    columns = {name: np.ascontiguousarray(table[:, i + 1]) for i, name in enumerate(names)}
+    return LookFile("", columns, {name: "" if unit == "." else unit for name, unit in zip(names, units)}, source,
+                    ("ascii",))
+
+
+def _numeric(row: str) -> bool:
+    try:
+        [float(value) for value in row.split()]
+    except ValueError:
+        return False
+    return True
+
+
 def read_look(path) -> LookFile:
-    """Read an xlook binary data file through the reader gate.
+    """Read an xlook data file, binary or an ASCII export, through the reader gate.
 
     Parameters
     ----------
@@ -116,4 +201,8 @@ def read_look(path) -> LookFile:
         Its columns and units.
     """
     data = gate.read_bytes(path, "xlook data file")
+    if data.lstrip()[:len(ASCII_MARK)] == ASCII_MARK:
+        with gate.decoding(path, "xlook ASCII export", "UTF-8 text"):
+            text = data.decode("utf-8")
+        return parse_look_ascii(text, Path(path).name)
     return parse_look(data, Path(path).name)
