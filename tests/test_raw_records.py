@@ -6,6 +6,7 @@ values are copied, with their source, beside faultslip's own computation of the 
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,6 +27,7 @@ UM = 1e-6
 LAW = RateStateLaw(a=0.008, b=0.012, critical_slip=20 * UM, mu0=0.62, reference_speed=1 * UM)
 AREA, NORMAL_LOAD, MACHINE = 0.0025, 25e3, 2e8  # 25 cm^2 at 10 MPa, 200 kN/mm: k = 8000 / m
 EXAMPLE = "configs/example_raw_velocity_steps.txt"
+ROOT = Path(__file__).resolve().parent.parent
 
 
 def _small(seed=0, noise=1e-4, drift=0.0):
@@ -320,3 +322,53 @@ def test_one_command_from_raw_record_to_fault_distribution(cli, tmp_path):
     assert_clean_error(cli("fit", path, "--law", "rate-state", "--stiffness", "8e-3 1/um", "--area", "25 cm^2",
                            "--posterior", "--prior", "a=uniform:1:0"), "low < high")
     assert json.loads(json.dumps(out.json))  # valid JSON throughout
+
+
+# --- a rig that changes its sampling rate, and the real p655 (issue 46, item 2) -------------------------------
+
+def test_steps_are_found_when_the_sampling_rate_changes_a_hundredfold():
+    """p655 samples at 0.1 s, then 10 ms, then 1 ms through its fast steps. A record made at 1 kHz and thinned to
+    0.1 s before 30 s: the detection works on bin means of a uniform grid, so its windows keep their duration,
+    and finds the two steps and the three speeds."""
+    law = RateStateLaw(a=0.008, b=0.012, critical_slip=20e-6, mu0=0.62, reference_speed=1e-6)
+    history = LoadHistory((0.0, 40.0, 60.0, 80.0), (1e-6, 1e-5, 1e-4))
+    raw = synthetic_raw_record(law, 2e8, 0.0025, 25e3, history, rate=1000.0, friction_noise=3e-4, load_noise=0.0,
+                               displacement_noise=5e-8, seed=4)
+    keep = (raw.time >= 30.0) | (np.arange(raw.time.size) % 100 == 0)
+    time, displacement = raw.time[keep], raw.load_point_displacement[keep]
+    found = detect_steps(time, displacement)
+    assert len(found.times) == 4
+    np.testing.assert_allclose(found.times[1:3], [40.0, 60.0], atol=0.2)
+    np.testing.assert_allclose(found.speeds, [1e-6, 1e-5, 1e-4], rtol=0.02)
+    assert isinstance(raw, RawRecord)
+
+
+def test_p655_steps_hold_and_steady_state_dependence():
+    """Penn State's p655 at 75 MPa (2400-3150 s): the steps and the hold that its load-point displacement shows
+    (picked by eye from 2 s least-squares speeds: a hold from 2636.5 to 2683 s, then 2.3 -> 22.9 um/s near 3057 s,
+    -> 228.6 um/s near 3081 s and back near 3093 s) are found through the change of sampling rate; the 2.3 -> 22.9
+    um/s step is velocity strengthening, a - b = +0.0017 (the level change 0.0038 over ln 10); the 47 s hold heals
+    0.0073 and relaxes 0.016 (regression values, computed here, pinned with their provenance). In windows of a
+    fixed number of samples the 1 ms noise of the load point makes a segment run backwards."""
+    from faultslip.lab.healing import healing, steady_state_dependence
+    from faultslip.lab.look_reduction import run_r_file
+
+    data = run_r_file(ROOT / "data" / "p655" / "p655_r").to_dataset()
+    time = data["Time"].values
+    inside = (time >= 2400) & (time <= 3150)
+    origin = float(time[inside][0])
+    raw = RawRecord(time[inside] - origin, data["LP_disp"].values[inside] * 1e-6 - data["LP_disp"].values[inside][0]
+                    * 1e-6, data["Shear_stress"].values[inside] * 1e6, data["Nor_stress"].values[inside] * 1e6, "p655")
+    with pytest.raises(InputError, match="backwards"):
+        detect_steps(raw.time, raw.load_point_displacement, resample=False)
+    prepared = prepare_record(raw, "0.5 MPa/um")
+    history = prepared.record.history
+    np.testing.assert_allclose(np.array(history.times[1:-1]) + origin, [2636.5, 2683.0, 3057.5, 3081.5, 3093.0],
+                               atol=1.5)
+    np.testing.assert_allclose(np.array(history.speeds) * 1e6, [2.29, 0.0, 2.29, 22.86, 228.6, 2.4], rtol=0.03,
+                               atol=1e-9)
+    steps = steady_state_dependence(prepared.record)
+    assert steps[0].a_minus_b == pytest.approx(0.00165, abs=2e-4)
+    held = healing(prepared.record)
+    assert held.hold_time[0] == pytest.approx(46.9, abs=1.0)
+    assert held.healing[0] == pytest.approx(0.0073, abs=5e-4) and held.relaxation[0] == pytest.approx(0.016, abs=1e-3)

@@ -12,8 +12,12 @@ import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 from contextlib import contextmanager
+from pathlib import Path
+
+import faultslip
 
 CHROMIUM = ("/usr/bin/chromium", "/usr/bin/chromium-browser", "/usr/bin/google-chrome")
 CHROMEDRIVER = ("/usr/bin/chromedriver",)
@@ -42,8 +46,15 @@ def free_port() -> int:
 def running_app(timeout: float = 60.0):
     """``faultslip classroom`` as a child process on a free port; yields its address; stops it after."""
     port = free_port()
+    # the child imports the faultslip this process runs (a checkout beside an installed copy has no compiled
+    # extensions, and the chain's catalogue, chaotic, then differs): its package's folder first on the path, and
+    # a working folder that holds no other copy
+    package_root = str(Path(faultslip.__file__).resolve().parent.parent)
+    environment = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [package_root,
+                                                                          os.environ.get("PYTHONPATH")])))
     process = subprocess.Popen([sys.executable, "-m", "faultslip.cli", "classroom", "--port", str(port)],
-                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=environment,
+                               cwd=tempfile.gettempdir())
     try:
         deadline = time.monotonic() + timeout
         line = ""

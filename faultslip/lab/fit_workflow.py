@@ -11,11 +11,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from faultslip.dynamics.rate_state.slider import RateStateSlider, simulate_rate_state
 from faultslip.errors import InputError
 from faultslip.io.report import Report, display_unit, significant
 from faultslip.lab.posterior import sample_posterior
 from faultslip.lab.raw_records import RawRecord, fit_each_step, load_record, prepare_record
+from faultslip.lab.healing import healing
 from faultslip.lab.law_selection import select_law
 from faultslip.lab.rate_state_fit import fit_velocity_steps
 from faultslip.units import to_si
@@ -163,6 +166,11 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
     fit = fit_velocity_steps(record, spring, evolution=evolution, two_state=two_state, bootstrap=bootstrap,
                              seed=seed, stiffness_free=stiffness_free)
     _fit_section(report, fit, seed)
+    if 0.0 in record.history.speeds[1:-1]:  # a hold between two slides: its healing
+        try:
+            _healing_section(report, healing(record))
+        except InputError as exc:
+            report.note(f"slide-hold-slide: {exc}")
     selection = None
     if select:
         selection = select_law(record, spring, stiffness_free=stiffness_free)
@@ -221,6 +229,24 @@ def _fit_section(report: Report, fit, seed: int) -> None:
     report.add("bootstrap_samples", resamples, label=f"bootstrap resamples (seed {seed})" if resamples else
                "bootstrap resamples (none asked for)")
     for note in fit.notes:
+        report.note(note)
+
+
+def _healing_section(report: Report, result) -> None:
+    report.section("Slide-hold-slide: healing against hold time")
+    for number, (start, hold, heal, relax) in enumerate(zip(result.hold_start, result.hold_time, result.healing,
+                                                             result.relaxation), start=1):
+        report.add(f"hold_{number}", {"start": {"value": float(start), "units": "s"},
+                                      "hold_time": {"value": float(hold), "units": "s"},
+                                      "healing": float(heal), "relaxation": float(relax)},
+                   label=f"hold {number} at {start:.4g} s for {hold:.4g} s: healing {heal:.4g}, relaxation {relax:.4g}")
+    if np.isfinite(result.rate):
+        low, high = result.rate_interval
+        report.add("healing_rate", result.rate, "1", label="healing rate, per decade of hold time",
+                   error=(high - low) / 2 if np.isfinite(low) else None)
+        if np.isfinite(low):
+            report.add("healing_rate_95", [low, high], "1", label="  95 % interval (least squares, Student t)")
+    for note in result.notes:
         report.note(note)
 
 

@@ -121,6 +121,18 @@ def step_record_from_columns(columns: dict, source: str) -> StepRecord:
         starts, speed = _speeds_from_displacement(time, si["load_point_displacement"], source)
     times = [float(time[i]) for i in starts] + [float(time[-1])]
     speeds = [float(np.median(speed[s:e])) for s, e in zip(starts, starts[1:] + [time.size])]
+    # a hold's displacement is constant: its round-off speeds (1e-20 of the sliding ones) are zero, and neighbours
+    # at one speed (a hold cut by round-off into pieces) are one segment
+    fastest = max(abs(v) for v in speeds)
+    speeds = [0.0 if abs(v) <= 1e-9 * fastest else v for v in speeds]
+    kept_times, kept_speeds = [times[0]], [speeds[0]]
+    for start, value in zip(times[1:-1], speeds[1:]):
+        previous = kept_speeds[-1]
+        if value == previous or abs(value - previous) <= 0.01 * max(abs(value), abs(previous)):
+            continue
+        kept_times.append(start)
+        kept_speeds.append(value)
+    times, speeds = kept_times + [times[-1]], kept_speeds
     if speeds[0] <= 0:
         raise InputError(f"velocity-step record {source} must start sliding (a positive first load-point speed)")
     return StepRecord(time, friction, LoadHistory(tuple(times), tuple(speeds)), source)

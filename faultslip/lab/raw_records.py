@@ -241,7 +241,7 @@ def _segment_speeds(time, displacement, boundaries):
 
 
 def detect_steps(time, displacement, min_change: float = MIN_CHANGE, width: int | None = None,
-                 step_times=None) -> LoadHistory:
+                 step_times=None, resample: bool = True) -> LoadHistory:
     """The load history (segment start times and constant speeds) of a load-point displacement record.
 
     With ``step_times`` the segments are the user's and only their speeds are measured.
@@ -258,6 +258,9 @@ def detect_steps(time, displacement, min_change: float = MIN_CHANGE, width: int 
         The smoothing window (samples).
     step_times : array_like, optional
         The user's step times (s).
+    resample : bool
+        Where the sampling interval changes more than twofold, find the steps on bin means of a uniform grid at
+        the coarse interval (the speeds are measured on the samples).
 
     Returns
     -------
@@ -266,6 +269,15 @@ def detect_steps(time, displacement, min_change: float = MIN_CHANGE, width: int 
     """
     time, displacement = np.asarray(time, dtype=float), np.asarray(displacement, dtype=float)
     n = time.size
+    intervals = np.diff(time)
+    if resample and step_times is None and n > 4 and np.percentile(intervals, 99) > 2.0 * np.percentile(intervals, 1):
+        # a rig that changes its sampling rate (p655: 0.1 s, 10 ms, 1 ms) would give windows of a fixed number of
+        # samples a hundredfold range of durations: the steps are found on bin means of a uniform grid at the
+        # coarse interval, and each segment's speed is measured on the samples themselves
+        binned_time, binned = _uniform_bins(time, displacement, float(np.percentile(intervals, 99)))
+        found = detect_steps(binned_time - binned_time[0], binned, min_change, width, resample=False)
+        boundaries = [float(time[0]), *(t + binned_time[0] for t in found.times[1:-1]), float(time[-1])]
+        return _history(time, displacement, boundaries, min_change, merge=False)
     if step_times is not None:
         steps = sorted(float(t) for t in step_times)
         if any(not (time[0] < t < time[-1]) for t in steps):
@@ -298,10 +310,25 @@ def detect_steps(time, displacement, min_change: float = MIN_CHANGE, width: int 
         spacing = width * float(np.median(np.diff(time)))
         steps = [t for k, t in enumerate(refined) if k == 0 or t - refined[k - 1] > spacing]
         boundaries = [float(time[0])] + steps + [float(time[-1])]
+    return _history(time, displacement, boundaries, min_change, merge=step_times is None)
+
+
+def _uniform_bins(time, displacement, step: float):
+    """(mean time, mean displacement) of the samples in each bin of width ``step`` that holds any."""
+    index = np.minimum(((time - time[0]) / step).astype(np.int64), int((time[-1] - time[0]) / step))
+    counts = np.bincount(index)
+    held = counts > 0
+    return (np.bincount(index, weights=time)[held] / counts[held],
+            np.bincount(index, weights=displacement)[held] / counts[held])
+
+
+def _history(time, displacement, boundaries, min_change, merge: bool) -> LoadHistory:
+    """The segments' speeds measured on the samples, holds set to zero, and (``merge``) neighbours at one speed
+    joined."""
     speeds = _segment_speeds(time, displacement, boundaries)
     typical = max(abs(s) for s in speeds)
     speeds = [0.0 if abs(s) < HOLD_FRACTION * typical else s for s in speeds]
-    if step_times is None:  # neighbours at one speed (a hold cut by noise) are one segment, measured again
+    if merge:  # neighbours at one speed (a hold cut by noise) are one segment, measured again
         kept = [0]
         for i in range(1, len(speeds)):
             a, b = speeds[kept[-1]], speeds[i]
