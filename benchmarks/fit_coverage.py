@@ -68,10 +68,12 @@ def one_case(seed: int) -> dict:
     return out
 
 
-def _coverage(cases, kind):
+def _coverage(cases, kind, truths=None):
+    """Per parameter of ``truths`` (this study's by default): the share of the cases whose ``kind`` interval holds
+    the truth, how many cases, and where a perfect 95 % lands 95 times in 100."""
     rows = [case[kind] for case in cases if kind in case]
     result = {}
-    for name, truth in TRUTH.items():
+    for name, truth in (truths or TRUTH).items():
         hits = [low < truth < high for low, high in (row[name] for row in rows)]
         rate = float(np.mean(hits)) if hits else math.nan
         result[name] = {"coverage": rate, "cases": len(hits),
