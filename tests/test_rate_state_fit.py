@@ -223,3 +223,78 @@ def test_law_selection_refusals_and_an_unconstrained_second_state():
     assert any("not constrained" in note for note in fit.notes)
     assert [evidence(d) for d in (0.5, 3, 7, 12)] == ["not worth more than a bare mention", "positive", "strong",
                                                       "very strong"]
+
+
+# --- several records, one law (issue 46, item 3) -----------------------------------------------------------
+
+def _second_experiment():
+    """The same rock another day: steady friction 0.62 at its own first speed, 10 um/s, stepped to 100 um/s."""
+    law = RateStateLaw(a=TRUE.a, b=TRUE.b, critical_slip=TRUE.critical_slip, mu0=0.62, reference_speed=1e-5)
+    return law, LoadHistory.velocity_steps([(0.0, 1e-5), (2.0, 1e-4), (4.0, 1e-5)], 8.0)
+
+
+def test_a_joint_fit_shares_a_b_and_d_c_and_keeps_each_records_mu0():
+    from faultslip.lab.rate_state_fit import fit_joint
+
+    law, history = _second_experiment()
+    first = synthetic_step_record(TRUE, STIFFNESS, HISTORY, 801)
+    second = synthetic_step_record(law, STIFFNESS, history, 801)
+    joint = fit_joint([first, second], STIFFNESS)
+    for name, value in (("a", TRUE.a), ("b", TRUE.b), ("critical_slip", TRUE.critical_slip)):
+        assert joint.shared[name] == pytest.approx(value, rel=1e-5)
+    assert [row["mu0"] for row in joint.per_record] == pytest.approx([0.6, 0.62], abs=1e-8)
+    assert joint.reference_speeds == [1e-6, 1e-5] and max(joint.residual_rms) < 1e-8
+    assert joint.law(1).mu0 == pytest.approx(0.62, abs=1e-8) and joint.to_dict()["shared"]["critical_slip"]["units"] == "m"
+
+
+def test_two_noisy_records_constrain_the_law_better_than_either():
+    from faultslip.lab.rate_state_fit import fit_joint
+
+    law, history = _second_experiment()
+    first = synthetic_step_record(TRUE, STIFFNESS, HISTORY, 401, noise=3e-4, seed=11)
+    second = synthetic_step_record(law, STIFFNESS, history, 401, noise=3e-4, seed=12)
+    joint = fit_joint([first, second], STIFFNESS)
+    width = lambda interval: interval[1] - interval[0]  # noqa: E731
+    for single in (fit_velocity_steps(first, STIFFNESS), fit_velocity_steps(second, STIFFNESS)):
+        for name in ("a", "b", "critical_slip"):
+            assert width(joint.intervals[name]) < width(single.intervals[name])
+    for name, value in (("a", TRUE.a), ("b", TRUE.b), ("critical_slip", TRUE.critical_slip)):
+        low, high = joint.intervals[name]
+        assert low <= value <= high
+
+
+def test_a_joint_fit_frees_each_records_stiffness_and_refuses_bad_input():
+    from faultslip.lab.rate_state_fit import fit_joint
+
+    law, history = _second_experiment()
+    first = synthetic_step_record(TRUE, SOFT, HISTORY, 801)
+    second = synthetic_step_record(law, 2 * SOFT, history, 801)
+    joint = fit_joint([first, second], [1.5 * SOFT, 3 * SOFT], stiffness_free=True)
+    assert [row["stiffness"] for row in joint.per_record] == pytest.approx([SOFT, 2 * SOFT], rel=1e-4)
+    assert joint.shared["critical_slip"] == pytest.approx(TRUE.critical_slip, rel=1e-4)
+    with pytest.raises(InputError, match="two or more"):
+        fit_joint([first], SOFT)
+    with pytest.raises(InputError, match="one for each"):
+        fit_joint([first, second], [SOFT, SOFT, SOFT])
+
+
+def test_fit_joint_from_the_command_line(cli, tmp_path):
+    law, history = _second_experiment()
+    paths = []
+    for name, (made, steps) in {"one": (TRUE, HISTORY), "two": (law, history)}.items():
+        record = synthetic_step_record(made, STIFFNESS, steps, 401, noise=3e-4, seed=len(paths))
+        path = tmp_path / f"{name}.csv"
+        path.write_text("time (s),friction,load_point_displacement (m)\n" + "".join(
+            f"{t:.17g},{m:.17g},{x:.17g}\n" for t, m, x in zip(record.time, record.friction,
+                                                               steps.displacement(record.time))), encoding="utf-8")
+        paths.append(path)
+    out = cli("fit", "--law", "rate-state", paths[0], "--joint", paths[1], "--stiffness", "1e-2 1/um", "--bootstrap",
+              "0", "--json")
+    assert out.code == 0, out.err
+    low, high = out.json["joint_critical_slip_95"]["value"]
+    assert low <= TRUE.critical_slip <= high
+    assert out.json["joint_record_2"]["mu0"]["value"] == pytest.approx(0.62, abs=1e-3)
+    from conftest import assert_clean_error
+
+    assert_clean_error(cli("fit", "--law", "rate-state", paths[0], "--joint", paths[1], "--stiffness", "1e-2 1/um",
+                           "--bundle", tmp_path / "b.zip"), "not bundled")

@@ -36,8 +36,8 @@ from faultslip.units import to_si
 
 
 #: the options of 'faultslip fit' a bundle records and a replay sets again (outputs and the registry aside)
-FIT_OPTIONS = ("law", "loss", "bootstrap", "seed", "mu_m", "stiffness", "select_law", "stiffness_free", "area", "units",
-               "detrend", "steps", "min_change", "each_step", "windows", "posterior", "samples", "walkers", "max_steps",
+FIT_OPTIONS = ("law", "loss", "bootstrap", "seed", "mu_m", "stiffness", "select_law", "stiffness_free", "joint", "area",
+               "units", "detrend", "steps", "min_change", "each_step", "windows", "posterior", "samples", "walkers", "max_steps",
                "prior", "workers", "evolution", "two_state", "shear_modulus")
 
 
@@ -47,6 +47,8 @@ def cmd_fit(args) -> int:
     if args.data is None:
         raise FaultslipError("fit needs a data file (or --replay FIT.zip)")
     bundle = _outputs(args, {"bundle": ("--bundle", (".zip",))}, [args.data])["bundle"]
+    if bundle is not None and args.joint:
+        raise FaultslipError("--bundle holds one record: a --joint fit's further records are not bundled")
     if args.name is not None:  # before any work: a fit is never computed only to be refused at the end
         check_fit_name(args.name, args.overwrite)
     report, draws = _fit(args)
@@ -65,7 +67,8 @@ def _fit(args):
     """Run the fit the options ask for: (its report, its draws by kind for a bundle)."""
     if args.law == "rate-state":
         return _fit_rate_state(args)
-    for flag, given in (("--stiffness-free", args.stiffness_free), ("--select-law", args.select_law)):
+    for flag, given in (("--stiffness-free", args.stiffness_free), ("--select-law", args.select_law),
+                        ("--joint", args.joint)):
         if given:
             raise FaultslipError(f"{flag} applies to a rate-and-state record (--law rate-state)")
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.data])["plot"]
@@ -184,7 +187,8 @@ def _fit_rate_state(args) -> int:
                         seed=args.seed, windows=_parse_windows(args.windows), each_step=args.each_step,
                         posterior=args.posterior, priors=dict(parse_prior(text) for text in (args.prior or [])),
                         samples=args.samples, walkers=args.walkers, max_steps=args.max_steps,
-                        workers=args.workers or 1, stiffness_free=args.stiffness_free, select=args.select_law)
+                        workers=args.workers or 1, stiffness_free=args.stiffness_free, select=args.select_law,
+                        joint=args.joint or ())
     report, posterior = result.report, result.posterior
     if outputs["plot"] is not None or outputs["corner"] is not None:
         with _locked(outputs["plot"], outputs["corner"]):

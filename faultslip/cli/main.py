@@ -341,6 +341,8 @@ def _lab_commands(commands) -> None:
                           "record (time, friction, load_point_speed or load_point_displacement)")
     fit.add_argument("--stiffness", help="rate-state: the machine stiffness as friction per slip ('1e-2 1/um'), "
                                           "stress per slip ('50 MPa/mm') or force per slip ('200 kN/mm', with --area)")
+    fit.add_argument("--joint", action="append", help="rate-state: a further record of the same rock (repeat): one "
+                     "law fitted to all, a, b and D_c shared, each record's mu0 (and k) its own")
     fit.add_argument("--select-law", action="store_true", help="rate-state: also fit the aging, slip and two-state "
                      "aging laws and say which the record supports (BIC, Kass & Raftery's scale)")
     fit.add_argument("--stiffness-free", action="store_true", help="rate-state: fit the machine stiffness too, "

@@ -20,7 +20,7 @@ from faultslip.lab.posterior import sample_posterior
 from faultslip.lab.raw_records import RawRecord, fit_each_step, load_record, prepare_record
 from faultslip.lab.healing import healing
 from faultslip.lab.law_selection import select_law
-from faultslip.lab.rate_state_fit import fit_velocity_steps
+from faultslip.lab.rate_state_fit import fit_joint, fit_velocity_steps
 from faultslip.units import to_si
 
 #: The rate-and-state parameters in words, for reports.
@@ -88,7 +88,8 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
                min_change: float | None = None, evolution: str = "aging", two_state: bool = False,
                bootstrap: int = 50, seed: int = 0, windows=None, each_step: bool = False, posterior: bool = False,
                priors: dict | None = None, samples=None, walkers=None, max_steps=None, workers: int = 1,
-               title: str | None = None, stiffness_free: bool = False, select: bool = False) -> RecordFit:
+               title: str | None = None, stiffness_free: bool = False, select: bool = False,
+               joint=()) -> RecordFit:
     """Fit a rate-and-state law to a velocity-step record.
 
     Parameters
@@ -133,6 +134,9 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
     select : bool
         Also fit the aging, slip and two-state aging laws and say which the record supports, by BIC
         (:func:`faultslip.lab.law_selection.select_law`).
+    joint : sequence of str or path
+        Further records of the same rock, prepared as ``data`` is: one law fitted to all of them, a, b and D_c
+        shared, each record's mu0 (and k) its own (:func:`faultslip.lab.rate_state_fit.fit_joint`).
 
     Returns
     -------
@@ -171,6 +175,11 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
             _healing_section(report, healing(record))
         except InputError as exc:
             report.note(f"slide-hold-slide: {exc}")
+    if joint:
+        others = [_prepared_record(path, stiffness, area, units, detrend, min_change) for path in joint]
+        together = fit_joint([record, *(other for other, _ in others)], [spring, *(k for _, k in others)],
+                             evolution=evolution, two_state=two_state, stiffness_free=stiffness_free)
+        _joint_section(report, together, [str(data), *map(str, joint)])
     selection = None
     if select:
         selection = select_law(record, spring, stiffness_free=stiffness_free)
@@ -229,6 +238,35 @@ def _fit_section(report: Report, fit, seed: int) -> None:
     report.add("bootstrap_samples", resamples, label=f"bootstrap resamples (seed {seed})" if resamples else
                "bootstrap resamples (none asked for)")
     for note in fit.notes:
+        report.note(note)
+
+
+def _prepared_record(path, stiffness, area, units, detrend, min_change):
+    """A further record for a joint fit, made ready as the first one was: (StepRecord, spring in 1/m)."""
+    loaded = load_record(path, units=units, area=area)
+    if isinstance(loaded, RawRecord):
+        prepared = prepare_record(loaded, stiffness, area=area, detrend=detrend,
+                                  **({} if min_change is None else {"min_change": min_change}))
+        return prepared.record, prepared.stiffness
+    spring = stiffness if isinstance(stiffness, (int, float)) else to_si(stiffness, "inverse_length", "--stiffness")
+    return loaded, spring
+
+
+def _joint_section(report: Report, joint, sources) -> None:
+    report.section(f"Joint fit of {len(sources)} records (a, b, D_c shared)")
+    for name, value in joint.shared.items():
+        low, high = joint.intervals[name]
+        unit = PARAMETER_UNITS[name]
+        report.add(f"joint_{name}", value, unit, label=f"{PARAMETER_WORDS.get(name, name)} (all records)",
+                   error=(high - low) / 2)
+        report.add(f"joint_{name}_95", [low, high], unit or "1", label="  95 % interval (covariance)")
+    for i, (source, row, rms) in enumerate(zip(sources, joint.per_record, joint.residual_rms), start=1):
+        report.add(f"joint_record_{i}", {"source": source, **{key: {"value": value, "units": "1/m" if key == "stiffness"
+                                                                   else "1"} for key, value in row.items()},
+                                         "residual_rms": rms},
+                   label=f"record {i} ({source}): mu0 {row['mu0']:.5g}"
+                         + (f", k {row['stiffness']:.4g} 1/m" if "stiffness" in row else "") + f", rms {rms:.3g}")
+    for note in joint.notes:
         report.note(note)
 
 

@@ -216,6 +216,40 @@ def _exp_interval(centre: float, half: float) -> tuple[float, float]:
     return (math.exp(max(centre - half, -745.0)), math.exp(centre + half) if centre + half < 709.0 else math.inf)
 
 
+def _estimates(result, names, points):
+    """(parameters, standard errors, 95 % intervals, notes) of a least-squares ``result`` in natural units: the
+    covariance s^2 (J^T J)^-1, Student-t intervals, the delta method and exponentiated bounds for log parameters."""
+    from scipy.special import stdtrit  # heavy: imported where used
+
+    count = len(names)
+    dof = max(points - count, 1)
+    s2 = float(result.fun @ result.fun) / dof
+    try:
+        covariance = np.linalg.inv(result.jac.T @ result.jac) * s2
+    except np.linalg.LinAlgError:
+        raise SolverError("the fit's Jacobian is singular: the record does not constrain every parameter "
+                          "(add a velocity step, or fit one state variable)") from None
+    quantile = float(stdtrit(dof, 0.975))
+    parameters, errors, intervals, notes = {}, {}, {}, []
+    for i, name in enumerate(names):
+        value, error = float(result.x[i]), math.sqrt(max(covariance[i, i], 0.0))
+        if name.startswith("log_"):
+            real = name[4:]
+            parameters[real] = math.exp(value)
+            errors[real] = math.exp(value) * error  # delta method
+            # a parameter the record does not constrain has an error of hundreds of e-folds: [0, inf), said so
+            intervals[real] = _exp_interval(value, quantile * error)
+            if quantile * error > math.log(1e3):
+                notes.append(f"{real} is not constrained by the record: its 95 % interval spans more than a factor "
+                             "of 1e6")
+        else:
+            parameters[name], errors[name] = value, error
+            intervals[name] = (value - quantile * error, value + quantile * error)
+    if any(abs(result.active_mask)):
+        notes.append("a parameter ended on its bound: its interval is not reliable")
+    return parameters, errors, intervals, notes
+
+
 #: how far from its stated value a free stiffness may go (a factor either way)
 STIFFNESS_RANGE = 100.0
 
@@ -312,32 +346,9 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
     if not result.success:
         raise SolverError(f"the rate-and-state fit did not converge ({result.message}); give a closer initial guess")
     points, count = record.time.size, len(names)
-    dof = max(points - count, 1)
-    s2 = float(result.fun @ result.fun) / dof
-    try:
-        covariance = np.linalg.inv(result.jac.T @ result.jac) * s2
-    except np.linalg.LinAlgError:
-        raise SolverError("the fit's Jacobian is singular: the record does not constrain every parameter "
-                          "(add a velocity step, or fit one state variable)") from None
-    quantile = float(stdtrit(dof, 0.975))
+    quantile = float(stdtrit(max(points - count, 1), 0.975))
     law = _law(result.x, names, reference_speed, evolution)
-    parameters, errors, intervals, notes = {}, {}, {}, []
-    for i, name in enumerate(names):
-        value, error = float(result.x[i]), math.sqrt(max(covariance[i, i], 0.0))
-        if name.startswith("log_"):
-            real = name[4:]
-            parameters[real] = math.exp(value)
-            errors[real] = math.exp(value) * error  # delta method
-            # a parameter the record does not constrain has an error of hundreds of e-folds: [0, inf), said so
-            intervals[real] = _exp_interval(value, quantile * error)
-            if quantile * error > math.log(1e3):
-                notes.append(f"{real} is not constrained by the record: its 95 % interval spans more than a factor "
-                             "of 1e6")
-        else:
-            parameters[name], errors[name] = value, error
-            intervals[name] = (value - quantile * error, value + quantile * error)
-    if any(abs(result.active_mask)):
-        notes.append("a parameter ended on its bound: its interval is not reliable")
+    parameters, errors, intervals, notes = _estimates(result, names, points)
     samples, boot_intervals = np.empty((0, count)), {}
     if bootstrap:
         fitted = record.friction + result.fun
@@ -383,3 +394,135 @@ def synthetic_step_record(law: RateStateLaw, stiffness: float, history: LoadHist
     run = simulate_rate_state(RateStateSlider(law, stiffness, 1.0), history, t_eval=times, rtol=1e-11)
     rng = np.random.default_rng(seed)
     return StepRecord(times, run.friction + noise * rng.standard_normal(samples), history, "synthetic")
+
+
+@dataclass
+class JointFit:
+    """A law fitted to several records at once: shared a, b, D_c (and b2, D_c2), each record's own mu0 (and k)."""
+
+    evolution: str
+    shared: dict  # name -> value (SI)
+    per_record: list  # one dict a record: mu0 (and stiffness), at the record's first speed
+    standard_errors: dict  # by the fit's names: a, b, critical_slip, mu0_1, stiffness_1, ...
+    intervals: dict
+    residual_rms: list  # each record's
+    points: list
+    reference_speeds: list
+    notes: list = field(default_factory=list)
+
+    def law(self, record: int = 0) -> RateStateLaw:
+        """The law as it acts on record ``record`` (its mu0 and reference speed)."""
+        values = self.shared
+        return RateStateLaw(a=values["a"], b=values["b"], critical_slip=values["critical_slip"],
+                            mu0=self.per_record[record]["mu0"], reference_speed=self.reference_speeds[record],
+                            evolution=self.evolution, b2=values.get("b2", 0.0),
+                            critical_slip2=values.get("critical_slip2"), source="fitted jointly")
+
+    def to_dict(self) -> dict:
+        units = {"a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m"}
+        return {"law": self.evolution, "shared": {name: {"value": value, "standard_error": self.standard_errors[name],
+                                                         "interval_95": list(self.intervals[name]),
+                                                         "units": units[name]}
+                                                  for name, value in self.shared.items()},
+                "records": [{**{name: {"value": value, "interval_95": list(self.intervals[f"{name}_{i + 1}"]),
+                                       "units": "1/m" if name == "stiffness" else "1"}
+                                for name, value in row.items()},
+                             "residual_rms": rms, "points": n, "reference_speed": {"value": v0, "units": "m/s"}}
+                            for i, (row, rms, n, v0) in enumerate(zip(self.per_record, self.residual_rms, self.points,
+                                                                      self.reference_speeds))],
+                "notes": self.notes}
+
+
+def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool = False,
+              stiffness_free: bool = False, rtol: float = 1e-10) -> JointFit:
+    """Fit one law to several velocity-step records (several steps of one run, or several experiments): a, b and
+    D_c (and b2, D_c2) shared, each record's steady friction mu0 at its own first speed (and, with
+    ``stiffness_free``, its own stiffness) a nuisance of its own. The residuals of all records are minimised
+    together; the covariance and intervals are :func:`fit_velocity_steps`'s.
+
+    Parameters
+    ----------
+    records : sequence of StepRecord (or tables)
+        Two or more records.
+    stiffness : float or sequence of float
+        The stiffness (1/m) of every record, or of each.
+    evolution : str
+        aging or slip.
+    two_state : bool
+        A second state variable, shared.
+    stiffness_free : bool
+        Fit each record's stiffness, started at its stated one.
+    rtol : float
+        The integrator's tolerance.
+
+    Returns
+    -------
+    JointFit
+        The shared parameters, each record's nuisances, their intervals and each record's misfit.
+    """
+    from scipy.optimize import least_squares  # heavy: imported where used
+
+    records = [record if isinstance(record, StepRecord) else step_record(record) for record in records]
+    if len(records) < 2:
+        raise InputError("a joint fit needs two or more records")
+    springs = list(stiffness) if isinstance(stiffness, (list, tuple, np.ndarray)) else [stiffness] * len(records)
+    if len(springs) != len(records):
+        raise InputError(f"give one stiffness, or one for each of the {len(records)} records; got {len(springs)}")
+    springs = [to_si_scalar(k, "inverse_length", "the stiffness", default_unit="1/m") for k in springs]
+    if not all(k > 0 and math.isfinite(k) for k in springs):
+        raise InputError(f"every stiffness must be a positive number of friction per metre, got {springs}")
+    shared = ["a", "b", "log_critical_slip"] + (["b2", "log_critical_slip2"] if two_state else [])
+    start = [0.01, 0.01, math.log(10e-6)] + ([0.005, math.log(100e-6)] if two_state else [])
+    lower = [1e-5, 0.0, math.log(1e-8)] + ([0.0, math.log(1e-8)] if two_state else [])
+    upper = [0.5, 0.5, math.log(1.0)] + ([0.5, math.log(1.0)] if two_state else [])
+    names = list(shared)
+    for i, (record, spring) in enumerate(zip(records, springs), start=1):
+        before = record.friction[record.time < record.history.times[1]]
+        mu0 = float(np.median(before)) if before.size >= 5 else float(record.friction[0])
+        names.append(f"mu0_{i}")
+        start.append(mu0)
+        lower.append(mu0 - 0.5)
+        upper.append(mu0 + 0.5)
+        if stiffness_free:
+            names.append(f"log_stiffness_{i}")
+            start.append(math.log(spring))
+            lower.append(math.log(spring / STIFFNESS_RANGE))
+            upper.append(math.log(spring * STIFFNESS_RANGE))
+    position = {name: i for i, name in enumerate(names)}
+    speeds = [float(record.history.speeds[0]) for record in records]
+
+    def each(values, i):
+        """(law, spring) of record i (0-based) at ``values``."""
+        params = {name: values[position[name]] for name in shared}
+        law = _law([*params.values(), values[position[f"mu0_{i + 1}"]]], [*params, "mu0"], speeds[i], evolution)
+        spring = math.exp(values[position[f"log_stiffness_{i + 1}"]]) if stiffness_free else springs[i]
+        return law, spring
+
+    def residuals(values):
+        parts = []
+        for i, record in enumerate(records):
+            try:
+                law, spring = each(values, i)
+                parts.append(quasi_static_friction(law, spring, record.history, record.time, rtol) - record.friction)
+            except (SolverError, InputError):
+                parts.append(np.full(record.time.size, 1.0))  # a trial a slider cannot follow: a large misfit
+        return np.concatenate(parts)
+
+    result = least_squares(residuals, start, bounds=(lower, upper), method="trf", x_scale="jac", xtol=1e-10,
+                           ftol=1e-12, gtol=1e-12, diff_step=1e-4)
+    if not result.success:
+        raise SolverError(f"the joint rate-and-state fit did not converge ({result.message}); give closer records or "
+                          "fit them one at a time first")
+    points = [record.time.size for record in records]
+    parameters, errors, intervals, notes = _estimates(result, names, sum(points))
+    common = [name.removeprefix("log_") for name in shared]
+    per_record = []
+    for i in range(len(records)):
+        row = {"mu0": parameters[f"mu0_{i + 1}"]}
+        if stiffness_free:
+            row["stiffness"] = parameters[f"stiffness_{i + 1}"]
+        per_record.append(row)
+    bounds = np.cumsum([0, *points])
+    rms = [math.sqrt(float(np.mean(result.fun[a:b] ** 2))) for a, b in zip(bounds[:-1], bounds[1:])]
+    return JointFit(evolution, {name: parameters[name] for name in common}, per_record, errors, intervals, rms, points,
+                    speeds, notes)
