@@ -372,3 +372,54 @@ def test_p655_steps_hold_and_steady_state_dependence():
     held = healing(prepared.record)
     assert held.hold_time[0] == pytest.approx(46.9, abs=1.0)
     assert held.healing[0] == pytest.approx(0.0073, abs=5e-4) and held.relaxation[0] == pytest.approx(0.016, abs=1e-3)
+
+
+# --- spreadsheets (issue 46, item 1) ------------------------------------------------------------------------
+
+def _workbook(path, header, rows):
+    openpyxl = pytest.importorskip("openpyxl", reason="the xlsx extra (openpyxl) is not installed")
+    book = openpyxl.Workbook()
+    sheet = book.active
+    sheet.append(header)
+    for row in rows:
+        sheet.append(row)
+    book.save(path)
+
+
+def test_an_excel_workbook_reads_as_its_csv(tmp_path):
+    raw = _small()
+    header = ["time (s)", "load_point_displacement (um)", "shear_stress (MPa)", "normal_stress (MPa)"]
+    rows = [[float(t), float(x * 1e6), float(tau / 1e6), float(sn / 1e6)] for t, x, tau, sn in
+            zip(raw.time, raw.load_point_displacement, raw.shear_stress, raw.normal_stress)]
+    _workbook(tmp_path / "run.xlsx", header, rows + [[None] * 4])
+    (tmp_path / "run.csv").write_text(",".join(header) + "\n" + "".join(",".join(repr(v) for v in row) + "\n"
+                                                                        for row in rows), encoding="utf-8")
+    from_sheet, from_csv = load_record(tmp_path / "run.xlsx"), load_record(tmp_path / "run.csv")
+    # openpyxl writes a number to 15 significant digits (Excel's own precision): equal to that, not bit for bit
+    for name in ("time", "load_point_displacement", "shear_stress", "normal_stress"):
+        np.testing.assert_allclose(getattr(from_sheet, name), getattr(from_csv, name), rtol=1e-14, atol=1e-20)
+
+
+@pytest.mark.parametrize("header, rows, message", [
+    (["time (s)", None, "friction"], [[1.0, 2.0, 0.6]], "column 2 of the header row has no name"),
+    (["time (s)", "time (s)"], [[1.0, 2.0]], "two columns"),
+    (["time (s)", "friction"], [[1.0, "sixty"]], "row 2: friction 'sixty' is not a number"),
+    (["time (s)", "friction"], [], "at least one row of numbers"),
+])
+def test_a_malformed_workbook_is_one_sentence(tmp_path, cli, header, rows, message):
+    _workbook(tmp_path / "bad.xlsx", header, rows)
+    out = cli("fit", "--law", "rate-state", tmp_path / "bad.xlsx", "--stiffness", "1e-2 1/um")
+    assert_clean_error(out, message)
+
+
+@settings(max_examples=40, deadline=None)
+@given(payload=st.binary(max_size=3000))
+def test_fuzzed_workbooks_fail_in_one_sentence(tmp_path_factory, payload):
+    from faultslip.io.resources import read_numeric_xlsx
+
+    pytest.importorskip("openpyxl", reason="the xlsx extra (openpyxl) is not installed")
+    path = tmp_path_factory.mktemp("xlsx") / "fuzz.xlsx"
+    path.write_bytes(b"PK\x03\x04" + payload)
+    with pytest.raises(InputError) as raised:
+        read_numeric_xlsx(path, "fuzzed workbook")
+    assert "\n" not in str(raised.value)

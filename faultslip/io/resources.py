@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 
 import csv
+from io import BytesIO
 from pathlib import Path
 
 from faultslip.errors import InputError
@@ -181,6 +182,57 @@ def read_numeric_csv(path, label: str) -> dict:
             except ValueError:
                 raise InputError(f"{label}, row {line}: {name} {cell!r} is not a number") from None
     return {name: (np.array(columns[name]), unit) for name, unit in header}
+
+
+def read_numeric_xlsx(path, label: str) -> dict:
+    """The first sheet of an Excel workbook (``.xlsx``) as a table: its first row names the columns, each
+    ``name (unit)`` as in a CSV header, and every row below holds numbers (empty rows at the end are dropped):
+    ``{name: (values, unit)}``. Read through openpyxl (the ``xlsx`` extra), cached values, no formulas run;
+    every problem is one sentence naming ``label`` and the cell."""
+    try:
+        from openpyxl import load_workbook  # heavy and optional (the xlsx extra): imported where used
+    except ImportError:
+        raise InputError(f"{label} is an Excel workbook: reading it needs openpyxl (pip install 'faultslip[xlsx]'), "
+                         "or save it as CSV") from None
+    data = gate.read_bytes(path, label, "table")
+    with gate.decoding(path, label, "an Excel workbook"):
+        workbook = load_workbook(BytesIO(data), read_only=True, data_only=True)
+        rows = [list(row) for row in workbook.worksheets[0].iter_rows(values_only=True)]
+        workbook.close()
+    while rows and all(cell is None for cell in rows[-1]):
+        rows.pop()
+    if len(rows) < 2:
+        raise InputError(f"{label}: its first sheet needs a header row and at least one row of numbers")
+    width = max(index + 1 for index, cell in enumerate(rows[0]) if cell is not None) if any(
+        cell is not None for cell in rows[0]) else 0
+    if not width:
+        raise InputError(f"{label}: the first row of its first sheet names no column")
+    header = []
+    for column, cell in enumerate(rows[0][:width], start=1):
+        if not isinstance(cell, str) or not cell.strip():
+            raise InputError(f"{label}: column {column} of the header row has no name ({cell!r})")
+        header.append(split_header(cell))
+    if len({name for name, _ in header}) != len(header):
+        raise InputError(f"{label}: two columns of the header row have one name")
+    columns = {name: [] for name, _ in header}
+    for number, row in enumerate(rows[1:], start=2):
+        cells = list(row[:width]) + [None] * (width - len(row))
+        for (name, _), cell in zip(header, cells):
+            if isinstance(cell, bool) or not isinstance(cell, (int, float)):
+                raise InputError(f"{label}, row {number}: {name} {cell!r} is not a number")
+            columns[name].append(float(cell))
+    return {name: (np.array(columns[name]), unit) for name, unit in header}
+
+
+def read_numeric_table(path, label: str) -> dict:
+    """A table by its suffix: whitespace text (``.txt``, ``.dat``, ``.tsv``), an Excel workbook (``.xlsx``) or
+    CSV: ``{name: (values, unit)}``."""
+    suffix = Path(path).suffix.lower()
+    if suffix in (".txt", ".dat", ".tsv"):
+        return read_numeric_text(path, label)
+    if suffix == ".xlsx":
+        return read_numeric_xlsx(path, label)
+    return read_numeric_csv(path, label)
 
 
 def read_numeric_text(path, label: str) -> dict:

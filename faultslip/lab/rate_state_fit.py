@@ -25,7 +25,7 @@ from faultslip.dynamics.rate_state.slider import (LoadHistory, RateStateSlider, 
                                                   simulate_rate_state)
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.rate_state import RateStateLaw
-from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_csv, split_header
+from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, split_header
 from faultslip.units import to_si_scalar, unit_factor
 
 STEP_COLUMNS = {"time": "time", "friction": "dimensionless", "load_point_speed": "speed",
@@ -157,7 +157,7 @@ def read_step_record(path) -> StepRecord:
         columns = {name: (data[name].values, data[name].attrs.get("units")) for name in
                    list(data.data_vars) + list(data.coords) if name in STEP_COLUMNS}
     else:
-        columns = read_numeric_csv(path, f"velocity-step record {path.name}")
+        columns = read_numeric_table(path, f"velocity-step record {path.name}")
     return step_record_from_columns(columns, path.name)
 
 

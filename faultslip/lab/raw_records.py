@@ -36,7 +36,7 @@ import numpy as np
 from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, simulate_rate_state
 from faultslip import ranges
 from faultslip.errors import InputError, SolverError
-from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_csv, read_numeric_text, split_header
+from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, split_header
 from faultslip.lab.rate_state_fit import StepRecord, fit_velocity_steps, step_record_from_columns
 from faultslip.units import to_si_scalar, unit_factor
 
@@ -154,16 +154,15 @@ def _area(area):
 
 def _read_columns(path, what: str, only=None) -> tuple:
     """(path, {name: (values, unit)}) of a table through the reader gate: netCDF (``units`` attributes),
-    whitespace text (``.txt``, ``.dat``, ``.tsv``) or CSV; ``only`` keeps netCDF's named variables."""
+    whitespace text (``.txt``, ``.dat``, ``.tsv``), an Excel workbook (``.xlsx``) or CSV; ``only`` keeps netCDF's
+    named variables."""
     path = check_input_file(path, what)
     label = f"{what} {path.name}"
     if path.suffix.lower() == ".nc":
         data = open_netcdf(path, what)
         names = [n for n in list(data.data_vars) + list(data.coords) if only is None or n in only]
         return path, {name: (data[name].values, data[name].attrs.get("units")) for name in names}
-    if path.suffix.lower() in (".txt", ".dat", ".tsv"):
-        return path, read_numeric_text(path, label)
-    return path, read_numeric_csv(path, label)
+    return path, read_numeric_table(path, label)
 
 
 def read_raw_record(path, units: dict | None = None, area=None) -> RawRecord:
