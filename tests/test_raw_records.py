@@ -423,3 +423,41 @@ def test_fuzzed_workbooks_fail_in_one_sentence(tmp_path_factory, payload):
     with pytest.raises(InputError) as raised:
         read_numeric_xlsx(path, "fuzzed workbook")
     assert "\n" not in str(raised.value)
+
+
+def test_a_records_metadata_travels_into_the_fits_report_and_its_bundle(tmp_path, cli):
+    """A workbook's metadata sheet (experiment id, normal stress, area, stiffness) and a reduction's experiment name
+    (xlook's header, p655intact100) reach the fit's report, its JSON and its bundle."""
+    from faultslip.lab.look_reduction import run_r_file
+
+    openpyxl = pytest.importorskip("openpyxl", reason="the xlsx extra (openpyxl) is not installed")
+    raw = _small()
+    book = openpyxl.Workbook()
+    sheet = book.active
+    sheet.append(["time (s)", "load_point_displacement (um)", "shear_stress (MPa)", "normal_stress (MPa)"])
+    for t, x, tau, sn in zip(raw.time, raw.load_point_displacement, raw.shear_stress, raw.normal_stress):
+        sheet.append([float(t), float(x * 1e6), float(tau / 1e6), float(sn / 1e6)])
+    meta = book.create_sheet("Metadata")
+    for row in (["experiment", "gouge-17"], ["normal_stress", "10 MPa"], ["area", "25 cm^2"],
+                ["machine_stiffness", "200 kN/mm"]):
+        meta.append(row)
+    book.save(tmp_path / "run.xlsx")
+    out = cli("fit", "--law", "rate-state", tmp_path / "run.xlsx", "--stiffness", "8e-3 1/um", "--bootstrap", "0",
+              "--bundle", tmp_path / "fit.zip", "--json")
+    assert out.code == 0, out.err
+    assert out.json["record_metadata"] == {"experiment": "gouge-17", "normal_stress": "10 MPa", "area": "25 cm^2",
+                                           "machine_stiffness": "200 kN/mm"}
+    import json
+    import zipfile
+
+    with zipfile.ZipFile(tmp_path / "fit.zip") as archive:
+        assert json.loads(archive.read("report.json"))["record_metadata"]["experiment"] == "gouge-17"
+    # the reduction's netCDF names its run, and a record read back from it carries the name
+    assert run_r_file(ROOT / "data" / "p655" / "p655_r").to_dataset().attrs["experiment"] == "p655intact100"
+    bad = openpyxl.Workbook()
+    bad.active.append(["time (s)", "friction", "load_point_speed (um/s)"])
+    bad.active.append([0.0, 0.6, 1.0])
+    bad.create_sheet("metadata").append(["", "x"])
+    bad.save(tmp_path / "bad.xlsx")
+    assert_clean_error(cli("fit", "--law", "rate-state", tmp_path / "bad.xlsx", "--stiffness", "8e-3 1/um"),
+                       "metadata sheet")

@@ -224,6 +224,56 @@ def read_numeric_xlsx(path, label: str) -> dict:
     return {name: (np.array(columns[name]), unit) for name, unit in header}
 
 
+#: a workbook sheet of this name (any case) holds a record's metadata: one key and value a row
+METADATA_SHEET = "metadata"
+
+
+def read_table_metadata(path, label: str) -> dict:
+    """A record's own metadata: an Excel workbook's ``metadata`` sheet (a key and a value a row, e.g.
+    ``normal_stress | 10 MPa``, ``experiment | p655``), or a netCDF file's global attributes; {} for other kinds.
+    Values stay as written (text with units is read where it is used); every problem is one sentence."""
+    suffix = Path(path).suffix.lower()
+    if suffix == ".nc":
+        with gate.decoding(path, label, "netCDF attributes"):
+            import netCDF4  # heavy: imported where used
+
+            with netCDF4.Dataset(str(path)) as dataset:
+                return {key: _plain_attribute(dataset.getncattr(key)) for key in dataset.ncattrs()}
+    if suffix != ".xlsx":
+        return {}
+    try:
+        from openpyxl import load_workbook  # heavy and optional (the xlsx extra): imported where used
+    except ImportError:
+        return {}
+    data = gate.read_bytes(path, label, "table")
+    with gate.decoding(path, label, "an Excel workbook"):
+        workbook = load_workbook(BytesIO(data), read_only=True, data_only=True)
+        sheets = [sheet for sheet in workbook.worksheets if sheet.title.strip().lower() == METADATA_SHEET]
+        rows = [list(row) for row in sheets[0].iter_rows(values_only=True)] if sheets else []
+        workbook.close()
+    metadata = {}
+    for number, row in enumerate(rows, start=1):
+        if not row or all(cell is None for cell in row):
+            continue
+        key, value = (row + [None, None])[:2]
+        if not isinstance(key, str) or not key.strip() or value is None:
+            raise InputError(f"{label}: row {number} of its metadata sheet must hold a key and a value, got {row[:2]}")
+        if key.strip() in metadata:
+            raise InputError(f"{label}: its metadata sheet gives {key.strip()!r} twice")
+        metadata[key.strip()] = value if isinstance(value, (int, float, str)) and not isinstance(value, bool) \
+            else str(value)
+    return metadata
+
+
+def _plain_attribute(value):
+    """A netCDF attribute as JSON has it."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
 def read_numeric_table(path, label: str) -> dict:
     """A table by its suffix: whitespace text (``.txt``, ``.dat``, ``.tsv``), an Excel workbook (``.xlsx``) or
     CSV: ``{name: (values, unit)}``."""

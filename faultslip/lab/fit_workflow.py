@@ -169,6 +169,8 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
             raise InputError(f"--stiffness must be positive, got {stiffness}")
     fit = fit_velocity_steps(record, spring, evolution=evolution, two_state=two_state, bootstrap=bootstrap,
                              seed=seed, stiffness_free=stiffness_free)
+    if record.metadata:  # what the file says of its experiment travels into the report, its JSON and a bundle
+        report.add("record_metadata", dict(record.metadata), label="the record's metadata, as its file gives it")
     _fit_section(report, fit, seed)
     if 0.0 in record.history.speeds[1:-1]:  # a hold between two slides: its healing
         try:

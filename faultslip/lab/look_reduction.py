@@ -56,6 +56,7 @@ class Reduction:
     data: list = field(default_factory=lambda: [None] * SLOTS)
     source: str = ""
     commands: int = 0
+    experiment: str = ""  # the data file's own name for its run (xlook's header)
 
     def column(self, slot: int) -> np.ndarray:
         """Slot ``slot``'s values."""
@@ -78,7 +79,8 @@ class Reduction:
                                             "xlook_slot": slot})
         return xr.Dataset(data, coords={"record": ("record", np.arange(_records(self)), {"units": "1"})},
                           attrs={"title": f"xlook reduction {self.source}", "Conventions": "CF-1.8",
-                                 "commands": self.commands})
+                                 "commands": self.commands, **({"experiment": self.experiment} if self.experiment
+                                                               else {})})
 
     def as_dict(self) -> dict:
         """Every slot that holds data: name -> (values, unit), in slot order (a name used twice keeps its slot)."""
@@ -163,6 +165,7 @@ def _load(state: Reduction, look) -> None:
     if len(names) >= SLOTS:
         raise InputError(f"{look.name}: {len(names)} columns do not fit xlook's {SLOTS - 1} data slots")
     state.names[0], state.units[0], state.data[0] = "rec_num", "1", np.arange(look.records, dtype=float)
+    state.experiment = look.name  # it travels into the netCDF, and from there into a fit's metadata
     for slot, name in enumerate(names, start=1):
         state.names[slot], state.units[slot] = name, look.units.get(name)
         state.data[slot] = np.array(look.columns[name], dtype=float)

@@ -40,6 +40,7 @@ class StepRecord:
     friction: np.ndarray
     history: LoadHistory
     source: str = ""
+    metadata: dict = field(default_factory=dict)  # what the file says of the experiment (id, stresses, area...)
 
 
 def _speeds_from_displacement(time, displacement, source):

@@ -36,7 +36,7 @@ import numpy as np
 from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, simulate_rate_state
 from faultslip import ranges
 from faultslip.errors import InputError, SolverError
-from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, split_header
+from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, read_table_metadata, split_header
 from faultslip.lab.rate_state_fit import StepRecord, fit_velocity_steps, step_record_from_columns
 from faultslip.units import to_si_scalar, unit_factor
 
@@ -57,6 +57,7 @@ class RawRecord:
     normal_stress: np.ndarray
     source: str = ""
     notes: list = field(default_factory=list)
+    metadata: dict = field(default_factory=dict)  # what the file says of the experiment (id, stresses, area...)
 
     @property
     def friction(self) -> np.ndarray:
@@ -464,7 +465,7 @@ def prepare_record(raw: RawRecord, stiffness, *, area=None, detrend: str = "none
                      f"{TAIL_FRACTION:.0%} of each sliding segment with a level per speed: "
                      + ", ".join(f"{c:+.4g} per mm^{j + 1}" for j, c in enumerate(coefficients))
                      + "; the fit's intervals are conditional on it (its own uncertainty is not carried)")
-    record = StepRecord(raw.time, friction - trend, history, raw.source)
+    record = StepRecord(raw.time, friction - trend, history, raw.source, dict(raw.metadata))
     return PreparedRecord(record, spring, sample, friction, trend, coefficients, detrend, raw, notes)
 
 
@@ -514,7 +515,8 @@ def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=No
         times = record.time[inside] - origin
         history = LoadHistory((0.0, *(t - origin for t in inner), float(times[-1])),
                               tuple(speeds[first:first + len(inner) + 1]))
-        window = StepRecord(times, record.friction[inside], history, f"{record.source} step {number}")
+        window = StepRecord(times, record.friction[inside], history, f"{record.source} step {number}",
+                            record.metadata)
         try:
             entry["fit"] = fit_velocity_steps(window, prepared.stiffness, evolution=evolution)
         except (SolverError, InputError) as exc:
@@ -572,12 +574,17 @@ def synthetic_raw_record(law, machine_stiffness: float, area: float, normal_load
 
 def load_record(path, units: dict | None = None, area=None):
     """A friction record (:class:`StepRecord`: time, friction, load-point speed or displacement) or a raw rig
-    record (:class:`RawRecord`: loads or stresses), whichever the file's columns are."""
+    record (:class:`RawRecord`: loads or stresses), whichever the file's columns are; with the file's metadata
+    (:func:`faultslip.io.resources.read_table_metadata`) beside it."""
     path, columns = _read_columns(path, "velocity-step record")
     label = f"velocity-step record {path.name}"
+    metadata = read_table_metadata(path, label)
     if is_raw_table(columns):
-        return _columns_to_raw(columns, path.name, units, _area(area))
-    if units or area is not None:
+        record = _columns_to_raw(columns, path.name, units, _area(area))
+    elif units or area is not None:
         raise InputError(f"{label} holds friction already: --units and --area apply to raw records (loads or "
                          "stresses)")
-    return step_record_from_columns(columns, path.name)
+    else:
+        record = step_record_from_columns(columns, path.name)
+    record.metadata = metadata
+    return record
