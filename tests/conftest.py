@@ -88,3 +88,30 @@ def report_numbers(value, where=""):
     if isinstance(value, list):
         return {k: v for i, item in enumerate(value) for k, v in report_numbers(item, f"{where}[{i}]").items()}
     return {where: value} if isinstance(value, (int, float)) and not isinstance(value, bool) else {}
+
+
+def engine_command() -> str:
+    """The OpenQuake engine's ``oq`` beside this interpreter (or on the path); the calling test skips without it."""
+    import shutil
+    import sys
+
+    pytest.importorskip("openquake.engine", reason="the OpenQuake engine is not installed")
+    oq = shutil.which("oq", path=os.path.dirname(sys.executable)) or shutil.which("oq")
+    if oq is None:
+        pytest.skip("the OpenQuake engine's 'oq' command is not on the path")
+    return oq
+
+
+def run_engine_job(job, folder) -> list:
+    """Run a classical job with the engine (its data in ``folder``); the lines of the mean PGA curve it exports
+    beside the job."""
+    from pathlib import Path
+
+    environment = dict(os.environ, OQ_DATADIR=str(Path(folder) / "oqdata"), OQ_DISTRIBUTE="no")
+    run = subprocess.run([engine_command(), "engine", "--run", str(job), "--exports", "csv"], capture_output=True,
+                         text=True, env=environment, timeout=600)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    curves = list(Path(job).parent.glob("hazard_curve-mean-PGA*.csv"))
+    assert len(curves) == 1
+    return curves[0].read_text().splitlines()
+

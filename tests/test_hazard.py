@@ -7,10 +7,6 @@ parser and a classical PSHA run.
 """
 
 import math
-import os
-import shutil
-import subprocess
-import sys
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -18,7 +14,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from conftest import assert_clean_error
+from conftest import assert_clean_error, engine_command, run_engine_job
 from faultslip.errors import InputError
 from faultslip.fault import empirical
 from faultslip.fault import mfd as mfds
@@ -308,20 +304,11 @@ def test_the_engine_computes_a_hazard_curve_from_faultslip_sources(cli, tmp_path
     """A classical PSHA (one site near Parkfield, BooreEtAl2014, PGA) over the bundled San Andreas map's
     sources. The curve falls with the level, and no level is exceeded more often than some earthquake
     happens at all: P <= 1 - exp(-50 yr x the total rate of every bin of every source)."""
-    pytest.importorskip("openquake.engine", reason="the OpenQuake engine is not installed")
-    oq = shutil.which("oq", path=os.path.dirname(sys.executable)) or shutil.which("oq")
-    if oq is None:
-        pytest.skip("the OpenQuake engine's 'oq' command is not on the path")
+    engine_command()
     out = cli("map", "configs/san_andreas_map.toml", "-o", tmp_path / "m.nc", "--nrml", tmp_path / "s.xml",
               "--mfd", "single_bin", "--engine-job", tmp_path / "job.ini", "--sites", "-120.43 35.87", "--json")
     assert out.code == 0, out.err
-    environment = dict(os.environ, OQ_DATADIR=str(tmp_path / "oqdata"), OQ_DISTRIBUTE="no")
-    run = subprocess.run([oq, "engine", "--run", str(tmp_path / "job.ini"), "--exports", "csv"], capture_output=True,
-                         text=True, env=environment, timeout=600)
-    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
-    curves = list(tmp_path.glob("hazard_curve-mean-PGA*.csv"))  # exported beside the job
-    assert len(curves) == 1
-    lines = curves[0].read_text().splitlines()
+    lines = run_engine_job(tmp_path / "job.ini", tmp_path)  # the curve, exported beside the job
     header, row = lines[1].split(","), [float(v) for v in lines[2].split(",")]
     levels = [float(name.removeprefix("poe-")) for name in header[3:]]
     poes = np.array(row[3:])

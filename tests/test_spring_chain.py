@@ -39,6 +39,16 @@ def _simulate(chain, events, **kw):
     return simulate_chain(chain, events, **kw)
 
 
+def _eight_blocks():
+    """Eight coupled blocks with spread static limits (seeded), damping ratio 0.2, and their seeded start."""
+    rng = np.random.default_rng(3)
+    blocks = 8
+    chain = _chain(mass=1.0, leaf_stiffness=1000.0, coupling_stiffness=5000.0, normal_load=10.0, platform_speed=1e-4,
+                   static_friction=0.55 + 0.055 * (1 + 0.5 * rng.uniform(-1, 1, blocks)), kinetic_friction=0.55,
+                   dashpot=2 * 0.2 * math.sqrt(1000.0))
+    return chain, rng.uniform(0, 2e-5, blocks)
+
+
 def _compiled():
     from faultslip.models.spring_chain.dynamics import compiled_available
 
@@ -185,12 +195,7 @@ def test_integrated_slips_find_the_closed_forms_events():
     """The same chain with its slips integrated by DOP853 at rtol 1e-11 (scipy's terminal events) gives the closed
     form's catalogue: the same blocks in each event and the same times, to the integrator's tolerance, over the
     events before the chaotic chain's round-off grows (here all 25)."""
-    rng = np.random.default_rng(3)
-    blocks = 8
-    chain = _chain(mass=1.0, leaf_stiffness=1000.0, coupling_stiffness=5000.0, normal_load=10.0, platform_speed=1e-4,
-                   static_friction=0.55 + 0.055 * (1 + 0.5 * rng.uniform(-1, 1, blocks)), kinetic_friction=0.55,
-                   dashpot=2 * 0.2 * math.sqrt(1000.0))
-    start = rng.uniform(0, 2e-5, blocks)
+    chain, start = _eight_blocks()
     exact = _simulate(chain, 25, initial_position=start)
     integrated = _simulate(chain, 25, initial_position=start, slip_solver="DOP853", rtol=1e-11)
     assert np.array_equal(exact.blocks_slipped, integrated.blocks_slipped)
@@ -207,12 +212,7 @@ def test_the_compiled_loop_is_the_python_closed_form_to_round_off():
     round-off over the events before the chaotic chain's round-off grows (it grows about tenfold in 8 events,
     from 1e-16: 1e-12 by event 25, so 1e-9 is a thousandfold margin for another compiler's libm), on a chain
     whose ends are free and whose slipping runs have fixed ends, so that every kind of run's modes is used."""
-    rng = np.random.default_rng(3)
-    blocks = 8
-    chain = _chain(mass=1.0, leaf_stiffness=1000.0, coupling_stiffness=5000.0, normal_load=10.0, platform_speed=1e-4,
-                   static_friction=0.55 + 0.055 * (1 + 0.5 * rng.uniform(-1, 1, blocks)), kinetic_friction=0.55,
-                   dashpot=2 * 0.2 * math.sqrt(1000.0))
-    start = rng.uniform(0, 2e-5, blocks)
+    chain, start = _eight_blocks()
     python = _simulate(chain, 25, initial_position=start, slip_solver="closed_form")
     compiled = _simulate(chain, 25, initial_position=start, slip_solver="closed_form_compiled")
     assert np.array_equal(python.blocks_slipped, compiled.blocks_slipped)

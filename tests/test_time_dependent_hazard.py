@@ -5,15 +5,12 @@ Poissonian branch beside them."""
 from __future__ import annotations
 
 import math
-import os
-import shutil
-import subprocess
-import sys
 import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
 
+from conftest import engine_command, run_engine_job
 from faultslip.errors import InputError
 from faultslip.fault.recurrence import conditional_probability, distribution
 from faultslip.io.nrml import occurrence_probabilities
@@ -114,19 +111,10 @@ def test_the_engine_parses_and_runs_the_time_dependent_model(sources, tmp_path):
             expected = source.probability if branch == "bpt" else source.poisson_probability
             assert abs(dict((value, prob) for prob, value in pmf.data)[1] - expected) <= 1e-9
             assert rupture.mag == pytest.approx(source.source.magnitude, abs=1e-9)
-    pytest.importorskip("openquake.engine", reason="the OpenQuake engine is not installed")
-    oq = shutil.which("oq", path=os.path.dirname(sys.executable)) or shutil.which("oq")
-    if oq is None:
-        pytest.skip("the OpenQuake engine's 'oq' command is not on the path")
+    engine_command()
     hazard.write_engine_job(tmp_path / "job.ini", str(tmp_path / "td.xml"), True, [(-120.43, 35.87)],
                             investigation_time=50.0)
-    environment = dict(os.environ, OQ_DATADIR=str(tmp_path / "oqdata"), OQ_DISTRIBUTE="no")
-    run = subprocess.run([oq, "engine", "--run", str(tmp_path / "job.ini"), "--exports", "csv"], capture_output=True,
-                         text=True, env=environment, timeout=600)
-    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
-    curves = list(tmp_path.glob("hazard_curve-mean-PGA*.csv"))
-    assert len(curves) == 1
-    lines = curves[0].read_text().splitlines()
+    lines = run_engine_job(tmp_path / "job.ini", tmp_path)
     poes = np.array([float(v) for v in lines[2].split(",")[3:]])
     bound = max(1 - np.prod([1 - s.probability for s in made]), 1 - np.prod([1 - s.poisson_probability for s in made]))
     assert np.all(np.diff(poes) <= 1e-12) and 0 < poes[0] <= bound + 1e-9
@@ -168,20 +156,13 @@ def test_the_map_command_writes_them_and_refuses_what_does_not_fit(cli, sources,
 
 def test_the_map_commands_engine_job_runs_the_time_dependent_model(cli, tmp_path):
     """Without --nrml, --engine-job runs the time-dependent logic tree over its own investigation time."""
-    pytest.importorskip("openquake.engine", reason="the OpenQuake engine is not installed")
-    oq = shutil.which("oq", path=os.path.dirname(sys.executable)) or shutil.which("oq")
-    if oq is None:
-        pytest.skip("the OpenQuake engine's 'oq' command is not on the path")
+    engine_command()
     out = cli("map", MAP, "-o", tmp_path / "m.nc", "--time-dependent", tmp_path / "td.xml", "--last-ruptures", LAST,
               "--forecast-year", "2026", "--investigation-time", "30 yr", "--engine-job", tmp_path / "job.ini",
               "--sites", "-120.43 35.87", "--json")
     assert out.code == 0, out.err
     assert "investigation_time = 30" in (tmp_path / "job.ini").read_text()
-    environment = dict(os.environ, OQ_DATADIR=str(tmp_path / "oqdata"), OQ_DISTRIBUTE="no")
-    run = subprocess.run([oq, "engine", "--run", str(tmp_path / "job.ini"), "--exports", "csv"], capture_output=True,
-                         text=True, env=environment, timeout=600)
-    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
-    assert len(list(tmp_path.glob("hazard_curve-mean-PGA*.csv"))) == 1
+    run_engine_job(tmp_path / "job.ini", tmp_path)
     from conftest import assert_clean_error
 
     assert_clean_error(cli("map", MAP, "-o", tmp_path / "n.nc", "--time-dependent", tmp_path / "x.xml",
