@@ -71,13 +71,22 @@ _EXPORTS = {
     "io.seas": ("read_seas",),
     "fault.predictability": ("predictability",),
     "evaluation.predictability": ("catalog_predictability",),
-    "lab.look_files": ("read_look", "parse_look"),
+    "lab.look_files": ("read_look", "parse_look", "parse_look_ascii"),
     "lab.look_reduction": ("run_r_file", "run_commands"),
     "plots.predictability": ("predictability_figure",),
     "fault.gutenberg_richter": ("b_value",),
     "models.spring_chain.scene": ("load_chain_scene", "parse_chain_scene"),
     "models.spring_chain.dynamics": ("Chain", "simulate_chain"),
     "models.spring_chain.figures": ("chain_figure",),
+    "studies.rupture_sets": ("rupture_set",),
+    "studies.displacement_hazard": ("displacement_hazard",),
+    "fault.displacement": ("displacement_hazard_curve",),
+    "plots.fault_maps": ("fault_system_figure",),
+    "plots.displacement": ("displacement_hazard_figure",),
+    "lab.rate_state_fit": ("fit_velocity_steps", "fit_joint"),
+    "lab.law_selection": ("select_law",),
+    "lab.healing": ("healing", "steady_state_dependence"),
+    "io.bundle": ("write_bundle", "read_bundle"),
 }
 #: Public names whose module's own name would be ambiguous at the top level: name -> (module, attribute).
 _ALIASES = {

@@ -207,6 +207,8 @@ def test_law_selection_names_the_law_that_made_the_record(generator):
         assert winner["weight"] > 0.99
         n = record.time.size
         assert winner["bic"] == pytest.approx(n * np.log(winner["ssr"] / n) + winner["parameters"] * np.log(n))
+        table = selection.to_dataset()
+        assert table.attrs["chosen"] == generator and float(table["delta_bic"].sel(law=generator)) == 0.0
 
 
 def test_law_selection_refusals_and_an_unconstrained_second_state():
@@ -245,6 +247,10 @@ def test_a_joint_fit_shares_a_b_and_d_c_and_keeps_each_records_mu0():
     assert [row["mu0"] for row in joint.per_record] == pytest.approx([0.6, 0.62], abs=1e-8)
     assert joint.reference_speeds == [1e-6, 1e-5] and max(joint.residual_rms) < 1e-8
     assert joint.law(1).mu0 == pytest.approx(0.62, abs=1e-8) and joint.to_dict()["shared"]["critical_slip"]["units"] == "m"
+    dataset = joint.to_dataset()
+    assert dataset["critical_slip"].attrs["units"] == "m" and float(dataset["critical_slip"]) == joint.shared[
+        "critical_slip"]
+    assert dataset["mu0"].dims == ("record",) and dataset["reference_speed"].attrs["units"] == "m/s"
 
 
 def test_two_noisy_records_constrain_the_law_better_than_either():

@@ -117,7 +117,19 @@ def write_bundle(path, *, record_path, options: dict, report: dict, draws: dict 
 
 
 def read_bundle(path) -> Bundle:
-    """Read and check a fit bundle; every fault in it is one sentence naming the file."""
+    """Read and check a fit bundle; every fault in it is one sentence naming the file.
+
+    Parameters
+    ----------
+    path : str or path
+        The zip (``fit --bundle``'s).
+
+    Returns
+    -------
+    Bundle
+        Its manifest (options, versions, seeds, the record's checksum), the record's name and bytes, the report and
+        the draws by kind.
+    """
     import xarray as xr  # heavy: imported where used
 
     path = check_input(path, "fit bundle", "bundle")

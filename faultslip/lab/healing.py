@@ -144,7 +144,18 @@ class SteadyStep:
 def steady_state_dependence(record) -> list:
     """Each step between two slides at steady state: the friction over the last fifth of the segment before and of
     the segment after it (medians), and a - b = d mu_ss / d ln V (Dieterich 1979), which no fit of a, b and D_c
-    is needed for."""
+    is needed for.
+
+    Parameters
+    ----------
+    record : StepRecord
+        Friction against time with its load history.
+
+    Returns
+    -------
+    list of SteadyStep
+        Each step's time (s), speeds (m/s), steady frictions before and after, and ``a_minus_b``.
+    """
     times, speeds = record.history.times, record.history.speeds
     rows = []
     for i in range(1, len(speeds)):

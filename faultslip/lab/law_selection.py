@@ -62,6 +62,22 @@ class LawSelection:
         return (f"the record supports the {self.chosen} law over the {second['law']} law by Delta BIC = "
                 f"{second['delta']:.3g} ({evidence(second['delta'])} evidence, Kass & Raftery 1995)")
 
+    def to_dataset(self):
+        """The candidates as an xarray Dataset on dimension ``law`` (BIC, Delta BIC, Schwarz weight, parameters), the
+        verdict in its attributes; a candidate that could not be fitted has NaN."""
+        import xarray as xr  # heavy: imported where used
+
+        laws = [row["law"] for row in self.rows]
+        column = lambda key: np.array([row.get(key, np.nan) for row in self.rows], dtype=float)  # noqa: E731
+        return xr.Dataset(
+            {"bic": ("law", column("bic"), {"units": "1", "long_name": "Bayesian information criterion"}),
+             "delta_bic": ("law", column("delta"), {"units": "1", "long_name": "BIC less the lowest (about 2 ln B)"}),
+             "weight": ("law", column("weight"), {"units": "1", "long_name": "Schwarz weight"}),
+             "parameters": ("law", column("parameters"), {"units": "1", "long_name": "parameters fitted"})},
+            coords={"law": ("law", np.array(laws, dtype=str))},
+            attrs={"chosen": self.chosen, "verdict": self.verdict(), "points": self.points,
+                   "criterion": "BIC = n ln(SSR/n) + p ln n (Schwarz 1978)"})
+
     def to_dict(self) -> dict:
         return {"criterion": "BIC = n ln(SSR/n) + p ln n (Schwarz 1978)", "points": self.points,
                 "chosen": self.chosen, "verdict": self.verdict(),

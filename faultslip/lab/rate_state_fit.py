@@ -419,6 +419,28 @@ class JointFit:
                             evolution=self.evolution, b2=values.get("b2", 0.0),
                             critical_slip2=values.get("critical_slip2"), source="fitted jointly")
 
+    def to_dataset(self):
+        """The fit as an xarray Dataset with CF units: the shared parameters (with ``*_low`` and ``*_high``, the 95 %
+        interval) and, on dimension ``record``, each record's mu0 (and stiffness), misfit, points and first speed."""
+        import xarray as xr  # heavy: imported where used
+
+        units = {"a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m"}
+        data = {}
+        for name, value in self.shared.items():
+            low, high = self.intervals[name]
+            data[name] = ((), value, {"units": units[name], "long_name": f"{name} (shared by every record)"})
+            data[f"{name}_low"] = ((), low, {"units": units[name], "long_name": f"{name}, 95 % interval's low end"})
+            data[f"{name}_high"] = ((), high, {"units": units[name], "long_name": f"{name}, 95 % interval's high end"})
+        for key in self.per_record[0]:
+            data[key] = ("record", np.array([row[key] for row in self.per_record]),
+                         {"units": "1/m" if key == "stiffness" else "1", "long_name": f"each record's {key}"})
+        data["residual_rms"] = ("record", np.array(self.residual_rms), {"units": "1", "long_name": "rms misfit"})
+        data["points"] = ("record", np.array(self.points), {"units": "1", "long_name": "samples"})
+        data["reference_speed"] = ("record", np.array(self.reference_speeds),
+                                   {"units": "m/s", "long_name": "the record's first load-point speed (mu0's)"})
+        return xr.Dataset(data, coords={"record": ("record", np.arange(1, len(self.points) + 1))},
+                          attrs={"evolution": self.evolution, "Conventions": "CF-1.8"})
+
     def to_dict(self) -> dict:
         units = {"a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m"}
         return {"law": self.evolution, "shared": {name: {"value": value, "standard_error": self.standard_errors[name],
