@@ -369,3 +369,17 @@ def test_every_public_function_documents_its_parameters_and_returns():
             if (takes and "Parameters\n---" not in doc) or "Returns\n---" not in doc:
                 missing.append(name)
     assert not missing, f"public names without numpydoc Parameters / Returns: {missing}"
+
+
+def test_the_public_api_names_each_module_once():
+    """A module listed twice in faultslip/__init__.py's exports silently drops the first list (a dict literal keeps
+    the last key): read_step_record vanished that way once."""
+    import ast
+    from collections import Counter
+
+    tree = ast.parse((PACKAGE / "__init__.py").read_text(encoding="utf-8"))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Dict):
+            keys = [key.value for key in node.keys if isinstance(key, ast.Constant)]
+            twice = sorted(key for key, count in Counter(keys).items() if count > 1)
+            assert not twice, f"faultslip/__init__.py lists {twice} twice"
