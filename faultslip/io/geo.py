@@ -64,6 +64,14 @@ def azimuth(start, end) -> float:
                                    - math.sin(lat1) * math.cos(lat2) * math.cos(lon2 - lon1))) % 360.0
 
 
+def great_circle(lon1, lat1, lon2, lat2):
+    """Great-circle distance (m) between points given in degrees (haversine on a sphere of :data:`EARTH_RADIUS`),
+    broadcast like numpy."""
+    lon1, lat1, lon2, lat2 = (np.radians(np.asarray(v, float)) for v in (lon1, lat1, lon2, lat2))
+    half = np.sin((lat2 - lat1) / 2) ** 2 + np.cos(lat1) * np.cos(lat2) * np.sin((lon2 - lon1) / 2) ** 2
+    return 2 * EARTH_RADIUS * np.arcsin(np.sqrt(np.clip(half, 0.0, 1.0)))
+
+
 def destination(lon: float, lat: float, bearing: float, distance: float) -> tuple[float, float]:
     """The point ``distance`` m from (lon, lat) along ``bearing`` degrees from north (a sphere of
     :data:`EARTH_RADIUS`)."""

@@ -21,7 +21,7 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.fault import displacement as fdh
 from faultslip.fault.scaling import Fault, fitted_draws
-from faultslip.io.geo import EARTH_RADIUS, densify, trace_length
+from faultslip.io.geo import densify, great_circle, trace_length
 from faultslip.units import JULIAN_YEAR
 
 #: the displacement models (faultslip.fault.displacement)
@@ -74,13 +74,6 @@ class DisplacementHazard:
                                                       "fault": self.fault, "displacement_model": self.model})
 
 
-def _great_circle(points: np.ndarray, lon: float, lat: float) -> np.ndarray:
-    lon1, lat1 = np.radians(points[:, 0]), np.radians(points[:, 1])
-    lon2, lat2 = math.radians(lon), math.radians(lat)
-    half = np.sin((lat2 - lat1) / 2) ** 2 + np.cos(lat1) * math.cos(lat2) * np.sin((lon2 - lon1) / 2) ** 2
-    return 2 * EARTH_RADIUS * np.arcsin(np.sqrt(np.clip(half, 0.0, 1.0)))
-
-
 def along_trace(trace, lon: float, lat: float) -> tuple[float, float]:
     """(distance from the site to the trace, how far along the trace its nearest point lies), both in m. Each
     stretch between vertices is densified every 50 m; the distance along is the geodetic length (WGS84, as the
@@ -91,7 +84,7 @@ def along_trace(trace, lon: float, lat: float) -> tuple[float, float]:
     travelled = 0.0
     for i in range(len(trace) - 1):
         points = densify(trace[i:i + 2], 50.0)
-        distance = _great_circle(points, lon, lat)
+        distance = great_circle(points[:, 0], points[:, 1], lon, lat)
         nearest = int(np.argmin(distance))
         stretch = trace_length(trace[i:i + 2])
         if distance[nearest] < best[0]:

@@ -42,7 +42,7 @@ import numpy as np
 from faultslip.errors import InputError, SolverError
 from faultslip.fault import empirical, mfd as mfds
 from faultslip.fault.scaling import moment_magnitude
-from faultslip.io.geo import EARTH_RADIUS, azimuth, densify, destination, trace_length
+from faultslip.io.geo import EARTH_RADIUS, azimuth, densify, destination, great_circle, trace_length
 from faultslip.units import JULIAN_YEAR, to_si
 
 #: the target shapes of the system's magnitude-frequency distribution
@@ -178,9 +178,9 @@ class Sections:
 
 
 def _cumulative_distance(points: np.ndarray) -> np.ndarray:
-    lon, lat = np.radians(points[:, 0]), np.radians(points[:, 1])
-    half = (np.sin(np.diff(lat) / 2) ** 2 + np.cos(lat[:-1]) * np.cos(lat[1:]) * np.sin(np.diff(lon) / 2) ** 2)
-    return np.concatenate([[0.0], np.cumsum(2 * EARTH_RADIUS * np.arcsin(np.sqrt(np.clip(half, 0, 1))))])
+    """Great-circle distance (m) along ``points`` (lon, lat degrees) from the first, at each."""
+    steps = great_circle(points[:-1, 0], points[:-1, 1], points[1:, 0], points[1:, 1])
+    return np.concatenate([[0.0], np.cumsum(steps)])
 
 
 def split_trace(trace, pieces: int) -> list:
