@@ -38,7 +38,7 @@ from faultslip.units import to_si
 #: the options of 'faultslip fit' a bundle records and a replay sets again (outputs and the registry aside)
 FIT_OPTIONS = ("law", "loss", "bootstrap", "seed", "mu_m", "stiffness", "select_law", "stiffness_free", "joint", "area",
                "units", "detrend", "steps", "min_change", "each_step", "windows", "posterior", "samples", "walkers", "max_steps",
-               "prior", "workers", "evolution", "two_state", "shear_modulus")
+               "prior", "workers", "evolution", "two_state", "shear_modulus", "columns", "span")
 
 
 def cmd_fit(args) -> int:
@@ -188,7 +188,7 @@ def _fit_rate_state(args) -> int:
                         posterior=args.posterior, priors=dict(parse_prior(text) for text in (args.prior or [])),
                         samples=args.samples, walkers=args.walkers, max_steps=args.max_steps,
                         workers=args.workers or 1, stiffness_free=args.stiffness_free, select=args.select_law,
-                        joint=args.joint or ())
+                        joint=args.joint or (), columns=_parse_columns(args.columns), span=_parse_span(args.span))
     report, posterior = result.report, result.posterior
     if outputs["plot"] is not None or outputs["corner"] is not None:
         with _locked(outputs["plot"], outputs["corner"]):
@@ -211,6 +211,32 @@ def _fit_rate_state(args) -> int:
     if posterior is not None:
         draws["posterior"] = (list(posterior.names), posterior.samples)
     return report, draws
+
+
+def _parse_columns(text):
+    """--columns 'time=Time, load_point_displacement=LP_disp' as {faultslip's name: the file's}."""
+    if not text:
+        return None
+    columns = {}
+    for part in text.split(","):
+        name, separator, source = part.strip().partition("=")
+        if not separator or not name.strip() or not source.strip():
+            raise FaultslipError(f"--columns takes name=column pairs separated by commas, e.g. 'time=Time, "
+                                 f"load_point_displacement=LP_disp'; got {part.strip()!r}")
+        if name.strip() in columns:
+            raise FaultslipError(f"--columns names {name.strip()!r} twice")
+        columns[name.strip()] = source.strip()
+    return columns
+
+
+def _parse_span(text):
+    """--span '2400 s - 3150 s' as (start, end) in seconds."""
+    if not text:
+        return None
+    start, separator, end = text.strip().partition(" - ")
+    if not separator:
+        raise FaultslipError(f"--span takes 'start - end' with units, e.g. '2400 s - 3150 s'; got {text.strip()!r}")
+    return to_si(start, "time", "--span"), to_si(end, "time", "--span")
 
 
 def _parse_windows(text):

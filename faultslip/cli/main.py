@@ -350,8 +350,15 @@ def _lab_commands(commands) -> None:
                      "--prior stiffness=... replaces it)")
     fit.add_argument("--area", help="rate-state, raw record: the sample's contact area, turning loads into stresses")
     fit.add_argument("--units", help="rate-state, raw record: units the file does not give, 'time=ms,shear_load=kN'")
-    fit.add_argument("--detrend", default="none", choices=("none", "linear", "quadratic"),
-                     help="rate-state, raw record: remove a trend in slip from the friction (stated in the report)")
+    fit.add_argument("--detrend", default="none", choices=("none", "linear", "quadratic", "fitted"),
+                     help="rate-state: remove a trend in slip from a raw record's friction (linear, quadratic; stated "
+                          "in the report), or fit a linear trend in the load point's displacement with the law "
+                          "(fitted: each fit its own, its uncertainty carried)")
+    fit.add_argument("--columns", help="rate-state: the record's columns by faultslip's names, 'time=Time, "
+                                       "load_point_displacement=LP_disp, shear_stress=Shear_stress, "
+                                       "normal_stress=Nor_stress' (an xlook reduction's netCDF)")
+    fit.add_argument("--span", help="rate-state: fit only the rows in this span of the file's time, "
+                                    "'2400 s - 3150 s'")
     fit.add_argument("--steps", help="rate-state, raw record: the step times instead of detecting them, '100 s, 130 s'")
     fit.add_argument("--min-change", default="0.3", help="rate-state, raw record: the smallest relative change of the "
                                                           "load point's speed detected as a step (default 0.3)")

@@ -27,10 +27,11 @@ from faultslip.units import to_si
 PARAMETER_WORDS = {"mu0": "mu0, steady friction at V0", "a": "a, direct effect", "b": "b, evolution effect",
                    "critical_slip": "D_c, critical slip distance", "b2": "b2, second evolution effect",
                    "critical_slip2": "D_c2, second critical slip distance",
-                   "stiffness": "k, machine stiffness (fitted, friction per slip)"}
+                   "stiffness": "k, machine stiffness (fitted, friction per slip)",
+                   "trend": "c, fitted trend (friction per metre of load-point displacement)"}
 #: Each parameter's SI unit (None: dimensionless).
 PARAMETER_UNITS = {"mu0": None, "a": None, "b": None, "critical_slip": "m", "b2": None, "critical_slip2": "m",
-                   "stiffness": "1/m"}
+                   "stiffness": "1/m", "trend": "1/m"}
 #: How the intervals were made, said under every fit.
 INTERVALS_NOTE = ("covariance intervals: s^2 (J^T J)^-1 at the optimum; bootstrap intervals: residual bootstrap, "
                   "each resample refitted; posterior: emcee, converged before it is reported; all coverage-tested on "
@@ -68,6 +69,9 @@ class RecordFit:
         law = self.posterior.law() if self.posterior is not None else self.fit.law
         friction = simulate_rate_state(RateStateSlider(law, self.stiffness, 1.0), self.record.history,
                                        t_eval=self.record.time, rtol=1e-9).friction
+        trend = (self.posterior.median() if self.posterior is not None else self.fit.parameters).get("trend")
+        if trend is not None:  # a fitted trend is part of the model the record is compared with
+            friction = friction + trend * self.record.history.displacement(self.record.time)
         band = self.posterior.predictive(self.record, seed=seed) if self.posterior is not None else None
         return {"law": law, "friction": friction, "band": band,
                 "raw_friction": None if self.prepared is None else self.prepared.raw_friction}
@@ -89,7 +93,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
                bootstrap: int = 50, seed: int = 0, windows=None, each_step: bool = False, posterior: bool = False,
                priors: dict | None = None, samples=None, walkers=None, max_steps=None, workers: int = 1,
                title: str | None = None, stiffness_free: bool = False, select: bool = False,
-               joint=()) -> RecordFit:
+               joint=(), columns: dict | None = None, span=None) -> RecordFit:
     """Fit a rate-and-state law to a velocity-step record.
 
     Parameters
@@ -103,8 +107,10 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         The sample's contact area (m^2, or text with units): turns loads into stresses.
     units : dict, optional
         Units of bare column names of a raw record, by column.
-    detrend : {"none", "linear", "quadratic"}
-        A stated trend of friction with the sample's slip, removed with a level per speed (raw records).
+    detrend : {"none", "linear", "quadratic", "fitted"}
+        A stated trend of friction with the sample's slip, removed with a level per speed (raw records), or
+        ``fitted``: a linear trend in the load point's displacement fitted with the law (each fit its own; its
+        uncertainty enters the others' intervals).
     steps : list of float, optional
         The steps' times (s), instead of detecting them (raw records).
     min_change : float, optional
@@ -137,6 +143,12 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
     joint : sequence of str or path
         Further records of the same rock, prepared as ``data`` is: one law fitted to all of them, a, b and D_c
         shared, each record's mu0 (and k) its own (:func:`faultslip.lab.rate_state_fit.fit_joint`).
+    columns : dict, optional
+        The record's columns by faultslip's names, ``{"time": "Time", "load_point_displacement": "LP_disp",
+        "shear_stress": "Shear_stress", "normal_stress": "Nor_stress"}``: a file whose columns have its own
+        names (an xlook reduction's netCDF).
+    span : (float, float), optional
+        Fit only the rows from ``span[0]`` to ``span[1]`` seconds of the file's own time.
 
     Returns
     -------
@@ -149,17 +161,21 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         raise InputError(f"--seed must not be negative, got {seed}")
     if priors and not posterior:
         raise InputError("--prior sets the posterior's priors: give --posterior too")
-    loaded = load_record(data, units=units, area=area)
+    if detrend not in ("none", "linear", "quadratic", "fitted"):
+        raise InputError(f"--detrend must be none, linear, quadratic or fitted, got {detrend!r}")
+    trend = detrend == "fitted"
+    loaded = load_record(data, units=units, area=area, columns=columns, span=span)
     report = Report(title or f"faultslip fit --law rate-state: {data}")
     prepared = None
     if isinstance(loaded, RawRecord):
-        prepared = prepare_record(loaded, stiffness, area=area, detrend=detrend, step_times=steps,
+        prepared = prepare_record(loaded, stiffness, area=area, detrend="none" if trend else detrend, step_times=steps,
                                   **({} if min_change is None else {"min_change": min_change}))
         record, spring = prepared.record, prepared.stiffness
         _prepared_section(report, record, prepared, detrend)
     else:
-        if steps is not None or detrend != "none":
-            raise InputError("--steps and --detrend prepare raw records; this record holds friction already")
+        if steps is not None or detrend not in ("none", "fitted"):
+            raise InputError("--steps and --detrend linear or quadratic prepare raw records; this record holds "
+                             "friction already")
         if windows:
             raise InputError("--windows sets raw records' step windows; this record holds friction already")
         record = loaded
@@ -168,7 +184,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         if not spring > 0:
             raise InputError(f"--stiffness must be positive, got {stiffness}")
     fit = fit_velocity_steps(record, spring, evolution=evolution, two_state=two_state, bootstrap=bootstrap,
-                             seed=seed, stiffness_free=stiffness_free)
+                             seed=seed, stiffness_free=stiffness_free, trend=trend)
     if record.metadata:  # what the file says of its experiment travels into the report, its JSON and a bundle
         report.add("record_metadata", dict(record.metadata), label="the record's metadata, as its file gives it")
     _fit_section(report, fit, seed)
@@ -178,13 +194,14 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         except InputError as exc:
             report.note(f"slide-hold-slide: {exc}")
     if joint:
-        others = [_prepared_record(path, stiffness, area, units, detrend, min_change) for path in joint]
+        others = [_prepared_record(path, stiffness, area, units, "none" if trend else detrend, min_change, columns,
+                                   span) for path in joint]
         together = fit_joint([record, *(other for other, _ in others)], [spring, *(k for _, k in others)],
-                             evolution=evolution, two_state=two_state, stiffness_free=stiffness_free)
+                             evolution=evolution, two_state=two_state, stiffness_free=stiffness_free, trend=trend)
         _joint_section(report, together, [str(data), *map(str, joint)])
     selection = None
     if select:
-        selection = select_law(record, spring, stiffness_free=stiffness_free)
+        selection = select_law(record, spring, stiffness_free=stiffness_free, trend=trend)
         _selection_section(report, selection)
     if windows:
         for start, end in windows:
@@ -192,14 +209,14 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
                 raise InputError(f"window {start:g} s - {end:g} s must lie inside the record (0 to "
                                  f"{record.time[-1]:g} s) and end after it starts")
     if prepared is not None and (each_step or windows):
-        _each_step_section(report, prepared, evolution, windows)
+        _each_step_section(report, prepared, evolution, windows, stiffness_free, trend)
     sampled = None
     if posterior:
         settings = {key: value for key, value in (("samples", samples), ("walkers", walkers),
                                                   ("max_steps", max_steps)) if value is not None}
         sampled = sample_posterior(record, spring, evolution=evolution, two_state=two_state, priors=priors or {},
                                    seed=seed, workers=workers or 1, initial_fit=fit, stiffness_free=stiffness_free,
-                                   **settings)
+                                   trend=trend, **settings)
         _posterior_section(report, sampled)
     if stiffness_free:  # the record's spring is the fitted one from here on (figures, predictions)
         spring = sampled.median()["stiffness"] if sampled is not None else fit.parameters["stiffness"]
@@ -243,9 +260,9 @@ def _fit_section(report: Report, fit, seed: int) -> None:
         report.note(note)
 
 
-def _prepared_record(path, stiffness, area, units, detrend, min_change):
+def _prepared_record(path, stiffness, area, units, detrend, min_change, columns, span):
     """A further record for a joint fit, made ready as the first one was: (StepRecord, spring in 1/m)."""
-    loaded = load_record(path, units=units, area=area)
+    loaded = load_record(path, units=units, area=area, columns=columns, span=span)
     if isinstance(loaded, RawRecord):
         prepared = prepare_record(loaded, stiffness, area=area, detrend=detrend,
                                   **({} if min_change is None else {"min_change": min_change}))
@@ -301,12 +318,16 @@ def _selection_section(report: Report, selection) -> None:
         else:
             report.add(f"law_{row['law']}", {"error": row["error"]}, label=f"{row['law']}: not fitted ({row['error']})")
     report.add("law_selected", selection.chosen, label="the law the record supports")
+    report.add("law_selection_effective_points", selection.effective_points,
+               label=f"points the criterion counts (of {selection.points}; residuals' lag-one autocorrelation "
+                     f"{selection.autocorrelation:.3g})")
     report.note(selection.verdict())
 
 
-def _each_step_section(report: Report, prepared, evolution: str, windows) -> None:
+def _each_step_section(report: Report, prepared, evolution: str, windows, stiffness_free: bool, trend: bool) -> None:
     report.section("Each step's own fit")
-    for entry in fit_each_step(prepared, evolution=evolution, windows=windows):
+    for entry in fit_each_step(prepared, evolution=evolution, windows=windows, stiffness_free=stiffness_free,
+                               trend=trend):
         start, end = entry["window"]
         if "fit" in entry:
             p = entry["fit"].parameters

@@ -6,7 +6,13 @@ by the Bayesian information criterion for Gaussian errors of unknown variance (S
     BIC = n ln(SSR / n) + p ln n,
 
 n the record's points, p the law's parameters (mu0, a, b, D_c; a second state adds b2 and D_c2; a free
-stiffness adds k). The lowest BIC wins. Delta BIC approximates 2 ln of the Bayes factor against the winner, read on
+stiffness adds k, a fitted trend c). The lowest BIC wins.
+
+A real rig's residuals are not independent: a fast logger (p655: 1 ms) samples the same wander of the noise many
+times, and n would count it as that many independent points, overstating every Delta BIC. So n is the effective
+number of points of AR(1) residuals, n_eff = n (1 - rho) / (1 + rho), rho the lag-one autocorrelation of the
+best-fitting candidate's residuals (clipped at 0; Bayley & Hammersley 1946, the variance of a mean of correlated
+points): BIC = n_eff ln(SSR / n) + p ln n_eff. Independent noise leaves n_eff = n to within rho's scatter. Delta BIC approximates 2 ln of the Bayes factor against the winner, read on
 Kass & Raftery's (1995, JASA 90, 773-795, §3.2) scale: 0-2 not worth more than a bare mention, 2-6 positive, 6-10
 strong, above 10 very strong. The Schwarz weights exp(-Delta/2) / sum say the same as probabilities among the
 candidates (equal prior odds). A candidate whose fit fails is listed with the reason and takes no weight.
@@ -26,6 +32,8 @@ from faultslip.lab.rate_state_fit import fit_velocity_steps
 LAWS = {"aging": ("aging", False), "slip": ("slip", False), "aging_two_state": ("aging", True),
         "slip_two_state": ("slip", True)}
 DEFAULT_CANDIDATES = ("aging", "slip", "aging_two_state")
+CRITERION = ("BIC = n_eff ln(SSR/n) + p ln n_eff, n_eff = n (1 - rho) / (1 + rho) (Schwarz 1978; rho the residuals' "
+             "lag-one autocorrelation)")
 #: Kass & Raftery (1995): the lower edge of each category of Delta BIC (about 2 ln B)
 EVIDENCE = ((10.0, "very strong"), (6.0, "strong"), (2.0, "positive"), (0.0, "not worth more than a bare mention"))
 
@@ -45,6 +53,8 @@ class LawSelection:
     rows: list  # dicts: law, parameters, ssr, bic, delta, weight, fit (or error)
     points: int
     notes: list = field(default_factory=list)
+    autocorrelation: float = 0.0  # the best fit's residuals' lag-one autocorrelation
+    effective_points: float = 0.0  # the n the criterion counts
 
     @property
     def chosen(self) -> str:
@@ -76,16 +86,19 @@ class LawSelection:
              "parameters": ("law", column("parameters"), {"units": "1", "long_name": "parameters fitted"})},
             coords={"law": ("law", np.array(laws, dtype=str))},
             attrs={"chosen": self.chosen, "verdict": self.verdict(), "points": self.points,
-                   "criterion": "BIC = n ln(SSR/n) + p ln n (Schwarz 1978)"})
+                   "effective_points": self.effective_points, "residual_autocorrelation": self.autocorrelation,
+                   "criterion": CRITERION})
 
     def to_dict(self) -> dict:
-        return {"criterion": "BIC = n ln(SSR/n) + p ln n (Schwarz 1978)", "points": self.points,
+        return {"criterion": CRITERION, "points": self.points, "effective_points": self.effective_points,
+                "residual_autocorrelation": self.autocorrelation,
                 "chosen": self.chosen, "verdict": self.verdict(),
                 "candidates": [{key: value for key, value in row.items() if key != "fit"} for row in self.rows],
                 "notes": self.notes}
 
 
-def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free: bool = False) -> LawSelection:
+def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free: bool = False,
+               trend: bool = False) -> LawSelection:
     """Fit each candidate law to ``record`` and score it by BIC (see the module).
 
     Parameters
@@ -98,6 +111,8 @@ def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free:
         Among :data:`LAWS`: aging, slip, aging_two_state, slip_two_state.
     stiffness_free : bool
         Fit the stiffness in every candidate.
+    trend : bool
+        Fit a linear trend in the load point's displacement in every candidate.
 
     Returns
     -------
@@ -112,20 +127,50 @@ def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free:
         evolution, two_state = LAWS[name]
         try:
             fit = fit_velocity_steps(record, stiffness, evolution=evolution, two_state=two_state,
-                                     stiffness_free=stiffness_free)
+                                     stiffness_free=stiffness_free, trend=trend)
         except FaultslipError as error:
             rows.append({"law": name, "error": str(error)})
             continue
-        n, p = fit.points, len(fit.parameters)
-        ssr = fit.residual_rms ** 2 * n
-        rows.append({"law": name, "parameters": p, "ssr": ssr, "bic": n * math.log(ssr / n) + p * math.log(n),
+        n = fit.points
+        rows.append({"law": name, "parameters": len(fit.parameters), "ssr": fit.residual_rms ** 2 * n,
                      "values": dict(fit.parameters), "fit": fit, "notes": list(fit.notes)})
-    scored = [row for row in rows if "bic" in row]
+    scored = [row for row in rows if "ssr" in row]
     if not scored:
         raise InputError("no candidate law could be fitted to the record: " + "; ".join(row["error"] for row in rows))
+    record_points = int(scored[0]["fit"].points)
+    n = record_points
+    residuals = min(scored, key=lambda row: row["ssr"])["fit"].residuals
+    rho = lag_one_autocorrelation(residuals)
+    effective = max(n * (1.0 - rho) / (1.0 + rho), float(max(row["parameters"] for row in scored) + 2))
+    for row in scored:
+        row["bic"] = effective * math.log(row["ssr"] / n) + row["parameters"] * math.log(effective)
     best = min(row["bic"] for row in scored)
     weights = np.array([math.exp(-(row["bic"] - best) / 2) for row in scored])
     for row, weight in zip(scored, weights / weights.sum()):
         row["delta"] = row["bic"] - best
         row["weight"] = float(weight)
-    return LawSelection(rows, int(record.time.size))
+    notes = [f"the residuals' lag-one autocorrelation is {rho:.3g}: the criterion counts {effective:.4g} effective "
+             f"points of the record's {record_points}"]
+    return LawSelection(rows, int(record_points), notes, autocorrelation=rho, effective_points=effective)
+
+
+def lag_one_autocorrelation(residuals) -> float:
+    """rho = sum r_i r_(i+1) / sum r_i^2 of the centred residuals, clipped to [0, 0.999]: the AR(1) coefficient
+    behind the effective number of points n (1 - rho) / (1 + rho).
+
+    Parameters
+    ----------
+    residuals : array_like
+        A fit's residuals in time order.
+
+    Returns
+    -------
+    float
+        rho, dimensionless.
+    """
+    r = np.asarray(residuals, dtype=float)
+    r = r - r.mean()
+    total = float(r @ r)
+    if r.size < 3 or not total > 0:
+        return 0.0
+    return float(min(max(float(r[:-1] @ r[1:]) / total, 0.0), 0.999))

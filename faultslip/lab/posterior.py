@@ -43,11 +43,12 @@ from faultslip.dynamics.rate_state.compiled import available as compiled_kernel_
 from faultslip.dynamics.rate_state.slider import RateStateSlider, quasi_static_friction, simulate_rate_state
 from faultslip.errors import FaultslipError, InputError, SolverError
 from faultslip.friction.rate_state import RateStateLaw
-from faultslip.lab.rate_state_fit import StepRecord, fit_velocity_steps
+from faultslip.lab.rate_state_fit import TREND_LIMIT, StepRecord, fit_velocity_steps
 
 PRIOR_KINDS = ("uniform", "loguniform", "normal", "lognormal")
 LOG_SAMPLED = ("critical_slip", "critical_slip2", "stiffness")
-UNITS = {"mu0": "1", "a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m", "stiffness": "1/m"}
+UNITS = {"mu0": "1", "a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m", "stiffness": "1/m",
+         "trend": "1/m"}
 #: a free machine stiffness's default prior: log-normal about the stated value, a factor of 2 as one sd of ln k
 STIFFNESS_SPREAD = math.log(2.0)
 MIN_EFFECTIVE = 400
@@ -127,8 +128,8 @@ def parse_prior(text: str) -> tuple[str, Prior]:
     """
     name, _, spec = str(text).partition("=")
     name = name.strip()
-    if name not in DEFAULT_PRIORS and name != "stiffness":
-        raise InputError(f"a prior is set on one of {', '.join(DEFAULT_PRIORS)} or stiffness, as "
+    if name not in DEFAULT_PRIORS and name not in ("stiffness", "trend"):
+        raise InputError(f"a prior is set on one of {', '.join(DEFAULT_PRIORS)}, stiffness or trend, as "
                          f"name=kind:first:second; got {text!r}")
     parts = spec.split(":")
     if len(parts) != 3:
@@ -211,8 +212,10 @@ class Posterior:
                                                           1.0), record.history, t_eval=record.time, rtol=1e-8)
             except FaultslipError:
                 continue
-            curves.append(run.friction)
-            data.append(run.friction + self.noise[index] * rng.standard_normal(record.time.size))
+            friction = run.friction + (dict(zip(self.names, self.samples[index]))["trend"]
+                                       * record.history.displacement(record.time) if "trend" in self.names else 0.0)
+            curves.append(friction)
+            data.append(friction + self.noise[index] * rng.standard_normal(record.time.size))
         curves, data = np.asarray(curves), np.asarray(data)
         tail = 50.0 * (1.0 - level)
         return {"time": record.time, "model": tuple(np.percentile(curves, q, axis=0) for q in (tail, 50.0, 100 - tail)),
@@ -256,6 +259,7 @@ class _LogPosterior:
         self.time, self.friction, self.history = record.time, record.friction, record.history
         self.stiffness, self.names, self.priors = stiffness, names, priors
         self.reference_speed, self.evolution, self.rtol = reference_speed, evolution, rtol
+        self.load_point = record.history.displacement(record.time) if "trend" in names else None
 
     def natural(self, theta):
         return [math.exp(v) if name in LOG_SAMPLED else v for name, v in zip(self.names, theta)]
@@ -277,6 +281,8 @@ class _LogPosterior:
                                              self.rtol)
         except FaultslipError:
             return -math.inf, math.nan
+        if self.load_point is not None:
+            friction = friction + params["trend"] * self.load_point
         misfit = friction - self.friction
         ssr = float(misfit @ misfit)
         if not (math.isfinite(ssr) and ssr > 0):
@@ -318,7 +324,7 @@ class _Pool:
 def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "aging", two_state: bool = False,
                      priors: dict | None = None, samples: int = 10_000, walkers: int | None = None, seed: int = 0,
                      max_steps: int = 20_000, rtol: float = 1e-7, workers: int = 1, initial_fit=None,
-                     stiffness_free: bool = False) -> Posterior:
+                     stiffness_free: bool = False, trend: bool = False) -> Posterior:
     """Sample the posterior of (mu0, a, b, D_c[, b2, D_c2]) given ``record`` on a spring of ``stiffness``
     (friction per metre) until the chain has converged (module docstring) and holds at least ``samples``
     draws after burn-in; raise :class:`SolverError` with the diagnostics if ``max_steps`` come first.
@@ -352,6 +358,9 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
     stiffness_free : bool
         Sample the machine stiffness k too (prior: log-normal about ``stiffness``, sd of ln k = ln 2, unless
         ``priors`` sets one).
+    trend : bool
+        Sample a linear trend c in the load point's displacement too (friction per metre; prior uniform within
+        +-:data:`faultslip.lab.rate_state_fit.TREND_LIMIT`), as :func:`fit_velocity_steps` fits it.
 
     Returns
     -------
@@ -363,10 +372,13 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
     if not 100 <= max_steps <= 10_000_000:
         raise InputError(f"the chain's longest length must be from 100 to 1e7 steps, got {max_steps}")
     names = (["mu0", "a", "b", "critical_slip"] + (["b2", "critical_slip2"] if two_state else [])
-             + (["stiffness"] if stiffness_free else []))
-    chosen = dict(DEFAULT_PRIORS, stiffness=Prior("lognormal", stiffness, STIFFNESS_SPREAD))
+             + (["stiffness"] if stiffness_free else []) + (["trend"] if trend else []))
+    chosen = dict(DEFAULT_PRIORS, stiffness=Prior("lognormal", stiffness, STIFFNESS_SPREAD),
+                  trend=Prior("uniform", -TREND_LIMIT, TREND_LIMIT))
     if "stiffness" in (priors or {}) and not stiffness_free:
         raise InputError("a prior on the stiffness needs the stiffness free (--stiffness-free)")
+    if "trend" in (priors or {}) and not trend:
+        raise InputError("a prior on the trend needs the trend fitted (--detrend fitted)")
     for name, prior in (priors or {}).items():
         if name not in chosen:
             raise InputError(f"a prior is set on one of {', '.join(DEFAULT_PRIORS)}, got {name!r}")
@@ -377,9 +389,11 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
         raise InputError(f"the ensemble needs an even number of walkers, at least {2 * len(names)}, got {walkers}")
     started = clock.perf_counter()
     fit = initial_fit or fit_velocity_steps(record, stiffness, evolution=evolution, two_state=two_state,
-                                            stiffness_free=stiffness_free)
+                                            stiffness_free=stiffness_free, trend=trend)
     if stiffness_free and "stiffness" not in fit.parameters:
         raise InputError("the posterior's starting fit must have the stiffness free too")
+    if trend and "trend" not in fit.parameters:
+        raise InputError("the posterior's starting fit must fit the trend too")
     reference_speed = fit.law.reference_speed
     log_posterior = _LogPosterior(record, stiffness, names, chosen, reference_speed, evolution, rtol)
     centre = np.array([math.log(fit.parameters[n]) if n in LOG_SAMPLED else fit.parameters[n] for n in names])

@@ -177,10 +177,11 @@ class RateStateFit:
     bootstrap: np.ndarray = field(default_factory=lambda: np.empty((0, 0)))  # (n, p) resamples, natural scale
     bootstrap_intervals: dict = field(default_factory=dict)  # name -> (low, high), 95 %, bootstrap SE
     seed: int = 0
+    residuals: np.ndarray = field(default_factory=lambda: np.empty(0))  # model less record, at the record's times
 
     def to_dict(self) -> dict:
         units = {"mu0": "1", "a": "1", "b": "1", "critical_slip": "m", "b2": "1", "critical_slip2": "m",
-                 "stiffness": "1/m"}
+                 "stiffness": "1/m", "trend": "1/m"}
         return {"law": self.law.evolution, "mu0": self.law.mu0, "reference_speed": {"value": self.law.reference_speed,
                                                                                  "units": "m/s"},
                 "parameters": {name: {"value": value, "standard_error": self.standard_errors[name],
@@ -253,11 +254,13 @@ def _estimates(result, names, points):
 
 #: how far from its stated value a free stiffness may go (a factor either way)
 STIFFNESS_RANGE = 100.0
+#: the largest fitted trend, friction per metre of load-point displacement (10 per mm: far beyond any gouge's)
+TREND_LIMIT = 1e4
 
 
 def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str = "aging", two_state: bool = False,
                        initial=None, rtol: float = 1e-10, bootstrap: int = 0, seed: int = 0,
-                       stiffness_free: bool = False) -> RateStateFit:
+                       stiffness_free: bool = False, trend: bool = False) -> RateStateFit:
     """Fit a, b, D_c (and b2, D_c2) of a quasi-static slider with ``stiffness`` (friction per metre) to ``record``;
     with ``stiffness_free`` the machine's stiffness is fitted too, from ``stiffness`` (as RSFit3000 does,
     Skarbek & Savage 2019: the apparatus' effective stiffness is poorly known and biases D_c).
@@ -288,11 +291,15 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
     stiffness_free : bool
         Fit the stiffness k (1/m) too, started at ``stiffness`` and bounded within a factor of
         :data:`STIFFNESS_RANGE` of it.
+    trend : bool
+        Fit a linear trend too: friction mu_RS(t) + c delta_lp(t), c (1/m) per metre of the load point's
+        displacement since the record's start, as RSFit3000's linear detrending but fitted with the law so that
+        its uncertainty enters a, b and D_c's intervals (slip weakening over a fast segment; p655's 228.6 um/s).
 
     Returns
     -------
     RateStateFit
-        a, b (dimensionless), D_c (m) (and k, 1/m), their intervals and ``report()``.
+        a, b (dimensionless), D_c (m) (and k, 1/m; the trend c, 1/m), their intervals and ``report()``.
     """
     from scipy.optimize import least_squares  # heavy: imported where used
     from scipy.special import stdtrit  # heavy: imported where used
@@ -322,17 +329,24 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
         lower.append(math.log(stiffness / STIFFNESS_RANGE))
         upper.append(math.log(stiffness * STIFFNESS_RANGE))
         start[-1] = min(max(start[-1], lower[-1]), upper[-1])
+    if trend:
+        names.append("trend")
+        start.append(float(guess.get("trend", 0.0)))
+        lower.append(-TREND_LIMIT)
+        upper.append(TREND_LIMIT)
+    load_point = record.history.displacement(record.time) if trend else None
     evaluations = {"n": 0}
 
     def model(values, tolerance):
         evaluations["n"] += 1
         try:
             law = _law(values, names, reference_speed, evolution)
-            spring = math.exp(values[-1]) if stiffness_free else stiffness
+            spring = math.exp(values[names.index("log_stiffness")]) if stiffness_free else stiffness
             # the compiled kernel where it serves (one state, numba), LSODA otherwise: ~10x fewer seconds a fit
-            return quasi_static_friction(law, spring, record.history, record.time, tolerance)
+            friction = quasi_static_friction(law, spring, record.history, record.time, tolerance)
         except (SolverError, InputError):
             return None
+        return friction + values[names.index("trend")] * load_point if trend else friction
 
     def residuals(values, observed=record.friction, tolerance=rtol):
         predicted = model(values, tolerance)
@@ -385,7 +399,7 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
     return RateStateFit(law=law, parameters=parameters, standard_errors=errors, intervals=intervals,
                         residual_rms=math.sqrt(float(result.fun @ result.fun) / points), points=points,
                         evaluations=evaluations["n"], notes=notes, bootstrap=samples,
-                        bootstrap_intervals=boot_intervals, seed=seed)
+                        bootstrap_intervals=boot_intervals, seed=seed, residuals=np.asarray(result.fun))
 
 
 def synthetic_step_record(law: RateStateLaw, stiffness: float, history: LoadHistory, samples: int,
@@ -433,7 +447,7 @@ class JointFit:
             data[f"{name}_high"] = ((), high, {"units": units[name], "long_name": f"{name}, 95 % interval's high end"})
         for key in self.per_record[0]:
             data[key] = ("record", np.array([row[key] for row in self.per_record]),
-                         {"units": "1/m" if key == "stiffness" else "1", "long_name": f"each record's {key}"})
+                         {"units": "1/m" if key in ("stiffness", "trend") else "1", "long_name": f"each record's {key}"})
         data["residual_rms"] = ("record", np.array(self.residual_rms), {"units": "1", "long_name": "rms misfit"})
         data["points"] = ("record", np.array(self.points), {"units": "1", "long_name": "samples"})
         data["reference_speed"] = ("record", np.array(self.reference_speeds),
@@ -448,7 +462,7 @@ class JointFit:
                                                          "units": units[name]}
                                                   for name, value in self.shared.items()},
                 "records": [{**{name: {"value": value, "interval_95": list(self.intervals[f"{name}_{i + 1}"]),
-                                       "units": "1/m" if name == "stiffness" else "1"}
+                                       "units": "1/m" if name in ("stiffness", "trend") else "1"}
                                 for name, value in row.items()},
                              "residual_rms": rms, "points": n, "reference_speed": {"value": v0, "units": "m/s"}}
                             for i, (row, rms, n, v0) in enumerate(zip(self.per_record, self.residual_rms, self.points,
@@ -457,10 +471,11 @@ class JointFit:
 
 
 def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool = False,
-              stiffness_free: bool = False, rtol: float = 1e-10) -> JointFit:
+              stiffness_free: bool = False, trend: bool = False, rtol: float = 1e-10) -> JointFit:
     """Fit one law to several velocity-step records (several steps of one run, or several experiments): a, b and
     D_c (and b2, D_c2) shared, each record's steady friction mu0 at its own first speed (and, with
-    ``stiffness_free``, its own stiffness) a nuisance of its own. The residuals of all records are minimised
+    ``stiffness_free``, its own stiffness; with ``trend``, its own linear trend in the load point's displacement) a
+    nuisance of its own. The residuals of all records are minimised
     together; the covariance and intervals are :func:`fit_velocity_steps`'s.
 
     Parameters
@@ -475,6 +490,8 @@ def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool =
         A second state variable, shared.
     stiffness_free : bool
         Fit each record's stiffness, started at its stated one.
+    trend : bool
+        Fit each record's linear trend (friction per metre of its load point's displacement).
     rtol : float
         The integrator's tolerance.
 
@@ -511,7 +528,13 @@ def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool =
             start.append(math.log(spring))
             lower.append(math.log(spring / STIFFNESS_RANGE))
             upper.append(math.log(spring * STIFFNESS_RANGE))
+        if trend:
+            names.append(f"trend_{i}")
+            start.append(0.0)
+            lower.append(-TREND_LIMIT)
+            upper.append(TREND_LIMIT)
     position = {name: i for i, name in enumerate(names)}
+    load_points = [record.history.displacement(record.time) if trend else None for record in records]
     speeds = [float(record.history.speeds[0]) for record in records]
 
     def each(values, i):
@@ -526,7 +549,10 @@ def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool =
         for i, record in enumerate(records):
             try:
                 law, spring = each(values, i)
-                parts.append(quasi_static_friction(law, spring, record.history, record.time, rtol) - record.friction)
+                friction = quasi_static_friction(law, spring, record.history, record.time, rtol)
+                if trend:
+                    friction = friction + values[position[f"trend_{i + 1}"]] * load_points[i]
+                parts.append(friction - record.friction)
             except (SolverError, InputError):
                 parts.append(np.full(record.time.size, 1.0))  # a trial a slider cannot follow: a large misfit
         return np.concatenate(parts)
@@ -544,6 +570,8 @@ def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool =
         row = {"mu0": parameters[f"mu0_{i + 1}"]}
         if stiffness_free:
             row["stiffness"] = parameters[f"stiffness_{i + 1}"]
+        if trend:
+            row["trend"] = parameters[f"trend_{i + 1}"]
         per_record.append(row)
     bounds = np.cumsum([0, *points])
     rms = [math.sqrt(float(np.mean(result.fun[a:b] ** 2))) for a, b in zip(bounds[:-1], bounds[1:])]

@@ -213,18 +213,92 @@ def _window_slopes(time, displacement, width):
     return left, right
 
 
+def _hinge_fits(time, displacement):
+    """(knots, residual sums of squares, coefficients) of the continuous two-line fit d = c0 + c1 min(t - t_k, 0)
+    + c2 max(t - t_k, 0) with its knot at each sample t_k, k = 2 .. n - 3: every knot's 3 x 3 normal equations
+    from running sums, so all n fits cost O(n) (c1 and c2 are the speeds before and after the knot)."""
+    t = np.asarray(time, dtype=float)
+    d = np.asarray(displacement, dtype=float)
+    t, d = t - t.mean(), d - d.mean()  # centred: the normal equations stay well conditioned
+    n = t.size
+    knots = np.arange(2, n - 2)
+    if knots.size == 0:
+        return knots, np.empty(0), np.empty((0, 3))
+    running = lambda values: np.concatenate(([0.0], np.cumsum(values)))  # noqa: E731
+    s_1, s_t, s_tt, s_d, s_td = (running(v) for v in (np.ones(n), t, t * t, d, t * d))
+    total_dd = float(d @ d)
+    at = t[knots]
+    left = [s[knots] for s in (s_1, s_t, s_tt, s_d, s_td)]
+    right = [s[-1] - s[knots] for s in (s_1, s_t, s_tt, s_d, s_td)]
+    sides = []
+    for count, sum_t, sum_tt, sum_d, sum_td in (left, right):
+        sides.append((sum_t - at * count, sum_tt - 2 * at * sum_t + at * at * count, sum_td - at * sum_d))
+    (x1, x1x1, x1d), (x2, x2x2, x2d) = sides
+    normal = np.zeros((knots.size, 3, 3))
+    normal[:, 0, 0] = n
+    normal[:, 0, 1] = normal[:, 1, 0] = x1
+    normal[:, 0, 2] = normal[:, 2, 0] = x2
+    normal[:, 1, 1], normal[:, 2, 2] = x1x1, x2x2
+    rhs = np.stack([np.full(knots.size, float(s_d[-1])), x1d, x2d], axis=1)
+    coefficients = np.linalg.solve(normal, rhs[..., None])[..., 0]
+    return knots, total_dd - np.einsum("ij,ij->i", coefficients, rhs), coefficients
+
+
 def _hinge_time(time, displacement, lo, hi):
     """The time in samples [lo, hi) where two straight lines joined there fit the displacement best."""
-    best, best_error = lo, math.inf
-    t, d = time[lo:hi], displacement[lo:hi]
-    for k in range(2, t.size - 2):
-        knot = t[k]
-        design = np.column_stack([np.ones_like(t), np.minimum(t - knot, 0.0), np.maximum(t - knot, 0.0)])
-        coefficients, residual, *_ = np.linalg.lstsq(design, d, rcond=None)
-        error = float(residual[0]) if residual.size else float(np.sum((design @ coefficients - d) ** 2))
-        if error < best_error:
-            best, best_error = lo + k, error
-    return float(time[best])
+    knots, errors, _ = _hinge_fits(time[lo:hi], displacement[lo:hi])
+    return float(time[lo + knots[np.argmin(errors)]]) if knots.size else float(time[lo])
+
+
+SPLIT_F = 1000.0  # a segment is split where two joined lines beat one by F > 1000 (a step, not the noise's wander)
+MIN_SEGMENT = 20  # samples on each side of a boundary
+
+
+def _refine_boundaries(time, displacement, boundaries, min_change):
+    """Each step placed again on the samples themselves, between its neighbours' midpoints (a coarse search's
+    window spans short segments), segments shorter than :data:`MIN_SEGMENT` samples dropped, and a segment
+    split where two joined lines fit its samples far better than one (F > :data:`SPLIT_F`) with speeds
+    differing by more than ``min_change``: a segment shorter than the coarse search's window (p655's 4 s at
+    23 um/s after 228.6 um/s) is found this way. Repeated until nothing moves."""
+    bounds = [float(b) for b in boundaries]
+    threshold = math.log1p(min_change)
+    for _ in range(20):
+        before = list(bounds)
+        for i in range(1, len(bounds) - 1):
+            lo, hi = 0.5 * (bounds[i - 1] + bounds[i]), 0.5 * (bounds[i] + bounds[i + 1])
+            rows = np.flatnonzero((time >= lo) & (time <= hi))
+            knots, errors, _ = _hinge_fits(time[rows], displacement[rows])
+            if knots.size:
+                bounds[i] = float(time[rows[knots[np.argmin(errors)]]])
+        counts = [int(((time >= a) & (time < b)).sum()) for a, b in zip(bounds[:-1], bounds[1:])]
+        short = [i for i, c in enumerate(counts) if c < MIN_SEGMENT]
+        if short and len(bounds) > 2:  # drop the boundary that closes (or, for the last, opens) a short segment
+            i = short[0]
+            del bounds[min(i + 1, len(bounds) - 2) if i + 1 < len(bounds) - 1 else i]
+            continue
+        split = []
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            rows = np.flatnonzero((time >= a) & (time <= b))
+            if rows.size < 4 * MIN_SEGMENT:
+                continue
+            knots, errors, coefficients = _hinge_fits(time[rows], displacement[rows])
+            allowed = (knots >= MIN_SEGMENT) & (knots <= rows.size - MIN_SEGMENT)
+            if not allowed.any():
+                continue
+            best = int(np.argmin(np.where(allowed, errors, np.inf)))
+            t, d = time[rows] - time[rows].mean(), displacement[rows]
+            line = np.polyfit(t, d, 1)
+            single = float(np.sum((np.polyval(line, t) - d) ** 2))
+            two = max(float(errors[best]), 1e-300)
+            speed_before, speed_after = abs(coefficients[best, 1]), abs(coefficients[best, 2])
+            floor = 0.02 * max(speed_before, speed_after, 1e-300)
+            if ((single - two) / (two / (rows.size - 3)) > SPLIT_F
+                    and abs(math.log((speed_after + floor) / (speed_before + floor))) > threshold):
+                split.append(float(time[rows[knots[best]]]))
+        bounds = sorted(bounds + split)
+        if bounds == before:
+            break
+    return bounds
 
 
 def _segment_speeds(time, displacement, boundaries):
@@ -277,7 +351,8 @@ def detect_steps(time, displacement, min_change: float = MIN_CHANGE, width: int 
         binned_time, binned = _uniform_bins(time, displacement, float(np.percentile(intervals, 99)))
         found = detect_steps(binned_time - binned_time[0], binned, min_change, width, resample=False)
         boundaries = [float(time[0]), *(t + binned_time[0] for t in found.times[1:-1]), float(time[-1])]
-        return _history(time, displacement, boundaries, min_change, merge=False)
+        return _history(time, displacement, _refine_boundaries(time, displacement, boundaries, min_change),
+                        min_change, merge=True)
     if step_times is not None:
         steps = sorted(float(t) for t in step_times)
         if any(not (time[0] < t < time[-1]) for t in steps):
@@ -309,7 +384,7 @@ def detect_steps(time, displacement, min_change: float = MIN_CHANGE, width: int 
         # two candidates on the flanks of one change (a hold's slow start) refine to one time: keep one
         spacing = width * float(np.median(np.diff(time)))
         steps = [t for k, t in enumerate(refined) if k == 0 or t - refined[k - 1] > spacing]
-        boundaries = [float(time[0])] + steps + [float(time[-1])]
+        boundaries = _refine_boundaries(time, displacement, [float(time[0])] + steps + [float(time[-1])], min_change)
     return _history(time, displacement, boundaries, min_change, merge=step_times is None)
 
 
@@ -482,7 +557,8 @@ def step_windows(prepared: PreparedRecord, lead: float = 0.5) -> list[tuple[floa
     return windows
 
 
-def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=None) -> list[dict]:
+def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=None, *, stiffness_free: bool = False,
+                  trend: bool = False) -> list[dict]:
     """Each step's own fit (its window started at steady state at the speed before it): a list of
     ``{"step", "window", "fit"}`` or ``{"step", "window", "error"}`` where a window does not constrain the law.
 
@@ -494,6 +570,11 @@ def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=No
         aging or slip.
     windows : list, optional
         (start, end) times of each step's window (s).
+    stiffness_free : bool
+        Fit each window's machine stiffness too (from the prepared spring).
+    trend : bool
+        Fit each window's own linear trend in the load point's displacement
+        (:func:`faultslip.lab.rate_state_fit.fit_velocity_steps`).
 
     Returns
     -------
@@ -518,7 +599,8 @@ def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=No
         window = StepRecord(times, record.friction[inside], history, f"{record.source} step {number}",
                             record.metadata)
         try:
-            entry["fit"] = fit_velocity_steps(window, prepared.stiffness, evolution=evolution)
+            entry["fit"] = fit_velocity_steps(window, prepared.stiffness, evolution=evolution,
+                                              stiffness_free=stiffness_free, trend=trend)
         except (SolverError, InputError) as exc:
             entry["error"] = str(exc)
         results.append(entry)
@@ -572,19 +654,65 @@ def synthetic_raw_record(law, machine_stiffness: float, area: float, normal_load
                      "synthetic")
 
 
-def load_record(path, units: dict | None = None, area=None):
+def load_record(path, units: dict | None = None, area=None, columns: dict | None = None, span=None):
     """A friction record (:class:`StepRecord`: time, friction, load-point speed or displacement) or a raw rig
     record (:class:`RawRecord`: loads or stresses), whichever the file's columns are; with the file's metadata
-    (:func:`faultslip.io.resources.read_table_metadata`) beside it."""
-    path, columns = _read_columns(path, "velocity-step record")
+    (:func:`faultslip.io.resources.read_table_metadata`) beside it.
+
+    Parameters
+    ----------
+    path : str or path
+        CSV, text, XLSX or netCDF.
+    units : dict, optional
+        Column -> unit, for bare column names.
+    area : str, Quantity or float, optional
+        The sample's area (m^2).
+    columns : dict, optional
+        faultslip's column name -> the file's (``{"time": "Time", "load_point_displacement": "LP_disp"}``); only
+        the named columns are read.
+    span : (float, float), optional
+        The rows from ``span[0]`` to ``span[1]`` of the file's time (s), both ends included.
+
+    Returns
+    -------
+    StepRecord or RawRecord
+    """
+    path, table = _read_columns(path, "velocity-step record", only=None if columns is None else
+                                set(columns.values()))
     label = f"velocity-step record {path.name}"
     metadata = read_table_metadata(path, label)
-    if is_raw_table(columns):
-        record = _columns_to_raw(columns, path.name, units, _area(area))
+    if columns is not None:
+        missing = [name for name in columns.values() if name not in table]
+        if missing:
+            raise InputError(f"{label} has no column {missing[0]!r} (--columns); it has "
+                             f"{', '.join(sorted(table)) or 'none'}")
+        if len(set(columns.values())) < len(columns):
+            raise InputError(f"--columns names one of the file's columns twice: {columns}")
+        table = {name: table[source] for name, source in columns.items()}
+    if span is not None:
+        table = _span(table, span, label)
+    if is_raw_table(table):
+        record = _columns_to_raw(table, path.name, units, _area(area))
     elif units or area is not None:
         raise InputError(f"{label} holds friction already: --units and --area apply to raw records (loads or "
                          "stresses)")
     else:
-        record = step_record_from_columns(columns, path.name)
+        record = step_record_from_columns(table, path.name)
     record.metadata = metadata
     return record
+
+
+def _span(table: dict, span, label: str) -> dict:
+    """The rows of ``table`` ({name: (values, unit)}) whose time lies in ``span`` (s, both ends)."""
+    if "time" not in table:
+        raise InputError(f"{label}: --span needs a time column")
+    start, end = (float(v) for v in span)
+    values, unit = table["time"]
+    seconds = np.asarray(values, dtype=float) * unit_factor(unit or "s", "time", f"{label}, column time")
+    if not (math.isfinite(start) and math.isfinite(end) and start < end):
+        raise InputError(f"--span must run from an earlier to a later time, got {start:g} s - {end:g} s")
+    inside = (seconds >= start) & (seconds <= end)
+    if not inside.any():
+        raise InputError(f"{label}: no row lies in the span {start:g} s - {end:g} s (its time runs from "
+                         f"{np.nanmin(seconds):g} s to {np.nanmax(seconds):g} s)")
+    return {name: (np.asarray(v)[inside], u) for name, (v, u) in table.items()}
