@@ -540,7 +540,8 @@ def test_the_posterior_and_the_joint_fit_carry_a_fitted_trend():
 
 def test_law_selection_counts_correlated_points_once():
     """AR(1) noise (phi = 0.9) makes n (1 - rho) / (1 + rho) effective points, about n / 19; white noise leaves n
-    to within rho's scatter. lag_one_autocorrelation recovers phi of a long AR(1) series to 0.01."""
+    to within rho's scatter, and only the correlated record's fits warn that their intervals are too narrow.
+    lag_one_autocorrelation recovers phi of a long AR(1) series to 0.01."""
     from faultslip.lab.law_selection import lag_one_autocorrelation, select_law
 
     rng = np.random.default_rng(11)
@@ -562,6 +563,9 @@ def test_law_selection_counts_correlated_points_once():
                             candidates=("aging", "slip"))
     assert correlated.effective_points < 0.2 * correlated.points
     assert "effective points" in correlated.notes[0]
+    # the fits say their intervals are too narrow on correlated noise, and not on independent noise
+    assert any("residuals are correlated" in note for note in correlated.rows[0]["fit"].notes)
+    assert not any("residuals are correlated" in note for note in white.rows[0]["fit"].notes)
 
 
 P655_COLUMNS = {"time": "Time", "load_point_displacement": "LP_disp", "shear_stress": "Shear_stress",

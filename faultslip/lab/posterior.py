@@ -43,7 +43,7 @@ from faultslip.dynamics.rate_state.compiled import available as compiled_kernel_
 from faultslip.dynamics.rate_state.slider import RateStateSlider, quasi_static_friction, simulate_rate_state
 from faultslip.errors import FaultslipError, InputError, SolverError
 from faultslip.friction.rate_state import RateStateLaw
-from faultslip.lab.rate_state_fit import TREND_LIMIT, StepRecord, fit_velocity_steps
+from faultslip.lab.rate_state_fit import TREND_LIMIT, StepRecord, correlation_notes, fit_velocity_steps
 
 PRIOR_KINDS = ("uniform", "loguniform", "normal", "lognormal")
 LOG_SAMPLED = ("critical_slip", "critical_slip2", "stiffness")
@@ -450,7 +450,7 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
     finally:
         if pool is not None:
             pool.terminate()
-    notes = []
+    notes = correlation_notes(fit.residuals)  # the likelihood treats the samples as independent too
     if two_state or not compiled_kernel_available():
         notes.append("the likelihood ran on LSODA" + (" (a two-state law)" if two_state else
                      ": numba is not installed (pip install 'faultslip[fast]' makes it about 15 times faster)"))

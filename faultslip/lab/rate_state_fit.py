@@ -364,6 +364,7 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
     quantile = float(stdtrit(max(points - count, 1), 0.975))
     law = _law(result.x, names, reference_speed, evolution)
     parameters, errors, intervals, notes = _estimates(result, names, points)
+    notes.extend(correlation_notes(result.fun))
     samples, boot_intervals = np.empty((0, count)), {}
     if bootstrap:
         fitted = record.friction + result.fun
@@ -400,6 +401,27 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
                         residual_rms=math.sqrt(float(result.fun @ result.fun) / points), points=points,
                         evaluations=evaluations["n"], notes=notes, bootstrap=samples,
                         bootstrap_intervals=boot_intervals, seed=seed, residuals=np.asarray(result.fun))
+
+
+#: residuals correlated beyond this lag-one autocorrelation get a note: the intervals assume independent noise
+CORRELATED_RESIDUALS = 0.3
+
+
+def correlation_notes(residuals) -> list:
+    """A note where a fit's residuals are correlated (lag-one autocorrelation rho > :data:`CORRELATED_RESIDUALS`):
+    covariance, residual-bootstrap and posterior intervals treat every sample as independent, so for AR(1) noise
+    they are about sqrt((1 + rho) / (1 - rho)) too narrow (the variance of a mean of correlated points)."""
+    r = np.asarray(residuals, dtype=float)
+    r = r - r.mean()
+    total = float(r @ r)
+    if r.size < 3 or not total > 0:
+        return []
+    rho = float(r[:-1] @ r[1:]) / total
+    if rho <= CORRELATED_RESIDUALS:
+        return []
+    factor = math.sqrt((1 + rho) / max(1 - rho, 1e-12))
+    return [f"the residuals are correlated (lag-one autocorrelation {rho:.2f}): the intervals assume independent "
+            f"noise and are about {factor:.2g} times too narrow; thin the record or read them so"]
 
 
 def synthetic_step_record(law: RateStateLaw, stiffness: float, history: LoadHistory, samples: int,
@@ -564,6 +586,7 @@ def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool =
                           "fit them one at a time first")
     points = [record.time.size for record in records]
     parameters, errors, intervals, notes = _estimates(result, names, sum(points))
+    notes.extend(correlation_notes(result.fun))
     common = [name.removeprefix("log_") for name in shared]
     per_record = []
     for i in range(len(records)):
