@@ -617,3 +617,35 @@ def test_p655_columns_and_span_are_checked_in_one_sentence(p655_reduced, cli):
         result = cli("fit", "--law", "rate-state", str(p655_reduced), "--stiffness", "2000 1/m", "--columns", columns,
                      *extra)
         assert_clean_error(result, message)
+
+
+def test_every_lab_result_gives_xarray_with_cf_units(p655_reduced, tmp_path):
+    """Issue 46, item 6: the records, the reader's file, the fits, the posterior, the steps' fits and the steady
+    levels each give an xarray Dataset whose every variable has a unit udunits reads, and which netCDF holds."""
+    from faultslip.lab.healing import healing, steady_state_dependence
+    from faultslip.lab.look_files import read_look
+    from faultslip.units import registry
+
+    raw = _small(seed=9)
+    prepared = prepare_record(raw, "200 kN/mm", area="25 cm^2")
+    fit = fit_velocity_steps(prepared.record, prepared.stiffness, bootstrap=3, stiffness_free=True, trend=True)
+    posterior = sample_posterior(prepared.record, prepared.stiffness, samples=500, seed=2, initial_fit=None)
+    held = prepare_record(read_raw_record(EXAMPLE, area="25 cm^2"), "200 kN/mm", area="25 cm^2").record
+    results = {"raw": raw, "prepared": prepared, "record": prepared.record, "fit": fit, "posterior": posterior,
+               "each_step": fit_each_step(prepared), "steady": steady_state_dependence(prepared.record),
+               "healing": healing(held), "look": read_look(ROOT / "data" / "p655" / "p655intact100l"),
+               "span": load_record(p655_reduced, columns=P655_COLUMNS, span=("64 min", "65 min"))}
+    for name, result in results.items():
+        dataset = result.to_dataset()
+        assert dataset.data_vars, name
+        for variable in dataset.data_vars.values():
+            if variable.dtype.kind in "fi":
+                registry().Unit(variable.attrs["units"])  # udunits-style, read by pint
+        dataset.to_netcdf(tmp_path / f"{name}.nc")
+    assert results["span"].time[-1] == pytest.approx(60.0, abs=0.15)  # 3840 s to 3900 s, sampled at 0.1 s
+    assert results["fit"].to_dataset()["stiffness_bootstrap"].sizes["draw"] == 3
+    assert results["posterior"].to_dataset()["critical_slip"].attrs["units"] == "m"
+    steps = results["each_step"].to_dataset()
+    np.testing.assert_allclose(steps["a"], [entry["fit"].parameters["a"] for entry in results["each_step"]])
+    np.testing.assert_allclose(results["steady"].to_dataset()["a_minus_b"],
+                               [row.a_minus_b for row in results["steady"]])

@@ -141,7 +141,25 @@ class SteadyStep:
         return (self.friction_after - self.friction_before) / math.log(self.speed_after / self.speed_before)
 
 
-def steady_state_dependence(record) -> list:
+class SteadySteps(list):
+    """:func:`steady_state_dependence`'s list of :class:`SteadyStep`, which also gives xarray."""
+
+    def to_dataset(self):
+        """One row a step on dimension ``step``: time, speeds, steady frictions and a - b."""
+        import xarray as xr  # heavy: imported where used
+
+        column = lambda key: np.array([getattr(row, key) for row in self], dtype=float)  # noqa: E731
+        return xr.Dataset(
+            {"time": ("step", column("time"), {"units": "s", "long_name": "when the step came"}),
+             "speed_before": ("step", column("speed_before"), {"units": "m/s"}),
+             "speed_after": ("step", column("speed_after"), {"units": "m/s"}),
+             "friction_before": ("step", column("friction_before"), {"units": "1", "long_name": "steady friction"}),
+             "friction_after": ("step", column("friction_after"), {"units": "1", "long_name": "steady friction"}),
+             "a_minus_b": ("step", column("a_minus_b"), {"units": "1", "long_name": "d mu_ss / d ln V"})},
+            coords={"step": ("step", np.arange(1, len(self) + 1))}, attrs={"Conventions": "CF-1.8"})
+
+
+def steady_state_dependence(record) -> SteadySteps:
     """Each step between two slides at steady state: the friction over the last fifth of the segment before and of
     the segment after it (medians), and a - b = d mu_ss / d ln V (Dieterich 1979), which no fit of a, b and D_c
     is needed for.
@@ -153,11 +171,12 @@ def steady_state_dependence(record) -> list:
 
     Returns
     -------
-    list of SteadyStep
-        Each step's time (s), speeds (m/s), steady frictions before and after, and ``a_minus_b``.
+    SteadySteps
+        A list of :class:`SteadyStep`, each step's time (s), speeds (m/s), steady frictions before and after, and
+        ``a_minus_b``; ``to_dataset()``.
     """
     times, speeds = record.history.times, record.history.speeds
-    rows = []
+    rows = SteadySteps()
     for i in range(1, len(speeds)):
         if speeds[i - 1] <= 0 or speeds[i] <= 0:
             continue

@@ -34,6 +34,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io import gate
+from faultslip.units import registry
 
 HEADER_BYTES = 36
 COLUMN_HEADER_BYTES = 84
@@ -56,6 +57,37 @@ class LookFile:
     def records(self) -> int:
         """The number of records (rows) of every column."""
         return len(next(iter(self.columns.values()))) if self.columns else 0
+
+    def to_dataset(self):
+        """The file as CF netCDF: one variable a column on dimension ``record``, its name as ``long_name``, its unit as
+        ``units`` where udunits reads it, the file's own unit kept as ``xlook_units``."""
+        import xarray as xr  # heavy: imported where used
+
+        data = {}
+        for index, (name, values) in enumerate(self.columns.items()):
+            key = "".join(c if c.isalnum() or c == "_" else "_" for c in name).strip("_") or f"column_{index}"
+            key = key if key not in data else f"{key}_{index}"
+            unit = self.units.get(name, "")
+            data[key] = ("record", values, {"long_name": name, "units": cf_unit(unit), "xlook_units": str(unit)})
+        return xr.Dataset(data, coords={"record": ("record", np.arange(self.records), {"units": "1"})},
+                          attrs={"title": f"xlook data file {self.path or self.name}", "experiment": self.name,
+                                 "Conventions": "CF-1.8"})
+
+
+_UNITS = {".": "1", "mic": "micron", "microns": "micron", "sec": "s", "msec": "ms", "bit": "1", "bits": "1", "d": "1",
+          "": "1", "None": "1"}
+
+
+def cf_unit(unit) -> str:
+    """An xlook unit as udunits reads it (``.`` a ratio is ``1``, ``mic`` is ``micron``); ``1`` where pint reads
+    none."""
+    text = _UNITS.get(str(unit), str(unit))
+    try:  # the one unit parser (pint): is the unit one it reads?
+        registry().Unit(text)
+        return text
+    except Exception:  # pint's errors are many kinds; an unread unit is kept as xlook_units, "1" here
+        return "1"
+
 
 
 def _text(raw: bytes) -> str:

@@ -39,8 +39,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io import gate
-from faultslip.lab.look_files import read_look
-from faultslip.units import registry
+from faultslip.lab.look_files import cf_unit as _cf_unit, read_look
 
 SLOTS = 32
 _ARGUMENTS = {"math": 8, "math_int": 10, "summation": 5, "power": 6, "zero": 3, "offset_int": 5, "ec": 9,
@@ -317,18 +316,5 @@ def _r_row(state, words, where):
 
 
 #: xlook's shorthand units and what udunits calls them
-_UNITS = {".": "1", "mic": "micron", "microns": "micron", "sec": "s", "msec": "ms", "bit": "1", "bits": "1", "d": "1",
-          "": "1", "None": "1"}
-
-
-def _cf_unit(unit) -> str:
-    text = _UNITS.get(str(unit), str(unit))
-    try:  # the one unit parser (pint): is the unit one it reads?
-        registry().Unit(text)
-        return text
-    except Exception:  # pint's errors are many kinds; an unread unit is kept as xlook_units, "1" here
-        return "1"
-
-
 _COMMANDS = {"math": _math, "math_int": _math_int, "summation": _summation, "power": _power, "zero": _zero,
              "offset_int": _offset_int, "ec": _ec, "strain": _strain, "r_col": _r_col, "r_row": _r_row}

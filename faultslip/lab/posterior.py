@@ -236,6 +236,24 @@ class Posterior:
                 "model_evaluations": self.evaluations, "seconds": self.seconds, "seed": self.seed,
                 "notes": self.notes}
 
+    def to_dataset(self):
+        """The draws as an xarray Dataset on dimension ``draw``, one variable a parameter with its CF unit, its prior,
+        R-hat, effective sample size and 95 % credible interval in its attributes; each draw's noise sigma."""
+        import xarray as xr  # heavy: imported where used
+
+        intervals = self.intervals()
+        data = {name: ("draw", self.samples[:, i],
+                       {"units": UNITS[name], "prior": self.priors[name].describe(), "r_hat": self.r_hat[name],
+                        "effective_sample_size": self.effective_sample_size[name],
+                        "credible_95": list(intervals[name])})
+                for i, name in enumerate(self.names)}
+        data["noise"] = ("draw", self.noise, {"units": "1", "long_name": "each draw's noise sigma, sqrt(SSR / n)"})
+        return xr.Dataset(data, coords={"draw": ("draw", np.arange(self.samples.shape[0]))},
+                          attrs={"evolution": self.evolution, "reference_speed_m_s": self.reference_speed,
+                                 "walkers": self.walkers, "steps": self.steps, "burn_in": self.burn, "seed": self.seed,
+                                 "acceptance": self.acceptance, "notes": "; ".join(self.notes),
+                                 "Conventions": "CF-1.8"})
+
     def to_record(self, keep: int = 500) -> dict:
         """The registry entry: the median law, the priors, the diagnostics and up to ``keep`` draws that carry
         the posterior into fault predictions."""

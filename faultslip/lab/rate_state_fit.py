@@ -42,6 +42,24 @@ class StepRecord:
     source: str = ""
     metadata: dict = field(default_factory=dict)  # what the file says of the experiment (id, stresses, area...)
 
+    def to_dataset(self):
+        """The record as an xarray Dataset on dimension ``time``: friction, and the load point's speed and
+        displacement from its load history; the steps' times and speeds and the file's metadata in attributes."""
+        import xarray as xr  # heavy: imported where used
+
+        history = self.history
+        segment = np.clip(np.searchsorted(history.times, self.time, side="right") - 1, 0, len(history.speeds) - 1)
+        return xr.Dataset(
+            {"friction": ("time", self.friction, {"units": "1", "long_name": "friction, shear over normal stress"}),
+             "load_point_speed": ("time", np.asarray(history.speeds, dtype=float)[segment],
+                                  {"units": "m/s", "long_name": "load-point speed (the load history's)"}),
+             "load_point_displacement": ("time", history.displacement(self.time),
+                                         {"units": "m", "long_name": "load-point displacement (the load history's)"})},
+            coords={"time": ("time", self.time, {"units": "s"})},
+            attrs={"source": self.source, "step_times_s": list(map(float, history.times[1:-1])),
+                   "segment_speeds_m_s": list(map(float, history.speeds)), "Conventions": "CF-1.8",
+                   **{f"record_{key}": str(value) for key, value in self.metadata.items()}})
+
 
 def _speeds_from_displacement(time, displacement, source):
     """Piecewise-constant speeds from a load-point displacement sampled at the record's times."""
@@ -190,6 +208,28 @@ class RateStateFit:
                 "residual_rms": self.residual_rms, "points": self.points, "evaluations": self.evaluations,
                 "bootstrap_intervals_95": {name: list(pair) for name, pair in self.bootstrap_intervals.items()},
                 "bootstrap_samples": int(self.bootstrap.shape[0]), "seed": self.seed, "notes": self.notes}
+
+    def to_dataset(self):
+        """The fit as an xarray Dataset with CF units: each parameter with ``*_low`` and ``*_high`` (its 95 %
+        covariance interval) and ``*_standard_error``; the bootstrap resamples on dimension ``draw``, if any."""
+        import xarray as xr  # heavy: imported where used
+
+        units = self.to_dict()["parameters"]
+        data = {}
+        for name, value in self.parameters.items():
+            low, high = self.intervals[name]
+            unit = units[name]["units"]
+            data[name] = ((), value, {"units": unit, "long_name": name})
+            data[f"{name}_low"] = ((), low, {"units": unit, "long_name": f"{name}, 95 % interval's low end"})
+            data[f"{name}_high"] = ((), high, {"units": unit, "long_name": f"{name}, 95 % interval's high end"})
+            data[f"{name}_standard_error"] = ((), self.standard_errors[name], {"units": unit})
+        if self.bootstrap.size:
+            for i, name in enumerate(self.parameters):
+                data[f"{name}_bootstrap"] = ("draw", self.bootstrap[:, i], {"units": units[name]["units"],
+                                                                            "long_name": f"{name}, resampled"})
+        return xr.Dataset(data, attrs={"evolution": self.law.evolution, "reference_speed_m_s": self.law.reference_speed,
+                                       "residual_rms": self.residual_rms, "points": self.points, "seed": self.seed,
+                                       "notes": "; ".join(self.notes), "Conventions": "CF-1.8"})
 
     def to_record(self) -> dict:
         """The registry entry: the law, its intervals and the resamples that carry them into fault predictions."""

@@ -63,6 +63,21 @@ class RawRecord:
     def friction(self) -> np.ndarray:
         return self.shear_stress / self.normal_stress
 
+    def to_dataset(self):
+        """The record as an xarray Dataset on dimension ``time`` with CF units (SI), friction beside the stresses,
+        the file's metadata in attributes."""
+        import xarray as xr  # heavy: imported where used
+
+        return xr.Dataset(
+            {"load_point_displacement": ("time", self.load_point_displacement,
+                                         {"units": "m", "long_name": "load-point displacement"}),
+             "shear_stress": ("time", self.shear_stress, {"units": "Pa", "long_name": "shear stress"}),
+             "normal_stress": ("time", self.normal_stress, {"units": "Pa", "long_name": "normal stress"}),
+             "friction": ("time", self.friction, {"units": "1", "long_name": "shear over normal stress"})},
+            coords={"time": ("time", self.time, {"units": "s"})},
+            attrs={"source": self.source, "notes": "; ".join(self.notes), "Conventions": "CF-1.8",
+                   **{f"record_{key}": str(value) for key, value in self.metadata.items()}})
+
 
 def _columns_to_raw(columns: dict, source: str, units: dict | None, area) -> RawRecord:
     units = dict(units or {})
@@ -438,6 +453,19 @@ class PreparedRecord:
     def steps(self) -> list[float]:
         return list(self.record.history.times[1:-1])
 
+    def to_dataset(self):
+        """The prepared record (:meth:`StepRecord.to_dataset`) with the friction before detrending, the removed
+        trend and the sample's own displacement; the fit's spring and the stated corrections in attributes."""
+        dataset = self.record.to_dataset()
+        dataset["raw_friction"] = ("time", self.raw_friction, {"units": "1", "long_name": "friction before detrending"})
+        dataset["trend"] = ("time", self.trend, {"units": "1", "long_name": f"removed trend ({self.detrend})"})
+        dataset["sample_displacement"] = ("time", self.sample_displacement,
+                                          {"units": "m", "long_name": "load point less the machine's stretch"})
+        dataset.attrs.update({"stiffness_per_m": self.stiffness, "detrend": self.detrend,
+                              "trend_coefficients_per_mm": list(self.trend_coefficients),
+                              "notes": "; ".join(self.notes)})
+        return dataset
+
     def summary(self) -> dict:
         history = self.record.history
         return {"steps": [{"time": {"value": t, "units": "s"}, "speed_before": {"value": a, "units": "m/s"},
@@ -557,8 +585,30 @@ def step_windows(prepared: PreparedRecord, lead: float = 0.5) -> list[tuple[floa
     return windows
 
 
+class StepFits(list):
+    """:func:`fit_each_step`'s list of ``{"step", "window", "fit"}`` or ``{"step", "window", "error"}``, which also
+    gives xarray."""
+
+    def to_dataset(self):
+        """One row a step on dimension ``step``: its window (s), each fitted parameter with its 95 % interval (NaN
+        where the step has no fit) and the reason where it has none."""
+        import xarray as xr  # heavy: imported where used
+
+        names = list(dict.fromkeys(name for entry in self if "fit" in entry for name in entry["fit"].parameters))
+        units = {"critical_slip": "m", "stiffness": "1/m", "trend": "1/m", "critical_slip2": "m"}
+        data = {"window_start": ("step", [e["window"][0] for e in self], {"units": "s"}),
+                "window_end": ("step", [e["window"][1] for e in self], {"units": "s"}),
+                "error": ("step", [e.get("error", "") for e in self], {"long_name": "why the step has no fit"})}
+        for name in names:
+            for suffix, pick in (("", lambda f, n: f.parameters[n]), ("_low", lambda f, n: f.intervals[n][0]),
+                                 ("_high", lambda f, n: f.intervals[n][1])):
+                data[name + suffix] = ("step", [pick(e["fit"], name) if "fit" in e and name in e["fit"].parameters
+                                                else np.nan for e in self], {"units": units.get(name, "1")})
+        return xr.Dataset(data, coords={"step": ("step", [e["step"] for e in self])}, attrs={"Conventions": "CF-1.8"})
+
+
 def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=None, *, stiffness_free: bool = False,
-                  trend: bool = False) -> list[dict]:
+                  trend: bool = False) -> StepFits:
     """Each step's own fit (its window started at steady state at the speed before it): a list of
     ``{"step", "window", "fit"}`` or ``{"step", "window", "error"}`` where a window does not constrain the law.
 
@@ -578,10 +628,10 @@ def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=No
 
     Returns
     -------
-    list of dict
-        Per step: its window (s) and its fit (a, b, D_c in m) or the reason it has none.
+    StepFits
+        A list, per step: its window (s) and its fit (a, b, D_c in m) or the reason it has none; ``to_dataset()``.
     """
-    record, results = prepared.record, []
+    record, results = prepared.record, StepFits()
     boundaries, speeds = record.history.times, record.history.speeds
     for number, (start, end) in enumerate(windows or step_windows(prepared), start=1):
         inside = (record.time >= start) & (record.time <= end)
@@ -671,7 +721,8 @@ def load_record(path, units: dict | None = None, area=None, columns: dict | None
         faultslip's column name -> the file's (``{"time": "Time", "load_point_displacement": "LP_disp"}``); only
         the named columns are read.
     span : (float, float), optional
-        The rows from ``span[0]`` to ``span[1]`` of the file's time (s), both ends included.
+        The rows from ``span[0]`` to ``span[1]`` of the file's time (s, or text with units: "40 min"), both ends
+        included.
 
     Returns
     -------
@@ -706,7 +757,7 @@ def _span(table: dict, span, label: str) -> dict:
     """The rows of ``table`` ({name: (values, unit)}) whose time lies in ``span`` (s, both ends)."""
     if "time" not in table:
         raise InputError(f"{label}: --span needs a time column")
-    start, end = (float(v) for v in span)
+    start, end = (to_si_scalar(v, "time", "the span", default_unit="s") for v in span)
     values, unit = table["time"]
     seconds = np.asarray(values, dtype=float) * unit_factor(unit or "s", "time", f"{label}, column time")
     if not (math.isfinite(start) and math.isfinite(end) and start < end):
