@@ -237,10 +237,15 @@ def _studies_commands(commands) -> None:
                             "zarr lets every worker write its own chunks")
     sweep.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
     sweep.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    sweep.add_argument("--scheduler", help="'local' for a dask LocalCluster, or the address of a dask scheduler")
+    sweep.add_argument("--scheduler", help="'local' for a dask LocalCluster, 'slurm' for --workers SLURM jobs through "
+                                           "dask-jobqueue (resources from dask's jobqueue.slurm configuration), or "
+                                           "the address of a dask scheduler")
     sweep.add_argument("--chunks", type=int, help="cells per chunk (default 524288)")
     sweep.add_argument("--workers", type=int, help="parallel workers (default: the cores, at most one per chunk)")
     sweep.add_argument("--resume", action="store_true", help="reuse the chunks of an interrupted run of the same study")
+    sweep.add_argument("--retry-failed", action="store_true",
+                       help="compute again only the cells the output's failure ledger (OUT.failed.json) lists, and "
+                            "write them into the output")
     sweep.add_argument("--compression", choices=("zlib", "zstd", "none"), default="zlib",
                        help="netCDF4 filter (default zlib, readable everywhere; zstd writes ~2.5x faster)")
     sweep.add_argument("--json", action="store_true", help="print one JSON object")

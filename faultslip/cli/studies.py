@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import json
-from datetime import datetime, timezone
 import math
+import sys
+from datetime import datetime, timezone
 
 import numpy as np
 from pathlib import Path
@@ -29,7 +30,7 @@ from faultslip.studies.maps import (check_map_size, has_observations, load_map, 
                                     observed_table, run_map, segment_rows)
 from faultslip.io.convert import zarr_to_netcdf
 from faultslip.studies.streaming import (default_chunk_cells, cell_counts, check_study_output, output_format, reproduce,
-                                         run_study)
+                                         retry_failed, run_study)
 
 #: Segments printed in the text table; all of them are in the netCDF file and in --json.
 MOST_ROWS = 50
@@ -39,6 +40,8 @@ def cmd_sweep(args) -> int:
     retain_freed_memory()  # this process computes blocks too (in process, or as the pool's parent)
     study = load_study(args.study)
     inputs = [args.study, study.scene.path]
+    if args.retry_failed:
+        return _retry_failed(args, study)
     # --resume continues into the same output: an existing final file is still refused without --overwrite
     file_format = output_format(args.output, args.format)
     output = check_study_output(args.output, file_format, inputs=inputs, overwrite=args.overwrite)
@@ -72,7 +75,36 @@ def cmd_sweep(args) -> int:
         for line in _count_lines(counts, study):
             print(f"  {line}")
         print(f"  wrote {summary['output']} in {summary['seconds']:.2f} s")
-    return 0
+    return _failed_cells(summary)
+
+
+def _failed_cells(summary: dict) -> int:
+    """Say how many cells failed and where they are listed (exit 1), or nothing (exit 0)."""
+    if not summary["failed_cells"]:
+        return 0
+    print(f"faultslip sweep: {summary['failed_cells']} cells failed and hold fill values; {summary['failure_ledger']} "
+          "lists each with its reason; fix the cause and run the same command with --retry-failed", file=sys.stderr)
+    return 1
+
+
+def _retry_failed(args, study) -> int:
+    """sweep --retry-failed: the ledger's cells computed again into the existing output."""
+    if args.resume:
+        raise FaultslipError("--retry-failed reruns the failed cells of a finished study; --resume continues an "
+                             "interrupted one: give one of them")
+    file_format = output_format(args.output, args.format)
+    summary = retry_failed(study, args.output, scheduler=args.scheduler, workers=args.workers or 2,
+                           progress=_progress("sweep", not args.json, "cell"), file_format=file_format)
+    if args.json:
+        print(json.dumps({key: summary[key] for key in ("output", "retried", "recovered", "still_failed",
+                                                        "failure_ledger", "executor")}
+                         | {"wall_time": {"value": summary["seconds"], "units": "s"}}, indent=2))
+    else:
+        print(f"faultslip sweep --retry-failed: {study.name}")
+        print(f"  {summary['retried']} failed cells computed again, {_where(summary['executor'])}: "
+              f"{summary['recovered']} now hold values, {summary['still_failed']} failed again")
+        print(f"  wrote {summary['output']} in {summary['seconds']:.2f} s")
+    return _failed_cells({"failed_cells": summary["still_failed"], "failure_ledger": summary["failure_ledger"]})
 
 
 def _count_lines(counts: dict, study) -> list[str]:

@@ -12,6 +12,8 @@ the :class:`~faultslip.models.Result` by their declared names and units.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import sys
 from dataclasses import dataclass
@@ -151,20 +153,47 @@ def aligned(dims: dict, parameters: dict, block: dict | None = None) -> dict:
     return values
 
 
+#: Where a study's engine collects the cells that failed (None: a failing cell fails its block, as in a notebook's
+#: sweep). A context variable: each worker thread's block has its own list.
+_FAILED_CELLS: contextvars.ContextVar = contextvars.ContextVar("faultslip_failed_cells", default=None)
+
+
+@contextlib.contextmanager
+def collect_cell_failures():
+    """Within this context a cell whose run raises a :class:`FaultslipError` keeps its outputs' fill values and is
+    listed, ``(index in its block, inputs, reason)``, in the list this yields, instead of failing its block: a
+    long study on a cluster finishes, and its failure ledger says which cells to run again and why."""
+    failures = []
+    token = _FAILED_CELLS.set(failures)
+    try:
+        yield failures
+    finally:
+        _FAILED_CELLS.reset(token)
+
+
 def evaluate_by_cell(values: dict, outputs: dict, cell: Callable) -> dict:
     """``cell(**inputs) -> {output: value}`` on every cell of a block: numpy arrays on the study's axes, or
     labelled (dask-chunked) DataArrays, each chunk then evaluated where dask runs it. ``outputs`` maps each
-    output to its :class:`Output` (its type and its value where a cell has none)."""
+    output to its :class:`Output` (its type and its value where a cell has none). Inside
+    :func:`collect_cell_failures` a failing cell keeps the fill values and is listed."""
     names = list(values)
 
     def block(*arrays):
         arrays = np.broadcast_arrays(*(np.asarray(a) for a in arrays)) if arrays else []
         shape = arrays[0].shape if arrays else ()
         result = {name: np.full(shape, spec.fill, spec.dtype) for name, spec in outputs.items()}
+        failures = _FAILED_CELLS.get()
         for index in np.ndindex(shape):
             inputs = {n: (v if isinstance(v, str) else float(v))
                       for n, v in ((n, a[index]) for n, a in zip(names, arrays))}
-            for name, value in cell(**inputs).items():
+            try:
+                computed = cell(**inputs)
+            except FaultslipError as exc:
+                if failures is None:
+                    raise
+                failures.append((tuple(int(i) for i in index), inputs, str(exc)))
+                continue
+            for name, value in computed.items():
                 result[name][index] = value
         return result
 

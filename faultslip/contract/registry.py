@@ -101,9 +101,27 @@ def register(family: Family) -> Family:
     return family
 
 
+#: Families declared outside faultslip for processes it starts or that start it (batch jobs, workers, a CLI run
+#: from a script): ``FAULTSLIP_FAMILIES="name=package.module, other=package.other"``, each as :func:`declare`.
+FAMILIES_VARIABLE = "FAULTSLIP_FAMILIES"
+
+
+def _declared_in_environment() -> None:
+    """Declare the families :data:`FAMILIES_VARIABLE` names (a malformed entry is one sentence)."""
+    for entry in filter(None, (part.strip() for part in os.environ.get(FAMILIES_VARIABLE, "").split(","))):
+        name, separator, module = (piece.strip() for piece in entry.partition("="))
+        if not separator or not module:
+            raise InputError(f"{FAMILIES_VARIABLE} lists families as name=package.module, separated by commas; "
+                             f"got {entry!r}")
+        if name not in DECLARATIONS:
+            declare(name, module)
+
+
 def load(name: str) -> Family:
     """The family ``name``, its module imported on first use."""
     if name not in FAMILIES:
+        if name not in DECLARATIONS:
+            _declared_in_environment()
         if name not in DECLARATIONS:
             raise InputError(f"{name!r} is not one of faultslip's model families ({', '.join(DECLARATIONS)})"
                              f"{did_you_mean(name, DECLARATIONS)}")
@@ -151,6 +169,8 @@ def method_rows() -> list[dict]:
 
 def _declared(document: dict) -> str | None:
     declared = document.get("family")
+    if isinstance(declared, str) and declared not in DECLARATIONS:
+        _declared_in_environment()
     if declared is not None:
         if not isinstance(declared, str) or declared not in DECLARATIONS:
             raise InputError(f"family {declared!r} is not one of faultslip's model families "

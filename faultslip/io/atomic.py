@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import itertools
 import os
+import shutil
 from pathlib import Path
 
 from faultslip.errors import InputError
@@ -183,3 +184,22 @@ def commit(partial, target) -> None:
     except OSError as exc:
         raise as_output_error(exc, target, directory) from None
 
+
+
+def working_copy(target, partial) -> None:
+    """Copy an existing output ``target`` (a file, or a folder such as a Zarr store) to ``partial``, to be changed
+    in place and then put back by :func:`commit` (or, for a store, its own rename): an update that is interrupted
+    leaves ``target`` as it was. A failure (a full disk) is one sentence."""
+    target, partial = Path(target), Path(partial)
+    directory = target.parent if str(target.parent) else Path(".")
+    try:
+        if target.is_dir():
+            shutil.copytree(target, partial)
+        else:
+            shutil.copyfile(target, partial)
+    except OSError as exc:
+        if partial.is_dir():
+            shutil.rmtree(partial, ignore_errors=True)
+        else:
+            partial.unlink(missing_ok=True)
+        raise as_output_error(exc, target, directory) from None

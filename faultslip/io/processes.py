@@ -188,16 +188,29 @@ def stop_pool(pool, interrupted: bool = False) -> None:
         pool.shutdown(cancel_futures=True)
 
 
-def run_windowed(executor, task, items, handle, *, window: int, on_tick=None) -> None:
+def run_windowed(executor, task, items, handle, *, window: int, on_tick=None, on_error=None) -> None:
     """Run ``task(*args)`` for each ``(key, args)`` of ``items``; ``handle(key, result)`` in this process.
 
     ``executor`` is None (in this process, in order), a process pool or a dask Client. At most
     ``window`` tasks are in flight, so memory stays flat however many items there are.
-    ``on_tick()`` runs after every handled batch (progress records, periodic flushes).
+    ``on_tick()`` runs after every handled batch (progress records, periodic flushes). With ``on_error``, a task
+    that raises an :class:`Exception` (a dask worker that died too often included) calls ``on_error(key, exc)``
+    and the others go on; without it, the exception ends the run.
     """
+
+    def settle(key, outcome):
+        try:
+            result = outcome()
+        except Exception as exc:  # noqa: BLE001  the task's own failure, handed to on_error (which may re-raise)
+            if on_error is None:
+                raise
+            on_error(key, exc)
+            return
+        handle(key, result)
+
     if executor is None:
         for key, args in items:
-            handle(key, task(*args))
+            settle(key, lambda: task(*args))
             if on_tick:
                 on_tick()
         return
@@ -212,7 +225,7 @@ def run_windowed(executor, task, items, handle, *, window: int, on_tick=None) ->
     while in_flight:
         for future in wait_any(list(in_flight), return_when="FIRST_COMPLETED").done:
             key = in_flight.pop(future)
-            handle(key, future.result())
+            settle(key, future.result)
             following = next(items, None)
             if following is not None:
                 in_flight[executor.submit(task, *following[1])] = following[0]

@@ -18,6 +18,8 @@ import json
 import math
 import re
 import shutil
+import sys
+import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -26,7 +28,7 @@ import numpy as np
 
 from faultslip.io.progress import reporter
 from faultslip.io import budget, gate
-from faultslip.io.atomic import commit, write_text_atomic
+from faultslip.io.atomic import commit, working_copy, write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, padded
 from faultslip.io.netcdf import create_chunked, open_for_append
 from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
@@ -34,8 +36,8 @@ from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock
 from faultslip.io.processes import SharedRing, descendants, reap, run_windowed, shared_segment, stop_pool, worker_pool
 from faultslip.io.resources import open_dataset_lazily
+from faultslip.contract.cells import collect_cell_failures
 from faultslip.studies.grid import block_arrays, compute_block, finish, parse_study, template_block
-import tempfile
 
 DEFAULT_CHUNK_CELLS = 2**19
 #: netCDF4 compression filters: zlib is readable everywhere (default); zstd is ~2.5x faster to write
@@ -87,12 +89,37 @@ _ADDRESS = re.compile(r"^(?:(?:tcp|tls|inproc|ucx|ws|wss)://)?[A-Za-z0-9_.\-\[\]
 
 
 def check_scheduler(scheduler) -> None:
-    """Refuse, before any work, a ``--scheduler`` that is neither ``local`` nor an address with a port."""
-    if scheduler is None or scheduler == "local":
+    """Refuse, before any work, a ``--scheduler`` that is neither ``local``, ``slurm`` nor an address with a
+    port."""
+    if scheduler is None or scheduler in ("local", "slurm"):
         return
     if not isinstance(scheduler, str) or not _ADDRESS.match(scheduler.strip()):
-        raise InputError(f"--scheduler must be 'local' or a dask scheduler's address with its port, e.g. "
+        raise InputError(f"--scheduler must be 'local', 'slurm' or a dask scheduler's address with its port, e.g. "
                          f"'tcp://10.0.0.5:8786', got {scheduler!r}")
+
+
+#: A SLURM worker job's resources where dask's jobqueue configuration sets none (jobqueue.slurm in
+#: ~/.config/dask/jobqueue.yaml: queue, account, cores, memory, walltime, job_extra_directives, ...).
+SLURM_DEFAULTS = {"cores": 1, "processes": 1, "memory": "2GiB", "walltime": "24:00:00"}
+
+
+def _slurm_cluster(workers: int):
+    """A dask-jobqueue SLURMCluster of ``workers`` one-worker jobs, kept at that size (a job that is cancelled or
+    killed is replaced by a new one; the tasks it held are computed again elsewhere)."""
+    try:
+        import dask  # heavy: imported where used
+        from dask_jobqueue import SLURMCluster  # heavy: optional (faultslip[dask]), imported where used
+    except ImportError:
+        raise InputError("--scheduler slurm needs dask-jobqueue: pip install 'faultslip[dask]'") from None
+    if shutil.which("sbatch") is None:
+        raise InputError("--scheduler slurm submits worker jobs with sbatch, which is not on this machine's PATH")
+    configured = dask.config.get("jobqueue.slurm", default={}) or {}
+    settings = {key: value for key, value in SLURM_DEFAULTS.items() if configured.get(key) is None}
+    cluster = SLURMCluster(job_name="faultslip", python=sys.executable,
+                           local_directory=configured.get("local-directory") or tempfile.gettempdir(),
+                           scheduler_options={"dashboard_address": ":0"}, **settings)
+    cluster.adapt(minimum=workers, maximum=workers)
+    return cluster
 
 
 def _executor(scheduler, workers):
@@ -105,6 +132,9 @@ def _executor(scheduler, workers):
         from distributed import Client, LocalCluster  # heavy: imported where used
     except ImportError:
         raise InputError("--scheduler needs dask.distributed: pip install 'faultslip[dask]'") from None
+    if scheduler == "slurm":
+        cluster = _slurm_cluster(workers)
+        return Client(cluster), f"SLURM through dask-jobqueue ({workers} worker jobs)"
     if scheduler == "local":
         before = {process.pid for process in descendants()}
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
@@ -211,6 +241,11 @@ class _ChunkWriter:
         """The extra argument of the next task: a free segment (none without :meth:`share`)."""
         return (self._ring.lease(),) if self._ring is not None else ()
 
+    def release(self, lease=()):
+        """Give back the segment of a task that failed."""
+        if lease:
+            self._ring.release(lease[0])
+
     def store(self, block, encoded, lease=()):
         offset = tuple(block[n].start for n in self._dims)
         view = self._ring.view(lease[0]) if lease else None
@@ -246,6 +281,9 @@ class _NetcdfWriter:
     def lease(self) -> tuple:
         return ()
 
+    def release(self, lease=()):
+        pass
+
     def store(self, block, dataset, lease=()):
         _write_block(self._nc, self._study, block, dataset)
 
@@ -280,6 +318,9 @@ class _ZarrWriter:
 
     def lease(self) -> tuple:
         return ()
+
+    def release(self, lease=()):
+        pass
 
     def store(self, block, written, lease=()):
         pass
@@ -366,28 +407,57 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
             raise
 
 
-def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> set:
-    """Blocks already on disk from an interrupted run, or an empty set (with a warning saying why)."""
+def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> tuple[set, list]:
+    """Blocks already on disk from an interrupted run and the cells of theirs that failed, or nothing (with a
+    warning saying why)."""
     if not (partial.exists() or ledger.exists()):
-        return set()
+        return set(), []
     if not resume:
         warnings.warn(f"an interrupted run left {partial.name}; starting over (pass --resume to continue it)",
                       stacklevel=3)
-        return set()
+        return set(), []
     try:
         record = gate.read_json(ledger, "progress record")
         done = {int(i) for i in record["done"]}
+        failed = list(record.get("failed", []))
         same = record.get("fingerprint") == fingerprint and record.get("blocks") == blocks
     except (InputError, ValueError, KeyError, TypeError, AttributeError):
         warnings.warn(f"the progress record {ledger.name} is unreadable; starting over", stacklevel=3)
-        return set()
+        return set(), []
     if not same:
         warnings.warn(f"{partial.name} belongs to a different study or chunking; starting over", stacklevel=3)
-        return set()
+        return set(), []
     if not partial.exists() or any(not 0 <= i < blocks for i in done):
         warnings.warn(f"{partial.name} is missing or inconsistent with its record; starting over", stacklevel=3)
-        return set()
-    return done
+        return set(), []
+    return done, failed
+
+
+def failure_ledger(output) -> Path:
+    """Where a study lists the cells that failed: ``OUT.nc.failed.json`` beside ``OUT.nc``."""
+    output = Path(output)
+    return output.with_name(output.name + ".failed.json")
+
+
+def guarded_task(task, *args):
+    """Worker task: ``task(*args)`` on one block, each cell that fails kept at its fill values and listed
+    (:func:`faultslip.contract.cells.collect_cell_failures`); returns (the task's result, the failures)."""
+    with collect_cell_failures() as failed:
+        result = task(*args)
+    return result, failed
+
+
+def _cell_values(study, index: dict) -> dict:
+    """A cell's swept values (SI, or category names) from its indices."""
+    return {name: (value if isinstance(value, str) else float(value))
+            for name, value in ((name, study.dims[name][i]) for name, i in index.items())}
+
+
+def _failure_reason(exc) -> str:
+    """One sentence on why a block's task failed: a cell's own error, or its worker dying."""
+    if type(exc).__name__ == "KilledWorker":  # distributed's: the task's worker died on every allowed attempt
+        return f"its worker died on every attempt (dask KilledWorker): {exc}"
+    return f"{type(exc).__name__}: {exc}"
 
 
 def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression, file_format):
@@ -398,19 +468,20 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     ledger = output.with_name(output.name + ".progress.json")
     fingerprint = study.fingerprint()
     done: set[int] = set()
+    failures: list = []
     started = time.perf_counter()
     if study.cells.checkpoints:  # each cell checkpoints its run here: a resumed study continues it
         study.work_dir = output.with_name(output.name + ".cells")
         study.work_dir.mkdir(exist_ok=True)
     template = template_block(study)
-    done = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
+    done, failures = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
     writer = None
     if done:
         try:
             writer = _open_writer(partial, study, template, chunks, compression, fresh=False, file_format=file_format)
         except (OSError, IndexError, KeyError, RuntimeError, InputError) as exc:  # truncated by a kill -9, or foreign
             warnings.warn(f"cannot continue {partial.name} ({exc}); starting over", stacklevel=2)
-            done = set()
+            done, failures = set(), []
     if not done:
         if study.work_dir is not None:  # a fresh start: no cell continues a run of another study
             shutil.rmtree(study.work_dir, ignore_errors=True)
@@ -437,15 +508,34 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     def tasks():
         for i in pending:
             leases[i] = writer.lease()
-            yield i, (study, blocks[i], *writer.extra, *leases[i])
+            yield i, (writer.task, study, blocks[i], *writer.extra, *leases[i])
 
     def record_progress():
-        write_text_atomic(ledger, json.dumps({"fingerprint": fingerprint, "blocks": len(blocks), "done": sorted(done)}),
+        write_text_atomic(ledger, json.dumps({"fingerprint": fingerprint, "blocks": len(blocks), "done": sorted(done),
+                                              "failed": failures}),
                           immediate=True)  # a resume reads it after a kill: it cannot wait for the run's end
 
     def finished_block(index, result):
-        writer.store(blocks[index], result, leases.pop(index))
+        payload, failed = result
+        block = blocks[index]
+        writer.store(block, payload, leases.pop(index))
+        for local, _, reason in failed:
+            cell = {name: block[name].start + i for name, i in zip(study.dims, local)}
+            failures.append({"index": cell, "values": _cell_values(study, cell), "reason": reason})
         done.add(index)
+        if progress:
+            progress(len(done), len(blocks))
+
+    def failed_block(index, exc):
+        if isinstance(exc, OSError):  # the disk, not the cells: the run stops (and --resume continues it)
+            raise exc
+        writer.release(leases.pop(index, ()))
+        reason = _failure_reason(exc)
+        block = blocks[index]
+        for local in itertools.product(*(range(block[n].stop - block[n].start) for n in study.dims)):
+            cell = {name: block[name].start + i for name, i in zip(study.dims, local)}
+            failures.append({"index": cell, "values": _cell_values(study, cell), "reason": reason})
+        done.add(index)  # its region keeps the fill values; the ledger lists its cells for --retry-failed
         if progress:
             progress(len(done), len(blocks))
 
@@ -461,7 +551,8 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
 
     try:
         # blocks in flight: bounds memory whatever the grid size
-        run_windowed(executor, writer.task, tasks(), finished_block, window=window, on_tick=tick)
+        run_windowed(executor, guarded_task, tasks(), finished_block, window=window, on_tick=tick,
+                     on_error=failed_block)
     except BaseException as exc:
         _shutdown(executor, interrupted=True)  # first: no worker may keep running, or block the exit
         _abandon(exc, writer, partial, ledger, output)
@@ -478,10 +569,122 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         commit(partial, output)
     if ledger.exists():
         ledger.unlink()
+    listed = _write_failure_ledger(output, study, fingerprint, failures)
     if study.work_dir is not None:
         shutil.rmtree(study.work_dir, ignore_errors=True)
     return {"blocks": len(blocks), "resumed_blocks": len(blocks) - len(pending), "cells": study.size,
-            "chunks": chunks, "seconds": time.perf_counter() - started, "executor": label, "output": str(output)}
+            "chunks": chunks, "seconds": time.perf_counter() - started, "executor": label, "output": str(output),
+            "failed_cells": len(failures), "failure_ledger": listed}
+
+
+def _write_failure_ledger(output: Path, study, fingerprint: str, failures: list) -> str | None:
+    """Write (or, with no failure, remove) the study's failure ledger; its path or None."""
+    path = failure_ledger(output)
+    if not failures:
+        path.unlink(missing_ok=True)
+        return None
+    failures = sorted(failures, key=lambda cell: [cell["index"][n] for n in study.dims])
+    write_text_atomic(path, json.dumps({"study": study.name, "fingerprint": fingerprint, "output": output.name,
+                                        "dimensions": list(study.dims), "failed_cells": len(failures),
+                                        "cells": failures}, indent=1) + "\n")
+    return str(path)
+
+
+def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 2, progress=None,
+                 file_format: str | None = None) -> dict:
+    """Compute again only the cells ``output``'s failure ledger lists (:func:`failure_ledger`) and write them into
+    ``output`` (atomically: a copy is written and renamed over it); cells that fail again stay listed.
+
+    Parameters
+    ----------
+    study : Study
+        The study that wrote ``output`` (its fingerprint must match the ledger's).
+    output : str or path
+        The study's netCDF file or Zarr store.
+    scheduler : str, optional
+        As :func:`run_study`'s.
+    workers : int
+        Workers of a pool or cluster.
+    progress : bool or callable, optional
+        A bar, or a callable (done, total) over the cells.
+    file_format : str, optional
+        ``netcdf`` or ``zarr`` (default: from the suffix).
+
+    Returns
+    -------
+    dict
+        ``retried``, ``recovered`` and ``still_failed`` cells, the ledger (or None), seconds and the executor.
+    """
+    progress = reporter(progress, "retry", "cell")
+    check_scheduler(scheduler)
+    file_format = output_format(output, file_format)
+    output = Path(output)
+    ledger = failure_ledger(output)
+    if not output.exists():
+        raise InputError(f"--retry-failed reruns the failed cells of {output.name}, which does not exist: run the "
+                         "study first")
+    if not ledger.exists():
+        raise InputError(f"{output.name} has no failure ledger ({ledger.name}): no cell of it failed, so there is "
+                         "nothing to retry")
+    record = gate.read_json(ledger, "failure ledger")
+    fingerprint = study.fingerprint()
+    try:
+        cells = [{name: int(cell["index"][name]) for name in study.dims} for cell in record["cells"]]
+        if record.get("fingerprint") != fingerprint:
+            raise ValueError
+        if any(not 0 <= cell[n] < len(study.dims[n]) for cell in cells for n in study.dims):
+            raise ValueError
+    except (KeyError, TypeError, ValueError, AttributeError):
+        raise InputError(f"the failure ledger {ledger.name} does not belong to this study, or is damaged: run the "
+                         "study again instead") from None
+    started = time.perf_counter()
+    with output_lock(output, "faultslip sweep --retry-failed", overwrite=True):
+        partial = output.with_name(output.name + ".partial")
+        remove_store(partial)
+        working_copy(output, partial)
+        blocks = [{name: slice(cell[name], cell[name] + 1) for name in study.dims} for cell in cells]
+        workers, reason = choose_execution(study, len(blocks), workers, scheduler)
+        executor, label = _executor(scheduler, workers)
+        nc = open_for_append(partial) if file_format == "netcdf" else None
+        still, recovered = [], []
+
+        def stored_cell(index, result):
+            dataset, failed = result
+            if failed:
+                still.append({"index": cells[index], "values": _cell_values(study, cells[index]), "reason": failed[0][2]})
+            else:
+                if nc is not None:
+                    _write_block(nc, study, blocks[index], dataset)
+                else:
+                    write_region(partial, dataset, dict(blocks[index]))
+                recovered.append(index)
+            if progress:
+                progress(len(still) + len(recovered), len(blocks))
+
+        def failed_cell(index, exc):
+            if isinstance(exc, OSError):
+                raise exc
+            still.append({"index": cells[index], "values": _cell_values(study, cells[index]),
+                          "reason": _failure_reason(exc)})
+
+        try:
+            run_windowed(executor, guarded_task, ((i, (compute_block, study, block)) for i, block in enumerate(blocks)),
+                         stored_cell, window=max(workers, 1) + 1, on_error=failed_cell)
+        except BaseException:
+            _shutdown(executor, interrupted=True)
+            if nc is not None:
+                nc.close()
+            remove_store(partial)
+            raise
+        _shutdown(executor)
+        if nc is not None:
+            nc.close()
+            commit(partial, output)
+        else:
+            finish_store(partial, output)
+        listed = _write_failure_ledger(output, study, fingerprint, still)
+    return {"retried": len(cells), "recovered": len(recovered), "still_failed": len(still), "failure_ledger": listed,
+            "seconds": time.perf_counter() - started, "executor": f"{label}{reason}", "output": str(output)}
 
 
 def cell_counts(output, file_format: str = "netcdf", tolerance: float | None = None) -> dict:
