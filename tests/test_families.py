@@ -185,6 +185,7 @@ def test_a_test_family_sweeps_on_the_pool(constant_friction, cli, tmp_path):
 # --- the engine knows no family --------------------------------------------------------------------------
 
 ENGINE = ["faultslip/studies/grid.py", "faultslip/studies/streaming.py", "faultslip/cli/studies.py",
+          "faultslip/cli/sweeps.py",
           "faultslip/models/checks.py"]
 
 

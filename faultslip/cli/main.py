@@ -227,7 +227,7 @@ def _scenes_commands(commands) -> None:
 
 
 def _studies_commands(commands) -> None:
-    """Study and map commands (handlers in faultslip.cli.studies)."""
+    """Study and map commands (handlers in faultslip.cli.sweeps and faultslip.cli.studies)."""
     sweep = commands.add_parser("sweep", help="gridded parameter study to CF netCDF (or a Zarr store)")
     sweep.add_argument("study", help="study TOML file")
     sweep.add_argument("-o", "--output", required=True,
@@ -249,7 +249,7 @@ def _studies_commands(commands) -> None:
     sweep.add_argument("--compression", choices=("zlib", "zstd", "none"), default="zlib",
                        help="netCDF4 filter (default zlib, readable everywhere; zstd writes ~2.5x faster)")
     sweep.add_argument("--json", action="store_true", help="print one JSON object")
-    sweep.set_defaults(handler="studies:cmd_sweep")
+    sweep.set_defaults(handler="sweeps:cmd_sweep")
 
     convert = commands.add_parser("convert", help="convert a Zarr store written by sweep into one netCDF file")
     convert.add_argument("store", help="a Zarr store (folder), e.g. written by faultslip sweep -o OUT.zarr")
@@ -258,7 +258,7 @@ def _studies_commands(commands) -> None:
     convert.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
     convert.add_argument("--allow-large", action="store_true", help="run even beyond the disk budget")
     convert.add_argument("--json", action="store_true", help="print one JSON object")
-    convert.set_defaults(handler="studies:cmd_convert")
+    convert.set_defaults(handler="sweeps:cmd_convert")
 
     reproduce = commands.add_parser("reproduce", help="re-run the study embedded in a sweep's netCDF and compare")
     reproduce.add_argument("file", help="a netCDF written by faultslip sweep")
@@ -267,7 +267,7 @@ def _studies_commands(commands) -> None:
     reproduce.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
     reproduce.add_argument("--workers", type=int, help="parallel workers (default: the cores, at most one per chunk)")
     reproduce.add_argument("--json", action="store_true", help="print one JSON object")
-    reproduce.set_defaults(handler="studies:cmd_reproduce")
+    reproduce.set_defaults(handler="sweeps:cmd_reproduce")
 
     regional = commands.add_parser("map", help="regional map from a fault-segment table or a raster")
     regional.add_argument("map", help="map TOML file")
