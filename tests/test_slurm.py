@@ -25,21 +25,13 @@ import pytest
 import xarray as xr
 
 from faultslip import contract
+from test_families import TEST_SCENE
 
 ROOT = Path(__file__).resolve().parent.parent
 TESTS = Path(__file__).resolve().parent
 DAEMONS = ("munged", "mungekey", "slurmctld", "slurmd", "sbatch", "scancel", "squeue", "sinfo")
 
-SCENE = """family = "slow_friction"
-[slider]
-stiffness = "1e5 N/m"
-normal_load = "100 N"
-mass = "1 kg"
-platform_speed = "1 mm/s"
-[friction]
-static = 0.6
-kinetic = 0.5
-"""
+SCENE = TEST_SCENE.replace('"constant_friction"', '"slow_friction"')  # the same slider, slowly
 STUDY = """[study]
 name = "slow friction"
 base = "slow.toml"
