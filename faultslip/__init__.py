@@ -45,7 +45,7 @@ _EXPORTS = {
     "dynamics.rate_state.slider": ("simulate_rate_state", "fault_cycles"),
     "lab.rate_state_fit": ("read_step_record", "step_record", "fit_velocity_steps", "fit_joint"),
     "lab.raw_records": ("read_raw_record", "raw_record", "prepare_record", "detect_steps", "fit_each_step",
-                        "synthetic_raw_record"),
+                        "synthetic_raw_record", "load_record"),
     "lab.posterior": ("sample_posterior", "parse_prior", "Prior"),
     "lab.fit_workflow": ("fit_record",),
     "plots.posterior": ("corner_figure", "record_fit_figure"),
@@ -83,7 +83,7 @@ _EXPORTS = {
     "fault.displacement": ("displacement_hazard_curve",),
     "plots.fault_maps": ("fault_system_figure",),
     "plots.displacement": ("displacement_hazard_figure",),
-    "lab.law_selection": ("select_law",),
+    "lab.law_selection": ("select_law", "lag_one_autocorrelation"),
     "lab.healing": ("healing", "steady_state_dependence"),
     "io.bundle": ("write_bundle", "read_bundle"),
 }
