@@ -373,6 +373,20 @@ def lab_fits_table() -> str | None:
                         f"a {row['a']['coverage']:.1%}, b {row['b']['coverage']:.1%}, D_c "
                         f"{row['critical_slip']['coverage']:.1%}, k {row['stiffness']['coverage']:.1%} (a perfect "
                         f"95 % lands in {low:.1%}-{high:.1%} 95 times in 100) |")
+    p655 = _load("p655_analysis.json")
+    if p655 is not None:
+        ups = [w["aging"] for seq in p655["sequences"].values() for w in seq["windows"]
+               if w["kind"] == "up" and "a" in w["aging"]]
+        differences = [w["a"]["value"] - w["b"]["value"] for w in ups]
+        springs = [w["stiffness"]["value"] for w in ups]
+        chosen = [w["selection"]["chosen"] for seq in p655["sequences"].values() for w in seq["windows"]
+                  if "selection" in w]
+        rows.append(f"| Penn State's p655 (a real biax run, pylook's), each of its {len(chosen)} velocity steps fitted "
+                    f"with the stiffness and a trend free (`benchmarks/p655_analysis.py`, docs/lab_fits.md) | a - b "
+                    f"{min(differences):+.4f} to {max(differences):+.4f} in every up-step (velocity strengthening); "
+                    f"k {min(springs):.0f}-{max(springs):.0f} /m; BIC on effective points chooses "
+                    + ", ".join(f"{name.replace('_', ' ')} in {chosen.count(name)}" for name in dict.fromkeys(chosen))
+                    + " |")
     result = speed or coverage
     return "\n".join(rows) + "\n\n" + _machine(result)
 
