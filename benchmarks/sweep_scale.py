@@ -217,7 +217,7 @@ def writer(cells: float) -> dict:
             "executor": json.loads(best["ours"]["stdout"])["executor"], "target": 0.75}
 
 
-def floor(cells: float, repeats: int = 3) -> dict:
+def floor(cells: float, repeats: int = 5) -> dict:
     """The machine's floor for a sweep's work, from its component speeds measured here, against the default
     sweep and ``--workers 1`` as whole commands (interleaved, median of ``repeats``).
 
@@ -342,9 +342,20 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a quick pass: engine, writer at 1e6, sizes to 1e6")
     parser.add_argument("--largest", type=float, help="also run the default path at this many cells (e.g. 1e9)")
+    parser.add_argument("--floor-only", action="store_true",
+                        help="measure only figure 3 (the floor and the second worker) again, into sweep.json")
     args = parser.parse_args(argv)
     results = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
                "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+    if args.floor_only:
+        path = ROOT / "benchmarks" / "results" / "sweep.json"
+        results = json.loads(path.read_text()) | {"floor_date": results["date"]}
+        results["floor"] = row = floor(1e7)
+        print(f"   1e7 cells: default {row['sweep_s']['default (2 workers)']:.2f} s, --workers 1 "
+              f"{row['sweep_s']['--workers 1']:.2f} s -> {row['second_worker_speedup']:.2f}x from the second worker "
+              f"(target >= 1.6); one cell {row['sweep_s']['one cell']:.2f} s; median of {row['repeats']} interleaved")
+        path.write_text(json.dumps(results, indent=2) + "\n")
+        return
     print("1. engine against a numpy kernel computing the same 17 outputs (in memory)")
     results["engine"] = []
     for cells in ((1e6,) if args.quick else (1e6, 1e7)):
@@ -371,11 +382,7 @@ def main(argv=None):
     (out / name).write_text(json.dumps(results, indent=2) + "\n")
     if not args.quick:
         chart(results["work_against_size"], ROOT / "docs" / "figures" / "work_against_size.png")
-        sys.path.insert(0, str(ROOT / "benchmarks"))
-        import readme
-
-        readme.update()
-    print(f"wrote {out / name}")
+    print(f"wrote {out / name}; python benchmarks/readme.py puts it in the README")
 
 
 if __name__ == "__main__":
