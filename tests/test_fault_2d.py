@@ -171,6 +171,77 @@ def test_a_stopped_run_continues_bit_for_bit(tmp_path):
         run_cycles(fault, duration, rtol=1e-6, folder=tmp_path / "part", resume=True, stations=STATIONS)
 
 
+@pytest.mark.skipif(not compiled.available(), reason="the fused kernels are numba's (pip install 'faultslip[fast]')")
+def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads():
+    """Issue 43, items 2 and 3: a run's trial steps through the fused numba kernels equal the numpy expressions of
+    the same Dormand-Prince step bit for bit (every stage, y_new, k7, the stress and the error norm), and a run on
+    two threads equals one on one thread bit for bit: each element's arithmetic does not depend on the threads."""
+    from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61,
+                                                          A62, A63, A64, A65, B1, B3, B4, B5, B6, E1, E3, E4, E5,
+                                                          E6, E7)
+    from faultslip.models.fault_2d import integrate
+
+    fault = small_fault(element_size=20.0)  # 1000 elements: the FFT kernel
+    operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus)
+    balance = ForceBalance(fault, operator)
+    count = fault.count
+    scale = np.concatenate([fault.critical_slip, np.ones(count)])
+    y = np.concatenate([np.zeros(count), fault.initial_state])
+    speed, psi_rate, _ = balance.rates(0.0, y[:count], y[count:])
+    k1 = np.concatenate([speed, psi_rate])
+    fused = integrate._CompiledTrial(fault, operator, balance, scale, 1e-6, 1)
+
+    def derivative(t, state):
+        v, rate, stress = balance.rates(t, state[:count], state[count:])
+        return np.concatenate([v, rate]), stress
+
+    t = 0.0
+    for h in (1e3, 1e4, 1e5, 1e6):
+        start = balance.u.copy()
+        c2, c3, c4, c5 = integrate._C2, integrate._C3, integrate._C4, integrate._C5
+        k2 = derivative(t + c2 * h, y + h * (A21 * k1))[0]
+        k3 = derivative(t + c3 * h, y + h * (A31 * k1 + A32 * k2))[0]
+        k4 = derivative(t + c4 * h, y + h * (A41 * k1 + A42 * k2 + A43 * k3))[0]
+        k5 = derivative(t + c5 * h, y + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4))[0]
+        k6 = derivative(t + h, y + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5))[0]
+        y_new = y + h * (B1 * k1 + B3 * k3 + B4 * k4 + B5 * k5 + B6 * k6)
+        k7, stress = derivative(t + h, y_new)
+        error = h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7)
+        norm = float(np.max(np.abs(error) / (1e-6 * np.maximum(np.maximum(np.abs(y), np.abs(y_new)), scale))))
+        after = balance.u.copy()
+        balance.u = start
+        got = fused(t, y, h, k1)
+        for reference, value in ((y_new, got[0]), (k7, got[1]), (stress, got[3]), (after, balance.u)):
+            assert reference.tobytes() == value.tobytes()
+        assert got[4] == norm and math.isfinite(norm)  # an accepted or rejected step, not an absurd one
+        for row, k in enumerate((k2, k3, k4, k5, k6), start=1):
+            assert k.tobytes() == fused.stages[row].tobytes()
+        t, y, k1 = t + h, y_new, k7
+    one = run_cycles(fault, 150 * YEAR, rtol=1e-6, stations=STATIONS, threads=1)
+    two = run_cycles(fault, 150 * YEAR, rtol=1e-6, stations=STATIONS, threads=2)
+    assert one.steps == two.steps and one.final_slip.tobytes() == two.final_slip.tobytes()
+    assert one.final_state.tobytes() == two.final_state.tobytes()
+    assert np.array_equal(one.events["slip"], two.events["slip"])
+
+
+def test_threads_are_checked_in_one_sentence(monkeypatch):
+    from faultslip.io.processes import threads_for
+
+    text = (CONFIGS / "seas_bp1.toml").read_text().replace('rtol = 1e-8', 'rtol = 1e-8\nthreads = 0')
+    with pytest.raises(InputError, match="threads"):
+        parse_fault_2d_scene(text, "bad.toml")
+    assert parse_fault_2d_scene(text.replace("threads = 0", "threads = 2"), "good.toml").threads == 2
+    with pytest.raises(InputError, match="threads"):
+        run_cycles(small_fault(), YEAR, threads=0)
+    monkeypatch.setenv("FAULTSLIP_THREADS", "many")
+    with pytest.raises(InputError, match="FAULTSLIP_THREADS"):
+        threads_for(2000, 1024)
+    monkeypatch.setenv("FAULTSLIP_THREADS", "1")
+    assert threads_for(2000, 1024) == 1
+    monkeypatch.delenv("FAULTSLIP_THREADS")
+    assert threads_for(100, 1024) == 1
+
+
 def test_station_files_are_written_and_read_back(tmp_path):
     time = np.array([0.0, 1.5, 3.0e9])
     values = [np.array([0.0, 1e-3, 2.5]), np.array([-9.0, -2.5, 0.3]), np.array([29.2, 30.0, 25.1]),

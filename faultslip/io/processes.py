@@ -93,8 +93,29 @@ def retain_freed_memory() -> bool:
         return False
 
 
+#: Threads a worker's own run may use (a 2-D fault's kernels): a pool's workers already fill the cores, one each.
+THREADS_VARIABLE = "FAULTSLIP_THREADS"
+
+
+def threads_for(elements: int, pays_from: int) -> int:
+    """Threads for one run's kernels: ``FAULTSLIP_THREADS`` where set (a pool's worker sets 1), else every core
+    once the run is big enough for threads to pay (``elements`` >= ``pays_from``), else 1."""
+    value = os.environ.get(THREADS_VARIABLE, "").strip()
+    if value:
+        try:
+            chosen = int(value)
+        except ValueError:
+            raise InputError(f"{THREADS_VARIABLE} must be a whole number of threads, got {value!r}") from None
+        if chosen < 1:
+            raise InputError(f"{THREADS_VARIABLE} must be at least 1, got {chosen}")
+        return chosen
+    return (os.cpu_count() or 1) if elements >= pays_from else 1
+
+
 def _die_with_parent(parent: int) -> None:
-    """Worker initializer: ignore Ctrl-C, reuse freed memory, and exit when the parent process is gone."""
+    """Worker initializer: ignore Ctrl-C, reuse freed memory, use one thread a run, and exit when the parent
+    process is gone."""
+    os.environ[THREADS_VARIABLE] = "1"  # the pool's workers fill the cores; a run's threads would oversubscribe
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     retain_freed_memory()
     if hasattr(signal, "pthread_sigmask"):  # held back while this worker was forked (see worker_pool)

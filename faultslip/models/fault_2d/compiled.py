@@ -1,8 +1,7 @@
 """The 2-D fault's force balance and state rate, element by element, compiled by numba where it is here.
 
 The same equations as :class:`faultslip.models.fault_2d.model.ForceBalance` (see there), in one
-pass over the elements (one thread: numba's parallel loop measured no faster at 1,600 elements, and
-oversubscribed the cores when runs go side by side in processes): Newton's method
+pass over the elements (one thread, or several in the parallel build: a run's ``threads``): Newton's method
 on u = asinh[V / (2 V_0) exp(psi / a)] from the last solution, safeguarded by the bracket
 from 0 to the nearer of tau / (sigma_n a) and asinh(tau / c) that holds the root (a step leaving it bisects), each element to its own convergence
 (a step |du| <= 1e-10 (1 + |u|) leaves an error of the order of its square), then V and d psi / dt.
@@ -11,17 +10,25 @@ from 0 to the nearer of tau / (sigma_n a) and asinh(tau / c) that holds the root
 from __future__ import annotations
 
 import math
+import types
 
 from faultslip.dynamics.shared.compiler import available  # noqa: F401 (re-exported for the model)
 
-_COMPILED = []
+#: the kernels' element loops: range in plain Python; numba's prange once compiled (a parallel build splits the
+#: elements over threads, a serial one runs it as range)
+prange = range
 
 
-def _balance(stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b,
-             v0, critical_slip, b, speed, psi_rate, iterations):
-    """Fill ``speed`` and ``psi_rate``; ``u`` is updated in place. An element whose state has no finite
-    slip rate, or whose iteration fails, gets NaN: the integrator rejects that trial step."""
-    for i in range(stress.shape[0]):
+def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
+                   inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
+                   iterations):
+    """Fill ``speed`` and ``psi_rate``; ``u`` is updated in place. With ``add_initial`` the stress is first set,
+    stress = tau_0 + (K x) (``initial_stress`` + ``product``); without, ``stress`` is taken as it is. An element
+    whose state has no finite slip rate, or whose iteration fails, gets NaN: the integrator rejects that trial
+    step."""
+    for i in prange(stress.shape[0]):
+        if add_initial:
+            stress[i] = initial_stress[i] + product[i]
         coefficient = two_v0_eta * math.exp(-psi[i] * inverse_a[i])
         tau = stress[i]
         # the root lies between 0 and tau / (sigma_n a): g is monotone, and the bracket keeps each
@@ -85,12 +92,76 @@ def _balance(stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, ag
             psi_rate[i] = -(v / critical_slip[i]) * (psi[i] - f0 + b[i] * math.log(v / v0))
 
 
-def balance(compiled: bool = True):
-    """The force balance, compiled by numba on first use (cached on disk), or as plain Python."""
-    if not compiled:
-        return _balance
-    if not _COMPILED:
+# --- a Dormand-Prince step's element-wise work, fused (issue 43, items 2 and 3) -------------------------------
+#
+# numpy spent a fifth of a step on the stages' temporaries (y + h (a_1 k_1 + ...)) and the error norm: one pass
+# each here, in numpy's order of operations (left to right; numba contracts nothing into fused multiply-adds
+# without fastmath), so the bits are numpy's. The kernel's spectrum product stays numpy's: its complex product
+# runs in SIMD with fused multiply-adds where the CPU has them, which no scalar loop reproduces bit for bit.
+# Each element's arithmetic is the same on any number of threads.
+
+def _stage(out, padded, y, h, weights, rows, stages, count, plate_rate, time):
+    """out = y + h (w_0 k[rows_0] + w_1 k[rows_1] + ...); padded[:count] = out[:count] - V_pl t, the slip deficit
+    the stress kernel takes."""
+    terms = rows.shape[0]
+    for i in prange(y.shape[0]):
+        total = weights[0] * stages[rows[0], i]
+        for m in range(1, terms):
+            total = total + weights[m] * stages[rows[m], i]
+        value = y[i] + h * total
+        out[i] = value
+        if i < count:
+            padded[i] = value - plate_rate * time
+
+
+def _error_ratios(ratios, y, y_new, h, weights, rows, stages, rtol, scale):
+    """ratios = |h (e_1 k_1 + ...)| / (rtol max(|y|, |y_new|, scale)): Hairer's norm is their largest."""
+    terms = rows.shape[0]
+    for i in prange(y.shape[0]):
+        total = weights[0] * stages[rows[0], i]
+        for m in range(1, terms):
+            total = total + weights[m] * stages[rows[m], i]
+        ratios[i] = abs(h * total) / (rtol * max(max(abs(y[i]), abs(y_new[i])), scale[i]))
+
+
+_KERNELS = {}
+KERNELS = ("_balance_rates", "_stage", "_error_ratios")
+
+
+def _compiled(threads: int) -> dict:
+    """name -> kernel, compiled by numba on first use (cached on disk): a serial build for one thread, a parallel
+    one (numba's OpenMP or TBB layer) for more."""
+    key = "parallel" if threads > 1 else "serial"
+    if key not in _KERNELS:
         import numba  # heavy: optional dependency (faultslip[fast]), imported only when the kernel is wanted
 
-        _COMPILED.append(numba.njit(cache=True)(_balance))
-    return _COMPILED[0]
+        module = globals()
+        module["prange"] = numba.prange  # the loops become numba's (a serial build runs it as range)
+        _KERNELS[key] = {name.lstrip("_"): numba.njit(cache=True, parallel=key == "parallel")(_named(module[name], key))
+                         for name in KERNELS}
+    return _KERNELS[key]
+
+
+def _named(function, build: str):
+    """``function`` itself for the serial build; for the parallel one a copy under its own qualified name, because
+    numba's disk cache keeps one build per name (the parallel one would otherwise load the serial one)."""
+    if build == "serial":
+        return function
+    copy = types.FunctionType(function.__code__, function.__globals__, function.__name__, function.__defaults__,
+                              function.__closure__)
+    copy.__qualname__ = f"{function.__qualname__}_{build}"
+    return copy
+
+
+def kernels(compiled: bool = True, threads: int = 1) -> dict:
+    """The force balance and the fused step kernels: numba's (serial, or over ``threads`` threads), or plain
+    Python (``compiled=False``, the same loops, slow: for tests without numba)."""
+    if not compiled:
+        return {name.lstrip("_"): globals()[name] for name in KERNELS}
+    return _compiled(threads)
+
+
+def balance(compiled: bool = True):
+    """The force balance (:func:`_balance_rates`), compiled by numba on first use (cached on disk), or as plain
+    Python."""
+    return kernels(compiled)["balance_rates"]

@@ -29,8 +29,9 @@ from pathlib import Path
 from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
+from faultslip.models.fault_2d import compiled as compiled_kernels
 from faultslip.models.fault_2d.kernel import StressKernel
-from faultslip.models.fault_2d.model import Fault2D, ForceBalance
+from faultslip.models.fault_2d.model import NEWTON_ITERATIONS, Fault2D, ForceBalance
 from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62,
                                                       A63, A64, A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7)
 from faultslip.errors import InputError, SolverError
@@ -49,6 +50,12 @@ STATION_FIELDS = ("slip", "log10_slip_rate", "shear_stress", "log10_state")
 #: The record streams a run with a folder appends to, in the checkpoint's order.
 STREAM_FILES = ("stations.f8", "profiles.f8", "events.f8")
 _C2, _C3, _C4, _C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
+#: Each trial state of a step as (row of k it is evaluated into, fraction of h, rows of k and their weights):
+#: k2..k6, then y_new (row 6, k7), in numpy's order of terms; and the error estimate's.
+_STAGES = ((1, _C2, (0,), (A21,)), (2, _C3, (0, 1), (A31, A32)), (3, _C4, (0, 1, 2), (A41, A42, A43)),
+           (4, _C5, (0, 1, 2, 3), (A51, A52, A53, A54)), (5, 1.0, (0, 1, 2, 3, 4), (A61, A62, A63, A64, A65)),
+           (6, 1.0, (0, 2, 3, 4, 5), (B1, B3, B4, B5, B6)))
+_ERROR = ((0, 2, 3, 4, 5, 6), (E1, E3, E4, E5, E6, E7))
 
 
 @dataclass
@@ -104,6 +111,54 @@ class _Stations:
         return values[self.lower] * (1.0 - self.weight) + values[self.lower + 1] * self.weight
 
 
+class _CompiledTrial:
+    """One Dormand-Prince trial step with its element-wise work in numba's kernels: each stage's state and the
+    slip deficit in one pass, the stress and the force balance in one, the error norm in one; the FFTs and the
+    spectrum's product stay scipy's and numpy's. The same operations as :func:`run_cycles`'s numpy trial, so the same
+    bits, on one thread or several."""
+
+    def __init__(self, fault, operator, balance, scale, rtol, threads):
+        self.fault, self.operator, self.balance = fault, operator, balance
+        self.kernels = compiled_kernels.kernels(True, threads)
+        if threads > 1:
+            import numba  # heavy: optional dependency (faultslip[fast]), present whenever this class is used
+
+            numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+        count = fault.count
+        self.count, self.scale, self.rtol = count, scale, rtol
+        self.stages = np.empty((7, 2 * count))  # k1 .. k7
+        self.work = np.empty(2 * count)
+        self.ratios = np.empty(2 * count)
+        self.stress = np.empty(count)
+        self.plan = [(row, fraction, np.array(rows, dtype=np.int64), np.array(weights, dtype=float))
+                     for row, fraction, rows, weights in _STAGES]
+        self.error_rows, self.error_weights = np.array(_ERROR[0], dtype=np.int64), np.array(_ERROR[1], dtype=float)
+
+    def _evaluate(self, row: int, state: np.ndarray) -> None:
+        """k[row] = f(state), the slip deficit already in the kernel's buffer; the stress kept in self.stress."""
+        fault, balance, count = self.fault, self.balance, self.count
+        product = self.operator.product_of_padded()
+        self.kernels["balance_rates"](product, fault.initial_shear_stress, True, self.stress, state[count:], balance.u,
+                                      balance.sigma_a, balance.inverse_a, balance.two_v0_eta, 1.0 / balance.damping,
+                                      balance.aging, balance.aging_rate, fault.reference_friction, balance.inverse_b,
+                                      fault.reference_speed, fault.critical_slip, fault.b, self.stages[row, :count],
+                                      self.stages[row, count:], NEWTON_ITERATIONS)
+
+    def __call__(self, t, y, h, k1):
+        if self.balance.u is None:  # a resumed run without a warm start: the numpy balance sets one, as at t = 0
+            self.balance.rates(t, y[:self.count], y[self.count:])
+        stages, stage, padded = self.stages, self.kernels["stage"], self.operator.padded
+        stages[0] = k1
+        plate_rate = self.fault.plate_rate
+        for row, fraction, rows, weights in self.plan:
+            target = self.work if row < 6 else np.empty_like(y)
+            stage(target, padded, y, h, weights, rows, stages, self.count, plate_rate, t + fraction * h)
+            self._evaluate(row, target)
+        self.kernels["error_ratios"](self.ratios, y, target, h, self.error_weights, self.error_rows, stages, self.rtol,
+                                     self.scale)
+        return target, stages[6].copy(), stages[6, :self.count].copy(), self.stress.copy(), float(self.ratios.max())
+
+
 def fingerprint(fault: Fault2D, settings: dict) -> str:
     """A digest of everything that decides a run's numbers: a checkpoint of another run is refused."""
     digest = hashlib.sha256()
@@ -118,8 +173,12 @@ def fingerprint(fault: Fault2D, settings: dict) -> str:
 def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=BP1_STATIONS, kernel: str = "auto",
                profile_interval: float = 5 * YEAR, coseismic_interval: float = 1.0, event_speed: float = EVENT_SPEED,
                folder=None, resume: bool = False, checkpoint_every: float = 60.0, max_steps: int = 20_000_000,
-               stop_after_steps: int | None = None, progress=None, initial_step: float = 1.0) -> Fault2DRun:
+               stop_after_steps: int | None = None, progress=None, initial_step: float = 1.0,
+               threads: int = 1) -> Fault2DRun:
     """Integrate ``fault`` from t = 0 to ``duration`` (s) and record stations, profiles and events.
+
+    With numba, each step's element-wise work runs in compiled kernels (:mod:`faultslip.models.fault_2d.compiled`)
+    over ``threads`` threads; the numbers are the same on any number of threads.
 
     ``folder``: stream records and checkpoints there (a run can then be resumed). ``stop_after_steps``
     stops as a kill would, right after a checkpoint at that step (for tests of restart).
@@ -131,6 +190,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         raise InputError(f"rtol must lie between 1e-14 and 1e-2, got {rtol!r}")
     if not (profile_interval > 0 and coseismic_interval > 0 and event_speed > 0):
         raise InputError("the profile intervals and the event speed must be positive")
+    if not (isinstance(threads, int) and 1 <= threads <= 1024):
+        raise InputError(f"threads must be a whole number from 1 to 1024, got {threads!r}")
     operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, kernel)
     balance = ForceBalance(fault, operator)
     recorder = _Stations(stations, fault)
@@ -150,6 +211,21 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     def derivative(t, y):
         speed, psi_rate, stress = balance.rates(t, y[:count], y[count:])
         return np.concatenate([speed, psi_rate]), speed, stress
+
+    def numpy_trial(t, y, h, k1):
+        """(y_new, k7, speed, stress at y_new, error norm) of one Dormand-Prince step in numpy."""
+        k2 = derivative(t + _C2 * h, y + h * (A21 * k1))[0]
+        k3 = derivative(t + _C3 * h, y + h * (A31 * k1 + A32 * k2))[0]
+        k4 = derivative(t + _C4 * h, y + h * (A41 * k1 + A42 * k2 + A43 * k3))[0]
+        k5 = derivative(t + _C5 * h, y + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4))[0]
+        k6 = derivative(t + h, y + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5))[0]
+        y_new = y + h * (B1 * k1 + B3 * k3 + B4 * k4 + B5 * k5 + B6 * k6)
+        k7, speed_new, stress_new = derivative(t + h, y_new)
+        error = h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7)
+        return y_new, k7, speed_new, stress_new, float(np.max(np.abs(error) / (
+            rtol * np.maximum(np.maximum(np.abs(y), np.abs(y_new)), scale))))
+
+    trial = numpy_trial if not balance.compiled else _CompiledTrial(fault, operator, balance, scale, rtol, threads)
 
     def station_row(t, y, speed, stress):
         psi = y[count:]
@@ -225,16 +301,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                 raise SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
                                   f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
             h = min(h, duration - t)
-            k2 = derivative(t + _C2 * h, y + h * (A21 * k1))[0]
-            k3 = derivative(t + _C3 * h, y + h * (A31 * k1 + A32 * k2))[0]
-            k4 = derivative(t + _C4 * h, y + h * (A41 * k1 + A42 * k2 + A43 * k3))[0]
-            k5 = derivative(t + _C5 * h, y + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4))[0]
-            k6 = derivative(t + h, y + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5))[0]
-            y_new = y + h * (B1 * k1 + B3 * k3 + B4 * k4 + B5 * k5 + B6 * k6)
-            k7, speed_new, stress_new = derivative(t + h, y_new)
+            y_new, k7, speed_new, stress_new, norm = trial(t, y, h, k1)
             evaluations += 6
-            error = h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7)
-            norm = float(np.max(np.abs(error) / (rtol * np.maximum(np.maximum(np.abs(y), np.abs(y_new)), scale))))
             if not math.isfinite(norm):
                 norm = math.inf
             if norm > 1.0:

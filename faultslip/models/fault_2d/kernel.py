@@ -81,6 +81,7 @@ class StressKernel:
         scale = shear_modulus / (2.0 * math.pi * element_size)
         if self.method == "dense":
             self.matrix = dense_matrix(count, element_size, shear_modulus)
+            self._padded = np.zeros(count)
             return
         from scipy import fft  # heavy: imported where used
 
@@ -101,10 +102,21 @@ class StressKernel:
         self._hankel_hat = scale * fft.rfft(shifted) * phase
         self._padded = np.zeros(length)
 
+    @property
+    def padded(self) -> np.ndarray:
+        """The input buffer of :meth:`product_of_padded`: its first N values are the slip (the rest stays zero)."""
+        return self._padded
+
+    def product_of_padded(self) -> np.ndarray:
+        """K x for the x in :attr:`padded` (its first N values are K x; an FFT's result runs on past them)."""
+        if self.method == "dense":
+            return self.matrix @ self._padded
+        spectrum = self._fft.rfft(self._padded)
+        both = self._toeplitz_hat * spectrum + self._hankel_hat * np.conj(spectrum)
+        return self._fft.irfft(both, self.length)
+
     def __call__(self, slip: np.ndarray) -> np.ndarray:
         if self.method == "dense":
             return self.matrix @ slip
         self._padded[: self.count] = slip  # the tail stays zero: no padding copy inside the FFT
-        spectrum = self._fft.rfft(self._padded)
-        both = self._toeplitz_hat * spectrum + self._hankel_hat * np.conj(spectrum)
-        return self._fft.irfft(both, self.length)[: self.count]
+        return self.product_of_padded()[: self.count]

@@ -204,8 +204,8 @@ class ForceBalance:
             if self.u is None:
                 self.u = stress / self.sigma_a  # the bracket's outer end
             speed, psi_rate = np.empty_like(stress), np.empty_like(stress)
-            self._balance(stress, psi, self.u, self.sigma_a, self.inverse_a, self.two_v0_eta, 1.0 / self.damping,
-                          self.aging, self.aging_rate, fault.reference_friction, self.inverse_b,
+            self._balance(stress, stress, False, stress, psi, self.u, self.sigma_a, self.inverse_a, self.two_v0_eta,
+                          1.0 / self.damping, self.aging, self.aging_rate, fault.reference_friction, self.inverse_b,
                           fault.reference_speed, fault.critical_slip, fault.b, speed, psi_rate, NEWTON_ITERATIONS)
             return speed, psi_rate, stress  # NaN where a trial state has no finite slip rate: the step is rejected
         speed, _ = self.slip_rate(stress, psi)

@@ -47,6 +47,7 @@ from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.io.seas import station_file_name
 from faultslip.io import budget
+from faultslip.io.processes import threads_for
 from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar
@@ -54,10 +55,13 @@ from faultslip.units import to_si_scalar
 _FAULT = {"density", "shear_wave_speed", "shear_modulus", "width", "element_size", "plate_rate", "evolution"}
 _FRICTION = {"reference_speed", "reference_friction", "a", "b", "critical_slip", "normal_stress"}
 _INITIAL = {"initial_speed"}
-_RUN = {"duration", "rtol", "stations", "profile_interval", "coseismic_interval", "fault_length", "kernel"}
+_RUN = {"duration", "rtol", "stations", "profile_interval", "coseismic_interval", "fault_length", "kernel", "threads"}
 _PROFILE_KINDS = {"a": "dimensionless", "b": "dimensionless", "critical_slip": "length", "normal_stress": "pressure"}
 #: Largest element count a scene may ask for (memory and time grow with it; --allow-large lifts it).
 MAX_ELEMENTS = 20_000
+#: From this many elements a run's kernels use every core by default (benchmarks/fault_2d_threads.py: two threads
+#: gain 1.25-1.5x from 1,024 elements up; below, the threads' start-up eats the gain)
+THREADS_PAY_FROM = 1024
 
 
 @dataclass
@@ -73,6 +77,7 @@ class Fault2DScene:
     coseismic_interval: float = 1.0
     fault_length: float | None = None
     kernel: str = "auto"
+    threads: int | None = None  # the kernels' threads (None: every core from THREADS_PAY_FROM elements, else 1)
     settings: dict = field(default_factory=dict)  # the parsed friction and geometry, to rebuild at another size
     origin: str = ""
     path: object = None  # the scene file (a Path), if read from one
@@ -104,9 +109,11 @@ class Fault2DScene:
 
     def run(self, rtol: float | None = None, folder=None, resume: bool = False, progress=None):
         """Integrate this scene with its own settings (:func:`faultslip.models.fault_2d.integrate.run_cycles`)."""
+        threads = self.threads or threads_for(self.fault.count, THREADS_PAY_FROM)
         return run_cycles(self.fault, self.duration, rtol=self.rtol if rtol is None else rtol, stations=self.stations,
                           kernel=self.kernel, profile_interval=self.profile_interval,
-                          coseismic_interval=self.coseismic_interval, folder=folder, resume=resume, progress=progress)
+                          coseismic_interval=self.coseismic_interval, folder=folder, resume=resume, progress=progress,
+                          threads=threads)
 
     def estimated_steps(self, rtol: float | None = None) -> float:
         """The steps this scene's run takes (an upper estimate from its D_c, V_pl, f0-free scales and element
@@ -349,13 +356,16 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
     kernel = run.get("kernel", "auto")
     if kernel not in ("auto", "dense", "fft"):
         raise InputError(f"[run] kernel in {source} must be auto, dense or fft, got {kernel!r}")
+    threads = run.get("threads", "auto")
+    if threads != "auto" and (isinstance(threads, bool) or not isinstance(threads, int) or not 1 <= threads <= 1024):
+        raise InputError(f"[run] threads in {source} must be auto or a whole number from 1 to 1024, got {threads!r}")
     return Fault2DScene(
         name=name, fault=built, duration=duration, rtol=float(rtol), stations=tuple(stations),
         profile_interval=to_si_scalar(run.get("profile_interval", "5 yr"), "time", f"[run] profile_interval in {source}"),
         coseismic_interval=to_si_scalar(run.get("coseismic_interval", "1 s"), "time",
                                         f"[run] coseismic_interval in {source}"),
         fault_length=length,
-        kernel=kernel, settings=settings, text=text)
+        kernel=kernel, threads=None if threads == "auto" else threads, settings=settings, text=text)
 
 
 def is_fault_2d_document(document) -> bool:

@@ -1,0 +1,81 @@
+"""A 2-D run on one core and on two (issue 43, item 3: ">= 1.6x from one to two cores at 1600 elements or more").
+
+    python benchmarks/fault_2d_threads.py [--elements 1024 1600 3200] [--years 200] [--rounds 3]
+
+SEAS BP1 (configs/seas_bp1.toml) at each element count over ``--years`` at rtol 1e-4 (faultslip's loosest
+tolerance within 0.1 % of its converged recurrence). Each run is ``run_cycles`` in this process: once with
+``threads=1`` pinned to one core, once with ``threads=2`` pinned to two, interleaved over ``--rounds`` rounds
+with the order reversed every other round, medians kept. The baseline is the same run, the same steps and the
+same bits (checked here: the final slip and state of every pair are identical), on one thread. The numba kernels
+are compiled (and cached) before the first timed run. Writes benchmarks/results/fault_2d_threads.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+from datetime import datetime, timezone
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from faultslip.constants import JULIAN_YEAR  # noqa: E402
+from faultslip.models.fault_2d.integrate import run_cycles  # noqa: E402
+from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+
+WIDTH = 40e3
+
+
+def timed(fault, years: float, threads: int) -> dict:
+    os.sched_setaffinity(0, set(range(threads)))
+    began, cpu = time.perf_counter(), time.process_time()
+    run = run_cycles(fault, years * JULIAN_YEAR, rtol=1e-4, threads=threads)
+    return {"wall_s": time.perf_counter() - began, "cpu_s": time.process_time() - cpu, "steps": run.steps,
+            "bits": (run.final_slip.tobytes() + run.final_state.tobytes()).hex()[:64]}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--elements", type=int, nargs="+", default=[1024, 1600, 3200])
+    parser.add_argument("--years", type=float, default=200.0)
+    parser.add_argument("--rounds", type=int, default=3)
+    args = parser.parse_args(argv)
+    if (os.cpu_count() or 1) < 2:
+        raise SystemExit("this benchmark needs two cores")
+    rows = []
+    for elements in args.elements:
+        fault = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(WIDTH / elements).fault
+        for threads in (1, 2):  # compile and load both builds before timing
+            run_cycles(fault, 0.01 * JULIAN_YEAR, rtol=1e-4, threads=threads)
+        runs = {1: [], 2: []}
+        for round_ in range(args.rounds):
+            for threads in ((1, 2) if round_ % 2 == 0 else (2, 1)):
+                runs[threads].append(timed(fault, args.years, threads))
+        same = len({row["bits"] for rows_ in runs.values() for row in rows_}) == 1
+        medians = {threads: {key: statistics.median(row[key] for row in rows_) for key in ("wall_s", "cpu_s")}
+                   for threads, rows_ in runs.items()}
+        row = {"elements": elements, "years": args.years, "steps": runs[1][0]["steps"], "identical_bits": same,
+               "one_thread": medians[1], "two_threads": medians[2],
+               "speedup": medians[1]["wall_s"] / medians[2]["wall_s"], "target": 1.6}
+        rows.append(row)
+        print(f"{elements} elements, {row['steps']} steps: one thread {medians[1]['wall_s']:.2f} s, two "
+              f"{medians[2]['wall_s']:.2f} s -> {row['speedup']:.2f}x (target 1.6); the same bits: {same}",
+              flush=True)
+    out = ROOT / "benchmarks" / "results" / "fault_2d_threads.json"
+    out.write_text(json.dumps({"runs": rows, "rounds": args.rounds, "rtol": 1e-4,
+                               "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
+                                          f"{platform.python_version()}",
+                               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}, indent=1) + "\n",
+                   encoding="utf-8")
+    print(f"written to {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
