@@ -110,6 +110,8 @@ def benchmarks_table() -> str | None:
                     f"{seconds['--workers 1']:.2f} s: **{bottom['second_worker_speedup']:.2f}×**; without the fixed "
                     f"{seconds['one cell']:.2f} s, "
                     f"{(seconds['--workers 1'] - seconds['one cell']) / (seconds['default (2 workers)'] - seconds['one cell']):.2f}× |")
+        if bottom.get("context"):
+            rows.append(f"| the machine's state when these two rows were measured | {bottom['context']} |")
     pool = {row["cells"]: row["peak_memory_bytes"] for row in (sweep or {}).get("work_against_size", [])
             if row["path"] == "process pool"}
     if 1e7 in pool and 1e8 in pool:
