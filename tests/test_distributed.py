@@ -109,12 +109,12 @@ def test_sweep_on_a_real_cluster_is_bit_identical_to_one_process(cluster, tmp_pa
             assert a[name].attrs.keys() == b[name].attrs.keys()
 
     # the workers wrote the chunks: both worker processes ran write_zarr_block tasks (each returns
-    # only its cell count to the client; dask names each by guarded_task, which runs it listing failed cells)
+    # only its cell count to the client; dask names each by worker_task, which runs it listing failed cells)
     from distributed import Client
 
     with Client(address, timeout="30s") as client:
         ran = client.run(lambda dask_worker: sum(1 for entry in dask_worker.state.log
-                                                 if "guarded_task" in str(entry[0])))
+                                                 if "worker_task" in str(entry[0])))
     assert len(ran) == 2 and all(count > 0 for count in ran.values()), ran
 
     # the store converts to the netCDF file a netCDF sweep writes, and that file reproduces

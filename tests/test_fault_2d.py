@@ -240,6 +240,11 @@ def test_threads_are_checked_in_one_sentence(monkeypatch):
     assert threads_for(2000, 1024) == 1
     monkeypatch.delenv("FAULTSLIP_THREADS")
     assert threads_for(100, 1024) == 1
+    # a study's worker (pool, dask, SLURM job) gives each run one thread: the workers already share out the cores
+    from faultslip.studies.streaming import worker_task
+
+    assert worker_task(lambda: threads_for(5000, 1024)) == (1, [])
+    monkeypatch.delenv("FAULTSLIP_THREADS")
 
 
 def test_station_files_are_written_and_read_back(tmp_path):

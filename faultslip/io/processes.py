@@ -115,7 +115,7 @@ def threads_for(elements: int, pays_from: int) -> int:
 def _die_with_parent(parent: int) -> None:
     """Worker initializer: ignore Ctrl-C, reuse freed memory, use one thread a run, and exit when the parent
     process is gone."""
-    os.environ[THREADS_VARIABLE] = "1"  # the pool's workers fill the cores; a run's threads would oversubscribe
+    os.environ.setdefault(THREADS_VARIABLE, "1")  # the pool's workers fill the cores; more threads would oversubscribe
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     retain_freed_memory()
     if hasattr(signal, "pthread_sigmask"):  # held back while this worker was forked (see worker_pool)

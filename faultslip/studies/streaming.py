@@ -16,6 +16,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import os
 import re
 import shutil
 import sys
@@ -34,7 +35,8 @@ from faultslip.io.netcdf import create_chunked, open_for_append
 from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock
-from faultslip.io.processes import SharedRing, descendants, reap, run_windowed, shared_segment, stop_pool, worker_pool
+from faultslip.io.processes import (THREADS_VARIABLE, SharedRing, descendants, reap, run_windowed, shared_segment,
+                                    stop_pool, worker_pool)
 from faultslip.io.resources import open_dataset_lazily
 from faultslip.contract.cells import collect_cell_failures
 from faultslip.studies.grid import block_arrays, compute_block, finish, parse_study, template_block
@@ -447,6 +449,14 @@ def guarded_task(task, *args):
     return result, failed
 
 
+def worker_task(task, *args):
+    """:func:`guarded_task` in a worker process (a pool's, a dask worker's, a SLURM job's): its runs take one
+    thread each (:data:`faultslip.io.processes.THREADS_VARIABLE`, unless set), because the workers already
+    share out the cores, or the job asked for one."""
+    os.environ.setdefault(THREADS_VARIABLE, "1")
+    return guarded_task(task, *args)
+
+
 def _cell_values(study, index: dict) -> dict:
     """A cell's swept values (SI, or category names) from its indices."""
     return {name: (value if isinstance(value, str) else float(value))
@@ -551,8 +561,8 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
 
     try:
         # blocks in flight: bounds memory whatever the grid size
-        run_windowed(executor, guarded_task, tasks(), finished_block, window=window, on_tick=tick,
-                     on_error=failed_block)
+        run_windowed(executor, guarded_task if executor is None else worker_task, tasks(), finished_block,
+                     window=window, on_tick=tick, on_error=failed_block)
     except BaseException as exc:
         _shutdown(executor, interrupted=True)  # first: no worker may keep running, or block the exit
         _abandon(exc, writer, partial, ledger, output)
@@ -668,8 +678,9 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
                           "reason": _failure_reason(exc)})
 
         try:
-            run_windowed(executor, guarded_task, ((i, (compute_block, study, block)) for i, block in enumerate(blocks)),
-                         stored_cell, window=max(workers, 1) + 1, on_error=failed_cell)
+            run_windowed(executor, guarded_task if executor is None else worker_task,
+                         ((i, (compute_block, study, block)) for i, block in enumerate(blocks)), stored_cell,
+                         window=max(workers, 1) + 1, on_error=failed_cell)
         except BaseException:
             _shutdown(executor, interrupted=True)
             if nc is not None:
