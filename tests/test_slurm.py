@@ -246,12 +246,12 @@ def test_a_2d_study_and_a_closed_form_sweep_on_slurm_match_one_process(slurm, tm
 
 
 def test_a_cancelled_job_costs_only_the_cells_it_held(slurm, slow_family):
-    """Twelve 1-second cells, one a block, on two SLURM worker jobs; one job is cancelled (scancel) once four
+    """Twelve 0.4-second cells, one a block, on two SLURM worker jobs; one job is cancelled (scancel) once three
     cells are done. The study finishes with every cell, bit for bit what one process computes; only cells the
     cancelled job had started are computed twice, and no more of them than were in flight."""
     _, environment = slurm
     folder, log = slow_family
-    environment = dict(environment, FAULTSLIP_TEST_CELL_SECONDS="1", PYTHONPATH=os.environ["PYTHONPATH"],
+    environment = dict(environment, FAULTSLIP_TEST_CELL_SECONDS="0.4", PYTHONPATH=os.environ["PYTHONPATH"],
                        FAULTSLIP_TEST_CELL_LOG=str(log), FAULTSLIP_FAMILIES=os.environ["FAULTSLIP_FAMILIES"])
     out = folder / "slurm.nc"
     command = [sys.executable, "-m", "faultslip.cli", "sweep", str(folder / "study.toml"), "-o", str(out),
@@ -260,7 +260,7 @@ def test_a_cancelled_job_costs_only_the_cells_it_held(slurm, slow_family):
                              cwd=ROOT)
     try:
         deadline = time.monotonic() + 120
-        while sum(event == "end" for event, _, _ in _cells(log)) < 4:
+        while sum(event == "end" for event, _, _ in _cells(log)) < 3:
             assert time.monotonic() < deadline and sweep.poll() is None, "the study did not start its cells"
             time.sleep(0.1)
         running = {job for event, _, job in _cells(log) if event == "start"}
