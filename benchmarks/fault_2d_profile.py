@@ -92,13 +92,18 @@ def main(argv=None) -> int:
     for row in rows:
         print(f"{row['elements']} elements: {row['per_step_ms']:.3f} ms a step ({row['steps']} steps), "
               + ", ".join(f"{part} {share:.0%}" for part, share in row["shares"].items()))
-    out = ROOT / "benchmarks" / "results" / "fault_2d_profile.json"
-    out.write_text(json.dumps({"runs": rows, "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
-                                                        f"{platform.python_version()}",
-                               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}, indent=1) + "\n",
-                   encoding="utf-8")
-    print(f"written to {out}")
+    write_results("fault_2d_profile.json", {"runs": rows})
     return 0
+
+
+def write_results(name: str, document: dict) -> None:
+    """benchmarks/results/NAME: ``document`` with the machine and the date."""
+    out = ROOT / "benchmarks" / "results" / name
+    document = {**document, "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
+                                       f"{platform.python_version()}",
+                "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+    out.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
+    print(f"written to {out}")
 
 
 if __name__ == "__main__":

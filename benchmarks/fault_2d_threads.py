@@ -13,18 +13,17 @@ are compiled (and cached) before the first timed run. Writes benchmarks/results/
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import platform
 import statistics
 import sys
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
+from fault_2d_profile import write_results  # noqa: E402  (one way to write a result, with the machine and date)
 from faultslip.constants import JULIAN_YEAR  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
@@ -67,13 +66,7 @@ def main(argv=None) -> int:
         print(f"{elements} elements, {row['steps']} steps: one thread {medians[1]['wall_s']:.2f} s, two "
               f"{medians[2]['wall_s']:.2f} s -> {row['speedup']:.2f}x (target 1.6); the same bits: {same}",
               flush=True)
-    out = ROOT / "benchmarks" / "results" / "fault_2d_threads.json"
-    out.write_text(json.dumps({"runs": rows, "rounds": args.rounds, "rtol": 1e-4,
-                               "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
-                                          f"{platform.python_version()}",
-                               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}, indent=1) + "\n",
-                   encoding="utf-8")
-    print(f"written to {out}")
+    write_results("fault_2d_threads.json", {"runs": rows, "rounds": args.rounds, "rtol": 1e-4})
     return 0
 
 
