@@ -243,6 +243,7 @@ def test_a_2d_study_and_a_closed_form_sweep_on_slurm_match_one_process(slurm, tm
         _same_results(local, remote)
     assert not subprocess.run(["squeue", "-h"], capture_output=True, text=True, env=environment).stdout.strip(), \
         "the study's worker jobs outlived it"
+    assert not list(ROOT.glob("slurm-*.out")), "the worker jobs' logs belong in a log folder, not the working folder"
 
 
 def test_a_cancelled_job_costs_only_the_cells_it_held(slurm, slow_family):

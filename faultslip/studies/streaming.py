@@ -117,9 +117,12 @@ def _slurm_cluster(workers: int):
         raise InputError("--scheduler slurm submits worker jobs with sbatch, which is not on this machine's PATH")
     configured = dask.config.get("jobqueue.slurm", default={}) or {}
     settings = {key: value for key, value in SLURM_DEFAULTS.items() if configured.get(key) is None}
+    # the jobs' logs go where dask's configuration says, else to a temporary folder: not slurm-N.out files in
+    # the folder the study was started from
+    logs = configured.get("log-directory") or tempfile.mkdtemp(prefix="faultslip-slurm-logs-")
     cluster = SLURMCluster(job_name="faultslip", python=sys.executable,
                            local_directory=configured.get("local-directory") or tempfile.gettempdir(),
-                           scheduler_options={"dashboard_address": ":0"}, **settings)
+                           log_directory=logs, scheduler_options={"dashboard_address": ":0"}, **settings)
     cluster.adapt(minimum=workers, maximum=workers)
     return cluster
 
