@@ -33,8 +33,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 from faultslip.lab.law_selection import select_law  # noqa: E402
 from faultslip.lab.look_reduction import run_r_file  # noqa: E402
 from faultslip.lab.posterior import sample_posterior  # noqa: E402
-from faultslip.lab.rate_state_fit import StepRecord, fit_joint  # noqa: E402
-from faultslip.lab.raw_records import fit_each_step, load_record, prepare_record, step_windows  # noqa: E402
+from faultslip.lab.rate_state_fit import fit_joint  # noqa: E402
+from faultslip.lab.raw_records import (fit_each_step, load_record, prepare_record, step_windows,  # noqa: E402
+                                       window_record)
 
 COLUMNS = {"time": "Time", "load_point_displacement": "LP_disp", "shear_stress": "Shear_stress",
            "normal_stress": "Nor_stress"}
@@ -42,22 +43,6 @@ SEQUENCES = {"75 MPa": (2400.0, 3150.0), "100 MPa": (3350.0, 4240.0)}
 STATED_STIFFNESS = "2000 1/m"  # the free stiffness's start and its prior's median (the onset slopes give 1.5-2.2e3)
 RESULTS = ROOT / "benchmarks" / "results" / "p655_analysis.json"
 FIGURE = ROOT / "docs" / "figures" / "p655_steps.png"
-
-
-def _window(prepared, start, end):
-    """The StepRecord of one window, its clock and load history from the window's start (fit_each_step's)."""
-    from faultslip.dynamics.rate_state.slider import LoadHistory
-
-    record = prepared.record
-    inside = (record.time >= start) & (record.time <= end)
-    boundaries, speeds = record.history.times, record.history.speeds
-    first = max(i for i, t in enumerate(boundaries[:-1]) if t <= start)
-    inner = [t for t in boundaries[1:-1] if start < t < end]
-    origin = float(record.time[inside][0])
-    times = record.time[inside] - origin
-    history = LoadHistory((0.0, *(t - origin for t in inner), float(times[-1])),
-                          tuple(speeds[first:first + len(inner) + 1]))
-    return StepRecord(times, record.friction[inside], history, "p655 window")
 
 
 def main() -> None:
@@ -80,7 +65,7 @@ def main() -> None:
         fits = {law: fit_each_step(prepared, law, stiffness_free=True, trend=True) for law in ("aging", "slip")}
         panel = 0
         for (start, end), aging, slip in zip(windows, fits["aging"], fits["slip"]):
-            window = _window(prepared, start, end)
+            window = window_record(prepared.record, start, end, "p655 window")
             speeds = window.history.speeds
             entry = {"window_s": [start + span[0], end + span[0]],
                      "speeds_um_s": [round(v * 1e6, 3) for v in speeds],

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from faultslip.errors import FaultslipError, InputError
-from faultslip.lab.rate_state_fit import fit_velocity_steps
+from faultslip.lab.rate_state_fit import fit_velocity_steps, lag_one_autocorrelation
 
 #: candidate -> (evolution, two_state)
 LAWS = {"aging": ("aging", False), "slip": ("slip", False), "aging_two_state": ("aging", True),
@@ -152,25 +152,3 @@ def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free:
     notes = [f"the residuals' lag-one autocorrelation is {rho:.3g}: the criterion counts {effective:.4g} effective "
              f"points of the record's {record_points}"]
     return LawSelection(rows, int(record_points), notes, autocorrelation=rho, effective_points=effective)
-
-
-def lag_one_autocorrelation(residuals) -> float:
-    """rho = sum r_i r_(i+1) / sum r_i^2 of the centred residuals, clipped to [0, 0.999]: the AR(1) coefficient
-    behind the effective number of points n (1 - rho) / (1 + rho).
-
-    Parameters
-    ----------
-    residuals : array_like
-        A fit's residuals in time order.
-
-    Returns
-    -------
-    float
-        rho, dimensionless.
-    """
-    r = np.asarray(residuals, dtype=float)
-    r = r - r.mean()
-    total = float(r @ r)
-    if r.size < 3 or not total > 0:
-        return 0.0
-    return float(min(max(float(r[:-1] @ r[1:]) / total, 0.0), 0.999))

@@ -447,19 +447,36 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
 CORRELATED_RESIDUALS = 0.3
 
 
-def correlation_notes(residuals) -> list:
-    """A note where a fit's residuals are correlated (lag-one autocorrelation rho > :data:`CORRELATED_RESIDUALS`):
-    covariance, residual-bootstrap and posterior intervals treat every sample as independent, so for AR(1) noise
-    they are about sqrt((1 + rho) / (1 - rho)) too narrow (the variance of a mean of correlated points)."""
+def lag_one_autocorrelation(residuals) -> float:
+    """rho = sum r_i r_(i+1) / sum r_i^2 of the centred residuals, clipped to [0, 0.999]: the AR(1) coefficient
+    behind the effective number of points n (1 - rho) / (1 + rho).
+
+    Parameters
+    ----------
+    residuals : array_like
+        A fit's residuals in time order.
+
+    Returns
+    -------
+    float
+        rho, dimensionless.
+    """
     r = np.asarray(residuals, dtype=float)
     r = r - r.mean()
     total = float(r @ r)
     if r.size < 3 or not total > 0:
-        return []
-    rho = float(r[:-1] @ r[1:]) / total
+        return 0.0
+    return float(min(max(float(r[:-1] @ r[1:]) / total, 0.0), 0.999))
+
+
+def correlation_notes(residuals) -> list:
+    """A note where a fit's residuals are correlated (lag-one autocorrelation rho > :data:`CORRELATED_RESIDUALS`):
+    covariance, residual-bootstrap and posterior intervals treat every sample as independent, so for AR(1) noise
+    they are about sqrt((1 + rho) / (1 - rho)) too narrow (the variance of a mean of correlated points)."""
+    rho = lag_one_autocorrelation(residuals)
     if rho <= CORRELATED_RESIDUALS:
         return []
-    factor = math.sqrt((1 + rho) / max(1 - rho, 1e-12))
+    factor = math.sqrt((1 + rho) / (1 - rho))
     return [f"the residuals are correlated (lag-one autocorrelation {rho:.2f}): the intervals assume independent "
             f"noise and are about {factor:.2g} times too narrow; thin the record or read them so"]
 

@@ -585,6 +585,36 @@ def step_windows(prepared: PreparedRecord, lead: float = 0.5) -> list[tuple[floa
     return windows
 
 
+def window_record(record: StepRecord, start: float, end: float, source: str) -> StepRecord | None:
+    """The part of ``record`` from ``start`` to ``end`` (s), its clock and load history starting there; None where
+    the window holds no step from sliding, or fewer than 20 samples.
+
+    Parameters
+    ----------
+    record : StepRecord
+        A prepared record.
+    start, end : float
+        The window (s of the record's time).
+    source : str
+        The window's name.
+
+    Returns
+    -------
+    StepRecord or None
+    """
+    boundaries, speeds = record.history.times, record.history.speeds
+    inside = (record.time >= start) & (record.time <= end)
+    first = max(i for i, t in enumerate(boundaries[:-1]) if t <= start)
+    inner = [t for t in boundaries[1:-1] if start < t < end]
+    if not inner or speeds[first] <= 0 or inside.sum() < 20:
+        return None
+    origin = float(record.time[inside][0])
+    times = record.time[inside] - origin
+    history = LoadHistory((0.0, *(t - origin for t in inner), float(times[-1])),
+                          tuple(speeds[first:first + len(inner) + 1]))
+    return StepRecord(times, record.friction[inside], history, source, record.metadata)
+
+
 class StepFits(list):
     """:func:`fit_each_step`'s list of ``{"step", "window", "fit"}`` or ``{"step", "window", "error"}``, which also
     gives xarray."""
@@ -632,22 +662,13 @@ def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=No
         A list, per step: its window (s) and its fit (a, b, D_c in m) or the reason it has none; ``to_dataset()``.
     """
     record, results = prepared.record, StepFits()
-    boundaries, speeds = record.history.times, record.history.speeds
     for number, (start, end) in enumerate(windows or step_windows(prepared), start=1):
-        inside = (record.time >= start) & (record.time <= end)
         entry = {"step": number, "window": (float(start), float(end))}
-        first = max(i for i, t in enumerate(boundaries[:-1]) if t <= start)
-        inner = [t for t in boundaries[1:-1] if start < t < end]
-        if not inner or speeds[first] <= 0 or inside.sum() < 20:
+        window = window_record(record, start, end, f"{record.source} step {number}")
+        if window is None:
             entry["error"] = "the window holds no step from sliding, or fewer than 20 samples"
             results.append(entry)
             continue
-        origin = float(record.time[inside][0])
-        times = record.time[inside] - origin
-        history = LoadHistory((0.0, *(t - origin for t in inner), float(times[-1])),
-                              tuple(speeds[first:first + len(inner) + 1]))
-        window = StepRecord(times, record.friction[inside], history, f"{record.source} step {number}",
-                            record.metadata)
         try:
             entry["fit"] = fit_velocity_steps(window, prepared.stiffness, evolution=evolution,
                                               stiffness_free=stiffness_free, trend=trend)
