@@ -110,8 +110,13 @@ def benchmarks_table() -> str | None:
                     f"{seconds['--workers 1']:.2f} s: **{bottom['second_worker_speedup']:.2f}×**; without the fixed "
                     f"{seconds['one cell']:.2f} s, "
                     f"{(seconds['--workers 1'] - seconds['one cell']) / (seconds['default (2 workers)'] - seconds['one cell']):.2f}× |")
-        if bottom.get("context"):
-            rows.append(f"| the machine's state when these two rows were measured | {bottom['context']} |")
+        state = bottom.get("state")
+        if state:
+            pairs = ", ".join(f"{one / two:.2f}" for two, one in state["seconds_per_window"]["each pair"])
+            rows.append(f"| the machine's state when these two rows were measured | {state['measured_at']}, load "
+                        f"average {state['load_average_before']:.2f} before and {state['load_average_after']:.2f} "
+                        f"after; the second worker's gain in each pair: {pairs}. The gain depends on the machine: "
+                        "where shuffling and deflating run faster, the fixed cost weighs more (docs/studies.md) |")
     pool = {row["cells"]: row["peak_memory_bytes"] for row in (sweep or {}).get("work_against_size", [])
             if row["path"] == "process pool"}
     if 1e7 in pool and 1e8 in pool:
