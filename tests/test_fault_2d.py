@@ -15,7 +15,7 @@ from faultslip.models.fault_2d import compiled
 from faultslip.models.fault_2d.analysis import summarise
 from faultslip.models.fault_2d.integrate import STEP_MEMORY, YEAR, _Stopped, next_step_factor, run_cycles
 from faultslip.models.fault_2d.kernel import StressKernel, deep_loading, dense_matrix
-from faultslip.models.fault_2d.model import Fault2D, ForceBalance, steady_initial_conditions
+from faultslip.models.fault_2d.model import Fault2D, ForceBalance, newton_tolerance, steady_initial_conditions
 from faultslip.errors import InputError
 from faultslip.io.seas import read_seas, station_file_name, write_station
 from faultslip.models.fault_2d.scene import load_fault_2d_scene, parse_fault_2d_scene
@@ -204,19 +204,23 @@ def test_a_stopped_run_continues_bit_for_bit(tmp_path):
 @pytest.mark.skipif(not compiled.available(), reason="the fused kernels are numba's (pip install 'faultslip[fast]')")
 def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads():
     """Issue 43, items 2 and 3: a run's trial steps through the fused numba kernels equal the numpy expressions of
-    the same Dormand-Prince step bit for bit (every stage, y_new, k7, the stress and the error norm), and a run on
-    two threads equals one on one thread bit for bit: each element's arithmetic does not depend on the threads."""
+    the same Dormand-Prince step bit for bit (every stage, y_new, k7, the stress and the error norm), with the
+    Newton solve stopped at the run's tolerance; the whole step compiled (rocket-fft's FFT, a scalar spectrum
+    product) equals them to round-off; and a run on two threads equals one on one thread bit for bit: each
+    element's arithmetic does not depend on the threads."""
     from faultslip.models.fault_2d import integrate
 
     fault = small_fault(element_size=20.0)  # 1000 elements: the FFT kernel
     operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus)
     balance = ForceBalance(fault, operator)
+    balance.tolerance = newton_tolerance(1e-6)
     count = fault.count
     scale = np.concatenate([fault.critical_slip, np.ones(count)])
     y = np.concatenate([np.zeros(count), fault.initial_state])
     speed, psi_rate, _ = balance.rates(0.0, y[:count], y[count:])
     k1 = np.concatenate([speed, psi_rate])
     fused = integrate._CompiledTrial(fault, operator, balance, scale, 1e-6, 1)
+    whole = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 1) if compiled.fused_available() else None
     stages = []
 
     def derivative(t, state):  # numpy's, each stage's k kept
@@ -230,13 +234,20 @@ def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads():
         stages.clear()
         reference = integrate.dormand_prince_trial(derivative, t, y, h, k1, 1e-6, scale)
         after = balance.u.copy()
-        balance.u = start
+        balance.u = start.copy()
         got = fused(t, y, h, k1)
         for expected, value in zip((*reference[:4], after), (*got[:4], balance.u)):
             assert expected.tobytes() == value.tobytes()
         assert got[4] == reference[4] and math.isfinite(got[4])  # an accepted or rejected step, not an absurd one
         for row, k in enumerate(stages[:5], start=1):
             assert k.tobytes() == fused.stages[row].tobytes()
+        if whole is not None:
+            balance.u = start.copy()
+            compiled_step = whole(t, y, h, k1)
+            for expected, value in zip(reference[:4], compiled_step[:4]):
+                np.testing.assert_allclose(value, expected, rtol=1e-9, atol=0)
+            assert compiled_step[4] == pytest.approx(reference[4], rel=1e-6)
+            balance.u = after
         t, y, k1 = t + h, reference[0], reference[1]
     one = run_cycles(fault, 150 * YEAR, rtol=1e-6, stations=STATIONS, threads=1)
     two = run_cycles(fault, 150 * YEAR, rtol=1e-6, stations=STATIONS, threads=2)

@@ -3,12 +3,15 @@
 The same equations as :class:`faultslip.models.fault_2d.model.ForceBalance` (see there), in one
 pass over the elements (one thread, or several in the parallel build: a run's ``threads``): Newton's method
 on u = asinh[V / (2 V_0) exp(psi / a)] from the last solution, safeguarded by the bracket
-from 0 to the nearer of tau / (sigma_n a) and asinh(tau / c) that holds the root (a step leaving it bisects), each element to its own convergence
-(a step |du| <= 1e-10 (1 + |u|) leaves an error of the order of its square), then V and d psi / dt.
+from 0 to the nearer of tau / (sigma_n a) and asinh(tau / c) that holds the root (a step leaving it bisects), each
+element to its own convergence (a step leaves an error of at most half its square: a step |du| <= 1e-10 (1 + |u|)
+leaves round-off, and one with du^2 <= ``tolerance`` (1 + |u|) leaves the integrator's share, see
+:func:`faultslip.models.fault_2d.model.newton_tolerance`), then V and d psi / dt.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import types
 
@@ -21,8 +24,9 @@ prange = range
 
 def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
                    inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
-                   iterations):
-    """Fill ``speed`` and ``psi_rate``; ``u`` is updated in place. With ``add_initial`` the stress is first set,
+                   iterations, tolerance):
+    """Fill ``speed`` and ``psi_rate``; ``u`` is updated in place, to within ``tolerance`` (1 + |u|) (0: to
+    round-off). With ``add_initial`` the stress is first set,
     stress = tau_0 + (K x) (``initial_stress`` + ``product``); without, ``stress`` is taken as it is. An element
     whose state has no finite slip rate, or whose iteration fails, gets NaN: the integrator rejects that trial
     step."""
@@ -74,8 +78,10 @@ def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a
                 step = x - proposal
             x = proposal
             sinh_x -= step * cosh_x  # sinh at the new x to first order: the error is of the order of step^2
-            # the error left after a Newton step is of the order of the step squared: 1e-10 leaves round-off
-            if (newton and abs(step) <= 1e-10 * (1.0 + abs(x))) or high - low <= 4e-16 * (1.0 + abs(x)):
+            # the error left after a Newton step is at most half the step squared (|g''| <= g' here): a step of
+            # 1e-10 leaves round-off, and one whose square is within the tolerance leaves the tolerance
+            if (newton and (abs(step) <= 1e-10 * (1.0 + abs(x)) or step * step <= tolerance * (1.0 + abs(x)))) \
+                    or high - low <= 4e-16 * (1.0 + abs(x)):
                 converged = newton or high - low <= 4e-16 * (1.0 + abs(x))
                 if not newton:
                     sinh_x = math.sinh(x)
@@ -124,31 +130,85 @@ def _error_ratios(ratios, y, y_new, h, weights, rows, stages, rtol, scale):
         ratios[i] = abs(h * total) / (rtol * max(max(abs(y[i]), abs(y_new[i])), scale[i]))
 
 
+def _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat):
+    """both = T^ X + H^ conj(X): the Toeplitz and the Hankel parts of K x in one spectrum
+    (:class:`faultslip.models.fault_2d.kernel.StressKernel`)."""
+    for i in prange(spectrum.shape[0]):
+        both[i] = toeplitz_hat[i] * spectrum[i] + hankel_hat[i] * spectrum[i].conjugate()
+
+
+#: scipy.fft, set where the step kernel is built: numba compiles its calls through rocket-fft
+fft = None
+
+
+def _fused_step(y, h, t, stages, work, y_new, padded, both, toeplitz_hat, hankel_hat, length, initial_stress,
+                stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
+                error_weights, rtol, scale, ratios, plate_rate):
+    """A whole Dormand-Prince trial step (stages[0] holds k1): for each stage its state and slip deficit
+    (:func:`_stage`), K x by one real FFT and its inverse, the force balance (:func:`_balance_rates`); then the
+    error ratios. Returns Hairer's norm, the largest ratio (NaN where a stage had no finite slip rate). ``stress``
+    is left at y_new's; y_new's rates are stages[6]."""
+    count = stress.shape[0]
+    for s in range(plan_rows.shape[0]):
+        terms = plan_terms[s]
+        target = work if s < plan_rows.shape[0] - 1 else y_new
+        _stage(target, padded, y, h, plan_weights[s, :terms], plan_rows[s, :terms], stages, count, plate_rate,
+               t + plan_fractions[s] * h)
+        _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
+        product = fft.irfft(both, length)
+        row = s + 1
+        _balance_rates(product, initial_stress, True, stress, target[count:], u, sigma_a, inverse_a, two_v0_eta,
+                       inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, stages[row, :count],
+                       stages[row, count:], iterations, tolerance)
+    _error_ratios(ratios, y, y_new, h, error_weights, error_rows, stages, rtol, scale)
+    largest = 0.0
+    for i in range(ratios.shape[0]):
+        value = ratios[i]
+        if not value <= largest:  # NaN wins: a stage without a finite slip rate rejects the step
+            largest = value
+            if math.isnan(value):
+                break
+    return largest
+
+
 _KERNELS = {}
-KERNELS = ("_balance_rates", "_stage", "_error_ratios")
+KERNELS = ("_balance_rates", "_stage", "_error_ratios", "_spectrum_product")
+
+
+def fused_available() -> bool:
+    """Whether the whole step can be compiled: numba, and rocket-fft (which lets numba call scipy.fft)."""
+    return available() and importlib.util.find_spec("rocket_fft") is not None
 
 
 def _compiled(threads: int) -> dict:
     """name -> kernel, compiled by numba on first use (cached on disk): a serial build for one thread, a parallel
-    one (numba's OpenMP or TBB layer) for more."""
+    one (numba's OpenMP or TBB layer) for more; with rocket-fft, the whole step (``fused_step``) on that build's
+    kernels too."""
     key = "parallel" if threads > 1 else "serial"
     if key not in _KERNELS:
         import numba  # heavy: optional dependency (faultslip[fast]), imported only when the kernel is wanted
 
         module = globals()
         module["prange"] = numba.prange  # the loops become numba's (a serial build runs it as range)
-        _KERNELS[key] = {name.lstrip("_"): numba.njit(cache=True, parallel=key == "parallel")(_named(module[name], key))
-                         for name in KERNELS}
+        built = {name: numba.njit(cache=True, parallel=key == "parallel")(_named(module[name], key))
+                 for name in KERNELS}
+        _KERNELS[key] = {name.lstrip("_"): kernel for name, kernel in built.items()}
+        if fused_available():
+            from scipy import fft as scipy_fft  # heavy: imported where the step is built
+
+            _KERNELS[key]["fused_step"] = numba.njit(cache=True)(_named(_fused_step, key, {**built, "fft": scipy_fft}))
     return _KERNELS[key]
 
 
-def _named(function, build: str):
+def _named(function, build: str, names: dict | None = None):
     """``function`` itself for the serial build; for the parallel one a copy under its own qualified name, because
-    numba's disk cache keeps one build per name (the parallel one would otherwise load the serial one)."""
-    if build == "serial":
+    numba's disk cache keeps one build per name (the parallel one would otherwise load the serial one). ``names``
+    replace the copy's globals (the build's own kernels, for the fused step)."""
+    if build == "serial" and names is None:
         return function
-    copy = types.FunctionType(function.__code__, function.__globals__, function.__name__, function.__defaults__,
-                              function.__closure__)
+    copy = types.FunctionType(function.__code__, {**function.__globals__, **(names or {})}, function.__name__,
+                              function.__defaults__, function.__closure__)
     copy.__qualname__ = f"{function.__qualname__}_{build}"
     return copy
 
@@ -157,7 +217,11 @@ def kernels(compiled: bool = True, threads: int = 1) -> dict:
     """The force balance and the fused step kernels: numba's (serial, or over ``threads`` threads), or plain
     Python (``compiled=False``, the same loops, slow: for tests without numba)."""
     if not compiled:
-        return {name.lstrip("_"): globals()[name] for name in KERNELS}
+        from scipy import fft as scipy_fft  # heavy: imported where the step runs
+
+        plain = {name.lstrip("_"): globals()[name] for name in KERNELS}
+        plain["fused_step"] = _named(_fused_step, "python", {"fft": scipy_fft})
+        return plain
     return _compiled(threads)
 
 

@@ -33,7 +33,7 @@ import numpy as np
 
 from faultslip.models.fault_2d import compiled as compiled_kernels
 from faultslip.models.fault_2d.kernel import StressKernel
-from faultslip.models.fault_2d.model import NEWTON_ITERATIONS, Fault2D, ForceBalance
+from faultslip.models.fault_2d.model import NEWTON_ITERATIONS, Fault2D, ForceBalance, newton_tolerance
 from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62,
                                                       A63, A64, A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7)
 from faultslip.errors import InputError, SolverError
@@ -177,7 +177,7 @@ class _CompiledTrial:
                                       balance.sigma_a, balance.inverse_a, balance.two_v0_eta, 1.0 / balance.damping,
                                       balance.aging, balance.aging_rate, fault.reference_friction, balance.inverse_b,
                                       fault.reference_speed, fault.critical_slip, fault.b, self.stages[row, :count],
-                                      self.stages[row, count:], NEWTON_ITERATIONS)
+                                      self.stages[row, count:], NEWTON_ITERATIONS, balance.tolerance)
 
     def __call__(self, t, y, h, k1):
         if self.balance.u is None:  # a resumed run without a warm start: the numpy balance sets one, as at t = 0
@@ -192,6 +192,46 @@ class _CompiledTrial:
         self.kernels["error_ratios"](self.ratios, y, target, h, self.error_weights, self.error_rows, stages, self.rtol,
                                      self.scale)
         return target, stages[6].copy(), stages[6, :self.count].copy(), self.stress.copy(), float(self.ratios.max())
+
+
+class _FusedTrial(_CompiledTrial):
+    """The whole trial step in one compiled call (:func:`faultslip.models.fault_2d.compiled._fused_step`): the FFTs
+    too, through rocket-fft, and no Python between the stages. The same operations as :class:`_CompiledTrial` but
+    for the FFT's library (rocket-fft's pocketfft against scipy's) and the spectrum's product (a scalar loop
+    against numpy's SIMD one): equal to it to round-off, and bit for bit on any number of threads."""
+
+    def __init__(self, fault, operator, balance, scale, rtol, threads):
+        super().__init__(fault, operator, balance, scale, rtol, threads)
+        terms = max(len(rows) for _, _, rows, _ in _STAGES)
+        self.plan_rows = np.zeros((len(_STAGES), terms), dtype=np.int64)
+        self.plan_weights = np.zeros((len(_STAGES), terms))
+        for s, (_, _, rows, weights) in enumerate(_STAGES):
+            self.plan_rows[s, :len(rows)], self.plan_weights[s, :len(weights)] = rows, weights
+        self.plan_terms = np.array([len(rows) for _, _, rows, _ in _STAGES], dtype=np.int64)
+        self.plan_fractions = np.array([fraction for _, fraction, _, _ in _STAGES])
+        self.both = np.empty(operator.length // 2 + 1, dtype=complex)
+
+    def __call__(self, t, y, h, k1):
+        if self.balance.u is None:  # a resumed run without a warm start: the numpy balance sets one, as at t = 0
+            self.balance.rates(t, y[:self.count], y[self.count:])
+        fault, balance, operator, stages = self.fault, self.balance, self.operator, self.stages
+        stages[0] = k1
+        y_new = np.empty_like(y)
+        norm = self.kernels["fused_step"](
+            y, h, t, stages, self.work, y_new, operator.padded, self.both, operator.toeplitz_hat,
+            operator.hankel_hat, operator.length, fault.initial_shear_stress, self.stress, balance.u, balance.sigma_a,
+            balance.inverse_a, balance.two_v0_eta, 1.0 / balance.damping, balance.aging, balance.aging_rate,
+            fault.reference_friction, balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b,
+            NEWTON_ITERATIONS, balance.tolerance, self.plan_rows, self.plan_weights, self.plan_terms, self.plan_fractions,
+            self.error_rows, self.error_weights, self.rtol, self.scale, self.ratios, fault.plate_rate)
+        return y_new, stages[6].copy(), stages[6, :self.count].copy(), self.stress.copy(), float(norm)
+
+
+def _compiled_trial(fault, operator, balance, scale, rtol, threads):
+    """The whole step compiled where it can be (an FFT kernel, and rocket-fft here), else its element-wise work."""
+    if operator.method == "fft" and compiled_kernels.fused_available():
+        return _FusedTrial(fault, operator, balance, scale, rtol, threads)
+    return _CompiledTrial(fault, operator, balance, scale, rtol, threads)
 
 
 def fingerprint(fault: Fault2D, settings: dict) -> str:
@@ -229,6 +269,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         raise InputError(f"threads must be a whole number from 1 to 1024, got {threads!r}")
     operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, kernel)
     balance = ForceBalance(fault, operator)
+    balance.tolerance = newton_tolerance(rtol)
     recorder = _Stations(stations, fault)
     settings = {"duration": duration, "rtol": rtol, "stations": [float(d) for d in recorder.depths],
                 "profile_interval": profile_interval, "coseismic_interval": coseismic_interval,
@@ -250,7 +291,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     def numpy_trial(t, y, h, k1):
         return dormand_prince_trial(derivative, t, y, h, k1, rtol, scale)
 
-    trial = numpy_trial if not balance.compiled else _CompiledTrial(fault, operator, balance, scale, rtol, threads)
+    trial = numpy_trial if not balance.compiled else _compiled_trial(fault, operator, balance, scale, rtol, threads)
 
     def station_row(t, y, speed, stress):
         psi = y[count:]

@@ -103,6 +103,16 @@ class StressKernel:
         self._padded = np.zeros(length)
 
     @property
+    def toeplitz_hat(self) -> np.ndarray:
+        """The Toeplitz part's spectrum (FFT kernel only), G / (2 pi h) rfft(t), for a compiled product."""
+        return self._toeplitz_hat
+
+    @property
+    def hankel_hat(self) -> np.ndarray:
+        """The Hankel part's spectrum times the reversal's phase (FFT kernel only)."""
+        return self._hankel_hat
+
+    @property
     def padded(self) -> np.ndarray:
         """The input buffer of :meth:`product_of_padded`: its first N values are the slip (the rest stays zero)."""
         return self._padded
