@@ -17,23 +17,42 @@ import types
 
 from faultslip.dynamics.shared.compiler import available  # noqa: F401 (re-exported for the model)
 
-#: the kernels' element loops: range in plain Python; numba's prange once compiled (a parallel build splits the
-#: elements over threads, a serial one runs it as range)
+#: the kernels' loops over parts of the elements: range in plain Python; numba's prange once compiled (a parallel
+#: build splits the parts over threads, a serial one runs them as range)
 prange = range
+#: parts of the elements a kernel's loop runs: one in a serial build; PARALLEL_PARTS in a parallel one, some per
+#: thread, so that a thread whose part holds an event's slow-converging elements holds up the others less
+PARTS = 1
+PARALLEL_PARTS = 16
+#: the FFTs' time, K x's pair, against the exponentials of the N elements' balance (:func:`_exponentials`): about
+#: 0.5 at 1,600 elements on the 2-core benchmark machine (11 us against 21; both grow about as N). The FFTs' task
+#: takes that much less of the exponentials, so that the tasks end together.
+FFT_COST = 0.5
 
 
-def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
-                   inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
-                   iterations, tolerance):
-    """Fill ``speed`` and ``psi_rate``; ``u`` is updated in place, to within ``tolerance`` (1 + |u|) (0: to
-    round-off). With ``add_initial`` the stress is first set,
-    stress = tau_0 + (K x) (``initial_stress`` + ``product``); without, ``stress`` is taken as it is. An element
-    whose state has no finite slip rate, or whose iteration fails, gets NaN: the integrator rejects that trial
-    step."""
-    for i in prange(stress.shape[0]):
+def _exponentials(first, end, psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm):
+    """What the force balance of elements ``first`` to ``end`` - 1 needs before their stress is known: from the
+    state, c = 2 V_0 eta exp(-psi / a) and, for the aging law, exp((f_0 - psi) / b); and exp(u) at the Newton
+    iteration's warm start, the last solution. Three of a solve's three or four exponentials (most solves take
+    one Newton step): the whole step computes them while the FFTs run."""
+    for i in range(first, end):
+        coefficients[i] = two_v0_eta * math.exp(-psi[i] * inverse_a[i])
+        if aging:
+            healing[i] = math.exp((f0 - psi[i]) * inverse_b[i])
+        warm[i] = math.exp(u[i])
+
+
+def _solve_elements(first, end, product, initial_stress, add_initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
+                    inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
+                    iterations, tolerance, coefficients, healing, warm, precomputed):
+    """Elements ``first`` to ``end`` - 1 of :func:`_balance_rates` (a function a part, not an element: a call
+    passes twenty arrays, whose reference counts cost more than an element's solve)."""
+    for i in range(first, end):
         if add_initial:
             stress[i] = initial_stress[i] + product[i]
-        coefficient = two_v0_eta * math.exp(-psi[i] * inverse_a[i])
+        # with ``precomputed``, :func:`_exponentials` has filled ``coefficients`` and ``healing`` (the same
+        # expressions, so the same bits)
+        coefficient = coefficients[i] if precomputed else two_v0_eta * math.exp(-psi[i] * inverse_a[i])
         tau = stress[i]
         # the root lies between 0 and tau / (sigma_n a): g is monotone, and the bracket keeps each
         # Newton step honest (a step that leaves it is a bisection instead)
@@ -45,12 +64,14 @@ def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a
         low = min(0.0, outer)
         high = max(0.0, outer)
         x = u[i]
+        started_warm = precomputed
         if not low <= x <= high:
             x = outer
+            started_warm = False
         converged = False
         sinh_x = 0.0
         for iteration in range(iterations):
-            e = math.exp(x)
+            e = warm[i] if iteration == 0 and started_warm else math.exp(x)
             inverse = 1.0 / e
             sinh_x = 0.5 * (e - inverse)
             cosh_x = 0.5 * (e + inverse)
@@ -93,9 +114,25 @@ def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a
         v = coefficient * sinh_x * inverse_damping
         speed[i] = v
         if aging:
-            psi_rate[i] = aging_rate[i] * (math.exp((f0 - psi[i]) * inverse_b[i]) - v / v0)
+            psi_rate[i] = aging_rate[i] * ((healing[i] if precomputed else math.exp((f0 - psi[i]) * inverse_b[i]))
+                                           - v / v0)
         else:
             psi_rate[i] = -(v / critical_slip[i]) * (psi[i] - f0 + b[i] * math.log(v / v0))
+
+
+def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
+                   inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
+                   iterations, tolerance):
+    """Fill ``speed`` and ``psi_rate``; ``u`` is updated in place, to within ``tolerance`` (1 + |u|) (0: to
+    round-off). With ``add_initial`` the stress is first set,
+    stress = tau_0 + (K x) (``initial_stress`` + ``product``); without, ``stress`` is taken as it is. An element
+    whose state has no finite slip rate, or whose iteration fails, gets NaN: the integrator rejects that trial
+    step."""
+    count = stress.shape[0]
+    for part in prange(PARTS):
+        _solve_elements(part * count // PARTS, (part + 1) * count // PARTS, product, initial_stress, add_initial,
+                        stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
+                        inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance, psi, psi, psi, False)
 
 
 # --- a Dormand-Prince step's element-wise work, fused (issue 43, items 2 and 3) -------------------------------
@@ -106,13 +143,11 @@ def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a
 # runs in SIMD with fused multiply-adds where the CPU has them, which no scalar loop reproduces bit for bit.
 # Each element's arithmetic is the same on any number of threads.
 
-def _stage(out, padded, y, h, weights, rows, stages, count, plate_rate, time):
-    """out = y + h (w_0 k[rows_0] + w_1 k[rows_1] + ...); padded[:count] = out[:count] - V_pl t, the slip deficit
-    the stress kernel takes."""
-    terms = rows.shape[0]
-    for i in prange(y.shape[0]):
+def _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time):
+    """Entries ``first`` to ``end`` - 1 of :func:`_stage`."""
+    for i in range(first, end):
         total = weights[0] * stages[rows[0], i]
-        for m in range(1, terms):
+        for m in range(1, rows.shape[0]):
             total = total + weights[m] * stages[rows[m], i]
         value = y[i] + h * total
         out[i] = value
@@ -120,48 +155,150 @@ def _stage(out, padded, y, h, weights, rows, stages, count, plate_rate, time):
             padded[i] = value - plate_rate * time
 
 
-def _error_ratios(ratios, y, y_new, h, weights, rows, stages, rtol, scale):
-    """ratios = |h (e_1 k_1 + ...)| / (rtol max(|y|, |y_new|, scale)): Hairer's norm is their largest."""
-    terms = rows.shape[0]
-    for i in prange(y.shape[0]):
+def _stage(out, padded, y, h, weights, rows, stages, count, plate_rate, time):
+    """out = y + h (w_0 k[rows_0] + w_1 k[rows_1] + ...); padded[:count] = out[:count] - V_pl t, the slip deficit
+    the stress kernel takes."""
+    size = y.shape[0]
+    for part in prange(PARTS):
+        _stage_entries(part * size // PARTS, (part + 1) * size // PARTS, out, padded, y, h, weights, rows, stages,
+                       count, plate_rate, time)
+
+
+def _error_entries(first, end, ratios, y, y_new, h, weights, rows, stages, rtol, scale):
+    """Entries ``first`` to ``end`` - 1 of :func:`_error_ratios`."""
+    for i in range(first, end):
         total = weights[0] * stages[rows[0], i]
-        for m in range(1, terms):
+        for m in range(1, rows.shape[0]):
             total = total + weights[m] * stages[rows[m], i]
         ratios[i] = abs(h * total) / (rtol * max(max(abs(y[i]), abs(y_new[i])), scale[i]))
 
 
+def _error_ratios(ratios, y, y_new, h, weights, rows, stages, rtol, scale):
+    """ratios = |h (e_1 k_1 + ...)| / (rtol max(|y|, |y_new|, scale)): Hairer's norm is their largest."""
+    size = y.shape[0]
+    for part in prange(PARTS):
+        _error_entries(part * size // PARTS, (part + 1) * size // PARTS, ratios, y, y_new, h, weights, rows, stages,
+                       rtol, scale)
+
+
+# --- the whole step in one call (issue 43, items 2 and 3) ------------------------------------------------------
+#
+# Each stage's force balance and the next stage's state are one pass over the elements: element i's rates are
+# all that its next state needs, so one parallel region a stage does both (its state may be overwritten in
+# place: element i's balance has read it). The FFTs between them stay serial.
+
 def _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat):
     """both = T^ X + H^ conj(X): the Toeplitz and the Hankel parts of K x in one spectrum
-    (:class:`faultslip.models.fault_2d.kernel.StressKernel`)."""
-    for i in prange(spectrum.shape[0]):
+    (:class:`faultslip.models.fault_2d.kernel.StressKernel`). Serial: a few microseconds, less than a parallel
+    region costs."""
+    for i in range(spectrum.shape[0]):
         both[i] = toeplitz_hat[i] * spectrum[i] + hankel_hat[i] * spectrum[i].conjugate()
+
+
+def _balance_then_stage(product, initial_stress, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
+                        aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance,
+                        coefficients, healing, warm, out, padded, y, h, weights, rows, stages, plate_rate, time):
+    """The force balance (the stress set from ``product``; in a parallel build its exponentials done beside the
+    FFTs), then :func:`_stage` for the next state, a part of the elements at a time."""
+    count = stress.shape[0]
+    for part in prange(PARTS):
+        first, end = part * count // PARTS, (part + 1) * count // PARTS
+        _solve_elements(first, end, product, initial_stress, True, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
+                        inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
+                        iterations, tolerance, coefficients, healing, warm, True)
+        _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
+        _stage_entries(count + first, count + end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
+
+
+def _balance_then_error(product, initial_stress, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
+                        aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance,
+                        coefficients, healing, warm, ratios, y, y_new, h, weights, rows, stages, rtol, scale):
+    """The force balance at y_new (its k7), then :func:`_error_ratios`, a part of the elements at a time."""
+    count = stress.shape[0]
+    for part in prange(PARTS):
+        first, end = part * count // PARTS, (part + 1) * count // PARTS
+        _solve_elements(first, end, product, initial_stress, True, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
+                        inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
+                        iterations, tolerance, coefficients, healing, warm, True)
+        _error_entries(first, end, ratios, y, y_new, h, weights, rows, stages, rtol, scale)
+        _error_entries(count + first, count + end, ratios, y, y_new, h, weights, rows, stages, rtol, scale)
+
+
+def _product_and_exponentials(product, both, padded, toeplitz_hat, hankel_hat, length, psi, u, inverse_a,
+                              two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, tasks):
+    """K x (one real FFT, the spectrum product, the inverse) into ``product``, and the exponentials the balance
+    needs before it (:func:`_exponentials`), side by side, a task a thread (``tasks``, at least 2): task 0 is the
+    FFTs and the first share of the elements, the others the rest in equal parts. Neither needs the other, so
+    the FFTs, which run on one thread, take no time of their own."""
+    count = psi.shape[0]
+    others = tasks - 1
+    start = int(count * max(0.0, (1.0 / others - FFT_COST) / (1.0 + 1.0 / others)))
+    for task in prange(tasks):
+        if task == 0:
+            _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
+            product[:] = fft.irfft(both, length)
+            _exponentials(0, start, psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm)
+        else:
+            first = start + (task - 1) * (count - start) // others
+            end = start + task * (count - start) // others
+            _exponentials(first, end, psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing,
+                          warm)
 
 
 #: scipy.fft, set where the step kernel is built: numba compiles its calls through rocket-fft
 fft = None
 
 
-def _fused_step(y, h, t, stages, work, y_new, padded, both, toeplitz_hat, hankel_hat, length, initial_stress,
-                stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
-                critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
-                error_weights, rtol, scale, ratios, plate_rate):
-    """A whole Dormand-Prince trial step (stages[0] holds k1): for each stage its state and slip deficit
-    (:func:`_stage`), K x by one real FFT and its inverse, the force balance (:func:`_balance_rates`); then the
-    error ratios. Returns Hairer's norm, the largest ratio (NaN where a stage had no finite slip rate). ``stress``
-    is left at y_new's; y_new's rates are stages[6]."""
+def _fused_step(y, h, t, stages, work, y_new, padded, both, product, coefficients, healing, warm, toeplitz_hat,
+                hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging,
+                aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights,
+                plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios, plate_rate, tasks):
+    """A whole Dormand-Prince trial step (stages[0] holds k1). On one thread, for each stage its state and slip
+    deficit (:func:`_stage`), K x by one real FFT and its inverse, and its force balance (:func:`_balance_rates`);
+    then the error ratios. On several, the first stage's state; then for each stage K x beside the state's
+    exponentials (:func:`_product_and_exponentials`), and the force balance with the next state
+    (:func:`_balance_then_stage`), the last with the error ratios (:func:`_balance_then_error`): the same
+    arithmetic element by element, so the same bits. Returns Hairer's norm, the largest ratio (NaN where a stage
+    had no finite slip rate); ``tasks``: the threads, at least 2. ``stress`` is left at y_new's; y_new's rates are
+    stages[6]."""
     count = stress.shape[0]
-    for s in range(plan_rows.shape[0]):
-        terms = plan_terms[s]
-        target = work if s < plan_rows.shape[0] - 1 else y_new
-        _stage(target, padded, y, h, plan_weights[s, :terms], plan_rows[s, :terms], stages, count, plate_rate,
-               t + plan_fractions[s] * h)
-        _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
-        product = fft.irfft(both, length)
-        row = s + 1
-        _balance_rates(product, initial_stress, True, stress, target[count:], u, sigma_a, inverse_a, two_v0_eta,
-                       inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, stages[row, :count],
-                       stages[row, count:], iterations, tolerance)
-    _error_ratios(ratios, y, y_new, h, error_weights, error_rows, stages, rtol, scale)
+    last = plan_rows.shape[0] - 1
+    if PARTS == 1:  # one thread: each stage's state, K x, its balance, in turn (fusing them was slower here)
+        for s in range(last + 1):
+            terms = plan_terms[s]
+            state = work if s < last else y_new
+            _stage(state, padded, y, h, plan_weights[s, :terms], plan_rows[s, :terms], stages, count, plate_rate,
+                   t + plan_fractions[s] * h)
+            _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
+            row = s + 1
+            _balance_rates(fft.irfft(both, length), initial_stress, True, stress, state[count:], u, sigma_a,
+                           inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                           critical_slip, b, stages[row, :count], stages[row, count:], iterations, tolerance)
+        _error_ratios(ratios, y, y_new, h, error_weights, error_rows, stages, rtol, scale)
+    else:  # threads: the FFTs beside the exponentials, then each balance with the next state in one region
+        terms = plan_terms[0]
+        _stage(work, padded, y, h, plan_weights[0, :terms], plan_rows[0, :terms], stages, count, plate_rate,
+               t + plan_fractions[0] * h)
+        for s in range(last + 1):
+            state = work if s < last else y_new
+            _product_and_exponentials(product, both, padded, toeplitz_hat, hankel_hat, length, state[count:], u,
+                                      inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm,
+                                      tasks)
+            row = s + 1
+            if s < last:
+                following = s + 1
+                terms = plan_terms[following]
+                out = work if following < last else y_new
+                _balance_then_stage(product, initial_stress, stress, state[count:], u, sigma_a, inverse_a,
+                                    two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
+                                    b, stages[row, :count], stages[row, count:], iterations, tolerance, coefficients,
+                                    healing, warm, out, padded, y, h, plan_weights[following, :terms],
+                                    plan_rows[following, :terms], stages, plate_rate, t + plan_fractions[following] * h)
+            else:
+                _balance_then_error(product, initial_stress, stress, state[count:], u, sigma_a, inverse_a,
+                                    two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
+                                    b, stages[row, :count], stages[row, count:], iterations, tolerance, coefficients,
+                                    healing, warm, ratios, y, y_new, h, error_weights, error_rows, stages, rtol, scale)
     largest = 0.0
     for i in range(ratios.shape[0]):
         value = ratios[i]
@@ -173,7 +310,9 @@ def _fused_step(y, h, t, stages, work, y_new, padded, both, toeplitz_hat, hankel
 
 
 _KERNELS = {}
-KERNELS = ("_balance_rates", "_stage", "_error_ratios", "_spectrum_product")
+#: the functions over a part of the elements, compiled first; then the loops over the parts
+ELEMENTS = ("_exponentials", "_solve_elements", "_stage_entries", "_error_entries", "_spectrum_product")
+KERNELS = ("_balance_rates", "_stage", "_error_ratios", "_balance_then_stage", "_balance_then_error")
 
 
 def fused_available() -> bool:
@@ -191,13 +330,20 @@ def _compiled(threads: int) -> dict:
 
         module = globals()
         module["prange"] = numba.prange  # the loops become numba's (a serial build runs it as range)
-        built = {name: numba.njit(cache=True, parallel=key == "parallel")(_named(module[name], key))
+        elements = {name: numba.njit(cache=True, inline="always")(module[name]) for name in ELEMENTS}
+        names = {**elements, "PARTS": PARALLEL_PARTS if key == "parallel" else 1}
+        built = {name: numba.njit(cache=True, parallel=key == "parallel")(_named(module[name], key, names))
                  for name in KERNELS}
         _KERNELS[key] = {name.lstrip("_"): kernel for name, kernel in built.items()}
         if fused_available():
             from scipy import fft as scipy_fft  # heavy: imported where the step is built
 
-            _KERNELS[key]["fused_step"] = numba.njit(cache=True)(_named(_fused_step, key, {**built, "fft": scipy_fft}))
+            with_fft = {**names, "fft": scipy_fft}
+            side_by_side = numba.njit(cache=True, parallel=key == "parallel")(
+                _named(_product_and_exponentials, key, with_fft))
+            _KERNELS[key]["fused_step"] = numba.njit(cache=True)(_named(
+                _fused_step, key, {**built, **with_fft, "_product_and_exponentials": side_by_side,
+                                   "_spectrum_product": elements["_spectrum_product"]}))
     return _KERNELS[key]
 
 
@@ -205,7 +351,7 @@ def _named(function, build: str, names: dict | None = None):
     """``function`` itself for the serial build; for the parallel one a copy under its own qualified name, because
     numba's disk cache keeps one build per name (the parallel one would otherwise load the serial one). ``names``
     replace the copy's globals (the build's own kernels, for the fused step)."""
-    if build == "serial" and names is None:
+    if build == "serial" and not names:
         return function
     copy = types.FunctionType(function.__code__, {**function.__globals__, **(names or {})}, function.__name__,
                               function.__defaults__, function.__closure__)
@@ -220,7 +366,8 @@ def kernels(compiled: bool = True, threads: int = 1) -> dict:
         from scipy import fft as scipy_fft  # heavy: imported where the step runs
 
         plain = {name.lstrip("_"): globals()[name] for name in KERNELS}
-        plain["fused_step"] = _named(_fused_step, "python", {"fft": scipy_fft})
+        side_by_side = _named(_product_and_exponentials, "python", {"fft": scipy_fft})
+        plain["fused_step"] = _named(_fused_step, "python", {"_product_and_exponentials": side_by_side})
         return plain
     return _compiled(threads)
 

@@ -118,8 +118,16 @@ class _Stations:
         self.lower = np.minimum(np.floor(position).astype(int), fault.count - 2)
         self.weight = position - self.lower
 
+        #: the elements either side of each station, lower ones first: a record needs its fields there only
+        self.neighbours = np.concatenate([self.lower, self.lower + 1])
+
     def __call__(self, values: np.ndarray) -> np.ndarray:
-        return values[self.lower] * (1.0 - self.weight) + values[self.lower + 1] * self.weight
+        return self.between(values[self.neighbours])
+
+    def between(self, at_neighbours: np.ndarray) -> np.ndarray:
+        """The stations' values from a field's values at :attr:`neighbours`."""
+        size = self.lower.size
+        return at_neighbours[:size] * (1.0 - self.weight) + at_neighbours[size:] * self.weight
 
 
 def next_step_factor(norm: float, previous_norm: float, after_rejection: bool, rtol: float) -> float:
@@ -210,6 +218,9 @@ class _FusedTrial(_CompiledTrial):
         self.plan_terms = np.array([len(rows) for _, _, rows, _ in _STAGES], dtype=np.int64)
         self.plan_fractions = np.array([fraction for _, fraction, _, _ in _STAGES])
         self.both = np.empty(operator.length // 2 + 1, dtype=complex)
+        self.product = np.empty(operator.length)
+        self.coefficients, self.healing, self.warm = (np.empty(self.count) for _ in range(3))
+        self.tasks = max(2, threads)  # the FFTs beside the exponentials: one task a thread
 
     def __call__(self, t, y, h, k1):
         if self.balance.u is None:  # a resumed run without a warm start: the numpy balance sets one, as at t = 0
@@ -218,12 +229,13 @@ class _FusedTrial(_CompiledTrial):
         stages[0] = k1
         y_new = np.empty_like(y)
         norm = self.kernels["fused_step"](
-            y, h, t, stages, self.work, y_new, operator.padded, self.both, operator.toeplitz_hat,
-            operator.hankel_hat, operator.length, fault.initial_shear_stress, self.stress, balance.u, balance.sigma_a,
+            y, h, t, stages, self.work, y_new, operator.padded, self.both, self.product, self.coefficients,
+            self.healing, self.warm, operator.toeplitz_hat, operator.hankel_hat, operator.length, fault.initial_shear_stress,
+            self.stress, balance.u, balance.sigma_a,
             balance.inverse_a, balance.two_v0_eta, 1.0 / balance.damping, balance.aging, balance.aging_rate,
             fault.reference_friction, balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b,
             NEWTON_ITERATIONS, balance.tolerance, self.plan_rows, self.plan_weights, self.plan_terms, self.plan_fractions,
-            self.error_rows, self.error_weights, self.rtol, self.scale, self.ratios, fault.plate_rate)
+            self.error_rows, self.error_weights, self.rtol, self.scale, self.ratios, fault.plate_rate, self.tasks)
         return y_new, stages[6].copy(), stages[6, :self.count].copy(), self.stress.copy(), float(norm)
 
 
@@ -293,13 +305,17 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
 
     trial = numpy_trial if not balance.compiled else _compiled_trial(fault, operator, balance, scale, rtol, threads)
 
+    near = recorder.neighbours  # every field at the stations' neighbouring elements only: a step's record is
+    theta_offset_near, inverse_b_ln10_near = theta_offset[near], inverse_b_ln10[near]  # then 12 stations' work, not N
+
     def station_row(t, y, speed, stress):
-        psi = y[count:]
+        speed_near = speed[near]
         with np.errstate(divide="ignore"):
-            log_speed = np.log10(speed)
-        log_theta = theta_offset + (psi - fault.reference_friction) * inverse_b_ln10
-        return np.concatenate([[t], recorder(y[:count]), recorder(log_speed),
-                               recorder(stress - fault.damping * speed), recorder(log_theta)])
+            log_speed = np.log10(speed_near)
+        log_theta = theta_offset_near + (y[count:][near] - fault.reference_friction) * inverse_b_ln10_near
+        return np.concatenate([[t], recorder(y[:count]), recorder.between(log_speed),
+                               recorder.between(stress[near] - fault.damping * speed_near),
+                               recorder.between(log_theta)])
 
     def profile_row(t, y, speed):
         with np.errstate(divide="ignore"):
