@@ -3,18 +3,17 @@
     python benchmarks/fault_2d_profile.py [--elements 1024 1600] [--years 300] [--rtol 1e-4] [--core 0]
 
 SEAS BP1 (configs/seas_bp1.toml) at each element count, over ``--years`` at ``--rtol`` (faultslip's loosest
-tolerance within 0.1 % of its converged recurrence, benchmarks/fault_2d_qdyn.py), pinned to one core, under
-cProfile. The profile's own time is split into what each part of a step costs:
+tolerance within 0.1 % of its converged recurrence is 1e-3, benchmarks/fault_2d_qdyn.py; 1e-4 is the default
+here), one thread pinned to one core. The whole trial step is one compiled call (numba, with rocket-fft for the
+FFTs), which cProfile sees as one function; so the run is split in two ways:
 
-- **force balance**: the compiled (numba) Newton solve of tau = sigma_n a asinh(...) + eta V on every element;
-- **kernel FFT**: scipy's real FFT and inverse (pocketfft) of the stress kernel's product;
-- **kernel, other**: the spectrum's products and the kernel's Python around the FFT;
-- **stage arithmetic**: the Dormand-Prince stages, the error norm and the step control in numpy;
-- **recording**: stations, profiles, events and the SEAS files;
-- **the rest**: start-up, imports and writing.
+- **by cProfile**: the compiled step, recording (stations, profiles, events, files) and the step's Python;
+- **inside the compiled step**, each part timed alone on the run's last state, a stage at a time, with the
+  same compiled kernels: the force balance (exponentials and Newton's method, every element), K x (a real
+  FFT, the spectrum's product and the inverse), and the stage arithmetic with the error norm. What the parts
+  leave of the step's measured time is its glue (calls, copies, the error's largest ratio).
 
-cProfile adds a few microseconds to every Python call, so its shares overstate the Python parts somewhat; the
-wall time without it is measured too. Writes benchmarks/results/fault_2d_profile.json.
+Writes benchmarks/results/fault_2d_profile.json.
 """
 
 from __future__ import annotations
@@ -22,6 +21,7 @@ from __future__ import annotations
 import argparse
 import cProfile
 import json
+import math
 import os
 import platform
 import pstats
@@ -34,27 +34,76 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+import numpy as np  # noqa: E402
+
 from faultslip.constants import JULIAN_YEAR  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
 
 WIDTH = 40e3
-PARTS = {
-    "force balance": ("fault_2d/compiled.py",),
-    "kernel FFT": ("pypocketfft",),
-    "kernel, other": ("fault_2d/kernel.py", "scipy/fft", "numpy/lib/_type_check_impl.py", "numpy/fft"),
-    "recording": ("io/seas.py", "io/records.py", "station_row", "profile_row", "_Stations"),
-}
+def _alone(call, repeats: int = 400) -> float:
+    """Seconds a call of ``call`` takes, the best of three batches (it runs alone here: no other part's cache)."""
+    call()
+    best = math.inf
+    for _ in range(3):
+        began = time.perf_counter()
+        for _ in range(repeats):
+            call()
+        best = min(best, (time.perf_counter() - began) / repeats)
+    return best
 
 
-def _part(filename: str, function: str) -> str:
-    where = f"{filename}:{function}"
-    for part, keys in PARTS.items():
-        if any(key in where for key in keys):
-            return part
-    if "fault_2d/integrate.py" in filename or "fault_2d/model.py" in filename or filename == "~":
-        return "stage arithmetic"
-    return "the rest"
+def parts_alone(fault, run, rtol: float) -> dict:
+    """Microseconds a stage of each part of the compiled step, on ``run``'s last state (one thread)."""
+    import numba  # heavy: the benchmark measures the compiled path
+    from scipy import fft
+
+    from faultslip.models.fault_2d import compiled
+    from faultslip.models.fault_2d.kernel import StressKernel
+    from faultslip.models.fault_2d.model import NEWTON_ITERATIONS, ForceBalance, newton_tolerance
+
+    count = fault.count
+    operator = StressKernel(count, fault.element_size, fault.shear_modulus)
+    balance = ForceBalance(fault, operator)
+    balance.tolerance = newton_tolerance(rtol)
+    y = np.concatenate([run.final_slip, run.final_state])
+    speed, psi_rate, stress = balance.rates(run.final_time, y[:count], y[count:])
+    kernels = compiled.kernels(True, 1)
+    operator.padded[:count] = y[:count] - fault.plate_rate * run.final_time
+    both = np.empty(operator.length // 2 + 1, dtype=complex)
+
+    @numba.njit
+    def product(padded, both, toeplitz_hat, hankel_hat, length):  # the step's K x: the same calls
+        spectrum = fft.rfft(padded)
+        for i in range(spectrum.shape[0]):
+            both[i] = toeplitz_hat[i] * spectrum[i] + hankel_hat[i] * spectrum[i].conjugate()
+        return fft.irfft(both, length)
+
+    stages = np.zeros((7, 2 * count))
+    stages[0], stages[1] = np.concatenate([speed, psi_rate]), np.concatenate([speed, psi_rate])
+    work, ratios = np.empty(2 * count), np.empty(2 * count)
+    rows, weights = np.array([0, 1], dtype=np.int64), np.array([0.3, 0.2])
+    error_rows, error_weights = np.arange(6, dtype=np.int64), np.full(6, 0.01)
+    k_x = operator.product_of_padded()
+
+    def force_balance():
+        kernels["balance_rates"](k_x, fault.initial_shear_stress, True, stress, y[count:], balance.u,
+                                 balance.sigma_a, balance.inverse_a, balance.two_v0_eta, 1.0 / balance.damping,
+                                 balance.aging, balance.aging_rate, fault.reference_friction, balance.inverse_b,
+                                 fault.reference_speed, fault.critical_slip, fault.b, speed, psi_rate,
+                                 NEWTON_ITERATIONS, balance.tolerance)
+
+    def stage_and_norm():
+        kernels["stage"](work, operator.padded, y, 1.0, weights, rows, stages, count, fault.plate_rate,
+                         run.final_time)
+        kernels["error_ratios"](ratios, y, work, 1.0, error_weights, error_rows, stages, rtol,
+                                np.concatenate([fault.critical_slip, np.ones(count)]))
+
+    seconds = {"force balance": _alone(force_balance),
+               "K x (FFT pair, spectrum product)": _alone(lambda: product(operator.padded, both, operator.toeplitz_hat,
+                                                                          operator.hankel_hat, operator.length)),
+               "stage arithmetic and error norm": _alone(stage_and_norm)}
+    return {part: value * 1e6 for part, value in seconds.items()}
 
 
 def profile(elements: int, years: float, rtol: float) -> dict:
@@ -69,15 +118,26 @@ def profile(elements: int, years: float, rtol: float) -> dict:
         run_cycles(fault, years * JULIAN_YEAR, rtol=rtol, folder=Path(folder) / "profiled")
         profiler.disable()
     stats = pstats.Stats(profiler)
-    parts = dict.fromkeys([*PARTS, "stage arithmetic", "the rest"], 0.0)
+    split = {"the compiled step": 0.0, "recording": 0.0, "the step's Python": 0.0}
     for (filename, _, function), row in stats.stats.items():
-        parts[_part(filename, function)] += row[2]  # tottime: each function's own time
-    total = sum(parts.values())
-    stages = plain.function_evaluations
-    return {"elements": elements, "years": years, "rtol": rtol, "steps": plain.steps, "stages": stages,
-            "wall_s": wall, "per_step_ms": wall / plain.steps * 1e3, "per_stage_us": wall / stages * 1e6,
-            "profiled_s": total, "shares": {part: seconds / total for part, seconds in parts.items()},
-            "per_stage_us_by_part": {part: seconds / stages * 1e6 * wall / total for part, seconds in parts.items()}}
+        where = f"{filename}:{function}"
+        if "_fused_step" in where or "compiled.py" in where:
+            split["the compiled step"] += row[2]  # tottime: each function's own time
+        elif any(key in where for key in ("io/seas.py", "io/records.py", "station_row", "profile_row", "_Stations")):
+            split["recording"] += row[2]
+        else:
+            split["the step's Python"] += row[2]
+    total = sum(split.values())
+    trials = plain.steps + plain.rejected
+    step_us = wall * split["the compiled step"] / total / trials * 1e6
+    alone = parts_alone(fault, plain, rtol)
+    inside = {part: 6 * value for part, value in alone.items()}  # six stages a trial step
+    inside["glue (calls, copies, the largest ratio)"] = step_us - sum(inside.values())
+    return {"elements": elements, "years": years, "rtol": rtol, "steps": plain.steps, "trials": trials,
+            "wall_s": wall, "per_trial_us": wall / trials * 1e6, "profiled_s": total,
+            "shares": {part: seconds / total for part, seconds in split.items()},
+            "compiled_step_us": step_us, "inside_the_step_us": inside,
+            "inside_shares": {part: value / step_us for part, value in inside.items()}}
 
 
 def main(argv=None) -> int:
@@ -90,8 +150,9 @@ def main(argv=None) -> int:
     os.sched_setaffinity(0, {args.core})
     rows = [profile(n, args.years, args.rtol) for n in args.elements]
     for row in rows:
-        print(f"{row['elements']} elements: {row['per_step_ms']:.3f} ms a step ({row['steps']} steps), "
-              + ", ".join(f"{part} {share:.0%}" for part, share in row["shares"].items()))
+        print(f"{row['elements']} elements: {row['per_trial_us']:.0f} us a trial step ({row['trials']} trials), "
+              + ", ".join(f"{part} {share:.0%}" for part, share in row["shares"].items())
+              + "; inside the step: " + ", ".join(f"{part} {share:.0%}" for part, share in row["inside_shares"].items()))
     write_results("fault_2d_profile.json", {"runs": rows})
     return 0
 
