@@ -11,7 +11,9 @@ FFTs), which cProfile sees as one function; so the run is split in two ways:
 - **inside the compiled step**, each part timed alone on the run's last state, a stage at a time, with the
   same compiled kernels: the force balance (exponentials and Newton's method, every element), K x (a real
   FFT, the spectrum's product and the inverse), and the stage arithmetic with the error norm. What the parts
-  leave of the step's measured time is its glue (calls, copies, the error's largest ratio).
+  leave of the step's measured time is its glue (calls, copies, the error's largest ratio), and what timing
+  each part alone on one state misses (a real stage's solve may take another Newton step; a part alone keeps
+  its data in cache).
 
 Writes benchmarks/results/fault_2d_profile.json.
 """
@@ -41,15 +43,14 @@ from faultslip.models.fault_2d.integrate import run_cycles  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
 
 WIDTH = 40e3
-def _alone(call, repeats: int = 400) -> float:
-    """Seconds a call of ``call`` takes, the best of three batches (it runs alone here: no other part's cache)."""
+def _alone(call) -> float:
+    """Seconds ``call`` takes, the best of three (it runs alone here: no other part's cache)."""
     call()
     best = math.inf
     for _ in range(3):
         began = time.perf_counter()
-        for _ in range(repeats):
-            call()
-        best = min(best, (time.perf_counter() - began) / repeats)
+        call()
+        best = min(best, time.perf_counter() - began)
     return best
 
 
@@ -82,27 +83,46 @@ def parts_alone(fault, run, rtol: float) -> dict:
     stages = np.zeros((7, 2 * count))
     stages[0], stages[1] = np.concatenate([speed, psi_rate]), np.concatenate([speed, psi_rate])
     work, ratios = np.empty(2 * count), np.empty(2 * count)
-    rows, weights = np.array([0, 1], dtype=np.int64), np.array([0.3, 0.2])
+    rows, weights = np.array([0, 1, 2], dtype=np.int64), np.array([0.3, 0.2, 0.1])  # a stage's mean: three terms
     error_rows, error_weights = np.arange(6, dtype=np.int64), np.full(6, 0.01)
+    scale = np.concatenate([fault.critical_slip, np.ones(count)])
     k_x = operator.product_of_padded()
+    balance_kernel, stage_kernel, error_kernel = (kernels[name] for name in ("balance_rates", "stage", "error_ratios"))
 
-    def force_balance():
-        kernels["balance_rates"](k_x, fault.initial_shear_stress, True, stress, y[count:], balance.u,
-                                 balance.sigma_a, balance.inverse_a, balance.two_v0_eta, 1.0 / balance.damping,
-                                 balance.aging, balance.aging_rate, fault.reference_friction, balance.inverse_b,
-                                 fault.reference_speed, fault.critical_slip, fault.b, speed, psi_rate,
-                                 NEWTON_ITERATIONS, balance.tolerance)
+    # each part repeated inside compiled code, as the step calls it: no Python call in the time
+    @numba.njit
+    def force_balance(repeats, k_x, initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging,
+                      aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance):
+        for _ in range(repeats):
+            balance_kernel(k_x, initial, True, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
+                           aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate, iterations,
+                           tolerance)
 
-    def stage_and_norm():
-        kernels["stage"](work, operator.padded, y, 1.0, weights, rows, stages, count, fault.plate_rate,
-                         run.final_time)
-        kernels["error_ratios"](ratios, y, work, 1.0, error_weights, error_rows, stages, rtol,
-                                np.concatenate([fault.critical_slip, np.ones(count)]))
+    @numba.njit
+    def stage_and_norm(repeats, work, padded, y, weights, rows, stages, count, plate_rate, time, ratios,
+                       error_weights, error_rows, rtol, scale):
+        for _ in range(repeats):  # six stages to one error norm a trial step: a sixth of the norm a stage
+            stage_kernel(work, padded, y, 1.0, weights, rows, stages, count, plate_rate, time)
+            if _ % 6 == 0:
+                error_kernel(ratios, y, work, 1.0, error_weights, error_rows, stages, rtol, scale)
 
-    seconds = {"force balance": _alone(force_balance),
-               "K x (FFT pair, spectrum product)": _alone(lambda: product(operator.padded, both, operator.toeplitz_hat,
-                                                                          operator.hankel_hat, operator.length)),
-               "stage arithmetic and error norm": _alone(stage_and_norm)}
+    @numba.njit
+    def products(repeats, padded, both, toeplitz_hat, hankel_hat, length):
+        for _ in range(repeats):
+            product(padded, both, toeplitz_hat, hankel_hat, length)
+
+    repeats = 402
+    seconds = {
+        "force balance": _alone(lambda: force_balance(
+            repeats, k_x, fault.initial_shear_stress, stress, y[count:], balance.u, balance.sigma_a, balance.inverse_a,
+            balance.two_v0_eta, 1.0 / balance.damping, balance.aging, balance.aging_rate, fault.reference_friction,
+            balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b, speed, psi_rate,
+            NEWTON_ITERATIONS, balance.tolerance)) / repeats,
+        "K x (FFT pair, spectrum product)": _alone(lambda: products(
+            repeats, operator.padded, both, operator.toeplitz_hat, operator.hankel_hat, operator.length)) / repeats,
+        "stage arithmetic and error norm": _alone(lambda: stage_and_norm(
+            repeats, work, operator.padded, y, weights, rows, stages, count, fault.plate_rate, run.final_time, ratios,
+            error_weights, error_rows, rtol, scale)) / repeats}
     return {part: value * 1e6 for part, value in seconds.items()}
 
 
@@ -132,7 +152,8 @@ def profile(elements: int, years: float, rtol: float) -> dict:
     step_us = wall * split["the compiled step"] / total / trials * 1e6
     alone = parts_alone(fault, plain, rtol)
     inside = {part: 6 * value for part, value in alone.items()}  # six stages a trial step
-    inside["glue (calls, copies, the largest ratio)"] = step_us - sum(inside.values())
+    inside["the rest (calls, copies, the largest ratio; what timing the parts alone misses)"] = (
+        step_us - sum(inside.values()))
     return {"elements": elements, "years": years, "rtol": rtol, "steps": plain.steps, "trials": trials,
             "wall_s": wall, "per_trial_us": wall / trials * 1e6, "profiled_s": total,
             "shares": {part: seconds / total for part, seconds in split.items()},
