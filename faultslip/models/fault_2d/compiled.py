@@ -342,8 +342,7 @@ def _compiled(threads: int) -> dict:
             side_by_side = numba.njit(cache=True, parallel=key == "parallel")(
                 _named(_product_and_exponentials, key, with_fft))
             _KERNELS[key]["fused_step"] = numba.njit(cache=True)(_named(
-                _fused_step, key, {**built, **with_fft, "_product_and_exponentials": side_by_side,
-                                   "_spectrum_product": elements["_spectrum_product"]}))
+                _fused_step, key, {**built, **with_fft, "_product_and_exponentials": side_by_side}))
     return _KERNELS[key]
 
 
@@ -367,7 +366,8 @@ def kernels(compiled: bool = True, threads: int = 1) -> dict:
 
         plain = {name.lstrip("_"): globals()[name] for name in KERNELS}
         side_by_side = _named(_product_and_exponentials, "python", {"fft": scipy_fft})
-        plain["fused_step"] = _named(_fused_step, "python", {"_product_and_exponentials": side_by_side})
+        plain["fused_step"] = _named(_fused_step, "python", {"fft": scipy_fft,
+                                                             "_product_and_exponentials": side_by_side})
         return plain
     return _compiled(threads)
 
