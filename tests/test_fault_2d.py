@@ -300,6 +300,19 @@ def test_station_files_are_written_and_read_back(tmp_path):
     np.testing.assert_allclose(rows, np.column_stack([time, *values]), rtol=1e-14)
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.floats(allow_nan=True, allow_infinity=True, width=64), min_size=5, max_size=60),
+       st.integers(min_value=1, max_value=4))
+def test_seas_rows_are_each_value_formatted_to_15_digits(values, block):
+    """The block formatter writes what formatting each value alone with 15 significant digits writes (the
+    checker's rule), for any float: signed zeros, infinities, NaN, subnormals; across blocks."""
+    from faultslip.io.seas import _chunks
+
+    rows = np.array(values[:len(values) // 5 * 5]).reshape(-1, 5)
+    text = "".join(_chunks("head\n", lambda a, b: rows[a:b], rows.shape[0], block))
+    assert text == "head\n" + "".join(" ".join(f"{v:.15g}" for v in row) + "\n" for row in rows)
+
+
 def test_the_cli_writes_the_seas_files_and_resumes(tmp_path, cli):
     scene = tmp_path / "small.toml"
     text = (CONFIGS / "seas_bp1.toml").read_text()
