@@ -11,8 +11,10 @@ leaves round-off, and one with du^2 <= ``tolerance`` (1 + |u|) leaves the integr
 
 from __future__ import annotations
 
+import decimal
 import importlib.util
 import math
+import struct
 import types
 
 from faultslip.dynamics.shared.compiler import available  # noqa: F401 (re-exported for the model)
@@ -24,22 +26,71 @@ prange = range
 #: thread, so that a thread whose part holds an event's slow-converging elements holds up the others less
 PARTS = 1
 PARALLEL_PARTS = 16
-#: the FFTs' time, K x's pair, against the exponentials of the N elements' balance (:func:`_exponentials`): about
-#: 0.5 at 1,600 elements on the 2-core benchmark machine (11 us against 21; both grow about as N). The FFTs' task
-#: takes that much less of the exponentials, so that the tasks end together.
-FFT_COST = 0.5
+#: K x's time (the FFT pair and the spectrum's product) against the exponentials of the N elements' balance
+#: (:func:`_exponentials`, in SIMD): about 2.1 at 1,024 to 3,200 elements on the 2-core benchmark machine (12.2 us
+#: against 5.8 at 1,600; both grow about as N). The FFTs' task takes that much less of the exponentials, so that
+#: the tasks end together: none of them at 2.1, where the other task ends first.
+FFT_COST = 2.1
+
+
+# --- exp in SIMD ---------------------------------------------------------------------------------------------
+#
+# A scalar loop calls libm's exp, 3 ns an element here; the same function written out in arithmetic, which LLVM
+# vectorises, takes about 1.2 ns, and three of a solve's three or four exponentials can be taken that way, in
+# loops of their own (:func:`_exponentials`). exp(x) = 2^k exp(r), k = round(x / ln 2), r = x - k ln 2 in two
+# parts (Cody & Waite's reduction, Muller 2016, "Elementary Functions", 11.2), exp(r) by its Taylor series.
+
+_LN2 = decimal.Context(prec=60).ln(decimal.Decimal(2))
+#: ln 2's leading 32 bits, so that k ln2_hi is exact for |k| < 2^21, and the rest of ln 2 (to 60 digits)
+LN2_HI = math.floor(float(_LN2) * 2.0 ** 32) / 2.0 ** 32
+LN2_LO = float(_LN2 - decimal.Decimal(LN2_HI))
+LOG2_E = float(1 / _LN2)
+#: 1.5 2^52: adding it and taking it away rounds a float below 2^51 to a whole number (no floor: numba's returns an
+#: int, which a NaN has none of)
+ROUNDING_SHIFT = 1.5 * 2.0 ** 52
+#: exp(r)'s Taylor coefficients 1/j!, j = 0 .. 13: for |r| <= ln 2 / 2 the remainder r^14 / 14! is below 4e-18
+EXP_TAYLOR = tuple(1.0 / math.factorial(j) for j in range(14))
+
+
+def _float_from_bits(bits):
+    """The float64 whose IEEE bits are the int64 ``bits`` (in the compiled build an LLVM bitcast, which vectorises)."""
+    return struct.unpack("<d", struct.pack("<q", bits))[0]
+
+
+def _exp(x):
+    """exp(x) within 1 ulp of libm's (tested), NaN for NaN, inf above 709.78, 0 below -745.2. 2^k is made from
+    its bits in two halves, so that a subnormal result or an overflow to inf comes out as libm's does."""
+    x = float(x)  # plain Python: a float overflows to inf without numpy's warning
+    if x > 1400.0:  # beyond, the result is inf or 0 anyway; a NaN passes both tests
+        x = 1400.0
+    if x < -1400.0:
+        x = -1400.0
+    k = (x * LOG2_E + ROUNDING_SHIFT) - ROUNDING_SHIFT  # x / ln 2 to the nearest whole number; NaN stays NaN
+    r = (x - k * LN2_HI) - k * LN2_LO
+    p = EXP_TAYLOR[13]
+    for j in range(12, -1, -1):
+        p = EXP_TAYLOR[j] + r * p
+    n = int(k) if abs(k) <= 2100.0 else 0  # NaN: any k does, p is NaN
+    half = n >> 1
+    return p * _float_from_bits((half + 1023) << 52) * _float_from_bits((n - half + 1023) << 52)
 
 
 def _exponentials(first, end, psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm):
     """What the force balance of elements ``first`` to ``end`` - 1 needs before their stress is known: from the
     state, c = 2 V_0 eta exp(-psi / a) and, for the aging law, exp((f_0 - psi) / b); and exp(u) at the Newton
     iteration's warm start, the last solution. Three of a solve's three or four exponentials (most solves take
-    one Newton step): the whole step computes them while the FFTs run."""
-    for i in range(first, end):
-        coefficients[i] = two_v0_eta * math.exp(-psi[i] * inverse_a[i])
-        if aging:
-            healing[i] = math.exp((f0 - psi[i]) * inverse_b[i])
-        warm[i] = math.exp(u[i])
+    one Newton step), by :func:`_exp`, a loop each over views of the part (a loop over range(first, end) or over
+    several outputs at once is not vectorised)."""
+    state, speed_term, inverse_b_part = psi[first:end], inverse_a[first:end], inverse_b[first:end]
+    coefficients_part, healing_part, warm_part, u_part = (coefficients[first:end], healing[first:end],
+                                                          warm[first:end], u[first:end])
+    for i in range(state.shape[0]):
+        coefficients_part[i] = two_v0_eta * _exp(-state[i] * speed_term[i])
+    if aging:
+        for i in range(state.shape[0]):
+            healing_part[i] = _exp((f0 - state[i]) * inverse_b_part[i])
+    for i in range(state.shape[0]):
+        warm_part[i] = _exp(u_part[i])
 
 
 def _solve_elements(first, end, product, initial_stress, add_initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
@@ -271,9 +322,13 @@ def _fused_step(y, h, t, stages, work, y_new, padded, both, product, coefficient
                    t + plan_fractions[s] * h)
             _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
             row = s + 1
-            _balance_rates(fft.irfft(both, length), initial_stress, True, stress, state[count:], u, sigma_a,
-                           inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
-                           critical_slip, b, stages[row, :count], stages[row, count:], iterations, tolerance)
+            # the exponentials first, in SIMD, as the parallel branch takes them: the same bits on any threads
+            _exponentials(0, count, state[count:], u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
+                          healing, warm)
+            _solve_elements(0, count, fft.irfft(both, length), initial_stress, True, stress, state[count:], u,
+                            sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                            critical_slip, b, stages[row, :count], stages[row, count:], iterations, tolerance,
+                            coefficients, healing, warm, True)
         _error_ratios(ratios, y, y_new, h, error_weights, error_rows, stages, rtol, scale)
     else:  # threads: the FFTs beside the exponentials, then each balance with the next state in one region
         terms = plan_terms[0]
@@ -330,11 +385,15 @@ def _compiled(threads: int) -> dict:
 
         module = globals()
         module["prange"] = numba.prange  # the loops become numba's (a serial build runs it as range)
-        elements = {name: numba.njit(cache=True, inline="always")(module[name]) for name in ELEMENTS}
+        inline = numba.njit(cache=True, inline="always")
+        exp = inline(_named(_exp, key, {"_float_from_bits": _float_from_bits_intrinsic()}))
+        elements = {name: inline(_named(module[name], key, {"_exp": exp}) if name == "_exponentials" else module[name])
+                    for name in ELEMENTS if name != "_exp"}
         names = {**elements, "PARTS": PARALLEL_PARTS if key == "parallel" else 1}
         built = {name: numba.njit(cache=True, parallel=key == "parallel")(_named(module[name], key, names))
                  for name in KERNELS}
         _KERNELS[key] = {name.lstrip("_"): kernel for name, kernel in built.items()}
+        _KERNELS[key]["exponentials"] = elements["_exponentials"]  # callable alone too (its tests)
         if fused_available():
             from scipy import fft as scipy_fft  # heavy: imported where the step is built
 
@@ -344,6 +403,19 @@ def _compiled(threads: int) -> dict:
             _KERNELS[key]["fused_step"] = numba.njit(cache=True)(_named(
                 _fused_step, key, {**built, **with_fft, "_product_and_exponentials": side_by_side}))
     return _KERNELS[key]
+
+
+def _float_from_bits_intrinsic():
+    """:func:`_float_from_bits` for numba: an LLVM bitcast (no instruction; a loop of them vectorises)."""
+    from numba.core import types as numba_types  # heavy: optional dependency (faultslip[fast]), as the kernels
+    from numba.extending import intrinsic  # heavy: as above
+
+    @intrinsic
+    def float_from_bits(typing_context, bits):
+        def codegen(context, builder, signature, arguments):
+            return builder.bitcast(arguments[0], context.get_value_type(numba_types.float64))
+        return numba_types.float64(numba_types.int64), codegen
+    return float_from_bits
 
 
 def _named(function, build: str, names: dict | None = None):
@@ -364,7 +436,7 @@ def kernels(compiled: bool = True, threads: int = 1) -> dict:
     if not compiled:
         from scipy import fft as scipy_fft  # heavy: imported where the step runs
 
-        plain = {name.lstrip("_"): globals()[name] for name in KERNELS}
+        plain = {name.lstrip("_"): globals()[name] for name in (*KERNELS, "_exponentials")}
         side_by_side = _named(_product_and_exponentials, "python", {"fft": scipy_fft})
         plain["fused_step"] = _named(_fused_step, "python", {"fft": scipy_fft,
                                                              "_product_and_exponentials": side_by_side})
