@@ -9,7 +9,8 @@ FFTs), which cProfile sees as one function; so the run is split in two ways:
 
 - **by cProfile**: the compiled step, recording (stations, profiles, events, files) and the step's Python;
 - **inside the compiled step**, each part timed alone on the run's last state, a stage at a time, with the
-  same compiled kernels: the force balance (exponentials and Newton's method, every element), K x (a real
+  same compiled kernels: the force balance (its exponentials, a SIMD pass, then Newton's method and the
+  rates, every element), K x (a real
   FFT, the spectrum's product and the inverse), and the stage arithmetic with the error norm. What the parts
   leave of the step's measured time is its glue (calls, copies, the error's largest ratio), and what timing
   each part alone on one state misses (a real stage's solve may take another Newton step; a part alone keeps
@@ -87,16 +88,25 @@ def parts_alone(fault, run, rtol: float) -> dict:
     error_rows, error_weights = np.arange(6, dtype=np.int64), np.full(6, 0.01)
     scale = np.concatenate([fault.critical_slip, np.ones(count)])
     k_x = operator.product_of_padded()
-    balance_kernel, stage_kernel, error_kernel = (kernels[name] for name in ("balance_rates", "stage", "error_ratios"))
+    exponentials_kernel, solve_kernel, stage_kernel, error_kernel = (
+        kernels[name] for name in ("exponentials", "solve_elements", "stage", "error_ratios"))
+    coefficients, healing, warm = (np.empty(count) for _ in range(3))
 
     # each part repeated inside compiled code, as the step calls it: no Python call in the time
     @numba.njit
-    def force_balance(repeats, k_x, initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging,
-                      aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance):
+    def exponentials(repeats, psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm):
         for _ in range(repeats):
-            balance_kernel(k_x, initial, True, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
-                           aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate, iterations,
-                           tolerance)
+            exponentials_kernel(0, psi.shape[0], psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
+                                healing, warm)
+
+    @numba.njit
+    def newton(repeats, k_x, initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging,
+               aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance, coefficients,
+               healing, warm):
+        for _ in range(repeats):
+            solve_kernel(0, psi.shape[0], k_x, initial, True, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
+                         inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
+                         iterations, tolerance, coefficients, healing, warm, True)
 
     @numba.njit
     def stage_and_norm(repeats, work, padded, y, weights, rows, stages, count, plate_rate, time, ratios,
@@ -112,12 +122,17 @@ def parts_alone(fault, run, rtol: float) -> dict:
             product(padded, both, toeplitz_hat, hankel_hat, length)
 
     repeats = 402
+    exponentials(1, y[count:], balance.u, balance.inverse_a, balance.two_v0_eta, balance.aging,
+                 fault.reference_friction, balance.inverse_b, coefficients, healing, warm)
     seconds = {
-        "force balance": _alone(lambda: force_balance(
+        "force balance: exponentials (SIMD)": _alone(lambda: exponentials(
+            repeats, y[count:], balance.u, balance.inverse_a, balance.two_v0_eta, balance.aging,
+            fault.reference_friction, balance.inverse_b, coefficients, healing, warm)) / repeats,
+        "force balance: Newton and rates": _alone(lambda: newton(
             repeats, k_x, fault.initial_shear_stress, stress, y[count:], balance.u, balance.sigma_a, balance.inverse_a,
             balance.two_v0_eta, 1.0 / balance.damping, balance.aging, balance.aging_rate, fault.reference_friction,
             balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b, speed, psi_rate,
-            NEWTON_ITERATIONS, balance.tolerance)) / repeats,
+            NEWTON_ITERATIONS, balance.tolerance, coefficients, healing, warm)) / repeats,
         "K x (FFT pair, spectrum product)": _alone(lambda: products(
             repeats, operator.padded, both, operator.toeplitz_hat, operator.hankel_hat, operator.length)) / repeats,
         "stage arithmetic and error norm": _alone(lambda: stage_and_norm(
@@ -129,6 +144,7 @@ def parts_alone(fault, run, rtol: float) -> dict:
 def profile(elements: int, years: float, rtol: float) -> dict:
     scene = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(WIDTH / elements)
     fault = scene.fault
+    run_cycles(fault, 0.01 * JULIAN_YEAR, rtol=rtol)  # compiled (or loaded from numba's cache) before any timing
     with tempfile.TemporaryDirectory() as folder:
         began = time.perf_counter()
         plain = run_cycles(fault, years * JULIAN_YEAR, rtol=rtol, folder=Path(folder) / "plain")

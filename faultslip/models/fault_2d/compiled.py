@@ -367,6 +367,8 @@ def _fused_step(y, h, t, stages, work, y_new, padded, both, product, coefficient
 _KERNELS = {}
 #: the functions over a part of the elements, compiled first; then the loops over the parts
 ELEMENTS = ("_exponentials", "_solve_elements", "_stage_entries", "_error_entries", "_spectrum_product")
+#: the force balance's two pieces as the step calls them: its exponentials (SIMD), then Newton's method and the rates
+PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios", "_balance_then_stage", "_balance_then_error")
 
 
@@ -393,7 +395,8 @@ def _compiled(threads: int) -> dict:
         built = {name: numba.njit(cache=True, parallel=key == "parallel")(_named(module[name], key, names))
                  for name in KERNELS}
         _KERNELS[key] = {name.lstrip("_"): kernel for name, kernel in built.items()}
-        _KERNELS[key]["exponentials"] = elements["_exponentials"]  # callable alone too (its tests)
+        for name in PIECES:  # callable alone too (their tests, the profile benchmark)
+            _KERNELS[key][name.lstrip("_")] = elements[name]
         if fused_available():
             from scipy import fft as scipy_fft  # heavy: imported where the step is built
 
@@ -436,7 +439,7 @@ def kernels(compiled: bool = True, threads: int = 1) -> dict:
     if not compiled:
         from scipy import fft as scipy_fft  # heavy: imported where the step runs
 
-        plain = {name.lstrip("_"): globals()[name] for name in (*KERNELS, "_exponentials")}
+        plain = {name.lstrip("_"): globals()[name] for name in (*KERNELS, *PIECES)}
         side_by_side = _named(_product_and_exponentials, "python", {"fft": scipy_fft})
         plain["fused_step"] = _named(_fused_step, "python", {"fft": scipy_fft,
                                                              "_product_and_exponentials": side_by_side})
