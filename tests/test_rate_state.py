@@ -446,9 +446,11 @@ def test_the_c_stepper_takes_the_python_schemes_steps_and_events(ratio, evolutio
     declared = python.settling.remaining + compiled.settling.remaining + 20 * rtol
     assert declared < 1e-4  # far from K_c nothing amplifies the scatter
     assert compiled.recurrence == pytest.approx(python.recurrence, rel=declared)
-    # the peak is the fastest step end: near K_c (a restart from an extrapolated state) rounding moves the
-    # steps by ulps and the sampled peak by up to 1.2e-7 (found at K / K_c 0.94, rtol 1e-7)
-    np.testing.assert_allclose(compiled.peak_slip_rate, python.peak_slip_rate, rtol=1e-6)
+    # the peak is the fastest step end, a sample of the peak, not the peak: where rounding moves the steps by ulps
+    # (near K_c, a restart from an extrapolated state) or the two schemes' step counts differ by the one or two
+    # allowed above, the sampled peak moves by up to the sampling's own error: 1.2e-7 found at K / K_c 0.94,
+    # rtol 1e-7, and 1.7e-6 at K / K_c 0.043, rtol 1e-8 (the fastest events, the fewest steps across a peak)
+    np.testing.assert_allclose(compiled.peak_slip_rate, python.peak_slip_rate, rtol=1e-5)
 
 
 @needs_stepper
