@@ -38,7 +38,8 @@ FFT_COST = 2.1
 # A scalar loop calls libm's exp, 3 ns an element here; the same function written out in arithmetic, which LLVM
 # vectorises, takes about 1.2 ns, and three of a solve's three or four exponentials can be taken that way, in
 # loops of their own (:func:`_exponentials`). exp(x) = 2^k exp(r), k = round(x / ln 2), r = x - k ln 2 in two
-# parts (Cody & Waite's reduction, Muller 2016, "Elementary Functions", 11.2), exp(r) by its Taylor series.
+# parts (Cody & Waite 1980, "Software Manual for the Elementary Functions"; Muller 2016, "Elementary Functions",
+# ch. 11), exp(r) by its Taylor series.
 
 _LN2 = decimal.Context(prec=60).ln(decimal.Decimal(2))
 #: ln 2's leading 32 bits, so that k ln2_hi is exact for |k| < 2^21, and the rest of ln 2 (to 60 digits)
@@ -58,7 +59,7 @@ def _float_from_bits(bits):
 
 
 def _exp(x):
-    """exp(x) within 1 ulp of libm's (tested), NaN for NaN, inf above 709.78, 0 below -745.2. 2^k is made from
+    """exp(x) within 1 ulp of libm's (tested), NaN for NaN, inf above 709.78, 0 below -745.14. 2^k is made from
     its bits in two halves, so that a subnormal result or an overflow to inf comes out as libm's does."""
     x = float(x)  # plain Python: a float overflows to inf without numpy's warning
     if x > 1400.0:  # beyond, the result is inf or 0 anyway; a NaN passes both tests
@@ -390,7 +391,7 @@ def _compiled(threads: int) -> dict:
         inline = numba.njit(cache=True, inline="always")
         exp = inline(_named(_exp, key, {"_float_from_bits": _float_from_bits_intrinsic()}))
         elements = {name: inline(_named(module[name], key, {"_exp": exp}) if name == "_exponentials" else module[name])
-                    for name in ELEMENTS if name != "_exp"}
+                    for name in ELEMENTS}
         names = {**elements, "PARTS": PARALLEL_PARTS if key == "parallel" else 1}
         built = {name: numba.njit(cache=True, parallel=key == "parallel")(_named(module[name], key, names))
                  for name in KERNELS}
