@@ -201,6 +201,34 @@ def test_a_stopped_run_continues_bit_for_bit(tmp_path):
         run_cycles(fault, duration, rtol=1e-6, folder=tmp_path / "part", resume=True, stations=STATIONS)
 
 
+@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
+@pytest.mark.parametrize("threads", [1, 2])
+def test_the_plain_python_step_is_the_compiled_one(threads):
+    """kernels(compiled=False), the same loops in plain Python (an install without numba's build): its whole step,
+    on one task or on two (the FFTs beside the exponentials and the partial sums), is the compiled one's to
+    round-off (their FFTs are scipy's and rocket-fft's pocketfft)."""
+    from faultslip.models.fault_2d import integrate
+
+    fault = small_fault(element_size=400.0)  # 50 elements: plain Python stays quick
+    operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, "fft")
+    balance = ForceBalance(fault, operator)
+    balance.tolerance = newton_tolerance(1e-6)
+    count = fault.count
+    scale = np.concatenate([fault.critical_slip, np.ones(count)])
+    y = np.concatenate([np.zeros(count), fault.initial_state])
+    speed, psi_rate, _ = balance.rates(0.0, y[:count], y[count:])
+    k1 = np.concatenate([speed, psi_rate])
+    start = balance.u.copy()
+    step = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, threads)
+    compiled_result = step(0.0, y, 1e5, k1)
+    balance.u = start.copy()
+    step.kernels = compiled.kernels(False, threads)
+    plain_result = step(0.0, y, 1e5, k1)
+    for one, other in zip(compiled_result[:4], plain_result[:4]):
+        np.testing.assert_allclose(other, one, rtol=1e-12, atol=0)
+    assert plain_result[4] == pytest.approx(compiled_result[4], rel=1e-12)
+
+
 def _simd_exp(values, build):
     """exp of ``values`` through :func:`compiled._exponentials`'s warm start (its exp(u)) and its coefficient
     (2 V_0 eta exp(-psi / a), with 2 V_0 eta = 1 and 1 / a = 1): both must be exp."""

@@ -436,14 +436,19 @@ def _named(function, build: str, names: dict | None = None):
 
 def kernels(compiled: bool = True, threads: int = 1) -> dict:
     """The force balance and the fused step kernels: numba's (serial, or over ``threads`` threads), or plain
-    Python (``compiled=False``, the same loops, slow: for tests without numba)."""
+    Python (``compiled=False``, the same loops, slow: for tests without numba; with ``threads`` > 1 the parallel
+    build's loops, its parts run in turn)."""
     if not compiled:
         from scipy import fft as scipy_fft  # heavy: imported where the step runs
 
-        plain = {name.lstrip("_"): globals()[name] for name in (*KERNELS, *PIECES)}
-        side_by_side = _named(_product_and_exponentials, "python", {"fft": scipy_fft})
-        plain["fused_step"] = _named(_fused_step, "python", {"fft": scipy_fft,
-                                                             "_product_and_exponentials": side_by_side})
+        build = "python_parallel" if threads > 1 else "python"
+        names = {"PARTS": PARALLEL_PARTS if threads > 1 else 1, "fft": scipy_fft}
+        loops = {name: _named(globals()[name], build, names) for name in KERNELS}
+        side_by_side = _named(_product_and_exponentials, build, names)
+        plain = {name.lstrip("_"): function for name, function in loops.items()}
+        plain.update({name.lstrip("_"): globals()[name] for name in PIECES})
+        plain["fused_step"] = _named(_fused_step, build, {**names, **loops,
+                                                          "_product_and_exponentials": side_by_side})
         return plain
     return _compiled(threads)
 
