@@ -201,23 +201,28 @@ def test_a_stopped_run_continues_bit_for_bit(tmp_path):
         run_cycles(fault, duration, rtol=1e-6, folder=tmp_path / "part", resume=True, stations=STATIONS)
 
 
-@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
-@pytest.mark.parametrize("threads", [1, 2])
-def test_the_plain_python_step_is_the_compiled_one(threads):
-    """kernels(compiled=False), the same loops in plain Python (an install without numba's build): its whole step,
-    on one task or on two (the FFTs beside the exponentials and the partial sums), is the compiled one's to
-    round-off (their FFTs are scipy's and rocket-fft's pocketfft)."""
-    from faultslip.models.fault_2d import integrate
-
-    fault = small_fault(element_size=400.0)  # 50 elements: plain Python stays quick
-    operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, "fft")
+def _first_step(element_size, kernel="auto"):
+    """A small fault at t = 0 for trial steps at rtol 1e-6: (fault, kernel, balance, error scale, y, k1)."""
+    fault = small_fault(element_size=element_size)
+    operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, kernel)
     balance = ForceBalance(fault, operator)
     balance.tolerance = newton_tolerance(1e-6)
     count = fault.count
     scale = np.concatenate([fault.critical_slip, np.ones(count)])
     y = np.concatenate([np.zeros(count), fault.initial_state])
     speed, psi_rate, _ = balance.rates(0.0, y[:count], y[count:])
-    k1 = np.concatenate([speed, psi_rate])
+    return fault, operator, balance, scale, y, np.concatenate([speed, psi_rate])
+
+
+@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
+@pytest.mark.parametrize("threads", [1, 2])
+def test_the_plain_python_step_is_the_compiled_one(threads):
+    """kernels(compiled=False), the same loops in plain Python (an install without numba's build): its whole step,
+    on one task or on two (the FFTs beside the exponentials), is the compiled one's to round-off (their FFTs are
+    scipy's and rocket-fft's pocketfft)."""
+    from faultslip.models.fault_2d import integrate
+
+    fault, operator, balance, scale, y, k1 = _first_step(400.0, "fft")  # 50 elements: plain Python stays quick
     start = balance.u.copy()
     step = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, threads)
     compiled_result = step(0.0, y, 1e5, k1)
@@ -278,15 +283,8 @@ def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads():
     element's arithmetic does not depend on the threads."""
     from faultslip.models.fault_2d import integrate
 
-    fault = small_fault(element_size=20.0)  # 1000 elements: the FFT kernel
-    operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus)
-    balance = ForceBalance(fault, operator)
-    balance.tolerance = newton_tolerance(1e-6)
+    fault, operator, balance, scale, y, k1 = _first_step(20.0)  # 1000 elements: the FFT kernel
     count = fault.count
-    scale = np.concatenate([fault.critical_slip, np.ones(count)])
-    y = np.concatenate([np.zeros(count), fault.initial_state])
-    speed, psi_rate, _ = balance.rates(0.0, y[:count], y[count:])
-    k1 = np.concatenate([speed, psi_rate])
     fused = integrate._CompiledTrial(fault, operator, balance, scale, 1e-6, 1)
     whole = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 1) if compiled.fused_available() else None
     # on two threads the step is organised otherwise (the FFTs beside the exponentials, each balance fused with the
