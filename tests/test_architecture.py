@@ -384,3 +384,19 @@ def test_the_public_api_names_each_module_once():
             keys = [key.value for key in node.keys if isinstance(key, ast.Constant)]
             twice = sorted(key for key, count in Counter(keys).items() if count > 1)
             assert not twice, f"faultslip/__init__.py lists {twice} twice"
+
+
+def test_cores_are_counted_in_one_place():
+    """A process's cores are :func:`faultslip.io.processes.usable_cores`, its CPU affinity: a process held to
+    some cores (taskset, a container's or a SLURM job's cpuset) must not start a worker or a thread for each of
+    the machine's. No other function counts them."""
+    counters = {"os.cpu_count", "multiprocessing.cpu_count", "psutil.cpu_count", "cpu_count"}
+    found = []
+    for module, path in MODULES.items():
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        owner = {}
+        for function in (n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))):
+            owner.update((id(sub), function.name) for sub in ast.walk(function))
+        found += [(module, owner.get(id(node), "<module>")) for node in ast.walk(tree)
+                  if isinstance(node, ast.Call) and _call_name(node.func) in counters]
+    assert found == [("faultslip.io.processes", "usable_cores")], found

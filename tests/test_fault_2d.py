@@ -4,6 +4,9 @@ for bit, SEAS files, and the cycle invariants on a coarse fault."""
 from __future__ import annotations
 
 import math
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -335,6 +338,19 @@ def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads():
     assert one.steps == two.steps and one.final_slip.tobytes() == two.final_slip.tobytes()
     assert one.final_state.tobytes() == two.final_state.tobytes()
     assert np.array_equal(one.events["slip"], two.events["slip"])
+
+
+@pytest.mark.skipif(not hasattr(os, "sched_setaffinity"), reason="CPU affinity is Linux's")
+def test_a_process_held_to_one_core_takes_one_thread_and_one_worker():
+    """os.cpu_count counts the machine's cores. A process held to one of them (taskset, a container's or a SLURM
+    job's cpuset) runs a big 2-D fault on one thread and a sweep on one worker, and says why it capped --workers."""
+    code = ("import os; os.sched_setaffinity(0, {min(os.sched_getaffinity(0))}); "
+            "from faultslip.io.processes import threads_for, usable_workers; "
+            "print(threads_for(5000, 1024)); print(*usable_workers(4), sep='|')")
+    environment = {key: value for key, value in os.environ.items() if key != "FAULTSLIP_THREADS"}
+    printed = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                             env=environment).stdout.splitlines()
+    assert printed == ["1", "1|--workers 4 capped at 1 (1 usable core: more would not run faster)"]
 
 
 def test_threads_are_checked_in_one_sentence(monkeypatch):

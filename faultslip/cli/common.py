@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import os
 import sys
 from pathlib import Path
 
@@ -14,7 +13,7 @@ from faultslip.fault.scene import load_scene
 from faultslip.io.atomic import claim, save_figure
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, output_lock, same_file
-from faultslip.io.processes import usable_workers
+from faultslip.io.processes import usable_cores, usable_workers
 from faultslip.units import to_si
 
 
@@ -75,7 +74,7 @@ def _workers(args, tasks=None) -> int:
 
 
     if args.workers is None:  # not given: as many as help, silently
-        return usable_workers(os.cpu_count() or 1, tasks)[0]
+        return usable_workers(usable_cores(), tasks)[0]
     workers, note = usable_workers(args.workers, tasks)
     if note:
         args.notes = getattr(args, "notes", []) + [note]

@@ -56,6 +56,16 @@ def children(pid: int) -> list[int]:
     return alive
 
 
+def usable_cores() -> int:
+    """The cores this process may run on: its CPU affinity where the platform keeps one (``taskset``, a
+    container's or a SLURM job's cpuset), else every core of the machine. ``os.cpu_count`` alone counts the
+    machine's, and a process held to one of them would start a worker or a thread for each."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # no affinity here (macOS, Windows): the machine's cores
+        return os.cpu_count() or 1
+
+
 def usable_workers(requested: int, tasks: int | None = None) -> tuple[int, str]:
     """``(workers, note)``: ``requested`` capped at the cores and the tasks; the note says why, or is ''.
 
@@ -64,12 +74,12 @@ def usable_workers(requested: int, tasks: int | None = None) -> tuple[int, str]:
 
     if requested < 1:
         raise InputError(f"--workers must be at least 1, got {requested}")
-    cores = os.cpu_count() or 1
+    cores = usable_cores()
     limit = min(cores, tasks) if tasks is not None else cores
     limit = max(limit, 1)
     if requested <= limit:
         return requested, ""
-    why = f"{cores} cores" if limit == cores else f"{tasks} chunks of work"
+    why = f"{cores} usable core{'s' if cores != 1 else ''}" if limit == cores else f"{tasks} chunks of work"
     return limit, f"--workers {requested} capped at {limit} ({why}: more would not run faster)"
 
 
@@ -98,8 +108,9 @@ THREADS_VARIABLE = "FAULTSLIP_THREADS"
 
 
 def threads_for(elements: int, pays_from: int) -> int:
-    """Threads for one run's kernels: ``FAULTSLIP_THREADS`` where set (a pool's worker sets 1), else every core
-    once the run is big enough for threads to pay (``elements`` >= ``pays_from``), else 1."""
+    """Threads for one run's kernels: ``FAULTSLIP_THREADS`` where set (a pool's worker sets 1), else every usable
+    core (:func:`usable_cores`) once the run is big enough for threads to pay (``elements`` >= ``pays_from``),
+    else 1."""
     value = os.environ.get(THREADS_VARIABLE, "").strip()
     if value:
         try:
@@ -109,7 +120,7 @@ def threads_for(elements: int, pays_from: int) -> int:
         if chosen < 1:
             raise InputError(f"{THREADS_VARIABLE} must be at least 1, got {chosen}")
         return chosen
-    return (os.cpu_count() or 1) if elements >= pays_from else 1
+    return usable_cores() if elements >= pays_from else 1
 
 
 def _die_with_parent(parent: int) -> None:
