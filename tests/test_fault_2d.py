@@ -278,7 +278,7 @@ def test_the_simd_exp_keeps_libms_limits():
 
 
 @pytest.mark.skipif(not compiled.available(), reason="the fused kernels are numba's (pip install 'faultslip[fast]')")
-def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads():
+def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads(monkeypatch):
     """Issue 43, items 2 and 3: a run's trial steps through the fused numba kernels equal the numpy expressions of
     the same Dormand-Prince step bit for bit (every stage, y_new, k7, the stress and the error norm), with the
     Newton solve stopped at the run's tolerance; the whole step compiled (rocket-fft's FFT, a scalar spectrum
@@ -338,6 +338,40 @@ def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads():
     assert one.steps == two.steps and one.final_slip.tobytes() == two.final_slip.tobytes()
     assert one.final_state.tobytes() == two.final_state.tobytes()
     assert np.array_equal(one.events["slip"], two.events["slip"])
+    # an automatic run switching between them at every other step (a probe of 2 steps, then a new one at once)
+    monkeypatch.setattr(integrate, "PROBE_STEPS", 2)
+    monkeypatch.setattr(integrate, "PROBE_EVERY", 0.0)
+    switching = run_cycles(fault, 150 * YEAR, rtol=1e-6, stations=STATIONS, threads=2, adapt_threads=True)
+    assert switching.steps == one.steps and switching.final_slip.tobytes() == one.final_slip.tobytes()
+    assert switching.final_state.tobytes() == one.final_state.tobytes()
+
+
+def test_an_automatic_run_takes_the_faster_of_its_threads_and_one():
+    """On a busy machine two threads can be slower than one (the thread sharing a core holds up every region):
+    an automatic run times its own steps on both, interleaved, keeps the faster, and probes again later, when
+    the load may have changed. Timed here on a clock that the trials advance."""
+    from faultslip.models.fault_2d import integrate
+
+    now, cost, calls = [0.0], {"threaded": 2.0, "single": 1.0}, []
+
+    def trial(name):
+        def step(t, y, h, k1):
+            now[0] += cost[name]
+            calls.append(name)
+            return name
+        return step
+
+    chooser = integrate._FasterTrial(trial("threaded"), trial("single"), timer=lambda: now[0])
+    probe = integrate.PROBE_STEPS
+    for _ in range(2 * probe + 1):  # each one's first call is not timed: it loads the kernels
+        chooser(0.0, None, 1.0, None)
+    assert calls[:4] == ["threaded", "single"] * 2 and calls.count("threaded") == probe + 1  # interleaved
+    assert {chooser(0.0, None, 1.0, None) for _ in range(10)} == {"single"}  # the machine is busy: one thread
+    cost["threaded"] = 0.5  # the load goes away: two threads are faster, found at the next probe
+    for _ in range(int(integrate.PROBE_EVERY) + 2 * probe):
+        chooser(0.0, None, 1.0, None)
+    assert chooser(0.0, None, 1.0, None) == "threaded"
+    assert sum(chooser.steps) == len(calls)
 
 
 @pytest.mark.skipif(not hasattr(os, "sched_setaffinity"), reason="CPU affinity is Linux's")

@@ -123,6 +123,12 @@ def threads_for(elements: int, pays_from: int) -> int:
     return usable_cores() if elements >= pays_from else 1
 
 
+def threads_are_automatic() -> bool:
+    """Whether :func:`threads_for` chooses the threads itself (``FAULTSLIP_THREADS`` unset): such a run may then
+    change its mind as the machine's load changes."""
+    return not os.environ.get(THREADS_VARIABLE, "").strip()
+
+
 def _die_with_parent(parent: int) -> None:
     """Worker initializer: ignore Ctrl-C, reuse freed memory, use one thread a run, and exit when the parent
     process is gone."""

@@ -239,6 +239,50 @@ class _FusedTrial(_CompiledTrial):
         return y_new, stages[6].copy(), stages[6, :self.count].copy(), self.stress.copy(), float(norm)
 
 
+#: an automatic run's probe: this many trial steps on each of its threads and one thread, interleaved
+PROBE_STEPS = 64
+#: seconds of the faster before the next probe (the machine's other work comes and goes)
+PROBE_EVERY = 30.0
+
+
+class _FasterTrial:
+    """The faster of a run's threaded trial step and its one-thread one, timed on the run's own steps.
+
+    On a machine whose other work holds a core, the threads' regions wait for the thread that shares it, and two
+    threads run slower than one: BP1 at 1,600 elements over 300 years took 4.8-5.8 s on two threads against
+    2.4 s on one, with a busy loop on the second of two cores. So an automatic run times :data:`PROBE_STEPS`
+    steps of each, interleaved, takes the one with the smaller total, and probes again after
+    :data:`PROBE_EVERY` seconds. Both give the same bits (tested), so the choice changes no number.
+    ``steps`` counts the trial steps each took (threaded, one thread)."""
+
+    def __init__(self, threaded, single, timer=clock.perf_counter):
+        self.trials, self.timer = (threaded, single), timer
+        self.times = ([], [])
+        self.steps = [0, 0]
+        self.choice = None  # None while probing, else the index of the faster
+        self.turn = 0
+        self.next_probe = 0.0
+
+    def __call__(self, t, y, h, k1):
+        if self.choice is not None and self.timer() < self.next_probe:
+            self.steps[self.choice] += 1
+            return self.trials[self.choice](t, y, h, k1)
+        if self.choice is not None:  # time for a new probe
+            self.choice, self.times = None, ([], [])
+        which, self.turn = self.turn, 1 - self.turn
+        start = self.timer()
+        result = self.trials[which](t, y, h, k1)
+        end = self.timer()
+        if self.steps[which]:  # a first call loads (or compiles) its kernels: not a step's time
+            self.times[which].append(end - start)
+        self.steps[which] += 1
+        if len(self.times[1]) >= PROBE_STEPS:
+            # the total, not the median: a busy core stalls few steps, but each by a time slice of milliseconds
+            self.choice = int(sum(self.times[1]) < sum(self.times[0]))
+            self.next_probe = end + PROBE_EVERY
+        return result
+
+
 def _compiled_trial(fault, operator, balance, scale, rtol, threads):
     """The whole step compiled where it can be (an FFT kernel, and rocket-fft here), else its element-wise work."""
     if operator.method == "fft" and compiled_kernels.fused_available():
@@ -261,11 +305,13 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                profile_interval: float = 5 * YEAR, coseismic_interval: float = 1.0, event_speed: float = EVENT_SPEED,
                folder=None, resume: bool = False, checkpoint_every: float = 60.0, max_steps: int = 20_000_000,
                stop_after_steps: int | None = None, progress=None, initial_step: float = 1.0,
-               threads: int = 1) -> Fault2DRun:
+               threads: int = 1, adapt_threads: bool = False) -> Fault2DRun:
     """Integrate ``fault`` from t = 0 to ``duration`` (s) and record stations, profiles and events.
 
     With numba, each step's element-wise work runs in compiled kernels (:mod:`faultslip.models.fault_2d.compiled`)
-    over ``threads`` threads; the numbers are the same on any number of threads.
+    over ``threads`` threads; the numbers are the same on any number of threads. With ``adapt_threads`` (a run
+    whose threads were chosen for it) the run times its steps on ``threads`` threads and on one and takes the
+    faster, again every half minute (:class:`_FasterTrial`): on a busy machine one thread can be the faster.
 
     ``folder``: stream records and checkpoints there (a run can then be resumed). ``stop_after_steps``
     stops as a kill would, right after a checkpoint at that step (for tests of restart).
@@ -303,7 +349,13 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     def numpy_trial(t, y, h, k1):
         return dormand_prince_trial(derivative, t, y, h, k1, rtol, scale)
 
-    trial = numpy_trial if not balance.compiled else _compiled_trial(fault, operator, balance, scale, rtol, threads)
+    if not balance.compiled:
+        trial = numpy_trial
+    elif adapt_threads and threads > 1:
+        trial = _FasterTrial(_compiled_trial(fault, operator, balance, scale, rtol, threads),
+                             _compiled_trial(fault, operator, balance, scale, rtol, 1))
+    else:
+        trial = _compiled_trial(fault, operator, balance, scale, rtol, threads)
 
     near = recorder.neighbours  # every field at the stations' neighbouring elements only: a step's record is
     theta_offset_near, inverse_b_ln10_near = theta_offset[near], inverse_b_ln10[near]  # then 12 stations' work, not N

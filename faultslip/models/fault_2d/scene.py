@@ -47,7 +47,7 @@ from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.io.seas import station_file_name
 from faultslip.io import budget
-from faultslip.io.processes import threads_for
+from faultslip.io.processes import threads_are_automatic, threads_for
 from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar
@@ -113,7 +113,7 @@ class Fault2DScene:
         return run_cycles(self.fault, self.duration, rtol=self.rtol if rtol is None else rtol, stations=self.stations,
                           kernel=self.kernel, profile_interval=self.profile_interval,
                           coseismic_interval=self.coseismic_interval, folder=folder, resume=resume, progress=progress,
-                          threads=threads)
+                          threads=threads, adapt_threads=self.threads is None and threads_are_automatic())
 
     def estimated_steps(self, rtol: float | None = None) -> float:
         """The steps this scene's run takes (an upper estimate from its D_c, V_pl, f0-free scales and element
