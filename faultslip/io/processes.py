@@ -111,7 +111,7 @@ def threads_for(elements: int, pays_from: int) -> int:
     """Threads for one run's kernels: ``FAULTSLIP_THREADS`` where set (a pool's worker sets 1), else every usable
     core (:func:`usable_cores`) once the run is big enough for threads to pay (``elements`` >= ``pays_from``),
     else 1."""
-    value = os.environ.get(THREADS_VARIABLE, "").strip()
+    value = _threads_setting()
     if value:
         try:
             chosen = int(value)
@@ -123,10 +123,15 @@ def threads_for(elements: int, pays_from: int) -> int:
     return usable_cores() if elements >= pays_from else 1
 
 
+def _threads_setting() -> str:
+    """``FAULTSLIP_THREADS`` as set, stripped; '' where it is not."""
+    return os.environ.get(THREADS_VARIABLE, "").strip()
+
+
 def threads_are_automatic() -> bool:
     """Whether :func:`threads_for` chooses the threads itself (``FAULTSLIP_THREADS`` unset): such a run may then
     change its mind as the machine's load changes."""
-    return not os.environ.get(THREADS_VARIABLE, "").strip()
+    return not _threads_setting()
 
 
 def _die_with_parent(parent: int) -> None:
