@@ -90,14 +90,16 @@ def parts_alone(fault, run, rtol: float) -> dict:
     k_x = operator.product_of_padded()
     exponentials_kernel, solve_kernel, stage_kernel, error_kernel = (
         kernels[name] for name in ("exponentials", "solve_elements", "stage", "error_ratios"))
-    coefficients, healing, warm = (np.empty(count) for _ in range(3))
+    coefficients, healing = np.empty(count), np.empty(count)
+    warm = np.empty((compiled.WARM_ROWS, count))  # the Newton iteration's warm start, as the step keeps it
 
     # each part repeated inside compiled code, as the step calls it: no Python call in the time
     @numba.njit
-    def exponentials(repeats, psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm):
+    def exponentials(repeats, psi, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing,
+                     warm):
         for _ in range(repeats):
-            exponentials_kernel(0, psi.shape[0], psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
-                                healing, warm)
+            exponentials_kernel(0, psi.shape[0], psi, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b,
+                                coefficients, healing, warm)
 
     @numba.njit
     def newton(repeats, k_x, initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging,
@@ -122,11 +124,11 @@ def parts_alone(fault, run, rtol: float) -> dict:
             product(padded, both, toeplitz_hat, hankel_hat, length)
 
     repeats = 402
-    exponentials(1, y[count:], balance.u, balance.inverse_a, balance.two_v0_eta, balance.aging,
+    exponentials(1, y[count:], balance.u, balance.sigma_a, balance.inverse_a, balance.two_v0_eta, balance.aging,
                  fault.reference_friction, balance.inverse_b, coefficients, healing, warm)
     seconds = {
-        "force balance: exponentials (SIMD)": _alone(lambda: exponentials(
-            repeats, y[count:], balance.u, balance.inverse_a, balance.two_v0_eta, balance.aging,
+        "force balance: exponentials and warm start (SIMD)": _alone(lambda: exponentials(
+            repeats, y[count:], balance.u, balance.sigma_a, balance.inverse_a, balance.two_v0_eta, balance.aging,
             fault.reference_friction, balance.inverse_b, coefficients, healing, warm)) / repeats,
         "force balance: Newton and rates": _alone(lambda: newton(
             repeats, k_x, fault.initial_shear_stress, stress, y[count:], balance.u, balance.sigma_a, balance.inverse_a,

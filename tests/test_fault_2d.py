@@ -241,13 +241,15 @@ def _simd_exp(values, build):
     """exp of ``values`` through :func:`compiled._exponentials`'s warm start (its exp(u)) and its coefficient
     (2 V_0 eta exp(-psi / a), with 2 V_0 eta = 1 and 1 / a = 1): both must be exp."""
     values = np.asarray(values, float)
-    outputs = [np.empty_like(values) for _ in range(3)]
+    coefficients, healing = np.empty_like(values), np.empty_like(values)
+    warm = np.empty((compiled.WARM_ROWS, values.size))
     ones = np.ones_like(values)
-    build["exponentials"](0, values.size, -values, values, ones, 1.0, True, 0.0, ones, *outputs)
-    coefficients, healing, warm = outputs
+    with np.errstate(all="ignore"):  # the warm start's other rows from exp(u) = inf or 0
+        build["exponentials"](0, values.size, -values, values, ones, ones, 1.0, True, 0.0, ones, coefficients,
+                              healing, warm)
     for other in (coefficients, healing):  # exp((0 - (-x)) 1) too; NaN's sign may differ
-        np.testing.assert_array_equal(other, warm)
-    return warm
+        np.testing.assert_array_equal(other, warm[0])
+    return warm[0]
 
 
 @pytest.mark.skipif(not compiled.available(), reason="the SIMD exp is compiled by numba")
@@ -275,6 +277,53 @@ def test_the_simd_exp_keeps_libms_limits():
         assert got[4] == got[5] == got[6] == math.inf
         assert got[7] == 5e-324 and got[8] == got[9] == got[10] == 0.0
         assert math.isnan(got[11])
+
+
+@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
+def test_a_threaded_step_whose_threads_do_not_all_come_is_taken_on_one_thread():
+    """A threaded step is one parallel region whose tasks, one a thread, meet at spin barriers. Given one task more
+    than numba has threads, two tasks fall to one thread, and the first waits for the second, which cannot start
+    before it returns. The wait gives up after the step's spin limit, and the step is taken on one thread from its
+    start: the same bits as the one-thread step, the Newton solves' warm start included."""
+    import numba
+
+    from faultslip.models.fault_2d import integrate
+
+    fault, operator, balance, scale, y, k1 = _first_step(20.0)  # 1000 elements: the FFT kernel
+    start = balance.u.copy()
+    expected = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 1)(0.0, y, 1e5, k1)
+    expected_u = balance.u.copy()
+    balance.u = start.copy()
+    threaded = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 2)
+    threaded.sync = compiled.new_sync(spins=100_000)
+    threaded._tasks = lambda: numba.get_num_threads() + 1
+    got = threaded(0.0, y, 1e5, k1)
+    assert threaded.sync[compiled.ABANDONED] > 0  # it was given up, not run through
+    for one, other in zip(expected[:4], got[:4]):
+        assert one.tobytes() == other.tobytes()
+    assert got[4] == expected[4] and balance.u.tobytes() == expected_u.tobytes()
+    # and a step on the threads numba has runs through
+    balance.u = start.copy()
+    threaded._tasks = lambda: numba.get_num_threads()
+    again = threaded(0.0, y, 1e5, k1)
+    assert threaded.sync[compiled.ABANDONED] == 0 and again[0].tobytes() == expected[0].tobytes()
+
+
+@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
+def test_a_threaded_step_takes_no_more_tasks_than_numba_has_threads(monkeypatch):
+    """A task more than the threads would wait at a barrier for one that never starts: the step asks numba for its
+    threads at every call (another caller may have set fewer), and on one it is the one-thread step."""
+    import numba
+
+    from faultslip.models.fault_2d import integrate
+
+    fault, operator, balance, scale, y, k1 = _first_step(20.0)
+    threaded = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 4)
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
+    assert threaded._tasks() == 2
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 1)
+    assert threaded._tasks() == 1
+    assert integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 1)._tasks() == 1
 
 
 @pytest.mark.skipif(not compiled.available(), reason="the fused kernels are numba's (pip install 'faultslip[fast]')")

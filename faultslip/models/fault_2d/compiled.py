@@ -17,6 +17,8 @@ import math
 import struct
 import types
 
+import numpy as np
+
 from faultslip.dynamics.shared.compiler import available  # noqa: F401 (re-exported for the model)
 
 #: the kernels' loops over parts of the elements: range in plain Python; numba's prange once compiled (a parallel
@@ -26,11 +28,6 @@ prange = range
 #: thread, so that a thread whose part holds an event's slow-converging elements holds up the others less
 PARTS = 1
 PARALLEL_PARTS = 16
-#: K x's time (the FFT pair and the spectrum's product) against the exponentials of the N elements' balance
-#: (:func:`_exponentials`, in SIMD): about 2.1 at 1,024 to 3,200 elements on the 2-core benchmark machine (12.2 us
-#: against 5.8 at 1,600; both grow about as N). The FFTs' task takes that much less of the exponentials, so that
-#: the tasks end together: none of them at 2.1, where the other task ends first.
-FFT_COST = 2.1
 
 
 # --- exp in SIMD ---------------------------------------------------------------------------------------------
@@ -76,22 +73,38 @@ def _exp(x):
     return p * _float_from_bits((half + 1023) << 52) * _float_from_bits((n - half + 1023) << 52)
 
 
-def _exponentials(first, end, psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm):
+#: the rows of the Newton iteration's warm start (``warm``), each a function of the last solution u alone:
+#: exp(u), sinh(u), cosh(u), g(u) + tau = sigma_n a u + c sinh(u), and the slope g'(u) = sigma_n a + c cosh(u)
+WARM_ROWS = 5
+
+
+def _exponentials(first, end, psi, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing,
+                  warm):
     """What the force balance of elements ``first`` to ``end`` - 1 needs before their stress is known: from the
-    state, c = 2 V_0 eta exp(-psi / a) and, for the aging law, exp((f_0 - psi) / b); and exp(u) at the Newton
-    iteration's warm start, the last solution. Three of a solve's three or four exponentials (most solves take
-    one Newton step), by :func:`_exp`, a loop each over views of the part (a loop over range(first, end) or over
-    several outputs at once is not vectorised)."""
+    state, c = 2 V_0 eta exp(-psi / a) and, for the aging law, exp((f_0 - psi) / b); and at the Newton
+    iteration's warm start, the last solution u, the rows of ``warm`` (:data:`WARM_ROWS`): all of its first
+    iteration but the stress's part. Three of a solve's three or four exponentials (most solves take one Newton
+    step), by :func:`_exp`, and a division, in loops over views of the part, which vectorise (a loop over
+    range(first, end) does not)."""
     state, speed_term, inverse_b_part = psi[first:end], inverse_a[first:end], inverse_b[first:end]
-    coefficients_part, healing_part, warm_part, u_part = (coefficients[first:end], healing[first:end],
-                                                          warm[first:end], u[first:end])
+    coefficients_part, healing_part, u_part, sigma_a_part = (coefficients[first:end], healing[first:end],
+                                                             u[first:end], sigma_a[first:end])
+    exp_u, sinh_u, cosh_u, residual_u, slope_u = (warm[0, first:end], warm[1, first:end], warm[2, first:end],
+                                                  warm[3, first:end], warm[4, first:end])
     for i in range(state.shape[0]):
         coefficients_part[i] = two_v0_eta * _exp(-state[i] * speed_term[i])
     if aging:
         for i in range(state.shape[0]):
             healing_part[i] = _exp((f0 - state[i]) * inverse_b_part[i])
     for i in range(state.shape[0]):
-        warm_part[i] = _exp(u_part[i])
+        exp_u[i] = _exp(u_part[i])
+    for i in range(state.shape[0]):  # :func:`_solve_elements`'s first iteration's expressions, so its bits
+        e = exp_u[i]
+        inverse = 1.0 / e if e != 0.0 else math.inf  # u below -745: never a solution (|u| < 700), but no error
+        sinh_u[i] = 0.5 * (e - inverse)
+        cosh_u[i] = 0.5 * (e + inverse)
+        residual_u[i] = sigma_a_part[i] * u_part[i] + coefficients_part[i] * sinh_u[i]
+        slope_u[i] = sigma_a_part[i] + coefficients_part[i] * cosh_u[i]
 
 
 def _solve_elements(first, end, product, initial_stress, add_initial, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
@@ -123,10 +136,15 @@ def _solve_elements(first, end, product, initial_stress, add_initial, stress, ps
         converged = False
         sinh_x = 0.0
         for iteration in range(iterations):
-            e = warm[i] if iteration == 0 and started_warm else math.exp(x)
-            inverse = 1.0 / e
-            sinh_x = 0.5 * (e - inverse)
-            cosh_x = 0.5 * (e + inverse)
+            from_warm = iteration == 0 and started_warm
+            if from_warm:  # :func:`_exponentials` took this iteration's every term but tau's
+                sinh_x = warm[1, i]
+                cosh_x = warm[2, i]
+            else:
+                e = math.exp(x)
+                inverse = 1.0 / e
+                sinh_x = 0.5 * (e - inverse)
+                cosh_x = 0.5 * (e + inverse)
             if iteration == 0 and abs(coefficient * sinh_x) > abs(tau):
                 # asinh(tau / c), where the friction term vanishes, is beyond the root too: a start past it
                 # (a far warm start, or tau / (sigma_n a)) moves there, else Newton walks back a unit a step
@@ -136,14 +154,14 @@ def _solve_elements(first, end, product, initial_stress, add_initial, stress, ps
                 else:
                     low = x
                 continue
-            residual = sigma_a[i] * x + coefficient * sinh_x - tau
+            residual = warm[3, i] - tau if from_warm else sigma_a[i] * x + coefficient * sinh_x - tau
             if not math.isfinite(residual):  # no finite slip rate here: an absurd trial state
                 break
             if residual > 0:
                 high = x
             else:
                 low = x
-            step = residual / (sigma_a[i] + coefficient * cosh_x)
+            step = residual / (warm[4, i] if from_warm else sigma_a[i] + coefficient * cosh_x)
             proposal = x - step
             newton = low <= proposal <= high  # inclusive: at the root the step may land on the bound just set
             if not newton:
@@ -184,7 +202,8 @@ def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a
     for part in prange(PARTS):
         _solve_elements(part * count // PARTS, (part + 1) * count // PARTS, product, initial_stress, add_initial,
                         stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
-                        inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance, psi, psi, psi, False)
+                        inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance, psi, psi,
+                        psi.reshape((1, psi.shape[0])), False)
 
 
 # --- a Dormand-Prince step's element-wise work, fused (issue 43, items 2 and 3) -------------------------------
@@ -247,132 +266,312 @@ def _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat):
         both[i] = toeplitz_hat[i] * spectrum[i] + hankel_hat[i] * spectrum[i].conjugate()
 
 
-def _balance_then_stage(product, initial_stress, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
-                        aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance,
-                        coefficients, healing, warm, out, padded, y, h, weights, rows, stages, plate_rate, time):
-    """The force balance (the stress set from ``product``; in a parallel build its exponentials done beside the
-    FFTs), then :func:`_stage` for the next state, a part of the elements at a time."""
-    count = stress.shape[0]
-    for part in prange(PARTS):
+# --- the threaded step: one parallel region a step (issue 43, item 3) -------------------------------------------
+#
+# numba's parallel region costs about 2.5 us to start here (its OpenMP layer), and a step of regions started 13:
+# a sixth of a step on two threads at 1,600 elements. So on several threads a step is one region whose tasks, one a
+# thread, meet at spin barriers between its phases (0.06 us here). Each stage has two phases:
+# - beside the FFTs: task 0 takes K x (a real FFT, the spectrum's product, the inverse), the others the
+#   exponentials the balance needs before its stress is known, and the next state's sum but for its newest term
+#   (the stage just being solved for), which fill the time the FFTs take;
+# - the balance: parts of the elements, claimed in turn by whichever task is free (an atomic counter), each
+#   solved and its next state (or its error ratio) finished at once.
+# Every element's arithmetic, and the order of every sum, is the one-thread step's: the same bits on any threads.
+
+#: int64s a cache line: each counter of the step's ``sync`` array on a line of its own
+LINE = 8
+#: ``sync``'s slots: tasks arrived at the barrier, barriers passed, the step given up, the spins a task waits at a
+#: barrier before it gives the step up (set once, by the caller); then each phase's count of claimed parts
+ARRIVALS, GENERATION, ABANDONED, SPIN_LIMIT, CLAIMS = 0, LINE, 2 * LINE, 3 * LINE, 4 * LINE
+#: phases with claimed parts: the first state's, and a balance a stage (at most 16 stages)
+CLAIMED_PHASES = 17
+SYNC_SIZE = CLAIMS + LINE * CLAIMED_PHASES
+#: the spins (seconds) after which a task waiting at a barrier gives the step up, which is then taken on one
+#: thread: a thread that never comes (a threading layer that ran two tasks on one thread) must not hang a run
+SPINS = 1 << 32
+
+
+def new_sync(spins: int = SPINS):
+    """A threaded step's ``sync`` array, its spin limit set."""
+    sync = np.zeros(SYNC_SIZE, dtype=np.int64)
+    sync[SPIN_LIMIT] = spins
+    return sync
+
+
+#: whether :func:`_step_tasks` runs its tasks side by side (a parallel build) or each phase's in turn (plain Python)
+PARALLEL_REGION = False
+
+
+def _atomic_add(array, index, value):
+    """array[index] += value, returning the old value (atomic in the compiled build)."""
+    old = array[index]
+    array[index] = old + value
+    return old
+
+
+def _atomic_load(array, index):
+    """array[index] (an atomic load with acquire order in the compiled build: a spin loop sees other threads' stores)."""
+    return array[index]
+
+
+def _barrier(sync, tasks):
+    """Wait until all ``tasks`` have arrived. False when the step was given up (a wait beyond sync[SPIN_LIMIT]
+    spins)."""
+    generation = _atomic_load(sync, GENERATION)
+    if _atomic_load(sync, ABANDONED) != 0:
+        return False
+    if _atomic_add(sync, ARRIVALS, 1) == tasks - 1:  # the last to arrive opens the barrier
+        _atomic_add(sync, ARRIVALS, -tasks)
+        _atomic_add(sync, GENERATION, 1)
+        return True
+    spins, limit = 0, sync[SPIN_LIMIT]
+    while _atomic_load(sync, GENERATION) == generation:
+        if _atomic_load(sync, ABANDONED) != 0:
+            return False
+        spins += 1
+        if spins > limit:
+            _atomic_add(sync, ABANDONED, 1)
+            return False
+    return True
+
+
+def _partial_entries(first, end, partial, weights, rows, terms, stages):
+    """partial = w_0 k[rows_0] + ... for all but the last of ``terms`` (left to right, as :func:`_stage_entries`)."""
+    for i in range(first, end):
+        total = weights[0] * stages[rows[0], i]
+        for m in range(1, terms - 1):
+            total = total + weights[m] * stages[rows[m], i]
+        partial[i] = total
+
+
+def _finish_stage_entries(first, end, out, padded, y, h, partial, weight, row, stages, count, plate_rate, time):
+    """:func:`_stage_entries` from the sum of its leading terms: out = y + h (partial + w k[row])."""
+    for i in range(first, end):
+        value = y[i] + h * (partial[i] + weight * stages[row, i])
+        out[i] = value
+        if i < count:
+            padded[i] = value - plate_rate * time
+
+
+def _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, row, stages, rtol, scale):
+    """:func:`_error_entries` from the sum of its leading terms; returns their largest (NaN where one is NaN)."""
+    largest = 0.0
+    for i in range(first, end):
+        value = abs(h * (partial[i] + weight * stages[row, i])) / (rtol * max(max(abs(y[i]), abs(y_new[i])), scale[i]))
+        ratios[i] = value
+        if not value <= largest and not math.isnan(largest):  # NaN wins: a stage without a finite slip rate
+            largest = value  # rejects the step
+    return largest
+
+
+def _first_state_parts(sync, out, padded, y, h, weights, rows, stages, plate_rate, time):
+    """The step's first trial state (:func:`_stage`), a claimed part of the elements at a time."""
+    count = out.shape[0] // 2
+    part = _atomic_add(sync, CLAIMS, 1)
+    while part < PARTS:
         first, end = part * count // PARTS, (part + 1) * count // PARTS
-        _solve_elements(first, end, product, initial_stress, True, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
-                        inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
-                        iterations, tolerance, coefficients, healing, warm, True)
         _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
         _stage_entries(count + first, count + end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
+        part = _atomic_add(sync, CLAIMS, 1)
 
 
-def _balance_then_error(product, initial_stress, stress, psi, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
-                        aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate, iterations, tolerance,
-                        coefficients, healing, warm, ratios, y, y_new, h, weights, rows, stages, rtol, scale):
-    """The force balance at y_new (its k7), then :func:`_error_ratios`, a part of the elements at a time."""
-    count = stress.shape[0]
-    for part in prange(PARTS):
-        first, end = part * count // PARTS, (part + 1) * count // PARTS
-        _solve_elements(first, end, product, initial_stress, True, stress, psi, u, sigma_a, inverse_a, two_v0_eta,
-                        inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, speed, psi_rate,
-                        iterations, tolerance, coefficients, healing, warm, True)
-        _error_entries(first, end, ratios, y, y_new, h, weights, rows, stages, rtol, scale)
-        _error_entries(count + first, count + end, ratios, y, y_new, h, weights, rows, stages, rtol, scale)
-
-
-def _product_and_exponentials(product, both, padded, toeplitz_hat, hankel_hat, length, psi, u, inverse_a,
-                              two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, tasks):
-    """K x (one real FFT, the spectrum product, the inverse) into ``product``, and the exponentials the balance
-    needs before it (:func:`_exponentials`), side by side, a task a thread (``tasks``, at least 2): task 0 is the
-    FFTs and the first share of the elements, the others the rest in equal parts. Neither needs the other, so
-    the FFTs, which run on one thread, take no time of their own."""
-    count = psi.shape[0]
+def _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, hankel_hat, length, u, sigma_a,
+                     inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial, weights, rows, terms,
+                     stages):
+    """Task 0: K x into ``product``. The others, a share each: the exponentials of the balance at ``state``
+    (:func:`_exponentials`), and the next sum's leading terms (``weights``, ``rows``, ``terms``) into ``partial``."""
+    count = u.shape[0]
+    if task == 0:
+        _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
+        product[:] = fft.irfft(both, length)
+        return
     others = tasks - 1
-    start = int(count * max(0.0, (1.0 / others - FFT_COST) / (1.0 + 1.0 / others)))
-    for task in prange(tasks):
-        if task == 0:
-            _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
-            product[:] = fft.irfft(both, length)
-            _exponentials(0, start, psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm)
+    share = task - 1
+    _exponentials(share * count // others, (share + 1) * count // others, state[count:], u, sigma_a, inverse_a,
+                  two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm)
+    _partial_entries(share * 2 * count // others, (share + 1) * 2 * count // others, partial, weights, rows, terms,
+                     stages)
+
+
+def _balance_parts(sync, phase, row, product, initial_stress, stress, state, u, sigma_a, inverse_a, two_v0_eta,
+                   inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance,
+                   coefficients, healing, warm, stages, partial, weight, newest, following, out, padded, y, h,
+                   plate_rate, time, y_new, ratios, rtol, scale, part_largest):
+    """The balance at ``state`` into k[row], a claimed part at a time, each part then finished: its next state
+    (``following``) or, after the last stage (``following`` False), its error ratios and their largest."""
+    count = u.shape[0]
+    claims = CLAIMS + LINE * phase
+    part = _atomic_add(sync, claims, 1)
+    while part < PARTS:
+        first, end = part * count // PARTS, (part + 1) * count // PARTS
+        _solve_elements(first, end, product, initial_stress, True, stress, state[count:], u, sigma_a, inverse_a,
+                        two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
+                        stages[row, :count], stages[row, count:], iterations, tolerance, coefficients, healing, warm,
+                        True)
+        if following:
+            for offset in (0, count):
+                _finish_stage_entries(offset + first, offset + end, out, padded, y, h, partial, weight, newest,
+                                      stages, count, plate_rate, time)
         else:
-            first = start + (task - 1) * (count - start) // others
-            end = start + task * (count - start) // others
-            _exponentials(first, end, psi, u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing,
-                          warm)
+            lower = _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, newest, stages, rtol,
+                                          scale)
+            upper = _finish_error_entries(count + first, count + end, ratios, y, y_new, h, partial, weight, newest,
+                                          stages, rtol, scale)
+            part_largest[part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
+        part = _atomic_add(sync, claims, 1)
+
+
+def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
+               coefficients, healing, warm, toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a,
+               inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
+               iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
+               rtol, scale, ratios, plate_rate, in_turn):
+    """One task's share of a threaded trial step, phase by phase, meeting the others at barriers; with ``in_turn``
+    > 0 only that phase (1: the first state; 2 s + 2 and 2 s + 3: stage s's two), without barriers."""
+    last = plan_rows.shape[0] - 1
+    if in_turn <= 1:
+        _first_state_parts(sync, work, padded, y, h, plan_weights[0, :plan_terms[0]], plan_rows[0, :plan_terms[0]],
+                           stages, plate_rate, t + plan_fractions[0] * h)
+    for s in range(last + 1):
+        state = work if s < last else y_new
+        following = s < last
+        if following:
+            weights, rows, terms = plan_weights[s + 1], plan_rows[s + 1], plan_terms[s + 1]
+            out, time = (work if s + 1 < last else y_new), t + plan_fractions[s + 1] * h
+        else:
+            weights, rows, terms = error_weights, error_rows, error_rows.shape[0]
+            out, time = y_new, t + h
+        if in_turn == 0 and not _barrier(sync, tasks):
+            return
+        if in_turn == 0 or in_turn == 2 * s + 2:
+            _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, hankel_hat, length, u,
+                             sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
+                             weights, rows, terms, stages)
+        if in_turn == 0 and not _barrier(sync, tasks):
+            return
+        if in_turn == 0 or in_turn == 2 * s + 3:
+            _balance_parts(sync, s + 1, s + 1, product, initial_stress, stress, state, u, sigma_a, inverse_a,
+                           two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
+                           iterations, tolerance, coefficients, healing, warm, stages, partial, weights[terms - 1],
+                           rows[terms - 1], following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol,
+                           scale, part_largest)
+
+
+def _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product, coefficients,
+                healing, warm, toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a,
+                two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations,
+                tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale,
+                ratios, plate_rate):
+    """The threaded trial step: one task a thread, in one parallel region (a parallel build), or each phase's tasks
+    in turn (plain Python, where ``prange`` is ``range``: tasks one after another would wait at a barrier
+    forever)."""
+    if PARALLEL_REGION:
+        for task in prange(tasks):
+            _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
+                       coefficients, healing, warm, toeplitz_hat, hankel_hat, length, initial_stress, stress, u,
+                       sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                       critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
+                       error_rows, error_weights, rtol, scale, ratios, plate_rate, 0)
+    else:
+        for in_turn in range(1, 2 * plan_rows.shape[0] + 2):
+            for task in range(tasks):
+                _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both,
+                           product, coefficients, healing, warm, toeplitz_hat, hankel_hat, length, initial_stress,
+                           stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
+                           inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights,
+                           plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios, plate_rate,
+                           in_turn)
 
 
 #: scipy.fft, set where the step kernel is built: numba compiles its calls through rocket-fft
 fft = None
 
 
-def _fused_step(y, h, t, stages, work, y_new, padded, both, product, coefficients, healing, warm, toeplitz_hat,
-                hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging,
-                aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights,
-                plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios, plate_rate, tasks):
-    """A whole Dormand-Prince trial step (stages[0] holds k1). On one thread, for each stage its state and slip
-    deficit (:func:`_stage`), K x by one real FFT and its inverse, and its force balance (:func:`_balance_rates`);
-    then the error ratios. On several, the first stage's state; then for each stage K x beside the state's
-    exponentials (:func:`_product_and_exponentials`), and the force balance with the next state
-    (:func:`_balance_then_stage`), the last with the error ratios (:func:`_balance_then_error`): the same
-    arithmetic element by element, so the same bits. Returns Hairer's norm, the largest ratio (NaN where a stage
-    had no finite slip rate); ``tasks``: the threads, at least 2. ``stress`` is left at y_new's; y_new's rates are
-    stages[6]."""
-    count = stress.shape[0]
-    last = plan_rows.shape[0] - 1
-    if PARTS == 1:  # one thread: each stage's state, K x, its balance, in turn (fusing them was slower here)
-        for s in range(last + 1):
-            terms = plan_terms[s]
-            state = work if s < last else y_new
-            _stage(state, padded, y, h, plan_weights[s, :terms], plan_rows[s, :terms], stages, count, plate_rate,
-                   t + plan_fractions[s] * h)
-            _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
-            row = s + 1
-            # the exponentials first, in SIMD, as the parallel branch takes them: the same bits on any threads
-            _exponentials(0, count, state[count:], u, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
-                          healing, warm)
-            _solve_elements(0, count, fft.irfft(both, length), initial_stress, True, stress, state[count:], u,
-                            sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
-                            critical_slip, b, stages[row, :count], stages[row, count:], iterations, tolerance,
-                            coefficients, healing, warm, True)
-        _error_ratios(ratios, y, y_new, h, error_weights, error_rows, stages, rtol, scale)
-    else:  # threads: the FFTs beside the exponentials, then each balance with the next state in one region
-        terms = plan_terms[0]
-        _stage(work, padded, y, h, plan_weights[0, :terms], plan_rows[0, :terms], stages, count, plate_rate,
-               t + plan_fractions[0] * h)
-        for s in range(last + 1):
-            state = work if s < last else y_new
-            _product_and_exponentials(product, both, padded, toeplitz_hat, hankel_hat, length, state[count:], u,
-                                      inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm,
-                                      tasks)
-            row = s + 1
-            if s < last:
-                following = s + 1
-                terms = plan_terms[following]
-                out = work if following < last else y_new
-                _balance_then_stage(product, initial_stress, stress, state[count:], u, sigma_a, inverse_a,
-                                    two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
-                                    b, stages[row, :count], stages[row, count:], iterations, tolerance, coefficients,
-                                    healing, warm, out, padded, y, h, plan_weights[following, :terms],
-                                    plan_rows[following, :terms], stages, plate_rate, t + plan_fractions[following] * h)
-            else:
-                _balance_then_error(product, initial_stress, stress, state[count:], u, sigma_a, inverse_a,
-                                    two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
-                                    b, stages[row, :count], stages[row, count:], iterations, tolerance, coefficients,
-                                    healing, warm, ratios, y, y_new, h, error_weights, error_rows, stages, rtol, scale)
+def _largest(ratios):
+    """The largest of ``ratios``, NaN where one is NaN: Hairer's norm (a stage without a finite slip rate rejects
+    the step)."""
     largest = 0.0
     for i in range(ratios.shape[0]):
         value = ratios[i]
-        if not value <= largest:  # NaN wins: a stage without a finite slip rate rejects the step
+        if not value <= largest:
             largest = value
             if math.isnan(value):
                 break
     return largest
 
 
+def _one_thread_step(y, h, t, stages, work, y_new, padded, both, coefficients, healing, warm, toeplitz_hat,
+                     hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
+                     aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows,
+                     plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios,
+                     plate_rate):
+    """:func:`_fused_step` on one thread: each stage's state and slip deficit (:func:`_stage_entries`), K x by one
+    real FFT and its inverse, its exponentials and force balance, in turn (fusing them was slower here); then the
+    error ratios."""
+    count = stress.shape[0]
+    size = y.shape[0]
+    last = plan_rows.shape[0] - 1
+    for s in range(last + 1):
+        terms = plan_terms[s]
+        state = work if s < last else y_new
+        _stage_entries(0, size, state, padded, y, h, plan_weights[s, :terms], plan_rows[s, :terms], stages, count,
+                       plate_rate, t + plan_fractions[s] * h)
+        _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
+        row = s + 1
+        _exponentials(0, count, state[count:], u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
+                      healing, warm)
+        _solve_elements(0, count, fft.irfft(both, length), initial_stress, True, stress, state[count:], u,
+                        sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                        critical_slip, b, stages[row, :count], stages[row, count:], iterations, tolerance,
+                        coefficients, healing, warm, True)
+    _error_entries(0, size, ratios, y, y_new, h, error_weights, error_rows, stages, rtol, scale)
+    return _largest(ratios)
+
+
+def _fused_step(y, h, t, stages, work, partial, y_new, padded, both, product, coefficients, healing, warm,
+                toeplitz_hat, hankel_hat, length, initial_stress, stress, u, u_start, sigma_a, inverse_a, two_v0_eta,
+                inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance,
+                plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios,
+                plate_rate, sync, part_largest, tasks):
+    """A whole Dormand-Prince trial step (stages[0] holds k1): :func:`_one_thread_step` on one thread, or
+    :func:`_step_tasks` on ``tasks`` threads (the same arithmetic element by element, so the same bits). Returns
+    Hairer's norm, the largest error ratio (NaN where a stage had no finite slip rate). ``stress`` is left at
+    y_new's; y_new's rates are stages[6]. A threaded step whose threads did not all come is
+    taken again on one thread from its start (``sync[SPIN_LIMIT]``)."""
+    if PARTS == 1 or tasks < 2:
+        return _one_thread_step(y, h, t, stages, work, y_new, padded, both, coefficients, healing, warm,
+                                toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a,
+                                two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
+                                iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
+                                error_weights, rtol, scale, ratios, plate_rate)
+    sync[:SPIN_LIMIT] = 0
+    sync[CLAIMS:] = 0
+    u_start[:] = u  # the Newton solves' warm start, which a step given up must not have moved
+    _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
+                coefficients, healing, warm, toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a,
+                inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
+                iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
+                rtol, scale, ratios, plate_rate)
+    if sync[ABANDONED] != 0:
+        u[:] = u_start
+        return _one_thread_step(y, h, t, stages, work, y_new, padded, both, coefficients, healing, warm,
+                                toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a,
+                                two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
+                                iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
+                                error_weights, rtol, scale, ratios, plate_rate)
+    return _largest(part_largest)
+
+
 _KERNELS = {}
 #: the functions over a part of the elements, compiled first; then the loops over the parts
-ELEMENTS = ("_exponentials", "_solve_elements", "_stage_entries", "_error_entries", "_spectrum_product")
+ELEMENTS = ("_exponentials", "_solve_elements", "_stage_entries", "_error_entries", "_spectrum_product",
+            "_partial_entries", "_finish_stage_entries", "_finish_error_entries")
 #: the force balance's two pieces as the step calls them: its exponentials (SIMD), then Newton's method and the rates
 PIECES = ("_exponentials", "_solve_elements")
-KERNELS = ("_balance_rates", "_stage", "_error_ratios", "_balance_then_stage", "_balance_then_error")
-
-
+KERNELS = ("_balance_rates", "_stage", "_error_ratios")
+#: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
+STEP = ("_barrier", "_first_state_parts", "_beside_the_ffts", "_balance_parts", "_step_task", "_step_tasks",
+        "_largest", "_one_thread_step", "_fused_step")
 def fused_available() -> bool:
     """Whether the whole step can be compiled: numba, and rocket-fft (which lets numba call scipy.fft)."""
     return available() and importlib.util.find_spec("rocket_fft") is not None
@@ -401,11 +600,13 @@ def _compiled(threads: int) -> dict:
         if fused_available():
             from scipy import fft as scipy_fft  # heavy: imported where the step is built
 
-            with_fft = {**names, "fft": scipy_fft}
-            side_by_side = numba.njit(cache=True, parallel=key == "parallel")(
-                _named(_product_and_exponentials, key, with_fft))
-            _KERNELS[key]["fused_step"] = numba.njit(cache=True)(_named(
-                _fused_step, key, {**built, **with_fft, "_product_and_exponentials": side_by_side}))
+            atomic_add, atomic_load = _atomic_intrinsics()
+            step = {**names, "fft": scipy_fft, "_atomic_add": atomic_add, "_atomic_load": atomic_load,
+                    "PARALLEL_REGION": key == "parallel"}
+            for name in STEP:
+                step[name] = numba.njit(cache=True, parallel=key == "parallel" and name == "_step_tasks")(
+                    _named(module[name], key, step))
+            _KERNELS[key]["fused_step"] = step["_fused_step"]
     return _KERNELS[key]
 
 
@@ -420,6 +621,32 @@ def _float_from_bits_intrinsic():
             return builder.bitcast(arguments[0], context.get_value_type(numba_types.float64))
         return numba_types.float64(numba_types.int64), codegen
     return float_from_bits
+
+
+def _atomic_intrinsics():
+    """:func:`_atomic_add` and :func:`_atomic_load` for numba on an int64 array: LLVM's atomicrmw add (sequentially
+    consistent) and an atomic load with acquire order."""
+    from numba.core import cgutils, types as numba_types  # heavy: optional dependency (faultslip[fast])
+    from numba.extending import intrinsic  # heavy: as above
+
+    def pointer(context, builder, array_type, array, index):
+        made = context.make_array(array_type)(context, builder, array)
+        return cgutils.get_item_pointer(context, builder, array_type, made, [index])
+
+    @intrinsic
+    def atomic_add(typing_context, array, index, value):
+        def codegen(context, builder, signature, arguments):
+            where = pointer(context, builder, signature.args[0], arguments[0], arguments[1])
+            return builder.atomic_rmw("add", where, arguments[2], "seq_cst")
+        return numba_types.int64(array, index, numba_types.int64), codegen
+
+    @intrinsic
+    def atomic_load(typing_context, array, index):
+        def codegen(context, builder, signature, arguments):
+            return builder.load_atomic(pointer(context, builder, signature.args[0], arguments[0], arguments[1]),
+                                       "acquire", 8)
+        return numba_types.int64(array, index), codegen
+    return atomic_add, atomic_load
 
 
 def _named(function, build: str, names: dict | None = None):
@@ -444,11 +671,12 @@ def kernels(compiled: bool = True, threads: int = 1) -> dict:
         build = "python_parallel" if threads > 1 else "python"
         names = {"PARTS": PARALLEL_PARTS if threads > 1 else 1, "fft": scipy_fft}
         loops = {name: _named(globals()[name], build, names) for name in KERNELS}
-        side_by_side = _named(_product_and_exponentials, build, names)
         plain = {name.lstrip("_"): function for name, function in loops.items()}
         plain.update({name.lstrip("_"): globals()[name] for name in PIECES})
-        plain["fused_step"] = _named(_fused_step, build, {**names, **loops,
-                                                          "_product_and_exponentials": side_by_side})
+        step = {**names, **loops}
+        for name in STEP:
+            step[name] = _named(globals()[name], build, step)
+        plain["fused_step"] = step["_fused_step"]
         return plain
     return _compiled(threads)
 

@@ -219,8 +219,12 @@ class _FusedTrial(_CompiledTrial):
         self.plan_fractions = np.array([fraction for _, fraction, _, _ in _STAGES])
         self.both = np.empty(operator.length // 2 + 1, dtype=complex)
         self.product = np.empty(operator.length)
-        self.coefficients, self.healing, self.warm = (np.empty(self.count) for _ in range(3))
-        self.tasks = max(2, threads)  # the FFTs beside the exponentials: one task a thread
+        self.coefficients, self.healing, self.u_start = (np.empty(self.count) for _ in range(3))
+        self.warm = np.empty((compiled_kernels.WARM_ROWS, self.count))
+        self.partial = np.empty(2 * self.count)
+        self.sync = compiled_kernels.new_sync()
+        self.part_largest = np.empty(compiled_kernels.PARALLEL_PARTS)
+        self.tasks = threads  # one task a thread: at most the threads numba has (checked at each step)
 
     def __call__(self, t, y, h, k1):
         if self.balance.u is None:  # a resumed run without a warm start: the numpy balance sets one, as at t = 0
@@ -229,14 +233,24 @@ class _FusedTrial(_CompiledTrial):
         stages[0] = k1
         y_new = np.empty_like(y)
         norm = self.kernels["fused_step"](
-            y, h, t, stages, self.work, y_new, operator.padded, self.both, self.product, self.coefficients,
-            self.healing, self.warm, operator.toeplitz_hat, operator.hankel_hat, operator.length, fault.initial_shear_stress,
-            self.stress, balance.u, balance.sigma_a,
-            balance.inverse_a, balance.two_v0_eta, 1.0 / balance.damping, balance.aging, balance.aging_rate,
-            fault.reference_friction, balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b,
-            NEWTON_ITERATIONS, balance.tolerance, self.plan_rows, self.plan_weights, self.plan_terms, self.plan_fractions,
-            self.error_rows, self.error_weights, self.rtol, self.scale, self.ratios, fault.plate_rate, self.tasks)
+            y, h, t, stages, self.work, self.partial, y_new, operator.padded, self.both, self.product,
+            self.coefficients, self.healing, self.warm, operator.toeplitz_hat, operator.hankel_hat, operator.length,
+            fault.initial_shear_stress, self.stress, balance.u, self.u_start, balance.sigma_a, balance.inverse_a,
+            balance.two_v0_eta, 1.0 / balance.damping, balance.aging, balance.aging_rate, fault.reference_friction,
+            balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b, NEWTON_ITERATIONS,
+            balance.tolerance, self.plan_rows, self.plan_weights, self.plan_terms, self.plan_fractions,
+            self.error_rows, self.error_weights, self.rtol, self.scale, self.ratios, fault.plate_rate, self.sync,
+            self.part_largest, self._tasks())
         return y_new, stages[6].copy(), stages[6, :self.count].copy(), self.stress.copy(), float(norm)
+
+    def _tasks(self) -> int:
+        """The threaded step's tasks, one a thread: never more than numba's threads for this caller, else a task
+        would wait at a barrier for one that never starts."""
+        if self.tasks == 1:
+            return 1
+        import numba  # heavy: optional dependency (faultslip[fast]), present whenever this class is used
+
+        return min(self.tasks, numba.get_num_threads())
 
 
 #: an automatic run's probe: this many trial steps on each of its threads and one thread, interleaved
