@@ -295,7 +295,7 @@ def test_a_threaded_step_whose_threads_do_not_all_come_is_taken_on_one_thread():
     expected_u = balance.u.copy()
     balance.u = start.copy()
     threaded = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 2)
-    threaded.sync = compiled.new_sync(spins=100_000)
+    threaded.sync = compiled.new_sync(numba.get_num_threads() + 1, spins=100_000)
     threaded._tasks = lambda: numba.get_num_threads() + 1
     got = threaded(0.0, y, 1e5, k1)
     assert threaded.sync[compiled.ABANDONED] > 0  # it was given up, not run through

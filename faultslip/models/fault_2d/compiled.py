@@ -274,32 +274,30 @@ def _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat):
 # - beside the FFTs: task 0 takes K x (a real FFT, the spectrum's product, the inverse), the others the
 #   exponentials the balance needs before its stress is known, and the next state's sum but for its newest term
 #   (the stage just being solved for), which fill the time the FFTs take;
-# - the balance: parts of the elements, claimed in turn by whichever task is free (an atomic counter), each
+# - the balance: parts of the elements, each task's own first and then the others' left over (:func:`_claim`), each
 #   solved and its next state (or its error ratio) finished at once.
 # Every element's arithmetic, and the order of every sum, is the one-thread step's: the same bits on any threads.
 
 #: int64s a cache line: each counter of the step's ``sync`` array on a line of its own
 LINE = 8
 #: ``sync``'s slots: tasks arrived at the barrier, barriers passed, the step given up, the spins a task waits at a
-#: barrier before it gives the step up (set once, by the caller); then each phase's count of claimed parts
+#: barrier before it gives the step up (set once, by the caller); then, for each phase with parts and each task,
+#: the count of that task's parts claimed
 ARRIVALS, GENERATION, ABANDONED, SPIN_LIMIT, CLAIMS = 0, LINE, 2 * LINE, 3 * LINE, 4 * LINE
-#: phases with claimed parts: the first state's, and a balance a stage (at most 16 stages)
+#: phases with parts: the first state's, and a balance a stage (at most 16 stages)
 CLAIMED_PHASES = 17
-SYNC_SIZE = CLAIMS + LINE * CLAIMED_PHASES
 #: the spins (seconds) after which a task waiting at a barrier gives the step up, which is then taken on one
 #: thread: a thread that never comes (a threading layer that ran two tasks on one thread) must not hang a run
 SPINS = 1 << 32
-
-
-def new_sync(spins: int = SPINS):
-    """A threaded step's ``sync`` array, its spin limit set."""
-    sync = np.zeros(SYNC_SIZE, dtype=np.int64)
-    sync[SPIN_LIMIT] = spins
-    return sync
-
-
 #: whether :func:`_step_tasks` runs its tasks side by side (a parallel build) or each phase's in turn (plain Python)
 PARALLEL_REGION = False
+
+
+def new_sync(tasks: int, spins: int = SPINS):
+    """A threaded step's ``sync`` array for up to ``tasks`` tasks, its spin limit set."""
+    sync = np.zeros(CLAIMS + LINE * CLAIMED_PHASES * tasks, dtype=np.int64)
+    sync[SPIN_LIMIT] = spins
+    return sync
 
 
 def _atomic_add(array, index, value):
@@ -335,6 +333,19 @@ def _barrier(sync, tasks):
     return True
 
 
+def _claim(sync, phase, task, tasks):
+    """The next part of the elements for ``task`` in ``phase``, or PARTS when none is left. Each task owns an equal
+    run of the parts and takes its own first, in order, so that an element's arrays stay in one core's cache from
+    stage to stage; then it takes the others' next parts, so that a core held up (another program on it) is
+    helped."""
+    for offset in range(tasks):
+        owner = (task + offset) % tasks
+        part = owner * PARTS // tasks + _atomic_add(sync, CLAIMS + LINE * (phase * tasks + owner), 1)
+        if part < (owner + 1) * PARTS // tasks:
+            return part
+    return PARTS
+
+
 def _partial_entries(first, end, partial, weights, rows, terms, stages):
     """partial = w_0 k[rows_0] + ... for all but the last of ``terms`` (left to right, as :func:`_stage_entries`)."""
     for i in range(first, end):
@@ -364,15 +375,15 @@ def _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, row,
     return largest
 
 
-def _first_state_parts(sync, out, padded, y, h, weights, rows, stages, plate_rate, time):
+def _first_state_parts(task, tasks, sync, out, padded, y, h, weights, rows, stages, plate_rate, time):
     """The step's first trial state (:func:`_stage`), a claimed part of the elements at a time."""
     count = out.shape[0] // 2
-    part = _atomic_add(sync, CLAIMS, 1)
+    part = _claim(sync, 0, task, tasks)
     while part < PARTS:
         first, end = part * count // PARTS, (part + 1) * count // PARTS
         _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
         _stage_entries(count + first, count + end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
-        part = _atomic_add(sync, CLAIMS, 1)
+        part = _claim(sync, 0, task, tasks)
 
 
 def _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, hankel_hat, length, u, sigma_a,
@@ -393,15 +404,14 @@ def _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, ha
                      stages)
 
 
-def _balance_parts(sync, phase, row, product, initial_stress, stress, state, u, sigma_a, inverse_a, two_v0_eta,
+def _balance_parts(task, tasks, sync, phase, row, product, initial_stress, stress, state, u, sigma_a, inverse_a, two_v0_eta,
                    inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance,
                    coefficients, healing, warm, stages, partial, weight, newest, following, out, padded, y, h,
                    plate_rate, time, y_new, ratios, rtol, scale, part_largest):
     """The balance at ``state`` into k[row], a claimed part at a time, each part then finished: its next state
     (``following``) or, after the last stage (``following`` False), its error ratios and their largest."""
     count = u.shape[0]
-    claims = CLAIMS + LINE * phase
-    part = _atomic_add(sync, claims, 1)
+    part = _claim(sync, phase, task, tasks)
     while part < PARTS:
         first, end = part * count // PARTS, (part + 1) * count // PARTS
         _solve_elements(first, end, product, initial_stress, True, stress, state[count:], u, sigma_a, inverse_a,
@@ -418,7 +428,7 @@ def _balance_parts(sync, phase, row, product, initial_stress, stress, state, u, 
             upper = _finish_error_entries(count + first, count + end, ratios, y, y_new, h, partial, weight, newest,
                                           stages, rtol, scale)
             part_largest[part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
-        part = _atomic_add(sync, claims, 1)
+        part = _claim(sync, phase, task, tasks)
 
 
 def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
@@ -430,7 +440,7 @@ def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, 
     > 0 only that phase (1: the first state; 2 s + 2 and 2 s + 3: stage s's two), without barriers."""
     last = plan_rows.shape[0] - 1
     if in_turn <= 1:
-        _first_state_parts(sync, work, padded, y, h, plan_weights[0, :plan_terms[0]], plan_rows[0, :plan_terms[0]],
+        _first_state_parts(task, tasks, sync, work, padded, y, h, plan_weights[0, :plan_terms[0]], plan_rows[0, :plan_terms[0]],
                            stages, plate_rate, t + plan_fractions[0] * h)
     for s in range(last + 1):
         state = work if s < last else y_new
@@ -450,7 +460,7 @@ def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, 
         if in_turn == 0 and not _barrier(sync, tasks):
             return
         if in_turn == 0 or in_turn == 2 * s + 3:
-            _balance_parts(sync, s + 1, s + 1, product, initial_stress, stress, state, u, sigma_a, inverse_a,
+            _balance_parts(task, tasks, sync, s + 1, s + 1, product, initial_stress, stress, state, u, sigma_a, inverse_a,
                            two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                            iterations, tolerance, coefficients, healing, warm, stages, partial, weights[terms - 1],
                            rows[terms - 1], following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol,
@@ -570,7 +580,7 @@ ELEMENTS = ("_exponentials", "_solve_elements", "_stage_entries", "_error_entrie
 PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 #: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
-STEP = ("_barrier", "_first_state_parts", "_beside_the_ffts", "_balance_parts", "_step_task", "_step_tasks",
+STEP = ("_barrier", "_claim", "_first_state_parts", "_beside_the_ffts", "_balance_parts", "_step_task", "_step_tasks",
         "_largest", "_one_thread_step", "_fused_step")
 def fused_available() -> bool:
     """Whether the whole step can be compiled: numba, and rocket-fft (which lets numba call scipy.fft)."""

@@ -222,7 +222,7 @@ class _FusedTrial(_CompiledTrial):
         self.coefficients, self.healing, self.u_start = (np.empty(self.count) for _ in range(3))
         self.warm = np.empty((compiled_kernels.WARM_ROWS, self.count))
         self.partial = np.empty(2 * self.count)
-        self.sync = compiled_kernels.new_sync()
+        self.sync = compiled_kernels.new_sync(threads)
         self.part_largest = np.empty(compiled_kernels.PARALLEL_PARTS)
         self.tasks = threads  # one task a thread: at most the threads numba has (checked at each step)
 
