@@ -295,7 +295,7 @@ def test_a_threaded_step_whose_threads_do_not_all_come_is_taken_on_one_thread():
     expected_u = balance.u.copy()
     balance.u = start.copy()
     threaded = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 2)
-    threaded.sync = compiled.new_sync(numba.get_num_threads() + 1, spins=100_000)
+    threaded.sync = compiled.new_sync(spins=100_000)
     threaded._tasks = lambda: numba.get_num_threads() + 1
     got = threaded(0.0, y, 1e5, k1)
     assert threaded.sync[compiled.ABANDONED] > 0  # it was given up, not run through
@@ -307,6 +307,18 @@ def test_a_threaded_step_whose_threads_do_not_all_come_is_taken_on_one_thread():
     threaded._tasks = lambda: numba.get_num_threads()
     again = threaded(0.0, y, 1e5, k1)
     assert threaded.sync[compiled.ABANDONED] == 0 and again[0].tobytes() == expected[0].tobytes()
+
+
+@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
+def test_the_whole_step_is_compiled_only_with_a_rocket_fft_that_has_its_low_level_transforms(monkeypatch):
+    """The step's FFTs are rocket-fft's low-level transforms (0.4 on): an older rocket-fft leaves the step to the
+    kernels around scipy's FFTs, which the run then takes (the same numbers to round-off)."""
+    import importlib.metadata
+
+    monkeypatch.setattr(importlib.metadata, "version", lambda name: "0.3.3")
+    assert not compiled.fused_available()
+    monkeypatch.setattr(importlib.metadata, "version", lambda name: "0.4.1")
+    assert compiled.fused_available()
 
 
 @pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")

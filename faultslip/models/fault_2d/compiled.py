@@ -12,6 +12,7 @@ leaves round-off, and one with du^2 <= ``tolerance`` (1 + |u|) leaves the integr
 from __future__ import annotations
 
 import decimal
+import importlib.metadata
 import importlib.util
 import math
 import struct
@@ -28,6 +29,11 @@ prange = range
 #: thread, so that a thread whose part holds an event's slow-converging elements holds up the others less
 PARTS = 1
 PARALLEL_PARTS = 16
+#: an element's preparation for its balance (its exponentials, Newton's warm start, its next sum's leading terms)
+#: against the balance itself (Newton's method, the rates, the next state): 9.4 against 17.8 us for 1,600 elements
+#: on the 2-core benchmark machine. It decides how few parts the threaded step's task 0, which takes K x while the
+#: others prepare theirs, owns (:func:`_owned`)
+PREPARATION = 0.5
 
 
 # --- exp in SIMD ---------------------------------------------------------------------------------------------
@@ -270,22 +276,29 @@ def _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat):
 #
 # numba's parallel region costs about 2.5 us to start here (its OpenMP layer), and a step of regions started 13:
 # a sixth of a step on two threads at 1,600 elements. So on several threads a step is one region whose tasks, one a
-# thread, meet at spin barriers between its phases (0.06 us here). Each stage has two phases:
-# - beside the FFTs: task 0 takes K x (a real FFT, the spectrum's product, the inverse), the others the
-#   exponentials the balance needs before its stress is known, and the next state's sum but for its newest term
-#   (the stage just being solved for), which fill the time the FFTs take;
-# - the balance: parts of the elements, each task's own first and then the others' left over (:func:`_claim`), each
-#   solved and its next state (or its error ratio) finished at once.
+# thread, meet at spin barriers between its phases (0.06 us here). Each task owns a run of the parts of the
+# elements (:func:`_owned`), and each stage has two phases:
+# - beside the FFTs: task 0 takes K x (a real FFT, the spectrum's product, the inverse), while the others prepare
+#   their own parts' balances (:func:`_prepare`: the exponentials, Newton's warm start and the next sum's leading
+#   terms, none of which needs the stress);
+# - the balance: task 0 prepares its parts, then each task solves its own parts in order and finishes their next
+#   state (or error ratios), then takes any the others have left, from their ends (:func:`_claimed`).
+# An element's arrays stay in the cache of the core that owns it: only the slip deficit (to the FFTs) and K x (from
+# them) cross between cores each stage. Where the cores are far apart this decides the speed: on this machine's
+# host the two vCPUs' round trip is 0.07 us at some times and 0.4 us at others, and a step in which one task
+# prepared every element moved about 1,300 cache lines a stage between them and ran 280 us against 180.
 # Every element's arithmetic, and the order of every sum, is the one-thread step's: the same bits on any threads.
 
 #: int64s a cache line: each counter of the step's ``sync`` array on a line of its own
 LINE = 8
 #: ``sync``'s slots: tasks arrived at the barrier, barriers passed, the step given up, the spins a task waits at a
-#: barrier before it gives the step up (set once, by the caller); then, for each phase with parts and each task,
-#: the count of that task's parts claimed
-ARRIVALS, GENERATION, ABANDONED, SPIN_LIMIT, CLAIMS = 0, LINE, 2 * LINE, 3 * LINE, 4 * LINE
+#: barrier before it gives the step up (set once, by the caller)
+ARRIVALS, GENERATION, ABANDONED, SPIN_LIMIT = 0, LINE, 2 * LINE, 3 * LINE
 #: phases with parts: the first state's, and a balance a stage (at most 16 stages)
 CLAIMED_PHASES = 17
+#: for each phase, whether task 0 has prepared its parts (a cache line each); then each phase's part flags
+PREPARED = 4 * LINE
+CLAIMS = PREPARED + LINE * CLAIMED_PHASES
 #: the spins (seconds) after which a task waiting at a barrier gives the step up, which is then taken on one
 #: thread: a thread that never comes (a threading layer that ran two tasks on one thread) must not hang a run
 SPINS = 1 << 32
@@ -293,9 +306,9 @@ SPINS = 1 << 32
 PARALLEL_REGION = False
 
 
-def new_sync(tasks: int, spins: int = SPINS):
-    """A threaded step's ``sync`` array for up to ``tasks`` tasks, its spin limit set."""
-    sync = np.zeros(CLAIMS + LINE * CLAIMED_PHASES * tasks, dtype=np.int64)
+def new_sync(spins: int = SPINS):
+    """A threaded step's ``sync`` array, its spin limit set."""
+    sync = np.zeros(CLAIMS + CLAIMED_PHASES * PARALLEL_PARTS, dtype=np.int64)
     sync[SPIN_LIMIT] = spins
     return sync
 
@@ -333,17 +346,33 @@ def _barrier(sync, tasks):
     return True
 
 
-def _claim(sync, phase, task, tasks):
-    """The next part of the elements for ``task`` in ``phase``, or PARTS when none is left. Each task owns an equal
-    run of the parts and takes its own first, in order, so that an element's arrays stay in one core's cache from
-    stage to stage; then it takes the others' next parts, so that a core held up (another program on it) is
-    helped."""
-    for offset in range(tasks):
-        owner = (task + offset) % tasks
-        part = owner * PARTS // tasks + _atomic_add(sync, CLAIMS + LINE * (phase * tasks + owner), 1)
-        if part < (owner + 1) * PARTS // tasks:
-            return part
-    return PARTS
+def _owned(task, tasks):
+    """The run of parts ``task`` owns, (first, end): task 0 takes K x beside the others' preparation of their own
+    parts (:func:`_prepare`) and prepares its own in the balance, so it owns fewer, :data:`PREPARATION` deciding how
+    many; the others an equal share of the rest."""
+    first_others = max(1, int(PARTS / ((tasks - 1) * (1.0 + PREPARATION) + 1.0) + 0.5))
+    if task == 0:
+        return 0, first_others
+    rest = PARTS - first_others
+    return first_others + (task - 1) * rest // (tasks - 1), first_others + task * rest // (tasks - 1)
+
+
+def _prepared(sync, prepared):
+    """Wait until task 0 has prepared its parts (the slot ``prepared``); False if the step was given up."""
+    spins, limit = 0, sync[SPIN_LIMIT]
+    while _atomic_load(sync, prepared) == 0:
+        if _atomic_load(sync, ABANDONED) != 0:
+            return False
+        spins += 1
+        if spins > limit:
+            _atomic_add(sync, ABANDONED, 1)
+            return False
+    return True
+
+
+def _claimed(sync, phase, part):
+    """Whether this call claimed ``part`` in ``phase`` (an atomic test and set: each part is claimed once)."""
+    return _atomic_add(sync, CLAIMS + phase * PARTS + part, 1) == 0
 
 
 def _partial_entries(first, end, partial, weights, rows, terms, stages):
@@ -376,63 +405,100 @@ def _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, row,
 
 
 def _first_state_parts(task, tasks, sync, out, padded, y, h, weights, rows, stages, plate_rate, time):
-    """The step's first trial state (:func:`_stage`), a claimed part of the elements at a time."""
+    """The step's first trial state (:func:`_stage`): the task's own parts, then any of the others' left over
+    (:func:`_claimed`)."""
     count = out.shape[0] // 2
-    part = _claim(sync, 0, task, tasks)
-    while part < PARTS:
-        first, end = part * count // PARTS, (part + 1) * count // PARTS
-        _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
-        _stage_entries(count + first, count + end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
-        part = _claim(sync, 0, task, tasks)
+    first_part, end_part = _owned(task, tasks)
+    for offset in range(tasks):
+        owner = (task + offset) % tasks
+        if offset > 0:
+            first_part, end_part = _owned(owner, tasks)
+        for step in range(end_part - first_part):
+            part = first_part + step if offset == 0 else end_part - 1 - step  # the others' from their ends
+            if not _claimed(sync, 0, part):
+                if offset == 0:
+                    continue
+                break  # an owner takes its parts in order: those before are taken too
+            first, end = part * count // PARTS, (part + 1) * count // PARTS
+            _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
+            _stage_entries(count + first, count + end, out, padded, y, h, weights, rows, stages, count, plate_rate,
+                           time)
 
 
-def _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, hankel_hat, length, u, sigma_a,
-                     inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial, weights, rows, terms,
-                     stages):
-    """Task 0: K x into ``product``. The others, a share each: the exponentials of the balance at ``state``
-    (:func:`_exponentials`), and the next sum's leading terms (``weights``, ``rows``, ``terms``) into ``partial``."""
+def _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
+             healing, warm, partial, weights, rows, terms, stages):
+    """What the balance of parts ``first_part`` to ``end_part`` - 1 needs before its stress is known: the
+    exponentials and Newton's warm start at ``state`` (:func:`_exponentials`), and the next sum's leading terms
+    (``weights``, ``rows``, ``terms``) into ``partial``; in one loop each over the parts' elements, which
+    vectorises better than a loop a part."""
     count = u.shape[0]
+    first, end = first_part * count // PARTS, end_part * count // PARTS
+    _exponentials(first, end, state[count:], u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
+                  healing, warm)
+    _partial_entries(first, end, partial, weights, rows, terms, stages)
+    _partial_entries(count + first, count + end, partial, weights, rows, terms, stages)
+
+
+def _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, hankel_hat, spectrum, u, sigma_a,
+                     inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial, weights, rows,
+                     terms, stages):
+    """Task 0: K x into ``product``. The others: their own parts prepared (:func:`_prepare`), in their own caches."""
     if task == 0:
-        _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
-        product[:] = fft.irfft(both, length)
+        _real_fft(padded, spectrum)
+        _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat)
+        _inverse_real_fft(both, product)
         return
-    others = tasks - 1
-    share = task - 1
-    _exponentials(share * count // others, (share + 1) * count // others, state[count:], u, sigma_a, inverse_a,
-                  two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm)
-    _partial_entries(share * 2 * count // others, (share + 1) * 2 * count // others, partial, weights, rows, terms,
-                     stages)
+    first_part, end_part = _owned(task, tasks)
+    _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
+             healing, warm, partial, weights, rows, terms, stages)
 
 
-def _balance_parts(task, tasks, sync, phase, row, product, initial_stress, stress, state, u, sigma_a, inverse_a, two_v0_eta,
-                   inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance,
-                   coefficients, healing, warm, stages, partial, weight, newest, following, out, padded, y, h,
-                   plate_rate, time, y_new, ratios, rtol, scale, part_largest):
-    """The balance at ``state`` into k[row], a claimed part at a time, each part then finished: its next state
-    (``following``) or, after the last stage (``following`` False), its error ratios and their largest."""
+def _balance_parts(task, tasks, sync, phase, row, product, initial_stress, stress, state, u, sigma_a, inverse_a,
+                   two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations,
+                   tolerance, coefficients, healing, warm, stages, partial, weights, rows, terms, following, out,
+                   padded, y, h, plate_rate, time, y_new, ratios, rtol, scale, part_largest):
+    """The balance at ``state`` into k[row], the task's own parts in order and then the others' left over, from
+    their ends (:func:`_claimed`); task 0's parts prepared first (:func:`_prepare`); each part then finished: its
+    next state (``following``) or, after the last stage, its error ratios and their largest."""
     count = u.shape[0]
-    part = _claim(sync, phase, task, tasks)
-    while part < PARTS:
-        first, end = part * count // PARTS, (part + 1) * count // PARTS
-        _solve_elements(first, end, product, initial_stress, True, stress, state[count:], u, sigma_a, inverse_a,
-                        two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
-                        stages[row, :count], stages[row, count:], iterations, tolerance, coefficients, healing, warm,
-                        True)
-        if following:
-            for offset in (0, count):
-                _finish_stage_entries(offset + first, offset + end, out, padded, y, h, partial, weight, newest,
-                                      stages, count, plate_rate, time)
-        else:
-            lower = _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, newest, stages, rtol,
-                                          scale)
-            upper = _finish_error_entries(count + first, count + end, ratios, y, y_new, h, partial, weight, newest,
-                                          stages, rtol, scale)
-            part_largest[part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
-        part = _claim(sync, phase, task, tasks)
+    weight, newest = weights[terms - 1], rows[terms - 1]
+    first_part, end_part = _owned(task, tasks)
+    prepared = PREPARED + phase * LINE
+    if task == 0:  # its parts, prepared here rather than beside the FFTs, then marked so for the others
+        _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
+                 healing, warm, partial, weights, rows, terms, stages)
+        _atomic_add(sync, prepared, 1)
+    for offset in range(tasks):
+        owner = (task + offset) % tasks
+        if offset > 0:
+            first_part, end_part = _owned(owner, tasks)
+            if owner == 0 and not _prepared(sync, prepared):
+                continue
+        for step in range(end_part - first_part):
+            part = first_part + step if offset == 0 else end_part - 1 - step
+            if not _claimed(sync, phase, part):
+                if offset == 0:
+                    continue
+                break  # an owner takes its parts in order: those before are taken too
+            first, end = part * count // PARTS, (part + 1) * count // PARTS
+            _solve_elements(first, end, product, initial_stress, True, stress, state[count:], u, sigma_a, inverse_a,
+                            two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
+                            stages[row, :count], stages[row, count:], iterations, tolerance, coefficients, healing,
+                            warm, True)
+            if following:
+                for at in (0, count):
+                    _finish_stage_entries(at + first, at + end, out, padded, y, h, partial, weight, newest, stages,
+                                          count, plate_rate, time)
+            else:
+                lower = _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, newest, stages, rtol,
+                                              scale)
+                upper = _finish_error_entries(count + first, count + end, ratios, y, y_new, h, partial, weight,
+                                              newest, stages, rtol, scale)
+                part_largest[part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
 
 
 def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
-               coefficients, healing, warm, toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a,
+               coefficients, healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a,
                inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
                rtol, scale, ratios, plate_rate, in_turn):
@@ -454,7 +520,7 @@ def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, 
         if in_turn == 0 and not _barrier(sync, tasks):
             return
         if in_turn == 0 or in_turn == 2 * s + 2:
-            _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, hankel_hat, length, u,
+            _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, hankel_hat, spectrum, u,
                              sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
                              weights, rows, terms, stages)
         if in_turn == 0 and not _barrier(sync, tasks):
@@ -462,13 +528,12 @@ def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, 
         if in_turn == 0 or in_turn == 2 * s + 3:
             _balance_parts(task, tasks, sync, s + 1, s + 1, product, initial_stress, stress, state, u, sigma_a, inverse_a,
                            two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
-                           iterations, tolerance, coefficients, healing, warm, stages, partial, weights[terms - 1],
-                           rows[terms - 1], following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol,
-                           scale, part_largest)
+                           iterations, tolerance, coefficients, healing, warm, stages, partial, weights, rows, terms,
+                           following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol, scale, part_largest)
 
 
 def _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product, coefficients,
-                healing, warm, toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a,
+                healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a, inverse_a,
                 two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations,
                 tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale,
                 ratios, plate_rate):
@@ -478,7 +543,7 @@ def _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new
     if PARALLEL_REGION:
         for task in prange(tasks):
             _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
-                       coefficients, healing, warm, toeplitz_hat, hankel_hat, length, initial_stress, stress, u,
+                       coefficients, healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u,
                        sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                        critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
                        error_rows, error_weights, rtol, scale, ratios, plate_rate, 0)
@@ -486,15 +551,26 @@ def _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new
         for in_turn in range(1, 2 * plan_rows.shape[0] + 2):
             for task in range(tasks):
                 _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both,
-                           product, coefficients, healing, warm, toeplitz_hat, hankel_hat, length, initial_stress,
+                           product, coefficients, healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress,
                            stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
                            inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights,
                            plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios, plate_rate,
                            in_turn)
 
 
-#: scipy.fft, set where the step kernel is built: numba compiles its calls through rocket-fft
-fft = None
+def _real_fft(padded, spectrum):
+    """spectrum = rfft(padded), into the caller's buffer (plain Python: scipy's; compiled: rocket-fft's low-level
+    transform, :func:`_fft_intrinsics`, which allocates nothing)."""
+    from scipy import fft  # heavy: the plain-Python build's only
+
+    spectrum[:] = fft.rfft(padded)
+
+
+def _inverse_real_fft(spectrum, product):
+    """product = irfft(spectrum, len(product)), into the caller's buffer (as :func:`_real_fft`)."""
+    from scipy import fft  # heavy: the plain-Python build's only
+
+    product[:] = fft.irfft(spectrum, product.shape[0])
 
 
 def _largest(ratios):
@@ -510,8 +586,8 @@ def _largest(ratios):
     return largest
 
 
-def _one_thread_step(y, h, t, stages, work, y_new, padded, both, coefficients, healing, warm, toeplitz_hat,
-                     hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
+def _one_thread_step(y, h, t, stages, work, y_new, padded, both, product, coefficients, healing, warm, toeplitz_hat,
+                     hankel_hat, spectrum, initial_stress, stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
                      aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows,
                      plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios,
                      plate_rate):
@@ -526,11 +602,13 @@ def _one_thread_step(y, h, t, stages, work, y_new, padded, both, coefficients, h
         state = work if s < last else y_new
         _stage_entries(0, size, state, padded, y, h, plan_weights[s, :terms], plan_rows[s, :terms], stages, count,
                        plate_rate, t + plan_fractions[s] * h)
-        _spectrum_product(both, fft.rfft(padded), toeplitz_hat, hankel_hat)
+        _real_fft(padded, spectrum)
+        _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat)
+        _inverse_real_fft(both, product)
         row = s + 1
         _exponentials(0, count, state[count:], u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
                       healing, warm)
-        _solve_elements(0, count, fft.irfft(both, length), initial_stress, True, stress, state[count:], u,
+        _solve_elements(0, count, product, initial_stress, True, stress, state[count:], u,
                         sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                         critical_slip, b, stages[row, :count], stages[row, count:], iterations, tolerance,
                         coefficients, healing, warm, True)
@@ -539,7 +617,7 @@ def _one_thread_step(y, h, t, stages, work, y_new, padded, both, coefficients, h
 
 
 def _fused_step(y, h, t, stages, work, partial, y_new, padded, both, product, coefficients, healing, warm,
-                toeplitz_hat, hankel_hat, length, initial_stress, stress, u, u_start, sigma_a, inverse_a, two_v0_eta,
+                toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, u_start, sigma_a, inverse_a, two_v0_eta,
                 inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance,
                 plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios,
                 plate_rate, sync, part_largest, tasks):
@@ -549,23 +627,23 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, both, product, co
     y_new's; y_new's rates are stages[6]. A threaded step whose threads did not all come is
     taken again on one thread from its start (``sync[SPIN_LIMIT]``)."""
     if PARTS == 1 or tasks < 2:
-        return _one_thread_step(y, h, t, stages, work, y_new, padded, both, coefficients, healing, warm,
-                                toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a,
+        return _one_thread_step(y, h, t, stages, work, y_new, padded, both, product, coefficients, healing, warm,
+                                toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a, inverse_a,
                                 two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
                                 error_weights, rtol, scale, ratios, plate_rate)
     sync[:SPIN_LIMIT] = 0
-    sync[CLAIMS:] = 0
+    sync[PREPARED:] = 0
     u_start[:] = u  # the Newton solves' warm start, which a step given up must not have moved
     _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
-                coefficients, healing, warm, toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a,
+                coefficients, healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a,
                 inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
                 rtol, scale, ratios, plate_rate)
     if sync[ABANDONED] != 0:
         u[:] = u_start
-        return _one_thread_step(y, h, t, stages, work, y_new, padded, both, coefficients, healing, warm,
-                                toeplitz_hat, hankel_hat, length, initial_stress, stress, u, sigma_a, inverse_a,
+        return _one_thread_step(y, h, t, stages, work, y_new, padded, both, product, coefficients, healing, warm,
+                                toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a, inverse_a,
                                 two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
                                 error_weights, rtol, scale, ratios, plate_rate)
@@ -580,11 +658,53 @@ ELEMENTS = ("_exponentials", "_solve_elements", "_stage_entries", "_error_entrie
 PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 #: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
-STEP = ("_barrier", "_claim", "_first_state_parts", "_beside_the_ffts", "_balance_parts", "_step_task", "_step_tasks",
+STEP = ("_barrier", "_owned", "_prepared", "_claimed", "_first_state_parts", "_prepare", "_beside_the_ffts", "_balance_parts", "_step_task", "_step_tasks",
         "_largest", "_one_thread_step", "_fused_step")
+#: the first rocket-fft whose low-level transforms (``rocket_fft.lowlevel``: DUCC0's, into the caller's arrays) the
+#: step calls
+ROCKET_FFT = (0, 4)
+
+
 def fused_available() -> bool:
-    """Whether the whole step can be compiled: numba, and rocket-fft (which lets numba call scipy.fft)."""
-    return available() and importlib.util.find_spec("rocket_fft") is not None
+    """Whether the whole step can be compiled: numba, and rocket-fft from :data:`ROCKET_FFT` (its transforms are
+    callable from compiled code)."""
+    if not available() or importlib.util.find_spec("rocket_fft") is None:
+        return False
+    try:
+        release = importlib.metadata.version("rocket-fft")
+    except importlib.metadata.PackageNotFoundError:
+        return False
+    parts = [int(part) if part.isdigit() else 0 for part in release.split(".")[:2]]
+    return tuple(parts) >= ROCKET_FFT
+
+
+#: the axis the step's transforms run along, as rocket-fft's low-level calls take it
+FFT_AXES = np.zeros(1, dtype=np.int64)
+#: rocket_fft.lowlevel, set where the step is built
+lowlevel = None
+
+
+def _low_level_real_fft(padded, spectrum):
+    """:func:`_real_fft` in the compiled build: rocket-fft's low-level r2c (DUCC0's), into ``spectrum``."""
+    lowlevel.r2c(padded, spectrum, FFT_AXES, True, 1.0, 1)
+
+
+def _low_level_inverse_real_fft(spectrum, product):
+    """:func:`_inverse_real_fft` in the compiled build: rocket-fft's low-level c2r, scaled by 1 / n as irfft is."""
+    lowlevel.c2r(spectrum, product, FFT_AXES, False, 1.0 / product.shape[0], 1)
+
+
+def _fft_kernels(build: str):
+    """:func:`_real_fft` and :func:`_inverse_real_fft` compiled: rocket-fft's low-level r2c and c2r, which write
+    into the caller's arrays (scipy.fft's calls through rocket-fft allocate their results, and K x was then
+    copied). The same transforms as those calls, so the same bits."""
+    import numba  # heavy: optional dependency (faultslip[fast]), as the kernels
+    from rocket_fft import lowlevel as rocket_lowlevel  # heavy: as above
+
+    inline = numba.njit(cache=True, inline="always")
+    names = {"lowlevel": rocket_lowlevel}
+    return (inline(_named(_low_level_real_fft, build, names)),
+            inline(_named(_low_level_inverse_real_fft, build, names)))
 
 
 def _compiled(threads: int) -> dict:
@@ -608,11 +728,10 @@ def _compiled(threads: int) -> dict:
         for name in PIECES:  # callable alone too (their tests, the profile benchmark)
             _KERNELS[key][name.lstrip("_")] = elements[name]
         if fused_available():
-            from scipy import fft as scipy_fft  # heavy: imported where the step is built
-
             atomic_add, atomic_load = _atomic_intrinsics()
-            step = {**names, "fft": scipy_fft, "_atomic_add": atomic_add, "_atomic_load": atomic_load,
-                    "PARALLEL_REGION": key == "parallel"}
+            real_fft, inverse_real_fft = _fft_kernels(key)
+            step = {**names, "_real_fft": real_fft, "_inverse_real_fft": inverse_real_fft, "_atomic_add": atomic_add,
+                    "_atomic_load": atomic_load, "PARALLEL_REGION": key == "parallel"}
             for name in STEP:
                 step[name] = numba.njit(cache=True, parallel=key == "parallel" and name == "_step_tasks")(
                     _named(module[name], key, step))
@@ -676,10 +795,8 @@ def kernels(compiled: bool = True, threads: int = 1) -> dict:
     Python (``compiled=False``, the same loops, slow: for tests without numba; with ``threads`` > 1 the parallel
     build's loops, its parts run in turn)."""
     if not compiled:
-        from scipy import fft as scipy_fft  # heavy: imported where the step runs
-
         build = "python_parallel" if threads > 1 else "python"
-        names = {"PARTS": PARALLEL_PARTS if threads > 1 else 1, "fft": scipy_fft}
+        names = {"PARTS": PARALLEL_PARTS if threads > 1 else 1}
         loops = {name: _named(globals()[name], build, names) for name in KERNELS}
         plain = {name.lstrip("_"): function for name, function in loops.items()}
         plain.update({name.lstrip("_"): globals()[name] for name in PIECES})

@@ -218,11 +218,12 @@ class _FusedTrial(_CompiledTrial):
         self.plan_terms = np.array([len(rows) for _, _, rows, _ in _STAGES], dtype=np.int64)
         self.plan_fractions = np.array([fraction for _, fraction, _, _ in _STAGES])
         self.both = np.empty(operator.length // 2 + 1, dtype=complex)
+        self.spectrum = np.empty_like(self.both)
         self.product = np.empty(operator.length)
         self.coefficients, self.healing, self.u_start = (np.empty(self.count) for _ in range(3))
         self.warm = np.empty((compiled_kernels.WARM_ROWS, self.count))
         self.partial = np.empty(2 * self.count)
-        self.sync = compiled_kernels.new_sync(threads)
+        self.sync = compiled_kernels.new_sync()
         self.part_largest = np.empty(compiled_kernels.PARALLEL_PARTS)
         self.tasks = threads  # one task a thread: at most the threads numba has (checked at each step)
 
@@ -234,7 +235,7 @@ class _FusedTrial(_CompiledTrial):
         y_new = np.empty_like(y)
         norm = self.kernels["fused_step"](
             y, h, t, stages, self.work, self.partial, y_new, operator.padded, self.both, self.product,
-            self.coefficients, self.healing, self.warm, operator.toeplitz_hat, operator.hankel_hat, operator.length,
+            self.coefficients, self.healing, self.warm, operator.toeplitz_hat, operator.hankel_hat, self.spectrum,
             fault.initial_shear_stress, self.stress, balance.u, self.u_start, balance.sigma_a, balance.inverse_a,
             balance.two_v0_eta, 1.0 / balance.damping, balance.aging, balance.aging_rate, fault.reference_friction,
             balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b, NEWTON_ITERATIONS,
