@@ -321,7 +321,8 @@ def _atomic_add(array, index, value):
 
 
 def _atomic_load(array, index):
-    """array[index] (an atomic load with acquire order in the compiled build: a spin loop sees other threads' stores)."""
+    """array[index] (an atomic load with acquire order in the compiled build: a spin loop sees other threads'
+    stores)."""
     return array[index]
 
 
@@ -335,8 +336,14 @@ def _barrier(sync, tasks):
         _atomic_add(sync, ARRIVALS, -tasks)
         _atomic_add(sync, GENERATION, 1)
         return True
+    return _wait_while(sync, GENERATION, generation)
+
+
+def _wait_while(sync, slot, value):
+    """Spin while sync[slot] holds ``value``. False if the step was given up meanwhile, or is given up here after
+    sync[SPIN_LIMIT] spins."""
     spins, limit = 0, sync[SPIN_LIMIT]
-    while _atomic_load(sync, GENERATION) == generation:
+    while _atomic_load(sync, slot) == value:
         if _atomic_load(sync, ABANDONED) != 0:
             return False
         spins += 1
@@ -355,19 +362,6 @@ def _owned(task, tasks):
         return 0, first_others
     rest = PARTS - first_others
     return first_others + (task - 1) * rest // (tasks - 1), first_others + task * rest // (tasks - 1)
-
-
-def _prepared(sync, prepared):
-    """Wait until task 0 has prepared its parts (the slot ``prepared``); False if the step was given up."""
-    spins, limit = 0, sync[SPIN_LIMIT]
-    while _atomic_load(sync, prepared) == 0:
-        if _atomic_load(sync, ABANDONED) != 0:
-            return False
-        spins += 1
-        if spins > limit:
-            _atomic_add(sync, ABANDONED, 1)
-            return False
-    return True
 
 
 def _claimed(sync, phase, part):
@@ -472,7 +466,7 @@ def _balance_parts(task, tasks, sync, phase, row, product, initial_stress, stres
         owner = (task + offset) % tasks
         if offset > 0:
             first_part, end_part = _owned(owner, tasks)
-            if owner == 0 and not _prepared(sync, prepared):
+            if owner == 0 and not _wait_while(sync, prepared, 0):  # until task 0 has prepared its parts
                 continue
         for step in range(end_part - first_part):
             part = first_part + step if offset == 0 else end_part - 1 - step
@@ -506,8 +500,8 @@ def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, 
     > 0 only that phase (1: the first state; 2 s + 2 and 2 s + 3: stage s's two), without barriers."""
     last = plan_rows.shape[0] - 1
     if in_turn <= 1:
-        _first_state_parts(task, tasks, sync, work, padded, y, h, plan_weights[0, :plan_terms[0]], plan_rows[0, :plan_terms[0]],
-                           stages, plate_rate, t + plan_fractions[0] * h)
+        _first_state_parts(task, tasks, sync, work, padded, y, h, plan_weights[0, :plan_terms[0]],
+                           plan_rows[0, :plan_terms[0]], stages, plate_rate, t + plan_fractions[0] * h)
     for s in range(last + 1):
         state = work if s < last else y_new
         following = s < last
@@ -526,9 +520,9 @@ def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, 
         if in_turn == 0 and not _barrier(sync, tasks):
             return
         if in_turn == 0 or in_turn == 2 * s + 3:
-            _balance_parts(task, tasks, sync, s + 1, s + 1, product, initial_stress, stress, state, u, sigma_a, inverse_a,
-                           two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
-                           iterations, tolerance, coefficients, healing, warm, stages, partial, weights, rows, terms,
+            _balance_parts(task, tasks, sync, s + 1, s + 1, product, initial_stress, stress, state, u, sigma_a,
+                           inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
+                           b, iterations, tolerance, coefficients, healing, warm, stages, partial, weights, rows, terms,
                            following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol, scale, part_largest)
 
 
@@ -658,8 +652,8 @@ ELEMENTS = ("_exponentials", "_solve_elements", "_stage_entries", "_error_entrie
 PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 #: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
-STEP = ("_barrier", "_owned", "_prepared", "_claimed", "_first_state_parts", "_prepare", "_beside_the_ffts", "_balance_parts", "_step_task", "_step_tasks",
-        "_largest", "_one_thread_step", "_fused_step")
+STEP = ("_wait_while", "_barrier", "_owned", "_claimed", "_first_state_parts", "_prepare", "_beside_the_ffts",
+        "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step", "_fused_step")
 #: the first rocket-fft whose low-level transforms (``rocket_fft.lowlevel``: DUCC0's, into the caller's arrays) the
 #: step calls
 ROCKET_FFT = (0, 4)
