@@ -263,9 +263,9 @@ PROBE_EVERY = 30.0
 class _FasterTrial:
     """The faster of a run's threaded trial step and its one-thread one, timed on the run's own steps.
 
-    On a machine whose other work holds a core, the threads' regions wait for the thread that shares it, and two
-    threads run slower than one: BP1 at 1,600 elements over 300 years took 4.8-5.8 s on two threads against
-    2.4 s on one, with a busy loop on the second of two cores. So an automatic run times :data:`PROBE_STEPS`
+    On a machine whose other work holds a core, the threads' barriers wait for the thread that shares it, and two
+    threads run slower than one: BP1 at 1,600 elements over 300 years took 5.4-8.7 s on two threads against
+    2.5 s on one, with a busy loop on the second of two cores. So an automatic run times :data:`PROBE_STEPS`
     steps of each, interleaved, takes the one with the smaller total, and probes again after
     :data:`PROBE_EVERY` seconds. Both give the same bits (tested), so the choice changes no number.
     ``steps`` counts the trial steps each took (threaded, one thread)."""
