@@ -58,6 +58,7 @@ def _alone(call) -> float:
 def parts_alone(fault, run, rtol: float) -> dict:
     """Microseconds a stage of each part of the compiled step, on ``run``'s last state (one thread)."""
     import numba  # heavy: the benchmark measures the compiled path
+
     from faultslip.models.fault_2d import compiled
     from faultslip.models.fault_2d.kernel import StressKernel
     from faultslip.models.fault_2d.model import NEWTON_ITERATIONS, ForceBalance, newton_tolerance
