@@ -221,8 +221,8 @@ def _first_step(element_size, kernel="auto"):
 @pytest.mark.parametrize("threads", [1, 2])
 def test_the_plain_python_step_is_the_compiled_one(threads):
     """kernels(compiled=False), the same loops in plain Python (an install without numba's build): its whole step,
-    on one task or on two (the FFTs beside the exponentials), is the compiled one's to round-off (their FFTs are
-    scipy's and rocket-fft's pocketfft)."""
+    on one task or on two (each phase's tasks in turn), is the compiled one's to round-off (their FFTs are
+    scipy's pocketfft and rocket-fft's DUCC0)."""
     from faultslip.models.fault_2d import integrate
 
     fault, operator, balance, scale, y, k1 = _first_step(400.0, "fft")  # 50 elements: plain Python stays quick
@@ -351,8 +351,8 @@ def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads(monkeypat
     count = fault.count
     fused = integrate._CompiledTrial(fault, operator, balance, scale, 1e-6, 1)
     whole = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 1) if compiled.fused_available() else None
-    # on two threads the step is organised otherwise (the FFTs beside the exponentials, each balance fused with the
-    # next stage), with the same arithmetic element by element
+    # on two threads the step is organised otherwise (one region; K x on one task while the others prepare their
+    # own elements' balances; each balance fused with the next stage), with the same arithmetic element by element
     threaded = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 2) if compiled.fused_available() else None
     stages = []
 

@@ -261,13 +261,13 @@ def _error_ratios(ratios, y, y_new, h, weights, rows, stages, rtol, scale):
 # --- the whole step in one call (issue 43, items 2 and 3) ------------------------------------------------------
 #
 # Each stage's force balance and the next stage's state are one pass over the elements: element i's rates are
-# all that its next state needs, so one parallel region a stage does both (its state may be overwritten in
-# place: element i's balance has read it). The FFTs between them stay serial.
+# all that its next state needs, so one pass does both (its state may be overwritten in place: element i's
+# balance has read it). K x between them is one task's (the FFTs depend on each other in turn).
 
 def _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat):
     """both = T^ X + H^ conj(X): the Toeplitz and the Hankel parts of K x in one spectrum
-    (:class:`faultslip.models.fault_2d.kernel.StressKernel`). Serial: a few microseconds, less than a parallel
-    region costs."""
+    (:class:`faultslip.models.fault_2d.kernel.StressKernel`). Serial: 0.4 us at 1,600 elements, less than
+    handing it to another thread would cost."""
     for i in range(spectrum.shape[0]):
         both[i] = toeplitz_hat[i] * spectrum[i] + hankel_hat[i] * spectrum[i].conjugate()
 

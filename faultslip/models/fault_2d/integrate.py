@@ -205,7 +205,7 @@ class _CompiledTrial:
 class _FusedTrial(_CompiledTrial):
     """The whole trial step in one compiled call (:func:`faultslip.models.fault_2d.compiled._fused_step`): the FFTs
     too, through rocket-fft, and no Python between the stages. The same operations as :class:`_CompiledTrial` but
-    for the FFT's library (rocket-fft's pocketfft against scipy's) and the spectrum's product (a scalar loop
+    for the FFT's library (rocket-fft's DUCC0 against scipy's pocketfft) and the spectrum's product (a scalar loop
     against numpy's SIMD one): equal to it to round-off, and bit for bit on any number of threads."""
 
     def __init__(self, fault, operator, balance, scale, rtol, threads):
