@@ -302,8 +302,10 @@ def test_a_threaded_step_whose_threads_do_not_all_come_is_taken_on_one_thread():
     for one, other in zip(expected[:4], got[:4]):
         assert one.tobytes() == other.tobytes()
     assert got[4] == expected[4] and balance.u.tobytes() == expected_u.tobytes()
-    # and a step on the threads numba has runs through
+    # and a step on the threads numba has runs through (at the default spin limit, seconds: a short one would give
+    # the step up on a busy machine, where a thread can wait a time slice for the other)
     balance.u = start.copy()
+    threaded.sync = compiled.new_sync()
     threaded._tasks = lambda: numba.get_num_threads()
     again = threaded(0.0, y, 1e5, k1)
     assert threaded.sync[compiled.ABANDONED] == 0 and again[0].tobytes() == expected[0].tobytes()
