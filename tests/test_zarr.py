@@ -122,3 +122,30 @@ def test_convert_cli_writes_nothing_on_refusal(cli, tmp_path):
     result = cli("convert", str(tmp_path / "none.zarr"), "-o", str(tmp_path / "o.nc"))
     assert result.code == 2 and "does not exist" in result.err and "Traceback" not in result.err
     assert not (tmp_path / "o.nc").exists()
+
+
+def test_a_partial_store_is_deleted_only_after_zarrs_writes_into_it_have_ended(tmp_path):
+    """A failed store write (a full disk) leaves zarr's other writes running on its event loop. remove_store waits
+    for them and takes their errors, so none lands in the deleted folder or is printed at exit as "Task exception
+    was never retrieved" (seen on a busy machine: a traceback after the one sentence)."""
+    import asyncio
+    import threading
+
+    from zarr.core.sync import _get_loop
+
+    from faultslip.io.zarr_store import remove_store
+
+    partial = tmp_path / "s.zarr.partial"
+    partial.mkdir()
+    loop, started = _get_loop(), threading.Event()
+
+    async def late_write():
+        started.set()
+        await asyncio.sleep(0.3)
+        raise FileNotFoundError("the folder went")
+
+    future = asyncio.run_coroutine_threadsafe(late_write(), loop)
+    assert started.wait(10)
+    remove_store(partial)
+    assert future.done() and not partial.exists()
+    assert isinstance(future.exception(), FileNotFoundError)

@@ -12,10 +12,12 @@ zarr-python, xarray and netCDF-C's NCZarr all read it.
 
 from __future__ import annotations
 
+import asyncio
 import itertools
 import json
 import os
 import shutil
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -140,8 +142,32 @@ def finish_store(partial, output) -> None:
         shutil.rmtree(aside, ignore_errors=True)
 
 
+def settle_background_writes(timeout: float = 30.0) -> None:
+    """Wait for the writes zarr still has under way on its own event loop, and take their errors.
+
+    When one of a store's concurrent writes fails (a full disk), zarr raises its error while the others run on;
+    deleting the folder under them makes them fail too, and asyncio prints each such error at exit ("Task
+    exception was never retrieved"): a traceback after the one sentence. zarr 3 keeps its loop in
+    ``zarr.core.sync.loop``; with none running there is nothing to wait for."""
+    holder = getattr(sys.modules.get("zarr.core.sync"), "loop", None)
+    running = holder[0] if holder else None
+    if running is None or not running.is_running():
+        return
+
+    async def settle():
+        tasks = [task for task in asyncio.all_tasks() if task is not asyncio.current_task()]
+        if tasks:
+            await asyncio.wait(tasks, timeout=timeout)
+        for task in tasks:
+            if task.done() and not task.cancelled():
+                task.exception()  # taken: asyncio no longer reports it
+
+    asyncio.run_coroutine_threadsafe(settle(), running).result(timeout + 5.0)
+
+
 def remove_store(path) -> None:
-    """Delete a (partial) store folder, if it is one."""
+    """Delete a (partial) store folder, if it is one, once zarr's writes into it have ended."""
+    settle_background_writes()
     path = Path(path)
     if path.is_dir():
         shutil.rmtree(path)
