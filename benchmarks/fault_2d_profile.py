@@ -71,17 +71,12 @@ def parts_alone(fault, run, rtol: float) -> dict:
     speed, psi_rate, stress = balance.rates(run.final_time, y[:count], y[count:])
     kernels = compiled.kernels(True, 1)
     operator.padded[:count] = y[:count] - fault.plate_rate * run.final_time
-    both = np.empty(operator.length // 2 + 1, dtype=complex)
-
-    real_fft, inverse_real_fft = compiled._fft_kernels("serial")
-    spectrum_buffer, product_buffer = np.empty(operator.length // 2 + 1, dtype=complex), np.empty(operator.length)
-
-    @numba.njit
-    def product(padded, both, toeplitz_hat, hankel_hat, spectrum, result):  # the step's K x: the same calls
-        real_fft(padded, spectrum)
-        for i in range(spectrum.shape[0]):
-            both[i] = toeplitz_hat[i] * spectrum[i] + hankel_hat[i] * spectrum[i].conjugate()
-        inverse_real_fft(both, result)
+    halves = operator.halves  # the step's K x: its two halves of the spectrum and their sum, the same kernel
+    padded = np.zeros(halves.half_length)
+    padded[:count] = operator.padded[:count]
+    transforms = np.empty((4, halves.half_length // 2 + 1), dtype=complex)
+    even_product, product_buffer = np.empty(halves.half_length), np.empty(count)
+    stress_product = kernels["stress_product"]
 
     stages = np.zeros((7, 2 * count))
     stages[0], stages[1] = np.concatenate([speed, psi_rate]), np.concatenate([speed, psi_rate])
@@ -121,9 +116,9 @@ def parts_alone(fault, run, rtol: float) -> dict:
                 error_kernel(ratios, y, work, 1.0, error_weights, error_rows, stages, rtol, scale)
 
     @numba.njit
-    def products(repeats, padded, both, toeplitz_hat, hankel_hat, spectrum, result):
+    def products(repeats, padded, transforms, table, even_product, result):
         for _ in range(repeats):
-            product(padded, both, toeplitz_hat, hankel_hat, spectrum, result)
+            stress_product(padded, transforms, table, even_product, result)
 
     repeats = 402
     exponentials(1, y[count:], balance.u, balance.sigma_a, balance.inverse_a, balance.two_v0_eta, balance.aging,
@@ -137,9 +132,8 @@ def parts_alone(fault, run, rtol: float) -> dict:
             balance.two_v0_eta, 1.0 / balance.damping, balance.aging, balance.aging_rate, fault.reference_friction,
             balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b, speed, psi_rate,
             NEWTON_ITERATIONS, balance.tolerance, coefficients, healing, warm)) / repeats,
-        "K x (FFT pair, spectrum product)": _alone(lambda: products(
-            repeats, operator.padded, both, operator.toeplitz_hat, operator.hankel_hat, spectrum_buffer,
-            product_buffer)) / repeats,
+        "K x (two halves of its spectrum, summed)": _alone(lambda: products(
+            repeats, padded, transforms, halves.table, even_product, product_buffer)) / repeats,
         "stage arithmetic and error norm": _alone(lambda: stage_and_norm(
             repeats, work, operator.padded, y, weights, rows, stages, count, fault.plate_rate, run.final_time, ratios,
             error_weights, error_rows, rtol, scale)) / repeats}

@@ -52,6 +52,30 @@ def test_the_fft_product_equals_the_dense_one(count):
     assert np.max(np.abs(fft - dense)) <= 1e-12 * np.max(np.abs(dense_matrix(count, 25.0, G))) * np.abs(slip).sum()
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(min_value=2, max_value=900), st.integers(min_value=0, max_value=2 ** 32 - 1))
+def test_k_x_by_the_two_halves_of_its_spectrum_equals_the_dense_product(count, seed):
+    """The fused step's K x (issue 43, item 3): the even bins' share and the odd bins' (one complex FFT of half the
+    length on the packed samples), summed, equal the dense product for any count (M / 2 odd or even, the slip
+    ending anywhere in its padding), compiled and in plain Python."""
+    from faultslip.models.fault_2d.kernel import spectrum_halves
+
+    slip = np.random.default_rng(seed).normal(size=count)
+    dense = dense_matrix(count, 25.0, G) @ slip
+    halves = spectrum_halves(count, 25.0, G)
+    assert halves.half_length >= count and halves.half_length % 2 == 0
+    builds = [compiled.kernels(False)] + ([compiled.kernels(True)] if compiled.fused_available() else [])
+    for build in builds:
+        padded = np.zeros(halves.half_length)
+        padded[:count] = slip
+        transforms = np.empty((4, halves.half_length // 2 + 1), dtype=complex)
+        product = np.empty(count)
+        build["stress_product"](padded, transforms, halves.table, np.empty(halves.half_length), product)
+        bound = 1e-12 * np.max(np.abs(dense_matrix(count, 25.0, G))) * np.abs(slip).sum()
+        assert np.max(np.abs(product - dense)) <= bound
+        assert np.all(padded[count:] == 0.0)  # the padding is left as it was
+
+
 def test_uniform_slip_to_infinite_depth_is_a_rigid_motion():
     for count in (5, 100, 1600):
         rows = dense_matrix(count, 25.0, G).sum(axis=1) + deep_loading(count, 25.0, G)

@@ -29,11 +29,9 @@ prange = range
 #: thread, so that a thread whose part holds an event's slow-converging elements holds up the others less
 PARTS = 1
 PARALLEL_PARTS = 16
-#: an element's preparation for its balance (its exponentials, Newton's warm start, its next sum's leading terms)
-#: against the balance itself (Newton's method, the rates, the next state): 9.4 against 17.8 us for 1,600 elements
-#: on the 2-core benchmark machine. It decides how few parts the threaded step's task 0, which takes K x while the
-#: others prepare theirs, owns (:func:`_owned`)
-PREPARATION = 0.5
+#: the parts the threaded step's task 0 owns beyond an equal share, as a fraction of it: task 0 takes the even half
+#: of K x's spectrum, which costs less than task 1's odd half (:func:`_owned`)
+EVEN_EXTRA = 0.125
 
 
 # --- exp in SIMD ---------------------------------------------------------------------------------------------
@@ -220,16 +218,36 @@ def _balance_rates(product, initial_stress, add_initial, stress, psi, u, sigma_a
 # runs in SIMD with fused multiply-adds where the CPU has them, which no scalar loop reproduces bit for bit.
 # Each element's arithmetic is the same on any number of threads.
 
+def _weighted_sum(first, end, total, weights, rows, terms, stages):
+    """total[first:end] = w_0 k[rows_0] + w_1 k[rows_1] + ... over ``terms`` terms, each element's sum left to
+    right (numpy's order: the same bits), a loop a term over views of the part, which vectorises (a loop over the
+    elements with the terms inside does not: 11 us of a 60 us stage at 1,600 elements)."""
+    part = total[first:end]
+    leading, weight = stages[rows[0], first:end], weights[0]
+    for i in range(part.shape[0]):
+        part[i] = weight * leading[i]
+    for m in range(1, terms):
+        term, weight = stages[rows[m], first:end], weights[m]
+        for i in range(part.shape[0]):
+            part[i] = part[i] + weight * term[i]
+
+
+def _deficit(first, end, out, padded, count, plate_rate, time):
+    """padded[i] = out[i] - V_pl t for the slip entries among ``first`` to ``end`` - 1: the slip deficit."""
+    end = min(end, count)
+    if end > first:
+        slip, deficit = out[first:end], padded[first:end]
+        for i in range(slip.shape[0]):
+            deficit[i] = slip[i] - plate_rate * time
+
+
 def _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time):
     """Entries ``first`` to ``end`` - 1 of :func:`_stage`."""
-    for i in range(first, end):
-        total = weights[0] * stages[rows[0], i]
-        for m in range(1, rows.shape[0]):
-            total = total + weights[m] * stages[rows[m], i]
-        value = y[i] + h * total
-        out[i] = value
-        if i < count:
-            padded[i] = value - plate_rate * time
+    _weighted_sum(first, end, out, weights, rows, rows.shape[0], stages)
+    state, start = out[first:end], y[first:end]
+    for i in range(state.shape[0]):
+        state[i] = start[i] + h * state[i]
+    _deficit(first, end, out, padded, count, plate_rate, time)
 
 
 def _stage(out, padded, y, h, weights, rows, stages, count, plate_rate, time):
@@ -243,11 +261,15 @@ def _stage(out, padded, y, h, weights, rows, stages, count, plate_rate, time):
 
 def _error_entries(first, end, ratios, y, y_new, h, weights, rows, stages, rtol, scale):
     """Entries ``first`` to ``end`` - 1 of :func:`_error_ratios`."""
-    for i in range(first, end):
-        total = weights[0] * stages[rows[0], i]
-        for m in range(1, rows.shape[0]):
-            total = total + weights[m] * stages[rows[m], i]
-        ratios[i] = abs(h * total) / (rtol * max(max(abs(y[i]), abs(y_new[i])), scale[i]))
+    _weighted_sum(first, end, ratios, weights, rows, rows.shape[0], stages)
+    _ratios(first, end, ratios, y, y_new, h, rtol, scale)
+
+
+def _ratios(first, end, ratios, y, y_new, h, rtol, scale):
+    """ratios = |h ratios| / (rtol max(|y|, |y_new|, scale)) for entries ``first`` to ``end`` - 1, over views."""
+    error, start, new, floor = ratios[first:end], y[first:end], y_new[first:end], scale[first:end]
+    for i in range(error.shape[0]):
+        error[i] = abs(h * error[i]) / (rtol * max(max(abs(start[i]), abs(new[i])), floor[i]))
 
 
 def _error_ratios(ratios, y, y_new, h, weights, rows, stages, rtol, scale):
@@ -262,14 +284,74 @@ def _error_ratios(ratios, y, y_new, h, weights, rows, stages, rtol, scale):
 #
 # Each stage's force balance and the next stage's state are one pass over the elements: element i's rates are
 # all that its next state needs, so one pass does both (its state may be overwritten in place: element i's
-# balance has read it). K x between them is one task's (the FFTs depend on each other in turn).
+# balance has read it). K x between them is taken in two halves of its spectrum, the even bins and the odd ones,
+# which never meet (:mod:`faultslip.models.fault_2d.kernel`, "K x in two halves"): two tasks take one each.
 
-def _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat):
-    """both = T^ X + H^ conj(X): the Toeplitz and the Hankel parts of K x in one spectrum
-    (:class:`faultslip.models.fault_2d.kernel.StressKernel`). Serial: 0.4 us at 1,600 elements, less than
-    handing it to another thread would cost."""
-    for i in range(spectrum.shape[0]):
-        both[i] = toeplitz_hat[i] * spectrum[i] + hankel_hat[i] * spectrum[i].conjugate()
+#: rows of the step's ``transforms`` buffer (complex, M / 2 + 1 columns): the even half's spectrum, the odd half's
+#: packed input (then its spectrum's pairs, the inverse's input), the odd half's spectrum and its inverse
+EVEN_SPECTRUM, PACKED, ODD_SPECTRUM, ODD_INVERSE = range(4)
+#: rows of the kernel's ``halves`` table (:class:`faultslip.models.fault_2d.kernel.SpectrumHalves`)
+TOEPLITZ_EVEN, HANKEL_EVEN, TOEPLITZ_ODD, HANKEL_ODD, TWIDDLE, HALF_TWIDDLE = range(6)
+
+
+def _even_half(padded, transforms, halves, even_product):
+    """a, K x's even bins' share: the slip deficit's first M values' real FFT, times the Toeplitz and Hankel
+    spectra at the even bins 2 j (T_2j X + H_2j conj X), and its inverse, scaled by 1 / (2 M)."""
+    half = even_product.shape[0]
+    spectrum = transforms[EVEN_SPECTRUM]
+    _real_fft(padded, spectrum)
+    toeplitz, hankel = halves[TOEPLITZ_EVEN], halves[HANKEL_EVEN]
+    for j in range(spectrum.shape[0]):
+        value = spectrum[j]
+        spectrum[j] = toeplitz[j] * value + hankel[j] * value.conjugate()
+    _inverse_real_fft(spectrum, even_product, 0.5 / half)
+
+
+def _odd_half(padded, transforms, halves):
+    """K x's odd bins' share, as a complex vector r of length M / 2 (:func:`_sum_halves` unpacks it). The odd bins
+    O_j = sum_n x_n w^(n (j + 1/2)), w = exp(-2 pi i / M), from one complex FFT Z of z_m = (x_2m + i x_2m+1) w^m:
+    O_j = U_j + w^(j + 1/2) V_j, U_j = (Z_j + conj Z_j') / 2, V_j = (Z_j - conj Z_j') / 2i, j' = M / 2 - 1 - j.
+    Their product B_j = T_2j+1 O_j + H_2j+1 conj O_j, and back: R_j = P_j + i Q_j, P_j = B_j + conj B_j',
+    Q_j = (B_j - conj B_j') w^-(j + 1/2), and r = the inverse FFT of R over 2 M, so that w^-m r_m holds the odd
+    share of K x at 2 m (its real part) and 2 m + 1 (its imaginary part)."""
+    quarter = padded.shape[0] // 2
+    packed = transforms[PACKED, :quarter]
+    spectrum = transforms[ODD_SPECTRUM, :quarter]
+    twiddle, half_twiddle = halves[TWIDDLE], halves[HALF_TWIDDLE]
+    for m in range(quarter):
+        packed[m] = complex(padded[2 * m], padded[2 * m + 1]) * twiddle[m]
+    _complex_fft(packed, spectrum)
+    toeplitz, hankel = halves[TOEPLITZ_ODD], halves[HANKEL_ODD]
+    for j in range((quarter + 1) // 2):  # each pair (j, j') once; j = j' at the middle of an odd M / 2
+        mirror = quarter - 1 - j
+        first, second = spectrum[j], spectrum[mirror]
+        odd_first = 0.5 * (first + second.conjugate()) - 0.5j * (first - second.conjugate()) * half_twiddle[j]
+        odd_second = 0.5 * (second + first.conjugate()) - 0.5j * (second - first.conjugate()) * half_twiddle[mirror]
+        product_first = toeplitz[j] * odd_first + hankel[j] * odd_first.conjugate()
+        product_second = toeplitz[mirror] * odd_second + hankel[mirror] * odd_second.conjugate()
+        packed[j] = (product_first + product_second.conjugate()) + 1j * (
+            (product_first - product_second.conjugate()) * half_twiddle[j].conjugate())
+        packed[mirror] = (product_second + product_first.conjugate()) + 1j * (
+            (product_second - product_first.conjugate()) * half_twiddle[mirror].conjugate())
+    _inverse_complex_fft(packed, transforms[ODD_INVERSE, :quarter], 0.5 / padded.shape[0])
+
+
+def _sum_halves(first, end, product, even_product, transforms, halves):
+    """K x = a + s for elements ``first`` to ``end`` - 1: the even half's a and the odd half's s, unpacked from
+    :func:`_odd_half`'s r (s_2m + i s_2m+1 = w^-m r_m)."""
+    odd, twiddle = transforms[ODD_INVERSE], halves[TWIDDLE]
+    for i in range(first, end):
+        m = i // 2
+        share = odd[m] * twiddle[m].conjugate()
+        product[i] = even_product[i] + (share.imag if i % 2 else share.real)
+
+
+def _stress_product(padded, transforms, halves, even_product, product):
+    """product = K x for the slip deficit x in ``padded`` (zero beyond the elements), on one thread: its two halves
+    and their sum."""
+    _even_half(padded, transforms, halves, even_product)
+    _odd_half(padded, transforms, halves)
+    _sum_halves(0, product.shape[0], product, even_product, transforms, halves)
 
 
 # --- the threaded step: one parallel region a step (issue 43, item 3) -------------------------------------------
@@ -296,9 +378,8 @@ LINE = 8
 ARRIVALS, GENERATION, ABANDONED, SPIN_LIMIT = 0, LINE, 2 * LINE, 3 * LINE
 #: phases with parts: the first state's, and a balance a stage (at most 16 stages)
 CLAIMED_PHASES = 17
-#: for each phase, whether task 0 has prepared its parts (a cache line each); then each phase's part flags
-PREPARED = 4 * LINE
-CLAIMS = PREPARED + LINE * CLAIMED_PHASES
+#: each phase's part flags
+CLAIMS = 4 * LINE
 #: the spins (seconds) after which a task waiting at a barrier gives the step up, which is then taken on one
 #: thread: a thread that never comes (a threading layer that ran two tasks on one thread) must not hang a run
 SPINS = 1 << 32
@@ -354,10 +435,9 @@ def _wait_while(sync, slot, value):
 
 
 def _owned(task, tasks):
-    """The run of parts ``task`` owns, (first, end): task 0 takes K x beside the others' preparation of their own
-    parts (:func:`_prepare`) and prepares its own in the balance, so it owns fewer, :data:`PREPARATION` deciding how
-    many; the others an equal share of the rest."""
-    first_others = max(1, int(PARTS / ((tasks - 1) * (1.0 + PREPARATION) + 1.0) + 0.5))
+    """The run of parts ``task`` owns, (first, end): task 0, whose half of K x costs less than task 1's, owns
+    :data:`EVEN_EXTRA` more than an equal share; the others an equal share of the rest."""
+    first_others = min(PARTS - tasks + 1, max(1, int(PARTS * (1.0 + EVEN_EXTRA) / tasks + 0.5)))
     if task == 0:
         return 0, first_others
     rest = PARTS - first_others
@@ -371,28 +451,26 @@ def _claimed(sync, phase, part):
 
 def _partial_entries(first, end, partial, weights, rows, terms, stages):
     """partial = w_0 k[rows_0] + ... for all but the last of ``terms`` (left to right, as :func:`_stage_entries`)."""
-    for i in range(first, end):
-        total = weights[0] * stages[rows[0], i]
-        for m in range(1, terms - 1):
-            total = total + weights[m] * stages[rows[m], i]
-        partial[i] = total
+    _weighted_sum(first, end, partial, weights, rows, terms - 1, stages)
 
 
 def _finish_stage_entries(first, end, out, padded, y, h, partial, weight, row, stages, count, plate_rate, time):
     """:func:`_stage_entries` from the sum of its leading terms: out = y + h (partial + w k[row])."""
-    for i in range(first, end):
-        value = y[i] + h * (partial[i] + weight * stages[row, i])
-        out[i] = value
-        if i < count:
-            padded[i] = value - plate_rate * time
+    state, start, leading, newest = out[first:end], y[first:end], partial[first:end], stages[row, first:end]
+    for i in range(state.shape[0]):
+        state[i] = start[i] + h * (leading[i] + weight * newest[i])
+    _deficit(first, end, out, padded, count, plate_rate, time)
 
 
 def _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, row, stages, rtol, scale):
     """:func:`_error_entries` from the sum of its leading terms; returns their largest (NaN where one is NaN)."""
+    error, leading, newest = ratios[first:end], partial[first:end], stages[row, first:end]
+    for i in range(error.shape[0]):
+        error[i] = leading[i] + weight * newest[i]
+    _ratios(first, end, ratios, y, y_new, h, rtol, scale)
     largest = 0.0
-    for i in range(first, end):
-        value = abs(h * (partial[i] + weight * stages[row, i])) / (rtol * max(max(abs(y[i]), abs(y_new[i])), scale[i]))
-        ratios[i] = value
+    for i in range(error.shape[0]):
+        value = error[i]
         if not value <= largest and not math.isnan(largest):  # NaN wins: a stage without a finite slip rate
             largest = value  # rejects the step
     return largest
@@ -433,41 +511,36 @@ def _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, agi
     _partial_entries(count + first, count + end, partial, weights, rows, terms, stages)
 
 
-def _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, hankel_hat, spectrum, u, sigma_a,
-                     inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial, weights, rows,
-                     terms, stages):
-    """Task 0: K x into ``product``. The others: their own parts prepared (:func:`_prepare`), in their own caches."""
+def _halves_and_preparation(task, tasks, state, padded, transforms, halves, even_product, u, sigma_a, inverse_a,
+                             two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial, weights, rows,
+                             terms, stages):
+    """Task 0 takes K x's even half (:func:`_even_half`), task 1 its odd half (:func:`_odd_half`); then each task
+    prepares its own parts (:func:`_prepare`), in its own cache."""
     if task == 0:
-        _real_fft(padded, spectrum)
-        _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat)
-        _inverse_real_fft(both, product)
-        return
+        _even_half(padded, transforms, halves, even_product)
+    elif task == 1:
+        _odd_half(padded, transforms, halves)
     first_part, end_part = _owned(task, tasks)
     _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
              healing, warm, partial, weights, rows, terms, stages)
 
 
-def _balance_parts(task, tasks, sync, phase, row, product, initial_stress, stress, state, u, sigma_a, inverse_a,
-                   two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations,
-                   tolerance, coefficients, healing, warm, stages, partial, weights, rows, terms, following, out,
-                   padded, y, h, plate_rate, time, y_new, ratios, rtol, scale, part_largest):
+def _balance_parts(task, tasks, sync, phase, row, product, even_product, transforms, halves, initial_stress, stress,
+                   state, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                   critical_slip, b, iterations, tolerance, coefficients, healing, warm, stages, partial, weights,
+                   rows, terms, following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol, scale,
+                   part_largest):
     """The balance at ``state`` into k[row], the task's own parts in order and then the others' left over, from
-    their ends (:func:`_claimed`); task 0's parts prepared first (:func:`_prepare`); each part then finished: its
-    next state (``following``) or, after the last stage, its error ratios and their largest."""
+    their ends (:func:`_claimed`); each part's K x first summed from its halves (:func:`_sum_halves`), and the
+    part then finished: its next state (``following``) or, after the last stage, its error ratios and their
+    largest."""
     count = u.shape[0]
     weight, newest = weights[terms - 1], rows[terms - 1]
     first_part, end_part = _owned(task, tasks)
-    prepared = PREPARED + phase * LINE
-    if task == 0:  # its parts, prepared here rather than beside the FFTs, then marked so for the others
-        _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
-                 healing, warm, partial, weights, rows, terms, stages)
-        _atomic_add(sync, prepared, 1)
     for offset in range(tasks):
         owner = (task + offset) % tasks
         if offset > 0:
             first_part, end_part = _owned(owner, tasks)
-            if owner == 0 and not _wait_while(sync, prepared, 0):  # until task 0 has prepared its parts
-                continue
         for step in range(end_part - first_part):
             part = first_part + step if offset == 0 else end_part - 1 - step
             if not _claimed(sync, phase, part):
@@ -475,6 +548,7 @@ def _balance_parts(task, tasks, sync, phase, row, product, initial_stress, stres
                     continue
                 break  # an owner takes its parts in order: those before are taken too
             first, end = part * count // PARTS, (part + 1) * count // PARTS
+            _sum_halves(first, end, product, even_product, transforms, halves)
             _solve_elements(first, end, product, initial_stress, True, stress, state[count:], u, sigma_a, inverse_a,
                             two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                             stages[row, :count], stages[row, count:], iterations, tolerance, coefficients, healing,
@@ -491,8 +565,8 @@ def _balance_parts(task, tasks, sync, phase, row, product, initial_stress, stres
                 part_largest[part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
 
 
-def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
-               coefficients, healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a,
+def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
+               coefficients, healing, warm, halves, initial_stress, stress, u, sigma_a,
                inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
                rtol, scale, ratios, plate_rate, in_turn):
@@ -514,20 +588,21 @@ def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, 
         if in_turn == 0 and not _barrier(sync, tasks):
             return
         if in_turn == 0 or in_turn == 2 * s + 2:
-            _beside_the_ffts(task, tasks, state, padded, both, product, toeplitz_hat, hankel_hat, spectrum, u,
-                             sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
-                             weights, rows, terms, stages)
+            _halves_and_preparation(task, tasks, state, padded, transforms, halves, even_product, u, sigma_a,
+                                    inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
+                                    weights, rows, terms, stages)
         if in_turn == 0 and not _barrier(sync, tasks):
             return
         if in_turn == 0 or in_turn == 2 * s + 3:
-            _balance_parts(task, tasks, sync, s + 1, s + 1, product, initial_stress, stress, state, u, sigma_a,
+            _balance_parts(task, tasks, sync, s + 1, s + 1, product, even_product, transforms, halves,
+                           initial_stress, stress, state, u, sigma_a,
                            inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
                            b, iterations, tolerance, coefficients, healing, warm, stages, partial, weights, rows, terms,
                            following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol, scale, part_largest)
 
 
-def _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product, coefficients,
-                healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a, inverse_a,
+def _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product, coefficients,
+                healing, warm, halves, initial_stress, stress, u, sigma_a, inverse_a,
                 two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations,
                 tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale,
                 ratios, plate_rate):
@@ -536,35 +611,50 @@ def _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new
     forever)."""
     if PARALLEL_REGION:
         for task in prange(tasks):
-            _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
-                       coefficients, healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u,
+            _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
+                       coefficients, healing, warm, halves, initial_stress, stress, u,
                        sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                        critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
                        error_rows, error_weights, rtol, scale, ratios, plate_rate, 0)
     else:
         for in_turn in range(1, 2 * plan_rows.shape[0] + 2):
             for task in range(tasks):
-                _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both,
-                           product, coefficients, healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress,
+                _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms,
+                           even_product, product, coefficients, healing, warm, halves, initial_stress,
                            stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
                            inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights,
                            plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios, plate_rate,
                            in_turn)
 
 
-def _real_fft(padded, spectrum):
-    """spectrum = rfft(padded), into the caller's buffer (plain Python: scipy's; compiled: rocket-fft's low-level
-    transform, :func:`_fft_intrinsics`, which allocates nothing)."""
+def _real_fft(values, spectrum):
+    """spectrum = rfft(values), into the caller's buffer (plain Python: scipy's; compiled: rocket-fft's low-level
+    transform, :func:`_fft_kernels`, which allocates nothing)."""
     from scipy import fft  # heavy: the plain-Python build's only
 
-    spectrum[:] = fft.rfft(padded)
+    spectrum[:] = fft.rfft(values)
 
 
-def _inverse_real_fft(spectrum, product):
-    """product = irfft(spectrum, len(product)), into the caller's buffer (as :func:`_real_fft`)."""
+def _inverse_real_fft(spectrum, values, scale):
+    """values = the real inverse of the Hermitian ``spectrum``, unnormalised, times ``scale`` (as
+    :func:`_real_fft`)."""
     from scipy import fft  # heavy: the plain-Python build's only
 
-    product[:] = fft.irfft(spectrum, product.shape[0])
+    values[:] = fft.irfft(spectrum, values.shape[0], norm="forward") * scale
+
+
+def _complex_fft(values, spectrum):
+    """spectrum = fft(values), into the caller's buffer (as :func:`_real_fft`)."""
+    from scipy import fft  # heavy: the plain-Python build's only
+
+    spectrum[:] = fft.fft(values)
+
+
+def _inverse_complex_fft(spectrum, values, scale):
+    """values = the inverse of ``spectrum``, unnormalised, times ``scale`` (as :func:`_real_fft`)."""
+    from scipy import fft  # heavy: the plain-Python build's only
+
+    values[:] = fft.ifft(spectrum, norm="forward") * scale
 
 
 def _largest(ratios):
@@ -580,14 +670,13 @@ def _largest(ratios):
     return largest
 
 
-def _one_thread_step(y, h, t, stages, work, y_new, padded, both, product, coefficients, healing, warm, toeplitz_hat,
-                     hankel_hat, spectrum, initial_stress, stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
+def _one_thread_step(y, h, t, stages, work, y_new, padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping,
                      aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows,
                      plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios,
                      plate_rate):
-    """:func:`_fused_step` on one thread: each stage's state and slip deficit (:func:`_stage_entries`), K x by one
-    real FFT and its inverse, its exponentials and force balance, in turn (fusing them was slower here); then the
-    error ratios."""
+    """:func:`_fused_step` on one thread: each stage's state and slip deficit (:func:`_stage_entries`), K x by its
+    two halves (:func:`_stress_product`), its exponentials and force balance, in
+    turn (fusing them was slower here); then the error ratios."""
     count = stress.shape[0]
     size = y.shape[0]
     last = plan_rows.shape[0] - 1
@@ -596,9 +685,7 @@ def _one_thread_step(y, h, t, stages, work, y_new, padded, both, product, coeffi
         state = work if s < last else y_new
         _stage_entries(0, size, state, padded, y, h, plan_weights[s, :terms], plan_rows[s, :terms], stages, count,
                        plate_rate, t + plan_fractions[s] * h)
-        _real_fft(padded, spectrum)
-        _spectrum_product(both, spectrum, toeplitz_hat, hankel_hat)
-        _inverse_real_fft(both, product)
+        _stress_product(padded, transforms, halves, even_product, product)
         row = s + 1
         _exponentials(0, count, state[count:], u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
                       healing, warm)
@@ -610,8 +697,8 @@ def _one_thread_step(y, h, t, stages, work, y_new, padded, both, product, coeffi
     return _largest(ratios)
 
 
-def _fused_step(y, h, t, stages, work, partial, y_new, padded, both, product, coefficients, healing, warm,
-                toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, u_start, sigma_a, inverse_a, two_v0_eta,
+def _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product, coefficients, healing, warm,
+                halves, initial_stress, stress, u, u_start, sigma_a, inverse_a, two_v0_eta,
                 inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance,
                 plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios,
                 plate_rate, sync, part_largest, tasks):
@@ -621,23 +708,23 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, both, product, co
     y_new's; y_new's rates are stages[6]. A threaded step whose threads did not all come is
     taken again on one thread from its start (``sync[SPIN_LIMIT]``)."""
     if PARTS == 1 or tasks < 2:
-        return _one_thread_step(y, h, t, stages, work, y_new, padded, both, product, coefficients, healing, warm,
-                                toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a, inverse_a,
+        return _one_thread_step(y, h, t, stages, work, y_new, padded, transforms, even_product, product, coefficients, healing, warm,
+                                halves, initial_stress, stress, u, sigma_a, inverse_a,
                                 two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
                                 error_weights, rtol, scale, ratios, plate_rate)
     sync[:SPIN_LIMIT] = 0
-    sync[PREPARED:] = 0
+    sync[CLAIMS:] = 0
     u_start[:] = u  # the Newton solves' warm start, which a step given up must not have moved
-    _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, both, product,
-                coefficients, healing, warm, toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a,
+    _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
+                coefficients, healing, warm, halves, initial_stress, stress, u, sigma_a,
                 inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
                 rtol, scale, ratios, plate_rate)
     if sync[ABANDONED] != 0:
         u[:] = u_start
-        return _one_thread_step(y, h, t, stages, work, y_new, padded, both, product, coefficients, healing, warm,
-                                toeplitz_hat, hankel_hat, spectrum, initial_stress, stress, u, sigma_a, inverse_a,
+        return _one_thread_step(y, h, t, stages, work, y_new, padded, transforms, even_product, product, coefficients, healing, warm,
+                                halves, initial_stress, stress, u, sigma_a, inverse_a,
                                 two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
                                 error_weights, rtol, scale, ratios, plate_rate)
@@ -646,14 +733,14 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, both, product, co
 
 _KERNELS = {}
 #: the functions over a part of the elements, compiled first; then the loops over the parts
-ELEMENTS = ("_exponentials", "_solve_elements", "_stage_entries", "_error_entries", "_spectrum_product",
-            "_partial_entries", "_finish_stage_entries", "_finish_error_entries")
+ELEMENTS = ("_exponentials", "_solve_elements", "_weighted_sum", "_deficit", "_ratios", "_stage_entries",
+            "_error_entries", "_partial_entries", "_finish_stage_entries", "_finish_error_entries")
 #: the force balance's two pieces as the step calls them: its exponentials (SIMD), then Newton's method and the rates
 PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 #: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
-STEP = ("_wait_while", "_barrier", "_owned", "_claimed", "_first_state_parts", "_prepare", "_beside_the_ffts",
-        "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step", "_fused_step")
+STEP = ("_wait_while", "_barrier", "_owned", "_claimed", "_first_state_parts", "_prepare", "_even_half", "_odd_half",
+        "_sum_halves", "_stress_product", "_halves_and_preparation", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step", "_fused_step")
 #: the first rocket-fft whose low-level transforms (``rocket_fft.lowlevel``: DUCC0's, into the caller's arrays) the
 #: step calls
 ROCKET_FFT = (0, 4)
@@ -678,27 +765,40 @@ FFT_AXES = np.zeros(1, dtype=np.int64)
 lowlevel = None
 
 
-def _low_level_real_fft(padded, spectrum):
+def _low_level_real_fft(values, spectrum):
     """:func:`_real_fft` in the compiled build: rocket-fft's low-level r2c (DUCC0's), into ``spectrum``."""
-    lowlevel.r2c(padded, spectrum, FFT_AXES, True, 1.0, 1)
+    lowlevel.r2c(values, spectrum, FFT_AXES, True, 1.0, 1)
 
 
-def _low_level_inverse_real_fft(spectrum, product):
-    """:func:`_inverse_real_fft` in the compiled build: rocket-fft's low-level c2r, scaled by 1 / n as irfft is."""
-    lowlevel.c2r(spectrum, product, FFT_AXES, False, 1.0 / product.shape[0], 1)
+def _low_level_inverse_real_fft(spectrum, values, scale):
+    """:func:`_inverse_real_fft` in the compiled build: rocket-fft's low-level c2r, times ``scale``."""
+    lowlevel.c2r(spectrum, values, FFT_AXES, False, scale, 1)
 
 
-def _fft_kernels(build: str):
-    """:func:`_real_fft` and :func:`_inverse_real_fft` compiled: rocket-fft's low-level r2c and c2r, which write
-    into the caller's arrays (scipy.fft's calls through rocket-fft allocate their results, and K x was then
-    copied). The same transforms as those calls, so the same bits."""
+def _low_level_complex_fft(values, spectrum):
+    """:func:`_complex_fft` in the compiled build: rocket-fft's low-level c2c, forward."""
+    lowlevel.c2c(values, spectrum, FFT_AXES, True, 1.0, 1)
+
+
+def _low_level_inverse_complex_fft(spectrum, values, scale):
+    """:func:`_inverse_complex_fft` in the compiled build: rocket-fft's low-level c2c, backward, times ``scale``."""
+    lowlevel.c2c(spectrum, values, FFT_AXES, False, scale, 1)
+
+
+#: the step's transforms: the plain-Python build's name -> the compiled build's
+LOW_LEVEL = {"_real_fft": _low_level_real_fft, "_inverse_real_fft": _low_level_inverse_real_fft,
+             "_complex_fft": _low_level_complex_fft, "_inverse_complex_fft": _low_level_inverse_complex_fft}
+
+
+def _fft_kernels(build: str) -> dict:
+    """The step's transforms compiled (:data:`LOW_LEVEL`): rocket-fft's low-level r2c, c2r and c2c, which write
+    into the caller's arrays (scipy.fft's calls through rocket-fft allocate their results)."""
     import numba  # heavy: optional dependency (faultslip[fast]), as the kernels
     from rocket_fft import lowlevel as rocket_lowlevel  # heavy: as above
 
     inline = numba.njit(cache=True, inline="always")
     names = {"lowlevel": rocket_lowlevel}
-    return (inline(_named(_low_level_real_fft, build, names)),
-            inline(_named(_low_level_inverse_real_fft, build, names)))
+    return {name: inline(_named(function, build, names)) for name, function in LOW_LEVEL.items()}
 
 
 def _compiled(threads: int) -> dict:
@@ -713,8 +813,9 @@ def _compiled(threads: int) -> dict:
         module["prange"] = numba.prange  # the loops become numba's (a serial build runs it as range)
         inline = numba.njit(cache=True, inline="always")
         exp = inline(_named(_exp, key, {"_float_from_bits": _float_from_bits_intrinsic()}))
-        elements = {name: inline(_named(module[name], key, {"_exp": exp}) if name == "_exponentials" else module[name])
-                    for name in ELEMENTS}
+        elements = {}
+        for name in ELEMENTS:  # each built on those before it
+            elements[name] = inline(_named(module[name], key, {**elements, "_exp": exp}))
         names = {**elements, "PARTS": PARALLEL_PARTS if key == "parallel" else 1}
         built = {name: numba.njit(cache=True, parallel=key == "parallel")(_named(module[name], key, names))
                  for name in KERNELS}
@@ -723,13 +824,13 @@ def _compiled(threads: int) -> dict:
             _KERNELS[key][name.lstrip("_")] = elements[name]
         if fused_available():
             atomic_add, atomic_load = _atomic_intrinsics()
-            real_fft, inverse_real_fft = _fft_kernels(key)
-            step = {**names, "_real_fft": real_fft, "_inverse_real_fft": inverse_real_fft, "_atomic_add": atomic_add,
-                    "_atomic_load": atomic_load, "PARALLEL_REGION": key == "parallel"}
+            step = {**names, **_fft_kernels(key), "_atomic_add": atomic_add, "_atomic_load": atomic_load,
+                    "PARALLEL_REGION": key == "parallel"}
             for name in STEP:
                 step[name] = numba.njit(cache=True, parallel=key == "parallel" and name == "_step_tasks")(
                     _named(module[name], key, step))
             _KERNELS[key]["fused_step"] = step["_fused_step"]
+            _KERNELS[key]["stress_product"] = step["_stress_product"]  # alone too (its test, the profile)
     return _KERNELS[key]
 
 
@@ -798,6 +899,7 @@ def kernels(compiled: bool = True, threads: int = 1) -> dict:
         for name in STEP:
             step[name] = _named(globals()[name], build, step)
         plain["fused_step"] = step["_fused_step"]
+        plain["stress_product"] = step["_stress_product"]
         return plain
     return _compiled(threads)
 

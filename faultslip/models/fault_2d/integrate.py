@@ -217,9 +217,12 @@ class _FusedTrial(_CompiledTrial):
             self.plan_rows[s, :len(rows)], self.plan_weights[s, :len(weights)] = rows, weights
         self.plan_terms = np.array([len(rows) for _, _, rows, _ in _STAGES], dtype=np.int64)
         self.plan_fractions = np.array([fraction for _, fraction, _, _ in _STAGES])
-        self.both = np.empty(operator.length // 2 + 1, dtype=complex)
-        self.spectrum = np.empty_like(self.both)
-        self.product = np.empty(operator.length)
+        halves = operator.halves  # K x in two halves of its spectrum, one a task (kernel.spectrum_halves)
+        self.halves = halves.table
+        self.padded = np.zeros(halves.half_length)  # the slip deficit, zero beyond the elements
+        self.transforms = np.empty((4, halves.half_length // 2 + 1), dtype=complex)
+        self.even_product = np.empty(halves.half_length)
+        self.product = np.empty(self.count)
         self.coefficients, self.healing, self.u_start = (np.empty(self.count) for _ in range(3))
         self.warm = np.empty((compiled_kernels.WARM_ROWS, self.count))
         self.partial = np.empty(2 * self.count)
@@ -230,13 +233,12 @@ class _FusedTrial(_CompiledTrial):
     def __call__(self, t, y, h, k1):
         if self.balance.u is None:  # a resumed run without a warm start: the numpy balance sets one, as at t = 0
             self.balance.rates(t, y[:self.count], y[self.count:])
-        fault, balance, operator, stages = self.fault, self.balance, self.operator, self.stages
+        fault, balance, stages = self.fault, self.balance, self.stages
         stages[0] = k1
         y_new = np.empty_like(y)
         norm = self.kernels["fused_step"](
-            y, h, t, stages, self.work, self.partial, y_new, operator.padded, self.both, self.product,
-            self.coefficients, self.healing, self.warm, operator.toeplitz_hat, operator.hankel_hat, self.spectrum,
-            fault.initial_shear_stress, self.stress, balance.u, self.u_start, balance.sigma_a, balance.inverse_a,
+            y, h, t, stages, self.work, self.partial, y_new, self.padded, self.transforms, self.even_product,
+            self.product, self.coefficients, self.healing, self.warm, self.halves, fault.initial_shear_stress, self.stress, balance.u, self.u_start, balance.sigma_a, balance.inverse_a,
             balance.two_v0_eta, 1.0 / balance.damping, balance.aging, balance.aging_rate, fault.reference_friction,
             balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b, NEWTON_ITERATIONS,
             balance.tolerance, self.plan_rows, self.plan_weights, self.plan_terms, self.plan_fractions,

@@ -23,6 +23,8 @@ sum to zero, which is why the fault is written in slip deficit, K (delta - V_pl 
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -112,6 +114,11 @@ class StressKernel:
         """The Hankel part's spectrum times the reversal's phase (FFT kernel only)."""
         return self._hankel_hat
 
+    @functools.cached_property
+    def halves(self) -> "SpectrumHalves":
+        """The spectra and twiddles of :func:`spectrum_halves` for this kernel (FFT kernel only)."""
+        return spectrum_halves(self.count, self.element_size, self.shear_modulus)
+
     @property
     def padded(self) -> np.ndarray:
         """The input buffer of :meth:`product_of_padded`: its first N values are the slip (the rest stays zero)."""
@@ -130,3 +137,69 @@ class StressKernel:
             return self.matrix @ slip
         self._padded[: self.count] = slip  # the tail stays zero: no padding copy inside the FFT
         return self.product_of_padded()[: self.count]
+
+
+# --- K x in two halves of its spectrum (issue 43, item 3) -------------------------------------------------------
+#
+# With the slip zero-padded to L = 2 M (M >= N), the even bins of its DFT are the DFT of its first M values, and the
+# odd bins that of x_n w^n (w = exp(-2 pi i / M) taken to the half power: W_L^n), each of length M. K x's spectrum
+# at bin k takes X_k and X_{L-k} (the Hankel part's conjugate), of the same parity when L is even: so the even and
+# the odd bins never meet, and K x = a + s, the even half's inverse a and the odd half's s, each found without the
+# other. The odd half of a real signal needs half its bins (O_{M-1-j} = conj O_j) and is taken by one complex FFT of
+# length M / 2 on the even and odd samples packed as real and imaginary parts (the real FFT's own packing; Press
+# et al. 2007, Numerical Recipes, 3rd ed., sec. 12.3.2, with the half-bin twiddle w^(j + 1/2)), and its inverse
+# likewise. Each half costs about half of the one real FFT of length L and its inverse: two threads take one each.
+
+
+@dataclasses.dataclass(frozen=True)
+class SpectrumHalves:
+    """K x's spectrum split in its even and odd bins (:func:`spectrum_halves`), as the fused step takes them.
+
+    ``table`` rows (complex, M / 2 + 1 columns; the odd rows' last column unused): 0 and 1 the Toeplitz and
+    Hankel parts at the even bins 2 j, j = 0 .. M / 2; 2 and 3 at the odd bins 2 j + 1, j = 0 .. M / 2 - 1; 4
+    the twiddle w^m and 5 the half-bin twiddle w^(m + 1/2), w = exp(-2 pi i / M), m = 0 .. M / 2 - 1."""
+
+    half_length: int
+    table: np.ndarray
+
+
+#: the rows of :attr:`SpectrumHalves.table`
+TOEPLITZ_EVEN, HANKEL_EVEN, TOEPLITZ_ODD, HANKEL_ODD, TWIDDLE, HALF_TWIDDLE = range(6)
+
+
+def half_length(count: int) -> int:
+    """M, the length of each half's transforms: even, at least ``count``, and M / 2 a fast length for a complex
+    FFT (so that L = 2 M is one for the real FFT)."""
+    from scipy import fft  # heavy: imported where used
+
+    return 2 * fft.next_fast_len((count + 1) // 2)
+
+
+def spectrum_halves(count: int, element_size: float, shear_modulus: float) -> SpectrumHalves:
+    """The Toeplitz and Hankel spectra of :class:`StressKernel`'s FFT form at length L = 2 M
+    (:func:`half_length`), split in even and odd bins, with the odd half's twiddles. The Hankel part's spectrum
+    carries the reversal's phase, as :attr:`StressKernel.hankel_hat` does. The halves' inverse transforms are scaled
+    by 1 / L, so that K x = a + s."""
+    from scipy import fft  # heavy: imported where used
+
+    half = half_length(count)
+    length = 2 * half
+    scale = shear_modulus / (2.0 * math.pi * element_size)
+    t = _toeplitz_column(count)
+    circulant = np.zeros(length)
+    circulant[:count] = t
+    circulant[length - count + 1:] = t[:0:-1]
+    h = _hankel_sequence(count)
+    shifted = np.zeros(length)
+    shifted[:count] = h[count - 1:]
+    shifted[length - count + 1:] = h[: count - 1]
+    bins = np.arange(half + 1)
+    toeplitz_hat = scale * fft.rfft(circulant)
+    hankel_hat = scale * fft.rfft(shifted) * np.exp(-2j * np.pi * bins * (count - 1) / length)
+    table = np.zeros((6, half // 2 + 1), dtype=complex)
+    table[TOEPLITZ_EVEN], table[HANKEL_EVEN] = toeplitz_hat[0::2], hankel_hat[0::2]
+    table[TOEPLITZ_ODD, :half // 2], table[HANKEL_ODD, :half // 2] = toeplitz_hat[1::2], hankel_hat[1::2]
+    m = np.arange(half // 2)
+    table[TWIDDLE, :half // 2] = np.exp(-2j * np.pi * m / half)
+    table[HALF_TWIDDLE, :half // 2] = np.exp(-2j * np.pi * (m + 0.5) / half)
+    return SpectrumHalves(half, table)
