@@ -19,6 +19,27 @@ settings.register_profile("dev", max_examples=100, deadline=None)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 
+def pytest_sessionstart(session):
+    """On two cores or more, compile what a fresh environment compiles on first use on the idle one
+    (tests/warm_up.py says what and why); FAULTSLIP_NO_WARM_UP=1 turns it off."""
+    import sys
+
+    if (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1) < 2 \
+            or os.environ.get("FAULTSLIP_NO_WARM_UP"):
+        return
+    script = os.path.join(os.path.dirname(__file__), "warm_up.py")
+    session.config.warm_up = subprocess.Popen([sys.executable, script, str(os.getpid())],
+                                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def pytest_sessionfinish(session):
+    process = getattr(session.config, "warm_up", None)
+    if process is not None and process.poll() is None:
+        process.kill()
+    if process is not None:
+        process.wait()
+
+
 @pytest.fixture(autouse=True, scope="session")
 def isolated_registry(tmp_path_factory):
     """Never read or write the user's real fit registry."""
