@@ -368,8 +368,8 @@ def test_a_threaded_step_takes_no_more_tasks_than_numba_has_threads(monkeypatch)
 def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads(monkeypatch):
     """Issue 43, items 2 and 3: a run's trial steps through the fused numba kernels equal the numpy expressions of
     the same Dormand-Prince step bit for bit (every stage, y_new, k7, the stress and the error norm), with the
-    Newton solve stopped at the run's tolerance; the whole step compiled (rocket-fft's FFT, a scalar spectrum
-    product) equals them to round-off; and a run on two threads equals one on one thread bit for bit: each
+    Newton solve stopped at the run's tolerance; the whole step compiled (K x in two halves of its spectrum
+    by rocket-fft) equals them to round-off; and a run on two threads equals one on one thread bit for bit: each
     element's arithmetic does not depend on the threads."""
     from faultslip.models.fault_2d import integrate
 
@@ -377,8 +377,9 @@ def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads(monkeypat
     count = fault.count
     fused = integrate._CompiledTrial(fault, operator, balance, scale, 1e-6, 1)
     whole = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 1) if compiled.fused_available() else None
-    # on two threads the step is organised otherwise (one region; K x on one task while the others prepare their
-    # own elements' balances; each balance fused with the next stage), with the same arithmetic element by element
+    # on two threads the step is organised otherwise (one region; K x's two halves on two tasks, each task then
+    # preparing its own elements' balances; each balance fused with the next stage), with the same arithmetic
+    # element by element
     threaded = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 2) if compiled.fused_available() else None
     stages = []
 

@@ -362,15 +362,16 @@ def _stress_product(padded, transforms, halves, even_product, product):
 # a sixth of a step on two threads at 1,600 elements. So on several threads a step is one region whose tasks, one a
 # thread, meet at spin barriers between its phases (0.06 us here). Each task owns a run of the parts of the
 # elements (:func:`_owned`), and each stage has two phases:
-# - beside the FFTs: task 0 takes K x (a real FFT, the spectrum's product, the inverse), while the others prepare
-#   their own parts' balances (:func:`_prepare`: the exponentials, Newton's warm start and the next sum's leading
-#   terms, none of which needs the stress);
-# - the balance: task 0 prepares its parts, then each task solves its own parts in order and finishes their next
-#   state (or error ratios), then takes any the others have left, from their ends (:func:`_claimed`).
-# An element's arrays stay in the cache of the core that owns it: only the slip deficit (to the FFTs) and K x (from
-# them) cross between cores each stage. Where the cores are far apart this decides the speed: on this machine's
-# host the two vCPUs' round trip is 0.07 us at some times and 0.4 us at others, and a step in which one task
-# prepared every element moved about 1,300 cache lines a stage between them and ran 280 us against 180.
+# - the halves and the preparation: task 0 takes K x's even half and task 1 its odd half (:func:`_even_half`,
+#   :func:`_odd_half`), then each task prepares its own parts' balances (:func:`_prepare`: the exponentials,
+#   Newton's warm start and the next sum's leading terms, none of which needs the stress);
+# - the balance: each task sums K x's halves for its own parts (:func:`_sum_halves`), solves them in order and
+#   finishes their next state (or error ratios), then takes any the others have left, from their ends
+#   (:func:`_claimed`).
+# An element's arrays stay in the cache of the core that owns it: only the slip deficit (to the halves) and the
+# halves' results cross between cores each stage. Where the cores are far apart this decides the speed: on the
+# earlier host the two vCPUs' round trip was 0.07 us at some times and 0.4 us at others, and a step in which one
+# task prepared every element moved about 1,300 cache lines a stage between them and ran 280 us against 180.
 # Every element's arithmetic, and the order of every sum, is the one-thread step's: the same bits on any threads.
 
 #: int64s a cache line: each counter of the step's ``sync`` array on a line of its own

@@ -205,8 +205,9 @@ class _CompiledTrial:
 class _FusedTrial(_CompiledTrial):
     """The whole trial step in one compiled call (:func:`faultslip.models.fault_2d.compiled._fused_step`): the FFTs
     too, through rocket-fft, and no Python between the stages. The same operations as :class:`_CompiledTrial` but
-    for the FFT's library (rocket-fft's DUCC0 against scipy's pocketfft) and the spectrum's product (a scalar loop
-    against numpy's SIMD one): equal to it to round-off, and bit for bit on any number of threads."""
+    for K x (its two halves of the spectrum by rocket-fft's DUCC0, :func:`faultslip.models.fault_2d.kernel.
+    spectrum_halves`, against one real FFT by scipy's pocketfft): equal to it to round-off, and bit for bit on any
+    number of threads."""
 
     def __init__(self, fault, operator, balance, scale, rtol, threads):
         super().__init__(fault, operator, balance, scale, rtol, threads)
