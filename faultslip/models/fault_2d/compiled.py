@@ -21,6 +21,8 @@ import types
 import numpy as np
 
 from faultslip.dynamics.shared.compiler import available  # noqa: F401 (re-exported for the model)
+from faultslip.models.fault_2d.kernel import (  # the rows of the kernel's halves table (SpectrumHalves)
+    HALF_TWIDDLE, HANKEL_EVEN, HANKEL_ODD, TOEPLITZ_EVEN, TOEPLITZ_ODD, TWIDDLE)
 
 #: the kernels' loops over parts of the elements: range in plain Python; numba's prange once compiled (a parallel
 #: build splits the parts over threads, a serial one runs them as range)
@@ -292,8 +294,6 @@ def _error_ratios(ratios, y, y_new, h, weights, rows, stages, rtol, scale):
 #: rows of the step's ``transforms`` buffer (complex, M / 2 + 1 columns): the even half's spectrum, the odd half's
 #: packed input (then its spectrum's pairs, the inverse's input), the odd half's spectrum and its inverse
 EVEN_SPECTRUM, PACKED, ODD_SPECTRUM, ODD_INVERSE = range(4)
-#: rows of the kernel's ``halves`` table (:class:`faultslip.models.fault_2d.kernel.SpectrumHalves`)
-TOEPLITZ_EVEN, HANKEL_EVEN, TOEPLITZ_ODD, HANKEL_ODD, TWIDDLE, HALF_TWIDDLE = range(6)
 
 
 def _even_half(padded, transforms, halves, even_product):

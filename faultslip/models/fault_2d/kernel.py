@@ -64,6 +64,24 @@ def deep_loading(count: int, element_size: float, shear_modulus: float) -> np.nd
     return shear_modulus / (2.0 * math.pi) * (1.0 / (bottom - depth) + 1.0 / (depth + bottom))
 
 
+def _spectra(count: int, length: int, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """The FFT form's spectra at ``length`` (>= 2 N - 1): ``scale`` rfft of the Toeplitz column wrapped into a
+    circulant, and of the Hankel sequence shifted by N - 1, times the reversal's phase (X_rev = phase conj(X))."""
+    from scipy import fft  # heavy: imported where used
+
+    t = _toeplitz_column(count)
+    circulant = np.zeros(length)  # the symmetric Toeplitz column, wrapped: t_0..t_{N-1}, then t_{N-1}..t_1
+    circulant[:count] = t
+    circulant[length - count + 1:] = t[:0:-1]
+    h = _hankel_sequence(count)
+    shifted = np.zeros(length)  # g[m] = h[m + N - 1] for m in -(N-1)..N-1, wrapped
+    shifted[:count] = h[count - 1:]
+    shifted[length - count + 1:] = h[: count - 1]
+    frequency = np.arange(length // 2 + 1)
+    phase = np.exp(-2j * np.pi * frequency * (count - 1) / length)
+    return scale * fft.rfft(circulant), scale * fft.rfft(shifted) * phase
+
+
 class StressKernel:
     """``kernel(slip)`` is K slip (Pa), by a dense product for small N and by FFT above.
 
@@ -90,18 +108,7 @@ class StressKernel:
         self._fft = fft
         length = fft.next_fast_len(2 * count - 1, real=True)
         self.length = length
-        t = _toeplitz_column(count)
-        circulant = np.zeros(length)  # the symmetric Toeplitz column, wrapped: t_0..t_{N-1}, then t_{N-1}..t_1
-        circulant[:count] = t
-        circulant[length - count + 1:] = t[:0:-1]
-        h = _hankel_sequence(count)
-        shifted = np.zeros(length)  # g[m] = h[m + N - 1] for m in -(N-1)..N-1, wrapped
-        shifted[:count] = h[count - 1:]
-        shifted[length - count + 1:] = h[: count - 1]
-        frequency = np.arange(length // 2 + 1)
-        phase = np.exp(-2j * np.pi * frequency * (count - 1) / length)  # reversal: X_rev = phase conj(X)
-        self._toeplitz_hat = scale * fft.rfft(circulant)
-        self._hankel_hat = scale * fft.rfft(shifted) * phase
+        self._toeplitz_hat, self._hankel_hat = _spectra(count, length, scale)
         self._padded = np.zeros(length)
 
     @property
@@ -180,22 +187,9 @@ def spectrum_halves(count: int, element_size: float, shear_modulus: float) -> Sp
     (:func:`half_length`), split in even and odd bins, with the odd half's twiddles. The Hankel part's spectrum
     carries the reversal's phase, as :attr:`StressKernel.hankel_hat` does. The halves' inverse transforms are scaled
     by 1 / L, so that K x = a + s."""
-    from scipy import fft  # heavy: imported where used
-
     half = half_length(count)
     length = 2 * half
-    scale = shear_modulus / (2.0 * math.pi * element_size)
-    t = _toeplitz_column(count)
-    circulant = np.zeros(length)
-    circulant[:count] = t
-    circulant[length - count + 1:] = t[:0:-1]
-    h = _hankel_sequence(count)
-    shifted = np.zeros(length)
-    shifted[:count] = h[count - 1:]
-    shifted[length - count + 1:] = h[: count - 1]
-    bins = np.arange(half + 1)
-    toeplitz_hat = scale * fft.rfft(circulant)
-    hankel_hat = scale * fft.rfft(shifted) * np.exp(-2j * np.pi * bins * (count - 1) / length)
+    toeplitz_hat, hankel_hat = _spectra(count, length, shear_modulus / (2.0 * math.pi * element_size))
     table = np.zeros((6, half // 2 + 1), dtype=complex)
     table[TOEPLITZ_EVEN], table[HANKEL_EVEN] = toeplitz_hat[0::2], hankel_hat[0::2]
     table[TOEPLITZ_ODD, :half // 2], table[HANKEL_ODD, :half // 2] = toeplitz_hat[1::2], hankel_hat[1::2]
