@@ -335,6 +335,47 @@ def test_a_threaded_step_whose_threads_do_not_all_come_is_taken_on_one_thread():
     assert threaded.sync[compiled.ABANDONED] == 0 and again[0].tobytes() == expected[0].tobytes()
 
 
+@settings(max_examples=300, deadline=None)
+@given(st.integers(1, compiled.PARALLEL_PARTS - 1), st.integers(-10**12, 10**12), st.integers(-10, 10**11))
+def test_the_split_of_the_parts_moves_only_toward_balance(split, imbalance, part_cost):
+    """After a threaded step the split of the parts between task 0 (K x's even half) and task 1 (its odd half)
+    moves by at most a part, leaves each task one, and moves only where that brings the two first phases nearer:
+    a part moved from the slower task changes their difference by twice its cost. Where it stays, the difference
+    is within a part's cost, or the slower task has one part left."""
+    parts = compiled.PARALLEL_PARTS
+    moved = compiled._adapted_split(split, imbalance, part_cost, 2, parts)
+    assert 1 <= moved <= parts - 1 and abs(moved - split) <= 1
+    if moved != split:
+        assert part_cost > 0 and abs(imbalance + 2 * (moved - split) * part_cost) < abs(imbalance)
+    else:
+        assert (part_cost <= 0 or abs(imbalance) <= part_cost or (imbalance > 0 and split == 1)
+                or (imbalance < 0 and split == parts - 1))
+
+
+@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
+def test_a_threaded_step_gives_the_one_thread_bits_at_every_split():
+    """Whichever task owns which parts, each element's arithmetic is the one-thread step's: every split of the 16
+    parts gives the one-thread step's bits, and the step, timed by both tasks, moves the split by at most a
+    part."""
+    from faultslip.models.fault_2d import integrate
+
+    fault, operator, balance, scale, y, k1 = _first_step(20.0)  # 1000 elements: the FFT kernel
+    start = balance.u.copy()
+    expected = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 1)(0.0, y, 1e5, k1)
+    expected_u = balance.u.copy()
+    threaded = integrate._FusedTrial(fault, operator, balance, scale, 1e-6, 2)
+    if threaded._tasks() < 2:
+        pytest.skip("numba has one thread here")
+    for split in range(1, compiled.PARALLEL_PARTS):
+        balance.u = start.copy()
+        threaded.sync[compiled.SPLIT] = split
+        got = threaded(0.0, y, 1e5, k1)
+        assert threaded.sync[compiled.ABANDONED] == 0 and abs(threaded.sync[compiled.SPLIT] - split) <= 1
+        for one, other in zip(expected[:4], got[:4]):
+            assert one.tobytes() == other.tobytes()
+        assert got[4] == expected[4] and balance.u.tobytes() == expected_u.tobytes()
+
+
 @pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
 def test_the_whole_step_is_compiled_only_with_a_rocket_fft_that_has_its_low_level_transforms(monkeypatch):
     """The step's FFTs are rocket-fft's low-level transforms (0.4 on): an older rocket-fft leaves the step to the

@@ -15,7 +15,9 @@ import decimal
 import importlib.metadata
 import importlib.util
 import math
+import platform
 import struct
+import time
 import types
 
 import numpy as np
@@ -31,10 +33,10 @@ prange = range
 #: thread, so that a thread whose part holds an event's slow-converging elements holds up the others less
 PARTS = 1
 PARALLEL_PARTS = 16
-#: the parts the threaded step's task 0 owns beyond an equal share, as a fraction of it: task 0 takes the even half
-#: of K x's spectrum, which costs less than task 1's odd half (:func:`_owned`). BP1 at 1,600 elements over 200 years
-#: on two threads: 0.125 (9 of 16 parts) 232-241 us a trial step's region, task 0 waiting for task 1 18-21 us of
-#: it; 0.25 (10) 210-223 us; 0.375 (11) 220 us, task 1 waiting 28 us
+#: the parts the threaded step's task 0 owns at first beyond an equal share, as a fraction of it: task 0 takes the
+#: even half of K x's spectrum, which costs less than task 1's odd half (:func:`_first_split`). The step then moves
+#: the split to where the two tasks' first phases take equal times (:func:`_adapted_split`): at 1,600 elements
+#: 10 of 16 parts left task 1 waiting 15 us of a trial step's 200, at 3,200 elements 37 of 381, at 6,400 91 of 780
 EVEN_EXTRA = 0.25
 
 
@@ -379,10 +381,18 @@ LINE = 8
 #: ``sync``'s slots: tasks arrived at the barrier, barriers passed, the step given up, the spins a task waits at a
 #: barrier before it gives the step up (set once, by the caller)
 ARRIVALS, GENERATION, ABANDONED, SPIN_LIMIT = 0, LINE, 2 * LINE, 3 * LINE
+#: slots kept from step to step: the parts task 0 owns (0 before the first step), and the smoothed difference of
+#: the two tasks' first-phase times and a part's preparation time (cycles a trial step, :func:`_adapted_split`)
+SPLIT, IMBALANCE, PART_COST = 4 * LINE, 5 * LINE, 6 * LINE
+#: a step's cycles, tasks 0 and 1 a line each: in the first phases (the halves and the preparation), and in the
+#: preparation alone
+FIRST_PHASE, PREPARATION = 7 * LINE, 9 * LINE
 #: phases with parts: the first state's, and a balance a stage (at most 16 stages)
 CLAIMED_PHASES = 17
 #: each phase's part flags
-CLAIMS = 4 * LINE
+CLAIMS = 11 * LINE
+#: steps over which the split's measurements are averaged (an exponential average, 1 / SMOOTHING a step)
+SMOOTHING = 8
 #: the spins (seconds) after which a task waiting at a barrier gives the step up, which is then taken on one
 #: thread: a thread that never comes (a threading layer that ran two tasks on one thread) must not hang a run
 SPINS = 1 << 32
@@ -395,6 +405,12 @@ def new_sync(spins: int = SPINS):
     sync = np.zeros(CLAIMS + CLAIMED_PHASES * PARALLEL_PARTS, dtype=np.int64)
     sync[SPIN_LIMIT] = spins
     return sync
+
+
+def _cycles():
+    """A cycle counter (plain Python: nanoseconds; compiled: the time-stamp counter, :func:`_cycle_counter_intrinsic`):
+    only differences taken on one thread are used."""
+    return time.perf_counter_ns()
 
 
 def _atomic_add(array, index, value):
@@ -437,14 +453,34 @@ def _wait_while(sync, slot, value):
     return True
 
 
-def _owned(task, tasks):
-    """The run of parts ``task`` owns, (first, end): task 0, whose half of K x costs less than task 1's, owns
-    :data:`EVEN_EXTRA` more than an equal share; the others an equal share of the rest."""
-    first_others = min(PARTS - tasks + 1, max(1, int(PARTS * (1.0 + EVEN_EXTRA) / tasks + 0.5)))
+def _first_split(tasks):
+    """The parts task 0 owns before a step has been timed: :data:`EVEN_EXTRA` more than an equal share (its half of
+    K x costs less than task 1's), leaving each other task at least one."""
+    return min(PARTS - tasks + 1, max(1, int(PARTS * (1.0 + EVEN_EXTRA) / tasks + 0.5)))
+
+
+def _owned(task, tasks, split):
+    """The run of parts ``task`` owns, (first, end): task 0 the first ``split``, the others an equal share of the
+    rest."""
     if task == 0:
-        return 0, first_others
-    rest = PARTS - first_others
-    return first_others + (task - 1) * rest // (tasks - 1), first_others + task * rest // (tasks - 1)
+        return 0, split
+    rest = PARTS - split
+    return split + (task - 1) * rest // (tasks - 1), split + task * rest // (tasks - 1)
+
+
+def _adapted_split(split, imbalance, part_cost, tasks, parts):
+    """The next step's split of ``parts`` between two tasks, from the smoothed ``imbalance`` (task 0's first-phase
+    time less task 1's) and ``part_cost`` (a part's preparation), both a trial step's: a part moved from the slower
+    task to the other changes the imbalance by twice its cost, so it is moved where the imbalance exceeds that cost
+    (a smaller one would swing the other way), and each task keeps a part. Nothing moves without a cost (no cycle
+    counter)."""
+    if part_cost <= 0:
+        return split
+    if imbalance > part_cost and split > 1:
+        return split - 1
+    if -imbalance > part_cost and split < parts - tasks + 1:
+        return split + 1
+    return split
 
 
 def _claimed(sync, phase, part):
@@ -482,12 +518,12 @@ def _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, row,
 def _first_state_parts(task, tasks, sync, out, padded, y, h, weights, rows, stages, plate_rate, time):
     """The step's first trial state (:func:`_stage`): the task's own parts, then any of the others' left over
     (:func:`_claimed`)."""
-    count = out.shape[0] // 2
-    first_part, end_part = _owned(task, tasks)
+    count, split = out.shape[0] // 2, sync[SPLIT]
+    first_part, end_part = _owned(task, tasks, split)
     for offset in range(tasks):
         owner = (task + offset) % tasks
         if offset > 0:
-            first_part, end_part = _owned(owner, tasks)
+            first_part, end_part = _owned(owner, tasks, split)
         for step in range(end_part - first_part):
             part = first_part + step if offset == 0 else end_part - 1 - step  # the others' from their ends
             if not _claimed(sync, 0, part):
@@ -514,18 +550,25 @@ def _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, agi
     _partial_entries(count + first, count + end, partial, weights, rows, terms, stages)
 
 
-def _halves_and_preparation(task, tasks, state, padded, transforms, halves, even_product, u, sigma_a, inverse_a,
-                             two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial, weights, rows,
-                             terms, stages):
+def _halves_and_preparation(task, tasks, sync, state, padded, transforms, halves, even_product, u, sigma_a,
+                             inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
+                             weights, rows, terms, stages):
     """Task 0 takes K x's even half (:func:`_even_half`), task 1 its odd half (:func:`_odd_half`); then each task
-    prepares its own parts (:func:`_prepare`), in its own cache."""
+    prepares its own parts (:func:`_prepare`), in its own cache. Tasks 0 and 1 add the cycles this took, and those
+    of the preparation, to their :data:`FIRST_PHASE` and :data:`PREPARATION` slots."""
+    began = _cycles()
     if task == 0:
         _even_half(padded, transforms, halves, even_product)
     elif task == 1:
         _odd_half(padded, transforms, halves)
-    first_part, end_part = _owned(task, tasks)
+    first_part, end_part = _owned(task, tasks, sync[SPLIT])
+    prepared = _cycles()
     _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
              healing, warm, partial, weights, rows, terms, stages)
+    if task < 2:
+        ended = _cycles()
+        sync[FIRST_PHASE + task * LINE] += ended - began
+        sync[PREPARATION + task * LINE] += ended - prepared
 
 
 def _balance_parts(task, tasks, sync, phase, row, product, even_product, transforms, halves, initial_stress, stress,
@@ -537,13 +580,13 @@ def _balance_parts(task, tasks, sync, phase, row, product, even_product, transfo
     their ends (:func:`_claimed`); each part's K x first summed from its halves (:func:`_sum_halves`), and the
     part then finished: its next state (``following``) or, after the last stage, its error ratios and their
     largest."""
-    count = u.shape[0]
+    count, split = u.shape[0], sync[SPLIT]
     weight, newest = weights[terms - 1], rows[terms - 1]
-    first_part, end_part = _owned(task, tasks)
+    first_part, end_part = _owned(task, tasks, split)
     for offset in range(tasks):
         owner = (task + offset) % tasks
         if offset > 0:
-            first_part, end_part = _owned(owner, tasks)
+            first_part, end_part = _owned(owner, tasks, split)
         for step in range(end_part - first_part):
             part = first_part + step if offset == 0 else end_part - 1 - step
             if not _claimed(sync, phase, part):
@@ -591,7 +634,7 @@ def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, 
         if in_turn == 0 and not _barrier(sync, tasks):
             return
         if in_turn == 0 or in_turn == 2 * s + 2:
-            _halves_and_preparation(task, tasks, state, padded, transforms, halves, even_product, u, sigma_a,
+            _halves_and_preparation(task, tasks, sync, state, padded, transforms, halves, even_product, u, sigma_a,
                                     inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
                                     weights, rows, terms, stages)
         if in_turn == 0 and not _barrier(sync, tasks):
@@ -717,7 +760,9 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_
                                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
                                 error_weights, rtol, scale, ratios, plate_rate)
     sync[:SPIN_LIMIT] = 0
-    sync[CLAIMS:] = 0
+    sync[FIRST_PHASE:] = 0
+    if sync[SPLIT] == 0:
+        sync[SPLIT] = _first_split(tasks)
     u_start[:] = u  # the Newton solves' warm start, which a step given up must not have moved
     _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
                 coefficients, healing, warm, halves, initial_stress, stress, u, sigma_a,
@@ -725,13 +770,29 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_
                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
                 rtol, scale, ratios, plate_rate)
     if sync[ABANDONED] != 0:
+        sync[SPLIT] = 0  # a later step starts again from the first split: this one's times are a lost thread's
         u[:] = u_start
         return _one_thread_step(y, h, t, stages, work, y_new, padded, transforms, even_product, product, coefficients, healing, warm,
                                 halves, initial_stress, stress, u, sigma_a, inverse_a,
                                 two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
                                 error_weights, rtol, scale, ratios, plate_rate)
+    if tasks == 2:
+        _move_split(sync, tasks)
     return _largest(part_largest)
+
+
+def _move_split(sync, tasks):
+    """After a threaded step: its times into the smoothed imbalance and part cost (:data:`SMOOTHING`), and the
+    split moved by a part where that pays (:func:`_adapted_split`), the imbalance then the one expected after it."""
+    imbalance = sync[FIRST_PHASE] - sync[FIRST_PHASE + LINE]
+    part_cost = (sync[PREPARATION] + sync[PREPARATION + LINE]) // PARTS
+    sync[IMBALANCE] += (imbalance - sync[IMBALANCE]) // SMOOTHING
+    sync[PART_COST] += (part_cost - sync[PART_COST]) // SMOOTHING
+    split = sync[SPLIT]
+    moved = _adapted_split(split, sync[IMBALANCE], sync[PART_COST], tasks, PARTS)
+    sync[IMBALANCE] += 2 * (moved - split) * sync[PART_COST]
+    sync[SPLIT] = moved
 
 
 _KERNELS = {}
@@ -742,8 +803,10 @@ ELEMENTS = ("_exponentials", "_solve_elements", "_weighted_sum", "_deficit", "_r
 PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 #: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
-STEP = ("_wait_while", "_barrier", "_owned", "_claimed", "_first_state_parts", "_prepare", "_even_half", "_odd_half",
-        "_sum_halves", "_stress_product", "_halves_and_preparation", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step", "_fused_step")
+STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "_move_split", "_claimed",
+        "_first_state_parts", "_prepare", "_even_half", "_odd_half", "_sum_halves", "_stress_product",
+        "_halves_and_preparation", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step",
+        "_fused_step")
 #: the first rocket-fft whose low-level transforms (``rocket_fft.lowlevel``: DUCC0's, into the caller's arrays) the
 #: step calls
 ROCKET_FFT = (0, 4)
@@ -828,7 +891,7 @@ def _compiled(threads: int) -> dict:
         if fused_available():
             atomic_add, atomic_load = _atomic_intrinsics()
             step = {**names, **_fft_kernels(key), "_atomic_add": atomic_add, "_atomic_load": atomic_load,
-                    "PARALLEL_REGION": key == "parallel"}
+                    "_cycles": _cycle_counter_intrinsic(), "PARALLEL_REGION": key == "parallel"}
             for name in STEP:
                 step[name] = numba.njit(cache=True, parallel=key == "parallel" and name == "_step_tasks")(
                     _named(module[name], key, step))
@@ -848,6 +911,32 @@ def _float_from_bits_intrinsic():
             return builder.bitcast(arguments[0], context.get_value_type(numba_types.float64))
         return numba_types.float64(numba_types.int64), codegen
     return float_from_bits
+
+
+def _no_cycles():
+    """:func:`_cycles` where the compiled step reads no counter: 0, which leaves the split where it started."""
+    return 0
+
+
+def _cycle_counter_intrinsic():
+    """:func:`_cycles` for numba: LLVM's readcyclecounter on x86 (the time-stamp counter, a few ns); elsewhere
+    :func:`_no_cycles` (on ARM it reads a register user code may not, and the process would die)."""
+    import numba  # heavy: optional dependency (faultslip[fast]), as the kernels
+
+    if platform.machine().lower() not in ("x86_64", "amd64"):
+        return numba.njit(cache=True, inline="always")(_no_cycles)
+    from llvmlite import ir  # heavy: optional dependency (faultslip[fast]), as the kernels
+    from numba.core import cgutils, types as numba_types  # heavy: as above
+    from numba.extending import intrinsic  # heavy: as above
+
+    @intrinsic
+    def cycles(typing_context):
+        def codegen(context, builder, signature, arguments):
+            counter = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.IntType(64), []),
+                                                     "llvm.readcyclecounter")
+            return builder.call(counter, [])
+        return numba_types.int64(), codegen
+    return cycles
 
 
 def _atomic_intrinsics():
