@@ -10,10 +10,15 @@ same bits (checked here: the final slip and state of every pair are identical), 
 are compiled (and cached) before the first timed run. Writes benchmarks/results/fault_2d_threads.json.
 
 Beside each pair it times the round trip between the two cores: two threads passing a spin barrier back and forth
-(the threaded step's own atomics). On a virtual machine it depends on where the host puts the two vCPUs, near each
-other or far apart, which changes over minutes (0.07 us and 0.4 us were both seen on the benchmark machine), and a
-threaded step is slower where they are far apart; each run's figure is recorded, and the medians are given for
-the rounds taken near and far apart as well as for all.
+(the threaded step's own atomics). On a virtual machine it depends on where the host puts the two vCPUs, and on
+the benchmark machine that changes within a second: below 0.06 us (one physical core's two hardware threads, it
+seems: two threads gain nothing there), 0.06-0.2 us (near: two cores sharing a cache) or above 0.2 us (far). A
+whole run spans many such changes, so beside the runs it measures:
+- the placement: the round trip every 50 ms over ``--placement`` seconds, the share of the time in each class and
+  how long a class lasts;
+- trial steps in each class: batches of 100 trial steps of BP1 a year in (the same step, its Newton warm start
+  reset), on one thread pinned to one core and on two, interleaved for ``--batches`` seconds a count, each pair
+  kept in the class its round trips before and after agree on.
 """
 
 from __future__ import annotations
@@ -78,8 +83,83 @@ def round_trip_us(passes) -> float:
     return best
 
 
-#: round trips above this (us) count as the cores far apart
-FAR = 0.2
+#: round trips (us) below which the vCPUs count as one core's two hardware threads, and above which as far apart
+SHARED, FAR = 0.06, 0.2
+CLASSES = ("shared core", "near", "far")
+
+
+def placement(round_trip: float) -> str:
+    """The class of the two vCPUs' placement a round trip (us) shows."""
+    return CLASSES[0] if round_trip < SHARED else CLASSES[1] if round_trip <= FAR else CLASSES[2]
+
+
+def placement_series(passes, seconds: float) -> dict:
+    """The round trip every 50 ms for ``seconds``: the share of the time in each class, and the median length (s)
+    of a stretch in one class."""
+    classes, stamps = [], []
+    ends = time.perf_counter() + seconds
+    while time.perf_counter() < ends:
+        classes.append(placement(round_trip_us(passes)))
+        stamps.append(time.perf_counter())
+        time.sleep(0.05)
+    stretches, began = [], stamps[0]
+    for i in range(1, len(classes)):
+        if classes[i] != classes[i - 1]:
+            stretches.append(stamps[i] - began)
+            began = stamps[i]
+    stretches.append(stamps[-1] - began)
+    return {"samples": len(classes), "share": {name: classes.count(name) / len(classes) for name in CLASSES},
+            "median_stretch_s": statistics.median(stretches)}
+
+
+def trial_batches(fault, passes, seconds: float) -> dict:
+    """Batches of 100 trial steps (BP1 a year in, the same step each time) on one thread pinned to one core and on
+    two, interleaved for ``seconds``; the median batch's time a step (us) and the gain in each placement class."""
+    import numpy as np
+
+    from faultslip.models.fault_2d import integrate
+    from faultslip.models.fault_2d.kernel import StressKernel
+    from faultslip.models.fault_2d.model import ForceBalance, newton_tolerance
+
+    run = run_cycles(fault, JULIAN_YEAR, rtol=1e-4, threads=1)
+    count = fault.count
+    y = np.concatenate([run.final_slip, run.final_state])
+    h = float(np.diff(run.station_time)[-1])
+    operator = StressKernel(count, fault.element_size, fault.shear_modulus)
+    balance = ForceBalance(fault, operator)
+    balance.tolerance = newton_tolerance(1e-4)
+    speed, rate, _ = balance.rates(run.final_time, y[:count], y[count:])
+    k1, start = np.concatenate([speed, rate]), balance.u.copy()
+    scale = np.concatenate([fault.critical_slip, np.ones(count)])
+    trials = {threads: integrate._FusedTrial(fault, operator, balance, scale, 1e-4, threads) for threads in (1, 2)}
+    results = {}
+
+    def batch(threads):
+        os.sched_setaffinity(0, set(range(threads)))
+        times = []
+        for _ in range(100):
+            balance.u[:] = start
+            began = time.perf_counter()
+            step = trials[threads](run.final_time, y, h, k1)
+            times.append(time.perf_counter() - began)
+        results[threads] = step[0].tobytes()
+        return statistics.median(times) * 1e6
+
+    for threads in (1, 2):
+        batch(threads)
+    pairs = {name: [] for name in CLASSES}
+    ends = time.perf_counter() + seconds
+    while time.perf_counter() < ends:
+        before = placement(round_trip_us(passes))
+        pair = (batch(1), batch(2))
+        if placement(round_trip_us(passes)) == before:
+            pairs[before].append(pair)
+    same = results[1] == results[2]
+    return {"identical_bits": same, **{name: {
+        "pairs": len(rows), "one_thread_us": statistics.median(one for one, _ in rows) if rows else None,
+        "two_threads_us": statistics.median(two for _, two in rows) if rows else None,
+        "speedup": statistics.median(one / two for one, two in rows) if rows else None}
+        for name, rows in pairs.items()}}
 
 
 def timed(fault, years: float, threads: int) -> dict:
@@ -95,6 +175,8 @@ def main(argv=None) -> int:
     parser.add_argument("--elements", type=int, nargs="+", default=[1024, 1600, 3200])
     parser.add_argument("--years", type=float, default=200.0)
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--placement", type=float, default=60.0, help="seconds of round trips")
+    parser.add_argument("--batches", type=float, default=60.0, help="seconds of trial-step batches a count")
     args = parser.parse_args(argv)
     if (os.cpu_count() or 1) < 2:
         raise SystemExit("this benchmark needs two cores")
@@ -106,6 +188,10 @@ def main(argv=None) -> int:
     os.sched_setaffinity(0, {0, 1})
     numba.get_num_threads()
     passes = _round_trip_kernel()
+    where = placement_series(passes, args.placement)
+    print("placement: " + ", ".join(f"{name} {share:.0%}" for name, share in where["share"].items())
+          + f" of {where['samples']} round trips; a stretch lasts {where['median_stretch_s']:.2f} s (median)",
+          flush=True)
     for elements in args.elements:
         fault = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(WIDTH / elements).fault
         for threads in (1, 2):  # compile and load both builds before timing
@@ -120,22 +206,19 @@ def main(argv=None) -> int:
         medians = {threads: {key: statistics.median(row[key] for row in rows_) for key in ("wall_s", "cpu_s")}
                    for threads, rows_ in runs.items()}
         one_thread = medians[1]["wall_s"]
-        two = runs[2]
-        near = [row["wall_s"] for row in two if row["round_trip_us"] <= FAR]
-        far = [row["wall_s"] for row in two if row["round_trip_us"] > FAR]
-        row = {"elements": elements, "years": args.years, "steps": runs[1][0]["steps"], "identical_bits": same,
-               "one_thread": medians[1], "two_threads": medians[2],
-               "speedup": one_thread / medians[2]["wall_s"], "target": 1.6,
-               "round_trips_us": [round(row["round_trip_us"], 3) for row in two],
-               "speedup_near": one_thread / statistics.median(near) if near else None, "rounds_near": len(near),
-               "speedup_far": one_thread / statistics.median(far) if far else None, "rounds_far": len(far)}
+        steps = trial_batches(fault, passes, args.batches)
+        row = {"elements": elements, "years": args.years, "steps": runs[1][0]["steps"],
+               "identical_bits": same and steps["identical_bits"], "one_thread": medians[1],
+               "two_threads": medians[2], "speedup": one_thread / medians[2]["wall_s"], "target": 1.6,
+               "round_trips_us": [round(row["round_trip_us"], 3) for row in runs[2]], "trial_steps": steps}
         rows.append(row)
-        split = ", ".join(f"{name} {row['speedup_' + name]:.2f}x ({row['rounds_' + name]} rounds)"
-                          for name in ("near", "far") if row["rounds_" + name])
+        classes = "; ".join(f"{name} {steps[name]['speedup']:.2f}x ({steps[name]['one_thread_us']:.0f} against "
+                            f"{steps[name]['two_threads_us']:.0f} us, {steps[name]['pairs']} pairs)"
+                            for name in CLASSES if steps[name]["pairs"])
         print(f"{elements} elements, {row['steps']} steps: one thread {one_thread:.2f} s, two "
-              f"{medians[2]['wall_s']:.2f} s -> {row['speedup']:.2f}x (target 1.6; cores {split}); the same "
-              f"bits: {same}", flush=True)
-    write_results("fault_2d_threads.json", {"runs": rows, "rounds": args.rounds, "rtol": 1e-4})
+              f"{medians[2]['wall_s']:.2f} s -> {row['speedup']:.2f}x (target 1.6); trial steps: {classes}; the "
+              f"same bits: {row['identical_bits']}", flush=True)
+    write_results("fault_2d_threads.json", {"runs": rows, "rounds": args.rounds, "rtol": 1e-4, "placement": where})
     return 0
 
 
