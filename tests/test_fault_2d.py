@@ -352,6 +352,37 @@ def test_the_split_of_the_parts_moves_only_toward_balance(split, imbalance, part
                 or (imbalance < 0 and split == parts - 1))
 
 
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, compiled.PARALLEL_PARTS - 1), st.lists(st.integers(0, 1), max_size=40))
+def test_two_tasks_claim_every_part_once_in_any_interleaving(split, turns):
+    """However the two tasks' claims interleave, each part of a phase is taken exactly once: a task takes its own
+    parts in order and then the other's left over, from its end."""
+    names = {"PARTS": compiled.PARALLEL_PARTS}
+    names["_owned"] = compiled._named(compiled._owned, "claims", names)
+    names["_claimed"] = compiled._named(compiled._claimed, "claims", names)
+    next_part = compiled._named(compiled._next_part, "claims", names)
+    sync = compiled.new_sync()
+    taken, positions = {0: [], 1: []}, [0, 0]
+
+    def take(task):
+        part, positions[task] = next_part(sync, 3, task, 2, split, positions[task])
+        if part >= 0:
+            taken[task].append(part)
+        return part
+
+    for task in turns:
+        take(task)
+    for task in (0, 1):
+        while take(task) >= 0:
+            pass
+    assert sorted(taken[0] + taken[1]) == list(range(compiled.PARALLEL_PARTS))
+    own = {0: range(split), 1: range(split, compiled.PARALLEL_PARTS)}
+    for task in (0, 1):
+        mine = [part for part in taken[task] if part in own[task]]
+        assert mine == sorted(mine)  # its own in order; any of the other's after them
+        assert all(part in own[task] for part in taken[task][:len(mine)])
+
+
 @pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
 def test_a_threaded_step_gives_the_one_thread_bits_at_every_split():
     """Whichever task owns which parts, each element's arithmetic is the one-thread step's: every split of the 16

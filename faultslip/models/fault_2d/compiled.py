@@ -488,6 +488,26 @@ def _claimed(sync, phase, part):
     return _atomic_add(sync, CLAIMS + phase * PARTS + part, 1) == 0
 
 
+def _next_part(sync, phase, task, tasks, split, position):
+    """The next part ``task`` takes in ``phase``, claimed (:func:`_claimed`), and the position to go on from
+    (start at 0): its own parts in order, then each other task's left over, from their ends; (-1, position)
+    when none is left. Position = offset PARTS + step: the ``step``-th part of task ``task`` + ``offset``."""
+    while True:
+        offset, step = position // PARTS, position % PARTS
+        if offset >= tasks:
+            return -1, position
+        first_part, end_part = _owned((task + offset) % tasks, tasks, split)
+        if step >= end_part - first_part:
+            position = (offset + 1) * PARTS
+            continue
+        part = first_part + step if offset == 0 else end_part - 1 - step
+        position += 1
+        if _claimed(sync, phase, part):
+            return part, position
+        if offset > 0:  # an owner takes its parts in order: those before are taken too
+            position = (offset + 1) * PARTS
+
+
 def _partial_entries(first, end, partial, weights, rows, terms, stages):
     """partial = w_0 k[rows_0] + ... for all but the last of ``terms`` (left to right, as :func:`_stage_entries`)."""
     _weighted_sum(first, end, partial, weights, rows, terms - 1, stages)
@@ -518,22 +538,15 @@ def _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, row,
 def _first_state_parts(task, tasks, sync, out, padded, y, h, weights, rows, stages, plate_rate, time):
     """The step's first trial state (:func:`_stage`): the task's own parts, then any of the others' left over
     (:func:`_claimed`)."""
-    count, split = out.shape[0] // 2, sync[SPLIT]
-    first_part, end_part = _owned(task, tasks, split)
-    for offset in range(tasks):
-        owner = (task + offset) % tasks
-        if offset > 0:
-            first_part, end_part = _owned(owner, tasks, split)
-        for step in range(end_part - first_part):
-            part = first_part + step if offset == 0 else end_part - 1 - step  # the others' from their ends
-            if not _claimed(sync, 0, part):
-                if offset == 0:
-                    continue
-                break  # an owner takes its parts in order: those before are taken too
-            first, end = part * count // PARTS, (part + 1) * count // PARTS
-            _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
-            _stage_entries(count + first, count + end, out, padded, y, h, weights, rows, stages, count, plate_rate,
-                           time)
+    count, split, position = out.shape[0] // 2, sync[SPLIT], 0
+    while True:
+        part, position = _next_part(sync, 0, task, tasks, split, position)
+        if part < 0:
+            return
+        first, end = part * count // PARTS, (part + 1) * count // PARTS
+        _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
+        _stage_entries(count + first, count + end, out, padded, y, h, weights, rows, stages, count, plate_rate,
+                       time)
 
 
 def _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
@@ -580,35 +593,28 @@ def _balance_parts(task, tasks, sync, phase, row, product, even_product, transfo
     their ends (:func:`_claimed`); each part's K x first summed from its halves (:func:`_sum_halves`), and the
     part then finished: its next state (``following``) or, after the last stage, its error ratios and their
     largest."""
-    count, split = u.shape[0], sync[SPLIT]
+    count, split, position = u.shape[0], sync[SPLIT], 0
     weight, newest = weights[terms - 1], rows[terms - 1]
-    first_part, end_part = _owned(task, tasks, split)
-    for offset in range(tasks):
-        owner = (task + offset) % tasks
-        if offset > 0:
-            first_part, end_part = _owned(owner, tasks, split)
-        for step in range(end_part - first_part):
-            part = first_part + step if offset == 0 else end_part - 1 - step
-            if not _claimed(sync, phase, part):
-                if offset == 0:
-                    continue
-                break  # an owner takes its parts in order: those before are taken too
-            first, end = part * count // PARTS, (part + 1) * count // PARTS
-            _sum_halves(first, end, product, even_product, transforms, halves)
-            _solve_elements(first, end, product, initial_stress, True, stress, state[count:], u, sigma_a, inverse_a,
-                            two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
-                            stages[row, :count], stages[row, count:], iterations, tolerance, coefficients, healing,
-                            warm, True)
-            if following:
-                for at in (0, count):
-                    _finish_stage_entries(at + first, at + end, out, padded, y, h, partial, weight, newest, stages,
-                                          count, plate_rate, time)
-            else:
-                lower = _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, newest, stages, rtol,
-                                              scale)
-                upper = _finish_error_entries(count + first, count + end, ratios, y, y_new, h, partial, weight,
-                                              newest, stages, rtol, scale)
-                part_largest[part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
+    while True:
+        part, position = _next_part(sync, phase, task, tasks, split, position)
+        if part < 0:
+            return
+        first, end = part * count // PARTS, (part + 1) * count // PARTS
+        _sum_halves(first, end, product, even_product, transforms, halves)
+        _solve_elements(first, end, product, initial_stress, True, stress, state[count:], u, sigma_a, inverse_a,
+                        two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
+                        stages[row, :count], stages[row, count:], iterations, tolerance, coefficients, healing,
+                        warm, True)
+        if following:
+            for at in (0, count):
+                _finish_stage_entries(at + first, at + end, out, padded, y, h, partial, weight, newest, stages,
+                                      count, plate_rate, time)
+        else:
+            lower = _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, newest, stages, rtol,
+                                          scale)
+            upper = _finish_error_entries(count + first, count + end, ratios, y, y_new, h, partial, weight,
+                                          newest, stages, rtol, scale)
+            part_largest[part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
 
 
 def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
@@ -803,7 +809,7 @@ ELEMENTS = ("_exponentials", "_solve_elements", "_weighted_sum", "_deficit", "_r
 PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 #: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
-STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "_move_split", "_claimed",
+STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "_move_split", "_claimed", "_next_part",
         "_first_state_parts", "_prepare", "_even_half", "_odd_half", "_sum_halves", "_stress_product",
         "_halves_and_preparation", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step",
         "_fused_step")
