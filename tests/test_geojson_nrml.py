@@ -2,6 +2,7 @@
 
 import json
 import math
+import warnings
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -57,8 +58,12 @@ def _feature(**properties):
 def test_malformed_gaf_files_are_refused_in_one_sentence(tmp_path, document, message):
     path = tmp_path / "f.geojson"
     path.write_text(json.dumps(document), encoding="utf-8")
-    with pytest.raises(InputError, match=message):
-        read_fault_geojson(path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(InputError, match=message):
+            read_fault_geojson(path)
+    if message == "no feature is left":  # the skipped feature is named before the refusal
+        assert any("'x' ('Wobbly')" in str(warning.message) for warning in caught)
 
 
 @pytest.mark.parametrize("term, rake", [
