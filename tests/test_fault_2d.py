@@ -509,10 +509,11 @@ def test_the_fused_step_is_numpys_bit_for_bit_on_any_number_of_threads(monkeypat
 def test_an_automatic_run_takes_the_faster_of_its_threads_and_one():
     """On a busy machine two threads can be slower than one (the thread sharing a core holds up every region):
     an automatic run times its own steps on both, interleaved, keeps the faster, and probes again later, when
-    the load may have changed. Timed here on a clock that the trials advance."""
+    the load may have changed: soon after a probe that changed its choice, twice as late after each that kept
+    it, at most LONGEST_HOLD. Timed here on a clock that the trials advance."""
     from faultslip.models.fault_2d import integrate
 
-    now, cost, calls = [0.0], {"threaded": 2.0, "single": 1.0}, []
+    now, cost, calls = [0.0], {"threaded": 2e-4, "single": 1e-4}, []
 
     def trial(name):
         def step(t, y, h, k1):
@@ -523,13 +524,24 @@ def test_an_automatic_run_takes_the_faster_of_its_threads_and_one():
 
     chooser = integrate._FasterTrial(trial("threaded"), trial("single"), timer=lambda: now[0])
     probe = integrate.PROBE_STEPS
-    for _ in range(2 * probe + 1):  # each one's first call is not timed: it loads the kernels
+
+    def probe_now():  # the next call starts a probe; a probe is 2 PROBE_STEPS calls
+        now[0] = chooser.next_probe
+        for _ in range(2 * probe):
+            chooser(0.0, None, 1.0, None)
+
+    for _ in range(2 * probe + 2):  # each one's first call is not timed: it loads the kernels
         chooser(0.0, None, 1.0, None)
     assert calls[:4] == ["threaded", "single"] * 2 and calls.count("threaded") == probe + 1  # interleaved
+    assert chooser.choice == 1 and chooser.hold == integrate.PROBE_EVERY
     assert {chooser(0.0, None, 1.0, None) for _ in range(10)} == {"single"}  # the machine is busy: one thread
-    cost["threaded"] = 0.5  # the load goes away: two threads are faster, found at the next probe
-    for _ in range(int(integrate.PROBE_EVERY) + 2 * probe):
-        chooser(0.0, None, 1.0, None)
+    for kept in range(1, 12):  # the same machine: each probe keeps the choice, and the wait doubles
+        probe_now()
+        assert chooser.choice == 1
+        assert chooser.hold == min(integrate.PROBE_EVERY * 2 ** kept, integrate.LONGEST_HOLD)
+    cost["threaded"] = 0.5e-4  # the load goes away: two threads are faster, found at the next probe
+    probe_now()
+    assert chooser.choice == 0 and chooser.hold == integrate.PROBE_EVERY  # changed: probed again soon
     assert chooser(0.0, None, 1.0, None) == "threaded"
     assert sum(chooser.steps) == len(calls)
 

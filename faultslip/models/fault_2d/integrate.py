@@ -258,9 +258,12 @@ class _FusedTrial(_CompiledTrial):
 
 
 #: an automatic run's probe: this many trial steps on each of its threads and one thread, interleaved
-PROBE_STEPS = 64
-#: seconds of the faster before the next probe (the machine's other work comes and goes)
-PROBE_EVERY = 30.0
+PROBE_STEPS = 8
+#: seconds of the faster before the next probe after one that changed the choice (the machine's other work comes
+#: and goes, and a virtual machine's vCPUs move: on the benchmark machine their placement changed within a
+#: second, a stretch lasting 0.26 s, median); each probe that keeps the choice doubles the wait, up to LONGEST_HOLD
+PROBE_EVERY = 0.1
+LONGEST_HOLD = 30.0
 
 
 class _FasterTrial:
@@ -268,18 +271,23 @@ class _FasterTrial:
 
     On a machine whose other work holds a core, the threads' barriers wait for the thread that shares it, and two
     threads run slower than one: BP1 at 1,600 elements over 300 years took 5.4-8.7 s on two threads against
-    2.5 s on one, with a busy loop on the second of two cores. So an automatic run times :data:`PROBE_STEPS`
-    steps of each, interleaved, takes the one with the smaller total, and probes again after
-    :data:`PROBE_EVERY` seconds. Both give the same bits (tested), so the choice changes no number.
-    ``steps`` counts the trial steps each took (threaded, one thread)."""
+    2.5 s on one, with a busy loop on the second of two cores; and on a virtual machine whose two vCPUs the host
+    moves between near and far, two threads gain 1.4-1.6x near and lose far, changing within a second. So an
+    automatic run times :data:`PROBE_STEPS` steps of each, interleaved, takes the one with the smaller total, and
+    probes again after a wait: :data:`PROBE_EVERY` seconds after a probe that changed the choice, twice the last
+    wait after one that kept it, at most :data:`LONGEST_HOLD` (a steady machine is probed seldom, a changing one
+    often). Both give the same bits (tested), so the choice changes no number. ``steps`` counts the trial steps
+    each took (threaded, one thread)."""
 
     def __init__(self, threaded, single, timer=clock.perf_counter):
         self.trials, self.timer = (threaded, single), timer
         self.times = ([], [])
         self.steps = [0, 0]
         self.choice = None  # None while probing, else the index of the faster
+        self.last_choice = None
         self.turn = 0
         self.next_probe = 0.0
+        self.hold = PROBE_EVERY
 
     def __call__(self, t, y, h, k1):
         if self.choice is not None and self.timer() < self.next_probe:
@@ -294,10 +302,13 @@ class _FasterTrial:
         if self.steps[which]:  # a first call loads (or compiles) its kernels: not a step's time
             self.times[which].append(end - start)
         self.steps[which] += 1
-        if len(self.times[1]) >= PROBE_STEPS:
+        if min(len(self.times[0]), len(self.times[1])) >= PROBE_STEPS:
             # the total, not the median: a busy core stalls few steps, but each by a time slice of milliseconds
             self.choice = int(sum(self.times[1]) < sum(self.times[0]))
-            self.next_probe = end + PROBE_EVERY
+            kept = self.choice == self.last_choice
+            self.hold = min(2.0 * self.hold, LONGEST_HOLD) if kept else PROBE_EVERY
+            self.last_choice = self.choice
+            self.next_probe = end + self.hold
         return result
 
 
