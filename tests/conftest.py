@@ -20,16 +20,26 @@ settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 
 def pytest_sessionstart(session):
-    """On two cores or more, compile what a fresh environment compiles on first use on the idle one
-    (tests/warm_up.py says what and why); FAULTSLIP_NO_WARM_UP=1 turns it off."""
+    """On two cores or more, compile what a fresh environment compiles on first use, once, beside the tests
+    (tests/warm_up.py says what and why): from pytest-xdist's controller, which only gathers the workers'
+    results, or from a run in one process; FAULTSLIP_NO_WARM_UP=1 turns it off."""
     import sys
 
-    if (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1) < 2 \
-            or os.environ.get("FAULTSLIP_NO_WARM_UP"):
+    from faultslip.io.processes import usable_cores
+
+    if usable_cores() < 2 or os.environ.get("FAULTSLIP_NO_WARM_UP") or hasattr(session.config, "workerinput"):
         return
     script = os.path.join(os.path.dirname(__file__), "warm_up.py")
     session.config.warm_up = subprocess.Popen([sys.executable, script, str(os.getpid())],
                                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto``: a worker for each core this process may use (its CPU affinity, as faultslip counts them), not
+    each of the machine's physical cores, which pytest-xdist counts where psutil is installed."""
+    from faultslip.io.processes import usable_cores
+
+    return usable_cores()
 
 
 def pytest_sessionfinish(session):

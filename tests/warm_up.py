@@ -1,11 +1,12 @@
-"""Compile what a fresh environment compiles on first use, on the second core while the suite starts on the first.
+"""Compile what a fresh environment compiles on first use, once, beside the suite's first tests.
 
 A new virtual environment (CI's, a fresh clone's) has no numba cache: the OpenQuake engine compiles its numba
 functions when it is first imported (about a minute here, then cached in its package), and the 2-D fault's whole
-step is built on one thread and on two (about 40 s, cached in faultslip's). The suite runs in one process, so the
-second core is idle meanwhile; conftest.py starts this script there at the session's start. It changes no result:
-a test that gets there first compiles the same functions itself, and numba writes each cache entry whole. It dies
-with the suite (its parent, given as the argument).
+step is built on one thread and on two (about 40 s, cached in faultslip's). The suite's workers (pytest-xdist,
+one a core) would each compile them where a test of theirs first needs them; conftest.py starts this script once,
+from the controller, at the session's start, so that they are compiled once, early. It changes no result: a test
+that gets there first compiles the same functions itself, and numba writes each cache entry whole. It dies with
+the suite (its parent, given as the argument).
 
     python tests/warm_up.py PARENT_PID
 """
