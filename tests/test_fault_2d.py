@@ -19,7 +19,7 @@ from faultslip.models.fault_2d.analysis import summarise
 from faultslip.models.fault_2d.integrate import STEP_MEMORY, YEAR, _Stopped, next_step_factor, run_cycles
 from faultslip.models.fault_2d.kernel import StressKernel, deep_loading, dense_matrix
 from faultslip.models.fault_2d.model import Fault2D, ForceBalance, newton_tolerance, steady_initial_conditions
-from faultslip.errors import InputError
+from faultslip.errors import InputError, SolverError
 from faultslip.io.seas import read_seas, station_file_name, write_station
 from faultslip.models.fault_2d.scene import load_fault_2d_scene, parse_fault_2d_scene
 
@@ -1063,3 +1063,68 @@ def test_the_period_three_variant_is_reported_as_its_supercycle_within_one_perce
     assert result["recurrence_interval"].to("yr").magnitude == pytest.approx(np.mean(intervals), rel=1e-12)
     balance = result["plate_slip_balance"]
     assert float(getattr(balance, "magnitude", balance)) == pytest.approx(1.0, abs=0.01)
+
+
+@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
+def test_many_steps_a_compiled_call_are_the_python_loops_bit_for_bit(tmp_path, monkeypatch):
+    """Issue 43, item 3: where the whole step is compiled, the integrator's loop is too (compiled._run_steps), and
+    returns to Python only for an event, a profile, a full buffer of station records or a spent budget. Its runs
+    equal the Python loop's over the same compiled step bit for bit: every station record, profile and event,
+    the steps, rejections and evaluations; on one thread, two, and choosing between them; with the smallest
+    buffers (every return taken); stopped and resumed; and its step budget refused in the same sentence."""
+    from faultslip.models.fault_2d import integrate
+
+    fault = small_fault(element_size=250.0)  # 80 elements, on the FFT kernel: the whole step compiled
+    duration = 400 * YEAR
+
+    def run(**options):
+        return run_cycles(fault, duration, rtol=1e-4, stations=STATIONS, kernel="fft", **options)
+
+    def assert_same(one, other):
+        assert (one.steps, one.rejected, one.function_evaluations) == (other.steps, other.rejected,
+                                                                        other.function_evaluations)
+        assert (one.min_step, one.max_step, one.final_time) == (other.min_step, other.max_step, other.final_time)
+        for name in one.stations:
+            assert np.asarray(one.stations[name]).tobytes() == np.asarray(other.stations[name]).tobytes()
+        assert np.asarray(one.station_time).tobytes() == np.asarray(other.station_time).tobytes()
+        for name in one.events:
+            assert np.asarray(one.events[name]).tobytes() == np.asarray(other.events[name]).tobytes()
+        for name in ("profiles", "profile_log10_slip_rate", "profile_time", "profile_max_speed"):
+            assert np.asarray(getattr(one, name)).tobytes() == np.asarray(getattr(other, name)).tobytes()
+        assert one.final_slip.tobytes() == other.final_slip.tobytes()
+        assert one.final_state.tobytes() == other.final_state.tobytes()
+
+    calls = []
+    many = integrate._CompiledSteps
+
+    class Counted(many):
+        def __call__(self, budget):
+            calls.append(budget)
+            super().__call__(budget)
+
+    monkeypatch.setattr(integrate, "_CompiledSteps", Counted)
+    compiled_loop = run()
+    assert compiled_loop.event_count >= 3 and len(calls) < compiled_loop.steps / 4
+    with monkeypatch.context() as python:
+        python.setattr(integrate, "_CompiledSteps", lambda *arguments: None)
+        python_loop = run()
+    assert_same(compiled_loop, python_loop)
+    assert_same(run(threads=2), python_loop)
+    monkeypatch.setattr(integrate, "PROBE_STEPS", 2)
+    monkeypatch.setattr(integrate, "PROBE_EVERY", 0.0)
+    assert_same(run(threads=2, adapt_threads=True), python_loop)
+    monkeypatch.setattr(Counted, "RECORDS", 1)
+    monkeypatch.setattr(Counted, "TRIALS", 1)
+    assert_same(run(), python_loop)
+    monkeypatch.setattr(Counted, "RECORDS", 7)
+    monkeypatch.setattr(Counted, "TRIALS", 5)
+    with pytest.raises(_Stopped):
+        run(folder=tmp_path / "part", stop_after_steps=python_loop.steps // 2)
+    assert_same(run(folder=tmp_path / "part", resume=True), python_loop)
+    with pytest.raises(SolverError, match=r"^2-D fault: 100 steps reached the budget at t = .* raise max_steps"):
+        run(max_steps=100)
+
+
+@given(x=st.floats(1.0, 1e300))
+def test_the_compiled_loops_spacing_of_floats_is_numpys(x):
+    assert compiled._ulp(x) == np.spacing(x)

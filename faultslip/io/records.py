@@ -66,6 +66,7 @@ class RecordStream:
     def __init__(self, path, width: int, rows_kept: int = 0, digest: str | None = None):
         self.path = Path(path) if path is not None else None
         self.width, self.rows, self.buffer, self.memory = int(width), int(rows_kept), [], []
+        self.buffered = 0  # rows in the buffer
         self.hasher = hashlib.sha256()
         self.descriptor = None
         if self.path is None:
@@ -116,13 +117,23 @@ class RecordStream:
     def append(self, row) -> None:
         self.buffer.append(row)
         self.rows += 1
-        if len(self.buffer) * self.width * 8 >= BUFFER_BYTES:
+        self.buffered += 1
+        if self.buffered * self.width * 8 >= BUFFER_BYTES:
+            self.flush()
+
+    def extend(self, rows) -> None:
+        """Append a block of rows (rows, width)."""
+        self.buffer.append(rows)
+        self.rows += len(rows)
+        self.buffered += len(rows)
+        if self.buffered * self.width * 8 >= BUFFER_BYTES:
             self.flush()
 
     def flush(self) -> None:
         if not self.buffer:
             return
-        block = np.asarray(self.buffer, dtype=np.float64).reshape(-1, self.width)
+        block = np.concatenate([np.asarray(rows, dtype=np.float64).reshape(-1, self.width) for rows in self.buffer])
+        self.buffered = 0
         self.buffer = []
         if self.path is None:
             self.memory.append(block)

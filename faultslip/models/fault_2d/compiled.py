@@ -801,6 +801,149 @@ def _move_split(sync, tasks):
     sync[SPLIT] = moved
 
 
+# --- many steps in one call ------------------------------------------------------------------------------------
+#
+# Between two trial steps the integrator's Python (the step's controller, a station record, the event test and a
+# call with 47 arguments) took about 30 us a step on one core, a tenth of a step at 1,600 elements, and the part
+# a second thread cannot share. :func:`_run_steps` takes whole steps, accepted and rejected, in compiled code and
+# returns to Python only where Python has something to do: an event starts or ends, a profile is due, the station
+# records' buffer is full, the step budget is spent, the run ends or fails.
+
+#: ``clock``'s slots (float64, read and written): the time, the next step, the controller's memory (the last
+#: accepted step's error) and whether the last trial was rejected (1.0), the smallest and largest accepted steps,
+#: the peak slip rate of the last accepted state and of the one before, the largest peak in the event under way,
+#: and the time before the last accepted step
+(TIME, STEP_SIZE, PREVIOUS_NORM, AFTER_REJECTION, MIN_STEP, MAX_STEP, PEAK, PREVIOUS_PEAK, EVENT_PEAK,
+ PREVIOUS_TIME) = range(10)
+CLOCK_SLOTS = 10
+#: ``settings``' slots (float64, read): the run's end, rtol, the controller's memory weight (beta), the event speed,
+#: the profile intervals between and within events, the times of the last profile of each kind, whether an event
+#: is under way (1.0)
+(DURATION, RTOL, MEMORY_WEIGHT, EVENT_LIMIT, PROFILE_INTERVAL, COSEISMIC_INTERVAL, LAST_PROFILE, LAST_COSEISMIC,
+ INSIDE) = range(9)
+SETTINGS_SLOTS = 9
+#: ``counters``' slots (int64): accepted steps, rejected trials, stage evaluations, station rows written this call,
+#: which of ``states``' rows holds the state, the trials this call may take, the step at which to stop (-1: none),
+#: the steps' budget, and why the call returned (:data:`RETURNS`)
+STEPS, REJECTED, EVALUATIONS, ROWS, CURRENT, BUDGET, STOP_AT, MAX_STEPS, RETURNED = range(9)
+COUNTER_SLOTS = 9
+#: why :func:`_run_steps` returned: the run reached its end; its step budget (max_steps); a rejected step left
+#: t + h equal to t; an accepted step Python must look at (an event began or ended, a profile is due, the stop
+#: step); the buffer of station rows is full; the call's trials were spent
+(RETURNED_END, RETURNED_MAX_STEPS, RETURNED_COLLAPSE, RETURNED_NOTICE, RETURNED_ROWS_FULL,
+ RETURNED_BUDGET) = range(6)
+
+
+def _ulp(x):
+    """The spacing of floats at ``x`` >= 1 (numpy's spacing): 2^(e - 53) for x = m 2^e, 0.5 <= m < 1."""
+    exponent = math.frexp(x)[1]
+    return math.ldexp(1.0, exponent - 53)
+
+
+def _next_factor(norm, previous_norm, after_rejection, memory_weight):
+    """:func:`faultslip.models.fault_2d.integrate.next_step_factor` (the same operations, so its bits)."""
+    factor = min(5.0, max(0.1, 0.9 * max(norm, 1e-10) ** (0.75 * memory_weight - 0.2) * previous_norm ** memory_weight))
+    return min(factor, 1.0) if after_rejection else factor
+
+
+def _record_near(row, t, state, stress, speed, near):
+    """A station record's raw values: t, and at the stations' neighbouring elements ``near`` the slip, the slip
+    rate, the shear stress and the state (:func:`faultslip.models.fault_2d.integrate.station_rows` makes the
+    record of them)."""
+    count, width = stress.shape[0], near.shape[0]
+    row[0] = t
+    for j in range(width):
+        element = near[j]
+        row[1 + j] = state[element]
+        row[1 + width + j] = speed[element]
+        row[1 + 2 * width + j] = stress[element]
+        row[1 + 3 * width + j] = state[count + element]
+
+
+def _run_steps(states, clock, counters, settings, records, near, stages, work, partial, padded, transforms,
+               even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
+               sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
+               b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
+               error_weights, scale, ratios, plate_rate, sync, part_largest, tasks):
+    """Dormand-Prince steps (:func:`_fused_step` each, on ``tasks`` threads) with the integrator's controller, from
+    the state states[counters[CURRENT]] whose k1 is stages[0], as :func:`faultslip.models.fault_2d.integrate.
+    run_cycles` takes them one by one in Python (the same operations, so its bits): until the run's end, or an
+    accepted step Python must look at, or a full ``records`` buffer (a row an accepted step: :func:`_record_near`),
+    or counters[BUDGET] trials. ``clock`` and ``counters`` carry the integrator's state in and out, and why the
+    call returned (counters[RETURNED])."""
+    count = stress.shape[0]
+    duration, rtol, memory_weight = settings[DURATION], settings[RTOL], settings[MEMORY_WEIGHT]
+    event_limit, inside = settings[EVENT_LIMIT], settings[INSIDE] != 0.0
+    t, h = clock[TIME], clock[STEP_SIZE]
+    previous_norm, after_rejection = clock[PREVIOUS_NORM], clock[AFTER_REJECTION] != 0.0
+    min_step, max_step = clock[MIN_STEP], clock[MAX_STEP]
+    peak, previous_peak, event_peak = clock[PEAK], clock[PREVIOUS_PEAK], clock[EVENT_PEAK]
+    steps, rejected, evaluations = counters[STEPS], counters[REJECTED], counters[EVALUATIONS]
+    current, budget, stop_at, max_steps = counters[CURRENT], counters[BUDGET], counters[STOP_AT], counters[MAX_STEPS]
+    rows, trials = 0, 0
+    t_old = clock[PREVIOUS_TIME]
+    returned = RETURNED_END
+    while t < duration:
+        if steps >= max_steps:
+            returned = RETURNED_MAX_STEPS
+            break
+        if trials >= budget:
+            returned = RETURNED_BUDGET
+            break
+        h = min(h, duration - t)
+        y, y_new = states[current], states[1 - current]
+        norm = _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
+                           coefficients, healing, warm, halves, initial_stress, stress, u, u_start, sigma_a,
+                           inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                           critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms,
+                           plan_fractions, error_rows, error_weights, rtol, scale, ratios, plate_rate, sync,
+                           part_largest, tasks)
+        trials += 1
+        evaluations += 6
+        if not math.isfinite(norm):
+            norm = math.inf
+        if norm > 1.0:
+            rejected += 1
+            after_rejection = True
+            h *= max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
+            if h <= 8 * _ulp(max(abs(t), 1.0)):
+                returned = RETURNED_COLLAPSE
+                break
+            continue
+        t_old = t
+        t = t + h
+        current = 1 - current
+        stages[0, :] = stages[6, :]  # k7 is the next step's k1 (first same as last)
+        steps += 1
+        min_step, max_step = min(min_step, h), max(max_step, h)
+        h *= _next_factor(norm, previous_norm, after_rejection, memory_weight)
+        previous_norm, after_rejection = max(norm, 1e-4), False
+        _record_near(records[rows], t, y_new, stress, stages[6], near)
+        rows += 1
+        previous_peak = peak
+        peak = stages[6, 0]
+        for i in range(1, count):
+            if stages[6, i] > peak:
+                peak = stages[6, i]
+        if inside:
+            event_peak = max(event_peak, peak)
+        profile_due = (t - settings[LAST_COSEISMIC] >= settings[COSEISMIC_INTERVAL] if peak > event_limit
+                       else t - settings[LAST_PROFILE] >= settings[PROFILE_INTERVAL])
+        if (peak > event_limit) != inside or profile_due or steps == stop_at:
+            returned = RETURNED_NOTICE
+            break
+        if rows == records.shape[0]:
+            returned = RETURNED_ROWS_FULL
+            break
+    clock[TIME], clock[STEP_SIZE], clock[PREVIOUS_NORM] = t, h, previous_norm
+    clock[AFTER_REJECTION] = 1.0 if after_rejection else 0.0
+    clock[MIN_STEP], clock[MAX_STEP] = min_step, max_step
+    clock[PEAK], clock[PREVIOUS_PEAK], clock[EVENT_PEAK] = peak, previous_peak, event_peak
+    clock[PREVIOUS_TIME] = t_old
+    counters[STEPS], counters[REJECTED], counters[EVALUATIONS] = steps, rejected, evaluations
+    counters[ROWS], counters[CURRENT], counters[RETURNED] = rows, current, returned
+
+
 _KERNELS = {}
 #: the functions over a part of the elements, compiled first; then the loops over the parts
 ELEMENTS = ("_exponentials", "_solve_elements", "_weighted_sum", "_deficit", "_ratios", "_stage_entries",
@@ -812,7 +955,7 @@ KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "_move_split", "_claimed", "_next_part",
         "_first_state_parts", "_prepare", "_even_half", "_odd_half", "_sum_halves", "_stress_product",
         "_halves_and_preparation", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step",
-        "_fused_step")
+        "_fused_step", "_ulp", "_next_factor", "_record_near", "_run_steps")
 #: the first rocket-fft whose low-level transforms (``rocket_fft.lowlevel``: DUCC0's, into the caller's arrays) the
 #: step calls
 ROCKET_FFT = (0, 4)
@@ -902,6 +1045,7 @@ def _compiled(threads: int) -> dict:
                 step[name] = numba.njit(cache=True, parallel=key == "parallel" and name == "_step_tasks")(
                     _named(module[name], key, step))
             _KERNELS[key]["fused_step"] = step["_fused_step"]
+            _KERNELS[key]["run_steps"] = step["_run_steps"]
             _KERNELS[key]["stress_product"] = step["_stress_product"]  # alone too (its test, the profile)
     return _KERNELS[key]
 
@@ -997,6 +1141,7 @@ def kernels(compiled: bool = True, threads: int = 1) -> dict:
         for name in STEP:
             step[name] = _named(globals()[name], build, step)
         plain["fused_step"] = step["_fused_step"]
+        plain["run_steps"] = step["_run_steps"]
         plain["stress_product"] = step["_stress_product"]
         return plain
     return _compiled(threads)

@@ -290,15 +290,27 @@ class _FasterTrial:
         self.hold = PROBE_EVERY
 
     def __call__(self, t, y, h, k1):
+        which, probe = self.choose()
+        if not probe:
+            self.steps[which] += 1
+            return self.trials[which](t, y, h, k1)
+        start = self.timer()
+        result = self.trials[which](t, y, h, k1)
+        self.timed(which, start, self.timer())
+        return result
+
+    def choose(self) -> tuple:
+        """(the index of the trial to take next, whether it is a probe's, to be timed by :meth:`timed`)."""
         if self.choice is not None and self.timer() < self.next_probe:
-            self.steps[self.choice] += 1
-            return self.trials[self.choice](t, y, h, k1)
+            return self.choice, False
         if self.choice is not None:  # time for a new probe
             self.choice, self.times = None, ([], [])
         which, self.turn = self.turn, 1 - self.turn
-        start = self.timer()
-        result = self.trials[which](t, y, h, k1)
-        end = self.timer()
+        return which, True
+
+    def timed(self, which: int, start: float, end: float) -> None:
+        """A probe's trial step ``which`` took from ``start`` to ``end``: the choice once both have
+        :data:`PROBE_STEPS`."""
         if self.steps[which]:  # a first call loads (or compiles) its kernels: not a step's time
             self.times[which].append(end - start)
         self.steps[which] += 1
@@ -309,7 +321,58 @@ class _FasterTrial:
             self.hold = min(2.0 * self.hold, LONGEST_HOLD) if kept else PROBE_EVERY
             self.last_choice = self.choice
             self.next_probe = end + self.hold
-        return result
+
+
+class _CompiledSteps:
+    """Many steps a call (:func:`faultslip.models.fault_2d.compiled._run_steps`) on a :class:`_FusedTrial`'s
+    buffers: the integrator's loop in compiled code, returning to :func:`run_cycles` only where it has something
+    to do. ``chooser`` (a run whose threads were chosen for it): each call takes the trial's threads or one, as a
+    :class:`_FasterTrial` over the two picks (a probe's call takes one trial step, timed)."""
+
+    #: station records a call can buffer; trials a call takes at most (its next return checks the checkpoint's
+    #: and the progress bar's clocks)
+    RECORDS = 512
+    TRIALS = 512
+
+    def __init__(self, trial: _FusedTrial, near: np.ndarray, settings: dict, chooser: _FasterTrial | None = None):
+        count = trial.count
+        self.trial, self.near, self.chooser = trial, near, chooser
+        self.kernel = trial.kernels["run_steps"]
+        self.states = np.empty((2, 2 * count))
+        self.clock = np.zeros(compiled_kernels.CLOCK_SLOTS)
+        self.counters = np.zeros(compiled_kernels.COUNTER_SLOTS, dtype=np.int64)
+        self.settings = np.zeros(compiled_kernels.SETTINGS_SLOTS)
+        for slot, name in ((compiled_kernels.DURATION, "duration"), (compiled_kernels.RTOL, "rtol"),
+                           (compiled_kernels.MEMORY_WEIGHT, "memory_weight"),
+                           (compiled_kernels.EVENT_LIMIT, "event_speed"),
+                           (compiled_kernels.PROFILE_INTERVAL, "profile_interval"),
+                           (compiled_kernels.COSEISMIC_INTERVAL, "coseismic_interval")):
+            self.settings[slot] = settings[name]
+        self.records = np.empty((self.RECORDS, 1 + 4 * near.size))
+
+    def __call__(self, budget: int) -> None:
+        """Steps until :func:`_run_steps` returns, at most ``budget`` trials (the state in, and out, through
+        :attr:`states`, :attr:`clock` and :attr:`counters`)."""
+        chooser, trial = self.chooser, self.trial
+        which, probe = chooser.choose() if chooser is not None else (0, False)
+        tasks = trial._tasks() if which == 0 else 1
+        self.counters[compiled_kernels.BUDGET] = 1 if probe else min(budget, self.TRIALS)
+        fault, balance = trial.fault, trial.balance
+        start, evaluations = clock.perf_counter(), int(self.counters[compiled_kernels.EVALUATIONS])
+        self.kernel(
+            self.states, self.clock, self.counters, self.settings, self.records, self.near, trial.stages, trial.work,
+            trial.partial, trial.padded, trial.transforms, trial.even_product, trial.product, trial.coefficients,
+            trial.healing, trial.warm, trial.halves, fault.initial_shear_stress, trial.stress, balance.u,
+            trial.u_start, balance.sigma_a, balance.inverse_a, balance.two_v0_eta, 1.0 / balance.damping,
+            balance.aging, balance.aging_rate, fault.reference_friction, balance.inverse_b, fault.reference_speed,
+            fault.critical_slip, fault.b, NEWTON_ITERATIONS, balance.tolerance, trial.plan_rows, trial.plan_weights,
+            trial.plan_terms, trial.plan_fractions, trial.error_rows, trial.error_weights, trial.scale, trial.ratios,
+            fault.plate_rate, trial.sync, trial.part_largest, tasks)
+        if chooser is not None:
+            if probe:
+                chooser.timed(which, start, clock.perf_counter())
+            else:
+                chooser.steps[which] += (int(self.counters[compiled_kernels.EVALUATIONS]) - evaluations) // 6
 
 
 def _compiled_trial(fault, operator, balance, scale, rtol, threads):
@@ -378,34 +441,52 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     def numpy_trial(t, y, h, k1):
         return dormand_prince_trial(derivative, t, y, h, k1, rtol, scale)
 
+    choose_threads = adapt_threads and threads > 1
     if not balance.compiled:
         trial = numpy_trial
-    elif adapt_threads and threads > 1:
-        trial = _FasterTrial(_compiled_trial(fault, operator, balance, scale, rtol, threads),
-                             _compiled_trial(fault, operator, balance, scale, rtol, 1))
     else:
         trial = _compiled_trial(fault, operator, balance, scale, rtol, threads)
+        if choose_threads and not isinstance(trial, _FusedTrial):  # a fused trial chooses its threads a call
+            trial = _FasterTrial(trial, _compiled_trial(fault, operator, balance, scale, rtol, 1))
 
     near = recorder.neighbours  # every field at the stations' neighbouring elements only: a step's record is
     theta_offset_near, inverse_b_ln10_near = theta_offset[near], inverse_b_ln10[near]  # then 12 stations' work, not N
-    near_state, sites = near + count, recorder.depths.size
+    sites = recorder.depths.size
     lower_weight, upper_weight = 1.0 - recorder.weight, recorder.weight
-    fields = np.empty((len(STATION_FIELDS), near.size))  # slip, log10 V, stress, log10 theta at the neighbours
+    steps_in_one_call = None
+    if isinstance(trial, _FusedTrial):  # the whole step compiled: the loop too, many steps a call
+        steps_in_one_call = _CompiledSteps(trial, near, {
+            "duration": duration, "rtol": rtol, "memory_weight": STEP_MEMORY["loose" if rtol >= LOOSE_RTOL else "tight"],
+            "event_speed": event_speed, "profile_interval": profile_interval,
+            "coseismic_interval": coseismic_interval}, _FasterTrial(None, None) if choose_threads else None)
+
+    def station_rows(raw):
+        # records from the raw rows of compiled._record_near (t, then slip, slip rate, stress and state at the
+        # neighbours): the four fields and one interpolation over a block of rows, the same operations on each
+        # number as recorder.between's, so its bits
+        rows, width = raw.shape[0], near.size
+        at_neighbours = raw[:, 1:].reshape(rows, len(STATION_FIELDS), width)
+        speed_near = at_neighbours[:, 1]
+        fields = np.empty((rows, len(STATION_FIELDS), width))
+        fields[:, 0] = at_neighbours[:, 0]
+        with np.errstate(divide="ignore"):  # a rate of 0 is -inf
+            np.log10(speed_near, out=fields[:, 1])
+        np.subtract(at_neighbours[:, 2], fault.damping * speed_near, out=fields[:, 2])
+        np.multiply(at_neighbours[:, 3] - fault.reference_friction, inverse_b_ln10_near, out=fields[:, 3])
+        fields[:, 3] += theta_offset_near
+        out = np.empty((rows, 1 + len(STATION_FIELDS) * sites))
+        out[:, 0] = raw[:, 0]
+        out[:, 1:].reshape(rows, -1, sites)[:] = fields[:, :, :sites] * lower_weight + fields[:, :, sites:] * upper_weight
+        return out
+
+    raw_row = np.empty((1, 1 + len(STATION_FIELDS) * near.size))
 
     def station_row(t, y, speed, stress):
-        # the four fields in one array and one interpolation (recorder.between's operations, so its bits): a step's
-        # record in a dozen numpy calls, not thirty
-        speed_near = speed[near]
-        y.take(near, out=fields[0])
-        with np.errstate(divide="ignore"):  # a rate of 0 is -inf
-            np.log10(speed_near, out=fields[1])
-        np.subtract(stress[near], fault.damping * speed_near, out=fields[2])
-        np.multiply(y[near_state] - fault.reference_friction, inverse_b_ln10_near, out=fields[3])
-        fields[3] += theta_offset_near
-        row = np.empty(1 + fields.shape[0] * sites)
-        row[0] = t
-        row[1:].reshape(-1, sites)[:] = fields[:, :sites] * lower_weight + fields[:, sites:] * upper_weight
-        return row
+        # one step's record (a step at a time, the Python loop's): compiled._record_near's raw row, by numpy
+        raw_row[0, 0] = t
+        for i, values in enumerate((y, speed, stress, y[count:])):
+            values.take(near, out=raw_row[0, 1 + i * near.size:1 + (i + 1) * near.size])
+        return station_rows(raw_row)[0]
 
     def profile_row(t, y, speed):
         with np.errstate(divide="ignore"):
@@ -471,34 +552,69 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         started = clock.perf_counter()
         last_save = last_report = started
         log_threshold = math.log(event_speed)
-        log_peak = math.log(max(float(speed.max()), 1e-300))  # the accepted state's, kept: one max a step
+        peak = float(speed.max())  # the accepted state's, kept: one max a step
         while t < duration:
-            if steps >= max_steps:
-                raise SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
-                                  f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
-            h = min(h, duration - t)
-            y_new, k7, speed_new, stress_new, norm = trial(t, y, h, k1)
-            evaluations += 6
-            if not math.isfinite(norm):
-                norm = math.inf
-            if norm > 1.0:
-                rejected += 1
-                after_rejection = True
-                h *= max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
-                if h <= 8 * np.spacing(max(abs(t), 1.0)):  # t + h would no longer differ from t
+            if steps_in_one_call is not None:  # many steps in one compiled call, to the next that needs Python
+                if balance.u is None:  # a resumed run without a warm start: the numpy balance sets one, as at t = 0
+                    balance.rates(t, y[:count], y[count:])
+                before = steps
+                many = steps_in_one_call
+                many.states[0] = y
+                many.trial.stages[0] = k1
+                many.clock[:] = (t, h, previous_norm, float(after_rejection), min_step, max_step, peak, peak,
+                                 event["peak"], t)
+                many.counters[[compiled_kernels.STEPS, compiled_kernels.REJECTED, compiled_kernels.EVALUATIONS,
+                               compiled_kernels.CURRENT, compiled_kernels.STOP_AT, compiled_kernels.MAX_STEPS]] = (
+                    steps, rejected, evaluations, 0, -1 if stop_after_steps is None else stop_after_steps,
+                    max_steps)
+                many.settings[[compiled_kernels.LAST_PROFILE, compiled_kernels.LAST_COSEISMIC,
+                               compiled_kernels.INSIDE]] = (last_profile, last_coseismic, float(event["inside"]))
+                many(many.TRIALS)
+                (t, h, previous_norm, after_rejection, min_step, max_step, peak, previous_peak, event_peak,
+                 t_old) = (float(value) for value in many.clock)
+                after_rejection = after_rejection != 0.0
+                steps, rejected, evaluations, rows, current, _, _, _, returned = (int(v) for v in many.counters)
+                y, k1, stress = many.states[current], many.trial.stages[0], many.trial.stress
+                speed = k1[:count]
+                if rows:
+                    stations_store.extend(station_rows(many.records[:rows]))
+                if event["inside"]:
+                    event["peak"] = event_peak
+                if returned == compiled_kernels.RETURNED_MAX_STEPS:
+                    raise SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
+                                      f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
+                if returned == compiled_kernels.RETURNED_COLLAPSE:
                     raise SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
                                       f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
-                continue
-            previous_log_peak = log_peak
-            t_old = t
-            t, y, k1, speed, stress = t + h, y_new, k7, speed_new, stress_new
-            steps += 1
-            min_step, max_step = min(min_step, h), max(max_step, h)
-            h *= next_step_factor(norm, previous_norm, after_rejection, rtol)
-            previous_norm, after_rejection = max(norm, 1e-4), False
-            stations_store.append(station_row(t, y, speed, stress))
-            peak = float(speed.max())
-            log_peak = math.log(max(peak, 1e-300))
+                if steps == before:
+                    continue
+            else:
+                if steps >= max_steps:
+                    raise SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
+                                      f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
+                h = min(h, duration - t)
+                y_new, k7, speed_new, stress_new, norm = trial(t, y, h, k1)
+                evaluations += 6
+                if not math.isfinite(norm):
+                    norm = math.inf
+                if norm > 1.0:
+                    rejected += 1
+                    after_rejection = True
+                    h *= max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
+                    if h <= 8 * np.spacing(max(abs(t), 1.0)):  # t + h would no longer differ from t
+                        raise SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
+                                          f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
+                    continue
+                t_old = t
+                t, y, k1, speed, stress = t + h, y_new, k7, speed_new, stress_new
+                steps += 1
+                min_step, max_step = min(min_step, h), max(max_step, h)
+                h *= next_step_factor(norm, previous_norm, after_rejection, rtol)
+                previous_norm, after_rejection = max(norm, 1e-4), False
+                stations_store.append(station_row(t, y, speed, stress))
+                previous_peak, peak = peak, float(speed.max())
+            # the last accepted step: the event and profile records (every earlier step of a compiled call had none)
+            previous_log_peak, log_peak = math.log(max(previous_peak, 1e-300)), math.log(max(peak, 1e-300))
             if not event["inside"] and peak > event_speed:
                 fraction = (log_threshold - previous_log_peak) / (log_peak - previous_log_peak)
                 event.update(inside=True, start=t_old + fraction * (t - t_old),
