@@ -534,6 +534,9 @@ def test_an_automatic_run_takes_the_faster_of_its_threads_and_one():
         chooser(0.0, None, 1.0, None)
     assert calls[:4] == ["threaded", "single"] * 2 and calls.count("threaded") == probe + 1  # interleaved
     assert chooser.choice == 1 and chooser.hold == integrate.PROBE_EVERY
+    # a caller taking many steps a call takes as many as fit before the next probe at the chosen one's pace
+    assert chooser.trials_until_probe() in (integrate.PROBE_EVERY / cost["single"] - 1,
+                                            integrate.PROBE_EVERY / cost["single"])
     assert {chooser(0.0, None, 1.0, None) for _ in range(10)} == {"single"}  # the machine is busy: one thread
     for kept in range(1, 12):  # the same machine: each probe keeps the choice, and the wait doubles
         probe_now()

@@ -840,10 +840,20 @@ def _ulp(x):
     return math.ldexp(1.0, exponent - 53)
 
 
-def _next_factor(norm, previous_norm, after_rejection, memory_weight):
-    """:func:`faultslip.models.fault_2d.integrate.next_step_factor` (the same operations, so its bits)."""
-    factor = min(5.0, max(0.1, 0.9 * max(norm, 1e-10) ** (0.75 * memory_weight - 0.2) * previous_norm ** memory_weight))
+def step_factor(norm, previous_norm, after_rejection, memory_weight):
+    """The factor on the step after an accepted step of error ``norm`` (<= 1), the last accepted one's being
+    ``previous_norm``: h_new / h = 0.9 err^-(1/5 - 3 beta / 4) err_old^beta (Hairer, Norsett & Wanner, Solving ODEs
+    I, II.4, eq. 4.13), beta the ``memory_weight``, between 0.1 and 5, and at most 1 right after a rejection
+    (Hairer's DOPRI5). One function for the Python loop and the compiled one, so the same bits."""
+    growth = 0.9 * max(norm, 1e-10) ** (0.75 * memory_weight - 0.2) * previous_norm ** memory_weight
+    factor = min(5.0, max(0.1, growth))
     return min(factor, 1.0) if after_rejection else factor
+
+
+def rejection_factor(norm):
+    """The factor on the step after a rejected one of error ``norm`` (> 1, inf where a stage had no finite slip
+    rate): 0.9 err^(-1/5), at least 0.2; 0.1 for inf. The Python loop's and the compiled one's."""
+    return max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
 
 
 def _record_near(row, t, state, stress, speed, near):
@@ -905,7 +915,7 @@ def _run_steps(states, clock, counters, settings, records, near, stages, work, p
         if norm > 1.0:
             rejected += 1
             after_rejection = True
-            h *= max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
+            h *= rejection_factor(norm)
             if h <= 8 * _ulp(max(abs(t), 1.0)):
                 returned = RETURNED_COLLAPSE
                 break
@@ -916,7 +926,7 @@ def _run_steps(states, clock, counters, settings, records, near, stages, work, p
         stages[0, :] = stages[6, :]  # k7 is the next step's k1 (first same as last)
         steps += 1
         min_step, max_step = min(min_step, h), max(max_step, h)
-        h *= _next_factor(norm, previous_norm, after_rejection, memory_weight)
+        h *= step_factor(norm, previous_norm, after_rejection, memory_weight)
         previous_norm, after_rejection = max(norm, 1e-4), False
         _record_near(records[rows], t, y_new, stress, stages[6], near)
         rows += 1
@@ -955,7 +965,7 @@ KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "_move_split", "_claimed", "_next_part",
         "_first_state_parts", "_prepare", "_even_half", "_odd_half", "_sum_halves", "_stress_product",
         "_halves_and_preparation", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step",
-        "_fused_step", "_ulp", "_next_factor", "_record_near", "_run_steps")
+        "_fused_step", "_ulp", "step_factor", "rejection_factor", "_record_near", "_run_steps")
 #: the first rocket-fft whose low-level transforms (``rocket_fft.lowlevel``: DUCC0's, into the caller's arrays) the
 #: step calls
 ROCKET_FFT = (0, 4)

@@ -130,13 +130,16 @@ class _Stations:
         return at_neighbours[:size] * (1.0 - self.weight) + at_neighbours[size:] * self.weight
 
 
+def step_memory(rtol: float) -> float:
+    """The controller's memory weight beta for ``rtol`` (:data:`STEP_MEMORY`)."""
+    return STEP_MEMORY["loose" if rtol >= LOOSE_RTOL else "tight"]
+
+
 def next_step_factor(norm: float, previous_norm: float, after_rejection: bool, rtol: float) -> float:
     """The factor on h after an accepted step of error ``norm`` (<= 1): the PI controller with the memory weight
     :data:`STEP_MEMORY` for ``rtol``, safety 0.9, between 0.1 and 5, and no growth right after a rejection
-    (Hairer's DOPRI5)."""
-    beta = STEP_MEMORY["loose" if rtol >= LOOSE_RTOL else "tight"]
-    factor = min(5.0, max(0.1, 0.9 * max(norm, 1e-10) ** (0.75 * beta - 0.2) * previous_norm ** beta))
-    return min(factor, 1.0) if after_rejection else factor
+    (Hairer's DOPRI5): :func:`faultslip.models.fault_2d.compiled.step_factor`, which the compiled loop takes too."""
+    return compiled_kernels.step_factor(norm, previous_norm, after_rejection, step_memory(rtol))
 
 
 def dormand_prince_trial(derivative, t, y, h, k1, rtol, scale):
@@ -308,6 +311,13 @@ class _FasterTrial:
         which, self.turn = self.turn, 1 - self.turn
         return which, True
 
+    def trials_until_probe(self) -> int:
+        """The chosen trial's steps that fit before the next probe at its probe's pace (at least one): a caller
+        taking many steps a call returns in time for it."""
+        times = self.times[self.choice]
+        pace = sum(times) / len(times)
+        return max(1, int((self.next_probe - self.timer()) / pace)) if pace > 0 else 1
+
     def timed(self, which: int, start: float, end: float) -> None:
         """A probe's trial step ``which`` took from ``start`` to ``end``: the choice once both have
         :data:`PROBE_STEPS`."""
@@ -356,7 +366,11 @@ class _CompiledSteps:
         chooser, trial = self.chooser, self.trial
         which, probe = chooser.choose() if chooser is not None else (0, False)
         tasks = trial._tasks() if which == 0 else 1
-        self.counters[compiled_kernels.BUDGET] = 1 if probe else min(budget, self.TRIALS)
+        if probe:
+            budget = 1
+        elif chooser is not None:
+            budget = min(budget, chooser.trials_until_probe())
+        self.counters[compiled_kernels.BUDGET] = min(budget, self.TRIALS)
         fault, balance = trial.fault, trial.balance
         start, evaluations = clock.perf_counter(), int(self.counters[compiled_kernels.EVALUATIONS])
         self.kernel(
@@ -456,7 +470,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     steps_in_one_call = None
     if isinstance(trial, _FusedTrial):  # the whole step compiled: the loop too, many steps a call
         steps_in_one_call = _CompiledSteps(trial, near, {
-            "duration": duration, "rtol": rtol, "memory_weight": STEP_MEMORY["loose" if rtol >= LOOSE_RTOL else "tight"],
+            "duration": duration, "rtol": rtol, "memory_weight": step_memory(rtol),
             "event_speed": event_speed, "profile_interval": profile_interval,
             "coseismic_interval": coseismic_interval}, _FasterTrial(None, None) if choose_threads else None)
 
@@ -476,7 +490,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         fields[:, 3] += theta_offset_near
         out = np.empty((rows, 1 + len(STATION_FIELDS) * sites))
         out[:, 0] = raw[:, 0]
-        out[:, 1:].reshape(rows, -1, sites)[:] = fields[:, :, :sites] * lower_weight + fields[:, :, sites:] * upper_weight
+        out[:, 1:].reshape(rows, -1, sites)[:] = (fields[:, :, :sites] * lower_weight
+                                                  + fields[:, :, sites:] * upper_weight)
         return out
 
     raw_row = np.empty((1, 1 + len(STATION_FIELDS) * near.size))
@@ -547,6 +562,14 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                          rows=np.array([stream.rows for stream in streams]),
                          stream_digests=np.array([stream.digest() for stream in streams]))
 
+    def step_budget_spent():
+        return SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
+                           f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
+
+    def step_collapsed():  # t + h would no longer differ from t
+        return SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
+                           f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
+
     try:
         progress = reporter(progress, "2-D fault", "yr")
         started = clock.perf_counter()
@@ -581,17 +604,14 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                 if event["inside"]:
                     event["peak"] = event_peak
                 if returned == compiled_kernels.RETURNED_MAX_STEPS:
-                    raise SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
-                                      f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
+                    raise step_budget_spent()
                 if returned == compiled_kernels.RETURNED_COLLAPSE:
-                    raise SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
-                                      f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
+                    raise step_collapsed()
                 if steps == before:
                     continue
             else:
                 if steps >= max_steps:
-                    raise SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
-                                      f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
+                    raise step_budget_spent()
                 h = min(h, duration - t)
                 y_new, k7, speed_new, stress_new, norm = trial(t, y, h, k1)
                 evaluations += 6
@@ -600,10 +620,9 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                 if norm > 1.0:
                     rejected += 1
                     after_rejection = True
-                    h *= max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
+                    h *= compiled_kernels.rejection_factor(norm)
                     if h <= 8 * np.spacing(max(abs(t), 1.0)):  # t + h would no longer differ from t
-                        raise SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
-                                          f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
+                        raise step_collapsed()
                     continue
                 t_old = t
                 t, y, k1, speed, stress = t + h, y_new, k7, speed_new, stress_new
