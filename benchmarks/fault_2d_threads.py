@@ -1,6 +1,6 @@
 """A 2-D run on one core and on two (issue 43, item 3: ">= 1.6x from one to two cores at 1600 elements or more").
 
-    python benchmarks/fault_2d_threads.py [--elements 1024 1600 3200] [--years 200] [--rounds 3]
+    python benchmarks/fault_2d_threads.py [--elements 1024 1600 3200] [--years 200] [--rounds 3] [--pairs 8]
 
 SEAS BP1 (configs/seas_bp1.toml) at each element count over ``--years`` at rtol 1e-4 (faultslip's loosest
 tolerance within 0.1 % of its converged recurrence). Each run is ``run_cycles`` in this process: once with
@@ -18,7 +18,10 @@ whole run spans many such changes, so beside the runs it measures:
   how long a class lasts;
 - trial steps in each class: batches of 100 trial steps of BP1 a year in (the same step, its Newton warm start
   reset), on one thread pinned to one core and on two, interleaved for ``--batches`` seconds a count, each pair
-  kept in the class its round trips before and after agree on.
+  kept in the class its round trips before and after agree on;
+- short whole runs in pairs (``--pairs`` pairs over ``--pair-years``, one thread then two or the other way, in
+  turn): the gain of each pair and their median. A short run is less likely to span a change of placement than a
+  long one, and a pair's ratio cancels the host's slower drifts of pace.
 """
 
 from __future__ import annotations
@@ -162,6 +165,27 @@ def trial_batches(fault, passes, seconds: float) -> dict:
         for name, rows in pairs.items()}}
 
 
+def run_pairs(fault, passes, years: float, pairs: int) -> dict:
+    """``pairs`` interleaved pairs of whole runs over ``years`` on one thread and on two: each pair's gain, their
+    median, and the placement class each pair's round trips before and after agree on (None where they differ)."""
+    rows = []
+    for pair in range(pairs):
+        before = placement(round_trip_us(passes))
+        times = {}
+        for threads in ((1, 2) if pair % 2 == 0 else (2, 1)):
+            times[threads] = timed(fault, years, threads)
+        after = placement(round_trip_us(passes))
+        rows.append({"one_thread_s": times[1]["wall_s"], "two_threads_s": times[2]["wall_s"],
+                     "gain": times[1]["wall_s"] / times[2]["wall_s"], "placement": before if before == after else None,
+                     "identical_bits": times[1]["bits"] == times[2]["bits"]})
+    gains = [row["gain"] for row in rows]
+    near = [row["gain"] for row in rows if row["placement"] == "near"]
+    return {"years": years, "pairs": rows, "median_gain": statistics.median(gains),
+            "near_median_gain": statistics.median(near) if near else None, "near_pairs": len(near),
+            "pairs_at_or_above_1_6": sum(gain >= 1.6 for gain in gains),
+            "identical_bits": all(row["identical_bits"] for row in rows)}
+
+
 def timed(fault, years: float, threads: int) -> dict:
     os.sched_setaffinity(0, set(range(threads)))
     began, cpu = time.perf_counter(), time.process_time()
@@ -177,6 +201,8 @@ def main(argv=None) -> int:
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--placement", type=float, default=60.0, help="seconds of round trips")
     parser.add_argument("--batches", type=float, default=60.0, help="seconds of trial-step batches a count")
+    parser.add_argument("--pairs", type=int, default=8, help="pairs of short whole runs a count")
+    parser.add_argument("--pair-years", type=float, default=60.0, help="the span of each short whole run")
     args = parser.parse_args(argv)
     if (os.cpu_count() or 1) < 2:
         raise SystemExit("this benchmark needs two cores")
@@ -207,10 +233,12 @@ def main(argv=None) -> int:
                    for threads, rows_ in runs.items()}
         one_thread = medians[1]["wall_s"]
         steps = trial_batches(fault, passes, args.batches)
+        short = run_pairs(fault, passes, args.pair_years, args.pairs) if args.pairs else None
         row = {"elements": elements, "years": args.years, "steps": runs[1][0]["steps"],
                "identical_bits": same and steps["identical_bits"], "one_thread": medians[1],
                "two_threads": medians[2], "speedup": one_thread / medians[2]["wall_s"], "target": 1.6,
-               "round_trips_us": [round(row["round_trip_us"], 3) for row in runs[2]], "trial_steps": steps}
+               "round_trips_us": [round(row["round_trip_us"], 3) for row in runs[2]], "trial_steps": steps,
+               "short_runs": short}
         rows.append(row)
         classes = "; ".join(f"{name} {steps[name]['speedup']:.2f}x ({steps[name]['one_thread_us']:.0f} against "
                             f"{steps[name]['two_threads_us']:.0f} us, {steps[name]['pairs']} pairs)"
@@ -218,6 +246,13 @@ def main(argv=None) -> int:
         print(f"{elements} elements, {row['steps']} steps: one thread {one_thread:.2f} s, two "
               f"{medians[2]['wall_s']:.2f} s -> {row['speedup']:.2f}x (target 1.6); trial steps: {classes}; the "
               f"same bits: {row['identical_bits']}", flush=True)
+        if short:
+            near = (f"{short['near_median_gain']:.2f}x in the {short['near_pairs']} near throughout"
+                    if short["near_pairs"] else "none near throughout")
+            print(f"  {args.pairs} pairs of {args.pair_years:g}-yr runs: median gain {short['median_gain']:.2f}x ({near}), "
+                  f"{short['pairs_at_or_above_1_6']} of {args.pairs} at 1.6x or more; each: "
+                  + ", ".join(f"{pair['gain']:.2f}x ({pair['placement'] or 'changed'})" for pair in short["pairs"])
+                  + f"; the same bits: {short['identical_bits']}", flush=True)
     write_results("fault_2d_threads.json", {"runs": rows, "rounds": args.rounds, "rtol": 1e-4, "placement": where})
     return 0
 
