@@ -1131,3 +1131,17 @@ def test_many_steps_a_compiled_call_are_the_python_loops_bit_for_bit(tmp_path, m
 @given(x=st.floats(1.0, 1e300))
 def test_the_compiled_loops_spacing_of_floats_is_numpys(x):
     assert compiled._ulp(x) == np.spacing(x)
+
+
+def test_a_trial_step_is_judged_once_for_both_loops():
+    """compiled.judged_step, which the Python loop and the compiled one take: an error norm of at most 1 keeps h
+    (the controller then sets it); a larger one shrinks it by 0.9 err^(-1/5), at least 0.2; NaN (a stage without a
+    finite slip rate) counts as inf and shrinks it tenfold; a step that would leave t + h equal to t collapses."""
+    assert compiled.judged_step(0.5, 3.0, 0.0) == (0.5, 3.0, compiled.ACCEPTED)
+    assert compiled.judged_step(1.0, 3.0, 0.0) == (1.0, 3.0, compiled.ACCEPTED)
+    norm, h, verdict = compiled.judged_step(2.0, 3.0, 0.0)
+    assert (norm, verdict) == (2.0, compiled.REJECTED) and h == pytest.approx(3.0 * 0.9 * 2.0 ** -0.2, rel=1e-15)
+    assert compiled.judged_step(1e9, 3.0, 0.0)[1] == pytest.approx(0.6, rel=1e-15)  # at least 0.2
+    assert compiled.judged_step(math.nan, 3.0, 0.0) == (math.inf, 0.30000000000000004, compiled.REJECTED)
+    assert compiled.judged_step(2.0, 1e-15, 1e6)[2] == compiled.COLLAPSED  # 8 ulp(1e6) is 9.3e-10 s
+    assert compiled.judged_step(2.0, 2e-9, 1e6)[2] == compiled.REJECTED

@@ -856,6 +856,23 @@ def rejection_factor(norm):
     return max(0.2, 0.9 * norm ** -0.2) if math.isfinite(norm) else 0.1
 
 
+#: a trial step's verdict (:func:`judged_step`)
+ACCEPTED, REJECTED, COLLAPSED = 0, 1, 2
+
+
+def judged_step(norm, h, t):
+    """A trial step from t over h of error ``norm`` (NaN where a stage had no finite slip rate): (its norm, inf
+    for NaN; the next step after a rejection (norm > 1, :func:`rejection_factor`), else h, which the controller
+    then sets; ACCEPTED, REJECTED, or COLLAPSED where the next step would leave t + h equal to t). The Python
+    loop's and the compiled one's."""
+    if not math.isfinite(norm):
+        norm = math.inf
+    if norm <= 1.0:
+        return norm, h, ACCEPTED
+    h *= rejection_factor(norm)
+    return norm, h, COLLAPSED if h <= 8 * _ulp(max(abs(t), 1.0)) else REJECTED
+
+
 def _record_near(row, t, state, stress, speed, near):
     """A station record's raw values: t, and at the stations' neighbouring elements ``near`` the slip, the slip
     rate, the shear stress and the state (:func:`faultslip.models.fault_2d.integrate.station_rows` makes the
@@ -910,13 +927,11 @@ def _run_steps(states, clock, counters, settings, records, near, stages, work, p
                            part_largest, tasks)
         trials += 1
         evaluations += 6
-        if not math.isfinite(norm):
-            norm = math.inf
-        if norm > 1.0:
+        norm, h, verdict = judged_step(norm, h, t)
+        if verdict != ACCEPTED:
             rejected += 1
             after_rejection = True
-            h *= rejection_factor(norm)
-            if h <= 8 * _ulp(max(abs(t), 1.0)):
+            if verdict == COLLAPSED:
                 returned = RETURNED_COLLAPSE
                 break
             continue
@@ -965,7 +980,7 @@ KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "_move_split", "_claimed", "_next_part",
         "_first_state_parts", "_prepare", "_even_half", "_odd_half", "_sum_halves", "_stress_product",
         "_halves_and_preparation", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step",
-        "_fused_step", "_ulp", "step_factor", "rejection_factor", "_record_near", "_run_steps")
+        "_fused_step", "_ulp", "step_factor", "rejection_factor", "judged_step", "_record_near", "_run_steps")
 #: the first rocket-fft whose low-level transforms (``rocket_fft.lowlevel``: DUCC0's, into the caller's arrays) the
 #: step calls
 ROCKET_FFT = (0, 4)

@@ -615,13 +615,11 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                 h = min(h, duration - t)
                 y_new, k7, speed_new, stress_new, norm = trial(t, y, h, k1)
                 evaluations += 6
-                if not math.isfinite(norm):
-                    norm = math.inf
-                if norm > 1.0:
+                norm, h, verdict = compiled_kernels.judged_step(norm, h, t)
+                if verdict != compiled_kernels.ACCEPTED:
                     rejected += 1
                     after_rejection = True
-                    h *= compiled_kernels.rejection_factor(norm)
-                    if h <= 8 * np.spacing(max(abs(t), 1.0)):  # t + h would no longer differ from t
+                    if verdict == compiled_kernels.COLLAPSED:
                         raise step_collapsed()
                     continue
                 t_old = t
