@@ -1145,3 +1145,18 @@ def test_a_trial_step_is_judged_once_for_both_loops():
     assert compiled.judged_step(math.nan, 3.0, 0.0) == (math.inf, 0.30000000000000004, compiled.REJECTED)
     assert compiled.judged_step(2.0, 1e-15, 1e6)[2] == compiled.COLLAPSED  # 8 ulp(1e6) is 9.3e-10 s
     assert compiled.judged_step(2.0, 2e-9, 1e6)[2] == compiled.REJECTED
+
+
+@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
+def test_a_run_that_numba_gives_fewer_threads_than_asked_says_so(monkeypatch):
+    """numba counts the cores a process may use once, when it is first imported: a process held to one core then
+    has one thread for good. A run asking for two then takes one (the same bits) and says why, not silently."""
+    import numba
+
+    fault = small_fault(element_size=250.0)
+    one = run_cycles(fault, 20 * YEAR, rtol=1e-4, stations=STATIONS, kernel="fft", threads=1)
+    monkeypatch.setattr(numba.config, "NUMBA_NUM_THREADS", 1)
+    run = run_cycles(fault, 20 * YEAR, rtol=1e-4, stations=STATIONS, kernel="fft", threads=2)
+    assert run.final_slip.tobytes() == one.final_slip.tobytes()
+    assert any(note.startswith("2 threads were asked for and numba offers this process 1") for note in run.notes)
+    assert not one.notes

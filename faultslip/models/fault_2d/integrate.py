@@ -389,6 +389,15 @@ class _CompiledSteps:
                 chooser.steps[which] += (int(self.counters[compiled_kernels.EVALUATIONS]) - evaluations) // 6
 
 
+def threads_offered(threads: int) -> int:
+    """The threads numba offers this process, at most ``threads``. numba counts the cores the process may use
+    when it is first imported, once: a process held to one core then (a ``taskset`` or ``os.sched_setaffinity``
+    before its first compiled run) has one thread for the rest of its life, whatever it may use later."""
+    import numba  # heavy: optional dependency (faultslip[fast]), present wherever the compiled kernels are
+
+    return max(1, min(threads, numba.config.NUMBA_NUM_THREADS))
+
+
 def _compiled_trial(fault, operator, balance, scale, rtol, threads):
     """The whole step compiled where it can be (an FFT kernel, and rocket-fft here), else its element-wise work."""
     if operator.method == "fft" and compiled_kernels.fused_available():
@@ -455,6 +464,12 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     def numpy_trial(t, y, h, k1):
         return dormand_prince_trial(derivative, t, y, h, k1, rtol, scale)
 
+    notes = []
+    if balance.compiled and threads > 1 and threads_offered(threads) < threads:
+        offered = threads_offered(threads)
+        notes.append(f"{threads} threads were asked for and numba offers this process {offered}: it counted the "
+                     f"cores the process could use when numba was first imported, and the process was held to fewer "
+                     f"then; the run took {offered} (start the process on the cores it should use)")
     choose_threads = adapt_threads and threads > 1
     if not balance.compiled:
         trial = numpy_trial
@@ -693,6 +708,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                      profiles_store.columns(slice(count + 2, 2 * count + 2)), events, steps, rejected, evaluations,
                      wall, duration, rtol, operator.method, y[:count].copy(), y[count:].copy(), t, min_step, max_step,
                      resumed_from)
+    run.notes.extend(notes)
     if event["inside"]:
         run.notes.append(f"an event was under way at the end (started at {event['start'] / YEAR:.6g} yr); it is not "
                          "in the catalogue")
