@@ -465,8 +465,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         return dormand_prince_trial(derivative, t, y, h, k1, rtol, scale)
 
     notes = []
-    if balance.compiled and threads > 1 and threads_offered(threads) < threads:
-        offered = threads_offered(threads)
+    offered = threads_offered(threads) if balance.compiled and threads > 1 else threads
+    if offered < threads:
         notes.append(f"{threads} threads were asked for and numba offers this process {offered}: it counted the "
                      f"cores the process could use when numba was first imported, and the process was held to fewer "
                      f"then; the run took {offered} (start the process on the cores it should use)")
