@@ -824,7 +824,7 @@ CLOCK_SLOTS = 10
 SETTINGS_SLOTS = 9
 #: ``counters``' slots (int64): accepted steps, rejected trials, stage evaluations, station rows written this call,
 #: which of ``states``' rows holds the state, the trials this call may take, the step at which to stop (-1: none),
-#: the steps' budget, and why the call returned (:data:`RETURNS`)
+#: the run's budget of accepted steps (max_steps), and why the call returned (one of the RETURNED_ values below)
 STEPS, REJECTED, EVALUATIONS, ROWS, CURRENT, BUDGET, STOP_AT, MAX_STEPS, RETURNED = range(9)
 COUNTER_SLOTS = 9
 #: why :func:`_run_steps` returned: the run reached its end; its step budget (max_steps); a rejected step left
