@@ -105,12 +105,19 @@ def test_leonard_surface_length_forms_and_refusals():
         ["strike-slip", "strike-slip", "strike-slip", "reverse", "normal", "strike-slip"]
 
 
+@pytest.fixture(scope="module")
+def openquake_scalerel():
+    """OpenQuake's magnitude-scaling module, imported before hypothesis runs a test: importing OpenQuake raises
+    the recursion limit (openquake.baselib.parallel), which hypothesis warns of when it happens inside a test."""
+    return pytest.importorskip("openquake.hazardlib.scalerel", reason="the OpenQuake engine is not installed")
+
+
 @settings(max_examples=60, deadline=None)
 @given(st.floats(1.0, 1e5), st.floats(-180, 180), st.floats(4.0, 8.5))
-def test_the_relations_agree_with_openquake_scalerel(area_km2, rake, magnitude):
+def test_the_relations_agree_with_openquake_scalerel(openquake_scalerel, area_km2, rake, magnitude):
     """OpenQuake's own WC1994 (area forms, by rake) equals faultslip's to round-off; its Leonard 2010/2014
     classes, which carry Table 6's printed constants, agree with faultslip's computed ones to their rounding."""
-    scalerel = pytest.importorskip("openquake.hazardlib.scalerel", reason="the OpenQuake engine is not installed")
+    scalerel = openquake_scalerel
     from openquake.hazardlib.scalerel.leonard2010 import Leonard2010_SCR
     from openquake.hazardlib.scalerel.leonard2014 import Leonard2014_Interplate
 
