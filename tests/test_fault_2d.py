@@ -335,6 +335,55 @@ def test_a_threaded_step_whose_threads_do_not_all_come_is_taken_on_one_thread():
     assert threaded.sync[compiled.ABANDONED] == 0 and again[0].tobytes() == expected[0].tobytes()
 
 
+def test_a_barrier_opens_for_all_its_tasks_or_gives_up_taking_its_arrival_back():
+    """The threaded step's barrier (plain Python, the compiled one's code): a task alone at it waits its spin limit
+    and gives up, taking its arrival back, so that no later task can open it; once given up, every barrier says
+    so. The last of its tasks to arrive opens it: the next barrier's word, none arrived."""
+    sync = compiled.new_sync(spins=1_000)
+    assert not compiled._barrier(sync, 2)
+    assert sync[compiled.BARRIER] == 0 and sync[compiled.ABANDONED] == 1
+    sync[compiled.BARRIER] = 1  # the other task arrives after the first gave up
+    assert not compiled._barrier(sync, 2)
+    sync = compiled.new_sync(spins=1_000)
+    sync[compiled.BARRIER] = 3 * compiled.BARRIER_UNIT + 1  # three barriers passed, the other task arrived
+    assert compiled._barrier(sync, 2)
+    assert sync[compiled.BARRIER] == 4 * compiled.BARRIER_UNIT and sync[compiled.ABANDONED] == 0
+
+
+@pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")
+def test_a_run_whose_threads_do_not_all_come_is_taken_on_one_thread(monkeypatch):
+    """A threaded run takes a call's trials in one parallel region, its tasks meeting at spin barriers that all
+    pass or none. Given one task more than numba has threads, the first tasks wait for one that cannot start
+    before they return: each call's region gives up at its spin limit, at a trial no task has committed, and the
+    call goes on from that trial on one thread. The run is the one-thread run bit for bit: every station record,
+    event and profile, and the steps, the rejections and the final state."""
+    import numba
+
+    from faultslip.models.fault_2d import integrate
+
+    fault = small_fault(element_size=250.0)  # 80 elements, on the FFT kernel: the whole step compiled
+
+    def run(threads):
+        return run_cycles(fault, 400 * YEAR, rtol=1e-4, stations=STATIONS, kernel="fft", threads=threads)
+
+    expected = run(1)
+    assert expected.event_count >= 3
+    syncs, new_sync = [], compiled.new_sync
+    monkeypatch.setattr(compiled, "new_sync", lambda: syncs.append(new_sync(spins=100_000)) or syncs[-1])
+    monkeypatch.setattr(integrate._FusedTrial, "_tasks", lambda self: numba.get_num_threads() + 1)
+    got = run(2)
+    assert syncs and all(sync[compiled.ABANDONED] > 0 for sync in syncs)  # given up, not run through
+    assert (got.steps, got.rejected, got.function_evaluations, got.event_count) == (
+        expected.steps, expected.rejected, expected.function_evaluations, expected.event_count)
+    for name in expected.stations:
+        assert np.asarray(got.stations[name]).tobytes() == np.asarray(expected.stations[name]).tobytes()
+    for name in expected.events:
+        assert np.asarray(got.events[name]).tobytes() == np.asarray(expected.events[name]).tobytes()
+    assert np.asarray(got.profiles).tobytes() == np.asarray(expected.profiles).tobytes()
+    assert got.final_slip.tobytes() == expected.final_slip.tobytes()
+    assert got.final_state.tobytes() == expected.final_state.tobytes()
+
+
 @settings(max_examples=300, deadline=None)
 @given(st.integers(1, compiled.PARALLEL_PARTS - 1), st.integers(-10**12, 10**12), st.integers(-10, 10**11))
 def test_the_split_of_the_parts_moves_only_toward_balance(split, imbalance, part_cost):

@@ -378,9 +378,12 @@ def _stress_product(padded, transforms, halves, even_product, product):
 
 #: int64s a cache line: each counter of the step's ``sync`` array on a line of its own
 LINE = 8
-#: ``sync``'s slots: tasks arrived at the barrier, barriers passed, the step given up, the spins a task waits at a
-#: barrier before it gives the step up (set once, by the caller)
-ARRIVALS, GENERATION, ABANDONED, SPIN_LIMIT = 0, LINE, 2 * LINE, 3 * LINE
+#: ``sync``'s slots: the barrier's word (the barriers passed times :data:`BARRIER_UNIT`, plus the tasks arrived at
+#: the next), the step given up, the spins a task waits at a barrier before it gives the step up (set once, by the
+#: caller), and the trials a run's parallel region took (:func:`_run_tasks`)
+BARRIER, ABANDONED, SPIN_LIMIT, TRIALS_TAKEN = 0, 2 * LINE, 3 * LINE, 3 * LINE + 1
+#: a barrier word's unit of barriers passed: the tasks arrived are its remainder
+BARRIER_UNIT = 1 << 16
 #: slots kept from step to step: the parts task 0 owns (0 before the first step), and the smoothed difference of
 #: the two tasks' first-phase times and a part's preparation time (cycles a trial step, :func:`_adapted_split`)
 SPLIT, IMBALANCE, PART_COST = 4 * LINE, 5 * LINE, 6 * LINE
@@ -398,6 +401,10 @@ SMOOTHING = 8
 SPINS = 1 << 32
 #: whether :func:`_step_tasks` runs its tasks side by side (a parallel build) or each phase's in turn (plain Python)
 PARALLEL_REGION = False
+#: :func:`_step_task`'s ``in_turn`` in a parallel region: every phase, or all but the first state's
+ALL_PHASES, AFTER_FIRST_STATE = 0, -1
+#: the rows of a threaded step's ``part_extremes``: each part's largest error ratio and its largest slip rate
+LARGEST_RATIO, PEAK_SPEED = 0, 1
 
 
 def new_sync(spins: int = SPINS):
@@ -426,31 +433,48 @@ def _atomic_load(array, index):
     return array[index]
 
 
+def _atomic_compare_swap(array, index, expected, value):
+    """Set array[index] to ``value`` if it holds ``expected``; whether it did (atomic in the compiled build)."""
+    if array[index] != expected:
+        return False
+    array[index] = value
+    return True
+
+
 def _barrier(sync, tasks):
     """Wait until all ``tasks`` have arrived. False when the step was given up (a wait beyond sync[SPIN_LIMIT]
-    spins)."""
-    generation = _atomic_load(sync, GENERATION)
-    if _atomic_load(sync, ABANDONED) != 0:
-        return False
-    if _atomic_add(sync, ARRIVALS, 1) == tasks - 1:  # the last to arrive opens the barrier
-        _atomic_add(sync, ARRIVALS, -tasks)
-        _atomic_add(sync, GENERATION, 1)
-        return True
-    return _wait_while(sync, GENERATION, generation)
+    spins, here or at another task's barrier). All or none: every change of the barrier's word is one atomic
+    compare-and-swap, so a task giving up takes its arrival back only while the barrier is still shut, and a
+    barrier that opens opens for every task (a run's parallel region commits a trial after its last barrier:
+    :func:`_run_task`)."""
+    while True:
+        if _atomic_load(sync, ABANDONED) != 0:
+            return False
+        word = _atomic_load(sync, BARRIER)
+        if word % BARRIER_UNIT == tasks - 1:  # the last to arrive opens it: the next barrier, none arrived
+            if _atomic_compare_swap(sync, BARRIER, word, word - word % BARRIER_UNIT + BARRIER_UNIT):
+                return True
+        elif _atomic_compare_swap(sync, BARRIER, word, word + 1):
+            return _wait_while(sync, word // BARRIER_UNIT)
 
 
-def _wait_while(sync, slot, value):
-    """Spin while sync[slot] holds ``value``. False if the step was given up meanwhile, or is given up here after
-    sync[SPIN_LIMIT] spins."""
+def _wait_while(sync, passed):
+    """Spin while the barrier's word shows ``passed`` barriers. False if the step was given up meanwhile, or is
+    given up here after sync[SPIN_LIMIT] spins: this task's arrival is taken back in the same swap that finds the
+    barrier still shut."""
     spins, limit = 0, sync[SPIN_LIMIT]
-    while _atomic_load(sync, slot) == value:
+    while True:
+        word = _atomic_load(sync, BARRIER)
+        if word // BARRIER_UNIT != passed:
+            return True
         if _atomic_load(sync, ABANDONED) != 0:
             return False
         spins += 1
         if spins > limit:
-            _atomic_add(sync, ABANDONED, 1)
-            return False
-    return True
+            if _atomic_compare_swap(sync, BARRIER, word, word - 1):
+                _atomic_add(sync, ABANDONED, 1)
+                return False
+            spins = 0  # the word moved (another arrival, or the barrier opened): look again
 
 
 def _first_split(tasks):
@@ -535,10 +559,10 @@ def _finish_error_entries(first, end, ratios, y, y_new, h, partial, weight, row,
     return largest
 
 
-def _first_state_parts(task, tasks, sync, out, padded, y, h, weights, rows, stages, plate_rate, time):
+def _first_state_parts(task, tasks, sync, split, out, padded, y, h, weights, rows, stages, plate_rate, time):
     """The step's first trial state (:func:`_stage`): the task's own parts, then any of the others' left over
     (:func:`_claimed`)."""
-    count, split, position = out.shape[0] // 2, sync[SPLIT], 0
+    count, position = out.shape[0] // 2, 0
     while True:
         part, position = _next_part(sync, 0, task, tasks, split, position)
         if part < 0:
@@ -563,7 +587,7 @@ def _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, agi
     _partial_entries(count + first, count + end, partial, weights, rows, terms, stages)
 
 
-def _halves_and_preparation(task, tasks, sync, state, padded, transforms, halves, even_product, u, sigma_a,
+def _halves_and_preparation(task, tasks, sync, split, state, padded, transforms, halves, even_product, u, sigma_a,
                              inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
                              weights, rows, terms, stages):
     """Task 0 takes K x's even half (:func:`_even_half`), task 1 its odd half (:func:`_odd_half`); then each task
@@ -574,7 +598,7 @@ def _halves_and_preparation(task, tasks, sync, state, padded, transforms, halves
         _even_half(padded, transforms, halves, even_product)
     elif task == 1:
         _odd_half(padded, transforms, halves)
-    first_part, end_part = _owned(task, tasks, sync[SPLIT])
+    first_part, end_part = _owned(task, tasks, split)
     prepared = _cycles()
     _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
              healing, warm, partial, weights, rows, terms, stages)
@@ -584,16 +608,27 @@ def _halves_and_preparation(task, tasks, sync, state, padded, transforms, halves
         sync[PREPARATION + task * LINE] += ended - prepared
 
 
-def _balance_parts(task, tasks, sync, phase, row, product, even_product, transforms, halves, initial_stress, stress,
+def _first_largest(values):
+    """The largest of ``values`` as a loop from the first finds it (values[0], then each larger one): the peak slip
+    rate of an accepted state, which has no NaN. Over the parts' peaks in order it gives the whole's, the same
+    element and so the same bits, -0.0 or 0.0 included."""
+    largest = values[0]
+    for i in range(1, values.shape[0]):
+        if values[i] > largest:
+            largest = values[i]
+    return largest
+
+
+def _balance_parts(task, tasks, sync, split, phase, row, product, even_product, transforms, halves, initial_stress, stress,
                    state, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                    critical_slip, b, iterations, tolerance, coefficients, healing, warm, stages, partial, weights,
                    rows, terms, following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol, scale,
-                   part_largest):
+                   part_extremes):
     """The balance at ``state`` into k[row], the task's own parts in order and then the others' left over, from
     their ends (:func:`_claimed`); each part's K x first summed from its halves (:func:`_sum_halves`), and the
     part then finished: its next state (``following``) or, after the last stage, its error ratios and their
-    largest."""
-    count, split, position = u.shape[0], sync[SPLIT], 0
+    largest (part_extremes[LARGEST_RATIO]) and its largest slip rate (part_extremes[PEAK_SPEED])."""
+    count, position = u.shape[0], 0
     weight, newest = weights[terms - 1], rows[terms - 1]
     while True:
         part, position = _next_part(sync, phase, task, tasks, split, position)
@@ -614,19 +649,22 @@ def _balance_parts(task, tasks, sync, phase, row, product, even_product, transfo
                                           scale)
             upper = _finish_error_entries(count + first, count + end, ratios, y, y_new, h, partial, weight,
                                           newest, stages, rtol, scale)
-            part_largest[part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
+            part_extremes[LARGEST_RATIO, part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
+            part_extremes[PEAK_SPEED, part] = _first_largest(stages[row, first:end]) if end > first else -math.inf
 
 
-def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
+def _step_task(task, tasks, sync, split, part_extremes, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
                coefficients, healing, warm, halves, initial_stress, stress, u, sigma_a,
                inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
                rtol, scale, ratios, plate_rate, in_turn):
-    """One task's share of a threaded trial step, phase by phase, meeting the others at barriers; with ``in_turn``
-    > 0 only that phase (1: the first state; 2 s + 2 and 2 s + 3: stage s's two), without barriers."""
+    """One task's share of a threaded trial step, phase by phase, meeting the others at barriers
+    (``in_turn`` :data:`ALL_PHASES`, or :data:`AFTER_FIRST_STATE`: a run's region has taken its own parts' first
+    state); with ``in_turn`` > 0 only that phase (1: the first state; 2 s + 2 and 2 s + 3: stage s's two),
+    without barriers."""
     last = plan_rows.shape[0] - 1
-    if in_turn <= 1:
-        _first_state_parts(task, tasks, sync, work, padded, y, h, plan_weights[0, :plan_terms[0]],
+    if in_turn == ALL_PHASES or in_turn == 1:
+        _first_state_parts(task, tasks, sync, split, work, padded, y, h, plan_weights[0, :plan_terms[0]],
                            plan_rows[0, :plan_terms[0]], stages, plate_rate, t + plan_fractions[0] * h)
     for s in range(last + 1):
         state = work if s < last else y_new
@@ -637,23 +675,23 @@ def _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, 
         else:
             weights, rows, terms = error_weights, error_rows, error_rows.shape[0]
             out, time = y_new, t + h
-        if in_turn == 0 and not _barrier(sync, tasks):
+        if in_turn <= 0 and not _barrier(sync, tasks):
             return
-        if in_turn == 0 or in_turn == 2 * s + 2:
-            _halves_and_preparation(task, tasks, sync, state, padded, transforms, halves, even_product, u, sigma_a,
+        if in_turn <= 0 or in_turn == 2 * s + 2:
+            _halves_and_preparation(task, tasks, sync, split, state, padded, transforms, halves, even_product, u, sigma_a,
                                     inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
                                     weights, rows, terms, stages)
-        if in_turn == 0 and not _barrier(sync, tasks):
+        if in_turn <= 0 and not _barrier(sync, tasks):
             return
-        if in_turn == 0 or in_turn == 2 * s + 3:
-            _balance_parts(task, tasks, sync, s + 1, s + 1, product, even_product, transforms, halves,
+        if in_turn <= 0 or in_turn == 2 * s + 3:
+            _balance_parts(task, tasks, sync, split, s + 1, s + 1, product, even_product, transforms, halves,
                            initial_stress, stress, state, u, sigma_a,
                            inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
                            b, iterations, tolerance, coefficients, healing, warm, stages, partial, weights, rows, terms,
-                           following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol, scale, part_largest)
+                           following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol, scale, part_extremes)
 
 
-def _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product, coefficients,
+def _step_tasks(tasks, sync, part_extremes, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product, coefficients,
                 healing, warm, halves, initial_stress, stress, u, sigma_a, inverse_a,
                 two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations,
                 tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale,
@@ -661,18 +699,19 @@ def _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new
     """The threaded trial step: one task a thread, in one parallel region (a parallel build), or each phase's tasks
     in turn (plain Python, where ``prange`` is ``range``: tasks one after another would wait at a barrier
     forever)."""
+    split = sync[SPLIT]
     if PARALLEL_REGION:
         for task in prange(tasks):
-            _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
+            _step_task(task, tasks, sync, split, part_extremes, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
                        coefficients, healing, warm, halves, initial_stress, stress, u,
                        sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                        critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
-                       error_rows, error_weights, rtol, scale, ratios, plate_rate, 0)
+                       error_rows, error_weights, rtol, scale, ratios, plate_rate, ALL_PHASES)
     else:
         for in_turn in range(1, 2 * plan_rows.shape[0] + 2):
             for task in range(tasks):
-                _step_task(task, tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms,
-                           even_product, product, coefficients, healing, warm, halves, initial_stress,
+                _step_task(task, tasks, sync, split, part_extremes, y, h, t, stages, work, partial, y_new, padded,
+                           transforms, even_product, product, coefficients, healing, warm, halves, initial_stress,
                            stress, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
                            inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights,
                            plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios, plate_rate,
@@ -753,7 +792,7 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_
                 halves, initial_stress, stress, u, u_start, sigma_a, inverse_a, two_v0_eta,
                 inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance,
                 plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights, rtol, scale, ratios,
-                plate_rate, sync, part_largest, tasks):
+                plate_rate, sync, part_extremes, tasks):
     """A whole Dormand-Prince trial step (stages[0] holds k1): :func:`_one_thread_step` on one thread, or
     :func:`_step_tasks` on ``tasks`` threads (the same arithmetic element by element, so the same bits). Returns
     Hairer's norm, the largest error ratio (NaN where a stage had no finite slip rate). ``stress`` is left at
@@ -770,7 +809,7 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_
     if sync[SPLIT] == 0:
         sync[SPLIT] = _first_split(tasks)
     u_start[:] = u  # the Newton solves' warm start, which a step given up must not have moved
-    _step_tasks(tasks, sync, part_largest, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
+    _step_tasks(tasks, sync, part_extremes, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
                 coefficients, healing, warm, halves, initial_stress, stress, u, sigma_a,
                 inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
@@ -785,20 +824,24 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_
                                 error_weights, rtol, scale, ratios, plate_rate)
     if tasks == 2:
         _move_split(sync, tasks)
-    return _largest(part_largest)
+    return _largest(part_extremes[LARGEST_RATIO])
+
+
+def _moved_split(split, imbalance, part_cost, step_imbalance, step_part_cost, tasks):
+    """A threaded step's times (its tasks' first-phase difference and a part's preparation, cycles) into the
+    smoothed ``imbalance`` and ``part_cost`` (:data:`SMOOTHING`), and the split moved by a part where that pays
+    (:func:`_adapted_split`): (split, imbalance, part_cost), the imbalance then the one expected after the move."""
+    imbalance += (step_imbalance - imbalance) // SMOOTHING
+    part_cost += (step_part_cost - part_cost) // SMOOTHING
+    moved = _adapted_split(split, imbalance, part_cost, tasks, PARTS)
+    return moved, imbalance + 2 * (moved - split) * part_cost, part_cost
 
 
 def _move_split(sync, tasks):
-    """After a threaded step: its times into the smoothed imbalance and part cost (:data:`SMOOTHING`), and the
-    split moved by a part where that pays (:func:`_adapted_split`), the imbalance then the one expected after it."""
-    imbalance = sync[FIRST_PHASE] - sync[FIRST_PHASE + LINE]
-    part_cost = (sync[PREPARATION] + sync[PREPARATION + LINE]) // PARTS
-    sync[IMBALANCE] += (imbalance - sync[IMBALANCE]) // SMOOTHING
-    sync[PART_COST] += (part_cost - sync[PART_COST]) // SMOOTHING
-    split = sync[SPLIT]
-    moved = _adapted_split(split, sync[IMBALANCE], sync[PART_COST], tasks, PARTS)
-    sync[IMBALANCE] += 2 * (moved - split) * sync[PART_COST]
-    sync[SPLIT] = moved
+    """After a threaded step: :func:`_moved_split` from the times in ``sync``, kept there."""
+    sync[SPLIT], sync[IMBALANCE], sync[PART_COST] = _moved_split(
+        sync[SPLIT], sync[IMBALANCE], sync[PART_COST], sync[FIRST_PHASE] - sync[FIRST_PHASE + LINE],
+        (sync[PREPARATION] + sync[PREPARATION + LINE]) // PARTS, tasks)
 
 
 # --- many steps in one call ------------------------------------------------------------------------------------
@@ -808,6 +851,11 @@ def _move_split(sync, tasks):
 # a second thread cannot share. :func:`_run_steps` takes whole steps, accepted and rejected, in compiled code and
 # returns to Python only where Python has something to do: an event starts or ends, a profile is due, the station
 # records' buffer is full, the step budget is spent, the run ends or fails.
+#
+# On several threads a call's trials are one parallel region (:func:`_run_tasks`), not one a trial: a region's
+# start and end, the copies of k1 and the warm start and the peak, 9 us a trial on one thread at 1,600 elements,
+# held up both threads, and the copies pulled the other core's lines to the first each step. A barrier ends each
+# trial; both tasks then take the controller's decisions from the same numbers, and each copies its own parts.
 
 #: ``clock``'s slots (float64, read and written): the time, the next step, the controller's memory (the last
 #: accepted step's error) and whether the last trial was rejected (1.0), the smallest and largest accepted steps,
@@ -887,86 +935,241 @@ def _record_near(row, t, state, stress, speed, near):
         row[1 + 3 * width + j] = state[count + element]
 
 
+#: a run's loop goes on (no RETURNED_ value yet); a task of its parallel region found the run given up
+GO_ON, GAVE_UP = -1, -2
+#: a task's row of the clock and the counters in a run's parallel region (two cache lines: one task's row is
+#: never on another's line)
+TASK_ROW = 2 * LINE
+
+
+def _stop_before_trial(clock, counters, settings, trials):
+    """Why a run's loop stops before its next trial (a RETURNED_ value: the run's end, its step budget, the call's
+    trials spent), or :data:`GO_ON`."""
+    if not clock[TIME] < settings[DURATION]:
+        return RETURNED_END
+    if counters[STEPS] >= counters[MAX_STEPS]:
+        return RETURNED_MAX_STEPS
+    if trials >= counters[BUDGET]:
+        return RETURNED_BUDGET
+    return GO_ON
+
+
+def _trial_step(clock, settings):
+    """The next trial's step, no further than the run's end (kept in ``clock``)."""
+    h = min(clock[STEP_SIZE], settings[DURATION] - clock[TIME])
+    clock[STEP_SIZE] = h
+    return h
+
+
+def _verdict(norm, clock, counters):
+    """A trial of error ``norm`` counted (:func:`judged_step`): after a rejected one, the next step. Its verdict and
+    its norm."""
+    counters[EVALUATIONS] += 6
+    norm, h, verdict = judged_step(norm, clock[STEP_SIZE], clock[TIME])
+    clock[STEP_SIZE] = h
+    if verdict != ACCEPTED:
+        counters[REJECTED] += 1
+        clock[AFTER_REJECTION] = 1.0
+    return verdict, norm
+
+
+def _accept(norm, peak, clock, counters, settings):
+    """The controller after an accepted trial of error ``norm``, its state's largest slip rate ``peak``: the time,
+    the next step (:func:`step_factor`), the counters and the peaks. RETURNED_NOTICE where Python must look at the
+    state (an event begins or ends, a profile is due, the stop step), else :data:`GO_ON`."""
+    t, h = clock[TIME], clock[STEP_SIZE]
+    clock[PREVIOUS_TIME] = t
+    t = t + h
+    clock[TIME] = t
+    counters[CURRENT] = 1 - counters[CURRENT]
+    counters[STEPS] += 1
+    clock[MIN_STEP], clock[MAX_STEP] = min(clock[MIN_STEP], h), max(clock[MAX_STEP], h)
+    clock[STEP_SIZE] = h * step_factor(norm, clock[PREVIOUS_NORM], clock[AFTER_REJECTION] != 0.0,
+                                       settings[MEMORY_WEIGHT])
+    clock[PREVIOUS_NORM], clock[AFTER_REJECTION] = max(norm, 1e-4), 0.0
+    clock[PREVIOUS_PEAK], clock[PEAK] = clock[PEAK], peak
+    inside = settings[INSIDE] != 0.0
+    if inside:
+        clock[EVENT_PEAK] = max(clock[EVENT_PEAK], peak)
+    profile_due = (t - settings[LAST_COSEISMIC] >= settings[COSEISMIC_INTERVAL] if peak > settings[EVENT_LIMIT]
+                   else t - settings[LAST_PROFILE] >= settings[PROFILE_INTERVAL])
+    if (peak > settings[EVENT_LIMIT]) != inside or profile_due or counters[STEPS] == counters[STOP_AT]:
+        return RETURNED_NOTICE
+    return GO_ON
+
+
+def _steps_in_turn(states, clock, counters, settings, records, near, stages, work, partial, padded, transforms,
+                   even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
+                   sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                   critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
+                   error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes, tasks, rows, trials):
+    """:func:`_run_steps`' loop a trial at a time, each a :func:`_fused_step` (on one thread, or on ``tasks``
+    threads in a region of its own), from ``rows`` station rows and ``trials`` trials taken."""
+    count = stress.shape[0]
+    returned = GO_ON
+    while returned == GO_ON:
+        returned = _stop_before_trial(clock, counters, settings, trials)
+        if returned != GO_ON:
+            break
+        h = _trial_step(clock, settings)
+        current = counters[CURRENT]
+        y, y_new = states[current], states[1 - current]
+        norm = _fused_step(y, h, clock[TIME], stages, work, partial, y_new, padded, transforms, even_product,
+                           product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start, sigma_a,
+                           inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                           critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms,
+                           plan_fractions, error_rows, error_weights, settings[RTOL], scale, ratios, plate_rate, sync,
+                           part_extremes, tasks)
+        trials += 1
+        verdict, norm = _verdict(norm, clock, counters)
+        if verdict == COLLAPSED:
+            returned = RETURNED_COLLAPSE
+            break
+        if verdict != ACCEPTED:
+            continue
+        stages[0, :] = stages[6, :]  # k7 is the next step's k1 (first same as last)
+        returned = _accept(norm, _first_largest(stages[6, :count]), clock, counters, settings)
+        _record_near(records[rows], clock[TIME], y_new, stress, stages[6], near)
+        rows += 1
+        if returned == GO_ON and rows == records.shape[0]:
+            returned = RETURNED_ROWS_FULL
+    counters[ROWS], counters[RETURNED] = rows, returned
+
+
+def _run_task(task, tasks, task_clock, task_counters, states, settings, records, near, stages, work, partial,
+              padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress,
+              u, u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+              critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
+              error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes):
+    """One task's share of :func:`_steps_in_turn`'s loop in one parallel region over many trials: a barrier
+    ends each trial (:func:`_barrier`: all tasks pass it or none), after which every task takes the same
+    decisions from the same numbers (the controller on its own row of ``task_clock`` and ``task_counters``, the
+    split of the parts from both tasks' times). What a task does between two trials it does for its own parts, in
+    its own cache: the next k1 (k7), the Newton solves' warm start (``u_start``, kept for a run given up), the
+    claims' reset and the first trial state; the peak slip rate comes from the parts' peaks. Task 0 writes the
+    station rows, and at the end the clock and counters, the trials taken and the split. A barrier given up ends
+    the region at the trial under way (uncommitted)."""
+    clock, counters = task_clock[task], task_counters[task]
+    count = stress.shape[0]
+    split, imbalance, part_cost = sync[SPLIT], sync[IMBALANCE], sync[PART_COST]
+    seen_first, seen_other_first = sync[FIRST_PHASE], sync[FIRST_PHASE + LINE]
+    seen_preparation = sync[PREPARATION] + sync[PREPARATION + LINE]
+    first_terms = plan_terms[0]
+    first_weights, first_rows = plan_weights[0, :first_terms], plan_rows[0, :first_terms]
+    rows, trials = 0, 0
+    returned = GO_ON
+    while returned == GO_ON:
+        returned = _stop_before_trial(clock, counters, settings, trials)
+        if returned != GO_ON:
+            break
+        h = _trial_step(clock, settings)
+        t, current = clock[TIME], counters[CURRENT]
+        y, y_new = states[current], states[1 - current]
+        first_part, end_part = _owned(task, tasks, split)
+        first, end = first_part * count // PARTS, end_part * count // PARTS
+        u_start[first:end] = u[first:end]
+        for phase in range(1, plan_rows.shape[0] + 1):
+            for part in range(first_part, end_part):
+                sync[CLAIMS + phase * PARTS + part] = 0
+        for part in range(first_part, end_part):
+            part_first, part_end = part * count // PARTS, (part + 1) * count // PARTS
+            for at in (0, count):
+                _stage_entries(at + part_first, at + part_end, work, padded, y, h, first_weights, first_rows, stages,
+                               count, plate_rate, t + plan_fractions[0] * h)
+        _step_task(task, tasks, sync, split, part_extremes, y, h, t, stages, work, partial, y_new, padded,
+                   transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
+                   sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                   critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
+                   error_rows, error_weights, settings[RTOL], scale, ratios, plate_rate, AFTER_FIRST_STATE)
+        if not _barrier(sync, tasks):
+            returned = GAVE_UP
+            break
+        trials += 1
+        if tasks == 2:  # both tasks' times, read by each: the same split on both
+            first_phase, other_first_phase = sync[FIRST_PHASE], sync[FIRST_PHASE + LINE]
+            preparation = sync[PREPARATION] + sync[PREPARATION + LINE]
+            split, imbalance, part_cost = _moved_split(
+                split, imbalance, part_cost, (first_phase - seen_first) - (other_first_phase - seen_other_first),
+                (preparation - seen_preparation) // PARTS, tasks)
+            seen_first, seen_other_first, seen_preparation = first_phase, other_first_phase, preparation
+        verdict, norm = _verdict(_largest(part_extremes[LARGEST_RATIO]), clock, counters)
+        if verdict == COLLAPSED:
+            returned = RETURNED_COLLAPSE
+            break
+        if verdict != ACCEPTED:
+            continue
+        first_part, end_part = _owned(task, tasks, split)  # the next trial's own parts: its first state reads them
+        first, end = first_part * count // PARTS, end_part * count // PARTS
+        for at in (0, count):  # k7 is the next step's k1 (first same as last): the task's own parts
+            stages[0, at + first:at + end] = stages[6, at + first:at + end]
+        returned = _accept(norm, _first_largest(part_extremes[PEAK_SPEED]), clock, counters, settings)
+        if task == 0:
+            _record_near(records[rows], clock[TIME], y_new, stress, stages[6], near)
+        rows += 1
+        if returned == GO_ON and rows == records.shape[0]:
+            returned = RETURNED_ROWS_FULL
+    if task == 0:
+        counters[ROWS], counters[RETURNED], sync[TRIALS_TAKEN] = rows, returned, trials
+        sync[SPLIT], sync[IMBALANCE], sync[PART_COST] = split, imbalance, part_cost
+
+
+def _run_tasks(tasks, task_clock, task_counters, states, settings, records, near, stages, work, partial, padded,
+               transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
+               u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+               critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
+               error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes):
+    """A run's trials in one parallel region, one :func:`_run_task` a thread."""
+    for task in prange(tasks):
+        _run_task(task, tasks, task_clock, task_counters, states, settings, records, near, stages, work, partial,
+                  padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress,
+                  stress, u, u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
+                  inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms,
+                  plan_fractions, error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes)
+
+
 def _run_steps(states, clock, counters, settings, records, near, stages, work, partial, padded, transforms,
                even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
                sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
                b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
-               error_weights, scale, ratios, plate_rate, sync, part_largest, tasks):
-    """Dormand-Prince steps (:func:`_fused_step` each, on ``tasks`` threads) with the integrator's controller, from
-    the state states[counters[CURRENT]] whose k1 is stages[0], as :func:`faultslip.models.fault_2d.integrate.
-    run_cycles` takes them one by one in Python (the same operations, so its bits): until the run's end, or an
-    accepted step Python must look at, or a full ``records`` buffer (a row an accepted step: :func:`_record_near`),
-    or counters[BUDGET] trials. ``clock`` and ``counters`` carry the integrator's state in and out, and why the
-    call returned (counters[RETURNED])."""
-    count = stress.shape[0]
-    duration, rtol, memory_weight = settings[DURATION], settings[RTOL], settings[MEMORY_WEIGHT]
-    event_limit, inside = settings[EVENT_LIMIT], settings[INSIDE] != 0.0
-    t, h = clock[TIME], clock[STEP_SIZE]
-    previous_norm, after_rejection = clock[PREVIOUS_NORM], clock[AFTER_REJECTION] != 0.0
-    min_step, max_step = clock[MIN_STEP], clock[MAX_STEP]
-    peak, previous_peak, event_peak = clock[PEAK], clock[PREVIOUS_PEAK], clock[EVENT_PEAK]
-    steps, rejected, evaluations = counters[STEPS], counters[REJECTED], counters[EVALUATIONS]
-    current, budget, stop_at, max_steps = counters[CURRENT], counters[BUDGET], counters[STOP_AT], counters[MAX_STEPS]
+               error_weights, scale, ratios, plate_rate, sync, part_extremes, tasks):
+    """Dormand-Prince steps with the integrator's controller, from the state states[counters[CURRENT]] whose k1 is
+    stages[0], as :func:`faultslip.models.fault_2d.integrate.run_cycles` takes them one by one in Python (the same
+    operations, so its bits): until the run's end, or an accepted step Python must look at, or a full ``records``
+    buffer (a row an accepted step: :func:`_record_near`), or counters[BUDGET] trials. ``clock`` and ``counters``
+    carry the integrator's state in and out, and why the call returned (counters[RETURNED]).
+
+    On one thread each trial is a :func:`_fused_step`; on ``tasks`` threads of a parallel build the trials run in
+    one parallel region (:func:`_run_tasks`), which a step's region start and end, about 9 us a trial at 1,600
+    elements on one thread, and the copies between trials no longer hold up. Where a task waited beyond the spin
+    limit the trial under way is taken again on one thread from its start (the Newton solves' warm start
+    restored), and the call's other trials too."""
     rows, trials = 0, 0
-    t_old = clock[PREVIOUS_TIME]
-    returned = RETURNED_END
-    while t < duration:
-        if steps >= max_steps:
-            returned = RETURNED_MAX_STEPS
-            break
-        if trials >= budget:
-            returned = RETURNED_BUDGET
-            break
-        h = min(h, duration - t)
-        y, y_new = states[current], states[1 - current]
-        norm = _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
-                           coefficients, healing, warm, halves, initial_stress, stress, u, u_start, sigma_a,
-                           inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
-                           critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms,
-                           plan_fractions, error_rows, error_weights, rtol, scale, ratios, plate_rate, sync,
-                           part_largest, tasks)
-        trials += 1
-        evaluations += 6
-        norm, h, verdict = judged_step(norm, h, t)
-        if verdict != ACCEPTED:
-            rejected += 1
-            after_rejection = True
-            if verdict == COLLAPSED:
-                returned = RETURNED_COLLAPSE
-                break
-            continue
-        t_old = t
-        t = t + h
-        current = 1 - current
-        stages[0, :] = stages[6, :]  # k7 is the next step's k1 (first same as last)
-        steps += 1
-        min_step, max_step = min(min_step, h), max(max_step, h)
-        h *= step_factor(norm, previous_norm, after_rejection, memory_weight)
-        previous_norm, after_rejection = max(norm, 1e-4), False
-        _record_near(records[rows], t, y_new, stress, stages[6], near)
-        rows += 1
-        previous_peak = peak
-        peak = stages[6, 0]
-        for i in range(1, count):
-            if stages[6, i] > peak:
-                peak = stages[6, i]
-        if inside:
-            event_peak = max(event_peak, peak)
-        profile_due = (t - settings[LAST_COSEISMIC] >= settings[COSEISMIC_INTERVAL] if peak > event_limit
-                       else t - settings[LAST_PROFILE] >= settings[PROFILE_INTERVAL])
-        if (peak > event_limit) != inside or profile_due or steps == stop_at:
-            returned = RETURNED_NOTICE
-            break
-        if rows == records.shape[0]:
-            returned = RETURNED_ROWS_FULL
-            break
-    clock[TIME], clock[STEP_SIZE], clock[PREVIOUS_NORM] = t, h, previous_norm
-    clock[AFTER_REJECTION] = 1.0 if after_rejection else 0.0
-    clock[MIN_STEP], clock[MAX_STEP] = min_step, max_step
-    clock[PEAK], clock[PREVIOUS_PEAK], clock[EVENT_PEAK] = peak, previous_peak, event_peak
-    clock[PREVIOUS_TIME] = t_old
-    counters[STEPS], counters[REJECTED], counters[EVALUATIONS] = steps, rejected, evaluations
-    counters[ROWS], counters[CURRENT], counters[RETURNED] = rows, current, returned
+    if PARALLEL_REGION and PARTS > 1 and tasks >= 2:
+        sync[:SPIN_LIMIT] = 0
+        sync[FIRST_PHASE:] = 0
+        if sync[SPLIT] == 0:
+            sync[SPLIT] = _first_split(tasks)
+        task_clock, task_counters = np.empty((tasks, TASK_ROW)), np.empty((tasks, TASK_ROW), dtype=np.int64)
+        for task in range(tasks):
+            task_clock[task, :CLOCK_SLOTS] = clock
+            task_counters[task, :COUNTER_SLOTS] = counters
+        _run_tasks(tasks, task_clock, task_counters, states, settings, records, near, stages, work, partial, padded,
+                   transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
+                   u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                   critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
+                   error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes)
+        clock[:] = task_clock[0, :CLOCK_SLOTS]
+        counters[:] = task_counters[0, :COUNTER_SLOTS]
+        if sync[ABANDONED] == 0:
+            return
+        sync[SPLIT] = 0  # a later region starts again from the first split: these times are a lost thread's
+        u[:] = u_start
+        rows, trials, tasks = counters[ROWS], sync[TRIALS_TAKEN], 1
+    _steps_in_turn(states, clock, counters, settings, records, near, stages, work, partial, padded, transforms,
+                   even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
+                   sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                   critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
+                   error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes, tasks, rows, trials)
 
 
 _KERNELS = {}
@@ -977,10 +1180,14 @@ ELEMENTS = ("_exponentials", "_solve_elements", "_weighted_sum", "_deficit", "_r
 PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 #: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
-STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "_move_split", "_claimed", "_next_part",
-        "_first_state_parts", "_prepare", "_even_half", "_odd_half", "_sum_halves", "_stress_product",
-        "_halves_and_preparation", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step",
-        "_fused_step", "_ulp", "step_factor", "rejection_factor", "judged_step", "_record_near", "_run_steps")
+STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "_moved_split", "_move_split",
+        "_claimed", "_next_part", "_first_state_parts", "_prepare", "_even_half", "_odd_half", "_sum_halves",
+        "_stress_product", "_halves_and_preparation", "_first_largest", "_balance_parts", "_step_task",
+        "_step_tasks", "_largest", "_one_thread_step", "_fused_step", "_ulp", "step_factor", "rejection_factor",
+        "judged_step", "_record_near", "_stop_before_trial", "_trial_step", "_verdict", "_accept",
+        "_steps_in_turn", "_run_task", "_run_tasks", "_run_steps")
+#: the functions that hold a parallel region in a parallel build
+REGIONS = ("_step_tasks", "_run_tasks")
 #: the first rocket-fft whose low-level transforms (``rocket_fft.lowlevel``: DUCC0's, into the caller's arrays) the
 #: step calls
 ROCKET_FFT = (0, 4)
@@ -1063,11 +1270,12 @@ def _compiled(threads: int) -> dict:
         for name in PIECES:  # callable alone too (their tests, the profile benchmark)
             _KERNELS[key][name.lstrip("_")] = elements[name]
         if fused_available():
-            atomic_add, atomic_load = _atomic_intrinsics()
+            atomic_add, atomic_load, atomic_compare_swap = _atomic_intrinsics()
             step = {**names, **_fft_kernels(key), "_atomic_add": atomic_add, "_atomic_load": atomic_load,
+                    "_atomic_compare_swap": atomic_compare_swap,
                     "_cycles": _cycle_counter_intrinsic(), "PARALLEL_REGION": key == "parallel"}
             for name in STEP:
-                step[name] = numba.njit(cache=True, parallel=key == "parallel" and name == "_step_tasks")(
+                step[name] = numba.njit(cache=True, parallel=key == "parallel" and name in REGIONS)(
                     _named(module[name], key, step))
             _KERNELS[key]["fused_step"] = step["_fused_step"]
             _KERNELS[key]["run_steps"] = step["_run_steps"]
@@ -1115,8 +1323,8 @@ def _cycle_counter_intrinsic():
 
 
 def _atomic_intrinsics():
-    """:func:`_atomic_add` and :func:`_atomic_load` for numba on an int64 array: LLVM's atomicrmw add (sequentially
-    consistent) and an atomic load with acquire order."""
+    """:func:`_atomic_add`, :func:`_atomic_load` and :func:`_atomic_compare_swap` for numba on an int64 array: LLVM's
+    atomicrmw add and cmpxchg (sequentially consistent) and an atomic load with acquire order."""
     from numba.core import cgutils, types as numba_types  # heavy: optional dependency (faultslip[fast])
     from numba.extending import intrinsic  # heavy: as above
 
@@ -1137,7 +1345,15 @@ def _atomic_intrinsics():
             return builder.load_atomic(pointer(context, builder, signature.args[0], arguments[0], arguments[1]),
                                        "acquire", 8)
         return numba_types.int64(array, index), codegen
-    return atomic_add, atomic_load
+
+    @intrinsic
+    def atomic_compare_swap(typing_context, array, index, expected, value):
+        def codegen(context, builder, signature, arguments):
+            where = pointer(context, builder, signature.args[0], arguments[0], arguments[1])
+            swapped = builder.cmpxchg(where, arguments[2], arguments[3], "seq_cst", "seq_cst")
+            return builder.extract_value(swapped, 1)
+        return numba_types.boolean(array, index, numba_types.int64, numba_types.int64), codegen
+    return atomic_add, atomic_load, atomic_compare_swap
 
 
 def _named(function, build: str, names: dict | None = None):

@@ -231,7 +231,7 @@ class _FusedTrial(_CompiledTrial):
         self.warm = np.empty((compiled_kernels.WARM_ROWS, self.count))
         self.partial = np.empty(2 * self.count)
         self.sync = compiled_kernels.new_sync()
-        self.part_largest = np.empty(compiled_kernels.PARALLEL_PARTS)
+        self.part_extremes = np.empty((2, compiled_kernels.PARALLEL_PARTS))  # compiled.LARGEST_RATIO, PEAK_SPEED
         self.tasks = threads  # one task a thread: at most the threads numba has (checked at each step)
 
     def __call__(self, t, y, h, k1):
@@ -247,7 +247,7 @@ class _FusedTrial(_CompiledTrial):
             balance.inverse_b, fault.reference_speed, fault.critical_slip, fault.b, NEWTON_ITERATIONS,
             balance.tolerance, self.plan_rows, self.plan_weights, self.plan_terms, self.plan_fractions,
             self.error_rows, self.error_weights, self.rtol, self.scale, self.ratios, fault.plate_rate, self.sync,
-            self.part_largest, self._tasks())
+            self.part_extremes, self._tasks())
         return y_new, stages[6].copy(), stages[6, :self.count].copy(), self.stress.copy(), float(norm)
 
     def _tasks(self) -> int:
@@ -381,7 +381,7 @@ class _CompiledSteps:
             balance.aging, balance.aging_rate, fault.reference_friction, balance.inverse_b, fault.reference_speed,
             fault.critical_slip, fault.b, NEWTON_ITERATIONS, balance.tolerance, trial.plan_rows, trial.plan_weights,
             trial.plan_terms, trial.plan_fractions, trial.error_rows, trial.error_weights, trial.scale, trial.ratios,
-            fault.plate_rate, trial.sync, trial.part_largest, tasks)
+            fault.plate_rate, trial.sync, trial.part_extremes, tasks)
         if chooser is not None:
             if probe:
                 chooser.timed(which, start, clock.perf_counter())
