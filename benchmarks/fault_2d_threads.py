@@ -16,9 +16,9 @@ seems: two threads gain nothing there), 0.06-0.2 us (near: two cores sharing a c
 whole run spans many such changes, so beside the runs it measures:
 - the placement: the round trip every 50 ms over ``--placement`` seconds, the share of the time in each class and
   how long a class lasts;
-- trial steps in each class: batches of 100 trial steps of BP1 a year in (the same step, its Newton warm start
-  reset), on one thread pinned to one core and on two, interleaved for ``--batches`` seconds a count, each pair
-  kept in the class its round trips before and after agree on;
+- trial steps in each class: batches of 100 trial steps of BP1 a year in, through a run's compiled loop (from the
+  same state each time, its Newton warm start reset), on one thread pinned to one core and on two, interleaved
+  for ``--batches`` seconds a count, each pair kept in the class its round trips before and after agree on;
 - short whole runs in pairs (``--pairs`` pairs over ``--pair-years``, one thread then two or the other way, in
   turn): the gain of each pair and their median. A short run is less likely to span a change of placement than a
   long one, and a pair's ratio cancels the host's slower drifts of pace.
@@ -52,18 +52,19 @@ def _round_trip_kernel():
 
     from faultslip.models.fault_2d import compiled
 
-    atomic_add, atomic_load = compiled._atomic_intrinsics()
+    atomic_add, atomic_load, _ = compiled._atomic_intrinsics()
+    arrivals, generations = 0, compiled.LINE  # a counter a cache line, as the step's barrier word has its own
 
     @numba.njit(parallel=True)
     def passes(sync, repeats):
         for task in prange(2):
             for _ in range(repeats):
-                generation = atomic_load(sync, compiled.GENERATION)
-                if atomic_add(sync, compiled.ARRIVALS, 1) == 1:
-                    atomic_add(sync, compiled.ARRIVALS, -2)
-                    atomic_add(sync, compiled.GENERATION, 1)
+                generation = atomic_load(sync, generations)
+                if atomic_add(sync, arrivals, 1) == 1:
+                    atomic_add(sync, arrivals, -2)
+                    atomic_add(sync, generations, 1)
                 else:
-                    while atomic_load(sync, compiled.GENERATION) == generation:
+                    while atomic_load(sync, generations) == generation:
                         pass
     return passes
 
@@ -116,11 +117,13 @@ def placement_series(passes, seconds: float) -> dict:
 
 
 def trial_batches(fault, passes, seconds: float) -> dict:
-    """Batches of 100 trial steps (BP1 a year in, the same step each time) on one thread pinned to one core and on
-    two, interleaved for ``seconds``; the median batch's time a step (us) and the gain in each placement class."""
+    """Batches of 100 trial steps through a run's compiled loop (``run_steps``, in one parallel region on two
+    threads), from BP1 a year in (the same state, its Newton warm start reset, each time; no event, profile or
+    record to return for), on one thread pinned to one core and on two, interleaved for ``seconds``; the median
+    batch's time a trial (us) and the gain in each placement class."""
     import numpy as np
 
-    from faultslip.models.fault_2d import integrate
+    from faultslip.models.fault_2d import compiled, integrate
     from faultslip.models.fault_2d.kernel import StressKernel
     from faultslip.models.fault_2d.model import ForceBalance, newton_tolerance
 
@@ -134,19 +137,28 @@ def trial_batches(fault, passes, seconds: float) -> dict:
     speed, rate, _ = balance.rates(run.final_time, y[:count], y[count:])
     k1, start = np.concatenate([speed, rate]), balance.u.copy()
     scale = np.concatenate([fault.critical_slip, np.ones(count)])
-    trials = {threads: integrate._FusedTrial(fault, operator, balance, scale, 1e-4, threads) for threads in (1, 2)}
+    never = 1e300  # no run's end, event or profile within a batch: its trials are all the loop does
+    settings = {"duration": never, "rtol": 1e-4, "memory_weight": integrate.step_memory(1e-4),
+                "event_speed": never, "profile_interval": never, "coseismic_interval": never}
+    loops = {threads: integrate._CompiledSteps(integrate._FusedTrial(fault, operator, balance, scale, 1e-4, threads),
+                                               np.array([0, count // 2]), settings) for threads in (1, 2)}
     results = {}
 
     def batch(threads):
         os.sched_setaffinity(0, set(range(threads)))
-        times = []
-        for _ in range(100):
-            balance.u[:] = start
-            began = time.perf_counter()
-            step = trials[threads](run.final_time, y, h, k1)
-            times.append(time.perf_counter() - began)
-        results[threads] = step[0].tobytes()
-        return statistics.median(times) * 1e6
+        loop = loops[threads]
+        balance.u[:] = start
+        loop.states[0], loop.trial.stages[0] = y, k1
+        loop.clock[:] = (run.final_time, h, 1e-4, 0.0, h, h, speed.max(), speed.max(), 0.0, run.final_time)
+        loop.counters[:] = 0
+        loop.counters[[compiled.STOP_AT, compiled.MAX_STEPS]] = (-1, 10**9)
+        loop.settings[[compiled.LAST_PROFILE, compiled.LAST_COSEISMIC, compiled.INSIDE]] = (run.final_time,) * 2 + (0,)
+        began = time.perf_counter()
+        loop(100)
+        elapsed = time.perf_counter() - began
+        trials = int(loop.counters[compiled.STEPS] + loop.counters[compiled.REJECTED])
+        results[threads] = loop.states[int(loop.counters[compiled.CURRENT])].tobytes()
+        return elapsed / trials * 1e6
 
     for threads in (1, 2):
         batch(threads)
@@ -207,6 +219,7 @@ def main(argv=None) -> int:
     if (os.cpu_count() or 1) < 2:
         raise SystemExit("this benchmark needs two cores")
     rows = []
+    started = time.strftime("%H:%M", time.gmtime())
     import numba  # heavy: the benchmark measures the compiled path
 
     # numba's threads start at its first parallel call and keep the CPUs the process had then: started while this
@@ -253,7 +266,8 @@ def main(argv=None) -> int:
                   f"{short['pairs_at_or_above_1_6']} of {args.pairs} at 1.6x or more; each: "
                   + ", ".join(f"{pair['gain']:.2f}x ({pair['placement'] or 'changed'})" for pair in short["pairs"])
                   + f"; the same bits: {short['identical_bits']}", flush=True)
-    write_results("fault_2d_threads.json", {"runs": rows, "rounds": args.rounds, "rtol": 1e-4, "placement": where})
+    write_results("fault_2d_threads.json", {"runs": rows, "rounds": args.rounds, "rtol": 1e-4, "placement": where,
+                                            "started": started, "ended": time.strftime("%H:%M", time.gmtime())})
     return 0
 
 

@@ -261,6 +261,32 @@ def fault_2d_qdyn_table() -> str | None:
     return _peer_closing(rows, result)
 
 
+def fault_2d_threads_table() -> str | None:
+    result = _load("fault_2d_threads.json")
+    if result is None:
+        return None
+    rows = [f"| elements | {result['runs'][0]['years']:g}-yr runs: one / two threads | gain | trial steps near "
+            "(pairs) | short runs in pairs, near throughout: median (pairs, range) |", "| --- | --- | --- | --- | --- |"]
+    for run in result["runs"]:
+        near = run["trial_steps"]["near"]
+        steps = f"{near['speedup']:.2f}× ({near['pairs']})" if near["pairs"] else "none near"
+        short = run.get("short_runs") or {}
+        gains = [pair["gain"] for pair in short.get("pairs", []) if pair["placement"] == "near"]
+        pairs = (f"{short['near_median_gain']:.2f}× ({len(gains)}, {min(gains):.2f}-{max(gains):.2f}×)" if gains
+                 else "none near throughout")
+        rows.append(f"| {run['elements']:,} | {run['one_thread']['wall_s']:.2f} / {run['two_threads']['wall_s']:.2f} s "
+                    f"| {run['speedup']:.2f}× | {steps} | {pairs} |")
+    share = result["placement"]["share"]
+    span = f", {result['started']}-{result['ended']} UTC" if result.get("started") else ""
+    years = result["runs"][0].get("short_runs", {}) or {}
+    return ("\n".join(rows) + f"\n\nTarget ≥ 1.6×. {result['rounds']} interleaved rounds of whole runs (medians), "
+            + (f"pairs of {years['years']:g}-yr runs, " if years else "")
+            + f"batches of 100 trial steps through the run's loop; the placement over the run: shared core "
+            f"{share['shared core']:.0%}, near {share['near']:.0%}, far {share['far']:.0%}. The same bits on one "
+            f"thread and two: {all(run['identical_bits'] for run in result['runs'])}. "
+            f"`python benchmarks/fault_2d_threads.py`; {result['machine']}, {result['date']}{span}.")
+
+
 def _peer_closing(rows: list, result: dict) -> str:
     """A peer table's end: why QDYN did not run, if it did not, and the machine and date."""
     if not result.get("ratio_faultslip_over_best_peer") and result.get("qdyn_missing"):
@@ -437,7 +463,8 @@ def update(readme: Path = ROOT / "README.md") -> list[str]:
     written = []
     for name, render in (("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
                          ("startup", startup_table), ("fault_2d", fault_2d_table),
-                         ("fault_2d_qdyn", fault_2d_qdyn_table), ("spring_block_qdyn", spring_block_qdyn_table),
+                         ("fault_2d_qdyn", fault_2d_qdyn_table), ("fault_2d_threads", fault_2d_threads_table),
+                         ("spring_block_qdyn", spring_block_qdyn_table),
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),
                          ("classroom", classroom_table), ("animation", animation_table)):
