@@ -942,23 +942,21 @@ GO_ON, GAVE_UP = -1, -2
 TASK_ROW = 2 * LINE
 
 
-def _stop_before_trial(clock, counters, settings, trials):
-    """Why a run's loop stops before its next trial (a RETURNED_ value: the run's end, its step budget, the call's
-    trials spent), or :data:`GO_ON`."""
+def _next_trial(states, clock, counters, settings, trials):
+    """Before a run's next trial: why its loop stops (a RETURNED_ value: the run's end, its step budget, the call's
+    trials spent) or :data:`GO_ON`; the trial's step, no further than the run's end (kept in ``clock``); its start
+    state and the row for its end."""
+    returned = GO_ON
     if not clock[TIME] < settings[DURATION]:
-        return RETURNED_END
-    if counters[STEPS] >= counters[MAX_STEPS]:
-        return RETURNED_MAX_STEPS
-    if trials >= counters[BUDGET]:
-        return RETURNED_BUDGET
-    return GO_ON
-
-
-def _trial_step(clock, settings):
-    """The next trial's step, no further than the run's end (kept in ``clock``)."""
-    h = min(clock[STEP_SIZE], settings[DURATION] - clock[TIME])
-    clock[STEP_SIZE] = h
-    return h
+        returned = RETURNED_END
+    elif counters[STEPS] >= counters[MAX_STEPS]:
+        returned = RETURNED_MAX_STEPS
+    elif trials >= counters[BUDGET]:
+        returned = RETURNED_BUDGET
+    else:
+        clock[STEP_SIZE] = min(clock[STEP_SIZE], settings[DURATION] - clock[TIME])
+    current = counters[CURRENT]
+    return returned, clock[STEP_SIZE], states[current], states[1 - current]
 
 
 def _verdict(norm, clock, counters):
@@ -1006,14 +1004,10 @@ def _steps_in_turn(states, clock, counters, settings, records, near, stages, wor
     """:func:`_run_steps`' loop a trial at a time, each a :func:`_fused_step` (on one thread, or on ``tasks``
     threads in a region of its own), from ``rows`` station rows and ``trials`` trials taken."""
     count = stress.shape[0]
-    returned = GO_ON
-    while returned == GO_ON:
-        returned = _stop_before_trial(clock, counters, settings, trials)
+    while True:
+        returned, h, y, y_new = _next_trial(states, clock, counters, settings, trials)
         if returned != GO_ON:
             break
-        h = _trial_step(clock, settings)
-        current = counters[CURRENT]
-        y, y_new = states[current], states[1 - current]
         norm = _fused_step(y, h, clock[TIME], stages, work, partial, y_new, padded, transforms, even_product,
                            product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start, sigma_a,
                            inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
@@ -1033,6 +1027,8 @@ def _steps_in_turn(states, clock, counters, settings, records, near, stages, wor
         rows += 1
         if returned == GO_ON and rows == records.shape[0]:
             returned = RETURNED_ROWS_FULL
+        if returned != GO_ON:
+            break
     counters[ROWS], counters[RETURNED] = rows, returned
 
 
@@ -1057,14 +1053,11 @@ def _run_task(task, tasks, task_clock, task_counters, states, settings, records,
     first_terms = plan_terms[0]
     first_weights, first_rows = plan_weights[0, :first_terms], plan_rows[0, :first_terms]
     rows, trials = 0, 0
-    returned = GO_ON
-    while returned == GO_ON:
-        returned = _stop_before_trial(clock, counters, settings, trials)
+    while True:
+        returned, h, y, y_new = _next_trial(states, clock, counters, settings, trials)
         if returned != GO_ON:
             break
-        h = _trial_step(clock, settings)
-        t, current = clock[TIME], counters[CURRENT]
-        y, y_new = states[current], states[1 - current]
+        t = clock[TIME]
         first_part, end_part = _owned(task, tasks, split)
         first, end = first_part * count // PARTS, end_part * count // PARTS
         u_start[first:end] = u[first:end]
@@ -1108,6 +1101,8 @@ def _run_task(task, tasks, task_clock, task_counters, states, settings, records,
         rows += 1
         if returned == GO_ON and rows == records.shape[0]:
             returned = RETURNED_ROWS_FULL
+        if returned != GO_ON:
+            break
     if task == 0:
         counters[ROWS], counters[RETURNED], sync[TRIALS_TAKEN] = rows, returned, trials
         sync[SPLIT], sync[IMBALANCE], sync[PART_COST] = split, imbalance, part_cost
@@ -1184,7 +1179,7 @@ STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "
         "_claimed", "_next_part", "_first_state_parts", "_prepare", "_even_half", "_odd_half", "_sum_halves",
         "_stress_product", "_halves_and_preparation", "_first_largest", "_balance_parts", "_step_task",
         "_step_tasks", "_largest", "_one_thread_step", "_fused_step", "_ulp", "step_factor", "rejection_factor",
-        "judged_step", "_record_near", "_stop_before_trial", "_trial_step", "_verdict", "_accept",
+        "judged_step", "_record_near", "_next_trial", "_verdict", "_accept",
         "_steps_in_turn", "_run_task", "_run_tasks", "_run_steps")
 #: the functions that hold a parallel region in a parallel build
 REGIONS = ("_step_tasks", "_run_tasks")
