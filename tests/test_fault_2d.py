@@ -409,12 +409,13 @@ def test_two_tasks_claim_every_part_once_in_any_interleaving(split, turns):
     names = {"PARTS": compiled.PARALLEL_PARTS}
     names["_owned"] = compiled._named(compiled._owned, "claims", names)
     names["_claimed"] = compiled._named(compiled._claimed, "claims", names)
+    names["_atomic_load"] = compiled._atomic_load
     next_part = compiled._named(compiled._next_part, "claims", names)
     sync = compiled.new_sync()
     taken, positions = {0: [], 1: []}, [0, 0]
 
     def take(task):
-        part, positions[task] = next_part(sync, 3, task, 2, split, positions[task])
+        part, positions[task] = next_part(sync, 3, task, 2, split, positions[task], 0)
         if part >= 0:
             taken[task].append(part)
         return part
@@ -430,6 +431,74 @@ def test_two_tasks_claim_every_part_once_in_any_interleaving(split, turns):
         mine = [part for part in taken[task] if part in own[task]]
         assert mine == sorted(mine)  # its own in order; any of the other's after them
         assert all(part in own[task] for part in taken[task][:len(mine)])
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, compiled.PARALLEL_PARTS - 1), st.lists(st.integers(0, 1), max_size=40),
+       st.integers(0, 40))
+def test_a_task_takes_the_others_parts_only_once_they_are_prepared(split, turns, published_after):
+    """In a stage's balance (the stage opened at 5 barriers), a task takes the other's parts only once the other
+    has said it prepared them for this stage (sync[PREPARED]); before that it takes its own alone, and the
+    other's stay for their owner. However the claims interleave, each part is still taken once."""
+    names = {"PARTS": compiled.PARALLEL_PARTS}
+    names["_owned"] = compiled._named(compiled._owned, "claims", names)
+    names["_claimed"] = compiled._named(compiled._claimed, "claims", names)
+    next_part = compiled._named(compiled._next_part, "claims", names)
+    sync, passed = compiled.new_sync(), 5
+    for task in (0, 1):
+        sync[compiled.PREPARED + task * compiled.LINE] = passed - 1  # the stage before's
+    taken, positions = {0: [], 1: []}, [0, 0]
+    own = {0: range(split), 1: range(split, compiled.PARALLEL_PARTS)}
+
+    def take(task):
+        prepared = sync[compiled.PREPARED + (1 - task) * compiled.LINE] >= passed
+        part, positions[task] = next_part(sync, 3, task, 2, split, positions[task], passed)
+        if part >= 0:
+            assert part in own[task] or prepared
+            taken[task].append(part)
+        return part
+
+    for turn, task in enumerate(turns):
+        if turn == published_after:
+            compiled._publish(sync, compiled.PREPARED + 1 * compiled.LINE, passed)  # task 1 has prepared
+        take(task)
+    for task in (0, 1):  # each finishes its own parts; then both have prepared, and a later look takes the rest
+        while take(task) >= 0:
+            pass
+    assert sorted(taken[0] + taken[1]) == list(range(compiled.PARALLEL_PARTS))
+    if published_after >= len(turns) and sync[compiled.PREPARED + compiled.LINE] < passed:
+        assert set(taken[0]) <= set(own[0])  # task 1 never said so: none of its parts was taken
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(2, 4), st.data())
+def test_each_part_has_the_owner_whose_run_holds_it(tasks, data):
+    """:func:`_owner` inverts :func:`_owned` for any split that leaves each task a part."""
+    parts = compiled.PARALLEL_PARTS
+    split = data.draw(st.integers(1, parts - tasks + 1))
+    names = {"PARTS": parts}
+    names["_owned"] = owned = compiled._named(compiled._owned, "claims", names)
+    owner = compiled._named(compiled._owner, "claims", names)
+    for task in range(tasks):
+        first, end = owned(task, tasks, split)
+        assert end > first
+        assert all(owner(part, tasks, split) == task for part in range(first, end))
+
+
+def test_a_wait_for_the_other_half_gives_up_after_its_spins_and_after_another_gave_up():
+    """The balance's wait for the other task's half of K x (:func:`_wait_for`, plain Python, the compiled one's
+    code): it passes once the half is published for this stage, and gives the step up, saying so, after its spin
+    limit; once a step is given up every wait says so. A task that gives up there never reaches the trial's last
+    barrier, so no task commits the trial."""
+    sync = compiled.new_sync(spins=1_000)
+    slot = compiled.HALF_DONE + compiled.LINE
+    compiled._publish(sync, slot, 7)
+    assert compiled._wait_for(sync, slot, 7) and sync[compiled.ABANDONED] == 0
+    assert not compiled._wait_for(sync, slot, 8)  # the half of the next stage never comes
+    assert sync[compiled.ABANDONED] == 1
+    compiled._publish(sync, slot, 8)
+    assert not compiled._wait_for(sync, slot, 8)  # given up already: the region ends
+    assert not compiled._halves_done(sync, 0, 2, 8)
 
 
 @pytest.mark.skipif(not compiled.fused_available(), reason="the whole step is compiled with numba and rocket-fft")

@@ -35,8 +35,9 @@ PARTS = 1
 PARALLEL_PARTS = 16
 #: the parts the threaded step's task 0 owns at first beyond an equal share, as a fraction of it: task 0 takes the
 #: even half of K x's spectrum, which costs less than task 1's odd half (:func:`_first_split`). The step then moves
-#: the split to where the two tasks' first phases take equal times (:func:`_adapted_split`): at 1,600 elements
-#: 10 of 16 parts left task 1 waiting 15 us of a trial step's 200, at 3,200 elements 37 of 381, at 6,400 91 of 780
+#: the split to where the two tasks' work takes equal times (:func:`_adapted_split`). With a fixed split, at 1,600
+#: elements 10 of 16 parts left task 1 waiting 15 us of a trial step's 200, at 3,200 elements 37 of 381, at 6,400
+#: 91 of 780
 EVEN_EXTRA = 0.25
 
 
@@ -367,9 +368,16 @@ def _stress_product(padded, transforms, halves, even_product, product):
 # - the halves and the preparation: task 0 takes K x's even half and task 1 its odd half (:func:`_even_half`,
 #   :func:`_odd_half`), then each task prepares its own parts' balances (:func:`_prepare`: the exponentials,
 #   Newton's warm start and the next sum's leading terms, none of which needs the stress);
-# - the balance: each task sums K x's halves for its own parts (:func:`_sum_halves`), solves them in order and
-#   finishes their next state (or error ratios), then takes any the others have left, from their ends
-#   (:func:`_claimed`).
+# - the balance, as soon as both halves are done (:func:`_wait_for`, not a barrier: a task does not wait for the
+#   other's preparation): each task sums K x's halves for its own parts (:func:`_sum_halves`), solves them in
+#   order and finishes their next state (or error ratios), then takes any the others have left, from their ends
+#   (:func:`_claimed`), once their owner has prepared them.
+# A barrier opens each stage: its halves read the whole slip deficit the stage before wrote; and no balance, which
+# writes the next deficit, starts before both halves are done. A barrier between the phases, as before, made the
+# task with the cheaper half wait for the other's preparation too, and the split that evened the first phases left
+# the balances uneven: task 1 took about 7 of a trial's 96 part-balances from task 0, each moving the part's data
+# between the cores. Now the split evens each task's whole work (:func:`_adapted_split`; a part taken by another
+# task counts as its owner's), 1-3 % faster a trial at 1,600 elements (docs/fault_2d.md).
 # An element's arrays stay in the cache of the core that owns it: only the slip deficit (to the halves) and the
 # halves' results cross between cores each stage. Where the cores are far apart this decides the speed: on the
 # earlier host the two vCPUs' round trip was 0.07 us at some times and 0.4 us at others, and a step in which one
@@ -385,15 +393,20 @@ BARRIER, ABANDONED, SPIN_LIMIT, TRIALS_TAKEN = 0, 2 * LINE, 3 * LINE, 3 * LINE +
 #: a barrier word's unit of barriers passed: the tasks arrived are its remainder
 BARRIER_UNIT = 1 << 16
 #: slots kept from step to step: the parts task 0 owns (0 before the first step), and the smoothed difference of
-#: the two tasks' first-phase times and a part's preparation time (cycles a trial step, :func:`_adapted_split`)
+#: the two tasks' work and a part's (cycles a trial step, :func:`_adapted_split`)
 SPLIT, IMBALANCE, PART_COST = 4 * LINE, 5 * LINE, 6 * LINE
-#: a step's cycles, tasks 0 and 1 a line each: in the first phases (the halves and the preparation), and in the
-#: preparation alone
-FIRST_PHASE, PREPARATION = 7 * LINE, 9 * LINE
+#: a step's cycles, tasks 0 and 1 a line each: each task's work (its half of K x, and its own parts' preparation
+#: and balance, whichever task balanced them), and its parts' work alone
+WORK, PART_WORK = 7 * LINE, 9 * LINE
+#: the barriers passed when each half of K x was last finished (tasks 0 and 1, a line each; :func:`_publish`)
+HALF_DONE = 11 * LINE
 #: phases with parts: the first state's, and a balance a stage (at most 16 stages)
 CLAIMED_PHASES = 17
 #: each phase's part flags
-CLAIMS = 11 * LINE
+CLAIMS = 13 * LINE
+#: the barriers passed when each task last finished preparing its own parts, a line a task (at most PARALLEL_PARTS
+#: tasks: each owns a part), after the claims
+PREPARED = CLAIMS + (CLAIMED_PHASES * PARALLEL_PARTS + LINE - 1) // LINE * LINE
 #: steps over which the split's measurements are averaged (an exponential average, 1 / SMOOTHING a step)
 SMOOTHING = 8
 #: the spins (seconds) after which a task waiting at a barrier gives the step up, which is then taken on one
@@ -409,7 +422,7 @@ LARGEST_RATIO, PEAK_SPEED = 0, 1
 
 def new_sync(spins: int = SPINS):
     """A threaded step's ``sync`` array, its spin limit set."""
-    sync = np.zeros(CLAIMS + CLAIMED_PHASES * PARALLEL_PARTS, dtype=np.int64)
+    sync = np.zeros(PREPARED + PARALLEL_PARTS * LINE, dtype=np.int64)
     sync[SPIN_LIMIT] = spins
     return sync
 
@@ -477,6 +490,43 @@ def _wait_while(sync, passed):
             spins = 0  # the word moved (another arrival, or the barrier opened): look again
 
 
+def _barriers_passed(sync):
+    """The barriers this task has passed, read after it passed the last: the barrier's word cannot move past it
+    until this task arrives at the next."""
+    return _atomic_load(sync, BARRIER) // BARRIER_UNIT
+
+
+def _publish(sync, slot, value):
+    """sync[slot] = ``value``, after every store before it (a compare-and-swap: sequentially consistent); the
+    slot has no other writer."""
+    _atomic_compare_swap(sync, slot, sync[slot], value)
+
+
+def _wait_for(sync, slot, value):
+    """Spin until sync[slot] reaches ``value`` (:func:`_publish`). False if the step was given up meanwhile, or
+    is given up here after sync[SPIN_LIMIT] spins: this task then never arrives at the trial's last barrier, so
+    no task commits the trial (:func:`_barrier`)."""
+    spins, limit = 0, sync[SPIN_LIMIT]
+    while True:
+        if _atomic_load(sync, ABANDONED) != 0:
+            return False
+        if _atomic_load(sync, slot) >= value:
+            return True
+        spins += 1
+        if spins > limit:
+            _atomic_add(sync, ABANDONED, 1)
+            return False
+
+
+def _halves_done(sync, task, tasks, passed):
+    """Wait until both halves of K x of the stage that opened at ``passed`` barriers are done: task 0 for task
+    1's, task 1 for task 0's, any other task for both (:func:`_wait_for`)."""
+    for half in range(min(2, tasks)):
+        if half != task and not _wait_for(sync, HALF_DONE + half * LINE, passed):
+            return False
+    return True
+
+
 def _first_split(tasks):
     """The parts task 0 owns before a step has been timed: :data:`EVEN_EXTRA` more than an equal share (its half of
     K x costs less than task 1's), leaving each other task at least one."""
@@ -493,8 +543,8 @@ def _owned(task, tasks, split):
 
 
 def _adapted_split(split, imbalance, part_cost, tasks, parts):
-    """The next step's split of ``parts`` between two tasks, from the smoothed ``imbalance`` (task 0's first-phase
-    time less task 1's) and ``part_cost`` (a part's preparation), both a trial step's: a part moved from the slower
+    """The next step's split of ``parts`` between two tasks, from the smoothed ``imbalance`` (task 0's work less
+    task 1's) and ``part_cost`` (a part's preparation and balance), both a trial step's: a part moved from the slower
     task to the other changes the imbalance by twice its cost, so it is moved where the imbalance exceeds that cost
     (a smaller one would swing the other way), and each task keeps a part. Nothing moves without a cost (no cycle
     counter)."""
@@ -512,16 +562,20 @@ def _claimed(sync, phase, part):
     return _atomic_add(sync, CLAIMS + phase * PARTS + part, 1) == 0
 
 
-def _next_part(sync, phase, task, tasks, split, position):
+def _next_part(sync, phase, task, tasks, split, position, passed):
     """The next part ``task`` takes in ``phase``, claimed (:func:`_claimed`), and the position to go on from
-    (start at 0): its own parts in order, then each other task's left over, from their ends; (-1, position)
-    when none is left. Position = offset PARTS + step: the ``step``-th part of task ``task`` + ``offset``."""
+    (start at 0): its own parts in order, then each other task's left over, from their ends, if that task has
+    prepared them in the stage that opened at ``passed`` barriers (sync[PREPARED], :func:`_publish`; 0 where the
+    phase needs no preparation); (-1, position) when none is left. Position = offset PARTS + step: the
+    ``step``-th part of task ``task`` + ``offset``."""
     while True:
         offset, step = position // PARTS, position % PARTS
         if offset >= tasks:
             return -1, position
-        first_part, end_part = _owned((task + offset) % tasks, tasks, split)
-        if step >= end_part - first_part:
+        owner = (task + offset) % tasks
+        first_part, end_part = _owned(owner, tasks, split)
+        if step >= end_part - first_part or (
+                offset > 0 and step == 0 and _atomic_load(sync, PREPARED + owner * LINE) < passed):
             position = (offset + 1) * PARTS
             continue
         part = first_part + step if offset == 0 else end_part - 1 - step
@@ -564,7 +618,7 @@ def _first_state_parts(task, tasks, sync, split, out, padded, y, h, weights, row
     (:func:`_claimed`)."""
     count, position = out.shape[0] // 2, 0
     while True:
-        part, position = _next_part(sync, 0, task, tasks, split, position)
+        part, position = _next_part(sync, 0, task, tasks, split, position, 0)
         if part < 0:
             return
         first, end = part * count // PARTS, (part + 1) * count // PARTS
@@ -587,25 +641,29 @@ def _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, agi
     _partial_entries(count + first, count + end, partial, weights, rows, terms, stages)
 
 
-def _halves_and_preparation(task, tasks, sync, split, state, padded, transforms, halves, even_product, u, sigma_a,
-                             inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
-                             weights, rows, terms, stages):
-    """Task 0 takes K x's even half (:func:`_even_half`), task 1 its odd half (:func:`_odd_half`); then each task
-    prepares its own parts (:func:`_prepare`), in its own cache. Tasks 0 and 1 add the cycles this took, and those
-    of the preparation, to their :data:`FIRST_PHASE` and :data:`PREPARATION` slots."""
+def _halves_and_preparation(task, tasks, sync, split, passed, state, padded, transforms, halves, even_product, u,
+                             sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm,
+                             partial, weights, rows, terms, stages):
+    """Task 0 takes K x's even half (:func:`_even_half`), task 1 its odd half (:func:`_odd_half`), and each says
+    so (sync[HALF_DONE]); then each task prepares its own parts (:func:`_prepare`), in its own cache, and says so
+    (sync[PREPARED]: the others may take them), both as the stage's ``passed`` barriers. Tasks 0 and 1 add the
+    cycles this took to their :data:`WORK` slots, and those of the preparation to their :data:`PART_WORK`."""
     began = _cycles()
     if task == 0:
         _even_half(padded, transforms, halves, even_product)
     elif task == 1:
         _odd_half(padded, transforms, halves)
+    if task < 2:
+        _publish(sync, HALF_DONE + task * LINE, passed)
     first_part, end_part = _owned(task, tasks, split)
     prepared = _cycles()
     _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
              healing, warm, partial, weights, rows, terms, stages)
+    _publish(sync, PREPARED + task * LINE, passed)
     if task < 2:
         ended = _cycles()
-        sync[FIRST_PHASE + task * LINE] += ended - began
-        sync[PREPARATION + task * LINE] += ended - prepared
+        _atomic_add(sync, WORK + task * LINE, ended - began)
+        _atomic_add(sync, PART_WORK + task * LINE, ended - prepared)
 
 
 def _first_largest(values):
@@ -619,21 +677,32 @@ def _first_largest(values):
     return largest
 
 
-def _balance_parts(task, tasks, sync, split, phase, row, product, even_product, transforms, halves, initial_stress, stress,
-                   state, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
-                   critical_slip, b, iterations, tolerance, coefficients, healing, warm, stages, partial, weights,
-                   rows, terms, following, out, padded, y, h, plate_rate, time, y_new, ratios, rtol, scale,
-                   part_extremes):
+def _owner(part, tasks, split):
+    """The task that owns ``part`` (:func:`_owned`)."""
+    for task in range(tasks):
+        if part < _owned(task, tasks, split)[1]:
+            return task
+    return tasks - 1
+
+
+def _balance_parts(task, tasks, sync, split, passed, phase, row, product, even_product, transforms, halves,
+                   initial_stress, stress, state, u, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging,
+                   aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance, coefficients, healing,
+                   warm, stages, partial, weights, rows, terms, following, out, padded, y, h, plate_rate, time, y_new,
+                   ratios, rtol, scale, part_extremes):
     """The balance at ``state`` into k[row], the task's own parts in order and then the others' left over, from
-    their ends (:func:`_claimed`); each part's K x first summed from its halves (:func:`_sum_halves`), and the
-    part then finished: its next state (``following``) or, after the last stage, its error ratios and their
-    largest (part_extremes[LARGEST_RATIO]) and its largest slip rate (part_extremes[PEAK_SPEED])."""
+    their ends, once prepared (:func:`_next_part`); each part's K x first summed from its halves
+    (:func:`_sum_halves`), and the part then finished: its next state (``following``) or, after the last stage,
+    its error ratios and their largest (part_extremes[LARGEST_RATIO]) and its largest slip rate
+    (part_extremes[PEAK_SPEED]). Each part's cycles count as its owner's work (sync[WORK], sync[PART_WORK]), so
+    that the split sees what each task owns, not what it happened to take."""
     count, position = u.shape[0], 0
     weight, newest = weights[terms - 1], rows[terms - 1]
     while True:
-        part, position = _next_part(sync, phase, task, tasks, split, position)
+        part, position = _next_part(sync, phase, task, tasks, split, position, passed)
         if part < 0:
             return
+        began = _cycles()
         first, end = part * count // PARTS, (part + 1) * count // PARTS
         _sum_halves(first, end, product, even_product, transforms, halves)
         _solve_elements(first, end, product, initial_stress, True, stress, state[count:], u, sigma_a, inverse_a,
@@ -651,6 +720,11 @@ def _balance_parts(task, tasks, sync, split, phase, row, product, even_product, 
                                           newest, stages, rtol, scale)
             part_extremes[LARGEST_RATIO, part] = lower if math.isnan(lower) or lower >= upper else upper  # NaN wins
             part_extremes[PEAK_SPEED, part] = _first_largest(stages[row, first:end]) if end > first else -math.inf
+        owner = _owner(part, tasks, split)
+        if owner < 2:
+            spent = _cycles() - began
+            _atomic_add(sync, WORK + owner * LINE, spent)
+            _atomic_add(sync, PART_WORK + owner * LINE, spent)
 
 
 def _step_task(task, tasks, sync, split, part_extremes, y, h, t, stages, work, partial, y_new, padded, transforms, even_product, product,
@@ -658,10 +732,10 @@ def _step_task(task, tasks, sync, split, part_extremes, y, h, t, stages, work, p
                inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
                iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
                rtol, scale, ratios, plate_rate, in_turn):
-    """One task's share of a threaded trial step, phase by phase, meeting the others at barriers
-    (``in_turn`` :data:`ALL_PHASES`, or :data:`AFTER_FIRST_STATE`: a run's region has taken its own parts' first
-    state); with ``in_turn`` > 0 only that phase (1: the first state; 2 s + 2 and 2 s + 3: stage s's two),
-    without barriers."""
+    """One task's share of a threaded trial step, phase by phase (``in_turn`` :data:`ALL_PHASES`, or
+    :data:`AFTER_FIRST_STATE`: a run's region has taken its own parts' first state): a barrier opens each stage,
+    and its balance waits for both halves of K x (:func:`_halves_done`); with ``in_turn`` > 0 only that phase
+    (1: the first state; 2 s + 2 and 2 s + 3: stage s's two), without waiting."""
     last = plan_rows.shape[0] - 1
     if in_turn == ALL_PHASES or in_turn == 1:
         _first_state_parts(task, tasks, sync, split, work, padded, y, h, plan_weights[0, :plan_terms[0]],
@@ -675,16 +749,19 @@ def _step_task(task, tasks, sync, split, part_extremes, y, h, t, stages, work, p
         else:
             weights, rows, terms = error_weights, error_rows, error_rows.shape[0]
             out, time = y_new, t + h
-        if in_turn <= 0 and not _barrier(sync, tasks):
-            return
+        passed = 0  # in turn, every task's preparation comes before any balance
+        if in_turn <= 0:
+            if not _barrier(sync, tasks):
+                return
+            passed = _barriers_passed(sync)
         if in_turn <= 0 or in_turn == 2 * s + 2:
-            _halves_and_preparation(task, tasks, sync, split, state, padded, transforms, halves, even_product, u, sigma_a,
-                                    inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing, warm, partial,
-                                    weights, rows, terms, stages)
-        if in_turn <= 0 and not _barrier(sync, tasks):
+            _halves_and_preparation(task, tasks, sync, split, passed, state, padded, transforms, halves, even_product,
+                                    u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients, healing,
+                                    warm, partial, weights, rows, terms, stages)
+        if in_turn <= 0 and not _halves_done(sync, task, tasks, passed):
             return
         if in_turn <= 0 or in_turn == 2 * s + 3:
-            _balance_parts(task, tasks, sync, split, s + 1, s + 1, product, even_product, transforms, halves,
+            _balance_parts(task, tasks, sync, split, passed, s + 1, s + 1, product, even_product, transforms, halves,
                            initial_stress, stress, state, u, sigma_a,
                            inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
                            b, iterations, tolerance, coefficients, healing, warm, stages, partial, weights, rows, terms,
@@ -805,7 +882,7 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_
                                 iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
                                 error_weights, rtol, scale, ratios, plate_rate)
     sync[:SPIN_LIMIT] = 0
-    sync[FIRST_PHASE:] = 0
+    sync[WORK:] = 0
     if sync[SPLIT] == 0:
         sync[SPLIT] = _first_split(tasks)
     u_start[:] = u  # the Newton solves' warm start, which a step given up must not have moved
@@ -828,7 +905,7 @@ def _fused_step(y, h, t, stages, work, partial, y_new, padded, transforms, even_
 
 
 def _moved_split(split, imbalance, part_cost, step_imbalance, step_part_cost, tasks):
-    """A threaded step's times (its tasks' first-phase difference and a part's preparation, cycles) into the
+    """A threaded step's times (its tasks' difference in work and a part's work, cycles) into the
     smoothed ``imbalance`` and ``part_cost`` (:data:`SMOOTHING`), and the split moved by a part where that pays
     (:func:`_adapted_split`): (split, imbalance, part_cost), the imbalance then the one expected after the move."""
     imbalance += (step_imbalance - imbalance) // SMOOTHING
@@ -840,8 +917,8 @@ def _moved_split(split, imbalance, part_cost, step_imbalance, step_part_cost, ta
 def _move_split(sync, tasks):
     """After a threaded step: :func:`_moved_split` from the times in ``sync``, kept there."""
     sync[SPLIT], sync[IMBALANCE], sync[PART_COST] = _moved_split(
-        sync[SPLIT], sync[IMBALANCE], sync[PART_COST], sync[FIRST_PHASE] - sync[FIRST_PHASE + LINE],
-        (sync[PREPARATION] + sync[PREPARATION + LINE]) // PARTS, tasks)
+        sync[SPLIT], sync[IMBALANCE], sync[PART_COST], sync[WORK] - sync[WORK + LINE],
+        (sync[PART_WORK] + sync[PART_WORK + LINE]) // PARTS, tasks)
 
 
 # --- many steps in one call ------------------------------------------------------------------------------------
@@ -1048,8 +1125,8 @@ def _run_task(task, tasks, task_clock, task_counters, states, settings, records,
     clock, counters = task_clock[task], task_counters[task]
     count = stress.shape[0]
     split, imbalance, part_cost = sync[SPLIT], sync[IMBALANCE], sync[PART_COST]
-    seen_first, seen_other_first = sync[FIRST_PHASE], sync[FIRST_PHASE + LINE]
-    seen_preparation = sync[PREPARATION] + sync[PREPARATION + LINE]
+    seen_work, seen_other_work = sync[WORK], sync[WORK + LINE]
+    seen_part_work = sync[PART_WORK] + sync[PART_WORK + LINE]
     first_terms = plan_terms[0]
     first_weights, first_rows = plan_weights[0, :first_terms], plan_rows[0, :first_terms]
     rows, trials = 0, 0
@@ -1079,12 +1156,12 @@ def _run_task(task, tasks, task_clock, task_counters, states, settings, records,
             break
         trials += 1
         if tasks == 2:  # both tasks' times, read by each: the same split on both
-            first_phase, other_first_phase = sync[FIRST_PHASE], sync[FIRST_PHASE + LINE]
-            preparation = sync[PREPARATION] + sync[PREPARATION + LINE]
+            task_work, other_work = sync[WORK], sync[WORK + LINE]
+            part_work = sync[PART_WORK] + sync[PART_WORK + LINE]
             split, imbalance, part_cost = _moved_split(
-                split, imbalance, part_cost, (first_phase - seen_first) - (other_first_phase - seen_other_first),
-                (preparation - seen_preparation) // PARTS, tasks)
-            seen_first, seen_other_first, seen_preparation = first_phase, other_first_phase, preparation
+                split, imbalance, part_cost, (task_work - seen_work) - (other_work - seen_other_work),
+                (part_work - seen_part_work) // PARTS, tasks)
+            seen_work, seen_other_work, seen_part_work = task_work, other_work, part_work
         verdict, norm = _verdict(_largest(part_extremes[LARGEST_RATIO]), clock, counters)
         if verdict == COLLAPSED:
             returned = RETURNED_COLLAPSE
@@ -1141,7 +1218,7 @@ def _run_steps(states, clock, counters, settings, records, near, stages, work, p
     rows, trials = 0, 0
     if PARALLEL_REGION and PARTS > 1 and tasks >= 2:
         sync[:SPIN_LIMIT] = 0
-        sync[FIRST_PHASE:] = 0
+        sync[WORK:] = 0
         if sync[SPLIT] == 0:
             sync[SPLIT] = _first_split(tasks)
         task_clock, task_counters = np.empty((tasks, TASK_ROW)), np.empty((tasks, TASK_ROW), dtype=np.int64)
@@ -1175,12 +1252,12 @@ ELEMENTS = ("_exponentials", "_solve_elements", "_weighted_sum", "_deficit", "_r
 PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 #: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
-STEP = ("_wait_while", "_barrier", "_first_split", "_owned", "_adapted_split", "_moved_split", "_move_split",
-        "_claimed", "_next_part", "_first_state_parts", "_prepare", "_even_half", "_odd_half", "_sum_halves",
-        "_stress_product", "_halves_and_preparation", "_first_largest", "_balance_parts", "_step_task",
-        "_step_tasks", "_largest", "_one_thread_step", "_fused_step", "_ulp", "step_factor", "rejection_factor",
-        "judged_step", "_record_near", "_next_trial", "_verdict", "_accept",
-        "_steps_in_turn", "_run_task", "_run_tasks", "_run_steps")
+STEP = ("_wait_while", "_barrier", "_barriers_passed", "_publish", "_wait_for", "_halves_done", "_first_split",
+        "_owned", "_adapted_split", "_moved_split", "_move_split", "_claimed", "_next_part", "_first_state_parts",
+        "_prepare", "_even_half", "_odd_half", "_sum_halves", "_stress_product", "_halves_and_preparation",
+        "_first_largest", "_owner", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step",
+        "_fused_step", "_ulp", "step_factor", "rejection_factor", "judged_step", "_record_near", "_next_trial",
+        "_verdict", "_accept", "_steps_in_turn", "_run_task", "_run_tasks", "_run_steps")
 #: the functions that hold a parallel region in a parallel build
 REGIONS = ("_step_tasks", "_run_tasks")
 #: the first rocket-fft whose low-level transforms (``rocket_fft.lowlevel``: DUCC0's, into the caller's arrays) the
