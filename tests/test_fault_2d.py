@@ -409,7 +409,6 @@ def test_two_tasks_claim_every_part_once_in_any_interleaving(split, turns):
     names = {"PARTS": compiled.PARALLEL_PARTS}
     names["_owned"] = compiled._named(compiled._owned, "claims", names)
     names["_claimed"] = compiled._named(compiled._claimed, "claims", names)
-    names["_atomic_load"] = compiled._atomic_load
     next_part = compiled._named(compiled._next_part, "claims", names)
     sync = compiled.new_sync()
     taken, positions = {0: [], 1: []}, [0, 0]
