@@ -484,6 +484,37 @@ def test_each_part_has_the_owner_whose_run_holds_it(tasks, data):
         assert all(owner(part, tasks, split) == task for part in range(first, end))
 
 
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 20_000))
+def test_the_parts_cover_the_elements_in_order_and_share_no_cache_line(count):
+    """Each part of the threaded step starts on a cache line's worth of elements (:data:`LINE`), the parts run in
+    order from 0 to ``count`` and cover every element once, and none is more than a line from its equal share, so
+    that no line of an element array holds two parts' elements."""
+    parts, line = compiled.PARALLEL_PARTS, compiled.LINE
+    start = compiled._named(compiled._part_start, "parts", {"PARTS": parts})
+    starts = [start(part, count) for part in range(parts + 1)]
+    assert starts[0] == 0 and starts[-1] == count
+    assert all(first <= end for first, end in zip(starts, starts[1:]))
+    assert all(first % line == 0 for first in starts[:-1])
+    assert all(0 <= part * count // parts - starts[part] < line for part in range(parts))
+
+
+@pytest.mark.parametrize("shape, dtype", [(1, float), (1601, float), ((7, 3200), float), ((4, 801), complex),
+                                          (300, np.int64)])
+def test_the_step_arrays_start_on_a_cache_line_and_copies_keep_their_values(shape, dtype):
+    """The threaded step's arrays start on a cache line (numpy's often start 16 or 48 bytes in), zeroed; an array
+    already on one is kept, any other copied there with its values."""
+    array = compiled.on_lines(shape, dtype)
+    assert array.ctypes.data % (8 * compiled.LINE) == 0 and array.shape == np.empty(shape).shape
+    assert array.dtype == np.dtype(dtype) and array.flags.c_contiguous and not array.any()
+    assert compiled.lined(array) is array
+    aside = compiled.on_lines(array.size + 1, dtype)[1:].reshape(array.shape)  # one item past a line's start
+    aside.flat[:] = np.arange(1, 1 + array.size)
+    moved = compiled.lined(aside)
+    assert moved is not aside and moved.ctypes.data % (8 * compiled.LINE) == 0
+    assert moved.shape == aside.shape and moved.tobytes() == aside.tobytes()
+
+
 def test_a_wait_for_the_other_half_gives_up_after_its_spins_and_after_another_gave_up():
     """The balance's wait for the other task's half of K x (:func:`_wait_for`, plain Python, the compiled one's
     code): it passes once the half is published for this stage, and gives the step up, saying so, after its spin

@@ -172,10 +172,13 @@ class _CompiledTrial:
             numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
         count = fault.count
         self.count, self.scale, self.rtol = count, scale, rtol
-        self.stages = np.empty((7, 2 * count))  # k1 .. k7
-        self.work = np.empty(2 * count)
-        self.ratios = np.empty(2 * count)
-        self.stress = np.empty(count)
+        # each array from a cache line's start, so that the threaded step's parts keep lines of their own
+        # (compiled._part_start)
+        lines = compiled_kernels.on_lines
+        self.stages = lines((7, 2 * count))  # k1 .. k7
+        self.work = lines(2 * count)
+        self.ratios = lines(2 * count)
+        self.stress = lines(count)
         self.plan = [(row, fraction, np.array(rows, dtype=np.int64), np.array(weights, dtype=float))
                      for row, fraction, rows, weights in _STAGES]
         self.error_rows, self.error_weights = np.array(_ERROR[0], dtype=np.int64), np.array(_ERROR[1], dtype=float)
@@ -223,15 +226,16 @@ class _FusedTrial(_CompiledTrial):
         self.plan_fractions = np.array([fraction for _, fraction, _, _ in _STAGES])
         halves = operator.halves  # K x in two halves of its spectrum, one a task (kernel.spectrum_halves)
         self.halves = halves.table
-        self.padded = np.zeros(halves.half_length)  # the slip deficit, zero beyond the elements
-        self.transforms = np.empty((4, halves.half_length // 2 + 1), dtype=complex)
-        self.even_product = np.empty(halves.half_length)
-        self.product = np.empty(self.count)
-        self.coefficients, self.healing, self.u_start = (np.empty(self.count) for _ in range(3))
-        self.warm = np.empty((compiled_kernels.WARM_ROWS, self.count))
-        self.partial = np.empty(2 * self.count)
+        lines = compiled_kernels.on_lines
+        self.padded = lines(halves.half_length)  # the slip deficit, zero beyond the elements
+        self.transforms = lines((4, halves.half_length // 2 + 1), complex)
+        self.even_product = lines(halves.half_length)
+        self.product = lines(self.count)
+        self.coefficients, self.healing, self.u_start = (lines(self.count) for _ in range(3))
+        self.warm = lines((compiled_kernels.WARM_ROWS, self.count))
+        self.partial = lines(2 * self.count)
         self.sync = compiled_kernels.new_sync()
-        self.part_extremes = np.empty((2, compiled_kernels.PARALLEL_PARTS))  # compiled.LARGEST_RATIO, PEAK_SPEED
+        self.part_extremes = lines((2, compiled_kernels.PARALLEL_PARTS))  # compiled.LARGEST_RATIO, PEAK_SPEED
         self.tasks = threads  # one task a thread: at most the threads numba has (checked at each step)
 
     def __call__(self, t, y, h, k1):
@@ -239,7 +243,8 @@ class _FusedTrial(_CompiledTrial):
             self.balance.rates(t, y[:self.count], y[self.count:])
         fault, balance, stages = self.fault, self.balance, self.stages
         stages[0] = k1
-        y_new = np.empty_like(y)
+        y_new = compiled_kernels.on_lines(y.shape)
+        balance.u = compiled_kernels.lined(balance.u)  # the solves write it a part at a time
         norm = self.kernels["fused_step"](
             y, h, t, stages, self.work, self.partial, y_new, self.padded, self.transforms, self.even_product,
             self.product, self.coefficients, self.healing, self.warm, self.halves, fault.initial_shear_stress, self.stress, balance.u, self.u_start, balance.sigma_a, balance.inverse_a,
@@ -348,7 +353,7 @@ class _CompiledSteps:
         count = trial.count
         self.trial, self.near, self.chooser = trial, near, chooser
         self.kernel = trial.kernels["run_steps"]
-        self.states = np.empty((2, 2 * count))
+        self.states = compiled_kernels.on_lines((2, 2 * count))  # a row a state, each on cache lines
         self.clock = np.zeros(compiled_kernels.CLOCK_SLOTS)
         self.counters = np.zeros(compiled_kernels.COUNTER_SLOTS, dtype=np.int64)
         self.settings = np.zeros(compiled_kernels.SETTINGS_SLOTS)
@@ -372,6 +377,7 @@ class _CompiledSteps:
             budget = min(budget, chooser.trials_until_probe())
         self.counters[compiled_kernels.BUDGET] = min(budget, self.TRIALS)
         fault, balance = trial.fault, trial.balance
+        balance.u = compiled_kernels.lined(balance.u)  # the solves write it a part at a time
         start, evaluations = clock.perf_counter(), int(self.counters[compiled_kernels.EVALUATIONS])
         self.kernel(
             self.states, self.clock, self.counters, self.settings, self.records, self.near, trial.stages, trial.work,
