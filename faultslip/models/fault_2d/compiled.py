@@ -378,7 +378,8 @@ def _stress_product(padded, transforms, halves, even_product, product):
 # the balances uneven: task 1 took about 7 of a trial's 96 part-balances from task 0, each moving the part's data
 # between the cores. Now the split evens each task's whole work (:func:`_adapted_split`; a part taken by another
 # task counts as its owner's), 1-3 % faster a trial at 1,600 elements (docs/fault_2d.md).
-# An element's arrays stay in the cache of the core that owns it: only the slip deficit (to the halves) and the
+# An element's arrays stay in the cache of the core that owns it, each part on cache lines of its own
+# (:func:`_part_start`, :func:`on_lines`): only the slip deficit (to the halves) and the
 # halves' results cross between cores each stage. Where the cores are far apart this decides the speed: on the
 # earlier host the two vCPUs' round trip was 0.07 us at some times and 0.4 us at others, and a step in which one
 # task prepared every element moved about 1,300 cache lines a stage between them and ran 280 us against 180.
