@@ -505,13 +505,13 @@ def test_the_step_arrays_start_on_a_cache_line_and_copies_keep_their_values(shap
     """The threaded step's arrays start on a cache line (numpy's often start 16 or 48 bytes in), zeroed; an array
     already on one is kept, any other copied there with its values."""
     array = compiled.on_lines(shape, dtype)
-    assert array.ctypes.data % (8 * compiled.LINE) == 0 and array.shape == np.empty(shape).shape
+    assert array.ctypes.data % compiled.LINE_BYTES == 0 and array.shape == np.empty(shape).shape
     assert array.dtype == np.dtype(dtype) and array.flags.c_contiguous and not array.any()
     assert compiled.lined(array) is array
     aside = compiled.on_lines(array.size + 1, dtype)[1:].reshape(array.shape)  # one item past a line's start
     aside.flat[:] = np.arange(1, 1 + array.size)
     moved = compiled.lined(aside)
-    assert moved is not aside and moved.ctypes.data % (8 * compiled.LINE) == 0
+    assert moved is not aside and moved.ctypes.data % compiled.LINE_BYTES == 0
     assert moved.shape == aside.shape and moved.tobytes() == aside.tobytes()
 
 

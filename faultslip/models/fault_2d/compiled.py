@@ -387,6 +387,8 @@ def _stress_product(padded, transforms, halves, even_product, product):
 
 #: int64s a cache line: each counter of the step's ``sync`` array on a line of its own
 LINE = 8
+#: a cache line's bytes
+LINE_BYTES = 8 * LINE
 #: ``sync``'s slots: the barrier's word (the barriers passed times :data:`BARRIER_UNIT`, plus the tasks arrived at
 #: the next), the step given up, the spins a task waits at a barrier before it gives the step up (set once, by the
 #: caller), and the trials a run's parallel region took (:func:`_run_tasks`)
@@ -424,18 +426,18 @@ LARGEST_RATIO, PEAK_SPEED = 0, 1
 def on_lines(shape, dtype=float) -> np.ndarray:
     """A zeroed array whose data starts on a cache line (:data:`LINE` int64s, 64 bytes; numpy's often start 16 or
     48 bytes in): the threaded step's arrays, so that its parts (:func:`_part_start`) and its ``sync`` slots each
-    keep lines of their own. Batches of trial steps at 1,600 elements, near: 1.1 and 1.4 % faster on two threads
+    keep lines of their own. Batches of trial steps at 1,600 elements, near: 2.5-3.3 % faster on two threads
     (docs/fault_2d.md)."""
     dtype = np.dtype(dtype)
     size = int(np.prod(shape)) * dtype.itemsize
-    raw = np.zeros(size + LINE * 8, dtype=np.uint8)
-    start = -raw.ctypes.data % (LINE * 8)
+    raw = np.zeros(size + LINE_BYTES, dtype=np.uint8)
+    start = -raw.ctypes.data % LINE_BYTES
     return raw[start:start + size].view(dtype).reshape(shape)
 
 
 def lined(array: np.ndarray) -> np.ndarray:
     """``array`` itself where its data is contiguous and starts on a cache line, else such a copy (:func:`on_lines`)."""
-    if array.flags.c_contiguous and array.ctypes.data % (LINE * 8) == 0:
+    if array.flags.c_contiguous and array.ctypes.data % LINE_BYTES == 0:
         return array
     copy = on_lines(array.shape, array.dtype)
     copy[...] = array
@@ -564,6 +566,11 @@ def _part_start(part, count):
     return start if part >= PARTS else start - start % LINE
 
 
+def _part_elements(first_part, end_part, count):
+    """The elements of parts ``first_part`` to ``end_part`` - 1, (first, end) (:func:`_part_start`)."""
+    return _part_start(first_part, count), _part_start(end_part, count)
+
+
 def _owned(task, tasks, split):
     """The run of parts ``task`` owns, (first, end): task 0 the first ``split``, the others an equal share of the
     rest."""
@@ -652,7 +659,7 @@ def _first_state_parts(task, tasks, sync, split, out, padded, y, h, weights, row
         part, position = _next_part(sync, 0, task, tasks, split, position, 0)
         if part < 0:
             return
-        first, end = _part_start(part, count), _part_start(part + 1, count)
+        first, end = _part_elements(part, part + 1, count)
         _stage_entries(first, end, out, padded, y, h, weights, rows, stages, count, plate_rate, time)
         _stage_entries(count + first, count + end, out, padded, y, h, weights, rows, stages, count, plate_rate,
                        time)
@@ -665,7 +672,7 @@ def _prepare(first_part, end_part, state, u, sigma_a, inverse_a, two_v0_eta, agi
     (``weights``, ``rows``, ``terms``) into ``partial``; in one loop each over the parts' elements, which
     vectorises better than a loop a part."""
     count = u.shape[0]
-    first, end = _part_start(first_part, count), _part_start(end_part, count)
+    first, end = _part_elements(first_part, end_part, count)
     _exponentials(first, end, state[count:], u, sigma_a, inverse_a, two_v0_eta, aging, f0, inverse_b, coefficients,
                   healing, warm)
     _partial_entries(first, end, partial, weights, rows, terms, stages)
@@ -734,7 +741,7 @@ def _balance_parts(task, tasks, sync, split, passed, phase, row, product, even_p
         if part < 0:
             return
         began = _cycles()
-        first, end = _part_start(part, count), _part_start(part + 1, count)
+        first, end = _part_elements(part, part + 1, count)
         _sum_halves(first, end, product, even_product, transforms, halves)
         _solve_elements(first, end, product, initial_stress, True, stress, state[count:], u, sigma_a, inverse_a,
                         two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
@@ -1167,13 +1174,13 @@ def _run_task(task, tasks, task_clock, task_counters, states, settings, records,
             break
         t = clock[TIME]
         first_part, end_part = _owned(task, tasks, split)
-        first, end = _part_start(first_part, count), _part_start(end_part, count)
+        first, end = _part_elements(first_part, end_part, count)
         u_start[first:end] = u[first:end]
         for phase in range(1, plan_rows.shape[0] + 1):
             for part in range(first_part, end_part):
                 sync[CLAIMS + phase * PARTS + part] = 0
         for part in range(first_part, end_part):
-            part_first, part_end = _part_start(part, count), _part_start(part + 1, count)
+            part_first, part_end = _part_elements(part, part + 1, count)
             for at in (0, count):
                 _stage_entries(at + part_first, at + part_end, work, padded, y, h, first_weights, first_rows, stages,
                                count, plate_rate, t + plan_fractions[0] * h)
@@ -1200,7 +1207,7 @@ def _run_task(task, tasks, task_clock, task_counters, states, settings, records,
         if verdict != ACCEPTED:
             continue
         first_part, end_part = _owned(task, tasks, split)  # the next trial's own parts: its first state reads them
-        first, end = _part_start(first_part, count), _part_start(end_part, count)
+        first, end = _part_elements(first_part, end_part, count)
         for at in (0, count):  # k7 is the next step's k1 (first same as last): the task's own parts
             stages[0, at + first:at + end] = stages[6, at + first:at + end]
         returned = _accept(norm, _first_largest(part_extremes[PEAK_SPEED]), clock, counters, settings)
@@ -1283,8 +1290,9 @@ ELEMENTS = ("_exponentials", "_solve_elements", "_weighted_sum", "_deficit", "_r
 PIECES = ("_exponentials", "_solve_elements")
 KERNELS = ("_balance_rates", "_stage", "_error_ratios")
 #: the whole step's functions, each built on those before it; ``_step_tasks`` holds the parallel region
-STEP = ("_part_start", "_wait_while", "_barrier", "_barriers_passed", "_publish", "_wait_for", "_halves_done", "_first_split",
-        "_owned", "_adapted_split", "_moved_split", "_move_split", "_claimed", "_next_part", "_first_state_parts",
+STEP = ("_part_start", "_part_elements", "_wait_while", "_barrier", "_barriers_passed", "_publish", "_wait_for",
+        "_halves_done", "_first_split", "_owned", "_adapted_split", "_moved_split", "_move_split", "_claimed",
+        "_next_part", "_first_state_parts",
         "_prepare", "_even_half", "_odd_half", "_sum_halves", "_stress_product", "_halves_and_preparation",
         "_first_largest", "_owner", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step",
         "_fused_step", "_ulp", "step_factor", "rejection_factor", "judged_step", "_record_near", "_next_trial",
