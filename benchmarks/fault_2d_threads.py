@@ -45,27 +45,40 @@ from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
 WIDTH = 40e3
 
 
-def _round_trip_kernel():
-    """A compiled loop of two tasks passing the threaded step's spin barrier ``repeats`` times."""
+def spin_barrier():
+    """A compiled spin barrier of two tasks on a ``sync`` array (:func:`compiled.new_sync`), with the threaded
+    step's atomics."""
     import numba  # heavy: the benchmark measures the compiled path
-    from numba import prange
 
     from faultslip.models.fault_2d import compiled
 
     atomic_add, atomic_load, _ = compiled._atomic_intrinsics()
     arrivals, generations = 0, compiled.LINE  # a counter a cache line, as the step's barrier word has its own
 
+    @numba.njit
+    def barrier(sync):
+        generation = atomic_load(sync, generations)
+        if atomic_add(sync, arrivals, 1) == 1:
+            atomic_add(sync, arrivals, -2)
+            atomic_add(sync, generations, 1)
+        else:
+            while atomic_load(sync, generations) == generation:
+                pass
+    return barrier
+
+
+def _round_trip_kernel():
+    """A compiled loop of two tasks passing the threaded step's spin barrier ``repeats`` times."""
+    import numba  # heavy: the benchmark measures the compiled path
+    from numba import prange
+
+    barrier = spin_barrier()
+
     @numba.njit(parallel=True)
     def passes(sync, repeats):
         for task in prange(2):
             for _ in range(repeats):
-                generation = atomic_load(sync, generations)
-                if atomic_add(sync, arrivals, 1) == 1:
-                    atomic_add(sync, arrivals, -2)
-                    atomic_add(sync, generations, 1)
-                else:
-                    while atomic_load(sync, generations) == generation:
-                        pass
+                barrier(sync)
     return passes
 
 

@@ -287,6 +287,22 @@ def fault_2d_threads_table() -> str | None:
             f"`python benchmarks/fault_2d_threads.py`; {result['machine']}, {result['date']}{span}.")
 
 
+def fault_2d_placement_table() -> str | None:
+    result = _load("fault_2d_placement.json")
+    if result is None:
+        return None
+    rows = ["| placement | rounds | private work, the other core busy | a line written on one core, read on the "
+            f"other | a task's {result['trial_lines']:,} such lines a trial at {result['elements']:,} elements |",
+            "| --- | --- | --- | --- | --- |"]
+    for name, row in result["classes"].items():
+        if row["rounds"]:
+            rows.append(f"| {name} | {row['rounds']} | {row['private_slowdown']:.2f}× | "
+                        f"{row['crossing_ns_per_line']:.1f} ns | {row['trial_crossing_us']:.0f} µs |")
+    span = f", {result['started']}-{result['ended']} UTC" if result.get("started") else ""
+    return ("\n".join(rows) + f"\n\nEach round kept in the class its round trips before and after agree on. "
+            f"`python benchmarks/fault_2d_placement.py`; {result['machine']}, {result['date']}{span}.")
+
+
 def _peer_closing(rows: list, result: dict) -> str:
     """A peer table's end: why QDYN did not run, if it did not, and the machine and date."""
     if not result.get("ratio_faultslip_over_best_peer") and result.get("qdyn_missing"):
@@ -464,6 +480,7 @@ def update(readme: Path = ROOT / "README.md") -> list[str]:
     for name, render in (("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
                          ("startup", startup_table), ("fault_2d", fault_2d_table),
                          ("fault_2d_qdyn", fault_2d_qdyn_table), ("fault_2d_threads", fault_2d_threads_table),
+                         ("fault_2d_placement", fault_2d_placement_table),
                          ("spring_block_qdyn", spring_block_qdyn_table),
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),
