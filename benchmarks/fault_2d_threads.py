@@ -162,10 +162,11 @@ def trial_batches(fault, passes, seconds: float) -> dict:
         loop = loops[threads]
         balance.u[:] = start
         loop.states[0], loop.trial.stages[0] = y, k1
-        loop.clock[:] = (run.final_time, h, 1e-4, 0.0, h, h, speed.max(), speed.max(), 0.0, run.final_time)
+        loop.clock[:] = (run.final_time, h, 1e-4, 0.0, h, h, speed.max(), speed.max(), 0.0, run.final_time,
+                         run.final_time, run.final_time)
         loop.counters[:] = 0
         loop.counters[[compiled.STOP_AT, compiled.MAX_STEPS]] = (-1, 10**9)
-        loop.settings[[compiled.LAST_PROFILE, compiled.LAST_COSEISMIC, compiled.INSIDE]] = (run.final_time,) * 2 + (0,)
+        loop.settings[compiled.INSIDE] = 0.0
         began = time.perf_counter()
         loop(100)
         elapsed = time.perf_counter() - began

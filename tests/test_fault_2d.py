@@ -1256,6 +1256,11 @@ def test_many_steps_a_compiled_call_are_the_python_loops_bit_for_bit(tmp_path, m
     monkeypatch.setattr(integrate, "_CompiledSteps", Counted)
     compiled_loop = run()
     assert compiled_loop.event_count >= 3 and len(calls) < compiled_loop.steps / 4
+    # the loop takes the profiles itself: it returns for an event's start and end, a full buffer of station
+    # records and the run's end, not for each of the profiles (one every 5 years between events, every second
+    # within one)
+    assert len(compiled_loop.profile_time) > 3 * compiled_loop.event_count + 40
+    assert len(calls) <= 2 * compiled_loop.event_count + compiled_loop.steps // Counted.RECORDS + 2
     with monkeypatch.context() as python:
         python.setattr(integrate, "_CompiledSteps", lambda *arguments: None)
         python_loop = run()
@@ -1266,7 +1271,9 @@ def test_many_steps_a_compiled_call_are_the_python_loops_bit_for_bit(tmp_path, m
     assert_same(run(threads=2, adapt_threads=True), python_loop)
     monkeypatch.setattr(Counted, "RECORDS", 1)
     monkeypatch.setattr(Counted, "TRIALS", 1)
+    monkeypatch.setattr(Counted, "PROFILES", 1)  # a profile due with its buffer full is Python's to take
     assert_same(run(), python_loop)
+    assert_same(run(threads=2), python_loop)
     monkeypatch.setattr(Counted, "RECORDS", 7)
     monkeypatch.setattr(Counted, "TRIALS", 5)
     with pytest.raises(_Stopped):

@@ -975,24 +975,24 @@ def _move_split(sync, tasks):
 #: ``clock``'s slots (float64, read and written): the time, the next step, the controller's memory (the last
 #: accepted step's error) and whether the last trial was rejected (1.0), the smallest and largest accepted steps,
 #: the peak slip rate of the last accepted state and of the one before, the largest peak in the event under way,
-#: and the time before the last accepted step
+#: the time before the last accepted step, and the times of the last profile of each kind (between events and
+#: within one; a task's own, so that every task takes the same decisions)
 (TIME, STEP_SIZE, PREVIOUS_NORM, AFTER_REJECTION, MIN_STEP, MAX_STEP, PEAK, PREVIOUS_PEAK, EVENT_PEAK,
- PREVIOUS_TIME) = range(10)
-CLOCK_SLOTS = 10
+ PREVIOUS_TIME, LAST_PROFILE, LAST_COSEISMIC) = range(12)
+CLOCK_SLOTS = 12
 #: ``settings``' slots (float64, read): the run's end, rtol, the controller's memory weight (beta), the event speed,
-#: the profile intervals between and within events, the times of the last profile of each kind, whether an event
-#: is under way (1.0)
-(DURATION, RTOL, MEMORY_WEIGHT, EVENT_LIMIT, PROFILE_INTERVAL, COSEISMIC_INTERVAL, LAST_PROFILE, LAST_COSEISMIC,
- INSIDE) = range(9)
-SETTINGS_SLOTS = 9
+#: the profile intervals between and within events, whether an event is under way (1.0)
+(DURATION, RTOL, MEMORY_WEIGHT, EVENT_LIMIT, PROFILE_INTERVAL, COSEISMIC_INTERVAL, INSIDE) = range(7)
+SETTINGS_SLOTS = 7
 #: ``counters``' slots (int64): accepted steps, rejected trials, stage evaluations, station rows written this call,
 #: which of ``states``' rows holds the state, the trials this call may take, the step at which to stop (-1: none),
-#: the run's budget of accepted steps (max_steps), and why the call returned (one of the RETURNED_ values below)
-STEPS, REJECTED, EVALUATIONS, ROWS, CURRENT, BUDGET, STOP_AT, MAX_STEPS, RETURNED = range(9)
-COUNTER_SLOTS = 9
+#: the run's budget of accepted steps (max_steps), why the call returned (one of the RETURNED_ values below), and
+#: the profile rows written this call (set to 0 by the caller)
+STEPS, REJECTED, EVALUATIONS, ROWS, CURRENT, BUDGET, STOP_AT, MAX_STEPS, RETURNED, PROFILE_ROWS = range(10)
+COUNTER_SLOTS = 10
 #: why :func:`_run_steps` returned: the run reached its end; its step budget (max_steps); a rejected step left
-#: t + h equal to t; an accepted step Python must look at (an event began or ended, a profile is due, the stop
-#: step); the buffer of station rows is full; the call's trials were spent
+#: t + h equal to t; an accepted step Python must look at (an event began or ended, the stop step, or a profile
+#: due with the buffer of profile rows full); the buffer of station rows is full; the call's trials were spent
 (RETURNED_END, RETURNED_MAX_STEPS, RETURNED_COLLAPSE, RETURNED_NOTICE, RETURNED_ROWS_FULL,
  RETURNED_BUDGET) = range(6)
 
@@ -1050,11 +1050,38 @@ def _record_near(row, t, state, stress, speed, near):
         row[1 + 3 * width + j] = state[count + element]
 
 
-#: a run's loop goes on (no RETURNED_ value yet); a task of its parallel region found the run given up
-GO_ON, GAVE_UP = -1, -2
+#: a run's loop goes on (no RETURNED_ value yet); a task of its parallel region found the run given up; an
+#: accepted step whose only notice is a profile due (:func:`_profile_taken`)
+GO_ON, GAVE_UP, PROFILE_DUE = -1, -2, -3
 #: a task's row of the clock and the counters in a run's parallel region (two cache lines: one task's row is
 #: never on another's line)
 TASK_ROW = 2 * LINE
+
+
+def _record_profile(row, t, peak, state, speed):
+    """A profile's raw values: t, the peak slip rate, every element's slip and slip rate (the run makes the profile
+    of them: the rate's log10 over a block of rows)."""
+    count = speed.shape[0]
+    row[0], row[1] = t, peak
+    row[2:2 + count] = state[:count]
+    row[2 + count:2 + 2 * count] = speed
+
+
+def _profile_taken(returned, peak, clock, counters, settings, profiles):
+    """After :func:`_accept`: where its only notice is a profile due and the buffer has a row free, the profile is
+    taken here (the time of the last profile of its kind moved on, a row counted): (:data:`GO_ON`, its row);
+    with the buffer full, (RETURNED_NOTICE, -1), for Python to take it; else (``returned``, -1)."""
+    if returned != PROFILE_DUE:
+        return returned, -1
+    row = counters[PROFILE_ROWS]
+    if row >= profiles.shape[0]:
+        return RETURNED_NOTICE, -1
+    if peak > settings[EVENT_LIMIT]:
+        clock[LAST_COSEISMIC] = clock[TIME]
+    else:
+        clock[LAST_PROFILE] = clock[TIME]
+    counters[PROFILE_ROWS] = row + 1
+    return GO_ON, row
 
 
 def _next_trial(states, clock, counters, settings, trials):
@@ -1089,7 +1116,8 @@ def _verdict(norm, clock, counters):
 def _accept(norm, peak, clock, counters, settings):
     """The controller after an accepted trial of error ``norm``, its state's largest slip rate ``peak``: the time,
     the next step (:func:`step_factor`), the counters and the peaks. RETURNED_NOTICE where Python must look at the
-    state (an event begins or ends, a profile is due, the stop step), else :data:`GO_ON`."""
+    state (an event begins or ends, the stop step), :data:`PROFILE_DUE` where only a profile is due, else
+    :data:`GO_ON`."""
     t, h = clock[TIME], clock[STEP_SIZE]
     clock[PREVIOUS_TIME] = t
     t = t + h
@@ -1104,14 +1132,15 @@ def _accept(norm, peak, clock, counters, settings):
     inside = settings[INSIDE] != 0.0
     if inside:
         clock[EVENT_PEAK] = max(clock[EVENT_PEAK], peak)
-    profile_due = (t - settings[LAST_COSEISMIC] >= settings[COSEISMIC_INTERVAL] if peak > settings[EVENT_LIMIT]
-                   else t - settings[LAST_PROFILE] >= settings[PROFILE_INTERVAL])
-    if (peak > settings[EVENT_LIMIT]) != inside or profile_due or counters[STEPS] == counters[STOP_AT]:
+    if (peak > settings[EVENT_LIMIT]) != inside or counters[STEPS] == counters[STOP_AT]:
         return RETURNED_NOTICE
+    if (t - clock[LAST_COSEISMIC] >= settings[COSEISMIC_INTERVAL] if peak > settings[EVENT_LIMIT]
+            else t - clock[LAST_PROFILE] >= settings[PROFILE_INTERVAL]):
+        return PROFILE_DUE
     return GO_ON
 
 
-def _steps_in_turn(states, clock, counters, settings, records, near, stages, work, partial, padded, transforms,
+def _steps_in_turn(states, clock, counters, settings, records, near, profiles, stages, work, partial, padded, transforms,
                    even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
                    sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                    critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
@@ -1137,7 +1166,11 @@ def _steps_in_turn(states, clock, counters, settings, records, near, stages, wor
         if verdict != ACCEPTED:
             continue
         stages[0, :] = stages[6, :]  # k7 is the next step's k1 (first same as last)
-        returned = _accept(norm, _first_largest(stages[6, :count]), clock, counters, settings)
+        peak = _first_largest(stages[6, :count])
+        returned, profile = _profile_taken(_accept(norm, peak, clock, counters, settings), peak, clock, counters,
+                                           settings, profiles)
+        if profile >= 0:
+            _record_profile(profiles[profile], clock[TIME], peak, y_new, stages[6, :count])
         _record_near(records[rows], clock[TIME], y_new, stress, stages[6], near)
         rows += 1
         if returned == GO_ON and rows == records.shape[0]:
@@ -1147,7 +1180,8 @@ def _steps_in_turn(states, clock, counters, settings, records, near, stages, wor
     counters[ROWS], counters[RETURNED] = rows, returned
 
 
-def _run_task(task, tasks, task_clock, task_counters, states, settings, records, near, stages, work, partial,
+def _run_task(task, tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work,
+              partial,
               padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress,
               u, u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
               critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
@@ -1210,8 +1244,12 @@ def _run_task(task, tasks, task_clock, task_counters, states, settings, records,
         first, end = _part_elements(first_part, end_part, count)
         for at in (0, count):  # k7 is the next step's k1 (first same as last): the task's own parts
             stages[0, at + first:at + end] = stages[6, at + first:at + end]
-        returned = _accept(norm, _first_largest(part_extremes[PEAK_SPEED]), clock, counters, settings)
-        if task == 0:
+        peak = _first_largest(part_extremes[PEAK_SPEED])
+        returned, profile = _profile_taken(_accept(norm, peak, clock, counters, settings), peak, clock, counters,
+                                           settings, profiles)
+        if task == 0:  # before its next barrier: no task writes y_new or k7 until then
+            if profile >= 0:
+                _record_profile(profiles[profile], clock[TIME], peak, y_new, stages[6, :count])
             _record_near(records[rows], clock[TIME], y_new, stress, stages[6], near)
         rows += 1
         if returned == GO_ON and rows == records.shape[0]:
@@ -1223,21 +1261,23 @@ def _run_task(task, tasks, task_clock, task_counters, states, settings, records,
         sync[SPLIT], sync[IMBALANCE], sync[PART_COST] = split, imbalance, part_cost
 
 
-def _run_tasks(tasks, task_clock, task_counters, states, settings, records, near, stages, work, partial, padded,
+def _run_tasks(tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work, partial,
+               padded,
                transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
                u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
                error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes):
     """A run's trials in one parallel region, one :func:`_run_task` a thread."""
     for task in prange(tasks):
-        _run_task(task, tasks, task_clock, task_counters, states, settings, records, near, stages, work, partial,
+        _run_task(task, tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work,
+                  partial,
                   padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress,
                   stress, u, u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
                   inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms,
                   plan_fractions, error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes)
 
 
-def _run_steps(states, clock, counters, settings, records, near, stages, work, partial, padded, transforms,
+def _run_steps(states, clock, counters, settings, records, near, profiles, stages, work, partial, padded, transforms,
                even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
                sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
                b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
@@ -1263,7 +1303,8 @@ def _run_steps(states, clock, counters, settings, records, near, stages, work, p
         for task in range(tasks):
             task_clock[task, :CLOCK_SLOTS] = clock
             task_counters[task, :COUNTER_SLOTS] = counters
-        _run_tasks(tasks, task_clock, task_counters, states, settings, records, near, stages, work, partial, padded,
+        _run_tasks(tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work,
+                   partial, padded,
                    transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
                    u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                    critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
@@ -1275,7 +1316,8 @@ def _run_steps(states, clock, counters, settings, records, near, stages, work, p
         sync[SPLIT] = 0  # a later region starts again from the first split: these times are a lost thread's
         u[:] = u_start
         rows, trials, tasks = counters[ROWS], sync[TRIALS_TAKEN], 1
-    _steps_in_turn(states, clock, counters, settings, records, near, stages, work, partial, padded, transforms,
+    _steps_in_turn(states, clock, counters, settings, records, near, profiles, stages, work, partial, padded,
+                   transforms,
                    even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
                    sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                    critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
@@ -1295,7 +1337,8 @@ STEP = ("_part_start", "_part_elements", "_wait_while", "_barrier", "_barriers_p
         "_next_part", "_first_state_parts",
         "_prepare", "_even_half", "_odd_half", "_sum_halves", "_stress_product", "_halves_and_preparation",
         "_first_largest", "_owner", "_balance_parts", "_step_task", "_step_tasks", "_largest", "_one_thread_step",
-        "_fused_step", "_ulp", "step_factor", "rejection_factor", "judged_step", "_record_near", "_next_trial",
+        "_fused_step", "_ulp", "step_factor", "rejection_factor", "judged_step", "_record_near", "_record_profile",
+        "_profile_taken", "_next_trial",
         "_verdict", "_accept", "_steps_in_turn", "_run_task", "_run_tasks", "_run_steps")
 #: the functions that hold a parallel region in a parallel build
 REGIONS = ("_step_tasks", "_run_tasks")

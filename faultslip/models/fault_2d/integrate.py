@@ -345,9 +345,10 @@ class _CompiledSteps:
     :class:`_FasterTrial` over the two picks (a probe's call takes one trial step, timed)."""
 
     #: station records a call can buffer; trials a call takes at most (its next return checks the checkpoint's
-    #: and the progress bar's clocks)
+    #: and the progress bar's clocks); the bytes of profile rows a call can buffer (at most PROFILES rows, at least 1)
     RECORDS = 512
     TRIALS = 512
+    PROFILES, PROFILE_BYTES = 64, 1 << 22
 
     def __init__(self, trial: _FusedTrial, near: np.ndarray, settings: dict, chooser: _FasterTrial | None = None):
         count = trial.count
@@ -364,6 +365,9 @@ class _CompiledSteps:
                            (compiled_kernels.COSEISMIC_INTERVAL, "coseismic_interval")):
             self.settings[slot] = settings[name]
         self.records = np.empty((self.RECORDS, 1 + 4 * near.size))
+        # a profile row: t, the peak slip rate, and every element's slip and slip rate (compiled._record_profile)
+        self.profiles = np.empty((max(1, min(self.PROFILES, self.PROFILE_BYTES // (8 * (2 + 2 * count)))),
+                                  2 + 2 * count))
 
     def __call__(self, budget: int) -> None:
         """Steps until :func:`_run_steps` returns, at most ``budget`` trials (the state in, and out, through
@@ -380,7 +384,8 @@ class _CompiledSteps:
         balance.u = compiled_kernels.lined(balance.u)  # the solves write it a part at a time
         start, evaluations = clock.perf_counter(), int(self.counters[compiled_kernels.EVALUATIONS])
         self.kernel(
-            self.states, self.clock, self.counters, self.settings, self.records, self.near, trial.stages, trial.work,
+            self.states, self.clock, self.counters, self.settings, self.records, self.near, self.profiles,
+            trial.stages, trial.work,
             trial.partial, trial.padded, trial.transforms, trial.even_product, trial.product, trial.coefficients,
             trial.healing, trial.warm, trial.halves, fault.initial_shear_stress, trial.stress, balance.u,
             trial.u_start, balance.sigma_a, balance.inverse_a, balance.two_v0_eta, 1.0 / balance.damping,
@@ -606,22 +611,28 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                 many.states[0] = y
                 many.trial.stages[0] = k1
                 many.clock[:] = (t, h, previous_norm, float(after_rejection), min_step, max_step, peak, peak,
-                                 event["peak"], t)
+                                 event["peak"], t, last_profile, last_coseismic)
                 many.counters[[compiled_kernels.STEPS, compiled_kernels.REJECTED, compiled_kernels.EVALUATIONS,
-                               compiled_kernels.CURRENT, compiled_kernels.STOP_AT, compiled_kernels.MAX_STEPS]] = (
+                               compiled_kernels.CURRENT, compiled_kernels.STOP_AT, compiled_kernels.MAX_STEPS,
+                               compiled_kernels.PROFILE_ROWS]] = (
                     steps, rejected, evaluations, 0, -1 if stop_after_steps is None else stop_after_steps,
-                    max_steps)
-                many.settings[[compiled_kernels.LAST_PROFILE, compiled_kernels.LAST_COSEISMIC,
-                               compiled_kernels.INSIDE]] = (last_profile, last_coseismic, float(event["inside"]))
+                    max_steps, 0)
+                many.settings[compiled_kernels.INSIDE] = float(event["inside"])
                 many(many.TRIALS)
                 (t, h, previous_norm, after_rejection, min_step, max_step, peak, previous_peak, event_peak,
-                 t_old) = (float(value) for value in many.clock)
+                 t_old, last_profile, last_coseismic) = (float(value) for value in many.clock)
                 after_rejection = after_rejection != 0.0
-                steps, rejected, evaluations, rows, current, _, _, _, returned = (int(v) for v in many.counters)
+                steps, rejected, evaluations, rows, current, _, _, _, returned, profiles_taken = (
+                    int(v) for v in many.counters)
                 y, k1, stress = many.states[current], many.trial.stages[0], many.trial.stress
                 speed = k1[:count]
                 if rows:
                     stations_store.extend(station_rows(many.records[:rows]))
+                if profiles_taken:  # the profiles the call took, each profile_row's numbers
+                    taken = many.profiles[:profiles_taken].copy()
+                    with np.errstate(divide="ignore"):  # a rate of 0 is -inf
+                        np.log10(taken[:, 2 + count:], out=taken[:, 2 + count:])
+                    profiles_store.extend(taken)
                 if event["inside"]:
                     event["peak"] = event_peak
                 if returned == compiled_kernels.RETURNED_MAX_STEPS:
