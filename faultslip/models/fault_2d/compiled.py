@@ -964,8 +964,9 @@ def _move_split(sync, tasks):
 # Between two trial steps the integrator's Python (the step's controller, a station record, the event test and a
 # call with 47 arguments) took about 30 us a step on one core, a tenth of a step at 1,600 elements, and the part
 # a second thread cannot share. :func:`_run_steps` takes whole steps, accepted and rejected, in compiled code and
-# returns to Python only where Python has something to do: an event starts or ends, a profile is due, the station
-# records' buffer is full, the step budget is spent, the run ends or fails.
+# returns to Python only where Python has something to do: an event starts or ends, the station records' buffer
+# is full (or the profiles' with a profile due), the step budget is spent, the run ends or fails. Profiles, 129 of
+# a 200-year run's 130 returns at 1,600 elements before, go into a buffer as the station records do.
 #
 # On several threads a call's trials are one parallel region (:func:`_run_tasks`), not one a trial: a region's
 # start and end, the copies of k1 and the warm start and the peak, 9 us a trial on one thread at 1,600 elements,
@@ -1285,7 +1286,8 @@ def _run_steps(states, clock, counters, settings, records, near, profiles, stage
     """Dormand-Prince steps with the integrator's controller, from the state states[counters[CURRENT]] whose k1 is
     stages[0], as :func:`faultslip.models.fault_2d.integrate.run_cycles` takes them one by one in Python (the same
     operations, so its bits): until the run's end, or an accepted step Python must look at, or a full ``records``
-    buffer (a row an accepted step: :func:`_record_near`), or counters[BUDGET] trials. ``clock`` and ``counters``
+    buffer (a row an accepted step: :func:`_record_near`), or counters[BUDGET] trials. A profile due is written to
+    ``profiles`` (:func:`_profile_taken`, :func:`_record_profile`), counters[PROFILE_ROWS] rows a call. ``clock`` and ``counters``
     carry the integrator's state in and out, and why the call returned (counters[RETURNED]).
 
     On one thread each trial is a :func:`_fused_step`; on ``tasks`` threads of a parallel build the trials run in
