@@ -1141,9 +1141,9 @@ def _accept(norm, peak, clock, counters, settings):
     return GO_ON
 
 
-def _steps_in_turn(states, clock, counters, settings, records, near, profiles, stages, work, partial, padded, transforms,
-                   even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
-                   sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+def _steps_in_turn(states, clock, counters, settings, records, near, profiles, stages, work, partial, padded,
+                   transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
+                   u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                    critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
                    error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes, tasks, rows, trials):
     """:func:`_run_steps`' loop a trial at a time, each a :func:`_fused_step` (on one thread, or on ``tasks``
@@ -1181,12 +1181,11 @@ def _steps_in_turn(states, clock, counters, settings, records, near, profiles, s
     counters[ROWS], counters[RETURNED] = rows, returned
 
 
-def _run_task(task, tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work,
-              partial,
-              padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress,
-              u, u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
-              critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
-              error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes):
+def _run_task(task, tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work, partial,
+              padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
+              u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+              critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
+              error_weights, scale, ratios, plate_rate, sync, part_extremes):
     """One task's share of :func:`_steps_in_turn`'s loop in one parallel region over many trials: a barrier
     ends each trial (:func:`_barrier`: all tasks pass it or none), after which every task takes the same
     decisions from the same numbers (the controller on its own row of ``task_clock`` and ``task_counters``, the
@@ -1263,32 +1262,30 @@ def _run_task(task, tasks, task_clock, task_counters, states, settings, records,
 
 
 def _run_tasks(tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work, partial,
-               padded,
-               transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
-               u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
-               critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
-               error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes):
+               padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress,
+               u, u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+               critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
+               error_weights, scale, ratios, plate_rate, sync, part_extremes):
     """A run's trials in one parallel region, one :func:`_run_task` a thread."""
     for task in prange(tasks):
         _run_task(task, tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work,
-                  partial,
-                  padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress,
-                  stress, u, u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
-                  inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms,
-                  plan_fractions, error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes)
+                  partial, padded, transforms, even_product, product, coefficients, healing, warm, halves,
+                  initial_stress, stress, u, u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging,
+                  aging_rate, f0, inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights,
+                  plan_terms, plan_fractions, error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes)
 
 
 def _run_steps(states, clock, counters, settings, records, near, profiles, stages, work, partial, padded, transforms,
-               even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
-               sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip,
-               b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows,
-               error_weights, scale, ratios, plate_rate, sync, part_extremes, tasks):
+               even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start, sigma_a,
+               inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0, critical_slip, b,
+               iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions, error_rows, error_weights,
+               scale, ratios, plate_rate, sync, part_extremes, tasks):
     """Dormand-Prince steps with the integrator's controller, from the state states[counters[CURRENT]] whose k1 is
     stages[0], as :func:`faultslip.models.fault_2d.integrate.run_cycles` takes them one by one in Python (the same
     operations, so its bits): until the run's end, or an accepted step Python must look at, or a full ``records``
     buffer (a row an accepted step: :func:`_record_near`), or counters[BUDGET] trials. A profile due is written to
-    ``profiles`` (:func:`_profile_taken`, :func:`_record_profile`), counters[PROFILE_ROWS] rows a call. ``clock`` and ``counters``
-    carry the integrator's state in and out, and why the call returned (counters[RETURNED]).
+    ``profiles`` (:func:`_profile_taken`, :func:`_record_profile`), counters[PROFILE_ROWS] rows a call. ``clock``
+    and ``counters`` carry the integrator's state in and out, and why the call returned (counters[RETURNED]).
 
     On one thread each trial is a :func:`_fused_step`; on ``tasks`` threads of a parallel build the trials run in
     one parallel region (:func:`_run_tasks`), which a step's region start and end, about 9 us a trial at 1,600
@@ -1305,12 +1302,11 @@ def _run_steps(states, clock, counters, settings, records, near, profiles, stage
         for task in range(tasks):
             task_clock[task, :CLOCK_SLOTS] = clock
             task_counters[task, :COUNTER_SLOTS] = counters
-        _run_tasks(tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work,
-                   partial, padded,
-                   transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
-                   u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
-                   critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
-                   error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes)
+        _run_tasks(tasks, task_clock, task_counters, states, settings, records, near, profiles, stages, work, partial,
+                   padded, transforms, even_product, product, coefficients, healing, warm, halves, initial_stress,
+                   stress, u, u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0,
+                   inverse_b, v0, critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms,
+                   plan_fractions, error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes)
         clock[:] = task_clock[0, :CLOCK_SLOTS]
         counters[:] = task_counters[0, :COUNTER_SLOTS]
         if sync[ABANDONED] == 0:
@@ -1319,9 +1315,8 @@ def _run_steps(states, clock, counters, settings, records, near, profiles, stage
         u[:] = u_start
         rows, trials, tasks = counters[ROWS], sync[TRIALS_TAKEN], 1
     _steps_in_turn(states, clock, counters, settings, records, near, profiles, stages, work, partial, padded,
-                   transforms,
-                   even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u, u_start,
-                   sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
+                   transforms, even_product, product, coefficients, healing, warm, halves, initial_stress, stress, u,
+                   u_start, sigma_a, inverse_a, two_v0_eta, inverse_damping, aging, aging_rate, f0, inverse_b, v0,
                    critical_slip, b, iterations, tolerance, plan_rows, plan_weights, plan_terms, plan_fractions,
                    error_rows, error_weights, scale, ratios, plate_rate, sync, part_extremes, tasks, rows, trials)
 

@@ -529,9 +529,16 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
             values.take(near, out=raw_row[0, 1 + i * near.size:1 + (i + 1) * near.size])
         return station_rows(raw_row)[0]
 
+    def profiles_from_raw(raw):
+        # profiles from raw rows (t, peak slip rate, slip, slip rate: compiled._record_profile), in place: the
+        # rate's log10 over the block
+        with np.errstate(divide="ignore"):  # a rate of 0 is -inf
+            np.log10(raw[:, 2 + count:], out=raw[:, 2 + count:])
+        return raw
+
     def profile_row(t, y, speed):
-        with np.errstate(divide="ignore"):
-            return np.concatenate([[t, speed.max()], y[:count], np.log10(speed)])
+        # one step's profile (the Python loop's, and a compiled call's last step)
+        return profiles_from_raw(np.concatenate([[t, speed.max()], y[:count], speed])[np.newaxis])[0]
 
     resumed_from = None
     if resume:
@@ -628,11 +635,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                 speed = k1[:count]
                 if rows:
                     stations_store.extend(station_rows(many.records[:rows]))
-                if profiles_taken:  # the profiles the call took, each profile_row's numbers
-                    taken = many.profiles[:profiles_taken].copy()
-                    with np.errstate(divide="ignore"):  # a rate of 0 is -inf
-                        np.log10(taken[:, 2 + count:], out=taken[:, 2 + count:])
-                    profiles_store.extend(taken)
+                if profiles_taken:  # the profiles the call took
+                    profiles_store.extend(profiles_from_raw(many.profiles[:profiles_taken].copy()))
                 if event["inside"]:
                     event["peak"] = event_peak
                 if returned == compiled_kernels.RETURNED_MAX_STEPS:
