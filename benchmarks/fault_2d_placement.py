@@ -1,14 +1,18 @@
 """What the placement of the two vCPUs costs a threaded 2-D step (issue 43, item 3), in each placement class.
 
-    python benchmarks/fault_2d_placement.py [--seconds 120] [--lines 100]
+    python benchmarks/fault_2d_placement.py [--seconds 120] [--lines 100] [--elements 1600]
 
 On the benchmark machine two threads gain about 1.65x near and 1.1x far (benchmarks/fault_2d_threads.py). This
-asks why, with two measurements taken in turn and each kept in the class its round trips before and after agree
+asks why, with three measurements taken in turn and each kept in the class its round trips before and after agree
 on (:func:`fault_2d_threads.placement`):
 
 - **private work**: a loop of exponentials over 512 KB (in a core's own cache) on one core, alone and then with
   the other core running the same loop over its own array: the slowdown. 1.0 means the cores do not share a
   pipeline, a clock budget or a cache that either of them fills.
+- **work between barriers**: each task runs the same loop over its own ``CHUNK_VALUES`` values (a task's
+  elements at 1,600), a spin barrier after each pass as the threaded step has between its phases, against the
+  same passes with no barrier; the cycle counter times the loop alone. The ratio is what the meetings do to the
+  work itself (1.0: nothing), and the difference in wall time a pass is what a meeting costs (us).
 - **data that crosses**: two tasks in one parallel region, each writing its own block of ``--lines`` cache lines
   (the threaded step's slip deficit at 1,600 elements is 100 lines a task) and then, past a spin barrier,
   reading the other task's block; against the same loop reading its own block. The difference over the lines
@@ -47,6 +51,8 @@ LINE = 8
 PRIVATE_VALUES = 65536
 #: evaluations of K x a Dormand-Prince trial step (k1 is the last step's k7)
 EVALUATIONS = 6
+#: the values each task's loop passes over between two barriers: a task's elements at 1,600
+CHUNK_VALUES = 800
 
 
 def lines_a_trial(elements: int) -> int:
@@ -56,11 +62,15 @@ def lines_a_trial(elements: int) -> int:
 
 
 def _kernels():
-    """The compiled loops: the private sweep (nogil, for a Python thread a core) and the two tasks' crossing."""
+    """The compiled loops: the private sweep (nogil, for a Python thread a core), the two tasks' crossing and their
+    work between barriers."""
     import numba  # heavy: the benchmark measures compiled code
     from numba import prange
 
+    from faultslip.models.fault_2d import compiled
+
     barrier = spin_barrier()
+    cycles = compiled._cycle_counter_intrinsic()  # the threaded step's own counter (0 where there is none)
 
     @numba.njit(nogil=True)
     def sweep(values, repeats):
@@ -93,7 +103,28 @@ def _kernels():
             totals[task] = task_exchange(np.int64(task), sync, blocks, repeats, cross)  # prange gives uint64
         return totals[0] + totals[1]
 
-    return sweep, exchange
+    @numba.njit
+    def task_passes(task, sync, values, repeats, meet):
+        worked = 0
+        for _ in range(repeats):
+            began = cycles()
+            for i in range(values.shape[1]):
+                value = values[task, i]
+                values[task, i] = value * 0.999999 + 1e-9 * np.exp(value * 1e-3)
+            worked += cycles() - began
+            if meet:
+                barrier(sync)
+        return worked
+
+    @numba.njit(parallel=True)
+    def passes(sync, values, repeats, meet):
+        # each task passes over its own values; with ``meet``, both pass a spin barrier after each pass
+        worked = np.zeros(2, dtype=np.int64)
+        for task in prange(2):
+            worked[task] = task_passes(np.int64(task), sync, values, repeats, meet)  # prange gives uint64
+        return worked[0] + worked[1]
+
+    return sweep, exchange, passes
 
 
 def private_slowdown(sweep, arrays) -> float:
@@ -136,6 +167,24 @@ def crossing_ns(exchange, lines: int, repeats: int = 2000) -> float:
     return (times[True] - times[False]) / (repeats * lines) * 1e9  # each task reads ``lines`` lines a repeat
 
 
+def meeting_costs(passes, repeats: int = 2000) -> tuple[float | None, float]:
+    """Both tasks' passes over their own values with a barrier after each, against the same with none: the work's
+    cycles with over without (None where there is no cycle counter), and what a meeting adds to a pass (us)."""
+    from faultslip.models.fault_2d import compiled
+
+    os.sched_setaffinity(0, {0, 1})
+    sync, values = compiled.new_sync(), compiled.on_lines((2, CHUNK_VALUES))
+    values[...] = np.random.default_rng(3).random(values.shape)
+    worked, wall = {}, {}
+    for meet in (True, False):
+        passes(sync, values, 10, meet)
+        began = time.perf_counter()
+        worked[meet] = passes(sync, values, repeats, meet)
+        wall[meet] = time.perf_counter() - began
+    ratio = worked[True] / worked[False] if worked[False] > 0 else None
+    return ratio, (wall[True] - wall[False]) / repeats * 1e6
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=120.0)
@@ -155,21 +204,25 @@ def main(argv=None) -> int:
     os.sched_setaffinity(0, {0, 1})  # numba's threads keep the CPUs the process had at its first parallel call
     numba.get_num_threads()
     passes = _round_trip_kernel()
-    sweep, exchange = _kernels()
+    sweep, exchange, passes_ = _kernels()
     arrays = [np.random.default_rng(seed).random(PRIVATE_VALUES) for seed in (1, 2)]
     sweep(arrays[0], 1)
     crossing_ns(exchange, args.lines, 10)
+    meeting_costs(passes_, 10)
     started = time.strftime("%H:%M", time.gmtime())
     kept = {name: [] for name in CLASSES}
     ends = time.perf_counter() + args.seconds
     while time.perf_counter() < ends:
         before = placement(round_trip_us(passes))
-        row = (private_slowdown(sweep, arrays), crossing_ns(exchange, args.lines))
+        row = (private_slowdown(sweep, arrays), crossing_ns(exchange, args.lines), *meeting_costs(passes_))
         if placement(round_trip_us(passes)) == before:
             kept[before].append(row)
     classes = {name: {"rounds": len(rows),
                       "private_slowdown": statistics.median(row[0] for row in rows) if rows else None,
-                      "crossing_ns_per_line": statistics.median(row[1] for row in rows) if rows else None}
+                      "crossing_ns_per_line": statistics.median(row[1] for row in rows) if rows else None,
+                      "work_between_barriers": statistics.median(row[2] for row in rows)
+                      if rows and rows[0][2] is not None else None,
+                      "barrier_us": statistics.median(row[3] for row in rows) if rows else None}
                for name, rows in kept.items()}
     lines = lines_a_trial(args.elements)
     for name, row in classes.items():
@@ -177,8 +230,11 @@ def main(argv=None) -> int:
             row["trial_crossing_us"] = lines * row["crossing_ns_per_line"] / 1e3
             print(f"{name}: {row['rounds']} rounds; private work {row['private_slowdown']:.3f}x slower with the "
                   f"other core busy; a line crossing between the cores {row['crossing_ns_per_line']:.1f} ns, "
-                  f"{row['trial_crossing_us']:.0f} us for a task's {lines:,} a trial at {args.elements:,} elements")
+                  f"{row['trial_crossing_us']:.0f} us for a task's {lines:,} a trial at {args.elements:,} elements; "
+                  f"work between barriers {row['work_between_barriers'] or float('nan'):.3f}x, a meeting "
+                  f"{row['barrier_us']:.2f} us")
     write_results("fault_2d_placement.json", {"lines": args.lines, "private_values": PRIVATE_VALUES,
+                                              "chunk_values": CHUNK_VALUES,
                                               "elements": args.elements, "trial_lines": lines,
                                               "classes": classes, "started": started,
                                               "ended": time.strftime("%H:%M", time.gmtime())})

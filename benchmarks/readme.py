@@ -291,13 +291,18 @@ def fault_2d_placement_table() -> str | None:
     result = _load("fault_2d_placement.json")
     if result is None:
         return None
-    rows = ["| placement | rounds | private work, the other core busy | a line written on one core, read on the "
+    rows = ["| placement | rounds | private work, the other core busy | private work, a spin barrier after each "
+            f"{result.get('chunk_values', 800)} values | a barrier | a line written on one core, read on the "
             f"other | a task's {result['trial_lines']:,} such lines a trial at {result['elements']:,} elements |",
-            "| --- | --- | --- | --- | --- |"]
+            "| --- | --- | --- | --- | --- | --- | --- |"]
     for name, row in result["classes"].items():
         if row["rounds"]:
+            between = row.get("work_between_barriers")
+            barrier = row.get("barrier_us")
             rows.append(f"| {name} | {row['rounds']} | {row['private_slowdown']:.2f}× | "
-                        f"{row['crossing_ns_per_line']:.1f} ns | {row['trial_crossing_us']:.0f} µs |")
+                        + (f"{between:.3f}× | " if between is not None else "not measured | ")
+                        + (f"{barrier:.2f} µs | " if barrier is not None else "not measured | ")
+                        + f"{row['crossing_ns_per_line']:.1f} ns | {row['trial_crossing_us']:.0f} µs |")
     span = f", {result['started']}-{result['ended']} UTC" if result.get("started") else ""
     return ("\n".join(rows) + f"\n\nEach round kept in the class its round trips before and after agree on. "
             f"`python benchmarks/fault_2d_placement.py`; {result['machine']}, {result['date']}{span}.")
