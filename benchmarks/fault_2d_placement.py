@@ -104,7 +104,7 @@ def _kernels():
         return totals[0] + totals[1]
 
     @numba.njit
-    def task_passes(task, sync, values, repeats, meet):
+    def task_chunks(task, sync, values, repeats, meet):
         worked = 0
         for _ in range(repeats):
             began = cycles()
@@ -117,14 +117,14 @@ def _kernels():
         return worked
 
     @numba.njit(parallel=True)
-    def passes(sync, values, repeats, meet):
+    def chunks(sync, values, repeats, meet):
         # each task passes over its own values; with ``meet``, both pass a spin barrier after each pass
         worked = np.zeros(2, dtype=np.int64)
         for task in prange(2):
-            worked[task] = task_passes(np.int64(task), sync, values, repeats, meet)  # prange gives uint64
+            worked[task] = task_chunks(np.int64(task), sync, values, repeats, meet)  # prange gives uint64
         return worked[0] + worked[1]
 
-    return sweep, exchange, passes
+    return sweep, exchange, chunks
 
 
 def private_slowdown(sweep, arrays) -> float:
@@ -167,7 +167,7 @@ def crossing_ns(exchange, lines: int, repeats: int = 2000) -> float:
     return (times[True] - times[False]) / (repeats * lines) * 1e9  # each task reads ``lines`` lines a repeat
 
 
-def meeting_costs(passes, repeats: int = 2000) -> tuple[float | None, float]:
+def meeting_costs(chunks, repeats: int = 2000) -> tuple[float | None, float]:
     """Both tasks' passes over their own values with a barrier after each, against the same with none: the work's
     cycles with over without (None where there is no cycle counter), and what a meeting adds to a pass (us)."""
     from faultslip.models.fault_2d import compiled
@@ -177,9 +177,9 @@ def meeting_costs(passes, repeats: int = 2000) -> tuple[float | None, float]:
     values[...] = np.random.default_rng(3).random(values.shape)
     worked, wall = {}, {}
     for meet in (True, False):
-        passes(sync, values, 10, meet)
+        chunks(sync, values, 10, meet)
         began = time.perf_counter()
-        worked[meet] = passes(sync, values, repeats, meet)
+        worked[meet] = chunks(sync, values, repeats, meet)
         wall[meet] = time.perf_counter() - began
     ratio = worked[True] / worked[False] if worked[False] > 0 else None
     return ratio, (wall[True] - wall[False]) / repeats * 1e6
@@ -204,17 +204,17 @@ def main(argv=None) -> int:
     os.sched_setaffinity(0, {0, 1})  # numba's threads keep the CPUs the process had at its first parallel call
     numba.get_num_threads()
     passes = _round_trip_kernel()
-    sweep, exchange, passes_ = _kernels()
+    sweep, exchange, chunks = _kernels()
     arrays = [np.random.default_rng(seed).random(PRIVATE_VALUES) for seed in (1, 2)]
     sweep(arrays[0], 1)
     crossing_ns(exchange, args.lines, 10)
-    meeting_costs(passes_, 10)
+    meeting_costs(chunks, 10)
     started = time.strftime("%H:%M", time.gmtime())
     kept = {name: [] for name in CLASSES}
     ends = time.perf_counter() + args.seconds
     while time.perf_counter() < ends:
         before = placement(round_trip_us(passes))
-        row = (private_slowdown(sweep, arrays), crossing_ns(exchange, args.lines), *meeting_costs(passes_))
+        row = (private_slowdown(sweep, arrays), crossing_ns(exchange, args.lines), *meeting_costs(chunks))
         if placement(round_trip_us(passes)) == before:
             kept[before].append(row)
     classes = {name: {"rounds": len(rows),
