@@ -14,12 +14,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import platform
 import statistics
 import sys
 import tempfile
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -34,6 +32,7 @@ from matplotlib.animation import PillowWriter  # noqa: E402
 from faultslip.dynamics.spring_slider.simulate import simulate  # noqa: E402
 from faultslip.fault.scene import load_scene  # noqa: E402
 from faultslip.plots.animation import animation, save_gif  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 
 def _ours(dataset, frames, path):
@@ -64,8 +63,7 @@ def main(argv=None):
     medians = {name: {"wall_s_per_frame": statistics.median(w for w, _ in rows),
                       "cpu_s_per_frame": statistics.median(c for _, c in rows)} for name, rows in times.items()}
     ratio = medians["matplotlib"]["wall_s_per_frame"] / medians["faultslip"]["wall_s_per_frame"]
-    result = {"machine": f"{platform.machine()}, Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"), "frames": args.frames, "pairs": args.pairs,
+    result = {**stamp(), "frames": args.frames, "pairs": args.pairs,
               "medians": medians, "speed_up": ratio,
               "cpu_speed_up": medians["matplotlib"]["cpu_s_per_frame"] / medians["faultslip"]["cpu_s_per_frame"]}
     out = ROOT / "benchmarks" / "results" / "animation.json"

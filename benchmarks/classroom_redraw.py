@@ -17,14 +17,12 @@ from __future__ import annotations
 
 import base64
 import json
-import os
-import platform
 import sys
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -100,9 +98,7 @@ def main() -> int:
             driver.save_screenshot(str(figures / "classroom_experiment.png"))
         result["screenshots"] = ["docs/figures/classroom_lab.png", "docs/figures/classroom_earthquake.png",
                                  "docs/figures/classroom_experiment.png"]
-    result["machine"] = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, " \
-                        f"Python {platform.python_version()}"
-    result["date"] = datetime.now(timezone.utc).strftime("%Y-%m-%d")
+    result.update(stamp())
     (ROOT / "benchmarks" / "results" / "classroom_redraw.json").write_text(json.dumps(result, indent=1) + "\n")
     print(json.dumps(result, indent=1))
     return 0

@@ -17,8 +17,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import sys
 from datetime import datetime, timezone
 from pathlib import Path
@@ -31,6 +29,7 @@ sys.path.insert(0, str(ROOT))
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR, run_cycles  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SCENE = ROOT / "configs" / "seas_bp1.toml"
 
@@ -81,8 +80,7 @@ def main(argv=None) -> dict:
     timed = one(sizes[-1], years, loosest) if loosest != 1e-8 else dict(fine)
     result = {"convergence": convergence, "difference_coarse_fine": differences, "tolerance_study": tolerance,
               "loosest_rtol": loosest, "timed_at_loosest": timed,
-              "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"), "quick": args.quick}
+              **stamp(), "quick": args.quick}
     out = ROOT / "benchmarks" / "results" / ("fault_2d_quick.json" if args.quick else "fault_2d.json")
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     print(f"written to {out}; python benchmarks/readme.py writes the README's table")

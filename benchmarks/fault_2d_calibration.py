@@ -50,6 +50,7 @@ from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
 from faultslip.models.fault_2d.calibration import SHEAR_MODULUS, Design, block_errors, run_design  # noqa: E402
 from faultslip.fault.one_slider import CALIBRATION_FILE  # noqa: E402
 from faultslip.models.rate_state_slider.model_error import declared_from_envelope  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 RATIOS = (1.25, 1.75, 2.5, 3.5, 5.0, 7.0)
 GEOMETRIES = {"surface, creep below": {}, "BP1's ramp and depth": {"ramp": 0.2, "below": 1.5},
@@ -94,7 +95,7 @@ def run_all(designs, workers, reuse):
             done[row["design"]["name"]] = row
             print(f"{row['design']['name']}: {row['sequence']} (p {row['period']}), T {row['recurrence_2d'] / 3.15576e7:.1f} yr, "
                   f"{row['elements']} elements, {row['wall_time']:.0f} s", flush=True)
-            RAW.write_text(json.dumps({"rows": list(done.values())}, indent=1) + "\n", encoding="utf-8")
+            RAW.write_text(json.dumps({**stamp(), "rows": list(done.values())}, indent=1) + "\n", encoding="utf-8")
     finally:
         stop_pool(pool)
     return [done[d.name] for d in designs]

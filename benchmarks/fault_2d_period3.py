@@ -17,10 +17,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import platform
 import sys
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +29,7 @@ sys.path.insert(0, str(ROOT))
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SCENE = ROOT / "configs" / "seas_bp1_period3.toml"
 
@@ -71,8 +70,7 @@ def main(argv=None):
               + f" yr, mean {run['mean_interval_yr']:.4f} yr, {run['wall_s']:.0f} s"
               + (f"; largest interval error {max(run['interval_errors']):.2e}" if "interval_errors" in run else ""))
     out = ROOT / "benchmarks" / "results" / "fault_2d_period3.json"
-    out.write_text(json.dumps({"machine": f"{platform.machine()}, {platform.python_version()}",
-                               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"), "scene": SCENE.name,
+    out.write_text(json.dumps({**stamp(), "scene": SCENE.name,
                                "runs": runs}, indent=1) + "\n", encoding="utf-8")
     print(f"written to {out}")
 

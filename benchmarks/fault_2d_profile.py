@@ -26,12 +26,10 @@ import cProfile
 import json
 import math
 import os
-import platform
 import pstats
 import sys
 import tempfile
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -42,6 +40,7 @@ import numpy as np  # noqa: E402
 from faultslip.constants import JULIAN_YEAR  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 WIDTH = 40e3
 def _alone(call) -> float:
@@ -194,11 +193,9 @@ def main(argv=None) -> int:
 
 
 def write_results(name: str, document: dict) -> None:
-    """benchmarks/results/NAME: ``document`` with the machine and the date."""
+    """benchmarks/results/NAME: ``document`` with its stamp (machine, packages, date: provenance.stamp)."""
     out = ROOT / "benchmarks" / "results" / name
-    document = {**document, "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
-                                       f"{platform.python_version()}",
-                "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+    document = {**document, **stamp()}
     out.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
     print(f"written to {out}")
 

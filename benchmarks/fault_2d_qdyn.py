@@ -48,7 +48,6 @@ import csv
 import json
 import math
 import os
-import platform
 import re
 import shutil
 import subprocess
@@ -58,7 +57,6 @@ import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Callable
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
@@ -71,6 +69,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
 from peer_runs import COMMON_GRID, interleaved, measured, medians  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SCENE = ROOT / "configs" / "seas_bp1.toml"
 WIDTH = 40e3
@@ -387,8 +386,7 @@ def main(argv=None) -> dict:
               "best_peer": best[0] if best else None,
               "ratio_faultslip_over_best_peer": ours["wall_s"] / best[1]["wall_s"] if good else None,
               "cpu_ratio_faultslip_over_best_peer": ours["cpu_s"] / best[1]["cpu_s"] if good else None,
-              "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              **stamp()}
     out = ROOT / "benchmarks" / "results" / "fault_2d_qdyn.json"
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     print(f"written to {out}" + (f"; faultslip / {best[0]} = {result['ratio_faultslip_over_best_peer']:.2f} "

@@ -15,10 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import platform
-import os
 import sys
-from datetime import datetime, timezone
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -27,6 +24,7 @@ sys.path.insert(0, str(ROOT))
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR, run_cycles  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 #: (name, scene, values replaced, years): BP1; the small fault (W / h* below 1); a short-D_c, high-stress one
 FAULTS = [
@@ -60,8 +58,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     out = ROOT / "benchmarks" / "results" / "fault_2d_resolution.json"
     kept = json.loads(out.read_text())["faults"] if args.only and out.exists() else []
-    results = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"), "faults": []}
+    results = {**stamp(), "faults": []}
     chosen = FAULTS[1:2] if args.quick else [f for f in FAULTS if f[0] == args.only] if args.only else FAULTS
     results["faults"] = [entry for entry in kept if entry["name"] not in {f[0] for f in chosen}]
     for name, config, values, years in chosen:

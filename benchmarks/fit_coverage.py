@@ -19,15 +19,13 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
-import platform
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parent.parent
 TRUTH = {"a": 0.008, "b": 0.012, "critical_slip": 20e-6}
@@ -107,8 +105,7 @@ def main(argv=None) -> int:
               "failures": {"bootstrap": sum("bootstrap_error" in c for c in cases),
                            "posterior": sum("posterior_error" in c for c in cases)},
               "wall_time_s": time.perf_counter() - started,
-              "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              **stamp()}
     Path(args.results).write_text(json.dumps(result, indent=1) + "\n")
     for kind, rows in result["coverage"].items():
         print(kind, {name: f"{row['coverage']:.3f} of {row['cases']}" for name, row in rows.items()})

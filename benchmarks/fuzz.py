@@ -37,7 +37,6 @@ import contextlib
 import io
 import json
 import os
-import platform
 import random
 import shutil
 import signal
@@ -47,10 +46,12 @@ import tempfile
 import time
 import traceback
 from concurrent.futures import ProcessPoolExecutor
-from datetime import datetime, timezone
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "benchmarks"))  # provenance, when a test loads this file by its path
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
+
 CONFIGS, DATA = ROOT / "configs", ROOT / "data"
 
 NASTY_VALUES = [
@@ -847,8 +848,7 @@ def main(argv=None) -> int:
     result = {
         "cases": sum(tally.values()), "outcomes": dict(tally), "by_input": {k: dict(v) for k, v in by_kind.items()},
         "distinct_failures": failures, "slowest_case_s": slowest, "wall_time_s": time.perf_counter() - started,
-        "seed": args.seed, "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-        "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"),
+        "seed": args.seed, **stamp(),
     }
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")

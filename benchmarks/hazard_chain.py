@@ -20,16 +20,15 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import shutil
 import subprocess
 import sys
 import tempfile
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parent.parent
 SITES = {"San Francisco": (-122.42, 37.77), "Parkfield": (-120.43, 35.87), "Los Angeles": (-118.24, 34.05),
@@ -97,8 +96,7 @@ def main(argv=None) -> int:
                 name: _level_at(levels, np.array(curve)) for name, curve in results["kinds"][kind]["curves"].items()}
             print(f"{kind}: {results['kinds'][kind]['seconds']:.0f} s; PGA at 10 % in 50 yr "
                   + ", ".join(f"{n} {v:.2f} g" for n, v in results["kinds"][kind]["pga_10pct_50yr_g"].items()))
-    results["machine"] = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores"
-    results["date"] = datetime.now(timezone.utc).strftime("%Y-%m-%d")
+    results.update(stamp())
     Path(args.results).write_text(json.dumps(results, indent=2) + "\n")
     _figure(results, args.figure)
     print(f"wrote {args.results} and {args.figure}")

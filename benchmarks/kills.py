@@ -15,19 +15,18 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import random
 import signal
 import subprocess
 import sys
 import tempfile
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
 
 from faultslip.io.processes import children, is_alive
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 # every cell integrated (DOP853 slip phases of a polynomial kinetic law, ~30 ms): slow enough to kill mid-run
 STUDY = ('[study]\nbase = "lab_steel_dry_polynomial.toml"\n[sweep]\n'
@@ -116,8 +115,7 @@ def main(argv=None) -> int:
         if not _same(_values(out), expected):
             races["problems"].append(f"race {round_}: the surviving file is not the complete result")
     result = {"kills": tally, "races": races, "wall_time_s": time.perf_counter() - started,
-              "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              **stamp()}
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     print(json.dumps(result, indent=1))

@@ -19,7 +19,6 @@ import json
 import subprocess
 import sys
 import tempfile
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +27,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from faultslip.lab.look_files import read_look  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 FILE = ROOT / "data" / "p655" / "p655intact100l"
 DUMP = """
@@ -77,7 +77,7 @@ def main(argv=None):
     result = {"file": "data/p655/p655intact100l", "pylook": version, "name": [ours.name, theirs["name"]],
               "records": [ours.records, theirs["records"]], "columns": rows,
               "only_in_pylook": sorted(set(theirs["columns"]) - set(ours.columns) - {"rec_num"}),
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              **stamp()}
     out = ROOT / "benchmarks" / "results" / "look_against_pylook.json"
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     for row in rows:

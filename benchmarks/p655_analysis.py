@@ -32,6 +32,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from faultslip.lab.law_selection import select_law  # noqa: E402
 from faultslip.lab.look_reduction import run_r_file  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 from faultslip.lab.posterior import sample_posterior  # noqa: E402
 from faultslip.lab.rate_state_fit import fit_joint  # noqa: E402
 from faultslip.lab.raw_records import (fit_each_step, load_record, prepare_record, step_windows,  # noqa: E402
@@ -52,7 +53,7 @@ def main() -> None:
     started = clock.perf_counter()
     reduced = ROOT / "benchmarks" / "results" / "p655_reduced.nc"
     run_r_file(ROOT / "data" / "p655" / "p655_r").to_dataset().to_netcdf(reduced)
-    out = {"date": datetime.now(timezone.utc).isoformat(timespec="seconds"), "stated_stiffness": STATED_STIFFNESS,
+    out = {**stamp(), "started": datetime.now(timezone.utc).isoformat(timespec="seconds"), "stated_stiffness": STATED_STIFFNESS,
            "sequences": {}}
     figure, axes = plt.subplots(2, 4, figsize=(15, 6.5), constrained_layout=True)
     slow = []

@@ -17,14 +17,12 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import platform
 import sys
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -107,9 +105,7 @@ def main() -> int:
                           "step, rtol 1e-7 atol 1e-10; same priors, likelihood, walkers, moves, seed and steps",
               "faultslip": "sample_posterior(samples=10000): least-squares start, run until converged "
                            "(the fit's time included)",
-              "machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-                         f"Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              **stamp()}
     path = ROOT / "benchmarks" / "results" / "posterior_speed.json"
     path.write_text(json.dumps(result, indent=1) + "\n")
     print(json.dumps(result, indent=1))

@@ -12,6 +12,8 @@ import json
 import re
 from pathlib import Path
 
+from provenance import listed  # one stamp for every results file
+
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "benchmarks" / "results"
 
@@ -21,11 +23,17 @@ def _load(name):
     return json.loads(path.read_text(encoding="utf-8")) if path.exists() else None
 
 
+def _packages(result) -> str:
+    """The packages a result was measured with (provenance.stamp), as a sentence; empty for an older result."""
+    versions = listed(result)
+    return f" Packages: {versions}." if versions else ""
+
+
 def _machine(result) -> str:
     machine = result.get("machine", "")
     if isinstance(machine, dict):
         machine = f"{machine.get('platform', '')}, Python {machine.get('python', '')}"
-    return f"Measured on {machine}, {result.get('date', 'date not recorded')}."
+    return f"Measured on {machine}, {result.get('date', 'date not recorded')}.{_packages(result)}"
 
 
 def benchmarks_table() -> str | None:
@@ -284,7 +292,8 @@ def fault_2d_threads_table() -> str | None:
             + f"batches of 100 trial steps through the run's loop; the placement over the run: shared core "
             f"{share['shared core']:.0%}, near {share['near']:.0%}, far {share['far']:.0%}. The same bits on one "
             f"thread and two: {all(run['identical_bits'] for run in result['runs'])}. "
-            f"`python benchmarks/fault_2d_threads.py`; {result['machine']}, {result['date']}{span}.")
+            f"`python benchmarks/fault_2d_threads.py`; {result['machine']}, {result['date']}{span}."
+            + _packages(result))
 
 
 def fault_2d_placement_table() -> str | None:
@@ -305,7 +314,8 @@ def fault_2d_placement_table() -> str | None:
                         + f"{row['crossing_ns_per_line']:.1f} ns | {row['trial_crossing_us']:.0f} µs |")
     span = f", {result['started']}-{result['ended']} UTC" if result.get("started") else ""
     return ("\n".join(rows) + f"\n\nEach round kept in the class its round trips before and after agree on. "
-            f"`python benchmarks/fault_2d_placement.py`; {result['machine']}, {result['date']}{span}.")
+            f"`python benchmarks/fault_2d_placement.py`; {result['machine']}, {result['date']}{span}."
+            + _packages(result))
 
 
 def _peer_closing(rows: list, result: dict) -> str:
@@ -476,7 +486,7 @@ def animation_table() -> str | None:
             f"{theirs['wall_s_per_frame'] * 1e3:.0f} ms | {theirs['cpu_s_per_frame'] * 1e3:.0f} ms |",
             f"| speed-up (target ≥ 10×, issue 45: ≥ 20×) | **{result['speed_up']:.1f}×** | {result['cpu_speed_up']:.1f}× |"]
     return ("\n".join(rows) + f"\n\nMedians of {result['pairs']} interleaved pairs of {result['frames']} frames "
-            f"(`python benchmarks/animation_speed.py`), {result['machine']}, {result['date']}.")
+            f"(`python benchmarks/animation_speed.py`), {result['machine']}, {result['date']}." + _packages(result))
 
 
 def update(readme: Path = ROOT / "README.md") -> list[str]:

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import re
 from pathlib import Path
 
@@ -19,6 +18,7 @@ import numpy as np
 
 from faultslip.fault import recurrence
 from faultslip.intervals import percentile_interval
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parent.parent
 APERIODICITIES = (0.3, 0.5, 0.8)
@@ -74,7 +74,7 @@ def main(argv=None):
             rows.append({"model": model, "aperiodicity": aperiodicity, "coverage": result})
             print(model, aperiodicity, json.dumps(result), flush=True)
     out = ROOT / "benchmarks" / "results" / "renewal_coverage.json"
-    out.write_text(json.dumps({"catalogs": args.catalogs, "events": args.events, "draws": args.draws,
+    out.write_text(json.dumps({**stamp(), "catalogs": args.catalogs, "events": args.events, "draws": args.draws,
                                "rows": rows}, indent=2) + "\n")
     docs = ROOT / "docs" / "catalogs.md"
     text = docs.read_text(encoding="utf-8")

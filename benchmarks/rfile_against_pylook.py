@@ -24,7 +24,6 @@ from __future__ import annotations
 import json
 import sys
 import tempfile
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
@@ -35,6 +34,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from faultslip.lab.look_reduction import run_r_file  # noqa: E402
 from look_against_pylook import in_pylook, pylook_arguments  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 R_FILE = ROOT / "data" / "p655" / "p655_r"
 #: the record the r-file's ``r_row 86283 86283`` removes, which pylook's slice keeps
@@ -90,7 +90,7 @@ def main(argv=None):
             rows.append(row)
     result = {"r_file": "data/p655/p655_r", "pylook": version, "axed_record": AXED, "slots": rows,
               "pylook_warnings": theirs["warnings"], "commands_faultslip": ours.commands,
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              **stamp()}
     out = ROOT / "benchmarks" / "results" / "rfile_against_pylook.json"
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     for row in rows:

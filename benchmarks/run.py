@@ -15,7 +15,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import platform
 import statistics
 import sys
 import time
@@ -23,6 +22,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 warnings.simplefilter("ignore")
 
@@ -401,11 +401,7 @@ def main(argv=None):
     parser.add_argument("--skip-sweeps", action="store_true", help="skip benchmarks 4 and 5 (sweep overhead and scale)")
     args = parser.parse_args(argv)
     repeats = 5 if args.quick else 15
-    import os
-    from datetime import datetime, timezone
-
-    results = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {sys.version.split()[0]}",
-               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+    results = stamp()
     print("1. analytic slip phases against a competent solve_ivp baseline, equal work at 1e-6")
     results["exact_vs_integrators"] = r = exact_against_integrators(repeats)
     print(f"   {r['one_cycle']['scene']}")

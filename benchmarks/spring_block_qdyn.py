@@ -37,12 +37,10 @@ import argparse
 import json
 import math
 import os
-import platform
 import shutil
 import statistics
 import sys
 import tempfile
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
@@ -55,6 +53,7 @@ from fault_2d_qdyn import SOLVERS, _commit, qdyn_available, write_input  # noqa:
 from peer_runs import COMMON_GRID, interleaved, measured  # noqa: E402
 from faultslip.dynamics.rate_state.slider import fault_cycles  # noqa: E402
 from faultslip.fault.rate_state_scene import load_rate_state_scene  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SCENE = ROOT / "configs" / "rsf_fault_bp1.toml"
 YEAR = 365.25 * 86400.0
@@ -143,8 +142,7 @@ def main(argv=None) -> dict:
                             "cycles_wall_s": ours.wall_time, "study": own,
                             "loosest_within": max((row["rtol"] for row in own if row.get("recurrence_error", 1) <= WITHIN),
                                                   default=None)},
-              "qdyn": {}, "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              "qdyn": {}, **stamp()}
     print(f"faultslip: {ours.method} at rtol {ours.rtol:g}, T = {ours.recurrence / YEAR:.9g} yr "
           f"(rtol 1e-11: {tight.recurrence / YEAR:.9g} yr), {ours.steps} steps, {ours.wall_time * 1e3:.1f} ms in the library")
     work = Path(tempfile.mkdtemp(prefix="faultslip-spring-block-"))

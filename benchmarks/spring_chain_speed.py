@@ -26,11 +26,9 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import statistics
 import sys
 import time
-from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +41,7 @@ from faultslip.models.spring_chain.dynamics import chosen_solver, simulate_chain
 from faultslip.models.spring_chain.family import statistics as chain_statistics  # noqa: E402
 from faultslip.models.spring_chain.scene import parse_chain_scene  # noqa: E402
 from peer_runs import interleaved  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SCENE = ROOT / "configs" / "spring_chain.toml"
 
@@ -111,8 +110,7 @@ def main(argv=None) -> dict:
               "ratio_closed_form_over_dop853": walls["closed_form"] / walls["DOP853"],
               "events_agreeing": {name: agree for name, (agree, _) in agreeing.items()},
               "events_within_1e-9": {name: close for name, (_, close) in agreeing.items()},
-              "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              **stamp()}
     out = ROOT / "benchmarks" / "results" / "spring_chain_speed.json"
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     print(f"written to {out}; {default} / Python closed form = {result['ratio_over_python_closed_form']:.4f}, "

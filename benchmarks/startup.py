@@ -17,14 +17,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
-from datetime import datetime, timezone
 from pathlib import Path
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 FAULT = ["fault", "--lithology", "granodiorite", "--zone-width", "13 mi", "--shear-stress", "250 bar",
          "--slip-rate", "2 in/yr", "--json"]
@@ -58,8 +57,7 @@ def main(argv=None) -> dict:
     base = medians["import numpy"]
     result = {"seconds": medians, "ratio_to_numpy": {name: value / base for name, value in medians.items()},
               "targets": {"faultslip --help": 1.0, "faultslip fault ... --json": 3.0},
-              "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              **stamp()}
     out = Path(__file__).resolve().parent / "results" / "startup.json"
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     for name, value in medians.items():

@@ -29,7 +29,6 @@ import argparse
 import json
 import math
 import os
-import platform
 import statistics
 import sys
 import time
@@ -43,6 +42,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 from fit_coverage import _coverage  # noqa: E402  (the same coverage count as the fixed-stiffness study)
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 TRUE_STIFFNESS = 2e8 / 25e3  # friction per metre
 TRUTH = {"a": 0.008, "b": 0.012, "critical_slip": 20e-6, "stiffness": TRUE_STIFFNESS}
@@ -145,8 +145,7 @@ def main(argv=None) -> int:
               "failures": {"covariance": sum("covariance_error" in c for c in cases),
                            "posterior": sum("posterior_error" in c for c in cases)},
               "coverage_wall_s": coverage_seconds, "speed": timing,
-              "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-              "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+              **stamp()}
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     out.with_suffix(".partial.json").unlink(missing_ok=True)
     print(f"written to {out}")

@@ -9,10 +9,8 @@ docs/surfaces.md), stamped with machine and date.
 
 from __future__ import annotations
 
-import datetime
 import math
 import os
-import platform
 import warnings
 from pathlib import Path
 
@@ -25,6 +23,7 @@ from faultslip.io.atomic import save_figure, write_text_atomic  # noqa: E402
 from faultslip.models.rough_surface.scene import rough_surface_slider, separation_history, separation_sweep  # noqa: E402
 from faultslip.lab.surfaces import gaussian_surface  # noqa: E402
 from faultslip.plots.surfaces import separation_figure  # noqa: E402
+from provenance import described  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parents[1]
 SURFACE = gaussian_surface(3.26e-6, 60e-6, size=128, seed=2026)  # the scenes' stand-in (configs/rough_surface_*.toml)
@@ -73,8 +72,7 @@ def _sweep_table(title, sweep):
 
 def main() -> None:
     warnings.simplefilter("ignore")
-    stamp = f"{platform.node()} ({platform.processor() or platform.machine()}, {os.cpu_count()} cores), " \
-            f"{datetime.date.today().isoformat()}"
+    stamp = described()
     memories = ("none", "held", "falling")
     sweeps = {}
     for label, setting in (("as run", AS_RUN), ("corrected", CORRECTED)):

@@ -18,6 +18,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
+
 ROOT = Path(__file__).resolve().parent.parent
 PROBE = ("import json, sys; sys.path.insert(0, 'benchmarks'); import sweep_scale as s; "
          "engine = [s.engine(c, 15) for c in (1e6, 1e7)]; floor = s.floor(1e7); "
@@ -50,7 +52,7 @@ def main(argv=None):
         summary[key] = {"old": old, "new": new, "change": new / old - 1}
         print(f"{key:24s} old {old:.4g}  new {new:.4g}  change {100 * (new / old - 1):+.1f} %")
     out = ROOT / "benchmarks" / "results" / "sweep_before_after.json"
-    out.write_text(json.dumps({"rounds": rows, "median": summary}, indent=2) + "\n")
+    out.write_text(json.dumps({**stamp(), "rounds": rows, "median": summary}, indent=2) + "\n")
 
 
 if __name__ == "__main__":

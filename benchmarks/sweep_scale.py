@@ -29,7 +29,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import shutil
 import statistics
 import subprocess
@@ -40,6 +39,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parent.parent
 STUDY = """[study]
@@ -362,8 +362,7 @@ def main(argv=None):
     parser.add_argument("--floor-only", action="store_true",
                         help="measure only figure 3 (the floor and the second worker) again, into sweep.json")
     args = parser.parse_args(argv)
-    results = {"machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}",
-               "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+    results = {**stamp()}
     if args.floor_only:
         path = ROOT / "benchmarks" / "results" / "sweep.json"
         results = json.loads(path.read_text()) | {"floor_date": results["date"]}

@@ -10,6 +10,7 @@ Every import statement in faultslip/ is read with ``ast``, including imports ins
 """
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -401,3 +402,40 @@ def test_cores_are_counted_in_one_place():
         found += [(module, owner.get(id(node), "<module>")) for node in ast.walk(tree)
                   if isinstance(node, ast.Call) and _call_name(node.func) in counters]
     assert found == [("faultslip.io.processes", "usable_cores")], found
+
+
+BENCHMARKS = PACKAGE.parent / "benchmarks"
+
+
+def _unstamped(text: str) -> list[str]:
+    """What keeps a benchmark's source from stamping its results in one place (benchmarks/provenance.py): the
+    machine's name built by hand, or a results file written as JSON without :func:`provenance.stamp` (or the
+    profile benchmark's ``write_results``, which stamps)."""
+    problems = []
+    if re.search(r"platform\.(machine|processor|python_version)\(", text):
+        problems.append("builds the machine's name itself")
+    writes_results = re.search(r"[\"']results[\"']", text) and re.search(r"json\.dumps?\(", text)
+    if writes_results and "stamp()" not in text and "write_results(" not in text:
+        problems.append("writes a results file without provenance.stamp()")
+    return problems
+
+
+def test_every_benchmark_result_is_stamped_in_one_place():
+    """A figure in benchmarks/results/ is only comparable with one re-measured elsewhere (another host, newer
+    packages) when its file says what it was measured with: machine, packages and date, from
+    benchmarks/provenance.py's ``stamp``, which readme.py prints under each table. No benchmark stamps its own."""
+    # hierarchy_chart.py reads results and writes data/fault_2d_hierarchy.json, a table the library reads: the
+    # results it reads carry their stamps
+    found = {path.name: problems for path in sorted(BENCHMARKS.glob("*.py"))
+             if path.name not in ("provenance.py", "hierarchy_chart.py")
+             for problems in [_unstamped(path.read_text(encoding="utf-8"))] if problems}
+    assert found == {}, found
+    assert "platform." not in (BENCHMARKS / "hierarchy_chart.py").read_text(encoding="utf-8")
+
+
+def test_the_stamp_check_sees_what_it_must():
+    hand_made = 'out = ROOT / "results" / "x.json"\nout.write_text(json.dumps({"machine": platform.machine()}))'
+    assert _unstamped(hand_made) == ["builds the machine's name itself",
+                                     "writes a results file without provenance.stamp()"]
+    assert _unstamped('out = ROOT / "results" / "x.json"\nout.write_text(json.dumps({**stamp(), "a": 1}))') == []
+    assert _unstamped('print(json.dumps({"a": 1}))') == []  # no results file
