@@ -124,7 +124,8 @@ def benchmarks_table() -> str | None:
             rows.append(f"| the machine's state when these two rows were measured | {state['measured_at']}, load "
                         f"average {state['load_average_before']:.2f} before and {state['load_average_after']:.2f} "
                         f"after; the second worker's gain in each pair: {pairs}. The gain depends on the machine: "
-                        "where shuffling and deflating run faster, the fixed cost weighs more (docs/studies.md) |")
+                        "where shuffling and deflating run faster, the fixed cost weighs more (docs/studies.md)"
+                        + (f"; packages: {listed(bottom['stamp'])}" if bottom.get("stamp") else "") + " |")
     pool = {row["cells"]: row["peak_memory_bytes"] for row in (sweep or {}).get("work_against_size", [])
             if row["path"] == "process pool"}
     if 1e7 in pool and 1e8 in pool:
