@@ -362,11 +362,10 @@ def main(argv=None):
     parser.add_argument("--floor-only", action="store_true",
                         help="measure only figure 3 (the floor and the second worker) again, into sweep.json")
     args = parser.parse_args(argv)
-    results = {**stamp()}
+    results = stamp()
     if args.floor_only:
         path = ROOT / "benchmarks" / "results" / "sweep.json"
-        stamped = results
-        results = json.loads(path.read_text()) | {"floor_date": stamped["date"]}
+        stamped, results = results, json.loads(path.read_text()) | {"floor_date": results["date"]}
         results["floor"] = row = floor(1e7)
         row["stamp"] = stamped  # the rest of the file keeps its own
         print(f"   1e7 cells: default {row['sweep_s']['default (2 workers)']:.2f} s, --workers 1 "
