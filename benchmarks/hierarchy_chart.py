@@ -5,7 +5,7 @@
 One chart for a BP1-like fault: each way faultslip can answer its recurrence, its error against the converged
 2-D answer against its cost, and what each declares.
 
-* **One slider** (``faultslip run configs/rsf_fault_bp1.toml``): timed here (the median of five whole calls);
+* **One slider** (``faultslip run configs/rsf_block_bp1.toml``): timed here (the median of five whole calls);
   its true error against BP1's 2-D answer is the calibration's held-out BP1 row (data/fault_2d_model_error.json,
   recurrence and slip), its declared bound the calibration's.
 * **The 2-D fault at several resolutions** (elements per L_b from 0.5 to 16): benchmarks/results/
@@ -60,7 +60,7 @@ def main():
     seconds = []
     for _ in range(5):
         started = time.perf_counter()
-        result = faultslip.run(ROOT / "configs" / "rsf_fault_bp1.toml")
+        result = faultslip.run(ROOT / "configs" / "rsf_block_bp1.toml")
         seconds.append(time.perf_counter() - started)
     calibration = load_calibration()["geometric"]
     held = next(row for row in calibration["held_out"] if row["name"] == "SEAS BP1")

@@ -490,10 +490,43 @@ def animation_table() -> str | None:
             f"(`python benchmarks/animation_speed.py`), {result['machine']}, {result['date']}." + _packages(result))
 
 
-def update(readme: Path = ROOT / "README.md") -> list[str]:
+def ladder_table() -> str | None:
+    """The one slider's corrected answers and 95 % ranges against held-out 2-D faults (ladder_calibration.py)."""
+    result = _load("ladder_held_out.json")
+    if result is None:
+        return None
+    names = {"recurrence": "recurrence", "mean_slip": "slip per event, mean over the rupture zone",
+             "surface_slip": "surface slip per event (surface-breaking faults)"}
+    rows = ["| quantity | held-out 2-D faults inside the 95 % range | mean half-width | median bias, block "
+            "uncorrected | median bias, corrected |", "| --- | --- | --- | --- | --- |"]
+    for key, line in result["summary"].items():
+        rows.append(f"| {names[key]} | {line['holds']} of {line['held_out']} ({100 * line['coverage']:.0f} %) | "
+                    f"±{100 * line['mean_half_width']:.0f} % | {100 * line['median_bias_uncorrected']:+.0f} % | "
+                    f"{100 * line['median_bias_corrected']:+.1f} % |")
+    outside = sum(bool(row["outside"]) for row in result["rows"])
+    budget = result["budget"]
+    return ("\n".join(rows) + f"\n\n{len(result['rows'])} held-out faults drawn at random over the box "
+            f"(`python benchmarks/ladder_designs.py`, then `benchmarks/ladder_calibration.py`), {outside} of them "
+            f"outside it (no range declared). The 2-D budget's estimate against the CPU a run used: "
+            f"{budget['ratio_min']:.2f} to {budget['ratio_max']:.2f}× (median {budget['ratio_median']:.2f}×), "
+            f"{budget['within_2x']} of {budget['runs']} runs within 2×. {_machine(result)}")
+
+
+#: Pages whose generated tables update() writes, beside the README.
+PAGES = ("README.md", "docs/ladder.md")
+
+
+def update(readme: Path | None = None) -> list[str]:
+    written = []
+    for page in ([readme] if readme is not None else [ROOT / name for name in PAGES]):
+        written += _update_page(page)
+    return written
+
+
+def _update_page(readme: Path) -> list[str]:
     text = readme.read_text(encoding="utf-8")
     written = []
-    for name, render in (("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
+    for name, render in (("ladder", ladder_table), ("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
                          ("startup", startup_table), ("fault_2d", fault_2d_table),
                          ("fault_2d_qdyn", fault_2d_qdyn_table), ("fault_2d_threads", fault_2d_threads_table),
                          ("fault_2d_placement", fault_2d_placement_table),

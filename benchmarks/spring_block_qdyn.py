@@ -7,7 +7,7 @@ QDYN (github.com/ydluo/qdyn, GPL-3) is built from its public source (``cd src &&
 OpenMPI); its own ``src/pyqdyn.py`` writes its input. Nothing of it is copied here. Without a built QDYN
 the rows say so and faultslip is still measured.
 
-**The same input.** ``configs/rsf_fault_bp1.toml``: the unregularised aging law (a 0.010, b 0.015,
+**The same input.** ``configs/rsf_block_bp1.toml``: the unregularised aging law (a 0.010, b 0.015,
 D_c 8 mm, mu0 0.6, V0 1 um/s), sigma_n 50 MPa, K = G / D = 32 GPa / 20 km, radiation damping
 G / (2 c_s), loaded at 1e-9 m/s from steady sliding at 1.01 V_pl. QDYN runs it as its spring-block
 (MESHDIM = 0, stiffness MU / L) with RNS_LAW = 0 and THETA_LAW = 1, over the simulated time faultslip
@@ -55,7 +55,7 @@ from faultslip.dynamics.rate_state.slider import fault_cycles  # noqa: E402
 from faultslip.fault.rate_state_scene import load_rate_state_scene  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
-SCENE = ROOT / "configs" / "rsf_fault_bp1.toml"
+SCENE = ROOT / "configs" / "rsf_block_bp1.toml"
 YEAR = 365.25 * 86400.0
 EVENT_SPEED = 1e-3  # m/s, faultslip's and SEAS's event threshold
 WITHIN = 1e-6  # equal accuracy: recurrence within this of the converged value

@@ -134,11 +134,11 @@ def test_a_cycle_run_loads_only_what_it_needs():
     its imports went from 340 to about 90 ms beside numpy's. The first run in an install loads pint once, to
     memoise its unit factors on disk (faultslip.units), as CI's fresh environment showed: that run goes first."""
     root = Path(__file__).resolve().parent.parent
-    subprocess.run([sys.executable, "-m", "faultslip.cli", "rate-state", "cycles", "configs/rsf_fault_bp1.toml",
+    subprocess.run([sys.executable, "-m", "faultslip.cli", "rate-state", "cycles", "configs/rsf_block_bp1.toml",
                     "--cycles", "1", "--json"], capture_output=True, check=True, cwd=root)
     code = ("import io, sys, contextlib; from faultslip.cli.main import main\n"
             "with contextlib.redirect_stdout(io.StringIO()):\n"
-            "    main(['rate-state', 'cycles', 'configs/rsf_fault_bp1.toml', '--cycles', '1', '--json'])\n"
+            "    main(['rate-state', 'cycles', 'configs/rsf_block_bp1.toml', '--cycles', '1', '--json'])\n"
             "print(','.join(sorted(m for m in sys.modules if m in ('scipy', 'xarray', 'matplotlib', 'pint', 'netCDF4', "
             "'numba', 'dask', 'h5py', 'faultslip.fault.scaling', 'faultslip.dynamics.methods', 'faultslip.cli.common', "
             "'faultslip.models.rate_state_slider.family', 'faultslip.models.fault_2d.family', 'faultslip.fault.scene'))))")

@@ -305,11 +305,11 @@ def test_a_saved_fit_is_never_replaced_without_overwrite_and_an_empty_name_is_re
 
 
 def test_simulating_a_one_block_fault_writes_what_it_is_asked_to(tmp_path, cli):
-    """simulate configs/rsf_fault_bp1.toml -o rsf.nc --plot rsf.png exited 0 and wrote neither file."""
+    """simulate configs/rsf_block_bp1.toml -o rsf.nc --plot rsf.png exited 0 and wrote neither file."""
     import xarray as xr
 
     nc, png = tmp_path / "rsf.nc", tmp_path / "rsf.png"
-    done = cli("simulate", CONFIGS / "rsf_fault_bp1.toml", "-o", nc, "--plot", png, "--cycles", "2", "--json")
+    done = cli("simulate", CONFIGS / "rsf_block_bp1.toml", "-o", nc, "--plot", png, "--cycles", "2", "--json")
     assert done.code == 0, done.err
     assert png.stat().st_size > 1000
     with xr.open_dataset(nc) as written:

@@ -23,7 +23,7 @@ CONFIGS = ROOT / "configs"
 #: Each family's example scene, a small sweep of it, and its simulation's options for the check.
 CASES = {
     "spring_slider": ("lab_glass_dry.toml", {"damping_ratio": [0.0, 0.1]}, {"cycles": 2}),
-    "rate_state_slider": ("rsf_fault_bp1.toml", {"critical_slip": ["4 mm", "8 mm"]}, {"cycles": 2}),
+    "rate_state_slider": ("rsf_block_bp1.toml", {"critical_slip": ["4 mm", "8 mm"]}, {"cycles": 2}),
     "vibration": ("vibration_seed002.toml", {"speed": ["11 in/s", "12.5 in/s"]}, {}),
     "nanoscale": ("nanoscale_seed001.toml", {"damping": [3.0, 13.0]}, {}),
     "asperity": ("asperity_seed004.toml", {"platform_speed": ["2 mm/s", "3.6 mm/s"]}, {}),
@@ -75,8 +75,8 @@ def test_a_per_cell_sweep_is_the_runs_of_its_cells():
 
 
 def test_a_lazy_per_cell_sweep_equals_the_eager_one():
-    eager = faultslip.sweep("rsf_fault_bp1.toml", critical_slip=["4 mm", "8 mm", "16 mm"], b=[0.012, 0.015])
-    lazy = faultslip.sweep("rsf_fault_bp1.toml", critical_slip=["4 mm", "8 mm", "16 mm"], b=[0.012, 0.015],
+    eager = faultslip.sweep("rsf_block_bp1.toml", critical_slip=["4 mm", "8 mm", "16 mm"], b=[0.012, 0.015])
+    lazy = faultslip.sweep("rsf_block_bp1.toml", critical_slip=["4 mm", "8 mm", "16 mm"], b=[0.012, 0.015],
                            chunks={"critical_slip": 2})
     assert lazy["slip_per_event"].chunks is not None
     assert (lazy.compute()["slip_per_event"] == eager["slip_per_event"]).all()
@@ -400,7 +400,7 @@ def test_a_rate_and_state_study_flags_the_cells_that_have_no_cycles():
     study: the study maps where the cycles are (configs/study_rate_state_slider.toml's grid has one such cell)."""
     import numpy as np
 
-    dataset = faultslip.sweep("rsf_fault_bp1.toml", method="one_slider",
+    dataset = faultslip.sweep("rsf_block_bp1.toml", method="one_slider",
                               critical_slip={"logspace": ["2 mm", "32 mm", 5]}, b=[0.012, 0.015, 0.02])
     regimes = dataset["regime"].attrs["flag_meanings"].split()
     codes = dict(zip(regimes, dataset["regime"].attrs["flag_values"]))

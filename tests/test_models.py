@@ -106,7 +106,7 @@ def test_a_declared_family_wins_and_an_unknown_one_is_refused(tmp_path):
 
 def test_the_rate_and_state_slider_runs_through_run_too(cli):
     """'faultslip run' refused these scenes before the contract; a fault's cycles now answer."""
-    result = cli("run", CONFIGS / "rsf_fault_bp1.toml", "--json")
+    result = cli("run", CONFIGS / "rsf_block_bp1.toml", "--json")
     assert result.code == 0, result.err
     years = result.json["recurrence_period"]["value"] / (365.25 * 86400)
     # one spring-block with BP1's friction on its 15 km seismogenic width: within its declared model error of

@@ -44,7 +44,7 @@ def test_long_library_work_reports_through_the_callable():
     from faultslip.fault.rate_state_scene import load_rate_state_scene
     from pathlib import Path
 
-    scene = load_rate_state_scene(Path(__file__).resolve().parent.parent / "configs" / "rsf_fault_bp1.toml")
+    scene = load_rate_state_scene(Path(__file__).resolve().parent.parent / "configs" / "rsf_block_bp1.toml")
     seen = []
     fault_cycles(scene.slider, scene.plate_rate, cycles=2, progress=lambda done, total: seen.append((done, total)))
     # spin-up until the sequence settles, 2 measured, and the start of the next: the count reaches the total

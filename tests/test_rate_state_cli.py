@@ -10,7 +10,7 @@ from faultslip.errors import InputError
 from faultslip.fault.rate_state_scene import parse_rate_state_scene
 
 STEP = "configs/rsf_velocity_step.toml"
-BP1 = "configs/rsf_fault_bp1.toml"
+BP1 = "configs/rsf_block_bp1.toml"
 
 
 def test_simulate_reports_and_writes_the_time_series(cli, tmp_path):
@@ -177,9 +177,9 @@ def test_run_refuses_a_seed_method_for_a_rate_state_scene_rather_than_ignore_it(
 
 
 def test_an_escalation_to_the_2d_fault_is_estimated_and_budgeted_before_any_work(cli, monkeypatch):
-    """'run rsf_fault_bp1.toml --tolerance 0.3' escalated silently to a six-minute 2-D run (issue 42): it now
+    """'run rsf_block_bp1.toml --tolerance 0.3' escalated silently to a six-minute 2-D run (issue 42): it now
     states the estimate first, and above the budget it asks for --allow-large before any work."""
     monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "1")
-    refused = cli("run", "configs/rsf_fault_bp1.toml", "--tolerance", "0.3")
+    refused = cli("run", "configs/rsf_block_bp1.toml", "--tolerance", "0.3")
     assert refused.code == 2 and "escalating" in refused.err and "--allow-large" in refused.err
     assert "2-D fault" in refused.err

@@ -59,7 +59,7 @@ def _family_options(parser, command: str) -> None:
 
 
 def _method_flags(parser):
-    parser.add_argument("--method", help="solution method, see 'faultslip methods' (default: auto, the cheapest "
+    parser.add_argument("--method", "--model", dest="method", help="solution method, or a fault scene's rung (one_slider, fault_2d): see 'faultslip methods' (default: auto, the cheapest "
                         "method whose error model meets the tolerance)")
     parser.add_argument("--tolerance", help="relative error the method must meet (default 1e-6)")
 
@@ -474,7 +474,7 @@ def _rate_state_commands(commands) -> None:
     stability.add_argument("--json", action="store_true", help="print one JSON object")
     stability.set_defaults(handler="rate_state:cmd_stability")
     cycles = actions.add_parser("cycles", help="quasi-dynamic earthquake cycles of a fault: recurrence, slip, stress drop")
-    cycles.add_argument("scene", help="rate-and-state scene TOML with a [fault] table (e.g. configs/rsf_fault_bp1.toml)")
+    cycles.add_argument("scene", help="rate-and-state scene TOML with a [fault] table (e.g. configs/rsf_block_bp1.toml)")
     cycles.add_argument("--cycles", type=int, default=20, help="cycles to measure after two of spin-up (default 20)")
     cycles.add_argument("--seed-law", action=_RoutedTo, handler="rate_state:cmd_cycles_beside_seed_law", help="a seed-law lithology or preset (e.g. granodiorite) to estimate beside, on "
                                            "the same fault with radiation damping")

@@ -50,6 +50,9 @@ class Family:
     #: (scene, cycles=, frames=, slip_share=) -> (movie, figure, details): the family's animation for
     #: ``faultslip animate`` (:func:`faultslip.plots.animation.save_gif` writes it); None: it has none
     animate: Callable | None = None
+    #: (scene, tolerance=) -> Result: every rung of the ladder on the scene, its answer, declared range and cost,
+    #: with the chart (``faultslip model-error SCENE``); None: the family has no ladder
+    ladder: Callable | None = None
 
 
 @dataclass(frozen=True)

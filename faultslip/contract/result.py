@@ -41,6 +41,14 @@ class Entry:
         return (self.key.endswith("_95") and isinstance(value, (list, tuple)) and len(value) == 2
                 and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
 
+    @property
+    def is_pair(self) -> bool:
+        """Two numbers with units (a low and a high: a 95 % range, or a range of values such as
+        ``recurrence_range``)."""
+        value = self.value
+        return (self.units is not None and isinstance(value, (list, tuple)) and len(value) == 2
+                and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
+
     def typed(self):
         """The value as a pint Quantity where it has units (a range as a pair of them), else as it is."""
         if self.units is None:
@@ -48,7 +56,7 @@ class Entry:
         unit = "dimensionless" if self.units in ("1", "") else self.units
         if self.is_number:
             return quantity(self.value, unit)
-        if self.is_range:
+        if self.is_range or self.is_pair:
             return tuple(quantity(v, unit) for v in self.value)
         return self.value
 
@@ -191,6 +199,9 @@ class Result:
             elif entry.is_number:
                 variables[entry.key] = ((), float(entry.value),
                                         {"long_name": entry.label, "units": entry.units or "1"})
+            elif entry.is_pair:  # a low and a high on their own dimension
+                variables[entry.key] = (("bound",), [float(v) for v in entry.value],
+                                        {"long_name": entry.label, "units": entry.units})
         for key in ranges:  # CF ancillary variables: the value names its uncertainty
             base = key.removesuffix("_95")
             if base in variables:

@@ -242,7 +242,7 @@ class Scene:
         if self.rate_state:
             raise InputError(f"{self.name} has rate-and-state friction: 'faultslip run' gives its cycles, and "
                              "'faultslip rate-state cycles' or 'simulate' take a rate-state scene "
-                             "(configs/rsf_fault_bp1.toml)")
+                             "(configs/rsf_block_bp1.toml)")
 
         if self.kind == "fault":
             system = SliderSystem.from_fault(self.fault())

@@ -5,6 +5,7 @@ family reads it, :mod:`faultslip.models.rate_state_slider.model_error`)."""
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -102,7 +103,10 @@ def run_design(design: Design, cycles: int = 8, elements_per_process_zone: float
     # the block at the geometric stiffness bounds the 2-D recurrence from above: long enough for the cycles
     block = fault_cycles(design.slider(geometric_stiffness(design.seismogenic_width)), PLATE_RATE, cycles=3)
     scene = design.two_d(elements_per_process_zone, duration=(cycles + 4) * block.recurrence)
+    estimate = scene.estimate()
+    started = time.process_time()
     run = scene.run()
+    cpu = time.process_time() - started
     # system-size events by their slip over the weakening width (a buried fault's surface barely slips)
     weakening = scene.fault.b > scene.fault.a
     starts, slip = run.events["start"], run.events["slip"]
@@ -119,7 +123,8 @@ def run_design(design: Design, cycles: int = 8, elements_per_process_zone: float
             "surface_slip_2d": float(slip[closing, 0].mean()) if closing.size else math.nan,
             "intervals": np.diff(starts[system]).tolist() if system.size > 1 else [],
             "system_slips": mean_slip[system].tolist() if system.size else [],
-            "steps": run.steps, "wall_time": run.wall_time}
+            "steps": run.steps, "wall_time": run.wall_time, "cpu_time": cpu,
+            "estimated_seconds": estimate.seconds, "estimated_steps": scene.estimated_steps()}
 
 
 def geometric_stiffness(width: float, shear_modulus: float = SHEAR_MODULUS) -> float:

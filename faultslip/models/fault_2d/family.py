@@ -6,16 +6,20 @@ from __future__ import annotations
 import contextlib
 import math
 import os
+import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from faultslip import __version__
 from faultslip.models.fault_2d.analysis import (DISCRETISATION_ORDER, METHODS, MIN_RESOLUTION,  # noqa: F401
-                                                   discretisation_error, moment_magnitude, summarise)
+                                                   discretisation_error, moment_magnitude, sequence_discretisation,
+                                                   summarise)
 from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
+from faultslip.fault.ladder import one_slider_report
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
@@ -28,7 +32,7 @@ from faultslip.models.fault_2d.cells import CELLS, read_scene
 from faultslip.models.fault_2d.scene import Fault2DScene, from_one_slider, load_fault_2d_scene
 from faultslip.contract.registry import Family, register
 from faultslip.contract.result import Result
-from faultslip.models.fault_2d.figures import cumulative_slip_figure, slip_rate_figure
+from faultslip.models.fault_2d.figures import cumulative_slip_figure, ladder_figure, slip_rate_figure
 from faultslip.units import ELAPSED_TIME_ATTRS
 
 #: Relative spread of the last intervals within which a sequence is called settled (periodic).
@@ -158,13 +162,30 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
                label="the same at every station (min, max)")
     report.add("deep_creep_rate", summary.creep_rate_deep, "m/s", label="slip rate at the bottom element at the end")
     resolution = fault.process_zone() / fault.element_size
-    discretisation = discretisation_error(resolution)
+    discretisation, per_interval = sequence_discretisation(resolution, sequence.period)
+    unsettled = sequence.kind == "unsettled" and len(summary.intervals) >= 3
+    if unsettled:  # no period: the window after the first interval (the spin-up), its mean and its range
+        window = np.array(summary.intervals[1:])
+        mean = float(window.mean())
+        report.set("recurrence_interval", mean)
+        report.add("recurrence_range", [float(window.min()), float(window.max())], "s", also=("yr",),
+                   label=f"range of the {window.size} intervals after the first (unsettled: not one interval)")
+        sequence_error = float(max(window.max() - mean, mean - window.min()) / mean)
+        report.note(f"unsettled: the recurrence is the mean of {window.size} intervals, "
+                    f"{window.min() / YEAR:.4g} to {window.max() / YEAR:.4g} yr, and its declared error their spread "
+                    "about it; run longer for a settled answer")
+    else:
+        sequence_error = sequence.mean_error
     if math.isfinite(discretisation):
         report.add("discretisation_error", discretisation,
                    label="element size's error in recurrence (a bound measured on three faults)")
-        report.add("estimated_relative_error", max(sequence.mean_error, 10 * run.rtol, discretisation),
+        report.add("estimated_relative_error", max(sequence_error, 10 * run.rtol, discretisation),
                    label="declared: the largest of the sequence's (settling, or an aperiodic mean's sampling "
                          "error), the element size's and 10 rtol")
+        if sequence.period > 1:
+            report.add("interval_errors", [max(sequence_error, 10 * run.rtol, per_interval)] * sequence.period,
+                       label="declared error of each interval of the supercycle (relative: a supercycle's intervals "
+                             "move more with the element size than its mean)")
     else:  # run as asked below the resolution where sequences keep their character: no error to declare
         report.add("discretisation_error", None, label="element size's error in recurrence (none declared: "
                                                        "under-resolved)")
@@ -250,18 +271,198 @@ def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: R
     write_dataset(result.to_xarray(), folder / "fault_2d.nc")
 
 
+#: The rungs of the ladder a fault scene runs on, cheapest first (``faultslip run SCENE --model NAME``): each reads
+#: the same scene, the one description of the fault (:mod:`faultslip.fault.ladder`).
+RUNGS = ("one_slider", "fault_2d")
+#: How many times an escalated run that ends unsettled is run again, twice as long, while the budget allows.
+LONGER_RUNS = 2
+
+
+def one_slider(scene, reason: str = "asked for by name") -> Result:
+    """The one-slider rung of a fault scene: the block derived from the scene's own profile, corrected by the 2-D
+    calibration, with 95 % ranges of recurrence and slip per event (:func:`faultslip.fault.ladder.one_slider_report`).
+
+    Parameters
+    ----------
+    scene : str, path or Fault2DScene
+        A fault scene (the one description every rung reads).
+    reason : str
+        Why this rung runs.
+
+    Returns
+    -------
+    Result
+        Recurrence (s) and slip per event (m), each with its 95 % range, and the declared model error.
+    """
+    loaded = load_fault_2d_scene(scene)
+    report = one_slider_report(loaded.fault.description(), reason)
+    note_origin(report, loaded.origin)
+    return Result("fault_2d", report)
+
+
 def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_underresolved: bool = False,
-        richardson: bool = False) -> Result:
-    """A 2-D fault scene's cycles (its one method); ``tolerance`` is the settling tolerance of the
-    recurrence (default 1e-3); ``richardson`` also runs the scene on elements half the size
-    (:func:`richardson_run`)."""
-    if method not in (None, "auto", "fault_2d"):
-        raise InputError(f"a 2-D fault scene runs the 2-D model (method fault_2d), got {method!r}")
-    settle = tolerance if tolerance is not None else SETTLE_TOLERANCE
-    if richardson:
-        return richardson_run(scene, allow_large=allow_large, settle_tolerance=settle)
-    return simulate_fault(scene, allow_large=allow_large, allow_underresolved=allow_underresolved,
-                          settle_tolerance=settle)
+        richardson: bool = False, progress=None) -> Result:
+    """A fault scene on the rung asked for, or on the cheapest whose declared error meets ``tolerance``.
+
+    Parameters
+    ----------
+    scene : str, path or Fault2DScene
+        A fault scene.
+    method : str, optional
+        A rung of :data:`RUNGS` by name, or ``auto``.
+    tolerance : float, optional
+        The relative error allowed. ``auto`` runs the one slider where its declared model error meets it, and
+        the 2-D fault of the same scene otherwise; without it, ``auto`` runs the 2-D fault. The 2-D run's
+        settling tolerance is the smaller of this and 1e-3.
+    allow_large, allow_underresolved, richardson : bool
+        Lift the budget; run coarser than the sequences keep their character at; run again on elements half
+        the size (:func:`richardson_run`).
+    progress : callable, optional
+        ``(done, total)`` of the 2-D run.
+
+    Returns
+    -------
+    Result
+        The rung's answer and its declared error; an escalation names both rungs.
+    """
+    method = method or "auto"
+    if method not in ("auto",) + RUNGS:
+        raise InputError(f"a fault scene runs on the rungs {', '.join(RUNGS)} (or auto), got {method!r}")
+    if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
+        raise InputError(f"the tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    loaded = load_fault_2d_scene(scene, allow_large=allow_large)
+    if method == "one_slider":
+        return one_slider(loaded)
+    settle = min(SETTLE_TOLERANCE, tolerance) if tolerance is not None else SETTLE_TOLERANCE
+    if method == "fault_2d" or tolerance is None:
+        if richardson:
+            return richardson_run(loaded, allow_large=allow_large, settle_tolerance=settle)
+        return simulate_fault(loaded, allow_large=allow_large, allow_underresolved=allow_underresolved,
+                              settle_tolerance=settle, progress=progress)
+    cheap = one_slider(loaded, f"auto: the cheapest rung whose declared error meets the tolerance {tolerance:g}")
+    declared = cheap.estimated_relative_error
+    if declared is not None and declared <= tolerance:
+        return cheap
+    why = (f"the one slider's declared model error {declared:.2g} exceeds the tolerance {tolerance:g}"
+           if declared is not None else "the scene lies outside the one slider's calibration")
+    return escalate(loaded, why, settle, allow_large, allow_underresolved, progress, cheap)
+
+
+def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> Result:
+    """Every rung of the ladder on one scene: its answer, its declared range and its cost, and the chart
+    (``faultslip model-error SCENE --plot``).
+
+    Parameters
+    ----------
+    scene : str, path or Fault2DScene
+        A fault scene.
+    tolerance : float, optional
+        A relative error allowed: which rungs meet it.
+    allow_large : bool
+        Run the 2-D rung beyond the budget.
+
+    Returns
+    -------
+    Result
+        Per rung, recurrence (s) and slip per event (m) with their ranges, the declared error and the CPU time (s);
+        ``plot()`` the chart.
+    """
+    loaded = load_fault_2d_scene(scene, allow_large=allow_large)
+    rungs = []
+    started = time.process_time()
+    cheap = one_slider(loaded)
+    rungs.append(_rung("one_slider", cheap, time.process_time() - started))
+    started = time.process_time()
+    full = simulate_fault(loaded, allow_large=allow_large)
+    rungs.append(_rung("fault_2d", full, time.process_time() - started))
+    report = Report(f"faultslip model error: the ladder on {loaded.name}")
+    for rung in rungs:
+        name = rung["name"]
+        report.add(f"{name}_recurrence", rung["recurrence"], "s", also=("yr",), label=f"{name}: recurrence")
+        if rung["recurrence_range"] is not None:
+            report.add(f"{name}_recurrence_range", list(rung["recurrence_range"]), "s", also=("yr",),
+                       label=f"{name}: its declared range")
+        report.add(f"{name}_slip_per_event", rung["slip"], "m", label=f"{name}: surface slip per event")
+        if rung["slip_range"] is not None:
+            report.add(f"{name}_slip_per_event_range", list(rung["slip_range"]), "m", label=f"{name}: its declared range")
+        report.add(f"{name}_declared_error", rung["error"], label=f"{name}: declared error (relative; null: none)")
+        report.add(f"{name}_cpu_time", rung["cpu_time"], "s", label=f"{name}: CPU time")
+        if tolerance is not None:
+            report.add(f"{name}_meets_tolerance", rung["error"] is not None and rung["error"] <= tolerance,
+                       label=f"{name}: declared error within {tolerance:g}")
+    truth = rungs[-1]
+    for rung in rungs[:-1]:
+        off = rung["recurrence"] / truth["recurrence"] - 1
+        report.add(f"{rung['name']}_off_recurrence", off, label=f"{rung['name']}: off the 2-D recurrence (relative)")
+        band = rung["recurrence_range"]
+        report.add(f"{rung['name']}_range_holds", band is not None and band[0] <= truth["recurrence"] <= band[1]
+                   and (rung["slip_range"] is None or rung["slip_range"][0] <= truth["slip"] <= rung["slip_range"][1]),
+                   label=f"{rung['name']}: its ranges hold the 2-D answer")
+    report.note("rungs above the 2-D fault (dipping plane strain, 3-D) join this chart when they land")
+    return Result("fault_2d", report, figure=lambda: ladder_figure(rungs, report.title))
+
+
+def _rung(name: str, result: Result, cpu: float) -> dict:
+    values = result.values
+
+    def pair(key):
+        band = values[key] if key in result else None
+        return None if band is None else tuple(float(v.to("s" if "recurrence" in key else "m").magnitude) for v in band)
+
+    slip_key = "slip_per_event" if values["slip_per_event"] is not None else "mean_slip_per_event"
+    return {"name": name, "cpu_time": cpu, "recurrence": float(values["recurrence_interval"].to("s").magnitude),
+            "recurrence_range": pair("recurrence_range") if name == "one_slider" else _declared(result, "recurrence_interval", "s"),
+            "slip": float(values[slip_key].to("m").magnitude),
+            "slip_range": pair("slip_per_event_range") if name == "one_slider" else _declared(result, slip_key, "m"),
+            "error": result.estimated_relative_error}
+
+
+def _declared(result: Result, key: str, unit: str):
+    """A 2-D answer's range from its declared relative error."""
+    error = result.estimated_relative_error
+    if error is None:
+        return None
+    value = float(result.values[key].to(unit).magnitude)
+    return (value * (1 - error), value * (1 + error))
+
+
+def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, allow_underresolved: bool,
+             progress, cheap: Result) -> Result:
+    """The 2-D rung of the same scene, after the one slider's declared error fell short: estimated and budgeted
+    before any work; a run that ends unsettled runs again twice as long while the budget allows
+    (:data:`LONGER_RUNS`), and otherwise reports its intervals' range."""
+    loaded.require_resolution(allow_underresolved)
+    estimate = loaded.estimate()
+    estimate.what = f"the 2-D rung of {loaded.name} ({why})"
+    budget.check(estimate, allow_large)
+    if progress is not None and hasattr(progress, "announce"):
+        progress.announce(f"escalating to the 2-D fault: {estimate.describe()}")
+    started = time.process_time()
+    result = simulate_fault(loaded, allow_large=allow_large, allow_underresolved=allow_underresolved,
+                            settle_tolerance=settle, progress=progress)
+    scene, longer = loaded, 0
+    while result.values["sequence"] == "unsettled" and longer < LONGER_RUNS:
+        scene = replace(scene, duration=2 * scene.duration)
+        again = scene.estimate()
+        spent = time.process_time() - started
+        if not allow_large and spent + again.seconds > budget.time_budget():
+            result.note(f"unsettled after {scene.duration / 2 / YEAR:.6g} yr; running {scene.duration / YEAR:.6g} yr "
+                        f"({again.describe()}) would pass the time budget: pass --allow-large to run it")
+            break
+        result = simulate_fault(scene, allow_large=allow_large, allow_underresolved=allow_underresolved,
+                                settle_tolerance=settle, progress=progress)
+        result.note(f"run again over {scene.duration / YEAR:.6g} yr: the shorter run had not settled")
+        longer += 1
+    cpu = time.process_time() - started
+    result.set("method_reason", f"escalated from the one slider to the 2-D fault of the same scene: {why}")
+    result.add("escalated_from", "one_slider", label="the rung escalated from")
+    result.add("one_slider_model_error", cheap.estimated_relative_error,
+               label="the one slider's declared model error (95 % range's half-width; null: outside its calibration)")
+    result.add("estimated_seconds", estimate.seconds, "s", label="the 2-D run's cost, estimated before it started")
+    result.add("cpu_time", cpu, "s", label="the CPU time the 2-D rung used")
+    result.note("the 2-D rung's declared error is numerical (element size, settling, rtol): no richer rung above "
+                "it declares a model error yet")
+    return result
 
 
 def richardson_run(scene, allow_large: bool = False, settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
@@ -368,7 +569,7 @@ def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.
 FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",
                          run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite",
                                                           "allow_underresolved"),
-                         run_options=("allow_large", "allow_underresolved", "richardson"),
+                         run_options=("allow_large", "allow_underresolved", "richardson", "progress"),
                          why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
                          read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values()),
-                         refine=refine_one_slider))
+                         refine=refine_one_slider, ladder=ladder))

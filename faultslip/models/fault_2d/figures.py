@@ -76,3 +76,42 @@ def station_figure(run: Fault2DRun, title: str = ""):
     axis.set(xlabel="time (yr)", ylabel="log10 slip rate (m/s)", title=title or f"{run.fault.name}: stations")
     axis.legend(fontsize=7, ncol=2)
     return figure
+
+
+def ladder_figure(rungs: list[dict], title: str = ""):
+    """Each rung's answer for one scene with its declared range, against the CPU time it cost: recurrence and
+    slip per event (the ladder chart, issue 68).
+
+    Parameters
+    ----------
+    rungs : list of dict
+        ``name``, ``cpu_time`` (s), ``recurrence`` and ``recurrence_range`` (s), ``slip`` and ``slip_range`` (m);
+        a range may be None (none declared).
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    plt = _pyplot()
+    figure, axes = plt.subplots(1, 2, figsize=(9.0, 4.0), constrained_layout=True)
+    for axis, key, scale, label in ((axes[0], "recurrence", YEAR, "recurrence (yr)"),
+                                    (axes[1], "slip", 1.0, "slip per event (m)")):
+        for k, rung in enumerate(rungs):
+            value = rung[key] / scale
+            band = rung.get(f"{key}_range")
+            cost = max(rung["cpu_time"], 1e-3)
+            if band is not None:
+                low, high = band[0] / scale, band[1] / scale
+                axis.errorbar([cost], [value], yerr=[[value - low], [high - value]], fmt="o", color=f"C{k}",
+                              capsize=4, label=rung["name"])
+            else:
+                axis.plot([cost], [value], "o", mfc="none", color=f"C{k}", label=f"{rung['name']} (no range)")
+        axis.set_xscale("log")
+        axis.set_xlabel("CPU time (s)")
+        axis.set_ylabel(label)
+        axis.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    figure.suptitle(title or "the ladder: each rung's answer and declared range against its cost", fontsize=10)
+    return figure

@@ -28,6 +28,7 @@ import numpy as np
 
 from faultslip.models.fault_2d import compiled as compiled_kernel
 from faultslip.errors import InputError, SolverError
+from faultslip.fault.ladder import FaultDescription
 
 #: Newton iterations allowed for the slip rate; more means the state is not finite.
 NEWTON_ITERATIONS = 200  # safeguarded: bisection alone would need ~60 from a double's range
@@ -126,6 +127,12 @@ class Fault2D:
     def seismogenic_width(self) -> float:
         """Depth extent of the velocity-weakening part (b > a)."""
         return float(np.sum(self.b > self.a) * self.element_size)
+
+    def description(self) -> FaultDescription:
+        """The fault as every rung of the ladder reads it (:class:`faultslip.fault.ladder.FaultDescription`)."""
+        return FaultDescription(self.depth, self.a, self.b, self.critical_slip, self.normal_stress, self.element_size,
+                                self.shear_modulus, self.shear_wave_speed, self.plate_rate, self.reference_speed,
+                                self.reference_friction, self.evolution, self.name)
 
     def state_to_theta(self, psi: np.ndarray) -> np.ndarray:
         """theta = (D_c / V_0) exp((psi - f_0) / b) (s); for b = 0 the state has no meaning (returns D_c / V_0)."""

@@ -145,7 +145,7 @@ FAULT_METHODS = ("auto", "one_slider", "fault_2d")
 #: What a scene of the older form is told (issue 40: one family, whatever the shape of its file).
 OLDER_FORM = ("read as one rate-and-state block from the seed-law form of a fault scene ([fault] slip_rate with "
               "[friction] law = \"rate_state\"); the rate-and-state slider's own form is [law] with [fault] "
-              "plate_rate (configs/rsf_fault_bp1.toml)")
+              "plate_rate (configs/rsf_block_bp1.toml)")
 
 
 def _older_form(scene):
@@ -235,12 +235,24 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     result.add("stiffness", loaded.slider.stiffness, "Pa/m", label=f"the block's stiffness ({DESCRIPTIONS[loaded.reduction]})")
     result.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
     result.note(f"model error: {how}")
+    result.note(stands_for(loaded))
     numerical = result.estimated_relative_error
     if not math.isnan(error) and (numerical is None or error > numerical):  # lead with the error that dominates
         result.add("numerical_error", numerical, label="the cycles' own error (integrator scatter, or the settling left)")
         result.add("estimated_relative_error", error if math.isfinite(error) else None,
                    label="declared error (the model error, which dominates; null: unbounded, outside the calibration)")
     return result
+
+
+def stands_for(loaded) -> str:
+    """Which fault a one-slider scene stands for: it states one width, so the 2-D fault its declared error and its
+    escalation refer to has the scene's friction uniform from the surface to that width, with steady slip at the
+    plate rate imposed right below, not a depth profile."""
+    width = loaded.width or loaded.fault.get("zone_width")
+    return (f"this one-slider scene stands for the fault with its friction uniform from the surface to "
+            f"{width / 1e3:.4g} km and steady slip at the plate rate right below (no ramp, no strengthening depth); a "
+            "fault scene that states the depth profile (family = \"fault_2d\", configs/rsf_fault_bp1.toml) runs every "
+            "rung of the ladder on that profile, the one slider with 95 % ranges in years and metres")
 
 
 def _two_d(loaded, reason: str, allow_large: bool = False, progress=None) -> Result:

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from faultslip.contract.registry import family_of
 from faultslip.contract.result import Result
 from faultslip.errors import InputError
 from faultslip.fault.one_slider import DESCRIPTIONS, load_calibration, load_hierarchy
@@ -115,6 +116,10 @@ def model_error_result(scene=None, tolerance: float | None = None):
     """
     if tolerance is not None and not tolerance > 0:
         raise InputError(f"--tolerance must be positive, got {tolerance}")
+    if scene is not None:
+        family = family_of(scene)
+        if family.ladder is not None:  # a fault scene: every rung on it (the ladder)
+            return family.ladder(scene, tolerance=tolerance)
     table = load_calibration()
     report = Report("faultslip model error: one slider against the 2-D fault")
     geometric = table["geometric"]

@@ -1,0 +1,139 @@
+"""The one slider's correction and 95 % ranges against the 2-D fault, fitted on calibration designs and tested on
+held-out designs it never saw (issue 68).
+
+    python benchmarks/ladder_designs.py        # the 2-D runs (long: about an hour on two cores)
+    python benchmarks/ladder_calibration.py    # the fit, the held-out test and the budget's check (a minute)
+
+**Calibration faults**: every 2-D run of ``benchmarks/results/fault_2d_designs.json`` (the designed set and the
+15 faults held out of the older calibration, SEAS BP1 among them) and the ``calibration`` draws of
+``benchmarks/results/ladder_designs.json``. **Held out**: that file's ``held out`` draws, a second random draw
+over the same box that never enters the fit.
+
+For each fault the block is derived from its profile (:func:`faultslip.fault.ladder.derived_block`), and
+ln(2-D / block) is fitted for the recurrence, the slip per event averaged over the rupture zone, and the surface
+slip (surface-breaking faults only). A 2-D run whose system-size events did not settle into a period is used
+through its mean interval after the spin-up where it has four or more, and left out otherwise (said below).
+
+Writes ``data/ladder_calibration.json`` (what faultslip declares) and ``benchmarks/results/ladder_held_out.json``
+(each held-out fault, its 2-D answer, the range and whether it holds; the budget's estimates against the CPU used).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from faultslip import __version__  # noqa: E402
+from faultslip.fault import ladder  # noqa: E402
+from faultslip.models.fault_2d.calibration import Design  # noqa: E402
+from provenance import stamp  # noqa: E402
+
+OLD = ROOT / "benchmarks" / "results" / "fault_2d_designs.json"
+NEW = ROOT / "benchmarks" / "results" / "ladder_designs.json"
+OUT = ROOT / "data" / ladder.CALIBRATION_FILE
+HELD = ROOT / "benchmarks" / "results" / "ladder_held_out.json"
+
+
+def two_d_answer(row: dict) -> dict | None:
+    """The 2-D run's recurrence (s), mean slip over the rupture zone and surface slip (m); None if unsettled."""
+    if row["sequence"] == "unsettled":
+        if len(row.get("intervals", ())) < 4:
+            return None
+        return {"recurrence": float(np.mean(row["intervals"][2:])),
+                "mean_slip": float(np.mean(row["system_slips"][3:])), "surface_slip": math.nan}
+    return {"recurrence": row["recurrence_2d"], "mean_slip": row["mean_slip_2d"], "surface_slip": row["surface_slip_2d"]}
+
+
+def prepared(row: dict, elements_per_process_zone: float = 3.0) -> dict | None:
+    answer = two_d_answer(row)
+    if answer is None or not all(math.isfinite(answer[k]) and answer[k] > 0 for k in ("recurrence", "mean_slip")):
+        return None
+    design = Design(**row["design"])
+    fault = design.two_d(elements_per_process_zone).fault.description()
+    block, group = ladder.block_answer(fault)
+    return {"name": row["design"]["name"], "group": group, "block": block, "two_d": answer,
+            "surface_breaking": group["burial"] == 0.0}
+
+
+def targets(items, quantity):
+    if quantity == "recurrence":
+        return [(item, math.log(item["two_d"]["recurrence"] / item["block"]["recurrence"])) for item in items]
+    key = "mean_slip" if quantity == "mean_slip" else "surface_slip"
+    chosen = [item for item in items if quantity == "mean_slip" or item["surface_breaking"]]
+    return [(item, math.log(item["two_d"][key] / item["block"]["slip"])) for item in chosen
+            if math.isfinite(item["two_d"][key]) and item["two_d"][key] > 0]
+
+
+def main():
+    old = json.loads(OLD.read_text())["rows"]
+    new = json.loads(NEW.read_text())["rows"]
+    train_rows = old + [row for row in new if row["design"]["name"].startswith("calibration")]
+    test_rows = [row for row in new if row["design"]["name"].startswith("held out")]
+    train = [p for p in map(prepared, train_rows) if p is not None]
+    test = [p for p in map(prepared, test_rows) if p is not None]
+    skipped = {"calibration": len(train_rows) - len(train), "held_out": len(test_rows) - len(test)}
+    table = {"provenance": {"computed_by": "benchmarks/ladder_calibration.py", "faultslip": __version__, **stamp(),
+                            "definition": "ln(2-D / block) linear in the groups of faultslip.fault.ladder.FEATURES, "
+                                          "least squares; ranges are the 95 % prediction intervals",
+                            "calibration_faults": len(train), "held_out_faults": len(test),
+                            "left_out_unsettled": skipped}}
+    for quantity in ladder.QUANTITIES:
+        pairs = targets(train, quantity)
+        table[quantity] = ladder.fit([item["group"] for item, _ in pairs], np.array([y for _, y in pairs]))
+    table["box"] = ladder.box_of([item["group"] for item in train])
+    rows, covered, widths = [], {q: [] for q in ladder.QUANTITIES}, {q: [] for q in ladder.QUANTITIES}
+    for item in test:
+        outside = ladder.outside_box(item["group"], table)
+        row = {"name": item["name"], "width_over_nucleation": item["group"]["width_over_nucleation"],
+               "burial": item["group"]["burial"], "outside": outside, "group": item["group"]}
+        for quantity in ladder.QUANTITIES:
+            truth = item["two_d"]["recurrence" if quantity == "recurrence" else quantity]
+            if quantity == "surface_slip" and not item["surface_breaking"]:
+                continue
+            if not (math.isfinite(truth) and truth > 0):
+                continue
+            raw = item["block"]["recurrence" if quantity == "recurrence" else "slip"]
+            band = ladder.predict(quantity, raw, item["group"], table)
+            holds = band["low"] <= truth <= band["high"]
+            row[quantity] = {"two_d": truth, "block": raw, **band, "holds": bool(holds),
+                             "error_corrected": band["value"] / truth - 1, "error_uncorrected": raw / truth - 1}
+            if not outside:
+                covered[quantity].append(holds)
+                widths[quantity].append(band["half_width"])
+        rows.append(row)
+    summary = {q: {"held_out": len(covered[q]), "holds": int(sum(covered[q])),
+                   "coverage": float(np.mean(covered[q])) if covered[q] else math.nan,
+                   "mean_half_width": float(np.mean(widths[q])) if widths[q] else math.nan,
+                   "median_bias_uncorrected": table[q]["median_bias_uncorrected"],
+                   "median_bias_corrected": table[q]["median_bias_corrected"]} for q in ladder.QUANTITIES}
+    table["held_out"] = summary
+    runs = [row for row in new + old if "cpu_time" in row]
+    ratios = [row["estimated_seconds"] / row["cpu_time"] for row in runs if row["cpu_time"] > 0]
+    budget = {"runs": len(ratios), "within_2x": int(sum(0.5 <= r <= 2 for r in ratios)),
+              "ratio_min": min(ratios, default=math.nan), "ratio_median": float(np.median(ratios)) if ratios else math.nan,
+              "ratio_max": max(ratios, default=math.nan),
+              "rows": [{"name": row["design"]["name"], "elements": row["elements"], "cpu_time": row["cpu_time"],
+                        "estimated_seconds": row["estimated_seconds"], "steps": row["steps"],
+                        "estimated_steps": row.get("estimated_steps")} for row in runs]}
+    OUT.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
+    HELD.write_text(json.dumps({**stamp(), "summary": summary, "rows": rows, "budget": budget,
+                                "left_out_unsettled": skipped}, indent=1) + "\n", encoding="utf-8")
+    for quantity, line in summary.items():
+        print(f"{quantity}: residual sd {table[quantity]['residual_sd']:.3f} over {table[quantity]['faults']} faults; "
+              f"held out {line['holds']} of {line['held_out']} within the 95 % range "
+              f"({line['coverage']:.3f}), mean half-width {line['mean_half_width']:.3f}; median bias "
+              f"{line['median_bias_uncorrected']:+.3f} uncorrected, {line['median_bias_corrected']:+.3f} corrected")
+    print(f"outside the box: {sum(bool(r['outside']) for r in rows)} held-out faults; unsettled left out: {skipped}")
+    print(f"budget: estimate / CPU from {budget['ratio_min']:.2f} to {budget['ratio_max']:.2f} (median "
+          f"{budget['ratio_median']:.2f}), {budget['within_2x']} of {budget['runs']} within 2x")
+
+
+if __name__ == "__main__":
+    main()

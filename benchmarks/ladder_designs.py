@@ -1,0 +1,102 @@
+"""2-D faults drawn at random over the one slider's calibration box: the runs behind its corrected answer and its
+95 % ranges (``faultslip.fault.ladder``), and the held-out runs that test them.
+
+    python benchmarks/ladder_designs.py [--workers 2] [--calibration 36] [--held-out 34]
+
+**The box**, about SEAS BP1 (Erickson et al. 2020): the seismogenic depth H of 15 km x 0.5-1.5, sigma_n of
+50 MPa x 0.5-2 and D_c of 8 mm x 0.25-4, each log-uniform; a above the ramp uniform in 0.008-0.0115 (b = 0.015),
+a below it in 0.018-0.030; a ramp of 0.05-0.3 H, velocity-strengthening depth below of 0-2 H, and on three
+designs in ten a strengthening cap (burial) of up to 0.3 H. A draw is kept where the width over the nucleation
+size, W / h*, lies in 1.5-8 (below, the 2-D fault's events are few and irregular; above, a run on two cores takes
+too long for a calibration of this size) and the frictional fault spans at most 1,000 elements at 3 per L_b.
+
+Two independent draws (seeds 68 and 6800): the calibration set, and the held-out set that never enters it.
+Each run records its 2-D answer, the budget's estimate of its cost and the CPU time it used. Rows are appended
+to ``benchmarks/results/ladder_designs.json`` as they finish (a rerun reuses the rows already there).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from concurrent.futures import as_completed
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
+from faultslip.models.fault_2d.calibration import SHEAR_MODULUS, Design, run_design  # noqa: E402
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
+
+RAW = ROOT / "benchmarks" / "results" / "ladder_designs.json"
+ELEMENTS_PER_PROCESS_ZONE = 3.0
+MAX_ELEMENTS = 1000
+RATIO_RANGE = (1.5, 8.0)
+
+
+def draw(count: int, seed: int, prefix: str) -> list[Design]:
+    """``count`` designs drawn over the box (module docstring), kept where W / h* and the element count allow."""
+    rng = np.random.default_rng(seed)
+    designs = []
+    while len(designs) < count:
+        width = 15e3 * math.exp(rng.uniform(math.log(0.5), math.log(1.5)))
+        sigma = 50e6 * math.exp(rng.uniform(math.log(0.5), math.log(2.0)))
+        critical_slip = 8e-3 * math.exp(rng.uniform(math.log(0.25), math.log(4.0)))
+        a = float(rng.uniform(0.008, 0.0115))
+        deep = float(rng.uniform(0.018, 0.030))
+        ramp, below = float(rng.uniform(0.05, 0.3)), float(rng.uniform(0.0, 2.0))
+        cap = float(rng.uniform(0.0, 0.3)) if rng.random() < 0.3 else 0.0
+        b = 0.015
+        nucleation = math.pi / 2 * SHEAR_MODULUS * critical_slip * b / (sigma * (b - a) ** 2)
+        ratio = width / nucleation
+        if not RATIO_RANGE[0] <= ratio <= RATIO_RANGE[1]:
+            continue
+        design = Design(f"{prefix} {len(designs)}", ratio, a, b=b, normal_stress=sigma, seismogenic_width=width,
+                        cap=cap, ramp=ramp, below=below, a_strengthening=deep)
+        process = SHEAR_MODULUS * design.critical_slip / (sigma * b)
+        if design.total_width(process / ELEMENTS_PER_PROCESS_ZONE) / (process / ELEMENTS_PER_PROCESS_ZONE) > MAX_ELEMENTS:
+            continue
+        designs.append(design)
+    return designs
+
+
+def _run(design):
+    return run_design(design, cycles=6, elements_per_process_zone=ELEMENTS_PER_PROCESS_ZONE)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--calibration", type=int, default=36)
+    parser.add_argument("--held-out", type=int, default=34)
+    args = parser.parse_args(argv)
+    calibration, held_out = draw(args.calibration, 68, "calibration"), draw(args.held_out, 6800, "held out")
+    done = {}
+    if RAW.exists():
+        done = {row["design"]["name"]: row for row in json.loads(RAW.read_text())["rows"]}
+    # interleaved, cheapest first, so that both sets grow together
+    designs = [d for pair in zip(calibration, held_out) for d in pair] + calibration[len(held_out):] + held_out[len(calibration):]
+    todo = [d for d in designs if d.name not in done or done[d.name]["design"] != asdict(d)]
+    todo.sort(key=lambda d: d.total_width(1.0) * d.width_over_nucleation)
+    pool = worker_pool(min(args.workers, max(len(todo), 1)))
+    try:
+        futures = {pool.submit(_run, design): design for design in todo}
+        for future in as_completed(futures):
+            row = future.result()
+            done[row["design"]["name"]] = row
+            print(f"{row['design']['name']}: W/h* {row['design']['width_over_nucleation']:.2f}, {row['sequence']} "
+                  f"(p {row['period']}), T {row['recurrence_2d'] / 3.15576e7:.1f} yr, {row['elements']} elements, "
+                  f"{row['cpu_time']:.0f} s CPU (estimated {row['estimated_seconds']:.0f} s)", flush=True)
+            RAW.write_text(json.dumps({**stamp(), "rows": list(done.values())}, indent=1) + "\n", encoding="utf-8")
+    finally:
+        stop_pool(pool)
+
+
+if __name__ == "__main__":
+    main()

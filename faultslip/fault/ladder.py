@@ -1,0 +1,321 @@
+"""The ladder of fault models: one description of a fault, the one slider derived from it, and the correction and
+95 % ranges that the 2-D fault calibrates (issue 68).
+
+Every rung reads one description of the fault, its friction with depth (:class:`FaultDescription`). The one slider
+is derived from it, not stated beside it:
+
+* the **rupture zone** is the contiguous velocity-weakening run of the profile (a < b), of width W, buried
+  under a velocity-strengthening cap of depth d_cap (0: the fault breaks the surface);
+* the **block** carries the zone's mean a, b, D_c and sigma_n, and the stiffness of a surface-breaking crack of
+  width W, K = 2 G / (pi W) (Knopoff 1958; Scholz 2019, eq. 4.26), with the radiation damper G / (2 c_s);
+* its recurrence T_block and slip per event s_block are then **corrected** by what the 2-D fault shows over a
+  calibrated box (``benchmarks/ladder_calibration.py``): ln(T_2d / T_block) and ln(s_2d / s_block) are linear in
+  the groups that move the 2-D answer (:func:`groups`), fitted by least squares over 2-D designs, and the
+  **95 % range** is the regression's prediction interval (t quantile, leverage included).
+
+Outside the box, where some group lies beyond the values the calibration designs span, nothing is declared: the
+block is reported with no range, and a tolerance moves the run to the 2-D rung.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
+from faultslip.errors import InputError
+from faultslip.friction.rate_state import RateStateLaw
+from faultslip.io import gate
+from faultslip.io.report import Report
+from faultslip.io.resources import bundled_dir
+
+CALIBRATION_FILE = "ladder_calibration.json"
+
+#: The groups the correction is linear in, in this order after the constant (see :func:`features`).
+FEATURES = ("log_width_over_nucleation", "log_width_over_nucleation_squared", "log_width_over_process_zone",
+            "burial", "ramp", "log_strengthening_depth", "strengthening_ratio")
+#: The quantities the one slider predicts, and what each is in the 2-D fault's report.
+QUANTITIES = {"recurrence": "recurrence_interval", "mean_slip": "mean_slip_per_event",
+              "surface_slip": "slip_per_event"}
+
+
+@dataclass(frozen=True)
+class FaultDescription:
+    """A fault as every rung reads it: friction on elements down dip, elasticity and loading (SI).
+
+    ``depth`` holds the element centres (m, from the free surface) of elements ``element_size`` long; ``a``,
+    ``b``, ``critical_slip`` (D_c, m) and ``normal_stress`` (sigma_n, Pa) are the friction there. Below the last
+    element the fault slips steadily at ``plate_rate``.
+    """
+
+    depth: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    critical_slip: np.ndarray
+    normal_stress: np.ndarray
+    element_size: float
+    shear_modulus: float
+    shear_wave_speed: float
+    plate_rate: float
+    reference_speed: float = 1e-6
+    reference_friction: float = 0.6
+    evolution: str = "aging"
+    name: str = "fault"
+
+    @property
+    def width(self) -> float:
+        """W_f, the frictional fault's depth extent (m)."""
+        return self.element_size * self.depth.size
+
+
+def rupture_zone(fault: FaultDescription) -> slice:
+    """The elements of the widest contiguous velocity-weakening run (a < b): the zone that ruptures.
+
+    Raises
+    ------
+    InputError
+        Where no element weakens: the fault creeps and no rung has earthquakes.
+    """
+    weakening = np.asarray(fault.a < fault.b)
+    if not weakening.any():
+        raise InputError(f"{fault.name}: a >= b at every depth; the fault creeps and has no earthquakes")
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], weakening.astype(int), [0]))))
+    starts, ends = edges[::2], edges[1::2]
+    widest = int(np.argmax(ends - starts))
+    return slice(int(starts[widest]), int(ends[widest]))
+
+
+def groups(fault: FaultDescription) -> dict:
+    """The nondimensional groups that move a 2-D fault's answer, from its profile.
+
+    Returns
+    -------
+    dict
+        ``width`` W (m) of the rupture zone and its mean ``a``, ``b``, ``critical_slip`` (m), ``normal_stress`` (Pa);
+        ``nucleation_size`` h* = (pi / 2) G D_c b / [sigma_n (b - a)^2] (Rubin & Ampuero 2005) and
+        ``process_zone`` L_b = G D_c / (sigma_n b) (m); ``width_over_nucleation`` W / h*,
+        ``width_over_process_zone`` W / L_b; ``burial``: the strengthening cap's depth over W; ``ramp``: the depth
+        below the zone over which a rises to 95 % of its largest value below, over W; ``strengthening_depth``:
+        the frictional fault below the zone, over W; ``strengthening_ratio``: (a - b) of the strengthening zone
+        below at its largest over (b - a) of the rupture zone (all dimensionless).
+    """
+    zone = rupture_zone(fault)
+    size = fault.element_size
+    width = (zone.stop - zone.start) * size
+    a, b = float(fault.a[zone].mean()), float(fault.b[zone].mean())
+    critical_slip, sigma = float(fault.critical_slip[zone].mean()), float(fault.normal_stress[zone].mean())
+    modulus = fault.shear_modulus
+    nucleation = math.pi / 2 * modulus * critical_slip * b / (sigma * (b - a) ** 2)
+    process = modulus * critical_slip / (sigma * b)
+    below_a, below_b = fault.a[zone.stop:], fault.b[zone.stop:]
+    if below_a.size:
+        excess = below_a - below_b
+        largest = float(excess.max())
+        reach = float(below_a.min()) + 0.95 * (float(below_a.max()) - float(below_a.min()))
+        ramp = (int(np.argmax(below_a >= reach)) + 1) * size
+    else:
+        largest, ramp = 0.0, 0.0
+    return {"width": width, "a": a, "b": b, "critical_slip": critical_slip, "normal_stress": sigma,
+            "nucleation_size": nucleation, "process_zone": process,
+            "width_over_nucleation": width / nucleation, "width_over_process_zone": width / process,
+            "burial": zone.start * size / width, "ramp": ramp / width,
+            "strengthening_depth": (fault.depth.size - zone.stop) * size / width,
+            "strengthening_ratio": max(largest, 0.0) / (b - a)}
+
+
+def features(group: dict) -> np.ndarray:
+    """The regression's row for a fault's groups: 1, then :data:`FEATURES` in order."""
+    ratio = math.log(group["width_over_nucleation"])
+    return np.array([1.0, ratio, ratio ** 2, math.log(group["width_over_process_zone"]), group["burial"],
+                     group["ramp"], math.log1p(group["strengthening_depth"]), group["strengthening_ratio"]])
+
+
+def block_stiffness(width: float, shear_modulus: float) -> float:
+    """K = 2 G / (pi W): a surface-breaking mode-III crack of width W under uniform stress drop, mirrored in the
+    free surface (Knopoff 1958; Scholz 2019, eq. 4.26), in Pa/m."""
+    return 2.0 * shear_modulus / (math.pi * width)
+
+
+def derived_block(fault: FaultDescription) -> tuple[RateStateSlider, dict]:
+    """The one slider a fault description stands for: its rupture zone's mean friction at K = 2 G / (pi W).
+
+    Returns
+    -------
+    tuple
+        (the :class:`RateStateSlider`, with the radiation damper; the fault's :func:`groups`).
+    """
+    group = groups(fault)
+    law = RateStateLaw(group["a"], group["b"], group["critical_slip"], fault.reference_friction,
+                       fault.reference_speed, fault.evolution, source=f"{fault.name}: rupture-zone means")
+    stiffness = block_stiffness(group["width"], fault.shear_modulus)
+    slider = RateStateSlider.at_fault(law, fault.shear_modulus, fault.shear_modulus / stiffness,
+                                      group["normal_stress"], density=fault.shear_modulus / fault.shear_wave_speed ** 2,
+                                      shear_wave_speed=fault.shear_wave_speed)
+    return slider, group
+
+
+def block_answer(fault: FaultDescription, cycles: int = 5) -> tuple[dict, dict]:
+    """The derived block's uncorrected recurrence (s) and slip per event (m), and the fault's groups."""
+    slider, group = derived_block(fault)
+    block = fault_cycles(slider, fault.plate_rate, cycles=cycles)
+    return {"recurrence": float(block.recurrence), "slip": float(np.mean(block.slip_per_event))}, group
+
+
+@lru_cache(maxsize=1)
+def load_calibration() -> dict:
+    """The shipped calibration of the derived block against the 2-D fault (``data/ladder_calibration.json``,
+    written by ``benchmarks/ladder_calibration.py``).
+
+    Returns
+    -------
+    dict
+        Per quantity of :data:`QUANTITIES`: ``coefficients``, ``inverse_gram`` (X^T X)^-1, ``residual_sd``,
+        ``dof`` and ``t_quantile``; ``box`` (each feature's calibrated range); ``held_out`` and ``provenance``.
+    """
+    path = bundled_dir("data") / CALIBRATION_FILE
+    try:
+        table = gate.read_json(path, "the ladder's calibration")
+    except InputError as exc:
+        raise InputError(f"{exc}; reinstall faultslip or run benchmarks/ladder_calibration.py") from None
+    missing = [key for key in ("recurrence", "mean_slip", "box") if not isinstance(table.get(key), dict)]
+    if missing:
+        raise InputError(f"{path.name} lacks {', '.join(missing)}; rerun benchmarks/ladder_calibration.py")
+    return table
+
+
+def outside_box(group: dict, calibration: dict) -> list[str]:
+    """The groups of a fault that lie outside the calibrated box, as sentences (empty: inside)."""
+    row = dict(zip(FEATURES, features(group)[1:]))
+    out = []
+    for name, (low, high) in calibration["box"].items():
+        value = row[name]
+        if not low <= value <= high:
+            out.append(f"{name} = {value:.3g} (calibrated {low:.3g} to {high:.3g})")
+    return out
+
+
+def predict(quantity: str, raw: float, group: dict, calibration: dict, level: float = 0.95) -> dict:
+    """The corrected value of ``quantity`` and its range at ``level`` from the regression.
+
+    The log of 2-D over block is x . beta; the range is exp(+- t s sqrt(1 + x^T (X^T X)^-1 x)) about it, the
+    ordinary least-squares prediction interval (e.g. Montgomery, Peck & Vining 2012, eq. 3.55).
+
+    Returns
+    -------
+    dict
+        ``value``, ``low``, ``high`` (the quantity's units), ``half_width`` (relative: exp(t s ...) - 1).
+    """
+    if level != 0.95:
+        raise InputError("the ladder's ranges are calibrated at 95 %")
+    model = calibration[quantity]
+    x = features(group)
+    beta = np.asarray(model["coefficients"], float)
+    gram = np.asarray(model["inverse_gram"], float)
+    centre = raw * math.exp(float(x @ beta))
+    spread = model["t_quantile"] * model["residual_sd"] * math.sqrt(1.0 + float(x @ gram @ x))
+    return {"value": centre, "low": centre * math.exp(-spread), "high": centre * math.exp(spread),
+            "half_width": math.exp(spread) - 1.0}
+
+
+def fit(rows: list[dict], targets: np.ndarray, level: float = 0.95) -> dict:
+    """Least squares of ``targets`` (ln 2-D / block) on the rows' :func:`features`, with what the prediction
+    interval needs."""
+    from scipy import stats  # heavy: imported where used
+
+    x = np.array([features(row) for row in rows])
+    y = np.asarray(targets, float)
+    beta, _, rank, _ = np.linalg.lstsq(x, y, rcond=None)
+    residual = y - x @ beta
+    dof = x.shape[0] - int(rank)  # a group constant over the faults (burial, for the surface slip) drops out
+    if dof < 5:
+        raise InputError(f"{x.shape[0]} calibration faults cannot fit {x.shape[1]} coefficients with a spread")
+    sd = float(math.sqrt(residual @ residual / dof))
+    return {"coefficients": beta.tolist(), "inverse_gram": np.linalg.pinv(x.T @ x).tolist(), "residual_sd": sd,
+            "dof": dof, "t_quantile": float(stats.t.ppf(0.5 + level / 2, dof)),
+            "median_bias_uncorrected": float(math.exp(np.median(y)) - 1.0),
+            "median_bias_corrected": float(math.exp(np.median(residual)) - 1.0), "faults": int(x.shape[0])}
+
+
+def box_of(rows: list[dict]) -> dict:
+    """Each feature's calibrated range over the calibration faults' groups."""
+    table = np.array([features(row)[1:] for row in rows])
+    return {name: [float(table[:, k].min()), float(table[:, k].max())] for k, name in enumerate(FEATURES)}
+
+
+def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | None = None):
+    """The one-slider rung on a fault description: the derived block, corrected, with its 95 % ranges.
+
+    Parameters
+    ----------
+    fault : FaultDescription
+        The fault, as every rung reads it.
+    reason : str
+        Why this rung runs (said in the report).
+    calibration : dict, optional
+        The calibration (the shipped one otherwise, :func:`load_calibration`).
+
+    Returns
+    -------
+    Report
+        ``recurrence_interval`` (s) with ``recurrence_range``, ``mean_slip_per_event`` (m, over the rupture zone)
+        with its range and, on a surface-breaking fault, ``slip_per_event`` (m, at the surface) with
+        ``slip_per_event_range``; the block's uncorrected answers, its groups, ``estimated_relative_error`` (the
+        widest range's half-width, relative) and the median bias; outside the calibrated box, the uncorrected
+        block with no ranges and no declared error.
+    """
+    table = calibration or load_calibration()
+    raw, group = block_answer(fault)
+    report = Report(f"faultslip one slider: {fault.name}")
+    report.add("method", "one_slider").add("method_reason", reason)
+    report.add("rupture_width", group["width"], "m", also=("km",), label="rupture zone W (velocity-weakening, a < b)")
+    report.add("stiffness", block_stiffness(group["width"], fault.shear_modulus), "Pa/m",
+               label="the block's stiffness K = 2 G / (pi W)")
+    report.add("width_over_nucleation", group["width_over_nucleation"], label="W / h*")
+    report.add("width_over_process_zone", group["width_over_process_zone"], label="W / L_b")
+    report.add("burial", group["burial"], label="strengthening cap over W (0: breaks the surface)")
+    report.add("block_recurrence", raw["recurrence"], "s", also=("yr",), label="the block's recurrence, uncorrected")
+    report.add("block_slip_per_event", raw["slip"], "m", label="the block's slip per event, uncorrected")
+    outside = outside_box(group, table)
+    if outside:
+        report.add("recurrence_interval", raw["recurrence"], "s", also=("yr",),
+                   label="recurrence: the block's, uncorrected (outside the calibration: no range)")
+        report.add("mean_slip_per_event", raw["slip"], "m", label="slip per event: the block's, uncorrected")
+        report.add("recurrence_range", None, label="95 % range of the recurrence (none: outside the calibration)")
+        report.add("slip_per_event_range", None, label="95 % range of the slip per event (none: outside the calibration)")
+        report.add("estimated_relative_error", None, label="declared model error (none: outside the calibration)")
+        report.note("outside the calibrated box, so no range is declared: " + "; ".join(outside)
+                    + ". Run the 2-D fault (--model fault_2d) for an answer with a declared error")
+        return report
+    bands = {"recurrence": predict("recurrence", raw["recurrence"], group, table),
+             "mean_slip": predict("mean_slip", raw["slip"], group, table)}
+    if group["burial"] == 0.0 and "surface_slip" in table:
+        bands["surface_slip"] = predict("surface_slip", raw["slip"], group, table)
+    report.add("recurrence_interval", bands["recurrence"]["value"], "s", also=("yr",),
+               label="recurrence of system-size events (the block corrected by the 2-D calibration)")
+    report.add("recurrence_range", [bands["recurrence"]["low"], bands["recurrence"]["high"]], "s", also=("yr",),
+               label="95 % range of the recurrence")
+    if "surface_slip" in bands:
+        report.add("slip_per_event", bands["surface_slip"]["value"], "m", label="surface slip per event")
+        report.add("slip_per_event_range", [bands["surface_slip"]["low"], bands["surface_slip"]["high"]], "m",
+                   label="95 % range of the surface slip per event")
+    report.add("mean_slip_per_event", bands["mean_slip"]["value"], "m", label="slip per event, mean over the rupture zone")
+    report.add("mean_slip_per_event_range", [bands["mean_slip"]["low"], bands["mean_slip"]["high"]], "m",
+               label="95 % range of the mean slip per event")
+    if "surface_slip" not in bands:
+        report.add("slip_per_event_range", None, label="95 % range of the surface slip (none: a buried fault; see "
+                                                       "mean_slip_per_event_range)")
+    widest = max(band["half_width"] for band in bands.values())
+    report.add("estimated_relative_error", widest,
+               label="declared model error against the 2-D fault: the widest 95 % range's half-width (relative)")
+    report.add("median_bias", table["recurrence"]["median_bias_corrected"],
+               label="median bias of the corrected recurrence over the calibration faults")
+    years = 365.25 * 86400.0
+    t = bands["recurrence"]
+    report.note(f"T = {t['value'] / years:.0f} yr ({t['low'] / years:.0f}-{t['high'] / years:.0f} yr, 95 %): the block "
+                f"derived from the fault's profile, corrected by {table['provenance'].get('calibration_faults', '?')} "
+                "2-D faults (benchmarks/ladder_calibration.py); the range is the correction's prediction interval, "
+                "tested on faults held out of it")
+    return report
