@@ -2,6 +2,7 @@
 numbers named, and every malformed bundle refused in one sentence."""
 
 import io
+import hashlib
 import json
 import zipfile
 from pathlib import Path
@@ -27,6 +28,14 @@ def _rewrite(path, members: dict) -> None:
     with zipfile.ZipFile(path, "w") as archive:
         for name, data in members.items():
             archive.writestr(name, data)
+
+
+def _signed(members: dict) -> dict:
+    """The members with the manifest's checksums made to match them: a bundle written elsewhere, not tampered."""
+    manifest = json.loads(members["manifest.json"])
+    manifest["members"] = {name: hashlib.sha256(members[name]).hexdigest() for name in manifest["members"]
+                           if name in members}
+    return {**members, "manifest.json": json.dumps(manifest).encode()}
 
 
 def test_a_rate_law_bundle_replays_bit_for_bit_and_opens_without_faultslip(cli, tmp_path):
@@ -71,8 +80,8 @@ def test_a_replay_names_what_moved_and_the_versions_that_differ(cli, tmp_path):
     report["mu_so"] *= 1 + 1e-6
     manifest = json.loads(members["manifest.json"])
     manifest["versions"]["numpy"] = "0.0.1"
-    members["report.json"], members["manifest.json"] = json.dumps(report), json.dumps(manifest)
-    _rewrite(bundle, members)
+    members["report.json"], members["manifest.json"] = json.dumps(report).encode(), json.dumps(manifest).encode()
+    _rewrite(bundle, _signed(members))
     replay = cli("fit", "--replay", bundle, "--json")
     assert replay.code == 1
     moved = {row["key"]: row for row in replay.json["numbers_moved"]}
@@ -99,7 +108,8 @@ def _good(tmp_path, cli) -> dict:
     (lambda m: {**m, "manifest.json": json.dumps({**json.loads(m["manifest.json"]),
                                                   "options": {**json.loads(m["manifest.json"])["options"],
                                                               "rm_rf": True}}).encode()}, "rm_rf"),
-    (lambda m: {**m, "draws.nc": b"CDF\x02garbage"}, "netCDF"),
+    (lambda m: _signed({**m, "draws.nc": b"CDF\x02garbage"}), "netCDF"),
+    (lambda m: {**m, "draws.nc": b"CDF\x02garbage"}, "draws.nc does not match its SHA-256"),
 ])
 def test_malformed_bundles_are_one_sentence(cli, tmp_path, spoil, message):
     members = spoil(_good(tmp_path, cli))
@@ -132,3 +142,66 @@ def test_the_bundle_reader_refuses_anything_else_in_one_sentence(tmp_path_factor
     with pytest.raises(InputError) as raised:
         read_bundle(path)
     assert "\n" not in str(raised.value)
+
+
+
+# Tampered bundles (issue 69): each refused in one sentence, or replayed as not identical; never "bit for bit".
+
+def test_an_emptied_report_is_refused_by_its_checksum(cli, tmp_path):
+    members = _good(tmp_path, cli)
+    bad = tmp_path / "bad.zip"
+    _rewrite(bad, {**members, "report.json": b"{}"})
+    assert_clean_error(cli("fit", "--replay", bad), "report.json does not match its SHA-256")
+
+
+def test_numbers_stored_as_strings_are_refused_by_the_checksum(cli, tmp_path):
+    members = _good(tmp_path, cli)
+    report = json.loads(members["report.json"])
+    tripled = {key: (str(3 * value) if isinstance(value, float) else value) for key, value in report.items()}
+    bad = tmp_path / "bad.zip"
+    _rewrite(bad, {**members, "report.json": json.dumps(tripled).encode()})
+    assert_clean_error(cli("fit", "--replay", bad), "report.json does not match its SHA-256")
+
+
+def test_a_report_with_nothing_to_compare_is_not_called_identical(cli, tmp_path):
+    """Even signed (as if made elsewhere), an empty report shows nothing: the replay says so and exits 1."""
+    members = _good(tmp_path, cli)
+    bad = tmp_path / "bad.zip"
+    _rewrite(bad, _signed({**members, "report.json": b"{}"}))
+    replay = cli("fit", "--replay", bad, "--json")
+    assert replay.code == 1 and replay.json["identical"] is False
+    assert replay.json["numbers_compared"] == 0 and replay.json["numbers_only_in_replay"]
+
+
+def test_a_second_entry_that_shadows_the_first_is_refused(cli, tmp_path):
+    members = _good(tmp_path, cli)
+    bad = tmp_path / "bad.zip"
+    with zipfile.ZipFile(bad, "w") as archive:
+        for name, data in members.items():
+            archive.writestr(name, data)
+        with pytest.warns(UserWarning, match="Duplicate name"):
+            archive.writestr("report.json", b"{}")
+    assert_clean_error(cli("fit", "--replay", bad), "twice")
+
+
+def test_a_bundle_of_the_older_format_is_refused_with_the_reason(cli, tmp_path):
+    members = _good(tmp_path, cli)
+    manifest = json.loads(members["manifest.json"])
+    manifest["format"] = "faultslip-fit-bundle/1"
+    del manifest["members"]
+    bad = tmp_path / "old.zip"
+    _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
+    assert_clean_error(cli("fit", "--replay", bad), "checksum for every member")
+
+
+def test_an_inflating_manifest_is_refused_before_it_is_inflated(cli, tmp_path):
+    """A 600 MB manifest of spaces deflates to about 600 kB: refused from its declared size, never inflated."""
+    members = _good(tmp_path, cli)
+    bomb = tmp_path / "bomb.zip"
+    with zipfile.ZipFile(bomb, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+        for name, data in members.items():
+            if name == "manifest.json":
+                data = data + b" " * (600 * 2**20)
+            archive.writestr(name, data)
+    assert bomb.stat().st_size < 2**20
+    assert_clean_error(cli("fit", "--replay", bomb), "manifest.json")

@@ -341,3 +341,146 @@ def test_a_lock_removed_between_its_two_opens_is_created_again(tmp_path, monkeyp
     descriptor = outputs._open_lock(lock)
     os.close(descriptor)
     assert len(calls) == 3 and calls[2] & os.O_EXCL and lock.is_file()
+
+
+# Archives are bounded before anything is inflated or allocated (issue 69): zip members by their declared sizes
+# and ratios, array members by their headers. Each bomb runs in a child process whose peak memory is measured.
+
+_PEAK = textwrap.dedent("""
+    import resource, sys
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    from faultslip.errors import InputError
+    {body}
+    after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    print(message)
+    print((after - before) / 1024)
+""")
+
+
+def _peak(body: str) -> tuple[str, float]:
+    """Run ``body`` (which sets ``message``) in a fresh interpreter: (message, peak memory growth in MiB)."""
+    done = subprocess.run([sys.executable, "-c", _PEAK.format(body=textwrap.dedent(body).strip())],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    message, grown = done.stdout.strip().splitlines()[-2:]
+    return message, float(grown)
+
+
+def _npy_header(shape, dtype="<f8") -> bytes:
+    """A .npy file's magic and header (numpy's own writer) for an array of ``shape``."""
+    import io as _io
+
+    import numpy as np
+
+    buffer = _io.BytesIO()
+    np.lib.format.write_array_header_1_0(buffer, {"descr": dtype, "fortran_order": False, "shape": shape})
+    return buffer.getvalue()
+
+
+def _zeros_npz(path, name: str, declared_shape, written_bytes: int) -> None:
+    """An .npz whose member ``name`` has a header of ``declared_shape`` (float64) and ``written_bytes`` of zeros,
+    written in pieces (the test never holds the array)."""
+    import zipfile
+
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+        with archive.open(name + ".npy", "w", force_zip64=True) as stream:
+            stream.write(_npy_header(declared_shape))
+            left = written_bytes
+            while left:
+                stream.write(b"\0" * min(left, 2**20))
+                left -= min(left, 2**20)
+
+
+def test_a_checkpoint_whose_header_claims_more_than_it_holds_is_refused_before_allocating(tmp_path):
+    bomb = tmp_path / "checkpoint.npz"
+    _zeros_npz(bomb, "slip", (200_000_000,), 2**19)  # 1.6 GB claimed, 512 kiB held
+    message, grown = _peak(f"""
+        from faultslip.io.records import read_checkpoint
+        try:
+            read_checkpoint({str(bomb)!r}, {{"slip": ("f", (None,))}})
+            message = "accepted"
+        except InputError as exc:
+            message = str(exc)
+    """)
+    assert "declares" in message and "slip.npy" in message
+    assert grown < 100
+
+
+def test_a_checkpoint_that_inflates_a_thousandfold_is_refused_before_inflating(tmp_path):
+    bomb = tmp_path / "checkpoint.npz"
+    _zeros_npz(bomb, "slip", (300 * 2**20 // 8,), 300 * 2**20)  # 300 MiB of zeros deflate to about 300 kB
+    assert bomb.stat().st_size < 2 * 2**20
+    message, grown = _peak(f"""
+        from faultslip.io.records import read_checkpoint
+        try:
+            read_checkpoint({str(bomb)!r}, {{"slip": ("f", (None,))}})
+            message = "accepted"
+        except InputError as exc:
+            message = str(exc)
+    """)
+    assert "to 1" in message and "zip bomb" in message
+    assert grown < 100
+
+
+def test_a_zip_member_past_its_declared_limit_names_the_member():
+    import io as _io
+    import zipfile
+
+    buffer = _io.BytesIO()
+    with zipfile.ZipFile(buffer, "w") as archive:
+        archive.writestr("a.json", b"x" * 2048)
+    with pytest.raises(InputError, match="a.json.*inflates to 2 kiB, past the limit of 1 kiB"):
+        gate.open_zip(buffer.getvalue(), "x.zip", "the test archive", total_limit=10**6, member_limits={"a.json": 1024})
+
+
+def test_a_workbook_with_one_cell_at_the_last_column_and_row_is_refused_from_its_dimension(tmp_path):
+    """A 10 kB workbook with one stray cell at XFD1048576 declares 1.7e10 cells: refused before a row is read."""
+    openpyxl = pytest.importorskip("openpyxl")
+    book = openpyxl.Workbook()
+    sheet = book.active
+    sheet["A1"], sheet["B1"], sheet["A2"], sheet["B2"] = "time (s)", "load (N)", 1.0, 2.0
+    sheet["XFD1048576"] = 3.0
+    path = tmp_path / "far.xlsx"
+    book.save(path)
+    message, grown = _peak(f"""
+        from faultslip.io.resources import read_numeric_xlsx
+        try:
+            read_numeric_xlsx({str(path)!r}, "the record")
+            message = "accepted"
+        except InputError as exc:
+            message = str(exc)
+    """)
+    assert "A1:XFD1048576" in message and "clear the cells outside the table" in message
+    assert grown < 100
+
+
+def test_a_workbook_whose_sheet_inflates_a_thousandfold_is_refused_before_inflating(tmp_path):
+    import zipfile
+
+    openpyxl = pytest.importorskip("openpyxl")
+    book = openpyxl.Workbook()
+    book.active["A1"], book.active["A2"] = "time (s)", 1.0
+    good = tmp_path / "good.xlsx"
+    book.save(good)
+    bomb = tmp_path / "bomb.xlsx"
+    with zipfile.ZipFile(good) as source, zipfile.ZipFile(bomb, "w", compression=zipfile.ZIP_DEFLATED) as target:
+        for info in source.infolist():
+            data = source.read(info)
+            if info.filename == "xl/worksheets/sheet1.xml":
+                with target.open(info.filename, "w", force_zip64=True) as stream:
+                    stream.write(data.replace(b"<sheetData>", b"<sheetData>" + b" " * 2**20, 1))
+                    for _ in range(299):
+                        stream.write(b" " * 2**20)
+                continue
+            target.writestr(info, data)
+    assert bomb.stat().st_size < 2 * 2**20
+    message, grown = _peak(f"""
+        from faultslip.io.resources import read_numeric_xlsx
+        try:
+            read_numeric_xlsx({str(bomb)!r}, "the record")
+            message = "accepted"
+        except InputError as exc:
+            message = str(exc)
+    """)
+    assert "zip bomb" in message and "sheet1.xml" in message
+    assert grown < 100

@@ -124,11 +124,13 @@ def _replay_fit(args) -> int:
     versions = bundle.manifest.get("versions", {})
     now = package_versions()
     differ = sorted(name for name in set(versions) | set(now) if versions.get(name) != now.get(name))
-    identical = not comparison["moved"] and not moved_draws and not comparison["missing"]
+    # a replay that computes numbers its bundle lacks, or finds none to compare, has shown nothing identical
+    identical = (not comparison["moved"] and not moved_draws and not comparison["missing"] and not comparison["extra"]
+                 and comparison["compared"] > 0)
     result = {"bundle": str(args.replay), "identical": identical, "numbers_compared": comparison["compared"],
               "numbers_moved": [{"key": key, "bundle": old, "replay": new, "relative_change": change}
                                 for key, old, new, change in comparison["moved"]],
-              "numbers_missing": comparison["missing"],
+              "numbers_missing": comparison["missing"], "numbers_only_in_replay": comparison["extra"],
               "draws_compared": {kind: list(values.shape) for kind, (_, values) in bundle.draws.items()},
               "draws_moved": [{"kind": kind, "largest_relative_change": change} for kind, change in moved_draws],
               "versions_that_differ": {name: [versions.get(name), now.get(name)] for name in differ}}
@@ -148,6 +150,10 @@ def _replay_fit(args) -> int:
             print(f"  draws moved: {kind} (largest relative change {change:.2e})")
         for key in comparison["missing"][:20]:
             print(f"  missing from the replay: {key}")
+        for key in comparison["extra"][:20]:
+            print(f"  not in the bundle's report: {key}")
+        if not comparison["compared"]:
+            print("  no number of the bundle's report could be compared: nothing was shown identical")
     return 0 if identical else 1
 
 

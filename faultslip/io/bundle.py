@@ -3,7 +3,8 @@
 ``faultslip fit ... --bundle FIT.zip`` writes, and ``faultslip fit --replay FIT.zip`` reads:
 
 - ``manifest.json``: the format, when and with what it was made (``versions``: Python, faultslip, numpy,
-  scipy, emcee, numba, ...), the command's options and seed, and the record's name, size and SHA-256;
+  scipy, emcee, numba, ...), the command's options and seed, the record's name, size and SHA-256, and the
+  SHA-256 of every other member (``members``): a member changed after writing is refused on reading;
 - ``record/<name>``: the input record's bytes, as read;
 - ``report.json``: every number the fit reported, as ``faultslip fit --json`` prints it;
 - ``draws.nc``: the bootstrap resamples and posterior draws as netCDF (classic format, which any netCDF
@@ -30,9 +31,9 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.atomic import atomic_path
-from faultslip.io.gate import check_input, decoding, read_bytes
+from faultslip.io.gate import LIMITS, MiB, check_input, decoding, open_zip, read_bytes, read_member
 
-FORMAT = "faultslip-fit-bundle/1"
+FORMAT = "faultslip-fit-bundle/2"  # /2: the manifest holds every member's SHA-256, not only the record's
 MANIFEST, REPORT, DRAWS, RECORD_FOLDER = "manifest.json", "report.json", "draws.nc", "record/"
 #: the packages whose versions a bundle records (those a fit's numbers depend on)
 PACKAGES = ("faultslip", "numpy", "scipy", "emcee", "numba", "xarray", "netCDF4", "pint")
@@ -106,13 +107,16 @@ def write_bundle(path, *, record_path, options: dict, report: dict, draws: dict 
                 "versions": package_versions(), "options": options,
                 "record": {"name": Path(record_path).name, "original_path": str(record_path), "bytes": len(record),
                            "sha256": hashlib.sha256(record).hexdigest()}}
+    members = {REPORT: json.dumps(report, indent=2, allow_nan=False).encode("utf-8")}
+    if draws:
+        members[DRAWS] = _draws_netcdf(draws)
+    manifest["members"] = {name: hashlib.sha256(content).hexdigest() for name, content in members.items()}
     with atomic_path(path) as temporary:
         with zipfile.ZipFile(temporary, "w", compression=zipfile.ZIP_DEFLATED) as archive:
             archive.writestr(MANIFEST, json.dumps(manifest, indent=2))
             archive.writestr(RECORD_FOLDER + manifest["record"]["name"], record)
-            archive.writestr(REPORT, json.dumps(report, indent=2, allow_nan=False))
-            if draws:
-                archive.writestr(DRAWS, _draws_netcdf(draws))
+            for name, content in members.items():
+                archive.writestr(name, content)
     return manifest
 
 
@@ -133,35 +137,56 @@ def read_bundle(path) -> Bundle:
     import xarray as xr  # heavy: imported where used
 
     path = check_input(path, "fit bundle", "bundle")
-    with decoding(path, "fit bundle", "a zip"):
-        data = read_bytes(path, "fit bundle", "bundle")
-        archive = zipfile.ZipFile(io.BytesIO(data))
-        names = archive.namelist()
+    data = read_bytes(path, "fit bundle", "bundle")
+    # bounded before anything is inflated: each member's declared size against its kind's limit, and the ratios
+    archive = open_zip(data, path, "fit bundle", total_limit=LIMITS["bundle"], member_limit=LIMITS["table"],
+                       member_limits={MANIFEST: MiB, REPORT: 16 * MiB, DRAWS: LIMITS["bundle"] // 2})
+    names = archive.namelist()
     if MANIFEST not in names or REPORT not in names:
         raise InputError(f"fit bundle {path.name} has no {MANIFEST} and {REPORT}: it is not a faultslip fit bundle")
     with decoding(path, "fit bundle", "JSON"):
-        manifest = json.loads(archive.read(MANIFEST).decode("utf-8"))
-        report = json.loads(archive.read(REPORT).decode("utf-8"))
+        manifest = json.loads(read_member(archive, MANIFEST, path, "fit bundle").decode("utf-8"))
     if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
-        raise InputError(f"fit bundle {path.name} is not in the format {FORMAT}")
-    entry = manifest.get("record")
+        older = isinstance(manifest, dict) and manifest.get("format") == "faultslip-fit-bundle/1"
+        raise InputError(f"fit bundle {path.name} is not in the format {FORMAT}" + (
+            ": it was written before bundles carried a checksum for every member, so its report cannot be "
+            "trusted; make it again with 'faultslip fit ... --bundle'" if older else ""))
+    entry, checksums = manifest.get("record"), manifest.get("members")
     if not (isinstance(entry, dict) and isinstance(entry.get("name"), str) and isinstance(entry.get("sha256"), str)
-            and isinstance(manifest.get("options"), dict) and isinstance(report, dict)):
-        raise InputError(f"fit bundle {path.name}: its manifest lacks the record's name and checksum or the options")
+            and isinstance(manifest.get("options"), dict) and isinstance(checksums, dict)
+            and all(isinstance(value, str) for value in checksums.values())):
+        raise InputError(f"fit bundle {path.name}: its manifest lacks the record's name and checksum, the members' "
+                         "checksums or the options")
     name = entry["name"]
     if "/" in name or "\\" in name or name in ("", ".", ".."):
         raise InputError(f"fit bundle {path.name}: the record's name {name!r} is not a plain file name")
-    if RECORD_FOLDER + name not in names:
-        raise InputError(f"fit bundle {path.name} does not hold its record {name!r}")
-    with decoding(path, "fit bundle", "a zip"):
-        record = archive.read(RECORD_FOLDER + name)
+    expected = {RECORD_FOLDER + name, MANIFEST, *checksums}
+    stray = sorted(set(names) - expected)
+    if stray or RECORD_FOLDER + name not in names or REPORT not in checksums:
+        what = (f"holds {stray[0]!r}, which its manifest does not list" if stray else
+                f"does not hold its record {name!r}" if RECORD_FOLDER + name not in names else
+                f"has no checksum for {REPORT}")
+        raise InputError(f"fit bundle {path.name} {what}")
+    contents = {}
+    for member, digest in checksums.items():
+        if member not in names:
+            raise InputError(f"fit bundle {path.name} lacks {member}, which its manifest lists")
+        contents[member] = read_member(archive, member, path, "fit bundle")
+        if hashlib.sha256(contents[member]).hexdigest() != digest:
+            raise InputError(f"fit bundle {path.name}: {member} does not match its SHA-256; the bundle was changed "
+                             "after it was written")
+    record = read_member(archive, RECORD_FOLDER + name, path, "fit bundle")
     if hashlib.sha256(record).hexdigest() != entry["sha256"]:
         raise InputError(f"fit bundle {path.name}: its record {name!r} does not match its SHA-256; the bundle was "
                          "changed after it was written")
+    with decoding(path, "fit bundle", "JSON"):
+        report = json.loads(contents[REPORT].decode("utf-8"))
+    if not isinstance(report, dict):
+        raise InputError(f"fit bundle {path.name}: its {REPORT} is not a report")
     draws = {}
     if DRAWS in names:
         with decoding(path, "fit bundle", "netCDF draws"):
-            with xr.open_dataset(io.BytesIO(archive.read(DRAWS)), engine="scipy") as dataset:
+            with xr.open_dataset(io.BytesIO(contents[DRAWS]), engine="scipy") as dataset:
                 for kind in dataset.data_vars:
                     draws[kind] = ([str(v) for v in dataset[f"{kind}_parameter"].values],
                                    np.asarray(dataset[kind].values, dtype=float))

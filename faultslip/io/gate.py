@@ -21,11 +21,13 @@ from __future__ import annotations
 
 import contextlib
 import gc
+import io
 import json
 import os
 import stat
 import sys
 import warnings
+import zipfile
 from pathlib import Path
 
 try:
@@ -50,7 +52,8 @@ LIMITS = {
 MAX_TOML_DEPTH = 32
 
 
-def _size(n: float) -> str:
+def size_text(n: float) -> str:
+    """A byte count as people read it: "1.5 GiB", "12 MiB", "3 kiB"."""
     return f"{n / 2**30:.1f} GiB" if n >= 2**30 else f"{n / MiB:.0f} MiB" if n >= MiB else f"{n / 1024:.0f} kiB"
 
 
@@ -78,8 +81,8 @@ def check_input(path, label: str, kind: str = "table", *, store: bool = False, l
                 "not a regular file")
         raise InputError(f"{label} {str(path)!r} is {what}; faultslip reads regular files only")
     if info.st_size > limit:
-        raise InputError(f"{label} {str(path)!r} is {_size(info.st_size)}; the limit for such a file is "
-                         f"{_size(limit)}")
+        raise InputError(f"{label} {str(path)!r} is {size_text(info.st_size)}; the limit for such a file is "
+                         f"{size_text(limit)}")
     if not os.access(path, os.R_OK):
         raise InputError(f"cannot read {label} {str(path)!r}: permission denied")
     return path
@@ -95,7 +98,7 @@ def read_bytes(path, label: str, kind: str = "table", limit: int | None = None) 
     except OSError as exc:
         raise InputError(f"cannot read {label} {str(path)!r}: {exc.strerror or exc}") from None
     if len(data) > limit:
-        raise InputError(f"{label} {str(path)!r} is larger than the limit for such a file, {_size(limit)}")
+        raise InputError(f"{label} {str(path)!r} is larger than the limit for such a file, {size_text(limit)}")
     return data
 
 
@@ -238,3 +241,59 @@ def decoding(path, label: str, what: str, silence: bool = False):
         raise InputError(f"cannot read {label} {name} as {what}: it needs more memory than is available") from None
     except Exception as exc:  # noqa: BLE001  every decoder raises its own types; all mean "not readable"
         raise InputError(f"cannot read {label} {name} as {what} ({_first_line(exc)})") from None
+
+
+#: Largest ratio of a zip member's size to its compressed size accepted above :data:`RATIO_FLOOR`: deflate
+#: reaches about 1,000:1 on one repeated byte, where records, reports, workbooks and checkpoints compress
+#: 2-30:1 (the shipped examples, and every file the test suite writes).
+MAX_COMPRESSION_RATIO = 200
+#: Members smaller than this are not held to the ratio (a small JSON of zeros compresses far).
+RATIO_FLOOR = MiB
+
+
+def open_zip(data: bytes, path, label: str, *, total_limit: int, member_limits: dict | None = None,
+             member_limit: int | None = None):
+    """A zip archive held in ``data``, checked before any member is inflated.
+
+    Refused in one sentence naming the file: not a zip; a member name given twice (a later entry would shadow
+    the first); a member whose declared size passes its limit (``member_limits[name]``, else ``member_limit``,
+    else ``total_limit``); members that together pass ``total_limit``; a member larger than :data:`RATIO_FLOOR`
+    compressed more than :data:`MAX_COMPRESSION_RATIO` to one (a zip bomb); an encrypted member. Python's
+    zipfile stops inflating a member at its declared size (and fails its CRC beyond), so the declared sizes
+    bound what any later read allocates.
+
+    Returns
+    -------
+    zipfile.ZipFile
+    """
+    with decoding(path, label, "a zip archive"):
+        archive = zipfile.ZipFile(io.BytesIO(data))
+        members = archive.infolist()
+    name = Path(path).name
+    seen, total = set(), 0
+    for info in members:
+        if info.filename in seen:
+            raise InputError(f"{label} {name} holds {info.filename!r} twice; one entry would shadow the other")
+        seen.add(info.filename)
+        if info.flag_bits & 0x1:
+            raise InputError(f"{label} {name}: member {info.filename!r} is encrypted")
+        limit = (member_limits or {}).get(info.filename, member_limit if member_limit is not None else total_limit)
+        if info.file_size > limit:
+            raise InputError(f"{label} {name}: member {info.filename!r} inflates to {size_text(info.file_size)}, past the "
+                             f"limit of {size_text(limit)} for it")
+        if info.file_size > RATIO_FLOOR and info.file_size > MAX_COMPRESSION_RATIO * max(info.compress_size, 1):
+            raise InputError(f"{label} {name}: member {info.filename!r} is compressed "
+                             f"{info.file_size / max(info.compress_size, 1):.0f} to 1, past the "
+                             f"{MAX_COMPRESSION_RATIO} to 1 real files reach (a zip bomb?)")
+        total += info.file_size
+        if total > total_limit:
+            raise InputError(f"{label} {name}: its members inflate to more than {size_text(total_limit)}, the limit "
+                             "for such a file")
+    return archive
+
+
+def read_member(archive, member: str, path, label: str) -> bytes:
+    """One member of an archive from :func:`open_zip`, its bytes (bounded by its checked declared size)."""
+    with decoding(path, label, f"its member {member}"):
+        return archive.read(member)
+

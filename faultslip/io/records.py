@@ -308,6 +308,30 @@ def write_checkpoint(path, **arrays) -> None:
             os.fsync(handle.fileno())
 
 
+def check_npy_headers(archive, path, label: str) -> None:
+    """Every ``.npy`` member of an ``.npz`` archive from :func:`open_zip` declares no more than it holds: its
+    header's shape times its item size is at most the member's declared size, and its type holds no Python
+    objects. Read before numpy allocates an array from the header."""
+    name = Path(path).name
+    for info in archive.infolist():
+        if not info.filename.endswith(".npy"):
+            raise InputError(f"{label} {name}: member {info.filename!r} is not an array (.npy)")
+        with gate.decoding(path, label, f"the header of {info.filename}"):
+            with archive.open(info) as stream:
+                version = np.lib.format.read_magic(stream)
+                reader = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                          else np.lib.format.read_array_header_2_0)
+                shape, _, dtype = reader(stream, max_header_size=10_000)
+        if dtype.hasobject:
+            raise InputError(f"{label} {name}: member {info.filename!r} holds Python objects, never loaded")
+        count = 1
+        for extent in shape:
+            count *= int(extent)
+        if count * dtype.itemsize > info.file_size:
+            raise InputError(f"{label} {name}: member {info.filename!r} declares {shape} of {dtype}, more than its "
+                             f"{gate.size_text(info.file_size)} hold")
+
+
 def read_checkpoint(path, layout: dict, what: str = "checkpoint") -> dict:
     """The arrays of the checkpoint at ``path``, checked against its digest and ``layout``.
 
@@ -322,6 +346,8 @@ def read_checkpoint(path, layout: dict, what: str = "checkpoint") -> dict:
     data = gate.read_bytes(path, label, "netcdf")
     if not data:
         raise InputError(f"{label} {str(path)!r} is empty; {_RESUME}")
+    # bounded before numpy allocates: the members' declared sizes and ratios, then each array header against them
+    check_npy_headers(gate.open_zip(data, path, label, total_limit=gate.LIMITS["netcdf"]), path, label)
     with gate.decoding(path, label, "a faultslip checkpoint"):
         with np.load(io.BytesIO(data), allow_pickle=False) as archive:
             saved = {key: archive[key] for key in archive.files}

@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 
 import csv
+import re
 from io import BytesIO
 from pathlib import Path
 
@@ -184,48 +185,102 @@ def read_numeric_csv(path, label: str) -> dict:
     return {name: (np.array(columns[name]), unit) for name, unit in header}
 
 
-def read_numeric_xlsx(path, label: str) -> dict:
-    """The first sheet of an Excel workbook (``.xlsx``) as a table: its first row names the columns, each
-    ``name (unit)`` as in a CSV header, and every row below holds numbers (empty rows at the end are dropped):
-    ``{name: (values, unit)}``. Read through openpyxl (the ``xlsx`` extra), cached values, no formulas run;
-    every problem is one sentence naming ``label`` and the cell."""
+#: Most columns, and most cells (rows x columns), a workbook's sheet may declare: a record of a million rows of
+#: twenty columns fits; a sheet that declares more (one stray cell at XFD1048576 declares 1.7e10) is refused from
+#: its dimension, before a row is read.
+MAX_WORKBOOK_COLUMNS, MAX_WORKBOOK_CELLS = 1024, 20_000_000
+_DIMENSION = re.compile(rb'<(?:\w+:)?dimension\s+ref="\$?([A-Z]{1,3})\$?(\d+)(?::\$?([A-Z]{1,3})\$?(\d+))?"')
+
+
+def _column_number(letters: bytes) -> int:
+    number = 0
+    for letter in letters:
+        number = number * 26 + letter - 64
+    return number
+
+
+def _open_workbook(path, label: str):
+    """An Excel workbook through the gate, bounded before openpyxl reads it: its zip members by their declared
+    sizes and ratios (:func:`faultslip.io.gate.open_zip`), each sheet by the dimension it declares."""
     try:
         from openpyxl import load_workbook  # heavy and optional (the xlsx extra): imported where used
     except ImportError:
         raise InputError(f"{label} is an Excel workbook: reading it needs openpyxl (pip install 'faultslip[xlsx]'), "
                          "or save it as CSV") from None
     data = gate.read_bytes(path, label, "table")
+    archive = gate.open_zip(data, path, label, total_limit=gate.LIMITS["table"])
+    for info in archive.infolist():
+        if not (info.filename.startswith("xl/worksheets/") and info.filename.endswith(".xml")):
+            continue
+        with gate.decoding(path, label, "an Excel workbook"):
+            with archive.open(info) as stream:
+                head = stream.read(65536)
+        found = _DIMENSION.search(head)
+        if found is None:
+            continue
+        last_column, last_row = found.group(3) or found.group(1), found.group(4) or found.group(2)
+        columns = _column_number(last_column) - _column_number(found.group(1)) + 1
+        rows = int(last_row) - int(found.group(2)) + 1
+        if columns > MAX_WORKBOOK_COLUMNS or rows * columns > MAX_WORKBOOK_CELLS:
+            span = f"{found.group(1).decode()}{found.group(2).decode()}:{last_column.decode()}{last_row.decode()}"
+            raise InputError(f"{label}: a sheet spans {span} ({rows:,} rows of {columns:,} columns), past the "
+                             f"{MAX_WORKBOOK_CELLS:,} cells and {MAX_WORKBOOK_COLUMNS:,} columns a record may have; "
+                             "clear the cells outside the table, or save it as CSV")
     with gate.decoding(path, label, "an Excel workbook"):
-        workbook = load_workbook(BytesIO(data), read_only=True, data_only=True)
-        rows = [list(row) for row in workbook.worksheets[0].iter_rows(values_only=True)]
+        return load_workbook(BytesIO(data), read_only=True, data_only=True)
+
+
+def read_numeric_xlsx(path, label: str) -> dict:
+    """The first sheet of an Excel workbook (``.xlsx``) as a table: its first row names the columns, each
+    ``name (unit)`` as in a CSV header, and every row below holds numbers (empty rows at the end are dropped):
+    ``{name: (values, unit)}``. Read through openpyxl (the ``xlsx`` extra), cached values, no formulas run,
+    bounded before it is read (:func:`_open_workbook`) and streamed a row at a time into arrays; every problem is
+    one sentence naming ``label`` and the cell."""
+    from array import array
+
+    workbook = _open_workbook(path, label)
+    try:
+        with gate.decoding(path, label, "an Excel workbook"):
+            sheet = workbook.worksheets[0]
+            first = next(sheet.iter_rows(max_row=1, max_col=MAX_WORKBOOK_COLUMNS, values_only=True), ())
+        width = max((index + 1 for index, cell in enumerate(first) if cell is not None), default=0)
+        if not width:
+            raise InputError(f"{label}: the first row of its first sheet names no column")
+        header = []
+        for column, cell in enumerate(first[:width], start=1):
+            if not isinstance(cell, str) or not cell.strip():
+                raise InputError(f"{label}: column {column} of the header row has no name ({cell!r})")
+            header.append(split_header(cell))
+        if len({name for name, _ in header}) != len(header):
+            raise InputError(f"{label}: two columns of the header row have one name")
+        columns = [array("d") for _ in header]
+        blank_since = None  # the first of a run of empty rows: allowed only at the end
+        with gate.decoding(path, label, "an Excel workbook"):
+            rows = sheet.iter_rows(min_row=2, max_col=width, values_only=True)
+            for number, row in enumerate(rows, start=2):
+                cells = list(row) + [None] * (width - len(row))
+                if all(cell is None for cell in cells):
+                    blank_since = blank_since or number
+                    continue
+                if blank_since is not None:
+                    raise InputError(f"{label}, row {blank_since}: an empty row inside the table")
+                if (number - 1) * width > MAX_WORKBOOK_CELLS:
+                    raise InputError(f"{label}: more than {MAX_WORKBOOK_CELLS:,} cells of numbers; save it as CSV")
+                for values, (name, _), cell in zip(columns, header, cells):
+                    if isinstance(cell, bool) or not isinstance(cell, (int, float)):
+                        raise InputError(f"{label}, row {number}: {name} {cell!r} is not a number")
+                    values.append(float(cell))
+    finally:
         workbook.close()
-    while rows and all(cell is None for cell in rows[-1]):
-        rows.pop()
-    if len(rows) < 2:
+    if not columns[0]:
         raise InputError(f"{label}: its first sheet needs a header row and at least one row of numbers")
-    width = max(index + 1 for index, cell in enumerate(rows[0]) if cell is not None) if any(
-        cell is not None for cell in rows[0]) else 0
-    if not width:
-        raise InputError(f"{label}: the first row of its first sheet names no column")
-    header = []
-    for column, cell in enumerate(rows[0][:width], start=1):
-        if not isinstance(cell, str) or not cell.strip():
-            raise InputError(f"{label}: column {column} of the header row has no name ({cell!r})")
-        header.append(split_header(cell))
-    if len({name for name, _ in header}) != len(header):
-        raise InputError(f"{label}: two columns of the header row have one name")
-    columns = {name: [] for name, _ in header}
-    for number, row in enumerate(rows[1:], start=2):
-        cells = list(row[:width]) + [None] * (width - len(row))
-        for (name, _), cell in zip(header, cells):
-            if isinstance(cell, bool) or not isinstance(cell, (int, float)):
-                raise InputError(f"{label}, row {number}: {name} {cell!r} is not a number")
-            columns[name].append(float(cell))
-    return {name: (np.array(columns[name]), unit) for name, unit in header}
+    return {name: (np.frombuffer(values, dtype=float).copy(), unit) for (name, unit), values in zip(header, columns)}
 
 
 #: a workbook sheet of this name (any case) holds a record's metadata: one key and value a row
 METADATA_SHEET = "metadata"
+#: Rows of a metadata sheet read (a record's metadata is tens of keys).
+MAX_METADATA_ROWS = 10_000
 
 
 def read_table_metadata(path, label: str) -> dict:
@@ -242,15 +297,19 @@ def read_table_metadata(path, label: str) -> dict:
     if suffix != ".xlsx":
         return {}
     try:
-        from openpyxl import load_workbook  # heavy and optional (the xlsx extra): imported where used
+        import openpyxl  # noqa: F401  heavy and optional (the xlsx extra): imported where used
     except ImportError:
         return {}
-    data = gate.read_bytes(path, label, "table")
+    workbook = _open_workbook(path, label)
     with gate.decoding(path, label, "an Excel workbook"):
-        workbook = load_workbook(BytesIO(data), read_only=True, data_only=True)
         sheets = [sheet for sheet in workbook.worksheets if sheet.title.strip().lower() == METADATA_SHEET]
-        rows = [list(row) for row in sheets[0].iter_rows(values_only=True)] if sheets else []
+        # a key and a value a row: two columns, and no more rows than a sheet of metadata has
+        rows = [list(row) for row in sheets[0].iter_rows(max_col=2, max_row=MAX_METADATA_ROWS + 1, values_only=True)] \
+            if sheets else []
         workbook.close()
+    if len(rows) > MAX_METADATA_ROWS:
+        raise InputError(f"{label}: its metadata sheet has more than {MAX_METADATA_ROWS:,} rows; a record's metadata "
+                         "is a key and a value a row")
     metadata = {}
     for number, row in enumerate(rows, start=1):
         if not row or all(cell is None for cell in row):
