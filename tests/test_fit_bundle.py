@@ -205,3 +205,45 @@ def test_an_inflating_manifest_is_refused_before_it_is_inflated(cli, tmp_path):
             archive.writestr(name, data)
     assert bomb.stat().st_size < 2**20
     assert_clean_error(cli("fit", "--replay", bomb), "manifest.json")
+
+
+def test_the_bundle_option_kinds_are_the_fit_parsers_own():
+    """FIT_OPTION_KINDS and FIT_OPTION_CHOICES say what the fit's parser declares: they cannot drift apart."""
+    from faultslip.cli.lab import FIT_OPTION_CHOICES, FIT_OPTION_KINDS, FIT_OPTIONS
+    from faultslip.cli.main import build_parser
+
+    parser = build_parser()
+    commands = next(action for action in parser._actions if action.__class__.__name__ == "_SubParsersAction")
+    declared = {action.dest: action for action in commands.choices["fit"]._actions if action.dest in FIT_OPTIONS}
+    assert set(declared) == set(FIT_OPTIONS)
+    for name, action in declared.items():
+        kind = ("switch" if type(action).__name__ == "_StoreTrueAction" else
+                "texts" if type(action).__name__ == "_AppendAction" else
+                "count" if action.type is int else "text")
+        assert FIT_OPTION_KINDS[name] == kind, name
+        assert FIT_OPTION_CHOICES.get(name) == (tuple(action.choices) if action.choices else None), name
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"bootstrap": "many"}, "'bootstrap' holds 'many'"),
+    ({"posterior": "yes"}, "'posterior' holds 'yes'"),
+    ({"joint": "other.csv"}, "'joint' holds 'other.csv'"),
+    ({"detrend": "cubic"}, "'detrend' is 'cubic'"),
+    ({"seed": 1.5}, "'seed' holds 1.5"),
+])
+def test_a_bundle_option_of_the_wrong_kind_is_one_sentence(cli, tmp_path, options, message):
+    members = _good(tmp_path, cli)
+    manifest = json.loads(members["manifest.json"])
+    manifest["options"] = {**manifest["options"], **options}
+    bad = tmp_path / "bad.zip"
+    _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
+    assert_clean_error(cli("fit", "--replay", bad), message)
+
+
+def test_a_manifest_whose_versions_is_not_a_table_is_one_sentence(cli, tmp_path):
+    members = _good(tmp_path, cli)
+    manifest = json.loads(members["manifest.json"])
+    manifest["versions"] = ["numpy", "2.0"]
+    bad = tmp_path / "bad.zip"
+    _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
+    assert_clean_error(cli("fit", "--replay", bad), "versions is not a table")

@@ -129,3 +129,21 @@ def test_the_reduce_command_writes_cf_netcdf_with_the_r_files_units(cli, tmp_pat
 
     (tmp_path / "bad_r").write_text("read p655intact100l\nplot 1 2\n")
     assert_clean_error(cli("reduce", tmp_path / "bad_r"), "does not know the command")
+
+
+def test_a_second_read_of_another_length_replaces_the_data_set(tmp_path):
+    """Two data files of different lengths: the second read replaces every slot, so no command mixes them."""
+    from faultslip.lab import look_reduction
+
+    short = LookFile("short", {"t": np.arange(3.0), "disp": np.arange(3.0), "load": np.ones(3)},
+                     {"t": "s", "disp": "micron", "load": "MPa"})
+    long = LookFile("long", {"t": np.arange(5.0), "disp": np.arange(5.0) * 2}, {"t": "s", "disp": "micron"})
+    files = iter([short, long])
+    original = look_reduction.read_look
+    look_reduction.read_look = lambda path: next(files)
+    try:
+        reduced = run_commands("read a.dat\nread b.dat\nmath 1 + 2 : 4 s micron", "test_r", base_dir=tmp_path)
+    finally:
+        look_reduction.read_look = original
+    np.testing.assert_array_equal(reduced.column(4), np.arange(5.0) * 3)
+    assert reduced.column(3) is None  # the first file's load column went with it

@@ -384,3 +384,84 @@ def test_no_process_of_a_sweep_outlives_it(executor, tmp_path):
         time.sleep(0.05)
         left = group()
     assert not left, left
+
+
+# A resume trusts nothing it cannot verify (issue 69): the ledger by its own checksum, each block by the digest
+# recorded when it was written, recomputed from the partial file.
+
+def _interrupted(study, out, monkeypatch, blocks_done: int = 3):
+    restore = _interrupt_on_call(monkeypatch, blocks_done + 1)
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, out, chunk_cells=30, workers=1)
+    restore()
+    return out.with_name(out.name + ".partial"), out.with_name(out.name + ".progress.json")
+
+
+def test_a_ledger_edited_to_list_every_block_as_done_is_refused(study, tmp_path, monkeypatch):
+    out = tmp_path / "s.nc"
+    partial, ledger = _interrupted(study, out, monkeypatch)
+    record = json.loads(ledger.read_text())
+    record["done"] = list(range(record["blocks"]))
+    ledger.write_text(json.dumps(record))
+    with pytest.warns(UserWarning, match="does not match its checksum"):
+        summary = run_study(study, out, chunk_cells=30, workers=1, resume=True)
+    assert summary["resumed_blocks"] == 0
+    fresh = tmp_path / "fresh.nc"
+    run_study(study, fresh, chunk_cells=30, workers=1)
+    with xr.open_dataset(out) as a, xr.open_dataset(fresh) as b:
+        xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())
+
+
+def test_a_ledger_resigned_after_its_blocks_were_listed_done_still_recomputes_them(study, tmp_path, monkeypatch):
+    """Even with its checksum made to match, a block listed done without a digest of its values is recomputed."""
+    from faultslip.studies.streaming import _ledger_checksum
+
+    out = tmp_path / "s.nc"
+    partial, ledger = _interrupted(study, out, monkeypatch)
+    record = json.loads(ledger.read_text())
+    record["done"] = list(range(record["blocks"]))
+    record["checksum"] = _ledger_checksum(record)
+    ledger.write_text(json.dumps(record))
+    with pytest.warns(UserWarning, match="cannot be verified"):
+        summary = run_study(study, out, chunk_cells=30, workers=1, resume=True)
+    assert summary["resumed_blocks"] == 3
+    with xr.open_dataset(out) as dataset:
+        assert not any(bool(dataset[name].isnull().any()) for name in dataset.data_vars
+                       if dataset[name].dtype.kind == "f" and name != "estimated_relative_error")
+
+
+def test_a_value_edited_in_the_partial_file_is_recomputed_not_carried(study, tmp_path, monkeypatch):
+    import netCDF4
+
+    out = tmp_path / "s.nc"
+    partial, ledger = _interrupted(study, out, monkeypatch)
+    with netCDF4.Dataset(partial, "a") as nc:
+        name = next(key for key, variable in nc.variables.items()
+                    if key not in nc.dimensions and variable.dtype.kind == "f" and variable.ndim)
+        variable = nc[name]
+        variable[(0,) * variable.ndim] = 1234.5
+    with pytest.warns(UserWarning, match="1 block\\(s\\) of s.nc.partial cannot be verified"):
+        summary = run_study(study, out, chunk_cells=30, workers=1, resume=True)
+    assert summary["resumed_blocks"] == 2
+    fresh = tmp_path / "fresh.nc"
+    run_study(study, fresh, chunk_cells=30, workers=1)
+    with xr.open_dataset(out) as a, xr.open_dataset(fresh) as b:
+        xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())
+
+
+@pytest.mark.parametrize("resume", [False, True])
+def test_a_partial_output_planted_as_a_link_is_never_written_through(study, tmp_path, monkeypatch, resume):
+    outside = tmp_path / "elsewhere"
+    outside.mkdir()
+    victim = outside / "victim.nc"
+    victim.write_bytes(b"keep me")
+    folder = tmp_path / "run"
+    folder.mkdir()
+    out = folder / "s.nc"
+    if resume:
+        _interrupted(study, out, monkeypatch)
+        out.with_name("s.nc.partial").unlink()
+    out.with_name("s.nc.partial").symlink_to(victim)
+    with pytest.raises(InputError, match="symbolic link, which faultslip never follows"):
+        run_study(study, out, chunk_cells=30, workers=1, resume=resume)
+    assert victim.read_bytes() == b"keep me" and not out.exists()

@@ -39,6 +39,39 @@ from faultslip.units import to_si
 FIT_OPTIONS = ("law", "loss", "bootstrap", "seed", "mu_m", "stiffness", "select_law", "stiffness_free", "joint", "area",
                "units", "detrend", "steps", "min_change", "each_step", "windows", "posterior", "samples", "walkers", "max_steps",
                "prior", "workers", "evolution", "two_state", "shear_modulus", "columns", "span")
+#: what each of them holds, as the fit's parser declares it (tests/test_fit_bundle.py holds the two together):
+#: a whole number, a switch, a repeated text, or text (None where not given); a bundle's option of another kind is
+#: refused before the replay runs
+FIT_OPTION_KINDS = {**{name: "text" for name in FIT_OPTIONS},
+                    **{name: "count" for name in ("bootstrap", "seed", "samples", "walkers", "max_steps", "workers")},
+                    **{name: "switch" for name in ("select_law", "stiffness_free", "each_step", "posterior", "two_state")},
+                    "joint": "texts", "prior": "texts"}
+#: the options whose text is one of a few
+FIT_OPTION_CHOICES = {"law": ("rate-law", "rate-state"), "detrend": ("none", "linear", "quadratic", "fitted"),
+                      "evolution": ("aging", "slip")}
+
+
+_KIND_WORDS = {"count": "a whole number", "switch": "true or false", "texts": "a list of texts", "text": "text"}
+
+
+def _check_bundle_options(options: dict, source) -> None:
+    """A bundle's options, each of the kind 'faultslip fit' takes (:data:`FIT_OPTION_KINDS`), or one sentence."""
+    unknown = sorted(set(options) - set(FIT_OPTIONS))
+    if unknown:
+        raise FaultslipError(f"fit bundle {source}: option {unknown[0]!r} is not one 'faultslip fit' has")
+    for name, value in options.items():
+        kind = FIT_OPTION_KINDS[name]
+        fits = (value is None and kind != "switch" or
+                kind == "count" and isinstance(value, int) and not isinstance(value, bool) or
+                kind == "switch" and isinstance(value, bool) or
+                kind == "texts" and isinstance(value, list) and all(isinstance(v, str) for v in value) or
+                kind == "text" and isinstance(value, str))
+        if not fits:
+            raise FaultslipError(f"fit bundle {source}: option {name!r} holds {value!r}, where 'faultslip fit' takes "
+                                 f"{_KIND_WORDS[kind]}")
+        if name in FIT_OPTION_CHOICES and value is not None and value not in FIT_OPTION_CHOICES[name]:
+            raise FaultslipError(f"fit bundle {source}: option {name!r} is {value!r}, not one of "
+                                 f"{', '.join(FIT_OPTION_CHOICES[name])}")
 
 
 def cmd_fit(args) -> int:
@@ -105,9 +138,7 @@ def _replay_fit(args) -> int:
         raise FaultslipError(f"--replay runs the bundle's own fit: it takes no {given[0]}")
     bundle = read_bundle(args.replay)
     options = bundle.manifest["options"]
-    unknown = sorted(set(options) - set(FIT_OPTIONS))
-    if unknown:
-        raise FaultslipError(f"fit bundle {args.replay}: option {unknown[0]!r} is not one 'faultslip fit' has")
+    _check_bundle_options(options, args.replay)
     with tempfile.TemporaryDirectory(prefix="faultslip-replay-") as folder:
         record = extract_record(bundle, folder)
         replay = argparse.Namespace(**{**vars(args), **options, "data": str(record), "replay": None, "bundle": None,
@@ -122,6 +153,8 @@ def _replay_fit(args) -> int:
                       if again.shape == values.shape else math.inf)
             moved_draws.append((kind, change))
     versions = bundle.manifest.get("versions", {})
+    if not (isinstance(versions, dict) and all(isinstance(v, str) or v is None for v in versions.values())):
+        raise FaultslipError(f"fit bundle {args.replay}: its manifest's versions is not a table of package versions")
     now = package_versions()
     differ = sorted(name for name in set(versions) | set(now) if versions.get(name) != now.get(name))
     # a replay that computes numbers its bundle lacks, or finds none to compare, has shown nothing identical

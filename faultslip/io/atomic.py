@@ -16,7 +16,7 @@ import shutil
 from pathlib import Path
 
 from faultslip.errors import InputError
-from faultslip.io.outputs import as_output_error, disk_is_full, full_disk_error, output_lock
+from faultslip.io.outputs import as_output_error, disk_is_full, full_disk_error, output_lock, refuse_links
 
 
 #: Renames deferred by an open :func:`transaction`: (temporary, target) pairs.
@@ -164,6 +164,7 @@ def partial_output(target):
     target = Path(target)
     partial = target.with_name(target.name + ".partial")
     directory = target.parent if str(target.parent) else Path(".")
+    refuse_links(partial)
     try:
         yield partial
     except BaseException as exc:
@@ -179,6 +180,7 @@ def commit(partial, target) -> None:
     ``target``: the one rename of such outputs; a failure is one sentence."""
     target = Path(target)
     directory = target.parent if str(target.parent) else Path(".")
+    refuse_links(partial)  # a planted link would become the output, pointing out of its folder
     try:
         os.replace(partial, target)
     except OSError as exc:

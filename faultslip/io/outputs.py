@@ -92,6 +92,17 @@ def check_output(path, *, label: str, suffixes=None, inputs=(), overwrite: bool 
     return target
 
 
+def refuse_links(*paths, label: str = "") -> None:
+    """Refuse, in one sentence, any of ``paths`` that is a symbolic link: a partial output, a ledger, a lock or a
+    work folder that faultslip would write through is never followed out of its folder (the 2-D streams' rule,
+    for every output)."""
+    for path in paths:
+        path = Path(path)
+        if path.is_symlink():
+            raise InputError(f"{label + ': ' if label else ''}{str(path)!r} is a symbolic link, which faultslip never "
+                             "follows; remove it and run again")
+
+
 def check_encodable(path, label: str) -> Path:
     """Refuse a path that is not valid UTF-8 (bytes the file system allows but netCDF-C, HDF5 and the
     formats' own metadata cannot name): one sentence before any work, instead of netCDF4's

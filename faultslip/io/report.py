@@ -190,7 +190,9 @@ def _number(value: float) -> str:
 
 def _plain_text(value) -> str:
     """A plain field as a reader wants it: numbers rounded to their meaning, lists and tables one line."""
-    if isinstance(value, bool) or value is None:
+    if value is None:  # a value that does not exist here (no range outside a calibration; no coupling)
+        return "none"
+    if isinstance(value, bool):
         return str(value)
     if isinstance(value, float):
         return _number(value)
@@ -221,6 +223,8 @@ def _format_item(item: Item) -> str:
         shown = [significant(v / factor, width / factor / 10 if width else None) for v in values]
         return " to ".join(shown) + (f" {unit}" if unit else "") if len(values) == 2 else \
             "[" + ", ".join(shown) + "]" + (f" {unit}" if unit else "")
+    if item.value is None:
+        return "none"
     value = float(item.value)
     unit, factor = display_unit([value], item.units)
     error = item.error / factor if item.error is not None else None

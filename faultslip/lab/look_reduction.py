@@ -163,6 +163,8 @@ def _load(state: Reduction, look) -> None:
     names = list(look.columns)
     if len(names) >= SLOTS:
         raise InputError(f"{look.name}: {len(names)} columns do not fit xlook's {SLOTS - 1} data slots")
+    # a read replaces the data set whole (xlook's read): no slot of an earlier file, of another length, survives
+    state.names[:], state.units[:], state.data[:] = [None] * SLOTS, [None] * SLOTS, [None] * SLOTS
     state.names[0], state.units[0], state.data[0] = "rec_num", "1", np.arange(look.records, dtype=float)
     state.experiment = look.name  # it travels into the netCDF, and from there into a fit's metadata
     for slot, name in enumerate(names, start=1):
@@ -184,6 +186,9 @@ def _values(state: Reduction, text: str, where: str) -> np.ndarray:
     slot = _slot(text, where)
     if state.data[slot] is None:
         raise InputError(f"{where}: column {slot} holds no data (read the data file first, or fill the column)")
+    if len(state.data[slot]) != _records(state):
+        raise InputError(f"{where}: column {slot} holds {len(state.data[slot])} records where the data set has "
+                         f"{_records(state)}")
     return state.data[slot]
 
 

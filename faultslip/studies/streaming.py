@@ -34,7 +34,7 @@ from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, pa
 from faultslip.io.netcdf import create_chunked, open_for_append
 from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
 from faultslip.errors import FaultslipError, InputError
-from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock
+from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock, refuse_links
 from faultslip.io.processes import (THREADS_VARIABLE, SharedRing, descendants, reap, run_windowed, shared_segment,
                                     stop_pool, worker_pool)
 from faultslip.io.resources import open_dataset_lazily
@@ -53,6 +53,25 @@ INT_FILL = np.int8(-127)
 def stored(dtype) -> tuple:
     """How an output is stored: (numpy type, fill value); flags as int8, everything else as float64."""
     return (np.int8, INT_FILL) if np.issubdtype(dtype, np.integer) else (np.float64, FLOAT_FILL)
+
+
+#: The key under which a block's task returns its digest beside its chunks (no output is named "").
+DIGEST = ""
+
+
+def block_digest(arrays: dict) -> str:
+    """SHA-256 of a block's outputs as the file stores them (:func:`stored` types, the study's dimension order):
+    recorded in the progress ledger when the block is written, recomputed from the partial file before a resume
+    trusts it."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    for name in sorted(arrays):
+        values = np.asarray(arrays[name])
+        values = np.ascontiguousarray(values.astype(stored(values.dtype)[0], copy=False))
+        digest.update(f"{name}|{values.dtype.str}|{values.shape}|".encode())
+        digest.update(values.tobytes())
+    return digest.hexdigest()
 
 
 #: A block's target wall time: long enough to amortise its dispatch and write, short enough that slow
@@ -201,9 +220,11 @@ def encode_block(study, block, chunks, compression="zlib") -> dict:
     """
     shape = tuple(chunks[n] for n in study.dims)
     encoded = {}
-    for name, values in block_arrays(study, block).items():
+    arrays = block_arrays(study, block)
+    for name, values in arrays.items():
         kind, fill = stored(values.dtype)
         encoded[name] = encode_chunk(padded(values.astype(kind, copy=False), shape, fill), compression)
+    encoded[DIGEST] = block_digest(arrays)
     return encoded
 
 
@@ -214,7 +235,9 @@ def encode_block_shared(study, block, chunks, compression, segment: str) -> dict
     view = shared_segment(segment)
     layout, offset = {}, 0
     for name, data in encode_block(study, block, chunks, compression).items():
-        if offset + len(data) <= len(view):
+        if name == DIGEST:
+            layout[name] = data
+        elif offset + len(data) <= len(view):
             view[offset:offset + len(data)] = data
             layout[name] = (offset, len(data))
             offset += len(data)
@@ -256,6 +279,8 @@ class _ChunkWriter:
         view = self._ring.view(lease[0]) if lease else None
         try:
             for name, data in encoded.items():
+                if name == DIGEST:
+                    continue
                 if isinstance(data, tuple):
                     start, length = data
                     data = view[start:start + length]
@@ -263,6 +288,9 @@ class _ChunkWriter:
         finally:
             if lease:
                 self._ring.release(lease[0])
+
+    def digest(self, block, encoded) -> str:
+        return encoded[DIGEST]
 
     def sync(self):
         self._file.flush()
@@ -292,6 +320,11 @@ class _NetcdfWriter:
     def store(self, block, dataset, lease=()):
         _write_block(self._nc, self._study, block, dataset)
 
+    def digest(self, block, dataset) -> str:
+        names = list(self._study.dims)
+        return block_digest({name: dataset[name].transpose(*names).values if names else dataset[name].values
+                             for name in dataset.data_vars})
+
     def sync(self):
         self._nc.sync()
 
@@ -302,12 +335,14 @@ class _NetcdfWriter:
 def write_zarr_block(study, block, path) -> int:
     """Worker task: compute one block and write it into its region of the Zarr store at ``path``.
 
-    Nothing but the cell count returns to the client: on a cluster every worker writes its own
+    Nothing but the block's digest (:func:`block_digest`) returns to the client: on a cluster every worker writes its own
     chunks (the store must be on a file system the workers share).
     """
     dataset = compute_block(study, block)
     write_region(path, dataset, dict(block))
-    return int(np.prod([s.stop - s.start for s in block.values()]))
+    names = list(study.dims)
+    return block_digest({name: dataset[name].transpose(*names).values if names else dataset[name].values
+                         for name in dataset.data_vars})
 
 
 class _ZarrWriter:
@@ -329,6 +364,9 @@ class _ZarrWriter:
 
     def store(self, block, written, lease=()):
         pass
+
+    def digest(self, block, written) -> str:
+        return written
 
     def sync(self):
         pass
@@ -412,30 +450,75 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
             raise
 
 
-def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> tuple[set, list]:
-    """Blocks already on disk from an interrupted run and the cells of theirs that failed, or nothing (with a
-    warning saying why)."""
+def _ledger_checksum(record: dict) -> str:
+    """SHA-256 of a progress ledger's content (its own ``checksum`` left out), keys sorted."""
+    import hashlib
+
+    body = {key: value for key, value in record.items() if key != "checksum"}
+    return hashlib.sha256(json.dumps(body, sort_keys=True).encode("utf-8")).hexdigest()
+
+
+def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> tuple[set, list, dict]:
+    """Blocks already on disk from an interrupted run, the cells of theirs that failed and each block's digest, or
+    nothing (with a warning saying why). The ledger is trusted only where its own checksum matches; its blocks
+    are verified against the partial file afterwards (:func:`_verified_blocks`)."""
     if not (partial.exists() or ledger.exists()):
-        return set(), []
+        return set(), [], {}
     if not resume:
         warnings.warn(f"an interrupted run left {partial.name}; starting over (pass --resume to continue it)",
                       stacklevel=3)
-        return set(), []
+        return set(), [], {}
     try:
         record = gate.read_json(ledger, "progress record")
         done = {int(i) for i in record["done"]}
         failed = list(record.get("failed", []))
+        digests = {int(key): str(value) for key, value in record["digests"].items()}
         same = record.get("fingerprint") == fingerprint and record.get("blocks") == blocks
+        intact = record.get("checksum") == _ledger_checksum(record)
     except (InputError, ValueError, KeyError, TypeError, AttributeError):
         warnings.warn(f"the progress record {ledger.name} is unreadable; starting over", stacklevel=3)
-        return set(), []
+        return set(), [], {}
+    if not intact:
+        warnings.warn(f"the progress record {ledger.name} does not match its checksum (it was changed after it was "
+                      "written); starting over", stacklevel=3)
+        return set(), [], {}
     if not same:
         warnings.warn(f"{partial.name} belongs to a different study or chunking; starting over", stacklevel=3)
-        return set(), []
+        return set(), [], {}
     if not partial.exists() or any(not 0 <= i < blocks for i in done):
         warnings.warn(f"{partial.name} is missing or inconsistent with its record; starting over", stacklevel=3)
-        return set(), []
-    return done, failed
+        return set(), [], {}
+    return done, failed, digests
+
+
+def _verified_blocks(partial: Path, file_format: str, study, blocks: list, done: set, digests: dict) -> set:
+    """The blocks of ``done`` whose values in the partial file match the digest the ledger recorded when they were
+    written (:func:`block_digest`); each other block is recomputed, and said so."""
+    import xarray as xr  # heavy: imported where used
+
+    names = list(study.dims)
+    verified, changed = set(), []
+    with gate.decoding(partial, "the partial output", "a Zarr store" if file_format == "zarr" else "netCDF",
+                       silence=True):
+        opened = (xr.open_zarr(partial, mask_and_scale=False, decode_times=False, chunks=None)
+                  if file_format == "zarr" else
+                  xr.open_dataset(partial, engine="netcdf4", mask_and_scale=False, decode_times=False))
+        with opened as dataset:
+            outputs = [name for name in dataset.data_vars if set(dataset[name].dims) == set(names)]
+            for index in sorted(done):
+                if index not in digests:
+                    changed.append(index)
+                    continue
+                region = dataset.isel({name: blocks[index][name] for name in names}) if names else dataset
+                arrays = {name: region[name].transpose(*names).values for name in outputs}
+                if block_digest(arrays) == digests[index]:
+                    verified.add(index)
+                else:
+                    changed.append(index)
+    if changed:
+        warnings.warn(f"{len(changed)} block(s) of {partial.name} cannot be verified against the digests recorded "
+                      f"when they were written (changed, or never completed); recomputing them", stacklevel=3)
+    return verified
 
 
 def failure_ledger(output) -> Path:
@@ -479,6 +562,8 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     chunks, blocks = plan_blocks(study, chunk_cells)
     partial = output.with_name(output.name + ".partial")
     ledger = output.with_name(output.name + ".progress.json")
+    # on a fresh run and on resume alike: nothing this run writes through may lead out of its folder
+    refuse_links(partial, ledger, output.with_name(output.name + ".cells"), failure_ledger(output), label="sweep")
     fingerprint = study.fingerprint()
     done: set[int] = set()
     failures: list = []
@@ -487,14 +572,23 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         study.work_dir = output.with_name(output.name + ".cells")
         study.work_dir.mkdir(exist_ok=True)
     template = template_block(study)
-    done, failures = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
+    done, failures, digests = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
+    if done:
+        try:
+            done = _verified_blocks(partial, file_format, study, blocks, done, digests)
+        except InputError as exc:  # unreadable: truncated by a kill -9, or not ours
+            warnings.warn(f"cannot verify {partial.name} ({exc}); starting over", stacklevel=2)
+            done = set()
+        # a block recomputed takes its failures with it; a block that failed whole has no digest and is retried
+        failures = [cell for cell in failures if cell.get("block") in done]
+        digests = {index: digests[index] for index in done}
     writer = None
     if done:
         try:
             writer = _open_writer(partial, study, template, chunks, compression, fresh=False, file_format=file_format)
         except (OSError, IndexError, KeyError, RuntimeError, InputError) as exc:  # truncated by a kill -9, or foreign
             warnings.warn(f"cannot continue {partial.name} ({exc}); starting over", stacklevel=2)
-            done, failures = set(), []
+            done, failures, digests = set(), [], {}
     if not done:
         if study.work_dir is not None:  # a fresh start: no cell continues a run of another study
             shutil.rmtree(study.work_dir, ignore_errors=True)
@@ -524,17 +618,20 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
             yield i, (writer.task, study, blocks[i], *writer.extra, *leases[i])
 
     def record_progress():
-        write_text_atomic(ledger, json.dumps({"fingerprint": fingerprint, "blocks": len(blocks), "done": sorted(done),
-                                              "failed": failures}),
+        record = {"fingerprint": fingerprint, "blocks": len(blocks), "output": output.name, "done": sorted(done),
+                  "failed": failures, "digests": {str(index): digest for index, digest in sorted(digests.items())}}
+        record["checksum"] = _ledger_checksum(record)
+        write_text_atomic(ledger, json.dumps(record),
                           immediate=True)  # a resume reads it after a kill: it cannot wait for the run's end
 
     def finished_block(index, result):
         payload, failed = result
         block = blocks[index]
+        digests[index] = writer.digest(block, payload)  # before store: a shared segment is released by it
         writer.store(block, payload, leases.pop(index))
         for local, _, reason in failed:
             cell = {name: block[name].start + i for name, i in zip(study.dims, local)}
-            failures.append({"index": cell, "values": _cell_values(study, cell), "reason": reason})
+            failures.append({"index": cell, "values": _cell_values(study, cell), "reason": reason, "block": index})
         done.add(index)
         if progress:
             progress(len(done), len(blocks))
@@ -547,7 +644,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         block = blocks[index]
         for local in itertools.product(*(range(block[n].stop - block[n].start) for n in study.dims)):
             cell = {name: block[name].start + i for name, i in zip(study.dims, local)}
-            failures.append({"index": cell, "values": _cell_values(study, cell), "reason": reason})
+            failures.append({"index": cell, "values": _cell_values(study, cell), "reason": reason, "block": index})
         done.add(index)  # its region keeps the fill values; the ledger lists its cells for --retry-failed
         if progress:
             progress(len(done), len(blocks))
@@ -596,7 +693,8 @@ def _write_failure_ledger(output: Path, study, fingerprint: str, failures: list)
     if not failures:
         path.unlink(missing_ok=True)
         return None
-    failures = sorted(failures, key=lambda cell: [cell["index"][n] for n in study.dims])
+    failures = sorted(({key: value for key, value in cell.items() if key != "block"} for cell in failures),
+                      key=lambda cell: [cell["index"][n] for n in study.dims])
     write_text_atomic(path, json.dumps({"study": study.name, "fingerprint": fingerprint, "output": output.name,
                                         "dimensions": list(study.dims), "failed_cells": len(failures),
                                         "cells": failures}, indent=1) + "\n")
