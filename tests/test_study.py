@@ -465,3 +465,23 @@ def test_a_partial_output_planted_as_a_link_is_never_written_through(study, tmp_
     with pytest.raises(InputError, match="symbolic link, which faultslip never follows"):
         run_study(study, out, chunk_cells=30, workers=1, resume=resume)
     assert victim.read_bytes() == b"keep me" and not out.exists()
+
+
+def test_an_axis_of_a_hundred_thousand_values_is_checked_without_a_scene_per_value(monkeypatch):
+    """Its ends and an even spread are read (64 scenes), not 100,000, before the budget sees the study."""
+    from faultslip.contract import cells as cells_module
+
+    built = []
+    original = cells_module.checked_values
+    monkeypatch.setattr(cells_module, "checked_values", lambda values: built.append(len(values)) or original(values))
+    study = parse_study('[study]\nbase = "nanoscale_seed001.toml"\n[sweep]\n'
+                        'damping = { linspace = [1.0, 13.0, 100000] }\n')
+    assert study.size == 100_000 and built == [100_000]
+    picked = original(study.dims["damping"])
+    assert len(picked) == 64 and picked[0] == study.dims["damping"][0] and picked[-1] == study.dims["damping"][-1]
+
+
+def test_an_axis_past_a_million_values_is_refused_before_it_is_built():
+    with pytest.raises(InputError, match="at most 1e\\+06"):
+        parse_study('[study]\nbase = "san_andreas_1906.toml"\n[sweep]\n'
+                    'slip_rate = { logspace = ["1 mm/yr", "100 mm/yr", 100000000] }\n')

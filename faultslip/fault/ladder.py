@@ -245,6 +245,16 @@ def box_of(rows: list[dict]) -> dict:
     return {name: [float(table[:, k].min()), float(table[:, k].max())] for k, name in enumerate(FEATURES)}
 
 
+def expected_recurrence(fault: FaultDescription, calibration: dict | None = None) -> float:
+    """The recurrence (s) the one-slider rung expects of a fault: the corrected block inside the calibrated box,
+    and outside it the block times the calibration's median ratio (what a run's budget counts its events by)."""
+    table = calibration or load_calibration()
+    raw, group = block_answer(fault, cycles=2)
+    if outside_box(group, table):
+        return raw["recurrence"] * (1.0 + table["recurrence"]["median_bias_uncorrected"])
+    return predict("recurrence", raw["recurrence"], group, table)["value"]
+
+
 def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | None = None):
     """The one-slider rung on a fault description: the derived block, corrected, with its 95 % ranges.
 

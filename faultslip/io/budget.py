@@ -26,8 +26,9 @@ STUDY_CELL_RATE = 4e5
 SIMULATED_CELL_RATE = 25.0
 #: Disk bytes per raw output byte under zlib (measured 0.37 on the San Andreas studies).
 ZLIB_RATIO = 0.5
-#: Largest number of values of one swept dimension (its coordinate alone would take 0.8 GB).
-MAX_DIMENSION_VALUES = 100_000_000
+#: Largest number of values of one swept dimension: a study's axis is held as Python numbers while the study is read
+#: (1e8 of them took gigabytes before any budget was checked); a million is far past any grid a study runs.
+MAX_DIMENSION_VALUES = 1_000_000
 OVERRIDE = "--allow-large"
 
 
@@ -172,18 +173,38 @@ FAULT_2D_STEPS = {"scale": 15.0, "plate_rate": 1.02, "width_over_nucleation": 0.
 #: Seconds per Dormand-Prince step (six force balances and the stress kernel) on N elements: c0 + c1 N,
 #: measured 0.13 ms at 40 elements, 0.92 ms at 800 and 1.40 ms at 1,600 on the 2-core benchmark machine
 #: (benchmarks/fault_2d.py, 2026-11-24), taken twice for a busy machine.
-FAULT_2D_STEP_SECONDS = (1e-4, 8.5e-7, 2.0)
+FAULT_2D_STEP_SECONDS = (1.43e-4, 6.36e-7, 1.0)
+#: Steps from the events a run will see (issue 68): ln steps = ln A + p ln(events) + q ln(W / h*) + r ln(N), fitted
+#: on the 36 calibration runs of benchmarks/ladder_designs.py (3 elements per L_b, rtol 1e-8), where a run's events
+#: come from its duration over the recurrence the one-slider rung predicts; with the per-step seconds above, the
+#: 34 held-out runs' CPU time came within 0.63-2.5x (30 of 34 within 2x). The resolution and rtol factors of
+#: FAULT_2D_STEPS carry it to other element sizes and tolerances.
+FAULT_2D_EVENT_STEPS = {"scale": math.exp(5.33), "events": 0.782, "width_over_nucleation": 0.509, "elements": 0.581,
+                        "resolution": 3.0, "rtol": 1e-8}
+
+
+def _resolution_factor(ratio: float) -> float:
+    """How the steps grow with the element size h over L_b (:data:`FAULT_2D_STEPS`)."""
+    c = FAULT_2D_STEPS
+    ratio = min(max(ratio, 1e-6), 1e6)
+    return ratio ** c["coarse"] * max(1.0, c["fine_below"] / ratio) ** c["fine"]
 
 
 def fault_2d_steps(*, years: float, plate_rate: float, element_size: float, process_zone: float,
-                   nucleation_size: float, seismogenic_width: float, rtol: float) -> float:
-    """Steps a 2-D fault run takes over ``years`` (an upper estimate, from :data:`FAULT_2D_STEPS`)."""
+                   nucleation_size: float, seismogenic_width: float, rtol: float, events: float | None = None,
+                   elements: int | None = None) -> float:
+    """Steps a 2-D fault run takes over ``years``: from the ``events`` it will see where they are known
+    (:data:`FAULT_2D_EVENT_STEPS`, a central estimate), else an upper estimate from :data:`FAULT_2D_STEPS`."""
     c = FAULT_2D_STEPS
     # a fault without weakening (b = 0 everywhere: L_b infinite) creeps: its resolution costs nothing extra
     ratio = element_size / process_zone if 0 < process_zone < math.inf else 1.0
-    ratio = min(max(ratio, 1e-6), 1e6)
-    resolution = ratio ** c["coarse"] * max(1.0, c["fine_below"] / ratio) ** c["fine"]
+    resolution = _resolution_factor(ratio)
     partial = max(seismogenic_width, element_size) / nucleation_size if math.isfinite(nucleation_size) else 0.1
+    if events is not None and elements and events > 0 and math.isfinite(nucleation_size):
+        e = FAULT_2D_EVENT_STEPS
+        return (e["scale"] * events ** e["events"] * partial ** e["width_over_nucleation"]
+                * elements ** e["elements"] * resolution / _resolution_factor(1.0 / e["resolution"])
+                * (rtol / e["rtol"]) ** c["rtol"]) + 100.0
     per_year = (c["scale"] * (plate_rate / 1e-9) ** c["plate_rate"] * partial ** c["width_over_nucleation"]
                 * (rtol / 1e-7) ** c["rtol"] * resolution)
     return c["margin"] * per_year * years + 100.0

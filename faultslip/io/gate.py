@@ -28,6 +28,7 @@ import stat
 import sys
 import warnings
 import zipfile
+from collections import Counter
 from pathlib import Path
 
 try:
@@ -50,6 +51,12 @@ LIMITS = {
 }
 #: Deepest nesting of arrays and inline tables accepted in TOML (real files use 2 or 3).
 MAX_TOML_DEPTH = 32
+
+
+def repeated_names(names) -> list:
+    """The names given more than once, sorted: in linear time (a 20,000-column header took a minute when each name
+    was counted across the list)."""
+    return sorted(name for name, count in Counter(names).items() if count > 1)
 
 
 def size_text(n: float) -> str:

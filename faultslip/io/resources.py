@@ -82,7 +82,7 @@ def read_unit_csv(path, label: str):
             names = [name for name, _ in header]
             if any(not name for name in names):
                 raise InputError(f"{label}: a column has no name in the header")
-            repeated = sorted({name for name in names if names.count(name) > 1})
+            repeated = gate.repeated_names(names)
             if repeated:
                 raise InputError(f"{label}: the column {repeated[0]!r} appears twice in the header")
             rows = []
@@ -387,7 +387,7 @@ def read_numeric_text(path, label: str) -> dict:
         header = [(name, None if unit in ("-", "1") else unit.strip("()[]")) for (name, _), unit in zip(header, units)]
         rest = rest[1:]
     names = [name for name, _ in header]
-    repeated = sorted({name for name in names if names.count(name) > 1})
+    repeated = gate.repeated_names(names)
     if repeated:
         raise InputError(f"{label}: the column {repeated[0]!r} appears twice in the header")
     if not rest:

@@ -106,7 +106,7 @@ def read_accelerometer(path) -> AccelerometerRecord:
         raise InputError(f"{label} is not valid CSV ({exc})") from None
     header = [split_header(cell) for cell in rows[0]]
     names = [name for name, _ in header]
-    repeated = sorted({name for name in names if names.count(name) > 1})
+    repeated = gate.repeated_names(names)
     if repeated:
         raise InputError(f"{label}: the column {repeated[0]!r} appears twice in the header")
     phyphox = names[0] == "Time" and any(name.endswith(" x") and "cceleration" in name for name in names)

@@ -209,9 +209,10 @@ METHODS = {
                   "their sequences change character); declared error in recurrence: the largest of the "
                   f"sequence's, 10 rtol and the element size's {DISCRETISATION_AT_MINIMUM:g} "
                   f"({MIN_RESOLUTION:g} h / L_b)^{DISCRETISATION_ORDER:g}, a bound measured on three faults",
-        "cost_model": "Dormand-Prince 5(4) steps: about 15 (V_pl / 1e-9 m/s) (W / h*) (rtol / 1e-7)^-0.18 a simulated "
-                      "year, times the resolution's factor (faultslip.io.budget.fault_2d_steps), each step "
-                      "0.1 ms + 0.85 us per element; BP1 at 25 m over 3000 yr: 262,150 steps, 6 min",
+        "cost_model": "Dormand-Prince 5(4) steps counted from the system-size events the run will see (its duration "
+                      "over the recurrence the one-slider rung expects), its W / h*, elements, element size and rtol "
+                      "(faultslip.io.budget.fault_2d_steps), each step 0.14 ms + 0.64 us per element; a central "
+                      "estimate, measured against CPU time in benchmarks/ladder_escalations.py",
         "declared_error": "the largest of the sequence's spread (or an aperiodic mean's sampling error), 10 rtol and "
                           "the discretisation bound; with --richardson, twice the correction two resolutions show"},
 }

@@ -44,7 +44,9 @@ from faultslip.models.fault_2d.integrate import BP1_STATIONS, YEAR, run_cycles
 from faultslip.models.fault_2d.analysis import MIN_RESOLUTION
 from faultslip.models.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip import ranges
-from faultslip.errors import InputError
+from faultslip.io import gate
+from faultslip.errors import FaultslipError, InputError
+from faultslip.fault.ladder import expected_recurrence
 from faultslip.io.seas import station_file_name
 from faultslip.io import budget
 from faultslip.io.processes import threads_are_automatic, threads_for
@@ -115,15 +117,24 @@ class Fault2DScene:
                           coseismic_interval=self.coseismic_interval, folder=folder, resume=resume, progress=progress,
                           threads=threads, adapt_threads=self.threads is None and threads_are_automatic())
 
+    def expected_events(self) -> float | None:
+        """The system-size events this run will see: its duration over the recurrence the one-slider rung expects
+        (:func:`faultslip.fault.ladder.expected_recurrence`); None where the block has none (a creeping fault)."""
+        try:
+            return self.duration / expected_recurrence(self.fault.description())
+        except FaultslipError:
+            return None
+
     def estimated_steps(self, rtol: float | None = None) -> float:
-        """The steps this scene's run takes (an upper estimate from its D_c, V_pl, f0-free scales and element
-        size: :func:`faultslip.io.budget.fault_2d_steps`)."""
+        """The steps this scene's run takes: from the events it will see (:meth:`expected_events`), its width over
+        the nucleation size, its elements, element size and tolerance (:func:`faultslip.io.budget.fault_2d_steps`)."""
         fault = self.fault
         return budget.fault_2d_steps(years=self.duration / YEAR, plate_rate=fault.plate_rate,
                                      element_size=fault.element_size, process_zone=fault.process_zone(),
                                      nucleation_size=fault.nucleation_size(),
                                      seismogenic_width=fault.seismogenic_width(),
-                                     rtol=self.rtol if rtol is None else rtol)
+                                     rtol=self.rtol if rtol is None else rtol, events=self.expected_events(),
+                                     elements=fault.count)
 
     def estimate(self, rtol: float | None = None, output=None):
         """What a run of this scene needs (:class:`faultslip.io.budget.Estimate`), before it starts."""
@@ -344,7 +355,7 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
     if any(s < 0 or s > settings["width"] for s in stations):
         raise InputError(f"[run] stations in {source} must lie on the fault, from 0 to {settings['width']:g} m")
     names = [station_file_name(s) for s in stations]
-    repeated = sorted({name for name in names if names.count(name) > 1})
+    repeated = gate.repeated_names(names)
     if repeated:
         depths = ", ".join(f"{s / 1e3:g} km" for s, name in zip(stations, names) if name == repeated[0])
         raise InputError(f"[run] stations in {source}: {depths} would share the SEAS file {repeated[0]} (stations "
