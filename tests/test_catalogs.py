@@ -199,3 +199,15 @@ def test_a_range_the_intervals_cannot_bound_is_printed_as_unbounded(cli, tmp_pat
                  "--cluster-fraction", "refuse", "--json").json
     assert report["bpt_mean_95"]["value"][1] is None
     assert any("unbounded above" in note for note in report["notes"])
+
+
+def test_quakeml_keeps_times_past_the_millisecond(tmp_path):
+    """Times were cut to milliseconds on writing; obspy's QuakeML carries microseconds."""
+    import obspy
+
+    times = np.array(["2024-01-01T00:00:00.123456789", "2024-01-01T00:00:01.000001"], dtype="datetime64[ns]")
+    write_quakeml(times, [0.0, 0.0], [0.0, 0.0], [5e3, 5e3], [3.0, 3.1], tmp_path / "t.xml")
+    events = obspy.read_events(str(tmp_path / "t.xml"))
+    assert [event.origins[0].time.microsecond for event in events] == [123457, 1]
+    write_quakeml([1.7e9 + 0.000123], [0.0], [0.0], [5e3], [3.0], tmp_path / "s.xml")
+    assert obspy.read_events(str(tmp_path / "s.xml"))[0].origins[0].time.microsecond == 123

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import os
 import subprocess
 import sys
@@ -1341,3 +1342,20 @@ def test_a_supercycles_declared_errors_hold_against_the_richardson_limit():
         assert np.all(np.abs(intervals / limit - 1) <= interval_error)
         # the period-1 bound alone would not hold for the intervals at 100 m: the factor is needed
     assert np.max(np.abs(coarse / limit - 1)) > sequence_discretisation(process_zone / 100.0, 1)[1]
+
+
+def test_the_element_size_a_refusal_suggests_runs(tmp_path):
+    """A 40 km fault needing 235 elements was told "170.213 m", which does not divide it and was refused in turn."""
+    from faultslip.models.fault_2d.scene import dividing_size
+
+    count, size = dividing_size(40e3, 235)
+    assert count >= 235 and math.isclose(count * float(size), 40e3, rel_tol=1e-10) and len(size.replace(".", "")) <= 6
+    text = (CONFIGS / "seas_bp1.toml").read_text().replace('element_size = "25 m"', 'element_size = "400 m"')
+    text = text.replace('critical_slip = "8 mm"', 'critical_slip = "4 mm"')
+    scene = tmp_path / "coarse.toml"
+    scene.write_text(text)
+    with pytest.raises(InputError, match='element_size = "([0-9.]+) m"') as refused:
+        load_fault_2d_scene(scene).require_resolution()
+    suggested = re.search(r'element_size = "([0-9.]+) m"', str(refused.value)).group(1)
+    scene.write_text(text.replace('element_size = "400 m"', f'element_size = "{suggested} m"'))
+    load_fault_2d_scene(scene).require_resolution()  # reads, divides the fault and resolves L_b

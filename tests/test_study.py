@@ -485,3 +485,20 @@ def test_an_axis_past_a_million_values_is_refused_before_it_is_built():
     with pytest.raises(InputError, match="at most 1e\\+06"):
         parse_study('[study]\nbase = "san_andreas_1906.toml"\n[sweep]\n'
                     'slip_rate = { logspace = ["1 mm/yr", "100 mm/yr", 100000000] }\n')
+
+
+def test_a_per_cell_condition_flags_only_the_cells_it_is_false_in(tmp_path):
+    """Lithology x mu_m over the 1906 scene: mu_m = 0.5 and 0.6 lie above pyrite's mu_so (0.226, water) but below
+    granodiorite's (0.65). Only pyrite's cells are flagged; granodiorite's are predicted. A check on some cells
+    used to condemn them all."""
+    study = parse_study('[study]\nbase = "san_andreas_1906.toml"\n[sweep]\n'
+                        'lithology = ["granodiorite", "pyrite_water"]\nmu_m = [0.5, 0.6]\n')
+    out = tmp_path / "lith.nc"
+    run_study(study, out, workers=1)
+    with xr.open_dataset(out) as dataset:
+        flagged = dataset["outside_domain"].values
+        slip = dataset["slip_per_event"].values
+    assert flagged.tolist() == [[0, 0], [1, 1]]
+    assert np.all(np.isfinite(slip[0])) and np.all(np.isnan(slip[1]))
+    with pytest.raises(InputError, match="in every cell"):
+        parse_study('[study]\nbase = "san_andreas_1906.toml"\n[sweep]\nlithology = ["pyrite_water"]\nmu_m = [0.5]\n')

@@ -147,7 +147,7 @@ def _seismology_commands(commands) -> None:
     catalog.add_argument("--until", help="last time kept, ISO 8601")
     catalog.add_argument("--as-of", help="date of the conditional probability (default: now)")
     catalog.add_argument("--horizon", default="30 yr", help="probability horizon (30 yr)")
-    catalog.add_argument("--bootstrap", type=int, default=1000, help="parametric bootstrap samples (1000)")
+    catalog.add_argument("--bootstrap", type=int, default=1000, help="draws of the generalized pivotal quantities behind the 95 %% ranges (1000)")
     catalog.add_argument("--seed", type=int, default=0, help="random seed of the bootstrap")
     catalog.add_argument("--cluster-fraction", default="0.01",
                          help="intervals under this fraction of the mean are fore/aftershocks and are declustered "

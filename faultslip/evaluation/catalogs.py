@@ -252,10 +252,10 @@ def compare(catalog: Catalog, scene: Scene, trace=None, max_distance: float = 25
         comparison.fits[model] = recurrence.fit(model, gaps, bootstrap=bootstrap, seed=seed + index, elapsed=elapsed,
                                                 horizon=horizon)
         if comparison.fits[model].widened:
-            comparison.notes.append(f"{model}: the 95 % bootstrap range of its {', '.join(comparison.fits[model].widened)}"
+            comparison.notes.append(f"{model}: the 95 % range of its {', '.join(comparison.fits[model].widened)}"
                                     " is widened to contain the estimate (the resampled estimates are skewed past it)")
     comparison.notes.append(f"probabilities as of {str(comparison.as_of)[:10]} ({elapsed / YEAR:.1f} yr after the last "
-                            f"event), {bootstrap} parametric bootstrap samples (seed {seed})")
+                            f"event), 95 % ranges from {bootstrap} draws of the generalized pivotal quantities (seed {seed})")
     if len(selected) < 10:
         comparison.notes.append(f"{comparison.summary['count']} intervals: the renewal parameters are loosely "
                                 "constrained; read the 95 % ranges")

@@ -379,6 +379,9 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
     if labelled:
         import xarray as xr  # heavy: imported where used (labelled inputs: maps and lazy studies)
     no_excess = None
+    always = outside == "flag_all"  # every block of a study with some such cells carries the flag
+    if always:
+        outside = "flag"
     if outside == "refuse":
         pair = xr.broadcast(xr.DataArray(mu_so), xr.DataArray(mu_m)) if labelled else (mu_so, mu_m)
         ranges.check_friction_drop(*(_small_values(v) for v in pair), "in some cells of the study")
@@ -386,13 +389,13 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
         no_excess = ~(xr.DataArray(mu_so) > xr.DataArray(mu_m))
         if bool(no_excess.any()):
             mu_m = xr.where(no_excess, 0.5 * xr.DataArray(mu_so), mu_m)  # a stand-in, masked below
-        else:
+        elif not always:
             no_excess = None
     else:
         no_excess = ~np.greater(mu_so, mu_m)
         if no_excess.any():
             mu_m = np.where(no_excess, 0.5 * np.asarray(mu_so), mu_m)  # a stand-in, masked below
-        else:
+        elif not always:
             no_excess = None
     zeta_values = _small_values(zeta)
     if np.any(np.abs(zeta_values) >= 1):
@@ -424,6 +427,33 @@ def evaluate(inputs: dict, kind: str, method: str = "auto", tolerance: float = 1
         outputs["outside_domain"] = (xr.broadcast(flag, outputs["regime"])[0] if labelled
                                      else np.broadcast_to(flag, np.shape(outputs["regime"])))
     return outputs
+
+
+#: The axes the seed law's friction pair (mu_so, mu_m) can vary on in a study.
+FRICTION_AXES = ("lithology", "mu_so", "mu_m")
+
+
+def _study_friction(study, kind: str):
+    """(mu_so, mu_m) of every cell of a study, broadcast over the axes they vary on (:data:`FRICTION_AXES`)."""
+    import xarray as xr  # heavy: imported where used
+
+    coords = {name: xr.DataArray(np.array(study.dims[name], dtype=object if name == "lithology" else float),
+                                 dims=name) for name in FRICTION_AXES if name in study.dims}
+    inputs = (_fault_inputs if kind == "fault" else _lab_inputs)(study, coords)
+    return tuple(_small_values(v) for v in xr.broadcast(xr.DataArray(inputs["mu_so"]), xr.DataArray(inputs["mu_m"])))
+
+
+def _cells_without_excess(study, kind: str):
+    """Whether a study's cells lack a static excess (mu_m >= mu_so): "all", "some" or None; computed once a
+    study (it decides whether every block carries the outside_domain flag)."""
+    cached = study.__dict__.get("_without_excess", ())
+    if cached != ():
+        return cached
+    so, m = _study_friction(study, kind)
+    bad = ~(so > m)
+    answer = "all" if bad.all() else "some" if bad.any() else None
+    study.__dict__["_without_excess"] = answer
+    return answer
 
 
 def _small_values(value):
@@ -613,6 +643,9 @@ class SpringSliderCells:
     def check(self, study, where: str, source: str) -> None:
         _method_and_cycles(scene_kind(study.scene), study.method, study.cycles, where)
         _check_consistent(study.scene, study.dims, source)
+        kind = scene_kind(study.scene)
+        if kind != "rate_state" and _cells_without_excess(study, kind) == "all":
+            ranges.check_friction_drop(*_study_friction(study, kind), f"in every cell of {source}")
 
     def outputs(self, study):
         return None  # they depend on the scene (a moment where it gives a rupture), so a first cell says
@@ -628,7 +661,9 @@ class SpringSliderCells:
         return 1.0 / (budget.SIMULATED_CELL_RATE if simulated else budget.STUDY_CELL_RATE)
 
     def counted(self, study) -> bool:
-        return scene_kind(study.scene) == "rate_state" or _needs_simulation(study.scene)
+        kind = scene_kind(study.scene)
+        return (kind == "rate_state" or _needs_simulation(study.scene)
+                or _cells_without_excess(study, kind) is not None)  # its flagged cells are said
 
     def evaluate(self, study, values: dict) -> dict:
         kind = scene_kind(study.scene)
@@ -640,7 +675,9 @@ class SpringSliderCells:
         if _needs_simulation(study.scene):
             return _simulated(study, values)
         inputs = (_fault_inputs if kind == "fault" else _lab_inputs)(study, values)
-        return evaluate(inputs, kind, study.method, study.tolerance)
+        # a study whose friction leaves some cells without a static excess flags those cells, every block alike
+        outside = "flag_all" if _cells_without_excess(study, kind) else "refuse"
+        return evaluate(inputs, kind, study.method, study.tolerance, outside=outside)
 
 
 CELLS = SpringSliderCells()

@@ -248,9 +248,10 @@ def write_quakeml(times, latitude, longitude, depth, magnitudes, path, names=Non
     count = len(magnitudes)
     for index in range(count):
         when = times[index]
-        seconds = (float(np.datetime64(when, "ms").astype(np.int64)) / 1e3 if isinstance(when, np.datetime64)
-                   else float(when))
-        origin = quakeml.Origin(time=UTCDateTime(seconds), latitude=float(latitude[index]), longitude=float(longitude[index]),
+        # full precision: a datetime64 by its nanoseconds (it was cut to milliseconds), seconds as they are
+        moment = (UTCDateTime(ns=int(np.datetime64(when, "ns").astype(np.int64))) if isinstance(when, np.datetime64)
+                  else UTCDateTime(float(when)))
+        origin = quakeml.Origin(time=moment, latitude=float(latitude[index]), longitude=float(longitude[index]),
                         depth=float(depth[index]))
         magnitude = quakeml.Magnitude(mag=float(magnitudes[index]), magnitude_type=magnitude_type, origin_id=origin.resource_id)
         event = quakeml.Event(origins=[origin], magnitudes=[magnitude], creation_info=quakeml.CreationInfo(agency_id=agency),

@@ -97,12 +97,12 @@ class Fault2DScene:
         if allow_underresolved or self.resolution >= MIN_RESOLUTION:
             return
         width = self.fault.element_size * self.fault.count
-        count = math.ceil(width * MIN_RESOLUTION / self.fault.process_zone())
-        needed = self.at_element_size(width / count)
+        count, size = dividing_size(width, math.ceil(width * MIN_RESOLUTION / self.fault.process_zone()))
+        needed = self.at_element_size(float(size))
         raise InputError(f"{self.name}: elements of {self.fault.element_size:g} m resolve L_b = "
                          f"{self.fault.process_zone():.4g} m with {self.resolution:.2g} each; below "
                          f"{MIN_RESOLUTION:g} per L_b a sequence changes character (benchmarks/fault_2d_resolution.py). "
-                         f"Use element_size = \"{width / count:.6g} m\" ({count} elements, "
+                         f"Use element_size = \"{size} m\" ({count} elements, "
                          f"{needed.estimate().describe()}), or --allow-underresolved for a qualitative answer")
 
     def at_element_size(self, element_size: float) -> "Fault2DScene":
@@ -176,6 +176,17 @@ SWEEPABLE = {
     "plate_rate": ("speed", "m/s", "plate rate V_pl"),
     "element_size": ("length", "m", "boundary element size"),
 }
+
+
+def dividing_size(width: float, fewest: int) -> tuple[int, str]:
+    """(elements, element size as written) for the fewest elements from ``fewest`` up whose size, written with at most
+    six significant digits, divides ``width`` into them as :func:`build_fault` checks (a suggested size that did not
+    divide the fault was refused when used: "170.213 m" of a 40 km fault)."""
+    for count in range(fewest, 2 * fewest + 1):
+        text = f"{width / count:.6g}"
+        if math.isclose(count * float(text), width, rel_tol=1e-10):
+            return count, text
+    return fewest, repr(width / fewest)
 
 
 def _profile(spec, kind: str, where: str):

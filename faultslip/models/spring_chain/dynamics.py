@@ -262,6 +262,36 @@ class _Modes:
         """The speed of slipping block ``row`` at ``tau`` (one row of the modes: cheap, for root finding)."""
         return float(self.vectors[row] @ self.modal(tau)[1])
 
+    def speed_curvature_bound(self) -> np.ndarray:
+        """A bound on |d^2 v / d tau^2| of each slipping block over the sub-phase (m/s^3): each mode's speed is
+        p1 + e^(-gamma tau) R cos(omega tau + phase), R = sqrt(gamma^2 + omega^2) sqrt(c^2 + d^2), and two more
+        derivatives multiply R by gamma^2 + omega^2 at most (gamma >= 0: the decay only shrinks it)."""
+        amplitude = np.hypot(self.c, self.d) * (self.gamma ** 2 + self.omega_d ** 2) ** 1.5
+        return np.abs(self.vectors) @ amplitude
+
+
+#: Halvings of a grid interval before a speed that stays within its curvature bound of zero is taken not to cross it
+#: (the dip it could hide is then below 1e-12 of the bound at the grid's spacing).
+DIP_DEPTH = 20
+
+
+def _dip(speed, low: float, at_low: float, high: float, at_high: float, curvature: float, depth: int = 0):
+    """The first point of [low, high] found where ``speed`` (positive at both ends) is at or below zero, with the
+    last point before it where it is positive: (positive, nonpositive), or None where it cannot dip below zero.
+
+    Between two points h apart a function whose second derivative is at most ``curvature`` lies above the line
+    through them less curvature h^2 / 8; where both ends clear that, it cannot reach zero. Else the interval is
+    halved (the grid sees only its points: a block whose speed dipped below zero for 0.46 ms between points 1.1 ms
+    apart was not stopped, and slid backwards against forward friction)."""
+    if min(at_low, at_high) > curvature * (high - low) ** 2 / 8 or depth >= DIP_DEPTH:
+        return None
+    middle = 0.5 * (low + high)
+    at_middle = speed(middle)
+    if at_middle <= 0.0:
+        return low, middle
+    return (_dip(speed, low, at_low, middle, at_middle, curvature, depth + 1)
+            or _dip(speed, middle, at_middle, high, at_high, curvature, depth + 1))
+
 
 def _first_crossing(values: np.ndarray, at_or_below: bool) -> np.ndarray:
     """Index of the first grid point of each row at or below zero (``at_or_below``) or at or above zero; -1 if
@@ -291,7 +321,7 @@ def chosen_solver(slip_solver: str) -> str:
 
 
 def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subphases: int | None = None,
-                   slip_solver: str = "auto", rtol: float = 1e-10) -> ChainRun:
+                   slip_solver: str = "auto", rtol: float = 1e-10, steps_per_period: float | None = None) -> ChainRun:
     """Run ``chain`` from rest until ``events`` events have happened (see the module).
 
     Parameters
@@ -310,6 +340,10 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
         ``rtol``: the same sub-phases, found by integration.
     rtol : float
         The integrator's relative tolerance (not used by the closed form).
+    steps_per_period : float, optional
+        An integrator's steps at least this many a period of the fastest mode (None: as its error control takes
+        them). An integrator sees a sign change only between its steps: a speed that dips below zero for less
+        than a step goes unseen, so a reference run takes many.
 
     Returns
     -------
@@ -376,7 +410,7 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
                 peak = max(peak, float(_peak_speed(modes, tau)))
             else:
                 tau, stops, joins, xs, vs, fastest = _integrated_change(chain, slipping, x, v, t, limits, direction,
-                                                                        slip_solver, rtol)
+                                                                        slip_solver, rtol, steps_per_period)
                 peak = max(peak, fastest)
             x[slipping], v[slipping] = xs, vs
             t += tau
@@ -481,15 +515,33 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
     # 200 of the slowest periods
     start, points = 0.0, SAMPLES_PER_PERIOD
     horizon = 200 * slowest
+    curvature = modes.speed_curvature_bound()
+    along = direction[slipping]
+    at_start = modes.state(0.0)[1] * along
     while start < horizon:
         grid = start + step * np.arange(1, points + 1)
         xs, vs = modes.state(grid)
         candidates = []  # (bracket low, bracket high, kind, row)
-        stop = _first_crossing(vs * direction[slipping, None], at_or_below=True)
+        speeds = vs * along[:, None]
+        stop = _first_crossing(speeds, at_or_below=True)
         for row in np.flatnonzero(stop >= 0):
             k = int(stop[row])
             low = grid[k - 1] if k > 0 else start
             candidates.append((low, grid[k], "stop", int(row)))
+        # a speed positive at two grid points may dip below zero between them: where it comes within its curvature
+        # bound of zero, look between (before the row's first crossing on the grid)
+        times = np.concatenate(([start], grid))
+        values = np.concatenate((at_start[:, None], speeds), axis=1)
+        near_zero = np.minimum(values[:, :-1], values[:, 1:]) <= curvature[:, None] * step ** 2 / 8
+        for row, k in zip(*np.nonzero(near_zero & (values[:, :-1] > 0) & (values[:, 1:] > 0))):
+            if 0 <= stop[row] <= k:
+                continue
+            found = _dip(lambda tau, row=row: modes.speed(tau, row) * along[row], times[k], values[row, k],
+                         times[k + 1], values[row, k + 1], curvature[row])
+            if found is not None:
+                candidates.append((found[0], found[1], "stop", int(row)))
+                stop[row] = k
+        at_start = speeds[:, -1]
         if near_index.size:
             excess = np.abs(near_force(xs, grid)) - limits[near_index, None]
             join = _first_crossing(excess, at_or_below=False)
@@ -553,7 +605,7 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
     return tau, stops, np.unique(np.array(joins, int))
 
 
-def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rtol):
+def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rtol, steps_per_period=None):
     """The sub-phase by integration (scipy's ``solve_ivp`` with a terminal event for each slipping block's stop
     and each held neighbour's limit): (tau, stops, joins, positions, speeds, peak speed)."""
     from scipy.integrate import solve_ivp  # heavy: imported where used
@@ -599,7 +651,8 @@ def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rto
     events = [stop(row) for row in range(count)] + [join(block) for block in near_index]
     solution = solve_ivp(rhs, (0.0, horizon), np.concatenate([x[slipping], v[slipping]]), method=solver, rtol=rtol,
                          atol=1e-14 * max(1.0, float(np.abs(x).max())), events=events,
-                         first_step=min(horizon, 1e-3 * 2 * math.pi / omega))
+                         first_step=min(horizon, 1e-3 * 2 * math.pi / omega),
+                         max_step=2 * math.pi / omega / steps_per_period if steps_per_period else np.inf)
     if solution.status < 0:
         raise SolverError(f"the chain: {solver} failed in a slip of {count} block(s) at t = {t0:.6g} s "
                           f"({solution.message}); use slip_solver = \"closed_form\", which is exact")

@@ -1,0 +1,73 @@
+"""Escalations up the ladder, each timed against the budget's estimate made before it started (issue 68).
+
+    python benchmarks/ladder_escalations.py [--count 12] [--workers 2]
+
+Faults drawn at random over the one slider's calibrated box (benchmarks/ladder_designs.py's box, seed 68000,
+a third draw), each as a scene on 3 to 5 elements per L_b over eight of its expected recurrences, are run as a
+user would: ``faultslip.run(scene, tolerance=0.05)``. The one slider's ±50 % cannot meet 5 %, so each escalates
+to the 2-D fault of the same scene, and its result reports the estimate made before it started and the CPU time
+it used. Writes benchmarks/results/ladder_escalations.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from concurrent.futures import as_completed
+from dataclasses import asdict, replace
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+import faultslip  # noqa: E402
+from faultslip.fault.ladder import expected_recurrence  # noqa: E402
+from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
+from ladder_designs import draw  # noqa: E402
+from provenance import stamp  # noqa: E402
+
+OUT = ROOT / "benchmarks" / "results" / "ladder_escalations.json"
+
+
+def _escalate(design, resolution):
+    scene = design.two_d(resolution)
+    scene = replace(scene, duration=8 * expected_recurrence(scene.fault.description()))
+    result = faultslip.run(scene, tolerance=0.05)
+    return {"design": asdict(design), "elements_per_process_zone": resolution, "elements": scene.fault.count,
+            "method": result.method, "escalated_from": result.values["escalated_from"],
+            "estimated_seconds": float(result["estimated_seconds"].to("s").magnitude),
+            "cpu_time": float(result["cpu_time"].to("s").magnitude),
+            "recurrence": float(result["recurrence_interval"].to("s").magnitude),
+            "declared_error": result.estimated_relative_error}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--count", type=int, default=12)
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args(argv)
+    designs = draw(args.count, 68000, "escalation")
+    resolutions = np.random.default_rng(68000).uniform(3.0, 5.0, args.count)
+    pool = worker_pool(args.workers)
+    rows = []
+    try:
+        futures = [pool.submit(_escalate, design, float(res)) for design, res in zip(designs, resolutions)]
+        for future in as_completed(futures):
+            row = future.result()
+            rows.append(row)
+            print(f"{row['design']['name']}: {row['elements']} elements, estimated {row['estimated_seconds']:.1f} s, "
+                  f"used {row['cpu_time']:.1f} s CPU ({row['estimated_seconds'] / row['cpu_time']:.2f}x)", flush=True)
+    finally:
+        stop_pool(pool)
+    ratios = [row["estimated_seconds"] / row["cpu_time"] for row in rows]
+    summary = {"escalations": len(rows), "within_2x": int(sum(0.5 <= r <= 2 for r in ratios)),
+               "ratio_min": min(ratios), "ratio_median": float(np.median(ratios)), "ratio_max": max(ratios)}
+    OUT.write_text(json.dumps({**stamp(), "summary": summary, "rows": rows}, indent=1) + "\n", encoding="utf-8")
+    print(summary)
+
+
+if __name__ == "__main__":
+    main()
