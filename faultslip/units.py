@@ -128,14 +128,28 @@ def _pint_fingerprint() -> str:
         return origin
 
 
+#: Bytes of the memo read at most (MEMO_ENTRIES entries of a unit text and its factor fit in well under this).
+MEMO_BYTES = 4 * 2**20
+
+
+def _memo_checksum(pint: str, factors: dict) -> str:
+    """SHA-256 of a memo's pint fingerprint and factors (keys sorted, floats by repr)."""
+    body = json.dumps({"pint": pint, "factors": factors}, sort_keys=True)
+    return hashlib.sha256(body.encode("utf-8")).hexdigest()
+
+
 def _memo() -> dict:
     """The memo of pint's factors, read from disk once; a missing, damaged or stale memo is empty."""
     global _MEMO
     if _MEMO is None:
         _MEMO = {}
         try:
-            stored = json.loads(_memo_path().read_text(encoding="utf-8"))
-            if stored.get("pint") == _pint_fingerprint() and isinstance(stored.get("factors"), dict):
+            with open(_memo_path(), "rb") as stream:  # bounded: the memo holds MEMO_ENTRIES short entries
+                stored = json.loads(stream.read(MEMO_BYTES).decode("utf-8"))
+            # checked before trusted: a memo whose factors do not match the digest written with them (one changed
+            # digit shifted every chain magnitude by 0.67) is dropped, and pint answers afresh
+            if (stored.get("pint") == _pint_fingerprint() and isinstance(stored.get("factors"), dict)
+                    and stored.get("checksum") == _memo_checksum(stored["pint"], stored["factors"])):
                 _MEMO = {key: (value[0], value[1]) for key, value in stored["factors"].items()
                          if isinstance(value, list) and len(value) == 2 and isinstance(value[0], float)
                          and math.isfinite(value[0]) and isinstance(value[1], str)}
@@ -155,8 +169,10 @@ def _remember(key: str, answer: tuple) -> None:
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=".unit_factors.", suffix=".tmp")
+        factors = {k: list(v) for k, v in memo.items()}
         with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            json.dump({"pint": _pint_fingerprint(), "factors": {k: list(v) for k, v in memo.items()}}, stream)
+            json.dump({"pint": _pint_fingerprint(), "factors": factors,
+                       "checksum": _memo_checksum(_pint_fingerprint(), factors)}, stream)
         os.replace(temporary, path)
     except OSError:
         if temporary is not None:

@@ -173,3 +173,17 @@ def test_pint_loaded_without_its_dask_probe_leaves_dask_importable():
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert run.stdout.split() == ["False", "3.0"]
+
+
+def test_a_memo_with_one_changed_digit_is_not_trusted(monkeypatch, tmp_path):
+    """A factor edited in the memo (its digest no longer matching) is dropped and asked of pint again: one changed
+    digit used to shift every chain magnitude by 0.67."""
+    fu = _fresh_memo(monkeypatch, tmp_path)
+    assert fu.to_si("1 km", "length", "x") == 1000.0
+    path = fu._memo_path()
+    stored = json.loads(path.read_text())
+    stored["factors"]["length\x1fkm"] = [10000.0, ""]
+    path.write_text(json.dumps(stored))
+    fu = _fresh_memo(monkeypatch, tmp_path)
+    assert fu.to_si("1 km", "length", "x") == 1000.0
+    assert json.loads(path.read_text())["factors"]["length\x1fkm"] == [1000.0, ""]  # rewritten from pint

@@ -149,3 +149,32 @@ def test_a_partial_store_is_deleted_only_after_zarrs_writes_into_it_have_ended(t
     remove_store(partial)
     assert future.done() and not partial.exists()
     assert isinstance(future.exception(), FileNotFoundError)
+
+
+def test_a_finished_store_with_two_chunks_swapped_is_refused_not_converted(study, tmp_path):
+    """Each chunk is valid by its own CRC-32C; the blocks' digests, written with the store, tell them apart."""
+    import shutil
+
+    store, converted = tmp_path / "s.zarr", tmp_path / "c.nc"
+    run_study(study, store, chunk_cells=4, workers=1)
+    chunks = sorted(path for path in (store / "slip_per_event").iterdir() if not path.name.startswith("."))
+    first, second = chunks[0], chunks[1]
+    assert first.read_bytes() != second.read_bytes()
+    shutil.copyfile(first, tmp_path / "aside")
+    shutil.copyfile(second, first)
+    shutil.copyfile(tmp_path / "aside", second)
+    with pytest.raises(InputError, match="does not match the digest written with it"):
+        zarr_to_netcdf(store, converted, workers=1)
+    assert not converted.exists()
+
+
+def test_a_store_without_block_digests_is_refused_with_the_reason(study, tmp_path):
+    import zarr
+
+    store = tmp_path / "s.zarr"
+    run_study(study, store, chunk_cells=4, workers=1)
+    group = zarr.open_group(str(store), mode="r+")
+    del group.attrs["faultslip_block_digests"]
+    zarr.consolidate_metadata(str(store))
+    with pytest.raises(InputError, match="carries no digests of its blocks"):
+        zarr_to_netcdf(store, tmp_path / "c.nc", workers=1)

@@ -435,12 +435,14 @@ FRICTION_AXES = ("lithology", "mu_so", "mu_m")
 
 def _study_friction(study, kind: str):
     """(mu_so, mu_m) of every cell of a study, broadcast over the axes they vary on (:data:`FRICTION_AXES`)."""
-    import xarray as xr  # heavy: imported where used
-
-    coords = {name: xr.DataArray(np.array(study.dims[name], dtype=object if name == "lithology" else float),
-                                 dims=name) for name in FRICTION_AXES if name in study.dims}
+    axes = [name for name in FRICTION_AXES if name in study.dims]
+    coords = {}  # aligned numpy over the friction axes (xarray's constructors would import dask)
+    for k, name in enumerate(axes):
+        shape = [1] * len(axes)
+        shape[k] = len(study.dims[name])
+        coords[name] = np.array(study.dims[name], dtype=object if name == "lithology" else float).reshape(shape)
     inputs = (_fault_inputs if kind == "fault" else _lab_inputs)(study, coords)
-    return tuple(_small_values(v) for v in xr.broadcast(xr.DataArray(inputs["mu_so"]), xr.DataArray(inputs["mu_m"])))
+    return tuple(np.broadcast_arrays(np.asarray(inputs["mu_so"], dtype=float), np.asarray(inputs["mu_m"], dtype=float)))
 
 
 def _cells_without_excess(study, kind: str):

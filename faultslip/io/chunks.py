@@ -15,6 +15,7 @@ zlib stream about 15 times faster.
 
 from __future__ import annotations
 
+import hashlib
 import zlib
 
 import numpy as np
@@ -29,6 +30,20 @@ except ImportError:  # no wheel for this platform: the standard library's zlib, 
 #: Codecs that workers can apply themselves (zstd is written by netCDF4 in the parent instead).
 DIRECT_COMPRESSIONS = ("zlib", "none")
 ZLIB_LEVEL = 1
+
+
+def block_digest(arrays: dict) -> str:
+    """SHA-256 of a block of a study's outputs as files store them (flags as int8, every other output as float64,
+    in the study's dimension order): recorded when the block is written (a sweep's progress ledger, a finished
+    Zarr store's attributes) and recomputed from the file before it is trusted (a resume, a conversion)."""
+    digest = hashlib.sha256()
+    for name in sorted(arrays):
+        values = np.asarray(arrays[name])
+        kind = np.int8 if np.issubdtype(values.dtype, np.integer) else np.float64
+        values = np.ascontiguousarray(values.astype(kind, copy=False))
+        digest.update(f"{name}|{values.dtype.str}|{values.shape}|".encode())
+        digest.update(values.tobytes())
+    return digest.hexdigest()
 
 
 def deflate_compress(data, level: int = ZLIB_LEVEL) -> bytes:

@@ -18,13 +18,13 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io import budget
-from faultslip.io.chunks import ChunkFile, encode_chunk, padded
+from faultslip.io.chunks import ChunkFile, block_digest, encode_chunk, padded
 from faultslip.io.netcdf import create_chunked
 from faultslip.io.atomic import partial_output
 from faultslip.io.outputs import check_output, output_lock
 from faultslip.io.processes import run_windowed, stop_pool, usable_workers, worker_pool
 from faultslip.io.gate import decoding
-from faultslip.io.zarr_store import open_store, verify_store
+from faultslip.io.zarr_store import DIGESTS, block_digests, open_store, verify_store
 
 
 def _grid(store):
@@ -41,12 +41,13 @@ def _grid(store):
 
 
 def _encode_region(path, names, region, chunk_shape, fills):
-    """Worker task: read one chunk of each variable from the store and encode it as HDF5 stores it."""
+    """Worker task: read one chunk of each variable from the store and encode it as HDF5 stores it; with the
+    block's digest (:func:`faultslip.io.chunks.block_digest`), which the client checks against the store's."""
     import zarr  # heavy: imported where used
 
     group = zarr.open_group(str(path), mode="r")
     index = tuple(slice(start, stop) for start, stop in region)
-    encoded = {}
+    encoded, arrays = {}, {}
     for name in names:
         try:
             values = np.asarray(group[name][index])
@@ -55,7 +56,8 @@ def _encode_region(path, names, region, chunk_shape, fills):
             raise InputError(f"the Zarr store {Path(path).name}: chunk {where} of {name!r} is damaged "
                              f"({' '.join(str(exc).split())[:100]})") from None
         encoded[name] = encode_chunk(padded(values, chunk_shape, fills[name]))
-    return encoded
+        arrays[name] = values
+    return encoded, block_digest(arrays)
 
 
 def _netcdf_attrs(attrs: dict, where: str) -> dict:
@@ -98,6 +100,7 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
         raise InputError(f"the Zarr store has no coordinate for dimension {missing[0]!r}; faultslip convert "
                          "copies stores with a coordinate on every dimension")
     verify_store(store_path)  # every chunk present and checksummed, before a byte is written
+    expected = block_digests(store_path)  # and each block's digest, checked as its chunks are copied
     variables, fills = {}, {}
     for name, variable in store.data_vars.items():
         fill = variable.attrs.get("_FillValue")
@@ -113,13 +116,20 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
     names = list(variables)
     chunk_shape = tuple(chunks[d] for d in dims)
     with output_lock(output, "faultslip convert", overwrite=overwrite), partial_output(output) as partial:
-        create_chunked(partial, sizes, coords, variables, _netcdf_attrs(dict(store.attrs), "the store"), chunks).close()
+        attrs = {key: value for key, value in store.attrs.items() if key != DIGESTS}  # the store's, not the file's
+        create_chunked(partial, sizes, coords, variables, _netcdf_attrs(attrs, "the store"), chunks).close()
         pool = worker_pool(workers) if workers > 1 and len(regions) > 1 else None
         done = 0
         try:
             with ChunkFile(partial, names, "zlib") as writer:
-                def store_chunks(region, encoded):
+                def store_chunks(region, result):
                     nonlocal done
+                    encoded, digest = result
+                    key = ",".join(str(start) for start, _ in region)
+                    if expected.get(key) != digest:
+                        raise InputError(f"the Zarr store {store_path.name}: the block at {key or 'its one cell'} "
+                                         "does not match the digest written with it (a chunk changed, moved or "
+                                         "swapped); nothing was written")
                     for name, data in encoded.items():
                         writer.write(name, tuple(start for start, _ in region), data)
                     done += 1

@@ -8,6 +8,7 @@ top-level directories of the repository.
 from __future__ import annotations
 
 import contextlib
+from array import array
 
 import csv
 import re
@@ -16,6 +17,7 @@ from pathlib import Path
 
 from faultslip.errors import InputError
 from faultslip.io import gate
+from faultslip.io.chunks import block_digest
 import numpy as np
 import subprocess
 import sys
@@ -170,6 +172,24 @@ def open_dataset_lazily(path, label: str, *, zarr: bool = False, checked: bool =
         yield opened
 
 
+def stored_block_digests(path, blocks: list, dims: list, *, zarr: bool = False) -> list:
+    """The digest (:func:`faultslip.io.chunks.block_digest`) of each block ({dimension: slice}) of a study's output
+    as stored: raw values, fill values as they are, outputs on the study's ``dims``. What a resume checks the
+    partial file's blocks by."""
+    import xarray as xr  # heavy: imported where used
+
+    with gate.decoding(path, "the partial output", "a Zarr store" if zarr else "netCDF", silence=True):
+        opened = (xr.open_zarr(path, mask_and_scale=False, decode_times=False, chunks=None) if zarr else
+                  xr.open_dataset(path, engine="netcdf4", mask_and_scale=False, decode_times=False))
+        with opened as dataset:
+            outputs = [name for name in dataset.data_vars if set(dataset[name].dims) == set(dims)]
+            found = []
+            for block in blocks:
+                region = dataset.isel(block) if dims else dataset
+                found.append(block_digest({name: region[name].transpose(*dims).values for name in outputs}))
+    return found
+
+
 def read_numeric_csv(path, label: str) -> dict:
     """:func:`read_unit_csv` with every cell a number: ``{name: (values, unit)}``."""
 
@@ -236,8 +256,6 @@ def read_numeric_xlsx(path, label: str) -> dict:
     ``{name: (values, unit)}``. Read through openpyxl (the ``xlsx`` extra), cached values, no formulas run,
     bounded before it is read (:func:`_open_workbook`) and streamed a row at a time into arrays; every problem is
     one sentence naming ``label`` and the cell."""
-    from array import array
-
     workbook = _open_workbook(path, label)
     try:
         with gate.decoding(path, label, "an Excel workbook"):

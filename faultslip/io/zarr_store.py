@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from faultslip.errors import InputError
-from faultslip.io.chunks import deflate_compress
+from faultslip.io.chunks import block_digest, deflate_compress
 from faultslip.io.gate import decoding
 from faultslip.io.outputs import is_store  # noqa: F401  (defined with the output checks; used here too)
 
@@ -140,6 +140,80 @@ def finish_store(partial, output) -> None:
     os.replace(partial, output)
     if aside is not None:
         shutil.rmtree(aside, ignore_errors=True)
+
+
+#: The store attribute holding each block's digest (:func:`faultslip.io.chunks.block_digest`), keyed by the block's
+#: first index on each dimension ("0,30"): a chunk swapped with another is valid by its own CRC-32C, not by this.
+DIGESTS = "faultslip_block_digests"
+
+
+def set_block_digests(path, digests: dict) -> None:
+    """Record the blocks' digests in the store at ``path`` (before it is finished)."""
+    import zarr  # heavy: imported where used
+
+    group = zarr.open_group(str(path), mode="r+", zarr_format=ZARR_FORMAT)
+    group.attrs[DIGESTS] = json.dumps(digests, sort_keys=True)
+
+
+def block_digests(path, group=None) -> dict:
+    """The digests a finished store was written with; one sentence where it has none."""
+    import zarr  # heavy: imported where used
+
+    group = group if group is not None else zarr.open_group(str(path), mode="r")
+    text = group.attrs.get(DIGESTS)
+    try:
+        digests = json.loads(text) if isinstance(text, str) else None
+    except ValueError:
+        digests = None
+    if not isinstance(digests, dict):
+        raise InputError(f"the Zarr store {Path(path).name} carries no digests of its blocks, so a chunk moved or "
+                         "swapped could not be told; write it again with this faultslip (sweep -o OUT.zarr)")
+    return digests
+
+
+def _grid_of(group):
+    """(data variable names, shape, chunk shape) the store's data variables share."""
+    names = [name for name in group.array_keys() if group[name].attrs.get("_ARRAY_DIMENSIONS") is not None
+             and len(group[name].attrs["_ARRAY_DIMENSIONS"]) == len(group[name].shape)]
+    grids = {(tuple(group[name].attrs["_ARRAY_DIMENSIONS"]), group[name].shape, group[name].chunks)
+             for name in names}
+    dims = max(grids, key=lambda grid: len(grid[0]))[0] if grids else ()
+    data = [name for name in names if tuple(group[name].attrs["_ARRAY_DIMENSIONS"]) == dims and name not in dims]
+    return data, group[data[0]].shape if data else (), group[data[0]].chunks if data else ()
+
+
+def region_digest(group, names, starts, chunk_shape, shape) -> str:
+    """The digest of the block starting at ``starts``, from the store's values as written."""
+    index = tuple(slice(start, min(start + size, extent)) for start, size, extent in zip(starts, chunk_shape, shape))
+    return block_digest({name: np.asarray(group[name][index]) for name in names})
+
+
+def check_block_digests(path) -> None:
+    """Refuse, naming the first, a block of a finished store whose values do not match its recorded digest."""
+    import zarr  # heavy: imported where used
+
+    group = zarr.open_group(str(path), mode="r")
+    digests = block_digests(path, group)
+    names, shape, chunks = _grid_of(group)
+    for key, digest in digests.items():
+        starts = [int(v) for v in key.split(",")] if key else []
+        if region_digest(group, names, starts, chunks, shape) != digest:
+            raise InputError(f"the Zarr store {Path(path).name}: the block at {key or 'its one cell'} does not match "
+                             "the digest written with it (a chunk changed, moved or swapped); write it again")
+
+
+def update_block_digests(path, cells: list) -> None:
+    """Renew the digests of the blocks holding ``cells`` ({dimension: index} each) from the store's values."""
+    import zarr  # heavy: imported where used
+
+    group = zarr.open_group(str(path), mode="r+", zarr_format=ZARR_FORMAT)
+    digests = block_digests(path, group)
+    names, shape, chunks = _grid_of(group)
+    dims = tuple(group[names[0]].attrs["_ARRAY_DIMENSIONS"]) if names else ()
+    for cell in cells:
+        starts = [cell[name] // size * size for name, size in zip(dims, chunks)]
+        digests[",".join(map(str, starts))] = region_digest(group, names, starts, chunks, shape)
+    group.attrs[DIGESTS] = json.dumps(digests, sort_keys=True)
 
 
 def settle_background_writes(timeout: float = 30.0) -> None:

@@ -13,6 +13,7 @@ partial file if it belongs to the same study.
 
 from __future__ import annotations
 
+import hashlib
 import itertools
 import json
 import math
@@ -30,14 +31,15 @@ import numpy as np
 from faultslip.io.progress import reporter
 from faultslip.io import budget, gate
 from faultslip.io.atomic import commit, working_copy, write_text_atomic
-from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, encode_chunk, padded
+from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, block_digest, encode_chunk, padded
 from faultslip.io.netcdf import create_chunked, open_for_append
-from faultslip.io.zarr_store import create_store, finish_store, is_store, remove_store, require_zarr, write_region
+from faultslip.io.zarr_store import (DIGESTS, check_block_digests, create_store, finish_store, is_store, remove_store,
+                                      require_zarr, set_block_digests, update_block_digests, write_region)
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock, refuse_links
 from faultslip.io.processes import (THREADS_VARIABLE, SharedRing, descendants, reap, run_windowed, shared_segment,
                                     stop_pool, worker_pool)
-from faultslip.io.resources import open_dataset_lazily
+from faultslip.io.resources import open_dataset_lazily, stored_block_digests
 from faultslip.contract.cells import collect_cell_failures
 from faultslip.studies.grid import block_arrays, compute_block, finish, parse_study, template_block
 
@@ -57,21 +59,6 @@ def stored(dtype) -> tuple:
 
 #: The key under which a block's task returns its digest beside its chunks (no output is named "").
 DIGEST = ""
-
-
-def block_digest(arrays: dict) -> str:
-    """SHA-256 of a block's outputs as the file stores them (:func:`stored` types, the study's dimension order):
-    recorded in the progress ledger when the block is written, recomputed from the partial file before a resume
-    trusts it."""
-    import hashlib
-
-    digest = hashlib.sha256()
-    for name in sorted(arrays):
-        values = np.asarray(arrays[name])
-        values = np.ascontiguousarray(values.astype(stored(values.dtype)[0], copy=False))
-        digest.update(f"{name}|{values.dtype.str}|{values.shape}|".encode())
-        digest.update(values.tobytes())
-    return digest.hexdigest()
 
 
 #: A block's target wall time: long enough to amortise its dispatch and write, short enough that slow
@@ -452,8 +439,6 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
 
 def _ledger_checksum(record: dict) -> str:
     """SHA-256 of a progress ledger's content (its own ``checksum`` left out), keys sorted."""
-    import hashlib
-
     body = {key: value for key, value in record.items() if key != "checksum"}
     return hashlib.sha256(json.dumps(body, sort_keys=True).encode("utf-8")).hexdigest()
 
@@ -493,30 +478,15 @@ def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, r
 
 def _verified_blocks(partial: Path, file_format: str, study, blocks: list, done: set, digests: dict) -> set:
     """The blocks of ``done`` whose values in the partial file match the digest the ledger recorded when they were
-    written (:func:`block_digest`); each other block is recomputed, and said so."""
-    import xarray as xr  # heavy: imported where used
-
+    written (:func:`faultslip.io.chunks.block_digest`); each other block is recomputed, and said so."""
     names = list(study.dims)
-    verified, changed = set(), []
-    with gate.decoding(partial, "the partial output", "a Zarr store" if file_format == "zarr" else "netCDF",
-                       silence=True):
-        opened = (xr.open_zarr(partial, mask_and_scale=False, decode_times=False, chunks=None)
-                  if file_format == "zarr" else
-                  xr.open_dataset(partial, engine="netcdf4", mask_and_scale=False, decode_times=False))
-        with opened as dataset:
-            outputs = [name for name in dataset.data_vars if set(dataset[name].dims) == set(names)]
-            for index in sorted(done):
-                if index not in digests:
-                    changed.append(index)
-                    continue
-                region = dataset.isel({name: blocks[index][name] for name in names}) if names else dataset
-                arrays = {name: region[name].transpose(*names).values for name in outputs}
-                if block_digest(arrays) == digests[index]:
-                    verified.add(index)
-                else:
-                    changed.append(index)
+    listed = [index for index in sorted(done) if index in digests]
+    found = stored_block_digests(partial, [{name: blocks[index][name] for name in names} for index in listed],
+                                 names, zarr=file_format == "zarr")
+    verified = {index for index, digest in zip(listed, found) if digest == digests[index]}
+    changed = len(done) - len(verified)
     if changed:
-        warnings.warn(f"{len(changed)} block(s) of {partial.name} cannot be verified against the digests recorded "
+        warnings.warn(f"{changed} block(s) of {partial.name} cannot be verified against the digests recorded "
                       f"when they were written (changed, or never completed); recomputing them", stacklevel=3)
     return verified
 
@@ -673,7 +643,9 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         raise
     writer.close()
     _shutdown(executor)
-    if file_format == "zarr":
+    if file_format == "zarr":  # each block's digest goes with the store: a conversion checks every block by it
+        set_block_digests(partial, {",".join(str(blocks[index][name].start) for name in study.dims): digest
+                                    for index, digest in digests.items()})
         finish_store(partial, output)
     else:
         commit(partial, output)
@@ -752,6 +724,8 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
     with output_lock(output, "faultslip sweep --retry-failed", overwrite=True):
         partial = output.with_name(output.name + ".partial")
         remove_store(partial)
+        if file_format == "zarr":
+            check_block_digests(output)  # the store is trusted, and its digests renewed, only if it verifies first
         working_copy(output, partial)
         blocks = [{name: slice(cell[name], cell[name] + 1) for name in study.dims} for cell in cells]
         workers, reason = choose_execution(study, len(blocks), workers, scheduler)
@@ -792,7 +766,8 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
         if nc is not None:
             nc.close()
             commit(partial, output)
-        else:
+        else:  # the blocks holding the recovered cells get their digests anew, from what was just written
+            update_block_digests(partial, [cells[index] for index in recovered])
             finish_store(partial, output)
         listed = _write_failure_ledger(output, study, fingerprint, still)
     return {"retried": len(cells), "recovered": len(recovered), "still_failed": len(still), "failure_ledger": listed,
@@ -887,7 +862,7 @@ def _largest_difference(a, b):
 
 
 #: Global attributes that describe the run, not its results: not compared by :func:`reproduce`.
-RUN_ATTRIBUTES = ("history", "source")
+RUN_ATTRIBUTES = ("history", "source", DIGESTS)  # of the run, or of how it is stored (a Zarr store's block digests)
 
 
 def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrite: bool = False,

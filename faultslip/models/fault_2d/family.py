@@ -179,9 +179,10 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
     if math.isfinite(discretisation):
         report.add("discretisation_error", discretisation,
                    label="element size's error in recurrence (a bound measured on three faults)")
-        report.add("estimated_relative_error", max(sequence_error, 10 * run.rtol, discretisation),
+        declared = max(sequence_error, 10 * run.rtol, discretisation)
+        report.add("estimated_relative_error", declared if math.isfinite(declared) else None,
                    label="declared: the largest of the sequence's (settling, or an aperiodic mean's sampling "
-                         "error), the element size's and 10 rtol")
+                         "error), the element size's and 10 rtol (null: none can be declared, too few intervals)")
         if sequence.period > 1:
             report.add("interval_errors", [max(sequence_error, 10 * run.rtol, per_interval)] * sequence.period,
                        label="declared error of each interval of the supercycle (relative: a supercycle's intervals "
@@ -345,7 +346,13 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
         return cheap
     why = (f"the one slider's declared model error {declared:.2g} exceeds the tolerance {tolerance:g}"
            if declared is not None else "the scene lies outside the one slider's calibration")
-    return escalate(loaded, why, settle, allow_large, allow_underresolved, progress, cheap)
+    result = escalate(loaded, why, settle, allow_large, allow_underresolved, progress, cheap)
+    declared = result.estimated_relative_error
+    if declared is None or declared > tolerance:
+        result.note(f"the 2-D rung's declared error {'(none)' if declared is None else f'{declared:.2g}'} does not "
+                    f"meet the tolerance {tolerance:g}: run longer ([run] duration, or --allow-large) or on finer "
+                    "elements; no rung above it is available yet")
+    return result
 
 
 def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> Result:
@@ -440,7 +447,7 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
     started = time.process_time()
     result = simulate_fault(loaded, allow_large=allow_large, allow_underresolved=allow_underresolved,
                             settle_tolerance=settle, progress=progress)
-    scene, longer = loaded, 0
+    scene, longer, estimated = loaded, 0, estimate.seconds
     while result.values["sequence"] == "unsettled" and longer < LONGER_RUNS:
         scene = replace(scene, duration=2 * scene.duration)
         again = scene.estimate()
@@ -449,6 +456,7 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
             result.note(f"unsettled after {scene.duration / 2 / YEAR:.6g} yr; running {scene.duration / YEAR:.6g} yr "
                         f"({again.describe()}) would pass the time budget: pass --allow-large to run it")
             break
+        estimated += again.seconds
         result = simulate_fault(scene, allow_large=allow_large, allow_underresolved=allow_underresolved,
                                 settle_tolerance=settle, progress=progress)
         result.note(f"run again over {scene.duration / YEAR:.6g} yr: the shorter run had not settled")
@@ -458,8 +466,9 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
     result.add("escalated_from", "one_slider", label="the rung escalated from")
     result.add("one_slider_model_error", cheap.estimated_relative_error,
                label="the one slider's declared model error (95 % range's half-width; null: outside its calibration)")
-    result.add("estimated_seconds", estimate.seconds, "s", label="the 2-D run's cost, estimated before it started")
+    result.add("estimated_seconds", estimated, "s", label="the 2-D runs' cost, each estimated before it started")
     result.add("cpu_time", cpu, "s", label="the CPU time the 2-D rung used")
+    result.add("runs", longer + 1, label="2-D runs (a run that ends unsettled is run again, twice as long)")
     result.note("the 2-D rung's declared error is numerical (element size, settling, rtol): no richer rung above "
                 "it declares a model error yet")
     return result
