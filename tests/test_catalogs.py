@@ -211,3 +211,27 @@ def test_quakeml_keeps_times_past_the_millisecond(tmp_path):
     assert [event.origins[0].time.microsecond for event in events] == [123457, 1]
     write_quakeml([1.7e9 + 0.000123], [0.0], [0.0], [5e3], [3.0], tmp_path / "s.xml")
     assert obspy.read_events(str(tmp_path / "s.xml"))[0].origins[0].time.microsecond == 123
+
+
+def test_a_gutenberg_richter_catalogue_passes_and_keeps_its_b():
+    """2,000 magnitudes exponential above 2.0 with b = 1 (seeded): the test finds M_c near 2.0, holds the law and
+    recovers b within its sampling error (b / sqrt(n) = 0.02)."""
+    from faultslip.fault.gutenberg_richter import gr_test
+
+    rng = np.random.default_rng(11)
+    magnitudes = 2.0 + rng.exponential(math.log10(math.e) / 1.0, 2000)
+    found = gr_test(magnitudes)
+    assert found["holds"] and found["p_value"] > 0.1
+    assert abs(found["completeness"] - 2.0) < 0.2 and abs(found["b"] - 1.0) < 4 * 1.0 / math.sqrt(found["count"])
+
+
+def test_a_catalogue_with_a_bump_of_system_size_events_is_not_gutenberg_richter():
+    """GR below, and a fifth of the events a narrow bump near the top (a chain's system-size events): ruled out,
+    and no single b stands for it."""
+    from faultslip.fault.gutenberg_richter import gr_test
+
+    rng = np.random.default_rng(12)
+    magnitudes = np.concatenate([2.0 + rng.exponential(math.log10(math.e), 1600), rng.normal(3.7, 0.05, 400)])
+    found = gr_test(magnitudes)
+    assert not found["holds"] and found["p_value"] <= 0.1
+    assert found["b_range"][1] - found["b_range"][0] > 0.5

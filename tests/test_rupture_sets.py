@@ -86,11 +86,11 @@ def test_two_faults_by_hand_magnitudes_slips_and_rates():
 
 def test_the_california_system_releases_every_slip_rate_and_follows_gutenberg_richter(california):
     """The bundled system (configs/california_fault_system.toml: 15 km sections, 40 km jumps, 10 % aseismic,
-    10 % background): every section releases (1 - 0.1)(1 - 0.1) of its slip rate to 1e-6 on every branch. On
-    faultslip's branch the solved incremental MFD is Gutenberg-Richter with b = 1 (shape misfit below 1e-6); on
-    the empirical branches the budgets leave less freedom (Leonard's magnitudes put few ruptures in the top
-    bins) and the fit is as close as they allow, its misfit reported. The background carries 10 % of the
-    system's seismic moment rate."""
+    10 % background): every section releases (1 - 0.1)(1 - 0.1) of its slip rate to 1e-6 on every branch, and on
+    every branch the solved incremental MFD is Gutenberg-Richter with b = 1 (shape misfit below 1e-6). Leonard's
+    magnitudes leave the 6.4 bin without a rupture: its b was once read from rates rebinned as though the
+    targeted bins were contiguous, which shifted every rate after the gap one bin (b 0.852, misfit 0.50). The
+    background carries 10 % of the system's seismic moment rate."""
     spec, dataset = california
     for relation in rs.RELATIONS:
         result = rs.rupture_set(spec, dataset, spec.rupture_rules, relation)
@@ -100,11 +100,11 @@ def test_the_california_system_releases_every_slip_rate_and_follows_gutenberg_ri
         assert result.budget_error <= 1e-6 and np.all(result.rate >= 0)
         multi = [k for k in np.flatnonzero(result.rate > 0) if len({sections.fault[s] for s in result.ruptures[k]}) > 1]
         assert multi, "the system should release some slip in ruptures that jump between faults"
-        if relation == "faultslip":
-            assert result.shape_misfit() < 1e-6 and result.b_value() == pytest.approx(1.0, abs=1e-6)
-        else:  # the shape is fitted as the budgets allow, and the misfit is reported, not hidden
-            assert result.summary()["shape_misfit"] == result.shape_misfit() < 1.0
-            assert abs(result.b_value() - 1.0) < 0.25
+        assert result.shape_misfit() < 1e-6 and result.b_value() == pytest.approx(1.0, abs=1e-6), relation
+        assert result.summary()["shape_misfit"] == result.shape_misfit()
+        if relation == "Leonard2010":  # the case with a gap among the targeted bins
+            gaps = np.round(np.diff(result.bins) / result.bin_width)
+            assert gaps.max() > 1
         moment_budget = np.sum(result.shear_modulus * sections.area * sections.slip_rate * YEAR * 0.9)
         assert result.background_moment_rate == pytest.approx(0.1 * moment_budget, rel=1e-12)
         # the sections tile their faults: their lengths add up to each fault's

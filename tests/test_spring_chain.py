@@ -166,8 +166,11 @@ def test_the_b_value_is_akis_maximum_likelihood_with_its_exact_interval():
 def test_the_chain_family_runs_simulates_and_writes_quakeml(cli, tmp_path):
     result = faultslip.run(CHAIN)
     assert result.family == "spring_chain"
-    low, high = result["b_value_interval"]
-    assert low < result["b_value"] < high
+    # the example is not Gutenberg-Richter (a bump of system-size events): it says so and gives no single b
+    assert result["gutenberg_richter"] is False and result["gutenberg_richter_p_value"] <= 0.1
+    assert result["b_value"] is None
+    low, high = (float(v) for v in result["b_value_over_cutoffs"])
+    assert high - low > 0.5
     # the example (50 blocks, +-50 % spread, k_c / k_p = 10): sizes span more than a magnitude unit
     assert result["magnitude_max"] - result["magnitude_min"] > 1.0
     out = cli("simulate", CHAIN, "--cycles", "50", "--events", tmp_path / "c.xml", "--json")

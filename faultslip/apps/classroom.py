@@ -207,6 +207,7 @@ def chain_lab(blocks: int = 50, coupling_ratio: float = 10.0, spread: float = 0.
     stats = faultslip.chain_statistics(loaded, run)
     first, last = run.extents()
     return {"start": run.start, "first": first, "last": last, "magnitude": stats["magnitude"], "b": stats["b"],
+            "b_reason": stats.get("b_reason", ""),
             "system_events": stats["system_events"], "recurrence_cv": stats["recurrence_cv"],
             "predictability": faultslip.predictability(run.start, run.total_slip),
             "slip_after": (run.total_slip[:-1], np.diff(run.start))}
@@ -451,7 +452,7 @@ def make_document(doc) -> None:
         found = lab["predictability"]
         verdicts = ", ".join(name.replace("_", "-") for name, held in found.verdicts.items() if held) or "none"
         b_text = (f"b = {b['b']:.3g} ({b['interval'][0]:.3g}–{b['interval'][1]:.3g})" if b is not None else
-                  "no b-value (every event the same size)")
+                  "no b-value: " + _text(lab.get("b_reason") or "every event the same size"))
         chain_status.text = (f"<b>{b_text}</b> · {lab['system_events']} system-size events, their CV "
                              f"{_fmt(lab['recurrence_cv'], '', 2)} · r(slip, interval after) "
                              f"{found.time_correlation:.2f}<br><small>models the catalogue supports: "

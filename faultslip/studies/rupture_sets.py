@@ -358,6 +358,7 @@ class RuptureSet:
     background_moment_rate: float  # N m/yr
     shear_modulus: float
     notes: list = field(default_factory=list)
+    bin_width: float = 0.1  # of the target's bins (``bins`` holds the targeted ones: it may have gaps)
 
     @property
     def released(self) -> np.ndarray:
@@ -376,12 +377,18 @@ class RuptureSet:
         return (self.slip > 0).astype(float) @ self.rate
 
     def system_mfd(self) -> np.ndarray:
-        """The solved rates summed into the target's bins (1/yr)."""
-        return _binned(self.magnitude, self.rate, self.bins)
+        """The solved rates summed into the target's bins (1/yr), each rupture in the bin of the full grid that
+        holds its magnitude: ``bins`` lists the targeted bins only, so a bin between them that no rupture reaches is
+        absent, and binning as though they were contiguous put the rates after such a gap one bin off."""
+        grid = np.floor((self.magnitude - (self.bins[0] - self.bin_width / 2)) / self.bin_width + 1e-9)
+        slot = np.searchsorted(np.round((self.bins - self.bins[0]) / self.bin_width).astype(int), grid.astype(int))
+        slot = np.clip(slot, 0, self.bins.size - 1)
+        inside = np.round((self.bins[slot] - self.bins[0]) / self.bin_width).astype(int) == grid.astype(int)
+        return np.bincount(slot[inside], weights=self.rate[inside], minlength=self.bins.size)
 
     def b_value(self) -> float:
         """The solved distribution's b-value: the slope of log10 of its incremental rates, least squares over the
-        bins that have a rate."""
+        targeted bins that have a rate (each rupture in its own bin of the full grid, :meth:`system_mfd`)."""
         rates = self.system_mfd()
         has = rates > 0
         if has.sum() < 2:
@@ -511,7 +518,7 @@ def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip:
     moment_budget = float(np.sum(shear_modulus * sections.area * sections.slip_rate * JULIAN_YEAR *
                                  (1 - sections.aseismic)))
     result = RuptureSet(relation, sections, rules, ruptures, magnitude, slip, rate, budget, bins[targeted],
-                        target[targeted], rules.background_share * moment_budget, shear_modulus)
+                        target[targeted], rules.background_share * moment_budget, shear_modulus, bin_width=bin_width)
     if result.budget_error > BUDGET_TOLERANCE:
         raise SolverError(f"the rupture rates ({relation}) release the slip rates only to {result.budget_error:.1e}, "
                           f"not {BUDGET_TOLERANCE:g}; loosen the rules (more ruptures)")

@@ -17,7 +17,7 @@ from faultslip.contract.result import Result
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.errors import InputError
-from faultslip.fault.gutenberg_richter import b_value
+from faultslip.fault.gutenberg_richter import b_value, gr_test
 from faultslip.fault.scaling import moment_magnitude
 from faultslip.io.report import Report
 from faultslip.io.waveforms import DEFAULT_START
@@ -102,17 +102,26 @@ def statistics(loaded, run: ChainRun) -> dict:
     Returns
     -------
     dict
-        ``b`` (:func:`faultslip.fault.gutenberg_richter.b_value`, or None with ``b_reason``), ``magnitude_range``,
+        ``gr`` (:func:`faultslip.fault.gutenberg_richter.gr_test`, or None), ``b`` (its b-value above the test's
+        M_c where Gutenberg-Richter holds, else None with ``b_reason``), ``magnitude_range``,
         ``system_events``, ``recurrence`` (s), ``recurrence_cv``, ``plate_balance`` (min, max of each block's slip /
         (V t)) with ``plate_balance_bound`` and the per-block arrays, and ``magnitude``.
     """
     _, magnitude = _moments(loaded, run)
     sized = magnitude[np.isfinite(magnitude)]
     stats = {"magnitude_range": (float(sized.min()), float(sized.max())) if sized.size else (math.nan, math.nan)}
-    try:
-        stats["b"] = b_value(sized)
-    except InputError as exc:  # every event the same size (identical blocks): no b-value, and it says so
-        stats["b"] = None
+    try:  # a b-value only where the catalogue follows Gutenberg-Richter above its cutoff (gr_test)
+        stats["gr"] = gr_test(sized)
+        if stats["gr"]["holds"]:
+            stats["b"] = b_value(sized, completeness=stats["gr"]["completeness"])
+        else:
+            gr = stats["gr"]
+            stats["b"] = None
+            stats["b_reason"] = (f"the catalogue is not Gutenberg-Richter (Kolmogorov-Smirnov p = {gr['p_value']:.2g} "
+                                 f"above M_c = {gr['completeness']:.3g}, and b moves from {gr['b_range'][0]:.2f} to "
+                                 f"{gr['b_range'][1]:.2f} with the cutoff): read its magnitude-frequency distribution")
+    except InputError as exc:  # too few events, or every event the same size (identical blocks): no b-value
+        stats["gr"], stats["b"] = None, None
         stats["b_reason"] = str(exc)
     chain = run.chain
     system = np.flatnonzero(run.blocks_slipped >= loaded.system_size * chain.blocks)
@@ -161,6 +170,13 @@ def _report(loaded, run: ChainRun, stats: dict, title: str, method: str = METHOD
         report.add("b_value_error", b["shi_bolt_error"], label="Shi & Bolt's standard error")
     else:
         report.add("b_value", None, label="no b-value: " + stats["b_reason"])
+    gr = stats.get("gr")
+    if gr is not None:
+        report.add("gutenberg_richter", gr["holds"], label="the magnitudes follow Gutenberg-Richter above M_c")
+        report.add("gutenberg_richter_p_value", gr["p_value"], label="Kolmogorov-Smirnov p-value of the fitted law")
+        report.add("b_value_over_cutoffs", list(gr["b_range"]), label="b at every candidate cutoff (how much the "
+                                                                       "choice of M_c alone moves it)")
+        report.note(gr["method"])
     report.add("system_size_events", stats["system_events"],
                label=f"events slipping {loaded.system_size:.0%} of the blocks or more")
     report.add("recurrence_interval", stats["recurrence"] if math.isfinite(stats["recurrence"]) else None, "s",
