@@ -146,3 +146,33 @@ def test_openquake_parses_the_source_model_where_installed(cli, tmp_path):
     model = nrml.to_python(str(tmp_path / "s.xml"), SourceConverter(50.0, 2.0, width_of_mfd_bin=0.1))
     sources = [source for group in model for source in group]
     assert len(sources) == 6 and sources[0].source_id == "SA-PKF"
+
+
+def _collection(*features):
+    return {"type": "FeatureCollection", "features": [
+        {"type": "Feature", "geometry": {"type": "LineString", "coordinates": coordinates},
+         "properties": {"name": name, "net_slip_rate": "(5,3,8)", "slip_type": "Dextral"}}
+        for name, coordinates in features]}
+
+
+@pytest.mark.parametrize("coordinates, message", [
+    ([[-120.0, 36.0], [-119.0, 36.0], [-119.0, 36.5], [-119.5, 35.5]], "crosses itself"),
+    ([[-120.0, 36.0], [-119.0, 36.0], [-119.8, 36.001]], "doubles back on itself"),
+    ([[-120.0, 36.0], [-120.0, 36.0], [-119.0, 36.5]], "repeats a vertex"),
+])
+def test_a_trace_that_crosses_or_retraces_itself_is_refused(tmp_path, coordinates, message):
+    """Such a trace counts part of its fault twice: a self-retracing trace raised a map's moment 1.4-fold."""
+    path = tmp_path / "faults.geojson"
+    path.write_text(json.dumps(_collection(("bent", coordinates))))
+    with pytest.raises(InputError, match=message):
+        read_fault_geojson(path)
+
+
+def test_the_same_fault_twice_is_refused_in_either_direction(tmp_path):
+    trace = [[-120.0, 36.0], [-119.5, 36.2], [-119.0, 36.5]]
+    path = tmp_path / "faults.geojson"
+    path.write_text(json.dumps(_collection(("one", trace), ("again", trace[::-1]))))
+    with pytest.raises(InputError, match="'one' and 'again' have the same trace"):
+        read_fault_geojson(path)
+    path.write_text(json.dumps(_collection(("one", trace), ("other", [[-118.0, 35.0], [-117.5, 35.4]]))))
+    assert len(read_fault_geojson(path).names) == 2

@@ -42,7 +42,51 @@ def trace_from_vertices(vertices, where: str, what: str = "a fault trace") -> np
         raise InputError(f"{where}: {what} needs at least 2 vertices, got {len(vertices)}")
     trace = np.array(vertices)
     _check_lon_lat(trace[:, 0], trace[:, 1], where)
+    _check_simple(trace, where, what)
     return trace
+
+
+#: The sharpest turn a trace may take between two segments (degrees): a fault bends, it does not double back.
+MAX_TURN = 170.0
+
+
+def _check_simple(trace: np.ndarray, where: str, what: str) -> None:
+    """Refuse a trace that repeats a vertex, doubles back on itself (a turn sharper than :data:`MAX_TURN`), or
+    whose segments cross: each would count part of the fault twice, its length and moment with it (a self-retracing
+    trace raised a map's moment 1.4-fold without a word). Planar in (lon cos lat, lat) about the trace's mean
+    latitude: a fault's extent is small against the Earth's curvature."""
+    scale = math.cos(math.radians(float(np.mean(trace[:, 1]))))
+    points = np.column_stack([trace[:, 0] * scale, trace[:, 1]])
+    steps = np.diff(points, axis=0)
+    lengths = np.hypot(steps[:, 0], steps[:, 1])
+    if np.any(lengths == 0):
+        raise InputError(f"{where}: {what} repeats a vertex (vertex {int(np.argmax(lengths == 0)) + 2}); give each "
+                         "vertex once")
+    turns = np.einsum("ij,ij->i", steps[:-1], steps[1:]) / (lengths[:-1] * lengths[1:])
+    back = np.flatnonzero(turns < math.cos(math.radians(MAX_TURN)))
+    if back.size:
+        raise InputError(f"{where}: {what} doubles back on itself at vertex {int(back[0]) + 2} (a turn sharper than "
+                         f"{MAX_TURN:g} degrees): each part of a fault is traced once")
+    count = steps.shape[0]
+    for i in range(count - 2):  # each segment against every later one but its neighbour
+        a, b = points[i], points[i + 1]
+        c, d = points[i + 2:-1], points[i + 3:]
+        cross = _segments_cross(a, b, c, d)
+        if cross.any():
+            j = i + 2 + int(np.argmax(cross))
+            raise InputError(f"{where}: {what} crosses itself (segment {i + 1} and segment {j + 1}); a fault trace "
+                             "never crosses itself")
+
+
+def _orientation(p, q, r):
+    """Sign of the turn p -> q -> r (broadcast over rows of ``r`` or ``q``)."""
+    return np.sign((q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0]))
+
+
+def _segments_cross(a, b, c, d) -> np.ndarray:
+    """Whether segment a-b properly crosses each segment c[k]-d[k] (touching ends do not count)."""
+    return ((_orientation(a, b, c) * _orientation(a, b, d) < 0)
+            & (_orientation(c, d, np.broadcast_to(a, c.shape)) * _orientation(c, d, np.broadcast_to(b, c.shape)) < 0))
 
 
 def trace_length(trace) -> float:

@@ -236,6 +236,12 @@ def read_fault_geojson(path) -> GeoJSONFaults:
                       f"{', '.join(unknown_types[:3])}{', ...' if len(unknown_types) > 3 else ''}", stacklevel=2)
     if not out["ids"]:
         raise InputError(f"{label}: no feature is left to map (every slip_type is outside the GAF vocabulary)")
+    seen = {}
+    for name, trace in zip(out["names"], out["traces"]):  # one fault twice would count its moment twice
+        for key in (tuple(np.round(trace, 9).ravel()), tuple(np.round(trace[::-1], 9).ravel())):
+            if key in seen:
+                raise InputError(f"{label}: {seen[key]!r} and {name!r} have the same trace; a fault is mapped once")
+        seen[tuple(np.round(trace, 9).ravel())] = name
     notes = [f"{label}: {len(names)} feature(s) without {what} take the default ({', '.join(names[:3])}"
              f"{', ...' if len(names) > 3 else ''})" for what, names in defaulted.items() if names]
     return GeoJSONFaults(out["ids"], out["names"], out["traces"], np.array(out["slip_rate"]),
