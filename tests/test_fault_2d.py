@@ -16,6 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from conftest import assert_clean_error
 from faultslip.models.fault_2d import compiled
 from faultslip.models.fault_2d.analysis import summarise
 from faultslip.models.fault_2d.integrate import STEP_MEMORY, YEAR, _Stopped, next_step_factor, run_cycles
@@ -1359,3 +1360,21 @@ def test_the_element_size_a_refusal_suggests_runs(tmp_path):
     suggested = re.search(r'element_size = "([0-9.]+) m"', str(refused.value)).group(1)
     scene.write_text(text.replace('element_size = "400 m"', f'element_size = "{suggested} m"'))
     load_fault_2d_scene(scene).require_resolution()  # reads, divides the fault and resolves L_b
+
+
+def test_a_run_far_past_its_estimate_stops_at_twice_its_budget_with_a_checkpoint(tmp_path, monkeypatch, cli):
+    """An estimate can be far off (a normal stress of 1e-6 MPa ran past 300 s under a 60 s budget): at twice the
+    budget the run checkpoints, stops in one sentence saying how to continue, and --resume --allow-large finishes
+    it. The budget here is a microsecond, so no machine is fast enough to finish first."""
+    from faultslip.io import budget
+    from faultslip.models.fault_2d.scene import Fault2DScene
+
+    monkeypatch.setattr(Fault2DScene, "estimate", lambda self, rtol=None, output=None: budget.Estimate("tiny"))
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "1e-6")
+    out = tmp_path / "run"
+    stopped = cli("simulate", CONFIGS / "fault_2d_small.toml", "--output-dir", out)
+    assert_clean_error(stopped, "reached twice its time budget", "--resume --allow-large")
+    assert (out / "checkpoint.npz").is_file()
+    finished = cli("simulate", CONFIGS / "fault_2d_small.toml", "--output-dir", out, "--resume", "--allow-large")
+    assert finished.code == 0, finished.err
+    assert (out / "fault_2d.nc").is_file()

@@ -74,6 +74,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
     rtol = loaded.rtol if rtol is None else rtol
     loaded.require_resolution(allow_underresolved)  # before any work
     budget.check(loaded.estimate(rtol, output_dir), allow_large)
+    limit = None if allow_large else 2 * budget.time_budget()  # an estimate can be far off: the run stops there
     folder = Path(output_dir) if output_dir is not None else None
     if folder is not None:
         if folder.exists() and not folder.is_dir():
@@ -99,7 +100,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
         folder.mkdir(exist_ok=True)
         try:
             with output_lock(folder / "run", "faultslip simulate (2-D fault)", overwrite=True, label="--output-dir"):
-                run = loaded.run(rtol, folder, resume, progress)
+                run = loaded.run(rtol, folder, resume, progress, time_limit=limit)
                 result = _result(loaded, run, settle_tolerance)
                 write_outputs(loaded, run, folder, result)
         except Exception:
@@ -110,7 +111,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
         result.note(f"SEAS station files, slip profiles (devol.dat), events.csv and fault_2d.nc written to "
                             f"{folder}")
         return result
-    return _result(loaded, loaded.run(rtol, progress=progress), settle_tolerance)
+    return _result(loaded, loaded.run(rtol, progress=progress, time_limit=limit), settle_tolerance)
 
 
 def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> Result:

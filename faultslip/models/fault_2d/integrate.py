@@ -431,7 +431,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                profile_interval: float = 5 * YEAR, coseismic_interval: float = 1.0, event_speed: float = EVENT_SPEED,
                folder=None, resume: bool = False, checkpoint_every: float = 60.0, max_steps: int = 20_000_000,
                stop_after_steps: int | None = None, progress=None, initial_step: float = 1.0,
-               threads: int = 1, adapt_threads: bool = False) -> Fault2DRun:
+               threads: int = 1, adapt_threads: bool = False, time_limit: float | None = None) -> Fault2DRun:
     """Integrate ``fault`` from t = 0 to ``duration`` (s) and record stations, profiles and events.
 
     With numba, each step's element-wise work runs in compiled kernels (:mod:`faultslip.models.fault_2d.compiled`)
@@ -442,6 +442,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     ``folder``: stream records and checkpoints there (a run can then be resumed). ``stop_after_steps``
     stops as a kill would, right after a checkpoint at that step (for tests of restart).
     ``progress``: True for a bar, or a callable (done, total) in years (:mod:`faultslip.io.progress`).
+    ``time_limit``: wall seconds after which the run checkpoints (with a folder) and stops, raising
+    :class:`OverBudget` (an estimate can be far off: nothing else would stop a run once its budget is spent).
     """
     if not (duration > 0 and math.isfinite(duration)):
         raise InputError(f"the duration must be a positive time, got {duration!r}")
@@ -697,6 +699,10 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                 last_save = now
                 if steps == stop_after_steps:
                     raise _Stopped(t)
+            if time_limit is not None and now - started > time_limit:
+                if checkpoint is not None:
+                    save()
+                raise OverBudget(t, now - started)
         if progress:
             progress(int(math.ceil(duration / YEAR)), int(math.ceil(duration / YEAR)))
         wall = wall_before + clock.perf_counter() - started
@@ -742,6 +748,14 @@ class _Stopped(Exception):
     def __init__(self, time):
         super().__init__(f"stopped at t = {time:.17g} s")
         self.time = time
+
+
+class OverBudget(_Stopped):
+    """Raised past ``time_limit``: the run stopped, its checkpoint written where it has a folder."""
+
+    def __init__(self, t: float, seconds: float):
+        super().__init__(t)
+        self.t, self.seconds = t, seconds
 
 
 def _checkpoint_layout(count: int) -> dict:

@@ -40,7 +40,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from faultslip.models.fault_2d.integrate import BP1_STATIONS, YEAR, run_cycles
+from faultslip.models.fault_2d.integrate import BP1_STATIONS, YEAR, OverBudget, run_cycles
 from faultslip.models.fault_2d.analysis import MIN_RESOLUTION
 from faultslip.models.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip import ranges
@@ -109,13 +109,25 @@ class Fault2DScene:
         """The same scene on elements of another size (for convergence studies)."""
         return replace(self, fault=build_fault(self.settings, element_size, self.name))
 
-    def run(self, rtol: float | None = None, folder=None, resume: bool = False, progress=None):
-        """Integrate this scene with its own settings (:func:`faultslip.models.fault_2d.integrate.run_cycles`)."""
+    def run(self, rtol: float | None = None, folder=None, resume: bool = False, progress=None,
+            time_limit: float | None = None):
+        """Integrate this scene with its own settings (:func:`faultslip.models.fault_2d.integrate.run_cycles`);
+        past ``time_limit`` wall seconds it stops (checkpointed where it has a folder) in one sentence saying how to
+        continue."""
         threads = self.threads or threads_for(self.fault.count, THREADS_PAY_FROM)
-        return run_cycles(self.fault, self.duration, rtol=self.rtol if rtol is None else rtol, stations=self.stations,
-                          kernel=self.kernel, profile_interval=self.profile_interval,
-                          coseismic_interval=self.coseismic_interval, folder=folder, resume=resume, progress=progress,
-                          threads=threads, adapt_threads=self.threads is None and threads_are_automatic())
+        try:
+            return run_cycles(self.fault, self.duration, rtol=self.rtol if rtol is None else rtol,
+                              stations=self.stations, kernel=self.kernel, profile_interval=self.profile_interval,
+                              coseismic_interval=self.coseismic_interval, folder=folder, resume=resume,
+                              progress=progress, threads=threads,
+                              adapt_threads=self.threads is None and threads_are_automatic(), time_limit=time_limit)
+        except OverBudget as stopped:
+            how = (f"its checkpoint in {folder} lets 'faultslip simulate SCENE --output-dir {folder} --resume "
+                   "--allow-large' finish it" if folder is not None else
+                   "run it with --output-dir to keep a checkpoint, or with --allow-large")
+            raise InputError(f"{self.name}: the run reached twice its time budget ({stopped.seconds:.0f} s of wall "
+                             f"time) at {stopped.t / YEAR:.4g} yr of {self.duration / YEAR:.4g}, its estimate "
+                             f"({self.estimate(rtol).describe()}) far short; {how}") from None
 
     def expected_events(self) -> float | None:
         """The system-size events this run will see: its duration over the recurrence the one-slider rung expects
