@@ -23,7 +23,9 @@ kB, where the fuzzer may mount one); and a second writer of another kind holding
 * ``environment``: exit 1 (a machine error such as a full disk), one line;
 * ``unclean``: exit 2 but more than one line on stderr;
 * ``traceback``: an exception escaped ``main`` (a bug: its type and place are recorded);
-* ``timeout``: the case took longer than ``--timeout`` seconds.
+* ``timeout``: the case took longer than ``--timeout`` seconds;
+* ``silent``: exit 0 from an input changed so that it must be refused (a tampered fit bundle, a Zarr store with
+  two chunks swapped): a wrong or unverified answer given as right.
 
 The acceptance criterion of issue 9 is zero ``traceback``, ``unclean``, ``timeout`` and
 ``environment`` over at least 10,000 cases (a mutated input must never reach the machine's limits). The tally and every distinct failure are written to the JSON file.
@@ -206,6 +208,10 @@ class Workspace:
         surface_lines = (CONFIGS / "example_surface.csv").read_text(encoding="utf-8").splitlines()
         self.surface = "\n".join(surface_lines[:1025]) + "\n"
         self.quakeml, self.mseed = self._seismology_files()
+        self.bundle, self.workbook = self._bundle(), self._workbook()
+        self.rfile = (DATA / "p655" / "p655_r").read_text(encoding="utf-8", errors="replace")
+        shutil.copy(DATA / "p655" / "p655intact100l", folder / "p655intact100l")
+        self.silent_if_ok = False  # a case whose input was changed so that exit 0 would be a silent result
         self.fault_2d, self.stopped = self._stopped_2d_run()
         self.fifo = folder / "pipe.toml"
         os.mkfifo(self.fifo)
@@ -262,6 +268,34 @@ class Workspace:
         except _Stopped:
             pass
         return text, stopped
+
+    def _bundle(self) -> bytes:
+        """A fit bundle of the example friction data (the seed of the bundle kind)."""
+        out = self.folder / "seed_bundle.zip"
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            from faultslip.cli.main import main
+
+            assert main(["fit", str(CONFIGS / "example_friction_data.csv"), "--bootstrap", "5", "--bundle",
+                         str(out), "--json"]) == 0
+        return out.read_bytes()
+
+    def _workbook(self) -> bytes:
+        """The raw velocity-step record's first rows as an Excel workbook (the seed of the xlsx kind)."""
+        import openpyxl
+
+        book = openpyxl.Workbook()
+        sheet = book.active
+        lines = [line.split() for line in self.raw.splitlines() if line.strip() and not line.startswith("#")]
+        header = [cell for cell in lines[0]]
+        sheet.append(header)
+        for row in lines[1:400]:
+            try:
+                sheet.append([float(v) for v in row])
+            except ValueError:
+                continue
+        buffer = io.BytesIO()
+        book.save(buffer)
+        return buffer.getvalue()
 
     def _seismology_files(self) -> tuple[bytes, bytes]:
         """A QuakeML catalog and a miniSEED record to corrupt (written by faultslip itself)."""
@@ -404,11 +438,37 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
     if kind == "phyphox":
         path = space.write("phone.csv", mutate_csv(space.phyphox, rng))
         return ["record", str(path), "--json"] + rng.choice([[], ["--axis", rng.choice(["x", "y", "w"])]])
+    if kind == "bundle":
+        path = space.write("fit.zip", mutate_bundle(space.bundle, rng, space))
+        return ["fit", "--replay", str(path), "--json"]
+    if kind == "xlsx":
+        path = space.write("rig.xlsx", mutate_workbook(space.workbook, rng))
+        return ["fit", str(path), "--law", "rate-state", "--stiffness", "200 kN/mm", "--area", "25 cm^2", "--json"]
+    if kind == "rfile":
+        path = space.write("p655_r", mutate_csv(space.rfile, rng) if rng.random() < 0.8 else
+                           mutate_bytes(space.rfile.encode(), rng))
+        return ["reduce", str(path), "--json"]
+    if kind == "memo":
+        import faultslip.units as units
+
+        cache = space.folder / "cache"
+        os.environ["XDG_CACHE_HOME"] = str(cache)
+        units._MEMO = None  # this process read its memo: it reads the mutated one afresh
+        units._unit_factor.cache_clear()
+        units._conversion.cache_clear()
+        memo = units._memo_path()
+        if memo.exists():
+            text = memo.read_bytes()
+            memo.write_bytes(mutate_bytes(text, rng) if rng.random() < 0.5 else
+                             text.replace(b"1000.0", rng.choice([b"10000.0", b"1e400", b"-1.0", b"\"nan\""])))
+            space.silent_if_ok = False  # a rejected memo is recomputed from pint: exit 0 with the right answer
+        return ["fault", "--lithology", "granodiorite", "--zone-width", rng.choice(["13 mi", "20 km", "1e4 m"]),
+                "--slip-rate", "2 in/yr", "--shear-stress", "250 bar", "--json"]
     if kind == "zarr":
         store = space.folder / "store.zarr"
         shutil.rmtree(store, ignore_errors=True)
         shutil.copytree(CONFIGS / "example_lab_glass.zarr", store)
-        damage_store(store, rng)
+        space.silent_if_ok = damage_store(store, rng) is True  # two chunks swapped: exit 0 would be silent
         return ["convert", str(store), "-o", out, "--overwrite", "--workers", "1", "--json"]
     if kind == "deep":
         depth = rng.choice([33, 100, 500, 3000])
@@ -563,7 +623,8 @@ def damage_stream(path: Path, rng, space) -> None:
 KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6, "netcdf": 8, "units": 20,
          "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
          "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6,
-         "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4}
+         "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4,
+         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [
@@ -651,6 +712,14 @@ def damage_store(store: Path, rng) -> None:
     """Delete or corrupt a chunk, or give an attribute a value netCDF cannot hold."""
     chunks = sorted(p for p in store.rglob("*") if p.is_file() and not p.name.startswith("."))
     choice = rng.random()
+    pairs = [(a, b) for a in chunks for b in chunks if a.parent == b.parent and a < b
+             and a.read_bytes() != b.read_bytes()]
+    if choice < 0.15 and pairs:  # two chunks of one array swapped: each valid by its own CRC, the digests tell
+        first, second = rng.choice(pairs)
+        content = first.read_bytes()
+        first.write_bytes(second.read_bytes())
+        second.write_bytes(content)
+        return True
     if choice < 0.3:
         rng.choice(chunks).unlink()
     elif choice < 0.7:
@@ -667,6 +736,79 @@ def damage_store(store: Path, rng) -> None:
         meta = rng.choice(sorted(store.rglob(".zarray")))
         meta.write_bytes(mutate_bytes(meta.read_bytes(), rng))
         (store / ".zmetadata").unlink(missing_ok=True)
+
+
+def mutate_bundle(raw: bytes, rng, space) -> bytes:
+    """A fit bundle changed after writing: its bytes, a member edited (report numbers, types, emptied), removed,
+    shadowed by a second entry, or inflated; options of the wrong kind. Exit 0 from any of these is silent."""
+    import zipfile
+
+    space.silent_if_ok = True
+    if rng.random() < 0.2:
+        return mutate_bytes(raw, rng)
+    with zipfile.ZipFile(io.BytesIO(raw)) as archive:
+        members = {name: archive.read(name) for name in archive.namelist()}
+    choice = rng.random()
+    extra = []
+    report = json.loads(members["report.json"])
+    manifest = json.loads(members["manifest.json"])
+    if choice < 0.25:
+        numbers = [k for k, v in report.items() if isinstance(v, (int, float)) and not isinstance(v, bool)]
+        if numbers:
+            key = rng.choice(numbers)
+            report[key] = rng.choice([report[key] * 3, str(report[key] * 3), None, -report[key] - 1])
+        members["report.json"] = json.dumps(report).encode()
+    elif choice < 0.35:
+        members["report.json"] = rng.choice([b"{}", b"[]", b"null", b"{not json"])
+    elif choice < 0.5:
+        del members[rng.choice(sorted(members))]
+    elif choice < 0.6:
+        extra.append(("report.json", b"{}"))
+    elif choice < 0.75:
+        key = rng.choice(["bootstrap", "seed", "posterior", "joint", "detrend", "law"])
+        manifest["options"][key] = rng.choice(["many", 1.5, [1], {}, True, "cubic", None, -1])
+        members["manifest.json"] = json.dumps(manifest).encode()
+    elif choice < 0.85:
+        manifest[rng.choice(["versions", "members", "record", "format"])] = rng.choice([[], "x", None, {"a": 1}, 5])
+        members["manifest.json"] = json.dumps(manifest).encode()
+    else:  # a member that inflates far past its size on disk
+        members[rng.choice(["manifest.json", "report.json"])] += b" " * rng.choice([2 ** 20, 40 * 2 ** 20])
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+        for name, content in list(members.items()) + extra:
+            with warnings_off():
+                archive.writestr(name, content)
+    return buffer.getvalue()
+
+
+@contextlib.contextmanager
+def warnings_off():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        yield
+
+
+def mutate_workbook(raw: bytes, rng) -> bytes:
+    """An Excel workbook's bytes flipped, a stray cell far out, text among the numbers, or a sheet that inflates."""
+    import openpyxl
+
+    choice = rng.random()
+    if choice < 0.3:
+        return mutate_bytes(raw, rng)
+    book = openpyxl.load_workbook(io.BytesIO(raw))
+    sheet = book.active
+    if choice < 0.55:
+        sheet[rng.choice(["XFD1048576", "ZZ100000", "B2000000", "AA1"])] = rng.choice([1.0, "x"])
+    elif choice < 0.8:
+        sheet.cell(row=rng.randint(1, 50), column=rng.randint(1, 4), value=rng.choice(["", "nan", "1,5", None, "x"]))
+    else:
+        for _ in range(rng.choice([1, 3])):
+            sheet.insert_rows(rng.randint(2, 40))
+    buffer = io.BytesIO()
+    book.save(buffer)
+    return buffer.getvalue()
 
 
 GAF_TERMS = ["Dextral_Transform", "Sinistral_Transform", "Subduction_Thrust", "Normal-Strike-Slip",
@@ -686,6 +828,20 @@ def mutate_gaf(document: dict, rng) -> None:
             cut = rng.randint(1, max(1, len(line) - 1))
             feature["geometry"] = {"type": "MultiLineString", "coordinates": rng.choice(
                 [[line[:cut + 1], line[cut:]], [line, [[c[0] + 1.0, c[1]] for c in line]], [], [[]]])}
+        elif choice < 0.62:  # a trace that crosses or retraces itself, or one fault given twice
+            line = feature["geometry"].get("coordinates")
+            if feature["geometry"].get("type") == "LineString" and isinstance(line, list) and len(line) >= 2:
+                how = rng.choice(["retrace", "cross", "repeat", "twice"])
+                if how == "retrace":
+                    feature["geometry"]["coordinates"] = line + line[-2::-1]
+                elif how == "cross":
+                    feature["geometry"]["coordinates"] = line + [[line[0][0] + 0.01, line[0][1] + 0.2],
+                                                                 [line[0][0] + 0.01, line[0][1] - 0.2]]
+                elif how == "repeat":
+                    feature["geometry"]["coordinates"] = line[:1] + line
+                else:
+                    features.append(json.loads(json.dumps({**feature, "properties": {
+                        **feature["properties"], "catalog_id": f"{feature['properties'].get('catalog_id')}-again"}})))
         elif choice < 0.7:
             other = rng.choice(features)
             feature["properties"]["catalog_id"] = other["properties"].get("catalog_id")
@@ -761,7 +917,7 @@ def run_case(argv: list[str], timeout: float):
         if len(lines) == 1 and "Traceback" not in err.getvalue():
             return "clean", None, time.perf_counter() - started
         return "unclean", err.getvalue()[:300], time.perf_counter() - started
-    if code == 1 and argv[0] == "reproduce":  # the file differs from its reproduction: reported, as designed
+    if code == 1 and (argv[0] == "reproduce" or "--replay" in argv):  # a difference found and said, as designed
         return "mismatch", None, time.perf_counter() - started
     if code == 1:
         return "environment", err.getvalue()[:200] or "exit 1", time.perf_counter() - started
@@ -800,6 +956,9 @@ def worker(job):
                     if (space.folder / name).exists():
                         shutil.copy(space.folder / name, Path(os.environ["FAULTSLIP_FUZZ_LOG"]).parent / name)
             outcome, detail, seconds = run_case(argv, timeout)
+            if outcome == "ok" and space.silent_if_ok:  # a changed input reported as if nothing had changed
+                outcome, detail = "silent", f"{kind}: a changed input went through with exit 0"
+            space.silent_if_ok = False
             try:
                 space.release()
             except AssertionError as exc:
@@ -812,7 +971,8 @@ def worker(job):
             slowest = max(slowest, seconds)
             tally[outcome] += 1
             by_kind[kind][outcome] += 1
-            if detail and outcome in ("traceback", "unclean", "timeout", "environment") and detail not in failures:
+            if detail and outcome in ("traceback", "unclean", "timeout", "environment", "silent") \
+                    and detail not in failures:
                 failures[detail] = {"outcome": outcome, "kind": kind, "argv": [a for a in argv]}
             elif outcome == "timeout":
                 failures.setdefault(f"timeout {kind}", {"outcome": outcome, "kind": kind, "argv": argv})
@@ -855,7 +1015,7 @@ def main(argv=None) -> int:
     print(json.dumps({k: v for k, v in result.items() if k != "distinct_failures"}, indent=1))
     for detail, info in list(failures.items())[:40]:
         print(f"{info['outcome']:10s} {info['kind']:8s} {detail}", file=sys.stderr)
-    bad = tally["traceback"] + tally["unclean"] + tally["timeout"] + tally["environment"]
+    bad = tally["traceback"] + tally["unclean"] + tally["timeout"] + tally["environment"] + tally["silent"]
     return 1 if bad else 0
 
 

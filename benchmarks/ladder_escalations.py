@@ -39,7 +39,8 @@ def _escalate(design, resolution):
     return {"design": asdict(design), "elements_per_process_zone": resolution, "elements": scene.fault.count,
             "method": result.method, "escalated_from": result.values["escalated_from"],
             "estimated_seconds": float(result["estimated_seconds"].to("s").magnitude),
-            "cpu_time": float(result["cpu_time"].to("s").magnitude),
+            "cpu_time": float(result["cpu_time"].to("s").magnitude), "runs": int(result.values["runs"]),
+            "steps": int(result.values["steps"]), "sequence": result.values["sequence"],
             "recurrence": float(result["recurrence_interval"].to("s").magnitude),
             "declared_error": result.estimated_relative_error}
 
@@ -59,7 +60,8 @@ def main(argv=None):
             row = future.result()
             rows.append(row)
             print(f"{row['design']['name']}: {row['elements']} elements, estimated {row['estimated_seconds']:.1f} s, "
-                  f"used {row['cpu_time']:.1f} s CPU ({row['estimated_seconds'] / row['cpu_time']:.2f}x)", flush=True)
+                  f"used {row['cpu_time']:.1f} s CPU in {row['runs']} run(s) ({row['estimated_seconds'] / row['cpu_time']:.2f}x)",
+                  flush=True)
     finally:
         stop_pool(pool)
     ratios = [row["estimated_seconds"] / row["cpu_time"] for row in rows]

@@ -512,6 +512,22 @@ def ladder_table() -> str | None:
             f"{budget['within_2x']} of {budget['runs']} runs within 2×. {_machine(result)}")
 
 
+def ladder_escalations_table() -> str | None:
+    """Escalations up the ladder: the budget's estimate against the CPU used (ladder_escalations.py)."""
+    result = _load("ladder_escalations.json")
+    if result is None:
+        return None
+    rows = ["| fault | elements | 2-D runs | estimated | CPU used | estimate / CPU |", "| --- | --- | --- | --- | --- | --- |"]
+    for row in sorted(result["rows"], key=lambda r: r["design"]["name"]):
+        rows.append(f"| {row['design']['name']} (W/h* {row['design']['width_over_nucleation']:.2f}) | {row['elements']} | "
+                    f"{row.get('runs', 1)} | {row['estimated_seconds']:.1f} s | {row['cpu_time']:.1f} s | "
+                    f"{row['estimated_seconds'] / row['cpu_time']:.2f} |")
+    summary = result["summary"]
+    return ("\n".join(rows) + f"\n\n{summary['within_2x']} of {summary['escalations']} escalations within 2x (median "
+            f"{summary['ratio_median']:.2f}, {summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}); "
+            f"`python benchmarks/ladder_escalations.py`. {_machine(result)}")
+
+
 #: Pages whose generated tables update() writes, beside the README.
 PAGES = ("README.md", "docs/ladder.md")
 
@@ -526,7 +542,7 @@ def update(readme: Path | None = None) -> list[str]:
 def _update_page(readme: Path) -> list[str]:
     text = readme.read_text(encoding="utf-8")
     written = []
-    for name, render in (("ladder", ladder_table), ("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
+    for name, render in (("ladder", ladder_table), ("ladder_escalations", ladder_escalations_table), ("benchmarks", benchmarks_table), ("sweep", sweep_table), ("reliability", reliability_table),
                          ("startup", startup_table), ("fault_2d", fault_2d_table),
                          ("fault_2d_qdyn", fault_2d_qdyn_table), ("fault_2d_threads", fault_2d_threads_table),
                          ("fault_2d_placement", fault_2d_placement_table),

@@ -136,13 +136,21 @@ def test_any_lab_combination_matches_scalar(names, sizes):
 @pytest.mark.parametrize("values, message", [
     ({"zone_width": ["0 km"]}, "elastic-zone width must be positive"),
     ({"zone_width": ["-5 km", "10 km"]}, "elastic-zone width must be positive"),
-    ({"mu_m": [0.5, 0.7]}, "is not below mu_so"),
+    ({"mu_m": [0.7, 0.8]}, "is not below mu_so"),  # every cell: refused (some cells: flagged, below)
     ({"damping_ratio": [1.2]}, "damping ratio must lie in (-1, 1)"),
     ({"slip_rate": {"logspace": ["1 mm/yr", "100 mm/yr", 0]}}, "count must be at least 1"),
 ])
 def test_sweeps_refuse_what_fault_refuses(values, message):
     with pytest.raises(InputError, match=message.replace("(", r"\(").replace(")", r"\)")):
         sweep("san_andreas_1906.toml", **values)
+
+
+def test_a_sweep_flags_only_the_cells_without_a_static_excess():
+    """mu_m 0.5 and 0.7 against the 1906 scene's mu_so of 0.65: the first cell is predicted, the second flagged."""
+    dataset = sweep("san_andreas_1906.toml", mu_m=[0.5, 0.7])
+    assert dataset["outside_domain"].values.tolist() == [0, 1]
+    slip = dataset["slip_per_event"].values
+    assert np.isfinite(slip[0]) and np.isnan(slip[1])
 
 
 @pytest.mark.parametrize("method", ["auto", "closed_form", "exact_cycle"])
