@@ -800,7 +800,7 @@ def mutate_workbook(raw: bytes, rng) -> bytes:
     book = openpyxl.load_workbook(io.BytesIO(raw))
     sheet = book.active
     if choice < 0.55:
-        sheet[rng.choice(["XFD1048576", "ZZ100000", "B2000000", "AA1"])] = rng.choice([1.0, "x"])
+        sheet[rng.choice(["XFD1048576", "ZZ100000", "B1000000", "AA1"])] = rng.choice([1.0, "x"])
     elif choice < 0.8:
         sheet.cell(row=rng.randint(1, 50), column=rng.randint(1, 4), value=rng.choice(["", "nan", "1,5", None, "x"]))
     else:

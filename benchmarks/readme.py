@@ -157,6 +157,7 @@ def reliability_table() -> str | None:
             f"that `reproduce` reported as differing) |",
             f"| refused with one sentence, exit 2 | {outcomes.get('clean', 0):,} |",
             f"| tracebacks and multi-line errors | **{sum(outcomes.get(k, 0) for k in ('traceback', 'unclean', 'environment'))}** |",
+            f"| silent: a changed input answered as if unchanged (exit 0) | **{outcomes.get('silent', 0)}** |",
             f"| cases over the fuzzer's {fuzz.get('timeout_s', 60):g} s limit | {outcomes.get('timeout', 0)} |"]
     hard = {"zarr": "damaged Zarr stores (missing, corrupted or re-attributed chunks)",
             "deep": "TOML nested 33 to 3,000 deep", "device": "devices, FIFOs and folders given as files",
@@ -168,12 +169,16 @@ def reliability_table() -> str | None:
             "stream": "its record streams flipped, cut, grown, deleted or linked to a victim file, then --resume",
             "hazard": "hazard options: b-value, magnitudes, bin width, moment constant, scaling relations",
             "raw": "raw rig records with stiffness, area, trend, steps, windows, priors and posteriors",
-            "upload": "classroom uploads with hostile names and headers (no markup may reach the page)"}
+            "upload": "classroom uploads with hostile names and headers (no markup may reach the page)",
+            "bundle": "fit bundles edited, emptied, shadowed, inflated or given options of the wrong kind, replayed",
+            "xlsx": "Excel workbooks: bytes flipped, a stray cell far out, text among the numbers",
+            "rfile": "xlook r-files (lines and bytes mutated), reduced",
+            "memo": "the unit memo edited or damaged, then units read through it"}
     by_input = fuzz.get("by_input", {})
     for kind, label in hard.items():
         if kind in by_input:
             counts = by_input[kind]
-            bad = sum(counts.get(k, 0) for k in ("traceback", "unclean", "environment", "timeout"))
+            bad = sum(counts.get(k, 0) for k in ("traceback", "unclean", "environment", "timeout", "silent"))
             rows.append(f"| of which {label} | {sum(counts.values()):,}: {counts.get('ok', 0)} answered, "
                         f"{counts.get('clean', 0)} refused in one sentence, {bad} failures |")
     if kills:
@@ -183,6 +188,13 @@ def reliability_table() -> str | None:
                  "resumed results that differ) |",
                  f"| two sweeps racing for one output | {r['rounds']} rounds, {r['one_refused']} refused the second "
                  f"writer by name; {len(r['problems'])} problems |"]
+    second = _load("fuzz_second_seed.json")
+    if second is not None:  # a second seed, the same kinds (issue 69: two new seeds of 10,000 cases)
+        o = second["outcomes"]
+        rows.append(f"| second seed ({second['seed']}): {second['cases']:,} cases | {o.get('ok', 0):,} answered, "
+                    f"{o.get('clean', 0):,} refused in one sentence, **"
+                    f"{sum(o.get(k, 0) for k in ('traceback', 'unclean', 'environment', 'timeout', 'silent'))}** "
+                    "failures |")
     return "\n".join(rows) + "\n\n" + _machine(fuzz) + (f" Kills: {_machine(kills)[12:]}" if kills else "")
 
 

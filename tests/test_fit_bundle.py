@@ -38,6 +38,16 @@ def _signed(members: dict) -> dict:
     return {**members, "manifest.json": json.dumps(manifest).encode()}
 
 
+def _with_manifest(tmp_path, cli, change) -> Path:
+    """A good bundle whose manifest ``change(manifest)`` edits in place, written as bad.zip."""
+    members = _good(tmp_path, cli)
+    manifest = json.loads(members["manifest.json"])
+    change(manifest)
+    bad = tmp_path / "bad.zip"
+    _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
+    return bad
+
+
 def test_a_rate_law_bundle_replays_bit_for_bit_and_opens_without_faultslip(cli, tmp_path):
     import xarray as xr
 
@@ -185,12 +195,8 @@ def test_a_second_entry_that_shadows_the_first_is_refused(cli, tmp_path):
 
 
 def test_a_bundle_of_the_older_format_is_refused_with_the_reason(cli, tmp_path):
-    members = _good(tmp_path, cli)
-    manifest = json.loads(members["manifest.json"])
-    manifest["format"] = "faultslip-fit-bundle/1"
-    del manifest["members"]
-    bad = tmp_path / "old.zip"
-    _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
+    bad = _with_manifest(tmp_path, cli, lambda manifest: (manifest.update(format="faultslip-fit-bundle/1"),
+                                                          manifest.pop("members")))
     assert_clean_error(cli("fit", "--replay", bad), "checksum for every member")
 
 
@@ -232,18 +238,10 @@ def test_the_bundle_option_kinds_are_the_fit_parsers_own():
     ({"seed": 1.5}, "'seed' holds 1.5"),
 ])
 def test_a_bundle_option_of_the_wrong_kind_is_one_sentence(cli, tmp_path, options, message):
-    members = _good(tmp_path, cli)
-    manifest = json.loads(members["manifest.json"])
-    manifest["options"] = {**manifest["options"], **options}
-    bad = tmp_path / "bad.zip"
-    _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
+    bad = _with_manifest(tmp_path, cli, lambda manifest: manifest["options"].update(options))
     assert_clean_error(cli("fit", "--replay", bad), message)
 
 
 def test_a_manifest_whose_versions_is_not_a_table_is_one_sentence(cli, tmp_path):
-    members = _good(tmp_path, cli)
-    manifest = json.loads(members["manifest.json"])
-    manifest["versions"] = ["numpy", "2.0"]
-    bad = tmp_path / "bad.zip"
-    _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
+    bad = _with_manifest(tmp_path, cli, lambda manifest: manifest.update(versions=["numpy", "2.0"]))
     assert_clean_error(cli("fit", "--replay", bad), "versions is not a table")

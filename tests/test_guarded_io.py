@@ -371,6 +371,19 @@ def _peak(body: str) -> tuple[str, float]:
     return message, float(grown)
 
 
+def _refusal(module: str, function: str, arguments: str) -> tuple[str, float]:
+    """``module.function(arguments)`` in a fresh interpreter: (its refusal's sentence, or "accepted"; peak memory
+    growth in MiB)."""
+    return _peak(f"""
+        from {module} import {function}
+        try:
+            {function}({arguments})
+            message = "accepted"
+        except InputError as exc:
+            message = str(exc)
+    """)
+
+
 def _npy_header(shape, dtype="<f8") -> bytes:
     """A .npy file's magic and header (numpy's own writer) for an array of ``shape``."""
     import io as _io
@@ -399,14 +412,7 @@ def _zeros_npz(path, name: str, declared_shape, written_bytes: int) -> None:
 def test_a_checkpoint_whose_header_claims_more_than_it_holds_is_refused_before_allocating(tmp_path):
     bomb = tmp_path / "checkpoint.npz"
     _zeros_npz(bomb, "slip", (200_000_000,), 2**19)  # 1.6 GB claimed, 512 kiB held
-    message, grown = _peak(f"""
-        from faultslip.io.records import read_checkpoint
-        try:
-            read_checkpoint({str(bomb)!r}, {{"slip": ("f", (None,))}})
-            message = "accepted"
-        except InputError as exc:
-            message = str(exc)
-    """)
+    message, grown = _refusal("faultslip.io.records", "read_checkpoint", f"{str(bomb)!r}, {{'slip': ('f', (None,))}}")
     assert "declares" in message and "slip.npy" in message
     assert grown < 100
 
@@ -415,14 +421,7 @@ def test_a_checkpoint_that_inflates_a_thousandfold_is_refused_before_inflating(t
     bomb = tmp_path / "checkpoint.npz"
     _zeros_npz(bomb, "slip", (300 * 2**20 // 8,), 300 * 2**20)  # 300 MiB of zeros deflate to about 300 kB
     assert bomb.stat().st_size < 2 * 2**20
-    message, grown = _peak(f"""
-        from faultslip.io.records import read_checkpoint
-        try:
-            read_checkpoint({str(bomb)!r}, {{"slip": ("f", (None,))}})
-            message = "accepted"
-        except InputError as exc:
-            message = str(exc)
-    """)
+    message, grown = _refusal("faultslip.io.records", "read_checkpoint", f"{str(bomb)!r}, {{'slip': ('f', (None,))}}")
     assert "to 1" in message and "zip bomb" in message
     assert grown < 100
 
@@ -447,14 +446,7 @@ def test_a_workbook_with_one_cell_at_the_last_column_and_row_is_refused_from_its
     sheet["XFD1048576"] = 3.0
     path = tmp_path / "far.xlsx"
     book.save(path)
-    message, grown = _peak(f"""
-        from faultslip.io.resources import read_numeric_xlsx
-        try:
-            read_numeric_xlsx({str(path)!r}, "the record")
-            message = "accepted"
-        except InputError as exc:
-            message = str(exc)
-    """)
+    message, grown = _refusal("faultslip.io.resources", "read_numeric_xlsx", f"{str(path)!r}, 'the record'")
     assert "A1:XFD1048576" in message and "clear the cells outside the table" in message
     assert grown < 100
 
@@ -479,14 +471,7 @@ def test_a_workbook_whose_sheet_inflates_a_thousandfold_is_refused_before_inflat
                 continue
             target.writestr(info, data)
     assert bomb.stat().st_size < 2 * 2**20
-    message, grown = _peak(f"""
-        from faultslip.io.resources import read_numeric_xlsx
-        try:
-            read_numeric_xlsx({str(bomb)!r}, "the record")
-            message = "accepted"
-        except InputError as exc:
-            message = str(exc)
-    """)
+    message, grown = _refusal("faultslip.io.resources", "read_numeric_xlsx", f"{str(bomb)!r}, 'the record'")
     assert "zip bomb" in message and "sheet1.xml" in message
     assert grown < 100
 
