@@ -649,3 +649,26 @@ def test_every_lab_result_gives_xarray_with_cf_units(p655_reduced, tmp_path):
     np.testing.assert_allclose(steps["a"], [entry["fit"].parameters["a"] for entry in results["each_step"]])
     np.testing.assert_allclose(results["steady"].to_dataset()["a_minus_b"],
                                [row.a_minus_b for row in results["steady"]])
+
+
+def test_the_shipped_raw_records_documented_command_covers_its_headers_truth(cli):
+    """configs/README.md's command for the raw record, run as written: its 95 % intervals hold the a, b and D_c its
+    header states (the record drifts with slip; --detrend linear, once documented, gave intervals that excluded
+    them)."""
+    import re
+    import shlex
+
+    root = Path(__file__).resolve().parent.parent
+    line = next(text for text in (root / "configs" / "README.md").read_text().splitlines()
+                if "example_raw_velocity_steps.txt" in text and text.startswith("faultslip fit"))
+    header = (root / "configs" / "example_raw_velocity_steps.txt").read_text().splitlines()[1]
+    truth = {"a": float(re.search(r"\ba ([0-9.]+)", header).group(1)),
+             "b": float(re.search(r"\bb ([0-9.]+)", header).group(1)),
+             "critical_slip": float(re.search(r"D_c ([0-9.]+) um", header).group(1)) * 1e-6}
+    arguments = [word.replace("configs/", str(root / "configs") + "/") for word in shlex.split(line)[1:]]
+    result = cli(*arguments, "--json")
+    assert result.code == 0, result.err
+    for name, value in truth.items():
+        entry = result.json[f"{name}_95"]
+        low, high = entry["value"] if isinstance(entry, dict) else entry  # D_c's carries its units (m)
+        assert low <= value <= high, (name, low, value, high)
