@@ -329,8 +329,13 @@ function slider() {
 
 function chain() {
   const c = DATA.chains[+el("chain").value];
-  show("b_value", c.b, "", 3);
-  el("b_value").textContent += c.interval ? " (" + c.interval[0].toFixed(2) + "–" + c.interval[1].toFixed(2) + ")" : "";
+  if (c.b === null) {  // the catalogue failed the Gutenberg-Richter test: no b to show
+    el("b_value").dataset.value = "";
+    el("b_value").textContent = "none: these magnitudes do not follow Gutenberg–Richter (see the plot)";
+  } else {
+    show("b_value", c.b, "", 3);
+    el("b_value").textContent += c.interval ? " (" + c.interval[0].toFixed(2) + "–" + c.interval[1].toFixed(2) + ")" : "";
+  }
   el("system_events").textContent = String(c.system_events); show("cv", c.recurrence_cv, "", 2);
   const m = c.magnitudes.slice().sort((a, b) => a - b), count = m.map((_, i) => Math.log10(m.length - i));
   const ctx = el("mfd").getContext("2d");
