@@ -88,6 +88,10 @@ def main():
         pairs = targets(train, quantity)
         table[quantity] = ladder.fit([item["group"] for item, _ in pairs], np.array([y for _, y in pairs]))
     table["box"] = ladder.box_of([item["group"] for item in train])
+    # the designs stand in for "no ramp" and "creep right below the zone" with one element (0.002 W): a scene
+    # stating none at all lies on that edge, not beyond it
+    for name in ("ramp", "log_strengthening_depth"):
+        table["box"][name][0] = 0.0
     rows, covered, widths = [], {q: [] for q in ladder.QUANTITIES}, {q: [] for q in ladder.QUANTITIES}
     for item in test:
         outside = ladder.outside_box(item["group"], table)
