@@ -520,7 +520,7 @@ def ladder_table() -> str | None:
     return ("\n".join(rows) + f"\n\n{len(result['rows'])} held-out faults drawn at random over the box "
             f"(`python benchmarks/ladder_designs.py`, then `benchmarks/ladder_calibration.py`), {outside} of them "
             f"outside it (no range declared). The estimates these runs recorded, made by the older years-based cost model "
-            f"(the event-based model fitted on them is measured on escalations below), against the CPU each used: "
+            f"(the event-based model fitted on them is measured on escalations in docs/ladder.md), against the CPU each used: "
             f"{budget['ratio_min']:.2f} to {budget['ratio_max']:.2f}× (median {budget['ratio_median']:.2f}×), "
             f"{budget['within_2x']} of {budget['runs']} runs within 2×. {_machine(result)}")
 
