@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 from conftest import assert_clean_error
 from faultslip.errors import InputError
-from faultslip.io.bundle import FORMAT, read_bundle
+from faultslip.io.bundle import FORMAT, manifest_checksum, read_bundle
 
 CONFIGS = Path(__file__).resolve().parent.parent / "configs"
 
@@ -35,6 +35,7 @@ def _signed(members: dict) -> dict:
     manifest = json.loads(members["manifest.json"])
     manifest["members"] = {name: hashlib.sha256(members[name]).hexdigest() for name in manifest["members"]
                            if name in members}
+    manifest["checksum"] = manifest_checksum(manifest)
     return {**members, "manifest.json": json.dumps(manifest).encode()}
 
 
@@ -43,6 +44,7 @@ def _with_manifest(tmp_path, cli, change) -> Path:
     members = _good(tmp_path, cli)
     manifest = json.loads(members["manifest.json"])
     change(manifest)
+    manifest["checksum"] = manifest_checksum(manifest)  # re-signed: the check after the checksum is what is tested
     bad = tmp_path / "bad.zip"
     _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
     return bad
@@ -112,12 +114,12 @@ def _good(tmp_path, cli) -> dict:
      "format"),
     (lambda m: {**m, "record/example_friction_data.csv": m["record/example_friction_data.csv"] + b"1,2\n"}, "SHA-256"),
     (lambda m: {k: v for k, v in m.items() if not k.startswith("record/")}, "does not hold its record"),
-    (lambda m: {**m, "manifest.json": json.dumps({**json.loads(m["manifest.json"]),
-                                                  "record": {"name": "../x.csv", "sha256": "0"}}).encode()},
+    (lambda m: _signed({**m, "manifest.json": json.dumps({**json.loads(m["manifest.json"]),
+                                                          "record": {"name": "../x.csv", "sha256": "0"}}).encode()}),
      "not a plain file name"),
-    (lambda m: {**m, "manifest.json": json.dumps({**json.loads(m["manifest.json"]),
-                                                  "options": {**json.loads(m["manifest.json"])["options"],
-                                                              "rm_rf": True}}).encode()}, "rm_rf"),
+    (lambda m: _signed({**m, "manifest.json": json.dumps({**json.loads(m["manifest.json"]),
+                                                          "options": {**json.loads(m["manifest.json"])["options"],
+                                                                      "rm_rf": True}}).encode()}), "rm_rf"),
     (lambda m: _signed({**m, "draws.nc": b"CDF\x02garbage"}), "netCDF"),
     (lambda m: {**m, "draws.nc": b"CDF\x02garbage"}, "draws.nc does not match its SHA-256"),
 ])
@@ -215,7 +217,7 @@ def test_an_inflating_manifest_is_refused_before_it_is_inflated(cli, tmp_path):
 
 def test_the_bundle_option_kinds_are_the_fit_parsers_own():
     """FIT_OPTION_KINDS and FIT_OPTION_CHOICES say what the fit's parser declares: they cannot drift apart."""
-    from faultslip.cli.lab import FIT_OPTION_CHOICES, FIT_OPTION_KINDS, FIT_OPTIONS
+    from faultslip.cli.lab import FIT_OPTION_CHOICES, FIT_OPTION_KINDS, FIT_OPTIONS, FIT_OPTIONS_NOT_NONE
     from faultslip.cli.main import build_parser
 
     parser = build_parser()
@@ -228,6 +230,7 @@ def test_the_bundle_option_kinds_are_the_fit_parsers_own():
                 "count" if action.type is int else "text")
         assert FIT_OPTION_KINDS[name] == kind, name
         assert FIT_OPTION_CHOICES.get(name) == (tuple(action.choices) if action.choices else None), name
+        assert (name in FIT_OPTIONS_NOT_NONE) == (action.default is not None), name
 
 
 @pytest.mark.parametrize("options, message", [
@@ -236,6 +239,7 @@ def test_the_bundle_option_kinds_are_the_fit_parsers_own():
     ({"joint": "other.csv"}, "'joint' holds 'other.csv'"),
     ({"detrend": "cubic"}, "'detrend' is 'cubic'"),
     ({"seed": 1.5}, "'seed' holds 1.5"),
+    ({"seed": None}, "'seed' holds None"),
 ])
 def test_a_bundle_option_of_the_wrong_kind_is_one_sentence(cli, tmp_path, options, message):
     bad = _with_manifest(tmp_path, cli, lambda manifest: manifest["options"].update(options))
@@ -245,3 +249,14 @@ def test_a_bundle_option_of_the_wrong_kind_is_one_sentence(cli, tmp_path, option
 def test_a_manifest_whose_versions_is_not_a_table_is_one_sentence(cli, tmp_path):
     bad = _with_manifest(tmp_path, cli, lambda manifest: manifest.update(versions=["numpy", "2.0"]))
     assert_clean_error(cli("fit", "--replay", bad), "versions is not a table")
+
+
+def test_a_manifest_edited_after_writing_is_refused(cli, tmp_path):
+    """Its options changed (even to what they were by default) without its checksum: refused, not replayed."""
+    members = _good(tmp_path, cli)
+    manifest = json.loads(members["manifest.json"])
+    manifest["options"]["joint"] = None
+    manifest["options"]["bootstrap"] = 11
+    bad = tmp_path / "bad.zip"
+    _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
+    assert_clean_error(cli("fit", "--replay", bad), "manifest does not match its SHA-256")

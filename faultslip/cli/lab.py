@@ -46,6 +46,9 @@ FIT_OPTION_KINDS = {**{name: "text" for name in FIT_OPTIONS},
                     **{name: "count" for name in ("bootstrap", "seed", "samples", "walkers", "max_steps", "workers")},
                     **{name: "switch" for name in ("select_law", "stiffness_free", "each_step", "posterior", "two_state")},
                     "joint": "texts", "prior": "texts"}
+#: the options the fit's parser gives a default other than None: a bundle may not leave them empty
+FIT_OPTIONS_NOT_NONE = ("law", "loss", "seed", "detrend", "min_change", "samples", "max_steps", "evolution",
+                        "select_law", "stiffness_free", "each_step", "posterior", "two_state")
 #: the options whose text is one of a few
 FIT_OPTION_CHOICES = {"law": ("rate-law", "rate-state"), "detrend": ("none", "linear", "quadratic", "fitted"),
                       "evolution": ("aging", "slip")}
@@ -61,7 +64,7 @@ def _check_bundle_options(options: dict, source) -> None:
         raise FaultslipError(f"fit bundle {source}: option {unknown[0]!r} is not one 'faultslip fit' has")
     for name, value in options.items():
         kind = FIT_OPTION_KINDS[name]
-        fits = (value is None and kind != "switch" or
+        fits = (value is None and kind != "switch" and name not in FIT_OPTIONS_NOT_NONE or
                 kind == "count" and isinstance(value, int) and not isinstance(value, bool) or
                 kind == "switch" and isinstance(value, bool) or
                 kind == "texts" and isinstance(value, list) and all(isinstance(v, str) for v in value) or

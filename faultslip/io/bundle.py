@@ -4,7 +4,8 @@
 
 - ``manifest.json``: the format, when and with what it was made (``versions``: Python, faultslip, numpy,
   scipy, emcee, numba, ...), the command's options and seed, the record's name, size and SHA-256, and the
-  SHA-256 of every other member (``members``): a member changed after writing is refused on reading;
+  SHA-256 of every other member (``members``), and its own (``checksum``): a member or the manifest changed
+  after writing is refused on reading;
 - ``record/<name>``: the input record's bytes, as read;
 - ``report.json``: every number the fit reported, as ``faultslip fit --json`` prints it;
 - ``draws.nc``: the bootstrap resamples and posterior draws as netCDF (classic format, which any netCDF
@@ -78,6 +79,13 @@ def _draws_netcdf(draws: dict) -> bytes:
     return bytes(dataset.to_netcdf(format="NETCDF3_64BIT"))
 
 
+def manifest_checksum(manifest: dict) -> str:
+    """SHA-256 of a manifest's content, its own ``checksum`` left out, keys sorted: a manifest edited after writing
+    (its options, versions or members' checksums) no longer matches it."""
+    body = {key: value for key, value in manifest.items() if key != "checksum"}
+    return hashlib.sha256(json.dumps(body, sort_keys=True, default=str).encode("utf-8")).hexdigest()
+
+
 def write_bundle(path, *, record_path, options: dict, report: dict, draws: dict | None = None,
                  command: str = "faultslip fit") -> dict:
     """Write a fit bundle to ``path`` (atomically); returns its manifest.
@@ -111,6 +119,7 @@ def write_bundle(path, *, record_path, options: dict, report: dict, draws: dict 
     if draws:
         members[DRAWS] = _draws_netcdf(draws)
     manifest["members"] = {name: hashlib.sha256(content).hexdigest() for name, content in members.items()}
+    manifest["checksum"] = manifest_checksum(manifest)
     with atomic_path(path) as temporary:
         with zipfile.ZipFile(temporary, "w", compression=zipfile.ZIP_DEFLATED) as archive:
             archive.writestr(MANIFEST, json.dumps(manifest, indent=2))
@@ -151,6 +160,9 @@ def read_bundle(path) -> Bundle:
         raise InputError(f"fit bundle {path.name} is not in the format {FORMAT}" + (
             ": it was written before bundles carried a checksum for every member, so its report cannot be "
             "trusted; make it again with 'faultslip fit ... --bundle'" if older else ""))
+    if manifest.get("checksum") != manifest_checksum(manifest):
+        raise InputError(f"fit bundle {path.name}: its manifest does not match its SHA-256; the bundle was changed "
+                         "after it was written")
     entry, checksums = manifest.get("record"), manifest.get("members")
     if not (isinstance(entry, dict) and isinstance(entry.get("name"), str) and isinstance(entry.get("sha256"), str)
             and isinstance(manifest.get("options"), dict) and isinstance(checksums, dict)
