@@ -542,7 +542,7 @@ def ladder_escalations_table() -> str | None:
 
 
 #: Pages whose generated tables update() writes, beside the README.
-PAGES = ("README.md", "docs/ladder.md")
+PAGES = ("README.md", "docs/ladder.md", "docs/reliability.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
