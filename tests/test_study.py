@@ -414,13 +414,13 @@ def test_a_ledger_edited_to_list_every_block_as_done_is_refused(study, tmp_path,
 
 def test_a_ledger_resigned_after_its_blocks_were_listed_done_still_recomputes_them(study, tmp_path, monkeypatch):
     """Even with its checksum made to match, a block listed done without a digest of its values is recomputed."""
-    from faultslip.studies.streaming import _ledger_checksum
+    from faultslip.io.gate import json_checksum
 
     out = tmp_path / "s.nc"
     partial, ledger = _interrupted(study, out, monkeypatch)
     record = json.loads(ledger.read_text())
     record["done"] = list(range(record["blocks"]))
-    record["checksum"] = _ledger_checksum(record)
+    record["checksum"] = json_checksum(record)
     ledger.write_text(json.dumps(record))
     with pytest.warns(UserWarning, match="cannot be verified"):
         summary = run_study(study, out, chunk_cells=30, workers=1, resume=True)

@@ -32,7 +32,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.atomic import atomic_path
-from faultslip.io.gate import LIMITS, MiB, check_input, decoding, open_zip, read_bytes, read_member
+from faultslip.io.gate import LIMITS, MiB, check_input, decoding, json_checksum, open_zip, read_bytes, read_member
 
 FORMAT = "faultslip-fit-bundle/2"  # /2: the manifest holds every member's SHA-256, not only the record's
 MANIFEST, REPORT, DRAWS, RECORD_FOLDER = "manifest.json", "report.json", "draws.nc", "record/"
@@ -82,8 +82,7 @@ def _draws_netcdf(draws: dict) -> bytes:
 def manifest_checksum(manifest: dict) -> str:
     """SHA-256 of a manifest's content, its own ``checksum`` left out, keys sorted: a manifest edited after writing
     (its options, versions or members' checksums) no longer matches it."""
-    body = {key: value for key, value in manifest.items() if key != "checksum"}
-    return hashlib.sha256(json.dumps(body, sort_keys=True, default=str).encode("utf-8")).hexdigest()
+    return json_checksum(manifest)
 
 
 def write_bundle(path, *, record_path, options: dict, report: dict, draws: dict | None = None,

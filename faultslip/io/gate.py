@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import gc
+import hashlib
 import io
 import json
 import os
@@ -51,6 +52,13 @@ LIMITS = {
 }
 #: Deepest nesting of arrays and inline tables accepted in TOML (real files use 2 or 3).
 MAX_TOML_DEPTH = 32
+
+
+def json_checksum(record: dict, skip: str = "checksum") -> str:
+    """SHA-256 of a JSON record's content, its own ``skip`` key left out, keys sorted: what a progress ledger or a
+    fit bundle's manifest carries of itself, so that one edited after writing no longer matches."""
+    body = {key: value for key, value in record.items() if key != skip}
+    return hashlib.sha256(json.dumps(body, sort_keys=True, default=str).encode("utf-8")).hexdigest()
 
 
 def repeated_names(names) -> list:

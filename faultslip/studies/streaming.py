@@ -13,7 +13,6 @@ partial file if it belongs to the same study.
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 import json
 import math
@@ -437,12 +436,6 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
             raise
 
 
-def _ledger_checksum(record: dict) -> str:
-    """SHA-256 of a progress ledger's content (its own ``checksum`` left out), keys sorted."""
-    body = {key: value for key, value in record.items() if key != "checksum"}
-    return hashlib.sha256(json.dumps(body, sort_keys=True).encode("utf-8")).hexdigest()
-
-
 def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> tuple[set, list, dict]:
     """Blocks already on disk from an interrupted run, the cells of theirs that failed and each block's digest, or
     nothing (with a warning saying why). The ledger is trusted only where its own checksum matches; its blocks
@@ -459,7 +452,7 @@ def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, r
         failed = list(record.get("failed", []))
         digests = {int(key): str(value) for key, value in record["digests"].items()}
         same = record.get("fingerprint") == fingerprint and record.get("blocks") == blocks
-        intact = record.get("checksum") == _ledger_checksum(record)
+        intact = record.get("checksum") == gate.json_checksum(record)
     except (InputError, ValueError, KeyError, TypeError, AttributeError):
         warnings.warn(f"the progress record {ledger.name} is unreadable; starting over", stacklevel=3)
         return set(), [], {}
@@ -590,7 +583,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
     def record_progress():
         record = {"fingerprint": fingerprint, "blocks": len(blocks), "output": output.name, "done": sorted(done),
                   "failed": failures, "digests": {str(index): digest for index, digest in sorted(digests.items())}}
-        record["checksum"] = _ledger_checksum(record)
+        record["checksum"] = gate.json_checksum(record)
         write_text_atomic(ledger, json.dumps(record),
                           immediate=True)  # a resume reads it after a kill: it cannot wait for the run's end
 
