@@ -20,7 +20,10 @@ from conftest import assert_clean_error
 from faultslip.models.fault_2d import compiled
 from faultslip.models.fault_2d.analysis import summarise
 from faultslip.models.fault_2d.integrate import STEP_MEMORY, YEAR, _Stopped, next_step_factor, run_cycles
-from faultslip.models.fault_2d.kernel import StressKernel, deep_loading, dense_matrix
+from faultslip.models.fault_2d import kernel
+from faultslip.models.fault_2d.kernel import (STEP_PATHS, StressKernel, crossover, deep_loading, dense_limit,
+                                              dense_matrix, measured_crossover)
+from faultslip.io.resources import bundled_dir
 from faultslip.models.fault_2d.model import Fault2D, ForceBalance, newton_tolerance, steady_initial_conditions
 from faultslip.errors import InputError, SolverError
 from faultslip.io.seas import read_seas, station_file_name, write_station
@@ -53,6 +56,34 @@ def test_the_fft_product_equals_the_dense_one(count):
     dense = dense_matrix(count, 25.0, G) @ slip
     fft = StressKernel(count, 25.0, G, "fft")(slip)
     assert np.max(np.abs(fft - dense)) <= 1e-12 * np.max(np.abs(dense_matrix(count, 25.0, G))) * np.abs(slip).sum()
+
+
+def test_the_dense_fft_switch_is_the_crossover_measured_for_each_step_path():
+    """Issue 69: the switch comes from benchmarks/kernel_crossover.py's measurement, not a constant. The shipped
+    limits are what its rule gives on its own rows (FFT faster at every larger count measured, midway in log N
+    from the last dense win), and "auto" takes dense at the limit and the FFT just above it, on each path."""
+    table = json.loads((bundled_dir("data") / "kernel_crossover.json").read_text(encoding="utf-8"))
+    for path in STEP_PATHS:
+        rows = table["rows"][path]
+        assert int(crossover(rows)) == measured_crossover()[path] == dense_limit(path)
+        limit = dense_limit(path)
+        if limit >= 2:
+            assert StressKernel(limit, 25.0, G, path=path).method == "dense"
+        assert StressKernel(limit + 1, 25.0, G, path=path).method == "fft"
+    with pytest.raises(InputError, match="step path"):
+        dense_limit("gpu")
+
+
+def test_a_damaged_crossover_file_is_refused_in_one_sentence(tmp_path, monkeypatch):
+    (tmp_path / "kernel_crossover.json").write_text('{"dense_limit": {"fused": "many"}}', encoding="utf-8")
+    monkeypatch.setattr(kernel, "bundled_dir", lambda name: tmp_path)
+    kernel.measured_crossover.cache_clear()
+    try:
+        with pytest.raises(InputError, match="rerun benchmarks/kernel_crossover.py") as caught:
+            kernel.dense_limit("fused")
+        assert "\n" not in str(caught.value)
+    finally:
+        kernel.measured_crossover.cache_clear()
 
 
 @settings(max_examples=40, deadline=None)

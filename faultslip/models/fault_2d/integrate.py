@@ -409,6 +409,13 @@ def threads_offered(threads: int) -> int:
     return max(1, min(threads, numba.config.NUMBA_NUM_THREADS))
 
 
+def step_path() -> str:
+    """The path this process's steps take (:data:`kernel.STEP_PATHS`), which decides the dense/FFT crossover."""
+    if not compiled_kernels.available():
+        return "numpy"
+    return "fused" if compiled_kernels.fused_available() else "compiled"
+
+
 def _compiled_trial(fault, operator, balance, scale, rtol, threads):
     """The whole step compiled where it can be (an FFT kernel, and rocket-fft here), else its element-wise work."""
     if operator.method == "fft" and compiled_kernels.fused_available():
@@ -453,7 +460,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         raise InputError("the profile intervals and the event speed must be positive")
     if not (isinstance(threads, int) and 1 <= threads <= 1024):
         raise InputError(f"threads must be a whole number from 1 to 1024, got {threads!r}")
-    operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, kernel)
+    operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, kernel, path=step_path())
     balance = ForceBalance(fault, operator)
     balance.tolerance = newton_tolerance(rtol)
     recorder = _Stations(stations, fault)

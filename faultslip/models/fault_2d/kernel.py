@@ -30,10 +30,49 @@ import math
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.io import gate
+from faultslip.io.resources import bundled_dir
 
-#: Element counts at and below which the dense product is faster than the FFT (measured on the
-#: 2-core benchmark machine: dense 19 us against FFT 59 us at N = 300, 1.1 ms against 96 us at N = 1600).
-DENSE_LIMIT = 512
+#: The measured crossover (``data/kernel_crossover.json``, written by ``benchmarks/kernel_crossover.py``).
+CROSSOVER_FILE = "kernel_crossover.json"
+#: The paths a step can take, each with its own crossover: the whole step compiled (numba and rocket-fft), its
+#: element-wise work compiled (numba; the FFT by scipy), or numpy alone.
+STEP_PATHS = ("fused", "compiled", "numpy")
+
+
+@functools.lru_cache(maxsize=1)
+def measured_crossover() -> dict:
+    """Per step path, the element count at and below which a whole step with the dense product took less CPU than
+    one with the FFT (``benchmarks/kernel_crossover.py``: BP1 at rtol 1e-4, interleaved, median per step)."""
+    path = bundled_dir("data") / CROSSOVER_FILE
+    try:
+        table = gate.read_json(path, "the stress kernel's measured crossover")
+    except InputError as exc:
+        raise InputError(f"{exc}; reinstall faultslip or run benchmarks/kernel_crossover.py") from None
+    limits = table.get("dense_limit") if isinstance(table, dict) else None
+    if not (isinstance(limits, dict) and all(isinstance(limits.get(name), int) and limits[name] >= 0
+                                             for name in STEP_PATHS)):
+        raise InputError(f"{path.name} lacks a whole dense_limit for each of {', '.join(STEP_PATHS)}; "
+                         "rerun benchmarks/kernel_crossover.py")
+    return {name: limits[name] for name in STEP_PATHS}
+
+
+def crossover(rows: list[dict]) -> float:
+    """The element count from which the FFT step is faster at every larger count measured, taken midway in log N
+    from the last count where the dense step won; ``rows`` hold ``elements``, ``dense_us`` and ``fft_us``."""
+    rows = sorted(rows, key=lambda row: row["elements"])
+    dense_wins = [row["elements"] for row in rows if row["dense_us"] <= row["fft_us"]]
+    if not dense_wins:
+        return rows[0]["elements"] / 2
+    after = [row["elements"] for row in rows if row["elements"] > dense_wins[-1]]
+    return math.sqrt(dense_wins[-1] * after[0]) if after else float(dense_wins[-1])
+
+
+def dense_limit(path: str = "numpy") -> int:
+    """The element count at and below which ``method="auto"`` takes the dense product on step path ``path``."""
+    if path not in STEP_PATHS:
+        raise InputError(f"a step path is one of {', '.join(STEP_PATHS)}, got {path!r}")
+    return measured_crossover()[path]
 
 
 def _toeplitz_column(count: int) -> np.ndarray:
@@ -83,7 +122,8 @@ def _spectra(count: int, length: int, scale: float) -> tuple[np.ndarray, np.ndar
 
 
 class StressKernel:
-    """``kernel(slip)`` is K slip (Pa), by a dense product for small N and by FFT above.
+    """``kernel(slip)`` is K slip (Pa), by a dense product for small N and by FFT above (``method="auto"``: the
+    crossover measured for the step ``path`` that will use it, :func:`dense_limit`).
 
     The FFT form (length L >= 2 N - 1) takes the Toeplitz part as a circular convolution and the
     Hankel part as one with the reversed slip, shifted by N - 1; the reversed slip's spectrum is
@@ -91,13 +131,14 @@ class StressKernel:
     Its round-off against the dense product is ~1e-15 of the largest stress (tested).
     """
 
-    def __init__(self, count: int, element_size: float, shear_modulus: float, method: str = "auto"):
+    def __init__(self, count: int, element_size: float, shear_modulus: float, method: str = "auto",
+                 path: str = "numpy"):
         if count < 2:
             raise InputError(f"a 2-D fault needs at least 2 elements, got {count}")
         if method not in ("auto", "dense", "fft"):
             raise InputError(f"the stress kernel is dense, fft or auto, got {method!r}")
         self.count, self.element_size, self.shear_modulus = count, element_size, shear_modulus
-        self.method = method if method != "auto" else ("dense" if count <= DENSE_LIMIT else "fft")
+        self.method = method if method != "auto" else ("dense" if count <= dense_limit(path) else "fft")
         scale = shear_modulus / (2.0 * math.pi * element_size)
         if self.method == "dense":
             self.matrix = dense_matrix(count, element_size, shear_modulus)
