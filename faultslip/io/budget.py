@@ -74,6 +74,7 @@ class Estimate:
     disk: float = 0.0  # bytes written
     seconds: float = 0.0
     output: object = None  # where the disk bytes go
+    outside_fit: tuple = ()  # sentences: where the scene lies outside the range the estimate was fitted on
 
     def describe(self) -> str:
         parts = []
@@ -101,6 +102,10 @@ def check(estimate: Estimate, allow_large: bool = False, seconds_allowed: float 
     """Refuse ``estimate`` if it exceeds the budget, unless ``allow_large``."""
     if allow_large:
         return
+    if estimate.outside_fit:
+        raise InputError(f"{estimate.what}: its cost estimate was fitted on other scenes "
+                         f"({'; '.join(estimate.outside_fit)}) and may be far off; pass {OVERRIDE} to run it anyway "
+                         "(a run that reaches twice the time budget checkpoints and stops)")
     seconds_allowed = time_budget() if seconds_allowed is None else seconds_allowed
     reasons = []
     memory = available_memory()
@@ -183,6 +188,28 @@ FAULT_2D_EVENT_STEPS = {"scale": math.exp(5.33), "events": 0.782, "width_over_nu
                         "resolution": 3.0, "rtol": 1e-8}
 
 
+#: The scenes the 2-D step models were fitted on: W / h* at the weakest element (FAULT_2D_STEPS' BP1 at D_c 6-48 mm
+#: gives 0.55-4.4; the ladder designs 1.56-7.88) and the normal stress on the velocity-weakening part (BP1's
+#: 50 MPa; the designs 25.1-99.0 MPa), each rounded outward (tests/test_budget_fit.py recomputes them). A scene
+#: outside them (a sigma_n of 1e-6 MPa, or one falling to 0.01 MPa in the weakening zone) can step far more
+#: often than either model knows: :func:`check` refuses it without --allow-large.
+FAULT_2D_FITTED = {"width_over_nucleation": (0.5, 8.0), "normal_stress": (25e6, 100e6)}
+
+
+def fault_2d_outside_fit(*, width_over_nucleation: float, normal_stress_low: float,
+                         normal_stress_high: float) -> tuple:
+    """Where a 2-D scene lies outside :data:`FAULT_2D_FITTED`, as sentences (empty: inside)."""
+    low, high = FAULT_2D_FITTED["width_over_nucleation"]
+    out = []
+    if not low <= width_over_nucleation <= high:
+        out.append(f"its W/h* is {width_over_nucleation:.3g}, fitted {low:g} to {high:g}")
+    low, high = FAULT_2D_FITTED["normal_stress"]
+    if normal_stress_low < low or normal_stress_high > high:
+        out.append(f"its normal stress on the weakening part spans {normal_stress_low / 1e6:.3g} to "
+                   f"{normal_stress_high / 1e6:.3g} MPa, fitted {low / 1e6:g} to {high / 1e6:g} MPa")
+    return tuple(out)
+
+
 def _resolution_factor(ratio: float) -> float:
     """How the steps grow with the element size h over L_b (:data:`FAULT_2D_STEPS`)."""
     c = FAULT_2D_STEPS
@@ -210,14 +237,15 @@ def fault_2d_steps(*, years: float, plate_rate: float, element_size: float, proc
     return c["margin"] * per_year * years + 100.0
 
 
-def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *, steps: float) -> Estimate:
+def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *, steps: float,
+                      outside_fit: tuple = ()) -> Estimate:
     """Time, memory and disk of a 2-D fault run of ``steps`` steps (:func:`fault_2d_steps`): station rows every
     step (in memory, and as SEAS text)."""
     c0, c1, margin = FAULT_2D_STEP_SECONDS
     return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps)",
                     seconds=margin * steps * (c0 + c1 * elements),
                     memory=steps * (1 + 4 * stations) * 8.0 * 2, disk=steps * stations * 100.0 if output else 0.0,
-                    output=output)
+                    output=output, outside_fit=outside_fit)
 
 
 #: Bytes held per cell of a map's raster (coordinates, unit vectors, nearest index and distance, four maps).

@@ -151,7 +151,19 @@ class Fault2DScene:
     def estimate(self, rtol: float | None = None, output=None):
         """What a run of this scene needs (:class:`faultslip.io.budget.Estimate`), before it starts."""
         return budget.fault_2d_estimate(self.fault.count, self.duration / YEAR, len(self.stations), output,
-                                        steps=self.estimated_steps(rtol))
+                                        steps=self.estimated_steps(rtol), outside_fit=self.outside_fit())
+
+    def outside_fit(self) -> tuple:
+        """Where this scene lies outside the scenes its cost estimate was fitted on
+        (:func:`faultslip.io.budget.fault_2d_outside_fit`): W/h* and the weakening part's normal stress."""
+        fault = self.fault
+        weakening = fault.b > fault.a
+        if not np.any(weakening):
+            return ()  # a creeping fault: no events, the fallback model's few steps
+        stress = fault.normal_stress[weakening]
+        return budget.fault_2d_outside_fit(width_over_nucleation=fault.seismogenic_width() / fault.nucleation_size(),
+                                           normal_stress_low=float(stress.min()),
+                                           normal_stress_high=float(stress.max()))
 
     def with_values(self, **values) -> "Fault2DScene":
         """The scene with parameters replaced, in SI (what a study sweeps; :data:`SWEEPABLE`)."""

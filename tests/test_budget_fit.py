@@ -1,0 +1,67 @@
+"""A 2-D cost estimate used outside the scenes it was fitted on says so and refuses unless --allow-large (issue 69:
+two scenes ran past 300 s under a 60 s budget, their step estimate used far outside its fit)."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from conftest import assert_clean_error
+from faultslip.io import budget
+from faultslip.models.fault_2d.scene import load_fault_2d_scene
+
+ROOT = Path(__file__).resolve().parent.parent
+SMALL = ROOT / "configs" / "fault_2d_small.toml"
+
+
+def test_the_fitted_range_holds_the_scenes_it_was_fitted_on_and_no_more():
+    """Provenance of FAULT_2D_FITTED: the ladder designs' W/h* and normal stress (benchmarks/ladder_designs.py's
+    saved designs), and FAULT_2D_STEPS' BP1 at D_c 6-48 mm, lie inside it, and each bound is within 15 % of what
+    they reach (rounded outward, not widened)."""
+    rows = json.loads((ROOT / "benchmarks" / "results" / "ladder_designs.json").read_text(encoding="utf-8"))["rows"]
+    bp1 = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").fault
+    bp1_ratio = bp1.seismogenic_width() / bp1.nucleation_size()  # h* grows as D_c: BP1 has 8 mm
+    ratios = [row["design"]["width_over_nucleation"] for row in rows] + [bp1_ratio * 8 / 48, bp1_ratio * 8 / 6]
+    stresses = [row["design"]["normal_stress"] for row in rows] + [float(bp1.normal_stress.max())]
+    for values, (low, high) in ((ratios, budget.FAULT_2D_FITTED["width_over_nucleation"]),
+                                (stresses, budget.FAULT_2D_FITTED["normal_stress"])):
+        assert low <= min(values) <= 1.15 * low
+        assert high / 1.15 <= max(values) <= high
+
+
+@pytest.mark.parametrize("normal_stress, where", [
+    ('normal_stress = "1e-6 MPa"', "1e-12 to 1e-12 MPa"),
+    ('normal_stress = { depth = ["0 km", "7.9 km", "8.5 km"], value = ["50 MPa", "0.01 MPa", "50 MPa"] }',
+     "0.168 to 50 MPa"),  # the element centres sample the dip to 0.01 MPa at 7.9 km
+])
+def test_a_scene_outside_the_fit_is_refused_before_it_runs(tmp_path, cli, normal_stress, where):
+    scene = tmp_path / "scene.toml"
+    scene.write_text(re.sub(r'normal_stress = "50 MPa"', lambda _: normal_stress, SMALL.read_text(encoding="utf-8")),
+                     encoding="utf-8")
+    result = cli("run", str(scene))
+    assert_clean_error(result, "fitted on other scenes")
+    assert "--allow-large" in result.err
+    if "1e-6" not in normal_stress:
+        assert where in result.err
+
+
+def test_the_shipped_scenes_are_inside_the_fit():
+    for name in ("fault_2d_small", "rsf_fault_bp1", "seas_bp1", "seas_bp1_period3"):
+        assert load_fault_2d_scene(ROOT / "configs" / f"{name}.toml").outside_fit() == (), name
+
+
+def test_allow_large_runs_it_and_the_budget_guard_still_stops_it(tmp_path, monkeypatch):
+    """With --allow-large the scene runs; the run's own guard stops it at twice the budget (it never hangs)."""
+    text = SMALL.read_text(encoding="utf-8").replace('normal_stress = "50 MPa"', 'normal_stress = "20 MPa"')
+    scene_file = tmp_path / "scene.toml"
+    scene_file.write_text(text.replace('duration = "600 yr"', 'duration = "40 yr"'), encoding="utf-8")
+    scene = load_fault_2d_scene(scene_file)
+    assert scene.outside_fit()
+    with pytest.raises(Exception, match="fitted on other scenes"):
+        budget.check(scene.estimate())
+    budget.check(scene.estimate(), allow_large=True)
+    run = scene.run()
+    assert run.final_time == pytest.approx(40 * 365.25 * 86400)
