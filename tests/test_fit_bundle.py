@@ -260,3 +260,40 @@ def test_a_manifest_edited_after_writing_is_refused(cli, tmp_path):
     bad = tmp_path / "bad.zip"
     _rewrite(bad, {**members, "manifest.json": json.dumps(manifest).encode()})
     assert_clean_error(cli("fit", "--replay", bad), "manifest does not match its SHA-256")
+
+
+_CHILD = """
+import resource, sys
+from faultslip.cli.main import main
+before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+code = main(["fit", "--replay", sys.argv[1]])
+print(code, (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) / 1024)
+"""
+
+
+@pytest.mark.parametrize("member", ["manifest.json", "record/example_friction_data.csv"])
+def test_a_bundle_bomb_stays_under_100_mb_over_the_interpreters_own(cli, tmp_path, member):
+    """Issue 69: a 614 kB bundle inflated a 600 MB manifest (1.4 GB RSS), and a 600 MB record was inflated to a
+    temporary folder before its limit refused it. Each is refused from the member's declared size and ratio; the
+    replay, in a fresh interpreter with the command line loaded, grows its peak memory by under 100 MB."""
+    import subprocess
+    import sys
+
+    members = _good(tmp_path, cli)
+    bomb = tmp_path / "bomb.zip"
+    with zipfile.ZipFile(bomb, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+        for name, data in members.items():
+            if name == member:
+                with archive.open(name, "w", force_zip64=True) as stream:
+                    stream.write(data)
+                    for _ in range(600):
+                        stream.write(b" " * 2**20)
+            else:
+                archive.writestr(name, data)
+    assert bomb.stat().st_size < 2**20
+    done = subprocess.run([sys.executable, "-c", _CHILD, str(bomb)], capture_output=True, text=True, timeout=300)
+    code, grown = done.stdout.split()[-2:]
+    assert int(code) == 2 and "Traceback" not in done.stderr and len(done.stderr.strip().splitlines()) == 1
+    assert member.split("/")[-1] in done.stderr
+    assert float(grown) < 100, grown
+    print(f"{member}: peak grew {float(grown):.1f} MB")

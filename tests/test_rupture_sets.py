@@ -102,6 +102,10 @@ def test_the_california_system_releases_every_slip_rate_and_follows_gutenberg_ri
         assert multi, "the system should release some slip in ruptures that jump between faults"
         assert result.shape_misfit() < 1e-6 and result.b_value() == pytest.approx(1.0, abs=1e-6), relation
         assert result.summary()["shape_misfit"] == result.shape_misfit()
+        fit = result.summary()["b_value_fit"]  # no b-value without its fit: the solved rates lie on the line
+        assert fit["gutenberg_richter"] and fit["log_rate_max"] < 1e-6 and fit["bins"] >= 3
+        assert fit["b_over_cutoffs"][0] == pytest.approx(1.0, abs=1e-6) == fit["b_over_cutoffs"][1]
+        assert "log10-rate residuals" in rs.describe_b_value(fit)
         if relation == "Leonard2010":  # the case with a gap among the targeted bins
             gaps = np.round(np.diff(result.bins) / result.bin_width)
             assert gaps.max() > 1
@@ -231,3 +235,18 @@ def test_the_engine_reads_the_system_and_its_rates_and_runs_a_classical_calculat
                    if source["mfd"]["faultslip"] is not None)
     system = result.rate.sum() + sum(rate for _, rate in rates)
     assert poes[0] <= 0.5 * (1 - math.exp(-segments)) + 0.5 * (1 - math.exp(-system)) + 1e-9
+
+
+def test_rates_off_a_line_are_called_not_gutenberg_richter():
+    """A b-value is never printed alone: rates with a bump are fitted, and the words say GR does not hold."""
+    from types import SimpleNamespace
+
+    bins = np.arange(6.0, 7.6, 0.1)
+    rates = 10 ** (4 - bins)
+    rates[-3:] *= 10  # a bump of the largest events, as a characteristic shape makes
+    fake = SimpleNamespace(system_mfd=lambda: rates, bins=bins)
+    fit = rs.RuptureSet.b_value_fit(fake)
+    assert not fit["gutenberg_richter"] and fit["log_rate_max"] > 0.3
+    low, high = fit["b_over_cutoffs"]
+    assert high - low > 0.3  # the cutoff alone moves b a lot
+    assert "not Gutenberg-Richter" in rs.describe_b_value(fit)

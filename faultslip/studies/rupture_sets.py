@@ -53,6 +53,8 @@ RELATIONS = ("faultslip", "WC1994", "Leonard2010")
 MAX_RUPTURES = 200_000
 #: the slip-rate budget's relative tolerance
 BUDGET_TOLERANCE = 1e-6
+#: How far (log10) a bin of solved rates may lie off the fitted line for them to be called Gutenberg-Richter (12 %).
+GR_LOG_TOLERANCE = 0.05
 
 
 @dataclass(frozen=True)
@@ -395,6 +397,27 @@ class RuptureSet:
             return math.nan
         return float(-np.polyfit(self.bins[has], np.log10(rates[has]), 1)[0])
 
+    def b_value_fit(self) -> dict:
+        """How well one line holds the solved rates (issue 69: no b-value without its goodness of fit). The rates
+        are expected values, not a sample, so the fit is judged by its residuals rather than a KS test:
+        ``log_rate_rms`` and ``log_rate_max`` (log10 units) of the least-squares line over the bins with a rate, and
+        ``b_over_cutoffs``, the least and greatest b of the same fit above each lower cutoff that leaves 3 bins or
+        more (how much the choice of the smallest magnitude alone moves it). ``gutenberg_richter`` is whether the
+        rates lie within 0.05 in log10 (12 %) of the line everywhere."""
+        rates = self.system_mfd()
+        has = rates > 0
+        bins, logs = self.bins[has], np.log10(rates[has]) if has.any() else np.array([])
+        if bins.size < 2:
+            return {"b": math.nan, "bins": int(bins.size), "log_rate_rms": None, "log_rate_max": None,
+                    "b_over_cutoffs": None, "gutenberg_richter": False}
+        slope, intercept = np.polyfit(bins, logs, 1)
+        residual = logs - (slope * bins + intercept)
+        spread = [float(-np.polyfit(bins[k:], logs[k:], 1)[0]) for k in range(bins.size - 2)] or [float(-slope)]
+        worst = float(np.max(np.abs(residual)))
+        return {"b": float(-slope), "bins": int(bins.size), "log_rate_rms": float(np.sqrt(np.mean(residual ** 2))),
+                "log_rate_max": worst, "b_over_cutoffs": [min(spread), max(spread)],
+                "gutenberg_richter": worst <= GR_LOG_TOLERANCE}
+
     def shape_misfit(self) -> float:
         """RMS of (solved - target) / target over the target's bins (0 when the shape is followed exactly; 1 for
         a bin left empty)."""
@@ -410,7 +433,8 @@ class RuptureSet:
                 "ruptures_with_rate": int(used.sum()),
                 "multi_fault_ruptures_with_rate": int(sum(1 for k in np.flatnonzero(used)
                                                           if len({self.sections.fault[s] for s in self.ruptures[k]}) > 1)),
-                "budget_error": self.budget_error, "b_value": self.b_value(), "target_b_value": self.rules.b_value
+                "budget_error": self.budget_error, "b_value": self.b_value(), "b_value_fit": self.b_value_fit(),
+                "target_b_value": self.rules.b_value
                 if self.rules.shape == "gr" else None, "shape": self.rules.shape, "shape_misfit": self.shape_misfit(),
                 "magnitude_range": [float(self.magnitude.min()), float(self.magnitude.max())],
                 "moment_rate": {"value": self.moment_rate(), "units": "N m/yr"},
@@ -576,8 +600,21 @@ def rupture_set(spec, dataset, rules: Rules, relation: str = "faultslip", stable
     result = solve_rates(sections, ruptures, magnitude, slip, rules, relation, shear_modulus, bin_width)
     result.notes.append(f"{relation}: {sections.count} sections, {len(ruptures)} ruptures "
                         f"({int((result.rate > 0).sum())} with a rate), slip rates released to "
-                        f"{result.budget_error:.1e}, b-value of the solved distribution {result.b_value():.3f}")
+                        f"{result.budget_error:.1e}; {describe_b_value(result.b_value_fit())}")
     return result
+
+
+def describe_b_value(fit: dict) -> str:
+    """The solved distribution's b-value in words, always with its fit (:meth:`RuptureSet.b_value_fit`)."""
+    if fit["log_rate_rms"] is None:
+        return f"no b-value: the solved distribution has rates in {fit['bins']} magnitude bin(s)"
+    low, high = fit["b_over_cutoffs"]
+    words = (f"b-value of the solved distribution {fit['b']:.3f} (log10-rate residuals {fit['log_rate_rms']:.2g} RMS, "
+             f"{fit['log_rate_max']:.2g} at most, over {fit['bins']} bins; {low:.3f}-{high:.3f} over lower cutoffs)")
+    if not fit["gutenberg_richter"]:
+        words += (f"; the solved rates are not Gutenberg-Richter (a bin lies {fit['log_rate_max']:.2g} in log10 off "
+                  "the line): read the magnitude-frequency distribution, not b")
+    return words
 
 
 # --- what the engine reads -------------------------------------------------------------------------------

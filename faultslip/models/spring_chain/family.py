@@ -252,8 +252,10 @@ def animate(scene, cycles: int = 2, frames: int = 120, slip_share: float = 0.5):
     """The chain's last ``frames`` events (the scene's events run), one a frame (``cycles`` and ``slip_share``, a
     slider's, do not apply: a chain's frame is an event)."""
     loaded, chain_run, stats, _ = _run(scene)
-    movie, figure = chain_animation(chain_run, frames, f"{loaded.name}: b = "
-                                    f"{stats['b']['b']:.2f}" if stats["b"] is not None else loaded.name)
+    gr = stats.get("gr")
+    title = (f"{loaded.name}: b = {stats['b']['b']:.2f} (GR test p = {gr['p_value']:.2g})"
+             if stats["b"] is not None and gr is not None else loaded.name)
+    movie, figure = chain_animation(chain_run, frames, title)
     return movie, figure, {"title": loaded.name, "events": min(frames, chain_run.events),
                            "b_value": stats["b"]["b"] if stats["b"] is not None else None}
 

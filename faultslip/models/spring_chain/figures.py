@@ -41,7 +41,8 @@ def chain_figure(catalogue, stats: dict, title: str = ""):
     if b is not None:
         line = np.linspace(b["completeness"], magnitude.max(), 50)
         frequency.semilogy(line, 10 ** (b["a"] - b["b"] * line), color="C3",
-                           label=f"b = {b['b']:.2f} ({b['interval'][0]:.2f}-{b['interval'][1]:.2f})")
+                           label=f"b = {b['b']:.2f} ({b['interval'][0]:.2f}-{b['interval'][1]:.2f})"
+                           + (f", GR test p = {stats['gr']['p_value']:.2g}" if stats.get("gr") else ""))
     frequency.set(xlabel="moment magnitude M", ylabel="number of events with magnitude >= M",
                   title="magnitude-frequency")
     frequency.legend(fontsize=8)
