@@ -206,6 +206,15 @@ def test_the_fault_map_is_projected_with_coastlines_and_colours_each_trace_by_it
     assert len(slip_rate.collections) > 3  # coastlines, countries, states and the continents' fill
     # a field the map computed to one value is one colour with one tick, not a range of round-off
     assert "on every fault" in panels[1].get_title()
+    bars = [axes for axes in figure.axes if not axes.get_title()]
+    assert any(label.get_text().startswith("all ") for axes in bars for label in axes.get_yticklabels())
+    # every fault is named on the first panel, and the colour maps' palest tenth is left out (visible on land)
+    names = {text.get_text() for text in slip_rate.texts}
+    assert {name.replace("_", " ") for name in dataset["segment"].values} <= names
+    recurrence_colours = [c for c in panels[2].collections if isinstance(c, LineCollection)
+                          and c.get_array() is not None][0].get_cmap()
+    lowest = np.asarray(recurrence_colours(0.0)[:3])
+    assert lowest @ np.array([0.299, 0.587, 0.114]) < 0.9  # magma_r's own low end is 0.96, nearly white
     participation = [c for c in panels[3].collections if isinstance(c, LineCollection) and c.get_array() is not None]
     np.testing.assert_allclose(participation[0].get_array(), YEAR / dataset["recurrence_period"].values, rtol=1e-12)
 
@@ -225,4 +234,5 @@ def test_without_basemap_the_fault_map_says_so(monkeypatch):
     monkeypatch.setattr(builtins, "__import__", no_basemap)
     figure = fault_system_figure(_map_dataset())
     assert "install faultslip[maps]" in figure._suptitle.get_text()
+    assert all(len(line) <= 90 for line in figure._suptitle.get_text().splitlines())  # wrapped, never clipped
     assert figure.axes[0].get_xlabel() == "longitude (°E)"

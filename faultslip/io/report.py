@@ -62,7 +62,9 @@ class Report:
         raise KeyError(key)
 
     def note(self, text: str) -> "Report":
-        self.notes.append(text)
+        """Add a note; a note already made is not made twice."""
+        if text not in self.notes:
+            self.notes.append(text)
         return self
 
     def __getitem__(self, key):
@@ -199,12 +201,30 @@ def _plain_text(value) -> str:
     if hasattr(value, "item") and getattr(value, "ndim", 1) == 0:  # a numpy scalar
         return _plain_text(value.item())
     if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_plain_text(v) for v in value) + "]"
+        return "[" + ", ".join(_distinct(value)) + "]"
     if isinstance(value, dict) and set(value) == {"value", "units"}:  # a quantity inside a structured field
         return f"{_plain_text(value['value'])} {value['units']}".rstrip()
     if isinstance(value, dict):
         return ", ".join(f"{key}: {_plain_text(v)}" for key, v in value.items())
     return str(value)
+
+
+def _distinct(values) -> list[str]:
+    """A list's fields as text; numbers that differ are shown with the digits that tell them apart (an interval is
+    never printed as [0.6201, 0.6201])."""
+    shown = [_plain_text(v) for v in values]
+    numbers = [float(v) for v in values if isinstance(v, (int, float)) and not isinstance(v, bool)]
+    if len(numbers) == len(values) and len(set(numbers)) > 1 and len(set(shown)) < len(set(numbers)):
+        for digits in range(6, 18):
+            shown = [f"{v:.{digits}g}" for v in numbers]
+            if len(set(shown)) == len(set(numbers)):
+                break
+    return shown
+
+
+def _readable(value: float) -> bool:
+    """Whether ``value`` reads without an exponent in a second unit (a lab speed is not 31557 mm/yr)."""
+    return value == 0 or 1e-3 <= abs(value) < 1e4
 
 
 def _format_item(item: Item) -> str:
@@ -231,8 +251,9 @@ def _format_item(item: Item) -> str:
     text = f"{significant(value / factor, error)} {unit}".rstrip()
     if error is not None and math.isfinite(error) and error > 0:
         text += f" ± {significant(error, error)}"
-    extras = [u for u in item.also if u != unit]
-    if extras and math.isfinite(value):
+    extras = [u for u in item.also if u != unit and _readable(convert(value, item.units or "", u))] \
+        if math.isfinite(value) else []
+    if extras:
         extra = ", ".join(f"{_number(convert(value, item.units or '', u))} {u}" for u in extras)
         text += f"  ({extra})"
     return text

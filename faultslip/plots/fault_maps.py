@@ -12,6 +12,7 @@ inside it, so the maps draw offline (cartopy fetches Natural Earth on first use)
 from __future__ import annotations
 
 import math
+import textwrap
 
 import numpy as np
 
@@ -58,6 +59,33 @@ def _draw_base(base, axes, lon_range, lat_range):
     base.drawmeridians(np.arange(math.floor(lon_range[0]), lon_range[1] + step, step), labels=[0, 0, 0, 1],
                        fontsize=7, linewidth=0.2, color="0.6", ax=axes)
     return base
+
+
+def visible_colours(name: str):
+    """The colour map ``name`` without its palest tenth, so that its lowest (or, reversed, its highest) value
+    still stands out from the land's near-white fill (magma_r's low end is nearly white)."""
+    from matplotlib import colormaps  # heavy: imported where used
+    from matplotlib.colors import ListedColormap  # heavy: imported where used
+
+    base = colormaps[name]
+    samples = np.linspace(0.0, 1.0, 256)
+    colours = base(samples)
+    lightness = colours[:, :3] @ np.array([0.299, 0.587, 0.114])
+    pale_end = 0 if lightness[0] > lightness[-1] else -1
+    kept = np.linspace(0.1, 1.0, 256) if pale_end == 0 else np.linspace(0.0, 0.9, 256)
+    return ListedColormap(base(kept), name=f"{name}_visible")
+
+
+def _label_faults(axes, lines, names, project) -> None:
+    """Each fault's name at its trace's middle vertex, small, on a white halo."""
+    from matplotlib import patheffects  # heavy: imported where used
+
+    for line, name in zip(lines, names):
+        middle = line[len(line) // 2]
+        x, y = project(np.array([middle[0]]), np.array([middle[1]]))
+        axes.annotate(str(name).replace("_", " "), (float(np.ravel(x)[0]), float(np.ravel(y)[0])), fontsize=6,
+                      xytext=(4, 4), textcoords="offset points", zorder=6, color="0.1",
+                      path_effects=[patheffects.withStroke(linewidth=2, foreground="white")])
 
 
 def _graticule_step(span: float) -> float:
@@ -118,7 +146,8 @@ def fault_system_figure(dataset, participation=None, resolution: str = "i"):
             norm = Normalize(0, 1)
         else:
             norm = LogNorm(low, high) if logarithmic and constant is None else Normalize(low, high)
-        drawn = LineCollection([s for s, ok in zip(segments, finite) if ok], cmap=cmap, norm=norm, linewidths=3.5,
+        drawn = LineCollection([s for s, ok in zip(segments, finite) if ok], cmap=visible_colours(cmap), norm=norm,
+                               linewidths=3.5,
                                capstyle="round", zorder=5)
         drawn.set_array(values[finite])
         axes.add_collection(drawn)
@@ -128,10 +157,13 @@ def fault_system_figure(dataset, participation=None, resolution: str = "i"):
         bar = figure.colorbar(drawn, ax=axes, label=label.split("\n")[0], shrink=0.85)
         if constant is not None:
             bar.set_ticks([constant])
-            bar.set_ticklabels([f"{constant:.6g}"])
+            bar.set_ticklabels([f"all {constant:.6g}"])
             label = f"{label}: {constant:.6g} on every fault"
         axes.set_title(label, fontsize=9)
+        if index == 0 and "segment" in dataset.coords and len(dataset["segment"]) <= 40:
+            _label_faults(axes, traces, dataset["segment"].values, project)
     title = dataset.attrs.get("title", "faultslip fault map")
-    figure.suptitle(title + ("" if base is not None else " (longitude and latitude: install faultslip[maps] for a "
-                                                         "projected map with coastlines)"), fontsize=11)
+    if base is None:
+        title += " (longitude and latitude: install faultslip[maps] for a projected map with coastlines)"
+    figure.suptitle("\n".join(textwrap.wrap(title, 90)), fontsize=11)  # wrapped: a long title is never clipped
     return figure

@@ -1,0 +1,35 @@
+"""Reports that read well (issue 70): units by magnitude, no note twice, intervals that show their width."""
+
+from __future__ import annotations
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from faultslip.io.report import Report
+
+
+def test_a_second_unit_is_shown_only_where_it_reads_without_an_exponent():
+    report = Report("t")
+    report.add("lab_speed", 1e-6, "m/s", also=("mm/yr",))  # 1 um/s; as 31557.6 mm/yr it would not read
+    report.add("plate_rate", 1e-9, "m/s", also=("in/yr",))  # 31.557 mm/yr, and 1.2424 in/yr reads
+    text = report.to_text()
+    assert "1 µm/s" in text and "31557" not in text
+    assert "31.558 mm/yr  (1.2424 in/yr)" in text  # 1e-9 m/s over a Julian year: 31.5576 mm
+
+
+def test_a_note_made_twice_is_printed_once():
+    report = Report("t").note("the same sentence").note("another").note("the same sentence")
+    assert report.notes == ["the same sentence", "another"]
+    assert report.to_text().count("the same sentence") == 1
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(1e-6, 1e6), st.floats(1e-12, 1e-3))
+def test_an_interval_of_different_ends_never_prints_two_equal_ends(low, relative_width):
+    high = low * (1 + relative_width)
+    if high == low:
+        return
+    report = Report("t")
+    report.add("interval", [low, high], label="an interval")
+    shown = report.to_text().splitlines()[-1].split("[")[1].rstrip("]").split(", ")
+    assert shown[0] != shown[1], shown
