@@ -77,7 +77,7 @@ def test_decay_reads_an_angular_frequency_as_angular(capsys):
     """125 rad/s is 19.89 Hz, not 125 Hz (issue 9)."""
     import json
 
-    args = ["decay", "--stiffness", "70.5 lbf/in", "--ratio", "1.225", "--cycles", "10", "--json"]
+    args = ["decay", "--stiffness", "70.5 lbf/in", "--ratio", "1.225", "--cycles-between", "10", "--json"]
     assert main(args + ["--frequency", "125 rad/s"]) == 0
     angular = json.loads(capsys.readouterr().out)
     assert main(args + ["--frequency", f"{125 / (2 * math.pi)!r} Hz"]) == 0

@@ -37,25 +37,25 @@ def test_stability_map_subset_and_generated_text():
 
 def test_bench_and_stability_cli(cli, tmp_path):
     result = cli("bench", "--quick", "--scene", "fault_1906", "--method", "closed_form", "--method",
-                 "event_driven_DOP853", "--workers", "1", "-o", tmp_path / "b", "--json")
+                 "event_driven_DOP853", "--workers", "1", "--output-dir", tmp_path / "b", "--json")
     assert result.code == 0, result.err
     with xr.open_dataset(tmp_path / "b" / "work_precision.nc") as ds:
         assert ds["status"].attrs["flag_meanings"].startswith("ok exception")
         assert ds["wall_time"].attrs["units"] == "s"
     assert (tmp_path / "b" / "work_precision.png").exists()
     result = cli("stability", "--ratio", "1.5", "--damping-ratio", "0.3", "--separation", "1", "--method", "closed_form",
-                 "--workers", "1", "-o", tmp_path / "s", "--json")
+                 "--workers", "1", "--output-dir", tmp_path / "s", "--json")
     assert result.code == 0, result.err
     assert any("closed_form" in line for line in result.json["failure_regions"])
     # the default grid's own corners are accepted (negative damping, separation 1e10): the command once
     # refused its own defaults
     corner = cli("stability", "--ratio", "0.1", "--damping-ratio", "-0.05", "--separation", "1e10", "--method",
-                 "exact_cycle", "--workers", "1", "-o", tmp_path / "c", "--json")
+                 "exact_cycle", "--workers", "1", "--output-dir", tmp_path / "c", "--json")
     assert corner.code == 0, corner.err
     from faultslip.evaluation.stability import DAMPING_RATIOS, SEPARATIONS
     assert min(DAMPING_RATIOS) > -1 and max(SEPARATIONS) <= 1e12
-    assert_clean_error(cli("stability", "--separation", "0.5", "-o", tmp_path / "d"), "--separation in [1, 1e12]")
-    bad = cli("bench", "--quick", "--scene", "mars", "-o", tmp_path / "x")
+    assert_clean_error(cli("stability", "--separation", "0.5", "--output-dir", tmp_path / "d"), "--separation in [1, 1e12]")
+    bad = cli("bench", "--quick", "--scene", "mars", "--output-dir", tmp_path / "x")
     assert bad.code == 2 and "unknown bench scene 'mars'" in bad.err
 
 

@@ -52,7 +52,7 @@ CASES = {
                                                                                damping_ratio=0.1))),
     "cycle": (["cycle", "lab_glass_dry.toml", "--loading-rate", "0.1 1/s"],
               lambda: faultslip.scene_cycle("lab_glass_dry.toml", loading_rate="0.1 1/s")),
-    "decay": (["decay", "--stiffness", "70.5 lbf/in", "--ratio", "1.225", "--cycles", "10", "--frequency", "19.9 Hz"],
+    "decay": (["decay", "--stiffness", "70.5 lbf/in", "--ratio", "1.225", "--cycles-between", "10", "--frequency", "19.9 Hz"],
               lambda: faultslip.free_decay(1.225, 10.0, 19.9, to_si("70.5 lbf/in", "stiffness", "k"))),
     "decay_record": (["decay", CONFIGS / "example_decay_record.csv", "--stiffness", "12346 N/m"],
                      lambda: faultslip.free_decay_from_record(faultslip.read_record(CONFIGS / "example_decay_record.csv"),

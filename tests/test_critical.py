@@ -109,7 +109,7 @@ def test_critical_cli_contract(cli, tmp_path):
         assert set(data[key]) == {"value", "units"}
     assert data["method"] == "exact_tangency"
     assert data["critical_loading_rate"]["value"] == pytest.approx(EXACT[1, 2], rel=1e-9)
-    result = cli("critical", "--table", "-o", tmp_path)
+    result = cli("critical", "--table", "--output-dir", tmp_path)
     assert result.code == 0, result.err
     import xarray as xr
 

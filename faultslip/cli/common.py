@@ -58,7 +58,7 @@ def _output_dir(args, default, names):
     """Check an output folder and the files it will receive, before any work; create the folder."""
 
 
-    folder = check_output(args.output or default, label="-o", directory=True)
+    folder = check_output(args.output or default, label="--output-dir", directory=True)
     for name in names:
         target = Path(folder) / name
         if target.exists() and not args.overwrite:

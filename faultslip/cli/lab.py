@@ -339,7 +339,7 @@ def cmd_decay(args) -> int:
         result = free_decay_from_record(read_record(args.record), stiffness)
     else:
         if args.ratio is None or args.cycles is None or args.frequency is None:
-            raise InputError("give a free-decay record, or --ratio, --cycles and --frequency")
+            raise InputError("give a free-decay record, or --ratio, --cycles-between and --frequency")
         frequency = to_si(args.frequency, "frequency", "damped frequency")  # rad/s is converted to Hz
         result = free_decay(_number(args.ratio, "amplitude ratio"), _number(args.cycles, "cycles"), frequency, stiffness)
     return _emit(result.report(), args.json)

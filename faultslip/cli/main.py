@@ -10,6 +10,8 @@ Bad input exits with status 2 and one sentence on stderr, never a traceback.
 from __future__ import annotations
 
 import argparse
+import difflib
+import re
 import importlib
 import os
 import signal
@@ -17,7 +19,7 @@ import sys
 import warnings
 
 from faultslip import __version__
-from faultslip.contract.options import options_of
+from faultslip.contract.options import COMMON, DEPRECATED, options_of
 from faultslip.errors import FaultslipError
 from faultslip.io.atomic import transaction
 
@@ -26,7 +28,39 @@ class _Parser(argparse.ArgumentParser):
     """argparse with a one-line error and exit status 2."""
 
     def error(self, message):
-        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        self.exit(2, f"{self.prog}: error: {did_you_mean(message, _option_strings(self))} (see '{self.prog} --help')\n")
+
+
+def _option_strings(parser: argparse.ArgumentParser) -> list[str]:
+    """Every option string of ``parser`` and of its subcommands, at any depth."""
+    found = []
+    for action in parser._actions:
+        found.extend(action.option_strings)
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                found.extend(_option_strings(sub))
+    return sorted(set(found))
+
+
+def did_you_mean(message: str, options=()) -> str:
+    """argparse's message for a mistyped command or option, with the nearest valid spelling where one is close
+    ("invalid choice: 'swep' (choose from ...)" becomes "... did you mean 'sweep'?"); other messages unchanged."""
+    choice = re.match(r"argument (.+?): invalid choice: '([^']*)' \(choose from (.*)\)$", message)
+    if choice:
+        name, given, listed = choice.groups()
+        valid = re.findall(r"'([^']*)'", listed)
+        near = difflib.get_close_matches(given, valid, n=1, cutoff=0.6)
+        hint = f"; did you mean '{near[0]}'?" if near else f"; choose from {', '.join(valid)}"
+        return f"argument {name}: invalid choice '{given}'{hint}"
+    unknown = re.match(r"unrecognized arguments: (.*)$", message)
+    if unknown:
+        hints = []
+        for word in unknown.group(1).split():
+            near = difflib.get_close_matches(word.split("=")[0], options, n=1, cutoff=0.7) if word.startswith("--") else []
+            if near:
+                hints.append(f"did you mean '{near[0]}' for '{word}'?")
+        return message + ("; " + " ".join(hints) if hints else "")
+    return message
 
 
 class _RoutedTo(argparse.Action):
@@ -42,10 +76,30 @@ class _RoutedTo(argparse.Action):
         namespace.handler = self.handler
 
 
+class _Deprecated(argparse.Action):
+    """An old spelling kept for one release: it stores its value where the new one does, and says to use the new."""
+
+    def __init__(self, *args, now: str, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.now = now
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, values)
+        print(f"{parser.prog}: note: {option_string} is deprecated here and goes in the next release; use {self.now}",
+              file=sys.stderr)
+
+
+def _output_dir_option(parser, command: str, default: str, help_text: str) -> None:
+    """``--output-dir`` (a folder), and its old spelling ``-o`` for one release (:data:`DEPRECATED`)."""
+    parser.add_argument("--output-dir", dest="output", default=default, help=help_text)
+    parser.add_argument("-o", "--output", dest="output", action=_Deprecated, now=DEPRECATED[(command, "-o")],
+                        help=argparse.SUPPRESS)
+
+
 def _overwrite_and_json(parser) -> None:
     """The two flags of every command that writes files and prints a report."""
-    parser.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
+    parser.add_argument("--json", action="store_true", help=COMMON["--json"])
 
 
 def _family_options(parser, command: str) -> None:
@@ -107,7 +161,7 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
     classroom.add_argument("--open", action="store_true", help="open the app in the default browser")
     classroom.add_argument("--export", help="write the lesson as one self-contained HTML file (FILE.html) that opens "
                            "offline without Python, and serve nothing")
-    classroom.add_argument("--overwrite", action="store_true", help="replace an exported file that already exists")
+    classroom.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     classroom.set_defaults(handler="apps:cmd_classroom")
     return parser
 
@@ -163,7 +217,7 @@ def _scenes_commands(commands) -> None:
     run.add_argument("scene", nargs="?", help="scene TOML file or bundled scene name")
     _method_flags(run)
     _family_options(run, "run")
-    run.add_argument("--json", action="store_true", help="print one JSON object")
+    run.add_argument("--json", action="store_true", help=COMMON["--json"])
     run.set_defaults(handler="scenes:cmd_run")
 
     fault = commands.add_parser("fault", help="direct fault estimate (seed 003 §5-2) without a scene file")
@@ -191,21 +245,21 @@ def _scenes_commands(commands) -> None:
                                           "estimated beside it on the same fault (default granodiorite)")
     fault.add_argument("--name", default="fault", help="a name for the report")
     _method_flags(fault)
-    fault.add_argument("--json", action="store_true", help="print one JSON object")
+    fault.add_argument("--json", action="store_true", help=COMMON["--json"])
     fault.set_defaults(handler="scenes:cmd_fault")
 
     materials = commands.add_parser("materials", help="list presets and lithologies with their sources")
-    materials.add_argument("--json", action="store_true", help="print one JSON object")
+    materials.add_argument("--json", action="store_true", help=COMMON["--json"])
     materials.set_defaults(handler="scenes:cmd_materials")
 
     methods = commands.add_parser("methods", help="the solution methods: friction laws, domain and cost of each")
-    methods.add_argument("--json", action="store_true", help="print one JSON object")
+    methods.add_argument("--json", action="store_true", help=COMMON["--json"])
     methods.set_defaults(handler="scenes:cmd_methods")
 
     simulate = commands.add_parser("simulate", help="event-driven simulation of stick-slip cycles of a scene")
     simulate.add_argument("scene", help="scene TOML file or bundled scene name")
     _family_options(simulate, "simulate")
-    simulate.add_argument("--json", action="store_true", help="print one JSON object")
+    simulate.add_argument("--json", action="store_true", help=COMMON["--json"])
     simulate.set_defaults(handler="scenes:cmd_simulate")
 
     critical = commands.add_parser("critical", help="critical loading rate: exact and seed Appendix I")
@@ -213,7 +267,7 @@ def _scenes_commands(commands) -> None:
     critical.add_argument("--preset", help="Table I preset on its apparatus")
     critical.add_argument("--damping-ratio", help="damping ratio zeta of the dashpot")
     critical.add_argument("--table", action="store_true", help="write the exact-vs-seed comparison (nc, md, png)")
-    critical.add_argument("-o", "--output", help="directory for --table (default: current)")
+    _output_dir_option(critical, "critical", ".", "the folder for --table's files (default: the current one)")
     _overwrite_and_json(critical)
     critical.set_defaults(handler="scenes:cmd_critical")
 
@@ -222,7 +276,7 @@ def _scenes_commands(commands) -> None:
     cycle.add_argument("--loading-rate", help="theta_dot, e.g. '0.1 1/s'")
     cycle.add_argument("--platform-speed", help="V, e.g. '1e-4 in/s'")
     _method_flags(cycle)
-    cycle.add_argument("--json", action="store_true", help="print one JSON object")
+    cycle.add_argument("--json", action="store_true", help=COMMON["--json"])
     cycle.set_defaults(handler="scenes:cmd_cycle")
 
 
@@ -235,8 +289,8 @@ def _studies_commands(commands) -> None:
     sweep.add_argument("--format", choices=("netcdf", "zarr"),
                        help="output format (default: from the suffix, .nc or .zarr); with --scheduler ADDRESS, "
                             "zarr lets every worker write its own chunks")
-    sweep.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
-    sweep.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    sweep.add_argument("--allow-large", action="store_true", help=COMMON["--allow-large"])
+    sweep.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     sweep.add_argument("--scheduler", help="'local' for a dask LocalCluster, 'slurm' for --workers SLURM jobs through "
                                            "dask-jobqueue (resources from dask's jobqueue.slurm configuration), or "
                                            "the address of a dask scheduler")
@@ -248,25 +302,25 @@ def _studies_commands(commands) -> None:
                             "write them into the output")
     sweep.add_argument("--compression", choices=("zlib", "zstd", "none"), default="zlib",
                        help="netCDF4 filter (default zlib, readable everywhere; zstd writes ~2.5x faster)")
-    sweep.add_argument("--json", action="store_true", help="print one JSON object")
+    sweep.add_argument("--json", action="store_true", help=COMMON["--json"])
     sweep.set_defaults(handler="sweeps:cmd_sweep")
 
     convert = commands.add_parser("convert", help="convert a Zarr store written by sweep into one netCDF file")
     convert.add_argument("store", help="a Zarr store (folder), e.g. written by faultslip sweep -o OUT.zarr")
     convert.add_argument("-o", "--output", required=True, help="output netCDF file (written atomically)")
     convert.add_argument("--workers", type=int, help="processes that compress chunks (default: the cores)")
-    convert.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    convert.add_argument("--allow-large", action="store_true", help="run even beyond the disk budget")
-    convert.add_argument("--json", action="store_true", help="print one JSON object")
+    convert.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
+    convert.add_argument("--allow-large", action="store_true", help=COMMON["--allow-large"])
+    convert.add_argument("--json", action="store_true", help=COMMON["--json"])
     convert.set_defaults(handler="sweeps:cmd_convert")
 
     reproduce = commands.add_parser("reproduce", help="re-run the study embedded in a sweep's netCDF and compare")
     reproduce.add_argument("file", help="a netCDF written by faultslip sweep")
     reproduce.add_argument("-o", "--output", help="keep the reproduced file here")
-    reproduce.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    reproduce.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
+    reproduce.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
+    reproduce.add_argument("--allow-large", action="store_true", help=COMMON["--allow-large"])
     reproduce.add_argument("--workers", type=int, help="parallel workers (default: the cores, at most one per chunk)")
-    reproduce.add_argument("--json", action="store_true", help="print one JSON object")
+    reproduce.add_argument("--json", action="store_true", help=COMMON["--json"])
     reproduce.set_defaults(handler="sweeps:cmd_reproduce")
 
     regional = commands.add_parser("map", help="regional map from a fault-segment table or a raster")
@@ -307,10 +361,10 @@ def _studies_commands(commands) -> None:
                           "rupture's average displacement, default) or petersen_2011 (the level from Mw)")
     regional.add_argument("--displacements", help="the displacements of the curve, e.g. '0.1 m, 1 m, 3 m, 10 ft' "
                           "(default 41 from 1 cm to 30 m)")
-    regional.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    regional.add_argument("--allow-large", action="store_true", help="run even beyond the memory, disk and one-hour budget")
+    regional.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
+    regional.add_argument("--allow-large", action="store_true", help=COMMON["--allow-large"])
     _method_flags(regional)
-    regional.add_argument("--json", action="store_true", help="print one JSON object")
+    regional.add_argument("--json", action="store_true", help=COMMON["--json"])
     regional.set_defaults(handler="studies:cmd_map")
 
 
@@ -321,8 +375,8 @@ def _lab_commands(commands) -> None:
     reduce.add_argument("r_file", help="the r-file (its 'read' command names a data file beside it), e.g. "
                                        "data/p655/p655_r")
     reduce.add_argument("-o", "--output", help="write the reduced columns to OUT.nc")
-    reduce.add_argument("--overwrite", action="store_true", help="replace an output that already exists")
-    reduce.add_argument("--json", action="store_true", help="print one JSON object")
+    reduce.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
+    reduce.add_argument("--json", action="store_true", help=COMMON["--json"])
     reduce.set_defaults(handler="lab:cmd_reduce")
     fit = commands.add_parser("fit", help="fit the rate law (eq. 2-18) to laboratory data, with uncertainty")
     fit.add_argument("data", nargs="?", help="CSV or netCDF: loading_rate (or platform_speed, stiffness, normal_load), "
@@ -335,7 +389,7 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--shear-modulus", help="shear modulus of the rock, stored with the fit for fault predictions")
     fit.add_argument("--note", help="a note stored with the fit (e.g. rock and condition)")
     fit.add_argument("--plot", help="draw data, fit and 95 %% band (rate-state: the posterior's bands) to FILE.png")
-    fit.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    fit.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     fit.add_argument("--loss", default="linear", help="least-squares loss: linear, soft_l1, huber or cauchy (robust)")
     fit.add_argument("--bootstrap", type=int, help="bootstrap samples (default 200; 50 for --law rate-state, where "
                                                     "each is a refit)")
@@ -383,7 +437,7 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--workers", type=int, help="posterior: likelihood worker processes (default 1)")
     fit.add_argument("--evolution", choices=("aging", "slip"), default="aging", help="rate-state: the state evolution law")
     fit.add_argument("--two-state", action="store_true", help="rate-state: fit b2 and D_c2 as well")
-    fit.add_argument("--json", action="store_true", help="print one JSON object")
+    fit.add_argument("--json", action="store_true", help=COMMON["--json"])
     fit.set_defaults(handler="lab:cmd_fit")
 
     record = commands.add_parser("record", help="friction and stick-slip events from a measured motion record, or a "
@@ -406,9 +460,10 @@ def _lab_commands(commands) -> None:
     decay.add_argument("record", nargs="?", help="a free-decay displacement record (alternative to --ratio ...)")
     decay.add_argument("--stiffness", required=True, help="known stiffness, e.g. '70.5 lbf/in'")
     decay.add_argument("--ratio", help="amplitude ratio X_n / X_{n+N}, e.g. 1.225")
-    decay.add_argument("--cycles", help="N, the cycles between the two amplitudes, e.g. 10")
+    decay.add_argument("--cycles-between", dest="cycles", help="N, the cycles between the two amplitudes, e.g. 10")
+    decay.add_argument("--cycles", dest="cycles", action=_Deprecated, now="--cycles-between", help=argparse.SUPPRESS)
     decay.add_argument("--frequency", help="damped frequency, e.g. '19.9 Hz'")
-    decay.add_argument("--json", action="store_true", help="print one JSON object")
+    decay.add_argument("--json", action="store_true", help=COMMON["--json"])
     decay.set_defaults(handler="lab:cmd_decay")
 
 
@@ -436,7 +491,7 @@ def _vibration_commands(commands) -> None:
     nano.add_argument("scene", help="nanoscale scene TOML (e.g. configs/nanoscale_seed001.toml)")
     nano.add_argument("--damping", help="the damping A, overriding the scene's (stick-slip below A_c)")
     nano.add_argument("--no-run", action="store_true", help="the threshold analysis only, no simulation")
-    nano.add_argument("--allow-large", action="store_true", help="run even beyond the time and memory budget")
+    nano.add_argument("--allow-large", action="store_true", help=COMMON["--allow-large"])
     nano.add_argument("-o", "--output", help="write the time series to this netCDF file")
     nano.add_argument("--plot", help="draw force against displacement and the charge (seed 001 Fig. 3)")
     _overwrite_and_json(nano)
@@ -471,21 +526,21 @@ def _rate_state_commands(commands) -> None:
     simulate.set_defaults(handler="rate_state:cmd_simulate")
     stability = actions.add_parser("stability", help="critical stiffness k_c (quasi-static, with damper, with inertia)")
     stability.add_argument("scene", help="rate-and-state scene TOML")
-    stability.add_argument("--json", action="store_true", help="print one JSON object")
+    stability.add_argument("--json", action="store_true", help=COMMON["--json"])
     stability.set_defaults(handler="rate_state:cmd_stability")
     cycles = actions.add_parser("cycles", help="quasi-dynamic earthquake cycles of a fault: recurrence, slip, stress drop")
     cycles.add_argument("scene", help="rate-and-state scene TOML with a [fault] table (e.g. configs/rsf_block_bp1.toml)")
     cycles.add_argument("--cycles", type=int, default=20, help="cycles to measure after two of spin-up (default 20)")
     cycles.add_argument("--seed-law", action=_RoutedTo, handler="rate_state:cmd_cycles_beside_seed_law", help="a seed-law lithology or preset (e.g. granodiorite) to estimate beside, on "
                                            "the same fault with radiation damping")
-    cycles.add_argument("--json", action="store_true", help="print one JSON object")
+    cycles.add_argument("--json", action="store_true", help=COMMON["--json"])
     cycles.set_defaults(handler="rate_state_cycles:cmd_cycles")
     bench = actions.add_parser("bench", help="work-precision of the cycle integrators and where each method fails")
     bench.add_argument("--quick", action="store_true", help="3 ratios, 3 tolerances, a coarse failure map (~30 s)")
-    bench.add_argument("-o", "--output", default="bench", help="output directory (default: bench/)")
-    bench.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    _output_dir_option(bench, "rate-state bench", "bench", "the folder for its files (default: bench/)")
+    bench.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     bench.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
-    bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.add_argument("--json", action="store_true", help=COMMON["--json"])
     bench.set_defaults(handler="evaluation:cmd_rate_state_bench")
     group.set_defaults(handler="rate_state:cmd_missing_action")
 
@@ -494,23 +549,23 @@ def _evaluation_commands(commands) -> None:
     """Method evaluation commands (handlers in faultslip.cli.evaluation)."""
     bench = commands.add_parser("bench", help="work-precision study of every method on standard scenes")
     bench.add_argument("--quick", action="store_true", help="fewer tolerances and cycles (under 2 minutes on 2 cores)")
-    bench.add_argument("-o", "--output", default="bench", help="output directory (default: bench/)")
-    bench.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    _output_dir_option(bench, "bench", "bench", "the folder for its files (default: bench/)")
+    bench.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     bench.add_argument("--scene", action="append", help="only this standard scene (repeatable)")
     bench.add_argument("--method", action="append", help="only this method (repeatable)")
     bench.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
-    bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.add_argument("--json", action="store_true", help=COMMON["--json"])
     bench.set_defaults(handler="evaluation:cmd_bench")
 
     stability = commands.add_parser("stability", help="map where each method fails (rate, damping, separation)")
-    stability.add_argument("-o", "--output", default="stability", help="output directory (default: stability/)")
-    stability.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    _output_dir_option(stability, "stability", "stability", "the folder for its files (default: stability/)")
+    stability.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     stability.add_argument("--ratio", action="append", help="only these theta/theta_c values (repeatable)")
     stability.add_argument("--damping-ratio", action="append", help="only these damping ratios (repeatable)")
     stability.add_argument("--separation", action="append", help="only these stick/slip ratios (repeatable)")
     stability.add_argument("--method", action="append", help="only this method (repeatable)")
     stability.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
-    stability.add_argument("--json", action="store_true", help="print one JSON object")
+    stability.add_argument("--json", action="store_true", help=COMMON["--json"])
     stability.set_defaults(handler="evaluation:cmd_stability")
 
     error = commands.add_parser("model-error", help="one slider's error against the 2-D fault over W / h*, and a scene's")
@@ -537,7 +592,7 @@ def _plots_commands(commands) -> None:
     rate_law = figures.add_parser("rate-law", help="mu_s and amplitude against log10 loading rate (seed Figs. 4-1 to 4-22)")
     rate_law.add_argument("--preset", action="append", help="preset name (repeatable; default: all of Table I)")
     rate_law.add_argument("-o", "--output", required=True, help="output image, e.g. rate_law.png")
-    rate_law.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    rate_law.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     rate_law.set_defaults(handler="plots:cmd_plot_rate_law")
     phase = figures.add_parser("phase-plane", help="phase-plane limit cycles below, at and above the critical rate")
     phase.add_argument("--preset", help="Table I preset on its apparatus")
@@ -545,12 +600,12 @@ def _plots_commands(commands) -> None:
     phase.add_argument("--damping-ratio", help="damping ratio zeta (needed for a critical rate)")
     phase.add_argument("--rate-factor", action="append", help="loading rate as a multiple of theta_c (repeatable)")
     phase.add_argument("-o", "--output", required=True, help="output image")
-    phase.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    phase.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     phase.set_defaults(handler="plots:cmd_plot_phase_plane")
     stability = figures.add_parser("rate-state-stability", help="the slip law's critical step and k_c with a damper "
                                                                 "or inertia (docs/rate_state.md)")
     stability.add_argument("-o", "--output", required=True, help="output image")
-    stability.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
+    stability.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     stability.set_defaults(handler="plots:cmd_plot_rate_state_stability")
     animate = commands.add_parser("animate", help="animate a scene's stick-slip: block, spring and platform beside "
                                                   "the phase plane and the friction trace (GIF)")
@@ -566,8 +621,8 @@ def _plots_commands(commands) -> None:
     seed002 = figures.add_parser("seed002", help="seed 002 Figs. 9-11 in kind: four friction curves, amplitude against "
                                                  "speed, damping (docs/quasi_harmonic.md)")
     seed002.add_argument("-o", "--output", required=True, help="output image")
-    seed002.add_argument("--overwrite", action="store_true", help="replace outputs that already exist")
-    seed002.add_argument("--json", action="store_true", help="print the termination speeds as one JSON object")
+    seed002.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
+    seed002.add_argument("--json", action="store_true", help=COMMON["--json"])
     seed002.set_defaults(handler="plots:cmd_plot_seed002")
 
 

@@ -80,3 +80,19 @@ def options_of(command: str) -> list[Option]:
         Its options.
     """
     return [option for option in OPTIONS.values() if command in option.commands]
+
+
+#: Options every command spells and means the same way (``tests/test_front_door.py`` checks each command's parser
+#: against it): the flag, and its one help text. ``-o`` is always a file a command writes, ``--output-dir`` always a
+#: folder.
+COMMON = {
+    "--json": "print one JSON object",
+    "--overwrite": "replace outputs that already exist",
+    "--allow-large": "run even beyond the time, memory and disk budget",
+}
+#: What the help of ``-o``/``--output`` and of ``--output-dir`` may and may not say.
+FILE_OPTION, FOLDER_OPTION = "-o", "--output-dir"
+#: Old spellings kept for one release: (command, old flag) -> the flag to use now.
+DEPRECATED = {(command, flag): "--output-dir" for command in ("critical", "bench", "stability", "rate-state bench")
+              for flag in ("-o", "--output")}
+DEPRECATED[("decay", "--cycles")] = "--cycles-between"
