@@ -8,7 +8,8 @@ one thread, on each step path (:data:`faultslip.models.fault_2d.kernel.STEP_PATH
 element-wise work compiled, numpy alone; the last two forced by hiding rocket-fft or numba from the run): once with ``kernel="dense"`` and once with ``kernel="fft"``, interleaved over ``--rounds`` rounds with
 the order reversed every other round. The figure is CPU time per accepted step (the two kernels take nearly the same
 steps; per step removes what round-off changes), the median over rounds. Both paths are compiled (and cached) before
-the first timed run. The crossover is the smallest count from which the FFT is faster at every larger count
+the first timed run. Beside each path's limit it writes the path's step cost relative to the fused path's (the median
+over counts, each with the kernel ``auto`` takes), which scales the 2-D cost model. The crossover is the smallest count from which the FFT is faster at every larger count
 measured, taken midway (in log N) between the last count where dense wins and it. It is written to
 ``data/kernel_crossover.json``, which :func:`faultslip.models.fault_2d.kernel.dense_limit` reads, and the timings to
 ``benchmarks/results/kernel_crossover.json``.
@@ -32,7 +33,7 @@ from faultslip.constants import JULIAN_YEAR  # noqa: E402
 from faultslip.io.atomic import write_text_atomic  # noqa: E402
 from faultslip.models.fault_2d import compiled  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles, step_path  # noqa: E402
-from faultslip.models.fault_2d.kernel import STEP_PATHS, crossover  # noqa: E402
+from faultslip.models.fault_2d.kernel import STEP_PATHS, crossover, relative_costs  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
 from provenance import stamp  # noqa: E402
 
@@ -88,7 +89,9 @@ def main(argv=None) -> int:
         limits[path], tables[path] = int(crossover(rows)), rows
         print(f"{path}: dense at and below {limits[path]} elements", flush=True)
     take_path("fused")
-    table = {"dense_limit": limits, "rows": tables, "method": " ".join(__doc__.split("\n\n")[2].split()),
+    costs = relative_costs(tables, limits)
+    print("step cost against the fused path:", ", ".join(f"{path} {value:.2f}x" for path, value in costs.items()))
+    table = {"dense_limit": limits, "relative_step_cost": costs, "rows": tables, "method": " ".join(__doc__.split("\n\n")[2].split()),
              "provenance": {"script": "benchmarks/kernel_crossover.py", "years": args.years, "rounds": args.rounds,
                             **stamp()}}
     write_text_atomic(ROOT / "data" / "kernel_crossover.json", json.dumps(table, indent=1) + "\n")

@@ -175,10 +175,12 @@ def nanoscale_estimate(duration: float, samples: int) -> Estimate:
 #: steps; the estimate takes twice the fit, so that it errs long.
 FAULT_2D_STEPS = {"scale": 15.0, "plate_rate": 1.02, "width_over_nucleation": 0.99, "rtol": -0.18,
                   "coarse": 0.31, "fine": 0.45, "fine_below": 0.25, "margin": 2.0}
-#: Seconds per Dormand-Prince step (six force balances and the stress kernel) on N elements: c0 + c1 N,
-#: measured 0.13 ms at 40 elements, 0.92 ms at 800 and 1.40 ms at 1,600 on the 2-core benchmark machine
-#: (benchmarks/fault_2d.py, 2026-11-24), taken twice for a busy machine.
-FAULT_2D_STEP_SECONDS = (1.43e-4, 6.36e-7, 1.0)
+#: CPU seconds per Dormand-Prince step (six force balances and the stress kernel) on N elements with the whole step
+#: compiled (numba and rocket-fft, the FFT kernel): c0 + c1 N, least squares over the ten FFT runs of
+#: benchmarks/ladder_designs.py and benchmarks/ladder_escalations.py (564-1,036 elements, rtol 1e-8, two runs at a
+#: time on the 2-core machine), within 0.87-1.16x of each (tests/test_budget_fit.py refits it). Another step path
+#: scales it by its measured cost (:func:`faultslip.models.fault_2d.kernel.relative_step_cost`).
+FAULT_2D_STEP_SECONDS = (1.237e-4, 2.279e-7, 1.0)
 #: Steps from the events a run will see (issue 68): ln steps = ln A + p ln(events) + q ln(W / h*) + r ln(N), fitted
 #: on the 36 calibration runs of benchmarks/ladder_designs.py (3 elements per L_b, rtol 1e-8), where a run's events
 #: come from its duration over the recurrence the one-slider rung predicts; with the per-step seconds above, the
@@ -238,12 +240,12 @@ def fault_2d_steps(*, years: float, plate_rate: float, element_size: float, proc
 
 
 def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *, steps: float,
-                      outside_fit: tuple = ()) -> Estimate:
+                      outside_fit: tuple = (), step_cost: float = 1.0) -> Estimate:
     """Time, memory and disk of a 2-D fault run of ``steps`` steps (:func:`fault_2d_steps`): station rows every
     step (in memory, and as SEAS text)."""
     c0, c1, margin = FAULT_2D_STEP_SECONDS
     return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps)",
-                    seconds=margin * steps * (c0 + c1 * elements),
+                    seconds=margin * steps * (c0 + c1 * elements) * step_cost,
                     memory=steps * (1 + 4 * stations) * 8.0 * 2, disk=steps * stations * 100.0 if output else 0.0,
                     output=output, outside_fit=outside_fit)
 

@@ -42,19 +42,24 @@ STEP_PATHS = ("fused", "compiled", "numpy")
 
 @functools.lru_cache(maxsize=1)
 def measured_crossover() -> dict:
-    """Per step path, the element count at and below which a whole step with the dense product took less CPU than
-    one with the FFT (``benchmarks/kernel_crossover.py``: BP1 at rtol 1e-4, interleaved, median per step)."""
+    """``data/kernel_crossover.json`` (``benchmarks/kernel_crossover.py``: BP1 at rtol 1e-4, interleaved, median per
+    step), checked: per step path, ``dense_limit``, the element count at and below which a whole step with the dense
+    product took less CPU than one with the FFT, and ``relative_step_cost``, its step's time over the fused path's."""
     path = bundled_dir("data") / CROSSOVER_FILE
     try:
         table = gate.read_json(path, "the stress kernel's measured crossover")
     except InputError as exc:
         raise InputError(f"{exc}; reinstall faultslip or run benchmarks/kernel_crossover.py") from None
     limits = table.get("dense_limit") if isinstance(table, dict) else None
+    costs = table.get("relative_step_cost") if isinstance(table, dict) else None
     if not (isinstance(limits, dict) and all(isinstance(limits.get(name), int) and limits[name] >= 0
-                                             for name in STEP_PATHS)):
-        raise InputError(f"{path.name} lacks a whole dense_limit for each of {', '.join(STEP_PATHS)}; "
-                         "rerun benchmarks/kernel_crossover.py")
-    return {name: limits[name] for name in STEP_PATHS}
+                                             for name in STEP_PATHS)
+            and isinstance(costs, dict) and all(isinstance(costs.get(name), (int, float)) and 0 < costs[name] < 1e3
+                                                for name in STEP_PATHS)):
+        raise InputError(f"{path.name} lacks a whole dense_limit and a positive relative_step_cost for each of "
+                         f"{', '.join(STEP_PATHS)}; rerun benchmarks/kernel_crossover.py")
+    return {"dense_limit": {name: limits[name] for name in STEP_PATHS},
+            "relative_step_cost": {name: float(costs[name]) for name in STEP_PATHS}}
 
 
 def crossover(rows: list[dict]) -> float:
@@ -68,11 +73,35 @@ def crossover(rows: list[dict]) -> float:
     return math.sqrt(dense_wins[-1] * after[0]) if after else float(dense_wins[-1])
 
 
+def chosen_cost(rows: list[dict], limit: float) -> dict:
+    """Per element count, the time a step took with the kernel ``auto`` takes at that count (us)."""
+    return {row["elements"]: row["dense_us"] if row["elements"] <= limit else row["fft_us"] for row in rows}
+
+
+def relative_costs(tables: dict, limits: dict) -> dict:
+    """Per step path, the median over element counts of its step's time over the fused path's, each with the kernel
+    ``auto`` takes (what the cost model, fitted on fused runs, is scaled by on another path)."""
+    fused = chosen_cost(tables["fused"], limits["fused"])
+    out = {}
+    for path in STEP_PATHS:
+        mine = chosen_cost(tables[path], limits[path])
+        ratios = sorted(mine[count] / fused[count] for count in mine if count in fused)
+        out[path] = float(np.median(ratios))
+    return out
+
+
+def relative_step_cost(path: str) -> float:
+    """How many times a fused step's time a step on ``path`` takes (:func:`measured_crossover`)."""
+    if path not in STEP_PATHS:
+        raise InputError(f"a step path is one of {', '.join(STEP_PATHS)}, got {path!r}")
+    return measured_crossover()["relative_step_cost"][path]
+
+
 def dense_limit(path: str = "numpy") -> int:
     """The element count at and below which ``method="auto"`` takes the dense product on step path ``path``."""
     if path not in STEP_PATHS:
         raise InputError(f"a step path is one of {', '.join(STEP_PATHS)}, got {path!r}")
-    return measured_crossover()[path]
+    return measured_crossover()["dense_limit"][path]
 
 
 def _toeplitz_column(count: int) -> np.ndarray:

@@ -40,7 +40,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from faultslip.models.fault_2d.integrate import BP1_STATIONS, YEAR, OverBudget, run_cycles
+from faultslip.models.fault_2d.integrate import BP1_STATIONS, YEAR, OverBudget, run_cycles, step_path
+from faultslip.models.fault_2d.kernel import relative_step_cost
 from faultslip.models.fault_2d.analysis import MIN_RESOLUTION
 from faultslip.models.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip import ranges
@@ -151,7 +152,8 @@ class Fault2DScene:
     def estimate(self, rtol: float | None = None, output=None):
         """What a run of this scene needs (:class:`faultslip.io.budget.Estimate`), before it starts."""
         return budget.fault_2d_estimate(self.fault.count, self.duration / YEAR, len(self.stations), output,
-                                        steps=self.estimated_steps(rtol), outside_fit=self.outside_fit())
+                                        steps=self.estimated_steps(rtol), outside_fit=self.outside_fit(),
+                                        step_cost=relative_step_cost(step_path()))
 
     def outside_fit(self) -> tuple:
         """Where this scene lies outside the scenes its cost estimate was fitted on
