@@ -19,6 +19,7 @@ import platform
 import struct
 import time
 import types
+from pathlib import Path
 
 import numpy as np
 
@@ -1432,6 +1433,18 @@ def _compiled(threads: int) -> dict:
             _KERNELS[key]["run_steps"] = step["_run_steps"]
             _KERNELS[key]["stress_product"] = step["_stress_product"]  # alone too (its test, the profile)
     return _KERNELS[key]
+
+
+def compilation_pending(threads: int = 1) -> bool:
+    """Whether the first compiled run on ``threads`` threads will compile the step here: numba's disk cache has
+    no index yet for the build's outermost kernel (a fresh environment, or a new faultslip). Its cost, cold
+    against warm, is measured by ``benchmarks/first_run.py``."""
+    kernel = _compiled(threads).get("run_steps") or _compiled(threads)["balance_rates"]
+    try:
+        index = kernel._cache._cache_file._index_path  # numba's own cache locator, where it will look
+    except AttributeError:  # a numba without that layout: say nothing rather than guess
+        return False
+    return not Path(index).exists()
 
 
 def _float_from_bits_intrinsic():

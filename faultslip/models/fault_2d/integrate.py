@@ -24,6 +24,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import sys
 import time as clock
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -612,6 +613,12 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         return SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
                            f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
 
+    if balance.compiled and compiled_kernels.compilation_pending(threads):
+        notes.append("this run compiled the 2-D step for this environment (numba caches it: later runs load it; "
+                     "benchmarks/first_run.py measures the first run against a warm one)")
+        if progress is not None and progress is not False:
+            announce = getattr(progress, "announce", None) or (lambda text: print(f"faultslip: {text}", file=sys.stderr))
+            announce("compiling the 2-D step for this environment, once (numba caches it for later runs)")
     try:
         progress = reporter(progress, "2-D fault", "yr")
         started = clock.perf_counter()
