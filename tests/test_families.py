@@ -20,24 +20,18 @@ from faultslip.models.checks import check_family, check_units, read_or_refuse
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
 
-#: Each family's example scene, a small sweep of it, and its simulation's options for the check.
-CASES = {
-    "spring_slider": ("lab_glass_dry.toml", {"damping_ratio": [0.0, 0.1]}, {"cycles": 2}),
-    "rate_state_slider": ("rsf_block_bp1.toml", {"critical_slip": ["4 mm", "8 mm"]}, {"cycles": 2}),
-    "vibration": ("vibration_seed002.toml", {"speed": ["11 in/s", "12.5 in/s"]}, {}),
-    "nanoscale": ("nanoscale_seed001.toml", {"damping": [3.0, 13.0]}, {}),
-    "asperity": ("asperity_seed004.toml", {"platform_speed": ["2 mm/s", "3.6 mm/s"]}, {}),
-    "rough_surface": ("rough_surface_seed000.toml", {"separation_coefficient": ["0 s/m", "0.8 s/m"]}, {"cycles": 2}),
-    "fault_2d": ("fault_2d_small.toml", {"critical_slip": ["24 mm", "30 mm"]}, None),
-    "spring_chain": ("spring_chain_small.toml", {"threshold_spread": [0.3, 0.5]}, {"cycles": 20}),
-}
+#: Each family's worked example, as the family declares it (Family.example): scene, small sweep, simulation's
+#: options. The suite runs the conformance check over the registry, not over a table of its own.
+CASES = {name: (family.example.scene, family.example.sweep, family.example.simulate)
+         for name, family in contract.families().items() if family.example is not None}
+STUDIES = {name: family.example.study for name, family in contract.families().items() if family.example is not None}
 
 
 def test_every_family_has_a_case_and_a_study():
     assert sorted(CASES) == sorted(name for name in contract.DECLARATIONS if name in CASES or
                                    contract.DECLARATIONS[name].module.startswith("faultslip."))
     for name in CASES:
-        assert (CONFIGS / f"study_{name}.toml").is_file(), f"configs/study_{name}.toml"
+        assert (CONFIGS / STUDIES[name]).is_file(), STUDIES[name]
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
@@ -54,10 +48,10 @@ def test_every_family_sweeps_its_example_study_to_cf_with_units(name, cli, tmp_p
     import xarray as xr
 
     out = tmp_path / "study.nc"
-    result = cli("sweep", CONFIGS / f"study_{name}.toml", "-o", out, "--json")
+    result = cli("sweep", CONFIGS / STUDIES[name], "-o", out, "--json")
     assert result.code == 0, result.err
     with xr.open_dataset(out) as written:
-        check_units(written, f"study_{name}.toml")
+        check_units(written, STUDIES[name])
         assert written.attrs["faultslip_family"] == name and written.attrs["Conventions"].startswith("CF")
         assert all(written.sizes[n] > 1 for n in written.dims)
     again = cli("reproduce", out, "--json")  # the file embeds what reproduces it, for every family
@@ -295,7 +289,7 @@ def test_every_family_streams_to_zarr_resumes_and_sweeps_on_the_pool_and_on_dask
     from faultslip.studies.grid import load_study
     from faultslip.studies.streaming import compare_datasets, run_study
 
-    study = load_study(CONFIGS / f"study_{name}.toml")
+    study = load_study(CONFIGS / STUDIES[name])
     study = dataclasses.replace(study, dims=_four_cells(study.dims))
     cells = 1
     for values in study.dims.values():
@@ -418,3 +412,37 @@ def test_every_method_declares_its_error(cli):
     rows = cli("methods", "--json").json["methods"]
     assert {family for row in rows for family in row["families"]} >= set(CASES)
     assert all(row["declared_error"].strip() for row in rows), [row["name"] for row in rows if not row["declared_error"]]
+
+
+def test_the_families_are_found_through_their_entry_points():
+    """Issue 70: every family of the package is registered in pyproject.toml's faultslip.families group, as an
+    outside package's would be, and the registry's declarations name the same modules."""
+    import importlib.metadata
+
+    from faultslip.contract import registry
+    from faultslip.io.resources import parse_toml
+
+    declared = parse_toml((ROOT / "pyproject.toml").read_text(encoding="utf-8"), "pyproject.toml")["project"]["entry-points"]
+    points = declared[registry.ENTRY_POINTS]
+    built_in = {name: declaration.module for name, declaration in registry.DECLARATIONS.items()
+                if declaration.module.startswith("faultslip.")}
+    assert points == built_in
+    installed = {point.name: point.value for point in importlib.metadata.entry_points(group=registry.ENTRY_POINTS)}
+    assert installed == points  # the installed metadata is this pyproject's (reinstall after editing it)
+
+
+def test_a_family_registered_only_by_an_entry_point_is_found(monkeypatch, tmp_path):
+    """A package's entry point is all a family outside faultslip needs: load() and families() find it."""
+    import importlib.metadata
+
+    from faultslip.contract import registry
+
+    point = importlib.metadata.EntryPoint("constant_friction", "families.constant_friction.family",
+                                          registry.ENTRY_POINTS)
+    monkeypatch.setattr(registry, "_ENTRY_POINTS_SEEN", [(point,)])
+    try:
+        assert registry.load("constant_friction").name == "constant_friction"
+        assert "constant_friction" in registry.families()
+    finally:
+        registry.DECLARATIONS.pop("constant_friction", None)
+        registry.FAMILIES.pop("constant_friction", None)

@@ -13,6 +13,7 @@ closed-form fault estimate never needs).
 from __future__ import annotations
 
 import importlib
+import importlib.metadata
 import os
 from dataclasses import dataclass
 from typing import Callable
@@ -53,6 +54,20 @@ class Family:
     #: (scene, tolerance=) -> Result: every rung of the ladder on the scene, its answer, declared range and cost,
     #: with the chart (``faultslip model-error SCENE``); None: the family has no ladder
     ladder: Callable | None = None
+    #: the family's worked example, which the conformance suite runs (check_family over the registry): a scene
+    #: (a bundled name), a study of it (a bundled name), a small sweep of the scene (parameter -> two values with
+    #: units) and its simulation's options (None: the check does not simulate it)
+    example: "Example | None" = None
+
+
+@dataclass(frozen=True)
+class Example:
+    """A family's worked example (:attr:`Family.example`)."""
+
+    scene: str
+    study: str
+    sweep: dict
+    simulate: dict | None = None
 
 
 @dataclass(frozen=True)
@@ -109,8 +124,15 @@ def register(family: Family) -> Family:
 FAMILIES_VARIABLE = "FAULTSLIP_FAMILIES"
 
 
+#: The entry-point group a package registers its families in (``pyproject.toml``:
+#: ``[project.entry-points."faultslip.families"]``, ``name = "package.module"``): a family outside faultslip is
+#: found as xarray finds its backends, with nothing to edit here.
+ENTRY_POINTS = "faultslip.families"
+
+
 def _declared_in_environment() -> None:
-    """Declare the families :data:`FAMILIES_VARIABLE` names (a malformed entry is one sentence)."""
+    """Declare the families :data:`FAMILIES_VARIABLE` names and those installed packages register under
+    :data:`ENTRY_POINTS` (a malformed entry is one sentence)."""
     for entry in filter(None, (part.strip() for part in os.environ.get(FAMILIES_VARIABLE, "").split(","))):
         name, separator, module = (piece.strip() for piece in entry.partition("="))
         if not separator or not module:
@@ -118,6 +140,19 @@ def _declared_in_environment() -> None:
                              f"got {entry!r}")
         if name not in DECLARATIONS:
             declare(name, module)
+    for point in _entry_points():
+        if point.name not in DECLARATIONS:
+            declare(point.name, point.value.partition(":")[0].strip())
+
+
+def _entry_points() -> tuple:
+    """The installed packages' family entry points (read once a process: installing one needs a new process)."""
+    if not _ENTRY_POINTS_SEEN:
+        _ENTRY_POINTS_SEEN.append(tuple(importlib.metadata.entry_points(group=ENTRY_POINTS)))
+    return _ENTRY_POINTS_SEEN[0]
+
+
+_ENTRY_POINTS_SEEN: list = []
 
 
 def load(name: str) -> Family:
@@ -145,6 +180,7 @@ def families() -> dict[str, Family]:
     dict
         Family name -> :class:`Family`, each family's module imported.
     """
+    _declared_in_environment()
     return {name: load(name) for name in DECLARATIONS}
 
 

@@ -30,7 +30,7 @@ from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
 from faultslip.models.fault_2d.cells import CELLS, read_scene
 from faultslip.models.fault_2d.scene import Fault2DScene, from_one_slider, load_fault_2d_scene
-from faultslip.contract.registry import Family, register
+from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.models.fault_2d.figures import cumulative_slip_figure, ladder_figure, slip_rate_figure
 from faultslip.units import ELAPSED_TIME_ATTRS
@@ -582,4 +582,6 @@ FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an 
                          run_options=("allow_large", "allow_underresolved", "richardson", "progress"),
                          why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
                          read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values()),
-                         refine=refine_one_slider, ladder=ladder))
+                         refine=refine_one_slider, ladder=ladder,
+                         example=Example('fault_2d_small.toml', "study_fault_2d.toml",
+                                         {'critical_slip': ['24 mm', '30 mm']}, None)))

@@ -13,7 +13,7 @@ from faultslip.models.nanoscale.dynamics import METHODS as DECLARED_METHODS
 from faultslip.models.nanoscale.dynamics import NANOSCALE_METHODS
 from faultslip.models.nanoscale.scene import load_nanoscale_scene
 from faultslip.models.common import note_origin, note_scene
-from faultslip.contract.registry import Family, register
+from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.models.nanoscale.figures import nanoscale_figure
 
@@ -104,4 +104,6 @@ FAMILY = register(Family("nanoscale", "seed 001: nanoscale stick-slip with conta
                          simulate_options=("allow_large",), run_options=("allow_large",),
                          why="a nanoscale scene sets its run in [run] and its accuracy in [method] tolerance",
                          read_scene=toml_reader("nanoscale", PARAMETERS), cells=CELLS,
-                         methods=lambda: list(DECLARED_METHODS.values())))
+                         methods=lambda: list(DECLARED_METHODS.values()),
+                         example=Example('nanoscale_seed001.toml', "study_nanoscale.toml",
+                                         {'damping': [3.0, 13.0]}, {})))

@@ -24,7 +24,7 @@ from faultslip.io.report import Report
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.models.rate_state_slider import cycles as rate_state_cycles
 from faultslip.models.rate_state_slider.cycles import _scene_notes
-from faultslip.contract.registry import Family, load, register
+from faultslip.contract.registry import Example, Family, load, register
 from faultslip.contract.result import Result
 from faultslip.plots.figures import _pyplot
 from faultslip.models.rate_state_slider.figures import cycles_figure
@@ -419,4 +419,6 @@ FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: veloci
                          simulate_options=("cycles", "slip_solver", "rtol"),
                          why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles",
                          run_options=("allow_large", "progress"), read_scene=read_scene, cells=cells,
-                         methods=lambda: [method.describe() for method in CYCLE_METHODS.values()]))
+                         methods=lambda: [method.describe() for method in CYCLE_METHODS.values()],
+                         example=Example('rsf_block_bp1.toml', "study_rate_state_slider.toml",
+                                         {'critical_slip': ['4 mm', '8 mm']}, {'cycles': 2})))

@@ -14,7 +14,7 @@ from faultslip.fault.synthetic import simulated_events
 from faultslip.io import budget
 from faultslip.io.waveforms import build_stream
 from faultslip.models.common import note_origin
-from faultslip.contract.registry import Family, load, register
+from faultslip.contract.registry import Example, Family, load, register
 from faultslip.contract.result import Result
 from faultslip.plots.animation import animation
 from faultslip.plots.figures import sawtooth_figure
@@ -139,4 +139,6 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
 FAMILY = register(Family("spring_slider", "seed 003: the spring-slider, in the lab and scaled to a fault (the "
                          "default)", run, simulate, simulate_options=("cycles", "slip_solver", "rtol", "stream",
                                                                      "events", "output", "allow_large"),
-                         read_scene=read_scene, cells=CELLS, methods=describe_seed_methods, animate=animate))
+                         read_scene=read_scene, cells=CELLS, methods=describe_seed_methods, animate=animate,
+                         example=Example('lab_glass_dry.toml', "study_spring_slider.toml",
+                                         {'damping_ratio': [0.0, 0.1]}, {'cycles': 2})))

@@ -17,7 +17,7 @@ from faultslip.dynamics.vibration import METHODS as DECLARED_METHODS
 from faultslip.errors import InputError
 from faultslip.units import to_si
 from faultslip.models.vibration.scene import load_vibration_scene
-from faultslip.contract.registry import Family, register
+from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.models.common import note_origin, note_scene
 from faultslip.models.vibration.figures import amplitude_speed_figure, vibration_series_figure
@@ -117,4 +117,6 @@ FAMILY = register(Family("vibration", "seed 002: friction-induced vibration with
                          run, simulate,
                          why="a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles",
                          read_scene=toml_reader("vibration", PARAMETERS), cells=CELLS,
-                         methods=lambda: list(DECLARED_METHODS.values())))
+                         methods=lambda: list(DECLARED_METHODS.values()),
+                         example=Example('vibration_seed002.toml', "study_vibration.toml",
+                                         {'speed': ['11 in/s', '12.5 in/s']}, {})))
