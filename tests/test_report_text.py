@@ -33,3 +33,24 @@ def test_an_interval_of_different_ends_never_prints_two_equal_ends(low, relative
     report.add("interval", [low, high], label="an interval")
     shown = report.to_text().splitlines()[-1].split("[")[1].rstrip("]").split(", ")
     assert shown[0] != shown[1], shown
+
+
+def test_the_corner_plot_labels_every_parameter_a_fit_can_have():
+    """A posterior with --detrend fitted carries 'trend' (and --stiffness-free 'stiffness'): the corner plot
+    once raised KeyError for them (found by running the documented raw-record command on a fresh install)."""
+    from types import SimpleNamespace
+
+    import matplotlib
+    import numpy as np
+
+    matplotlib.use("Agg")
+    from faultslip.plots.posterior import corner_figure
+
+    names = ["a", "b", "critical_slip", "trend", "stiffness", "a_new_parameter"]
+    samples = np.random.default_rng(0).normal(1.0, 0.1, size=(200, len(names)))
+    posterior = SimpleNamespace(names=names, samples=samples, walkers=32, r_hat={n: 1.001 for n in names},
+                                effective_sample_size={n: 900.0 for n in names},
+                                intervals=lambda: {n: (0.9, 1.1) for n in names})
+    figure = corner_figure(posterior)
+    labels = {axis.get_xlabel() for axis in figure.axes} | {axis.get_ylabel() for axis in figure.axes}
+    assert r"$c$ (1/mm)" in labels and r"$k$ (1/mm)" in labels and "a new parameter" in labels

@@ -5,8 +5,14 @@ from __future__ import annotations
 import numpy as np
 
 LABELS = {"mu0": r"$\mu_0$", "a": "$a$", "b": "$b$", "critical_slip": r"$D_c$ (µm)", "b2": "$b_2$",
-          "critical_slip2": r"$D_{c2}$ (µm)"}
-SCALES = {"critical_slip": 1e6, "critical_slip2": 1e6}
+          "critical_slip2": r"$D_{c2}$ (µm)", "stiffness": r"$k$ (1/mm)", "trend": r"$c$ (1/mm)"}
+SCALES = {"critical_slip": 1e6, "critical_slip2": 1e6, "stiffness": 1e-3, "trend": 1e-3}
+
+
+def _label(name: str) -> str:
+    """A parameter's axis label: its symbol and unit where known, else its own name (a parameter a new law or
+    option adds is drawn, never a KeyError)."""
+    return LABELS.get(name, name.replace("_", " "))
 
 
 def corner_figure(posterior, truths: dict | None = None, bins: int = 40):
@@ -45,7 +51,7 @@ def corner_figure(posterior, truths: dict | None = None, bins: int = 40):
                 for line in (low, float(np.median(values[:, row])), high):
                     axis.axvline(line, color="k", lw=0.8, ls="--" if line != low and line != high else ":")
                 axis.set_yticks([])
-                axis.set_title(f"{LABELS[names[row]]}: {np.median(values[:, row]):.4g}\n"
+                axis.set_title(f"{_label(names[row])}: {np.median(values[:, row]):.4g}\n"
                                f"[{low:.4g}, {high:.4g}]", fontsize=8)
             else:
                 axis.hist2d(values[:, column], values[:, row], bins=bins, cmap="Blues")
@@ -60,12 +66,12 @@ def corner_figure(posterior, truths: dict | None = None, bins: int = 40):
             axis.ticklabel_format(useOffset=False, style="plain", axis="both") if row != column else \
                 axis.ticklabel_format(useOffset=False, style="plain", axis="x")
             if row == count - 1:
-                axis.set_xlabel(LABELS[names[column]])
+                axis.set_xlabel(_label(names[column]))
                 axis.tick_params(axis="x", labelrotation=45)
             else:
                 axis.set_xticklabels([])
             if column == 0 and row > 0:
-                axis.set_ylabel(LABELS[names[row]])
+                axis.set_ylabel(_label(names[row]))
             elif column > 0:
                 axis.set_yticklabels([])
             axis.tick_params(labelsize=7)
