@@ -37,6 +37,7 @@ import argparse
 import collections
 import contextlib
 import io
+import re
 import json
 import os
 import random
@@ -280,15 +281,15 @@ class Workspace:
         return out.read_bytes()
 
     def _workbook(self) -> bytes:
-        """The raw velocity-step record's first rows as an Excel workbook (the seed of the xlsx kind)."""
+        """The raw velocity-step record as an Excel workbook (the seed of the xlsx kind: one the fit accepts)."""
         import openpyxl
 
         book = openpyxl.Workbook()
         sheet = book.active
         lines = [line.split() for line in self.raw.splitlines() if line.strip() and not line.startswith("#")]
-        header = [cell for cell in lines[0]]
+        header = [re.sub(r"^(\w+)\((.+)\)$", r"\1 (\2)", cell) for cell in lines[0]]  # "time (s)": a sheet's form
         sheet.append(header)
-        for row in lines[1:400]:
+        for row in lines[1:]:  # the whole record: its first rows hold no velocity step
             try:
                 sheet.append([float(v) for v in row])
             except ValueError:

@@ -223,6 +223,22 @@ def first_run_table() -> str | None:
             f"(`python benchmarks/first_run.py`). {_machine(result)}")
 
 
+def renewal_coverage_table() -> str | None:
+    """The renewal fits' 95 % ranges: coverage of the true mean and aperiodicity (renewal_coverage.py)."""
+    result = _load("renewal_coverage.json")
+    if result is None:
+        return None
+    rows = ["| model | aperiodicity | mean: pivotal | mean: bootstrap | aperiodicity: pivotal | aperiodicity: bootstrap |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for row in result["rows"]:
+        pivotal, bootstrap = row["coverage"]["pivotal"], row["coverage"]["bootstrap"]
+        rows.append(f"| {row['model']} | {row['aperiodicity']:g} | **{100 * pivotal['mean']:.1f} %** | "
+                    f"{100 * bootstrap['mean']:.1f} % | **{100 * pivotal['aperiodicity']:.1f} %** | "
+                    f"{100 * bootstrap['aperiodicity']:.1f} % |")
+    return ("\n".join(rows) + f"\n\n{result['catalogs']} catalogs of {result['events']} events per row, "
+            f"{result['draws']} draws each (benchmarks/renewal_coverage.py).")
+
+
 def fault_2d_table() -> str | None:
     result = _load("fault_2d.json")
     if result is None:
@@ -541,7 +557,7 @@ def ladder_table() -> str | None:
 def ladder_escalations_table() -> str | None:
     """Escalations up the ladder: the budget's estimate against the CPU used (ladder_escalations.py), on the draw
     the per-step cost was not fitted on (seed 68001) where it has been run."""
-    result = _load("ladder_escalations_held_out.json") or _load("ladder_escalations.json")
+    result = _load("ladder_escalations_held_out.json")
     if result is None:
         return None
     rows = ["| fault | elements | 2-D runs | estimated | CPU used | estimate / CPU |", "| --- | --- | --- | --- | --- | --- |"]
@@ -558,7 +574,7 @@ def ladder_escalations_table() -> str | None:
 
 
 #: Pages whose generated tables update() writes (the README has none: it is a door).
-PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md")
+PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
@@ -579,7 +595,7 @@ def _update_page(readme: Path) -> list[str]:
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),
                          ("classroom", classroom_table), ("animation", animation_table),
-                         ("first_run", first_run_table)):
+                         ("first_run", first_run_table), ("renewal_coverage", renewal_coverage_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

@@ -1,0 +1,118 @@
+"""One entry point for the benchmarks, and the command that regenerates every generated docs table.
+
+    python -m benchmarks --list                 # every benchmark, and the results file(s) it writes
+    python -m benchmarks NAME [ARGS ...]        # one benchmark, as python benchmarks/NAME.py ARGS
+    python -m benchmarks --all [--quick] [--qdyn PATH] [--pylook-python PATH]
+
+``--all`` runs every benchmark that writes a results file a docs table is generated from (:data:`PRODUCERS`),
+each as its own process, in turn, and then ``readme.py``, which rewrites every generated table. ``--quick`` gives
+each its short form (:data:`QUICK`: fewer rounds, sizes and cases; the tables then say what they measured). A
+benchmark against a peer code runs only when the peer is given (``--qdyn``, ``--pylook-python``); otherwise it is
+skipped and its table keeps its last measured results, and the run says so. A benchmark that fails is reported
+and the others still run; the exit status is 1 if any failed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+
+#: The runs whose results files benchmarks/readme.py renders into docs tables, in the order --all runs them:
+#: (script, its arguments, its short form's arguments for --quick, the results file it writes).
+PRODUCERS = (
+    ("run", [], ["--quick"], "latest.json"),
+    ("sweep_scale", [], ["--quick"], "sweep.json"),
+    ("startup", [], ["--repeats", "3"], "startup.json"),
+    ("first_run", [], ["--rounds", "1"], "first_run.json"),
+    ("fault_2d", [], ["--quick"], "fault_2d.json"),
+    ("fault_2d_threads", [], ["--elements", "1600", "--rounds", "1", "--placement", "5", "--batches", "5",
+                              "--pairs", "2"], "fault_2d_threads.json"),
+    ("fault_2d_placement", [], ["--seconds", "5"], "fault_2d_placement.json"),
+    ("fault_2d_qdyn", [], ["--rounds", "1"], "fault_2d_qdyn.json"),
+    ("spring_block_qdyn", [], ["--repeats", "1"], "spring_block_qdyn.json"),
+    ("spring_chain_speed", [], ["--rounds", "1"], "spring_chain_speed.json"),
+    ("posterior_speed", [], [], "posterior_speed.json"),
+    ("fit_coverage", [], ["--cases", "40"], "fit_coverage.json"),
+    ("stiffness_free", [], ["--cases", "20", "--rounds", "1"], "stiffness_free.json"),
+    ("p655_analysis", [], ["--quick"], "p655_analysis.json"),
+    ("classroom_redraw", [], [], "classroom_redraw.json"),
+    ("animation_speed", [], ["--pairs", "1"], "animation.json"),
+    ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
+    ("ladder_calibration", [], [], "ladder_held_out.json"),
+    ("ladder_escalations", ["--seed", "68001"], ["--seed", "68001", "--count", "4"], "ladder_escalations_held_out.json"),
+    ("fuzz", ["--seed", "69"], ["--seed", "69", "--cases", "500"], "fuzz.json"),
+    ("fuzz", ["--seed", "690", "--out", "benchmarks/results/fuzz_second_seed.json"],
+     ["--seed", "690", "--cases", "500", "--out", "benchmarks/results/fuzz_second_seed.json"], "fuzz_second_seed.json"),
+    ("kills", [], ["--kills", "5", "--races", "5"], "kills.json"),
+)
+#: Peer codes a benchmark needs, by the flag that gives it.
+PEERS = {"fault_2d_qdyn": "--qdyn", "spring_block_qdyn": "--qdyn", "look_against_pylook": "--pylook-python"}
+#: Every script that is a benchmark (not a helper module).
+HELPERS = {"__init__", "__main__", "provenance", "readme", "peer_runs"}
+
+
+def benchmarks() -> list[str]:
+    """Every benchmark script's name."""
+    return sorted(path.stem for path in HERE.glob("*.py") if path.stem not in HELPERS)
+
+
+def run_one(name: str, arguments: list[str]) -> int:
+    """``python benchmarks/NAME.py ARGUMENTS`` as its own process; its exit status."""
+    if name not in benchmarks() and name != "readme":
+        raise SystemExit(f"python -m benchmarks: no benchmark named {name!r}; 'python -m benchmarks --list' lists them")
+    return subprocess.call([sys.executable, str(HERE / f"{name}.py"), *arguments], cwd=ROOT)
+
+
+def run_all(quick: bool, peers: dict) -> int:
+    failed, skipped = [], []
+    for name, full, short, _ in PRODUCERS:
+        arguments = list(short if quick else full)
+        if name in PEERS:
+            peer = peers.get(PEERS[name])
+            if peer is None:
+                skipped.append(f"{name} (needs {PEERS[name]} PATH)")
+                continue
+            arguments += [PEERS[name], peer]
+        began = time.perf_counter()
+        print(f"python -m benchmarks: {name} {' '.join(arguments)}", flush=True)
+        status = run_one(name, arguments)
+        print(f"python -m benchmarks: {name} {'done' if status == 0 else f'FAILED (exit {status})'} in "
+              f"{time.perf_counter() - began:.0f} s", flush=True)
+        if status != 0:
+            failed.append(name)
+    status = run_one("readme", [])
+    if skipped:
+        print("skipped, their tables keep their last results: " + ", ".join(skipped))
+    if failed:
+        print("failed: " + ", ".join(failed))
+    return 1 if failed or status != 0 else 0
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and not argv[0].startswith("-"):
+        return run_one(argv[0], argv[1:])
+    parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.splitlines()[0])
+    parser.add_argument("--list", action="store_true", help="list the benchmarks and the results they write")
+    parser.add_argument("--all", action="store_true", help="run every producer of a docs table, then readme.py")
+    parser.add_argument("--quick", action="store_true", help="each benchmark's short form")
+    parser.add_argument("--qdyn", help="a built QDYN (its qdyn.py folder) for the peer benchmarks")
+    parser.add_argument("--pylook-python", help="a Python with pylook installed, for the pylook comparisons")
+    args = parser.parse_args(argv)
+    if args.list or not args.all:
+        for name in benchmarks():
+            writes = ", ".join(out for script, _, _, out in PRODUCERS if script == name) or \
+                "(a figure, a study or data; no docs table)"
+            print(f"{name:24s} {writes}")
+        return 0
+    return run_all(args.quick, {"--qdyn": args.qdyn, "--pylook-python": args.pylook_python})
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
