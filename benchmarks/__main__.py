@@ -43,6 +43,7 @@ PRODUCERS = (
     ("p655_analysis", [], ["--quick"], "p655_analysis.json"),
     ("classroom_redraw", [], [], "classroom_redraw.json"),
     ("animation_speed", [], ["--pairs", "1"], "animation.json"),
+    ("chain_example", [], [], "chain_example.json"),
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
     ("ladder_calibration", [], [], "ladder_held_out.json"),
     ("ladder_escalations", ["--seed", "68001"], ["--seed", "68001", "--count", "4"], "ladder_escalations_held_out.json"),

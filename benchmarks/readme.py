@@ -239,6 +239,31 @@ def renewal_coverage_table() -> str | None:
             f"{result['draws']} draws each (benchmarks/renewal_coverage.py).")
 
 
+def chain_example_table() -> str | None:
+    """The shipped chain's run and its predictability (chain_example.py): what the chain and classroom pages quote."""
+    r = _load("chain_example.json")
+    if r is None:
+        return None
+    low, high = r["b_over_cutoffs"]
+    b = (f"b = {r['b_value']:.3g} (GR holds: KS p = {r['gr_p_value']:.2g})" if r["gutenberg_richter"] else
+         f"none: not Gutenberg-Richter (KS p = {r['gr_p_value']:.2g}; b moves from {low:.2f} to {high:.2f} with the "
+         "cutoff)")
+    time_r, slip_r = r["time_predictable"], r["slip_predictable"]
+    rows = ["| quantity | value |", "| --- | --- |",
+            f"| blocks, events | {r['blocks']}, {r['events']} |",
+            f"| magnitudes | {r['magnitude_range'][0]:.2f} to {r['magnitude_range'][1]:.2f} |",
+            f"| b-value | {b} |",
+            f"| system-size events (half the blocks or more) | {r['system_events']} |",
+            f"| CV of their intervals (0 periodic, 1 Poisson) | {r['system_cv']:.2f} |",
+            f"| CV of all intervals | {r['all_events_cv']:.2f} ({r['all_events_cv_range'][0]:.2f}-"
+            f"{r['all_events_cv_range'][1]:.2f}) |",
+            f"| r(slip, the interval after): time-predictable | {time_r['r']:.2f} ({time_r['range'][0]:.2f} to "
+            f"{time_r['range'][1]:.2f}): {'yes' if time_r['holds'] else 'no'} |",
+            f"| r(the interval before, slip): slip-predictable | {slip_r['r']:.2f} ({slip_r['range'][0]:.2f} to "
+            f"{slip_r['range'][1]:.2f}): {'yes' if slip_r['holds'] else 'no'} |"]
+    return "\n".join(rows) + f"\n\n`python benchmarks/chain_example.py` ({r['scene']}). {_machine(r)}"
+
+
 def fault_2d_table() -> str | None:
     result = _load("fault_2d.json")
     if result is None:
@@ -574,7 +599,8 @@ def ladder_escalations_table() -> str | None:
 
 
 #: Pages whose generated tables update() writes (the README has none: it is a door).
-PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md")
+PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
+         "docs/spring_chain.md", "docs/classroom.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
@@ -595,7 +621,8 @@ def _update_page(readme: Path) -> list[str]:
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),
                          ("classroom", classroom_table), ("animation", animation_table),
-                         ("first_run", first_run_table), ("renewal_coverage", renewal_coverage_table)):
+                         ("first_run", first_run_table), ("renewal_coverage", renewal_coverage_table),
+                         ("chain_example", chain_example_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

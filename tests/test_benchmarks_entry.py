@@ -30,7 +30,7 @@ def test_every_generated_table_has_a_producer_that_all_runs():
     produced = {out for _, _, _, out in entry.PRODUCERS}
     assert rendered <= produced, rendered - produced
     renderers = set(re.findall(r'\("(\w+)", \w+_table\)', source))
-    pages = ast.literal_eval(re.search(r"^PAGES = (\(.*?\))$", source, flags=re.M).group(1))
+    pages = ast.literal_eval(re.search(r"^PAGES = (\(.*?\))$", source, flags=re.M | re.S).group(1))
     for page in pages:
         markers = set(re.findall(r"<!-- table:(\w+) -->", (ROOT / page).read_text(encoding="utf-8")))
         assert markers <= renderers, (page, markers - renderers)
