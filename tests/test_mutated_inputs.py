@@ -1,4 +1,4 @@
-"""Issue 41's campaign of mutated inputs, kept as a regression set: each case exits 0 with a right answer or exits 2
+"""A campaign of mutated inputs, kept as a regression set: each case exits 0 with a right answer or exits 2
 with one sentence, loses nothing, follows no planted link."""
 
 from __future__ import annotations
