@@ -98,6 +98,9 @@ _ALIASES = {
     "simulate_asperity": ("models.asperity.dynamics", "simulate"),
     "asperity_figure": ("models.asperity.figures", "response_figure"),
     "fit_figure": ("friction.fitting", "fit_figure"),
+    # the five top-level verbs of the command line: run, simulate and sweep above, and these
+    "fit": ("lab.fit_workflow", "fit"),
+    "map": ("studies.maps", "regional_map"),
     "simulate_scene": ("models", "simulate"),
     "simulate_slider": ("dynamics.spring_slider.simulate", "simulate"),
     # the computing commands' own functions (tests/test_cli_api.py: the same numbers as their --json)

@@ -255,3 +255,24 @@ def test_an_old_spelling_still_works_and_says_what_to_use(cli, tmp_path):
     result = cli("decay", "--stiffness", "70.5 lbf/in", "--ratio", "1.225", "--cycles", "10", "--frequency",
                  "19.9 Hz", "--json")
     assert result.code == 0 and "use --cycles-between" in result.err
+
+
+def test_the_five_verbs_are_at_the_top_level_and_give_what_the_command_line_gives(cli, tmp_path):
+    """faultslip.run, simulate, sweep, fit and map: the API is the product (issue 70, item 4)."""
+    import xarray as xr
+
+    import faultslip
+
+    for verb in ("run", "simulate", "sweep", "fit", "map"):
+        assert callable(getattr(faultslip, verb)), verb
+    out = tmp_path / "map.nc"
+    assert cli("map", ROOT / "configs" / "san_andreas_map.toml", "-o", out).code == 0
+    dataset = faultslip.map(ROOT / "configs" / "san_andreas_map.toml")
+    with xr.open_dataset(out) as written:
+        xr.testing.assert_identical(written["slip_per_event"].reset_coords(drop=True),
+                                    dataset["slip_per_event"].reset_coords(drop=True))
+    fitted = faultslip.fit(ROOT / "configs" / "example_friction_data.csv", bootstrap=20)
+    printed = cli("fit", ROOT / "configs" / "example_friction_data.csv", "--bootstrap", "20", "--json")
+    assert printed.code == 0 and printed.json["mu_so"] == fitted.values["mu_so"]
+    with pytest.raises(faultslip.InputError, match="machine stiffness"):
+        faultslip.fit(ROOT / "configs" / "example_velocity_steps.csv", law="rate-state")

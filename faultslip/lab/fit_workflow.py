@@ -15,6 +15,7 @@ import numpy as np
 
 from faultslip.dynamics.rate_state.slider import RateStateSlider, simulate_rate_state
 from faultslip.errors import InputError
+from faultslip.friction.fitting import fit_rate_law
 from faultslip.io.report import Report, display_unit, significant
 from faultslip.lab.posterior import sample_posterior
 from faultslip.lab.raw_records import RawRecord, fit_each_step, load_record, prepare_record
@@ -361,3 +362,40 @@ def _posterior_section(report: Report, posterior) -> None:
     report.note(f"noise: Jeffreys prior 1/sigma, integrated out; median sigma {summary['noise']['median']:.3g}")
     for note in posterior.notes:
         report.note(note)
+
+
+#: The laws :func:`fit` fits, as ``faultslip fit --law`` names them.
+FIT_LAWS = ("rate", "rate-state")
+
+
+def fit(data, law: str = "rate", **options):
+    """Fit a friction law to laboratory data: what ``faultslip fit`` computes, by the same names.
+
+    ``law="rate"`` fits seed 003's static-friction rate law, mu_s = mu_so - b theta_dot^d... (eq. 2-18), to
+    static-friction measurements (:func:`faultslip.friction.fitting.fit_rate_law`; options ``loss``,
+    ``bootstrap``, ``seed``, ``fixed_mu_m``). ``law="rate-state"`` fits a, b and D_c to a velocity-step record
+    (:func:`fit_record`; ``stiffness`` is then required, and every option of that function applies).
+
+    Parameters
+    ----------
+    data : str, path or table
+        A file (CSV, text, netCDF, xlsx), or columns with units in their names.
+    law : str
+        ``"rate"`` or ``"rate-state"``.
+    **options
+        The chosen fit's own keywords.
+
+    Returns
+    -------
+    FitResult or RecordFit
+        The rate law's fit (parameters, covariance, bootstrap; ``report()``), or the record's
+        (:class:`RecordFit`).
+    """
+    if law not in FIT_LAWS:
+        raise InputError(f"law is one of {', '.join(FIT_LAWS)}, got {law!r}")
+    if law == "rate":
+        return fit_rate_law(data, **options)
+    if "stiffness" not in options:
+        raise InputError("a rate-and-state fit needs the machine stiffness: fit(data, law='rate-state', "
+                         "stiffness='1e-2 1/um')")
+    return fit_record(data, **options)

@@ -709,6 +709,25 @@ def check_map_size(spec, output=None, allow_large: bool = False) -> None:
     budget.check(budget.map_estimate(cells, points, output), allow_large)
 
 
+def regional_map(path, method="auto", tolerance=1e-6, allow_large: bool = False):
+    """A map file's dataset: :func:`load_map` then :func:`run_map`, what ``faultslip map FILE -o OUT.nc``
+    computes (``faultslip.map`` at the top level).
+
+    Parameters
+    ----------
+    path : str or path
+        A map file (TOML), as in ``configs/san_andreas_map.toml``.
+    method, tolerance, allow_large
+        As :func:`run_map`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Per-segment predictions and the raster, CF with units.
+    """
+    return run_map(load_map(path), method=method, tolerance=tolerance, allow_large=allow_large)
+
+
 def run_map(spec, method="auto", tolerance=1e-6, allow_large: bool = False):
     """The map's dataset: per-segment predictions and a nearest-segment raster, or a predicted raster.
 
