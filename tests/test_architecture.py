@@ -439,3 +439,13 @@ def test_the_stamp_check_sees_what_it_must():
                                      "writes a results file without provenance.stamp()"]
     assert _unstamped('out = ROOT / "results" / "x.json"\nout.write_text(json.dumps({**stamp(), "a": 1}))') == []
     assert _unstamped('print(json.dumps({"a": 1}))') == []  # no results file
+
+
+def test_no_test_puts_the_clone_on_sys_path():
+    """A test that inserts the repository (or benchmarks/) into sys.path for the rest of its process makes every
+    pool worker spawned later import faultslip from the clone's source, without its compiled extensions, while the
+    test process uses the installed package: the two then differ in their last bits (CI found this)."""
+    root = Path(__file__).resolve().parent
+    offenders = [path.name for path in root.glob("*.py")
+                 if re.search(r"^sys\.path\.(insert|append)\(", path.read_text(encoding="utf-8"), flags=re.M)]
+    assert not offenders, offenders
