@@ -276,3 +276,27 @@ def test_the_five_verbs_are_at_the_top_level_and_give_what_the_command_line_give
     assert printed.code == 0 and printed.json["mu_so"] == fitted.values["mu_so"]
     with pytest.raises(faultslip.InputError, match="machine stiffness"):
         faultslip.fit(ROOT / "configs" / "example_velocity_steps.csv", law="rate-state")
+
+
+def test_both_fits_write_the_schema_every_result_writes(tmp_path):
+    """faultslip.fit's results have to_xarray() (issue 70: a computation returns a Result or a documented type
+    with to_xarray): every number with its units, the ranges on quantile, the draws on their own dimensions; and
+    the Dataset round-trips through netCDF."""
+    import numpy as np
+    import xarray as xr
+
+    import faultslip
+
+    rate = faultslip.fit(ROOT / "configs" / "example_friction_data.csv", bootstrap=20)
+    record = faultslip.fit(ROOT / "configs" / "example_velocity_steps.csv", law="rate-state", stiffness="1e-2 1/um")
+    for fitted, draws in ((rate, "bootstrap"), (record, None)):
+        dataset = fitted.to_xarray()
+        assert all("units" in variable.attrs for variable in dataset.data_vars.values())
+        if draws:
+            assert dataset[draws].shape == (20, 4)
+            np.testing.assert_array_equal(dataset[draws].values, rate.bootstrap)
+        dataset.to_netcdf(tmp_path / "fit.nc")
+        with xr.open_dataset(tmp_path / "fit.nc") as written:
+            assert set(written.data_vars) == set(dataset.data_vars)
+    assert rate.to_xarray()["mu_so"].item() == rate.values["mu_so"]
+    assert record.to_xarray()["critical_slip"].attrs["units"] == "m"

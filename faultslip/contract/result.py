@@ -239,3 +239,17 @@ class Result:
 
     def __repr__(self) -> str:
         return f"<faultslip Result of {self.family}: {self.title}>"
+
+
+def with_draws(dataset, kind: str, names, values):
+    """``dataset`` with a fit's draws (bootstrap resamples or posterior samples, natural scale, SI) as the variable
+    ``kind`` on (``kind``_draw, ``kind``_parameter), the parameters named on their coordinate; unchanged without
+    draws."""
+    import xarray as xr  # heavy: imported where used
+
+    draws = xr.DataArray(values if values is not None else [[]], dims=(f"{kind}_draw", f"{kind}_parameter"))
+    if draws.size == 0:
+        return dataset
+    draws = draws.astype(float).assign_coords({f"{kind}_parameter": [str(name) for name in names]})
+    draws.attrs.update({"long_name": f"{kind} draws, natural scale (SI)", "units": "1"})
+    return dataset.assign({kind: draws})

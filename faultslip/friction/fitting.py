@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from faultslip.contract.result import Result, with_draws
 from faultslip.errors import InputError, did_you_mean
 from faultslip.friction.laws import static_friction
 from faultslip.io.resources import open_netcdf, read_numeric_csv, split_header
@@ -220,6 +221,12 @@ class FitResult:
     def law(self):
 
         return RateLaw(self.values["mu_so"], self.values["mu_m"], self.values["b"], self.values["d"])
+
+    def to_xarray(self):
+        """The fit as a CF Dataset, the schema every Result writes (each number a variable with its ``units``, each
+        95 % range on ``quantile``), with the bootstrap resamples on (bootstrap_draw, bootstrap_parameter)."""
+        return with_draws(Result("rate_law_fit", self.report()).to_xarray(), "bootstrap", PARAMETERS,
+                          self.bootstrap)
 
     def report(self, title="faultslip fit"):
 

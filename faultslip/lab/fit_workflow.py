@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.dynamics.rate_state.slider import RateStateSlider, simulate_rate_state
+from faultslip.contract.result import Result, with_draws
 from faultslip.errors import InputError
 from faultslip.friction.fitting import fit_rate_law
 from faultslip.io.report import Report, display_unit, significant
@@ -51,6 +52,14 @@ class RecordFit:
     fit: object  # RateStateFit
     posterior: object | None = None  # Posterior
     selection: object | None = None  # LawSelection
+
+    def to_xarray(self):
+        """The fit as a CF Dataset, the schema every Result writes (each reported number a variable with its
+        ``units``, each 95 % range on ``quantile``), with the posterior's samples where there is one."""
+        dataset = Result("rate_state_fit", self.report).to_xarray()
+        if self.posterior is not None:
+            dataset = with_draws(dataset, "posterior", self.posterior.names, self.posterior.samples)
+        return dataset
 
     def fitted_friction(self, seed: int = 0) -> dict:
         """The fitted law's friction through the record's own load history, for a figure of record and fit.
