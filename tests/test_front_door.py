@@ -113,7 +113,8 @@ def test_the_commands_not_run_are_few_and_each_says_why():
 def test_every_readme_and_docs_command_runs_on_the_base_install(tmp_path):
     """A fresh venv with only ``pip install .`` (no extras: no pytest, no dask-jobqueue, no OpenQuake) runs every
     documented command that is not a pattern, in a folder holding the clone's configs/ and data/, in page order
-    (so that a --resume follows its run). Each exits 0."""
+    (so that a --resume follows its run). Each exits 0. A command that needs an extra (Zarr, SLURM, a workbook)
+    says which in one sentence and leaves no output."""
     venv = tmp_path / "venv"
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=300)
     pip = venv / "bin" / "pip"
@@ -133,7 +134,8 @@ def test_every_readme_and_docs_command_runs_on_the_base_install(tmp_path):
     done = subprocess.run([str(pip), "install", "--quiet", str(source)], capture_output=True, text=True, timeout=1500)
     assert done.returncode == 0, done.stderr[-2000:]
     extras = subprocess.run([str(venv / "bin" / "python"), "-c", "import importlib.util as u; "
-                             "print(u.find_spec('pytest') is None and u.find_spec('openquake') is None)"],
+                             "print(all(u.find_spec(name) is None for name in "
+                             "('pytest', 'openquake', 'zarr', 'dask_jobqueue', 'openpyxl')))"],
                             capture_output=True, text=True, check=True)
     assert extras.stdout.strip() == "True", "the base install pulled an extra in"
     work = tmp_path / "work"
@@ -156,6 +158,25 @@ def test_every_readme_and_docs_command_runs_on_the_base_install(tmp_path):
         if result.returncode != 0:
             failures.append(f"{page}: {command}: exit {result.returncode}: {result.stderr.strip()[-300:]}")
     assert ran >= 30
+    # a command that needs an extra the base install lacks says which in one sentence, and leaves nothing behind
+    book = work / "rig.xlsx"
+    openpyxl = pytest.importorskip("openpyxl")
+    sheet = openpyxl.Workbook()
+    sheet.active.append(["time (s)", "friction (1)"])
+    sheet.active.append([0.0, 0.6])
+    sheet.save(book)
+    for words, extra, output in (
+            (["faultslip", "sweep", "configs/study_spring_slider.toml", "-o", "extra.zarr"], "faultslip[zarr]",
+             "extra.zarr"),
+            (["faultslip", "sweep", "configs/study_spring_slider.toml", "-o", "extra.nc", "--scheduler", "slurm"],
+             "faultslip[dask]", "extra.nc"),
+            (["faultslip", "fit", "--law", "rate-state", str(book), "--stiffness", "1e-2 1/um"], "faultslip[xlsx]",
+             None)):
+        result = subprocess.run(words, cwd=work, env=environment, capture_output=True, text=True, timeout=300)
+        lines = result.stderr.strip().splitlines()
+        if result.returncode != 2 or len(lines) != 1 or extra not in lines[0] or \
+                (output is not None and (work / output).exists()):
+            failures.append(f"needs {extra}: {' '.join(words)}: exit {result.returncode}: {result.stderr[-300:]}")
     # the scratch family, found through its entry point: it runs, sweeps, reproduces and passes check_family
     folder = "faultslip/models/constant_friction"
     for words in (["faultslip", "run", f"{source}/{folder}/example.toml", "--json"],
