@@ -321,3 +321,9 @@ def test_both_fits_write_the_schema_every_result_writes(tmp_path):
             assert set(written.data_vars) == set(dataset.data_vars)
     assert rate.to_xarray()["mu_so"].item() == rate.values["mu_so"]
     assert record.to_xarray()["critical_slip"].attrs["units"] == "m"
+
+
+def test_run_help_says_the_tolerance_may_move_up_the_ladder(cli):
+    result = cli("run", "--help")
+    text = " ".join(result.out.split())
+    assert "2-D fault of the same scene" in text and "--model" in text
