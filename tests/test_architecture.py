@@ -283,7 +283,8 @@ FILE_METHODS = {"write_text", "write_bytes", "read_text", "read_bytes", "tofile"
                 "symlink_to", "hardlink_to", "memmap"}
 #: The only exceptions, each with its reason: (module, function) -> why.
 FILE_CALL_EXCEPTIONS = {
-    ("faultslip.units", "_memo"): "core, below io/: its own per-environment cache of pint's factors, no user path",
+    ("faultslip.units", "_read_memo_file"): "core, below io/: its own per-environment cache of pint's factors, no user "
+                                           "path; opened O_NOFOLLOW, non-blocking, regular files only, bounded",
     ("faultslip.units", "_remember"): "the same cache, written atomically; a failed write costs only a lookup",
     ("faultslip.cli.main", "main"): "os.devnull over a closed stdout (a broken pipe), no user path",
 }

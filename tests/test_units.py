@@ -187,3 +187,22 @@ def test_a_memo_with_one_changed_digit_is_not_trusted(monkeypatch, tmp_path):
     fu = _fresh_memo(monkeypatch, tmp_path)
     assert fu.to_si("1 km", "length", "x") == 1000.0
     assert json.loads(path.read_text())["factors"]["length\x1fkm"] == [1000.0, ""]  # rewritten from pint
+
+
+@pytest.mark.parametrize("planted", ["symlink", "fifo"])
+def test_a_memo_path_that_is_a_link_or_a_fifo_is_not_read(monkeypatch, tmp_path, planted):
+    """The memo is opened without following a link and without waiting on a FIFO: a link to another file's
+    contents is never trusted, a FIFO never hangs the first unit a command reads; pint answers instead."""
+    import os
+
+    fu = _fresh_memo(monkeypatch, tmp_path)
+    path = fu._memo_path()
+    path.parent.mkdir(parents=True)
+    if planted == "symlink":
+        elsewhere = tmp_path / "elsewhere.json"
+        elsewhere.write_text(json.dumps({"pint": fu._pint_fingerprint(), "factors": {"length\x1fmi": [2.0, ""]}}))
+        path.symlink_to(elsewhere)
+    else:
+        os.mkfifo(path)
+    assert fu._memo() == {}
+    assert fu.to_si("1 mi", "length", "x") == 1609.344

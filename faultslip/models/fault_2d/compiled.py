@@ -1439,7 +1439,8 @@ def compilation_pending(threads: int = 1) -> bool:
     """Whether the first compiled run on ``threads`` threads will compile the step here: numba's disk cache has
     no index yet for the build's outermost kernel (a fresh environment, or a new faultslip). Its cost, cold
     against warm, is measured by ``benchmarks/first_run.py``."""
-    kernel = _compiled(threads).get("run_steps") or _compiled(threads)["balance_rates"]
+    built = _compiled(threads)
+    kernel = built.get("run_steps") or built["balance_rates"]
     try:
         index = kernel._cache._cache_file._index_path  # numba's own cache locator, where it will look
     except AttributeError:  # a numba without that layout: say nothing rather than guess
