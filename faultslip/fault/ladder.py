@@ -46,7 +46,8 @@ QUANTITIES = {"recurrence": "recurrence_interval", "mean_slip": "mean_slip_per_e
 class FaultDescription:
     """A fault as every rung reads it: friction on elements down dip, elasticity and loading (SI).
 
-    ``depth`` holds the element centres (m, from the free surface) of elements ``element_size`` long; ``a``,
+    ``depth`` holds the element centres (m, down dip from the free surface: the depth on a vertical fault) of
+    elements ``element_size`` long; ``a``,
     ``b``, ``critical_slip`` (D_c, m) and ``normal_stress`` (sigma_n, Pa) are the friction there. Below the last
     element the fault slips steadily at ``plate_rate``.
     """
@@ -64,6 +65,10 @@ class FaultDescription:
     reference_friction: float = 0.6
     evolution: str = "aging"
     name: str = "fault"
+    plane: str = "antiplane"  # or "strain": slip down dip on a fault dipping ``dip`` degrees (SEAS BP3)
+    dip: float = 90.0
+    sense: str = "thrust"  # plane strain: thrust or normal
+    poisson_ratio: float = 0.25
 
     @property
     def width(self) -> float:

@@ -34,6 +34,7 @@ import numpy as np
 
 from faultslip.models.fault_2d import compiled as compiled_kernels
 from faultslip.models.fault_2d.kernel import StressKernel
+from faultslip.models.fault_2d import plane_strain
 from faultslip.models.fault_2d.model import NEWTON_ITERATIONS, Fault2D, ForceBalance, newton_tolerance
 from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62,
                                                       A63, A64, A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7)
@@ -97,6 +98,10 @@ class Fault2DRun:
     max_step: float
     resumed_from: float | None = None
     notes: list = field(default_factory=list)
+    #: plane strain only: "normal_stress" at the stations (steps + 1, stations), and at the "surface_positions"
+    #: (m) the "surface_displacement" and "surface_velocity" (steps + 1, 2, positions: u then w, w positive down),
+    #: in the fault's own sense (a normal fault's are negated on output)
+    plane_strain: dict = field(default_factory=dict)
 
     @property
     def event_count(self) -> int:
@@ -431,6 +436,8 @@ def fingerprint(fault: Fault2D, settings: dict) -> str:
         digest.update(np.ascontiguousarray(getattr(fault, key)).tobytes())
     scalars = {key: getattr(fault, key) for key in ("element_size", "shear_modulus", "shear_wave_speed", "plate_rate",
                                                    "reference_speed", "reference_friction", "evolution")}
+    if fault.plane != "antiplane":  # an antiplane run's digest stays what it was
+        scalars.update({key: getattr(fault, key) for key in ("plane", "dip", "sense", "poisson_ratio")})
     digest.update(json.dumps({**scalars, **settings}, sort_keys=True, default=repr).encode())
     return digest.hexdigest()
 
@@ -439,7 +446,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                profile_interval: float = 5 * YEAR, coseismic_interval: float = 1.0, event_speed: float = EVENT_SPEED,
                folder=None, resume: bool = False, checkpoint_every: float = 60.0, max_steps: int = 20_000_000,
                stop_after_steps: int | None = None, progress=None, initial_step: float = 1.0,
-               threads: int = 1, adapt_threads: bool = False, time_limit: float | None = None) -> Fault2DRun:
+               threads: int = 1, adapt_threads: bool = False, time_limit: float | None = None,
+               surface_stations=plane_strain.BP3_SURFACE_STATIONS) -> Fault2DRun:
     """Integrate ``fault`` from t = 0 to ``duration`` (s) and record stations, profiles and events.
 
     With numba, each step's element-wise work runs in compiled kernels (:mod:`faultslip.models.fault_2d.compiled`)
@@ -452,6 +460,11 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     ``progress``: True for a bar, or a callable (done, total) in years (:mod:`faultslip.io.progress`).
     ``time_limit``: wall seconds after which the run checkpoints (with a folder) and stops, raising
     :class:`OverBudget` (an estimate can be far off: nothing else would stop a run once its budget is spent).
+    ``surface_stations``: a plane-strain fault's surface positions (m from the trace, + over the hanging wall),
+    whose displacement and velocity are recorded at every step with the normal stress at the stations.
+
+    A plane-strain fault (``fault.plane == "strain"``) takes the dense traction kernels of
+    :mod:`faultslip.models.fault_2d.plane_strain` and the same stepping, records and checkpoints.
     """
     if not (duration > 0 and math.isfinite(duration)):
         raise InputError(f"the duration must be a positive time, got {duration!r}")
@@ -461,18 +474,35 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         raise InputError("the profile intervals and the event speed must be positive")
     if not (isinstance(threads, int) and 1 <= threads <= 1024):
         raise InputError(f"threads must be a whole number from 1 to 1024, got {threads!r}")
-    operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, kernel, path=step_path())
-    balance = ForceBalance(fault, operator)
+    strain = fault.plane == "strain"
+    if strain:
+        if kernel not in ("auto", "dense"):
+            raise InputError(f"a plane-strain fault's kernel is dense (its free surface and dip break the "
+                             f"antiplane kernel's convolution), got {kernel!r}")
+        operator = plane_strain.PlaneStrainOperator(fault)
+        balance = plane_strain.PlaneStrainBalance(fault, operator)
+        surface_positions = np.asarray(surface_stations, float)
+        surface = plane_strain.surface_kernel(surface_positions, fault.count, fault.element_size, fault.dip,
+                                              fault.shear_modulus, fault.poisson_ratio).reshape(-1, fault.count)
+    else:
+        operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, kernel, path=step_path())
+        balance = ForceBalance(fault, operator)
     balance.tolerance = newton_tolerance(rtol)
     recorder = _Stations(stations, fault)
     settings = {"duration": duration, "rtol": rtol, "stations": [float(d) for d in recorder.depths],
                 "profile_interval": profile_interval, "coseismic_interval": coseismic_interval,
                 "event_speed": event_speed, "kernel": operator.method}
+    if strain:
+        settings["surface_stations"] = [float(x) for x in surface_positions]
     digest = fingerprint(fault, settings)
     folder = Path(folder) if folder is not None else None
     count = fault.count
     station_width = 1 + len(STATION_FIELDS) * recorder.depths.size
     widths = (station_width, 2 * count + 2, count + 5)  # stations, profiles, events: the rows of STREAM_FILES
+    stream_files = STREAM_FILES
+    if strain:  # the normal stress at the stations, and the surface's displacement and velocity, every step
+        stream_files = STREAM_FILES + ("plane_strain.f8",)
+        widths = widths + (1 + recorder.depths.size + 4 * surface_positions.size,)
     checkpoint = folder / "checkpoint.npz" if folder is not None else None
     scale = np.concatenate([fault.critical_slip, np.ones(count)])
     theta_offset = np.log10(fault.critical_slip / fault.reference_speed)
@@ -492,7 +522,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                      f"cores the process could use when numba was first imported, and the process was held to fewer "
                      f"then; the run took {offered} (start the process on the cores it should use)")
     choose_threads = adapt_threads and threads > 1
-    if not balance.compiled:
+    if not balance.compiled or strain:  # a dense plane-strain product: the step's cost is the product's
         trial = numpy_trial
     else:
         trial = _compiled_trial(fault, operator, balance, scale, rtol, threads)
@@ -550,11 +580,21 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         # one step's profile (the Python loop's, and a compiled call's last step)
         return profiles_from_raw(np.concatenate([[t, speed.max()], y[:count], speed])[np.newaxis])[0]
 
+    if strain:
+        rigid_rate = plane_strain.rigid_motion(surface_positions, 1.0, fault.plate_rate, fault.dip).ravel()
+
+        def strain_row(t, y, speed):
+            # the normal stress at the stations, and the surface's displacement and velocity: K_surface applied to
+            # the slip deficit and its rate, plus each side's rigid motion (BP3 eq. 4)
+            return np.concatenate([[t], recorder(balance.normal_stress),
+                                   surface @ (y[:count] - fault.plate_rate * t) + rigid_rate * t,
+                                   surface @ (speed - fault.plate_rate) + rigid_rate])
+
     resumed_from = None
     if resume:
         if checkpoint is None or not (checkpoint.is_file() or checkpoint.is_symlink()):
             raise InputError(f"nothing to resume: {folder} holds no checkpoint of a 2-D fault run")
-        saved = _read_checkpoint(checkpoint, digest, count)
+        saved = _read_checkpoint(checkpoint, digest, count, len(stream_files))
         t, y, h, k1 = float(saved["t"]), saved["y"].copy(), float(saved["h"]), saved["k1"].copy()
         balance.u = saved["u"].copy() if saved["u"].size else None
         speed, stress = saved["speed"].copy(), saved["stress"].copy()
@@ -566,8 +606,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         last_profile, last_coseismic = (float(v) for v in saved["profile_times"])
         rows, digests = [int(v) for v in saved["rows"]], [str(v) for v in saved["stream_digests"]]
         streams = [RecordStream(folder / name, width, kept, stream_digest) for name, width, kept, stream_digest
-                   in zip(STREAM_FILES, widths, rows, digests)]
-        stations_store, profiles_store, events_store = streams
+                   in zip(stream_files, widths, rows, digests)]
+        stations_store, profiles_store, events_store = streams[:3]
         resumed_from = t
     else:
         if folder is not None:
@@ -586,9 +626,11 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         event = {"inside": False, "start": 0.0, "hypocentre": 0.0, "peak": 0.0}
         event_slip = np.zeros(count)
         last_profile, last_coseismic = -math.inf, -math.inf
-        streams = [RecordStream(folder / name if folder else None, width) for name, width in zip(STREAM_FILES, widths)]
-        stations_store, profiles_store, events_store = streams
+        streams = [RecordStream(folder / name if folder else None, width) for name, width in zip(stream_files, widths)]
+        stations_store, profiles_store, events_store = streams[:3]
         stations_store.append(station_row(t, y, speed, stress))
+        if strain:
+            streams[3].append(strain_row(t, y, speed))
         profiles_store.append(profile_row(t, y, speed))
         last_profile = t
 
@@ -681,6 +723,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                 h *= next_step_factor(norm, previous_norm, after_rejection, rtol)
                 previous_norm, after_rejection = max(norm, 1e-4), False
                 stations_store.append(station_row(t, y, speed, stress))
+                if strain:
+                    streams[3].append(strain_row(t, y, speed))
                 previous_peak, peak = peak, float(speed.max())
             # the last accepted step: the event and profile records (every earlier step of a compiled call had none)
             previous_log_peak, log_peak = math.log(max(previous_peak, 1e-300)), math.log(max(peak, 1e-300))
@@ -750,6 +794,14 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                      wall, duration, rtol, operator.method, y[:count].copy(), y[count:].copy(), t, min_step, max_step,
                      resumed_from)
     run.notes.extend(notes)
+    if strain:
+        sites, positions = recorder.depths.size, surface_positions.size
+        run.plane_strain = {"normal_stress": streams[3].columns(slice(1, 1 + sites)),
+                            "surface_positions": surface_positions,
+                            "surface_displacement": np.asarray(streams[3].columns(
+                                slice(1 + sites, 1 + sites + 2 * positions))).reshape(-1, 2, positions),
+                            "surface_velocity": np.asarray(streams[3].columns(
+                                slice(1 + sites + 2 * positions, 1 + sites + 4 * positions))).reshape(-1, 2, positions)}
     if event["inside"]:
         run.notes.append(f"an event was under way at the end (started at {event['start'] / YEAR:.6g} yr); it is not "
                          "in the catalogue")
@@ -772,13 +824,14 @@ class OverBudget(_Stopped):
         self.t, self.seconds = t, seconds
 
 
-def _checkpoint_layout(count: int) -> dict:
-    """What a checkpoint of a run on ``count`` elements holds: (dtype kinds, shape) per array."""
+def _checkpoint_layout(count: int, streams: int = len(STREAM_FILES)) -> dict:
+    """What a checkpoint of a run on ``count`` elements with ``streams`` record streams holds: (dtype kinds, shape)
+    per array."""
     state, field = (2 * count,), (count,)
     return {"version": ("iu", ()), "digest": ("U", ()), "t": ("f", ()), "y": ("f", state), "h": ("f", ()),
             "k1": ("f", state), "u": ("f", (None,)), "speed": ("f", field), "stress": ("f", field),
             "counters": ("iu", (3,)), "steps_range": ("f", (3,)), "controller": ("f", (2,)), "event": ("U", ()), "event_slip": ("f", field),
-            "profile_times": ("f", (2,)), "rows": ("iu", (3,)), "stream_digests": ("U", (3,))}
+            "profile_times": ("f", (2,)), "rows": ("iu", (streams,)), "stream_digests": ("U", (streams,))}
 
 
 def _event_record(text, path: Path) -> dict:
@@ -792,8 +845,8 @@ def _event_record(text, path: Path) -> dict:
                          "without --resume") from None
 
 
-def _read_checkpoint(path: Path, digest: str, count: int) -> dict:
-    saved = read_checkpoint(path, _checkpoint_layout(count), "2-D fault checkpoint")
+def _read_checkpoint(path: Path, digest: str, count: int, streams: int = len(STREAM_FILES)) -> dict:
+    saved = read_checkpoint(path, _checkpoint_layout(count, streams), "2-D fault checkpoint")
     if int(saved["version"]) != CHECKPOINT_VERSION:
         raise InputError(f"{path} is a checkpoint of another faultslip version; start the run again")
     if str(saved.get("digest")) != digest:

@@ -47,9 +47,16 @@ def newton_tolerance(rtol: float) -> float:
 
 @dataclass
 class Fault2D:
-    """A vertical strike-slip fault from the surface to ``width``, in N elements of ``element_size``.
+    """A planar fault from the surface down to ``width``, in N elements of ``element_size``.
 
-    Every array holds one value per element (its centre at depth (i + 1/2) h). SI units.
+    Every array holds one value per element, its centre a distance (i + 1/2) h down dip (``depth``: the depth itself
+    on a vertical fault; :attr:`true_depth` on a dipping one). SI units.
+
+    ``plane``: "antiplane" (a vertical strike-slip fault, slip along strike; Rice 1993, SEAS BP1) or "strain"
+    (slip down dip in plane strain, a fault dipping ``dip`` degrees, with a free surface: SEAS BP3, whose normal
+    stress changes with slip; :mod:`faultslip.models.fault_2d.plane_strain`). ``sense``: "thrust" or "normal" in
+    plane strain (slip, slip rate and shear stress are kept positive; a normal fault's slip unclamps where a
+    thrust's clamps).
     """
 
     element_size: float  # m
@@ -67,6 +74,10 @@ class Fault2D:
     evolution: str = "aging"
     name: str = "2-D fault"
     notes: list = field(default_factory=list)
+    plane: str = "antiplane"
+    dip: float = 90.0  # degrees
+    sense: str = "thrust"  # plane strain only
+    poisson_ratio: float = 0.25  # plane strain only
 
     def __post_init__(self):
         arrays = ("a", "b", "critical_slip", "normal_stress", "initial_shear_stress", "initial_state")
@@ -90,6 +101,17 @@ class Fault2D:
                 raise InputError(f"2-D fault: {key} must be a positive number, got {value!r}")
         if self.evolution not in ("aging", "slip"):
             raise InputError(f"2-D fault: evolution must be aging or slip, got {self.evolution!r}")
+        if self.plane not in ("antiplane", "strain"):
+            raise InputError(f"2-D fault: plane must be antiplane or strain, got {self.plane!r}")
+        if not (isinstance(self.dip, (int, float)) and 0.0 < self.dip <= 90.0):
+            raise InputError(f"2-D fault: the dip must lie in (0, 90] degrees, got {self.dip!r}")
+        if self.plane == "antiplane" and self.dip != 90.0:
+            raise InputError(f"2-D fault: an antiplane fault is vertical (dip 90 degrees), got {self.dip:g}; a "
+                             "dipping fault slips in plane strain: set plane = \"strain\"")
+        if self.sense not in ("thrust", "normal"):
+            raise InputError(f"2-D fault: sense must be thrust or normal, got {self.sense!r}")
+        if not (isinstance(self.poisson_ratio, (int, float)) and 0.0 <= self.poisson_ratio < 0.5):
+            raise InputError(f"2-D fault: Poisson's ratio must lie in [0, 0.5), got {self.poisson_ratio!r}")
 
     @property
     def count(self) -> int:
@@ -102,6 +124,11 @@ class Fault2D:
     @property
     def depth(self) -> np.ndarray:
         return (np.arange(self.count) + 0.5) * self.element_size
+
+    @property
+    def true_depth(self) -> np.ndarray:
+        """The element centres' depth below the surface (m): their distance down dip times sin(dip)."""
+        return self.depth * math.sin(math.radians(self.dip))
 
     @property
     def damping(self) -> float:
@@ -132,7 +159,8 @@ class Fault2D:
         """The fault as every rung of the ladder reads it (:class:`faultslip.fault.ladder.FaultDescription`)."""
         return FaultDescription(self.depth, self.a, self.b, self.critical_slip, self.normal_stress, self.element_size,
                                 self.shear_modulus, self.shear_wave_speed, self.plate_rate, self.reference_speed,
-                                self.reference_friction, self.evolution, self.name)
+                                self.reference_friction, self.evolution, self.name, self.plane, self.dip, self.sense,
+                                self.poisson_ratio)
 
     def state_to_theta(self, psi: np.ndarray) -> np.ndarray:
         """theta = (D_c / V_0) exp((psi - f_0) / b) (s); for b = 0 the state has no meaning (returns D_c / V_0)."""
