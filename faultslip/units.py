@@ -216,6 +216,8 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "frequency": ("1/[time]", "Hz", "a frequency (Hz, 1/s or rad/s)"),
     "acceleration": ("[acceleration]", "m/s^2", "an acceleration"),
     "dimensionless": ("[]", "", "dimensionless"),
+    # a fault's dip, in degrees as geology writes it (inside, where trigonometry needs it, code takes radians)
+    "angle": ("[]", "degree", "an angle"),
 }
 
 # Engineering usage writes loads in lb meaning pound-force. For these kinds a
@@ -373,6 +375,10 @@ def _pint_unit_factor(unit_text: str, kind: str):
     quantity = units.Quantity(1.0, unit_text)
     root = quantity.to_root_units()
     angular = "radian" in root._units
+    if kind == "angle":
+        if quantity.dimensionality != dims:
+            raise pint.DimensionalityError(quantity.units, "degree")
+        return quantity.to("degree").magnitude, "angle"
     if angular and kind == "frequency":  # an angular frequency: omega / (2 pi) in Hz
         quantity = quantity.to("radian/s")
         return quantity.magnitude / (2.0 * math.pi), "angular"
@@ -578,6 +584,7 @@ _EXAMPLES = {
     "frequency": '"19.9 Hz" or "125 rad/s"',
     "acceleration": '"9.81 m/s^2" or "1 g_0"',
     "dimensionless": "0.65",
+    "angle": '"60 deg" or "1.047 rad"',
 }
 
 

@@ -65,7 +65,9 @@ class Fault2DCells:
         return PARAMETERS
 
     def category(self, scene, name: str, value: str, where: str) -> str:
-        raise InputError(f"{where}: a 2-D fault study sweeps numbers only")
+        if name == "sense" and value in ("thrust", "normal"):
+            return value
+        raise InputError(f"{where}: a 2-D fault study sweeps numbers, and sense as thrust or normal; got {value!r}")
 
     def check(self, study, where: str, source: str) -> None:
         if study.method not in ("auto", "fault_2d") or study.cycles:
@@ -95,7 +97,8 @@ class Fault2DCells:
             scene = study.scene.with_values(**inputs)
             folder = None
             if study.work_dir is not None:
-                key = hashlib.sha256(repr(sorted((n, float(v)) for n, v in inputs.items())).encode()).hexdigest()[:16]
+                key = hashlib.sha256(repr(sorted((n, v if isinstance(v, str) else float(v))
+                                                 for n, v in inputs.items())).encode()).hexdigest()[:16]
                 folder = Path(study.work_dir) / key
             resume = folder is not None and (folder / "checkpoint.npz").is_file()
             run = scene.run(folder=folder, resume=resume)

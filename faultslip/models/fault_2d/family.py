@@ -16,6 +16,7 @@ from faultslip import __version__
 from faultslip.models.fault_2d.analysis import (DISCRETISATION_ORDER, METHODS, MIN_RESOLUTION,  # noqa: F401
                                                    discretisation_error, moment_magnitude, sequence_discretisation,
                                                    summarise)
+from faultslip.models.fault_2d import bp3_outputs
 from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
@@ -108,8 +109,10 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
                 with contextlib.suppress(OSError):
                     folder.rmdir()
             raise
-        result.note(f"SEAS station files, slip profiles (devol.dat), events.csv and fault_2d.nc written to "
-                            f"{folder}")
+        written = ("SEAS BP3 on-fault and surface station files, slip and stress profiles (slip.dat, "
+                   "shear_stress.dat, normal_stress.dat)" if loaded.fault.plane == "strain"
+                   else "SEAS station files, slip profiles (devol.dat)")
+        result.note(f"{written}, events.csv and fault_2d.nc written to {folder}")
         return result
     return _result(loaded, loaded.run(rtol, progress=progress, time_limit=limit), settle_tolerance)
 
@@ -214,8 +217,11 @@ def to_dataset(loaded: Fault2DScene, run: Fault2DRun):
     """The run as CF netCDF: station series on (time, station), profiles on (profile_time, depth), events."""
     import xarray as xr  # heavy: imported where used
 
-    depth = ("depth", run.fault.depth, {"units": "m", "long_name": "depth of the element centre", "positive": "down"})
-    station = ("station", run.station_depths, {"units": "m", "long_name": "station depth", "positive": "down"})
+    strain = run.fault.plane == "strain"
+    along = "distance down dip of" if strain else "depth of"
+    depth = ("depth", run.fault.depth, {"units": "m", "long_name": f"{along} the element centre", "positive": "down"})
+    station = ("station", run.station_depths, {"units": "m", "long_name": f"station {'distance down dip' if strain else 'depth'}",
+                                               "positive": "down"})
     units = {"slip": ("m", "slip"), "log10_slip_rate": ("1", "log10 of the slip rate in m/s"),
              "shear_stress": ("Pa", "shear stress (frictional strength)"),
              "log10_state": ("1", "log10 of the state theta in s")}
@@ -243,23 +249,31 @@ def to_dataset(loaded: Fault2DScene, run: Fault2DRun):
     coords = {"time": ("time", run.station_time, ELAPSED_TIME_ATTRS), "station": station, "depth": depth,
               "profile_time": ("profile_time", run.profile_time, ELAPSED_TIME_ATTRS),
               "event": ("event", np.arange(run.event_count), {"units": "1", "long_name": "event number"})}
-    return xr.Dataset(data, coords=coords, attrs={
-        "title": f"faultslip 2-D fault: {loaded.name}", "Conventions": "CF-1.8", "source": f"faultslip {__version__}",
-        "shear_modulus_Pa": fault.shear_modulus, "shear_wave_speed_m_per_s": fault.shear_wave_speed,
-        "plate_rate_m_per_s": fault.plate_rate, "evolution": fault.evolution, "rtol": run.rtol, "steps": run.steps})
+    attrs = {"title": f"faultslip 2-D fault: {loaded.name}", "Conventions": "CF-1.8", "source": f"faultslip {__version__}",
+             "shear_modulus_Pa": fault.shear_modulus, "shear_wave_speed_m_per_s": fault.shear_wave_speed,
+             "plate_rate_m_per_s": fault.plate_rate, "evolution": fault.evolution, "rtol": run.rtol, "steps": run.steps}
+    if strain:
+        extra_data, extra_coords, extra_attrs = bp3_outputs.dataset_variables(run)
+        data.update(extra_data)
+        coords.update(extra_coords)
+        attrs.update(extra_attrs)
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: Result) -> None:
     """The SEAS files, the event catalogue (CSV with units) and the netCDF in ``folder``, each atomic."""
     fault = run.fault
     problem = f"faultslip 2-D fault: {loaded.name}"  # the scene's own problem, BP1 or not
-    for k, depth in enumerate(run.station_depths):  # a station's columns at a time: the run may be on disk
+    if fault.plane == "strain":
+        bp3_outputs.write_bp3(run, folder, __version__, loaded.name)
+    for k, depth in enumerate(run.station_depths if fault.plane == "antiplane" else ()):  # a station's columns at a time: the run may be on disk
         write_station(folder / station_file_name(depth), run.station_time, run.stations["slip"][:, k],
                       run.stations["log10_slip_rate"][:, k], run.stations["shear_stress"][:, k] / 1e6,
                       run.stations["log10_state"][:, k], depth=float(depth), element_size=fault.element_size,
                       version=__version__, problem=problem)
-    write_profiles(folder / "devol.dat", run.profile_time, run.profile_max_speed, run.profiles, fault.depth,
-                   element_size=fault.element_size, version=__version__, problem=problem)
+    if fault.plane == "antiplane":
+        write_profiles(folder / "devol.dat", run.profile_time, run.profile_max_speed, run.profiles, fault.depth,
+                       element_size=fault.element_size, version=__version__, problem=problem)
     moment = run.moments_per_length()
     lines = ["start (s),end (s),hypocentre_depth (m),peak_slip_rate (m/s),surface_slip (m),moment_per_length (N)"
              + (",moment_magnitude" if loaded.fault_length else "")]

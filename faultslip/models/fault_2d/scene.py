@@ -29,6 +29,12 @@
     coseismic_interval = "1 s"
     fault_length = "100 km"     # optional: the along-strike length that turns moment per length into Mw
 
+A dipping fault slips in plane strain (SEAS BP3): ``[fault]`` adds ``plane = "strain"``, ``dip = "60 deg"``,
+``sense = "thrust"`` (or ``"normal"``) and ``poisson_ratio = 0.25``; every length along the fault (the width,
+the profiles' depths, the stations) is then a distance down dip, as BP3 gives them, and ``[run]
+surface_stations`` (default BP3's, -32 to +32 km, + over the hanging wall) are where the surface's displacement
+and velocity are recorded.
+
 A profile in depth is either a table (``depth`` and ``value``, linear in between, constant beyond)
 or BP1's ramp: ``shallow`` above ``depth``, rising linearly over ``transition`` to ``deep``.
 """
@@ -44,6 +50,7 @@ from faultslip.models.fault_2d.integrate import BP1_STATIONS, YEAR, OverBudget, 
 from faultslip.models.fault_2d.kernel import relative_step_cost
 from faultslip.models.fault_2d.analysis import MIN_RESOLUTION
 from faultslip.models.fault_2d.model import Fault2D, steady_initial_conditions
+from faultslip.models.fault_2d.plane_strain import BP3_SURFACE_STATIONS
 from faultslip import ranges
 from faultslip.io import gate
 from faultslip.errors import FaultslipError, InputError
@@ -55,10 +62,12 @@ from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar
 
-_FAULT = {"density", "shear_wave_speed", "shear_modulus", "width", "element_size", "plate_rate", "evolution"}
+_FAULT = {"density", "shear_wave_speed", "shear_modulus", "width", "element_size", "plate_rate", "evolution", "plane",
+          "dip", "sense", "poisson_ratio"}
 _FRICTION = {"reference_speed", "reference_friction", "a", "b", "critical_slip", "normal_stress"}
 _INITIAL = {"initial_speed"}
-_RUN = {"duration", "rtol", "stations", "profile_interval", "coseismic_interval", "fault_length", "kernel", "threads"}
+_RUN = {"duration", "rtol", "stations", "profile_interval", "coseismic_interval", "fault_length", "kernel", "threads",
+        "surface_stations"}
 _PROFILE_KINDS = {"a": "dimensionless", "b": "dimensionless", "critical_slip": "length", "normal_stress": "pressure"}
 #: Largest element count a scene may ask for (memory and time grow with it; --allow-large lifts it).
 MAX_ELEMENTS = 20_000
@@ -81,6 +90,7 @@ class Fault2DScene:
     fault_length: float | None = None
     kernel: str = "auto"
     threads: int | None = None  # the kernels' threads (None: every core from THREADS_PAY_FROM elements, else 1)
+    surface_stations: tuple = BP3_SURFACE_STATIONS  # plane strain only: surface positions (m, + over the hanging wall)
     settings: dict = field(default_factory=dict)  # the parsed friction and geometry, to rebuild at another size
     origin: str = ""
     path: object = None  # the scene file (a Path), if read from one
@@ -121,7 +131,8 @@ class Fault2DScene:
                               stations=self.stations, kernel=self.kernel, profile_interval=self.profile_interval,
                               coseismic_interval=self.coseismic_interval, folder=folder, resume=resume,
                               progress=progress, threads=threads,
-                              adapt_threads=self.threads is None and threads_are_automatic(), time_limit=time_limit)
+                              adapt_threads=self.threads is None and threads_are_automatic(), time_limit=time_limit,
+                              surface_stations=self.surface_stations)
         except OverBudget as stopped:
             how = (f"its checkpoint in {folder} lets 'faultslip simulate SCENE --output-dir {folder} --resume "
                    "--allow-large' finish it" if folder is not None else
@@ -175,7 +186,12 @@ class Fault2DScene:
         for name, value in values.items():
             if name not in SWEEPABLE:
                 raise InputError(f"a 2-D fault study sweeps {', '.join(SWEEPABLE)}, not {name!r}")
+            if name == "sense":
+                settings["sense"] = _sense(value, "the swept sense")
+                continue
             value = float(value)
+            if name == "dip" and settings.get("plane", "antiplane") != "strain":
+                raise InputError("sweeping dip needs the base scene's fault in plane strain: [fault] plane = \"strain\"")
             if name in ("critical_slip", "normal_stress", "b"):
                 settings["profiles"][name] = _constant(value)
             elif name in ("seismogenic_depth", "a_deep"):
@@ -201,7 +217,15 @@ SWEEPABLE = {
     "a_deep": ("dimensionless", "1", "a below the ramp, a_max (BP1's ramp)"),
     "plate_rate": ("speed", "m/s", "plate rate V_pl"),
     "element_size": ("length", "m", "boundary element size"),
+    "dip": ("angle", "degree", "fault dip (plane strain)"),
+    "sense": ("category", None, "thrust or normal (plane strain)"),
 }
+
+
+def _sense(value, where: str) -> str:
+    if value not in ("thrust", "normal"):
+        raise InputError(f"{where} must be thrust or normal, got {value!r}")
+    return value
 
 
 def dividing_size(width: float, fewest: int) -> tuple[int, str]:
@@ -322,7 +346,9 @@ def build_fault(settings: dict, element_size: float, name: str) -> Fault2D:
     return Fault2D(element_size, values["a"], values["b"], values["critical_slip"], values["normal_stress"],
                    settings["shear_modulus"], settings["shear_wave_speed"], settings["plate_rate"],
                    settings["reference_speed"], settings["reference_friction"], tau0, psi0,
-                   evolution=settings["evolution"], name=name)
+                   evolution=settings["evolution"], name=name, plane=settings.get("plane", "antiplane"),
+                   dip=settings.get("dip", 90.0), sense=settings.get("sense", "thrust"),
+                   poisson_ratio=settings.get("poisson_ratio", 0.25))
 
 
 def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool = False) -> Fault2DScene:
@@ -364,7 +390,13 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
                    if isinstance(friction["a"], dict) and set(friction["a"]) == {"shallow", "deep", "depth",
                                                                                  "transition"} else None),
         "max_elements": math.inf if allow_large else MAX_ELEMENTS,
+        "plane": fault.get("plane", "antiplane"),
+        "dip": to_si_scalar(fault.get("dip", 90.0), "angle", f"[fault] dip in {source}", default_unit="degree"),
+        "sense": _sense(fault.get("sense", "thrust"), f"[fault] sense in {source}"),
+        "poisson_ratio": _number(fault.get("poisson_ratio", 0.25), f"[fault] poisson_ratio in {source}"),
     }
+    if settings["plane"] not in ("antiplane", "strain"):
+        raise InputError(f"[fault] plane in {source} must be antiplane or strain, got {settings['plane']!r}")
     for key in ("width", "shear_modulus", "shear_wave_speed", "plate_rate", "reference_speed", "initial_speed"):
         if not settings[key] > 0:
             raise InputError(f"{key} in {source} must be positive")
@@ -401,6 +433,13 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
     if length is not None:
         length = ranges.check("fault_length", to_si_scalar(length, "length", f"[run] fault_length in {source}"),
                               f"[run] fault_length in {source}")
+    surface = run.get("surface_stations")
+    if surface is None:
+        surface = BP3_SURFACE_STATIONS
+    elif not isinstance(surface, list) or not surface:
+        raise InputError(f"[run] surface_stations in {source} must be a list of distances from the trace")
+    else:
+        surface = tuple(to_si_scalar(x, "length", f"[run] surface_stations in {source}") for x in surface)
     kernel = run.get("kernel", "auto")
     if kernel not in ("auto", "dense", "fft"):
         raise InputError(f"[run] kernel in {source} must be auto, dense or fft, got {kernel!r}")
@@ -413,7 +452,8 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
         coseismic_interval=to_si_scalar(run.get("coseismic_interval", "1 s"), "time",
                                         f"[run] coseismic_interval in {source}"),
         fault_length=length,
-        kernel=kernel, threads=None if threads == "auto" else threads, settings=settings, text=text)
+        kernel=kernel, threads=None if threads == "auto" else threads, settings=settings, text=text,
+        surface_stations=surface)
 
 
 def is_fault_2d_document(document) -> bool:
