@@ -87,3 +87,19 @@ def test_the_step_seconds_are_the_least_squares_fit_of_the_compiled_runs():
     c0, c1, margin = budget.FAULT_2D_STEP_SECONDS
     assert len(points) >= 10 and margin == 1.0
     assert (c0, c1) == pytest.approx(tuple(fitted), rel=1e-3)
+
+
+def test_the_plane_strain_step_cost_is_its_benchmarks_fit(monkeypatch):
+    """PLANE_STRAIN_STEP_SECONDS is the least-squares fit of benchmarks/plane_strain_step.py's measured steps,
+    recomputed here from its results file, and the estimate it gives is within its stated 1.31x of each."""
+    import importlib.util
+
+    monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))  # the script imports its provenance helper
+    spec = importlib.util.spec_from_file_location("plane_strain_step", ROOT / "benchmarks" / "plane_strain_step.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    results = json.loads((ROOT / "benchmarks" / "results" / "plane_strain_step.json").read_text(encoding="utf-8"))
+    assert budget.PLANE_STRAIN_STEP_SECONDS == pytest.approx(module.fit(results["rows"]), rel=1e-3)
+    for row in results["rows"]:
+        estimate = budget.fault_2d_estimate(row["elements"], 60.0, 1, steps=row["steps"], plane_strain=True)
+        assert 1 / 1.32 <= estimate.seconds / (row["steps"] * row["seconds_per_step"]) <= 1.32

@@ -12,6 +12,7 @@ The kernels are checked against exact solutions, never against themselves:
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,6 +25,7 @@ from faultslip.models.fault_2d.integrate import YEAR, _Stopped, run_cycles
 from faultslip.models.fault_2d.kernel import dense_matrix
 from faultslip.models.fault_2d.model import Fault2D, steady_initial_conditions
 
+CONFIGS = Path(__file__).resolve().parent.parent / "configs"
 G = 2670 * 3464.0 ** 2
 DIPS = (20.0, 30.0, 45.0, 60.0, 75.0, 90.0)
 
@@ -229,3 +231,31 @@ def test_plane_strain_run_resumes_bit_for_bit(tmp_path):
     assert whole.steps == resumed.steps
     np.testing.assert_array_equal(np.asarray(whole.stations["slip"]), np.asarray(resumed.stations["slip"]))
     np.testing.assert_array_equal(whole.plane_strain["surface_displacement"], resumed.plane_strain["surface_displacement"])
+
+
+def test_a_vertical_fault_in_plane_strain_does_not_change_its_normal_stress():
+    """Dip slip on a vertical fault is antisymmetric in x, so sigma_xx on x = 0 is zero, free surface or not; a
+    thrust and a normal fault are then the same fault (the study below sees it)."""
+    shear, normal = ps.traction_kernels(200, 100.0, 90.0, G, 0.25)
+    assert np.max(np.abs(normal)) <= 1e-9 * np.max(np.abs(shear))
+    _, tilted = ps.traction_kernels(200, 100.0, 80.0, G, 0.25)
+    assert np.max(np.abs(tilted)) > 1e-3 * np.max(np.abs(shear))
+
+
+def test_a_dip_and_sense_study_does_not_depend_on_the_workers(tmp_path, cli):
+    import xarray as xr
+
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\nbase = "{CONFIGS / "fault_2d_dipping_small.toml"}"\n[sweep]\n'
+                     'dip = ["30 deg", "90 deg"]\nsense = ["thrust", "normal"]\n')
+    one = cli("sweep", study, "-o", tmp_path / "one.nc", "--workers", "1", "--json")
+    two = cli("sweep", study, "-o", tmp_path / "two.nc", "--workers", "2", "--json")
+    assert one.code == 0 and two.code == 0, one.err + two.err
+    with xr.open_dataset(tmp_path / "one.nc") as a, xr.open_dataset(tmp_path / "two.nc") as b:
+        for name in a.data_vars:
+            assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
+        assert a["dip"].attrs["units"] == "degree"
+        vertical = a["recurrence_interval"].sel(dip=90.0)
+        assert float(vertical.sel(sense="thrust")) == float(vertical.sel(sense="normal"))  # the kernel test above
+        shallow = a["recurrence_interval"].sel(dip=30.0)
+        assert float(shallow.sel(sense="thrust")) != float(shallow.sel(sense="normal"))

@@ -181,6 +181,10 @@ FAULT_2D_STEPS = {"scale": 15.0, "plate_rate": 1.02, "width_over_nucleation": 0.
 #: time on the 2-core machine), within 0.87-1.16x of each (tests/test_budget_fit.py refits it). Another step path
 #: scales it by its measured cost (:func:`faultslip.models.fault_2d.kernel.relative_step_cost`).
 FAULT_2D_STEP_SECONDS = (1.237e-4, 2.279e-7, 1.0)
+#: CPU seconds per step of a plane-strain (dipping) 2-D fault, whose kernels are dense: c0 + c2 N^2, fitted by
+#: benchmarks/plane_strain_step.py (SEAS BP3-QD on 200-1,600 elements, within 1.31x of each; tests/test_budget_fit.py
+#: refits it from benchmarks/results/plane_strain_step.json).
+PLANE_STRAIN_STEP_SECONDS = (4.308e-4, 8.563e-9)
 #: Steps from the events a run will see (issue 68): ln steps = ln A + p ln(events) + q ln(W / h*) + r ln(N), fitted
 #: on the 36 calibration runs of benchmarks/ladder_designs.py (3 elements per L_b, rtol 1e-8), where a run's events
 #: come from its duration over the recurrence the one-slider rung predicts; with the per-step seconds above, the
@@ -240,14 +244,20 @@ def fault_2d_steps(*, years: float, plate_rate: float, element_size: float, proc
 
 
 def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *, steps: float,
-                      outside_fit: tuple = (), step_cost: float = 1.0) -> Estimate:
+                      outside_fit: tuple = (), step_cost: float = 1.0, plane_strain: bool = False) -> Estimate:
     """Time, memory and disk of a 2-D fault run of ``steps`` steps (:func:`fault_2d_steps`): station rows every
-    step (in memory, and as SEAS text)."""
+    step (in memory, and as SEAS text). ``plane_strain``: a dipping fault's dense step
+    (:data:`PLANE_STRAIN_STEP_SECONDS`), and its two N x N kernels in memory."""
     c0, c1, margin = FAULT_2D_STEP_SECONDS
+    per_step = c0 + c1 * elements
+    kernels = 0.0
+    if plane_strain:
+        dense0, dense2 = PLANE_STRAIN_STEP_SECONDS
+        per_step, step_cost, kernels = dense0 + dense2 * elements ** 2, 1.0, 2 * 8.0 * elements ** 2 * 2
     return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps)",
-                    seconds=margin * steps * (c0 + c1 * elements) * step_cost,
-                    memory=steps * (1 + 4 * stations) * 8.0 * 2, disk=steps * stations * 100.0 if output else 0.0,
-                    output=output, outside_fit=outside_fit)
+                    seconds=margin * steps * per_step * step_cost,
+                    memory=steps * (1 + 4 * stations) * 8.0 * 2 + kernels,
+                    disk=steps * stations * 100.0 if output else 0.0, output=output, outside_fit=outside_fit)
 
 
 #: Bytes held per cell of a map's raster (coordinates, unit vectors, nearest index and distance, four maps).

@@ -43,12 +43,14 @@ def fault_2d_cell_seconds(scene, dims: dict | None = None) -> float:
     names = list(dims)
     if not names:
         return scene.estimate().seconds
-    axes = [np.asarray(dims[name]) for name in names]
+    axes = [np.asarray(dims[name], dtype=object if any(isinstance(v, str) for v in dims[name]) else float)
+            for name in names]
     if int(np.prod([axis.size for axis in axes])) <= 256:
         cells = itertools.product(*axes)
     else:
         cells = itertools.product(*[np.unique(axis[[0, axis.size // 2, -1]]) for axis in axes])
-    seconds = [scene.with_values(**dict(zip(names, (float(v) for v in cell)))).estimate().seconds for cell in cells]
+    seconds = [scene.with_values(**dict(zip(names, (str(v) if isinstance(v, str) else float(v) for v in cell))))
+               .estimate().seconds for cell in cells]
     return float(np.mean(seconds))
 
 

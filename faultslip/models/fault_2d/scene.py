@@ -164,7 +164,8 @@ class Fault2DScene:
         """What a run of this scene needs (:class:`faultslip.io.budget.Estimate`), before it starts."""
         return budget.fault_2d_estimate(self.fault.count, self.duration / YEAR, len(self.stations), output,
                                         steps=self.estimated_steps(rtol), outside_fit=self.outside_fit(),
-                                        step_cost=relative_step_cost(step_path()))
+                                        step_cost=relative_step_cost(step_path()),
+                                        plane_strain=self.fault.plane == "strain")
 
     def outside_fit(self) -> tuple:
         """Where this scene lies outside the scenes its cost estimate was fitted on
