@@ -2,12 +2,12 @@
 
     python -m benchmarks --list                 # every benchmark, and the results file(s) it writes
     python -m benchmarks NAME [ARGS ...]        # one benchmark, as python benchmarks/NAME.py ARGS
-    python -m benchmarks --all [--quick] [--qdyn PATH] [--pylook-python PATH]
+    python -m benchmarks --all [--quick] [--qdyn PATH] [--pylook-python PATH] [--peer DIR]
 
 ``--all`` runs every benchmark that writes a results file a docs table is generated from (:data:`PRODUCERS`),
 each as its own process, in turn, and then ``readme.py``, which rewrites every generated table. ``--quick`` gives
 each its short form (:data:`QUICK`: fewer rounds, sizes and cases; the tables then say what they measured). A
-benchmark against a peer code runs only when the peer is given (``--qdyn``, ``--pylook-python``); otherwise it is
+benchmark against a peer code runs only when the peer is given (``--qdyn``, ``--pylook-python``, ``--peer``); otherwise it is
 skipped and its table keeps its last measured results, and the run says so. A benchmark that fails is reported
 and the others still run; the exit status is 1 if any failed.
 """
@@ -51,9 +51,13 @@ PRODUCERS = (
     ("fuzz", ["--seed", "690", "--out", "benchmarks/results/fuzz_second_seed.json"],
      ["--seed", "690", "--cases", "500", "--out", "benchmarks/results/fuzz_second_seed.json"], "fuzz_second_seed.json"),
     ("kills", [], ["--kills", "5", "--races", "5"], "kills.json"),
+    ("plane_strain_step", [], ["--elements", "200", "400", "--years", "20"], "plane_strain_step.json"),
+    ("dip_model_error", [], ["--element-size", "200", "--years", "600"], "dip_model_error.json"),
+    ("seas_bp3", [], ["--sizes", "200", "100", "--years", "600"], "seas_bp3.json"),
 )
 #: Peer codes a benchmark needs, by the flag that gives it.
-PEERS = {"fault_2d_qdyn": "--qdyn", "spring_block_qdyn": "--qdyn", "look_against_pylook": "--pylook-python"}
+PEERS = {"fault_2d_qdyn": "--qdyn", "spring_block_qdyn": "--qdyn", "look_against_pylook": "--pylook-python",
+         "seas_bp3": "--peer"}
 #: Every script that is a benchmark (not a helper module).
 HELPERS = {"__init__", "__main__", "provenance", "readme", "peer_runs"}
 
@@ -105,6 +109,7 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="each benchmark's short form")
     parser.add_argument("--qdyn", help="a built QDYN (its qdyn.py folder) for the peer benchmarks")
     parser.add_argument("--pylook-python", help="a Python with pylook installed, for the pylook comparisons")
+    parser.add_argument("--peer", help="a folder with FDRA's published SEAS BP3-QD files, for benchmarks/seas_bp3.py")
     args = parser.parse_args(argv)
     if args.list or not args.all:
         for name in benchmarks():
@@ -112,7 +117,7 @@ def main(argv=None) -> int:
                 "(a figure, a study or data; no docs table)"
             print(f"{name:24s} {writes}")
         return 0
-    return run_all(args.quick, {"--qdyn": args.qdyn, "--pylook-python": args.pylook_python})
+    return run_all(args.quick, {"--qdyn": args.qdyn, "--pylook-python": args.pylook_python, "--peer": args.peer})
 
 
 if __name__ == "__main__":

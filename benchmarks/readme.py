@@ -598,9 +598,55 @@ def ladder_escalations_table() -> str | None:
             f"{_machine(result)}")
 
 
+def seas_bp3_table() -> str | None:
+    result = _load("seas_bp3.json")
+    if result is None:
+        return None
+    rows = ["| scene | element | period (faultslip, FDRA) | settled intervals vs FDRA | slip at 7.5 km vs FDRA | "
+            "surface offsets vs FDRA (-16, 0+, +16 km) | vs our finest | declared (interval) | CPU per simulated yr |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for case, data in result["cases"].items():
+        for run in data["runs"]:
+            peer = run["against_peer"]
+            offsets = ", ".join(f"{peer['surface_offset_difference'][name]:.2%}" for name in ("n16", "p0", "p16"))
+            finest = run.get("settled_interval_difference_from_finest")
+            rows.append(f"| {case} | {run['element_size_m']:g} m ({run['elements']}) | {peer['period'][0]}, "
+                        f"{peer['period'][1]} | {peer['settled_interval_difference']:.2%} | "
+                        f"{peer['settled_slip_difference']:.2%} | {offsets} | "
+                        f"{'-' if finest is None else format(finest, '.2%')} | "
+                        f"{run['declared_resolution_error']['interval']:.2%} | {run['cpu_s_per_year']:.3g} s |")
+    peer = next(iter(result["cases"].values()))["peer"]
+    files = "; ".join(f"{data['peer']['code']} ({', '.join(data['peer']['modelers'])}): "
+                      + ", ".join(data["peer"]["files"]) for data in result["cases"].values())
+    antiplane = ", ".join(f"{row['elements']} elements {row['cpu_s_per_year']:.3g} s" for row in result["antiplane_cost"])
+    rtol = {run["rtol"] for data in result["cases"].values() for run in data["runs"]}
+    return ("\n".join(rows) + f"\n\nFDRA's files, from the SEAS platform at {peer['element_size']}: {files}. "
+            f"faultslip at rtol {', '.join(f'{r:g}' for r in sorted(rtol))}. The antiplane fault (BP1) on as many "
+            f"elements costs, per simulated year: {antiplane}. " + _machine(result))
+
+
+def dip_model_error_table() -> str | None:
+    result = _load("dip_model_error.json")
+    if result is None:
+        return None
+    rows = ["| dip | sense | plane strain: recurrence, slip | antiplane: recurrence, slip | model error |",
+            "| --- | --- | --- | --- | --- |"]
+    for row in result["rows"] + result["held_out"]:
+        held = " (held out)" if "declared" in row else ""
+        rows.append(f"| {row['dip']:g}°{held} | {row['sense']} | {row['plane_strain']['recurrence_yr']:.1f} yr, "
+                    f"{row['plane_strain']['mean_slip_m']:.2f} m | {row['antiplane']['recurrence_yr']:.1f} yr, "
+                    f"{row['antiplane']['mean_slip_m']:.2f} m | {row['model_error']:.1%}"
+                    + (f" (declared {row['declared']:.1%})" if held else "") + " |")
+    table = result["table"]
+    declared = ", ".join(f"{row['dip']:g}°: {row['model_error']:.1%}" for row in table["rows"])
+    return ("\n".join(rows) + f"\n\nDeclared (the largest of both senses, times {table['margin']:g}): {declared}. "
+            f"Held-out faults within it: {sum(r['covered'] for r in table['held_out'])} of {len(table['held_out'])}. "
+            + _machine(result))
+
+
 #: Pages whose generated tables update() writes (the README has none: it is a door).
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
-         "docs/spring_chain.md", "docs/classroom.md")
+         "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
@@ -622,7 +668,8 @@ def _update_page(readme: Path) -> list[str]:
                          ("lab_fits", lab_fits_table),
                          ("classroom", classroom_table), ("animation", animation_table),
                          ("first_run", first_run_table), ("renewal_coverage", renewal_coverage_table),
-                         ("chain_example", chain_example_table)):
+                         ("chain_example", chain_example_table), ("seas_bp3", seas_bp3_table),
+                         ("dip_model_error", dip_model_error_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

@@ -259,3 +259,39 @@ def test_a_dip_and_sense_study_does_not_depend_on_the_workers(tmp_path, cli):
         assert float(vertical.sel(sense="thrust")) == float(vertical.sel(sense="normal"))  # the kernel test above
         shallow = a["recurrence_interval"].sel(dip=30.0)
         assert float(shallow.sel(sense="thrust")) != float(shallow.sel(sense="normal"))
+
+
+def test_the_declared_dip_error_takes_the_larger_bracket_and_is_unbounded_outside():
+    from faultslip.fault.dip_error import declared
+
+    rows = [{"dip": 30.0, "model_error": 0.4}, {"dip": 60.0, "model_error": 0.2}, {"dip": 90.0, "model_error": 0.3}]
+    assert declared(30.0, rows) == 0.4 and declared(60.0, rows) == 0.2
+    assert declared(45.0, rows) == 0.4 and declared(75.0, rows) == 0.3
+    assert declared(20.0, rows) == math.inf and declared(95.0, rows) == math.inf
+
+
+def test_the_shipped_dip_error_holds_its_held_out_faults():
+    """data/dip_model_error.json (benchmarks/dip_model_error.py): the declared error at each held-out fault's dip
+    covers the model error measured there, and covers every measured cell (the table is the envelope times 1.25)."""
+    from faultslip.fault.dip_error import MARGIN, declared, load_table
+
+    table = load_table()
+    assert table["margin"] == MARGIN
+    for row in table["held_out"]:
+        assert row["declared"] == pytest.approx(declared(row["dip"]))
+        assert row["covered"] == (row["model_error"] <= row["declared"])
+    assert table["coverage"] == sum(row["covered"] for row in table["held_out"]) / len(table["held_out"])
+
+
+def test_model_error_on_a_dipping_scene_climbs_through_the_antiplane_rung(cli):
+    import json
+
+    from faultslip.fault.dip_error import declared
+
+    done = cli("model-error", CONFIGS / "fault_2d_dipping_small.toml", "--json")
+    assert done.code == 0, done.err
+    values = json.loads(done.out)["values"]
+    assert {"one_slider_recurrence", "antiplane_recurrence", "fault_2d_recurrence"} <= set(values)
+    error = values["antiplane_declared_error"]
+    assert error >= declared(60.0)  # the antiplane rung's range carries its model error on this dip
+    assert "antiplane_range_holds" in values

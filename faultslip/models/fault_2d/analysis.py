@@ -204,7 +204,9 @@ def sequence_discretisation(resolution: float, period: int) -> tuple[float, floa
 METHODS = {
     "fault_2d": {
         "name": "fault_2d", "friction_laws": "rate-and-state (aging or slip law), depth-varying (SEAS BP1)",
-        "domain": "a vertical strike-slip fault in an elastic half-space, quasi-dynamic (radiation damping); "
+        "domain": "a vertical strike-slip fault in an elastic half-space (antiplane; SEAS BP1), or a dipping thrust "
+                  "or normal fault in plane strain whose normal stress changes with slip (SEAS BP3; dense kernels), "
+                  "quasi-dynamic (radiation damping); "
                   f"elements of {MIN_RESOLUTION:g} or more per L_b = G D_c / (sigma_n b) (coarser runs are refused: "
                   "their sequences change character); declared error in recurrence: the largest of the "
                   f"sequence's, 10 rtol and the element size's {DISCRETISATION_AT_MINIMUM:g} "

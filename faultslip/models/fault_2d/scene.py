@@ -116,6 +116,13 @@ class Fault2DScene:
                          f"Use element_size = \"{size} m\" ({count} elements, "
                          f"{needed.estimate().describe()}), or --allow-underresolved for a qualitative answer")
 
+    def antiplane(self) -> "Fault2DScene":
+        """The rung below a dipping fault: the same description (friction down dip, the same width) read as a
+        vertical fault in antiplane strain (:mod:`faultslip.fault.dip_error` declares its error)."""
+        settings = {**self.settings, "plane": "antiplane", "dip": 90.0}
+        name = f"{self.name} (antiplane)"
+        return replace(self, name=name, fault=build_fault(settings, self.fault.element_size, name), settings=settings)
+
     def at_element_size(self, element_size: float) -> "Fault2DScene":
         """The same scene on elements of another size (for convergence studies)."""
         return replace(self, fault=build_fault(self.settings, element_size, self.name))

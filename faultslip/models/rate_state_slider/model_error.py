@@ -24,6 +24,7 @@ from faultslip.fault.one_slider import DESCRIPTIONS, load_calibration, load_hier
 from faultslip.fault.rate_state_scene import load_rate_state_scene
 from faultslip.friction.rate_state import nucleation_ratio
 from faultslip.io.report import Report
+from faultslip.fault.dip_error import load_table as load_dip_table
 from faultslip.models.rate_state_slider.figures import model_error_figure
 
 __all__ = ["declared_from_envelope", "declared_model_error", "load_calibration", "model_error_result"]
@@ -132,6 +133,14 @@ def model_error_result(scene=None, tolerance: float | None = None):
         held = table[key]["held_out"]
         report.add(name, table[key]["coverage"], label=f"held-out faults within the declared error ({DESCRIPTIONS[key]}): "
                    f"{sum(row['covered'] for row in held)} of {len(held)}")
+    dipping = load_dip_table()
+    for row in sorted(dipping["rows"], key=lambda row: row["dip"]):
+        report.add(f"antiplane_on_dip_{row['dip']:g}", row["model_error"],
+                   label=f"the antiplane rung on a fault dipping {row['dip']:g} degrees: declared model error against "
+                         "plane strain")
+    report.add("antiplane_on_dip_held_out_coverage", dipping["coverage"],
+               label=f"held-out dipping faults within it: {sum(row['covered'] for row in dipping['held_out'])} of "
+                     f"{len(dipping['held_out'])}")
     if scene is not None:
         loaded = load_rate_state_scene(scene)
         if loaded.kind != "fault":
