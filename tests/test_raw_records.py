@@ -672,3 +672,30 @@ def test_the_shipped_raw_records_documented_command_covers_its_headers_truth(cli
         entry = result.json[f"{name}_95"]
         low, high = entry["value"] if isinstance(entry, dict) else entry  # D_c's carries its units (m)
         assert low <= value <= high, (name, low, value, high)
+
+
+def test_the_posterior_and_the_bootstrap_show_progress_with_their_expected_time_first(monkeypatch):
+    """A long fit is never silent: the posterior reports its steps against a total revised as the chain's
+    autocorrelation time is measured, and the bootstrap its refits; each says first what it expects to cost."""
+    import io
+
+    from faultslip.io import progress as progress_module
+    from faultslip.io.progress import Progress
+    from faultslip.lab.rate_state_fit import fit_velocity_steps
+
+    prepared = prepare_record(_small(seed=3), "8e-3 1/um")
+    seen = []
+    posterior = sample_posterior(prepared.record, prepared.stiffness, samples=2000, seed=5,
+                                 progress=lambda done, total: seen.append((done, total)))
+    assert seen and all(done <= total for done, total in seen)
+    assert [done for done, _ in seen] == sorted(done for done, _ in seen)
+    assert seen[-1][0] == posterior.steps  # the last report is the chain's length
+    refits = []
+    fit_velocity_steps(prepared.record, prepared.stiffness, bootstrap=6, progress=lambda d, t: refits.append((d, t)))
+    assert refits[0] == (0, 6) and refits[-1] == (6, 6)
+    monkeypatch.setattr(progress_module, "ANNOUNCE_FROM", 0.0)  # announce even this short a run
+    stream = io.StringIO()
+    sample_posterior(prepared.record, prepared.stiffness, samples=2000, seed=5, progress=Progress("posterior",
+                                                                                                 stream=stream))
+    first = stream.getvalue().splitlines()[0]
+    assert first.startswith("faultslip: sampling the posterior: about ") and "walkers" in first

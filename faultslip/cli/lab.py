@@ -230,7 +230,8 @@ def _fit_rate_state(args) -> int:
                         posterior=args.posterior, priors=dict(parse_prior(text) for text in (args.prior or [])),
                         samples=args.samples, walkers=args.walkers, max_steps=args.max_steps,
                         workers=args.workers or 1, stiffness_free=args.stiffness_free, select=args.select_law,
-                        joint=args.joint or (), columns=_parse_columns(args.columns), span=_parse_span(args.span))
+                        joint=args.joint or (), columns=_parse_columns(args.columns), span=_parse_span(args.span),
+                        progress=_progress("fit", not args.json))
     report, posterior = result.report, result.posterior
     if outputs["plot"] is not None or outputs["corner"] is not None:
         with _locked(outputs["plot"], outputs["corner"]):

@@ -95,3 +95,25 @@ def reporter(progress, label: str, unit: str = "it"):
     if callable(progress):
         return progress
     raise TypeError(f"progress must be True, False, None or a callable (done, total), got {progress!r}")
+
+
+def duration(seconds: float) -> str:
+    """A time as a person reads it: "40 s", "3.2 min", "1.4 h"."""
+    if seconds < 90:
+        return f"{seconds:.2g} s" if seconds < 10 else f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.2g} min"
+    return f"{seconds / 3600:.2g} h"
+
+
+#: Work expected to take less than this (s) starts without a line saying so (its bar shows after two seconds).
+ANNOUNCE_FROM = 10.0
+
+
+def announce(progress, text: str, seconds: float | None = None) -> None:
+    """Say ``text`` (what the work will cost) before it starts, through the reporter's ``announce`` where it has
+    one (a :class:`Progress` bar: a line on its stream; a callable has nowhere to say it), when the work is expected
+    to take ``seconds`` >= :data:`ANNOUNCE_FROM` (None: always)."""
+    say = getattr(progress, "announce", None)
+    if say is not None and (seconds is None or seconds >= ANNOUNCE_FROM):
+        say(text)

@@ -103,7 +103,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
                bootstrap: int = 50, seed: int = 0, windows=None, each_step: bool = False, posterior: bool = False,
                priors: dict | None = None, samples=None, walkers=None, max_steps=None, workers: int = 1,
                title: str | None = None, stiffness_free: bool = False, select: bool = False,
-               joint=(), columns: dict | None = None, span=None) -> RecordFit:
+               joint=(), columns: dict | None = None, span=None, progress=None) -> RecordFit:
     """Fit a rate-and-state law to a velocity-step record.
 
     Parameters
@@ -159,6 +159,9 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         names (an xlook reduction's netCDF).
     span : (float, float), optional
         Fit only the rows from ``span[0]`` to ``span[1]`` seconds of the file's own time.
+    progress : bool or callable, optional
+        Show the bootstrap's refits and the posterior's steps (True: a bar on stderr, its expected time said
+        first; a callable receives (done, total)).
 
     Returns
     -------
@@ -194,7 +197,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         if not spring > 0:
             raise InputError(f"--stiffness must be positive, got {stiffness}")
     fit = fit_velocity_steps(record, spring, evolution=evolution, two_state=two_state, bootstrap=bootstrap,
-                             seed=seed, stiffness_free=stiffness_free, trend=trend)
+                             seed=seed, stiffness_free=stiffness_free, trend=trend, progress=progress)
     if record.metadata:  # what the file says of its experiment travels into the report, its JSON and a bundle
         report.add("record_metadata", dict(record.metadata), label="the record's metadata, as its file gives it")
     _fit_section(report, fit, seed)
@@ -226,7 +229,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
                                                   ("max_steps", max_steps)) if value is not None}
         sampled = sample_posterior(record, spring, evolution=evolution, two_state=two_state, priors=priors or {},
                                    seed=seed, workers=workers or 1, initial_fit=fit, stiffness_free=stiffness_free,
-                                   trend=trend, **settings)
+                                   trend=trend, progress=progress, **settings)
         _posterior_section(report, sampled)
     if stiffness_free:  # the record's spring is the fitted one from here on (figures, predictions)
         spring = sampled.median()["stiffness"] if sampled is not None else fit.parameters["stiffness"]

@@ -43,6 +43,7 @@ from faultslip.dynamics.rate_state.compiled import available as compiled_kernel_
 from faultslip.dynamics.rate_state.slider import RateStateSlider, quasi_static_friction, simulate_rate_state
 from faultslip.errors import FaultslipError, InputError, SolverError
 from faultslip.friction.rate_state import RateStateLaw
+from faultslip.io.progress import announce, duration, reporter
 from faultslip.lab.rate_state_fit import TREND_LIMIT, StepRecord, correlation_notes, fit_velocity_steps
 
 PRIOR_KINDS = ("uniform", "loguniform", "normal", "lognormal")
@@ -56,6 +57,8 @@ MAX_R_HAT = 1.05
 TAU_FACTOR = 50
 TAU_STABILITY = 0.1  # the estimate of tau moves less than this between checks (100 steps apart)
 BLOCK = 100
+#: The autocorrelation time (steps) the posterior's first time estimate assumes, before one is measured.
+TAU_GUESS = 40
 
 
 @dataclass(frozen=True)
@@ -342,7 +345,7 @@ class _Pool:
 def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "aging", two_state: bool = False,
                      priors: dict | None = None, samples: int = 10_000, walkers: int | None = None, seed: int = 0,
                      max_steps: int = 20_000, rtol: float = 1e-7, workers: int = 1, initial_fit=None,
-                     stiffness_free: bool = False, trend: bool = False) -> Posterior:
+                     stiffness_free: bool = False, trend: bool = False, progress=None) -> Posterior:
     """Sample the posterior of (mu0, a, b, D_c[, b2, D_c2]) given ``record`` on a spring of ``stiffness``
     (friction per metre) until the chain has converged (module docstring) and holds at least ``samples``
     draws after burn-in; raise :class:`SolverError` with the diagnostics if ``max_steps`` come first.
@@ -420,6 +423,7 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
     spread = np.where(np.isfinite(spread) & (spread > 0), spread, 1e-3 * np.maximum(np.abs(centre), 1e-6))
     rng = np.random.default_rng(seed)
     start, tries = [], 0
+    timing = clock.process_time()
     while len(start) < walkers:  # a small ball around the fit, inside the priors
         trial = centre + 0.1 * spread * rng.standard_normal(len(names))
         tries += 1
@@ -428,6 +432,15 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
         elif not start and tries >= 100:
             raise SolverError("no start near the least-squares fit has a finite posterior: the priors exclude it; "
                               "widen them")
+    evaluation = (clock.process_time() - timing) / max(tries, 1)
+    report = reporter(progress, "posterior", "step")
+    if report is not None:  # its expected time first: a guess, revised as the autocorrelation time is measured
+        guess = max(TAU_FACTOR * TAU_GUESS, 3 * TAU_GUESS + math.ceil(samples / walkers))
+        expected = guess * walkers * evaluation / max(workers, 1)
+        announce(report, f"sampling the posterior: about {duration(expected)} "
+                         f"({walkers} walkers, about {guess} steps at {duration(evaluation)} a likelihood"
+                         f"{'' if compiled_kernel_available() or two_state else ', on LSODA without numba'}); the "
+                         "total is revised as the chain's autocorrelation time is measured", expected)
     pool = _Pool(log_posterior, workers) if workers > 1 else None
     try:
         sampler = emcee.EnsembleSampler(walkers, len(names), log_posterior, pool=pool,
@@ -453,6 +466,9 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
                 r_hat, effective = np.full(len(names), np.inf), np.zeros(len(names))
             diagnostics = {"tau": tau, "r_hat": r_hat, "effective": effective, "length": length}
             enough = walkers * kept >= samples
+            if report is not None:
+                needed = max(length + BLOCK, math.ceil(TAU_FACTOR * longest), burn + math.ceil(samples / walkers))
+                report(length, min(int(math.ceil(needed / BLOCK) * BLOCK), max_steps))
             if (length > TAU_FACTOR * longest and stable and np.all(r_hat < MAX_R_HAT)
                     and np.all(effective >= MIN_EFFECTIVE) and enough):
                 break
@@ -468,6 +484,8 @@ def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "
     finally:
         if pool is not None:
             pool.terminate()
+        if report is not None and hasattr(report, "close"):
+            report.close()
     notes = correlation_notes(fit.residuals)  # the likelihood treats the samples as independent too
     if two_state or not compiled_kernel_available():
         notes.append("the likelihood ran on LSODA" + (" (a two-state law)" if two_state else

@@ -17,6 +17,7 @@ fit uses. The tests check the coverage of both on synthetic records with known p
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -25,6 +26,7 @@ from faultslip.dynamics.rate_state.slider import (LoadHistory, RateStateSlider, 
                                                   simulate_rate_state)
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.rate_state import RateStateLaw
+from faultslip.io.progress import announce as _announce, duration as _duration, reporter
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, split_header
 from faultslip.units import to_si_scalar, unit_factor
 
@@ -300,7 +302,7 @@ TREND_LIMIT = 1e4
 
 def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str = "aging", two_state: bool = False,
                        initial=None, rtol: float = 1e-10, bootstrap: int = 0, seed: int = 0,
-                       stiffness_free: bool = False, trend: bool = False) -> RateStateFit:
+                       stiffness_free: bool = False, trend: bool = False, progress=None) -> RateStateFit:
     """Fit a, b, D_c (and b2, D_c2) of a quasi-static slider with ``stiffness`` (friction per metre) to ``record``;
     with ``stiffness_free`` the machine's stiffness is fitted too, from ``stiffness`` (as RSFit3000 does,
     Skarbek & Savage 2019: the apparatus' effective stiffness is poorly known and biases D_c).
@@ -308,7 +310,8 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
     ``record`` is a :class:`StepRecord`, a pandas DataFrame or a mapping of columns (:func:`step_record`);
     ``stiffness`` a float in 1/m or a string or Quantity with units ("1e-3 1/um").
 
-    ``bootstrap`` resamples (seeded by ``seed``) add bootstrap intervals; each costs one refit.
+    ``bootstrap`` resamples (seeded by ``seed``) add bootstrap intervals; each costs one refit. ``progress``
+    (True, or a callable (done, total); :mod:`faultslip.io.progress`) shows them, their expected time first.
 
     Parameters
     ----------
@@ -396,8 +399,10 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
 
     # finite differences of 1e-4 relative: far above the solver's error (rtol), so the Jacobian,
     # and with it the covariance, is not polluted by integration noise
+    fit_started = time.process_time()
     result = least_squares(residuals, start, bounds=(lower, upper), method="trf", x_scale="jac",
                            xtol=1e-10, ftol=1e-12, gtol=1e-12, diff_step=1e-4)
+    fit_seconds = time.process_time() - fit_started
     if not result.success:
         raise SolverError(f"the rate-and-state fit did not converge ({result.message}); give a closer initial guess")
     points, count = record.time.size, len(names)
@@ -412,7 +417,13 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
         # residual bootstrap: the load history is the experiment's fixed design
         centred = result.fun - result.fun.mean()
         rows, failed = [], 0
-        for _ in range(bootstrap):
+        report = reporter(progress, "bootstrap", "refit")
+        if report is not None:
+            _announce(report, f"bootstrap: {bootstrap} refits, about {_duration(bootstrap * fit_seconds)} (one fit "
+                              f"took {_duration(fit_seconds)})", bootstrap * fit_seconds)
+        for done in range(bootstrap):
+            if report is not None:
+                report(done, bootstrap)
             observed = fitted + rng.choice(centred, size=points, replace=True)
             # each resample starts at the best fit; rtol 1e-9 stays far below any noise a lab records
             refit = least_squares(residuals, result.x, bounds=(lower, upper), method="trf", x_scale="jac",
@@ -422,6 +433,8 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
                 rows.append(refit.x)
             else:
                 failed += 1
+        if report is not None:
+            report(bootstrap, bootstrap)
         if len(rows) < max(2, (bootstrap + 1) // 2):
             raise SolverError(f"only {len(rows)} of {bootstrap} bootstrap refits converged; the record does not "
                               "constrain the law well enough for bootstrap intervals (fit without --bootstrap)")
