@@ -3,14 +3,21 @@
 A school's Chromebooks cannot run ``pip install``, so the teacher hands out a file. Everything is inline (its
 script, its style, its data) and nothing is fetched, so it opens offline from a USB stick or a shared drive.
 
-- **The single slider** computes in the browser. Seed 003's rate law (eq. 2-18) gives the static friction at
-  the pull's loading rate, and the exact cycle of :mod:`faultslip.dynamics.spring_slider.exact_cycle` (damped
+- **The student's view** speaks plainly; what the page computes, and where from (seed 003's rate law, its eq.
+  2-18, and Table I), is in a "for the teacher" panel, with the lesson's plan and the teacher's guide
+  (``docs/teaching_guide.md``) named.
+- **The single slider** computes in the browser. Seed 003's rate law gives the static friction at the pull's
+  loading rate K V / W, and the exact cycle of :mod:`faultslip.dynamics.spring_slider.exact_cycle` (damped
   sinusoids and a safeguarded Newton iteration for the end of slip, nothing time-stepped) is ported line for
-  line to JavaScript. The knobs (preset, spring, pull speed, mass, damping) redraw the sawtooth, the phase plane
-  and the numbers: amplitude, period, slip per event, regime. A test in headless Chromium checks them against
-  Python to 1e-9 (``tests/test_lesson_page.py``).
+  line to JavaScript. The controls (surfaces, spring, weight, pull speed, mass, damping) move on log scales and
+  read in physical units; their defaults are the served app's (``faultslip classroom``). They redraw the
+  sawtooth, the phase plane and the numbers; a student reads a period off the sawtooth and checks it, or fits one
+  period (one slip's start to the next's). A test in headless Chromium checks the numbers against Python to
+  1e-9 (``tests/test_lesson_page.py``).
 - **The chain of blocks** comes precomputed: :func:`faultslip.apps.classroom.chain_lab` for a few settings of
-  coupling and spread, each catalogue's magnitudes and b-value inline, drawn as a magnitude-frequency plot.
+  coupling and spread. Each catalogue downloads as CSV; the students build its Gutenberg-Richter plot, choosing
+  the smallest magnitude they trust and fitting b (Aki's maximum likelihood), and the page says so where the
+  catalogue fails faultslip's Gutenberg-Richter test.
 
 Drawing is plain ``<canvas>``: no plotting library, so the file stays small (well under the 5 MB limit).
 """
@@ -82,11 +89,18 @@ def lesson_html(data: dict | None = None) -> str:
     data = lesson_data() if data is None else data
     payload = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")  # no "</script>" inside the script
     options = "".join(f'<option value="{html.escape(name)}"{" selected" if name == "glass_dry" else ""}>'
-                      f'{html.escape(name)}</option>' for name in data["presets"])
-    chains = "".join(f'<option value="{k}">k_c / k_p = {c["coupling"]:g}, spread ±{c["spread"] * 100:.0f} %</option>'
-                     for k, c in enumerate(data["chains"]))
+                      f'{html.escape(plain_name(name))}</option>' for name in data["presets"])
+    chains = "".join(f'<option value="{k}">springs between blocks {c["coupling"]:g} times the pulling spring, '
+                     f'blocks differing by ±{c["spread"] * 100:.0f} %</option>' for k, c in enumerate(data["chains"]))
     return PAGE.replace("@@OPTIONS@@", options).replace("@@CHAINS@@", chains).replace("@@DATA@@", payload).replace(
         "@@SCRIPT@@", SCRIPT)
+
+
+def plain_name(preset: str) -> str:
+    """A preset's name as a student reads it: "glass_dry" -> "glass, dry", "steel_light_petrolatum" ->
+    "steel, light petrolatum"."""
+    material, _, condition = preset.partition("_")
+    return f"{material}, {condition.replace('_', ' ')}" if condition else material
 
 
 def export_lesson(path) -> int:
@@ -111,44 +125,73 @@ def export_lesson(path) -> int:
 
 
 PAGE = """<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>faultslip lesson: stick-slip to earthquakes</title>
+<html lang="en"><head><meta charset="utf-8"><title>Stick and slip: how faults make earthquakes</title>
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <style>
-body { font-family: sans-serif; max-width: 980px; margin: 1em auto; padding: 0 1em; color: #222; }
-h1 { font-size: 1.4em; } h2 { font-size: 1.15em; margin-top: 1.6em; }
-.knobs { display: grid; grid-template-columns: 14em 1fr 8em; gap: 0.3em 0.8em; align-items: center; max-width: 40em; }
-canvas { border: 1px solid #ccc; margin: 0.4em 0.4em 0 0; }
-.numbers span { font-weight: bold; } .numbers { margin: 0.6em 0; } small { color: #555; }
+body { font-family: sans-serif; max-width: 960px; margin: 0.6em auto; padding: 0 0.8em; color: #222; }
+h1 { font-size: 1.35em; margin: 0.3em 0; } h2 { font-size: 1.1em; margin: 1.2em 0 0.4em; }
+.knobs { display: grid; grid-template-columns: 11em minmax(8em, 1fr) 9em; gap: 0.25em 0.8em; align-items: center;
+         max-width: 40em; }
+canvas { border: 1px solid #ccc; margin: 0.3em 0.3em 0 0; max-width: 100%; height: auto; }
+.numbers span { font-weight: bold; } .numbers { margin: 0.5em 0; } small { color: #555; }
+details { background: #f6f6f2; border: 1px solid #ddd; padding: 0.3em 0.8em; margin: 1em 0; }
+button { margin: 0.2em 0.4em 0.2em 0; } .warning { color: #a33; }
 </style></head><body>
-<h1>Stick-slip to earthquakes: a lesson that runs in the browser</h1>
-<p><small>Everything here computes in this page, offline: seed 003's static-friction rate law (eq. 2-18) and the
-exact stick-slip cycle, the same numbers faultslip computes in Python. Made by <code>faultslip classroom --export</code>.
-</small></p>
-<h2>1. The slider</h2>
+<h1>Stick and slip: how faults make earthquakes</h1>
+<p>A block is pulled across a table through a spring. It sticks, the spring stretches, and then it slips all at
+once: a small earthquake. Faults do the same, far more slowly. Change one control at a time and watch what
+happens. <b>Predict first, then try.</b></p>
+<h2>1. One block on a spring</h2>
 <div class="knobs">
-<label for="preset">material (seed Table I)</label><select id="preset">@@OPTIONS@@</select><span></span>
-<label for="stiffness">spring stiffness k (log10 N/m)</label><input id="stiffness" type="range" min="3" max="7" step="0.05"><output id="stiffness_out"></output>
-<label for="pull">pull speed V (log10 µm/s)</label><input id="pull" type="range" min="-1" max="3.5" step="0.05" value="1.3"><output id="pull_out"></output>
-<label for="mass">mass m (log10 kg)</label><input id="mass" type="range" min="-2" max="2" step="0.05"><output id="mass_out"></output>
-<label for="damping">damping ratio ζ</label><input id="damping" type="range" min="0" max="0.9" step="0.01" value="0.02"><output id="damping_out"></output>
+<label for="preset">surfaces</label><select id="preset">@@OPTIONS@@</select><span></span>
+<label for="stiffness">spring stiffness</label><input id="stiffness" type="range" min="3" max="7" step="0.01"><output id="stiffness_out"></output>
+<label for="load">weight pressing down</label><input id="load" type="range" min="0" max="4" step="any"><output id="load_out"></output>
+<label for="pull">pulling speed</label><input id="pull" type="range" min="-1" max="3.5" step="0.01" value="1.30"><output id="pull_out"></output>
+<label for="mass">mass of the block</label><input id="mass" type="range" min="-2" max="2" step="0.01"><output id="mass_out"></output>
+<label for="damping">damping (0: none)</label><input id="damping" type="range" min="0" max="0.9" step="0.01" value="0.02"><output id="damping_out"></output>
 </div>
-<div class="numbers">regime <span id="regime"></span> · amplitude <span id="amplitude"></span> · period <span id="period"></span>
- · slip per event <span id="slip"></span> · static friction <span id="mu_s"></span></div>
-<canvas id="sawtooth" width="620" height="240"></canvas><canvas id="phase" width="300" height="240"></canvas>
-<p><small>Left: the spring force over four cycles (it climbs while the block sticks and drops when it slips).
-Right: the phase plane of one slip, displacement against velocity; the red line is the stick, where the block
-rides the platform at V.</small></p>
-<h2>2. A fault of many blocks</h2>
-<p>Fifty blocks coupled by springs (<code>configs/spring_chain.toml</code>), 200 events each, computed in advance:</p>
-<select id="chain">@@CHAINS@@</select>
-<div class="numbers">b-value <span id="b_value"></span> · system-size events <span id="system_events"></span>
- · their coefficient of variation <span id="cv"></span></div>
-<canvas id="mfd" width="620" height="260"></canvas>
-<h2>Questions</h2>
-<ol><li>Pull more slowly. Does the sawtooth grow or shrink? Why? (The static friction rises as the loading rate
-falls, seed eq. 2-18.)</li>
-<li>Make the spring much stiffer, or pull much faster. What happens to the stick-slip?</li>
-<li>In the chain, which setting gives the most large events? Which gives the highest b-value?</li></ol>
+<div class="numbers">the block <span id="regime"></span> · each slip moves it <span id="slip"></span>
+ · the spring's swing <span id="amplitude"></span> · time between slips <span id="period"></span>
+ · friction at the start of a slip <span id="mu_s"></span></div>
+<canvas id="sawtooth" width="600" height="230"></canvas><canvas id="phase" width="300" height="230"></canvas>
+<p><small>Left: the pull of the spring over four cycles. It climbs while the block sticks and drops when it
+slips (a sawtooth). Right: one slip, how far the block has moved against how fast it moves; the red line is
+the block riding along at the pulling speed.</small></p>
+<p>Measure it: read the time between two slips off the left graph and type it here
+<input id="guess" type="number" step="any" min="0" style="width:7em"> ms <button id="check">check my reading</button>
+<button id="fit">fit one period</button> <span id="period_fit"></span></p>
+<h2>2. A fault made of many blocks</h2>
+<p>Fifty blocks joined by springs, each stuck to the table until its spring pulls hard enough, make a
+catalogue of 200 earthquakes of many sizes. Pick one:</p>
+<select id="chain">@@CHAINS@@</select> <button id="csv">download this catalogue (CSV)</button>
+<div class="numbers">large earthquakes (all blocks slip) <span id="system_events"></span>
+ · how regular they are (0: a clock) <span id="cv"></span></div>
+<p>Build the Gutenberg–Richter plot: how many earthquakes are at least as large as each size. Slide the
+smallest size you trust, then fit a straight line; its slope is b.</p>
+<div class="knobs"><label for="mc">smallest size counted</label><input id="mc" type="range" step="0.01"><output id="mc_out"></output></div>
+<button id="gr_fit">fit the line</button>
+<div class="numbers">your b <span id="student_b"></span> <span id="gr_warning" class="warning"></span></div>
+<div class="numbers">faultslip's b <span id="b_value"></span></div>
+<canvas id="mfd" width="600" height="250"></canvas>
+<h2>Questions: predict, then test</h2>
+<ol><li>Pull more slowly. Will the sawtooth grow or shrink? Try it. Why?</li>
+<li>Make the spring much stiffer, or pull much faster. What happens to the stick and the slip?</li>
+<li>Press harder on the block (more weight). Do the slips get bigger or smaller? By how much?</li>
+<li>In the fault of many blocks, which setting gives the most large earthquakes? Which gives the steepest line
+(the highest b)? Can you forecast when the next large one comes?</li></ol>
+<details id="teacher"><summary>For the teacher</summary>
+<p>The page computes everything itself, offline: the static friction's rate law of seed 003 (its eq. 2-18,
+mu_s - mu_m = drop / (1 + drop b rate^d), with the surfaces' constants from its Table I) at the loading rate
+K V / W, and the exact stick-slip cycle (damped sinusoids, nothing time-stepped), the numbers
+<code>faultslip</code> computes in Python (checked to 1e-9 in its tests). The chains are
+<code>configs/spring_chain.toml</code>'s model, computed in advance; faultslip's b is its maximum-likelihood
+fit above the completeness magnitude, withheld where the catalogue fails its Gutenberg–Richter test.</p>
+<p>A 45-50 minute lesson: 5 min the demonstration (a block, a rubber band, sandpaper), 15 min section 1 with
+predictions 1-3, 15 min section 2 with its CSV and the plot, 10 min discussion of question 4: size and timing
+are not the same question. The teacher's guide, with the expected answers and the NGSS performance expectations
+it serves (MS-ESS2-2, MS-ESS3-2, HS-ESS2-1, HS-ESS3-1), is the page "Teaching with the lesson"
+(<code>docs/teaching_guide.md</code>) of faultslip's documentation.</p>
+</details>
 <script id="data" type="application/json">@@DATA@@</script>
 <script>@@SCRIPT@@</script>
 </body></html>
@@ -284,18 +327,21 @@ function line(ctx, xs, ys, map, colour, width) {
   ctx.stroke();
 }
 
+function physical(id) { return Math.pow(10, +el(id).value); }
+
 function slider() {
   const p = DATA.presets[el("preset").value];
-  const stiffness = Math.pow(10, +el("stiffness").value), speed = Math.pow(10, +el("pull").value) * 1e-6;
-  const mass = Math.pow(10, +el("mass").value), zeta = +el("damping").value;
+  const stiffness = physical("stiffness"), load = physical("load"), speed = physical("pull") * 1e-6;
+  const mass = physical("mass"), zeta = +el("damping").value;
   el("stiffness_out").textContent = stiffness.toPrecision(3) + " N/m";
+  el("load_out").textContent = load.toPrecision(3) + " N";
   el("pull_out").textContent = (speed * 1e6).toPrecision(3) + " µm/s";
   el("mass_out").textContent = mass.toPrecision(3) + " kg";
   el("damping_out").textContent = zeta.toFixed(2);
-  const rate = stiffness * speed / p.normal_load;  // theta_dot = K V / W (seed eq. 2-3)
+  const rate = stiffness * speed / load;  // theta_dot = K V / W (seed eq. 2-3)
   const excess = staticExcess(rate, p);
-  const c = exactCycle(rate, p.normal_load, stiffness, mass, excess, zeta);
-  el("regime").textContent = c.regime.replace("_", " ");
+  const c = exactCycle(rate, load, stiffness, mass, excess, zeta);
+  el("regime").textContent = c.regime === "stick_slip" ? "stick slip" : "steady sliding";
   show("mu_s", p.mu_m + excess, "", 6);
   show("amplitude", c.regime === "stick_slip" ? c.amplitude * 1e6 : NaN, "µm");
   show("period", c.regime === "stick_slip" ? c.period * 1e3 : NaN, "ms");
@@ -303,9 +349,10 @@ function slider() {
   el("amplitude").dataset.si = String(c.amplitude); el("period").dataset.si = String(c.period);
   el("slip").dataset.si = String(c.slipPerEvent);
   const saw = el("sawtooth").getContext("2d"), phase = el("phase").getContext("2d");
+  SAW = null; el("period_fit").textContent = "";
   if (c.regime !== "stick_slip") {
-    saw.clearRect(0, 0, 620, 240); phase.clearRect(0, 0, 300, 240);
-    saw.fillText("steady sliding: no stick-slip at this pull speed and spring", 60, 120); return;
+    saw.clearRect(0, 0, 600, 230); phase.clearRect(0, 0, 300, 230);
+    saw.fillText("it slides smoothly: no sticking at this speed and spring", 60, 115); return;
   }
   // one cycle in the dimensionless variables: stick from U_end up to U0 at speed eps, then the slip
   const osc = c.osc, n = 120, slipU = [], slipV = [], slipS = [];
@@ -318,13 +365,91 @@ function slider() {
     t.push(t0); u.push(c.uEnd); t.push(t0 + stickTime); u.push(osc.u[0]);
     for (let i = 0; i <= n; i++) { t.push(t0 + stickTime + slipS[i]); u.push(slipU[i]); }
   }
-  const force = u.map((x) => (x * c.length * stiffness) + p.normal_load * p.mu_m);
+  const force = u.map((x) => (x * c.length * stiffness) + load * p.mu_m);
   const tms = t.map((s) => s / c.omegaN * 1e3);
-  line(saw, tms, force, axes(saw, el("sawtooth"), tms, force, "time (ms) → spring force (N) ↑"), "#1f77b4");
+  const map = axes(saw, el("sawtooth"), tms, force, "time (ms) → spring's pull (N) ↑");
+  line(saw, tms, force, map, "#1f77b4");
+  SAW = {t: tms, force: force, map: map, period: c.period * 1e3};
   const px = slipU.map((x) => x * c.length * 1e6), pv = slipV.map((v) => v * c.length * c.omegaN * 1e3);
-  const map = axes(phase, el("phase"), px.concat([0]), pv.concat([speed * 1e3]), "x (µm) → x' (mm/s) ↑");
-  line(phase, px, pv, map, "#1f77b4");
-  line(phase, [px[n], px[0]], [speed * 1e3, speed * 1e3], map, "#d62728", 3);
+  const pmap = axes(phase, el("phase"), px.concat([0]), pv.concat([speed * 1e3]), "moved (µm) → speed (mm/s) ↑");
+  line(phase, px, pv, pmap, "#1f77b4");
+  line(phase, [px[n], px[0]], [speed * 1e3, speed * 1e3], pmap, "#d62728", 3);
+}
+
+let SAW = null;
+
+function peaks(values) {  // where each slip starts: the first sample of each visit to the sawtooth's top
+  const high = Math.max(...values), low = Math.min(...values), near = 1e-9 * (high - low), out = [];
+  for (let i = 0; i < values.length; i++) {
+    if (values[i] >= high - near && (i === 0 || values[i - 1] < high - near)) { out.push(i); }
+  }
+  return out;
+}
+
+function fitOnePeriod() {  // one period read off the drawn sawtooth: from one slip's start to the next's
+  if (SAW === null) { el("period_fit").textContent = "no sawtooth to fit"; return NaN; }
+  const top = peaks(SAW.force);
+  const fitted = SAW.t[top[1]] - SAW.t[top[0]];
+  el("period_fit").dataset.value = String(fitted);
+  el("period_fit").textContent = "fitted period " + fitted.toPrecision(4) + " ms (first slip to the next)";
+  return fitted;
+}
+
+function checkReading() {
+  const guess = +el("guess").value;
+  if (SAW === null || !(guess > 0)) { el("period_fit").textContent = "type a time in ms first"; return; }
+  const off = (guess - SAW.period) / SAW.period * 100;
+  el("period_fit").textContent = "your reading is " + Math.abs(off).toFixed(1) + " % " + (off > 0 ? "long" : "short");
+  const ctx = el("sawtooth").getContext("2d"), top = peaks(SAW.force);
+  ctx.strokeStyle = "#2ca02c"; ctx.setLineDash([4, 3]);
+  for (let k = 0; k < 4; k++) {
+    const x = SAW.map[0](SAW.t[top[0]] + k * guess);
+    ctx.beginPath(); ctx.moveTo(x, 8); ctx.lineTo(x, 190); ctx.stroke();
+  }
+  ctx.setLineDash([]);
+}
+
+function catalogueCsv(c) {
+  const rows = ["event,magnitude"];
+  c.magnitudes.forEach((m, i) => rows.push((i + 1) + "," + m));
+  return rows.join("\n") + "\n";
+}
+
+function downloadCsv() {
+  const c = DATA.chains[+el("chain").value];
+  const link = document.createElement("a");
+  link.href = URL.createObjectURL(new Blob([catalogueCsv(c)], {type: "text/csv"}));
+  link.download = "catalogue_coupling" + c.coupling + "_spread" + Math.round(c.spread * 100) + ".csv";
+  document.body.appendChild(link); link.click(); link.remove();
+}
+
+function studentB(c, mc) {  // Aki (1965): b = log10(e) / (mean M - Mc), over the magnitudes at or above Mc
+  const above = c.magnitudes.filter((m) => m >= mc);
+  const mean = above.reduce((a, b) => a + b, 0) / above.length;
+  const b = Math.LOG10E / (mean - mc);
+  return {b: b, error: b / Math.sqrt(above.length), count: above.length, a: Math.log10(above.length) + b * mc};
+}
+
+function drawMfd(fitLine) {
+  const c = DATA.chains[+el("chain").value];
+  const m = c.magnitudes.slice().sort((a, b) => a - b), count = m.map((_, i) => Math.log10(m.length - i));
+  const ctx = el("mfd").getContext("2d");
+  const map = axes(ctx, el("mfd"), m, count, "size (magnitude) → log10 of how many are this large or larger ↑");
+  ctx.fillStyle = "#1f77b4";
+  for (let i = 0; i < m.length; i++) { ctx.fillRect(map[0](m[i]) - 1.5, map[1](count[i]) - 1.5, 3, 3); }
+  if (fitLine) {
+    const mc = +el("mc").value, fit = studentB(c, mc), x1 = m[m.length - 1];
+    line(ctx, [mc, x1], [fit.a - fit.b * mc, fit.a - fit.b * x1], map, "#d62728", 2);
+  }
+}
+
+function fitGr() {
+  const c = DATA.chains[+el("chain").value], mc = +el("mc").value, fit = studentB(c, mc);
+  el("student_b").dataset.value = String(fit.b);
+  el("student_b").textContent = fit.b.toFixed(2) + " ± " + fit.error.toFixed(2) + " (" + fit.count + " earthquakes)";
+  el("gr_warning").textContent = c.b === null ? "but these sizes do not follow the Gutenberg–Richter law: the " +
+    "points do not lie on one straight line, so a b-value does not describe them" : "";
+  drawMfd(true);
 }
 
 function chain() {
@@ -337,24 +462,27 @@ function chain() {
     el("b_value").textContent += c.interval ? " (" + c.interval[0].toFixed(2) + "–" + c.interval[1].toFixed(2) + ")" : "";
   }
   el("system_events").textContent = String(c.system_events); show("cv", c.recurrence_cv, "", 2);
-  const m = c.magnitudes.slice().sort((a, b) => a - b), count = m.map((_, i) => Math.log10(m.length - i));
-  const ctx = el("mfd").getContext("2d");
-  const map = axes(ctx, el("mfd"), m, count, "magnitude → log10 number with magnitude ≥ M ↑");
-  ctx.fillStyle = "#1f77b4";
-  for (let i = 0; i < m.length; i++) { ctx.fillRect(map[0](m[i]) - 1.5, map[1](count[i]) - 1.5, 3, 3); }
-  if (c.b !== null) {
-    const x0 = c.completeness, x1 = m[m.length - 1];
-    line(ctx, [x0, x1], [c.a - c.b * x0, c.a - c.b * x1], map, "#d62728", 2);
-  }
+  const low = Math.min(...c.magnitudes), high = Math.max(...c.magnitudes);
+  el("mc").min = low.toFixed(2); el("mc").max = high.toFixed(2);
+  el("mc").value = (c.completeness !== null ? c.completeness : low).toFixed(2);
+  el("mc_out").textContent = "magnitude " + (+el("mc").value).toFixed(2);
+  el("student_b").textContent = ""; el("gr_warning").textContent = "";
+  drawMfd(false);
 }
 
 function start() {
   const p = DATA.presets[el("preset").value];
   el("stiffness").value = Math.log10(p.stiffness).toFixed(2); el("mass").value = Math.log10(p.mass).toFixed(2);
+  el("load").value = String(Math.log10(p.normal_load));  // the surfaces' own load, exactly (step "any")
   slider();
 }
-for (const id of ["stiffness", "pull", "mass", "damping"]) { el(id).addEventListener("input", slider); }
+for (const id of ["stiffness", "load", "pull", "mass", "damping"]) { el(id).addEventListener("input", slider); }
 el("preset").addEventListener("change", start);
 el("chain").addEventListener("change", chain);
+el("mc").addEventListener("input", () => { el("mc_out").textContent = "magnitude " + (+el("mc").value).toFixed(2); });
+el("gr_fit").addEventListener("click", fitGr);
+el("csv").addEventListener("click", downloadCsv);
+el("fit").addEventListener("click", fitOnePeriod);
+el("check").addEventListener("click", checkReading);
 start(); chain();
 """
