@@ -22,9 +22,9 @@ PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
 LAYERS = {"core": 0, "io": 1, "contract": 1.5, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
           "plots": 6, "models": 7, "cli": 8, "apps": 7.5}
 HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "tqdm", "pint", "h5py", "zarr", "numcodecs", "numba", "bokeh", "selenium", "PIL",
-         "mpl_toolkits", "openpyxl", "dask_jobqueue", "rocket_fft", "llvmlite"}  # basemap (mpl_toolkits),
-# openpyxl, dask-jobqueue, rocket-fft: the optional maps, xlsx, dask (--scheduler slurm) and fast (numba's FFTs)
-# extras; llvmlite: numba's own, for the compiled step's intrinsics
+         "mpl_toolkits", "openpyxl", "dask_jobqueue", "rocket_fft", "llvmlite", "fdhpy"}  # basemap (mpl_toolkits),
+# openpyxl, dask-jobqueue, rocket-fft, fdhpy: the optional maps, xlsx, dask (--scheduler slurm), fast (numba's FFTs)
+# and fdh (the field's displacement models) extras; llvmlite: numba's own, for the compiled step's intrinsics
 PLATFORM = {"fcntl", "multiprocessing", "webbrowser"}
 
 

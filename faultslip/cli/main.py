@@ -360,7 +360,10 @@ def _studies_commands(commands) -> None:
                           "displacement at a site on a fault trace, 'lon lat' in degrees (principal displacement: "
                           "Petersen et al. 2011's profile; with --plot also FILE_displacement.png)")
     regional.add_argument("--displacement-model", default="faultslip", help="faultslip (its slip per event as the "
-                          "rupture's average displacement, default) or petersen_2011 (the level from Mw)")
+                          "rupture's average displacement, default), petersen_2011 (the level from Mw), one of "
+                          "fdhpy's for the fault's style of faulting (youngs_2003, moss_ross_2011, "
+                          "lavrentiadis_abrahamson_2023, moss_2024, kuehn_2024, chiou_2025; pip install "
+                          "'faultslip[fdh]'), or logic_tree (every model that applies, equally weighted)")
     regional.add_argument("--displacements", help="the displacements of the curve, e.g. '0.1 m, 1 m, 3 m, 10 ft' "
                           "(default 41 from 1 cm to 30 m)")
     regional.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])

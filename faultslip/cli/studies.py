@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import importlib.util
+
 import json
 import math
 from datetime import datetime, timezone
@@ -127,6 +129,9 @@ def _displacement_options(args, spec, outputs) -> dict | None:
     if args.displacement_model not in displacement_hazard.MODELS:
         raise InputError(f"--displacement-model must be one of {', '.join(displacement_hazard.MODELS)}, "
                          f"got {args.displacement_model!r}")
+    if args.displacement_model in displacement_hazard.FDHPY_MODELS and importlib.util.find_spec("fdhpy") is None:
+        raise InputError(f"--displacement-model {args.displacement_model} comes from fdhpy, which is not installed: "
+                         "pip install 'faultslip[fdh]'")
     displacements = None
     if args.displacements is not None:
         parts = [part for part in args.displacements.replace(";", ",").split(",") if part.strip()]

@@ -25,6 +25,7 @@ All displacements are in m; rates in 1/yr.
 from __future__ import annotations
 
 import math
+import warnings
 from functools import lru_cache
 
 import numpy as np
@@ -35,7 +36,85 @@ from faultslip.errors import InputError
 PETERSEN_2011 = {"position": 3.3041, "magnitude": 1.7927, "constant": -11.2192, "sigma": 1.1348}
 #: Wells & Coppersmith (1993): the logistic regression of surface rupture on magnitude
 SURFACE_RUPTURE = {"constant": -12.51, "magnitude": 2.053}
-MODELS = ("faultslip", "petersen_2011")
+#: The field's models through fdhpy (UCLA NHR3's implementations, MIT; ``pip install 'faultslip[fdh]'``): name ->
+#: (fdhpy class, the styles of faulting it was regressed on, its metric, its version). Each gives P(D > d | M, x/L,
+#: a surface rupture); faultslip weighs it by P(sr | M) as it does its own.
+FDHPY_MODELS = {
+    "youngs_2003": ("YoungsEtAl2003", ("normal",), "principal", "d/ad"),
+    "moss_ross_2011": ("MossRoss2011", ("reverse",), "principal", "d/ad"),
+    "lavrentiadis_abrahamson_2023": ("LavrentiadisAbrahamson2023", ("strike-slip", "reverse", "normal"), "aggregate",
+                                     "full rupture"),
+    "moss_2024": ("MossEtAl2024", ("reverse",), "principal", "d/ad"),
+    "kuehn_2024": ("KuehnEtAl2024", ("strike-slip", "reverse", "normal"), "aggregate", "median_coeffs"),
+    "chiou_2025": ("ChiouEtAl2025", ("strike-slip",), "sum-of-principal", "model7"),
+    "petersen_2011_fdhpy": ("PetersenEtAl2011", ("strike-slip",), "principal", "elliptical"),
+}
+#: Every model, and ``logic_tree``: the models that apply to a rupture's style, equally weighted.
+MODELS = ("faultslip", "petersen_2011") + tuple(FDHPY_MODELS) + ("logic_tree",)
+
+
+def style_of(rake: float) -> str:
+    """The style of faulting of a rake (degrees, Aki & Richards): reverse from 45 to 135, normal from -135 to -45,
+    strike-slip otherwise (the fdhpy models' classes)."""
+    rake = ((float(rake) + 180.0) % 360.0) - 180.0
+    if 45.0 <= rake <= 135.0:
+        return "reverse"
+    if -135.0 <= rake <= -45.0:
+        return "normal"
+    return "strike-slip"
+
+
+def applicable_models(style: str) -> list[str]:
+    """The models that apply to ``style``: faultslip's own (its level from the fault's own slip), Petersen et al.
+    (2011) for strike-slip, and each fdhpy model regressed on that style."""
+    own = ["faultslip"] + (["petersen_2011"] if style == "strike-slip" else [])
+    return own + [name for name, (_, styles, _, _) in FDHPY_MODELS.items() if style in styles
+                  and name != "petersen_2011_fdhpy"]
+
+
+def fdhpy_exceedance(name: str, displacements, magnitudes, positions, style: str) -> tuple[np.ndarray, list]:
+    """(P(D > d | M, x/L, surface rupture) as (ruptures, displacements), notes) from fdhpy's model ``name``.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`FDHPY_MODELS`.
+    displacements : array
+        d (m).
+    magnitudes, positions : array
+        Each rupture's Mw and the site's x/L along it.
+    style : str
+        strike-slip, reverse or normal.
+
+    Returns
+    -------
+    tuple
+        The probabilities, and notes (a magnitude outside the model's range is said, not hidden).
+    """
+    try:
+        import fdhpy  # optional: imported where used
+    except ImportError:
+        raise InputError(f"the displacement model {name} comes from fdhpy, which is not installed: pip install "
+                         "'faultslip[fdh]'") from None
+    model_class, styles, metric, version = FDHPY_MODELS[name]
+    if style not in styles:
+        raise InputError(f"{name} was regressed on {' and '.join(styles)} ruptures, not {style}; for {style}: "
+                         f"{', '.join(applicable_models(style))}")
+    cls = getattr(fdhpy, model_class)
+    low, high = cls._CONDITIONS["style"][style].get("magnitude", (-math.inf, math.inf))
+    d = np.asarray(displacements, float)
+    rows, notes = [], []
+    outside = [m for m in np.asarray(magnitudes, float) if not low <= m <= high]
+    if outside:
+        notes.append(f"{name}: Mw {', '.join(f'{m:.2f}' for m in outside)} outside its range {low:g}-{high:g}: "
+                     "extrapolated")
+    for magnitude, position in zip(np.asarray(magnitudes, float), np.asarray(positions, float)):
+        kwargs = {"style": style, "magnitude": float(magnitude), "xl": float(position), "metric": metric,
+                  "version": version, "displ_array": d}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # fdhpy warns of extrapolation; said above in a note instead
+            rows.append(np.asarray(cls(**kwargs).prob_exceed, float))
+    return np.clip(np.array(rows), 0.0, 1.0), notes
 
 
 def surface_rupture_probability(magnitude):
@@ -94,7 +173,8 @@ def exceedance_probability(displacement, mean_log, sigma):
 
 
 def displacement_hazard_curve(displacements, rates, magnitudes, positions, average_displacements=None,
-                              model: str = "faultslip", surface_rupture: bool = True) -> np.ndarray:
+                              model: str = "faultslip", surface_rupture: bool = True,
+                              style: str = "strike-slip") -> np.ndarray:
     """Annual rate of exceeding each of ``displacements`` (m) at a site, summed over ruptures (see the module).
 
     Parameters
@@ -111,28 +191,36 @@ def displacement_hazard_curve(displacements, rates, magnitudes, positions, avera
         Each rupture's average displacement AD (m): ``faultslip``'s level; a leading axis of draws is summed
         separately (the result then has that axis too).
     model : str
-        ``faultslip`` or ``petersen_2011``.
+        ``faultslip``, ``petersen_2011`` or one of :data:`FDHPY_MODELS` (through fdhpy).
     surface_rupture : bool
         Weigh each rupture by P(sr | M) (Wells & Coppersmith 1993); False takes every rupture to the surface.
+    style : str
+        The ruptures' style of faulting (strike-slip, reverse or normal), for the fdhpy models.
 
     Returns
     -------
     array
         lambda(D > d) (1/yr), one per displacement (and per draw).
     """
-    if model not in MODELS:
-        raise InputError(f"the displacement model must be one of {', '.join(MODELS)}, got {model!r}")
+    if model not in MODELS or model == "logic_tree":
+        raise InputError(f"the displacement model must be one of {', '.join(MODELS[:-1])}, got {model!r}"
+                         + (" (the logic tree is displacement_hazard's)" if model == "logic_tree" else ""))
     rates, magnitudes = np.asarray(rates, float), np.asarray(magnitudes, float)
     positions = np.asarray(positions, float)
     if np.any(~(rates >= 0)):
         raise InputError("rupture rates must be zero or positive")
     weight = rates * (surface_rupture_probability(magnitudes) if surface_rupture else 1.0)
+    d = np.asarray(displacements, float)
+    if model in FDHPY_MODELS:
+        if np.any(~(d > 0)):
+            raise InputError("displacements must be positive lengths")
+        probability, _ = fdhpy_exceedance(model, d, magnitudes, positions, style)
+        return probability.T @ weight
     if model == "petersen_2011":
         mean_log, sigma = petersen_2011(magnitudes, positions)
     else:
         if average_displacements is None:
             raise InputError("the faultslip displacement model needs each rupture's average displacement")
         mean_log, sigma = faultslip_profile(average_displacements, positions)
-    d = np.asarray(displacements, float)
     probability = exceedance_probability(d, np.asarray(mean_log)[..., None], sigma)  # (..., ruptures, d)
     return np.einsum("...kd,k->...d", probability, weight)

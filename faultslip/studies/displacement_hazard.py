@@ -24,8 +24,9 @@ from faultslip.fault.scaling import Fault, fitted_draws
 from faultslip.io.geo import densify, great_circle, trace_length
 from faultslip.units import JULIAN_YEAR
 
-#: the displacement models (faultslip.fault.displacement)
+#: the displacement models (faultslip.fault.displacement), and those through fdhpy
 MODELS = fdh.MODELS
+FDHPY_MODELS = fdh.FDHPY_MODELS
 #: how near a fault's trace a site must be for principal displacement (m)
 ON_FAULT = 1e3
 #: displacements a curve is drawn at by default (m): 1 cm to 30 m
@@ -48,6 +49,8 @@ class DisplacementHazard:
     draws: int = 0
     distance: float = 0.0  # m from the site to the trace
     notes: list = field(default_factory=list)
+    style: str = "strike-slip"  # of the site's fault, from its rake
+    branches: dict = field(default_factory=dict)  # a logic tree's: model -> (weight, curve)
 
     def as_dict(self) -> dict:
         return {"site": {"lon": self.site[0], "lat": self.site[1]}, "fault": self.fault, "model": self.model,
@@ -55,6 +58,9 @@ class DisplacementHazard:
                 "draws": self.draws, "displacement": {"value": self.displacements.tolist(), "units": "m"},
                 "annual_exceedance_rate": {"value": self.rate.tolist(), "units": "1/yr"},
                 "quantiles": {f"{q:g}": {"value": curve.tolist(), "units": "1/yr"} for q, curve in self.quantiles.items()},
+                "style": self.style,
+                "branches": {name: {"weight": weight, "annual_exceedance_rate": {"value": curve.tolist(), "units": "1/yr"}}
+                             for name, (weight, curve) in self.branches.items()},
                 "notes": self.notes}
 
     def to_dataset(self):
@@ -70,8 +76,16 @@ class DisplacementHazard:
             data["annual_exceedance_rate_percentiles"] = (
                 ("percentile", "displacement"), np.vstack(list(self.quantiles.values())),
                 {"units": "1/yr", "long_name": "percentiles of the rate over the fit's draws"})
+        if self.branches:
+            names = list(self.branches)
+            coords["branch"] = ("branch", np.array(names), {"long_name": "displacement model of the logic tree"})
+            data["branch_weight"] = (("branch",), np.array([self.branches[n][0] for n in names]), {"units": "1"})
+            data["branch_annual_exceedance_rate"] = (("branch", "displacement"),
+                                                     np.vstack([self.branches[n][1] for n in names]),
+                                                     {"units": "1/yr", "long_name": "each model's curve"})
         return xr.Dataset(data, coords=coords, attrs={"site_lon": self.site[0], "site_lat": self.site[1],
-                                                      "fault": self.fault, "displacement_model": self.model})
+                                                      "fault": self.fault, "displacement_model": self.model,
+                                                      "style_of_faulting": self.style})
 
 
 def along_trace(trace, lon: float, lat: float) -> tuple[float, float]:
@@ -189,7 +203,9 @@ def displacement_hazard(spec, dataset, site, model: str = "faultslip", displacem
     site : tuple
         (lon, lat) in degrees, on a trace (within :data:`ON_FAULT`).
     model : str
-        ``faultslip`` (its slip per event as the average displacement) or ``petersen_2011``.
+        ``faultslip`` (its slip per event as the average displacement), ``petersen_2011``, one of fdhpy's models
+        (:data:`faultslip.fault.displacement.FDHPY_MODELS`, for the rupture's style of faulting from the fault's
+        rake), or ``logic_tree`` (every model that applies, equally weighted).
     displacements : array, optional
         Displacements (m); :data:`DEFAULT_DISPLACEMENTS` otherwise.
     system : RuptureSet, optional
@@ -205,8 +221,20 @@ def displacement_hazard(spec, dataset, site, model: str = "faultslip", displacem
         raise InputError("a displacement hazard needs fault segments ([segments]), not a raster map")
     lon, lat = site
     d = DEFAULT_DISPLACEMENTS if displacements is None else np.asarray(displacements, float)
+    if model not in MODELS:
+        raise InputError(f"the displacement model must be one of {', '.join(MODELS)}, got {model!r}")
     ruptures = _system_ruptures(system, lon, lat) if system is not None else _segment_ruptures(spec, dataset, lon, lat)
     notes = [ruptures["note"]]
+    style = fdh.style_of(spec.segments.rakes[ruptures["fault"]])  # the site's fault (a section's, on a system)
+    if model == "logic_tree":
+        return _logic_tree(spec, dataset, (lon, lat), d, ruptures, style, surface_rupture, system, notes)
+    if model in fdh.FDHPY_MODELS:
+        probability, said = fdh.fdhpy_exceedance(model, d, ruptures["magnitudes"], ruptures["positions"], style)
+        weight = ruptures["rates"] * (fdh.surface_rupture_probability(ruptures["magnitudes"]) if surface_rupture else 1.0)
+        notes += said + [f"{model} (fdhpy) for a {style} rupture"
+                         + ("; surface rupture by Wells & Coppersmith (1993)" if surface_rupture else "")]
+        return DisplacementHazard((lon, lat), ruptures["name"], model, d, probability.T @ weight, {},
+                                  len(ruptures["rates"]), 0, ruptures["distance"], notes, style)
     curve = fdh.displacement_hazard_curve(d, ruptures["rates"], ruptures["magnitudes"], ruptures["positions"],
                                           ruptures["averages"], model, surface_rupture)
     quantiles, count = {}, 0
@@ -233,4 +261,31 @@ def displacement_hazard(spec, dataset, site, model: str = "faultslip", displacem
                  + (", its level faultslip's slip per event" if model == "faultslip" else ", its level from Mw")
                  + ("; surface rupture by Wells & Coppersmith (1993)" if surface_rupture else ""))
     return DisplacementHazard((lon, lat), ruptures["name"], model, d, curve, quantiles, len(ruptures["rates"]), count,
-                              ruptures["distance"], notes)
+                              ruptures["distance"], notes, style)
+
+
+def _logic_tree(spec, dataset, site, d, ruptures, style, surface_rupture, system, notes) -> DisplacementHazard:
+    """Every model that applies to the rupture's style, equally weighted: the mean curve, each branch's, and the
+    5-95 % spread across them (epistemic: the models' disagreement). A model fdhpy cannot give (not installed) is
+    left out and said."""
+    names = fdh.applicable_models(style)
+    branches, said = {}, []
+    for name in names:
+        try:
+            branch = displacement_hazard(spec, dataset, site, name, d, system, surface_rupture)
+        except InputError as exc:
+            if "fdhpy" not in str(exc):
+                raise
+            said.append(f"{name} left out: fdhpy is not installed (pip install 'faultslip[fdh]')")
+            continue
+        branches[name] = branch.rate
+        said += [note for note in branch.notes if "outside its range" in note]
+    weight = 1.0 / len(branches)
+    curves = np.vstack(list(branches.values()))
+    mean = curves.mean(axis=0)
+    quantiles = {q: value for q, value in zip((5.0, 50.0, 95.0), np.percentile(curves, (5.0, 50.0, 95.0), axis=0))}
+    notes = notes + said + [f"logic tree over the {len(branches)} models for a {style} rupture, equally weighted: "
+                            f"{', '.join(branches)}; the percentiles are across the models"]
+    return DisplacementHazard(site, ruptures["name"], "logic_tree", d, mean, quantiles, len(ruptures["rates"]), 0,
+                              ruptures["distance"], notes, style,
+                              {name: (weight, curve) for name, curve in branches.items()})

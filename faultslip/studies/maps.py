@@ -119,6 +119,11 @@ class SegmentTable:
         return np.asarray(self.geometry.get("dip", np.full(len(self.ids), 90.0)), dtype=float)
 
     @property
+    def rakes(self) -> np.ndarray:
+        """Each segment's rake (degrees, Aki & Richards): the table's or GeoJSON's, else 180 (dextral)."""
+        return np.asarray(self.geometry.get("rake", np.full(len(self.ids), 180.0)), dtype=float)
+
+    @property
     def down_dip_widths(self) -> np.ndarray:
         """The rupture's down-dip width H / sin(dip) (m): what a dipping fault's moment and area take."""
         return self.seismogenic_depth / np.sin(np.radians(self.dips))
