@@ -54,6 +54,7 @@ PRODUCERS = (
     ("plane_strain_step", [], ["--elements", "200", "400", "--years", "20"], "plane_strain_step.json"),
     ("dip_model_error", [], ["--element-size", "200", "--years", "600"], "dip_model_error.json"),
     ("seas_bp3", [], ["--sizes", "200", "100", "--years", "600"], "seas_bp3.json"),
+    ("engine_branches", [], [], "engine_branches.json"),
 )
 #: Peer codes a benchmark needs, by the flag that gives it.
 PEERS = {"fault_2d_qdyn": "--qdyn", "spring_block_qdyn": "--qdyn", "look_against_pylook": "--pylook-python",

@@ -644,9 +644,26 @@ def dip_model_error_table() -> str | None:
             + _machine(result))
 
 
+def engine_branches_table() -> str | None:
+    result = _load("engine_branches.json")
+    if result is None:
+        return None
+    branches = result["branches"]
+    levels = next(iter(branches.values()))["levels_g"]
+    shown = [k for k, level in enumerate(levels) if level in (0.01, 0.05, 0.1, 0.2, 0.5, 1.0)]
+    rows = ["| source model | T (yr) | " + " | ".join(f"PGA > {levels[k]:g} g" for k in shown) + " |",
+            "| --- | --- | " + " | ".join("---" for _ in shown) + " |"]
+    for name, branch in branches.items():
+        rows.append(f"| {name} | {branch['investigation_time_yr']:g} | "
+                    + " | ".join(f"{branch['annual_rate'][k]:.3g}" for k in shown) + " |")
+    return ("\n".join(rows) + f"\n\nEquivalent annual rates, -ln(1 - PoE) / T, at {result['site']} "
+            "(benchmarks/engine_branches.py, the engine's classical calculator on each job faultslip writes). "
+            + _machine(result))
+
+
 #: Pages whose generated tables update() writes (the README has none: it is a door).
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
-         "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md")
+         "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
@@ -669,7 +686,7 @@ def _update_page(readme: Path) -> list[str]:
                          ("classroom", classroom_table), ("animation", animation_table),
                          ("first_run", first_run_table), ("renewal_coverage", renewal_coverage_table),
                          ("chain_example", chain_example_table), ("seas_bp3", seas_bp3_table),
-                         ("dip_model_error", dip_model_error_table)):
+                         ("dip_model_error", dip_model_error_table), ("engine_branches", engine_branches_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

@@ -92,7 +92,7 @@ def fdhpy_exceedance(name: str, displacements, magnitudes, positions, style: str
         The probabilities, and notes (a magnitude outside the model's range is said, not hidden).
     """
     try:
-        import fdhpy  # optional: imported where used
+        import fdhpy  # heavy: an optional extra (fdh), imported where used
     except ImportError:
         raise InputError(f"the displacement model {name} comes from fdhpy, which is not installed: pip install "
                          "'faultslip[fdh]'") from None

@@ -157,7 +157,7 @@ def read_seas(path) -> tuple[dict, list, np.ndarray]:
         try:
             values = [float(v) for v in stripped.split()]
         except ValueError:
-            if not rows:  # BP3's profiles name their fields on two lines: x_d, then t max_slip_rate ...
+            if not rows and names == ["x_d"]:  # BP3's profiles name their fields on two lines: x_d, then t ...
                 names.extend(stripped.split())
                 continue
             raise InputError(f"{label}, line {number}: not a row of numbers") from None
