@@ -204,10 +204,11 @@ def test_the_fault_map_is_projected_with_coastlines_and_colours_each_trace_by_it
     x = np.concatenate([segment[:, 0] for segment in traces[0].get_segments()])
     assert x.min() > 1e4
     assert len(slip_rate.collections) > 3  # coastlines, countries, states and the continents' fill
-    # a field the map computed to one value is one colour with one tick, not a range of round-off
+    # a field the map computed to one value is said in words, with no colour bar, not a range of round-off
     assert "on every fault" in panels[1].get_title()
-    bars = [axes for axes in figure.axes if not axes.get_title()]
-    assert any(label.get_text().startswith("all ") for axes in bars for label in axes.get_yticklabels())
+    assert any(text.get_text().startswith("all ") and "the same on every fault" in text.get_text()
+               for text in panels[1].texts)
+    assert len([axes for axes in figure.axes if not axes.get_title()]) == 3  # three colour bars, not four
     # every fault is named on the first panel, and the colour maps' palest tenth is left out (visible on land)
     names = {text.get_text() for text in slip_rate.texts}
     assert {name.replace("_", " ") for name in dataset["segment"].values} <= names
@@ -236,3 +237,31 @@ def test_without_basemap_the_fault_map_says_so(monkeypatch):
     assert "install faultslip[maps]" in figure._suptitle.get_text()
     assert all(len(line) <= 90 for line in figure._suptitle.get_text().splitlines())  # wrapped, never clipped
     assert figure.axes[0].get_xlabel() == "longitude (°E)"
+
+
+def test_dipping_traces_carry_a_tick_towards_their_dip(tmp_path):
+    """A thrust dipping 30 degrees and a normal fault dipping 60, their traces given with the fault to the right
+    (Aki & Richards): each trace carries a tick from its middle to its right, labelled with its dip; a vertical
+    trace carries none."""
+    from faultslip.plots.fault_maps import dip_ticks, fault_system_figure
+    from faultslip.studies.maps import load_map, run_map
+
+    east = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])  # a trace striking east dips to the south
+    north = np.array([[0.0, 0.0], [0.0, 1.0]])  # striking north: dips to the east
+    ticks = dip_ticks([east, north, east], np.array([30.0, 60.0, 90.0]), lambda x, y: (x, y), 0.1)
+    assert len(ticks) == 2
+    (x0, y0, x1, y1, dip), (u0, v0, u1, v1, dip2) = ticks
+    assert (x1 - x0, y1 - y0, dip) == pytest.approx((0.0, -0.1, 30.0))
+    assert (u1 - u0, v1 - v0, dip2) == pytest.approx((0.1, 0.0, 60.0))
+    header = ("segment,name,trace (degree),slip_rate (mm/yr),lithology,seismogenic_depth (km),zone_width (km),"
+              "dip (degree),rake (degree)\n")
+    rows = ("thrust,a 30-degree thrust,-118.60 34.30; -118.20 34.35,5,granodiorite,15,20,30,90\n"
+            "vertical,a vertical fault,-120.00 36.00; -119.70 35.70,20,granodiorite,12,20,,\n")
+    (tmp_path / "segments.csv").write_text(header + rows, encoding="utf-8")
+    (tmp_path / "map.toml").write_text(
+        f'[map]\nname = "dips"\nbase = "{ROOT / "configs" / "san_andreas_1906.toml"}"\n\n[segments]\n'
+        'file = "segments.csv"\n\n[grid]\nlon = { linspace = [-121.0, -116.0, 11] }\n'
+        'lat = { linspace = [34.0, 37.5, 8] }\nmax_distance = "40 km"\n', encoding="utf-8")
+    figure = fault_system_figure(run_map(load_map(tmp_path / "map.toml")), resolution="c")
+    labels = [text.get_text() for text in figure.axes[0].texts]
+    assert "30°" in labels and "90°" not in labels

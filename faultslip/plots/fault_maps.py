@@ -88,6 +88,27 @@ def _label_faults(axes, lines, names, project) -> None:
                       path_effects=[patheffects.withStroke(linewidth=2, foreground="white")])
 
 
+def dip_ticks(lines, dips, project, length: float) -> list:
+    """For each dipping trace (dip under 90 degrees), a tick from its middle towards the side it dips to, as
+    geological maps draw it, and the dip: [(x0, y0, x1, y1, dip)] in map coordinates. A trace is given with the
+    fault dipping to its right (Aki & Richards' strike), so the tick turns the trace's direction 90 degrees
+    clockwise; ``length`` is the tick's length in map units."""
+    ticks = []
+    for line, dip in zip(lines, dips):
+        if not (np.isfinite(dip) and dip < 90.0) or len(line) < 2:
+            continue
+        x, y = project(line[:, 0], line[:, 1])
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        middle = len(x) // 2
+        before, after = max(middle - 1, 0), min(middle + 1, len(x) - 1)
+        along = np.array([x[after] - x[before], y[after] - y[before]])
+        along /= np.hypot(*along)
+        right = np.array([along[1], -along[0]])  # the direction turned clockwise: the side the fault dips to
+        x0, y0 = (x[before] + x[after]) / 2, (y[before] + y[after]) / 2
+        ticks.append((x0, y0, x0 + length * right[0], y0 + length * right[1], float(dip)))
+    return ticks
+
+
 def _graticule_step(span: float) -> float:
     for step in (0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 30.0):
         if span / step <= 6:
@@ -146,22 +167,34 @@ def fault_system_figure(dataset, participation=None, resolution: str = "i"):
             norm = Normalize(0, 1)
         else:
             norm = LogNorm(low, high) if logarithmic and constant is None else Normalize(low, high)
-        drawn = LineCollection([s for s, ok in zip(segments, finite) if ok], cmap=visible_colours(cmap), norm=norm,
-                               linewidths=3.5,
-                               capstyle="round", zorder=5)
-        drawn.set_array(values[finite])
+        if constant is not None:  # one value on every fault: said in words, the traces in one neutral colour
+            drawn = LineCollection([s for s, ok in zip(segments, finite) if ok], colors="0.3", linewidths=3.5,
+                                   capstyle="round", zorder=5)
+        else:
+            drawn = LineCollection([s for s, ok in zip(segments, finite) if ok], cmap=visible_colours(cmap), norm=norm,
+                                   linewidths=3.5, capstyle="round", zorder=5)
+            drawn.set_array(values[finite])
         axes.add_collection(drawn)
         missing = [s for s, ok in zip(segments, finite) if not ok]
         if missing:  # no stick-slip: no event, no recurrence
             axes.add_collection(LineCollection(missing, colors="0.55", linewidths=2.0, linestyles=":", zorder=4))
-        bar = figure.colorbar(drawn, ax=axes, label=label.split("\n")[0], shrink=0.85)
         if constant is not None:
-            bar.set_ticks([constant])
-            bar.set_ticklabels([f"all {constant:.6g}"])
+            name, _, unit = label.split("\n")[0].partition(" (")
+            axes.text(0.5, 0.04, f"all {constant:.4g} {unit.rstrip(')')}: the same on every fault", transform=axes.transAxes,
+                      ha="center", va="bottom", fontsize=9, zorder=7,
+                      bbox={"boxstyle": "round", "facecolor": "white", "edgecolor": "0.6"})
             label = f"{label}: {constant:.6g} on every fault"
+        else:
+            figure.colorbar(drawn, ax=axes, label=label.split("\n")[0], shrink=0.85)
         axes.set_title(label, fontsize=9)
         if index == 0 and "segment" in dataset.coords and len(dataset["segment"]) <= 40:
             _label_faults(axes, traces, dataset["segment"].values, project)
+        if "dip" in dataset and lines is traces:  # each dipping trace's tick and dip, on every panel of segments
+            x_low, x_high = axes.get_xlim()
+            for x0, y0, x1, y1, dip in dip_ticks(traces, dataset["dip"].values, project, 0.03 * (x_high - x_low)):
+                axes.plot([x0, x1], [y0, y1], color="0.1", linewidth=1.6, zorder=6, solid_capstyle="butt")
+                axes.annotate(f"{dip:g}°", (x1, y1), fontsize=6, zorder=6, color="0.1", xytext=(2, -2),
+                              textcoords="offset points")
     title = dataset.attrs.get("title", "faultslip fault map")
     if base is None:
         title += " (longitude and latitude: install faultslip[maps] for a projected map with coastlines)"
