@@ -11,6 +11,7 @@ import pytest
 
 from conftest import assert_clean_error
 from faultslip.io import budget
+from faultslip.models.fault_2d import cost
 from faultslip.models.fault_2d.scene import load_fault_2d_scene
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -26,8 +27,8 @@ def test_the_fitted_range_holds_the_scenes_it_was_fitted_on_and_no_more():
     bp1_ratio = bp1.seismogenic_width() / bp1.nucleation_size()  # h* grows as D_c: BP1 has 8 mm
     ratios = [row["design"]["width_over_nucleation"] for row in rows] + [bp1_ratio * 8 / 48, bp1_ratio * 8 / 6]
     stresses = [row["design"]["normal_stress"] for row in rows] + [float(bp1.normal_stress.max())]
-    for values, (low, high) in ((ratios, budget.FAULT_2D_FITTED["width_over_nucleation"]),
-                                (stresses, budget.FAULT_2D_FITTED["normal_stress"])):
+    for values, (low, high) in ((ratios, cost.FAULT_2D_FITTED["width_over_nucleation"]),
+                                (stresses, cost.FAULT_2D_FITTED["normal_stress"])):
         assert low <= min(values) <= 1.15 * low
         assert high / 1.15 <= max(values) <= high
 
@@ -84,7 +85,7 @@ def test_the_step_seconds_are_the_least_squares_fit_of_the_compiled_runs():
     points = np.array(points)
     design = np.c_[np.ones(len(points)), points[:, 0]]
     fitted = np.linalg.lstsq(design, points[:, 1], rcond=None)[0]
-    c0, c1, margin = budget.FAULT_2D_STEP_SECONDS
+    c0, c1, margin = cost.FAULT_2D_STEP_SECONDS
     assert len(points) >= 10 and margin == 1.0
     assert (c0, c1) == pytest.approx(tuple(fitted), rel=1e-3)
 
@@ -99,7 +100,7 @@ def test_the_plane_strain_step_cost_is_its_benchmarks_fit(monkeypatch):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     results = json.loads((ROOT / "benchmarks" / "results" / "plane_strain_step.json").read_text(encoding="utf-8"))
-    assert budget.PLANE_STRAIN_STEP_SECONDS == pytest.approx(module.fit(results["rows"]), rel=1e-3)
+    assert cost.PLANE_STRAIN_STEP_SECONDS == pytest.approx(module.fit(results["rows"]), rel=1e-3)
     for row in results["rows"]:
-        estimate = budget.fault_2d_estimate(row["elements"], 60.0, 1, steps=row["steps"], plane_strain=True)
+        estimate = cost.fault_2d_estimate(row["elements"], 60.0, 1, steps=row["steps"], plane_strain=True)
         assert 1 / 1.32 <= estimate.seconds / (row["steps"] * row["seconds_per_step"]) <= 1.32

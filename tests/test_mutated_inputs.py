@@ -359,7 +359,7 @@ def test_a_checkpoint_written_under_a_planted_temporary_name_follows_no_link(tmp
 ])
 def test_a_2d_runs_step_estimate_covers_what_it_takes(tmp_path, changes):
     """The budget's estimate ignored D_c, the plate rate, f0 and the element size: runs estimated at 0.15-11 s were
-    still going after 300 s. Now it counts steps from the events the run will see (io.budget.fault_2d_steps, the
+    still going after 300 s. Now it counts steps from the events the run will see (models/fault_2d/cost.fault_2d_steps, the
     events from the one-slider rung's recurrence) and is checked here against measured step counts on faults it
     was not fitted on (steps, not seconds: the count does not depend on the machine). These small faults lie
     outside the ladder's calibrated box (W / h* about 0.5), where the estimate extrapolates: it may err long, by

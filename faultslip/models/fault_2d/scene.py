@@ -61,6 +61,7 @@ from faultslip.io.processes import threads_are_automatic, threads_for
 from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.units import to_si_scalar
+from faultslip.models.fault_2d import cost
 
 _FAULT = {"density", "shear_wave_speed", "shear_modulus", "width", "element_size", "plate_rate", "evolution", "plane",
           "dip", "sense", "poisson_ratio"}
@@ -158,9 +159,9 @@ class Fault2DScene:
 
     def estimated_steps(self, rtol: float | None = None) -> float:
         """The steps this scene's run takes: from the events it will see (:meth:`expected_events`), its width over
-        the nucleation size, its elements, element size and tolerance (:func:`faultslip.io.budget.fault_2d_steps`)."""
+        the nucleation size, its elements, element size and tolerance (:func:`faultslip.io.cost.fault_2d_steps`)."""
         fault = self.fault
-        return budget.fault_2d_steps(years=self.duration / YEAR, plate_rate=fault.plate_rate,
+        return cost.fault_2d_steps(years=self.duration / YEAR, plate_rate=fault.plate_rate,
                                      element_size=fault.element_size, process_zone=fault.process_zone(),
                                      nucleation_size=fault.nucleation_size(),
                                      seismogenic_width=fault.seismogenic_width(),
@@ -169,20 +170,20 @@ class Fault2DScene:
 
     def estimate(self, rtol: float | None = None, output=None):
         """What a run of this scene needs (:class:`faultslip.io.budget.Estimate`), before it starts."""
-        return budget.fault_2d_estimate(self.fault.count, self.duration / YEAR, len(self.stations), output,
+        return cost.fault_2d_estimate(self.fault.count, self.duration / YEAR, len(self.stations), output,
                                         steps=self.estimated_steps(rtol), outside_fit=self.outside_fit(),
                                         step_cost=relative_step_cost(step_path()),
                                         plane_strain=self.fault.plane == "strain")
 
     def outside_fit(self) -> tuple:
         """Where this scene lies outside the scenes its cost estimate was fitted on
-        (:func:`faultslip.io.budget.fault_2d_outside_fit`): W/h* and the weakening part's normal stress."""
+        (:func:`faultslip.io.cost.fault_2d_outside_fit`): W/h* and the weakening part's normal stress."""
         fault = self.fault
         weakening = fault.b > fault.a
         if not np.any(weakening):
             return ()  # a creeping fault: no events, the fallback model's few steps
         stress = fault.normal_stress[weakening]
-        return budget.fault_2d_outside_fit(width_over_nucleation=fault.seismogenic_width() / fault.nucleation_size(),
+        return cost.fault_2d_outside_fit(width_over_nucleation=fault.seismogenic_width() / fault.nucleation_size(),
                                            normal_stress_low=float(stress.min()),
                                            normal_stress_high=float(stress.max()))
 

@@ -35,6 +35,7 @@ from faultslip.dynamics.shared.settling import Settling, aitken, assess_settling
 from faultslip.errors import InputError, SolverError
 from faultslip.io import budget
 from faultslip.io.report import Report
+from faultslip.models.nanoscale import cost as nanoscale_cost
 
 #: the slides' parameters ("The parameters used in the results reported here"), A = 3 in Fig. 3a
 SLIDES = {"damping": 3.0, "drive_speed": 0.02, "peak_speed": 0.01, "charging_time": 2.0, "charge_length": 1.57,
@@ -127,7 +128,7 @@ class NanoscaleModel:
 
         if not (duration > 0 and math.isfinite(duration)) or not 2 <= samples <= 10_000_000:
             raise InputError("duration must be positive and samples from 2 to 1e7")
-        budget.check(budget.nanoscale_estimate(duration, samples), allow_large)  # before any work
+        budget.check(nanoscale_cost.nanoscale_estimate(duration, samples), allow_large)  # before any work
         v_a, f_ch, damping = self.drive_speed, self.charge_force, self.damping
         sigma0 = self.steady_charge
         force0 = damping * v_a + float(self.weakening(v_a)) + f_ch * sigma0 ** 2
@@ -203,7 +204,7 @@ class NanoscaleModel:
 
         rtol = rtol if rtol is not None else min(1e-4, max(1e-12, tolerance / LSODA_ERROR_CONSTANT))
         # the worst case, integrating to max_time, within the budget before any work
-        budget.check(budget.nanoscale_estimate(max_time, 2), allow_large)
+        budget.check(nanoscale_cost.nanoscale_estimate(max_time, 2), allow_large)
         noise = LSODA_ERROR_CONSTANT * rtol
         rhs = self._rhs()
         events = self._cycle_events(rhs)

@@ -19,6 +19,7 @@ from faultslip.contract.result import Result
 from faultslip.plots.animation import animation
 from faultslip.plots.figures import sawtooth_figure
 from faultslip.units import to_si
+from faultslip.models.spring_slider import cost as slider_cost
 
 
 def run(scene=None, method=None, tolerance=None) -> Result:
@@ -118,7 +119,7 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
         settings["rtol"] = rtol
     system = loaded.slider()
     integrated = not system.is_linear or settings.get("slip_solver", "auto") not in ("auto", "analytic")
-    budget.check(budget.simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64),
+    budget.check(slider_cost.simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64),
                                             integrated, output), allow_large)
     dataset = integrate(system, scene=loaded.name, **settings)
     dataset.attrs["scene_text"] = loaded.text

@@ -1,0 +1,103 @@
+"""The 2-D fault's cost model: its steps from the events a run will see, each step's CPU (the FFT step, and the
+plane-strain fault's dense one), and the scenes it was fitted on; the family declares it."""
+
+from __future__ import annotations
+
+import math
+
+from faultslip.io.budget import Estimate
+
+
+#: A 2-D fault run's steps per simulated year (benchmarks/fault_2d_cost.py fits it to measured step counts,
+#: which do not depend on the machine): A (V_pl / 1e-9 m/s) (W / h*) (rtol / 1e-7)^-0.18 g(h / L_b), where
+#: W is the velocity-weakening width, h* the nucleation size, L_b the process zone and h the element size.
+#: More cycles (a faster plate) and more partial ruptures (W >> h*) cost steps in proportion; an element
+#: coarser than L_b makes the sequence irregular (g = (h / L_b)^0.31) and a finer one sharpens the fronts
+#: (g grows as (L_b / h)^0.45 below h = L_b / 4, from BP1 at 50 and 25 m). Fitted over D_c 6-48 mm,
+#: V_pl 1e-10 to 1e-8 m/s, h 250 m to 2 km, rtol 1e-7 and 1e-5, and BP1: within 0.75-1.4x of the measured
+#: steps; the estimate takes twice the fit, so that it errs long.
+FAULT_2D_STEPS = {"scale": 15.0, "plate_rate": 1.02, "width_over_nucleation": 0.99, "rtol": -0.18,
+                  "coarse": 0.31, "fine": 0.45, "fine_below": 0.25, "margin": 2.0}
+#: CPU seconds per Dormand-Prince step (six force balances and the stress kernel) on N elements with the whole step
+#: compiled (numba and rocket-fft, the FFT kernel): c0 + c1 N, least squares over the ten FFT runs of
+#: benchmarks/ladder_designs.py and benchmarks/ladder_escalations.py (564-1,036 elements, rtol 1e-8, two runs at a
+#: time on the 2-core machine), within 0.87-1.16x of each (tests/test_budget_fit.py refits it). Another step path
+#: scales it by its measured cost (:func:`faultslip.models.fault_2d.kernel.relative_step_cost`).
+FAULT_2D_STEP_SECONDS = (1.237e-4, 2.279e-7, 1.0)
+#: CPU seconds per step of a plane-strain (dipping) 2-D fault, whose kernels are dense: c0 + c2 N^2, fitted by
+#: benchmarks/plane_strain_step.py (SEAS BP3-QD on 200-1,600 elements, within 1.31x of each; tests/test_budget_fit.py
+#: refits it from benchmarks/results/plane_strain_step.json).
+PLANE_STRAIN_STEP_SECONDS = (4.308e-4, 8.563e-9)
+#: Steps from the events a run will see (issue 68): ln steps = ln A + p ln(events) + q ln(W / h*) + r ln(N), fitted
+#: on the 36 calibration runs of benchmarks/ladder_designs.py (3 elements per L_b, rtol 1e-8), where a run's events
+#: come from its duration over the recurrence the one-slider rung predicts; with the per-step seconds above, the
+#: 34 held-out runs' CPU time came within 0.63-2.5x (30 of 34 within 2x). The resolution and rtol factors of
+#: FAULT_2D_STEPS carry it to other element sizes and tolerances.
+FAULT_2D_EVENT_STEPS = {"scale": math.exp(5.33), "events": 0.782, "width_over_nucleation": 0.509, "elements": 0.581,
+                        "resolution": 3.0, "rtol": 1e-8}
+
+
+#: The scenes the 2-D step models were fitted on: W / h* at the weakest element (FAULT_2D_STEPS' BP1 at D_c 6-48 mm
+#: gives 0.55-4.4; the ladder designs 1.56-7.88) and the normal stress on the velocity-weakening part (BP1's
+#: 50 MPa; the designs 25.1-99.0 MPa), each rounded outward (tests/test_budget_fit.py recomputes them). A scene
+#: outside them (a sigma_n of 1e-6 MPa, or one falling to 0.01 MPa in the weakening zone) can step far more
+#: often than either model knows: :func:`check` refuses it without --allow-large.
+FAULT_2D_FITTED = {"width_over_nucleation": (0.5, 8.0), "normal_stress": (25e6, 100e6)}
+
+
+def fault_2d_outside_fit(*, width_over_nucleation: float, normal_stress_low: float,
+                         normal_stress_high: float) -> tuple:
+    """Where a 2-D scene lies outside :data:`FAULT_2D_FITTED`, as sentences (empty: inside)."""
+    low, high = FAULT_2D_FITTED["width_over_nucleation"]
+    out = []
+    if not low <= width_over_nucleation <= high:
+        out.append(f"its W/h* is {width_over_nucleation:.3g}, fitted {low:g} to {high:g}")
+    low, high = FAULT_2D_FITTED["normal_stress"]
+    if normal_stress_low < low or normal_stress_high > high:
+        out.append(f"its normal stress on the weakening part spans {normal_stress_low / 1e6:.3g} to "
+                   f"{normal_stress_high / 1e6:.3g} MPa, fitted {low / 1e6:g} to {high / 1e6:g} MPa")
+    return tuple(out)
+
+
+def _resolution_factor(ratio: float) -> float:
+    """How the steps grow with the element size h over L_b (:data:`FAULT_2D_STEPS`)."""
+    c = FAULT_2D_STEPS
+    ratio = min(max(ratio, 1e-6), 1e6)
+    return ratio ** c["coarse"] * max(1.0, c["fine_below"] / ratio) ** c["fine"]
+
+
+def fault_2d_steps(*, years: float, plate_rate: float, element_size: float, process_zone: float,
+                   nucleation_size: float, seismogenic_width: float, rtol: float, events: float | None = None,
+                   elements: int | None = None) -> float:
+    """Steps a 2-D fault run takes over ``years``: from the ``events`` it will see where they are known
+    (:data:`FAULT_2D_EVENT_STEPS`, a central estimate), else an upper estimate from :data:`FAULT_2D_STEPS`."""
+    c = FAULT_2D_STEPS
+    # a fault without weakening (b = 0 everywhere: L_b infinite) creeps: its resolution costs nothing extra
+    ratio = element_size / process_zone if 0 < process_zone < math.inf else 1.0
+    resolution = _resolution_factor(ratio)
+    partial = max(seismogenic_width, element_size) / nucleation_size if math.isfinite(nucleation_size) else 0.1
+    if events is not None and elements and events > 0 and math.isfinite(nucleation_size):
+        e = FAULT_2D_EVENT_STEPS
+        return (e["scale"] * events ** e["events"] * partial ** e["width_over_nucleation"]
+                * elements ** e["elements"] * resolution / _resolution_factor(1.0 / e["resolution"])
+                * (rtol / e["rtol"]) ** c["rtol"]) + 100.0
+    per_year = (c["scale"] * (plate_rate / 1e-9) ** c["plate_rate"] * partial ** c["width_over_nucleation"]
+                * (rtol / 1e-7) ** c["rtol"] * resolution)
+    return c["margin"] * per_year * years + 100.0
+
+
+def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *, steps: float,
+                      outside_fit: tuple = (), step_cost: float = 1.0, plane_strain: bool = False) -> Estimate:
+    """Time, memory and disk of a 2-D fault run of ``steps`` steps (:func:`fault_2d_steps`): station rows every
+    step (in memory, and as SEAS text). ``plane_strain``: a dipping fault's dense step
+    (:data:`PLANE_STRAIN_STEP_SECONDS`), and its two N x N kernels in memory."""
+    c0, c1, margin = FAULT_2D_STEP_SECONDS
+    per_step = c0 + c1 * elements
+    kernels = 0.0
+    if plane_strain:
+        dense0, dense2 = PLANE_STRAIN_STEP_SECONDS
+        per_step, step_cost, kernels = dense0 + dense2 * elements ** 2, 1.0, 2 * 8.0 * elements ** 2 * 2
+    return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps)",
+                    seconds=margin * steps * per_step * step_cost,
+                    memory=steps * (1 + 4 * stations) * 8.0 * 2 + kernels,
+                    disk=steps * stations * 100.0 if output else 0.0, output=output, outside_fit=outside_fit)
