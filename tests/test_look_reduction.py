@@ -147,3 +147,83 @@ def test_a_second_read_of_another_length_replaces_the_data_set(tmp_path):
         look_reduction.read_look = original
     np.testing.assert_array_equal(reduced.column(4), np.arange(5.0) * 3)
     assert reduced.column(3) is None  # the first file's load column went with it
+
+
+# --- xlook's further data commands (issue 74, item 1): each against its source, src/array.c, func.c, cmds.c ----
+
+def _xlook_deriv(x, y, first, last, out):
+    """array.c's deriv() as written there: three records a, b, c sliding along, the first value also at FIRST,
+    the last also at LAST (a loop, kept apart from faultslip's vectorised one)."""
+    out = list(out)
+    for i in range(first, last - 1):
+        a, b, c = x[i], x[i + 1], x[i + 2]
+        ya, yb, yc = y[i], y[i + 1], y[i + 2]
+        denom = abs(c - b) * (b - a) * (b - a) + abs(b - a) * (c - b) * (c - b)
+        dydx = ((b - a) * (b - a) * yc - (c - b) * (c - b) * ya - ((b - a) * (b - a) - (c - b) * (c - b)) * yb) / denom
+        if i == first:
+            out[first] = dydx
+        out[i + 1] = dydx
+    out[last] = dydx
+    return out
+
+
+def test_xlooks_column_functions_by_their_source():
+    import math
+
+    x = np.array([0.5, 1.0, 2.0, 3.5, 5.0, 7.5])
+    look = LookFile("x", {"t": np.arange(6.0), "x": x, "p": np.array([1.0, 2.0, 0.5, 1.0, 2.0, 3.0])},
+                    {"t": "s", "x": "mm", "p": "."})
+
+    def run(line):
+        return run_commands(line, "test_r", look=look)
+
+    by_hand = {  # the formulas of src/func.c and src/array.c, a value at a time
+        "exp 2 5 e .": [math.exp(v) for v in x], "ln 2 5 e .": [math.log(v) for v in x],
+        "log 2 5 e .": [math.log10(v) for v in x], "recip 2 5 e .": [1 / v for v in x],
+        "positive 2 5 e .": [1.0 if v > 0.0 else 0.0 for v in x],
+        "trig 2 5 sin e .": [math.sin(v) for v in x], "cos 2 5 cos e .": [math.cos(v) for v in x],
+        "trig 2 5 tan e .": [math.tan(v) for v in x], "trig 2 5 atan e .": [math.atan(v) for v in x],
+        "col_power 3 2 5 e .": [v ** p for v, p in zip(x, [1.0, 2.0, 0.5, 1.0, 2.0, 3.0])],
+        "Power1 2 5 1.5 2 e .": [v ** 1.5 + 2 for v in x], "Power2 2 5 3 1.5 2 e .": [3 * v ** 1.5 + 2 for v in x],
+        "normal 2 5 2 1.5 e .": [math.exp(-((v - 2) / 1.5) ** 2 / 2) / math.sqrt(2 * math.pi) / 1.5 for v in x],
+        "rclow 2 5 2 3 e .": [(1 / (v * 3)) * math.sqrt(1 + (v * 3 * 2) ** 2) for v in x],
+        "rcph 2 5 2 3 e .": [-math.atan(1 / (v * 2 * 3)) for v in x],
+        "genexp 2 5 2 0.3 0.1 1 e .": [2 * math.exp(0.3 * v + 0.1) + 1 for v in x],
+        "gensin 2 5 2 0.3 0.1 1 e .": [2 * math.sin(0.3 * v + 0.1) + 1 for v in x],
+        "ExpLin 2 5 2 -0.3 0.1 e .": [2 * (1 - math.exp(-0.3 * v)) + 0.1 * v for v in x],
+        "Poly4 2 5 1 2 3 4 5 e .": [1 + 2 * v + 3 * v ** 2 + 4 * v ** 3 + 5 * v ** 4 for v in x],
+        "chisqr 2 5 4 e .": [v ** 1 * math.exp(-v / 2) / (4 * math.gamma(2)) for v in x],
+        "z_min 2 5 e .": list(x - x.min()), "z_max 2 5 e .": list(x - x.max()), "r_mean 2 5 e .": list(x - x.mean()),
+    }
+    for line, expected in by_hand.items():
+        np.testing.assert_allclose(run(line).column(5), expected, rtol=1e-14, atol=1e-300, err_msg=line)
+        assert run(line).names[5] == "e"
+    np.testing.assert_array_equal(run("math 2 - 2 = 6 d .\npositive 6 5 e .").column(5), [0, 0, 0, 1, 1, 1])
+    # deriv: records 1 to 4 by array.c's loop; the records outside keep a new slot's zeros
+    derived = run("deriv 1 2 5 1 4 dxdt mm/s").column(5)
+    np.testing.assert_allclose(derived, _xlook_deriv(np.arange(6.0), x, 1, 4, [0.0] * 6), rtol=1e-14)
+    assert derived[0] == 0.0 and derived[5] == 0.0
+    np.testing.assert_allclose(run("deriv 1 2 5 0 -1 d .").column(5)[1:5], [0.75, 1.25, 1.5, 2.0], rtol=1e-14)
+    # r_spike: record 3 takes record 2's value; name renames a slot
+    np.testing.assert_array_equal(run("r_spike 2 3").column(2), [0.5, 1.0, 2.0, 2.0, 5.0, 7.5])
+    renamed = run("name 2 slip micron")
+    assert renamed.names[2] == "slip" and renamed.units[2] == "micron"
+
+
+def test_the_chi_square_density_integrates_to_one():
+    """xlook's func.c takes exp(tgamma(k / 2)) where the older C library's gamma() gave ln Gamma; faultslip takes
+    Gamma(k / 2), the density's own: it integrates to 1, which exp(Gamma) would not (k = 4: exp(1) = 2.72)."""
+    x = np.linspace(1e-9, 80.0, 400_001)
+    look = LookFile("x", {"x": x}, {"x": "."})
+    for ndf in (3.0, 4.0, 7.5):
+        density = run_commands(f"chisqr 1 2 {ndf} f .", "r", look=look).column(2)
+        assert np.trapezoid(density, x) == pytest.approx(1.0, abs=1e-6)
+
+
+def test_display_commands_are_skipped_and_the_reduction_says_which():
+    r = _run("begin\nplotall 1 2\ntype 1 2 0 5\nmath 2 * 2 = 5 d micron\nstat 2 0 5\nkp 1\nend")
+    assert r.ran == ["begin", "math"]
+    assert [entry.split(":")[1].split("(")[0].strip() for entry in r.skipped] == ["plotall", "type", "stat", "kp"]
+    assert r.to_dataset().attrs["commands_skipped"].startswith("line 2: plotall")
+    with pytest.raises(InputError, match="does not know the command 'smoothish'.*skips xlook's display commands"):
+        _run("smoothish 1 2")

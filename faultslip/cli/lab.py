@@ -424,6 +424,8 @@ def cmd_reduce(args) -> int:
     reduction = run_r_file(args.r_file)
     report = Report(f"faultslip reduce: {reduction.source}")
     report.add("commands", reduction.commands)
+    report.add("commands_run", " ".join(reduction.ran), label="the commands run, in order")
+    report.add("commands_skipped", list(reduction.skipped), label="display commands skipped (no data changes)")
     for name, (values, unit) in reduction.as_dict().items():
         finite = values[np.isfinite(values)]
         report.add(name, [float(finite.min()), float(finite.max())] if finite.size else None, None,

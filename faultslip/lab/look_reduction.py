@@ -32,6 +32,7 @@ reduction that silently skips a step is not one a lab can trust).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -56,6 +57,8 @@ class Reduction:
     source: str = ""
     commands: int = 0
     experiment: str = ""  # the data file's own name for its run (xlook's header)
+    ran: list = field(default_factory=list)  # the commands run, in order
+    skipped: list = field(default_factory=list)  # the display commands skipped, each with its line
 
     def column(self, slot: int) -> np.ndarray:
         """Slot ``slot``'s values."""
@@ -78,8 +81,9 @@ class Reduction:
                                             "xlook_slot": slot})
         return xr.Dataset(data, coords={"record": ("record", np.arange(_records(self)), {"units": "1"})},
                           attrs={"title": f"xlook reduction {self.source}", "Conventions": "CF-1.8",
-                                 "commands": self.commands, **({"experiment": self.experiment} if self.experiment
-                                                               else {})})
+                                 "commands": self.commands, "commands_run": " ".join(self.ran),
+                                 "commands_skipped": "; ".join(self.skipped),
+                                 **({"experiment": self.experiment} if self.experiment else {})})
 
     def as_dict(self) -> dict:
         """Every slot that holds data: name -> (values, unit), in slot order (a name used twice keeps its slot)."""
@@ -140,9 +144,12 @@ def run_commands(text: str, source: str = "<r-file>", base_dir=None, look=None) 
         where = f"{source}, line {number} ({line!r})"
         if command == "end":
             break
+        if command in DISPLAY_COMMANDS or (command.startswith("plot") and command.endswith("h")):
+            state.skipped.append(f"line {number}: {command} (draws, prints or prompts: no data changes)")
+            continue
         if command not in _ARGUMENTS:
             raise InputError(f"{where}: faultslip does not know the command {command!r} (it runs "
-                             f"{', '.join(sorted(_ARGUMENTS))} and end)")
+                             f"{', '.join(sorted(_ARGUMENTS))} and end, and skips xlook's display commands)")
         if len(words) != _ARGUMENTS[command]:
             raise InputError(f"{where}: {command} takes {_ARGUMENTS[command] - 1} arguments, got {len(words) - 1}")
         lines.append((command, words, where))
@@ -156,6 +163,7 @@ def run_commands(text: str, source: str = "<r-file>", base_dir=None, look=None) 
         elif command not in ("begin", "com_file"):
             _COMMANDS[command](state, words[1:], where)
         state.commands += 1
+        state.ran.append(command)
     return state
 
 
@@ -320,6 +328,157 @@ def _r_row(state, words, where):
     state.data = [None if values is None else np.delete(values, span) for values in state.data]
 
 
-#: xlook's shorthand units and what udunits calls them
+# --- column functions (xlook's src/array.c and src/func.c; the command's words as src/cmds.c reads them) ---------
+
+def _output(state, slot_text, where) -> np.ndarray:
+    """The values a command writes into: a new slot starts at zero (xlook's name() gives it the input's length); a
+    slot that holds data keeps it where the command does not write."""
+    slot = _slot(slot_text, where)
+    if slot == 0:
+        raise InputError(f"{where}: slot 0 holds the record numbers; write into slots 1 to {SLOTS - 1}")
+    existing = state.data[slot]
+    return existing.copy() if existing is not None and len(existing) == _records(state) else np.zeros(_records(state))
+
+
+def _elementwise(function):
+    """``CMD IN OUT NAME UNIT``: OUT = function(IN) on every record (exp: exp; ln: ln; log: log10; recip: 1 / x;
+    positive: 1 where IN > 0, else 0; array.c's expvec, lnvec, logvec, recipvec; cmds.c's do_positive)."""
+    def command(state, words, where):
+        values = _values(state, words[0], where)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # xlook computes as the machine does
+            _store(state, words[1], words[2], words[3], function(values), where)
+    return command
+
+
+def _trig(state, words, where):
+    """``trig IN OUT FUNC NAME UNIT`` (also reached as sin, cos, tan, asin, acos, atan): FUNC read by its first
+    letters as do_trig reads them (s, c, t; as, ac, at)."""
+    function = words[2]
+    table = {"s": np.sin, "c": np.cos, "t": np.tan}
+    if function[:1] == "a":
+        chosen = {"s": np.arcsin, "c": np.arccos, "t": np.arctan}.get(function[1:2])
+    else:
+        chosen = table.get(function[:1])
+    if chosen is None:
+        raise InputError(f"{where}: the function is one of sin, cos, tan, asin, acos, atan, got {function!r}")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        _store(state, words[1], words[3], words[4], chosen(_values(state, words[0], where)), where)
+
+
+def _col_power(state, words, where):
+    """``col_power POWER_COL IN OUT NAME UNIT``: OUT = IN ** POWER_COL, record by record (powcvec)."""
+    exponent, base = _values(state, words[0], where), _values(state, words[1], where)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        _store(state, words[2], words[3], words[4], base ** exponent, where)
+
+
+def _chi_square_gamma(ndf: float) -> float:
+    """Gamma(ndf / 2). xlook's func.c now takes exp(tgamma(ndf / 2)), a port of the older C library's gamma(),
+    which returned ln Gamma: exp of that is Gamma, the chi-square density's own (Press et al., Numerical Recipes,
+    eq. 6.14.8), which faultslip takes (tests/test_look_reduction.py checks it integrates to 1)."""
+    return math.gamma(ndf / 2.0)
+
+
+def _generator(parameters: int, formula):
+    """``CMD IN OUT P1 .. Pn NAME UNIT``: OUT = formula(IN, P1 .. Pn) on every record (func.c's generators)."""
+    def command(state, words, where):
+        values = _values(state, words[0], where)
+        numbers = [_number(text, where) for text in words[2:2 + parameters]]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            _store(state, words[1], words[2 + parameters], words[3 + parameters], formula(values, *numbers), where)
+    return command
+
+
+def _scchisqr(x, sigma, ndf, offset):
+    sigx = math.sqrt(sigma / (math.sqrt(ndf) * math.sqrt(2.0)))
+    temp = sigx ** ndf * 2.0 ** (ndf / 2.0) * _chi_square_gamma(ndf)
+    return np.where(offset >= x, 0.0, np.abs(x - offset) ** ((ndf - 2.0) / 2.0)
+                    * np.exp((offset - x) / (2.0 * sigx * sigx)) / temp)
+
+
+_GENERATORS = {
+    "Power1": (2, lambda x, a, b: x ** a + b),  # y = x^A + B
+    "Power2": (3, lambda x, a, b, c: a * x ** b + c),  # y = A x^B + C
+    "normal": (2, lambda x, mean, sigma: np.exp(-((x - mean) / sigma) ** 2 / 2.0) / math.sqrt(2 * math.pi) / sigma),
+    "chisqr": (1, lambda x, ndf: x ** ((ndf - 2.0) / 2.0) * np.exp(-x / 2.0)
+               / (2.0 ** (ndf / 2.0) * _chi_square_gamma(ndf))),
+    "scchisqr": (3, _scchisqr),
+    "rclow": (2, lambda x, a, b: (1.0 / (x * b)) * np.sqrt(1.0 + (x * b * a) ** 2)),  # y = sqrt(1 + (x B A)^2) / (x B)
+    "rcph": (2, lambda x, a, b: -np.arctan(1.0 / (x * a * b))),  # y = -atan(1 / (x A B))
+    "genexp": (4, lambda x, a, b, c, d: a * np.exp(b * x + c) + d),  # y = A exp(B x + C) + D
+    "gensin": (4, lambda x, a, b, c, d: a * np.sin(b * x + c) + d),  # y = A sin(B x + C) + D
+    "ExpLin": (3, lambda x, a, b, c: a * (1.0 - np.exp(b * x)) + c * x),  # y = A (1 - exp(B x)) + C x
+    "Poly4": (5, lambda x, a, b, c, d, e: a + b * x + c * x ** 2 + d * x ** 3 + e * x ** 4),
+}
+
+
+def _deriv(state, words, where):
+    """``deriv X Y OUT FIRST LAST NAME UNIT``: dY/dX on records FIRST to LAST by array.c's deriv: the three-point
+    difference for unequal spacing about each record (e1 = x[i+1] - x[i], e2 = x[i] - x[i-1]),
+
+        dy/dx = [e2^2 y[i+1] - e1^2 y[i-1] - (e2^2 - e1^2) y[i]] / (|e1| e2^2 + |e2| e1^2),
+
+    its first value also at FIRST and its last also at LAST; the records outside keep OUT's values (zero in a new
+    slot)."""
+    x, y = _values(state, words[0], where), _values(state, words[1], where)
+    span = _range(state, words[3], words[4], where)
+    first, last = span.start, span.stop - 1
+    if last - first < 2:
+        raise InputError(f"{where}: a derivative needs three records or more, got {last - first + 1}")
+    out = _output(state, words[2], where)
+    a, b, c = x[first:last - 1], x[first + 1:last], x[first + 2:last + 1]
+    ya, yb, yc = y[first:last - 1], y[first + 1:last], y[first + 2:last + 1]
+    e1, e2 = c - b, b - a
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = (e2 * e2 * yc - e1 * e1 * ya - (e2 * e2 - e1 * e1) * yb) / (np.abs(e1) * e2 * e2 + np.abs(e2) * e1 * e1)
+    out[first + 1:last] = slope
+    out[first], out[last] = slope[0], slope[-1]
+    _store(state, words[2], words[5], words[6], out, where)
+
+
+def _shifted_by(statistic):
+    """``CMD IN OUT NAME UNIT``: OUT = IN less its mean, minimum or maximum over every record (z_min, z_max and
+    r_mean: stats() then sub() over the whole column)."""
+    def command(state, words, where):
+        values = _values(state, words[0], where)
+        _store(state, words[1], words[2], words[3], values - statistic(values), where)
+    return command
+
+
+def _r_spike(state, words, where):
+    """``r_spike COL REC``: record REC takes record REC - 1's value (do_r_spike; REC 0 has none before it)."""
+    values = _values(state, words[0], where).copy()
+    record = _range(state, words[1], words[1], where).start
+    if record == 0:
+        raise InputError(f"{where}: record 0 has no record before it to take the place of a spike")
+    values[record] = values[record - 1]
+    state.data[_slot(words[0], where)] = values
+
+
+def _name(state, words, where):
+    """``name COL NAME UNIT``: the slot's name and unit (do_name)."""
+    slot = _slot(words[0], where)
+    if state.data[slot] is None:
+        raise InputError(f"{where}: column {slot} holds no data to name")
+    state.names[slot], state.units[slot] = words[1], words[2]
+
+
 _COMMANDS = {"math": _math, "math_int": _math_int, "summation": _summation, "power": _power, "zero": _zero,
-             "offset_int": _offset_int, "ec": _ec, "strain": _strain, "r_col": _r_col, "r_row": _r_row}
+             "offset_int": _offset_int, "ec": _ec, "strain": _strain, "r_col": _r_col, "r_row": _r_row,
+             "exp": _elementwise(np.exp), "ln": _elementwise(np.log), "log": _elementwise(np.log10),
+             "recip": _elementwise(lambda x: 1.0 / x), "positive": _elementwise(lambda x: np.where(x > 0.0, 1.0, 0.0)),
+             "col_power": _col_power, "deriv": _deriv, "z_min": _shifted_by(np.min), "z_max": _shifted_by(np.max),
+             "r_mean": _shifted_by(np.mean), "r_spike": _r_spike, "name": _name,
+             **{name: _trig for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
+             **{name: _generator(count, formula) for name, (count, formula) in _GENERATORS.items()}}
+_ARGUMENTS.update({"exp": 5, "ln": 5, "log": 5, "recip": 5, "positive": 5, "col_power": 6, "deriv": 8, "z_min": 5,
+                   "z_max": 5, "r_mean": 5, "r_spike": 3, "name": 4,
+                   **{name: 6 for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
+                   **{name: 5 + count for name, (count, _) in _GENERATORS.items()}})
+#: xlook's commands that draw, print, prompt or manage windows and files: an r-file that holds them runs, each
+#: skipped with a note (the report lists them), as they change no data.
+DISPLAY_COMMANDS = {"kp", "kill_plot", "kw", "kill_window", "nw", "new_window", "aw", "activate_window", "ap",
+                    "activate_plot", "q", "quit", "set_path", "plotover", "plotall", "plotsr", "plotauto", "pa",
+                    "plotlog", "plotsame", "plotscale", "examin", "getaschead", "head", "type", "typeall",
+                    "type_all", "stat", "stat_a", "pdf", "pdfauto", "trend", "trend_a", "comment", "qi_tool",
+                    "fric_tool", "write", "findint", "peak"}
