@@ -227,3 +227,91 @@ def test_display_commands_are_skipped_and_the_reduction_says_which():
     assert r.to_dataset().attrs["commands_skipped"].startswith("line 2: plotall")
     with pytest.raises(InputError, match="does not know the command 'smoothish'.*skips xlook's display commands"):
         _run("smoothish 1 2")
+
+
+def _xlook_smooth(x, start, end, window):
+    """special.c's smooth(), transcribed line for line (its scratch in a list of its own)."""
+    out = [0.0] * len(x)
+    window = 2 * (window // 2) + 1
+    half = window // 2
+    total = 0.0
+    for _ in range(half):
+        total += x[start]
+    k = 0
+    for i in range(window):
+        if i < half:
+            total += x[start + i]
+        else:
+            total += x[start + i]
+            out[start + k] = total / window
+            total -= x[start]
+            k += 1
+    j = window - 1
+    for i in range(start + window, end + 1):
+        total += x[i]
+        out[i - half] = total / window
+        total -= x[i - j]
+    for i in range(1, half + 1):
+        total += x[end]
+        out[end - half + i] = total / window
+        total -= x[end - window]
+    return out
+
+
+def _xlook_slope(x, y, start, end, window):
+    """special.c's o_slope(), transcribed line for line."""
+    out = [0.0] * len(x)
+    window = 2 * (window // 2) + 1
+    half = window // 2
+    xsum = ysum = 0.0
+    for i in range(start, start + window - 1):
+        xsum += x[i]
+        ysum += y[i]
+    k, j = start + half, start
+    for i in range(start + window - 1, end + 1):
+        xsum += x[i]
+        ysum += y[i]
+        x_mean, y_mean = xsum / window, ysum / window
+        sumx2 = sumxy = 0.0
+        for l in range(j, i + 1):
+            sumx2 += (x[l] - x_mean) * (x[l] - x_mean)
+            sumxy += (x[l] - x_mean) * (y[l] - y_mean)
+        out[k] = sumxy / sumx2
+        xsum -= x[j]
+        ysum -= y[j]
+        k += 1
+        j += 1
+    for i in range(half):
+        out[i + start] = out[start + half]
+    for i in range(half):
+        out[end - i] = out[end - half - 1]
+    return out
+
+
+def test_xlooks_offset_and_window_commands_by_their_source():
+    rng = np.random.default_rng(74)
+    x = np.cumsum(rng.uniform(0.5, 1.5, 40))
+    y = np.sin(x) + 0.1 * rng.standard_normal(40)
+    look = LookFile("x", {"x": x, "y": y}, {"x": "s", "y": "mm"})
+
+    def run(line):
+        return run_commands(line, "test_r", look=look)
+
+    np.testing.assert_allclose(run("offset 2 5 1 7").column(2), y + (x[7] - y[5]), rtol=1e-15)
+    for first, last, window in ((0, 39, 5), (3, 30, 7), (2, 20, 4)):  # 4 is forced to 5, as special.c does
+        smoothed = run(f"smooth 2 3 {first} {last} {window} s mm").column(3)
+        np.testing.assert_allclose(smoothed[first:last + 1], _xlook_smooth(y, first, last, window)[first:last + 1],
+                                   rtol=1e-13)
+        slopes = run(f"slope 1 2 3 {first} {last} {window} s mm/s").column(3)
+        np.testing.assert_allclose(slopes[first:last + 1], _xlook_slope(x, y, first, last, window)[first:last + 1],
+                                   rtol=1e-12)
+        median = run(f"ms 2 3 {first} {last} {window} m mm").column(3)
+        odd = 2 * (window // 2) + 1
+        for i in range(first + odd // 2, last - odd // 2):  # each window's median at its middle
+            assert median[i] == np.median(y[i - odd // 2:i + odd // 2 + 1])
+        # the half-windows at the ends keep the data, the last window's middle too (special.c copies from
+        # LAST - WINDOW / 2 on, over the last median it wrote)
+        np.testing.assert_array_equal(median[first:first + odd // 2], y[first:first + odd // 2])
+        np.testing.assert_array_equal(median[last - odd // 2:last + 1], y[last - odd // 2:last + 1])
+    with pytest.raises(InputError, match="does not fit"):
+        run("smooth 2 3 0 3 9 s mm")

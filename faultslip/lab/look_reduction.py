@@ -463,16 +463,105 @@ def _name(state, words, where):
     state.names[slot], state.units[slot] = words[1], words[2]
 
 
+def _offset(state, words, where):
+    """``offset COL1 REC1 COL2 REC2``: COL1 shifted, every record, by COL2[REC2] - COL1[REC1] (array.c's offset)."""
+    values = _values(state, words[0], where)
+    other = _values(state, words[2], where)
+    first = _range(state, words[1], words[1], where).start
+    second = _range(state, words[3], words[3], where).start
+    state.data[_slot(words[0], where)] = values + (other[second] - values[first])
+
+
+def _window(state, words, where, at: int) -> tuple[int, int, int]:
+    """(first, last, odd window) of a smoothing command: records FIRST to LAST, the window forced odd as
+    special.c does (2 (W / 2) + 1) and no wider than the records."""
+    span = _range(state, words[at], words[at + 1], where)
+    try:
+        window = int(words[at + 2])
+    except ValueError:
+        raise InputError(f"{where}: the window is a whole number of records, got {words[at + 2]!r}") from None
+    window = 2 * (window // 2) + 1
+    if window < 1 or window > span.stop - span.start:
+        raise InputError(f"{where}: a window of {window} records does not fit records {span.start} to {span.stop - 1}")
+    return span.start, span.stop - 1, window
+
+
+def _smooth(state, words, where):
+    """``smooth IN OUT FIRST LAST WINDOW NAME UNIT``: special.c's smooth(), a running mean over an odd window,
+    value for value: the first half-window padded with IN[FIRST], the last with IN[LAST], and its tail as xlook
+    computes it (each tail step takes away IN[LAST - WINDOW], not the window's oldest value: kept, so that old
+    reductions reproduce). xlook copies IN into slot 0 as its scratch; faultslip keeps the record numbers."""
+    x = _values(state, words[0], where)
+    start, end, window = _window(state, words, where, 2)
+    half = window // 2
+    out = _output(state, words[1], where)
+    total = half * x[start]
+    k = 0
+    for i in range(window):
+        total += x[start + i]
+        if i >= half:
+            out[start + k] = total / window
+            total -= x[start]
+            k += 1
+    for i in range(start + window, end + 1):
+        total += x[i]
+        out[i - half] = total / window
+        total -= x[i - (window - 1)]
+    for i in range(1, half + 1):
+        total += x[end]
+        out[end - half + i] = total / window
+        total -= x[end - window]
+    _store(state, words[1], words[5], words[6], out, where)
+
+
+def _median_smooth(state, words, where):
+    """``median_smooth IN OUT FIRST LAST WINDOW NAME UNIT`` (or ms): special.c's median_smooth(), the median of each
+    odd window written at its middle record; the first half-window and the records from LAST - WINDOW / 2 on keep
+    IN's values (special.c copies them over the last median it wrote)."""
+    x = _values(state, words[0], where)
+    start, end, window = _window(state, words, where, 2)
+    half = window // 2
+    out = _output(state, words[1], where)
+    out[start:start + half] = x[start:start + half]
+    windows = np.lib.stride_tricks.sliding_window_view(x[start:end + 1], window)
+    out[start + half:start + half + windows.shape[0]] = np.median(windows, axis=1)
+    out[end - half:end + 1] = x[end - half:end + 1]
+    _store(state, words[1], words[5], words[6], out, where)
+
+
+def _slope(state, words, where):
+    """``slope X Y OUT FIRST LAST WINDOW NAME UNIT`` (or ras): special.c's o_slope(), the least-squares slope of Y on
+    X over each odd window, written at its middle; the first half-window takes the first slope, and the last
+    half-window the slope one record before the last computed (as o_slope pads them)."""
+    x, y = _values(state, words[0], where), _values(state, words[1], where)
+    start, end, window = _window(state, words, where, 3)
+    half = window // 2
+    out = _output(state, words[2], where)
+    xs = np.lib.stride_tricks.sliding_window_view(x[start:end + 1], window)
+    ys = np.lib.stride_tricks.sliding_window_view(y[start:end + 1], window)
+    dx = xs - xs.mean(axis=1, keepdims=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slopes = (dx * (ys - ys.mean(axis=1, keepdims=True))).sum(axis=1) / (dx * dx).sum(axis=1)
+    out[start + half:start + half + slopes.size] = slopes
+    out[start:start + half] = out[start + half]
+    if half:
+        out[end - half + 1:end + 1] = out[end - half - 1]
+    _store(state, words[2], words[6], words[7], out, where)
+
+
 _COMMANDS = {"math": _math, "math_int": _math_int, "summation": _summation, "power": _power, "zero": _zero,
              "offset_int": _offset_int, "ec": _ec, "strain": _strain, "r_col": _r_col, "r_row": _r_row,
              "exp": _elementwise(np.exp), "ln": _elementwise(np.log), "log": _elementwise(np.log10),
              "recip": _elementwise(lambda x: 1.0 / x), "positive": _elementwise(lambda x: np.where(x > 0.0, 1.0, 0.0)),
              "col_power": _col_power, "deriv": _deriv, "z_min": _shifted_by(np.min), "z_max": _shifted_by(np.max),
-             "r_mean": _shifted_by(np.mean), "r_spike": _r_spike, "name": _name,
+             "r_mean": _shifted_by(np.mean), "r_spike": _r_spike, "name": _name, "offset": _offset,
+             "smooth": _smooth, "median_smooth": _median_smooth, "ms": _median_smooth, "slope": _slope, "ras": _slope,
+             "cs": _strain,
              **{name: _trig for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
              **{name: _generator(count, formula) for name, (count, formula) in _GENERATORS.items()}}
 _ARGUMENTS.update({"exp": 5, "ln": 5, "log": 5, "recip": 5, "positive": 5, "col_power": 6, "deriv": 8, "z_min": 5,
-                   "z_max": 5, "r_mean": 5, "r_spike": 3, "name": 4,
+                   "z_max": 5, "r_mean": 5, "r_spike": 3, "name": 4, "offset": 5, "smooth": 8, "median_smooth": 8,
+                   "ms": 8, "slope": 9, "ras": 9, "cs": 8,
                    **{name: 6 for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
                    **{name: 5 + count for name, (count, _) in _GENERATORS.items()}})
 #: xlook's commands that draw, print, prompt or manage windows and files: an r-file that holds them runs, each
