@@ -315,3 +315,41 @@ def test_xlooks_offset_and_window_commands_by_their_source():
         np.testing.assert_array_equal(median[last - odd // 2:last + 1], y[last - odd // 2:last + 1])
     with pytest.raises(InputError, match="does not fit"):
         run("smooth 2 3 0 3 9 s mm")
+
+
+def test_xlooks_thinning_and_volume_corrections_by_their_source():
+    """array.c's calc_geom_thin, geom_thin and vol_corr as written there (their parameters read as C floats, as
+    sscanf's %f reads them)."""
+    import struct
+
+    def c_float(value):
+        return struct.unpack("f", struct.pack("f", value))[0]
+
+    rng = np.random.default_rng(7)
+    d = np.cumsum(rng.uniform(0.0, 2.0, 30))
+    thick = 3000.0 - np.cumsum(rng.uniform(0.0, 1.0, 30))
+    tau = np.cumsum(rng.normal(0.0, 0.1, 30))
+    look = LookFile("x", {"d": d, "h": thick, "tau": tau}, {"d": "micron", "h": "micron", "tau": "MPa"})
+
+    def run(line):
+        return run_commands(line, "r", look=look)
+
+    length, initial = c_float(50000.1), c_float(3000.3)
+    h, expected = initial, [initial]
+    for i in range(1, 30):
+        h -= (d[i] - d[i - 1]) * h / (length * 2.0)
+        expected.append(h)
+    np.testing.assert_array_equal(run("cgt 50000.1 3000.3 1 4 h micron").column(4), expected)
+    change, expected = 0.0, [thick[0]]
+    for i in range(1, 30):
+        change += (d[i] - d[i - 1]) * thick[i - 1] / (length * 2.0)
+        expected.append(thick[i - 1] + change)
+    np.testing.assert_array_equal(run("rgt 50000.1 1 2 4 h micron").column(4), expected)
+    factor = c_float(0.013)
+    out = [0.0] * 30
+    out[3] = d[3]
+    for row in range(4, 21):
+        out[row] = out[row - 1] + d[row] - d[row - 1] - (tau[row] - tau[row - 1]) * factor
+    np.testing.assert_array_equal(run("vc 1 3 4 3 20 0.013 vs micron").column(4), out)
+    with pytest.raises(InputError, match="must not be its displacement column"):
+        run("rgt 50000 1 2 1 h micron")

@@ -549,6 +549,57 @@ def _slope(state, words, where):
     _store(state, words[2], words[6], words[7], out, where)
 
 
+def _c_float(text: str, where: str) -> float:
+    """A number as xlook's sscanf reads it with %f: a C float, rounded to single precision (cgt, rgt, vc)."""
+    return float(np.float32(_number(text, where)))
+
+
+def _cgt(state, words, where):
+    """``cgt L H DISP OUT NAME UNIT``: array.c's calc_geom_thin(), the layer's geometric thinning in direct shear
+    from an initial thickness H over a block of length L, h_i = h_(i-1) (1 - (d_i - d_(i-1)) / (2 L)), h_0 = H;
+    L and H read as C floats."""
+    length, thickness = _c_float(words[0], where), _c_float(words[1], where)
+    d = _values(state, words[2], where)
+    out = np.empty_like(d)
+    h = thickness
+    out[0] = h
+    for i in range(1, d.size):  # a recurrence, as array.c writes it (its rounding too)
+        h -= (d[i] - d[i - 1]) * h / (2.0 * length)
+        out[i] = h
+    _store(state, words[3], words[4], words[5], out, where)
+
+
+def _rgt(state, words, where):
+    """``rgt L DISP THICK OUT NAME UNIT``: array.c's geom_thin(), the thickness corrected for geometric thinning:
+    out_i = thick_(i-1) + sum_(k<=i) (d_k - d_(k-1)) thick_(k-1) / (2 L), out_0 = thick_0; L read as a C float."""
+    length = _c_float(words[0], where)
+    d, thick = _values(state, words[1], where), _values(state, words[2], where)
+    if _slot(words[1], where) == _slot(words[3], where):
+        raise InputError(f"{where}: rgt's output must not be its displacement column")
+    out = np.empty_like(d)
+    out[0] = thick[0]
+    change = 0.0
+    for i in range(1, d.size):
+        change += (d[i] - d[i - 1]) * thick[i - 1] / (2.0 * length)
+        out[i] = thick[i - 1] + change
+    _store(state, words[3], words[4], words[5], out, where)
+
+
+def _vc(state, words, where):
+    """``vc VS TAU OUT FIRST LAST S NAME UNIT``: array.c's vol_corr(), the volume strain corrected for the pressure
+    on the layer's edges, out_r = out_(r-1) + (vs_r - vs_(r-1)) - (tau_r - tau_(r-1)) S from out_FIRST = vs_FIRST
+    to LAST; S (S Va / V) read as a C float; the records outside keep OUT's values."""
+    vs, tau = _values(state, words[0], where), _values(state, words[1], where)
+    span = _range(state, words[3], words[4], where)
+    factor = _c_float(words[5], where)
+    out = _output(state, words[2], where)
+    first, last = span.start, span.stop - 1
+    out[first] = vs[first]
+    for row in range(first + 1, last + 1):
+        out[row] = out[row - 1] + vs[row] - vs[row - 1] - (tau[row] - tau[row - 1]) * factor
+    _store(state, words[2], words[6], words[7], out, where)
+
+
 _COMMANDS = {"math": _math, "math_int": _math_int, "summation": _summation, "power": _power, "zero": _zero,
              "offset_int": _offset_int, "ec": _ec, "strain": _strain, "r_col": _r_col, "r_row": _r_row,
              "exp": _elementwise(np.exp), "ln": _elementwise(np.log), "log": _elementwise(np.log10),
@@ -556,12 +607,14 @@ _COMMANDS = {"math": _math, "math_int": _math_int, "summation": _summation, "pow
              "col_power": _col_power, "deriv": _deriv, "z_min": _shifted_by(np.min), "z_max": _shifted_by(np.max),
              "r_mean": _shifted_by(np.mean), "r_spike": _r_spike, "name": _name, "offset": _offset,
              "smooth": _smooth, "median_smooth": _median_smooth, "ms": _median_smooth, "slope": _slope, "ras": _slope,
-             "cs": _strain,
+             "cs": _strain, "cgt": _cgt, "calc_geometric_thinning": _cgt, "rgt": _rgt, "geometric_thinning": _rgt,
+             "vc": _vc, "vol_cor": _vc,
              **{name: _trig for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
              **{name: _generator(count, formula) for name, (count, formula) in _GENERATORS.items()}}
 _ARGUMENTS.update({"exp": 5, "ln": 5, "log": 5, "recip": 5, "positive": 5, "col_power": 6, "deriv": 8, "z_min": 5,
                    "z_max": 5, "r_mean": 5, "r_spike": 3, "name": 4, "offset": 5, "smooth": 8, "median_smooth": 8,
-                   "ms": 8, "slope": 9, "ras": 9, "cs": 8,
+                   "ms": 8, "slope": 9, "ras": 9, "cs": 8, "cgt": 7, "calc_geometric_thinning": 7, "rgt": 7,
+                   "geometric_thinning": 7, "vc": 9, "vol_cor": 9,
                    **{name: 6 for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
                    **{name: 5 + count for name, (count, _) in _GENERATORS.items()}})
 #: xlook's commands that draw, print, prompt or manage windows and files: an r-file that holds them runs, each
