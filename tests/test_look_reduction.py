@@ -353,3 +353,39 @@ def test_xlooks_thinning_and_volume_corrections_by_their_source():
     np.testing.assert_array_equal(run("vc 1 3 4 3 20 0.013 vs micron").column(4), out)
     with pytest.raises(InputError, match="must not be its displacement column"):
         run("rgt 50000 1 2 1 h micron")
+
+
+def test_xlooks_trend_removal_sort_and_curvature_by_their_source():
+    import struct
+
+    rng = np.random.default_rng(11)
+    t = np.arange(20.0)
+    y = 3.0 + 0.5 * t + rng.normal(0.0, 0.2, 20)
+    look = LookFile("x", {"t": t, "y": y, "s": np.array([0, 1, 3, 2, 4, 6, 5, 5, 7, 8, 9, 1, 10, 11, 12, 13, 2,
+                                                          14, 15, 16], float)},
+                    {"t": "s", "y": "mm", "s": "mm"})
+
+    def run(line):
+        return run_commands(line, "r", look=look)
+
+    # r_trend: the least-squares line over records 2 to 15 by special.c's line(), removed from Y everywhere
+    x_mean, y_mean = t[2:16].mean(), y[2:16].mean()
+    slope = np.sum((y[2:16] - y_mean) * (t[2:16] - x_mean)) / np.sum((t[2:16] - x_mean) ** 2)
+    intercept = y_mean - slope * x_mean
+    np.testing.assert_allclose(run("r_trend Y c 1 2 4 2 15 d mm").column(4), y - (t * slope + intercept), rtol=1e-13)
+    np.testing.assert_allclose(run("r_trend y i 1 2 4 0.5 3 d mm").column(4), y - (0.5 * t + 3), rtol=1e-15)
+    np.testing.assert_allclose(run("r_trend x i 1 2 4 0.5 3 d mm").column(4), t - (y - 3) / 0.5, rtol=1e-13)
+    offset = run("r_trend_o Y c 1 2 4 2 15 d mm").column(4)
+    assert offset[2] == pytest.approx(y[2], rel=1e-14)  # then offset to Y at the fit's first record
+    # sort: from record 1 to 17, the records that continue the order; the rest removed from every column
+    sorted_run = run("sort 3 1 17")
+    np.testing.assert_array_equal(sorted_run.column(3), [0, 1, 3, 4, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16])
+    np.testing.assert_array_equal(sorted_run.column(0), [0, 1, 2, 4, 5, 8, 9, 10, 12, 13, 14, 15, 17, 18, 19])
+    assert len(sorted_run.column(2)) == 15
+    # curv: the fourth-order second difference, DX read as a C float
+    dx = struct.unpack("f", struct.pack("f", 0.1))[0]
+    curvature = run("curv 2 4 0.1 c mm").column(4)
+    i = np.arange(2, 18)
+    np.testing.assert_allclose(curvature[2:18], (-30 * y[i] + 16 * (y[i + 1] + y[i - 1]) - (y[i + 2] + y[i - 2]))
+                               / (12 * dx ** 2), rtol=1e-13)
+    assert curvature[0] == curvature[1] == curvature[18] == curvature[19] == 0.0

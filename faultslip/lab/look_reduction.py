@@ -58,6 +58,7 @@ class Reduction:
     commands: int = 0
     experiment: str = ""  # the data file's own name for its run (xlook's header)
     ran: list = field(default_factory=list)  # the commands run, in order
+    current: str = ""  # the command running (a variant such as r_trend_o reads it)
     skipped: list = field(default_factory=list)  # the display commands skipped, each with its line
 
     def column(self, slot: int) -> np.ndarray:
@@ -161,6 +162,7 @@ def run_commands(text: str, source: str = "<r-file>", base_dir=None, look=None) 
                 folder = Path(base_dir) if base_dir is not None else Path(".")
                 _load(state, read_look(folder / Path(words[1]).name))
         elif command not in ("begin", "com_file"):
+            state.current = command
             _COMMANDS[command](state, words[1:], where)
         state.commands += 1
         state.ran.append(command)
@@ -600,6 +602,75 @@ def _vc(state, words, where):
     _store(state, words[2], words[6], words[7], out, where)
 
 
+def _line(x, y) -> tuple[float, float]:
+    """special.c's line(): the least-squares slope and intercept of y on x, from the means (its loop order)."""
+    x_mean, y_mean = x.sum() / x.size, y.sum() / y.size
+    slope = float(((y - y_mean) * (x - x_mean)).sum() / ((x - x_mean) ** 2).sum())
+    return slope, float(y_mean - slope * x_mean)
+
+
+def _r_trend(state, words, where):
+    """``r_trend X|Y i X Y OUT SLOPE INTERCEPT NAME UNIT`` (a trend given) or ``r_trend X|Y c X Y OUT FIRST LAST NAME
+    UNIT`` (fitted to records FIRST to LAST by special.c's line()), as cmds.c's do_r_trend_final removes it over
+    every record: with Y, OUT = Y - (SLOPE X + INTERCEPT); with X, OUT = X - (Y - INTERCEPT) / SLOPE.
+    ``r_trend_o`` (or ``r_trendo``) then offsets OUT to Y at the first record of the fit, as its generated
+    ``offset`` does (records from 0 where the trend is given). xlook uses slot 0 as scratch; faultslip keeps the
+    record numbers."""
+    axis, given = words[0][:1].lower(), words[1][:1].lower() == "i"
+    if axis not in ("x", "y"):
+        raise InputError(f"{where}: r_trend removes a trend from X or from Y, got {words[0]!r}")
+    x, y = _values(state, words[2], where), _values(state, words[3], where)
+    if given:
+        slope, intercept, first = _number(words[5], where), _number(words[6], where), 0
+    else:
+        span = _range(state, words[5], words[6], where)
+        slope, intercept = _line(x[span], y[span])
+        first = span.start
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = x - (y - intercept) / slope if axis == "x" else y - (x * slope + intercept)
+    if state.current.endswith("o"):
+        out = out + (y[first] - out[first])
+    _store(state, words[4], words[7], words[8], out, where)
+
+
+def _sort(state, words, where):
+    """``sort COL FIRST LAST`` (or order; a negative COL for descending): cmds.c's do_sort, which keeps from FIRST
+    the records that continue COL's order (each next kept record the first beyond the last kept that is greater,
+    or smaller descending) and removes the others from every column up to LAST; records after LAST stay. Slot 0
+    then holds the kept records' numbers, as xlook's scratch of them does."""
+    try:
+        column = int(words[0])
+    except ValueError:
+        raise InputError(f"{where}: a column is a slot number, got {words[0]!r}") from None
+    ascend = -1.0 if column < 0 else 1.0
+    values = _values(state, str(abs(column)), where)
+    span = _range(state, words[1], words[2], where)
+    first, last = span.start, span.stop - 1
+    kept, i = [first], first
+    while i < last:
+        k = 1
+        while i + k <= last and ascend * values[i + k] <= ascend * values[i]:
+            k += 1
+        i += k
+        if i <= last:
+            kept.append(i)
+    keep = np.concatenate([np.arange(first), kept, np.arange(last + 1, _records(state))]).astype(int)
+    state.data = [None if column_values is None else column_values[keep] for column_values in state.data]
+
+
+def _curv(state, words, where):
+    """``curv IN OUT DX NAME UNIT``: cmds.c's do_curv, the second difference of IN at spacing DX (a C float) to
+    fourth order, (-30 y_i + 16 (y_(i+1) + y_(i-1)) - (y_(i+2) + y_(i-2))) / (12 DX^2), on records 2 to N - 3;
+    the others keep OUT's values."""
+    y = _values(state, words[0], where)
+    dx = _c_float(words[2], where)
+    if y.size < 5:
+        raise InputError(f"{where}: curv needs five records or more, got {y.size}")
+    out = _output(state, words[1], where)
+    out[2:-2] = (-30.0 * y[2:-2] + 16.0 * (y[3:-1] + y[1:-3]) - (y[4:] + y[:-4])) / (12.0 * dx ** 2)
+    _store(state, words[1], words[3], words[4], out, where)
+
+
 _COMMANDS = {"math": _math, "math_int": _math_int, "summation": _summation, "power": _power, "zero": _zero,
              "offset_int": _offset_int, "ec": _ec, "strain": _strain, "r_col": _r_col, "r_row": _r_row,
              "exp": _elementwise(np.exp), "ln": _elementwise(np.log), "log": _elementwise(np.log10),
@@ -608,13 +679,15 @@ _COMMANDS = {"math": _math, "math_int": _math_int, "summation": _summation, "pow
              "r_mean": _shifted_by(np.mean), "r_spike": _r_spike, "name": _name, "offset": _offset,
              "smooth": _smooth, "median_smooth": _median_smooth, "ms": _median_smooth, "slope": _slope, "ras": _slope,
              "cs": _strain, "cgt": _cgt, "calc_geometric_thinning": _cgt, "rgt": _rgt, "geometric_thinning": _rgt,
-             "vc": _vc, "vol_cor": _vc,
+             "vc": _vc, "vol_cor": _vc, "r_trend": _r_trend, "r_trend_o": _r_trend, "r_trendo": _r_trend,
+             "sort": _sort, "order": _sort, "curv": _curv,
              **{name: _trig for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
              **{name: _generator(count, formula) for name, (count, formula) in _GENERATORS.items()}}
 _ARGUMENTS.update({"exp": 5, "ln": 5, "log": 5, "recip": 5, "positive": 5, "col_power": 6, "deriv": 8, "z_min": 5,
                    "z_max": 5, "r_mean": 5, "r_spike": 3, "name": 4, "offset": 5, "smooth": 8, "median_smooth": 8,
                    "ms": 8, "slope": 9, "ras": 9, "cs": 8, "cgt": 7, "calc_geometric_thinning": 7, "rgt": 7,
-                   "geometric_thinning": 7, "vc": 9, "vol_cor": 9,
+                   "geometric_thinning": 7, "vc": 9, "vol_cor": 9, "r_trend": 10, "r_trend_o": 10, "r_trendo": 10,
+                   "sort": 4, "order": 4, "curv": 6,
                    **{name: 6 for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
                    **{name: 5 + count for name, (count, _) in _GENERATORS.items()}})
 #: xlook's commands that draw, print, prompt or manage windows and files: an r-file that holds them runs, each
