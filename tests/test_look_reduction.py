@@ -389,3 +389,89 @@ def test_xlooks_trend_removal_sort_and_curvature_by_their_source():
     np.testing.assert_allclose(curvature[2:18], (-30 * y[i] + 16 * (y[i + 1] + y[i - 1]) - (y[i + 2] + y[i - 2]))
                                / (12 * dx ** 2), rtol=1e-13)
     assert curvature[0] == curvature[1] == curvature[18] == curvature[19] == 0.0
+
+
+def test_xlooks_commands_that_change_a_columns_length_by_their_source(tmp_path):
+    import struct
+
+    x = np.array([0.0, 0.4, 1.1, 1.5, 2.6, 3.0, 3.9, 5.2, 6.0, 7.1])
+    y = np.array([2.0, 0.0, 5.0, 0.0, 1.0, 9.0, 3.0, 0.0, 4.0, 8.0])
+    look = LookFile("x", {"x": x, "y": y}, {"x": "s", "y": "mm"})
+
+    def run(line):
+        return run_commands(line, "r", look=look)
+
+    # compress: the non-zero values, a column of 7 records
+    compressed = run("compress 2 4 c mm")
+    np.testing.assert_array_equal(compressed.column(4), [2, 5, 1, 9, 3, 4, 8])
+    dataset = compressed.to_dataset()
+    assert dataset["c"].attrs["xlook_records"] == 7 and np.isnan(dataset["c"].values[7:]).all()
+    with pytest.raises(InputError, match="holds 7 records where the data set has 10"):
+        run("compress 2 4 c mm\nmath 4 + 1 : 5 s mm")
+    # r_row_col: records 2 to 4 from column 2 alone
+    np.testing.assert_array_equal(run("rrc 2 2 4").column(2), [2, 0, 9, 3, 0, 4, 8])
+    assert len(run("rrc 2 2 4").column(1)) == 10
+    # decimat: every third record of 1 to 8 (y at 1, 4 and 7) from record 1 on; decimat_r ends the column there
+    np.testing.assert_array_equal(run("decimat 1 4 3 1 8 d s").column(4), [0, 0.4, 2.6, 5.2, 0, 0, 0, 0, 0, 0])
+    np.testing.assert_array_equal(run("decimat_r 1 4 3 1 8 d s").column(4), [0, 0.4, 2.6, 5.2])
+    # peak: above both neighbours each side
+    np.testing.assert_array_equal(run("peak 2 4 p mm").column(4), [0, 0, 5, 0, 0, 9, 0, 0, 0, 0])
+    # interpolate: y at x = 0, 1, 2, ... (increment 1) by do_interpolate's walk, linear between records
+    walked = run("interpolate 1 2 4 5 0 9 1 xi s yi mm")
+    new_x, new_y = [x[0]], [y[0]]
+    i, k = 0, 1
+    while k <= 9:
+        if new_x[i] + 1.0 > x[k]:
+            k += 1
+        else:
+            new_y.append(y[k - 1] + (y[k] - y[k - 1]) * (new_x[i] + 1.0 - x[k - 1]) / (x[k] - x[k - 1]))
+            new_x.append(new_x[i] + 1.0)
+            i += 1
+    np.testing.assert_allclose(walked.column(4)[:len(new_x)], new_x, rtol=1e-15)
+    np.testing.assert_allclose(walked.column(5)[:len(new_y)], new_y, rtol=1e-15)
+    trimmed = run("interpolate_r 1 2 4 5 0 9 1 xi s yi mm")
+    assert len(trimmed.column(1)) == len(new_x) and trimmed.names[4] == "xi" and trimmed.units[5] == "mm"
+    # pdf: 4 bins of y from 0 to 9, each value's bin truncated from a C float, scaled to a density
+    density = run("pdf 2 4 6 4 9 0")
+    index = [int(struct.unpack("f", struct.pack("f", 3 * v / 9))[0]) for v in y]
+    counts = np.bincount(index, minlength=4)
+    np.testing.assert_allclose(density.column(4), counts / (10 * 9 / 3), rtol=1e-15)
+    np.testing.assert_allclose(density.column(6), 0 + (np.arange(4) + 0.5) / 3 * 9, rtol=1e-15)
+    assert density.names[4] == "prob_dens" and density.units[6] == "mm"
+    assert np.trapezoid(density.column(4), dx=3.0) > 0
+    with pytest.raises(InputError, match="outside 0 to 5"):
+        run("pdf 2 4 6 4 5 0")
+
+
+def test_xlooks_polyfit_is_the_least_squares_polynomial():
+    """A cubic recovered exactly from cubic data (any least-squares method must), and the fit on noisy data equal
+    to numpy's polyfit; the modes write where do_polyfit writes."""
+    rng = np.random.default_rng(3)
+    x = np.linspace(0.0, 4.0, 30)
+    cubic = 1.0 - 2.0 * x + 0.5 * x ** 2 + 0.25 * x ** 3
+    noisy = cubic + rng.normal(0.0, 0.1, 30)
+    look = LookFile("x", {"x": x, "c": cubic, "n": noisy}, {"x": "s", "c": "mm", "n": "mm"})
+
+    def run(line):
+        return run_commands(line, "r", look=look)
+
+    np.testing.assert_allclose(run("polyfit 1 2 4 3 0 29 n f mm").column(4), cubic, rtol=1e-12, atol=1e-12)
+    fitted = run("polyfit 1 3 4 2 5 24 n f mm").column(4)
+    expected = np.polyval(np.polyfit(x[5:25], noisy[5:25], 2), x)
+    np.testing.assert_allclose(fitted[5:25], expected[5:25], rtol=1e-10)
+    assert fitted[4] == 0.0 and fitted[25] == 0.0  # n: the fitted records only
+    np.testing.assert_allclose(run("polyfit 1 3 4 2 5 24 a f mm").column(4), expected, rtol=1e-10)
+    extended = run("polyfit 1 3 4 2 5 24 y 27 f mm").column(4)
+    np.testing.assert_allclose(extended[5:28], expected[5:28], rtol=1e-10)
+    assert extended[28] == 0.0
+    stepped = run("polyfit_i 1 2 4 3 0 9 0.05 f mm").column(4)
+    np.testing.assert_allclose(stepped[:10], np.polyval([0.25, 0.5, -2.0, 1.0], 0.05 * np.arange(10)), rtol=1e-12,
+                               atol=1e-12)
+    with pytest.raises(InputError, match="needs more than 5 records"):
+        run("polyfit 1 2 4 5 0 4 n f mm")
+
+
+@pytest.mark.parametrize("command", ["qi 1 2 3", "simplex 1 2", "rsm 1 2 3 4", "cm 1 2"])
+def test_xlooks_rate_and_state_tools_are_refused_with_the_way_there(command):
+    with pytest.raises(InputError, match="interactive rate-and-state tool.*faultslip fit --law rate-state"):
+        _run(command)

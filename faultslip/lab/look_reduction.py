@@ -18,7 +18,13 @@ file order (``read FILE``, a file beside the r-file). The commands, as Penn Stat
 * ``strain DISP THICK OUT FIRST LAST NAME UNIT``: the shear strain accumulated over records FIRST to LAST, the sum of
   displacement increments over the layer's thickness, sum(d DISP / THICK), 0 at FIRST;
 * ``r_col COL`` clears a slot; ``r_row FIRST LAST`` removes records FIRST to LAST from every column;
-* ``begin``, ``com_file`` and ``end`` frame the file.
+* ``begin``, ``com_file`` and ``end`` frame the file;
+* xlook's further data commands, each as its source (src/array.c, func.c, special.c, cmds.c) defines it: column
+  functions (exp, ln, log, recip, positive, trig, col_power, and func.c's Power1 .. Poly4), deriv, smooth,
+  median_smooth, slope, z_min, z_max, r_mean, r_spike, offset, name, cgt, rgt, vc, r_trend, sort, curv, compress,
+  r_row_col, decimat, interpolate, peak, pdf and polyfit (docs/lab_fits.md tables each with its check). Display
+  commands (plots, type, stat, windows) are skipped, each noted; xlook's interactive rate-and-state tools (qi,
+  simplex, ...) are refused with the way to faultslip's own fit.
 
 Record ranges include both ends, and a LAST of -1 is the last record. The r-files say so themselves: p655's
 ``r_row 86283 86283`` removes the one record its comment names ("normal stress has a zero at 86283, ax it").
@@ -78,8 +84,11 @@ class Reduction:
             key = "".join(c if c.isalnum() or c == "_" else "_" for c in name).strip("_") or f"slot_{slot}"
             if key in data:
                 key = f"{key}_{slot}"
-            data[key] = ("record", values, {"long_name": name, "units": _cf_unit(unit), "xlook_units": str(unit),
-                                            "xlook_slot": slot})
+            records = _records(self)
+            padded = values if len(values) == records else np.concatenate([values, np.full(records - len(values),
+                                                                                          np.nan)])
+            data[key] = ("record", padded, {"long_name": name, "units": _cf_unit(unit), "xlook_units": str(unit),
+                                            "xlook_slot": slot, "xlook_records": len(values)})
         return xr.Dataset(data, coords={"record": ("record", np.arange(_records(self)), {"units": "1"})},
                           attrs={"title": f"xlook reduction {self.source}", "Conventions": "CF-1.8",
                                  "commands": self.commands, "commands_run": " ".join(self.ran),
@@ -148,11 +157,17 @@ def run_commands(text: str, source: str = "<r-file>", base_dir=None, look=None) 
         if command in DISPLAY_COMMANDS or (command.startswith("plot") and command.endswith("h")):
             state.skipped.append(f"line {number}: {command} (draws, prints or prompts: no data changes)")
             continue
+        if command in FITTING_TOOLS or command.startswith(("rsm", "cm_h", "scm", "qi_")):
+            raise InputError(f"{where}: {command} is xlook's interactive rate-and-state tool; reduce without it, then "
+                             "fit the reduced record with 'faultslip fit --law rate-state' (its inversion, with "
+                             "intervals) or model it with a rate_state_slider scene")
         if command not in _ARGUMENTS:
             raise InputError(f"{where}: faultslip does not know the command {command!r} (it runs "
                              f"{', '.join(sorted(_ARGUMENTS))} and end, and skips xlook's display commands)")
-        if len(words) != _ARGUMENTS[command]:
-            raise InputError(f"{where}: {command} takes {_ARGUMENTS[command] - 1} arguments, got {len(words) - 1}")
+        allowed = _ARGUMENTS[command] if isinstance(_ARGUMENTS[command], tuple) else (_ARGUMENTS[command],)
+        if len(words) not in allowed:
+            raise InputError(f"{where}: {command} takes {' or '.join(str(n - 1) for n in allowed)} arguments, got "
+                             f"{len(words) - 1}")
         lines.append((command, words, where))
     if look is not None:
         _load(state, look)
@@ -327,7 +342,103 @@ def _r_col(state, words, where):
 
 def _r_row(state, words, where):
     span = _range(state, words[0], words[1], where)
-    state.data = [None if values is None else np.delete(values, span) for values in state.data]
+    state.data = [None if values is None else _without(values, span) for values in state.data]
+
+
+def _without(values: np.ndarray, span: slice) -> np.ndarray:
+    """``values`` without the records of ``span`` it holds (a shorter column loses those it has)."""
+    return np.delete(values, np.arange(span.start, min(span.stop, len(values))))
+
+
+def _single(state: Reduction, text: str, where: str) -> np.ndarray:
+    """A column's values at its own length (xlook's commands on one column run over its own records)."""
+    slot = _slot(text, where)
+    if state.data[slot] is None:
+        raise InputError(f"{where}: column {slot} holds no data (read the data file first, or fill the column)")
+    return state.data[slot]
+
+
+def _r_row_col(state, words, where):
+    """``r_row_col COL FIRST LAST`` (or rrc): records FIRST to LAST removed from column COL alone (do_r_row_col):
+    it then holds fewer records than the others, as xlook allows."""
+    slot = _slot(words[0], where)
+    values = _single(state, words[0], where)
+    span = _range(state, words[1], words[2], where)
+    state.data[slot] = _without(values, span)
+
+
+def _compress(state, words, where):
+    """``compress IN OUT NAME UNIT``: IN's non-zero values, in order, into OUT, a shorter column (do_compress)."""
+    if _slot(words[0], where) == _slot(words[1], where):
+        raise InputError(f"{where}: compress writes into another column than it reads")
+    values = _single(state, words[0], where)
+    _store(state, words[1], words[2], words[3], values[values != 0.0].copy(), where)
+
+
+def _decimat(state, words, where):
+    """``decimat IN OUT STEP FIRST LAST NAME UNIT``: every STEP-th record of IN from FIRST to LAST written into OUT
+    from FIRST on (do_decimat); OUT's other records keep their values. ``decimat_r`` (or decimatr) then ends OUT
+    after the last one written, a shorter column."""
+    values = _values(state, words[0], where)
+    try:
+        step = int(words[2])
+    except ValueError:
+        raise InputError(f"{where}: the step is a whole number of records, got {words[2]!r}") from None
+    if step < 1:
+        raise InputError(f"{where}: the step must be 1 or more records, got {step}")
+    span = _range(state, words[3], words[4], where)
+    out = _output(state, words[1], where)
+    picked = values[span.start:span.stop:step]
+    out[span.start:span.start + picked.size] = picked
+    if state.current.endswith("r"):
+        out = out[:span.start + picked.size]
+    _store(state, words[1], words[5], words[6], out, where)
+
+
+def _interpolate(state, words, where):
+    """``interpolate X Y NEW_X NEW_Y FIRST LAST DX|d NAME_X UNIT_X NAME_Y UNIT_Y``: do_interpolate, Y resampled at
+    equal steps of X from FIRST: NEW_X steps by DX (or, with ``d``, the range of X over the records over their
+    count), NEW_Y linear between the bracketing records; the first record as it is. ``interpolate_r`` (or
+    interpolater) then removes the records after the last one written from every column, as its generated r_row
+    does."""
+    x, y = _values(state, words[0], where), _values(state, words[1], where)
+    span = _range(state, words[4], words[5], where)
+    first, last = span.start, span.stop - 1
+    if words[6][:1] == "d":
+        step = (x[span].max() - x[span].min()) / (last - first + 1)
+    else:
+        step = _number(words[6], where)
+    if not step > 0:
+        raise InputError(f"{where}: the increment must be positive, got {step!r}")
+    new_x, new_y = _output(state, words[2], where), _output(state, words[3], where)
+    new_x[first], new_y[first] = x[first], y[first]
+    i, k = first, first + 1
+    while k <= last:
+        if new_x[i] + step > x[k]:
+            k += 1
+            continue
+        if i + 1 > last:
+            raise InputError(f"{where}: an increment of {step:g} gives more points than records {first} to {last} "
+                             "hold; use a larger increment")
+        new_y[i + 1] = y[k - 1] + (y[k] - y[k - 1]) * (new_x[i] + step - x[k - 1]) / (x[k] - x[k - 1])
+        new_x[i + 1] = new_x[i] + step
+        i += 1
+    _store(state, words[2], words[7], words[8], new_x, where)
+    _store(state, words[3], words[9], words[10], new_y, where)
+    if state.current.endswith("r") and i + 1 <= last:
+        removed = slice(i + 1, last + 1)
+        state.data = [None if values is None else _without(values, removed) for values in state.data]
+
+
+def _peak(state, words, where):
+    """``peak IN OUT NAME UNIT``: do_peak, OUT holds IN where IN is above its two neighbours on each side (records
+    2 to N - 3), and 0 elsewhere."""
+    values = _single(state, words[0], where)
+    out = np.zeros_like(values)
+    middle = values[2:-2]
+    local = ((middle > values[3:-1]) & (middle > values[1:-3]) & (middle > values[4:]) & (middle > values[:-4]))
+    out[2:-2] = np.where(local, middle, 0.0)
+    _store(state, words[1], words[2], words[3], out, where)
 
 
 # --- column functions (xlook's src/array.c and src/func.c; the command's words as src/cmds.c reads them) ---------
@@ -671,6 +782,70 @@ def _curv(state, words, where):
     _store(state, words[1], words[3], words[4], out, where)
 
 
+def _pdf(state, words, where):
+    """``pdf IN OUT BIN K MAX MIN`` and ``pdfauto IN OUT BIN K``: do_pdf's probability density of IN in K bins from
+    MIN to MAX (whole numbers, as xlook reads them; pdfauto: IN's own range), into OUT ("prob_dens") and BIN ("bin",
+    IN's unit), columns of K records: bin centres MIN + (j + 1/2) / (K - 1) (MAX - MIN), each value's bin
+    (K - 1) (x - MIN) / (MAX - MIN) rounded to a C float and truncated, the counts over N (MAX - MIN) / (K - 1)."""
+    values = _single(state, words[0], where)
+    try:
+        bins = int(words[3])
+        low, high = (float(int(words[5])), float(int(words[4]))) if len(words) > 4 else (values.min(), values.max())
+    except ValueError:
+        raise InputError(f"{where}: the bins, MAX and MIN are whole numbers") from None
+    if bins < 2 or not high > low:
+        raise InputError(f"{where}: a density needs 2 bins or more and MAX above MIN")
+    if np.any(values < low) or np.any(values > high):
+        raise InputError(f"{where}: values of column {words[0]} lie outside {low:g} to {high:g}: widen MIN and MAX "
+                         "(xlook would write past its bins)")
+    centres = low + (np.arange(bins) + 0.5) / (bins - 1) * (high - low)
+    index = np.trunc(((bins - 1) * (values - low) / (high - low)).astype(np.float32)).astype(int)
+    density = np.bincount(index, minlength=bins)[:bins].astype(float) / (values.size * ((high - low) / (bins - 1.0)))
+    _store(state, words[1], "prob_dens", "prob_dens", density, where)
+    _store(state, words[2], "bin", state.units[_slot(words[0], where)], centres, where)
+
+
+def _polyfit(state, words, where):
+    """``polyfit X Y OUT ORDER FIRST LAST a|n|y [ROW] NAME UNIT`` and ``polyfit_i X Y OUT ORDER FIRST LAST DX|d
+    [ROW] NAME UNIT``: do_polyfit, the least-squares polynomial of ORDER of Y on X over records FIRST to LAST
+    (xlook fits orthogonal polynomials, polyfit.c's ortpol: the same polynomial, to round-off), evaluated into OUT
+    at X on FIRST to LAST (n), on every record (a), or on FIRST to ROW (y, with ROW); polyfit_i evaluates it at
+    X[FIRST] + k DX instead (d: the range of X over the records over their count), to LAST or to ROW."""
+    x, y = _values(state, words[0], where), _values(state, words[1], where)
+    try:
+        order = int(words[3])
+    except ValueError:
+        raise InputError(f"{where}: the order is a whole number, got {words[3]!r}") from None
+    span = _range(state, words[4], words[5], where)
+    first, last = span.start, span.stop - 1
+    if not 0 <= order < last - first + 1:
+        raise InputError(f"{where}: a polynomial of order {order} needs more than {order} records, got "
+                         f"{last - first + 1}")
+    extended = len(words) == 10
+    row = _range(state, words[7], words[7], where).start if extended else None
+    name, unit = words[-2], words[-1]
+    fit = np.polynomial.Polynomial.fit(x[span], y[span], order)
+    out = _output(state, words[2], where)
+    mode = words[6]
+    if state.current.startswith("polyfit_i"):
+        step = (x[span].max() - x[span].min()) / (last - first + 1) if mode[:1] == "d" else _number(mode, where)
+        end = row if extended else last
+        if end < first:
+            raise InputError(f"{where}: the row to extend to lies before FIRST")
+        out[first:end + 1] = fit(x[first] + np.arange(end - first + 1) * step)
+    elif mode[:1] in ("a", "A"):
+        out = fit(x)
+    elif mode[:1] in ("y", "Y"):
+        if row is None:
+            raise InputError(f"{where}: extending the fit (y) needs the row to extend to before NAME")
+        if row < first:
+            raise InputError(f"{where}: the row to extend to lies before FIRST")
+        out[first:row + 1] = fit(x[first:row + 1])
+    else:
+        out[first:last + 1] = fit(x[first:last + 1])
+    _store(state, words[2], name, unit, out, where)
+
+
 _COMMANDS = {"math": _math, "math_int": _math_int, "summation": _summation, "power": _power, "zero": _zero,
              "offset_int": _offset_int, "ec": _ec, "strain": _strain, "r_col": _r_col, "r_row": _r_row,
              "exp": _elementwise(np.exp), "ln": _elementwise(np.log), "log": _elementwise(np.log10),
@@ -680,20 +855,28 @@ _COMMANDS = {"math": _math, "math_int": _math_int, "summation": _summation, "pow
              "smooth": _smooth, "median_smooth": _median_smooth, "ms": _median_smooth, "slope": _slope, "ras": _slope,
              "cs": _strain, "cgt": _cgt, "calc_geometric_thinning": _cgt, "rgt": _rgt, "geometric_thinning": _rgt,
              "vc": _vc, "vol_cor": _vc, "r_trend": _r_trend, "r_trend_o": _r_trend, "r_trendo": _r_trend,
-             "sort": _sort, "order": _sort, "curv": _curv,
+             "sort": _sort, "order": _sort, "curv": _curv, "r_row_col": _r_row_col, "rrc": _r_row_col,
+             "compress": _compress, "decimat": _decimat, "decimat_r": _decimat, "decimatr": _decimat,
+             "interpolate": _interpolate, "interpolate_r": _interpolate, "interpolater": _interpolate,
+             "peak": _peak, "pdf": _pdf, "pdfauto": _pdf, "polyfit": _polyfit, "polyfit_i": _polyfit,
              **{name: _trig for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
              **{name: _generator(count, formula) for name, (count, formula) in _GENERATORS.items()}}
 _ARGUMENTS.update({"exp": 5, "ln": 5, "log": 5, "recip": 5, "positive": 5, "col_power": 6, "deriv": 8, "z_min": 5,
                    "z_max": 5, "r_mean": 5, "r_spike": 3, "name": 4, "offset": 5, "smooth": 8, "median_smooth": 8,
                    "ms": 8, "slope": 9, "ras": 9, "cs": 8, "cgt": 7, "calc_geometric_thinning": 7, "rgt": 7,
                    "geometric_thinning": 7, "vc": 9, "vol_cor": 9, "r_trend": 10, "r_trend_o": 10, "r_trendo": 10,
-                   "sort": 4, "order": 4, "curv": 6,
+                   "sort": 4, "order": 4, "curv": 6, "r_row_col": 4, "rrc": 4, "compress": 5, "decimat": 8,
+                   "decimat_r": 8, "decimatr": 8, "interpolate": 12, "interpolate_r": 12, "interpolater": 12,
+                   "peak": 5, "pdf": 7, "pdfauto": 5, "polyfit": (10, 11), "polyfit_i": (10, 11),
                    **{name: 6 for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
                    **{name: 5 + count for name, (count, _) in _GENERATORS.items()}})
+#: xlook's rate-and-state forward models and inversions (its "r/s fric tool"; rsm and cm now only point to it):
+#: faultslip's own fit and slider do this work, so an r-file naming one is refused with the way there.
+FITTING_TOOLS = {"qi", "qi_mvs", "simplex", "rsm", "cm", "cm2", "mem", "scm"}
 #: xlook's commands that draw, print, prompt or manage windows and files: an r-file that holds them runs, each
 #: skipped with a note (the report lists them), as they change no data.
 DISPLAY_COMMANDS = {"kp", "kill_plot", "kw", "kill_window", "nw", "new_window", "aw", "activate_window", "ap",
                     "activate_plot", "q", "quit", "set_path", "plotover", "plotall", "plotsr", "plotauto", "pa",
                     "plotlog", "plotsame", "plotscale", "examin", "getaschead", "head", "type", "typeall",
-                    "type_all", "stat", "stat_a", "pdf", "pdfauto", "trend", "trend_a", "comment", "qi_tool",
-                    "fric_tool", "write", "findint", "peak"}
+                    "type_all", "stat", "stat_a", "trend", "trend_a", "comment", "qi_tool",
+                    "fric_tool", "write", "findint"}
