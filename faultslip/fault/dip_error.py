@@ -39,29 +39,46 @@ def load_table() -> dict:
     return table
 
 
-def declared(dip: float, rows: list | None = None) -> float:
+def declared(dip: float, rows: list | None = None, width_over_nucleation: float | None = None) -> float:
     """The antiplane rung's declared model error (relative, the larger of recurrence and slip) on a fault dipping
-    ``dip`` degrees: the larger of the measured dips that bracket it; infinite outside them.
+    ``dip`` degrees with ``width_over_nucleation`` (W / h*): the largest at the measured cells that bracket it, in
+    W / h* (the two measured levels either side) and in dip (at each level, the two measured dips either side);
+    infinite outside them.
 
     Parameters
     ----------
     dip : float
         The fault's dip (degrees).
     rows : list of dict, optional
-        ``dip`` and ``model_error`` rows (the shipped table's otherwise).
+        ``dip``, ``width_over_nucleation`` and ``model_error`` (already the bound) rows; the shipped table's
+        otherwise.
+    width_over_nucleation : float, optional
+        The fault's W / h* (:meth:`faultslip.models.fault_2d.model.Fault2D.nucleation_size`); without it, the
+        largest over every measured level at the bracketing dips.
 
     Returns
     -------
     float
-        The declared model error (dimensionless); ``inf`` outside the measured dips.
+        The declared model error (dimensionless); ``inf`` outside the measured dips or W / h*.
     """
-    rows = sorted(rows if rows is not None else load_table()["rows"], key=lambda row: row["dip"])
-    dips = [float(row["dip"]) for row in rows]
-    if not (dips[0] <= dip <= dips[-1]):
-        return math.inf
-    if dip in dips:
-        return float(rows[dips.index(dip)]["model_error"])
-    for lower, upper in zip(rows, rows[1:] + rows[-1:]):
-        if lower["dip"] <= dip <= upper["dip"]:
-            return float(max(lower["model_error"], upper["model_error"]))
-    return float(rows[-1]["model_error"])
+    rows = rows if rows is not None else load_table()["rows"]
+    levels = sorted({round(float(row.get("width_over_nucleation", 0.0)), 9) for row in rows})
+    if width_over_nucleation is None:
+        chosen = levels
+    else:
+        if not levels[0] <= width_over_nucleation <= levels[-1]:
+            return math.inf
+        below = max(level for level in levels if level <= width_over_nucleation)
+        above = min(level for level in levels if level >= width_over_nucleation)
+        chosen = sorted({below, above})
+    worst = 0.0
+    for level in chosen:
+        cells = sorted((row for row in rows if round(float(row.get("width_over_nucleation", 0.0)), 9) == level),
+                       key=lambda row: row["dip"])
+        dips = [float(row["dip"]) for row in cells]
+        if not dips[0] <= dip <= dips[-1]:
+            return math.inf
+        lower = max(d for d in dips if d <= dip)
+        upper = min(d for d in dips if d >= dip)
+        worst = max([worst] + [float(row["model_error"]) for row in cells if float(row["dip"]) in (lower, upper)])
+    return worst

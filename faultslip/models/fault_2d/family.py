@@ -21,7 +21,7 @@ from faultslip.models.fault_2d import bp3_outputs
 from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
-from faultslip.fault.ladder import one_slider_report
+from faultslip.fault.ladder import groups, one_slider_report
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
@@ -400,7 +400,8 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
         started = time.process_time()
         flat = _rung("antiplane", simulate_fault(loaded.antiplane(), allow_large=allow_large),
                      time.process_time() - started)
-        rungs.append(_with_model_error(flat, dip_error.declared(loaded.fault.dip)))
+        ratio = groups(loaded.fault.description())["width_over_nucleation"]
+        rungs.append(_with_model_error(flat, dip_error.declared(loaded.fault.dip, width_over_nucleation=ratio)))
     started = time.process_time()
     full = simulate_fault(loaded, allow_large=allow_large)
     rungs.append(_rung("fault_2d", full, time.process_time() - started))
