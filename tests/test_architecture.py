@@ -166,7 +166,7 @@ def test_the_folder_listing_is_the_architecture():
     rooms = sorted(p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").exists())
     assert rooms == sorted(name for name in LAYERS if name != "core")
     loose = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__init__")
-    assert loose == ["constants", "errors", "intervals", "ranges", "units"], loose
+    assert loose == ["constants", "datasets", "errors", "intervals", "ranges", "units"], loose
 
 
 #: Names that tell scene kinds apart by their contents: only faultslip.contract.registry may use them.

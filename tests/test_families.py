@@ -446,3 +446,34 @@ def test_a_family_registered_only_by_an_entry_point_is_found(monkeypatch, tmp_pa
     finally:
         registry.DECLARATIONS.pop("constant_friction", None)
         registry.FAMILIES.pop("constant_friction", None)
+
+
+def test_every_public_function_returns_a_result_or_a_type_with_to_xarray():
+    """Every function of faultslip's top level that returns one of faultslip's own types returns a Result or a type
+    with ``to_xarray()`` (issue 70); the exceptions are inputs, not computations: scenes, a family's contract, the
+    friction presets and a fit's bundle (each read back into a computation that does return one). A computation's
+    dataset carries each variable's units."""
+    import inspect
+    import typing
+
+    import faultslip
+
+    inputs = {"Family", "Lithology", "Preset", "ChainScene", "Fault2DScene", "MapSpec", "RateStateScene", "Scene",
+              "Bundle"}
+    lacking = []
+    for name in faultslip.__all__:
+        function = getattr(faultslip, name)
+        if not callable(function) or inspect.isclass(function):
+            continue
+        try:
+            returned = typing.get_type_hints(function).get("return")
+        except Exception:
+            returned = inspect.signature(function).return_annotation
+        if inspect.isclass(returned) and returned.__module__.startswith("faultslip") \
+                and not hasattr(returned, "to_xarray") and returned.__name__ not in inputs:
+            lacking.append((name, returned.__name__))
+    assert lacking == []
+    system = faultslip.SliderSystem.from_preset("glass_dry", loading_rate="1 1/s")
+    for result in (faultslip.solve(system), faultslip.critical(system), faultslip.exact_cycle(system)):
+        dataset = result.to_xarray()
+        assert dataset.data_vars and all("units" in dataset[name].attrs for name in dataset.data_vars), type(result)

@@ -253,3 +253,4 @@ def with_draws(dataset, kind: str, names, values):
     draws = draws.astype(float).assign_coords({f"{kind}_parameter": [str(name) for name in names]})
     draws.attrs.update({"long_name": f"{kind} draws, natural scale (SI)", "units": "1"})
     return dataset.assign({kind: draws})
+

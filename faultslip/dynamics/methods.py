@@ -69,6 +69,20 @@ class Solution:
     function_evaluations: int = 0
     wall_time: float = 0.0
 
+    def to_xarray(self):
+        """The cycle's numbers with their units (:meth:`CycleResult.to_xarray`), the event times on ``event``, the
+        method and its declared error as attributes, and the time series where the solve kept one."""
+        import xarray as xr  # heavy: imported where used
+
+        dataset = self.cycle.to_xarray()
+        dataset["event_time"] = xr.Variable(("event",), np.asarray(self.event_times, float),
+                                            {"long_name": "event time", "units": "s"})
+        dataset.attrs.update(method=self.method, method_reason=self.method_reason,
+                             estimated_relative_error=float(self.estimated_relative_error))
+        if self.dataset is not None:
+            dataset = xr.merge([dataset, self.dataset], combine_attrs="override")
+        return dataset
+
     def report(self, title: str):
         report = self.cycle.report(title)
         report.items[0].value = self.method

@@ -21,6 +21,7 @@ from faultslip.io.catalogs import Catalog
 from faultslip.io.geo import distance_to_trace
 from faultslip.io.report import Report
 from faultslip.units import to_si_scalar
+from faultslip.datasets import ToXarray
 
 YEAR = recurrence.SECONDS_PER_YEAR
 
@@ -34,7 +35,10 @@ class Prediction:
 
 
 @dataclass
-class CatalogComparison:
+class CatalogComparison(ToXarray):
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'distances': 'm', 'elapsed': 's', 'horizon': 's'}
+    DIMENSIONS = {'distances': 'event'}
     selected: Catalog
     distances: np.ndarray  # m, of the selected events
     criteria: dict

@@ -32,6 +32,7 @@ import numpy as np
 
 from faultslip import ranges
 from faultslip.errors import InputError
+from faultslip.datasets import ToXarray
 
 MOMENT_CONSTANT = 9.1  # faultslip's Mw = (2/3)(log10 M0 - 9.1) (fault.scaling.MW_CONSTANT)
 BIN_WIDTH = 0.1
@@ -48,8 +49,11 @@ def moment(magnitude, moment_constant: float = MOMENT_CONSTANT):
 
 
 @dataclass(frozen=True)
-class MagnitudeFrequency:
+class MagnitudeFrequency(ToXarray):
     """Incremental annual rates on evenly spaced magnitude bins (first bin centred on ``min_magnitude``)."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'min_magnitude': '1', 'bin_width': '1', 'rates': '1/yr', 'moment_constant': '1'}
+    DIMENSIONS = {'rates': 'bin'}
 
     kind: str
     min_magnitude: float

@@ -28,6 +28,7 @@ import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.report import Report
+from faultslip.datasets import ToXarray
 
 #: The aperiodicity below which a sequence is called periodic (its whole 95 % range), after Ellsworth et al. (1999).
 PERIODIC_BELOW = 0.5
@@ -35,9 +36,12 @@ Z95 = 1.959963984540054
 
 
 @dataclass
-class Predictability:
+class Predictability(ToXarray):
     """What :func:`predictability` found: the intervals, the two correlations and the aperiodicity, each with its
     95 % range, and the verdicts."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'times': 's', 'slips': 'm', 'intervals': 's', 'time_correlation': '1', 'time_range': '1', 'slip_correlation': '1', 'slip_range': '1', 'aperiodicity': '1', 'aperiodicity_range': '1'}
+    DIMENSIONS = {'times': 'event', 'slips': 'event'}
 
     times: np.ndarray  # s, the events' times from the first
     slips: np.ndarray  # each event's slip (m), or its size in any unit proportional to slip (a moment)

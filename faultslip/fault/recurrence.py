@@ -32,6 +32,7 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.intervals import percentile_interval
 from faultslip.units import JULIAN_YEAR
+from faultslip.datasets import ToXarray
 
 MODELS = ("lognormal", "bpt")
 SECONDS_PER_YEAR = JULIAN_YEAR
@@ -155,7 +156,9 @@ def conditional_probability(model: str, mean: float, aperiodicity: float, elapse
 
 
 @dataclass
-class RenewalFit:
+class RenewalFit(ToXarray):
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'mean': 's', 'aperiodicity': '1', 'mean_95': 's', 'aperiodicity_95': '1', 'log_likelihood': '1', 'probability': '1', 'probability_95': '1', 'widened': '1'}
     model: str
     mean: float  # s
     aperiodicity: float

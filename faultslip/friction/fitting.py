@@ -35,6 +35,7 @@ from faultslip.units import to_si
 from faultslip.friction.laws import RateLaw
 from faultslip.io.report import Report
 from faultslip.io.resources import check_input_file
+from faultslip.datasets import ToXarray
 
 PARAMETERS = ("mu_so", "mu_m", "b", "d")
 COLUMNS = {
@@ -47,8 +48,11 @@ Z95 = 1.959963984540054
 
 
 @dataclass
-class FrictionData:
+class FrictionData(ToXarray):
     """Observations in SI: loading rates, static friction, optional amplitude and A0 = 2W/K."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'loading_rate': '1/s', 'static_friction': '1', 'amplitude': 'm', 'apparatus_amplitude': 'm', 'kinetic_friction': '1', 'normal_load': 'N', 'stiffness': 'N/m'}
+    DIMENSIONS = {'loading_rate': 'point', 'static_friction': 'point', 'amplitude': 'point', 'apparatus_amplitude': 'point', 'normal_load': 'point', 'stiffness': 'point'}
 
     loading_rate: np.ndarray
     static_friction: np.ndarray

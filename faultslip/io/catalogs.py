@@ -24,14 +24,18 @@ from faultslip.io import gate
 from faultslip.io.atomic import atomic_path
 from faultslip.io.resources import check_input_file, read_unit_csv
 from faultslip.units import to_si
+from faultslip.datasets import ToXarray
 
 QUAKEML_SUFFIXES = (".xml", ".quakeml", ".qml")
 CATALOG_COLUMNS = {"time", "latitude", "longitude", "depth", "magnitude", "magnitude_type", "name"}
 
 
 @dataclass
-class Catalog:
+class Catalog(ToXarray):
     """Events sorted by time: UTC times as datetime64[ms], degrees, depth in m, magnitudes."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'time': 's', 'latitude': 'degree_north', 'longitude': 'degree_east', 'depth': 'm', 'magnitude': '1'}
+    DIMENSIONS = {'time': 'event', 'latitude': 'event', 'longitude': 'event', 'depth': 'event', 'magnitude': 'event'}
 
     time: np.ndarray
     latitude: np.ndarray

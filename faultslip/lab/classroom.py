@@ -43,12 +43,16 @@ from faultslip.io.atomic import write_text_atomic
 from faultslip.io.report import Report
 from faultslip.io.resources import split_header
 from faultslip.units import STANDARD_GRAVITY, unit_factor
+from faultslip.datasets import ToXarray
 
 AXES = ("x", "y", "z")
 
 
 @dataclass
-class AccelerometerRecord:
+class AccelerometerRecord(ToXarray):
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'time': 's', 'acceleration': 'm/s2'}
+    DIMENSIONS = {'time': 'time'}
     time: np.ndarray  # s, from the first sample
     acceleration: dict  # axis name -> m/s^2
     source: str
@@ -161,7 +165,10 @@ def read_accelerometer(path) -> AccelerometerRecord:
 
 
 @dataclass
-class ClassroomAnalysis:
+class ClassroomAnalysis(ToXarray):
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'noise': 'm/s2', 'starts': 's', 'durations': 's', 'peak_acceleration': 'm/s2', 'slip_distance': 'm', 'peak_speed': 'm/s', 'omega': 'rad/s', 'pull_speed': 'm/s'}
+    DIMENSIONS = {'starts': 'slip', 'durations': 'slip', 'peak_acceleration': 'slip', 'slip_distance': 'slip', 'peak_speed': 'slip', 'omega': 'slip', 'pull_speed': 'slip'}
     record: AccelerometerRecord
     axis: str
     noise: float  # m/s^2

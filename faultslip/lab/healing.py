@@ -25,13 +25,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.datasets import ToXarray
 
 #: the share of the slide before a hold over which its steady friction is taken
 STEADY_SHARE = 0.2
 
 
 @dataclass
-class Healing:
+class Healing(ToXarray):
     """Each hold's healing and relaxation, and the healing rate per decade of hold time."""
 
     hold_time: np.ndarray  # s
@@ -141,7 +142,7 @@ class SteadyStep:
         return (self.friction_after - self.friction_before) / math.log(self.speed_after / self.speed_before)
 
 
-class SteadySteps(list):
+class SteadySteps(list, ToXarray):
     """:func:`steady_state_dependence`'s list of :class:`SteadyStep`, which also gives xarray."""
 
     def to_dataset(self):

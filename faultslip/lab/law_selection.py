@@ -27,6 +27,7 @@ import numpy as np
 
 from faultslip.errors import FaultslipError, InputError
 from faultslip.lab.rate_state_fit import fit_velocity_steps, lag_one_autocorrelation
+from faultslip.datasets import ToXarray
 
 #: candidate -> (evolution, two_state)
 LAWS = {"aging": ("aging", False), "slip": ("slip", False), "aging_two_state": ("aging", True),
@@ -47,7 +48,7 @@ def evidence(delta: float) -> str:
 
 
 @dataclass
-class LawSelection:
+class LawSelection(ToXarray):
     """Each candidate's fit and score, and the verdict."""
 
     rows: list  # dicts: law, parameters, ssr, bic, delta, weight, fit (or error)

@@ -35,6 +35,7 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.io import gate
 from faultslip.units import registry
+from faultslip.datasets import ToXarray
 
 HEADER_BYTES = 36
 COLUMN_HEADER_BYTES = 84
@@ -43,7 +44,7 @@ LAYOUTS = ((16, 4, ">f4"), (32, 4, ">f4"), (32, 8, "<f8"))
 
 
 @dataclass
-class LookFile:
+class LookFile(ToXarray):
     """An xlook data file: its name, its columns (name -> float64 array) in file order, and their units."""
 
     name: str

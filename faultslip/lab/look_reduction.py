@@ -47,6 +47,7 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.io import gate
 from faultslip.lab.look_files import cf_unit as _cf_unit, read_look
+from faultslip.datasets import ToXarray
 
 SLOTS = 32
 _ARGUMENTS = {"math": 8, "math_int": 10, "summation": 5, "power": 6, "zero": 3, "offset_int": 5, "ec": 9,
@@ -54,7 +55,7 @@ _ARGUMENTS = {"math": 8, "math_int": 10, "summation": 5, "power": 6, "zero": 3, 
 
 
 @dataclass
-class Reduction:
+class Reduction(ToXarray):
     """A reduced experiment: xlook's slots (name, unit, values), the data file read, and the commands run."""
 
     names: list = field(default_factory=lambda: [None] * SLOTS)

@@ -45,6 +45,7 @@ from faultslip.errors import FaultslipError, InputError, SolverError
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.progress import announce, duration, reporter
 from faultslip.lab.rate_state_fit import TREND_LIMIT, StepRecord, correlation_notes, fit_velocity_steps
+from faultslip.datasets import ToXarray
 
 PRIOR_KINDS = ("uniform", "loguniform", "normal", "lognormal")
 LOG_SAMPLED = ("critical_slip", "critical_slip2", "stiffness")
@@ -157,7 +158,7 @@ def _split_r_hat(chains: np.ndarray) -> np.ndarray:
 
 
 @dataclass
-class Posterior:
+class Posterior(ToXarray):
     """Posterior draws of a rate-and-state law, with the sampler's diagnostics and what it assumed."""
 
     names: list

@@ -29,13 +29,14 @@ from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.progress import announce as _announce, duration as _duration, reporter
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, split_header
 from faultslip.units import to_si_scalar, unit_factor
+from faultslip.datasets import ToXarray
 
 STEP_COLUMNS = {"time": "time", "friction": "dimensionless", "load_point_speed": "speed",
                 "load_point_displacement": "length"}
 
 
 @dataclass
-class StepRecord:
+class StepRecord(ToXarray):
     """A velocity-step record in SI: times, friction, and the load history it was run under."""
 
     time: np.ndarray
@@ -183,7 +184,7 @@ def read_step_record(path) -> StepRecord:
 
 
 @dataclass
-class RateStateFit:
+class RateStateFit(ToXarray):
     """A fitted law, its parameters' standard errors and 95 % intervals, and the misfit."""
 
     law: RateStateLaw
@@ -504,7 +505,7 @@ def synthetic_step_record(law: RateStateLaw, stiffness: float, history: LoadHist
 
 
 @dataclass
-class JointFit:
+class JointFit(ToXarray):
     """A law fitted to several records at once: shared a, b, D_c (and b2, D_c2), each record's own mu0 (and k)."""
 
     evolution: str

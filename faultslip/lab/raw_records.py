@@ -39,6 +39,7 @@ from faultslip.errors import InputError, SolverError
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, read_table_metadata, split_header
 from faultslip.lab.rate_state_fit import StepRecord, fit_velocity_steps, step_record_from_columns
 from faultslip.units import to_si_scalar, unit_factor
+from faultslip.datasets import ToXarray
 
 RAW_COLUMNS = {"time": "time", "load_point_displacement": "length", "shear_load": "force",
                "normal_load": "force", "shear_stress": "pressure", "normal_stress": "pressure"}
@@ -48,7 +49,7 @@ TAIL_FRACTION = 0.3  # the steady-state tail of a segment used for detrending
 
 
 @dataclass
-class RawRecord:
+class RawRecord(ToXarray):
     """A rig's record in SI: time (s), load-point displacement (m), shear and normal stress (Pa)."""
 
     time: np.ndarray
@@ -436,7 +437,7 @@ def _history(time, displacement, boundaries, min_change, merge: bool) -> LoadHis
 
 
 @dataclass
-class PreparedRecord:
+class PreparedRecord(ToXarray):
     """A raw record made ready: the step record to fit, the spring, the steps and the stated corrections."""
 
     record: StepRecord  # detrended friction, detected load history
@@ -615,7 +616,7 @@ def window_record(record: StepRecord, start: float, end: float, source: str) -> 
     return StepRecord(times, record.friction[inside], history, source, record.metadata)
 
 
-class StepFits(list):
+class StepFits(list, ToXarray):
     """:func:`fit_each_step`'s list of ``{"step", "window", "fit"}`` or ``{"step", "window", "error"}``, which also
     gives xarray."""
 

@@ -34,6 +34,7 @@ from faultslip.units import unit_factor
 from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, exact_cycle
 from faultslip.dynamics.spring_slider.simulate import _equilibrium, _stick_duration
 from faultslip.io.report import Report
+from faultslip.datasets import ToXarray
 
 RECORD_COLUMNS = {"time": "time", "displacement": "length", "acceleration": "acceleration", "force": "force",
                   "velocity": "speed"}
@@ -41,8 +42,11 @@ _READERS = {}
 
 
 @dataclass
-class Record:
+class Record(ToXarray):
     """A time series of slider motion in SI (acceleration or friction force, or neither)."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'time': 's', 'displacement': 'm', 'acceleration': 'm/s2', 'force': 'N', 'velocity': 'm/s'}
+    DIMENSIONS = {'time': 'time', 'displacement': 'time', 'acceleration': 'time', 'force': 'time', 'velocity': 'time'}
 
     time: np.ndarray
     displacement: np.ndarray
@@ -189,7 +193,10 @@ def friction_coefficient(record: Record, mass: float, stiffness: float, normal_l
 
 
 @dataclass
-class RecordAnalysis:
+class RecordAnalysis(ToXarray):
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'time': 's', 'friction': '1', 'sliding_speed': 'm/s', 'slipping': '1', 'platform_speed': 'm/s'}
+    DIMENSIONS = {'time': 'time', 'friction': 'time', 'sliding_speed': 'time', 'slipping': 'time'}
     time: np.ndarray
     friction: np.ndarray
     sliding_speed: np.ndarray
@@ -301,8 +308,10 @@ def hysteresis_figure(analysis: RecordAnalysis, title="Friction against sliding 
 
 
 @dataclass
-class FreeDecay:
+class FreeDecay(ToXarray):
     """System identification from a free-decay record (seed 002 Appendix C)."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'decay_constant': '1/s', 'damped_frequency': 'rad/s', 'natural_frequency': 'rad/s', 'damping_ratio': '1', 'mass': 'kg', 'damping_coefficient': 'N s/m', 'stiffness': 'N/m'}
 
     decay_constant: float  # Delta = r / (2M), 1/s
     damped_frequency: float  # f_d, Hz

@@ -34,14 +34,17 @@ from faultslip.friction.contact import (contact_modulus, elastic_contact_hardnes
 from faultslip.io.report import Report
 from faultslip.io.resources import open_netcdf, read_numeric_csv
 from faultslip.units import to_si, unit_factor
+from faultslip.datasets import ToXarray
 
 #: a surface holds at most this many heights (a map of 4000 x 4000)
 MAX_HEIGHTS = 16_000_000
 
 
 @dataclass
-class Surface:
+class Surface(ToXarray):
     """Heights (m) on a regular grid: shape (n,) for a profile, (ny, nx) for a map; spacings in m."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'height': 'm', 'dx': 'm', 'dy': 'm'}
 
     height: np.ndarray
     dx: float
@@ -421,8 +424,10 @@ def report(surface: Surface, stats: dict, contact: dict | None = None, gw: dict 
 
 
 @dataclass
-class SurfaceAnalysis:
+class SurfaceAnalysis(ToXarray):
     """What ``faultslip surface`` computes: the surface, its statistics, its contact and the report."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {}
 
     surface: Surface
     stats: dict

@@ -23,6 +23,7 @@ from faultslip.fault import displacement as fdh
 from faultslip.fault.scaling import Fault, fitted_draws
 from faultslip.io.geo import densify, great_circle, trace_length
 from faultslip.units import JULIAN_YEAR
+from faultslip.datasets import ToXarray
 
 #: the displacement models (faultslip.fault.displacement), and those through fdhpy
 MODELS = fdh.MODELS
@@ -36,7 +37,7 @@ QUANTILES = (5.0, 16.0, 50.0, 84.0, 95.0)
 
 
 @dataclass
-class DisplacementHazard:
+class DisplacementHazard(ToXarray):
     """A site's annual rate of exceeding each displacement (m; 1/yr)."""
 
     site: tuple

@@ -44,6 +44,7 @@ from faultslip.fault import empirical, mfd as mfds
 from faultslip.fault.scaling import moment_magnitude
 from faultslip.io.geo import EARTH_RADIUS, azimuth, densify, destination, great_circle, trace_length
 from faultslip.units import JULIAN_YEAR, to_si
+from faultslip.datasets import ToXarray
 
 #: the target shapes of the system's magnitude-frequency distribution
 SHAPES = ("gr", "characteristic")
@@ -344,8 +345,11 @@ def enumerate_ruptures(sections: Sections, rules: Rules) -> list[tuple]:
 
 
 @dataclass
-class RuptureSet:
+class RuptureSet(ToXarray):
     """A fault system's ruptures, their magnitudes, slips and solved rates on one relation's branch."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'magnitude': '1', 'rate': '1/yr', 'budget': 'm/yr', 'bins': '1', 'target': '1/yr', 'background_moment_rate': 'N m/yr', 'shear_modulus': 'Pa', 'bin_width': '1', 'slip': 'm'}
+    DIMENSIONS = {'magnitude': 'rupture', 'rate': 'rupture', 'bins': 'bin', 'target': 'bin'}
 
     relation: str
     sections: Sections

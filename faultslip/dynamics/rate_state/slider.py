@@ -50,6 +50,7 @@ from faultslip.dynamics.shared.settling import aitken, assess_settling, bifurcat
 from faultslip.dynamics.rate_state.methods import CYCLE_METHODS, SECONDS_PER_STEP, near_critical_error, steps_per_cycle
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.progress import reporter
+from faultslip.datasets import ToXarray
 
 MODELS = ("quasi_static", "quasi_dynamic", "inertial")
 METHODS = ("auto", "lsoda", "dopri5", "dopri5_compiled", "radau", "bdf")
@@ -64,12 +65,15 @@ _P_ARRAY = np.array(_P)
 
 
 @dataclass(frozen=True)
-class LoadHistory:
+class LoadHistory(ToXarray):
     """The load point's speed V_lp(t) (m/s): piecewise constant (``steps``) or piecewise linear (``table``).
 
     ``times`` are the breakpoints (s, increasing, from 0); ``speeds`` the speed on each segment
     (steps: one per segment) or at each breakpoint (table).
     """
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'times': 's', 'speeds': 'm/s'}
+    DIMENSIONS = {'times': 'step', 'speeds': 'step'}
 
     times: tuple
     speeds: tuple
@@ -373,8 +377,11 @@ def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None,
 
 
 @dataclass
-class RateStateRun:
+class RateStateRun(ToXarray):
     """A rate-and-state simulation: time series and how it was obtained."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'time': 's', 'slip_speed': 'm/s', 'friction': '1', 'psi': '1', 'slip': 'm', 'load_point': 'm', 'steps': '1', 'function_evaluations': '1', 'wall_time': 's'}
+    DIMENSIONS = {'time': 'time', 'slip_speed': 'time', 'friction': 'time', 'psi': 'time', 'slip': 'time', 'load_point': 'time'}
 
     time: np.ndarray
     slip_speed: np.ndarray  # m/s
@@ -797,12 +804,15 @@ def _diverged(slider, t):
 
 
 @dataclass
-class RateStateCycles:
+class RateStateCycles(ToXarray):
     """Earthquake cycles of a quasi-dynamic (or quasi-static) rate-and-state fault, after spin-up.
 
     Events are the intervals with slip speed above ``event_speed``. Per-event arrays cover the
     recorded cycles; the scalar properties are their means.
     """
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'event_times': 's', 'slip_per_event': 'm', 'stress_drop': 'Pa', 'peak_slip_rate': 'm/s', 'cycle_slip': 'm', 'plate_rate': 'm/s', 'stiffness_ratio': '1', 'steps': '1', 'function_evaluations': '1', 'wall_time': 's', 'event_speed': 'm/s', 'spin_up': '1', 'restarts': '1', 'rtol': '1', 'next_event_time': 's'}
+    DIMENSIONS = {'event_times': 'event', 'slip_per_event': 'event', 'stress_drop': 'event', 'peak_slip_rate': 'event', 'cycle_slip': 'event'}
 
     event_times: np.ndarray  # s, event starts
     slip_per_event: np.ndarray  # m, slip while V > event_speed

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from faultslip.io.report import Report
+from faultslip.datasets import ToXarray, dataclass_dataset
 
 #: Regimes a method can report.
 STICK_SLIP = "stick_slip"
@@ -14,7 +15,7 @@ REGIMES = (STICK_SLIP, STEADY_SLIDING, GROWING_OSCILLATION)
 
 
 @dataclass
-class CycleResult:
+class CycleResult(ToXarray):
     """Quantities of one stick-slip limit cycle (SI; force units follow the system scale).
 
     Three lengths describe one event, and they differ at high loading rate:
@@ -48,6 +49,16 @@ class CycleResult:
     scale: str = "lab"
     extra: dict = field(default_factory=dict)
     stress_drop_slip: float = float("nan")
+
+    #: the units of to_xarray() (faultslip.datasets.ToXarray); the stress drop's follows the scale
+    UNITS = {"loading_rate": "1/s", "platform_speed": "m/s", "static_friction": "1", "damping_ratio": "1",
+             "dimensionless_rate": "1", "amplitude": "m", "slip_per_event": "m", "stick_duration": "s",
+             "slip_duration": "s", "period": "s", "peak_slip_speed": "m/s", "stress_drop_slip": "m"}
+
+    def to_xarray(self):
+        """The cycle's numbers as an xarray Dataset with their units (the stress drop in N in the lab, Pa on a
+        fault)."""
+        return dataclass_dataset(self, {**self.UNITS, "stress_drop": "N" if self.scale == "lab" else "Pa"})
 
     def report(self, title: str) -> Report:
         force = "Pa" if self.scale == "fault" else "N"

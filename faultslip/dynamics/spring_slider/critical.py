@@ -37,6 +37,7 @@ from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, _require_l
 from faultslip.errors import InputError
 from faultslip.io.report import Report
 from faultslip.friction.materials import get_preset
+from faultslip.datasets import ToXarray
 
 
 def _velocity_overshoot(zeta, eps):
@@ -147,8 +148,10 @@ def seed_critical_loading_rate(natural_frequency, damping_ratio, mu_so, mu_m, b,
 
 
 @dataclass
-class CriticalResult:
+class CriticalResult(ToXarray):
     """Exact and seed critical loading rates of one system."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'damping_ratio': '1', 'natural_frequency': 'rad/s', 'critical_dimensionless_rate': '1', 'critical_loading_rate': '1/s', 'critical_platform_speed': 'm/s', 'seed_loading_rate': '1/s', 'seed_platform_speed': 'm/s'}
 
     system_name: str
     scale: str

@@ -45,6 +45,7 @@ from faultslip.models.asperity import friction as contact
 from faultslip.io.progress import reporter
 from faultslip.io.report import Report
 from faultslip.units import STANDARD_GRAVITY
+from faultslip.datasets import ToXarray
 
 SLIP_BACKWARD, STICK, SLIP_FORWARD = -1, 0, 1
 _ROOT_2_PI = math.sqrt(2.0 / math.pi)
@@ -350,8 +351,11 @@ WAVELENGTH_ERROR = 0.1
 
 
 @dataclass
-class AsperityRun:
+class AsperityRun(ToXarray):
     """A simulated time series and how it went."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'time': '1', 'friction': '1', 'normal_force': '1', 'deformation_friction': '1', 'normal_area': '1', 'approach': '1', 'summits': '1', 'sticks': '1', 'elapsed': 's', 'mode': '1'}
+    DIMENSIONS = {'time': 'time', 'mode': 'time', 'friction': 'time', 'normal_force': 'time', 'deformation_friction': 'time', 'normal_area': 'time', 'approach': 'time'}
 
     model: AsperityModel
     method: str
@@ -516,8 +520,10 @@ def _assemble(model, method, system, pieces, status, reason, summits, sticks, el
 
 # --------------------------------------------------------------------------- analysis
 @dataclass
-class Response:
+class Response(ToXarray):
     """The settled response: the paper's averages, stick, the loops per period and the dominant frequency."""
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'mean_friction': '1', 'mean_deformation_friction': '1', 'stick_fraction': '1', 'velocity_range': '1', 'loops': '1', 'dominant_frequency': '1', 'friction_frequency': '1'}
 
     mean_friction: float  # m-bar: time average of F_t / F_n (friction on the block along the platform's motion)
     mean_deformation_friction: float  # m-bar_D

@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from faultslip.errors import InputError, SolverError
+from faultslip.datasets import ToXarray
 
 try:
     from faultslip.models.spring_chain import _chain
@@ -148,7 +149,7 @@ class Chain:
 
 
 @dataclass
-class ChainRun:
+class ChainRun(ToXarray):
     """A chain's catalogue: one row per event (SI), and the state it ended in.
 
     Attributes
@@ -164,6 +165,9 @@ class ChainRun:
     peak_speed : array
         Each event's fastest block speed (m/s).
     """
+    #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
+    UNITS = {'start': 's', 'end': 's', 'first_block': '1', 'blocks_slipped': '1', 'slip': 'm', 'peak_speed': 'm/s', 'subphases': '1', 'wall_time': 's', 'final_position': 'm', 'final_time': 's'}
+    DIMENSIONS = {'start': 'event', 'end': 'event', 'first_block': 'event', 'blocks_slipped': 'event', 'peak_speed': 'event'}
 
     chain: Chain
     start: np.ndarray  # (events,) s
