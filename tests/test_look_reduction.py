@@ -223,8 +223,8 @@ def test_the_chi_square_density_integrates_to_one():
 def test_display_commands_are_skipped_and_the_reduction_says_which():
     r = _run("begin\nplotall 1 2\ntype 1 2 0 5\nmath 2 * 2 = 5 d micron\nstat 2 0 5\nkp 1\nend")
     assert r.ran == ["begin", "math"]
-    assert [entry.split(":")[1].split("(")[0].strip() for entry in r.skipped] == ["plotall", "type", "stat", "kp"]
-    assert r.to_dataset().attrs["commands_skipped"].startswith("line 2: plotall")
+    assert [entry.split(": ")[1].split(" (")[0] for entry in r.skipped] == ["plotall", "type", "stat", "kp"]
+    assert r.to_dataset().attrs["commands_skipped"].startswith("test_r line 2: plotall")
     with pytest.raises(InputError, match="does not know the command 'smoothish'.*skips xlook's display commands"):
         _run("smoothish 1 2")
 
@@ -475,3 +475,25 @@ def test_xlooks_polyfit_is_the_least_squares_polynomial():
 def test_xlooks_rate_and_state_tools_are_refused_with_the_way_there(command):
     with pytest.raises(InputError, match="interactive rate-and-state tool.*faultslip fit --law rate-state"):
         _run(command)
+
+
+def test_append_and_doit_run_as_xlook_runs_them(tmp_path):
+    """append adds a second file's records after the first's; doit runs a command file beside the r-file on the
+    same data, and a loop of doit files is refused in one sentence."""
+    from test_look_files import _ascii_export  # xlook's ASCII export, as its type command writes it
+
+    (tmp_path / "run_a").write_text(_ascii_export({"t": np.arange(3.0), "d": np.array([0.0, 1.0, 2.0])},
+                                                  {"t": "s", "d": "mm"}))
+    (tmp_path / "run_b").write_text(_ascii_export({"t": np.arange(3.0, 5.0), "d": np.array([3.0, 5.0])},
+                                                  {"t": "s", "d": "mm"}))
+    (tmp_path / "double").write_text("begin\nmath 2 * 2 = 3 twice mm\nend\n")
+    (tmp_path / "r").write_text("begin\nread run_a\nappend run_b\ndoit double\nend\n")
+    reduced = run_r_file(tmp_path / "r")
+    np.testing.assert_array_equal(reduced.column(2), [0, 1, 2, 3, 5])
+    np.testing.assert_array_equal(reduced.column(0), np.arange(5.0))
+    np.testing.assert_array_equal(reduced.column(3), [0, 2, 4, 6, 10])
+    assert reduced.ran == ["begin", "read", "append", "begin", "math", "doit"]
+    (tmp_path / "loop").write_text("doit loop\n")
+    (tmp_path / "r2").write_text("read run_a\ndoit loop\n")
+    with pytest.raises(InputError, match="more than 8 deep"):
+        run_r_file(tmp_path / "r2")

@@ -51,7 +51,7 @@ from faultslip.datasets import ToXarray
 
 SLOTS = 32
 _ARGUMENTS = {"math": 8, "math_int": 10, "summation": 5, "power": 6, "zero": 3, "offset_int": 5, "ec": 9,
-              "strain": 8, "r_col": 2, "r_row": 3, "read": 2, "begin": 1, "com_file": 1}
+              "strain": 8, "r_col": 2, "r_row": 3, "read": 2, "begin": 1, "com_file": 1, "append": 2, "doit": 2}
 
 
 @dataclass
@@ -134,7 +134,7 @@ def run_commands(text: str, source: str = "<r-file>", base_dir=None, look=None) 
     source : str
         Its name in messages.
     base_dir : path, optional
-        Where ``read`` finds its file.
+        Where ``read``, ``append`` and ``doit`` find their files.
     look : LookFile, optional
         Data already read.
 
@@ -144,7 +144,20 @@ def run_commands(text: str, source: str = "<r-file>", base_dir=None, look=None) 
         The slots after the last command.
     """
     state = Reduction(source=source)
-    # every line's command and its number of arguments first: a file is refused before any data is read
+    lines = _parse(text, source, state)  # every line checked first: a file is refused before any data is read
+    if look is not None:
+        _load(state, look)
+    _execute(state, lines, base_dir, look, depth=0)
+    return state
+
+
+#: How deep ``doit`` files may call one another (xlook's own limit on open command files is a handful).
+MAX_DOIT_DEPTH = 8
+
+
+def _parse(text: str, source: str, state: Reduction) -> list:
+    """Every line's command and its number of arguments, checked: (command, words, where) of the data commands;
+    display commands noted in ``state.skipped``."""
     lines = []
     for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.split("#", 1)[0].replace(",", " ").strip()
@@ -156,7 +169,7 @@ def run_commands(text: str, source: str = "<r-file>", base_dir=None, look=None) 
         if command == "end":
             break
         if command in DISPLAY_COMMANDS or (command.startswith("plot") and command.endswith("h")):
-            state.skipped.append(f"line {number}: {command} (draws, prints or prompts: no data changes)")
+            state.skipped.append(f"{source} line {number}: {command} (draws, prints or prompts: no data changes)")
             continue
         if command in FITTING_TOOLS or command.startswith(("rsm", "cm_h", "scm", "qi_")):
             raise InputError(f"{where}: {command} is xlook's interactive rate-and-state tool; reduce without it, then "
@@ -170,19 +183,43 @@ def run_commands(text: str, source: str = "<r-file>", base_dir=None, look=None) 
             raise InputError(f"{where}: {command} takes {' or '.join(str(n - 1) for n in allowed)} arguments, got "
                              f"{len(words) - 1}")
         lines.append((command, words, where))
-    if look is not None:
-        _load(state, look)
+    return lines
+
+
+def _execute(state: Reduction, lines: list, base_dir, look, depth: int) -> None:
+    folder = Path(base_dir) if base_dir is not None else Path(".")
     for command, words, where in lines:
         if command == "read":
             if look is None:
-                folder = Path(base_dir) if base_dir is not None else Path(".")
                 _load(state, read_look(folder / Path(words[1]).name))
+        elif command == "append":
+            _append(state, read_look(folder / Path(words[1]).name), where)
+        elif command == "doit":  # a command file beside this one, run on the same data (cmds1.c's doit_proc)
+            if depth >= MAX_DOIT_DEPTH:
+                raise InputError(f"{where}: doit files call one another more than {MAX_DOIT_DEPTH} deep (a loop?)")
+            path = folder / Path(words[1]).name
+            nested = gate.read_text(path, "xlook command file", "config")
+            _execute(state, _parse(nested, path.name, state), folder, look, depth + 1)
         elif command not in ("begin", "com_file"):
             state.current = command
             _COMMANDS[command](state, words[1:], where)
         state.commands += 1
         state.ran.append(command)
-    return state
+
+
+def _append(state: Reduction, look, where: str) -> None:
+    """``append FILE``: FILE's records after the data set's (filtersm.c's reed in append mode): its columns, in
+    file order, extend slots 1 onwards, and slot 0 counts on; a file with other columns is refused."""
+    if state.data[1] is None:
+        raise InputError(f"{where}: append adds records to a data set: read a file first")
+    names = list(look.columns)
+    held = [slot for slot in range(1, SLOTS) if state.data[slot] is not None]
+    if len(names) != len(held):
+        raise InputError(f"{where}: {look.name} has {len(names)} columns where the data set holds {len(held)}")
+    records = _records(state)
+    for slot, name in zip(held, names):
+        state.data[slot] = np.concatenate([state.data[slot], np.asarray(look.columns[name], dtype=float)])
+    state.data[0] = np.arange(records + look.records, dtype=float)
 
 
 def _load(state: Reduction, look) -> None:
@@ -880,4 +917,4 @@ DISPLAY_COMMANDS = {"kp", "kill_plot", "kw", "kill_window", "nw", "new_window", 
                     "activate_plot", "q", "quit", "set_path", "plotover", "plotall", "plotsr", "plotauto", "pa",
                     "plotlog", "plotsame", "plotscale", "examin", "getaschead", "head", "type", "typeall",
                     "type_all", "stat", "stat_a", "trend", "trend_a", "comment", "qi_tool",
-                    "fric_tool", "write", "findint"}
+                    "fric_tool", "write", "findint", "all"}
