@@ -699,3 +699,22 @@ def test_the_posterior_and_the_bootstrap_show_progress_with_their_expected_time_
                                                                                                  stream=stream))
     first = stream.getvalue().splitlines()[0]
     assert first.startswith("faultslip: sampling the posterior: about ") and "walkers" in first
+
+
+def test_each_steps_fits_and_law_selection_show_progress(monkeypatch):
+    """Fits of each step's window and of each candidate law report (done, total) and, after the first, say what
+    the rest will cost (announced from 10 s: here from 0, to see it)."""
+    import io
+
+    from faultslip.io import progress as progress_module
+    from faultslip.io.progress import Progress
+    from faultslip.lab.law_selection import select_law
+
+    prepared = prepare_record(_small(seed=3), "8e-3 1/um")
+    seen = []
+    fits = fit_each_step(prepared, progress=lambda done, total: seen.append((done, total)))
+    assert seen[-1] == (len(fits), len(fits)) and [d for d, _ in seen] == sorted(d for d, _ in seen)
+    monkeypatch.setattr(progress_module, "ANNOUNCE_FROM", 0.0)
+    stream = io.StringIO()
+    select_law(prepared.record, prepared.stiffness, candidates=("aging", "slip"), progress=Progress("laws", stream=stream))
+    assert "fitting each candidate law: 2 in all, about" in stream.getvalue()

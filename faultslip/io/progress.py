@@ -117,3 +117,23 @@ def announce(progress, text: str, seconds: float | None = None) -> None:
     say = getattr(progress, "announce", None)
     if say is not None and (seconds is None or seconds >= ANNOUNCE_FROM):
         say(text)
+
+
+def counted(progress, label: str, total: int, unit: str, what: str):
+    """A reporter for ``total`` like pieces of work (fits of windows, candidate laws): after the first, it says
+    what the rest will cost when that is 10 s or more (:data:`ANNOUNCE_FROM`), and it reports (done, total).
+    Returns ``step(done, seconds_of_the_first)``, or None for silence."""
+    report = reporter(progress, label, unit)
+    if report is None:
+        return None
+    said = [False]
+
+    def step(done: int, first_seconds: float | None = None) -> None:
+        if first_seconds is not None and not said[0] and done == 1 and total > 1:
+            said[0] = True
+            rest = first_seconds * (total - 1)
+            announce(report, f"{what}: {total} in all, about {duration(rest)} more (the first took "
+                             f"{duration(first_seconds)})", rest)
+        report(done, total)
+
+    return step

@@ -214,7 +214,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         _joint_section(report, together, [str(data), *map(str, joint)])
     selection = None
     if select:
-        selection = select_law(record, spring, stiffness_free=stiffness_free, trend=trend)
+        selection = select_law(record, spring, stiffness_free=stiffness_free, trend=trend, progress=progress)
         _selection_section(report, selection)
     if windows:
         for start, end in windows:
@@ -222,7 +222,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
                 raise InputError(f"window {start:g} s - {end:g} s must lie inside the record (0 to "
                                  f"{record.time[-1]:g} s) and end after it starts")
     if prepared is not None and (each_step or windows):
-        _each_step_section(report, prepared, evolution, windows, stiffness_free, trend)
+        _each_step_section(report, prepared, evolution, windows, stiffness_free, trend, progress)
     sampled = None
     if posterior:
         settings = {key: value for key, value in (("samples", samples), ("walkers", walkers),
@@ -337,10 +337,11 @@ def _selection_section(report: Report, selection) -> None:
     report.note(selection.verdict())
 
 
-def _each_step_section(report: Report, prepared, evolution: str, windows, stiffness_free: bool, trend: bool) -> None:
+def _each_step_section(report: Report, prepared, evolution: str, windows, stiffness_free: bool, trend: bool,
+                       progress=None) -> None:
     report.section("Each step's own fit")
     for entry in fit_each_step(prepared, evolution=evolution, windows=windows, stiffness_free=stiffness_free,
-                               trend=trend):
+                               trend=trend, progress=progress):
         start, end = entry["window"]
         if "fit" in entry:
             p = entry["fit"].parameters

@@ -21,10 +21,12 @@ candidates (equal prior odds). A candidate whose fit fails is listed with the re
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from faultslip.io.progress import counted
 from faultslip.errors import FaultslipError, InputError
 from faultslip.lab.rate_state_fit import fit_velocity_steps, lag_one_autocorrelation
 from faultslip.datasets import ToXarray
@@ -99,7 +101,7 @@ class LawSelection(ToXarray):
 
 
 def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free: bool = False,
-               trend: bool = False) -> LawSelection:
+               trend: bool = False, progress=None) -> LawSelection:
     """Fit each candidate law to ``record`` and score it by BIC (see the module).
 
     Parameters
@@ -114,6 +116,8 @@ def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free:
         Fit the stiffness in every candidate.
     trend : bool
         Fit a linear trend in the load point's displacement in every candidate.
+    progress : bool or callable, optional
+        Report the candidates fitted (True: a bar; the rest's expected time said after the first).
 
     Returns
     -------
@@ -124,17 +128,25 @@ def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free:
     if unknown or len(set(candidates)) < 2:
         raise InputError(f"law selection compares two or more of {', '.join(LAWS)}, got {', '.join(candidates)}")
     rows = []
-    for name in candidates:
+    step = counted(progress, "law selection", len(candidates), "law", "fitting each candidate law")
+    for done, name in enumerate(candidates):
+        if step is not None:
+            step(done, elapsed if done == 1 else None)
+        began = time.process_time()
         evolution, two_state = LAWS[name]
         try:
             fit = fit_velocity_steps(record, stiffness, evolution=evolution, two_state=two_state,
                                      stiffness_free=stiffness_free, trend=trend)
         except FaultslipError as error:
             rows.append({"law": name, "error": str(error)})
+            elapsed = time.process_time() - began
             continue
+        elapsed = time.process_time() - began
         n = fit.points
         rows.append({"law": name, "parameters": len(fit.parameters), "ssr": fit.residual_rms ** 2 * n,
                      "values": dict(fit.parameters), "fit": fit, "notes": list(fit.notes)})
+    if step is not None:
+        step(len(candidates))
     scored = [row for row in rows if "ssr" in row]
     if not scored:
         raise InputError("no candidate law could be fitted to the record: " + "; ".join(row["error"] for row in rows))

@@ -22,9 +22,9 @@ file order (``read FILE``, a file beside the r-file). The commands, as Penn Stat
 * xlook's further data commands, each as its source (src/array.c, func.c, special.c, cmds.c) defines it: column
   functions (exp, ln, log, recip, positive, trig, col_power, and func.c's Power1 .. Poly4), deriv, smooth,
   median_smooth, slope, z_min, z_max, r_mean, r_spike, offset, name, cgt, rgt, vc, r_trend, sort, curv, compress,
-  r_row_col, decimat, interpolate, peak, pdf and polyfit (docs/lab_fits.md tables each with its check). Display
-  commands (plots, type, stat, windows) are skipped, each noted; xlook's interactive rate-and-state tools (qi,
-  simplex, ...) are refused with the way to faultslip's own fit.
+  r_row_col, decimat, interpolate, peak, pdf and polyfit, and append and doit (docs/lab_fits.md tables each
+  with its check). Display and interactive commands (plots, type, stat, windows; the rate-and-state tools qi,
+  simplex, ...) are skipped, each noted, the tools' note naming faultslip's own fit.
 
 Record ranges include both ends, and a LAST of -1 is the last record. The r-files say so themselves: p655's
 ``r_row 86283 86283`` removes the one record its comment names ("normal stress has a zero at 86283, ax it").
@@ -172,9 +172,10 @@ def _parse(text: str, source: str, state: Reduction) -> list:
             state.skipped.append(f"{source} line {number}: {command} (draws, prints or prompts: no data changes)")
             continue
         if command in FITTING_TOOLS or command.startswith(("rsm", "cm_h", "scm", "qi_")):
-            raise InputError(f"{where}: {command} is xlook's interactive rate-and-state tool; reduce without it, then "
-                             "fit the reduced record with 'faultslip fit --law rate-state' (its inversion, with "
-                             "intervals) or model it with a rate_state_slider scene")
+            state.skipped.append(f"{source} line {number}: {command} (xlook's interactive rate-and-state tool: fit the "
+                                 "reduced record with 'faultslip fit --law rate-state', or model it with a "
+                                 "rate_state_slider scene)")
+            continue
         if command not in _ARGUMENTS:
             raise InputError(f"{where}: faultslip does not know the command {command!r} (it runs "
                              f"{', '.join(sorted(_ARGUMENTS))} and end, and skips xlook's display commands)")
@@ -909,7 +910,7 @@ _ARGUMENTS.update({"exp": 5, "ln": 5, "log": 5, "recip": 5, "positive": 5, "col_
                    **{name: 6 for name in ("trig", "sin", "cos", "tan", "asin", "acos", "atan")},
                    **{name: 5 + count for name, (count, _) in _GENERATORS.items()}})
 #: xlook's rate-and-state forward models and inversions (its "r/s fric tool"; rsm and cm now only point to it):
-#: faultslip's own fit and slider do this work, so an r-file naming one is refused with the way there.
+#: interactive, so skipped with a note that names faultslip's own fit and slider, which do this work.
 FITTING_TOOLS = {"qi", "qi_mvs", "simplex", "rsm", "cm", "cm2", "mem", "scm"}
 #: xlook's commands that draw, print, prompt or manage windows and files: an r-file that holds them runs, each
 #: skipped with a note (the report lists them), as they change no data.

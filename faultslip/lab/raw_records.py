@@ -29,6 +29,7 @@ windows for each step's own fit (:func:`fit_each_step`).
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -36,6 +37,7 @@ import numpy as np
 from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, simulate_rate_state
 from faultslip import ranges
 from faultslip.errors import InputError, SolverError
+from faultslip.io.progress import counted
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, read_table_metadata, split_header
 from faultslip.lab.rate_state_fit import StepRecord, fit_velocity_steps, step_record_from_columns
 from faultslip.units import to_si_scalar, unit_factor
@@ -639,7 +641,7 @@ class StepFits(list, ToXarray):
 
 
 def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=None, *, stiffness_free: bool = False,
-                  trend: bool = False) -> StepFits:
+                  trend: bool = False, progress=None) -> StepFits:
     """Each step's own fit (its window started at steady state at the speed before it): a list of
     ``{"step", "window", "fit"}`` or ``{"step", "window", "error"}`` where a window does not constrain the law.
 
@@ -656,6 +658,8 @@ def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=No
     trend : bool
         Fit each window's own linear trend in the load point's displacement
         (:func:`faultslip.lab.rate_state_fit.fit_velocity_steps`).
+    progress : bool or callable, optional
+        Report the windows fitted (True: a bar; the rest's expected time said after the first).
 
     Returns
     -------
@@ -663,7 +667,12 @@ def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=No
         A list, per step: its window (s) and its fit (a, b, D_c in m) or the reason it has none; ``to_dataset()``.
     """
     record, results = prepared.record, StepFits()
-    for number, (start, end) in enumerate(windows or step_windows(prepared), start=1):
+    spans = list(windows or step_windows(prepared))
+    step = counted(progress, "each step", len(spans), "fit", "fitting each step's window")
+    for number, (start, end) in enumerate(spans, start=1):
+        began = time.process_time()
+        if step is not None and number > 1:
+            step(number - 1)
         entry = {"step": number, "window": (float(start), float(end))}
         window = window_record(record, start, end, f"{record.source} step {number}")
         if window is None:
@@ -676,6 +685,10 @@ def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=No
         except (SolverError, InputError) as exc:
             entry["error"] = str(exc)
         results.append(entry)
+        if step is not None and number == 1:
+            step(1, time.process_time() - began)
+    if step is not None:
+        step(len(spans))
     return results
 
 
