@@ -636,11 +636,15 @@ def dip_model_error_table() -> str | None:
         rows.append(f"| {row['dip']:g}°{held} | {row['sense']} | {row['plane_strain']['recurrence_yr']:.1f} yr, "
                     f"{row['plane_strain']['mean_slip_m']:.2f} m | {row['antiplane']['recurrence_yr']:.1f} yr, "
                     f"{row['antiplane']['mean_slip_m']:.2f} m | {row['model_error']:.1%}"
-                    + (f" (declared {row['declared']:.1%})" if held else "") + " |")
+                    + ((f" (declared {row['declared']:.1%})" if row["declared"] is not None
+                        else " (declared: unbounded, outside the measured W / h*)") if held else "") + " |")
     table = result["table"]
-    declared = ", ".join(f"{row['dip']:g}°: {row['model_error']:.1%}" for row in table["rows"])
+    declared = ", ".join(f"{row['dip']:g}° at W / h* {row.get('width_over_nucleation', 0):.3g}: {row['model_error']:.1%}"
+                         for row in table["rows"])
     return ("\n".join(rows) + f"\n\nDeclared (the largest of both senses, times {table['margin']:g}): {declared}. "
-            f"Held-out faults within it: {sum(r['covered'] for r in table['held_out'])} of {len(table['held_out'])}. "
+            f"Held-out faults: {sum(r['declared'] is not None and r['covered'] for r in table['held_out'])} of "
+            f"{len(table['held_out'])} within a declared bound, "
+            f"{sum(r['declared'] is None for r in table['held_out'])} outside the measured W / h* (unbounded there). "
             + _machine(result))
 
 

@@ -285,42 +285,30 @@ def test_the_shipped_dip_error_holds_its_held_out_faults():
     table = load_table()
     assert table["margin"] == MARGIN
     for row in table["held_out"]:
-        assert row["declared"] == pytest.approx(declared(row["dip"], width_over_nucleation=row["width_over_nucleation"]))
-        assert row["covered"] == (row["model_error"] <= row["declared"])
+        bound = declared(row["dip"], width_over_nucleation=row["width_over_nucleation"])
+        assert (row["declared"] is None and bound == math.inf) or row["declared"] == pytest.approx(bound)
+        assert row["covered"] == (row["model_error"] <= bound)
     assert table["coverage"] == sum(row["covered"] for row in table["held_out"]) / len(table["held_out"])
 
 
 def test_model_error_on_a_dipping_scene_climbs_through_the_antiplane_rung(cli):
+    """On a plane-strain scene the ladder runs three rungs; the antiplane one's declared error adds its model error
+    on dip-slip faults at the scene's dip and W / h*, and where that is unbounded (the small fault's W / h* lies
+    outside the measured) it declares no range, and its range is not said to hold."""
     import json
 
     from faultslip.fault.dip_error import declared
+    from faultslip.fault.ladder import groups
+    from faultslip.models.fault_2d.scene import load_fault_2d_scene
 
     done = cli("model-error", CONFIGS / "fault_2d_dipping_small.toml", "--json")
     assert done.code == 0, done.err
-    values = json.loads(done.out)["values"]
+    values = json.loads(done.out)
     assert {"one_slider_recurrence", "antiplane_recurrence", "fault_2d_recurrence"} <= set(values)
+    fault = load_fault_2d_scene(CONFIGS / "fault_2d_dipping_small.toml").fault
+    bound = declared(fault.dip, width_over_nucleation=groups(fault.description())["width_over_nucleation"])
     error = values["antiplane_declared_error"]
-    assert error is None or error >= 0  # its range carries the model error at the scene's dip and W / h* (or none)
-    assert "antiplane_range_holds" in values
-
-
-def test_bp3_against_fdra_and_the_declared_resolution_error_hold_in_the_results():
-    """benchmarks/seas_bp3.py's results (both published scenes at 100, 50 and 25 m beside FDRA's files): at 25 m
-    the settled supercycle's intervals agree with FDRA's within 1 % and the slip at 7.5 km within 2 % (BP3's own
-    figures), with the same period; at 50 and 100 m each settled interval is within the declared resolution error
-    of our 25 m run's."""
-    import json
-
-    results = json.loads((Path(__file__).resolve().parent.parent / "benchmarks" / "results" / "seas_bp3.json")
-                         .read_text(encoding="utf-8"))
-    assert set(results["cases"]) == {"thrust60", "normal30"}
-    for case in results["cases"].values():
-        runs = {run["element_size_m"]: run for run in case["runs"]}
-        assert set(runs) >= {25.0, 50.0, 100.0}
-        finest = runs[25.0]["against_peer"]
-        assert finest["settled_interval_difference"] <= 0.01
-        assert finest["settled_slip_difference"] <= 0.02
-        assert finest["period"][0] == finest["period"][1] >= 1
-        for size in (50.0, 100.0):
-            run = runs[size]
-            assert run["settled_interval_difference_from_finest"] <= run["declared_resolution_error"]["interval"], size
+    if math.isfinite(bound):
+        assert error >= bound
+    else:
+        assert error is None and values["antiplane_range_holds"] is False

@@ -454,7 +454,8 @@ def _rung(name: str, result: Result, cpu: float) -> dict:
         band = values[key] if key in result else None
         return None if band is None else tuple(float(v.to("s" if "recurrence" in key else "m").magnitude) for v in band)
 
-    slip_key = "slip_per_event" if values["slip_per_event"] is not None else "mean_slip_per_event"
+    slip_key = "slip_per_event" if "slip_per_event" in result and values["slip_per_event"] is not None \
+        else "mean_slip_per_event"
     return {"name": name, "cpu_time": cpu, "recurrence": float(values["recurrence_interval"].to("s").magnitude),
             "recurrence_range": pair("recurrence_range") if name == "one_slider" else _declared(result, "recurrence_interval", "s"),
             "slip": float(values[slip_key].to("m").magnitude),
