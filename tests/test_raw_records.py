@@ -692,6 +692,9 @@ def test_the_posterior_and_the_bootstrap_show_progress_with_their_expected_time_
     assert seen[-1][0] == posterior.steps  # the last report is the chain's length
     refits = []
     fit_velocity_steps(prepared.record, prepared.stiffness, bootstrap=6, progress=lambda d, t: refits.append((d, t)))
+    integrations = [(d, t) for d, t in refits if t != 6]  # the fit itself: integrations against trf's bound
+    assert integrations and integrations[-1][0] == integrations[-1][1]
+    refits = [(d, t) for d, t in refits if t == 6]
     assert refits[0] == (0, 6) and refits[-1] == (6, 6)
     monkeypatch.setattr(progress_module, "ANNOUNCE_FROM", 0.0)  # announce even this short a run
     stream = io.StringIO()

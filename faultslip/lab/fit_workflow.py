@@ -210,7 +210,8 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
         others = [_prepared_record(path, stiffness, area, units, "none" if trend else detrend, min_change, columns,
                                    span) for path in joint]
         together = fit_joint([record, *(other for other, _ in others)], [spring, *(k for _, k in others)],
-                             evolution=evolution, two_state=two_state, stiffness_free=stiffness_free, trend=trend)
+                             evolution=evolution, two_state=two_state, stiffness_free=stiffness_free, trend=trend,
+                             progress=progress)
         _joint_section(report, together, [str(data), *map(str, joint)])
     selection = None
     if select:

@@ -301,6 +301,38 @@ STIFFNESS_RANGE = 100.0
 TREND_LIMIT = 1e4
 
 
+class _FitWatch:
+    """Progress of one least-squares fit (scipy's trf: at most 100 n Jacobian-and-residual rounds of n + 1
+    evaluations, the limit passed to it): the slider integrations done against that bound, and, from the first
+    evaluation's time, the most the fit can take, said before it goes on when that is 10 s or more."""
+
+    def __init__(self, progress, label: str, parameters: int):
+        self.limit = 100 * parameters
+        self.total = self.limit * (parameters + 1)
+        self.report = reporter(progress, label, "integration")
+        self.count, self.began, self.said = 0, time.process_time(), False
+
+    def evaluated(self) -> None:
+        if self.report is None:
+            return
+        self.count += 1
+        if self.count == 2 and not self.said:
+            self.said = True
+            first = time.process_time() - self.began
+            _announce(self.report, f"fitting: at most {self.total} slider integrations, at most about "
+                                   f"{_duration(first * self.total)} (one took {_duration(first)}); most fits end "
+                                   "far sooner", first * self.total)
+        if self.count % 10 == 0:
+            self.report(min(self.count, self.total), self.total)
+
+    def done(self) -> None:
+        """The fit has ended: the bar completes, and the bootstrap's refits (which reuse the model) report on their
+        own."""
+        if self.report is not None:
+            self.report(self.total, self.total)
+        self.report = None
+
+
 def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str = "aging", two_state: bool = False,
                        initial=None, rtol: float = 1e-10, bootstrap: int = 0, seed: int = 0,
                        stiffness_free: bool = False, trend: bool = False, progress=None) -> RateStateFit:
@@ -312,7 +344,8 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
     ``stiffness`` a float in 1/m or a string or Quantity with units ("1e-3 1/um").
 
     ``bootstrap`` resamples (seeded by ``seed``) add bootstrap intervals; each costs one refit. ``progress``
-    (True, or a callable (done, total); :mod:`faultslip.io.progress`) shows them, their expected time first.
+    (True, or a callable (done, total); :mod:`faultslip.io.progress`) shows the fit's slider integrations against
+    their bound, then the refits, each with its expected time first when that is 10 s or more.
 
     Parameters
     ----------
@@ -381,8 +414,11 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
     load_point = record.history.displacement(record.time) if trend else None
     evaluations = {"n": 0}
 
+    watch = _FitWatch(progress, "fit", len(names))
+
     def model(values, tolerance):
         evaluations["n"] += 1
+        watch.evaluated()
         try:
             law = _law(values, names, reference_speed, evolution)
             spring = math.exp(values[names.index("log_stiffness")]) if stiffness_free else stiffness
@@ -402,8 +438,9 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
     # and with it the covariance, is not polluted by integration noise
     fit_started = time.process_time()
     result = least_squares(residuals, start, bounds=(lower, upper), method="trf", x_scale="jac",
-                           xtol=1e-10, ftol=1e-12, gtol=1e-12, diff_step=1e-4)
+                           xtol=1e-10, ftol=1e-12, gtol=1e-12, diff_step=1e-4, max_nfev=watch.limit)
     fit_seconds = time.process_time() - fit_started
+    watch.done()
     if not result.success:
         raise SolverError(f"the rate-and-state fit did not converge ({result.message}); give a closer initial guess")
     points, count = record.time.size, len(names)
@@ -564,7 +601,7 @@ class JointFit(ToXarray):
 
 
 def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool = False,
-              stiffness_free: bool = False, trend: bool = False, rtol: float = 1e-10) -> JointFit:
+              stiffness_free: bool = False, trend: bool = False, rtol: float = 1e-10, progress=None) -> JointFit:
     """Fit one law to several velocity-step records (several steps of one run, or several experiments): a, b and
     D_c (and b2, D_c2) shared, each record's steady friction mu0 at its own first speed (and, with
     ``stiffness_free``, its own stiffness; with ``trend``, its own linear trend in the load point's displacement) a
@@ -637,7 +674,10 @@ def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool =
         spring = math.exp(values[position[f"log_stiffness_{i + 1}"]]) if stiffness_free else springs[i]
         return law, spring
 
+    watch = _FitWatch(progress, "joint fit", len(names))
+
     def residuals(values):
+        watch.evaluated()
         parts = []
         for i, record in enumerate(records):
             try:
@@ -651,7 +691,8 @@ def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool =
         return np.concatenate(parts)
 
     result = least_squares(residuals, start, bounds=(lower, upper), method="trf", x_scale="jac", xtol=1e-10,
-                           ftol=1e-12, gtol=1e-12, diff_step=1e-4)
+                           ftol=1e-12, gtol=1e-12, diff_step=1e-4, max_nfev=watch.limit)
+    watch.done()
     if not result.success:
         raise SolverError(f"the joint rate-and-state fit did not converge ({result.message}); give closer records or "
                           "fit them one at a time first")
