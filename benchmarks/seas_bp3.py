@@ -13,7 +13,7 @@ The peer is FDRA (Cattania & Segall's boundary-element code), whose BP3-QD resul
 Both codes' series are read the same way: an event at 7.5 km is the station's slip rate above 1e-3 m/s (BP3's
 seismic threshold); its slip is the station's slip across it; its surface offset the displacement's change across
 it at each surface station. Per case and element size the file records the event times, intervals and slips, the
-supercycle's period (:func:`faultslip.models.fault_2d.analysis.classify` on the settled half), the largest
+supercycle's period (the shortest whose last two cycles repeat to 2e-3), the largest
 relative differences from FDRA's at 25 m over events matched in order, the declared resolution error
 (:func:`faultslip.models.fault_2d.analysis.sequence_discretisation`) and the cost: steps, wall time and CPU
 seconds per simulated year, beside the antiplane fault on as many elements (BP1 for 150 yr, timed the same way).
@@ -36,7 +36,7 @@ ROOT = HERE.parent
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 from faultslip.io.seas import read_seas  # noqa: E402
-from faultslip.models.fault_2d.analysis import classify, sequence_discretisation  # noqa: E402
+from faultslip.models.fault_2d.analysis import sequence_discretisation  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
 from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
 
@@ -65,16 +65,32 @@ def station_events(time, slip, log10_rate, surface=None) -> dict:
     return out
 
 
+#: Surface speed (m/s) above which a surface station is moving coseismically (interseismic speeds are ~1e-10).
+SURFACE_SPEED = 1e-6
+
+
+def surface_offsets(time, displacement, velocity) -> list:
+    """Each coseismic offset (u, w) of a surface station, from its own series: the displacement's change across
+    each run of records whose speed exceeds :data:`SURFACE_SPEED`."""
+    moving = np.hypot(velocity[:, 0], velocity[:, 1]) > SURFACE_SPEED
+    starts = np.flatnonzero(~moving[:-1] & moving[1:]) + 1
+    ends = np.flatnonzero(moving[:-1] & ~moving[1:]) + 1
+    ends = ends[ends > starts[0]] if starts.size else ends[:0]
+    return [[float(v) for v in displacement[e] - displacement[s - 1]] for s, e in zip(starts, ends)]
+
+
 def peer_series(folder: Path, code: str) -> dict:
     header, names, rows = read_seas(folder / f"cattania_fltst_dp075_{code}.txt")
     sign = 1.0 if code.startswith("T") else -1.0  # BP3's signs: a normal fault's slip is negative
-    surface = {}
+    events = station_events(rows[:, 0], sign * rows[:, 1], rows[:, 2])
+    # the surface files come from another of FDRA's runs (another modeler, date and time steps): each station's
+    # coseismic offsets from its own series, matched to ours by their order in the settled supercycle
+    events["surface_offset_m"] = {}
     for name in SURFACE:
         _, _, surface_rows = read_seas(folder / f"cattania_srfst_fn_{name}_{code}.txt")
-        # the surface files have their own times: the displacement at the on-fault file's times
-        surface[name] = sign * np.column_stack([np.interp(rows[:, 0], surface_rows[:, 0], surface_rows[:, k])
-                                                for k in (1, 2)])
-    events = station_events(rows[:, 0], sign * rows[:, 1], rows[:, 2], surface)
+        # BP3's signs, as faultslip's surface offsets are kept (our_series turns a normal fault's to them)
+        events["surface_offset_m"][name] = surface_offsets(surface_rows[:, 0], surface_rows[:, 1:3],
+                                                           surface_rows[:, 3:5])
     events["files"] = [f"cattania_fltst_dp075_{code}.txt"] + [f"cattania_srfst_fn_{name}_{code}.txt" for name in SURFACE]
     events["modelers"] = sorted({header.get("modeler", "")} | {read_seas(folder / f"cattania_srfst_fn_p0_{code}.txt")[0]
                                                               .get("modeler", "")})
@@ -113,6 +129,19 @@ def antiplane_cost(elements: int, years: float, rtol: float) -> dict:
     return {"elements": elements, "years": years, "rtol": rtol, "steps": run.steps, "cpu_s_per_year": cpu / years}
 
 
+def _period(intervals: np.ndarray, tolerance: float = 2e-3) -> int:
+    """The supercycle's period: the shortest p up to 8 whose last 2p intervals repeat with period p to
+    ``tolerance`` (relative); 0 if none. Two cycles in view, not classify's three: BP3's 1500 yr hold two and a
+    half of the thrust's period-4 supercycle after its spin-up."""
+    for period in range(1, 9):
+        if intervals.size < 2 * period:
+            break
+        window = intervals[-2 * period:]
+        if np.max(np.abs(window[period:] - window[:period])) <= tolerance * window.mean():
+            return period
+    return 0
+
+
 def _aligned(mine: np.ndarray, theirs: np.ndarray, period: int) -> tuple[np.ndarray, np.ndarray]:
     """The last 2 ``period`` values of each, ``theirs`` shifted by up to ``period`` - 1 places to the phase that
     matches ``mine`` best: a run that skipped or added a transient event is in another phase of one supercycle."""
@@ -135,9 +164,7 @@ def compare(ours: dict, peer: dict) -> dict:
     the settled supercycle, phase-aligned (:func:`_aligned`); and each one's period."""
     count = min(len(ours["start_yr"]), len(peer["start_yr"]))
     mine, theirs = np.array(ours["start_yr"]), np.array(peer["start_yr"])
-    half_mine, half_theirs = mine.size // 2, theirs.size // 2
-    periods = [classify(np.diff(mine[half_mine:]) * YEAR, 2e-3).period,
-               classify(np.diff(theirs[half_theirs:]) * YEAR, 2e-3).period]
+    periods = [_period(np.diff(mine)), _period(np.diff(theirs))]
     period = max(periods[1], 1)
     settled_mine, settled_theirs = _aligned(np.diff(mine), np.diff(theirs), period)
     slip_mine, slip_theirs = _aligned(np.array(ours["slip_m"]), np.array(peer["slip_m"]), period)
@@ -158,10 +185,13 @@ def compare(ours: dict, peer: dict) -> dict:
             "surface_offset_difference": offsets, "period": periods}
 
 
-def recompare(path: Path) -> None:
-    """Recompute every comparison of a results file from the series it holds (no run)."""
+def recompare(path: Path, peer: Path | None = None) -> None:
+    """Recompute every comparison of a results file from the series it holds (no run); with ``peer``, the peer's
+    series are read again from its files first."""
     results = json.loads(path.read_text(encoding="utf-8"))
-    for case in results["cases"].values():
+    for name, case in results["cases"].items():
+        if peer is not None:
+            case["peer"] = peer_series(peer, CASES[name][0])
         for run in case["runs"]:
             run["against_peer"] = compare(run, case["peer"])
         finest = case["runs"][-1]
@@ -183,7 +213,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=HERE / "results" / "seas_bp3.json")
     args = parser.parse_args(argv)
     if args.recompare:
-        recompare(args.out)
+        recompare(args.out, args.peer)
         print(f"recompared {args.out}")
         return 0
     if args.peer is None:
