@@ -619,8 +619,14 @@ def seas_bp3_table() -> str | None:
     files = "; ".join(f"{data['peer']['code']} ({', '.join(data['peer']['modelers'])}): "
                       + ", ".join(data["peer"]["files"]) for data in result["cases"].values())
     # a step's cost on each rung at the same element count (BP1's steps over its first 150 yr, BP3's over 1500 yr: the
-    # work a step does is the same but for the stress product, dense here and by FFT there)
-    runs = {run["elements"]: run for data in result["cases"].values() for run in data["runs"]}
+    # work a step does is the same but for the stress product, dense here and by FFT there); benchmarks/
+    # plane_strain_step.py times the dense step alone
+    runs = {}  # the less loaded of the two scenes' runs at each element count (they ran beside other work)
+    for data in result["cases"].values():
+        for run in data["runs"]:
+            best = runs.get(run["elements"])
+            if best is None or run["cpu_s"] / run["steps"] < best["cpu_s"] / best["steps"]:
+                runs[run["elements"]] = run
     antiplane = ", ".join(
         f"{row['elements']} elements {row['cpu_s_per_year'] * row['years'] / row['steps'] * 1e3:.2g} ms against "
         f"{runs[row['elements']]['cpu_s'] / runs[row['elements']]['steps'] * 1e3:.2g} ms "
