@@ -33,7 +33,7 @@ from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
-from faultslip.models.fault_2d.scene import build_fault, load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
 from faultslip.fault.dip_error import MARGIN, declared  # noqa: E402
 from faultslip.fault.ladder import groups  # noqa: E402
 
@@ -69,8 +69,7 @@ def pair(base, element_size: float, years: float, dip: float, sense: str, critic
     if depth is not None:
         scene = scene.with_values(seismogenic_depth=depth)
     scene = replace(scene, duration=years * YEAR, stations=(7500.0,))
-    antiplane = replace(scene, fault=build_fault({**scene.settings, "plane": "antiplane", "dip": 90.0},
-                                                 element_size, scene.name + " (antiplane)"))
+    antiplane = scene.antiplane()  # the rung below: the same description as a vertical antiplane fault
     row = {"dip": dip, "sense": sense, "critical_slip_m": float(scene.fault.critical_slip[0]),
            "seismogenic_depth_m": float(scene.settings["a_ramp"]["depth"]), "element_size_m": element_size,
            "years": years, "width_over_nucleation": groups(antiplane.fault.description())["width_over_nucleation"]}

@@ -253,15 +253,10 @@ def test_dipping_traces_carry_a_tick_towards_their_dip(tmp_path):
     (x0, y0, x1, y1, dip), (u0, v0, u1, v1, dip2) = ticks
     assert (x1 - x0, y1 - y0, dip) == pytest.approx((0.0, -0.1, 30.0))
     assert (u1 - u0, v1 - v0, dip2) == pytest.approx((0.1, 0.0, 60.0))
-    header = ("segment,name,trace (degree),slip_rate (mm/yr),lithology,seismogenic_depth (km),zone_width (km),"
-              "dip (degree),rake (degree)\n")
-    rows = ("thrust,a 30-degree thrust,-118.60 34.30; -118.20 34.35,5,granodiorite,15,20,30,90\n"
-            "vertical,a vertical fault,-120.00 36.00; -119.70 35.70,20,granodiorite,12,20,,\n")
-    (tmp_path / "segments.csv").write_text(header + rows, encoding="utf-8")
-    (tmp_path / "map.toml").write_text(
-        f'[map]\nname = "dips"\nbase = "{ROOT / "configs" / "san_andreas_1906.toml"}"\n\n[segments]\n'
-        'file = "segments.csv"\n\n[grid]\nlon = { linspace = [-121.0, -116.0, 11] }\n'
-        'lat = { linspace = [34.0, 37.5, 8] }\nmax_distance = "40 km"\n', encoding="utf-8")
+    from test_dipping_faults import ROWS, _map as dipping_map
+
+    lines = ROWS.splitlines(keepends=True)  # the 30-degree thrust and the vertical fault
+    dipping_map(tmp_path, rows=lines[0] + lines[2])
     figure = fault_system_figure(run_map(load_map(tmp_path / "map.toml")), resolution="c")
     labels = [text.get_text() for text in figure.axes[0].texts]
     assert "30°" in labels and "90°" not in labels

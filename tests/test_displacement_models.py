@@ -80,17 +80,10 @@ def test_a_model_on_a_style_it_was_not_regressed_on_is_refused_naming_those_that
 
 
 def _map(tmp_path):
-    header = ("segment,name,trace (degree),slip_rate (mm/yr),lithology,seismogenic_depth (km),zone_width (km),"
-              "dip (degree),rake (degree)\n")
-    rows = ("thrust,a 30-degree thrust,-118.60 34.30; -118.20 34.35,5,granodiorite,15,20,30,90\n"
-            "normal,a 60-degree normal fault,-117.00 36.50; -116.90 36.90,2,granodiorite,12,20,60,-90\n")
-    (tmp_path / "segments.csv").write_text(header + rows, encoding="utf-8")
-    (tmp_path / "map.toml").write_text(
-        f'[map]\nname = "styles"\nbase = "{ROOT / "configs" / "san_andreas_1906.toml"}"\n\n'
-        '[segments]\nfile = "segments.csv"\n\n[grid]\nlon = { linspace = [-121.0, -116.0, 11] }\n'
-        'lat = { linspace = [34.0, 37.5, 8] }\nmax_distance = "40 km"\n', encoding="utf-8")
-    return tmp_path / "map.toml"
+    """A 30-degree thrust (rake 90) and a 60-degree normal fault (rake -90): test_dipping_faults's map."""
+    from test_dipping_faults import ROWS, _map as dipping_map
 
+    return dipping_map(tmp_path, rows="".join(ROWS.splitlines(keepends=True)[:2]))
 
 def test_the_logic_tree_is_the_mean_of_every_model_that_applies(tmp_path):
     spec = load_map(_map(tmp_path))

@@ -14,8 +14,7 @@ import functools
 import math
 
 from faultslip.errors import InputError
-from faultslip.io import gate
-from faultslip.io.resources import bundled_dir
+from faultslip.io.resources import read_bundled_table
 
 TABLE_FILE = "dip_model_error.json"
 #: The declared error's factor over the largest measured (the one-slider calibration's, issue 42).
@@ -25,16 +24,12 @@ MARGIN = 1.25
 @functools.lru_cache(maxsize=1)
 def load_table() -> dict:
     """``data/dip_model_error.json``, checked: rows of ``dip`` (degrees) and ``model_error`` (relative)."""
-    path = bundled_dir("data") / TABLE_FILE
-    try:
-        table = gate.read_json(path, "the antiplane rung's model error on dip-slip faults")
-    except InputError as exc:
-        raise InputError(f"{exc}; reinstall faultslip or run benchmarks/dip_model_error.py") from None
+    table = read_bundled_table(TABLE_FILE, "the antiplane rung's model error on dip-slip faults", "benchmarks/dip_model_error.py")
     rows = table.get("rows") if isinstance(table, dict) else None
     if not (isinstance(rows, list) and rows and all(
             isinstance(row, dict) and isinstance(row.get("dip"), (int, float))
             and isinstance(row.get("model_error"), (int, float)) and row["model_error"] >= 0 for row in rows)):
-        raise InputError(f"{path.name} lacks rows of dip and a non-negative model_error; rerun "
+        raise InputError(f"{TABLE_FILE} lacks rows of dip and a non-negative model_error; rerun "
                          "benchmarks/dip_model_error.py")
     return table
 

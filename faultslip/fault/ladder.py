@@ -29,9 +29,8 @@ from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
 from faultslip.fault import dip_error
 from faultslip.errors import InputError
 from faultslip.friction.rate_state import RateStateLaw
-from faultslip.io import gate
 from faultslip.io.report import Report
-from faultslip.io.resources import bundled_dir
+from faultslip.io.resources import read_bundled_table
 
 CALIBRATION_FILE = "ladder_calibration.json"
 
@@ -181,14 +180,10 @@ def load_calibration() -> dict:
         Per quantity of :data:`QUANTITIES`: ``coefficients``, ``inverse_gram`` (X^T X)^-1, ``residual_sd``,
         ``dof`` and ``t_quantile``; ``box`` (each feature's calibrated range); ``held_out`` and ``provenance``.
     """
-    path = bundled_dir("data") / CALIBRATION_FILE
-    try:
-        table = gate.read_json(path, "the ladder's calibration")
-    except InputError as exc:
-        raise InputError(f"{exc}; reinstall faultslip or run benchmarks/ladder_calibration.py") from None
+    table = read_bundled_table(CALIBRATION_FILE, "the ladder's calibration", "benchmarks/ladder_calibration.py")
     missing = [key for key in ("recurrence", "mean_slip", "box") if not isinstance(table.get(key), dict)]
     if missing:
-        raise InputError(f"{path.name} lacks {', '.join(missing)}; rerun benchmarks/ladder_calibration.py")
+        raise InputError(f"{CALIBRATION_FILE} lacks {', '.join(missing)}; rerun benchmarks/ladder_calibration.py")
     return table
 
 

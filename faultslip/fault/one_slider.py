@@ -19,7 +19,7 @@ from functools import lru_cache
 
 from faultslip.errors import InputError
 from faultslip.io import gate
-from faultslip.io.resources import bundled_dir
+from faultslip.io.resources import bundled_dir, read_bundled_table
 
 CALIBRATION_FILE = "fault_2d_model_error.json"
 HIERARCHY_FILE = "fault_2d_hierarchy.json"
@@ -40,13 +40,9 @@ def load_calibration() -> dict:
         ``geometric`` and ``zone_width``: each with its ``stiffness_factor`` c, ``rows`` (W / h* and the declared
         model error, relative), and the ``held_out`` faults with their true and declared errors; ``provenance``.
     """
-    path = bundled_dir("data") / CALIBRATION_FILE
-    try:
-        table = gate.read_json(path, "the model-error calibration")
-    except InputError as exc:
-        raise InputError(f"{exc}; reinstall faultslip or run benchmarks/fault_2d_calibration.py") from None
+    table = read_bundled_table(CALIBRATION_FILE, "the model-error calibration", "benchmarks/fault_2d_calibration.py")
     if not all(isinstance(table.get(key), dict) and table[key].get("rows") for key in REDUCTIONS.values()):
-        raise InputError(f"{path.name} lacks a reduction's rows; rerun benchmarks/fault_2d_calibration.py")
+        raise InputError(f"{CALIBRATION_FILE} lacks a reduction's rows; rerun benchmarks/fault_2d_calibration.py")
     return table
 
 

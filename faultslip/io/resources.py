@@ -37,6 +37,15 @@ def data_path(name: str) -> Path:
     return bundled_dir("data") / name
 
 
+def read_bundled_table(name: str, label: str, producer: str):
+    """A JSON table shipped in ``data/`` (checked through the gate), or one sentence naming the benchmark
+    ``producer`` that writes it."""
+    try:
+        return gate.read_json(bundled_dir("data") / name, label)
+    except InputError as exc:
+        raise InputError(f"{exc}; reinstall faultslip or run {producer}") from None
+
+
 def config_path(name: str) -> Path:
     """A bundled file of ``configs/`` by name.
 

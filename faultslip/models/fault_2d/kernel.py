@@ -30,8 +30,7 @@ import math
 import numpy as np
 
 from faultslip.errors import InputError
-from faultslip.io import gate
-from faultslip.io.resources import bundled_dir
+from faultslip.io.resources import read_bundled_table
 
 #: The measured crossover (``data/kernel_crossover.json``, written by ``benchmarks/kernel_crossover.py``).
 CROSSOVER_FILE = "kernel_crossover.json"
@@ -45,18 +44,14 @@ def measured_crossover() -> dict:
     """``data/kernel_crossover.json`` (``benchmarks/kernel_crossover.py``: BP1 at rtol 1e-4, interleaved, median per
     step), checked: per step path, ``dense_limit``, the element count at and below which a whole step with the dense
     product took less CPU than one with the FFT, and ``relative_step_cost``, its step's time over the fused path's."""
-    path = bundled_dir("data") / CROSSOVER_FILE
-    try:
-        table = gate.read_json(path, "the stress kernel's measured crossover")
-    except InputError as exc:
-        raise InputError(f"{exc}; reinstall faultslip or run benchmarks/kernel_crossover.py") from None
+    table = read_bundled_table(CROSSOVER_FILE, "the stress kernel's measured crossover", "benchmarks/kernel_crossover.py")
     limits = table.get("dense_limit") if isinstance(table, dict) else None
     costs = table.get("relative_step_cost") if isinstance(table, dict) else None
     if not (isinstance(limits, dict) and all(isinstance(limits.get(name), int) and limits[name] >= 0
                                              for name in STEP_PATHS)
             and isinstance(costs, dict) and all(isinstance(costs.get(name), (int, float)) and 0 < costs[name] < 1e3
                                                 for name in STEP_PATHS)):
-        raise InputError(f"{path.name} lacks a whole dense_limit and a positive relative_step_cost for each of "
+        raise InputError(f"{CROSSOVER_FILE} lacks a whole dense_limit and a positive relative_step_cost for each of "
                          f"{', '.join(STEP_PATHS)}; rerun benchmarks/kernel_crossover.py")
     return {"dense_limit": {name: limits[name] for name in STEP_PATHS},
             "relative_step_cost": {name: float(costs[name]) for name in STEP_PATHS}}

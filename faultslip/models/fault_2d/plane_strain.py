@@ -48,6 +48,15 @@ def _gamma(burgers: complex, shear_modulus: float, kappa: float) -> complex:
     return shear_modulus * burgers / (1j * math.pi * (kappa + 1.0))
 
 
+def _setting(points, source: complex, burgers: complex, shear_modulus: float, poisson_ratio: float) -> tuple:
+    """(zeta, kappa, gamma, conj(gamma), the image point, zeta - zeta_0, zeta - the image) of one dislocation."""
+    zeta = np.asarray(points, dtype=complex)
+    kappa = _kappa(poisson_ratio)
+    gamma = _gamma(burgers, shear_modulus, kappa)
+    image = np.conj(source)
+    return zeta, kappa, gamma, np.conj(gamma), image, zeta - source, zeta - image
+
+
 def _log_cut(w: np.ndarray, angle: float) -> np.ndarray:
     """log(w) with its cut along the ray of direction ``angle`` (radians) from 0."""
     return np.log(-w * np.exp(-1j * angle)) + 1j * (angle - math.pi)
@@ -57,12 +66,7 @@ def dislocation_stress(points, source: complex, burgers: complex, shear_modulus:
                        poisson_ratio: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(sigma_xx, sigma_zz, sigma_xz) (Pa, tension positive) at ``points`` (complex x + i z, m) of an edge
     dislocation at ``source`` (z > 0) with Burgers vector ``burgers`` (complex, m) in the half-space z > 0."""
-    zeta = np.asarray(points, dtype=complex)
-    kappa = _kappa(poisson_ratio)
-    gamma = _gamma(burgers, shear_modulus, kappa)
-    gamma_bar = np.conj(gamma)
-    image = np.conj(source)
-    near, far = zeta - source, zeta - image
+    zeta, kappa, gamma, gamma_bar, image, near, far = _setting(points, source, burgers, shear_modulus, poisson_ratio)
     phi = gamma / near - gamma / far + gamma_bar * (image - source) / far ** 2
     phi_prime = -gamma / near ** 2 + gamma / far ** 2 - 2.0 * gamma_bar * (image - source) / far ** 3
     phi_bar = gamma_bar / far - gamma_bar / near + gamma * (source - image) / near ** 2
@@ -77,12 +81,7 @@ def dislocation_displacement(points, source: complex, burgers: complex, shear_mo
     """u + i w (m) at ``points`` of the dislocation of :func:`dislocation_stress`, zero far away; the displacement
     jumps by ``burgers`` across the cut, which runs from ``source`` along ``cut_angle`` (radians, in the x-z plane)
     to the surface and from the image on out of the solid."""
-    zeta = np.asarray(points, dtype=complex)
-    kappa = _kappa(poisson_ratio)
-    gamma = _gamma(burgers, shear_modulus, kappa)
-    gamma_bar = np.conj(gamma)
-    image = np.conj(source)
-    near, far = zeta - source, zeta - image
+    zeta, kappa, gamma, gamma_bar, image, near, far = _setting(points, source, burgers, shear_modulus, poisson_ratio)
     log_near, log_far = _log_cut(near, cut_angle), _log_cut(far, cut_angle)
     potential = gamma * (log_near - log_far) - gamma_bar * (image - source) / far
     phi = gamma / near - gamma / far + gamma_bar * (image - source) / far ** 2

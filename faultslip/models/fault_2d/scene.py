@@ -423,13 +423,7 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
     rtol = run.get("rtol", 1e-8)
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 1e-14 <= rtol <= 1e-2:
         raise InputError(f"[run] rtol in {source} must be a number from 1e-14 to 1e-2, got {rtol!r}")
-    stations = run.get("stations")
-    if stations is None:
-        stations = BP1_STATIONS
-    elif not isinstance(stations, list) or not stations:
-        raise InputError(f"[run] stations in {source} must be a list of depths")
-    else:
-        stations = tuple(to_si_scalar(s, "length", f"[run] stations in {source}") for s in stations)
+    stations = _lengths(run, "stations", BP1_STATIONS, "depths", source)
     if any(s < 0 or s > settings["width"] for s in stations):
         raise InputError(f"[run] stations in {source} must lie on the fault, from 0 to {settings['width']:g} m")
     names = [station_file_name(s) for s in stations]
@@ -442,13 +436,7 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
     if length is not None:
         length = ranges.check("fault_length", to_si_scalar(length, "length", f"[run] fault_length in {source}"),
                               f"[run] fault_length in {source}")
-    surface = run.get("surface_stations")
-    if surface is None:
-        surface = BP3_SURFACE_STATIONS
-    elif not isinstance(surface, list) or not surface:
-        raise InputError(f"[run] surface_stations in {source} must be a list of distances from the trace")
-    else:
-        surface = tuple(to_si_scalar(x, "length", f"[run] surface_stations in {source}") for x in surface)
+    surface = _lengths(run, "surface_stations", BP3_SURFACE_STATIONS, "distances from the trace", source)
     kernel = run.get("kernel", "auto")
     if kernel not in ("auto", "dense", "fft"):
         raise InputError(f"[run] kernel in {source} must be auto, dense or fft, got {kernel!r}")
@@ -463,6 +451,16 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
         fault_length=length,
         kernel=kernel, threads=None if threads == "auto" else threads, settings=settings, text=text,
         surface_stations=surface)
+
+
+def _lengths(run: dict, key: str, default: tuple, what: str, source: str) -> tuple:
+    """``[run] key``: a list of lengths with units (SI), or ``default`` where the scene gives none."""
+    given = run.get(key)
+    if given is None:
+        return tuple(default)
+    if not isinstance(given, list) or not given:
+        raise InputError(f"[run] {key} in {source} must be a list of {what}")
+    return tuple(to_si_scalar(value, "length", f"[run] {key} in {source}") for value in given)
 
 
 def is_fault_2d_document(document) -> bool:
