@@ -23,6 +23,7 @@ from faultslip.models.fault_2d.integrate import STEP_MEMORY, YEAR, _Stopped, nex
 from faultslip.models.fault_2d import kernel
 from faultslip.models.fault_2d.kernel import (STEP_PATHS, StressKernel, crossover, deep_loading, dense_limit,
                                               dense_matrix, measured_crossover)
+from faultslip.io import resources
 from faultslip.io.resources import bundled_dir
 from faultslip.models.fault_2d.model import Fault2D, ForceBalance, newton_tolerance, steady_initial_conditions
 from faultslip.errors import InputError, SolverError
@@ -80,7 +81,7 @@ def test_the_dense_fft_switch_is_the_crossover_measured_for_each_step_path():
 
 def test_a_damaged_crossover_file_is_refused_in_one_sentence(tmp_path, monkeypatch):
     (tmp_path / "kernel_crossover.json").write_text('{"dense_limit": {"fused": "many"}}', encoding="utf-8")
-    monkeypatch.setattr(kernel, "bundled_dir", lambda name: tmp_path)
+    monkeypatch.setattr(resources, "bundled_dir", lambda name: tmp_path)  # where read_bundled_table looks
     kernel.measured_crossover.cache_clear()
     try:
         with pytest.raises(InputError, match="rerun benchmarks/kernel_crossover.py") as caught:
