@@ -791,10 +791,10 @@ def test_station_files_are_written_and_read_back(tmp_path):
 def test_seas_rows_are_each_value_formatted_to_15_digits(values, block):
     """The block formatter writes what formatting each value alone with 15 significant digits writes (the
     checker's rule), for any float: signed zeros, infinities, NaN, subnormals; across blocks."""
-    from faultslip.io.seas import _chunks
+    from faultslip.io.seas import chunked_rows
 
     rows = np.array(values[:len(values) // 5 * 5]).reshape(-1, 5)
-    text = "".join(_chunks("head\n", lambda a, b: rows[a:b], rows.shape[0], block))
+    text = "".join(chunked_rows("head\n", lambda a, b: rows[a:b], rows.shape[0], block))
     assert text == "head\n" + "".join(" ".join(f"{v:.15g}" for v in row) + "\n" for row in rows)
 
 

@@ -121,6 +121,35 @@ def check_encodable(path, label: str) -> Path:
 NEARLY_FULL = 4 * 2**20
 
 
+def prepare_run_folder(folder: Path, *, resume: bool, overwrite: bool, what: str) -> bool:
+    """Check a run's ``--output-dir`` before any work and make it; True where this call created it (a failed run
+    removes a folder it made). A checkpointed run's folder (``checkpoint.npz``) may be resumed; any other
+    non-empty folder needs ``overwrite``; a file, a link, a missing parent or a folder one cannot write is refused
+    in one sentence."""
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"--output-dir {folder} is a file; give a folder for the run's files")
+    checkpointed = (folder / "checkpoint.npz").is_file()
+    if resume and not checkpointed:
+        raise InputError(f"--resume: {folder} holds no checkpoint of {what} (a run stopped before its first "
+                         "checkpoint leaves none); start it without --resume")
+    if not resume and folder.is_dir() and any(folder.iterdir()) and not overwrite:
+        raise InputError(f"--output-dir {folder} is not empty; " + (
+            "pass --resume to continue the run it holds, or --overwrite to start again" if checkpointed else
+            "it holds no checkpoint to resume: pass --overwrite to start again, or choose an empty folder"))
+    check_encodable(folder, "--output-dir")
+    if folder.is_symlink():
+        raise InputError(f"--output-dir {folder} is a symbolic link, which faultslip never follows; give the "
+                         "folder itself")
+    created = not folder.exists()
+    if created and not folder.parent.is_dir():
+        raise InputError(f"--output-dir: the folder {str(folder.parent)!r} that would hold {folder.name!r} "
+                         "does not exist")
+    if not os.access(folder if not created else folder.parent, os.W_OK | os.X_OK):
+        raise InputError(f"--output-dir {folder} is not writable; choose a folder you can write to")
+    folder.mkdir(exist_ok=True)
+    return created
+
+
 def disk_is_full(exc: BaseException, directory) -> bool:
     """Whether ``exc``, raised while writing into ``directory``, means the disk is full."""
     if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EDQUOT):

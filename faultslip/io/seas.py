@@ -69,7 +69,7 @@ def write_station(path, time, slip, log10_slip_rate, shear_stress_mpa, log10_sta
                      + [" ".join(BP3_STATION_COLUMNS if bp3 else STATION_COLUMNS)]) + "\n"
     columns = ((time, slip, log10_slip_rate, shear_stress_mpa, normal_stress_mpa, log10_state) if bp3
                else (time, slip, log10_slip_rate, shear_stress_mpa, log10_state))
-    write_chunks_atomic(path, _chunks(text, lambda a, b: np.column_stack([np.asarray(c[a:b], float) for c in columns]),
+    write_chunks_atomic(path, chunked_rows(text, lambda a, b: np.column_stack([np.asarray(c[a:b], float) for c in columns]),
                                       time.size))
 
 
@@ -84,11 +84,11 @@ def write_surface_station(path, time, displacement, velocity, *, position: float
              "# Column #4 = Velocity_1 (m/s)", "# Column #5 = Velocity_2 (m/s)",
              "# The line below lists the names of the data fields:"]
     text = "\n".join(_header(problem, code, version, element_size, extra) + [" ".join(SURFACE_COLUMNS)]) + "\n"
-    write_chunks_atomic(path, _chunks(text, lambda a, b: np.column_stack(
+    write_chunks_atomic(path, chunked_rows(text, lambda a, b: np.column_stack(
         [time[a:b], np.asarray(displacement[a:b], float), np.asarray(velocity[a:b], float)]), time.size))
 
 
-def _chunks(head: str, rows, count: int, block: int = 8192):
+def chunked_rows(head: str, rows, count: int, block: int = 8192):
     """``head``, then ``rows(a, b)`` formatted with 15 significant digits, ``block`` rows at a time (a run's
     records are written without ever being held whole, as text or as numbers)."""
     yield head
@@ -122,7 +122,7 @@ def write_profiles(path, time, max_slip_rate, slip, depths, *, element_size: flo
     time = np.asarray(time, float)
     # slip may be a run's RecordColumns on disk: read a block of rows at a time
     block = max(1, (1 << 20) // (8 * max(1, depths.size)))
-    write_chunks_atomic(path, _chunks("\n".join(lines) + "\n", lambda a, b: np.column_stack(
+    write_chunks_atomic(path, chunked_rows("\n".join(lines) + "\n", lambda a, b: np.column_stack(
         [time[a:b], log10_rate[a:b], np.asarray(slip[a:b], float)]), time.size, block))
 
 

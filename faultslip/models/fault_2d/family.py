@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import contextlib
 import math
-import os
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -25,7 +24,7 @@ from faultslip.fault.ladder import groups, one_slider_report
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
-from faultslip.io.outputs import check_encodable, output_lock
+from faultslip.io.outputs import output_lock, prepare_run_folder
 from faultslip.io.records import lazy_data
 from faultslip.io.report import Report
 from faultslip.io.seas import station_file_name, write_profiles, write_station
@@ -79,27 +78,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
     limit = None if allow_large else 2 * budget.time_budget()  # an estimate can be far off: the run stops there
     folder = Path(output_dir) if output_dir is not None else None
     if folder is not None:
-        if folder.exists() and not folder.is_dir():
-            raise InputError(f"--output-dir {folder} is a file; give a folder for the run's files")
-        checkpointed = (folder / "checkpoint.npz").is_file()
-        if resume and not checkpointed:
-            raise InputError(f"--resume: {folder} holds no checkpoint of a 2-D fault run (a run stopped before its "
-                             "first checkpoint leaves none); start it without --resume")
-        if not resume and folder.is_dir() and any(folder.iterdir()) and not overwrite:
-            raise InputError(f"--output-dir {folder} is not empty; " + (
-                "pass --resume to continue the run it holds, or --overwrite to start again" if checkpointed else
-                "it holds no checkpoint to resume: pass --overwrite to start again, or choose an empty folder"))
-        check_encodable(folder, "--output-dir")
-        if folder.is_symlink():
-            raise InputError(f"--output-dir {folder} is a symbolic link, which faultslip never follows; give the "
-                             "folder itself")
-        created = not folder.exists()
-        if created and not folder.parent.is_dir():
-            raise InputError(f"--output-dir: the folder {str(folder.parent)!r} that would hold {folder.name!r} "
-                             "does not exist")
-        if not os.access(folder if not created else folder.parent, os.W_OK | os.X_OK):
-            raise InputError(f"--output-dir {folder} is not writable; choose a folder you can write to")
-        folder.mkdir(exist_ok=True)
+        created = prepare_run_folder(folder, resume=resume, overwrite=overwrite, what="a 2-D fault run")
         try:
             with output_lock(folder / "run", "faultslip simulate (2-D fault)", overwrite=True, label="--output-dir"):
                 run = loaded.run(rtol, folder, resume, progress, time_limit=limit)
@@ -394,17 +373,17 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     rungs = []
     started = time.process_time()
     cheap = one_slider(loaded)
-    rungs.append(_rung("one_slider", cheap, time.process_time() - started))
+    rungs.append(rung_of("one_slider", cheap, time.process_time() - started))
     dipping = loaded.fault.plane == "strain"
     if dipping:  # the antiplane fault of the same description, its error against plane strain declared
         started = time.process_time()
-        flat = _rung("antiplane", simulate_fault(loaded.antiplane(), allow_large=allow_large),
+        flat = rung_of("antiplane", simulate_fault(loaded.antiplane(), allow_large=allow_large),
                      time.process_time() - started)
         ratio = groups(loaded.fault.description())["width_over_nucleation"]
-        rungs.append(_with_model_error(flat, dip_error.declared(loaded.fault.dip, width_over_nucleation=ratio)))
+        rungs.append(with_model_error(flat, dip_error.declared(loaded.fault.dip, width_over_nucleation=ratio)))
     started = time.process_time()
     full = simulate_fault(loaded, allow_large=allow_large)
-    rungs.append(_rung("fault_2d", full, time.process_time() - started))
+    rungs.append(rung_of("fault_2d", full, time.process_time() - started))
     report = Report(f"faultslip model error: the ladder on {loaded.name}")
     for rung in rungs:
         name = rung["name"]
@@ -436,7 +415,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     return Result("fault_2d", report, figure=lambda: ladder_figure(rungs, report.title))
 
 
-def _with_model_error(rung: dict, model_error: float) -> dict:
+def with_model_error(rung: dict, model_error: float) -> dict:
     """A rung whose declared error adds a model error: the ranges widen to (1 + e_numerical)(1 + e_model) - 1 (an
     unbounded model error leaves no range)."""
     numerical = rung["error"] or 0.0
@@ -447,7 +426,7 @@ def _with_model_error(rung: dict, model_error: float) -> dict:
             "slip_range": (rung["slip"] * (1 - error), rung["slip"] * (1 + error))}
 
 
-def _rung(name: str, result: Result, cpu: float) -> dict:
+def rung_of(name: str, result: Result, cpu: float) -> dict:
     values = result.values
 
     def pair(key):

@@ -126,6 +126,8 @@ class _Stations:
 
         #: the elements either side of each station, lower ones first: a record needs its fields there only
         self.neighbours = np.concatenate([self.lower, self.lower + 1])
+        #: each neighbour's weight, (2, stations), in :attr:`neighbours`' order
+        self.weights = np.stack([1.0 - self.weight, self.weight])
 
     def __call__(self, values: np.ndarray) -> np.ndarray:
         return self.between(values[self.neighbours])
@@ -133,7 +135,7 @@ class _Stations:
     def between(self, at_neighbours: np.ndarray) -> np.ndarray:
         """The stations' values from a field's values at :attr:`neighbours`."""
         size = self.lower.size
-        return at_neighbours[:size] * (1.0 - self.weight) + at_neighbours[size:] * self.weight
+        return at_neighbours[:size] * self.weights[0] + at_neighbours[size:] * self.weights[1]
 
 
 def step_memory(rtol: float) -> float:
@@ -447,7 +449,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                folder=None, resume: bool = False, checkpoint_every: float = 60.0, max_steps: int = 20_000_000,
                stop_after_steps: int | None = None, progress=None, initial_step: float = 1.0,
                threads: int = 1, adapt_threads: bool = False, time_limit: float | None = None,
-               surface_stations=plane_strain.BP3_SURFACE_STATIONS) -> Fault2DRun:
+               surface_stations=plane_strain.BP3_SURFACE_STATIONS, operator=None) -> Fault2DRun:
     """Integrate ``fault`` from t = 0 to ``duration`` (s) and record stations, profiles and events.
 
     With numba, each step's element-wise work runs in compiled kernels (:mod:`faultslip.models.fault_2d.compiled`)
@@ -465,6 +467,13 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
 
     A plane-strain fault (``fault.plane == "strain"``) takes the dense traction kernels of
     :mod:`faultslip.models.fault_2d.plane_strain` and the same stepping, records and checkpoints.
+
+    ``operator``: the traction operator of a fault the 2-D kernels do not describe (the 3-D fault's FFT along
+    strike): ``operator(deficit)`` the shear stress change, ``both(deficit)`` that and the normal one stacked where
+    ``operator.normal_changes``, ``operator.method`` its name and ``operator.settings`` what decides its numbers
+    (for the checkpoint's digest). ``stations`` may then be a recorder of the fault's own (``depths``,
+    ``neighbours``, ``weights``: each station a weighted sum of its neighbours' values). The stepping, records,
+    events and checkpoints are this function's.
     """
     if not (duration > 0 and math.isfinite(duration)):
         raise InputError(f"the duration must be a positive time, got {duration!r}")
@@ -474,8 +483,14 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         raise InputError("the profile intervals and the event speed must be positive")
     if not (isinstance(threads, int) and 1 <= threads <= 1024):
         raise InputError(f"threads must be a whole number from 1 to 1024, got {threads!r}")
-    strain = fault.plane == "strain"
-    if strain:
+    strain = fault.plane == "strain" and operator is None
+    if operator is not None:
+        if kernel not in ("auto", operator.method):
+            raise InputError(f"this fault's stress comes from its own operator ({operator.method}), got kernel "
+                             f"{kernel!r}")
+        balance = (plane_strain.PlaneStrainBalance(fault, operator) if getattr(operator, "normal_changes", False)
+                   else ForceBalance(fault, operator))
+    elif strain:
         if kernel not in ("auto", "dense"):
             raise InputError(f"a plane-strain fault's kernel is dense (its free surface and dip break the "
                              f"antiplane kernel's convolution), got {kernel!r}")
@@ -488,10 +503,13 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         operator = StressKernel(fault.count, fault.element_size, fault.shear_modulus, kernel, path=step_path())
         balance = ForceBalance(fault, operator)
     balance.tolerance = newton_tolerance(rtol)
-    recorder = _Stations(stations, fault)
+    recorder = stations if hasattr(stations, "neighbours") else _Stations(stations, fault)
     settings = {"duration": duration, "rtol": rtol, "stations": [float(d) for d in recorder.depths],
                 "profile_interval": profile_interval, "coseismic_interval": coseismic_interval,
                 "event_speed": event_speed, "kernel": operator.method}
+    if hasattr(operator, "settings"):
+        settings["operator"] = operator.settings
+        settings["station_elements"] = [int(i) for i in recorder.neighbours]
     if strain:
         settings["surface_stations"] = [float(x) for x in surface_positions]
     digest = fingerprint(fault, settings)
@@ -522,7 +540,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                      f"cores the process could use when numba was first imported, and the process was held to fewer "
                      f"then; the run took {offered} (start the process on the cores it should use)")
     choose_threads = adapt_threads and threads > 1
-    if not balance.compiled or strain:  # a dense plane-strain product: the step's cost is the product's
+    if not balance.compiled or strain or hasattr(operator, "settings"):  # a dense or 3-D product: its cost rules
         trial = numpy_trial
     else:
         trial = _compiled_trial(fault, operator, balance, scale, rtol, threads)
@@ -532,7 +550,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
     near = recorder.neighbours  # every field at the stations' neighbouring elements only: a step's record is
     theta_offset_near, inverse_b_ln10_near = theta_offset[near], inverse_b_ln10[near]  # then 12 stations' work, not N
     sites = recorder.depths.size
-    lower_weight, upper_weight = 1.0 - recorder.weight, recorder.weight
+    weights = recorder.weights  # (neighbours per station, stations)
     steps_in_one_call = None
     if isinstance(trial, _FusedTrial):  # the whole step compiled: the loop too, many steps a call
         steps_in_one_call = _CompiledSteps(trial, near, {
@@ -556,8 +574,10 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         fields[:, 3] += theta_offset_near
         out = np.empty((rows, 1 + len(STATION_FIELDS) * sites))
         out[:, 0] = raw[:, 0]
-        out[:, 1:].reshape(rows, -1, sites)[:] = (fields[:, :, :sites] * lower_weight
-                                                  + fields[:, :, sites:] * upper_weight)
+        combined = fields[:, :, :sites] * weights[0]
+        for k in range(1, len(weights)):  # the same operations, in the same order, as recorder.between
+            combined = combined + fields[:, :, k * sites:(k + 1) * sites] * weights[k]
+        out[:, 1:].reshape(rows, -1, sites)[:] = combined
         return out
 
     raw_row = np.empty((1, 1 + len(STATION_FIELDS) * near.size))
@@ -617,7 +637,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
         k1, speed, stress = derivative(t, y)
         if not np.all(np.isfinite(k1)):
             bad = int(np.argmax(~np.isfinite(k1[:count]) | ~np.isfinite(k1[count:])))
-            raise InputError(f"2-D fault: the initial stress and state give no finite slip rate at depth "
+            raise InputError(f"{fault.KIND}: the initial stress and state give no finite slip rate at depth "
                              f"{fault.depth[bad]:.4g} m; check [initial] and the friction there")
         steps = rejected = 0
         evaluations = 1
@@ -648,11 +668,11 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
                          stream_digests=np.array([stream.digest() for stream in streams]))
 
     def step_budget_spent():
-        return SolverError(f"2-D fault: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
+        return SolverError(f"{fault.KIND}: {steps} steps reached the budget at t = {t / YEAR:.6g} yr of "
                            f"{duration / YEAR:.6g}; raise max_steps or loosen rtol")
 
     def step_collapsed():  # t + h would no longer differ from t
-        return SolverError(f"2-D fault: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
+        return SolverError(f"{fault.KIND}: Dormand-Prince's step collapsed to {h:.3g} s at t = {t / YEAR:.6g} yr "
                            f"(peak slip rate {speed.max():.3g} m/s); tighten rtol or refine the elements")
 
     if balance.compiled and compiled_kernels.compilation_pending(threads):
@@ -662,7 +682,7 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
             announce = getattr(progress, "announce", None) or (lambda text: print(f"faultslip: {text}", file=sys.stderr))
             announce("compiling the 2-D step for this environment, once (numba caches it for later runs)")
     try:
-        progress = reporter(progress, "2-D fault", "yr")
+        progress = reporter(progress, fault.KIND, "yr")
         started = clock.perf_counter()
         last_save = last_report = started
         log_threshold = math.log(event_speed)

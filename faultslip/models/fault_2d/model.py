@@ -79,39 +79,43 @@ class Fault2D:
     sense: str = "thrust"  # plane strain only
     poisson_ratio: float = 0.25  # plane strain only
 
+    #: the geometries this class holds (the 3-D fault, built on it, holds its own)
+    PLANES = ("antiplane", "strain")
+    KIND = "2-D fault"
+
     def __post_init__(self):
         arrays = ("a", "b", "critical_slip", "normal_stress", "initial_shear_stress", "initial_state")
         count = None
         for key in arrays:
             value = np.ascontiguousarray(getattr(self, key), dtype=float)
             if value.ndim != 1 or (count is not None and value.size != count):
-                raise InputError(f"2-D fault: {key} must hold one value per element")
+                raise InputError(f"{self.KIND}: {key} must hold one value per element")
             if not np.all(np.isfinite(value)):
-                raise InputError(f"2-D fault: {key} must be finite")
+                raise InputError(f"{self.KIND}: {key} must be finite")
             count = value.size
             setattr(self, key, value)
         for key in ("a", "critical_slip", "normal_stress"):
             if np.any(getattr(self, key) <= 0):
-                raise InputError(f"2-D fault: {key} must be positive everywhere")
+                raise InputError(f"{self.KIND}: {key} must be positive everywhere")
         if np.any(self.b < 0):
-            raise InputError("2-D fault: b must not be negative")
+            raise InputError(f"{self.KIND}: b must not be negative")
         for key in ("element_size", "shear_modulus", "shear_wave_speed", "plate_rate", "reference_speed"):
             value = getattr(self, key)
             if not (math.isfinite(value) and value > 0):
-                raise InputError(f"2-D fault: {key} must be a positive number, got {value!r}")
+                raise InputError(f"{self.KIND}: {key} must be a positive number, got {value!r}")
         if self.evolution not in ("aging", "slip"):
-            raise InputError(f"2-D fault: evolution must be aging or slip, got {self.evolution!r}")
-        if self.plane not in ("antiplane", "strain"):
-            raise InputError(f"2-D fault: plane must be antiplane or strain, got {self.plane!r}")
+            raise InputError(f"{self.KIND}: evolution must be aging or slip, got {self.evolution!r}")
+        if self.plane not in self.PLANES:
+            raise InputError(f"{self.KIND}: plane must be {' or '.join(self.PLANES)}, got {self.plane!r}")
         if not (isinstance(self.dip, (int, float)) and 0.0 < self.dip <= 90.0):
-            raise InputError(f"2-D fault: the dip must lie in (0, 90] degrees, got {self.dip!r}")
+            raise InputError(f"{self.KIND}: the dip must lie in (0, 90] degrees, got {self.dip!r}")
         if self.plane == "antiplane" and self.dip != 90.0:
-            raise InputError(f"2-D fault: an antiplane fault is vertical (dip 90 degrees), got {self.dip:g}; a "
+            raise InputError(f"{self.KIND}: an antiplane fault is vertical (dip 90 degrees), got {self.dip:g}; a "
                              "dipping fault slips in plane strain: set plane = \"strain\"")
         if self.sense not in ("thrust", "normal"):
-            raise InputError(f"2-D fault: sense must be thrust or normal, got {self.sense!r}")
+            raise InputError(f"{self.KIND}: sense must be thrust or normal, got {self.sense!r}")
         if not (isinstance(self.poisson_ratio, (int, float)) and 0.0 <= self.poisson_ratio < 0.5):
-            raise InputError(f"2-D fault: Poisson's ratio must lie in [0, 0.5), got {self.poisson_ratio!r}")
+            raise InputError(f"{self.KIND}: Poisson's ratio must lie in [0, 0.5), got {self.poisson_ratio!r}")
 
     @property
     def count(self) -> int:
@@ -196,7 +200,7 @@ class ForceBalance:
         return self.fault.initial_shear_stress + self.kernel(slip - self.fault.plate_rate * time)
 
     def _failed(self, element: int):
-        raise SolverError(f"2-D fault: the force balance did not converge at element {element} (depth "
+        raise SolverError(f"{self.fault.KIND}: the force balance did not converge at element {element} (depth "
                           f"{self.fault.depth[element]:.4g} m) after {NEWTON_ITERATIONS} Newton steps; the state "
                           "is not finite there. Tighten rtol")
 
