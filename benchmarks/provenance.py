@@ -13,8 +13,8 @@ from datetime import datetime, timezone
 from importlib import metadata
 
 #: the distributions whose versions move the figures: the array stack, the compiler and FFT of the compiled paths,
-#: and the plotting, labelled-array, unit and seismology layers the benchmarks time
-PACKAGES = ("numpy", "scipy", "numba", "llvmlite", "rocket-fft", "matplotlib", "xarray", "dask", "pint", "obspy")
+#: and the plotting, labelled-array, unit and seismology layers the benchmarks time, and the 3-D kernel's dislocations
+PACKAGES = ("numpy", "scipy", "numba", "llvmlite", "rocket-fft", "matplotlib", "xarray", "dask", "pint", "obspy", "cutde")
 
 
 def machine() -> str:

@@ -678,9 +678,77 @@ def engine_branches_table() -> str | None:
             + _machine(result))
 
 
+def seas_bp5_table() -> str | None:
+    result = _load("seas_bp5.json")
+    if result is None:
+        return None
+    peer = result["peer"]
+    rows = ["| squares | elements | squares per L_b | settled interval | vs the finest | declared | second arrival vs "
+            "tandem | interval vs tandem | slips vs tandem (events 1-3) | CPU | wall | peak memory |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for run in result["runs"]:
+        against = run.get("against_tandem")
+        slips = ", ".join(f"{v:+.1%}" for v in against["event_slips"]) if against else "-"
+        rows.append(f"| {run['element_size_m']:g} m | {run['elements']} | {run['resolution']:.3g} | "
+                    f"{run['settled_interval_yr']:.2f} yr | {run['interval_difference_from_finest']:+.2%} | "
+                    f"{run['declared_error']:.2%} | "
+                    + (f"{against['second_arrival']:+.2%} | {against['interval']:+.2%} | " if against else "- | - | ")
+                    + f"{slips} | {run['cpu_s']:.0f} s | {run['wall_s']:.0f} s | "
+                    f"{run['peak_memory_bytes'] / 2**30:.2f} GiB |")
+    return ("\n".join(rows) + f"\n\ntandem (4000 m elements of degree 4) at (0 km, 10 km): second arrival "
+            f"{peer['second_arrival_yr']:.2f} yr, interval {peer['interval_yr']:.2f} yr (third arrival within "
+            f"{peer['third_arrival_half_gap_yr']:.2f} yr of the rows read), slips "
+            + ", ".join(f"{v:.3f}" for v in peer["event_slips_m"]) + " m; the rows read and their file are in "
+            "benchmarks/data/bp5_tandem_excerpts.txt. " + _machine(result))
+
+
+def fault_3d_operator_table() -> str | None:
+    result = _load("fault_3d_operator.json")
+    if result is None:
+        return None
+    rows = ["| grid | squares | operator | product | dense product | dense matrix | error vs dense |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for kind, family in result["families"].items():
+        for row in family["rows"]:
+            dense = row.get("dense_product_s")
+            rows.append(f"| {kind} {row['strike']} x {row['dip']} | {row['elements']} | {row['bytes'] / 1e6:.3g} MB | "
+                        f"{row['product_s'] * 1e3:.3g} ms | "
+                        + (f"{dense * 1e3:.3g} ms ({dense / row['product_s']:.1f}x) | {row['dense_bytes'] / 1e6:.3g} MB | "
+                           f"{row['relative_error']:.1e} |" if dense is not None else "- | - | - |"))
+    slopes = "; ".join(f"{kind}: memory N^{family['memory_exponent']:.2f}, product N^{family['product_exponent']:.2f}"
+                       for kind, family in result["families"].items())
+    return ("\n".join(rows) + f"\n\nGrowth (least squares in log-log): {slopes}. Largest error against the dense "
+            f"product: {result['largest_relative_error']:.1e}. " + _machine(result))
+
+
+def fault_3d_model_error_table() -> str | None:
+    result = _load("fault_3d_model_error.json")
+    if result is None:
+        return None
+    rows = ["| patch L / W (measured) | W | burial | 3-D: recurrence, slip | 2-D: recurrence, slip | model error |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    scale = result["scale"]
+    for row in result["rows"] + result["held_out"]:
+        held = " (held out)" if "declared" in row else ""
+        error = "-" if row["model_error"] is None else f"{row['model_error']:.1%}"
+        if held:
+            error += (f" (declared {row['declared']:.1%})" if row["declared"] is not None
+                      else " (declared: unbounded)")
+        rows.append(f"| {row['aspect']:g} ({row['aspect_measured']:.2f}){held} | {row['height_m'] * scale / 1e3:g} km | "
+                    f"{row['burial']:.2f} | {row['fault_3d']['recurrence_yr'] * scale:.1f} yr, "
+                    f"{row['fault_3d']['mean_slip_m'] * scale:.2f} m | {row['fault_2d']['recurrence_yr'] * scale:.1f} "
+                    f"yr, {row['fault_2d']['mean_slip_m'] * scale:.2f} m | {error} |")
+    held = result["held_out"]
+    return ("\n".join(rows) + f"\n\nLengths, recurrences and slips as BP5's (the runs, at 1/{scale:g} scale, times "
+            f"{scale:g}). "
+            f"Declared: each measured error times {result['table']['margin']:g}; held-out faults within it: "
+            f"{sum(bool(r['covered']) for r in held)} of {len(held)}. " + _machine(result))
+
+
 #: Pages whose generated tables update() writes (the README has none: it is a door).
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
-         "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md")
+         "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md",
+         "docs/fault_3d.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
@@ -703,7 +771,9 @@ def _update_page(readme: Path) -> list[str]:
                          ("classroom", classroom_table), ("animation", animation_table),
                          ("first_run", first_run_table), ("renewal_coverage", renewal_coverage_table),
                          ("chain_example", chain_example_table), ("seas_bp3", seas_bp3_table),
-                         ("dip_model_error", dip_model_error_table), ("engine_branches", engine_branches_table)):
+                         ("dip_model_error", dip_model_error_table), ("engine_branches", engine_branches_table),
+                         ("seas_bp5", seas_bp5_table), ("fault_3d_operator", fault_3d_operator_table),
+                         ("fault_3d_model_error", fault_3d_model_error_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

@@ -22,9 +22,10 @@ PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
 LAYERS = {"core": 0, "io": 1, "contract": 1.5, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
           "plots": 6, "models": 7, "cli": 8, "apps": 7.5}
 HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "tqdm", "pint", "h5py", "zarr", "numcodecs", "numba", "bokeh", "selenium", "PIL",
-         "mpl_toolkits", "openpyxl", "dask_jobqueue", "rocket_fft", "llvmlite", "fdhpy"}  # basemap (mpl_toolkits),
+         "mpl_toolkits", "openpyxl", "dask_jobqueue", "rocket_fft", "llvmlite", "fdhpy", "cutde"}  # basemap (mpl_toolkits),
 # openpyxl, dask-jobqueue, rocket-fft, fdhpy: the optional maps, xlsx, dask (--scheduler slurm), fast (numba's FFTs)
-# and fdh (the field's displacement models) extras; llvmlite: numba's own, for the compiled step's intrinsics
+# and fdh (the field's displacement models) extras; llvmlite: numba's own, for the compiled step's intrinsics;
+# cutde: compiled dislocations, loaded only where a 3-D fault is built
 PLATFORM = {"fcntl", "multiprocessing", "webbrowser"}
 
 
@@ -238,6 +239,9 @@ def test_dynamics_is_families_and_shared_machinery_not_one_room():
 
 
 FAMILY_FOLDERS = sorted(p.name for p in (PACKAGE / "models").iterdir() if (p / "family.py").exists())
+#: A family built on another's machinery, declared: the 3-D fault takes the 2-D fault's force balance, stepping,
+#: records, checkpoints and sequence classification (issue 72: the 3-D rung re-implements none of them).
+FAMILY_BUILDS_ON = {"fault_3d": {"fault_2d"}}
 
 
 def test_a_family_is_one_folder_and_no_module_outside_it_imports_it():
@@ -254,7 +258,7 @@ def test_a_family_is_one_folder_and_no_module_outside_it_imports_it():
         for target, line, _, _ in _imports(path):
             tparts = target.split(".")
             if len(tparts) > 2 and tparts[:2] == ["faultslip", "models"] and tparts[2] in FAMILY_FOLDERS:
-                assert tparts[2] == own, (
+                assert tparts[2] == own or tparts[2] in FAMILY_BUILDS_ON.get(own, ()), (
                     f"{module}:{line} imports {target}: only models/{tparts[2]}/ may; go through the contract "
                     "or the public API (import faultslip)")
 

@@ -89,6 +89,7 @@ DECLARATIONS = {
     "asperity": Declaration("faultslip.models.asperity.family", friction_law="asperity"),
     "rough_surface": Declaration("faultslip.models.rough_surface.family", friction_law="rough_surface"),
     "fault_2d": Declaration("faultslip.models.fault_2d.family"),  # declared by family = "fault_2d" alone
+    "fault_3d": Declaration("faultslip.models.fault_3d.family"),  # declared by family = "fault_3d" alone
     "spring_chain": Declaration("faultslip.models.spring_chain.family"),  # declared by family = "spring_chain" alone
 }
 
@@ -100,6 +101,7 @@ SCENE_TYPES = {
     "faultslip.fault.scaling.Fault": "spring_slider",
     "faultslip.fault.rate_state_scene.RateStateScene": "rate_state_slider",
     "faultslip.models.fault_2d.scene.Fault2DScene": "fault_2d",
+    "faultslip.models.fault_3d.scene.Fault3DScene": "fault_3d",
 }
 
 #: The families loaded so far, by name (:func:`load` fills it).

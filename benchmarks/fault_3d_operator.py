@@ -1,0 +1,110 @@
+"""The 3-D fault's operator: its error against the dense product, and its memory and product time as the fault
+grows, beside the dense product doing the same work.
+
+    python benchmarks/fault_3d_operator.py [--quick]
+    python -m benchmarks fault_3d_operator
+
+Two families of grids, squares of 1 km on a vertical strike-slip fault:
+
+* **refined** (BP5's shape, N_x = 2.5 N_z): N from 1,000 to 32,400; both directions grow;
+* **lengthened** (N_z = 20 fixed, N_x growing): N from 1,000 to 32,000; only the strike grows, where the FFT works.
+
+For each: the operator's bytes, its assembly's wall time, and the median wall time of a product over interleaved
+repeats. Up to 4,000 squares the dense matrix (every square's own dislocations, no translation used) is built
+too: the relative error of the FFT product against it, and the dense product's median time, interleaved with the
+FFT's. The growth exponents are least-squares slopes in log-log. Writes benchmarks/results/fault_3d_operator.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
+
+from faultslip.models.fault_3d.kernel import StrikeConvolution, dense_matrices  # noqa: E402
+
+G, NU, H = 3.2038e10, 0.25, 1000.0
+DENSE_UP_TO = 4000
+
+
+def grids(kind: str, quick: bool) -> list[tuple[int, int]]:
+    if kind == "refined":
+        rows = (20, 40, 60, 80, 114) if not quick else (20, 40)
+        return [(int(round(2.5 * z)), z) for z in rows]
+    lengths = (50, 200, 400, 800, 1600) if not quick else (50, 200)
+    return [(x, 20) for x in lengths]
+
+
+def timed(product, vector, repeats: int) -> list[float]:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        product(vector)
+        times.append(time.perf_counter() - start)
+    return times
+
+
+def measure(strike_count: int, dip_count: int, repeats: int) -> dict:
+    count = strike_count * dip_count
+    start = time.perf_counter()
+    operator = StrikeConvolution(strike_count, dip_count, H, 90.0, "strike", G, NU)
+    assembly = time.perf_counter() - start
+    slip = np.random.default_rng(count).normal(size=count)
+    row = {"strike": strike_count, "dip": dip_count, "elements": count, "bytes": operator.nbytes,
+           "assembly_s": assembly}
+    fft_times, dense_times = [], []
+    if count <= DENSE_UP_TO:
+        start = time.perf_counter()
+        shear, _ = dense_matrices(strike_count, dip_count, H, 90.0, "strike", G, NU)
+        row["dense_assembly_s"] = time.perf_counter() - start
+        row["dense_bytes"] = shear.nbytes
+        exact = shear @ slip
+        row["relative_error"] = float(np.max(np.abs(operator(slip) - exact)) / np.max(np.abs(exact)))
+        for _ in range(repeats):  # interleaved: each round times both on the same machine state
+            fft_times += timed(operator, slip, 1)
+            dense_times += timed(shear.__matmul__, slip, 1)
+        row["dense_product_s"] = float(np.median(dense_times))
+    else:
+        fft_times = timed(operator, slip, repeats)
+    row["product_s"] = float(np.median(fft_times))
+    return row
+
+
+def slope(rows: list, key: str) -> float:
+    x = np.log([row["elements"] for row in rows])
+    y = np.log([row[key] for row in rows])
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="two sizes a family, fewer repeats")
+    parser.add_argument("--out", default=str(HERE / "results" / "fault_3d_operator.json"))
+    args = parser.parse_args(argv)
+    repeats = 5 if args.quick else 21
+    result = {"families": {}}
+    for kind in ("refined", "lengthened"):
+        rows = []
+        for strike_count, dip_count in grids(kind, args.quick):
+            rows.append(measure(strike_count, dip_count, repeats))
+            print(kind, rows[-1], flush=True)
+        result["families"][kind] = {"rows": rows, "memory_exponent": slope(rows, "bytes"),
+                                    "product_exponent": slope(rows, "product_s")}
+    checked = [row for family in result["families"].values() for row in family["rows"] if "relative_error" in row]
+    result["largest_relative_error"] = max(row["relative_error"] for row in checked)
+    result.update(stamp())
+    Path(args.out).write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    print(f"written {args.out}")
+
+
+if __name__ == "__main__":
+    main()

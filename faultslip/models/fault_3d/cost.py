@@ -1,0 +1,66 @@
+"""The 3-D fault's cost model: its steps from the events a run will see and its squares' size, each step's CPU from
+the operator's shape, and the memory of the operator and the records; the family declares it.
+
+Fitted by ``benchmarks/fault_3d_cost.py`` on SEAS BP5-QD at 2000, 1000 and 500 m (rtol 1e-6, 1800 yr) and on
+shorter faults; ``tests/test_fault_3d.py`` refits it from the benchmark's saved runs.
+"""
+
+from __future__ import annotations
+
+from faultslip.fault.ladder import expected_recurrence as one_slider_recurrence
+from faultslip.io.budget import Estimate
+
+#: Steps per system-size event: scale (N_z / 20)^dip_rows (rtol / 1e-6)^rtol_power, times a margin so that the
+#: estimate errs long (benchmarks/fault_3d_cost.py).
+FAULT_3D_STEPS = {"scale": 700.0, "dip_rows": 0.75, "rtol": -0.2, "margin": 2.0}
+#: CPU seconds per Dormand-Prince step: c0 + c1 N + c2 N_x N_z^2 (the element-wise work, and the per-frequency
+#: N_z x N_z products of the FFT along strike).
+FAULT_3D_STEP_SECONDS = (5.0e-4, 4.0e-7, 4.0e-9)
+
+
+def expected_recurrence(fault) -> float:
+    """The recurrence the one-slider rung expects of the fault's middle column (s): a rough count of the events a
+    run will see (:func:`faultslip.fault.ladder.expected_recurrence`)."""
+    return one_slider_recurrence(fault.description())
+
+
+def steps(dip_count: int, events: float, rtol: float) -> float:
+    """Dormand-Prince steps of a run seeing ``events`` system-size events (at least one's worth)."""
+    model = FAULT_3D_STEPS
+    return (model["margin"] * model["scale"] * max(events, 1.0) * (dip_count / 20.0) ** model["dip_rows"]
+            * (rtol / 1e-6) ** model["rtol"])
+
+
+def step_seconds(strike_count: int, dip_count: int) -> float:
+    """CPU seconds per step on N_x x N_z squares."""
+    c0, c1, c2 = FAULT_3D_STEP_SECONDS
+    return c0 + c1 * strike_count * dip_count + c2 * strike_count * dip_count ** 2
+
+
+def operator_bytes(strike_count: int, dip_count: int, normal_changes: bool = False) -> float:
+    """The operator's spectra: (N_x + 1) complex N_z x N_z blocks, one more for the normal stress."""
+    return (2 if normal_changes else 1) * (strike_count + 1) * dip_count ** 2 * 16.0
+
+
+def estimate(strike_count: int, dip_count: int, years: float, stations: int, output=None, *, events: float,
+             rtol: float) -> Estimate:
+    """Time, memory and disk of a run (station rows every step, in memory and as SEAS text)."""
+    count = steps(dip_count, events, rtol)
+    elements = strike_count * dip_count
+    return Estimate(what=f"a 3-D fault run of {strike_count} x {dip_count} squares over {years:.4g} yr (about "
+                         f"{count:.3g} steps)",
+                    seconds=count * step_seconds(strike_count, dip_count),
+                    memory=operator_bytes(strike_count, dip_count) + count * (1 + 4 * stations) * 8.0 * 2
+                    + 40 * elements * 8.0,
+                    disk=count * stations * 100.0 + (years / 5 + 200 * max(events, 1.0)) * elements * 16.0
+                    if output else 0.0, output=output)
+
+
+def describe() -> str:
+    """The cost model in words ('faultslip methods')."""
+    c0, c1, c2 = FAULT_3D_STEP_SECONDS
+    model = FAULT_3D_STEPS
+    return (f"steps ~ {model['margin'] * model['scale']:g} per event (N_z / 20)^{model['dip_rows']:g} "
+            f"(rtol / 1e-6)^{model['rtol']:g}; each {c0:.2g} + {c1:.2g} N + {c2:.2g} N_x N_z^2 s of CPU "
+            f"(FFT along strike, dense down dip); memory (N_x + 1) N_z^2 x 16 B")
+

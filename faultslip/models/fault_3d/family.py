@@ -1,0 +1,465 @@
+"""The 3-D fault as a model family: quasi-dynamic earthquake cycles on a planar fault in an elastic half-space
+(SEAS BP5-QD), its SEAS files, CF netCDF, event catalogue and figures; the top rung of the ladder."""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from faultslip import __version__
+from faultslip.contract.cells import evaluate_by_cell
+from faultslip.contract.registry import Example, Family, register
+from faultslip.contract.result import Result
+from faultslip.contract.specs import Output, parameters
+from faultslip.errors import InputError
+from faultslip.io import budget
+from faultslip.io.atomic import write_text_atomic
+from faultslip.io.netcdf import write_dataset
+from faultslip.io.outputs import output_lock, prepare_run_folder
+from faultslip.io.records import lazy_data
+from faultslip.io.report import Report
+from faultslip.models.common import note_origin
+from faultslip.fault import strike_error
+from faultslip.models.fault_2d import family as fault_2d_family
+from faultslip.models.fault_2d.analysis import classify, moment_magnitude
+from faultslip.models.fault_2d.figures import ladder_figure
+from faultslip.models.fault_2d.integrate import YEAR
+from faultslip.models.fault_2d.scene import Fault2DScene
+from faultslip.models.fault_3d import bp5_outputs, cost
+from faultslip.models.fault_3d.figures import rupture_figure
+from faultslip.models.fault_3d.scene import SWEEPABLE, Fault3DScene, load_fault_3d_scene, parse_fault_3d_scene
+from faultslip.units import ELAPSED_TIME_ATTRS
+
+#: Relative spread of the last intervals within which a sequence is called settled (periodic): the 2-D fault's.
+SETTLE_TOLERANCE = 1e-3
+#: The element size's error in recurrence, declared from SEAS BP5-QD at 2000, 1000 and 500 m
+#: (benchmarks/fault_3d_resolution.py): |T(h) - T(500 m)| / T(500 m) against squares per L_b, as a bound
+#: c (L_b / h)^-p fitted with a margin of 2 over the measured points; below MIN_RESOLUTION squares per L_b none.
+DISCRETISATION = {"scale": 0.05, "order": 1.0, "margin": 2.0}
+MIN_RESOLUTION = 2.0
+#: A system-size event releases at least this share of the largest event's moment.
+SYSTEM_SHARE = 0.5
+
+
+def discretisation_error(resolution: float) -> float:
+    """The declared relative error of the recurrence on squares resolving L_b ``resolution`` times."""
+    if resolution < MIN_RESOLUTION:
+        return math.inf
+    model = DISCRETISATION
+    return model["margin"] * model["scale"] * resolution ** -model["order"]
+
+
+def moments(run) -> np.ndarray:
+    """Each event's seismic moment G h^2 sum(slip) (N m)."""
+    fault = run.fault
+    return fault.shear_modulus * fault.element_size ** 2 * np.asarray(run.events["slip"]).sum(axis=1)
+
+
+def summarise(run, tolerance: float = SETTLE_TOLERANCE) -> dict:
+    """The sequence (the 2-D fault's classification) of system-size events and what they release."""
+    fault = run.fault
+    starts = np.asarray(run.events["start"], float)
+    moment = moments(run)
+    system = np.flatnonzero(moment >= SYSTEM_SHARE * moment.max()) if moment.size else np.empty(0, int)
+    intervals = np.diff(starts[system]) if system.size > 1 else np.empty(0)
+    sequence = classify(intervals, tolerance)
+    window = system[sequence.first_event:] if system.size else system
+    closing = window[1:] if window.size > 1 else window
+    weakening = fault.b > fault.a
+    slip = np.asarray(run.events["slip"])
+    if closing.size:
+        mean_slip = float(slip[closing][:, weakening].mean())
+        peak_slip = float(slip[closing].max(axis=1).mean())
+        event_moment = float(moment[closing].mean())
+        last = int(system[-1])
+    else:
+        mean_slip = peak_slip = event_moment = math.nan
+        last = None
+    return {"sequence": sequence, "system": system, "intervals": intervals, "mean_slip": mean_slip,
+            "peak_slip": peak_slip, "moment": event_moment, "last": last}
+
+
+def _result(loaded: Fault3DScene, run, settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
+    fault = run.fault
+    summary = summarise(run, settle_tolerance)
+    sequence = summary["sequence"]
+    report = Report(f"faultslip 3-D fault: {loaded.name}")
+    report.add("method", "fault_3d")
+    report.add("method_reason", "a 3-D fault scene: quasi-dynamic boundary elements (triangular dislocations in a "
+                                "half-space, FFT along strike), the 2-D fault's Dormand-Prince 5(4) stepping")
+    report.add("elements", fault.count).add("strike_elements", fault.strike_count)
+    report.add("dip_elements", fault.dip_count).add("element_size", fault.element_size, "m")
+    report.add("fault_length", fault.length, "m", also=("km",)).add("fault_width", fault.width, "m", also=("km",))
+    report.add("rake", fault.rake).add("dip", fault.dip, "degree")
+    report.add("seismogenic_length", fault.seismogenic_length(), "m", also=("km",),
+               label="longest velocity-weakening extent along strike")
+    report.add("seismogenic_width", fault.seismogenic_width(), "m", also=("km",),
+               label="widest velocity-weakening extent down dip")
+    report.add("nucleation_size", fault.nucleation_size(), "m", label="h* = (pi/2) G D_c b / (sigma_n (b - a)^2)")
+    report.add("process_zone", fault.process_zone(), "m", label="L_b = G D_c / (sigma_n b)")
+    resolution = fault.process_zone() / fault.element_size
+    report.add("resolution", resolution, label="squares per L_b")
+    report.add("events", run.event_count).add("system_size_events", int(summary["system"].size))
+    report.add("sequence", sequence.kind if sequence.period <= 1 else f"period_{sequence.period}",
+               label="the sequence: periodic, period_p (a supercycle of p events), aperiodic or unsettled")
+    report.add("recurrence_interval", sequence.mean_interval, "s", also=("yr",),
+               label="mean interval between system-size events (over a supercycle, or the aperiodic run)")
+    report.add("settled", sequence.kind == "periodic" or sequence.period > 1,
+               label=f"periodic (of any period up to 8): each interval repeats a supercycle later to {settle_tolerance:g}")
+    report.add("recurrence_spread", sequence.spread if math.isfinite(sequence.spread) else None,
+               label="largest relative change of an interval over a supercycle, or the intervals' variation")
+    report.add("slip_per_event", summary["mean_slip"], "m", label="slip per event, mean over the velocity-weakening "
+                                                                  "area")
+    report.add("peak_slip_per_event", summary["peak_slip"], "m", label="largest slip of a square in an event")
+    report.add("moment", summary["moment"], "N m", label="seismic moment per system-size event")
+    if summary["moment"] > 0:
+        report.add("moment_magnitude", moment_magnitude(summary["moment"] / fault.length, fault.length),
+                   label="Mw of a system-size event")
+    if summary["last"] is not None:
+        report.add("hypocentre_depth", float(run.events["hypocentre_depth"][summary["last"]]), "m", also=("km",))
+    report.add("peak_slip_rate", float(np.max(run.events["peak_slip_rate"])) if run.event_count else
+               float(np.max(run.profile_max_speed)), "m/s")
+    discretisation = discretisation_error(resolution)
+    if math.isfinite(discretisation):
+        report.add("discretisation_error", discretisation,
+                   label="the square size's error in recurrence (BP5 at 2000, 1000 and 500 m)")
+        declared = max(sequence.mean_error, 10 * run.rtol, discretisation)
+        report.add("estimated_relative_error", declared if math.isfinite(declared) else None,
+                   label="declared: the largest of the sequence's (settling), the square size's and 10 rtol "
+                         "(null: too few intervals)")
+    else:
+        report.add("discretisation_error", None, label="the square size's error (none declared: under-resolved)")
+        report.add("estimated_relative_error", None, label="declared error (none: the answer is qualitative)")
+        report.note(f"under-resolved: {resolution:.2g} squares per L_b, below {MIN_RESOLUTION:g}; the answer is "
+                    "qualitative")
+    if sequence.kind == "unsettled":
+        report.note("the sequence has not settled: no period up to 8 repeats within "
+                    f"{settle_tolerance:g} in its {summary['intervals'].size} intervals; run longer")
+    report.add("duration", run.duration, "s", also=("yr",))
+    report.add("rtol", run.rtol).add("kernel", run.kernel)
+    report.add("steps", run.steps).add("rejected_steps", run.rejected)
+    report.add("wall_time", run.wall_time, "s")
+    for note in run.notes:
+        report.note(note)
+    if run.resumed_from is not None:
+        report.note(f"continued from the checkpoint at {run.resumed_from / YEAR:.6g} yr")
+    note_origin(report, loaded.origin)
+    return Result("fault_3d", report, to_dataset(loaded, run), lambda: rupture_figure(run), extras={"run": run})
+
+
+def to_dataset(loaded: Fault3DScene, run):
+    """The run as CF netCDF: station series on (time, station), profiles on (profile_time, element) with each
+    element's position along strike and down dip, events."""
+    import xarray as xr  # heavy: imported where used
+
+    fault = run.fault
+    units = {"slip": ("m", "slip along the rake"), "log10_slip_rate": ("1", "log10 of the slip rate in m/s"),
+             "shear_stress": ("Pa", "shear stress along the rake (frictional strength)"),
+             "log10_state": ("1", "log10 of the state theta in s")}
+    data = {f"station_{name}": (("time", "station"), lazy_data(values),
+                                {"units": units[name][0], "long_name": units[name][1]})
+            for name, values in run.stations.items()}
+    data["profile_slip"] = (("profile_time", "element"), lazy_data(run.profiles),
+                            {"units": "m", "long_name": "cumulative slip"})
+    data["profile_log10_slip_rate"] = (("profile_time", "element"), lazy_data(run.profile_log10_slip_rate),
+                                       {"units": "1", "long_name": "log10 of the slip rate in m/s"})
+    data["profile_max_slip_rate"] = ("profile_time", run.profile_max_speed, {"units": "m/s"})
+    data["event_start"] = ("event", run.events["start"], {"units": "s", "long_name": "peak slip rate above 1e-3 m/s"})
+    data["event_end"] = ("event", run.events["end"], {"units": "s"})
+    data["event_hypocentre_depth"] = ("event", run.events["hypocentre_depth"], {"units": "m"})
+    data["event_peak_slip_rate"] = ("event", run.events["peak_slip_rate"], {"units": "m/s"})
+    data["event_slip"] = (("event", "element"), run.events["slip"], {"units": "m", "long_name": "slip in the event"})
+    data["event_moment"] = ("event", moments(run), {"units": "N m", "long_name": "seismic moment"})
+    for key, unit in (("a", "1"), ("b", "1"), ("critical_slip", "m"), ("normal_stress", "Pa")):
+        data[key] = ("element", getattr(fault, key), {"units": unit})
+    positions = np.asarray(run.station_positions, float)
+    coords = {"time": ("time", run.station_time, ELAPSED_TIME_ATTRS),
+              "station": ("station", np.arange(positions.shape[0]), {"units": "1", "long_name": "station number"}),
+              "station_along_strike": ("station", positions[:, 0], {"units": "m", "long_name": "station along strike"}),
+              "station_down_dip": ("station", positions[:, 1], {"units": "m", "long_name": "station down dip",
+                                                                "positive": "down"}),
+              "element": ("element", np.arange(fault.count), {"units": "1", "long_name": "element number"}),
+              "along_strike": ("element", fault.strike_position, {"units": "m", "long_name": "element centre along "
+                                                                                          "strike"}),
+              "down_dip": ("element", fault.depth, {"units": "m", "long_name": "element centre down dip",
+                                                    "positive": "down"}),
+              "profile_time": ("profile_time", run.profile_time, ELAPSED_TIME_ATTRS),
+              "event": ("event", np.arange(run.event_count), {"units": "1", "long_name": "event number"})}
+    attrs = {"title": f"faultslip 3-D fault: {loaded.name}", "Conventions": "CF-1.8",
+             "source": f"faultslip {__version__}", "shear_modulus_Pa": fault.shear_modulus,
+             "shear_wave_speed_m_per_s": fault.shear_wave_speed, "poisson_ratio": fault.poisson_ratio,
+             "plate_rate_m_per_s": fault.plate_rate, "evolution": fault.evolution, "rake": fault.rake,
+             "dip_degree": fault.dip, "strike_elements": fault.strike_count, "dip_elements": fault.dip_count,
+             "element_size_m": fault.element_size, "rtol": run.rtol, "steps": run.steps}
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def write_outputs(loaded: Fault3DScene, run, folder: Path, result: Result) -> None:
+    """BP5's files, the event catalogue (CSV with units) and the netCDF in ``folder``, each atomic."""
+    bp5_outputs.write_bp5(run, folder, __version__)
+    moment = moments(run)
+    lines = ["start (s),end (s),hypocentre_depth (m),peak_slip_rate (m/s),moment (N m),moment_magnitude"]
+    fault = run.fault
+    for i in range(run.event_count):
+        magnitude = moment_magnitude(moment[i] / fault.length, fault.length) if moment[i] > 0 else float("nan")
+        row = [run.events["start"][i], run.events["end"][i], run.events["hypocentre_depth"][i],
+               run.events["peak_slip_rate"][i], moment[i], magnitude]
+        lines.append(",".join(repr(float(value)) for value in row))
+    write_text_atomic(folder / "events.csv", "\n".join(lines) + "\n")
+    write_dataset(result.to_xarray(), folder / "fault_3d.nc")
+
+
+def simulate(scene, output_dir=None, resume: bool = False, rtol: float | None = None, allow_large: bool = False,
+             overwrite: bool = False, progress=None, settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
+    """Run a 3-D fault scene; with ``output_dir``, stream the run there (checkpointed: ``resume=True`` continues a
+    stopped run bit for bit) and write SEAS BP5's files, the event catalogue and CF netCDF when it ends.
+
+    Parameters
+    ----------
+    scene : str, path or Fault3DScene
+        A 3-D fault scene.
+    output_dir : str or path, optional
+        Where the run streams and its files go.
+    resume : bool
+        Continue a stopped run.
+    rtol : float, optional
+        The integrator's tolerance.
+    allow_large : bool
+        Lift the budget.
+    overwrite : bool
+        Replace earlier files.
+    progress : callable, optional
+        ``(done, total)`` in years, or True for a bar.
+    settle_tolerance : float
+        The settling tolerance of the sequence.
+
+    Returns
+    -------
+    Result
+        Recurrence (s), slip per event (m), moment (N m), the settling and the run's Dataset.
+    """
+    loaded = load_fault_3d_scene(scene, allow_large=allow_large)
+    rtol = loaded.rtol if rtol is None else rtol
+    budget.check(loaded.estimate(rtol, output_dir), allow_large)
+    limit = None if allow_large else 2 * budget.time_budget()
+    if output_dir is None:
+        return _result(loaded, loaded.run(rtol, progress=progress, time_limit=limit), settle_tolerance)
+    folder = Path(output_dir)
+    created = prepare_run_folder(folder, resume=resume, overwrite=overwrite, what="a 3-D fault run")
+    try:
+        with output_lock(folder / "run", "faultslip simulate (3-D fault)", overwrite=True, label="--output-dir"):
+            run = loaded.run(rtol, folder, resume, progress, time_limit=limit)
+            result = _result(loaded, run, settle_tolerance)
+            write_outputs(loaded, run, folder, result)
+    except Exception:
+        if created:  # a folder this run made and left empty goes too
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+        raise
+    result.note(f"SEAS BP5 station files (fltst_strk*dp*.dat), global.dat, rupture.dat, slip profiles, events.csv "
+                f"and fault_3d.nc written to {folder}")
+    return result
+
+
+def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=None) -> Result:
+    """A 3-D fault scene's cycles (the top rung: it has one method).
+
+    Parameters
+    ----------
+    scene : str, path or Fault3DScene
+        A 3-D fault scene.
+    method : str, optional
+        ``auto`` or ``fault_3d``.
+    tolerance : float, optional
+        The relative error the answer must meet; refused, before any work, where the declared error cannot.
+    allow_large : bool
+        Lift the budget.
+    progress : callable, optional
+        ``(done, total)`` in years.
+
+    Returns
+    -------
+    Result
+        As :func:`simulate`.
+    """
+    if method not in (None, "auto", "fault_3d"):
+        raise InputError(f"a 3-D fault scene runs on method fault_3d (the top rung), got {method!r}")
+    loaded = load_fault_3d_scene(scene, allow_large=allow_large)
+    if tolerance is not None:
+        declared = discretisation_error(loaded.resolution)
+        if declared > tolerance:
+            raise InputError(f"{loaded.name}: its squares resolve L_b {loaded.resolution:.3g} times, so the 3-D "
+                             f"fault declares {declared:.2g} in recurrence, above the tolerance {tolerance:g}; "
+                             "use smaller squares (element_size) or a looser tolerance")
+    return simulate(loaded, allow_large=allow_large, progress=progress)
+
+
+def two_d_scene(loaded: Fault3DScene) -> Fault2DScene:
+    """The rung below a 3-D scene: its middle column as a 2-D fault scene, the same duration and tolerance, stations
+    at the patch's depths."""
+    fault = loaded.two_d()
+    weakening = fault.depth[fault.b > fault.a]
+    stations = tuple(float(d) for d in np.linspace(weakening.min(), weakening.max(), 3)) if weakening.size else (
+        float(fault.depth[fault.count // 2]),)
+    return Fault2DScene(name=f"{loaded.name} (2-D, the middle column)", fault=fault, duration=loaded.duration,
+                        rtol=loaded.rtol, stations=stations, profile_interval=loaded.profile_interval,
+                        coseismic_interval=loaded.coseismic_interval, origin=loaded.origin)
+
+
+def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> Result:
+    """Every rung on one 3-D scene: the one slider and the 2-D fault of its middle column, each with its declared
+    range (the 2-D fault's widened by its model error against 3-D, :mod:`faultslip.fault.strike_error`), and the
+    3-D fault itself, against the CPU each cost (``faultslip model-error SCENE --plot``).
+
+    Parameters
+    ----------
+    scene : str, path or Fault3DScene
+        A 3-D fault scene.
+    tolerance : float, optional
+        A relative error allowed: which rungs meet it.
+    allow_large : bool
+        Run the rungs beyond the budget.
+
+    Returns
+    -------
+    Result
+        Per rung, recurrence (s) and slip per event (m) with their ranges, the declared error and the CPU time (s);
+        ``plot()`` the chart.
+    """
+    loaded = load_fault_3d_scene(scene, allow_large=allow_large)
+    below = two_d_scene(loaded)
+    rungs = []
+    started = time.process_time()
+    rungs.append(fault_2d_family.rung_of("one_slider", fault_2d_family.one_slider(below), time.process_time() - started))
+    started = time.process_time()
+    flat = fault_2d_family.simulate_fault(below, allow_large=allow_large, allow_underresolved=True)
+    rung = fault_2d_family.rung_of("fault_2d", flat, time.process_time() - started)
+    groups = strike_error.groups_of(loaded.fault)
+    model_error = strike_error.declared(groups["aspect_measured"], burial=groups["burial"])
+    rungs.append(fault_2d_family.with_model_error(rung, model_error))
+    started = time.process_time()
+    full = simulate(loaded, allow_large=allow_large)
+    values = full.values
+    error = full.estimated_relative_error
+    recurrence = float(values["recurrence_interval"].to("s").magnitude)
+    slip = float(values["slip_per_event"].to("m").magnitude)
+    rungs.append({"name": "fault_3d", "cpu_time": time.process_time() - started, "recurrence": recurrence,
+                  "recurrence_range": None if error is None else (recurrence * (1 - error), recurrence * (1 + error)),
+                  "slip": slip, "slip_range": None if error is None else (slip * (1 - error), slip * (1 + error)),
+                  "error": error})
+    report = Report(f"faultslip model error: the ladder on {loaded.name}")
+    for rung in rungs:
+        name = rung["name"]
+        report.add(f"{name}_recurrence", rung["recurrence"], "s", also=("yr",), label=f"{name}: recurrence")
+        if rung["recurrence_range"] is not None:
+            report.add(f"{name}_recurrence_range", list(rung["recurrence_range"]), "s", also=("yr",),
+                       label=f"{name}: its declared range")
+        report.add(f"{name}_slip_per_event", rung["slip"], "m", label=f"{name}: slip per event")
+        if rung["slip_range"] is not None:
+            report.add(f"{name}_slip_per_event_range", list(rung["slip_range"]), "m",
+                       label=f"{name}: its declared range")
+        report.add(f"{name}_declared_error", rung["error"], label=f"{name}: declared error (relative; null: none)")
+        report.add(f"{name}_cpu_time", rung["cpu_time"], "s", label=f"{name}: CPU time")
+        if tolerance is not None:
+            report.add(f"{name}_meets_tolerance", rung["error"] is not None and rung["error"] <= tolerance,
+                       label=f"{name}: declared error within {tolerance:g}")
+    truth = rungs[-1]
+    for rung in rungs[:-1]:
+        report.add(f"{rung['name']}_off_recurrence", rung["recurrence"] / truth["recurrence"] - 1,
+                   label=f"{rung['name']}: off the 3-D recurrence (relative)")
+        band = rung["recurrence_range"]
+        report.add(f"{rung['name']}_range_holds", band is not None and band[0] <= truth["recurrence"] <= band[1],
+                   label=f"{rung['name']}: its recurrence range holds the 3-D answer")
+    report.add("aspect", groups["aspect_measured"], label="the weakening patch's length over its width (L / W)")
+    report.add("burial", groups["burial"], label="the patch's top over its width")
+    report.note("the 2-D rungs read the scene's middle column; the 2-D fault's range adds its declared model error "
+                "against 3-D at the patch's L / W and burial (benchmarks/fault_3d_model_error.py), and the one "
+                "slider's is calibrated against the 2-D fault")
+    return Result("fault_3d", report, figure=lambda: ladder_figure(rungs, report.title))
+
+
+#: A 3-D fault cell's outputs.
+OUTPUTS = {spec.name: spec for spec in (
+    Output("recurrence_interval", "s", "mean interval between system-size events (NaN with fewer than two)"),
+    Output("recurrence_spread", "1", "largest change of an interval over a supercycle, or their variation"),
+    Output("settled", "1", "1 where the sequence is periodic (any period up to 8, to 1e-3), 0 where it is not"),
+    Output("slip_per_event", "m", "slip per system-size event, mean over the velocity-weakening area"),
+    Output("moment", "N m", "seismic moment per system-size event"),
+    Output("events", "1", "events in the run (peak slip rate above 1e-3 m/s)"),
+    Output("steps", "1", "Dormand-Prince steps taken"),
+)}
+
+
+class Fault3DCells:
+    """:class:`faultslip.contract.cells.Cells` of the 3-D fault: one run per cell (its operator built per cell)."""
+
+    label = "a 3-D fault study"
+    checkpoints = False
+    default_tolerance = None
+
+    def parameters(self, scene) -> dict:
+        return parameters(SWEEPABLE)
+
+    def category(self, scene, name: str, value: str, where: str) -> str:
+        raise InputError(f"{where}: a 3-D fault study sweeps numbers; got {value!r}")
+
+    def check(self, study, where: str, source: str) -> None:
+        if study.method not in ("auto", "fault_3d") or study.cycles:
+            raise InputError(f"{where} a 3-D fault study runs the 3-D model for the base scene's [run] duration; "
+                             "leave method and cycles out")
+
+    def outputs(self, study) -> dict:
+        return OUTPUTS
+
+    def attrs(self, name: str, study, flagged: bool = False) -> dict:
+        return OUTPUTS[name].attrs()
+
+    def seconds_per_cell(self, study) -> float:
+        return study.scene.estimate().seconds
+
+    def counted(self, study) -> bool:
+        return False
+
+    def evaluate(self, study, values: dict) -> dict:
+
+        def cell(**inputs):
+            scene = study.scene.with_values(**inputs)
+            result = scene.run()
+            summary = summarise(result)
+            sequence = summary["sequence"]
+            row = {"recurrence_interval": sequence.mean_interval, "recurrence_spread": sequence.spread,
+                   "settled": float(sequence.kind == "periodic" or sequence.period > 1),
+                   "slip_per_event": summary["mean_slip"], "moment": summary["moment"],
+                   "events": float(result.event_count), "steps": float(result.steps)}
+            return {name: value if value is not None and math.isfinite(value) else np.nan
+                    for name, value in row.items()}
+
+        return evaluate_by_cell(values, OUTPUTS, cell)
+
+
+def read_scene(text: str, source: str, path=None):
+    """A 3-D fault scene file, as a study's base."""
+    scene = parse_fault_3d_scene(text, source)
+    scene.path = path
+    return scene
+
+
+METHODS = {"fault_3d": {"name": "fault_3d", "friction_laws": "rate-and-state (aging or slip law, regularised)",
+                        "domain": "a planar fault in an elastic half-space, quasi-dynamic (SEAS BP5-QD)",
+                        "cost_model": cost.describe(),
+                        "declared_error": "the square size's (BP5 at 2000, 1000 and 500 m), the sequence's settling "
+                                          "and 10 rtol"}}
+
+FAMILY = register(Family("fault_3d", "quasi-dynamic cycles on a planar 3-D fault in an elastic half-space "
+                                     "(SEAS BP5-QD)", run, simulate,
+                         simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite"),
+                         run_options=("allow_large", "progress"),
+                         why="a 3-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
+                         read_scene=read_scene, cells=Fault3DCells(), methods=lambda: list(METHODS.values()),
+                         ladder=ladder,
+                         example=Example("fault_3d_small.toml", "study_fault_3d.toml",
+                                         {"critical_slip": ["0.12 m", "0.14 m"]}, None)))
