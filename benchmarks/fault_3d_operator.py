@@ -12,13 +12,21 @@ Two families of grids, squares of 1 km on a vertical strike-slip fault:
 For each: the operator's bytes, its assembly's wall time, and the median wall time of a product over interleaved
 repeats. Up to 4,000 squares the dense matrix (every square's own dislocations, no translation used) is built
 too: the relative error of the FFT product against it, and the dense product's median time, interleaved with the
-FFT's. The growth exponents are least-squares slopes in log-log. Writes benchmarks/results/fault_3d_operator.json.
+FFT's. The growth exponents are least-squares slopes in log-log.
+
+Then whole runs, each in a fresh process: the small 3-D fault (configs/fault_3d_small.toml) cold (the process's
+first: imports, the compiled force balance loaded, the operator assembled) against warm (the same run again in
+that process); and SEAS BP5-QD at 1000 m over 1800 yr with the BLAS library held to one thread against its default
+(the per-frequency block products are BLAS's; the rest is one thread), interleaved, CPU and wall time each.
+Writes benchmarks/results/fault_3d_operator.json.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -85,6 +93,33 @@ def slope(rows: list, key: str) -> float:
     return float(np.polyfit(x, y, 1)[0])
 
 
+WHOLE_RUN = """
+import json, resource, sys, time
+from faultslip.models.fault_3d.scene import load_fault_3d_scene
+from faultslip.models.fault_2d.integrate import YEAR
+times = []
+for _ in range(int(sys.argv[3])):
+    start, cpu = time.perf_counter(), time.process_time()
+    scene = load_fault_3d_scene(sys.argv[1], allow_large=True)
+    scene.duration = float(sys.argv[2]) * YEAR
+    run = scene.run()
+    times.append({"wall_s": time.perf_counter() - start, "cpu_s": time.process_time() - cpu, "steps": run.steps,
+                  "events": run.event_count})
+print(json.dumps({"runs": times, "peak_memory_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024}))
+"""
+
+
+def whole_run(scene: str, years: float, repeats: int, threads: int | None = None) -> dict:
+    """A fresh process running ``scene`` ``repeats`` times (the first cold); BLAS held to ``threads`` if given."""
+    environment = dict(os.environ)
+    if threads is not None:
+        for name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+            environment[name] = str(threads)
+    done = subprocess.run([sys.executable, "-c", WHOLE_RUN, scene, str(years), str(repeats)], capture_output=True,
+                          text=True, env=environment, cwd=ROOT, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="two sizes a family, fewer repeats")
@@ -99,6 +134,21 @@ def main(argv=None) -> None:
             print(kind, rows[-1], flush=True)
         result["families"][kind] = {"rows": rows, "memory_exponent": slope(rows, "bytes"),
                                     "product_exponent": slope(rows, "product_s")}
+    small = whole_run(str(ROOT / "configs" / "fault_3d_small.toml"), 60.0, 2)
+    result["cold_warm"] = {"cold": small["runs"][0], "warm": small["runs"][1],
+                           "ratio": small["runs"][0]["wall_s"] / small["runs"][1]["wall_s"]}
+    print("cold/warm", result["cold_warm"], flush=True)
+    if not args.quick:
+        bp5 = str(ROOT / "configs" / "seas_bp5.toml")
+        pairs = []
+        for _ in range(2):  # interleaved: one thread, then the default, twice
+            one = whole_run(bp5, 1800.0, 1, threads=1)
+            default = whole_run(bp5, 1800.0, 1)
+            pairs.append({"one_thread": {**one["runs"][0], "peak_memory_bytes": one["peak_memory_bytes"]},
+                          "default": {**default["runs"][0], "peak_memory_bytes": default["peak_memory_bytes"]}})
+            print("threads", pairs[-1], flush=True)
+        result["bp5_threads"] = {"pairs": pairs, "wall_ratio": float(np.median(
+            [p["one_thread"]["wall_s"] / p["default"]["wall_s"] for p in pairs]))}
     checked = [row for family in result["families"].values() for row in family["rows"] if "relative_error" in row]
     result["largest_relative_error"] = max(row["relative_error"] for row in checked)
     result.update(stamp())

@@ -1,6 +1,6 @@
 """SEAS BP5-QD: faultslip's 3-D fault at 2000, 1000 and 500 m, beside a published participant.
 
-    python benchmarks/seas_bp5.py [--sizes 2000 1000 500] [--years 1800]
+    python benchmarks/seas_bp5.py [--sizes 2000 1000 500 250] [--years 1800] [--finest-years 600]
     python -m benchmarks seas_bp5
 
 The participant is tandem (Uphoff et al.; 4000 m elements of polynomial degree 4), whose BP5-QD station file at
@@ -13,9 +13,13 @@ in log10 rate between rows), its slip the station's slip across it. tandem's thi
 row before it and the first after it that the excerpts hold; its midpoint is used and the half-gap reported.
 
 Per element size the file records the events (start of each, the peak slip rate anywhere above 1e-3 m/s), the
-station's arrivals and slips, the settled interval, the differences from tandem's and from the finest run, the
-declared error (:func:`faultslip.models.fault_3d.family.discretisation_error`), and the cost: steps, wall and CPU
-time, peak memory. Writes benchmarks/results/seas_bp5.json.
+station's arrivals and slips, the last interval between system-size events (the sequence settles after the first,
+which the nucleation patch starts at t = 0), the differences from tandem's and from the finest run, the declared
+error (:func:`faultslip.models.fault_3d.family.discretisation_error`) and whether it holds, and the cost: steps,
+wall and CPU time, peak memory. The finest size runs ``--finest-years`` (three events: one settled interval). The
+declared error's bound is fitted here too (``fit``: c r^-p through the two coarsest sizes' differences from the
+finest, r the squares per L_b, times a margin of 2), which faultslip.models.fault_3d.family.DISCRETISATION takes.
+Writes benchmarks/results/seas_bp5.json.
 """
 
 from __future__ import annotations
@@ -92,6 +96,8 @@ def run_size(size: float, years: float) -> dict:
     run = scene.run()
     cpu, wall = time.process_time() - start_cpu, time.perf_counter() - start_wall
     summary = summarise(run)
+    system_starts = np.asarray(run.events["start"])[summary["system"]]
+    last_interval = float(system_starts[-1] - system_starts[-2]) / YEAR if system_starts.size > 2 else math.nan
     station_time = np.asarray(run.station_time)
     log_rate = np.asarray(run.stations["log10_slip_rate"][:, index])
     slip = np.asarray(run.stations["slip"][:, index])
@@ -104,7 +110,7 @@ def run_size(size: float, years: float) -> dict:
     return {"element_size_m": size, "elements": scene.fault.count, "resolution": resolution,
             "event_starts_yr": (np.asarray(run.events["start"]) / YEAR).tolist(),
             "station_arrivals_yr": [t / YEAR for t in arrivals], "station_event_slips_m": event_slips,
-            "settled_interval_yr": summary["sequence"].mean_interval / YEAR,
+            "settled_interval_yr": summary["sequence"].mean_interval / YEAR, "last_interval_yr": last_interval,
             "sequence": summary["sequence"].kind, "mean_slip_m": summary["mean_slip"],
             "declared_error": discretisation_error(resolution), "steps": run.steps, "cpu_s": cpu, "wall_s": wall,
             "peak_memory_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024, "rtol": run.rtol,
@@ -115,12 +121,14 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=float, nargs="+", default=[2000.0, 1000.0, 500.0])
     parser.add_argument("--years", type=float, default=1800.0)
+    parser.add_argument("--finest-years", type=float, default=600.0, help="the finest size's duration")
     parser.add_argument("--out", default=str(HERE / "results" / "seas_bp5.json"))
     args = parser.parse_args(argv)
     peer = tandem_station()
     runs = []
+    finest_size = min(args.sizes)
     for size in args.sizes:
-        row = run_size(size, args.years)
+        row = run_size(size, args.finest_years if size == finest_size and len(args.sizes) > 1 else args.years)
         arrivals = row["station_arrivals_yr"]
         if len(arrivals) >= 3:
             row["against_tandem"] = {
@@ -132,9 +140,20 @@ def main(argv=None) -> None:
         print(json.dumps({k: v for k, v in row.items() if not isinstance(v, list)}), flush=True)
     finest = min(runs, key=lambda r: r["element_size_m"])
     for row in runs:
-        row["interval_difference_from_finest"] = row["settled_interval_yr"] / finest["settled_interval_yr"] - 1
+        row["interval_difference_from_finest"] = row["last_interval_yr"] / finest["last_interval_yr"] - 1
+    coarse = sorted((r for r in runs if r is not finest), key=lambda r: r["resolution"])[:2]
+    fit = None
+    if len(coarse) == 2 and all(abs(r["interval_difference_from_finest"]) > 0 for r in coarse):
+        (r1, e1), (r2, e2) = ((r["resolution"], abs(r["interval_difference_from_finest"])) for r in coarse)
+        order = math.log(e1 / e2) / math.log(r2 / r1)
+        fit = {"scale": e1 * r1 ** order, "order": order, "margin": 2.0}
+    for row in runs:  # the bound as fitted here (the family's constants are these, rounded up)
+        if fit is not None:
+            row["declared_error"] = fit["margin"] * fit["scale"] * row["resolution"] ** -fit["order"]
         row["within_declared_of_finest"] = bool(abs(row["interval_difference_from_finest"]) <= row["declared_error"])
-    result = {"peer": peer, "runs": runs, "station": list(STATION)}
+        row["interval_difference_from_tandem"] = row["last_interval_yr"] / peer["interval_yr"] - 1
+        row["within_declared_of_tandem"] = bool(abs(row["interval_difference_from_tandem"]) <= row["declared_error"])
+    result = {"peer": peer, "runs": runs, "station": list(STATION), "fit": fit}
     result.update(stamp())
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     print(f"written {args.out}")

@@ -230,3 +230,86 @@ def test_a_process_that_built_a_kernel_can_fork_workers_that_build_theirs():
         child.kill()
     assert not alive, "the forked worker hung in the dislocation kernel"
     assert queue.get(timeout=5) < 0
+
+
+def test_every_rung_reads_the_3d_scene_and_declares_its_model_error(cli):
+    """`faultslip run SCENE --model NAME` on a 3-D scene: the one slider and the 2-D fault read its middle column,
+    and each declares its own error compounded with the 2-D fault's model error against 3-D, its ranges widened to
+    it; `model-error` puts the three rungs side by side."""
+    from faultslip.fault import strike_error
+
+    scene = load_fault_3d_scene(SMALL)
+    model_error = strike_error.declared_for(scene.fault)
+    result = cli("run", SMALL, "--model", "fault_2d", "--json")
+    assert result.code == 0, result.err
+    document = json.loads(result.out)
+    values = document.get("results", document)
+    declared = values["estimated_relative_error"]
+    if math.isfinite(model_error):
+        assert declared >= model_error
+        low, high = values["slip_per_event_range"]["value"] if isinstance(values["slip_per_event_range"], dict) \
+            else values["slip_per_event_range"]
+        assert low < high
+    else:
+        assert declared is None
+    ladder = cli("model-error", SMALL, "--json")
+    assert ladder.code == 0, ladder.err
+    text = ladder.out
+    for rung in ("one_slider", "fault_2d", "fault_3d"):
+        assert f"{rung}_recurrence" in text
+
+
+def test_a_tolerance_no_rung_can_meet_is_refused_before_any_work(cli):
+    from faultslip.models.fault_3d.family import discretisation_error
+
+    scene = load_fault_3d_scene(SMALL)
+    tolerance = 0.5 * discretisation_error(scene.resolution)
+    result = cli("run", SMALL, "--tolerance", tolerance)
+    assert result.code == 2 and "no rung meets" in result.err and "Traceback" not in result.err
+
+
+def test_a_fault_periodic_along_strike_is_the_2d_fault():
+    """The 2-D limit of the 3-D machinery: a fault periodic along strike (its kernel summed over M images either
+    side), its friction the 2-D fault's on every column, steps through the 2-D fault's own events, the difference
+    falling as the images' truncation does, 1 / M^2 (measured 0.74 % at M = 20, 0.095 % at 80). A finite fault does
+    not reach it: its creeping ends nucleate events (docs/fault_3d.md, benchmarks/fault_3d_model_error.py)."""
+    from faultslip.models.fault_3d.model import Fault3D
+
+    scene = load_fault_3d_scene(SMALL)
+    flat = scene.two_d()
+    columns = 4
+    tiled = {key: np.tile(getattr(flat, key), columns) for key in ("a", "b", "critical_slip", "normal_stress",
+                                                                   "initial_shear_stress", "initial_state")}
+    fault = Fault3D(flat.element_size, tiled["a"], tiled["b"], tiled["critical_slip"], tiled["normal_stress"],
+                    flat.shear_modulus, flat.shear_wave_speed, flat.plate_rate, flat.reference_speed,
+                    flat.reference_friction, tiled["initial_shear_stress"], tiled["initial_state"], plane="3d",
+                    poisson_ratio=0.25, strike_count=columns, strike_origin=0.0)
+    two = run_cycles(flat, 45 * YEAR, rtol=1e-8, stations=[500.0], profile_interval=YEAR)
+    assert two.event_count >= 3
+    errors = []
+    for images in (20, 80):
+        operator = kernel.StrikeConvolution(columns, flat.count, flat.element_size, 90.0, "strike",
+                                            flat.shear_modulus, 0.25, periodic_images=images)
+        operator.settings = {"periodic_images": images}
+        three = run_cycles(fault, 45 * YEAR, rtol=1e-8, operator=operator, profile_interval=YEAR,
+                           stations=StationGrid([(200.0, 500.0)], fault))
+        assert three.event_count == two.event_count
+        assert np.ptp(fault.grid(three.final_slip), axis=0).max() == 0.0  # uniform along strike throughout
+        errors.append(np.max(np.abs(three.events["start"][1:] / two.events["start"][1:] - 1)))
+    assert errors[1] < 2e-3 and errors[0] / errors[1] > 4.0
+
+
+def test_the_declared_resolution_error_holds_on_bp5_at_every_size():
+    """BP5-QD at 2000, 1000, 500 and 250 m (benchmarks/seas_bp5.py's saved runs): the family's declared error bounds
+    each size's interval against the finest and against tandem's, and the constants are the benchmark's fit,
+    rounded up."""
+    from faultslip.models.fault_3d.family import DISCRETISATION, discretisation_error
+
+    result = json.loads((ROOT / "benchmarks" / "results" / "seas_bp5.json").read_text(encoding="utf-8"))
+    fit = result["fit"]
+    assert DISCRETISATION["margin"] * DISCRETISATION["scale"] >= fit["margin"] * fit["scale"]
+    assert DISCRETISATION["order"] <= fit["order"] + 1e-9
+    for run in result["runs"]:
+        declared = discretisation_error(run["resolution"])
+        assert abs(run["interval_difference_from_finest"]) <= declared, run["element_size_m"]
+        assert abs(run["interval_difference_from_tandem"]) <= declared, run["element_size_m"]

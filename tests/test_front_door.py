@@ -23,6 +23,8 @@ NOT_RUN = {
     "seas_bp1.toml --output-dir": "SEAS BP1 at 1,600 elements over 1,500 years: a benchmark (benchmarks/fault_2d.py)",
     "seas_bp3_thrust60.toml --output-dir": "SEAS BP3-QD on 1,600 dense elements over 1,500 years (about 1.4 h): a "
                                            "benchmark (benchmarks/seas_bp3.py)",
+    "seas_bp5.toml --output-dir": "SEAS BP5-QD on 4,000 squares over 1,800 years, with its SEAS files: a benchmark "
+                                  "(benchmarks/seas_bp5.py)",
     "study_bp3_dip.toml": "eight whole BP3 runs at 100 m: a benchmark (benchmarks/dip_model_error.py runs the cells)",
     "--scheduler": "needs a SLURM cluster or a dask scheduler (tests/test_slurm.py starts one)",
     "--lithology my_gouge": "needs the user's own fit saved as my_gouge",

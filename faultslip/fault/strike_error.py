@@ -4,9 +4,12 @@ The 2-D fault reads the middle column of a 3-D scene (friction down dip) as a fa
 A finite velocity-weakening patch is stiffer (its stress drop is spread over a shorter rupture) and its ends creep
 into it, so its recurrence and slip per event differ from the 2-D fault's, the more so the shorter the patch.
 ``benchmarks/fault_3d_model_error.py`` measures the difference on SEAS BP5-QD's fault (at 1/20 scale) for patches
-of aspect L / W = 1 to 8 and three burials, and ships ``data/strike_model_error.json``: each measured cell's error
-times :data:`MARGIN`. A fault's declared error is the largest at the measured aspects bracketing its own (any
-measured burial), where its burial lies within the measured ones; outside them nothing is known (infinite).
+of aspect L / W = 1 to 32, of widths W / h* near 1 to 2 and of three burials, and ships
+``data/strike_model_error.json``: each measured cell's error times :data:`MARGIN`. The error falls as the patch
+lengthens, widens (W / h*) and deepens: a measured cell shorter, narrower and shallower than a fault bounds it.
+A fault's declared error is the largest among the measured cells that bound it and lie nearest below it in aspect;
+where none does (a patch shorter or narrower than every measured one, or a bounding cell whose 3-D patch crept)
+nothing is declared (infinite).
 """
 
 from __future__ import annotations
@@ -26,14 +29,15 @@ MARGIN = 1.25
 
 def groups_of(fault) -> dict:
     """A 3-D fault's velocity-weakening patch as the declaration reads it: ``aspect_measured`` (its longest extent
-    along strike over its widest down dip) and ``burial`` (its top's distance down dip, in the middle column, over
-    that width)."""
+    along strike over its widest down dip), ``burial`` (its top's distance down dip, in the middle column, over
+    that width) and ``width_over_nucleation`` (that width over h*)."""
     weakening = fault.grid(fault.b > fault.a)
     width = fault.seismogenic_width()
     column = weakening[fault.column(0.0)]
     top = float(np.argmax(column) * fault.element_size) if np.any(column) else math.nan
     return {"aspect_measured": fault.seismogenic_length() / width if width > 0 else math.nan,
-            "burial": top / width if width > 0 else math.nan}
+            "burial": top / width if width > 0 else math.nan,
+            "width_over_nucleation": width / fault.nucleation_size() if width > 0 else math.nan}
 
 
 @functools.lru_cache(maxsize=1)
@@ -51,35 +55,50 @@ def load_table() -> dict:
     return table
 
 
-def declared(aspect: float, rows: list | None = None, burial: float | None = None) -> float:
+def declared(aspect: float, rows: list | None = None, burial: float | None = None,
+             width_over_nucleation: float | None = None) -> float:
     """The 2-D rung's declared model error (relative, the larger of recurrence and slip per event) on a fault whose
-    weakening patch has aspect ``aspect`` (L / W) and ``burial`` (top / W).
+    weakening patch has aspect ``aspect`` (L / W), ``burial`` (top / W) and ``width_over_nucleation`` (W / h*).
 
     Parameters
     ----------
     aspect : float
         The patch's length along strike over its width down dip.
     rows : list of dict, optional
-        ``aspect``, ``burial`` and ``model_error`` (already the bound) rows; the shipped table's otherwise.
+        ``aspect``, ``burial``, ``width_over_nucleation`` and ``model_error`` (already the bound) rows; the shipped
+        table's otherwise.
     burial : float, optional
-        The patch's top over its width; without it, any.
+        The patch's top over its width; without it, the measured cells' burials are not required to bound it.
+    width_over_nucleation : float, optional
+        The patch's width over h*; likewise.
 
     Returns
     -------
     float
-        The declared model error (dimensionless); ``inf`` outside the measured aspects or burials, or where a
-        bracketing cell had no answer (the 3-D patch crept, or the 2-D fault did).
+        The declared model error (dimensionless); ``inf`` where no measured cell bounds the fault.
     """
     rows = rows if rows is not None else load_table()["rows"]
-    aspects = sorted({float(row["aspect"]) for row in rows})
-    burials = [float(row["burial"]) for row in rows]
-    if not (math.isfinite(aspect) and aspects[0] <= aspect <= aspects[-1]):
+    if not math.isfinite(aspect):
         return math.inf
-    if burial is not None and not (min(burials) - 1e-9 <= burial <= max(burials) + 1e-9):
+    slack = 1e-9
+
+    def bounds(row) -> bool:
+        return (float(row["aspect"]) <= aspect + slack
+                and (burial is None or float(row["burial"]) <= burial + slack)
+                and (width_over_nucleation is None or "width_over_nucleation" not in row
+                     or float(row["width_over_nucleation"]) <= width_over_nucleation + slack))
+
+    candidates = [row for row in rows if bounds(row)]
+    if not candidates:
         return math.inf
-    lower = max(a for a in aspects if a <= aspect)
-    upper = min(a for a in aspects if a >= aspect)
-    errors = [row["model_error"] for row in rows if float(row["aspect"]) in (lower, upper)]
+    nearest = max(float(row["aspect"]) for row in candidates)
+    errors = [row["model_error"] for row in candidates if abs(float(row["aspect"]) - nearest) <= slack]
     if any(error is None for error in errors):
         return math.inf
     return float(max(errors))
+
+
+def declared_for(fault, rows: list | None = None) -> float:
+    """:func:`declared` at a 3-D fault's own patch (:func:`groups_of`)."""
+    groups = groups_of(fault)
+    return declared(groups["aspect_measured"], rows, groups["burial"], groups["width_over_nucleation"])

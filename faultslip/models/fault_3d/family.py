@@ -265,17 +265,61 @@ def simulate(scene, output_dir=None, resume: bool = False, rtol: float | None = 
     return result
 
 
+#: The rungs a 3-D scene runs on, cheapest first (``faultslip run SCENE --model NAME``): each reads the same scene.
+RUNGS = ("one_slider", "fault_2d", "fault_3d")
+
+
+def _combined(*errors) -> float | None:
+    """Relative errors compounded, (1 + e1)(1 + e2)... - 1; None where any is unknown or unbounded."""
+    total = 1.0
+    for error in errors:
+        if error is None or not math.isfinite(error):
+            return None
+        total *= 1.0 + error
+    return total - 1.0
+
+
+def _put(result: Result, key: str, value, units) -> None:
+    if key in result:
+        result.set(key, value)
+    else:
+        result.add(key, value, units)
+
+
+def _lower_rung(loaded: Fault3DScene, name: str, allow_large: bool, reason: str) -> Result:
+    """The one slider or the 2-D fault of the scene's middle column, its declared error compounded with the 2-D
+    rung's model error against 3-D (:mod:`faultslip.fault.strike_error`) and its ranges widened to it."""
+    below = two_d_scene(loaded)
+    result = (fault_2d_family.one_slider(below, reason) if name == "one_slider"
+              else fault_2d_family.simulate_fault(below, allow_large=allow_large, allow_underresolved=True))
+    groups = strike_error.groups_of(loaded.fault)
+    model_error = strike_error.declared_for(loaded.fault)
+    total = _combined(result.estimated_relative_error, model_error)
+    _put(result, "estimated_relative_error", total, None)
+    for key, range_key, unit in (("recurrence_interval", "recurrence_range", "s"),
+                                 ("mean_slip_per_event", "slip_per_event_range", "m")):
+        if key in result and result.values[key] is not None:
+            value = float(result.values[key].to(unit).magnitude)
+            _put(result, range_key, None if total is None else [value * (1 - total), value * (1 + total)], unit)
+    result.note(f"{name} of the 3-D scene's middle column (L / W {groups['aspect_measured']:.3g}, burial "
+                f"{groups['burial']:.2g}): its declared error compounds the 2-D fault's model error against 3-D, "
+                + (f"{model_error:.1%}" if math.isfinite(model_error) else "unbounded here (outside the measured "
+                   "patches)") + " (benchmarks/fault_3d_model_error.py)")
+    return result
+
+
 def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=None) -> Result:
-    """A 3-D fault scene's cycles (the top rung: it has one method).
+    """A 3-D fault scene on the rung asked for, or on the cheapest whose declared error meets ``tolerance``.
 
     Parameters
     ----------
     scene : str, path or Fault3DScene
         A 3-D fault scene.
     method : str, optional
-        ``auto`` or ``fault_3d``.
+        A rung of :data:`RUNGS` by name (the lower two read the scene's middle column), or ``auto``: the 3-D fault,
+        or with ``tolerance`` the cheapest rung that meets it.
     tolerance : float, optional
-        The relative error the answer must meet; refused, before any work, where the declared error cannot.
+        The relative error the answer must meet; refused, before any work, where no rung's declared error can.
     allow_large : bool
         Lift the budget.
     progress : callable, optional
@@ -284,18 +328,34 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     Returns
     -------
     Result
-        As :func:`simulate`.
+        Recurrence (s) and slip per event (m), the declared error and, on a lower rung, its widened ranges.
     """
-    if method not in (None, "auto", "fault_3d"):
-        raise InputError(f"a 3-D fault scene runs on method fault_3d (the top rung), got {method!r}")
+    if method not in (None, "auto") + RUNGS:
+        raise InputError(f"a 3-D fault scene runs on one of {', '.join(RUNGS)} or auto, got {method!r}")
     loaded = load_fault_3d_scene(scene, allow_large=allow_large)
+    if method in ("one_slider", "fault_2d"):
+        return _lower_rung(loaded, method, allow_large, "asked for by name")
+    declared_3d = discretisation_error(loaded.resolution)
+    if tolerance is not None and method in (None, "auto"):
+        cheap = _lower_rung(loaded, "one_slider", allow_large, f"the cheapest rung, tried for tolerance {tolerance:g}")
+        if cheap.estimated_relative_error is not None and cheap.estimated_relative_error <= tolerance:
+            return cheap
+        model_error = strike_error.declared_for(loaded.fault)
+        if math.isfinite(model_error) and model_error < tolerance:  # the 2-D fault can meet it: try it
+            flat = _lower_rung(loaded, "fault_2d", allow_large, f"tolerance {tolerance:g}")
+            if flat.estimated_relative_error is not None and flat.estimated_relative_error <= tolerance:
+                flat.note(f"the one slider declares {cheap.estimated_relative_error}, above {tolerance:g}: the 2-D "
+                          "fault of the same scene's middle column meets it")
+                return flat
+    if tolerance is not None and declared_3d > tolerance:
+        raise InputError(f"{loaded.name}: no rung meets {tolerance:g}: the 3-D fault's squares resolve L_b "
+                         f"{loaded.resolution:.3g} times and declare {declared_3d:.2g} in recurrence; use smaller "
+                         "squares (element_size) or a looser tolerance")
+    result = simulate(loaded, allow_large=allow_large, progress=progress)
     if tolerance is not None:
-        declared = discretisation_error(loaded.resolution)
-        if declared > tolerance:
-            raise InputError(f"{loaded.name}: its squares resolve L_b {loaded.resolution:.3g} times, so the 3-D "
-                             f"fault declares {declared:.2g} in recurrence, above the tolerance {tolerance:g}; "
-                             "use smaller squares (element_size) or a looser tolerance")
-    return simulate(loaded, allow_large=allow_large, progress=progress)
+        result.note(f"the lower rungs of the same scene declare more than {tolerance:g} (the 2-D fault's model "
+                    "error against 3-D at this patch): the 3-D fault ran")
+    return result
 
 
 def two_d_scene(loaded: Fault3DScene) -> Fault2DScene:
@@ -339,7 +399,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     flat = fault_2d_family.simulate_fault(below, allow_large=allow_large, allow_underresolved=True)
     rung = fault_2d_family.rung_of("fault_2d", flat, time.process_time() - started)
     groups = strike_error.groups_of(loaded.fault)
-    model_error = strike_error.declared(groups["aspect_measured"], burial=groups["burial"])
+    model_error = strike_error.declared_for(loaded.fault)
     rungs.append(fault_2d_family.with_model_error(rung, model_error))
     started = time.process_time()
     full = simulate(loaded, allow_large=allow_large)
@@ -376,6 +436,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
                    label=f"{rung['name']}: its recurrence range holds the 3-D answer")
     report.add("aspect", groups["aspect_measured"], label="the weakening patch's length over its width (L / W)")
     report.add("burial", groups["burial"], label="the patch's top over its width")
+    report.add("width_over_nucleation", groups["width_over_nucleation"], label="the patch's width over h*")
     report.note("the 2-D rungs read the scene's middle column; the 2-D fault's range adds its declared model error "
                 "against 3-D at the patch's L / W and burial (benchmarks/fault_3d_model_error.py), and the one "
                 "slider's is calibrated against the 2-D fault")

@@ -39,7 +39,7 @@ def rupture_figure(run, title: str = ""):
             levels = np.arange(0.0, finite.max() + 2.0, 2.0)
             axes[0].contour(along, down, times.T, levels=levels, colors="white", linewidths=0.6)
         figure.colorbar(image, ax=axes[0], label="rupture time (s)")
-        axes[0].set(title=f"first event: slip rate reaches 1 mm/s (contours every 2 s)")
+        axes[0].set(title="first event: slip rate reaches 1 mm/s (contours every 2 s)")
         slip = fault.grid(np.asarray(run.events["slip"][-1], float))
         image = axes[1].imshow(slip.T, extent=extent, aspect="auto", cmap="magma_r", vmin=0.0)
         figure.colorbar(image, ax=axes[1], label="slip (m)")
