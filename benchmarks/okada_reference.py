@@ -13,10 +13,14 @@ from __future__ import annotations
 
 import importlib.metadata
 import json
-import platform
+import sys
 from pathlib import Path
 
 import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SHEAR_MODULUS = 3.2038e10
 POISSON_RATIO = 0.25
@@ -60,8 +64,7 @@ def main() -> None:
                         "one square of a vertical fault, Okada's DC3D (SI units, z up, the square's top edge at "
                         "dip_index h deep)",
                 "shear_modulus": SHEAR_MODULUS, "poisson_ratio": POISSON_RATIO, "element_size": ELEMENT,
-                "okada_wrapper": importlib.metadata.version("okada_wrapper"), "python": platform.python_version(),
-                "rows": rows}
+                "okada_wrapper": importlib.metadata.version("okada_wrapper"), "rows": rows, **stamp()}
     path = Path(__file__).resolve().parent.parent / "tests" / "data" / "okada_dc3d_reference.json"
     path.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
     print(f"{len(rows)} tractions written to {path}")
