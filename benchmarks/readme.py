@@ -9,6 +9,7 @@ machine and date of the run that produced it. Nothing here is typed by hand.
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
@@ -740,8 +741,8 @@ def fault_3d_model_error_table() -> str | None:
     result = _load("fault_3d_model_error.json")
     if result is None:
         return None
-    rows = ["| patch L / W (measured) | W | burial | 3-D: recurrence, slip | 2-D: recurrence, slip | model error |",
-            "| --- | --- | --- | --- | --- | --- |"]
+    rows = ["| patch L / W (measured) | W | burial | 3-D: recurrence, slip (sequence) | 2-D: recurrence, slip | "
+            "model error |", "| --- | --- | --- | --- | --- | --- |"]
     scale = result["scale"]
     for row in result["rows"] + result["held_out"]:
         held = " (held out)" if "declared" in row else ""
@@ -750,14 +751,21 @@ def fault_3d_model_error_table() -> str | None:
             error += (f" (declared {row['declared']:.1%})" if row["declared"] is not None
                       else " (declared: unbounded)")
         rows.append(f"| {row['aspect']:g} ({row['aspect_measured']:.2f}){held} | {row['height_m'] * scale / 1e3:g} km | "
-                    f"{row['burial']:.2f} | {row['fault_3d']['recurrence_yr'] * scale:.1f} yr, "
-                    f"{row['fault_3d']['mean_slip_m'] * scale:.2f} m | {row['fault_2d']['recurrence_yr'] * scale:.1f} "
-                    f"yr, {row['fault_2d']['mean_slip_m'] * scale:.2f} m | {error} |")
+                    f"{row['burial']:.2f} | " + (
+                        f"{row['fault_3d']['recurrence_yr'] * scale:.1f} yr, {row['fault_3d']['mean_slip_m'] * scale:.2f}"
+                        f" m ({row['fault_3d']['sequence']})" if math.isfinite(row['fault_3d']['recurrence_yr'])
+                        else "creeps after the first event" if row['fault_3d']['events'] <= 1
+                        else f"{row['fault_3d']['events']} events, too few system-size ones for a recurrence")
+                    + f" | {row['fault_2d']['recurrence_yr'] * scale:.1f} yr, "
+                    f"{row['fault_2d']['mean_slip_m'] * scale:.2f} m | {error} |")
     held = result["held_out"]
     return ("\n".join(rows) + f"\n\nLengths, recurrences and slips as BP5's (the runs, at 1/{scale:g} scale, times "
             f"{scale:g}). "
-            f"Declared: each measured error times {result['table']['margin']:g}; held-out faults within it: "
-            f"{sum(bool(r['covered']) for r in held)} of {len(held)}. " + _machine(result))
+            f"Declared: the bounding cells' error times {result['table']['margin']:g} "
+            "(faultslip.fault.strike_error). Held-out faults, drawn over the same box: "
+            f"{sum(bool(r['covered']) for r in held)} of {len(held)} within a declared bound, "
+            f"{sum(r['declared'] is None for r in held)} with none declared (no measured cell bounds them), "
+            f"{sum(r['declared'] is not None and not r['covered'] for r in held)} outside one. " + _machine(result))
 
 
 #: Pages whose generated tables update() writes (the README has none: it is a door).

@@ -299,17 +299,31 @@ def test_a_fault_periodic_along_strike_is_the_2d_fault():
     assert errors[1] < 2e-3 and errors[0] / errors[1] > 4.0
 
 
-def test_the_declared_resolution_error_holds_on_bp5_at_every_size():
-    """BP5-QD at 2000, 1000, 500 and 250 m (benchmarks/seas_bp5.py's saved runs): the family's declared error bounds
-    each size's interval against the finest and against tandem's, and the constants are the benchmark's fit,
-    rounded up."""
-    from faultslip.models.fault_3d.family import DISCRETISATION, discretisation_error
+def test_the_2d_rungs_model_error_is_bounded_by_shorter_narrower_shallower_cells():
+    from faultslip.fault.strike_error import declared
 
-    result = json.loads((ROOT / "benchmarks" / "results" / "seas_bp5.json").read_text(encoding="utf-8"))
-    fit = result["fit"]
-    assert DISCRETISATION["margin"] * DISCRETISATION["scale"] >= fit["margin"] * fit["scale"]
-    assert DISCRETISATION["order"] <= fit["order"] + 1e-9
-    for run in result["runs"]:
-        declared = discretisation_error(run["resolution"])
-        assert abs(run["interval_difference_from_finest"]) <= declared, run["element_size_m"]
-        assert abs(run["interval_difference_from_tandem"]) <= declared, run["element_size_m"]
+    rows = [{"aspect": 2.0, "burial": 0.1, "width_over_nucleation": 1.0, "model_error": 3.0},
+            {"aspect": 4.0, "burial": 0.1, "width_over_nucleation": 1.0, "model_error": 1.5},
+            {"aspect": 4.0, "burial": 0.3, "width_over_nucleation": 1.0, "model_error": 0.8},
+            {"aspect": 8.0, "burial": 0.1, "width_over_nucleation": 1.5, "model_error": None}]
+    assert declared(5.0, rows, 0.2, 1.2) == 1.5  # the nearest bounding aspect, its shallower cell only
+    assert declared(5.0, rows, 0.4, 1.2) == 1.5  # both cells at aspect 4 bound it: the larger
+    assert declared(3.0, rows, 0.2, 1.2) == 3.0
+    assert declared(1.5, rows, 0.2, 1.2) == math.inf  # shorter than every measured patch
+    assert declared(5.0, rows, 0.05, 1.2) == math.inf  # shallower than every measured patch
+    assert declared(9.0, rows, 0.2, 2.0) == math.inf  # its nearest bounding cell's 3-D patch crept
+
+
+def test_the_shipped_model_error_table_is_the_benchmarks_measurement_times_the_margin():
+    from faultslip.fault.strike_error import MARGIN, load_table
+
+    measured = json.loads((ROOT / "benchmarks" / "results" / "fault_3d_model_error.json").read_text(encoding="utf-8"))
+    shipped = load_table()
+    assert len(shipped["rows"]) == len(measured["rows"])
+    for row, cell in zip(shipped["rows"], measured["rows"]):
+        assert row["aspect"] == pytest.approx(cell["aspect_measured"])
+        assert (row["model_error"] is None) == (cell["model_error"] is None)
+        if cell["model_error"] is not None:
+            assert row["model_error"] == pytest.approx(MARGIN * cell["model_error"])
+    held = measured["held_out"]
+    assert not any(r["declared"] is not None and not r["covered"] for r in held)
