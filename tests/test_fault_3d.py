@@ -327,3 +327,11 @@ def test_the_shipped_model_error_table_is_the_benchmarks_measurement_times_the_m
             assert row["model_error"] == pytest.approx(MARGIN * cell["model_error"])
     held = measured["held_out"]
     assert not any(r["declared"] is not None and not r["covered"] for r in held)
+
+
+def test_an_event_under_way_at_the_start_starts_at_zero():
+    """BP5's nucleation patch slips at 1 cm/s from t = 0: the first event starts then, not before."""
+    scene = load_fault_3d_scene(SMALL)
+    scene.duration = 0.2 * YEAR
+    run = scene.run()
+    assert run.event_count >= 1 and run.events["start"][0] == 0.0

@@ -749,7 +749,8 @@ def run_cycles(fault: Fault2D, duration: float, *, rtol: float = 1e-8, stations=
             # the last accepted step: the event and profile records (every earlier step of a compiled call had none)
             previous_log_peak, log_peak = math.log(max(previous_peak, 1e-300)), math.log(max(peak, 1e-300))
             if not event["inside"] and peak > event_speed:
-                fraction = (log_threshold - previous_log_peak) / (log_peak - previous_log_peak)
+                # an event under way from t = 0 (a nucleation patch that starts fast, SEAS BP5) starts at 0
+                fraction = max(0.0, (log_threshold - previous_log_peak) / (log_peak - previous_log_peak))
                 event.update(inside=True, start=t_old + fraction * (t - t_old),
                              hypocentre=float(fault.depth[int(np.argmax(speed))]), peak=peak)
                 event_slip = y[:count].copy()

@@ -19,6 +19,9 @@ PROBLEM = "SEAS Benchmark BP5-QD"
 #: log10 of the slip rate written for the component the fixed rake leaves still.
 STILL = -20.0
 STATION_COLUMNS = ("t", "slip_2", "slip_3", "slip_rate_2", "slip_rate_3", "shear_stress_2", "shear_stress_3", "state")
+#: Each column as BP5's files name it, with its unit.
+COLUMN_LABELS = ("Time (s)", "Slip_2 (m)", "Slip_3 (m)", "Slip_rate_2 (log10 m/s)", "Slip_rate_3 (log10 m/s)",
+                 "Shear_stress_2 (MPa)", "Shear_stress_3 (MPa)", "State (log10 s)")
 
 
 def station_name(along: float, down: float) -> str:
@@ -40,7 +43,7 @@ def write_stations(run, folder: Path, version: str) -> list:
     recorder_positions = run.station_positions
     time = np.asarray(run.station_time, float)
     for k, (along, down) in enumerate(recorder_positions):
-        columns = [f"# Column #{i} = {name}" for i, name in enumerate(STATION_COLUMNS, start=1)]
+        columns = [f"# Column #{i} = {label}" for i, label in enumerate(COLUMN_LABELS, start=1)]
         text = _header(version, fault.element_size, [f"# location= on fault, {along / 1e3:g} km along strike, "
                                                      f"{down / 1e3:g} km down dip", *columns,
                                                      "# The line below lists the names of the data fields:",
