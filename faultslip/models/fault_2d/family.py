@@ -411,7 +411,8 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
         report.note(f"the fault dips {loaded.fault.dip:g} degrees: the 2-D rung is plane strain (SEAS BP3's "
                     "mechanics), and the antiplane rung's declared error adds its model error on dip-slip faults "
                     "(benchmarks/dip_model_error.py); the one slider's range is calibrated against the antiplane fault")
-    report.note("the 3-D rung joins this chart when it lands")
+    report.note("a fault finite along strike is a 3-D scene (family fault_3d, docs/fault_3d.md): model-error on it "
+                "adds the 3-D rung, and the 2-D fault's declared model error against it")
     return Result("fault_2d", report, figure=lambda: ladder_figure(rungs, report.title))
 
 
