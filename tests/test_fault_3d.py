@@ -44,8 +44,9 @@ def test_the_kernel_is_okadas_dc3d_to_1e_7_of_the_self_stress(slip):
         source, (offset, depth_index) = row["source"][1], row["observation"]
         tris = kernel.element_triangles(np.zeros(1), np.array([source * h]), h, 90.0)
         observation = kernel.centres(np.array([offset]), np.array([depth_index]), h, 90.0)
-        shear, _ = kernel.tractions(observation, tris, kernel._tdcs_slip(tris, kernel.slip_direction(rake, 90.0)),
-                                    90.0, rake, document["shear_modulus"], document["poisson_ratio"])
+        shear, _, _ = kernel.tractions(observation, tris,
+                                       kernel._tdcs_slip(tris, kernel.slip_direction(rake, 90.0)), 90.0, rake,
+                                       document["shear_modulus"], document["poisson_ratio"])
         mine.append(shear[0])
         okada.append(row["okada_stress"])
     mine, okada = np.array(mine), np.array(okada)
@@ -335,3 +336,23 @@ def test_an_event_under_way_at_the_start_starts_at_zero():
     scene.duration = 0.2 * YEAR
     run = scene.run()
     assert run.event_count >= 1 and run.events["start"][0] == 0.0
+
+
+@pytest.mark.parametrize("dip,rake", [(90.0, "strike"), (60.0, "thrust")])
+def test_the_cross_rake_traction_is_each_squares_own(dip, rake):
+    """The traction across the rake (what a second slip component would answer) of one square's slip equals that
+    square's dislocations evaluated at every centre; on a vertical strike-slip fault it is odd along strike."""
+    strike_count, dip_count, h = 7, 4, 1000.0
+    operator = kernel.StrikeConvolution(strike_count, dip_count, h, dip, rake, G, 0.25)
+    source = 3 * dip_count + 1  # square (3, 1): the middle column
+    slip = np.zeros(strike_count * dip_count)
+    slip[source] = 1.0
+    tris = kernel.element_triangles(np.array([3 * h]), np.array([1 * h]), h, dip)
+    index_strike, index_dip = np.divmod(np.arange(strike_count * dip_count), dip_count)
+    _, _, expected = kernel.tractions(kernel.centres(index_strike, index_dip, h, dip), tris,
+                                      kernel._tdcs_slip(tris, kernel.slip_direction(rake, dip)), dip, rake, G, 0.25)
+    cross = operator.cross(slip)
+    assert np.max(np.abs(cross - expected)) <= 1e-9 * np.max(np.abs(expected))
+    if dip == 90.0 and rake == "strike":
+        grid = cross.reshape(strike_count, dip_count)
+        assert np.allclose(grid[:3], -grid[4:][::-1], atol=1e-6 * np.max(np.abs(grid)))

@@ -121,6 +121,13 @@ def _result(loaded: Fault3DScene, run, settle_tolerance: float = SETTLE_TOLERANC
                    label="Mw of a system-size event")
     if summary["last"] is not None:
         report.add("hypocentre_depth", float(run.events["hypocentre_depth"][summary["last"]]), "m", also=("km",))
+    if summary["last"] is not None:  # what the fixed rake leaves out: the traction a second component would answer
+        operator = loaded.operator()
+        slip = np.asarray(run.events["slip"][summary["last"]], float)
+        along, across = np.max(np.abs(operator(slip))), np.max(np.abs(operator.cross(slip)))
+        report.add("cross_rake_traction_share", float(across / along) if along > 0 else None,
+                   label="largest traction across the rake over the largest along it, from the last system-size "
+                         "event's slip (the rake is held fixed: this traction drives no slip)")
     report.add("peak_slip_rate", float(np.max(run.events["peak_slip_rate"])) if run.event_count else
                float(np.max(run.profile_max_speed)), "m/s")
     discretisation = discretisation_error(resolution)

@@ -103,15 +103,25 @@ def _tdcs_slip(tris: np.ndarray, direction: np.ndarray) -> np.ndarray:
     return np.stack([strike @ direction, dip_axis @ direction, np.zeros(len(tris))], axis=1)
 
 
+def cross_direction(rake: str, dip: float) -> np.ndarray:
+    """The in-plane direction perpendicular to the slip (down dip for strike slip, along strike for dip slip): the
+    traction there would turn the rake, which is held fixed."""
+    _, _, normal = fault_axes(dip)
+    return np.cross(normal, slip_direction(rake, dip))
+
+
 def tractions(observation: np.ndarray, tris: np.ndarray, slips: np.ndarray, dip: float, rake: str,
-              shear_modulus: float, poisson_ratio: float) -> tuple[np.ndarray, np.ndarray]:
-    """(shear along the rake, normal stress change, compression positive) at ``observation`` (n, 3) from the
-    triangles ``tris`` with slips ``slips`` (k, 3, in the triangles' own axes), summed (Pa)."""
+              shear_modulus: float, poisson_ratio: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(shear along the rake, normal stress change, compression positive, shear across the rake,
+    :func:`cross_direction`) at ``observation`` (n, 3) from the triangles ``tris`` with slips ``slips`` (k, 3, in
+    the triangles' own axes), summed (Pa)."""
     halfspace = _cutde()
     _, _, normal = fault_axes(dip)
     direction = slip_direction(rake, dip)
+    across = cross_direction(rake, dip)
     lam = 2.0 * shear_modulus * poisson_ratio / (1.0 - 2.0 * poisson_ratio)
     shear, normal_change = np.empty(len(observation)), np.empty(len(observation))
+    cross = np.empty(len(observation))
     for start in range(0, len(observation), _CHUNK):
         chunk = slice(start, start + _CHUNK)
         strain = halfspace.strain_free(np.ascontiguousarray(observation[chunk]), tris, slips, poisson_ratio)
@@ -124,7 +134,8 @@ def tractions(observation: np.ndarray, tris: np.ndarray, slips: np.ndarray, dip:
                              xz * normal[0] + yz * normal[1] + zz * normal[2]], axis=1)
         shear[chunk] = traction @ direction
         normal_change[chunk] = -(traction @ normal)
-    return shear, normal_change
+        cross[chunk] = traction @ across
+    return shear, normal_change, cross
 
 
 def centres(strike_index, dip_index, element_size: float, dip: float) -> np.ndarray:
@@ -136,22 +147,23 @@ def centres(strike_index, dip_index, element_size: float, dip: float) -> np.ndar
 
 
 def _row_kernels(strike_count: int, dip_count: int, element_size: float, dip: float, rake: str,
-                 shear_modulus: float, poisson_ratio: float) -> tuple[np.ndarray, np.ndarray]:
-    """T[d, j, l] and its normal counterpart for offsets d = i - k from -(N_x - 1) to N_x - 1 (index d + N_x - 1):
-    the traction at element (k + d, j) from unit slip on element (k, l)."""
+                 shear_modulus: float, poisson_ratio: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """T[d, j, l], its normal and its cross-rake counterparts for offsets d = i - k from -(N_x - 1) to N_x - 1
+    (index d + N_x - 1): the traction at element (k + d, j) from unit slip on element (k, l)."""
     offsets = np.arange(-(strike_count - 1), strike_count)
     grid_offsets, grid_rows = np.meshgrid(offsets, np.arange(dip_count), indexing="ij")
     observation = centres(grid_offsets.ravel(), grid_rows.ravel(), element_size, dip)
     shear = np.empty((offsets.size, dip_count, dip_count))
-    normal = np.empty_like(shear)
+    normal, cross = np.empty_like(shear), np.empty_like(shear)
     direction = slip_direction(rake, dip)
     for row in range(dip_count):
         tris = element_triangles(np.zeros(1), np.array([row * element_size]), element_size, dip)
         slips = _tdcs_slip(tris, direction)
-        s, n = tractions(observation, tris, slips, dip, rake, shear_modulus, poisson_ratio)
+        s, n, c = tractions(observation, tris, slips, dip, rake, shear_modulus, poisson_ratio)
         shear[:, :, row] = s.reshape(offsets.size, dip_count)
         normal[:, :, row] = n.reshape(offsets.size, dip_count)
-    return shear, normal
+        cross[:, :, row] = c.reshape(offsets.size, dip_count)
+    return shear, normal, cross
 
 
 def dense_matrices(strike_count: int, dip_count: int, element_size: float, dip: float = 90.0, rake: str = "strike",
@@ -226,21 +238,22 @@ class StrikeConvolution:
         self.normal_changes = not (dip == 90.0 and rake == "strike")
         if periodic_images:
             reach = (2 * periodic_images + 1) * self.strike_count  # every offset the images need
-            shear, normal = _row_kernels(reach, self.dip_count, element_size, dip, rake, shear_modulus,
-                                         poisson_ratio)
+            kernels = _row_kernels(reach, self.dip_count, element_size, dip, rake, shear_modulus, poisson_ratio)
             centre = reach - 1
             offsets = np.arange(self.strike_count)[:, None] + self.strike_count * np.arange(
                 -periodic_images, periodic_images + 1)[None, :]
-            shear, normal = (kernel[centre + offsets].sum(axis=1) for kernel in (shear, normal))
+            shear, normal, cross = (kernel[centre + offsets].sum(axis=1) for kernel in kernels)
             self.length = self.strike_count  # the circular convolution is the periodic fault's own
             self.self_term = shear[0].diagonal().copy()
             self._spectra = [np.ascontiguousarray(np.fft.rfft(k, axis=0))
                              for k in ([shear, normal] if self.normal_changes else [shear])]
+            self._cross = np.ascontiguousarray(np.fft.rfft(cross, axis=0))
             return
-        shear, normal = _row_kernels(self.strike_count, self.dip_count, element_size, dip, rake, shear_modulus,
-                                     poisson_ratio)
+        shear, normal, cross = _row_kernels(self.strike_count, self.dip_count, element_size, dip, rake,
+                                            shear_modulus, poisson_ratio)
         self.length = 2 * self.strike_count  # circular convolution of length 2 N_x holds the linear one
         self._spectra = [self._spectrum(shear)] + ([self._spectrum(normal)] if self.normal_changes else [])
+        self._cross = self._spectrum(cross)
         self.self_term = shear[self.strike_count - 1].diagonal().copy()
 
     def _spectrum(self, kernel: np.ndarray) -> np.ndarray:
@@ -253,8 +266,15 @@ class StrikeConvolution:
 
     @property
     def nbytes(self) -> int:
-        """The operator's memory (bytes)."""
-        return sum(spectrum.nbytes for spectrum in self._spectra)
+        """The operator's memory (bytes): the product's spectra, and the cross-rake one (a run's diagnostic)."""
+        return sum(spectrum.nbytes for spectrum in self._spectra) + self._cross.nbytes
+
+    def cross(self, slip: np.ndarray) -> np.ndarray:
+        """The shear traction across the rake (:func:`cross_direction`) that ``slip`` causes (Pa): what a second
+        slip component would answer, which the fixed rake leaves out."""
+        transformed = np.fft.rfft(np.asarray(slip, float).reshape(self.strike_count, self.dip_count),
+                                  n=self.length, axis=0)
+        return self._apply(self._cross, transformed)
 
     def _apply(self, spectrum: np.ndarray, transformed: np.ndarray) -> np.ndarray:
         product = np.matmul(spectrum, transformed[:, :, None])[:, :, 0]

@@ -9,8 +9,8 @@ stress is K (delta - V_p t) as on the 2-D fault: slip at V_p over the whole plan
 
 The rake is held fixed (slip along strike, or up or down dip): the one slip component BP5's loading drives. BP5's
 participants solve two components; the second, down dip on a strike-slip fault, is driven only by the
-dislocations' dip-direction traction at the patch's edges (0.1-0.5 m of 30-60 m of strike slip over 1800 yr in
-their runs), and a run reports the largest dip-direction traction it would have felt (``dip_traction_share``).
+dislocations' traction across the rake near the patch's edges, and a run reports it against the traction along
+the rake (``cross_rake_traction_share``, from its last system-size event's slip).
 """
 
 from __future__ import annotations
