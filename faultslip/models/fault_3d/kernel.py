@@ -266,8 +266,9 @@ class StrikeConvolution:
 
     @property
     def nbytes(self) -> int:
-        """The operator's memory (bytes): the product's spectra, and the cross-rake one (a run's diagnostic)."""
-        return sum(spectrum.nbytes for spectrum in self._spectra) + self._cross.nbytes
+        """The product's memory (bytes): its spectra. The cross-rake spectrum (:meth:`cross`, a run's diagnostic)
+        holds as many again as the shear one."""
+        return sum(spectrum.nbytes for spectrum in self._spectra)
 
     def cross(self, slip: np.ndarray) -> np.ndarray:
         """The shear traction across the rake (:func:`cross_direction`) that ``slip`` causes (Pa): what a second
