@@ -38,8 +38,9 @@ def step_seconds(strike_count: int, dip_count: int) -> float:
 
 
 def operator_bytes(strike_count: int, dip_count: int, normal_changes: bool = False) -> float:
-    """The operator's spectra: (N_x + 1) complex N_z x N_z blocks, one more for the normal stress."""
-    return (2 if normal_changes else 1) * (strike_count + 1) * dip_count ** 2 * 16.0
+    """The operator's spectra: (N_x + 1) complex N_z x N_z blocks each, for the shear, the cross-rake diagnostic and,
+    on a fault whose normal stress changes, the normal stress."""
+    return (3 if normal_changes else 2) * (strike_count + 1) * dip_count ** 2 * 16.0
 
 
 def estimate(strike_count: int, dip_count: int, years: float, stations: int, output=None, *, events: float,
