@@ -119,16 +119,22 @@ def run_size(size: float, years: float) -> dict:
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", type=float, nargs="+", default=[2000.0, 1000.0, 500.0])
+    parser.add_argument("--sizes", type=float, nargs="+", default=[2000.0, 1000.0, 500.0, 250.0])
     parser.add_argument("--years", type=float, default=1800.0)
     parser.add_argument("--finest-years", type=float, default=600.0, help="the finest size's duration")
     parser.add_argument("--out", default=str(HERE / "results" / "seas_bp5.json"))
+    parser.add_argument("--reuse", help="an earlier results file: its runs of the same size and years are kept")
     args = parser.parse_args(argv)
     peer = tandem_station()
+    earlier = {}
+    if args.reuse and Path(args.reuse).is_file():
+        earlier = {(r["element_size_m"], r["years"]): r
+                   for r in json.loads(Path(args.reuse).read_text(encoding="utf-8"))["runs"]}
     runs = []
     finest_size = min(args.sizes)
     for size in args.sizes:
-        row = run_size(size, args.finest_years if size == finest_size and len(args.sizes) > 1 else args.years)
+        years = args.finest_years if size == finest_size and len(args.sizes) > 1 else args.years
+        row = earlier.get((size, years)) or run_size(size, years)
         arrivals = row["station_arrivals_yr"]
         if len(arrivals) >= 3:
             row["against_tandem"] = {
@@ -138,6 +144,8 @@ def main(argv=None) -> None:
                                                                           peer["event_slips_m"])]}
         runs.append(row)
         print(json.dumps({k: v for k, v in row.items() if not isinstance(v, list)}), flush=True)
+        partial = Path(args.out).with_suffix(".partial.json")  # each size's run kept as it ends (--reuse it)
+        partial.write_text(json.dumps({"peer": peer, "runs": runs, **stamp()}, indent=1) + "\n", encoding="utf-8")
     finest = min(runs, key=lambda r: r["element_size_m"])
     for row in runs:
         row["interval_difference_from_finest"] = row["last_interval_yr"] / finest["last_interval_yr"] - 1
@@ -156,6 +164,7 @@ def main(argv=None) -> None:
     result = {"peer": peer, "runs": runs, "station": list(STATION), "fit": fit}
     result.update(stamp())
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    Path(args.out).with_suffix(".partial.json").unlink(missing_ok=True)
     print(f"written {args.out}")
 
 
