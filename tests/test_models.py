@@ -23,6 +23,7 @@ SCENES = {
     "asperity": "asperity_seed004.toml",
     "rough_surface": "rough_surface_seed000.toml",
     "fault_2d": "fault_2d_small.toml",
+    "fault_3d": "fault_3d_small.toml",
     "spring_chain": "spring_chain_small.toml",
 }
 
