@@ -193,6 +193,35 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
                   extras={"run": run, "slip_rate_figure": lambda: slip_rate_figure(run)})
 
 
+def run_variables(run, space: str, event_extras: dict, along: str = "") -> dict:
+    """The variables every fault run records, for its Dataset: station series on (time, station), profiles and
+    friction on ``space`` (the elements' dimension), and the events (``event_extras`` after their slip); ``along``
+    names the slip's direction in the station series' long names (" along the rake")."""
+    units = {"slip": ("m", f"slip{along}"), "log10_slip_rate": ("1", "log10 of the slip rate in m/s"),
+             "shear_stress": ("Pa", f"shear stress{along} (frictional strength)"),
+             "log10_state": ("1", "log10 of the state theta in s")}
+    # a run with a folder hands its series over unread: xarray reads them when indexed, and write_dataset a block
+    # at a time
+    data = {f"station_{name}": (("time", "station"), lazy_data(values),
+                                {"units": units[name][0], "long_name": units[name][1]})
+            for name, values in run.stations.items()}
+    data["profile_slip"] = (("profile_time", space), lazy_data(run.profiles),
+                            {"units": "m", "long_name": "cumulative slip"})
+    data["profile_log10_slip_rate"] = (("profile_time", space), lazy_data(run.profile_log10_slip_rate),
+                                       {"units": "1", "long_name": "log10 of the slip rate in m/s"})
+    data["profile_max_slip_rate"] = ("profile_time", run.profile_max_speed, {"units": "m/s"})
+    data["event_start"] = ("event", run.events["start"], {"units": "s", "long_name": "peak slip rate above 1e-3 m/s"})
+    data["event_end"] = ("event", run.events["end"], {"units": "s"})
+    data["event_hypocentre_depth"] = ("event", run.events["hypocentre_depth"], {"units": "m"})
+    data["event_peak_slip_rate"] = ("event", run.events["peak_slip_rate"], {"units": "m/s"})
+    data["event_slip"] = (("event", space), run.events["slip"], {"units": "m", "long_name": "slip in the event"})
+    data.update(event_extras)
+    fault = run.fault
+    for key, unit in (("a", "1"), ("b", "1"), ("critical_slip", "m"), ("normal_stress", "Pa")):
+        data[key] = (space, getattr(fault, key), {"units": unit})
+    return data
+
+
 def to_dataset(loaded: Fault2DScene, run: Fault2DRun):
     """The run as CF netCDF: station series on (time, station), profiles on (profile_time, depth), events."""
     import xarray as xr  # heavy: imported where used
@@ -202,30 +231,9 @@ def to_dataset(loaded: Fault2DScene, run: Fault2DRun):
     depth = ("depth", run.fault.depth, {"units": "m", "long_name": f"{along} the element centre", "positive": "down"})
     station = ("station", run.station_depths, {"units": "m", "long_name": f"station {'distance down dip' if strain else 'depth'}",
                                                "positive": "down"})
-    units = {"slip": ("m", "slip"), "log10_slip_rate": ("1", "log10 of the slip rate in m/s"),
-             "shear_stress": ("Pa", "shear stress (frictional strength)"),
-             "log10_state": ("1", "log10 of the state theta in s")}
-    # a run with a folder hands its series over unread: xarray reads them when indexed, and write_dataset a block
-    # at a time
-    data = {f"station_{name}": (("time", "station"), lazy_data(values),
-                                {"units": units[name][0], "long_name": units[name][1]})
-            for name, values in run.stations.items()}
-    data["profile_slip"] = (("profile_time", "depth"), lazy_data(run.profiles),
-                            {"units": "m", "long_name": "cumulative slip"})
-    data["profile_log10_slip_rate"] = (("profile_time", "depth"), lazy_data(run.profile_log10_slip_rate),
-                                       {"units": "1", "long_name": "log10 of the slip rate in m/s"})
-    data["profile_max_slip_rate"] = ("profile_time", run.profile_max_speed, {"units": "m/s"})
-    data["event_start"] = ("event", run.events["start"], {"units": "s", "long_name": "peak slip rate above 1e-3 m/s"})
-    data["event_end"] = ("event", run.events["end"], {"units": "s"})
-    data["event_hypocentre_depth"] = ("event", run.events["hypocentre_depth"], {"units": "m"})
-    data["event_peak_slip_rate"] = ("event", run.events["peak_slip_rate"], {"units": "m/s"})
-    data["event_slip"] = (("event", "depth"), run.events["slip"], {"units": "m", "long_name": "slip in the event"})
-    data["event_moment_per_length"] = ("event", run.moments_per_length(), {"units": "N", "long_name": "seismic moment per metre"})
+    data = run_variables(run, "depth", {"event_moment_per_length": (
+        "event", run.moments_per_length(), {"units": "N", "long_name": "seismic moment per metre"})})
     fault = run.fault
-    data["a"] = ("depth", fault.a, {"units": "1"})
-    data["b"] = ("depth", fault.b, {"units": "1"})
-    data["critical_slip"] = ("depth", fault.critical_slip, {"units": "m"})
-    data["normal_stress"] = ("depth", fault.normal_stress, {"units": "Pa"})
     coords = {"time": ("time", run.station_time, ELAPSED_TIME_ATTRS), "station": station, "depth": depth,
               "profile_time": ("profile_time", run.profile_time, ELAPSED_TIME_ATTRS),
               "event": ("event", np.arange(run.event_count), {"units": "1", "long_name": "event number"})}

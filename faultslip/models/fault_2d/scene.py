@@ -360,6 +360,25 @@ def build_fault(settings: dict, element_size: float, name: str) -> Fault2D:
                    poisson_ratio=settings.get("poisson_ratio", 0.25))
 
 
+def require_keys(data: dict, required, source: str) -> None:
+    """One sentence for the first of ``required`` ((table, keys) pairs) that a fault scene lacks."""
+    for table, keys in required:
+        for key in keys:
+            if key not in data.get(table, {}):
+                raise InputError(f"[{table}] {key} is missing in {source}")
+
+
+def elasticity(fault: dict, source: str) -> tuple[float, float]:
+    """A fault scene's (shear-wave speed, shear modulus) in SI from its [fault] table: the modulus given, or
+    G = rho c_s^2 from the density."""
+    speed = to_si_scalar(fault["shear_wave_speed"], "speed", f"[fault] shear_wave_speed in {source}")
+    if "shear_modulus" in fault:
+        return speed, to_si_scalar(fault["shear_modulus"], "pressure", f"[fault] shear_modulus in {source}")
+    if "density" in fault:
+        return speed, to_si_scalar(fault["density"], "density", f"[fault] density in {source}") * speed ** 2
+    raise InputError(f"[fault] in {source} needs shear_modulus or density (G = rho c_s^2)")
+
+
 def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool = False) -> Fault2DScene:
     data = parse_toml(text, source)
     check_toml_layout(data, {"fault": _FAULT, "friction": _FRICTION, "initial": _INITIAL, "run": _RUN,
@@ -368,19 +387,10 @@ def parse_fault_2d_scene(text: str, source: str = "<scene>", allow_large: bool =
         raise InputError(f"{source} declares family {data.get('family')!r}; a 2-D fault scene is family = \"fault_2d\"")
     fault, friction = data.get("fault", {}), data.get("friction", {})
     initial, run = data.get("initial", {}), data.get("run", {})
-    for table, keys in (("fault", ("width", "element_size", "plate_rate", "shear_wave_speed")),
+    require_keys(data, (("fault", ("width", "element_size", "plate_rate", "shear_wave_speed")),
                         ("friction", ("a", "b", "critical_slip", "normal_stress", "reference_speed",
-                                      "reference_friction")), ("run", ("duration",))):
-        for key in keys:
-            if key not in data.get(table, {}):
-                raise InputError(f"[{table}] {key} is missing in {source}")
-    speed = to_si_scalar(fault["shear_wave_speed"], "speed", f"[fault] shear_wave_speed in {source}")
-    if "shear_modulus" in fault:
-        modulus = to_si_scalar(fault["shear_modulus"], "pressure", f"[fault] shear_modulus in {source}")
-    elif "density" in fault:
-        modulus = to_si_scalar(fault["density"], "density", f"[fault] density in {source}") * speed ** 2
-    else:
-        raise InputError(f"[fault] in {source} needs shear_modulus or density (G = rho c_s^2)")
+                                      "reference_friction")), ("run", ("duration",))), source)
+    speed, modulus = elasticity(fault, source)
     settings = {
         "width": to_si_scalar(fault["width"], "length", f"[fault] width in {source}"),
         "shear_modulus": modulus, "shear_wave_speed": speed,

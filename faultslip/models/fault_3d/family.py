@@ -20,7 +20,6 @@ from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import output_lock, prepare_run_folder
-from faultslip.io.records import lazy_data
 from faultslip.io.report import Report
 from faultslip.models.common import note_origin
 from faultslip.fault import strike_error
@@ -164,25 +163,8 @@ def to_dataset(loaded: Fault3DScene, run):
     import xarray as xr  # heavy: imported where used
 
     fault = run.fault
-    units = {"slip": ("m", "slip along the rake"), "log10_slip_rate": ("1", "log10 of the slip rate in m/s"),
-             "shear_stress": ("Pa", "shear stress along the rake (frictional strength)"),
-             "log10_state": ("1", "log10 of the state theta in s")}
-    data = {f"station_{name}": (("time", "station"), lazy_data(values),
-                                {"units": units[name][0], "long_name": units[name][1]})
-            for name, values in run.stations.items()}
-    data["profile_slip"] = (("profile_time", "element"), lazy_data(run.profiles),
-                            {"units": "m", "long_name": "cumulative slip"})
-    data["profile_log10_slip_rate"] = (("profile_time", "element"), lazy_data(run.profile_log10_slip_rate),
-                                       {"units": "1", "long_name": "log10 of the slip rate in m/s"})
-    data["profile_max_slip_rate"] = ("profile_time", run.profile_max_speed, {"units": "m/s"})
-    data["event_start"] = ("event", run.events["start"], {"units": "s", "long_name": "peak slip rate above 1e-3 m/s"})
-    data["event_end"] = ("event", run.events["end"], {"units": "s"})
-    data["event_hypocentre_depth"] = ("event", run.events["hypocentre_depth"], {"units": "m"})
-    data["event_peak_slip_rate"] = ("event", run.events["peak_slip_rate"], {"units": "m/s"})
-    data["event_slip"] = (("event", "element"), run.events["slip"], {"units": "m", "long_name": "slip in the event"})
-    data["event_moment"] = ("event", moments(run), {"units": "N m", "long_name": "seismic moment"})
-    for key, unit in (("a", "1"), ("b", "1"), ("critical_slip", "m"), ("normal_stress", "Pa")):
-        data[key] = ("element", getattr(fault, key), {"units": unit})
+    data = fault_2d_family.run_variables(run, "element", {"event_moment": (
+        "event", moments(run), {"units": "N m", "long_name": "seismic moment"})}, along=" along the rake")
     positions = np.asarray(run.station_positions, float)
     coords = {"time": ("time", run.station_time, ELAPSED_TIME_ATTRS),
               "station": ("station", np.arange(positions.shape[0]), {"units": "1", "long_name": "station number"}),

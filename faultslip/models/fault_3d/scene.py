@@ -56,6 +56,7 @@ from faultslip.io import budget
 from faultslip.io.resources import check_toml_layout, parse_toml, read_text_file, resolve_path
 from faultslip.models.fault_2d.integrate import YEAR, OverBudget, run_cycles
 from faultslip.models.fault_2d.model import Fault2D
+from faultslip.models.fault_2d.scene import elasticity, require_keys
 from faultslip.models.fault_3d import cost
 from faultslip.models.fault_3d.kernel import RAKES, StrikeConvolution
 from faultslip.models.fault_3d.model import Fault3D, StationGrid, bp5_initial_conditions
@@ -300,19 +301,10 @@ def parse_fault_3d_scene(text: str, source: str = "<scene>", allow_large: bool =
         raise InputError(f"{source} declares family {data.get('family')!r}; a 3-D fault scene is family = \"fault_3d\"")
     fault, friction = _table(data, "fault", _FAULT, source), _table(data, "friction", _FRICTION, source)
     initial, run = _table(data, "initial", set(), source), _table(data, "run", _RUN, source)
-    for table, keys in (("fault", ("width", "length", "element_size", "plate_rate", "shear_wave_speed")),
+    require_keys(data, (("fault", ("width", "length", "element_size", "plate_rate", "shear_wave_speed")),
                         ("friction", ("a", "b", "critical_slip", "normal_stress", "reference_speed",
-                                      "reference_friction")), ("run", ("duration",))):
-        for key in keys:
-            if key not in data.get(table, {}):
-                raise InputError(f"[{table}] {key} is missing in {source}")
-    speed = to_si_scalar(fault["shear_wave_speed"], "speed", f"[fault] shear_wave_speed in {source}")
-    if "shear_modulus" in fault:
-        modulus = to_si_scalar(fault["shear_modulus"], "pressure", f"[fault] shear_modulus in {source}")
-    elif "density" in fault:
-        modulus = to_si_scalar(fault["density"], "density", f"[fault] density in {source}") * speed ** 2
-    else:
-        raise InputError(f"[fault] in {source} needs shear_modulus or density (G = rho c_s^2)")
+                                      "reference_friction")), ("run", ("duration",))), source)
+    speed, modulus = elasticity(fault, source)
     rake = fault.get("rake", "strike")
     if rake not in RAKES:
         raise InputError(f"[fault] rake in {source} must be one of {', '.join(RAKES)}, got {rake!r}")
