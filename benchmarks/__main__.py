@@ -57,7 +57,8 @@ PRODUCERS = (
     ("engine_branches", [], [], "engine_branches.json"),
     ("fault_3d_operator", [], ["--quick"], "fault_3d_operator.json"),
     ("fault_3d_model_error", [], ["--quick"], "fault_3d_model_error.json"),
-    ("seas_bp5", [], ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),
+    ("seas_bp5", ["--sizes", "2000", "1000", "500", "--finest-years", "1800"],
+     ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),
 )
 #: Peer codes a benchmark needs, by the flag that gives it.
 PEERS = {"fault_2d_qdyn": "--qdyn", "spring_block_qdyn": "--qdyn", "look_against_pylook": "--pylook-python",
