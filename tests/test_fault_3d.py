@@ -356,3 +356,56 @@ def test_the_cross_rake_traction_is_each_squares_own(dip, rake):
     if dip == 90.0 and rake == "strike":
         grid = cross.reshape(strike_count, dip_count)
         assert np.allclose(grid[:3], -grid[4:][::-1], atol=1e-6 * np.max(np.abs(grid)))
+
+
+def test_the_declared_resolution_error_holds_on_bp5_at_every_size():
+    """BP5-QD at 2000, 1000 and 500 m (benchmarks/seas_bp5.py's saved runs): the family's declared error bounds
+    each size's interval against the finest and against tandem's, and the constants are the benchmark's fit,
+    rounded up."""
+    from faultslip.models.fault_3d.family import DISCRETISATION, discretisation_error
+
+    result = json.loads((ROOT / "benchmarks" / "results" / "seas_bp5.json").read_text(encoding="utf-8"))
+    fit = result["fit"]
+    assert DISCRETISATION["margin"] * DISCRETISATION["scale"] >= fit["margin"] * fit["scale"]
+    assert DISCRETISATION["order"] <= fit["order"] + 1e-9
+    for run in result["runs"]:
+        declared = discretisation_error(run["resolution"])
+        assert abs(run["interval_difference_from_finest"]) <= declared, run["element_size_m"]
+        assert abs(run["interval_difference_from_tandem"]) <= declared, run["element_size_m"]
+
+
+def test_the_cost_model_is_the_bp5_runs_fit_and_estimates_each_within_2x():
+    """The cost model's per-step seconds are the non-negative least squares of BP5's runs' CPU per step on
+    (1, N, N_x N_z^2), its steps per event their fit in N_z (benchmarks/seas_bp5.py's saved runs), and each run's
+    estimate, made before it starts as a user's is, lies within 2x of the CPU it used and not below it."""
+    from scipy.optimize import nnls
+
+    from faultslip.models.fault_3d import cost
+
+    result = json.loads((ROOT / "benchmarks" / "results" / "seas_bp5.json").read_text(encoding="utf-8"))
+    rows = [(round(100e3 / run["element_size_m"]), round(40e3 / run["element_size_m"]), run)
+            for run in result["runs"]]
+    design = np.array([[1.0, nx * nz, nx * nz ** 2] for nx, nz, _ in rows])
+    per_step = np.array([run["cpu_s"] / run["steps"] for _, _, run in rows])
+    fitted, _ = nnls(design / per_step[:, None], np.ones(len(rows)))  # relative least squares
+    assert np.allclose(cost.FAULT_3D_STEP_SECONDS, fitted, rtol=0.01, atol=1e-12)
+    per_event = np.array([run["steps"] / len(run["event_starts_yr"]) for _, _, run in rows])
+    slope, intercept = np.polyfit(np.log(np.array([nz for _, nz, _ in rows]) / 20.0), np.log(per_event), 1)
+    assert cost.FAULT_3D_STEPS["dip_rows"] == pytest.approx(slope, rel=0.01)
+    assert cost.FAULT_3D_STEPS["scale"] == pytest.approx(math.exp(intercept), rel=0.01)
+    for _, _, run in rows:
+        scene = load_fault_3d_scene(ROOT / "configs" / "seas_bp5.toml", allow_large=True).at_element_size(
+            run["element_size_m"])
+        scene.duration = run["years"] * YEAR
+        assert 1.0 <= scene.estimate().seconds / run["cpu_s"] <= 2.0, run["element_size_m"]
+
+def test_the_assembly_cost_is_the_operator_benchmarks():
+    """Seconds per (triangle, observation) pair: the median over the operator benchmark's assemblies of 4,000
+    squares or more (benchmarks/fault_3d_operator.py), within 10 %."""
+    from faultslip.models.fault_3d import cost
+
+    result = json.loads((ROOT / "benchmarks" / "results" / "fault_3d_operator.json").read_text(encoding="utf-8"))
+    per_pair = [row["assembly_s"] / (3 * (2 * row["strike"] - 1) * row["dip"] ** 2)
+                for family in result["families"].values() for row in family["rows"] if row["elements"] >= 4000]
+    assert cost.FAULT_3D_PAIR_SECONDS == pytest.approx(float(np.median(per_pair)), rel=0.1)
+    assert result["largest_relative_error"] <= 1e-12  # the FFT product is exact (issue: <= 1e-6 asked)

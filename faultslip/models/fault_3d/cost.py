@@ -1,8 +1,9 @@
 """The 3-D fault's cost model: its steps from the events a run will see and its squares' size, each step's CPU from
 the operator's shape, and the memory of the operator and the records; the family declares it.
 
-Fitted by ``benchmarks/fault_3d_cost.py`` on SEAS BP5-QD at 2000, 1000 and 500 m (rtol 1e-6, 1800 yr) and on
-shorter faults; ``tests/test_fault_3d.py`` refits it from the benchmark's saved runs.
+Fitted on the runs ``benchmarks/seas_bp5.py`` saves (SEAS BP5-QD at 2000 to 250 m, rtol 1e-6) and, for the
+operator's assembly, on ``benchmarks/fault_3d_operator.py``'s; ``tests/test_fault_3d.py`` refits both from those
+results files and holds each run's estimate within 2x of the CPU it used.
 """
 
 from __future__ import annotations
@@ -10,12 +11,17 @@ from __future__ import annotations
 from faultslip.fault.ladder import expected_recurrence as one_slider_recurrence
 from faultslip.io.budget import Estimate
 
-#: Steps per system-size event: scale (N_z / 20)^dip_rows (rtol / 1e-6)^rtol_power, times a margin so that the
-#: estimate errs long (benchmarks/fault_3d_cost.py).
-FAULT_3D_STEPS = {"scale": 700.0, "dip_rows": 0.75, "rtol": -0.2, "margin": 2.0}
+#: Steps per system-size event: scale (N_z / 20)^dip_rows (rtol / 1e-6)^rtol, times a margin so that the estimate
+#: errs long; scale and dip_rows fitted on BP5's runs (benchmarks/seas_bp5.py), the rtol power the 2-D fault's
+#: (FAULT_2D_STEPS, -0.18), not measured on the 3-D fault.
+FAULT_3D_STEPS = {"scale": 663.6, "dip_rows": 0.851, "rtol": -0.18, "margin": 1.2}
 #: CPU seconds per Dormand-Prince step: c0 + c1 N + c2 N_x N_z^2 (the element-wise work, and the per-frequency
-#: N_z x N_z products of the FFT along strike).
-FAULT_3D_STEP_SECONDS = (5.0e-4, 4.0e-7, 4.0e-9)
+#: N_z x N_z products of the FFT along strike): non-negative least squares, relative, over BP5's runs at 2000, 1000
+#: and 500 m (within 0.76-1.19x of each; the element-wise term fits to zero beside the products).
+FAULT_3D_STEP_SECONDS = (5.806e-4, 0.0, 2.674e-8)
+#: CPU seconds per (triangle, observation point) pair of the half-space strain (cutde on one thread: its OpenMP
+#: runtime is held to one, kernel._cutde), from the operator benchmark's assembly times.
+FAULT_3D_PAIR_SECONDS = 8.1e-6
 
 
 def expected_recurrence(fault) -> float:
@@ -29,6 +35,12 @@ def steps(dip_count: int, events: float, rtol: float) -> float:
     model = FAULT_3D_STEPS
     return (model["margin"] * model["scale"] * max(events, 1.0) * (dip_count / 20.0) ** model["dip_rows"]
             * (rtol / 1e-6) ** model["rtol"])
+
+
+def assembly_seconds(strike_count: int, dip_count: int) -> float:
+    """CPU seconds to assemble the operator: every strike offset's dislocations, three triangles a square, at
+    :data:`FAULT_3D_PAIR_SECONDS` a (source triangle, observation point) pair."""
+    return 3.0 * (2 * strike_count - 1) * dip_count ** 2 * FAULT_3D_PAIR_SECONDS
 
 
 def step_seconds(strike_count: int, dip_count: int) -> float:
@@ -50,7 +62,7 @@ def estimate(strike_count: int, dip_count: int, years: float, stations: int, out
     elements = strike_count * dip_count
     return Estimate(what=f"a 3-D fault run of {strike_count} x {dip_count} squares over {years:.4g} yr (about "
                          f"{count:.3g} steps)",
-                    seconds=count * step_seconds(strike_count, dip_count),
+                    seconds=count * step_seconds(strike_count, dip_count) + assembly_seconds(strike_count, dip_count),
                     memory=operator_bytes(strike_count, dip_count) + count * (1 + 4 * stations) * 8.0 * 2
                     + 40 * elements * 8.0,
                     disk=count * stations * 100.0 + (years / 5 + 200 * max(events, 1.0)) * elements * 16.0

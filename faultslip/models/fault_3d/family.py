@@ -35,10 +35,11 @@ from faultslip.units import ELAPSED_TIME_ATTRS
 
 #: Relative spread of the last intervals within which a sequence is called settled (periodic): the 2-D fault's.
 SETTLE_TOLERANCE = 1e-3
-#: The element size's error in recurrence, declared from SEAS BP5-QD at 2000, 1000 and 500 m
-#: (benchmarks/fault_3d_resolution.py): |T(h) - T(500 m)| / T(500 m) against squares per L_b, as a bound
-#: c (L_b / h)^-p fitted with a margin of 2 over the measured points; below MIN_RESOLUTION squares per L_b none.
-DISCRETISATION = {"scale": 0.05, "order": 1.0, "margin": 2.0}
+#: The element size's error in recurrence, declared from SEAS BP5-QD at 2000, 1000 and 500 m (benchmarks/seas_bp5.py):
+#: |T(h) - T(500 m)| / T(500 m) at 2000 and 1000 m fitted as c r^-p, r the squares per L_b (c 0.0386, p 0.771,
+#: rounded outward), times a margin of 2; it holds at every size against the finest run and against tandem's
+#: published interval (tests/test_fault_3d.py). Below MIN_RESOLUTION squares per L_b none is declared.
+DISCRETISATION = {"scale": 0.0387, "order": 0.77, "margin": 2.0}
 MIN_RESOLUTION = 2.0
 #: A system-size event releases at least this share of the largest event's moment.
 SYSTEM_SHARE = 0.5
