@@ -269,6 +269,14 @@ def _combined(*errors) -> float | None:
     return total - 1.0
 
 
+def truth_range(value: float, error: float | None):
+    """Where the truth lies for an answer ``value`` declared within ``error`` of it (|value / truth - 1| <= error):
+    [value / (1 + e), value / (1 - e)]; None where nothing is declared or e >= 1 (no upper bound)."""
+    if error is None or not math.isfinite(error) or error >= 1.0:
+        return None
+    return [value / (1.0 + error), value / (1.0 - error)]
+
+
 def _put(result: Result, key: str, value, units) -> None:
     if key in result:
         result.set(key, value)
@@ -290,7 +298,7 @@ def _lower_rung(loaded: Fault3DScene, name: str, allow_large: bool, reason: str)
                                  ("mean_slip_per_event", "slip_per_event_range", "m")):
         if key in result and result.values[key] is not None:
             value = float(result.values[key].to(unit).magnitude)
-            _put(result, range_key, None if total is None else [value * (1 - total), value * (1 + total)], unit)
+            _put(result, range_key, truth_range(value, total), unit)
     result.note(f"{name} of the 3-D scene's middle column (L / W {groups['aspect_measured']:.3g}, burial "
                 f"{groups['burial']:.2g}): its declared error compounds the 2-D fault's model error against 3-D, "
                 + (f"{model_error:.1%}" if math.isfinite(model_error) else "unbounded here (outside the measured "
@@ -384,13 +392,15 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     below = two_d_scene(loaded)
     rungs = []
     started = time.process_time()
-    rungs.append(fault_2d_family.rung_of("one_slider", fault_2d_family.one_slider(below), time.process_time() - started))
+    cheap = _lower_rung(loaded, "one_slider", allow_large, "the cheapest rung")  # its range compounds both errors
+    rungs.append(fault_2d_family.rung_of("one_slider", cheap, time.process_time() - started))
     started = time.process_time()
     flat = fault_2d_family.simulate_fault(below, allow_large=allow_large, allow_underresolved=True)
     rung = fault_2d_family.rung_of("fault_2d", flat, time.process_time() - started)
     groups = strike_error.groups_of(loaded.fault)
-    model_error = strike_error.declared_for(loaded.fault)
-    rungs.append(fault_2d_family.with_model_error(rung, model_error))
+    total = _combined(rung["error"], strike_error.declared_for(loaded.fault))
+    rungs.append({**rung, "error": total, "recurrence_range": truth_range(rung["recurrence"], total),
+                  "slip_range": truth_range(rung["slip"], total)})
     started = time.process_time()
     full = simulate(loaded, allow_large=allow_large)
     values = full.values
@@ -398,9 +408,8 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     recurrence = float(values["recurrence_interval"].to("s").magnitude)
     slip = float(values["slip_per_event"].to("m").magnitude)
     rungs.append({"name": "fault_3d", "cpu_time": time.process_time() - started, "recurrence": recurrence,
-                  "recurrence_range": None if error is None else (recurrence * (1 - error), recurrence * (1 + error)),
-                  "slip": slip, "slip_range": None if error is None else (slip * (1 - error), slip * (1 + error)),
-                  "error": error})
+                  "recurrence_range": truth_range(recurrence, error), "slip": slip,
+                  "slip_range": truth_range(slip, error), "error": error})
     report = Report(f"faultslip model error: the ladder on {loaded.name}")
     for rung in rungs:
         name = rung["name"]
@@ -427,9 +436,9 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     report.add("aspect", groups["aspect_measured"], label="the weakening patch's length over its width (L / W)")
     report.add("burial", groups["burial"], label="the patch's top over its width")
     report.add("width_over_nucleation", groups["width_over_nucleation"], label="the patch's width over h*")
-    report.note("the 2-D rungs read the scene's middle column; the 2-D fault's range adds its declared model error "
-                "against 3-D at the patch's L / W and burial (benchmarks/fault_3d_model_error.py), and the one "
-                "slider's is calibrated against the 2-D fault")
+    report.note("the 2-D rungs read the scene's middle column; their ranges add the 2-D fault's declared model "
+                "error against 3-D at the patch's L / W, W / h* and burial (benchmarks/fault_3d_model_error.py) to "
+                "their own (the one slider's calibrated against the 2-D fault)")
     return Result("fault_3d", report, figure=lambda: ladder_figure(rungs, report.title))
 
 
