@@ -75,5 +75,6 @@ def describe() -> str:
     model = FAULT_3D_STEPS
     return (f"steps ~ {model['margin'] * model['scale']:g} per event (N_z / 20)^{model['dip_rows']:g} "
             f"(rtol / 1e-6)^{model['rtol']:g}; each {c0:.2g} + {c1:.2g} N + {c2:.2g} N_x N_z^2 s of CPU "
-            f"(FFT along strike, dense down dip); memory (N_x + 1) N_z^2 x 16 B")
+            f"(FFT along strike, dense down dip), and the assembly {FAULT_3D_PAIR_SECONDS:.2g} s a dislocation pair; "
+            "memory (N_x + 1) N_z^2 x 16 B a spectrum (two; three where the normal stress changes)")
 
