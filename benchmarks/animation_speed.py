@@ -30,7 +30,7 @@ matplotlib.use("Agg")
 from matplotlib.animation import PillowWriter  # noqa: E402
 
 from faultslip.dynamics.spring_slider.simulate import simulate  # noqa: E402
-from faultslip.fault.scene import load_scene  # noqa: E402
+from faultslip.fault.scene import read_slider_scene  # noqa: E402
 from faultslip.plots.animation import animation, save_gif  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
@@ -51,7 +51,7 @@ def main(argv=None):
     parser.add_argument("--frames", type=int, default=60)
     parser.add_argument("--pairs", type=int, default=3)
     args = parser.parse_args(argv)
-    dataset = simulate(load_scene("san_andreas_1906.toml").slider(), cycles=2)
+    dataset = simulate(read_slider_scene("san_andreas_1906.toml").slider(), cycles=2)
     times = {"faultslip": [], "matplotlib": []}
     with tempfile.TemporaryDirectory() as folder:
         for pair in range(args.pairs):

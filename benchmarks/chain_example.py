@@ -3,7 +3,7 @@
     python benchmarks/chain_example.py
 
 Runs configs/spring_chain.toml as ``faultslip run`` does, and the predictability of its events
-(:func:`faultslip.predictability` on every event's start and total slip, as the classroom's chain tab does).
+(:func:`faultslip.hazard.predictability` on every event's start and total slip, as the classroom's chain tab does).
 Writes benchmarks/results/chain_example.json; benchmarks/readme.py renders it.
 """
 
@@ -27,7 +27,7 @@ def main() -> int:
     values = result.values
     catalogue = faultslip.simulate("spring_chain.toml").to_xarray()
     starts = np.asarray(catalogue["event_start"].values, float)
-    predict = faultslip.predictability(starts, np.asarray(catalogue["total_slip"].values, float))
+    predict = faultslip.hazard.predictability(starts, np.asarray(catalogue["total_slip"].values, float))
     document = {
         "scene": "configs/spring_chain.toml", "blocks": values["blocks"], "events": values["events"],
         "magnitude_range": [values["magnitude_min"], values["magnitude_max"]],

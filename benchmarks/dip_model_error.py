@@ -33,7 +33,7 @@ from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 from faultslip.fault.dip_error import MARGIN, declared  # noqa: E402
 from faultslip.fault.ladder import groups  # noqa: E402
 
@@ -113,7 +113,7 @@ def main(argv=None) -> int:
         for row in earlier.get("rows", []) + earlier.get("held_out", []):
             row = {"element_size_m": args.element_size, "years": args.years, **row}
             reuse[_key(row)] = row
-    base = load_fault_2d_scene(ROOT / "configs" / "seas_bp3_thrust60.toml")
+    base = read_fault_2d_scene(ROOT / "configs" / "seas_bp3_thrust60.toml")
     rows = []
     for critical_slip, dips in CALIBRATION:
         for dip in dips:

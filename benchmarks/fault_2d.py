@@ -28,14 +28,14 @@ sys.path.insert(0, str(ROOT))
 
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR, run_cycles  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SCENE = ROOT / "configs" / "seas_bp1.toml"
 
 
 def one(size: float, years: float, rtol: float) -> dict:
-    scene = load_fault_2d_scene(SCENE).at_element_size(size)
+    scene = read_fault_2d_scene(SCENE).at_element_size(size)
     run = run_cycles(scene.fault, years * YEAR, rtol=rtol, stations=scene.stations, kernel="auto")
     summary = summarise(run, tolerance=1e-3)
     row = {"element_size_m": size, "elements": scene.fault.count, "years": years, "rtol": rtol,

@@ -28,7 +28,7 @@ sys.path.insert(0, str(ROOT))
 
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SCENE = ROOT / "configs" / "seas_bp1_period3.toml"
@@ -42,7 +42,7 @@ def aligned(intervals) -> list[float]:
 
 
 def measure(element_size: float, years: float) -> dict:
-    scene = load_fault_2d_scene(SCENE).at_element_size(element_size)
+    scene = read_fault_2d_scene(SCENE).at_element_size(element_size)
     scene.duration = years * YEAR
     started = time.perf_counter()
     run = scene.run()

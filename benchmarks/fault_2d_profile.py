@@ -39,7 +39,7 @@ import numpy as np  # noqa: E402
 
 from faultslip.constants import JULIAN_YEAR  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 WIDTH = 40e3
@@ -140,7 +140,7 @@ def parts_alone(fault, run, rtol: float) -> dict:
 
 
 def profile(elements: int, years: float, rtol: float) -> dict:
-    scene = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(WIDTH / elements)
+    scene = read_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(WIDTH / elements)
     fault = scene.fault
     run_cycles(fault, 0.01 * JULIAN_YEAR, rtol=rtol)  # compiled (or loaded from numba's cache) before any timing
     with tempfile.TemporaryDirectory() as folder:

@@ -67,7 +67,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 from peer_runs import COMMON_GRID, interleaved, measured, medians  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
@@ -192,7 +192,7 @@ def qdyn_prepare(qdyn: Path, elements: int, years: float, accuracy: float, solve
     folder = work / f"qdyn_{elements}_{years:g}_{accuracy:g}_{solver}"
     shutil.rmtree(folder, ignore_errors=True)
     folder.mkdir(parents=True)
-    scene = load_fault_2d_scene(SCENE).at_element_size(WIDTH / elements)
+    scene = read_fault_2d_scene(SCENE).at_element_size(WIDTH / elements)
     fault = scene.fault
     sys.path.insert(0, str(qdyn / "src"))
     from pyqdyn import qdyn as QDYN  # QDYN's own input writer, from its checkout (GPL-3, not copied)

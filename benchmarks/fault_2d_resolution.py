@@ -23,7 +23,7 @@ sys.path.insert(0, str(ROOT))
 
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR, run_cycles  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 #: (name, scene, values replaced, years): BP1; the small fault (W / h* below 1); a short-D_c, high-stress one
@@ -62,7 +62,7 @@ def main(argv=None):
     chosen = FAULTS[1:2] if args.quick else [f for f in FAULTS if f[0] == args.only] if args.only else FAULTS
     results["faults"] = [entry for entry in kept if entry["name"] not in {f[0] for f in chosen}]
     for name, config, values, years in chosen:
-        scene = load_fault_2d_scene(ROOT / "configs" / config, allow_large=True)
+        scene = read_fault_2d_scene(ROOT / "configs" / config, allow_large=True)
         if values:
             scene = scene.with_values(**values)
         fault = scene.fault

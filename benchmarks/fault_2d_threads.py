@@ -40,7 +40,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from fault_2d_profile import write_results  # noqa: E402  (one way to write a result, with the machine and date)
 from faultslip.constants import JULIAN_YEAR  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 
 WIDTH = 40e3
 
@@ -246,7 +246,7 @@ def main(argv=None) -> int:
           + f" of {where['samples']} round trips; a stretch lasts {where['median_stretch_s']:.2f} s (median)",
           flush=True)
     for elements in args.elements:
-        fault = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(WIDTH / elements).fault
+        fault = read_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(WIDTH / elements).fault
         for threads in (1, 2):  # compile and load both builds before timing
             run_cycles(fault, 0.01 * JULIAN_YEAR, rtol=1e-4, threads=threads)
         runs = {1: [], 2: []}

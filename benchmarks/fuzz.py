@@ -255,13 +255,13 @@ class Workspace:
         """A small 2-D fault scene (2 km elements, 150 yr: about a second) and a run of it stopped right after
         a checkpoint, as a kill would leave it: the seed of the checkpoint-surgery and record-stream cases."""
         from faultslip.models.fault_2d.integrate import _Stopped, run_cycles
-        from faultslip.models.fault_2d.scene import load_fault_2d_scene
+        from faultslip.models.fault_2d.scene import read_fault_2d_scene
 
         text = (CONFIGS / "fault_2d_small.toml").read_text(encoding="utf-8")
         text = text.replace('element_size = "500 m"', 'element_size = "2 km"').replace('duration = "600 yr"',
                                                                                      'duration = "150 yr"')
         scene = self.write("fault_2d.toml", text)
-        loaded = load_fault_2d_scene(scene)
+        loaded = read_fault_2d_scene(scene)
         stopped = self.folder / "stopped_2d"
         try:
             run_cycles(loaded.fault, loaded.duration, rtol=loaded.rtol, stations=loaded.stations, folder=stopped,

@@ -34,7 +34,7 @@ from faultslip.io.atomic import write_text_atomic  # noqa: E402
 from faultslip.models.fault_2d import compiled  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles, step_path  # noqa: E402
 from faultslip.models.fault_2d.kernel import STEP_PATHS, crossover, relative_costs  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 from provenance import stamp  # noqa: E402
 
 WIDTH = 40e3  # BP1's fault, m (every count below divides it)
@@ -81,7 +81,7 @@ def main(argv=None) -> int:
     parser.add_argument("--years", type=float, default=0.5)
     parser.add_argument("--rounds", type=int, default=5)
     args = parser.parse_args(argv)
-    scene = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml")
+    scene = read_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml")
     limits, tables = {}, {}
     for path in STEP_PATHS:
         take_path(path)

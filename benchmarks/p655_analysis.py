@@ -3,7 +3,7 @@
     python benchmarks/p655_analysis.py            # ~2 min on one core
     python benchmarks/p655_analysis.py --quick    # no posteriors
 
-The run's own r-file reduces data/p655/p655intact100l (faultslip.run_r_file); the two sequences of velocity
+The run's own r-file reduces data/p655/p655intact100l (faultslip.lab.run_r_file); the two sequences of velocity
 steps, 2400-3150 s at 75 MPa and 3350-4240 s at 100 MPa, are read by the reduction's column names, the steps found
 from the load point's displacement, and every step fitted in its own window (from half the segment before it to
 the next step) with the machine's stiffness and a linear trend free (fit_each_step). Both evolution laws and the
@@ -35,7 +35,7 @@ from faultslip.lab.look_reduction import run_r_file  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 from faultslip.lab.posterior import sample_posterior  # noqa: E402
 from faultslip.lab.rate_state_fit import fit_joint  # noqa: E402
-from faultslip.lab.raw_records import (fit_each_step, load_record, prepare_record, step_windows,  # noqa: E402
+from faultslip.lab.raw_records import (fit_each_step, read_rig_record, prepare_record, step_windows,  # noqa: E402
                                        window_record)
 
 COLUMNS = {"time": "Time", "load_point_displacement": "LP_disp", "shear_stress": "Shear_stress",
@@ -58,7 +58,7 @@ def main() -> None:
     figure, axes = plt.subplots(2, 4, figsize=(15, 6.5), constrained_layout=True)
     slow = []
     for row, (label, span) in enumerate(SEQUENCES.items()):
-        record = load_record(reduced, columns=COLUMNS, span=span)
+        record = read_rig_record(reduced, columns=COLUMNS, span=span)
         prepared = prepare_record(record, STATED_STIFFNESS)
         history = prepared.record.history
         steps = []

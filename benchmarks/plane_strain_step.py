@@ -24,7 +24,7 @@ ROOT = HERE.parent
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 
 
 def fit(rows: list[dict]) -> tuple[float, float]:
@@ -42,7 +42,7 @@ def main(argv=None) -> int:
     parser.add_argument("--years", type=float, default=60.0)
     parser.add_argument("--out", type=Path, default=HERE / "results" / "plane_strain_step.json")
     args = parser.parse_args(argv)
-    base = load_fault_2d_scene(ROOT / "configs" / "seas_bp3_thrust60.toml")
+    base = read_fault_2d_scene(ROOT / "configs" / "seas_bp3_thrust60.toml")
     rows = []
     for count in args.elements:
         best = None

@@ -135,7 +135,7 @@ def exact_against_integrators(repeats):
     """
     from faultslip.dynamics.spring_slider.critical import critical
     from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
-    from faultslip.fault.scene import load_scene
+    from faultslip.fault.scene import read_slider_scene
     from faultslip.dynamics.spring_slider.simulate import simulate
     from faultslip.dynamics.spring_slider.slider import SliderSystem
 
@@ -165,7 +165,7 @@ def exact_against_integrators(repeats):
     single = {"scene": "glass_dry, zeta 0.01, 0.1 theta_c: one limit cycle (period, stress drop, swing)",
               "per_accuracy": rows, **rows["1e-06"]}
 
-    cameron = load_scene("lab_steel_dry_time_of_stick.toml").slider()
+    cameron = read_slider_scene("lab_steel_dry_time_of_stick.toml").slider()
     reference = simulate(cameron, cycles=100)
     ref_times, ref_drops = reference["event_time"].values, reference["stress_drop"].values
 
@@ -193,10 +193,10 @@ def fault_scale(repeats, budget):
     """100 cycles of the 1906 scene: the project's simulator against generic integration."""
     from faultslip.errors import SolverError
     from faultslip.dynamics.spring_slider.regularized import simulate_regularized
-    from faultslip.fault.scene import load_scene
+    from faultslip.fault.scene import read_slider_scene
     from faultslip.dynamics.spring_slider.simulate import simulate
 
-    system = load_scene("san_andreas_1906.toml").slider()
+    system = read_slider_scene("san_andreas_1906.toml").slider()
     ours, data = timed(lambda: simulate(system, cycles=100), repeats)
     # the event-driven integrator at the same rtol 1e-6 the row states (issue 28: it ran at 1e-8)
     hybrid, hybrid_data = timed(lambda: simulate(system, cycles=100, slip_solver="DOP853", rtol=1e-6), max(1, repeats // 2))

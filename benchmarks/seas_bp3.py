@@ -38,7 +38,7 @@ from provenance import stamp  # noqa: E402  (one stamp for every results file)
 from faultslip.io.seas import read_seas  # noqa: E402
 from faultslip.models.fault_2d.analysis import sequence_discretisation  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
-from faultslip.models.fault_2d.scene import load_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
 
 CASES = {"thrust60": ("T60", "configs/seas_bp3_thrust60.toml"), "normal30": ("N30", "configs/seas_bp3_normal30.toml")}
 SURFACE = {"n16": -16e3, "p0": 0.0, "p16": 16e3}
@@ -120,7 +120,7 @@ def our_series(scene, element_size: float, years: float, rtol: float | None) -> 
 def antiplane_cost(elements: int, years: float, rtol: float) -> dict:
     """BP1 (the antiplane fault) on ``elements`` elements for ``years`` at ``rtol``: CPU seconds per simulated
     year."""
-    scene = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(40e3 / elements)
+    scene = read_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(40e3 / elements)
     scene.duration = years * YEAR
     scene.rtol = rtol
     started = time.process_time()
@@ -221,7 +221,7 @@ def main(argv=None) -> int:
     results = {"cases": {}}
     for case in args.cases:
         code, config = CASES[case]
-        scene = load_fault_2d_scene(ROOT / config)
+        scene = read_fault_2d_scene(ROOT / config)
         peer = peer_series(args.peer, code)
         rows = []
         for size in args.sizes:

@@ -52,7 +52,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from fault_2d_qdyn import SOLVERS, _commit, qdyn_available, write_input  # noqa: E402
 from peer_runs import COMMON_GRID, interleaved, measured  # noqa: E402
 from faultslip.dynamics.rate_state.slider import fault_cycles  # noqa: E402
-from faultslip.fault.rate_state_scene import load_rate_state_scene  # noqa: E402
+from faultslip.fault.rate_state_scene import read_rate_state_scene  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SCENE = ROOT / "configs" / "rsf_block_bp1.toml"
@@ -121,7 +121,7 @@ def main(argv=None) -> dict:
     args = parser.parse_args(argv)
     qdyn = Path(args.qdyn).expanduser().resolve() if args.qdyn else None
     missing = qdyn_available(qdyn)
-    scene = load_rate_state_scene(SCENE)
+    scene = read_rate_state_scene(SCENE)
 
     # faultslip's answer, at its default and converged, through the library (the timed runs are whole processes)
     ours = fault_cycles(scene.slider, scene.plate_rate, cycles=CYCLES)

@@ -9,7 +9,7 @@ stick-slip ends at the critical rate with damping.
 import matplotlib.pyplot as plt
 import numpy as np
 
-from faultslip import SliderSystem, closed_form_cycle, critical, exact_cycle
+from faultslip.models import SliderSystem, closed_form_cycle, critical, exact_cycle
 
 base = SliderSystem.from_preset("pyrite_dry", loading_rate="1 1/s", damping_ratio=0.02)
 theta_c = critical(base).critical_loading_rate

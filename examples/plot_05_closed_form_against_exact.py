@@ -11,7 +11,7 @@ import time
 import matplotlib.pyplot as plt
 import numpy as np
 
-from faultslip import SliderSystem, closed_form_cycle, critical, exact_cycle
+from faultslip.models import SliderSystem, closed_form_cycle, critical, exact_cycle
 
 base = SliderSystem.from_preset("granodiorite_water", loading_rate="1 1/s", damping_ratio=0.01)
 theta_c = critical(base).critical_loading_rate

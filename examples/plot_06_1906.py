@@ -7,9 +7,9 @@ plate rate of 2 in/yr. faultslip computes every intermediate number (the seed's 
 slips: docs/seed_discrepancies.md).
 """
 import faultslip
-from faultslip import sawtooth_figure
+from faultslip.plots import sawtooth_figure
 
-scene = faultslip.load_scene("san_andreas_1906.toml")
+scene = faultslip.models.read_slider_scene("san_andreas_1906.toml")
 estimate = scene.fault().estimate()
 print(f"stiffness K = G/D      {estimate.stiffness:.4g} Pa/m")
 print(f"normal stress          {estimate.normal_stress / 1e5:.1f} bar")
@@ -17,4 +17,4 @@ print(f"loading rate           {estimate.loading_rate:.4g} 1/s")
 print(f"slip per event         {estimate.slip_per_event:.2f} m")
 print(f"recurrence             {estimate.recurrence_period / faultslip.JULIAN_YEAR:.0f} yr")
 print(f"moment magnitude       {estimate.moment_magnitude:.2f}")
-sawtooth_figure(faultslip.simulate_slider(scene.slider(), cycles=4, scene=scene.name))
+sawtooth_figure(faultslip.models.simulate_slider(scene.slider(), cycles=4, scene=scene.name))

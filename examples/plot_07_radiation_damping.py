@@ -8,9 +8,9 @@ rate. It lowers the peak slip rate and, slightly, the slip per event of the 1906
 import matplotlib.pyplot as plt
 import numpy as np
 
-from faultslip import load_scene, simulate_slider
+from faultslip.models import read_slider_scene, simulate_slider
 
-records = {label: simulate_slider(load_scene(name).slider(), cycles=3)
+records = {label: simulate_slider(read_slider_scene(name).slider(), cycles=3)
            for label, name in (("no radiation damping", "san_andreas_1906.toml"),
                                ("radiation damping", "san_andreas_1906_radiation.toml"))}
 figure, axis = plt.subplots(figsize=(6.5, 4))

@@ -7,7 +7,10 @@ bootstrap intervals, then carry the fit's uncertainty into a fault's slip and re
 """
 import numpy as np
 
-from faultslip import Fault, config_path, fit_figure, fit_rate_law, read_friction_data
+from faultslip.models import Fault
+from faultslip.io import config_path
+from faultslip.plots import fit_figure
+from faultslip.friction import fit_rate_law, read_friction_data
 
 data = read_friction_data(config_path("example_friction_data.csv"))
 fit = fit_rate_law(data, bootstrap=100, seed=1)

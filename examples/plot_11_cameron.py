@@ -8,9 +8,9 @@ the cycle settles only after the sticks do.
 """
 import matplotlib.pyplot as plt
 
-from faultslip import load_scene, simulate_slider
+from faultslip.models import read_slider_scene, simulate_slider
 
-record = simulate_slider(load_scene("lab_steel_dry_time_of_stick.toml").slider(), cycles=12)
+record = simulate_slider(read_slider_scene("lab_steel_dry_time_of_stick.toml").slider(), cycles=12)
 figure, (left, right) = plt.subplots(1, 2, figsize=(10, 3.8))
 left.plot(record["stick_duration"] * 1e3, record["static_friction"], "o-")
 left.set(xlabel="stick duration (ms)", ylabel="static friction at break-away", title="time-of-stick law")

@@ -7,7 +7,8 @@ ratio and, with the known stiffness, the mass and damping coefficient.
 """
 import matplotlib.pyplot as plt
 
-from faultslip import config_path, free_decay_from_record, read_record
+from faultslip.io import config_path
+from faultslip.lab import free_decay_from_record, read_record
 
 record = read_record(config_path("example_decay_record.csv"))
 decay = free_decay_from_record(record, stiffness=70.5 * 4.4482216152605 / 0.0254)

@@ -8,9 +8,10 @@ oscillation of a stiffness near critical.
 """
 import matplotlib.pyplot as plt
 
-from faultslip import config_path, load_rate_state_scene, simulate_rate_state
+from faultslip.io import config_path
+from faultslip.models import read_rate_state_scene, simulate_rate_state
 
-scene = load_rate_state_scene(config_path("rsf_velocity_step.toml"))
+scene = read_rate_state_scene(config_path("rsf_velocity_step.toml"))
 run = simulate_rate_state(scene.slider, scene.history, model=scene.model, samples=scene.samples)
 figure, axis = plt.subplots(figsize=(7, 3.8))
 axis.plot(run.time, run.friction)

@@ -8,8 +8,9 @@ where the cycle would reach the driving speed the slider sticks, and averaging h
 """
 import numpy as np
 
-from faultslip import amplitude_against_speed, amplitude_speed_figure, config_path, load_vibration_scene
+from faultslip.models import amplitude_against_speed, amplitude_speed_figure, read_vibration_scene
+from faultslip.io import config_path
 
-system, _ = load_vibration_scene(config_path("vibration_seed002.toml"))
+system, _ = read_vibration_scene(config_path("vibration_seed002.toml"))
 sweep = amplitude_against_speed(system, np.linspace(0.0254, 16 * 0.0254, 61))
 amplitude_speed_figure(system, sweep)

@@ -8,9 +8,12 @@ Parkfield segment (configs/parkfield.toml).
 """
 import numpy as np
 
-from faultslip import catalog_figure, compare_catalog, config_path, load_scene, read_catalog
+from faultslip.plots import catalog_figure
+from faultslip.hazard import compare_catalog
+from faultslip.io import config_path, read_catalog
+from faultslip.models import read_slider_scene
 
-scene = load_scene(config_path("parkfield.toml"))
+scene = read_slider_scene(config_path("parkfield.toml"))
 comparison = compare_catalog(read_catalog(config_path("catalog_san_andreas.csv")), scene, trace=scene.trace,
                      max_magnitude=6.5, as_of=np.datetime64("2026-01-01"), bootstrap=300)
 print(comparison.report("Parkfield").to_text())

@@ -6,7 +6,7 @@ Seed 001's toy model: a tip pulled over a polymer, velocity weakening above v_m,
 that adds adhesion. Below the damping threshold A_c = 12 it sticks and slips, and the charge it
 deposits tracks the displacement.
 """
-from faultslip import NanoscaleModel, nanoscale_figure
+from faultslip.models import NanoscaleModel, nanoscale_figure
 
 model = NanoscaleModel(damping=3.0)
 print(f"A_c = {model.critical_damping:.6g}; stick-slip: {model.stick_slip}")

@@ -6,7 +6,8 @@ Seed 000: a few asperity tips carry the load. A Gaussian surface's statistics, a
 of contact against its own inverted copy as the two are pressed together (contact by truncation,
 all contacts plastic at p_c = 280 N/mm^2, the seed's steel).
 """
-from faultslip import gaussian_surface, surface_figure, surface_statistics, truncation_contact
+from faultslip.lab import gaussian_surface, surface_statistics, truncation_contact
+from faultslip.plots import surface_figure
 
 surface = gaussian_surface(2.3e-6, 20e-6, size=128, seed=1)
 stats = surface_statistics(surface)

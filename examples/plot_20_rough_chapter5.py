@@ -9,10 +9,11 @@ memoryless model, where friction retraces its path.
 """
 import matplotlib.pyplot as plt
 
-from faultslip import (config_path, gaussian_surface, load_rough_scene, rough_surface_slider, separation_history,
-                       simulate_slider)
+from faultslip.io import config_path
+from faultslip.lab import gaussian_surface
+from faultslip.models import read_rough_scene, rough_surface_slider, separation_history, simulate_slider
 
-system, details, _ = load_rough_scene(config_path("rough_surface_chapter5.toml"))
+system, details, _ = read_rough_scene(config_path("rough_surface_chapter5.toml"))
 print(f"h0 = {details['compression_at_rest'] * 1e6:.2f} um, separation per speed {details['separation_per_speed']:.3g} s")
 surface = gaussian_surface(3.26e-6, 60e-6, size=128, seed=2026)  # the scene's stand-in surface
 fig, (loop, gap) = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)

@@ -11,9 +11,9 @@ interseismic slip every 5 years in blue, coseismic slip every second in red.
 """
 import faultslip
 
-scene = faultslip.load_fault_2d_scene("seas_bp1.toml").at_element_size(160.0)
+scene = faultslip.models.read_fault_2d_scene("seas_bp1.toml").at_element_size(160.0)
 scene.duration = 350 * faultslip.JULIAN_YEAR
-result = faultslip.simulate_fault(scene)
+result = faultslip.models.simulate_fault(scene)
 print(f"{result['events']} events, recurrence {result['recurrence_interval'].to('yr'):.4g}, "
       f"surface slip {result['slip_per_event']:.3g}, elements per L_b {result['resolution']:.2g}")
 result.plot()

@@ -8,13 +8,13 @@ import pytest
 from faultslip.cli.main import main
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
 from faultslip.dynamics.methods import solve
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 
 
 def _cameron_system(speed):
-    system = load_scene("lab_steel_dry_time_of_stick.toml").slider()
+    system = read_slider_scene("lab_steel_dry_time_of_stick.toml").slider()
     return system.with_(platform_speed=speed)
 
 

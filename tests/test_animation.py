@@ -7,14 +7,14 @@ from PIL import Image
 from conftest import assert_clean_error
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.errors import InputError
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.plots.animation import frame_times
 
 
 def test_frames_give_slip_phases_their_share_and_state_the_compression():
     """1906: slips of 21.6 s between sticks of ~127 yr. Half the frames fall in slips, so a stick plays
     (share / slip time) / ((1 - share) / stick time) = stick / slip = 1.85e8 times faster per cycle."""
-    dataset = simulate(load_scene("san_andreas_1906.toml").slider(), cycles=3)
+    dataset = simulate(read_slider_scene("san_andreas_1906.toml").slider(), cycles=3)
     times, compression = frame_times(dataset, 200)
     slipping = np.interp(times, dataset["time"].values, (dataset["phase"].values == 1).astype(float)) > 0.5
     assert 0.4 < slipping.mean() < 0.6
@@ -52,7 +52,7 @@ def test_the_frozen_layout_draws_what_matplotlibs_writer_draws(tmp_path):
 
     from faultslip.plots.animation import animation, save_gif
 
-    dataset = simulate(load_scene("san_andreas_1906.toml").slider(), cycles=2)
+    dataset = simulate(read_slider_scene("san_andreas_1906.toml").slider(), cycles=2)
     movie, figure, _ = animation(dataset, frames=6)
     save_gif(movie, figure, tmp_path / "ours.gif", fps=10, dpi=80)
     movie, figure, _ = animation(dataset, frames=6)

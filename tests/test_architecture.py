@@ -20,7 +20,9 @@ import pytest
 PACKAGE = Path(__file__).resolve().parent.parent / "faultslip"
 #: Lowest first. Studies, lab and evaluation share a layer but may not import each other.
 LAYERS = {"core": 0, "io": 1, "contract": 1.5, "friction": 2, "dynamics": 3, "fault": 4, "studies": 5, "lab": 5, "evaluation": 5,
-          "plots": 6, "models": 7, "cli": 8, "apps": 7.5}
+          "plots": 6, "models": 7, "hazard": 7.2, "cli": 8, "apps": 7.5}
+# hazard is a facade (faultslip.api's "hazard" topic): a package with an __init__ only, over studies, fault and
+# evaluation
 HEAVY = {"xarray", "matplotlib", "scipy", "obspy", "dask", "distributed", "netCDF4", "mpmath", "psutil", "tqdm", "pint", "h5py", "zarr", "numcodecs", "numba", "bokeh", "selenium", "PIL",
          "mpl_toolkits", "openpyxl", "dask_jobqueue", "rocket_fft", "llvmlite", "fdhpy", "cutde"}  # basemap (mpl_toolkits),
 # openpyxl, dask-jobqueue, rocket-fft, fdhpy: the optional maps, xlsx, dask (--scheduler slurm), fast (numba's FFTs)
@@ -167,7 +169,7 @@ def test_the_folder_listing_is_the_architecture():
     rooms = sorted(p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").exists())
     assert rooms == sorted(name for name in LAYERS if name != "core")
     loose = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__init__")
-    assert loose == ["constants", "datasets", "errors", "intervals", "ranges", "units"], loose
+    assert loose == ["api", "constants", "datasets", "errors", "intervals", "ranges", "units"], loose
 
 
 #: Names that tell scene kinds apart by their contents: only faultslip.contract.registry may use them.
@@ -189,26 +191,63 @@ EXAMPLES = sorted((PACKAGE.parent / "examples").glob("*.py"))
 
 @pytest.mark.parametrize("example", EXAMPLES, ids=lambda p: p.name)
 def test_gallery_examples_use_the_public_api_only(example):
-    """Whatever the gallery shows, a user can import: the names of 'import faultslip' and faultslip.models."""
+    """Whatever the gallery shows, a user can import: the top level's names and each topic's (faultslip.api)."""
     import faultslip
+    from faultslip import api
 
+    public = {"faultslip": set(faultslip.__all__)} | {f"faultslip.{topic}": set(names)
+                                                      for topic, names in api.TOPICS.items()}
     tree = ast.parse(example.read_text(encoding="utf-8"))
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("faultslip"):
-            assert node.module in ("faultslip", "faultslip.models"), (
+            assert node.module in public, (
                 f"{example.name}:{node.lineno} imports the internal module {node.module}; export what it needs "
-                "from faultslip/__init__.py")
-            if node.module == "faultslip":
-                private = [a.name for a in node.names if a.name not in faultslip.__all__]
-                assert not private, f"{example.name}:{node.lineno}: {private} are not public names of faultslip"
+                "through faultslip/api.py")
+            private = [a.name for a in node.names if a.name not in public[node.module]]
+            assert not private, f"{example.name}:{node.lineno}: {private} are not public names of {node.module}"
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "faultslip":
+            assert node.attr in faultslip.__all__ or node.attr == "__version__", (
+                f"{example.name}:{node.lineno}: faultslip.{node.attr} is not a top-level name")
 
 
 def test_the_api_reference_lists_every_public_name():
-    import faultslip
+    from faultslip import api
 
     text = (PACKAGE.parent / "docs" / "api.rst").read_text(encoding="utf-8")
-    missing = [name for name in faultslip.__all__ if f"``{name}``" not in text]
+    missing = [name for name in api.public_names() if f"``{name}``" not in text]
     assert not missing, f"docs/api.rst does not list {missing}"
+    check = subprocess.run([sys.executable, str(PACKAGE.parent / "docs" / "api_reference.py"), "--check"],
+                           capture_output=True, text=True)
+    assert check.returncode == 0, check.stderr
+
+
+def test_the_top_level_is_small_and_every_topic_name_resolves():
+    """The top level holds the command line's five verbs, Result, the errors, the units and the topics (issue 70);
+    every topic's name resolves to an object, and each is listed once."""
+    import faultslip
+    from faultslip import api
+
+    assert {"run", "simulate", "sweep", "fit", "map", "Result"} <= set(faultslip.__all__)
+    assert len(faultslip.__all__) <= 20, faultslip.__all__
+    for name, where in api.public_names().items():
+        assert api.resolve(where) is not None, name
+    homes = {}
+    for topic, names in api.TOPICS.items():
+        assert set(names) <= set(getattr(faultslip, topic).__all__) <= set(dir(getattr(faultslip, topic)))
+        for name in names:
+            homes.setdefault(name, []).append(topic)
+    assert {name: topics for name, topics in homes.items() if len(topics) > 1} == {}
+
+
+def test_an_old_flat_name_still_works_for_a_release_and_says_where_it_went():
+    import faultslip
+    from faultslip import api
+
+    for old, (new, where) in api.MOVED.items():
+        with pytest.warns(FutureWarning, match=new.replace(".", r"\.")):
+            assert getattr(faultslip, old) is api.resolve(where), old
+    with pytest.raises(AttributeError):
+        faultslip.no_such_name  # noqa: B018
 
 
 #: The numerics in dynamics/ that several families and applications share: each imports only itself, the shared
@@ -365,9 +404,11 @@ def test_every_public_function_documents_its_parameters_and_returns():
 
     import faultslip
 
+    from faultslip import api
+
     missing = []
-    for name in faultslip.__all__:
-        obj = getattr(faultslip, name)
+    for name, where in api.public_names().items():
+        obj = api.resolve(where)
         doc = inspect.getdoc(obj) or ""
         if inspect.isclass(obj):
             if "Parameters\n---" not in doc and "Attributes\n---" not in doc:
@@ -380,17 +421,17 @@ def test_every_public_function_documents_its_parameters_and_returns():
 
 
 def test_the_public_api_names_each_module_once():
-    """A module listed twice in faultslip/__init__.py's exports silently drops the first list (a dict literal keeps
-    the last key): read_step_record vanished that way once."""
+    """A key listed twice in faultslip/api.py's tables silently drops the first (a dict literal keeps the last
+    key): read_step_record vanished that way once."""
     import ast
     from collections import Counter
 
-    tree = ast.parse((PACKAGE / "__init__.py").read_text(encoding="utf-8"))
+    tree = ast.parse((PACKAGE / "api.py").read_text(encoding="utf-8"))
     for node in ast.walk(tree):
         if isinstance(node, ast.Dict):
             keys = [key.value for key in node.keys if isinstance(key, ast.Constant)]
             twice = sorted(key for key, count in Counter(keys).items() if count > 1)
-            assert not twice, f"faultslip/__init__.py lists {twice} twice"
+            assert not twice, f"faultslip/api.py lists {twice} twice"
 
 
 def test_cores_are_counted_in_one_place():

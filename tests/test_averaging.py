@@ -274,9 +274,9 @@ def test_a_study_cell_takes_averaging_where_auto_does(tmp_path):
     assert ds["method"].values.tolist() == [3] and ds["regime"].values.tolist() == [3]
     assert ds["method"].attrs["flag_meanings"].split()[3] == "quasi_harmonic_averaging"
     from faultslip.dynamics.methods import solve
-    from faultslip.fault.scene import load_scene
+    from faultslip.fault.scene import read_slider_scene
 
-    cycle = solve(load_scene(scene).slider(), tolerance=1e-2).cycle
+    cycle = solve(read_slider_scene(scene).slider(), tolerance=1e-2).cycle
     assert cycle.amplitude == pytest.approx(4 * scale / omega, rel=1e-9)
 
 
@@ -284,9 +284,9 @@ def test_the_v_r_plane_matches_the_cubics_closed_form_boundaries():
     """For f = 0.5 - s u + s u^3 / (3 u_f^2): steady sliding where r >= W s (1 - v^2/u_f^2); otherwise
     (A omega)^2 = 4 (u_f^2 - v^2 - r u_f^2 / (W s)), stick-slip where that reaches v^2."""
     from faultslip.dynamics.vibration import REGION_CODES, regions
-    from faultslip.models.vibration.scene import load_vibration_scene
+    from faultslip.models.vibration.scene import read_vibration_scene
 
-    system, _ = load_vibration_scene("configs/vibration_seed002.toml")
+    system, _ = read_vibration_scene("configs/vibration_seed002.toml")
     inch, lbf = 0.0254, 4.4482216152605
     s, u_f, w = 0.01 / inch, 15 * inch, 2 * lbf
     speeds = np.linspace(10.05, 14.95, 21) * inch  # off the degenerate point v = u_f, r = 0

@@ -74,10 +74,10 @@ def test_tolerance_flag_changes_the_choice(cli):
 
 
 def test_simulation_dataset_records_method_and_error():
-    from faultslip.fault.scene import load_scene
+    from faultslip.fault.scene import read_slider_scene
     from faultslip.dynamics.spring_slider.simulate import simulate
 
-    ds = simulate(load_scene("lab_steel_dry_polynomial.toml").slider(), cycles=3, rtol=1e-8)
+    ds = simulate(read_slider_scene("lab_steel_dry_polynomial.toml").slider(), cycles=3, rtol=1e-8)
     assert ds.attrs["method"] == "event_driven" and ds.attrs["estimated_relative_error"] == pytest.approx(1e-8)
     assert "DOP853" in ds.attrs["method_reason"]
 
@@ -122,10 +122,10 @@ def test_averaging_on_the_stability_map_never_claims_the_wrong_regime():
 def test_the_bench_seed002_scene_is_the_bundled_vibration_scene():
     """evaluation sits beside lab, so the bench builds seed 002's scene itself: it must equal the config's."""
     from faultslip.evaluation.bench import vibration_scenes
-    from faultslip.models.vibration.scene import load_vibration_scene
+    from faultslip.models.vibration.scene import read_vibration_scene
 
     bench = vibration_scenes()["vibration_seed002"][0]
-    bundled, _ = load_vibration_scene("configs/vibration_seed002.toml")
+    bundled, _ = read_vibration_scene("configs/vibration_seed002.toml")
     for key in ("mass", "stiffness", "damping", "normal_load", "speed"):
         assert getattr(bench, key) == pytest.approx(getattr(bundled, key), rel=1e-14)
     np.testing.assert_allclose(bench.coefficients, bundled.coefficients, rtol=1e-14)

@@ -12,7 +12,7 @@ import pytest
 from conftest import assert_clean_error
 from faultslip.io import budget
 from faultslip.models.fault_2d import cost
-from faultslip.models.fault_2d.scene import load_fault_2d_scene
+from faultslip.models.fault_2d.scene import read_fault_2d_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 SMALL = ROOT / "configs" / "fault_2d_small.toml"
@@ -23,7 +23,7 @@ def test_the_fitted_range_holds_the_scenes_it_was_fitted_on_and_no_more():
     saved designs), and FAULT_2D_STEPS' BP1 at D_c 6-48 mm, lie inside it, and each bound is within 15 % of what
     they reach (rounded outward, not widened)."""
     rows = json.loads((ROOT / "benchmarks" / "results" / "ladder_designs.json").read_text(encoding="utf-8"))["rows"]
-    bp1 = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").fault
+    bp1 = read_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").fault
     bp1_ratio = bp1.seismogenic_width() / bp1.nucleation_size()  # h* grows as D_c: BP1 has 8 mm
     ratios = [row["design"]["width_over_nucleation"] for row in rows] + [bp1_ratio * 8 / 48, bp1_ratio * 8 / 6]
     stresses = [row["design"]["normal_stress"] for row in rows] + [float(bp1.normal_stress.max())]
@@ -51,7 +51,7 @@ def test_a_scene_outside_the_fit_is_refused_before_it_runs(tmp_path, cli, normal
 
 def test_the_shipped_scenes_are_inside_the_fit():
     for name in ("fault_2d_small", "rsf_fault_bp1", "seas_bp1", "seas_bp1_period3"):
-        assert load_fault_2d_scene(ROOT / "configs" / f"{name}.toml").outside_fit() == (), name
+        assert read_fault_2d_scene(ROOT / "configs" / f"{name}.toml").outside_fit() == (), name
 
 
 def test_allow_large_runs_it_and_the_budget_guard_still_stops_it(tmp_path, monkeypatch):
@@ -59,7 +59,7 @@ def test_allow_large_runs_it_and_the_budget_guard_still_stops_it(tmp_path, monke
     text = SMALL.read_text(encoding="utf-8").replace('normal_stress = "50 MPa"', 'normal_stress = "20 MPa"')
     scene_file = tmp_path / "scene.toml"
     scene_file.write_text(text.replace('duration = "600 yr"', 'duration = "40 yr"'), encoding="utf-8")
-    scene = load_fault_2d_scene(scene_file)
+    scene = read_fault_2d_scene(scene_file)
     assert scene.outside_fit()
     with pytest.raises(Exception, match="fitted on other scenes"):
         budget.check(scene.estimate())

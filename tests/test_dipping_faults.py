@@ -13,7 +13,7 @@ import pytest
 from faultslip.errors import InputError
 from faultslip.fault import empirical
 from faultslip.studies import hazard
-from faultslip.studies.maps import load_map, run_map
+from faultslip.studies.maps import read_map, run_map
 from faultslip.units import JULIAN_YEAR as YEAR
 
 from conftest import assert_clean_error
@@ -37,7 +37,7 @@ def _map(tmp_path, rows=ROWS):
 
 
 def test_a_thrust_and_a_normal_fault_carry_the_down_dip_width_everywhere(tmp_path):
-    spec = load_map(_map(tmp_path))
+    spec = read_map(_map(tmp_path))
     data = run_map(spec)
     shear_modulus = spec.scene.fault().shear_modulus
     depth = np.array([15e3, 12e3, 12e3])
@@ -80,7 +80,7 @@ def test_a_thrust_and_a_normal_fault_carry_the_down_dip_width_everywhere(tmp_pat
 def test_bad_dips_and_rakes_are_one_sentence(tmp_path, cli, row, words):
     assert_clean_error(cli("map", _map(tmp_path, row), "-o", tmp_path / "m.nc"), words)
     with pytest.raises(InputError):
-        load_map(_map(tmp_path, row))
+        read_map(_map(tmp_path, row))
 
 
 def test_the_geojson_dip_reaches_the_moment(tmp_path):
@@ -95,7 +95,7 @@ def test_the_geojson_dip_reaches_the_moment(tmp_path):
         f'[map]\nname = "one"\nbase = "{ROOT / "configs" / "san_andreas_1906.toml"}"\n\n'
         '[segments]\nfile = "one.geojson"\n\n[grid]\nlon = { linspace = [-121.0, -119.0, 5] }\n'
         'lat = { linspace = [35.0, 36.5, 4] }\nmax_distance = "40 km"\n', encoding="utf-8")
-    data = run_map(load_map(tmp_path / "map.toml"))
+    data = run_map(read_map(tmp_path / "map.toml"))
     assert float(data["down_dip_width"].values[0]) == pytest.approx(12e3 * math.sqrt(2), rel=1e-12)
 
 
@@ -135,7 +135,7 @@ def test_a_tables_upper_depth_reaches_the_nrml(tmp_path):
         f'[map]\nname = "buried"\nbase = "{ROOT / "configs" / "san_andreas_1906.toml"}"\n\n'
         '[segments]\nfile = "segments.csv"\n\n[grid]\nlon = { linspace = [-121.0, -116.0, 11] }\n'
         'lat = { linspace = [34.0, 37.5, 8] }\nmax_distance = "40 km"\n', encoding="utf-8")
-    spec = load_map(tmp_path / "map.toml")
+    spec = read_map(tmp_path / "map.toml")
     sources = hazard.hazard_sources(spec, run_map(spec))
     assert sources[0].upper_depth == pytest.approx(3e3) and sources[0].lower_depth == pytest.approx(18e3)
     assert sources[0].width == pytest.approx(30e3, rel=1e-12)

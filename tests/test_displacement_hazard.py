@@ -99,9 +99,9 @@ def test_the_fault_systems_ruptures_through_the_site(tmp_path):
     section's participation rate, and each places the site inside it."""
     from faultslip.studies import displacement_hazard as dh
     from faultslip.studies import rupture_sets as rs
-    from faultslip.studies.maps import load_map, run_map
+    from faultslip.studies.maps import read_map, run_map
 
-    spec = load_map(SYSTEM)
+    spec = read_map(SYSTEM)
     dataset = run_map(spec)
     system = rs.rupture_set(spec, dataset, spec.rupture_rules, "faultslip")
     site = (-119.5, 35.05)
@@ -181,9 +181,9 @@ def test_refusals_in_python():
 # --- the fault map a hazard analyst reads (issue 44, item 6) -----------------------------------------------
 
 def _map_dataset():
-    from faultslip.studies.maps import load_map, run_map
+    from faultslip.studies.maps import read_map, run_map
 
-    return run_map(load_map(MAP))
+    return run_map(read_map(MAP))
 
 
 def test_the_fault_map_is_projected_with_coastlines_and_colours_each_trace_by_its_value():
@@ -244,7 +244,7 @@ def test_dipping_traces_carry_a_tick_towards_their_dip(tmp_path):
     (Aki & Richards): each trace carries a tick from its middle to its right, labelled with its dip; a vertical
     trace carries none."""
     from faultslip.plots.fault_maps import dip_ticks, fault_system_figure
-    from faultslip.studies.maps import load_map, run_map
+    from faultslip.studies.maps import read_map, run_map
 
     east = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])  # a trace striking east dips to the south
     north = np.array([[0.0, 0.0], [0.0, 1.0]])  # striking north: dips to the east
@@ -257,6 +257,6 @@ def test_dipping_traces_carry_a_tick_towards_their_dip(tmp_path):
 
     lines = ROWS.splitlines(keepends=True)  # the 30-degree thrust and the vertical fault
     dipping_map(tmp_path, rows=lines[0] + lines[2])
-    figure = fault_system_figure(run_map(load_map(tmp_path / "map.toml")), resolution="c")
+    figure = fault_system_figure(run_map(read_map(tmp_path / "map.toml")), resolution="c")
     labels = [text.get_text() for text in figure.axes[0].texts]
     assert "30°" in labels and "90°" not in labels

@@ -20,7 +20,7 @@ from conftest import assert_clean_error
 from faultslip.errors import InputError
 from faultslip.fault import displacement as fdh
 from faultslip.studies import displacement_hazard as dh
-from faultslip.studies.maps import load_map, run_map
+from faultslip.studies.maps import read_map, run_map
 
 pytest.importorskip("fdhpy")
 
@@ -86,7 +86,7 @@ def _map(tmp_path):
     return dipping_map(tmp_path, rows="".join(ROWS.splitlines(keepends=True)[:2]))
 
 def test_the_logic_tree_is_the_mean_of_every_model_that_applies(tmp_path):
-    spec = load_map(_map(tmp_path))
+    spec = read_map(_map(tmp_path))
     data = run_map(spec)
     site = (-117.0, 36.5)  # on the normal fault's trace
     tree = dh.displacement_hazard(spec, data, site, model="logic_tree", displacements=[0.1, 1.0, 3.0])

@@ -28,7 +28,7 @@ from faultslip.io.resources import bundled_dir
 from faultslip.models.fault_2d.model import Fault2D, ForceBalance, newton_tolerance, steady_initial_conditions
 from faultslip.errors import InputError, SolverError
 from faultslip.io.seas import read_seas, station_file_name, write_station
-from faultslip.models.fault_2d.scene import load_fault_2d_scene, parse_fault_2d_scene
+from faultslip.models.fault_2d.scene import read_fault_2d_scene, parse_fault_2d_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
@@ -160,7 +160,7 @@ def test_the_force_balance_holds_and_both_kernels_agree(evolution):
 def test_an_absurd_trial_state_gives_nan_for_the_step_to_reject_not_an_error():
     """A rejected step's trial state may load an element beyond any finite slip rate (|tau / (sigma_n a)| > 700,
     or V overflowing): the balance answers NaN there, both kernels alike, and finite values elsewhere."""
-    fault = load_fault_2d_scene(CONFIGS / "fault_2d_small.toml").fault
+    fault = read_fault_2d_scene(CONFIGS / "fault_2d_small.toml").fault
     slip = np.zeros(fault.count)
     slip[3] = 1e4
     answers = []
@@ -175,7 +175,7 @@ def test_an_absurd_trial_state_gives_nan_for_the_step_to_reject_not_an_error():
 
 def test_the_initial_state_slides_steadily_at_the_initial_speed():
     """BP1's initial stress and state give V = V_init everywhere (Erickson et al. 2020, eqs. 8-9)."""
-    fault = load_fault_2d_scene(CONFIGS / "seas_bp1.toml").at_element_size(500.0).fault
+    fault = read_fault_2d_scene(CONFIGS / "seas_bp1.toml").at_element_size(500.0).fault
     balance = ForceBalance(fault, StressKernel(fault.count, fault.element_size, fault.shear_modulus))
     speed, psi_rate, _ = balance.rates(0.0, np.zeros(fault.count), fault.initial_state)
     np.testing.assert_allclose(speed, 1e-9, rtol=1e-10)
@@ -897,7 +897,7 @@ def test_bp1s_one_slider_declares_a_model_error_that_covers_its_distance_from_bp
     result = faultslip.run(CONFIGS / "rsf_block_bp1.toml")
     assert result.method == "one_slider"
     declared = result["model_error"]  # dimensionless: a float
-    table = faultslip.load_calibration()["geometric"]
+    table = faultslip.models.read_one_slider_calibration()["geometric"]
     bp1 = next(row for row in table["held_out"] if row["name"] == "SEAS BP1")
     assert bp1["model_error"] <= declared
     reference = json.loads((ROOT / "benchmarks" / "results" / "fault_2d_qdyn_study.json").read_text())
@@ -909,9 +909,9 @@ def test_bp1s_one_slider_declares_a_model_error_that_covers_its_distance_from_bp
 
 def test_one_slider_declares_its_model_error_and_auto_obeys_a_tolerance(cli):
     from faultslip.models.rate_state_slider.model_error import declared_model_error
-    from faultslip.fault.rate_state_scene import load_rate_state_scene
+    from faultslip.fault.rate_state_scene import read_rate_state_scene
 
-    scene = load_rate_state_scene(CONFIGS / "rsf_block_bp1.toml")
+    scene = read_rate_state_scene(CONFIGS / "rsf_block_bp1.toml")
     assert scene.reduction == "geometric" and scene.width == 15e3
     error, _, _ = declared_model_error(scene.law, scene.fault["shear_modulus"], scene.fault["normal_stress"],
                                        scene.width)
@@ -983,7 +983,7 @@ def test_a_2d_study_equals_the_runs_and_does_not_depend_on_the_workers(tmp_path,
     with xr.open_dataset(tmp_path / "one.nc") as a, xr.open_dataset(tmp_path / "two.nc") as b:
         for name in a.data_vars:
             assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
-        direct = load_fault_2d_scene(CONFIGS / "fault_2d_small.toml")
+        direct = read_fault_2d_scene(CONFIGS / "fault_2d_small.toml")
         run = run_cycles(direct.fault, direct.duration, rtol=direct.rtol, stations=direct.stations)
         assert float(a["recurrence_interval"].sel(critical_slip=0.024)) == summarise(run).recurrence_interval
         assert a["recurrence_interval"].attrs["units"] == "s"
@@ -1025,7 +1025,7 @@ def test_bp1_at_100_m_is_within_its_discretisation_error_of_the_converged_run():
     3000 yr, rtol 1e-8, the recurrence is 78.3505 yr and the surface slip 2.47156 m; 50 m gives
     78.3346 yr and 2.47106 m (0.020 %). At 100 m both come out 0.11 % low, so 0.2 % bounds them.
     """
-    scene = load_fault_2d_scene(CONFIGS / "seas_bp1.toml").at_element_size(100.0)
+    scene = read_fault_2d_scene(CONFIGS / "seas_bp1.toml").at_element_size(100.0)
     run = run_cycles(scene.fault, 900 * YEAR, rtol=1e-6, stations=scene.stations)
     summary = summarise(run, tolerance=1e-3)
     assert summary.settled  # periodic: the last three intervals agree to 1e-3
@@ -1096,7 +1096,7 @@ def test_the_declared_error_covers_the_element_size():
     (benchmarks/fault_2d.py; the Richardson limit's own comparison is test_the_declared_discretisation_error_...)."""
     from faultslip.models.fault_2d.family import discretisation_error
 
-    scene = load_fault_2d_scene(CONFIGS / "seas_bp1.toml")
+    scene = read_fault_2d_scene(CONFIGS / "seas_bp1.toml")
     coarse = scene.fault.process_zone() / 100.0
     assert discretisation_error(coarse) >= abs(78.2657 / 78.3505 - 1)
     assert discretisation_error(scene.fault.process_zone() / 50.0) >= abs(78.3346 / 78.3505 - 1)
@@ -1392,10 +1392,10 @@ def test_the_element_size_a_refusal_suggests_runs(tmp_path):
     scene = tmp_path / "coarse.toml"
     scene.write_text(text)
     with pytest.raises(InputError, match='element_size = "([0-9.]+) m"') as refused:
-        load_fault_2d_scene(scene).require_resolution()
+        read_fault_2d_scene(scene).require_resolution()
     suggested = re.search(r'element_size = "([0-9.]+) m"', str(refused.value)).group(1)
     scene.write_text(text.replace('element_size = "400 m"', f'element_size = "{suggested} m"'))
-    load_fault_2d_scene(scene).require_resolution()  # reads, divides the fault and resolves L_b
+    read_fault_2d_scene(scene).require_resolution()  # reads, divides the fault and resolves L_b
 
 
 def test_a_run_far_past_its_estimate_stops_at_twice_its_budget_with_a_checkpoint(tmp_path, monkeypatch, cli):
@@ -1421,7 +1421,7 @@ def test_a_run_that_compiles_the_step_says_so_before_and_in_its_notes(monkeypatc
     silent. (The cold cost itself is measured by benchmarks/first_run.py.)"""
     if not compiled.available():
         pytest.skip("numba is not installed: nothing is compiled")
-    scene = load_fault_2d_scene(ROOT / "configs" / "fault_2d_small.toml")
+    scene = read_fault_2d_scene(ROOT / "configs" / "fault_2d_small.toml")
     fault, stations = scene.fault, scene.stations
     run_cycles(fault, 0.01 * YEAR, rtol=1e-6, stations=stations)
     assert compiled.compilation_pending(1) is False  # this process's run left the cache filled

@@ -206,7 +206,7 @@ def test_fit_json_has_quantities_and_intervals(tmp_path, cli):
 def test_a_saved_fit_works_in_studies_and_maps(tmp_path, monkeypatch):
     monkeypatch.setenv("FAULTSLIP_REGISTRY", str(tmp_path / "fits.json"))
     from faultslip.friction.materials import save_user_fit
-    from faultslip.studies.maps import load_map, run_map
+    from faultslip.studies.maps import read_map, run_map
     from faultslip.studies.grid import sweep
 
     preset = get_preset("black_marble_water")
@@ -220,7 +220,7 @@ def test_a_saved_fit_works_in_studies_and_maps(tmp_path, monkeypatch):
         "a,-120 35; -120 36,30,my_marble,12,20\n")
     (tmp_path / "map.toml").write_text('[map]\nbase = "san_andreas_1906.toml"\n[segments]\nfile = "segments.csv"\n'
                                        '[grid]\nlon = [-120.5, -119.5]\nlat = [35.0, 36.0]\n')
-    mapped = run_map(load_map(tmp_path / "map.toml"))
+    mapped = run_map(read_map(tmp_path / "map.toml"))
     assert float(mapped["slip_per_event"].sel(segment="a")) > 0
 
 

@@ -65,13 +65,13 @@ def _write(path, content):
 @FUZZ
 @given(scene=st.sampled_from(SCENES), seed=st.integers(0, 2**32))
 def test_scene_reader(tmp_path_factory, scene, seed):
-    from faultslip.fault.scene import load_scene
+    from faultslip.fault.scene import read_slider_scene
 
     path = _write(tmp_path_factory.mktemp("scene") / "scene.toml",
                   _mutated(scene.read_text(encoding="utf-8"), fuzz.mutate_toml, seed))
 
     def read_and_build():
-        loaded = load_scene(path)
+        loaded = read_slider_scene(path)
         loaded.slider()
 
     _clean(read_and_build)
@@ -92,13 +92,13 @@ def test_study_reader(tmp_path_factory, study, seed):
 @given(seed=st.integers(0, 2**32))
 def test_vibration_scene_reader_and_analysis(tmp_path_factory, seed):
     """A mutated quasi-harmonic scene is read and analysed, or refused in one sentence."""
-    from faultslip.models.vibration.scene import load_vibration_scene
+    from faultslip.models.vibration.scene import read_vibration_scene
 
     text = (ROOT / "configs" / "vibration_seed002.toml").read_text(encoding="utf-8")
     path = _write(tmp_path_factory.mktemp("vibration") / "v.toml", _mutated(text, fuzz.mutate_toml, seed))
 
     def read_and_analyse():
-        system, _ = load_vibration_scene(path)
+        system, _ = read_vibration_scene(path)
         system.analyse()
 
     _clean(read_and_analyse)
@@ -107,7 +107,7 @@ def test_vibration_scene_reader_and_analysis(tmp_path_factory, seed):
 @FUZZ
 @given(seed=st.integers(0, 2**32), which=st.sampled_from(["map", "segments"]))
 def test_map_and_segment_readers(tmp_path_factory, seed, which):
-    from faultslip.studies.maps import load_map
+    from faultslip.studies.maps import read_map
 
     folder = tmp_path_factory.mktemp("map")
     segments = (ROOT / "data" / "san_andreas_segments.csv").read_text(encoding="utf-8")
@@ -115,7 +115,7 @@ def test_map_and_segment_readers(tmp_path_factory, seed, which):
             'lon = { linspace = [-124.0, -115.0, 4] }\nlat = { linspace = [33.0, 40.0, 3] }\n')
     _write(folder / "segments.csv", _mutated(segments, fuzz.mutate_csv, seed) if which == "segments" else segments)
     path = _write(folder / "map.toml", _mutated(text, fuzz.mutate_toml, seed) if which == "map" else text)
-    _clean(load_map, path)
+    _clean(read_map, path)
 
 
 @FUZZ
@@ -281,8 +281,8 @@ def test_surface_reader_and_statistics(tmp_path_factory, seed):
 @given(seed=st.integers(0, 2**32))
 def test_rough_surface_scene_reader(tmp_path_factory, seed):
     """A mutated rough-surface scene (seed 000) builds its slider or is refused in one sentence."""
-    from faultslip.models.rough_surface.scene import load_rough_scene
+    from faultslip.models.rough_surface.scene import read_rough_scene
 
     text = (ROOT / "configs" / "rough_surface_seed000.toml").read_text(encoding="utf-8").replace(
         "synthetic_size = 128", "synthetic_size = 32")
-    _clean(load_rough_scene, _write(tmp_path_factory.mktemp("rough") / "r.toml", _mutated(text, fuzz.mutate_toml, seed)))
+    _clean(read_rough_scene, _write(tmp_path_factory.mktemp("rough") / "r.toml", _mutated(text, fuzz.mutate_toml, seed)))

@@ -231,12 +231,12 @@ def test_map_sources_conserve_the_fault_moment_rate(cli, tmp_path, kind):
     L, H, V from the map's own output (to 1e-6: the file's ten significant digits give 1e-9)."""
     import xarray as xr
 
-    from faultslip.studies.maps import load_map
+    from faultslip.studies.maps import read_map
 
     out = cli("map", "configs/california_faults_map.toml", "-o", tmp_path / "m.nc", "--nrml", tmp_path / "s.xml",
               "--mfd", kind, "--json")
     assert out.code == 0, out.err
-    shear_modulus = load_map("configs/california_faults_map.toml").scene.fault().shear_modulus
+    shear_modulus = read_map("configs/california_faults_map.toml").scene.fault().shear_modulus
     with xr.open_dataset(tmp_path / "m.nc") as data:
         budget = (shear_modulus * data["segment_length"] * data["seismogenic_depth"] * data["slip_rate"]).values * YEAR
     sources = ET.parse(tmp_path / "s.xml").getroot().findall(".//n:simpleFaultSource", NS)

@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 import faultslip
 from faultslip.errors import InputError
 from faultslip.fault import ladder
-from faultslip.models.fault_2d.scene import load_fault_2d_scene
+from faultslip.models.fault_2d.scene import read_fault_2d_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
@@ -50,7 +50,7 @@ def test_a_fault_that_only_creeps_is_refused():
 def test_bp1s_groups_follow_from_its_profile():
     """BP1: a < b to 16 km (a reaches b = 0.015 a third of the way up the 15-18 km ramp); h* and L_b from the
     zone's means (Rubin & Ampuero 2005)."""
-    fault = load_fault_2d_scene(CONFIGS / "rsf_fault_bp1.toml").fault.description()
+    fault = read_fault_2d_scene(CONFIGS / "rsf_fault_bp1.toml").fault.description()
     group = ladder.groups(fault)
     assert group["width"] == pytest.approx(16e3)
     a = 0.010 * 150 / 160 + np.mean(0.010 + 0.015 * (np.arange(10) + 0.5) * 100 / 3e3) * 10 / 160

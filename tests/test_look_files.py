@@ -59,7 +59,7 @@ def test_the_p655_biax_run_reads_as_pylook_reads_it():
     """Penn State's p655 (2005, from pylook's repository, BSD-3): 86,814 records of five columns, 4-byte big-endian
     floats under 32 column headers; every column bit for bit what pylook's reader gives
     (benchmarks/look_against_pylook.py, run in pylook's own interpreter)."""
-    look = faultslip.read_look(P655)
+    look = faultslip.lab.read_look(P655)
     assert look.name == "p655intact100" and look.records == 86814 and look.layout == (32, 4, ">f4")
     assert list(look.columns) == ["Time", "Vert_Disp", "Vert_Load", "Hor_Disp", "Hor_Load."]
     assert look.units["Time"] == "sec" and look.units["Vert_Load"] == "bits"
@@ -131,7 +131,7 @@ def _ascii_export(columns: dict, units: dict) -> str:
 def test_an_ascii_export_of_p655_reads_as_its_binary_file(tmp_path):
     """The first 2,000 records of p655 exported as text read back bit for bit (17 significant digits), through the
     same read_look that an r-file's 'read' command uses."""
-    look = faultslip.read_look(P655)
+    look = faultslip.lab.read_look(P655)
     columns = {name: values[:2000] for name, values in look.columns.items()}
     path = tmp_path / "p655.txt"
     path.write_text(_ascii_export(columns, look.units), encoding="utf-8")

@@ -5,7 +5,7 @@ import pytest
 import xarray as xr
 
 from faultslip.errors import InputError
-from faultslip.studies.maps import load_map, nearest_segment, observed_table, parse_trace, read_segments, run_map, trace_length
+from faultslip.studies.maps import read_map, nearest_segment, observed_table, parse_trace, read_segments, run_map, trace_length
 from faultslip.io.resources import data_path
 
 YEAR = 365.25 * 86400
@@ -13,7 +13,7 @@ YEAR = 365.25 * 86400
 
 @pytest.fixture(scope="module")
 def bundled():
-    spec = load_map("san_andreas_map.toml")
+    spec = read_map("san_andreas_map.toml")
     return spec, run_map(spec)
 
 
@@ -106,13 +106,13 @@ def test_raster_inputs_from_netcdf_and_csv(tmp_path):
                          "slip_rate": (("lat", "lon"), np.array([[10.0, 20.0], [30.0, 40.0]]), {"units": "mm/yr"})},
                         coords={"lat": lat, "lon": lon})
     raster.to_netcdf(tmp_path / "r.nc")
-    ds = run_map(load_map(_write_map(tmp_path, raster="r.nc")))
+    ds = run_map(read_map(_write_map(tmp_path, raster="r.nc")))
     assert ds["slip_per_event"].dims == ("lat", "lon")
     expected = 6.4374 / (40e-3 / YEAR)
     assert float(ds["recurrence_period"].sel(lat=36.0, lon=-120.0)) == pytest.approx(expected, rel=1e-4)
     (tmp_path / "r.csv").write_text("lon (degree),lat (degree),lithology,slip_rate (mm/yr)\n"
                                     "-121,35,granodiorite,10\n-120,35,black_marble,20\n-121,36,pyrite,30\n-120,36,granodiorite,40\n")
-    from_csv = run_map(load_map(_write_map(tmp_path, raster="r.csv")))
+    from_csv = run_map(read_map(_write_map(tmp_path, raster="r.csv")))
     np.testing.assert_allclose(from_csv["slip_per_event"].values, ds["slip_per_event"].values)
 
 
@@ -127,7 +127,7 @@ def test_raster_inputs_from_netcdf_and_csv(tmp_path):
 def test_bad_segment_tables_name_file_and_row(tmp_path, row, message):
     config = _write_map(tmp_path, HEADER + row)
     with pytest.raises(InputError, match=message):
-        load_map(config)
+        read_map(config)
 
 
 def test_bad_inputs_via_cli_exit_2_and_write_nothing(cli, tmp_path):
@@ -161,7 +161,7 @@ def test_a_rate_state_map_gives_each_segment_its_faults_cycles(tmp_path):
     config = _write_map(tmp_path, table)
     config.write_text(config.read_text().replace("san_andreas_1906.toml", "san_andreas_1906_rate_state.toml")
                       .replace("[segments]", "cycles = 2\n[segments]"))
-    spec = load_map(config)
+    spec = read_map(config)
     ds = run_map(spec)
     assert ds["method"].attrs["flag_meanings"] == "solver_failed closed_form lsoda dopri5 dopri5_compiled"
     # the map's own slip rates: one ulp of input moves the cycles by ~1e-7 (their rtol), so exact inputs
@@ -174,7 +174,7 @@ def test_a_rate_state_map_gives_each_segment_its_faults_cycles(tmp_path):
         for name in ("slip_per_event", "recurrence_period", "moment_magnitude", "stiffness_ratio"):
             assert float(ds[name][index]) == pytest.approx(float(one[name]), rel=1e-12), name
     assert np.nanmax(ds["map_slip_per_event"].values) > 0
-    bundled = run_map(load_map("san_andreas_map_rate_state.toml"))
+    bundled = run_map(read_map("san_andreas_map_rate_state.toml"))
     assert np.all(bundled["regime"].values == 0) and np.all(bundled["slip_per_event"].values > 0)
 
 
@@ -187,4 +187,4 @@ def test_rate_state_map_options_are_checked(tmp_path, head, message):
     config = _write_map(tmp_path, HEADER + "a,-120.5 35.0; -120.0 35.6,30,granodiorite,12,20\n")
     config.write_text(config.read_text().replace('base = "san_andreas_1906.toml"', head))
     with pytest.raises(InputError, match=message):
-        load_map(config)
+        read_map(config)

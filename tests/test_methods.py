@@ -15,7 +15,7 @@ from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionl
 from faultslip.errors import MethodError, OutOfDomainWarning
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, slip_cycle
 from faultslip.dynamics.methods import INTEGRATOR_ERROR_CONSTANT, ClosedForm, choose, solve
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.evaluation.stability import evaluate_cell, grid_system
 
@@ -26,7 +26,7 @@ def scenes():
 
 
 def test_auto_picks_the_closed_form_for_1906_and_its_error_is_far_below_1e_6():
-    system = load_scene("san_andreas_1906.toml").slider()
+    system = read_slider_scene("san_andreas_1906.toml").slider()
     solution = solve(system)
     assert solution.method == "closed_form"
     assert solution.estimated_relative_error < 1e-15
@@ -38,7 +38,7 @@ def test_auto_picks_the_closed_form_for_1906_and_its_error_is_far_below_1e_6():
 
 
 def test_auto_with_radiation_damping_still_uses_the_closed_form():
-    system = load_scene("san_andreas_1906_radiation.toml").slider()
+    system = read_slider_scene("san_andreas_1906_radiation.toml").slider()
     solution = solve(system)
     assert solution.method == "closed_form"
     measured = abs(closed_form_cycle(system).amplitude / exact_cycle(system).amplitude - 1)
@@ -53,7 +53,7 @@ def test_auto_picks_the_exact_cycle_near_the_critical_rate(scenes, scene):
 
 
 def test_auto_picks_the_cheapest_sufficient_integrator_for_a_nonlinear_law():
-    system = load_scene("lab_steel_dry_polynomial.toml").slider()
+    system = read_slider_scene("lab_steel_dry_polynomial.toml").slider()
     loose = solve(system, tolerance=1e-6)
     assert loose.method == "event_driven_DOP853" and loose.settings["rtol"] == 1e-6
     tight = solve(system, tolerance=1e-9)
@@ -67,7 +67,7 @@ def test_auto_picks_the_cheapest_sufficient_integrator_for_a_nonlinear_law():
 def test_time_of_stick_law_goes_to_the_exact_map():
     """Cameron's law with a constant kinetic friction: analytic slip phases, the steady cycle by the
     re-stick map (the closed form and the exact cycle need a static limit independent of the stick)."""
-    system = load_scene("lab_steel_dry_time_of_stick.toml").slider()
+    system = read_slider_scene("lab_steel_dry_time_of_stick.toml").slider()
     method, assessment, candidates = choose(system)
     assert method.name == "exact_map"
     assert not candidates[0].applicable and "time of stick" in candidates[0].reason
@@ -77,7 +77,7 @@ def test_forcing_a_method_outside_its_domain_warns_and_names_the_better_one(scen
     near = scenes["glass_dry_near"][0]
     with pytest.warns(OutOfDomainWarning, match="closed_form is outside its domain.*use exact_cycle"):
         solve(near, method="closed_form")
-    polynomial = load_scene("lab_steel_dry_polynomial.toml").slider()
+    polynomial = read_slider_scene("lab_steel_dry_polynomial.toml").slider()
     with pytest.warns(OutOfDomainWarning), pytest.raises(MethodError, match="use event_driven_DOP853"):
         solve(polynomial, method="exact_cycle")
     low = scenes["glass_dry_low"][0]

@@ -118,7 +118,7 @@ def test_the_rate_and_state_slider_runs_through_run_too(cli):
 
 def test_a_fault_estimate_gives_its_values_with_units():
     """Fault.estimate() kept bare SI floats; its quantities now carry units (seed 003 §5-2, computed)."""
-    estimate = faultslip.Fault(lithology="granodiorite_water", shear_modulus="0.25e6 bar", zone_width="13 mi",
+    estimate = faultslip.models.Fault(lithology="granodiorite_water", shear_modulus="0.25e6 bar", zone_width="13 mi",
                                shear_stress="250 bar", slip_rate="2 in/yr").estimate()
     assert estimate["slip_per_event"].to("ft").magnitude == pytest.approx(21.12, abs=0.01)
     assert estimate["recurrence_period"].to("yr").magnitude == pytest.approx(126.7, abs=0.1)
@@ -163,20 +163,20 @@ def test_the_cli_and_python_give_the_same_numbers(scene, cli):
 
 
 def test_run_takes_a_path_a_name_a_scene_object_or_keywords_with_units():
-    """faultslip.run(faultslip.Fault(...)) raised 'File name too long'; run(load_scene(...)) was refused."""
+    """faultslip.run(faultslip.models.Fault(...)) raised 'File name too long'; run(read_slider_scene(...)) was refused."""
     by_name = faultslip.run("san_andreas_1906.toml")
-    loaded = faultslip.run(faultslip.load_scene("san_andreas_1906.toml"))
+    loaded = faultslip.run(faultslip.models.read_slider_scene("san_andreas_1906.toml"))
     inputs = dict(lithology="granodiorite_water", shear_modulus="0.25e6 bar", zone_width="13 mi",
                   shear_stress="250 bar", slip_rate="2 in/yr", rupture_length="270 mi", seismogenic_depth="12 km")
-    fault = faultslip.run(faultslip.Fault(**inputs))
+    fault = faultslip.run(faultslip.models.Fault(**inputs))
     keywords = faultslip.run(**inputs)
     for result in (loaded, fault, keywords):
         assert result["slip_per_event"].to("m").magnitude == pytest.approx(
             by_name["slip_per_event"].to("m").magnitude, rel=1e-12)
         assert result["recurrence_period"].to("yr").magnitude == pytest.approx(126.72, abs=0.01)
-    two_d = faultslip.load_fault_2d_scene("fault_2d_small.toml").with_values(element_size=500.0)
+    two_d = faultslip.models.read_fault_2d_scene("fault_2d_small.toml").with_values(element_size=500.0)
     assert faultslip.run(two_d).family == "fault_2d"
-    assert faultslip.run(faultslip.load_rate_state_scene("rsf_velocity_step.toml")).family == "rate_state_slider"
+    assert faultslip.run(faultslip.models.read_rate_state_scene("rsf_velocity_step.toml")).family == "rate_state_slider"
     with pytest.raises(InputError, match="scene object"):
         faultslip.run(42)
     with pytest.raises(InputError, match="not both"):
@@ -187,11 +187,11 @@ def test_simulate_takes_a_scene_and_the_slider_integrator_has_its_own_name():
     """faultslip.simulate("scene.toml") raised AttributeError: it was the spring-slider's integrator."""
     result = faultslip.simulate("lab_glass_dry.toml", cycles=3)
     assert isinstance(result, faultslip.Result) and result.time_series().sizes["time"] > 10
-    slider = faultslip.load_scene("lab_glass_dry.toml").slider()
-    direct = faultslip.simulate_slider(slider, cycles=3)
+    slider = faultslip.models.read_slider_scene("lab_glass_dry.toml").slider()
+    direct = faultslip.models.simulate_slider(slider, cycles=3)
     assert float(direct["slip"][-1]) == pytest.approx(float(result.time_series()["slip"][-1]), rel=1e-12)
     with pytest.raises(InputError, match="no simulation settings"):
-        faultslip.simulate(faultslip.Fault(lithology="granodiorite_water", zone_width="10 km",
+        faultslip.simulate(faultslip.models.Fault(lithology="granodiorite_water", zone_width="10 km",
                                            shear_stress="250 bar", slip_rate="30 mm/yr", shear_modulus="30 GPa"))
 
 
@@ -200,7 +200,7 @@ def test_every_variable_of_every_family_carries_units(family):
     """A dimensionless Result variable had no units attribute (CF wants "1"); the nanoscale Dataset had none."""
     scene = CONFIGS / SCENES[family]
     if family == "fault_2d":
-        scene = faultslip.load_fault_2d_scene(scene).with_values(element_size=500.0)
+        scene = faultslip.models.read_fault_2d_scene(scene).with_values(element_size=500.0)
     for result in (faultslip.run(scene), faultslip.simulate(scene)):
         dataset = result.to_xarray()
         numeric = [n for n in list(dataset.data_vars) + list(dataset.coords) if dataset[n].dtype.kind in "fiu"]
@@ -212,8 +212,8 @@ def test_a_fits_95_percent_ranges_reach_the_dataset(tmp_path, monkeypatch):
     """run(...).to_xarray() dropped slip_per_event_95 and recurrence_period_95: a fit's uncertainty never reached
     the Dataset. They are the 2.5 and 97.5 % quantiles, named as the value's ancillary variables."""
     monkeypatch.setenv("FAULTSLIP_REGISTRY", str(tmp_path / "fits.json"))
-    data = faultslip.read_friction_data(CONFIGS / "example_friction_data.csv")
-    faultslip.save_fit("my_gouge", faultslip.fit_rate_law(data, bootstrap=40, seed=1), shear_modulus="30 GPa")
+    data = faultslip.friction.read_friction_data(CONFIGS / "example_friction_data.csv")
+    faultslip.friction.save_fit("my_gouge", faultslip.friction.fit_rate_law(data, bootstrap=40, seed=1), shear_modulus="30 GPa")
     result = faultslip.run(lithology="my_gouge", zone_width="10 km", normal_stress="50 MPa", slip_rate="30 mm/yr")
     dataset = result.to_xarray()
     assert dataset["slip_per_event_95"].dims == ("quantile",)
@@ -226,26 +226,26 @@ def test_a_fits_95_percent_ranges_reach_the_dataset(tmp_path, monkeypatch):
 
 
 def test_saved_fits_are_public_and_listed_with_the_lithologies(tmp_path, monkeypatch):
-    """There was no public way to save a fit, and faultslip.lithologies() omitted what 'faultslip materials'
+    """There was no public way to save a fit, and faultslip.friction.lithologies() omitted what 'faultslip materials'
     lists; a saved fit is replaced only with overwrite=True."""
     monkeypatch.setenv("FAULTSLIP_REGISTRY", str(tmp_path / "fits.json"))
-    fit = faultslip.fit_rate_law(faultslip.read_friction_data(CONFIGS / "example_friction_data.csv"), bootstrap=5)
-    faultslip.save_fit("marble_a", fit, shear_modulus="30 GPa", note="wet")
-    assert set(faultslip.fits()) == {"marble_a"} and faultslip.fits()["marble_a"]["note"] == "wet"
-    assert faultslip.lithologies()["marble_a"].shear_modulus == pytest.approx(30e9)
-    assert "granodiorite" in faultslip.lithologies()
+    fit = faultslip.friction.fit_rate_law(faultslip.friction.read_friction_data(CONFIGS / "example_friction_data.csv"), bootstrap=5)
+    faultslip.friction.save_fit("marble_a", fit, shear_modulus="30 GPa", note="wet")
+    assert set(faultslip.friction.fits()) == {"marble_a"} and faultslip.friction.fits()["marble_a"]["note"] == "wet"
+    assert faultslip.friction.lithologies()["marble_a"].shear_modulus == pytest.approx(30e9)
+    assert "granodiorite" in faultslip.friction.lithologies()
     with pytest.raises(InputError, match="overwrite"):
-        faultslip.save_fit("marble_a", fit)
-    faultslip.save_fit("marble_a", fit, overwrite=True)
+        faultslip.friction.save_fit("marble_a", fit)
+    faultslip.friction.save_fit("marble_a", fit, overwrite=True)
     with pytest.raises(InputError, match="empty"):
-        faultslip.save_fit("", fit)
+        faultslip.friction.save_fit("", fit)
 
 
 def test_the_rate_state_fit_is_one_call_in_python_with_the_cli_numbers(cli):
-    """The fit workflow lived in cli/lab.py (149 lines); it is faultslip.fit_record, and the command only parses,
+    """The fit workflow lived in cli/lab.py (149 lines); it is faultslip.lab.fit_record, and the command only parses,
     draws and prints: both give the same numbers."""
     args = dict(stiffness="200 kN/mm", area="25 cm^2", bootstrap=5, seed=2)
-    result = faultslip.fit_record(CONFIGS / "example_raw_velocity_steps.txt", **args)
+    result = faultslip.lab.fit_record(CONFIGS / "example_raw_velocity_steps.txt", **args)
     printed = cli("fit", CONFIGS / "example_raw_velocity_steps.txt", "--law", "rate-state", "--stiffness",
                   args["stiffness"], "--area", args["area"], "--bootstrap", "5", "--seed", "2", "--json").json
     computed = _numbers(result.report.to_dict())
@@ -255,4 +255,4 @@ def test_the_rate_state_fit_is_one_call_in_python_with_the_cli_numbers(cli):
         assert shown[key] == pytest.approx(value, rel=1e-12, nan_ok=True), key
     assert result.fit.parameters["critical_slip"] == pytest.approx(20e-6, rel=0.1)  # the record's truth: 20 um
     with pytest.raises(InputError, match="--windows"):
-        faultslip.fit_record(CONFIGS / "example_velocity_steps.csv", 1e4, windows=[(1.0, 2.0)])
+        faultslip.lab.fit_record(CONFIGS / "example_velocity_steps.csv", 1e4, windows=[(1.0, 2.0)])

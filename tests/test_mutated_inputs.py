@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from conftest import assert_clean_error, mounted_tmpfs
 from faultslip.models.fault_2d.integrate import STREAM_FILES, YEAR, _Stopped, run_cycles
 from faultslip.errors import InputError
-from faultslip.models.fault_2d.scene import load_fault_2d_scene
+from faultslip.models.fault_2d.scene import read_fault_2d_scene
 from faultslip.io.records import RecordStream, read_checkpoint, write_checkpoint
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -42,7 +42,7 @@ def tiny_scene(tmp_path, **replace) -> Path:
 def stopped_run(tmp_path_factory):
     """A run stopped as a kill would, right after a checkpoint, and the same run never stopped."""
     folder = tmp_path_factory.mktemp("stopped")
-    loaded = load_fault_2d_scene(tiny_scene(folder))
+    loaded = read_fault_2d_scene(tiny_scene(folder))
     whole = run_cycles(loaded.fault, loaded.duration, rtol=loaded.rtol, stations=loaded.stations)
     with pytest.raises(_Stopped):
         run_cycles(loaded.fault, loaded.duration, rtol=loaded.rtol, stations=loaded.stations, folder=folder / "run",
@@ -200,7 +200,7 @@ def test_a_failed_fresh_run_leaves_nothing_behind(tmp_path, monkeypatch):
     """A 2-D run into a full tmpfs said "nothing was left behind" but left checkpoint.npz and three record files."""
     from faultslip.models.fault_2d import integrate
 
-    loaded = load_fault_2d_scene(tiny_scene(tmp_path))
+    loaded = read_fault_2d_scene(tiny_scene(tmp_path))
     calls = {"n": 0}
     real = integrate.write_checkpoint
 
@@ -369,7 +369,7 @@ def test_a_2d_runs_step_estimate_covers_what_it_takes(tmp_path, changes):
         text = text.replace(old, new)
     scene = tmp_path / "unseen.toml"
     scene.write_text(text)
-    loaded = load_fault_2d_scene(scene)
+    loaded = read_fault_2d_scene(scene)
     run = loaded.run(loaded.rtol)
     estimate = loaded.estimated_steps()
     assert run.steps / 2 <= estimate <= 3 * run.steps, (run.steps, estimate)
@@ -379,7 +379,7 @@ def test_a_2d_study_is_budgeted_cell_by_cell(tmp_path):
     """A swept element size changes each cell's cost: the study's estimate follows it."""
     from faultslip.models.fault_2d.cells import fault_2d_cell_seconds
 
-    loaded = load_fault_2d_scene(CONFIGS / "fault_2d_small.toml")
+    loaded = read_fault_2d_scene(CONFIGS / "fault_2d_small.toml")
     coarse = fault_2d_cell_seconds(loaded, {"element_size": np.array([2000.0])})
     fine = fault_2d_cell_seconds(loaded, {"element_size": np.array([250.0])})
     both = fault_2d_cell_seconds(loaded, {"element_size": np.array([2000.0, 250.0])})

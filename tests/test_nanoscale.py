@@ -127,10 +127,10 @@ def test_run_and_simulate_take_a_nanoscale_scene_and_auto_integrates_only_when_n
     assert (tmp_path / "n.png").stat().st_size > 10_000
     assert_clean_error(cli("simulate", scene, "--cycles", "3"), "--cycles) is not an option of a nanoscale scene")
     assert_clean_error(cli("run", scene, "--method", "closed_form"), "must be one of auto")
-    from faultslip.fault.scene import load_scene
+    from faultslip.fault.scene import read_slider_scene
 
     with pytest.raises(InputError, match="nanoscale scene"):
-        load_scene(str(scene))
+        read_slider_scene(str(scene))
 
 
 def test_near_the_critical_damping_the_settled_cycle_is_reported_and_named():

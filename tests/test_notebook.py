@@ -19,7 +19,7 @@ DATA = Path(__file__).resolve().parent.parent / "data"
 
 def test_the_1906_estimate_with_units():
     """Seed 003 §5-2: K = G/D, slip = 2 tau_excess / K times the overshoot; recomputed from the inputs."""
-    fault = faultslip.Fault(lithology="granodiorite_water", shear_modulus=0.25e6 * units.bar,
+    fault = faultslip.models.Fault(lithology="granodiorite_water", shear_modulus=0.25e6 * units.bar,
                             zone_width="13 mi", shear_stress="250 bar", slip_rate=2 * units("in/yr"))
     estimate = fault.estimate()
     slip = estimate["slip_per_event"]
@@ -64,22 +64,22 @@ def test_a_map_from_python_objects_matches_the_same_map_from_files():
         "zone_width": (table["zone_width (mi)"].to_numpy() * units.mi).to("m").magnitude,  # floats are SI
     })
     lon, lat = np.linspace(-125.0, -114.5, 106), np.linspace(32.5, 40.5, 81)
-    spec = faultslip.segment_map(frame, lon, lat, scene="san_andreas_1906.toml", max_distance=60 * units.km)
-    from_python = faultslip.run_map(spec)
-    from_files = faultslip.run_map(faultslip.load_map(CONFIGS / "san_andreas_map.toml"))
+    spec = faultslip.hazard.segment_map(frame, lon, lat, scene="san_andreas_1906.toml", max_distance=60 * units.km)
+    from_python = faultslip.hazard.run_map(spec)
+    from_files = faultslip.hazard.run_map(faultslip.hazard.read_map(CONFIGS / "san_andreas_map.toml"))
     for name in ("slip_per_event", "recurrence_period"):
         assert from_python[name].attrs["units"] == from_files[name].attrs["units"]
         np.testing.assert_allclose(from_python[name].values, from_files[name].values, rtol=1e-12, equal_nan=True)
     with pytest.raises(faultslip.InputError, match="slip_rate"):
-        faultslip.segment_map(frame.assign(slip_rate="2 kg"), lon, lat)
+        faultslip.hazard.segment_map(frame.assign(slip_rate="2 kg"), lon, lat)
 
 
 def test_a_catalog_comparison():
-    catalog = faultslip.read_catalog(CONFIGS / "catalog_san_andreas.csv")
-    scene = faultslip.load_scene(CONFIGS / "parkfield.toml")
-    comparison = faultslip.compare_catalog(catalog, scene, trace=scene.trace, max_distance="25 km", horizon="30 yr",
+    catalog = faultslip.io.read_catalog(CONFIGS / "catalog_san_andreas.csv")
+    scene = faultslip.models.read_slider_scene(CONFIGS / "parkfield.toml")
+    comparison = faultslip.hazard.compare_catalog(catalog, scene, trace=scene.trace, max_distance="25 km", horizon="30 yr",
                                            bootstrap=0, as_of=np.datetime64("2026-01-01"))
-    same = faultslip.compare_catalog(catalog, scene, trace=scene.trace, max_distance=25e3,
+    same = faultslip.hazard.compare_catalog(catalog, scene, trace=scene.trace, max_distance=25e3,
                                      horizon=30 * faultslip.JULIAN_YEAR, bootstrap=0, as_of=np.datetime64("2026-01-01"))
     assert comparison.report("a").to_dict() == same.report("a").to_dict()
     report = comparison.report().to_dict()
@@ -92,8 +92,8 @@ def test_a_catalog_comparison():
 
 def test_a_rate_and_state_fit_from_a_dataframe():
     frame = pd.read_csv(CONFIGS / "example_velocity_steps.csv")
-    fit = faultslip.fit_velocity_steps(frame, "1e-2 1/um")
-    from_file = faultslip.fit_velocity_steps(faultslip.read_step_record(CONFIGS / "example_velocity_steps.csv"),
+    fit = faultslip.lab.fit_velocity_steps(frame, "1e-2 1/um")
+    from_file = faultslip.lab.fit_velocity_steps(faultslip.lab.read_step_record(CONFIGS / "example_velocity_steps.csv"),
                                              1e-2 / 1e-6)
     for name in ("a", "b", "critical_slip"):
         assert fit.parameters[name] == pytest.approx(from_file.parameters[name], rel=1e-12)
@@ -102,19 +102,19 @@ def test_a_rate_and_state_fit_from_a_dataframe():
     assert low <= fit.parameters["a"] <= high
     columns = {"time": frame["time (s)"].to_numpy() * units.s, "friction": frame["friction"].to_numpy(),
                "load_point_speed": frame["load_point_speed (um/s)"].to_numpy() * units("um/s")}
-    assert faultslip.fit_velocity_steps(columns, 1e-2 / units.um).parameters["b"] == pytest.approx(
+    assert faultslip.lab.fit_velocity_steps(columns, 1e-2 / units.um).parameters["b"] == pytest.approx(
         fit.parameters["b"], rel=1e-12)
 
 
 def test_a_phyphox_record():
-    record = faultslip.read_accelerometer(CONFIGS / "example_phyphox.csv")
-    analysis = faultslip.analyse_accelerometer(record)
+    record = faultslip.lab.read_accelerometer(CONFIGS / "example_phyphox.csv")
+    analysis = faultslip.lab.analyze_accelerometer(record)
     report = analysis.report().to_dict()
     assert record.time.size > 100 and np.all(np.diff(record.time) > 0)
     assert analysis.starts.size >= 3 and report
     # each friction drop is the break-away deceleration over g (a phone measures m/s^2)
     np.testing.assert_allclose(analysis.friction_drop * 9.80665, analysis.peak_acceleration, rtol=1e-12)
-    figure = faultslip.classroom_figure(analysis)
+    figure = faultslip.plots.classroom_figure(analysis)
     assert figure.axes
     import matplotlib.pyplot as plt
 

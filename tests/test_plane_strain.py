@@ -299,13 +299,13 @@ def test_model_error_on_a_dipping_scene_climbs_through_the_antiplane_rung(cli):
 
     from faultslip.fault.dip_error import declared
     from faultslip.fault.ladder import groups
-    from faultslip.models.fault_2d.scene import load_fault_2d_scene
+    from faultslip.models.fault_2d.scene import read_fault_2d_scene
 
     done = cli("model-error", CONFIGS / "fault_2d_dipping_small.toml", "--json")
     assert done.code == 0, done.err
     values = json.loads(done.out)
     assert {"one_slider_recurrence", "antiplane_recurrence", "fault_2d_recurrence"} <= set(values)
-    fault = load_fault_2d_scene(CONFIGS / "fault_2d_dipping_small.toml").fault
+    fault = read_fault_2d_scene(CONFIGS / "fault_2d_dipping_small.toml").fault
     bound = declared(fault.dip, width_over_nucleation=groups(fault.description())["width_over_nucleation"])
     error = values["antiplane_declared_error"]
     if math.isfinite(bound):

@@ -105,7 +105,7 @@ def test_bad_sequences_are_refused_in_one_sentence(cli, tmp_path):
     assert_clean_error(cli("predictability", CONFIGS / "catalog_san_andreas.csv", "--name", "Atlantis"),
                        "no event")
     assert_clean_error(cli("predictability", tmp_path / "none.csv"), "does not exist")
-    assert faultslip.predictability is predictability
+    assert faultslip.hazard.predictability is predictability
 
 
 def test_the_single_slider_is_periodic_as_its_exact_cycle_says(cli, tmp_path):

@@ -41,10 +41,10 @@ def test_a_callable_is_kept_and_silence_is_none():
 
 def test_long_library_work_reports_through_the_callable():
     from faultslip.dynamics.rate_state.slider import fault_cycles
-    from faultslip.fault.rate_state_scene import load_rate_state_scene
+    from faultslip.fault.rate_state_scene import read_rate_state_scene
     from pathlib import Path
 
-    scene = load_rate_state_scene(Path(__file__).resolve().parent.parent / "configs" / "rsf_block_bp1.toml")
+    scene = read_rate_state_scene(Path(__file__).resolve().parent.parent / "configs" / "rsf_block_bp1.toml")
     seen = []
     fault_cycles(scene.slider, scene.plate_rate, cycles=2, progress=lambda done, total: seen.append((done, total)))
     # spin-up until the sequence settles, 2 measured, and the start of the next: the count reaches the total

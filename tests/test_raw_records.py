@@ -20,7 +20,7 @@ from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.resources import read_numeric_text
 from faultslip.lab.posterior import Prior, parse_prior, sample_posterior
 from faultslip.lab.rate_state_fit import fit_velocity_steps
-from faultslip.lab.raw_records import (RawRecord, detect_steps, fit_each_step, load_record, prepare_record, raw_record,
+from faultslip.lab.raw_records import (RawRecord, detect_steps, fit_each_step, read_rig_record, prepare_record, raw_record,
                                        read_raw_record, synthetic_raw_record)
 
 UM = 1e-6
@@ -110,7 +110,7 @@ def test_fuzzed_raw_files_fail_in_one_sentence(tmp_path_factory, payload, suffix
         b"time (s),load_point_displacement (um),shear_load (kN),normal_load (kN)\n"
     path.write_bytes(header + payload)
     try:
-        record = load_record(path, area="25 cm^2")
+        record = read_rig_record(path, area="25 cm^2")
     except InputError as exc:
         assert "\n" not in str(exc).strip()
     else:
@@ -396,7 +396,7 @@ def test_an_excel_workbook_reads_as_its_csv(tmp_path):
     _workbook(tmp_path / "run.xlsx", header, rows + [[None] * 4])
     (tmp_path / "run.csv").write_text(",".join(header) + "\n" + "".join(",".join(repr(v) for v in row) + "\n"
                                                                         for row in rows), encoding="utf-8")
-    from_sheet, from_csv = load_record(tmp_path / "run.xlsx"), load_record(tmp_path / "run.csv")
+    from_sheet, from_csv = read_rig_record(tmp_path / "run.xlsx"), read_rig_record(tmp_path / "run.csv")
     # openpyxl writes a number to 15 significant digits (Excel's own precision): equal to that, not bit for bit
     for name in ("time", "load_point_displacement", "shear_stress", "normal_stress"):
         np.testing.assert_allclose(getattr(from_sheet, name), getattr(from_csv, name), rtol=1e-14, atol=1e-20)
@@ -589,7 +589,7 @@ def test_p655_velocity_step_fitted_with_the_stiffness_free(p655_reduced):
     machine within 30 %."""
     from faultslip.lab.healing import steady_state_dependence
 
-    record = load_record(p655_reduced, columns=P655_COLUMNS, span=(3830.0, 3874.0))
+    record = read_rig_record(p655_reduced, columns=P655_COLUMNS, span=(3830.0, 3874.0))
     assert record.time[-1] == pytest.approx(44.0, abs=0.01)
     prepared = prepare_record(record, "2000 1/m")
     assert [round(v * 1e6, 1) for v in prepared.record.history.speeds] == [2.3, 22.9]
@@ -607,9 +607,9 @@ def test_p655_velocity_step_fitted_with_the_stiffness_free(p655_reduced):
 
 def test_p655_columns_and_span_are_checked_in_one_sentence(p655_reduced, cli):
     with pytest.raises(InputError, match="no column 'LP'"):
-        load_record(p655_reduced, columns={**P655_COLUMNS, "load_point_displacement": "LP"})
+        read_rig_record(p655_reduced, columns={**P655_COLUMNS, "load_point_displacement": "LP"})
     with pytest.raises(InputError, match="no row lies in the span"):
-        load_record(p655_reduced, columns=P655_COLUMNS, span=(1e6, 2e6))
+        read_rig_record(p655_reduced, columns=P655_COLUMNS, span=(1e6, 2e6))
     columns = ", ".join(f"{k}={v}" for k, v in P655_COLUMNS.items())
     for extra, message in ((["--span", "3900 s"], "--span takes"), (["--columns", "time"], "--columns takes"),
                            (["--span", "3900 s - 3800 s"], "earlier to a later"),
@@ -634,7 +634,7 @@ def test_every_lab_result_gives_xarray_with_cf_units(p655_reduced, tmp_path):
     results = {"raw": raw, "prepared": prepared, "record": prepared.record, "fit": fit, "posterior": posterior,
                "each_step": fit_each_step(prepared), "steady": steady_state_dependence(prepared.record),
                "healing": healing(held), "look": read_look(ROOT / "data" / "p655" / "p655intact100l"),
-               "span": load_record(p655_reduced, columns=P655_COLUMNS, span=("64 min", "65 min"))}
+               "span": read_rig_record(p655_reduced, columns=P655_COLUMNS, span=("64 min", "65 min"))}
     for name, result in results.items():
         dataset = result.to_dataset()
         assert dataset.data_vars, name

@@ -15,7 +15,7 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.records import RecordColumns, RecordStream, lazy_data
 from faultslip.models.fault_2d.family import to_dataset, write_outputs, _result
 from faultslip.models.fault_2d.integrate import YEAR, run_cycles
-from faultslip.models.fault_2d.scene import load_fault_2d_scene
+from faultslip.models.fault_2d.scene import read_fault_2d_scene
 
 from test_fault_2d import CONFIGS, STATIONS, small_fault
 
@@ -77,7 +77,7 @@ def test_a_2d_run_with_a_folder_equals_the_run_in_memory_in_every_output(tmp_pat
     assert np.array_equal(np.asarray(on_disk.profiles), in_memory.profiles)
     assert np.array_equal(np.asarray(on_disk.profile_log10_slip_rate), in_memory.profile_log10_slip_rate)
     # the files a run writes are byte for byte the same, and so is its netCDF's content
-    loaded = load_fault_2d_scene(CONFIGS / "seas_bp1.toml")
+    loaded = read_fault_2d_scene(CONFIGS / "seas_bp1.toml")
     for run, folder in ((in_memory, tmp_path / "a"), (on_disk, tmp_path / "b")):
         folder.mkdir()
         write_outputs(loaded, run, folder, _result(loaded, run, 1e-3))

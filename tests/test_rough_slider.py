@@ -8,7 +8,7 @@ import pytest
 
 from conftest import assert_clean_error
 from faultslip.dynamics.spring_slider.simulate import simulate
-from faultslip.models.rough_surface.scene import load_rough_scene, rough_surface_slider
+from faultslip.models.rough_surface.scene import read_rough_scene, rough_surface_slider
 from faultslip.lab.surfaces import gaussian_surface
 
 SURFACE = gaussian_surface(3.26e-6, 60e-6, size=96, seed=2026)
@@ -70,7 +70,7 @@ def test_the_scene_runs_through_run_and_simulate(cli, tmp_path):
     assert_clean_error(cli("run", bad), "hardness")
     bad.write_text(text.replace('synthetic = ["3.26 um", "60 um"]', 'synthetic = ["3.26 um"]'), encoding="utf-8")
     assert_clean_error(cli("run", bad), "synthetic")
-    system, details, settings = load_rough_scene("configs/rough_surface_seed000.toml")
+    system, details, settings = read_rough_scene("configs/rough_surface_seed000.toml")
     assert settings["cycles"] == 8 and math.isclose(system.mass, 0.6)
 
 

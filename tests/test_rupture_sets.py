@@ -25,9 +25,9 @@ YEAR = 365.25 * 86400
 
 @pytest.fixture(scope="module")
 def california():
-    from faultslip.studies.maps import load_map, run_map
+    from faultslip.studies.maps import read_map, run_map
 
-    spec = load_map(SYSTEM)
+    spec = read_map(SYSTEM)
     return spec, run_map(spec)
 
 
@@ -214,9 +214,9 @@ def test_the_engine_reads_the_system_and_its_rates_and_runs_a_classical_calculat
     model = nrml.to_python(str(tmp_path / "s_system_faultslip.xml"), converter)
     multi, background = [source for group in model for source in group]
     assert type(multi).__name__ == "MultiFaultSource" and type(background).__name__ == "AreaSource"
-    from faultslip.studies.maps import load_map, run_map
+    from faultslip.studies.maps import read_map, run_map
 
-    spec = load_map(path)
+    spec = read_map(path)
     result = rs.rupture_set(spec, run_map(spec), spec.rupture_rules, "faultslip")
     np.testing.assert_allclose(multi.occur_rates, result.rate[result.rate > 0], rtol=1e-9)
     assert sorted(sections.sections, key=int) == [str(i) for i in range(result.sections.count)]

@@ -5,7 +5,7 @@ from pathlib import Path
 import pytest
 
 from faultslip.errors import InputError
-from faultslip.fault.scene import load_scene, parse_scene, run_scene
+from faultslip.fault.scene import read_slider_scene, parse_scene, run_scene
 from faultslip.io.resources import bundled_scenes
 
 
@@ -19,13 +19,13 @@ def test_bundled_scenes_include_1906_granite_and_every_table_i_preset():
 
 @pytest.mark.parametrize("name", bundled_scenes())
 def test_every_bundled_scene_runs(name):
-    report = run_scene(load_scene(name))
+    report = run_scene(read_slider_scene(name))
     data = report.to_dict()
     assert "slip_per_event" in data or "kinetic_friction" in data
 
 
 def test_lab_scene_uses_the_preset_apparatus():
-    scene = load_scene("lab_pyrite_dry.toml")
+    scene = read_slider_scene("lab_pyrite_dry.toml")
     system = scene.slider()
     assert system.normal_load == pytest.approx(430.6 * 4.4482216152605)
     assert system.platform_speed == pytest.approx(1e-4 * 0.0254)
@@ -45,7 +45,7 @@ def test_scene_without_units_or_with_wrong_kind_is_rejected():
 
 
 def test_scene_keeps_its_text_for_provenance():
-    scene = load_scene()
+    scene = read_slider_scene()
     assert scene.text.startswith("# The 1906 San Francisco earthquake")
     assert scene.sources["zone_width"].startswith("seed 003")
 

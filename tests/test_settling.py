@@ -15,7 +15,7 @@ from faultslip.dynamics.methods import solve
 from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
 from faultslip.dynamics.shared.settling import aitken, assess_settling, settle
 from faultslip.dynamics.spring_slider.simulate import simulate
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.friction.rate_state import RateStateLaw
 
 
@@ -66,7 +66,7 @@ def test_a_sequence_that_does_not_contract_is_never_settled():
 # --- Cameron's law near V_c = c alpha_m ----------------------------------------------------------------
 
 
-CAMERON = load_scene("lab_steel_dry_time_of_stick.toml").slider()
+CAMERON = read_slider_scene("lab_steel_dry_time_of_stick.toml").slider()
 LAW = CAMERON.static_law
 ALPHA_M = 2 * CAMERON.normal_load * (LAW.mu_upper - LAW.mu_lower) / CAMERON.stiffness
 CRITICAL_SPEED = LAW.growth_rate * ALPHA_M  # V_c = c alpha_m (seed 002 eq. 9 as alpha -> 0)

@@ -8,7 +8,7 @@ from faultslip.dynamics.spring_slider.critical import critical
 from faultslip.errors import InputError, SolverError
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
 from faultslip.friction.laws import CallableKinetic, ConstantKinetic, PolynomialKinetic, TimeOfStickLaw
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 
@@ -36,7 +36,7 @@ def test_simulator_reproduces_the_exact_cycle_to_1e_8(solver, rtol):
 
 
 def test_fault_scale_100_cycles_never_steps_through_the_interseismic_period():
-    scene = load_scene("san_andreas_1906.toml")
+    scene = read_slider_scene("san_andreas_1906.toml")
     system = scene.slider()
     dataset = simulate(system, cycles=100)
     assert dataset.sizes["event"] == 100 and dataset.attrs["slip_solver"] == "analytic"
@@ -49,19 +49,19 @@ def test_fault_scale_100_cycles_never_steps_through_the_interseismic_period():
 
 
 def test_fault_scale_with_an_integrator_agrees_with_the_exact_cycle():
-    system = load_scene("san_andreas_1906.toml").slider()
+    system = read_slider_scene("san_andreas_1906.toml").slider()
     dataset = simulate(system, cycles=5, slip_solver="DOP853", rtol=1e-11)
     assert max(_agreement(dataset, exact_cycle(system)).values()) < 1e-8
 
 
 def test_radiation_damping_at_fault_scale():
-    system = load_scene("san_andreas_1906_radiation.toml").slider()
+    system = read_slider_scene("san_andreas_1906_radiation.toml").slider()
     assert system.radiation_damper == pytest.approx(np.sqrt(0.25e11 * 2700) / 2)  # G / (2 sqrt(G/rho))
     assert system.damping_ratio == pytest.approx(0.25)
     dataset = simulate(system, cycles=100)
     exact = exact_cycle(system)
     assert max(_agreement(dataset, exact).values()) < 1e-8
-    plain = exact_cycle(load_scene("san_andreas_1906.toml").slider())
+    plain = exact_cycle(read_slider_scene("san_andreas_1906.toml").slider())
     assert exact.amplitude < 0.8 * plain.amplitude  # radiation damping cuts the slip by about a quarter
 
 
@@ -99,7 +99,7 @@ def test_cameron_time_of_stick_law_reproduces_seed_002_eq_9():
 
 
 def test_polynomial_kinetic_law_limit_cycle_is_method_independent():
-    scene = load_scene("lab_steel_dry_polynomial.toml")
+    scene = read_slider_scene("lab_steel_dry_polynomial.toml")
     system = scene.slider()
     assert isinstance(system.kinetic_law, PolynomialKinetic)
     a = simulate(system, cycles=8, slip_solver="DOP853", rtol=1e-12)
@@ -112,7 +112,7 @@ def test_polynomial_kinetic_law_limit_cycle_is_method_independent():
 def test_dataset_carries_units_and_writes_to_netcdf(tmp_path):
     from faultslip.io.netcdf import write_dataset
 
-    dataset = simulate(load_scene("san_andreas_1906.toml").slider(), cycles=3)
+    dataset = simulate(read_slider_scene("san_andreas_1906.toml").slider(), cycles=3)
     path = tmp_path / "sim.nc"
     write_dataset(dataset, path)
     with xr.open_dataset(path) as back:

@@ -106,9 +106,9 @@ def test_the_plate_balance_holds_within_the_stored_stretch_and_the_slips_add_up(
     is bounded: |k_p (V T - x_i) + c V + k_c sum(x_j - x_i)| <= W mu_s,i for a held block. So the balance is
     checked against that bound (it falls as 1/T), not against a tolerance: it is checked on every block."""
     from faultslip.models.spring_chain.family import statistics
-    from faultslip.models.spring_chain.scene import load_chain_scene
+    from faultslip.models.spring_chain.scene import read_chain_scene
 
-    loaded = load_chain_scene(CHAIN)
+    loaded = read_chain_scene(CHAIN)
     run = _simulate(loaded.chain, 400, initial_position=loaded.initial_position)
     stats = statistics(loaded, run)
     excess = np.abs(stats["plate_balance_each"] - 1)
@@ -254,11 +254,11 @@ def test_students_test_the_chains_catalogue_for_predictability():
     """Issue 45: the predictability tests run on the chain as on a real sequence. Identical blocks are one slider:
     periodic (CV 0 exactly) with equal slips; the example's 50 heterogeneous blocks are not periodic."""
     identical = _simulate(_chain(static_friction=np.full(6, 0.6), coupling_stiffness=5e4, dashpot=30.0), 12)
-    periodic = faultslip.predictability(identical.start, identical.total_slip)
+    periodic = faultslip.hazard.predictability(identical.start, identical.total_slip)
     assert periodic.aperiodicity == pytest.approx(0.0, abs=1e-9) and periodic.verdicts["periodic"]
     result = faultslip.run(CHAIN)
     run = result.extras["run"]
-    found = faultslip.predictability(run.start, run.total_slip)
+    found = faultslip.hazard.predictability(run.start, run.total_slip)
     assert not found.verdicts["periodic"]
     assert found.intervals.size == run.events - 1
 

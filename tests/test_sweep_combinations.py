@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from faultslip.errors import InputError
 from faultslip.fault.scaling import Fault
 from faultslip.dynamics.methods import solve
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.fault.spring_slider_cells import FAULT_PARAMETERS, LAB_PARAMETERS
 from faultslip.studies.grid import sweep
@@ -48,8 +48,8 @@ LAB_VALUES = {
     "stiffness": ["1e4 lbf/in", "2e4 lbf/in", "5e6 N/m"],
 }
 EXCLUSIVE = [{"normal_stress", "shear_stress"}, {"platform_speed", "loading_rate"}]
-_FAULT_BASE = load_scene("san_andreas_1906.toml")
-_LAB_BASE = load_scene("lab_glass_dry.toml")
+_FAULT_BASE = read_slider_scene("san_andreas_1906.toml")
+_LAB_BASE = read_slider_scene("lab_glass_dry.toml")
 
 
 def _allowed(names):
@@ -162,7 +162,7 @@ def test_a_sweep_flags_only_the_cells_without_a_static_excess():
 def test_a_study_without_swept_dimensions_is_one_cell(method):
     """Found by the fuzzer: a 0-d grid with the exact cycle wrote into a scalar copy."""
     dataset = sweep("lab_glass_dry.toml", method=method)
-    expected = solve(load_scene("lab_glass_dry.toml").slider(), tolerance=1e-6).cycle
+    expected = solve(read_slider_scene("lab_glass_dry.toml").slider(), tolerance=1e-6).cycle
     assert float(dataset["slip_per_event"]) == pytest.approx(expected.slip_per_event, rel=1e-5)
 
 
@@ -191,7 +191,7 @@ RATE_STATE_VALUES = {
 def test_every_rate_state_combination_gives_the_scalar_closed_form(names, sizes):
     """Any subset of a rate-and-state study's parameters: every cell's K / K_c and steady-state friction
     equal RateStateLaw's on that cell's fault, computed without grid code (issue 9's lesson)."""
-    from faultslip.fault.scene import load_scene as scene_of
+    from faultslip.fault.scene import read_slider_scene as scene_of
     from faultslip.friction.rate_state import RateStateLaw
     from faultslip.units import to_si_scalar
 

@@ -15,7 +15,7 @@ from faultslip.errors import InputError
 from faultslip.fault.recurrence import conditional_probability, distribution
 from faultslip.io.nrml import occurrence_probabilities
 from faultslip.studies import hazard
-from faultslip.studies.maps import load_map, run_map
+from faultslip.studies.maps import read_map, run_map
 from faultslip.units import JULIAN_YEAR as YEAR
 
 NS = {"n": "http://openquake.org/xmlns/nrml/0.5"}
@@ -24,7 +24,7 @@ MAP = "configs/san_andreas_map.toml"
 
 @pytest.fixture(scope="module")
 def sources():
-    spec = load_map(MAP)
+    spec = read_map(MAP)
     return hazard.hazard_sources(spec, run_map(spec))
 
 

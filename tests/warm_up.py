@@ -40,9 +40,9 @@ def main() -> None:
     with contextlib.suppress(Exception):  # the 2-D fault's step, one thread and two, on a fault with the FFT kernel
         from faultslip.constants import JULIAN_YEAR
         from faultslip.models.fault_2d.integrate import run_cycles
-        from faultslip.models.fault_2d.scene import load_fault_2d_scene
+        from faultslip.models.fault_2d.scene import read_fault_2d_scene
 
-        fault = load_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(40e3 / 600).fault
+        fault = read_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").at_element_size(40e3 / 600).fault
         for threads in (1, 2):
             run_cycles(fault, 1e-3 * JULIAN_YEAR, rtol=1e-4, threads=threads)
 

@@ -11,8 +11,8 @@ Three views, each a tab:
 1. **The slider lab**: a Table I preset with knobs for the spring, the pull speed, the mass, the damping
    and the friction law. The sawtooth, the phase plane and an animated block on its platform change
    together; the regime, the amplitude and the period are printed with the method that computed them
-   (:func:`faultslip.solve`, exact where it can be: microseconds).
-2. **Stick-slip to earthquakes**: the same slider at fault scale (:class:`faultslip.Fault`): lithology,
+   (:func:`faultslip.models.solve`, exact where it can be: microseconds).
+2. **Stick-slip to earthquakes**: the same slider at fault scale (:class:`faultslip.models.Fault`): lithology,
    G, the elastic zone, the stress and the slip rate give the slip per event, the recurrence and Mw; one
    button loads the seed's 1906 San Francisco example.
 3. **Your own experiment**: a phyphox CSV, checked like every input (one sentence for a bad file), read
@@ -43,11 +43,12 @@ from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.uploads import scratch_copy
 from faultslip.fault.scaling import Fault
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.friction.laws import ConstantStatic
 from faultslip.friction.materials import presets
 from faultslip.io.resources import config_path, parse_toml, read_text_file
 from faultslip.lab.classroom import analyse, read_accelerometer
+from faultslip.models import parse_chain_scene
 from faultslip.units import JULIAN_YEAR
 
 LAWS = {"rate": "static friction rises as the loading rate falls (seed eq. 2-18)",
@@ -131,7 +132,7 @@ def slider_lab(preset: str = "glass_dry", stiffness: float | None = None, pull_s
 def earthquake(lithology: str = "granodiorite", shear_modulus: float = 3e10, zone_width: float = 20e3,
                shear_stress: float = 2.5e7, slip_rate: float = 0.05 / JULIAN_YEAR, rupture_length: float = 430e3,
                seismogenic_depth: float = 12e3) -> dict:
-    """The fault view: seed 003 §5-2 scaling through :class:`faultslip.Fault` (SI in); slip per event (m),
+    """The fault view: seed 003 §5-2 scaling through :class:`faultslip.models.Fault` (SI in); slip per event (m),
     recurrence (s) and Mw, with the method that computed them."""
     fault = Fault(slip_rate=f"{slip_rate!r} m/s", zone_width=f"{zone_width!r} m",
                   shear_modulus=f"{shear_modulus!r} Pa", shear_stress=f"{shear_stress!r} Pa", lithology=lithology,
@@ -146,7 +147,7 @@ def earthquake(lithology: str = "granodiorite", shear_modulus: float = 3e10, zon
 
 def scene_1906() -> dict:
     """The seed's 1906 San Francisco example (configs/san_andreas_1906.toml) as the fault view's knobs (SI)."""
-    fault = load_scene(config_path("san_andreas_1906.toml")).fault()
+    fault = read_slider_scene(config_path("san_andreas_1906.toml")).fault()
     return {"lithology": fault.lithology, "shear_modulus": fault.shear_modulus, "zone_width": fault.zone_width,
             "shear_stress": fault.shear_stress, "slip_rate": fault.slip_rate, "rupture_length": fault.rupture_length,
             "seismogenic_depth": fault.seismogenic_depth}
@@ -191,25 +192,25 @@ def chain_lab(blocks: int = 50, coupling_ratio: float = 10.0, spread: float = 0.
     -------
     dict
         ``start`` (s), ``first`` and ``last`` block of each event, ``magnitude``, ``b`` (the b-value's dict or
-        None), ``system_events``, ``recurrence_cv``, ``predictability`` (:func:`faultslip.predictability`) and
+        None), ``system_events``, ``recurrence_cv``, ``predictability`` (:func:`faultslip.hazard.predictability`) and
         ``slip_after``: each event's total slip with the interval that follows it.
     """
     if not (isinstance(blocks, (int, np.integer)) and 1 <= blocks <= 100):
         raise InputError(f"the classroom chain has 1 to 100 blocks, got {blocks!r}")
     path = config_path("spring_chain.toml")
     document = parse_toml(read_text_file(path, "spring-block chain scene"), path.name)
-    leaf = faultslip.parse_chain_scene(document, path.name).chain.leaf_stiffness
+    leaf = parse_chain_scene(document, path.name).chain.leaf_stiffness
     document["chain"].update(blocks=int(blocks), threshold_spread=float(spread),
                              coupling_stiffness=f"{float(coupling_ratio) * leaf!r} N/m")
     document["run"]["events"] = int(events)
-    loaded = faultslip.parse_chain_scene(document, path.name)
-    run = faultslip.simulate_chain(loaded.chain, loaded.events, initial_position=loaded.initial_position)
-    stats = faultslip.chain_statistics(loaded, run)
+    loaded = parse_chain_scene(document, path.name)
+    run = faultslip.models.simulate_chain(loaded.chain, loaded.events, initial_position=loaded.initial_position)
+    stats = faultslip.models.chain_statistics(loaded, run)
     first, last = run.extents()
     return {"start": run.start, "first": first, "last": last, "magnitude": stats["magnitude"], "b": stats["b"],
             "b_reason": stats.get("b_reason", ""),
             "system_events": stats["system_events"], "recurrence_cv": stats["recurrence_cv"],
-            "predictability": faultslip.predictability(run.start, run.total_slip),
+            "predictability": faultslip.hazard.predictability(run.start, run.total_slip),
             "slip_after": (run.total_slip[:-1], np.diff(run.start))}
 
 

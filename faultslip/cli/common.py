@@ -9,7 +9,7 @@ from pathlib import Path
 from faultslip.dynamics.spring_slider.closed_form import dashpot_for_damping_ratio
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.errors import FaultslipError, InputError
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.io.atomic import claim, save_figure
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, output_lock, same_file
@@ -104,7 +104,7 @@ def _system_from_args(args):
         zeta = 0.0 if args.damping_ratio is None else _number(args.damping_ratio, "damping ratio")
         return SliderSystem.from_preset(args.preset, loading_rate="1 1/s", damping_ratio=zeta)
     if getattr(args, "scene", None):
-        system = load_scene(args.scene).slider()
+        system = read_slider_scene(args.scene).slider()
         if args.damping_ratio is not None:
 
             zeta = _number(args.damping_ratio, "damping ratio")

@@ -112,7 +112,7 @@ def cmd_model_error(args) -> int:
     """The shipped calibration of one slider against the 2-D fault, a scene's declared error, the chart."""
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene] if args.scene else [])["plot"]
     tolerance = _number(args.tolerance, "--tolerance") if args.tolerance is not None else None
-    result = faultslip.model_error(args.scene, tolerance)
+    result = faultslip.models.model_error(args.scene, tolerance)
     report = result.report()
     if plot:
         with _locked(plot):
@@ -122,12 +122,12 @@ def cmd_model_error(args) -> int:
 
 
 def cmd_predictability(args) -> int:
-    """A catalogue's recurrence models tested (faultslip.catalog_predictability), and QuakeCaster's figure."""
+    """A catalogue's recurrence models tested (faultslip.hazard.catalog_predictability), and QuakeCaster's figure."""
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.catalog])["plot"]
-    result = faultslip.catalog_predictability(args.catalog, name=args.name, seed=args.seed)
+    result = faultslip.hazard.catalog_predictability(args.catalog, name=args.name, seed=args.seed)
     report = result.report(f"faultslip predictability: {args.catalog}" + (f" ({args.name})" if args.name else ""))
     if plot:
         with _locked(plot):
-            save_figure(faultslip.predictability_figure(result), plot, dpi=150)
+            save_figure(faultslip.plots.predictability_figure(result), plot, dpi=150)
         report.note(f"figure drawn to {args.plot}")
     return _emit(report, args.json)

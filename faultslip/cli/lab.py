@@ -353,7 +353,7 @@ def cmd_quasi_harmonic(args) -> int:
         speeds = (args.speeds[0], args.speeds[1], int(_number(args.speeds[2], "--speeds count")))
     if plot and speeds is None:
         raise InputError("--plot draws the amplitude against speed: give --speeds START STOP COUNT too")
-    result = faultslip.amplitude_study(args.scene, speed=args.speed, speeds=speeds, method=args.method,
+    result = faultslip.models.amplitude_study(args.scene, speed=args.speed, speeds=speeds, method=args.method,
                              tolerance=_number(args.tolerance, "--tolerance") if args.tolerance else 1e-3)
     report, sweep, system = result.report(), result.extras["sweep"], result.extras["system"]
     if args.regions:
@@ -390,7 +390,7 @@ def cmd_quasi_harmonic(args) -> int:
 
 def cmd_nanoscale(args) -> int:
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene])
-    result = faultslip.nanoscale_swing(args.scene, damping=None if args.damping is None else _number(args.damping, "--damping"),
+    result = faultslip.models.nanoscale_swing(args.scene, damping=None if args.damping is None else _number(args.damping, "--damping"),
                    integrate=not args.no_run, allow_large=args.allow_large)
     report = result.report()
     if result.series is not None:
@@ -402,7 +402,7 @@ def cmd_asperity(args) -> int:
     """Seed 004: a speed sweep of the asperity slider (m_D, stick, loops), its peaks against eqs. (28)-(29)."""
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                             "map": ("--map", FIGURE_SUFFIXES)}, [args.scene])
-    result = faultslip.asperity_speed_study(args.scene, args.low, args.high, args.points, dashpot=args.dashpot, method=args.method,
+    result = faultslip.models.asperity_speed_study(args.scene, args.low, args.high, args.points, dashpot=args.dashpot, method=args.method,
                          integrator_map=bool(paths["map"]), progress=_progress("speed sweep", not args.json, "speed"))
     report = result.report()
     with _locked(paths["output"], paths["plot"], paths["map"]):

@@ -15,7 +15,7 @@ def cmd_missing_action(args) -> int:
 
 def cmd_simulate(args) -> int:
     output = _outputs(args, {"output": ("-o", (".nc",))}, [args.scene])["output"]
-    result = faultslip.velocity_step(args.scene, method=args.method, rtol=args.rtol)
+    result = faultslip.models.velocity_step(args.scene, method=args.method, rtol=args.rtol)
     report = result.report()
     if output:
         with _locked(output):
@@ -25,10 +25,10 @@ def cmd_simulate(args) -> int:
 
 
 def cmd_stability(args) -> int:
-    return _emit(faultslip.rate_state_stability(args.scene).report(), args.json)
+    return _emit(faultslip.models.rate_state_stability(args.scene).report(), args.json)
 
 
 def cmd_cycles_beside_seed_law(args) -> int:
     """rate-state cycles --seed-law: the cycles, and the seed law on the same fault (the parser routes here)."""
-    return _emit(faultslip.earthquake_cycles_beside_seed_law(args.scene, args.cycles, args.seed_law,
+    return _emit(faultslip.models.earthquake_cycles_beside_seed_law(args.scene, args.cycles, args.seed_law,
                                    progress=_progress("cycles", not args.json, "event")).report(), args.json)

@@ -12,5 +12,5 @@ from faultslip.cli.printing import _emit, _progress
 
 
 def cmd_cycles(args) -> int:
-    return _emit(faultslip.earthquake_cycles(args.scene, args.cycles,
+    return _emit(faultslip.models.earthquake_cycles(args.scene, args.cycles,
                                    progress=_progress("cycles", not args.json, "event")).report(), args.json)

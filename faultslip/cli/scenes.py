@@ -230,6 +230,6 @@ def _critical_table(args) -> int:
 
 
 def cmd_cycle(args) -> int:
-    result = faultslip.scene_cycle(args.scene, loading_rate=args.loading_rate, platform_speed=args.platform_speed,
+    result = faultslip.models.scene_cycle(args.scene, loading_rate=args.loading_rate, platform_speed=args.platform_speed,
                          method=args.method, tolerance=_tolerance(args))
     return _emit(result.report(), args.json)

@@ -8,7 +8,7 @@ from faultslip.cli.common import _locked, _number, _outputs
 from faultslip.cli.printing import _emit
 from faultslip.errors import InputError
 from faultslip.evaluation.catalogs import compare
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.io.atomic import save_figure
 from faultslip.io.catalogs import parse_time, read_catalog
 from faultslip.io.geo import parse_trace
@@ -23,7 +23,7 @@ def cmd_catalog(args) -> int:
         raise InputError(f"--bootstrap must lie between 0 and 100000 samples, got {args.bootstrap}")
     if args.seed < 0:
         raise InputError(f"--seed must not be negative, got {args.seed}")
-    scene = load_scene(args.fault)
+    scene = read_slider_scene(args.fault)
     trace = parse_trace(args.trace, "--trace") if args.trace else scene.trace
     window = {key: parse_time(getattr(args, key), f"--{key.replace('_', '-')}") if getattr(args, key) else None
               for key in ("since", "until", "as_of")}

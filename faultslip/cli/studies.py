@@ -23,7 +23,7 @@ from faultslip.fault import mfd as mfds
 from faultslip.plots.displacement import displacement_hazard_figure
 from faultslip.plots.fault_maps import fault_system_figure
 from faultslip.studies import displacement_hazard, hazard, rupture_sets
-from faultslip.studies.maps import (check_map_size, has_observations, load_map, map_figure, observed_figure,
+from faultslip.studies.maps import (check_map_size, has_observations, read_map, map_figure, observed_figure,
                                     observed_table, run_map, segment_rows)
 
 #: Segments printed in the text table; all of them are in the netCDF file and in --json.
@@ -148,7 +148,7 @@ def _displacement_options(args, spec, outputs) -> dict | None:
 
 
 def cmd_map(args) -> int:
-    spec = load_map(args.map)
+    spec = read_map(args.map)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                               "nrml": ("--nrml", (".xml",)), "engine_job": ("--engine-job", (".ini",)),
                               "time_dependent": ("--time-dependent", (".xml",))}, spec.inputs)

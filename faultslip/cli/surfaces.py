@@ -5,13 +5,13 @@ from __future__ import annotations
 from faultslip.cli.common import _number, _outputs, _save_run
 from faultslip.cli.printing import _emit
 from faultslip.io.outputs import FIGURE_SUFFIXES
-from faultslip.lab.surfaces import analyse_surface
+from faultslip.lab.surfaces import analyze_surface
 from faultslip.plots.surfaces import surface_figure
 
 
 def cmd_surface(args) -> int:
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.surface] if args.surface else [])["plot"]
-    analysis = analyse_surface(args.surface, synthetic=args.synthetic, size=args.size, profile=args.profile,
+    analysis = analyze_surface(args.surface, synthetic=args.synthetic, size=args.size, profile=args.profile,
                                seed=args.seed, modulus=args.modulus, poisson=_number(args.poisson, "--poisson"),
                                hardness=args.hardness, against=args.against, flow_pressure=args.flow_pressure,
                                load=args.load)

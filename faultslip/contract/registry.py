@@ -94,7 +94,7 @@ DECLARATIONS = {
 }
 
 #: Scene objects a family's run and simulate take as they are, by qualified class name (told apart without
-#: importing a family): what :func:`faultslip.load_scene` and the families' loaders return, and a Fault. A
+#: importing a family): what :func:`faultslip.models.read_slider_scene` and the families' loaders return, and a Fault. A
 #: scene object with a ``family`` attribute (:class:`faultslip.contract.scenes.TomlScene`) names its own.
 SCENE_TYPES = {
     "faultslip.fault.scene.Scene": "spring_slider",

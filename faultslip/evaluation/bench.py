@@ -24,7 +24,7 @@ from faultslip.dynamics.methods import AVERAGING
 from faultslip.dynamics.spring_slider.regularized import simulate_regularized
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
-from faultslip.fault.scene import load_scene
+from faultslip.fault.scene import read_slider_scene
 from faultslip.io.progress import reporter
 from faultslip.io.processes import stop_pool, worker_pool
 import warnings
@@ -65,10 +65,10 @@ def standard_scenes():
     damped = SliderSystem.from_preset("steel_heavy_petrolatum", loading_rate="1 1/s", damping_ratio=0.05)
     scenes["steel_damped"] = (damped.at_loading_rate(0.1 * critical(damped).critical_loading_rate),
                               "steel, heavy petrolatum, zeta 0.05, theta = 0.1 theta_c")
-    scenes["fault_1906"] = (load_scene("san_andreas_1906.toml").slider(), "1906 San Andreas scene (seed 003 §5-2)")
-    scenes["fault_1906_radiation"] = (load_scene("san_andreas_1906_radiation.toml").slider(),
+    scenes["fault_1906"] = (read_slider_scene("san_andreas_1906.toml").slider(), "1906 San Andreas scene (seed 003 §5-2)")
+    scenes["fault_1906_radiation"] = (read_slider_scene("san_andreas_1906_radiation.toml").slider(),
                                       "1906 scene with radiation damping, zeta 0.23")
-    scenes["steel_polynomial"] = (load_scene("lab_steel_dry_polynomial.toml").slider(),
+    scenes["steel_polynomial"] = (read_slider_scene("lab_steel_dry_polynomial.toml").slider(),
                                   "dry steel, polynomial kinetic law (reference: DOP853 at rtol 1e-13)")
     return scenes
 

@@ -196,7 +196,7 @@ def parse_rate_state_scene(text: str, source: str = "<scene>") -> RateStateScene
                           reduction=reduction, width=width)
 
 
-def load_rate_state_scene(path) -> RateStateScene:
+def read_rate_state_scene(path) -> RateStateScene:
     """A rate-and-state scene ([law], and [slider] with [load] or [fault]) from a file, a bundled scene's name or a
     scene varied for a sweep.
 

@@ -392,7 +392,7 @@ def _need(spec, keys, what, name):
         raise InputError(f"[friction] with {what} in {name} needs {', '.join(missing)}")
 
 
-def load_scene(path_or_name=None) -> Scene:
+def read_slider_scene(path_or_name=None) -> Scene:
     """Load a scene from a path, or a bundled scene by bare file name (default: the 1906 scene).
 
     A bundled scene is used only for a bare name with no such file here; ``Scene.origin`` says so.

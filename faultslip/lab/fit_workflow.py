@@ -19,7 +19,7 @@ from faultslip.errors import InputError
 from faultslip.friction.fitting import fit_rate_law
 from faultslip.io.report import Report, display_unit, significant
 from faultslip.lab.posterior import sample_posterior
-from faultslip.lab.raw_records import RawRecord, fit_each_step, load_record, prepare_record
+from faultslip.lab.raw_records import RawRecord, fit_each_step, read_rig_record, prepare_record
 from faultslip.lab.healing import healing
 from faultslip.lab.law_selection import select_law
 from faultslip.lab.rate_state_fit import fit_joint, fit_velocity_steps
@@ -177,7 +177,7 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
     if detrend not in ("none", "linear", "quadratic", "fitted"):
         raise InputError(f"--detrend must be none, linear, quadratic or fitted, got {detrend!r}")
     trend = detrend == "fitted"
-    loaded = load_record(data, units=units, area=area, columns=columns, span=span)
+    loaded = read_rig_record(data, units=units, area=area, columns=columns, span=span)
     report = Report(title or f"faultslip fit --law rate-state: {data}")
     prepared = None
     if isinstance(loaded, RawRecord):
@@ -276,7 +276,7 @@ def _fit_section(report: Report, fit, seed: int) -> None:
 
 def _prepared_record(path, stiffness, area, units, detrend, min_change, columns, span):
     """A further record for a joint fit, made ready as the first one was: (StepRecord, spring in 1/m)."""
-    loaded = load_record(path, units=units, area=area, columns=columns, span=span)
+    loaded = read_rig_record(path, units=units, area=area, columns=columns, span=span)
     if isinstance(loaded, RawRecord):
         prepared = prepare_record(loaded, stiffness, area=area, detrend=detrend,
                                   **({} if min_change is None else {"min_change": min_change}))

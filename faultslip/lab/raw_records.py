@@ -739,7 +739,7 @@ def synthetic_raw_record(law, machine_stiffness: float, area: float, normal_load
                      "synthetic")
 
 
-def load_record(path, units: dict | None = None, area=None, columns: dict | None = None, span=None):
+def read_rig_record(path, units: dict | None = None, area=None, columns: dict | None = None, span=None):
     """A friction record (:class:`StepRecord`: time, friction, load-point speed or displacement) or a raw rig
     record (:class:`RawRecord`: loads or stresses), whichever the file's columns are; with the file's metadata
     (:func:`faultslip.io.resources.read_table_metadata`) beside it.

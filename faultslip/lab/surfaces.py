@@ -435,7 +435,7 @@ class SurfaceAnalysis(ToXarray):
     report: Report
 
 
-def analyse_surface(path=None, synthetic=None, size: int = 256, profile: bool = False, seed: int = 0, modulus=None,
+def analyze_surface(path=None, synthetic=None, size: int = 256, profile: bool = False, seed: int = 0, modulus=None,
                     poisson: float = 0.3, hardness=None, against: str = "inverted", flow_pressure=None,
                     load=None) -> SurfaceAnalysis:
     """A rough surface's statistics and its contact by truncation (seed 000; ``faultslip surface``).

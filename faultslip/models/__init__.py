@@ -22,8 +22,14 @@ from faultslip.contract.options import OPTIONS, UNIVERSAL
 from faultslip.contract.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
 from faultslip.contract.result import Result
 
-__all__ = ["DECLARATIONS", "FAMILIES", "Family", "Result", "animate", "families", "family_of", "load", "register",
-           "run", "simulate"]
+from faultslip.api import TOPICS as _TOPICS
+from faultslip.api import exports as _exports
+
+# the family-level names of faultslip.api's "models" topic (read_slider_scene, simulate_fault, ...), loaded on first use
+__getattr__, __dir__, __all__ = _exports(__name__, {name: where for name, where in _TOPICS["models"].items()
+                                                    if not where.startswith("models:")},
+                                         defined=("DECLARATIONS", "FAMILIES", "Family", "Result", "animate",
+                                                  "families", "family_of", "load", "register", "run", "simulate"))
 
 
 def _not_an_option(name: str, family) -> str:
@@ -41,8 +47,8 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
     Parameters
     ----------
     scene : str, path, scene object or None
-        A scene file, a bundled scene's name, or a scene object (:func:`faultslip.load_scene`'s Scene, a
-        :class:`faultslip.Fault`, a rate-and-state or 2-D fault scene). None: the 1906 San Francisco scene,
+        A scene file, a bundled scene's name, or a scene object (:func:`faultslip.models.read_slider_scene`'s Scene, a
+        :class:`faultslip.models.Fault`, a rate-and-state or 2-D fault scene). None: the 1906 San Francisco scene,
         unless ``quantities`` describe a fault.
     method : str, optional
         One of the family's methods, or ``"auto"``: the cheapest whose declared error meets ``tolerance``.
@@ -94,8 +100,8 @@ def simulate(scene=None, **options) -> Result:
     Parameters
     ----------
     scene : str, path, scene object or None
-        As for :func:`run`. A :class:`faultslip.SliderSystem` is simulated as it is
-        (:func:`faultslip.simulate_slider`, which returns the time series Dataset).
+        As for :func:`run`. A :class:`faultslip.models.SliderSystem` is simulated as it is
+        (:func:`faultslip.models.simulate_slider`, which returns the time series Dataset).
     **options
         The family's options (``cycles``, ``slip_solver``, ``rtol``, ``allow_large``, ...; the table
         :data:`faultslip.contract.options.OPTIONS`); one the family does not take is refused in one sentence

@@ -1,2 +1,9 @@
 """Figures in the seeds' conventions (matplotlib, imported where used).
+
+Its public names (``faultslip.plots.NAME``) are listed in :mod:`faultslip.api`; the modules hold the rest.
 """
+
+from faultslip.api import TOPICS as _TOPICS
+from faultslip.api import exports as _exports
+
+__getattr__, __dir__, __all__ = _exports(__name__, _TOPICS["plots"])

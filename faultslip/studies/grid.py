@@ -387,7 +387,7 @@ def sweep(scene, method: str = "auto", tolerance: float | None = None, chunks: d
     Parameters
     ----------
     scene : str, path or scene object
-        A scene file, a bundled scene's name, or a scene object (a :func:`faultslip.load_scene` Scene, a
+        A scene file, a bundled scene's name, or a scene object (a :func:`faultslip.models.read_slider_scene` Scene, a
         2-D fault scene, ...).
     method : str
         One of the family's methods, or ``"auto"`` (per cell, the cheapest that meets ``tolerance``).

@@ -108,7 +108,7 @@ def hazard_sources(spec, dataset, stable_continental: bool = False) -> list[Haza
     Parameters
     ----------
     spec : MapSpec
-        The map (:func:`load_map`).
+        The map (:func:`read_map`).
     dataset : xarray.Dataset
         The map's predictions (:func:`run_map`).
     stable_continental : bool

@@ -43,7 +43,7 @@ from faultslip.io import budget
 from faultslip.io.resources import bundled_dir, parse_toml, read_unit_csv
 from faultslip.units import si_unit, to_si
 from faultslip import __version__
-from faultslip.fault.scene import Scene, load_scene, parse_scene
+from faultslip.fault.scene import Scene, read_slider_scene, parse_scene
 from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
@@ -163,7 +163,7 @@ def segments_from_geojson(path, scene) -> SegmentTable:
 
 def segment_map(segments, lon, lat, scene=None, max_distance="60 km", name="map", description="",
                 cycles: int = 5, cycle_method: str = "auto") -> MapSpec:
-    """A segment map from Python objects, the same :class:`MapSpec` that :func:`load_map` reads.
+    """A segment map from Python objects, the same :class:`MapSpec` that :func:`read_map` reads.
 
     Parameters
     ----------
@@ -185,7 +185,7 @@ def segment_map(segments, lon, lat, scene=None, max_distance="60 km", name="map"
     MapSpec
     """
     if not isinstance(scene, Scene):
-        scene = load_scene(scene)
+        scene = read_slider_scene(scene)
     if hasattr(segments, "to_dict") and hasattr(segments, "columns"):  # a pandas DataFrame
         columns = {str(column): list(segments[column]) for column in segments.columns}
     elif isinstance(segments, dict):
@@ -483,7 +483,7 @@ def _axis(spec, name, where):
     return values
 
 
-def load_map(path) -> MapSpec:
+def read_map(path) -> MapSpec:
     """Read a map file, its base scene and its input table or raster (paths relative to the file).
 
     Parameters
@@ -715,7 +715,7 @@ def check_map_size(spec, output=None, allow_large: bool = False) -> None:
 
 
 def regional_map(path, method="auto", tolerance=1e-6, allow_large: bool = False):
-    """A map file's dataset: :func:`load_map` then :func:`run_map`, what ``faultslip map FILE -o OUT.nc``
+    """A map file's dataset: :func:`read_map` then :func:`run_map`, what ``faultslip map FILE -o OUT.nc``
     computes (``faultslip.map`` at the top level).
 
     Parameters
@@ -730,7 +730,7 @@ def regional_map(path, method="auto", tolerance=1e-6, allow_large: bool = False)
     xarray.Dataset
         Per-segment predictions and the raster, CF with units.
     """
-    return run_map(load_map(path), method=method, tolerance=tolerance, allow_large=allow_large)
+    return run_map(read_map(path), method=method, tolerance=tolerance, allow_large=allow_large)
 
 
 def run_map(spec, method="auto", tolerance=1e-6, allow_large: bool = False):
@@ -741,7 +741,7 @@ def run_map(spec, method="auto", tolerance=1e-6, allow_large: bool = False):
     Parameters
     ----------
     spec : MapSpec
-        :func:`load_map`'s or :func:`segment_map`'s map.
+        :func:`read_map`'s or :func:`segment_map`'s map.
     method : str
         The seed law's method.
     tolerance : float

@@ -581,7 +581,7 @@ def rupture_set(spec, dataset, rules: Rules, relation: str = "faultslip", stable
     Parameters
     ----------
     spec : MapSpec
-        A segment map (:func:`faultslip.studies.maps.load_map`).
+        A segment map (:func:`faultslip.studies.maps.read_map`).
     dataset : xarray.Dataset
         Its predictions (:func:`faultslip.studies.maps.run_map`).
     rules : Rules

@@ -30,7 +30,7 @@ from faultslip.io.report import Report
 from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
 from faultslip.models.fault_2d.cells import CELLS, read_scene
-from faultslip.models.fault_2d.scene import Fault2DScene, from_one_slider, load_fault_2d_scene
+from faultslip.models.fault_2d.scene import Fault2DScene, from_one_slider, read_fault_2d_scene
 from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.models.fault_2d.figures import cumulative_slip_figure, ladder_figure, slip_rate_figure
@@ -71,7 +71,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
     Result
         Recurrence (s), slip per event (m), moment per length (N), the settling and the run's Dataset.
     """
-    loaded = load_fault_2d_scene(scene, allow_large=allow_large)
+    loaded = read_fault_2d_scene(scene, allow_large=allow_large)
     rtol = loaded.rtol if rtol is None else rtol
     loaded.require_resolution(allow_underresolved)  # before any work
     budget.check(loaded.estimate(rtol, output_dir), allow_large)
@@ -298,7 +298,7 @@ def one_slider(scene, reason: str = "asked for by name") -> Result:
     Result
         Recurrence (s) and slip per event (m), each with its 95 % range, and the declared model error.
     """
-    loaded = load_fault_2d_scene(scene)
+    loaded = read_fault_2d_scene(scene)
     report = one_slider_report(loaded.fault.description(), reason)
     note_origin(report, loaded.origin)
     return Result("fault_2d", report)
@@ -334,7 +334,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
         raise InputError(f"a fault scene runs on the rungs {', '.join(RUNGS)} (or auto), got {method!r}")
     if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
         raise InputError(f"the tolerance must be a relative error between 0 and 1, got {tolerance!r}")
-    loaded = load_fault_2d_scene(scene, allow_large=allow_large)
+    loaded = read_fault_2d_scene(scene, allow_large=allow_large)
     if method == "one_slider":
         return one_slider(loaded)
     settle = min(SETTLE_TOLERANCE, tolerance) if tolerance is not None else SETTLE_TOLERANCE
@@ -377,7 +377,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
         Per rung, recurrence (s) and slip per event (m) with their ranges, the declared error and the CPU time (s);
         ``plot()`` the chart.
     """
-    loaded = load_fault_2d_scene(scene, allow_large=allow_large)
+    loaded = read_fault_2d_scene(scene, allow_large=allow_large)
     rungs = []
     started = time.process_time()
     cheap = one_slider(loaded)
@@ -522,7 +522,7 @@ def richardson_run(scene, allow_large: bool = False, settle_tolerance: float = S
         The finer run's answer, with ``recurrence_extrapolated`` (s), both runs' recurrences and the declared
         discretisation error.
     """
-    loaded = load_fault_2d_scene(scene, allow_large=allow_large)
+    loaded = read_fault_2d_scene(scene, allow_large=allow_large)
     loaded.require_resolution()
     finer = loaded.at_element_size(loaded.fault.element_size / 2)
     estimates = [loaded.estimate(), finer.estimate()]

@@ -478,7 +478,7 @@ def is_fault_2d_document(document) -> bool:
     return isinstance(document, dict) and document.get("family") == "fault_2d"
 
 
-def load_fault_2d_scene(path, allow_large: bool = False) -> Fault2DScene:
+def read_fault_2d_scene(path, allow_large: bool = False) -> Fault2DScene:
     """A 2-D fault scene (``family = "fault_2d"``) from a file or a bundled scene's name.
 
     Parameters

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
-from faultslip.fault.rate_state_scene import load_rate_state_scene
+from faultslip.fault.rate_state_scene import read_rate_state_scene
 from faultslip.fault.rate_state_series import cycles_series
 from faultslip.io.report import Report
 from faultslip.contract.result import Result
@@ -45,7 +45,7 @@ def earthquake_cycles(scene, count: int = 5, progress=None, record: bool = False
     Result
         Recurrence (s), slip per event (m), stress drop (Pa), peak slip rate (m/s), K / K_c and the settling.
     """
-    scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
+    scene = read_rate_state_scene(scene) if not hasattr(scene, "law") else scene
     if not 1 <= count <= 10_000:
         raise InputError(f"--cycles must lie between 1 and 10000, got {count}")
     if scene.kind != "fault":

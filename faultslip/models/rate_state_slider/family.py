@@ -13,13 +13,13 @@ from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import cycles_dataset
-from faultslip.fault.scene import Scene, estimate_scene_rate_state, has_friction_law, load_scene, run_scene
+from faultslip.fault.scene import Scene, estimate_scene_rate_state, has_friction_law, read_slider_scene, run_scene
 from faultslip.fault.spring_slider_cells import RATE_STATE_CELLS
 from faultslip.fault.spring_slider_cells import read_scene as read_seed_law_scene
 from faultslip.io.resources import parse_toml
 from faultslip.models.common import note_origin
 from faultslip.fault.one_slider import DESCRIPTIONS
-from faultslip.fault.rate_state_scene import load_rate_state_scene
+from faultslip.fault.rate_state_scene import read_rate_state_scene
 from faultslip.io.report import Report
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.models.rate_state_slider import cycles as rate_state_cycles
@@ -54,7 +54,7 @@ def earthquake_cycles(scene, count: int = 5, seed_law: str | None = None, progre
         The cycles' slip per event (m), recurrence (s) and their declared error; with ``seed_law``, the seed
         law's slip per event (m) and recurrence (s) beside them, and the ratio of the slips (dimensionless).
     """
-    scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
+    scene = read_rate_state_scene(scene) if not hasattr(scene, "law") else scene
     result = rate_state_cycles.earthquake_cycles(scene, count, progress)
     if seed_law:
         seed = seed_law_fault(seed_law, slip_rate=scene.plate_rate, **scene.fault).estimate()
@@ -85,7 +85,7 @@ def velocity_step(scene, method: str = "auto", rtol: float = 1e-8) -> Result:
         Friction at the start, peak and end (dimensionless), slip (m), peak slip speed (m/s), the time series
         and figure.
     """
-    scene = load_rate_state_scene(scene) if not hasattr(scene, "law") else scene
+    scene = read_rate_state_scene(scene) if not hasattr(scene, "law") else scene
     if scene.history is None:
         raise InputError(f"{scene.name} has no [load] table to simulate; for a fault's cycles use "
                          "'faultslip rate-state cycles'")
@@ -153,7 +153,7 @@ def _older_form(scene):
     if isinstance(scene, Scene):
         return scene if scene.rate_state else None
     if isinstance(scene, (str, os.PathLike)) and has_friction_law(scene, "rate_state"):
-        return load_scene(scene)
+        return read_slider_scene(scene)
     return None
 
 
@@ -202,7 +202,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     older = _older_form(scene)
     if older is not None:
         return _run_older_form(older, method, tolerance)
-    loaded = load_rate_state_scene(scene)
+    loaded = read_rate_state_scene(scene)
     if loaded.kind == "lab":
         if method not in (None, "auto") or tolerance is not None:
             raise InputError("a rate-and-state laboratory scene chooses its integrator and tolerance itself (rtol "
@@ -277,7 +277,7 @@ def stability(scene) -> Result:
         k_c in the scene's stiffness unit (Pa/m on a fault; 1/m for friction per slip; N/m), k / k_c and the
         regime it implies.
     """
-    scene = load_rate_state_scene(scene)
+    scene = read_rate_state_scene(scene)
     slider, law = scene.slider, scene.law
     if law.two_state:
         raise InputError("the critical stiffness of a two-state law has no closed form here; give one state variable")
@@ -317,7 +317,7 @@ def simulate(scene, cycles=None, slip_solver=None, rtol=None) -> Result:
     if slip_solver is not None or rtol is not None:
         raise InputError("--slip-solver and --rtol belong to the seed law's simulation; a rate-and-state slider's "
                          "integrator and tolerance are chosen for it")
-    loaded = load_rate_state_scene(scene)
+    loaded = read_rate_state_scene(scene)
     if loaded.kind == "lab":
         if cycles is not None:
             raise InputError("--cycles counts a fault's earthquake cycles; a laboratory slider runs its [load] history")
@@ -379,7 +379,7 @@ def _is_fault(scene) -> bool:
 def _cell(scene, method=None, tolerance=None) -> Result:
     """One cell of a study. A fault that can have no earthquake cycles (b <= a, or K >= K_c) is a cell flagged with
     its regime, not a refusal of the whole study: a study maps where the cycles are (as the seed law's does)."""
-    loaded = load_rate_state_scene(scene)
+    loaded = read_rate_state_scene(scene)
     if loaded.kind == "fault":
         law, slider = loaded.law, loaded.slider
         ratio = slider.stiffness / slider.critical_stiffness() if law.b > law.a else math.inf
@@ -394,7 +394,7 @@ def _cell(scene, method=None, tolerance=None) -> Result:
 PER_CELL = PerCell("a rate-and-state study",
                    lambda scene: PARAMETERS if _is_fault(scene) else LAW_PARAMETERS,
                    lambda scene: FAULT_OUTPUTS if _is_fault(scene) else LAB_OUTPUTS,
-                   _cell, load_rate_state_scene, methods=("auto", "one_slider"), seconds=0.05)
+                   _cell, read_rate_state_scene, methods=("auto", "one_slider"), seconds=0.05)
 _READ_OWN = toml_reader("rate_state_slider", PARAMETERS)
 
 

@@ -21,7 +21,7 @@ from faultslip.contract.registry import family_of
 from faultslip.contract.result import Result
 from faultslip.errors import InputError
 from faultslip.fault.one_slider import DESCRIPTIONS, load_calibration, load_hierarchy
-from faultslip.fault.rate_state_scene import load_rate_state_scene
+from faultslip.fault.rate_state_scene import read_rate_state_scene
 from faultslip.friction.rate_state import nucleation_ratio
 from faultslip.io.report import Report
 from faultslip.fault.dip_error import load_table as load_dip_table
@@ -142,7 +142,7 @@ def model_error_result(scene=None, tolerance: float | None = None):
                label=f"held-out dipping faults within it: {sum(row['covered'] for row in dipping['held_out'])} of "
                      f"{len(dipping['held_out'])}")
     if scene is not None:
-        loaded = load_rate_state_scene(scene)
+        loaded = read_rate_state_scene(scene)
         if loaded.kind != "fault":
             raise InputError(f"{scene} is a laboratory slider; the model error is a fault's ([fault] table)")
         error, ratio, how = declared_model_error(loaded.law, loaded.fault["shear_modulus"],

@@ -11,7 +11,7 @@ from faultslip.contract.specs import Output, Parameter
 from faultslip.dynamics.kernel import REGIME_CODES
 from faultslip.dynamics.methods import METHODS, describe_integrators
 from faultslip.errors import InputError
-from faultslip.models.rough_surface.scene import load_rough_scene
+from faultslip.models.rough_surface.scene import read_rough_scene
 from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.plots.figures import sawtooth_figure
@@ -31,7 +31,7 @@ def _details(report, details) -> None:
 
 def run(scene, method=None, tolerance=None) -> Result:
     """The stick-slip cycle of a rough-surface scene, by the cheapest accurate method."""
-    system, details, settings = load_rough_scene(scene)
+    system, details, settings = read_rough_scene(scene)
     solution = solve(system, method=method or "auto", tolerance=tolerance or 1e-6, cycles=settings["cycles"])
     report = solution.report(f"faultslip rough-surface slider (seed 000): {system.name}")
     _details(report, details)
@@ -40,7 +40,7 @@ def run(scene, method=None, tolerance=None) -> Result:
 
 def simulate(scene, cycles=None, slip_solver=None, rtol=None) -> Result:
     """The event-driven simulation of the scene's stick-slip, DOP853 unless ``slip_solver`` says otherwise."""
-    system, details, settings = load_rough_scene(scene)
+    system, details, settings = read_rough_scene(scene)
     cycles = cycles or settings["cycles"]
     if not 1 <= cycles <= 10_000:
         raise InputError(f"--cycles must be from 1 to 10000, got {cycles}")
@@ -73,7 +73,7 @@ OUTPUTS = {spec.name: spec for spec in (
     Output("method", "1", "method of this cell", flags=_METHODS),
     Output("estimated_relative_error", "1", "estimated relative error of the method"),
 )}
-CELLS = PerCell("a rough-surface study", PARAMETERS, OUTPUTS, run, load_rough_scene, methods=("auto", *_METHODS),
+CELLS = PerCell("a rough-surface study", PARAMETERS, OUTPUTS, run, read_rough_scene, methods=("auto", *_METHODS),
                 seconds=0.5)
 
 FAMILY = register(Family("rough_surface", "seed 000: a slider on rough surfaces, friction from real contact", run,

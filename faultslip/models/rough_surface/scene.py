@@ -150,7 +150,7 @@ def rough_surface_slider(surface: Surface, mass: float, stiffness: float, normal
 def separation_history(dataset, kinetic) -> np.ndarray:
     """The surfaces' separation h(t) (m) along a simulated record (seed 000's fig. 5.20).
 
-    Zero while stuck; in each slip phase h = k_h |u| up to the phase's fastest moment so far, then
+    Zero while stuck; in each slip phase h = k_h abs(u) up to the phase's fastest moment so far, then
     as the law's memory says (:meth:`SeparatingSurfacesKinetic.separation_after_peak`), from the
     running peak of the sliding speed and the time since it.
 
@@ -315,7 +315,7 @@ def parse_rough_scene(text: str, source: str = "<scene>", base_dir=None) -> tupl
     return system, details, {"cycles": cycles}
 
 
-def load_rough_scene(path):
+def read_rough_scene(path):
     """A rough-surface scene (``[friction] law = "rough_surface"``).
 
     Parameters

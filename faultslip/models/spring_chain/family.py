@@ -25,7 +25,7 @@ from faultslip.models.common import note_origin
 from faultslip.models.spring_chain.dynamics import (INTEGRATORS, SAMPLES_PER_PERIOD, SLIP_SOLVERS, ChainRun,
                                                     chosen_solver, simulate_chain)
 from faultslip.models.spring_chain.figures import chain_animation, chain_figure
-from faultslip.models.spring_chain.scene import load_chain_scene
+from faultslip.models.spring_chain.scene import read_chain_scene
 
 METHOD = {"name": "chain_event_driven_exact",
           "friction_laws": "the seed's rate-law static friction (a threshold for each block) or constant static; "
@@ -196,7 +196,7 @@ def _report(loaded, run: ChainRun, stats: dict, title: str, method: str = METHOD
 
 
 def _run(scene, events=None, title="faultslip spring-block chain", slip_solver=None, rtol=None):
-    loaded = load_chain_scene(scene)
+    loaded = read_chain_scene(scene)
     count = loaded.events if events is None else events
     if not (isinstance(count, (int, np.integer)) and not isinstance(count, bool) and 1 <= count <= 1_000_000):
         raise InputError(f"--cycles (the chain's events) must be a whole number from 1 to 1,000,000, got {count!r}")
@@ -279,7 +279,7 @@ OUTPUTS = {spec.name: spec for spec in (
     Output("recurrence_cv", "1", "coefficient of variation of the system-size intervals"),
     Output("mean_slip_per_event", "m", "slip per event averaged over the blocks"),
 )}
-CELLS = PerCell("a spring-block chain study", PARAMETERS, OUTPUTS, run, load_chain_scene,
+CELLS = PerCell("a spring-block chain study", PARAMETERS, OUTPUTS, run, read_chain_scene,
                 methods=("auto", METHOD["name"]), seconds=5.0)
 
 FAMILY = register(Family("spring_chain", "a chain of spring-blocks (Burridge & Knopoff): catalogues with sizes", run,

@@ -179,7 +179,7 @@ def _friction(table: dict, loading_rate: float, source: str) -> tuple[float, flo
     return float(static), float(kinetic), f"constant: mu_s = {static:g}, mu_k = {kinetic:g}"
 
 
-def load_chain_scene(scene) -> ChainScene:
+def read_chain_scene(scene) -> ChainScene:
     """A chain scene from a file, a bundled scene's name or a study's cell.
 
     Parameters

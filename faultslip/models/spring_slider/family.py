@@ -7,7 +7,7 @@ from faultslip.dynamics.methods import describe_seed_methods, solve
 from faultslip.dynamics.spring_slider.simulate import simulate as integrate
 from faultslip.dynamics.spring_slider.simulate import summary_report, uniform_channels
 from faultslip.errors import InputError
-from faultslip.fault.scene import CHOICES, load_scene, run_scene
+from faultslip.fault.scene import CHOICES, read_slider_scene, run_scene
 from faultslip.fault.scaling import Fault
 from faultslip.fault.spring_slider_cells import CELLS, read_scene
 from faultslip.fault.synthetic import simulated_events
@@ -27,7 +27,7 @@ def run(scene=None, method=None, tolerance=None) -> Result:
     :class:`~faultslip.fault.scaling.Fault` gives its estimate, as ``faultslip fault`` does."""
     if isinstance(scene, Fault):
         return Result("spring_slider", scene.estimate(method=method or "auto", tolerance=tolerance).report())
-    loaded = load_scene(scene)
+    loaded = read_slider_scene(scene)
     if loaded.rate_state:  # one rate-and-state block: its own family, whatever the shape of its file
         return load(loaded.family).run(loaded, method=method, tolerance=tolerance)
     return Result("spring_slider", run_scene(loaded, method=method, tolerance=tolerance))
@@ -56,7 +56,7 @@ def cycle(scene, loading_rate=None, platform_speed=None, method: str | None = No
     Result
         The cycle: slip per event (m), period (s), static friction, the method and its declared error.
     """
-    loaded = load_scene(scene)
+    loaded = read_slider_scene(scene)
     system = loaded.slider()
     if (loading_rate is None) == (platform_speed is None):
         raise InputError("give exactly one of --loading-rate or --platform-speed")
@@ -71,7 +71,7 @@ def cycle(scene, loading_rate=None, platform_speed=None, method: str | None = No
 def animate(scene, cycles: int = 2, frames: int = 120, slip_share: float = 0.5):
     """The slider's block, spring and platform beside its phase plane and friction, over ``cycles`` limit cycles
     (from the first event: the limit cycle, not the first loading from rest)."""
-    loaded = load_scene(scene)
+    loaded = read_slider_scene(scene)
     if loaded.rate_state:
         raise InputError("faultslip animate draws a seed-law slider; a rate-and-state scene's cycles are drawn by "
                          "faultslip simulate SCENE --plot FILE.png")
@@ -94,8 +94,8 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
     """
     if isinstance(scene, Fault):
         raise InputError("a Fault object carries no simulation settings: simulate its scene (a file, or "
-                         "faultslip.load_scene), or run(fault) for its estimate")
-    loaded = load_scene(scene)
+                         "faultslip.models.read_slider_scene), or run(fault) for its estimate")
+    loaded = read_slider_scene(scene)
     if loaded.rate_state:
         if stream or events:
             raise InputError("--stream and --events apply to seed-law scenes; a rate-and-state scene's cycles are "

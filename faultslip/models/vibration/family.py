@@ -16,7 +16,7 @@ from faultslip.contract.specs import Output, parameters
 from faultslip.dynamics.vibration import METHODS as DECLARED_METHODS
 from faultslip.errors import InputError
 from faultslip.units import to_si
-from faultslip.models.vibration.scene import load_vibration_scene
+from faultslip.models.vibration.scene import read_vibration_scene
 from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.models.common import note_origin, note_scene
@@ -29,7 +29,7 @@ METHODS = {None: "auto", "auto": "auto", "quasi_harmonic_averaging": "averaging"
 
 def run(scene, method=None, tolerance=None) -> Result:
     """The settled amplitude of a vibration scene (seed 002): by averaging where it is accurate enough."""
-    system, notes = load_vibration_scene(scene)
+    system, notes = read_vibration_scene(scene)
     chosen = METHODS.get(method)
     if chosen is None:
         raise InputError(f"a vibration scene takes --method auto, quasi_harmonic_averaging or "
@@ -64,7 +64,7 @@ def amplitude_study(scene, speed=None, speeds=None, method: str = "auto", tolera
         The report (amplitude in m, growth rate in 1/s, ...), ``extras["sweep"]`` the arrays against speed, and
         ``plot()`` the amplitude against speed.
     """
-    system, notes = load_vibration_scene(scene)
+    system, notes = read_vibration_scene(scene)
     if speed is not None:
         system = replace(system, speed=to_si(speed, "speed", "--speed"))
     sweep = None
@@ -84,7 +84,7 @@ def amplitude_study(scene, speed=None, speeds=None, method: str = "auto", tolera
 
 def simulate(scene) -> Result:
     """Eq. (10) from a small disturbance onto its limit cycle, beside the averaged envelope."""
-    system, notes = load_vibration_scene(scene)
+    system, notes = read_vibration_scene(scene)
     integrated = simulate_vibration(system)
     report = vibration_report(integrated)
     note_origin(report, notes.get("origin"))
@@ -110,7 +110,7 @@ OUTPUTS = {spec.name: spec for spec in (
     Output("method", "1", "method of this cell", flags=("averaging", "integration")),
     Output("estimated_relative_error", "1", "estimated relative error of the amplitude"),
 )}
-CELLS = PerCell("a vibration study", PARAMETERS, OUTPUTS, run, load_vibration_scene,
+CELLS = PerCell("a vibration study", PARAMETERS, OUTPUTS, run, read_vibration_scene,
                 methods=("auto", "quasi_harmonic_averaging", "quasi_harmonic_integration"), seconds=0.15)
 
 FAMILY = register(Family("vibration", "seed 002: friction-induced vibration without sticking (quasi-harmonic)",

@@ -118,7 +118,7 @@ def tabulated_curve(rows, scale: float, speed: float, source: str):
     return curve
 
 
-def load_vibration_scene(path) -> tuple[QuasiHarmonic, dict]:
+def read_vibration_scene(path) -> tuple[QuasiHarmonic, dict]:
     """A vibration scene (seed 002's apparatus, a ``[vibration]`` table).
 
     Parameters
