@@ -768,6 +768,25 @@ def fault_3d_model_error_table() -> str | None:
             f"{sum(r['declared'] is not None and not r['covered'] for r in held)} outside one. " + _machine(result))
 
 
+def family_costs_table() -> str | None:
+    result = _load("family_costs.json")
+    if result is None:
+        return None
+    rows = ["| family | cost entry | case | work | CPU | estimate | estimate / CPU |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for row in result["rows"]:
+        case = row["case"] + (" (held out)" if row["held_out"] else "")
+        rows.append(f"| {row['family']} | {row['entry']} | {case} | {row['units']:.4g} | "
+                    f"{row['cpu_seconds'] * 1e3:.3g} ms | {row['estimate_seconds'] * 1e3:.3g} ms | "
+                    f"{row['ratio']:.2f} |")
+    fitted, held = result["summary"]["fitted"], result["summary"]["held_out"]
+    return ("\n".join(rows) + f"\n\nEach entry's overhead and seconds per unit of work are fitted (non-negative least "
+            f"squares) on the cases not marked held out; {fitted['within_2x']} of {fitted['cases']} fitted and "
+            f"{held['within_2x']} of {held['cases']} held-out cases are within 2x (held out: {held['ratio_min']:.2f} "
+            f"to {held['ratio_max']:.2f}). CPU is the process's, the median of {result['rounds']} timings after a "
+            "warm-up. " + _machine(result))
+
+
 #: Pages whose generated tables update() writes (the README has none: it is a door).
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
          "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md",
@@ -796,7 +815,8 @@ def _update_page(readme: Path) -> list[str]:
                          ("chain_example", chain_example_table), ("seas_bp3", seas_bp3_table),
                          ("dip_model_error", dip_model_error_table), ("engine_branches", engine_branches_table),
                          ("seas_bp5", seas_bp5_table), ("fault_3d_operator", fault_3d_operator_table),
-                         ("fault_3d_model_error", fault_3d_model_error_table)):
+                         ("fault_3d_model_error", fault_3d_model_error_table),
+                         ("family_costs", family_costs_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

@@ -479,3 +479,36 @@ def test_every_public_function_returns_a_result_or_a_type_with_to_xarray():
     for result in (faultslip.models.solve(system), faultslip.models.critical(system), faultslip.models.exact_cycle(system)):
         dataset = result.to_xarray()
         assert dataset.data_vars and all("units" in dataset[name].attrs for name in dataset.data_vars), type(result)
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_every_family_is_refused_through_its_cost_model_when_it_would_exceed_the_budget(name, monkeypatch):
+    """Issue 70: each family declares its cost model through the contract, and the budget is checked against it
+    before any work: with a budget far below the family's own estimate, run and simulate refuse in one sentence
+    that names the override."""
+    scene, _, options = CASES[name]
+    estimate = faultslip.models.estimate(CONFIGS / scene, "run")
+    assert estimate.seconds > 0 and estimate.what
+    dataset = estimate.to_xarray()
+    assert dataset["seconds"].attrs["units"] == "s" and dataset["memory"].attrs["units"] == "B"
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", f"{min(estimate.seconds, 1.0) / 1e3:.3g}")
+    with pytest.raises(faultslip.InputError, match="allow-large"):
+        faultslip.run(CONFIGS / scene)
+    if options is not None:
+        simulated = faultslip.models.estimate(CONFIGS / scene, "simulate", **options)
+        assert simulated.seconds > 0
+        monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", f"{min(simulated.seconds, 1.0) / 1e3:.3g}")
+        with pytest.raises(faultslip.InputError, match="allow-large"):
+            faultslip.simulate(CONFIGS / scene, **options)
+
+
+def test_the_estimate_option_prints_the_cost_model_and_runs_nothing(cli, tmp_path):
+    out = tmp_path / "chain.nc"
+    result = cli("simulate", CONFIGS / "spring_chain.toml", "--cycles", "100000", "-o", out, "--estimate", "--json")
+    assert result.code == 0, result.err
+    assert result.json["what"] == "100000 events of 50 blocks" and result.json["seconds"]["units"] == "s"
+    assert result.json["seconds"]["value"] > faultslip.models.estimate(CONFIGS / "spring_chain.toml", "simulate",
+                                                                       cycles=1000).seconds * 50
+    assert not out.exists()
+    text = cli("run", CONFIGS / "asperity_seed004.toml", "--estimate")
+    assert text.code == 0 and "CPU time, about" in text.out and "within the budget" in text.out

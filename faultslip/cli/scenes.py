@@ -42,6 +42,9 @@ _FAULT_QUANTITIES = {
 def cmd_run(args) -> int:
     """Any scene, whatever its model family (faultslip.models): its report."""
     options = {option.name: getattr(args, option.name) for option in options_of("run") if option.family}
+    if args.estimate:  # the family's cost model, before any work
+        return _emit(models.estimate(args.scene, "run", method=args.method, tolerance=_tolerance(args)).report(),
+                     args.json)
     return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args),
                             progress=_progress("run", not args.json, "yr"), **options).report(), args.json)
 
@@ -146,6 +149,10 @@ def cmd_methods(args) -> int:
 def cmd_simulate(args) -> int:
     """Any scene's time series, whatever its model family (faultslip.models); the stream and the events where
     the family records them."""
+    if args.estimate:  # the family's cost model, before any work or any output is checked
+        options = {"cycles": args.cycles, "slip_solver": args.slip_solver, "output": args.output,
+                   "output_dir": args.output_dir, "rtol": _number(args.rtol, "--rtol") if args.rtol else None}
+        return _emit(models.estimate(args.scene, "simulate", **options).report(), args.json)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                               "stream": ("--stream", tuple(STREAM_SUFFIXES)), "events": ("--events", QUAKEML_SUFFIXES)},
                        [args.scene])

@@ -59,6 +59,8 @@ OPTIONS = {option.name: option for option in (
     Option("output_dir", "a discretised fault's run folder: SEAS station files, slip profiles, events and netCDF, "
                          "with checkpoints for --resume"),
     Option("resume", "continue a discretised fault's run from its last checkpoint", "switch"),
+    Option("estimate", "print what it would need (CPU time, memory, disk) from the family's cost model, and stop",
+           "switch", ("run", "simulate"), family=False),
 )}
 
 #: What every family receives whatever it declares (where the run's output goes, for a disk estimate; the

@@ -54,6 +54,10 @@ class Family:
     #: (scene, tolerance=) -> Result: every rung of the ladder on the scene, its answer, declared range and cost,
     #: with the chart (``faultslip model-error SCENE``); None: the family has no ladder
     ladder: Callable | None = None
+    #: ``(scene, action, **options) -> Estimate``: the family's cost model, what ``run`` (action
+    #: "run") or ``simulate`` ("simulate") of the scene with those options needs before it starts; the budget is
+    #: checked against it (``faultslip run SCENE --estimate`` prints it)
+    estimate: Callable | None = None
     #: the family's worked example, which the conformance suite runs (check_family over the registry): a scene
     #: (a bundled name), a study of it (a bundled name), a small sweep of the scene (parameter -> two values with
     #: units) and its simulation's options (None: the check does not simulate it)

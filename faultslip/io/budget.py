@@ -13,10 +13,13 @@ import math
 import os
 import shutil
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 from faultslip import ranges
 from faultslip.errors import InputError
+from faultslip.io.report import Report
+from faultslip.io.resources import read_bundled_table
 
 #: Default wall-time budget in seconds; the environment variable FAULTSLIP_TIME_BUDGET (seconds) sets another.
 TIME_BUDGET = 3600.0
@@ -67,7 +70,23 @@ def _duration(seconds: float) -> str:
 
 @dataclass
 class Estimate:
-    """What a run is expected to need."""
+    """What a run is expected to need, before it starts: a family's cost model's answer (``faultslip run SCENE
+    --estimate``).
+
+    Attributes
+    ----------
+    what : str
+        What is estimated ("a simulation of 100 cycles").
+    memory, disk : float
+        Bytes held at once, and written (B).
+    seconds : float
+        CPU time (s), about.
+    output : path or None
+        Where the disk bytes go.
+    outside_fit : tuple of str
+        Where the scene lies outside the scenes the cost model was fitted on (then :func:`check` refuses it
+        without ``--allow-large``).
+    """
 
     what: str  # e.g. "this sweep of 1e+12 cells"
     memory: float = 0.0  # bytes held at once
@@ -75,6 +94,39 @@ class Estimate:
     seconds: float = 0.0
     output: object = None  # where the disk bytes go
     outside_fit: tuple = ()  # sentences: where the scene lies outside the range the estimate was fitted on
+
+    def report(self, title: str | None = None):
+        """The estimate as a :class:`~faultslip.io.report.Report` (what ``--estimate`` prints).
+
+        Returns
+        -------
+        Report
+            ``seconds`` (s), ``memory`` and ``disk`` (B), and where the cost model was fitted on other scenes."""
+        report = Report(title or f"faultslip estimate: {self.what}")
+        report.add("what", self.what)
+        report.add("seconds", self.seconds, "s", label="CPU time, about")
+        report.add("memory", self.memory, "B", also=("MB",), label="memory held at once")
+        report.add("disk", self.disk, "B", also=("MB",), label="disk written")
+        report.add("within_budget", self.fits(), label="within the budget (time, memory, disk)")
+        for sentence in self.outside_fit:
+            report.note(f"outside the scenes the cost model was fitted on: {sentence}")
+        return report
+
+    def fits(self) -> bool:
+        """Whether :func:`check` would let this estimate run without ``--allow-large``."""
+        try:
+            check(self)
+        except InputError:
+            return False
+        return True
+
+    def to_xarray(self):
+        """The estimate as an xarray Dataset: ``seconds`` (s), ``memory`` and ``disk`` (B), with its ``what``."""
+        import xarray as xr  # heavy: imported where used
+
+        return xr.Dataset({name: ((), float(getattr(self, name)), {"units": unit})
+                           for name, unit in (("seconds", "s"), ("memory", "B"), ("disk", "B"))},
+                          attrs={"title": self.what, "outside_fit": "; ".join(self.outside_fit)})
 
     def describe(self) -> str:
         parts = []
@@ -156,3 +208,45 @@ def map_estimate(cells: float, trace_points: float, output=None) -> Estimate:
     return Estimate(what=f"this map of {cells:.3g} cells", memory=cells * MAP_BYTES_PER_CELL
                     + trace_points * MAP_BYTES_PER_POINT, disk=netcdf_disk(cells * 6 * 8.0, 12) if output else 0.0,
                     seconds=(cells + trace_points) / MAP_CELLS_PER_SECOND, output=output)
+
+
+#: The per-unit cost models the families declare (each family's cost.py says what its unit is), fitted on each
+#: family's example by ``benchmarks/family_costs.py``.
+FAMILY_COSTS_FILE = "family_costs.json"
+
+
+@lru_cache(maxsize=1)
+def family_costs() -> dict:
+    """The fitted per-unit costs: family -> entry -> {unit, overhead (s), seconds_per_unit (s), fitted_on}."""
+    table = read_bundled_table(FAMILY_COSTS_FILE, "the families' cost models", "benchmarks/family_costs.py")
+    if not isinstance(table.get("families"), dict):
+        raise InputError(f"{FAMILY_COSTS_FILE} has no families; rerun benchmarks/family_costs.py")
+    return table
+
+
+def fitted_estimate(family: str, entry: str, units: float, what: str, memory: float = 0.0, disk: float = 0.0,
+                    output=None) -> Estimate:
+    """An estimate from a family's fitted cost model: overhead + seconds_per_unit x ``units``.
+
+    Parameters
+    ----------
+    family, entry : str
+        The family and its cost entry ("simulate", "run:averaging", ...), as ``data/family_costs.json`` has them.
+    units : float
+        The work, in the entry's unit (cycles, simulated seconds, block-events).
+    what : str
+        What is estimated, for the budget's sentence.
+    memory, disk : float
+        Bytes held at once and written (B).
+    output : path, optional
+        Where the disk bytes go.
+
+    Returns
+    -------
+    Estimate
+    """
+    fitted = family_costs()["families"].get(family, {}).get(entry)
+    if not isinstance(fitted, dict):
+        raise InputError(f"{family}: no fitted cost model for {entry}; rerun benchmarks/family_costs.py")
+    seconds = float(fitted["overhead"]) + float(fitted["seconds_per_unit"]) * max(float(units), 0.0)
+    return Estimate(what=what, memory=memory, disk=disk, seconds=seconds, output=output)

@@ -18,6 +18,7 @@ from __future__ import annotations
 import importlib
 
 from faultslip.errors import InputError
+from faultslip.io import budget
 from faultslip.contract.options import OPTIONS, UNIVERSAL
 from faultslip.contract.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
 from faultslip.contract.result import Result
@@ -28,7 +29,7 @@ from faultslip.api import exports as _exports
 # the family-level names of faultslip.api's "models" topic (read_slider_scene, simulate_fault, ...), loaded on first use
 __getattr__, __dir__, __all__ = _exports(__name__, {name: where for name, where in _TOPICS["models"].items()
                                                     if not where.startswith("models:")},
-                                         defined=("DECLARATIONS", "FAMILIES", "Family", "Result", "animate",
+                                         defined=("DECLARATIONS", "FAMILIES", "Family", "Result", "animate", "estimate",
                                                   "families", "family_of", "load", "register", "run", "simulate"))
 
 
@@ -91,7 +92,36 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
             options[name] = asked
         elif name not in UNIVERSAL:
             raise InputError(_not_an_option(name, family))
+    if family.estimate is not None and "allow_large" not in family.run_options:  # its cost model, checked here
+        budget.check(family.estimate(scene, "run", method=method, tolerance=tolerance), allow_large)
     return family.run(scene, method=method, tolerance=tolerance, **options)
+
+
+def estimate(scene=None, action: str = "run", **options):
+    """What :func:`run` or :func:`simulate` of a scene would need, from its family's cost model, before it starts.
+
+    Parameters
+    ----------
+    scene : str, path or scene object
+        As for :func:`run`.
+    action : str
+        ``"run"`` or ``"simulate"``.
+    **options
+        The options the run or simulation would take (``method``, ``tolerance``; ``cycles``, ``rtol``, ...).
+
+    Returns
+    -------
+    faultslip.io.budget.Estimate
+        CPU seconds, memory and disk (``report()``, ``to_xarray()``), and where the scene lies outside the scenes
+        the cost model was fitted on.
+    """
+    if action not in ("run", "simulate"):
+        raise InputError(f"an estimate is of a run or a simulation, not {action!r}")
+    family = family_of(scene)
+    if family.estimate is None:
+        raise InputError(f"the {family.name} family declares no cost model (Family.estimate), so nothing can be "
+                         "estimated before it runs")
+    return family.estimate(scene, action, **{name: value for name, value in options.items() if value is not None})
 
 
 def simulate(scene=None, **options) -> Result:
@@ -126,7 +156,10 @@ def simulate(scene=None, **options) -> Result:
     extra = [name for name in given if name not in family.simulate_options and name not in UNIVERSAL]
     if extra:
         raise InputError(_not_an_option(extra[0], family))
-    return family.simulate(scene, **{name: value for name, value in given.items() if name in family.simulate_options})
+    taken = {name: value for name, value in given.items() if name in family.simulate_options}
+    if family.estimate is not None and "allow_large" not in family.simulate_options:  # as in run
+        budget.check(family.estimate(scene, "simulate", **taken), bool(given.get("allow_large")))
+    return family.simulate(scene, **taken)
 
 
 def animate(scene, cycles: int = 2, frames: int = 120, slip_share: float = 0.5):

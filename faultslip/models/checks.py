@@ -9,6 +9,7 @@ registered family (``tests/test_families.py``); a new family passes it before it
 
 from __future__ import annotations
 
+import math
 import tempfile
 from pathlib import Path
 
@@ -18,6 +19,7 @@ from faultslip.contract.cells import cell_value
 from faultslip.contract.registry import METHOD_FIELDS, cells_of, load, read_scene
 from faultslip.errors import FaultslipError
 from faultslip.contract.result import Result
+from faultslip.io.budget import Estimate
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.resources import open_dataset_lazily
 from faultslip.studies.grid import Study, sweep
@@ -72,6 +74,14 @@ def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, si
     rows = family.methods() if family.methods else []
     _require(rows and all(row.get(key) for row in rows for key in METHOD_FIELDS),
              f"{name}: declares its methods, each with {', '.join(METHOD_FIELDS)} ('faultslip methods')")
+    # its cost model: what the run (and the simulation) needs, before it starts, in seconds, bytes and words
+    _require(family.estimate is not None, f"{name}: declares its cost model (Family.estimate: scene, action -> "
+                                          "faultslip.io.budget.Estimate)")
+    for action in ("run",) + (("simulate",) if simulate else ()):
+        estimate = family.estimate(scene, action, **((simulate_options or {}) if action == "simulate" else {}))
+        _require(isinstance(estimate, Estimate) and estimate.what and all(
+            math.isfinite(value) and value >= 0 for value in (estimate.seconds, estimate.memory, estimate.disk)),
+            f"{name}: its cost model's {action} estimate is an Estimate with finite seconds, memory and disk")
     # the run: a Result of this family, its Dataset with units, its report
     result = family.run(scene)
     _require(isinstance(result, Result) and result.family == name, f"{name}: run returns a Result of the family")

@@ -21,6 +21,7 @@ from faultslip.models.asperity.dynamics import (CONVERGENCE_RTOLS, METHODS, QUAS
 from faultslip.errors import InputError, SolverError
 from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.common import note_origin
+from faultslip.models.asperity import cost as asperity_cost
 from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.models.asperity.speed_map import OUTCOMES, asperity_map
@@ -165,6 +166,6 @@ CELLS = PerCell("an asperity study", PARAMETERS, OUTPUTS, run, load_asperity_sce
 FAMILY = register(Family("asperity", "seed 004: a block on asperities, stick fraction and period", run, simulate,
                          why="an asperity scene sets its run in [run] duration and its method in [method]",
                          read_scene=toml_reader("asperity", PARAMETERS), cells=CELLS,
-                         methods=lambda: list(METHODS.values()),
+                         methods=lambda: list(METHODS.values()), estimate=asperity_cost.estimate,
                          example=Example('asperity_seed004.toml', "study_asperity.toml",
                                          {'platform_speed': ['2 mm/s', '3.6 mm/s']}, {})))

@@ -602,12 +602,19 @@ def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.
     return result
 
 
+def estimate(scene, action: str = "run", rtol=None, output_dir=None, **_) -> budget.Estimate:
+    """What a run or simulation of a 2-D fault scene needs, before it starts: its Dormand-Prince steps from the
+    events it will see, and its records (:meth:`Fault2DScene.estimate`, cost.py)."""
+    loaded = read_fault_2d_scene(scene, allow_large=True)
+    return loaded.estimate(loaded.rtol if rtol is None else rtol, output_dir)
+
+
 FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",
                          run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite",
                                                           "allow_underresolved"),
                          run_options=("allow_large", "allow_underresolved", "richardson", "progress"),
                          why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
                          read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values()),
-                         refine=refine_one_slider, ladder=ladder,
+                         refine=refine_one_slider, ladder=ladder, estimate=estimate,
                          example=Example('fault_2d_small.toml', "study_fault_2d.toml",
                                          {'critical_slip': ['24 mm', '30 mm']}, None)))

@@ -514,12 +514,19 @@ METHODS = {"fault_3d": {"name": "fault_3d", "friction_laws": "rate-and-state (ag
                         "declared_error": "the square size's (BP5 at 2000, 1000 and 500 m), the sequence's settling "
                                           "and 10 rtol"}}
 
+def estimate(scene, action: str = "run", rtol=None, output_dir=None, **_) -> budget.Estimate:
+    """What a run or simulation of a 3-D fault scene needs, before it starts: its steps, operator and records
+    (:meth:`Fault3DScene.estimate`, cost.py)."""
+    loaded = load_fault_3d_scene(scene, allow_large=True)
+    return loaded.estimate(loaded.rtol if rtol is None else rtol, output_dir)
+
+
 FAMILY = register(Family("fault_3d", "quasi-dynamic cycles on a planar 3-D fault in an elastic half-space "
                                      "(SEAS BP5-QD)", run, simulate,
                          simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite"),
                          run_options=("allow_large", "progress"),
                          why="a 3-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
                          read_scene=read_scene, cells=Fault3DCells(), methods=lambda: list(METHODS.values()),
-                         ladder=ladder,
+                         ladder=ladder, estimate=estimate,
                          example=Example("fault_3d_small.toml", "study_fault_3d.toml",
                                          {"critical_slip": ["0.12 m", "0.14 m"]}, None)))

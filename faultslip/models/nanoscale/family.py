@@ -12,6 +12,8 @@ from faultslip.contract.specs import Output, Parameter
 from faultslip.models.nanoscale.dynamics import METHODS as DECLARED_METHODS
 from faultslip.models.nanoscale.dynamics import NANOSCALE_METHODS
 from faultslip.models.nanoscale.scene import load_nanoscale_scene
+from faultslip.models.nanoscale import cost as nanoscale_cost
+from faultslip.io import budget
 from faultslip.models.common import note_origin, note_scene
 from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
@@ -100,8 +102,27 @@ OUTPUTS = {spec.name: spec for spec in (
 CELLS = PerCell("a nanoscale study", PARAMETERS, OUTPUTS, run, load_nanoscale_scene, methods=NANOSCALE_METHODS,
                 seconds=0.5)
 
+#: the nanoscale time a run's settled cycle integrates at most (NanoscaleModel.settled_cycle's max_time)
+SETTLE_MAX_TIME = 2e5
+
+
+def estimate(scene, action: str = "run", method=None, tolerance=None, **_) -> budget.Estimate:
+    """What a run or simulation of a nanoscale scene needs, before it starts: the closed form's overhead, or LSODA
+    over the scene's duration and, for a settled cycle, at most :data:`SETTLE_MAX_TIME` (cost.py)."""
+    model, settings, _notes = load_nanoscale_scene(scene)
+    tolerance = tolerance or settings["tolerance"]
+    if action == "run":
+        method = method or settings["method"]
+        wanted = ("regime",) if method == "nanoscale_linear_stability" else ("regime", "force_swing")
+        if choose_method(model, wanted, method, tolerance).method != "nanoscale_LSODA":
+            return budget.fitted_estimate("nanoscale", "closed_form", 0.0, "the regime in closed form")
+        return nanoscale_cost.nanoscale_estimate(SETTLE_MAX_TIME, 2)
+    duration = settings["duration"] + (SETTLE_MAX_TIME if model.stick_slip else 0.0)
+    return nanoscale_cost.nanoscale_estimate(duration, settings["samples"])
+
+
 FAMILY = register(Family("nanoscale", "seed 001: nanoscale stick-slip with contact charging", run, simulate,
-                         simulate_options=("allow_large",), run_options=("allow_large",),
+                         simulate_options=("allow_large",), run_options=("allow_large",), estimate=estimate,
                          why="a nanoscale scene sets its run in [run] and its accuracy in [method] tolerance",
                          read_scene=toml_reader("nanoscale", PARAMETERS), cells=CELLS,
                          methods=lambda: list(DECLARED_METHODS.values()),

@@ -18,12 +18,14 @@ from faultslip.fault.spring_slider_cells import RATE_STATE_CELLS
 from faultslip.fault.spring_slider_cells import read_scene as read_seed_law_scene
 from faultslip.io.resources import parse_toml
 from faultslip.models.common import note_origin
+from faultslip.io import budget
 from faultslip.fault.one_slider import DESCRIPTIONS
 from faultslip.fault.rate_state_scene import read_rate_state_scene
 from faultslip.io.report import Report
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.models.rate_state_slider import cycles as rate_state_cycles
 from faultslip.models.rate_state_slider.cycles import _scene_notes
+from faultslip.models.rate_state_slider import cost as rate_state_slider_cost
 from faultslip.contract.registry import Example, Family, load, register
 from faultslip.contract.result import Result
 from faultslip.plots.figures import _pyplot
@@ -199,6 +201,8 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     against the 2-D fault (faultslip.models.rate_state_slider.model_error, from the shipped calibration) meets it,
     and the 2-D fault otherwise; without a tolerance it takes one slider and declares its error.
     """
+    # the slider's own cost before any work; an escalation checks the 2-D fault's estimate before it starts
+    budget.check(rate_state_slider_cost.estimate(scene, "run", method=method, tolerance=tolerance), allow_large)
     older = _older_form(scene)
     if older is not None:
         return _run_older_form(older, method, tolerance)
@@ -419,6 +423,6 @@ FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: veloci
                          simulate_options=("cycles", "slip_solver", "rtol"),
                          why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles",
                          run_options=("allow_large", "progress"), read_scene=read_scene, cells=cells,
-                         methods=lambda: [method.describe() for method in CYCLE_METHODS.values()],
+                         methods=lambda: [method.describe() for method in CYCLE_METHODS.values()], estimate=rate_state_slider_cost.estimate,
                          example=Example('rsf_block_bp1.toml', "study_rate_state_slider.toml",
                                          {'critical_slip': ['4 mm', '8 mm']}, {'cycles': 2})))

@@ -12,6 +12,7 @@ from faultslip.dynamics.kernel import REGIME_CODES
 from faultslip.dynamics.methods import METHODS, describe_integrators
 from faultslip.errors import InputError
 from faultslip.models.rough_surface.scene import read_rough_scene
+from faultslip.models.rough_surface import cost as rough_surface_cost
 from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.plots.figures import sawtooth_figure
@@ -80,6 +81,6 @@ FAMILY = register(Family("rough_surface", "seed 000: a slider on rough surfaces,
                          simulate, simulate_options=("cycles", "slip_solver", "rtol"),
                          why="a rough-surface scene takes --cycles, --slip-solver and --rtol",
                          read_scene=toml_reader("rough_surface", PARAMETERS), cells=CELLS,
-                         methods=describe_integrators,
+                         methods=describe_integrators, estimate=rough_surface_cost.estimate,
                          example=Example('rough_surface_seed000.toml', "study_rough_surface.toml",
                                          {'separation_coefficient': ['0 s/m', '0.8 s/m']}, {'cycles': 2})))

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from faultslip.contract.cells import PerCell
+from faultslip.models.spring_chain import cost as spring_chain_cost
 from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.contract.scenes import toml_reader
@@ -287,6 +288,6 @@ FAMILY = register(Family("spring_chain", "a chain of spring-blocks (Burridge & K
                          why="a spring-block chain takes --cycles (its events), --slip-solver, --rtol and --events "
                              "(QuakeML)",
                          read_scene=toml_reader("spring_chain", PARAMETERS), cells=CELLS,
-                         methods=lambda: [dict(METHOD), dict(INTEGRATED)], animate=animate,
+                         methods=lambda: [dict(METHOD), dict(INTEGRATED)], animate=animate, estimate=spring_chain_cost.estimate,
                          example=Example('spring_chain_small.toml', "study_spring_chain.toml",
                                          {'threshold_spread': [0.3, 0.5]}, {'cycles': 20})))

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
-
+from faultslip.contract.registry import load
+from faultslip.fault.scaling import Fault
+from faultslip.fault.scene import read_slider_scene
+from faultslip.io import budget
 from faultslip.io.budget import Estimate
 
 
@@ -13,3 +16,23 @@ def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, ou
     seconds = float(cycles) * (2.5e-3 if integrated else 2e-6) + rows * 1e-8
     return Estimate(what=f"a simulation of {cycles:.3g} cycles", memory=memory, disk=rows * 6 * 8.0 if output else 0.0,
                     seconds=seconds, output=output)
+
+
+def estimate(scene, action: str = "run", cycles=None, slip_solver=None, output=None, **options) -> Estimate:
+    """What a run or simulation of a seed-law scene needs, before it starts: a run's closed form or exact cycle
+    at its fitted overhead (``benchmarks/family_costs.py``), a simulation from its rows
+    (:func:`simulation_estimate`). A scene of one rate-and-state block is its own family's to estimate."""
+    if isinstance(scene, Fault):
+        return budget.fitted_estimate("spring_slider", "run", 0.0, "the fault's estimate in closed form")
+    loaded = read_slider_scene(scene)
+    if loaded.rate_state:
+        return load(loaded.family).estimate(loaded, action, cycles=cycles, slip_solver=slip_solver, output=output,
+                                            **options)
+    if action == "run":
+        return budget.fitted_estimate("spring_slider", "run", 0.0, f"the cycle of {loaded.name}")
+    settings = dict(loaded.simulation)
+    if cycles is not None:
+        settings["cycles"] = cycles
+    solver = slip_solver or settings.get("slip_solver", "auto")
+    integrated = not loaded.slider().is_linear or solver not in ("auto", "analytic")
+    return simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64), integrated, output)

@@ -140,6 +140,6 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
 FAMILY = register(Family("spring_slider", "seed 003: the spring-slider, in the lab and scaled to a fault (the "
                          "default)", run, simulate, simulate_options=("cycles", "slip_solver", "rtol", "stream",
                                                                      "events", "output", "allow_large"),
-                         read_scene=read_scene, cells=CELLS, methods=describe_seed_methods, animate=animate,
+                         read_scene=read_scene, cells=CELLS, methods=describe_seed_methods, animate=animate, estimate=slider_cost.estimate,
                          example=Example('lab_glass_dry.toml', "study_spring_slider.toml",
                                          {'damping_ratio': [0.0, 0.1]}, {'cycles': 2})))

@@ -17,6 +17,7 @@ from faultslip.dynamics.vibration import METHODS as DECLARED_METHODS
 from faultslip.errors import InputError
 from faultslip.units import to_si
 from faultslip.models.vibration.scene import read_vibration_scene
+from faultslip.models.vibration import cost as vibration_cost
 from faultslip.contract.registry import Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.models.common import note_origin, note_scene
@@ -117,6 +118,6 @@ FAMILY = register(Family("vibration", "seed 002: friction-induced vibration with
                          run, simulate,
                          why="a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles",
                          read_scene=toml_reader("vibration", PARAMETERS), cells=CELLS,
-                         methods=lambda: list(DECLARED_METHODS.values()),
+                         methods=lambda: list(DECLARED_METHODS.values()), estimate=vibration_cost.estimate,
                          example=Example('vibration_seed002.toml', "study_vibration.toml",
                                          {'speed': ['11 in/s', '12.5 in/s']}, {})))

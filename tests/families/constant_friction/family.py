@@ -11,6 +11,7 @@ from faultslip.contract.registry import Family, register
 from faultslip.contract.result import Result
 from faultslip.contract.scenes import toml_reader
 from faultslip.errors import InputError
+from faultslip.io.budget import Estimate
 from faultslip.io.report import Report
 
 from families.constant_friction.figures import sawtooth_figure
@@ -57,6 +58,14 @@ def simulate(scene, cycles=None) -> Result:
     return Result("constant_friction", report, series, lambda: sawtooth_figure(time, ratio))
 
 
+def estimate(scene, action="run", cycles=None, **_) -> Estimate:
+    """The cost model: the closed form's overhead, or the simulation's 200 samples a cycle (a test family's
+    round figures: its runs take milliseconds)."""
+    read(scene)
+    rows = 0 if action == "run" else 200 * (cycles or 3) + 1
+    return Estimate(f"constant friction, {rows} samples", memory=rows * 8.0 * 3, seconds=1e-3 + rows * 1e-7)
+
+
 METHODS = [{"name": "constant_friction_closed_form", "friction_laws": "constant static and kinetic friction",
             "domain": "an undamped slider: every loading rate", "cost_model": "O(1)",
             "declared_error": "round-off (the exact cycle)"}]
@@ -65,4 +74,4 @@ CELLS = PerCell("a constant-friction study", PARAMETERS, OUTPUTS, run, read, met
 FAMILY = register(Family("constant_friction", "a spring-slider with constant friction (a test family)", run,
                          simulate, simulate_options=("cycles",), read_scene=toml_reader("constant_friction",
                                                                                         PARAMETERS), cells=CELLS,
-                         methods=lambda: METHODS))
+                         methods=lambda: METHODS, estimate=estimate))

@@ -1,0 +1,35 @@
+"""The rate-and-state slider's cost model: a laboratory slider's load history at its overhead, a fault's one
+slider in earthquake cycles; fitted by ``benchmarks/family_costs.py``. A run whose tolerance sends it to the 2-D
+fault checks that rung's own estimate before it starts (faultslip.models.fault_2d)."""
+
+from __future__ import annotations
+
+import os
+
+from faultslip.fault.scene import Scene, has_friction_law
+from faultslip.fault.rate_state_scene import read_rate_state_scene
+from faultslip.io import budget
+
+#: the cycles a fault's run and simulation take by default (the family's)
+DEFAULT_CYCLES = 5
+
+
+def work(scene, action: str = "run", cycles=None, **_) -> tuple[str, float, str]:
+    """(cost entry, units, what): earthquake cycles of a fault's slider; a laboratory slider's history or a
+    seed-law-form scene at the entry's overhead."""
+    older = isinstance(scene, Scene) or (isinstance(scene, (str, os.PathLike))
+                                         and has_friction_law(scene, "rate_state"))
+    count = float(DEFAULT_CYCLES if cycles is None else cycles)
+    if older:
+        return f"{action}:seed_law_form", count, f"{count:g} cycles of a rate-and-state fault (seed-law form)"
+    loaded = read_rate_state_scene(scene)
+    if loaded.kind == "lab":
+        return f"{action}:lab", 0.0, "a laboratory slider's load history"
+    count = float(DEFAULT_CYCLES if cycles is None or action == "run" else cycles)
+    return action, count, f"{count:g} earthquake cycles of one slider"
+
+
+def estimate(scene, action: str = "run", **options) -> budget.Estimate:
+    """What a run or simulation of a rate-and-state scene needs, before it starts."""
+    entry, units, what = work(scene, action, **options)
+    return budget.fitted_estimate("rate_state_slider", entry, units, what, output=options.get("output"))

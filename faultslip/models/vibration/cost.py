@@ -1,0 +1,35 @@
+"""The quasi-harmonic family's cost model: direct integration's CPU time in periods of the oscillation (eq. 10 at
+rtol 1e-10), averaging's its overhead alone; fitted on seed 002's scene by ``benchmarks/family_costs.py``."""
+
+from __future__ import annotations
+
+from faultslip.dynamics.vibration import settle_periods
+from faultslip.io import budget
+from faultslip.models.vibration.scene import read_vibration_scene
+
+#: the periods a simulation integrates at most (faultslip.dynamics.vibration.simulate_vibration)
+SIMULATED_PERIODS = 2000.0
+
+
+def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[str, float, str]:
+    """(cost entry, units, what): periods integrated, from the averaged cycle's decay rate
+    (:func:`~faultslip.dynamics.vibration.settle_periods`), or averaging's root search."""
+    system, _notes = read_vibration_scene(scene)
+    result = system.analyse()
+    if not result.valid:  # the slider sticks: the run says so at once
+        return f"{action}:averaging" if action == "run" else "simulate", 0.0, "the averaged equation alone"
+    periods = settle_periods(system, result)
+    if action == "simulate":
+        periods = min(periods, SIMULATED_PERIODS)
+        return "simulate", periods, f"eq. (10) integrated over {periods:.3g} periods"
+    integrating = method == "quasi_harmonic_integration" or (
+        method in (None, "auto") and result.estimated_error > (tolerance or 1e-3) and result.amplitude > 0)
+    if not integrating:
+        return "run:averaging", 0.0, "the averaged amplitude (eq. 20)"
+    return "run:integration", periods, f"eq. (10) integrated over {periods:.3g} periods to settle"
+
+
+def estimate(scene, action: str = "run", **options) -> budget.Estimate:
+    """What a run or simulation of a vibration scene needs, before it starts."""
+    entry, units, what = work(scene, action, **options)
+    return budget.fitted_estimate("vibration", entry, units, what, output=options.get("output"))
