@@ -202,6 +202,9 @@ class Workspace:
         self.netcdf = self._small_sweep()
         self.catalog = (CONFIGS / "catalog_san_andreas.csv").read_text(encoding="utf-8")
         self.geojson = (DATA / "gem_faults_example.geojson").read_text(encoding="utf-8")
+        self.sherifs = {name: (CONFIGS / "sherifs_example" / name).read_text(encoding="utf-8")
+                        for name in ("Faults_geometry.txt", "Faults_properties.txt", "ruptures.txt")}
+        self.sherifs_map = (CONFIGS / "sherifs_example.toml").read_text(encoding="utf-8")
         phyphox_lines = (CONFIGS / "example_phyphox.csv").read_text(encoding="utf-8").splitlines()
         self.phyphox = "\n".join(phyphox_lines[:800]) + "\n"
         raw_lines = (CONFIGS / "example_raw_velocity_steps.txt").read_text(encoding="utf-8").splitlines()
@@ -314,6 +317,7 @@ class Workspace:
 
     def write(self, name: str, content) -> Path:
         path = self.folder / name
+        path.parent.mkdir(parents=True, exist_ok=True)
         if isinstance(content, bytes):
             path.write_bytes(content)
         else:
@@ -421,6 +425,13 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
             path = space.write("catalog.xml", mutate_bytes(space.quakeml, rng))
         return ["catalog", str(path), "--fault", str(CONFIGS / "parkfield.toml"), "--bootstrap", "20", "--as-of",
                 rng.choice(["2026-01-01"] * 4 + ["1800-01-01", "nope"]), "--json"]
+    if kind == "sherifs":  # SHERIFS's three input files, one of them mutated, through a map that reads them
+        victim = rng.choice(sorted(space.sherifs))
+        for name, text in space.sherifs.items():
+            space.write(f"sherifs_example/{name}", mutate_csv(text, rng) if name == victim else text)
+        space.write("sherifs_example/base.toml", (CONFIGS / "sherifs_example" / "base.toml").read_text(encoding="utf-8"))
+        path = space.write("sherifs.toml", space.sherifs_map)
+        return ["map", str(path), "-o", out, "--overwrite", "--json"]
     if kind == "geojson":
         space.write("faults.geojson", mutate_csv(space.geojson, rng))
         path = space.write("gaf_map.toml", space.map_text.replace('file = "segments.csv"', 'file = "faults.geojson"'))
@@ -625,7 +636,7 @@ KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6,
          "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
          "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6,
          "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4,
-         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3}
+         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [

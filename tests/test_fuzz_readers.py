@@ -249,6 +249,24 @@ def test_geojson_fault_reader(tmp_path_factory, seed):
 
 @FUZZ
 @given(seed=st.integers(0, 2**32))
+def test_sherifs_readers(tmp_path_factory, seed):
+    """Mutated SHERIFS geometry, properties and rupture files are read (traces and numbers in range) or refused in
+    one sentence."""
+    from faultslip.io.sherifs import read_sherifs_faults, read_sherifs_ruptures
+
+    folder = tmp_path_factory.mktemp("sherifs")
+    source = ROOT / "configs" / "sherifs_example"
+    rng = random.Random(seed)
+    paths = {}
+    for name in ("Faults_geometry.txt", "Faults_properties.txt", "ruptures.txt"):
+        text = source.joinpath(name).read_text(encoding="utf-8")
+        paths[name] = _write(folder / name, fuzz.mutate_csv(text, rng) if rng.random() < 0.5 else text)
+    _clean(read_sherifs_faults, paths["Faults_geometry.txt"], paths["Faults_properties.txt"])
+    _clean(read_sherifs_ruptures, paths["ruptures.txt"])
+
+
+@FUZZ
+@given(seed=st.integers(0, 2**32))
 def test_accelerometer_reader_and_analysis(tmp_path_factory, seed):
     """A mutated phyphox export is read and analysed, or refused in one sentence."""
     from faultslip.lab.classroom import analyse, read_accelerometer

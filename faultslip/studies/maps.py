@@ -38,6 +38,7 @@ import numpy as np
 
 from faultslip.io.geo import _check_lon_lat, nearest_segment, parse_trace, trace_length  # noqa: F401 (re-exported)
 from faultslip.io.geojson import read_fault_geojson
+from faultslip.io.sherifs import read_sherifs_faults, read_sherifs_ruptures
 from faultslip.errors import InputError, did_you_mean
 from faultslip.io import budget
 from faultslip.io.resources import bundled_dir, parse_toml, read_unit_csv
@@ -72,7 +73,8 @@ RASTER_VARIABLES = {
     "lithology": None, "shear_modulus": "pressure", "zone_width": "length", "slip_rate": "speed",
     "normal_stress": "pressure", "shear_stress": "pressure",
 }
-MAP_SCHEMA = {"map": {"name", "base", "description", "cycles", "method"}, "segments": {"file"}, "raster": {"file"},
+MAP_SCHEMA = {"map": {"name", "base", "description", "cycles", "method"},
+              "segments": {"file", "format", "properties", "model", "faults"}, "raster": {"file"},
               "grid": {"lon", "lat", "max_distance"}, "rupture_set": set(RULE_KEYS)}
 
 
@@ -137,7 +139,37 @@ def segments_from_geojson(path, scene) -> SegmentTable:
     """A GEM GAF GeoJSON fault file as a segment table. GeoJSON carries no lithology or elastic-zone width:
     each fault takes the base scene's (its [fault] lithology and zone_width), and its seismogenic depth is
     lower - upper, else the scene's; the notes say which faults took defaults."""
-    faults = read_fault_geojson(path)
+    return segments_from_faults(read_fault_geojson(path), scene, path)
+
+
+def segments_from_sherifs(geometry, properties, scene, model=None, faults=None) -> SegmentTable:
+    """SHERIFS's fault files (:func:`faultslip.io.sherifs.read_sherifs_faults`) as a segment table, as GeoJSON's
+    (:func:`segments_from_faults`); ``faults`` keeps those named, in the files' order. A fault whose shear modulus
+    differs from the base scene's is said in the notes: the rupture set's moments take the scene's."""
+    table = read_sherifs_faults(geometry, properties, model)
+    if faults is not None:
+        unknown = [name for name in faults if name not in table.ids]
+        if unknown:
+            raise InputError(f"[segments] faults names {unknown[0]!r}, which {Path(properties).name} does not have "
+                             f"for model {table.model} ({', '.join(table.ids)})")
+        keep = [i for i, name in enumerate(table.ids) if name in faults]
+        left = [name for name in table.ids if name not in faults]
+        for key in ("ids", "names", "traces", "slip_type"):
+            setattr(table, key, [getattr(table, key)[i] for i in keep])
+        for key in ("slip_rate", "slip_rate_range", "dip", "rake", "upper_depth", "lower_depth", "shear_modulus"):
+            setattr(table, key, getattr(table, key)[keep])
+        table.notes.append(f"{Path(properties).name}: {', '.join(left)} left out ([segments] faults)")
+    base = scene.fault().shear_modulus
+    differing = [name for name, g in zip(table.ids, table.shear_modulus) if np.isfinite(g) and abs(g / base - 1) > 1e-9]
+    if differing:
+        table.notes.append(f"{', '.join(differing)}: SHERIFS's shear modulus differs from the base scene's "
+                           f"{base / 1e9:.4g} GPa, which the rupture set's moments take")
+    return segments_from_faults(table, scene, geometry)
+
+
+def segments_from_faults(faults, scene, path) -> SegmentTable:
+    """Faults read from GeoJSON or SHERIFS's files as a segment table: each takes the base scene's lithology and
+    zone width, and its seismogenic depth is lower - upper, else the scene's."""
     given = scene.tables.get("fault", {})
     if "lithology" not in given:
         raise InputError(f"{Path(path).name} carries no lithology: the map's base scene needs a [fault] lithology")
@@ -547,8 +579,30 @@ def read_map(path) -> MapSpec:
                          "friction; a seed-law map takes --method")
     spec.notes = notes
     if "segments" in document:
-        source = resolve(document["segments"].get("file", ""))
-        if source.suffix.lower() in (".geojson", ".json"):
+        table = document["segments"]
+        source = resolve(table.get("file", ""))
+        form = table.get("format", "sherifs" if "properties" in table else None)
+        if form not in (None, "sherifs"):
+            raise InputError(f"[segments] format in {path.name} must be sherifs (or absent: CSV or GeoJSON by the "
+                             f"file's suffix), got {form!r}")
+        if form != "sherifs" and {"properties", "model", "faults"} & set(table):
+            raise InputError(f"[segments] properties, model and faults in {path.name} belong to SHERIFS's files "
+                             "(format = \"sherifs\")")
+        if form == "sherifs":
+            if "properties" not in table:
+                raise InputError(f"[segments] in {path.name}: SHERIFS's faults need properties = "
+                                 "\"Faults_properties.txt\" beside file = \"Faults_geometry.txt\"")
+            chosen = table.get("faults")
+            if chosen is not None and not (isinstance(chosen, list) and chosen and
+                                           all(isinstance(name, str) for name in chosen)):
+                raise InputError(f"[segments] faults in {path.name} must be a list of fault names, got {chosen!r}")
+            if not isinstance(table.get("model", ""), str):
+                raise InputError(f"[segments] model in {path.name} must be a model name, got {table['model']!r}")
+            properties = resolve(table["properties"])
+            spec.segments = segments_from_sherifs(source, properties, scene, table.get("model"), chosen)
+            spec.notes.extend(spec.segments.sources.pop("notes", []))
+            spec.source_files.append(str(properties))
+        elif source.suffix.lower() in (".geojson", ".json"):
             spec.segments = segments_from_geojson(source, scene)
             spec.notes.extend(spec.segments.sources.pop("notes", []))
         else:
@@ -557,7 +611,7 @@ def read_map(path) -> MapSpec:
         source = resolve(document["raster"].get("file", ""))
         spec.raster = read_raster(source)
     spec.source_files.append(str(source))
-    spec.inputs = [path, base_path, source]
+    spec.inputs = [path, base_path, *map(Path, spec.source_files)]
     grid = document.get("grid", {})
     if spec.segments is not None:
         if "lon" not in grid or "lat" not in grid:
@@ -569,7 +623,20 @@ def read_map(path) -> MapSpec:
     if "rupture_set" in document:
         if spec.segments is None:
             raise InputError(f"[rupture_set] in {path.name} joins fault sections: it needs [segments], not a raster")
-        spec.rupture_rules = parse_rules(document["rupture_set"], f"[rupture_set] in {path.name}", spec.segments.ids)
+        rules = dict(document["rupture_set"])
+        listed = rules.get("ruptures")
+        if isinstance(listed, dict):  # SHERIFS's rupture file and the set to take from it
+            if set(listed) != {"file", "set"} or not isinstance(listed.get("set"), str):
+                raise InputError(f"[rupture_set] ruptures in {path.name} is a list of fault lists, or "
+                                 "{ file = \"ruptures.txt\", set = \"NAME\" } (SHERIFS's), got {listed!r}")
+            rupture_file = resolve(listed["file"])
+            sets = read_sherifs_ruptures(rupture_file)
+            if listed["set"] not in sets:
+                raise InputError(f"{rupture_file.name} has no set {listed['set']!r} (it has {', '.join(sets)})")
+            rules["ruptures"] = [list(rupture) for rupture in sets[listed["set"]]]
+            spec.inputs.append(rupture_file)
+            spec.notes.append(f"ruptures: set {listed['set']} of {rupture_file.name}")
+        spec.rupture_rules = parse_rules(rules, f"[rupture_set] in {path.name}", spec.segments.ids)
     if "max_distance" in grid:
         spec.max_distance = to_si(grid["max_distance"], "length", f"[grid] max_distance in {path.name}")
         if not spec.max_distance > 0:

@@ -73,6 +73,9 @@ class Rules:
     background_share: float = 0.0
     background_magnitudes: tuple = (5.0, 6.5)
     weight: float = 0.5  # the system branches' share of the logic tree
+    #: the multi-fault ruptures, stated (fault ids in order; SHERIFS's rupture sets): None lets the jump and turn
+    #: rules find them
+    ruptures: tuple | None = None
 
     def as_dict(self) -> dict:
         return {"max_jump": {"value": self.max_jump, "units": "m"}, "max_azimuth_change": self.max_azimuth_change,
@@ -81,13 +84,14 @@ class Rules:
                 {"value": self.subsection_length, "units": "m"},
                 "shape": self.shape, "b_value": self.b_value, "aseismic_fraction": self.aseismic_fraction,
                 "background_share": self.background_share, "background_magnitudes": list(self.background_magnitudes),
-                "weight": self.weight}
+                "weight": self.weight,
+                "ruptures": None if self.ruptures is None else [list(rupture) for rupture in self.ruptures]}
 
 
 #: the keys of a map's [rupture_set] table
 RULE_KEYS = ("max_jump", "max_azimuth_change", "min_sections", "max_sections", "subsection_length", "mfd", "b_value",
              "aseismic_fraction", "background_share", "background_min_magnitude", "background_max_magnitude",
-             "weight")
+             "weight", "ruptures")
 
 
 def parse_rules(table: dict, where: str, segment_ids=()) -> Rules:
@@ -142,8 +146,23 @@ def parse_rules(table: dict, where: str, segment_ids=()) -> Rules:
     weight = table.get("weight", 0.5)
     if not isinstance(weight, (int, float)) or isinstance(weight, bool) or not 0 < weight <= 1:
         raise InputError(f"{where}: weight (the rupture set's share of the logic tree) must be in (0, 1], got {weight!r}")
+    listed = table.get("ruptures")
+    if listed is not None:
+        known = set(map(str, segment_ids))
+        if not isinstance(listed, list) or len(listed) > MAX_RUPTURES:
+            raise InputError(f"{where}: ruptures must be a list of ruptures, each a list of fault ids, got {listed!r}")
+        for rupture in listed:
+            if not (isinstance(rupture, list) and len(rupture) >= 2 and all(isinstance(n, str) for n in rupture)
+                    and len(set(rupture)) == len(rupture)):
+                raise InputError(f"{where}: each rupture of ruptures lists two or more different fault ids, "
+                                 f"got {rupture!r}")
+            unknown = [name for name in rupture if name not in known]
+            if unknown:
+                raise InputError(f"{where}: a rupture names fault {unknown[0]!r}, which the map does not have "
+                                 f"({', '.join(sorted(known))})")
+        listed = tuple(tuple(rupture) for rupture in listed)
     return Rules(max_jump, float(turn), low, high, length, shape, float(b_value), aseismic, background,
-                 (float(magnitudes[0]), float(magnitudes[1])), float(weight))
+                 (float(magnitudes[0]), float(magnitudes[1])), float(weight), listed)
 
 
 @dataclass
@@ -300,8 +319,30 @@ def _near_end(ends, other: np.ndarray) -> int:
     return int(_closest(np.array([ends[1]]), other) < _closest(np.array([ends[0]]), other))
 
 
+def stated_ruptures(sections: Sections, rules: Rules) -> list[tuple]:
+    """The ruptures of a stated list (SHERIFS's rupture sets): on each fault, every run of its sections from
+    ``min_sections`` to ``max_sections`` long (the whole fault, without subsections), and each stated multi-fault
+    rupture, its faults' sections end to end in the order stated. The jump and turn rules do not apply."""
+    most = rules.max_sections or sections.count
+    by_fault = {fault_id: [s for s in range(sections.count) if sections.fault[s] == index]
+                for index, fault_id in enumerate(sections.fault_ids)}
+    found = set()
+    for runs in by_fault.values():
+        for start in range(len(runs)):
+            for stop in range(start + rules.min_sections, min(len(runs), start + most) + 1):
+                path = tuple(runs[start:stop])
+                found.add(min(path, path[::-1]))
+    for rupture in rules.ruptures:
+        path = tuple(s for fault_id in rupture for s in by_fault[fault_id])
+        found.add(min(path, path[::-1]))
+    return sorted(found, key=lambda p: (len(p), p))
+
+
 def enumerate_ruptures(sections: Sections, rules: Rules) -> list[tuple]:
-    """Every rupture the rules allow, as a tuple of section indices in order along the rupture (each once)."""
+    """Every rupture the rules allow, as a tuple of section indices in order along the rupture (each once); where
+    the rules state the multi-fault ruptures, those (:func:`stated_ruptures`)."""
+    if rules.ruptures is not None:
+        return stated_ruptures(sections, rules)
     links = connections(sections, rules)
     most = rules.max_sections or sections.count
     direction = {}  # (section, entry end) -> azimuth of travel through it
