@@ -57,6 +57,7 @@ PRODUCERS = (
     ("engine_branches", [], [], "engine_branches.json"),
     ("fault_3d_operator", [], ["--quick"], "fault_3d_operator.json"),
     ("family_costs", [], ["--rounds", "1"], "family_costs.json"),
+    ("sherifs_example", [], [], "sherifs_example.json"),
     ("fault_3d_model_error", [], ["--quick"], "fault_3d_model_error.json"),
     ("seas_bp5", ["--sizes", "2000", "1000", "500", "--finest-years", "1800"],
      ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),

@@ -787,6 +787,42 @@ def family_costs_table() -> str | None:
             "warm-up. " + _machine(result))
 
 
+def _share(value: float) -> str:
+    """A share as a percentage, a round-off's sign dropped (SHERIFS's logs release -3e-6 of a slip rate)."""
+    return f"{0.0 if abs(value) < 5e-4 else value:.1%}"
+
+
+def sherifs_example_table() -> str | None:
+    result = _load("sherifs_example.json")
+    if result is None:
+        return None
+    rows = ["| rupture set | quantity | SHERIFS (logged sample) | faultslip |", "| --- | --- | --- | --- |"]
+    for name, sides in result["sets"].items():
+        ours = sides["faultslip"]
+        for label, theirs in sides["sherifs"].items():
+            sample = label.split(" sample ")[1]
+            rows.append(f"| {name} | moment rate of the faults, mu A s | {theirs['moment_rate_initial']:.3g} N m/yr "
+                        f"(sample {sample}) | {ours['moment_rate_initial']:.3g} N m/yr |")
+            rows.append(f"| {name} | released by the ruptures; left unassigned | {theirs['moment_rate_released']:.3g}; "
+                        f"{theirs['unassigned_share']:.1%} | {ours['moment_rate_released']:.3g}; "
+                        f"{abs(ours['unassigned_share']):.1e} |")
+            rows.append(f"| {name} | rate of M >= 6 | {theirs['rate_m6']:.3g} /yr | {ours['rate_m6']:.3g} /yr |")
+            for fault in sorted(ours["participation"]):
+                mine, theirs_p = ours["participation"][fault], theirs["participation"][fault]
+                rows.append(f"| {name} | {fault}: participation at M >= 5, 5.5, 6 (/yr); slip-rate misfit | "
+                            + ", ".join(f"{theirs_p[t]:.2g}" for t in ("5", "5.5", "6"))
+                            + f"; {_share(theirs['slip_rate_misfit'][fault])} | "
+                            + ", ".join(f"{mine[t]:.2g}" for t in ("5", "5.5", "6"))
+                            + f"; {abs(ours['slip_rate_misfit'][fault]):.0e} |")
+            largest = ", ".join(f"{key} {theirs['mmax'][key]:.1f} / {ours['mmax'][key]:.2f}"
+                                for key in theirs["mmax"] if key in ours["mmax"])
+            rows.append(f"| {name} | largest magnitude of each source, SHERIFS / faultslip | {largest} | |")
+    first = next(iter(result["sets"].values()))["faultslip"]
+    return ("\n".join(rows) + f"\n\nfaultslip: {first['sections']} sections of about 3 km, solved on the Wells & "
+            "Coppersmith (1994) area branch with b = 1; SHERIFS: the logged samples whose files agree with one another "
+            "(benchmarks/data/sherifs_example_logs.txt names each file and commit). " + _machine(result))
+
+
 #: Pages whose generated tables update() writes (the README has none: it is a door).
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
          "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md",
@@ -816,7 +852,7 @@ def _update_page(readme: Path) -> list[str]:
                          ("dip_model_error", dip_model_error_table), ("engine_branches", engine_branches_table),
                          ("seas_bp5", seas_bp5_table), ("fault_3d_operator", fault_3d_operator_table),
                          ("fault_3d_model_error", fault_3d_model_error_table),
-                         ("family_costs", family_costs_table)):
+                         ("family_costs", family_costs_table), ("sherifs_example", sherifs_example_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)
         if table is not None and pattern.search(text):

@@ -19,6 +19,8 @@ from faultslip.fault import empirical
 from faultslip.fault import mfd as mfds
 from faultslip.studies import rupture_sets as rs
 
+ROOT = Path(__file__).resolve().parent.parent
+
 SYSTEM = Path(__file__).resolve().parent.parent / "configs" / "california_fault_system.toml"
 YEAR = 365.25 * 86400
 
@@ -250,3 +252,97 @@ def test_rates_off_a_line_are_called_not_gutenberg_richter():
     low, high = fit["b_over_cutoffs"]
     assert high - low > 0.3  # the cutoff alone moves b a lot
     assert "not Gutenberg-Richter" in rs.describe_b_value(fit)
+
+
+def _sherifs_benchmark():
+    """benchmarks/sherifs_example.py as a module (it computes both sides of the docs table)."""
+    import importlib.util
+    import sys
+
+    folder = Path(__file__).resolve().parent.parent / "benchmarks"
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
+    spec = importlib.util.spec_from_file_location("sherifs_example_benchmark", folder / "sherifs_example.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _close(a, b, rtol):
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_close(a[k], b[k], rtol) for k in a)
+    if isinstance(a, (int, float)) and not isinstance(a, bool):
+        return math.isclose(a, b, rel_tol=rtol, abs_tol=1e-12)
+    return a == b
+
+
+def test_sherifs_example_the_table_holds_both_sides_and_its_logs_agree():
+    """Issue 73: SHERIFS's Example beside faultslip's. SHERIFS's side is recomputed from its logged files (which
+    must agree with one another: the mdf file's moment is the calculation log's final moment rate, mu A s from the
+    Mmax log's areas its initial one) and faultslip's from SHERIFS's own input files; both are the results file's,
+    and the docs table is written from it."""
+    import json
+
+    bench = _sherifs_benchmark()
+    stored = json.loads(bench.OUT.read_text(encoding="utf-8"))
+    sherifs = bench.sherifs_side(bench.read_logs())
+    assert sherifs and all(abs(ratio - 1) < 1e-3 for sample in sherifs.values() for ratio in sample["checks"].values())
+    for name, sides in stored["sets"].items():
+        for label, logged in sides["sherifs"].items():
+            assert _close(json.loads(json.dumps(sherifs[label])), logged, 1e-12), label
+        ours = bench.faultslip_side(name)
+        assert _close(json.loads(json.dumps(ours)), sides["faultslip"], 1e-6), name
+        # where the two agree: the faults' moment rate, to within SHERIFS's sampling of the slip rates (5 %)
+        for logged in sides["sherifs"].values():
+            assert abs(ours["moment_rate_initial"] / logged["moment_rate_initial"] - 1) < 0.05
+            # where they do not: SHERIFS leaves a share unassigned (its NMS), faultslip releases every slip rate
+            assert 0.05 < logged["unassigned_share"] < 0.3 and ours["budget_error"] < 1e-9
+            assert max(logged["slip_rate_misfit"].values()) > 0.2 > max(map(abs, ours["slip_rate_misfit"].values()))
+    readme = _sherifs_benchmark_readme()
+    page = (Path(__file__).resolve().parent.parent / "docs" / "hazard.md").read_text(encoding="utf-8")
+    assert readme.sherifs_example_table() in page
+
+
+def _sherifs_benchmark_readme():
+    import importlib.util
+
+    folder = Path(__file__).resolve().parent.parent / "benchmarks"
+    spec = importlib.util.spec_from_file_location("readme_for_sherifs", folder / "readme.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_sherifs_example_map_runs_from_the_command_line(cli, tmp_path):
+    result = cli("map", ROOT / "configs" / "sherifs_example_set2.toml", "-o", tmp_path / "s.nc", "--nrml",
+                 tmp_path / "s.xml", "--json")
+    assert result.code == 0, result.err
+    notes = " ".join(result.json["notes"])
+    assert "set Set_2 of ruptures.txt" in notes and "F4 left out" in notes
+    assert [row["segment"] for row in result.json["segments"]] == ["F1", "F2", "F3", "F5"]
+
+
+@pytest.mark.parametrize("edit, message", [
+    (("Faults_properties.txt", "\tN\tN\t0\t6\t", "\tN\tQ\t0\t6\t"), "mechanism"),
+    (("Faults_properties.txt", "slip_rate_moy", "slip_rate_mean"), "lacks the column slip_rate_moy"),
+    (("Faults_properties.txt", "\t4.8\t5.\t5.2\t", "\t5.8\t5.\t5.2\t"), "min <= moy <= max"),
+    (("Faults_properties.txt", "\t0\t6\t", "\t6\t0\t"), "lower_sismo_depth"),
+    (("ruptures.txt", "F1 F2 F3\n", "F1 F2 F9\n"), "F9"),
+    (("ruptures.txt", "F1 F2 F3\n", "F1 F1\n"), "two or more different faults"),
+    (("sherifs_example.toml", 'set = "Set_1"', 'set = "Set_9"'), "no set 'Set_9'"),
+    (("sherifs_example.toml", '"F1", "F2", "F3", "F5"', '"F1", "F7"'), "F7"),
+])
+def test_bad_sherifs_inputs_are_one_sentence(cli, tmp_path, edit, message):
+    """Every SHERIFS file and key read is checked: one sentence, exit 2, nothing written."""
+    import shutil
+
+    shutil.copytree(ROOT / "configs" / "sherifs_example", tmp_path / "sherifs_example")
+    shutil.copy(ROOT / "configs" / "sherifs_example.toml", tmp_path / "sherifs_example.toml")
+    name, old, new = edit
+    target = tmp_path / name if name.endswith(".toml") else tmp_path / "sherifs_example" / name
+    text = target.read_text(encoding="utf-8")
+    assert old in text
+    target.write_text(text.replace(old, new, 1), encoding="utf-8")
+    result = cli("map", tmp_path / "sherifs_example.toml", "-o", tmp_path / "out.nc", "--json")
+    assert_clean_error(result, message)
+    assert not (tmp_path / "out.nc").exists()
