@@ -346,3 +346,13 @@ def test_bad_sherifs_inputs_are_one_sentence(cli, tmp_path, edit, message):
     result = cli("map", tmp_path / "sherifs_example.toml", "-o", tmp_path / "out.nc", "--json")
     assert_clean_error(result, message)
     assert not (tmp_path / "out.nc").exists()
+
+
+def test_a_map_writes_its_hazard_model_alone_and_refuses_to_write_nothing(cli, tmp_path):
+    """``faultslip map configs/sherifs_example.toml --nrml X.xml`` (issue 73's command) needs no netCDF."""
+    result = cli("map", ROOT / "configs" / "sherifs_example.toml", "--nrml", tmp_path / "X.xml", "--json")
+    assert result.code == 0, result.err
+    assert result.json["output"] is None and (tmp_path / "X.xml").is_file()
+    assert not list(tmp_path.glob("*.nc"))
+    nothing = cli("map", ROOT / "configs" / "sherifs_example.toml")
+    assert_clean_error(nothing, "give -o OUT.nc")

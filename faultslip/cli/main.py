@@ -329,7 +329,8 @@ def _studies_commands(commands) -> None:
 
     regional = commands.add_parser("map", help="regional map from a fault-segment table or a raster")
     regional.add_argument("map", help="map TOML file")
-    regional.add_argument("-o", "--output", required=True, help="output netCDF file")
+    regional.add_argument("-o", "--output", help="output netCDF file (a map may write --nrml, --time-dependent or "
+                          "--plot alone)")
     regional.add_argument("--plot", help="draw the maps to FILE.png (and predicted vs observed to FILE_observed.png)")
     regional.add_argument("--nrml", help="write each segment as an OpenQuake simple-fault source (NRML 0.5) to FILE.xml; "
                           "a map with a [rupture_set] table adds its fault system's multi-fault ruptures as "

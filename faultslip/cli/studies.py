@@ -142,12 +142,20 @@ def _displacement_options(args, spec, outputs) -> dict | None:
     if outputs["plot"] is not None:
         target = Path(outputs["plot"])
         figure = check_output(target.with_name(target.stem + "_displacement" + target.suffix),
-                              label="--plot (displacement hazard)", inputs=spec.inputs + [outputs["output"]],
+                              label="--plot (displacement hazard)", inputs=spec.inputs + _written(outputs),
                               overwrite=args.overwrite)
     return {"site": sites[0], "model": args.displacement_model, "displacements": displacements, "figure": figure}
 
 
+def _written(outputs) -> list:
+    """The map's netCDF, where one is written (-o), for the checks that no other output overwrites it."""
+    return [outputs["output"]] if outputs.get("output") is not None else []
+
+
 def cmd_map(args) -> int:
+    if not any(getattr(args, name, None) for name in ("output", "nrml", "plot", "time_dependent")):
+        raise InputError("faultslip map writes its results: give -o OUT.nc, --nrml FILE.xml, --time-dependent "
+                         "FILE.xml or --plot FILE.png (or several)")
     spec = read_map(args.map)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                               "nrml": ("--nrml", (".xml",)), "engine_job": ("--engine-job", (".ini",)),
@@ -159,9 +167,9 @@ def cmd_map(args) -> int:
     if outputs["plot"] is not None and spec.segments is not None:
         target = Path(outputs["plot"])
         observed = check_output(target.with_name(target.stem + "_observed" + target.suffix), label="--plot (observed)",
-                                inputs=spec.inputs + [outputs["output"]], overwrite=args.overwrite)
+                                inputs=spec.inputs + _written(outputs), overwrite=args.overwrite)
         traces_figure = check_output(target.with_name(target.stem + "_faults" + target.suffix),
-                                     label="--plot (fault traces)", inputs=spec.inputs + [outputs["output"]],
+                                     label="--plot (fault traces)", inputs=spec.inputs + _written(outputs),
                                      overwrite=args.overwrite)
     tolerance = _tolerance(args) or 1e-6
     check_map_size(spec, outputs["output"], args.allow_large)
@@ -195,7 +203,8 @@ def cmd_map(args) -> int:
                  outputs["time_dependent"], *(options["extra"] if options else []),
                  *([displacement["figure"]] if displacement and displacement["figure"] else []),
                  *(renewal["extra"] if renewal else [])):
-        write_dataset(dataset, outputs["output"])
+        if outputs["output"] is not None:
+            write_dataset(dataset, outputs["output"])
         if options is not None:
             written = hazard.write_hazard_model(outputs["nrml"], models, options["relations"], spec.name, systems,
                                                 options["bin_width"], options["moment_constant"])
@@ -288,6 +297,6 @@ def cmd_map(args) -> int:
                                                   np.log(np.maximum(site_hazard.rate, 1e-300)))))
                     print(f"  D > {wanted:g} m: {rate:.3g} /yr" + (f" (return period {1 / rate:.3g} yr)"
                                                                      if rate > 1e-300 else ""))
-        print(f"\nwrote {args.output}" + (f", {', '.join(plots)}" if plots else "")
-              + (f", {', '.join(written['files'])}" if written else ""))
+        print("\nwrote " + ", ".join(([args.output] if args.output else []) + plots
+                                     + (written["files"] if written else [])))
     return 0
