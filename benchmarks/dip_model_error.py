@@ -13,7 +13,7 @@ weakening width are compared: a cell's model error is the larger relative differ
 fault's (dip, W / h*), the largest error of either sense at the measured cells that bracket it in each, times
 1.25; outside the measured dips or W / h*, unbounded (faultslip.fault.dip_error.declared). Faults held out of it
 (other D_c and seismogenic depths, dips between the measured ones) test that it holds. A vertical fault's thrust
-and normal are one fault (dip slip leaves its normal stress unchanged: tests/test_plane_strain.py), so 90 degrees
+and normal are one fault (dip slip leaves its normal stress unchanged: tests/models/fault_2d/test_plane_strain.py), so 90 degrees
 runs once. ``--reuse FILE`` takes the runs of an earlier results file whose inputs are the same. Writes
 benchmarks/results/dip_model_error.json and, for the full run, the shipped table data/dip_model_error.json.
 """

@@ -10,7 +10,7 @@ BP1 itself faultslip's 25 m recurrence is within 2e-4 of QDYN's (benchmarks/resu
 Intervals are compared supercycle against supercycle, aligned at the longest interval (a run of another length
 or resolution may enter the supercycle at another of its events).
 
-Writes benchmarks/results/fault_2d_period3.json, which tests/test_fault_2d.py reads for its reference.
+Writes benchmarks/results/fault_2d_period3.json, which tests/models/fault_2d/test_fault_2d.py reads for its reference.
 """
 
 from __future__ import annotations

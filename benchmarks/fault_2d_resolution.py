@@ -7,7 +7,7 @@ Each fault runs at resolutions r = L_b / dz (elements per L_b = G D_c / (sigma_n
 reference is the Richardson extrapolation of the two finest (order measured from the three finest). For each
 run: the recurrence's relative error against the reference, and the sequence it found (periodic of period p,
 aperiodic, unsettled). Writes benchmarks/results/fault_2d_resolution.json; the bound and the refusal in
-faultslip/models/fault_2d/analysis.py are read from it (tests/test_fault_2d.py checks they cover every run).
+faultslip/models/fault_2d/analysis.py are read from it (tests/models/fault_2d/test_fault_2d.py checks they cover every run).
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ aging law a 0.008, b 0.012, D_c 20 µm, mu0 0.62; 1 -> 10 -> 1 µm/s; k = 8000 /
 - the posterior (emcee until converged, 2,000 draws): its 95 % equal-tailed credible intervals.
 
 The fraction of cases whose interval holds the truth, for a, b and D_c, should be 95 ± 5 %. The test
-suite runs a small form of this (tests/test_raw_records.py); this runs the full study and draws
+suite runs a small form of this (tests/capabilities/lab/test_raw_records.py); this runs the full study and draws
 docs/figures/fit_coverage.png, with the numbers in benchmarks/results/fit_coverage.json.
 
     python benchmarks/fit_coverage.py [--cases 200] [--workers 2]     # about 15 minutes on 2 cores

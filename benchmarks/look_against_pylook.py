@@ -9,7 +9,7 @@ numpy no longer have: its interpreter gets the older ones.)
 pylook (Leeman Geophysical, BSD-3) is run in its own interpreter, so nothing of it enters faultslip's; it reads
 data/p655/p655intact100l with ``pylook.io.read_binary`` and hands its columns back as a .npy file per column.
 faultslip reads the same file with :func:`faultslip.lab.look_files.read_look`. Every column's name, unit, length
-and values are compared. Writes benchmarks/results/look_against_pylook.json, which tests/test_look_files.py reads.
+and values are compared. Writes benchmarks/results/look_against_pylook.json, which tests/capabilities/lab/test_look_files.py reads.
 """
 
 from __future__ import annotations

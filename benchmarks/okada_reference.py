@@ -1,5 +1,5 @@
 """Reference tractions of rectangular dislocations from Okada's own code (DC3D, Okada 1992, BSSA 82, 1018), for
-the 3-D fault's kernel test (tests/test_fault_3d.py).
+the 3-D fault's kernel test (tests/models/fault_3d/test_fault_3d.py).
 
 Okada's Fortran is built by okada_wrapper (pip install okada_wrapper, which needs gfortran); this script evaluates
 it for unit strike slip and unit dip slip on squares of a vertical fault at the centres of others, near and far,

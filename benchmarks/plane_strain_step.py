@@ -6,7 +6,7 @@ SEAS BP3-QD's 60-degree thrust on N elements, integrated for ``--years`` of its 
 there cost what they cost in an event: every step is six force balances and six products with the dense kernels),
 timed in CPU seconds per step, each size in turn, twice, the faster kept. Fits c0 + c2 N^2 (the product of the
 2N x N kernels dominates) by least squares in log space and writes benchmarks/results/plane_strain_step.json,
-from which faultslip.models.fault_2d.cost.PLANE_STRAIN_STEP_SECONDS is taken (tests/test_budget_fit.py refits it).
+from which faultslip.models.fault_2d.cost.PLANE_STRAIN_STEP_SECONDS is taken (tests/models/fault_2d/test_budget_fit.py refits it).
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 A figure re-measured elsewhere (another host, the newest packages) is only comparable when the file says what it
 was measured with, so every benchmark writes :func:`stamp` beside its numbers and ``benchmarks/readme.py`` prints it
-under each table. tests/test_architecture.py refuses a benchmark that writes its own.
+under each table. tests/project/test_architecture.py refuses a benchmark that writes its own.
 """
 
 from __future__ import annotations

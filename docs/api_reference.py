@@ -2,7 +2,7 @@
 docstring and its autodoc entry, so the reference can never list a name that is not public or miss one.
 
     python docs/api_reference.py          # rewrite docs/api.rst
-    python docs/api_reference.py --check  # exit 1 if docs/api.rst is stale (tests/test_architecture.py runs it)
+    python docs/api_reference.py --check  # exit 1 if docs/api.rst is stale (tests/project/test_architecture.py runs it)
 """
 
 from __future__ import annotations

@@ -146,3 +146,16 @@ def run_engine_job(job, folder) -> list:
     assert len(curves) == 1
     return curves[0].read_text().splitlines()
 
+
+
+#: A scene of the test family tests/families/constant_friction (the contract's tests and the SLURM tests use it).
+TEST_SCENE = """family = "constant_friction"
+[slider]
+stiffness = "1e5 N/m"
+normal_load = "100 N"
+mass = "1 kg"
+platform_speed = "1 mm/s"
+[friction]
+static = 0.6
+kinetic = 0.5
+"""

@@ -13,7 +13,7 @@ script, its style, its data) and nothing is fetched, so it opens offline from a 
   read in physical units; their defaults are the served app's (``faultslip classroom``). They redraw the
   sawtooth, the phase plane and the numbers; a student reads a period off the sawtooth and checks it, or fits one
   period (one slip's start to the next's). A test in headless Chromium checks the numbers against Python to
-  1e-9 (``tests/test_lesson_page.py``).
+  1e-9 (``tests/capabilities/apps/test_lesson_page.py``).
 - **The chain of blocks** comes precomputed: :func:`faultslip.apps.classroom.chain_lab` for a few settings of
   coupling and spread. Each catalogue downloads as CSV; the students build its Gutenberg-Richter plot, choosing
   the smallest magnitude they trust and fitting b (Aki's maximum likelihood), and the page says so where the

@@ -39,7 +39,7 @@ from faultslip.units import to_si
 FIT_OPTIONS = ("law", "loss", "bootstrap", "seed", "mu_m", "stiffness", "select_law", "stiffness_free", "joint", "area",
                "units", "detrend", "steps", "min_change", "each_step", "windows", "posterior", "samples", "walkers", "max_steps",
                "prior", "workers", "evolution", "two_state", "shear_modulus", "columns", "span")
-#: what each of them holds, as the fit's parser declares it (tests/test_fit_bundle.py holds the two together):
+#: what each of them holds, as the fit's parser declares it (tests/capabilities/lab/test_fit_bundle.py holds the two together):
 #: a whole number, a switch, a repeated text, or text (None where not given); a bundle's option of another kind is
 #: refused before the replay runs
 FIT_OPTION_KINDS = {**{name: "text" for name in FIT_OPTIONS},

@@ -5,7 +5,7 @@ A family names the options its run and simulate take (:class:`~faultslip.contrac
 its ``run`` and ``simulate`` flags from it, :func:`faultslip.run` and :func:`faultslip.models.simulate`
 take the same names as keywords, and a family that does not take an option refuses it in one sentence
 naming the family. The module imports nothing, so ``faultslip --help`` stays free of numpy and the
-physics (``tests/test_architecture.py``).
+physics (``tests/project/test_architecture.py``).
 """
 
 from __future__ import annotations
@@ -84,7 +84,7 @@ def options_of(command: str) -> list[Option]:
     return [option for option in OPTIONS.values() if command in option.commands]
 
 
-#: Options every command spells and means the same way (``tests/test_front_door.py`` checks each command's parser
+#: Options every command spells and means the same way (``tests/project/test_front_door.py`` checks each command's parser
 #: against it): the flag, and its one help text. ``-o`` is always a file a command writes, ``--output-dir`` always a
 #: folder.
 COMMON = {

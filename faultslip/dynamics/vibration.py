@@ -51,7 +51,7 @@ from faultslip.io.report import Report
 QUADRATURE_NODES = 512
 #: measured error of the averaged limit-cycle amplitude against direct integration: 0.010 s^2 (Rayleigh's
 #: curve), 0.026 s^2 (with an even term), 0.026-0.049 s^2 (configs/vibration_seed002.toml from 12.3 to
-#: 13.4 in/s), s = small_parameter (tests/test_averaging.py): declared 0.1 s^2
+#: 13.4 in/s), s = small_parameter (tests/models/vibration/test_averaging.py): declared 0.1 s^2
 ERROR_CONSTANT = 0.1
 #: averaging declines to say whether the slider sticks again within this many eps of the no-stick bound
 HAND_OVER_MARGIN = 0.15

@@ -430,7 +430,7 @@ def bootstrap_intervals(values, samples, dof) -> dict:
     """95 % intervals from the bootstrap standard error with a Student-t quantile on n - p dof.
 
     On the natural scale for mu_so and mu_m, on the log scale for b and d (positive, skewed).
-    Measured coverage (tests/test_fitting.py): about 95 % across the Table I presets; the plain
+    Measured coverage (tests/capabilities/friction/test_fitting.py): about 95 % across the Table I presets; the plain
     percentile interval covered 93 % on the same fits.
     """
     from scipy.special import stdtrit  # heavy: imported where used (scipy.stats would add ~1 s for one quantile)
@@ -524,7 +524,7 @@ def _batched_fit(rate, mu, theta, lower, upper, fixed_mu_m, iterations=200):
     step and cost change reach round-off. Rows that end on a bound or do not converge are
     returned as NaN, and the caller fits them one by one with scipy's bounded least_squares.
     The minimum is the same, so the intervals agree with fitting one resample at a time to
-    least_squares' own tolerance (tests/test_fitting.py).
+    least_squares' own tolerance (tests/capabilities/friction/test_fitting.py).
     """
     count = mu.shape[0]
     thetas = np.repeat(theta[None, :], count, axis=0)

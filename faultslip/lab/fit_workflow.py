@@ -37,7 +37,7 @@ PARAMETER_UNITS = {"mu0": None, "a": None, "b": None, "critical_slip": "m", "b2"
 #: How the intervals were made, said under every fit.
 INTERVALS_NOTE = ("covariance intervals: s^2 (J^T J)^-1 at the optimum; bootstrap intervals: residual bootstrap, "
                   "each resample refitted; posterior: emcee, converged before it is reported; all coverage-tested on "
-                  "synthetic records (tests/test_rate_state_fit.py, tests/test_raw_records.py)")
+                  "synthetic records (tests/capabilities/lab/test_rate_state_fit.py, tests/capabilities/lab/test_raw_records.py)")
 
 
 @dataclass

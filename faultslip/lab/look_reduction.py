@@ -527,7 +527,7 @@ def _col_power(state, words, where):
 def _chi_square_gamma(ndf: float) -> float:
     """Gamma(ndf / 2). xlook's func.c now takes exp(tgamma(ndf / 2)), a port of the older C library's gamma(),
     which returned ln Gamma: exp of that is Gamma, the chi-square density's own (Press et al., Numerical Recipes,
-    eq. 6.14.8), which faultslip takes (tests/test_look_reduction.py checks it integrates to 1)."""
+    eq. 6.14.8), which faultslip takes (tests/capabilities/lab/test_look_reduction.py checks it integrates to 1)."""
     return math.gamma(ndf / 2.0)
 
 

@@ -4,7 +4,7 @@ Like scikit-learn's ``check_estimator``, :func:`check_family` runs a registered 
 contract on one of its scenes: the run and the simulation return a :class:`Result` whose Dataset has units on
 every variable; its declared outputs are read from its run in their declared units and flags; its parameters
 vary its scene; and a small sweep writes a CF file whose every variable has units. The suite runs it over every
-registered family (``tests/test_families.py``); a new family passes it before it lands.
+registered family (``tests/capabilities/contract/test_families.py``); a new family passes it before it lands.
 """
 
 from __future__ import annotations
@@ -141,7 +141,7 @@ def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, si
 def read_or_refuse(name: str, text: str) -> str | None:
     """Read ``text`` as a scene of family ``name`` for a study: None if it reads, else the one sentence that
     refuses it (an error of faultslip's own); anything else, a traceback's exception, propagates. The fuzzing
-    half of the conformance check (``tests/test_families.py`` feeds it hypothesis's texts)."""
+    half of the conformance check (``tests/capabilities/contract/test_families.py`` feeds it hypothesis's texts)."""
     family = load(name)
     try:
         scene = family.read_scene(text, "fuzzed.toml", None)

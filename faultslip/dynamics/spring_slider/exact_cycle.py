@@ -210,7 +210,7 @@ def slip_cycle(damping_ratio, dimensionless_rate, initial_offset=None):
 
 
 #: Round-off floor of the exact cycle's relative error, measured against a 50-digit mpmath
-#: reference over the (zeta, eps) plane (tests/test_exact_cycle.py: at most 1.4e-15 away from
+#: reference over the (zeta, eps) plane (tests/models/spring_slider/test_exact_cycle.py: at most 1.4e-15 away from
 #: the critical rate, eps from 1e-12 to 1e15).
 ROUND_OFF_ERROR = 1e-14
 

@@ -171,7 +171,7 @@ MIN_RESOLUTION = 2.0
 #: The recurrence's discretisation error, a bound through every run of benchmarks/fault_2d_resolution.py on three
 #: faults (BP1: 0.36 % at 2 per L_b, 0.17 % at 3, 0.098 % at 4, measured order 1.85-2.5 against the Richardson
 #: limit; the two others below it): 1 % at MIN_RESOLUTION, falling as (MIN_RESOLUTION / r)^1.8, the slowest
-#: order measured (tests/test_fault_2d.py checks that it covers every measured run).
+#: order measured (tests/models/fault_2d/test_fault_2d.py checks that it covers every measured run).
 DISCRETISATION_AT_MINIMUM, DISCRETISATION_ORDER = 1e-2, 1.8
 
 

@@ -21,11 +21,11 @@ FAULT_2D_STEPS = {"scale": 15.0, "plate_rate": 1.02, "width_over_nucleation": 0.
 #: CPU seconds per Dormand-Prince step (six force balances and the stress kernel) on N elements with the whole step
 #: compiled (numba and rocket-fft, the FFT kernel): c0 + c1 N, least squares over the ten FFT runs of
 #: benchmarks/ladder_designs.py and benchmarks/ladder_escalations.py (564-1,036 elements, rtol 1e-8, two runs at a
-#: time on the 2-core machine), within 0.87-1.16x of each (tests/test_budget_fit.py refits it). Another step path
+#: time on the 2-core machine), within 0.87-1.16x of each (tests/models/fault_2d/test_budget_fit.py refits it). Another step path
 #: scales it by its measured cost (:func:`faultslip.models.fault_2d.kernel.relative_step_cost`).
 FAULT_2D_STEP_SECONDS = (1.237e-4, 2.279e-7, 1.0)
 #: CPU seconds per step of a plane-strain (dipping) 2-D fault, whose kernels are dense: c0 + c2 N^2, fitted by
-#: benchmarks/plane_strain_step.py (SEAS BP3-QD on 200-1,600 elements, within 1.31x of each; tests/test_budget_fit.py
+#: benchmarks/plane_strain_step.py (SEAS BP3-QD on 200-1,600 elements, within 1.31x of each; tests/models/fault_2d/test_budget_fit.py
 #: refits it from benchmarks/results/plane_strain_step.json).
 PLANE_STRAIN_STEP_SECONDS = (4.308e-4, 8.563e-9)
 #: Steps from the events a run will see (issue 68): ln steps = ln A + p ln(events) + q ln(W / h*) + r ln(N), fitted
@@ -39,7 +39,7 @@ FAULT_2D_EVENT_STEPS = {"scale": math.exp(5.33), "events": 0.782, "width_over_nu
 
 #: The scenes the 2-D step models were fitted on: W / h* at the weakest element (FAULT_2D_STEPS' BP1 at D_c 6-48 mm
 #: gives 0.55-4.4; the ladder designs 1.56-7.88) and the normal stress on the velocity-weakening part (BP1's
-#: 50 MPa; the designs 25.1-99.0 MPa), each rounded outward (tests/test_budget_fit.py recomputes them). A scene
+#: 50 MPa; the designs 25.1-99.0 MPa), each rounded outward (tests/models/fault_2d/test_budget_fit.py recomputes them). A scene
 #: outside them (a sigma_n of 1e-6 MPa, or one falling to 0.01 MPa in the weakening zone) can step far more
 #: often than either model knows: :func:`check` refuses it without --allow-large.
 FAULT_2D_FITTED = {"width_over_nucleation": (0.5, 8.0), "normal_stress": (25e6, 100e6)}

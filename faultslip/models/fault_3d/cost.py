@@ -2,7 +2,7 @@
 the operator's shape, and the memory of the operator and the records; the family declares it.
 
 Fitted on the runs ``benchmarks/seas_bp5.py`` saves (SEAS BP5-QD at 2000 to 250 m, rtol 1e-6) and, for the
-operator's assembly, on ``benchmarks/fault_3d_operator.py``'s; ``tests/test_fault_3d.py`` refits both from those
+operator's assembly, on ``benchmarks/fault_3d_operator.py``'s; ``tests/models/fault_3d/test_fault_3d.py`` refits both from those
 results files and holds each run's estimate within 2x of the CPU it used.
 """
 

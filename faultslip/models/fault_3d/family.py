@@ -38,7 +38,7 @@ SETTLE_TOLERANCE = 1e-3
 #: The element size's error in recurrence, declared from SEAS BP5-QD at 2000, 1000 and 500 m (benchmarks/seas_bp5.py):
 #: |T(h) - T(500 m)| / T(500 m) at 2000 and 1000 m fitted as c r^-p, r the squares per L_b (c 0.0386, p 0.771,
 #: rounded outward), times a margin of 2; it holds at every size against the finest run and against tandem's
-#: published interval (tests/test_fault_3d.py). Below MIN_RESOLUTION squares per L_b none is declared.
+#: published interval (tests/models/fault_3d/test_fault_3d.py). Below MIN_RESOLUTION squares per L_b none is declared.
 DISCRETISATION = {"scale": 0.0387, "order": 0.77, "margin": 2.0}
 MIN_RESOLUTION = 2.0
 #: A system-size event releases at least this share of the largest event's moment.

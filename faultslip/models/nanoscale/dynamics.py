@@ -416,7 +416,7 @@ def dipole_force(contact_radius: float, charge_density: float, permittivity: flo
 
 
 #: measured error of the LSODA force swing against rtol 1e-12: 27-30 rtol (slides' model, A = 3 and 7, rtol
-#: 1e-4 to 1e-10; tests/test_nanoscale.py); declared 100 rtol
+#: 1e-4 to 1e-10; tests/models/nanoscale/test_nanoscale.py); declared 100 rtol
 LSODA_ERROR_CONSTANT = 100.0
 #: ``faultslip methods`` entries: the regime in closed form, the cycle by integration
 METHODS = {

@@ -1,6 +1,6 @@
 """A test family: a spring-slider with constant static and kinetic friction (no rate effect, no damping).
 
-It is the proof that a family is one folder and one registry line (issue 40): ``tests/test_families.py``
+It is the proof that a family is one folder and one registry line (issue 40): ``tests/capabilities/contract/test_families.py``
 declares it with :func:`faultslip.contract.declare`, and run, simulate, sweep, the CLI and the conformance
 check take it with no edit anywhere in faultslip. Its physics is the undamped slider's exact cycle: the spring
 loads to mu_s W, the block slides half an oscillation to the symmetric point about mu_k W, so

@@ -1,0 +1,504 @@
+"""Every family through one contract (issue 40): the conformance check, every family swept, and a test family
+that is one module and one declare() line."""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import math
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import faultslip
+from conftest import TEST_SCENE, assert_clean_error
+from faultslip import contract
+from faultslip.models.checks import check_family, check_units, read_or_refuse
+
+ROOT = Path(__file__).resolve().parents[3]
+CONFIGS = ROOT / "configs"
+
+#: Each family's worked example, as the family declares it (Family.example): scene, small sweep, simulation's
+#: options. The suite runs the conformance check over the registry, not over a table of its own.
+CASES = {name: (family.example.scene, family.example.sweep, family.example.simulate)
+         for name, family in contract.families().items() if family.example is not None}
+STUDIES = {name: family.example.study for name, family in contract.families().items() if family.example is not None}
+
+
+def test_every_family_has_a_case_and_a_study():
+    assert sorted(CASES) == sorted(name for name in contract.DECLARATIONS if name in CASES or
+                                   contract.DECLARATIONS[name].module.startswith("faultslip."))
+    for name in CASES:
+        assert (CONFIGS / STUDIES[name]).is_file(), STUDIES[name]
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_every_family_passes_the_conformance_check(name, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # a simulation that writes its output does it here
+    scene, values, options = CASES[name]
+    checked = check_family(name, CONFIGS / scene, values, simulate=options is not None,
+                           simulate_options=options or {})
+    assert checked["dataset"].attrs["faultslip_family"] == name
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_every_family_sweeps_its_example_study_to_cf_with_units(name, cli, tmp_path):
+    import xarray as xr
+
+    out = tmp_path / "study.nc"
+    result = cli("sweep", CONFIGS / STUDIES[name], "-o", out, "--json")
+    assert result.code == 0, result.err
+    with xr.open_dataset(out) as written:
+        check_units(written, STUDIES[name])
+        assert written.attrs["faultslip_family"] == name and written.attrs["Conventions"].startswith("CF")
+        assert all(written.sizes[n] > 1 for n in written.dims)
+    again = cli("reproduce", out, "--json")  # the file embeds what reproduces it, for every family
+    assert again.code == 0 and again.json["matches"], again.err
+
+
+def test_a_per_cell_sweep_is_the_runs_of_its_cells():
+    """A swept cell holds what faultslip.run gives for that scene (the same code; no second implementation)."""
+    dataset = faultslip.sweep("nanoscale_seed001.toml", damping=[3.0, 7.0])
+    for damping in (3.0, 7.0):
+        text = (CONFIGS / "nanoscale_seed001.toml").read_text(encoding="utf-8").replace(
+            "damping = 3.0", f"damping = {damping}")
+        result = faultslip.run(faultslip.contract.registry.read_scene_text(text, "n.toml")[0])
+        assert float(dataset["force_swing"].sel(damping=damping)) == result["force_swing"]  # dimensionless
+
+
+def test_a_lazy_per_cell_sweep_equals_the_eager_one():
+    eager = faultslip.sweep("rsf_block_bp1.toml", critical_slip=["4 mm", "8 mm", "16 mm"], b=[0.012, 0.015])
+    lazy = faultslip.sweep("rsf_block_bp1.toml", critical_slip=["4 mm", "8 mm", "16 mm"], b=[0.012, 0.015],
+                           chunks={"critical_slip": 2})
+    assert lazy["slip_per_event"].chunks is not None
+    assert (lazy.compute()["slip_per_event"] == eager["slip_per_event"]).all()
+
+
+@pytest.mark.parametrize("study, message", [
+    ('[study]\nbase = "vibration_seed002.toml"\n[sweep]\nspeed = ["-1 in/s"]\n', "speed"),
+    ('[study]\nbase = "vibration_seed002.toml"\n[sweep]\nspeeds = ["1 in/s"]\n', "did you mean speed"),
+    ('[study]\nbase = "vibration_seed002.toml"\nmethod = "exact_cycle"\n[sweep]\nspeed = ["1 in/s"]\n',
+     "method of a vibration study"),
+    ('[study]\nbase = "nanoscale_seed001.toml"\ncycles = 3\n[sweep]\ndamping = [1.0]\n', "cycles applies"),
+    ('[study]\nbase = "rsf_velocity_step.toml"\n[sweep]\na = [0.01]\n', "preset or the parameters"),
+    ('[study]\nbase = "asperity_seed004.toml"\n[sweep]\nplatform_speed = ["1 kg"]\n', "platform_speed"),
+    ('[study]\nbase = "rough_surface_seed000.toml"\n[sweep]\nmass = []\n', "empty"),
+])
+def test_a_bad_study_of_any_family_is_one_sentence(study, message, cli, tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(study, encoding="utf-8")
+    result = cli("sweep", path, "-o", tmp_path / "o.nc")
+    assert_clean_error(result, message)
+    assert not (tmp_path / "o.nc").exists()
+
+
+# --- the scene readers, fuzzed ------------------------------------------------------------------------
+
+#: the example scene of each family whose reader a study uses
+_TEXTS = {name: (CONFIGS / scene).read_text(encoding="utf-8") for name, (scene, _, _) in CASES.items()}
+_VALUES = st.one_of(st.integers(-10**12, 10**12).map(str), st.floats(allow_nan=True).map(repr),
+                    st.text(alphabet='"0123456789.e-+ kmsNPaGMin/^*()[]{}=,#\\\n', max_size=16),
+                    st.sampled_from(['"1 m"', '"-3 km/s"', '"nan Pa"', '"1e400 N"', '""', "true", "[]", "{}", '"x"']))
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_every_scene_reader_reads_or_refuses_in_one_sentence(name, data):
+    """Any value in any line of a family's scene is read, or refused in one sentence, never a traceback."""
+    lines = _TEXTS[name].splitlines()
+    candidates = [i for i, line in enumerate(lines) if "=" in line and not line.lstrip().startswith("#")]
+    index = data.draw(st.sampled_from(candidates))
+    key = lines[index].split("=", 1)[0]
+    lines[index] = f"{key}= {data.draw(_VALUES)}"
+    refused = read_or_refuse(name, "\n".join(lines))
+    assert refused is None or (refused.strip() and "\n" not in refused.strip()), refused
+
+
+# --- a family is one folder and one line -----------------------------------------------------------------
+
+
+
+@pytest.fixture
+def constant_friction(tmp_path):
+    """The test family, declared by its one line (and forgotten afterwards)."""
+    contract.declare("constant_friction", "families.constant_friction.family")
+    scene = tmp_path / "constant.toml"
+    scene.write_text(TEST_SCENE, encoding="utf-8")
+    yield scene
+    contract.DECLARATIONS.pop("constant_friction", None)
+    contract.FAMILIES.pop("constant_friction", None)
+
+
+def test_a_test_family_is_one_folder_and_one_line(constant_friction, cli, tmp_path):
+    import xarray as xr
+
+    checked = check_family("constant_friction", constant_friction, {"normal_load": ["50 N", "100 N"]},
+                           simulate_options={"cycles": 2})
+    # slip per event 2 (mu_s - mu_k) W / K, exactly
+    assert checked["dataset"]["slip_per_event"].values.tolist() == pytest.approx([1e-4, 2e-4], rel=1e-12)
+    result = faultslip.run(constant_friction)
+    assert result["slip_per_event"].to("mm").magnitude == pytest.approx(0.2, rel=1e-12)
+    assert result.method == "closed_form"
+    # the command line takes it with no edit in cli/
+    printed = cli("run", constant_friction, "--json")
+    assert printed.code == 0 and printed.json["slip_per_event"]["value"] == pytest.approx(2e-4), printed.err
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\nbase = "{constant_friction.name}"\n[sweep]\n'
+                     'static_friction = [0.6, 0.7]\nplatform_speed = ["1 mm/s", "2 mm/s", "4 mm/s"]\n', encoding="utf-8")
+    out = tmp_path / "c.nc"
+    swept = cli("sweep", study, "-o", out, "--json")
+    assert swept.code == 0, swept.err
+    with xr.open_dataset(out) as written:
+        check_units(written, "constant-friction study")
+        assert written["slip_per_event"].sel(static_friction=0.7).values == pytest.approx([4e-4] * 3)
+    assert cli("simulate", constant_friction, "--cycles", "2", "--json").code == 0
+
+
+def test_a_test_family_sweeps_on_the_pool(constant_friction, cli, tmp_path):
+    """A pool's workers learn a family declared at run time from the study they are sent."""
+    study = tmp_path / "study.toml"
+    study.write_text(f'[study]\nbase = "{constant_friction.name}"\n[sweep]\n'
+                     'stiffness = { logspace = ["1e4 N/m", "1e6 N/m", 400] }\nmass = ["1 kg", "2 kg"]\n',
+                     encoding="utf-8")
+    result = cli("sweep", study, "-o", tmp_path / "p.nc", "--workers", "2", "--chunks", "100", "--json")
+    assert result.code == 0, result.err
+    assert result.json["blocks"] > 1
+
+
+# --- the engine knows no family --------------------------------------------------------------------------
+
+ENGINE = ["faultslip/studies/grid.py", "faultslip/studies/streaming.py", "faultslip/cli/studies.py",
+          "faultslip/cli/sweeps.py",
+          "faultslip/models/checks.py"]
+
+
+@pytest.mark.parametrize("module", ENGINE)
+def test_the_sweep_engine_names_no_family(module):
+    """No family's name, module or scene kind appears in the sweep engine: it asks the contract."""
+    tree = ast.parse((ROOT / module).read_text(encoding="utf-8"))
+    families = set(contract.DECLARATIONS) | {"fault", "lab", "rate_state"}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str):
+            assert node.value not in families, f"{module}:{node.lineno} names {node.value!r}"
+        if isinstance(node, ast.Attribute) and node.attr == "kind":  # a scene's or a study's kind, not a dtype's
+            assert not any(word in ast.unparse(node.value) for word in ("scene", "study")), \
+                f"{module}:{node.lineno} asks a scene's kind"
+        if isinstance(node, ast.ImportFrom) and node.module:
+            assert not node.module.startswith(("faultslip.models.", "faultslip.fault.")) or \
+                node.module == "faultslip.contract.result", f"{module}:{node.lineno} imports {node.module}"
+
+
+# --- one entrance per physics (issue 40, item 4) ---------------------------------------------------------
+
+OWN_FORM_1906 = """name = "1906 in the rate-and-state slider's own form"
+[law]
+a = 0.010
+b = 0.015
+critical_slip = "8 mm"
+mu0 = 0.65
+reference_speed = "1 um/s"
+evolution = "aging"
+[fault]
+shear_modulus = "0.25e6 bar"
+zone_width = "13 mi"
+normal_stress = "{normal} Pa"
+plate_rate = "2 in/yr"
+density = "2700 kg/m^3"
+"""
+
+
+def test_one_rate_and_state_block_is_one_family_whatever_its_files_shape(tmp_path, cli):
+    """The seed-law form ([fault] slip_rate, [friction] law = "rate_state") reads as the rate-and-state slider,
+    says so and names the family's own form; on the same fault both forms give the same cycles."""
+    older = faultslip.run("san_andreas_1906_rate_state.toml")
+    assert older.family == "rate_state_slider" and older.method == "one_slider"
+    assert any("[law] with [fault] plate_rate" in note for note in older.report().notes)
+    assert faultslip.models.family_of(CONFIGS / "san_andreas_1906_rate_state.toml").name == "rate_state_slider"
+    assert faultslip.run(faultslip.models.read_slider_scene("san_andreas_1906_rate_state.toml")).family == "rate_state_slider"
+    normal = older["normal_stress"].to("Pa").magnitude  # tau / mu0 = 250 bar / 0.65
+    scene = tmp_path / "own.toml"
+    scene.write_text(OWN_FORM_1906.format(normal=repr(normal)), encoding="utf-8")
+    own = faultslip.run(scene)
+    assert own.family == "rate_state_slider"
+    for key in ("slip_per_event", "recurrence_period"):  # the same physics, through either door
+        assert own[key].to_base_units().magnitude == pytest.approx(older[key].to_base_units().magnitude, rel=1e-3)
+    simulated = cli("simulate", "san_andreas_1906_rate_state.toml", "--cycles", "2", "--json")
+    assert simulated.code == 0, simulated.err
+    swept = faultslip.sweep("san_andreas_1906_rate_state.toml", critical_slip=["4 mm", "8 mm"])
+    assert swept.attrs["faultslip_family"] == "rate_state_slider"
+
+
+BRANCH_FREE = sorted(str(p.relative_to(ROOT)) for folder in ("cli", "apps")
+                     for p in (ROOT / "faultslip" / folder).glob("*.py"))
+
+
+@pytest.mark.parametrize("module", BRANCH_FREE)
+def test_the_command_line_and_the_apps_branch_on_no_family(module):
+    """cli/ and apps/ parse, call and print: no comparison with a family's name or a scene's kind, no question of
+    a scene's kind, family or friction, no isinstance on a scene type (the library chooses the model)."""
+    tree = ast.parse((ROOT / module).read_text(encoding="utf-8"))
+    families = set(contract.DECLARATIONS) | {"fault", "lab", "rate_state"}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Compare):
+            for side in (node.left, *node.comparators):
+                if isinstance(side, ast.Constant) and side.value in families:
+                    raise AssertionError(f"{module}:{node.lineno} compares with {side.value!r}")
+        if isinstance(node, ast.Attribute) and node.attr in ("kind", "rate_state", "family"):
+            assert not any(word in ast.unparse(node.value) for word in ("scene", "study", "material")), \
+                f"{module}:{node.lineno} asks {ast.unparse(node)}"
+        if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "isinstance" and len(node.args) == 2:
+            assert "Scene" not in ast.unparse(node.args[1]), f"{module}:{node.lineno} dispatches on a scene type"
+
+
+# --- every family streams: Zarr, resumed, and on the pool ------------------------------------------------
+
+def _four_cells(dims: dict) -> dict:
+    """The first two values of each swept dimension, more of the longest while there are fewer than four cells."""
+    kept = {key: list(values[:2]) for key, values in dims.items()}
+    while math.prod(len(values) for values in kept.values()) < 4:
+        longest = max(dims, key=lambda key: len(dims[key]) - len(kept[key]))
+        if len(dims[longest]) == len(kept[longest]):
+            break
+        kept[longest] = list(dims[longest][:len(kept[longest]) + 1])
+    return kept
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_every_family_streams_to_zarr_resumes_and_sweeps_on_the_pool_and_on_dask(name, tmp_path, monkeypatch):
+    """Every family's example study, as a Zarr store interrupted after two chunks and resumed, on a pool of two
+    worker processes, and on a dask LocalCluster of two, holds what the in-process netCDF sweep holds: every
+    variable, coordinate and attribute (the reproduce command's comparison, which must find no difference). On
+    four of its cells (:func:`_four_cells`), each swept five ways: the whole study is swept in the test above."""
+    pytest.importorskip("zarr")
+    import xarray as xr
+
+    import faultslip.studies.streaming as streaming
+    from faultslip.studies.grid import load_study
+    from faultslip.studies.streaming import compare_datasets, run_study
+
+    study = load_study(CONFIGS / STUDIES[name])
+    study = dataclasses.replace(study, dims=_four_cells(study.dims))
+    cells = 1
+    for values in study.dims.values():
+        cells *= len(values)
+    chunk = max(1, cells // 4)
+    reference = tmp_path / "reference.nc"
+    run_study(study, reference, chunk_cells=chunk, workers=1)
+    real, calls = streaming.compute_block, {"n": 0}
+
+    def interrupted(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    store = tmp_path / "study.zarr"
+    monkeypatch.setattr(streaming, "compute_block", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, store, chunk_cells=chunk, workers=1)
+    monkeypatch.setattr(streaming, "compute_block", real)
+    assert run_study(study, store, chunk_cells=chunk, workers=1, resume=True)["resumed_blocks"] == 2
+    pooled = tmp_path / "pooled.nc"
+    summary = run_study(study, pooled, chunk_cells=chunk, workers=2)
+    assert "process" in summary["executor"] or "pool" in summary["executor"], summary["executor"]
+    clustered = tmp_path / "clustered.zarr"
+    assert run_study(study, clustered, chunk_cells=chunk, scheduler="local", workers=2)["executor"].startswith("dask")
+    with xr.open_dataset(reference) as expected, xr.open_zarr(store) as resumed, xr.open_dataset(pooled) as pool, \
+            xr.open_zarr(clustered) as cluster:
+        for other in (resumed, pool, cluster):
+            comparison = compare_datasets(expected, other)
+            assert not (comparison["missing"] or comparison["extra"] or comparison["attribute_differences"]), comparison
+            assert max(comparison["differences"].values()) == 0.0, comparison["differences"]
+
+
+# --- run's and simulate's options come from one table ----------------------------------------------------
+
+def test_every_option_a_family_declares_is_in_the_table_and_every_option_has_a_family():
+    """The command line's run and simulate flags are generated from faultslip.contract.options; each option a
+    family takes is there, and each option there is taken by some family (no flag that nothing reads)."""
+    from faultslip.contract.options import OPTIONS, UNIVERSAL, options_of
+
+    taken = {"run": set(), "simulate": set()}
+    for name in contract.DECLARATIONS:
+        family = contract.load(name)
+        for command, names in (("run", family.run_options), ("simulate", family.simulate_options)):
+            for option in names:
+                if option == "progress":  # Python's callable, the command line's bar
+                    continue
+                assert option in OPTIONS and command in OPTIONS[option].commands, (name, command, option)
+                taken[command].add(option)
+    for command in taken:
+        family_options = {option.name for option in options_of(command) if option.family}
+        assert family_options - set(UNIVERSAL) <= taken[command], (command, family_options - taken[command])
+
+
+@pytest.mark.parametrize("command", ["run", "simulate"])
+def test_the_command_lines_flags_are_the_tables(command):
+    from faultslip.cli.main import build_parser
+    from faultslip.contract.options import options_of
+
+    import argparse
+
+    parser = build_parser([command])
+    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    flags = {a.dest for a in commands.choices[command]._actions if a.option_strings}
+    assert flags - {"help", "json", "method", "tolerance"} == {option.name for option in options_of(command)}
+
+
+@pytest.mark.parametrize("scene, option, family", [
+    ("vibration_seed002.toml", ["--output-dir", "x"], "vibration"),
+    ("nanoscale_seed001.toml", ["--cycles", "3"], "nanoscale"),
+    ("lab_glass_dry.toml", ["--resume"], "spring_slider"),
+])
+def test_an_option_a_family_does_not_take_is_refused_naming_that_family(scene, option, family, cli, tmp_path):
+    result = cli("simulate", CONFIGS / scene, *option)
+    assert_clean_error(result, f"not an option of a {family} scene" if family[0] not in "aeiou" else
+                       f"not an option of an {family} scene")
+    assert not (tmp_path / "x").exists()
+
+
+def test_simulate_takes_a_fault_as_keywords_with_units_as_run_does():
+    """faultslip.simulate(**quantities) is the simulation of the scene file with the same [fault] table."""
+    quantities = {"lithology": "granodiorite_water", "zone_width": "13 mi", "shear_stress": "250 bar",
+                  "slip_rate": "2 in/yr", "shear_modulus": faultslip.units.Quantity(0.25e6, "bar"), "mu_so": 0.65,
+                  "mu_m": 0.55}
+    by_keywords = faultslip.simulate(cycles=3, **quantities)
+    text = (CONFIGS / "san_andreas_1906.toml").read_text(encoding="utf-8")
+    scene = faultslip.models.importlib.import_module("faultslip.fault.scene").parse_scene(text, "s.toml")
+    by_scene = faultslip.simulate(scene, cycles=3)
+    assert by_keywords["slip_per_event"] == by_scene["slip_per_event"]
+    # the simulated cycles against the closed-form estimate of the same fault: equal but for round-off
+    estimate = faultslip.run(**quantities)["slip_per_event"]
+    assert by_keywords["slip_per_event"].to("m").magnitude == pytest.approx(estimate.to("m").magnitude, rel=1e-12)
+    with pytest.raises(faultslip.InputError, match="did you mean shear_stress"):
+        faultslip.simulate(lithology="granodiorite", zone_width="13 mi", slip_rate="2 in/yr", sheer_stress="250 bar")
+    with pytest.raises(faultslip.InputError, match="not both"):
+        faultslip.simulate("san_andreas_1906.toml", zone_width="13 mi")
+
+
+def test_a_rate_and_state_study_flags_the_cells_that_have_no_cycles():
+    """A cell where K >= K_c (or b <= a) is flagged with its regime and left without cycles, not a refusal of the
+    study: the study maps where the cycles are (configs/study_rate_state_slider.toml's grid has one such cell)."""
+    import numpy as np
+
+    dataset = faultslip.sweep("rsf_block_bp1.toml", method="one_slider",
+                              critical_slip={"logspace": ["2 mm", "32 mm", 5]}, b=[0.012, 0.015, 0.02])
+    regimes = dataset["regime"].attrs["flag_meanings"].split()
+    codes = dict(zip(regimes, dataset["regime"].attrs["flag_values"]))
+    stable = dataset["regime"] == codes["stable_sliding"]
+    assert int(stable.sum()) >= 1 and int((dataset["regime"] == codes["stick_slip"]).sum()) >= 1
+    mask, ratio = stable.values, dataset["stiffness_ratio"].values
+    assert np.all(ratio[mask] >= 1) and np.all(ratio[~mask] < 1)
+    assert np.all(np.isnan(dataset["slip_per_event"].values[mask]))
+    assert np.all(dataset["slip_per_event"].values[~mask] > 0)
+
+
+def test_every_method_declares_its_error(cli):
+    """'faultslip methods' lists, for every method of every family, the error it declares beside its domain and
+    cost (what auto chooses by); the conformance check requires it of every family."""
+    rows = cli("methods", "--json").json["methods"]
+    assert {family for row in rows for family in row["families"]} >= set(CASES)
+    assert all(row["declared_error"].strip() for row in rows), [row["name"] for row in rows if not row["declared_error"]]
+
+
+def test_the_families_are_found_through_their_entry_points():
+    """Issue 70: every family of the package is registered in pyproject.toml's faultslip.families group, as an
+    outside package's would be, and the registry's declarations name the same modules."""
+    import importlib.metadata
+
+    from faultslip.contract import registry
+    from faultslip.io.resources import parse_toml
+
+    declared = parse_toml((ROOT / "pyproject.toml").read_text(encoding="utf-8"), "pyproject.toml")["project"]["entry-points"]
+    points = declared[registry.ENTRY_POINTS]
+    built_in = {name: declaration.module for name, declaration in registry.DECLARATIONS.items()
+                if declaration.module.startswith("faultslip.")}
+    assert points == built_in
+    installed = {point.name: point.value for point in importlib.metadata.entry_points(group=registry.ENTRY_POINTS)}
+    assert installed == points  # the installed metadata is this pyproject's (reinstall after editing it)
+
+
+def test_a_family_registered_only_by_an_entry_point_is_found(monkeypatch, tmp_path):
+    """A package's entry point is all a family outside faultslip needs: load() and families() find it."""
+    import importlib.metadata
+
+    from faultslip.contract import registry
+
+    point = importlib.metadata.EntryPoint("constant_friction", "families.constant_friction.family",
+                                          registry.ENTRY_POINTS)
+    monkeypatch.setattr(registry, "_ENTRY_POINTS_SEEN", [(point,)])
+    try:
+        assert registry.load("constant_friction").name == "constant_friction"
+        assert "constant_friction" in registry.families()
+    finally:
+        registry.DECLARATIONS.pop("constant_friction", None)
+        registry.FAMILIES.pop("constant_friction", None)
+
+
+def test_every_public_function_returns_a_result_or_a_type_with_to_xarray():
+    """Every function of faultslip's top level that returns one of faultslip's own types returns a Result or a type
+    with ``to_xarray()`` (issue 70); the exceptions are inputs, not computations: scenes, a family's contract, the
+    friction presets and a fit's bundle (each read back into a computation that does return one). A computation's
+    dataset carries each variable's units."""
+    import inspect
+    import typing
+
+    import faultslip
+
+    inputs = {"Family", "Lithology", "Preset", "ChainScene", "Fault2DScene", "MapSpec", "RateStateScene", "Scene",
+              "Bundle"}
+    from faultslip import api
+
+    lacking = []
+    for name, where in api.public_names().items():
+        function = api.resolve(where)
+        if not callable(function) or inspect.isclass(function):
+            continue
+        try:
+            returned = typing.get_type_hints(function).get("return")
+        except Exception:
+            returned = inspect.signature(function).return_annotation
+        if inspect.isclass(returned) and returned.__module__.startswith("faultslip") \
+                and not hasattr(returned, "to_xarray") and returned.__name__ not in inputs:
+            lacking.append((name, returned.__name__))
+    assert lacking == []
+    system = faultslip.models.SliderSystem.from_preset("glass_dry", loading_rate="1 1/s")
+    for result in (faultslip.models.solve(system), faultslip.models.critical(system), faultslip.models.exact_cycle(system)):
+        dataset = result.to_xarray()
+        assert dataset.data_vars and all("units" in dataset[name].attrs for name in dataset.data_vars), type(result)
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_every_family_is_refused_through_its_cost_model_when_it_would_exceed_the_budget(name, monkeypatch):
+    """Issue 70: each family declares its cost model through the contract, and the budget is checked against it
+    before any work: with a budget far below the family's own estimate, run and simulate refuse in one sentence
+    that names the override."""
+    scene, _, options = CASES[name]
+    estimate = faultslip.models.estimate(CONFIGS / scene, "run")
+    assert estimate.seconds > 0 and estimate.what
+    dataset = estimate.to_xarray()
+    assert dataset["seconds"].attrs["units"] == "s" and dataset["memory"].attrs["units"] == "B"
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", f"{min(estimate.seconds, 1.0) / 1e3:.3g}")
+    with pytest.raises(faultslip.InputError, match="allow-large"):
+        faultslip.run(CONFIGS / scene)
+    if options is not None:
+        simulated = faultslip.models.estimate(CONFIGS / scene, "simulate", **options)
+        assert simulated.seconds > 0
+        monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", f"{min(simulated.seconds, 1.0) / 1e3:.3g}")
+        with pytest.raises(faultslip.InputError, match="allow-large"):
+            faultslip.simulate(CONFIGS / scene, **options)
+
+
+def test_the_estimate_option_prints_the_cost_model_and_runs_nothing(cli, tmp_path):
+    out = tmp_path / "chain.nc"
+    result = cli("simulate", CONFIGS / "spring_chain.toml", "--cycles", "100000", "-o", out, "--estimate", "--json")
+    assert result.code == 0, result.err
+    assert result.json["what"] == "100000 events of 50 blocks" and result.json["seconds"]["units"] == "s"
+    assert result.json["seconds"]["value"] > faultslip.models.estimate(CONFIGS / "spring_chain.toml", "simulate",
+                                                                       cycles=1000).seconds * 50
+    assert not out.exists()
+    text = cli("run", CONFIGS / "asperity_seed004.toml", "--estimate")
+    assert text.code == 0 and "CPU time, about" in text.out and "within the budget" in text.out

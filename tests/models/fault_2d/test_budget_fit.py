@@ -1,0 +1,106 @@
+"""A 2-D cost estimate used outside the scenes it was fitted on says so and refuses unless --allow-large (issue 69:
+two scenes ran past 300 s under a 60 s budget, their step estimate used far outside its fit)."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from conftest import assert_clean_error
+from faultslip.io import budget
+from faultslip.models.fault_2d import cost
+from faultslip.models.fault_2d.scene import read_fault_2d_scene
+
+ROOT = Path(__file__).resolve().parents[3]
+SMALL = ROOT / "configs" / "fault_2d_small.toml"
+
+
+def test_the_fitted_range_holds_the_scenes_it_was_fitted_on_and_no_more():
+    """Provenance of FAULT_2D_FITTED: the ladder designs' W/h* and normal stress (benchmarks/ladder_designs.py's
+    saved designs), and FAULT_2D_STEPS' BP1 at D_c 6-48 mm, lie inside it, and each bound is within 15 % of what
+    they reach (rounded outward, not widened)."""
+    rows = json.loads((ROOT / "benchmarks" / "results" / "ladder_designs.json").read_text(encoding="utf-8"))["rows"]
+    bp1 = read_fault_2d_scene(ROOT / "configs" / "seas_bp1.toml").fault
+    bp1_ratio = bp1.seismogenic_width() / bp1.nucleation_size()  # h* grows as D_c: BP1 has 8 mm
+    ratios = [row["design"]["width_over_nucleation"] for row in rows] + [bp1_ratio * 8 / 48, bp1_ratio * 8 / 6]
+    stresses = [row["design"]["normal_stress"] for row in rows] + [float(bp1.normal_stress.max())]
+    for values, (low, high) in ((ratios, cost.FAULT_2D_FITTED["width_over_nucleation"]),
+                                (stresses, cost.FAULT_2D_FITTED["normal_stress"])):
+        assert low <= min(values) <= 1.15 * low
+        assert high / 1.15 <= max(values) <= high
+
+
+@pytest.mark.parametrize("normal_stress, where", [
+    ('normal_stress = "1e-6 MPa"', "1e-12 to 1e-12 MPa"),
+    ('normal_stress = { depth = ["0 km", "7.9 km", "8.5 km"], value = ["50 MPa", "0.01 MPa", "50 MPa"] }',
+     "0.168 to 50 MPa"),  # the element centres sample the dip to 0.01 MPa at 7.9 km
+])
+def test_a_scene_outside_the_fit_is_refused_before_it_runs(tmp_path, cli, normal_stress, where):
+    scene = tmp_path / "scene.toml"
+    scene.write_text(re.sub(r'normal_stress = "50 MPa"', lambda _: normal_stress, SMALL.read_text(encoding="utf-8")),
+                     encoding="utf-8")
+    result = cli("run", str(scene))
+    assert_clean_error(result, "fitted on other scenes")
+    assert "--allow-large" in result.err
+    if "1e-6" not in normal_stress:
+        assert where in result.err
+
+
+def test_the_shipped_scenes_are_inside_the_fit():
+    for name in ("fault_2d_small", "rsf_fault_bp1", "seas_bp1", "seas_bp1_period3"):
+        assert read_fault_2d_scene(ROOT / "configs" / f"{name}.toml").outside_fit() == (), name
+
+
+def test_allow_large_runs_it_and_the_budget_guard_still_stops_it(tmp_path, monkeypatch):
+    """With --allow-large the scene runs; the run's own guard stops it at twice the budget (it never hangs)."""
+    text = SMALL.read_text(encoding="utf-8").replace('normal_stress = "50 MPa"', 'normal_stress = "20 MPa"')
+    scene_file = tmp_path / "scene.toml"
+    scene_file.write_text(text.replace('duration = "600 yr"', 'duration = "40 yr"'), encoding="utf-8")
+    scene = read_fault_2d_scene(scene_file)
+    assert scene.outside_fit()
+    with pytest.raises(Exception, match="fitted on other scenes"):
+        budget.check(scene.estimate())
+    budget.check(scene.estimate(), allow_large=True)
+    run = scene.run()
+    assert run.final_time == pytest.approx(40 * 365.25 * 86400)
+
+
+def test_the_step_seconds_are_the_least_squares_fit_of_the_compiled_runs():
+    """Provenance of FAULT_2D_STEP_SECONDS: CPU per step against elements over the FFT runs (more than 512
+    elements) of the ladder designs and of the first escalation draw, whole runs (an escalation's reruns
+    counted), refitted here."""
+    import numpy as np
+
+    results = ROOT / "benchmarks" / "results"
+    designs = json.loads((results / "ladder_designs.json").read_text(encoding="utf-8"))["rows"]
+    points = [(row["elements"], row["cpu_time"] / row["steps"]) for row in designs
+              if row.get("cpu_time") and row["elements"] > 512]
+    for row in json.loads((results / "ladder_escalations.json").read_text(encoding="utf-8"))["rows"]:
+        if row["elements"] > 512:  # each rerun doubles the duration: the steps of all runs from the last's
+            steps = row["steps"] * (2 ** row["runs"] - 1) / 2 ** (row["runs"] - 1)
+            points.append((row["elements"], row["cpu_time"] / steps))
+    points = np.array(points)
+    design = np.c_[np.ones(len(points)), points[:, 0]]
+    fitted = np.linalg.lstsq(design, points[:, 1], rcond=None)[0]
+    c0, c1, margin = cost.FAULT_2D_STEP_SECONDS
+    assert len(points) >= 10 and margin == 1.0
+    assert (c0, c1) == pytest.approx(tuple(fitted), rel=1e-3)
+
+
+def test_the_plane_strain_step_cost_is_its_benchmarks_fit(monkeypatch):
+    """PLANE_STRAIN_STEP_SECONDS is the least-squares fit of benchmarks/plane_strain_step.py's measured steps,
+    recomputed here from its results file, and the estimate it gives is within its stated 1.31x of each."""
+    import importlib.util
+
+    monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))  # the script imports its provenance helper
+    spec = importlib.util.spec_from_file_location("plane_strain_step", ROOT / "benchmarks" / "plane_strain_step.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    results = json.loads((ROOT / "benchmarks" / "results" / "plane_strain_step.json").read_text(encoding="utf-8"))
+    assert cost.PLANE_STRAIN_STEP_SECONDS == pytest.approx(module.fit(results["rows"]), rel=1e-3)
+    for row in results["rows"]:
+        estimate = cost.fault_2d_estimate(row["elements"], 60.0, 1, steps=row["steps"], plane_strain=True)
+        assert 1 / 1.32 <= estimate.seconds / (row["steps"] * row["seconds_per_step"]) <= 1.32

@@ -1,0 +1,421 @@
+"""The 3-D fault: its kernel against Okada's code and the 2-D kernels' exact limits, the FFT along strike against
+the dense product, stations, the 2-D fault's stepping and restart on it, SEAS BP5 files and bad scenes."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from faultslip.errors import InputError
+from faultslip.io.seas import read_seas
+from faultslip.models.fault_2d.integrate import YEAR, run_cycles
+from faultslip.models.fault_2d.kernel import dense_matrix
+from faultslip.models.fault_2d.plane_strain import traction_kernels
+from faultslip.models.fault_3d import kernel
+from faultslip.models.fault_3d.family import simulate, summarise
+from faultslip.models.fault_3d.model import StationGrid
+from faultslip.models.fault_3d.scene import load_fault_3d_scene, parse_fault_3d_scene
+
+ROOT = Path(__file__).resolve().parents[3]
+SMALL = ROOT / "configs" / "fault_3d_small.toml"
+G = 3.2038e10
+
+
+def _okada_rows():
+    return json.loads((ROOT / "tests" / "data" / "okada_dc3d_reference.json").read_text(encoding="utf-8"))
+
+
+@pytest.mark.parametrize("slip", ["strike", "dip"])
+def test_the_kernel_is_okadas_dc3d_to_1e_7_of_the_self_stress(slip):
+    """Okada's own Fortran (DC3D, via okada_wrapper; benchmarks/okada_reference.py wrote the numbers) against three
+    triangular dislocations a square (cutde): every pair, near and far, surface and buried, agrees to 1e-7 of the
+    largest traction (measured 2.4e-8 strike slip, 5.3e-8 dip slip). Okada's DISL1 is left-lateral and DISL2
+    reverse on the hanging wall at -y; the kernel's slip is the hanging wall's at +y: the sign is opposite."""
+    document = _okada_rows()
+    h = document["element_size"]
+    rake = "strike" if slip == "strike" else "thrust"
+    mine, okada = [], []
+    for row in (r for r in document["rows"] if r["slip"] == slip):
+        source, (offset, depth_index) = row["source"][1], row["observation"]
+        tris = kernel.element_triangles(np.zeros(1), np.array([source * h]), h, 90.0)
+        observation = kernel.centres(np.array([offset]), np.array([depth_index]), h, 90.0)
+        shear, _, _ = kernel.tractions(observation, tris,
+                                       kernel._tdcs_slip(tris, kernel.slip_direction(rake, 90.0)), 90.0, rake,
+                                       document["shear_modulus"], document["poisson_ratio"])
+        mine.append(shear[0])
+        okada.append(row["okada_stress"])
+    mine, okada = np.array(mine), np.array(okada)
+    assert np.max(np.abs(mine + okada)) <= 1e-7 * np.max(np.abs(okada))
+
+
+def test_a_long_vertical_fault_is_the_antiplane_kernel():
+    """Uniform slip over a row of squares L long is, at its middle, the antiplane strip (the 2-D family's exact
+    kernel) to the ends' share, which falls as (W / L)^2: checked at two lengths."""
+    errors = []
+    for length in (201, 801):
+        operator = kernel.StrikeConvolution(length, 6, 1000.0, 90.0, "strike", G, 0.25)
+        stress = operator(np.ones(length * 6)).reshape(length, 6)[length // 2]
+        exact = dense_matrix(6, 1000.0, G).sum(axis=1)
+        errors.append(np.max(np.abs(stress - exact)) / np.max(np.abs(exact)))
+    assert errors[1] < 1e-4
+    assert 10.0 < errors[0] / errors[1] < 22.0  # (801 / 201)^2 = 15.9
+
+
+@pytest.mark.parametrize("dip,rake,sense", [(60.0, "thrust", "thrust"), (30.0, "normal", "normal")])
+def test_a_long_dipping_fault_is_the_plane_strain_kernels(dip, rake, sense):
+    """Dip slip on a long dipping fault is, at its middle, plane strain: the 2-D family's kernels from Muskhelishvili's
+    complex potentials (an independent derivation), shear and normal, to the ends' share."""
+    length, rows = 801, 5
+    operator = kernel.StrikeConvolution(length, rows, 1000.0, dip, rake, G, 0.25)
+    both = operator.both(np.ones(length * rows))
+    shear = both[: length * rows].reshape(length, rows)[length // 2]
+    normal = both[length * rows:].reshape(length, rows)[length // 2]
+    shear_2d, normal_2d = traction_kernels(rows, 1000.0, dip, G, 0.25)
+    normal_2d = normal_2d if sense == "thrust" else -normal_2d
+    scale = np.max(np.abs(shear_2d.sum(axis=1)))
+    assert np.max(np.abs(shear - shear_2d.sum(axis=1))) < 1e-4 * scale
+    assert np.max(np.abs(normal - normal_2d.sum(axis=1))) < 1e-4 * scale
+
+
+@pytest.mark.parametrize("dip,rake", [(90.0, "strike"), (90.0, "thrust"), (60.0, "thrust"), (30.0, "normal"),
+                                      (45.0, "strike")])
+def test_the_fft_along_strike_is_the_dense_product(dip, rake):
+    """The operator is exact, not compressed: its product equals every square's own dense column to round-off, and
+    every square's own slip unloads it (a negative self term)."""
+    strike_count, dip_count = 6, 4
+    shear, normal = kernel.dense_matrices(strike_count, dip_count, 1000.0, dip, rake, G, 0.25)
+    operator = kernel.StrikeConvolution(strike_count, dip_count, 1000.0, dip, rake, G, 0.25)
+    slip = np.random.default_rng(3).normal(size=strike_count * dip_count)
+    both = operator.both(slip)
+    count = strike_count * dip_count
+    assert np.max(np.abs(both[:count] - shear @ slip)) <= 1e-12 * np.max(np.abs(shear @ slip))
+    if operator.normal_changes:
+        assert np.max(np.abs(both[count:] - normal @ slip)) <= 1e-12 * np.max(np.abs(normal @ slip))
+    else:  # strike slip on a vertical fault: the field is odd across the plane, no normal stress changes
+        assert np.max(np.abs(normal)) <= 1e-9 * np.max(np.abs(shear))
+    assert np.all(np.diag(shear) < 0)
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.lists(st.floats(-2.0, 2.0), min_size=24, max_size=24), st.floats(0.5, 3.0))
+def test_the_operator_is_linear_and_translation_invariant(values, scale):
+    """K(a s) = a K(s), and a slip shifted along strike shifts the stress with it (away from the ends)."""
+    operator = kernel.StrikeConvolution(8, 3, 500.0, 90.0, "strike", G, 0.25)
+    slip = np.zeros((8, 3))
+    slip[:4] = np.array(values[:12]).reshape(4, 3)
+    base = operator(slip.ravel()).reshape(8, 3)
+    assert np.allclose(operator(scale * slip.ravel()).reshape(8, 3), scale * base, rtol=1e-12, atol=1e-6)
+    shifted = operator(np.roll(slip, 2, axis=0).ravel()).reshape(8, 3)
+    assert np.allclose(shifted[2:6], base[0:4], rtol=1e-10, atol=1e-3)
+
+
+def test_stations_interpolate_a_bilinear_field_exactly():
+    scene = load_fault_3d_scene(SMALL)
+    fault = scene.fault
+    field = 3.0 + 2e-3 * fault.strike_position - 5e-3 * fault.depth
+    positions = [(-2000.0, 300.0), (0.0, 1000.0), (1234.0, 555.0)]
+    stations = StationGrid(positions, fault)
+    expected = [3.0 + 2e-3 * x - 5e-3 * z for x, z in positions]
+    assert np.allclose(stations(field), expected, rtol=1e-13)
+    with pytest.raises(InputError, match="on the fault"):
+        StationGrid([(9e3, 0.0)], fault)
+
+
+def test_a_stopped_run_resumes_bit_for_bit(tmp_path):
+    """The 2-D fault's checkpoints carry a 3-D run: stopped after a checkpoint and resumed, it ends on the same
+    bits as a run never stopped."""
+    scene = load_fault_3d_scene(SMALL).with_values(element_size=250.0)
+    scene.duration = 3 * YEAR
+    kwargs = dict(stations=scene.recorder(), operator=scene.operator(), profile_interval=YEAR,
+                  coseismic_interval=1.0)
+    whole = run_cycles(scene.fault, scene.duration, rtol=1e-6, **kwargs)
+    folder = tmp_path / "run"
+    with pytest.raises(Exception):
+        run_cycles(scene.fault, scene.duration, rtol=1e-6, folder=folder, stop_after_steps=whole.steps // 2,
+                   **kwargs)
+    resumed = run_cycles(scene.fault, scene.duration, rtol=1e-6, folder=folder, resume=True, **kwargs)
+    assert resumed.steps == whole.steps
+    assert np.array_equal(resumed.final_slip, whole.final_slip)
+    assert np.array_equal(np.asarray(resumed.stations["slip"]), np.asarray(whole.stations["slip"]))
+
+
+def test_the_small_fault_cycles_balance_the_plate(tmp_path):
+    """The small fault's system-size events recur periodically, and over a cycle its patch slips what the plate
+    loads it with (V_p T, within 1 %); the SEAS BP5 files read back."""
+    result = simulate(SMALL, output_dir=tmp_path / "out")
+    run = result.extras["run"]
+    interval = result["recurrence_interval"]
+    assert result["settled"] and interval > 0
+    assert 0.0 < result["estimated_relative_error"] < 0.5
+    dataset = result.to_xarray()
+    slip = np.asarray(dataset["station_slip"])[:, 1]  # (0, 0.5 km): in the patch
+    starts = np.asarray(dataset["event_start"])
+    time = np.asarray(dataset["time"])
+    first, last = starts[-2], starts[-1]
+    cycle = np.interp(last, time, slip) - np.interp(first, time, slip)
+    assert cycle == pytest.approx(1e-9 * (last - first), rel=0.01)
+    header, names, rows = read_seas(tmp_path / "out" / "fltst_strk+00dp+00.dat")
+    assert names[:3] == ["t", "slip_2", "slip_3"] and rows.shape[1] == 8
+    for name in ("global.dat", "rupture.dat", "slip_2_depth.dat", "slip_2_strike.dat", "events.csv", "fault_3d.nc"):
+        assert (tmp_path / "out" / name).is_file(), name
+    assert run.event_count >= 3
+    assert summarise(run)["system"].size == run.event_count  # every event ruptures the patch
+
+
+def test_rupture_times_grow_away_from_the_nucleation_patch():
+    """The first event starts in the nucleation patch at the -x end and spreads: squares farther along strike
+    rupture later (BP5's rupture-time contours)."""
+    from faultslip.models.fault_3d.bp5_outputs import rupture_times
+
+    scene = load_fault_3d_scene(SMALL)
+    scene.duration = 1.0 * YEAR
+    run = scene.run()
+    times = scene.fault.grid(rupture_times(run, 0) - run.events["start"][0])
+    row = 5  # 0.55 km down dip, in the patch
+    along = times[:, row]
+    finite = np.isfinite(along)
+    assert finite.sum() > 20
+    patch_end = scene.fault.column(-900.0)
+    assert np.all(np.diff(along[patch_end:][np.isfinite(along[patch_end:])]) >= -1e-9)
+
+
+@pytest.mark.parametrize("change,message", [
+    (("a = { inside", "a = { within"), "BP5's patch"),
+    (('length = "5 km"', 'length = "5.05 km"'), "must divide"),
+    (('stations = [["0 km", "0 km"]', 'stations = [["9 km", "0 km"]'), "on the fault"),
+    (('rake = "strike"', 'rake = "oblique"'), "rake"),
+    (('family = "fault_3d"', 'family = "fault_2d"'), "fault_3d"),
+    (('strike_to = "-0.9 km"', 'strike_to = "-2 km"'), "strike_from must lie before"),
+    (('critical_slip = "7 mm"', 'critical_slip = "7 parsecs"'), "critical_slip"),
+])
+def test_a_bad_scene_is_one_sentence(change, message):
+    text = SMALL.read_text(encoding="utf-8")
+    assert change[0] in text
+    with pytest.raises(InputError, match=message):
+        parse_fault_3d_scene(text.replace(change[0], change[1], 1), "bad.toml")
+
+
+def test_the_middle_column_is_the_2d_rung():
+    """The rung below reads the same scene: the middle column's a(z), the same b, D_c, sigma_n and loading."""
+    scene = load_fault_3d_scene(SMALL)
+    two_d = scene.two_d()
+    fault = scene.fault
+    column = fault.column(0.0)
+    assert two_d.count == fault.dip_count and two_d.plane == "antiplane"
+    assert np.allclose(two_d.a, fault.grid(fault.a)[column])
+    assert math.isclose(two_d.plate_rate, fault.plate_rate)
+
+
+def _operator_in_a_child(queue):
+    queue.put(float(kernel.StrikeConvolution(6, 3, 1000.0).self_term[0]))
+
+
+def test_a_process_that_built_a_kernel_can_fork_workers_that_build_theirs():
+    """cutde's OpenMP runtime is held to one thread: a forked worker of a process that had assembled a kernel (a sweep
+    after a run in one notebook) once hung at its first dislocation."""
+    import multiprocessing
+
+    kernel.StrikeConvolution(8, 4, 1000.0)
+    context = multiprocessing.get_context("fork")
+    queue = context.Queue()
+    child = context.Process(target=_operator_in_a_child, args=(queue,))
+    child.start()
+    child.join(120)
+    alive = child.is_alive()
+    if alive:
+        child.kill()
+    assert not alive, "the forked worker hung in the dislocation kernel"
+    assert queue.get(timeout=5) < 0
+
+
+def test_every_rung_reads_the_3d_scene_and_declares_its_model_error(cli):
+    """`faultslip run SCENE --model NAME` on a 3-D scene: the one slider and the 2-D fault read its middle column,
+    and each declares its own error compounded with the 2-D fault's model error against 3-D, its ranges widened to
+    it; `model-error` puts the three rungs side by side."""
+    from faultslip.fault import strike_error
+
+    scene = load_fault_3d_scene(SMALL)
+    model_error = strike_error.declared_for(scene.fault)
+    result = cli("run", SMALL, "--model", "fault_2d", "--json")
+    assert result.code == 0, result.err
+    document = json.loads(result.out)
+    values = document.get("results", document)
+    declared = values["estimated_relative_error"]
+    band = values["slip_per_event_range"]
+    if math.isfinite(model_error):
+        assert declared >= model_error
+        if declared < 1.0:  # where the truth lies: [v / (1 + e), v / (1 - e)]
+            low, high = band["value"] if isinstance(band, dict) else band
+            assert low < high
+        else:  # no upper bound, so no range: the error alone is declared
+            assert band is None or (isinstance(band, dict) and band["value"] is None)
+    else:
+        assert declared is None
+    ladder = cli("model-error", SMALL, "--json")
+    assert ladder.code == 0, ladder.err
+    text = ladder.out
+    for rung in ("one_slider", "fault_2d", "fault_3d"):
+        assert f"{rung}_recurrence" in text
+
+
+def test_a_tolerance_no_rung_can_meet_is_refused_before_any_work(cli):
+    from faultslip.models.fault_3d.family import discretisation_error
+
+    scene = load_fault_3d_scene(SMALL)
+    tolerance = 0.5 * discretisation_error(scene.resolution)
+    result = cli("run", SMALL, "--tolerance", tolerance)
+    assert result.code == 2 and "no rung meets" in result.err and "Traceback" not in result.err
+
+
+def test_a_fault_periodic_along_strike_is_the_2d_fault():
+    """The 2-D limit of the 3-D machinery: a fault periodic along strike (its kernel summed over M images either
+    side), its friction the 2-D fault's on every column, steps through the 2-D fault's own events, the difference
+    falling as the images' truncation does, 1 / M^2 (measured 0.74 % at M = 20, 0.095 % at 80). A finite fault does
+    not reach it: its creeping ends nucleate events (docs/fault_3d.md, benchmarks/fault_3d_model_error.py)."""
+    from faultslip.models.fault_3d.model import Fault3D
+
+    scene = load_fault_3d_scene(SMALL)
+    flat = scene.two_d()
+    columns = 4
+    tiled = {key: np.tile(getattr(flat, key), columns) for key in ("a", "b", "critical_slip", "normal_stress",
+                                                                   "initial_shear_stress", "initial_state")}
+    fault = Fault3D(flat.element_size, tiled["a"], tiled["b"], tiled["critical_slip"], tiled["normal_stress"],
+                    flat.shear_modulus, flat.shear_wave_speed, flat.plate_rate, flat.reference_speed,
+                    flat.reference_friction, tiled["initial_shear_stress"], tiled["initial_state"], plane="3d",
+                    poisson_ratio=0.25, strike_count=columns, strike_origin=0.0)
+    two = run_cycles(flat, 45 * YEAR, rtol=1e-8, stations=[500.0], profile_interval=YEAR)
+    assert two.event_count >= 3
+    errors = []
+    for images in (20, 80):
+        operator = kernel.StrikeConvolution(columns, flat.count, flat.element_size, 90.0, "strike",
+                                            flat.shear_modulus, 0.25, periodic_images=images)
+        operator.settings = {"periodic_images": images}
+        three = run_cycles(fault, 45 * YEAR, rtol=1e-8, operator=operator, profile_interval=YEAR,
+                           stations=StationGrid([(200.0, 500.0)], fault))
+        assert three.event_count == two.event_count
+        assert np.ptp(fault.grid(three.final_slip), axis=0).max() == 0.0  # uniform along strike throughout
+        errors.append(np.max(np.abs(three.events["start"][1:] / two.events["start"][1:] - 1)))
+    assert errors[1] < 2e-3 and errors[0] / errors[1] > 4.0
+
+
+def test_the_2d_rungs_model_error_is_bounded_by_shorter_narrower_shallower_cells():
+    from faultslip.fault.strike_error import declared
+
+    rows = [{"aspect": 2.0, "burial": 0.1, "width_over_nucleation": 1.0, "model_error": 3.0},
+            {"aspect": 4.0, "burial": 0.1, "width_over_nucleation": 1.0, "model_error": 1.5},
+            {"aspect": 4.0, "burial": 0.3, "width_over_nucleation": 1.0, "model_error": 0.8},
+            {"aspect": 8.0, "burial": 0.1, "width_over_nucleation": 1.5, "model_error": None}]
+    assert declared(5.0, rows, 0.2, 1.2) == 1.5  # the nearest bounding aspect, its shallower cell only
+    assert declared(5.0, rows, 0.4, 1.2) == 1.5  # both cells at aspect 4 bound it: the larger
+    assert declared(3.0, rows, 0.2, 1.2) == 3.0
+    assert declared(1.5, rows, 0.2, 1.2) == math.inf  # shorter than every measured patch
+    assert declared(5.0, rows, 0.05, 1.2) == math.inf  # shallower than every measured patch
+    assert declared(9.0, rows, 0.2, 2.0) == math.inf  # its nearest bounding cell's 3-D patch crept
+
+
+def test_the_shipped_model_error_table_is_the_benchmarks_measurement_times_the_margin():
+    from faultslip.fault.strike_error import MARGIN, load_table
+
+    measured = json.loads((ROOT / "benchmarks" / "results" / "fault_3d_model_error.json").read_text(encoding="utf-8"))
+    shipped = load_table()
+    assert len(shipped["rows"]) == len(measured["rows"])
+    for row, cell in zip(shipped["rows"], measured["rows"]):
+        assert row["aspect"] == pytest.approx(cell["aspect_measured"])
+        assert (row["model_error"] is None) == (cell["model_error"] is None)
+        if cell["model_error"] is not None:
+            assert row["model_error"] == pytest.approx(MARGIN * cell["model_error"])
+    held = measured["held_out"]
+    assert not any(r["declared"] is not None and not r["covered"] for r in held)
+
+
+def test_an_event_under_way_at_the_start_starts_at_zero():
+    """BP5's nucleation patch slips at 1 cm/s from t = 0: the first event starts then, not before."""
+    scene = load_fault_3d_scene(SMALL)
+    scene.duration = 0.2 * YEAR
+    run = scene.run()
+    assert run.event_count >= 1 and run.events["start"][0] == 0.0
+
+
+@pytest.mark.parametrize("dip,rake", [(90.0, "strike"), (60.0, "thrust")])
+def test_the_cross_rake_traction_is_each_squares_own(dip, rake):
+    """The traction across the rake (what a second slip component would answer) of one square's slip equals that
+    square's dislocations evaluated at every centre; on a vertical strike-slip fault it is odd along strike."""
+    strike_count, dip_count, h = 7, 4, 1000.0
+    operator = kernel.StrikeConvolution(strike_count, dip_count, h, dip, rake, G, 0.25)
+    source = 3 * dip_count + 1  # square (3, 1): the middle column
+    slip = np.zeros(strike_count * dip_count)
+    slip[source] = 1.0
+    tris = kernel.element_triangles(np.array([3 * h]), np.array([1 * h]), h, dip)
+    index_strike, index_dip = np.divmod(np.arange(strike_count * dip_count), dip_count)
+    _, _, expected = kernel.tractions(kernel.centres(index_strike, index_dip, h, dip), tris,
+                                      kernel._tdcs_slip(tris, kernel.slip_direction(rake, dip)), dip, rake, G, 0.25)
+    cross = operator.cross(slip)
+    assert np.max(np.abs(cross - expected)) <= 1e-9 * np.max(np.abs(expected))
+    if dip == 90.0 and rake == "strike":
+        grid = cross.reshape(strike_count, dip_count)
+        assert np.allclose(grid[:3], -grid[4:][::-1], atol=1e-6 * np.max(np.abs(grid)))
+
+
+def test_the_declared_resolution_error_holds_on_bp5_at_every_size():
+    """BP5-QD at 2000, 1000 and 500 m (benchmarks/seas_bp5.py's saved runs): the family's declared error bounds
+    each size's interval against the finest and against tandem's, and the constants are the benchmark's fit,
+    rounded up."""
+    from faultslip.models.fault_3d.family import DISCRETISATION, discretisation_error
+
+    result = json.loads((ROOT / "benchmarks" / "results" / "seas_bp5.json").read_text(encoding="utf-8"))
+    fit = result["fit"]
+    assert DISCRETISATION["margin"] * DISCRETISATION["scale"] >= fit["margin"] * fit["scale"]
+    assert DISCRETISATION["order"] <= fit["order"] + 1e-9
+    for run in result["runs"]:
+        declared = discretisation_error(run["resolution"])
+        assert abs(run["interval_difference_from_finest"]) <= declared, run["element_size_m"]
+        assert abs(run["interval_difference_from_tandem"]) <= declared, run["element_size_m"]
+
+
+def test_the_cost_model_is_the_bp5_runs_fit_and_estimates_each_within_2x():
+    """The cost model's per-step seconds are the non-negative least squares of BP5's runs' CPU per step on
+    (1, N, N_x N_z^2), its steps per event their fit in N_z (benchmarks/seas_bp5.py's saved runs), and each run's
+    estimate, made before it starts as a user's is, lies within 2x of the CPU it used and not below it."""
+    from scipy.optimize import nnls
+
+    from faultslip.models.fault_3d import cost
+
+    result = json.loads((ROOT / "benchmarks" / "results" / "seas_bp5.json").read_text(encoding="utf-8"))
+    rows = [(round(100e3 / run["element_size_m"]), round(40e3 / run["element_size_m"]), run)
+            for run in result["runs"]]
+    design = np.array([[1.0, nx * nz, nx * nz ** 2] for nx, nz, _ in rows])
+    per_step = np.array([run["cpu_s"] / run["steps"] for _, _, run in rows])
+    fitted, _ = nnls(design / per_step[:, None], np.ones(len(rows)))  # relative least squares
+    assert np.allclose(cost.FAULT_3D_STEP_SECONDS, fitted, rtol=0.01, atol=1e-12)
+    per_event = np.array([run["steps"] / len(run["event_starts_yr"]) for _, _, run in rows])
+    slope, intercept = np.polyfit(np.log(np.array([nz for _, nz, _ in rows]) / 20.0), np.log(per_event), 1)
+    assert cost.FAULT_3D_STEPS["dip_rows"] == pytest.approx(slope, rel=0.01)
+    assert cost.FAULT_3D_STEPS["scale"] == pytest.approx(math.exp(intercept), rel=0.01)
+    for _, _, run in rows:
+        scene = load_fault_3d_scene(ROOT / "configs" / "seas_bp5.toml", allow_large=True).at_element_size(
+            run["element_size_m"])
+        scene.duration = run["years"] * YEAR
+        assert 1.0 <= scene.estimate().seconds / run["cpu_s"] <= 2.0, run["element_size_m"]
+
+def test_the_assembly_cost_is_the_operator_benchmarks():
+    """Seconds per (triangle, observation) pair: the median over the operator benchmark's assemblies of 4,000
+    squares or more (benchmarks/fault_3d_operator.py), within 10 %."""
+    from faultslip.models.fault_3d import cost
+
+    result = json.loads((ROOT / "benchmarks" / "results" / "fault_3d_operator.json").read_text(encoding="utf-8"))
+    per_pair = [row["assembly_s"] / (3 * (2 * row["strike"] - 1) * row["dip"] ** 2)
+                for family in result["families"].values() for row in family["rows"] if row["elements"] >= 4000]
+    assert cost.FAULT_3D_PAIR_SECONDS == pytest.approx(float(np.median(per_pair)), rel=0.1)
+    assert result["largest_relative_error"] <= 1e-12  # the FFT product is exact (issue: <= 1e-6 asked)
+
+
+def test_a_declared_error_ranges_where_the_truth_lies():
+    from faultslip.models.fault_3d.family import truth_range
+
+    assert truth_range(100.0, 0.25) == pytest.approx([80.0, 100.0 / 0.75])
+    assert truth_range(100.0, 1.0) is None and truth_range(100.0, None) is None
