@@ -48,7 +48,7 @@ sys.path.insert(0, str(ROOT))
 from faultslip import __version__  # noqa: E402
 from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
 from faultslip.models.fault_2d.calibration import SHEAR_MODULUS, Design, block_errors, run_design  # noqa: E402
-from faultslip.fault.one_slider import CALIBRATION_FILE  # noqa: E402
+from faultslip.models.rate_state_slider.one_slider import CALIBRATION_FILE  # noqa: E402
 from faultslip.models.rate_state_slider.model_error import declared_from_envelope  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 

@@ -32,7 +32,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import faultslip  # noqa: E402
-from faultslip.fault.one_slider import load_calibration  # noqa: E402
+from faultslip.models.rate_state_slider.one_slider import load_calibration  # noqa: E402
 from faultslip.io.atomic import save_figure  # noqa: E402
 from faultslip.models.fault_2d.analysis import MIN_RESOLUTION, discretisation_error  # noqa: E402
 

@@ -52,7 +52,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from fault_2d_qdyn import SOLVERS, _commit, qdyn_available, write_input  # noqa: E402
 from peer_runs import COMMON_GRID, interleaved, measured  # noqa: E402
 from faultslip.dynamics.rate_state.slider import fault_cycles  # noqa: E402
-from faultslip.fault.rate_state_scene import read_rate_state_scene  # noqa: E402
+from faultslip.models.rate_state_slider.scene import read_rate_state_scene  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
 SCENE = ROOT / "configs" / "rsf_block_bp1.toml"

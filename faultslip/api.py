@@ -74,7 +74,7 @@ TOPICS = {
         "simulate_slider": "dynamics.spring_slider.simulate:simulate",
         "scene_cycle": "models.spring_slider.family:cycle",
         # the rate-and-state slider and the ladder's one-slider rung
-        "read_rate_state_scene": "fault.rate_state_scene:read_rate_state_scene",
+        "read_rate_state_scene": "models.rate_state_slider.scene:read_rate_state_scene",
         "simulate_rate_state": "dynamics.rate_state.slider:simulate_rate_state",
         "fault_cycles": "dynamics.rate_state.slider:fault_cycles",
         "rate_state_stability": "models.rate_state_slider.family:stability",
@@ -83,7 +83,7 @@ TOPICS = {
         "earthquake_cycles_beside_seed_law": "models.rate_state_slider.family:earthquake_cycles",
         "model_error": "models.rate_state_slider.model_error:model_error_result",
         "declared_model_error": "models.rate_state_slider.model_error:declared_model_error",
-        "read_one_slider_calibration": "fault.one_slider:load_calibration",
+        "read_one_slider_calibration": "models.rate_state_slider.one_slider:load_calibration",
         "model_error_figure": "models.rate_state_slider.figures:model_error_figure",
         # quasi-harmonic vibration (seed 002)
         "read_vibration_scene": "models.vibration.scene:read_vibration_scene",

@@ -103,7 +103,7 @@ DECLARATIONS = {
 SCENE_TYPES = {
     "faultslip.fault.scene.Scene": "spring_slider",
     "faultslip.fault.scaling.Fault": "spring_slider",
-    "faultslip.fault.rate_state_scene.RateStateScene": "rate_state_slider",
+    "faultslip.models.rate_state_slider.scene.RateStateScene": "rate_state_slider",
     "faultslip.models.fault_2d.scene.Fault2DScene": "fault_2d",
     "faultslip.models.fault_3d.scene.Fault3DScene": "fault_3d",
 }

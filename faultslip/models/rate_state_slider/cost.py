@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 
 from faultslip.fault.scene import Scene, has_friction_law
-from faultslip.fault.rate_state_scene import read_rate_state_scene
+from faultslip.models.rate_state_slider.scene import read_rate_state_scene
 from faultslip.io import budget
 
 #: the cycles a fault's run and simulation take by default (the family's)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
-from faultslip.fault.rate_state_scene import read_rate_state_scene
+from faultslip.models.rate_state_slider.scene import read_rate_state_scene
 from faultslip.fault.rate_state_series import cycles_series
 from faultslip.io.report import Report
 from faultslip.contract.result import Result

@@ -19,8 +19,8 @@ from faultslip.fault.spring_slider_cells import read_scene as read_seed_law_scen
 from faultslip.io.resources import parse_toml
 from faultslip.models.common import note_origin
 from faultslip.io import budget
-from faultslip.fault.one_slider import DESCRIPTIONS
-from faultslip.fault.rate_state_scene import read_rate_state_scene
+from faultslip.models.rate_state_slider.one_slider import DESCRIPTIONS
+from faultslip.models.rate_state_slider.scene import read_rate_state_scene
 from faultslip.io.report import Report
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.models.rate_state_slider import cycles as rate_state_cycles
@@ -195,7 +195,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     """A laboratory slider's load history, or a fault's cycles: what the scene describes.
 
     A fault scene's methods are ``one_slider`` (one quasi-dynamic spring-block, K = c G / W from the seismogenic
-    width W, or the seed's K = G / D from the zone width D; :mod:`faultslip.fault.one_slider`) and ``fault_2d``
+    width W, or the seed's K = G / D from the zone width D; :mod:`faultslip.models.rate_state_slider.one_slider`) and ``fault_2d``
     (the 2-D fault with the same friction from the surface to W, loaded below).
     ``tolerance`` is the model error allowed: ``auto`` takes one slider where its declared error
     against the 2-D fault (faultslip.models.rate_state_slider.model_error, from the shipped calibration) meets it,

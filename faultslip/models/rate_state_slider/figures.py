@@ -37,7 +37,7 @@ def model_error_figure(table: dict, tolerance: float | None = None, hierarchy: d
     Parameters
     ----------
     table : dict
-        :func:`faultslip.fault.one_slider.load_calibration`'s table.
+        :func:`faultslip.models.rate_state_slider.one_slider.load_calibration`'s table.
     tolerance : float, optional
         A model error allowed.
     hierarchy : dict, optional

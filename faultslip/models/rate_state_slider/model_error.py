@@ -20,8 +20,8 @@ import numpy as np
 from faultslip.contract.registry import family_of
 from faultslip.contract.result import Result
 from faultslip.errors import InputError
-from faultslip.fault.one_slider import DESCRIPTIONS, load_calibration, load_hierarchy
-from faultslip.fault.rate_state_scene import read_rate_state_scene
+from faultslip.models.rate_state_slider.one_slider import DESCRIPTIONS, load_calibration, load_hierarchy
+from faultslip.models.rate_state_slider.scene import read_rate_state_scene
 from faultslip.friction.rate_state import nucleation_ratio
 from faultslip.io.report import Report
 from faultslip.fault.dip_error import load_table as load_dip_table

@@ -41,7 +41,7 @@ def test_a_callable_is_kept_and_silence_is_none():
 
 def test_long_library_work_reports_through_the_callable():
     from faultslip.dynamics.rate_state.slider import fault_cycles
-    from faultslip.fault.rate_state_scene import read_rate_state_scene
+    from faultslip.models.rate_state_slider.scene import read_rate_state_scene
     from pathlib import Path
 
     scene = read_rate_state_scene(Path(__file__).resolve().parents[3] / "configs" / "rsf_block_bp1.toml")

@@ -849,7 +849,7 @@ def test_bad_scenes_are_one_sentence(change, message):
 def test_the_shipped_calibration_is_complete_and_its_bound_holds_on_every_held_out_fault():
     """The calibration (benchmarks/fault_2d_calibration.py) covers its designed set; its declared bound holds on
     every fault held out of it, SEAS BP1 among them, for the calibrated stiffness and for the seed's K = G / D."""
-    from faultslip.fault.one_slider import load_calibration, stiffness_factor
+    from faultslip.models.rate_state_slider.one_slider import load_calibration, stiffness_factor
     from faultslip.models.rate_state_slider.model_error import declared_from_envelope
 
     table = load_calibration()
@@ -909,7 +909,7 @@ def test_bp1s_one_slider_declares_a_model_error_that_covers_its_distance_from_bp
 
 def test_one_slider_declares_its_model_error_and_auto_obeys_a_tolerance(cli):
     from faultslip.models.rate_state_slider.model_error import declared_model_error
-    from faultslip.fault.rate_state_scene import read_rate_state_scene
+    from faultslip.models.rate_state_slider.scene import read_rate_state_scene
 
     scene = read_rate_state_scene(CONFIGS / "rsf_block_bp1.toml")
     assert scene.reduction == "geometric" and scene.width == 15e3
@@ -925,7 +925,7 @@ def test_one_slider_declares_its_model_error_and_auto_obeys_a_tolerance(cli):
 
 
 def test_a_scene_states_one_width_and_the_seeds_reduction_is_named(tmp_path):
-    from faultslip.fault.rate_state_scene import parse_rate_state_scene
+    from faultslip.models.rate_state_slider.scene import parse_rate_state_scene
 
     text = (CONFIGS / "rsf_block_bp1.toml").read_text(encoding="utf-8")
     seed = parse_rate_state_scene(text.replace('seismogenic_width = "15 km"', 'zone_width = "20 km"'), "s.toml")
@@ -943,7 +943,7 @@ def test_a_scene_states_one_width_and_the_seeds_reduction_is_named(tmp_path):
 def test_auto_runs_the_2d_fault_where_one_slider_is_not_good_enough():
     """A tolerance below the declared error sends auto to the 2-D fault, which says why (a short, coarse fault)."""
     import faultslip
-    from faultslip.fault.rate_state_scene import parse_rate_state_scene
+    from faultslip.models.rate_state_slider.scene import parse_rate_state_scene
 
     # W / h* = 10 km / 6.04 km = 1.66: whole-fault events, a quick 2-D run on 3 elements per L_b
     text = (CONFIGS / "rsf_block_bp1.toml").read_text().replace('seismogenic_width = "15 km"',

@@ -7,7 +7,7 @@ from conftest import assert_clean_error
 import xarray as xr
 
 from faultslip.errors import InputError
-from faultslip.fault.rate_state_scene import parse_rate_state_scene
+from faultslip.models.rate_state_slider.scene import parse_rate_state_scene
 
 STEP = "configs/rsf_velocity_step.toml"
 BP1 = "configs/rsf_block_bp1.toml"
@@ -30,7 +30,7 @@ def test_simulate_reports_and_writes_the_time_series(cli, tmp_path):
 
 def test_stability_and_cycles_of_the_bp1_fault(cli):
     stability = cli("rate-state", "stability", BP1, "--json").json
-    from faultslip.fault.one_slider import stiffness_factor
+    from faultslip.models.rate_state_slider.one_slider import stiffness_factor
 
     # K = c G / W on BP1's 15 km seismogenic width (c calibrated against the 2-D fault), K_c = sigma (b - a) / D_c
     assert stability["stiffness_ratio"] == pytest.approx(stiffness_factor() * 32e9 / 15e3 / 3.125e7)
@@ -136,7 +136,7 @@ def _fast_cycles(cycles):
 def test_cycles_put_the_seed_law_beside_on_the_same_fault(cli):
     """The seed law on BP1's fault (G 32 GPa, sigma_n 50 MPa, V_pl 1e-9 m/s, the block's stiffness: D = G / K =
     W / c) with radiation damping equals Fault.estimate with those inputs."""
-    from faultslip.fault.one_slider import stiffness_factor
+    from faultslip.models.rate_state_slider.one_slider import stiffness_factor
     from faultslip.fault.scaling import Fault
 
     out = cli("rate-state", "cycles", BP1, "--cycles", "3", "--seed-law", "granodiorite", "--json").json

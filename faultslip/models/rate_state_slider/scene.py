@@ -16,7 +16,7 @@
 
     [fault]                       # ... or a fault (per unit area): eta = G / (2 c_s), m = rho G / K
     shear_modulus = "32 GPa"
-    seismogenic_width = "15 km"   # W: K = c G / W, c calibrated against the 2-D fault (faultslip.fault.one_slider)
+    seismogenic_width = "15 km"   # W: K = c G / W, c calibrated against the 2-D fault (faultslip.models.rate_state_slider.one_slider)
                                   # or zone_width = "20 km": the seed's section 5-2 reduction, K = G / D
     normal_stress = "50 MPa"
     plate_rate = "1e-9 m/s"
@@ -36,7 +36,7 @@ from pathlib import Path
 from faultslip.dynamics.rate_state.slider import MODELS, LoadHistory, RateStateSlider
 from faultslip.contract.scenes import scene_source
 from faultslip.errors import InputError
-from faultslip.fault.one_slider import REDUCTIONS, stiffness_factor
+from faultslip.models.rate_state_slider.one_slider import REDUCTIONS, stiffness_factor
 from faultslip.friction.rate_state import RateStateLaw, get_law
 from faultslip.io.resources import check_table_keys, parse_toml
 from faultslip.units import to_si_scalar
@@ -65,7 +65,7 @@ class RateStateScene:
     #: a fault scene's inputs in SI (shear_modulus, zone_width, normal_stress, density, shear_wave_speed);
     #: ``zone_width`` is the block's G / K (D itself for the seed's reduction)
     fault: dict = field(default_factory=dict)
-    #: how the block's stiffness comes from the fault (faultslip.fault.one_slider.REDUCTIONS): "geometric", from
+    #: how the block's stiffness comes from the fault (faultslip.models.rate_state_slider.one_slider.REDUCTIONS): "geometric", from
     #: the seismogenic width, or "zone_width", the seed's section 5-2 reduction
     reduction: str = "zone_width"
     #: m: the width the scene states (W, or D for the seed's reduction)
