@@ -807,6 +807,11 @@ def sherifs_example_table() -> str | None:
                         f"{theirs['unassigned_share']:.1%} | {ours['moment_rate_released']:.3g}; "
                         f"{abs(ours['unassigned_share']):.1e} |")
             rows.append(f"| {name} | rate of M >= 6 | {theirs['rate_m6']:.3g} /yr | {ours['rate_m6']:.3g} /yr |")
+            rows.append(f"| {name} | b of the target; of the solved distribution (least squares over its bins) | "
+                        f"{theirs['b_target']:.3f} (sampled); {theirs['b_solved']:.3f} | {ours['b_target']:.3f}; "
+                        f"{ours['b_value']:.3f} |")
+            rows.append(f"| {name} | smallest magnitude | {theirs['smallest_magnitude']:.1f} (its M_min) | "
+                        f"{ours['smallest_magnitude']:.2f} (one 3 km section) |")
             for fault in sorted(ours["participation"]):
                 mine, theirs_p = ours["participation"][fault], theirs["participation"][fault]
                 rows.append(f"| {name} | {fault}: participation at M >= 5, 5.5, 6 (/yr); slip-rate misfit | "

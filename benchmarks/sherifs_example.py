@@ -94,6 +94,14 @@ def sherifs_side(logs: dict) -> dict:
             key, _length, _ratio, _width, area, largest = row.split("\t")
             faults = tuple(v[0] for v in ast.literal_eval(key).values()) if key.startswith("{") else (key,)
             areas[faults], mmax[faults] = float(area) * 1e6, float(largest)
+        general = dict(row.split("\t") for row in files["general"][0].splitlines())
+        system_bins = np.round(np.concatenate([m for _, m, _ in sources]), 6)
+        system = {m: 0.0 for m in np.unique(system_bins)}
+        for _, m, rates in sources:
+            for magnitude, rate in zip(np.round(m, 6), rates):
+                system[magnitude] += rate
+        bins = np.array([m for m, r in system.items() if r > 0])
+        solved_b = float(-np.polyfit(bins, np.log10([system[m] for m in bins]), 1)[0])
         final = float(sum(np.sum(rates * sherifs_moment(m)) for _, m, rates in sources))
         initial = SHEAR_MODULUS * sum(areas[(f,)] * slip_rate[f] * 1e-3 for f in slip_rate)
         logged_final, logged_initial = (float(calculation["Moment_rate_faults_final"]),
@@ -115,6 +123,7 @@ def sherifs_side(logs: dict) -> dict:
             "checks": checks, "moment_rate_initial": logged_initial, "moment_rate_released": logged_final,
             "unassigned_share": 1.0 - logged_final / logged_initial, "nms_ratio_logged": float(calculation["Ratio of NMS"]),
             "rate_m6": float(sum(r[m >= 6.0 - BIN_EDGE].sum() for _, m, r in sources)),
+            "b_target": float(general["b_value"]), "b_solved": solved_b, "smallest_magnitude": float(general["M_tronc"]),
             "participation": participation, "slip_rate_misfit": misfit,
             "mmax": {"+".join(k): v for k, v in mmax.items()}, "slip_rate_sampled": slip_rate}
     return out
@@ -148,7 +157,8 @@ def faultslip_side(name: str) -> dict:
             "rate_m6": float(result.rate[result.magnitude >= 6.0 - BIN_EDGE].sum()),
             "participation": participation, "slip_rate_misfit": misfit, "mmax": mmax,
             "sections": sections.count, "ruptures": len(result.ruptures), "with_rate": int((result.rate > 0).sum()),
-            "budget_error": result.budget_error, "b_value": result.b_value_fit()["b"],
+            "budget_error": result.budget_error, "b_value": result.b_value_fit()["b"], "b_target": result.rules.b_value,
+            "smallest_magnitude": float(result.magnitude.min()),
             "fault_area": {fault: float(area[sections.fault == i].sum()) for i, fault in enumerate(sections.fault_ids)}}
 
 
