@@ -97,7 +97,7 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
     return family.run(scene, method=method, tolerance=tolerance, **options)
 
 
-def estimate(scene=None, action: str = "run", **options):
+def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
     """What :func:`run` or :func:`simulate` of a scene would need, from its family's cost model, before it starts.
 
     Parameters
