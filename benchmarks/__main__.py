@@ -45,6 +45,7 @@ PRODUCERS = (
     ("animation_speed", [], ["--pairs", "1"], "animation.json"),
     ("chain_example", [], [], "chain_example.json"),
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
+    ("ladder_regimes", [], [], "ladder_regimes.json"),
     ("ladder_calibration", [], [], "ladder_held_out.json"),
     ("ladder_escalations", ["--seed", "68001"], ["--seed", "68001", "--count", "4"], "ladder_escalations_held_out.json"),
     ("fuzz", ["--seed", "69"], ["--seed", "69", "--cases", "500"], "fuzz.json"),

@@ -14,6 +14,13 @@ ln(2-D / block) is fitted for the recurrence, the slip per event averaged over t
 slip (surface-breaking faults only). A 2-D run whose system-size events did not settle into a period is used
 through its mean interval after the spin-up where it has four or more, and left out otherwise (said below).
 
+**What limits the range** (``limits`` in the held-out file): each 2-D run either interleaves events that do not
+break the zone with its system-size events or does not (:func:`ladder_regimes.interleaves`). Per quantity: the
+residual of ln(2-D / block) in each kind; the residual sd of a fit within each kind; the held-out coverage and
+mean half-width the one slider would reach if it were told each fault's kind (the best any range built on the
+block and these groups can do here); and how often a logistic regression on the groups, fitted on the
+calibration faults, names the kind of a held-out fault.
+
 Writes ``data/ladder_calibration.json`` (what faultslip declares) and ``benchmarks/results/ladder_held_out.json``
 (each held-out fault, its 2-D answer, the range and whether it holds; the budget's estimates against the CPU used).
 """
@@ -33,6 +40,7 @@ sys.path.insert(0, str(ROOT))
 from faultslip import __version__  # noqa: E402
 from faultslip.fault import ladder  # noqa: E402
 from faultslip.models.fault_2d.calibration import Design  # noqa: E402
+from ladder_regimes import PARTIAL_SHARE, interleaves  # noqa: E402
 from provenance import stamp  # noqa: E402
 
 OLD = ROOT / "benchmarks" / "results" / "fault_2d_designs.json"
@@ -59,7 +67,7 @@ def prepared(row: dict, elements_per_process_zone: float = 3.0) -> dict | None:
     fault = design.two_d(elements_per_process_zone).fault.description()
     block, group = ladder.block_answer(fault)
     return {"name": row["design"]["name"], "group": group, "block": block, "two_d": answer,
-            "surface_breaking": group["burial"] == 0.0}
+            "surface_breaking": group["burial"] == 0.0, "interleaves": interleaves(row)}
 
 
 def targets(items, quantity):
@@ -69,6 +77,65 @@ def targets(items, quantity):
     chosen = [item for item in items if quantity == "mean_slip" or item["surface_breaking"]]
     return [(item, math.log(item["two_d"][key] / item["block"]["slip"])) for item in chosen
             if math.isfinite(item["two_d"][key]) and item["two_d"][key] > 0]
+
+
+def _logistic(x: np.ndarray, labels: np.ndarray, penalty: float = 1.0) -> np.ndarray:
+    """Coefficients of an L2-penalised logistic regression (the intercept unpenalised) on standardised columns."""
+    from scipy import optimize
+
+    def loss(beta):
+        z = x @ beta
+        return float(np.sum(np.logaddexp(0.0, z) - labels * z) + 0.5 * penalty * beta[1:] @ beta[1:])
+
+    def gradient(beta):
+        g = x.T @ (1.0 / (1.0 + np.exp(-(x @ beta))) - labels)
+        g[1:] += penalty * beta[1:]
+        return g
+
+    return optimize.minimize(loss, np.zeros(x.shape[1]), jac=gradient, method="BFGS").x
+
+
+def limits(train: list[dict], test: list[dict], table: dict) -> dict:
+    """What the two kinds of 2-D sequence do to the one slider's range (module docstring)."""
+    out = {"partial_share": PARTIAL_SHARE, "calibration_interleaving": sum(i["interleaves"] for i in train),
+           "calibration_faults": len(train), "held_out_interleaving": sum(i["interleaves"] for i in test),
+           "held_out_faults": len(test)}
+    for quantity in ("recurrence", "mean_slip"):
+        pairs = targets(train, quantity)
+        model = table[quantity]
+        residual = {kind: [y - float(ladder.features(i["group"]) @ np.asarray(model["coefficients"]))
+                           for i, y in pairs if i["interleaves"] == kind] for kind in (False, True)}
+        by_kind = {kind: ladder.fit([i["group"] for i, _ in pairs if i["interleaves"] == kind],
+                                    np.array([y for i, y in pairs if i["interleaves"] == kind])) for kind in (False, True)}
+        covered, widths = [], []
+        for item, _ in targets(test, quantity):
+            if ladder.outside_box(item["group"], table):
+                continue
+            truth = item["two_d"]["recurrence" if quantity == "recurrence" else quantity]
+            raw = item["block"]["recurrence" if quantity == "recurrence" else "slip"]
+            band = ladder.predict(quantity, raw, item["group"], {quantity: by_kind[item["interleaves"]]})
+            covered.append(band["low"] <= truth <= band["high"])
+            widths.append(band["half_width"])
+        out[quantity] = {
+            "mean_residual_single": float(np.mean(residual[False])), "mean_residual_interleaving": float(np.mean(residual[True])),
+            "residual_sd_all": model["residual_sd"],
+            "residual_sd_single": by_kind[False]["residual_sd"], "residual_sd_interleaving": by_kind[True]["residual_sd"],
+            "told_kind_coverage": float(np.mean(covered)), "told_kind_mean_half_width": float(np.mean(widths)),
+            "told_kind_held_out": len(widths)}
+    x = np.array([ladder.features(i["group"]) for i in train])
+    mean, scale = x[:, 1:].mean(axis=0), x[:, 1:].std(axis=0)
+
+    def design(items):
+        rows = np.array([ladder.features(i["group"]) for i in items])
+        return np.column_stack([np.ones(len(items)), (rows[:, 1:] - mean) / scale])
+
+    labels = np.array([i["interleaves"] for i in train], float)
+    beta = _logistic(design(train), labels)
+    guessed = (design(test) @ beta) > 0.0
+    truth = np.array([i["interleaves"] for i in test])
+    out["kind_named_from_groups"] = {"held_out": int(truth.size), "right": int(np.sum(guessed == truth)),
+                                     "always_the_commoner": int(max(truth.sum(), truth.size - truth.sum()))}
+    return out
 
 
 def main():
@@ -118,6 +185,10 @@ def main():
                    "median_bias_uncorrected": table[q]["median_bias_uncorrected"],
                    "median_bias_corrected": table[q]["median_bias_corrected"]} for q in ladder.QUANTITIES}
     table["held_out"] = summary
+    limit = limits(train, test, table)
+    table["limits"] = {key: limit[key] for key in ("partial_share", "calibration_interleaving", "calibration_faults")}
+    for quantity in ("recurrence", "mean_slip"):
+        table["limits"][quantity] = {key: limit[quantity][key] for key in ("mean_residual_single", "mean_residual_interleaving")}
     runs = [row for row in new + old if "cpu_time" in row]
     ratios = [row["estimated_seconds"] / row["cpu_time"] for row in runs if row["cpu_time"] > 0]
     budget = {"runs": len(ratios), "within_2x": int(sum(0.5 <= r <= 2 for r in ratios)),
@@ -127,13 +198,23 @@ def main():
                         "estimated_seconds": row["estimated_seconds"], "steps": row["steps"],
                         "estimated_steps": row.get("estimated_steps")} for row in runs]}
     OUT.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
-    HELD.write_text(json.dumps({**stamp(), "summary": summary, "rows": rows, "budget": budget,
+    HELD.write_text(json.dumps({**stamp(), "summary": summary, "rows": rows, "budget": budget, "limits": limit,
                                 "left_out_unsettled": skipped}, indent=1) + "\n", encoding="utf-8")
     for quantity, line in summary.items():
         print(f"{quantity}: residual sd {table[quantity]['residual_sd']:.3f} over {table[quantity]['faults']} faults; "
               f"held out {line['holds']} of {line['held_out']} within the 95 % range "
               f"({line['coverage']:.3f}), mean half-width {line['mean_half_width']:.3f}; median bias "
               f"{line['median_bias_uncorrected']:+.3f} uncorrected, {line['median_bias_corrected']:+.3f} corrected")
+    for quantity in ("recurrence", "mean_slip"):
+        line = limit[quantity]
+        print(f"{quantity}: residual {line['mean_residual_single']:+.3f} where every event breaks the zone, "
+              f"{line['mean_residual_interleaving']:+.3f} where partial events interleave; sd {line['residual_sd_all']:.3f} "
+              f"overall, {line['residual_sd_single']:.3f} and {line['residual_sd_interleaving']:.3f} within each kind; "
+              f"told the kind, held out {line['told_kind_coverage']:.3f} covered at mean half-width "
+              f"{line['told_kind_mean_half_width']:.3f}")
+    named = limit["kind_named_from_groups"]
+    print(f"the kind named from the groups on {named['right']} of {named['held_out']} held-out faults "
+          f"(always the commoner: {named['always_the_commoner']})")
     print(f"outside the box: {sum(bool(r['outside']) for r in rows)} held-out faults; unsettled left out: {skipped}")
     print(f"budget: estimate / CPU from {budget['ratio_min']:.2f} to {budget['ratio_max']:.2f} (median "
           f"{budget['ratio_median']:.2f}), {budget['within_2x']} of {budget['runs']} within 2x")

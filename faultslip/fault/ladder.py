@@ -348,4 +348,12 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
                 f"derived from the fault's profile, corrected by {table['provenance'].get('calibration_faults', '?')} "
                 "2-D faults (benchmarks/ladder_calibration.py); the range is the correction's prediction interval, "
                 "tested on faults held out of it")
+    limits = table.get("limits")
+    if limits:  # why the range is as wide as it is (docs/ladder.md, "What limits the range")
+        longer = math.exp(limits["recurrence"]["mean_residual_interleaving"] - limits["recurrence"]["mean_residual_single"])
+        report.note(f"the range is wide because the 2-D fault's sequences are of two kinds that the block cannot tell "
+                    f"apart: on {limits['calibration_interleaving']} of {limits['calibration_faults']} calibration "
+                    "faults it interleaves smaller events that do not break the zone, and there its system-size "
+                    f"recurrence is {100 * (longer - 1):.0f} % longer than where every event breaks it. For a "
+                    "narrower answer run the 2-D fault (--model fault_2d)")
     return report

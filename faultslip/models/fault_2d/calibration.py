@@ -115,7 +115,14 @@ def run_design(design: Design, cycles: int = 8, elements_per_process_zone: float
     sequence = classify(np.diff(starts[system]), 0.01) if system.size > 1 else classify(np.empty(0), 0.01)
     window = system[sequence.first_event:]
     closing = window[1:] if window.size > 1 else window
-    return {"design": asdict(design), "critical_slip": design.critical_slip, "elements": int(scene.fault.a.size),
+    # the events that are not system-size: where they start (down dip, over W from the zone's top) and how much of
+    # the zone they break (slip above a tenth of the largest event's there)
+    partial = np.setdiff1d(np.arange(starts.size), system)
+    top = design.cap * design.seismogenic_width
+    broken = (slip[partial][:, weakening] > 0.1 * slip[:, weakening].max()).mean(axis=1) if partial.size else []
+    return {"partial_hypocentres": ((run.events["hypocentre_depth"][partial] - top) / design.seismogenic_width).tolist(),
+            "partial_broken": list(map(float, broken)),
+            "design": asdict(design), "critical_slip": design.critical_slip, "elements": int(scene.fault.a.size),
             "element_size": scene.fault.element_size, "duration": scene.duration, "sequence": sequence.kind,
             "period": sequence.period, "events": int(starts.size), "system_events": int(system.size),
             "recurrence_2d": float(sequence.mean_interval), "spread_2d": float(sequence.spread),
