@@ -412,9 +412,10 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
         off = rung["recurrence"] / truth["recurrence"] - 1
         report.add(f"{rung['name']}_off_recurrence", off, label=f"{rung['name']}: off the 2-D recurrence (relative)")
         band = rung["recurrence_range"]
-        report.add(f"{rung['name']}_range_holds", band is not None and band[0] <= truth["recurrence"] <= band[1]
-                   and (rung["slip_range"] is None or rung["slip_range"][0] <= truth["slip"] <= rung["slip_range"][1]),
-                   label=f"{rung['name']}: its ranges hold the 2-D answer")
+        holds = None if band is None else bool(band[0] <= truth["recurrence"] <= band[1] and (
+            rung["slip_range"] is None or rung["slip_range"][0] <= truth["slip"] <= rung["slip_range"][1]))
+        report.add(f"{rung['name']}_range_holds", holds,
+                   label=f"{rung['name']}: its ranges hold the 2-D answer (null: no range declared)")
     if dipping:
         report.note(f"the fault dips {loaded.fault.dip:g} degrees: the 2-D rung is plane strain (SEAS BP3's "
                     "mechanics), and the antiplane rung's declared error adds its model error on dip-slip faults "

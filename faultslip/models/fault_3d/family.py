@@ -431,8 +431,8 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
         report.add(f"{rung['name']}_off_recurrence", rung["recurrence"] / truth["recurrence"] - 1,
                    label=f"{rung['name']}: off the 3-D recurrence (relative)")
         band = rung["recurrence_range"]
-        report.add(f"{rung['name']}_range_holds", band is not None and band[0] <= truth["recurrence"] <= band[1],
-                   label=f"{rung['name']}: its recurrence range holds the 3-D answer")
+        report.add(f"{rung['name']}_range_holds", None if band is None else bool(band[0] <= truth["recurrence"] <= band[1]),
+                   label=f"{rung['name']}: its recurrence range holds the 3-D answer (null: no range declared)")
     report.add("aspect", groups["aspect_measured"], label="the weakening patch's length over its width (L / W)")
     report.add("burial", groups["burial"], label="the patch's top over its width")
     report.add("width_over_nucleation", groups["width_over_nucleation"], label="the patch's width over h*")
