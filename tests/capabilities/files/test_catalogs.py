@@ -225,6 +225,18 @@ def test_a_gutenberg_richter_catalogue_passes_and_keeps_its_b():
     assert abs(found["completeness"] - 2.0) < 0.2 and abs(found["b"] - 1.0) < 4 * 1.0 / math.sqrt(found["count"])
 
 
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(0.0, 5.0), min_size=1, max_size=200), st.floats(0.05, 3.0))
+def test_the_scans_ks_distance_is_scipys_statistic(excess, scale):
+    """The M_c scan's D (exponential_ks_distance, without the p-value) is scipy.stats.kstest's statistic."""
+    from faultslip.fault.gutenberg_richter import exponential_ks_distance
+
+    values = np.sort(np.asarray(excess))
+    expected = stats.kstest(values, "expon", args=(0.0, scale)).statistic
+    assert exponential_ks_distance(values, scale) == pytest.approx(expected, rel=1e-12, abs=1e-14)
+    assert 0.0 < exponential_ks_distance(values, scale) <= 1.0
+
+
 def test_a_catalogue_with_a_bump_of_system_size_events_is_not_gutenberg_richter():
     """GR below, and a fifth of the events a narrow bump near the top (a chain's system-size events): ruled out,
     and no single b stands for it."""
