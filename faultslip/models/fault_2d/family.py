@@ -392,14 +392,42 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     started = time.process_time()
     full = simulate_fault(loaded, allow_large=allow_large)
     rungs.append(rung_of("fault_2d", full, time.process_time() - started))
-    report = Report(f"faultslip model error: the ladder on {loaded.name}")
+    report = ladder_report(f"faultslip model error: the ladder on {loaded.name}", rungs, tolerance, "2-D",
+                           "surface slip per event")
+    if dipping:
+        report.note(f"the fault dips {loaded.fault.dip:g} degrees: the 2-D rung is plane strain (SEAS BP3's "
+                    "mechanics), and the antiplane rung's declared error adds its model error on dip-slip faults "
+                    "(benchmarks/dip_model_error.py); the one slider's range is calibrated against the antiplane fault")
+    report.note("a fault finite along strike is a 3-D scene (family fault_3d, docs/fault_3d.md): model-error on it "
+                "adds the 3-D rung, and the 2-D fault's declared model error against it")
+    return Result("fault_2d", report, figure=lambda: ladder_figure(rungs, report.title))
+
+
+def ladder_report(title: str, rungs: list[dict], tolerance: float | None, above: str, slip_label: str) -> Report:
+    """Every rung's answer, declared range, error and cost, and how each lower rung stands against the top one
+    (the 2-D and the 3-D ladders' ``model-error``).
+
+    Parameters
+    ----------
+    title : str
+        The report's title.
+    rungs : list of dict
+        :func:`rung_of` rows, cheapest first; the last is the answer the others are measured against.
+    tolerance : float, optional
+        Say which rungs' declared errors meet it.
+    above : str
+        The top rung's name in labels ("2-D", "3-D").
+    slip_label : str
+        What the rungs' slip is ("surface slip per event", "slip per event").
+    """
+    report = Report(title)
     for rung in rungs:
         name = rung["name"]
         report.add(f"{name}_recurrence", rung["recurrence"], "s", also=("yr",), label=f"{name}: recurrence")
         if rung["recurrence_range"] is not None:
             report.add(f"{name}_recurrence_range", list(rung["recurrence_range"]), "s", also=("yr",),
                        label=f"{name}: its declared range")
-        report.add(f"{name}_slip_per_event", rung["slip"], "m", label=f"{name}: surface slip per event")
+        report.add(f"{name}_slip_per_event", rung["slip"], "m", label=f"{name}: {slip_label}")
         if rung["slip_range"] is not None:
             report.add(f"{name}_slip_per_event_range", list(rung["slip_range"]), "m", label=f"{name}: its declared range")
         report.add(f"{name}_declared_error", rung["error"], label=f"{name}: declared error (relative; null: none)")
@@ -409,20 +437,14 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
                        label=f"{name}: declared error within {tolerance:g}")
     truth = rungs[-1]
     for rung in rungs[:-1]:
-        off = rung["recurrence"] / truth["recurrence"] - 1
-        report.add(f"{rung['name']}_off_recurrence", off, label=f"{rung['name']}: off the 2-D recurrence (relative)")
-        band = rung["recurrence_range"]
+        report.add(f"{rung['name']}_off_recurrence", rung["recurrence"] / truth["recurrence"] - 1,
+                   label=f"{rung['name']}: off the {above} recurrence (relative)")
+        band, slip_band = rung["recurrence_range"], rung["slip_range"]
         holds = None if band is None else bool(band[0] <= truth["recurrence"] <= band[1] and (
-            rung["slip_range"] is None or rung["slip_range"][0] <= truth["slip"] <= rung["slip_range"][1]))
+            slip_band is None or slip_band[0] <= truth["slip"] <= slip_band[1]))
         report.add(f"{rung['name']}_range_holds", holds,
-                   label=f"{rung['name']}: its ranges hold the 2-D answer (null: no range declared)")
-    if dipping:
-        report.note(f"the fault dips {loaded.fault.dip:g} degrees: the 2-D rung is plane strain (SEAS BP3's "
-                    "mechanics), and the antiplane rung's declared error adds its model error on dip-slip faults "
-                    "(benchmarks/dip_model_error.py); the one slider's range is calibrated against the antiplane fault")
-    report.note("a fault finite along strike is a 3-D scene (family fault_3d, docs/fault_3d.md): model-error on it "
-                "adds the 3-D rung, and the 2-D fault's declared model error against it")
-    return Result("fault_2d", report, figure=lambda: ladder_figure(rungs, report.title))
+                   label=f"{rung['name']}: its ranges hold the {above} answer (null: no range declared)")
+    return report
 
 
 def with_model_error(rung: dict, model_error: float) -> dict:

@@ -410,29 +410,8 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     rungs.append({"name": "fault_3d", "cpu_time": time.process_time() - started, "recurrence": recurrence,
                   "recurrence_range": truth_range(recurrence, error), "slip": slip,
                   "slip_range": truth_range(slip, error), "error": error})
-    report = Report(f"faultslip model error: the ladder on {loaded.name}")
-    for rung in rungs:
-        name = rung["name"]
-        report.add(f"{name}_recurrence", rung["recurrence"], "s", also=("yr",), label=f"{name}: recurrence")
-        if rung["recurrence_range"] is not None:
-            report.add(f"{name}_recurrence_range", list(rung["recurrence_range"]), "s", also=("yr",),
-                       label=f"{name}: its declared range")
-        report.add(f"{name}_slip_per_event", rung["slip"], "m", label=f"{name}: slip per event")
-        if rung["slip_range"] is not None:
-            report.add(f"{name}_slip_per_event_range", list(rung["slip_range"]), "m",
-                       label=f"{name}: its declared range")
-        report.add(f"{name}_declared_error", rung["error"], label=f"{name}: declared error (relative; null: none)")
-        report.add(f"{name}_cpu_time", rung["cpu_time"], "s", label=f"{name}: CPU time")
-        if tolerance is not None:
-            report.add(f"{name}_meets_tolerance", rung["error"] is not None and rung["error"] <= tolerance,
-                       label=f"{name}: declared error within {tolerance:g}")
-    truth = rungs[-1]
-    for rung in rungs[:-1]:
-        report.add(f"{rung['name']}_off_recurrence", rung["recurrence"] / truth["recurrence"] - 1,
-                   label=f"{rung['name']}: off the 3-D recurrence (relative)")
-        band = rung["recurrence_range"]
-        report.add(f"{rung['name']}_range_holds", None if band is None else bool(band[0] <= truth["recurrence"] <= band[1]),
-                   label=f"{rung['name']}: its recurrence range holds the 3-D answer (null: no range declared)")
+    report = fault_2d_family.ladder_report(f"faultslip model error: the ladder on {loaded.name}", rungs, tolerance,
+                                           "3-D", "slip per event")
     report.add("aspect", groups["aspect_measured"], label="the weakening patch's length over its width (L / W)")
     report.add("burial", groups["burial"], label="the patch's top over its width")
     report.add("width_over_nucleation", groups["width_over_nucleation"], label="the patch's width over h*")

@@ -207,3 +207,22 @@ def test_the_one_sliders_report_says_why_its_range_is_wide():
     note = next(note for note in result.notes if "two kinds" in note)
     assert f"on {limits['calibration_interleaving']} of {limits['calibration_faults']} calibration faults" in note
     assert "--model fault_2d" in note
+
+
+def test_a_rung_without_a_range_neither_holds_nor_misses_the_answer_above():
+    """model-error's comparison (the 2-D and 3-D ladders share it): a range holds where it brackets the top
+    rung's recurrence and slip, misses where it brackets either not, and is null where no range is declared."""
+    from faultslip.models.fault_2d.family import ladder_report
+
+    def rung(name, recurrence, slip, band=None, slip_band=None):
+        return {"name": name, "recurrence": recurrence, "slip": slip, "recurrence_range": band, "slip_range": slip_band,
+                "error": None if band is None else 0.2, "cpu_time": 1.0}
+
+    top = rung("fault_3d", 100.0, 2.0, (99.0, 101.0), (1.9, 2.1))
+    rungs = [rung("none", 90.0, 1.8), rung("holds", 95.0, 1.9, (80.0, 110.0), (1.5, 2.5)),
+             rung("slip_misses", 95.0, 1.0, (80.0, 110.0), (0.8, 1.2)), rung("misses", 50.0, 1.0, (40.0, 60.0)), top]
+    values = ladder_report("t", rungs, 0.25, "3-D", "slip per event")
+    assert values["none_range_holds"] is None
+    assert values["holds_range_holds"] is True
+    assert values["slip_misses_range_holds"] is False and values["misses_range_holds"] is False
+    assert values["none_meets_tolerance"] is False and values["holds_meets_tolerance"] is True
