@@ -93,6 +93,22 @@ def _key(row: dict) -> tuple:
     return tuple(round(float(row[name]), 6) for name in ("aspect", "height_m", "top_m", "element_size_m", "years"))
 
 
+def two_d_side(scene, top: float, height: float) -> dict:
+    """The 2-D fault of the scene's middle column, over the same duration: its settled answer."""
+    run_2d = run_cycles(scene.two_d(), scene.duration, rtol=scene.rtol, stations=[top + height / 2],
+                        profile_interval=YEAR, coseismic_interval=0.1)
+    two = summarise_2d(run_2d)
+    return {"recurrence_yr": two.recurrence_interval / YEAR, "mean_slip_m": two.mean_slip_per_event,
+            "sequence": two.sequence.kind, "events": two.events}
+
+
+def with_model_error(row: dict) -> dict:
+    """A cell's model error: the larger relative difference of the 2-D answer from the 3-D one."""
+    errors = [abs(row["fault_2d"]["recurrence_yr"] / row["fault_3d"]["recurrence_yr"] - 1),
+              abs(row["fault_2d"]["mean_slip_m"] / row["fault_3d"]["mean_slip_m"] - 1)]
+    return {**row, "model_error": max(errors) if all(math.isfinite(e) for e in errors) else None}
+
+
 def cell(ratio: float, height: float, top: float, element_size: float, years: float) -> dict:
     scene = parse_fault_3d_scene(scene_text(ratio, height, top, element_size, years), "cell", allow_large=True)
     run = scene.run()
@@ -103,20 +119,13 @@ def cell(ratio: float, height: float, top: float, element_size: float, years: fl
     last = three["last"]
     middle_slip = (float(fault.grid(np.asarray(run.events["slip"][last]))[middle][weakening].mean())
                    if last is not None else math.nan)
-    fault_2d = scene.two_d()
-    run_2d = run_cycles(fault_2d, scene.duration, rtol=scene.rtol, stations=[top + height / 2],
-                        profile_interval=YEAR, coseismic_interval=0.1)
-    two = summarise_2d(run_2d)
-    row = {"aspect": ratio, "height_m": height, "top_m": top, "element_size_m": element_size, "years": years,
-           **groups_of(scene.fault),
-           "fault_3d": {"recurrence_yr": three["sequence"].mean_interval / YEAR, "mean_slip_m": three["mean_slip"],
-                        "middle_column_slip_m": middle_slip,
-                        "sequence": three["sequence"].kind, "events": run.event_count, "steps": run.steps},
-           "fault_2d": {"recurrence_yr": two.recurrence_interval / YEAR, "mean_slip_m": two.mean_slip_per_event,
-                        "sequence": two.sequence.kind, "events": two.events}}
-    errors = [abs(row["fault_2d"]["recurrence_yr"] / row["fault_3d"]["recurrence_yr"] - 1),
-              abs(row["fault_2d"]["mean_slip_m"] / row["fault_3d"]["mean_slip_m"] - 1)]
-    row["model_error"] = max(errors) if all(math.isfinite(e) for e in errors) else None
+    row = with_model_error({
+        "aspect": ratio, "height_m": height, "top_m": top, "element_size_m": element_size, "years": years,
+        **groups_of(scene.fault),
+        "fault_3d": {"recurrence_yr": three["sequence"].mean_interval / YEAR, "mean_slip_m": three["mean_slip"],
+                     "middle_column_slip_m": middle_slip,
+                     "sequence": three["sequence"].kind, "events": run.event_count, "steps": run.steps},
+        "fault_2d": two_d_side(scene, top, height)})
     print(json.dumps(row), flush=True)
     return row
 
@@ -128,7 +137,8 @@ def main(argv=None) -> None:
     parser.add_argument("--held-out", type=int, default=6)
     parser.add_argument("--quick", action="store_true", help="L / W = 2 and 8 only, one held-out fault")
     parser.add_argument("--out", default=str(HERE / "results" / "fault_3d_model_error.json"))
-    parser.add_argument("--reuse", help="an earlier results file: its cells with the same inputs are not run again")
+    parser.add_argument("--reuse", help="an earlier results file: its cells with the same inputs are not run again in "
+                        "3-D (their 2-D side, seconds, is)")
     args = parser.parse_args(argv)
     earlier = {}
     if args.reuse and Path(args.reuse).is_file():
@@ -138,10 +148,11 @@ def main(argv=None) -> None:
     def measured(ratio, height, top):
         row = earlier.get(_key({"aspect": ratio, "height_m": height, "top_m": top,
                                 "element_size_m": args.element_size, "years": args.years}))
-        if row is not None:  # the run is reused; its groups are read from its scene again (no run)
+        if row is not None:  # the 3-D run is reused; its groups and its 2-D side (seconds) are computed again
             scene = parse_fault_3d_scene(scene_text(ratio, height, top, args.element_size, args.years), "cell",
                                          allow_large=True)
-            return {**{k: v for k, v in row.items() if k not in ("declared", "covered")}, **groups_of(scene.fault)}
+            kept = {k: v for k, v in row.items() if k not in ("declared", "covered", "model_error")}
+            return with_model_error({**kept, **groups_of(scene.fault), "fault_2d": two_d_side(scene, top, height)})
         return cell(ratio, height, top, args.element_size, args.years)
     cells = CALIBRATION if not args.quick else [c for c in CALIBRATION if c[0] in (2.0, 8.0) and c[1:] == (600.0, 200.0)]
     rows = [measured(*c) for c in cells]

@@ -3,8 +3,9 @@
 A steady-cycle answer (recurrence, slip per event) comes only from a sequence shown to have
 settled: the last ``compare`` intervals between system-size events must agree to ``tolerance``;
 otherwise the answer carries the spread as its error and says the sequence has not settled.
-System-size events are those whose surface slip exceeds half the largest (a run may also hold
-partial ruptures at depth, which are counted but not used for the recurrence).
+System-size events are those whose slip, averaged over the velocity-weakening width, is at least half the
+largest event's (:func:`system_size`; a run may also hold partial ruptures at depth, which are counted but not used
+for the recurrence).
 """
 
 from __future__ import annotations
@@ -95,13 +96,39 @@ class Fault2DSummary:
     intervals: tuple = ()  # s, every interval between system-size events, the spin-up's included
 
 
+#: A system-size event slips at least this share of the largest event's slip over the velocity-weakening width.
+SYSTEM_SHARE = 0.5
+
+
+def system_size(slip: np.ndarray, weakening: np.ndarray) -> np.ndarray:
+    """The indices of the system-size events among a run's: their slip averaged over the velocity-weakening
+    elements (``weakening``, a < b; the whole fault where none weakens) is at least :data:`SYSTEM_SHARE` of the
+    largest event's.
+
+    Not by the surface's slip: on a fault buried under a velocity-strengthening cap the surface barely slips in an
+    earthquake, and the events that move it most need not be the ones that break the zone.
+
+    Parameters
+    ----------
+    slip : array (events, elements)
+        Each event's slip on each element (m).
+    weakening : array of bool (elements,)
+    """
+    slip = np.asarray(slip, float)
+    if slip.shape[0] == 0:
+        return np.empty(0, int)
+    zone = np.asarray(weakening, bool) if np.any(weakening) else np.ones(slip.shape[1], bool)
+    mean_slip = slip[:, zone].mean(axis=1)
+    return np.flatnonzero(mean_slip >= SYSTEM_SHARE * mean_slip.max())
+
+
 def summarise(run: Fault2DRun, tolerance: float = 1e-3) -> Fault2DSummary:
     fault = run.fault
     starts = run.events["start"]
     slip = run.events["slip"]
     count = starts.size
     surface = slip[:, 0] if count else np.empty(0)
-    system = np.flatnonzero(surface >= 0.5 * surface.max()) if count else np.empty(0, int)
+    system = system_size(slip, fault.b > fault.a) if count else np.empty(0, int)
     intervals = np.diff(starts[system]) if system.size > 1 else np.empty(0)
     sequence = classify(intervals, tolerance)
     # the measured window: the system-size events from the window's first to the last (inclusive)

@@ -12,7 +12,7 @@ import numpy as np
 
 from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
 from faultslip.friction.rate_state import RateStateLaw
-from faultslip.models.fault_2d.analysis import classify
+from faultslip.models.fault_2d.analysis import classify, system_size
 from faultslip.models.fault_2d.scene import Fault2DScene, _constant, _Table, build_fault
 
 # --- the designed set (issue 42, item 3) -----------------------------------------------------------------
@@ -111,7 +111,7 @@ def run_design(design: Design, cycles: int = 8, elements_per_process_zone: float
     weakening = scene.fault.b > scene.fault.a
     starts, slip = run.events["start"], run.events["slip"]
     mean_slip = slip[:, weakening].mean(axis=1) if starts.size else np.empty(0)
-    system = np.flatnonzero(mean_slip >= 0.5 * mean_slip.max()) if starts.size else np.empty(0, int)
+    system = system_size(slip, weakening)
     sequence = classify(np.diff(starts[system]), 0.01) if system.size > 1 else classify(np.empty(0), 0.01)
     window = system[sequence.first_event:]
     closing = window[1:] if window.size > 1 else window

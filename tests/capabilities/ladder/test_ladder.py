@@ -226,3 +226,45 @@ def test_a_rung_without_a_range_neither_holds_nor_misses_the_answer_above():
     assert values["holds_range_holds"] is True
     assert values["slip_misses_range_holds"] is False and values["misses_range_holds"] is False
     assert values["none_meets_tolerance"] is False and values["holds_meets_tolerance"] is True
+
+
+def test_system_size_events_are_the_ones_that_break_the_zone_not_the_surface():
+    """On a buried fault the surface, in the strengthening cap, can slip most in the small events: the events that
+    break the velocity-weakening zone are the system-size ones."""
+    from faultslip.models.fault_2d.analysis import system_size
+
+    weakening = np.array([False, False, True, True, True, True])
+    slip = np.array([[0.02, 0.05, 2.0, 2.2, 2.1, 1.8],     # breaks the zone, the cap barely moves
+                     [0.30, 0.40, 0.1, 0.0, 0.0, 0.0],     # a small shallow event: the surface's largest slip
+                     [0.02, 0.04, 1.9, 2.0, 2.1, 1.9],
+                     [0.00, 0.00, 0.0, 0.0, 0.4, 0.9]])    # a partial event at the base
+    assert system_size(slip, weakening).tolist() == [0, 2]
+    assert system_size(slip[:0], weakening).size == 0
+    assert system_size(slip, np.zeros(6, bool)).tolist() == [0, 2]  # nothing weakens: the whole fault's mean
+
+
+def test_the_2d_rung_and_the_one_slider_agree_on_a_buried_fault():
+    """A buried held-out fault (benchmarks/results/ladder_designs.json, 'held out 29': a cap of 0.22 W, partial
+    events interleaved): the 2-D rung reports the recurrence and mean slip of the events that break the zone, as the
+    calibration counted them (its surface slips most in partial events, which the rung once took for the system-size
+    ones: twice the recurrence and 1e-4 m of slip), and the one slider's ranges for the same fault hold them."""
+    from faultslip.fault.ladder import one_slider_report
+    from faultslip.models.fault_2d.calibration import PLATE_RATE, Design, geometric_stiffness
+    from faultslip.models.fault_2d.family import simulate_fault
+    from faultslip.dynamics.rate_state.slider import fault_cycles
+
+    rows = json.loads((ROOT / "benchmarks" / "results" / "ladder_designs.json").read_text())["rows"]
+    row = next(row for row in rows if row["design"]["name"] == "held out 29")
+    design = Design(**row["design"])
+    block = fault_cycles(design.slider(geometric_stiffness(design.seismogenic_width)), PLATE_RATE, cycles=3)
+    scene = design.two_d(3.0, duration=10 * block.recurrence)
+    result = simulate_fault(scene, settle_tolerance=0.01)
+    recurrence = result["recurrence_interval"].to("s").magnitude
+    mean_slip = result["mean_slip_per_event"].to("m").magnitude
+    assert recurrence == pytest.approx(row["recurrence_2d"], rel=1e-3)
+    assert mean_slip == pytest.approx(row["mean_slip_2d"], rel=1e-3)
+    report = one_slider_report(scene.fault.description(), "test")
+    low, high = report["recurrence_range"]
+    assert low <= recurrence <= high
+    low, high = report["mean_slip_per_event_range"]
+    assert low <= mean_slip <= high
