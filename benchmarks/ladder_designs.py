@@ -75,6 +75,9 @@ def main(argv=None):
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--calibration", type=int, default=36)
     parser.add_argument("--held-out", type=int, default=34)
+    parser.add_argument("--remeasure-above", type=int, default=None, metavar="ELEMENTS",
+                        help="run again the designs of more than ELEMENTS elements already done, to measure their CPU "
+                             "time on this machine (their answers, deterministic, must not change)")
     args = parser.parse_args(argv)
     calibration, held_out = draw(args.calibration, 68, "calibration"), draw(args.held_out, 6800, "held out")
     done = {}
@@ -82,13 +85,18 @@ def main(argv=None):
         done = {row["design"]["name"]: row for row in json.loads(RAW.read_text())["rows"]}
     # interleaved, cheapest first, so that both sets grow together
     designs = [d for pair in zip(calibration, held_out) for d in pair] + calibration[len(held_out):] + held_out[len(calibration):]
-    todo = [d for d in designs if d.name not in done or done[d.name]["design"] != asdict(d)]
+    todo = [d for d in designs if d.name not in done or done[d.name]["design"] != asdict(d)
+            or (args.remeasure_above is not None and done[d.name]["elements"] > args.remeasure_above)]
     todo.sort(key=lambda d: d.total_width(1.0) * d.width_over_nucleation)
     pool = worker_pool(min(args.workers, max(len(todo), 1)))
     try:
         futures = {pool.submit(_run, design): design for design in todo}
         for future in as_completed(futures):
             row = future.result()
+            earlier = done.get(row["design"]["name"])
+            if earlier is not None and earlier["design"] == row["design"] and earlier["steps"] != row["steps"]:
+                raise SystemExit(f"{row['design']['name']}: {row['steps']} steps where the earlier run took "
+                                 f"{earlier['steps']}: the run is not deterministic")
             done[row["design"]["name"]] = row
             print(f"{row['design']['name']}: W/h* {row['design']['width_over_nucleation']:.2f}, {row['sequence']} "
                   f"(p {row['period']}), T {row['recurrence_2d'] / 3.15576e7:.1f} yr, {row['elements']} elements, "
