@@ -574,8 +574,8 @@ def ladder_table() -> str | None:
     budget = result["budget"]
     return ("\n".join(rows) + f"\n\n{len(result['rows'])} held-out faults drawn at random over the box "
             f"(`python benchmarks/ladder_designs.py`, then `benchmarks/ladder_calibration.py`), {outside} of them "
-            f"outside it (no range declared). The estimates these runs recorded, made by the older years-based cost model "
-            f"(the event-based model fitted on them is measured on escalations in docs/ladder.md), against the CPU each used: "
+            f"outside it (no range declared). The estimates these runs recorded when they ran, most by the older years-based "
+            f"cost model (the event-based model now declared is measured on escalations in docs/ladder.md), against the CPU each used: "
             f"{budget['ratio_min']:.2f} to {budget['ratio_max']:.2f}× (median {budget['ratio_median']:.2f}×), "
             f"{budget['within_2x']} of {budget['runs']} runs within 2×. {_machine(result)}")
 
