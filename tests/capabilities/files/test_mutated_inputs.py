@@ -389,7 +389,11 @@ def test_a_2d_study_is_budgeted_cell_by_cell(tmp_path):
 
 
 def test_a_run_estimated_over_the_budget_is_refused_before_work(tmp_path, cli, monkeypatch):
-    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "0.5")
+    from faultslip.models.fault_2d.scene import read_fault_2d_scene
+
+    # half the scene's own estimate: the refusal, not the cost constants of the day, is what is tested
+    estimate = read_fault_2d_scene(CONFIGS / "fault_2d_small.toml").estimate().seconds
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", repr(estimate / 2))
     result = cli("simulate", CONFIGS / "fault_2d_small.toml", "--output-dir", tmp_path / "out")
     assert_clean_error(result, "--allow-large")
     assert not (tmp_path / "out").exists()

@@ -1036,7 +1036,8 @@ def test_bp1_at_100_m_is_within_its_discretisation_error_of_the_converged_run():
 
 
 def test_a_run_beyond_the_budget_is_refused_before_any_work(tmp_path, cli, monkeypatch):
-    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "60")
+    estimate = read_fault_2d_scene(CONFIGS / "seas_bp1.toml").estimate().seconds
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", repr(estimate / 2))  # the refusal, not the day's cost constants
     refused = cli("simulate", CONFIGS / "seas_bp1.toml", "--output-dir", tmp_path / "bp1", "--json")
     assert refused.code == 2 and "--allow-large" in refused.err and "2-D fault run" in refused.err
     assert not (tmp_path / "bp1").exists()  # nothing was made
