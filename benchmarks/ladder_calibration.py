@@ -95,6 +95,63 @@ def _logistic(x: np.ndarray, labels: np.ndarray, penalty: float = 1.0) -> np.nda
     return optimize.minimize(loss, np.zeros(x.shape[1]), jac=gradient, method="BFGS").x
 
 
+def gaussian_process(x_train: np.ndarray, y_train: np.ndarray, x_test: np.ndarray, restarts: int = 4,
+                     seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Predictive mean and sd (the noise included) of a Gaussian process on standardised columns: a squared-
+    exponential kernel with one length per column plus white noise, its hyperparameters by the largest marginal
+    likelihood over ``restarts`` + 1 starts (Rasmussen & Williams 2006, eqs. 2.25-2.30 and 5.8)."""
+    from scipy import linalg, optimize
+
+    mean, scale = x_train.mean(axis=0), x_train.std(axis=0)
+    scale[scale == 0] = 1.0
+    a, b = (x_train - mean) / scale, (x_test - mean) / scale
+    centre = float(y_train.mean())
+    y = y_train - centre
+    n, dims = a.shape
+    spread = float(y.std())
+
+    def kernel(p, u, v):
+        return math.exp(2 * p[0]) * np.exp(-0.5 * (((u[:, None, :] - v[None, :, :]) / np.exp(p[1:1 + dims])) ** 2).sum(-1))
+
+    def factor(p):
+        return linalg.cho_factor(kernel(p, a, a) + (math.exp(2 * p[-1]) + 1e-10) * np.eye(n), lower=True)
+
+    def negative_log_likelihood(p):
+        try:
+            chol = factor(p)
+        except linalg.LinAlgError:
+            return 1e10
+        return 0.5 * y @ linalg.cho_solve(chol, y) + float(np.log(np.diag(chol[0])).sum())
+
+    rng = np.random.default_rng(seed)
+    starts = [np.r_[math.log(spread), np.zeros(dims), math.log(spread / 2)]]
+    starts += [np.r_[math.log(spread) + rng.normal(0, 0.5), rng.normal(0.5, 1.0, dims),
+                     math.log(spread / 2) + rng.normal(0, 0.5)] for _ in range(restarts)]
+    bounds = ([(math.log(spread) - 4, math.log(spread) + 4)] + [(math.log(0.05), math.log(100.0))] * dims
+              + [(math.log(spread) - 6, math.log(spread) + 2)])
+    best = min((optimize.minimize(negative_log_likelihood, start, method="L-BFGS-B", bounds=bounds) for start in starts),
+               key=lambda result: result.fun).x
+    chol, cross = factor(best), kernel(best, b, a)
+    variance = math.exp(2 * best[0]) + math.exp(2 * best[-1]) - np.einsum("ij,ji->i", cross, linalg.cho_solve(chol, cross.T))
+    return cross @ linalg.cho_solve(chol, y) + centre, np.sqrt(np.maximum(variance, 0.0))
+
+
+def nearest_kind(x_train: np.ndarray, labels: np.ndarray, x_test: np.ndarray) -> tuple[np.ndarray, int]:
+    """The kind of each test row by a majority of its k nearest calibration faults in standardised groups, k (odd,
+    1-15) chosen by leave-one-out over the calibration faults."""
+    mean, scale = x_train.mean(axis=0), x_train.std(axis=0)
+    scale[scale == 0] = 1.0
+    a, b = (x_train - mean) / scale, (x_test - mean) / scale
+
+    def vote(distance, k):
+        return labels[np.argsort(distance, axis=1, kind="stable")[:, :k]].mean(axis=1) > 0.5
+
+    inner = ((a[:, None, :] - a[None, :, :]) ** 2).sum(-1)
+    np.fill_diagonal(inner, np.inf)
+    best = max(range(1, 16, 2), key=lambda k: (np.sum(vote(inner, k) == labels.astype(bool)), -k))
+    return vote(((b[:, None, :] - a[None, :, :]) ** 2).sum(-1), best), best
+
+
 def limits(train: list[dict], test: list[dict], table: dict) -> dict:
     """What the two kinds of 2-D sequence do to the one slider's range (module docstring)."""
     out = {"partial_share": PARTIAL_SHARE, "calibration_interleaving": sum(i["interleaves"] for i in train),
@@ -116,7 +173,25 @@ def limits(train: list[dict], test: list[dict], table: dict) -> dict:
             band = ladder.predict(quantity, raw, item["group"], {quantity: by_kind[item["interleaves"]]})
             covered.append(band["low"] <= truth <= band["high"])
             widths.append(band["half_width"])
+        # a nonlinear fit of the same groups, on all calibration faults and within each kind (told the kind)
+        kept = [(item, y) for item, y in targets(test, quantity) if not ladder.outside_box(item["group"], table)]
+        x_train = np.array([ladder.features(i["group"])[1:] for i, _ in pairs])
+        y_train, kinds = np.array([y for _, y in pairs]), np.array([i["interleaves"] for i, _ in pairs])
+        x_test = np.array([ladder.features(i["group"])[1:] for i, _ in kept])
+        y_test, test_kinds = np.array([y for _, y in kept]), np.array([i["interleaves"] for i, _ in kept])
+        normal = 1.959963984540054  # the 95 % range of a normal predictive distribution
+        centre, sd = gaussian_process(x_train, y_train, x_test)
+        process = {"coverage": float(np.mean(np.abs(y_test - centre) <= normal * sd)),
+                   "mean_half_width": float(np.mean(np.expm1(normal * sd)))}
+        inside, half = [], []
+        for kind in (False, True):
+            centre, sd = gaussian_process(x_train[kinds == kind], y_train[kinds == kind], x_test[test_kinds == kind])
+            inside += list(np.abs(y_test[test_kinds == kind] - centre) <= normal * sd)
+            half += list(np.expm1(normal * sd))
+        process.update(told_kind_coverage=float(np.mean(inside)), told_kind_mean_half_width=float(np.mean(half)),
+                       held_out=len(kept))
         out[quantity] = {
+            "gaussian_process": process,
             "mean_residual_single": float(np.mean(residual[False])), "mean_residual_interleaving": float(np.mean(residual[True])),
             "residual_sd_all": model["residual_sd"],
             "residual_sd_single": by_kind[False]["residual_sd"], "residual_sd_interleaving": by_kind[True]["residual_sd"],
@@ -133,7 +208,11 @@ def limits(train: list[dict], test: list[dict], table: dict) -> dict:
     beta = _logistic(design(train), labels)
     guessed = (design(test) @ beta) > 0.0
     truth = np.array([i["interleaves"] for i in test])
+    rows_train = np.array([ladder.features(i["group"])[1:] for i in train])
+    rows_test = np.array([ladder.features(i["group"])[1:] for i in test])
+    neighbours, k = nearest_kind(rows_train, labels, rows_test)
     out["kind_named_from_groups"] = {"held_out": int(truth.size), "right": int(np.sum(guessed == truth)),
+                                     "nearest_neighbours": k, "right_by_neighbours": int(np.sum(neighbours == truth)),
                                      "always_the_commoner": int(max(truth.sum(), truth.size - truth.sum()))}
     return out
 
@@ -213,7 +292,13 @@ def main():
               f"told the kind, held out {line['told_kind_coverage']:.3f} covered at mean half-width "
               f"{line['told_kind_mean_half_width']:.3f}")
     named = limit["kind_named_from_groups"]
-    print(f"the kind named from the groups on {named['right']} of {named['held_out']} held-out faults "
+    for quantity in ("recurrence", "mean_slip"):
+        line = limit[quantity]["gaussian_process"]
+        print(f"{quantity}: a Gaussian process on the groups covers {line['coverage']:.3f} of {line['held_out']} held "
+              f"out at mean half-width {line['mean_half_width']:.3f}; told the kind, {line['told_kind_coverage']:.3f} "
+              f"at {line['told_kind_mean_half_width']:.3f}")
+    print(f"the kind named from the groups on {named['right']} of {named['held_out']} held-out faults by a logistic "
+          f"regression, {named['right_by_neighbours']} by {named['nearest_neighbours']} nearest neighbours "
           f"(always the commoner: {named['always_the_commoner']})")
     print(f"outside the box: {sum(bool(r['outside']) for r in rows)} held-out faults; unsettled left out: {skipped}")
     print(f"budget: estimate / CPU from {budget['ratio_min']:.2f} to {budget['ratio_max']:.2f} (median "

@@ -268,3 +268,45 @@ def test_the_2d_rung_and_the_one_slider_agree_on_a_buried_fault():
     assert low <= recurrence <= high
     low, high = report["mean_slip_per_event_range"]
     assert low <= mean_slip <= high
+
+
+def _calibration_benchmark():
+    """benchmarks/ladder_calibration.py as a module (its nonlinear fits fill the docs' limits table)."""
+    import importlib.util
+
+    folder = Path(__file__).resolve().parents[3] / "benchmarks"
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
+    spec = importlib.util.spec_from_file_location("ladder_calibration_benchmark", folder / "ladder_calibration.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_gaussian_process_of_the_limits_table_recovers_a_known_function_and_its_noise():
+    """The nonlinear fit that docs/ladder.md sets beside the linear one: on a smooth function of two of three
+    columns with normal noise of sd 0.1, its mean follows the function to well inside the noise, its sd is the
+    noise's (the function being learnt), and its 95 % band holds about 95 % of fresh points."""
+    gaussian_process = _calibration_benchmark().gaussian_process
+    rng = np.random.default_rng(1)
+
+    def truth(x):
+        return np.sin(2.0 * x[:, 0]) + 0.5 * x[:, 1] ** 2
+
+    x_train, x_test = rng.uniform(-1.5, 1.5, (120, 3)), rng.uniform(-1.2, 1.2, (400, 3))
+    y_train = truth(x_train) + rng.normal(0.0, 0.1, 120)
+    y_test = truth(x_test) + rng.normal(0.0, 0.1, 400)
+    mean, sd = gaussian_process(x_train, y_train, x_test)
+    assert np.sqrt(np.mean((mean - truth(x_test)) ** 2)) < 0.05
+    assert np.median(sd) == pytest.approx(0.1, rel=0.25)
+    assert 0.9 <= np.mean(np.abs(y_test - mean) <= 1.96 * sd) <= 0.99
+
+
+def test_nearest_neighbours_name_a_separable_kind_and_choose_k_by_leave_one_out():
+    nearest_kind = _calibration_benchmark().nearest_kind
+    rng = np.random.default_rng(2)
+    x_train, x_test = rng.normal(size=(80, 4)), rng.normal(size=(200, 4))
+    labels = (x_train[:, 0] * x_train[:, 1] > 0).astype(float)  # no line separates it
+    guessed, k = nearest_kind(x_train, labels, x_test)
+    assert k % 2 == 1 and 1 <= k <= 15
+    assert np.mean(guessed == (x_test[:, 0] * x_test[:, 1] > 0)) > 0.75
