@@ -66,8 +66,32 @@ def draw(count: int, seed: int, prefix: str) -> list[Design]:
     return designs
 
 
+def _changed(earlier: dict, row: dict) -> str:
+    """What differs between two runs of one design beyond round-off: the steps by more than 0.1 % (a step or two
+    can come and go with the last bits of a sum), the sequence, or the answers by more than 1e-4 (an event's edges
+    fall between steps: the settled events' mean slip moves by 1e-5 with them)."""
+    out = []
+    if abs(row["steps"] - earlier["steps"]) > 1e-3 * earlier["steps"]:
+        out.append(f"{earlier['steps']} -> {row['steps']} steps")
+    if (row["sequence"], row["period"]) != (earlier["sequence"], earlier["period"]):
+        out.append(f"sequence {earlier['sequence']} {earlier['period']} -> {row['sequence']} {row['period']}")
+    for key in ("recurrence_2d", "mean_slip_2d"):
+        if not math.isclose(row[key], earlier[key], rel_tol=1e-4, abs_tol=0.0) and not (
+                math.isnan(row[key]) and math.isnan(earlier[key])):
+            out.append(f"{key} {earlier[key]:.6g} -> {row[key]:.6g}")
+    return "; ".join(out)
+
+
+def cost_model() -> dict:
+    """The constants of the 2-D cost model that estimated a run (a row records them: an estimate is the model's
+    that made it, and docs/ladder.md says which rows the model now declared estimated)."""
+    from faultslip.models.fault_2d import cost
+
+    return {"step_seconds": list(cost.FAULT_2D_STEP_SECONDS), "event_steps": dict(cost.FAULT_2D_EVENT_STEPS)}
+
+
 def _run(design):
-    return run_design(design, cycles=6, elements_per_process_zone=ELEMENTS_PER_PROCESS_ZONE)
+    return {**run_design(design, cycles=6, elements_per_process_zone=ELEMENTS_PER_PROCESS_ZONE), "cost_model": cost_model()}
 
 
 def main(argv=None):
@@ -77,7 +101,8 @@ def main(argv=None):
     parser.add_argument("--held-out", type=int, default=34)
     parser.add_argument("--remeasure-above", type=int, default=None, metavar="ELEMENTS",
                         help="run again the designs of more than ELEMENTS elements already done, to measure their CPU "
-                             "time on this machine (their answers, deterministic, must not change)")
+                             "time on this machine and the current budget's estimate (an answer that changes "
+                             "beyond round-off is said)")
     args = parser.parse_args(argv)
     calibration, held_out = draw(args.calibration, 68, "calibration"), draw(args.held_out, 6800, "held out")
     done = {}
@@ -94,9 +119,11 @@ def main(argv=None):
         for future in as_completed(futures):
             row = future.result()
             earlier = done.get(row["design"]["name"])
-            if earlier is not None and earlier["design"] == row["design"] and earlier["steps"] != row["steps"]:
-                raise SystemExit(f"{row['design']['name']}: {row['steps']} steps where the earlier run took "
-                                 f"{earlier['steps']}: the run is not deterministic")
+            if earlier is not None and earlier["design"] == row["design"]:
+                changed = _changed(earlier, row)
+                if changed:
+                    # the current code's answer replaces the row; say so, since the calibration reads it
+                    print(f"{row['design']['name']}: rerun differs from the recorded run: {changed}", flush=True)
             done[row["design"]["name"]] = row
             print(f"{row['design']['name']}: W/h* {row['design']['width_over_nucleation']:.2f}, {row['sequence']} "
                   f"(p {row['period']}), T {row['recurrence_2d'] / 3.15576e7:.1f} yr, {row['elements']} elements, "

@@ -574,10 +574,16 @@ def ladder_table() -> str | None:
     budget = result["budget"]
     return ("\n".join(rows) + f"\n\n{len(result['rows'])} held-out faults drawn at random over the box "
             f"(`python benchmarks/ladder_designs.py`, then `benchmarks/ladder_calibration.py`), {outside} of them "
-            f"outside it (no range declared). The estimates these runs recorded when they ran, most by the older years-based "
-            f"cost model (the event-based model now declared is measured on escalations in docs/ladder.md), against the CPU each used: "
-            f"{budget['ratio_min']:.2f} to {budget['ratio_max']:.2f}× (median {budget['ratio_median']:.2f}×), "
-            f"{budget['within_2x']} of {budget['runs']} runs within 2×. {_machine(result)}")
+            f"outside it (no range declared). "
+            + (f"Before each of the {budget['runs']} runs of `ladder_designs.py` (calibration and held out), the cost model now declared "
+               f"estimated its CPU: {budget['ratio_min']:.2f} to {budget['ratio_max']:.2f}× what it used (median "
+               f"{budget['ratio_median']:.2f}×), {budget['within_2x']} of {budget['runs']} within 2×"
+               + (f"; on the {held['runs']} held-out faults, whose steps it was not fitted on, {held['within_2x']} "
+                  f"of {held['runs']} ({held['ratio_min']:.2f} to {held['ratio_max']:.2f}×)"
+                  if (held := budget.get("held_out")) and held["runs"] else "")
+               + (f" ({budget['estimated_by_older_models']} runs estimated by older models are left out)"
+                  if budget.get("estimated_by_older_models") else "") + ". " if budget["runs"] else "")
+            + _machine(result))
 
 
 def ladder_limits_table() -> str | None:
