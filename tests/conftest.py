@@ -83,6 +83,28 @@ def cli(capsys):
     return run
 
 
+def load_benchmark(name: str, as_name: str | None = None):
+    """benchmarks/<name>.py as a module, for tests that recompute what a benchmark writes.
+
+    Its folder is on sys.path while it loads (the scripts import their neighbours, provenance among them) and
+    sys.path is put back afterwards, whatever the script added: pool workers a later test spawns inherit sys.path,
+    and with the clone on it would import faultslip from the clone's source instead of the installed package."""
+    import importlib.util
+    from pathlib import Path
+    import sys
+
+    folder = Path(__file__).resolve().parent.parent / "benchmarks"
+    saved = list(sys.path)
+    sys.path.insert(0, str(folder))
+    try:
+        spec = importlib.util.spec_from_file_location(as_name or f"benchmark_{name}", folder / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    finally:
+        sys.path[:] = saved
+    return module
+
+
 def assert_clean_error(result, *needles):
     """Exit status 2, one sentence on stderr naming the input, no traceback."""
     assert result.code == 2, (result.code, result.out, result.err)

@@ -402,7 +402,6 @@ def test_every_public_function_documents_its_parameters_and_returns():
     Attributes; their units are in the sections' text."""
     import inspect
 
-    import faultslip
 
     from faultslip import api
 
@@ -492,6 +491,17 @@ def test_no_test_puts_the_clone_on_sys_path():
     pool worker spawned later import faultslip from the clone's source, without its compiled extensions, while the
     test process uses the installed package: the two then differ in their last bits (CI found this)."""
     root = Path(__file__).resolve().parents[1]
-    offenders = [path.name for path in root.glob("*.py")
-                 if re.search(r"^sys\.path\.(insert|append)\(", path.read_text(encoding="utf-8"), flags=re.M)]
+    offenders = [str(path.relative_to(root)) for path in root.rglob("*.py")
+                 if re.search(r"^\s*sys\.path\.(insert|append)\(", path.read_text(encoding="utf-8"), flags=re.M)
+                 and path.name != "conftest.py"]
+    assert not offenders, offenders
+
+
+def test_tests_load_a_benchmark_through_one_loader():
+    """A benchmark script puts the clone on sys.path when it loads (it runs as a script from a clone):
+    conftest.load_benchmark puts sys.path back afterwards, and is the only place a test loads one by its path."""
+    root = Path(__file__).resolve().parents[1]
+    offenders = [str(path.relative_to(root)) for path in root.rglob("*.py")
+                 if "spec_from_file_location" in path.read_text(encoding="utf-8") and path.name != "conftest.py"
+                 and path.name != Path(__file__).name]
     assert not offenders, offenders

@@ -4,26 +4,17 @@
 from __future__ import annotations
 
 import ast
-import importlib.util
 import re
 import subprocess
 import sys
 from pathlib import Path
 
+from conftest import load_benchmark
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _module(name: str, path: Path):
-    """A benchmark module loaded from its file. Never by putting the clone on sys.path: pool workers a later test
-    spawns inherit sys.path, and would import faultslip from the clone's source (no compiled extensions) instead
-    of the installed package."""
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-entry = _module("benchmarks_entry", ROOT / "benchmarks" / "__main__.py")
+entry = load_benchmark("__main__", "benchmarks_entry")
 
 
 def _flags(script: str) -> set[str]:
@@ -70,7 +61,7 @@ def test_the_fuzzers_workbook_seed_is_one_the_fit_accepts(tmp_path, cli, monkeyp
 
     pytest.importorskip("openpyxl")
     monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))  # fuzz.py's sibling modules; undone after the test
-    fuzz = _module("fuzz_under_test", ROOT / "benchmarks" / "fuzz.py")
+    fuzz = load_benchmark("fuzz", "fuzz_under_test")
 
     (tmp_path / "space").mkdir()
     workspace = fuzz.Workspace(tmp_path / "space")

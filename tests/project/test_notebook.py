@@ -3,7 +3,6 @@ units in and units out. Expected values are computed here or by the CLI in the s
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np

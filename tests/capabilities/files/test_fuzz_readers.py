@@ -4,7 +4,6 @@ The mutations are those of ``benchmarks/fuzz.py`` (which runs 10,000+ cases thro
 here hypothesis drives them, bounded in time, so the suite keeps the property.
 """
 
-import importlib.util
 import random
 from pathlib import Path
 
@@ -12,13 +11,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from conftest import load_benchmark
 from faultslip.errors import InputError
 from faultslip.units import KINDS, to_si
 
 ROOT = Path(__file__).resolve().parents[3]
-_spec = importlib.util.spec_from_file_location("faultslip_fuzz", ROOT / "benchmarks" / "fuzz.py")
-fuzz = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(fuzz)
+fuzz = load_benchmark("fuzz", "faultslip_fuzz")
 
 SCENES = sorted(p for p in (ROOT / "configs").glob("*.toml") if "[scene]" in p.read_text(encoding="utf-8"))
 FUZZ = settings(deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])

@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from conftest import assert_clean_error, mounted_tmpfs
-from faultslip.models.fault_2d.integrate import STREAM_FILES, YEAR, _Stopped, run_cycles
+from faultslip.models.fault_2d.integrate import STREAM_FILES, _Stopped, run_cycles
 from faultslip.errors import InputError
 from faultslip.models.fault_2d.scene import read_fault_2d_scene
 from faultslip.io.records import RecordStream, read_checkpoint, write_checkpoint

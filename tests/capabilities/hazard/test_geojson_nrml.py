@@ -5,7 +5,6 @@ import math
 import warnings
 import xml.etree.ElementTree as ET
 
-import numpy as np
 import pytest
 
 from conftest import assert_clean_error

@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from conftest import assert_clean_error, engine_command, run_engine_job
+from conftest import assert_clean_error, engine_command, load_benchmark, run_engine_job
 from faultslip.errors import InputError
 from faultslip.fault import empirical
 from faultslip.fault import mfd as mfds
@@ -254,20 +254,6 @@ def test_rates_off_a_line_are_called_not_gutenberg_richter():
     assert "not Gutenberg-Richter" in rs.describe_b_value(fit)
 
 
-def _sherifs_benchmark():
-    """benchmarks/sherifs_example.py as a module (it computes both sides of the docs table)."""
-    import importlib.util
-    import sys
-
-    folder = Path(__file__).resolve().parents[3] / "benchmarks"
-    if str(folder) not in sys.path:
-        sys.path.insert(0, str(folder))
-    spec = importlib.util.spec_from_file_location("sherifs_example_benchmark", folder / "sherifs_example.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def _close(a, b, rtol):
     if isinstance(a, dict):
         return a.keys() == b.keys() and all(_close(a[k], b[k], rtol) for k in a)
@@ -283,7 +269,7 @@ def test_sherifs_example_the_table_holds_both_sides_and_its_logs_agree():
     and the docs table is written from it."""
     import json
 
-    bench = _sherifs_benchmark()
+    bench = load_benchmark("sherifs_example")
     stored = json.loads(bench.OUT.read_text(encoding="utf-8"))
     sherifs = bench.sherifs_side(bench.read_logs())
     assert sherifs and all(abs(ratio - 1) < 1e-3 for sample in sherifs.values() for ratio in sample["checks"].values())
@@ -298,19 +284,9 @@ def test_sherifs_example_the_table_holds_both_sides_and_its_logs_agree():
             # where they do not: SHERIFS leaves a share unassigned (its NMS), faultslip releases every slip rate
             assert 0.05 < logged["unassigned_share"] < 0.3 and ours["budget_error"] < 1e-9
             assert max(logged["slip_rate_misfit"].values()) > 0.2 > max(map(abs, ours["slip_rate_misfit"].values()))
-    readme = _sherifs_benchmark_readme()
+    readme = load_benchmark("readme", "readme_for_sherifs")
     page = (Path(__file__).resolve().parents[3] / "docs" / "hazard.md").read_text(encoding="utf-8")
     assert readme.sherifs_example_table() in page
-
-
-def _sherifs_benchmark_readme():
-    import importlib.util
-
-    folder = Path(__file__).resolve().parents[3] / "benchmarks"
-    spec = importlib.util.spec_from_file_location("readme_for_sherifs", folder / "readme.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def test_sherifs_example_map_runs_from_the_command_line(cli, tmp_path):

@@ -15,6 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import faultslip
+from conftest import load_benchmark
 from faultslip.errors import InputError
 from faultslip.fault import ladder
 from faultslip.models.fault_2d.scene import read_fault_2d_scene
@@ -270,24 +271,11 @@ def test_the_2d_rung_and_the_one_slider_agree_on_a_buried_fault():
     assert low <= mean_slip <= high
 
 
-def _calibration_benchmark():
-    """benchmarks/ladder_calibration.py as a module (its nonlinear fits fill the docs' limits table)."""
-    import importlib.util
-
-    folder = Path(__file__).resolve().parents[3] / "benchmarks"
-    if str(folder) not in sys.path:
-        sys.path.insert(0, str(folder))
-    spec = importlib.util.spec_from_file_location("ladder_calibration_benchmark", folder / "ladder_calibration.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def test_the_gaussian_process_of_the_limits_table_recovers_a_known_function_and_its_noise():
     """The nonlinear fit that docs/ladder.md sets beside the linear one: on a smooth function of two of three
     columns with normal noise of sd 0.1, its mean follows the function to well inside the noise, its sd is the
     noise's (the function being learnt), and its 95 % band holds about 95 % of fresh points."""
-    gaussian_process = _calibration_benchmark().gaussian_process
+    gaussian_process = load_benchmark("ladder_calibration").gaussian_process
     rng = np.random.default_rng(1)
 
     def truth(x):
@@ -303,7 +291,7 @@ def test_the_gaussian_process_of_the_limits_table_recovers_a_known_function_and_
 
 
 def test_nearest_neighbours_name_a_separable_kind_and_choose_k_by_leave_one_out():
-    nearest_kind = _calibration_benchmark().nearest_kind
+    nearest_kind = load_benchmark("ladder_calibration").nearest_kind
     rng = np.random.default_rng(2)
     x_train, x_test = rng.normal(size=(80, 4)), rng.normal(size=(200, 4))
     labels = (x_train[:, 0] * x_train[:, 1] > 0).astype(float)  # no line separates it

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import assert_clean_error
+from conftest import assert_clean_error, load_benchmark
 from faultslip.io import budget
 from faultslip.models.fault_2d import cost
 from faultslip.models.fault_2d.scene import read_fault_2d_scene
@@ -89,15 +89,10 @@ def test_the_step_seconds_are_the_least_squares_fit_of_the_compiled_runs():
     assert 0.85 <= ratios.min() and ratios.max() <= 1.15
 
 
-def test_the_plane_strain_step_cost_is_its_benchmarks_fit(monkeypatch):
+def test_the_plane_strain_step_cost_is_its_benchmarks_fit():
     """PLANE_STRAIN_STEP_SECONDS is the least-squares fit of benchmarks/plane_strain_step.py's measured steps,
     recomputed here from its results file, and the estimate it gives is within its stated 1.31x of each."""
-    import importlib.util
-
-    monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))  # the script imports its provenance helper
-    spec = importlib.util.spec_from_file_location("plane_strain_step", ROOT / "benchmarks" / "plane_strain_step.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = load_benchmark("plane_strain_step")
     results = json.loads((ROOT / "benchmarks" / "results" / "plane_strain_step.json").read_text(encoding="utf-8"))
     assert cost.PLANE_STRAIN_STEP_SECONDS == pytest.approx(module.fit(results["rows"]), rel=1e-3)
     for row in results["rows"]:
