@@ -613,8 +613,8 @@ def ladder_limits_table() -> str | None:
             f"{limits['calibration_faults']} calibration faults and {limits['held_out_interleaving']} of "
             f"{limits['held_out_faults']} held-out ones. A logistic regression on the groups, fitted on the "
             f"calibration faults, names the kind of {named['right']} of {named['held_out']} held-out faults"
-            + (f", and its {named['nearest_neighbours']} nearest calibration faults in the groups (k by leave-one-out) "
-               f"name {named['right_by_neighbours']}" if "right_by_neighbours" in named else "")
+            + (f", and a held-out fault's {named['nearest_neighbours']} nearest calibration faults in the groups (k by "
+               f"leave-one-out) name {named['right_by_neighbours']}" if "right_by_neighbours" in named else "")
             + f"; always guessing the commoner kind names {named['always_the_commoner']}. The Gaussian process "
             "(a squared-exponential kernel with a length per group, and noise, fitted by marginal likelihood) is a "
             "nonlinear fit of the same groups.")
