@@ -18,8 +18,12 @@ through its mean interval after the spin-up where it has four or more, and left 
 break the zone with its system-size events or does not (:func:`ladder_regimes.interleaves`). Per quantity: the
 residual of ln(2-D / block) in each kind; the residual sd of a fit within each kind; the held-out coverage and
 mean half-width the one slider would reach if it were told each fault's kind (the best any range built on the
-block and these groups can do here); and how often a logistic regression on the groups, fitted on the
-calibration faults, names the kind of a held-out fault.
+block and these groups can do here); the same for a nonlinear fit of the groups, a Gaussian process, on all the
+calibration faults and within each kind; and how often a logistic regression on the groups, and a fault's nearest
+calibration faults, name the kind of a held-out fault.
+
+**The budget**: the estimate each run recorded before it ran, against the CPU it used, over the runs whose row
+records the cost model now declared (the held-out ones apart: the event-step model is fitted on the others).
 
 Writes ``data/ladder_calibration.json`` (what faultslip declares) and ``benchmarks/results/ladder_held_out.json``
 (each held-out fault, its 2-D answer, the range and whether it holds; the budget's estimates against the CPU used).
