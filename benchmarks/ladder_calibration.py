@@ -20,7 +20,8 @@ residual of ln(2-D / block) in each kind; the residual sd of a fit within each k
 mean half-width the one slider would reach if it were told each fault's kind (the best any range built on the
 block and these groups can do here); the same for a nonlinear fit of the groups, a Gaussian process, on all the
 calibration faults and within each kind; and how often a logistic regression on the groups, and a fault's nearest
-calibration faults, name the kind of a held-out fault.
+calibration faults, name the kind of a held-out fault; and whether more designs would narrow the range (both fits on
+random subsets of the calibration faults, and the linear range's limit with unlimited designs).
 
 **The budget**: the estimate each run recorded before it ran, against the CPU it used, over the runs whose row
 records the cost model now declared (the held-out ones apart: the event-step model is fitted on the others).
@@ -157,6 +158,36 @@ def nearest_kind(x_train: np.ndarray, labels: np.ndarray, x_test: np.ndarray) ->
     return vote(((b[:, None, :] - a[None, :, :]) ** 2).sum(-1), best), best
 
 
+def learning_curve(pairs: list, kept: list, sizes=(40, 55, 70), draws: int = 5, seed: int = 0) -> list[dict]:
+    """Held-out coverage and mean half-width of the declared (linear) range and of the Gaussian process when fitted
+    on ``draws`` random subsets of each size of the calibration faults, and on all of them: do more designs narrow
+    the range? ``pairs`` and ``kept`` are (fault, ln 2-D / block) of the calibration and held-out faults."""
+    normal = 1.959963984540054
+    rng = np.random.default_rng(seed)
+    x_all = np.array([ladder.features(i["group"])[1:] for i, _ in pairs])
+    y_all = np.array([y for _, y in pairs])
+    x_test = np.array([ladder.features(i["group"])[1:] for i, _ in kept])
+    y_test = np.array([y for _, y in kept])
+    out = []
+    for size in [n for n in sizes if n < len(pairs)] + [len(pairs)]:
+        rows = []
+        for _ in range(draws if size < len(pairs) else 1):
+            chosen = rng.choice(len(pairs), size, replace=False) if size < len(pairs) else np.arange(size)
+            model = ladder.fit([pairs[k][0]["group"] for k in chosen], y_all[chosen])
+            spread = np.array([model["t_quantile"] * model["residual_sd"] * math.sqrt(1.0 + float(
+                ladder.features(i["group"]) @ np.asarray(model["inverse_gram"]) @ ladder.features(i["group"])))
+                for i, _ in kept])
+            centre = np.array([float(ladder.features(i["group"]) @ np.asarray(model["coefficients"])) for i, _ in kept])
+            process_centre, sd = gaussian_process(x_all[chosen], y_all[chosen], x_test)
+            rows.append((np.mean(np.abs(y_test - centre) <= spread), np.mean(np.expm1(spread)),
+                         np.mean(np.abs(y_test - process_centre) <= normal * sd), np.mean(np.expm1(normal * sd))))
+        mean = np.mean(rows, axis=0)
+        out.append({"faults": int(size), "draws": len(rows), "linear_coverage": float(mean[0]),
+                    "linear_mean_half_width": float(mean[1]), "gaussian_process_coverage": float(mean[2]),
+                    "gaussian_process_mean_half_width": float(mean[3])})
+    return out
+
+
 def limits(train: list[dict], test: list[dict], table: dict) -> dict:
     """What the two kinds of 2-D sequence do to the one slider's range (module docstring)."""
     out = {"partial_share": PARTIAL_SHARE, "calibration_interleaving": sum(i["interleaves"] for i in train),
@@ -196,7 +227,9 @@ def limits(train: list[dict], test: list[dict], table: dict) -> dict:
         process.update(told_kind_coverage=float(np.mean(inside)), told_kind_mean_half_width=float(np.mean(half)),
                        held_out=len(kept))
         out[quantity] = {
-            "gaussian_process": process,
+            "gaussian_process": process, "learning_curve": learning_curve(pairs, kept),
+            # unlimited designs: no leverage, the normal quantile, the residual sd alone
+            "unlimited_designs_half_width": float(np.expm1(normal * model["residual_sd"])),
             "mean_residual_single": float(np.mean(residual[False])), "mean_residual_interleaving": float(np.mean(residual[True])),
             "residual_sd_all": model["residual_sd"],
             "residual_sd_single": by_kind[False]["residual_sd"], "residual_sd_interleaving": by_kind[True]["residual_sd"],
@@ -311,6 +344,11 @@ def main():
         print(f"{quantity}: a Gaussian process on the groups covers {line['coverage']:.3f} of {line['held_out']} held "
               f"out at mean half-width {line['mean_half_width']:.3f}; told the kind, {line['told_kind_coverage']:.3f} "
               f"at {line['told_kind_mean_half_width']:.3f}")
+    for quantity in ("recurrence", "mean_slip"):
+        curve = ", ".join(f"{p['faults']}: {p['linear_mean_half_width']:.3f} / {p['gaussian_process_mean_half_width']:.3f}"
+                          for p in limit[quantity]["learning_curve"])
+        print(f"{quantity}: mean half-width (linear / Gaussian process) by calibration faults {curve}; unlimited designs "
+              f"(linear) {limit[quantity]['unlimited_designs_half_width']:.3f}")
     print(f"the kind named from the groups on {named['right']} of {named['held_out']} held-out faults by a logistic "
           f"regression, {named['right_by_neighbours']} by {named['nearest_neighbours']} nearest neighbours "
           f"(always the commoner: {named['always_the_commoner']})")

@@ -625,6 +625,20 @@ def ladder_limits_table() -> str | None:
     reached = sum(coverage >= 0.95 and half <= 0.25 for coverage, half in fits)
     text += (f" Of the {len(fits)} ranges above, {reached or 'none'} {'reaches' if reached <= 1 else 'reach'} 95 % "
              "of the held-out faults inside at a mean half-width of ±25 % or less.")
+    if all("learning_curve" in limits[key] for key in names):
+        def widths(key, fit):
+            return ", ".join(f"±{100 * point[fit + '_mean_half_width']:.0f} %" for point in limits[key]["learning_curve"])
+
+        curve = limits["recurrence"]["learning_curve"]
+        sizes = ", ".join(str(point["faults"]) for point in curve[:-1])
+        unlimited = [limits[key]["unlimited_designs_half_width"] for key in names]
+        text += (f" Fitted on random subsets of {sizes} of the {curve[-1]['faults']} calibration faults "
+                 f"({curve[0]['draws']} draws each) and on all of them, the held-out recurrence range's mean half-width is "
+                 f"{widths('recurrence', 'linear')} (the Gaussian process's {widths('recurrence', 'gaussian_process')}); "
+                 f"the slip's {widths('mean_slip', 'linear')} ({widths('mean_slip', 'gaussian_process')}). With unlimited "
+                 f"designs the declared range would tend to ±{100 * unlimited[0]:.0f} % (recurrence) and "
+                 f"±{100 * unlimited[1]:.0f} % (slip), the residual's own spread"
+                 + (": more designs of this kind do not bring it to ±25 %." if min(unlimited) > 0.25 else "."))
     regimes = _load("ladder_regimes.json")
     if regimes is not None:
         summary = regimes["summary"]
