@@ -128,13 +128,13 @@ def summarise(run: Fault2DRun, tolerance: float = 1e-3) -> Fault2DSummary:
     slip = run.events["slip"]
     count = starts.size
     surface = slip[:, 0] if count else np.empty(0)
-    system = system_size(slip, fault.b > fault.a) if count else np.empty(0, int)
+    weakening = fault.b > fault.a
+    system = system_size(slip, weakening)
     intervals = np.diff(starts[system]) if system.size > 1 else np.empty(0)
     sequence = classify(intervals, tolerance)
     # the measured window: the system-size events from the window's first to the last (inclusive)
     window = system[sequence.first_event:] if system.size else system
     closing = window[1:] if window.size > 1 else window  # the events that close the window's intervals
-    weakening = fault.b > fault.a
     if closing.size:
         surface_slip = float(surface[closing].mean())
         mean_slip = float(slip[closing][:, weakening].mean()) if np.any(weakening) else math.nan
