@@ -26,6 +26,7 @@ from functools import lru_cache
 import numpy as np
 
 from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
+from faultslip.contract.result import Result
 from faultslip.fault import dip_error
 from faultslip.errors import InputError
 from faultslip.friction.rate_state import RateStateLaw
@@ -357,3 +358,83 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
                     f"recurrence is {100 * (longer - 1):.0f} % longer than where every event breaks it. For a "
                     "narrower answer run the 2-D fault (--model fault_2d)")
     return report
+
+
+def ladder_report(title: str, rungs: list[dict], tolerance: float | None, above: str, slip_label: str) -> Report:
+    """Every rung's answer, declared range, error and cost, and how each lower rung stands against the top one
+    (the 2-D and the 3-D ladders' ``model-error``).
+
+    Parameters
+    ----------
+    title : str
+        The report's title.
+    rungs : list of dict
+        :func:`rung_of` rows, cheapest first; the last is the answer the others are measured against.
+    tolerance : float, optional
+        Say which rungs' declared errors meet it.
+    above : str
+        The top rung's name in labels ("2-D", "3-D").
+    slip_label : str
+        What the rungs' slip is ("surface slip per event", "slip per event").
+    """
+    report = Report(title)
+    for rung in rungs:
+        name = rung["name"]
+        report.add(f"{name}_recurrence", rung["recurrence"], "s", also=("yr",), label=f"{name}: recurrence")
+        if rung["recurrence_range"] is not None:
+            report.add(f"{name}_recurrence_range", list(rung["recurrence_range"]), "s", also=("yr",),
+                       label=f"{name}: its declared range")
+        report.add(f"{name}_slip_per_event", rung["slip"], "m", label=f"{name}: {slip_label}")
+        if rung["slip_range"] is not None:
+            report.add(f"{name}_slip_per_event_range", list(rung["slip_range"]), "m", label=f"{name}: its declared range")
+        report.add(f"{name}_declared_error", rung["error"], label=f"{name}: declared error (relative; null: none)")
+        report.add(f"{name}_cpu_time", rung["cpu_time"], "s", label=f"{name}: CPU time")
+        if tolerance is not None:
+            report.add(f"{name}_meets_tolerance", rung["error"] is not None and rung["error"] <= tolerance,
+                       label=f"{name}: declared error within {tolerance:g}")
+    truth = rungs[-1]
+    for rung in rungs[:-1]:
+        report.add(f"{rung['name']}_off_recurrence", rung["recurrence"] / truth["recurrence"] - 1,
+                   label=f"{rung['name']}: off the {above} recurrence (relative)")
+        band, slip_band = rung["recurrence_range"], rung["slip_range"]
+        holds = None if band is None else bool(band[0] <= truth["recurrence"] <= band[1] and (
+            slip_band is None or slip_band[0] <= truth["slip"] <= slip_band[1]))
+        report.add(f"{rung['name']}_range_holds", holds,
+                   label=f"{rung['name']}: its ranges hold the {above} answer (null: no range declared)")
+    return report
+
+
+def with_model_error(rung: dict, model_error: float) -> dict:
+    """A rung whose declared error adds a model error: the ranges widen to (1 + e_numerical)(1 + e_model) - 1 (an
+    unbounded model error leaves no range)."""
+    numerical = rung["error"] or 0.0
+    error = (1 + numerical) * (1 + model_error) - 1
+    if not math.isfinite(error):
+        return {**rung, "error": None, "recurrence_range": None, "slip_range": None}
+    return {**rung, "error": error, "recurrence_range": (rung["recurrence"] * (1 - error), rung["recurrence"] * (1 + error)),
+            "slip_range": (rung["slip"] * (1 - error), rung["slip"] * (1 + error))}
+
+
+def rung_of(name: str, result: Result, cpu: float) -> dict:
+    values = result.values
+
+    def pair(key):
+        band = values[key] if key in result else None
+        return None if band is None else tuple(float(v.to("s" if "recurrence" in key else "m").magnitude) for v in band)
+
+    slip_key = "slip_per_event" if "slip_per_event" in result and values["slip_per_event"] is not None \
+        else "mean_slip_per_event"
+    return {"name": name, "cpu_time": cpu, "recurrence": float(values["recurrence_interval"].to("s").magnitude),
+            "recurrence_range": pair("recurrence_range") if name == "one_slider" else _declared(result, "recurrence_interval", "s"),
+            "slip": float(values[slip_key].to("m").magnitude),
+            "slip_range": pair("slip_per_event_range") if name == "one_slider" else _declared(result, slip_key, "m"),
+            "error": result.estimated_relative_error}
+
+
+def _declared(result: Result, key: str, unit: str):
+    """A 2-D answer's range from its declared relative error."""
+    error = result.estimated_relative_error
+    if error is None:
+        return None
+    value = float(result.values[key].to(unit).magnitude)
+    return (value * (1 - error), value * (1 + error))

@@ -22,6 +22,7 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import output_lock, prepare_run_folder
 from faultslip.io.report import Report
 from faultslip.models.common import note_origin
+from faultslip.fault.ladder import ladder_report, rung_of
 from faultslip.fault import strike_error
 from faultslip.models.fault_2d import family as fault_2d_family
 from faultslip.models.fault_2d.analysis import classify, moment_magnitude
@@ -393,10 +394,10 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     rungs = []
     started = time.process_time()
     cheap = _lower_rung(loaded, "one_slider", allow_large, "the cheapest rung")  # its range compounds both errors
-    rungs.append(fault_2d_family.rung_of("one_slider", cheap, time.process_time() - started))
+    rungs.append(rung_of("one_slider", cheap, time.process_time() - started))
     started = time.process_time()
     flat = fault_2d_family.simulate_fault(below, allow_large=allow_large, allow_underresolved=True)
-    rung = fault_2d_family.rung_of("fault_2d", flat, time.process_time() - started)
+    rung = rung_of("fault_2d", flat, time.process_time() - started)
     groups = strike_error.groups_of(loaded.fault)
     total = _combined(rung["error"], strike_error.declared_for(loaded.fault))
     rungs.append({**rung, "error": total, "recurrence_range": truth_range(rung["recurrence"], total),
@@ -410,7 +411,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     rungs.append({"name": "fault_3d", "cpu_time": time.process_time() - started, "recurrence": recurrence,
                   "recurrence_range": truth_range(recurrence, error), "slip": slip,
                   "slip_range": truth_range(slip, error), "error": error})
-    report = fault_2d_family.ladder_report(f"faultslip model error: the ladder on {loaded.name}", rungs, tolerance,
+    report = ladder_report(f"faultslip model error: the ladder on {loaded.name}", rungs, tolerance,
                                            "3-D", "slip per event")
     report.add("aspect", groups["aspect_measured"], label="the weakening patch's length over its width (L / W)")
     report.add("burial", groups["burial"], label="the patch's top over its width")

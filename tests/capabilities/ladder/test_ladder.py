@@ -213,7 +213,7 @@ def test_the_one_sliders_report_says_why_its_range_is_wide():
 def test_a_rung_without_a_range_neither_holds_nor_misses_the_answer_above():
     """model-error's comparison (the 2-D and 3-D ladders share it): a range holds where it brackets the top
     rung's recurrence and slip, misses where it brackets either not, and is null where no range is declared."""
-    from faultslip.models.fault_2d.family import ladder_report
+    from faultslip.fault.ladder import ladder_report
 
     def rung(name, recurrence, slip, band=None, slip_band=None):
         return {"name": name, "recurrence": recurrence, "slip": slip, "recurrence_range": band, "slip_range": slip_band,
