@@ -9,7 +9,6 @@ magnitude, meant to stop a two-week run or a 100 GB allocation, not to predict t
 
 from __future__ import annotations
 
-import math
 import os
 import shutil
 from dataclasses import dataclass

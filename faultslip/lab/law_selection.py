@@ -127,7 +127,7 @@ def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free:
     unknown = [name for name in candidates if name not in LAWS]
     if unknown or len(set(candidates)) < 2:
         raise InputError(f"law selection compares two or more of {', '.join(LAWS)}, got {', '.join(candidates)}")
-    rows = []
+    rows, elapsed = [], None
     step = counted(progress, "law selection", len(candidates), "law", "fitting each candidate law")
     for done, name in enumerate(candidates):
         if step is not None:

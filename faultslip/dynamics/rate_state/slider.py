@@ -200,7 +200,7 @@ def _quasi_rhs(slider, load, damping):
     """f(t, y) for y = (x, psi, slip) or (x, psi, psi2, slip); quasi-static when damping = 0."""
     law, k, sigma = slider.law, slider.stiffness, slider.normal_stress
     v0, dc, dc2 = law.reference_speed, law.critical_slip, law.critical_slip2
-    exp, log = math.exp, math.log
+    exp = math.exp
     if not law.two_state and not law.regularized:  # the common case, in as few operations as possible
         sigma_a, sigma_b = sigma * law.a, sigma * law.b
         if law.evolution == "aging":
@@ -633,7 +633,6 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
     started = time.perf_counter()
     load_point = history.displacement(t_eval)
     notes = []
-    speed_index = 1 if model == "inertial" else 0
 
     def too_fast(t, y):
         speed = y[1] if model == "inertial" else law.reference_speed * math.exp(y[0])
@@ -768,7 +767,7 @@ def _odeint_by_segment(f, dfun, history, load, y0, t_eval, rtol, atol, slider):
 
 def _dopri5_by_segment(rhs, history, load, y0, t_eval, rtol, atol, stop, slider):
     """dopri5 restarted at each breakpoint of the load history: its speed jumps there (a velocity step)."""
-    pieces, steps, nfev, y, h = [], 0, 0, y0, None
+    pieces, steps, nfev, y = [], 0, 0, y0
     for t0, t1, v0, v1 in history.segments():
         load.enter(t0, t1, v0, v1)
         last = t1 == history.duration

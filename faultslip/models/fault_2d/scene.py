@@ -56,7 +56,6 @@ from faultslip.io import gate
 from faultslip.errors import FaultslipError, InputError
 from faultslip.fault.ladder import expected_recurrence
 from faultslip.io.seas import station_file_name
-from faultslip.io import budget
 from faultslip.io.processes import threads_are_automatic, threads_for
 from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.io.resources import check_toml_layout, parse_toml
