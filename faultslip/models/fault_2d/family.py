@@ -184,6 +184,11 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
     report.add("wall_time", run.wall_time, "s")
     if summary.note:
         report.note(summary.note)
+    start = (loaded.settings or {}).get("initial_speed")
+    if start is not None:  # multistable faults: benchmarks/ladder_regimes.py --part start
+        report.note(f"the answer is the cycle this scene's start settles to (every element in steady state at "
+                    f"{start:.3g} m/s, [initial] initial_speed); a fault can settle to another cycle from another "
+                    "start, which the declared error does not cover (docs/ladder.md)")
     for note in run.notes:
         report.note(note)
     if run.resumed_from is not None:
