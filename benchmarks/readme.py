@@ -653,7 +653,31 @@ def ladder_limits_table() -> str | None:
                  f"({summary['widest']['name']}'s runs are {kinds}). The partial events of their unmoved runs ({summary['partial_events']}) start a median "
                  f"{summary['partial_hypocentre_median']:.2f} W below the zone's top and break a median "
                  f"{100 * summary['partial_broken_median']:.0f} % of it.")
+        if "starts" in regimes:
+            text += " " + _starts_sentence(regimes["starts"])
     return text + " " + _machine(result)
+
+
+def _starts_sentence(block: dict) -> str:
+    """What the held-out faults do from other starts (ladder_regimes.py --part start)."""
+    summary = block["summary"]
+    speeds = " and ".join(f"{factor:g}" for factor in block["initial_speeds_over_plate_rate"])
+
+    def reached(entry):
+        kind = (f"another period-{entry['period']} cycle" if entry["sequence"] == "periodic" else "no settled cycle")
+        return (f"{entry['name']} (period {entry['usual_period']} from the usual start; from {entry['start']:g} times "
+                f"the plate rate, {kind}, its mean interval {100 * entry['largest_change']:+.0f} %)")
+
+    elsewhere = "; ".join(reached(entry) for entry in summary["elsewhere"])
+    return (f"Rerun from other starts, every element in steady state at {speeds} times the plate rate "
+            f"(`python benchmarks/ladder_regimes.py --part start`), {summary['same_answer']} of the "
+            f"{summary['settled_from_usual_start']} held-out faults that settle from the usual start settle to the "
+            f"same cycle (recurrence within {summary['same_answer_within']:g})"
+            + (f"; {len(summary['elsewhere'])} do not, and are multistable: {elsewhere}" if summary["elsewhere"] else "")
+            + f". The kind changes on {summary['kind_changed']} of {summary['faults']}; the "
+            f"{summary['unsettled_from_usual_start']} that do not settle move their mean interval by up to "
+            f"{100 * summary['unsettled_largest_change']:.0f} %. A fault's answer can depend on its start, which no "
+            "range built on its friction and geometry can know.")
 
 
 def ladder_escalations_table() -> str | None:

@@ -75,14 +75,15 @@ class Design:
         return math.ceil(raw / element) * element
 
     def two_d(self, elements_per_process_zone: float = 3.0, duration: float | None = None,
-              rtol: float = 1e-8) -> Fault2DScene:
-        """The 2-D fault, on elements resolving L_b = G D_c / (sigma_n b) ``elements_per_process_zone`` times."""
+              rtol: float = 1e-8, initial_speed: float = PLATE_RATE) -> Fault2DScene:
+        """The 2-D fault, on elements resolving L_b = G D_c / (sigma_n b) ``elements_per_process_zone`` times, starting
+        at steady state with every element slipping at ``initial_speed`` (m/s; BP1's start, eqs. 8-9)."""
         process = SHEAR_MODULUS * self.critical_slip / (self.normal_stress * self.b)
         element = process / elements_per_process_zone
         width = self.total_width(element)
         settings = {"width": width, "shear_modulus": SHEAR_MODULUS, "shear_wave_speed": SHEAR_WAVE_SPEED,
                     "plate_rate": PLATE_RATE, "evolution": "aging", "reference_speed": 1e-6,
-                    "reference_friction": 0.6, "initial_speed": PLATE_RATE, "max_elements": 8192,
+                    "reference_friction": 0.6, "initial_speed": initial_speed, "max_elements": 8192,
                     "profiles": {"a": self.profile_a(element), "b": _constant(self.b),
                                  "critical_slip": _constant(self.critical_slip),
                                  "normal_stress": _constant(self.normal_stress)}}
@@ -97,12 +98,14 @@ class Design:
                                         shear_wave_speed=SHEAR_WAVE_SPEED)
 
 
-def run_design(design: Design, cycles: int = 8, elements_per_process_zone: float = 3.0) -> dict:
+def run_design(design: Design, cycles: int = 8, elements_per_process_zone: float = 3.0,
+               initial_speed: float = PLATE_RATE) -> dict:
     """The 2-D fault of ``design`` over ``cycles`` system-size events after the spin-up: its recurrence, the slip
-    of its settled events over the weakening width and at the surface, and the sequence it forms."""
+    of its settled events over the weakening width and at the surface, and the sequence it forms (from a steady
+    start at ``initial_speed``, m/s: :meth:`Design.two_d`)."""
     # the block at the geometric stiffness bounds the 2-D recurrence from above: long enough for the cycles
     block = fault_cycles(design.slider(geometric_stiffness(design.seismogenic_width)), PLATE_RATE, cycles=3)
-    scene = design.two_d(elements_per_process_zone, duration=(cycles + 4) * block.recurrence)
+    scene = design.two_d(elements_per_process_zone, duration=(cycles + 4) * block.recurrence, initial_speed=initial_speed)
     estimate = scene.estimate()
     started = time.process_time()
     run = scene.run()

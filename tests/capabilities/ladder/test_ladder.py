@@ -320,3 +320,39 @@ def test_the_shipped_correction_is_the_fit_of_the_runs_and_more_designs_cannot_b
         assert np.allclose(refit["coefficients"], table[quantity]["coefficients"], rtol=1e-5, atol=1e-8)
         floor = math.expm1(1.959963984540054 * refit["residual_sd"])
         assert floor > 0.25, (quantity, floor)
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.floats(min_value=0.01, max_value=100.0))
+def test_a_design_starts_in_steady_state_at_the_speed_it_is_told(factor):
+    """Design.two_d(initial_speed=V): every element's initial stress and state give V back through the
+    regularised law, V = 2 V_0 exp(-psi / a) sinh[(tau - eta V) / (a sigma_n)] (BP1 eqs. 3, 8-9)."""
+    from faultslip.models.fault_2d.calibration import PLATE_RATE, Design
+
+    speed = factor * PLATE_RATE
+    fault = Design("start", 2.0, 0.009).two_d(3.0, initial_speed=speed).fault
+    x = (fault.initial_shear_stress - fault.damping * speed) / (fault.a * fault.normal_stress)
+    log_speed = np.log(2 * fault.reference_speed) - fault.initial_state / fault.a + x + np.log1p(-np.exp(-2 * x)) - math.log(2)
+    assert np.allclose(log_speed, math.log(speed), rtol=0, atol=1e-9)
+
+
+def test_the_starts_file_says_what_its_runs_show():
+    """benchmarks/results/ladder_regimes.json's starts: the usual start is each held-out fault's recorded run, and
+    the summary (docs/ladder.md quotes it) is recomputed from the runs it lists."""
+    regimes = json.loads((ROOT / "benchmarks" / "results" / "ladder_regimes.json").read_text())
+    if "starts" not in regimes:
+        pytest.skip("ladder_regimes.py --part start has not been run")
+    block = regimes["starts"]
+    recorded = {row["design"]["name"]: row for row in
+                json.loads((ROOT / "benchmarks" / "results" / "ladder_designs.json").read_text())["rows"]}
+    for fault in block["faults"]:
+        usual = fault["starts"]["1"]
+        assert usual["recurrence"] == recorded[fault["name"]]["recurrence_2d"]
+        for factor, change in fault["recurrence_change"].items():
+            assert change == pytest.approx(fault["starts"][factor]["recurrence"] / usual["recurrence"] - 1)
+    summary = block["summary"]
+    settled = [f for f in block["faults"] if f["starts"]["1"]["sequence"] == "periodic"]
+    moved = {f["name"] for f in settled if f["largest_change"] > summary["same_answer_within"]}
+    assert summary["same_answer"] == len(settled) - len(moved)
+    assert {entry["name"] for entry in summary["elsewhere"]} == moved
+    assert summary["faults"] == len(block["faults"]) >= 30
