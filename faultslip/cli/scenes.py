@@ -43,8 +43,9 @@ def cmd_run(args) -> int:
     """Any scene, whatever its model family (faultslip.models): its report."""
     options = {option.name: getattr(args, option.name) for option in options_of("run") if option.family}
     if args.estimate:  # the family's cost model, before any work
-        return _emit(models.estimate(args.scene, "run", method=args.method, tolerance=_tolerance(args)).report(),
-                     args.json)
+        asked = {name: True for name in ("richardson", "check_starts") if options.get(name)}
+        return _emit(models.estimate(args.scene, "run", method=args.method, tolerance=_tolerance(args),
+                                     **asked).report(), args.json)
     return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args),
                             progress=_progress("run", not args.json, "yr"), **options).report(), args.json)
 

@@ -46,6 +46,8 @@ OPTIONS = {option.name: option for option in (
                                   "character; the answer is then qualitative", "switch", ("run", "simulate")),
     Option("richardson", "run a discretised fault again on elements half the size and declare the discretisation "
                          "error the two show (Richardson extrapolation)", "switch", ("run",)),
+    Option("check_starts", "run a discretised fault again from 0.1 and 10 times its start's slip rate and say "
+                           "whether it settles to the same cycle (a multistable fault does not)", "switch", ("run",)),
     Option("overwrite", "replace outputs that already exist", "switch"),
     Option("cycles", "number of cycles (default: the scene's, else the family's)", "count"),
     Option("slip_solver", "the slip phase's solver: analytic, RK45, RK23, DOP853, Radau, BDF or LSODA (default auto)"),

@@ -42,7 +42,8 @@ def _not_an_option(name: str, family) -> str:
 
 
 def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False,
-        progress=None, allow_underresolved: bool = False, richardson: bool = False, **quantities) -> Result:
+        progress=None, allow_underresolved: bool = False, richardson: bool = False, check_starts: bool = False,
+        **quantities) -> Result:
     """Evaluate a scene, as ``faultslip run`` does.
 
     Parameters
@@ -64,6 +65,9 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
     richardson : bool
         Run a discretised fault again on elements half the size, and declare the discretisation error the two
         show (Richardson) instead of the a-priori bound.
+    check_starts : bool
+        Run a discretised fault again from other starts (0.1 and 10 times its start's slip rate), and say whether
+        it settles to the same cycle from each.
     **quantities
         A fault's inputs as keywords with units, as ``faultslip fault`` takes them: ``lithology="granodiorite"``,
         ``zone_width="13 mi"``, ``shear_stress="250 bar"``, ``slip_rate="2 in/yr"``, ...
@@ -85,7 +89,7 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
     if progress is not None and "progress" in family.run_options:  # a family whose run may be long reports it
         options["progress"] = progress
     for name, asked in (("allow_large", allow_large), ("allow_underresolved", allow_underresolved),
-                        ("richardson", richardson)):
+                        ("richardson", richardson), ("check_starts", check_starts)):
         if not asked:
             continue
         if name in family.run_options:
@@ -118,6 +122,9 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
     if action not in ("run", "simulate"):
         raise InputError(f"an estimate is of a run or a simulation, not {action!r}")
     family = family_of(scene)
+    for name in ("richardson", "check_starts"):  # what run would refuse, an estimate refuses too
+        if options.get(name) and action == "run" and name not in family.run_options:
+            raise InputError(_not_an_option(name, family))
     if family.estimate is None:
         raise InputError(f"the {family.name} family declares no cost model (Family.estimate), so nothing can be "
                          "estimated before it runs")

@@ -160,6 +160,9 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
                     "about it; run longer for a settled answer")
     else:
         sequence_error = sequence.mean_error
+    report.add("sequence_error", sequence_error if math.isfinite(sequence_error) else None,
+               label="the sequence's own error in recurrence: its settling, or an unsettled or aperiodic run's "
+                     "intervals about their mean (relative; null: too few intervals)")
     if math.isfinite(discretisation):
         report.add("discretisation_error", discretisation,
                    label="element size's error in recurrence (a bound measured on three faults)")
@@ -310,7 +313,7 @@ def one_slider(scene, reason: str = "asked for by name") -> Result:
 
 
 def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_underresolved: bool = False,
-        richardson: bool = False, progress=None) -> Result:
+        richardson: bool = False, check_starts: bool = False, progress=None) -> Result:
     """A fault scene on the rung asked for, or on the cheapest whose declared error meets ``tolerance``.
 
     Parameters
@@ -323,9 +326,9 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
         The relative error allowed. ``auto`` runs the one slider where its declared model error meets it, and
         the 2-D fault of the same scene otherwise; without it, ``auto`` runs the 2-D fault. The 2-D run's
         settling tolerance is the smaller of this and 1e-3.
-    allow_large, allow_underresolved, richardson : bool
+    allow_large, allow_underresolved, richardson, check_starts : bool
         Lift the budget; run coarser than the sequences keep their character at; run again on elements half
-        the size (:func:`richardson_run`).
+        the size (:func:`richardson_run`); run again from other starts (:func:`starts_run`).
     progress : callable, optional
         ``(done, total)`` of the 2-D run.
 
@@ -344,8 +347,13 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
         return one_slider(loaded)
     settle = min(SETTLE_TOLERANCE, tolerance) if tolerance is not None else SETTLE_TOLERANCE
     if method == "fault_2d" or tolerance is None:
+        if richardson and check_starts:
+            raise InputError("--richardson and --check-starts each run the scene again; ask for one at a time")
         if richardson:
             return richardson_run(loaded, allow_large=allow_large, settle_tolerance=settle)
+        if check_starts:
+            return starts_run(loaded, allow_large=allow_large, allow_underresolved=allow_underresolved,
+                              settle_tolerance=settle)
         return simulate_fault(loaded, allow_large=allow_large, allow_underresolved=allow_underresolved,
                               settle_tolerance=settle, progress=progress)
     cheap = one_slider(loaded, f"auto: the cheapest rung whose declared error meets the tolerance {tolerance:g}")
@@ -446,6 +454,97 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
     result.add("runs", longer + 1, label="2-D runs (a run that ends unsettled is run again, twice as long)")
     result.note("the 2-D rung's declared error is numerical (element size, settling, rtol): no richer rung above "
                 "it declares a model error yet")
+    return result
+
+
+#: The other starts --check-starts runs a scene from: its start's slip rate times these
+START_FACTORS = (0.1, 10.0)
+#: Two runs of one scene from different starts settle to the same cycle where their recurrences differ by no more
+#: than this, or than their sequences' own errors together (benchmarks/ladder_regimes.py --part start)
+SAME_CYCLE = 0.01
+
+
+def same_cycle(recurrence: float, sequence_error, settled: bool, other: float, other_error,
+               other_settled: bool) -> bool | None:
+    """Whether two runs of a scene from different starts reached the same cycle: yes where their recurrences lie
+    within :data:`SAME_CYCLE` or their two sequence errors together; no where they differ by more and both settled
+    to a period; None where they differ and either did not settle (its mean may still be moving: run longer)."""
+    change = abs(other / recurrence - 1)
+    if change <= SAME_CYCLE:
+        return True
+    if sequence_error is not None and other_error is not None and change <= sequence_error + other_error:
+        return True
+    return False if settled and other_settled else None
+
+
+def starts_run(scene, allow_large: bool = False, allow_underresolved: bool = False,
+               settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
+    """The scene from its own start and from :data:`START_FACTORS` times its start's slip rate: does it settle to
+    the same cycle? A multistable fault does not (2 of 31 settled held-out faults: benchmarks/ladder_regimes.py).
+
+    Parameters
+    ----------
+    scene : str, path or Fault2DScene
+        A 2-D fault scene.
+    allow_large, allow_underresolved : bool
+        Run the three beyond the budget; run coarser than the sequences keep their character at.
+    settle_tolerance : float
+        The sequences' settling tolerance.
+
+    Returns
+    -------
+    Result
+        The scene's own start's answer and declared error, with each start's speed, recurrence and sequence,
+        ``start_change`` (the largest relative change of the recurrence) and ``multistable``.
+    """
+    loaded = read_fault_2d_scene(scene, allow_large=allow_large)
+    loaded.require_resolution(allow_underresolved)
+    speed = float(loaded.settings["initial_speed"])
+    others = [loaded.from_start(factor * speed) for factor in START_FACTORS]
+    estimates = [loaded.estimate()] + [other.estimate() for other in others]
+    budget.check(budget.Estimate(f"the three runs of {loaded.name} (its start and two others)",
+                                 memory=max(e.memory for e in estimates),
+                                 seconds=sum(e.seconds for e in estimates)), allow_large)
+    result = simulate_fault(loaded, allow_large=True, allow_underresolved=allow_underresolved,
+                            settle_tolerance=settle_tolerance)
+    runs = [simulate_fault(other, allow_large=True, allow_underresolved=allow_underresolved,
+                           settle_tolerance=settle_tolerance) for other in others]
+
+    def recurrence(run):
+        return float(run.values["recurrence_interval"].to("s").magnitude)
+
+    def error(run):
+        value = run.values["sequence_error"]
+        return None if value is None else float(value)
+
+    own = recurrence(result)
+    verdicts = [same_cycle(own, error(result), bool(result.values["settled"]), recurrence(run), error(run),
+                           bool(run.values["settled"])) for run in runs]
+    changes = [recurrence(run) / own - 1 for run in runs]
+    result.add("start_speeds", [factor * speed for factor in (1.0, *START_FACTORS)], "m/s",
+               label="each run's start: every element in steady state at this slip rate")
+    result.add("start_recurrences", [own] + [recurrence(run) for run in runs], "s", also=("yr",),
+               label="the recurrence each start settles to")
+    result.add("start_sequences", [result.values["sequence"]] + [run.values["sequence"] for run in runs],
+               label="the sequence each start settles to")
+    result.add("start_change", max(changes, key=abs), label="the largest relative change of the recurrence "
+                                                             "from another start")
+    multistable = True if False in verdicts else (None if None in verdicts else False)
+    result.add("multistable", multistable,
+               label=f"another start settles to another period (recurrences apart by more than {SAME_CYCLE:g} and "
+                     "their sequences' errors, both settled; null: they differ but a run has not settled)")
+    if multistable:
+        moved = max(range(len(runs)), key=lambda k: abs(changes[k]))
+        result.note(f"multistable: from {START_FACTORS[moved] * speed:.3g} m/s the fault settles to another cycle "
+                    f"({runs[moved].values['sequence']}, recurrence {recurrence(runs[moved]) / YEAR:.4g} yr, "
+                    f"{100 * changes[moved]:+.0f} %); the answer above is its own start's, and the declared error "
+                    "does not cover the other")
+    elif multistable is None:
+        result.note("the starts' recurrences differ, but not every run settled to a period, so its mean may still "
+                    "be moving: run longer ([run] duration) to tell whether the fault is multistable")
+    else:
+        result.note(f"from {' and '.join(f'{f * speed:.3g}' for f in START_FACTORS)} m/s the fault reaches the same "
+                    f"recurrence (within {SAME_CYCLE:g} or its sequences' errors): one cycle, whatever the start")
     return result
 
 
@@ -550,17 +649,35 @@ def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.
     return result
 
 
-def estimate(scene, action: str = "run", rtol=None, output_dir=None, **_) -> budget.Estimate:
+def estimate(scene, action: str = "run", rtol=None, output_dir=None, method=None, richardson: bool = False,
+             check_starts: bool = False, **_) -> budget.Estimate:
     """What a run or simulation of a 2-D fault scene needs, before it starts: its Dormand-Prince steps from the
-    events it will see, and its records (:meth:`Fault2DScene.estimate`, cost.py)."""
+    events it will see, and its records (:meth:`Fault2DScene.estimate`, cost.py); the one-slider rung's block
+    cycles (the rate-and-state slider's cost model); with ``richardson`` the run on half-size elements too, with
+    ``check_starts`` the runs from the other starts too (a tolerance that may escalate counts the 2-D run)."""
     loaded = read_fault_2d_scene(scene, allow_large=True)
-    return loaded.estimate(loaded.rtol if rtol is None else rtol, output_dir)
+    if action == "run" and method == "one_slider":
+        return budget.fitted_estimate("rate_state_slider", "run", 5.0,
+                                      f"the one slider derived from {loaded.name} (5 earthquake cycles)")
+    chosen = rtol if rtol is not None else loaded.rtol
+    scenes = [loaded]
+    if action == "run" and richardson:
+        scenes.append(loaded.at_element_size(loaded.fault.element_size / 2))
+    if action == "run" and check_starts:
+        speed = float(loaded.settings["initial_speed"])
+        scenes += [loaded.from_start(factor * speed) for factor in START_FACTORS]
+    estimates = [each.estimate(chosen, output_dir) for each in scenes]
+    if len(estimates) == 1:
+        return estimates[0]
+    return budget.Estimate(f"{len(estimates)} runs of {loaded.name} ({'Richardson' if richardson else 'its start and two others'})",
+                           memory=max(e.memory for e in estimates), disk=sum(e.disk for e in estimates),
+                           seconds=sum(e.seconds for e in estimates), output=estimates[0].output)
 
 
 FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",
                          run, simulate, simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite",
                                                           "allow_underresolved"),
-                         run_options=("allow_large", "allow_underresolved", "richardson", "progress"),
+                         run_options=("allow_large", "allow_underresolved", "richardson", "check_starts", "progress"),
                          why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
                          read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values()),
                          refine=refine_one_slider, ladder=ladder, estimate=estimate,

@@ -127,6 +127,12 @@ class Fault2DScene:
         """The same scene on elements of another size (for convergence studies)."""
         return replace(self, fault=build_fault(self.settings, element_size, self.name))
 
+    def from_start(self, initial_speed: float) -> "Fault2DScene":
+        """The same scene started otherwise: every element in steady state at ``initial_speed`` (m/s; BP1 eqs.
+        8-9), as ``[initial] initial_speed`` states it."""
+        settings = {**self.settings, "initial_speed": float(initial_speed)}
+        return replace(self, fault=build_fault(settings, self.fault.element_size, self.name), settings=settings)
+
     def run(self, rtol: float | None = None, folder=None, resume: bool = False, progress=None,
             time_limit: float | None = None):
         """Integrate this scene with its own settings (:func:`faultslip.models.fault_2d.integrate.run_cycles`);

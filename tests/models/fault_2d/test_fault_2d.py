@@ -1430,3 +1430,56 @@ def test_a_run_that_compiles_the_step_says_so_before_and_in_its_notes(monkeypatc
     run = run_cycles(fault, 0.01 * YEAR, rtol=1e-6, stations=stations, progress=True)
     assert any("compiled the 2-D step for this environment" in note for note in run.notes)
     assert "compiling the 2-D step for this environment, once" in capsys.readouterr().err
+
+
+def test_check_starts_runs_the_scene_from_other_starts_and_says_it_has_one_cycle(cli):
+    """--check-starts: the small scene from its start and from 0.1 and 10 times its slip rate reaches one
+    recurrence (a multistable fault would not: benchmarks/ladder_regimes.py --part start finds 2 of 31), and the
+    answer stays the scene's own start's."""
+    done = cli("run", CONFIGS / "fault_2d_small.toml", "--check-starts", "--json")
+    assert done.code == 0, done.err
+    report = done.json
+    speeds = report["start_speeds"]["value"]
+    assert speeds[1] / speeds[0] == pytest.approx(0.1) and speeds[2] / speeds[0] == pytest.approx(10.0)
+    recurrences = report["start_recurrences"]["value"]
+    assert recurrences[0] == report["recurrence_interval"]["value"]
+    assert report["multistable"] is False
+    assert abs(report["start_change"]) <= 0.01
+    plain = cli("run", CONFIGS / "fault_2d_small.toml", "--json")
+    assert plain.json["recurrence_interval"]["value"] == recurrences[0]
+    both = cli("run", CONFIGS / "fault_2d_small.toml", "--check-starts", "--richardson")
+    assert both.code == 2 and "one at a time" in both.err and len(both.err.strip().splitlines()) == 1
+    refused = cli("run", "rsf_block_bp1.toml", "--check-starts")
+    assert refused.code == 2 and "not an option of a rate_state_slider scene" in refused.err
+    # its estimate counts the three runs before any of them, as the run's budget does
+    from faultslip.models import estimate
+    from faultslip.models.fault_2d.scene import read_fault_2d_scene
+
+    loaded = read_fault_2d_scene(CONFIGS / "fault_2d_small.toml")
+    three = estimate(CONFIGS / "fault_2d_small.toml", "run", check_starts=True)
+    one = estimate(CONFIGS / "fault_2d_small.toml", "run")
+    assert three.seconds == pytest.approx(one.seconds + sum(
+        loaded.from_start(f * 1e-9).estimate().seconds for f in (0.1, 10.0)))
+    assert estimate(CONFIGS / "fault_2d_small.toml", "run", method="one_slider").seconds < one.seconds / 10
+    said = cli("run", "rsf_block_bp1.toml", "--check-starts", "--estimate")
+    assert said.code == 2 and "not an option of a rate_state_slider scene" in said.err
+
+
+@given(st.floats(min_value=1.0, max_value=1e4), st.floats(min_value=-0.9, max_value=2.0),
+       st.one_of(st.none(), st.floats(min_value=0.0, max_value=0.5)),
+       st.one_of(st.none(), st.floats(min_value=0.0, max_value=0.5)), st.booleans(), st.booleans())
+def test_two_starts_reach_another_cycle_only_beyond_their_errors_and_both_settled(recurrence, change, error,
+                                                                                  other_error, settled, other_settled):
+    """--check-starts' verdict: the same cycle within 1 % or the two sequence errors; another only where both runs
+    settled to a period (an unsettled mean may still be moving); else it cannot tell."""
+    from faultslip.models.fault_2d.family import SAME_CYCLE, same_cycle
+
+    verdict = same_cycle(recurrence, error, settled, recurrence * (1 + change), other_error, other_settled)
+    apart = abs(change) * (1 - 1e-9) > max(SAME_CYCLE, (error or 0.0) + (other_error or 0.0)
+                                          if error is not None and other_error is not None else SAME_CYCLE)
+    close = abs(change) * (1 + 1e-9) < max(SAME_CYCLE, (error + other_error)
+                                           if error is not None and other_error is not None else 0.0)
+    if close:
+        assert verdict is True
+    elif apart:
+        assert verdict is (False if settled and other_settled else None)
