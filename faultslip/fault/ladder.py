@@ -416,6 +416,8 @@ def with_model_error(rung: dict, model_error: float) -> dict:
 
 
 def rung_of(name: str, result: Result, cpu: float) -> dict:
+    """A rung's row for :func:`ladder_report`: its recurrence (s) and slip (m), their declared ranges (the one
+    slider's own 95 % ranges; a 2-D or 3-D run's from its declared relative error), that error and the CPU (s)."""
     values = result.values
 
     def pair(key):
