@@ -21,6 +21,7 @@ from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
 from faultslip.fault.ladder import groups, ladder_report, one_slider_report, rung_of, with_model_error
+from faultslip.fault.starts import START_FACTORS, compare_starts, start_note
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
@@ -188,10 +189,8 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
     if summary.note:
         report.note(summary.note)
     start = (loaded.settings or {}).get("initial_speed")
-    if start is not None:  # multistable faults: benchmarks/ladder_regimes.py --part start
-        report.note(f"the answer is the cycle this scene's start settles to (every element in steady state at "
-                    f"{start:.3g} m/s, [initial] initial_speed); a fault can settle to another cycle from another "
-                    "start, which the declared error does not cover (docs/ladder.md)")
+    if start is not None:
+        report.note(start_note(start))
     for note in run.notes:
         report.note(note)
     if run.resumed_from is not None:
@@ -343,6 +342,10 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
     if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
         raise InputError(f"the tolerance must be a relative error between 0 and 1, got {tolerance!r}")
     loaded = read_fault_2d_scene(scene, allow_large=allow_large)
+    asked = [flag for flag, on in (("--richardson", richardson), ("--check-starts", check_starts)) if on]
+    if asked and (method == "one_slider" or (tolerance is not None and method == "auto")):
+        raise InputError(f"{asked[0]} runs the 2-D fault itself again: ask for --model fault_2d"
+                         + ("" if method == "one_slider" else " (a tolerance may stop at the one slider)"))
     if method == "one_slider":
         return one_slider(loaded)
     settle = min(SETTLE_TOLERANCE, tolerance) if tolerance is not None else SETTLE_TOLERANCE
@@ -457,30 +460,10 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
     return result
 
 
-#: The other starts --check-starts runs a scene from: its start's slip rate times these
-START_FACTORS = (0.1, 10.0)
-#: Two runs of one scene from different starts settle to the same cycle where their recurrences differ by no more
-#: than this, or than their sequences' own errors together (benchmarks/ladder_regimes.py --part start)
-SAME_CYCLE = 0.01
-
-
-def same_cycle(recurrence: float, sequence_error, settled: bool, other: float, other_error,
-               other_settled: bool) -> bool | None:
-    """Whether two runs of a scene from different starts reached the same cycle: yes where their recurrences lie
-    within :data:`SAME_CYCLE` or their two sequence errors together; no where they differ by more and both settled
-    to a period; None where they differ and either did not settle (its mean may still be moving: run longer)."""
-    change = abs(other / recurrence - 1)
-    if change <= SAME_CYCLE:
-        return True
-    if sequence_error is not None and other_error is not None and change <= sequence_error + other_error:
-        return True
-    return False if settled and other_settled else None
-
-
 def starts_run(scene, allow_large: bool = False, allow_underresolved: bool = False,
                settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
     """The scene from its own start and from :data:`START_FACTORS` times its start's slip rate: does it settle to
-    the same cycle? A multistable fault does not (2 of 31 settled held-out faults: benchmarks/ladder_regimes.py).
+    the same cycle? A multistable fault does not (:func:`faultslip.fault.starts.compare_starts`).
 
     Parameters
     ----------
@@ -509,43 +492,7 @@ def starts_run(scene, allow_large: bool = False, allow_underresolved: bool = Fal
                             settle_tolerance=settle_tolerance)
     runs = [simulate_fault(other, allow_large=True, allow_underresolved=allow_underresolved,
                            settle_tolerance=settle_tolerance) for other in others]
-
-    def recurrence(run):
-        return float(run.values["recurrence_interval"].to("s").magnitude)
-
-    def error(run):
-        value = run.values["sequence_error"]
-        return None if value is None else float(value)
-
-    own = recurrence(result)
-    verdicts = [same_cycle(own, error(result), bool(result.values["settled"]), recurrence(run), error(run),
-                           bool(run.values["settled"])) for run in runs]
-    changes = [recurrence(run) / own - 1 for run in runs]
-    result.add("start_speeds", [factor * speed for factor in (1.0, *START_FACTORS)], "m/s",
-               label="each run's start: every element in steady state at this slip rate")
-    result.add("start_recurrences", [own] + [recurrence(run) for run in runs], "s", also=("yr",),
-               label="the recurrence each start settles to")
-    result.add("start_sequences", [result.values["sequence"]] + [run.values["sequence"] for run in runs],
-               label="the sequence each start settles to")
-    result.add("start_change", max(changes, key=abs), label="the largest relative change of the recurrence "
-                                                             "from another start")
-    multistable = True if False in verdicts else (None if None in verdicts else False)
-    result.add("multistable", multistable,
-               label=f"another start settles to another period (recurrences apart by more than {SAME_CYCLE:g} and "
-                     "their sequences' errors, both settled; null: they differ but a run has not settled)")
-    if multistable:
-        moved = max(range(len(runs)), key=lambda k: abs(changes[k]))
-        result.note(f"multistable: from {START_FACTORS[moved] * speed:.3g} m/s the fault settles to another cycle "
-                    f"({runs[moved].values['sequence']}, recurrence {recurrence(runs[moved]) / YEAR:.4g} yr, "
-                    f"{100 * changes[moved]:+.0f} %); the answer above is its own start's, and the declared error "
-                    "does not cover the other")
-    elif multistable is None:
-        result.note("the starts' recurrences differ, but not every run settled to a period, so its mean may still "
-                    "be moving: run longer ([run] duration) to tell whether the fault is multistable")
-    else:
-        result.note(f"from {' and '.join(f'{f * speed:.3g}' for f in START_FACTORS)} m/s the fault reaches the same "
-                    f"recurrence (within {SAME_CYCLE:g} or its sequences' errors): one cycle, whatever the start")
-    return result
+    return compare_starts(result, runs, speed)
 
 
 def richardson_run(scene, allow_large: bool = False, settle_tolerance: float = SETTLE_TOLERANCE) -> Result:

@@ -24,6 +24,7 @@ from faultslip.io.report import Report
 from faultslip.models.common import note_origin
 from faultslip.fault.ladder import ladder_report, rung_of
 from faultslip.fault import strike_error
+from faultslip.fault.starts import START_FACTORS, compare_starts, start_note
 from faultslip.models.fault_2d import family as fault_2d_family
 from faultslip.models.fault_2d.analysis import classify, moment_magnitude
 from faultslip.models.fault_2d.figures import ladder_figure
@@ -132,6 +133,8 @@ def _result(loaded: Fault3DScene, run, settle_tolerance: float = SETTLE_TOLERANC
     report.add("peak_slip_rate", float(np.max(run.events["peak_slip_rate"])) if run.event_count else
                float(np.max(run.profile_max_speed)), "m/s")
     discretisation = discretisation_error(resolution)
+    report.add("sequence_error", sequence.mean_error if math.isfinite(sequence.mean_error) else None,
+               label="the sequence's own error in recurrence: its settling (relative; null: too few intervals)")
     if math.isfinite(discretisation):
         report.add("discretisation_error", discretisation,
                    label="the square size's error in recurrence (BP5 at 2000, 1000 and 500 m)")
@@ -155,6 +158,8 @@ def _result(loaded: Fault3DScene, run, settle_tolerance: float = SETTLE_TOLERANC
         report.note(note)
     if run.resumed_from is not None:
         report.note(f"continued from the checkpoint at {run.resumed_from / YEAR:.6g} yr")
+    if "initial_speed" in loaded.settings:
+        report.note(start_note(loaded.settings["initial_speed"]))
     note_origin(report, loaded.origin)
     return Result("fault_3d", report, to_dataset(loaded, run), lambda: rupture_figure(run), extras={"run": run})
 
@@ -307,7 +312,22 @@ def _lower_rung(loaded: Fault3DScene, name: str, allow_large: bool, reason: str)
     return result
 
 
-def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=None) -> Result:
+def starts_run(loaded: Fault3DScene, allow_large: bool = False, progress=None) -> Result:
+    """The scene from its own start and from :data:`~faultslip.fault.starts.START_FACTORS` times its start's slip
+    rate (the nucleation patch's kept): does it settle to the same cycle
+    (:func:`faultslip.fault.starts.compare_starts`)? All three runs are budgeted before any."""
+    speed = float(loaded.settings["initial_speed"])
+    others = [loaded.from_start(factor * speed) for factor in START_FACTORS]
+    estimates = [loaded.estimate()] + [other.estimate() for other in others]
+    budget.check(budget.Estimate(f"the three runs of {loaded.name} (its start and two others)",
+                                 memory=max(e.memory for e in estimates),
+                                 seconds=sum(e.seconds for e in estimates)), allow_large)
+    result = simulate(loaded, allow_large=True, progress=progress)
+    return compare_starts(result, [simulate(other, allow_large=True) for other in others], speed)
+
+
+def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=None,
+        check_starts: bool = False) -> Result:
     """A 3-D fault scene on the rung asked for, or on the cheapest whose declared error meets ``tolerance``.
 
     Parameters
@@ -323,6 +343,8 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
         Lift the budget.
     progress : callable, optional
         ``(done, total)`` in years.
+    check_starts : bool
+        Run the 3-D fault again from other starts (:func:`starts_run`).
 
     Returns
     -------
@@ -332,8 +354,13 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     if method not in (None, "auto") + RUNGS:
         raise InputError(f"a 3-D fault scene runs on one of {', '.join(RUNGS)} or auto, got {method!r}")
     loaded = load_fault_3d_scene(scene, allow_large=allow_large)
+    if check_starts and (method in ("one_slider", "fault_2d") or tolerance is not None):
+        raise InputError("--check-starts runs the 3-D fault itself from other starts: ask for --model fault_3d, "
+                         "without a tolerance")
     if method in ("one_slider", "fault_2d"):
         return _lower_rung(loaded, method, allow_large, "asked for by name")
+    if check_starts:
+        return starts_run(loaded, allow_large=allow_large, progress=progress)
     declared_3d = discretisation_error(loaded.resolution)
     if tolerance is not None and method in (None, "auto"):
         cheap = _lower_rung(loaded, "one_slider", allow_large, f"the cheapest rung, tried for tolerance {tolerance:g}")
@@ -494,17 +521,26 @@ METHODS = {"fault_3d": {"name": "fault_3d", "friction_laws": "rate-and-state (ag
                         "declared_error": "the square size's (BP5 at 2000, 1000 and 500 m), the sequence's settling "
                                           "and 10 rtol"}}
 
-def estimate(scene, action: str = "run", rtol=None, output_dir=None, **_) -> budget.Estimate:
+def estimate(scene, action: str = "run", rtol=None, output_dir=None, check_starts: bool = False,
+             **_) -> budget.Estimate:
     """What a run or simulation of a 3-D fault scene needs, before it starts: its steps, operator and records
-    (:meth:`Fault3DScene.estimate`, cost.py)."""
+    (:meth:`Fault3DScene.estimate`, cost.py); with ``check_starts``, the runs from the other starts too."""
     loaded = load_fault_3d_scene(scene, allow_large=True)
-    return loaded.estimate(loaded.rtol if rtol is None else rtol, output_dir)
+    chosen = loaded.rtol if rtol is None else rtol
+    if not (action == "run" and check_starts):
+        return loaded.estimate(chosen, output_dir)
+    speed = float(loaded.settings["initial_speed"])
+    estimates = [each.estimate(chosen, output_dir) for each in
+                 [loaded] + [loaded.from_start(factor * speed) for factor in START_FACTORS]]
+    return budget.Estimate(f"3 runs of {loaded.name} (its start and two others)",
+                           memory=max(e.memory for e in estimates), disk=sum(e.disk for e in estimates),
+                           seconds=sum(e.seconds for e in estimates), output=estimates[0].output)
 
 
 FAMILY = register(Family("fault_3d", "quasi-dynamic cycles on a planar 3-D fault in an elastic half-space "
                                      "(SEAS BP5-QD)", run, simulate,
                          simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite"),
-                         run_options=("allow_large", "progress"),
+                         run_options=("allow_large", "progress", "check_starts"),
                          why="a 3-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
                          read_scene=read_scene, cells=Fault3DCells(), methods=lambda: list(METHODS.values()),
                          ladder=ladder, estimate=estimate,

@@ -172,6 +172,13 @@ class Fault3DScene:
         return replace(self, fault=build_fault(self.settings, element_size, self.name),
                        settings={k: v for k, v in self.settings.items() if k != "_operator"})
 
+    def from_start(self, initial_speed: float) -> "Fault3DScene":
+        """The same scene started otherwise: every square off the nucleation patch in steady state at
+        ``initial_speed`` (m/s; BP5's start), as ``[initial] initial_speed`` states it."""
+        settings = {k: v for k, v in self.settings.items() if k != "_operator"}
+        settings["initial_speed"] = float(initial_speed)
+        return replace(self, fault=build_fault(settings, self.fault.element_size, self.name), settings=settings)
+
     def with_values(self, **values) -> "Fault3DScene":
         """The scene with parameters replaced, in SI (what a study sweeps; :data:`SWEEPABLE`)."""
         settings = {k: v for k, v in self.settings.items() if k != "_operator"}

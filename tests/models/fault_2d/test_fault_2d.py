@@ -1451,6 +1451,9 @@ def test_check_starts_runs_the_scene_from_other_starts_and_says_it_has_one_cycle
     assert both.code == 2 and "one at a time" in both.err and len(both.err.strip().splitlines()) == 1
     refused = cli("run", "rsf_block_bp1.toml", "--check-starts")
     assert refused.code == 2 and "not an option of a rate_state_slider scene" in refused.err
+    for extra in (("--model", "one_slider"), ("--tolerance", "0.5")):  # the 2-D fault itself runs again, or nothing
+        stopped = cli("run", CONFIGS / "fault_2d_small.toml", "--check-starts", *extra)
+        assert stopped.code == 2 and "--model fault_2d" in stopped.err
     # its estimate counts the three runs before any of them, as the run's budget does
     from faultslip.models import estimate
     from faultslip.models.fault_2d.scene import read_fault_2d_scene
@@ -1472,7 +1475,7 @@ def test_two_starts_reach_another_cycle_only_beyond_their_errors_and_both_settle
                                                                                   other_error, settled, other_settled):
     """--check-starts' verdict: the same cycle within 1 % or the two sequence errors; another only where both runs
     settled to a period (an unsettled mean may still be moving); else it cannot tell."""
-    from faultslip.models.fault_2d.family import SAME_CYCLE, same_cycle
+    from faultslip.fault.starts import SAME_CYCLE, same_cycle
 
     verdict = same_cycle(recurrence, error, settled, recurrence * (1 + change), other_error, other_settled)
     apart = abs(change) * (1 - 1e-9) > max(SAME_CYCLE, (error or 0.0) + (other_error or 0.0)

@@ -419,3 +419,26 @@ def test_a_declared_error_ranges_where_the_truth_lies():
 
     assert truth_range(100.0, 0.25) == pytest.approx([80.0, 100.0 / 0.75])
     assert truth_range(100.0, 1.0) is None and truth_range(100.0, None) is None
+
+
+def test_check_starts_runs_the_3d_fault_from_other_starts(cli):
+    """--check-starts on the 3-D rung (through faultslip.fault.starts, as the 2-D rung): the small BP5 scene from
+    its start and from 0.1 and 10 times its background slip rate (its nucleation patch kept) settles to one
+    periodic cycle; the three runs are budgeted together; a lower rung or a tolerance is refused in one sentence."""
+    from faultslip.models import estimate
+
+    done = cli("run", SMALL, "--check-starts", "--json")
+    assert done.code == 0, done.err
+    document = json.loads(done.out)
+    report = document.get("results", document)
+    recurrences = report["start_recurrences"]["value"]
+    assert recurrences[0] == report["recurrence_interval"]["value"]
+    assert report["start_sequences"] == ["periodic"] * 3
+    assert report["multistable"] is False and abs(report["start_change"]) <= 0.01
+    scene = load_fault_3d_scene(SMALL)
+    three = estimate(SMALL, "run", check_starts=True)
+    assert three.seconds == pytest.approx(sum(s.estimate().seconds for s in
+                                              (scene, scene.from_start(1e-10), scene.from_start(1e-8))))
+    for extra in (("--model", "fault_2d"), ("--tolerance", "0.5")):
+        refused = cli("run", SMALL, "--check-starts", *extra)
+        assert refused.code == 2 and "--model fault_3d" in refused.err and len(refused.err.strip().splitlines()) == 1
