@@ -64,6 +64,20 @@ def _run(job):
     return design.name, factor, run_design(moved, cycles=6)
 
 
+def _pooled(function, jobs: list, workers: int, label: str):
+    """Each job's (fault name, factor, run_design row) from a worker pool, as the runs end, each said on a line."""
+    pool = worker_pool(min(workers, len(jobs)))
+    try:
+        for future in as_completed([pool.submit(function, job) for job in jobs]):
+            name, factor, row = future.result()
+            print(f"{name} {label.format(factor=factor)}: {row['sequence']} (period {row['period']}), "
+                  f"{row['events']} events, {row['system_events']} system-size, T "
+                  f"{row['recurrence_2d'] / 3.15576e7:.1f} yr, {row['cpu_time']:.0f} s CPU", flush=True)
+            yield name, factor, row
+    finally:
+        stop_pool(pool)
+
+
 def _run_from(job):
     design, factor = job
     return design.name, factor, run_design(design, initial_speed=factor * PLATE_RATE)
@@ -81,15 +95,8 @@ def starts(rows: list[dict], workers: int) -> dict:
     runs: dict[str, dict] = {name: {1.0: _summary_of_start(row)} for name, row in
                              ((row["design"]["name"], row) for row in rows)}
     jobs = [(design, factor) for design in designs.values() for factor in STARTS]
-    pool = worker_pool(min(workers, len(jobs)))
-    try:
-        for future in as_completed([pool.submit(_run_from, job) for job in jobs]):
-            name, factor, row = future.result()
-            runs[name][factor] = _summary_of_start(row)
-            print(f"{name} from {factor:g} V_pl: {row['sequence']} (period {row['period']}), T "
-                  f"{row['recurrence_2d'] / 3.15576e7:.1f} yr, {row['cpu_time']:.0f} s CPU", flush=True)
-    finally:
-        stop_pool(pool)
+    for name, factor, row in _pooled(_run_from, jobs, workers, "from {factor:g} V_pl"):
+        runs[name][factor] = _summary_of_start(row)
     faults = []
     for name, by_start in runs.items():
         usual = by_start[1.0]
@@ -141,16 +148,8 @@ def main(argv=None):
     chosen = [Design(**row["design"]) for row in rows if MIXED[0] <= row["design"]["width_over_nucleation"] <= MIXED[1]]
     jobs = [(design, factor) for design in chosen for factor in FACTORS]
     runs: dict[str, dict] = {design.name: {} for design in chosen}
-    pool = worker_pool(min(args.workers, len(jobs)))
-    try:
-        futures = [pool.submit(_run, job) for job in jobs]
-        for future in as_completed(futures):
-            name, factor, row = future.result()
-            runs[name][factor] = row
-            print(f"{name} D_c x{factor}: {row['events']} events, {row['system_events']} system-size, "
-                  f"T {row['recurrence_2d'] / 3.15576e7:.1f} yr, {row['cpu_time']:.0f} s CPU", flush=True)
-    finally:
-        stop_pool(pool)
+    for name, factor, row in _pooled(_run, jobs, args.workers, "D_c x{factor}"):
+        runs[name][factor] = row
     faults = []
     for name, by_factor in runs.items():
         base = by_factor[1.0]

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from faultslip.constants import JULIAN_YEAR as YEAR
 from faultslip.contract.result import Result
+from faultslip.io import budget
 
 #: The other starts: the scene's start's slip rate times these
 START_FACTORS = (0.1, 10.0)
@@ -30,6 +31,19 @@ def same_cycle(recurrence: float, sequence_error, settled: bool, other: float, o
     if sequence_error is not None and other_error is not None and change <= sequence_error + other_error:
         return True
     return False if settled and other_settled else None
+
+
+def other_starts(scene) -> tuple[float, list]:
+    """(the scene's start's slip rate in m/s, the scene from each of :data:`START_FACTORS` times it): a 2-D or 3-D
+    fault scene, through its ``from_start``."""
+    speed = float(scene.settings["initial_speed"])
+    return speed, [scene.from_start(factor * speed) for factor in START_FACTORS]
+
+
+def starts_estimate(scene, others: list, rtol=None, output=None) -> budget.Estimate:
+    """What the scene's run and its runs from ``others`` (:func:`other_starts`) need, one after another."""
+    return budget.one_after_another(f"{len(others) + 1} runs of {scene.name} (its start and {len(others)} others)",
+                                    [each.estimate(rtol, output) for each in [scene, *others]])
 
 
 def start_note(speed: float) -> str:

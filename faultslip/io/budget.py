@@ -178,6 +178,12 @@ def check(estimate: Estimate, allow_large: bool = False, seconds_allowed: float 
 NETCDF_OVERHEAD, NETCDF_PER_VARIABLE = 16e3, 3e3
 
 
+def one_after_another(what: str, estimates: list[Estimate]) -> Estimate:
+    """Runs made one after another: their CPU time and disk summed, the largest memory any holds at once."""
+    return Estimate(what, memory=max(e.memory for e in estimates), disk=sum(e.disk for e in estimates),
+                    seconds=sum(e.seconds for e in estimates), output=estimates[0].output)
+
+
 def netcdf_disk(raw_bytes: float, variables: int, compression: str = "zlib") -> float:
     """Disk bytes of a netCDF4 file holding ``raw_bytes`` of data in ``variables`` variables."""
     return raw_bytes * (1.0 if compression == "none" else ZLIB_RATIO) + NETCDF_OVERHEAD + NETCDF_PER_VARIABLE * variables

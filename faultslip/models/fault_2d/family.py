@@ -21,7 +21,7 @@ from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
 from faultslip.fault.ladder import groups, ladder_report, one_slider_report, rung_of, with_model_error
-from faultslip.fault.starts import START_FACTORS, compare_starts, start_note
+from faultslip.fault.starts import compare_starts, other_starts, start_note, starts_estimate
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
@@ -462,7 +462,7 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
 
 def starts_run(scene, allow_large: bool = False, allow_underresolved: bool = False,
                settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
-    """The scene from its own start and from :data:`START_FACTORS` times its start's slip rate: does it settle to
+    """The scene from its own start and from :data:`~faultslip.fault.starts.START_FACTORS` times its start's slip rate: does it settle to
     the same cycle? A multistable fault does not (:func:`faultslip.fault.starts.compare_starts`).
 
     Parameters
@@ -482,12 +482,8 @@ def starts_run(scene, allow_large: bool = False, allow_underresolved: bool = Fal
     """
     loaded = read_fault_2d_scene(scene, allow_large=allow_large)
     loaded.require_resolution(allow_underresolved)
-    speed = float(loaded.settings["initial_speed"])
-    others = [loaded.from_start(factor * speed) for factor in START_FACTORS]
-    estimates = [loaded.estimate()] + [other.estimate() for other in others]
-    budget.check(budget.Estimate(f"the three runs of {loaded.name} (its start and two others)",
-                                 memory=max(e.memory for e in estimates),
-                                 seconds=sum(e.seconds for e in estimates)), allow_large)
+    speed, others = other_starts(loaded)
+    budget.check(starts_estimate(loaded, others), allow_large)
     result = simulate_fault(loaded, allow_large=True, allow_underresolved=allow_underresolved,
                             settle_tolerance=settle_tolerance)
     runs = [simulate_fault(other, allow_large=True, allow_underresolved=allow_underresolved,
@@ -519,9 +515,8 @@ def richardson_run(scene, allow_large: bool = False, settle_tolerance: float = S
     loaded = read_fault_2d_scene(scene, allow_large=allow_large)
     loaded.require_resolution()
     finer = loaded.at_element_size(loaded.fault.element_size / 2)
-    estimates = [loaded.estimate(), finer.estimate()]
-    budget.check(budget.Estimate(f"the two runs of {loaded.name} (Richardson)", memory=estimates[1].memory,
-                                 seconds=estimates[0].seconds + estimates[1].seconds), allow_large)
+    budget.check(budget.one_after_another(f"the two runs of {loaded.name} (Richardson)",
+                                          [loaded.estimate(), finer.estimate()]), allow_large)
     coarse = simulate_fault(loaded, allow_large=True, settle_tolerance=settle_tolerance)
     result = simulate_fault(finer, allow_large=True, settle_tolerance=settle_tolerance)
     t_coarse, t_fine = (r.values["recurrence_interval"].to("s").magnitude for r in (coarse, result))
@@ -607,18 +602,12 @@ def estimate(scene, action: str = "run", rtol=None, output_dir=None, method=None
         return budget.fitted_estimate("rate_state_slider", "run", 5.0,
                                       f"the one slider derived from {loaded.name} (5 earthquake cycles)")
     chosen = rtol if rtol is not None else loaded.rtol
-    scenes = [loaded]
-    if action == "run" and richardson:
-        scenes.append(loaded.at_element_size(loaded.fault.element_size / 2))
     if action == "run" and check_starts:
-        speed = float(loaded.settings["initial_speed"])
-        scenes += [loaded.from_start(factor * speed) for factor in START_FACTORS]
-    estimates = [each.estimate(chosen, output_dir) for each in scenes]
-    if len(estimates) == 1:
-        return estimates[0]
-    return budget.Estimate(f"{len(estimates)} runs of {loaded.name} ({'Richardson' if richardson else 'its start and two others'})",
-                           memory=max(e.memory for e in estimates), disk=sum(e.disk for e in estimates),
-                           seconds=sum(e.seconds for e in estimates), output=estimates[0].output)
+        return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)
+    if action == "run" and richardson:
+        return budget.one_after_another(f"2 runs of {loaded.name} (Richardson: its elements and half their size)", [
+            each.estimate(chosen, output_dir) for each in (loaded, loaded.at_element_size(loaded.fault.element_size / 2))])
+    return loaded.estimate(chosen, output_dir)
 
 
 FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",

@@ -24,7 +24,7 @@ from faultslip.io.report import Report
 from faultslip.models.common import note_origin
 from faultslip.fault.ladder import ladder_report, rung_of
 from faultslip.fault import strike_error
-from faultslip.fault.starts import START_FACTORS, compare_starts, start_note
+from faultslip.fault.starts import compare_starts, other_starts, start_note, starts_estimate
 from faultslip.models.fault_2d import family as fault_2d_family
 from faultslip.models.fault_2d.analysis import classify, moment_magnitude
 from faultslip.models.fault_2d.figures import ladder_figure
@@ -316,12 +316,8 @@ def starts_run(loaded: Fault3DScene, allow_large: bool = False, progress=None) -
     """The scene from its own start and from :data:`~faultslip.fault.starts.START_FACTORS` times its start's slip
     rate (the nucleation patch's kept): does it settle to the same cycle
     (:func:`faultslip.fault.starts.compare_starts`)? All three runs are budgeted before any."""
-    speed = float(loaded.settings["initial_speed"])
-    others = [loaded.from_start(factor * speed) for factor in START_FACTORS]
-    estimates = [loaded.estimate()] + [other.estimate() for other in others]
-    budget.check(budget.Estimate(f"the three runs of {loaded.name} (its start and two others)",
-                                 memory=max(e.memory for e in estimates),
-                                 seconds=sum(e.seconds for e in estimates)), allow_large)
+    speed, others = other_starts(loaded)
+    budget.check(starts_estimate(loaded, others), allow_large)
     result = simulate(loaded, allow_large=True, progress=progress)
     return compare_starts(result, [simulate(other, allow_large=True) for other in others], speed)
 
@@ -527,14 +523,9 @@ def estimate(scene, action: str = "run", rtol=None, output_dir=None, check_start
     (:meth:`Fault3DScene.estimate`, cost.py); with ``check_starts``, the runs from the other starts too."""
     loaded = load_fault_3d_scene(scene, allow_large=True)
     chosen = loaded.rtol if rtol is None else rtol
-    if not (action == "run" and check_starts):
-        return loaded.estimate(chosen, output_dir)
-    speed = float(loaded.settings["initial_speed"])
-    estimates = [each.estimate(chosen, output_dir) for each in
-                 [loaded] + [loaded.from_start(factor * speed) for factor in START_FACTORS]]
-    return budget.Estimate(f"3 runs of {loaded.name} (its start and two others)",
-                           memory=max(e.memory for e in estimates), disk=sum(e.disk for e in estimates),
-                           seconds=sum(e.seconds for e in estimates), output=estimates[0].output)
+    if action == "run" and check_starts:
+        return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)
+    return loaded.estimate(chosen, output_dir)
 
 
 FAMILY = register(Family("fault_3d", "quasi-dynamic cycles on a planar 3-D fault in an elastic half-space "
