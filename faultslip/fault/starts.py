@@ -46,11 +46,13 @@ def starts_estimate(scene, others: list, rtol=None, output=None) -> budget.Estim
                                     [each.estimate(rtol, output) for each in [scene, *others]])
 
 
-def start_note(speed: float) -> str:
-    """What every cycle model's answer is: its start's cycle (the sentence its report carries)."""
-    return (f"the answer is the cycle this scene's start settles to (every element in steady state at {speed:.3g} "
-            "m/s, [initial] initial_speed); a fault can settle to another cycle from another start, which the "
-            "declared error does not cover (docs/ladder.md; --check-starts runs it from others)")
+def start_note(speed: float, patch: bool = False) -> str:
+    """What every cycle model's answer is: its start's cycle (the sentence its report carries); ``patch``: a
+    nucleation patch starts faster than the rest (SEAS BP5)."""
+    where = "every element off the nucleation patch" if patch else "every element"
+    return (f"the answer is the cycle this scene's start settles to ({where} in steady state at {speed:.3g} m/s, "
+            "[initial] initial_speed); a fault can settle to another cycle from another start, which the declared "
+            "error does not cover (docs/ladder.md; --check-starts runs it from others)")
 
 
 def _recurrence(result: Result) -> float:
@@ -73,7 +75,7 @@ def compare_starts(result: Result, others: list[Result], speed: float) -> Result
                            bool(run.values["settled"])) for run in others]
     changes = [_recurrence(run) / own - 1 for run in others]
     result.add("start_speeds", [factor * speed for factor in (1.0, *START_FACTORS)], "m/s",
-               label="each run's start: every element in steady state at this slip rate")
+               label="each run's start: every element (off a nucleation patch) in steady state at this slip rate")
     result.add("start_recurrences", [own] + [_recurrence(run) for run in others], "s", also=("yr",),
                label="the recurrence each start settles to")
     result.add("start_sequences", [result.values["sequence"]] + [run.values["sequence"] for run in others],

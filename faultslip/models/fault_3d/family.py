@@ -159,7 +159,7 @@ def _result(loaded: Fault3DScene, run, settle_tolerance: float = SETTLE_TOLERANC
     if run.resumed_from is not None:
         report.note(f"continued from the checkpoint at {run.resumed_from / YEAR:.6g} yr")
     if "initial_speed" in loaded.settings:
-        report.note(start_note(loaded.settings["initial_speed"]))
+        report.note(start_note(loaded.settings["initial_speed"], patch=bool(loaded.settings.get("nucleation"))))
     note_origin(report, loaded.origin)
     return Result("fault_3d", report, to_dataset(loaded, run), lambda: rupture_figure(run), extras={"run": run})
 
