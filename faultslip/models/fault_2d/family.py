@@ -343,6 +343,8 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
         raise InputError(f"the tolerance must be a relative error between 0 and 1, got {tolerance!r}")
     loaded = read_fault_2d_scene(scene, allow_large=allow_large)
     asked = [flag for flag, on in (("--richardson", richardson), ("--check-starts", check_starts)) if on]
+    if len(asked) == 2:
+        raise InputError("--richardson and --check-starts each run the scene again; ask for one at a time")
     if asked and (method == "one_slider" or (tolerance is not None and method == "auto")):
         raise InputError(f"{asked[0]} runs the 2-D fault itself again: ask for --model fault_2d"
                          + ("" if method == "one_slider" else " (a tolerance may stop at the one slider)"))
@@ -350,8 +352,6 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
         return one_slider(loaded)
     settle = min(SETTLE_TOLERANCE, tolerance) if tolerance is not None else SETTLE_TOLERANCE
     if method == "fault_2d" or tolerance is None:
-        if richardson and check_starts:
-            raise InputError("--richardson and --check-starts each run the scene again; ask for one at a time")
         if richardson:
             return richardson_run(loaded, allow_large=allow_large, settle_tolerance=settle)
         if check_starts:
@@ -462,8 +462,9 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
 
 def starts_run(scene, allow_large: bool = False, allow_underresolved: bool = False,
                settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
-    """The scene from its own start and from :data:`~faultslip.fault.starts.START_FACTORS` times its start's slip rate: does it settle to
-    the same cycle? A multistable fault does not (:func:`faultslip.fault.starts.compare_starts`).
+    """The scene from its own start and from :data:`~faultslip.fault.starts.START_FACTORS` times its start's slip
+    rate: does it settle to the same cycle? A multistable fault does not
+    (:func:`faultslip.fault.starts.compare_starts`).
 
     Parameters
     ----------

@@ -27,15 +27,15 @@ def subphases(loaded, events: int) -> tuple[float, str]:
     compiled closed form over its first min(events, :data:`COUNTED_EVENTS`) and scaled; without the compiled
     closed form (or where it stops), one a block-event, said."""
     counted = min(int(events), COUNTED_EVENTS)
-    if compiled_available():
-        try:
-            run = simulate_chain(loaded.chain, counted, initial_position=loaded.initial_position,
-                                 slip_solver="closed_form_compiled")
-        except (InputError, SolverError):
-            pass  # the run itself will say why; the estimate falls back to its block-events
-        else:
-            return run.subphases * events / counted, f"counted by the closed form over {counted} events"
-    return float(events * loaded.chain.blocks), "uncounted: one a block-event (the compiled closed form is not built)"
+    uncounted = float(events * loaded.chain.blocks)
+    if not compiled_available():
+        return uncounted, "uncounted: one a block-event (the compiled closed form is not built)"
+    try:
+        run = simulate_chain(loaded.chain, counted, initial_position=loaded.initial_position,
+                             slip_solver="closed_form_compiled")
+    except (InputError, SolverError) as error:  # the run itself will stop there too, and say so
+        return uncounted, f"uncounted: one a block-event (the closed form stopped: {error})"
+    return run.subphases * events / counted, f"counted by the closed form over {counted} events"
 
 
 def _work(loaded, action: str, cycles, slip_solver) -> tuple[str, float, str, float]:
