@@ -6,7 +6,6 @@ A fault radiates energy as seismic waves: the radiation damper eta = G / (2 c_s)
 rate. It lowers the peak slip rate and, slightly, the slip per event of the 1906 scene.
 """
 import matplotlib.pyplot as plt
-import numpy as np
 
 from faultslip.models import read_slider_scene, simulate_slider
 

@@ -20,7 +20,10 @@ import importlib
 from faultslip.errors import InputError
 from faultslip.io import budget
 from faultslip.contract.options import OPTIONS, UNIVERSAL
-from faultslip.contract.registry import DECLARATIONS, FAMILIES, Family, families, family_of, load, register
+# re-exported (the names' __all__ is built below, which linters cannot read)
+from faultslip.contract.registry import DECLARATIONS as DECLARATIONS, FAMILIES as FAMILIES, Family as Family
+from faultslip.contract.registry import families, family_of
+from faultslip.contract.registry import load as load, register as register
 from faultslip.contract.result import Result
 
 from faultslip.api import TOPICS as _TOPICS
