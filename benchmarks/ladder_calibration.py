@@ -26,6 +26,9 @@ random subsets of the calibration faults, and the linear range's limit with unli
 **The budget**: the estimate each run recorded before it ran, against the CPU it used, over the runs whose row
 records the cost model now declared (the held-out ones apart: the event-step model is fitted on the others).
 
+**A fresh draw** (``python benchmarks/ladder_designs.py --fresh 40``, ``benchmarks/results/ladder_fresh.json``):
+a third independent draw over the box, run after the ranges were shipped, tested against them as they are.
+
 Writes ``data/ladder_calibration.json`` (what faultslip declares) and ``benchmarks/results/ladder_held_out.json``
 (each held-out fault, its 2-D answer, the range and whether it holds; the budget's estimates against the CPU used).
 """
@@ -45,7 +48,7 @@ sys.path.insert(0, str(ROOT))
 from faultslip import __version__  # noqa: E402
 from faultslip.fault import ladder  # noqa: E402
 from faultslip.models.fault_2d.calibration import Design  # noqa: E402
-from ladder_designs import cost_model  # noqa: E402
+from ladder_designs import FRESH, FRESH_SEED, cost_model  # noqa: E402
 from ladder_regimes import PARTIAL_SHARE, interleaves  # noqa: E402
 from provenance import stamp  # noqa: E402
 
@@ -255,29 +258,11 @@ def limits(train: list[dict], test: list[dict], table: dict) -> dict:
     return out
 
 
-def main():
-    old = json.loads(OLD.read_text())["rows"]
-    new = json.loads(NEW.read_text())["rows"]
-    train_rows = old + [row for row in new if row["design"]["name"].startswith("calibration")]
-    test_rows = [row for row in new if row["design"]["name"].startswith("held out")]
-    train = [p for p in map(prepared, train_rows) if p is not None]
-    test = [p for p in map(prepared, test_rows) if p is not None]
-    skipped = {"calibration": len(train_rows) - len(train), "held_out": len(test_rows) - len(test)}
-    table = {"provenance": {"computed_by": "benchmarks/ladder_calibration.py", "faultslip": __version__, **stamp(),
-                            "definition": "ln(2-D / block) linear in the groups of faultslip.fault.ladder.FEATURES, "
-                                          "least squares; ranges are the 95 % prediction intervals",
-                            "calibration_faults": len(train), "held_out_faults": len(test),
-                            "left_out_unsettled": skipped}}
-    for quantity in ladder.QUANTITIES:
-        pairs = targets(train, quantity)
-        table[quantity] = ladder.fit([item["group"] for item, _ in pairs], np.array([y for _, y in pairs]))
-    table["box"] = ladder.box_of([item["group"] for item in train])
-    # the designs stand in for "no ramp" and "creep right below the zone" with one element (0.002 W): a scene
-    # stating none at all lies on that edge, not beyond it
-    for name in ("ramp", "log_strengthening_depth"):
-        table["box"][name][0] = 0.0
+def evaluate(items: list[dict], table: dict) -> tuple[list[dict], dict]:
+    """Each fault's 2-D answer against the declared range (``table``, as data/ladder_calibration.json), and per
+    quantity how many of the faults inside the box it holds and the ranges' mean half-width."""
     rows, covered, widths = [], {q: [] for q in ladder.QUANTITIES}, {q: [] for q in ladder.QUANTITIES}
-    for item in test:
+    for item in items:
         outside = ladder.outside_box(item["group"], table)
         row = {"name": item["name"], "width_over_nucleation": item["group"]["width_over_nucleation"],
                "burial": item["group"]["burial"], "outside": outside, "group": item["group"]}
@@ -301,6 +286,31 @@ def main():
                    "mean_half_width": float(np.mean(widths[q])) if widths[q] else math.nan,
                    "median_bias_uncorrected": table[q]["median_bias_uncorrected"],
                    "median_bias_corrected": table[q]["median_bias_corrected"]} for q in ladder.QUANTITIES}
+    return rows, summary
+
+
+def main():
+    old = json.loads(OLD.read_text())["rows"]
+    new = json.loads(NEW.read_text())["rows"]
+    train_rows = old + [row for row in new if row["design"]["name"].startswith("calibration")]
+    test_rows = [row for row in new if row["design"]["name"].startswith("held out")]
+    train = [p for p in map(prepared, train_rows) if p is not None]
+    test = [p for p in map(prepared, test_rows) if p is not None]
+    skipped = {"calibration": len(train_rows) - len(train), "held_out": len(test_rows) - len(test)}
+    table = {"provenance": {"computed_by": "benchmarks/ladder_calibration.py", "faultslip": __version__, **stamp(),
+                            "definition": "ln(2-D / block) linear in the groups of faultslip.fault.ladder.FEATURES, "
+                                          "least squares; ranges are the 95 % prediction intervals",
+                            "calibration_faults": len(train), "held_out_faults": len(test),
+                            "left_out_unsettled": skipped}}
+    for quantity in ladder.QUANTITIES:
+        pairs = targets(train, quantity)
+        table[quantity] = ladder.fit([item["group"] for item, _ in pairs], np.array([y for _, y in pairs]))
+    table["box"] = ladder.box_of([item["group"] for item in train])
+    # the designs stand in for "no ramp" and "creep right below the zone" with one element (0.002 W): a scene
+    # stating none at all lies on that edge, not beyond it
+    for name in ("ramp", "log_strengthening_depth"):
+        table["box"][name][0] = 0.0
+    rows, summary = evaluate(test, table)
     table["held_out"] = summary
     limit = limits(train, test, table)
     table["limits"] = {key: limit[key] for key in ("partial_share", "calibration_interleaving", "calibration_faults")}
@@ -323,9 +333,19 @@ def main():
               "rows": [{"name": row["design"]["name"], "elements": row["elements"], "cpu_time": row["cpu_time"],
                         "estimated_seconds": row["estimated_seconds"], "steps": row["steps"],
                         "estimated_steps": row.get("estimated_steps")} for row in runs]}
+    # a third draw, run after the ranges were shipped: neither the fit nor the choices behind it saw these faults
+    fresh = None
+    if FRESH.exists():
+        fresh_rows = json.loads(FRESH.read_text())["rows"]
+        fresh_items = [p for p in map(prepared, fresh_rows) if p is not None]
+        fresh_faults, fresh_summary = evaluate(fresh_items, table)
+        fresh = {"seed": FRESH_SEED, "faults": len(fresh_rows), "left_out_unsettled": len(fresh_rows) - len(fresh_items),
+                 "summary": fresh_summary, "rows": fresh_faults,
+                 "budget": spread([row for row in fresh_rows if row.get("cost_model") == declared])}
     OUT.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
     HELD.write_text(json.dumps({**stamp(), "summary": summary, "rows": rows, "budget": budget, "limits": limit,
-                                "left_out_unsettled": skipped}, indent=1) + "\n", encoding="utf-8")
+                                "left_out_unsettled": skipped, **({"fresh": fresh} if fresh else {})}, indent=1) + "\n",
+                    encoding="utf-8")
     for quantity, line in summary.items():
         print(f"{quantity}: residual sd {table[quantity]['residual_sd']:.3f} over {table[quantity]['faults']} faults; "
               f"held out {line['holds']} of {line['held_out']} within the 95 % range "
@@ -353,6 +373,10 @@ def main():
           f"regression, {named['right_by_neighbours']} by {named['nearest_neighbours']} nearest neighbours "
           f"(always the commoner: {named['always_the_commoner']})")
     print(f"outside the box: {sum(bool(r['outside']) for r in rows)} held-out faults; unsettled left out: {skipped}")
+    if fresh:
+        for quantity, line in fresh["summary"].items():
+            print(f"fresh draw (seed {FRESH_SEED}), {quantity}: {line['holds']} of {line['held_out']} within the 95 % "
+                  f"range, mean half-width {line['mean_half_width']:.3f}")
     print(f"budget (the declared cost model's estimates): estimate / CPU from {budget['ratio_min']:.2f} to "
           f"{budget['ratio_max']:.2f} (median {budget['ratio_median']:.2f}), {budget['within_2x']} of {budget['runs']} "
           f"within 2x (held out: {budget['held_out']['within_2x']} of {budget['held_out']['runs']}, "

@@ -570,11 +570,27 @@ def ladder_table() -> str | None:
         rows.append(f"| {names[key]} | {line['holds']} of {line['held_out']} ({100 * line['coverage']:.0f} %) | "
                     f"±{100 * line['mean_half_width']:.0f} % | {100 * line['median_bias_uncorrected']:+.0f} % | "
                     f"{100 * line['median_bias_corrected']:+.1f} % |")
+    fresh = result.get("fresh")
+    if fresh:
+        for key, line in fresh["summary"].items():
+            rows.append(f"| {names[key]}, **fresh draw** | {line['holds']} of {line['held_out']} "
+                        f"({100 * line['coverage']:.0f} %) | ±{100 * line['mean_half_width']:.0f} % | | |")
     outside = sum(bool(row["outside"]) for row in result["rows"])
     budget = result["budget"]
+    fresh_note = ""
+    if fresh:
+        spent = fresh["budget"]
+        fresh_note = (f"The fresh draw: {fresh['faults']} faults of a third draw (seed {fresh['seed']}, `python "
+                      f"benchmarks/ladder_designs.py --fresh {fresh['faults']}`), run after the ranges were fitted and "
+                      f"shipped and read against them as they are, "
+                      f"{sum(bool(row['outside']) for row in fresh['rows'])} of them outside the box"
+                      + (f", {fresh['left_out_unsettled']} left out unsettled" if fresh["left_out_unsettled"] else "")
+                      + (f"; the cost model estimated their CPU at {spent['ratio_min']:.2f} to {spent['ratio_max']:.2f}× "
+                         f"what they used, {spent['within_2x']} of {spent['runs']} within 2×" if spent["runs"] else "")
+                      + ". ")
     return ("\n".join(rows) + f"\n\n{len(result['rows'])} held-out faults drawn at random over the box "
             f"(`python benchmarks/ladder_designs.py`, then `benchmarks/ladder_calibration.py`), {outside} of them "
-            f"outside it (no range declared). "
+            f"outside it (no range declared). " + fresh_note
             + (f"Before each of the {budget['runs']} runs of `ladder_designs.py` (calibration and held out), the cost model now declared "
                f"estimated its CPU: {budget['ratio_min']:.2f} to {budget['ratio_max']:.2f}× what it used (median "
                f"{budget['ratio_median']:.2f}×), {budget['within_2x']} of {budget['runs']} within 2×"
