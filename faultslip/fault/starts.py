@@ -2,7 +2,7 @@
 
 A fault model's answer is the cycle its start settles to. Most faults settle to one cycle from any start; some
 are multistable and settle elsewhere (``benchmarks/ladder_regimes.py --part start``: 2 of 31 settled held-out 2-D
-faults), which no declared error covers. ``faultslip run SCENE --check-starts`` runs a cycle model's scene again
+faults; the 3-D cells: ``benchmarks/fault_3d_model_error.py --starts``), which no declared error covers. ``faultslip run SCENE --check-starts`` runs a cycle model's scene again
 from :data:`START_FACTORS` times its start's slip rate; :func:`compare_starts` says what the runs show, on the
 scene's own run's :class:`~faultslip.contract.result.Result`.
 """
@@ -23,14 +23,17 @@ SAME_CYCLE = 0.01
 def same_cycle(recurrence: float, sequence_error, settled: bool, other: float, other_error,
                other_settled: bool) -> bool | None:
     """Whether two runs of a scene from different starts reached the same cycle: yes where their recurrences lie
-    within :data:`SAME_CYCLE` or their two sequence errors together; no where they differ by more and both settled
-    to a period; None where they differ and either did not settle (its mean may still be moving: run longer)."""
+    within :data:`SAME_CYCLE`, or, both settled, within their two sequence errors together; no where they differ by
+    more and both settled to a period; None where they differ and either did not settle (its mean may still be
+    moving, and an unsettled run's error is its intervals' spread, wide enough to hold two cycles: run longer)."""
     change = abs(other / recurrence - 1)
     if change <= SAME_CYCLE:
         return True
+    if not (settled and other_settled):
+        return None
     if sequence_error is not None and other_error is not None and change <= sequence_error + other_error:
         return True
-    return False if settled and other_settled else None
+    return False
 
 
 def other_starts(scene) -> tuple[float, list]:
