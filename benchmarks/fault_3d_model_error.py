@@ -2,6 +2,7 @@
 2-D fault of the same scene's middle column.
 
     python benchmarks/fault_3d_model_error.py [--element-size 100] [--years 120] [--quick]
+    python benchmarks/fault_3d_model_error.py --starts     # every cell again from other starts (about 15 min CPU)
 
 A mapped fault is finite along strike; the 2-D fault (antiplane, friction down dip) reads the middle column of the
 same scene as if the fault were infinitely long. Each cell is SEAS BP5-QD's fault shrunk twentyfold (lengths and
@@ -14,6 +15,11 @@ is the larger relative difference. Held-out faults (other L / W, W and d, drawn 
 declaration (faultslip.fault.strike_error.declared): the largest error at the measured cells bracketing a fault's
 L / W, times the margin, and unbounded outside. Writes benchmarks/results/fault_3d_model_error.json and, for the
 full run, the shipped table data/strike_model_error.json.
+
+``--starts``: is a 3-D fault's cycle its own, whatever its start? Every cell of the results file, calibration and
+held out, goes through ``faultslip.run(scene, check_starts=True)`` (faultslip.fault.starts: the scene from its
+start and from 0.1 and 10 times its slip rate, the nucleation patch kept faster), as the 2-D held-out faults do in
+``ladder_regimes.py --part start``. Writes benchmarks/results/fault_3d_starts.json.
 """
 
 from __future__ import annotations
@@ -130,6 +136,64 @@ def cell(ratio: float, height: float, top: float, element_size: float, years: fl
     return row
 
 
+def start_cell(row: dict) -> dict:
+    """One cell's scene run from its start and the others (faultslip.run(..., check_starts=True)): what each
+    start settles to."""
+    import faultslip
+
+    scene = parse_fault_3d_scene(scene_text(row["aspect"], row["height_m"], row["top_m"], row["element_size_m"],
+                                            row["years"]), "cell", allow_large=True)
+    result = faultslip.run(scene, check_starts=True, allow_large=True)
+    values = result.values
+    return {"aspect": row["aspect"], "height_m": row["height_m"], "top_m": row["top_m"],
+            "element_size_m": row["element_size_m"], "years": row["years"],
+            "start_speeds": [float(v) for v in values["start_speeds"]],  # SI inside: m/s
+            "recurrence_yr": [float(v) / YEAR for v in values["start_recurrences"]],
+            "sequences": list(values["start_sequences"]), "start_change": float(values["start_change"]),
+            "multistable": values["multistable"], "recorded_recurrence_yr": row["fault_3d"]["recurrence_yr"]}
+
+
+def starts(results: Path, out: Path, workers: int) -> None:
+    """Every cell of ``results`` (calibration and held out) from other starts; the tally and each cell to ``out``."""
+    from concurrent.futures import as_completed
+
+    from faultslip.io.processes import stop_pool, worker_pool
+
+    recorded = json.loads(results.read_text(encoding="utf-8"))
+    cells = [("calibration", row) for row in recorded["rows"]] + [("held out", row) for row in recorded["held_out"]]
+    pool = worker_pool(workers)
+    try:
+        futures = {pool.submit(start_cell, row): kind for kind, row in cells}
+        done = []
+        for future in as_completed(futures):
+            row = {"set": futures[future], **future.result()}
+            print(f"{row['set']} {row['aspect']:g} x {row['height_m']:g} m at {row['top_m']:g} m: "
+                  f"{row['sequences']}, {['%.3g' % t for t in row['recurrence_yr']]} yr, multistable "
+                  f"{row['multistable']}", flush=True)
+            done.append(row)
+    finally:
+        stop_pool(pool)
+    done.sort(key=lambda r: (r["set"], r["aspect"], r["height_m"], r["top_m"]))
+    out.write_text(json.dumps({"cells": done, "summary": starts_summary(done), "scale": SCALE, **stamp()}, indent=1) + "\n",
+                   encoding="utf-8")
+    print(f"written {out}: {starts_summary(done)}")
+
+
+def starts_summary(cells: list[dict]) -> dict:
+    """The tally docs/fault_3d.md quotes: cells that reach one cycle from every start, multistable ones, those a run
+    of which did not settle (undecided; ``no_recurrence`` of them have too few system-size events for one from any
+    start), and the largest change of the recurrence among the first."""
+    one = [c for c in cells if c["multistable"] is False]
+    return {"cells": len(cells), "one_cycle": len(one),
+            "multistable": sum(c["multistable"] is True for c in cells),
+            "undecided": sum(c["multistable"] is None for c in cells),
+            "largest_change_one_cycle": max((abs(c["start_change"]) for c in one), default=None),
+            "largest_change": max((abs(c["start_change"]) for c in cells if math.isfinite(c["start_change"])),
+                                  default=None),
+            "no_recurrence": sum(not any(map(math.isfinite, c["recurrence_yr"])) for c in cells),
+            "sequence_changed": sum(len(set(c["sequences"])) > 1 for c in cells)}
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--element-size", type=float, default=100.0)
@@ -137,9 +201,15 @@ def main(argv=None) -> None:
     parser.add_argument("--held-out", type=int, default=6)
     parser.add_argument("--quick", action="store_true", help="L / W = 2 and 8 only, one held-out fault")
     parser.add_argument("--out", default=str(HERE / "results" / "fault_3d_model_error.json"))
+    parser.add_argument("--starts", action="store_true",
+                        help="run every cell of --out again from other starts (writes fault_3d_starts.json)")
+    parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--reuse", help="an earlier results file: its cells with the same inputs are not run again in "
                         "3-D (their 2-D side, seconds, is)")
     args = parser.parse_args(argv)
+    if args.starts:
+        starts(Path(args.out), HERE / "results" / "fault_3d_starts.json", args.workers)
+        return
     earlier = {}
     if args.reuse and Path(args.reuse).is_file():
         old = json.loads(Path(args.reuse).read_text(encoding="utf-8"))

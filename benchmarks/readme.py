@@ -884,6 +884,32 @@ def fault_3d_model_error_table() -> str | None:
             f"{sum(r['declared'] is not None and not r['covered'] for r in held)} outside one. " + _machine(result))
 
 
+def fault_3d_starts_table() -> str | None:
+    """Whether each 3-D cell's cycle is its own whatever its start (fault_3d_model_error.py --starts)."""
+    result = _load("fault_3d_starts.json")
+    if result is None:
+        return None
+    summary, scale = result["summary"], result["scale"]
+    odd = [c for c in result["cells"] if c["multistable"] is not False]
+    details = "; ".join(
+        f"{c['aspect']:g} x {c['height_m'] * scale / 1e3:g} km ({c['set']}): "
+        + ", ".join((f"{t * scale:.1f} yr" if math.isfinite(t) else "no recurrence") + f" ({s})"
+                    for t, s in zip(c["recurrence_yr"], c["sequences"]))
+        + (" (multistable)" if c["multistable"] else "") for c in odd)
+    changed = summary["largest_change_one_cycle"]
+    return (f"Every cell of the table above ({summary['cells']}, calibration and held out) run again from every element off "
+            f"the nucleation patch in steady state at 0.1 and 10 times its start's slip rate, the patch kept faster "
+            f"(`python benchmarks/fault_3d_model_error.py --starts`, through `faultslip run --check-starts`): "
+            f"{summary['one_cycle']} reach the same cycle from every start"
+            + (f" (their recurrences within {changed:.1e})" if changed is not None else "")
+            + f", {summary['multistable']} are multistable and {summary['undecided']} undecided (a run did not settle"
+            + (f"; {summary['no_recurrence']} of them have too few system-size events for a recurrence from any start"
+               if summary.get("no_recurrence") else "") + "); "
+            f"on {summary['sequence_changed']}, one start's run settles where another's has not yet."
+            + (f" Each start's recurrence (its own, 0.1 and 10 times), as BP5's, where they are not one cycle: {details}."
+               if odd else "") + " " + _machine(result))
+
+
 def family_costs_table() -> str | None:
     result = _load("family_costs.json")
     if result is None:
@@ -973,6 +999,7 @@ def _update_page(readme: Path) -> list[str]:
                          ("dip_model_error", dip_model_error_table), ("engine_branches", engine_branches_table),
                          ("seas_bp5", seas_bp5_table), ("fault_3d_operator", fault_3d_operator_table),
                          ("fault_3d_model_error", fault_3d_model_error_table),
+                         ("fault_3d_starts", fault_3d_starts_table),
                          ("family_costs", family_costs_table), ("sherifs_example", sherifs_example_table)):
         table = render()
         pattern = re.compile(rf"(<!-- table:{name} -->\n).*?(<!-- /table:{name} -->)", re.S)

@@ -333,6 +333,32 @@ def test_the_shipped_model_error_table_is_the_benchmarks_measurement_times_the_m
     assert not any(r["declared"] is not None and not r["covered"] for r in held)
 
 
+def test_the_3d_starts_file_is_its_runs():
+    """benchmarks/results/fault_3d_starts.json (fault_3d_model_error.py --starts): each cell's run from its own start
+    is the recorded 3-D run of that cell, each start's recurrence change is the runs' own, and the summary
+    docs/fault_3d.md quotes is recomputed from the cells."""
+    from conftest import load_benchmark
+
+    from faultslip.fault.starts import START_FACTORS
+
+    bench = load_benchmark("fault_3d_model_error")
+    starts = json.loads((ROOT / "benchmarks" / "results" / "fault_3d_starts.json").read_text(encoding="utf-8"))
+    measured = json.loads((ROOT / "benchmarks" / "results" / "fault_3d_model_error.json").read_text(encoding="utf-8"))
+    recorded = {bench._key(row): row for row in measured["rows"] + measured["held_out"]}
+    assert len(starts["cells"]) == len(recorded)
+    for cell in starts["cells"]:
+        row = recorded[bench._key(cell)]
+        own = cell["recurrence_yr"][0]
+        assert (own == row["fault_3d"]["recurrence_yr"]) or (math.isnan(own) and math.isnan(row["fault_3d"]["recurrence_yr"]))
+        assert cell["start_speeds"][1:] == pytest.approx([f * cell["start_speeds"][0] for f in START_FACTORS])
+        if all(map(math.isfinite, cell["recurrence_yr"])):
+            changes = [t / own - 1 for t in cell["recurrence_yr"][1:]]
+            assert cell["start_change"] == pytest.approx(max(changes, key=abs))
+        else:
+            assert cell["multistable"] is None or cell["multistable"] is True
+    assert starts["summary"] == bench.starts_summary(starts["cells"])
+
+
 def test_an_event_under_way_at_the_start_starts_at_zero():
     """BP5's nucleation patch slips at 1 cm/s from t = 0: the first event starts then, not before."""
     scene = load_fault_3d_scene(SMALL)
