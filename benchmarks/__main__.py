@@ -46,6 +46,7 @@ PRODUCERS = (
     ("chain_example", [], [], "chain_example.json"),
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
     ("ladder_regimes", [], [], "ladder_regimes.json"),
+    ("ladder_designs", ["--fresh", "40"], ["--fresh", "40"], "ladder_fresh.json"),  # rows already there are kept
     ("ladder_calibration", [], [], "ladder_held_out.json"),
     ("ladder_escalations", ["--seed", "68001"], ["--seed", "68001", "--count", "4"], "ladder_escalations_held_out.json"),
     ("fuzz", ["--seed", "69"], ["--seed", "69", "--cases", "500"], "fuzz.json"),
@@ -60,6 +61,7 @@ PRODUCERS = (
     ("family_costs", [], ["--rounds", "1"], "family_costs.json"),
     ("sherifs_example", [], [], "sherifs_example.json"),
     ("fault_3d_model_error", [], ["--quick"], "fault_3d_model_error.json"),
+    ("fault_3d_model_error", ["--starts"], ["--starts"], "fault_3d_starts.json"),  # the cells just written
     ("seas_bp5", ["--sizes", "2000", "1000", "500", "--finest-years", "1800"],
      ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),
 )

@@ -51,6 +51,9 @@ def main(argv=None):
     parser.add_argument("--count", type=int, default=12)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--seed", type=int, default=68000)
+    parser.add_argument("--out", default=None,
+                        help="where to write (default: ladder_escalations.json for seed 68000, else "
+                             "ladder_escalations_held_out.json)")
     args = parser.parse_args(argv)
     designs = draw(args.count, args.seed, "escalation")
     resolutions = np.random.default_rng(args.seed).uniform(3.0, 5.0, args.count)
@@ -69,7 +72,7 @@ def main(argv=None):
     ratios = [row["estimated_seconds"] / row["cpu_time"] for row in rows]
     summary = {"escalations": len(rows), "within_2x": int(sum(0.5 <= r <= 2 for r in ratios)),
                "ratio_min": min(ratios), "ratio_median": float(np.median(ratios)), "ratio_max": max(ratios)}
-    out = OUT if args.seed == 68000 else OUT.with_name("ladder_escalations_held_out.json")
+    out = Path(args.out) if args.out else OUT if args.seed == 68000 else OUT.with_name("ladder_escalations_held_out.json")
     out.write_text(json.dumps({**stamp(), "seed": args.seed, "summary": summary, "rows": rows}, indent=1) + "\n",
                    encoding="utf-8")
     print(summary)
