@@ -49,6 +49,9 @@ PRODUCERS = (
     ("ladder_designs", ["--fresh", "40"], ["--fresh", "40"], "ladder_fresh.json"),  # rows already there are kept
     ("ladder_calibration", [], [], "ladder_held_out.json"),
     ("ladder_escalations", ["--seed", "68001"], ["--seed", "68001", "--count", "4"], "ladder_escalations_held_out.json"),
+    ("ladder_escalations", ["--seed", "68003", "--out", "benchmarks/results/ladder_escalations_second_draw.json"],
+     ["--seed", "68003", "--count", "4", "--out", "benchmarks/results/ladder_escalations_second_draw.json"],
+     "ladder_escalations_second_draw.json"),
     ("fuzz", ["--seed", "69"], ["--seed", "69", "--cases", "500"], "fuzz.json"),
     ("fuzz", ["--seed", "690", "--out", "benchmarks/results/fuzz_second_seed.json"],
      ["--seed", "690", "--cases", "500", "--out", "benchmarks/results/fuzz_second_seed.json"], "fuzz_second_seed.json"),

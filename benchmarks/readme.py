@@ -704,15 +704,34 @@ def ladder_escalations_table() -> str | None:
         return None
     rows = ["| fault | elements | 2-D runs | estimated | CPU used | estimate / CPU |", "| --- | --- | --- | --- | --- | --- |"]
     for row in sorted(result["rows"], key=lambda r: r["design"]["name"]):
-        rows.append(f"| {row['design']['name']} (W/h* {row['design']['width_over_nucleation']:.2f}) | {row['elements']} | "
-                    f"{row.get('runs', 1)} | {row['estimated_seconds']:.1f} s | {row['cpu_time']:.1f} s | "
+        name = f"| {row['design']['name']} (W/h* {row['design']['width_over_nucleation']:.2f}) | {row['elements']} | "
+        if "refused" in row:
+            rows.append(name + "refused before it ran, in one sentence | | | |")
+            continue
+        rows.append(name + f"{row.get('runs', 1)} | {row['estimated_seconds']:.1f} s | {row['cpu_time']:.1f} s | "
                     f"{row['estimated_seconds'] / row['cpu_time']:.2f} |")
     summary = result["summary"]
+    refused = summary.get("refused", 0)
     return ("\n".join(rows) + f"\n\n{summary['within_2x']} of {summary['escalations']} escalations within 2x (median "
-            f"{summary['ratio_median']:.2f}, {summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}); "
+            f"{summary['ratio_median']:.2f}, {summary['ratio_min']:.2f} to {summary['ratio_max']:.2f})"
+            + (f", {refused} refused before any work, in one sentence" if refused else "") + "; "
             f"`python benchmarks/ladder_escalations.py --seed {result.get('seed', 68000)}`"
             f"{' (a draw the per-step cost never saw)' if result.get('seed', 68000) != 68000 else ''}. "
-            f"{_machine(result)}")
+            + _second_draw() + f"{_machine(result)}")
+
+
+def _second_draw() -> str:
+    """A further draw of escalations the cost model never saw (ladder_escalations_second_draw.json), in a sentence."""
+    result = _load("ladder_escalations_second_draw.json")
+    if result is None:
+        return ""
+    summary = result["summary"]
+    return (f"A second unseen draw (`--seed {result['seed']}`): {summary['within_2x']} of {summary['escalations']} "
+            f"within 2x ({summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}, median {summary['ratio_median']:.2f})"
+            + (f"; {summary['refused']} refused before any work, in one sentence"
+               + (" (outside the cost model's fit)" if all("fitted on other scenes" in row["refused"]
+                                                           for row in result["rows"] if "refused" in row) else "")
+               if summary.get("refused") else "") + ". ")
 
 
 def seas_bp3_table() -> str | None:
