@@ -174,9 +174,10 @@ def starts(results: Path, out: Path, workers: int) -> None:
     finally:
         stop_pool(pool)
     done.sort(key=lambda r: (r["set"], r["aspect"], r["height_m"], r["top_m"]))
-    out.write_text(json.dumps({"cells": done, "summary": starts_summary(done), "scale": SCALE, **stamp()}, indent=1) + "\n",
+    summary = starts_summary(done)
+    out.write_text(json.dumps({"cells": done, "summary": summary, "scale": SCALE, **stamp()}, indent=1) + "\n",
                    encoding="utf-8")
-    print(f"written {out}: {starts_summary(done)}")
+    print(f"written {out}: {summary}")
 
 
 def starts_summary(cells: list[dict]) -> dict:

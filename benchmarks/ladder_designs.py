@@ -2,7 +2,7 @@
 95 % ranges (``faultslip.fault.ladder``), and the held-out runs that test them.
 
     python benchmarks/ladder_designs.py [--workers 2] [--calibration 36] [--held-out 34]
-    python benchmarks/ladder_designs.py --fresh 24     # a third draw, to test the ranges as shipped
+    python benchmarks/ladder_designs.py --fresh 40     # a third draw, to test the ranges as shipped
 
 **The box**, about SEAS BP1 (Erickson et al. 2020): the seismogenic depth H of 15 km x 0.5-1.5, sigma_n of
 50 MPa x 0.5-2 and D_c of 8 mm x 0.25-4, each log-uniform; a above the ramp uniform in 0.008-0.0115 (b = 0.015),
@@ -147,6 +147,7 @@ def run_all(designs: list[Design], path: Path, workers: int, remeasure_above: in
             path.write_text(json.dumps({**stamp(), "rows": list(done.values())}, indent=1) + "\n", encoding="utf-8")
     finally:
         stop_pool(pool)
+
 
 if __name__ == "__main__":
     main()

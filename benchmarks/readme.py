@@ -728,10 +728,8 @@ def _second_draw() -> str:
     summary = result["summary"]
     return (f"A second unseen draw (`--seed {result['seed']}`): {summary['within_2x']} of {summary['escalations']} "
             f"within 2x ({summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}, median {summary['ratio_median']:.2f})"
-            + (f"; {summary['refused']} refused before any work, in one sentence"
-               + (" (outside the cost model's fit)" if all("fitted on other scenes" in row["refused"]
-                                                           for row in result["rows"] if "refused" in row) else "")
-               if summary.get("refused") else "") + ". ")
+            + (f"; {summary['refused']} refused before any work, in one sentence" if summary.get("refused") else "")
+            + ". ")
 
 
 def seas_bp3_table() -> str | None:
