@@ -21,7 +21,8 @@ mean half-width the one slider would reach if it were told each fault's kind (th
 block and these groups can do here); the same for a nonlinear fit of the groups, a Gaussian process, on all the
 calibration faults and within each kind; and how often a logistic regression on the groups, and a fault's nearest
 calibration faults, name the kind of a held-out fault; and whether more designs would narrow the range (both fits on
-random subsets of the calibration faults, and the linear range's limit with unlimited designs).
+random subsets of the calibration faults, and the linear range's limit with unlimited designs). And the narrowest ranges any one slider
+could declare, set with the 2-D answers in hand (``narrowest``): lower bounds on the width, not fits.
 
 **The budget**: the estimate each run recorded before it ran, against the CPU it used, over the runs whose row
 records the cost model now declared (the held-out ones apart: the event-step model is fitted on the others).
@@ -258,6 +259,52 @@ def limits(train: list[dict], test: list[dict], table: dict) -> dict:
     return out
 
 
+def _narrowest_log_width(residuals, level: float = 0.95) -> float:
+    """The smallest w with at least ``level`` of the residuals (ln) inside +-w: the ceil(level n)-th smallest |r|."""
+    ordered = np.sort(np.abs(np.asarray(residuals, float)))
+    return float(ordered[math.ceil(level * ordered.size) - 1])
+
+
+def narrowest(items: list[dict], unseen: list[dict], table: dict, bands: int = 4) -> dict:
+    """The narrowest 95 % ranges a one slider on these groups could declare, each set with the 2-D answers in hand:
+    lower bounds on the width the declared range can reach, not ranges anyone could declare.
+
+    Per quantity, the mean half-width (relative, exp(w) - 1, as the declared ranges): ``unseen``, about the shipped
+    centre, one width holding 95 % of the held-out and fresh faults inside the box; ``refitted``, the correction
+    refitted on all ``items`` (calibration, held out and fresh) and one width holding 95 % of their own residuals;
+    ``by_band``, that refit with a width of its own in each of ``bands`` equal-count bands of W/h*; and
+    ``by_band_told_kind``, refitted within each kind of 2-D sequence, a width per kind and band."""
+    out = {"bands": bands, "faults": len(items)}
+    for quantity in ("recurrence", "mean_slip"):
+        beta = np.asarray(table[quantity]["coefficients"])
+        shipped = [y - float(ladder.features(i["group"]) @ beta) for i, y in targets(unseen, quantity)
+                   if not ladder.outside_box(i["group"], table)]
+        pairs = targets(items, quantity)
+        width = np.array([i["group"]["width_over_nucleation"] for i, _ in pairs])
+        kinds = np.array([i["interleaves"] for i, _ in pairs])
+        edges = np.quantile(width, np.linspace(0.0, 1.0, bands + 1))
+        band = np.clip(np.searchsorted(edges, width, side="right") - 1, 0, bands - 1)
+
+        def residuals(chosen):
+            model = ladder.fit([pairs[k][0]["group"] for k in chosen], np.array([pairs[k][1] for k in chosen]))
+            return np.array([pairs[k][1] - float(ladder.features(pairs[k][0]["group"]) @ np.asarray(model["coefficients"]))
+                             for k in chosen])
+
+        everyone = np.arange(len(pairs))
+        refit = residuals(everyone)
+        per_band = np.array([_narrowest_log_width(refit[band == b]) for b in band])
+        per_kind_band = np.empty(len(pairs))
+        for kind in (False, True):
+            chosen = everyone[kinds == kind]
+            within = residuals(chosen)
+            per_kind_band[chosen] = [_narrowest_log_width(within[band[chosen] == band[k]]) for k in chosen]
+        out[quantity] = {"unseen": float(np.expm1(_narrowest_log_width(shipped))), "unseen_faults": len(shipped),
+                         "refitted": float(np.expm1(_narrowest_log_width(refit))), "refitted_faults": len(pairs),
+                         "by_band": float(np.mean(np.expm1(per_band))),
+                         "by_band_told_kind": float(np.mean(np.expm1(per_kind_band)))}
+    return out
+
+
 def evaluate(items: list[dict], table: dict) -> tuple[list[dict], dict]:
     """Each fault's 2-D answer against the declared range (``table``, as data/ladder_calibration.json), and per
     quantity how many of the faults inside the box it holds and the ranges' mean half-width."""
@@ -334,7 +381,7 @@ def main():
                         "estimated_seconds": row["estimated_seconds"], "steps": row["steps"],
                         "estimated_steps": row.get("estimated_steps")} for row in runs]}
     # a third draw, run after the ranges were shipped: neither the fit nor the choices behind it saw these faults
-    fresh = None
+    fresh, fresh_items = None, []
     if FRESH.exists():
         fresh_rows = json.loads(FRESH.read_text())["rows"]
         fresh_items = [p for p in map(prepared, fresh_rows) if p is not None]
@@ -342,6 +389,7 @@ def main():
         fresh = {"seed": FRESH_SEED, "faults": len(fresh_rows), "left_out_unsettled": len(fresh_rows) - len(fresh_items),
                  "summary": fresh_summary, "rows": fresh_faults,
                  "budget": spread([row for row in fresh_rows if row.get("cost_model") == declared])}
+    limit["narrowest"] = narrowest(train + test + fresh_items, test + fresh_items, table)
     OUT.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
     HELD.write_text(json.dumps({**stamp(), "summary": summary, "rows": rows, "budget": budget, "limits": limit,
                                 "left_out_unsettled": skipped, **({"fresh": fresh} if fresh else {})}, indent=1) + "\n",
@@ -369,6 +417,12 @@ def main():
                           for p in limit[quantity]["learning_curve"])
         print(f"{quantity}: mean half-width (linear / Gaussian process) by calibration faults {curve}; unlimited designs "
               f"(linear) {limit[quantity]['unlimited_designs_half_width']:.3f}")
+    for quantity in ("recurrence", "mean_slip"):
+        line = limit["narrowest"][quantity]
+        print(f"{quantity}: narrowest 95 % ranges with the answers in hand: about the shipped centre "
+              f"{line['unseen']:.3f} ({line['unseen_faults']} unseen faults); refitted on all {line['refitted_faults']} "
+              f"{line['refitted']:.3f}; a width per W/h* band {line['by_band']:.3f}; and told the kind "
+              f"{line['by_band_told_kind']:.3f}")
     print(f"the kind named from the groups on {named['right']} of {named['held_out']} held-out faults by a logistic "
           f"regression, {named['right_by_neighbours']} by {named['nearest_neighbours']} nearest neighbours "
           f"(always the commoner: {named['always_the_commoner']})")
