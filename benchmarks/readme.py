@@ -220,8 +220,19 @@ def first_run_table() -> str | None:
     for row in result["rows"]:
         rows.append(f"| {row['command']} | {row['cold_wall']:.1f} s | {row['warm_wall']:.1f} s | "
                     f"**{row['ratio_wall']:.1f}×** | {row['ratio_cpu']:.1f}× |")
-    return ("\n".join(rows) + f"\n\nMedians of {result['rounds']} rounds, each command a whole process "
-            f"(`python benchmarks/first_run.py`). {_machine(result)}")
+    text = ("\n".join(rows) + f"\n\nMedians of {result['rounds']} rounds, each command a whole process "
+            "(`python benchmarks/first_run.py`).")
+    first = result.get("first_run")
+    if first:
+        names = {"fused serial": "the whole step on one thread", "fused parallel": "the whole step on two threads",
+                 "compiled serial": "the force balance and stages (a dense kernel's; a dipping or 3-D fault's step loads a part of them) on one thread",
+                 "compiled parallel": "the force balance on two threads"}
+        cases = "; ".join(f"{names.get(row['case'], row['case'])}, {row['compile']:.3g} s to compile and "
+                          f"{row['load']:.2g} s to load" for row in first["rows"])
+        text += (" A 2-D run's estimate adds what its process still owes before the first step (the first run's "
+                 f"CPU less a second run's, medians of {first['rounds']} rounds, "
+                 f"`python benchmarks/first_run.py --part first-run`): {cases}.")
+    return f"{text} {_machine(result)}"
 
 
 def renewal_coverage_table() -> str | None:

@@ -44,9 +44,11 @@ def other_starts(scene) -> tuple[float, list]:
 
 
 def starts_estimate(scene, others: list, rtol=None, output=None) -> budget.Estimate:
-    """What the scene's run and its runs from ``others`` (:func:`other_starts`) need, one after another."""
+    """What the scene's run and its runs from ``others`` (:func:`other_starts`) need, one after another, in this
+    process (the first owes what the process has not loaded or compiled yet)."""
     return budget.one_after_another(f"{len(others) + 1} runs of {scene.name} (its start and {len(others)} others)",
-                                    [each.estimate(rtol, output) for each in [scene, *others]])
+                                    [scene.estimate(rtol, output, in_this_process=True),
+                                     *(each.estimate(rtol, output) for each in others)])
 
 
 def start_note(speed: float, patch: bool = False) -> str:

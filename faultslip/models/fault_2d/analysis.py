@@ -241,8 +241,10 @@ METHODS = {
         "cost_model": "Dormand-Prince 5(4) steps counted from the system-size events the run will see (its duration "
                       "over the recurrence the one-slider rung expects), its W / h*, elements, element size and rtol "
                       "(faultslip.models.fault_2d.cost.fault_2d_steps), each step's CPU fitted on the compiled step's runs "
-                      "(faultslip.models.fault_2d.cost.FAULT_2D_STEP_SECONDS) and scaled by the step path's measured cost; a "
-                      "central estimate, measured against CPU time in benchmarks/ladder_escalations.py",
+                      "(faultslip.models.fault_2d.cost.FAULT_2D_STEP_SECONDS) and scaled by the step path's measured cost, and "
+                      "what the process still owes before its first step (loading or compiling the step: "
+                      "FAULT_2D_FIRST_RUN_SECONDS); a central estimate, measured against CPU time in "
+                      "benchmarks/ladder_escalations.py",
         "declared_error": "the largest of the sequence's spread (or an aperiodic mean's sampling error), 10 rtol and "
                           "the discretisation bound; with --richardson, twice the correction two resolutions show"},
 }

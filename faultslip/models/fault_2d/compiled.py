@@ -1435,17 +1435,30 @@ def _compiled(threads: int) -> dict:
     return _KERNELS[key]
 
 
-def compilation_pending(threads: int = 1) -> bool:
+def _outermost(built: dict, fused: bool | None):
+    """The kernel a run calls first: the whole step where it is fused (``None``: wherever it can be built), else
+    the force balance."""
+    return built.get("run_steps") if fused is not False and "run_steps" in built else built["balance_rates"]
+
+
+def compilation_pending(threads: int = 1, fused: bool | None = None) -> bool:
     """Whether the first compiled run on ``threads`` threads will compile the step here: numba's disk cache has
-    no index yet for the build's outermost kernel (a fresh environment, or a new faultslip). Its cost, cold
-    against warm, is measured by ``benchmarks/first_run.py``."""
-    built = _compiled(threads)
-    kernel = built.get("run_steps") or built["balance_rates"]
+    no index yet for the build's outermost kernel (a fresh environment, or a new faultslip); ``fused``: the whole
+    step's (True), the force balance's (False, a dense kernel's path), or the whole step's where it is built. Its
+    cost, cold against warm, is measured by ``benchmarks/first_run.py``."""
+    kernel = _outermost(_compiled(threads), fused)
     try:
         index = kernel._cache._cache_file._index_path  # numba's own cache locator, where it will look
     except AttributeError:  # a numba without that layout: say nothing rather than guess
         return False
     return not Path(index).exists()
+
+
+def step_loaded(threads: int = 1, fused: bool | None = None) -> bool:
+    """Whether this process holds the compiled step for ``threads`` threads already (a run here compiled it or
+    loaded it from numba's cache): a later run pays no first-run cost. Builds nothing (no numba import)."""
+    built = _KERNELS.get("parallel" if threads > 1 else "serial")
+    return bool(built) and bool(_outermost(built, fused).overloads)
 
 
 def _float_from_bits_intrinsic():

@@ -30,6 +30,15 @@ FAULT_2D_STEP_SECONDS = (2.031e-5, 2.702e-7, 1.0)
 #: benchmarks/plane_strain_step.py (SEAS BP3-QD on 200-1,600 elements, within 1.31x of each; tests/models/fault_2d/test_budget_fit.py
 #: refits it from benchmarks/results/plane_strain_step.json).
 PLANE_STRAIN_STEP_SECONDS = (4.308e-4, 8.563e-9)
+#: CPU seconds a process's first compiled 2-D run spends beyond its steps, per step path (the whole step fused, or
+#: the force balance compiled: a dense kernel's, a dipping fault's) and build (one thread or several): "load", numba's
+#: cached step loaded into the process; "compile", compiled into an empty cache (a fresh environment, or a new
+#: faultslip), once. Medians of benchmarks/first_run.py --part first-run (the first run's CPU less a second
+#: run's, after the estimate that tells which applies); tests/models/fault_2d/test_budget_fit.py checks them.
+FAULT_2D_FIRST_RUN_SECONDS = {"fused serial": {"load": 0.998, "compile": 20.0},
+                              "fused parallel": {"load": 1.1, "compile": 90.9},
+                              "compiled serial": {"load": 0.967, "compile": 3.76},
+                              "compiled parallel": {"load": 1.11, "compile": 9.46}}
 #: Steps from the events a run will see (issue 68): ln steps = ln A + p ln(events) + q ln(W / h*) + r ln(N), fitted
 #: on the 36 calibration runs of benchmarks/ladder_designs.py (3 elements per L_b, rtol 1e-8), where a run's events
 #: come from its duration over the recurrence the one-slider rung predicts; with the per-step seconds above, the
@@ -88,18 +97,31 @@ def fault_2d_steps(*, years: float, plate_rate: float, element_size: float, proc
     return c["margin"] * per_year * years + 100.0
 
 
+def fault_2d_first_run(*, fused: bool, threads: int, compile: bool) -> tuple[float, str]:
+    """The first-run cost (:data:`FAULT_2D_FIRST_RUN_SECONDS`) of a process that does not hold the compiled step
+    yet, and what it is spent on."""
+    key = f"{'fused' if fused else 'compiled'} {'parallel' if threads > 1 else 'serial'}"
+    if compile:
+        return FAULT_2D_FIRST_RUN_SECONDS[key]["compile"], "to compile the 2-D step for this environment, once"
+    return FAULT_2D_FIRST_RUN_SECONDS[key]["load"], "to load the compiled 2-D step into this process"
+
+
 def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *, steps: float,
-                      outside_fit: tuple = (), step_cost: float = 1.0, plane_strain: bool = False) -> Estimate:
+                      outside_fit: tuple = (), step_cost: float = 1.0, plane_strain: bool = False,
+                      first_run: tuple = (0.0, "")) -> Estimate:
     """Time, memory and disk of a 2-D fault run of ``steps`` steps (:func:`fault_2d_steps`): station rows every
     step (in memory, and as SEAS text). ``plane_strain``: a dipping fault's dense step
-    (:data:`PLANE_STRAIN_STEP_SECONDS`), and its two N x N kernels in memory."""
+    (:data:`PLANE_STRAIN_STEP_SECONDS`), and its two N x N kernels in memory. ``first_run``: seconds the process
+    spends before its first step, and on what (:func:`fault_2d_first_run`)."""
     c0, c1, margin = FAULT_2D_STEP_SECONDS
     per_step = c0 + c1 * elements
     kernels = 0.0
     if plane_strain:
         dense0, dense2 = PLANE_STRAIN_STEP_SECONDS
         per_step, step_cost, kernels = dense0 + dense2 * elements ** 2, 1.0, 2 * 8.0 * elements ** 2 * 2
-    return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps)",
-                    seconds=margin * steps * per_step * step_cost,
+    extra, why = first_run
+    also = f"; {extra:.2g} s of it {why}" if extra > 0 else ""
+    return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps{also})",
+                    seconds=margin * steps * per_step * step_cost + extra,
                     memory=steps * (1 + 4 * stations) * 8.0 * 2 + kernels,
                     disk=steps * stations * 100.0 if output else 0.0, output=output, outside_fit=outside_fit)

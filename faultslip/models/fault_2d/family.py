@@ -75,7 +75,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
     loaded = read_fault_2d_scene(scene, allow_large=allow_large)
     rtol = loaded.rtol if rtol is None else rtol
     loaded.require_resolution(allow_underresolved)  # before any work
-    budget.check(loaded.estimate(rtol, output_dir), allow_large)
+    budget.check(loaded.estimate(rtol, output_dir, in_this_process=True), allow_large)
     limit = None if allow_large else 2 * budget.time_budget()  # an estimate can be far off: the run stops there
     folder = Path(output_dir) if output_dir is not None else None
     if folder is not None:
@@ -425,7 +425,7 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
     before any work; a run that ends unsettled runs again twice as long while the budget allows
     (:data:`LONGER_RUNS`), and otherwise reports its intervals' range."""
     loaded.require_resolution(allow_underresolved)
-    estimate = loaded.estimate()
+    estimate = loaded.estimate(in_this_process=True)
     estimate.what = f"the 2-D rung of {loaded.name} ({why})"
     budget.check(estimate, allow_large)
     if progress is not None and hasattr(progress, "announce"):
@@ -436,7 +436,7 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
     scene, longer, estimated = loaded, 0, estimate.seconds
     while result.values["sequence"] == "unsettled" and longer < LONGER_RUNS:
         scene = replace(scene, duration=2 * scene.duration)
-        again = scene.estimate()
+        again = scene.estimate(in_this_process=True)
         spent = time.process_time() - started
         if not allow_large and spent + again.seconds > budget.time_budget():
             result.note(f"unsettled after {scene.duration / 2 / YEAR:.6g} yr; running {scene.duration / YEAR:.6g} yr "
@@ -517,7 +517,7 @@ def richardson_run(scene, allow_large: bool = False, settle_tolerance: float = S
     loaded.require_resolution()
     finer = loaded.at_element_size(loaded.fault.element_size / 2)
     budget.check(budget.one_after_another(f"the two runs of {loaded.name} (Richardson)",
-                                          [loaded.estimate(), finer.estimate()]), allow_large)
+                                          [loaded.estimate(in_this_process=True), finer.estimate()]), allow_large)
     coarse = simulate_fault(loaded, allow_large=True, settle_tolerance=settle_tolerance)
     result = simulate_fault(finer, allow_large=True, settle_tolerance=settle_tolerance)
     t_coarse, t_fine = (r.values["recurrence_interval"].to("s").magnitude for r in (coarse, result))
@@ -580,7 +580,7 @@ def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.
     # enough system-size events to tell a period up to 3 from the spin-up: the block may recur up to its declared
     # model error (0.75) sooner than the 2-D fault
     scene = from_one_slider(loaded, duration=24 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
-    estimate = scene.estimate()
+    estimate = scene.estimate(in_this_process=True)
     estimate.what = f"escalating {loaded.name} to the 2-D fault ({reason})"
     budget.check(estimate, allow_large)
     if progress is not None and hasattr(progress, "announce"):
@@ -607,8 +607,9 @@ def estimate(scene, action: str = "run", rtol=None, output_dir=None, method=None
         return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)
     if action == "run" and richardson:
         return budget.one_after_another(f"2 runs of {loaded.name} (Richardson: its elements and half their size)", [
-            each.estimate(chosen, output_dir) for each in (loaded, loaded.at_element_size(loaded.fault.element_size / 2))])
-    return loaded.estimate(chosen, output_dir)
+            loaded.estimate(chosen, output_dir, in_this_process=True),
+            loaded.at_element_size(loaded.fault.element_size / 2).estimate(chosen, output_dir)])
+    return loaded.estimate(chosen, output_dir, in_this_process=True)
 
 
 FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an elastic half-space (SEAS BP1)",

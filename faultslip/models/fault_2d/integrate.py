@@ -32,7 +32,7 @@ from pathlib import Path
 from faultslip.constants import JULIAN_YEAR
 import numpy as np
 
-from faultslip.models.fault_2d import compiled as compiled_kernels
+from faultslip.models.fault_2d import compiled as compiled_kernels, cost
 from faultslip.models.fault_2d.kernel import StressKernel
 from faultslip.models.fault_2d import plane_strain
 from faultslip.models.fault_2d.model import NEWTON_ITERATIONS, Fault2D, ForceBalance, newton_tolerance
@@ -422,6 +422,17 @@ def step_path() -> str:
     if not compiled_kernels.available():
         return "numpy"
     return "fused" if compiled_kernels.fused_available() else "compiled"
+
+
+def first_run_cost(fused: bool, threads: int) -> tuple[float, str]:
+    """CPU seconds a run in this process spends before its first step, and on what
+    (:func:`faultslip.models.fault_2d.cost.fault_2d_first_run`): loading the compiled step (``fused``: the whole
+    step's; else the force balance's) for ``threads`` threads, or compiling it where numba's cache has none;
+    nothing where this process holds it already, or where the step is plain numpy."""
+    if step_path() == "numpy" or compiled_kernels.step_loaded(threads, fused):
+        return 0.0, ""
+    return cost.fault_2d_first_run(fused=fused, threads=threads,
+                                   compile=compiled_kernels.compilation_pending(threads, fused))
 
 
 def _compiled_trial(fault, operator, balance, scale, rtol, threads):

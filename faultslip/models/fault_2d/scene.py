@@ -46,8 +46,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from faultslip.models.fault_2d.integrate import BP1_STATIONS, YEAR, OverBudget, run_cycles, step_path
-from faultslip.models.fault_2d.kernel import relative_step_cost
+from faultslip.models.fault_2d.integrate import BP1_STATIONS, YEAR, OverBudget, first_run_cost, run_cycles, step_path
+from faultslip.models.fault_2d.kernel import dense_limit, relative_step_cost
 from faultslip.models.fault_2d.analysis import MIN_RESOLUTION
 from faultslip.models.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip.models.fault_2d.plane_strain import BP3_SURFACE_STATIONS
@@ -173,12 +173,25 @@ class Fault2DScene:
                                      rtol=self.rtol if rtol is None else rtol, events=self.expected_events(),
                                      elements=fault.count)
 
-    def estimate(self, rtol: float | None = None, output=None):
-        """What a run of this scene needs (:class:`faultslip.io.budget.Estimate`), before it starts."""
+    def estimate(self, rtol: float | None = None, output=None, in_this_process: bool = False):
+        """What a run of this scene needs (:class:`faultslip.io.budget.Estimate`), before it starts;
+        ``in_this_process``: a run about to start here, its first-run cost included (:meth:`first_run_cost`)."""
         return cost.fault_2d_estimate(self.fault.count, self.duration / YEAR, len(self.stations), output,
                                         steps=self.estimated_steps(rtol), outside_fit=self.outside_fit(),
                                         step_cost=relative_step_cost(step_path()),
-                                        plane_strain=self.fault.plane == "strain")
+                                        plane_strain=self.fault.plane == "strain",
+                                        first_run=self.first_run_cost() if in_this_process else (0.0, ""))
+
+    def first_run_cost(self) -> tuple[float, str]:
+        """CPU seconds this process's run of the scene spends before its first step, and on what
+        (:func:`~faultslip.models.fault_2d.integrate.first_run_cost`): the whole step's where its kernel is the FFT
+        and rocket-fft is here, else the compiled force balance's; a dipping fault's step runs in Python over it,
+        on one thread (:func:`run_cycles`)."""
+        path = step_path()
+        method = self.kernel if self.kernel != "auto" else "dense" if self.fault.count <= dense_limit(path) else "fft"
+        strain = self.fault.plane == "strain"
+        threads = 1 if strain else self.threads or threads_for(self.fault.count, THREADS_PAY_FROM)
+        return first_run_cost(path == "fused" and not strain and method == "fft", threads)
 
     def outside_fit(self) -> tuple:
         """Where this scene lies outside the scenes its cost estimate was fitted on

@@ -56,13 +56,17 @@ def operator_bytes(strike_count: int, dip_count: int, normal_changes: bool = Fal
 
 
 def estimate(strike_count: int, dip_count: int, years: float, stations: int, output=None, *, events: float,
-             rtol: float) -> Estimate:
-    """Time, memory and disk of a run (station rows every step, in memory and as SEAS text)."""
+             rtol: float, first_run: tuple = (0.0, "")) -> Estimate:
+    """Time, memory and disk of a run (station rows every step, in memory and as SEAS text); ``first_run``: seconds
+    its process spends before the first step, and on what."""
     count = steps(dip_count, events, rtol)
     elements = strike_count * dip_count
+    extra, why = first_run
+    also = f"; {extra:.2g} s of it {why}" if extra > 0 else ""
     return Estimate(what=f"a 3-D fault run of {strike_count} x {dip_count} squares over {years:.4g} yr (about "
-                         f"{count:.3g} steps)",
-                    seconds=count * step_seconds(strike_count, dip_count) + assembly_seconds(strike_count, dip_count),
+                         f"{count:.3g} steps{also})",
+                    seconds=count * step_seconds(strike_count, dip_count) + assembly_seconds(strike_count, dip_count)
+                    + extra,
                     memory=operator_bytes(strike_count, dip_count) + count * (1 + 4 * stations) * 8.0 * 2
                     + 40 * elements * 8.0,
                     disk=count * stations * 100.0 + (years / 5 + 200 * max(events, 1.0)) * elements * 16.0

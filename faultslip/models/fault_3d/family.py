@@ -240,7 +240,7 @@ def simulate(scene, output_dir=None, resume: bool = False, rtol: float | None = 
     """
     loaded = load_fault_3d_scene(scene, allow_large=allow_large)
     rtol = loaded.rtol if rtol is None else rtol
-    budget.check(loaded.estimate(rtol, output_dir), allow_large)
+    budget.check(loaded.estimate(rtol, output_dir, in_this_process=True), allow_large)
     limit = None if allow_large else 2 * budget.time_budget()
     if output_dir is None:
         return _result(loaded, loaded.run(rtol, progress=progress, time_limit=limit), settle_tolerance)
@@ -525,7 +525,7 @@ def estimate(scene, action: str = "run", rtol=None, output_dir=None, check_start
     chosen = loaded.rtol if rtol is None else rtol
     if action == "run" and check_starts:
         return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)
-    return loaded.estimate(chosen, output_dir)
+    return loaded.estimate(chosen, output_dir, in_this_process=True)
 
 
 FAMILY = register(Family("fault_3d", "quasi-dynamic cycles on a planar 3-D fault in an elastic half-space "

@@ -54,7 +54,7 @@ from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.io import budget
 from faultslip.io.resources import check_toml_layout, parse_toml, read_text_file, resolve_path
-from faultslip.models.fault_2d.integrate import YEAR, OverBudget, run_cycles
+from faultslip.models.fault_2d.integrate import YEAR, OverBudget, first_run_cost, run_cycles
 from faultslip.models.fault_2d.model import Fault2D
 from faultslip.models.fault_2d.scene import elasticity, require_keys
 from faultslip.models.fault_3d import cost
@@ -156,11 +156,15 @@ class Fault3DScene:
         """Squares per L_b = G D_c / (sigma_n b) (the smallest)."""
         return self.fault.process_zone() / self.fault.element_size
 
-    def estimate(self, rtol: float | None = None, output=None) -> budget.Estimate:
-        """What a run of this scene needs, before it starts (:mod:`faultslip.models.fault_3d.cost`)."""
+    def estimate(self, rtol: float | None = None, output=None, in_this_process: bool = False) -> budget.Estimate:
+        """What a run of this scene needs, before it starts (:mod:`faultslip.models.fault_3d.cost`);
+        ``in_this_process``: a run about to start here, with what its process owes before the first step (its step
+        runs in Python over the 2-D fault's compiled force balance, on one thread:
+        :func:`~faultslip.models.fault_2d.integrate.first_run_cost`)."""
         fault = self.fault
         return cost.estimate(fault.strike_count, fault.dip_count, self.duration / YEAR, len(self.stations), output,
-                             events=self.expected_events(), rtol=self.rtol if rtol is None else rtol)
+                             events=self.expected_events(), rtol=self.rtol if rtol is None else rtol,
+                             first_run=first_run_cost(False, 1) if in_this_process else (0.0, ""))
 
     def expected_events(self) -> float:
         """System-size events over the run: its duration over the recurrence of the 2-D fault's crude estimate

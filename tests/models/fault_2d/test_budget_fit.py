@@ -98,3 +98,80 @@ def test_the_plane_strain_step_cost_is_its_benchmarks_fit():
     for row in results["rows"]:
         estimate = cost.fault_2d_estimate(row["elements"], 60.0, 1, steps=row["steps"], plane_strain=True)
         assert 1 / 1.32 <= estimate.seconds / (row["steps"] * row["seconds_per_step"]) <= 1.32
+
+
+def test_the_first_run_seconds_are_the_benchmarks_medians():
+    """Provenance of FAULT_2D_FIRST_RUN_SECONDS: the medians benchmarks/first_run.py --part first-run measured
+    (a fresh process's first run less its second, after the estimate told loading from compiling), per step path
+    and build; compiling costs more than loading everywhere."""
+    results = json.loads((ROOT / "benchmarks" / "results" / "first_run.json").read_text(encoding="utf-8"))["first_run"]
+    assert {row["case"] for row in results["rows"]} == set(cost.FAULT_2D_FIRST_RUN_SECONDS)
+    for row in results["rows"]:
+        declared = cost.FAULT_2D_FIRST_RUN_SECONDS[row["case"]]
+        for state in ("load", "compile"):
+            assert len(row[f"{state}_samples"]) == results["rounds"] >= 3
+            assert declared[state] == pytest.approx(row[state], rel=0.01), (row["case"], state)
+        assert 0 < declared["load"] < declared["compile"]
+
+
+@pytest.mark.parametrize("loaded, pending, expected", [(True, True, 0.0), (False, False, "load"),
+                                                        (False, True, "compile")])
+def test_a_runs_estimate_counts_what_its_process_has_not_loaded_or_compiled(monkeypatch, loaded, pending, expected):
+    """A run about to start in this process adds the first-run cost its process still owes (none where the step
+    is in memory), says what it is for, and a study's per-cell estimate (not in this process) adds nothing."""
+    from faultslip.models.fault_2d import compiled, integrate
+    from faultslip.models.fault_2d import scene as scene_module
+
+    for module in (scene_module, integrate):
+        monkeypatch.setattr(module, "step_path", lambda: "fused")
+    monkeypatch.setattr(compiled, "step_loaded", lambda threads=1, fused=None: loaded)
+    monkeypatch.setattr(compiled, "compilation_pending", lambda threads=1, fused=None: pending)
+    scene = read_fault_2d_scene(SMALL)
+    plain, here = scene.estimate(), scene.estimate(in_this_process=True)
+    extra = 0.0 if expected == 0.0 else cost.FAULT_2D_FIRST_RUN_SECONDS["fused serial"][expected]
+    assert here.seconds - plain.seconds == pytest.approx(extra, rel=1e-9, abs=1e-12)
+    assert ("compile the 2-D step" in here.what) == (expected == "compile")
+    assert ("load the compiled 2-D step" in here.what) == (expected == "load")
+    assert "of it to" not in plain.what
+
+
+def test_a_run_leaves_its_step_loaded_and_the_next_owes_nothing():
+    """After a compiled run the process holds the step: the next run's estimate adds no first-run cost."""
+    from dataclasses import replace
+
+    from faultslip.models.fault_2d import compiled
+    from faultslip.models.fault_2d.scene import step_path
+
+    if step_path() == "numpy":
+        pytest.skip("the step runs in plain numpy here: no compiled step to load")
+    scene = read_fault_2d_scene(SMALL)
+    scene = replace(scene, duration=scene.duration / 2000, threads=1)
+    scene.run()
+    assert compiled.step_loaded(1, step_path() == "fused")
+    assert scene.first_run_cost() == (0.0, "")
+    assert scene.estimate(in_this_process=True).seconds == scene.estimate().seconds
+
+
+@pytest.mark.parametrize("config, threads, fused", [
+    ("fault_2d_small.toml", 1, True),           # the FFT kernel: the whole step, on the threads it runs
+    ("fault_2d_dipping_small.toml", 1, False),  # dense kernels: Python's step over the force balance, one thread
+    ("fault_3d_small.toml", 1, False),          # the 3-D operator: the same
+])
+def test_each_rung_owes_the_first_run_of_the_step_it_takes(monkeypatch, config, threads, fused):
+    """Which compiled step a run's estimate asks about follows the path its steps take (run_cycles), on the
+    2-D, dipping and 3-D rungs alike, and the cost it adds is that step's (FAULT_2D_FIRST_RUN_SECONDS)."""
+    from faultslip.models.fault_2d import compiled, integrate
+    from faultslip.models.fault_3d.scene import load_fault_3d_scene
+    from faultslip.models.fault_2d import scene as scene_module
+
+    for module in (scene_module, integrate):
+        monkeypatch.setattr(module, "step_path", lambda: "fused")
+    asked = []
+    monkeypatch.setattr(compiled, "step_loaded", lambda threads=1, fused=None: asked.append((threads, fused)) or False)
+    monkeypatch.setattr(compiled, "compilation_pending", lambda threads=1, fused=None: False)
+    path = ROOT / "configs" / config
+    scene = load_fault_3d_scene(path) if "3d" in config else read_fault_2d_scene(path)
+    here, plain = scene.estimate(in_this_process=True), scene.estimate()
+    assert asked == [(threads, fused)]
+    key = f"{'fused' if fused else 'compiled'} serial"
+    assert here.seconds - plain.seconds == pytest.approx(cost.FAULT_2D_FIRST_RUN_SECONDS[key]["load"], rel=1e-6)

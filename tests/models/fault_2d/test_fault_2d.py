@@ -1406,7 +1406,7 @@ def test_a_run_far_past_its_estimate_stops_at_twice_its_budget_with_a_checkpoint
     from faultslip.io import budget
     from faultslip.models.fault_2d.scene import Fault2DScene
 
-    monkeypatch.setattr(Fault2DScene, "estimate", lambda self, rtol=None, output=None: budget.Estimate("tiny"))
+    monkeypatch.setattr(Fault2DScene, "estimate", lambda self, rtol=None, output=None, in_this_process=False: budget.Estimate("tiny"))
     monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "1e-6")
     out = tmp_path / "run"
     stopped = cli("simulate", CONFIGS / "fault_2d_small.toml", "--output-dir", out)
