@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import statistics
 from pathlib import Path
 
 from provenance import listed  # one stamp for every results file
@@ -727,14 +728,15 @@ def ladder_escalations_table() -> str | None:
     result = _load("ladder_escalations_held_out.json")
     if result is None:
         return None
-    rows = ["| fault | elements | 2-D runs | estimated | CPU used | estimate / CPU |", "| --- | --- | --- | --- | --- | --- |"]
+    rows = ["| fault | elements | 2-D runs | estimated | CPU used | estimate / CPU | CPU a step / fitted |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
     for row in sorted(result["rows"], key=lambda r: r["design"]["name"]):
         name = f"| {row['design']['name']} (W/h* {row['design']['width_over_nucleation']:.2f}) | {row['elements']} | "
         if "refused" in row:
-            rows.append(name + "refused before it ran, in one sentence | | | |")
+            rows.append(name + "refused before it ran, in one sentence | | | | |")
             continue
         rows.append(name + f"{row.get('runs', 1)} | {row['estimated_seconds']:.1f} s | {row['cpu_time']:.1f} s | "
-                    f"{row['estimated_seconds'] / row['cpu_time']:.2f} |")
+                    f"{row['estimated_seconds'] / row['cpu_time']:.2f} | {_step_speed(row):.2f} |")
     summary = result["summary"]
     refused = summary.get("refused", 0)
     return ("\n".join(rows) + f"\n\n{summary['within_2x']} of {summary['escalations']} escalations within 2x (median "
@@ -742,19 +744,38 @@ def ladder_escalations_table() -> str | None:
             + (f", {refused} refused before any work, in one sentence" if refused else "") + "; "
             f"`python benchmarks/ladder_escalations.py --seed {result.get('seed', 68000)}`"
             f"{' (a draw the per-step cost never saw)' if result.get('seed', 68000) != 68000 else ''}. "
-            + _second_draw() + f"{_machine(result)}")
+            + _second_draw() + "The last column is each escalation's CPU a step (its runs' steps, its first run's "
+            "loading of the compiled step included) over the per-step CPU the cost model was fitted with "
+            "(`FAULT_2D_STEP_SECONDS`): above 1, the machine ran the steps slower than when the model was fitted "
+            f"(median {statistics.median(_step_speed(r) for r in result['rows'] if 'refused' not in r):.2f} here), which the estimate does not measure. "
+            f"{_machine(result)}")
+
+
+def _step_speed(row: dict) -> float:
+    """An escalation's CPU a step over the fitted per-step CPU: each unsettled run is rerun twice as long, so its
+    runs took ``steps`` (the last's) times (2^runs - 1) / 2^(runs - 1) steps."""
+    from faultslip.models.fault_2d import cost
+
+    c0, c1, _ = cost.FAULT_2D_STEP_SECONDS
+    steps = row["steps"] * (2 ** row["runs"] - 1) / 2 ** (row["runs"] - 1)
+    return row["cpu_time"] / steps / (c0 + c1 * row["elements"])
 
 
 def _second_draw() -> str:
-    """A further draw of escalations the cost model never saw (ladder_escalations_second_draw.json), in a sentence."""
-    result = _load("ladder_escalations_second_draw.json")
-    if result is None:
-        return ""
-    summary = result["summary"]
-    return (f"A second unseen draw (`--seed {result['seed']}`): {summary['within_2x']} of {summary['escalations']} "
-            f"within 2x ({summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}, median {summary['ratio_median']:.2f})"
-            + (f"; {summary['refused']} refused before any work, in one sentence" if summary.get("refused") else "")
-            + ". ")
+    """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then
+    ladder_escalations_third_draw.json), a sentence each."""
+    text = ""
+    for ordinal, name in (("second", "ladder_escalations_second_draw.json"), ("third", "ladder_escalations_third_draw.json")):
+        result = _load(name)
+        if result is None:
+            continue
+        summary = result["summary"]
+        text += (f"A {ordinal} unseen draw (`--seed {result['seed']}`): {summary['within_2x']} of "
+                 f"{summary['escalations']} within 2x ({summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}, median "
+                 f"{summary['ratio_median']:.2f})"
+                 + (f"; {summary['refused']} refused before any work, in one sentence" if summary.get("refused") else "")
+                 + ". ")
+    return text
 
 
 def seas_bp3_table() -> str | None:
