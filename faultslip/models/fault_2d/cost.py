@@ -30,11 +30,11 @@ FAULT_2D_STEP_SECONDS = (2.031e-5, 2.702e-7, 1.0)
 #: benchmarks/plane_strain_step.py (SEAS BP3-QD on 200-1,600 elements, within 1.31x of each; tests/models/fault_2d/test_budget_fit.py
 #: refits it from benchmarks/results/plane_strain_step.json).
 PLANE_STRAIN_STEP_SECONDS = (4.308e-4, 8.563e-9)
-#: CPU seconds a process's first compiled 2-D run spends beyond its steps, per step path (the whole step fused, or
-#: the force balance compiled: a dense kernel's, a dipping fault's) and build (one thread or several): "load", numba's
-#: cached step loaded into the process; "compile", compiled into an empty cache (a fresh environment, or a new
-#: faultslip), once. Medians of benchmarks/first_run.py --part first-run (the first run's CPU less a second
-#: run's, after the estimate that tells which applies); tests/models/fault_2d/test_budget_fit.py checks them.
+#: CPU seconds a process's first compiled 2-D run spends beyond its steps, per step path (the whole step fused, or the
+#: force balance and stages compiled: a dense kernel's; a dipping or 3-D fault's step loads a part of them) and build
+#: (one thread or several): "load", numba's cached step loaded into the process; "compile", compiled into an empty
+#: cache (a fresh environment, or a new faultslip), once. Medians of benchmarks/first_run.py --part first-run (the
+#: first run's CPU less a second run's, after the estimate that tells which applies); test_budget_fit.py checks them.
 FAULT_2D_FIRST_RUN_SECONDS = {"fused serial": {"load": 0.998, "compile": 20.0},
                               "fused parallel": {"load": 1.1, "compile": 90.9},
                               "compiled serial": {"load": 0.967, "compile": 3.76},
