@@ -71,6 +71,10 @@ class Cells(Protocol):
     def seconds_per_cell(self, study) -> float:
         """Estimated wall time of one cell on one worker."""
 
+    def seconds_per_worker(self, study) -> float:
+        """Optional: estimated time a worker spends once, before its first cell (a compiled step loaded, or compiled
+        where numba's cache has none); a family without it spends none (:meth:`Study.seconds_per_worker`)."""
+
     def counted(self, study) -> bool:
         """Whether a finished sweep reports its cells counted by flag (cells simulated one by one, which differ
         in regime or may fail); a closed-form sweep skips the read-back."""

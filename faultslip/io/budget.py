@@ -198,7 +198,9 @@ def study_estimate(study, output, workers: int, chunk_cells: int, compression: s
     rate = max(workers, 1) / study.seconds_per_cell()
     block = min(cells, float(chunk_cells))
     memory = block * 40 * 8.0 * (max(workers, 1) + 1)  # ~40 grid-sized temporaries per block in flight
-    return Estimate(what=f"this sweep of {cells:.3g} cells", memory=memory, disk=disk, seconds=cells / rate,
+    # the workers start together: each spends its one-off setup once (Study.seconds_per_worker)
+    return Estimate(what=f"this sweep of {cells:.3g} cells", memory=memory, disk=disk,
+                    seconds=cells / rate + (study.seconds_per_worker() if hasattr(study, "seconds_per_worker") else 0.0),
                     output=output)
 
 

@@ -110,6 +110,12 @@ class Study:
             self._cell_seconds = self.cells.seconds_per_cell(self)
         return self._cell_seconds
 
+    def seconds_per_worker(self) -> float:
+        """Estimated time each worker spends once, before its first cell (the family's
+        ``Cells.seconds_per_worker``; 0 where it declares none)."""
+        setup = getattr(self.cells, "seconds_per_worker", None)
+        return float(setup(self)) if setup is not None else 0.0
+
     def fingerprint(self) -> str:
         """Hash of everything that determines the result (for resuming)."""
         digest = hashlib.sha256()

@@ -90,6 +90,11 @@ class Fault2DCells:
     def seconds_per_cell(self, study) -> float:
         return fault_2d_cell_seconds(study.scene, study.dims)
 
+    def seconds_per_worker(self, study) -> float:
+        """A worker's first cell loads the compiled step, or compiles it where numba's cache has none
+        (:meth:`Fault2DScene.first_run_cost` of a process that holds none yet)."""
+        return study.scene.first_run_cost(fresh_process=True)[0]
+
     def counted(self, study) -> bool:
         return False  # no flags: settled and events are numbers
 

@@ -424,12 +424,12 @@ def step_path() -> str:
     return "fused" if compiled_kernels.fused_available() else "compiled"
 
 
-def first_run_cost(fused: bool, threads: int) -> tuple[float, str]:
-    """CPU seconds a run in this process spends before its first step, and on what
-    (:func:`faultslip.models.fault_2d.cost.fault_2d_first_run`): loading the compiled step (``fused``: the whole
-    step's; else the force balance's) for ``threads`` threads, or compiling it where numba's cache has none;
-    nothing where this process holds it already, or where the step is plain numpy."""
-    if step_path() == "numpy" or compiled_kernels.step_loaded(threads, fused):
+def first_run_cost(fused: bool, threads: int, fresh_process: bool = False) -> tuple[float, str]:
+    """CPU seconds a run in this process (``fresh_process``: in a new one, a study's worker) spends before its first
+    step, and on what (:func:`faultslip.models.fault_2d.cost.fault_2d_first_run`): loading the compiled step
+    (``fused``: the whole step's; else the force balance's) for ``threads`` threads, or compiling it where numba's
+    cache has none; nothing where the process holds it already, or where the step is plain numpy."""
+    if step_path() == "numpy" or (not fresh_process and compiled_kernels.step_loaded(threads, fused)):
         return 0.0, ""
     return cost.fault_2d_first_run(fused=fused, threads=threads,
                                    compile=compiled_kernels.compilation_pending(threads, fused))

@@ -182,16 +182,17 @@ class Fault2DScene:
                                         plane_strain=self.fault.plane == "strain",
                                         first_run=self.first_run_cost() if in_this_process else (0.0, ""))
 
-    def first_run_cost(self) -> tuple[float, str]:
-        """CPU seconds this process's run of the scene spends before its first step, and on what
+    def first_run_cost(self, fresh_process: bool = False) -> tuple[float, str]:
+        """CPU seconds this process's run of the scene (``fresh_process``: a new process's, a study's worker, on
+        one thread) spends before its first step, and on what
         (:func:`~faultslip.models.fault_2d.integrate.first_run_cost`): the whole step's where its kernel is the FFT
         and rocket-fft is here, else the compiled force balance's; a dipping fault's step runs in Python over it,
         on one thread (:func:`run_cycles`)."""
         path = step_path()
         method = self.kernel if self.kernel != "auto" else "dense" if self.fault.count <= dense_limit(path) else "fft"
         strain = self.fault.plane == "strain"
-        threads = 1 if strain else self.threads or threads_for(self.fault.count, THREADS_PAY_FROM)
-        return first_run_cost(path == "fused" and not strain and method == "fft", threads)
+        threads = 1 if strain or fresh_process else self.threads or threads_for(self.fault.count, THREADS_PAY_FROM)
+        return first_run_cost(path == "fused" and not strain and method == "fft", threads, fresh_process)
 
     def outside_fit(self) -> tuple:
         """Where this scene lies outside the scenes its cost estimate was fitted on

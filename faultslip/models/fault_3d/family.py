@@ -28,7 +28,7 @@ from faultslip.fault.starts import compare_starts, other_starts, start_note, sta
 from faultslip.models.fault_2d import family as fault_2d_family
 from faultslip.models.fault_2d.analysis import classify, moment_magnitude
 from faultslip.models.fault_2d.figures import ladder_figure
-from faultslip.models.fault_2d.integrate import YEAR
+from faultslip.models.fault_2d.integrate import YEAR, first_run_cost
 from faultslip.models.fault_2d.scene import Fault2DScene
 from faultslip.models.fault_3d import bp5_outputs, cost
 from faultslip.models.fault_3d.figures import rupture_figure
@@ -483,6 +483,10 @@ class Fault3DCells:
 
     def seconds_per_cell(self, study) -> float:
         return study.scene.estimate().seconds
+
+    def seconds_per_worker(self, study) -> float:
+        """A worker's first cell loads the compiled force balance, or compiles it where numba's cache has none."""
+        return first_run_cost(False, 1, fresh_process=True)[0]
 
     def counted(self, study) -> bool:
         return False

@@ -175,3 +175,35 @@ def test_each_rung_owes_the_first_run_of_the_step_it_takes(monkeypatch, config, 
     assert asked == [(threads, fused)]
     key = f"{'fused' if fused else 'compiled'} serial"
     assert here.seconds - plain.seconds == pytest.approx(cost.FAULT_2D_FIRST_RUN_SECONDS[key]["load"], rel=1e-6)
+
+
+@pytest.mark.parametrize("study, key", [("study_fault_2d.toml", "fused serial"), ("study_fault_3d.toml", "compiled serial")])
+@pytest.mark.parametrize("pending", [False, True])
+def test_a_sweeps_estimate_counts_each_workers_first_run_once(monkeypatch, study, key, pending):
+    """A study's workers are fresh processes on one thread: each loads the compiled step (or compiles it, where
+    numba's cache has none) before its first cell, whatever this process holds; the workers start together, so the
+    sweep's estimate adds it once to the cells' share of the time."""
+    from faultslip.models.fault_2d import compiled, integrate
+    from faultslip.models.fault_2d import scene as scene_module
+    from faultslip.studies.grid import parse_study
+
+    for module in (scene_module, integrate):
+        monkeypatch.setattr(module, "step_path", lambda: "fused")
+    monkeypatch.setattr(compiled, "step_loaded", lambda threads=1, fused=None: True)  # this process: irrelevant
+    monkeypatch.setattr(compiled, "compilation_pending", lambda threads=1, fused=None: pending)
+    path = ROOT / "configs" / study
+    parsed = parse_study(path.read_text(encoding="utf-8"), study, base_dir=path.parent)
+    owed = cost.FAULT_2D_FIRST_RUN_SECONDS[key]["compile" if pending else "load"]
+    assert parsed.seconds_per_worker() == pytest.approx(owed)
+    for workers in (1, 2):
+        estimate = budget.study_estimate(parsed, None, workers, 4)
+        assert estimate.seconds == pytest.approx(parsed.size * parsed.seconds_per_cell() / workers + owed)
+
+
+def test_a_family_without_a_compiled_step_declares_no_worker_setup():
+    from faultslip.studies.grid import parse_study
+
+    path = ROOT / "configs" / "study_rate_state.toml"
+    parsed = parse_study(path.read_text(encoding="utf-8"), path.name, base_dir=path.parent)
+    assert parsed.seconds_per_worker() == 0.0
+    assert budget.study_estimate(parsed, None, 2, 4).seconds == pytest.approx(parsed.size * parsed.seconds_per_cell() / 2)
