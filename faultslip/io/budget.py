@@ -200,8 +200,7 @@ def study_estimate(study, output, workers: int, chunk_cells: int, compression: s
     memory = block * 40 * 8.0 * (max(workers, 1) + 1)  # ~40 grid-sized temporaries per block in flight
     # the workers start together: each spends its one-off setup once (Study.seconds_per_worker)
     return Estimate(what=f"this sweep of {cells:.3g} cells", memory=memory, disk=disk,
-                    seconds=cells / rate + (study.seconds_per_worker() if hasattr(study, "seconds_per_worker") else 0.0),
-                    output=output)
+                    seconds=cells / rate + study.seconds_per_worker(), output=output)
 
 
 #: Bytes held per cell of a map's raster (coordinates, unit vectors, nearest index and distance, four maps).
