@@ -16,8 +16,9 @@ hold the compiled step yet (faultslip.models.fault_2d.cost.FAULT_2D_FIRST_RUN_SE
 estimate a run's budget check makes (which tells loading from compiling), then the same short run twice
 (``simulate_fault``); the first run's CPU less the second's. Per step path (the small antiplane fault with its FFT
 kernel, the whole step fused; with its dense kernel, the force balance and stages compiled, which a dipping fault's
-and a 3-D fault's steps load a part of, on one thread) and build (one thread, or two), with numba's cache empty ("compile") and then filled ("load"). ``--part commands`` runs only the
-whole-command figures; either part keeps the other's rows from the file.
+and a 3-D fault's steps load a part of, on one thread) and build (one thread, or two), with numba's cache empty
+("compile") and then filled ("load"). ``--part commands`` runs only the whole-command figures; either part keeps the
+other's rows from the file.
 """
 
 from __future__ import annotations
@@ -71,7 +72,7 @@ from faultslip.models.fault_2d.scene import read_fault_2d_scene
 from faultslip.models.fault_2d.family import simulate_fault
 scene = read_fault_2d_scene(sys.argv[1])
 scene = replace(scene, duration=scene.duration / 2000, threads=int(sys.argv[2]), kernel=sys.argv[3])
-cost, why = scene.first_run_cost()  # as the run's budget check makes it, before its clock starts
+_, why = scene.first_run_cost()  # as the run's budget check makes it, before its clock starts
 times = []
 for _ in range(2):
     started = time.process_time()

@@ -226,7 +226,8 @@ def first_run_table() -> str | None:
     first = result.get("first_run")
     if first:
         names = {"fused serial": "the whole step on one thread", "fused parallel": "the whole step on two threads",
-                 "compiled serial": "the force balance and stages (a dense kernel's; a dipping or 3-D fault's step loads a part of them) on one thread",
+                 "compiled serial": "the force balance and stages (a dense kernel's; a dipping or 3-D fault's step "
+                                    "loads a part of them) on one thread",
                  "compiled parallel": "the force balance on two threads"}
         cases = "; ".join(f"{names.get(row['case'], row['case'])}, {row['compile']:.3g} s to compile and "
                           f"{row['load']:.2g} s to load" for row in first["rows"])
@@ -744,10 +745,11 @@ def ladder_escalations_table() -> str | None:
             + (f", {refused} refused before any work, in one sentence" if refused else "") + "; "
             f"`python benchmarks/ladder_escalations.py --seed {result.get('seed', 68000)}`"
             f"{' (a draw the per-step cost never saw)' if result.get('seed', 68000) != 68000 else ''}. "
-            + _second_draw() + "The last column is each escalation's CPU a step (its runs' steps, its first run's "
+            + _further_draws() + "The last column is each escalation's CPU a step (its runs' steps, its first run's "
             "loading of the compiled step included) over the per-step CPU the cost model was fitted with "
             "(`FAULT_2D_STEP_SECONDS`): above 1, the machine ran the steps slower than when the model was fitted "
-            f"(median {statistics.median(_step_speed(r) for r in result['rows'] if 'refused' not in r):.2f} here), which the estimate does not measure. "
+            f"(median {statistics.median(_step_speed(r) for r in result['rows'] if 'refused' not in r):.2f} here), "
+            "which the estimate does not measure. "
             f"{_machine(result)}")
 
 
@@ -761,7 +763,7 @@ def _step_speed(row: dict) -> float:
     return row["cpu_time"] / steps / (c0 + c1 * row["elements"])
 
 
-def _second_draw() -> str:
+def _further_draws() -> str:
     """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then
     ladder_escalations_third_draw.json), a sentence each."""
     text = ""

@@ -178,6 +178,15 @@ def check(estimate: Estimate, allow_large: bool = False, seconds_allowed: float 
 NETCDF_OVERHEAD, NETCDF_PER_VARIABLE = 16e3, 3e3
 
 
+def with_one_off(what: str, seconds: float, one_off: tuple) -> tuple[str, float]:
+    """``what`` and ``seconds`` with a one-off cost added: ``one_off`` is (seconds, what they are spent on), as a
+    compiled step's first run (:func:`faultslip.models.fault_2d.cost.fault_2d_first_run`); unchanged where 0."""
+    extra, why = one_off
+    if extra <= 0:
+        return what, seconds
+    return f"{what}, {extra:.2g} s of it {why}", seconds + extra
+
+
 def one_after_another(what: str, estimates: list[Estimate]) -> Estimate:
     """Runs made one after another: their CPU time and disk summed, the largest memory any holds at once."""
     return Estimate(what, memory=max(e.memory for e in estimates), disk=sum(e.disk for e in estimates),

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from faultslip.io.budget import Estimate
+from faultslip.io.budget import Estimate, with_one_off
 
 
 #: A 2-D fault run's steps per simulated year (benchmarks/fault_2d_cost.py fits it to measured step counts,
@@ -119,9 +119,8 @@ def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *
     if plane_strain:
         dense0, dense2 = PLANE_STRAIN_STEP_SECONDS
         per_step, step_cost, kernels = dense0 + dense2 * elements ** 2, 1.0, 2 * 8.0 * elements ** 2 * 2
-    extra, why = first_run
-    also = f"; {extra:.2g} s of it {why}" if extra > 0 else ""
-    return Estimate(what=f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps{also})",
-                    seconds=margin * steps * per_step * step_cost + extra,
+    what, seconds = with_one_off(f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps)",
+                                 margin * steps * per_step * step_cost, first_run)
+    return Estimate(what=what, seconds=seconds,
                     memory=steps * (1 + 4 * stations) * 8.0 * 2 + kernels,
                     disk=steps * stations * 100.0 if output else 0.0, output=output, outside_fit=outside_fit)

@@ -9,7 +9,7 @@ results files and holds each run's estimate within 2x of the CPU it used.
 from __future__ import annotations
 
 from faultslip.fault.ladder import expected_recurrence as one_slider_recurrence
-from faultslip.io.budget import Estimate
+from faultslip.io.budget import Estimate, with_one_off
 
 #: Steps per system-size event: scale (N_z / 20)^dip_rows (rtol / 1e-6)^rtol, times a margin so that the estimate
 #: errs long; scale and dip_rows fitted on BP5's runs (benchmarks/seas_bp5.py), the rtol power the 2-D fault's
@@ -61,12 +61,10 @@ def estimate(strike_count: int, dip_count: int, years: float, stations: int, out
     its process spends before the first step, and on what."""
     count = steps(dip_count, events, rtol)
     elements = strike_count * dip_count
-    extra, why = first_run
-    also = f"; {extra:.2g} s of it {why}" if extra > 0 else ""
-    return Estimate(what=f"a 3-D fault run of {strike_count} x {dip_count} squares over {years:.4g} yr (about "
-                         f"{count:.3g} steps{also})",
-                    seconds=count * step_seconds(strike_count, dip_count) + assembly_seconds(strike_count, dip_count)
-                    + extra,
+    what, seconds = with_one_off(f"a 3-D fault run of {strike_count} x {dip_count} squares over {years:.4g} yr "
+                                 f"(about {count:.3g} steps)", count * step_seconds(strike_count, dip_count)
+                                 + assembly_seconds(strike_count, dip_count), first_run)
+    return Estimate(what=what, seconds=seconds,
                     memory=operator_bytes(strike_count, dip_count) + count * (1 + 4 * stations) * 8.0 * 2
                     + 40 * elements * 8.0,
                     disk=count * stations * 100.0 + (years / 5 + 200 * max(events, 1.0)) * elements * 16.0
