@@ -179,6 +179,41 @@ def mutate_bytes(raw: bytes, rng: random.Random) -> bytes:
     return bytes(data)
 
 
+def mutate_netcdf(path: Path, rng: random.Random) -> None:
+    """A netCDF file's bytes mutated (:func:`mutate_bytes`), one bit flipped (in a small file, often in its
+    attributes or layout), or an attribute or a coordinate edited through the library, as a later tool would."""
+    choice = rng.random()
+    if choice < 0.4:
+        path.write_bytes(mutate_bytes(path.read_bytes(), rng))
+        return
+    if choice < 0.7:
+        data = bytearray(path.read_bytes())
+        data[rng.randrange(len(data))] ^= 1 << rng.randrange(8)
+        path.write_bytes(bytes(data))
+        return
+    import netCDF4
+    import numpy as np
+
+    with netCDF4.Dataset(path, "a") as nc:
+        variables = [name for name in nc.variables if nc[name].ncattrs()]
+        edit = rng.choice(["global", "global", "variable", "coordinate", "delete"])
+        if edit == "global":
+            key = rng.choice(nc.ncattrs())
+            value = nc.getncattr(key)
+            nc.setncattr(key, value + " " if isinstance(value, str) else np.asarray(value) * 2 + 1)
+        elif edit == "variable":
+            variable = nc[rng.choice(variables)]
+            key = rng.choice(variable.ncattrs())
+            if key != "_FillValue":
+                value = variable.getncattr(key)
+                variable.setncattr(key, value + "x" if isinstance(value, str) else np.asarray(value) * 2 + 1)
+        elif edit == "coordinate":
+            coordinate = nc[rng.choice([name for name in nc.dimensions if name in nc.variables])]
+            coordinate[0] = coordinate[0] * 1.001 if coordinate.dtype != str else coordinate[0] + "x"
+        else:
+            nc.delncattr(rng.choice(nc.ncattrs()))
+
+
 # --- cases ---------------------------------------------------------------------------------------
 
 class Workspace:
@@ -216,6 +251,8 @@ class Workspace:
         self.rfile = (DATA / "p655" / "p655_r").read_text(encoding="utf-8", errors="replace")
         shutil.copy(DATA / "p655" / "p655intact100l", folder / "p655intact100l")
         self.silent_if_ok = False  # a case whose input was changed so that exit 0 would be a silent result
+        self.changed_netcdf = None  # a mutated sealed netCDF file: exit 0 with its content changed would be silent
+        self.netcdf_content = netcdf_content(self.folder / "seed.nc")
         self.fault_2d, self.stopped = self._stopped_2d_run()
         self.fifo = folder / "pipe.toml"
         os.mkfifo(self.fifo)
@@ -325,6 +362,41 @@ class Workspace:
         return path
 
 
+#: Run in a child (a damaged file may crash the netCDF library): a digest of everything a netCDF file holds.
+_CONTENT = """
+import hashlib, sys, netCDF4, numpy as np
+digest = hashlib.sha256()
+def feed(value):
+    value = np.asarray(value)
+    digest.update(repr((value.dtype.str, value.shape)).encode())
+    digest.update(repr(value.tolist()).encode() if value.dtype.kind in "OUS" else value.tobytes())
+with netCDF4.Dataset(sys.argv[1]) as nc:
+    def walk(group):
+        for key in sorted(group.ncattrs()):
+            digest.update(key.encode()); feed(group.getncattr(key))
+        for name, variable in sorted(group.variables.items()):
+            variable.set_auto_maskandscale(False)
+            digest.update(repr((name, variable.dimensions, str(variable.dtype))).encode())
+            for key in sorted(variable.ncattrs()):
+                digest.update(key.encode()); feed(variable.getncattr(key))
+            feed(variable[...])
+        for child in sorted(group.groups):
+            walk(group.groups[child])
+    walk(nc)
+print(digest.hexdigest())
+"""
+
+
+def netcdf_content(path) -> str | None:
+    """The digest of everything ``path`` holds (attributes, types, values), or None where it does not read."""
+    try:
+        result = subprocess.run([sys.executable, "-c", _CONTENT, str(path)], capture_output=True, text=True,
+                                timeout=60)
+    except subprocess.TimeoutExpired:
+        return None
+    return result.stdout.strip() if result.returncode == 0 else None
+
+
 def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
     out = str(space.folder / "out.nc")
     if kind == "scene":
@@ -384,7 +456,9 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         path = space.write("decay.csv", mutate_csv(space.decay, rng))
         return ["decay", str(path), "--stiffness", "12346 N/m", "--json"]
     if kind == "netcdf":
-        path = space.write("mutated.nc", mutate_bytes(space.netcdf, rng))
+        path = space.write("mutated.nc", space.netcdf)
+        mutate_netcdf(path, rng)
+        space.changed_netcdf = path  # the seed is a sealed sweep output
         return rng.choice([["reproduce", str(path), "--workers", "1", "--json"],
                            ["record", str(path), "--stiffness", "1 N/m", "--normal-load", "1 N", "--json"],
                            ["fit", str(path), "--bootstrap", "5", "--json"]])
@@ -954,7 +1028,7 @@ def run_case(argv: list[str], timeout: float):
 
 
 def worker(job):
-    start, count, seed, timeout = job
+    start, count, seed, timeout, only = job
     os.environ.setdefault("MPLBACKEND", "Agg")
     import warnings
 
@@ -969,7 +1043,7 @@ def worker(job):
     try:
         space = Workspace(folder)
         rng = random.Random(seed * 1_000_003 + start)
-        kinds = list(KINDS)
+        kinds = only.split(",") if only else list(KINDS)
         weights = [KINDS[k] for k in kinds]
         tally = collections.Counter()
         by_kind = collections.defaultdict(collections.Counter)
@@ -987,7 +1061,10 @@ def worker(job):
             outcome, detail, seconds = run_case(argv, timeout)
             if outcome == "ok" and space.silent_if_ok:  # a changed input reported as if nothing had changed
                 outcome, detail = "silent", f"{kind}: a changed input went through with exit 0"
-            space.silent_if_ok = False
+            if outcome == "ok" and space.changed_netcdf is not None \
+                    and netcdf_content(space.changed_netcdf) != space.netcdf_content:
+                outcome, detail = "silent", f"{kind}: a sealed file read with exit 0 though its content changed"
+            space.silent_if_ok, space.changed_netcdf = False, None
             try:
                 space.release()
             except AssertionError as exc:
@@ -1022,10 +1099,16 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timeout", type=float, default=60.0)
     parser.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "fuzz.json"))
+    parser.add_argument("--kinds", help="comma-separated input kinds to draw from (default: all, by their weights)")
     args = parser.parse_args(argv)
+    if args.kinds:
+        unknown = set(args.kinds.split(",")) - set(KINDS)
+        if unknown:
+            parser.error(f"unknown kinds {sorted(unknown)}; choose from {sorted(KINDS)}")
     started = time.perf_counter()
     per = -(-args.cases // args.workers)
-    jobs = [(i * per, min(per, args.cases - i * per), args.seed, args.timeout) for i in range(args.workers)]
+    jobs = [(i * per, min(per, args.cases - i * per), args.seed, args.timeout, args.kinds)
+            for i in range(args.workers)]
     tally, by_kind, failures, slowest = collections.Counter(), collections.defaultdict(collections.Counter), {}, 0.0
     with ProcessPoolExecutor(args.workers) as pool:
         for part_tally, part_kinds, part_failures, part_slowest in pool.map(worker, jobs):
@@ -1037,7 +1120,7 @@ def main(argv=None) -> int:
     result = {
         "cases": sum(tally.values()), "outcomes": dict(tally), "by_input": {k: dict(v) for k, v in by_kind.items()},
         "distinct_failures": failures, "slowest_case_s": slowest, "wall_time_s": time.perf_counter() - started,
-        "seed": args.seed, **stamp(),
+        "seed": args.seed, **({"kinds": args.kinds} if args.kinds else {}), **stamp(),
     }
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")

@@ -162,6 +162,7 @@ def reliability_table() -> str | None:
             f"| silent: a changed input answered as if unchanged (exit 0) | **{outcomes.get('silent', 0)}** |",
             f"| cases over the fuzzer's {fuzz.get('timeout_s', 60):g} s limit | {outcomes.get('timeout', 0)} |"]
     hard = {"zarr": "damaged Zarr stores (missing, corrupted or re-attributed chunks)",
+            "netcdf": "a sweep's sealed netCDF output with bytes flipped, then reproduced, read as a record or fitted",
             "deep": "TOML nested 33 to 3,000 deep", "device": "devices, FIFOs and folders given as files",
             "lock": "symlinks, hard links and FIFOs planted at an output's lock",
             "full": "writes into a full disk (300 kB tmpfs)", "race": "a second writer of another kind holding the output",

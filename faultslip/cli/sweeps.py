@@ -135,6 +135,12 @@ def cmd_reproduce(args) -> int:
         verdict = "matches" if result["matches"] else "DIFFERS"
         print(f"faultslip reproduce: {args.file} {verdict} (largest relative difference {result['largest_difference']:.3g} "
               f"over {result['cells']} cells)")
+        checksum = {"differs": "the file does not match the checksum written with it: it changed after writing",
+                    "damaged": "the file has lost its checksum, or its checksum attribute is damaged: it changed "
+                               "after writing",
+                    "absent": "the file carries no checksum (an older faultslip wrote it): it is compared unchecked"}
+        if result["checksum"] in checksum:
+            print(f"  {checksum[result['checksum']]}")
         for name, value in result["differences"].items():
             print(f"  {name:26s} {value:.3g}")
         for label, key in (("missing from the file", "missing"), ("not reproduced (extra in the file)", "extra"),

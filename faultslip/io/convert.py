@@ -19,7 +19,7 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.io import budget
 from faultslip.io.chunks import ChunkFile, block_digest, encode_chunk, padded
-from faultslip.io.netcdf import create_chunked
+from faultslip.io.netcdf import create_chunked, seal
 from faultslip.io.atomic import partial_output
 from faultslip.io.outputs import check_output, output_lock
 from faultslip.io.processes import run_windowed, stop_pool, usable_workers, worker_pool
@@ -143,6 +143,7 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
             stop_pool(pool, interrupted=True)
             raise
         stop_pool(pool)
+        seal(partial)
         os.replace(partial, output)
     return {"input": str(store_path), "output": str(output), "chunks": len(regions), "variables": len(names),
             "seconds": time.perf_counter() - started, "workers": workers}

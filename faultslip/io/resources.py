@@ -21,6 +21,7 @@ from faultslip.io.chunks import block_digest
 import numpy as np
 import subprocess
 import sys
+import warnings
 
 _PACKAGE = Path(__file__).resolve().parent.parent  # faultslip/, this file being faultslip/io/resources.py
 
@@ -113,9 +114,12 @@ def check_input_file(path, label: str, kind: str = "table") -> Path:
     return gate.check_input(path, label, kind)
 
 
-#: Run in a child process by :func:`probe_netcdf`: everything xarray reads when it opens a file.
+#: Run in a child process by :func:`probe_netcdf`: everything xarray reads when it opens a file, then the file's
+#: checksum (:func:`faultslip.io.netcdf.checksum_problem`), whose finding is the one line it prints.
 _PROBE = """
 import sys, netCDF4
+sys.path.insert(0, sys.argv[3])  # the faultslip that runs this, wherever it was imported from
+from faultslip.io.netcdf import checksum_problem
 with netCDF4.Dataset(sys.argv[1]) as nc:
     def walk(group):
         [group.getncattr(k) for k in group.ncattrs()]
@@ -126,23 +130,35 @@ with netCDF4.Dataset(sys.argv[1]) as nc:
         for child in group.groups.values():
             walk(child)
     walk(nc)
+    print(checksum_problem(nc, sys.argv[1]) or "")
 """
 
+#: What :func:`probe_netcdf` says of a file by the probe's finding.
+_CHECKSUM_FINDINGS = {
+    "mismatch": "does not match the checksum faultslip wrote with it: it was changed or damaged after writing",
+    "damaged": "has lost its checksum, or its checksum attribute is damaged: it was changed after faultslip wrote it",
+}
 
-def probe_netcdf(path, label: str, data_limit: int = 2**26) -> None:
+
+def probe_netcdf(path, label: str, data_limit: int = 2**26, *, refuse_changed: bool = True) -> str | None:
     """Read a netCDF file's structure (and data up to ``data_limit`` values per variable) in a child process.
 
     A damaged file can make the netCDF-C/HDF5 libraries crash the process that reads it (a
     segmentation fault while closing a file with a corrupt attribute): found by the fuzzer. The
-    child takes that crash, and the damaged file becomes one sentence here.
+    child takes that crash, and the damaged file becomes one sentence here. The child also checks
+    the checksum of a file faultslip wrote (:mod:`faultslip.io.netcdf`): a file that does not match
+    it is refused; a file of an older faultslip without one is read with a warning. With
+    ``refuse_changed=False`` the finding is returned instead (``"mismatch"``, ``"damaged"`` or
+    ``"unsealed"``; None for a file that matches its checksum or carries none): for ``reproduce``,
+    whose answer a changed file is.
     """
 
     # a damaged file can also make the library loop for ever (found by the fuzzer): allow 20 s plus
     # the time to read the file at 20 MB/s, then call it unreadable
     allowed = 20.0 + Path(path).stat().st_size / 20e6
     try:
-        result = subprocess.run([sys.executable, "-c", _PROBE, str(path), str(data_limit)], capture_output=True,
-                                text=True, timeout=allowed)
+        result = subprocess.run([sys.executable, "-c", _PROBE, str(path), str(data_limit), str(_PACKAGE.parent)],
+                                capture_output=True, text=True, timeout=allowed)
     except subprocess.TimeoutExpired:
         raise InputError(f"cannot read {label} {Path(path).name} as netCDF: reading it did not finish in "
                          f"{allowed:.0f} s, so it is probably damaged") from None
@@ -151,6 +167,15 @@ def probe_netcdf(path, label: str, data_limit: int = 2**26) -> None:
         reason = (lines[-1][:160] if lines and result.returncode > 0 else
                   f"the netCDF library crashed reading it (signal {-result.returncode})")
         raise InputError(f"cannot read {label} {Path(path).name} as netCDF ({reason})")
+    finding = result.stdout.strip().splitlines()[-1] if result.stdout.strip() else ""
+    if not refuse_changed:
+        return finding or None
+    if finding in _CHECKSUM_FINDINGS:
+        raise InputError(f"{label} {Path(path).name} {_CHECKSUM_FINDINGS[finding]}")
+    if finding == "unsealed":
+        warnings.warn(f"{label} {Path(path).name} was written by a faultslip that did not yet seal its netCDF files "
+                      "with a checksum: it is read unchecked", stacklevel=3)
+    return None
 
 
 def open_netcdf(path, label: str):

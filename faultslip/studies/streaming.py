@@ -31,14 +31,14 @@ from faultslip.io.progress import reporter
 from faultslip.io import budget, gate
 from faultslip.io.atomic import commit, working_copy, write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, block_digest, encode_chunk, padded
-from faultslip.io.netcdf import create_chunked, open_for_append
+from faultslip.io.netcdf import CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE, create_chunked, open_for_append, seal
 from faultslip.io.zarr_store import (DIGESTS, check_block_digests, create_store, finish_store, is_store, remove_store,
                                       require_zarr, set_block_digests, update_block_digests, write_region)
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock, refuse_links
 from faultslip.io.processes import (THREADS_VARIABLE, SharedRing, descendants, reap, run_windowed, shared_segment,
                                     stop_pool, worker_pool)
-from faultslip.io.resources import open_dataset_lazily, stored_block_digests
+from faultslip.io.resources import check_input_file, open_dataset_lazily, probe_netcdf, stored_block_digests
 from faultslip.contract.cells import collect_cell_failures
 from faultslip.studies.grid import block_arrays, compute_block, finish, parse_study, template_block
 
@@ -641,6 +641,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
                                     for index, digest in digests.items()})
         finish_store(partial, output)
     else:
+        seal(partial)
         commit(partial, output)
     if ledger.exists():
         ledger.unlink()
@@ -719,6 +720,9 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
         remove_store(partial)
         if file_format == "zarr":
             check_block_digests(output)  # the store is trusted, and its digests renewed, only if it verifies first
+        else:
+            # and the file only if it matches its checksum
+            probe_netcdf(check_input_file(output, "study output", "netcdf"), "study output")
         working_copy(output, partial)
         blocks = [{name: slice(cell[name], cell[name] + 1) for name in study.dims} for cell in cells]
         workers, reason = choose_execution(study, len(blocks), workers, scheduler)
@@ -758,6 +762,7 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
         _shutdown(executor)
         if nc is not None:
             nc.close()
+            seal(partial)
             commit(partial, output)
         else:  # the blocks holding the recovered cells get their digests anew, from what was just written
             update_block_digests(partial, [cells[index] for index in recovered])
@@ -855,7 +860,8 @@ def _largest_difference(a, b):
 
 
 #: Global attributes that describe the run, not its results: not compared by :func:`reproduce`.
-RUN_ATTRIBUTES = ("history", "source", DIGESTS)  # of the run, or of how it is stored (a Zarr store's block digests)
+# of the run, or of how it is stored (a Zarr store's block digests, a netCDF file's checksum)
+RUN_ATTRIBUTES = ("history", "source", DIGESTS, CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE)
 
 
 def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrite: bool = False,
@@ -864,8 +870,10 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
 
     Every data variable, coordinate, variable attribute and global attribute (but the run's
     ``history`` and ``source``) is compared. A variable, coordinate or attribute that is missing or
-    extra is a mismatch, and so is any value that differs by more than 1e-12 relative. The file
-    checked is never written: ``output`` must be another file.
+    extra is a mismatch, and so is any value that differs by more than 1e-12 relative, and so is a
+    file that does not match the checksum written with it (``checksum``: ``"matches"``,
+    ``"differs"``, ``"damaged"``, or ``"absent"`` for a file of a faultslip before checksums). The
+    file checked is never written: ``output`` must be another file.
     """
     path = Path(path)
     if not path.exists():
@@ -876,7 +884,10 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     if output is not None:
         keep = check_output(output, label="-o", suffixes=(".nc",), inputs=[path], overwrite=overwrite)
 
-    with open_dataset_lazily(path, "file") as original:  # probed first: a damaged file must not crash this process
+    # probed first, as every read is (a damaged file must not crash this process); a file changed since it was
+    # written is not refused here but reported: that it differs from what was written is this command's answer
+    checksum = probe_netcdf(check_input_file(path, "file", "netcdf"), "file", refuse_changed=False)
+    with open_dataset_lazily(path, "file", checked=True) as original:
         attrs = dict(original.attrs)
     if not isinstance(attrs.get("faultslip_study"), str) or not isinstance(attrs.get("faultslip_base_scene"), str):
         raise InputError(f"{path.name} carries no embedded study (faultslip_study attribute); it was not written by faultslip sweep")
@@ -899,8 +910,10 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
         except Exception as exc:
             raise InputError(f"cannot compare {path.name} with its reproduction: {str(exc)[:200]}") from None
     worst = max(comparison["differences"].values()) if comparison["differences"] else 0.0
-    matches = worst <= 1e-12 and not any(comparison[k] for k in ("missing", "extra", "attribute_differences"))
-    return {"matches": matches, "largest_difference": worst, **comparison,
+    checksum = {None: "matches", "mismatch": "differs", "damaged": "damaged", "unsealed": "absent"}[checksum]
+    matches = worst <= 1e-12 and not any(comparison[k] for k in ("missing", "extra", "attribute_differences")) \
+        and checksum in ("matches", "absent")
+    return {"matches": matches, "largest_difference": worst, **comparison, "checksum": checksum,
             "cells": summary["cells"], "seconds": summary["seconds"]}
 
 

@@ -396,6 +396,47 @@ def test_the_door_check_sees_what_it_must():
                      "dataset.to_netcdf", "xr.open_dataset"}
 
 
+#: Where a netCDF file may be created, each with its reason: every other writer goes through faultslip.io.netcdf,
+#: whose files are sealed with a checksum that every read checks (faultslip.io.netcdf.seal).
+NETCDF_CREATORS = {
+    "faultslip.io.netcdf": "write_dataset and create_chunked, whose callers seal what they write",
+    "faultslip.io.bundle": "netCDF bytes inside a fit bundle, whose manifest holds every member's SHA-256",
+}
+
+
+def _netcdf_creations(path: Path):
+    """(line, what) for each call in ``path`` that creates a netCDF file: ``to_netcdf``, a ``netCDF4.Dataset``
+    opened to write (``"w"``, ``"x"``), and ``create_chunked`` (which must be sealed in the same module)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    calls = [node for node in ast.walk(tree) if isinstance(node, ast.Call)]
+    names = {_call_name(node.func) for node in calls}
+    for node in calls:
+        name = _call_name(node.func)
+        method = node.func.attr if isinstance(node.func, ast.Attribute) else None
+        modes = [a.value for a in node.args[1:2] + [k.value for k in node.keywords if k.arg == "mode"]
+                 if isinstance(a, ast.Constant)]
+        if method == "to_netcdf" or (name == "netCDF4.Dataset" and any(m in ("w", "x") for m in modes)):
+            yield node.lineno, name or method
+        elif name == "create_chunked" and "seal" not in names:
+            yield node.lineno, "create_chunked with no seal"
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_every_netcdf_file_is_written_sealed(module):
+    """A netCDF file is created only where it is sealed with its checksum (the writer guard of every netCDF file)."""
+    found = [f"{module}:{line} calls {what}" for line, what in _netcdf_creations(MODULES[module])
+             if module not in NETCDF_CREATORS or what == "create_chunked with no seal"]
+    assert not found, "a netCDF file written outside faultslip.io.netcdf, or left unsealed: " + "; ".join(found)
+
+
+def test_the_netcdf_writer_check_sees_what_it_must(tmp_path):
+    sample = tmp_path / "sample.py"
+    sample.write_text("def f(dataset, path):\n    dataset.to_netcdf(path)\n    netCDF4.Dataset(path, 'w')\n"
+                      "    netCDF4.Dataset(path, mode='x')\n    netCDF4.Dataset(path)\n    create_chunked(path)\n")
+    assert [what for _, what in _netcdf_creations(sample)] == ["dataset.to_netcdf", "netCDF4.Dataset",
+                                                               "netCDF4.Dataset", "create_chunked with no seal"]
+
+
 def test_every_public_function_documents_its_parameters_and_returns():
     """numpydoc sections on every name of ``import faultslip``, as MetPy's calc has (issue 40, item 8): a function
     with parameters has a Parameters section, every function a Returns section, a class Parameters or

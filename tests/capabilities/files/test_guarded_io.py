@@ -306,14 +306,18 @@ def _edit_attrs(path: Path, value) -> None:
 def test_an_intact_store_converts_to_the_values_it_holds(store, tmp_path, cli):
     import xarray as xr
 
+    from faultslip.io.netcdf import CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE
     from faultslip.io.zarr_store import DIGESTS
 
     assert cli("convert", store, "-o", tmp_path / "c.nc").code == 0
     with xr.open_zarr(store) as original, xr.open_dataset(tmp_path / "c.nc") as converted:
-        # the blocks' digests belong to the store's chunks, and stay with it
+        # the blocks' digests belong to the store's chunks, and stay with it; the file carries its own checksum
         assert DIGESTS in original.attrs and DIGESTS not in converted.attrs
+        assert CHECKSUM_ATTRIBUTE not in original.attrs and CHECKSUM_ATTRIBUTE in converted.attrs
         xr.testing.assert_identical(original.load().drop_attrs(deep=False).assign_attrs(
-            {k: v for k, v in original.attrs.items() if k != DIGESTS}), converted.load())
+            {k: v for k, v in original.attrs.items() if k != DIGESTS}),
+            converted.load().drop_attrs(deep=False).assign_attrs(
+                {k: v for k, v in converted.attrs.items() if k not in (CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE)}))
 
 
 def test_a_store_without_checksums_is_refused(store, tmp_path, cli):

@@ -262,15 +262,17 @@ def _tampered(path, change):
     lambda d: d.__setitem__("extra", d["stress_drop"] * 2),
     lambda d: d["slip_per_event"].attrs.__setitem__("units", "ft"),
     lambda d: d.attrs.__setitem__("tolerance", 0.5),
-], ids=["value", "deleted variable", "extra variable", "units", "global attribute"])
+    lambda d: d.attrs.__setitem__("history", "edited"),
+], ids=["value", "deleted variable", "extra variable", "units", "global attribute", "run history"])
 def test_reproduce_detects_every_kind_of_tampering(swept, cli, change):
     result = cli("reproduce", _tampered(swept, change), "--json")
-    assert result.code == 1 and result.json["matches"] is False
+    # the history is the run's own and is not compared: only the checksum written with the file tells
+    assert result.code == 1 and result.json["matches"] is False and result.json["checksum"] == "differs"
 
 
 def test_reproduce_matches_an_untouched_file(swept, cli):
     result = cli("reproduce", swept, "--json")
-    assert result.code == 0 and result.json["matches"] is True
+    assert result.code == 0 and result.json["matches"] is True and result.json["checksum"] == "matches"
     assert not result.json["missing"] and not result.json["extra"] and not result.json["attribute_differences"]
 
 

@@ -106,6 +106,9 @@ def test_a_large_variable_is_written_a_block_at_a_time_and_reads_back_equal(tmp_
     monkeypatch.setattr(netcdf, "STREAM_BYTES", 1 << 40)
     write_dataset(eager, tmp_path / "whole.nc")
     with xr.open_dataset(tmp_path / "streamed.nc") as a, xr.open_dataset(tmp_path / "whole.nc") as b:
-        xr.testing.assert_identical(a, b)
+        # the checksums differ with the layout (it covers the chunking); everything else is the same
+        assert a.attrs[netcdf.CHECKSUM_ATTRIBUTE] != b.attrs[netcdf.CHECKSUM_ATTRIBUTE]
+        xr.testing.assert_identical(a.drop_attrs(deep=False), b.drop_attrs(deep=False))
+        assert set(a.attrs) == set(b.attrs) == {netcdf.CHECKSUM_ATTRIBUTE, netcdf.COVERS_ATTRIBUTE}
         assert a["series"].encoding["chunksizes"][0] == 17
     stream.close()
