@@ -162,7 +162,8 @@ def reliability_table() -> str | None:
             f"| silent: a changed input answered as if unchanged (exit 0) | **{outcomes.get('silent', 0)}** |",
             f"| cases over the fuzzer's {fuzz.get('timeout_s', 60):g} s limit | {outcomes.get('timeout', 0)} |"]
     hard = {"zarr": "damaged Zarr stores (missing, corrupted or re-attributed chunks)",
-            "netcdf": "a sweep's sealed netCDF output with bytes flipped, then reproduced, read as a record or fitted",
+            "netcdf": "a sweep's sealed netCDF output, bytes mutated, one bit flipped, or an attribute or coordinate "
+                      "edited, then reproduced, read as a record or fitted",
             "deep": "TOML nested 33 to 3,000 deep", "device": "devices, FIFOs and folders given as files",
             "lock": "symlinks, hard links and FIFOs planted at an output's lock",
             "full": "writes into a full disk (300 kB tmpfs)", "race": "a second writer of another kind holding the output",
@@ -182,7 +183,8 @@ def reliability_table() -> str | None:
         if kind in by_input:
             counts = by_input[kind]
             bad = sum(counts.get(k, 0) for k in ("traceback", "unclean", "environment", "timeout", "silent"))
-            rows.append(f"| of which {label} | {sum(counts.values()):,}: {counts.get('ok', 0)} answered, "
+            differing = f" {counts['mismatch']} reported by `reproduce` as differing," if counts.get("mismatch") else ""
+            rows.append(f"| of which {label} | {sum(counts.values()):,}: {counts.get('ok', 0)} answered,{differing} "
                         f"{counts.get('clean', 0)} refused in one sentence, {bad} failures |")
     if kills:
         k, r = kills["kills"], kills["races"]
