@@ -179,6 +179,31 @@ def mutate_bytes(raw: bytes, rng: random.Random) -> bytes:
     return bytes(data)
 
 
+def mutate_ledger(text: str, rng: random.Random) -> str | bytes:
+    """A failure ledger's JSON edited as a hand or a tool would (a cell dropped, an index or the count changed, a
+    key removed), its bytes mutated, or left as written (which must be retried)."""
+    choice = rng.random()
+    if choice < 0.15:
+        return text
+    if choice < 0.45:
+        return mutate_bytes(text.encode("utf-8"), rng)
+    record = json.loads(text)
+    edit = rng.choice(["drop", "index", "count", "key", "reason"])
+    if edit == "drop":
+        record["cells"].pop(rng.randrange(len(record["cells"])))
+    elif edit == "index":
+        cell = rng.choice(record["cells"])
+        name = rng.choice(list(cell["index"]))
+        cell["index"][name] = rng.choice([0, 1, 2, -1, 10**6, "0", None])
+    elif edit == "count":
+        record["failed_cells"] = rng.choice([0, 1, 3, -1])
+    elif edit == "key":
+        record.pop(rng.choice(list(record)))
+    else:
+        rng.choice(record["cells"])["reason"] = ""
+    return json.dumps(record, indent=1) + "\n"
+
+
 def mutate_netcdf(path: Path, rng: random.Random) -> None:
     """A netCDF file's bytes mutated (:func:`mutate_bytes`), one bit flipped (in a small file, often in its
     attributes or layout), or an attribute or a coordinate edited through the library, as a later tool would."""
@@ -235,6 +260,7 @@ class Workspace:
         decay_lines = (CONFIGS / "example_decay_record.csv").read_text(encoding="utf-8").splitlines()
         self.decay = "\n".join(decay_lines[:1200]) + "\n"
         self.netcdf = self._small_sweep()
+        self.ledger = self._failure_ledger()
         self.catalog = (CONFIGS / "catalog_san_andreas.csv").read_text(encoding="utf-8")
         self.geojson = (DATA / "gem_faults_example.geojson").read_text(encoding="utf-8")
         self.sherifs = {name: (CONFIGS / "sherifs_example" / name).read_text(encoding="utf-8")
@@ -290,6 +316,24 @@ class Workspace:
 
             assert main(["sweep", str(study), "-o", str(out), "--overwrite", "--workers", "1"]) == 0
         return out.read_bytes()
+
+    def _failure_ledger(self) -> str:
+        """The failure ledger a run of the seed sweep leaves where two of its cells failed (the seed of the ledger
+        kind): written by the library's own writer, for the study the command line reads."""
+        from faultslip.studies.grid import load_study
+        from faultslip.studies.streaming import _write_failure_ledger, failure_ledger
+
+        study = load_study(self.folder / "seed_study.toml")
+        cells = [{"index": {"slip_rate": 0, "lithology": 1}, "values": {"slip_rate": "10 mm/yr", "lithology": "pyrite"},
+                  "reason": "the solver failed"},
+                 {"index": {"slip_rate": 1, "lithology": 0}, "values": {"slip_rate": "30 mm/yr",
+                                                                        "lithology": "granodiorite"},
+                  "reason": "the solver failed"}]
+        _write_failure_ledger(self.folder / "seed.nc", study, study.fingerprint(), cells)
+        path = failure_ledger(self.folder / "seed.nc")
+        text = path.read_text(encoding="utf-8")
+        path.unlink()
+        return text
 
     def _stopped_2d_run(self) -> tuple[str, Path]:
         """A small 2-D fault scene (2 km elements, 150 yr: about a second) and a run of it stopped right after
@@ -524,6 +568,13 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
     if kind == "phyphox":
         path = space.write("phone.csv", mutate_csv(space.phyphox, rng))
         return ["record", str(path), "--json"] + rng.choice([[], ["--axis", rng.choice(["x", "y", "w"])]])
+    if kind == "ledger":  # a sweep's failure ledger edited, then --retry-failed
+        out = space.write("retry.nc", space.netcdf)
+        text = mutate_ledger(space.ledger, rng)
+        space.write("retry.nc.failed.json", text)
+        space.silent_if_ok = text != space.ledger  # exit 0 would retry cells the run did not list
+        return ["sweep", str(space.folder / "seed_study.toml"), "-o", str(out), "--retry-failed", "--workers", "1",
+                "--json"]
     if kind == "bundle":
         path = space.write("fit.zip", mutate_bundle(space.bundle, rng, space))
         return ["fit", "--replay", str(path), "--json"]
@@ -710,7 +761,7 @@ KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6,
          "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
          "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6,
          "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4,
-         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3}
+         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3, "ledger": 4}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [

@@ -661,9 +661,10 @@ def _write_failure_ledger(output: Path, study, fingerprint: str, failures: list)
         return None
     failures = sorted(({key: value for key, value in cell.items() if key != "block"} for cell in failures),
                       key=lambda cell: [cell["index"][n] for n in study.dims])
-    write_text_atomic(path, json.dumps({"study": study.name, "fingerprint": fingerprint, "output": output.name,
-                                        "dimensions": list(study.dims), "failed_cells": len(failures),
-                                        "cells": failures}, indent=1) + "\n")
+    record = {"study": study.name, "fingerprint": fingerprint, "output": output.name, "dimensions": list(study.dims),
+              "failed_cells": len(failures), "cells": failures}
+    record["checksum"] = gate.json_checksum(record)  # --retry-failed trusts only the cells written here
+    write_text_atomic(path, json.dumps(record, indent=1) + "\n")
     return str(path)
 
 
@@ -704,6 +705,10 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
         raise InputError(f"{output.name} has no failure ledger ({ledger.name}): no cell of it failed, so there is "
                          "nothing to retry")
     record = gate.read_json(ledger, "failure ledger")
+    if not isinstance(record, dict) or record.get("checksum") != gate.json_checksum(record):
+        # a cell edited out of the ledger would stay unfilled while the retry reported nothing left to do
+        raise InputError(f"the failure ledger {ledger.name} does not match the checksum written with it (it was "
+                         "changed after it was written, or an older faultslip wrote it): run the study again instead")
     fingerprint = study.fingerprint()
     try:
         cells = [{name: int(cell["index"][name]) for name in study.dims} for cell in record["cells"]]

@@ -26,6 +26,7 @@ import pytest
 import xarray as xr
 
 from faultslip import contract
+from faultslip.io import gate
 from faultslip.io.netcdf import CHECKSUM_ATTRIBUTE
 from conftest import TEST_SCENE
 
@@ -192,6 +193,12 @@ def test_failed_cells_are_listed_and_only_they_are_retried(slow_family, suffix):
         assert np.isnan(written["slip_per_event"].values[4:]).all()
         assert np.isfinite(written["slip_per_event"].values[:4]).all()
     log.unlink()
+    intact_ledger = (folder / f"out{suffix}.failed.json").read_text()
+    edited = json.loads(intact_ledger) | {"cells": ledger["cells"][1:], "failed_cells": 3}  # one failed cell dropped
+    (folder / f"out{suffix}.failed.json").write_text(json.dumps(edited))
+    refused = _sweep(folder / "study.toml", "-o", out, "--retry-failed", check=False)
+    assert refused.returncode == 2 and "does not match the checksum" in refused.stderr, refused.stderr
+    (folder / f"out{suffix}.failed.json").write_text(intact_ledger)
     if suffix == ".nc":  # the file is trusted only where it matches the checksum written with it
         intact = out.read_bytes()
         with netCDF4.Dataset(out, "a") as nc:
@@ -220,7 +227,11 @@ def test_retry_failed_is_refused_in_one_sentence(slow_family, cli):
     _sweep(folder / "study.toml", "-o", folder / "done.nc", "--workers", "1")
     assert_clean_error(cli("sweep", folder / "study.toml", "-o", folder / "done.nc", "--retry-failed"),
                        "no failure ledger")
-    (folder / "done.nc.failed.json").write_text('{"fingerprint": "another", "cells": []}')
+    other = {"fingerprint": "another", "cells": []}
+    (folder / "done.nc.failed.json").write_text(json.dumps(other))  # no checksum: edited, or of an older faultslip
+    assert_clean_error(cli("sweep", folder / "study.toml", "-o", folder / "done.nc", "--retry-failed"),
+                       "does not match the checksum")
+    (folder / "done.nc.failed.json").write_text(json.dumps(other | {"checksum": gate.json_checksum(other)}))
     assert_clean_error(cli("sweep", folder / "study.toml", "-o", folder / "done.nc", "--retry-failed"),
                        "does not belong to this study")
 
