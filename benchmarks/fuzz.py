@@ -179,6 +179,40 @@ def mutate_bytes(raw: bytes, rng: random.Random) -> bytes:
     return bytes(data)
 
 
+#: The name the registry kind's seed fit is saved under.
+REGISTRY_FIT = "fuzz_gouge"
+
+
+def _registry_fit(text) -> dict | None:
+    """The seed fit's entry in a registry's text, its checksum left out (None where the text does not parse)."""
+    try:
+        entry = json.loads(text)["fits"][REGISTRY_FIT]
+        return {key: value for key, value in entry.items() if key != "checksum"}
+    except (ValueError, KeyError, TypeError, UnicodeDecodeError):
+        return None
+
+
+def mutate_registry(text: str, rng: random.Random) -> str | bytes:
+    """A fit registry's JSON edited (a parameter of the fit changed, its checksum or the version removed), its
+    bytes mutated, or left as saved (which must be used)."""
+    choice = rng.random()
+    if choice < 0.15:
+        return text
+    if choice < 0.45:
+        return mutate_bytes(text.encode("utf-8"), rng)
+    document = json.loads(text)
+    entry = document["fits"][REGISTRY_FIT]
+    edit = rng.choice(["value", "value", "checksum", "version", "both"])
+    if edit in ("value", "both"):
+        key = rng.choice(["mu_so", "mu_m", "b", "d", "shear_modulus"])
+        entry[key] = rng.choice([entry[key] * 1.01, entry[key] * 2, -entry[key], 0, "0.5", None])
+    if edit in ("checksum", "both"):
+        entry.pop("checksum", None)
+    if edit == "version":
+        document.pop("faultslip_registry")
+    return json.dumps(document, indent=1) + "\n"
+
+
 def mutate_ledger(text: str, rng: random.Random) -> str | bytes:
     """A failure ledger's JSON edited as a hand or a tool would (a cell dropped, an index or the count changed, a
     key removed), its bytes mutated, or left as written (which must be retried)."""
@@ -261,6 +295,7 @@ class Workspace:
         self.decay = "\n".join(decay_lines[:1200]) + "\n"
         self.netcdf = self._small_sweep()
         self.ledger = self._failure_ledger()
+        self.registry = self._registry()
         self.catalog = (CONFIGS / "catalog_san_andreas.csv").read_text(encoding="utf-8")
         self.geojson = (DATA / "gem_faults_example.geojson").read_text(encoding="utf-8")
         self.sherifs = {name: (CONFIGS / "sherifs_example" / name).read_text(encoding="utf-8")
@@ -334,6 +369,19 @@ class Workspace:
         text = path.read_text(encoding="utf-8")
         path.unlink()
         return text
+
+    def _registry(self) -> str:
+        """A fit registry holding one saved fit (the seed of the registry kind), written by the library's writer."""
+        from faultslip.friction import registry
+
+        keep = os.environ.get("FAULTSLIP_REGISTRY")
+        os.environ["FAULTSLIP_REGISTRY"] = str(self.folder / "seed_fits.json")
+        try:
+            registry.save_entry(REGISTRY_FIT, {"mu_so": 0.68, "mu_m": 0.57, "b": 40.0, "d": 0.66,
+                                               "shear_modulus": 2.5e10, "note": "fuzz seed", "source": "fuzz"})
+            return (self.folder / "seed_fits.json").read_text(encoding="utf-8")
+        finally:
+            os.environ.pop("FAULTSLIP_REGISTRY") if keep is None else os.environ.update(FAULTSLIP_REGISTRY=keep)
 
     def _stopped_2d_run(self) -> tuple[str, Path]:
         """A small 2-D fault scene (2 km elements, 150 yr: about a second) and a run of it stopped right after
@@ -575,6 +623,12 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         space.silent_if_ok = text != space.ledger  # exit 0 would retry cells the run did not list
         return ["sweep", str(space.folder / "seed_study.toml"), "-o", str(out), "--retry-failed", "--workers", "1",
                 "--json"]
+    if kind == "registry":  # the user's fit registry edited, then its fit used for a fault
+        text = mutate_registry(space.registry, rng)
+        Path(os.environ["FAULTSLIP_REGISTRY"]).write_bytes(text.encode("utf-8") if isinstance(text, str) else text)
+        space.silent_if_ok = _registry_fit(text) != _registry_fit(space.registry)  # exit 0 would use another fit
+        return ["fault", "--lithology", REGISTRY_FIT, "--zone-width", "13 mi", "--shear-stress", "250 bar",
+                "--slip-rate", "2 in/yr", "--json"]
     if kind == "bundle":
         path = space.write("fit.zip", mutate_bundle(space.bundle, rng, space))
         return ["fit", "--replay", str(path), "--json"]
@@ -761,7 +815,7 @@ KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6,
          "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
          "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6,
          "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4,
-         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3, "ledger": 4}
+         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3, "ledger": 4, "registry": 4}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [

@@ -165,6 +165,8 @@ def reliability_table() -> str | None:
             "netcdf": "a sweep's sealed netCDF output, bytes mutated, one bit flipped, or an attribute or coordinate "
                       "edited, then reproduced, read as a record or fitted",
             "ledger": "a sweep's failure ledger edited (cells dropped, indices changed) or mutated, then --retry-failed",
+            "registry": "the fit registry edited (a fit's parameter, its checksum, the version) or mutated, then the "
+                        "fit used",
             "deep": "TOML nested 33 to 3,000 deep", "device": "devices, FIFOs and folders given as files",
             "lock": "symlinks, hard links and FIFOs planted at an output's lock",
             "full": "writes into a full disk (300 kB tmpfs)", "race": "a second writer of another kind holding the output",

@@ -161,6 +161,43 @@ def test_registry_names_damaged_and_shadowing_entries(tmp_path, monkeypatch):
     assert "'glass_dry' would shadow a bundled" in messages
 
 
+def test_a_registry_entry_changed_after_saving_is_skipped_and_never_sealed_anew(tmp_path, monkeypatch):
+    """Each entry carries its checksum: an edited entry is skipped, naming it, and a later save keeps it refused."""
+    from faultslip.friction import registry
+    from faultslip.friction.materials import user_presets
+
+    path = tmp_path / "fits.json"
+    monkeypatch.setenv("FAULTSLIP_REGISTRY", str(path))
+    good = {"mu_so": 0.7, "mu_m": 0.6, "b": 1.0, "d": 1.0}
+    registry.save_entry("gouge", good)
+    registry.save_entry("edited", good)
+    registry.save_entry("stripped", good)
+    document = json.loads(path.read_text())
+    assert document["faultslip_registry"] == 2 and all(len(e["checksum"]) == 64 for e in document["fits"].values())
+    document["fits"]["edited"]["mu_m"] = 0.5  # a plausible value: only the checksum tells
+    del document["fits"]["stripped"]["checksum"]
+    path.write_text(json.dumps(document))
+    with pytest.warns(UserWarning) as caught:
+        presets = user_presets()
+    messages = " ".join(str(w.message) for w in caught)
+    assert set(presets) == {"gouge"} and presets["gouge"].rate_law.mu_m == 0.6
+    assert "'edited' does not match the checksum" in messages and "'stripped' does not match" in messages
+    registry.save_entry("later", good)  # read-modify-write: the damaged entries stay as they were, refused
+    with pytest.warns(UserWarning, match="'edited' does not match the checksum"):
+        assert set(user_presets()) == {"gouge", "later"}
+
+
+def test_an_older_registry_is_read_unchecked_with_one_warning(tmp_path, monkeypatch):
+    from faultslip.friction import registry
+
+    path = tmp_path / "fits.json"
+    monkeypatch.setenv("FAULTSLIP_REGISTRY", str(path))
+    good = {"mu_so": 0.7, "mu_m": 0.6, "b": 1.0, "d": 1.0}
+    path.write_text(json.dumps({"faultslip_registry": 1, "fits": {"old_a": good, "old_b": good}}))
+    with pytest.warns(UserWarning, match="written by an older faultslip, without checksums: its 2 entries"):
+        assert set(registry.stored_entries()) == {"old_a", "old_b"}
+
+
 # --- outputs, inputs and paths -----------------------------------------------------------------
 
 @pytest.mark.parametrize("output, message", [
