@@ -89,20 +89,24 @@ def fletcher32(data) -> int:
 
     Sums of 16-bit big-endian words, folded to 16 bits after every 360 words (the most that cannot overflow
     32 bits) and once more at the end; a last odd byte is the high byte of a word. The filter stores it after
-    the chunk, little-endian. Each block of 360 words is summed by numpy, in exact integers: the first sum
-    gains the block's sum, the second the block's length times the first sum plus the block's words weighted
-    n, n - 1, ..., 1. The tests check it against the checksums netCDF4 stores.
+    the chunk, little-endian. Every block of 360 words is summed at once by numpy, in exact integers; then,
+    block by block, the first sum gains the block's sum, and the second the block's length times the first sum
+    plus the block's words weighted n, n - 1, ..., 1. The tests check it against the checksums netCDF4 stores.
     """
     raw = np.frombuffer(bytes(data), dtype=np.uint8)
     even = raw[:raw.size - raw.size % 2].astype(np.uint64)
     words = (even[0::2] << np.uint64(8)) | even[1::2]
+    whole = words.size // 360 * 360
+    blocks = [(360, words[:whole].reshape(-1, 360))] if whole else []
+    if words.size > whole:
+        blocks.append((words.size - whole, words[whole:].reshape(1, -1)))
     first = second = 0
-    for start in range(0, words.size, 360):
-        block = words[start:start + 360]
-        weights = np.arange(block.size, 0, -1, dtype=np.uint64)
-        second = (second + block.size * first + int(np.dot(weights, block))) & 0xFFFFFFFF
-        first = (first + int(block.sum())) & 0xFFFFFFFF
-        first, second = (first & 0xFFFF) + (first >> 16), (second & 0xFFFF) + (second >> 16)
+    for length, rows in blocks:
+        weights = np.arange(length, 0, -1, dtype=np.uint64)
+        for total, weighted in zip(rows.sum(axis=1).tolist(), (rows @ weights).tolist()):
+            second = (second + length * first + weighted) & 0xFFFFFFFF
+            first = (first + total) & 0xFFFFFFFF
+            first, second = (first & 0xFFFF) + (first >> 16), (second & 0xFFFF) + (second >> 16)
     if raw.size % 2:
         first += int(raw[-1]) << 8
         second += first
