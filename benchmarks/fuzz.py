@@ -192,14 +192,22 @@ def _registry_fit(text) -> dict | None:
         return None
 
 
-def mutate_registry(text: str, rng: random.Random) -> str | bytes:
-    """A fit registry's JSON edited (a parameter of the fit changed, its checksum or the version removed), its
-    bytes mutated, or left as saved (which must be used)."""
+def _kept_or_mutated(text: str, rng: random.Random) -> str | bytes | None:
+    """A JSON file's text left as written (15 %), its bytes mutated (30 %), or None: to be edited as JSON."""
     choice = rng.random()
     if choice < 0.15:
         return text
     if choice < 0.45:
         return mutate_bytes(text.encode("utf-8"), rng)
+    return None
+
+
+def mutate_registry(text: str, rng: random.Random) -> str | bytes:
+    """A fit registry's JSON edited (a parameter of the fit changed, its checksum or the version removed), its
+    bytes mutated, or left as saved (which must be used)."""
+    kept = _kept_or_mutated(text, rng)
+    if kept is not None:
+        return kept
     document = json.loads(text)
     entry = document["fits"][REGISTRY_FIT]
     edit = rng.choice(["value", "value", "checksum", "version", "both"])
@@ -216,11 +224,9 @@ def mutate_registry(text: str, rng: random.Random) -> str | bytes:
 def mutate_ledger(text: str, rng: random.Random) -> str | bytes:
     """A failure ledger's JSON edited as a hand or a tool would (a cell dropped, an index or the count changed, a
     key removed), its bytes mutated, or left as written (which must be retried)."""
-    choice = rng.random()
-    if choice < 0.15:
-        return text
-    if choice < 0.45:
-        return mutate_bytes(text.encode("utf-8"), rng)
+    kept = _kept_or_mutated(text, rng)
+    if kept is not None:
+        return kept
     record = json.loads(text)
     edit = rng.choice(["drop", "index", "count", "key", "reason"])
     if edit == "drop":

@@ -153,6 +153,7 @@ def probe_netcdf(path, label: str, data_limit: int = 2**26, *, refuse_changed: b
     whose answer a changed file is.
     """
 
+    path = check_input_file(path, label, "netcdf")  # a regular file within the netCDF size limit, before the child
     # a damaged file can also make the library loop for ever (found by the fuzzer): allow 20 s plus
     # the time to read the file at 20 MB/s, then call it unreadable
     allowed = 20.0 + Path(path).stat().st_size / 20e6
@@ -182,8 +183,8 @@ def open_netcdf(path, label: str):
     """A netCDF file loaded into memory as an xarray Dataset; any failure to read it is one sentence."""
     import xarray as xr  # heavy: imported where used
 
-    path = check_input_file(path, label, "netcdf")
-    probe_netcdf(path, label)
+    path = Path(path)
+    probe_netcdf(path, label)  # through the gate first
     with gate.decoding(path, label, "netCDF", silence=True):
         with xr.open_dataset(path) as opened:
             return opened.load()
@@ -197,9 +198,10 @@ def open_dataset_lazily(path, label: str, *, zarr: bool = False, checked: bool =
 
     path = Path(path)
     if not checked:
-        path = check_input_file(path, label, "netcdf") if not zarr else gate.check_input(path, label, store=True)
-        if not zarr:
-            probe_netcdf(path, label)
+        if zarr:
+            gate.check_input(path, label, store=True)
+        else:
+            probe_netcdf(path, label)  # through the gate first
     with gate.decoding(path, label, "a Zarr store" if zarr else "netCDF", silence=True):
         opened = xr.open_zarr(path) if zarr else xr.open_dataset(path, chunks={})
     with opened:

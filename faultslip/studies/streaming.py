@@ -38,7 +38,7 @@ from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock, refuse_links
 from faultslip.io.processes import (THREADS_VARIABLE, SharedRing, descendants, reap, run_windowed, shared_segment,
                                     stop_pool, worker_pool)
-from faultslip.io.resources import check_input_file, open_dataset_lazily, probe_netcdf, stored_block_digests
+from faultslip.io.resources import open_dataset_lazily, probe_netcdf, stored_block_digests
 from faultslip.contract.cells import collect_cell_failures
 from faultslip.studies.grid import block_arrays, compute_block, finish, parse_study, template_block
 
@@ -727,7 +727,7 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
             check_block_digests(output)  # the store is trusted, and its digests renewed, only if it verifies first
         else:
             # and the file only if it matches its checksum
-            probe_netcdf(check_input_file(output, "study output", "netcdf"), "study output")
+            probe_netcdf(output, "study output")
         working_copy(output, partial)
         blocks = [{name: slice(cell[name], cell[name] + 1) for name in study.dims} for cell in cells]
         workers, reason = choose_execution(study, len(blocks), workers, scheduler)
@@ -891,7 +891,7 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
 
     # probed first, as every read is (a damaged file must not crash this process); a file changed since it was
     # written is not refused here but reported: that it differs from what was written is this command's answer
-    checksum = probe_netcdf(check_input_file(path, "file", "netcdf"), "file", refuse_changed=False)
+    checksum = probe_netcdf(path, "file", refuse_changed=False)
     with open_dataset_lazily(path, "file", checked=True) as original:
         attrs = dict(original.attrs)
     if not isinstance(attrs.get("faultslip_study"), str) or not isinstance(attrs.get("faultslip_base_scene"), str):
