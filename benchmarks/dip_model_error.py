@@ -31,6 +31,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
+from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
 from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
@@ -153,7 +154,7 @@ def main(argv=None) -> int:
     if args.table is None and (args.element_size, args.years) == (100.0, 1500.0):
         args.table = ROOT / "data" / "dip_model_error.json"
     if args.table is not None:
-        args.table.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
+        write_bundled_table(args.table, table)
     args.out.write_text(json.dumps({"rows": rows, "held_out": held, "table": table, **stamp()}, indent=1) + "\n",
                         encoding="utf-8")
     print(f"held out: {sum(row['covered'] for row in held)} of {len(held)} within the declared error; wrote "

@@ -30,6 +30,7 @@ from scipy.optimize import nnls
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip import __version__  # noqa: E402
 from faultslip.contract import registry  # noqa: E402
 from faultslip.io import budget  # noqa: E402
@@ -179,10 +180,10 @@ def main(argv=None) -> int:
         summary[name] = {"cases": len(ratios), "within_2x": sum(0.5 <= r <= 2 for r in ratios),
                          "ratio_min": min(ratios), "ratio_median": statistics.median(ratios),
                          "ratio_max": max(ratios)}
-    OUT.write_text(json.dumps({"provenance": {"computed_by": "benchmarks/family_costs.py", "faultslip": __version__,
-                                              **stamp(), "definition": "CPU seconds = overhead + seconds_per_unit x "
-                                              "units, the unit each family's cost module counts"},
-                               "families": families}, indent=1) + "\n", encoding="utf-8")
+    write_bundled_table(OUT, {"provenance": {"computed_by": "benchmarks/family_costs.py", "faultslip": __version__,
+                                             **stamp(), "definition": "CPU seconds = overhead + seconds_per_unit x "
+                                             "units, the unit each family's cost module counts"},
+                              "families": families})
     RESULTS.write_text(json.dumps({**stamp(), "rounds": args.rounds, "summary": summary, "rows": measured},
                                   indent=1) + "\n", encoding="utf-8")
     for name, line in summary.items():

@@ -45,6 +45,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip import __version__  # noqa: E402
 from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
 from faultslip.models.fault_2d.calibration import SHEAR_MODULUS, Design, block_errors, run_design  # noqa: E402
@@ -169,7 +170,7 @@ def main(argv=None):
             print(f"   {c['name']:>14}: W/h* {c['width_over_nucleation']:.2f}, true {c['model_error']:.3f}, "
                   f"declared {c['declared']:.3f}{'' if c['covered'] else '  NOT COVERED'}")
     out = ROOT / "data" / CALIBRATION_FILE
-    out.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
+    write_bundled_table(out, table)
     print(f"written to {out}")
 
 

@@ -37,6 +37,7 @@ ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
+from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip.fault.strike_error import MARGIN, declared, groups_of  # noqa: E402
 from faultslip.models.fault_2d.analysis import summarise as summarise_2d  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR, run_cycles  # noqa: E402
@@ -247,8 +248,7 @@ def main(argv=None) -> None:
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     if not args.quick:
         shipped = ROOT / "data" / "strike_model_error.json"
-        shipped.write_text(json.dumps({**table, "source": "benchmarks/fault_3d_model_error.py", **stamp()}, indent=1)
-                           + "\n", encoding="utf-8")
+        write_bundled_table(shipped, {**table, "source": "benchmarks/fault_3d_model_error.py", **stamp()})
         print(f"written {shipped}")
     print(f"written {args.out}")
 

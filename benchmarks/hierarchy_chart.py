@@ -32,6 +32,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import faultslip  # noqa: E402
+from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip.models.rate_state_slider.one_slider import load_calibration  # noqa: E402
 from faultslip.io.atomic import save_figure  # noqa: E402
 from faultslip.models.fault_2d.analysis import MIN_RESOLUTION, discretisation_error  # noqa: E402
@@ -77,7 +78,7 @@ def main():
                                         "data/fault_2d_model_error.json (held-out SEAS BP1)"]},
              "reference_yr": reference, "points": points}
     out = ROOT / "data" / "fault_2d_hierarchy.json"
-    out.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
+    write_bundled_table(out, table)
     from faultslip.models.rate_state_slider.figures import hierarchy_figure
 
     figure = hierarchy_figure(table)

@@ -18,7 +18,6 @@ measured, taken midway (in log N) between the last count where dense wins and it
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import sys
 import time
@@ -29,8 +28,8 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from fault_2d_profile import write_results  # noqa: E402
+from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip.constants import JULIAN_YEAR  # noqa: E402
-from faultslip.io.atomic import write_text_atomic  # noqa: E402
 from faultslip.models.fault_2d import compiled  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles, step_path  # noqa: E402
 from faultslip.models.fault_2d.kernel import STEP_PATHS, crossover, relative_costs  # noqa: E402
@@ -94,7 +93,7 @@ def main(argv=None) -> int:
     table = {"dense_limit": limits, "relative_step_cost": costs, "rows": tables, "method": " ".join(__doc__.split("\n\n")[2].split()),
              "provenance": {"script": "benchmarks/kernel_crossover.py", "years": args.years, "rounds": args.rounds,
                             **stamp()}}
-    write_text_atomic(ROOT / "data" / "kernel_crossover.json", json.dumps(table, indent=1) + "\n")
+    write_bundled_table(ROOT / "data" / "kernel_crossover.json", table)
     write_results("kernel_crossover.json", {"dense_limit": limits, "rows": tables, "years": args.years,
                                             "rounds": args.rounds})
     return 0

@@ -46,6 +46,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip import __version__  # noqa: E402
 from faultslip.fault import ladder  # noqa: E402
 from faultslip.models.fault_2d.calibration import Design  # noqa: E402
@@ -390,7 +391,7 @@ def main():
                  "summary": fresh_summary, "rows": fresh_faults,
                  "budget": spread([row for row in fresh_rows if row.get("cost_model") == declared])}
     limit["narrowest"] = narrowest(train + test + fresh_items, test + fresh_items, table)
-    OUT.write_text(json.dumps(table, indent=1) + "\n", encoding="utf-8")
+    write_bundled_table(OUT, table)
     HELD.write_text(json.dumps({**stamp(), "summary": summary, "rows": rows, "budget": budget, "limits": limit,
                                 "left_out_unsettled": skipped, **({"fresh": fresh} if fresh else {})}, indent=1) + "\n",
                     encoding="utf-8")

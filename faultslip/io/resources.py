@@ -11,12 +11,14 @@ import contextlib
 from array import array
 
 import csv
+import json
 import re
 from io import BytesIO
 from pathlib import Path
 
 from faultslip.errors import InputError
 from faultslip.io import gate
+from faultslip.io.atomic import write_text_atomic
 from faultslip.io.chunks import block_digest
 import numpy as np
 import subprocess
@@ -38,13 +40,40 @@ def data_path(name: str) -> Path:
     return bundled_dir("data") / name
 
 
+#: The key under which a bundled table carries the SHA-256 of the rest of it (:func:`faultslip.io.gate.json_checksum`).
+TABLE_CHECKSUM = "checksum"
+
+
+def bundled_table_text(table: dict) -> str:
+    """A table as ``data/`` ships it: its content as JSON (indent 1) and, last, the checksum of that content."""
+    if not isinstance(table, dict) or TABLE_CHECKSUM in table:
+        raise ValueError(f"a bundled table is a dict without a {TABLE_CHECKSUM!r} key of its own")
+    return json.dumps({**table, TABLE_CHECKSUM: gate.json_checksum(table, TABLE_CHECKSUM)}, indent=1) + "\n"
+
+
+def write_bundled_table(path, table: dict) -> None:
+    """Write a table the package reads back (a calibration, a cost model, a declared error) into ``data/``, sealed
+    with its checksum and written atomically: :func:`read_bundled_table` trusts only a table that matches it."""
+    write_text_atomic(path, bundled_table_text(table))
+
+
 def read_bundled_table(name: str, label: str, producer: str):
-    """A JSON table shipped in ``data/`` (checked through the gate), or one sentence naming the benchmark
-    ``producer`` that writes it."""
+    """A JSON table shipped in ``data/`` (checked through the gate and against the checksum
+    :func:`write_bundled_table` sealed it with), without that checksum; or one sentence naming the benchmark
+    ``producer`` that writes it. A table edited or damaged after it was written would change what faultslip
+    declares (a calibration's coefficient, a cost, a model error) with no other sign, so it is refused."""
+    path = bundled_dir("data") / name
     try:
-        return gate.read_json(bundled_dir("data") / name, label)
+        table = gate.read_json(path, label)
     except InputError as exc:
         raise InputError(f"{exc}; reinstall faultslip or run {producer}") from None
+    if not isinstance(table, dict) or TABLE_CHECKSUM not in table:
+        raise InputError(f"{label} ({path}) carries no checksum, so it was not written by {producer} as shipped; "
+                         f"reinstall faultslip or run {producer}")
+    if table[TABLE_CHECKSUM] != gate.json_checksum(table, TABLE_CHECKSUM):
+        raise InputError(f"{label} ({path}) does not match the checksum written with it: it was edited or damaged "
+                         f"after {producer} wrote it; reinstall faultslip or run {producer}")
+    return {key: value for key, value in table.items() if key != TABLE_CHECKSUM}
 
 
 def config_path(name: str) -> Path:

@@ -437,6 +437,42 @@ def test_the_netcdf_writer_check_sees_what_it_must(tmp_path):
                                                                "netCDF4.Dataset", "create_chunked with no seal"]
 
 
+def _bundled_table_reads(path: Path):
+    """(line, producer) for each ``read_bundled_table(name, label, producer)`` call in ``path``, and (line, None)
+    for a JSON read of ``bundled_dir("data")`` that goes around it."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        name = _call_name(node.func)
+        if name == "read_bundled_table" and len(node.args) >= 3 and isinstance(node.args[2], ast.Constant):
+            yield node.lineno, node.args[2].value
+        elif name in ("gate.read_json", "read_json", "json.loads") and "bundled_dir" in ast.unparse(node):
+            yield node.lineno, None
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_every_bundled_table_is_read_against_the_checksum_its_benchmark_sealed(module):
+    """A table in data/ is read only through read_bundled_table, which checks its checksum, and the benchmark it
+    names as the table's producer writes it with write_bundled_table, which seals it."""
+    problems = []
+    for line, producer in _bundled_table_reads(MODULES[module]):
+        if producer is None:
+            problems.append(f"{module}:{line} reads a bundled JSON table around read_bundled_table")
+            continue
+        script = PACKAGE.parent / producer
+        if not script.is_file() or "write_bundled_table(" not in script.read_text(encoding="utf-8"):
+            problems.append(f"{module}:{line} names {producer}, which does not write it with write_bundled_table")
+    assert not problems, "; ".join(problems)
+
+
+def test_the_bundled_table_check_sees_what_it_must(tmp_path):
+    sample = tmp_path / "sample.py"
+    sample.write_text("def f():\n    read_bundled_table('a.json', 'a', 'benchmarks/a.py')\n"
+                      "    gate.read_json(bundled_dir('data') / 'b.json', 'b')\n    read_bundled_table(name, label, producer)\n")
+    assert list(_bundled_table_reads(sample)) == [(2, "benchmarks/a.py"), (3, None)]
+
+
 def test_every_public_function_documents_its_parameters_and_returns():
     """numpydoc sections on every name of ``import faultslip``, as MetPy's calc has (issue 40, item 8): a function
     with parameters has a Parameters section, every function a Returns section, a class Parameters or

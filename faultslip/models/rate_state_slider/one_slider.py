@@ -18,7 +18,6 @@ from __future__ import annotations
 from functools import lru_cache
 
 from faultslip.errors import InputError
-from faultslip.io import gate
 from faultslip.io.resources import bundled_dir, read_bundled_table
 
 CALIBRATION_FILE = "fault_2d_model_error.json"
@@ -66,5 +65,6 @@ def load_hierarchy() -> dict | None:
         ``points`` (each method's cost in s, error against the converged 2-D answer and declared error), or None
         where the file is not installed.
     """
-    path = bundled_dir("data") / HIERARCHY_FILE
-    return gate.read_json(path, "the speed-accuracy chart's data") if path.is_file() else None
+    if not (bundled_dir("data") / HIERARCHY_FILE).is_file():
+        return None
+    return read_bundled_table(HIERARCHY_FILE, "the speed-accuracy chart's data", "benchmarks/hierarchy_chart.py")

@@ -24,7 +24,7 @@ from faultslip.models.fault_2d import kernel
 from faultslip.models.fault_2d.kernel import (STEP_PATHS, StressKernel, crossover, deep_loading, dense_limit,
                                               dense_matrix, measured_crossover)
 from faultslip.io import resources
-from faultslip.io.resources import bundled_dir
+from faultslip.io.resources import bundled_table_text, read_bundled_table
 from faultslip.models.fault_2d.model import Fault2D, ForceBalance, newton_tolerance, steady_initial_conditions
 from faultslip.errors import InputError, SolverError
 from faultslip.io.seas import read_seas, station_file_name, write_station
@@ -63,7 +63,7 @@ def test_the_dense_fft_switch_is_the_crossover_measured_for_each_step_path():
     """Issue 69: the switch comes from benchmarks/kernel_crossover.py's measurement, not a constant. The shipped
     limits are what its rule gives on its own rows (FFT faster at every larger count measured, midway in log N
     from the last dense win), and "auto" takes dense at the limit and the FFT just above it, on each path."""
-    table = json.loads((bundled_dir("data") / "kernel_crossover.json").read_text(encoding="utf-8"))
+    table = read_bundled_table("kernel_crossover.json", "the crossover", "benchmarks/kernel_crossover.py")
     for path in STEP_PATHS:
         rows = table["rows"][path]
         assert int(crossover(rows)) == measured_crossover()["dense_limit"][path] == dense_limit(path)
@@ -80,7 +80,9 @@ def test_the_dense_fft_switch_is_the_crossover_measured_for_each_step_path():
 
 
 def test_a_damaged_crossover_file_is_refused_in_one_sentence(tmp_path, monkeypatch):
-    (tmp_path / "kernel_crossover.json").write_text('{"dense_limit": {"fused": "many"}}', encoding="utf-8")
+    # sealed as the benchmark seals it, so that it is the structure that is refused, not the checksum
+    (tmp_path / "kernel_crossover.json").write_text(bundled_table_text({"dense_limit": {"fused": "many"}}),
+                                                    encoding="utf-8")
     monkeypatch.setattr(resources, "bundled_dir", lambda name: tmp_path)  # where read_bundled_table looks
     kernel.measured_crossover.cache_clear()
     try:
