@@ -9,11 +9,20 @@ A CSV catalog has ``name (unit)`` headers, one event per row::
 any ``source...`` columns are optional. QuakeML (``.xml``, ``.quakeml``, ``.qml``) is read with
 :func:`obspy.read_events`, each event's preferred (else first) origin and magnitude; events with
 neither are counted and left out, never silently.
+
+A QuakeML catalog faultslip writes carries a checksum of its events (:func:`quakeml_checksum`) in an element
+of its own namespace (:data:`QUAKEML_NAMESPACE`), which other programs skip; read back, a catalog that does not
+match it is refused, one of an older faultslip (no checksum) is read with a warning, and another program's
+carries nothing to check.
 """
 
 from __future__ import annotations
 
+import hashlib
+import io
+import json
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -27,6 +36,10 @@ from faultslip.units import to_si
 from faultslip.datasets import ToXarray
 
 QUAKEML_SUFFIXES = (".xml", ".quakeml", ".qml")
+#: The XML namespace of faultslip's own QuakeML element, the checksum of the events it wrote.
+QUAKEML_NAMESPACE = "urn:x-faultslip:quakeml:1"
+#: How a catalog faultslip wrote describes itself (write_quakeml): one without a checksum is an older faultslip's.
+DESCRIPTION_START = "faultslip"
 CATALOG_COLUMNS = {"time", "latitude", "longitude", "depth", "magnitude", "magnitude_type", "name"}
 
 
@@ -116,11 +129,64 @@ def _reorder(catalog: Catalog, order) -> Catalog:
                    catalog.path, catalog.notes)
 
 
+def quakeml_checksum(catalog) -> str:
+    """SHA-256 of what an obspy Catalog says of its events, as QuakeML carries it (times to the microsecond):
+    its description and comments, and for each event in order its origins (time, latitude, longitude, depth),
+    magnitudes (value, type), which of them are preferred, descriptions, agency and comments.
+
+    Parameters
+    ----------
+    catalog : obspy.core.event.Catalog
+        The events.
+
+    Returns
+    -------
+    str
+        64 hex digits.
+    """
+    def text(value):
+        return None if value is None else str(value)
+
+    def number(value):
+        return None if value is None else repr(float(value))
+
+    def position(items, preferred):
+        return next((index for index, item in enumerate(items) if item.resource_id == preferred), None)
+
+    body = [text(catalog.description), [text(c.text) for c in catalog.comments]]
+    for event in catalog:
+        body.append([[[text(o.time), number(o.latitude), number(o.longitude), number(o.depth)] for o in event.origins],
+                     [[number(m.mag), text(m.magnitude_type)] for m in event.magnitudes],
+                     position(event.origins, event.preferred_origin_id),
+                     position(event.magnitudes, event.preferred_magnitude_id),
+                     [text(d.text) for d in event.event_descriptions],
+                     text(event.creation_info.agency_id) if event.creation_info else None,
+                     [text(c.text) for c in event.comments]])
+    return hashlib.sha256(json.dumps(body).encode("utf-8")).hexdigest()
+
+
+def _check_quakeml(events, data: bytes, path: Path) -> None:
+    """Refuse, in one sentence, a catalog faultslip wrote that no longer matches the checksum written with it."""
+    stated = (getattr(events, "extra", None) or {}).get("checksum") or {}
+    if stated:  # in any namespace: one damaged in the file's header is still faultslip's checksum
+        if stated.get("value") != quakeml_checksum(events):
+            raise InputError(f"catalog {path.name} does not match the checksum faultslip wrote with it: its events "
+                             "were edited or damaged since; write it again (faultslip simulate --events)")
+    elif QUAKEML_NAMESPACE.encode("ascii") in data:
+        raise InputError(f"catalog {path.name} was written by faultslip with a checksum that is now missing; write "
+                         "it again (faultslip simulate --events)")
+    elif str(events.description or "").startswith(DESCRIPTION_START):
+        warnings.warn(f"catalog {path.name} was written by a faultslip that did not yet add a checksum to its "
+                      "QuakeML: it is read unchecked", stacklevel=4)
+
+
 def _read_quakeml(path: Path) -> Catalog:
     from obspy import read_events  # heavy: imported where used
 
+    data = gate.read_bytes(path, "catalog", "catalog")
     with gate.decoding(path, "catalog", "QuakeML", silence=True):
-        events = read_events(str(path), format="QUAKEML")
+        events = read_events(io.BytesIO(data), format="QUAKEML")
+    _check_quakeml(events, data, path)
     rows, skipped = [], 0
     for event in events:
         origin = event.preferred_origin() or (event.origins[0] if event.origins else None)
@@ -265,5 +331,9 @@ def write_quakeml(times, latitude, longitude, depth, magnitudes, path, names=Non
         event.preferred_origin_id = origin.resource_id
         event.preferred_magnitude_id = magnitude.resource_id
         catalog.append(event)
+    from obspy.core.util import AttribDict  # heavy: imported where used
+
+    catalog.extra = AttribDict({"checksum": AttribDict({"value": quakeml_checksum(catalog),
+                                                        "namespace": QUAKEML_NAMESPACE})})
     with atomic_path(path) as temporary, gate.quiet():
-        catalog.write(str(temporary), format="QUAKEML")
+        catalog.write(str(temporary), format="QUAKEML", nsmap={"faultslip": QUAKEML_NAMESPACE})

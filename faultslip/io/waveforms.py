@@ -21,11 +21,23 @@ F     friction coefficient                    1
 miniSEED stores float64 samples and no units, SAC float32 with one file per trace
 (``STEM.COMPONENT.sac``, e.g. ``run.V.sac``); the mapping above is how ``faultslip record`` reads
 them back.
+
+A stream faultslip writes carries a checksum of its traces (:func:`traces_checksum`: codes, start, rate,
+length and samples, as a reader finds them), checked where it is read back: in miniSEED a first record on
+the SEED log channel ``LOG`` (ASCII text, which other programs read or skip as a station log), in SAC the
+header's user fields (``kuser0`` marks it, ``kuser1`` and ``kuser2`` hold the first 16 hex digits). A
+record that does not match is refused; one of an older faultslip (station FSLIP, no checksum) is read with
+a warning; another program's carries nothing to check.
 """
 
 from __future__ import annotations
 
+import hashlib
+import io
+import json
 import math
+import re
+import warnings
 from pathlib import Path
 
 from faultslip.constants import JULIAN_YEAR
@@ -122,9 +134,47 @@ def sac_path(path, component: str) -> Path:
     return path.with_name(f"{path.stem}.{component}.sac")
 
 
+#: The SEED channel of the record that carries a miniSEED file's checksum, and how its text starts.
+CHECKSUM_CHANNEL, CHECKSUM_TEXT = "LOG", "faultslip sha256 "
+#: ``kuser0`` of a SAC file faultslip wrote; ``kuser1`` + ``kuser2`` hold the first 16 hex digits of its checksum.
+SAC_MARK = "fsha256"
+#: The station code build_stream gives: a record with it and no checksum is an older faultslip's.
+DEFAULT_STATION = "FSLIP"
+#: How far into a miniSEED file its checksum record lies (it is the first record, of at most 8 kiB as obspy writes).
+CHECKSUM_HEAD = 8192
+_CHECKSUM_RECORD = re.compile(re.escape(CHECKSUM_TEXT.encode("ascii")) + rb"[0-9a-f]{64}")
+
+
+def traces_checksum(headers, samples) -> str:
+    """SHA-256 of traces as a reader finds them: each trace's SEED id, start (ns), sampling rate and length,
+    from ``headers`` (obspy Traces, their data unused), and its samples, from ``samples`` (arrays in the same
+    order), little-endian in the dtype they are stored in.
+
+    Parameters
+    ----------
+    headers : iterable of obspy.Trace
+        The traces' headers, in file order.
+    samples : iterable of numpy.ndarray
+        Their samples.
+
+    Returns
+    -------
+    str
+        64 hex digits.
+    """
+    digest = hashlib.sha256()
+    for trace, data in zip(headers, samples, strict=True):
+        data = np.asarray(data)
+        stats = trace.stats
+        digest.update(json.dumps([trace.id, int(stats.starttime.ns), repr(float(stats.sampling_rate)), int(stats.npts),
+                                  data.dtype.kind, data.dtype.itemsize]).encode("utf-8"))
+        digest.update(np.ascontiguousarray(data, dtype=data.dtype.newbyteorder("<")).tobytes())
+    return digest.hexdigest()
+
+
 def write_stream(stream, path) -> list:
-    """miniSEED (float64, one file) or SAC (float32, ``STEM.COMPONENT.sac`` per trace), atomically. Returns
-    the paths written.
+    """miniSEED (float64, one file) or SAC (float32, ``STEM.COMPONENT.sac`` per trace), atomically, each
+    carrying the checksum of its traces (module docstring). Returns the paths written.
 
     Parameters
     ----------
@@ -138,19 +188,75 @@ def write_stream(stream, path) -> list:
     list
         The paths written.
     """
+    from obspy import Stream, Trace, read  # heavy: imported where used
+
     path = Path(path)
     kind = stream_format(path)
     if kind == "MSEED":
         with atomic_path(path) as temporary, gate.quiet():  # obspy reports each failed record on stderr
-            stream.write(str(temporary), format="MSEED", encoding="FLOAT64")
+            body = io.BytesIO()
+            stream.write(body, format="MSEED", encoding="FLOAT64")
+            # the headers as a reader finds them (the start to 1 us, the rate as SEED's factor and multiplier);
+            # the samples are the float64 values written
+            headers = read(io.BytesIO(body.getvalue()), format="MSEED", headonly=True)
+            checksum = traces_checksum(headers, [np.asarray(trace.data, dtype=np.float64) for trace in stream])
+            first = stream[0].stats
+            log = Trace(np.frombuffer((CHECKSUM_TEXT + checksum).encode("ascii"), dtype="S1").copy(),
+                        header={"network": first.network, "station": first.station, "location": first.location,
+                                "channel": CHECKSUM_CHANNEL, "sampling_rate": 0.0, "starttime": first.starttime})
+            head = io.BytesIO()
+            Stream([log]).write(head, format="MSEED", encoding="ASCII")
+            # first, so that a file cut short still holds the checksum its remaining records fail
+            temporary.write_bytes(head.getvalue() + body.getvalue())
         return [path]
     written = []
     for trace in stream:
         target = sac_path(path, trace.stats.channel[-1])
         with atomic_path(target) as temporary, gate.quiet():
+            trace = trace.copy()
+            trace.write(str(temporary), format="SAC")
+            found = read(str(temporary), format="SAC")[0]  # as a reader finds it: float32, the start to 1 ms + b
+            checksum = traces_checksum([found], [found.data])
+            trace.stats.sac = found.stats.sac
+            trace.stats.sac.update({"kuser0": SAC_MARK, "kuser1": checksum[:8], "kuser2": checksum[8:16]})
             trace.write(str(temporary), format="SAC")
         written.append(target)
     return written
+
+
+def _checked(stream, path: Path, kind: str):
+    """``stream`` without faultslip's checksum record, once its traces match it (module docstring); one sentence
+    if they do not, or if the checksum itself was damaged."""
+    if kind == "MSEED":
+        # text traces and log channels: faultslip's checksum, or another program's station log
+        texts = [t for t in stream if t.stats.channel == CHECKSUM_CHANNEL or t.data.dtype.kind == "S"]
+        ours = [t for t in texts if _CHECKSUM_RECORD.fullmatch(t.data.tobytes())]
+        # a checksum record whose header was damaged is skipped by the decoder: its text is still in the file
+        written = CHECKSUM_TEXT.encode("ascii") in gate.read_head(path, "record", "waveform", CHECKSUM_HEAD)
+        damaged = not ours and (written or any(b"faultslip" in t.data.tobytes() or t.stats.station == DEFAULT_STATION
+                                               for t in texts))
+        stated = [t.data.tobytes()[len(CHECKSUM_TEXT):].decode("ascii") for t in ours]
+        traces = stream.__class__([t for t in stream if not any(t is text for text in texts if ours or damaged)])
+        found = traces_checksum(traces, [trace.data for trace in traces]) if ours else None
+    else:
+        sac = stream[0].stats.get("sac", {})
+        users = [str(sac.get(key, "")) for key in ("kuser0", "kuser1", "kuser2")]
+        stated = [users[1] + users[2]] if users[0] == SAC_MARK else []
+        damaged = not stated and any(users) and stream[0].stats.station == DEFAULT_STATION
+        traces = stream
+        found = traces_checksum(traces, [trace.data for trace in traces])[:16] if stated else None
+    if len(stated) > 1:
+        raise InputError(f"record {path.name} carries {len(stated)} checksum records; faultslip writes one")
+    if damaged:
+        raise InputError(f"record {path.name} carries a damaged faultslip checksum, so its samples cannot be "
+                         "checked; write it again (faultslip simulate --stream)")
+    if stated and stated[0] != found:
+        raise InputError(f"record {path.name} does not match the checksum faultslip wrote with it: its samples or "
+                         "headers were edited or damaged since; write it again (faultslip simulate --stream)")
+    if not stated and all(trace.stats.station == DEFAULT_STATION for trace in traces):
+        warnings.warn(f"record {path.name} was written by a faultslip that did not yet add a checksum to its "
+                      "streams: it is read unchecked", stacklevel=3)
+    return traces
 
 
 def read_stream(path):
@@ -178,6 +284,9 @@ def read_stream(path):
         stream = read(str(path), format=kind)
     if len(stream) == 0:
         raise InputError(f"{path.name} holds no traces")
+    stream = _checked(stream, path, kind)
+    if len(stream) == 0:
+        raise InputError(f"{path.name} holds no traces besides its checksum")
     return stream
 
 

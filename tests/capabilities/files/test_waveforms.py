@@ -20,9 +20,10 @@ def test_streams_round_trip_through_obspy(tmp_path):
     samples = {"D": np.linspace(0, 1e-3, 101), "F": np.full(101, 0.6)}
     stream = build_stream(100.0, samples, start_seconds=0.0, station="TESTSTATION")
     written = write_stream(stream, tmp_path / "a.mseed")
-    back = obspy.read(str(written[0]))
-    assert [t.stats.channel for t in back] == ["HYD", "HYF"] and back[0].stats.station == "TESTS"
-    np.testing.assert_array_equal(back[0].data, samples["D"])  # float64, exact
+    back = obspy.read(str(written[0]))  # as another program reads it: the checksum is a first, log record
+    assert [t.stats.channel for t in back] == ["LOG", "HYD", "HYF"] and back[1].stats.station == "TESTS"
+    assert back[0].data.tobytes().startswith(b"faultslip sha256 ")
+    np.testing.assert_array_equal(back[1].data, samples["D"])  # float64, exact
     files = write_stream(stream, tmp_path / "b.sac")
     assert [f.name for f in files] == ["b.D.sac", "b.F.sac"]
     np.testing.assert_allclose(obspy.read(str(files[0]))[0].data, samples["D"], rtol=1e-7)  # SAC is float32
@@ -36,7 +37,7 @@ def test_a_simulated_lab_record_goes_out_as_miniseed_and_back_through_record(cli
     exact = cli("run", "configs/lab_glass_dry.toml", "--json").json
     out = cli("simulate", "configs/lab_glass_dry.toml", "--cycles", "6", "--stream", tmp_path / "r.mseed", "--json")
     assert out.code == 0, out.err
-    stream = obspy.read(str(tmp_path / "r.mseed"))
+    stream = [t for t in obspy.read(str(tmp_path / "r.mseed")) if t.stats.channel != "LOG"]  # not the checksum
     assert sorted(t.stats.channel[-1] for t in stream) == ["D", "F", "R", "S"]
     assert stream[0].stats.sampling_rate == pytest.approx(20 / exact["slip_duration"]["value"], rel=1e-3)
     analysed = cli("record", tmp_path / "r.mseed", "--stiffness", "3.397e6 N/m", "--normal-load", "613 N",
