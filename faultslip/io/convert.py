@@ -24,7 +24,7 @@ from faultslip.io.atomic import partial_output
 from faultslip.io.outputs import check_output, output_lock
 from faultslip.io.processes import run_windowed, stop_pool, usable_workers, worker_pool
 from faultslip.io.gate import decoding
-from faultslip.io.zarr_store import DIGESTS, block_digests, open_store, verify_store
+from faultslip.io.zarr_store import CHECKSUM, COVERS, DIGESTS, block_digests, check_store_checksum, open_store, verify_store
 
 
 def _grid(store):
@@ -86,6 +86,7 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
                    allow_large: bool = False) -> dict:
     """Convert the Zarr store at ``store_path`` into the netCDF4 file ``output``; returns a summary."""
     store_path = Path(store_path)
+    check_store_checksum(store_path)  # its metadata as written, before xarray reads a byte of it
     store = open_store(store_path)
     output = check_output(output, label="-o", suffixes=(".nc",), inputs=[store_path], overwrite=overwrite)
     dims, chunks = _grid(store)
@@ -116,7 +117,8 @@ def zarr_to_netcdf(store_path, output, *, workers: int = 2, overwrite: bool = Fa
     names = list(variables)
     chunk_shape = tuple(chunks[d] for d in dims)
     with output_lock(output, "faultslip convert", overwrite=overwrite), partial_output(output) as partial:
-        attrs = {key: value for key, value in store.attrs.items() if key != DIGESTS}  # the store's, not the file's
+        # the store's own checks, not the file's (the file is sealed with its own checksum)
+        attrs = {key: value for key, value in store.attrs.items() if key not in (DIGESTS, CHECKSUM, COVERS)}
         create_chunked(partial, sizes, coords, variables, _netcdf_attrs(attrs, "the store"), chunks).close()
         pool = worker_pool(workers) if workers > 1 and len(regions) > 1 else None
         done = 0

@@ -8,22 +8,32 @@ written first from a description (:func:`create_store`); the regions are written
 
 Stores use Zarr format 2 with the netCDF4 output's filters (byte shuffle, zlib level 1):
 zarr-python, xarray and netCDF-C's NCZarr all read it.
+
+What a finished store holds is checked where it is read back (``convert``, ``--resume``,
+``--retry-failed``): each chunk by its CRC-32C, each block's values by its digest
+(:data:`DIGESTS`), and its metadata (every ``.zgroup``, ``.zarray`` and ``.zattrs``: types, fill
+values, codecs, units, the study) by a SHA-256 sealed into its root attributes
+(:func:`seal_store`, :func:`check_store_checksum`), which the consolidated ``.zmetadata`` must
+repeat.
 """
 
 from __future__ import annotations
 
 import asyncio
+import hashlib
 import itertools
 import json
 import os
 import shutil
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from faultslip.errors import InputError
 from faultslip.io.chunks import block_digest, deflate_compress
+from faultslip.io import gate
 from faultslip.io.gate import decoding
 from faultslip.io.outputs import is_store  # noqa: F401  (defined with the output checks; used here too)
 
@@ -129,6 +139,7 @@ def finish_store(partial, output) -> None:
     """
     import zarr  # heavy: imported where used
 
+    seal_store(partial)
     zarr.consolidate_metadata(str(partial), zarr_format=ZARR_FORMAT)
     partial, output = Path(partial), Path(output)
     aside = None
@@ -169,6 +180,73 @@ def block_digests(path, group=None) -> dict:
         raise InputError(f"the Zarr store {Path(path).name} carries no digests of its blocks, so a chunk moved or "
                          "swapped could not be told; write it again with this faultslip (sweep -o OUT.zarr)")
     return digests
+
+
+#: The root attributes that seal a finished store: the SHA-256 of its metadata, and what it covers (itself covered,
+#: so that a store whose checksum was deleted is not taken for an older faultslip's).
+CHECKSUM, COVERS = "faultslip_checksum", "faultslip_checksum_covers"
+COVERS_TEXT = ("SHA-256 of the store's metadata: every .zgroup, .zarray and .zattrs by its path, keys sorted, this "
+               "attribute left out; values are covered by faultslip_block_digests and each chunk's CRC-32C")
+_METADATA_FILES = (".zgroup", ".zarray", ".zattrs")
+
+
+def store_metadata(path) -> dict:
+    """{path in the store: parsed JSON} of every ``.zgroup``, ``.zarray`` and ``.zattrs`` of a format 2 store,
+    each read through the gate; one sentence where one is not JSON."""
+    path = Path(path)
+    found = {}
+    for file in sorted(path.rglob(".z*")):
+        if file.name in _METADATA_FILES:
+            key = file.relative_to(path).as_posix()
+            try:
+                found[key] = json.loads(gate.read_bytes(file, f"the Zarr store {path.name}'s metadata", "config"))
+            except (ValueError, UnicodeDecodeError) as exc:
+                raise InputError(f"the Zarr store {path.name}: its metadata {key} is damaged ({exc})") from None
+    return found
+
+
+def metadata_checksum(metadata: dict) -> str:
+    """SHA-256 of a store's metadata (:func:`store_metadata`), the root's :data:`CHECKSUM` left out."""
+    body = dict(metadata)
+    body[".zattrs"] = {key: value for key, value in body.get(".zattrs", {}).items() if key != CHECKSUM}
+    return hashlib.sha256(json.dumps(body, sort_keys=True).encode("utf-8")).hexdigest()
+
+
+def seal_store(path) -> None:
+    """Record the SHA-256 of the store's metadata in its root attributes (before it is consolidated)."""
+    import zarr  # heavy: imported where used
+
+    group = zarr.open_group(str(path), mode="r+", zarr_format=ZARR_FORMAT)
+    group.attrs[COVERS] = COVERS_TEXT
+    group.attrs[CHECKSUM] = metadata_checksum(store_metadata(path))
+
+
+def check_store_checksum(path) -> None:
+    """Refuse, in one sentence, a store whose metadata no longer matches the checksum sealed into it, whose
+    checksum was removed, or whose consolidated metadata (``.zmetadata``, what readers take first) differs from
+    its arrays' own; a store of an older faultslip (neither attribute) is read with a warning."""
+    path = Path(path)
+    metadata = store_metadata(path)
+    if (path / ".zmetadata").is_file():
+        try:
+            consolidated = json.loads(gate.read_bytes(path / ".zmetadata", f"the Zarr store {path.name}'s metadata",
+                                                      "config"))["metadata"]
+        except (ValueError, UnicodeDecodeError, KeyError, TypeError) as exc:
+            raise InputError(f"the Zarr store {path.name}: its consolidated metadata (.zmetadata) is damaged "
+                             f"({type(exc).__name__})") from None
+        if consolidated != metadata:
+            raise InputError(f"the Zarr store {path.name}: its consolidated metadata (.zmetadata) differs from its "
+                             "arrays' own, so it was edited or damaged after it was written; write it again")
+    root = metadata.get(".zattrs", {})
+    if CHECKSUM not in root:
+        if COVERS in root:
+            raise InputError(f"the Zarr store {path.name} has lost the checksum of its metadata, so an edit of its "
+                             "attributes could not be told; write it again")
+        warnings.warn(f"the Zarr store {path.name} was written by a faultslip that did not yet seal its metadata "
+                      "with a checksum: its attributes are read unchecked", stacklevel=2)
+    elif root[CHECKSUM] != metadata_checksum(metadata):
+        raise InputError(f"the Zarr store {path.name}: its metadata (types, fill values, units, attributes) does not "
+                         "match the checksum written with it: it was edited or damaged since; write it again")
 
 
 def _grid_of(group):

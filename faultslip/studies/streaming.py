@@ -32,7 +32,7 @@ from faultslip.io import budget, gate
 from faultslip.io.atomic import commit, working_copy, write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, block_digest, encode_chunk, padded
 from faultslip.io.netcdf import CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE, create_chunked, open_for_append, seal
-from faultslip.io.zarr_store import (DIGESTS, check_block_digests, create_store, finish_store, is_store, remove_store,
+from faultslip.io.zarr_store import (DIGESTS, check_block_digests, check_store_checksum, create_store, finish_store, is_store, remove_store,
                                       require_zarr, set_block_digests, update_block_digests, write_region)
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock, refuse_links
@@ -724,6 +724,7 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
         partial = output.with_name(output.name + ".partial")
         remove_store(partial)
         if file_format == "zarr":
+            check_store_checksum(output)  # its metadata as sealed, and
             check_block_digests(output)  # the store is trusted, and its digests renewed, only if it verifies first
         else:
             # and the file only if it matches its checksum

@@ -1,6 +1,7 @@
 """Zarr stores: the same study as netCDF, atomic replacement, resume, refusals, and streaming conversion."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -8,9 +9,12 @@ import xarray as xr
 
 from faultslip.errors import InputError
 from faultslip.io.convert import zarr_to_netcdf
-from faultslip.io.zarr_store import is_store
+from faultslip.io.zarr_store import CHECKSUM, COVERS, check_store_checksum, is_store, metadata_checksum, store_metadata
 from faultslip.studies.grid import parse_study
-from faultslip.studies.streaming import compare_datasets, plan_blocks, run_study
+from faultslip.studies.streaming import compare_datasets, failure_ledger, plan_blocks, retry_failed, run_study
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+EXAMPLE = Path(__file__).resolve().parents[3] / "configs" / "example_lab_glass.zarr"
 
 pytest.importorskip("zarr")
 
@@ -174,7 +178,92 @@ def test_a_store_without_block_digests_is_refused_with_the_reason(study, tmp_pat
     store = tmp_path / "s.zarr"
     run_study(study, store, chunk_cells=4, workers=1)
     group = zarr.open_group(str(store), mode="r+")
-    del group.attrs["faultslip_block_digests"]
+    for key in ("faultslip_block_digests", CHECKSUM, COVERS):  # as an older faultslip's store, with none of them
+        del group.attrs[key]
     zarr.consolidate_metadata(str(store))
-    with pytest.raises(InputError, match="carries no digests of its blocks"):
+    with pytest.warns(UserWarning, match="did not yet seal its metadata"), \
+            pytest.raises(InputError, match="carries no digests of its blocks"):
         zarr_to_netcdf(store, tmp_path / "c.nc", workers=1)
+
+
+def _edit_attribute(store, array, key, value, consolidate=True):
+    import zarr
+
+    zarr.open_group(str(store), mode="r+")[array].attrs[key] = value
+    if consolidate:
+        zarr.consolidate_metadata(str(store))
+
+
+def test_a_finished_store_is_sealed_and_an_edited_attribute_is_refused(study, tmp_path):
+    """Units, types and attributes are not in any chunk: the SHA-256 of the store's metadata, sealed into it, covers
+    them. An edit made as zarr makes it (the metadata consolidated again) is refused before a byte is converted."""
+    store = tmp_path / "s.zarr"
+    run_study(study, store, chunk_cells=4, workers=2)
+    check_store_checksum(store)  # a fresh store matches, its region writes included
+    assert json.loads((store / ".zattrs").read_text())[CHECKSUM] == metadata_checksum(store_metadata(store))
+    _edit_attribute(store, "slip_per_event", "units", "mm")
+    with pytest.raises(InputError, match="does not match the checksum written with it"):
+        zarr_to_netcdf(store, tmp_path / "c.nc", workers=1)
+    assert not (tmp_path / "c.nc").exists()
+
+
+def test_consolidated_metadata_that_differs_from_the_arrays_is_refused(study, tmp_path):
+    """Readers take .zmetadata first: one edited there alone would be read while the arrays' own files match."""
+    store = tmp_path / "s.zarr"
+    run_study(study, store, chunk_cells=50, workers=1)
+    consolidated = json.loads((store / ".zmetadata").read_text())
+    consolidated["metadata"]["slip_per_event/.zattrs"]["units"] = "ft"
+    (store / ".zmetadata").write_text(json.dumps(consolidated))
+    with pytest.raises(InputError, match="consolidated metadata"):
+        zarr_to_netcdf(store, tmp_path / "c.nc", workers=1)
+
+
+def test_a_store_that_lost_its_checksum_is_refused(study, tmp_path):
+    import zarr
+
+    store = tmp_path / "s.zarr"
+    run_study(study, store, chunk_cells=50, workers=1)
+    del zarr.open_group(str(store), mode="r+").attrs[CHECKSUM]
+    zarr.consolidate_metadata(str(store))
+    with pytest.raises(InputError, match="lost the checksum of its metadata"):
+        zarr_to_netcdf(store, tmp_path / "c.nc", workers=1)
+
+
+def test_retry_failed_refuses_a_store_whose_metadata_was_edited(study, tmp_path):
+    store = tmp_path / "s.zarr"
+    run_study(study, store, chunk_cells=50, workers=1)
+    _edit_attribute(store, "recurrence_period", "long_name", "something else")
+    from faultslip.io import gate
+
+    record = {"fingerprint": study.fingerprint(), "cells": [{"index": {name: 0 for name in study.dims}}]}
+    failure_ledger(store).write_text(json.dumps({**record, "checksum": gate.json_checksum(record)}), encoding="utf-8")
+    with pytest.raises(InputError, match="s.zarr: its metadata .* does not match the checksum"):
+        retry_failed(study, store, workers=1)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_one_flipped_bit_in_the_metadata_is_refused_or_changes_nothing(tmp_path_factory, data):
+    """A hypothesis property over the shipped example store: flip one bit of any of its metadata files, and
+    convert either refuses it in one sentence or writes what the untouched store gives."""
+    import shutil
+
+    import xarray as xr
+
+    folder = tmp_path_factory.mktemp("flip")
+    store = folder / "s.zarr"
+    shutil.copytree(EXAMPLE, store)
+    files = sorted(p for p in store.rglob(".z*") if p.is_file())
+    victim = data.draw(st.sampled_from(files))
+    raw = bytearray(victim.read_bytes())
+    raw[data.draw(st.integers(0, len(raw) - 1))] ^= 1 << data.draw(st.integers(0, 7))
+    victim.write_bytes(bytes(raw))
+    try:
+        zarr_to_netcdf(store, folder / "c.nc", workers=1)
+    except InputError as exc:
+        assert "\n" not in str(exc)
+        return
+    zarr_to_netcdf(EXAMPLE, folder / "reference.nc", workers=1)
+    with xr.open_dataset(folder / "c.nc", decode_cf=False) as got, \
+            xr.open_dataset(folder / "reference.nc", decode_cf=False) as want:
+        assert _same(got, want) and got.attrs.keys() == want.attrs.keys()
