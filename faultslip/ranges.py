@@ -57,6 +57,35 @@ RULES: dict[str, tuple[str, str, str]] = {
 #: Bounds (inclusive, SI) beyond the rule: values outside them are not physical, or would overflow the
 #: arithmetic done on them (an area of 1e-300 m^2 divides a load into infinity). Each bound says why.
 BOUNDS: dict[str, tuple[float, float]] = {
+    # elastic constants: a 1 kPa hydrogel (analogue friction experiments) to ten times diamond's 0.5 TPa; air to
+    # ten times osmium; the slowest soils to ten times any rock's shear-wave speed
+    "shear_modulus": (1e3, 1e13),
+    "density": (0.1, 1e5),
+    "shear_wave_speed": (1.0, 1e5),
+    # lengths of a fault: 1 mm (a lab sample) to 10,000 km, longer than any plate boundary (a width of 1e300 km
+    # made the stiffness G / D and the slider's frequency underflow to 0, and a run divide by it); depths to
+    # 1,000 km, below the deepest earthquakes
+    "zone_width": (1e-3, 1e7),
+    "rupture_length": (1e-3, 1e7),
+    "seismogenic_depth": (1e-3, 1e6),
+    "observed_slip": (1e-9, 1e3),  # a nanometre (lab) to 1 km, 20 times the largest slip measured (~50 m)
+    # stresses: 1 mPa (a sheet of paper resting on a table exerts ~0.1 Pa) to 100 GPa (the lower mantle)
+    "normal_stress": (1e-3, 1e11),
+    "shear_stress": (1e-3, 1e11),
+    "slip_rate": (1e-15, 10.0),  # sub-mm per Myr to 10 m/s, above any seismic slip rate
+    # friction: clean metals in vacuum reach a few; 100 bounds any coefficient measured
+    "mu_so": (1e-6, 100.0),
+    "mu_m": (0.0, 100.0),
+    "b": (0.0, 1e9),  # seed 003 Table I: 1-300 s^d
+    "d": (1e-3, 10.0),  # seed 003 Table I: 0.3-1.2
+    # a lab slider: loads of a micronewton to a meganewton-scale rig (x1e3), stiffnesses and masses as wide, and
+    # drive speeds to 100 m/s; a loading rate K V / N down to the fault scale's 1e-11 1/s and far below
+    "platform_speed": (1e-15, 100.0),
+    "loading_rate": (1e-20, 1e9),
+    "normal_load": (1e-6, 1e12),
+    "stiffness": (1e-6, 1e15),
+    "mass": (1e-9, 1e12),
+    "kinetic_slope": (-1e12, 1e12),
     "b_value": (0.2, 3.0),  # tectonic catalogues: 0.5-1.5; beyond, the GR balance loses its meaning
     "element_size": (1e-3, 1e5),  # 1 mm (lab faults) to 100 km
     "fault_length": (1.0, 1e7),  # 1 m to 10,000 km: longer than any plate boundary

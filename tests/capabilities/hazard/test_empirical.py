@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from conftest import assert_clean_error
 from faultslip.errors import InputError
 from faultslip.fault import empirical
 from faultslip.fault.empirical import (SLIP_TYPES, WELLS_COPPERSMITH_1994, average_displacement, compare,
@@ -108,12 +109,15 @@ def test_studies_and_maps_carry_the_empirical_variables(tmp_path, cli):
 
 def test_a_rupture_outside_the_relations_range_is_said_not_divided_by_zero(cli):
     """Found by the CLI fuzzer: a 1e-300 m rupture put W&C's expected displacement beyond floating point and
-    the ratio divided by zero. The comparison now says it is out of range, and the JSON stays valid."""
+    the ratio divided by zero. The comparison now says it is out of range, and the JSON stays valid; at the command
+    line such a length is now refused at the door (faultslip.ranges.BOUNDS: 1 mm to 10,000 km), and the shortest
+    it takes still gives rows that are finite or say they are out of range."""
     rows = compare(1.0, -330.0, 1e-300, 12e3)
     assert math.isnan(rows[1].ratio) or rows[1].ratio > 0
-    out = cli("fault", "--lithology", "granite", "--zone-width", "13 mi", "--shear-stress", "250 bar", "--slip-rate",
-              "2 in/yr", "--shear-modulus", "0.25e6 bar", "--rupture-length", "1e-300 m", "--depth", "12 km",
-              "--mu-so", "0.65", "--mu-m", "0.55", "--json")
+    flags = ("fault", "--lithology", "granite", "--zone-width", "13 mi", "--shear-stress", "250 bar", "--slip-rate",
+             "2 in/yr", "--shear-modulus", "0.25e6 bar", "--depth", "12 km", "--mu-so", "0.65", "--mu-m", "0.55")
+    assert_clean_error(cli(*flags, "--rupture-length", "1e-300 m"), "rupture length must lie between")
+    out = cli(*flags, "--rupture-length", "1 mm", "--json")
     assert out.code == 0, out.err
     # Leonard's relations are now evaluated in logarithms and no longer underflow; every row is either a finite
     # comparison or says that it is out of range
