@@ -221,6 +221,143 @@ def mutate_registry(text: str, rng: random.Random) -> str | bytes:
     return json.dumps(document, indent=1) + "\n"
 
 
+def quakeml_events(data: bytes):
+    """What a QuakeML file says of its events, read by obspy alone (None where obspy cannot read it): each
+    event's preferred origin's time, place and depth, its preferred magnitude and type, and its descriptions."""
+    import warnings
+
+    from obspy import read_events
+
+    try:
+        with warnings.catch_warnings(), contextlib.redirect_stderr(io.StringIO()):
+            warnings.simplefilter("ignore")
+            events = read_events(io.BytesIO(data), format="QUAKEML")
+    except Exception:  # noqa: BLE001 (obspy raises many kinds for a damaged file)
+        return None
+    rows = []
+    for event in events:
+        origin = event.preferred_origin() or (event.origins[0] if event.origins else None)
+        magnitude = event.preferred_magnitude() or (event.magnitudes[0] if event.magnitudes else None)
+        rows.append((str(origin.time) if origin else None, origin.latitude if origin else None,
+                     origin.longitude if origin else None, origin.depth if origin else None,
+                     magnitude.mag if magnitude else None, magnitude.magnitude_type if magnitude else None,
+                     [d.text for d in event.event_descriptions], event.creation_info.agency_id
+                     if event.creation_info else None))
+    return rows
+
+
+def stream_samples(data: bytes):
+    """What a miniSEED file holds beside faultslip's checksum record, read by obspy alone (None where it cannot):
+    each trace's id, start, rate and samples."""
+    import warnings
+
+    from obspy import read
+
+    try:
+        with warnings.catch_warnings(), contextlib.redirect_stderr(io.StringIO()):
+            warnings.simplefilter("ignore")
+            stream = read(io.BytesIO(data), format="MSEED")
+    except Exception:  # noqa: BLE001 (obspy raises many kinds for a damaged file)
+        return None
+    return [(t.id, t.stats.starttime.ns, t.stats.sampling_rate, t.data.tobytes()) for t in stream
+            if t.stats.channel != "LOG" and t.data.dtype.kind != "S"]
+
+
+def mutate_quakeml(data: bytes, rng: random.Random) -> bytes:
+    """A QuakeML file with one value's digit changed, its faultslip checksum element removed, both, or its bytes
+    mutated."""
+    text = data.decode("utf-8")
+    choice = rng.random()
+    if choice < 0.4:
+        return mutate_bytes(data, rng)
+    if choice < 0.85:
+        values = list(re.finditer(r"<value>([^<]*\d[^<]*)</value>", text))
+        found = rng.choice(values)
+        digits = [m.start() for m in re.finditer(r"\d", found.group(1))]
+        at = found.start(1) + rng.choice(digits)
+        text = text[:at] + str((int(text[at]) + rng.randint(1, 9)) % 10) + text[at + 1:]
+    if choice >= 0.7:
+        text = re.sub(r"\s*<faultslip:checksum>[^<]*</faultslip:checksum>", "", text)
+    return text.encode("utf-8")
+
+
+def mutate_stream(data: bytes, rng: random.Random) -> bytes:
+    """A miniSEED file left as written (10 %), with one bit flipped in its data records (after faultslip's checksum
+    record), or its bytes mutated."""
+    choice = rng.random()
+    if choice < 0.1:
+        return data
+    if choice < 0.55 or len(data) <= 4096:
+        return mutate_bytes(data, rng)
+    raw = bytearray(data)
+    raw[rng.randrange(4096, len(raw))] ^= 1 << rng.randrange(8)
+    return bytes(raw)
+
+
+#: Each table faultslip ships in data/ and reads back, with a command that reads it (the table kind).
+TABLE_COMMANDS = {
+    "ladder_calibration.json": ["run", "seas_bp1.toml", "--model", "one_slider", "--json"],
+    "fault_2d_model_error.json": ["run", "rsf_block_bp1.toml", "--json"],
+    "family_costs.json": ["run", "lab_glass_dry.toml", "--estimate", "--json"],
+    "kernel_crossover.json": ["run", "fault_2d_small.toml", "--estimate", "--json"],
+    "strike_model_error.json": ["run", "fault_3d_small.toml", "--model", "one_slider", "--json"],
+    "dip_model_error.json": ["model-error", "rsf_block_bp1.toml", "--plot", "PLOT", "--overwrite", "--json"],
+    "fault_2d_hierarchy.json": ["model-error", "rsf_block_bp1.toml", "--plot", "PLOT", "--overwrite", "--json"],
+}
+
+
+def _table_content(text) -> dict | None:
+    """A bundled table's content, its checksum left out (None where the text does not parse as a table)."""
+    try:
+        table = json.loads(text)
+    except (ValueError, TypeError, UnicodeDecodeError):
+        return None
+    return {key: value for key, value in table.items() if key != "checksum"} if isinstance(table, dict) else None
+
+
+def _numbers_and_texts(value, where=()):
+    """(path, leaf) for every number and string in a JSON value."""
+    if isinstance(value, dict):
+        for key, item in value.items():
+            yield from _numbers_and_texts(item, where + (key,))
+    elif isinstance(value, list):
+        for index, item in enumerate(value):
+            yield from _numbers_and_texts(item, where + (index,))
+    elif isinstance(value, (int, float, str)) and not isinstance(value, bool):
+        yield where, value
+
+
+def mutate_table(text: str, rng: random.Random) -> str | bytes:
+    """A table of data/ edited as a hand would (one number or text changed, its checksum removed, or both), its
+    bytes mutated, or left as shipped (which must be used)."""
+    kept = _kept_or_mutated(text, rng)
+    if kept is not None:
+        return kept
+    table = json.loads(text)
+    edit = rng.choice(["value", "value", "value", "checksum", "both"])
+    if edit in ("value", "both"):
+        where, leaf = rng.choice(list(_numbers_and_texts(table)))
+        parent = table
+        for key in where[:-1]:
+            parent = parent[key]
+        parent[where[-1]] = (rng.choice([leaf + " (edited)", "", 0]) if isinstance(leaf, str) else
+                             rng.choice([leaf * 1.01, leaf * 2, -leaf, leaf + 1, 0, "0.5", None]))
+    if edit in ("checksum", "both"):
+        table.pop("checksum", None)
+    return json.dumps(table, indent=1) + "\n"
+
+
+def table_caches() -> list:
+    """The loaders that keep a bundled table once read: cleared around each table case."""
+    from faultslip.fault import dip_error, ladder, strike_error
+    from faultslip.io import budget
+    from faultslip.models.fault_2d import kernel
+    from faultslip.models.rate_state_slider import one_slider
+
+    return [ladder.load_calibration, dip_error.load_table, strike_error.load_table, budget.family_costs,
+            kernel.measured_crossover, one_slider.load_calibration]
+
+
 def mutate_ledger(text: str, rng: random.Random) -> str | bytes:
     """A failure ledger's JSON edited as a hand or a tool would (a cell dropped, an index or the count changed, a
     key removed), its bytes mutated, or left as written (which must be retried)."""
@@ -302,6 +439,10 @@ class Workspace:
         self.netcdf = self._small_sweep()
         self.ledger = self._failure_ledger()
         self.registry = self._registry()
+        self.table_dir = folder / "data"  # data/ as shipped, the table kind's edits made in this copy
+        shutil.copytree(DATA, self.table_dir)
+        self.tables = {name: (DATA / name).read_text(encoding="utf-8") for name in TABLE_COMMANDS}
+        self.table_case = None  # the table a case edited, put back after it
         self.catalog = (CONFIGS / "catalog_san_andreas.csv").read_text(encoding="utf-8")
         self.geojson = (DATA / "gem_faults_example.geojson").read_text(encoding="utf-8")
         self.sherifs = {name: (CONFIGS / "sherifs_example" / name).read_text(encoding="utf-8")
@@ -335,7 +476,17 @@ class Workspace:
         return mount if made.returncode == 0 else None
 
     def release(self) -> None:
-        """Kill the lock holders of the last case and check that no planted victim was written through."""
+        """Kill the lock holders of the last case and check that no planted victim was written through; put back a
+        table the case edited, and where the library finds its tables."""
+        if self.table_case is not None:
+            from faultslip.io import resources
+
+            name, shipped = self.table_case
+            (self.table_dir / name).write_text(self.tables[name], encoding="utf-8")
+            resources.bundled_dir = shipped
+            for cache in table_caches():
+                cache.cache_clear()
+            self.table_case = None
         for pid in self.holders:
             with contextlib.suppress(ProcessLookupError):
                 os.kill(pid, signal.SIGKILL)
@@ -594,7 +745,10 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         if rng.random() < 0.5:
             path = space.write("catalog.csv", mutate_csv(space.catalog, rng))
         else:
-            path = space.write("catalog.xml", mutate_bytes(space.quakeml, rng))
+            mutated = mutate_quakeml(space.quakeml, rng)
+            path = space.write("catalog.xml", mutated)
+            # exit 0 on events other than those written would be silent
+            space.silent_if_ok = quakeml_events(mutated) not in (None, quakeml_events(space.quakeml))
         return ["catalog", str(path), "--fault", str(CONFIGS / "parkfield.toml"), "--bootstrap", "20", "--as-of",
                 rng.choice(["2026-01-01"] * 4 + ["1800-01-01", "nope"]), "--json"]
     if kind == "sherifs":  # SHERIFS's three input files, one of them mutated, through a map that reads them
@@ -617,8 +771,12 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
              + rng.choice([[], ["--engine-job", str(space.folder / "j.ini"),
                                 "--sites", rng.choice(["-120 36", "-120", "500 0; 1 1", ""])]])])
     if kind == "mseed":
-        path = space.write("record.mseed", mutate_bytes(space.mseed, rng))
-        return ["record", str(path), "--stiffness", "1e4 N/m", "--normal-load", "10 N", "--json"]
+        mutated = mutate_stream(space.mseed, rng)
+        path = space.write("record.mseed", mutated)
+        space.silent_if_ok = stream_samples(mutated) not in (None, stream_samples(space.mseed))  # other samples used
+        # the platform speed given (the seed record's sine cannot show it), so that the record as written is answered
+        return ["record", str(path), "--stiffness", "1e4 N/m", "--normal-load", "10 N", "--json"] + rng.choice(
+            [["--platform-speed", "1e-5 m/s"]] * 3 + [[]])
     if kind == "phyphox":
         path = space.write("phone.csv", mutate_csv(space.phyphox, rng))
         return ["record", str(path), "--json"] + rng.choice([[], ["--axis", rng.choice(["x", "y", "w"])]])
@@ -635,6 +793,20 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         space.silent_if_ok = _registry_fit(text) != _registry_fit(space.registry)  # exit 0 would use another fit
         return ["fault", "--lithology", REGISTRY_FIT, "--zone-width", "13 mi", "--shear-stress", "250 bar",
                 "--slip-rate", "2 in/yr", "--json"]
+    if kind == "table":  # a table faultslip ships and reads back (a calibration, a cost model) edited, then read
+        from faultslip.io import resources
+
+        name = rng.choice(sorted(TABLE_COMMANDS))
+        text = mutate_table(space.tables[name], rng)
+        (space.table_dir / name).write_bytes(text.encode("utf-8") if isinstance(text, str) else text)
+        space.silent_if_ok = _table_content(text) != _table_content(space.tables[name])  # exit 0 used another table
+        shipped = resources.bundled_dir
+        resources.bundled_dir = lambda kind: space.table_dir if kind == "data" else shipped(kind)
+        space.table_case = (name, shipped)
+        for cache in table_caches():
+            cache.cache_clear()
+        return [str(CONFIGS / a) if a.endswith(".toml") else str(space.folder / "tables.png") if a == "PLOT" else a
+                for a in TABLE_COMMANDS[name]]
     if kind == "bundle":
         path = space.write("fit.zip", mutate_bundle(space.bundle, rng, space))
         return ["fit", "--replay", str(path), "--json"]
@@ -665,7 +837,7 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         store = space.folder / "store.zarr"
         shutil.rmtree(store, ignore_errors=True)
         shutil.copytree(CONFIGS / "example_lab_glass.zarr", store)
-        space.silent_if_ok = damage_store(store, rng) is True  # two chunks swapped: exit 0 would be silent
+        space.silent_if_ok = damage_store(store, rng) is True  # chunks swapped, an attribute edited: exit 0 is silent
         return ["convert", str(store), "-o", out, "--overwrite", "--workers", "1", "--json"]
     if kind == "deep":
         depth = rng.choice([33, 100, 500, 3000])
@@ -821,7 +993,7 @@ KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6,
          "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
          "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6,
          "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4,
-         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3, "ledger": 4, "registry": 4}
+         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3, "ledger": 4, "registry": 4, "table": 4}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [
@@ -905,8 +1077,9 @@ def hold_lock(target: Path, command: str) -> int:
     return pid
 
 
-def damage_store(store: Path, rng) -> None:
-    """Delete or corrupt a chunk, or give an attribute a value netCDF cannot hold."""
+def damage_store(store: Path, rng) -> bool | None:
+    """Swap, delete or corrupt chunks, give an attribute another valid value (True: exit 0 would be silent) or one
+    netCDF cannot hold, or damage an array's metadata."""
     chunks = sorted(p for p in store.rglob("*") if p.is_file() and not p.name.startswith("."))
     choice = rng.random()
     pairs = [(a, b) for a in chunks for b in chunks if a.parent == b.parent and a < b
@@ -919,9 +1092,25 @@ def damage_store(store: Path, rng) -> None:
         return True
     if choice < 0.3:
         rng.choice(chunks).unlink()
-    elif choice < 0.7:
+    elif choice < 0.55:
         chunk = rng.choice(chunks)
         chunk.write_bytes(mutate_bytes(chunk.read_bytes(), rng))
+    elif choice < 0.8:  # an attribute given another valid value (units, a name, the study), as zarr would write it
+        def texts(document):
+            return sorted(k for k, v in document.items() if isinstance(v, str) and v and not k.startswith("_"))
+
+        attrs = rng.choice([p for p in sorted(store.rglob(".zattrs")) if texts(json.loads(p.read_text("utf-8")))])
+        key = attrs.parent.relative_to(store).as_posix()
+        document = json.loads(attrs.read_text(encoding="utf-8"))
+        name = rng.choice(texts(document))
+        document[name] = rng.choice([value for value in ("m", "mm", "yr", document[name] + " (edited)",
+                                                         document[name][::-1]) if value != document[name]])
+        if rng.random() < 0.5:  # in the array's own file and the consolidated copy, as zarr would write it
+            attrs.write_text(json.dumps(document), encoding="utf-8")
+        consolidated = json.loads((store / ".zmetadata").read_text(encoding="utf-8"))
+        consolidated["metadata"][f"{key}/.zattrs" if key != "." else ".zattrs"] = document
+        (store / ".zmetadata").write_text(json.dumps(consolidated), encoding="utf-8")
+        return True  # exit 0 would carry another attribute into the answer
     elif choice < 0.9:
         attrs = rng.choice(sorted(store.rglob(".zattrs")))
         document = json.loads(attrs.read_text(encoding="utf-8"))
@@ -1195,7 +1384,10 @@ def worker(job):
                 failures.setdefault(f"timeout {kind}", {"outcome": outcome, "kind": kind, "argv": argv})
             if outcome in ("timeout", "traceback") and os.environ.get("FAULTSLIP_FUZZ_KEEP"):
                 keep = Path(os.environ["FAULTSLIP_FUZZ_KEEP"]) / f"{outcome}-{start}-{tally[outcome]}"
-                shutil.copytree(space.folder, keep, dirs_exist_ok=True)  # the inputs, to replay the case
+                # the inputs, to replay the case: files and folders (not the FIFO, nor a lock gone meanwhile)
+                with contextlib.suppress(shutil.Error):
+                    shutil.copytree(space.folder, keep, dirs_exist_ok=True, ignore=lambda folder, names: [
+                        name for name in names if not (Path(folder, name).is_file() or Path(folder, name).is_dir())])
                 (keep / "argv.json").write_text(json.dumps(argv), encoding="utf-8")
         return tally, {k: dict(v) for k, v in by_kind.items()}, failures, slowest
     finally:

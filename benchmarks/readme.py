@@ -161,12 +161,18 @@ def reliability_table() -> str | None:
             f"| tracebacks and multi-line errors | **{sum(outcomes.get(k, 0) for k in ('traceback', 'unclean', 'environment'))}** |",
             f"| silent: a changed input answered as if unchanged (exit 0) | **{outcomes.get('silent', 0)}** |",
             f"| cases over the fuzzer's {fuzz.get('timeout_s', 60):g} s limit | {outcomes.get('timeout', 0)} |"]
-    hard = {"zarr": "damaged Zarr stores (missing, corrupted or re-attributed chunks)",
+    hard = {"zarr": "damaged Zarr stores (missing, corrupted or swapped chunks, an attribute edited in the store or its "
+                    "consolidated metadata)",
             "netcdf": "a sweep's sealed netCDF output, bytes mutated, one bit flipped, or an attribute or coordinate "
                       "edited, then reproduced, read as a record or fitted",
             "ledger": "a sweep's failure ledger edited (cells dropped, indices changed) or mutated, then --retry-failed",
             "registry": "the fit registry edited (a fit's parameter, its checksum, the version) or mutated, then the "
                         "fit used",
+            "catalog": "catalogs: CSV mutated, or faultslip's QuakeML with a value's digit changed, its checksum "
+                       "removed or its bytes mutated, then fitted",
+            "mseed": "faultslip's miniSEED records with a bit flipped in a data record or bytes mutated, then analysed",
+            "table": "a table faultslip ships and reads back (a calibration, a cost model, a declared error) edited "
+                     "or mutated, then read by a command",
             "deep": "TOML nested 33 to 3,000 deep", "device": "devices, FIFOs and folders given as files",
             "lock": "symlinks, hard links and FIFOs planted at an output's lock",
             "full": "writes into a full disk (300 kB tmpfs)", "race": "a second writer of another kind holding the output",
