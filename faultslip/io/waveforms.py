@@ -207,7 +207,9 @@ def write_stream(stream, path) -> list:
             head = io.BytesIO()
             Stream([log]).write(head, format="MSEED", encoding="ASCII")
             # first, so that a file cut short still holds the checksum its remaining records fail
-            temporary.write_bytes(head.getvalue() + body.getvalue())
+            with open(temporary, "wb") as handle:
+                handle.write(head.getbuffer())
+                handle.write(body.getbuffer())
         return [path]
     written = []
     for trace in stream:

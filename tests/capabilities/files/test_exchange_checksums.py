@@ -175,3 +175,17 @@ def test_the_commands_refuse_a_tampered_record_and_catalog_in_one_sentence(cli, 
     year = re.search(r"<value>(\d{4})-", text).group(1)  # the first event's origin time
     (tmp_path / "e.xml").write_text(text.replace(f"<value>{year}-", f"<value>{int(year) + 1}-", 1), encoding="utf-8")
     assert_clean_error(cli("catalog", tmp_path / "e.xml", "--fault", "configs/parkfield.toml"), "e.xml", "checksum")
+
+
+def test_another_agencys_checksum_element_is_theirs_and_not_checked(tmp_path):
+    """Only faultslip's namespace (or one a damaged byte away from it) holds faultslip's checksum: a catalog of
+    another program with a "checksum" element of its own is read as it is."""
+    from obspy.core import event as quakeml
+    from obspy.core.util import AttribDict
+
+    catalog = quakeml.Catalog(description="an agency's export")
+    origin = quakeml.Origin(time=obspy.UTCDateTime("2004-09-28T17:15:24"), latitude=35.8, longitude=-120.4, depth=8e3)
+    catalog.append(quakeml.Event(origins=[origin], magnitudes=[quakeml.Magnitude(mag=6.0, magnitude_type="Mw")]))
+    catalog.extra = AttribDict({"checksum": AttribDict({"value": "md5:0123", "namespace": "https://agency.example/ns"})})
+    catalog.write(str(tmp_path / "agency.xml"), format="QUAKEML")
+    assert len(read_catalog(tmp_path / "agency.xml")) == 1
