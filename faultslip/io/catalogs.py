@@ -175,7 +175,7 @@ def _check_quakeml(events, data: bytes, path: Path) -> None:
         if stated.get("value") != quakeml_checksum(events):
             raise InputError(f"catalog {path.name} does not match the checksum faultslip wrote with it: its events "
                              "were edited or damaged since; write it again (faultslip simulate --events)")
-    elif QUAKEML_NAMESPACE.encode("ascii") in data:
+    elif QUAKEML_NAMESPACE.encode("ascii") in data or b"<faultslip:checksum" in data:  # its element or namespace
         raise InputError(f"catalog {path.name} was written by faultslip with a checksum that is now missing; write "
                          "it again (faultslip simulate --events)")
     elif str(events.description or "").startswith(DESCRIPTION_START):
