@@ -224,7 +224,8 @@ def seal_store(path) -> None:
 def check_store_checksum(path) -> None:
     """Refuse, in one sentence, a store whose metadata no longer matches the checksum sealed into it, whose
     checksum was removed, or whose consolidated metadata (``.zmetadata``, what readers take first) differs from
-    its arrays' own; a store of an older faultslip (neither attribute) is read with a warning."""
+    its arrays' own; a store of an older faultslip (its block digests, neither attribute) is read with a warning,
+    and another program's (none of them) as it is."""
     path = Path(path)
     metadata = store_metadata(path)
     if (path / ".zmetadata").is_file():
@@ -242,8 +243,9 @@ def check_store_checksum(path) -> None:
         if COVERS in root:
             raise InputError(f"the Zarr store {path.name} has lost the checksum of its metadata, so an edit of its "
                              "attributes could not be told; write it again")
-        warnings.warn(f"the Zarr store {path.name} was written by a faultslip that did not yet seal its metadata "
-                      "with a checksum: its attributes are read unchecked", stacklevel=2)
+        if DIGESTS in root:  # an older faultslip's store; another program's carries nothing of faultslip's to check
+            warnings.warn(f"the Zarr store {path.name} was written by a faultslip that did not yet seal its metadata "
+                          "with a checksum: its attributes are read unchecked", stacklevel=2)
     elif root[CHECKSUM] != metadata_checksum(metadata):
         raise InputError(f"the Zarr store {path.name}: its metadata (types, fill values, units, attributes) does not "
                          "match the checksum written with it: it was edited or damaged since; write it again")

@@ -1,6 +1,7 @@
 """Zarr stores: the same study as netCDF, atomic replacement, resume, refusals, and streaming conversion."""
 
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -178,12 +179,17 @@ def test_a_store_without_block_digests_is_refused_with_the_reason(study, tmp_pat
     store = tmp_path / "s.zarr"
     run_study(study, store, chunk_cells=4, workers=1)
     group = zarr.open_group(str(store), mode="r+")
-    for key in ("faultslip_block_digests", CHECKSUM, COVERS):  # as an older faultslip's store, with none of them
+    for key in (CHECKSUM, COVERS):  # as a faultslip that digested its blocks but did not yet seal its metadata
         del group.attrs[key]
     zarr.consolidate_metadata(str(store))
-    with pytest.warns(UserWarning, match="did not yet seal its metadata"), \
-            pytest.raises(InputError, match="carries no digests of its blocks"):
-        zarr_to_netcdf(store, tmp_path / "c.nc", workers=1)
+    with pytest.warns(UserWarning, match="did not yet seal its metadata"):
+        zarr_to_netcdf(store, tmp_path / "older.nc", workers=1)
+    del group.attrs["faultslip_block_digests"]  # and as another program's store, with nothing of faultslip's
+    zarr.consolidate_metadata(str(store))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing of faultslip's to say it is an older faultslip's
+        with pytest.raises(InputError, match="carries no digests of its blocks"):
+            zarr_to_netcdf(store, tmp_path / "c.nc", workers=1)
 
 
 def _edit_attribute(store, array, key, value, consolidate=True):
