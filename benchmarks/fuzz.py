@@ -1078,8 +1078,10 @@ def hold_lock(target: Path, command: str) -> int:
 
 
 def damage_store(store: Path, rng) -> bool | None:
-    """Swap, delete or corrupt chunks, give an attribute another valid value (True: exit 0 would be silent) or one
-    netCDF cannot hold, or damage an array's metadata."""
+    """Leave the store as written (8 %: it must convert), swap, delete or corrupt chunks, give an attribute another
+    valid value (True: exit 0 would be silent) or one netCDF cannot hold, or damage an array's metadata."""
+    if rng.random() < 0.08:
+        return None
     chunks = sorted(p for p in store.rglob("*") if p.is_file() and not p.name.startswith("."))
     choice = rng.random()
     pairs = [(a, b) for a in chunks for b in chunks if a.parent == b.parent and a < b

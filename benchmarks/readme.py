@@ -161,8 +161,8 @@ def reliability_table() -> str | None:
             f"| tracebacks and multi-line errors | **{sum(outcomes.get(k, 0) for k in ('traceback', 'unclean', 'environment'))}** |",
             f"| silent: a changed input answered as if unchanged (exit 0) | **{outcomes.get('silent', 0)}** |",
             f"| cases over the fuzzer's {fuzz.get('timeout_s', 60):g} s limit | {outcomes.get('timeout', 0)} |"]
-    hard = {"zarr": "damaged Zarr stores (missing, corrupted or swapped chunks, an attribute edited in the store or its "
-                    "consolidated metadata)",
+    hard = {"zarr": "Zarr stores as written, or damaged (missing, corrupted or swapped chunks, an attribute edited in the "
+                    "store or its consolidated metadata), converted",
             "netcdf": "a sweep's sealed netCDF output, bytes mutated, one bit flipped, or an attribute or coordinate "
                       "edited, then reproduced, read as a record or fitted",
             "ledger": "a sweep's failure ledger edited (cells dropped, indices changed) or mutated, then --retry-failed",
