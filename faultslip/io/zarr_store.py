@@ -20,7 +20,6 @@ repeat.
 from __future__ import annotations
 
 import asyncio
-import hashlib
 import itertools
 import json
 import os
@@ -198,18 +197,14 @@ def store_metadata(path) -> dict:
     for file in sorted(path.rglob(".z*")):
         if file.name in _METADATA_FILES:
             key = file.relative_to(path).as_posix()
-            try:
-                found[key] = json.loads(gate.read_bytes(file, f"the Zarr store {path.name}'s metadata", "config"))
-            except (ValueError, UnicodeDecodeError) as exc:
-                raise InputError(f"the Zarr store {path.name}: its metadata {key} is damaged ({exc})") from None
+            found[key] = gate.read_json(file, f"the Zarr store {path.name}'s metadata {key}")
     return found
 
 
 def metadata_checksum(metadata: dict) -> str:
     """SHA-256 of a store's metadata (:func:`store_metadata`), the root's :data:`CHECKSUM` left out."""
-    body = dict(metadata)
-    body[".zattrs"] = {key: value for key, value in body.get(".zattrs", {}).items() if key != CHECKSUM}
-    return hashlib.sha256(json.dumps(body, sort_keys=True).encode("utf-8")).hexdigest()
+    root = {key: value for key, value in metadata.get(".zattrs", {}).items() if key != CHECKSUM}
+    return gate.json_checksum({**metadata, ".zattrs": root})
 
 
 def seal_store(path) -> None:
