@@ -13,6 +13,7 @@ chunk whose entry is lost would read as fill values, and no chunk checksum can s
 from __future__ import annotations
 
 import hashlib
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -97,13 +98,9 @@ def chunk_map(path) -> str:
     return digest.hexdigest()
 
 
-def netcdf_checksum(nc, chunks: str) -> str:
-    """SHA-256 of what an open netCDF4 file's own filters leave unchecked, given its :func:`chunk_map`.
-
-    Every group's attributes (the root's ``faultslip_checksum`` left out) and dimensions; every variable's name,
-    type, dimensions, shape, filters, chunking and attributes; the raw values of each variable whose chunks
-    carry no checksum of their own (:func:`_self_checked`); and the chunk index. Each part is fed with its
-    length, so no two files' parts run together the same way."""
+def _file_digest(nc, chunks: str | None, layout_only: bool = False) -> str:
+    """SHA-256 of an open netCDF4 file's parts (:func:`netcdf_checksum`, :func:`layout_checksum`), each fed with
+    its length, so no two files' parts run together the same way."""
     digest = hashlib.sha256()
 
     def feed(*parts: bytes) -> None:
@@ -119,19 +116,52 @@ def netcdf_checksum(nc, chunks: str) -> str:
             feed(b"dimension", f"{path}{name}|{len(dimension)}|{dimension.isunlimited()}".encode())
         for name, variable in sorted(group.variables.items()):
             filters = sorted((variable.filters() or {}).items())
+            # a variable just created says "native" where the file reopened says the byte order it stored
+            endian = sys.byteorder if variable.endian() == "native" else variable.endian()
             feed(b"variable", f"{path}{name}|{variable.dtype}|{variable.dimensions}|{variable.shape}|{filters}|"
-                              f"{variable.chunking()}|{variable.endian()}".encode())
+                              f"{variable.chunking()}|{endian}".encode())
             for key in sorted(variable.ncattrs()):
                 feed(b"attribute", f"{path}{name}:{key}".encode(), _canonical(variable.getncattr(key)))
-            if not _self_checked(variable):
+            if (name in group.dimensions) if layout_only else not _self_checked(variable):
                 variable.set_auto_maskandscale(False)  # the values as stored
                 feed(b"values", _canonical(variable[...]))
         for name, child in sorted(group.groups.items()):
             walk(child, f"{path}{name}/")
 
     walk(nc, "/")
-    feed(b"chunks", chunks.encode())
+    if chunks is not None:
+        feed(b"chunks", chunks.encode())
     return digest.hexdigest()
+
+
+def netcdf_checksum(nc, chunks: str) -> str:
+    """SHA-256 of what an open netCDF4 file's own filters leave unchecked, given its :func:`chunk_map`.
+
+    Every group's attributes (the root's ``faultslip_checksum`` left out) and dimensions; every variable's name,
+    type, dimensions, shape, filters, chunking and attributes; the raw values of each variable whose chunks
+    carry no checksum of their own (:func:`_self_checked`); and the chunk index."""
+    return _file_digest(nc, chunks)
+
+
+def layout_checksum(nc) -> str:
+    """SHA-256 of an open netCDF4 file's layout: what :func:`netcdf_checksum` covers but the chunk index and the
+    data variables' values, and with every coordinate variable's values (a variable named after a dimension).
+
+    A sweep records it when it creates its partial output and compares it before it resumes: the blocks written
+    are checked by their digests, and everything else in the file by this."""
+    return _file_digest(nc, None, layout_only=True)
+
+
+def file_layout_checksum(path) -> str:
+    """:func:`layout_checksum` of the netCDF file at ``path``, opened only to read; one sentence where it cannot
+    be opened."""
+    import netCDF4  # heavy: imported where used
+
+    try:
+        with netCDF4.Dataset(path, "r") as nc:
+            return layout_checksum(nc)
+    except OSError as exc:
+        raise InputError(f"cannot open {Path(path).name}: {exc.strerror or exc}") from None
 
 
 def seal(path) -> None:

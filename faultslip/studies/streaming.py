@@ -31,8 +31,10 @@ from faultslip.io.progress import reporter
 from faultslip.io import budget, gate
 from faultslip.io.atomic import commit, working_copy, write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, block_digest, encode_chunk, padded
-from faultslip.io.netcdf import CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE, create_chunked, open_for_append, seal
+from faultslip.io.netcdf import (CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE, create_chunked, file_layout_checksum,
+                                 layout_checksum, open_for_append, seal)
 from faultslip.io.zarr_store import (DIGESTS, check_block_digests, check_store_checksum, create_store, finish_store, is_store, remove_store,
+                                      layout_checksum as store_layout_checksum,
                                       require_zarr, set_block_digests, update_block_digests, write_region)
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock, refuse_links
@@ -341,6 +343,7 @@ class _ZarrWriter:
             create_store(path, *file_layout(study, template), chunks=chunks, compression=compression)
         elif not is_store(path):
             raise InputError(f"{Path(path).name} is not a Zarr store")
+        self.layout = store_layout_checksum(path)
 
     def lease(self) -> tuple:
         return ()
@@ -362,29 +365,39 @@ class _ZarrWriter:
 
 
 def _open_writer(partial, study, template, chunks, compression, fresh: bool, file_format: str = "netcdf"):
-    """The writer of ``partial``: created (``fresh``) or reopened to resume."""
+    """The writer of ``partial``: created (``fresh``) or reopened to resume. Its ``layout`` is the checksum of
+    the file's layout as it finds it (:func:`faultslip.io.netcdf.layout_checksum`), which a resume compares with
+    the one recorded when the file was created."""
     if file_format == "zarr":
         return _ZarrWriter(partial, study, template, chunks, compression, fresh)
     direct = compression in DIRECT_COMPRESSIONS and bool(study.dims)
+    if direct and not fresh:  # the chunks are written through h5py: netCDF4 only reads the layout
+        layout = file_layout_checksum(partial)  # before h5py opens it to write
+        writer = _ChunkWriter(partial, study, chunks, template, compression)
+        writer.layout = layout
+        return writer
     if fresh:
         try:
             nc = _create(partial, study, template, chunks, compression)
         except OSError as exc:
             raise InputError(f"cannot write {partial.name}: {exc.strerror or exc}") from None
-        if not direct:
-            return _NetcdfWriter(nc, study)
-        nc.close()
-        return _ChunkWriter(partial, study, chunks, template, compression)
-    if direct:
-        return _ChunkWriter(partial, study, chunks, template, compression)
-    nc = open_for_append(partial)
+    else:
+        nc = open_for_append(partial)
     try:
-        for name in template.data_vars:
-            _no_chunk_cache(nc[name])
-    except (IndexError, KeyError, RuntimeError):
-        nc.close()
+        layout = layout_checksum(nc)
+        if direct:
+            nc.close()
+            writer = _ChunkWriter(partial, study, chunks, template, compression)
+        else:
+            for name in template.data_vars:
+                _no_chunk_cache(nc[name])
+            writer = _NetcdfWriter(nc, study)
+    except BaseException:
+        if nc.isopen():
+            nc.close()
         raise
-    return _NetcdfWriter(nc, study)
+    writer.layout = layout
+    return writer
 
 
 def output_format(output, file_format: str | None = None) -> str:
@@ -436,37 +449,56 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
             raise
 
 
-def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int, resume: bool) -> tuple[set, list, dict]:
-    """Blocks already on disk from an interrupted run, the cells of theirs that failed and each block's digest, or
-    nothing (with a warning saying why). The ledger is trusted only where its own checksum matches; its blocks
-    are verified against the partial file afterwards (:func:`_verified_blocks`)."""
+def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int,
+                   resume: bool) -> tuple[set, list, dict, str | None]:
+    """Blocks already on disk from an interrupted run, the cells of theirs that failed, each block's digest and the
+    checksum of the partial file's layout when it was created, or nothing (with a warning saying why). The ledger
+    is trusted only where its own checksum matches; its blocks are verified against the partial file afterwards
+    (:func:`_verified_blocks`), and the file's layout when it is reopened (:func:`_same_layout`)."""
+    nothing = set(), [], {}, None
     if not (partial.exists() or ledger.exists()):
-        return set(), [], {}
+        return nothing
     if not resume:
         warnings.warn(f"an interrupted run left {partial.name}; starting over (pass --resume to continue it)",
                       stacklevel=3)
-        return set(), [], {}
+        return nothing
     try:
         record = gate.read_json(ledger, "progress record")
         done = {int(i) for i in record["done"]}
         failed = list(record.get("failed", []))
         digests = {int(key): str(value) for key, value in record["digests"].items()}
+        layout = record.get("layout")
         same = record.get("fingerprint") == fingerprint and record.get("blocks") == blocks
         intact = record.get("checksum") == gate.json_checksum(record)
     except (InputError, ValueError, KeyError, TypeError, AttributeError):
         warnings.warn(f"the progress record {ledger.name} is unreadable; starting over", stacklevel=3)
-        return set(), [], {}
+        return nothing
     if not intact:
         warnings.warn(f"the progress record {ledger.name} does not match its checksum (it was changed after it was "
                       "written); starting over", stacklevel=3)
-        return set(), [], {}
+        return nothing
     if not same:
         warnings.warn(f"{partial.name} belongs to a different study or chunking; starting over", stacklevel=3)
-        return set(), [], {}
+        return nothing
     if not partial.exists() or any(not 0 <= i < blocks for i in done):
         warnings.warn(f"{partial.name} is missing or inconsistent with its record; starting over", stacklevel=3)
-        return set(), [], {}
-    return done, failed, digests
+        return nothing
+    return done, failed, digests, layout
+
+
+def _same_layout(partial: Path, writer, recorded) -> bool:
+    """Whether the reopened partial file's layout (its attributes, units, types, fill values, chunking and
+    coordinates) is the one recorded when it was created; if not, the writer is closed and a warning says why."""
+    if writer.layout == recorded:
+        return True
+    writer.close()
+    if recorded is None:
+        warnings.warn(f"the progress record of {partial.name} holds no checksum of its layout (a faultslip before "
+                      "it recorded one), so an edit of its attributes could not be told; starting over", stacklevel=3)
+    else:
+        warnings.warn(f"the layout of {partial.name} (its attributes, units, types or coordinates) differs from the "
+                      "one recorded when it was created: it was edited since; starting over", stacklevel=3)
+    return False
 
 
 def _verified_blocks(partial: Path, file_format: str, study, blocks: list, done: set, digests: dict) -> set:
@@ -535,7 +567,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         study.work_dir = output.with_name(output.name + ".cells")
         study.work_dir.mkdir(exist_ok=True)
     template = template_block(study)
-    done, failures, digests = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
+    done, failures, digests, layout = _usable_resume(partial, ledger, fingerprint, len(blocks), resume)
     if done:
         try:
             done = _verified_blocks(partial, file_format, study, blocks, done, digests)
@@ -552,6 +584,9 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         except (OSError, IndexError, KeyError, RuntimeError, InputError) as exc:  # truncated by a kill -9, or foreign
             warnings.warn(f"cannot continue {partial.name} ({exc}); starting over", stacklevel=2)
             done, failures, digests = set(), [], {}
+        else:
+            if not _same_layout(partial, writer, layout):
+                done, failures, digests = set(), [], {}
     if not done:
         if study.work_dir is not None:  # a fresh start: no cell continues a run of another study
             shutil.rmtree(study.work_dir, ignore_errors=True)
@@ -582,7 +617,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
 
     def record_progress():
         record = {"fingerprint": fingerprint, "blocks": len(blocks), "output": output.name, "done": sorted(done),
-                  "failed": failures, "digests": {str(index): digest for index, digest in sorted(digests.items())}}
+                  "layout": writer.layout, "failed": failures, "digests": {str(index): digest for index, digest in sorted(digests.items())}}
         record["checksum"] = gate.json_checksum(record)
         write_text_atomic(ledger, json.dumps(record),
                           immediate=True)  # a resume reads it after a kill: it cannot wait for the run's end

@@ -109,6 +109,47 @@ def test_an_interrupted_zarr_run_resumes(study, tmp_path, monkeypatch):
             assert a[name].values.tobytes() == b[name].values.tobytes()
 
 
+@pytest.mark.parametrize("edit", ["a unit", "a global attribute", "a coordinate value", "a fill value"])
+def test_a_layout_edited_in_the_partial_store_starts_the_run_over(study, tmp_path, monkeypatch, edit):
+    """The block digests cover the values written; the layout recorded when the store was laid out covers the rest."""
+    import zarr
+
+    import faultslip.studies.streaming as streaming
+
+    real, calls = streaming.compute_block, {"n": 0}
+
+    def flaky(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] == 5:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    store = tmp_path / "s.zarr"
+    monkeypatch.setattr(streaming, "compute_block", flaky)
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, store, chunk_cells=6, workers=1)
+    monkeypatch.setattr(streaming, "compute_block", real)
+    group = zarr.open_group(str(tmp_path / "s.zarr.partial"), mode="r+", zarr_format=2)
+    if edit == "a unit":
+        group["slip_per_event"].attrs["units"] = "ft"
+    elif edit == "a global attribute":
+        group.attrs["title"] = "edited"
+    elif edit == "a coordinate value":
+        group["zone_width"][0] = 11000.0
+    else:
+        meta = tmp_path / "s.zarr.partial" / "slip_per_event" / ".zarray"
+        text = meta.read_text()
+        assert '"fill_value": "NaN"' in text
+        meta.write_text(text.replace('"fill_value": "NaN"', '"fill_value": 0.0'))
+    with pytest.warns(UserWarning, match="the layout of s.zarr.partial .* was edited since; starting over"):
+        assert run_study(study, store, chunk_cells=6, workers=1, resume=True)["resumed_blocks"] == 0
+    fresh = tmp_path / "fresh.zarr"
+    run_study(study, fresh, chunk_cells=6, workers=1)
+    with xr.open_zarr(store, decode_cf=False) as a, xr.open_zarr(fresh, decode_cf=False) as b:
+        xr.testing.assert_identical(a.drop_attrs(deep=False), b.drop_attrs(deep=False))
+        assert a.attrs.get("title") == b.attrs.get("title")
+
+
 def test_convert_refuses_what_it_cannot_copy(tmp_path):
     with pytest.raises(InputError, match="does not exist"):
         zarr_to_netcdf(tmp_path / "none.zarr", tmp_path / "o.nc")

@@ -390,10 +390,10 @@ def test_no_process_of_a_sweep_outlives_it(executor, tmp_path):
 # A resume trusts nothing it cannot verify (issue 69): the ledger by its own checksum, each block by the digest
 # recorded when it was written, recomputed from the partial file.
 
-def _interrupted(study, out, monkeypatch, blocks_done: int = 3):
+def _interrupted(study, out, monkeypatch, blocks_done: int = 3, compression: str = "zlib"):
     restore = _interrupt_on_call(monkeypatch, blocks_done + 1)
     with pytest.raises(KeyboardInterrupt):
-        run_study(study, out, chunk_cells=30, workers=1)
+        run_study(study, out, chunk_cells=30, workers=1, compression=compression)
     restore()
     return out.with_name(out.name + ".partial"), out.with_name(out.name + ".progress.json")
 
@@ -448,6 +448,59 @@ def test_a_value_edited_in_the_partial_file_is_recomputed_not_carried(study, tmp
     run_study(study, fresh, chunk_cells=30, workers=1)
     with xr.open_dataset(out) as a, xr.open_dataset(fresh) as b:
         xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())
+
+
+#: Edits of a partial file's layout that keep it a valid netCDF file, each undone by a fresh start: what the digests
+#: of its blocks cannot see (they cover the values of the blocks written, not the attributes or coordinates).
+LAYOUT_EDITS = {
+    "a unit": lambda nc: nc["slip_per_event"].setncattr("units", "ft"),
+    "a global attribute": lambda nc: nc.setncattr("title", "edited"),
+    "a new attribute": lambda nc: nc["recurrence_period"].setncattr("scale_factor", 2.0),
+    "a coordinate value": lambda nc: nc["zone_width"].__setitem__(0, 11000.0),
+    "a category name": lambda nc: nc["lithology"].__setitem__(1, "gabbro"),
+}
+
+
+@pytest.mark.parametrize("compression", ["zlib", "zstd"])  # chunks written through h5py, and through netCDF4
+@pytest.mark.parametrize("edit", sorted(LAYOUT_EDITS))
+def test_a_layout_edited_in_the_partial_file_starts_the_run_over(study, tmp_path, monkeypatch, edit, compression):
+    import netCDF4
+
+    out = tmp_path / "s.nc"
+    partial, _ = _interrupted(study, out, monkeypatch, compression=compression)
+    with netCDF4.Dataset(partial, "a") as nc:
+        LAYOUT_EDITS[edit](nc)
+    with pytest.warns(UserWarning, match="the layout of s.nc.partial .* differs from the one recorded when it was "
+                                         "created: it was edited since; starting over"):
+        summary = run_study(study, out, chunk_cells=30, workers=1, resume=True, compression=compression)
+    assert summary["resumed_blocks"] == 0
+    fresh = tmp_path / "fresh.nc"
+    run_study(study, fresh, chunk_cells=30, workers=1, compression=compression)
+    with xr.open_dataset(out, decode_cf=False) as a, xr.open_dataset(fresh, decode_cf=False) as b:
+        xr.testing.assert_identical(a.drop_attrs(deep=False), b.drop_attrs(deep=False))  # units and coordinates too
+        assert "title" not in a.attrs or a.attrs["title"] == b.attrs["title"]
+
+
+@pytest.mark.parametrize("compression", ["zlib", "zstd"])
+def test_an_untouched_partial_file_resumes_with_its_layout_unchanged(study, tmp_path, monkeypatch, compression):
+    """The layout recorded when the file was created (open to write) is the one read when it is reopened."""
+    out = tmp_path / "s.nc"
+    _interrupted(study, out, monkeypatch, compression=compression)
+    assert run_study(study, out, chunk_cells=30, workers=1, resume=True, compression=compression)["resumed_blocks"] == 3
+
+
+def test_a_progress_record_without_a_layout_starts_the_run_over(study, tmp_path, monkeypatch):
+    """An interrupted run of a faultslip that recorded no layout: its partial file's attributes cannot be checked."""
+    from faultslip.io import gate
+
+    out = tmp_path / "s.nc"
+    partial, ledger = _interrupted(study, out, monkeypatch)
+    record = json.loads(ledger.read_text())
+    del record["layout"]
+    record["checksum"] = gate.json_checksum(record)
+    ledger.write_text(json.dumps(record))
+    with pytest.warns(UserWarning, match="holds no checksum of its layout"):
+        assert run_study(study, out, chunk_cells=30, workers=1, resume=True)["resumed_blocks"] == 0
 
 
 @pytest.mark.parametrize("resume", [False, True])
