@@ -381,6 +381,28 @@ def mutate_ledger(text: str, rng: random.Random) -> str | bytes:
     return json.dumps(record, indent=1) + "\n"
 
 
+def mutate_progress(text: str, rng: random.Random) -> str | bytes:
+    """An interrupted sweep's progress record edited (a block added to or dropped from the done list, a digest or
+    the layout checksum changed or removed, its own checksum removed), its bytes mutated, or left as written."""
+    kept = _kept_or_mutated(text, rng)
+    if kept is not None:
+        return kept
+    record = json.loads(text)
+    edit = rng.choice(["done", "drop", "digest", "layout", "no layout", "checksum"])
+    if edit == "done":
+        record["done"] = list(range(record["blocks"]))
+    elif edit == "drop" and record["done"]:
+        record["done"].pop()
+    elif edit == "digest" and record["digests"]:
+        record["digests"][rng.choice(sorted(record["digests"]))] = "0" * 64
+    elif edit == "layout":
+        record["layout"] = "0" * 64
+    elif edit == "no layout":
+        record.pop("layout", None)
+    record.pop("checksum", None) if edit == "checksum" or rng.random() < 0.3 else None
+    return json.dumps(record)
+
+
 def mutate_netcdf(path: Path, rng: random.Random) -> None:
     """A netCDF file's bytes mutated (:func:`mutate_bytes`), one bit flipped (in a small file, often in its
     attributes or layout), or an attribute or a coordinate edited through the library, as a later tool would."""
@@ -438,6 +460,7 @@ class Workspace:
         self.decay = "\n".join(decay_lines[:1200]) + "\n"
         self.netcdf = self._small_sweep()
         self.ledger = self._failure_ledger()
+        self.interrupted, self.uninterrupted = self._interrupted_sweeps()
         self.registry = self._registry()
         self.table_dir = folder / "data"  # data/ as shipped, the table kind's edits made in this copy
         shutil.copytree(DATA, self.table_dir)
@@ -460,6 +483,7 @@ class Workspace:
         shutil.copy(DATA / "p655" / "p655intact100l", folder / "p655intact100l")
         self.silent_if_ok = False  # a case whose input was changed so that exit 0 would be a silent result
         self.changed_netcdf = None  # a mutated sealed netCDF file: exit 0 with its content changed would be silent
+        self.resumed_output = None  # (output, the uninterrupted run's content): a resume that exits 0 must give it
         self.netcdf_content = netcdf_content(self.folder / "seed.nc")
         self.fault_2d, self.stopped = self._stopped_2d_run()
         self.fifo = folder / "pipe.toml"
@@ -526,6 +550,44 @@ class Workspace:
         text = path.read_text(encoding="utf-8")
         path.unlink()
         return text
+
+    def _interrupted_sweeps(self) -> tuple[Path, dict]:
+        """The seed sweep stopped (as Ctrl-C stops it) after two of its four one-cell blocks, into netCDF and into
+        Zarr: the partial outputs and progress records the partial kind damages before ``--resume``; and the
+        content of the same sweep run without a stop, which a resume that exits 0 must give."""
+        import faultslip.studies.streaming as streaming
+        from faultslip.studies.grid import load_study
+
+        study = load_study(self.folder / "seed_study.toml")
+        folder = self.folder / "interrupted"
+        folder.mkdir()
+        uninterrupted = {}
+        real = {name: getattr(streaming, name) for name in ("compute_block", "block_arrays")}
+        for name in ("sweep.nc", "sweep.zarr"):
+            calls = {"n": 0}
+
+            def stopping(function):
+                def call(*args, **kwargs):
+                    calls["n"] += 1
+                    if calls["n"] == 3:
+                        raise KeyboardInterrupt
+                    return function(*args, **kwargs)
+                return call
+
+            for function, value in real.items():  # the netCDF run's blocks come from one, the Zarr run's the other
+                setattr(streaming, function, stopping(value))
+            try:
+                streaming.run_study(study, folder / name, chunk_cells=1, workers=1, compression="none")
+            except KeyboardInterrupt:
+                pass
+            finally:
+                for function, value in real.items():
+                    setattr(streaming, function, value)
+            assert (folder / f"{name}.progress.json").exists(), "the seed sweep was not stopped"
+            reference = self.folder / f"reference_{name}"
+            streaming.run_study(study, reference, chunk_cells=1, workers=1, compression="none")
+            uninterrupted[name] = output_content(reference)
+        return folder, uninterrupted
 
     def _registry(self) -> str:
         """A fit registry holding one saved fit (the seed of the registry kind), written by the library's writer."""
@@ -640,6 +702,36 @@ def netcdf_content(path) -> str | None:
     """The digest of everything ``path`` holds (attributes, types, values), or None where it does not read."""
     try:
         result = subprocess.run([sys.executable, "-c", _CONTENT, str(path)], capture_output=True, text=True,
+                                timeout=60)
+    except subprocess.TimeoutExpired:
+        return None
+    return result.stdout.strip() if result.returncode == 0 else None
+
+
+#: Run in a child: a digest of a study output's content (netCDF or Zarr) as xarray reads it undecoded, without the
+#: attributes that differ between two runs of one study (the time in history) or seal a finished file.
+_OUTPUT_CONTENT = """
+import hashlib, sys, numpy as np, xarray as xr
+path = sys.argv[1]
+skip = {"history", "faultslip_checksum", "faultslip_checksum_covers", "faultslip_block_digests"}
+opened = xr.open_zarr(path, decode_cf=False) if path.endswith(".zarr") else xr.open_dataset(path, decode_cf=False)
+digest = hashlib.sha256()
+with opened as ds:
+    digest.update(repr(sorted((k, repr(v)) for k, v in ds.attrs.items() if k not in skip)).encode())
+    for name in sorted(ds.variables):
+        variable = ds[name]
+        digest.update(repr((name, variable.dims, str(variable.dtype), sorted((k, repr(v)) for k, v in
+                                                                              variable.attrs.items()))).encode())
+        values = variable.values
+        digest.update(repr(values.tolist()).encode() if values.dtype.kind in "OUS" else values.tobytes())
+print(digest.hexdigest())
+"""
+
+
+def output_content(path) -> str | None:
+    """The digest of a study output's content (:data:`_OUTPUT_CONTENT`), or None where it does not read."""
+    try:
+        result = subprocess.run([sys.executable, "-c", _OUTPUT_CONTENT, str(path)], capture_output=True, text=True,
                                 timeout=60)
     except subprocess.TimeoutExpired:
         return None
@@ -787,6 +879,23 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         space.silent_if_ok = text != space.ledger  # exit 0 would retry cells the run did not list
         return ["sweep", str(space.folder / "seed_study.toml"), "-o", str(out), "--retry-failed", "--workers", "1",
                 "--json"]
+    if kind == "partial":  # an interrupted sweep's partial output or progress record damaged, then --resume
+        name = rng.choice(["sweep.nc", "sweep.zarr"])
+        folder = space.folder / "resume_sweep"
+        shutil.rmtree(folder, ignore_errors=True)
+        shutil.copytree(space.interrupted, folder)
+        partial, progress = folder / f"{name}.partial", folder / f"{name}.progress.json"
+        target = rng.random()
+        if target < 0.35:
+            text = mutate_progress(progress.read_text(encoding="utf-8"), rng)
+            progress.write_bytes(text.encode("utf-8") if isinstance(text, str) else text)
+        elif name == "sweep.nc":
+            mutate_netcdf(partial, rng)
+        else:
+            damage_store(partial, rng)
+        space.resumed_output = (folder / name, space.uninterrupted[name])  # exit 0 must give the uninterrupted run's
+        return ["sweep", str(space.folder / "seed_study.toml"), "-o", str(folder / name), "--resume", "--workers",
+                "1", "--chunks", "1", "--compression", "none", "--json"]
     if kind == "registry":  # the user's fit registry edited, then its fit used for a fault
         text = mutate_registry(space.registry, rng)
         Path(os.environ["FAULTSLIP_REGISTRY"]).write_bytes(text.encode("utf-8") if isinstance(text, str) else text)
@@ -993,7 +1102,8 @@ KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6,
          "options": 10, "vibration": 4, "nanoscale": 3, "catalog": 4, "geojson": 3, "mseed": 3, "phyphox": 3,
          "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6,
          "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4,
-         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3, "ledger": 4, "registry": 4, "table": 4}
+         "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3, "ledger": 4, "registry": 4, "table": 4,
+         "partial": 4}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [
@@ -1107,11 +1217,12 @@ def damage_store(store: Path, rng) -> bool | None:
         name = rng.choice(texts(document))
         document[name] = rng.choice([value for value in ("m", "mm", "yr", document[name] + " (edited)",
                                                          document[name][::-1]) if value != document[name]])
-        if rng.random() < 0.5:  # in the array's own file and the consolidated copy, as zarr would write it
-            attrs.write_text(json.dumps(document), encoding="utf-8")
-        consolidated = json.loads((store / ".zmetadata").read_text(encoding="utf-8"))
-        consolidated["metadata"][f"{key}/.zattrs" if key != "." else ".zattrs"] = document
-        (store / ".zmetadata").write_text(json.dumps(consolidated), encoding="utf-8")
+        if rng.random() < 0.5 or not (store / ".zmetadata").exists():  # in the array's own file and the
+            attrs.write_text(json.dumps(document), encoding="utf-8")  # consolidated copy, as zarr would write it
+        if (store / ".zmetadata").exists():  # a finished store (a partial one has none yet)
+            consolidated = json.loads((store / ".zmetadata").read_text(encoding="utf-8"))
+            consolidated["metadata"][f"{key}/.zattrs" if key != "." else ".zattrs"] = document
+            (store / ".zmetadata").write_text(json.dumps(consolidated), encoding="utf-8")
         return True  # exit 0 would carry another attribute into the answer
     elif choice < 0.9:
         attrs = rng.choice(sorted(store.rglob(".zattrs")))
@@ -1366,7 +1477,10 @@ def worker(job):
             if outcome == "ok" and space.changed_netcdf is not None \
                     and netcdf_content(space.changed_netcdf) != space.netcdf_content:
                 outcome, detail = "silent", f"{kind}: a sealed file read with exit 0 though its content changed"
-            space.silent_if_ok, space.changed_netcdf = False, None
+            if outcome == "ok" and space.resumed_output is not None \
+                    and output_content(space.resumed_output[0]) != space.resumed_output[1]:
+                outcome, detail = "silent", f"{kind}: a resumed sweep gave another output than the run without a stop"
+            space.silent_if_ok, space.changed_netcdf, space.resumed_output = False, None, None
             try:
                 space.release()
             except AssertionError as exc:

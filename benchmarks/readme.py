@@ -166,6 +166,8 @@ def reliability_table() -> str | None:
             "netcdf": "a sweep's sealed netCDF output, bytes mutated, one bit flipped, or an attribute or coordinate "
                       "edited, then reproduced, read as a record or fitted",
             "ledger": "a sweep's failure ledger edited (cells dropped, indices changed) or mutated, then --retry-failed",
+            "partial": "an interrupted sweep's partial output (netCDF or Zarr: bytes, an attribute, a coordinate, a "
+                       "chunk) or progress record damaged, then --resume (exit 0 must give the run without a stop)",
             "registry": "the fit registry edited (a fit's parameter, its checksum, the version) or mutated, then the "
                         "fit used",
             "catalog": "catalogs: CSV mutated, or faultslip's QuakeML with a value's digit changed, its checksum "
