@@ -438,6 +438,35 @@ def mutate_netcdf(path: Path, rng: random.Random) -> None:
             nc.delncattr(rng.choice(nc.ncattrs()))
 
 
+def stop_sweep(study, output: Path, blocks: int = 2) -> None:
+    """Run ``study`` into ``output`` in one-cell blocks, uncompressed, and stop it as Ctrl-C would after ``blocks``
+    blocks: its partial output and progress record stay, to be resumed (the fuzzer's partial kind, and a test's)."""
+    import faultslip.studies.streaming as streaming
+
+    real = {name: getattr(streaming, name) for name in ("compute_block", "block_arrays")}
+    calls = {"n": 0}
+
+    def stopping(function):
+        def call(*args, **kwargs):
+            calls["n"] += 1
+            if calls["n"] > blocks:
+                raise KeyboardInterrupt
+            return function(*args, **kwargs)
+        return call
+
+    for name, function in real.items():  # a netCDF run's blocks come from one, a Zarr run's from the other
+        setattr(streaming, name, stopping(function))
+    try:
+        streaming.run_study(study, output, chunk_cells=1, workers=1, compression="none")
+    except KeyboardInterrupt:
+        pass
+    finally:
+        for name, function in real.items():
+            setattr(streaming, name, function)
+    if not output.with_name(output.name + ".progress.json").exists():
+        raise AssertionError(f"the sweep into {output.name} was not stopped")
+
+
 # --- cases ---------------------------------------------------------------------------------------
 
 class Workspace:
@@ -552,40 +581,20 @@ class Workspace:
         return text
 
     def _interrupted_sweeps(self) -> tuple[Path, dict]:
-        """The seed sweep stopped (as Ctrl-C stops it) after two of its four one-cell blocks, into netCDF and into
+        """The seed sweep stopped after two of its four one-cell blocks (:func:`stop_sweep`), into netCDF and into
         Zarr: the partial outputs and progress records the partial kind damages before ``--resume``; and the
         content of the same sweep run without a stop, which a resume that exits 0 must give."""
-        import faultslip.studies.streaming as streaming
         from faultslip.studies.grid import load_study
+        from faultslip.studies.streaming import run_study
 
         study = load_study(self.folder / "seed_study.toml")
         folder = self.folder / "interrupted"
         folder.mkdir()
         uninterrupted = {}
-        real = {name: getattr(streaming, name) for name in ("compute_block", "block_arrays")}
         for name in ("sweep.nc", "sweep.zarr"):
-            calls = {"n": 0}
-
-            def stopping(function):
-                def call(*args, **kwargs):
-                    calls["n"] += 1
-                    if calls["n"] == 3:
-                        raise KeyboardInterrupt
-                    return function(*args, **kwargs)
-                return call
-
-            for function, value in real.items():  # the netCDF run's blocks come from one, the Zarr run's the other
-                setattr(streaming, function, stopping(value))
-            try:
-                streaming.run_study(study, folder / name, chunk_cells=1, workers=1, compression="none")
-            except KeyboardInterrupt:
-                pass
-            finally:
-                for function, value in real.items():
-                    setattr(streaming, function, value)
-            assert (folder / f"{name}.progress.json").exists(), "the seed sweep was not stopped"
+            stop_sweep(study, folder / name)
             reference = self.folder / f"reference_{name}"
-            streaming.run_study(study, reference, chunk_cells=1, workers=1, compression="none")
+            run_study(study, reference, chunk_cells=1, workers=1, compression="none")
             uninterrupted[name] = output_content(reference)
         return folder, uninterrupted
 

@@ -313,32 +313,14 @@ def _interrupted_sweep(tmp_path_factory, name):
     """The seed sweep stopped after two of its four blocks (the fuzzer's partial kind), and the content of the
     same sweep without a stop."""
     if name not in _INTERRUPTED:
-        import faultslip.studies.streaming as streaming
         from faultslip.studies.grid import parse_study
+        from faultslip.studies.streaming import run_study
 
         folder = tmp_path_factory.mktemp("interrupted")
         study = parse_study(_SWEEP)
-        real = {function: getattr(streaming, function) for function in ("compute_block", "block_arrays")}
-        calls = {"n": 0}
-
-        def stopping(function):
-            def call(*args, **kwargs):
-                calls["n"] += 1
-                if calls["n"] == 3:
-                    raise KeyboardInterrupt
-                return function(*args, **kwargs)
-            return call
-
-        for function, value in real.items():
-            setattr(streaming, function, stopping(value))
-        try:
-            with pytest.raises(KeyboardInterrupt):
-                streaming.run_study(study, folder / name, chunk_cells=1, workers=1, compression="none")
-        finally:
-            for function, value in real.items():
-                setattr(streaming, function, value)
+        fuzz.stop_sweep(study, folder / name)
         reference = folder / f"reference_{name}"
-        streaming.run_study(study, reference, chunk_cells=1, workers=1, compression="none")
+        run_study(study, reference, chunk_cells=1, workers=1, compression="none")
         _INTERRUPTED[name] = (folder, _content(reference))
     return _INTERRUPTED[name]
 

@@ -82,7 +82,8 @@ def test_format_and_suffix_must_agree(study, tmp_path):
         run_study(study, tmp_path / "s.zarr", file_format="hdf")
 
 
-def test_an_interrupted_zarr_run_resumes(study, tmp_path, monkeypatch):
+def _stopped_store(study, store, monkeypatch):
+    """A Zarr run of ``study`` in blocks of 6 cells, stopped by Ctrl-C while it computes its fifth block."""
     import faultslip.studies.streaming as streaming
 
     real, calls = streaming.compute_block, {"n": 0}
@@ -93,13 +94,17 @@ def test_an_interrupted_zarr_run_resumes(study, tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
-    store = tmp_path / "s.zarr"
     monkeypatch.setattr(streaming, "compute_block", flaky)
     with pytest.raises(KeyboardInterrupt):
         run_study(study, store, chunk_cells=6, workers=1)
+    monkeypatch.setattr(streaming, "compute_block", real)
+
+
+def test_an_interrupted_zarr_run_resumes(study, tmp_path, monkeypatch):
+    store = tmp_path / "s.zarr"
+    _stopped_store(study, store, monkeypatch)
     assert not store.exists() and is_store(tmp_path / "s.zarr.partial")
     assert len(json.loads((tmp_path / "s.zarr.progress.json").read_text())["done"]) == 4
-    monkeypatch.setattr(streaming, "compute_block", real)
     summary = run_study(study, store, chunk_cells=6, workers=1, resume=True)
     assert summary["resumed_blocks"] == 4 and not (tmp_path / "s.zarr.partial").exists()
     fresh = tmp_path / "fresh.zarr"
@@ -114,21 +119,8 @@ def test_a_layout_edited_in_the_partial_store_starts_the_run_over(study, tmp_pat
     """The block digests cover the values written; the layout recorded when the store was laid out covers the rest."""
     import zarr
 
-    import faultslip.studies.streaming as streaming
-
-    real, calls = streaming.compute_block, {"n": 0}
-
-    def flaky(*args, **kwargs):
-        calls["n"] += 1
-        if calls["n"] == 5:
-            raise KeyboardInterrupt
-        return real(*args, **kwargs)
-
     store = tmp_path / "s.zarr"
-    monkeypatch.setattr(streaming, "compute_block", flaky)
-    with pytest.raises(KeyboardInterrupt):
-        run_study(study, store, chunk_cells=6, workers=1)
-    monkeypatch.setattr(streaming, "compute_block", real)
+    _stopped_store(study, store, monkeypatch)
     group = zarr.open_group(str(tmp_path / "s.zarr.partial"), mode="r+", zarr_format=2)
     if edit == "a unit":
         group["slip_per_event"].attrs["units"] = "ft"
