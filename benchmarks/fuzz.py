@@ -28,7 +28,9 @@ kB, where the fuzzer may mount one); and a second writer of another kind holding
   two chunks swapped): a wrong or unverified answer given as right.
 
 The acceptance criterion of issue 9 is zero ``traceback``, ``unclean``, ``timeout`` and
-``environment`` over at least 10,000 cases (a mutated input must never reach the machine's limits). The tally and every distinct failure are written to the JSON file.
+``environment`` over at least 10,000 cases (a mutated input must never reach the machine's limits). The tally, every
+distinct failure and the slowest case are written to the JSON file. ``FAULTSLIP_FUZZ_KEEP=DIR`` keeps the inputs of
+each case that timed out or raised (and, with ``FAULTSLIP_FUZZ_SLOW=SECONDS``, of each slower case) in DIR.
 """
 
 from __future__ import annotations
@@ -1470,7 +1472,7 @@ def worker(job):
         tally = collections.Counter()
         by_kind = collections.defaultdict(collections.Counter)
         failures = {}
-        slowest = 0.0
+        slowest = (0.0, None, None)  # seconds, kind, argv: the case nearest the time-out, to look into
         for _ in range(count):
             kind = rng.choices(kinds, weights)[0]
             argv = make_case(kind, space, rng)
@@ -1499,7 +1501,8 @@ def worker(job):
                         if ".partial" in p.name or ".tmp" in p.name]
                 if left:  # nothing half-written may stay behind
                     outcome, detail = "unclean", f"left behind: {left[:3]}"
-            slowest = max(slowest, seconds)
+            if seconds > slowest[0]:
+                slowest = (seconds, kind, list(argv))
             tally[outcome] += 1
             by_kind[kind][outcome] += 1
             if detail and outcome in ("traceback", "unclean", "timeout", "environment", "silent") \
@@ -1507,8 +1510,10 @@ def worker(job):
                 failures[detail] = {"outcome": outcome, "kind": kind, "argv": [a for a in argv]}
             elif outcome == "timeout":
                 failures.setdefault(f"timeout {kind}", {"outcome": outcome, "kind": kind, "argv": argv})
-            if outcome in ("timeout", "traceback") and os.environ.get("FAULTSLIP_FUZZ_KEEP"):
-                keep = Path(os.environ["FAULTSLIP_FUZZ_KEEP"]) / f"{outcome}-{start}-{tally[outcome]}"
+            slow = seconds > float(os.environ.get("FAULTSLIP_FUZZ_SLOW", "inf"))  # a case near the time-out
+            if (outcome in ("timeout", "traceback") or slow) and os.environ.get("FAULTSLIP_FUZZ_KEEP"):
+                label = outcome if outcome in ("timeout", "traceback") else f"slow-{seconds:.0f}s"
+                keep = Path(os.environ["FAULTSLIP_FUZZ_KEEP"]) / f"{label}-{start}-{tally[outcome]}"
                 # the inputs, to replay the case: files and folders (not the FIFO, nor a lock gone meanwhile)
                 with contextlib.suppress(shutil.Error):
                     shutil.copytree(space.folder, keep, dirs_exist_ok=True, ignore=lambda folder, names: [
@@ -1537,17 +1542,19 @@ def main(argv=None) -> int:
     per = -(-args.cases // args.workers)
     jobs = [(i * per, min(per, args.cases - i * per), args.seed, args.timeout, args.kinds)
             for i in range(args.workers)]
-    tally, by_kind, failures, slowest = collections.Counter(), collections.defaultdict(collections.Counter), {}, 0.0
+    tally, by_kind, failures, slowest = collections.Counter(), collections.defaultdict(collections.Counter), {}, (0.0,)
     with ProcessPoolExecutor(args.workers) as pool:
         for part_tally, part_kinds, part_failures, part_slowest in pool.map(worker, jobs):
             tally.update(part_tally)
             for kind, counts in part_kinds.items():
                 by_kind[kind].update(counts)
             failures.update(part_failures)
-            slowest = max(slowest, part_slowest)
+            slowest = max(slowest, part_slowest, key=lambda case: case[0])
     result = {
         "cases": sum(tally.values()), "outcomes": dict(tally), "by_input": {k: dict(v) for k, v in by_kind.items()},
-        "distinct_failures": failures, "slowest_case_s": slowest, "wall_time_s": time.perf_counter() - started,
+        "distinct_failures": failures, "slowest_case_s": slowest[0],
+        "slowest_case": {"kind": slowest[1], "argv": slowest[2]} if len(slowest) > 1 else None,
+        "wall_time_s": time.perf_counter() - started,
         "seed": args.seed, **({"kinds": args.kinds} if args.kinds else {}), **stamp(),
     }
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)

@@ -617,7 +617,8 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
 
     def record_progress():
         record = {"fingerprint": fingerprint, "blocks": len(blocks), "output": output.name, "done": sorted(done),
-                  "layout": writer.layout, "failed": failures, "digests": {str(index): digest for index, digest in sorted(digests.items())}}
+                  "layout": writer.layout, "failed": failures,
+                  "digests": {str(index): digest for index, digest in sorted(digests.items())}}
         record["checksum"] = gate.json_checksum(record)
         write_text_atomic(ledger, json.dumps(record),
                           immediate=True)  # a resume reads it after a kill: it cannot wait for the run's end
