@@ -9,6 +9,8 @@ them. ``result.values`` is a mapping of pint Quantities; nothing is found by sca
 
 from __future__ import annotations
 
+import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Callable
@@ -239,6 +241,28 @@ class Result:
 
     def __repr__(self) -> str:
         return f"<faultslip Result of {self.family}: {self.title}>"
+
+
+def judge_tolerance(result: Result, tolerance) -> Result:
+    """Say whether ``result`` meets the ``tolerance`` a run was asked for, for every family alike (``meets_tolerance``).
+
+    A run asked for a relative error its declared error does not meet (a method's limit, a model error no richer
+    rung removes, an unsettled sequence, a statistic of too few events), or that declares no bound at all, says so
+    in a note and a warning, naming the method and its declared error: the answer is never handed over as if it
+    met the tolerance. Without a tolerance nothing is judged."""
+    if tolerance is None:
+        return result
+    error = result.estimated_relative_error
+    bounded = isinstance(error, (int, float)) and not isinstance(error, bool) and math.isfinite(error)
+    met = bounded and error <= float(tolerance)
+    result.add("meets_tolerance", bool(met), label=f"the declared error meets the tolerance {float(tolerance):g}")
+    if not met:
+        said = f"declares a relative error of {error:.2g}" if bounded else "declares no bound on its error"
+        sentence = (f"the answer does not meet the tolerance {float(tolerance):g}: {result.method or result.family} "
+                    f"{said} (method_reason says why it was chosen; 'faultslip methods' lists each method's error)")
+        result.note(sentence)
+        warnings.warn(sentence, stacklevel=3)
+    return result
 
 
 def with_draws(dataset, kind: str, names, values):

@@ -24,7 +24,7 @@ from faultslip.contract.options import OPTIONS, UNIVERSAL
 from faultslip.contract.registry import DECLARATIONS as DECLARATIONS, FAMILIES as FAMILIES, Family as Family
 from faultslip.contract.registry import families, family_of
 from faultslip.contract.registry import load as load, register as register
-from faultslip.contract.result import Result
+from faultslip.contract.result import Result, judge_tolerance
 
 from faultslip.api import TOPICS as _TOPICS
 from faultslip.api import exports as _exports
@@ -86,7 +86,7 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
             raise InputError("give a scene or a fault's quantities as keywords, not both")
         # the model the lithology calls for: the seed law, or a saved rate-and-state fit (faultslip fault)
         return importlib.import_module("faultslip.models.fault_estimate").fault_estimate(
-            method=method, tolerance=tolerance, **quantities)
+            method=method, tolerance=tolerance, **quantities)  # it judges its tolerance itself, as run does
     family = family_of(scene)
     options = {}
     if progress is not None and "progress" in family.run_options:  # a family whose run may be long reports it
@@ -101,7 +101,7 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
             raise InputError(_not_an_option(name, family))
     if family.estimate is not None and "allow_large" not in family.run_options:  # its cost model, checked here
         budget.check(family.estimate(scene, "run", method=method, tolerance=tolerance), allow_large)
-    return family.run(scene, method=method, tolerance=tolerance, **options)
+    return judge_tolerance(family.run(scene, method=method, tolerance=tolerance, **options), tolerance)
 
 
 def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:

@@ -11,7 +11,7 @@ from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
 from faultslip.friction.materials import resolve_material
-from faultslip.contract.result import Result
+from faultslip.contract.result import Result, judge_tolerance
 
 #: the seed law's own inputs, which a rate-and-state fit does not take
 SEED_LAW_ONLY = ("mu_so", "mu_m", "b", "d", "damping_ratio")
@@ -58,12 +58,13 @@ def fault_estimate(lithology: str | None = None, *, method: str | None = None, t
             raise InputError(f"{flags} do not apply to the rate-and-state fit {lithology!r} (its fault is always "
                              "quasi-dynamic, with the radiation damper)")
         estimate = estimate_fault_from_fit(lithology, quantities, seed_law=seed_law or "granodiorite")
-        return Result("rate_state_slider",
-                      estimate.report(f"faultslip fault: {name} (rate-and-state fit {lithology!r})"))
+        return judge_tolerance(Result("rate_state_slider", estimate.report(
+            f"faultslip fault: {name} (rate-and-state fit {lithology!r})")), tolerance)
     if seed_law:
         raise InputError("--seed-law goes with a rate-and-state fit as --lithology")
     fault = Fault(lithology=lithology, radiation_damping=radiation_damping, name=name,
                   **{key: value for key, value in quantities.items() if value is not None})
     if observed_slip is not None:
-        return Result("spring_slider", fault.infer_kinetic_friction(observed_slip).report())
-    return Result("spring_slider", fault.estimate(method=method or "auto", tolerance=tolerance).report())
+        return judge_tolerance(Result("spring_slider", fault.infer_kinetic_friction(observed_slip).report()), tolerance)
+    return judge_tolerance(Result("spring_slider", fault.estimate(method=method or "auto", tolerance=tolerance).report()),
+                           tolerance)

@@ -18,6 +18,7 @@ from faultslip.contract.result import Result
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.errors import InputError
+from faultslip.io import budget
 from faultslip.fault.gutenberg_richter import b_value, gr_test
 from faultslip.fault.scaling import moment_magnitude
 from faultslip.io.report import Report
@@ -36,9 +37,11 @@ METHOD = {"name": "chain_event_driven_exact",
                         "about 4 us a sub-phase compiled (closed_form_compiled, auto's choice where it was built), "
                         "0.4 ms in Python (closed_form); 100 blocks, 10,000 events in 1.5 s compiled "
                         "(benchmarks/spring_chain_speed.py)",
-          "declared_error": f"the closed form's round-off: each sub-phase's end is bracketed on {SAMPLES_PER_PERIOD} "
-                            "points a period of its fastest mode and located by Brent's method to 1e-13 of the step "
-                            "(one block agrees with the exact cycle to 1e-10)"}
+          "declared_error": "the catalogue's: the mean system-size interval's 95 % half-width (Student's t; more "
+                            "events narrow it, and a tolerance asks for them); each event's own is the closed form's "
+                            f"round-off: each sub-phase's end is bracketed on {SAMPLES_PER_PERIOD} points a period of "
+                            "its fastest mode and located by Brent's method to 1e-13 of the step (one block agrees "
+                            "with the exact cycle to 1e-10)"}
 INTEGRATED = {"name": "chain_event_driven_integrated",
               "friction_laws": METHOD["friction_laws"],
               "domain": METHOD["domain"] + "; slip_solver = " + ", ".join(INTEGRATORS),
@@ -130,6 +133,7 @@ def statistics(loaded, run: ChainRun) -> dict:
     stats["system_events"] = int(system.size)
     stats["recurrence"] = float(intervals.mean()) if intervals.size else math.nan
     stats["recurrence_cv"] = float(intervals.std(ddof=1) / intervals.mean()) if intervals.size > 1 else math.nan
+    stats["recurrence_half_width"] = recurrence_half_width(intervals)
     # the plate's balance: each block's slip x_i(T) - x_i(0) against the plate's V T. A held block's force
     # k_p (V T - x_i) + c V + k_c sum(x_j - x_i) lies within +-W mu_s,i, which bounds V T - x_i(T): the
     # ratio tends to 1 as 1 / T, inside a bound computed here for each block
@@ -153,7 +157,21 @@ def statistics(loaded, run: ChainRun) -> dict:
     return stats
 
 
-def _report(loaded, run: ChainRun, stats: dict, title: str, method: str = METHOD["name"]) -> Report:
+def recurrence_half_width(intervals) -> float:
+    """The 95 % half-width of the mean interval between system-size events, relative to it (NaN below two):
+    t_{0.975, n - 1} s / (sqrt(n) mean) over the n intervals (Student's t; the intervals taken as independent,
+    which a chain's quasi-periodic sequence roughly is, its correlation being weak after a system-size event)."""
+    from scipy.stats import t as student  # heavy: imported where used
+
+    intervals = np.asarray(intervals, dtype=float)
+    count = intervals.size
+    if count < 2 or not intervals.mean() > 0:
+        return math.nan
+    return float(student.ppf(0.975, count - 1) * intervals.std(ddof=1) / (math.sqrt(count) * intervals.mean()))
+
+
+def _report(loaded, run: ChainRun, stats: dict, title: str, method: str = METHOD["name"],
+            numerical: float = 1e-10) -> Report:
     chain = run.chain
     report = Report(title)
     report.add("method", method)
@@ -184,6 +202,17 @@ def _report(loaded, run: ChainRun, stats: dict, title: str, method: str = METHOD
                also=("yr",), label="mean interval between system-size events")
     report.add("recurrence_cv", stats["recurrence_cv"] if math.isfinite(stats["recurrence_cv"]) else None,
                label="coefficient of variation of those intervals (0 periodic, 1 Poisson)")
+    half = stats["recurrence_half_width"]
+    if math.isfinite(half):
+        mean = stats["recurrence"]
+        report.add("recurrence_interval_range", [mean * (1 - half), mean * (1 + half)], "s", also=("yr",),
+                   label="95 % range of the mean interval (Student's t over the system-size intervals)")
+    # the answer is a statistic of the catalogue: its sampling error, not the closed form's round-off, bounds it
+    report.add("estimated_relative_error", half if math.isfinite(half) else None,
+               label=f"declared error: the mean interval's 95 % half-width over {max(stats['system_events'] - 1, 0)} "
+                     "system-size intervals (null: fewer than two; more events narrow it)")
+    report.add("numerical_error", numerical, label="each event's own error (the closed form's round-off, or the "
+                                                   "integrator's rtol)")
     report.add("mean_slip_per_event", float(run.total_slip.mean() / chain.blocks), "m",
                label="slip per event, averaged over the blocks")
     report.add("plate_slip_balance_range", list(stats["plate_balance"]), "1",
@@ -209,17 +238,40 @@ def _run(scene, events=None, title="faultslip spring-block chain", slip_solver=N
                          rtol=1e-10 if rtol is None else rtol)
     stats = statistics(loaded, run)
     report = _report(loaded, run, stats, f"{title}: {loaded.name}",
-                     INTEGRATED["name"] if solver in INTEGRATORS else METHOD["name"])
+                     INTEGRATED["name"] if solver in INTEGRATORS else METHOD["name"],
+                     (1e-10 if rtol is None else rtol) if solver in INTEGRATORS else 1e-10)
     report.add("slip_solver", {"closed_form": "analytic (closed form, in Python)",
                                "closed_form_compiled": "analytic (closed form, compiled)"}.get(solver, solver))
     return loaded, run, stats, report
 
 
-def run(scene, method=None, tolerance=None) -> Result:
-    """The chain's catalogue and what it says: b-value, system-size recurrence, the plate's balance."""
+#: The most events a run takes to meet a tolerance (the scene's own run is the least): about 8 s at 12 blocks, a
+#: half-width near 0.5 % where the intervals scatter by half their mean.
+MOST_EVENTS = 100_000
+
+
+def run(scene, method=None, tolerance=None, allow_large: bool = False) -> Result:
+    """The chain's catalogue and what it says: b-value, system-size recurrence, the plate's balance.
+
+    Its declared error is the mean interval's 95 % sampling half-width (:func:`recurrence_half_width`). Where a
+    ``tolerance`` is given and the scene's events do not meet it, the run is made again with the events the
+    half-width's 1 / sqrt(n) says it needs (estimated and budgeted first; at most :data:`MOST_EVENTS`)."""
     if method not in (None, "auto", METHOD["name"]):
         raise InputError(f"a spring-block chain has one method, {METHOD['name']} (or auto), not {method!r}")
+    budget.check(spring_chain_cost.estimate(scene, "run"), allow_large)  # the scene's own run, before any work
     loaded, chain_run, stats, report = _run(scene)
+    half = stats["recurrence_half_width"]
+    if tolerance is not None and not half <= tolerance and loaded.events < MOST_EVENTS:
+        events = loaded.events
+        # the half-width falls as 1 / sqrt(intervals); with fewer than two there is nothing to scale, so ten times
+        grown = events * min(half / tolerance, 1e6) ** 2 * 1.2 if math.isfinite(half) else 10.0 * events
+        needed = int(min(MOST_EVENTS, max(2 * events, math.ceil(grown))))
+        estimate = spring_chain_cost.estimate(scene, "simulate", cycles=needed)
+        estimate.what = f"{needed:,} events of {loaded.name}, for the tolerance {tolerance:g}"
+        budget.check(estimate, allow_large)
+        loaded, chain_run, stats, report = _run(scene, needed)
+        report.add("method_reason", f"{needed:,} events, not the scene's {events:,}: the mean interval's 95 % "
+                                    f"half-width over the scene's ({half:.2g}) exceeded the tolerance {tolerance:g}")
     dataset = _catalogue(loaded, chain_run)
     return Result("spring_chain", report, dataset, lambda: chain_figure(dataset, stats), extras={"run": chain_run})
 
@@ -279,12 +331,14 @@ OUTPUTS = {spec.name: spec for spec in (
     Output("recurrence_interval", "s", "mean interval between system-size events"),
     Output("recurrence_cv", "1", "coefficient of variation of the system-size intervals"),
     Output("mean_slip_per_event", "m", "slip per event averaged over the blocks"),
+    Output("estimated_relative_error", "1", "declared error: the mean interval's 95 % sampling half-width"),
 )}
 CELLS = PerCell("a spring-block chain study", PARAMETERS, OUTPUTS, run, read_chain_scene,
                 methods=("auto", METHOD["name"]), seconds=5.0)
 
 FAMILY = register(Family("spring_chain", "a chain of spring-blocks (Burridge & Knopoff): catalogues with sizes", run,
                          simulate, simulate_options=("cycles", "slip_solver", "rtol", "events"),
+                         run_options=("allow_large",),
                          why="a spring-block chain takes --cycles (its events), --slip-solver, --rtol and --events "
                              "(QuakeML)",
                          read_scene=toml_reader("spring_chain", PARAMETERS), cells=CELLS,

@@ -323,3 +323,38 @@ def test_small_chains_agree_with_an_integration_no_dip_can_pass(blocks, coupling
     reference = _simulate(chain, 5, initial_position=position, slip_solver="DOP853", rtol=1e-10, steps_per_period=400)
     for solver in EXACT:
         _agree(_simulate(chain, 5, initial_position=position, slip_solver=solver), reference)
+
+
+@settings(max_examples=40, deadline=None)
+@given(intervals=st.lists(st.floats(0.1, 10.0), min_size=2, max_size=60), scale=st.floats(1e-3, 1e3))
+def test_the_declared_half_width_is_students_t_over_the_intervals_and_free_of_their_unit(intervals, scale):
+    """t_{0.975, n-1} s / (sqrt(n) mean), computed here from its definition; the same in any unit of time."""
+    from scipy.stats import t as student
+
+    from faultslip.models.spring_chain.family import recurrence_half_width
+
+    values = np.asarray(intervals)
+    expected = student.ppf(0.975, values.size - 1) * values.std(ddof=1) / (math.sqrt(values.size) * values.mean())
+    assert recurrence_half_width(values) == pytest.approx(expected, rel=1e-12, abs=1e-15)
+    assert recurrence_half_width(values * scale) == pytest.approx(expected, rel=1e-9, abs=1e-12)
+
+
+def test_fewer_than_two_intervals_declare_no_error():
+    from faultslip.models.spring_chain.family import recurrence_half_width
+
+    assert math.isnan(recurrence_half_width([])) and math.isnan(recurrence_half_width([3.0]))
+
+
+def test_a_chain_declares_its_catalogues_error_and_its_range_holds_a_run_fifty_times_longer():
+    """The scene's 60 events declare the mean interval's 95 % half-width (25 % here); a tolerance of 0.05 asks for
+    the events that narrow it (1 / sqrt(n)), and the longer run's mean lies inside the short run's range."""
+    short = faultslip.run(CHAIN.with_name("spring_chain_small.toml"))
+    low, high = (value.to("s").magnitude for value in short["recurrence_interval_range"])
+    declared = short.estimated_relative_error
+    mean = short["recurrence_interval"].to("s").magnitude
+    assert declared == pytest.approx((high - low) / (2 * mean), rel=1e-12) and 0.05 < declared < 1
+    assert short["numerical_error"] == 1e-10
+    long = faultslip.run(CHAIN.with_name("spring_chain_small.toml"), tolerance=0.05)
+    assert long["meets_tolerance"] is True and long.estimated_relative_error <= 0.05
+    assert long["events"] > 20 * short["events"] and "exceeded the tolerance 0.05" in long.method_reason
+    assert low <= long["recurrence_interval"].to("s").magnitude <= high

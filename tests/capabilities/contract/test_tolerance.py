@@ -1,0 +1,70 @@
+"""A tolerance is met or said not to be, by every family alike (faultslip.contract.result.judge_tolerance).
+
+A run asked for a relative error its declared error does not reach used to answer as if it had: a lab slider
+asked for 1e-30 gave 2.4e-14, a rate-and-state fault escalated to the 2-D fault gave 4.5 %, a chain gave no
+declared error at all, each with exit 0 and no word. The contract now judges every run it hands back.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from faultslip import contract
+from faultslip.contract.result import Report, Result, judge_tolerance
+
+EXAMPLES = {name: family.example.scene for name, family in contract.families().items() if family.example is not None}
+#: The 3-D fault refuses, before any work, a tolerance no rung of it reaches (tested below).
+ANSWERED = sorted(name for name in EXAMPLES if name != "fault_3d")
+
+
+@pytest.mark.parametrize("name", ANSWERED)
+def test_an_unreachable_tolerance_is_answered_with_a_warning_and_meets_tolerance_false(name, cli):
+    result = cli("run", EXAMPLES[name], "--tolerance", "1e-300", "--json")
+    assert result.code == 0, result.err
+    assert result.json["meets_tolerance"] is False
+    warned = [line for line in result.err.splitlines() if "does not meet the tolerance 1e-300" in line]
+    assert len(warned) == 1 and warned[0].startswith("faultslip: warning: ")
+    assert any("does not meet the tolerance 1e-300" in note for note in result.json["notes"])
+
+
+@pytest.mark.parametrize("name", sorted(EXAMPLES))
+def test_a_reachable_tolerance_is_said_to_be_met_without_a_warning(name, cli):
+    result = cli("run", EXAMPLES[name], "--tolerance", "0.9", "--json")
+    assert result.code == 0, result.err
+    assert result.json["meets_tolerance"] is True
+    assert result.json["estimated_relative_error"] <= 0.9 if "estimated_relative_error" in result.json else \
+        result.json["estimated_error"] <= 0.9
+    assert "does not meet" not in result.err
+
+
+def test_without_a_tolerance_nothing_is_judged(cli):
+    result = cli("run", EXAMPLES["spring_slider"], "--json")
+    assert result.code == 0 and "meets_tolerance" not in result.json
+
+
+def test_the_3d_fault_refuses_a_tolerance_no_rung_reaches_in_one_sentence(cli):
+    result = cli("run", EXAMPLES["fault_3d"], "--tolerance", "1e-300", "--json")
+    assert result.code == 2 and "no rung meets 1e-300" in result.err and len(result.err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("error, met", [(None, False), (float("inf"), False), (float("nan"), False), (0.2, False),
+                                        (0.1, True), (0.0, True)])
+def test_an_unbounded_or_larger_error_never_meets_the_tolerance(error, met):
+    report = Report("a run")
+    report.add("method", "some_method")
+    report.add("estimated_relative_error", error)
+    result = Result("spring_slider", report)
+    if met:
+        judged = judge_tolerance(result, 0.1)
+    else:
+        with pytest.warns(UserWarning, match="does not meet the tolerance 0.1: some_method declares "
+                                             + ("no bound" if error in (None, float("inf")) or error != error
+                                                else "a relative error of 0.2")):
+            judged = judge_tolerance(result, 0.1)
+    assert judged["meets_tolerance"] is met
+
+
+def test_the_fault_command_is_judged_too(cli):
+    result = cli("fault", "--lithology", "granodiorite", "--zone-width", "13 mi", "--slip-rate", "2 in/yr",
+                 "--shear-stress", "250 bar", "--tolerance", "1e-30", "--json")
+    assert result.code == 0 and result.json["meets_tolerance"] is False and "does not meet" in result.err
