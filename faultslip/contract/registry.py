@@ -48,6 +48,10 @@ class Family:
     #: (a coarser family's scene, reason, allow_large=, progress=) -> Result: the scene run on this richer model,
     #: for a family that escalates to it (the rate-and-state slider's fault to the 2-D fault)
     refine: Callable | None = None
+    #: (estimate, report, name, method=, tolerance=, allow_large=, progress=) -> Result: a one-block answer of this
+    #: family reached by another door (``faultslip fault`` with a saved rate-and-state fit) put on the family's
+    #: ladder: its model error declared, a tolerance it misses escalated (None: the family takes none)
+    adopt: Callable | None = None
     #: (scene, cycles=, frames=, slip_share=) -> (movie, figure, details): the family's animation for
     #: ``faultslip animate`` (:func:`faultslip.plots.animation.save_gif` writes it); None: it has none
     animate: Callable | None = None

@@ -56,6 +56,8 @@ class RateStateFaultEstimate:
     distribution: dict = field(default_factory=dict)  # name -> its QUANTILES over the fit's draws
     seed_law: object = None  # FaultEstimate of the seed law on the same fault, if asked
     notes: list = field(default_factory=list)
+    #: the fault it was estimated on (SI): shear_modulus, zone_width (D: K = G / D), density, shear_wave_speed
+    fault_inputs: dict = field(default_factory=dict)
 
     @property
     def stiffness_ratio(self) -> float:
@@ -159,7 +161,9 @@ def estimate_rate_state_fault(law: RateStateLaw, *, shear_modulus: float, zone_w
                                       shear_wave_speed=wave)
     estimate = RateStateFaultEstimate(law=law, stiffness=slider.stiffness,
                                       critical_stiffness=normal_stress * (law.b - law.a) / law.critical_slip,
-                                      normal_stress=normal_stress, plate_rate=plate_rate)
+                                      normal_stress=normal_stress, plate_rate=plate_rate,
+                                      fault_inputs={"shear_modulus": shear_modulus, "zone_width": zone_width,
+                                                    "density": density, "shear_wave_speed": wave})
     estimate.notes.append(f"quasi-dynamic: radiation damper G / (2 c_s) = {radiation_damper(shear_modulus, wave):.4g} "
                           "Pa s/m; events are slip faster than 1 mm/s (the SEAS convention)")
     if estimate.stiffness_ratio < 1:

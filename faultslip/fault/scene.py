@@ -534,6 +534,11 @@ def run_scene(scene: Scene, method: str | None = None, tolerance: float | None =
         solution = solve(scene.slider(), method=method, tolerance=tolerance,
                          cycles=min(int(scene.simulation.get("cycles", 200)), 1000))
         report = solution.report(f"faultslip lab cycle: {scene.name}")
+    return with_scene_notes(report, scene)
+
+
+def with_scene_notes(report, scene: Scene):
+    """``report`` with what the scene says of itself: its description and origin first, each source last."""
     if scene.description:
         report.notes.insert(0, scene.description)
     if scene.origin:

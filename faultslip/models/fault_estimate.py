@@ -11,6 +11,7 @@ from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import estimate_fault_from_fit
 from faultslip.fault.scaling import Fault
 from faultslip.friction.materials import resolve_material
+from faultslip.contract.registry import load
 from faultslip.contract.result import Result, judge_tolerance
 
 #: the seed law's own inputs, which a rate-and-state fit does not take
@@ -58,8 +59,10 @@ def fault_estimate(lithology: str | None = None, *, method: str | None = None, t
             raise InputError(f"{flags} do not apply to the rate-and-state fit {lithology!r} (its fault is always "
                              "quasi-dynamic, with the radiation damper)")
         estimate = estimate_fault_from_fit(lithology, quantities, seed_law=seed_law or "granodiorite")
-        return judge_tolerance(Result("rate_state_slider", estimate.report(
-            f"faultslip fault: {name} (rate-and-state fit {lithology!r})")), tolerance)
+        report = estimate.report(f"faultslip fault: {name} (rate-and-state fit {lithology!r})")
+        # on the family's ladder: its model error against the 2-D fault declared, a tolerance it misses escalated
+        adopted = load("rate_state_slider").adopt(estimate, report, name, tolerance=tolerance)
+        return judge_tolerance(adopted, tolerance)
     if seed_law:
         raise InputError("--seed-law goes with a rate-and-state fit as --lithology")
     fault = Fault(lithology=lithology, radiation_damping=radiation_damping, name=name,

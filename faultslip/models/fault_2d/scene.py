@@ -527,7 +527,8 @@ def from_one_slider(rate_state_scene, element_size: float | None = None, duratio
     law, fault = rate_state_scene.law, rate_state_scene.fault
     # the width the scene states: its seismogenic width W, or the seed's zone width D
     modulus, width = fault["shear_modulus"], getattr(rate_state_scene, "width", None) or fault["zone_width"]
-    speed = fault.get("shear_wave_speed") or 3464.0
+    # the block's own wave speed (its radiation damper G / (2 c_s)): c_s = sqrt(G / rho) where the scene gives none
+    speed = fault.get("shear_wave_speed") or math.sqrt(modulus / fault.get("density", 2700.0))
     sigma = fault["normal_stress"]
     process = modulus * law.critical_slip / (sigma * law.b) if law.b > 0 else width / 64
     if element_size is None:

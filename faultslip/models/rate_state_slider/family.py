@@ -13,14 +13,16 @@ from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.errors import InputError
 from faultslip.fault.rate_state_fault import cycles_dataset
-from faultslip.fault.scene import Scene, estimate_scene_rate_state, has_friction_law, read_slider_scene, run_scene
+from faultslip.fault.scene import (Scene, estimate_scene_rate_state, has_friction_law, read_slider_scene,
+                                   with_scene_notes)
 from faultslip.fault.spring_slider_cells import RATE_STATE_CELLS
 from faultslip.fault.spring_slider_cells import read_scene as read_seed_law_scene
 from faultslip.io.resources import parse_toml
 from faultslip.models.common import note_origin
 from faultslip.io import budget
 from faultslip.models.rate_state_slider.one_slider import DESCRIPTIONS
-from faultslip.models.rate_state_slider.scene import read_rate_state_scene
+from faultslip.dynamics.rate_state.slider import RateStateSlider
+from faultslip.models.rate_state_slider.scene import RateStateScene, read_rate_state_scene
 from faultslip.io.report import Report
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.models.rate_state_slider import cycles as rate_state_cycles
@@ -159,13 +161,87 @@ def _older_form(scene):
     return None
 
 
-def _run_older_form(scene, method, tolerance) -> Result:
-    if method not in (None, "auto", "one_slider"):
-        raise InputError(f"a rate-and-state fault in the seed-law form runs one slider (method auto or one_slider), "
-                         f"got {method!r}; the 2-D fault takes the family's own form ([law] with [fault] plate_rate)")
-    report = run_scene(scene, method="auto", tolerance=tolerance)
+def _run_older_form(scene, method, tolerance, allow_large: bool = False, progress=None) -> Result:
+    """A fault scene of the seed-law form on the family's ladder (:func:`seed_law_form_on_the_ladder`)."""
+    method = method or "auto"
+    if method not in FAULT_METHODS:
+        raise InputError(f"a rate-and-state fault runs one of {', '.join(FAULT_METHODS)}, got {method!r}")
+    estimate = estimate_scene_rate_state(scene)
+    report = with_scene_notes(estimate.report(f"faultslip rate-and-state fault: {scene.name}"), scene)
     report.note(OLDER_FORM)
-    return Result("rate_state_slider", report)
+    return seed_law_form_on_the_ladder(estimate, report, scene.name, method, tolerance, allow_large, progress)
+
+
+def _own_form(name: str, estimate) -> RateStateScene:
+    """The family's own form of the one block a seed-law estimate ran: K = G / D (the seed's reduction, which the
+    model-error calibration has a table for), its normal stress, plate rate, density and wave speed."""
+    inputs = estimate.fault_inputs
+    slider = RateStateSlider.at_fault(estimate.law, inputs["shear_modulus"], inputs["zone_width"],
+                                      estimate.normal_stress, inputs["density"], inputs["shear_wave_speed"])
+    return RateStateScene(name, "fault", estimate.law, slider, "quasi_dynamic", plate_rate=estimate.plate_rate,
+                          fault={**inputs, "normal_stress": estimate.normal_stress}, reduction="zone_width",
+                          width=inputs["zone_width"])
+
+
+def seed_law_form_on_the_ladder(estimate, report, name: str, method: str = "auto", tolerance=None,
+                                allow_large: bool = False, progress=None) -> Result:
+    """A one-block rate-and-state fault of the seed-law form (a fault scene with ``[friction] law = "rate_state"``,
+    or a saved fit through ``faultslip fault``) on the ladder the family's own form is on.
+
+    It declares its model error against the 2-D fault it stands for (K = G / D, the calibration's zone-width
+    table) and says which fault that is; a ``tolerance`` that error does not meet, or ``method="fault_2d"``, runs
+    that 2-D fault instead (estimated and budgeted first). Without this the block declared only its cycles'
+    numerical error (1e-6), so a tolerance of 0.1 read as met by an answer whose model error is unbounded.
+
+    Parameters
+    ----------
+    estimate : RateStateFaultEstimate
+        The block's estimate, with the fault it ran on (``fault_inputs``).
+    report : Report
+        Its report, as the seed-law form words it.
+    name : str
+        The fault's name.
+    method : str
+        ``auto``, ``one_slider`` or ``fault_2d``.
+    tolerance : float, optional
+        The relative error allowed, model error included.
+    allow_large : bool
+        Run the 2-D fault beyond the time budget.
+    progress : callable, optional
+        The 2-D run's progress.
+
+    Returns
+    -------
+    Result
+        The block with ``model_error`` and its dominant ``estimated_relative_error``, or the 2-D fault's answer.
+    """
+    loaded = _own_form(name, estimate)
+    fault = loaded.fault
+    error, ratio, how = declared_model_error(loaded.law, fault["shear_modulus"], fault["normal_stress"], loaded.width,
+                                             reduction=loaded.reduction)
+    if method == "fault_2d" or (method == "auto" and tolerance is not None and not error <= tolerance):
+        reason = ("asked for by name" if method == "fault_2d" else
+                  f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "
+                  f"{tolerance:g}")
+        return _two_d(loaded, reason, allow_large=allow_large, progress=progress)
+    result = Result("rate_state_slider", report)
+    _declare_model_error(result, loaded, error, ratio, how)
+    return result
+
+
+def _declare_model_error(result: Result, loaded, error: float, ratio: float, how: str) -> None:
+    """Add the one slider's model error against the 2-D fault and which fault that is; where it dominates the
+    cycles' own error it becomes the declared error, the numerical one kept beside."""
+    result.add("model_error", error if math.isfinite(error) else None,
+               label="declared model error against the 2-D fault (relative, recurrence or slip; null: unbounded)")
+    result.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
+    result.note(f"model error: {how}")
+    result.note(stands_for(loaded))
+    numerical = result.estimated_relative_error
+    if not math.isnan(error) and (numerical is None or error > numerical):  # lead with the error that dominates
+        result.add("numerical_error", numerical, label="the cycles' own error (integrator scatter, or the settling left)")
+        result.add("estimated_relative_error", error if math.isfinite(error) else None,
+                   label="declared error (the model error, which dominates; null: unbounded, outside the calibration)")
 
 
 def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
@@ -205,7 +281,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     budget.check(rate_state_slider_cost.estimate(scene, "run", method=method, tolerance=tolerance), allow_large)
     older = _older_form(scene)
     if older is not None:
-        return _run_older_form(older, method, tolerance)
+        return _run_older_form(older, method, tolerance, allow_large, progress)
     loaded = read_rate_state_scene(scene)
     if loaded.kind == "lab":
         if method not in (None, "auto") or tolerance is not None:
@@ -234,17 +310,8 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
                                     "given: give one, or --method fault_2d, for the 2-D fault)")
     else:
         result.add("method_reason", f"one slider's declared model error {error:.2g} meets the tolerance {tolerance:g}")
-    result.add("model_error", error if math.isfinite(error) else None,
-               label="declared model error against the 2-D fault (relative, recurrence or slip; null: unbounded)")
     result.add("stiffness", loaded.slider.stiffness, "Pa/m", label=f"the block's stiffness ({DESCRIPTIONS[loaded.reduction]})")
-    result.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
-    result.note(f"model error: {how}")
-    result.note(stands_for(loaded))
-    numerical = result.estimated_relative_error
-    if not math.isnan(error) and (numerical is None or error > numerical):  # lead with the error that dominates
-        result.add("numerical_error", numerical, label="the cycles' own error (integrator scatter, or the settling left)")
-        result.add("estimated_relative_error", error if math.isfinite(error) else None,
-                   label="declared error (the model error, which dominates; null: unbounded, outside the calibration)")
+    _declare_model_error(result, loaded, error, ratio, how)
     return result
 
 
@@ -423,6 +490,7 @@ FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: veloci
                          simulate_options=("cycles", "slip_solver", "rtol"),
                          why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles",
                          run_options=("allow_large", "progress"), read_scene=read_scene, cells=cells,
+                         adopt=seed_law_form_on_the_ladder,
                          methods=lambda: [method.describe() for method in CYCLE_METHODS.values()], estimate=rate_state_slider_cost.estimate,
                          example=Example('rsf_block_bp1.toml', "study_rate_state_slider.toml",
                                          {'critical_slip': ['4 mm', '8 mm']}, {'cycles': 2})))

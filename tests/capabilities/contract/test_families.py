@@ -231,6 +231,52 @@ def test_one_rate_and_state_block_is_one_family_whatever_its_files_shape(tmp_pat
     assert swept.attrs["faultslip_family"] == "rate_state_slider"
 
 
+def test_both_forms_of_one_block_declare_one_model_error_and_escalate_to_the_same_2d_fault(tmp_path, monkeypatch):
+    """The seed-law form declared only its cycles' 1e-6 and ignored a tolerance (1e-320 was answered as met); it
+    now declares the model error the family's own form declares on the same fault (K = G / D, 153 % at W/h* 4.3),
+    says which 2-D fault it stands for, and a tolerance it does not meet runs that 2-D fault: the same fault as
+    the own form's escalation (the 2-D run itself is stood in for here; it takes half a minute)."""
+    from faultslip.contract.result import Report, Result
+    from faultslip.models.rate_state_slider import family as rate_state_family
+
+    older = faultslip.run("san_andreas_1906_rate_state.toml")
+    scene = tmp_path / "own.toml"
+    scene.write_text(OWN_FORM_1906.format(normal=repr(older["normal_stress"].to("Pa").magnitude)), encoding="utf-8")
+    own = faultslip.run(scene)
+    assert older["model_error"] == pytest.approx(own["model_error"], rel=1e-12) and older["model_error"] > 1
+    assert older.estimated_relative_error == older["model_error"] and older["numerical_error"] < 1e-3
+    assert any("stands for the fault with its friction uniform from the surface to 20.92 km" in note
+               for note in older.report().notes)
+    escalated = []
+
+    def two_d(loaded, reason, **_):
+        escalated.append((loaded, reason))
+        report = Report("the 2-D fault, stood in for")
+        report.add("method", "fault_2d")
+        report.add("estimated_relative_error", 0.01)
+        return Result("fault_2d", report)
+
+    monkeypatch.setattr(rate_state_family, "_two_d", two_d)
+    assert faultslip.run("san_andreas_1906_rate_state.toml", tolerance=0.1).method == "fault_2d"
+    assert faultslip.run(scene, tolerance=0.1).method == "fault_2d"
+    assert faultslip.run("san_andreas_1906_rate_state.toml", method="fault_2d").method == "fault_2d"
+    (from_older, why), (from_own, _), (by_name, named) = escalated
+    assert "exceeds the tolerance 0.1" in why and named == "asked for by name"
+    for loaded in (from_older, by_name):
+        assert loaded.reduction == from_own.reduction == "zone_width"
+        assert loaded.width == pytest.approx(from_own.width, rel=1e-12)
+        assert loaded.plate_rate == pytest.approx(from_own.plate_rate, rel=1e-12)
+        for key in ("shear_modulus", "zone_width", "normal_stress", "density"):
+            assert loaded.fault[key] == pytest.approx(from_own.fault[key], rel=1e-12), key
+        for key in ("a", "b", "critical_slip", "mu0", "reference_speed", "evolution"):
+            assert getattr(loaded.law, key) == getattr(from_own.law, key), key
+    from faultslip.models.fault_2d.scene import from_one_slider
+
+    for loaded in (from_older, from_own):  # the 2-D fault radiates as the block does: c_s = G / (2 eta)
+        speed = loaded.fault["shear_modulus"] / (2 * loaded.slider.damping)
+        assert from_one_slider(loaded, duration=1e9).settings["shear_wave_speed"] == pytest.approx(speed, rel=1e-12)
+
+
 BRANCH_FREE = sorted(str(p.relative_to(ROOT)) for folder in ("cli", "apps")
                      for p in (ROOT / "faultslip" / folder).glob("*.py"))
 

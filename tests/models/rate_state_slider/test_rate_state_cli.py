@@ -117,6 +117,13 @@ def test_a_saved_rate_state_fit_predicts_a_fault_with_uncertainty_and_the_seed_l
     assert low <= ratio <= high
     assert out["regime"].startswith("stick_slip")
     assert out["slip_per_event"]["value"] > 0 and out["seed_law_slip_per_event"]["value"] > 0
+    # on the ladder as a rate-and-state scene is: its model error against the 2-D fault (K = G / D) declared
+    from faultslip.models.rate_state_slider.model_error import declared_model_error
+
+    expected, ratio_w, _ = declared_model_error(law, 30e9, 5e6, 1e3, reduction="zone_width")
+    assert out["width_over_nucleation"] == pytest.approx(ratio_w, rel=1e-12)
+    assert out["model_error"] == (expected if expected == expected and expected != float("inf") else None)
+    assert any("stands for the fault with its friction uniform from the surface to 1 km" in note for note in out["notes"])
     for flags, message in ((("--mu-so", "0.6"), "do not apply"), (("--radiation-damping",), "do not apply")):
         refused = cli("fault", "--lithology", "test_gouge", "--zone-width", "1 km", "--normal-stress", "5 MPa",
                       "--slip-rate", "30 mm/yr", *flags)
@@ -173,7 +180,7 @@ def test_simulate_writes_a_rate_state_faults_cycles(cli, tmp_path):
 
 def test_run_refuses_a_seed_method_for_a_rate_state_scene_rather_than_ignore_it(cli):
     assert_clean_error(cli("run", "configs/san_andreas_1906_rate_state.toml", "--method", "exact_cycle"),
-                       "runs one slider (method auto or one_slider)")
+                       "a rate-and-state fault runs one of auto, one_slider, fault_2d, got 'exact_cycle'")
 
 
 def test_an_escalation_to_the_2d_fault_is_estimated_and_budgeted_before_any_work(cli, monkeypatch):
