@@ -34,7 +34,8 @@ def cmd_sweep(args) -> int:
     # at least this many chunks (whole trailing dimensions may make more); known without listing them
     chunk_count = -(-study.size // chunk_cells)
     workers = (args.workers or 2) if args.scheduler else _workers(args, chunk_count)
-    budget.check(budget.study_estimate(study, output, workers, chunk_cells, args.compression), args.allow_large)
+    budget.check(budget.study_estimate(study, output, workers, chunk_cells, args.compression, streamed=True),
+                 args.allow_large)
     summary = run_study(study, output, chunk_cells=chunk_cells, scheduler=args.scheduler, workers=workers,
                         resume=args.resume, progress=_progress("sweep", not args.json, "chunk"),
                         compression=args.compression, overwrite=args.overwrite, inputs=inputs,

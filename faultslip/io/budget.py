@@ -198,8 +198,11 @@ def netcdf_disk(raw_bytes: float, variables: int, compression: str = "zlib") -> 
     return raw_bytes * (1.0 if compression == "none" else ZLIB_RATIO) + NETCDF_OVERHEAD + NETCDF_PER_VARIABLE * variables
 
 
-def study_estimate(study, output, workers: int, chunk_cells: int, compression: str = "zlib") -> Estimate:
-    """Memory, disk and time of a sweep, from its shape alone (nothing is allocated)."""
+def study_estimate(study, output, workers: int, chunk_cells: int, compression: str = "zlib",
+                   streamed: bool = False) -> Estimate:
+    """Memory, disk and time of a sweep, from its shape alone (nothing is allocated). ``streamed``: a run to a
+    file, which first computes one cell where the family does not declare its outputs' layout
+    (``study.layout_seconds()``), and then every cell again in its block."""
     cells = float(study.size)
     outputs = 17
     raw = cells * outputs * 8.0
@@ -209,7 +212,8 @@ def study_estimate(study, output, workers: int, chunk_cells: int, compression: s
     memory = block * 40 * 8.0 * (max(workers, 1) + 1)  # ~40 grid-sized temporaries per block in flight
     # the workers start together: each spends its one-off setup once (Study.seconds_per_worker)
     return Estimate(what=f"this sweep of {cells:.3g} cells", memory=memory, disk=disk,
-                    seconds=cells / rate + study.seconds_per_worker(), output=output)
+                    seconds=cells / rate + study.seconds_per_worker() + (study.layout_seconds() if streamed else 0.0),
+                    output=output)
 
 
 #: Bytes held per cell of a map's raster (coordinates, unit vectors, nearest index and distance, four maps).

@@ -110,6 +110,11 @@ class Study:
             self._cell_seconds = self.cells.seconds_per_cell(self)
         return self._cell_seconds
 
+    def layout_seconds(self) -> float:
+        """Estimated time a run to a file spends on the one cell it computes first to learn its outputs' layout
+        (:func:`template_block`): a cell's, where the family does not declare its outputs, else 0."""
+        return self.seconds_per_cell() if self.cells.outputs(self) is None else 0.0
+
     def seconds_per_worker(self) -> float:
         """Estimated time each worker spends once, before its first cell (the family's
         ``Cells.seconds_per_worker``; 0 where it declares none)."""

@@ -938,8 +938,8 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     if isinstance(title, str) and title.startswith("faultslip study: "):  # an unnamed study took its file's name
         study.name = title.removeprefix("faultslip study: ")
     # the embedded study is checked like any sweep before it runs again (a damaged file may ask for much)
-    budget.check(budget.study_estimate(study, keep or path, workers, chunk_cells or default_chunk_cells(study)),
-                 allow_large)
+    budget.check(budget.study_estimate(study, keep or path, workers, chunk_cells or default_chunk_cells(study),
+                                       streamed=True), allow_large)
     with tempfile.TemporaryDirectory(dir=(keep.parent if keep else None)) as scratch:
         target = keep or Path(scratch) / "reproduced.nc"
         summary = run_study(study, target, chunk_cells=chunk_cells, workers=workers, inputs=[path])
