@@ -29,7 +29,7 @@ from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
 from faultslip.contract.result import Result
 from faultslip.fault import dip_error
 from faultslip.errors import InputError
-from faultslip.friction.rate_state import RateStateLaw
+from faultslip.friction.rate_state import RateStateLaw, nucleation_size
 from faultslip.io.report import Report
 from faultslip.io.resources import read_bundled_table
 
@@ -114,7 +114,7 @@ def groups(fault: FaultDescription) -> dict:
     a, b = float(fault.a[zone].mean()), float(fault.b[zone].mean())
     critical_slip, sigma = float(fault.critical_slip[zone].mean()), float(fault.normal_stress[zone].mean())
     modulus = fault.shear_modulus
-    nucleation = math.pi / 2 * modulus * critical_slip * b / (sigma * (b - a) ** 2)
+    nucleation = nucleation_size(modulus, critical_slip, a, b, sigma)
     process = modulus * critical_slip / (sigma * b)
     below_a, below_b = fault.a[zone.stop:], fault.b[zone.stop:]
     if below_a.size:

@@ -223,9 +223,26 @@ def get_law(name: str) -> RateStateLaw:
         raise InputError(f"unknown rate-and-state law {name!r}; bundled: {', '.join(ILLUSTRATIVE)}") from None
 
 
+def nucleation_size(shear_modulus, critical_slip, a, b, normal_stress):
+    """h* = (pi / 2) G D_c b / [sigma_n (b - a)^2] (Rubin & Ampuero 2005, eq. 42), array-wise.
+
+    Parameters
+    ----------
+    shear_modulus, critical_slip, a, b, normal_stress : float or array_like
+        G (Pa), D_c (m), a, b and sigma_n (Pa); they broadcast.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        h* (m); infinite where b <= a (no weakening, nothing nucleates).
+    """
+    weakening = np.asarray(b, float) - np.asarray(a, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        size = np.where(weakening > 0, math.pi / 2 * np.asarray(shear_modulus, float) * critical_slip * b
+                        / (normal_stress * weakening ** 2), np.inf)
+    return float(size) if size.ndim == 0 else size
+
+
 def nucleation_ratio(law, shear_modulus: float, normal_stress: float, width: float) -> float:
-    """W / h*, h* = (pi / 2) G D_c b / [sigma_n (b - a)^2]; infinite h* (b <= a) gives 0."""
-    if law.b <= law.a:
-        return 0.0
-    nucleation = math.pi / 2 * shear_modulus * law.critical_slip * law.b / (normal_stress * (law.b - law.a) ** 2)
-    return width / nucleation
+    """W / h*, h* of :func:`nucleation_size`; infinite h* (b <= a) gives 0."""
+    return width / nucleation_size(shear_modulus, law.critical_slip, law.a, law.b, normal_stress)

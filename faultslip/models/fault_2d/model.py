@@ -29,6 +29,7 @@ import numpy as np
 from faultslip.models.fault_2d import compiled as compiled_kernel
 from faultslip.errors import InputError, SolverError
 from faultslip.fault.ladder import FaultDescription
+from faultslip.friction.rate_state import nucleation_size
 
 #: Newton iterations allowed for the slip rate; more means the state is not finite.
 NEWTON_ITERATIONS = 200  # safeguarded: bisection alone would need ~60 from a double's range
@@ -141,13 +142,8 @@ class Fault2D:
 
     def nucleation_size(self) -> float:
         """h* = (pi / 2) G D_c b / [sigma_n (b - a)^2] at the weakest element (Rubin & Ampuero 2005, eq. 42)."""
-        weakening = self.b - self.a
-        where = weakening > 0
-        if not np.any(where):
-            return math.inf
-        values = math.pi / 2 * self.shear_modulus * self.critical_slip[where] * self.b[where] / (
-            self.normal_stress[where] * weakening[where] ** 2)
-        return float(values.min())
+        return float(np.min(nucleation_size(self.shear_modulus, self.critical_slip, self.a, self.b,
+                                            self.normal_stress)))
 
     def process_zone(self) -> float:
         """L_b = G D_c / (sigma_n b), the cohesive-zone scale an element must resolve (Day et al. 2005)."""

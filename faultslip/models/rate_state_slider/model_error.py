@@ -15,12 +15,11 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from faultslip.contract.registry import family_of
 from faultslip.contract.result import Result
 from faultslip.errors import InputError
-from faultslip.models.rate_state_slider.one_slider import DESCRIPTIONS, load_calibration, load_hierarchy
+from faultslip.fault.one_slider_error import declared_from_envelope, load_calibration
+from faultslip.models.rate_state_slider.one_slider import DESCRIPTIONS, load_hierarchy
 from faultslip.models.rate_state_slider.scene import read_rate_state_scene
 from faultslip.friction.rate_state import nucleation_ratio
 from faultslip.io.report import Report
@@ -28,41 +27,6 @@ from faultslip.fault.dip_error import load_table as load_dip_table
 from faultslip.models.rate_state_slider.figures import model_error_figure
 
 __all__ = ["declared_from_envelope", "declared_model_error", "load_calibration", "model_error_result"]
-
-
-def declared_from_envelope(ratio: float, rows) -> tuple[float, float, str]:
-    """The declared model error at W / h* = ``ratio`` from a calibration's envelope ``rows``.
-
-    Parameters
-    ----------
-    ratio : float
-        W / h* (dimensionless).
-    rows : list of dict
-        ``width_over_nucleation`` and ``model_error`` (already the bound: the largest error at that level
-        times the safety factor).
-
-    Returns
-    -------
-    tuple
-        (declared model error, relative; W / h*; how it was found). Infinite outside the calibrated range.
-    """
-    ratios = np.array([row["width_over_nucleation"] for row in rows], float)
-    errors = np.array([row["model_error"] for row in rows], float)
-    order = np.argsort(ratios)
-    ratios, errors = ratios[order], errors[order]
-    if not ratio > 0:
-        return math.nan, ratio, "b <= a: the fault creeps, neither model has earthquakes"
-    if ratio < ratios[0] or ratio > ratios[-1]:
-        return math.inf, ratio, (f"W / h* = {ratio:.3g} lies outside the calibration ({ratios[0]:.3g} to "
-                                 f"{ratios[-1]:.3g}): the one slider's error there is not known (unbounded); give a "
-                                 "tolerance, or --method fault_2d, for the 2-D fault")
-    upper = int(np.searchsorted(ratios, ratio))
-    lower = max(upper - 1, 0) if ratios[min(upper, ratios.size - 1)] != ratio else upper
-    upper = min(upper, ratios.size - 1)
-    value = float(max(errors[lower], errors[upper]))
-    return value, ratio, (f"W / h* = {ratio:.3g}: the largest model error over the calibrated 2-D faults at W / h* "
-                          f"{ratios[lower]:.3g} to {ratios[upper]:.3g} (surface-breaking, buried, with and without "
-                          "a ramp and a deep strengthening zone), times 1.25")
 
 
 def declared_model_error(law, shear_modulus: float, normal_stress: float, width: float,

@@ -15,34 +15,15 @@ The calibration, ``data/fault_2d_model_error.json``, holds both: for each reduct
 
 from __future__ import annotations
 
-from functools import lru_cache
-
-from faultslip.errors import InputError
+from faultslip.fault.one_slider_error import CALIBRATION_FILE, REDUCTIONS, load_calibration
 from faultslip.io.resources import bundled_dir, read_bundled_table
 
-CALIBRATION_FILE = "fault_2d_model_error.json"
 HIERARCHY_FILE = "fault_2d_hierarchy.json"
-#: The reductions a scene may ask for, by the [fault] key that states its width.
-REDUCTIONS = {"seismogenic_width": "geometric", "zone_width": "zone_width"}
 #: What each reduction is called in a report.
 DESCRIPTIONS = {"geometric": "K = c G / W from the seismogenic width W (c calibrated against the 2-D fault)",
                 "zone_width": "the seed's section 5-2 reduction, K = G / D from the elastic-zone width D"}
-
-
-@lru_cache(maxsize=1)
-def load_calibration() -> dict:
-    """The shipped calibration of one slider against the 2-D fault (``data/fault_2d_model_error.json``).
-
-    Returns
-    -------
-    dict
-        ``geometric`` and ``zone_width``: each with its ``stiffness_factor`` c, ``rows`` (W / h* and the declared
-        model error, relative), and the ``held_out`` faults with their true and declared errors; ``provenance``.
-    """
-    table = read_bundled_table(CALIBRATION_FILE, "the model-error calibration", "benchmarks/fault_2d_calibration.py")
-    if not all(isinstance(table.get(key), dict) and table[key].get("rows") for key in REDUCTIONS.values()):
-        raise InputError(f"{CALIBRATION_FILE} lacks a reduction's rows; rerun benchmarks/fault_2d_calibration.py")
-    return table
+__all__ = ["CALIBRATION_FILE", "DESCRIPTIONS", "HIERARCHY_FILE", "REDUCTIONS", "load_calibration", "load_hierarchy",
+           "stiffness_factor"]
 
 
 def stiffness_factor() -> float:
