@@ -98,7 +98,11 @@ def _count_lines(counts: dict, study) -> list[str]:
         if isinstance(by_meaning, dict):
             found = ", ".join(f"{count} {meaning.replace('_', ' ')}" for meaning, count in by_meaning.items() if count)
             lines.append(f"{name}: {found or 'no cell'}")
-    if "largest_estimated_relative_error" in counts:
+    if counts.get("unbounded_error_cells"):
+        lines.append(f"estimated relative error unbounded in {counts['unbounded_error_cells']} cells (a model error "
+                     "outside its calibration; model_error holds each cell's); largest elsewhere "
+                     f"{counts['largest_bounded_estimated_relative_error']:.2g}")
+    elif "largest_estimated_relative_error" in counts:
         lines.append(f"largest estimated relative error {counts['largest_estimated_relative_error']:.2g}")
     if counts.get("above_tolerance"):
         lines.append(f"note: {counts['above_tolerance']} cells' estimated error exceeds the tolerance "

@@ -46,10 +46,11 @@ class Entry:
     @property
     def is_pair(self) -> bool:
         """Two numbers with units (a low and a high: a 95 % range, or a range of values such as
-        ``recurrence_range``)."""
+        ``recurrence_range``); a high of None is a range with no upper end."""
         value = self.value
         return (self.units is not None and isinstance(value, (list, tuple)) and len(value) == 2
-                and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
+                and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value[:1])
+                and (value[1] is None or isinstance(value[1], (int, float)) and not isinstance(value[1], bool)))
 
     def typed(self):
         """The value as a pint Quantity where it has units (a range as a pair of them), else as it is."""
@@ -59,7 +60,7 @@ class Entry:
         if self.is_number:
             return quantity(self.value, unit)
         if self.is_range or self.is_pair:
-            return tuple(quantity(v, unit) for v in self.value)
+            return tuple(None if v is None else quantity(v, unit) for v in self.value)
         return self.value
 
 
@@ -202,7 +203,7 @@ class Result:
                 variables[entry.key] = ((), float(entry.value),
                                         {"long_name": entry.label, "units": entry.units or "1"})
             elif entry.is_pair:  # a low and a high on their own dimension
-                variables[entry.key] = (("bound",), [float(v) for v in entry.value],
+                variables[entry.key] = (("bound",), [math.inf if v is None else float(v) for v in entry.value],
                                         {"long_name": entry.label, "units": entry.units})
         for key in ranges:  # CF ancillary variables: the value names its uncertainty
             base = key.removesuffix("_95")

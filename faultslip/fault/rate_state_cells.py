@@ -14,9 +14,11 @@ length, for example, costs nothing more), with the method chosen per cell as
 :func:`~faultslip.dynamics.rate_state.slider.fault_cycles` does (LSODA where K / K_c < 0.01, dopri5
 elsewhere) unless one is named.
 
-Every simulated cell declares its error: the plate balance |mean cycle slip / (V_pl T) - 1|,
+Every simulated cell declares its numerical error: the plate balance |mean cycle slip / (V_pl T) - 1|,
 zero for exactly periodic cycles, which grows where the cycles have not settled within the
-spin-up (near K / K_c = 1) or the solver drifts. A cell whose solver fails, or whose fault has
+spin-up (near K / K_c = 1) or the solver drifts. As the fault's answer a cell's cycles also carry
+the one block's model error against the 2-D fault it stands for (the zone-width calibration at
+the cell's D / h*, :mod:`faultslip.fault.one_slider_error`); the declared error is the larger. A cell whose solver fails, or whose fault has
 no event faster than 1 mm/s within the time limit, is flagged (``method`` -1 or ``regime``
 slow_or_creeping), never filled with zeros.
 """
@@ -29,6 +31,7 @@ from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.rate_state.slider import EVENT_SPEED, RateStateSlider, fault_cycles
 from faultslip.dynamics.rate_state.methods import CYCLE_METHODS as INTEGRATORS, choose_cycle_method
 from faultslip.errors import InputError, NoEventsError, SolverError
+from faultslip.fault.one_slider_error import zone_width_model_error
 from faultslip.fault.scaling import moment_magnitude, seismic_moment
 from faultslip.friction.rate_state import EVOLUTION_LAWS, RateStateLaw, steady_state_friction
 
@@ -52,8 +55,16 @@ OUTPUT_ATTRS = {
     "slip_per_event": ("m", "slip per event while the slip rate exceeds 1 mm/s (0 for steady sliding)"),
     "stress_drop": ("Pa", "stress drop per event (0 for steady sliding)"),
     "peak_slip_rate": ("m/s", "peak slip rate of the events (the plate rate for steady sliding)"),
-    "estimated_relative_error": ("1", "the larger of the integrator's declared error (c rtol) and the measured plate "
-                                      "balance |mean cycle slip / (V_pl T) - 1| (0 for the closed form)"),
+    "estimated_relative_error": ("1", "declared relative error of the recurrence and slip as the fault's: the larger "
+                                      "of model_error and numerical_error where the cycles ran (0 for the closed "
+                                      "form, whose K / K_c is exact; inf: unbounded)"),
+    "numerical_error": ("1", "the cycles' own error: the larger of the integrator's declared error (c rtol) and the "
+                             "measured plate balance |mean cycle slip / (V_pl T) - 1| (0 for the closed form)"),
+    "model_error": ("1", "declared model error of this one block (K = G / D) against the 2-D fault it stands for, "
+                         "relative, recurrence or slip (data/fault_2d_model_error.json, zone-width table; inf: outside "
+                         "the calibrated W / h*, not known; NaN where b <= a)"),
+    "width_over_nucleation": ("1", "D / h*, h* = (pi / 2) G D_c b / [sigma_n (b - a)^2] (Rubin & Ampuero 2005): what "
+                                   "governs the model error (0 where b <= a)"),
     "seismic_moment": ("N m", "seismic moment M0 = G L H (slip per event)"),
     "moment_magnitude": ("1", "moment magnitude Mw = (2/3)(log10 M0 - 9.1), M0 in N m"),
 }
@@ -123,7 +134,8 @@ def rate_state_cells(*, shear_modulus, zone_width, normal_stress, plate_rate, a,
     Always: ``stiffness``, ``critical_stiffness``, ``stiffness_ratio``, ``steady_state_friction``,
     ``regime`` and ``method`` (int8 flags, see :data:`REGIME_CODES`, :data:`METHOD_CODES`).
     With ``cycles`` > 0 also ``recurrence_period``, ``slip_per_event``, ``stress_drop``,
-    ``peak_slip_rate`` and ``estimated_relative_error``; with a rupture length and seismogenic
+    ``peak_slip_rate``, ``estimated_relative_error``, ``numerical_error``, ``model_error`` and
+    ``width_over_nucleation`` (see :data:`OUTPUT_ATTRS`); with a rupture length and seismogenic
     depth, ``seismic_moment`` and ``moment_magnitude``. ``tolerance`` is the relative error asked of the
     cycles: each cell runs the cheapest integrator (or ``method``) at the loosest rtol whose declared error
     meets it (:func:`faultslip.dynamics.rate_state.methods.choose_cycle_method`).
@@ -153,6 +165,11 @@ def rate_state_cells(*, shear_modulus, zone_width, normal_stress, plate_rate, a,
     if cycles:
         outputs.update(_simulate_cells(unstable, (modulus, width, sigma, plate, a, b, slip_scale, mu0, v0, rho, wave),
                                        law_code, cycles, method, tolerance, outputs))
+        # the cycles are one block's: as the fault's answer they carry its model error (as `run` declares it)
+        ratio_to_nucleation, model = zone_width_model_error(modulus, width, sigma, a, b, slip_scale)
+        numerical = outputs["estimated_relative_error"]
+        outputs.update(numerical_error=numerical, model_error=model, width_over_nucleation=ratio_to_nucleation,
+                       estimated_relative_error=np.where(unstable, np.maximum(numerical, model), numerical))
         if has_moment:
             moment = seismic_moment(modulus, length, depth, outputs["slip_per_event"])
             with np.errstate(divide="ignore"):  # log10(0) = -inf where nothing slips: NaN, not a magnitude
@@ -214,7 +231,8 @@ def output_names(cycles: int, has_moment: bool) -> list[str]:
     """The outputs :func:`rate_state_cells` gives, in order, for these options."""
     names = ["stiffness", "critical_stiffness", "stiffness_ratio", "steady_state_friction", "regime", "method"]
     if cycles:
-        names += ["recurrence_period", "slip_per_event", "stress_drop", "peak_slip_rate", "estimated_relative_error"]
+        names += ["recurrence_period", "slip_per_event", "stress_drop", "peak_slip_rate", "estimated_relative_error",
+                  "numerical_error", "model_error", "width_over_nucleation"]
         if has_moment:
             names += ["seismic_moment", "moment_magnitude"]
     return names

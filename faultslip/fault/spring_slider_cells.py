@@ -531,6 +531,24 @@ def _rate_state_attrs(name: str) -> dict:
     return {"units": unit, "long_name": long_name}
 
 
+class RateStateOutput(Output):
+    """An output of :func:`rate_state_cells` as a study declares it: its flags keep their codes (solver_failed
+    is -1), which :class:`Output`'s enumeration would renumber."""
+
+    @property
+    def dtype(self):
+        return np.dtype(np.int8) if self.name in ("regime", "method") else np.dtype(float)
+
+    def attrs(self) -> dict:
+        return _rate_state_attrs(self.name)
+
+
+def _rate_state_has_moment(study) -> bool:
+    """Whether a rate-and-state study's cells have a rupture length and a seismogenic depth (so a moment)."""
+    values, _ = study.scene.rate_state_fault_values(require_modulus=False)
+    return all(key in study.dims or values.get(key) is not None for key in ("rupture_length", "seismogenic_depth"))
+
+
 #: cells whose K / K_c a rate-and-state study's time estimate computes (a strided sample of the grid)
 _COST_SAMPLE = 20_000
 
@@ -650,7 +668,10 @@ class SpringSliderCells:
             ranges.check_friction_drop(*_study_friction(study, kind), f"in every cell of {source}")
 
     def outputs(self, study):
-        return None  # they depend on the scene (a moment where it gives a rupture), so a first cell says
+        if scene_kind(study.scene) == "rate_state":  # declared, so a run to a file integrates no cell twice
+            return {name: RateStateOutput(name, *RATE_STATE_OUTPUT_ATTRS.get(name, ("1", name)))
+                    for name in output_names(study.cycles, _rate_state_has_moment(study))}
+        return None  # the seed law's depend on its friction (flagged cells where some have no excess): a cell says
 
     def attrs(self, name: str, study, flagged: bool = False) -> dict:
         kind = scene_kind(study.scene)

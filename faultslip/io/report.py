@@ -236,6 +236,10 @@ def _format_item(item: Item) -> str:
         if item.error is not None and isinstance(item.value, float) and item.error > 0:
             return f"{significant(item.value, item.error)} ± {significant(item.error, item.error)}"
         return _plain_text(item.value)
+    if isinstance(item.value, (list, tuple)) and len(item.value) == 2 and item.value[1] is None \
+            and item.value[0] is not None:  # a range with no upper end
+        unit, factor = display_unit([float(item.value[0])], item.units)
+        return f"{significant(float(item.value[0]) / factor, None)} {unit} or more (no upper end)".replace("  ", " ")
     if isinstance(item.value, (list, tuple)):  # a range, in one display unit
         values = [float(v) if v is not None else math.nan for v in item.value]
         unit, factor = display_unit(values, item.units)

@@ -48,6 +48,7 @@ from faultslip.fault.scene import Scene, read_slider_scene, parse_scene
 from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
+from faultslip.fault.one_slider_error import range_within
 from faultslip.fault.rate_state_cells import check_cycle_method
 from faultslip.fault.spring_slider_cells import SEED_METHODS, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs
 from faultslip.studies.grid import Study, as_dataset
@@ -883,7 +884,7 @@ def run_map(spec, method="auto", tolerance=1e-6, allow_large: bool = False):
 def segment_rows(dataset) -> list[dict]:
     """Each segment's predicted and observed values as plain floats (NaN where absent), read column-wise."""
     names = ("slip_rate", "slip_per_event", "recurrence_period", "moment_magnitude", "observed_slip",
-             "observed_recurrence", "slip_ratio", "recurrence_ratio", "outside_domain")
+             "observed_recurrence", "slip_ratio", "recurrence_ratio", "outside_domain", "model_error")
     columns = {name: (np.asarray(dataset[name].values, dtype=float) if name in dataset
                       else np.full(dataset.sizes["segment"], np.nan)) for name in names}
     return [{"segment": str(segment), **{name: float(columns[name][i]) for name in names}}
@@ -906,11 +907,19 @@ def observed_table(dataset, most: int | None = None) -> str:
         Markdown.
     """
     year = JULIAN_YEAR
+    declared = "model_error" in dataset  # one block per segment standing for a fault: its bound, in years
     lines = ["| segment | slip rate (mm/yr) | predicted slip (m) | observed slip (m) | ratio | predicted recurrence (yr) "
-             "| observed recurrence (yr) | ratio |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "| observed recurrence (yr) | ratio |" + (" 2-D fault's recurrence by the model error (yr) |" if declared
+                                                     else ""), "| --- " * (9 if declared else 8) + "|"]
 
     def fmt(value, scale=1.0, digits=3):
         return "" if not np.isfinite(value) else f"{value / scale:.{digits}g}"
+
+    def bound(row):
+        within = range_within(row["recurrence_period"], row["model_error"])
+        if within is None:
+            return "not known" if np.isfinite(row["recurrence_period"]) else ""
+        return f"{fmt(within[0], year)} to " + ("no upper end" if within[1] is None else fmt(within[1], year))
 
     rows = segment_rows(dataset)
     for row in rows[:most]:
@@ -918,9 +927,10 @@ def observed_table(dataset, most: int | None = None) -> str:
         predicted = "none: mu_m is not below mu_so (no stick-slip)" if outside else fmt(row["slip_per_event"])
         lines.append(f"| {row['segment']} | {row['slip_rate'] * year * 1e3:.3g} | {predicted} | "
                      f"{fmt(row['observed_slip'])} | {fmt(row['slip_ratio'])} | {fmt(row['recurrence_period'], year)} | "
-                     f"{fmt(row['observed_recurrence'], year)} | {fmt(row['recurrence_ratio'])} |")
+                     f"{fmt(row['observed_recurrence'], year)} | {fmt(row['recurrence_ratio'])} |"
+                     + (f" {bound(row)} |" if declared else ""))
     if most is not None and len(rows) > most:
-        lines.append(f"| ... {len(rows) - most} more segments in the netCDF file | | | | | | | |")
+        lines.append(f"| ... {len(rows) - most} more segments in the netCDF file |" + " |" * (8 if declared else 7))
     return "\n".join(lines)
 
 

@@ -829,7 +829,12 @@ def cell_counts(output, file_format: str = "netcdf", tolerance: float | None = N
                 counts[name] = {meaning: int((variable == code).sum()) for meaning, code in zip(meanings, values)}
         if "estimated_relative_error" in dataset:
             error = dataset["estimated_relative_error"]
-            counts["largest_estimated_relative_error"] = float(error.max())
+            unbounded = int(np.isinf(error).sum())  # a model error outside its calibration: not known
+            bounded = float(error.where(np.isfinite(error)).max())
+            counts["largest_estimated_relative_error"] = None if unbounded else bounded  # JSON has no inf
+            if unbounded:
+                counts["unbounded_error_cells"] = unbounded
+                counts["largest_bounded_estimated_relative_error"] = bounded
             if tolerance is not None:
                 counts["above_tolerance"] = int((error > tolerance).sum())
     return counts

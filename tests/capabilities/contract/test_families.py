@@ -245,6 +245,11 @@ def test_both_forms_of_one_block_declare_one_model_error_and_escalate_to_the_sam
     own = faultslip.run(scene)
     assert older["model_error"] == pytest.approx(own["model_error"], rel=1e-12) and older["model_error"] > 1
     assert older.estimated_relative_error == older["model_error"] and older["numerical_error"] < 1e-3
+    # the bound read in years and metres: from e = 1 on, the 2-D fault may stand any factor above the block
+    for key, value in (("recurrence_range", "recurrence_period"), ("slip_per_event_range", "slip_per_event")):
+        low, high = older[key]
+        expected = older[value] / (1 + older["model_error"])
+        assert low.to(expected.units).magnitude == pytest.approx(expected.magnitude, rel=1e-12) and high is None
     assert any("stands for the fault with its friction uniform from the surface to 20.92 km" in note
                for note in older.report().notes)
     escalated = []

@@ -5,7 +5,7 @@ import pytest
 import xarray as xr
 
 from faultslip.errors import InputError
-from faultslip.studies.maps import read_map, nearest_segment, observed_table, parse_trace, read_segments, run_map, trace_length
+from faultslip.studies.maps import read_map, nearest_segment, observed_table, parse_trace, segment_rows, read_segments, run_map, trace_length
 from faultslip.io.resources import data_path
 
 YEAR = 365.25 * 86400
@@ -171,11 +171,20 @@ def test_a_rate_state_map_gives_each_segment_its_faults_cycles(tmp_path):
                                normal_stress=250e5 / 0.65, plate_rate=float(ds["slip_rate"][index]), a=0.010, b=0.015,
                                critical_slip=0.008, mu0=0.65, cycles=2,
                                rupture_length=float(ds["segment_length"][index]), seismogenic_depth=depth)
-        for name in ("slip_per_event", "recurrence_period", "moment_magnitude", "stiffness_ratio"):
+        for name in ("slip_per_event", "recurrence_period", "moment_magnitude", "stiffness_ratio", "model_error",
+                     "width_over_nucleation", "estimated_relative_error"):
             assert float(ds[name][index]) == pytest.approx(float(one[name]), rel=1e-12), name
     assert np.nanmax(ds["map_slip_per_event"].values) > 0
     bundled = run_map(read_map("san_andreas_map_rate_state.toml"))
     assert np.all(bundled["regime"].values == 0) and np.all(bundled["slip_per_event"].values > 0)
+    # each segment is one block standing for a fault: its table reads the model error as the 2-D fault's range
+    table = observed_table(bundled).splitlines()
+    assert table[0].endswith("| 2-D fault's recurrence by the model error (yr) |") and table[1].count("---") == 9
+    for row, line in zip(segment_rows(bundled), table[2:]):
+        low = row["recurrence_period"] / (1 + row["model_error"]) / YEAR
+        high = "no upper end" if row["model_error"] >= 1 else f"{row['recurrence_period'] / (1 - row['model_error']) / YEAR:.3g}"
+        assert line.endswith(f"| {low:.3g} to {high} |"), line
+    assert "model error" not in observed_table(run_map(read_map("san_andreas_map.toml")))  # the seed law declares none
 
 
 @pytest.mark.parametrize("head, message", [

@@ -210,13 +210,14 @@ def test_a_family_without_a_compiled_step_declares_no_worker_setup():
 
 
 def test_a_run_to_a_file_counts_the_cell_it_computes_first_for_its_layout():
-    """A study of a family that does not declare its outputs (the seed-law forms) computes one cell before its
-    blocks to learn their layout: the budget of a run to a file counts it (a rate-and-state study asking 1e-320 of
-    its stiffest cell spent 18 s of its 45 s there, estimated 15 s in all). A family that declares them (the
-    chain) computes no such cell, and an in-memory sweep none either."""
+    """A study of a family that does not declare its outputs (the seed law's) computes one cell before its blocks
+    to learn their layout: the budget of a run to a file counts it (a rate-and-state study asking 1e-320 of its
+    stiffest cell spent 18 s of its 45 s there, before those cells declared their outputs). A family that declares
+    them (the chain, the rate-and-state cells) computes no such cell, and an in-memory sweep none either."""
     from faultslip.studies.grid import parse_study
 
-    for name, declared in (("study_rate_state.toml", False), ("study_spring_chain.toml", True)):
+    for name, declared in (("study_spring_slider.toml", False), ("study_rate_state.toml", True),
+                           ("study_spring_chain.toml", True)):
         path = ROOT / "configs" / name
         parsed = parse_study(path.read_text(encoding="utf-8"), path.name, base_dir=path.parent)
         in_memory = budget.study_estimate(parsed, None, 2, 4).seconds

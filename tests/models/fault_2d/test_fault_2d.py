@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from conftest import assert_clean_error
@@ -885,6 +885,25 @@ def test_the_declared_bound_is_the_larger_of_the_bracketing_levels_and_unbounded
     assert declared_from_envelope(1.0, rows)[0] == math.inf
     assert declared_from_envelope(9.0, rows)[0] == math.inf
     assert math.isnan(declared_from_envelope(0.0, rows)[0])
+    from faultslip.fault.one_slider_error import envelope_error  # array-wise, as a study's cells take it
+
+    ratios = np.array([[2.0, 3.0, 2.5], [1.0, 9.0, 0.0]])
+    np.testing.assert_array_equal(envelope_error(ratios, rows), [[0.3, 0.6, 0.1], [np.inf, np.inf, np.nan]])
+
+
+@settings(max_examples=200, deadline=None)
+@given(truth=st.floats(1e-3, 1e12), error=st.floats(0.0, 5.0), fraction=st.floats(-1.0, 1.0))
+def test_the_range_a_model_error_gives_holds_every_answer_the_bound_allows(truth, error, fraction):
+    """|value / truth - 1| <= e puts truth in [value / (1 + e), value / (1 - e)], with no upper end from e = 1 (the
+    calibration's definition, benchmarks/fault_2d_calibration.py): every such value's range holds its truth."""
+    from faultslip.fault.one_slider_error import range_within
+
+    value = truth * (1 + fraction * error)
+    assume(value > 0)
+    low, high = range_within(value, error)
+    assert low <= truth * (1 + 1e-12) and (high is None or truth <= high * (1 + 1e-12))
+    assert (high is None) == (error >= 1)
+    assert range_within(value, math.inf) is None and range_within(math.nan, error) is None
 
 
 def test_bp1s_one_slider_declares_a_model_error_that_covers_its_distance_from_bp1():

@@ -53,7 +53,7 @@ def test_a_cells_cycles_are_the_faults_own():
     assert np.all(out["method"] == METHOD_CODES[direct.method]) and np.all(out["regime"] == REGIME_CODES["stick_slip"])
     assert out["seismic_moment"][1] / out["seismic_moment"][0] == pytest.approx(2.0, rel=1e-15)
     balance = abs(np.mean(direct.cycle_slip) / (1e-9 * direct.recurrence) - 1)
-    assert out["estimated_relative_error"][0] == pytest.approx(max(balance, 10 * 1e-7)) and balance < 1e-5
+    assert out["numerical_error"][0] == pytest.approx(max(balance, 10 * 1e-7)) and balance < 1e-5
 
 
 def test_stable_cells_slide_at_the_plate_rate_and_never_fake_events():
@@ -107,7 +107,12 @@ def test_cli_sweep_writes_counts_and_reproduces(cli, tmp_path):
     counts = result.json["cells_by_flag"]
     assert counts["regime"] == {**counts["regime"], "stick_slip": 2, "stable_sliding": 1, "velocity_strengthening": 3}
     assert counts["method"]["solver_failed"] == 0 and counts["method"]["closed_form"] == 4  # two cells simulated
-    assert counts["largest_estimated_relative_error"] < 1e-4
+    # the two blocks stand for faults: D_c 8 mm at D / h* 4.3 (model error 1.53), 1 mm at 34, past the
+    # calibration (unbounded: JSON null, counted); their own cycles' error stays small
+    assert counts["largest_estimated_relative_error"] is None and counts["unbounded_error_cells"] == 1
+    assert counts["largest_bounded_estimated_relative_error"] == pytest.approx(1.5302, abs=1e-4)
+    with xr.open_dataset(out) as written:
+        assert float(written["numerical_error"].max()) < 1e-4
     with xr.open_dataset(out) as written:
         assert written["stiffness_ratio"].dims == ("critical_slip", "a")
         assert "faultslip_study" in written.attrs
@@ -188,3 +193,54 @@ def test_the_bundled_rate_state_study_runs_and_spreads_over_blocks():
     # a lab D_c (10 um) takes LSODA and has cycles; 20 cm is past K_c
     assert corner["method"].values.ravel().tolist() == [1, 0]
     assert corner["regime"].values.ravel().tolist() == [0, 1]
+
+
+def test_a_study_cell_declares_the_model_error_its_run_declares():
+    """A cell's cycles are one block's; as the fault's answer they carry the model error `run` declares for the
+    same fault (the zone-width calibration at D / h*), and the declared error is the larger of it and the cycles'
+    own. Before, a study of the 1906 fault wrote 1e-6 where its run declared 1.53. A stable cell (D / h* below the
+    calibration) has an unbounded model error but an exact closed form; b <= a has neither model's earthquakes."""
+    import faultslip
+
+    run = faultslip.run(BASE)
+    out = sweep(BASE, cycles=2, critical_slip=["8 mm", "1 m"], a=[0.010, 0.02])
+    stick, stable, creeping = (out.isel(critical_slip=0, a=0), out.isel(critical_slip=1, a=0),
+                               out.isel(critical_slip=0, a=1))
+    assert float(stick["model_error"]) == pytest.approx(float(run["model_error"]), rel=1e-12)
+    assert float(stick["width_over_nucleation"]) == pytest.approx(float(run["width_over_nucleation"]), rel=1e-12)
+    assert float(stick["estimated_relative_error"]) == max(float(stick["numerical_error"]), float(stick["model_error"]))
+    assert float(stick["numerical_error"]) < 1e-5
+    assert stable["regime"] == REGIME_CODES["stable_sliding"] and float(stable["model_error"]) == np.inf
+    assert float(stable["estimated_relative_error"]) == 0.0
+    assert np.isnan(float(creeping["model_error"])) and float(creeping["width_over_nucleation"]) == 0.0
+
+
+def test_a_run_to_a_file_integrates_each_distinct_cell_once(tmp_path, monkeypatch):
+    """The cells declare their outputs (names, types, CF flags with solver_failed's -1), so a sweep to a file
+    learns its layout without integrating a cell first (it integrated the first cell twice); the declared layout
+    is the computed one, with a moment and without."""
+    from faultslip.fault import rate_state_cells as cells_module
+    from faultslip.studies.grid import StudyLayout, template_block
+    from faultslip.studies.streaming import run_study
+
+    integrated = []
+    original = cells_module._one_cell
+    monkeypatch.setattr(cells_module, "_one_cell", lambda row, *a: integrated.append(tuple(row)) or original(row, *a))
+    from faultslip.io.resources import bundled_dir
+
+    without_rupture = tmp_path / "no_rupture.toml"  # no rupture length: no moment among the outputs
+    without_rupture.write_text((bundled_dir("configs") / BASE).read_text(encoding="utf-8").replace('rupture_length = "270 mi"\n', ""),
+                               encoding="utf-8")
+    for base, moment in ((BASE, True), (without_rupture.as_posix(), False)):
+        study = parse_study(f'[study]\nbase = "{base}"\ncycles = 2\n[sweep]\ncritical_slip = ["4 mm", "8 mm", "1 m"]\n',
+                            "s.toml", base_dir=tmp_path)
+        declared = template_block(study)
+        computed = sweep(base, cycles=2, critical_slip=["4 mm"])
+        assert list(declared.data_vars) == list(computed.data_vars)
+        for name, layout in declared.data_vars.items():
+            assert layout.dtype == computed[name].dtype, name
+            assert {k: str(v) for k, v in layout.attrs.items()} == {k: str(v) for k, v in computed[name].attrs.items()}
+        assert ("seismic_moment" in declared.data_vars) == moment and isinstance(declared, StudyLayout)
+        integrated.clear()
+        run_study(study, tmp_path / f"out{moment}.nc")
+        assert len(integrated) == len(set(integrated)) == 2  # two unstable cells, each once
