@@ -45,8 +45,15 @@ def fault_estimate(lithology: str | None = None, *, method: str | None = None, t
     Returns
     -------
     Result
-        Slip per event (m), recurrence (s), moment and magnitude where the rupture is given, the method.
+        Slip per event (m), recurrence (s), moment and magnitude where the rupture is given, the method, and
+        whether its declared error meets ``tolerance``.
     """
+    return judge_tolerance(_estimate(lithology, method, tolerance, observed_slip, seed_law, radiation_damping, name,
+                                     quantities), tolerance)
+
+
+def _estimate(lithology, method, tolerance, observed_slip, seed_law, radiation_damping, name, quantities) -> Result:
+    """:func:`fault_estimate`'s answer, by the model its lithology calls for."""
     for key in ("zone_width", "slip_rate"):
         if key not in quantities:
             raise InputError(f"missing --{key.replace('_', '-')}, required for a fault estimate")
@@ -61,13 +68,11 @@ def fault_estimate(lithology: str | None = None, *, method: str | None = None, t
         estimate = estimate_fault_from_fit(lithology, quantities, seed_law=seed_law or "granodiorite")
         report = estimate.report(f"faultslip fault: {name} (rate-and-state fit {lithology!r})")
         # on the family's ladder: its model error against the 2-D fault declared, a tolerance it misses escalated
-        adopted = load("rate_state_slider").adopt(estimate, report, name, tolerance=tolerance)
-        return judge_tolerance(adopted, tolerance)
+        return load("rate_state_slider").adopt(estimate, report, name, tolerance=tolerance)
     if seed_law:
         raise InputError("--seed-law goes with a rate-and-state fit as --lithology")
     fault = Fault(lithology=lithology, radiation_damping=radiation_damping, name=name,
                   **{key: value for key, value in quantities.items() if value is not None})
     if observed_slip is not None:
-        return judge_tolerance(Result("spring_slider", fault.infer_kinetic_friction(observed_slip).report()), tolerance)
-    return judge_tolerance(Result("spring_slider", fault.estimate(method=method or "auto", tolerance=tolerance).report()),
-                           tolerance)
+        return Result("spring_slider", fault.infer_kinetic_friction(observed_slip).report())
+    return Result("spring_slider", fault.estimate(method=method or "auto", tolerance=tolerance).report())

@@ -191,8 +191,7 @@ def seed_law_form_on_the_ladder(estimate, report, name: str, method: str = "auto
 
     It declares its model error against the 2-D fault it stands for (K = G / D, the calibration's zone-width
     table) and says which fault that is; a ``tolerance`` that error does not meet, or ``method="fault_2d"``, runs
-    that 2-D fault instead (estimated and budgeted first). Without this the block declared only its cycles'
-    numerical error (1e-6), so a tolerance of 0.1 read as met by an answer whose model error is unbounded.
+    that 2-D fault instead (estimated and budgeted first).
 
     Parameters
     ----------
