@@ -35,6 +35,9 @@ PRODUCERS = (
                               "--pairs", "2"], "fault_2d_threads.json"),
     ("fault_2d_placement", [], ["--seconds", "5"], "fault_2d_placement.json"),
     ("fault_2d_qdyn", [], ["--rounds", "1"], "fault_2d_qdyn.json"),
+    ("fault_2d_profile", [], ["--elements", "1024"], "fault_2d_profile.json"),
+    ("fault_2d_resolution", [], ["--quick"], "fault_2d_resolution.json"),
+    ("fault_2d_period3", [], [], "fault_2d_period3.json"),
     ("spring_block_qdyn", [], ["--repeats", "1"], "spring_block_qdyn.json"),
     ("spring_chain_speed", [], ["--rounds", "1"], "spring_chain_speed.json"),
     ("posterior_speed", [], [], "posterior_speed.json"),
@@ -44,6 +47,7 @@ PRODUCERS = (
     ("classroom_redraw", [], [], "classroom_redraw.json"),
     ("animation_speed", [], ["--pairs", "1"], "animation.json"),
     ("chain_example", [], [], "chain_example.json"),
+    ("san_andreas_map", [], [], "san_andreas_map.json"),
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
     ("ladder_regimes", [], [], "ladder_regimes.json"),
     ("ladder_designs", ["--fresh", "40"], ["--fresh", "40"], "ladder_fresh.json"),  # rows already there are kept

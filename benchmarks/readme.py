@@ -413,6 +413,103 @@ def fault_2d_placement_table() -> str | None:
             + _packages(result))
 
 
+def fault_2d_profile_table() -> str | None:
+    result = _load("fault_2d_profile.json")
+    if result is None:
+        return None
+    parts = list(result["runs"][0]["inside_the_step_us"])
+    rows = ["| elements | a trial step | " + " | ".join(result["runs"][0]["shares"]) + " | "
+            + " | ".join(f"inside: {part}" for part in parts) + " |", "| --- " * (2 + len(result["runs"][0]["shares"])
+                                                                               + len(parts)) + "|"]
+    for run in result["runs"]:
+        rows.append(f"| {run['elements']:,} | {run['per_trial_us'] / 1e3:.2f} ms | "
+                    + " | ".join(f"{share:.0%}" for share in run["shares"].values()) + " | "
+                    + " | ".join(f"{run['inside_the_step_us'][part]:.0f} µs" for part in parts) + " |")
+    first = result["runs"][0]
+    return ("\n".join(rows) + f"\n\nBP1 over {first['years']:g} yr at rtol {first['rtol']:g} on one pinned core; the "
+            "shares split the run by cProfile, the parts inside the step are each timed alone on the run's last state. "
+            f"`python benchmarks/fault_2d_profile.py`. {_machine(result)}")
+
+
+def fault_2d_resolution_table() -> str | None:
+    result = _load("fault_2d_resolution.json")
+    if result is None:
+        return None
+    from faultslip.models.fault_2d.analysis import MIN_RESOLUTION, discretisation_error
+
+    levels = [run["resolution"] for run in result["faults"][0]["runs"]]
+    rows = ["| fault | W / h* | " + " | ".join(f"{level:.2g} per L_b" for level in levels) + " |",
+            "| --- " * (2 + len(levels)) + "|"]
+    for fault in result["faults"]:
+        cells = [("unsettled" if run["sequence"] == "unsettled" else f"{run['error']:.2%}") for run in fault["runs"]]
+        rows.append(f"| {fault['name']} ({fault['scene']}) | "
+                    f"{fault['seismogenic_width_m'] / fault['nucleation_size_m']:.2g} | " + " | ".join(cells) + " |")
+    nominal = [round(level, 1) for level in levels]  # the designed levels (a size is a whole number of elements)
+    rows.append("| declared | | " + " | ".join("refused" if level < MIN_RESOLUTION else
+                                                 f"{discretisation_error(level):.2%}" for level in nominal) + " |")
+    return ("\n".join(rows) + "\n\nEach run's recurrence against its fault's Richardson limit over the element "
+            "sizes; elements per L_b = G D_c / (sigma_n b) rounded. `python benchmarks/fault_2d_resolution.py`. "
+            + _machine(result))
+
+
+def fault_2d_period3_table() -> str | None:
+    result = _load("fault_2d_period3.json")
+    if result is None:
+        return None
+    rows = ["| element size | sequence | intervals (yr) | mean (yr) | largest interval error | steps | wall time |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for run in result["runs"]:
+        errors = run.get("interval_errors")
+        rows.append(f"| {run['element_size_m']:g} m | {run['kind']}, period {run['period']} | "
+                    + ", ".join(f"{value:.3f}" for value in run["intervals_yr"])
+                    + f" | {run['mean_interval_yr']:.4f} | " + (f"{max(errors):.1e}" if errors else "n/a")
+                    + f" | {run['steps']:,} | {run['wall_s']:.0f} s |")
+    return ("\n".join(rows) + f"\n\n`configs/{result['scene']}` over {result['runs'][0]['years']:g} yr; each "
+            f"interval against the {result['runs'][0]['element_size_m']:g} m run's. "
+            f"`python benchmarks/fault_2d_period3.py`. {_machine(result)}")
+
+
+def _map_dataset(segments: list):
+    """A map's segment rows (benchmarks/san_andreas_map.py) as the Dataset faultslip.studies.maps reads, so its own
+    table is rendered, not a copy of it."""
+    import numpy as np
+    import xarray as xr
+
+    names = [key for key in segments[0] if key not in ("segment", "observed_slip_event")]
+    return xr.Dataset({name: ("segment", np.array([np.nan if row[name] is None else row[name] for row in segments]))
+                       for name in names if name != "model_error" or any(row[name] is not None for row in segments)},
+                      coords={"segment": [row["segment"] for row in segments]})
+
+
+def _against_observed(segments: list) -> str:
+    """What the table shows, in a sentence: the slip ratios of the observed events, and the recurrence ratios."""
+    slips = [f"{row['slip_ratio']:.2f} on {row['segment']}" + (f" ({row['observed_slip_event']})"
+                                                               if row["observed_slip_event"] else "")
+             for row in segments if row["slip_ratio"] is not None]
+    ratios = [(row["recurrence_ratio"], row["segment"]) for row in segments if row["recurrence_ratio"] is not None]
+    if not ratios:
+        return f"Predicted over observed slip per event: {', '.join(slips)}."
+    low, high = min(ratios), max(ratios)
+    said = ("over-predicted on every segment where it is observed" if low[0] > 1 else
+            "under-predicted on every segment where it is observed" if high[0] < 1 else "predicted over observed")
+    return (f"Predicted over observed slip per event: {', '.join(slips)}. Recurrence is {said}: {low[0]:.2f} "
+            f"({low[1]}) to {high[0]:.2f} ({high[1]}) times.")
+
+
+def san_andreas_map_table() -> str | None:
+    result = _load("san_andreas_map.json")
+    if result is None:
+        return None
+    from faultslip.studies.maps import observed_table
+
+    parts = []
+    for name, heading in (("seed_law", "The seed law"), ("rate_state", "One rate-and-state block a segment")):
+        segments = result[name]["segments"]
+        parts.append(f"**{heading}** (`{result[name]['config']}`):\n\n{observed_table(_map_dataset(segments))}\n\n"
+                     + _against_observed(segments))
+    return "\n\n".join(parts) + f"\n\n`python benchmarks/san_andreas_map.py`. {_machine(result)}"
+
+
 def _peer_closing(rows: list, result: dict) -> str:
     """A peer table's end: why QDYN did not run, if it did not, and the machine and date."""
     if not result.get("ratio_faultslip_over_best_peer") and result.get("qdyn_missing"):
@@ -1052,7 +1149,7 @@ def sherifs_example_table() -> str | None:
 #: Pages whose generated tables update() writes (the README has none: it is a door).
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
          "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md",
-         "docs/fault_3d.md")
+         "docs/fault_3d.md", "docs/fault_2d.md", "docs/studies.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
@@ -1069,6 +1166,10 @@ def _update_page(readme: Path) -> list[str]:
                          ("startup", startup_table), ("fault_2d", fault_2d_table),
                          ("fault_2d_qdyn", fault_2d_qdyn_table), ("fault_2d_threads", fault_2d_threads_table),
                          ("fault_2d_placement", fault_2d_placement_table),
+                         ("fault_2d_profile", fault_2d_profile_table),
+                         ("fault_2d_resolution", fault_2d_resolution_table),
+                         ("fault_2d_period3", fault_2d_period3_table),
+                         ("san_andreas_map", san_andreas_map_table),
                          ("spring_block_qdyn", spring_block_qdyn_table),
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),
