@@ -236,6 +236,24 @@ def test_a_command_far_from_any_lists_them_all(cli):
     assert result.code == 2 and "choose from run, fault" in result.err and "did you mean" not in result.err
 
 
+def test_python_dash_m_faultslip_is_the_program():
+    """Where the script is not on the PATH (a venv not activated, a notebook's shell), ``python -m faultslip`` is the
+    same program: the same answer, and a bad input is still one sentence with exit 2."""
+    root = Path(__file__).resolve().parents[2]
+    ran = subprocess.run([sys.executable, "-m", "faultslip", "run", "configs/san_andreas_1906.toml", "--json"],
+                         cwd=root, capture_output=True, text=True)
+    assert ran.returncode == 0, ran.stderr
+    import json
+
+    import faultslip
+
+    expected = faultslip.run(root / "configs" / "san_andreas_1906.toml")["recurrence_period"].to("s").magnitude
+    assert json.loads(ran.stdout)["recurrence_period"]["value"] == expected
+    bad = subprocess.run([sys.executable, "-m", "faultslip", "fault", "--zone-width", "13 parsecs per fortnight",
+                          "--slip-rate", "2 in/yr"], cwd=root, capture_output=True, text=True)
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr and len(bad.stderr.strip().splitlines()) == 1
+
+
 def _every_option(parser, path=()):
     """(command path, action, option string) for every option of every command, at any depth."""
     import argparse
