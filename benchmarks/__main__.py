@@ -48,6 +48,7 @@ PRODUCERS = (
     ("animation_speed", [], ["--pairs", "1"], "animation.json"),
     ("chain_example", [], [], "chain_example.json"),
     ("san_andreas_map", [], [], "san_andreas_map.json"),
+    ("docs_numbers", [], [], "docs_numbers.json"),
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
     ("ladder_regimes", [], [], "ladder_regimes.json"),
     ("ladder_designs", ["--fresh", "40"], ["--fresh", "40"], "ladder_fresh.json"),  # rows already there are kept

@@ -9,8 +9,9 @@ from the load point's displacement, and every step fitted in its own window (fro
 the next step) with the machine's stiffness and a linear trend free (fit_each_step). Both evolution laws and the
 two-state aging law are compared by BIC on effective points (select_law) in each window. The two slow up-steps
 (2.29 -> 22.86 um/s at 75 and 100 MPa) get a posterior each (stiffness and trend free) and a joint fit with a, b,
-D_c shared. Writes benchmarks/results/p655_analysis.json and docs/figures/p655_steps.png; docs/lab_fits.md
-quotes them.
+D_c shared; and, before any fit, each hold's healing and each step's a - b from the steady levels. Writes
+benchmarks/results/p655_analysis.json and docs/figures/p655_steps.png; benchmarks/readme.py renders docs/lab_fits.md's
+tables from it.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from faultslip.lab.healing import healing, steady_state_dependence  # noqa: E402
 from faultslip.lab.law_selection import select_law  # noqa: E402
 from faultslip.lab.look_reduction import run_r_file  # noqa: E402
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
@@ -102,8 +104,17 @@ def main() -> None:
         for axis in axes[row, panel:]:
             axis.set_visible(False)
         axes[row, 0].set_ylabel("friction")
+        # what the record shows before any fit: each hold's healing, each step's a - b from the steady levels
+        held = healing(prepared.record).as_dict()["holds"] if 0.0 in history.speeds else []
         out["sequences"][label] = {"span_s": list(span), "steps_s": [t + span[0] for t in history.times[1:-1]],
-                                   "speeds_um_s": [round(v * 1e6, 3) for v in history.speeds], "windows": steps}
+                                   "speeds_um_s": [round(v * 1e6, 3) for v in history.speeds], "windows": steps,
+                                   "holds": [{"start_s": hold["start"]["value"] + span[0],
+                                              "hold_time_s": hold["hold_time"]["value"], "healing": hold["healing"],
+                                              "relaxation": hold["relaxation"]} for hold in held],
+                                   "steady_steps": [{"time_s": row.time + span[0],
+                                                     "speeds_um_s": [row.speed_before * 1e6, row.speed_after * 1e6],
+                                                     "a_minus_b": row.a_minus_b}
+                                                    for row in steady_state_dependence(prepared.record)]}
     figure.savefig(FIGURE, dpi=110)
     records = [window for _, window, _ in slow]
     joint = fit_joint(records, [fit.parameters["stiffness"] for _, _, fit in slow], stiffness_free=True, trend=True)

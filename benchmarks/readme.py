@@ -647,6 +647,289 @@ def lab_fits_table() -> str | None:
     return "\n".join(rows) + "\n\n" + _machine(result)
 
 
+#: the parameters of a rate-and-state fit as docs/lab_fits.md names them
+_FIT_NAMES = {"a": "a", "b": "b", "critical_slip": "D_c", "stiffness": "k"}
+
+
+def fit_coverage_table() -> str | None:
+    result = _load("fit_coverage.json")
+    if result is None:
+        return None
+    labels = {"covariance": "covariance (s² (JᵀJ)⁻¹, t quantile)",
+              "bootstrap": "bootstrap (100 residual resamples, each refitted)",
+              "posterior": "posterior (emcee until converged)"}
+    names = list(result["coverage"]["covariance"])
+    rows = ["| interval | " + " | ".join(_FIT_NAMES[n] for n in names) + " |", "| --- " * (1 + len(names)) + "|"]
+    for kind, label in labels.items():
+        rows.append(f"| {label} | " + " | ".join(f"{result['coverage'][kind][n]['coverage']:.1%}" for n in names)
+                    + " |")
+    every = [row for kind in labels for row in result["coverage"][kind].values()]
+    low, high = every[0]["binomial_95"]
+    inside = all(low <= row["coverage"] <= high for row in every)
+    below = all(row["coverage"] < 0.95 for row in every)
+    cases = result["cases"]
+    boot = statistics.median(case["bootstrap_seconds"] for case in cases)
+    post = statistics.median(case["posterior_seconds"] for case in cases)
+    return ("\n".join(rows) + f"\n\nWith {every[0]['cases']} cases, a true 95 % lands in {low:.0%}-{high:.0%} "
+            "nineteen times in twenty; " + ("every figure is inside that band" if inside else
+                                            "some figures fall outside that band")
+            + (", all below 95 %: the intervals are slightly narrow (the detected step times and the speeds measured "
+               "from a noisy LVDT are taken as exact, and their errors are not carried)" if below else "")
+            + f". A bootstrap case takes {boot:.1f} s and a posterior {post:.1f} s (medians, one core). "
+            f"Failures: {result['failures']['bootstrap']} bootstraps, {result['failures']['posterior']} posteriors. "
+            f"`python benchmarks/fit_coverage.py`. {_machine(result)}")
+
+
+def posterior_speed_table() -> str | None:
+    result = _load("posterior_speed.json")
+    if result is None:
+        return None
+    return (f"The posterior of `{result['record']}` converged with {result['draws']:,} draws after burn-in "
+            f"({result['walkers']} walkers, {result['steps']} steps) in {result['faultslip_seconds']:.1f} s, the "
+            f"least-squares start included. The baseline ({result['baseline']}) did the same work in "
+            f"{result['baseline_seconds']:.1f} s: **{result['ratio']:.2f}** of its time. Its friction agrees with "
+            f"faultslip's to {result['baseline_minus_faultslip_friction_at_the_law']:.1e} at the posterior's median "
+            f"law. `python benchmarks/posterior_speed.py`. {_machine(result)}")
+
+
+def stiffness_free_table() -> str | None:
+    result = _load("stiffness_free.json")
+    if result is None:
+        return None
+    lines = []
+    for kind, label in (("covariance", "least-squares covariance intervals"), ("posterior", "posterior's intervals")):
+        row = result["coverage"][kind]
+        lines.append(f"- The {label} with k free cover " + ", ".join(
+            f"{_FIT_NAMES[n]} in {row[n]['coverage']:.1%}" for n in row) + f" of {row['a']['cases']} records.")
+    low, high = result["coverage"]["covariance"]["a"]["binomial_95"]
+    lines.append(f"- A perfect 95 % lands in {low:.1%}-{high:.1%} over {result['coverage']['covariance']['a']['cases']} "
+                 "records, 95 times in 100.")
+    timing = result["speed"]
+    lines.append(f"- **Posterior speed.** {timing['record']}: with k free it converges in "
+                 f"{timing['medians']['stiffness_free']['wall_s']:.1f} s on one core, with k fixed in "
+                 f"{timing['medians']['stiffness_fixed']['wall_s']:.1f} s: freeing k costs "
+                 f"{timing['ratio_free_over_fixed']:.2f}× (target under {timing['target_s']:g} s).")
+    return "\n".join(lines) + f"\n\n`python benchmarks/stiffness_free.py`. {_machine(result)}"
+
+
+def _figure(value: float) -> str:
+    """A fitted or scored number as a reader wants it: whole from 100 up, three figures below."""
+    return f"{value:.0f}" if abs(value) >= 100 else f"{value:.3g}"
+
+
+def _pressure(label: str) -> float:
+    """A p655 sequence's normal stress from its label ("75 MPa"), Pa."""
+    return float(label.split()[0]) * 1e6
+
+
+def _speeds(window: dict) -> str:
+    return " → ".join(f"{value:.4g}" for value in window["speeds_um_s"]) + " µm/s"
+
+
+def p655_found_table() -> str | None:
+    result = _load("p655_analysis.json")
+    if result is None or not all("steady_steps" in seq for seq in result["sequences"].values()):
+        return None
+    rows = ["| at | what | faultslip finds |", "| --- | --- | --- |"]
+    for label, seq in result["sequences"].items():
+        for hold in seq["holds"]:
+            rows.append(f"| {label} | a hold, {hold['start_s']:.1f}-{hold['start_s'] + hold['hold_time_s']:.1f} s | "
+                        f"{hold['hold_time_s']:.1f} s; healing Δμ = {hold['healing']:.4f}, relaxation "
+                        f"{hold['relaxation']:.3f} |")
+        for step in seq["steady_steps"]:
+            difference = step["a_minus_b"]
+            rows.append(f"| {label} | {_speeds(step)} at {step['time_s']:.1f} s | a − b = {difference:+.4f} (velocity "
+                        f"{'strengthening' if difference > 0 else 'weakening'}) |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/p655_analysis.py`. {_machine(result)}"
+
+
+def _narrowness(fit: dict) -> tuple[float, float] | None:
+    """(lag-one autocorrelation, how many times too narrow) from a fit's note, where it has one."""
+    for note in fit.get("notes", []):
+        found = re.search(r"autocorrelation ([\d.]+)\).*?about ([\d.]+) times too narrow", note)
+        if found:
+            return float(found.group(1)), float(found.group(2))
+    return None
+
+
+def p655_steps_table() -> str | None:
+    result = _load("p655_analysis.json")
+    if result is None:
+        return None
+    rows = ["| step | a | b | D_c | k (1/m) | c (1/m) | rms |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    ups, narrow = [], []
+    for label, seq in result["sequences"].items():
+        for window in seq["windows"]:
+            fit = window["aging"]
+            if window["kind"] == "hold" or "a" not in fit:
+                continue
+            value = {name: fit[name]["value"] for name in ("a", "b", "critical_slip", "stiffness", "trend")}
+            rows.append(f"| {label}, {_speeds(window)} | {value['a']:.3g} | {value['b']:.3g} | "
+                        f"{_figure(value['critical_slip'] * 1e6)} µm | {value['stiffness']:.0f} | {value['trend']:+.2g} | "
+                        f"{fit['residual_rms']:.1e} |")
+            if window["kind"] == "up":
+                ups.append((label, value))
+            if _narrowness(fit):
+                narrow.append(_narrowness(fit))
+    differences = [v["a"] - v["b"] for _, v in ups]
+    springs = [v["stiffness"] for _, v in ups]
+    machine_stiffness = [v["stiffness"] * _pressure(label) / 1e12 for label, v in ups]
+    lines = [f"- **a − b is {min(differences):+.4f} to {max(differences):+.4f} in every up-step**"
+             + (": the gouge is velocity strengthening, as the steady levels alone said (above)."
+                if min(differences) > 0 else ".")]
+    lines.append(f"- **The stiffness.** The up-steps give k = {min(springs):.0f}-{max(springs):.0f} /m, K = k sigma_n "
+                 f"= {min(machine_stiffness):.2f}-{max(machine_stiffness):.2f} MPa/µm.")
+    posteriors = result.get("posteriors") or {}
+    if posteriors:
+        said = []
+        for label, posterior in posteriors.items():
+            parameters = posterior["parameters"]
+            worst = max(p["r_hat"] for p in parameters.values())
+            scale = {"critical_slip": 1e6}  # D_c in µm
+            said.append(f"at {label} " + ", ".join(
+                f"{_FIT_NAMES[n]} {_figure(parameters[n]['median'] * scale.get(n, 1))}"
+                f"{' µm' if n == 'critical_slip' else ' /m' if n == 'stiffness' else ''} "
+                f"({_figure(parameters[n]['credible_95'][0] * scale.get(n, 1))}-"
+                f"{_figure(parameters[n]['credible_95'][1] * scale.get(n, 1))})"
+                for n in ("a", "b", "critical_slip", "stiffness")) + f" (R-hat ≤ {worst:.2f}, {posterior['seconds']:.0f} s)")
+        lines.append("- **The posteriors of the two slow up-steps** (k and the trend free, emcee until converged): "
+                     + "; ".join(said) + ".")
+    if narrow:
+        rhos, factors = [n[0] for n in narrow], [n[1] for n in narrow]
+        lines.append(f"- **Those intervals are too narrow, and the fit says so.** The residuals are correlated (lag-one "
+                     f"autocorrelation {min(rhos):.2f}-{max(rhos):.2f}); every interval treats the samples as "
+                     f"independent, so for AR(1) noise it is about √((1+ρ)/(1−ρ)) too narrow: {min(factors):.2g} to "
+                     f"{max(factors):.2g} times here. Each fit's notes state its factor.")
+    joint = result.get("joint_slow_up_steps")
+    if joint:
+        shared = joint["shared"]
+        lines.append("- **A joint fit of the two slow up-steps** (a, b, D_c shared; mu0, k and c each its own) gives "
+                     f"a {shared['a']['value']:.3g}, b {shared['b']['value']:.3g}, D_c "
+                     f"{shared['critical_slip']['value'] * 1e6:.3g} µm.")
+    return ("\n".join(rows) + "\n\n" + "\n".join(lines) + f"\n\n`python benchmarks/p655_analysis.py`. "
+            + _machine(result))
+
+
+def p655_laws_table() -> str | None:
+    result = _load("p655_analysis.json")
+    if result is None:
+        return None
+    rows = ["| window | chosen | ΔBIC of the others | effective points (of) |", "| --- | --- | --- | --- |"]
+    favour = {"up": [], "down": []}
+    for label, seq in result["sequences"].items():
+        for window in seq["windows"]:
+            chosen = window.get("selection")
+            if not chosen:
+                continue
+            others = sorted(((law, value) for law, value in chosen["delta_bic"].items() if law != chosen["chosen"]),
+                            key=lambda item: (item[1] is None, item[1] or 0))
+            said = ", ".join(f"{law.replace('_', ' ')} {_figure(value)}" if value is not None else
+                             f"{law.replace('_', ' ')}: no converged fit" for law, value in others)
+            rows.append(f"| {label}, {_speeds(window)} | {chosen['chosen'].replace('_', ' ')} | {said} | "
+                        f"{chosen['effective_points']:,.0f} ({chosen['points']:,}) |")
+            aging, slip = chosen["delta_bic"].get("aging"), chosen["delta_bic"].get("slip")
+            if aging is not None and slip is not None:
+                favour[window["kind"]].append(aging - slip)  # > 0: the slip law fits better
+    lines = []
+    for kind, values in favour.items():
+        if values:
+            slip_wins = sum(value > 0 for value in values)
+            lines.append(f"- {kind.capitalize()}-steps: the slip law beats the aging law in {slip_wins} of {len(values)} "
+                         "(ΔBIC aging − slip: " + ", ".join(("+" if value > 0 else "") + _figure(value)
+                                                            for value in values) + ").")
+    return ("\n".join(rows) + "\n\nBetween the one-state laws:\n\n" + "\n".join(lines)
+            + f"\n\n`python benchmarks/p655_analysis.py`. {_machine(result)}")
+
+
+YEAR_S = 365.25 * 86400.0
+#: What seed 003 prints for the 1906 example (quoted from the seed, beside what faultslip computes).
+SEED_003_PRINTS = {"normal_stress": "385 bar", "stiffness": "4.4 psi/in",
+                   "loading_rate": "5 × 10^-10 1/s (a factor-10 slip)", "stress_drop_slip": "254 in = 21.2 ft",
+                   "slip_per_event": "—", "recurrence_period": "(formula only, eq. 5-5)", "stress_drop": "—",
+                   "moment": "— (Song et al. 2008: 7.9e20, Mw 7.9)",
+                   "inverse": "0.079, mu_m = 0.57 (printed with K = 3.25 for 3.52)", "radiation": "—"}
+
+
+def seed_1906_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None:
+        return None
+    seed, quote = result["seed_003_1906"], SEED_003_PRINTS
+    feet, bar = 0.3048, 1e5
+    slip_phase = seed["slip_per_event"] - seed["stress_drop_slip"]
+    rows = ["| quantity | faultslip | seed 003 printed |", "| --- | --- | --- |",
+            f"| sigma_n = tau / mu_so | {seed['normal_stress'] / bar:.2f} bar | {quote['normal_stress']} |",
+            f"| K = G / D | {seed['stiffness']:.5g} Pa/m = {seed['stiffness'] * 0.0254 / 6894.757:.5g} psi/in | "
+            f"{quote['stiffness']} |",
+            f"| theta_dot = K V / sigma_n | **{seed['loading_rate']:.4g} 1/s** | {quote['loading_rate']} |",
+            f"| stress-drop slip alpha = x1 − x2 (eq. 2-19) | {seed['stress_drop_slip']:.4g} m = "
+            f"{seed['stress_drop_slip'] / feet:.4g} ft | {quote['stress_drop_slip']} |",
+            f"| slip per event, ∫u dt = alpha + V t_slip | {seed['slip_per_event']:.4g} m (V t_slip = "
+            f"{slip_phase:.1e} m) | {quote['slip_per_event']} |",
+            f"| recurrence T = alpha / V + t_slip | {seed['recurrence_period'] / YEAR_S:.4g} yr | "
+            f"{quote['recurrence_period']} |",
+            f"| stress drop K alpha | {seed['stress_drop'] / bar:.3g} bar | {quote['stress_drop']} |",
+            f"| M0, Mw (L = 270 mi, H = 12 km) | {seed['seismic_moment']:.3g} N m, Mw {seed['moment_magnitude']:.3g} | "
+            f"{quote['moment']} |",
+            f"| granite inverse: mu_so − mu_m | {result['granite_inverse']['friction_drop']:.3g}, mu_m = "
+            f"{result['granite_inverse']['kinetic_friction']:.3f} | {quote['inverse']} |",
+            f"| with radiation damping (c_s = sqrt(G/rho), so zeta = {result['radiation']['damping_ratio']:g}) | "
+            f"{result['radiation']['slip_per_event']:.3g} m, {result['radiation']['recurrence_period'] / YEAR_S:.3g} yr "
+            f"| {quote['radiation']} |"]
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+def _signed(value: float, digits: int = 2) -> str:
+    return f"{value:+.{digits}f}".replace("-", "−")
+
+
+def empirical_1906_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None:
+        return None
+    rows = ["| relation | expects | prediction | ratio or difference | z |", "| --- | --- | --- | --- | --- |"]
+    for row in result["empirical_1906"]:
+        slip = row["quantity"] == "slip_per_event"
+        expected, predicted = row["expected"]["value"], row["predicted"]["value"]
+        shown = (lambda v: f"{v:.3g} m") if slip else (lambda v: f"{v:.3g}")
+        compared = f"{row['ratio']:.3g}" if slip else _signed(predicted - expected)
+        z = _signed(row["z_score"]) if row["z_score"] is not None else "–"
+        rows.append(f"| {row['relation'].replace('1994 ', '').replace('2010 ', '')} | {shown(expected)} | "
+                    f"{shown(predicted)} | {compared} | {z} |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+def parkfield_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None:
+        return None
+    c = result["parkfield_catalog"]
+    year = lambda entry: entry["value"] / YEAR_S  # noqa: E731
+    pair = lambda values, scale=1.0: f"{values[0] / scale:.3g}-{values[1] / scale:.3g}"  # noqa: E731
+    horizon_year = int(c["as_of"][:4]) + int(float(c["horizon"].split()[0]))
+    rows = ["| | observed | predicted (seed law, D = 6 km) |", "| --- | --- | --- |",
+            f"| mean interval | {year(c['observed_mean_interval']):.3g} yr (CV {c['observed_cv']:.2f}, "
+            f"{c['observed_intervals']} intervals) | {year(c['predicted_recurrence']):.3g} yr ({c['recurrence_ratio']:.3g} "
+            f"times; percentile {min(c['lognormal_percentile'], c['bpt_percentile']):.0%} or more of both fits) |"]
+    for name, label in (("lognormal", "lognormal fit"), ("bpt", "BPT fit")):
+        rows.append(f"| {label} | mean {year(c[name + '_mean']):.3g} yr (95 %: "
+                    f"{pair(c[name + '_mean_95']['value'], YEAR_S)}), aperiodicity {c[name + '_aperiodicity']:.2f} "
+                    f"({pair(c[name + '_aperiodicity_95'])}) | |")
+    rows.append(f"| P(event by {horizon_year}), as of {c['as_of']} | {c['bpt_probability']:.2f} (BPT; 95 %: "
+                f"{c['bpt_probability_95'][0]:.2f}-{c['bpt_probability_95'][1]:.2f}) | |")
+    rows.append(f"| magnitude | M {c['observed_max_magnitude']:.1f} | Mw {c['predicted_magnitude']:.3g} (slip "
+                f"{c['predicted_slip_per_event']['value']:.3g} m) |")
+    widths = ["| D | slip per event | recurrence | Mw |", "| --- | --- | --- | --- |"]
+    for row in result["parkfield_widths"]:
+        widths.append(f"| {row['zone_width']} | {row['slip_per_event_m']:.3g} m | {row['recurrence_s'] / YEAR_S:.3g} yr | "
+                      f"{row['moment_magnitude']:.3g} |")
+    return ("\n".join(rows) + f"\n\nThe seed law does not reproduce Parkfield: its recurrence is "
+            f"{c['recurrence_ratio']:.2g} times the observed mean and its magnitude {c['magnitude_difference']:.2g} units "
+            "too large, because its slip per event scales with σ_n D Δμ / G. The prediction depends on the choice of D "
+            "(the same scene at three widths):\n\n" + "\n".join(widths)
+            + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}")
+
+
 def classroom_table() -> str | None:
     result = _load("classroom_redraw.json")
     if result is None:
@@ -1149,7 +1432,7 @@ def sherifs_example_table() -> str | None:
 #: Pages whose generated tables update() writes (the README has none: it is a door).
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
          "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md",
-         "docs/fault_3d.md", "docs/fault_2d.md", "docs/studies.md")
+         "docs/fault_3d.md", "docs/fault_2d.md", "docs/studies.md", "docs/lab_fits.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
@@ -1170,6 +1453,11 @@ def _update_page(readme: Path) -> list[str]:
                          ("fault_2d_resolution", fault_2d_resolution_table),
                          ("fault_2d_period3", fault_2d_period3_table),
                          ("san_andreas_map", san_andreas_map_table),
+                         ("fit_coverage", fit_coverage_table), ("posterior_speed", posterior_speed_table),
+                         ("stiffness_free", stiffness_free_table), ("p655_found", p655_found_table),
+                         ("p655_steps", p655_steps_table), ("p655_laws", p655_laws_table),
+                         ("seed_1906", seed_1906_table), ("empirical_1906", empirical_1906_table),
+                         ("parkfield", parkfield_table),
                          ("spring_block_qdyn", spring_block_qdyn_table),
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),

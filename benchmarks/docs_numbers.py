@@ -1,0 +1,88 @@
+"""The computed numbers the docs quote beside the seeds' and the catalogs' (generated, never typed).
+
+    python benchmarks/docs_numbers.py
+
+Runs, through the command line a user types (``--json``):
+
+* seed 003's 1906 example (configs/san_andreas_1906.toml), its granite inverse and its radiation-damped form, and the
+  empirical relations the 1906 prediction sits beside (docs/results.md, docs/catalogs.md);
+* the Parkfield catalog against the seed law (configs/catalog_san_andreas.csv on configs/parkfield.toml, as of
+  2026-01-01, a fixed date so that the probability is reproducible), and the Parkfield scene at three elastic-zone
+  widths (docs/catalogs.md).
+
+Writes benchmarks/results/docs_numbers.json; benchmarks/readme.py renders the tables.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from fault_2d_profile import write_results  # noqa: E402
+
+#: The catalog comparison's fixed date (a probability depends on it) and horizon, as docs/catalogs.md reads them.
+AS_OF, HORIZON = "2026-01-01", "30 yr"
+#: The Parkfield scene's elastic-zone widths compared: the seed's 1906 value, the scene's, and a narrow one.
+ZONE_WIDTHS = ("13 mi", "6 km", "2 km")
+
+
+def faultslip_json(*arguments: str) -> dict:
+    """``faultslip ARGUMENTS --json`` as a user runs it, its JSON."""
+    done = subprocess.run([sys.executable, "-m", "faultslip", *arguments, "--json"], cwd=ROOT, capture_output=True,
+                          text=True, check=True)
+    return json.loads(done.stdout)
+
+
+def value(document: dict, key: str):
+    """A report field's number (a quantity's value, or the plain number)."""
+    entry = document[key]
+    return entry["value"] if isinstance(entry, dict) else entry
+
+
+def parkfield_widths() -> list[dict]:
+    """The Parkfield scene with each of :data:`ZONE_WIDTHS`: slip per event (m), recurrence (s), Mw."""
+    text = (ROOT / "configs" / "parkfield.toml").read_text(encoding="utf-8")
+    rows = []
+    with tempfile.TemporaryDirectory() as folder:
+        for width in ZONE_WIDTHS:
+            scene = Path(folder) / "parkfield.toml"
+            scene.write_text(text.replace('zone_width = "6 km"', f'zone_width = "{width}"'), encoding="utf-8")
+            result = faultslip_json("run", str(scene))
+            rows.append({"zone_width": width, "slip_per_event_m": value(result, "slip_per_event"),
+                         "recurrence_s": value(result, "recurrence_period"),
+                         "moment_magnitude": value(result, "moment_magnitude")})
+    return rows
+
+
+def main() -> int:
+    seed_1906 = faultslip_json("run", "configs/san_andreas_1906.toml")
+    inverse = faultslip_json("run", "configs/granite_inverse_1906.toml")
+    radiation = faultslip_json("run", "configs/san_andreas_1906_radiation.toml")
+    keys = ("normal_stress", "stiffness", "loading_rate", "stress_drop_slip", "slip_per_event", "recurrence_period",
+            "stress_drop", "seismic_moment", "moment_magnitude", "slip_rate")
+    catalog = faultslip_json("catalog", "configs/catalog_san_andreas.csv", "--fault", "configs/parkfield.toml",
+                             "--max-magnitude", "6.5", "--as-of", AS_OF, "--horizon", HORIZON)
+    document = {
+        "seed_003_1906": {key: value(seed_1906, key) for key in keys},
+        "granite_inverse": {"friction_drop": value(inverse, "friction_drop"),
+                            "kinetic_friction": value(inverse, "kinetic_friction")},
+        "radiation": {"damping_ratio": value(radiation, "damping_ratio"),
+                      "slip_per_event": value(radiation, "slip_per_event"),
+                      "recurrence_period": value(radiation, "recurrence_period")},
+        "empirical_1906": [seed_1906[key] for key in sorted(seed_1906) if key.startswith("empirical_")],
+        "parkfield_catalog": {"as_of": AS_OF, "horizon": HORIZON, **{key: catalog[key] for key in catalog
+                                                 if key not in ("event_list", "notes", "title")}},
+        "parkfield_widths": parkfield_widths(),
+    }
+    write_results("docs_numbers.json", document)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
