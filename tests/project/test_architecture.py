@@ -36,8 +36,15 @@ def _module_name(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
+#: Top-level modules that are the program, not the core: ``python -m faultslip`` runs the command line, as
+#: faultslip/cli/__main__.py does, so it sits with cli at the top.
+PROGRAM = {"faultslip.__main__": "cli"}
+
+
 def _room(module: str) -> str:
     """The layer a module belongs to: its subpackage, or 'core' for faultslip's top-level modules."""
+    if module in PROGRAM:
+        return PROGRAM[module]
     parts = module.split(".")
     return parts[1] if len(parts) > 2 or (len(parts) == 2 and parts[1] in LAYERS) else "core"
 
@@ -169,7 +176,7 @@ def test_the_folder_listing_is_the_architecture():
     rooms = sorted(p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").exists())
     assert rooms == sorted(name for name in LAYERS if name != "core")
     loose = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem != "__init__")
-    assert loose == ["api", "constants", "datasets", "errors", "intervals", "ranges", "units"], loose
+    assert loose == ["__main__", "api", "constants", "datasets", "errors", "intervals", "ranges", "units"], loose
 
 
 #: Names that tell scene kinds apart by their contents: only faultslip.contract.registry may use them.
