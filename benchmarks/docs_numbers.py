@@ -8,7 +8,9 @@ Runs, through the command line a user types (``--json``):
   empirical relations the 1906 prediction sits beside (docs/results.md, docs/catalogs.md);
 * the Parkfield catalog against the seed law (configs/catalog_san_andreas.csv on configs/parkfield.toml, as of
   2026-01-01, a fixed date so that the probability is reproducible), and the Parkfield scene at three elastic-zone
-  widths (docs/catalogs.md).
+  widths (docs/catalogs.md);
+* the California map's sources beside the scaling relations, and the California fault system's rupture sets on
+  three scaling branches (docs/hazard.md).
 
 Writes benchmarks/results/docs_numbers.json; benchmarks/readme.py renders the tables.
 """
@@ -60,6 +62,23 @@ def parkfield_widths() -> list[dict]:
     return rows
 
 
+def hazard_maps() -> dict:
+    """The bundled California map's sources beside the scaling relations, and the fault system's rupture sets on
+    three branches (docs/hazard.md), from ``faultslip map ... --nrml ... --json``."""
+    with tempfile.TemporaryDirectory() as folder:
+        segments = faultslip_json("map", "configs/california_faults_map.toml", "-o", f"{folder}/m.nc", "--nrml",
+                                  f"{folder}/m.xml")
+        system = faultslip_json("map", "configs/california_fault_system.toml", "-o", f"{folder}/s.nc", "--nrml",
+                                f"{folder}/system.xml", "--scaling-relations", "faultslip,WC1994,Leonard2010")
+    keep = ("relation", "sections", "ruptures", "ruptures_with_rate", "multi_fault_ruptures_with_rate",
+            "budget_error", "b_value", "shape_misfit")
+    return {"california_sources": [{"id": source["id"], "moment_rate": source["moment_rate"]["value"],
+                                    "magnitude": source["magnitude"], "empirical": source["empirical"]}
+                                   for source in segments["hazard"]["sources"]],
+            "rupture_sets": [{key: branch[key] for key in keep} for branch in
+                             system["hazard"]["rupture_sets"].values()]}
+
+
 def main() -> int:
     seed_1906 = faultslip_json("run", "configs/san_andreas_1906.toml")
     inverse = faultslip_json("run", "configs/granite_inverse_1906.toml")
@@ -80,6 +99,7 @@ def main() -> int:
                                                  if key not in ("event_list", "notes", "title")}},
         "parkfield_widths": parkfield_widths(),
     }
+    document.update(hazard_maps())
     write_results("docs_numbers.json", document)
     return 0
 

@@ -14,6 +14,8 @@ import re
 import statistics
 from pathlib import Path
 
+import numpy as np
+
 from provenance import listed  # one stamp for every results file
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -930,6 +932,63 @@ def parkfield_table() -> str | None:
             + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}")
 
 
+def california_scaling_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "california_sources" not in result:
+        return None
+    sources = result["california_sources"]
+    relations = list(sources[0]["empirical"])
+    rows = ["| segment | moment rate (N m/yr) | faultslip Mw | " + " | ".join(
+        relation.replace(", strike-slip", "") for relation in relations) + " |", "| --- " * (3 + len(relations)) + "|"]
+    excess = []
+    for source in sources:
+        cells = []
+        for relation in relations:
+            entry = source["empirical"][relation]
+            if entry.get("sigma") is not None:
+                cells.append(f"{entry['magnitude']:.2f} ± {entry['sigma']:.2f}")
+            else:
+                cells.append(f"{entry['magnitude']:.2f} ({entry['range'][0]:.2f}-{entry['range'][1]:.2f})")
+            excess.append(source["magnitude"] - entry["magnitude"])
+        rows.append(f"| {source['id']} | {source['moment_rate']:.3g} | {source['magnitude']:.2f} | " + " | ".join(cells)
+                    + " |")
+    return ("\n".join(rows) + f"\n\nfaultslip's Mw less the relations': {min(excess):+.2f} to {max(excess):+.2f}. "
+            f"`python benchmarks/docs_numbers.py`. {_machine(result)}")
+
+
+def rupture_sets_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "rupture_sets" not in result:
+        return None
+    rows = ["| branch | sections | ruptures allowed | with a rate | multi-fault with a rate | slip rates released to | "
+            "b of the solved MFD | shape misfit |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for branch in result["rupture_sets"]:
+        rows.append(f"| {branch['relation']} | {branch['sections']} | {branch['ruptures']} | {branch['ruptures_with_rate']} "
+                    f"| {branch['multi_fault_ruptures_with_rate']} | {branch['budget_error']:.1e} | "
+                    f"{branch['b_value']:.3f} | {branch['shape_misfit']:.2g} |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+def hazard_chain_table() -> str | None:
+    result = _load("hazard_chain.json")
+    if result is None:
+        return None
+    kinds = list(result["kinds"])
+    rows = ["| site | " + " | ".join(kind.replace("_", " ") for kind in kinds) + " |", "| --- " * (1 + len(kinds)) + "|"]
+    for site, (lon, lat) in result["sites"].items():
+        rows.append(f"| {site} ({lon:g}, {lat:g}) | " + " | ".join(
+            f"{result['kinds'][kind]['pga_10pct_50yr_g'][site]:.2f} g" for kind in kinds) + " |")
+    above_five = {}
+    for kind in kinds:  # the budget's M >= 5 events a year on the segment drawn, by branch
+        for relation, mfd in result["kinds"][kind]["mfd"].items():
+            magnitudes = mfd["min_magnitude"] + mfd["bin_width"] * np.arange(len(mfd["rates"]["value"]))
+            rates = np.asarray(mfd["rates"]["value"])
+            above_five.setdefault(kind, []).append(float(rates[magnitudes >= 5.0 - 1e-9].sum()))
+    said = "; ".join(f"{kind.replace('_', ' ')} {min(v):.2g}-{max(v):.2g}" for kind, v in above_five.items())
+    return ("\n".join(rows) + f"\n\nM ≥ 5 events a year on the segment drawn, over the three branches: {said}. "
+            f"`python benchmarks/hazard_chain.py` (needs the engine: `pip install '.[hazard]'`). {_machine(result)}")
+
+
 def classroom_table() -> str | None:
     result = _load("classroom_redraw.json")
     if result is None:
@@ -1457,7 +1516,8 @@ def _update_page(readme: Path) -> list[str]:
                          ("stiffness_free", stiffness_free_table), ("p655_found", p655_found_table),
                          ("p655_steps", p655_steps_table), ("p655_laws", p655_laws_table),
                          ("seed_1906", seed_1906_table), ("empirical_1906", empirical_1906_table),
-                         ("parkfield", parkfield_table),
+                         ("parkfield", parkfield_table), ("california_scaling", california_scaling_table),
+                         ("rupture_sets", rupture_sets_table), ("hazard_chain", hazard_chain_table),
                          ("spring_block_qdyn", spring_block_qdyn_table),
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),
