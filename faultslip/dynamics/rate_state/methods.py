@@ -149,7 +149,9 @@ def choose_cycle_method(stiffness_ratio: float, tolerance: float = 1e-6, cycles:
     if good:
         best, why = good[0], f"cheapest within tolerance {tolerance:g}"
     else:
-        best, why = min(usable, key=lambda a: a.estimated_error), f"none reaches tolerance {tolerance:g}; the most accurate"
+        # the most accurate, and of equally accurate ones the cheapest (the compiled dopri5 before the Python one)
+        best = min(usable, key=lambda a: (a.estimated_error, a.estimated_cost))
+        why = f"none reaches tolerance {tolerance:g}; the most accurate"
     best = Assessment(best.method, True, f"{why}: {best.reason}", best.estimated_error, best.estimated_cost,
                       best.settings)
     return best.settings["method"], best.settings["rtol"], best, assessments
