@@ -77,6 +77,13 @@ def chunk_map(path) -> str:
     stored chunk's bytes once, without decompressing them."""
     import h5py  # heavy: imported where used
 
+    try:
+        return _chunk_map(path, h5py)
+    except (RuntimeError, OSError, KeyError, ValueError) as exc:  # HDF5's own structures damaged (found by the fuzzer)
+        raise InputError(f"cannot read the chunk index of {Path(path).name}: {exc}") from None
+
+
+def _chunk_map(path, h5py) -> str:
     digest = hashlib.sha256()
     with h5py.File(path, "r", locking=False) as handle:
         names = []

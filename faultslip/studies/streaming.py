@@ -31,7 +31,7 @@ from faultslip.io.progress import reporter
 from faultslip.io import budget, gate
 from faultslip.io.atomic import commit, working_copy, write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, block_digest, encode_chunk, padded
-from faultslip.io.netcdf import (CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE, create_chunked, file_layout_checksum,
+from faultslip.io.netcdf import (CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE, chunk_map, create_chunked, file_layout_checksum,
                                  layout_checksum, open_for_append, seal)
 from faultslip.io.zarr_store import (DIGESTS, check_block_digests, check_store_checksum, create_store, finish_store, is_store, remove_store,
                                       layout_checksum as store_layout_checksum,
@@ -371,6 +371,8 @@ def _open_writer(partial, study, template, chunks, compression, fresh: bool, fil
     if file_format == "zarr":
         return _ZarrWriter(partial, study, template, chunks, compression, fresh)
     direct = compression in DIRECT_COMPRESSIONS and bool(study.dims)
+    if not fresh:  # HDF5's own structures readable (netCDF4's walk of the layout does not visit them all)
+        chunk_map(partial)
     if direct and not fresh:  # the chunks are written through h5py: netCDF4 only reads the layout
         layout = file_layout_checksum(partial)  # before h5py opens it to write
         writer = _ChunkWriter(partial, study, chunks, template, compression)

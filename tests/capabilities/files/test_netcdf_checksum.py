@@ -249,3 +249,23 @@ def test_a_chunk_lost_from_the_index_is_refused(tmp_path):
     with pytest.raises(InputError, match="does not match the checksum"):
         open_netcdf(lost, "result")
     assert open_netcdf(whole, "result")["slip"].values.tolist() == list(np.arange(8.0))
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(where=st.floats(0.0, 1.0, exclude_max=True), damage=st.binary(min_size=1, max_size=16))
+def test_a_damaged_files_chunk_index_is_one_sentence_never_an_hdf5_error(tmp_path, where, damage):
+    """The fuzzer found a partial output whose damaged HDF5 object headers made h5py's visit raise a RuntimeError
+    ('Object visitation failed') while the resumed sweep sealed it: a traceback. Reading the chunk index of any
+    damaged file now either answers or says, in one InputError, that it cannot, and a resume checks it first."""
+    from faultslip.io.netcdf import chunk_map
+
+    path = tmp_path / f"damaged_{abs(hash((where, damage)))}.nc"
+    _two_chunks(path, True)
+    data = bytearray(path.read_bytes())
+    start = int(where * len(data))
+    data[start:start + len(damage)] = damage[: len(data) - start]
+    path.write_bytes(bytes(data))
+    try:
+        assert len(chunk_map(path)) == 64
+    except InputError as error:
+        assert str(error).startswith(f"cannot read the chunk index of {path.name}")
