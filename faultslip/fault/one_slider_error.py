@@ -16,12 +16,15 @@ from functools import lru_cache
 import numpy as np
 
 from faultslip.errors import InputError
-from faultslip.friction.rate_state import nucleation_size
+from faultslip.friction.rate_state import nucleation_ratio, nucleation_size
 from faultslip.io.resources import read_bundled_table
 
 CALIBRATION_FILE = "fault_2d_model_error.json"
 #: The reductions a scene may ask for, by the [fault] key that states its width.
 REDUCTIONS = {"seismogenic_width": "geometric", "zone_width": "zone_width"}
+#: What each reduction is called in a report.
+DESCRIPTIONS = {"geometric": "K = c G / W from the seismogenic width W (c calibrated against the 2-D fault)",
+                "zone_width": "the seed's section 5-2 reduction, K = G / D from the elastic-zone width D"}
 
 
 @lru_cache(maxsize=1)
@@ -145,5 +148,60 @@ def range_within(value: float, error: float) -> list | None:
     return [value / (1.0 + error), value / (1.0 - error) if error < 1 else None]
 
 
-__all__ = ["CALIBRATION_FILE", "REDUCTIONS", "declared_from_envelope", "envelope_error", "load_calibration",
-           "range_within", "zone_width_model_error"]
+def declared_model_error(law, shear_modulus: float, normal_stress: float, width: float,
+                         calibration: dict | None = None, reduction: str = "geometric") -> tuple[float, float, str]:
+    """(model error, W / h*, how it was found) of a one-slider fault, from the shipped calibration.
+
+    Parameters
+    ----------
+    law : RateStateLaw
+        The fault's friction.
+    shear_modulus : float
+        G (Pa).
+    normal_stress : float
+        sigma_n (Pa).
+    width : float
+        W, the seismogenic (velocity-weakening) width, or D of the seed's reduction (m).
+    calibration : dict, optional
+        The calibration table (the shipped one otherwise).
+    reduction : str
+        ``"geometric"`` (K = c G / W) or ``"zone_width"`` (the seed's K = G / D).
+
+    Returns
+    -------
+    tuple
+        (model error, W / h*, how it was found): the bound on the relative error of one slider against the 2-D
+        fault, in recurrence or slip, whichever is larger (dimensionless); infinite outside the calibration.
+    """
+    table = calibration or load_calibration()
+    if reduction not in DESCRIPTIONS:
+        raise InputError(f"the reduction must be one of {', '.join(DESCRIPTIONS)}, got {reduction!r}")
+    ratio = nucleation_ratio(law, shear_modulus, normal_stress, width)
+    error, ratio, how = declared_from_envelope(ratio, table[reduction]["rows"])
+    return error, ratio, f"{DESCRIPTIONS[reduction]}; {how}"
+
+
+def declare_model_error(result, error: float, ratio: float, how: str, stands_for: str) -> None:
+    """Add to a one-slider ``result`` (a :class:`faultslip.contract.result.Result`) its model error against the
+    2-D fault, its W / h*, the ranges that error gives the recurrence and slip in their own units, and which fault
+    it stands for; where the model error dominates the cycles' own it becomes the declared error, the numerical one
+    kept beside as ``numerical_error``. Every door to one rate-and-state block declares through here."""
+    result.add("model_error", error if math.isfinite(error) else None,
+               label="declared model error against the 2-D fault (relative, recurrence or slip; null: unbounded)")
+    result.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
+    for key, name, units in (("recurrence_period", "recurrence", "s"), ("slip_per_event", "slip per event", "m")):
+        if key in result:  # the bound read in the answer's own units, as issue 68 asks of every rung
+            result.add(f"{key.removesuffix('_period')}_range", range_within(result[key].m_as(units), error), units,
+                       also=("yr",) if units == "s" else (),
+                       label=f"the 2-D fault's {name} by the model error e: value / (1 + e) to / (1 - e)")
+    result.note(f"model error: {how}")
+    result.note(stands_for)
+    numerical = result.estimated_relative_error
+    result.add("numerical_error", numerical, label="the cycles' own error (integrator scatter, or the settling left)")
+    if not math.isnan(error) and (numerical is None or error > numerical):  # lead with the error that dominates
+        result.add("estimated_relative_error", error if math.isfinite(error) else None,
+                   label="declared error (the model error, which dominates; null: unbounded, outside the calibration)")
+
+
+__all__ = ["CALIBRATION_FILE", "DESCRIPTIONS", "REDUCTIONS", "declare_model_error", "declared_from_envelope",
+           "declared_model_error", "envelope_error", "load_calibration", "range_within", "zone_width_model_error"]

@@ -12,7 +12,7 @@ from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.errors import InputError
-from faultslip.fault.one_slider_error import range_within
+from faultslip.fault.one_slider_error import declare_model_error
 from faultslip.fault.rate_state_fault import cycles_dataset
 from faultslip.fault.scene import (Scene, estimate_scene_rate_state, has_friction_law, read_slider_scene,
                                    with_scene_notes)
@@ -23,7 +23,7 @@ from faultslip.models.common import note_origin
 from faultslip.io import budget
 from faultslip.models.rate_state_slider.one_slider import DESCRIPTIONS
 from faultslip.dynamics.rate_state.slider import RateStateSlider
-from faultslip.models.rate_state_slider.scene import RateStateScene, read_rate_state_scene
+from faultslip.models.rate_state_slider.scene import RateStateScene, read_rate_state_scene, stands_for
 from faultslip.io.report import Report
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.models.rate_state_slider import cycles as rate_state_cycles
@@ -216,37 +216,22 @@ def seed_law_form_on_the_ladder(estimate, report, name: str, method: str = "auto
         The block with ``model_error`` and its dominant ``estimated_relative_error``, or the 2-D fault's answer.
     """
     loaded = _own_form(name, estimate)
-    fault = loaded.fault
-    error, ratio, how = declared_model_error(loaded.law, fault["shear_modulus"], fault["normal_stress"], loaded.width,
-                                             reduction=loaded.reduction)
+    error, ratio, how = _model_error_of(loaded)
     if method == "fault_2d" or (method == "auto" and tolerance is not None and not error <= tolerance):
         reason = ("asked for by name" if method == "fault_2d" else
                   f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "
                   f"{tolerance:g}")
         return _two_d(loaded, reason, allow_large=allow_large, progress=progress)
     result = Result("rate_state_slider", report)
-    _declare_model_error(result, loaded, error, ratio, how)
+    declare_model_error(result, error, ratio, how, stands_for(loaded))
     return result
 
 
-def _declare_model_error(result: Result, loaded, error: float, ratio: float, how: str) -> None:
-    """Add the one slider's model error against the 2-D fault and which fault that is; where it dominates the
-    cycles' own error it becomes the declared error, the numerical one kept beside."""
-    result.add("model_error", error if math.isfinite(error) else None,
-               label="declared model error against the 2-D fault (relative, recurrence or slip; null: unbounded)")
-    result.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
-    for key, name, units in (("recurrence_period", "recurrence", "s"), ("slip_per_event", "slip per event", "m")):
-        if key in result:  # the bound read in the answer's own units, as issue 68 asks of every rung
-            result.add(f"{key.removesuffix('_period')}_range", range_within(result[key].m_as(units), error), units,
-                       also=("yr",) if units == "s" else (),
-                       label=f"the 2-D fault's {name} by the model error e: value / (1 + e) to / (1 - e)")
-    result.note(f"model error: {how}")
-    result.note(stands_for(loaded))
-    numerical = result.estimated_relative_error
-    result.add("numerical_error", numerical, label="the cycles' own error (integrator scatter, or the settling left)")
-    if not math.isnan(error) and (numerical is None or error > numerical):  # lead with the error that dominates
-        result.add("estimated_relative_error", error if math.isfinite(error) else None,
-                   label="declared error (the model error, which dominates; null: unbounded, outside the calibration)")
+def _model_error_of(loaded) -> tuple[float, float, str]:
+    """(model error, W / h*, how) of a one-block fault in the family's own form."""
+    fault = loaded.fault
+    return declared_model_error(loaded.law, fault["shear_modulus"], fault["normal_stress"], loaded.width,
+                                reduction=loaded.reduction)
 
 
 def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
@@ -267,7 +252,10 @@ def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
     dataset = cycles_dataset(estimate, f"faultslip rate-and-state cycles: {scene.name}")
     dataset.attrs["scene_text"] = scene.text
     report.add("samples", int(dataset.sizes["time"]), label="time samples (the integrator's steps)")
-    return Result("rate_state_slider", report, dataset, lambda: cycles_figure(dataset))
+    result = Result("rate_state_slider", report, dataset, lambda: cycles_figure(dataset))
+    loaded = _own_form(scene.name, estimate)  # the block stands for a fault: its model error, as run declares it
+    declare_model_error(result, *_model_error_of(loaded), stands_for(loaded))
+    return result
 
 
 
@@ -316,19 +304,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     else:
         result.add("method_reason", f"one slider's declared model error {error:.2g} meets the tolerance {tolerance:g}")
     result.add("stiffness", loaded.slider.stiffness, "Pa/m", label=f"the block's stiffness ({DESCRIPTIONS[loaded.reduction]})")
-    _declare_model_error(result, loaded, error, ratio, how)
-    return result
-
-
-def stands_for(loaded) -> str:
-    """Which fault a one-slider scene stands for: it states one width, so the 2-D fault its declared error and its
-    escalation refer to has the scene's friction uniform from the surface to that width, with steady slip at the
-    plate rate imposed right below, not a depth profile."""
-    width = loaded.width or loaded.fault.get("zone_width")
-    return (f"this one-slider scene stands for the fault with its friction uniform from the surface to "
-            f"{width / 1e3:.4g} km and steady slip at the plate rate right below (no ramp, no strengthening depth); a "
-            "fault scene that states the depth profile (family = \"fault_2d\", configs/rsf_fault_bp1.toml) runs every "
-            "rung of the ladder on that profile, the one slider with 95 % ranges in years and metres")
+    return result  # its model error declared by earthquake_cycles, as every door to one block does
 
 
 def _two_d(loaded, reason: str, allow_large: bool = False, progress=None) -> Result:

@@ -18,48 +18,14 @@ import math
 from faultslip.contract.registry import family_of
 from faultslip.contract.result import Result
 from faultslip.errors import InputError
-from faultslip.fault.one_slider_error import declared_from_envelope, load_calibration
+from faultslip.fault.one_slider_error import declared_from_envelope, declared_model_error, load_calibration
 from faultslip.models.rate_state_slider.one_slider import DESCRIPTIONS, load_hierarchy
 from faultslip.models.rate_state_slider.scene import read_rate_state_scene
-from faultslip.friction.rate_state import nucleation_ratio
 from faultslip.io.report import Report
 from faultslip.fault.dip_error import load_table as load_dip_table
 from faultslip.models.rate_state_slider.figures import model_error_figure
 
 __all__ = ["declared_from_envelope", "declared_model_error", "load_calibration", "model_error_result"]
-
-
-def declared_model_error(law, shear_modulus: float, normal_stress: float, width: float,
-                         calibration: dict | None = None, reduction: str = "geometric") -> tuple[float, float, str]:
-    """(model error, W / h*, how it was found) of a one-slider fault, from the shipped calibration.
-
-    Parameters
-    ----------
-    law : RateStateLaw
-        The fault's friction.
-    shear_modulus : float
-        G (Pa).
-    normal_stress : float
-        sigma_n (Pa).
-    width : float
-        W, the seismogenic (velocity-weakening) width, or D of the seed's reduction (m).
-    calibration : dict, optional
-        The calibration table (the shipped one otherwise).
-    reduction : str
-        ``"geometric"`` (K = c G / W) or ``"zone_width"`` (the seed's K = G / D).
-
-    Returns
-    -------
-    tuple
-        (model error, W / h*, how it was found): the bound on the relative error of one slider against the 2-D
-        fault, in recurrence or slip, whichever is larger (dimensionless); infinite outside the calibration.
-    """
-    table = calibration or load_calibration()
-    if reduction not in DESCRIPTIONS:
-        raise InputError(f"the reduction must be one of {', '.join(DESCRIPTIONS)}, got {reduction!r}")
-    ratio = nucleation_ratio(law, shear_modulus, normal_stress, width)
-    error, ratio, how = declared_from_envelope(ratio, table[reduction]["rows"])
-    return error, ratio, f"{DESCRIPTIONS[reduction]}; {how}"
 
 
 def model_error_result(scene=None, tolerance: float | None = None):

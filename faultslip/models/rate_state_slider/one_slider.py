@@ -15,13 +15,10 @@ The calibration, ``data/fault_2d_model_error.json``, holds both: for each reduct
 
 from __future__ import annotations
 
-from faultslip.fault.one_slider_error import CALIBRATION_FILE, REDUCTIONS, load_calibration
+from faultslip.fault.one_slider_error import CALIBRATION_FILE, DESCRIPTIONS, REDUCTIONS, load_calibration
 from faultslip.io.resources import bundled_dir, read_bundled_table
 
 HIERARCHY_FILE = "fault_2d_hierarchy.json"
-#: What each reduction is called in a report.
-DESCRIPTIONS = {"geometric": "K = c G / W from the seismogenic width W (c calibrated against the 2-D fault)",
-                "zone_width": "the seed's section 5-2 reduction, K = G / D from the elastic-zone width D"}
 __all__ = ["CALIBRATION_FILE", "DESCRIPTIONS", "HIERARCHY_FILE", "REDUCTIONS", "load_calibration", "load_hierarchy",
            "stiffness_factor"]
 

@@ -216,3 +216,14 @@ def read_rate_state_scene(path) -> RateStateScene:
     scene = parse_rate_state_scene(text, source)
     scene.origin = origin
     return scene
+
+
+def stands_for(loaded) -> str:
+    """Which fault a one-slider scene stands for: it states one width, so the 2-D fault its declared error and its
+    escalation refer to has the scene's friction uniform from the surface to that width, with steady slip at the
+    plate rate imposed right below, not a depth profile."""
+    width = loaded.width or loaded.fault.get("zone_width")
+    return (f"this one-slider scene stands for the fault with its friction uniform from the surface to "
+            f"{width / 1e3:.4g} km and steady slip at the plate rate right below (no ramp, no strengthening depth); a "
+            "fault scene that states the depth profile (family = \"fault_2d\", configs/rsf_fault_bp1.toml) runs every "
+            "rung of the ladder on that profile, the one slider with 95 % ranges in years and metres")

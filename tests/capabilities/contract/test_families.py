@@ -231,6 +231,28 @@ def test_one_rate_and_state_block_is_one_family_whatever_its_files_shape(tmp_pat
     assert swept.attrs["faultslip_family"] == "rate_state_slider"
 
 
+def test_every_door_to_one_block_declares_its_model_error():
+    """'faultslip rate-state cycles' (and its --seed-law form) and 'simulate' on a fault scene declared only the
+    cycles' 1e-6 where 'run' on the same scene declares the block's model error against the 2-D fault (0.754 on
+    rsf_block_bp1): every door now declares it, with the same ranges and the numerical error beside."""
+    scene = "rsf_block_bp1.toml"
+    run = faultslip.run(scene)
+    doors = {"earthquake_cycles": faultslip.models.earthquake_cycles(scene, 5),
+             "beside the seed law": faultslip.models.earthquake_cycles_beside_seed_law(scene, 5, "granodiorite"),
+             "simulate": faultslip.simulate(scene, cycles=5)}
+    assert run["model_error"] > 0.5
+    for door, result in doors.items():
+        assert result["model_error"] == run["model_error"], door
+        assert result.estimated_relative_error == run["model_error"] > result["numerical_error"], door
+        low, high = result["recurrence_range"]
+        period = result["recurrence_period"]
+        assert low < period < high, door
+        assert any("stands for the fault" in note for note in result.report().notes), door
+    older = faultslip.simulate("san_andreas_1906_rate_state.toml", cycles=3)  # the seed-law form's door
+    assert older["model_error"] == faultslip.run("san_andreas_1906_rate_state.toml")["model_error"] > 1
+    assert older.estimated_relative_error == older["model_error"] and older.time_series() is not None
+
+
 def test_both_forms_of_one_block_declare_one_model_error_and_escalate_to_the_same_2d_fault(tmp_path, monkeypatch):
     """The seed-law form declared only its cycles' 1e-6 and ignored a tolerance (1e-320 was answered as met); it
     now declares the model error the family's own form declares on the same fault (K = G / D, 153 % at W/h* 4.3),
