@@ -130,6 +130,11 @@ class Result:
         entry = self._entries.get(key)
         return None if entry is None else entry.value
 
+    def si(self, key):
+        """A value as the family stored it: a number in SI (its ``units``), or a plain value; None where absent.
+        No pint: for code that must stay light (a cycle run loads no unit registry)."""
+        return self._plain(key)
+
     @property
     def method(self) -> str | None:
         return self._plain("method")

@@ -191,7 +191,7 @@ def declare_model_error(result, error: float, ratio: float, how: str, stands_for
     result.add("width_over_nucleation", ratio, label="W / h* (what governs the model error)")
     for key, name, units in (("recurrence_period", "recurrence", "s"), ("slip_per_event", "slip per event", "m")):
         if key in result:  # the bound read in the answer's own units, as issue 68 asks of every rung
-            result.add(f"{key.removesuffix('_period')}_range", range_within(result[key].m_as(units), error), units,
+            result.add(f"{key.removesuffix('_period')}_range", range_within(result.si(key), error), units,
                        also=("yr",) if units == "s" else (),
                        label=f"the 2-D fault's {name} by the model error e: value / (1 + e) to / (1 - e)")
     result.note(f"model error: {how}")
