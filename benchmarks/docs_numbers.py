@@ -10,7 +10,10 @@ Runs, through the command line a user types (``--json``):
   2026-01-01, a fixed date so that the probability is reproducible), and the Parkfield scene at three elastic-zone
   widths (docs/catalogs.md);
 * the California map's sources beside the scaling relations, and the California fault system's rupture sets on
-  three scaling branches (docs/hazard.md).
+  three scaling branches (docs/hazard.md);
+* the exact critical loading rate against seed 003's Appendix I (docs/critical_rate.md);
+* one rate-and-state block on the bundled faults beside the seed law, with its model error (docs/rate_state.md);
+* the classroom's phone record read back (configs/example_phyphox.csv, docs/classroom.md).
 
 Writes benchmarks/results/docs_numbers.json; benchmarks/readme.py renders the tables.
 """
@@ -79,6 +82,33 @@ def hazard_maps() -> dict:
                              system["hazard"]["rupture_sets"].values()]}
 
 
+def critical_comparison() -> dict:
+    """The exact critical loading rate against seed 003's Appendix I over Table I's presets and damping ratios
+    (docs/critical_rate.md), from ``faultslip critical --table``: its arrays and the Markdown it writes."""
+    with tempfile.TemporaryDirectory() as folder:
+        table = faultslip_json("critical", "--table", "--output-dir", folder)
+        markdown = (Path(folder) / "critical_comparison.md").read_text(encoding="utf-8")
+    return {key: table[key] for key in ("preset", "damping_ratio", "critical_loading_rate",
+                                         "seed_appendix_I_loading_rate")} | {"markdown": markdown}
+
+
+def rate_state_examples() -> list[dict]:
+    """One rate-and-state block on the bundled faults, with the seed law beside it and its model error against
+    the 2-D fault (docs/rate_state.md): the seed-law form's 1906 scene through ``run``, BP1's friction on one block
+    through ``rate-state cycles --seed-law granodiorite``."""
+    rows = []
+    for label, document in (
+            ("configs/san_andreas_1906_rate_state.toml (`faultslip run`)",
+             faultslip_json("run", "configs/san_andreas_1906_rate_state.toml")),
+            ("configs/rsf_block_bp1.toml (`faultslip rate-state cycles --seed-law granodiorite`)",
+             faultslip_json("rate-state", "cycles", "configs/rsf_block_bp1.toml", "--seed-law", "granodiorite"))):
+        rows.append({"scene": label, **{key: value(document, key) for key in (
+            "stiffness_ratio", "slip_per_event", "recurrence_period", "seed_law_slip_per_event",
+            "seed_law_recurrence_period", "model_error")},
+            "recurrence_range": document["recurrence_range"]["value"]})
+    return rows
+
+
 def main() -> int:
     seed_1906 = faultslip_json("run", "configs/san_andreas_1906.toml")
     inverse = faultslip_json("run", "configs/granite_inverse_1906.toml")
@@ -100,6 +130,12 @@ def main() -> int:
         "parkfield_widths": parkfield_widths(),
     }
     document.update(hazard_maps())
+    document["critical_comparison"] = critical_comparison()
+    document["rate_state_examples"] = rate_state_examples()
+    record = faultslip_json("record", "configs/example_phyphox.csv")
+    document["classroom_record"] = {key: value(record, key) for key in (
+        "events", "duration", "recurrence", "recurrence_cv", "friction_drop", "friction_drop_range",
+        "angular_frequency", "pull_speed", "slip_distance", "slip_distance_model")}
     write_results("docs_numbers.json", document)
     return 0
 

@@ -738,10 +738,13 @@ def p655_found_table() -> str | None:
             rows.append(f"| {label} | a hold, {hold['start_s']:.1f}-{hold['start_s'] + hold['hold_time_s']:.1f} s | "
                         f"{hold['hold_time_s']:.1f} s; healing Δμ = {hold['healing']:.4f}, relaxation "
                         f"{hold['relaxation']:.3f} |")
+        fastest = max(seq["speeds_um_s"])
         for step in seq["steady_steps"]:
             difference = step["a_minus_b"]
-            rows.append(f"| {label} | {_speeds(step)} at {step['time_s']:.1f} s | a − b = {difference:+.4f} (velocity "
-                        f"{'strengthening' if difference > 0 else 'weakening'}) |")
+            # a step into or out of the fastest segment carries that segment's slip weakening in its level
+            biased = " (biased by the fast segment's slip weakening)" if fastest in step["speeds_um_s"] or max(
+                step["speeds_um_s"]) >= 0.99 * fastest else f" (velocity {'strengthening' if difference > 0 else 'weakening'})"
+            rows.append(f"| {label} | {_speeds(step)} at {step['time_s']:.1f} s | a − b = {difference:+.4f}{biased} |")
     return "\n".join(rows) + f"\n\n`python benchmarks/p655_analysis.py`. {_machine(result)}"
 
 
@@ -808,7 +811,7 @@ def p655_steps_table() -> str | None:
         lines.append("- **A joint fit of the two slow up-steps** (a, b, D_c shared; mu0, k and c each its own) gives "
                      f"a {shared['a']['value']:.3g}, b {shared['b']['value']:.3g}, D_c "
                      f"{shared['critical_slip']['value'] * 1e6:.3g} µm.")
-    return ("\n".join(rows) + "\n\n" + "\n".join(lines) + f"\n\n`python benchmarks/p655_analysis.py`. "
+    return ("\n".join(rows) + "\n\n" + "\n".join(lines) + "\n\n`python benchmarks/p655_analysis.py`. "
             + _machine(result))
 
 
@@ -987,6 +990,60 @@ def hazard_chain_table() -> str | None:
     said = "; ".join(f"{kind.replace('_', ' ')} {min(v):.2g}-{max(v):.2g}" for kind, v in above_five.items())
     return ("\n".join(rows) + f"\n\nM ≥ 5 events a year on the segment drawn, over the three branches: {said}. "
             f"`python benchmarks/hazard_chain.py` (needs the engine: `pip install '.[hazard]'`). {_machine(result)}")
+
+
+def critical_comparison_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "critical_comparison" not in result:
+        return None
+    table = result["critical_comparison"]
+    exact = np.asarray(table["critical_loading_rate"]["value"], float)  # 1/s, presets x damping ratios
+    seed = np.asarray(table["seed_appendix_I_loading_rate"]["value"], float)
+    ratio = seed / exact  # presets x damping ratios
+    said = [f"at zeta = {zeta:g} the seed's is {ratio[:, k].min():.3g}-{ratio[:, k].max():.3g} times the exact value"
+            for k, zeta in enumerate(table["damping_ratio"])]
+    return (table["markdown"].rstrip() + "\n\nSeed over exact, over the presets: " + "; ".join(said)
+            + f".\n\n`python benchmarks/docs_numbers.py` (`faultslip critical --table`). {_machine(result)}")
+
+
+def rate_state_examples_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "rate_state_examples" not in result:
+        return None
+    rows = ["| scene | K / K_c | slip per event | recurrence | the 2-D fault's recurrence by the model error | "
+            "seed law beside it |", "| --- | --- | --- | --- | --- | --- |"]
+    for row in result["rate_state_examples"]:
+        low, high = row["recurrence_range"]
+        within = f"{low / YEAR_S:.3g} yr or more" if high is None else f"{low / YEAR_S:.3g}-{high / YEAR_S:.3g} yr"
+        rows.append(f"| {row['scene']} | {row['stiffness_ratio']:.3g} | {row['slip_per_event']:.3g} m | "
+                    f"{row['recurrence_period'] / YEAR_S:.3g} yr | {within} (model error {row['model_error']:.2f}) | "
+                    f"{row['seed_law_slip_per_event']:.3g} m every {row['seed_law_recurrence_period'] / YEAR_S:.3g} yr "
+                    f"(slip ratio {row['slip_per_event'] / row['seed_law_slip_per_event']:.2f}) |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+#: The synthetic phone record's inputs (configs/example_phyphox.csv, docs/classroom.md): band stiffness (N/m), phone
+#: mass (kg), pulling speed (m/s) and the friction drop mu_s - mu_k it was generated with.
+PHONE_RECORD_INPUTS = {"stiffness": 8.0, "mass": 0.2, "speed": 0.02, "friction_drop": 0.10}
+
+
+def classroom_record_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or not result.get("classroom_record"):
+        return None
+    record, given = result["classroom_record"], PHONE_RECORD_INPUTS
+    low, high = record["friction_drop_range"]
+    omega = math.sqrt(given["stiffness"] / given["mass"])
+    rows = ["| quantity | recovered | the model's input |", "| --- | --- | --- |",
+            f"| slips | {record['events']} in {record['duration']:.0f} s, every {record['recurrence']:.3g} s "
+            f"(CV {record['recurrence_cv']:.1g}) | |",
+            f"| μs − μk | {record['friction_drop']:.3f} (range {low:.3f}-{high:.3f}) | {given['friction_drop']:.2f} |",
+            f"| ω of the band | {record['angular_frequency']:.3g} 1/s | √({given['stiffness']:g}/{given['mass']:g}) = "
+            f"{omega:.3g} 1/s |",
+            f"| pulling speed V | {record['pull_speed'] * 100:.2g} cm/s | {given['speed'] * 100:g} cm/s |",
+            f"| slip distance | {record['slip_distance'] * 1e3:.1f} mm measured, {record['slip_distance_model'] * 1e3:.1f} "
+            "mm from the fitted model | |"]
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
 
 
 def classroom_table() -> str | None:
@@ -1491,7 +1548,8 @@ def sherifs_example_table() -> str | None:
 #: Pages whose generated tables update() writes (the README has none: it is a door).
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
          "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md",
-         "docs/fault_3d.md", "docs/fault_2d.md", "docs/studies.md", "docs/lab_fits.md")
+         "docs/fault_3d.md", "docs/fault_2d.md", "docs/studies.md", "docs/lab_fits.md", "docs/critical_rate.md",
+         "docs/rate_state.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
@@ -1518,6 +1576,9 @@ def _update_page(readme: Path) -> list[str]:
                          ("seed_1906", seed_1906_table), ("empirical_1906", empirical_1906_table),
                          ("parkfield", parkfield_table), ("california_scaling", california_scaling_table),
                          ("rupture_sets", rupture_sets_table), ("hazard_chain", hazard_chain_table),
+                         ("critical_comparison", critical_comparison_table),
+                         ("rate_state_examples", rate_state_examples_table),
+                         ("classroom_record", classroom_record_table),
                          ("spring_block_qdyn", spring_block_qdyn_table),
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),
