@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
-from faultslip.fault.one_slider_error import declare_model_error, declared_model_error
-from faultslip.models.rate_state_slider.scene import read_rate_state_scene, stands_for
+from faultslip.fault.one_slider_error import declare_model_error
+from faultslip.models.rate_state_slider.scene import model_error_of, read_rate_state_scene, stands_for
 from faultslip.fault.rate_state_series import cycles_series
 from faultslip.io.report import Report
 from faultslip.contract.result import Result
@@ -72,8 +72,5 @@ def earthquake_cycles(scene, count: int = 5, progress=None, record: bool = False
     series = cycles_series(result, scene.law, report.title) if record and result.series is not None else None
     answer = Result("rate_state_slider", report, series)  # a stably sliding fault records no cycles
     # one block standing for a fault: its model error against the 2-D fault, whichever door it came through
-    fault = scene.fault
-    error, ratio, how = declared_model_error(scene.law, fault["shear_modulus"], fault["normal_stress"], scene.width,
-                                             reduction=scene.reduction)
-    declare_model_error(answer, error, ratio, how, stands_for(scene))
+    declare_model_error(answer, *model_error_of(scene), stands_for(scene))
     return answer

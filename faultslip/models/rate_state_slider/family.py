@@ -23,7 +23,7 @@ from faultslip.models.common import note_origin
 from faultslip.io import budget
 from faultslip.models.rate_state_slider.one_slider import DESCRIPTIONS
 from faultslip.dynamics.rate_state.slider import RateStateSlider
-from faultslip.models.rate_state_slider.scene import RateStateScene, read_rate_state_scene, stands_for
+from faultslip.models.rate_state_slider.scene import RateStateScene, model_error_of, read_rate_state_scene, stands_for
 from faultslip.io.report import Report
 from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.models.rate_state_slider import cycles as rate_state_cycles
@@ -33,7 +33,6 @@ from faultslip.contract.registry import Example, Family, load, register
 from faultslip.contract.result import Result
 from faultslip.plots.figures import _pyplot
 from faultslip.models.rate_state_slider.figures import cycles_figure
-from faultslip.models.rate_state_slider.model_error import declared_model_error
 from faultslip.units import ELAPSED_TIME_ATTRS
 
 
@@ -216,7 +215,7 @@ def seed_law_form_on_the_ladder(estimate, report, name: str, method: str = "auto
         The block with ``model_error`` and its dominant ``estimated_relative_error``, or the 2-D fault's answer.
     """
     loaded = _own_form(name, estimate)
-    error, ratio, how = _model_error_of(loaded)
+    error, ratio, how = model_error_of(loaded)
     if method == "fault_2d" or (method == "auto" and tolerance is not None and not error <= tolerance):
         reason = ("asked for by name" if method == "fault_2d" else
                   f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "
@@ -226,12 +225,6 @@ def seed_law_form_on_the_ladder(estimate, report, name: str, method: str = "auto
     declare_model_error(result, error, ratio, how, stands_for(loaded))
     return result
 
-
-def _model_error_of(loaded) -> tuple[float, float, str]:
-    """(model error, W / h*, how) of a one-block fault in the family's own form."""
-    fault = loaded.fault
-    return declared_model_error(loaded.law, fault["shear_modulus"], fault["normal_stress"], loaded.width,
-                                reduction=loaded.reduction)
 
 
 def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
@@ -254,7 +247,7 @@ def _rate_state_cycles(scene, cycles, slip_solver, rtol) -> Result:
     report.add("samples", int(dataset.sizes["time"]), label="time samples (the integrator's steps)")
     result = Result("rate_state_slider", report, dataset, lambda: cycles_figure(dataset))
     loaded = _own_form(scene.name, estimate)  # the block stands for a fault: its model error, as run declares it
-    declare_model_error(result, *_model_error_of(loaded), stands_for(loaded))
+    declare_model_error(result, *model_error_of(loaded), stands_for(loaded))
     return result
 
 
@@ -286,9 +279,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
         raise InputError(f"a rate-and-state fault runs one of {', '.join(FAULT_METHODS)}, got {method!r}")
     if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance):
         raise InputError(f"the tolerance of a fault's model error must be a positive number, got {tolerance!r}")
-    fault = loaded.fault
-    error, ratio, how = declared_model_error(loaded.law, fault["shear_modulus"], fault["normal_stress"],
-                                             loaded.width, reduction=loaded.reduction)
+    error, ratio, how = model_error_of(loaded)
     if method == "fault_2d" or (method == "auto" and tolerance is not None and not error <= tolerance):
         reason = ("asked for by name" if method == "fault_2d" else
                   f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "

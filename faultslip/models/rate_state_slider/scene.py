@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from faultslip.fault.one_slider_error import declared_model_error
 from faultslip.dynamics.rate_state.slider import MODELS, LoadHistory, RateStateSlider
 from faultslip.contract.scenes import scene_source
 from faultslip.errors import InputError
@@ -216,6 +217,14 @@ def read_rate_state_scene(path) -> RateStateScene:
     scene = parse_rate_state_scene(text, source)
     scene.origin = origin
     return scene
+
+
+def model_error_of(loaded) -> tuple[float, float, str]:
+    """(model error, W / h*, how it was found) of a one-block fault scene against the 2-D fault it stands for
+    (:func:`faultslip.fault.one_slider_error.declared_model_error` at the scene's width and reduction)."""
+    fault = loaded.fault
+    return declared_model_error(loaded.law, fault["shear_modulus"], fault["normal_stress"], loaded.width,
+                                reduction=loaded.reduction)
 
 
 def stands_for(loaded) -> str:
