@@ -13,7 +13,9 @@ Runs, through the command line a user types (``--json``):
   three scaling branches (docs/hazard.md);
 * the exact critical loading rate against seed 003's Appendix I (docs/critical_rate.md);
 * one rate-and-state block on the bundled faults beside the seed law, with its model error (docs/rate_state.md);
-* the classroom's phone record read back (configs/example_phyphox.csv, docs/classroom.md).
+* the classroom's phone record read back (configs/example_phyphox.csv, docs/classroom.md);
+* through the Python API: seed 000's addendum AD1.2 (docs/surfaces.md) and Leonard's Table 6 from his Table 5
+  (docs/hazard.md).
 
 Writes benchmarks/results/docs_numbers.json; benchmarks/readme.py renders the tables.
 """
@@ -27,6 +29,7 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from fault_2d_profile import write_results  # noqa: E402
@@ -109,6 +112,32 @@ def rate_state_examples() -> list[dict]:
     return rows
 
 
+def seed_000_addendum() -> dict:
+    """Seed 000's addendum AD1.2 recomputed (docs/surfaces.md): the contact modulus of two steel surfaces, GW's
+    elastic contact hardness and plasticity index, and the real area at the seed's plastic contact pressure. The
+    seed's inputs, in SI: E 210 kN/mm^2, nu 0.3, summit spread 2.37 um and radius 58.7 um, H 208 kgf/mm^2,
+    30 N on p_c = 280 N/mm^2."""
+    from faultslip.friction.contact import contact_modulus, elastic_contact_hardness, plasticity_index
+
+    modulus = contact_modulus(210e9, 0.3)
+    return {"contact_modulus": modulus,
+            "elastic_contact_hardness_at_printed_modulus": elastic_contact_hardness(115e9, 2.37e-6, 58.7e-6),
+            "plasticity_index": plasticity_index(modulus, 208 * 9.80665e6, 2.37e-6, 58.7e-6),
+            "real_area": 30.0 / 280e6}
+
+
+def leonard_table_6() -> dict:
+    """Leonard's (2010) Table 6 intercepts recomputed from his Table 5 (docs/hazard.md): Mw - log10 A at A =
+    1000 km^2, and Mw - (5/3) log10 L at L = 20 km (every setting's middle segment), by setting."""
+    import math
+
+    from faultslip.fault import empirical
+
+    return {setting: {"area": float(empirical.leonard_magnitude_from_area(1000e6, setting)) - 3.0,
+                      "length": float(empirical.leonard_magnitude_from_length(20e3, setting)) - 5 / 3 * math.log10(20)}
+            for setting in empirical.LEONARD_SETTINGS}
+
+
 def main() -> int:
     seed_1906 = faultslip_json("run", "configs/san_andreas_1906.toml")
     inverse = faultslip_json("run", "configs/granite_inverse_1906.toml")
@@ -136,6 +165,8 @@ def main() -> int:
     document["classroom_record"] = {key: value(record, key) for key in (
         "events", "duration", "recurrence", "recurrence_cv", "friction_drop", "friction_drop_range",
         "angular_frequency", "pull_speed", "slip_distance", "slip_distance_model")}
+    document["seed_000_addendum"] = seed_000_addendum()
+    document["leonard_table_6"] = leonard_table_6()
     write_results("docs_numbers.json", document)
     return 0
 

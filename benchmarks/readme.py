@@ -1046,6 +1046,39 @@ def classroom_record_table() -> str | None:
     return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
 
 
+def seed_000_addendum_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "seed_000_addendum" not in result:
+        return None
+    values = result["seed_000_addendum"]
+    rows = ["| quantity | seed 000 prints | computed |", "| --- | --- | --- |",
+            f"| E' for E = 210 kN/mm², ν = 0.3 | 115 kN/mm² | {values['contact_modulus'] / 1e9:.5g} kN/mm² |",
+            f"| H' = 0.25 E' √(2.37/58.7) | 5.78 kN/mm² | "
+            f"{values['elastic_contact_hardness_at_printed_modulus'] / 1e9:.4g} kN/mm² (with E' = 115) |",
+            f"| ψ with H = 208 kgf/mm² | 11.3 | {values['plasticity_index']:.4g} |",
+            f"| real area for 30 N at p_c = 280 N/mm² | 0.107 mm² | {values['real_area'] * 1e6:.4g} mm² |"]
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+#: Leonard's (2010) Table 6 as printed: Mw - log10 A and Mw - (5/3) log10 L, by setting.
+LEONARD_PRINTED = {"strike-slip": (3.99, 4.17), "dip-slip": (4.00, 4.24), "stable-continental": (4.19, 4.32)}
+
+
+def leonard_table_6_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "leonard_table_6" not in result:
+        return None
+    computed = result["leonard_table_6"]
+    settings = list(LEONARD_PRINTED)
+    rows = ["| | printed | computed |", "| --- | --- | --- |"]
+    for index, label in ((0, "Mw(A) intercepts (strike-slip, dip-slip, stable continental)"),
+                         (1, "Mw(L) intercepts, slope 5/3")):
+        key = ("area", "length")[index]
+        rows.append(f"| {label} | " + ", ".join(f"{LEONARD_PRINTED[s][index]:.2f}" for s in settings) + " | "
+                    + ", ".join(f"{computed[s][key]:.3f}" for s in settings) + " |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
 def classroom_table() -> str | None:
     result = _load("classroom_redraw.json")
     if result is None:
@@ -1549,7 +1582,7 @@ def sherifs_example_table() -> str | None:
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
          "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md",
          "docs/fault_3d.md", "docs/fault_2d.md", "docs/studies.md", "docs/lab_fits.md", "docs/critical_rate.md",
-         "docs/rate_state.md")
+         "docs/rate_state.md", "docs/surfaces.md")
 
 
 def update(readme: Path | None = None) -> list[str]:
@@ -1579,6 +1612,7 @@ def _update_page(readme: Path) -> list[str]:
                          ("critical_comparison", critical_comparison_table),
                          ("rate_state_examples", rate_state_examples_table),
                          ("classroom_record", classroom_record_table),
+                         ("seed_000_addendum", seed_000_addendum_table), ("leonard_table_6", leonard_table_6_table),
                          ("spring_block_qdyn", spring_block_qdyn_table),
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),
