@@ -216,10 +216,8 @@ def seed_law_form_on_the_ladder(estimate, report, name: str, method: str = "auto
     """
     loaded = _own_form(name, estimate)
     error, ratio, how = model_error_of(loaded)
-    if method == "fault_2d" or (method == "auto" and tolerance is not None and not error <= tolerance):
-        reason = ("asked for by name" if method == "fault_2d" else
-                  f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "
-                  f"{tolerance:g}")
+    reason = _escalation(method, tolerance, error, ratio)
+    if reason is not None:
         return _two_d(loaded, reason, allow_large=allow_large, progress=progress)
     result = Result("rate_state_slider", report)
     declare_model_error(result, error, ratio, how, stands_for(loaded))
@@ -280,10 +278,8 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance):
         raise InputError(f"the tolerance of a fault's model error must be a positive number, got {tolerance!r}")
     error, ratio, how = model_error_of(loaded)
-    if method == "fault_2d" or (method == "auto" and tolerance is not None and not error <= tolerance):
-        reason = ("asked for by name" if method == "fault_2d" else
-                  f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "
-                  f"{tolerance:g}")
+    reason = _escalation(method, tolerance, error, ratio)
+    if reason is not None:
         return _two_d(loaded, reason, allow_large=allow_large, progress=progress)
     result = earthquake_cycles(loaded)
     result.add("method", "one_slider")
@@ -303,6 +299,17 @@ def _two_d(loaded, reason: str, allow_large: bool = False, progress=None) -> Res
     2-D fault this one slider stands for, estimates and budgets its run before any work, reports progress, and
     its answer carries its own declared error."""
     return load(RICHER).refine(loaded, reason, allow_large=allow_large, progress=progress)
+
+
+def _escalation(method: str, tolerance, error: float, ratio: float) -> str | None:
+    """Why one block gives way to the 2-D fault it stands for (asked for by name, or a model error the tolerance
+    does not allow), or None where the block answers."""
+    if method == "fault_2d":
+        return "asked for by name"
+    if method == "auto" and tolerance is not None and not error <= tolerance:
+        return (f"one slider's declared model error {error:.2g} (W / h* = {ratio:.3g}) exceeds the tolerance "
+                f"{tolerance:g}")
+    return None
 
 
 def stability(scene) -> Result:
