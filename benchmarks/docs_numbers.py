@@ -26,6 +26,7 @@ import json
 import subprocess
 import sys
 import tempfile
+import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -126,6 +127,40 @@ def seed_000_addendum() -> dict:
             "real_area": 30.0 / 280e6}
 
 
+#: Seed 000's AD1.3 runs (its figs. AD3-AD5): the scene's spring and separation coefficient, then a smaller c, then a
+#: softer spring, then no separation, each as a (stiffness, c) replacing the scene's.
+ROUGH_SLIDER_RUNS = (("12.66e3 N/m", "0.8 s/m"), ("12.66e3 N/m", "0.4 s/m"), ("6e3 N/m", "0.4 s/m"),
+                     ("12.66e3 N/m", "0 s/m"))
+#: The seed's peak relative sliding speed (m/s), where the doc compares how far friction has fallen.
+ROUGH_SLIDER_PEAK_SPEED = 0.06
+
+
+def rough_slider() -> dict:
+    """Seed 000's sliding model (configs/rough_surface_seed000.toml) at the addendum's springs and separation
+    coefficients, from ``faultslip simulate ... --json`` (docs/surfaces.md): each run's peak-to-peak swing, slip
+    duration and natural frequency, and how far the scene's friction has fallen at the seed's peak speed."""
+    from faultslip.models.rough_surface.scene import read_rough_scene
+
+    path = ROOT / "configs" / "rough_surface_seed000.toml"
+    text = path.read_text(encoding="utf-8")
+    runs = []
+    with tempfile.TemporaryDirectory() as folder:
+        for stiffness, coefficient in ROUGH_SLIDER_RUNS:
+            scene = Path(folder) / "rough.toml"
+            scene.write_text(text.replace('stiffness = "12.66e3 N/m"', f'stiffness = "{stiffness}"').replace(
+                'separation_coefficient = "0.8 s/m"', f'separation_coefficient = "{coefficient}"'), encoding="utf-8")
+            result = faultslip_json("simulate", str(scene))
+            runs.append({"stiffness": stiffness, "separation_coefficient": coefficient,
+                         **{key: value(result, key) for key in (
+                             "peak_to_peak_swing", "slip_duration", "natural_frequency", "static_friction_model",
+                             "area_fraction_at_rest", "peak_slip_speed", "regime", "events")}})
+    system, details, _ = read_rough_scene(path)
+    fallen = 1.0 - float(system.kinetic_law(ROUGH_SLIDER_PEAK_SPEED)) / details["static_friction"]
+    friction = tomllib.loads(text)["friction"]
+    return {"runs": runs, "peak_speed": ROUGH_SLIDER_PEAK_SPEED, "friction_fall_at_peak_speed": fallen,
+            "synthetic": friction["synthetic"], "synthetic_size": friction["synthetic_size"]}
+
+
 def leonard_table_6() -> dict:
     """Leonard's (2010) Table 6 intercepts recomputed from his Table 5 (docs/hazard.md): Mw - log10 A at A =
     1000 km^2, and Mw - (5/3) log10 L at L = 20 km (every setting's middle segment), by setting."""
@@ -167,6 +202,7 @@ def main() -> int:
         "angular_frequency", "pull_speed", "slip_distance", "slip_distance_model")}
     document["seed_000_addendum"] = seed_000_addendum()
     document["leonard_table_6"] = leonard_table_6()
+    document["rough_slider"] = rough_slider()
     write_results("docs_numbers.json", document)
     return 0
 
