@@ -33,6 +33,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
+import numpy as np  # noqa: E402
+
 from fault_2d_profile import write_results  # noqa: E402
 
 #: The catalog comparison's fixed date (a probability depends on it) and horizon, as docs/catalogs.md reads them.
@@ -161,6 +163,50 @@ def rough_slider() -> dict:
             "synthetic": friction["synthetic"], "synthetic_size": friction["synthetic_size"]}
 
 
+#: The quasi-harmonic scene's speed the docs quote, and the seed 002 curve speed where damping is compared.
+VIBRATION_SPEED, SEED002_DAMPING_SPEED = "12.5 in/s", 5 * 0.0254
+
+
+def quasi_harmonic() -> dict:
+    """Seed 002's quasi-harmonic vibration (docs/quasi_harmonic.md): the scene's averaged amplitude and averaging's
+    measured error (``faultslip quasi-harmonic ... --error-chart --json``), eq. (10) integrated beside it
+    (``faultslip simulate``), the band where the scene vibrates without sticking (its edges by bisection on the
+    analysis), and seed 002's Figs. 9-11 in kind (``faultslip plot seed002 --json``, and curve (A)'s amplitude at
+    5 in/s with the damping doubled)."""
+    from dataclasses import replace
+
+    from scipy.optimize import brentq
+
+    from faultslip.lab.seed002_curves import CURVES, seed_branch
+    from faultslip.models.vibration.scene import read_vibration_scene
+
+    scene = "configs/vibration_seed002.toml"
+    with tempfile.TemporaryDirectory() as folder:
+        averaged = faultslip_json("quasi-harmonic", scene, "--speed", VIBRATION_SPEED, "--error-chart",
+                                  f"{folder}/error.png")
+        figures = faultslip_json("plot", "seed002", "-o", f"{folder}/seed002.png")
+    simulated = faultslip_json("simulate", scene)
+    system, _ = read_vibration_scene(ROOT / scene)
+    speeds = np.linspace(0.05, 2.0, 400) * system.speed
+    vibrates = [replace(system, speed=float(v)).analyse() for v in speeds]
+    band = [i for i, result in enumerate(vibrates) if result.valid and result.amplitude > 0]
+    first, last = band[0], band[-1]
+    sticks_below = brentq(lambda v: 0.5 - replace(system, speed=v).analyse().valid, speeds[first - 1], speeds[first],
+                          xtol=1e-9)
+    onset = brentq(lambda v: replace(system, speed=v).steady_sliding_growth, speeds[last], speeds[last + 1], xtol=1e-12)
+    damped = [float(seed_branch(CURVES["A"], [SEED002_DAMPING_SPEED], factor)["amplitude"][0]) for factor in (1, 2)]
+    return {"speed": VIBRATION_SPEED, "amplitude": value(averaged, "amplitude"),
+            "declared_error": averaged["estimated_relative_error"],
+            "error_over_eps_squared": averaged["averaging_error"]["error_over_eps_squared"],
+            "measured": averaged["averaging_error"]["measured"],
+            "simulated_error": simulated["averaging_relative_error"], "simulated_duration": value(simulated, "duration"),
+            "sticks_below": sticks_below, "steady_above": onset,
+            "seed002_ends": {key[len("curve_"):-len("_ends")]: value(figures, key) for key in figures
+                             if key.endswith("_ends")},
+            "flattening_speeds": {name: curve.flattening_speed for name, curve in CURVES.items()},
+            "damping_speed": SEED002_DAMPING_SPEED, "damped_amplitude_ratio": damped[1] / damped[0]}
+
+
 def leonard_table_6() -> dict:
     """Leonard's (2010) Table 6 intercepts recomputed from his Table 5 (docs/hazard.md): Mw - log10 A at A =
     1000 km^2, and Mw - (5/3) log10 L at L = 20 km (every setting's middle segment), by setting."""
@@ -203,6 +249,7 @@ def main() -> int:
     document["seed_000_addendum"] = seed_000_addendum()
     document["leonard_table_6"] = leonard_table_6()
     document["rough_slider"] = rough_slider()
+    document["quasi_harmonic"] = quasi_harmonic()
     write_results("docs_numbers.json", document)
     return 0
 

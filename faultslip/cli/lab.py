@@ -14,7 +14,8 @@ from faultslip import ranges
 from faultslip.cli.common import _locked, _number, _outputs, _save_run
 from faultslip.cli.printing import _emit, _progress
 from faultslip.constants import STANDARD_GRAVITY
-from faultslip.dynamics.vibration import amplitude_table, error_against_eps, hand_over_map, regions
+from faultslip.dynamics.vibration import (ERROR_CONSTANT, amplitude_table, error_against_eps,
+                                         error_over_eps_squared, hand_over_map, regions)
 from faultslip.errors import FaultslipError, InputError
 from faultslip.friction.fitting import fit_figure, fit_rate_law, read_friction_data
 from faultslip.friction.materials import check_fit_name, save_user_fit
@@ -375,8 +376,17 @@ def cmd_quasi_harmonic(args) -> int:
         report.note(f"averaging's hand-over against event-driven simulation drawn to {args.hand_over_chart}")
     if args.error_chart:
         chart = _outputs(args, {"error_chart": ("--error-chart", FIGURE_SUFFIXES)}, [args.scene])["error_chart"]
+        table = error_against_eps(scene=system)
         with _locked(chart):
-            save_figure(error_figure(error_against_eps()), chart, dpi=150)
+            save_figure(error_figure(table), chart, dpi=150)
+        summary = error_over_eps_squared(table)
+        report.section(f"Averaging's error against integration, measured (declared {ERROR_CONSTANT:g} eps^2)")
+        for curve, measured in summary.items():
+            low, high = measured["small_parameter"]
+            report.add(f"error_over_eps_squared: {curve}", f"{measured['lowest']:.3f} to {measured['highest']:.3f}",
+                       label=f"error / eps^2, {curve} (eps {low:.2g} to {high:.2g})")
+        report.add("averaging_error", {"measured": {key: (table[key].tolist()) for key in table},
+                                       "error_over_eps_squared": summary}, in_text=False)
         report.note(f"averaging's error against the small parameter drawn to {args.error_chart}")
     if plot:
         with _locked(plot):

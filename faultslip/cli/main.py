@@ -490,7 +490,8 @@ def _vibration_commands(commands) -> None:
     vibration.add_argument("--method", default="auto", help="auto (averaging where its error meets the tolerance), "
                                                               "averaging or integration")
     vibration.add_argument("--tolerance", help="relative error asked of the amplitude (default 1e-3)")
-    vibration.add_argument("--error-chart", help="draw averaging's error against integration over eps (~20 s)")
+    vibration.add_argument("--error-chart", help="draw averaging's error against integration over eps, measured "
+                                                 "on Rayleigh's curve and on the scene itself (~20 s)")
     vibration.add_argument("--hand-over-chart", help="draw where averaging hands over to stick-slip, against "
                                                      "event-driven simulation (~70 s)")
     _overwrite_and_json(vibration)

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -637,22 +637,72 @@ def settled_amplitude(system: QuasiHarmonic, method: str = "auto", tolerance: fl
             "reason": reason, "function_evaluations": run["function_evaluations"]}
 
 
-def error_against_eps(eps_values=(0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.4), even_terms=(0.0, 1.0)) -> dict:
+def averaging_error(system: QuasiHarmonic) -> dict:
+    """Averaging's error on one slider, measured against direct integration of eq. (10) from the averaged
+    amplitude until the approach to the cycle has decayed by e^-16 (:func:`settle_periods`).
+
+    Returns
+    -------
+    dict
+        ``small_parameter`` eps over the cycle, ``error`` |A_integrated / A_averaged - 1| and ``declared``,
+        averaging's declared ERROR_CONSTANT eps^2.
+
+    Raises
+    ------
+    SolverError
+        Where there is no cycle to measure: the slider sticks, or steady sliding is stable.
+    """
+    result = system.analyse()
+    if not result.valid or result.amplitude == 0.0:
+        raise SolverError(f"{system.name} at {system.speed:.4g} m/s has no quasi-harmonic cycle to measure "
+                          f"averaging's error on ({'it sticks' if not result.valid else 'steady sliding is stable'})")
+    run = integrate(system, result.amplitude, periods=settle_periods(system, result))
+    return {"small_parameter": system.small_parameter(result.amplitude),
+            "error": abs(run["amplitude"] / result.amplitude - 1), "declared": result.estimated_error}
+
+
+def quasi_harmonic_speeds(system: QuasiHarmonic, count: int = 5, search: int = 400) -> np.ndarray:
+    """``count`` driving speeds spread over the band where ``system`` vibrates without sticking, at fractions
+    0.1 to 0.8 of it (integration slows without bound towards the onset, where the cycle's decay rate
+    vanishes), found on ``search`` speeds from 0 to 2.5 times its own; empty if it never vibrates."""
+    grid = np.linspace(0.0, 2.5 * system.speed, search + 1)[1:]
+    sweep = amplitude_against_speed(system, grid)
+    vibrating = grid[(sweep["amplitude"] > 0) & ~sweep["sticks"]]
+    if vibrating.size < 2:
+        return np.empty(0)
+    return vibrating[0] + np.linspace(0.1, 0.8, count) * (vibrating[-1] - vibrating[0])
+
+
+def error_against_eps(eps_values=(0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.4), even_terms=(0.0, 1.0),
+                      scene: QuasiHarmonic | None = None) -> dict:
     """Averaging's measured error against direct integration over the small parameter, for Rayleigh's curve
     f = -e (u - v) + q e (u - v)^2 + e (u - v)^3 / 3 (M = k = W = 1, v = 10, limit cycle A = 2) with even
-    terms q; returns eps (the small parameter over the cycle), the measured and the declared errors."""
+    terms q, and for a ``scene``'s slider at the speeds of :func:`quasi_harmonic_speeds`. Returns per row the
+    ``curve`` it belongs to, eps (the small parameter over the cycle), the measured and the declared errors."""
     rows = []
     for quadratic in even_terms:
         for value in eps_values:
             p = np.polynomial.Polynomial([-10.0, 1.0])
             curve = -value * p + quadratic * value * p ** 2 + value / 3 * p ** 3
             system = QuasiHarmonic(1.0, 0.0, 1.0, 1.0, 10.0, coefficients=tuple(curve.coef))
-            result = system.analyse()
-            run = integrate(system, result.amplitude, periods=settle_periods(system, result))
-            rows.append((quadratic, system.small_parameter(result.amplitude),
-                         abs(run["amplitude"] / result.amplitude - 1), result.estimated_error))
-    table = np.array(rows)
-    return {"even_term": table[:, 0], "small_parameter": table[:, 1], "error": table[:, 2], "declared": table[:, 3]}
+            rows.append((f"Rayleigh, even term q = {quadratic:g}", averaging_error(system)))
+    if scene is not None:
+        rows += [(scene.name, averaging_error(replace(scene, speed=float(speed))))
+                 for speed in quasi_harmonic_speeds(scene)]
+    return {"curve": np.array([label for label, _ in rows]),
+            **{key: np.array([row[key] for _, row in rows]) for key in ("small_parameter", "error", "declared")}}
+
+
+def error_over_eps_squared(table: dict) -> dict:
+    """Per curve of :func:`error_against_eps`: the measured error over eps^2, lowest and highest, and the
+    range of eps it was measured over (what ERROR_CONSTANT bounds)."""
+    summary = {}
+    for curve in dict.fromkeys(table["curve"].tolist()):
+        chosen = table["curve"] == curve
+        ratio, eps = table["error"][chosen] / table["small_parameter"][chosen] ** 2, table["small_parameter"][chosen]
+        summary[curve] = {"lowest": float(ratio.min()), "highest": float(ratio.max()),
+                          "small_parameter": [float(eps.min()), float(eps.max())]}
+    return summary
 
 
 def hand_over_map(eps_values=(0.003, 0.01, 0.03, 0.1, 0.3), excess_values=(0.0, 0.1, 0.3, 1.0, 2.0),

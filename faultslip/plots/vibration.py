@@ -12,14 +12,15 @@ INCH = 0.0254
 
 def error_figure(table):
     """Averaging's measured error against direct integration over the small parameter, beside its declared
-    ERROR_CONSTANT eps^2 (Rayleigh curves with and without an even term)."""
+    ERROR_CONSTANT eps^2, one line per curve (:func:`faultslip.dynamics.vibration.error_against_eps`)."""
     plt = _pyplot()
     figure, axis = plt.subplots(figsize=(6, 4.4), constrained_layout=True)
-    for index, quadratic in enumerate(np.unique(table["even_term"])):
-        chosen = table["even_term"] == quadratic
-        eps = table["small_parameter"][chosen]
-        axis.loglog(eps, table["error"][chosen], "o-", color=f"C{index}", label=f"measured, even term q = {quadratic:g}")
-        axis.loglog(eps, table["declared"][chosen], "--", color=f"C{index}", lw=0.8,
+    for index, curve in enumerate(dict.fromkeys(table["curve"])):
+        chosen = table["curve"] == curve
+        order = np.argsort(table["small_parameter"][chosen])
+        eps = table["small_parameter"][chosen][order]
+        axis.loglog(eps, table["error"][chosen][order], "o-", color=f"C{index}", label=f"measured, {curve}")
+        axis.loglog(eps, table["declared"][chosen][order], "--", color=f"C{index}", lw=0.8,
                     label=f"declared {ERROR_CONSTANT:g} eps^2" if index == 0 else None)
     axis.set(xlabel="small parameter eps = (r + W max|f'|) / (M omega)",
              ylabel="relative error of the amplitude", title="averaging (seed 002 eq. 20) against integration")
