@@ -13,6 +13,7 @@ Runs, through the command line a user types (``--json``):
   three scaling branches (docs/hazard.md);
 * the exact critical loading rate against seed 003's Appendix I (docs/critical_rate.md);
 * one rate-and-state block on the bundled faults beside the seed law, with its model error (docs/rate_state.md);
+* seed 002's Appendix C free decay (``faultslip decay``, docs/lab_fits.md);
 * the classroom's phone record read back (configs/example_phyphox.csv, docs/classroom.md);
 * through the Python API: seed 000's addendum AD1.2 (docs/surfaces.md) and Leonard's Table 6 from his Table 5
   (docs/hazard.md).
@@ -250,6 +251,10 @@ def main() -> int:
     document["leonard_table_6"] = leonard_table_6()
     document["rough_slider"] = rough_slider()
     document["quasi_harmonic"] = quasi_harmonic()
+    decay = faultslip_json("decay", "--stiffness", "70.5 lbf/in", "--ratio", "1.225", "--cycles-between", "10",
+                           "--frequency", "19.9 Hz")
+    document["seed002_decay"] = {key: value(decay, key) for key in (
+        "decay_constant", "natural_frequency", "damping_ratio", "mass", "mass_weight", "damping_coefficient")}
     write_results("docs_numbers.json", document)
     return 0
 

@@ -1148,6 +1148,24 @@ def seed002_figures_table() -> str | None:
     return "\n".join(rows) + f"\n\n{note} `python benchmarks/docs_numbers.py`. {_machine(result)}"
 
 
+def seed002_decay_table() -> str | None:
+    """Seed 002's Appendix C recomputed by ``faultslip decay`` beside what it prints (docs/lab_fits.md)."""
+    result = _load("docs_numbers.json")
+    if result is None or "seed002_decay" not in result:
+        return None
+    values, inch, pound_force = result["seed002_decay"], 0.0254, 4.4482216152605
+    mass_imperial = values["mass"] * inch / pound_force  # lb s^2 / in
+    rows = ["| quantity | faultslip | seed 002 prints |", "| --- | --- | --- |",
+            f"| decay constant Delta = ln(1.225) × 19.9 / 10 | {values['decay_constant']:.5g} 1/s | 0.404 rad/sec |",
+            f"| natural frequency sqrt(omega_d² + Delta²) | {values['natural_frequency']:.6g} rad/s | (19.9 × 2 pi) |",
+            f"| damping ratio Delta / omega_n | {values['damping_ratio']:.3g} | — |",
+            f"| mass M = k / omega_n² | {values['mass']:.4g} kg = {mass_imperial:.5g} lb s²/in (weight "
+            f"{values['mass_weight'] / pound_force:.4g} lb) | \"M = 1.76 lb\" |",
+            f"| damping coefficient r = 2 M Delta | {values['damping_coefficient'] * inch / pound_force:.5g} lb s/in | "
+            "\"0.00368 lb.in/sec\" |"]
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
 #: Leonard's (2010) Table 6 as printed: Mw - log10 A and Mw - (5/3) log10 L, by setting.
 LEONARD_PRINTED = {"strike-slip": (3.99, 4.17), "dip-slip": (4.00, 4.24), "stable-continental": (4.19, 4.32)}
 
@@ -1704,7 +1722,7 @@ def _update_page(readme: Path) -> list[str]:
                          ("rough_slider", rough_slider_table),
                          ("quasi_harmonic_error", quasi_harmonic_error_table),
                          ("quasi_harmonic_scene", quasi_harmonic_scene_table),
-                         ("seed002_figures", seed002_figures_table),
+                         ("seed002_figures", seed002_figures_table), ("seed002_decay", seed002_decay_table),
                          ("spring_block_qdyn", spring_block_qdyn_table),
                          ("spring_chain_speed", spring_chain_speed_table),
                          ("lab_fits", lab_fits_table),
