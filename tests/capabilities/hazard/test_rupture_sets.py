@@ -286,7 +286,7 @@ def test_sherifs_example_the_table_holds_both_sides_and_its_logs_agree():
             assert max(logged["slip_rate_misfit"].values()) > 0.2 > max(map(abs, ours["slip_rate_misfit"].values()))
     readme = load_benchmark("readme", "readme_for_sherifs")
     page = (Path(__file__).resolve().parents[3] / "docs" / "hazard.md").read_text(encoding="utf-8")
-    assert readme.sherifs_example_table() in page
+    assert readme.RENDERERS["sherifs_example"]() in page
 
 
 def test_sherifs_example_map_runs_from_the_command_line(cli, tmp_path):

@@ -1,0 +1,194 @@
+"""The 2-D antiplane fault against QDYN, its threads, placement, profile, resolution and period-3 run (docs/fault_2d.md, docs/benchmarks.md)."""
+
+from __future__ import annotations
+
+from ._common import _load, _machine, _packages, _peer_closing
+
+
+def fault_2d_table() -> str | None:
+    result = _load("fault_2d.json")
+    if result is None:
+        return None
+    rows = ["| run | elements | recurrence | surface slip per event | settled (spread) | steps | wall time |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for row in result["convergence"] + [result["timed_at_loosest"]]:
+        rows.append(f"| BP1, {row['element_size_m']:g} m, {row['years']:g} yr, rtol {row['rtol']:g} | {row['elements']} | "
+                    f"{row['recurrence_yr']:.5f} yr | {row['surface_slip_m']:.5f} m | {row['settled']} "
+                    f"({row['recurrence_spread']:.1e}) | {row['steps']:,} | {row['wall_s'] / 60:.1f} min |")
+    difference = result["difference_coarse_fine"]
+    rows.append("")
+    rows.append(f"Between the two element sizes: recurrence {difference['recurrence'] * 100:.3f} %, surface slip "
+                f"{difference['surface_slip'] * 100:.3f} %. The loosest rtol tested whose recurrence (100 m, "
+                f"{result['tolerance_study'][0]['years']:g} yr) stays within 0.1 % of the tightest's: "
+                f"{result['loosest_rtol']:g} (relative differences: " + ", ".join(
+                    f"{row['rtol']:g}: {row['recurrence_error']:.1e}" for row in result["tolerance_study"]) + ").")
+    finer = result.get("finer")
+    if finer:
+        coarse, fine = finer["sizes_m"]
+        rows.append("")
+        rows.append(f"{fine:g} m against {coarse:g} m: recurrence {finer['recurrence_difference'] * 100:.4f} %, surface "
+                    f"slip {finer['surface_slip_difference'] * 100:.4f} %. Its cost is {finer['cost_ratio']:.2f}× "
+                    f"{coarse:g} m's: {finer['steps_ratio']:.2f}× the steps (finer elements resolve faster slip, so the "
+                    f"steps through each rupture shorten) and {finer['cost_per_step_ratio']:.2f}× the cost a step, "
+                    + ("within" if finer["cost_per_step_ratio"] <= finer["n_log_n_ratio"] else "above")
+                    + f" the {finer['n_log_n_ratio']:.2f}× that an N log N product predicts for twice the elements "
+                    f"(the {coarse:g} m and {fine:g} m rows at rtol 1e-8 measured on {finer['date']}, one after the "
+                    "other on one pinned core; the other rows on the date below).")
+    return "\n".join(rows) + "\n\n" + _machine(result)
+
+
+def fault_2d_qdyn_table() -> str | None:
+    result = _load("fault_2d_qdyn.json")
+    if result is None:
+        return None
+    grid = result.get("tolerance_grid") or []
+    rows = ["| code, solver | loosest tolerance within 0.1 % of its own converged recurrence | recurrence (its "
+            "converged value) | steps | wall time | CPU time | peak memory |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for name, code in result["codes"].items():
+        timed = code.get("timed")
+        study = [row for row in code["study"] if "failed" not in row and row.get("settled")]
+        failed = [row for row in code["study"] if "failed" in row]
+        converged = min(study, key=lambda row: row["tolerance"])["recurrence_yr"] if study else float("nan")
+        failures = (" (failed at " + ", ".join(f"{row['tolerance']:g}" for row in failed) + ": " +
+                    failed[0]["failed"].split(":")[0] + ")") if failed else ""
+        if timed is None or "failed" in timed:
+            rows.append(f"| {name} | none{failures} | | | not timed | | |")
+            continue
+        rows.append(f"| {name} | {code['setting']:g}{failures} | {timed['recurrence_yr']:.4f} yr ({converged:.4f} yr) "
+                    f"| {timed['steps']:,} | {timed['wall_s']:.1f} s | {timed.get('cpu_s', float('nan')):.1f} s | "
+                    f"{timed.get('peak_mib', float('nan')):.0f} MiB |")
+    rows.append("")
+    if result.get("ratio_faultslip_over_best_peer"):
+        rows.append(f"faultslip / {result['best_peer']} = **{result['ratio_faultslip_over_best_peer']:.2f}** in wall time, "
+                    f"{result.get('cpu_ratio_faultslip_over_best_peer', float('nan')):.2f} in CPU time (target ≤ 0.5). "
+                    f"BP1 for {result['years']:g} yr on {result['elements']} elements of "
+                    f"{result['element_size_m']:.4g} m; every code's tolerance study ran over "
+                    f"{result['tolerance_years']:g} yr on the same grid, {grid[0]:g} to {grid[-1]:g}; each timed run a "
+                    f"whole process pinned to core {result.get('pinned_core', 0)}, the codes interleaved over "
+                    f"{result.get('rounds', 1)} rounds (order reversed every other round), the medians shown; QDYN "
+                    f"commit {(result.get('qdyn_commit') or 'unknown')[:7]}.")
+        memory = [f"{name} {code['memory']['short_peak_mib']:.0f} MiB over {code['memory']['short_years']:g} yr and "
+                  f"{code['memory']['long_peak_mib']:.0f} MiB over {code['memory']['long_years']:g} yr "
+                  f"({code['memory']['growth']:+.1%})" for name, code in result["codes"].items() if code.get("memory")]
+        if memory:
+            rows.append("")
+            rows.append("Peak memory against the simulated span: " + "; ".join(memory) + ".")
+    return _peer_closing(rows, result)
+
+
+def fault_2d_threads_table() -> str | None:
+    result = _load("fault_2d_threads.json")
+    if result is None:
+        return None
+    rows = [f"| elements | {result['runs'][0]['years']:g}-yr runs: one / two threads | gain | trial steps near "
+            "(pairs) | short runs in pairs, near throughout: median (pairs, range) |", "| --- | --- | --- | --- | --- |"]
+    for run in result["runs"]:
+        near = run["trial_steps"]["near"]
+        steps = f"{near['speedup']:.2f}× ({near['pairs']})" if near["pairs"] else "none near"
+        short = run.get("short_runs") or {}
+        gains = [pair["gain"] for pair in short.get("pairs", []) if pair["placement"] == "near"]
+        pairs = (f"{short['near_median_gain']:.2f}× ({len(gains)}, {min(gains):.2f}-{max(gains):.2f}×)" if gains
+                 else "none near throughout")
+        rows.append(f"| {run['elements']:,} | {run['one_thread']['wall_s']:.2f} / {run['two_threads']['wall_s']:.2f} s "
+                    f"| {run['speedup']:.2f}× | {steps} | {pairs} |")
+    share = result["placement"]["share"]
+    span = f", {result['started']}-{result['ended']} UTC" if result.get("started") else ""
+    years = result["runs"][0].get("short_runs", {}) or {}
+    return ("\n".join(rows) + f"\n\nTarget ≥ 1.6×. {result['rounds']} interleaved rounds of whole runs (medians), "
+            + (f"pairs of {years['years']:g}-yr runs, " if years else "")
+            + f"batches of 100 trial steps through the run's loop; the placement over the run: shared core "
+            f"{share['shared core']:.0%}, near {share['near']:.0%}, far {share['far']:.0%}. The same bits on one "
+            f"thread and two: {all(run['identical_bits'] for run in result['runs'])}. "
+            f"`python benchmarks/fault_2d_threads.py`; {result['machine']}, {result['date']}{span}."
+            + _packages(result))
+
+
+def fault_2d_placement_table() -> str | None:
+    result = _load("fault_2d_placement.json")
+    if result is None:
+        return None
+    rows = ["| placement | rounds | private work, the other core busy | private work, a spin barrier after each "
+            f"{result.get('chunk_values', 800)} values | a barrier | a line written on one core, read on the "
+            f"other | a task's {result['trial_lines']:,} such lines a trial at {result['elements']:,} elements |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for name, row in result["classes"].items():
+        if row["rounds"]:
+            between = row.get("work_between_barriers")
+            barrier = row.get("barrier_us")
+            rows.append(f"| {name} | {row['rounds']} | {row['private_slowdown']:.2f}× | "
+                        + (f"{between:.3f}× | " if between is not None else "not measured | ")
+                        + (f"{barrier:.2f} µs | " if barrier is not None else "not measured | ")
+                        + f"{row['crossing_ns_per_line']:.1f} ns | {row['trial_crossing_us']:.0f} µs |")
+    span = f", {result['started']}-{result['ended']} UTC" if result.get("started") else ""
+    return ("\n".join(rows) + f"\n\nEach round kept in the class its round trips before and after agree on. "
+            f"`python benchmarks/fault_2d_placement.py`; {result['machine']}, {result['date']}{span}."
+            + _packages(result))
+
+
+def fault_2d_profile_table() -> str | None:
+    result = _load("fault_2d_profile.json")
+    if result is None:
+        return None
+    parts = list(result["runs"][0]["inside_the_step_us"])
+    rows = ["| elements | a trial step | " + " | ".join(result["runs"][0]["shares"]) + " | "
+            + " | ".join(f"inside: {part}" for part in parts) + " |", "| --- " * (2 + len(result["runs"][0]["shares"])
+                                                                               + len(parts)) + "|"]
+    for run in result["runs"]:
+        rows.append(f"| {run['elements']:,} | {run['per_trial_us'] / 1e3:.2f} ms | "
+                    + " | ".join(f"{share:.0%}" for share in run["shares"].values()) + " | "
+                    + " | ".join(f"{run['inside_the_step_us'][part]:.0f} µs" for part in parts) + " |")
+    first = result["runs"][0]
+    return ("\n".join(rows) + f"\n\nBP1 over {first['years']:g} yr at rtol {first['rtol']:g} on one pinned core; the "
+            "shares split the run by cProfile, the parts inside the step are each timed alone on the run's last state. "
+            f"`python benchmarks/fault_2d_profile.py`. {_machine(result)}")
+
+
+def fault_2d_resolution_table() -> str | None:
+    result = _load("fault_2d_resolution.json")
+    if result is None:
+        return None
+    from faultslip.models.fault_2d.analysis import MIN_RESOLUTION, discretisation_error
+
+    levels = [run["resolution"] for run in result["faults"][0]["runs"]]
+    rows = ["| fault | W / h* | " + " | ".join(f"{level:.2g} per L_b" for level in levels) + " |",
+            "| --- " * (2 + len(levels)) + "|"]
+    for fault in result["faults"]:
+        cells = [("unsettled" if run["sequence"] == "unsettled" else f"{run['error']:.2%}") for run in fault["runs"]]
+        rows.append(f"| {fault['name']} ({fault['scene']}) | "
+                    f"{fault['seismogenic_width_m'] / fault['nucleation_size_m']:.2g} | " + " | ".join(cells) + " |")
+    nominal = [round(level, 1) for level in levels]  # the designed levels (a size is a whole number of elements)
+    rows.append("| declared | | " + " | ".join("refused" if level < MIN_RESOLUTION else
+                                                 f"{discretisation_error(level):.2%}" for level in nominal) + " |")
+    return ("\n".join(rows) + "\n\nEach run's recurrence against its fault's Richardson limit over the element "
+            "sizes; elements per L_b = G D_c / (sigma_n b) rounded. `python benchmarks/fault_2d_resolution.py`. "
+            + _machine(result))
+
+
+def fault_2d_period3_table() -> str | None:
+    result = _load("fault_2d_period3.json")
+    if result is None:
+        return None
+    rows = ["| element size | sequence | intervals (yr) | mean (yr) | largest interval error | steps | wall time |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for run in result["runs"]:
+        errors = run.get("interval_errors")
+        rows.append(f"| {run['element_size_m']:g} m | {run['kind']}, period {run['period']} | "
+                    + ", ".join(f"{value:.3f}" for value in run["intervals_yr"])
+                    + f" | {run['mean_interval_yr']:.4f} | " + (f"{max(errors):.1e}" if errors else "n/a")
+                    + f" | {run['steps']:,} | {run['wall_s']:.0f} s |")
+    return ("\n".join(rows) + f"\n\n`configs/{result['scene']}` over {result['runs'][0]['years']:g} yr; each "
+            f"interval against the {result['runs'][0]['element_size_m']:g} m run's. "
+            f"`python benchmarks/fault_2d_period3.py`. {_machine(result)}")
+
+
+#: The tables this module renders, by the marker name in the pages.
+TABLES = {
+    "fault_2d": fault_2d_table,
+    "fault_2d_qdyn": fault_2d_qdyn_table,
+    "fault_2d_threads": fault_2d_threads_table,
+    "fault_2d_placement": fault_2d_placement_table,
+    "fault_2d_profile": fault_2d_profile_table,
+    "fault_2d_resolution": fault_2d_resolution_table,
+    "fault_2d_period3": fault_2d_period3_table,
+}

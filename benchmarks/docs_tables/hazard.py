@@ -1,0 +1,194 @@
+"""Maps, sources, rupture sets and hazard engines (docs/hazard.md, docs/studies.md)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._common import _load, _machine
+
+
+def _map_dataset(segments: list):
+    """A map's segment rows (benchmarks/san_andreas_map.py) as the Dataset faultslip.studies.maps reads, so its own
+    table is rendered, not a copy of it."""
+    import numpy as np
+    import xarray as xr
+
+    names = [key for key in segments[0] if key not in ("segment", "observed_slip_event")]
+    return xr.Dataset({name: ("segment", np.array([np.nan if row[name] is None else row[name] for row in segments]))
+                       for name in names if name != "model_error" or any(row[name] is not None for row in segments)},
+                      coords={"segment": [row["segment"] for row in segments]})
+
+
+def _against_observed(segments: list) -> str:
+    """What the table shows, in a sentence: the slip ratios of the observed events, and the recurrence ratios."""
+    slips = [f"{row['slip_ratio']:.2f} on {row['segment']}" + (f" ({row['observed_slip_event']})"
+                                                               if row["observed_slip_event"] else "")
+             for row in segments if row["slip_ratio"] is not None]
+    ratios = [(row["recurrence_ratio"], row["segment"]) for row in segments if row["recurrence_ratio"] is not None]
+    if not ratios:
+        return f"Predicted over observed slip per event: {', '.join(slips)}."
+    low, high = min(ratios), max(ratios)
+    said = ("over-predicted on every segment where it is observed" if low[0] > 1 else
+            "under-predicted on every segment where it is observed" if high[0] < 1 else "predicted over observed")
+    return (f"Predicted over observed slip per event: {', '.join(slips)}. Recurrence is {said}: {low[0]:.2f} "
+            f"({low[1]}) to {high[0]:.2f} ({high[1]}) times.")
+
+
+def san_andreas_map_table() -> str | None:
+    result = _load("san_andreas_map.json")
+    if result is None:
+        return None
+    from faultslip.studies.maps import observed_table
+
+    parts = []
+    for name, heading in (("seed_law", "The seed law"), ("rate_state", "One rate-and-state block a segment")):
+        segments = result[name]["segments"]
+        parts.append(f"**{heading}** (`{result[name]['config']}`):\n\n{observed_table(_map_dataset(segments))}\n\n"
+                     + _against_observed(segments))
+    return "\n\n".join(parts) + f"\n\n`python benchmarks/san_andreas_map.py`. {_machine(result)}"
+
+
+def california_scaling_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "california_sources" not in result:
+        return None
+    sources = result["california_sources"]
+    relations = list(sources[0]["empirical"])
+    rows = ["| segment | moment rate (N m/yr) | faultslip Mw | " + " | ".join(
+        relation.replace(", strike-slip", "") for relation in relations) + " |", "| --- " * (3 + len(relations)) + "|"]
+    excess = []
+    for source in sources:
+        cells = []
+        for relation in relations:
+            entry = source["empirical"][relation]
+            if entry.get("sigma") is not None:
+                cells.append(f"{entry['magnitude']:.2f} ± {entry['sigma']:.2f}")
+            else:
+                cells.append(f"{entry['magnitude']:.2f} ({entry['range'][0]:.2f}-{entry['range'][1]:.2f})")
+            excess.append(source["magnitude"] - entry["magnitude"])
+        rows.append(f"| {source['id']} | {source['moment_rate']:.3g} | {source['magnitude']:.2f} | " + " | ".join(cells)
+                    + " |")
+    return ("\n".join(rows) + f"\n\nfaultslip's Mw less the relations': {min(excess):+.2f} to {max(excess):+.2f}. "
+            f"`python benchmarks/docs_numbers.py`. {_machine(result)}")
+
+
+def rupture_sets_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "rupture_sets" not in result:
+        return None
+    rows = ["| branch | sections | ruptures allowed | with a rate | multi-fault with a rate | slip rates released to | "
+            "b of the solved MFD | shape misfit |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for branch in result["rupture_sets"]:
+        rows.append(f"| {branch['relation']} | {branch['sections']} | {branch['ruptures']} | {branch['ruptures_with_rate']} "
+                    f"| {branch['multi_fault_ruptures_with_rate']} | {branch['budget_error']:.1e} | "
+                    f"{branch['b_value']:.3f} | {branch['shape_misfit']:.2g} |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+def hazard_chain_table() -> str | None:
+    result = _load("hazard_chain.json")
+    if result is None:
+        return None
+    kinds = list(result["kinds"])
+    rows = ["| site | " + " | ".join(kind.replace("_", " ") for kind in kinds) + " |", "| --- " * (1 + len(kinds)) + "|"]
+    for site, (lon, lat) in result["sites"].items():
+        rows.append(f"| {site} ({lon:g}, {lat:g}) | " + " | ".join(
+            f"{result['kinds'][kind]['pga_10pct_50yr_g'][site]:.2f} g" for kind in kinds) + " |")
+    above_five = {}
+    for kind in kinds:  # the budget's M >= 5 events a year on the segment drawn, by branch
+        for relation, mfd in result["kinds"][kind]["mfd"].items():
+            magnitudes = mfd["min_magnitude"] + mfd["bin_width"] * np.arange(len(mfd["rates"]["value"]))
+            rates = np.asarray(mfd["rates"]["value"])
+            above_five.setdefault(kind, []).append(float(rates[magnitudes >= 5.0 - 1e-9].sum()))
+    said = "; ".join(f"{kind.replace('_', ' ')} {min(v):.2g}-{max(v):.2g}" for kind, v in above_five.items())
+    return ("\n".join(rows) + f"\n\nM ≥ 5 events a year on the segment drawn, over the three branches: {said}. "
+            f"`python benchmarks/hazard_chain.py` (needs the engine: `pip install '.[hazard]'`). {_machine(result)}")
+
+
+#: Leonard's (2010) Table 6 as printed: Mw - log10 A and Mw - (5/3) log10 L, by setting.
+LEONARD_PRINTED = {"strike-slip": (3.99, 4.17), "dip-slip": (4.00, 4.24), "stable-continental": (4.19, 4.32)}
+
+
+def leonard_table_6_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "leonard_table_6" not in result:
+        return None
+    computed = result["leonard_table_6"]
+    settings = list(LEONARD_PRINTED)
+    rows = ["| | printed | computed |", "| --- | --- | --- |"]
+    for index, label in ((0, "Mw(A) intercepts (strike-slip, dip-slip, stable continental)"),
+                         (1, "Mw(L) intercepts, slope 5/3")):
+        key = ("area", "length")[index]
+        rows.append(f"| {label} | " + ", ".join(f"{LEONARD_PRINTED[s][index]:.2f}" for s in settings) + " | "
+                    + ", ".join(f"{computed[s][key]:.3f}" for s in settings) + " |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+def engine_branches_table() -> str | None:
+    result = _load("engine_branches.json")
+    if result is None:
+        return None
+    branches = result["branches"]
+    levels = next(iter(branches.values()))["levels_g"]
+    shown = [k for k, level in enumerate(levels) if level in (0.01, 0.05, 0.1, 0.2, 0.5, 1.0)]
+    rows = ["| source model | T (yr) | " + " | ".join(f"PGA > {levels[k]:g} g" for k in shown) + " |",
+            "| --- | --- | " + " | ".join("---" for _ in shown) + " |"]
+    for name, branch in branches.items():
+        rows.append(f"| {name} | {branch['investigation_time_yr']:g} | "
+                    + " | ".join(f"{branch['annual_rate'][k]:.3g}" for k in shown) + " |")
+    return ("\n".join(rows) + f"\n\nEquivalent annual rates, -ln(1 - PoE) / T, at {result['site']} "
+            "(benchmarks/engine_branches.py, the engine's classical calculator on each job faultslip writes). "
+            + _machine(result))
+
+
+def _share(value: float) -> str:
+    """A share as a percentage, a round-off's sign dropped (SHERIFS's logs release -3e-6 of a slip rate)."""
+    return f"{0.0 if abs(value) < 5e-4 else value:.1%}"
+
+
+def sherifs_example_table() -> str | None:
+    result = _load("sherifs_example.json")
+    if result is None:
+        return None
+    rows = ["| rupture set | quantity | SHERIFS (logged sample) | faultslip |", "| --- | --- | --- | --- |"]
+    for name, sides in result["sets"].items():
+        ours = sides["faultslip"]
+        for label, theirs in sides["sherifs"].items():
+            sample = label.split(" sample ")[1]
+            rows.append(f"| {name} | moment rate of the faults, mu A s | {theirs['moment_rate_initial']:.3g} N m/yr "
+                        f"(sample {sample}) | {ours['moment_rate_initial']:.3g} N m/yr |")
+            rows.append(f"| {name} | released by the ruptures; left unassigned | {theirs['moment_rate_released']:.3g}; "
+                        f"{theirs['unassigned_share']:.1%} | {ours['moment_rate_released']:.3g}; "
+                        f"{abs(ours['unassigned_share']):.1e} |")
+            rows.append(f"| {name} | rate of M >= 6 | {theirs['rate_m6']:.3g} /yr | {ours['rate_m6']:.3g} /yr |")
+            rows.append(f"| {name} | b of the target; of the solved distribution (least squares over its bins) | "
+                        f"{theirs['b_target']:.3f} (sampled); {theirs['b_solved']:.3f} | {ours['b_target']:.3f}; "
+                        f"{ours['b_value']:.3f} |")
+            rows.append(f"| {name} | smallest magnitude | {theirs['smallest_magnitude']:.1f} (its M_min) | "
+                        f"{ours['smallest_magnitude']:.2f} (one 3 km section) |")
+            for fault in sorted(ours["participation"]):
+                mine, theirs_p = ours["participation"][fault], theirs["participation"][fault]
+                rows.append(f"| {name} | {fault}: participation at M >= 5, 5.5, 6 (/yr); slip-rate misfit | "
+                            + ", ".join(f"{theirs_p[t]:.2g}" for t in ("5", "5.5", "6"))
+                            + f"; {_share(theirs['slip_rate_misfit'][fault])} | "
+                            + ", ".join(f"{mine[t]:.2g}" for t in ("5", "5.5", "6"))
+                            + f"; {abs(ours['slip_rate_misfit'][fault]):.0e} |")
+            largest = ", ".join(f"{key} {theirs['mmax'][key]:.1f} / {ours['mmax'][key]:.2f}"
+                                for key in theirs["mmax"] if key in ours["mmax"])
+            rows.append(f"| {name} | largest magnitude of each source, SHERIFS / faultslip | {largest} | |")
+    first = next(iter(result["sets"].values()))["faultslip"]
+    return ("\n".join(rows) + f"\n\nfaultslip: {first['sections']} sections of about 3 km, solved on the Wells & "
+            "Coppersmith (1994) area branch with b = 1; SHERIFS: the logged samples whose files agree with one another "
+            "(benchmarks/data/sherifs_example_logs.txt names each file and commit). " + _machine(result))
+
+
+#: The tables this module renders, by the marker name in the pages.
+TABLES = {
+    "san_andreas_map": san_andreas_map_table,
+    "california_scaling": california_scaling_table,
+    "rupture_sets": rupture_sets_table,
+    "hazard_chain": hazard_chain_table,
+    "leonard_table_6": leonard_table_6_table,
+    "engine_branches": engine_branches_table,
+    "sherifs_example": sherifs_example_table,
+}

@@ -1,0 +1,225 @@
+"""The one slider against the 2-D fault: calibration, limits and escalations (docs/ladder.md, docs/results.md)."""
+
+from __future__ import annotations
+
+import statistics
+
+from ._common import _load, _machine
+
+
+def ladder_table() -> str | None:
+    """The one slider's corrected answers and 95 % ranges against held-out 2-D faults (ladder_calibration.py)."""
+    result = _load("ladder_held_out.json")
+    if result is None:
+        return None
+    names = {"recurrence": "recurrence", "mean_slip": "slip per event, mean over the rupture zone",
+             "surface_slip": "surface slip per event (surface-breaking faults)"}
+    rows = ["| quantity | held-out 2-D faults inside the 95 % range | mean half-width | median bias, block "
+            "uncorrected | median bias, corrected |", "| --- | --- | --- | --- | --- |"]
+    for key, line in result["summary"].items():
+        rows.append(f"| {names[key]} | {line['holds']} of {line['held_out']} ({100 * line['coverage']:.0f} %) | "
+                    f"±{100 * line['mean_half_width']:.0f} % | {100 * line['median_bias_uncorrected']:+.0f} % | "
+                    f"{100 * line['median_bias_corrected']:+.1f} % |")
+    fresh = result.get("fresh")
+    if fresh:
+        for key, line in fresh["summary"].items():
+            rows.append(f"| {names[key]}, **fresh draw** | {line['holds']} of {line['held_out']} "
+                        f"({100 * line['coverage']:.0f} %) | ±{100 * line['mean_half_width']:.0f} % | | |")
+    outside = sum(bool(row["outside"]) for row in result["rows"])
+    budget = result["budget"]
+    fresh_note = ""
+    if fresh:
+        spent = fresh["budget"]
+        fresh_note = (f"The fresh draw: {fresh['faults']} faults of a third draw (seed {fresh['seed']}, `python "
+                      f"benchmarks/ladder_designs.py --fresh {fresh['faults']}`), run after the ranges were fitted and "
+                      f"shipped and read against them as they are, "
+                      f"{sum(bool(row['outside']) for row in fresh['rows'])} of them outside the box"
+                      + (f", {fresh['left_out_unsettled']} left out unsettled" if fresh["left_out_unsettled"] else "")
+                      + (f"; the cost model estimated their CPU at {spent['ratio_min']:.2f} to {spent['ratio_max']:.2f}× "
+                         f"what they used, {spent['within_2x']} of {spent['runs']} within 2×" if spent["runs"] else "")
+                      + ". ")
+    return ("\n".join(rows) + f"\n\n{len(result['rows'])} held-out faults drawn at random over the box "
+            f"(`python benchmarks/ladder_designs.py`, then `benchmarks/ladder_calibration.py`), {outside} of them "
+            f"outside it (no range declared). " + fresh_note
+            + (f"Before each of the {budget['runs']} runs of `ladder_designs.py` (calibration and held out), the cost model now declared "
+               f"estimated its CPU: {budget['ratio_min']:.2f} to {budget['ratio_max']:.2f}× what it used (median "
+               f"{budget['ratio_median']:.2f}×), {budget['within_2x']} of {budget['runs']} within 2×"
+               + (f"; on the {held['runs']} held-out faults, whose steps it was not fitted on, {held['within_2x']} "
+                  f"of {held['runs']} ({held['ratio_min']:.2f} to {held['ratio_max']:.2f}×)"
+                  if (held := budget.get("held_out")) and held["runs"] else "")
+               + (f" ({budget['estimated_by_older_models']} runs estimated by older models are left out)"
+                  if budget.get("estimated_by_older_models") else "") + ". " if budget["runs"] else "")
+            + _machine(result))
+
+
+def ladder_limits_table() -> str | None:
+    """What limits the one slider's range: the two kinds of 2-D sequence (ladder_calibration.py) and how the kind
+    and the recurrence move with D_c on the faults where both kinds occur (ladder_regimes.py)."""
+    result = _load("ladder_held_out.json")
+    if result is None or "limits" not in result:
+        return None
+    limits = result["limits"]
+    names = {"recurrence": "recurrence", "mean_slip": "slip per event, mean over the rupture zone"}
+    rows = ["| quantity | residual sd, all faults | mean residual: every event breaks the zone / partial events "
+            "interleave | residual sd within each kind | held out, if told the kind: inside the 95 % range, mean "
+            "half-width | a Gaussian process on the groups, held out: inside, mean half-width; told the kind |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for key, name in names.items():
+        line = limits[key]
+        rows.append(f"| {name} | {line['residual_sd_all']:.3f} | {line['mean_residual_single']:+.3f} / "
+                    f"{line['mean_residual_interleaving']:+.3f} | {line['residual_sd_single']:.3f} / "
+                    f"{line['residual_sd_interleaving']:.3f} | {100 * line['told_kind_coverage']:.0f} % of "
+                    f"{line['told_kind_held_out']}, ±{100 * line['told_kind_mean_half_width']:.0f} % | "
+                    + (f"{100 * gp['coverage']:.0f} %, ±{100 * gp['mean_half_width']:.0f} %; "
+                       f"{100 * gp['told_kind_coverage']:.0f} %, ±{100 * gp['told_kind_mean_half_width']:.0f} % |"
+                       if (gp := line.get("gaussian_process")) else "not run |"))
+    named = limits["kind_named_from_groups"]
+    text = ("\n".join(rows) + f"\n\nResiduals of ln(2-D / block) after the correction. Partial events interleave "
+            f"(at least {limits['partial_share']:g} per system-size event) on {limits['calibration_interleaving']} of "
+            f"{limits['calibration_faults']} calibration faults and {limits['held_out_interleaving']} of "
+            f"{limits['held_out_faults']} held-out ones. A logistic regression on the groups, fitted on the "
+            f"calibration faults, names the kind of {named['right']} of {named['held_out']} held-out faults"
+            + (f", and a held-out fault's {named['nearest_neighbours']} nearest calibration faults in the groups (k by "
+               f"leave-one-out) name {named['right_by_neighbours']}" if "right_by_neighbours" in named else "")
+            + f"; always guessing the commoner kind names {named['always_the_commoner']}. The Gaussian process "
+            "(a squared-exponential kernel with a length per group, and noise, fitted by marginal likelihood) is a "
+            "nonlinear fit of the same groups.")
+    # every range in the table: the linear fit told the kind, the Gaussian process without and with it
+    fits = [(limits[key]["told_kind_coverage"], limits[key]["told_kind_mean_half_width"]) for key in names]
+    fits += [(gp[prefix + "coverage"], gp[prefix + "mean_half_width"]) for key in names
+             if (gp := limits[key].get("gaussian_process")) for prefix in ("", "told_kind_")]
+    reached = sum(coverage >= 0.95 and half <= 0.25 for coverage, half in fits)
+    text += (f" Of the {len(fits)} ranges above, {reached or 'none'} {'reaches' if reached <= 1 else 'reach'} 95 % "
+             "of the held-out faults inside at a mean half-width of ±25 % or less.")
+    if all("learning_curve" in limits[key] for key in names):
+        def widths(key, fit):
+            return ", ".join(f"±{100 * point[fit + '_mean_half_width']:.0f} %" for point in limits[key]["learning_curve"])
+
+        curve = limits["recurrence"]["learning_curve"]
+        sizes = ", ".join(str(point["faults"]) for point in curve[:-1])
+        unlimited = [limits[key]["unlimited_designs_half_width"] for key in names]
+        text += (f" Fitted on random subsets of {sizes} of the {curve[-1]['faults']} calibration faults "
+                 f"({curve[0]['draws']} draws each) and on all of them, the held-out recurrence range's mean half-width is "
+                 f"{widths('recurrence', 'linear')} (the Gaussian process's {widths('recurrence', 'gaussian_process')}); "
+                 f"the slip's {widths('mean_slip', 'linear')} ({widths('mean_slip', 'gaussian_process')}). With unlimited "
+                 f"designs the declared range would tend to ±{100 * unlimited[0]:.0f} % (recurrence) and "
+                 f"±{100 * unlimited[1]:.0f} % (slip), the residual's own spread"
+                 + (": more designs of this kind do not bring it to ±25 %." if min(unlimited) > 0.25 else "."))
+    if "narrowest" in limits:
+        low = limits["narrowest"]
+        rec, slip = low["recurrence"], low["mean_slip"]
+        floor = min(low[key][fit] for key in names for fit in ("unseen", "refitted", "by_band", "by_band_told_kind"))
+        text += (" Set with the 2-D answers in hand, the narrowest 95 % ranges of these groups are "
+                 + ("all wider than ±25 %" if floor > 0.25 else f"as narrow as ±{100 * floor:.0f} %")
+                 + f": one width about the shipped centre holding 95 % of the {rec['unseen_faults']} unseen faults (held out and "
+                 f"fresh) is ±{100 * rec['unseen']:.0f} % (recurrence) and ±{100 * slip['unseen']:.0f} % (slip); the "
+                 f"correction refitted on all {rec['refitted_faults']} faults, ±{100 * rec['refitted']:.0f} % and "
+                 f"±{100 * slip['refitted']:.0f} % of its own residuals; a width of its own in each of "
+                 f"{low['bands']} bands of W/h*, ±{100 * rec['by_band']:.0f} % and ±{100 * slip['by_band']:.0f} % on "
+                 f"average; and told each fault's kind as well, ±{100 * rec['by_band_told_kind']:.0f} % and "
+                 f"±{100 * slip['by_band_told_kind']:.0f} %. These bounds are not ranges anyone could declare: they "
+                 "use the answers.")
+    regimes = _load("ladder_regimes.json")
+    if regimes is not None:
+        summary = regimes["summary"]
+        factors = ", ".join(f"{100 * (f - 1):+.0f} %" for f in regimes["factors"] if f != 1.0)
+        kinds = " or ".join(f"{kind} (period {period})" if kind == "periodic" else kind
+                             for kind, period in summary["widest"]["sequences"])
+        text += (f" Rerun with D_c moved by {factors} (`python benchmarks/ladder_regimes.py`), the "
+                 f"{summary['faults']} held-out faults whose W/h* lies in {regimes['mixed_width_over_nucleation'][0]:g}-"
+                 f"{regimes['mixed_width_over_nucleation'][1]:g}, where both kinds occur, change kind on "
+                 f"{summary['kind_changed']}. Their recurrence moves by at most {100 * summary['median_largest_change']:.1f} % "
+                 f"on the median fault, and by up to {100 * summary['largest_change']:.0f} % where the sequence changes "
+                 f"({summary['widest']['name']}'s runs are {kinds}). The partial events of their unmoved runs ({summary['partial_events']}) start a median "
+                 f"{summary['partial_hypocentre_median']:.2f} W below the zone's top and break a median "
+                 f"{100 * summary['partial_broken_median']:.0f} % of it.")
+        if "starts" in regimes:
+            text += " " + _starts_sentence(regimes["starts"])
+    return text + " " + _machine(result)
+
+
+def _starts_sentence(block: dict) -> str:
+    """What the held-out faults do from other starts (ladder_regimes.py --part start)."""
+    summary = block["summary"]
+    speeds = " and ".join(f"{factor:g}" for factor in block["initial_speeds_over_plate_rate"])
+
+    def reached(entry):
+        kind = (f"another period-{entry['period']} cycle" if entry["sequence"] == "periodic" else "no settled cycle")
+        return (f"{entry['name']} (period {entry['usual_period']} from the usual start; from {entry['start']:g} times "
+                f"the plate rate, {kind}, its mean interval {100 * entry['largest_change']:+.0f} %)")
+
+    elsewhere = "; ".join(reached(entry) for entry in summary["elsewhere"])
+    return (f"Rerun from other starts, every element in steady state at {speeds} times the plate rate "
+            f"(`python benchmarks/ladder_regimes.py --part start`), {summary['same_answer']} of the "
+            f"{summary['settled_from_usual_start']} held-out faults that settle from the usual start settle to the "
+            f"same cycle (recurrence within {summary['same_answer_within']:g})"
+            + (f"; {len(summary['elsewhere'])} do not, and are multistable: {elsewhere}" if summary["elsewhere"] else "")
+            + f". The kind changes on {summary['kind_changed']} of {summary['faults']}; the "
+            f"{summary['unsettled_from_usual_start']} that do not settle move their mean interval by up to "
+            f"{100 * summary['unsettled_largest_change']:.0f} %. A fault's answer can depend on its start, which no "
+            "range built on its friction and geometry can know.")
+
+
+def ladder_escalations_table() -> str | None:
+    """Escalations up the ladder: the budget's estimate against the CPU used (ladder_escalations.py), on the draw
+    the per-step cost was not fitted on (seed 68001) where it has been run."""
+    result = _load("ladder_escalations_held_out.json")
+    if result is None:
+        return None
+    rows = ["| fault | elements | 2-D runs | estimated | CPU used | estimate / CPU | CPU a step / fitted |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for row in sorted(result["rows"], key=lambda r: r["design"]["name"]):
+        name = f"| {row['design']['name']} (W/h* {row['design']['width_over_nucleation']:.2f}) | {row['elements']} | "
+        if "refused" in row:
+            rows.append(name + "refused before it ran, in one sentence | | | | |")
+            continue
+        rows.append(name + f"{row.get('runs', 1)} | {row['estimated_seconds']:.1f} s | {row['cpu_time']:.1f} s | "
+                    f"{row['estimated_seconds'] / row['cpu_time']:.2f} | {_step_speed(row):.2f} |")
+    summary = result["summary"]
+    refused = summary.get("refused", 0)
+    return ("\n".join(rows) + f"\n\n{summary['within_2x']} of {summary['escalations']} escalations within 2x (median "
+            f"{summary['ratio_median']:.2f}, {summary['ratio_min']:.2f} to {summary['ratio_max']:.2f})"
+            + (f", {refused} refused before any work, in one sentence" if refused else "") + "; "
+            f"`python benchmarks/ladder_escalations.py --seed {result.get('seed', 68000)}`"
+            f"{' (a draw the per-step cost never saw)' if result.get('seed', 68000) != 68000 else ''}. "
+            + _further_draws() + "The last column is each escalation's CPU a step (its runs' steps, its first run's "
+            "loading of the compiled step included) over the per-step CPU the cost model was fitted with "
+            "(`FAULT_2D_STEP_SECONDS`): above 1, the machine ran the steps slower than when the model was fitted "
+            f"(median {statistics.median(_step_speed(r) for r in result['rows'] if 'refused' not in r):.2f} here), "
+            "which the estimate does not measure. "
+            f"{_machine(result)}")
+
+
+def _step_speed(row: dict) -> float:
+    """An escalation's CPU a step over the fitted per-step CPU: each unsettled run is rerun twice as long, so its
+    runs took ``steps`` (the last's) times (2^runs - 1) / 2^(runs - 1) steps."""
+    from faultslip.models.fault_2d import cost
+
+    c0, c1, _ = cost.FAULT_2D_STEP_SECONDS
+    steps = row["steps"] * (2 ** row["runs"] - 1) / 2 ** (row["runs"] - 1)
+    return row["cpu_time"] / steps / (c0 + c1 * row["elements"])
+
+
+def _further_draws() -> str:
+    """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then
+    ladder_escalations_third_draw.json), a sentence each."""
+    text = ""
+    for ordinal, name in (("second", "ladder_escalations_second_draw.json"), ("third", "ladder_escalations_third_draw.json")):
+        result = _load(name)
+        if result is None:
+            continue
+        summary = result["summary"]
+        text += (f"A {ordinal} unseen draw (`--seed {result['seed']}`): {summary['within_2x']} of "
+                 f"{summary['escalations']} within 2x ({summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}, median "
+                 f"{summary['ratio_median']:.2f})"
+                 + (f"; {summary['refused']} refused before any work, in one sentence" if summary.get("refused") else "")
+                 + ". ")
+    return text
+
+
+#: The tables this module renders, by the marker name in the pages.
+TABLES = {
+    "ladder": ladder_table,
+    "ladder_limits": ladder_limits_table,
+    "ladder_escalations": ladder_escalations_table,
+}

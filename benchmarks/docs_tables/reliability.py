@@ -1,0 +1,77 @@
+"""The fuzzer's record (docs/reliability.md)."""
+
+from __future__ import annotations
+
+from ._common import _load, _machine
+
+
+def reliability_table() -> str | None:
+    fuzz, kills = _load("fuzz.json"), _load("kills.json")
+    if fuzz is None:
+        return None
+    outcomes = fuzz["outcomes"]
+    rows = ["| check | result |", "| --- | --- |",
+            f"| mutated inputs run through the CLI (`benchmarks/fuzz.py`) | {fuzz['cases']:,} |",
+            f"| answered (exit 0) | {outcomes.get('ok', 0):,} (+ {outcomes.get('mismatch', 0)} tampered files "
+            f"that `reproduce` reported as differing) |",
+            f"| refused with one sentence, exit 2 | {outcomes.get('clean', 0):,} |",
+            f"| tracebacks and multi-line errors | **{sum(outcomes.get(k, 0) for k in ('traceback', 'unclean', 'environment'))}** |",
+            f"| silent: a changed input answered as if unchanged (exit 0) | **{outcomes.get('silent', 0)}** |",
+            f"| cases over the fuzzer's {fuzz.get('timeout_s', 60):g} s limit | {outcomes.get('timeout', 0)} |"]
+    hard = {"zarr": "Zarr stores as written, or damaged (missing, corrupted or swapped chunks, an attribute edited in the "
+                    "store or its consolidated metadata), converted",
+            "netcdf": "a sweep's sealed netCDF output, bytes mutated, one bit flipped, or an attribute or coordinate "
+                      "edited, then reproduced, read as a record or fitted",
+            "ledger": "a sweep's failure ledger edited (cells dropped, indices changed) or mutated, then --retry-failed",
+            "partial": "an interrupted sweep's partial output (netCDF or Zarr: bytes, an attribute, a coordinate, a "
+                       "chunk) or progress record damaged, then --resume (exit 0 must give the run without a stop)",
+            "registry": "the fit registry edited (a fit's parameter, its checksum, the version) or mutated, then the "
+                        "fit used",
+            "catalog": "catalogs: CSV mutated, or faultslip's QuakeML with a value's digit changed, its checksum "
+                       "removed or its bytes mutated, then fitted",
+            "mseed": "faultslip's miniSEED records with a bit flipped in a data record or bytes mutated, then analysed",
+            "table": "a table faultslip ships and reads back (a calibration, a cost model, a declared error) edited "
+                     "or mutated, then read by a command",
+            "deep": "TOML nested 33 to 3,000 deep", "device": "devices, FIFOs and folders given as files",
+            "lock": "symlinks, hard links and FIFOs planted at an output's lock",
+            "full": "writes into a full disk (300 kB tmpfs)", "race": "a second writer of another kind holding the output",
+            "gaf": "GAF GeoJSON: slip types, MultiLineStrings, repeated ids",
+            "fault_2d": "mutated 2-D fault scenes (run, and simulate into a folder)",
+            "checkpoint": "a stopped 2-D run's checkpoint flipped, cut, emptied, re-saved, edited or linked, then --resume",
+            "stream": "its record streams flipped, cut, grown, deleted or linked to a victim file, then --resume",
+            "hazard": "hazard options: b-value, magnitudes, bin width, moment constant, scaling relations",
+            "raw": "raw rig records with stiffness, area, trend, steps, windows, priors and posteriors",
+            "upload": "classroom uploads with hostile names and headers (no markup may reach the page)",
+            "bundle": "fit bundles edited, emptied, shadowed, inflated or given options of the wrong kind, replayed",
+            "xlsx": "Excel workbooks: bytes flipped, a stray cell far out, text among the numbers",
+            "rfile": "xlook r-files (lines and bytes mutated), reduced",
+            "memo": "the unit memo edited or damaged, then units read through it"}
+    by_input = fuzz.get("by_input", {})
+    for kind, label in hard.items():
+        if kind in by_input:
+            counts = by_input[kind]
+            bad = sum(counts.get(k, 0) for k in ("traceback", "unclean", "environment", "timeout", "silent"))
+            differing = f" {counts['mismatch']} reported by `reproduce` as differing," if counts.get("mismatch") else ""
+            rows.append(f"| of which {label} | {sum(counts.values()):,}: {counts.get('ok', 0)} answered,{differing} "
+                        f"{counts.get('clean', 0)} refused in one sentence, {bad} failures |")
+    if kills:
+        k, r = kills["kills"], kills["races"]
+        rows += [f"| sweeps killed at random moments (`benchmarks/kills.py`) | {k['kill -9']} kill -9 and "
+                 f"{k['ctrl-c']} Ctrl-C; {len(k['problems'])} problems (orphan workers, half-written files, "
+                 "resumed results that differ) |",
+                 f"| two sweeps racing for one output | {r['rounds']} rounds, {r['one_refused']} refused the second "
+                 f"writer by name; {len(r['problems'])} problems |"]
+    second = _load("fuzz_second_seed.json")
+    if second is not None:  # a second seed, the same kinds (issue 69: two new seeds of 10,000 cases)
+        o = second["outcomes"]
+        rows.append(f"| second seed ({second['seed']}): {second['cases']:,} cases | {o.get('ok', 0):,} answered, "
+                    f"{o.get('clean', 0):,} refused in one sentence, **"
+                    f"{sum(o.get(k, 0) for k in ('traceback', 'unclean', 'environment', 'timeout', 'silent'))}** "
+                    "failures |")
+    return "\n".join(rows) + "\n\n" + _machine(fuzz) + (f" Kills: {_machine(kills)[12:]}" if kills else "")
+
+
+#: The tables this module renders, by the marker name in the pages.
+TABLES = {
+    "reliability": reliability_table,
+}

@@ -1,0 +1,181 @@
+"""Seed 003's law on faults and catalogs: 1906, Parkfield, renewal, the critical rate, rate and state (docs/results.md, docs/catalogs.md, docs/critical_rate.md, docs/rate_state.md, docs/spring_chain.md)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._common import _load, _machine
+
+
+def renewal_coverage_table() -> str | None:
+    """The renewal fits' 95 % ranges: coverage of the true mean and aperiodicity (renewal_coverage.py)."""
+    result = _load("renewal_coverage.json")
+    if result is None:
+        return None
+    rows = ["| model | aperiodicity | mean: pivotal | mean: bootstrap | aperiodicity: pivotal | aperiodicity: bootstrap |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for row in result["rows"]:
+        pivotal, bootstrap = row["coverage"]["pivotal"], row["coverage"]["bootstrap"]
+        rows.append(f"| {row['model']} | {row['aperiodicity']:g} | **{100 * pivotal['mean']:.1f} %** | "
+                    f"{100 * bootstrap['mean']:.1f} % | **{100 * pivotal['aperiodicity']:.1f} %** | "
+                    f"{100 * bootstrap['aperiodicity']:.1f} % |")
+    return ("\n".join(rows) + f"\n\n{result['catalogs']} catalogs of {result['events']} events per row, "
+            f"{result['draws']} draws each (benchmarks/renewal_coverage.py).")
+
+
+def chain_example_table() -> str | None:
+    """The shipped chain's run and its predictability (chain_example.py): what the chain and classroom pages quote."""
+    r = _load("chain_example.json")
+    if r is None:
+        return None
+    low, high = r["b_over_cutoffs"]
+    b = (f"b = {r['b_value']:.3g} (GR holds: KS p = {r['gr_p_value']:.2g})" if r["gutenberg_richter"] else
+         f"none: not Gutenberg-Richter (KS p = {r['gr_p_value']:.2g}; b moves from {low:.2f} to {high:.2f} with the "
+         "cutoff)")
+    time_r, slip_r = r["time_predictable"], r["slip_predictable"]
+    rows = ["| quantity | value |", "| --- | --- |",
+            f"| blocks, events | {r['blocks']}, {r['events']} |",
+            f"| magnitudes | {r['magnitude_range'][0]:.2f} to {r['magnitude_range'][1]:.2f} |",
+            f"| b-value | {b} |",
+            f"| system-size events (half the blocks or more) | {r['system_events']} |",
+            f"| CV of their intervals (0 periodic, 1 Poisson) | {r['system_cv']:.2f} |",
+            f"| CV of all intervals | {r['all_events_cv']:.2f} ({r['all_events_cv_range'][0]:.2f}-"
+            f"{r['all_events_cv_range'][1]:.2f}) |",
+            f"| r(slip, the interval after): time-predictable | {time_r['r']:.2f} ({time_r['range'][0]:.2f} to "
+            f"{time_r['range'][1]:.2f}): {'yes' if time_r['holds'] else 'no'} |",
+            f"| r(the interval before, slip): slip-predictable | {slip_r['r']:.2f} ({slip_r['range'][0]:.2f} to "
+            f"{slip_r['range'][1]:.2f}): {'yes' if slip_r['holds'] else 'no'} |"]
+    return "\n".join(rows) + f"\n\n`python benchmarks/chain_example.py` ({r['scene']}). {_machine(r)}"
+
+
+YEAR_S = 365.25 * 86400.0
+
+
+#: What seed 003 prints for the 1906 example (quoted from the seed, beside what faultslip computes).
+SEED_003_PRINTS = {"normal_stress": "385 bar", "stiffness": "4.4 psi/in",
+                   "loading_rate": "5 × 10^-10 1/s (a factor-10 slip)", "stress_drop_slip": "254 in = 21.2 ft",
+                   "slip_per_event": "—", "recurrence_period": "(formula only, eq. 5-5)", "stress_drop": "—",
+                   "moment": "— (Song et al. 2008: 7.9e20, Mw 7.9)",
+                   "inverse": "0.079, mu_m = 0.57 (printed with K = 3.25 for 3.52)", "radiation": "—"}
+
+
+def seed_1906_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None:
+        return None
+    seed, quote = result["seed_003_1906"], SEED_003_PRINTS
+    feet, bar = 0.3048, 1e5
+    slip_phase = seed["slip_per_event"] - seed["stress_drop_slip"]
+    rows = ["| quantity | faultslip | seed 003 printed |", "| --- | --- | --- |",
+            f"| sigma_n = tau / mu_so | {seed['normal_stress'] / bar:.2f} bar | {quote['normal_stress']} |",
+            f"| K = G / D | {seed['stiffness']:.5g} Pa/m = {seed['stiffness'] * 0.0254 / 6894.757:.5g} psi/in | "
+            f"{quote['stiffness']} |",
+            f"| theta_dot = K V / sigma_n | **{seed['loading_rate']:.4g} 1/s** | {quote['loading_rate']} |",
+            f"| stress-drop slip alpha = x1 − x2 (eq. 2-19) | {seed['stress_drop_slip']:.4g} m = "
+            f"{seed['stress_drop_slip'] / feet:.4g} ft | {quote['stress_drop_slip']} |",
+            f"| slip per event, ∫u dt = alpha + V t_slip | {seed['slip_per_event']:.4g} m (V t_slip = "
+            f"{slip_phase:.1e} m) | {quote['slip_per_event']} |",
+            f"| recurrence T = alpha / V + t_slip | {seed['recurrence_period'] / YEAR_S:.4g} yr | "
+            f"{quote['recurrence_period']} |",
+            f"| stress drop K alpha | {seed['stress_drop'] / bar:.3g} bar | {quote['stress_drop']} |",
+            f"| M0, Mw (L = 270 mi, H = 12 km) | {seed['seismic_moment']:.3g} N m, Mw {seed['moment_magnitude']:.3g} | "
+            f"{quote['moment']} |",
+            f"| granite inverse: mu_so − mu_m | {result['granite_inverse']['friction_drop']:.3g}, mu_m = "
+            f"{result['granite_inverse']['kinetic_friction']:.3f} | {quote['inverse']} |",
+            f"| with radiation damping (c_s = sqrt(G/rho), so zeta = {result['radiation']['damping_ratio']:g}) | "
+            f"{result['radiation']['slip_per_event']:.3g} m, {result['radiation']['recurrence_period'] / YEAR_S:.3g} yr "
+            f"| {quote['radiation']} |"]
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+def _signed(value: float, digits: int = 2) -> str:
+    return f"{value:+.{digits}f}".replace("-", "−")
+
+
+def empirical_1906_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None:
+        return None
+    rows = ["| relation | expects | prediction | ratio or difference | z |", "| --- | --- | --- | --- | --- |"]
+    for row in result["empirical_1906"]:
+        slip = row["quantity"] == "slip_per_event"
+        expected, predicted = row["expected"]["value"], row["predicted"]["value"]
+        shown = (lambda v: f"{v:.3g} m") if slip else (lambda v: f"{v:.3g}")
+        compared = f"{row['ratio']:.3g}" if slip else _signed(predicted - expected)
+        z = _signed(row["z_score"]) if row["z_score"] is not None else "–"
+        rows.append(f"| {row['relation'].replace('1994 ', '').replace('2010 ', '')} | {shown(expected)} | "
+                    f"{shown(predicted)} | {compared} | {z} |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+def parkfield_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None:
+        return None
+    c = result["parkfield_catalog"]
+    year = lambda entry: entry["value"] / YEAR_S  # noqa: E731
+    pair = lambda values, scale=1.0: f"{values[0] / scale:.3g}-{values[1] / scale:.3g}"  # noqa: E731
+    horizon_year = int(c["as_of"][:4]) + int(float(c["horizon"].split()[0]))
+    rows = ["| | observed | predicted (seed law, D = 6 km) |", "| --- | --- | --- |",
+            f"| mean interval | {year(c['observed_mean_interval']):.3g} yr (CV {c['observed_cv']:.2f}, "
+            f"{c['observed_intervals']} intervals) | {year(c['predicted_recurrence']):.3g} yr ({c['recurrence_ratio']:.3g} "
+            f"times; percentile {min(c['lognormal_percentile'], c['bpt_percentile']):.0%} or more of both fits) |"]
+    for name, label in (("lognormal", "lognormal fit"), ("bpt", "BPT fit")):
+        rows.append(f"| {label} | mean {year(c[name + '_mean']):.3g} yr (95 %: "
+                    f"{pair(c[name + '_mean_95']['value'], YEAR_S)}), aperiodicity {c[name + '_aperiodicity']:.2f} "
+                    f"({pair(c[name + '_aperiodicity_95'])}) | |")
+    rows.append(f"| P(event by {horizon_year}), as of {c['as_of']} | {c['bpt_probability']:.2f} (BPT; 95 %: "
+                f"{c['bpt_probability_95'][0]:.2f}-{c['bpt_probability_95'][1]:.2f}) | |")
+    rows.append(f"| magnitude | M {c['observed_max_magnitude']:.1f} | Mw {c['predicted_magnitude']:.3g} (slip "
+                f"{c['predicted_slip_per_event']['value']:.3g} m) |")
+    widths = ["| D | slip per event | recurrence | Mw |", "| --- | --- | --- | --- |"]
+    for row in result["parkfield_widths"]:
+        widths.append(f"| {row['zone_width']} | {row['slip_per_event_m']:.3g} m | {row['recurrence_s'] / YEAR_S:.3g} yr | "
+                      f"{row['moment_magnitude']:.3g} |")
+    return ("\n".join(rows) + f"\n\nThe seed law does not reproduce Parkfield: its recurrence is "
+            f"{c['recurrence_ratio']:.2g} times the observed mean and its magnitude {c['magnitude_difference']:.2g} units "
+            "too large, because its slip per event scales with σ_n D Δμ / G. The prediction depends on the choice of D "
+            "(the same scene at three widths):\n\n" + "\n".join(widths)
+            + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}")
+
+
+def critical_comparison_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "critical_comparison" not in result:
+        return None
+    table = result["critical_comparison"]
+    exact = np.asarray(table["critical_loading_rate"]["value"], float)  # 1/s, presets x damping ratios
+    seed = np.asarray(table["seed_appendix_I_loading_rate"]["value"], float)
+    ratio = seed / exact  # presets x damping ratios
+    said = [f"at zeta = {zeta:g} the seed's is {ratio[:, k].min():.3g}-{ratio[:, k].max():.3g} times the exact value"
+            for k, zeta in enumerate(table["damping_ratio"])]
+    return (table["markdown"].rstrip() + "\n\nSeed over exact, over the presets: " + "; ".join(said)
+            + f".\n\n`python benchmarks/docs_numbers.py` (`faultslip critical --table`). {_machine(result)}")
+
+
+def rate_state_examples_table() -> str | None:
+    result = _load("docs_numbers.json")
+    if result is None or "rate_state_examples" not in result:
+        return None
+    rows = ["| scene | K / K_c | slip per event | recurrence | the 2-D fault's recurrence by the model error | "
+            "seed law beside it |", "| --- | --- | --- | --- | --- | --- |"]
+    for row in result["rate_state_examples"]:
+        low, high = row["recurrence_range"]
+        within = f"{low / YEAR_S:.3g} yr or more" if high is None else f"{low / YEAR_S:.3g}-{high / YEAR_S:.3g} yr"
+        rows.append(f"| {row['scene']} | {row['stiffness_ratio']:.3g} | {row['slip_per_event']:.3g} m | "
+                    f"{row['recurrence_period'] / YEAR_S:.3g} yr | {within} (model error {row['model_error']:.2f}) | "
+                    f"{row['seed_law_slip_per_event']:.3g} m every {row['seed_law_recurrence_period'] / YEAR_S:.3g} yr "
+                    f"(slip ratio {row['slip_per_event'] / row['seed_law_slip_per_event']:.2f}) |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
+
+
+#: The tables this module renders, by the marker name in the pages.
+TABLES = {
+    "renewal_coverage": renewal_coverage_table,
+    "chain_example": chain_example_table,
+    "seed_1906": seed_1906_table,
+    "empirical_1906": empirical_1906_table,
+    "parkfield": parkfield_table,
+    "critical_comparison": critical_comparison_table,
+    "rate_state_examples": rate_state_examples_table,
+}
