@@ -50,6 +50,8 @@ PRODUCERS = (
     ("chain_example", [], [], "chain_example.json"),
     ("san_andreas_map", [], [], "san_andreas_map.json"),
     ("docs_numbers", [], [], "docs_numbers.json"),
+    ("asperity_trends", [], [], "asperity_trends.json"),
+    ("surface_trends", [], [], "surface_trends.json"),
     ("hazard_chain", [], [], "hazard_chain.json"),
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
     ("ladder_regimes", [], [], "ladder_regimes.json"),

@@ -12,20 +12,20 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from docs_tables import dipping_and_3d, fault_2d, hazard, lab, ladder, reliability, seed_law, seeds, speed
+from docs_tables import asperity, dipping_and_3d, fault_2d, hazard, lab, ladder, reliability, seed_law, seeds, speed
 
 ROOT = Path(__file__).resolve().parent.parent
 
 #: Every table's renderer, by the marker name in the pages.
 RENDERERS = {name: render for module in (speed, reliability, fault_2d, ladder, dipping_and_3d, hazard, seed_law, lab,
-                                          seeds)
+                                          seeds, asperity)
              for name, render in module.TABLES.items()}
 
 #: Pages whose generated tables update() writes (the README has none: it is a door).
 PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliability.md", "docs/catalogs.md",
          "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md",
          "docs/fault_3d.md", "docs/fault_2d.md", "docs/studies.md", "docs/lab_fits.md", "docs/critical_rate.md",
-         "docs/rate_state.md", "docs/surfaces.md", "docs/quasi_harmonic.md")
+         "docs/rate_state.md", "docs/surfaces.md", "docs/quasi_harmonic.md", "docs/asperity.md")
 
 
 def update(readme: Path | None = None) -> list[str]:

@@ -3,8 +3,8 @@ stay apart through the deceleration, as the seed ran them and with the addendum'
 
     python benchmarks/surface_trends.py          # ~1 min on 2 cores
 
-Writes docs/figures/surface_chapter5.png and docs/surfaces_results.md (tables included by
-docs/surfaces.md), stamped with machine and date.
+Writes benchmarks/results/surface_trends.json (benchmarks/readme.py renders its tables into docs/surfaces.md)
+and docs/figures/surface_chapter5.png.
 """
 
 from __future__ import annotations
@@ -19,14 +19,17 @@ import numpy as np
 os.environ.setdefault("MPLBACKEND", "Agg")
 from faultslip.dynamics.spring_slider.simulate import simulate  # noqa: E402
 from faultslip.friction.laws import STANDARD_GRAVITY  # noqa: E402
-from faultslip.io.atomic import save_figure, write_text_atomic  # noqa: E402
+from faultslip.io.atomic import save_figure  # noqa: E402
 from faultslip.models.rough_surface.scene import rough_surface_slider, separation_history, separation_sweep  # noqa: E402
 from faultslip.lab.surfaces import gaussian_surface  # noqa: E402
 from faultslip.plots.surfaces import separation_figure  # noqa: E402
-from provenance import described  # noqa: E402  (one stamp for every results file)
+from fault_2d_profile import write_results  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parents[1]
-SURFACE = gaussian_surface(3.26e-6, 60e-6, size=128, seed=2026)  # the scenes' stand-in (configs/rough_surface_*.toml)
+#: The scenes' stand-in surface (configs/rough_surface_*.toml): RMS and correlation length (m), grid, seed.
+SURFACE_SPEC = {"rms": 3.26e-6, "correlation_length": 60e-6, "size": 128, "seed": 2026}
+SURFACE = gaussian_surface(SURFACE_SPEC["rms"], SURFACE_SPEC["correlation_length"], size=SURFACE_SPEC["size"],
+                           seed=SURFACE_SPEC["seed"])
 CHAPTER5_C = [0.001, 0.005, 0.01, 0.02, 0.04]  # s/mm, figs. 5.10-5.14 (fig. 5.9 is c = 0)
 # Table 5.1 as the seed ran it: p_c 280 N/mm^2 (should be 208 kgf/mm^2, AD1.1 item 1) and forces in N read as
 # accelerations in mm/s^2 (AD1.1 item 2), which is a slider 1000 times heavier.
@@ -57,35 +60,25 @@ def _run(system, cycles=6):
                     "peak_mm_s": float(last["peak_slip_speed"]) * 1e3}
 
 
-def _sweep_table(title, sweep):
-    lines = [f"**{title}**", "", "| c (s/mm) | " + " | ".join(f"{m}: amplitude / x_break, lowest x (mm)"
-                                                           for m in sweep["memory"].values) + " |",
-             "| --- |" + " --- |" * sweep.sizes["memory"]]
-    for j, c in enumerate(sweep["separation_coefficient"].values):
-        cells = []
-        for memory in sweep["memory"].values:
-            cell = sweep.sel(memory=memory).isel(separation_coefficient=j)
-            cells.append(f"{float(cell['relative_amplitude']):.3f}, {float(cell['lowest_displacement']) * 1e3:+.3f}")
-        lines.append(f"| {c * 1e-3:g} | " + " | ".join(cells) + " |")
-    return lines + [""]
+def _sweep_rows(sweep) -> dict:
+    """A chapter 5 sweep as lists: per separation coefficient (s/mm), per memory, the amplitude over the
+    break-away stretch and the lowest displacement (m)."""
+    return {"separation_coefficient": [float(c) * 1e-3 for c in sweep["separation_coefficient"].values],
+            "memory": [str(m) for m in sweep["memory"].values],
+            "relative_amplitude": [[float(sweep.sel(memory=m).isel(separation_coefficient=j)["relative_amplitude"])
+                                    for m in sweep["memory"].values] for j in range(sweep.sizes["separation_coefficient"])],
+            "lowest_displacement": [[float(sweep.sel(memory=m).isel(separation_coefficient=j)["lowest_displacement"])
+                                     for m in sweep["memory"].values]
+                                    for j in range(sweep.sizes["separation_coefficient"])]}
 
 
 def main() -> None:
     warnings.simplefilter("ignore")
-    stamp = described()
     memories = ("none", "held", "falling")
     sweeps = {}
     for label, setting in (("as run", AS_RUN), ("corrected", CORRECTED)):
         sweeps[label] = separation_sweep(SURFACE, **setting, coefficients=np.array(CHAPTER5_C) * 1e3,
                                          memories=memories, separation_reference="static_compression")
-    lines = [f"<!-- written by benchmarks/surface_trends.py on {stamp} -->", "",
-             f"Measured on {stamp}. The surface is the scenes' Gaussian stand-in (RMS 3.26 um, correlation "
-             "length 60 um, 128 x 128, seed 2026). x_break = W mu_s / K is the spring's stretch at break-away; "
-             "a negative lowest x is the seed's overshoot. `falling` uses gravity (fall time 0.3 ms).", ""]
-    lines += _sweep_table("Chapter 5 as the seed ran it (Table 5.1, its two errors kept: effective mass 600 kg, "
-                          "p_c 280 N/mm²)", sweeps["as run"])
-    lines += _sweep_table("Chapter 5 corrected (mass 0.6 kg, H 2040 N/mm², p_s 601 N/mm²)", sweeps["corrected"])
-
     rows = [("fig. 5.13: c 0.02, V0 0.2 mm/s, k 12.66 N/mm, L 30 N", {}, 0.02),
             ("fig. 5.15: V0 0.05 mm/s, c 0.01", {"platform_speed": 0.05e-3}, 0.01),
             ("fig. 5.16: V0 0.1 mm/s, c 0.01", {"platform_speed": 0.1e-3}, 0.01),
@@ -94,25 +87,17 @@ def main() -> None:
             ("fig. 5.21: k 6.3 N/mm, c 0.02", {"stiffness": 6.3e3}, 0.02),
             ("fig. 5.22: k 6.3 N/mm, c 0.03", {"stiffness": 6.3e3}, 0.03),
             ("fig. 5.24: L 60 N, c 0.02", {"normal_load": 60.0}, 0.02)]
-    lines += ["**Chapter 5's other runs, as the seed ran them (memory held)**", "",
-              "| run | amplitude (mm) | amplitude / x_break | stick (s) | slip (s) | peak sliding speed (mm/s) |",
-              "| --- | --- | --- | --- | --- | --- |"]
+    chapter5_runs = []
     for label, changes, c in rows:
         system, _ = _system(AS_RUN, c * 1e3, **changes)
-        _, row = _run(system)
-        lines.append(f"| {label} | {row['amplitude_mm']:.4f} | {row['relative']:.3f} | {row['stick_s']:.3f} | "
-                     f"{row['slip_s']:.3f} | {row['peak_mm_s']:.3f} |")
-    lines.append("")
-
+        chapter5_runs.append({"run": label, **_run(system)[1]})
     records = {}
     for c in (0.005, 0.01, 0.02, 0.04):
         system, _ = _system(AS_RUN, c * 1e3)
         record, _ = _run(system, cycles=3)
         records[f"c = {c:g} s/mm"] = (record, separation_history(record, system.kinetic_law))
     ad3 = dict(CORRECTED, platform_speed=0.01)
-    lines += ["**The addendum's AD3 scene (c 0.8 s/m x RMS) with each memory**", "",
-              "| memory | amplitude (mm) | slip (s) | slip-time frequency (Hz) | peak sliding speed (m/s) |",
-              "| --- | --- | --- | --- | --- |"]
+    ad3_runs = []
     for label, memory, fall in (("none (AD1.3)", "none", STANDARD_GRAVITY), ("held (chapter 5)", "held", STANDARD_GRAVITY),
                                 ("falling, gravity", "falling", STANDARD_GRAVITY),
                                 (f"falling, squeeze film ({SQUEEZE_FALL:.3g} m/s²)", "falling", SQUEEZE_FALL),
@@ -121,20 +106,17 @@ def main() -> None:
         record, row = _run(system)
         records[label] = (record.where(record["time"] <= 0.25, drop=True),
                           separation_history(record, system.kinetic_law)[record["time"].values <= 0.25])
-        lines.append(f"| {label} | {row['amplitude_mm']:.4f} | {row['slip_s']:.4f} | {1 / (2 * row['slip_s']):.1f} | "
-                     f"{row['peak_mm_s'] * 1e-3:.4f} |")
+        ad3_runs.append({"memory": label, **row})
     system, details = _system(ad3, 0.8, reference="rms")
-    record, row = _run(system)
-    peak_separation = details["separation_per_speed"] * row["peak_mm_s"] * 1e-3
-    omega_slip = math.pi / row["slip_s"]
-    lines += ["", f"The fall matters only if it is slower than the deceleration: a < h_peak omega^2 = "
-              f"{peak_separation * 1e9:.3g} nm x ({omega_slip:.3g} rad/s)^2 = {peak_separation * omega_slip ** 2:.2g} m/s² here."]
-    fall_time = math.sqrt(2 * 0.5e-6 / STANDARD_GRAVITY)
-    lines += ["", f"Falling 0.5 um under gravity takes sqrt(2 h / g) = {fall_time * 1e3:.3f} ms (seed 000 §4.5 prints "
-              "\"about 3 ms\").", ""]
+    _, row = _run(system)
+    write_results("surface_trends.json", {
+        "surface": SURFACE_SPEC,
+        "gravity_fall_time": math.sqrt(2 * 0.5e-6 / STANDARD_GRAVITY),
+        "sweeps": {label: _sweep_rows(sweep) for label, sweep in sweeps.items()},
+        "chapter5_runs": chapter5_runs, "ad3_runs": ad3_runs,
+        "peak_separation": details["separation_per_speed"] * row["peak_mm_s"] * 1e-3,
+        "slip_angular_frequency": math.pi / row["slip_s"]})
     save_figure(separation_figure(records, sweeps), ROOT / "docs" / "figures" / "surface_chapter5.png", dpi=110)
-    write_text_atomic(ROOT / "docs" / "surfaces_results.md", "\n".join(lines) + "\n")
-    print("\n".join(lines))
 
 
 if __name__ == "__main__":

@@ -26,7 +26,7 @@ release = version = faultslip.__version__
 extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.mathjax", "sphinx-mathjax-offline", "numpydoc",
               "sphinx_gallery.gen_gallery"]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
-exclude_patterns = ["_build", "asperity_results.md", "surfaces_results.md", "figures/*.md", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip"]
+exclude_patterns = ["_build", "figures/*.md", "auto_examples/*.ipynb", "auto_examples/*.py", "auto_examples/*.zip"]
 myst_heading_anchors = 3
 # $...$ and $$...$$ render as mathematics (MathJax, served offline above)
 myst_enable_extensions = ["dollarmath"]

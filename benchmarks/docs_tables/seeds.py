@@ -107,8 +107,79 @@ def seed002_figures_table() -> str | None:
     return "\n".join(rows) + f"\n\n{note} `python benchmarks/docs_numbers.py`. {_machine(result)}"
 
 
+def _sweep_table(title: str, sweep: dict) -> list[str]:
+    lines = [f"**{title}**", "", "| c (s/mm) | " + " | ".join(f"{memory}: amplitude / x_break, lowest x (mm)"
+                                                           for memory in sweep["memory"]) + " |",
+             "| --- |" + " --- |" * len(sweep["memory"])]
+    for c, amplitudes, lowest in zip(sweep["separation_coefficient"], sweep["relative_amplitude"],
+                                     sweep["lowest_displacement"]):
+        lines.append(f"| {c:g} | " + " | ".join(f"{a:.3f}, {low * 1e3:+.3f}" for a, low in zip(amplitudes, lowest))
+                     + " |")
+    return lines + [""]
+
+
+def surface_trends_table() -> str | None:
+    """Seed 000's chapter 5 runs, as the seed ran them and corrected (docs/surfaces.md)."""
+    result = _load("surface_trends.json")
+    if result is None:
+        return None
+    surface = result["surface"]
+    lines = [f"The surface is the scenes' Gaussian stand-in (RMS {surface['rms'] * 1e6:g} um, correlation length "
+             f"{surface['correlation_length'] * 1e6:g} um, {surface['size']} x {surface['size']}, seed {surface['seed']}). "
+             "x_break = W mu_s / K is the spring's stretch at break-away; a negative lowest x is the seed's overshoot. "
+             f"`falling` uses gravity (fall time {result['gravity_fall_time'] * 1e3:.1f} ms).", ""]
+    lines += _sweep_table("Chapter 5 as the seed ran it (Table 5.1, its two errors kept: effective mass 600 kg, "
+                          "p_c 280 N/mm²)", result["sweeps"]["as run"])
+    lines += _sweep_table("Chapter 5 corrected (mass 0.6 kg, H 2040 N/mm², p_s 601 N/mm²)", result["sweeps"]["corrected"])
+    lines += ["**Chapter 5's other runs, as the seed ran them (memory held)**", "",
+              "| run | amplitude (mm) | amplitude / x_break | stick (s) | slip (s) | peak sliding speed (mm/s) |",
+              "| --- | --- | --- | --- | --- | --- |"]
+    lines += [f"| {row['run']} | {row['amplitude_mm']:.4f} | {row['relative']:.3f} | {row['stick_s']:.3f} | "
+              f"{row['slip_s']:.3f} | {row['peak_mm_s']:.3f} |" for row in result["chapter5_runs"]]
+    lines += ["", "**The addendum's AD3 scene (c 0.8 s/m x RMS) with each memory**", "",
+              "| memory | amplitude (mm) | slip (s) | slip-time frequency (Hz) | peak sliding speed (m/s) |",
+              "| --- | --- | --- | --- | --- |"]
+    lines += [f"| {row['memory']} | {row['amplitude_mm']:.4f} | {row['slip_s']:.4f} | {1 / (2 * row['slip_s']):.1f} | "
+              f"{row['peak_mm_s'] * 1e-3:.4f} |" for row in result["ad3_runs"]]
+    separation, omega = result["peak_separation"], result["slip_angular_frequency"]
+    lines += ["", f"The fall matters only if it is slower than the deceleration: a < h_peak omega^2 = "
+              f"{separation * 1e9:.3g} nm x ({omega:.3g} rad/s)^2 = {separation * omega ** 2:.2g} m/s² here.", "",
+              f"Falling 0.5 um under gravity takes sqrt(2 h / g) = {result['gravity_fall_time'] * 1e3:.3f} ms (seed 000 "
+              "§4.5 prints \"about 3 ms\").", "", f"`python benchmarks/surface_trends.py`. {_machine(result)}"]
+    return "\n".join(lines)
+
+
+def surface_trends_findings_table() -> str | None:
+    """The figures docs/surfaces.md's comparisons with chapter 5 quote, from the same runs."""
+    result = _load("surface_trends.json")
+    if result is None:
+        return None
+    runs = {row["run"].split(":")[0]: row for row in result["chapter5_runs"]}
+    as_run, corrected = result["sweeps"]["as run"], result["sweeps"]["corrected"]
+    held = as_run["memory"].index("held")
+    largest = as_run["separation_coefficient"][-1]
+    overshoot = next((c for c, lowest in zip(corrected["separation_coefficient"], corrected["lowest_displacement"])
+                      if lowest[held] < 0), None)
+    speeds = [runs[name] for name in ("fig. 5.15", "fig. 5.16", "fig. 5.12", "fig. 5.17")]
+    soft, stiff = runs["fig. 5.21"], runs["fig. 5.13"]
+    rows = [f"- as run, held, at c = {largest:g} s/mm: amplitude {as_run['relative_amplitude'][-1][held]:.2f} of the "
+            f"break-away stretch, lowest x {as_run['lowest_displacement'][-1][held] * 1e3:+.3f} mm "
+            f"({'an overshoot' if as_run['lowest_displacement'][-1][held] < 0 else 'no overshoot'});",
+            "- corrected, held: the slider overshoots its unloaded position from c = "
+            + (f"{overshoot:g} s/mm;" if overshoot is not None else "(never, on this grid);"),
+            f"- fig. 5.22 (k = 6.3 N/mm): c from 0.02 to 0.03 multiplies the amplitude by "
+            f"{runs['fig. 5.22']['amplitude_mm'] / soft['amplitude_mm']:.2f};",
+            f"- fig. 5.21 against fig. 5.13 (c = 0.02): {soft['amplitude_mm']:.2f} against {stiff['amplitude_mm']:.2f} mm, "
+            f"{soft['relative']:.2f} against {stiff['relative']:.2f} of the break-away stretch;",
+            f"- figs. 5.15-5.17 (V0 from 0.05 to 0.5 mm/s, c = 0.01): amplitude {speeds[0]['amplitude_mm']:.3f} to "
+            f"{speeds[-1]['amplitude_mm']:.3f} mm, stick time {speeds[0]['stick_s']:.3f} to {speeds[-1]['stick_s']:.3f} s."]
+    return "\n".join(rows) + f"\n\n`python benchmarks/surface_trends.py`. {_machine(result)}"
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
+    "surface_trends_findings": surface_trends_findings_table,
+    "surface_trends": surface_trends_table,
     "seed_000_addendum": seed_000_addendum_table,
     "rough_slider": rough_slider_table,
     "quasi_harmonic_error": quasi_harmonic_error_table,

@@ -1,0 +1,84 @@
+"""Seed 004's asperity friction against the paper's Tables II and III (docs/asperity.md)."""
+
+from __future__ import annotations
+
+from ._common import _load, _machine
+
+
+def _bands(speeds_mm_s: list, step_mm_s: float) -> list[str]:
+    """Runs of adjacent speeds (mm/s) as "low-high" bands: a gap wider than 1.5 steps starts a new band."""
+    if not speeds_mm_s:
+        return []
+    bands, start, last = [], speeds_mm_s[0], speeds_mm_s[0]
+    for speed in speeds_mm_s[1:]:
+        if speed - last > 1.5 * step_mm_s:
+            bands.append(f"{start:.2f}-{last:.2f}")
+            start = speed
+        last = speed
+    bands.append(f"{start:.2f}-{last:.2f}")
+    return bands
+
+
+def _stuck_bands(stuck: dict) -> str:
+    return "; ".join(_bands([v * 1e3 for v in stuck["stick_speeds"]], stuck["step"] * 1e3)) or "none"
+
+
+def _millimetres(values: list, digits: str = ".2f") -> str:
+    return ", ".join(f"{v * 1e3:{digits}}" for v in values)
+
+
+def asperity_trends_table() -> str | None:
+    result = _load("asperity_trends.json")
+    if result is None:
+        return None
+    lines = ["**m_D peaks (C = 200 kg/s, no adhesion; quasi-static method) against Tables II and III**", "",
+             "| system | computed v_c1/n from eqs. (28)-(29) (mm/s) | simulated peaks (mm/s) | paper (mm/s) |",
+             "| --- | --- | --- | --- |"]
+    ours, theirs = [], []
+    for row in result["peaks"]:
+        lines.append(f"| {row['system']} | {_millimetres(row['computed'])} | {_millimetres(row['simulated'])} | "
+                     f"{_millimetres(row['paper'], '.4g')} |")
+        ours += [p / c - 1 for p, c in zip(row["integer"], row["computed"])]
+        theirs += [p / c - 1 for p, c in zip(row["paper"], row["computed"])]
+    lines += ["", "Integer peaks (the simulated peak nearest each v_c1/n): "
+              + "; ".join(f"{row['system']}: {_millimetres(row['integer'])} mm/s" for row in result["peaks"]) + ".",
+              "", f"Against v_c1/n from eqs. (28)-(29), the paper's peaks sit {100 * min(theirs):+.0f} % to "
+              f"{100 * max(theirs):+.0f} % off, ours {100 * min(ours):+.0f} % to {100 * max(ours):+.0f} % "
+              f"({sum(o < 0 for o in ours)} of {len(ours)} below)."]
+    bands = result["case_6_bands"]
+    low, high = bands["range"]
+    lines += ["", f"**Stick-slip bands, case 6 (C = 2 kg/s), {low * 1e3:g}-{high * 1e3:g} mm/s in steps of "
+              f"{bands['step'] * 1e3:.2g} mm/s:** {_stuck_bands(bands)} mm/s.", "",
+              "**Single runs (6 s, last half analysed)**", "",
+              "| run | method | stick fraction | loops per period | m-bar | m-bar_D |", "| --- | --- | --- | --- | --- | --- |"]
+    for row in result["single_runs"]:
+        if row["status"] != "ok":
+            lines.append(f"| {row['run']} | {row['method']} | {row['status']} | | | |")
+            continue
+        lines.append(f"| {row['run']} | {row['method']} | {row['stick_fraction']:.3f} | {row['loops']} | "
+                     f"{row['mean_friction']:.4f} | {row['mean_deformation_friction']:.2e} |")
+    choices = result["choices"]
+    first_low, first_high = choices[0]["range"]
+    lines += ["", f"**Dependence on our choices: the stick-slip band around v_c1 (case 6, C = 2 kg/s, "
+              f"{first_low * 1e3:g}-{first_high * 1e3:g} mm/s in steps of {choices[0]['step'] * 1e3:.2g} mm/s, "
+              "quasi-static)**", "",
+              "| choice | v_c1 = f0 lambda (mm/s) | stick-slip speeds (mm/s) | m-bar at the band |", "| --- | --- | --- | --- |"]
+    lines += [f"| {row['choice']} | {row['critical_speed'] * 1e3:.2f} | {_stuck_bands(row)} | {row['mean_friction']:.4f} |"
+              for row in choices]
+    lines += ["", "**Contact loss (asperity_LSODA, C = 200 kg/s, first failing speed of a x1.25 ladder)**", "",
+              "| s | closed-form estimate (m/s) | six-state integration fails at (m/s) | paper: m_D vanishes at (m/s) |",
+              "| --- | --- | --- | --- |"]
+    for row in result["contact_loss"]:
+        failed = (f"{row['six_state_fails_at']:.3g} ({row['status']})" if row["six_state_fails_at"]
+                  else "none up to the ladder's top")
+        lines.append(f"| {row['slope_std']} | {row['estimate']:.3g} | {failed} | {row['paper']} |")
+    ratios = [row["estimate"] / row["paper"] for row in result["contact_loss"]]
+    lines += ["", f"The closed-form estimate is {min(ratios):.2g}-{max(ratios):.2g} times the paper's speeds.", "",
+              f"`python benchmarks/asperity_trends.py`. {_machine(result)}"]
+    return "\n".join(lines)
+
+
+#: The tables this module renders, by the marker name in the pages.
+TABLES = {
+    "asperity_trends": asperity_trends_table,
+}
