@@ -179,9 +179,30 @@ def failure_text(dataset) -> str:
     return "\n".join(lines)
 
 
+def summary(dataset) -> dict:
+    """Per integrator, over the cells that ran: the largest measured c = error / rtol, whether every error is
+    within its declared bound, and the range of wall time over the cost model's prediction."""
+    found = {}
+    for method in dataset["integrator"].values:
+        cells = dataset.sel(integrator=method)
+        ok = cells["status"].values == 0
+        if not ok.any():
+            continue
+        rtol = np.broadcast_to(cells["rtol"].values, cells["error"].shape)
+        over = (cells["wall_time"].values / cells["predicted_time"].values)[ok]
+        found[str(method)] = {"largest_error_over_rtol": float((cells["error"].values[ok] / rtol[ok]).max()),
+                              "within_declared": bool(np.all(cells["error"].values[ok] <= cells["declared_error"].values[ok])),
+                              "wall_over_predicted": [float(over.min()), float(over.max())]}
+    return found
+
+
 def markdown(dataset) -> str:
-    """Measured against declared error and predicted against measured cost, per ratio and method, at each rtol."""
-    lines = ["| K / K_c | method | rtol | error | declared | wall time (s) | predicted (s) | steps |",
+    """Measured against declared error and predicted against measured cost, per ratio and method, at each rtol,
+    after a summary line per integrator (:func:`summary`)."""
+    lines = [f"- {method}: largest measured c = error / rtol {row['largest_error_over_rtol']:.3g}; "
+             f"{'every error within' if row['within_declared'] else 'errors beyond'} the declared bound; wall time "
+             f"{row['wall_over_predicted'][0]:.2g} to {row['wall_over_predicted'][1]:.2g} times the cost model's"
+             for method, row in summary(dataset).items()] + ["", "| K / K_c | method | rtol | error | declared | wall time (s) | predicted (s) | steps |",
              "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for ratio in dataset["stiffness_ratio"].values:
         for method in dataset["integrator"].values:

@@ -416,6 +416,14 @@ def test_the_bench_measures_every_integrator_auto_can_choose_and_its_chart_rings
     assert int(work["status"].sel(stiffness_ratio=0.3, integrator=chosen, rtol=1e-6)) == 0
     figure = bench.chart(work)
     assert figure.axes
+    # the summary the docs quote: c = error / rtol per integrator, within the declared bound, from the cells
+    found = bench.summary(work)
+    assert set(found) <= set(work["integrator"].values) and chosen in found
+    for method, row in found.items():
+        cell = work.sel(stiffness_ratio=0.3, integrator=method, rtol=1e-6)
+        assert row["largest_error_over_rtol"] == pytest.approx(float(cell["error"]) / 1e-6)
+        assert row["within_declared"] == bool(cell["error"] <= cell["declared_error"])
+    assert bench.markdown(work).startswith(f"- {next(iter(found))}: largest measured c")
 
 
 # --- the C fault-cycle stepper (dopri5_compiled) --------------------------------------------------------
