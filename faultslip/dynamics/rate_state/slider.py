@@ -47,7 +47,8 @@ from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A
 from faultslip.dynamics.rate_state import compiled as rate_state_compiled
 from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.shared.settling import aitken, assess_settling, bifurcation_note
-from faultslip.dynamics.rate_state.methods import CYCLE_METHODS, SECONDS_PER_STEP, near_critical_error, steps_per_cycle
+from faultslip.dynamics.rate_state.methods import (CYCLE_METHODS, ERROR_CONSTANT, SECONDS_PER_STEP, error_bound,
+                                                   near_critical_error, steps_per_cycle)
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.progress import reporter
 from faultslip.datasets import ToXarray
@@ -847,8 +848,12 @@ class RateStateCycles(ToXarray):
 
     @property
     def estimated_relative_error(self) -> float:
-        """The steady cycle's declared error: the integrator's scatter per cycle, or what settling left."""
-        noise = max(CYCLE_NOISE * self.rtol, near_critical_error(self.rtol, self.stiffness_ratio))
+        """The steady cycle's declared error: the integrator's own (its calibrated c rtol, amplified near K_c;
+        the cycle-to-cycle scatter for an integrator without a calibration), or what settling left."""
+        if self.method in ERROR_CONSTANT:
+            noise = error_bound(self.method, self.rtol, self.stiffness_ratio)
+        else:
+            noise = max(CYCLE_NOISE * self.rtol, near_critical_error(self.rtol, self.stiffness_ratio))
         if self.settling is None:
             return math.inf if self.spin_up < 1 else noise  # a fixed spin-up declares nothing about settling
         return max(noise, float(self.settling.remaining))

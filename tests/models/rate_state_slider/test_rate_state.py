@@ -405,6 +405,20 @@ def test_the_rate_state_bench_measures_declared_errors_and_maps_failures(cli, tm
         assert status_code == 0 and error <= declared and steps > 0 and predicted > 0
 
 
+@pytest.mark.parametrize("ratio, rtol", [(0.2, 1e-10), (0.7, 1e-9)])
+def test_the_declared_error_holds_where_the_old_constants_did_not(ratio, rtol):
+    """Measured against the C stepper at rtol 1e-11, LSODA erred by 302 rtol at K / K_c 0.2 and rtol 1e-10 (it
+    declared 150 rtol) and dopri5 by 11 rtol at 0.7 and 1e-9 (declared 10): every integrator's error must be
+    within what it declares now (500 and 20 rtol), and a run declares it too."""
+    from faultslip.evaluation import rate_state_bench as bench
+
+    _, rows = bench._ratio_job((ratio, (rtol,)))
+    for method, (status, error, _, _, declared, _) in zip(bench.INTEGRATORS, rows):
+        assert status == 0 and error <= declared, (method, error / rtol, declared / rtol)
+    run = fault_cycles(bench.bp1_slider(ratio), bench.BP1["plate_rate"], cycles=2, method="lsoda", rtol=rtol)
+    assert run.estimated_relative_error >= rows[bench.INTEGRATORS.index("lsoda")][4]
+
+
 def test_the_bench_measures_every_integrator_auto_can_choose_and_its_chart_rings_it(tmp_path):
     """'rate-state bench --quick' ended after 108 s in KeyError 'dopri5_compiled': auto chose the C stepper,
     which the bench did not measure, and the chart looked it up."""

@@ -42,8 +42,8 @@ def test_a_cells_cycles_are_the_faults_own():
     parameter the cycles do not depend on (rupture length) reuses them: M0 scales with L exactly."""
     law = RateStateLaw(a=0.010, b=0.015, critical_slip=0.008)
     slider = RateStateSlider.at_fault(law, 3.2e10, 20e3, 50e6, density=2670.0, shear_wave_speed=3464.0)
-    # tolerance 1e-6: dopri5's declared error 10 rtol asks rtol 1e-7 (auto, K / K_c 0.05)
-    direct = fault_cycles(slider, 1e-9, cycles=3, spin_up=2, rtol=1e-7)
+    # tolerance 1e-6: dopri5's declared error 20 rtol asks rtol 3e-8 (auto, K / K_c 0.05)
+    direct = fault_cycles(slider, 1e-9, cycles=3, spin_up=2, rtol=3e-8)
     out = rate_state_cells(shear_modulus=3.2e10, zone_width=20e3, normal_stress=50e6, plate_rate=1e-9, a=0.010,
                            b=0.015, critical_slip=0.008, density=2670.0, shear_wave_speed=3464.0,
                            rupture_length=np.array([50e3, 100e3, 200e3]), seismogenic_depth=15e3, cycles=3)
@@ -53,7 +53,9 @@ def test_a_cells_cycles_are_the_faults_own():
     assert np.all(out["method"] == METHOD_CODES[direct.method]) and np.all(out["regime"] == REGIME_CODES["stick_slip"])
     assert out["seismic_moment"][1] / out["seismic_moment"][0] == pytest.approx(2.0, rel=1e-15)
     balance = abs(np.mean(direct.cycle_slip) / (1e-9 * direct.recurrence) - 1)
-    assert out["numerical_error"][0] == pytest.approx(max(balance, 10 * 1e-7)) and balance < 1e-5
+    # declared: the integrator's 20 rtol, what settling left, or the plate balance, whichever is largest
+    declared = max(balance, 20 * 3e-8, direct.estimated_relative_error)
+    assert out["numerical_error"][0] == pytest.approx(declared) and balance < 1e-5
 
 
 def test_stable_cells_slide_at_the_plate_rate_and_never_fake_events():
