@@ -13,7 +13,7 @@ Error models (relative, leading order; checked against measurements in the tests
   closed form reports stick-slip above it;
 * exact cycle: round-off (1e-14), amplified near the critical rate as ``machine eps / sqrt(1 - eps/eps_c)``;
 * event-driven integration: ``c_solver * rtol``, with c measured by ``faultslip bench``
-  (RK45 2, DOP853 1, Radau 0.5, LSODA 60; LSODA's error control is loose);
+  (RK45 2, DOP853 1, Radau 1, LSODA 60; LSODA's error control is loose);
 * regularised friction: not trusted (it never truly sticks); run only when forced.
 
 Cost models (seconds, order of magnitude, from the benchmarks): closed form ~2e-5, exact cycle
@@ -38,13 +38,13 @@ from faultslip.dynamics.shared.cycle import STEADY_SLIDING, CycleResult
 from faultslip.errors import InputError, MethodError, OutOfDomainWarning
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_error
 from faultslip.dynamics.spring_slider.regularized import simulate_regularized
-from faultslip.dynamics.spring_slider.simulate import SUSTAINED_OSCILLATION, simulate
+from faultslip.dynamics.spring_slider.simulate import SOLVER_ERROR_CONSTANT, SUSTAINED_OSCILLATION, simulate
 
 DEFAULT_TOLERANCE = 1e-6
 OUTPUTS = ("amplitude", "period", "event_times", "time_series")
 #: Event-driven integrator calibration (faultslip bench, 2-core machine): error <= c * rtol and
 #: right-hand-side evaluations per slip phase at rtol = 1e-3, 1e-6, 1e-9, 1e-12.
-INTEGRATOR_ERROR_CONSTANT = {"DOP853": 1.0, "RK45": 2.0, "LSODA": 60.0, "Radau": 0.5}
+INTEGRATOR_ERROR_CONSTANT = {solver: SOLVER_ERROR_CONSTANT[solver] for solver in ("DOP853", "RK45", "LSODA", "Radau")}
 INTEGRATOR_EVALUATIONS = {
     "DOP853": (89, 104, 170, 310),
     "RK45": (50, 128, 332, 1270),

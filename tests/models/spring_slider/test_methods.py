@@ -114,6 +114,15 @@ def test_integrator_error_stays_within_its_model(scenes, solver, scene):
         assert row["error_event_times"] <= 3 * bound, (rtol, row)  # event times drift over the 3 cycles
 
 
+def test_radau_at_the_finest_rtol_stays_within_its_model(scenes):
+    """At rtol 1e-12 Radau's amplitude erred by 0.557 rtol on glass_dry_near (the exact cycle's round-off floor),
+    past the 0.5 rtol it declared; it declares 1 rtol now."""
+    system = scenes["glass_dry_near"][0]
+    row = measure(system, reference_for(system, 3), "event_driven_Radau", 1e-12, 3, 10**6, 1)
+    assert row["status"] == 0
+    assert max(row["error_amplitude"], row["error_period"]) <= INTEGRATOR_ERROR_CONSTANT["Radau"] * 1e-12, row
+
+
 def test_accuracy_ordering_and_evaluation_counts(scenes):
     system = scenes["granodiorite_water_low"][0]
     reference = reference_for(system, 3)
