@@ -3,13 +3,16 @@
     python benchmarks/chain_example.py
 
 Runs configs/spring_chain.toml as ``faultslip run`` does, and the predictability of its events
-(:func:`faultslip.hazard.predictability` on every event's start and total slip, as the classroom's chain tab does).
+(:func:`faultslip.hazard.predictability` on every event's start and total slip, as the classroom's chain tab does);
+and the same chain with identical blocks from identical starts (no threshold spread, no initial offset), which
+breaks into events of many sizes on its own (docs/spring_chain.md).
 Writes benchmarks/results/chain_example.json; benchmarks/readme.py renders it.
 """
 
 from __future__ import annotations
 
 import sys
+import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -20,6 +23,23 @@ import numpy as np  # noqa: E402
 
 import faultslip  # noqa: E402
 from fault_2d_profile import write_results  # noqa: E402
+
+
+def identical_blocks() -> dict:
+    """configs/spring_chain.toml with every block alike and starting alike: its magnitudes, b-value (or why there
+    is none) and system-size events."""
+    text = (ROOT / "configs" / "spring_chain.toml").read_text(encoding="utf-8")
+    alike = text.replace("threshold_spread = 0.5 ", "threshold_spread = 0.0 ").replace(
+        'initial_offset = "0.05 mm"', 'initial_offset = "0 mm"')
+    assert alike != text and alike.count("= 0.0 ") >= 1, "configs/spring_chain.toml changed its spread or offset lines"
+    with tempfile.TemporaryDirectory() as folder:
+        scene = Path(folder) / "identical.toml"
+        scene.write_text(alike, encoding="utf-8")
+        result = faultslip.run(str(scene))
+    values = result.values
+    b_label = next(item.label for item in result.report().items if item.key == "b_value")
+    return {"events": values["events"], "magnitude_range": [values["magnitude_min"], values["magnitude_max"]],
+            "b_value": values["b_value"], "b_value_label": b_label, "system_events": values["system_size_events"]}
 
 
 def main() -> int:
@@ -41,6 +61,7 @@ def main() -> int:
                              "holds": predict.verdicts["slip_predictable"]},
         "all_events_cv_range": list(predict.aperiodicity_range),
     }
+    document["identical_blocks"] = identical_blocks()
     write_results("chain_example.json", document)
     return 0
 

@@ -48,6 +48,18 @@ def chain_example_table() -> str | None:
     return "\n".join(rows) + f"\n\n`python benchmarks/chain_example.py` ({r['scene']}). {_machine(r)}"
 
 
+def chain_identical_table() -> str | None:
+    """The chain of identical blocks from identical starts (chain_example.py): what docs/spring_chain.md quotes."""
+    r = _load("chain_example.json")
+    if r is None or "identical_blocks" not in r:
+        return None
+    alike = r["identical_blocks"]
+    b = f"b = {alike['b_value']:.2f}" if alike["b_value"] is not None else alike["b_value_label"]
+    return (f"After {alike['events']} events: magnitudes {alike['magnitude_range'][0]:.2f} to "
+            f"{alike['magnitude_range'][1]:.2f}, {alike['system_events']} system-size events; {b}.\n\n"
+            f"`python benchmarks/chain_example.py`. {_machine(r)}")
+
+
 YEAR_S = 365.25 * 86400.0
 
 
@@ -206,6 +218,7 @@ def rate_state_examples_table() -> str | None:
 TABLES = {
     "renewal_coverage": renewal_coverage_table,
     "chain_example": chain_example_table,
+    "chain_identical": chain_identical_table,
     "seed_1906": seed_1906_table,
     "getting_started_1906": getting_started_1906_table,
     "empirical_1906": empirical_1906_table,
