@@ -89,6 +89,19 @@ def hazard_maps() -> dict:
                              system["hazard"]["rupture_sets"].values()]}
 
 
+def san_andreas_empirical() -> dict:
+    """The San Andreas map's slip per event against Wells & Coppersmith's AD(Mw) for each segment's own Mw
+    (docs/catalogs.md): the range of the ratio and of z over the segments with stick-slip."""
+    import xarray as xr
+
+    with tempfile.TemporaryDirectory() as folder:
+        faultslip_json("map", "configs/san_andreas_map.toml", "-o", f"{folder}/m.nc")
+        with xr.open_dataset(f"{folder}/m.nc") as dataset:
+            ratio, z = dataset["empirical_slip_ratio"].values, dataset["empirical_slip_z"].values
+    return {"slip_ratio": [float(np.nanmin(ratio)), float(np.nanmax(ratio))],
+            "slip_z": [float(np.nanmin(z)), float(np.nanmax(z))]}
+
+
 def critical_comparison() -> dict:
     """The exact critical loading rate against seed 003's Appendix I over Table I's presets and damping ratios
     (docs/critical_rate.md), from ``faultslip critical --table``: its arrays and the Markdown it writes."""
@@ -241,6 +254,11 @@ def main() -> int:
         "parkfield_widths": parkfield_widths(),
     }
     document.update(hazard_maps())
+    document["san_andreas_empirical"] = san_andreas_empirical()
+    parkfield = faultslip_json("predictability", "configs/catalog_san_andreas.csv", "--name", "Parkfield")
+    document["parkfield_predictability"] = {key: parkfield[key] for key in (
+        "events", "aperiodicity", "periodic", "poisson", "time_predictable", "slip_predictable")} | {
+        "aperiodicity_95": parkfield["aperiodicity_95"]["value"]}
     document["critical_comparison"] = critical_comparison()
     document["rate_state_examples"] = rate_state_examples()
     record = faultslip_json("record", "configs/example_phyphox.csv")

@@ -48,6 +48,31 @@ def chain_example_table() -> str | None:
     return "\n".join(rows) + f"\n\n`python benchmarks/chain_example.py` ({r['scene']}). {_machine(r)}"
 
 
+def san_andreas_empirical_table() -> str | None:
+    """The San Andreas map's slip against W&C's expectation, segment by segment (docs/catalogs.md)."""
+    result = _load("docs_numbers.json")
+    if result is None or "san_andreas_empirical" not in result:
+        return None
+    values = result["san_andreas_empirical"]
+    (low, high), (_, z_high) = values["slip_ratio"], values["slip_z"]
+    return (f"On the San Andreas map the slip ratio runs from {low:.1f} to {high:.1f} across the segments: the seed "
+            f"law's slip, with its 1906 stress and zone width, is larger than W&C expect for the segments' own Mw, by "
+            f"up to {z_high:.1f} σ.\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}")
+
+
+def parkfield_predictability_table() -> str | None:
+    """QuakeCaster's test on the bundled Parkfield sequence (docs/catalogs.md)."""
+    result = _load("docs_numbers.json")
+    if result is None or "parkfield_predictability" not in result:
+        return None
+    values = result["parkfield_predictability"]
+    low, high = values["aperiodicity_95"]
+    verdict = ("periodic" if values["periodic"] else "Poisson" if values["poisson"] else "neither periodic nor Poisson")
+    return (f"`faultslip predictability configs/catalog_san_andreas.csv --name Parkfield`: {values['events']} events, "
+            f"a coefficient of variation of {values['aperiodicity']:.2f} ({low:.2f}-{high:.2f}): {verdict}.\n\n"
+            f"`python benchmarks/docs_numbers.py`. {_machine(result)}")
+
+
 def chain_identical_table() -> str | None:
     """The chain of identical blocks from identical starts (chain_example.py): what docs/spring_chain.md quotes."""
     r = _load("chain_example.json")
@@ -219,6 +244,8 @@ TABLES = {
     "renewal_coverage": renewal_coverage_table,
     "chain_example": chain_example_table,
     "chain_identical": chain_identical_table,
+    "san_andreas_empirical": san_andreas_empirical_table,
+    "parkfield_predictability": parkfield_predictability_table,
     "seed_1906": seed_1906_table,
     "getting_started_1906": getting_started_1906_table,
     "empirical_1906": empirical_1906_table,
