@@ -25,21 +25,43 @@ import faultslip  # noqa: E402
 from fault_2d_profile import write_results  # noqa: E402
 
 
-def identical_blocks() -> dict:
-    """configs/spring_chain.toml with every block alike and starting alike: its magnitudes, b-value (or why there
-    is none) and system-size events."""
-    text = (ROOT / "configs" / "spring_chain.toml").read_text(encoding="utf-8")
-    alike = text.replace("threshold_spread = 0.5 ", "threshold_spread = 0.0 ").replace(
-        'initial_offset = "0.05 mm"', 'initial_offset = "0 mm"')
-    assert alike != text and alike.count("= 0.0 ") >= 1, "configs/spring_chain.toml changed its spread or offset lines"
-    with tempfile.TemporaryDirectory() as folder:
-        scene = Path(folder) / "identical.toml"
-        scene.write_text(alike, encoding="utf-8")
-        result = faultslip.run(str(scene))
+#: The classroom's knobs, each a change to configs/spring_chain.toml's text (docs/classroom.md, docs/spring_chain.md).
+VARIANTS = {
+    "weaker coupling, k_c = 2 kN/m": (('coupling_stiffness = "10 kN/m"', 'coupling_stiffness = "2 kN/m"'),),
+    "less spread, threshold_spread = 0.2": (("threshold_spread = 0.5 ", "threshold_spread = 0.2 "),),
+    "identical blocks from identical starts": (("threshold_spread = 0.5 ", "threshold_spread = 0.0 "),
+                                               ('initial_offset = "0.05 mm"', 'initial_offset = "0 mm"')),
+}
+
+
+def chain_numbers(scene) -> dict:
+    """A chain scene's catalogue as the lessons read it: blocks per event, magnitudes, b-value (or why there is
+    none), system-size events and their intervals' CV."""
+    result = faultslip.run(str(scene))
+    catalogue = faultslip.simulate(str(scene)).to_xarray()
     values = result.values
     b_label = next(item.label for item in result.report().items if item.key == "b_value")
-    return {"events": values["events"], "magnitude_range": [values["magnitude_min"], values["magnitude_max"]],
-            "b_value": values["b_value"], "b_value_label": b_label, "system_events": values["system_size_events"]}
+    return {"events": values["events"], "blocks_per_event": float(catalogue["blocks_slipped"].mean()),
+            "magnitude_range": [values["magnitude_min"], values["magnitude_max"]], "b_value": values["b_value"],
+            "b_value_label": b_label, "gutenberg_richter": values.get("gutenberg_richter"),
+            "system_events": values["system_size_events"], "system_cv": values["recurrence_cv"]}
+
+
+def variants() -> dict:
+    """:data:`VARIANTS`, each run on its changed copy of the shipped scene."""
+    text = (ROOT / "configs" / "spring_chain.toml").read_text(encoding="utf-8")
+    found = {}
+    with tempfile.TemporaryDirectory() as folder:
+        for label, changes in VARIANTS.items():
+            changed = text
+            for old, new in changes:
+                if old not in changed:
+                    raise SystemExit(f"configs/spring_chain.toml no longer has {old!r}: update VARIANTS")
+                changed = changed.replace(old, new)
+            scene = Path(folder) / "variant.toml"
+            scene.write_text(changed, encoding="utf-8")
+            found[label] = chain_numbers(scene)
+    return found
 
 
 def main() -> int:
@@ -61,7 +83,8 @@ def main() -> int:
                              "holds": predict.verdicts["slip_predictable"]},
         "all_events_cv_range": list(predict.aperiodicity_range),
     }
-    document["identical_blocks"] = identical_blocks()
+    document["shipped"] = chain_numbers(ROOT / "configs" / "spring_chain.toml")
+    document["variants"] = variants()
     write_results("chain_example.json", document)
     return 0
 

@@ -73,16 +73,34 @@ def parkfield_predictability_table() -> str | None:
             f"`python benchmarks/docs_numbers.py`. {_machine(result)}")
 
 
+def _b_text(run: dict) -> str:
+    return f"b = {run['b_value']:.2f}" if run["b_value"] is not None else run["b_value_label"]
+
+
 def chain_identical_table() -> str | None:
     """The chain of identical blocks from identical starts (chain_example.py): what docs/spring_chain.md quotes."""
     r = _load("chain_example.json")
-    if r is None or "identical_blocks" not in r:
+    if r is None or "variants" not in r:
         return None
-    alike = r["identical_blocks"]
-    b = f"b = {alike['b_value']:.2f}" if alike["b_value"] is not None else alike["b_value_label"]
+    alike = r["variants"]["identical blocks from identical starts"]
     return (f"After {alike['events']} events: magnitudes {alike['magnitude_range'][0]:.2f} to "
-            f"{alike['magnitude_range'][1]:.2f}, {alike['system_events']} system-size events; {b}.\n\n"
+            f"{alike['magnitude_range'][1]:.2f}, {alike['blocks_per_event']:.1f} blocks an event on average, "
+            f"{alike['system_events']} system-size events; {_b_text(alike)}.\n\n"
             f"`python benchmarks/chain_example.py`. {_machine(r)}")
+
+
+def chain_knobs_table() -> str | None:
+    """The shipped chain and the classroom's knobs, one run each (chain_example.py; docs/classroom.md)."""
+    r = _load("chain_example.json")
+    if r is None or "variants" not in r:
+        return None
+    rows = ["| chain | blocks an event (mean) | magnitudes | system-size events (CV of their intervals) | b-value |",
+            "| --- | --- | --- | --- | --- |"]
+    for label, run in {"shipped (configs/spring_chain.toml)": r["shipped"], **r["variants"]}.items():
+        rows.append(f"| {label} | {run['blocks_per_event']:.1f} | {run['magnitude_range'][0]:.2f} to "
+                    f"{run['magnitude_range'][1]:.2f} | {run['system_events']} ({run['system_cv']:.2f}) | "
+                    f"{_b_text(run)} |")
+    return "\n".join(rows) + f"\n\n`python benchmarks/chain_example.py`, {r['shipped']['events']} events each. {_machine(r)}"
 
 
 YEAR_S = 365.25 * 86400.0
@@ -244,6 +262,7 @@ TABLES = {
     "renewal_coverage": renewal_coverage_table,
     "chain_example": chain_example_table,
     "chain_identical": chain_identical_table,
+    "chain_knobs": chain_knobs_table,
     "san_andreas_empirical": san_andreas_empirical_table,
     "parkfield_predictability": parkfield_predictability_table,
     "seed_1906": seed_1906_table,
