@@ -83,7 +83,7 @@ def main(argv=None) -> dict:
               **stamp(), "quick": args.quick}
     out = ROOT / "benchmarks" / "results" / ("fault_2d_quick.json" if args.quick else "fault_2d.json")
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
-    print(f"written to {out}; python benchmarks/readme.py writes the README's table")
+    print(f"written to {out}; python benchmarks/readme.py writes the docs' table")
     return result
 
 

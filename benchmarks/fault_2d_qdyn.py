@@ -37,7 +37,7 @@ slip rate rises through 1e-3 m/s; system-size events slip at the surface at leas
 the recurrence is the last interval between them, and the sequence has settled when the last three
 agree to 1e-3.
 
-Writes benchmarks/results/fault_2d_qdyn.json; ``python benchmarks/readme.py`` writes the README's table
+Writes benchmarks/results/fault_2d_qdyn.json; ``python benchmarks/readme.py`` writes the docs' table
 ``fault_2d_qdyn`` from it.
 """
 
@@ -391,7 +391,7 @@ def main(argv=None) -> dict:
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
     print(f"written to {out}" + (f"; faultslip / {best[0]} = {result['ratio_faultslip_over_best_peer']:.2f} "
                                  f"(CPU {result['cpu_ratio_faultslip_over_best_peer']:.2f})" if good else "")
-          + "; python benchmarks/readme.py writes the README's table")
+          + "; python benchmarks/readme.py writes the docs' table")
     return result
 
 

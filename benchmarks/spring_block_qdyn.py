@@ -27,7 +27,7 @@ all, the strictest comparison. Every run is a whole process (start-up, input, ou
 core, timed ``--repeats`` times, interleaved with the order reversed every other round, the medians of
 wall time, CPU time and peak memory kept (``peer_runs``).
 
-Writes benchmarks/results/spring_block_qdyn.json; ``python benchmarks/readme.py`` writes the README's table
+Writes benchmarks/results/spring_block_qdyn.json; ``python benchmarks/readme.py`` writes the docs' table
 ``spring_block_qdyn`` from it.
 """
 
@@ -223,7 +223,7 @@ def main(argv=None) -> dict:
         print(f"faultslip / {result['best_peer']} = {result['ratio_faultslip_over_best_peer']:.2f}")
     out = ROOT / "benchmarks" / "results" / "spring_block_qdyn.json"
     out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
-    print(f"written to {out}; python benchmarks/readme.py writes the README's table")
+    print(f"written to {out}; python benchmarks/readme.py writes the docs' table")
     return result
 
 

@@ -17,7 +17,7 @@ All three are interleaved over ``--rounds`` rounds with the order reversed every
 kept. They agree on the events until the chaotic chain's round-off grows; how many events agree with the
 Python closed form is recorded beside each ratio.
 
-Writes benchmarks/results/spring_chain_speed.json; ``python benchmarks/readme.py`` writes the README's table
+Writes benchmarks/results/spring_chain_speed.json; ``python benchmarks/readme.py`` writes the docs' table
 ``spring_chain_speed`` from it.
 """
 
