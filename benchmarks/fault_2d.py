@@ -9,7 +9,7 @@
    loosest rtol within 0.1 % of it is the fair setting at which to time a code (issue 33); then
    BP1 at 25 m for 3000 years at that rtol, timed.
 
-Writes benchmarks/results/fault_2d.json and the README's table. Every number is measured in
+Writes benchmarks/results/fault_2d.json, rendered into the docs' tables. Every number is measured in
 this run; the machine and date are recorded. --quick runs 1000 years at 100 m and 200 m only.
 """
 

@@ -18,7 +18,7 @@ PACKAGES = ("numpy", "scipy", "numba", "llvmlite", "rocket-fft", "matplotlib", "
 
 
 def machine() -> str:
-    """The machine as the README's tables name it: architecture, cores and Python, e.g.
+    """The machine as the docs' tables name it: architecture, cores and Python, e.g.
     "x86_64, 2 cores, Python 3.11.7"."""
     return f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}"
 
