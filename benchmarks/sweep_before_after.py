@@ -1,4 +1,4 @@
-"""The sweep engine before and after a change, interleaved on one machine: the README's sweep rows (engine against
+"""The sweep engine before and after a change, interleaved on one machine: the docs' sweep rows (engine against
 numpy, the floor, the second core) measured with each source tree's own code in alternating processes, so that
 load and machine state fall on both alike.
 
