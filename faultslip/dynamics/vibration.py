@@ -662,15 +662,16 @@ def averaging_error(system: QuasiHarmonic) -> dict:
 
 
 def quasi_harmonic_speeds(system: QuasiHarmonic, count: int = 5, search: int = 400) -> np.ndarray:
-    """``count`` driving speeds spread over the band where ``system`` vibrates without sticking, at fractions
-    0.1 to 0.8 of it (integration slows without bound towards the onset, where the cycle's decay rate
-    vanishes), found on ``search`` speeds from 0 to 2.5 times its own; empty if it never vibrates."""
+    """Up to ``count`` driving speeds at which ``system`` vibrates without sticking, found on ``search`` speeds
+    from 0 to 2.5 times its own and taken from the 10th to the 80th percentile of those (integration slows
+    without bound towards the onset, where the cycle's decay rate vanishes); each is a speed the analysis
+    found vibrating, so a band with gaps gives no speed in a gap. Empty if it never vibrates."""
     grid = np.linspace(0.0, 2.5 * system.speed, search + 1)[1:]
     sweep = amplitude_against_speed(system, grid)
     vibrating = grid[(sweep["amplitude"] > 0) & ~sweep["sticks"]]
     if vibrating.size < 2:
         return np.empty(0)
-    return vibrating[0] + np.linspace(0.1, 0.8, count) * (vibrating[-1] - vibrating[0])
+    return np.unique(vibrating[np.round(np.linspace(0.1, 0.8, count) * (vibrating.size - 1)).astype(int)])
 
 
 def error_against_eps(eps_values=(0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.4), even_terms=(0.0, 1.0),
