@@ -44,7 +44,8 @@ DEFAULT_TOLERANCE = 1e-6
 OUTPUTS = ("amplitude", "period", "event_times", "time_series")
 #: Event-driven integrator calibration (faultslip bench, 2-core machine): error <= c * rtol and
 #: right-hand-side evaluations per slip phase at rtol = 1e-3, 1e-6, 1e-9, 1e-12.
-INTEGRATOR_ERROR_CONSTANT = {solver: SOLVER_ERROR_CONSTANT[solver] for solver in ("DOP853", "RK45", "LSODA", "Radau")}
+INTEGRATOR_ERROR_CONSTANT = {solver: SOLVER_ERROR_CONSTANT[solver]
+                             for solver in ("DOP853", "RK45", "LSODA", "Radau")}
 INTEGRATOR_EVALUATIONS = {
     "DOP853": (89, 104, 170, 310),
     "RK45": (50, 128, 332, 1270),

@@ -7,9 +7,8 @@ D_c is set for each K / K_c = (G / D) D_c / (sigma_n (b - a)), from a lab-scale 
 * :func:`work_precision`: each integrator at each rtol, 2 cycles once settled; the error is the larger
   relative error of recurrence and slip per event against the C stepper at rtol 1e-11 (without it,
   dopri5, or LSODA where K / K_c < 0.01); cost is wall time and steps, the prediction for the cycles
-  the run took. The declared error and predicted
-  cost of :mod:`faultslip.dynamics.rate_state.methods` sit beside every measurement, and auto's
-  choice for a tolerance of 1e-6 is marked.
+  the run took. The declared error and predicted cost of :mod:`faultslip.dynamics.rate_state.methods`
+  sit beside every measurement, and auto's choice for a tolerance of 1e-6 is marked.
 * :func:`failure_map`: over a fine K / K_c grid, each model and integrator under a step budget:
   ok, budget exceeded (dopri5 where stiff), diverges (the quasi-static model at its first event:
   it has no solution past an instability), no events, or solver failure.
@@ -198,8 +197,9 @@ def summary(dataset) -> dict:
             continue
         rtol = np.broadcast_to(cells["rtol"].values, cells["error"].shape)
         over = (cells["wall_time"].values / cells["predicted_time"].values)[ok]
-        found[str(method)] = {"largest_error_over_rtol": float((cells["error"].values[ok] / rtol[ok]).max()),
-                              "within_declared": bool(np.all(cells["error"].values[ok] <= cells["declared_error"].values[ok])),
+        error, declared = cells["error"].values[ok], cells["declared_error"].values[ok]
+        found[str(method)] = {"largest_error_over_rtol": float((error / rtol[ok]).max()),
+                              "within_declared": bool(np.all(error <= declared)),
                               "wall_over_predicted": [float(over.min()), float(over.max())]}
     return found
 
@@ -210,8 +210,9 @@ def markdown(dataset) -> str:
     lines = [f"- {method}: largest measured c = error / rtol {row['largest_error_over_rtol']:.3g}; "
              f"{'every error within' if row['within_declared'] else 'errors beyond'} the declared bound; wall time "
              f"{row['wall_over_predicted'][0]:.2g} to {row['wall_over_predicted'][1]:.2g} times the cost model's"
-             for method, row in summary(dataset).items()] + ["", "| K / K_c | method | rtol | error | declared | wall time (s) | predicted (s) | steps |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+             for method, row in summary(dataset).items()]
+    lines += ["", "| K / K_c | method | rtol | error | declared | wall time (s) | predicted (s) | steps |",
+              "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for ratio in dataset["stiffness_ratio"].values:
         for method in dataset["integrator"].values:
             for rtol in dataset["rtol"].values:

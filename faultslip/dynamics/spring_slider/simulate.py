@@ -62,6 +62,7 @@ class SlipOutcome:
 #: 52 (LSODA). RK23 and BDF are not calibrated and take the loosest.
 SOLVER_ERROR_CONSTANT = {"RK45": 2.0, "RK23": 2.0, "DOP853": 1.0, "Radau": 1.0, "BDF": 60.0, "LSODA": 60.0}
 
+
 def _stick_duration(system, x_start):
     """Time until K x + C V reaches W mu_s during a stick that starts at x_start."""
     from scipy.optimize import brentq  # heavy: imported where used
