@@ -91,10 +91,15 @@ def cmd_rate_state_bench(args) -> int:
                                                 progress=_progress("failure map", not args.json))
         table = rate_state_bench.markdown(work)
         text = rate_state_bench.failure_text(failures)
+        unseen = "" if args.quick else (
+            f"\n\nOn frictions the constants were not set on (K / K_c {rate_state_bench.UNSEEN_RATIOS}, rtol "
+            f"{rate_state_bench.UNSEEN_RTOLS[0]:g} to {rate_state_bench.UNSEEN_RTOLS[-1]:g}):\n\n"
+            + rate_state_bench.unseen_text(rate_state_bench.unseen_frictions(
+                workers=workers, progress=_progress("unseen frictions", not args.json))))
         write_dataset(work, out / names[0])
         write_dataset(failures, out / names[3])
         write_text_atomic(out / names[1], table + "\n\nWhere each method fails (rtol 1e-7, "
-                          f"{rate_state_bench.STEP_BUDGET} steps):\n\n" + text + "\n")
+                          f"{rate_state_bench.STEP_BUDGET} steps):\n\n" + text + unseen + "\n")
         save_figure(rate_state_bench.chart(work, failures), out / names[2], dpi=120)
     files = [str(out / name) for name in names]
     seconds = work.attrs["total_wall_time_s"] + failures.attrs["total_wall_time_s"]

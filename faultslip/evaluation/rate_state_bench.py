@@ -50,12 +50,22 @@ BP1 = dict(a=0.010, b=0.015, normal_stress=50e6, shear_modulus=3.2e10, zone_widt
            shear_wave_speed=3464.0, plate_rate=1e-9)
 
 
-def bp1_slider(stiffness_ratio: float) -> RateStateSlider:
-    """SEAS BP1's fault with D_c chosen so that K / K_c = ``stiffness_ratio``."""
+#: Frictions the declared constants were not set on, each (a, b, evolution law): the check
+#: :func:`unseen_frictions` runs on the same fault, K / K_c and rtol ranges.
+UNSEEN_FRICTIONS = ((0.005, 0.010, "aging"), (0.010, 0.015, "slip"), (0.015, 0.020, "aging"))
+UNSEEN_RATIOS = (1e-3, 0.05, 0.3, 0.7)
+UNSEEN_RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
+
+
+def bp1_slider(stiffness_ratio: float, friction: tuple | None = None) -> RateStateSlider:
+    """SEAS BP1's fault with D_c chosen so that K / K_c = ``stiffness_ratio``; ``friction`` (a, b, evolution)
+    replaces BP1's aging-law a 0.010, b 0.015."""
+    a, b, evolution = friction or (BP1["a"], BP1["b"], "aging")
     stiffness = BP1["shear_modulus"] / BP1["zone_width"]
-    critical_slip = stiffness_ratio * BP1["normal_stress"] * (BP1["b"] - BP1["a"]) / stiffness
-    law = RateStateLaw(a=BP1["a"], b=BP1["b"], critical_slip=critical_slip,
-                       source="SCEC SEAS BP1 friction (Erickson et al. 2020), D_c set for K / K_c")
+    critical_slip = stiffness_ratio * BP1["normal_stress"] * (b - a) / stiffness
+    source = ("SCEC SEAS BP1 friction (Erickson et al. 2020)" if friction is None
+              else f"a {a:g}, b {b:g}, {evolution} law") + ", D_c set for K / K_c"
+    law = RateStateLaw(a=a, b=b, critical_slip=critical_slip, evolution=evolution, source=source)
     return RateStateSlider.at_fault(law, BP1["shear_modulus"], BP1["zone_width"], BP1["normal_stress"],
                                     density=BP1["density"], shear_wave_speed=BP1["shear_wave_speed"])
 
@@ -85,9 +95,9 @@ def _warm_up():
 
 
 def _ratio_job(args):
-    ratio, rtols = args
+    ratio, rtols, friction = args
     _warm_up()
-    slider = bp1_slider(ratio)
+    slider = bp1_slider(ratio, friction)
     reference_method = "dopri5_compiled" if native.available() else "lsoda" if ratio < 0.01 else "dopri5"
     reference = fault_cycles(slider, BP1["plate_rate"], cycles=CYCLES, spin_up=SPIN_UP, rtol=REFERENCE_RTOL,
                              method=reference_method, max_steps=REFERENCE_STEPS)
@@ -103,15 +113,16 @@ def _ratio_job(args):
     return ratio, rows
 
 
-def work_precision(quick: bool = False, workers: int = 2, progress=None, ratios=None, rtols=None):
+def work_precision(quick: bool = False, workers: int = 2, progress=None, ratios=None, rtols=None, friction=None):
     """Dataset on (stiffness_ratio, integrator, rtol): measured error, wall time, steps, declared error, predicted
-    cost; ``ratios`` and ``rtols`` replace the standard (or ``quick``) grids."""
+    cost; ``ratios`` and ``rtols`` replace the standard (or ``quick``) grids, ``friction`` (a, b, evolution)
+    BP1's."""
     import xarray as xr  # heavy: imported where used
 
     ratios = ratios or (QUICK_RATIOS if quick else RATIOS)
     rtols = rtols or (QUICK_RTOLS if quick else RTOLS)
     started = time.perf_counter()
-    results = dict(parallel_map(_ratio_job, [(r, rtols) for r in ratios], workers, progress))
+    results = dict(parallel_map(_ratio_job, [(r, rtols, friction) for r in ratios], workers, progress))
     shape = (len(ratios), len(INTEGRATORS), len(rtols))
     columns = [np.array([row[k] for r in ratios for row in results[r]]).reshape(shape) for k in range(6)]
     chosen = [choose_cycle_method(r, 1e-6, CYCLES + SPIN_UP)[:2] for r in ratios]
@@ -135,6 +146,21 @@ def work_precision(quick: bool = False, workers: int = 2, progress=None, ratios=
         attrs={"title": "faultslip rate-and-state work-precision (SEAS BP1 friction, D_c set for K / K_c)",
                "Conventions": "CF-1.8", "cycles": CYCLES, "spin_up": SPIN_UP, "step_budget": STEP_BUDGET,
                "total_wall_time_s": time.perf_counter() - started, "quick": int(quick)})
+
+
+def unseen_frictions(workers: int = 2, progress=None) -> dict:
+    """:func:`summary` of :func:`work_precision` on each of :data:`UNSEEN_FRICTIONS`, by its label: whether the
+    declared errors, set on BP1's friction, hold on faults they were not set on."""
+    return {f"a {a:g}, b {b:g}, {evolution} law": summary(work_precision(
+        workers=workers, progress=progress, ratios=UNSEEN_RATIOS, rtols=UNSEEN_RTOLS, friction=(a, b, evolution)))
+        for a, b, evolution in UNSEEN_FRICTIONS}
+
+
+def unseen_text(found: dict) -> str:
+    """One line per friction and integrator of :func:`unseen_frictions`."""
+    return "\n".join(f"- {friction}, {method}: largest measured c {row['largest_error_over_rtol']:.3g}; "
+                     f"{'every error within' if row['within_declared'] else 'errors beyond'} the declared bound"
+                     for friction, rows in found.items() for method, row in rows.items())
 
 
 def _map_job(args):
