@@ -22,7 +22,7 @@ from faultslip.models.asperity.dynamics import AsperityModel, analyse, peak_spee
 from faultslip.models.asperity.friction import CONTACT_LOSS_SPEEDS, TABLE_II, TABLE_III  # noqa: E402
 from faultslip.io.atomic import save_figure  # noqa: E402
 from faultslip.models.asperity.figures import response_figure, sweep_figure  # noqa: E402
-from fault_2d_profile import write_results  # noqa: E402  (one stamp for every results file)
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -22,7 +22,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 import numpy as np  # noqa: E402
 
 import faultslip  # noqa: E402
-from fault_2d_profile import write_results  # noqa: E402
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 
 
 #: The classroom's knobs, each a change to configs/spring_chain.toml's text (docs/classroom.md, docs/spring_chain.md).

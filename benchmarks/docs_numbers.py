@@ -36,7 +36,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import numpy as np  # noqa: E402
 
-from fault_2d_profile import write_results  # noqa: E402
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 
 #: The catalog comparison's fixed date (a probability depends on it) and horizon, as docs/catalogs.md reads them.
 AS_OF, HORIZON = "2026-01-01", "30 yr"

@@ -42,7 +42,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import numpy as np  # noqa: E402
 
-from fault_2d_profile import write_results  # noqa: E402  (one way to write a result, with the machine and date)
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 from fault_2d_threads import CLASSES, _round_trip_kernel, placement, round_trip_us, spin_barrier  # noqa: E402
 
 #: float64s a cache line

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import argparse
 import cProfile
-import json
 import math
 import os
 import pstats
@@ -40,7 +39,7 @@ import numpy as np  # noqa: E402
 from faultslip.constants import JULIAN_YEAR  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles  # noqa: E402
 from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
-from provenance import stamp  # noqa: E402  (one stamp for every results file)
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 
 WIDTH = 40e3
 def _alone(call) -> float:
@@ -190,14 +189,6 @@ def main(argv=None) -> int:
               + "; inside the step: " + ", ".join(f"{part} {share:.0%}" for part, share in row["inside_shares"].items()))
     write_results("fault_2d_profile.json", {"runs": rows})
     return 0
-
-
-def write_results(name: str, document: dict) -> None:
-    """benchmarks/results/NAME: ``document`` with its stamp (machine, packages, date: provenance.stamp)."""
-    out = ROOT / "benchmarks" / "results" / name
-    document = {**document, **stamp()}
-    out.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
-    print(f"written to {out}")
 
 
 if __name__ == "__main__":

@@ -37,7 +37,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from fault_2d_profile import write_results  # noqa: E402  (one way to write a result, with the machine and date)
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 from faultslip.constants import JULIAN_YEAR  # noqa: E402
 from faultslip.models.fault_2d.integrate import run_cycles  # noqa: E402
 from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402

@@ -37,7 +37,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from fault_2d_profile import write_results  # noqa: E402
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 
 COMMANDS = {
     "2-D fault (configs/fault_2d_small.toml)": ["run", "configs/fault_2d_small.toml", "--json"],

@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from fault_2d_profile import write_results  # noqa: E402
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip.constants import JULIAN_YEAR  # noqa: E402
 from faultslip.models.fault_2d import compiled  # noqa: E402

@@ -7,10 +7,12 @@ under each table. tests/project/test_architecture.py refuses a benchmark that wr
 
 from __future__ import annotations
 
+import json
 import os
 import platform
 from datetime import datetime, timezone
 from importlib import metadata
+from pathlib import Path
 
 #: the distributions whose versions move the figures: the array stack, the compiler and FFT of the compiled paths,
 #: and the plotting, labelled-array, unit and seismology layers the benchmarks time, and the 3-D kernel's dislocations
@@ -52,3 +54,11 @@ def listed(stamped: dict) -> str:
     """A stamp's packages as "numpy 2.3.5, scipy 1.17.1, ..." (empty for a result written before stamps held
     them)."""
     return ", ".join(f"{name} {version}" for name, version in stamped.get("packages", {}).items())
+
+
+def write_results(name: str, document: dict) -> None:
+    """benchmarks/results/NAME: ``document`` with its :func:`stamp` (machine, packages, date)."""
+    out = Path(__file__).resolve().parent / "results" / name
+    document = {**document, **stamp()}
+    out.write_text(json.dumps(document, indent=1) + "\n", encoding="utf-8")
+    print(f"written to {out}")

@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from fault_2d_profile import write_results  # noqa: E402
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 from faultslip.studies.maps import read_map, run_map, segment_rows  # noqa: E402
 
 MAPS = {"seed_law": "san_andreas_map.toml", "rate_state": "san_andreas_map_rate_state.toml"}

@@ -23,7 +23,7 @@ from faultslip.io.atomic import save_figure  # noqa: E402
 from faultslip.models.rough_surface.scene import rough_surface_slider, separation_history, separation_sweep  # noqa: E402
 from faultslip.lab.surfaces import gaussian_surface  # noqa: E402
 from faultslip.plots.surfaces import separation_figure  # noqa: E402
-from fault_2d_profile import write_results  # noqa: E402  (one stamp for every results file)
+from provenance import write_results  # noqa: E402  (one stamp for every results file)
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The scenes' stand-in surface (configs/rough_surface_*.toml): RMS and correlation length (m), grid, seed.

@@ -16,6 +16,12 @@ def _load(name):
     return json.loads(path.read_text(encoding="utf-8")) if path.exists() else None
 
 
+def _load_with(name, key):
+    """The results file ``name`` if it holds ``key`` (an older file without it renders nothing), else None."""
+    result = _load(name)
+    return result if result is not None and key in result else None
+
+
 def _packages(result) -> str:
     """The packages a result was measured with (provenance.stamp), as a sentence; empty for an older result."""
     versions = listed(result)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import _load, _machine
+from ._common import _load, _load_with, _machine
 
 
 def _map_dataset(segments: list):
@@ -49,8 +49,8 @@ def san_andreas_map_table() -> str | None:
 
 
 def california_scaling_table() -> str | None:
-    result = _load("docs_numbers.json")
-    if result is None or "california_sources" not in result:
+    result = _load_with("docs_numbers.json", "california_sources")
+    if result is None:
         return None
     sources = result["california_sources"]
     relations = list(sources[0]["empirical"])
@@ -73,8 +73,8 @@ def california_scaling_table() -> str | None:
 
 
 def rupture_sets_table() -> str | None:
-    result = _load("docs_numbers.json")
-    if result is None or "rupture_sets" not in result:
+    result = _load_with("docs_numbers.json", "rupture_sets")
+    if result is None:
         return None
     rows = ["| branch | sections | ruptures allowed | with a rate | multi-fault with a rate | slip rates released to | "
             "b of the solved MFD | shape misfit |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
@@ -110,8 +110,8 @@ LEONARD_PRINTED = {"strike-slip": (3.99, 4.17), "dip-slip": (4.00, 4.24), "stabl
 
 
 def leonard_table_6_table() -> str | None:
-    result = _load("docs_numbers.json")
-    if result is None or "leonard_table_6" not in result:
+    result = _load_with("docs_numbers.json", "leonard_table_6")
+    if result is None:
         return None
     computed = result["leonard_table_6"]
     settings = list(LEONARD_PRINTED)

@@ -6,7 +6,7 @@ import math
 import re
 import statistics
 
-from ._common import _load, _machine
+from ._common import _load, _load_with, _machine
 
 
 #: the parameters of a rate-and-state fit as docs/lab_fits.md names them
@@ -232,8 +232,8 @@ def classroom_record_table() -> str | None:
 
 def seed002_decay_table() -> str | None:
     """Seed 002's Appendix C recomputed by ``faultslip decay`` beside what it prints (docs/lab_fits.md)."""
-    result = _load("docs_numbers.json")
-    if result is None or "seed002_decay" not in result:
+    result = _load_with("docs_numbers.json", "seed002_decay")
+    if result is None:
         return None
     values, inch, pound_force = result["seed002_decay"], 0.0254, 4.4482216152605
     mass_imperial = values["mass"] * inch / pound_force  # lb s^2 / in

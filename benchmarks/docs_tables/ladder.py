@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import statistics
 
-from ._common import _load, _machine
+from ._common import _load, _load_with, _machine
 
 
 def ladder_table() -> str | None:
@@ -55,8 +55,8 @@ def ladder_table() -> str | None:
 def ladder_limits_table() -> str | None:
     """What limits the one slider's range: the two kinds of 2-D sequence (ladder_calibration.py) and how the kind
     and the recurrence move with D_c on the faults where both kinds occur (ladder_regimes.py)."""
-    result = _load("ladder_held_out.json")
-    if result is None or "limits" not in result:
+    result = _load_with("ladder_held_out.json", "limits")
+    if result is None:
         return None
     limits = result["limits"]
     names = {"recurrence": "recurrence", "mean_slip": "slip per event, mean over the rupture zone"}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import _load, _machine
+from ._common import _load, _load_with, _machine
 
 
 def renewal_coverage_table() -> str | None:
@@ -50,8 +50,8 @@ def chain_example_table() -> str | None:
 
 def san_andreas_empirical_table() -> str | None:
     """The San Andreas map's slip against W&C's expectation, segment by segment (docs/catalogs.md)."""
-    result = _load("docs_numbers.json")
-    if result is None or "san_andreas_empirical" not in result:
+    result = _load_with("docs_numbers.json", "san_andreas_empirical")
+    if result is None:
         return None
     values = result["san_andreas_empirical"]
     (low, high), (_, z_high) = values["slip_ratio"], values["slip_z"]
@@ -62,8 +62,8 @@ def san_andreas_empirical_table() -> str | None:
 
 def parkfield_predictability_table() -> str | None:
     """QuakeCaster's test on the bundled Parkfield sequence (docs/catalogs.md)."""
-    result = _load("docs_numbers.json")
-    if result is None or "parkfield_predictability" not in result:
+    result = _load_with("docs_numbers.json", "parkfield_predictability")
+    if result is None:
         return None
     values = result["parkfield_predictability"]
     low, high = values["aperiodicity_95"]
@@ -79,8 +79,8 @@ def _b_text(run: dict) -> str:
 
 def chain_identical_table() -> str | None:
     """The chain of identical blocks from identical starts (chain_example.py): what docs/spring_chain.md quotes."""
-    r = _load("chain_example.json")
-    if r is None or "variants" not in r:
+    r = _load_with("chain_example.json", "variants")
+    if r is None:
         return None
     alike = r["variants"]["identical blocks from identical starts"]
     return (f"After {alike['events']} events: magnitudes {alike['magnitude_range'][0]:.2f} to "
@@ -91,8 +91,8 @@ def chain_identical_table() -> str | None:
 
 def chain_knobs_table() -> str | None:
     """The shipped chain and the classroom's knobs, one run each (chain_example.py; docs/classroom.md)."""
-    r = _load("chain_example.json")
-    if r is None or "variants" not in r:
+    r = _load_with("chain_example.json", "variants")
+    if r is None:
         return None
     rows = ["| chain | blocks an event (mean) | magnitudes | system-size events (CV of their intervals) | b-value |",
             "| --- | --- | --- | --- | --- |"]
@@ -228,8 +228,8 @@ def parkfield_table() -> str | None:
 
 
 def critical_comparison_table() -> str | None:
-    result = _load("docs_numbers.json")
-    if result is None or "critical_comparison" not in result:
+    result = _load_with("docs_numbers.json", "critical_comparison")
+    if result is None:
         return None
     table = result["critical_comparison"]
     exact = np.asarray(table["critical_loading_rate"]["value"], float)  # 1/s, presets x damping ratios
@@ -242,8 +242,8 @@ def critical_comparison_table() -> str | None:
 
 
 def rate_state_examples_table() -> str | None:
-    result = _load("docs_numbers.json")
-    if result is None or "rate_state_examples" not in result:
+    result = _load_with("docs_numbers.json", "rate_state_examples")
+    if result is None:
         return None
     rows = ["| scene | K / K_c | slip per event | recurrence | the 2-D fault's recurrence by the model error | "
             "seed law beside it |", "| --- | --- | --- | --- | --- | --- |"]

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from ._common import _load, _machine
+from ._common import _load, _load_with, _machine
 
 
 def seed_000_addendum_table() -> str | None:
-    result = _load("docs_numbers.json")
-    if result is None or "seed_000_addendum" not in result:
+    result = _load_with("docs_numbers.json", "seed_000_addendum")
+    if result is None:
         return None
     values = result["seed_000_addendum"]
     rows = ["| quantity | seed 000 prints | computed |", "| --- | --- | --- |",
@@ -21,8 +21,8 @@ def seed_000_addendum_table() -> str | None:
 
 def rough_slider_table() -> str | None:
     """Seed 000's AD1.3 runs beside what the seed prints (docs/surfaces.md)."""
-    result = _load("docs_numbers.json")
-    if result is None or "rough_slider" not in result:
+    result = _load_with("docs_numbers.json", "rough_slider")
+    if result is None:
         return None
     values = result["rough_slider"]
     scene, smaller, softer, flat = values["runs"]
@@ -52,8 +52,8 @@ def rough_slider_table() -> str | None:
 
 
 def _quasi_harmonic():
-    result = _load("docs_numbers.json")
-    return (None, None) if result is None or "quasi_harmonic" not in result else (result, result["quasi_harmonic"])
+    result = _load_with("docs_numbers.json", "quasi_harmonic")
+    return (None, None) if result is None else (result, result["quasi_harmonic"])
 
 
 def quasi_harmonic_error_table() -> str | None:
