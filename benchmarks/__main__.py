@@ -52,6 +52,7 @@ PRODUCERS = (
     ("docs_numbers", [], [], "docs_numbers.json"),
     ("asperity_trends", [], [], "asperity_trends.json"),
     ("surface_trends", [], [], "surface_trends.json"),
+    ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),
     ("hazard_chain", [], [], "hazard_chain.json"),
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
     ("ladder_regimes", [], [], "ladder_regimes.json"),

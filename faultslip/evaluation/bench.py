@@ -22,9 +22,11 @@ from faultslip.dynamics.spring_slider.critical import critical
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle
 from faultslip.dynamics.methods import AVERAGING
 from faultslip.dynamics.spring_slider.regularized import simulate_regularized
-from faultslip.dynamics.spring_slider.simulate import simulate
+from faultslip.dynamics.spring_slider.simulate import declared_slip_error, simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.fault.scene import read_slider_scene
+from faultslip.friction.laws import LinearKinetic, PolynomialKinetic, TimeOfStickLaw
+from faultslip.friction.materials import table_i_presets
 from faultslip.io.progress import reporter
 from faultslip.io.processes import stop_pool, worker_pool
 import warnings
@@ -95,6 +97,74 @@ def vibration_scenes():
 def all_scenes():
     """The stick-slip scenes, then the quasi-harmonic ones."""
     return {**standard_scenes(), **vibration_scenes()}
+
+
+#: Random stick-slip scenes (:func:`random_scenes`): the calibration draws set the event-driven integrators'
+#: declared errors (simulate.SOLVER_ERROR_MODEL; benchmarks/event_driven_calibration.py); the held-out draw,
+#: never looked at while setting them, checks them (:func:`declared_error_check`, run by faultslip bench).
+CALIBRATION_SEEDS = (1, 2, 3)
+CALIBRATION_SCENES = 60
+HELD_OUT_SEED = 20261130
+HELD_OUT_SCENES = 30
+CHECK_CYCLES = 10
+
+
+def _drawn_scene(rng, presets):
+    """One random scene and its description (see :func:`random_scenes`)."""
+    preset = presets[rng.integers(len(presets))]
+    zeta = 0.0 if rng.random() < 0.2 else float(10 ** rng.uniform(-3, math.log10(0.3)))
+    fraction = float(10 ** rng.uniform(-4, math.log10(0.98)))
+    base = SliderSystem.from_preset(preset, loading_rate="1 1/s", damping_ratio=zeta)
+    # theta_c of the scene (of the scene at zeta 0.01 where zeta is 0, which has none)
+    scale = base if zeta > 0 else SliderSystem.from_preset(preset, loading_rate="1 1/s", damping_ratio=0.01)
+    system = base.at_loading_rate(fraction * critical(scale).critical_loading_rate)
+    text = f"{preset.name}, zeta {zeta:.3g}, theta = {fraction:.3g} theta_c"
+    kind = rng.random()
+    law = preset.require_stick_slip()
+    if kind < 0.25:  # beta W / (2 sqrt(K M)) log-uniform 1e-3 to 0.1: velocity-strengthening kinetic friction
+        extra = float(10 ** rng.uniform(-3, -1))
+        slope = extra * 2 * math.sqrt(system.stiffness * system.mass) / system.normal_load
+        return system.with_(kinetic_law=LinearKinetic(law.mu_m, slope)), text + f", kinetic slope (zeta + {extra:.3g})"
+    if kind < 0.5:  # Cameron's law between mu_m and mu_so; the drive a fraction of V_c = c alpha_m
+        growth = float(10 ** rng.uniform(-1, 1))
+        static = TimeOfStickLaw(law.mu_m, law.mu_so, growth)
+        slip = 2 * system.normal_load * (law.mu_so - law.mu_m) / system.stiffness  # undamped alpha at mu_u
+        speed = float(10 ** rng.uniform(-2, math.log10(0.5))) * growth * slip
+        return (system.with_(static_law=static, platform_speed=speed),
+                f"{preset.name}, zeta {zeta:.3g}, Cameron's law c {growth:.3g} 1/s, V {speed:.3g} m/s")
+    if kind < 0.75:  # mu_m - s u + q u^2: weakening by part of mu_s - mu_m up to u = s / (2 q), then strengthening
+        excess = law.limit(system.loading_rate) - law.mu_m
+        weakening = float(10 ** rng.uniform(-2, -0.5)) * excess
+        peak = system.natural_frequency * system.normal_load * excess / system.stiffness  # undamped peak slip speed
+        turn = float(10 ** rng.uniform(-1, 0)) * peak
+        coefficients = (law.mu_m, -2 * weakening / turn, weakening / turn ** 2)
+        return (system.with_(kinetic_law=PolynomialKinetic(coefficients)),
+                text + f", polynomial kinetic law weakening {weakening:.3g} to {turn:.3g} m/s")
+    return system, text
+
+
+def random_scenes(seed: int, count: int) -> dict:
+    """``count`` stick-slip scenes drawn at random, name -> (SliderSystem, description).
+
+    Each is a seed 003 Table I preset's apparatus and rate law (all eleven rows), with a damping ratio of
+    0 (1 in 5) or log-uniform in 1e-3 to 0.3, loading at a fraction log-uniform in 1e-4 to 0.98 of the
+    critical rate theta_c; then, 1 in 4 each, a velocity-strengthening kinetic slope, Cameron's
+    time-of-stick law (c log-uniform 0.1 to 10 1/s, driven below V_c), a polynomial kinetic law
+    mu_m - s u + q u^2, or none. Scenes that slide steadily are drawn again.
+    """
+    rng = np.random.default_rng(seed)
+    presets = table_i_presets()
+    scenes = {}
+    while len(scenes) < count:
+        system, text = _drawn_scene(rng, presets)
+        try:
+            reference = reference_for(system, CHECK_CYCLES)
+        except (FaultslipError, SolverError, ArithmeticError, ValueError, IndexError):  # no cycle to measure
+            continue
+        if reference.regime == "steady_sliding" or np.size(reference.event_times) < CHECK_CYCLES:
+            continue
+        scenes[f"random_{seed}_{len(scenes)}"] = (system, text)
+    return scenes
 
 
 @dataclass
@@ -319,6 +389,81 @@ def work_precision(quick: bool = False, workers: int = 2, scenes=None, methods=N
                           "rows repeat. vibration_* scenes: error of the settled amplitude against direct integration "
                           f"at rtol {VIBRATION_REFERENCE_RTOL:g}"},
     )
+
+
+def contract_error(row: dict, cycles: int) -> float:
+    """A measured cell's error as the contract declares it: the larger relative error of amplitude and period,
+    or the event times' drift per cycle (in periods)."""
+    return max(row["error_amplitude"], row["error_period"], row["error_event_times"] / cycles)
+
+
+def _check_job(args):
+    name, system, solver, rtols = args
+    reference = reference_for(system, CHECK_CYCLES)
+    cells = []
+    for rtol in rtols:
+        row = measure(system, reference, f"event_driven_{solver}", rtol, CHECK_CYCLES, 1_000_000, 1)
+        cells.append((row["status"], contract_error(row, CHECK_CYCLES) if row["status"] == 0 else math.nan))
+    return name, solver, cells
+
+
+def declared_error_check(scenes: dict, solvers=INTEGRATOR_NAMES, rtols=FULL_TOLERANCES, workers: int = 2,
+                         progress=None):
+    """Each event-driven integrator's error on ``scenes`` (name -> (SliderSystem, description)) against its
+    declared error (:func:`~faultslip.dynamics.spring_slider.simulate.declared_slip_error`), over ``rtols``,
+    :data:`CHECK_CYCLES` cycles a run. Returns a Dataset on (scene, solver, rtol): the error as the contract
+    declares it (:func:`contract_error`), the declared error, and the outcome."""
+    import xarray as xr  # heavy: imported where used
+
+    started = time.perf_counter()
+    names, solvers, rtols = list(scenes), list(solvers), list(rtols)
+    jobs = [(name, scenes[name][0], solver, rtols) for name in names for solver in solvers]
+    found = {(name, solver): cells for name, solver, cells in parallel_map(_check_job, jobs, workers, progress)}
+    shape = (len(names), len(solvers), len(rtols))
+    error, status = np.full(shape, np.nan), np.zeros(shape, dtype=np.int8)
+    for i, name in enumerate(names):
+        for j, solver in enumerate(solvers):
+            for k, (code, value) in enumerate(found[(name, solver)]):
+                status[i, j, k], error[i, j, k] = code, value
+    declared = np.array([[declared_slip_error(solver, rtol) for rtol in rtols] for solver in solvers])
+    dims = ("scene", "solver", "rtol")
+    return xr.Dataset(
+        {"error": (dims, error, {"units": "1", "long_name": "larger relative error of amplitude and period, or the "
+                                                            "event times' drift per cycle in periods"}),
+         "declared_error": (dims[1:], declared, {"units": "1", "long_name": "declared relative error"}),
+         "status": (dims, status, {"units": "1", "long_name": "outcome", "flag_values": np.array(list(STATUS), dtype=np.int8),
+                                   "flag_meanings": " ".join(STATUS.values())})},
+        coords={"scene": ("scene", np.array(names, dtype=object)),
+                "description": ("scene", np.array([scenes[n][1] for n in names], dtype=object)),
+                "solver": ("solver", np.array(solvers, dtype=object)),
+                "rtol": ("rtol", np.array(rtols), {"units": "1", "long_name": "integrator relative tolerance"})},
+        attrs={"title": "event-driven integrators' errors against their declared errors", "Conventions": "CF-1.8",
+               "cycles": CHECK_CYCLES, "total_wall_time_s": time.perf_counter() - started})
+
+
+def declared_error_summary(dataset) -> dict:
+    """Per solver: scenes measured, runs that failed, the largest error / declared error and where."""
+    out = {}
+    for solver in dataset["solver"].values:
+        part = dataset.sel(solver=solver)
+        ratio = (part["error"] / part["declared_error"]).values
+        ok = part["status"].values == 0
+        worst = np.unravel_index(np.nanargmax(np.where(ok, ratio, -np.inf)), ratio.shape) if ok.any() else None
+        out[str(solver)] = {
+            "scenes": int(part.sizes["scene"]), "runs": int(ratio.size), "failed": int((~ok).sum()),
+            "largest_ratio": float(ratio[worst]) if worst else math.nan,
+            "at": (f"{part['description'].values[worst[0]]}, rtol {float(part['rtol'].values[worst[1]]):g}"
+                   if worst else ""),
+            "within_declared": bool(worst is not None and ratio[worst] <= 1.0)}
+    return out
+
+
+def declared_error_text(found: dict) -> str:
+    """One line per solver of :func:`declared_error_summary`."""
+    return "\n".join(f"- {solver}: {row['runs'] - row['failed']} of {row['runs']} runs measured; largest error "
+                     f"{row['largest_ratio']:.3g} of the declared ({row['at']}); "
+                     f"{'every error within' if row['within_declared'] else 'errors beyond'} the declared bound"
+                     for solver, row in found.items())
 
 
 def chart(dataset):
