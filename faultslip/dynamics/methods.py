@@ -253,7 +253,8 @@ class EventDriven(Method):
     friction_laws = "any static law (rate, constant, time-of-stick); any kinetic law"
     domain = "everything the model describes (no reverse slip); error c rtol^q + floor"
     cost_model = "cycles x evaluations per slip phase (grows as rtol tightens) x ~2e-5 s"
-    declared_error = ("c rtol^q + floor per solver, calibrated against the exact cycle on random scenes (faultslip bench), "
+    declared_error = ("c rtol^q + floor per solver, fitted on random scenes against the exact cycle "
+                      "(benchmarks/event_driven_calibration.py; faultslip bench checks it on held-out ones), "
                       "and the settling left")
 
     def __init__(self, solver: str = "DOP853"):
