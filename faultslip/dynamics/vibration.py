@@ -388,11 +388,7 @@ def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 
         solution = _dop853(rhs, sticks, (start, end), state, rtol, rtol * max(initial_amplitude, 1e-12) * omega)
         evaluations += int(solution.nfev)
         count = int(min(record_periods, periods))
-        amplitudes = []
-        for index in range(count):
-            window = np.linspace(end - (count - index) * period, end - (count - index - 1) * period, 4097)
-            displacement = solution.sol(window)[0]
-            amplitudes.append(0.5 * float(displacement.max() - displacement.min()))
+        amplitudes = _cycle_amplitudes(solution, end, period, count)
         verdict = assess_settling(amplitudes, INTEGRATION_ERROR, floor=system.speed / omega * 1e-9,
                                   names=("amplitude",), noise=PEAK_SAMPLING_ERROR)
         state, start = solution.y[:, -1], end
@@ -400,6 +396,23 @@ def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 
             break
     return {"amplitude": amplitudes[-1], "time": end, "function_evaluations": evaluations, "settling": verdict,
             "settling_error": float(verdict.remaining)}
+
+
+def _cycle_amplitudes(solution, end: float, period: float, count: int) -> list:
+    """Half the peak-to-peak Y of each of the last ``count`` whole cycles before ``end``, a cycle running from
+    one minimum of Y to the next (Y' rising through zero), sampled 4096 times a nominal period 2 pi / omega.
+
+    Far from harmonic (eps of order 1) a cycle lasts longer than 2 pi / omega, and a window of that length
+    misses its peak: up to four nominal periods a cycle are searched. Where fewer cycles complete, those found
+    are returned (the settling test then judges fewer)."""
+    span = min(end - float(solution.t[0]), 4.0 * (count + 1) * period)
+    times = np.linspace(end - span, end, int(4096 * span / period) + 1)
+    displacement, velocity = solution.sol(times)
+    minima = np.flatnonzero((velocity[:-1] < 0) & (velocity[1:] >= 0))[-(count + 1):]
+    if minima.size < 2:  # not one whole cycle in the span: the span's own swing
+        return [0.5 * float(displacement.max() - displacement.min())]
+    return [0.5 * float(displacement[a:b + 1].max() - displacement[a:b + 1].min())
+            for a, b in zip(minima[:-1], minima[1:])]
 
 
 def _dop853(rhs, sticks, span, state, rtol, atol, times=None):
