@@ -22,6 +22,7 @@ import numpy as np
 
 from faultslip.dynamics.spring_slider.simulate import SOLVER_ERROR_MODEL
 from faultslip.evaluation import bench
+from faultslip.evaluation.error_models import fit_power_law
 from provenance import write_results
 
 #: the shipped model must exceed every calibration error by this factor, so that scenes not drawn have room
@@ -66,33 +67,13 @@ def envelope(dataset) -> dict:
     return out
 
 
-#: the model forms fit_model() tries: the power of rtol, and the floor round-off leaves
-POWERS = tuple(np.round(np.arange(0.70, 1.101, 0.01), 2))
-FLOORS = (0.0, 1e-12, 2e-12, 5e-12, 1e-11)
-
-
 def fit_model(rtols, largest, margin: float = MARGIN) -> tuple:
-    """The tightest c rtol^q + floor over ``rtols`` that is at least ``margin`` x ``largest`` at every rtol.
+    """The tightest c rtol^q + floor, q from 0.70 to 1.10, at least ``margin`` x ``largest`` at every rtol."""
+    return fit_power_law(rtols, largest, margin, powers=POWERS)
 
-    For each power and floor in :data:`POWERS` x :data:`FLOORS`, c is the least that bounds every point;
-    the model kept has the smallest sum of log declared error over the rtols (the tightest band overall),
-    and c is rounded up to two significant figures."""
-    rtols, need = np.asarray(rtols, dtype=float), margin * np.asarray(largest, dtype=float)
-    keep = np.isfinite(need)
-    rtols, need = rtols[keep], need[keep]
-    best = None
-    for power in POWERS:
-        for floor in FLOORS:
-            above = need - floor
-            constant = float(np.max(np.where(above > 0, above / rtols ** power, 0.0)))
-            if constant <= 0:
-                continue
-            digits = 10 ** (math.floor(math.log10(constant)) - 1)
-            constant = math.ceil(constant / digits) * digits
-            score = float(np.sum(np.log(constant * rtols ** power + floor)))
-            if best is None or score < best[0]:
-                best = (score, float(f"{constant:.2g}"), float(power), floor)
-    return best[1:]
+
+#: the powers this calibration tries (the event-driven errors fall at least as fast as rtol^0.7)
+POWERS = tuple(float(p) for p in np.round(np.arange(0.70, 1.101, 0.01), 2))
 
 
 def main(argv=None) -> int:
