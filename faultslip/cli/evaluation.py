@@ -103,10 +103,12 @@ def cmd_rate_state_bench(args) -> int:
         table = rate_state_bench.markdown(work)
         text = rate_state_bench.failure_text(failures)
         unseen = "" if args.quick else (
-            f"\n\nOn frictions the constants were not set on (K / K_c {rate_state_bench.UNSEEN_RATIOS}, rtol "
-            f"{rate_state_bench.UNSEEN_RTOLS[0]:g} to {rate_state_bench.UNSEEN_RTOLS[-1]:g}):\n\n"
-            + rate_state_bench.unseen_text(rate_state_bench.unseen_frictions(
-                workers=workers, progress=_progress("unseen frictions", not args.json))))
+            f"\n\nOn the {rate_state_bench.HELD_OUT_FAULTS} random faults held out from the declared errors' fit "
+            f"(seed {rate_state_bench.HELD_OUT_SEED}; benchmarks/rate_state_calibration.py):\n\n"
+            + rate_state_bench.declared_error_text(rate_state_bench.declared_error_summary(
+                rate_state_bench.declared_error_check(
+                    rate_state_bench.random_faults(rate_state_bench.HELD_OUT_SEED, rate_state_bench.HELD_OUT_FAULTS),
+                    workers=workers, progress=_progress("held-out faults", not args.json)))))
         write_dataset(work, out / names[0])
         write_dataset(failures, out / names[3])
         write_text_atomic(out / names[1], table + "\n\nWhere each method fails (rtol 1e-7, "

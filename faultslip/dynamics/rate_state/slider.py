@@ -43,11 +43,12 @@ import numpy as np
 
 from faultslip.errors import InputError, NoEventsError, SolverError, beside
 from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64,
-                                               A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7, _C, _P)
+                                               A65, B1, B3, B4, B5, B6, E1, E3, E4, E5, E6, E7, _C, _P,
+                                               continuous_state)
 from faultslip.dynamics.rate_state import compiled as rate_state_compiled
 from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.shared.settling import aitken, assess_settling, bifurcation_note
-from faultslip.dynamics.rate_state.methods import (CYCLE_METHODS, ERROR_CONSTANT, SECONDS_PER_STEP, error_bound,
+from faultslip.dynamics.rate_state.methods import (CYCLE_METHODS, ERROR_MODEL, SECONDS_PER_STEP, error_bound,
                                                    near_critical_error, steps_per_cycle)
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.progress import reporter
@@ -271,14 +272,19 @@ def _scaled_rms(values) -> float:
         return math.inf
 
 
-def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None, on_step=None, last_step=None):
+def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None, on_step=None, last_step=None,
+           rebase=False):
     """Integrate y' = rhs(t, y) (tuples of floats) from t0 to t_end; return (values at t_eval, y_end, steps, nfev).
 
     Dormand-Prince 5(4) with a PI step controller (Hairer & Wanner II, IV.2) and the order-4
     dense output for ``t_eval`` (sorted, within [t0, t_end]). ``atol`` is a tuple per state.
-    ``on_step(t, y)`` runs after each accepted step; if it returns True the integration stops there.
+    ``on_step(t, y, step)`` runs after each accepted step, ``step`` being (y at its start, its size, its stages
+    k1, k3..k7) for :func:`~faultslip.dynamics.shared.dormand_prince.continuous_state`; if it returns True the
+    integration stops there.
     ``last_step`` (a dict), if given, receives the next step size under ``"h"``, to restart with.
-    Raises :class:`_StepCollapse` if the step size underflows.
+    Raises :class:`_StepCollapse` if the step size underflows. ``rebase``: where it falls below a few float
+    spacings of t after steps were taken, return there instead (an autonomous system's caller restarts its clock
+    at 0 and goes on: at t ~ 1e11 s a millisecond step is below the clock's resolution, not the solution's).
     """
     n = len(y0)
     y = tuple(float(v) for v in y0)
@@ -355,6 +361,7 @@ def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None,
                 q = np.array((k1, k2, k3, k4, k5, k6, k7)).T @ _P_ARRAY  # (states, 4)
                 out[next_out:last] = np.asarray(y) + h * (q @ powers).T
                 next_out = last
+            step = (y, h, (k1, k3, k4, k5, k6, k7))
             t = t_next
             y = y_new
             k1 = k7
@@ -362,7 +369,7 @@ def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None,
             factor = 0.9 * error ** -0.14 * previous_error ** 0.08 if error > 0 else 5.0
             h *= min(5.0, max(0.2, factor))
             previous_error = max(error, 1e-4)
-            if on_step is not None and on_step(t, y):
+            if on_step is not None and on_step(t, y, step):
                 if last_step is not None:
                     last_step["h"] = h
                 return out[:next_out], y, t, steps, nfev
@@ -370,6 +377,10 @@ def dopri5(rhs, t0, y0, t_end, t_eval, rtol, atol, max_steps=2_000_000, h0=None,
             h *= max(0.2, 0.9 * error ** -0.2)
         floor = 4e-16 * max(abs(t), abs(t0), 1e-300) * 16  # a few float spacings of t
         if h < floor:
+            if rebase and t > t0:
+                if last_step is not None:
+                    last_step["h"] = h
+                return out[:next_out], y, t, steps, nfev
             raise _StepCollapse(t, f"the step size fell below {floor:.1e} s at t = {t:.6g} s")
     return out, y, t, steps, nfev
 
@@ -635,7 +646,7 @@ def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model:
     load_point = history.displacement(t_eval)
     notes = []
 
-    def too_fast(t, y):
+    def too_fast(t, y, step=None):
         speed = y[1] if model == "inertial" else law.reference_speed * math.exp(y[0])
         return abs(speed) > max_speed and model == "quasi_static"
 
@@ -848,9 +859,9 @@ class RateStateCycles(ToXarray):
 
     @property
     def estimated_relative_error(self) -> float:
-        """The steady cycle's declared error: the integrator's own (its calibrated c rtol, amplified near K_c;
+        """The steady cycle's declared error: the integrator's own (its fitted c rtol^q, amplified near K_c;
         the cycle-to-cycle scatter for an integrator without a calibration), or what settling left."""
-        if self.method in ERROR_CONSTANT:
+        if self.method in ERROR_MODEL:
             noise = error_bound(self.method, self.rtol, self.stiffness_ratio)
         else:
             noise = max(CYCLE_NOISE * self.rtol, near_critical_error(self.rtol, self.stiffness_ratio))
@@ -1037,23 +1048,28 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     previous = {"t": None, "y": None}
     record_series = {"time": [], "state": []}
 
-    def crossing(t, y):
-        """Time and state where ln V crosses the threshold within the last step: cubic Hermite interpolation
-        of every component from the values and slopes at both step ends (two extra right-hand sides per
-        event edge), the crossing found by bisection. A step end alone would put the event's edges off by
-        a step's slip; linear interpolation left an error of 1e-6 to 1e-5 in slip per event (dopri5)."""
+    def crossing(t, y, interpolant):
+        """Time and state where ln V crosses the threshold within the last step, found by bisection on
+        ``interpolant(fraction)``: dopri5's own continuous extension of order 4, accurate to the integration's
+        error, or (``None``, LSODA) a cubic Hermite interpolant of the step's ends. A step end alone would put
+        the event's edges off by a step's slip. The Hermite's O(h^4) error led dopri5's error in slip per event
+        where a / b nears 1 (c rtol^0.8, 93 rtol at rtol 1e-10); LSODA keeps it because its own dense output
+        (scipy's Nordsieck polynomial) scattered the state at the crossing by 1e-5 at rtol 1e-8, and LSODA's own
+        integration error in the slip is larger than the Hermite's."""
         t_prev, y_prev = previous["t"], previous["y"]
         if t_prev is None or t == t_prev:
             return t, y
         h = t - t_prev
-        slopes = [h * d for d in rhs(0.0, y_prev)], [h * d for d in rhs(0.0, y)]  # autonomous: any t
+        if interpolant is None:
+            slopes = [h * d for d in rhs(0.0, y_prev)], [h * d for d in rhs(0.0, y)]  # autonomous: any t
 
-        def at(u):
-            h00, h10 = (1 + 2 * u) * (1 - u) ** 2, u * (1 - u) ** 2
-            h01, h11 = u * u * (3 - 2 * u), u * u * (u - 1)
-            return [h00 * p + h10 * dp + h01 * c + h11 * dc
-                    for p, c, dp, dc in zip(y_prev, y, slopes[0], slopes[1])]
+            def interpolant(u):
+                h00, h10 = (1 + 2 * u) * (1 - u) ** 2, u * (1 - u) ** 2
+                h01, h11 = u * u * (3 - 2 * u), u * u * (u - 1)
+                return [h00 * p + h10 * dp + h01 * c + h11 * dc
+                        for p, c, dp, dc in zip(y_prev, y, slopes[0], slopes[1])]
 
+        at = interpolant
         low, high = 0.0, 1.0
         rising = y[0] > y_prev[0]
         for _ in range(60):  # bisection to ~1e-18 of the step
@@ -1089,19 +1105,20 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     def running():
         return not settling["done"] or len(record["end"]) <= settling["spin_up"] + cycles
 
-    def on_step(t, y):
+    def on_step(t, y, step):
         # y is the integrator's own new state (dopri5 makes a new list each step; LSODA's caller copies):
-        # kept by reference, the interseismic fast path costs two assignments
+        # kept by reference, the interseismic fast path costs two assignments. ``step``: dopri5's (start, size,
+        # stages), or None (LSODA)
         now = clock["offset"] + t
         stop = False
         if y[0] > threshold:
             if not state["inside"]:
-                event_start(*crossing(now, y), y[0])
+                event_start(*crossing(now, y, _step_interpolant(step)), y[0])
                 stop = True
             else:
                 state["peak"] = max(state["peak"], v0 * math.exp(y[0]))
         elif state["inside"]:
-            event_end(*crossing(now, y))
+            event_end(*crossing(now, y, _step_interpolant(step)))
             stop = True
         previous["t"] = now
         previous["y"] = y
@@ -1130,6 +1147,12 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
             status, t_local, x, psi, slip, run_steps, run_nfev, h, t_c, psi_c, slip_c, peak = native.run(
                 *y, h, horizon - clock["offset"], rtol, *atol, *fixed, state["inside"], threshold, max_steps - steps)
             steps, nfev = steps + run_steps, nfev + run_nfev
+            if status == native.STEP_COLLAPSE and model == "quasi_dynamic" and run_steps > 0 and t_local > 0:
+                # the step fell below the resolution of the clock, not of the solution (a rupture's millisecond
+                # steps at t ~ 1e11 s, rtol 1e-12): restart the autonomous system's clock there and go on
+                clock["offset"] += t_local
+                y = (x, psi, slip)
+                continue
             if status == native.STEP_COLLAPSE:
                 if model == "quasi_static":
                     _diverged(slider, clock["offset"] + t_local)
@@ -1156,21 +1179,27 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
                 _, y, t_local, run_steps, run_nfev = dopri5(rhs, 0.0, y, horizon - clock["offset"], np.empty(0), rtol,
                                                             atol, max_steps=max_steps - steps, h0=step["h"],
                                                             on_step=on_step,
-                                                            last_step=step)
+                                                            last_step=step, rebase=model == "quasi_dynamic")
                 clock["offset"] += t_local
                 steps, nfev = steps + run_steps, nfev + run_nfev
         except _StepCollapse as collapse:
             if model == "quasi_static":
                 _diverged(slider, clock["offset"] + collapse.t)
             raise SolverError(f"dopri5 failed in the quasi-dynamic fault cycles ({collapse}); tighten rtol") from None
+        except SolverError:  # its step budget: dopri5 saw only what was left of it, so say the run's whole budget
+            raise SolverError(f"dopri5 took more than {max_steps} steps (its budget) before t = "
+                              f"{clock['offset']:.6g} s at K / K_c = {ratio:.3g}; its steps are stability-limited "
+                              "where the rupture is stiff: use method 'lsoda' (or 'dopri5_compiled'), or raise "
+                              "max_steps") from None
     t_end = clock["offset"]
     wall = time.perf_counter() - started
     ends = len(record["end"])
     spin_up = settling["spin_up"]
     wanted = spin_up + cycles
     if ends <= wanted:
+        slow = "; this close to K_c the 1 % perturbation it starts from grows slowly" if ratio > 0.99 else ""
         raise NoEventsError(f"only {ends} events in {t_end / JULIAN_YEAR:.3g} years (K / K_c = {ratio:.3g}); the fault "
-                          f"creeps or its cycles are longer than max_time; raise max_time or check a, b and D_c")
+                          f"creeps or its cycles are longer than max_time{slow}; raise max_time or check a, b and D_c")
     chosen = slice(spin_up, spin_up + cycles)
     series = _series(record_series, record["start"][spin_up + cycles], elastic_stress, v0) if keep_series else None
     starts = np.array(record["start"][spin_up:spin_up + cycles + 1])
@@ -1236,6 +1265,15 @@ def _series(recorded, end, elastic_stress, reference_speed) -> dict:
             "slip": columns[:, -1], "shear_stress": np.array([elastic_stress(state) for state in states])}
 
 
+def _step_interpolant(step):
+    """The state at a fraction of the last step from dopri5's continuous extension (``step``: its start, size and
+    stages), or None (LSODA's step: the crossing interpolates its ends)."""
+    if step is None:
+        return None
+    start, size, stages = step
+    return lambda fraction: continuous_state(start, size, stages, fraction)
+
+
 def _lsoda_cycles(rhs, jacobian, y0, rtol, atol, horizon, on_step, running, slider, model, max_steps=5_000_000):
     """Step scipy's LSODA through the cycles, calling ``on_step`` at every step end (absolute time)."""
     from scipy.integrate import LSODA  # heavy: imported where used
@@ -1254,7 +1292,7 @@ def _lsoda_cycles(rhs, jacobian, y0, rtol, atol, horizon, on_step, running, slid
                 raise SolverError(f"LSODA failed in the fault cycles at t = {solver.t:.6g} s ({message}); use method "
                                   "'dopri5' or tighten rtol")
             steps += 1
-            on_step(solver.t, solver.y.copy())  # kept by reference there
+            on_step(solver.t, solver.y.copy(), None)  # y kept by reference there
             if steps > max_steps:
                 raise SolverError(f"LSODA took more than {max_steps} steps (its budget) before t = {solver.t:.6g} s")
     return steps, solver.nfev, solver.t
