@@ -12,6 +12,8 @@ Runs, through the command line a user types (``--json``):
 * the California map's sources beside the scaling relations, and the California fault system's rupture sets on
   three scaling branches (docs/hazard.md);
 * the exact critical loading rate against seed 003's Appendix I (docs/critical_rate.md);
+* the closed form's error near the critical rate, and what the dashpot force at break-away does to it, through the
+  Python API (docs/results.md, docs/seed_discrepancies.md);
 * one rate-and-state block on the bundled faults beside the seed law, with its model error (docs/rate_state.md);
 * seed 002's Appendix C free decay (``faultslip decay``, docs/lab_fits.md);
 * the classroom's phone record read back (configs/example_phyphox.csv, docs/classroom.md);
@@ -221,6 +223,29 @@ def quasi_harmonic() -> dict:
             "damping_speed": SEED002_DAMPING_SPEED, "damped_amplitude_ratio": damped[1] / damped[0]}
 
 
+#: The damping ratios the closed form's failure near theta_c is shown at (docs/results.md), and those the dashpot
+#: force's part in the critical rate is (docs/seed_discrepancies.md).
+NEAR_CRITICAL_DAMPING = (0.01, 0.1, 0.2, 0.3, 0.4, 0.5)
+DASHPOT_DAMPING = (0.01, 0.1, 0.2, 0.5, 0.9)
+
+
+def closed_form_near_critical(fraction: float = 0.9) -> dict:
+    """The closed form's relative errors against the exact cycle at ``fraction`` of the critical rate, per damping
+    ratio (docs/results.md), and what leaving the dashpot force out of break-away does to the critical rate
+    (docs/seed_discrepancies.md), through the Python API."""
+    from faultslip.dynamics.spring_slider.closed_form import relative_error_against_exact
+    from faultslip.dynamics.spring_slider.critical import (critical_dimensionless_rate,
+                                                           critical_rate_without_dashpot_force)
+
+    rows = []
+    for zeta in NEAR_CRITICAL_DAMPING:
+        errors = relative_error_against_exact(zeta, fraction * float(critical_dimensionless_rate(zeta)))
+        rows.append({"damping_ratio": zeta, **{key: float(v) for key, v in errors.items()}})
+    dashpot = [{"damping_ratio": zeta, "overestimate": critical_rate_without_dashpot_force(zeta)
+                / float(critical_dimensionless_rate(zeta)) - 1} for zeta in DASHPOT_DAMPING]
+    return {"fraction_of_critical": fraction, "rows": rows, "dashpot_force": dashpot}
+
+
 def leonard_table_6() -> dict:
     """Leonard's (2010) Table 6 intercepts recomputed from his Table 5 (docs/hazard.md): Mw - log10 A at A =
     1000 km^2, and Mw - (5/3) log10 L at L = 20 km (every setting's middle segment), by setting."""
@@ -265,6 +290,7 @@ def main() -> int:
     document["classroom_record"] = {key: value(record, key) for key in (
         "events", "duration", "recurrence", "recurrence_cv", "friction_drop", "friction_drop_range",
         "angular_frequency", "pull_speed", "slip_distance", "slip_distance_model")}
+    document["closed_form_near_critical"] = closed_form_near_critical()
     document["seed_000_addendum"] = seed_000_addendum()
     document["leonard_table_6"] = leonard_table_6()
     document["rough_slider"] = rough_slider()

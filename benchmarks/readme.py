@@ -26,7 +26,7 @@ PAGES = ("docs/benchmarks.md", "docs/results.md", "docs/ladder.md", "docs/reliab
          "docs/spring_chain.md", "docs/classroom.md", "docs/dipping_faults.md", "docs/hazard.md",
          "docs/fault_3d.md", "docs/fault_2d.md", "docs/studies.md", "docs/lab_fits.md", "docs/critical_rate.md",
          "docs/rate_state.md", "docs/surfaces.md", "docs/quasi_harmonic.md", "docs/asperity.md",
-         "docs/getting_started.md", "docs/methods.md")
+         "docs/getting_started.md", "docs/methods.md", "docs/seed_discrepancies.md")
 
 
 def update(readme: Path | None = None) -> list[str]:

@@ -257,8 +257,37 @@ def rate_state_examples_table() -> str | None:
     return "\n".join(rows) + f"\n\n`python benchmarks/docs_numbers.py`. {_machine(result)}"
 
 
+def closed_form_near_critical_table() -> str | None:
+    """docs/results.md: the closed form's relative errors near the critical rate, by damping ratio (docs_numbers)."""
+    result = _load_with("docs_numbers.json", "closed_form_near_critical")
+    if result is None:
+        return None
+    found = result["closed_form_near_critical"]
+    rows = ["| damping ratio zeta | slip per event and period, closed form / exact - 1 | stress-drop slip |",
+            "| --- | --- | --- |"]
+    rows += [f"| {row['damping_ratio']:g} | {100 * row['slip_per_event']:+.1f} % | {100 * row['stress_drop_slip']:+.1f} % |"
+             for row in found["rows"]]
+    return "\n".join(rows) + (f"\n\nAt {found['fraction_of_critical']:g} theta_c, against the exact cycle "
+                              f"(`faultslip.dynamics.spring_slider.closed_form.relative_error_against_exact`). "
+                              f"`python benchmarks/docs_numbers.py`. {_machine(result)}")
+
+
+def dashpot_force_table() -> str | None:
+    """docs/seed_discrepancies.md: eps_c overestimated by leaving the dashpot force out of break-away."""
+    result = _load_with("docs_numbers.json", "closed_form_near_critical")
+    if result is None:
+        return None
+    rows = ["| damping ratio zeta | eps_c without C V at break-away / exact eps_c - 1 |", "| --- | --- |"]
+    rows += [f"| {row['damping_ratio']:g} | {100 * row['overestimate']:+.1f} % |"
+             for row in result["closed_form_near_critical"]["dashpot_force"]]
+    return "\n".join(rows) + ("\n\n`faultslip.dynamics.spring_slider.critical.critical_rate_without_dashpot_force`; "
+                              f"`python benchmarks/docs_numbers.py`. {_machine(result)}")
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
+    "closed_form_near_critical": closed_form_near_critical_table,
+    "dashpot_force": dashpot_force_table,
     "renewal_coverage": renewal_coverage_table,
     "chain_example": chain_example_table,
     "chain_identical": chain_identical_table,

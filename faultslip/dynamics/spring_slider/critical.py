@@ -33,7 +33,7 @@ from functools import lru_cache
 from faultslip.constants import STANDARD_GRAVITY
 import numpy as np
 
-from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, _require_linear_rate_system
+from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, _require_linear_rate_system, slip_cycle
 from faultslip.errors import InputError
 from faultslip.io.report import Report
 from faultslip.friction.materials import get_preset
@@ -72,6 +72,19 @@ def critical_dimensionless_rate(damping_ratio, iterations=200):
                 break
         out[work] = np.exp(0.5 * (lo + hi))
     return out if out.ndim else float(out)
+
+
+def critical_rate_without_dashpot_force(damping_ratio: float, iterations: int = 200) -> float:
+    """eps_c as it would be if break-away ignored the dashpot force C V (the slip starting from a unit offset,
+    U(0) = 1, as seed 003's Appendix I eq. I-1 has it): bisection in log eps on the exact slip phase's regime.
+    Against :func:`critical_dimensionless_rate` it measures what leaving C V out costs
+    (docs/seed_discrepancies.md)."""
+    low, high = 1e-9, 1e3
+    for _ in range(iterations):
+        middle = float(np.sqrt(low * high))
+        low, high = (low, middle) if int(slip_cycle(damping_ratio, middle, initial_offset=1.0)["regime"]) == 1 \
+            else (middle, high)
+    return low
 
 
 @lru_cache(maxsize=4096)
