@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.errors import FaultslipError, SolverError
+from faultslip.evaluation.error_models import worst_cell
 from faultslip.dynamics.vibration import SEED002_APPARATUS, QuasiHarmonic, integrate, settle_periods
 from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
 from faultslip.dynamics.spring_slider.critical import critical
@@ -446,15 +447,14 @@ def declared_error_summary(dataset) -> dict:
     out = {}
     for solver in dataset["solver"].values:
         part = dataset.sel(solver=solver)
-        ratio = (part["error"] / part["declared_error"]).values
         ok = part["status"].values == 0
-        worst = np.unravel_index(np.nanargmax(np.where(ok, ratio, -np.inf)), ratio.shape) if ok.any() else None
+        largest, worst, within = worst_cell(part["error"].values, part["declared_error"].values, part["status"].values)
         out[str(solver)] = {
-            "scenes": int(part.sizes["scene"]), "runs": int(ratio.size), "failed": int((~ok).sum()),
-            "largest_ratio": float(ratio[worst]) if worst else math.nan,
+            "scenes": int(part.sizes["scene"]), "runs": int(ok.size), "failed": int((~ok).sum()),
+            "largest_ratio": largest,
             "at": (f"{part['description'].values[worst[0]]}, rtol {float(part['rtol'].values[worst[1]]):g}"
                    if worst else ""),
-            "within_declared": bool(worst is not None and ratio[worst] <= 1.0)}
+            "within_declared": within}
     return out
 
 

@@ -41,3 +41,14 @@ def fit_power_law(rtols, largest, margin: float, powers=POWERS, floors=FLOORS) -
             if best is None or score < best[0]:
                 best = (score, float(f"{constant:.2g}"), float(power), floor)
     return best[1:]
+
+
+def worst_cell(error, declared, status) -> tuple:
+    """Over the measured cells (``status`` 0) of error and declared-error arrays: the largest error / declared, its
+    index (None where nothing was measured), and whether every measured error lies within what it declared."""
+    error, declared, ok = np.asarray(error, float), np.asarray(declared, float), np.asarray(status) == 0
+    if not ok.any():
+        return math.nan, None, False
+    ratio = np.where(ok, error / declared, -np.inf)
+    worst = np.unravel_index(np.argmax(ratio), ratio.shape)
+    return float(ratio[worst]), worst, bool(np.all(ratio[ok] <= 1.0))
