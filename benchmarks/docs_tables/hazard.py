@@ -177,7 +177,10 @@ def sherifs_example_table() -> str | None:
                                 for key in theirs["mmax"] if key in ours["mmax"])
             rows.append(f"| {name} | largest magnitude of each source, SHERIFS / faultslip | {largest} | |")
     first = next(iter(result["sets"].values()))["faultslip"]
-    return ("\n".join(rows) + f"\n\nfaultslip: {first['sections']} sections of about 3 km, solved on the Wells & "
+    apart = "; ".join(f"{name} {theirs['moment_rate_initial'] / sides['faultslip']['moment_rate_initial'] - 1:+.1%}"
+                      for name, sides in result["sets"].items() for theirs in sides["sherifs"].values())
+    return ("\n".join(rows) + f"\n\nThe faults' moment rate, SHERIFS's over faultslip's - 1: {apart}. "
+            f"faultslip: {first['sections']} sections of about 3 km, solved on the Wells & "
             "Coppersmith (1994) area branch with b = 1; SHERIFS: the logged samples whose files agree with one another "
             "(benchmarks/data/sherifs_example_logs.txt names each file and commit). " + _machine(result))
 
