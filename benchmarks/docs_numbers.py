@@ -6,6 +6,7 @@ Runs, through the command line a user types (``--json``):
 
 * seed 003's 1906 example (configs/san_andreas_1906.toml), its granite inverse and its radiation-damped form, and the
   empirical relations the 1906 prediction sits beside (docs/results.md, docs/catalogs.md);
+* the predictability verdicts' rates on seeded Poisson catalogues, through the Python API (docs/catalogs.md);
 * the Parkfield catalog against the seed law (configs/catalog_san_andreas.csv on configs/parkfield.toml, as of
   2026-01-01, a fixed date so that the probability is reproducible), and the Parkfield scene at three elastic-zone
   widths (docs/catalogs.md);
@@ -246,6 +247,22 @@ def closed_form_near_critical(fraction: float = 0.9) -> dict:
     return {"fraction_of_critical": fraction, "rows": rows, "dashpot_force": dashpot}
 
 
+def poisson_verdicts(catalogues: int = 300, events: int = 40, draws: int = 2000) -> dict:
+    """How often ``faultslip.hazard.predictability`` gives each verdict on seeded Poisson catalogues (exponential
+    intervals of mean 100 yr, slips uniform in 1 to 3): the rates the docs quote (docs/catalogs.md)."""
+    from faultslip.hazard import predictability
+
+    year = 365.25 * 86400
+    counts = {"poisson": 0, "periodic": 0, "time_predictable": 0, "slip_predictable": 0}
+    for seed in range(catalogues):
+        rng = np.random.default_rng(seed)
+        times = np.concatenate([[0.0], np.cumsum(rng.exponential(100 * year, events - 1))])
+        verdicts = predictability(times, rng.uniform(1.0, 3.0, events), draws=draws).verdicts
+        for name in counts:
+            counts[name] += bool(verdicts[name])
+    return {"catalogues": catalogues, "events": events, "draws": draws, "counts": counts}
+
+
 def leonard_table_6() -> dict:
     """Leonard's (2010) Table 6 intercepts recomputed from his Table 5 (docs/hazard.md): Mw - log10 A at A =
     1000 km^2, and Mw - (5/3) log10 L at L = 20 km (every setting's middle segment), by setting."""
@@ -291,6 +308,7 @@ def main() -> int:
         "events", "duration", "recurrence", "recurrence_cv", "friction_drop", "friction_drop_range",
         "angular_frequency", "pull_speed", "slip_distance", "slip_distance_model")}
     document["closed_form_near_critical"] = closed_form_near_critical()
+    document["poisson_verdicts"] = poisson_verdicts()
     document["seed_000_addendum"] = seed_000_addendum()
     document["leonard_table_6"] = leonard_table_6()
     document["rough_slider"] = rough_slider()
