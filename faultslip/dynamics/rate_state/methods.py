@@ -20,8 +20,8 @@ the table. Cost model: cycles x steps per cycle x seconds per step (16 us dopri5
 D_c set for K / K_c from 1e-5 to 0.9 (docs/figures/work_precision_rate_state.md, with the chart).
 
 ``auto`` takes the cheaper method whose declared error meets the tolerance: LSODA where the rupture
-is stiff (at a tolerance of 1e-6, below K / K_c of about 2e-4 where the C stepper is built, and about
-7e-3 where it is not), the C stepper or dopri5 elsewhere.
+is stiff (at a tolerance of 1e-6, below K / K_c of about 1.5e-4 where the C stepper is built, and about
+6e-3 where it is not), the C stepper or dopri5 elsewhere.
 """
 
 from __future__ import annotations
