@@ -1054,8 +1054,8 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
         error, or (``None``, LSODA) a cubic Hermite interpolant of the step's ends. A step end alone would put
         the event's edges off by a step's slip. The Hermite's O(h^4) error led dopri5's error in slip per event
         where a / b nears 1 (c rtol^0.8, 93 rtol at rtol 1e-10); LSODA keeps it because its own dense output
-        (scipy's Nordsieck polynomial) scattered the state at the crossing by 1e-5 at rtol 1e-8, and LSODA's own
-        integration error in the slip is larger than the Hermite's."""
+        (scipy's Nordsieck polynomial) scattered the state at the crossing by 1e-5 at rtol 1e-8, and its slip per
+        event scattered as much with either interpolant (its error is its integration's)."""
         t_prev, y_prev = previous["t"], previous["y"]
         if t_prev is None or t == t_prev:
             return t, y
