@@ -65,11 +65,11 @@ def bp1_slider(stiffness_ratio: float, friction: tuple | None = None) -> RateSta
                                     density=BP1["density"], shear_wave_speed=BP1["shear_wave_speed"])
 
 
-def _run(slider, method, rtol, model="quasi_dynamic", budget=STEP_BUDGET):
-    """(status, run or None, wall time)."""
+def _run(slider, method, rtol, model="quasi_dynamic", budget=STEP_BUDGET, plate_rate=BP1["plate_rate"]):
+    """(status, run or None, wall time) of a fault's cycles, measured once settled."""
     started = time.perf_counter()
     try:
-        run = fault_cycles(slider, BP1["plate_rate"], cycles=CYCLES, spin_up=SPIN_UP, method=method, rtol=rtol,
+        run = fault_cycles(slider, plate_rate, cycles=CYCLES, spin_up=SPIN_UP, method=method, rtol=rtol,
                            model=model, max_steps=budget)
     except NoEventsError:
         return 3, None, time.perf_counter() - started
@@ -204,25 +204,12 @@ def _check_job(args):
     cells = []
     for method in integrators:
         for rtol in rtols:
-            status, run, _ = _run_fault(slider, fault["plate_rate"], method, rtol)
+            status, run, _ = _run(slider, method, rtol, plate_rate=fault["plate_rate"])
             bound = error_bound(method, rtol, fault["stiffness_ratio"])
             cells.append((status, _error(run, reference) if run else math.nan,
                           run.estimated_relative_error if run else math.nan, bound,
                           float(run.settling.remaining) if run else math.nan))
     return fault["name"], cells, "", reference.estimated_relative_error
-
-
-def _run_fault(slider, plate_rate, method, rtol, budget=STEP_BUDGET):
-    """(status, run or None, wall time) of one fault's cycles, measured once settled."""
-    started = time.perf_counter()
-    try:
-        run = fault_cycles(slider, plate_rate, cycles=CYCLES, spin_up=SPIN_UP, method=method, rtol=rtol,
-                           max_steps=budget)
-    except NoEventsError:
-        return 3, None, time.perf_counter() - started
-    except SolverError as error:
-        return (1 if "steps" in str(error) else 4), None, time.perf_counter() - started
-    return 0, run, time.perf_counter() - started
 
 
 def declared_error_check(faults: list, integrators=None, rtols=CHECK_RTOLS, workers: int = 2, progress=None):
