@@ -18,8 +18,9 @@ Runs, through the command line a user types (``--json``):
 * one rate-and-state block on the bundled faults beside the seed law, with its model error (docs/rate_state.md);
 * seed 002's Appendix C free decay (``faultslip decay``, docs/lab_fits.md);
 * the classroom's phone record read back (configs/example_phyphox.csv, docs/classroom.md);
-* through the Python API: seed 000's addendum AD1.2 (docs/surfaces.md) and Leonard's Table 6 from his Table 5
-  (docs/hazard.md).
+* through the Python API: seed 000's addendum AD1.2 (docs/surfaces.md), Leonard's Table 6 from his Table 5
+  (docs/hazard.md), and the binned against the continuous moment rate of a truncated Gutenberg-Richter
+  distribution (docs/hazard.md).
 
 Writes benchmarks/results/docs_numbers.json; benchmarks/readme.py renders the tables.
 """
@@ -263,6 +264,26 @@ def poisson_verdicts(catalogues: int = 300, events: int = 40, draws: int = 2000)
     return {"catalogues": catalogues, "events": events, "draws": draws, "counts": counts}
 
 
+#: The b-values and bin widths the binned and continuous moment rates of a truncated Gutenberg-Richter
+#: distribution are compared at (docs/hazard.md); the map's own are mfd.B_VALUE and mfd.BIN_WIDTH.
+GR_B_VALUES, GR_BIN_WIDTHS = (0.8, 1.0, 1.2), (0.05, 0.1, 0.2)
+
+
+def truncated_gr_moment_rates() -> dict:
+    """The moment rate faultslip balances (the bins' rates times M0 at their centres) over the one the engine's
+    ``TruncatedGRMFD`` integrates from the continuous density (``faultslip.fault.mfd.continuous_moment_rate``),
+    minus 1, by b-value at the map's bin width and by bin width at the map's b-value (docs/hazard.md)."""
+    from faultslip.fault import mfd
+
+    def apart(b_value, bin_width):
+        distribution = mfd.truncated_gutenberg_richter(1e17, 7.4, 5.0, b_value, bin_width)
+        return distribution.moment_rate() / mfd.continuous_moment_rate(distribution) - 1
+
+    return {"b_value": mfd.B_VALUE, "bin_width": mfd.BIN_WIDTH,
+            "by_b_value": [{"b_value": b, "apart": apart(b, mfd.BIN_WIDTH)} for b in GR_B_VALUES],
+            "by_bin_width": [{"bin_width": w, "apart": apart(mfd.B_VALUE, w)} for w in GR_BIN_WIDTHS]}
+
+
 def leonard_table_6() -> dict:
     """Leonard's (2010) Table 6 intercepts recomputed from his Table 5 (docs/hazard.md): Mw - log10 A at A =
     1000 km^2, and Mw - (5/3) log10 L at L = 20 km (every setting's middle segment), by setting."""
@@ -311,6 +332,7 @@ def main() -> int:
     document["poisson_verdicts"] = poisson_verdicts()
     document["seed_000_addendum"] = seed_000_addendum()
     document["leonard_table_6"] = leonard_table_6()
+    document["truncated_gr_moment_rates"] = truncated_gr_moment_rates()
     document["rough_slider"] = rough_slider()
     document["quasi_harmonic"] = quasi_harmonic()
     decay = faultslip_json("decay", "--stiffness", "70.5 lbf/in", "--ratio", "1.225", "--cycles-between", "10",
