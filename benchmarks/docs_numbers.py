@@ -20,7 +20,8 @@ Runs, through the command line a user types (``--json``):
 * the classroom's phone record read back (configs/example_phyphox.csv, docs/classroom.md);
 * through the Python API: seed 000's addendum AD1.2 (docs/surfaces.md), Leonard's Table 6 from his Table 5
   (docs/hazard.md), and the binned against the continuous moment rate of a truncated Gutenberg-Richter
-  distribution (docs/hazard.md).
+  distribution (docs/hazard.md), the b-value intervals' coverage (docs/spring_chain.md), the 2-D kernel on a
+  surface-breaking crack (docs/fault_2d.md) and seed 001's charge against slip (docs/quasi_harmonic.md).
 
 Writes benchmarks/results/docs_numbers.json; benchmarks/readme.py renders the tables.
 """
@@ -264,6 +265,81 @@ def poisson_verdicts(catalogues: int = 300, events: int = 40, draws: int = 2000)
     return {"catalogues": catalogues, "events": events, "draws": draws, "counts": counts}
 
 
+#: The b-value intervals' coverage (docs/spring_chain.md): seeded catalogues, their size, and the binned cases
+#: (b, bin width) measured beside the continuous one at b = 1.
+B_VALUE_CATALOGUES, B_VALUE_EVENTS, B_VALUE_BINNED = 400, 1000, ((1.0, 0.1), (1.5, 0.2))
+
+
+def b_value_coverage() -> dict:
+    """How often the 95 % b-value interval holds the truth, and the median estimate's bias, on seeded
+    Gutenberg-Richter catalogues: continuous magnitudes (Aki), and binned ones by ``b_value`` (Tinti & Mulargia)
+    beside Utsu's shortcut with its chi-square interval (docs/spring_chain.md)."""
+    import math
+
+    from scipy.stats import chi2
+
+    from faultslip.fault.gutenberg_richter import b_value
+
+    def measure(truth, width, seed):
+        rng = np.random.default_rng(seed)
+        ours, utsu = {"covered": 0, "estimates": []}, {"covered": 0, "estimates": []}
+        for _ in range(B_VALUE_CATALOGUES):
+            sample = 2.0 - width / 2 + rng.exponential(1 / (truth * math.log(10)), B_VALUE_EVENTS)
+            if width:
+                sample = 2.0 + width * np.round((sample - 2.0) / width)
+            found = b_value(sample, completeness=2.0, bin_width=width)
+            ours["covered"] += found["interval"][0] <= truth <= found["interval"][1]
+            ours["estimates"].append(found["b"])
+            excess = float(np.sum(sample - (2.0 - width / 2)))
+            utsu["estimates"].append(math.log10(math.e) * B_VALUE_EVENTS / excess)
+            utsu["covered"] += bool(chi2.ppf(0.025, 2 * B_VALUE_EVENTS) <= 2 * excess * math.log(10) * truth
+                                    <= chi2.ppf(0.975, 2 * B_VALUE_EVENTS))
+        row = {"b_value": truth, "bin_width": width}
+        for name, found in (("faultslip", ours), ("utsu", utsu)):
+            row[name] = {"coverage": found["covered"] / B_VALUE_CATALOGUES,
+                         "median_bias": float(np.median(found["estimates"]) / truth - 1)}
+        return row
+
+    rows = [measure(1.0, 0.0, 45)] + [measure(b, width, 46 + i) for i, (b, width) in enumerate(B_VALUE_BINNED)]
+    return {"catalogues": B_VALUE_CATALOGUES, "events": B_VALUE_EVENTS, "confidence": 0.95, "rows": rows}
+
+
+def surface_crack(depth_extent: float = 10e3, stress_drop: float = 3e6, shear_modulus: float = 32.04e9) -> dict:
+    """The 2-D fault's stress kernel on a surface-breaking crack of uniform stress drop against Knopoff's (1958)
+    exact ellipse, by element count (docs/fault_2d.md): the largest relative slip error above 0.9 of the depth
+    (the tip's square root converges slowly on uniform elements) and the potency's error, tip included."""
+    import math
+
+    from faultslip.models.fault_2d.kernel import dense_matrix
+
+    rows = []
+    for count in (100, 200, 400, 800, 1600):
+        size = depth_extent / count
+        depth = (np.arange(count) + 0.5) * size
+        slip = np.linalg.solve(dense_matrix(count, size, shear_modulus), -np.full(count, stress_drop))
+        exact = 2 * stress_drop / shear_modulus * np.sqrt(depth_extent ** 2 - depth ** 2)
+        inside = depth < 0.9 * depth_extent
+        rows.append({"elements": count, "slip": float(np.max(np.abs(slip[inside] / exact[inside] - 1))),
+                     "potency": float(slip.sum() * size / (math.pi * depth_extent ** 2 * stress_drop
+                                                           / (2 * shear_modulus)) - 1)})
+    return {"depth_extent": depth_extent, "rows": rows}
+
+
+def nanoscale_charge() -> dict:
+    """Seed 001's deposited charge over displacement against the steady-sliding slope Sigma* / a, in stick-slip
+    (the slides' damping) and in steady sliding (A = 13), with the stick-slip run's correlation (docs/
+    quasi_harmonic.md)."""
+    from faultslip.models.nanoscale.dynamics import NanoscaleModel
+
+    model = NanoscaleModel()
+    stick_slip = model.simulate(duration=1500.0, samples=3001)
+    steady = NanoscaleModel(damping=13.0).simulate(duration=600.0, samples=601)
+    return {"steady_slope": model.steady_charge / model.charge_length, "stick_slip_events": stick_slip.slip_events(),
+            "correlation": float(stick_slip.charge_correlation()),
+            "stick_slip_ratio": float(stick_slip.deposited[-1] / stick_slip.displacement[-1]),
+            "steady_ratio": float(steady.deposited[-1] / steady.displacement[-1])}
+
+
 #: The b-values and bin widths the binned and continuous moment rates of a truncated Gutenberg-Richter
 #: distribution are compared at (docs/hazard.md); the map's own are mfd.B_VALUE and mfd.BIN_WIDTH.
 GR_B_VALUES, GR_BIN_WIDTHS = (0.8, 1.0, 1.2), (0.05, 0.1, 0.2)
@@ -333,6 +409,9 @@ def main() -> int:
     document["seed_000_addendum"] = seed_000_addendum()
     document["leonard_table_6"] = leonard_table_6()
     document["truncated_gr_moment_rates"] = truncated_gr_moment_rates()
+    document["b_value_coverage"] = b_value_coverage()
+    document["surface_crack"] = surface_crack()
+    document["nanoscale_charge"] = nanoscale_charge()
     document["rough_slider"] = rough_slider()
     document["quasi_harmonic"] = quasi_harmonic()
     decay = faultslip_json("decay", "--stiffness", "70.5 lbf/in", "--ratio", "1.225", "--cycles-between", "10",

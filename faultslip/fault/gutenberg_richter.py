@@ -1,19 +1,27 @@
 r"""The Gutenberg-Richter b-value of a catalogue by maximum likelihood, with its uncertainty.
 
 Above a completeness magnitude M_c, Gutenberg-Richter's log10 N(>= M) = a - b M makes the magnitudes
-exponential with rate beta = b ln 10. Aki's (1965) maximum-likelihood estimate is
+exponential with rate beta = b ln 10. For continuous magnitudes Aki's (1965) maximum-likelihood estimate is
 
-.. math:: \hat b = \frac{\log_{10} e}{\bar M - M_0},
+.. math:: \hat b = \frac{\log_{10} e}{\bar M - M_c},
 
-with M_0 = M_c for continuous magnitudes and M_0 = M_c - \Delta M / 2 for magnitudes binned to
-\Delta M (Utsu 1966's correction, as Bender 1983 and Marzocchi & Sandri 2003 review it). Its
-uncertainty is given two ways:
+with Aki's standard error \hat b / \sqrt{n} and Shi & Bolt's (1982)
+2.30 \hat b^2 \sqrt{\sum (M_i - \bar M)^2 / (n (n - 1))}. Its interval is exact: S = \sum (M_i - M_c) is
+Gamma(n, beta), so 2 beta S is chi-square with 2n degrees of freedom, and b lies in
+[\chi^2_{2n}(\alpha/2), \chi^2_{2n}(1 - \alpha/2)] / (2 S \ln 10) with confidence 1 - alpha.
 
-- Aki's standard error \hat b / \sqrt{n}, and Shi & Bolt's (1982)
-  2.30 \hat b^2 \sqrt{\sum (M_i - \bar M)^2 / (n (n - 1))};
-- an exact interval for continuous magnitudes: S = \sum (M_i - M_0) is Gamma(n, beta), so
-  2 beta S is chi-square with 2n degrees of freedom, and b lies in
-  [\chi^2_{2n}(\alpha/2), \chi^2_{2n}(1 - \alpha/2)] / (2 S \ln 10) with confidence 1 - alpha.
+Magnitudes binned to \Delta M (M_c the lowest bin's centre) are geometric instead: k_i = (M_i - M_c) / \Delta M
+takes k with probability p (1 - p)^k, 1 - p = 10^{-b \Delta M}. The exact maximum-likelihood estimate is Tinti &
+Mulargia's (1987, BSSA 77, 2125; Bender 1983, BSSA 73, 831)
+
+.. math:: \hat b = \frac{1}{\Delta M} \log_{10}\left(1 + \frac{\Delta M}{\bar M - M_c}\right),
+
+which tends to Aki's as \Delta M -> 0. Utsu's (1966) shortcut, Aki's with M_c - \Delta M / 2, is biased low
+where the bins are wide and b large, and its chi-square interval then misses the truth too often (measured in
+docs/spring_chain.md). The geometric law's interval is exact too: K = \sum k_i is
+negative binomial, so p lies between the Beta(n, K + 1) quantile alpha / 2 and the Beta(n, K) quantile
+1 - alpha / 2 (the negative binomial's Clopper-Pearson bounds), and b = -log10(1 - p) / \Delta M is monotone
+in p. Its standard error is p / (\Delta M \ln 10 \sqrt{n (1 - p)}), Aki's in the limit.
 """
 
 from __future__ import annotations
@@ -26,26 +34,29 @@ from faultslip.errors import InputError
 
 
 def b_value(magnitudes, completeness: float | None = None, bin_width: float = 0.0, confidence: float = 0.95) -> dict:
-    """Aki's maximum-likelihood b-value of the magnitudes at or above ``completeness`` (see the module).
+    """The maximum-likelihood b-value of the magnitudes at or above ``completeness``: Aki's for continuous
+    magnitudes, Tinti & Mulargia's for binned ones (see the module).
 
     Parameters
     ----------
     magnitudes : array
         The catalogue's magnitudes.
     completeness : float, optional
-        M_c: magnitudes below it are left out (default: the smallest magnitude).
+        M_c: magnitudes below it are left out (default: the smallest magnitude). For binned magnitudes, the
+        lowest bin's centre.
     bin_width : float
-        Delta M, the binning of the magnitudes (0: continuous).
+        Delta M, the binning of the magnitudes (0: continuous); the magnitudes must lie on its grid from M_c.
     confidence : float
         Of the interval.
 
     Returns
     -------
     dict
-        ``b``, ``aki_error`` (b / sqrt n), ``shi_bolt_error``, ``interval`` (low, high), ``count``,
-        ``completeness``, ``mean_magnitude`` and ``a`` (log10 of the count at or above M_c, plus b M_c).
+        ``b``, ``aki_error`` (the maximum-likelihood standard error: b / sqrt n for continuous magnitudes),
+        ``shi_bolt_error``, ``interval`` (low, high), ``count``, ``completeness``, ``method``, ``mean_magnitude``
+        and ``a`` (log10 of the count at or above M_c, plus b M_c).
     """
-    from scipy.stats import chi2  # heavy: imported where used
+    from scipy.stats import beta as beta_distribution, chi2  # heavy: imported where used
 
     values = np.asarray(magnitudes, float).ravel()
     if values.size == 0 or not np.all(np.isfinite(values)):
@@ -58,21 +69,38 @@ def b_value(magnitudes, completeness: float | None = None, bin_width: float = 0.
     kept = values[values >= cutoff - 1e-9 * max(1.0, abs(cutoff))]
     if kept.size < 2:
         raise InputError(f"a b-value needs at least two magnitudes at or above M_c = {cutoff:g}, got {kept.size}")
-    origin = cutoff - bin_width / 2
-    excess = float(np.sum(kept - origin))
-    if not excess > 0 or float(np.ptp(kept)) <= 1e-9 * max(1.0, abs(cutoff)):  # equal to round-off: no spread
+    if not float(np.sum(kept - cutoff)) > 0 or float(np.ptp(kept)) <= 1e-9 * max(1.0, abs(cutoff)):
         raise InputError(f"every magnitude at or above M_c = {cutoff:g} equals it: the catalogue has no spread to give "
-                         "a b-value")
+                         "a b-value")  # equal to round-off: no spread
     count = kept.size
     mean = float(kept.mean())
-    b = math.log10(math.e) / (mean - origin)
     spread = float(np.sum((kept - mean) ** 2))
     alpha = 1 - confidence
-    interval = (float(chi2.ppf(alpha / 2, 2 * count)) / (2 * excess * math.log(10)),
-                float(chi2.ppf(1 - alpha / 2, 2 * count)) / (2 * excess * math.log(10)))
-    return {"b": b, "aki_error": b / math.sqrt(count),
-            "shi_bolt_error": 2.30 * b ** 2 * math.sqrt(spread / (count * (count - 1))),
+    if bin_width == 0:
+        excess = float(np.sum(kept - cutoff))
+        b = math.log10(math.e) / (mean - cutoff)
+        error = b / math.sqrt(count)
+        interval = (float(chi2.ppf(alpha / 2, 2 * count)) / (2 * excess * math.log(10)),
+                    float(chi2.ppf(1 - alpha / 2, 2 * count)) / (2 * excess * math.log(10)))
+        method = "Aki (1965), continuous magnitudes; exact chi-square interval"
+    else:
+        steps = (kept - cutoff) / bin_width
+        off = float(np.max(np.abs(steps - np.round(steps))))
+        if off > 1e-6:
+            raise InputError(f"the magnitudes are not on a grid of {bin_width:g} from M_c = {cutoff:g} (one is "
+                             f"{off * bin_width:.3g} off it): give M_c as a bin's centre and the bin width they were "
+                             "rounded to, or bin width 0 for continuous magnitudes")
+        total = float(np.sum(np.round(steps)))
+        chance = count / (count + total)  # p, the maximum-likelihood geometric parameter
+        b = -math.log10(1 - chance) / bin_width
+        error = chance / (bin_width * math.log(10) * math.sqrt(count * (1 - chance)))
+        low = float(beta_distribution.ppf(alpha / 2, count, total + 1))
+        high = float(beta_distribution.ppf(1 - alpha / 2, count, total))
+        interval = (-math.log10(1 - low) / bin_width, -math.log10(1 - high) / bin_width)
+        method = "Tinti & Mulargia (1987), binned magnitudes; exact negative-binomial interval"
+    return {"b": b, "aki_error": error, "shi_bolt_error": 2.30 * b ** 2 * math.sqrt(spread / (count * (count - 1))),
             "interval": interval, "confidence": confidence, "count": int(count), "completeness": cutoff,
+            "method": method,
             "bin_width": float(bin_width), "mean_magnitude": mean, "a": math.log10(count) + b * cutoff}
 
 
