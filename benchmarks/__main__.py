@@ -54,6 +54,7 @@ PRODUCERS = (
     ("surface_trends", [], [], "surface_trends.json"),
     ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),
     ("rate_state_calibration", [], ["--quick"], "rate_state_calibration.json"),
+    ("chain_coverage", [], ["--quick"], "chain_coverage.json"),
     ("hazard_chain", [], [], "hazard_chain.json"),
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
     ("ladder_regimes", [], [], "ladder_regimes.json"),

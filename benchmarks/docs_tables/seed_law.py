@@ -317,9 +317,31 @@ def b_value_coverage_table() -> str | None:
                               f"`python benchmarks/docs_numbers.py`. {_machine(result)}")
 
 
+def chain_coverage_table() -> str | None:
+    """docs/spring_chain.md: how often the chain's declared range holds a long run's mean (chain_coverage)."""
+    result = _load("chain_coverage.json")
+    if result is None:
+        return None
+    rows = ["| draw | events a run | chains | declaring a range | range holds the long run's mean | factor 1 | "
+            "independent Student's t | median half-width |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for name in ("calibration", "held_out"):
+        for seed, found in result[name].items():
+            declared = max(found["declared"], 1)
+            rows.append(f"| {name.replace('_', ' ')} {seed} | {found['events']} | {found['chains']} | "
+                        f"{found['declared']} | {found['held'] / declared:.1%} | {found['held_unit'] / declared:.1%} | "
+                        f"{found['held_independent'] / declared:.1%} | ±{found['median_half_width']:.0%} |")
+    return "\n".join(rows) + (
+        f"\n\nFitted factor {result['fitted_factor']:g} (shipped {result['shipped_factor']:g}): the "
+        f"{result['coverage']:.0%} quantile of |long / short - 1| over the correlated half-width, over the calibration "
+        f"draws. A run declares a range from {result['min_system_intervals']} system-size intervals; the long runs are "
+        f"thirty (500 events: twelve) times the run, their first {result['reference_spin_up']:.0%} left out. "
+        f"`python benchmarks/chain_coverage.py`. {_machine(result)}")
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
     "b_value_coverage": b_value_coverage_table,
+    "chain_coverage": chain_coverage_table,
     "poisson_verdicts": poisson_verdicts_table,
     "closed_form_near_critical": closed_form_near_critical_table,
     "dashpot_force": dashpot_force_table,
