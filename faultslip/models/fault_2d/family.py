@@ -130,7 +130,8 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
                       "largest relative change of an interval over a supercycle"))
     if sequence.kind == "aperiodic":
         report.add("recurrence_sampling_error", sequence.mean_error,
-                   label=f"sampling error of the mean interval (sd / sqrt({sequence.intervals.size}) / mean)")
+                   label=f"95 % half-width of the mean interval over {sequence.intervals.size} intervals (Student's "
+                         "t, their integrated autocorrelation time counted)")
     report.add("slip_per_event", summary.surface_slip_per_event, "m",
                label="surface slip per event (mean over the measured events)")
     report.add("mean_slip_per_event", summary.mean_slip_per_event, "m", label="slip per event, mean over the "
