@@ -78,7 +78,36 @@ def asperity_trends_table() -> str | None:
     return "\n".join(lines)
 
 
+def asperity_wavelength_table() -> str | None:
+    """docs/asperity.md: the closed form's critical speeds against the simulated locks (asperity_wavelength_check)."""
+    result = _load("asperity_wavelength_check.json")
+    if result is None or "held_out_rows" not in result:
+        return None
+    rows = ["| draw | system | n | f0 (Hz) | s | α (µm) | closed form f0 λ / n (mm/s) | n-loop lock (mm/s) | strongest in "
+            "it (mm/s) | closed form / strongest - 1 |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for draw, key in (("calibration", "rows"), ("held out", "held_out_rows")):
+        for row in result[key]:
+            if row["error"] is None:
+                found = "none in the sweep | | "
+            else:
+                low, high = row["band"]
+                found = (f"{1e3 * low:.3g}-{1e3 * high:.3g} | {1e3 * row['simulated']:.3g} | "
+                         f"{100 * row['error']:+.1f} %")
+            rows.append(f"| {draw} | {row['system']} | {row['order']} | {row['natural_frequency']:.3g} | "
+                        f"{row['slope_std']:.2f} | {1e6 * row['contact_length']:.3g} | {1e3 * row['closed_form']:.3g} | "
+                        f"{found} |")
+    return "\n".join(rows) + (
+        f"\n\nLargest |closed form / simulated - 1|: {result['largest_error']:.3f} (calibration), so the declared "
+        f"error is {result['fitted_error']:g} (shipped {result['declared_error']:g}); held out, "
+        f"{result['held_out_largest_error']:.3f}. {result['without_lock']} sweeps showed no n-loop lock. Quasi-static "
+        f"sweeps, C = 200 kg/s, 3 s each, {result['sweep'][0]:g} to {result['sweep'][1]:g} v_cn on {result['sweep'][2]} "
+        f"speeds; random systems from seeds {', '.join(str(seed) for seed in result['seeds']['calibration'])} "
+        f"(calibration) and {result['seeds']['held_out']} (held out). "
+        f"`python benchmarks/asperity_wavelength_check.py`. {_machine(result)}")
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
     "asperity_trends": asperity_trends_table,
+    "asperity_wavelength": asperity_wavelength_table,
 }

@@ -196,7 +196,11 @@ def test_contact_loss_is_reported_not_returned():
 
 
 def test_method_choice():
-    assert choose_method(AsperityModel(), ("critical_speeds",), 0.1).method == "asperity_wavelength"
+    from faultslip.models.asperity.dynamics import WAVELENGTH_ERROR
+
+    assert choose_method(AsperityModel(), ("critical_speeds",), WAVELENGTH_ERROR).method == "asperity_wavelength"
+    with pytest.raises(InputError, match="critical speeds come in closed form only.*sweep the platform speed"):
+        choose_method(AsperityModel(), ("critical_speeds",), WAVELENGTH_ERROR / 2)
     assert choose_method(AsperityModel()).method == "asperity_quasistatic"
     assert choose_method(AsperityModel(), tolerance=0.01).method == "asperity_LSODA"
     near_loss = AsperityModel(platform_speed=0.12)
@@ -372,3 +376,20 @@ def test_the_quasistatic_method_holds_its_declared_error_just_above_each_critica
     assert truth > 0.05  # stick-slip: the fraction is a measured quantity, not a zero
     assert abs(fraction / truth - 1) <= quasistatic.estimated_relative_error + reference.estimated_relative_error
     assert quasistatic.estimated_relative_error >= 0.05 and reference.estimated_relative_error > 0
+
+
+def test_the_closed_forms_declared_error_is_the_fit_its_check_recorded():
+    """dynamics.WAVELENGTH_ERROR is what benchmarks/asperity_wavelength_check.py fitted (1.5 times the largest
+    error of f0 lambda / n against the simulated n-loop lock over Table I and a random draw), and every held-out
+    system's error lies within it: a constant edited by hand, or a check rerun without shipping its fit, fails."""
+    from pathlib import Path
+
+    from faultslip.models.asperity.dynamics import WAVELENGTH_ERROR
+
+    result = json.loads((Path(__file__).resolve().parents[3] / "benchmarks" / "results" /
+                         "asperity_wavelength_check.json").read_text(encoding="utf-8"))
+    assert not result["quick"]
+    assert result["fitted_error"] == WAVELENGTH_ERROR == result["declared_error"]
+    assert result["held_out_largest_error"] <= WAVELENGTH_ERROR
+    for row in result["rows"] + result["held_out_rows"]:  # the closed form lies below the lock, never above
+        assert row["error"] is None or row["error"] < 0
