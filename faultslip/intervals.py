@@ -35,15 +35,15 @@ def percentile_interval(samples, estimate: float, level: float = 0.95) -> tuple[
     return min(low, float(estimate)), max(high, float(estimate)), True
 
 
-#: Sokal's window: the autocorrelations are summed to the first lag M >= c tau(M) (Sokal 1997, sec. 3).
+#: Sokal's window: the autocorrelations are summed to the first lag M >= c tau(M) (Madras & Sokal 1988).
 AUTOCORRELATION_WINDOW = 5.0
 
 
 def integrated_autocorrelation_time(values, window: float = AUTOCORRELATION_WINDOW) -> float:
     """tau = 1 + 2 sum_{k=1}^{M} rho_k, the factor by which serial correlation multiplies the variance of a
-    stationary sequence's mean (Madras & Sokal 1988, J. Stat. Phys. 50, 109, eq. 2.13; Sokal 1997, "Monte Carlo
-    methods in statistical mechanics", eq. 3.19), with M the first lag at or beyond ``window`` tau(M)
-    (the automatic window). 1 for fewer than 4 values or no spread; for an AR(1) sequence of lag-1 correlation
+    stationary sequence's mean (Madras & Sokal 1988, J. Stat. Phys. 50, 109; Sokal 1997, "Monte Carlo methods
+    in statistical mechanics: foundations and new algorithms"), with M the first lag at or beyond ``window``
+    tau(M) (the automatic window). 1 for fewer than 4 values or no spread; for an AR(1) sequence of lag-1 correlation
     phi it tends to (1 + phi) / (1 - phi).
 
     Parameters
