@@ -52,6 +52,7 @@ PRODUCERS = (
     ("docs_numbers", [], [], "docs_numbers.json"),
     ("asperity_trends", [], [], "asperity_trends.json"),
     ("asperity_wavelength_check", [], ["--quick"], "asperity_wavelength_check.json"),
+    ("averaging_check", [], ["--quick"], "averaging_check.json"),
     ("surface_trends", [], [], "surface_trends.json"),
     ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),
     ("rate_state_calibration", [], ["--quick"], "rate_state_calibration.json"),

@@ -75,6 +75,27 @@ def quasi_harmonic_error_table() -> str | None:
             f"its band. `python benchmarks/docs_numbers.py`. {_machine(result)}")
 
 
+def averaging_check_table() -> str | None:
+    """Averaging re-measured on random curves and sliders (docs/quasi_harmonic.md, benchmarks/averaging_check.py)."""
+    result = _load("averaging_check.json")
+    if result is None:
+        return None
+    rows = ["| draw | cycles measured | largest error / eps² | first-order sticking calls: wrong / made (farthest, eps) | "
+            "break-away regimes: wrong / answered (before) | subcritical sliders |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for draw in result["draws"]:
+        rows.append(f"| {draw['seed']} | {draw['amplitudes_measured']} | {draw['largest_ratio']:.3f} | "
+                    f"{draw['boundary_wrong']} / {draw['boundary_calls']} "
+                    f"({draw['boundary_wrong_largest_distance']:.2g}) | {draw['sliders_wrong']} / "
+                    f"{draw['sliders_answered']} ({draw['sliders_wrong_before']}) | {draw['subcritical_sliders']} |")
+    return ("\n".join(rows) + f"\n\nDeclared: {result['error_constant']:g} eps² in the amplitude; no call within "
+            f"{result['hand_over_margin']:g} eps of the sticking bound: every wrong first-order call lies inside that margin, where "
+            "averaging now declines and integration decides. \"Before\" is the regime averaging gave a slider "
+            "when it took the cycle reached from small disturbances rather than the one the envelope reaches from "
+            f"break-away. `python benchmarks/averaging_check.py`{' (quick)' if result.get('quick') else ''}. "
+            f"{_machine(result)}")
+
+
 def quasi_harmonic_scene_table() -> str | None:
     """configs/vibration_seed002.toml's amplitude, its integration and its band (docs/quasi_harmonic.md)."""
     result, values = _quasi_harmonic()
@@ -198,6 +219,7 @@ TABLES = {
     "seed_000_addendum": seed_000_addendum_table,
     "rough_slider": rough_slider_table,
     "quasi_harmonic_error": quasi_harmonic_error_table,
+    "averaging_check": averaging_check_table,
     "quasi_harmonic_scene": quasi_harmonic_scene_table,
     "seed002_figures": seed002_figures_table,
 }

@@ -213,7 +213,7 @@ def run_once(system, method: str, tolerance: float, cycles: int, budget: int):
     if method == "quasi_harmonic_averaging":
         if isinstance(system, QuasiHarmonic):
             result = system.analyse()
-            if not result.valid:
+            if not result.valid or result.marginal:
                 raise Declined(result.notes[0] if result.notes else "the slider sticks")
             return result.amplitude, 2 * math.pi / system.angular_frequency, np.array([]), 0, "sustained_oscillation"
         assessment = AVERAGING.assess(system, ("amplitude", "period"), tolerance, cycles)

@@ -3,6 +3,8 @@ rtol 1e-10), averaging's its overhead alone; fitted on seed 002's scene by ``ben
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from faultslip.dynamics.vibration import settle_periods
 from faultslip.io import budget
 from faultslip.models.vibration.scene import read_vibration_scene
@@ -16,13 +18,15 @@ def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[
     (:func:`~faultslip.dynamics.vibration.settle_periods`), or averaging's root search."""
     system, _notes = read_vibration_scene(scene)
     result = system.analyse()
-    if not result.valid:  # the slider sticks: the run says so at once
+    if not result.valid and not result.marginal:  # the slider sticks: the run says so at once
         return f"{action}:averaging" if action == "run" else "simulate", 0.0, "the averaged equation alone"
+    if result.marginal:  # too close to sticking to call: integrated from the cycle
+        result = replace(result, amplitude=result.cycle_amplitude)
     periods = settle_periods(system, result)
     if action == "simulate":
         periods = min(periods, SIMULATED_PERIODS)
         return "simulate", periods, f"eq. (10) integrated over {periods:.3g} periods"
-    integrating = method == "quasi_harmonic_integration" or (
+    integrating = method == "quasi_harmonic_integration" or result.marginal or (
         method in (None, "auto") and result.estimated_error > (tolerance or 1e-3) and result.amplitude > 0)
     if not integrating:
         return "run:averaging", 0.0, "the averaged amplitude (eq. 20)"

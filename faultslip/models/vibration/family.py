@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from faultslip.dynamics.vibration import report as averaging_report
-from faultslip.dynamics.vibration import (amplitude_against_speed, settled_amplitude, simulate_vibration,
+from faultslip.dynamics.vibration import (amplitude_against_speed, analyse_and_settle, simulate_vibration,
                                           vibration_dataset, vibration_report)
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
@@ -35,8 +35,7 @@ def run(scene, method=None, tolerance=None) -> Result:
     if chosen is None:
         raise InputError(f"a vibration scene takes --method auto, quasi_harmonic_averaging or "
                          f"quasi_harmonic_integration, got {method!r}")
-    analysis = system.analyse()
-    settled = settled_amplitude(system, chosen, tolerance or 1e-3) if analysis.valid else None
+    analysis, settled = analyse_and_settle(system, chosen, tolerance or 1e-3)
     report = averaging_report(system, analysis, None, settled)
     note_origin(report, notes.get("origin"))
     return Result("vibration", report)
@@ -75,8 +74,7 @@ def amplitude_study(scene, speed=None, speeds=None, method: str = "auto", tolera
         if not (0 < start < stop and isinstance(count, int) and 2 <= count <= 2000):
             raise InputError("--speeds needs START < STOP, both positive, and a count from 2 to 2000")
         sweep = amplitude_against_speed(system, np.linspace(start, stop, count))
-    analysis = system.analyse()
-    settled = settled_amplitude(system, method, tolerance) if analysis.valid else None
+    analysis, settled = analyse_and_settle(system, method, tolerance)
     report = averaging_report(system, analysis, sweep, settled)
     note_scene(report, notes)
     figure = (lambda: amplitude_speed_figure(system, sweep)) if sweep is not None else None

@@ -463,3 +463,93 @@ def test_integration_measures_whole_cycles_where_they_outlast_two_pi_over_omega(
     assert reference["settling"].settled
     assert abs(found["amplitude"] / reference["amplitude"] - 1) <= INTEGRATION_ERROR
     assert abs(found["amplitude"] / system.analyse().amplitude - 1) > 0.1  # far from averaging's answer
+
+
+def _subcritical_slider(excess=0.05, speed=3.0, low=0.8, high=2.0, quintic=0.05):
+    """Seed 003's slider (M = K = W = 1, no damping) with f = 8 + a1 d - a3 d^3 + a5 d^5, d = u - V: the averaged
+    slope a1 - 3/4 a3 x^2 + 5/8 a5 x^4 (x = A omega) vanishes at x = ``low`` (unstable) and ``high`` (stable)
+    with a1 = 5/8 a5 low^2 high^2 > 0 and a3 = 5/6 a5 (low^2 + high^2): steady sliding is stable (subcritical)."""
+    from faultslip.dynamics.spring_slider.slider import SliderSystem
+    from faultslip.friction.laws import ConstantStatic, PolynomialKinetic
+
+    p = np.polynomial.Polynomial([-speed, 1.0])
+    linear, cubic = 0.625 * quintic * low ** 2 * high ** 2, 5 / 6 * quintic * (low ** 2 + high ** 2)
+    f = 8.0 + linear * p - cubic * p ** 3 + quintic * p ** 5
+    return SliderSystem(mass=1.0, stiffness=1.0, normal_load=1.0, platform_speed=speed,
+                        static_law=ConstantStatic(float(f(speed)) + excess), kinetic_law=PolynomialKinetic(tuple(f.coef)),
+                        name="subcritical slider")
+
+
+def test_a_subcritical_slider_after_break_away_settles_on_its_cycle_not_on_steady_sliding():
+    """Steady sliding is stable, yet break-away starts the oscillation at A0 >= V / omega = 3, above the stable
+    cycle A = 2: eq. (20) carries it there. Averaging once answered the cycle reached from small disturbances,
+    steady sliding, with a declared error of 0, so auto chose it; eq. (10) and the event-driven simulation
+    oscillate on at A = 2 (benchmarks/averaging_check.py: 3 such sliders in 30 of one draw)."""
+    import warnings
+
+    from faultslip.dynamics.methods import AVERAGING, choose
+    from faultslip.dynamics.spring_slider.simulate import simulate
+    from faultslip.dynamics.vibration import after_break_away, from_slider
+
+    system = _subcritical_slider()
+    averaged = from_slider(system)
+    cycles = averaged.limit_cycles()
+    assert [c.stable for c in cycles] == [False, True]
+    assert [c.amplitude for c in cycles] == pytest.approx([0.8, 2.0], rel=1e-6)  # the roots by construction
+    assert averaged.analyse().amplitude == 0.0  # from small disturbances: steady sliding
+    start = after_break_away(system, averaged)
+    assert not start["sticks"] and start["after_one_period"] > 2.0
+    assert averaged.analyse(start=start["after_one_period"]).amplitude == pytest.approx(2.0, rel=1e-6)
+    assert averaged.analyse(start=0.5).amplitude == 0.0  # below the unstable cycle: decays
+    cycle = AVERAGING.run(system, 10, {})[0]
+    assert cycle.regime == "sustained_oscillation" and cycle.amplitude == pytest.approx(4.0, rel=1e-6)  # 2 A
+    assert choose(system, tolerance=0.5, cycles=5)[0].name == "quasi_harmonic_averaging"
+    direct = integrate(averaged, start["after_one_period"], periods=300)["amplitude"]
+    eps = averaged.small_parameter(2.0)
+    assert abs(direct / 2.0 - 1) <= 0.1 * eps ** 2  # the declared error holds on the cycle reached
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert simulate(system, cycles=3, slip_solver="DOP853", rtol=1e-9).attrs["regime"] == "sustained_oscillation"
+
+
+@pytest.mark.parametrize("speed, marginal", [(2.0, True), (2.02, True), (1.98, True), (2.2, False), (1.8, False)])
+def test_a_cycle_within_the_margin_of_sticking_is_not_called_at_first_order(speed, marginal):
+    """Rayleigh's cycle A = 2 (omega = 1) has its peak speed A omega at the driving speed V = 2: the harmonics move
+    the true peak by O(eps), so within HAND_OVER_MARGIN eps (here 0.15 x 0.3) of it averaging does not say whether
+    the slider sticks; integration decides, and averaging asked for it says why it cannot answer."""
+    from faultslip.dynamics.vibration import HAND_OVER_MARGIN, analyse_and_settle
+
+    system = rayleigh(0.1, speed=speed)
+    result = system.analyse()
+    distance = abs(result.cycle_amplitude / speed - 1)
+    assert result.cycle_amplitude == pytest.approx(2.0, rel=1e-9)
+    assert result.marginal == marginal == (distance < HAND_OVER_MARGIN * system.small_parameter(2.0))
+    if not marginal:
+        return
+    assert any("too close to call" in note for note in result.notes)
+    with pytest.raises(SolverError, match="quasi_harmonic_integration"):
+        settled_amplitude(system, "averaging")
+    analysis, settled = analyse_and_settle(system)
+    if settled is None:  # integration found the slider sticks: reported as stick-slip, with why
+        assert not analysis.valid and "integrated, the slider sticks" in analysis.notes[0]
+    else:
+        assert settled["method"] == "integration" and settled["amplitude"] * 1.0 < speed
+
+
+def test_averaging_holds_its_declared_error_and_calls_on_random_curves_it_was_never_set_on():
+    """benchmarks/averaging_check.py: two random draws (cubics with an even term, quintics, Stribeck curves by
+    quadrature; seed 003 sliders, half subcritical). Every amplitude error is within ERROR_CONSTANT eps^2, no
+    sticking call is wrong outside HAND_OVER_MARGIN eps, and no answered break-away regime is wrong."""
+    import json
+    from pathlib import Path
+
+    from faultslip.dynamics.vibration import ERROR_CONSTANT, HAND_OVER_MARGIN
+
+    result = json.loads((Path(__file__).resolve().parents[3] / "benchmarks" / "results" /
+                         "averaging_check.json").read_text(encoding="utf-8"))
+    assert not result["quick"]
+    assert result["error_constant"] == ERROR_CONSTANT and result["hand_over_margin"] == HAND_OVER_MARGIN
+    assert result["largest_ratio"] <= ERROR_CONSTANT
+    for draw in result["draws"]:
+        assert draw["amplitudes_measured"] >= 20 and draw["sliders_answered"] >= 5
+        assert draw["boundary_wrong_outside_margin"] == 0 and draw["sliders_wrong"] == 0
