@@ -53,6 +53,7 @@ PRODUCERS = (
     ("asperity_trends", [], [], "asperity_trends.json"),
     ("asperity_wavelength_check", [], ["--quick"], "asperity_wavelength_check.json"),
     ("averaging_check", [], ["--quick"], "averaging_check.json"),
+    ("asperity_quasistatic_check", [], ["--quick"], "asperity_quasistatic_check.json"),
     ("surface_trends", [], [], "surface_trends.json"),
     ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),
     ("rate_state_calibration", [], ["--quick"], "rate_state_calibration.json"),

@@ -393,3 +393,23 @@ def test_the_closed_forms_declared_error_is_the_fit_its_check_recorded():
     assert result["held_out_largest_error"] <= WAVELENGTH_ERROR
     for row in result["rows"] + result["held_out_rows"]:  # the closed form lies below the lock, never above
         assert row["error"] is None or row["error"] < 0
+
+
+def test_the_quasistatic_methods_declared_error_holds_on_random_systems_it_was_not_set_on():
+    """benchmarks/asperity_quasistatic_check.py: random systems about case 6 near a critical speed, both methods
+    converged as `faultslip run` converges them. The stick fraction (absolute) and the mean friction (relative) lie
+    within QUASISTATIC_ERROR of the six-state run, so does the stick fraction's relative error where it sticks
+    more than 5 % of the time, and the loops agree there."""
+    from pathlib import Path
+
+    from faultslip.models.asperity.dynamics import QUASISTATIC_ERROR
+
+    result = json.loads((Path(__file__).resolve().parents[3] / "benchmarks" / "results" /
+                         "asperity_quasistatic_check.json").read_text(encoding="utf-8"))
+    assert not result["quick"] and result["declared_error"] == QUASISTATIC_ERROR
+    assert result["measured"] >= 60 and result["sticking"] >= 5
+    assert result["largest_stick_fraction_error"] <= QUASISTATIC_ERROR
+    assert result["largest_mean_friction_error"] <= QUASISTATIC_ERROR
+    assert result["largest_stick_fraction_relative_error"] <= QUASISTATIC_ERROR
+    sticking = [row for row in result["rows"] if row["measured"] and row["stick_fraction"][1] > 0.05]
+    assert len(sticking) == result["sticking"] and all(row["loops"][0] == row["loops"][1] for row in sticking)
