@@ -553,3 +553,27 @@ def test_averaging_holds_its_declared_error_and_calls_on_random_curves_it_was_ne
     for draw in result["draws"]:
         assert draw["amplitudes_measured"] >= 20 and draw["sliders_answered"] >= 5
         assert draw["boundary_wrong_outside_margin"] == 0 and draw["sliders_wrong"] == 0
+
+
+@settings(max_examples=40, deadline=None)
+@given(low=st.floats(0.1, 0.9), gap=st.floats(0.2, 1.5), size=st.floats(0.005, 0.05), start=st.floats(0.01, 2.9))
+def test_from_any_start_the_envelope_ends_on_the_nearest_root_it_flows_to(low, gap, size, start):
+    """Eq. (20) is one-dimensional: from a start amplitude A0 it moves monotonically in the direction of A'(A0)
+    until the first root of A' it meets, which is stable, or to 0. So the amplitude analyse(start=A0) settles on
+    has no root of A' strictly between it and A0, lies on A0's side that A' points to, and is a stable cycle or
+    steady sliding. Curves: f = 8 + a1 d - a3 d^3 + a5 d^5 about V = 3 (M = k = W = 1), the averaged slope
+    vanishing at A omega = low and low + gap (subcritical)."""
+    high = low + gap
+    p = np.polynomial.Polynomial([-3.0, 1.0])
+    linear, cubic = 0.625 * size * low ** 2 * high ** 2, 5 / 6 * size * (low ** 2 + high ** 2)
+    curve = 8.0 + linear * p - cubic * p ** 3 + size * p ** 5
+    system = QuasiHarmonic(1.0, 0.0, 1.0, 1.0, 3.0, coefficients=tuple(curve.coef))
+    roots = [c.amplitude for c in system.limit_cycles()]
+    if any(abs(start - root) < 1e-6 for root in roots):
+        return  # on a root: it stays, whichever way round-off tips it
+    result = system.analyse(start=start)
+    end = result.cycle_amplitude if math.isfinite(result.cycle_amplitude) else 0.0
+    rising = float(system.amplitude_rate(start)) > 0
+    assert (end > start) == rising
+    assert not any(min(start, end) < root < max(start, end) for root in roots)
+    assert end == 0.0 or any(c.stable and c.amplitude == end for c in system.limit_cycles())
