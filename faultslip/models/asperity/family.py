@@ -107,6 +107,7 @@ def speed_study(scene, low, high, points: int = 40, dashpot=None, method: str = 
     if failed:
         report.add("failed_cells", failed, label="cells without a result, by reason")
     report.add("computing_time", float(sweep["elapsed"].sum()), "s")
+    report.note(f"convergence {sweep.attrs['convergence']}")
     grid = None
     if integrator_map:
         grid = asperity_map(MAP_SPEEDS, MAP_SLOPE_STDS, replace(model, dashpot=200.0), duration=0.2)
