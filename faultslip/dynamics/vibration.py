@@ -537,8 +537,9 @@ def estimated_error(system: QuasiHarmonic, amplitude: float) -> float:
 
 def amplitude_against_speed(system: QuasiHarmonic, speeds) -> dict:
     """The settled amplitude at each driving speed (seed 002 Figs. 10-11): arrays of amplitude (m; 0 where
-    steady sliding is stable, NaN where the oscillation would stick), steady sliding's growth rate, and
-    the small parameter.
+    steady sliding is stable, NaN where the oscillation would stick), steady sliding's growth rate, the small
+    parameter, and where the first-order sticking call is marginal (within HAND_OVER_MARGIN eps: only
+    integration can say whether the slider sticks there).
 
     Parameters
     ----------
@@ -550,19 +551,20 @@ def amplitude_against_speed(system: QuasiHarmonic, speeds) -> dict:
     Returns
     -------
     dict
-        ``speed`` (m/s), ``amplitude`` (m), ``growth_rate`` (1/s), ``small_parameter`` (dimensionless) and
-        ``sticks`` (bool), one value per speed.
+        ``speed`` (m/s), ``amplitude`` (m), ``growth_rate`` (1/s), ``small_parameter`` (dimensionless),
+        ``sticks`` (bool, the first-order call) and ``marginal`` (bool), one value per speed.
     """
     speeds = np.asarray(speeds, dtype=float)
-    amplitude, growth, eps, sticks = (np.empty(speeds.size) for _ in range(4))
+    amplitude, growth, eps, sticks, marginal = (np.empty(speeds.size) for _ in range(5))
     for i, speed in enumerate(speeds):
         at = QuasiHarmonic(system.mass, system.damping, system.stiffness, system.normal_load, float(speed),
                            system.coefficients, system.friction, system.name)
         result = at.analyse()
         amplitude[i] = result.amplitude
         growth[i], eps[i], sticks[i] = result.growth_rate, result.small_parameter, not result.valid
+        marginal[i] = result.marginal
     return {"speed": speeds, "amplitude": amplitude, "growth_rate": growth, "small_parameter": eps,
-            "sticks": sticks.astype(bool)}
+            "sticks": sticks.astype(bool), "marginal": marginal.astype(bool)}
 
 
 def report(system: QuasiHarmonic, result: QuasiHarmonicResult, sweep: dict | None = None,
@@ -596,8 +598,9 @@ def report(system: QuasiHarmonic, result: QuasiHarmonicResult, sweep: dict | Non
     if sweep is not None:
         r.add("amplitude_against_speed", [
             {"speed": {"value": float(v), "units": "m/s"},
-             "amplitude": {"value": None if math.isnan(a) else float(a), "units": "m"}, "sticks": bool(s)}
-            for v, a, s in zip(sweep["speed"], sweep["amplitude"], sweep["sticks"])],
+             "amplitude": {"value": None if math.isnan(a) else float(a), "units": "m"}, "sticks": bool(s),
+             "marginal": bool(m)}
+            for v, a, s, m in zip(sweep["speed"], sweep["amplitude"], sweep["sticks"], sweep["marginal"])],
               in_text=False)  # the text shows it as amplitude_table
     for note in result.notes:
         r.note(note)
@@ -607,11 +610,14 @@ def report(system: QuasiHarmonic, result: QuasiHarmonicResult, sweep: dict | Non
 
 
 def amplitude_table(sweep: dict) -> str:
-    """The amplitude against driving speed as a Markdown table (in the seed's inches)."""
+    """The amplitude against driving speed as a Markdown table (in the seed's inches); a marginal call says so."""
     inch = 0.0254
     lines = ["| driving speed (in/s) | amplitude (in) | regime |", "| --- | --- | --- |"]
-    for speed, amplitude, sticks in zip(sweep["speed"], sweep["amplitude"], sweep["sticks"]):
+    for speed, amplitude, sticks, marginal in zip(sweep["speed"], sweep["amplitude"], sweep["sticks"],
+                                                  sweep["marginal"]):
         regime = "stick-slip" if sticks else "steady sliding" if amplitude == 0 else "quasi-harmonic"
+        if marginal:
+            regime += f" at first order, within {HAND_OVER_MARGIN:g} eps of sticking: integration decides"
         shown = "" if sticks else f"{amplitude / inch:.4g}"
         lines.append(f"| {speed / inch:.4g} | {shown} | {regime} |")
     return "\n".join(lines)
@@ -801,12 +807,13 @@ def hand_over_map(eps_values=(0.003, 0.01, 0.03, 0.1, 0.3), excess_values=(0.0, 
 
 
 #: regime codes of :func:`regions`
-REGION_CODES = {"steady_sliding": 0, "quasi_harmonic": 1, "stick_slip": 2}
+REGION_CODES = {"steady_sliding": 0, "quasi_harmonic": 1, "stick_slip": 2, "marginal": 3}
 
 
 def regions(system: QuasiHarmonic, speeds, dampings) -> dict:
     """The (v, r) plane of seed 002's Figs. 10-11: at each driving speed and damping coefficient, steady
-    sliding, a quasi-harmonic cycle (its amplitude) or stick-slip (the cycle would reach A omega = v).
+    sliding, a quasi-harmonic cycle (its amplitude) or stick-slip (the cycle would reach A omega = v), or
+    marginal where the cycle's A omega is within HAND_OVER_MARGIN eps of v and the first order cannot call it.
     Returns ``regime`` codes (:data:`REGION_CODES`) and ``amplitude`` (m, NaN where it sticks) on
     (damping, speed)."""
     speeds, dampings = np.asarray(speeds, dtype=float), np.asarray(dampings, dtype=float)
@@ -817,7 +824,8 @@ def regions(system: QuasiHarmonic, speeds, dampings) -> dict:
                                                       system.normal_load, system.speed, system.coefficients,
                                                       system.friction, system.name), speeds)
         amplitude[i] = swept["amplitude"]
-        regime[i] = np.where(swept["sticks"], REGION_CODES["stick_slip"],
-                             np.where(swept["amplitude"] > 0, REGION_CODES["quasi_harmonic"],
-                                      REGION_CODES["steady_sliding"]))
+        regime[i] = np.where(swept["marginal"], REGION_CODES["marginal"],
+                             np.where(swept["sticks"], REGION_CODES["stick_slip"],
+                                      np.where(swept["amplitude"] > 0, REGION_CODES["quasi_harmonic"],
+                                               REGION_CODES["steady_sliding"])))
     return {"speed": speeds, "damping": dampings, "regime": regime, "amplitude": amplitude}

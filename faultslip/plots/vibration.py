@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultslip.dynamics.vibration import ERROR_CONSTANT
+from faultslip.dynamics.vibration import ERROR_CONSTANT, HAND_OVER_MARGIN
 from faultslip.plots.figures import _pyplot
 
 INCH = 0.0254
@@ -64,21 +64,24 @@ def hand_over_figure(table):
 
 
 def regions_figure(system, table):
-    """Seed 002's (v, r) plane: steady sliding, quasi-harmonic vibration (amplitude contours) and stick-slip."""
+    """Seed 002's (v, r) plane: steady sliding, quasi-harmonic vibration (amplitude contours), stick-slip, and
+    the band within HAND_OVER_MARGIN eps of sticking where only integration can call it."""
     from matplotlib.colors import ListedColormap  # heavy: matplotlib, imported where used
 
     plt = _pyplot()
     figure, axis = plt.subplots(figsize=(7, 4.6), constrained_layout=True)
     speeds, dampings = table["speed"] / INCH, table["damping"] / (4.4482216152605 / INCH)
-    axis.pcolormesh(speeds, dampings, table["regime"], cmap=ListedColormap(["#e3f2fd", "#fff3e0", "#ffcdd2"]),
-                    vmin=-0.5, vmax=2.5, shading="nearest")
+    axis.pcolormesh(speeds, dampings, table["regime"],
+                    cmap=ListedColormap(["#e3f2fd", "#fff3e0", "#ffcdd2", "#bdbdbd"]), vmin=-0.5, vmax=3.5,
+                    shading="nearest")
     amplitude = np.ma.masked_where(table["regime"] != 1, table["amplitude"] / INCH)
     if amplitude.count() > 3:
         lines = axis.contour(speeds, dampings, amplitude, levels=np.linspace(0, float(amplitude.max()), 6)[1:-1],
                              colors="C3", linewidths=0.8)
         axis.clabel(lines, fontsize=7, fmt="%.3g in")
     axis.set(xlabel="driving speed v (in/s)", ylabel="damping coefficient r (lbf s/in)",
-             title="steady sliding (blue), quasi-harmonic (orange, amplitude), stick-slip (red)")
+             title=f"steady sliding (blue), quasi-harmonic (orange, amplitude), stick-slip (red),\n"
+                   f"within {HAND_OVER_MARGIN:g} eps of sticking: integration decides (grey)")
     figure.suptitle(system.name, fontsize=10)
     return figure
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from faultslip.dynamics.vibration import HAND_OVER_MARGIN
 from faultslip.plots.figures import _pyplot
 from faultslip.plots.vibration import INCH
 
@@ -33,10 +34,14 @@ def amplitude_speed_figure(system, sweep):
     values = sweep["amplitude"] / INCH
     amplitude.plot(speeds / INCH, np.where(np.isnan(values), np.nan, values), "o-", color="C3", ms=3,
                    label="quasi-harmonic amplitude A")
-    sticks = sweep["sticks"]
+    marginal = sweep["marginal"]  # the first-order call is not trusted here either way (HAND_OVER_MARGIN)
+    sticks = sweep["sticks"] & ~marginal
     if sticks.any():
         low, high = speeds[sticks].min() / INCH, speeds[sticks].max() / INCH
         amplitude.axvspan(low, high, color="0.85", label="stick-slip (A omega would reach v)")
+    for index, speed in enumerate(speeds[marginal]):
+        amplitude.axvline(speed / INCH, color="k", ls="--", lw=0.8, label=None if index else
+                          f"within {HAND_OVER_MARGIN:g} eps of sticking: integration decides")
     amplitude.set(xlabel="driving speed v (in/s)", ylabel="amplitude (in)",
                   title="averaged limit cycle (seed 002 eq. 20)")
     amplitude.legend(fontsize=8)

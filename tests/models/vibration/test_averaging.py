@@ -1,6 +1,7 @@
 """Quasi-harmonic vibration by Kryloff-Bogoliuboff averaging (seed 002 section 3): weights, limits, invariants."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -169,6 +170,29 @@ def test_the_seed_002_scene_has_the_cubics_closed_form_amplitude(cli, tmp_path):
     assert regimes[:12] == [True] * 12 and regimes[12:] == [False] * 4 and plot.stat().st_size > 10_000
 
 
+def test_a_sweep_marks_the_speeds_too_close_to_sticking_to_call(cli, tmp_path):
+    """The closed form above gives A omega = v at 5 v^2 = 4 u_f^2 (1 - r / (W s)): 12.12 in/s for the scene.
+    Within HAND_OVER_MARGIN eps of it the sweep marks the first-order call marginal (its JSON, table and chart),
+    as `faultslip quasi-harmonic --speed` integrates there; far from it, never."""
+    from faultslip.dynamics.vibration import HAND_OVER_MARGIN
+
+    inch = 0.0254
+    s, u_f, w, r = 0.01, 15.0, 2.0, 0.00368  # in/s and lbf units: W s and r in lbf s/in
+    boundary = 2 * u_f * math.sqrt((1 - r / (w * s)) / 5)
+    plot = tmp_path / "amplitude.png"
+    out = cli("quasi-harmonic", "configs/vibration_seed002.toml", "--speeds", f"{boundary - 0.5} in/s",
+              f"{boundary + 0.5} in/s", "11", "--plot", plot, "--json")
+    assert out.code == 0, out.err
+    rows = out.json["amplitude_against_speed"]
+    marginal = [abs(row["speed"]["value"] / inch - boundary) for row in rows if row["marginal"]]
+    called = [abs(row["speed"]["value"] / inch - boundary) for row in rows if not row["marginal"]]
+    assert marginal and called and max(marginal) < min(called)
+    assert plot.stat().st_size > 10_000
+    text = cli("quasi-harmonic", "configs/vibration_seed002.toml", "--speeds", f"{boundary - 0.5} in/s",
+               f"{boundary + 0.5} in/s", "11")
+    assert f"within {HAND_OVER_MARGIN:g} eps of sticking: integration decides" in text.out
+
+
 def test_the_error_chart_measures_the_scene_itself(cli, tmp_path, monkeypatch):
     """--error-chart measures averaging against integration on the scene's own slider across the band where it
     vibrates without sticking, beside Rayleigh's curve, and reports what it drew: every measured error inside
@@ -316,22 +340,37 @@ def test_a_study_cell_takes_averaging_where_auto_does(tmp_path):
 
 def test_the_v_r_plane_matches_the_cubics_closed_form_boundaries():
     """For f = 0.5 - s u + s u^3 / (3 u_f^2): steady sliding where r >= W s (1 - v^2/u_f^2); otherwise
-    (A omega)^2 = 4 (u_f^2 - v^2 - r u_f^2 / (W s)), stick-slip where that reaches v^2."""
-    from faultslip.dynamics.vibration import REGION_CODES, regions
+    (A omega)^2 = 4 (u_f^2 - v^2 - r u_f^2 / (W s)), stick-slip where that reaches v^2, and marginal where A omega
+    is within HAND_OVER_MARGIN eps of v (the first order does not call it)."""
+    from faultslip.dynamics.vibration import HAND_OVER_MARGIN, REGION_CODES, regions
     from faultslip.models.vibration.scene import read_vibration_scene
 
     system, _ = read_vibration_scene("configs/vibration_seed002.toml")
     inch, lbf = 0.0254, 4.4482216152605
     s, u_f, w = 0.01 / inch, 15 * inch, 2 * lbf
-    speeds = np.linspace(10.05, 14.95, 21) * inch  # off the degenerate point v = u_f, r = 0
-    dampings = np.linspace(0.0, 0.02, 9) * lbf / inch
-    table = regions(system, speeds, dampings)
-    for i, r in enumerate(dampings):
-        for j, v in enumerate(speeds):
-            squared = 4 * (u_f ** 2 - v ** 2 - r * u_f ** 2 / (w * s))
-            expected = ("steady_sliding" if r >= w * s * (1 - v ** 2 / u_f ** 2) else
-                        "stick_slip" if squared >= v ** 2 else "quasi_harmonic")
-            assert table["regime"][i, j] == REGION_CODES[expected], (r, v)
+    # the whole plane (off the degenerate point v = u_f, r = 0), then finely across the sticking boundary
+    # 5 v^2 = 4 u_f^2 (1 - r / (W s)) at r = 0 and W s / 4, where the marginal band lies
+    planes = [(np.linspace(10.05, 14.95, 21), np.linspace(0.0, 0.02, 9)),
+              (np.linspace(11.3, 13.7, 97), np.array([0.0, 0.005]))]
+    codes = []
+    for speeds_in, dampings_lbf in planes:
+        speeds, dampings = speeds_in * inch, dampings_lbf * lbf / inch
+        table = regions(system, speeds, dampings)
+        for i, r in enumerate(dampings):
+            for j, v in enumerate(speeds):
+                squared = 4 * (u_f ** 2 - v ** 2 - r * u_f ** 2 / (w * s))
+                expected = ("steady_sliding" if r >= w * s * (1 - v ** 2 / u_f ** 2) else
+                            "stick_slip" if squared >= v ** 2 else "quasi_harmonic")
+                if expected != "steady_sliding":
+                    at = replace(system, damping=float(r), speed=float(v))
+                    eps = at.small_parameter(math.sqrt(squared) / at.angular_frequency)
+                    if abs(math.sqrt(squared) / v - 1) < HAND_OVER_MARGIN * eps:
+                        expected = "marginal"
+                assert table["regime"][i, j] == REGION_CODES[expected], (r, v)
+        codes.append(table["regime"])
+    # the fine grid crosses the band on both dampings, between stick-slip and vibration
+    for row in codes[1]:
+        assert {REGION_CODES["stick_slip"], REGION_CODES["marginal"], REGION_CODES["quasi_harmonic"]} <= set(row)
 
 
 def test_a_tabulated_curve_goes_by_quadrature_and_agrees_with_its_polynomial(tmp_path):
