@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 
 os.environ.setdefault("MPLBACKEND", "Agg")
-from faultslip.models.asperity.dynamics import AsperityModel, analyse, peak_speeds, simulate, speed_sweep  # noqa: E402
+from faultslip.models.asperity.dynamics import (STEPS_PER_PERIOD, AsperityModel, analyse,  # noqa: E402
+                                                peak_speeds, simulate, speed_sweep)
 from faultslip.models.asperity.friction import CONTACT_LOSS_SPEEDS, TABLE_II, TABLE_III  # noqa: E402
 from faultslip.io.atomic import save_figure  # noqa: E402
 from faultslip.models.asperity.figures import response_figure, sweep_figure  # noqa: E402
@@ -122,7 +123,8 @@ def main():
                      "estimate": float(AsperityModel.table_case(3, slope_std=slope_std).contact_loss_speed),
                      "six_state_fails_at": speed} for slope_std, speed, status in losses]
     write_results("asperity_trends.json", {"peaks": peaks, "case_6_bands": _stuck(case6), "single_runs": single_runs,
-                                           "choices": choice_rows, "contact_loss": contact_loss})
+                                           "choices": choice_rows, "contact_loss": contact_loss,
+                                           "steps_per_period": STEPS_PER_PERIOD})
     figures = ROOT / "docs" / "figures"
     figures.mkdir(exist_ok=True)
     order = ["f0 = 10 Hz (case 3)", "s = 0.2 (case 2)", "s = 0.3 (case 1)", "case 6, C = 2 kg/s (adhesion)"]

@@ -31,7 +31,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from faultslip.models.asperity.dynamics import WAVELENGTH_ERROR, AsperityModel, speed_sweep  # noqa: E402
+from faultslip.models.asperity.dynamics import (STEPS_PER_PERIOD, WAVELENGTH_ERROR, AsperityModel,  # noqa: E402
+                                                speed_sweep)
 from provenance import write_results  # noqa: E402  (one stamp for every results file)
 
 #: two calibration draws: on the first alone (4004) the declared error came to 0.2, and the second (4005), then
@@ -110,7 +111,8 @@ def main(argv=None) -> int:
                 "sweep": [LOW, HIGH, POINTS], "rows": calibration, "held_out_rows": held_out,
                 "largest_error": max(abs(row["error"]) for row in calibration if row["error"] is not None),
                 "held_out_largest_error": max(errors) if errors else None,
-                "without_lock": sum(row["error"] is None for row in calibration + held_out), "quick": bool(args.quick)}
+                "without_lock": sum(row["error"] is None for row in calibration + held_out), "quick": bool(args.quick),
+                "steps_per_period": STEPS_PER_PERIOD}
     write_results("asperity_wavelength_check.json", document)
     print(f"largest |closed form / simulated - 1|: {document['largest_error']:.3g} (calibration), fitted declared "
           f"error {fitted:g} (shipped {WAVELENGTH_ERROR:g}); held out {document['held_out_largest_error']:.3g}; "

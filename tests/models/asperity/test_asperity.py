@@ -177,6 +177,25 @@ def test_quasistatic_agrees_with_the_six_states():
     assert reduced.loops == full.loops == 1
 
 
+def test_quasistatic_step_bound_keeps_the_summit_exchanges():
+    # a random system (benchmarks/asperity_quasistatic_check.py, seed 4204 #36) whose quasi-static run at rtol
+    # 1e-8 passed over summit exchanges inside long DOP853 steps and settled on a motion that never sticks (0.015
+    # of the time, scipy 1.17.1); steps of at most 1/STEPS_PER_PERIOD of the natural period keep every event, so
+    # the run at 1e-8 alone agrees with one at 1e-10 and sticks over a quarter of the time
+    model = AsperityModel(natural_frequency=8.798, slope_std=0.07103, initial_approach=0.3964e-6,
+                          contact_length=0.2382e-6, dashpot=2.317, platform_speed=0.7329e-3)
+    loose, tight = (analyse(simulate(model, 8.0, "asperity_quasistatic", rtol)) for rtol in (1e-8, 1e-10))
+    assert tight.stick_fraction > 0.25
+    assert loose.stick_fraction == pytest.approx(tight.stick_fraction, abs=0.005)
+    assert loose.mean_friction == pytest.approx(tight.mean_friction, rel=1e-4)
+
+
+@pytest.mark.parametrize("step", [0.0, -1e-3, float("nan"), "1 ms"])
+def test_a_bad_step_bound_is_refused(step):
+    with pytest.raises(InputError, match="max_step"):
+        simulate(AsperityModel(), 1.0, "asperity_quasistatic", max_step=step)
+
+
 def test_contact_loss_is_reported_not_returned():
     # F_n(t) reaching zero ends the run: near the paper's 285 mm/s for s = 0.1, beyond 0.4 m/s for s = 0.2 (550)
     below = simulate(AsperityModel.table_case(3, dashpot=200.0, platform_speed=0.2), 0.05, "asperity_LSODA",
@@ -215,6 +234,8 @@ def test_sweep_peaks_near_the_critical_speed():
     assert set(sweep["status"].values) == {"ok"}
     peaks = peak_speeds(sweep)
     assert peaks.size >= 1 and peaks[0] == pytest.approx(model.critical_speeds((1,))[0], rel=0.1)
+    # a sweep runs each speed once: it says what it leaves unchecked, and at which rtol
+    assert sweep.attrs["rtol"] == 1e-7 and sweep.attrs["convergence"].startswith("not tested")
 
 
 @pytest.mark.parametrize("changes, match", [
@@ -413,3 +434,9 @@ def test_the_quasistatic_methods_declared_error_holds_on_random_systems_it_was_n
     assert result["largest_stick_fraction_relative_error"] <= QUASISTATIC_ERROR
     sticking = [row for row in result["rows"] if row["measured"] and row["stick_fraction"][1] > 0.05]
     assert len(sticking) == result["sticking"] and all(row["loops"][0] == row["loops"][1] for row in sticking)
+    # the shipped step bound, run at one rtol alone (a sweep's, the convergence test's first), passes over no event
+    from faultslip.models.asperity.dynamics import STEPS_PER_PERIOD
+
+    assert result["steps_per_period"] == STEPS_PER_PERIOD
+    bounded = {key: line for key, line in result["single_rtol"].items() if key.endswith(" bounded")}
+    assert len(bounded) == 2 and all(line["off"] == 0 for line in bounded.values())
