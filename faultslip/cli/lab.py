@@ -413,7 +413,8 @@ def cmd_asperity(args) -> int:
     paths = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                             "map": ("--map", FIGURE_SUFFIXES)}, [args.scene])
     result = faultslip.models.asperity_speed_study(args.scene, args.low, args.high, args.points, dashpot=args.dashpot, method=args.method,
-                         integrator_map=bool(paths["map"]), progress=_progress("speed sweep", not args.json, "speed"))
+                         integrator_map=bool(paths["map"]), progress=_progress("speed sweep", not args.json, "speed"),
+                         tolerance=args.tolerance)
     report = result.report()
     with _locked(paths["output"], paths["plot"], paths["map"]):
         if paths["map"]:

@@ -514,6 +514,8 @@ def _vibration_commands(commands) -> None:
                                             "averages)")
     asperity.add_argument("--method", default="asperity_quasistatic",
                           help="asperity_quasistatic (default) or asperity_LSODA (the six states, ~20x slower)")
+    asperity.add_argument("--tolerance", help="converge each speed: rerun at tighter rtols until its statistics change by "
+                          "less than this (e.g. 0.01; about 3-5x the cost). Default: each speed runs once, untested")
     asperity.add_argument("-o", "--output", help="write the sweep to this netCDF file")
     asperity.add_argument("--plot", help="draw m_D and the stick fraction against speed (Figs. 6-7)")
     asperity.add_argument("--map", help="also draw where each integrator works, over speed (1 mm/s-0.7 m/s) and "

@@ -238,6 +238,32 @@ def test_sweep_peaks_near_the_critical_speed():
     assert sweep.attrs["rtol"] == 1e-7 and sweep.attrs["convergence"].startswith("not tested")
 
 
+def test_a_converged_sweep_holds_each_speeds_converged_run():
+    # with a tolerance, every speed is converge-or-declare: the same run converged_run gives at that speed alone
+    from faultslip.models.asperity.dynamics import converged_run
+
+    model = AsperityModel.table_case(3, dashpot=200.0)
+    speeds = np.array([3.2e-3, 3.6e-3])
+    sweep = speed_sweep(model, speeds, duration=0.5, tolerance=0.01)
+    for i, speed in enumerate(speeds):
+        run, error, met = converged_run(replace(model, platform_speed=float(speed)), 0.5, "asperity_quasistatic", 0.01)
+        assert sweep["stick_fraction"].values[i] == analyse(run).stick_fraction
+        assert sweep["numerical_error"].values[i] == error and sweep["converged"].values[i] == int(met)
+    assert (sweep["numerical_error"].values[sweep["converged"].values == 1] <= 0.01).all()
+    assert sweep.attrs["convergence"].startswith("each speed converged to 0.01")
+
+
+def test_a_sweep_tolerance_no_rtol_meets_is_declared_not_hidden():
+    model = AsperityModel.table_case(3, dashpot=200.0)
+    sweep = speed_sweep(model, [3.6e-3], duration=0.3, tolerance=1e-15)
+    assert sweep["converged"].values.tolist() == [0]
+    assert 1e-15 < sweep["numerical_error"].values[0] < 0.01  # measured between 1e-10 and 1e-12, and declared
+    assert "1 of 1 speeds did not" in sweep.attrs["convergence"]
+    for bad in (0.0, 1.0, float("nan"), True):
+        with pytest.raises(InputError, match="convergence tolerance"):
+            speed_sweep(model, [3.6e-3], duration=0.3, tolerance=bad)
+
+
 @pytest.mark.parametrize("changes, match", [
     ({"slope_std": 0.0}, "slope std"), ({"platform_speed": -1.0}, "platform speed"),
     ({"initial_approach": 1e-10}, "must exceed the slope cut-off"), ({"mass": float("nan")}, "mass")])
@@ -291,6 +317,8 @@ def test_cli_run_simulate_and_sweep(cli, tmp_path):
     (("asperity", CONFIG, "--from", "5 mm/s", "--to", "1 mm/s"), "--from must be below --to"),
     (("asperity", CONFIG, "--points", "1"), "--points"),
     (("asperity", CONFIG, "--from", "3 kg"), "--from"),
+    (("asperity", CONFIG, "--tolerance", "2"), "--tolerance must be a relative change"),
+    (("asperity", CONFIG, "--tolerance", "often"), "--tolerance"),
     (("simulate", CONFIG, "--cycles", "3"), "--cycles) is not an option of an asperity scene"),
 ])
 def test_cli_bad_input_exits_2_with_one_sentence(cli, args, match):
