@@ -824,8 +824,8 @@ def regions(system: QuasiHarmonic, speeds, dampings) -> dict:
                                                       system.normal_load, system.speed, system.coefficients,
                                                       system.friction, system.name), speeds)
         amplitude[i] = swept["amplitude"]
-        regime[i] = np.where(swept["marginal"], REGION_CODES["marginal"],
-                             np.where(swept["sticks"], REGION_CODES["stick_slip"],
-                                      np.where(swept["amplitude"] > 0, REGION_CODES["quasi_harmonic"],
-                                               REGION_CODES["steady_sliding"])))
+        # the first condition that holds names the cell: a marginal call before any the first order makes
+        regime[i] = np.select([swept["marginal"], swept["sticks"], swept["amplitude"] > 0],
+                              [REGION_CODES["marginal"], REGION_CODES["stick_slip"], REGION_CODES["quasi_harmonic"]],
+                              default=REGION_CODES["steady_sliding"])
     return {"speed": speeds, "damping": dampings, "regime": regime, "amplitude": amplitude}
