@@ -843,6 +843,11 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
              "--frequency", rng.choice(["19.9 Hz", "125 rad/s", "0 Hz", "-1 Hz", "1 m"]), "--json"],
             ["plot", "rate-law", "-o", rng.choice([str(space.folder / "p.png"), str(space.folder / "p.xyz"),
                                                    str(space.folder)]), "--overwrite"],
+            # the asperity speed sweep's options; all valid is rare, since each converged speed costs seconds
+            ["asperity", str(CONFIGS / "asperity_seed004.toml"), "--from",
+             rng.choice(["3 mm/s", "0 mm/s", "5 kg", "nan mm/s", "1e30 m/s"]), "--to", "3.2 mm/s", "--points",
+             rng.choice(["3", "1", "x", "2001"]), "--tolerance", rng.choice(["0", "2", "abc", "-1", "nan", "1e400",
+                                                                              "1 m", "0.5"]), "--json"],
         ])
     if kind == "catalog":
         if rng.random() < 0.5:
