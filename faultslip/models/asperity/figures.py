@@ -69,6 +69,11 @@ def sweep_figure(sweeps, labels):
         if failed.any():
             stick.plot(speeds[failed], np.zeros(failed.sum()), "x", color=colour, ms=6,
                        label=f"{label}: {', '.join(sorted(set(sweep['status'].values[failed])))}")
+        if "converged" in sweep:  # a converged sweep rings the speeds whose statistics did not settle
+            missed = sweep["converged"].values == 0
+            if missed.any():
+                deformation.plot(speeds[missed], sweep["mean_deformation_friction"].values[missed], "o", mfc="none",
+                                 ms=8, color=colour, label=f"{label}: not converged to the tolerance")
         for n, speed in enumerate(sweep.attrs.get("critical_speeds_m_per_s", []), start=1):
             deformation.axvline(speed * 1e3, color=colour, ls=":", lw=0.8)
     deformation.set(ylabel="m_D (time-averaged deformation friction)",

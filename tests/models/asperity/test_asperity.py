@@ -259,6 +259,9 @@ def test_a_sweep_tolerance_no_rtol_meets_is_declared_not_hidden():
     assert sweep["converged"].values.tolist() == [0]
     assert 1e-15 < sweep["numerical_error"].values[0] < 0.01  # measured between 1e-10 and 1e-12, and declared
     assert "1 of 1 speeds did not" in sweep.attrs["convergence"]
+    from faultslip.models.asperity.figures import sweep_figure
+    figure = sweep_figure([sweep], ["case 3"])
+    assert any("not converged" in text.get_text() for text in figure.axes[0].get_legend().get_texts())
     for bad in (0.0, 1.0, float("nan"), True):
         with pytest.raises(InputError, match="convergence tolerance"):
             speed_sweep(model, [3.6e-3], duration=0.3, tolerance=bad)
