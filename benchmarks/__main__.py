@@ -52,6 +52,7 @@ PRODUCERS = (
     ("docs_numbers", [], [], "docs_numbers.json"),
     ("asperity_trends", [], [], "asperity_trends.json"),
     ("asperity_wavelength_check", [], ["--quick"], "asperity_wavelength_check.json"),
+    ("asperity_measured_wavelength_check", [], [], "asperity_measured_wavelength_check.json"),  # after the locks
     ("averaging_check", [], ["--quick"], "averaging_check.json"),
     ("asperity_quasistatic_check", [], ["--quick"], "asperity_quasistatic_check.json"),
     ("surface_trends", [], [], "surface_trends.json"),

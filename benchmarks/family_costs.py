@@ -90,6 +90,8 @@ def cases() -> list:
         _nanoscale(3000.0), _nanoscale(12000.0),
         _family_case("asperity", "run", "asperity_seed004.toml", asperity_cost.work),
         _family_case("asperity", "run", "asperity_seed004.toml", asperity_cost.work, method="asperity_wavelength"),
+        _family_case("asperity", "run", "asperity_seed004.toml", asperity_cost.work,
+                     method="asperity_measured_wavelength"),
         _family_case("asperity", "run", "asperity_seed004.toml", asperity_cost.work, method="asperity_LSODA"),
         _family_case("asperity", "simulate", "asperity_seed004.toml", asperity_cost.work),
         _family_case("rough_surface", "run", "rough_surface_seed000.toml", rough_cost.work),
@@ -119,6 +121,7 @@ def held_out() -> list:
 #: Entries no bundled scene reaches, and the measured entry whose rate they take.
 BORROWED = {("asperity", "simulate:asperity_LSODA"): ("asperity", "run:asperity_LSODA"),
             ("asperity", "simulate:asperity_wavelength"): ("asperity", "run:asperity_wavelength"),
+            ("asperity", "simulate:asperity_measured_wavelength"): ("asperity", "run:asperity_measured_wavelength"),
             **{("spring_chain", f"run:{solver}"): ("spring_chain", f"simulate:{solver}") for solver in CHAIN_INTEGRATORS}}
 
 

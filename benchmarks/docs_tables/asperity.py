@@ -114,6 +114,38 @@ def asperity_wavelength_table() -> str | None:
         f"{_machine(result)}")
 
 
+def asperity_measured_wavelength_table() -> str | None:
+    """docs/asperity.md: f0 lambda_run / n against the same locks (asperity_measured_wavelength_check)."""
+    result = _load("asperity_measured_wavelength_check.json")
+    if result is None:
+        return None
+    lines = result["rows"] + result["held_out_rows"]
+    compared = [line for line in lines if line["error"] is not None]
+    closed = [abs(line["closed_form_error"]) for line in compared]
+    ours = [abs(line["error"]) for line in compared]
+    systems = [line for line in result["systems"] if line["wavelength"] is not None]
+    cpu = [line["cpu_seconds"] for line in systems]
+    rows = ["| predictor | largest error, calibration | largest error, held out | median error | predictions "
+            "inside the n-loop band | declared error | cost |", "| --- | --- | --- | --- | --- | --- | --- |",
+            f"| closed form f0 λ / n (`asperity_wavelength`) | {result['closed_form_largest_error']:.3f} | "
+            f"{result['closed_form_held_out_largest_error']:.3f} | {sorted(closed)[len(closed) // 2]:.3f} | "
+            f"{result['closed_form_inside_band']} of {result['compared']} | {result['closed_form_declared_error']:g} | "
+            "closed form |",
+            f"| run's wavelength f0 λ_run / n (`asperity_measured_wavelength`) | {result['largest_error']:.3f} | "
+            f"{result['held_out_largest_error']:.3f} | {sorted(ours)[len(ours) // 2]:.3f} | {result['inside_band']} "
+            f"of {result['compared']} | {result['fitted_error']:g} (shipped {result['declared_error']:g}) | "
+            f"{min(cpu):.2g}-{max(cpu):.2g} s CPU |"]
+    ratio = [line["wavelength"] / line["closed_form_wavelength"] for line in systems]
+    return "\n".join(rows) + (
+        f"\n\nThe same {result['compared']} locks as the table above (their file's SHA-256 "
+        f"{result['locks']['sha256'][:12]}...). Each system's run lasts {result['measure_periods']} natural periods at "
+        f"the closed form's v_c1; its wavelength is {min(ratio):.3f} to {max(ratio):.3f} times eq. (29)'s, the median "
+        f"of {min(line['cycles'] for line in systems)} or more cycles that differ by at most "
+        f"{max(line['spread'] for line in systems):.3f} (relative). The declared error is {result['margin']:g} times "
+        "the largest calibration error, rounded up. `python benchmarks/asperity_measured_wavelength_check.py`. "
+        f"{_machine(result)}")
+
+
 def asperity_quasistatic_table() -> str | None:
     """docs/asperity.md: the quasi-static method against the six-state one on random systems."""
     result = _load("asperity_quasistatic_check.json")
@@ -160,4 +192,5 @@ TABLES = {
     "asperity_quasistatic": asperity_quasistatic_table,
     "asperity_single_rtol": asperity_single_rtol_table,
     "asperity_wavelength": asperity_wavelength_table,
+    "asperity_measured_wavelength": asperity_measured_wavelength_table,
 }

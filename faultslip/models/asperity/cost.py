@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from faultslip.io import budget
-from faultslip.models.asperity.dynamics import CONVERGENCE_RTOLS, choose_method
+from faultslip.models.asperity.dynamics import CONVERGENCE_RTOLS, MEASURE_PERIODS, choose_method
 from faultslip.models.asperity.scene import load_asperity_scene
 
 
@@ -16,6 +16,10 @@ def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[
     choice = choose_method(model, outputs, tolerance or settings["tolerance"], method or settings["method"])
     if choice.method == "asperity_wavelength":
         return f"{action}:asperity_wavelength", 0.0, "the critical speeds in closed form"
+    if choice.method == "asperity_measured_wavelength":  # one run of MEASURE_PERIODS natural periods at v_c1
+        periods = MEASURE_PERIODS / model.natural_frequency
+        return (f"{action}:asperity_measured_wavelength", periods,
+                f"one run of {periods:.3g} s at v_c1 for the wavelength it slides")
     runs = len(CONVERGENCE_RTOLS) if action == "run" else 1
     duration = settings["duration"]
     return (f"{action}:{choice.method}", duration * runs,

@@ -40,7 +40,7 @@ import numpy as np
 
 from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.dynamics.shared.settling import assess_settling
-from faultslip.errors import InputError
+from faultslip.errors import InputError, SolverError
 from faultslip.models.asperity import friction as contact
 from faultslip.io.progress import reporter
 from faultslip.io.report import Report
@@ -332,6 +332,13 @@ QUASISTATIC_ERROR = 0.05
 #: 1.5 times the largest error of the closed form's v_cn against the simulated n-loop lock over Table I and random
 #: systems, rounded up (benchmarks/asperity_wavelength_check.py; a test checks that the fit gives this value)
 WAVELENGTH_ERROR = 0.3
+#: the same for f0 lambda_run / n, lambda_run the slip per approach cycle of one run (:func:`measured_wavelength`),
+#: fitted on the same sweeps' locks (benchmarks/asperity_measured_wavelength_check.py; a test checks the fit)
+MEASURED_WAVELENGTH_ERROR = 0.08
+#: the measuring run: natural periods at the closed form's v_c1, of which the first are dropped as its transient
+MEASURE_PERIODS, MEASURE_TRANSIENT_PERIODS = 16, 4
+#: fewest approach cycles a measured wavelength is the median of
+MEASURE_MIN_CYCLES = 4
 #: the quasi-static integrator's longest step, in natural periods: an event (a stick, a summit exchange) whose
 #: function changes sign twice inside one step is never seen, and at rtol 1e-8 DOP853's steps on random systems grew
 #: long enough to skip both kinds (benchmarks/asperity_quasistatic_check.py); 1/20 still skipped one
@@ -345,6 +352,16 @@ METHODS = {
                           "loops a forcing period in a sweep about f0 lambda / n; the closed form lies below the "
                           "lock (benchmarks/asperity_wavelength_check.py: Table I and random systems, "
                           "docs/asperity.md)"},
+    "asperity_measured_wavelength": {
+        "name": "asperity_measured_wavelength", "friction_laws": "asperity (seed 004)",
+        "domain": "critical speeds v_cn = f0 lambda_run / n only, lambda_run the median slip per approach cycle "
+                  f"of one run of {MEASURE_PERIODS} natural periods at the closed form's v_c1",
+        "cost_model": f"one asperity_quasistatic run of {MEASURE_PERIODS} natural periods (asperity_LSODA where "
+                      "v_c1 is within a factor 2 of contact loss): ~0.05-1 s",
+        "declared_error": f"{MEASURED_WAVELENGTH_ERROR:g} of the simulated critical speed, on the sweeps that set "
+                          "asperity_wavelength's. Eq. (29) is the limit alpha -> 0 of eq. (22); a run slides further "
+                          "per approach cycle where the contact length alpha is longer, and the lock follows the run "
+                          "(benchmarks/asperity_measured_wavelength_check.py, docs/asperity.md)"},
     "asperity_quasistatic": {
         "name": "asperity_quasistatic", "friction_laws": "asperity (seed 004)",
         "domain": "contact kept: platform speed below the contact-loss speed; normal inertia neglected",
@@ -719,6 +736,52 @@ def peak_speeds(sweep, variable: str = "mean_deformation_friction", prominence: 
     return np.sort(speeds[found - 1])[::-1]
 
 
+@dataclass
+class MeasuredWavelength:
+    """The wavelength a run slides: ``wavelength`` (m) the median slip per approach cycle over ``cycles`` cycles,
+    ``spread`` their (largest - smallest) / median, and the ``run``."""
+    wavelength: float
+    cycles: int
+    spread: float
+    run: AsperityRun
+
+
+def measured_wavelength(model: AsperityModel, rtol: float = 1e-8) -> MeasuredWavelength:
+    """lambda_run: the slip per approach cycle of one run at the closed form's v_c1, m.
+
+    Eq. (29) integrates d(dh) / <Z'> over a climb: eq. (22) with the contact length alpha -> 0, contacts that follow
+    the slope at once. With alpha > 0 the areas lag the slope, and a run slides further per cycle (Table I case 3:
+    about 0.5 %, 5 % and 21 % at alpha = 0.01, 0.1 and 0.3 um). The run lasts :data:`MEASURE_PERIODS` natural
+    periods (asperity_quasistatic, or asperity_LSODA within a factor 2 of contact loss); after the first
+    :data:`MEASURE_TRANSIENT_PERIODS`, each approach maximum standing out by half the approach's range ends a
+    cycle, and lambda_run is the median slip s = x - v t between successive ones. Then v_cn = f0 lambda_run / n.
+
+    Raises SolverError naming what to use where the run fails or shows fewer than :data:`MEASURE_MIN_CYCLES` cycles.
+    """
+    from scipy.signal import find_peaks  # heavy: scipy.signal is needed only here
+
+    speed = float(model.critical_speeds((1,))[0])
+    method = "asperity_quasistatic" if speed < 0.5 * model.contact_loss_speed else "asperity_LSODA"
+    duration = MEASURE_PERIODS / model.natural_frequency
+    run = simulate(replace(model, platform_speed=speed), duration, method, rtol)
+    advice = (f"use asperity_wavelength (closed form, declared {WAVELENGTH_ERROR:g}) or sweep the platform speed "
+              "(faultslip asperity SCENE --from ... --to ...)")
+    if run.status != "ok":
+        raise SolverError(f"asperity_measured_wavelength: the {method} run at v_c1 = {speed:.4g} m/s did not finish "
+                          f"({run.status}: {run.reason}); {advice}")
+    late = run.time >= MEASURE_TRANSIENT_PERIODS / model.natural_frequency
+    approach, slip = run.approach[late], run.displacement[late] - speed * run.time[late]
+    span = float(np.ptp(approach)) if approach.size else 0.0
+    ends = find_peaks(approach, prominence=0.5 * span)[0] if span > 0 else np.array([], int)
+    if ends.size < MEASURE_MIN_CYCLES + 1:
+        raise SolverError(f"asperity_measured_wavelength: the run at v_c1 = {speed:.4g} m/s shows "
+                          f"{max(ends.size - 1, 0)} approach cycles in {MEASURE_PERIODS - MEASURE_TRANSIENT_PERIODS} "
+                          f"natural periods, fewer than {MEASURE_MIN_CYCLES}: no wavelength to measure; {advice}")
+    per_cycle = np.abs(np.diff(slip[ends]))
+    middle = float(np.median(per_cycle))
+    return MeasuredWavelength(middle, int(per_cycle.size), float(np.ptp(per_cycle) / middle), run)
+
+
 # --------------------------------------------------------------------------- method choice and report
 @dataclass
 class AsperityChoice:
@@ -735,16 +798,22 @@ def choose_method(model: AsperityModel, outputs=("response",), tolerance: float 
     if method not in names:
         raise InputError(f"asperity method must be one of {', '.join(names)}, got {method!r}")
     if method != "auto":
-        error = {"asperity_wavelength": WAVELENGTH_ERROR, "asperity_quasistatic": QUASISTATIC_ERROR,
-                 "asperity_LSODA": 0.0}[method]
+        error = {"asperity_wavelength": WAVELENGTH_ERROR, "asperity_measured_wavelength": MEASURED_WAVELENGTH_ERROR,
+                 "asperity_quasistatic": QUASISTATIC_ERROR, "asperity_LSODA": 0.0}[method]
         return AsperityChoice(method, "requested", error)
     if set(outputs) <= {"critical_speeds"}:
-        if tolerance < WAVELENGTH_ERROR:  # an integration at one speed gives no critical speed: say what does
-            raise InputError(f"critical speeds come in closed form only, declared to {WAVELENGTH_ERROR:g} of the "
-                             f"simulated lock, above the tolerance {tolerance:g}: sweep the platform speed about "
-                             "them (faultslip asperity SCENE --from ... --to ...) and read the n-loop lock's speed")
-        return AsperityChoice("asperity_wavelength", "only critical speeds are asked: eqs. (28)-(29) in closed form",
-                              WAVELENGTH_ERROR)
+        if tolerance >= WAVELENGTH_ERROR:
+            return AsperityChoice("asperity_wavelength", "only critical speeds are asked: eqs. (28)-(29) in closed "
+                                  "form", WAVELENGTH_ERROR)
+        if tolerance >= MEASURED_WAVELENGTH_ERROR:
+            return AsperityChoice("asperity_measured_wavelength", f"only critical speeds are asked, to {tolerance:g}: "
+                                  f"below the closed form's declared {WAVELENGTH_ERROR:g}, so f0 lambda / n with the "
+                                  "wavelength one run slides", MEASURED_WAVELENGTH_ERROR)
+        # an integration at one speed gives no critical speed: say what does
+        raise InputError(f"critical speeds come from a wavelength, declared to {MEASURED_WAVELENGTH_ERROR:g} of the "
+                         f"simulated lock at best (a run's; the closed form's {WAVELENGTH_ERROR:g}), above the "
+                         f"tolerance {tolerance:g}: sweep the platform speed about them (faultslip asperity SCENE "
+                         "--from ... --to ...) and read the n-loop lock's speed")
     loss = model.contact_loss_speed
     if model.platform_speed < 0.5 * loss and tolerance >= QUASISTATIC_ERROR:
         return AsperityChoice("asperity_quasistatic", f"v = {model.platform_speed:.3g} m/s is below half the "
@@ -757,15 +826,29 @@ def choose_method(model: AsperityModel, outputs=("response",), tolerance: float 
 
 
 def report(model: AsperityModel, run: AsperityRun | None = None, choice: AsperityChoice | None = None,
-           title: str = "faultslip asperity friction (seed 004, Bengisu & Akay 1999)") -> Report:
+           title: str = "faultslip asperity friction (seed 004, Bengisu & Akay 1999)",
+           measured: MeasuredWavelength | None = None) -> Report:
+    """The model, its critical speeds (from ``measured``'s wavelength where given, else eq. 29's) and the run's
+    statistics."""
     r = Report(title)
     for key, (value, unit) in model.describe().items():
         r.add(key, value, unit)
     r.add("wavelength", model.wavelength, "m", label="lambda, eq. (29) at dh_max = initial approach")
-    for n, speed in enumerate(model.critical_speeds((1, 2, 3)), start=1):
-        r.add(f"critical_speed_{n}", float(speed), "m/s", label=f"v_c{n} = f0 lambda / {n} (eq. 28)")
-    r.add("critical_speed_error", WAVELENGTH_ERROR, label="declared error of v_cn against the simulated lock of n "
-                                                          "loops a forcing period, which lies above it")
+    if measured is None:
+        for n, speed in enumerate(model.critical_speeds((1, 2, 3)), start=1):
+            r.add(f"critical_speed_{n}", float(speed), "m/s", label=f"v_c{n} = f0 lambda / {n} (eq. 28)")
+        r.add("critical_speed_error", WAVELENGTH_ERROR, label="declared error of v_cn against the simulated lock of "
+                                                              "n loops a forcing period, which lies above it")
+    else:
+        r.add("run_wavelength", measured.wavelength, "m",
+              label=f"lambda_run: median slip per approach cycle over {measured.cycles} cycles of a run at v_c1")
+        r.add("run_wavelength_spread", measured.spread, label="(largest - smallest) / median slip per cycle")
+        speeds = contact.critical_speeds(model.natural_frequency, measured.wavelength, (1, 2, 3))
+        for n, speed in enumerate(speeds, start=1):
+            r.add(f"critical_speed_{n}", float(speed), "m/s", label=f"v_c{n} = f0 lambda_run / {n} (eq. 28)")
+        r.add("critical_speed_error", MEASURED_WAVELENGTH_ERROR,
+              label="declared error of v_cn against the simulated lock of n loops a forcing period")
+        r.add("computing_time", measured.run.elapsed, "s")
     r.add("contact_loss_speed", model.contact_loss_speed, "m/s",
           label="speed where following the surface needs more than g")
     if choice is not None:

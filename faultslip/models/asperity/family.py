@@ -16,8 +16,8 @@ from faultslip.models.asperity.dynamics import simulate as integrate
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
-from faultslip.models.asperity.dynamics import (CONVERGENCE_RTOLS, METHODS, QUASISTATIC_ERROR, converged_run, peak_speeds,
-                                         speed_sweep)
+from faultslip.models.asperity.dynamics import (CONVERGENCE_RTOLS, METHODS, QUASISTATIC_ERROR, converged_run,
+                                                measured_wavelength, peak_speeds, speed_sweep)
 from faultslip.errors import InputError, SolverError
 from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.common import note_origin
@@ -34,12 +34,15 @@ def run(scene, method=None, tolerance=None) -> Result:
     model, settings, notes = load_asperity_scene(scene)
     tolerance = tolerance or settings["tolerance"]
     choice = choose_method(model, ("response",), tolerance, method or settings["method"])
-    response, numerical, met = None, 0.0, True
-    if choice.method != "asperity_wavelength":  # converge or declare: the integration's own error is measured
+    response, numerical, met, measured = None, 0.0, True, None
+    if choice.method == "asperity_measured_wavelength":
+        measured = measured_wavelength(model)
+    elif choice.method != "asperity_wavelength":  # converge or declare: the integration's own error is measured
         response, numerical, met = converged_run(model, settings["duration"], choice.method, tolerance)
         model_error = QUASISTATIC_ERROR if choice.method == "asperity_quasistatic" else 0.0
         choice = replace(choice, estimated_error=max(model_error, numerical))
-    report = asperity_report(model, response, choice, f"faultslip asperity scene (seed 004): {notes['name']}")
+    report = asperity_report(model, response, choice, f"faultslip asperity scene (seed 004): {notes['name']}",
+                             measured=measured)
     if response is not None:
         report.add("numerical_error", numerical if math.isfinite(numerical) else None,
                    label="the statistics' change from rtol to a tighter one (measured)")
@@ -144,8 +147,8 @@ def simulate(scene) -> Result:
     """The six-state time series, its report and seed 004's response panels."""
     model, settings, notes = load_asperity_scene(scene)
     choice = choose_method(model, ("response", "time_series"), settings["tolerance"], settings["method"])
-    if choice.method == "asperity_wavelength":
-        raise InputError("asperity_wavelength gives critical speeds only; a simulation needs asperity_quasistatic "
+    if choice.method in ("asperity_wavelength", "asperity_measured_wavelength"):
+        raise InputError(f"{choice.method} gives critical speeds only; a simulation needs asperity_quasistatic "
                          "or asperity_LSODA in [method] name")
     response = integrate(model, settings["duration"], choice.method)
     report = asperity_report(model, response, choice, f"faultslip asperity simulation (seed 004): {notes['name']}")

@@ -215,11 +215,16 @@ def test_contact_loss_is_reported_not_returned():
 
 
 def test_method_choice():
-    from faultslip.models.asperity.dynamics import WAVELENGTH_ERROR
+    from faultslip.models.asperity.dynamics import MEASURED_WAVELENGTH_ERROR, WAVELENGTH_ERROR
 
     assert choose_method(AsperityModel(), ("critical_speeds",), WAVELENGTH_ERROR).method == "asperity_wavelength"
-    with pytest.raises(InputError, match="critical speeds come in closed form only.*sweep the platform speed"):
-        choose_method(AsperityModel(), ("critical_speeds",), WAVELENGTH_ERROR / 2)
+    # below the closed form's declared error, the wavelength one run slides; below that, only a sweep
+    for tolerance in (WAVELENGTH_ERROR / 2, MEASURED_WAVELENGTH_ERROR):
+        choice = choose_method(AsperityModel(), ("critical_speeds",), tolerance)
+        assert choice.method == "asperity_measured_wavelength"
+        assert choice.estimated_error == MEASURED_WAVELENGTH_ERROR
+    with pytest.raises(InputError, match="critical speeds come from a wavelength.*sweep the platform speed"):
+        choose_method(AsperityModel(), ("critical_speeds",), MEASURED_WAVELENGTH_ERROR / 2)
     assert choose_method(AsperityModel()).method == "asperity_quasistatic"
     assert choose_method(AsperityModel(), tolerance=0.01).method == "asperity_LSODA"
     near_loss = AsperityModel(platform_speed=0.12)
@@ -236,6 +241,31 @@ def test_sweep_peaks_near_the_critical_speed():
     assert peaks.size >= 1 and peaks[0] == pytest.approx(model.critical_speeds((1,))[0], rel=0.1)
     # a sweep runs each speed once: it says what it leaves unchecked, and at which rtol
     assert sweep.attrs["rtol"] == 1e-7 and sweep.attrs["convergence"].startswith("not tested")
+
+
+def test_the_run_wavelength_tends_to_eq_29_as_contacts_shorten_and_grows_with_their_length():
+    # eq. (29) integrates d(dh)/<Z'> over a climb: eq. (22) with alpha -> 0. A run with alpha = 1 nm slides eq. (29)'s
+    # wavelength per approach cycle; longer contacts lag the slope and slide further (docs/asperity.md)
+    from faultslip.models.asperity.dynamics import measured_wavelength
+
+    model = AsperityModel.table_case(3, dashpot=200.0)
+    lengths = (1e-9, 3e-8, 1e-7, 3e-7)
+    found = [measured_wavelength(replace(model, contact_length=length)) for length in lengths]
+    assert found[0].wavelength == pytest.approx(model.wavelength, rel=1e-3)
+    ratios = [line.wavelength / model.wavelength for line in found]
+    assert all(later > earlier for earlier, later in zip(ratios, ratios[1:])) and ratios[-1] > 1.1
+    assert all(line.cycles >= 4 and line.spread < 0.05 for line in found)
+
+
+def test_a_wavelength_no_run_can_measure_names_what_to_use():
+    # at f0 = 1 kHz the closed form's v_c1 lies beyond contact loss: the run fails, and the error says what works
+    from faultslip.errors import SolverError
+    from faultslip.models.asperity.dynamics import measured_wavelength
+
+    model = AsperityModel.table_case(3, dashpot=200.0, natural_frequency=1000.0)
+    assert model.critical_speeds((1,))[0] > model.contact_loss_speed
+    with pytest.raises(SolverError, match="asperity_LSODA run at v_c1.*contact_lost.*use asperity_wavelength"):
+        measured_wavelength(model)
 
 
 def test_a_converged_sweep_holds_each_speeds_converged_run():
@@ -445,6 +475,26 @@ def test_the_closed_forms_declared_error_is_the_fit_its_check_recorded():
     assert result["held_out_largest_error"] <= WAVELENGTH_ERROR
     for row in result["rows"] + result["held_out_rows"]:  # the closed form lies below the lock, never above
         assert row["error"] is None or row["error"] < 0
+
+
+def test_the_measured_wavelengths_declared_error_is_the_fit_its_check_recorded_on_todays_locks():
+    """dynamics.MEASURED_WAVELENGTH_ERROR is what benchmarks/asperity_measured_wavelength_check.py fitted on the
+    locks of the asperity_wavelength_check.json now shipped (its checksum recorded), every held-out error lies within
+    it, and the run's wavelength predicts the locks better than the closed form on calibration and held-out draws."""
+    import hashlib
+    from pathlib import Path
+
+    from faultslip.models.asperity.dynamics import MEASURED_WAVELENGTH_ERROR, WAVELENGTH_ERROR
+
+    results = Path(__file__).resolve().parents[3] / "benchmarks" / "results"
+    result = json.loads((results / "asperity_measured_wavelength_check.json").read_text(encoding="utf-8"))
+    locks = (results / "asperity_wavelength_check.json").read_bytes()
+    assert result["locks"]["sha256"] == hashlib.sha256(locks).hexdigest()  # rerun the locks, rerun this
+    assert result["fitted_error"] == MEASURED_WAVELENGTH_ERROR == result["declared_error"] < WAVELENGTH_ERROR
+    assert result["held_out_largest_error"] <= MEASURED_WAVELENGTH_ERROR
+    assert result["largest_error"] < result["closed_form_largest_error"]
+    assert result["held_out_largest_error"] < result["closed_form_held_out_largest_error"]
+    assert result["failed"] == 0 and result["compared"] >= 50 and not result["quick"]
 
 
 def test_the_quasistatic_methods_declared_error_holds_on_random_systems_it_was_not_set_on():
