@@ -141,7 +141,9 @@ def asperity_measured_wavelength_table() -> str | None:
         f"{result['locks']['sha256'][:12]}...). Each system's run lasts {result['measure_periods']} natural periods at "
         f"the closed form's v_c1; its wavelength is {min(ratio):.3f} to {max(ratio):.3f} times eq. (29)'s, the median "
         f"of {min(line['cycles'] for line in systems)} or more cycles that differ by at most "
-        f"{max(line['spread'] for line in systems):.3f} (relative). The declared error is {result['margin']:g} times "
+        f"{max(line['spread'] for line in systems):.3f} (relative). The locks are located on the sweeps' speed step, "
+        f"{(result['sweep_high'] - result['sweep_low']) / (result['sweep_points'] - 1):.4f} of v_cn, so errors below "
+        f"it are within the reference's own resolution. The declared error is {result['margin']:g} times "
         "the largest calibration error, rounded up. `python benchmarks/asperity_measured_wavelength_check.py`. "
         f"{_machine(result)}")
 
