@@ -171,11 +171,14 @@ PARAMETERS = {name: Parameter(name, kind, unit, long_name, (table, name)) for na
     ("asperity_radius", "friction", "length", "m", "asperity radius r"),
     ("loss_factor", "friction", "damping", "N*s/m", "loss factor eta"),
     ("initial_approach", "friction", "length", "m", "initial approach"),
+    ("contact_length", "friction", "length", "m", "contact length alpha = 1/(gamma pi r): sets the contact density"),
 )}
 OUTPUTS = {spec.name: spec for spec in (
     Output("regime", "1", "regime of the response", flags=("stick_slip", "sliding")),
     Output("wavelength", "m", "lambda, eq. (29) at the initial approach"),
-    Output("critical_speed_1", "m/s", "v_c1 = f0 lambda (eq. 28)"),
+    Output("run_wavelength", "m", "lambda_run, the slip per approach cycle of a run at v_c1 "
+                                  "(asperity_measured_wavelength)"),
+    Output("critical_speed_1", "m/s", "v_c1 = f0 lambda / n (eq. 28), lambda eq. (29)'s or a run's by the method"),
     Output("contact_loss_speed", "m/s", "speed where following the surface needs more than g"),
     Output("mean_friction", "1", "mean friction coefficient, last half of the run"),
     Output("mean_deformation_friction", "1", "mean deformation friction, last half of the run"),

@@ -13,8 +13,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from faultslip.models.asperity.dynamics import (AsperityModel, analyse, choose_method, peak_speeds, simulate,
-                                         speed_sweep)
+from faultslip.models.asperity.dynamics import (MEASURED_WAVELENGTH_ERROR, AsperityModel, analyse, choose_method,
+                                                peak_speeds, simulate, speed_sweep)
 from faultslip.errors import InputError
 from faultslip.models.asperity import friction as contact
 from faultslip.models.asperity.scene import parse_asperity_scene
@@ -255,6 +255,18 @@ def test_the_run_wavelength_tends_to_eq_29_as_contacts_shorten_and_grows_with_th
     ratios = [line.wavelength / model.wavelength for line in found]
     assert all(later > earlier for earlier, later in zip(ratios, ratios[1:])) and ratios[-1] > 1.1
     assert all(line.cycles >= 4 and line.spread < 0.05 for line in found)
+
+
+def test_a_study_over_the_contact_length_moves_the_measured_critical_speed_not_eq_29s():
+    # the study's labelled dimension carries the contact length through; v_c1 = f0 lambda_run per cell
+    from faultslip.studies.grid import sweep
+
+    study = sweep(CONFIG, method="asperity_measured_wavelength", contact_length=["0.03 um", "0.3 um"])
+    speeds, run = study["critical_speed_1"].values, study["run_wavelength"].values
+    assert speeds == pytest.approx(10.0 * run, rel=1e-12)  # case 6: f0 = 10 Hz
+    assert speeds[1] > 1.1 * speeds[0] and study["wavelength"].values[0] == study["wavelength"].values[1]
+    assert study["contact_length"].attrs["units"] == "m"
+    assert (study["estimated_relative_error"].values == MEASURED_WAVELENGTH_ERROR).all()
 
 
 def test_a_wavelength_no_run_can_measure_names_what_to_use():
