@@ -16,10 +16,11 @@ def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[
     choice = choose_method(model, outputs, tolerance or settings["tolerance"], method or settings["method"])
     if choice.method == "asperity_wavelength":
         return f"{action}:asperity_wavelength", 0.0, "the critical speeds in closed form"
-    if choice.method == "asperity_measured_wavelength":  # one run of MEASURE_PERIODS natural periods at v_c1
+    if choice.method == "asperity_measured_wavelength":  # MEASURE_PERIODS natural periods at v_c1, at two rtols
         periods = MEASURE_PERIODS / model.natural_frequency
-        return (f"{action}:asperity_measured_wavelength", periods,
-                f"one run of {periods:.3g} s at v_c1 for the wavelength it slides")
+        return (f"{action}:asperity_measured_wavelength", 2 * periods,
+                f"two runs (rtol {CONVERGENCE_RTOLS[0]:g}, {CONVERGENCE_RTOLS[1]:g}) of {periods:.3g} s at v_c1 for the "
+                "wavelength they slide")
     runs = len(CONVERGENCE_RTOLS) if action == "run" else 1
     duration = settings["duration"]
     return (f"{action}:{choice.method}", duration * runs,

@@ -329,6 +329,8 @@ class _QuasiStaticSystem(_FullSystem):
 #: the quasi-static method's model error against asperity_LSODA, in the stick fraction and the mean friction
 #: (benchmarks/asperity_quasistatic_check.py measures it on random systems; a test reads the results)
 QUASISTATIC_ERROR = 0.05
+#: The loosest and tightest tolerances of :func:`converged_run`, and the step between them.
+CONVERGENCE_RTOLS = (1e-8, 1e-10, 1e-12)
 #: 1.5 times the largest error of the closed form's v_cn against the simulated n-loop lock over Table I and random
 #: systems, rounded up (benchmarks/asperity_wavelength_check.py; a test checks that the fit gives this value)
 WAVELENGTH_ERROR = 0.3
@@ -356,8 +358,9 @@ METHODS = {
         "name": "asperity_measured_wavelength", "friction_laws": "asperity (seed 004)",
         "domain": "critical speeds v_cn = f0 lambda_run / n only, lambda_run the median slip per approach cycle "
                   f"of one run of {MEASURE_PERIODS} natural periods at the closed form's v_c1",
-        "cost_model": f"one asperity_quasistatic run of {MEASURE_PERIODS} natural periods (asperity_LSODA where "
-                      "v_c1 is within a factor 2 of contact loss): ~0.05-1 s",
+        "cost_model": f"two asperity_quasistatic runs (rtol 1e-8 and 1e-10, the second its convergence check) of "
+                      f"{MEASURE_PERIODS} natural periods (asperity_LSODA where v_c1 is within a factor 2 of contact "
+                      "loss): ~0.1-2 s",
         "declared_error": f"{MEASURED_WAVELENGTH_ERROR:g} of the simulated critical speed, on the sweeps that set "
                           "asperity_wavelength's. Eq. (29) is the limit alpha -> 0 of eq. (22); a run slides further "
                           "per approach cycle where the contact length alpha is longer, and the lock follows the run "
@@ -739,14 +742,25 @@ def peak_speeds(sweep, variable: str = "mean_deformation_friction", prominence: 
 @dataclass
 class MeasuredWavelength:
     """The wavelength a run slides: ``wavelength`` (m) the median slip per approach cycle over ``cycles`` cycles,
-    ``spread`` their (largest - smallest) / median, and the ``run``."""
+    ``spread`` their (largest - smallest) / median, ``numerical_error`` its relative change from the run at the
+    looser rtol, and the (tighter) ``run``; ``elapsed`` covers both runs (s)."""
     wavelength: float
     cycles: int
     spread: float
     run: AsperityRun
+    numerical_error: float = 0.0
+    elapsed: float = 0.0
 
 
-def measured_wavelength(model: AsperityModel, rtol: float = 1e-8) -> MeasuredWavelength:
+def measured_wavelength(model: AsperityModel, rtols=CONVERGENCE_RTOLS[:2]) -> MeasuredWavelength:
+    """lambda_run at each of ``rtols`` (:func:`wavelength_of_run`): the tightest's, with its change from the one
+    before declared as ``numerical_error``, the convergence test every asperity integration gets."""
+    found = [wavelength_of_run(model, rtol) for rtol in rtols]
+    change = abs(found[-2].wavelength / found[-1].wavelength - 1.0) if len(found) > 1 else 0.0
+    return replace(found[-1], numerical_error=change, elapsed=sum(line.run.elapsed for line in found))
+
+
+def wavelength_of_run(model: AsperityModel, rtol: float = 1e-8) -> MeasuredWavelength:
     """lambda_run: the slip per approach cycle of one run at the closed form's v_c1, m.
 
     Eq. (29) integrates d(dh) / <Z'> over a climb: eq. (22) with the contact length alpha -> 0, contacts that follow
@@ -779,7 +793,8 @@ def measured_wavelength(model: AsperityModel, rtol: float = 1e-8) -> MeasuredWav
                           f"natural periods, fewer than {MEASURE_MIN_CYCLES}: no wavelength to measure; {advice}")
     per_cycle = np.abs(np.diff(slip[ends]))
     middle = float(np.median(per_cycle))
-    return MeasuredWavelength(middle, int(per_cycle.size), float(np.ptp(per_cycle) / middle), run)
+    return MeasuredWavelength(middle, int(per_cycle.size), float(np.ptp(per_cycle) / middle), run,
+                              elapsed=run.elapsed)
 
 
 # --------------------------------------------------------------------------- method choice and report
@@ -848,7 +863,9 @@ def report(model: AsperityModel, run: AsperityRun | None = None, choice: Asperit
             r.add(f"critical_speed_{n}", float(speed), "m/s", label=f"v_c{n} = f0 lambda_run / {n} (eq. 28)")
         r.add("critical_speed_error", MEASURED_WAVELENGTH_ERROR,
               label="declared error of v_cn against the simulated lock of n loops a forcing period")
-        r.add("computing_time", measured.run.elapsed, "s")
+        r.add("numerical_error", measured.numerical_error,
+              label=f"lambda_run's change from rtol {CONVERGENCE_RTOLS[0]:g} to {CONVERGENCE_RTOLS[1]:g} (measured)")
+        r.add("computing_time", measured.elapsed, "s")
     r.add("contact_loss_speed", model.contact_loss_speed, "m/s",
           label="speed where following the surface needs more than g")
     if choice is not None:
@@ -903,8 +920,6 @@ def run_dataset(run: AsperityRun):
                              **{k: v for k, (v, _) in run.model.describe().items()}})
 
 
-#: The loosest and tightest tolerances of :func:`converged_run`, and the step between them.
-CONVERGENCE_RTOLS = (1e-8, 1e-10, 1e-12)
 
 
 def statistics_difference(first: "Response", second: "Response") -> float:

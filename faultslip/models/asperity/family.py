@@ -35,8 +35,9 @@ def run(scene, method=None, tolerance=None) -> Result:
     tolerance = tolerance or settings["tolerance"]
     choice = choose_method(model, ("response",), tolerance, method or settings["method"])
     response, numerical, met, measured = None, 0.0, True, None
-    if choice.method == "asperity_measured_wavelength":
+    if choice.method == "asperity_measured_wavelength":  # its rtol change is measured too, and declared if larger
         measured = measured_wavelength(model)
+        choice = replace(choice, estimated_error=max(choice.estimated_error, measured.numerical_error))
     elif choice.method != "asperity_wavelength":  # converge or declare: the integration's own error is measured
         response, numerical, met = converged_run(model, settings["duration"], choice.method, tolerance)
         model_error = QUASISTATIC_ERROR if choice.method == "asperity_quasistatic" else 0.0

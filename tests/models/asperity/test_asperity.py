@@ -255,6 +255,7 @@ def test_the_run_wavelength_tends_to_eq_29_as_contacts_shorten_and_grows_with_th
     ratios = [line.wavelength / model.wavelength for line in found]
     assert all(later > earlier for earlier, later in zip(ratios, ratios[1:])) and ratios[-1] > 1.1
     assert all(line.cycles >= 4 and line.spread < 0.05 for line in found)
+    assert all(0 <= line.numerical_error < 1e-4 for line in found)  # rtol 1e-8 against 1e-10, measured each call
 
 
 def test_a_study_over_the_contact_length_moves_the_measured_critical_speed_not_eq_29s():
@@ -266,7 +267,7 @@ def test_a_study_over_the_contact_length_moves_the_measured_critical_speed_not_e
     assert speeds == pytest.approx(10.0 * run, rel=1e-12)  # case 6: f0 = 10 Hz
     assert speeds[1] > 1.1 * speeds[0] and study["wavelength"].values[0] == study["wavelength"].values[1]
     assert study["contact_length"].attrs["units"] == "m"
-    assert (study["estimated_relative_error"].values == MEASURED_WAVELENGTH_ERROR).all()
+    assert (study["estimated_relative_error"].values == MEASURED_WAVELENGTH_ERROR).all()  # the rtol change is less
 
 
 def test_a_wavelength_no_run_can_measure_names_what_to_use():
