@@ -439,8 +439,16 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
     output = check_study_output(output, file_format, inputs, overwrite)
     with output_lock(output, "faultslip sweep", overwrite=overwrite):
         try:
-            return _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression,
-                               file_format)
+            try:
+                return _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress, compression,
+                                   file_format)
+            except _ResumedFileDamaged as damaged:  # seen only once the file was written to: start over, once
+                warnings.warn(f"{output.name}.partial was damaged where the resume's checks could not see it "
+                              f"(its values and layout matched their records, but the file failed once written to: "
+                              f"{type(damaged.cause).__name__}: {damaged.cause}); computing the study from the start",
+                              stacklevel=2)
+                return _run_locked(study, output, chunk_cells, scheduler, workers, False, progress, compression,
+                                   file_format)
         except FaultslipError:
             raise
         except Exception as exc:  # zarr and HDF5 fail on a full disk in their own words, anywhere in the run
@@ -449,6 +457,20 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
                 output.with_name(output.name + ".progress.json").unlink(missing_ok=True)
                 raise full_disk_error(output, output.parent) from None
             raise
+
+
+class _ResumedFileDamaged(Exception):
+    """A resumed partial netCDF file whose library failed once written to or sealed (HDF5's own structures
+    damaged where no value, attribute or layout check reaches: one flipped bit, found by the fuzzer): the run
+    that raises it starts over."""
+
+    def __init__(self, cause: BaseException):
+        super().__init__(str(cause))
+        self.cause = cause
+
+
+#: what netCDF4/HDF5 raise on a file whose internal structures are damaged
+_DAMAGE_ERRORS = (RuntimeError, KeyError, IndexError, ValueError)
 
 
 def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int,
@@ -602,6 +624,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
             _abandon(exc, None, partial, ledger, output)
             raise
     pending = [i for i in range(len(blocks)) if i not in done]
+    resumed = bool(done) and file_format != "zarr"  # a netCDF file continued: HDF5 may fail on damage only now
     workers, reason = choose_execution(study, len(pending), workers, scheduler)
     window = max(workers, 1) + 1
     if scheduler is None and workers > 1 and isinstance(writer, _ChunkWriter):
@@ -671,15 +694,24 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         if isinstance(exc, OSError):
             raise InputError(f"writing {partial.name} failed: {exc.strerror or exc}; "
                              "'--resume' continues once the cause is fixed") from None
+        if resumed and isinstance(exc, _DAMAGE_ERRORS):
+            raise _ResumedFileDamaged(exc) from exc
         raise
-    writer.close()
-    _shutdown(executor)
     if file_format == "zarr":  # each block's digest goes with the store: a conversion checks every block by it
+        writer.close()
+        _shutdown(executor)
         set_block_digests(partial, {",".join(str(blocks[index][name].start) for name in study.dims): digest
                                     for index, digest in digests.items()})
         finish_store(partial, output)
     else:
-        seal(partial)
+        try:
+            writer.close()
+            _shutdown(executor)
+            seal(partial)
+        except _DAMAGE_ERRORS as exc:
+            if resumed:
+                raise _ResumedFileDamaged(exc) from exc
+            raise
         commit(partial, output)
     if ledger.exists():
         ledger.unlink()

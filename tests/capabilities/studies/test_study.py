@@ -489,6 +489,52 @@ def test_an_untouched_partial_file_resumes_with_its_layout_unchanged(study, tmp_
     assert run_study(study, out, chunk_cells=30, workers=1, resume=True, compression=compression)["resumed_blocks"] == 3
 
 
+@pytest.mark.parametrize("where", ["seal", "store"])
+def test_a_resumed_file_that_fails_once_written_to_is_computed_from_the_start(study, tmp_path, monkeypatch, where):
+    """One flipped bit in HDF5's own structures passed every check of the resume (values, attributes, layout) and
+    failed only when the continued file was written or sealed ("Can't open HDF5 attribute", found by the fuzzer):
+    the run says so and starts over once, ending on the uninterrupted run's values, not a traceback."""
+    import faultslip.studies.streaming as study_module
+
+    out = tmp_path / "s.nc"
+    _interrupted(study, out, monkeypatch)
+    failed = {"n": 0}
+
+    def damaged(original):
+        def call(*args, **kwargs):
+            if not failed["n"]:
+                failed["n"] += 1
+                raise RuntimeError("NetCDF: Can't open HDF5 attribute")
+            return original(*args, **kwargs)
+        return call
+
+    if where == "seal":
+        monkeypatch.setattr(study_module, "seal", damaged(study_module.seal))
+    else:
+        for writer in (study_module._NetcdfWriter, study_module._ChunkWriter):  # whichever writes this file
+            monkeypatch.setattr(writer, "store", damaged(writer.store))
+    with pytest.warns(UserWarning, match="damaged where the resume's checks could not see it.*from the start"):
+        summary = run_study(study, out, chunk_cells=30, workers=1, resume=True)
+    assert summary["resumed_blocks"] == 0 and failed["n"] == 1
+    assert not out.with_name("s.nc.partial").exists() and not out.with_name("s.nc.progress.json").exists()
+    fresh = tmp_path / "fresh.nc"
+    run_study(study, fresh, chunk_cells=30, workers=1)
+    with xr.open_dataset(out) as a, xr.open_dataset(fresh) as b:
+        xr.testing.assert_identical(a.drop_attrs(), b.drop_attrs())
+
+
+def test_a_fresh_run_whose_file_fails_is_not_retried(study, tmp_path, monkeypatch):
+    # only a resumed file starts over: a fresh one failing has another cause, and it is not hidden
+    import faultslip.studies.streaming as study_module
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("NetCDF: HDF error")
+
+    monkeypatch.setattr(study_module, "seal", broken)
+    with pytest.raises(RuntimeError, match="HDF error"):
+        run_study(study, tmp_path / "s.nc", chunk_cells=30, workers=1)
+
+
 def test_a_progress_record_without_a_layout_starts_the_run_over(study, tmp_path, monkeypatch):
     """An interrupted run of a faultslip that recorded no layout: its partial file's attributes cannot be checked."""
     from faultslip.io import gate
