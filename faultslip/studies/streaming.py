@@ -473,6 +473,21 @@ class _ResumedFileDamaged(Exception):
 _DAMAGE_ERRORS = (RuntimeError, KeyError, IndexError, ValueError)
 
 
+def _file_damage(exc: BaseException, kinds=_DAMAGE_ERRORS) -> bool:
+    """Whether ``exc`` is the netCDF library failing on a damaged file, not a worker pool that broke (a
+    BrokenExecutor is a RuntimeError too)."""
+    from concurrent.futures import BrokenExecutor
+
+    return isinstance(exc, kinds) and not isinstance(exc, BrokenExecutor)
+
+
+def _damaged_output(output: Path, exc: BaseException) -> InputError:
+    """The sentence for a finished output that matched its checksum but failed once written to."""
+    return InputError(f"{output.name} matches its checksum, but its HDF5 structures failed once written to "
+                      f"({type(exc).__name__}: {exc}); it is left as it was: run the study again instead of "
+                      "--retry-failed")
+
+
 def _usable_resume(partial: Path, ledger: Path, fingerprint: str, blocks: int,
                    resume: bool) -> tuple[set, list, dict, str | None]:
     """Blocks already on disk from an interrupted run, the cells of theirs that failed, each block's digest and the
@@ -694,7 +709,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
         if isinstance(exc, OSError):
             raise InputError(f"writing {partial.name} failed: {exc.strerror or exc}; "
                              "'--resume' continues once the cause is fixed") from None
-        if resumed and isinstance(exc, _DAMAGE_ERRORS):
+        if resumed and _file_damage(exc):
             raise _ResumedFileDamaged(exc) from exc
         raise
     if file_format == "zarr":  # each block's digest goes with the store: a conversion checks every block by it
@@ -709,7 +724,7 @@ def _run_locked(study, output, chunk_cells, scheduler, workers, resume, progress
             _shutdown(executor)
             seal(partial)
         except _DAMAGE_ERRORS as exc:
-            if resumed:
+            if resumed and _file_damage(exc):
                 raise _ResumedFileDamaged(exc) from exc
             raise
         commit(partial, output)
@@ -803,7 +818,11 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
         blocks = [{name: slice(cell[name], cell[name] + 1) for name in study.dims} for cell in cells]
         workers, reason = choose_execution(study, len(blocks), workers, scheduler)
         executor, label = _executor(scheduler, workers)
-        nc = open_for_append(partial) if file_format == "netcdf" else None
+        try:
+            nc = open_for_append(partial) if file_format == "netcdf" else None
+        except RuntimeError as exc:
+            remove_store(partial)
+            raise _damaged_output(output, exc) from None
         still, recovered = [], []
 
         def stored_cell(index, result):
@@ -829,16 +848,25 @@ def retry_failed(study, output, *, scheduler: str | None = None, workers: int = 
             run_windowed(executor, guarded_task if executor is None else worker_task,
                          ((i, (compute_block, study, block)) for i, block in enumerate(blocks)), stored_cell,
                          window=max(workers, 1) + 1, on_error=failed_cell)
-        except BaseException:
+        except BaseException as exc:
             _shutdown(executor, interrupted=True)
             if nc is not None:
-                nc.close()
+                try:
+                    nc.close()
+                except RuntimeError:  # the file already failed: what matters is the first error
+                    pass
             remove_store(partial)
+            if nc is not None and _file_damage(exc, RuntimeError):
+                raise _damaged_output(output, exc) from None
             raise
         _shutdown(executor)
         if nc is not None:
-            nc.close()
-            seal(partial)
+            try:
+                nc.close()
+                seal(partial)
+            except RuntimeError as exc:
+                remove_store(partial)
+                raise _damaged_output(output, exc) from None
             commit(partial, output)
         else:  # the blocks holding the recovered cells get their digests anew, from what was just written
             update_block_digests(partial, [cells[index] for index in recovered])

@@ -535,6 +535,30 @@ def test_a_fresh_run_whose_file_fails_is_not_retried(study, tmp_path, monkeypatc
         run_study(study, tmp_path / "s.nc", chunk_cells=30, workers=1)
 
 
+@pytest.mark.parametrize("where", ["seal", "open_for_append"])
+def test_a_retry_on_an_output_that_fails_once_written_to_is_one_sentence_and_keeps_it(study, tmp_path, monkeypatch,
+                                                                                     where):
+    """--retry-failed trusts an output that matches its checksum; HDF5 damage no checksum sees fails only when its
+    working copy is written: one sentence, the output and its ledger as they were, no partial copy left."""
+    import faultslip.studies.streaming as study_module
+
+    out = tmp_path / "s.nc"
+    run_study(study, out, chunk_cells=30, workers=1)
+    first = {name: 0 for name in study.dims}
+    study_module._write_failure_ledger(out, study, study.fingerprint(),
+                                       [{"index": first, "values": {}, "reason": "a solver failure"}])
+    before, ledger = out.read_bytes(), study_module.failure_ledger(out).read_bytes()
+
+    def damaged(*args, **kwargs):
+        raise RuntimeError("NetCDF: Can't open HDF5 attribute")
+
+    monkeypatch.setattr(study_module, where, damaged)
+    with pytest.raises(InputError, match="matches its checksum, but its HDF5 structures failed.*run the study again"):
+        study_module.retry_failed(study, out, workers=1)
+    assert out.read_bytes() == before and study_module.failure_ledger(out).read_bytes() == ledger
+    assert not out.with_name("s.nc.partial").exists()
+
+
 def test_a_progress_record_without_a_layout_starts_the_run_over(study, tmp_path, monkeypatch):
     """An interrupted run of a faultslip that recorded no layout: its partial file's attributes cannot be checked."""
     from faultslip.io import gate
