@@ -23,6 +23,7 @@ import sys
 import tempfile
 import time
 import warnings
+from concurrent.futures import BrokenExecutor
 from pathlib import Path
 
 import numpy as np
@@ -476,8 +477,6 @@ _DAMAGE_ERRORS = (RuntimeError, KeyError, IndexError, ValueError)
 def _file_damage(exc: BaseException, kinds=_DAMAGE_ERRORS) -> bool:
     """Whether ``exc`` is the netCDF library failing on a damaged file, not a worker pool that broke (a
     BrokenExecutor is a RuntimeError too)."""
-    from concurrent.futures import BrokenExecutor
-
     return isinstance(exc, kinds) and not isinstance(exc, BrokenExecutor)
 
 
