@@ -16,6 +16,7 @@ command whose units were seen before starts without pint (0.13 s of a closed-for
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import importlib.util
@@ -28,6 +29,11 @@ import stat
 import sys
 import tempfile
 from pathlib import Path
+
+try:
+    import fcntl
+except ImportError:  # not POSIX: the unit memo is written unlocked
+    fcntl = None
 
 from faultslip.constants import JULIAN_YEAR, STANDARD_GRAVITY  # noqa: F401 (re-exported)
 import numpy as np
@@ -151,41 +157,72 @@ def _read_memo_file(path: Path) -> bytes:
         return stream.read(MEMO_BYTES)
 
 
+def _stored_memo(path: Path) -> dict:
+    """The factors a memo file holds, or {} where it is missing, damaged or stale."""
+    try:
+        stored = json.loads(_read_memo_file(path).decode("utf-8"))
+        # checked before trusted: a memo whose factors do not match the digest written with them (one changed
+        # digit shifted every chain magnitude by 0.67) is dropped, and pint answers afresh
+        if (stored.get("pint") == _pint_fingerprint() and isinstance(stored.get("factors"), dict)
+                and stored.get("checksum") == _memo_checksum(stored["pint"], stored["factors"])):
+            return {key: (value[0], value[1]) for key, value in stored["factors"].items()
+                    if isinstance(value, list) and len(value) == 2 and isinstance(value[0], float)
+                    and math.isfinite(value[0]) and isinstance(value[1], str)}
+    except (OSError, ValueError, AttributeError, TypeError):
+        pass
+    return {}
+
+
 def _memo() -> dict:
     """The memo of pint's factors, read from disk once; a missing, damaged or stale memo is empty."""
     global _MEMO
     if _MEMO is None:
-        _MEMO = {}
-        try:
-            stored = json.loads(_read_memo_file(_memo_path()).decode("utf-8"))
-            # checked before trusted: a memo whose factors do not match the digest written with them (one changed
-            # digit shifted every chain magnitude by 0.67) is dropped, and pint answers afresh
-            if (stored.get("pint") == _pint_fingerprint() and isinstance(stored.get("factors"), dict)
-                    and stored.get("checksum") == _memo_checksum(stored["pint"], stored["factors"])):
-                _MEMO = {key: (value[0], value[1]) for key, value in stored["factors"].items()
-                         if isinstance(value, list) and len(value) == 2 and isinstance(value[0], float)
-                         and math.isfinite(value[0]) and isinstance(value[1], str)}
-        except (OSError, ValueError, AttributeError, TypeError):
-            pass
+        _MEMO = _stored_memo(_memo_path())
     return _MEMO
 
 
+@contextlib.contextmanager
+def _memo_lock(path: Path):
+    """An exclusive lock on ``path``'s lock file while its memo is read, merged and replaced: processes that
+    learn units at once (a pool, a test run's workers) would otherwise each write their own reading and drop the
+    others' entries. Where locks are not available the write goes on unlocked."""
+    if fcntl is None:
+        yield
+        return
+    flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0)
+    try:
+        handle = os.open(path.with_name(path.name + ".lock"), flags, 0o600)
+    except OSError:
+        yield
+        return
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(handle)  # closing releases the lock
+
+
 def _remember(key: str, answer: tuple) -> None:
-    """Keep one of pint's answers; the file is replaced atomically, and a failed write costs nothing."""
+    """Keep one of pint's answers: merged, under a lock, with what other processes wrote since this one read the
+    memo; the file is replaced atomically, and a failed write costs nothing."""
     memo = _memo()
     memo[key] = answer
-    for old in list(memo)[: max(0, len(memo) - MEMO_ENTRIES)]:
-        memo.pop(old)
     path = _memo_path()
     temporary = None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=".unit_factors.", suffix=".tmp")
-        factors = {k: list(v) for k, v in memo.items()}
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            json.dump({"pint": _pint_fingerprint(), "factors": factors,
-                       "checksum": _memo_checksum(_pint_fingerprint(), factors)}, stream)
-        os.replace(temporary, path)
+        with _memo_lock(path):
+            merged = {**_stored_memo(path), **memo}
+            for old in list(merged)[: max(0, len(merged) - MEMO_ENTRIES)]:
+                merged.pop(old)
+            handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=".unit_factors.", suffix=".tmp")
+            factors = {k: list(v) for k, v in merged.items()}
+            with os.fdopen(handle, "w", encoding="utf-8") as stream:
+                json.dump({"pint": _pint_fingerprint(), "factors": factors,
+                           "checksum": _memo_checksum(_pint_fingerprint(), factors)}, stream)
+            os.replace(temporary, path)
+            temporary = None
+        memo.update(merged)
     except OSError:
         if temporary is not None:
             try:

@@ -336,6 +336,7 @@ FILE_CALL_EXCEPTIONS = {
     ("faultslip.units", "_read_memo_file"): "core, below io/: its own per-environment cache of pint's factors, no user "
                                            "path; opened O_NOFOLLOW, non-blocking, regular files only, bounded",
     ("faultslip.units", "_remember"): "the same cache, written atomically; a failed write costs only a lookup",
+    ("faultslip.units", "_memo_lock"): "the same cache's lock file beside it, opened O_NOFOLLOW; no user path",
     ("faultslip.cli.main", "main"): "os.devnull over a closed stdout (a broken pipe), no user path",
 }
 

@@ -189,6 +189,25 @@ def test_a_memo_with_one_changed_digit_is_not_trusted(monkeypatch, tmp_path):
     assert json.loads(path.read_text())["factors"]["length\x1fkm"] == [1000.0, ""]  # rewritten from pint
 
 
+def test_processes_that_learn_units_at_once_keep_each_others_entries(monkeypatch, tmp_path):
+    """Each process read the memo once and wrote back its own reading, so of processes learning units at once the
+    last writer dropped the others' entries (a test run's workers did: a later command then loaded pint). Each write
+    now merges, under a lock, what is on disk: eight processes, each learning its own unit, leave all eight."""
+    import subprocess
+    import sys
+
+    fu = _fresh_memo(monkeypatch, tmp_path)
+    units = ["1 km", "1 mi", "1 ft", "1 in", "1 yd", "1 nmi", "1 mm", "1 um"]
+    code = ("import sys, time; import faultslip.units as fu; fu._memo(); time.sleep(0.5); "
+            "fu.to_si(sys.argv[1], 'length', 'x')")
+    environment = {**__import__("os").environ, "XDG_CACHE_HOME": str(tmp_path)}
+    running = [subprocess.Popen([sys.executable, "-c", code, text], env=environment) for text in units]
+    assert all(process.wait(timeout=120) == 0 for process in running)
+    stored = json.loads(fu._memo_path().read_text())
+    assert {f"length\x1f{text.split()[1]}" for text in units} <= set(stored["factors"])
+    assert stored["checksum"] == fu._memo_checksum(stored["pint"], stored["factors"])
+
+
 @pytest.mark.parametrize("planted", ["symlink", "fifo"])
 def test_a_memo_path_that_is_a_link_or_a_fifo_is_not_read(monkeypatch, tmp_path, planted):
     """The memo is opened without following a link and without waiting on a FIFO: a link to another file's
