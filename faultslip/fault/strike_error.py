@@ -102,3 +102,48 @@ def declared_for(fault, rows: list | None = None) -> float:
     """:func:`declared` at a 3-D fault's own patch (:func:`groups_of`)."""
     groups = groups_of(fault)
     return declared(groups["aspect_measured"], rows, groups["burial"], groups["width_over_nucleation"])
+
+
+def length_note(fault_length: float, width: float, burial: float, width_over_nucleation: float,
+                rows: list | None = None) -> str:
+    """What a 2-D scene's ``fault_length`` says of the rung above it: the 2-D answer is that of a fault infinitely
+    long along strike, and a 3-D fault ``fault_length`` long differs from it by up to :func:`declared` at its patch
+    (L / W, ``burial`` and ``width_over_nucleation``), where the measured cells bound it.
+
+    Parameters
+    ----------
+    fault_length : float
+        The scene's length along strike (m).
+    width : float
+        The velocity-weakening width down dip (m).
+    burial, width_over_nucleation : float
+        The patch's top over its width, and its width over h*.
+    rows : list of dict, optional
+        The measured cells; the shipped table's otherwise.
+
+    Returns
+    -------
+    str
+        One sentence for the report.
+    """
+    rows = rows if rows is not None else load_table()["rows"]
+    aspect = fault_length / width if width > 0 else math.nan
+    error = declared(aspect, rows, burial, width_over_nucleation)
+    head = (f"the scene's fault_length ({fault_length / 1e3:g} km, L / W {aspect:.3g}) sets Mw only: the 2-D answer is "
+            "that of a fault infinitely long along strike, ")
+    if math.isfinite(error):
+        return head + (f"and a 3-D fault that long would differ from it by up to {error:.0%} (the 2-D fault's "
+                       "declared model error against 3-D at its L / W, W / h* and burial, "
+                       "benchmarks/fault_3d_model_error.py); to include it, state the fault as a 3-D scene "
+                       "(family fault_3d)")
+    measured = [row for row in rows if row.get("model_error") is not None]
+
+    def span(key: str) -> str:
+        values = [float(row[key]) for row in measured if key in row]
+        return f"{min(values):.2g}-{max(values):.2g}" if values else "none"
+
+    return head + (f"and its model error against a 3-D fault that long is not declared: the 3-D comparison "
+                   f"(benchmarks/fault_3d_model_error.py) measured patches of L / W {span('aspect')}, burial "
+                   f"{span('burial')} and W / h* {span('width_over_nucleation')}, and none bounds this one (burial "
+                   f"{burial:.2g}, W / h* {width_over_nucleation:.2g}): a bound is no longer, no deeper and no wider "
+                   "in W / h*, and its 3-D run gave a recurrence")

@@ -15,7 +15,7 @@ from faultslip import __version__
 from faultslip.models.fault_2d.analysis import (DISCRETISATION_ORDER, METHODS, MIN_RESOLUTION,  # noqa: F401
                                                    discretisation_error, moment_magnitude, sequence_discretisation,
                                                    summarise)
-from faultslip.fault import dip_error
+from faultslip.fault import dip_error, strike_error
 from faultslip.models.fault_2d import bp3_outputs
 from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
@@ -196,6 +196,8 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
         report.note(note)
     if run.resumed_from is not None:
         report.note(f"continued from the checkpoint at {run.resumed_from / YEAR:.6g} yr")
+    if loaded.fault_length is not None and fault.plane == "antiplane":
+        report.note(length_note(loaded))
     note_origin(report, loaded.origin)
     return Result("fault_2d", report, to_dataset(loaded, run), lambda: cumulative_slip_figure(run),
                   extras={"run": run, "slip_rate_figure": lambda: slip_rate_figure(run)})
@@ -371,7 +373,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
     if declared is None or declared > tolerance:
         result.note(f"the 2-D rung's declared error {'(none)' if declared is None else f'{declared:.2g}'} does not "
                     f"meet the tolerance {tolerance:g}: run longer ([run] duration, or --allow-large) or on finer "
-                    "elements; no rung above it is available yet")
+                    "elements (the 2-D fault is the top rung of a fault infinitely long along strike)")
     return result
 
 
@@ -456,9 +458,18 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
     result.add("estimated_seconds", estimated, "s", label="the 2-D runs' cost, each estimated before it started")
     result.add("cpu_time", cpu, "s", label="the CPU time the 2-D rung used")
     result.add("runs", longer + 1, label="2-D runs (a run that ends unsettled is run again, twice as long)")
-    result.note("the 2-D rung's declared error is numerical (element size, settling, rtol): no richer rung above "
-                "it declares a model error yet")
+    result.note("the 2-D rung's declared error is numerical (element size, settling, rtol): the scene is a fault "
+                "infinitely long along strike, for which the 2-D fault is the top rung; a fault finite along strike "
+                "is a 3-D scene (family fault_3d), whose 2-D rung adds its model error against 3-D")
     return result
+
+
+def length_note(loaded: Fault2DScene) -> str:
+    """The sentence a 2-D scene with a ``fault_length`` gets: its answer is an infinitely long fault's, and the
+    3-D fault that long differs by the declared model error, where one is declared
+    (:func:`faultslip.fault.strike_error.length_note`)."""
+    zone = groups(loaded.fault.description())
+    return strike_error.length_note(loaded.fault_length, zone["width"], zone["burial"], zone["width_over_nucleation"])
 
 
 def starts_run(scene, allow_large: bool = False, allow_underresolved: bool = False,

@@ -169,6 +169,10 @@ def test_a_tolerance_the_one_slider_cannot_meet_runs_the_2d_fault_of_the_same_sc
     assert result.values["elements"] == 80  # the scene's own fault, not a rebuilt one
     assert result.estimated_relative_error <= 0.1
     assert result["cpu_time"].magnitude > 0 and result["estimated_seconds"].magnitude > 0
+    # the scene's fault_length (Mw only) is named with what the rung above, the 3-D fault, would declare: its
+    # burial-0 patch is shallower than every patch the 3-D comparison measured, so nothing is
+    assert any("infinitely long along strike" in note and "not declared" in note for note in result.notes)
+    assert any("the 2-D fault is the top rung" in note for note in result.notes)
 
 
 def test_the_cli_gives_ranges_in_seconds_and_metres():

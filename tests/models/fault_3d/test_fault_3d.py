@@ -318,6 +318,20 @@ def test_the_2d_rungs_model_error_is_bounded_by_shorter_narrower_shallower_cells
     assert declared(9.0, rows, 0.2, 2.0) == math.inf  # its nearest bounding cell's 3-D patch crept
 
 
+def test_a_2d_scenes_fault_length_names_the_3d_model_error_or_why_none_is_declared():
+    from faultslip.fault.strike_error import declared, length_note
+
+    rows = [{"aspect": 2.0, "burial": 0.1, "width_over_nucleation": 1.0, "model_error": 3.0},
+            {"aspect": 4.0, "burial": 0.1, "width_over_nucleation": 1.0, "model_error": 1.5}]
+    # 50 km of a 10 km patch (L / W 5), buried 0.2 W: the L / W 4 cell bounds it
+    bounded = length_note(50e3, 10e3, 0.2, 1.2, rows)
+    assert declared(5.0, rows, 0.2, 1.2) == 1.5 and "differ from it by up to 150%" in bounded
+    assert "infinitely long along strike" in bounded
+    # the same fault breaking the surface (burial 0): shallower than every measured patch, nothing declared
+    surface = length_note(50e3, 10e3, 0.0, 1.2, rows)
+    assert "not declared" in surface and "burial 0.1-0.1" in surface and "differ" not in surface
+
+
 def test_the_shipped_model_error_table_is_the_benchmarks_measurement_times_the_margin():
     from faultslip.fault.strike_error import MARGIN, load_table
 
