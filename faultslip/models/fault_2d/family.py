@@ -354,6 +354,8 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
     if method == "one_slider":
         return one_slider(loaded)
     settle = min(SETTLE_TOLERANCE, tolerance) if tolerance is not None else SETTLE_TOLERANCE
+    if tolerance is not None and method == "fault_2d" and not asked:
+        refuse_unreachable(loaded, tolerance)
     if method == "fault_2d" or tolerance is None:
         if richardson:
             return richardson_run(loaded, allow_large=allow_large, settle_tolerance=settle)
@@ -366,6 +368,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
     declared = cheap.estimated_relative_error
     if declared is not None and declared <= tolerance:
         return cheap
+    refuse_unreachable(loaded, tolerance, cheap)
     why = (f"the one slider's declared model error {declared:.2g} exceeds the tolerance {tolerance:g}"
            if declared is not None else "the scene lies outside the one slider's calibration")
     result = escalate(loaded, why, settle, allow_large, allow_underresolved, progress, cheap)
@@ -375,6 +378,32 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
                     f"meet the tolerance {tolerance:g}: run longer ([run] duration, or --allow-large) or on finer "
                     "elements (the 2-D fault is the top rung of a fault infinitely long along strike)")
     return result
+
+
+def refuse_unreachable(loaded: Fault2DScene, tolerance: float, cheap: Result | None = None) -> None:
+    """Refuse, before any work, a ``tolerance`` below what the 2-D run can declare (:func:`floor_error`) and, with
+    ``cheap`` (the one slider's answer), below what that declares too: name what would meet it."""
+    floor = floor_error(loaded)
+    if floor <= tolerance or (cheap is not None and cheap.estimated_relative_error is not None
+                              and cheap.estimated_relative_error <= tolerance):
+        return
+    resolution = loaded.fault.process_zone() / loaded.fault.element_size
+    fix = ("a smaller rtol ([run] rtol)" if 10 * loaded.rtol >= discretisation_error(resolution)
+           else "smaller elements ([fault] element_size)")
+    declares = (f"declares at least {floor:.2g} in recurrence" if math.isfinite(floor) else
+                f"declares no error (under-resolved: below {MIN_RESOLUTION:g} elements per L_b)")
+    head = "no rung meets" if cheap is not None else "the 2-D fault cannot meet"
+    raise InputError(f"{loaded.name}: {head} the tolerance {tolerance:g}: the 2-D fault on elements resolving "
+                     f"L_b {resolution:.3g} times at rtol {loaded.rtol:g} {declares}"
+                     + ("" if cheap is None else ", the one slider more") + f"; use {fix} or a looser tolerance")
+
+
+def floor_error(loaded: Fault2DScene) -> float:
+    """The least relative error a 2-D run of ``loaded`` can declare, known before it runs: the element size's
+    (:func:`discretisation_error` at its resolution, a period-1 sequence's, the smallest) and 10 rtol; the
+    sequence's own settling can only add to it."""
+    resolution = loaded.fault.process_zone() / loaded.fault.element_size
+    return max(discretisation_error(resolution), 10 * loaded.rtol)
 
 
 def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> Result:

@@ -175,6 +175,27 @@ def test_a_tolerance_the_one_slider_cannot_meet_runs_the_2d_fault_of_the_same_sc
     assert any("the 2-D fault is the top rung" in note for note in result.notes)
 
 
+def test_a_tolerance_below_what_the_2d_fault_can_declare_is_refused_before_any_work(cli, monkeypatch):
+    """BP1's scene on 100 m elements resolves L_b = 342 m 3.4 times, and the element size alone declares 0.38 % in
+    recurrence (the bound of analysis.discretisation_error): a tolerance of 0.3 % ran the 2-D fault for its CPU and
+    then warned. It is refused before any run, naming the fix; at 0.5 % it runs (stood in for here)."""
+    from faultslip.models.fault_2d import analysis, family
+    from conftest import assert_clean_error
+
+    ran = []
+    monkeypatch.setattr(family, "simulate_fault", lambda *args, **kwargs: ran.append(args) or 1 / 0)
+    scene = read_fault_2d_scene(CONFIGS / "rsf_fault_bp1.toml")
+    floor = analysis.discretisation_error(scene.fault.process_zone() / scene.fault.element_size)
+    assert family.floor_error(scene) == floor and 0.003 < floor < 0.005
+    for args in (("--tolerance", "0.003"), ("--model", "fault_2d", "--tolerance", "1e-9")):
+        refused = cli("run", CONFIGS / "rsf_fault_bp1.toml", *args)
+        assert_clean_error(refused, "cannot meet" if "--model" in args else "no rung meets", "element_size")
+    assert not ran
+    with pytest.raises(ZeroDivisionError):  # 0.5 % is reachable: the 2-D run starts
+        family.run(scene, tolerance=0.005)
+    assert len(ran) == 1
+
+
 def test_the_cli_gives_ranges_in_seconds_and_metres():
     done = subprocess.run([sys.executable, "-m", "faultslip.cli", "run", str(CONFIGS / "seas_bp1.toml"), "--model",
                            "one_slider", "--json"], capture_output=True, text=True)
