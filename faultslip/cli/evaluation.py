@@ -130,7 +130,7 @@ def cmd_model_error(args) -> int:
     """The shipped calibration of one slider against the 2-D fault, a scene's declared error, the chart."""
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene] if args.scene else [])["plot"]
     tolerance = _number(args.tolerance, "--tolerance") if args.tolerance is not None else None
-    result = faultslip.models.model_error(args.scene, tolerance)
+    result = faultslip.models.model_error(args.scene, tolerance, include_3d=args.include_3d)
     report = result.report()
     if plot:
         with _locked(plot):

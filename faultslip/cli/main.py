@@ -583,6 +583,8 @@ def _evaluation_commands(commands) -> None:
     error.add_argument("scene", nargs="?", help="a rate-and-state fault scene: its declared model error")
     error.add_argument("--tolerance", help="the model error allowed: where one slider suffices")
     error.add_argument("--plot", help="draw the model-error map to FILE.png")
+    error.add_argument("--include-3d", action="store_true",
+                       help="on a 2-D fault scene, add the 3-D fault its fault_length states (budgeted first)")
     _overwrite_and_json(error)
     error.set_defaults(handler="evaluation:cmd_model_error")
 

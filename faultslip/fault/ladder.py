@@ -415,21 +415,24 @@ def with_model_error(rung: dict, model_error: float) -> dict:
             "slip_range": (rung["slip"] * (1 - error), rung["slip"] * (1 + error))}
 
 
-def rung_of(name: str, result: Result, cpu: float) -> dict:
+def rung_of(name: str, result: Result, cpu: float, slip: str = "surface") -> dict:
     """A rung's row for :func:`ladder_report`: its recurrence (s) and slip (m), their declared ranges (the one
-    slider's own 95 % ranges; a 2-D or 3-D run's from its declared relative error), that error and the CPU (s)."""
+    slider's own 95 % ranges; a 2-D or 3-D run's from its declared relative error), that error and the CPU (s).
+    ``slip``: "surface", the surface slip per event where the rung gives one (the 2-D ladder's), or "mean", the
+    slip averaged over the velocity-weakening zone (what the 3-D fault gives: a ladder with it compares that)."""
     values = result.values
 
     def pair(key):
         band = values[key] if key in result else None
         return None if band is None else tuple(float(v.to("s" if "recurrence" in key else "m").magnitude) for v in band)
 
-    slip_key = "slip_per_event" if "slip_per_event" in result and values["slip_per_event"] is not None \
-        else "mean_slip_per_event"
+    surface = slip == "surface" and "slip_per_event" in result and values["slip_per_event"] is not None
+    slip_key = "slip_per_event" if surface or "mean_slip_per_event" not in result else "mean_slip_per_event"
+    own_range = "slip_per_event_range" if slip_key == "slip_per_event" else "mean_slip_per_event_range"
     return {"name": name, "cpu_time": cpu, "recurrence": float(values["recurrence_interval"].to("s").magnitude),
             "recurrence_range": pair("recurrence_range") if name == "one_slider" else _declared(result, "recurrence_interval", "s"),
             "slip": float(values[slip_key].to("m").magnitude),
-            "slip_range": pair("slip_per_event_range") if name == "one_slider" else _declared(result, slip_key, "m"),
+            "slip_range": pair(own_range) if name == "one_slider" else _declared(result, slip_key, "m"),
             "error": result.estimated_relative_error}
 
 

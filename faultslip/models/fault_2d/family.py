@@ -32,7 +32,7 @@ from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
 from faultslip.models.fault_2d.cells import CELLS, read_scene
 from faultslip.models.fault_2d.scene import Fault2DScene, from_one_slider, read_fault_2d_scene
-from faultslip.contract.registry import Example, Family, register
+from faultslip.contract.registry import Example, Family, load, register
 from faultslip.contract.result import Result
 from faultslip.models.fault_2d.figures import cumulative_slip_figure, ladder_figure, slip_rate_figure
 from faultslip.units import ELAPSED_TIME_ATTRS
@@ -287,7 +287,7 @@ def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: R
 
 #: The rungs of the ladder a fault scene runs on, cheapest first (``faultslip run SCENE --model NAME``): each reads
 #: the same scene, the one description of the fault (:mod:`faultslip.fault.ladder`).
-RUNGS = ("one_slider", "fault_2d")
+RUNGS = ("one_slider", "fault_2d", "fault_3d")
 #: How many times an escalated run that ends unsettled is run again, twice as long, while the budget allows.
 LONGER_RUNS = 2
 
@@ -323,7 +323,9 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
     scene : str, path or Fault2DScene
         A fault scene.
     method : str, optional
-        A rung of :data:`RUNGS` by name, or ``auto``.
+        A rung of :data:`RUNGS` by name, or ``auto``. ``fault_3d`` reads the scene as a fault ``fault_length``
+        long (:func:`faultslip.models.fault_3d.family.refine_two_d`); ``auto`` never does: a 2-D scene is a fault
+        infinitely long along strike.
     tolerance : float, optional
         The relative error allowed. ``auto`` runs the one slider where its declared model error meets it, and
         the 2-D fault of the same scene otherwise; without it, ``auto`` runs the 2-D fault. The 2-D run's
@@ -353,6 +355,10 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
                          + ("" if method == "one_slider" else " (a tolerance may stop at the one slider)"))
     if method == "one_slider":
         return one_slider(loaded)
+    if method == "fault_3d":  # the rung above, asked for by name: the scene read as a fault fault_length long
+        if asked:
+            raise InputError(f"{asked[0]} runs the 2-D fault itself again: ask for --model fault_2d")
+        return load("fault_3d").refine(loaded, "asked for by name", allow_large=allow_large, progress=progress)
     settle = min(SETTLE_TOLERANCE, tolerance) if tolerance is not None else SETTLE_TOLERANCE
     if tolerance is not None and method == "fault_2d" and not asked:
         refuse_unreachable(loaded, tolerance)
@@ -406,7 +412,7 @@ def floor_error(loaded: Fault2DScene) -> float:
     return max(discretisation_error(resolution), 10 * loaded.rtol)
 
 
-def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> Result:
+def ladder(scene, tolerance: float | None = None, allow_large: bool = False, include_3d: bool = False) -> Result:
     """Every rung of the ladder on one scene: its answer, its declared range and its cost, and the chart
     (``faultslip model-error SCENE --plot``).
 
@@ -418,6 +424,9 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
         A relative error allowed: which rungs meet it.
     allow_large : bool
         Run the 2-D rung beyond the budget.
+    include_3d : bool
+        Add the rung above, the 3-D fault the scene's ``fault_length`` states (budgeted before it runs); the rungs
+        then compare their slip averaged over the velocity-weakening zone, as the 3-D fault gives it.
 
     Returns
     -------
@@ -426,28 +435,48 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
         ``plot()`` the chart.
     """
     loaded = read_fault_2d_scene(scene, allow_large=allow_large)
+    if include_3d and not loaded.fault_length:
+        raise InputError(f"{loaded.name} states no [run] fault_length: its ladder has no 3-D rung (a 2-D scene is a "
+                         "fault infinitely long along strike)")
+    slip = "mean" if include_3d else "surface"
     rungs = []
     started = time.process_time()
     cheap = one_slider(loaded)
-    rungs.append(rung_of("one_slider", cheap, time.process_time() - started))
+    rungs.append(rung_of("one_slider", cheap, time.process_time() - started, slip=slip))
     dipping = loaded.fault.plane == "strain"
     if dipping:  # the antiplane fault of the same description, its error against plane strain declared
         started = time.process_time()
         flat = rung_of("antiplane", simulate_fault(loaded.antiplane(), allow_large=allow_large),
-                     time.process_time() - started)
+                     time.process_time() - started, slip=slip)
         ratio = groups(loaded.fault.description())["width_over_nucleation"]
         rungs.append(with_model_error(flat, dip_error.declared(loaded.fault.dip, width_over_nucleation=ratio)))
     started = time.process_time()
     full = simulate_fault(loaded, allow_large=allow_large)
-    rungs.append(rung_of("fault_2d", full, time.process_time() - started))
-    report = ladder_report(f"faultslip model error: the ladder on {loaded.name}", rungs, tolerance, "2-D",
-                           "surface slip per event")
+    rungs.append(rung_of("fault_2d", full, time.process_time() - started, slip=slip))
+    if include_3d:
+        started = time.process_time()
+        three = load("fault_3d").refine(loaded, "the ladder's top rung", allow_large=allow_large)
+        rungs.append(rung_of("fault_3d", three, time.process_time() - started, slip=slip))
+    report = ladder_report(f"faultslip model error: the ladder on {loaded.name}", rungs, tolerance,
+                           "3-D" if include_3d else "2-D",
+                           "slip per event, mean over the velocity-weakening zone" if include_3d
+                           else "surface slip per event")
     if dipping:
         report.note(f"the fault dips {loaded.fault.dip:g} degrees: the 2-D rung is plane strain (SEAS BP3's "
                     "mechanics), and the antiplane rung's declared error adds its model error on dip-slip faults "
                     "(benchmarks/dip_model_error.py); the one slider's range is calibrated against the antiplane fault")
-    report.note("a fault finite along strike is a 3-D scene (family fault_3d, docs/fault_3d.md): model-error on it "
-                "adds the 3-D rung, and the 2-D fault's declared model error against it")
+    if include_3d:
+        report.note(f"the 3-D rung reads the scene as a fault {loaded.fault_length / 1e3:g} km long (strengthening "
+                    "beyond its ends); the lower rungs' ranges are those of a fault infinitely long along strike, "
+                    "so they hold the 3-D answer only where the fault's ends matter little")
+    elif loaded.fault_length:
+        three = load("fault_3d").estimate(loaded, "run")
+        report.note(f"the rung above, this scene read as a fault {loaded.fault_length / 1e3:g} km long, is the 3-D "
+                    f"fault ({three.describe()}): --include-3d adds it, and 'faultslip run SCENE --model fault_3d' "
+                    "runs it alone")
+    else:
+        report.note("a fault finite along strike is a 3-D scene (family fault_3d, docs/fault_3d.md): model-error on "
+                    "it adds the 3-D rung, and the 2-D fault's declared model error against it")
     return Result("fault_2d", report, figure=lambda: ladder_figure(rungs, report.title))
 
 
@@ -488,8 +517,10 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
     result.add("cpu_time", cpu, "s", label="the CPU time the 2-D rung used")
     result.add("runs", longer + 1, label="2-D runs (a run that ends unsettled is run again, twice as long)")
     result.note("the 2-D rung's declared error is numerical (element size, settling, rtol): the scene is a fault "
-                "infinitely long along strike, for which the 2-D fault is the top rung; a fault finite along strike "
-                "is a 3-D scene (family fault_3d), whose 2-D rung adds its model error against 3-D")
+                "infinitely long along strike, for which the 2-D fault is the top rung; "
+                + ("--model fault_3d runs it as a fault its fault_length long" if loaded.fault_length else
+                   "a fault finite along strike is a 3-D scene (family fault_3d), whose 2-D rung adds its model "
+                   "error against 3-D"))
     return result
 
 
@@ -638,11 +669,14 @@ def estimate(scene, action: str = "run", rtol=None, output_dir=None, method=None
     """What a run or simulation of a 2-D fault scene needs, before it starts: its Dormand-Prince steps from the
     events it will see, and its records (:meth:`Fault2DScene.estimate`, cost.py); the one-slider rung's block
     cycles (the rate-and-state slider's cost model); with ``richardson`` the run on half-size elements too, with
-    ``check_starts`` the runs from the other starts too (a tolerance that may escalate counts the 2-D run)."""
+    ``check_starts`` the runs from the other starts too (a tolerance that may escalate counts the 2-D run); the
+    ``fault_3d`` rung, the 3-D fault's cost model on the scene's 3-D fault."""
     loaded = read_fault_2d_scene(scene, allow_large=True)
     if action == "run" and method == "one_slider":
         return budget.fitted_estimate("rate_state_slider", "run", 5.0,
                                       f"the one slider derived from {loaded.name} (5 earthquake cycles)")
+    if action == "run" and method == "fault_3d":  # the rung above: the scene read as a fault fault_length long
+        return load("fault_3d").estimate(loaded, "run", rtol=rtol)
     chosen = rtol if rtol is not None else loaded.rtol
     if action == "run" and check_starts:
         return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)

@@ -32,7 +32,8 @@ from faultslip.models.fault_2d.integrate import YEAR, first_run_cost
 from faultslip.models.fault_2d.scene import Fault2DScene
 from faultslip.models.fault_3d import bp5_outputs, cost
 from faultslip.models.fault_3d.figures import rupture_figure
-from faultslip.models.fault_3d.scene import SWEEPABLE, Fault3DScene, load_fault_3d_scene, parse_fault_3d_scene
+from faultslip.models.fault_3d.scene import (SWEEPABLE, Fault3DScene, from_two_d, load_fault_3d_scene,
+                                            parse_fault_3d_scene)
 from faultslip.units import ELAPSED_TIME_ATTRS
 
 #: Relative spread of the last intervals within which a sequence is called settled (periodic): the 2-D fault's.
@@ -301,7 +302,8 @@ def _lower_rung(loaded: Fault3DScene, name: str, allow_large: bool, reason: str)
     total = _combined(result.estimated_relative_error, model_error)
     _put(result, "estimated_relative_error", total, None)
     for key, range_key, unit in (("recurrence_interval", "recurrence_range", "s"),
-                                 ("mean_slip_per_event", "slip_per_event_range", "m")):
+                                 ("slip_per_event", "slip_per_event_range", "m"),
+                                 ("mean_slip_per_event", "mean_slip_per_event_range", "m")):
         if key in result and result.values[key] is not None:
             value = float(result.values[key].to(unit).magnitude)
             _put(result, range_key, truth_range(value, total), unit)
@@ -380,6 +382,37 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     return result
 
 
+def refine_two_d(loaded: Fault2DScene, reason: str, allow_large: bool = False, progress=None) -> Result:
+    """A 2-D fault scene run as the 3-D fault its ``fault_length`` states (:func:`~faultslip.models.fault_3d.scene.
+    from_two_d`: its profile on every column of that length, strengthening beyond the ends), estimated and budgeted
+    before any work: the rung above the 2-D fault, asked for by name (``faultslip run SCENE --model fault_3d``).
+
+    Parameters
+    ----------
+    loaded : Fault2DScene
+        A 2-D fault scene with a ``fault_length``.
+    reason : str
+        Why this rung runs (said in the result).
+    allow_large : bool
+        Lift the budget and the square count's limit.
+    progress : callable, optional
+        ``(done, total)`` in years.
+
+    Returns
+    -------
+    Result
+        The 3-D fault's answer, its ``method_reason`` naming the 2-D scene.
+    """
+    scene = from_two_d(loaded, allow_large=allow_large)
+    result = simulate(scene, allow_large=allow_large, progress=progress)
+    result.set("method_reason", f"the 3-D fault of the 2-D scene {loaded.name} ({reason}): its friction down dip on "
+                                f"every column of its fault_length, {loaded.fault_length / 1e3:g} km, strengthening "
+                                "beyond its ends")
+    result.note("a finite fault: its ends creep and load it, which the 2-D fault (infinitely long along strike) "
+                "does not; its answer is the 2-D scene's read as a fault that long (docs/ladder.md)")
+    return result
+
+
 def two_d_scene(loaded: Fault3DScene) -> Fault2DScene:
     """The rung below a 3-D scene: its middle column as a 2-D fault scene, the same duration and tolerance, stations
     at the patch's depths."""
@@ -417,10 +450,10 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     rungs = []
     started = time.process_time()
     cheap = _lower_rung(loaded, "one_slider", allow_large, "the cheapest rung")  # its range compounds both errors
-    rungs.append(rung_of("one_slider", cheap, time.process_time() - started))
+    rungs.append(rung_of("one_slider", cheap, time.process_time() - started, slip="mean"))
     started = time.process_time()
     flat = fault_2d_family.simulate_fault(below, allow_large=allow_large, allow_underresolved=True)
-    rung = rung_of("fault_2d", flat, time.process_time() - started)
+    rung = rung_of("fault_2d", flat, time.process_time() - started, slip="mean")
     groups = strike_error.groups_of(loaded.fault)
     total = _combined(rung["error"], strike_error.declared_for(loaded.fault))
     rungs.append({**rung, "error": total, "recurrence_range": truth_range(rung["recurrence"], total),
@@ -435,7 +468,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
                   "recurrence_range": truth_range(recurrence, error), "slip": slip,
                   "slip_range": truth_range(slip, error), "error": error})
     report = ladder_report(f"faultslip model error: the ladder on {loaded.name}", rungs, tolerance,
-                                           "3-D", "slip per event")
+                                           "3-D", "slip per event, mean over the velocity-weakening area")
     report.add("aspect", groups["aspect_measured"], label="the weakening patch's length over its width (L / W)")
     report.add("burial", groups["burial"], label="the patch's top over its width")
     report.add("width_over_nucleation", groups["width_over_nucleation"], label="the patch's width over h*")
@@ -524,8 +557,10 @@ METHODS = {"fault_3d": {"name": "fault_3d", "friction_laws": "rate-and-state (ag
 def estimate(scene, action: str = "run", rtol=None, output_dir=None, check_starts: bool = False,
              **_) -> budget.Estimate:
     """What a run or simulation of a 3-D fault scene needs, before it starts: its steps, operator and records
-    (:meth:`Fault3DScene.estimate`, cost.py); with ``check_starts``, the runs from the other starts too."""
-    loaded = load_fault_3d_scene(scene, allow_large=True)
+    (:meth:`Fault3DScene.estimate`, cost.py); with ``check_starts``, the runs from the other starts too. A 2-D
+    scene (a Fault2DScene) is estimated as its 3-D fault (:func:`refine_two_d`)."""
+    loaded = from_two_d(scene, allow_large=True) if isinstance(scene, Fault2DScene) else \
+        load_fault_3d_scene(scene, allow_large=True)
     chosen = loaded.rtol if rtol is None else rtol
     if action == "run" and check_starts:
         return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)
@@ -538,6 +573,6 @@ FAMILY = register(Family("fault_3d", "quasi-dynamic cycles on a planar 3-D fault
                          run_options=("allow_large", "progress", "check_starts"),
                          why="a 3-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
                          read_scene=read_scene, cells=Fault3DCells(), methods=lambda: list(METHODS.values()),
-                         ladder=ladder, estimate=estimate,
+                         ladder=ladder, estimate=estimate, refine=refine_two_d,
                          example=Example("fault_3d_small.toml", "study_fault_3d.toml",
                                          {"critical_slip": ["0.12 m", "0.14 m"]}, None)))

@@ -55,8 +55,9 @@ from faultslip.errors import InputError
 from faultslip.io import budget
 from faultslip.io.resources import check_toml_layout, parse_toml, read_text_file, resolve_path
 from faultslip.models.fault_2d.integrate import YEAR, OverBudget, first_run_cost, run_cycles
-from faultslip.models.fault_2d.model import Fault2D
-from faultslip.models.fault_2d.scene import elasticity, require_keys
+from faultslip.fault.ladder import groups
+from faultslip.models.fault_2d.model import Fault2D, steady_initial_conditions
+from faultslip.models.fault_2d.scene import Fault2DScene, elasticity, require_keys
 from faultslip.models.fault_3d import cost
 from faultslip.models.fault_3d.kernel import RAKES, StrikeConvolution
 from faultslip.models.fault_3d.model import Fault3D, StationGrid, bp5_initial_conditions
@@ -173,18 +174,25 @@ class Fault3DScene:
 
     def at_element_size(self, element_size: float) -> "Fault3DScene":
         """The same scene on squares of another size (for convergence studies)."""
+        if "two_d" in self.settings:  # a 2-D scene's 3-D fault: that scene's, at the size
+            return from_two_d(self.settings["two_d"].at_element_size(element_size), allow_large=True)
         return replace(self, fault=build_fault(self.settings, element_size, self.name),
                        settings={k: v for k, v in self.settings.items() if k != "_operator"})
 
     def from_start(self, initial_speed: float) -> "Fault3DScene":
         """The same scene started otherwise: every square off the nucleation patch in steady state at
         ``initial_speed`` (m/s; BP5's start), as ``[initial] initial_speed`` states it."""
+        if "two_d" in self.settings:
+            return from_two_d(self.settings["two_d"].from_start(initial_speed), allow_large=True)
         settings = {k: v for k, v in self.settings.items() if k != "_operator"}
         settings["initial_speed"] = float(initial_speed)
         return replace(self, fault=build_fault(settings, self.fault.element_size, self.name), settings=settings)
 
     def with_values(self, **values) -> "Fault3DScene":
         """The scene with parameters replaced, in SI (what a study sweeps; :data:`SWEEPABLE`)."""
+        if "two_d" in self.settings:
+            raise InputError(f"{self.name} is a 2-D scene's 3-D fault: sweep the 2-D scene, or state the fault as a "
+                             "3-D scene (family fault_3d)")
         settings = {k: v for k, v in self.settings.items() if k != "_operator"}
         element_size = self.fault.element_size
         for name, value in values.items():
@@ -207,7 +215,12 @@ class Fault3DScene:
 
     def two_d(self, element_size: float | None = None) -> Fault2D:
         """The rung below: the middle column's friction down dip as a 2-D fault (antiplane for a vertical fault
-        slipping along strike, plane strain otherwise), with BP5's initial state at V_init and no nucleation patch."""
+        slipping along strike, plane strain otherwise), with BP5's initial state at V_init and no nucleation patch;
+        a 2-D scene's 3-D fault (:func:`from_two_d`) gives that scene's fault back."""
+        if "two_d" in self.settings:
+            source = self.settings["two_d"]
+            return source.fault if element_size in (None, source.fault.element_size) else \
+                source.at_element_size(element_size).fault
         settings = self.settings
         size = self.fault.element_size if element_size is None else element_size
         count = int(round(settings["width"] / size))
@@ -228,6 +241,65 @@ class Fault3DScene:
                        name=f"{self.name} (2-D, the middle column)", plane="antiplane" if vertical else "strain",
                        dip=settings["dip"], sense=settings["rake"] if settings["rake"] != "strike" else "thrust",
                        poisson_ratio=settings["poisson_ratio"])
+
+
+def from_two_d(loaded: Fault2DScene, allow_large: bool = False) -> Fault3DScene:
+    """The 3-D fault a 2-D scene states with its ``[run] fault_length`` L: its friction profile down dip (a, b, D_c,
+    sigma_n) on every column within L / 2 of the middle, and beyond each end a rising to the profile's largest (its
+    strengthening below the rupture zone) over the profile's own ramp below the zone, then strengthening for as far
+    again as the zone is wide; beyond the squares, and below them, steady slip at the plate rate (as on the 2-D
+    fault below its width). The squares are the 2-D elements; every square starts as the 2-D fault's column does
+    (BP1 eqs. 8-9: sliding at V_init, steady where a is largest), so the middle column is the 2-D fault's start.
+
+    Parameters
+    ----------
+    loaded : Fault2DScene
+        A 2-D fault scene with a ``fault_length``.
+    allow_large : bool
+        Build more squares than :data:`MAX_ELEMENTS`.
+
+    Returns
+    -------
+    Fault3DScene
+        Its stations the 2-D stations on the middle column; its duration, rtol and intervals the scene's.
+    """
+    flat = loaded.fault
+    if not loaded.fault_length:
+        raise InputError(f"{loaded.name} states no [run] fault_length: a 2-D scene is a fault infinitely long along "
+                         "strike, and its 3-D fault needs that length")
+    zone = groups(flat.description())
+    size = flat.element_size
+    ramp = max(zone["ramp"] * zone["width"], 2 * size)
+    ends = ramp + zone["width"]
+    strike_count = int(math.ceil((loaded.fault_length + 2 * ends) / size - 1e-9))
+    strike_count += strike_count % 2  # an even count puts a column edge, not a centre, on the middle line
+    count = strike_count * flat.count
+    if count > MAX_ELEMENTS and not allow_large:
+        raise InputError(f"{loaded.name}: its 3-D fault, {loaded.fault_length / 1e3:g} km long and "
+                         f"{flat.width / 1e3:g} km wide on the scene's {size:g} m elements, needs {count} squares, "
+                         f"beyond the limit of {MAX_ELEMENTS} (the operator's memory and each step's time grow with "
+                         "them); pass --allow-large, or state the fault as a 3-D scene on larger squares")
+    origin = -strike_count * size / 2
+    along = np.repeat(origin + (np.arange(strike_count) + 0.5) * size, flat.count)
+    column = np.tile(np.arange(flat.count), strike_count)
+    strongest = float(flat.a.max())
+    beyond = np.clip((np.abs(along) - loaded.fault_length / 2) / ramp, 0.0, 1.0)
+    a = flat.a[column] + (strongest - flat.a[column]) * beyond
+    b, critical_slip, normal_stress = flat.b[column], flat.critical_slip[column], flat.normal_stress[column]
+    damping = flat.shear_modulus / (2 * flat.shear_wave_speed)
+    initial_speed = loaded.settings.get("initial_speed", flat.plate_rate)
+    tau0, psi0 = steady_initial_conditions(a, b, normal_stress, damping, initial_speed, flat.reference_speed,
+                                           flat.reference_friction, stress_a=strongest)
+    vertical = flat.plane == "antiplane"
+    fault = Fault3D(size, a, b, critical_slip, normal_stress, flat.shear_modulus, flat.shear_wave_speed,
+                    flat.plate_rate, flat.reference_speed, flat.reference_friction, tau0, psi0,
+                    evolution=flat.evolution, name=f"{loaded.name} (3-D, {loaded.fault_length / 1e3:g} km long)",
+                    plane="3d", dip=90.0 if vertical else flat.dip, poisson_ratio=flat.poisson_ratio,
+                    strike_count=strike_count, strike_origin=origin, rake="strike" if vertical else flat.sense)
+    return Fault3DScene(name=fault.name, fault=fault, duration=loaded.duration, rtol=loaded.rtol,
+                        stations=tuple((0.0, float(depth)) for depth in loaded.stations),
+                        profile_interval=loaded.profile_interval, coseismic_interval=loaded.coseismic_interval,
+                        settings={"initial_speed": initial_speed, "two_d": loaded}, origin=loaded.origin)
 
 
 def build_fault(settings: dict, element_size: float, name: str) -> Fault3D:

@@ -28,7 +28,7 @@ from faultslip.models.rate_state_slider.figures import model_error_figure
 __all__ = ["declared_from_envelope", "declared_model_error", "load_calibration", "model_error_result"]
 
 
-def model_error_result(scene=None, tolerance: float | None = None):
+def model_error_result(scene=None, tolerance: float | None = None, include_3d: bool = False):
     """The shipped calibration of one slider against the 2-D fault over W / h*, its held-out coverage, and a
     scene's declared model error (``faultslip model-error``).
 
@@ -38,6 +38,9 @@ def model_error_result(scene=None, tolerance: float | None = None):
         A rate-and-state fault scene: its W / h* and declared model error.
     tolerance : float, optional
         A model error allowed: whether one slider suffices.
+    include_3d : bool
+        On a 2-D fault scene, add the rung above it: the 3-D fault its ``fault_length`` states (a 3-D scene's
+        ladder has it already).
 
     Returns
     -------
@@ -49,8 +52,14 @@ def model_error_result(scene=None, tolerance: float | None = None):
         raise InputError(f"--tolerance must be positive, got {tolerance}")
     if scene is not None:
         family = family_of(scene)
+        if include_3d and family.name not in ("fault_2d", "fault_3d"):
+            raise InputError(f"--include-3d adds the 3-D fault to a 2-D fault scene's ladder; {scene} is a "
+                             f"{family.name} scene")
         if family.ladder is not None:  # a fault scene: every rung on it (the ladder)
-            return family.ladder(scene, tolerance=tolerance)
+            extra = {"include_3d": True} if include_3d and family.name == "fault_2d" else {}
+            return family.ladder(scene, tolerance=tolerance, **extra)
+    if include_3d:
+        raise InputError("--include-3d adds the 3-D fault to a 2-D fault scene's ladder: give the scene")
     table = load_calibration()
     report = Report("faultslip model error: one slider against the 2-D fault")
     geometric = table["geometric"]

@@ -482,3 +482,96 @@ def test_check_starts_runs_the_3d_fault_from_other_starts(cli):
     for extra in (("--model", "fault_2d"), ("--tolerance", "0.5")):
         refused = cli("run", SMALL, "--check-starts", *extra)
         assert refused.code == 2 and "--model fault_3d" in refused.err and len(refused.err.strip().splitlines()) == 1
+
+
+#: A 2-D scene whose 3-D fault runs in seconds: BP5's friction at 1/20 (configs/fault_3d_small.toml's) down dip to
+#: the surface, 2.8 elements per L_b, W / h* near 1.4, read as a fault 3 km long.
+TINY_2D = """family = "fault_2d"
+name = "tiny 2-D fault"
+[fault]
+density = "2670 kg/m^3"
+shear_wave_speed = "3.464 km/s"
+width = "2 km"
+element_size = "100 m"
+plate_rate = "1e-9 m/s"
+[friction]
+reference_speed = "1e-6 m/s"
+reference_friction = 0.6
+b = 0.03
+critical_slip = "7 mm"
+normal_stress = "25 MPa"
+a = { shallow = 0.004, deep = 0.04, depth = "0.8 km", transition = "0.1 km" }
+[initial]
+initial_speed = "1e-9 m/s"
+[run]
+duration = "150 yr"
+rtol = 1e-6
+stations = ["0 km", "0.5 km"]
+fault_length = "3 km"
+"""
+
+
+def test_a_2d_scenes_3d_fault_is_its_profile_on_every_column_of_its_length(tmp_path):
+    """The 3-D rung of a 2-D scene: within fault_length / 2 of the middle every column is the 2-D fault (friction
+    and start, bit for bit); beyond the ends, past the profile's own ramp, every square has the profile's largest
+    a (strengthening: a > b); the domain reaches the ramp and a rupture zone's width beyond each end."""
+    from faultslip.fault.ladder import groups
+    from faultslip.models.fault_2d.scene import read_fault_2d_scene
+    from faultslip.models.fault_3d.scene import from_two_d
+
+    (tmp_path / "tiny.toml").write_text(TINY_2D)
+    flat = read_fault_2d_scene(tmp_path / "tiny.toml")
+    scene = from_two_d(flat)
+    fault, two = scene.fault, flat.fault
+    along = (np.arange(fault.strike_count) + 0.5) * fault.element_size + fault.strike_origin
+    inside = np.abs(along) <= flat.fault_length / 2
+    zone = groups(two.description())
+    ramp = max(zone["ramp"] * zone["width"], 2 * two.element_size)
+    for key in ("a", "b", "critical_slip", "normal_stress", "initial_shear_stress", "initial_state"):
+        grid = fault.grid(getattr(fault, key))
+        assert np.array_equal(grid[inside], np.broadcast_to(getattr(two, key), grid[inside].shape)), key
+    beyond = np.abs(along) >= flat.fault_length / 2 + ramp
+    assert beyond.sum() >= 2 and np.all(fault.grid(fault.a)[beyond] == two.a.max())
+    assert np.all(fault.grid(fault.a)[beyond] > fault.grid(fault.b)[beyond])
+    assert fault.strike_count * fault.element_size >= flat.fault_length + 2 * (ramp + zone["width"])
+    assert scene.stations == ((0.0, 0.0), (0.0, 500.0)) and scene.duration == flat.duration
+    assert scene.two_d() is two
+
+
+def test_the_3d_rung_of_a_2d_scene_recurs_sooner_and_slips_less(cli, tmp_path):
+    """`run SCENE --model fault_3d` reads a 2-D scene as a fault its fault_length long: a finite patch is stiffer
+    than the infinitely long one (its stress drop spread over a shorter rupture) and its creeping ends load it, so
+    it slips less per event and recurs sooner (here 3 km of a 0.8 km zone: measured 14 against 20 yr, 0.33 against
+    0.54 m). `model-error --include-3d` puts it above the 2-D rung, every rung's slip the zone's mean."""
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY_2D)
+    ladder = cli("model-error", path, "--include-3d", "--json")
+    assert ladder.code == 0, ladder.err
+    values = ladder.json
+    flat = cli("run", path, "--model", "fault_2d", "--json").json
+    assert values["fault_2d_slip_per_event"]["value"] == pytest.approx(flat["mean_slip_per_event"]["value"])
+    assert values["fault_3d_recurrence"]["value"] < 0.9 * values["fault_2d_recurrence"]["value"]
+    assert values["fault_3d_slip_per_event"]["value"] < 0.9 * values["fault_2d_slip_per_event"]["value"]
+    assert "fault_2d_off_recurrence" in values
+    three = cli("run", path, "--model", "fault_3d", "--json")
+    assert three.code == 0, three.err
+    assert three.json["method"] == "fault_3d" and "the 2-D scene tiny 2-D fault" in three.json["method_reason"]
+    assert three.json["recurrence_interval"] == values["fault_3d_recurrence"]
+
+
+def test_a_2d_scenes_3d_rung_is_refused_in_one_sentence_where_it_cannot_run(cli, tmp_path):
+    """BP1's scene read as a fault 100 km long needs 544,000 squares on its 100 m elements: refused before any
+    work, naming --allow-large; a 2-D scene without a fault_length has no 3-D fault; --include-3d on a scene with no
+    2-D ladder is refused; the estimate of the 3-D rung is the 3-D fault's."""
+    from conftest import assert_clean_error
+
+    configs = ROOT / "configs"
+    assert_clean_error(cli("run", configs / "rsf_fault_bp1.toml", "--model", "fault_3d"), "544000 squares",
+                       "--allow-large")
+    path = tmp_path / "endless.toml"
+    path.write_text(TINY_2D.replace('fault_length = "3 km"\n', ""))
+    assert_clean_error(cli("run", path, "--model", "fault_3d"), "states no [run] fault_length")
+    assert_clean_error(cli("model-error", path, "--include-3d"), "no 3-D rung")
+    assert_clean_error(cli("model-error", configs / "rsf_block_bp1.toml", "--include-3d"), "--include-3d")
+    estimate = cli("run", configs / "fault_2d_small.toml", "--model", "fault_3d", "--estimate", "--json")
+    assert estimate.code == 0 and "a 3-D fault run of 282 x 80 squares" in estimate.out
