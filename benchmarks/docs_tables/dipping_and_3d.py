@@ -150,13 +150,25 @@ def fault_3d_model_error_table() -> str | None:
                     + f" | {row['fault_2d']['recurrence_yr'] * scale:.1f} yr, "
                     f"{row['fault_2d']['mean_slip_m'] * scale:.2f} m | {error} |")
     held = result["held_out"]
+    buried = [r for r in held if r["burial"] > 0]
+    surface = [r for r in held if r["burial"] == 0]
+    tally = (f"Held-out buried faults, drawn over the same box: {sum(bool(r['covered']) for r in buried)} of "
+             f"{len(buried)} within a declared bound, {sum(r['declared'] is None for r in buried)} with none declared "
+             f"(no measured cell bounds them), {sum(r['declared'] is not None and not r['covered'] for r in buried)} "
+             "outside one.")
+    if surface:
+        tally += (f" Surface-breaking cells (burial 0) bound nothing, and the {len(surface)} held out have none "
+                  "declared: at the same L / W they err less than buried ones, so they cannot bound a buried fault, "
+                  "and their error rises with W / h* (the long ones' "
+                  + ", ".join(f"{r['model_error']:.0%} at W / h* {r['width_over_nucleation']:.2g}"
+                              for r in sorted((r for r in result["rows"] + held if r["burial"] == 0
+                                               and r["aspect_measured"] > 6 and r["model_error"] is not None),
+                                              key=lambda r: r["width_over_nucleation"]))
+                  + "), so no narrower cell bounds a wider fault.")
     return ("\n".join(rows) + f"\n\nLengths, recurrences and slips as BP5's (the runs, at 1/{scale:g} scale, times "
             f"{scale:g}). "
             f"Declared: the bounding cells' error times {result['table']['margin']:g} "
-            "(faultslip.fault.strike_error). Held-out faults, drawn over the same box: "
-            f"{sum(bool(r['covered']) for r in held)} of {len(held)} within a declared bound, "
-            f"{sum(r['declared'] is None for r in held)} with none declared (no measured cell bounds them), "
-            f"{sum(r['declared'] is not None and not r['covered'] for r in held)} outside one. " + _machine(result))
+            f"(faultslip.fault.strike_error). {tally} " + _machine(result))
 
 
 def fault_3d_starts_table() -> str | None:

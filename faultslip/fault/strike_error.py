@@ -105,7 +105,7 @@ def declared_for(fault, rows: list | None = None) -> float:
 
 
 def length_note(fault_length: float, width: float, burial: float, width_over_nucleation: float,
-                rows: list | None = None) -> str:
+                rows: list | None = None, surface_rows: list | None = None) -> str:
     """What a 2-D scene's ``fault_length`` says of the rung above it: the 2-D answer is that of a fault infinitely
     long along strike, and a 3-D fault ``fault_length`` long differs from it by up to :func:`declared` at its patch
     (L / W, ``burial`` and ``width_over_nucleation``), where the measured cells bound it.
@@ -120,13 +120,17 @@ def length_note(fault_length: float, width: float, burial: float, width_over_nuc
         The patch's top over its width, and its width over h*.
     rows : list of dict, optional
         The measured cells; the shipped table's otherwise.
+    surface_rows : list of dict, optional
+        The surface-breaking patches measured (``aspect``, ``width_over_nucleation``, ``measured_error``), which
+        bound nothing; the shipped table's otherwise. A surface-breaking fault's note quotes them.
 
     Returns
     -------
     str
         One sentence for the report.
     """
-    rows = rows if rows is not None else load_table()["rows"]
+    if rows is None:
+        rows, surface_rows = load_table()["rows"], load_table().get("surface_rows", [])
     aspect = fault_length / width if width > 0 else math.nan
     error = declared(aspect, rows, burial, width_over_nucleation)
     head = (f"the scene's fault_length ({fault_length / 1e3:g} km, L / W {aspect:.3g}) sets Mw only: the 2-D answer is "
@@ -142,8 +146,18 @@ def length_note(fault_length: float, width: float, burial: float, width_over_nuc
         values = [float(row[key]) for row in measured if key in row]
         return f"{min(values):.2g}-{max(values):.2g}" if values else "none"
 
-    return head + (f"and its model error against a 3-D fault that long is not declared: the 3-D comparison "
-                   f"(benchmarks/fault_3d_model_error.py) measured patches of L / W {span('aspect')}, burial "
+    text = head + (f"and its model error against a 3-D fault that long is not declared: the 3-D comparison "
+                   f"(benchmarks/fault_3d_model_error.py) measured buried patches of L / W {span('aspect')}, burial "
                    f"{span('burial')} and W / h* {span('width_over_nucleation')}, and none bounds this one (burial "
                    f"{burial:.2g}, W / h* {width_over_nucleation:.2g}): a bound is no longer, no deeper and no wider "
                    "in W / h*, and its 3-D run gave a recurrence")
+    near = [row for row in (surface_rows or []) if row.get("measured_error") is not None
+            and float(row["aspect"]) <= aspect * 1.5 and float(row["aspect"]) >= aspect / 1.5]
+    if burial == 0 and near:
+        errors = [float(row["measured_error"]) for row in near]
+        ratios = [float(row["width_over_nucleation"]) for row in near]
+        text += (f"; surface-breaking patches of L / W {min(float(r['aspect']) for r in near):.3g}-"
+                 f"{max(float(r['aspect']) for r in near):.3g} and W / h* {min(ratios):.2g}-{max(ratios):.2g} were "
+                 f"{min(errors):.0%}-{max(errors):.0%} off their 2-D fault, but their error rises with W / h* and "
+                 "bounds no other fault (docs/fault_3d.md)")
+    return text
