@@ -52,6 +52,14 @@ def load_table() -> dict:
             and (row.get("model_error") is None or row["model_error"] >= 0) for row in rows)):
         raise InputError(f"{TABLE_FILE} lacks rows of aspect, burial and a non-negative model_error; rerun "
                          "benchmarks/fault_3d_model_error.py")
+    surface = table.get("surface_rows", [])
+    if not (isinstance(surface, list) and all(
+            isinstance(row, dict) and all(isinstance(row.get(key), (int, float)) and not isinstance(row.get(key), bool)
+                                          for key in ("aspect", "width_over_nucleation"))
+            and (row.get("measured_error") is None or (isinstance(row["measured_error"], (int, float))
+                                                       and row["measured_error"] >= 0)) for row in surface)):
+        raise InputError(f"{TABLE_FILE}'s surface_rows lack aspect, W / h* and a non-negative measured_error; rerun "
+                         "benchmarks/fault_3d_model_error.py")
     return table
 
 

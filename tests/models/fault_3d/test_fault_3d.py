@@ -500,30 +500,8 @@ def test_check_starts_runs_the_3d_fault_from_other_starts(cli):
 
 
 #: A 2-D scene whose 3-D fault runs in seconds: BP5's friction at 1/20 (configs/fault_3d_small.toml's) down dip to
-#: the surface, 2.8 elements per L_b, W / h* near 1.4, read as a fault 3 km long.
-TINY_2D = """family = "fault_2d"
-name = "tiny 2-D fault"
-[fault]
-density = "2670 kg/m^3"
-shear_wave_speed = "3.464 km/s"
-width = "2 km"
-element_size = "100 m"
-plate_rate = "1e-9 m/s"
-[friction]
-reference_speed = "1e-6 m/s"
-reference_friction = 0.6
-b = 0.03
-critical_slip = "7 mm"
-normal_stress = "25 MPa"
-a = { shallow = 0.004, deep = 0.04, depth = "0.8 km", transition = "0.1 km" }
-[initial]
-initial_speed = "1e-9 m/s"
-[run]
-duration = "150 yr"
-rtol = 1e-6
-stations = ["0 km", "0.5 km"]
-fault_length = "3 km"
-"""
+#: the surface, 2.8 elements per L_b, W / h* near 1.2, read as a fault 3 km long.
+TINY_2D = (ROOT / "configs" / "fault_2d_surface_small.toml").read_text(encoding="utf-8")
 
 
 def test_a_2d_scenes_3d_fault_is_its_profile_on_every_column_of_its_length(tmp_path):
@@ -570,7 +548,7 @@ def test_the_3d_rung_of_a_2d_scene_recurs_sooner_and_slips_less(cli, tmp_path):
     assert "fault_2d_off_recurrence" in values
     three = cli("run", path, "--model", "fault_3d", "--json")
     assert three.code == 0, three.err
-    assert three.json["method"] == "fault_3d" and "the 2-D scene tiny 2-D fault" in three.json["method_reason"]
+    assert three.json["method"] == "fault_3d" and "the 2-D scene small surface-breaking" in three.json["method_reason"]
     assert three.json["recurrence_interval"] == values["fault_3d_recurrence"]
 
 
@@ -590,3 +568,18 @@ def test_a_2d_scenes_3d_rung_is_refused_in_one_sentence_where_it_cannot_run(cli,
     assert_clean_error(cli("model-error", configs / "rsf_block_bp1.toml", "--include-3d"), "--include-3d")
     estimate = cli("run", configs / "fault_2d_small.toml", "--model", "fault_3d", "--estimate", "--json")
     assert estimate.code == 0 and "a 3-D fault run of 282 x 80 squares" in estimate.out
+
+
+@pytest.mark.parametrize("surface", ["none", [{"aspect": "7"}], [{"aspect": 7.0, "width_over_nucleation": 1.2,
+                                                                   "measured_error": -0.4}]])
+def test_a_strike_table_with_malformed_surface_rows_is_one_sentence(surface, monkeypatch):
+    from faultslip.fault import strike_error
+
+    rows = [{"aspect": 2.0, "burial": 0.1, "width_over_nucleation": 1.0, "model_error": 3.0}]
+    monkeypatch.setattr(strike_error, "read_bundled_table", lambda *args: {"rows": rows, "surface_rows": surface})
+    strike_error.load_table.cache_clear()
+    try:
+        with pytest.raises(InputError, match="surface_rows lack"):
+            strike_error.load_table()
+    finally:
+        strike_error.load_table.cache_clear()
