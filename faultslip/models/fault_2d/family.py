@@ -438,6 +438,10 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False, inc
     if include_3d and not loaded.fault_length:
         raise InputError(f"{loaded.name} states no [run] fault_length: its ladder has no 3-D rung (a 2-D scene is a "
                          "fault infinitely long along strike)")
+    if include_3d:  # the costliest rung is budgeted before any rung runs
+        above = load("fault_3d").estimate(loaded, "run")
+        above.what = f"the 3-D rung of {loaded.name} ({above.what})"
+        budget.check(above, allow_large)
     slip = "mean" if include_3d else "surface"
     rungs = []
     started = time.process_time()

@@ -552,7 +552,7 @@ def test_the_3d_rung_of_a_2d_scene_recurs_sooner_and_slips_less(cli, tmp_path):
     assert three.json["recurrence_interval"] == values["fault_3d_recurrence"]
 
 
-def test_a_2d_scenes_3d_rung_is_refused_in_one_sentence_where_it_cannot_run(cli, tmp_path):
+def test_a_2d_scenes_3d_rung_is_refused_in_one_sentence_where_it_cannot_run(cli, tmp_path, monkeypatch):
     """BP1's scene read as a fault 100 km long needs 544,000 squares on its 100 m elements: refused before any
     work, naming --allow-large; a 2-D scene without a fault_length has no 3-D fault; --include-3d on a scene with no
     2-D ladder is refused; the estimate of the 3-D rung is the 3-D fault's."""
@@ -566,6 +566,14 @@ def test_a_2d_scenes_3d_rung_is_refused_in_one_sentence_where_it_cannot_run(cli,
     assert_clean_error(cli("run", path, "--model", "fault_3d"), "states no [run] fault_length")
     assert_clean_error(cli("model-error", path, "--include-3d"), "no 3-D rung")
     assert_clean_error(cli("model-error", configs / "rsf_block_bp1.toml", "--include-3d"), "--include-3d")
+    # BP1's ladder with its 3-D rung is refused before its 2-D rung runs (the model-error call returns at once)
+    from faultslip.models.fault_2d import family
+
+    ran = []
+    monkeypatch.setattr(family, "simulate_fault", lambda *args, **kwargs: ran.append(args))
+    assert_clean_error(cli("model-error", configs / "rsf_fault_bp1.toml", "--include-3d"), "the 3-D rung of",
+                       "--allow-large")
+    assert not ran
     estimate = cli("run", configs / "fault_2d_small.toml", "--model", "fault_3d", "--estimate", "--json")
     assert estimate.code == 0 and "a 3-D fault run of 282 x 80 squares" in estimate.out
 
