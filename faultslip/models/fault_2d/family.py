@@ -393,7 +393,7 @@ def refuse_unreachable(loaded: Fault2DScene, tolerance: float, cheap: Result | N
     if floor <= tolerance or (cheap is not None and cheap.estimated_relative_error is not None
                               and cheap.estimated_relative_error <= tolerance):
         return
-    resolution = loaded.fault.process_zone() / loaded.fault.element_size
+    resolution = loaded.resolution
     fix = ("a smaller rtol ([run] rtol)" if 10 * loaded.rtol >= discretisation_error(resolution)
            else "smaller elements ([fault] element_size)")
     declares = (f"declares at least {floor:.2g} in recurrence" if math.isfinite(floor) else
@@ -408,8 +408,7 @@ def floor_error(loaded: Fault2DScene) -> float:
     """The least relative error a 2-D run of ``loaded`` can declare, known before it runs: the element size's
     (:func:`discretisation_error` at its resolution, a period-1 sequence's, the smallest) and 10 rtol; the
     sequence's own settling can only add to it."""
-    resolution = loaded.fault.process_zone() / loaded.fault.element_size
-    return max(discretisation_error(resolution), 10 * loaded.rtol)
+    return max(discretisation_error(loaded.resolution), 10 * loaded.rtol)
 
 
 def ladder(scene, tolerance: float | None = None, allow_large: bool = False, include_3d: bool = False) -> Result:
