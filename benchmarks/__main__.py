@@ -86,6 +86,9 @@ PRODUCERS = (
     ("fault_3d_model_error", ["--starts"], ["--starts"], "fault_3d_starts.json"),  # the cells just written
     ("seas_bp5", ["--sizes", "2000", "1000", "500", "--finest-years", "1800"],
      ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),
+    # the 3-D cost model's fit runs (quick: refitted from the saved runs), then its held-out draw
+    ("fault_3d_cost", ["--part", "fit"], ["--part", "refit"], "fault_3d_cost.json"),
+    ("fault_3d_cost", ["--part", "held-out"], ["--part", "held-out"], "fault_3d_cost.json"),
 )
 #: Packages a benchmark needs beyond the test install, by the module that shows they are there: without it the
 #: benchmark is skipped and its table keeps its last results, as a peer's does.

@@ -197,6 +197,30 @@ def fault_3d_starts_table() -> str | None:
                if odd else "") + " " + _machine(result))
 
 
+def fault_3d_cost_table() -> str | None:
+    result = _load("fault_3d_cost.json")
+    if result is None or "held_out" not in result:
+        return None
+    rows = ["| held-out fault | squares | expected events | W / h* | steps | estimated | CPU used | estimate / CPU |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for row in result["held_out"]:
+        rows.append(f"| {row['what']} | {row['strike_count']} x {row['dip_count']} | {row['expected_events']:.3g} | "
+                    f"{row['width_over_nucleation']:.2f} | {row['steps']} | {row['estimated_s']:.1f} s | "
+                    f"{row['cpu_s']:.1f} s | {row['estimate_over_cpu']:.2f} |")
+    steps, seconds = result["steps_fit"], result["step_seconds_fit"]
+    summary = result["held_out_summary"]
+    assembly = [row["estimated_assembly_s"] / row["assembly_s"] for row in result["held_out"]
+                if row["assembly_s"] >= 1.0] or [math.nan]
+    return ("\n".join(rows) + f"\n\n{summary['within_2x']} of {summary['count']} held-out faults (seed "
+            f"{result['held_out_seed']}) estimated within 2x of the CPU they used ({summary['ratio_range'][0]:.2f} to "
+            f"{summary['ratio_range'][1]:.2f}). The steps were fitted on {steps['rows']} runs ({len(result['fit_runs'])} "
+            f"run here, the rest the cells of the model-error benchmark), within {steps['residual_range'][0]:.2f} to "
+            f"{steps['residual_range'][1]:.2f}x of each; the CPU a step on the {len(result['fit_runs'])} runs, within "
+            f"{seconds['ratio_range'][0]:.2f} to {seconds['ratio_range'][1]:.2f}x. The operator's assembly, timed "
+            f"apart on the held-out faults that spent a second or more on it, estimated at "
+            f"{min(assembly):.2f} to {max(assembly):.2f}x. " + _machine(result))
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
     "seas_bp3": seas_bp3_table,
@@ -205,4 +229,5 @@ TABLES = {
     "fault_3d_operator": fault_3d_operator_table,
     "fault_3d_model_error": fault_3d_model_error_table,
     "fault_3d_starts": fault_3d_starts_table,
+    "fault_3d_cost": fault_3d_cost_table,
 }

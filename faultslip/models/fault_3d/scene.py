@@ -56,6 +56,7 @@ from faultslip.io import budget
 from faultslip.io.resources import check_toml_layout, parse_toml, read_text_file, resolve_path
 from faultslip.models.fault_2d.integrate import YEAR, OverBudget, first_run_cost, run_cycles
 from faultslip.fault.ladder import groups
+from faultslip.fault.strike_error import groups_of
 from faultslip.models.fault_2d.model import Fault2D, steady_initial_conditions
 from faultslip.models.fault_2d.scene import Fault2DScene, elasticity, require_keys
 from faultslip.models.fault_3d import cost
@@ -165,6 +166,8 @@ class Fault3DScene:
         fault = self.fault
         return cost.estimate(fault.strike_count, fault.dip_count, self.duration / YEAR, len(self.stations), output,
                              events=self.expected_events(), rtol=self.rtol if rtol is None else rtol,
+                             width_over_nucleation=groups_of(fault)["width_over_nucleation"],
+                             products=cost.products(fault),
                              first_run=first_run_cost(False, 1) if in_this_process else (0.0, ""))
 
     def expected_events(self) -> float:

@@ -1,0 +1,233 @@
+"""The 3-D fault's cost model, fitted on 3-D faults of every kind the rung builds and tested on a draw it never saw.
+
+    python benchmarks/fault_3d_cost.py --part fit        # the fit runs, and the cost model's constants (about 15 min)
+    python benchmarks/fault_3d_cost.py --part held-out   # the held-out draw, estimated by the shipped model (about 15 min)
+
+The model (faultslip.models.fault_3d.cost) had been fitted on SEAS BP5-QD alone, whose three runs change the squares
+along strike and down dip together. It estimated a 2-D scene's 3-D fault (configs/fault_2d_small.toml, 282 x 80
+squares) at 4.5 times its CPU and a surface-breaking patch twice as wide as BP5's at half of its CPU (short: the
+budget would have let it start). Here:
+
+- ``fit``: 3-D faults of each kind the rung builds, run one after another in one process: BP5 at 2000 and 1000 m;
+  patches of BP5 at 1/20 (benchmarks/fault_3d_model_error.py's cells: L / W 2-16, buried and breaking the surface,
+  W / h* 1.2-2.6, on 100 and 50 m squares); configs/fault_3d_small.toml; and 2-D scenes read as 3-D faults
+  (configs/fault_2d_surface_small.toml at 3 km on 100 and 50 m elements, configs/fault_2d_small.toml at 50 km, and
+  configs/fault_2d_dipping_small.toml at 4 km: a dipping fault, whose step also turns the normal stress). Each
+  records what the estimate reads before the run (its squares, expected events, W / h*, rtol) and what the run
+  used (steps; CPU, its operator's assembly timed apart). The steps are machine-independent, so the steps of every cell fault_3d_model_error.json
+  records are fitted too. Fitted: ln steps = ln A + p ln events + q ln(W / h*) + r ln N_x + rtol term (least
+  squares), the CPU per step c0 + c1 N + c2 k (N_x + 1) N_z^2, k the spectral products a force balance makes (2
+  where the normal stress changes), by relative non-negative least squares over the fit runs, and the CPU per
+  dislocation pair of the operator's assembly (the median over the fit runs that spent a second or more on it).
+  ``refit`` fits again from the file's runs without running them.
+- ``held-out``: faults drawn at random (seed 7300) from the same kinds (patches of other shapes and squares, 2-D
+  scenes at other lengths, BP5 at other squares), each estimated by the shipped model before it runs, as a user's
+  run is, and run: the estimate over the CPU used.
+
+tests/models/fault_3d/test_fault_3d.py refits the constants from the results file and holds the held-out estimates
+within 2x of the CPU. Writes benchmarks/results/fault_3d_cost.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+from fault_3d_model_error import scene_text  # noqa: E402  (its cells, the 1/20 BP5 patches)
+from provenance import stamp  # noqa: E402
+
+from faultslip.fault.strike_error import groups_of  # noqa: E402
+from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
+from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
+from faultslip.models.fault_3d import cost  # noqa: E402
+from faultslip.models.fault_3d.scene import from_two_d, load_fault_3d_scene, parse_fault_3d_scene  # noqa: E402
+
+OUT = HERE / "results" / "fault_3d_cost.json"
+CELLS = HERE / "results" / "fault_3d_model_error.json"
+HELD_OUT_SEED = 7300
+CONFIGS = ROOT / "configs"
+
+
+def cell(ratio: float, height: float, top: float, element_size: float = 100.0, years: float = 120.0):
+    return parse_fault_3d_scene(scene_text(ratio, height, top, element_size, years),
+                                f"patch {ratio:g} x {height:g} m at {top:g} m on {element_size:g} m", allow_large=True)
+
+
+def bp5(element_size: float, years: float = 1800.0):
+    scene = load_fault_3d_scene(CONFIGS / "seas_bp5.toml", allow_large=True).at_element_size(element_size)
+    scene.duration = years * YEAR
+    return scene
+
+
+def two_d(config: str, length_km: float, element_size: float | None = None, years: float | None = None):
+    loaded = read_fault_2d_scene(CONFIGS / config, allow_large=True)
+    if element_size is not None:
+        loaded = loaded.at_element_size(element_size)
+    loaded = replace(loaded, fault_length=length_km * 1e3,
+                     duration=loaded.duration if years is None else years * YEAR)
+    return from_two_d(loaded, allow_large=True)
+
+
+#: (what, scene builder): each kind of 3-D fault the rung builds
+FIT = [
+    ("BP5 at 2000 m", lambda: bp5(2000.0)),
+    ("BP5 at 1000 m", lambda: bp5(1000.0)),
+    ("patch 2 x 800 m at 200 m", lambda: cell(2.0, 800.0, 200.0)),
+    ("patch 4 x 600 m at 200 m", lambda: cell(4.0, 600.0, 200.0)),
+    ("patch 16 x 600 m at 200 m", lambda: cell(16.0, 600.0, 200.0)),
+    ("patch 8 x 1400 m at the surface", lambda: cell(8.0, 1400.0, 0.0, years=480.0)),
+    ("patch 4 x 600 m at 200 m on 50 m", lambda: cell(4.0, 600.0, 200.0, 50.0)),
+    ("configs/fault_3d_small.toml", lambda: load_fault_3d_scene(CONFIGS / "fault_3d_small.toml", allow_large=True)),
+    ("fault_2d_surface_small at 3 km", lambda: two_d("fault_2d_surface_small.toml", 3.0)),
+    ("fault_2d_surface_small at 3 km on 50 m", lambda: two_d("fault_2d_surface_small.toml", 3.0, 50.0)),
+    ("fault_2d_dipping_small at 4 km, 150 yr", lambda: two_d("fault_2d_dipping_small.toml", 4.0, years=150.0)),
+    ("fault_2d_small at 50 km", lambda: two_d("fault_2d_small.toml", 50.0)),
+]
+
+
+def held_out_draw(seed: int = HELD_OUT_SEED) -> list:
+    """Fourteen faults of the fit's kinds at shapes it never ran: six patches, five 2-D scenes (one dipping), three
+    BP5 sizes."""
+    rng = np.random.default_rng(seed)
+    draws = []
+    for _ in range(6):
+        ratio = float(np.exp(rng.uniform(np.log(1.5), np.log(12.0))))
+        height = float(rng.choice([400.0, 500.0, 700.0, 900.0, 1100.0, 1300.0]))
+        top = float(rng.choice([0.0, 200.0, 300.0]))
+        size = float(rng.choice([100.0, 50.0])) if height <= 700.0 and ratio <= 6.0 else 100.0
+        years = 120.0 if height <= 800.0 else 360.0
+        draws.append((f"patch {ratio:.3g} x {height:g} m at {top:g} m on {size:g} m, {years:g} yr",
+                      lambda r=ratio, h=height, t=top, s=size, y=years: cell(r, h, t, s, y)))
+    for _ in range(3):
+        length = float(rng.uniform(2.0, 10.0))
+        size = float(rng.choice([100.0, 50.0])) if length <= 5.0 else 100.0
+        draws.append((f"fault_2d_surface_small at {length:.3g} km on {size:g} m",
+                      lambda k=length, s=size: two_d("fault_2d_surface_small.toml", k, s)))
+    length = float(rng.uniform(15.0, 30.0))
+    draws.append((f"fault_2d_small at {length:.3g} km, 300 yr",
+                  lambda k=length: two_d("fault_2d_small.toml", k, years=300.0)))
+    for size in (1250.0, 800.0):
+        draws.append((f"BP5 at {size:g} m", lambda s=float(size): bp5(s)))
+    # its largest operator (20 MB of spectra, beyond the caches), which seas_bp5.py's run took 3x this fit's CPU on
+    draws.append(("BP5 at 500 m, 600 yr", lambda: bp5(500.0, 600.0)))
+    length = float(rng.uniform(3.0, 6.0))
+    draws.append((f"fault_2d_dipping_small at {length:.3g} km, 100 yr",
+                  lambda k=length: two_d("fault_2d_dipping_small.toml", k, years=100.0)))
+    return draws
+
+
+def features(scene) -> dict:
+    """What the estimate reads before a run."""
+    fault = scene.fault
+    return {"strike_count": fault.strike_count, "dip_count": fault.dip_count, "elements": fault.count,
+            "products": cost.products(fault), "years": scene.duration / YEAR, "rtol": scene.rtol,
+            "expected_events": scene.expected_events(),
+            "width_over_nucleation": groups_of(fault)["width_over_nucleation"], "resolution": scene.resolution}
+
+
+def measured(what: str, scene) -> dict:
+    row = {"what": what, **features(scene), "estimated_s": scene.estimate().seconds,
+           "estimated_assembly_s": cost.assembly_seconds(scene.fault.strike_count, scene.fault.dip_count)}
+    start = time.process_time()
+    scene.operator()  # assembled once, and kept for the run: timed apart, so the steps' CPU is the run's own
+    assembled = time.process_time()
+    run = scene.run()
+    end = time.process_time()
+    row.update({"cpu_s": end - start, "assembly_s": assembled - start, "steps_cpu_s": end - assembled,
+                "steps": int(run.steps), "events": int(run.event_count)})
+    row["estimate_over_cpu"] = row["estimated_s"] / row["cpu_s"]
+    print(json.dumps(row), flush=True)
+    return row
+
+
+def recorded_cells() -> list:
+    """The cells fault_3d_model_error.json records: their steps, and what their estimate reads."""
+    result = json.loads(CELLS.read_text(encoding="utf-8"))
+    rows = []
+    for row in result["rows"] + result["held_out"]:
+        scene = cell(row["aspect"], row["height_m"], row["top_m"], row["element_size_m"], row["years"])
+        rows.append({"what": scene.name, **features(scene), "steps": int(row["fault_3d"]["steps"])})
+    return rows
+
+
+def fit_steps(rows: list) -> dict:
+    """ln steps = ln A + p ln events + q ln(W / h*) + r ln N_x, the rtol factor taken as the 2-D fault's."""
+    rtol_power = cost.FAULT_3D_STEPS["rtol"]
+    y = np.log([row["steps"] / (row["rtol"] / 1e-6) ** rtol_power for row in rows])
+    design = np.column_stack([np.ones(len(rows)), np.log([row["expected_events"] for row in rows]),
+                              np.log([row["width_over_nucleation"] for row in rows]),
+                              np.log([row["strike_count"] for row in rows])])
+    beta, *_ = np.linalg.lstsq(design, y, rcond=None)
+    residual = y - design @ beta
+    return {"scale": float(math.exp(beta[0])), "events": float(beta[1]), "width_over_nucleation": float(beta[2]),
+            "strike_columns": float(beta[3]), "rtol": rtol_power,
+            "residual_range": [float(math.exp(residual.min())), float(math.exp(residual.max()))], "rows": len(rows)}
+
+
+def fit_step_seconds(rows: list) -> dict:
+    """CPU per step, c0 + c1 N + c2 k (N_x + 1) N_z^2, relative non-negative least squares over the runs' steps (their
+    operator's assembly timed apart)."""
+    from scipy.optimize import nnls
+
+    design = np.array([[1.0, row["elements"], row["products"] * (row["strike_count"] + 1) * row["dip_count"] ** 2]
+                       for row in rows])
+    per_step = np.array([row["steps_cpu_s"] / row["steps"] for row in rows])
+    coefficients, _ = nnls(design / per_step[:, None], np.ones(len(rows)))
+    ratio = design @ coefficients / per_step
+    return {"coefficients": [float(c) for c in coefficients], "ratio_range": [float(ratio.min()), float(ratio.max())]}
+
+
+def fit_assembly(rows: list) -> dict:
+    """CPU per (source triangle, observation point) pair of the operator's assembly: the median over the runs that
+    spent a second or more on it (:func:`faultslip.models.fault_3d.cost.assembly_seconds` counts the pairs)."""
+    pairs = [cost.assembly_seconds(row["strike_count"], row["dip_count"]) / cost.FAULT_3D_PAIR_SECONDS for row in rows]
+    per_pair = [row["assembly_s"] / count for row, count in zip(rows, pairs) if row["assembly_s"] >= 1.0]
+    return {"pair_seconds": float(np.median(per_pair)), "runs": len(per_pair),
+            "range": [float(min(per_pair)), float(max(per_pair))]}
+
+
+def fits(runs: list, cells: list) -> dict:
+    return {"steps_fit": fit_steps(runs + cells), "step_seconds_fit": fit_step_seconds(runs),
+            "assembly_fit": fit_assembly(runs)}
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--part", choices=("fit", "refit", "held-out"), required=True,
+                        help="refit: the fits again from the file's runs, without running them")
+    parser.add_argument("--out", type=Path, default=OUT)
+    args = parser.parse_args(argv)
+    result = json.loads(args.out.read_text(encoding="utf-8")) if args.out.exists() else {}
+    if args.part != "refit":
+        cell(4.0, 600.0, 200.0, years=5.0).run()  # load the compiled force balance before any run is timed
+    if args.part == "refit":
+        result.update(fits(result["fit_runs"], result["recorded_cells"]))
+        print(json.dumps(fits(result["fit_runs"], result["recorded_cells"])))
+    elif args.part == "fit":
+        runs = [measured(what, make()) for what, make in FIT]
+        cells = recorded_cells()
+        result.update({"fit_runs": runs, "recorded_cells": cells, **fits(runs, cells), **stamp()})
+        print(json.dumps(fits(runs, cells)))
+    else:
+        rows = [measured(what, make()) for what, make in held_out_draw()]
+        ratios = [row["estimate_over_cpu"] for row in rows]
+        result.update({"held_out": rows, "held_out_seed": HELD_OUT_SEED,
+                       "held_out_summary": {"count": len(rows), "within_2x": sum(0.5 <= r <= 2.0 for r in ratios),
+                                            "ratio_range": [min(ratios), max(ratios)]},
+                       "held_out_model": cost.describe(), **stamp()})
+        print(json.dumps(result["held_out_summary"]))
+    args.out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()
