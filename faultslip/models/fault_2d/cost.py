@@ -27,9 +27,10 @@ FAULT_2D_STEPS = {"scale": 15.0, "plate_rate": 1.02, "width_over_nucleation": 0.
 #: (:func:`faultslip.models.fault_2d.kernel.relative_step_cost`).
 FAULT_2D_STEP_SECONDS = (2.031e-5, 2.702e-7, 1.0)
 #: CPU seconds per step of a plane-strain (dipping) 2-D fault, whose kernels are dense: c0 + c2 N^2, fitted by
-#: benchmarks/plane_strain_step.py (SEAS BP3-QD on 200-1,600 elements, within 1.31x of each; tests/models/fault_2d/test_budget_fit.py
-#: refits it from benchmarks/results/plane_strain_step.json).
-PLANE_STRAIN_STEP_SECONDS = (4.308e-4, 8.563e-9)
+#: benchmarks/plane_strain_step.py (SEAS BP3-QD on 50-1,600 elements over 200 yr, within 1.29x of each;
+#: tests/models/fault_2d/test_budget_fit.py refits it from benchmarks/results/plane_strain_step.json). Fitted on
+#: 200-1,600 elements over 60 yr (100-700 steps a size), c0 had been 3x a small fault's step.
+PLANE_STRAIN_STEP_SECONDS = (1.405e-4, 4.204e-9)
 #: CPU seconds a process's first compiled 2-D run spends beyond its steps, per step path (the whole step fused, or the
 #: force balance and stages compiled: a dense kernel's; a dipping or 3-D fault's step loads a part of them) and build
 #: (one thread or several): "load", numba's cached step loaded into the process; "compile", compiled into an empty

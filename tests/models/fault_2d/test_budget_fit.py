@@ -91,13 +91,13 @@ def test_the_step_seconds_are_the_least_squares_fit_of_the_compiled_runs():
 
 def test_the_plane_strain_step_cost_is_its_benchmarks_fit():
     """PLANE_STRAIN_STEP_SECONDS is the least-squares fit of benchmarks/plane_strain_step.py's measured steps,
-    recomputed here from its results file, and the estimate it gives is within its stated 1.31x of each."""
+    recomputed here from its results file, and the estimate it gives is within its stated 1.29x of each."""
     module = load_benchmark("plane_strain_step")
     results = json.loads((ROOT / "benchmarks" / "results" / "plane_strain_step.json").read_text(encoding="utf-8"))
     assert cost.PLANE_STRAIN_STEP_SECONDS == pytest.approx(module.fit(results["rows"]), rel=1e-3)
     for row in results["rows"]:
         estimate = cost.fault_2d_estimate(row["elements"], 60.0, 1, steps=row["steps"], plane_strain=True)
-        assert 1 / 1.32 <= estimate.seconds / (row["steps"] * row["seconds_per_step"]) <= 1.32
+        assert 1 / 1.3 <= estimate.seconds / (row["steps"] * row["seconds_per_step"]) <= 1.3
 
 
 def test_the_first_run_seconds_are_the_benchmarks_medians():
