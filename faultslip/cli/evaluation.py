@@ -128,6 +128,10 @@ def cmd_rate_state_bench(args) -> int:
 
 def cmd_model_error(args) -> int:
     """The shipped calibration of one slider against the 2-D fault, a scene's declared error, the chart."""
+    if args.estimate:  # the ladder's cost models, before any rung runs or any output is checked
+        if not args.scene:
+            raise InputError("model-error --estimate estimates a fault scene's ladder: give the scene")
+        return _emit(faultslip.models.estimate(args.scene, "ladder", include_3d=args.include_3d).report(), args.json)
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene] if args.scene else [])["plot"]
     tolerance = _number(args.tolerance, "--tolerance") if args.tolerance is not None else None
     result = faultslip.models.model_error(args.scene, tolerance, include_3d=args.include_3d)

@@ -585,6 +585,9 @@ def _evaluation_commands(commands) -> None:
     error.add_argument("--plot", help="draw the model-error map to FILE.png")
     error.add_argument("--include-3d", action="store_true",
                        help="on a 2-D fault scene, add the 3-D fault its fault_length states (budgeted first)")
+    error.add_argument("--estimate", action="store_true",
+                       help="print what the scene's ladder would need (CPU time, memory, disk), its rungs one after "
+                            "another, each from its cost model, and stop")
     _overwrite_and_json(error)
     error.set_defaults(handler="evaluation:cmd_model_error")
 

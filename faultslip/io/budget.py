@@ -188,9 +188,18 @@ def with_one_off(what: str, seconds: float, one_off: tuple) -> tuple[str, float]
 
 
 def one_after_another(what: str, estimates: list[Estimate]) -> Estimate:
-    """Runs made one after another: their CPU time and disk summed, the largest memory any holds at once."""
+    """Runs made one after another: their CPU time and disk summed, the largest memory any holds at once, and where
+    any lies outside its cost model's fit (so that :func:`check` refuses the whole as it would that run)."""
+    outside = tuple(dict.fromkeys(sentence for e in estimates for sentence in e.outside_fit))
     return Estimate(what, memory=max(e.memory for e in estimates), disk=sum(e.disk for e in estimates),
-                    seconds=sum(e.seconds for e in estimates), output=estimates[0].output)
+                    seconds=sum(e.seconds for e in estimates), output=estimates[0].output, outside_fit=outside)
+
+
+def rungs_estimate(what: str, rungs: dict) -> Estimate:
+    """A ladder's rungs run one after another (:func:`one_after_another`), each named with its own CPU time in
+    ``what``: ``rungs`` maps a rung's name to its estimate."""
+    return one_after_another(f"{what}, its rungs one after another: " + "; ".join(
+        f"{name} ({_duration(rung.seconds)}: {rung.what})" for name, rung in rungs.items()), list(rungs.values()))
 
 
 def netcdf_disk(raw_bytes: float, variables: int, compression: str = "zlib") -> float:

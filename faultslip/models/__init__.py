@@ -112,7 +112,8 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
     scene : str, path or scene object
         As for :func:`run`.
     action : str
-        ``"run"`` or ``"simulate"``.
+        ``"run"``, ``"simulate"``, or ``"ladder"``: every rung of ``faultslip model-error SCENE`` (a fault scene's;
+        ``include_3d=True`` adds a 2-D scene's 3-D rung).
     **options
         The options the run or simulation would take (``method``, ``tolerance``; ``cycles``, ``rtol``, ...).
 
@@ -122,9 +123,12 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
         CPU seconds, memory and disk (``report()``, ``to_xarray()``), and where the scene lies outside the scenes
         the cost model was fitted on.
     """
-    if action not in ("run", "simulate"):
-        raise InputError(f"an estimate is of a run or a simulation, not {action!r}")
+    if action not in ("run", "simulate", "ladder"):
+        raise InputError(f"an estimate is of a run, a simulation or a ladder, not {action!r}")
     family = family_of(scene)
+    if action == "ladder" and family.ladder is None:
+        raise InputError(f"a {family.name} scene has no ladder of rungs to run ('faultslip model-error' reads its "
+                         "model error from a table), so there is nothing to estimate")
     for name in ("richardson", "check_starts"):  # what run would refuse, an estimate refuses too
         if options.get(name) and action == "run" and name not in family.run_options:
             raise InputError(_not_an_option(name, family))

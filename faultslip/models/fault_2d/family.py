@@ -411,6 +411,23 @@ def floor_error(loaded: Fault2DScene) -> float:
     return max(discretisation_error(loaded.resolution), 10 * loaded.rtol)
 
 
+def ladder_estimate(loaded: Fault2DScene, include_3d: bool = False) -> budget.Estimate:
+    """What :func:`ladder` needs before any rung runs: its rungs one after another (the one slider's cycles, the
+    antiplane fault where the scene dips, the 2-D fault, and with ``include_3d`` the 3-D fault its ``fault_length``
+    states), each from its own cost model (``faultslip model-error SCENE --estimate``)."""
+    if include_3d and not loaded.fault_length:
+        raise InputError(f"{loaded.name} states no [run] fault_length: its ladder has no 3-D rung (a 2-D scene is a "
+                         "fault infinitely long along strike)")
+    rungs = {"the one slider": budget.fitted_estimate("rate_state_slider", "run", 5.0, "5 earthquake cycles")}
+    if loaded.fault.plane == "strain":
+        flat = loaded.antiplane()
+        rungs["the antiplane rung"] = flat.estimate(flat.rtol, None, in_this_process=True)
+    rungs["the 2-D rung"] = loaded.estimate(loaded.rtol, None, in_this_process=True)
+    if include_3d:
+        rungs["the 3-D rung"] = load("fault_3d").estimate(loaded, "run")
+    return budget.rungs_estimate(f"the ladder on {loaded.name}", rungs)
+
+
 def ladder(scene, tolerance: float | None = None, allow_large: bool = False, include_3d: bool = False) -> Result:
     """Every rung of the ladder on one scene: its answer, its declared range and its cost, and the chart
     (``faultslip model-error SCENE --plot``).
@@ -434,13 +451,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False, inc
         ``plot()`` the chart.
     """
     loaded = read_fault_2d_scene(scene, allow_large=allow_large)
-    if include_3d and not loaded.fault_length:
-        raise InputError(f"{loaded.name} states no [run] fault_length: its ladder has no 3-D rung (a 2-D scene is a "
-                         "fault infinitely long along strike)")
-    if include_3d:  # the costliest rung is budgeted before any rung runs
-        above = load("fault_3d").estimate(loaded, "run")
-        above.what = f"the 3-D rung of {loaded.name} ({above.what})"
-        budget.check(above, allow_large)
+    budget.check(ladder_estimate(loaded, include_3d), allow_large)  # the whole ladder, before any rung runs
     slip = "mean" if include_3d else "surface"
     rungs = []
     started = time.process_time()
@@ -668,13 +679,16 @@ def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.
 
 
 def estimate(scene, action: str = "run", rtol=None, output_dir=None, method=None, richardson: bool = False,
-             check_starts: bool = False, **_) -> budget.Estimate:
+             check_starts: bool = False, include_3d: bool = False, **_) -> budget.Estimate:
     """What a run or simulation of a 2-D fault scene needs, before it starts: its Dormand-Prince steps from the
     events it will see, and its records (:meth:`Fault2DScene.estimate`, cost.py); the one-slider rung's block
     cycles (the rate-and-state slider's cost model); with ``richardson`` the run on half-size elements too, with
     ``check_starts`` the runs from the other starts too (a tolerance that may escalate counts the 2-D run); the
-    ``fault_3d`` rung, the 3-D fault's cost model on the scene's 3-D fault."""
+    ``fault_3d`` rung, the 3-D fault's cost model on the scene's 3-D fault; ``action="ladder"``, every rung of
+    :func:`ladder` (with ``include_3d``, the 3-D one too)."""
     loaded = read_fault_2d_scene(scene, allow_large=True)
+    if action == "ladder":
+        return ladder_estimate(loaded, include_3d)
     if action == "run" and method == "one_slider":
         return budget.fitted_estimate("rate_state_slider", "run", 5.0,
                                       f"the one slider derived from {loaded.name} (5 earthquake cycles)")

@@ -425,6 +425,17 @@ def two_d_scene(loaded: Fault3DScene) -> Fault2DScene:
                         coseismic_interval=loaded.coseismic_interval, origin=loaded.origin)
 
 
+def ladder_estimate(loaded: Fault3DScene) -> budget.Estimate:
+    """What :func:`ladder` needs before any rung runs: the one slider's cycles, the 2-D fault of the middle column
+    and the 3-D fault, one after another, each from its own cost model (``faultslip model-error SCENE
+    --estimate``)."""
+    below = two_d_scene(loaded)
+    rungs = {"the one slider": budget.fitted_estimate("rate_state_slider", "run", 5.0, "5 earthquake cycles"),
+             "the 2-D rung (the middle column)": below.estimate(below.rtol, None, in_this_process=True),
+             "the 3-D rung": loaded.estimate(in_this_process=True)}
+    return budget.rungs_estimate(f"the ladder on {loaded.name}", rungs)
+
+
 def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> Result:
     """Every rung on one 3-D scene: the one slider and the 2-D fault of its middle column, each with its declared
     range (the 2-D fault's widened by its model error against 3-D, :mod:`faultslip.fault.strike_error`), and the
@@ -446,6 +457,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
         ``plot()`` the chart.
     """
     loaded = load_fault_3d_scene(scene, allow_large=allow_large)
+    budget.check(ladder_estimate(loaded), allow_large)  # the whole ladder, before any rung runs
     below = two_d_scene(loaded)
     rungs = []
     started = time.process_time()
@@ -557,10 +569,13 @@ METHODS = {"fault_3d": {"name": "fault_3d", "friction_laws": "rate-and-state (ag
 def estimate(scene, action: str = "run", rtol=None, output_dir=None, check_starts: bool = False,
              **_) -> budget.Estimate:
     """What a run or simulation of a 3-D fault scene needs, before it starts: its steps, operator and records
-    (:meth:`Fault3DScene.estimate`, cost.py); with ``check_starts``, the runs from the other starts too. A 2-D
-    scene (a Fault2DScene) is estimated as its 3-D fault (:func:`refine_two_d`)."""
+    (:meth:`Fault3DScene.estimate`, cost.py); with ``check_starts``, the runs from the other starts too;
+    ``action="ladder"``, every rung of :func:`ladder`. A 2-D scene (a Fault2DScene) is estimated as its 3-D fault
+    (:func:`refine_two_d`)."""
     loaded = from_two_d(scene, allow_large=True) if isinstance(scene, Fault2DScene) else \
         load_fault_3d_scene(scene, allow_large=True)
+    if action == "ladder":
+        return ladder_estimate(loaded)
     chosen = loaded.rtol if rtol is None else rtol
     if action == "run" and check_starts:
         return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)

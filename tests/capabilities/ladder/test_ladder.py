@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import faultslip
-from conftest import load_benchmark
+from conftest import assert_clean_error, load_benchmark
 from faultslip.errors import InputError
 from faultslip.fault import ladder
 from faultslip.models.fault_2d.scene import read_fault_2d_scene
@@ -445,3 +445,55 @@ def test_the_starts_file_says_what_its_runs_show():
     assert summary["same_answer"] == len(settled) - len(moved)
     assert {entry["name"] for entry in summary["elsewhere"]} == moved
     assert summary["faults"] == len(block["faults"]) >= 30
+
+
+def test_a_ladders_estimate_is_its_rungs_one_after_another_and_no_rung_runs(cli, monkeypatch):
+    """`model-error SCENE --estimate`: the one slider's cycles, the antiplane rung where the scene dips, the 2-D
+    fault and, with --include-3d, the 3-D fault, each from its own cost model, summed; nothing runs. A scene with
+    no ladder, or none given, is one sentence."""
+    from faultslip.models.fault_2d import family as fault_2d_family
+
+    ran = []
+    monkeypatch.setattr(fault_2d_family, "simulate_fault", lambda *args, **kwargs: ran.append(args))
+    surface = CONFIGS / "fault_2d_surface_small.toml"
+    ladder = cli("model-error", surface, "--include-3d", "--estimate", "--json")
+    assert ladder.code == 0, ladder.err
+    loaded = read_fault_2d_scene(surface)
+    rungs = [faultslip.models.estimate(surface, "run", method="one_slider"), loaded.estimate(in_this_process=True),
+             faultslip.models.estimate(surface, "run", method="fault_3d")]
+    assert ladder.json["seconds"]["value"] == pytest.approx(sum(rung.seconds for rung in rungs), rel=1e-9)
+    assert "the 3-D rung (" in ladder.out and "the 2-D rung (" in ladder.out
+    dipping = cli("model-error", CONFIGS / "fault_2d_dipping_small.toml", "--estimate")
+    assert dipping.code == 0 and "the antiplane rung (" in dipping.out and "the 3-D rung" not in dipping.out
+    three = cli("model-error", CONFIGS / "fault_3d_small.toml", "--estimate")
+    assert three.code == 0 and "the 2-D rung (the middle column)" in three.out and "the 3-D rung (" in three.out
+    assert not ran
+    assert_clean_error(cli("model-error", CONFIGS / "rsf_block_bp1.toml", "--estimate"), "no ladder")
+    assert_clean_error(cli("model-error", "--estimate"), "give the scene")
+
+
+def test_a_ladder_over_its_budget_is_refused_before_any_rung_runs(cli, monkeypatch):
+    """The whole ladder is budgeted before its first rung: a 3-D scene's, whose 3-D rung alone is over the budget,
+    is refused in one sentence naming that rung, with no 2-D run made (it had run the lower rungs first)."""
+    from faultslip.models.fault_2d import family as fault_2d_family
+
+    ran = []
+    monkeypatch.setattr(fault_2d_family, "simulate_fault", lambda *args, **kwargs: ran.append(args))
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "2")  # the 3-D rung's estimate is seconds, the others' less
+    assert_clean_error(cli("model-error", CONFIGS / "fault_3d_small.toml"), "the 3-D rung (", "--allow-large")
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "0.05")  # below the 2-D rung's steps alone (0.3 s), loaded or not
+    assert_clean_error(cli("model-error", CONFIGS / "fault_2d_small.toml"), "the 2-D rung (", "--allow-large")
+    assert not ran
+
+
+def test_runs_one_after_another_keep_where_any_lies_outside_its_fit():
+    """A sum of estimates keeps each one's outside-the-fit sentences, so the budget refuses the whole as it would
+    the part (they had been dropped)."""
+    from faultslip.io import budget
+
+    inside = budget.Estimate("a run", seconds=1.0)
+    outside = budget.Estimate("another", seconds=2.0, outside_fit=("its W/h* is 40, fitted 0.5 to 8",))
+    both = budget.one_after_another("both", [inside, outside, outside])
+    assert both.seconds == 5.0 and both.outside_fit == ("its W/h* is 40, fitted 0.5 to 8",)
+    with pytest.raises(InputError, match="fitted on other scenes"):
+        budget.check(both)

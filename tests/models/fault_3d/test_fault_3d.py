@@ -582,7 +582,7 @@ def test_a_2d_scenes_3d_rung_is_refused_in_one_sentence_where_it_cannot_run(cli,
 
     ran = []
     monkeypatch.setattr(family, "simulate_fault", lambda *args, **kwargs: ran.append(args))
-    assert_clean_error(cli("model-error", configs / "rsf_fault_bp1.toml", "--include-3d"), "the 3-D rung of",
+    assert_clean_error(cli("model-error", configs / "rsf_fault_bp1.toml", "--include-3d"), "the 3-D rung (",
                        "--allow-large")
     assert not ran
     estimate = cli("run", configs / "fault_2d_small.toml", "--model", "fault_3d", "--estimate", "--json")
