@@ -89,6 +89,7 @@ PRODUCERS = (
     # the 3-D cost model's fit runs (quick: refitted from the saved runs), then its held-out draw
     ("fault_3d_cost", ["--part", "fit"], ["--part", "refit"], "fault_3d_cost.json"),
     ("fault_3d_cost", ["--part", "held-out"], ["--part", "held-out"], "fault_3d_cost.json"),
+    ("fault_3d_cost", ["--part", "rtol"], ["--part", "rtol"], "fault_3d_cost.json"),
 )
 #: Packages a benchmark needs beyond the test install, by the module that shows they are there: without it the
 #: benchmark is skipped and its table keeps its last results, as a peer's does.

@@ -2,6 +2,7 @@
 
     python benchmarks/fault_3d_cost.py --part fit        # the fit runs, and the cost model's constants (about 15 min)
     python benchmarks/fault_3d_cost.py --part held-out   # the held-out draw, estimated by the shipped model (about 15 min)
+    python benchmarks/fault_3d_cost.py --part rtol       # the steps against rtol (about a minute)
 
 The model (faultslip.models.fault_3d.cost) had been fitted on SEAS BP5-QD alone, whose three runs change the squares
 along strike and down dip together. It estimated a 2-D scene's 3-D fault (configs/fault_2d_small.toml, 282 x 80
@@ -20,6 +21,8 @@ budget would have let it start). Here:
   where the normal stress changes), by relative non-negative least squares over the fit runs, and the CPU per
   dislocation pair of the operator's assembly (the median over the fit runs that spent a second or more on it).
   ``refit`` fits again from the file's runs without running them.
+- ``rtol``: the steps' power of rtol, which the steps fit takes as the 2-D fault's (-0.18): three of the fit's
+  kinds at rtol 1e-5 to 1e-8, each fault's slope of ln steps on ln rtol and the pooled one (about a minute).
 - ``held-out``: faults drawn at random (seed 7300) from the same kinds (patches of other shapes and squares, 2-D
   scenes at other lengths, BP5 at other squares), each estimated by the shipped model before it runs, as a user's
   run is, and run: the estimate over the CPU used.
@@ -196,6 +199,41 @@ def fit_assembly(rows: list) -> dict:
             "range": [float(min(per_pair)), float(max(per_pair))]}
 
 
+#: (what, scene builder) of the rtol part: a buried patch, a surface-breaking one, a 2-D scene's 3-D fault
+RTOL_FAULTS = [("patch 4 x 600 m at 200 m", lambda: cell(4.0, 600.0, 200.0)),
+               ("patch 8 x 600 m at the surface", lambda: cell(8.0, 600.0, 0.0)),
+               ("fault_2d_surface_small at 3 km", lambda: two_d("fault_2d_surface_small.toml", 3.0))]
+RTOLS = (1e-5, 1e-6, 1e-7, 1e-8)
+
+
+def rtol_runs() -> list:
+    """Each of :data:`RTOL_FAULTS` at each of :data:`RTOLS`: its steps."""
+    rows = []
+    for what, make in RTOL_FAULTS:
+        for rtol in RTOLS:
+            scene = make()
+            scene.rtol = rtol
+            run = scene.run()
+            rows.append({"what": what, "rtol": rtol, "steps": int(run.steps), "events": int(run.event_count)})
+            print(json.dumps(rows[-1]), flush=True)
+    return rows
+
+
+def fit_rtol(rows: list) -> dict:
+    """The steps' power of rtol: the slope of ln steps on ln rtol, each fault about its own mean (pooled), and each
+    fault's own slope."""
+    slopes, x, y = {}, [], []
+    for what in dict.fromkeys(row["what"] for row in rows):
+        mine = [row for row in rows if row["what"] == what]
+        log_rtol = np.log([row["rtol"] for row in mine])
+        log_steps = np.log([row["steps"] for row in mine])
+        slopes[what] = float(np.polyfit(log_rtol, log_steps, 1)[0])
+        x.extend(log_rtol - log_rtol.mean())
+        y.extend(log_steps - log_steps.mean())
+    x, y = np.array(x), np.array(y)
+    return {"power": float(x @ y / (x @ x)), "per_fault": slopes}
+
+
 def fits(runs: list, cells: list) -> dict:
     return {"steps_fit": fit_steps(runs + cells), "step_seconds_fit": fit_step_seconds(runs),
             "assembly_fit": fit_assembly(runs)}
@@ -203,14 +241,18 @@ def fits(runs: list, cells: list) -> dict:
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--part", choices=("fit", "refit", "held-out"), required=True,
+    parser.add_argument("--part", choices=("fit", "refit", "held-out", "rtol"), required=True,
                         help="refit: the fits again from the file's runs, without running them")
     parser.add_argument("--out", type=Path, default=OUT)
     args = parser.parse_args(argv)
     result = json.loads(args.out.read_text(encoding="utf-8")) if args.out.exists() else {}
     if args.part != "refit":
         cell(4.0, 600.0, 200.0, years=5.0).run()  # load the compiled force balance before any run is timed
-    if args.part == "refit":
+    if args.part == "rtol":
+        rows = rtol_runs()
+        result.update({"rtol_runs": rows, "rtol_fit": fit_rtol(rows)})
+        print(json.dumps(result["rtol_fit"]))
+    elif args.part == "refit":
         result.update(fits(result["fit_runs"], result["recorded_cells"]))
         print(json.dumps(fits(result["fit_runs"], result["recorded_cells"])))
     elif args.part == "fit":

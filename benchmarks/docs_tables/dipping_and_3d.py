@@ -209,6 +209,12 @@ def fault_3d_cost_table() -> str | None:
                     f"{row['cpu_s']:.1f} s | {row['estimate_over_cpu']:.2f} |")
     steps, seconds = result["steps_fit"], result["step_seconds_fit"]
     summary = result["held_out_summary"]
+    fitted = result.get("rtol_fit")
+    rtol = (f"The steps grow as rtol^{fitted['power']:.3f} (pooled over {len(fitted['per_fault'])} faults at rtol "
+            f"{min(r['rtol'] for r in result['rtol_runs']):.0e} to {max(r['rtol'] for r in result['rtol_runs']):.0e}, "
+            f"`--part rtol`; each fault's {min(fitted['per_fault'].values()):.3f} to "
+            f"{max(fitted['per_fault'].values()):.3f}); the model takes the 2-D fault's power, "
+            f"{steps['rtol']:g}. " if fitted else "")
     assembly = [row["estimated_assembly_s"] / row["assembly_s"] for row in result["held_out"]
                 if row["assembly_s"] >= 1.0] or [math.nan]
     return ("\n".join(rows) + f"\n\n{summary['within_2x']} of {summary['count']} held-out faults (seed "
@@ -218,7 +224,7 @@ def fault_3d_cost_table() -> str | None:
             f"{steps['residual_range'][1]:.2f}x of each; the CPU a step on the {len(result['fit_runs'])} runs, within "
             f"{seconds['ratio_range'][0]:.2f} to {seconds['ratio_range'][1]:.2f}x. The operator's assembly, timed "
             f"apart on the held-out faults that spent a second or more on it, estimated at "
-            f"{min(assembly):.2f} to {max(assembly):.2f}x. " + _machine(result))
+            f"{min(assembly):.2f} to {max(assembly):.2f}x. " + rtol + _machine(result))
 
 
 #: The tables this module renders, by the marker name in the pages.

@@ -15,11 +15,12 @@ from faultslip.io.budget import Estimate, with_one_off
 
 #: Steps of a run: margin A events^p (W / h*)^q N_x^r (rtol / 1e-6)^rtol, least squares in ln steps over the fit
 #: runs and the cells benchmarks/fault_3d_model_error.py records (their steps do not depend on the machine): more
-#: events, more partial ruptures (W >> h*) and more columns along strike each cost steps; the rtol power is the 2-D
-#: fault's (FAULT_2D_STEPS, -0.18), not measured on the 3-D fault. The measured steps lie within 0.72-1.42x of the
-#: fit's (45 runs). The margin, 1.4, puts the estimate at or above all but the slowest of them (0.99-1.9x), and
-#: leaves room for a busier machine than the fit's: the BP5 runs benchmarks/seas_bp5.py records took 1.7-3x the CPU
-#: a step measured here.
+#: events, more partial ruptures (W >> h*) and more columns along strike each cost steps. The rtol power is the 2-D
+#: fault's (FAULT_2D_STEPS, -0.18); measured on the 3-D fault (--part rtol: three faults at rtol 1e-5 to 1e-8) it is
+#: -0.155 pooled (-0.149 to -0.163 per fault), 6 % a decade of rtol from it. The measured steps lie within
+#: 0.72-1.42x of the fit's (45 runs). The margin, 1.4, puts the estimate at or above all but the slowest of them
+#: (0.99-1.9x), and leaves room for a busier machine than the fit's: the BP5 runs benchmarks/seas_bp5.py records took
+#: 1.7-3x the CPU a step measured here.
 FAULT_3D_STEPS = {"scale": 26.10, "events": 1.139, "width_over_nucleation": 1.055, "strike_columns": 0.674,
                   "rtol": -0.18, "margin": 1.4}
 #: CPU seconds per Dormand-Prince step: c0 + c1 N + c2 k (N_x + 1) N_z^2 (the element-wise work, and the
@@ -42,13 +43,15 @@ def expected_recurrence(fault) -> float:
 
 def products(fault) -> int:
     """The spectral products each force balance makes: the shear's, and the normal stress's where slip changes it
-    (a dipping fault, or a rake other than along strike: :class:`~faultslip.models.fault_3d.kernel.StrikeConvolution`)."""
+    (a dipping fault, or a rake other than along strike:
+    :class:`~faultslip.models.fault_3d.kernel.StrikeConvolution`)."""
     return 1 if (fault.dip == 90.0 and fault.rake == "strike") else 2
 
 
 def steps(strike_count: int, events: float, width_over_nucleation: float, rtol: float) -> float:
     """Dormand-Prince steps of a run seeing ``events`` system-size events (at least one's worth) on a fault of
-    ``strike_count`` columns whose weakening patch is ``width_over_nucleation`` h* wide (:data:`FAULT_3D_STEPS`; a fault that does not weaken, NaN, creeps: 0.1)."""
+    ``strike_count`` columns whose weakening patch is ``width_over_nucleation`` h* wide (:data:`FAULT_3D_STEPS`; a
+    fault that does not weaken, NaN, creeps: 0.1)."""
     model = FAULT_3D_STEPS
     return (model["margin"] * model["scale"] * max(events, 1.0) ** model["events"]
             * (width_over_nucleation if width_over_nucleation > 0.1 else 0.1) ** model["width_over_nucleation"]
@@ -97,6 +100,7 @@ def describe() -> str:
     return (f"steps ~ {model['margin'] * model['scale']:.3g} events^{model['events']:.3g} "
             f"(W / h*)^{model['width_over_nucleation']:.3g} N_x^{model['strike_columns']:.3g} "
             f"(rtol / 1e-6)^{model['rtol']:g}; each {c0:.2g} + {c1:.2g} N + {c2:.2g} k (N_x + 1) N_z^2 s of CPU "
-            f"(FFT along strike, dense down dip; k = 2 where the normal stress changes), and the assembly {FAULT_3D_PAIR_SECONDS:.2g} s a dislocation pair; "
+            "(FFT along strike, dense down dip; k = 2 where the normal stress changes), and the assembly "
+            f"{FAULT_3D_PAIR_SECONDS:.2g} s a dislocation pair; "
             "memory (N_x + 1) N_z^2 x 16 B a spectrum (two; three where the normal stress changes)")
 

@@ -451,6 +451,10 @@ def test_the_cost_model_is_its_benchmarks_fit_and_estimates_unseen_faults_within
     # with the margin, every fitted run's steps lie within 2x of its estimate's
     assert 0.5 <= cost.FAULT_3D_STEPS["margin"] / steps["residual_range"][1]
     assert cost.FAULT_3D_STEPS["margin"] / steps["residual_range"][0] <= 2.0
+    # the rtol power, the 2-D fault's, is the 3-D fault's measured one within 0.03 (7 % in steps a decade of rtol)
+    rtol = bench.fit_rtol(result["rtol_runs"])
+    assert len(result["rtol_runs"]) >= 12 and abs(rtol["power"] - cost.FAULT_3D_STEPS["rtol"]) <= 0.03
+    assert all(abs(power - cost.FAULT_3D_STEPS["rtol"]) <= 0.04 for power in rtol["per_fault"].values())
     fitted = bench.fit_step_seconds(result["fit_runs"])["coefficients"]
     assert np.allclose(cost.FAULT_3D_STEP_SECONDS, fitted, rtol=0.01, atol=1e-12)
     assert any(row["products"] == 2 for row in result["fit_runs"])  # a dipping fault's step is measured
