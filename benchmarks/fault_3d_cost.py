@@ -192,9 +192,9 @@ def fit_step_seconds(rows: list) -> dict:
 
 def fit_assembly(rows: list) -> dict:
     """CPU per (source triangle, observation point) pair of the operator's assembly: the median over the runs that
-    spent a second or more on it (:func:`faultslip.models.fault_3d.cost.assembly_seconds` counts the pairs)."""
-    pairs = [cost.assembly_seconds(row["strike_count"], row["dip_count"]) / cost.FAULT_3D_PAIR_SECONDS for row in rows]
-    per_pair = [row["assembly_s"] / count for row, count in zip(rows, pairs) if row["assembly_s"] >= 1.0]
+    spent a second or more on it (:func:`faultslip.models.fault_3d.cost.assembly_pairs` counts the pairs)."""
+    per_pair = [row["assembly_s"] / cost.assembly_pairs(row["strike_count"], row["dip_count"]) for row in rows
+                if row["assembly_s"] >= 1.0]
     return {"pair_seconds": float(np.median(per_pair)), "runs": len(per_pair),
             "range": [float(min(per_pair)), float(max(per_pair))]}
 

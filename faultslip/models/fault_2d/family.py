@@ -411,6 +411,11 @@ def floor_error(loaded: Fault2DScene) -> float:
     return max(discretisation_error(loaded.resolution), 10 * loaded.rtol)
 
 
+def one_slider_estimate(what: str) -> budget.Estimate:
+    """The one-slider rung's cost: its block's 5 earthquake cycles, by the rate-and-state slider's fitted model."""
+    return budget.fitted_estimate("rate_state_slider", "run", 5.0, what)
+
+
 def ladder_estimate(loaded: Fault2DScene, include_3d: bool = False) -> budget.Estimate:
     """What :func:`ladder` needs before any rung runs: its rungs one after another (the one slider's cycles, the
     antiplane fault where the scene dips, the 2-D fault, and with ``include_3d`` the 3-D fault its ``fault_length``
@@ -418,7 +423,7 @@ def ladder_estimate(loaded: Fault2DScene, include_3d: bool = False) -> budget.Es
     if include_3d and not loaded.fault_length:
         raise InputError(f"{loaded.name} states no [run] fault_length: its ladder has no 3-D rung (a 2-D scene is a "
                          "fault infinitely long along strike)")
-    rungs = {"the one slider": budget.fitted_estimate("rate_state_slider", "run", 5.0, "5 earthquake cycles")}
+    rungs = {"the one slider": one_slider_estimate("5 earthquake cycles")}
     if loaded.fault.plane == "strain":
         flat = loaded.antiplane()
         rungs["the antiplane rung"] = flat.estimate(flat.rtol, None, in_this_process=True)
@@ -690,8 +695,7 @@ def estimate(scene, action: str = "run", rtol=None, output_dir=None, method=None
     if action == "ladder":
         return ladder_estimate(loaded, include_3d)
     if action == "run" and method == "one_slider":
-        return budget.fitted_estimate("rate_state_slider", "run", 5.0,
-                                      f"the one slider derived from {loaded.name} (5 earthquake cycles)")
+        return one_slider_estimate(f"the one slider derived from {loaded.name} (5 earthquake cycles)")
     if action == "run" and method == "fault_3d":  # the rung above: the scene read as a fault fault_length long
         return load("fault_3d").estimate(loaded, "run", rtol=rtol)
     chosen = rtol if rtol is not None else loaded.rtol

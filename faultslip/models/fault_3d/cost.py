@@ -58,10 +58,15 @@ def steps(strike_count: int, events: float, width_over_nucleation: float, rtol: 
             * strike_count ** model["strike_columns"] * (rtol / 1e-6) ** model["rtol"])
 
 
+def assembly_pairs(strike_count: int, dip_count: int) -> int:
+    """(Source triangle, observation point) pairs the operator's assembly evaluates: every strike offset's
+    dislocations, three triangles a square."""
+    return 3 * (2 * strike_count - 1) * dip_count ** 2
+
+
 def assembly_seconds(strike_count: int, dip_count: int) -> float:
-    """CPU seconds to assemble the operator: every strike offset's dislocations, three triangles a square, at
-    :data:`FAULT_3D_PAIR_SECONDS` a (source triangle, observation point) pair."""
-    return 3.0 * (2 * strike_count - 1) * dip_count ** 2 * FAULT_3D_PAIR_SECONDS
+    """CPU seconds to assemble the operator, at :data:`FAULT_3D_PAIR_SECONDS` a pair (:func:`assembly_pairs`)."""
+    return assembly_pairs(strike_count, dip_count) * FAULT_3D_PAIR_SECONDS
 
 
 def step_seconds(strike_count: int, dip_count: int, products: int = 1) -> float:

@@ -430,7 +430,7 @@ def ladder_estimate(loaded: Fault3DScene) -> budget.Estimate:
     and the 3-D fault, one after another, each from its own cost model (``faultslip model-error SCENE
     --estimate``)."""
     below = two_d_scene(loaded)
-    rungs = {"the one slider": budget.fitted_estimate("rate_state_slider", "run", 5.0, "5 earthquake cycles"),
+    rungs = {"the one slider": fault_2d_family.one_slider_estimate("5 earthquake cycles"),
              "the 2-D rung (the middle column)": below.estimate(below.rtol, None, in_this_process=True),
              "the 3-D rung": loaded.estimate(in_this_process=True)}
     return budget.rungs_estimate(f"the ladder on {loaded.name}", rungs)
