@@ -37,9 +37,13 @@ def packages() -> dict[str, str]:
 
 
 def stamp() -> dict:
-    """The machine, the packages and the UTC date, as a results file's keys ``machine``, ``packages``, ``date``."""
+    """The machine, the packages and the UTC date, as a results file's keys ``machine``, ``packages``, ``date``; and
+    ``reference_work_seconds``, the machine's speed as the file was written (:func:`faultslip.io.machine.probe_seconds`),
+    so that CPU times measured on another day can be set beside these."""
+    from faultslip.io.machine import probe_seconds
+
     return {"machine": machine(), "packages": packages(),
-            "date": datetime.now(timezone.utc).strftime("%Y-%m-%d")}
+            "date": datetime.now(timezone.utc).strftime("%Y-%m-%d"), "reference_work_seconds": probe_seconds()}
 
 
 def described(stamped: dict | None = None) -> str:

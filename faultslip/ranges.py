@@ -48,6 +48,7 @@ RULES: dict[str, tuple[str, str, str]] = {
     "critical_slip": (POSITIVE, "critical slip distance D_c", "m"),
     "plate_rate": (POSITIVE, "plate rate", "m/s"),
     "time_budget": (POSITIVE, "time budget FAULTSLIP_TIME_BUDGET", "s"),
+    "machine_factor": (POSITIVE, "machine factor FAULTSLIP_MACHINE_FACTOR", ""),
     "min_magnitude": (FINITE, "minimum magnitude", ""),
     "max_magnitude": (FINITE, "maximum magnitude", ""),
     "characteristic_magnitude": (FINITE, "characteristic magnitude", ""),
@@ -94,6 +95,7 @@ BOUNDS: dict[str, tuple[float, float]] = {
     "critical_slip": (1e-9, 10.0),  # nm (nanoscale contacts) to 10 m (seismic slip weakening)
     "plate_rate": (1e-15, 1.0),  # from sub-mm per Myr to 1 m/s
     "time_budget": (1e-9, 1e9),  # up to 30 years of computing (a tiny budget refuses every run: tests use it)
+    "machine_factor": (1e-3, 1e3),  # a machine a thousand times faster or slower than the one the costs were fitted on
     "min_magnitude": (-2.0, 10.5),  # what the engine's MFDs take
     "bin_width": (1e-3, 0.5),
     "max_magnitude": (-2.0, 10.5),

@@ -337,6 +337,28 @@ def family_costs_table() -> str | None:
             "warm-up. " + _machine(result))
 
 
+def machine_speed_table() -> str | None:
+    """Each cost group's runs repeated now against its fit (machine_speed.py): the reference work carried to the
+    state each group was fitted in."""
+    import statistics
+
+    result = _load("machine_speed.json")
+    if result is None:
+        return None
+    rows = ["| cost group | fitted on | runs repeated | CPU then / now, median (range) | reference work then (now x then / now) | now |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for name, group in result["groups"].items():
+        ratios = [run["then"] / run["now"] for run in group["runs"]]
+        rows.append(f"| {name} | `{group['source']}` ({group['source_date']}) | {len(ratios)} | "
+                    f"{group['then_over_now']:.2f} ({min(ratios):.2f}-{max(ratios):.2f}) | "
+                    f"{group['reference_work_seconds'] * 1e3:.3f} ms | "
+                    f"{statistics.median(group['probe_now_seconds']) * 1e3:.3f} ms |")
+    return ("\n".join(rows) + "\n\nEach group's runs are its fit's own, repeated with the same work and timed as the "
+            "fit timed them (per step where a run counts steps); the reference work (`faultslip.io.machine`) was "
+            "probed before and after them. A cost model's seconds are multiplied by the reference work's time in "
+            "the estimating process over its time then. " + _machine(result))
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
     "benchmarks": benchmarks_table,
@@ -349,4 +371,5 @@ TABLES = {
     "classroom": classroom_table,
     "animation": animation_table,
     "family_costs": family_costs_table,
+    "machine_speed": machine_speed_table,
 }

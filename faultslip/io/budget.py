@@ -16,6 +16,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from faultslip import ranges
+from faultslip.io import machine
 from faultslip.errors import InputError
 from faultslip.io.report import Report
 from faultslip.io.resources import read_bundled_table
@@ -107,6 +108,8 @@ class Estimate:
         report.add("memory", self.memory, "B", also=("MB",), label="memory held at once")
         report.add("disk", self.disk, "B", also=("MB",), label="disk written")
         report.add("within_budget", self.fits(), label="within the budget (time, memory, disk)")
+        if self.seconds:
+            report.note(machine.describe())
         for sentence in self.outside_fit:
             report.note(f"outside the scenes the cost model was fitted on: {sentence}")
         return report
@@ -272,9 +275,11 @@ def fitted_estimate(family: str, entry: str, units: float, what: str, memory: fl
     Returns
     -------
     Estimate
+        Its seconds are this machine's now (:func:`faultslip.io.machine.factor`).
     """
     fitted = family_costs()["families"].get(family, {}).get(entry)
     if not isinstance(fitted, dict):
         raise InputError(f"{family}: no fitted cost model for {entry}; rerun benchmarks/family_costs.py")
     seconds = float(fitted["overhead"]) + float(fitted["seconds_per_unit"]) * max(float(units), 0.0)
-    return Estimate(what=what, memory=memory, disk=disk, seconds=seconds, output=output)
+    return Estimate(what=what, memory=memory, disk=disk, seconds=machine.on_this_machine(seconds, "families"),
+                    output=output)

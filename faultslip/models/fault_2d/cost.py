@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from faultslip.io import machine
 from faultslip.io.budget import Estimate, with_one_off
 
 
@@ -102,24 +103,28 @@ def fault_2d_first_run(*, fused: bool, threads: int, compile: bool) -> tuple[flo
     """The first-run cost (:data:`FAULT_2D_FIRST_RUN_SECONDS`) of a process that does not hold the compiled step
     yet, and what it is spent on."""
     key = f"{'fused' if fused else 'compiled'} {'parallel' if threads > 1 else 'serial'}"
+    seconds = FAULT_2D_FIRST_RUN_SECONDS[key]["compile" if compile else "load"]
+    # measured with the step's runs (benchmarks/first_run.py): carried to this machine with them
+    seconds = machine.on_this_machine(seconds, "fault_2d_step")
     if compile:
-        return FAULT_2D_FIRST_RUN_SECONDS[key]["compile"], "to compile the 2-D step for this environment, once"
-    return FAULT_2D_FIRST_RUN_SECONDS[key]["load"], "to load the compiled 2-D step into this process"
+        return seconds, "to compile the 2-D step for this environment, once"
+    return seconds, "to load the compiled 2-D step into this process"
 
 
 def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *, steps: float,
                       outside_fit: tuple = (), step_cost: float = 1.0, plane_strain: bool = False,
                       first_run: tuple = (0.0, "")) -> Estimate:
     """Time, memory and disk of a 2-D fault run of ``steps`` steps (:func:`fault_2d_steps`): station rows every
-    step (in memory, and as SEAS text). ``plane_strain``: a dipping fault's dense step
+    step (in memory, and as SEAS text). The seconds are this machine's now (:mod:`faultslip.io.machine`). ``plane_strain``: a dipping fault's dense step
     (:data:`PLANE_STRAIN_STEP_SECONDS`), and its two N x N kernels in memory. ``first_run``: seconds the process
     spends before its first step, and on what (:func:`fault_2d_first_run`)."""
     c0, c1, margin = FAULT_2D_STEP_SECONDS
-    per_step = c0 + c1 * elements
+    per_step = machine.on_this_machine(c0 + c1 * elements, "fault_2d_step")
     kernels = 0.0
     if plane_strain:
         dense0, dense2 = PLANE_STRAIN_STEP_SECONDS
-        per_step, step_cost, kernels = dense0 + dense2 * elements ** 2, 1.0, 2 * 8.0 * elements ** 2 * 2
+        per_step = machine.on_this_machine(dense0 + dense2 * elements ** 2, "plane_strain_step")
+        step_cost, kernels = 1.0, 2 * 8.0 * elements ** 2 * 2
     what, seconds = with_one_off(f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps)",
                                  margin * steps * per_step * step_cost, first_run)
     return Estimate(what=what, seconds=seconds,

@@ -11,6 +11,7 @@ held-out draw's estimates within 2x of the CPU each used.
 from __future__ import annotations
 
 from faultslip.fault.ladder import expected_recurrence as one_slider_recurrence
+from faultslip.io import machine
 from faultslip.io.budget import Estimate, with_one_off
 
 #: Steps of a run: margin A events^p (W / h*)^q N_x^r (rtol / 1e-6)^rtol, least squares in ln steps over the fit
@@ -65,14 +66,17 @@ def assembly_pairs(strike_count: int, dip_count: int) -> int:
 
 
 def assembly_seconds(strike_count: int, dip_count: int) -> float:
-    """CPU seconds to assemble the operator, at :data:`FAULT_3D_PAIR_SECONDS` a pair (:func:`assembly_pairs`)."""
-    return assembly_pairs(strike_count, dip_count) * FAULT_3D_PAIR_SECONDS
+    """CPU seconds to assemble the operator, at :data:`FAULT_3D_PAIR_SECONDS` a pair (:func:`assembly_pairs`), on
+    this machine now (:mod:`faultslip.io.machine`)."""
+    return machine.on_this_machine(assembly_pairs(strike_count, dip_count) * FAULT_3D_PAIR_SECONDS, "fault_3d")
 
 
 def step_seconds(strike_count: int, dip_count: int, products: int = 1) -> float:
-    """CPU seconds per step on N_x x N_z squares, ``products`` spectral products a force balance (:func:`products`)."""
+    """CPU seconds per step on N_x x N_z squares, ``products`` spectral products a force balance (:func:`products`),
+    on this machine now (:mod:`faultslip.io.machine`)."""
     c0, c1, c2 = FAULT_3D_STEP_SECONDS
-    return c0 + c1 * strike_count * dip_count + c2 * products * (strike_count + 1) * dip_count ** 2
+    return machine.on_this_machine(c0 + c1 * strike_count * dip_count
+                                   + c2 * products * (strike_count + 1) * dip_count ** 2, "fault_3d")
 
 
 def operator_bytes(strike_count: int, dip_count: int, normal_changes: bool = False) -> float:

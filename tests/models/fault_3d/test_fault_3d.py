@@ -464,7 +464,9 @@ def test_the_cost_model_is_its_benchmarks_fit_and_estimates_unseen_faults_within
         scene = draws[row["what"]]()
         for name, value in bench.features(scene).items():
             assert row[name] == pytest.approx(value, rel=1e-9), (row["what"], name)
-        assert scene.estimate().seconds == pytest.approx(row["estimated_s"], rel=1e-6), row["what"]
+        # on the machine the costs were anchored on (faultslip.io.machine; a row before it was estimated there)
+        anchored = row.get("estimated_anchored_s", row["estimated_s"])
+        assert scene.estimate().seconds == pytest.approx(anchored, rel=1e-6), row["what"]
         assert 0.5 <= row["estimated_s"] / row["cpu_s"] <= 2.0, row["what"]
     kinds = {row["what"].split()[0] for row in result["held_out"]}
     assert {"patch", "BP5", "fault_2d_surface_small", "fault_2d_small", "fault_2d_dipping_small"} <= kinds
