@@ -29,6 +29,7 @@ sys.path.insert(0, str(ROOT))
 import faultslip  # noqa: E402
 from faultslip.errors import InputError  # noqa: E402
 from faultslip.fault.ladder import expected_recurrence  # noqa: E402
+from faultslip.io import machine  # noqa: E402
 from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
 from ladder_designs import draw  # noqa: E402
 from provenance import stamp  # noqa: E402
@@ -50,21 +51,16 @@ def _escalate(design, resolution):
             "cpu_time": float(result["cpu_time"].to("s").magnitude), "runs": int(result.values["runs"]),
             "steps": int(result.values["steps"]), "sequence": result.values["sequence"],
             "recurrence": float(result["recurrence_interval"].to("s").magnitude),
-            "declared_error": result.estimated_relative_error}
+            "declared_error": result.estimated_relative_error,
+            # what the estimate took for this machine's speed (faultslip.io.machine), in this worker
+            "machine_factor": machine.factor("fault_2d_step")}
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--count", type=int, default=12)
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--seed", type=int, default=68000)
-    parser.add_argument("--out", default=None,
-                        help="where to write (default: ladder_escalations.json for seed 68000, else "
-                             "ladder_escalations_held_out.json)")
-    args = parser.parse_args(argv)
-    designs = draw(args.count, args.seed, "escalation")
-    resolutions = np.random.default_rng(args.seed).uniform(3.0, 5.0, args.count)
-    pool = worker_pool(args.workers)
+def escalations(count: int, seed: int, workers: int = 2) -> list[dict]:
+    """The draw's escalations, ``workers`` at a time, each in a fresh worker process: one row each."""
+    designs = draw(count, seed, "escalation")
+    resolutions = np.random.default_rng(seed).uniform(3.0, 5.0, count)
+    pool = worker_pool(workers)
     rows = []
     try:
         futures = [pool.submit(_escalate, design, float(res)) for design, res in zip(designs, resolutions)]
@@ -79,6 +75,19 @@ def main(argv=None):
                   flush=True)
     finally:
         stop_pool(pool)
+    return rows
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--count", type=int, default=12)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=68000)
+    parser.add_argument("--out", default=None,
+                        help="where to write (default: ladder_escalations.json for seed 68000, else "
+                             "ladder_escalations_held_out.json)")
+    args = parser.parse_args(argv)
+    rows = escalations(args.count, args.seed, args.workers)
     ran = [row for row in rows if "refused" not in row]
     ratios = [row["estimated_seconds"] / row["cpu_time"] for row in ran]
     summary = {"escalations": len(ran), "refused": len(rows) - len(ran), "within_2x": int(sum(0.5 <= r <= 2 for r in ratios)),

@@ -166,15 +166,16 @@ def ladder_escalations_table() -> str | None:
     result = _load("ladder_escalations_held_out.json")
     if result is None:
         return None
-    rows = ["| fault | elements | 2-D runs | estimated | CPU used | estimate / CPU | CPU a step / fitted |",
-            "| --- | --- | --- | --- | --- | --- | --- |"]
+    rows = ["| fault | elements | 2-D runs | estimated | CPU used | estimate / CPU | machine factor | CPU a step / fitted |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for row in sorted(result["rows"], key=lambda r: r["design"]["name"]):
         name = f"| {row['design']['name']} (W/h* {row['design']['width_over_nucleation']:.2f}) | {row['elements']} | "
         if "refused" in row:
-            rows.append(name + "refused before it ran, in one sentence | | | | |")
+            rows.append(name + "refused before it ran, in one sentence | | | | | |")
             continue
+        factor = f"{row['machine_factor']:.2f}" if "machine_factor" in row else "not taken"
         rows.append(name + f"{row.get('runs', 1)} | {row['estimated_seconds']:.1f} s | {row['cpu_time']:.1f} s | "
-                    f"{row['estimated_seconds'] / row['cpu_time']:.2f} | {_step_speed(row):.2f} |")
+                    f"{row['estimated_seconds'] / row['cpu_time']:.2f} | {factor} | {_step_speed(row):.2f} |")
     summary = result["summary"]
     refused = summary.get("refused", 0)
     return ("\n".join(rows) + f"\n\n{summary['within_2x']} of {summary['escalations']} escalations within 2x (median "
@@ -182,11 +183,13 @@ def ladder_escalations_table() -> str | None:
             + (f", {refused} refused before any work, in one sentence" if refused else "") + "; "
             f"`python benchmarks/ladder_escalations.py --seed {result.get('seed', 68000)}`"
             f"{' (a draw the per-step cost never saw)' if result.get('seed', 68000) != 68000 else ''}. "
-            + _further_draws() + "The last column is each escalation's CPU a step (its runs' steps, its first run's "
-            "loading of the compiled step included) over the per-step CPU the cost model was fitted with "
-            "(`FAULT_2D_STEP_SECONDS`): above 1, the machine ran the steps slower than when the model was fitted "
-            f"(median {statistics.median(_step_speed(r) for r in result['rows'] if 'refused' not in r):.2f} here), "
-            "which the estimate does not measure. "
+            + _further_draws() + "The machine factor is what the estimate took for this machine's speed: the "
+            "reference work's CPU time in the escalation's process over its time where the step's cost was anchored "
+            "(`faultslip.io.machine`, `benchmarks/machine_speed.py`). The last column is each escalation's CPU a step "
+            "(its runs' steps, its first run's loading of the compiled step included) over the per-step CPU the cost "
+            "model was fitted with (`FAULT_2D_STEP_SECONDS`): below 1, the machine ran the steps faster than when the "
+            f"model was fitted (median {statistics.median(_step_speed(r) for r in result['rows'] if 'refused' not in r):.2f} "
+            "here), which the factor is there to follow. "
             f"{_machine(result)}")
 
 
@@ -201,10 +204,11 @@ def _step_speed(row: dict) -> float:
 
 
 def _further_draws() -> str:
-    """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then
-    ladder_escalations_third_draw.json), a sentence each."""
+    """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then the
+    third and fourth), a sentence each."""
     text = ""
-    for ordinal, name in (("second", "ladder_escalations_second_draw.json"), ("third", "ladder_escalations_third_draw.json")):
+    for ordinal in ("second", "third", "fourth"):
+        name = f"ladder_escalations_{ordinal}_draw.json"
         result = _load(name)
         if result is None:
             continue
