@@ -97,7 +97,8 @@ def plane_strain_step(quick: bool = False) -> list[dict]:
     import plane_strain_step as plane
 
     then = recorded("plane_strain_step")
-    sizes = [row["elements"] for row in _source("plane_strain_step")["rows"] if row["elements"] <= (200 if quick else 400)]
+    largest = 200 if quick else 400
+    sizes = [row["elements"] for row in _source("plane_strain_step")["rows"] if row["elements"] <= largest]
     return [{"run": f"BP3-QD thrust on {count} elements", "then": then[f"BP3-QD thrust on {count} elements"],
              "now": plane.timed(count)["seconds_per_step"], "per": "step"} for count in sizes]
 

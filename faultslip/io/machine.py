@@ -1,9 +1,10 @@
 """How fast this machine runs now, against the machine each cost model was fitted on.
 
 A cost model counts CPU seconds, fitted on one machine in one state; the same work takes another machine, or this
-one under other tenants, a different time (the 2-D fault's steps took 1.7-2x less CPU on one day than on the day
-they were fitted). So every estimate is scaled by a **factor**: the CPU time a fixed reference work takes in this
-process now, over the time it took where the cost group's constants were anchored:
+one under other tenants, a different time (the 2-D fault's steps took less CPU on one day than on the day they were
+fitted: docs/benchmarks.md, "The machine's speed"). So every estimate is scaled by a **factor**: the CPU time a
+fixed reference work takes in this process now, over the time it took where the cost group's constants were
+anchored:
 
     seconds = model seconds x t_ref(now) / t_ref(group)
 

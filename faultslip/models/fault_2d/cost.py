@@ -104,7 +104,7 @@ def fault_2d_first_run(*, fused: bool, threads: int, compile: bool) -> tuple[flo
     yet, and what it is spent on."""
     key = f"{'fused' if fused else 'compiled'} {'parallel' if threads > 1 else 'serial'}"
     seconds = FAULT_2D_FIRST_RUN_SECONDS[key]["compile" if compile else "load"]
-    # measured with the step's runs (benchmarks/first_run.py): carried to this machine with them
+    # measured the day the step's cost was (first_run.json, ladder_escalations.json): carried to this machine with it
     seconds = machine.on_this_machine(seconds, "fault_2d_step")
     if compile:
         return seconds, "to compile the 2-D step for this environment, once"
@@ -115,9 +115,10 @@ def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *
                       outside_fit: tuple = (), step_cost: float = 1.0, plane_strain: bool = False,
                       first_run: tuple = (0.0, "")) -> Estimate:
     """Time, memory and disk of a 2-D fault run of ``steps`` steps (:func:`fault_2d_steps`): station rows every
-    step (in memory, and as SEAS text). The seconds are this machine's now (:mod:`faultslip.io.machine`). ``plane_strain``: a dipping fault's dense step
-    (:data:`PLANE_STRAIN_STEP_SECONDS`), and its two N x N kernels in memory. ``first_run``: seconds the process
-    spends before its first step, and on what (:func:`fault_2d_first_run`)."""
+    step (in memory, and as SEAS text); its seconds this machine's now (:mod:`faultslip.io.machine`).
+    ``plane_strain``: a dipping fault's dense step (:data:`PLANE_STRAIN_STEP_SECONDS`), and its two N x N kernels in
+    memory. ``first_run``: seconds the process spends before its first step, and on what
+    (:func:`fault_2d_first_run`)."""
     c0, c1, margin = FAULT_2D_STEP_SECONDS
     per_step = machine.on_this_machine(c0 + c1 * elements, "fault_2d_step")
     kernels = 0.0
