@@ -64,6 +64,7 @@ PRODUCERS = (
     ("ladder_regimes", [], [], "ladder_regimes.json"),
     ("ladder_designs", ["--fresh", "40"], ["--fresh", "40"], "ladder_fresh.json"),  # rows already there are kept
     ("ladder_calibration", [], [], "ladder_held_out.json"),
+    ("ladder_outside_box", [], ["--count", "6"], "ladder_outside_box.json"),  # after the calibration it clamps to
     ("fuzz", ["--seed", "69"], ["--seed", "69", "--cases", "500"], "fuzz.json"),
     ("fuzz", ["--seed", "690", "--out", "benchmarks/results/fuzz_second_seed.json"],
      ["--seed", "690", "--cases", "500", "--out", "benchmarks/results/fuzz_second_seed.json"], "fuzz_second_seed.json"),

@@ -45,8 +45,9 @@ MAX_ELEMENTS = 1000
 RATIO_RANGE = (1.5, 8.0)
 
 
-def draw(count: int, seed: int, prefix: str) -> list[Design]:
-    """``count`` designs drawn over the box (module docstring), kept where W / h* and the element count allow."""
+def draw(count: int, seed: int, prefix: str, ratio_range: tuple = RATIO_RANGE) -> list[Design]:
+    """``count`` designs drawn over the box (module docstring), kept where W / h* lies in ``ratio_range`` and the
+    element count allows."""
     rng = np.random.default_rng(seed)
     designs = []
     while len(designs) < count:
@@ -60,7 +61,7 @@ def draw(count: int, seed: int, prefix: str) -> list[Design]:
         b = 0.015
         nucleation = math.pi / 2 * SHEAR_MODULUS * critical_slip * b / (sigma * (b - a) ** 2)
         ratio = width / nucleation
-        if not RATIO_RANGE[0] <= ratio <= RATIO_RANGE[1]:
+        if not ratio_range[0] <= ratio <= ratio_range[1]:
             continue
         design = Design(f"{prefix} {len(designs)}", ratio, a, b=b, normal_stress=sigma, seismogenic_width=width,
                         cap=cap, ramp=ramp, below=below, a_strengthening=deep)

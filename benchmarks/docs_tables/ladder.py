@@ -221,9 +221,30 @@ def _further_draws() -> str:
     return text
 
 
+def ladder_outside_box_table() -> str | None:
+    """The recurrence a budget expects of faults below the calibrated box against their 2-D answer
+    (ladder_outside_box.py)."""
+    result = _load("ladder_outside_box.json")
+    if result is None:
+        return None
+    names = {"block": "the derived block, uncorrected", "median_ratio": "the block times the calibration's median ratio",
+             "clamped": "the correction at the box's nearest point (taken)"}
+    rows = ["| expected recurrence | faults within 2x of the 2-D recurrence | expected / 2-D, median | range |",
+            "| --- | --- | --- | --- |"]
+    for key, label in names.items():
+        line = result["summary"][key]
+        rows.append(f"| {label} | {line['within_2x']} of {line['faults']} | {line['ratio_median']:.2f} | "
+                    f"{line['ratio_min']:.2f}-{line['ratio_max']:.2f} |")
+    low, high = result["ratios"]
+    return ("\n".join(rows) + f"\n\nFaults drawn as the calibration's are, with W / h* of {low:g}-{high:g} "
+            f"(seed {result['seed']}); {result['left_out_unsettled']} whose 2-D run did not settle are left out. "
+            "`python benchmarks/ladder_outside_box.py`. " + _machine(result))
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
     "ladder": ladder_table,
     "ladder_limits": ladder_limits_table,
     "ladder_escalations": ladder_escalations_table,
+    "ladder_outside_box": ladder_outside_box_table,
 }

@@ -19,10 +19,11 @@ from faultslip.io.budget import Estimate, with_one_off
 #: events, more partial ruptures (W >> h*) and more columns along strike each cost steps. The rtol power is the 2-D
 #: fault's (FAULT_2D_STEPS, -0.18); measured on the 3-D fault (--part rtol: three faults at rtol 1e-5 to 1e-8) it is
 #: -0.155 pooled (-0.149 to -0.163 per fault), 6 % a decade of rtol from it. The measured steps lie within
-#: 0.72-1.42x of the fit's (45 runs). The margin, 1.4, puts the estimate at or above all but the slowest of them
-#: (0.99-1.9x), and leaves room for a busier machine than the fit's: the BP5 runs benchmarks/seas_bp5.py records took
-#: 1.7-3x the CPU a step measured here.
-FAULT_3D_STEPS = {"scale": 26.10, "events": 1.139, "width_over_nucleation": 1.055, "strike_columns": 0.674,
+#: 0.71-1.53x of the fit's (45 runs). The margin, 1.4, puts the estimate at or above all but the slowest of them
+#: (0.91-1.96x). The events are counted by the recurrence the one slider expects (outside its box, the correction at
+#: the box's nearest point: faultslip.fault.ladder.expected_recurrence); refitted when that changed, from the saved
+#: runs (--part re-estimate).
+FAULT_3D_STEPS = {"scale": 33.43, "events": 0.927, "width_over_nucleation": 1.221, "strike_columns": 0.769,
                   "rtol": -0.18, "margin": 1.4}
 #: CPU seconds per Dormand-Prince step: c0 + c1 N + c2 k (N_x + 1) N_z^2 (the element-wise work, and the
 #: per-frequency N_z x N_z products of the FFT along strike, k of them a force balance: 2 where the normal stress

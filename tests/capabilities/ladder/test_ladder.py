@@ -161,6 +161,36 @@ def test_outside_the_box_the_one_slider_declares_nothing():
     assert any("outside the calibrated box" in note for note in result.notes)
 
 
+def test_outside_the_box_a_budget_expects_the_correction_at_the_boxs_nearest_point():
+    """Below the box (W / h* 0.55-1.2), the recurrence a budget counts events by is the correction with each group
+    clamped to its calibrated range: recomputed for each saved fault as recorded (a changed model without a rerun
+    fails), within 2x of every settled fault's 2-D recurrence, and at its worst nearer it than the block's worst or
+    the block times the calibration's median ratio. Inside the box it is the corrected answer itself."""
+    bench = load_benchmark("ladder_outside_box")
+    result = json.loads((ROOT / "benchmarks" / "results" / "ladder_outside_box.json").read_text(encoding="utf-8"))
+    table = ladder.load_calibration()
+    distance = {"clamped": [], "median_ratio": [], "block": []}
+    for row in result["rows"]:
+        design = bench.Design(**row["design"])
+        predicted = bench.predictions(design)
+        assert predicted["outside"], row["design"]["name"]
+        for key in ("block", "median_ratio", "clamped"):
+            assert predicted[key] == pytest.approx(row["predicted"][key], rel=1e-9), (row["design"]["name"], key)
+        fault = design.two_d(bench.ELEMENTS_PER_PROCESS_ZONE).fault.description()
+        assert ladder.expected_recurrence(fault, table) == pytest.approx(predicted["clamped"], rel=1e-12)
+        if row["sequence"] != "unsettled":
+            assert 0.5 <= predicted["clamped"] / row["recurrence_2d"] <= 2.0, row["design"]["name"]
+            for key in distance:
+                distance[key].append(abs(math.log(predicted[key] / row["recurrence_2d"])))
+    assert len(distance["clamped"]) >= 10
+    assert max(distance["clamped"]) < min(max(distance["block"]), max(distance["median_ratio"]))
+    inside = read_fault_2d_scene(ROOT / "configs" / "rsf_fault_bp1.toml").fault.description()
+    raw, group = ladder.block_answer(inside, cycles=2)
+    assert not ladder.outside_box(group, table)
+    assert ladder.clamped_recurrence(raw["recurrence"], group, table) == pytest.approx(
+        ladder.predict("recurrence", raw["recurrence"], group, table)["value"], rel=1e-12)
+
+
 def test_a_tolerance_the_one_slider_cannot_meet_runs_the_2d_fault_of_the_same_scene():
     result = faultslip.run(CONFIGS / "fault_2d_small.toml", tolerance=0.1)
     assert result.method == "fault_2d"
