@@ -49,6 +49,7 @@ RULES: dict[str, tuple[str, str, str]] = {
     "plate_rate": (POSITIVE, "plate rate", "m/s"),
     "time_budget": (POSITIVE, "time budget FAULTSLIP_TIME_BUDGET", "s"),
     "machine_factor": (POSITIVE, "machine factor FAULTSLIP_MACHINE_FACTOR", ""),
+    "initial_offset": (NON_NEGATIVE, "initial offset", "m"),
     "min_magnitude": (FINITE, "minimum magnitude", ""),
     "max_magnitude": (FINITE, "maximum magnitude", ""),
     "characteristic_magnitude": (FINITE, "characteristic magnitude", ""),
@@ -95,6 +96,8 @@ BOUNDS: dict[str, tuple[float, float]] = {
     "critical_slip": (1e-9, 10.0),  # nm (nanoscale contacts) to 10 m (seismic slip weakening)
     "plate_rate": (1e-15, 1.0),  # from sub-mm per Myr to 1 m/s
     "time_budget": (1e-9, 1e9),  # up to 30 years of computing (a tiny budget refuses every run: tests use it)
+    "initial_offset": (0.0, 1e4),  # a chain's blocks start within 10 km: beyond any analogue's slip (a lab chain's
+    # um-mm, a fault patch's metres an event); 1e303 m overflowed the chain's event loop, which then never ended
     "machine_factor": (1e-3, 1e3),  # a machine a thousand times faster or slower than the one the costs were fitted on
     "min_magnitude": (-2.0, 10.5),  # what the engine's MFDs take
     "bin_width": (1e-3, 0.5),

@@ -40,6 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from faultslip.contract.scenes import scene_source
+from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.friction.materials import STANDARD_GRAVITY, get_preset
 from faultslip.io.resources import check_toml_layout, parse_toml
@@ -126,19 +127,20 @@ def parse_chain_scene(text_or_document, source: str = "<scene>") -> ChainScene:
     load = to_si(chain["normal_load"], "force", f"[chain] normal_load in {source}")
     speed = to_si(chain["platform_speed"], "speed", f"[chain] platform_speed in {source}")
     coupling = to_si(chain.get("coupling_stiffness", "0 N/m"), "stiffness", f"[chain] coupling_stiffness in {source}")
-    for label, value in (("leaf_stiffness", leaf), ("normal_load", load), ("platform_speed", speed)):
-        if not value > 0:
-            raise InputError(f"[chain] {label} in {source} must be positive, got {value:g}")
+    # the physical ranges every input passes (faultslip.ranges), so that no value overflows the event loop
+    for label, rule, value in (("leaf_stiffness", "stiffness", leaf), ("normal_load", "normal_load", load),
+                               ("platform_speed", "platform_speed", speed)):
+        ranges.check(rule, value, f"[chain] {label} in {source}")
     if coupling < 0:
         raise InputError(f"[chain] coupling_stiffness in {source} must be zero or positive, got {coupling:g}")
+    if coupling > 0:
+        ranges.check("stiffness", coupling, f"[chain] coupling_stiffness in {source}")
     mass = (to_si(chain["mass"], "mass", f"[chain] mass in {source}") if "mass" in chain else load / STANDARD_GRAVITY)
-    if not mass > 0:
-        raise InputError(f"[chain] mass in {source} must be positive, got {mass:g}")
+    ranges.check("mass", mass, f"[chain] mass in {source}")
     zeta = _number(chain, "damping_ratio", 0.0, source, 0.0, 0.99)
     spread = _number(chain, "threshold_spread", 0.0, source, 0.0, 0.99)
     offset = to_si(chain.get("initial_offset", "0 m"), "length", f"[chain] initial_offset in {source}")
-    if offset < 0:
-        raise InputError(f"[chain] initial_offset in {source} must be zero or positive, got {offset:g}")
+    ranges.check("initial_offset", offset, f"[chain] initial_offset in {source}")
     seed = _number(chain, "seed", 0, source, 0, 2 ** 32 - 1, whole=True)
     loading_rate = leaf * speed / load
     static, kinetic, friction = _friction(data.get("friction", {}), loading_rate, source)

@@ -229,6 +229,11 @@ def test_the_chain_family_runs_simulates_and_writes_quakeml(cli, tmp_path):
     ('damping_ratio = 0.1', 'damping_ratio = "a lot"', "damping_ratio"),
     ('leaf_stiffness = "1 kN/m"', 'leaf_stiffness = "1 kg"', "leaf_stiffness"),
     ('preset = "granodiorite_water"', 'preset = "cheese"', "cheese"),
+    # fuzz seed 6161: an offset of 1e303 m overflowed the compiled event loop, which never returned
+    ('initial_offset = "0.05 mm"', 'initial_offset = "1e300 km"', "initial_offset"),
+    ('normal_load = "10 N"', 'normal_load = "1e300 N"', "normal_load"),
+    ('platform_speed = "0.1 mm/s"', 'platform_speed = "1e300 m/s"', "platform_speed"),
+    ('coupling_stiffness = "10 kN/m"', 'coupling_stiffness = "1e300 N/m"', "coupling_stiffness"),
 ])
 def test_bad_chain_scenes_are_one_sentence(old, new, message, tmp_path, cli):
     path = tmp_path / "chain.toml"
