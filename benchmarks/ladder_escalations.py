@@ -56,6 +56,13 @@ def _escalate(design, resolution):
             "machine_factor": machine.factor("fault_2d_step")}
 
 
+def total_steps(row: dict) -> float:
+    """An escalation's steps over all its runs: an unsettled run is rerun twice as long, so its runs took ``steps``
+    (the last's) times (2^runs - 1) / 2^(runs - 1)."""
+    runs = row.get("runs", 1)
+    return row["steps"] * (2 ** runs - 1) / 2 ** (runs - 1)
+
+
 def escalations(count: int, seed: int, workers: int = 2) -> list[dict]:
     """The draw's escalations, ``workers`` at a time, each in a fresh worker process: one row each."""
     designs = draw(count, seed, "escalation")

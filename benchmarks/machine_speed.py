@@ -45,6 +45,7 @@ sys.path.insert(0, str(HERE))
 from faultslip import __version__  # noqa: E402
 from faultslip.io import budget, machine  # noqa: E402
 from faultslip.io.resources import read_bundled_table, write_bundled_table  # noqa: E402
+from ladder_escalations import total_steps  # noqa: E402
 from provenance import stamp  # noqa: E402
 
 RESULTS = HERE / "results"
@@ -60,10 +61,8 @@ def _source(group: str) -> dict:
 
 
 def _per_step(row: dict) -> float:
-    """An escalation's CPU a step: an unsettled run is rerun twice as long, so its runs took steps (2^runs - 1) /
-    2^(runs - 1) steps (``steps`` is the last run's)."""
-    runs = row.get("runs", 1)
-    return row["cpu_time"] / (row["steps"] * (2 ** runs - 1) / 2 ** (runs - 1))
+    """An escalation's CPU a step, over all its runs."""
+    return row["cpu_time"] / total_steps(row)
 
 
 def recorded(group: str) -> dict[str, float]:

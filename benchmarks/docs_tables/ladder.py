@@ -194,13 +194,12 @@ def ladder_escalations_table() -> str | None:
 
 
 def _step_speed(row: dict) -> float:
-    """An escalation's CPU a step over the fitted per-step CPU: each unsettled run is rerun twice as long, so its
-    runs took ``steps`` (the last's) times (2^runs - 1) / 2^(runs - 1) steps."""
+    """An escalation's CPU a step, over all its runs, over the fitted per-step CPU."""
     from faultslip.models.fault_2d import cost
+    from ladder_escalations import total_steps
 
     c0, c1, _ = cost.FAULT_2D_STEP_SECONDS
-    steps = row["steps"] * (2 ** row["runs"] - 1) / 2 ** (row["runs"] - 1)
-    return row["cpu_time"] / steps / (c0 + c1 * row["elements"])
+    return row["cpu_time"] / total_steps(row) / (c0 + c1 * row["elements"])
 
 
 def _further_draws() -> str:

@@ -21,6 +21,7 @@ the tests set it, so that no test depends on the machine's speed.
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import statistics
 import threading
@@ -104,8 +105,10 @@ def assumed(value: float):
             os.environ[ENVIRONMENT] = saved
 
 
+@functools.lru_cache(maxsize=1)
 def references() -> dict:
-    """The reference work's anchored time per cost group (s), from ``data/machine_reference.json``."""
+    """The reference work's anchored time per cost group (s), from ``data/machine_reference.json`` (read once a
+    process: every estimate's leaf asks for it, a sweep's cost for each sampled cell)."""
     table = read_bundled_table(REFERENCE_FILE, "the cost models' machine reference", PRODUCER)
     groups = table.get("groups")
     missing = [group for group in GROUPS if not isinstance(groups, dict) or not isinstance(groups.get(group), dict)

@@ -120,12 +120,13 @@ def fault_2d_estimate(elements: int, years: float, stations: int, output=None, *
     memory. ``first_run``: seconds the process spends before its first step, and on what
     (:func:`fault_2d_first_run`)."""
     c0, c1, margin = FAULT_2D_STEP_SECONDS
-    per_step = machine.on_this_machine(c0 + c1 * elements, "fault_2d_step")
     kernels = 0.0
     if plane_strain:
         dense0, dense2 = PLANE_STRAIN_STEP_SECONDS
         per_step = machine.on_this_machine(dense0 + dense2 * elements ** 2, "plane_strain_step")
         step_cost, kernels = 1.0, 2 * 8.0 * elements ** 2 * 2
+    else:
+        per_step = machine.on_this_machine(c0 + c1 * elements, "fault_2d_step")
     what, seconds = with_one_off(f"a 2-D fault run of {elements} elements over {years:.4g} yr (about {steps:.3g} steps)",
                                  margin * steps * per_step * step_cost, first_run)
     return Estimate(what=what, seconds=seconds,
