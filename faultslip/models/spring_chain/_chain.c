@@ -44,6 +44,7 @@
 #define BUDGET 1
 #define STEADY 2
 #define NO_CHANGE 3
+#define OVERFLOW 4   /* the state's bounds left double precision: nothing after it can be trusted */
 
 typedef struct {
     int n;
@@ -304,8 +305,9 @@ static double brent(Chain *ch, int kind, int row, double a, double b, double xto
     return xcur;
 }
 
-/* The sub-phase's first change (see the header). Returns tau, or -1 if nothing changed within
- * HORIZON_PERIODS of the slowest mode. Sets stop_flag (rows of S) and join_flag (blocks). */
+/* The sub-phase's first change (see the header). Returns tau, -1 if nothing changed within HORIZON_PERIODS of
+ * the slowest mode, or -2 if the modes' bounds overflowed (the grid and its dip search would then run without end).
+ * Sets stop_flag (rows of S) and join_flag (blocks). */
 static double next_change(Chain *ch)
 {
     int n = ch->n, count = ch->count;
@@ -348,6 +350,11 @@ static double next_change(Chain *ch)
     long point = 0;
     double low = 0.0, high = 0.0;
     curvature_bounds(ch);
+    if (!(isfinite(step) && step > 0 && isfinite(horizon) && far_first > -INFINITY))  /* far_first: +inf if none */
+        return -2.0;
+    for (int row = 0; row < count; row++)
+        if (!isfinite(ch->curvature[row]))
+            return -2.0;
     modal(ch, 0.0, 0, count);
     for (int row = 0; row < count; row++)
         ch->previous[row] = row_value(ch, ch->dq, row) * ch->direction[ch->index[row]];
@@ -452,6 +459,15 @@ static double peak_speed(Chain *ch, double tau)
     return peak;
 }
 
+/* every position, speed and force finite */
+static int finite_state(const Chain *ch, const double *x, const double *v)
+{
+    for (int i = 0; i < ch->n; i++)
+        if (!(isfinite(x[i]) && isfinite(v[i]) && isfinite(ch->force[i])))
+            return 0;
+    return 1;
+}
+
 static void set_slipping(Chain *ch)
 {
     ch->count = 0;
@@ -532,6 +548,10 @@ static PyObject *run(PyObject *self, PyObject *args)
         /* stick: the least headroom fails first (and any within TOGETHER of it); a block held past -W mu_s by
          * the start goes backwards at once */
         forces(&ch, x, v, t, ch.force);
+        if (!finite_state(&ch, x, v)) {
+            status = OVERFLOW;
+            goto finished;
+        }
         double least = INFINITY;
         for (int i = 0; i < n; i++) {
             double room = ch.force[i] < -ch.limit[i] ? -INFINITY : ch.limit[i] - ch.force[i];
@@ -569,9 +589,13 @@ static PyObject *run(PyObject *self, PyObject *args)
                 ch.slipped[ch.index[s]] = 1;
             build_modes(&ch, t);
             forces(&ch, x, v, t, ch.force);
+            if (!finite_state(&ch, x, v)) {
+                status = OVERFLOW;
+                goto finished;
+            }
             double tau = next_change(&ch);
             if (tau < 0) {
-                status = NO_CHANGE;
+                status = tau < -1.5 ? OVERFLOW : NO_CHANGE;
                 goto finished;
             }
             peak_event = fmax(peak_event, peak_speed(&ch, tau));

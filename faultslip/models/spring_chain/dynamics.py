@@ -36,7 +36,8 @@ tolerances, with each run of neighbouring slipping blocks' modes in closed form 
 cosine transforms' eigenpairs) rather than from an eigensolver. Python's ``closed_form`` stays as the
 reference it is tested against.
 
-Failures are never silent: a slip that outlives its horizon or more sub-phases than the budget raise :class:`~faultslip.errors.SolverError`, saying which and what to do.
+Failures are never silent: a slip that outlives its horizon, more sub-phases than the budget, or a state whose
+forces or bounds leave double precision raise :class:`~faultslip.errors.SolverError`, saying which and what to do.
 """
 
 from __future__ import annotations
@@ -270,8 +271,9 @@ class _Modes:
         """A bound on |d^2 v / d tau^2| of each slipping block over the sub-phase (m/s^3): each mode's speed is
         p1 + e^(-gamma tau) R cos(omega tau + phase), R = sqrt(gamma^2 + omega^2) sqrt(c^2 + d^2), and two more
         derivatives multiply R by gamma^2 + omega^2 at most (gamma >= 0: the decay only shrinks it)."""
-        amplitude = np.hypot(self.c, self.d) * (self.gamma ** 2 + self.omega_d ** 2) ** 1.5
-        return np.abs(self.vectors) @ amplitude
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflowing bound is reported by the caller
+            amplitude = np.hypot(self.c, self.d) * (self.gamma ** 2 + self.omega_d ** 2) ** 1.5
+            return np.abs(self.vectors) @ amplitude
 
 
 #: Halvings of a grid interval before a speed that stays within its curvature bound of zero is taken not to cross it
@@ -375,8 +377,10 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
     limits = W * chain.static_friction
     degree = chain.neighbours()
     budget = max_subphases or 50 * n * events + 1000
+    with np.errstate(over="ignore", invalid="ignore"):  # a start past double precision fails below, in words
+        start_force = chain.forces(x, v, 0.0)
     if slip_solver == "closed_form_compiled":
-        return _compiled(chain, events, x, budget)
+        return _compiled(chain, events, x, budget, start_force)
     starts, ends, firsts, sizes, slips, peaks = [], [], [], [], [], []
     subphases = 0
     began = clock.perf_counter()
@@ -385,7 +389,10 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
     while len(starts) < events:
         # stick: every force grows at k_p V; the least headroom fails first (and any within TOGETHER of it). A
         # start that holds a block past -W mu_s (neighbours far ahead) lets it go backwards at once.
-        force = chain.forces(x, v, t)
+        with np.errstate(over="ignore", invalid="ignore"):
+            force = chain.forces(x, v, t)
+        if not np.all(np.isfinite(force)):
+            raise _overflow(chain, t, x)
         headroom = np.where(force < -limits, -np.inf, limits - force)
         wait = max(float(headroom.min()), 0.0) / (kp * V)
         t += wait
@@ -401,11 +408,7 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
                 raise SolverError(f"the chain: more than {budget} slip sub-phases at t = {t:.6g} s; raise "
                                   "max_subphases, or fewer blocks or events")
             if t - t_start > STEADY_PERIODS * slowest_period:  # a slip that never ends is steady sliding
-                raise SolverError(
-                    f"the chain slides steadily: block(s) {', '.join(str(int(b)) for b in slipping[:5])} have slipped "
-                    f"for {(t - t_start) / slowest_period:.0f} of a block's periods without sticking, as a slider "
-                    f"above its critical loading rate does (damping ratio {chain.damping_ratio:.3g}); lower the "
-                    "damping or the plate speed for stick-slip")
+                raise _steady(chain, slipping[:5], (t - t_start) / slowest_period, start_force)
             slipped[slipping] = True
             if slip_solver == "closed_form":
                 modes = _Modes(chain, slipping, degree, x, v, t, direction)
@@ -437,7 +440,34 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
                     np.array(peaks), subphases, clock.perf_counter() - began, x.copy(), t)
 
 
-def _compiled(chain: Chain, events: int, x: np.ndarray, budget: int) -> ChainRun:
+def _steady(chain: Chain, blocks, periods: float, start_force: np.ndarray) -> SolverError:
+    """The failure of a slip that has not ended in STEADY_PERIODS of a lone block's periods: steady sliding, or a
+    start stretched so far beyond the limits that the chain is still unloading it."""
+    limit = chain.normal_load * float(chain.static_friction.max())
+    stored = float(np.abs(start_force).max())
+    where = (f"block(s) {', '.join(str(int(b)) for b in blocks)} have slipped for {periods:.0f} of a block's periods "
+             "without sticking")
+    if stored > 10 * limit:
+        return SolverError(
+            f"the chain is still unloading its start: {where}, and the initial positions put forces of up to "
+            f"{stored:.3g} N on blocks that hold at most {limit:.3g} N; start the blocks within about "
+            f"{limit / chain.leaf_stiffness:.3g} m of each other and of the plate (W mu_s / k_p)")
+    return SolverError(
+        f"the chain slides steadily: {where}, as a slider above its critical loading rate does (damping ratio "
+        f"{chain.damping_ratio:.3g}); lower the damping or the plate speed for stick-slip")
+
+
+def _overflow(chain: Chain, t: float, x: np.ndarray) -> SolverError:
+    """The failure of a state whose forces, or the bounds the slip's grid is searched by, leave double precision."""
+    reach = float(np.nanmax(np.abs(np.where(np.isfinite(x), x, np.inf))))
+    return SolverError(
+        f"the chain's state overflowed double precision at t = {t:.6g} s (block positions up to {reach:.3g} m): its "
+        f"forces, or the bounds its slips are searched by, are no longer finite, and no later event could be "
+        f"trusted; start the blocks within about {chain.normal_load * float(chain.static_friction.max()) / chain.leaf_stiffness:.3g} m "
+        "of each other and of the plate (W mu_s / k_p)")
+
+
+def _compiled(chain: Chain, events: int, x: np.ndarray, budget: int, start_force: np.ndarray) -> ChainRun:
     """The loop of :func:`simulate_chain` in C (``_chain.run``), with the same failures."""
     n = chain.blocks
     start, end, peak = np.zeros(events), np.zeros(events), np.zeros(events)
@@ -453,11 +483,9 @@ def _compiled(chain: Chain, events: int, x: np.ndarray, budget: int) -> ChainRun
                           "fewer blocks or events")
     if status == 2:
         slowest_period = 2 * math.pi * math.sqrt(chain.mass / chain.leaf_stiffness)
-        raise SolverError(
-            f"the chain slides steadily: block(s) {', '.join(str(b) for b in blocks)} have slipped for "
-            f"{(t - t_start) / slowest_period:.0f} of a block's periods without sticking, as a slider above its "
-            f"critical loading rate does (damping ratio {chain.damping_ratio:.3g}); lower the damping or the plate "
-            "speed for stick-slip")
+        raise _steady(chain, blocks, (t - t_start) / slowest_period, start_force)
+    if status == 4:
+        raise _overflow(chain, t, x)
     if status == 3:
         raise SolverError(f"the chain: a slip of {count} block(s) from t = {t:.6g} s neither ended nor spread within 200 "
                           "of its slowest periods; the coupling may be too stiff for the leaf springs")
@@ -520,6 +548,8 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
     start, points = 0.0, SAMPLES_PER_PERIOD
     horizon = 200 * slowest
     curvature = modes.speed_curvature_bound()
+    if not np.all(np.isfinite(curvature)):  # the dip search would halve its way through every grid interval
+        raise _overflow(chain, t0, x)
     along = direction[slipping]
     at_start = modes.state(0.0)[1] * along
     while start < horizon:

@@ -286,6 +286,34 @@ def test_the_compiled_loop_is_the_python_closed_form_to_round_off():
     assert len(said) == 1
 
 
+@pytest.mark.parametrize("solver", EXACT)
+def test_a_start_past_double_precision_fails_in_words_and_does_not_spin(solver):
+    """A block 1e304 m from its plate keeps its force finite (k_p x = 1e308 N) but overflows the bound on its
+    speed's curvature (times omega^3 = 3.5e5 1/s^3), by which the grid's dip search decides when to stop halving: it
+    then halved every interval to its depth, 2^20 evaluations a block a grid point, and the compiled loop never
+    returned (fuzz seed 6161, through the scene before its offset was bounded). At 1e307 m the force itself is
+    infinite. Both now fail at once, in the same words in C and Python, saying what to do."""
+    said = set()
+    for reach in (1e304, 1e307):
+        with pytest.raises(SolverError, match="overflowed double precision at t = 0 s") as raised:
+            _simulate(_chain(), 5, initial_position=np.array([reach]), slip_solver=solver)
+        assert "start the blocks within about 0.006 m" in str(raised.value)
+        said.add(str(raised.value).split("(block positions")[0])
+    assert len(said) == 1
+
+
+@pytest.mark.parametrize("solver", EXACT)
+def test_a_start_stretched_far_past_the_limits_is_named_as_the_cause_not_the_damping(solver):
+    """One undamped block started 10 m behind its unstretched spring (a force of 1e5 N on a limit of 60 N) loses
+    4 W mu_k / k_p = 16 mm of amplitude a period to friction (the exact cycle's decrement), so it needs about 625
+    periods to unload: past the 200 after which a slip is called steady. The failure names the start, not the
+    damping (zero here) or the plate speed; a start just past the limit (0.1 m, about 6 periods) runs."""
+    with pytest.raises(SolverError, match=r"still unloading its start: .* forces of up to 1e\+05 N on blocks that hold "
+                                          r"at most 60 N; start the blocks within about 0.006 m"):
+        _simulate(_chain(), 3, initial_position=np.array([10.0]), slip_solver=solver)
+    assert _simulate(_chain(), 3, initial_position=np.array([0.1]), slip_solver=solver).events == 3
+
+
 def test_without_the_build_auto_runs_the_python_closed_form_and_compiled_says_why(monkeypatch):
     from faultslip.models.spring_chain import dynamics
 
