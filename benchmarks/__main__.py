@@ -65,6 +65,8 @@ PRODUCERS = (
     ("ladder_designs", ["--fresh", "40"], ["--fresh", "40"], "ladder_fresh.json"),  # rows already there are kept
     ("ladder_calibration", [], [], "ladder_held_out.json"),
     ("ladder_outside_box", [], ["--count", "6"], "ladder_outside_box.json"),  # after the calibration it clamps to
+    # the step count's model from the saved runs (after the calibration whose recurrences count the events)
+    ("fault_2d_event_steps", [], [], "fault_2d_event_steps.json"),
     ("fuzz", ["--seed", "69"], ["--seed", "69", "--cases", "500"], "fuzz.json"),
     ("fuzz", ["--seed", "690", "--out", "benchmarks/results/fuzz_second_seed.json"],
      ["--seed", "690", "--cases", "500", "--out", "benchmarks/results/fuzz_second_seed.json"], "fuzz_second_seed.json"),
@@ -97,6 +99,9 @@ PRODUCERS = (
     ("ladder_escalations", ["--seed", "68005", "--out", "benchmarks/results/ladder_escalations_fourth_draw.json"],
      ["--seed", "68005", "--count", "4", "--out", "benchmarks/results/ladder_escalations_fourth_draw.json"],
      "ladder_escalations_fourth_draw.json"),
+    ("ladder_escalations", ["--seed", "68008", "--out", "benchmarks/results/ladder_escalations_fifth_draw.json"],
+     ["--seed", "68008", "--count", "4", "--out", "benchmarks/results/ladder_escalations_fifth_draw.json"],
+     "ladder_escalations_fifth_draw.json"),
 )
 #: Packages a benchmark needs beyond the test install, by the module that shows they are there: without it the
 #: benchmark is skipped and its table keeps its last results, as a peer's does.

@@ -3,9 +3,10 @@
     python benchmarks/ladder_escalations.py [--count 12] [--workers 2] [--seed 68000]
 
 Faults drawn at random over the one slider's calibrated box (benchmarks/ladder_designs.py's box; seed 68000 is
-the draw the per-step cost was fitted on, FAULT_2D_STEP_SECONDS; seed 68001, written to
-ladder_escalations_held_out.json, is a draw it never saw; 68003 and 68004, with --out, two more), each as a scene
-on 3 to 5 elements per L_b over eight of its expected recurrences, are run as a user would:
+the draw the per-step cost was fitted on, FAULT_2D_STEP_SECONDS, and the step count's power of the elements per
+L_b; seed 68001, written to ladder_escalations_held_out.json, is a draw they never saw; 68003, 68004, 68005 and
+68008, with --out, four more), each as a scene on 3 to 5 elements per L_b over eight of its expected recurrences,
+are run as a user would:
 ``faultslip.run(scene, tolerance=0.05)``. The one slider's ±50 % cannot meet 5 %, so each escalates to the 2-D
 fault of the same scene, and its result reports the estimate made before it started and the CPU time it used. Each
 worker is a fresh process: its first escalation loads the compiled step (or compiles it, where numba's cache is
@@ -46,7 +47,7 @@ def _escalate(design, resolution):
         return {"design": asdict(design), "elements_per_process_zone": resolution, "elements": scene.fault.count,
                 "refused": str(refused)}
     return {"design": asdict(design), "elements_per_process_zone": resolution, "elements": scene.fault.count,
-            "method": result.method, "escalated_from": result.values["escalated_from"],
+            "duration": scene.duration, "method": result.method, "escalated_from": result.values["escalated_from"],
             "estimated_seconds": float(result["estimated_seconds"].to("s").magnitude),
             "cpu_time": float(result["cpu_time"].to("s").magnitude), "runs": int(result.values["runs"]),
             "steps": int(result.values["steps"]), "sequence": result.values["sequence"],

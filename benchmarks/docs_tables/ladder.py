@@ -204,9 +204,9 @@ def _step_speed(row: dict) -> float:
 
 def _further_draws() -> str:
     """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then the
-    third and fourth), a sentence each."""
+    third to fifth), a sentence each."""
     text = ""
-    for ordinal in ("second", "third", "fourth"):
+    for ordinal in ("second", "third", "fourth", "fifth"):
         name = f"ladder_escalations_{ordinal}_draw.json"
         result = _load(name)
         if result is None:
@@ -240,10 +240,40 @@ def ladder_outside_box_table() -> str | None:
             "`python benchmarks/ladder_outside_box.py`. " + _machine(result))
 
 
+def fault_2d_event_steps_table() -> str | None:
+    """The 2-D fault's step count from its events, estimated against measured, on the runs it was fitted on and the
+    runs it never saw, beside the earlier model (fault_2d_event_steps.py)."""
+    result = _load("fault_2d_event_steps.json")
+    if result is None:
+        return None
+    rows = ["| runs | count | declared model: estimated / measured steps, median (range) | within 2x | earlier model "
+            "(events^p (W/h*)^q N^r), refitted | within 2x |", "| --- | --- | --- | --- | --- | --- |"]
+    fitted = {"calibration": "calibration designs (fitted: A, q, r)",
+              "escalations 68000": "escalation draw 68000, first runs (fitted: s)"}
+    for name, line in result["sets"].items():
+        label = fitted.get(name, f"{name}{', first runs' if name.startswith('escalations') else ' designs'} (unseen)")
+        d, e = line["declared"], line["earlier"]
+        rows.append(f"| {label} | {d['runs']} | {d['ratio_median']:.2f} ({d['ratio_min']:.2f}-{d['ratio_max']:.2f}) | "
+                    f"{d['within_2x']} | {e['ratio_median']:.2f} ({e['ratio_min']:.2f}-{e['ratio_max']:.2f}) | "
+                    f"{e['within_2x']} |")
+    model = result["model"]
+    return ("\n".join(rows) + "\n\nsteps = A events (W/h*)^q (W/L_b)^r (L_b/h / 3)^s (rtol / 1e-8)^-0.18 + 100, "
+            f"with A = {model['scale']:.4g}, q = {model['width_over_nucleation']:.3f}, "
+            f"r = {model['width_over_process_zone']:.3f}, s = {model['elements_per_process_zone']:.3f} "
+            "(`FAULT_2D_EVENT_STEPS`); the events are a run's duration over the recurrence the one-slider rung "
+            "expects. " + "".join(f"{count} of the {name} draw's runs, outside the one slider's box and run before "
+                                  "its recurrence there was clamped to the box's edge, are left out (their duration "
+                                  "is not the one the rule now gives). " for name, count in
+                                  result.get("left_out", {}).items() if count)
+            + "Steps do not depend on the machine: `python benchmarks/fault_2d_event_steps.py` refits it from the "
+            "saved runs. " + _machine(result))
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
     "ladder": ladder_table,
     "ladder_limits": ladder_limits_table,
     "ladder_escalations": ladder_escalations_table,
     "ladder_outside_box": ladder_outside_box_table,
+    "fault_2d_event_steps": fault_2d_event_steps_table,
 }

@@ -243,7 +243,8 @@ METHODS = {
                   f"sequence's, 10 rtol and the element size's {DISCRETISATION_AT_MINIMUM:g} "
                   f"({MIN_RESOLUTION:g} h / L_b)^{DISCRETISATION_ORDER:g}, a bound measured on three faults",
         "cost_model": "Dormand-Prince 5(4) steps counted from the system-size events the run will see (its duration "
-                      "over the recurrence the one-slider rung expects), its W / h*, elements, element size and rtol "
+                      "over the recurrence the one-slider rung expects: the same steps each cycle), its W / h*, W / L_b, "
+                      "elements per L_b and rtol "
                       "(faultslip.models.fault_2d.cost.fault_2d_steps), each step's CPU fitted on the compiled step's runs "
                       "(faultslip.models.fault_2d.cost.FAULT_2D_STEP_SECONDS) and scaled by the step path's measured cost, and "
                       "what the process still owes before its first step (loading or compiling the step: "

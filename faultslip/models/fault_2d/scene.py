@@ -164,20 +164,23 @@ class Fault2DScene:
 
     def estimated_steps(self, rtol: float | None = None) -> float:
         """The steps this scene's run takes: from the events it will see (:meth:`expected_events`), its width over
-        the nucleation size, its elements, element size and tolerance (:func:`faultslip.io.cost.fault_2d_steps`)."""
+        the nucleation size and the process zone, its element size and tolerance
+        (:func:`faultslip.models.fault_2d.cost.fault_2d_steps`)."""
         fault = self.fault
         return cost.fault_2d_steps(years=self.duration / YEAR, plate_rate=fault.plate_rate,
                                      element_size=fault.element_size, process_zone=fault.process_zone(),
                                      nucleation_size=fault.nucleation_size(),
                                      seismogenic_width=fault.seismogenic_width(),
-                                     rtol=self.rtol if rtol is None else rtol, events=self.expected_events(),
-                                     elements=fault.count)
+                                     rtol=self.rtol if rtol is None else rtol, events=self.expected_events())
 
-    def estimate(self, rtol: float | None = None, output=None, in_this_process: bool = False):
+    def estimate(self, rtol: float | None = None, output=None, in_this_process: bool = False,
+                 steps: float | None = None):
         """What a run of this scene needs (:class:`faultslip.io.budget.Estimate`), before it starts;
-        ``in_this_process``: a run about to start here, its first-run cost included (:meth:`first_run_cost`)."""
+        ``in_this_process``: a run about to start here, its first-run cost included (:meth:`first_run_cost`);
+        ``steps``: its steps where they are known better than :meth:`estimated_steps` (a rerun's, from the run before)."""
         return cost.fault_2d_estimate(self.fault.count, self.duration / YEAR, len(self.stations), output,
-                                        steps=self.estimated_steps(rtol), outside_fit=self.outside_fit(),
+                                        steps=self.estimated_steps(rtol) if steps is None else steps,
+                                        outside_fit=self.outside_fit(),
                                         step_cost=relative_step_cost(step_path()),
                                         plane_strain=self.fault.plane == "strain",
                                         first_run=self.first_run_cost() if in_this_process else (0.0, ""))
