@@ -516,8 +516,8 @@ def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, a
     scene, longer, estimated = loaded, 0, estimate.seconds
     while result.values["sequence"] == "unsettled" and longer < LONGER_RUNS:
         scene = replace(scene, duration=2 * scene.duration)
-        # the run just done counted its steps: one twice as long from the same start takes about twice as many (the
-        # event model's events^0.56, fitted across faults, would count a rerun's 2x the events as 1.5x the steps)
+        # the run just done counted its steps, which the event model only estimated: one twice as long from the same
+        # start takes about twice as many
         again = scene.estimate(in_this_process=True, steps=2.0 * result.values["steps"])
         spent = time.process_time() - started
         if not allow_large and spent + again.seconds > budget.time_budget():

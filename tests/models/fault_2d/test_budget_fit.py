@@ -260,9 +260,10 @@ def test_a_run_to_a_file_counts_the_cell_it_computes_first_for_its_layout():
 
 def test_an_unsettled_escalations_rerun_is_estimated_from_the_steps_of_the_run_before(monkeypatch):
     """A rerun from the same start over twice the duration takes about twice the steps of the run just done, which
-    that run counted: its estimate takes them, where the event model fitted across faults would count twice the
-    events as 2^0.56 the steps. The 2-D runs are stood in for (an unsettled one, then a settled one); the estimates
-    are the library's, and the escalation reports their sum."""
+    that run counted: its estimate takes them rather than the event model's estimate (the earlier model, its
+    events' power fitted across faults, counted twice the events as 2^0.78 the steps). The 2-D runs are stood in
+    for (an unsettled one, then a settled one); the estimates are the library's, and the escalation reports their
+    sum."""
     from faultslip.contract.result import Report, Result
     from faultslip.models.fault_2d import family
     from faultslip.models.fault_2d.scene import Fault2DScene
