@@ -82,7 +82,8 @@ def _label_faults(axes, lines, names, project) -> None:
 
     for line, name in zip(lines, names):
         middle = line[len(line) // 2]
-        x, y = project(np.array([middle[0]]), np.array([middle[1]]))
+        # one point as scalars: pyproj reads a one-element array as a point and NumPy deprecates that conversion
+        x, y = project(float(middle[0]), float(middle[1]))
         axes.annotate(str(name).replace("_", " "), (float(np.ravel(x)[0]), float(np.ravel(y)[0])), fontsize=6,
                       xytext=(4, 4), textcoords="offset points", zorder=6, color="0.1",
                       path_effects=[patheffects.withStroke(linewidth=2, foreground="white")])
