@@ -448,6 +448,10 @@ def run_study(study, output, *, chunk_cells: int | None = None, scheduler: str |
                               f"(its values and layout matched their records, but the file failed once written to: "
                               f"{type(damaged.cause).__name__}: {damaged.cause}); computing the study from the start",
                               stacklevel=2)
+                # the start over replaces them anyway: gone first, the run does not also call them an interrupted
+                # run's and ask for --resume, which the user passed and this warning answered
+                remove_store(output.with_name(output.name + ".partial"))
+                output.with_name(output.name + ".progress.json").unlink(missing_ok=True)
                 return _run_locked(study, output, chunk_cells, scheduler, workers, False, progress, compression,
                                    file_format)
         except FaultslipError:
