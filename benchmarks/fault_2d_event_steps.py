@@ -148,8 +148,8 @@ def main():
     left_out = {}
     for name in RUN_BEFORE_CLAMPING:
         ran = sum("steps" in row for row in json.loads((RESULTS / name).read_text(encoding="utf-8"))["rows"])
-        left_out[f"escalations {ESCALATION_DRAWS[name]}"] = ran - sum(p["set"] == f"escalations {ESCALATION_DRAWS[name]}"
-                                                                    for p in every)
+        draw = f"escalations {ESCALATION_DRAWS[name]}"
+        left_out[draw] = ran - sum(p["set"] == draw for p in every)
     OUT.write_text(json.dumps({**stamp(), "groups": list(GROUPS), "model": model, "earlier_groups": list(EARLIER),
                                "earlier_model": earlier, "sets": table, "left_out": left_out, "points": every},
                               indent=1) + "\n", encoding="utf-8")

@@ -408,7 +408,7 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
                 raise SolverError(f"the chain: more than {budget} slip sub-phases at t = {t:.6g} s; raise "
                                   "max_subphases, or fewer blocks or events")
             if t - t_start > STEADY_PERIODS * slowest_period:  # a slip that never ends is steady sliding
-                raise _steady(chain, slipping[:5], (t - t_start) / slowest_period, start_force)
+                raise _steady(chain, slipping[:5], (t - t_start) / slowest_period, start_force if not starts else None)
             slipped[slipping] = True
             if slip_solver == "closed_form":
                 modes = _Modes(chain, slipping, degree, x, v, t, direction)
@@ -440,11 +440,12 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
                     np.array(peaks), subphases, clock.perf_counter() - began, x.copy(), t)
 
 
-def _steady(chain: Chain, blocks, periods: float, start_force: np.ndarray) -> SolverError:
-    """The failure of a slip that has not ended in STEADY_PERIODS of a lone block's periods: steady sliding, or a
-    start stretched so far beyond the limits that the chain is still unloading it."""
+def _steady(chain: Chain, blocks, periods: float, start_force: np.ndarray | None) -> SolverError:
+    """The failure of a slip that has not ended in STEADY_PERIODS of a lone block's periods: steady sliding, or, in
+    the first event (``start_force`` given), a start stretched so far beyond the limits that the chain is still
+    unloading it."""
     limit = chain.normal_load * float(chain.static_friction.max())
-    stored = float(np.abs(start_force).max())
+    stored = 0.0 if start_force is None else float(np.abs(start_force).max())
     where = (f"block(s) {', '.join(str(int(b)) for b in blocks)} have slipped for {periods:.0f} of a block's periods "
              "without sticking")
     if stored > 10 * limit:
@@ -460,11 +461,11 @@ def _steady(chain: Chain, blocks, periods: float, start_force: np.ndarray) -> So
 def _overflow(chain: Chain, t: float, x: np.ndarray) -> SolverError:
     """The failure of a state whose forces, or the bounds the slip's grid is searched by, leave double precision."""
     reach = float(np.nanmax(np.abs(np.where(np.isfinite(x), x, np.inf))))
+    within = chain.normal_load * float(chain.static_friction.max()) / chain.leaf_stiffness
     return SolverError(
         f"the chain's state overflowed double precision at t = {t:.6g} s (block positions up to {reach:.3g} m): its "
         f"forces, or the bounds its slips are searched by, are no longer finite, and no later event could be "
-        f"trusted; start the blocks within about {chain.normal_load * float(chain.static_friction.max()) / chain.leaf_stiffness:.3g} m "
-        "of each other and of the plate (W mu_s / k_p)")
+        f"trusted; start the blocks within about {within:.3g} m of each other and of the plate (W mu_s / k_p)")
 
 
 def _compiled(chain: Chain, events: int, x: np.ndarray, budget: int, start_force: np.ndarray) -> ChainRun:
@@ -483,7 +484,7 @@ def _compiled(chain: Chain, events: int, x: np.ndarray, budget: int, start_force
                           "fewer blocks or events")
     if status == 2:
         slowest_period = 2 * math.pi * math.sqrt(chain.mass / chain.leaf_stiffness)
-        raise _steady(chain, blocks, (t - t_start) / slowest_period, start_force)
+        raise _steady(chain, blocks, (t - t_start) / slowest_period, start_force if done == 0 else None)
     if status == 4:
         raise _overflow(chain, t, x)
     if status == 3:
