@@ -152,17 +152,20 @@ def next_step_factor(norm: float, previous_norm: float, after_rejection: bool, r
 
 def dormand_prince_trial(derivative, t, y, h, k1, rtol, scale):
     """(y_new, k7, speed and stress at y_new, error norm) of one Dormand-Prince 5(4) trial step in numpy;
-    ``derivative(t, y)`` returns (dy/dt, speed, stress). The reference :class:`_CompiledTrial` equals bit for bit."""
-    k2 = derivative(t + _C2 * h, y + h * (A21 * k1))[0]
-    k3 = derivative(t + _C3 * h, y + h * (A31 * k1 + A32 * k2))[0]
-    k4 = derivative(t + _C4 * h, y + h * (A41 * k1 + A42 * k2 + A43 * k3))[0]
-    k5 = derivative(t + _C5 * h, y + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4))[0]
-    k6 = derivative(t + h, y + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5))[0]
-    y_new = y + h * (B1 * k1 + B3 * k3 + B4 * k4 + B5 * k5 + B6 * k6)
-    k7, speed_new, stress_new = derivative(t + h, y_new)
-    error = h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7)
-    return y_new, k7, speed_new, stress_new, float(np.max(np.abs(error) / (
-        rtol * np.maximum(np.maximum(np.abs(y), np.abs(y_new)), scale))))
+    ``derivative(t, y)`` returns (dy/dt, speed, stress). The reference :class:`_CompiledTrial` equals bit for bit.
+    A trial far too long (a first step of 1 s into a fast start) may overflow: its norm is then inf or NaN, which
+    :func:`~faultslip.models.fault_2d.compiled.judged_step` rejects, shortening the step, as the compiled trial's."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        k2 = derivative(t + _C2 * h, y + h * (A21 * k1))[0]
+        k3 = derivative(t + _C3 * h, y + h * (A31 * k1 + A32 * k2))[0]
+        k4 = derivative(t + _C4 * h, y + h * (A41 * k1 + A42 * k2 + A43 * k3))[0]
+        k5 = derivative(t + _C5 * h, y + h * (A51 * k1 + A52 * k2 + A53 * k3 + A54 * k4))[0]
+        k6 = derivative(t + h, y + h * (A61 * k1 + A62 * k2 + A63 * k3 + A64 * k4 + A65 * k5))[0]
+        y_new = y + h * (B1 * k1 + B3 * k3 + B4 * k4 + B5 * k5 + B6 * k6)
+        k7, speed_new, stress_new = derivative(t + h, y_new)
+        error = h * (E1 * k1 + E3 * k3 + E4 * k4 + E5 * k5 + E6 * k6 + E7 * k7)
+        return y_new, k7, speed_new, stress_new, float(np.max(np.abs(error) / (
+            rtol * np.maximum(np.maximum(np.abs(y), np.abs(y_new)), scale))))
 
 
 class _CompiledTrial:

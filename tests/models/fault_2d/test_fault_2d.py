@@ -1526,3 +1526,29 @@ def test_two_starts_reach_another_cycle_only_beyond_their_errors_and_both_settle
         assert verdict is True
     elif abs(change) * (1 - 1e-9) > max(SAME_CYCLE, errors):
         assert verdict is (False if both else None)
+
+
+def test_a_numpy_trial_step_that_overflows_is_rejected_without_a_warning():
+    """A trial far too long (the 3-D fault's first step of 1 s into its fast start, on a busy CI run) gave a
+    finite error of about 1e300 over a tolerance of about 1e-9: the norm's division overflowed, and the suite's
+    warnings-as-errors failed the run. The norm is inf, which the step's judgement rejects, shortening the step;
+    nothing is said. Stages are chosen here whose fifth-order weights cancel (y_new = 0) while their error
+    weights do not."""
+    import warnings
+
+    from faultslip.models.fault_2d import integrate
+    from faultslip.models.fault_2d.compiled import REJECTED, judged_step
+
+    third = 1e303
+    stages = iter([0.0, third, -integrate.B3 / integrate.B4 * third, 0.0, 0.0, 0.0])  # k2 to k7
+
+    def derivative(t, state):
+        return np.full_like(state, next(stages)), np.zeros(2), np.zeros(2)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        y_new, *_, norm = integrate.dormand_prince_trial(derivative, 0.0, np.zeros(4), 1.0, np.zeros(4), 1e-6,
+                                                         np.full(4, 1e-3))
+    assert np.all(y_new == 0.0) and norm == math.inf
+    _, shorter, verdict = judged_step(norm, 1.0, 0.0)
+    assert verdict == REJECTED and 0 < shorter < 1.0
