@@ -63,6 +63,8 @@ PRODUCERS = (
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),
     ("ladder_regimes", [], [], "ladder_regimes.json"),
     ("ladder_designs", ["--fresh", "40"], ["--fresh", "40"], "ladder_fresh.json"),  # rows already there are kept
+    ("ladder_designs", ["--fresh", "40", "--seed", "68012"], ["--fresh", "40", "--seed", "68012"],
+     "ladder_fresh_second.json"),
     ("ladder_calibration", [], [], "ladder_held_out.json"),
     ("ladder_outside_box", [], ["--count", "6"], "ladder_outside_box.json"),  # after the calibration it clamps to
     # the step count's model from the saved runs (after the calibration whose recurrences count the events)
@@ -102,6 +104,9 @@ PRODUCERS = (
     ("ladder_escalations", ["--seed", "68008", "--out", "benchmarks/results/ladder_escalations_fifth_draw.json"],
      ["--seed", "68008", "--count", "4", "--out", "benchmarks/results/ladder_escalations_fifth_draw.json"],
      "ladder_escalations_fifth_draw.json"),
+    ("ladder_escalations", ["--seed", "68009", "--out", "benchmarks/results/ladder_escalations_sixth_draw.json"],
+     ["--seed", "68009", "--count", "4", "--out", "benchmarks/results/ladder_escalations_sixth_draw.json"],
+     "ladder_escalations_sixth_draw.json"),
 )
 #: Packages a benchmark needs beyond the test install, by the module that shows they are there: without it the
 #: benchmark is skipped and its table keeps its last results, as a peer's does.

@@ -27,8 +27,9 @@ could declare, set with the 2-D answers in hand (``narrowest``): lower bounds on
 **The budget**: the estimate each run recorded before it ran, against the CPU it used, over the runs whose row
 records the cost model now declared (the held-out ones apart: the event-step model is fitted on the others).
 
-**A fresh draw** (``python benchmarks/ladder_designs.py --fresh 40``, ``benchmarks/results/ladder_fresh.json``):
-a third independent draw over the box, run after the ranges were shipped, tested against them as they are.
+**Fresh draws** (``python benchmarks/ladder_designs.py --fresh 40 [--seed 68012]``, ``ladder_fresh.json`` and
+``ladder_fresh_second.json``): a third and a fourth independent draw over the box, each run after the ranges were
+shipped, tested against them as they are.
 
 Writes ``data/ladder_calibration.json`` (what faultslip declares) and ``benchmarks/results/ladder_held_out.json``
 (each held-out fault, its 2-D answer, the range and whether it holds; the budget's estimates against the CPU used).
@@ -50,7 +51,7 @@ from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip import __version__  # noqa: E402
 from faultslip.fault import ladder  # noqa: E402
 from faultslip.models.fault_2d.calibration import Design  # noqa: E402
-from ladder_designs import FRESH, FRESH_SEED, cost_model  # noqa: E402
+from ladder_designs import FRESH_DRAWS, cost_model  # noqa: E402
 from ladder_regimes import PARTIAL_SHARE, interleaves  # noqa: E402
 from provenance import stamp  # noqa: E402
 
@@ -382,14 +383,19 @@ def main():
                         "estimated_seconds": row["estimated_seconds"], "steps": row["steps"],
                         "estimated_steps": row.get("estimated_steps")} for row in runs]}
     # a third draw, run after the ranges were shipped: neither the fit nor the choices behind it saw these faults
-    fresh, fresh_items = None, []
-    if FRESH.exists():
-        fresh_rows = json.loads(FRESH.read_text())["rows"]
-        fresh_items = [p for p in map(prepared, fresh_rows) if p is not None]
-        fresh_faults, fresh_summary = evaluate(fresh_items, table)
-        fresh = {"seed": FRESH_SEED, "faults": len(fresh_rows), "left_out_unsettled": len(fresh_rows) - len(fresh_items),
-                 "summary": fresh_summary, "rows": fresh_faults,
-                 "budget": spread([row for row in fresh_rows if row.get("cost_model") == declared])}
+    # later draws, each run after the ranges were shipped and read against them as they are
+    fresh, fresh_items = [], []
+    for seed, (_, path) in FRESH_DRAWS.items():
+        if not path.exists():
+            continue
+        fresh_rows = json.loads(path.read_text())["rows"]
+        items = [p for p in map(prepared, fresh_rows) if p is not None]
+        fresh_faults, fresh_summary = evaluate(items, table)
+        fresh.append({"seed": seed, "file": path.name, "faults": len(fresh_rows),
+                      "left_out_unsettled": len(fresh_rows) - len(items), "summary": fresh_summary,
+                      "rows": fresh_faults,
+                      "budget": spread([row for row in fresh_rows if row.get("cost_model") == declared])})
+        fresh_items += items
     limit["narrowest"] = narrowest(train + test + fresh_items, test + fresh_items, table)
     write_bundled_table(OUT, table)
     HELD.write_text(json.dumps({**stamp(), "summary": summary, "rows": rows, "budget": budget, "limits": limit,
@@ -428,9 +434,9 @@ def main():
           f"regression, {named['right_by_neighbours']} by {named['nearest_neighbours']} nearest neighbours "
           f"(always the commoner: {named['always_the_commoner']})")
     print(f"outside the box: {sum(bool(r['outside']) for r in rows)} held-out faults; unsettled left out: {skipped}")
-    if fresh:
-        for quantity, line in fresh["summary"].items():
-            print(f"fresh draw (seed {FRESH_SEED}), {quantity}: {line['holds']} of {line['held_out']} within the 95 % "
+    for draw in fresh:
+        for quantity, line in draw["summary"].items():
+            print(f"fresh draw (seed {draw['seed']}), {quantity}: {line['holds']} of {line['held_out']} within the 95 % "
                   f"range, mean half-width {line['mean_half_width']:.3f}")
     print(f"budget (the declared cost model's estimates): estimate / CPU from {budget['ratio_min']:.2f} to "
           f"{budget['ratio_max']:.2f} (median {budget['ratio_median']:.2f}), {budget['within_2x']} of {budget['runs']} "

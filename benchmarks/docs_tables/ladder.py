@@ -20,24 +20,26 @@ def ladder_table() -> str | None:
         rows.append(f"| {names[key]} | {line['holds']} of {line['held_out']} ({100 * line['coverage']:.0f} %) | "
                     f"±{100 * line['mean_half_width']:.0f} % | {100 * line['median_bias_uncorrected']:+.0f} % | "
                     f"{100 * line['median_bias_corrected']:+.1f} % |")
-    fresh = result.get("fresh")
-    if fresh:
-        for key, line in fresh["summary"].items():
-            rows.append(f"| {names[key]}, **fresh draw** | {line['holds']} of {line['held_out']} "
+    draws = result.get("fresh") or []
+    ordinals = ("third", "fourth", "fifth", "sixth")
+    for draw, ordinal in zip(draws, ordinals):
+        for key, line in draw["summary"].items():
+            rows.append(f"| {names[key]}, **{ordinal} draw, fresh** | {line['holds']} of {line['held_out']} "
                         f"({100 * line['coverage']:.0f} %) | ±{100 * line['mean_half_width']:.0f} % | | |")
     outside = sum(bool(row["outside"]) for row in result["rows"])
     budget = result["budget"]
     fresh_note = ""
-    if fresh:
-        spent = fresh["budget"]
-        fresh_note = (f"The fresh draw: {fresh['faults']} faults of a third draw (seed {fresh['seed']}, `python "
-                      f"benchmarks/ladder_designs.py --fresh {fresh['faults']}`), run after the ranges were fitted and "
-                      f"shipped and read against them as they are, "
-                      f"{sum(bool(row['outside']) for row in fresh['rows'])} of them outside the box"
-                      + (f", {fresh['left_out_unsettled']} left out unsettled" if fresh["left_out_unsettled"] else "")
-                      + (f"; the cost model estimated their CPU at {spent['ratio_min']:.2f} to {spent['ratio_max']:.2f}× "
-                         f"what they used, {spent['within_2x']} of {spent['runs']} within 2×" if spent["runs"] else "")
-                      + ". ")
+    for draw, ordinal in zip(draws, ordinals):
+        spent = draw["budget"]
+        fresh_note += (f"The {ordinal} draw: {draw['faults']} faults (seed {draw['seed']}, `python "
+                       f"benchmarks/ladder_designs.py --fresh {draw['faults']}"
+                       + (f" --seed {draw['seed']}" if draw is not draws[0] else "")
+                       + "`), run after the ranges were fitted and shipped and read against them as they are, "
+                       f"{sum(bool(row['outside']) for row in draw['rows'])} of them outside the box"
+                       + (f", {draw['left_out_unsettled']} left out unsettled" if draw["left_out_unsettled"] else "")
+                       + (f"; the cost model estimated their CPU at {spent['ratio_min']:.2f} to {spent['ratio_max']:.2f}× "
+                          f"what they used, {spent['within_2x']} of {spent['runs']} within 2×" if spent["runs"] else "")
+                       + ". ")
     return ("\n".join(rows) + f"\n\n{len(result['rows'])} held-out faults drawn at random over the box "
             f"(`python benchmarks/ladder_designs.py`, then `benchmarks/ladder_calibration.py`), {outside} of them "
             f"outside it (no range declared). " + fresh_note
@@ -204,9 +206,9 @@ def _step_speed(row: dict) -> float:
 
 def _further_draws() -> str:
     """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then the
-    third to fifth), a sentence each."""
+    third to sixth), a sentence each."""
     text = ""
-    for ordinal in ("second", "third", "fourth", "fifth"):
+    for ordinal in ("second", "third", "fourth", "fifth", "sixth"):
         name = f"ladder_escalations_{ordinal}_draw.json"
         result = _load(name)
         if result is None:
@@ -249,7 +251,8 @@ def fault_2d_event_steps_table() -> str | None:
     rows = ["| runs | count | declared model: estimated / measured steps, median (range) | within 2x | earlier model "
             "(events^p (W/h*)^q N^r), refitted | within 2x |", "| --- | --- | --- | --- | --- | --- |"]
     fitted = {"calibration": "calibration designs (fitted: A, q, r)",
-              "escalations 68000": "escalation draw 68000, first runs (fitted: s)"}
+              "escalations 68000": "escalation draw 68000, first runs (fitted: s)",
+              "fresh": "fresh designs, seed 68002 (unseen)", "fresh2": "fresh designs, seed 68012 (unseen)"}
     for name, line in result["sets"].items():
         label = fitted.get(name, f"{name}{', first runs' if name.startswith('escalations') else ' designs'} (unseen)")
         d, e = line["declared"], line["earlier"]

@@ -23,7 +23,7 @@ from faultslip.models.fault_2d.scene import read_fault_2d_scene
 ROOT = Path(__file__).resolve().parents[3]
 CONFIGS = ROOT / "configs"
 HELD_OUT = ROOT / "benchmarks" / "results" / "ladder_held_out.json"
-FRESH = ROOT / "benchmarks" / "results" / "ladder_fresh.json"
+RESULTS = ROOT / "benchmarks" / "results"
 YEAR = 365.25 * 86400.0
 
 
@@ -103,18 +103,20 @@ def test_the_held_out_faults_fall_inside_their_ranges():
     assert held / checked >= 0.95, f"{held} of {checked} held-out answers inside their 95 % ranges"
 
 
-def test_a_fresh_draw_falls_inside_the_ranges_a_user_is_given():
-    """benchmarks/results/ladder_fresh.json: a third draw over the box (seed 68002), run after the ranges were
-    shipped. Each fault's own scene goes through faultslip.run(..., method="one_slider"), as a user's would, and
-    its recurrence and zone-mean slip ranges, in s and m, are read against the fault's 2-D answer (the
-    calibration's reading of it: an unsettled run through its mean interval). The misses are no more than a 95 %
-    range allows (binomial, 1 % level), and the summary docs/ladder.md quotes is these counts."""
+@pytest.mark.parametrize("position, seed, name", [(0, 68002, "ladder_fresh.json"), (1, 68012, "ladder_fresh_second.json")])
+def test_a_fresh_draw_falls_inside_the_ranges_a_user_is_given(position, seed, name):
+    """benchmarks/results/ladder_fresh.json and ladder_fresh_second.json: a third and a fourth draw over the box
+    (seeds 68002, 68012), each run after the ranges were shipped. Each fault's own scene goes through
+    faultslip.run(..., method="one_slider"), as a user's would, and its recurrence and zone-mean slip ranges, in s
+    and m, are read against the fault's 2-D answer (the calibration's reading of it: an unsettled run through its
+    mean interval). The misses are no more than a 95 % range allows (binomial, 1 % level), and the summary
+    docs/ladder.md quotes is these counts."""
     from scipy import stats
 
     from faultslip.models.fault_2d.calibration import Design
 
     two_d_answer = load_benchmark("ladder_calibration").two_d_answer
-    rows = json.loads(FRESH.read_text())["rows"]
+    rows = json.loads((RESULTS / name).read_text())["rows"]
     counts = {"recurrence": [0, 0], "mean_slip": [0, 0]}
     for row in rows:
         answer = two_d_answer(row)
@@ -129,7 +131,9 @@ def test_a_fresh_draw_falls_inside_the_ranges_a_user_is_given():
             low, high = (bound.to(unit).magnitude for bound in result[key])
             counts[quantity][0] += 1
             counts[quantity][1] += bool(low <= answer[quantity] <= high)
-    summary = json.loads(HELD_OUT.read_text())["fresh"]["summary"]
+    draw = json.loads(HELD_OUT.read_text())["fresh"][position]
+    assert (draw["seed"], draw["file"]) == (seed, name)
+    summary = draw["summary"]
     for quantity, (checked, held) in counts.items():
         assert checked >= 30, (quantity, checked)
         assert checked - held <= stats.binom.ppf(0.99, checked, 0.05), f"{quantity}: {held} of {checked} inside"
@@ -429,7 +433,7 @@ def test_no_range_of_one_width_about_the_shipped_centre_holds_the_unseen_faults_
     record, and wider than +-25 %: the half-width the issue asks for is out of reach of any range about this
     centre, even one set with the answers in hand."""
     held = json.loads(HELD_OUT.read_text())
-    rows = [row for row in held["rows"] + held["fresh"]["rows"] if not row["outside"]]
+    rows = [row for row in held["rows"] + [r for draw in held["fresh"] for r in draw["rows"]] if not row["outside"]]
     narrowest = held["limits"]["narrowest"]
     for quantity in ("recurrence", "mean_slip"):
         size = np.sort([abs(math.log(row[quantity]["two_d"] / row[quantity]["value"])) for row in rows])
