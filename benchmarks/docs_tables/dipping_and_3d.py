@@ -201,13 +201,22 @@ def fault_3d_cost_table() -> str | None:
     result = _load("fault_3d_cost.json")
     if result is None or "held_out" not in result:
         return None
-    rows = ["| held-out fault | squares | expected events | W / h* | steps | estimated | CPU used | estimate / CPU |",
-            "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    rows = ["| held-out fault | squares | expected events | W / h* | burial | steps | estimated | CPU used | "
+            "estimate / CPU |", "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for row in result["held_out"]:
         rows.append(f"| {row['what']} | {row['strike_count']} x {row['dip_count']} | {row['expected_events']:.3g} | "
-                    f"{row['width_over_nucleation']:.2f} | {row['steps']} | {row['estimated_s']:.1f} s | "
-                    f"{row['cpu_s']:.1f} s | {row['estimate_over_cpu']:.2f} |")
+                    f"{row['width_over_nucleation']:.2f} | {row['burial']:.2f} | {row['steps']} | "
+                    f"{row['estimated_s']:.1f} s | {row['cpu_s']:.1f} s | {row['estimate_over_cpu']:.2f} |")
     steps, seconds = result["steps_fit"], result["step_seconds_fit"]
+    without = result.get("steps_fit_without_burial")
+    earlier = ""
+    for draw in result.get("earlier_draws", []):
+        then, now = draw["summary_then"], draw["summary_now"]
+        earlier += (f"Draw {draw['seed']}, estimated by the model of its day (without the burial, and 1.4 times the "
+                    f"fit): {then['within_2x']} of {then['count']} within 2x ({then['ratio_range'][0]:.2f} to "
+                    f"{then['ratio_range'][1]:.2f}, median {then['ratio_median']:.2f}); by the shipped model, "
+                    f"{now['within_2x']} of {now['count']} ({now['ratio_range'][0]:.2f} to "
+                    f"{now['ratio_range'][1]:.2f}, median {now['ratio_median']:.2f}). ")
     summary = result["held_out_summary"]
     fitted = result.get("rtol_fit")
     rtol = (f"The steps grow as rtol^{fitted['power']:.3f} (pooled over {len(fitted['per_fault'])} faults at rtol "
@@ -218,10 +227,14 @@ def fault_3d_cost_table() -> str | None:
     assembly = [row["estimated_assembly_s"] / row["assembly_s"] for row in result["held_out"]
                 if row["assembly_s"] >= 1.0] or [math.nan]
     return ("\n".join(rows) + f"\n\n{summary['within_2x']} of {summary['count']} held-out faults (seed "
-            f"{result['held_out_seed']}) estimated within 2x of the CPU they used ({summary['ratio_range'][0]:.2f} to "
-            f"{summary['ratio_range'][1]:.2f}). The steps were fitted on {steps['rows']} runs ({len(result['fit_runs'])} "
+            f"{result['held_out_seed']}, run after the model was chosen) estimated within 2x of the CPU they used "
+            f"({summary['ratio_range'][0]:.2f} to {summary['ratio_range'][1]:.2f}, median "
+            f"{summary['ratio_median']:.2f}). " + earlier
+            + f"The steps were fitted on {steps['rows']} runs ({len(result['fit_runs'])} "
             f"run here, the rest the cells of the model-error benchmark), within {steps['residual_range'][0]:.2f} to "
-            f"{steps['residual_range'][1]:.2f}x of each; the CPU a step on the {len(result['fit_runs'])} runs, within "
+            f"{steps['residual_range'][1]:.2f}x of each (residual sd {steps['residual_sd']:.3f} in ln"
+            + (f"; without the burial, {without['residual_range'][0]:.2f} to {without['residual_range'][1]:.2f}x, "
+               f"sd {without['residual_sd']:.3f}" if without else "") + f"); the CPU a step on the {len(result['fit_runs'])} runs, within "
             f"{seconds['ratio_range'][0]:.2f} to {seconds['ratio_range'][1]:.2f}x. The operator's assembly, timed "
             f"apart on the held-out faults that spent a second or more on it, estimated at "
             f"{min(assembly):.2f} to {max(assembly):.2f}x. " + rtol + _machine(result))

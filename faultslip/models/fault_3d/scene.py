@@ -164,9 +164,10 @@ class Fault3DScene:
         runs in Python over the 2-D fault's compiled force balance, on one thread:
         :func:`~faultslip.models.fault_2d.integrate.first_run_cost`)."""
         fault = self.fault
+        groups = groups_of(fault)
         return cost.estimate(fault.strike_count, fault.dip_count, self.duration / YEAR, len(self.stations), output,
                              events=self.expected_events(), rtol=self.rtol if rtol is None else rtol,
-                             width_over_nucleation=groups_of(fault)["width_over_nucleation"],
+                             width_over_nucleation=groups["width_over_nucleation"], burial=groups["burial"],
                              products=cost.products(fault),
                              first_run=first_run_cost(False, 1) if in_this_process else (0.0, ""))
 
