@@ -3,9 +3,13 @@
 The antiplane fault reads a dipping fault's description (friction down dip, its width) as a vertical fault in
 antiplane strain: it misses the in-plane stiffness (1 / (1 - nu) of the antiplane's at depth), the free surface's
 in-plane image, and the normal stress that slip changes (BP3 eq. 15). ``benchmarks/dip_model_error.py`` measures
-the difference, in recurrence and mean slip per event, on SEAS BP3's fault at dips 30-90 degrees for thrust and
-normal faults, and ships ``data/dip_model_error.json``: at each measured dip, the largest error of both senses
-times :data:`MARGIN`. Between measured dips the larger of the two brackets holds; outside them nothing is known.
+the difference, in recurrence and mean slip per event, on SEAS BP3's fault: a grid of dips 30-90 degrees, thrust and
+normal, at three D_c, and faults drawn at random over dip, sense, D_c and seismogenic depth. The error moves with
+W / h* far more than with the dip, and not smoothly: where the two rungs' sequences part (partial ruptures in one,
+system-size events in the other) it jumps. So ``data/dip_model_error.json`` ships the measured faults, and the
+declared error at a fault's W / h* is the largest measured within a window of it (any dip and sense, at least
+``min_neighbours`` of them), times :data:`MARGIN`; outside the measured dips or W / h*, or where the window holds
+too few, nothing is declared.
 """
 
 from __future__ import annotations
@@ -23,57 +27,60 @@ MARGIN = 1.25
 
 @functools.lru_cache(maxsize=1)
 def load_table() -> dict:
-    """``data/dip_model_error.json``, checked: rows of ``dip`` (degrees) and ``model_error`` (relative)."""
+    """``data/dip_model_error.json``, checked: ``faults`` of ``dip`` (degrees), ``width_over_nucleation`` and
+    ``model_error`` (relative, measured), and the declaration's ``margin``, ``window`` and ``min_neighbours``."""
     table = read_bundled_table(TABLE_FILE, "the antiplane rung's model error on dip-slip faults", "benchmarks/dip_model_error.py")
-    rows = table.get("rows") if isinstance(table, dict) else None
-    if not (isinstance(rows, list) and rows and all(
-            isinstance(row, dict) and isinstance(row.get("dip"), (int, float))
-            and isinstance(row.get("model_error"), (int, float)) and row["model_error"] >= 0 for row in rows)):
-        raise InputError(f"{TABLE_FILE} lacks rows of dip and a non-negative model_error; rerun "
-                         "benchmarks/dip_model_error.py")
+    faults = table.get("faults") if isinstance(table, dict) else None
+    if not (isinstance(faults, list) and faults and all(
+            isinstance(row, dict) and all(_number(row.get(key)) for key in ("dip", "width_over_nucleation", "model_error"))
+            and row["model_error"] >= 0 and row["width_over_nucleation"] > 0 for row in faults)
+            and all(_number(table.get(key)) and table[key] > 0 for key in ("margin", "window", "min_neighbours"))):
+        raise InputError(f"{TABLE_FILE} lacks faults of dip, W / h* and a non-negative model_error, or the "
+                         "declaration's margin, window and min_neighbours; rerun benchmarks/dip_model_error.py")
     return table
 
 
-def declared(dip: float, rows: list | None = None, width_over_nucleation: float | None = None) -> float:
+def _number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def neighbours(width_over_nucleation: float, faults: list, window: float) -> list:
+    """The measured faults whose W / h* lies within a factor exp(``window``) of ``width_over_nucleation``."""
+    return [row for row in faults
+            if abs(math.log(row["width_over_nucleation"] / width_over_nucleation)) <= window]
+
+
+def declared(dip: float, width_over_nucleation: float, table: dict | None = None) -> float:
     """The antiplane rung's declared model error (relative, the larger of recurrence and slip) on a fault dipping
-    ``dip`` degrees with ``width_over_nucleation`` (W / h*): the largest at the measured cells that bracket it, in
-    W / h* (the two measured levels either side) and in dip (at each level, the two measured dips either side);
-    infinite outside them.
+    ``dip`` degrees with ``width_over_nucleation`` (W / h*):
+
+        e(dip, W / h*) = margin max { e_i : |ln(W_i / h*_i) - ln(W / h*)| <= window },
+
+    over the measured faults i of any dip and sense, where at least ``min_neighbours`` lie in the window; infinite
+    outside the measured dips or W / h*, or where fewer lie in it.
 
     Parameters
     ----------
     dip : float
         The fault's dip (degrees).
-    rows : list of dict, optional
-        ``dip``, ``width_over_nucleation`` and ``model_error`` (already the bound) rows; the shipped table's
-        otherwise.
-    width_over_nucleation : float, optional
-        The fault's W / h* (:meth:`faultslip.models.fault_2d.model.Fault2D.nucleation_size`); without it, the
-        largest over every measured level at the bracketing dips.
+    width_over_nucleation : float
+        The fault's W / h* (:meth:`faultslip.models.fault_2d.model.Fault2D.nucleation_size`).
+    table : dict, optional
+        ``faults`` (``dip``, ``width_over_nucleation``, ``model_error``), ``margin``, ``window`` and
+        ``min_neighbours``, as :func:`load_table` returns; the shipped table's otherwise.
 
     Returns
     -------
     float
-        The declared model error (dimensionless); ``inf`` outside the measured dips or W / h*.
+        The declared model error (dimensionless); ``inf`` where none is declared.
     """
-    rows = rows if rows is not None else load_table()["rows"]
-    levels = sorted({round(float(row.get("width_over_nucleation", 0.0)), 9) for row in rows})
-    if width_over_nucleation is None:
-        chosen = levels
-    else:
-        if not levels[0] <= width_over_nucleation <= levels[-1]:
-            return math.inf
-        below = max(level for level in levels if level <= width_over_nucleation)
-        above = min(level for level in levels if level >= width_over_nucleation)
-        chosen = sorted({below, above})
-    worst = 0.0
-    for level in chosen:
-        cells = sorted((row for row in rows if round(float(row.get("width_over_nucleation", 0.0)), 9) == level),
-                       key=lambda row: row["dip"])
-        dips = [float(row["dip"]) for row in cells]
-        if not dips[0] <= dip <= dips[-1]:
-            return math.inf
-        lower = max(d for d in dips if d <= dip)
-        upper = min(d for d in dips if d >= dip)
-        worst = max([worst] + [float(row["model_error"]) for row in cells if float(row["dip"]) in (lower, upper)])
-    return worst
+    table = table if table is not None else load_table()
+    faults = table["faults"]
+    dips = [row["dip"] for row in faults]
+    widths = [row["width_over_nucleation"] for row in faults]
+    if not (min(dips) <= dip <= max(dips) and min(widths) <= width_over_nucleation <= max(widths)):
+        return math.inf
+    near = neighbours(width_over_nucleation, faults, table["window"])
+    if len(near) < table["min_neighbours"]:
+        return math.inf
+    return table["margin"] * max(row["model_error"] for row in near)

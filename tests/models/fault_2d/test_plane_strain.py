@@ -261,34 +261,51 @@ def test_a_dip_and_sense_study_does_not_depend_on_the_workers(tmp_path, cli):
         assert float(shallow.sel(sense="thrust")) != float(shallow.sel(sense="normal"))
 
 
-def test_the_declared_dip_error_takes_the_largest_bracketing_cell_and_is_unbounded_outside():
+def test_the_declared_dip_error_is_the_largest_near_the_faults_w_over_h_star_and_none_outside():
+    """declared(dip, W / h*): the margin times the largest measured error within a factor exp(window) of W / h*,
+    whatever the dip and sense; none (inf) outside the measured dips or W / h*, or with too few neighbours."""
     from faultslip.fault.dip_error import declared
 
-    rows = [{"dip": 30.0, "width_over_nucleation": 2.0, "model_error": 0.4},
-            {"dip": 60.0, "width_over_nucleation": 2.0, "model_error": 0.2},
-            {"dip": 90.0, "width_over_nucleation": 2.0, "model_error": 0.3},
-            {"dip": 30.0, "width_over_nucleation": 4.0, "model_error": 0.1},
-            {"dip": 90.0, "width_over_nucleation": 4.0, "model_error": 0.7}]
-    assert declared(30.0, rows, 2.0) == 0.4 and declared(60.0, rows, 2.0) == 0.2
-    assert declared(45.0, rows, 2.0) == 0.4 and declared(75.0, rows, 2.0) == 0.3
-    assert declared(60.0, rows, 4.0) == 0.7  # the level's own brackets: 30 and 90
-    assert declared(45.0, rows, 3.0) == 0.7  # both levels' brackets
-    assert declared(20.0, rows, 2.0) == math.inf and declared(95.0, rows, 2.0) == math.inf
-    assert declared(45.0, rows, 1.0) == math.inf and declared(45.0, rows, 5.0) == math.inf
+    faults = [{"dip": 30.0, "width_over_nucleation": 2.0, "model_error": 0.4},
+              {"dip": 60.0, "width_over_nucleation": 2.1, "model_error": 0.2},
+              {"dip": 90.0, "width_over_nucleation": 2.2, "model_error": 0.3},
+              {"dip": 30.0, "width_over_nucleation": 4.0, "model_error": 0.1},
+              {"dip": 90.0, "width_over_nucleation": 4.0, "model_error": 1.5}]
+    table = {"faults": faults, "margin": 1.25, "window": 0.1, "min_neighbours": 2}
+    assert declared(45.0, 2.1, table) == pytest.approx(1.25 * 0.4)  # all three within 10 %, any dip
+    assert declared(45.0, 2.3, table) == pytest.approx(1.25 * 0.3)  # 2.1 and 2.2 only
+    assert declared(60.0, 4.0, table) == pytest.approx(1.25 * 1.5)  # the jump is not smoothed away
+    assert declared(45.0, 3.0, table) == math.inf  # none near: nothing declared
+    assert declared(20.0, 2.0, table) == math.inf and declared(95.0, 2.0, table) == math.inf
+    assert declared(45.0, 1.9, table) == math.inf and declared(45.0, 4.1, table) == math.inf
+    assert declared(45.0, 2.3, {**table, "min_neighbours": 3}) == math.inf
 
 
 def test_the_shipped_dip_error_holds_its_held_out_faults():
-    """data/dip_model_error.json (benchmarks/dip_model_error.py): the declared error at each held-out fault's dip
-    covers the model error measured there, and covers every measured cell (the table is the envelope times 1.25)."""
+    """data/dip_model_error.json (benchmarks/dip_model_error.py): every measured fault lies within the bound declared
+    at its own W / h*, and the held-out draw (run after the declaration was fixed) within it on at least 11 of 12,
+    the recorded bounds being what the library declares now. The benchmark's results say the grid's bracketing
+    bound, which this replaced, was exceeded on the faults off the grid that retired it."""
+    import json
+
     from faultslip.fault.dip_error import MARGIN, declared, load_table
 
     table = load_table()
-    assert table["margin"] == MARGIN
-    for row in table["held_out"]:
-        bound = declared(row["dip"], width_over_nucleation=row["width_over_nucleation"])
+    assert table["margin"] == MARGIN and len(table["faults"]) >= 60
+    for fault in table["faults"]:
+        assert fault["model_error"] <= declared(fault["dip"], fault["width_over_nucleation"])
+    held = table["held_out"]
+    for row in held:
+        bound = declared(row["dip"], row["width_over_nucleation"])
         assert (row["declared"] is None and bound == math.inf) or row["declared"] == pytest.approx(bound)
-        assert row["covered"] == (row["model_error"] <= bound)
-    assert table["coverage"] == sum(row["covered"] for row in table["held_out"]) / len(table["held_out"])
+        assert row["covered"] == (math.isfinite(bound) and row["model_error"] <= bound)  # none declared: not held
+    assert len(held) >= 12 and sum(row["covered"] for row in held) >= len(held) - 1
+    assert table["coverage"] == sum(row["covered"] for row in held) / len(held)
+    results = json.loads((Path(__file__).resolve().parents[3] / "benchmarks" / "results" / "dip_model_error.json")
+                         .read_text(encoding="utf-8"))
+    if {(row["element_size_m"], row["years"]) for row in results["rows"]} == {(100.0, 1500.0)}:  # the full run's
+        assert results["table"]["faults"] == table["faults"]
+        assert len(results["grid_declaration"]["beyond"]) >= 2
 
 
 def test_model_error_on_a_dipping_scene_climbs_through_the_antiplane_rung(cli):
