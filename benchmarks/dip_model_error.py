@@ -80,11 +80,6 @@ def draw(seed: int, count: int) -> list[tuple]:
 _ANTIPLANE: dict = {}
 
 
-def _reusable(reuse: dict, args, dip: float, sense: str, critical_slip: float) -> bool:
-    depth = 15e3  # BP3's H
-    return _key({"dip": dip, "critical_slip_m": critical_slip, "seismogenic_depth_m": depth,
-                 "element_size_m": args.element_size, "years": args.years, "sense": sense}) in reuse
-
 
 def _key(row_or_inputs) -> tuple:
     return tuple(round(float(row_or_inputs[name]), 9) for name in ("dip", "critical_slip_m", "seismogenic_depth_m",

@@ -290,13 +290,17 @@ def main(argv=None) -> None:
         for seed in (result.get("held_out_seed", HELD_OUT_SEED), *EARLIER_DRAWS):
             made |= dict(held_out_draw(seed))
         earlier = result.get("earlier_draws", [])
-        with machine.assumed(1.0):  # the runs were measured in the state the fault_3d group is anchored on
-            for row in result["fit_runs"] + result.get("held_out", []):
-                scene = made[row["what"]]()
-                row.update(features(scene), estimated_s=scene.estimate().seconds, machine_factor=1.0,
+        # each run's estimate again, on the machine state it recorded (the fit runs': the state the fault_3d group is
+        # anchored on, factor 1), and on the anchoring state
+        for row in result["fit_runs"] + result.get("held_out", []):
+            scene = made[row["what"]]()
+            with machine.assumed(row.get("machine_factor", 1.0)):
+                row.update(features(scene), estimated_s=scene.estimate().seconds,
                            estimated_assembly_s=cost.assembly_seconds(scene.fault.strike_count, scene.fault.dip_count))
-                row["estimated_anchored_s"] = row["estimated_s"]
-                row["estimate_over_cpu"] = row["estimated_s"] / row["cpu_s"]
+            with machine.assumed(1.0):
+                row["estimated_anchored_s"] = scene.estimate().seconds
+            row["estimate_over_cpu"] = row["estimated_s"] / row["cpu_s"]
+        with machine.assumed(1.0):
             # an earlier draw keeps the estimate its day's model made, and gets the shipped model's on the
             # machine state its runs recorded
             for draw in earlier:

@@ -455,6 +455,10 @@ def test_the_cost_model_is_its_benchmarks_fit_and_estimates_unseen_faults_within
     assert 0.5 <= steps["residual_range"][0] and steps["residual_range"][1] <= 2.0
     without = bench.fit_steps(result["fit_runs"] + result["recorded_cells"], burial=False)
     assert steps["residual_sd"] < 0.75 * without["residual_sd"]
+    # the burial is held to the fitted runs' largest: a deeper patch is not extrapolated
+    fitted_burial = max(row["burial"] for row in result["fit_runs"] + result["recorded_cells"])
+    assert cost.FAULT_3D_STEPS["burial_fitted"] == pytest.approx(fitted_burial, abs=1e-3)
+    assert cost.steps(40, 10.0, 1.3, 1e-6, burial=3.0) == cost.steps(40, 10.0, 1.3, 1e-6, burial=fitted_burial)
     # the rtol power, the 2-D fault's, is the 3-D fault's measured one within 0.03 (7 % in steps a decade of rtol)
     rtol = bench.fit_rtol(result["rtol_runs"])
     assert len(result["rtol_runs"]) >= 12 and abs(rtol["power"] - cost.FAULT_3D_STEPS["rtol"]) <= 0.03
