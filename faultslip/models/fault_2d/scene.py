@@ -71,6 +71,10 @@ _RUN = {"duration", "rtol", "stations", "profile_interval", "coseismic_interval"
 _PROFILE_KINDS = {"a": "dimensionless", "b": "dimensionless", "critical_slip": "length", "normal_stress": "pressure"}
 #: Largest element count a scene may ask for (memory and time grow with it; --allow-large lifts it).
 MAX_ELEMENTS = 20_000
+#: Elements no run could hold even with --allow-large (a dipping fault's two dense N x N kernels would take
+#: 2 x 8 x 1e14 bytes): a resolution that needs more is refused without a suggested size, whose search and estimate
+#: would build that fault
+RESOLVABLE_ELEMENTS = 1e7
 #: From this many elements a run's kernels use every core by default (benchmarks/fault_2d_threads.py: two threads
 #: gain 1.25-1.5x from 1,024 elements up; below, the threads' start-up eats the gain)
 THREADS_PAY_FROM = 1024
@@ -108,13 +112,21 @@ class Fault2DScene:
         if allow_underresolved or self.resolution >= MIN_RESOLUTION:
             return
         width = self.fault.element_size * self.fault.count
-        count, size = dividing_size(width, math.ceil(width * MIN_RESOLUTION / self.fault.process_zone()))
-        needed = self.at_element_size(float(size))
-        raise InputError(f"{self.name}: elements of {self.fault.element_size:g} m resolve L_b = "
-                         f"{self.fault.process_zone():.4g} m with {self.resolution:.2g} each; below "
-                         f"{MIN_RESOLUTION:g} per L_b a sequence changes character (benchmarks/fault_2d_resolution.py). "
-                         f"Use element_size = \"{size} m\" ({count} elements, "
-                         f"{needed.estimate().describe()}), or --allow-underresolved for a qualitative answer")
+        process_zone = self.fault.process_zone()
+        said = (f"{self.name}: elements of {self.fault.element_size:g} m resolve L_b = {process_zone:.4g} m with "
+                f"{self.resolution:.2g} each; below {MIN_RESOLUTION:g} per L_b a sequence changes character "
+                "(benchmarks/fault_2d_resolution.py). ")
+        fewest = width * MIN_RESOLUTION / process_zone
+        if fewest > RESOLVABLE_ELEMENTS:  # no run could hold it: likely a mis-stated G, D_c, sigma_n or b
+            raise InputError(said + f"It would need {fewest:.3g} elements, beyond any run: check the shear modulus "
+                                    "(density and shear-wave speed), D_c, sigma_n and b, since L_b = G D_c / (sigma_n b)")
+        count, size = dividing_size(width, math.ceil(fewest))
+        try:
+            cost = self.at_element_size(float(size)).estimate().describe()
+        except InputError as refused:  # past the element limit: say so rather than estimate it
+            cost = f"which the element limit refuses: {refused}"
+        raise InputError(said + f"Use element_size = \"{size} m\" ({count} elements, {cost}), or "
+                         "--allow-underresolved for a qualitative answer")
 
     def antiplane(self) -> "Fault2DScene":
         """The rung below a dipping fault: the same description (friction down dip, the same width) read as a
@@ -262,8 +274,8 @@ def _sense(value, where: str) -> str:
 def dividing_size(width: float, fewest: int) -> tuple[int, str]:
     """(elements, element size as written) for the fewest elements from ``fewest`` up whose size, written with at most
     six significant digits, divides ``width`` into them as :func:`build_fault` checks (a suggested size that did not
-    divide the fault was refused when used: "170.213 m" of a 40 km fault)."""
-    for count in range(fewest, 2 * fewest + 1):
+    divide the fault was refused when used: "170.213 m" of a 40 km fault); at most 1,000 counts are tried."""
+    for count in range(fewest, fewest + min(fewest, 1000) + 1):
         text = f"{width / count:.6g}"
         if math.isclose(count * float(text), width, rel_tol=1e-10):
             return count, text

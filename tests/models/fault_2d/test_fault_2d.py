@@ -1250,6 +1250,23 @@ def test_a_coarse_fault_is_refused_before_any_work_naming_the_size_it_needs(tmp_
     assert swept.code == 2 and "sequence changes character" in swept.err and not (tmp_path / "s.nc").exists()
 
 
+
+@pytest.mark.parametrize("speed, needed", [('"1 furlong/fortnight"', "beyond any run"),  # G = 7e-5 Pa: L_b 2e-12 m
+                                           ('"0.3 km/s"', "which the element limit refuses")])  # L_b 8 m: 5e5 elements
+def test_a_resolution_no_run_could_reach_is_refused_at_once(tmp_path, cli, speed, needed):
+    """The fuzzer's case (seed 7272): a shear-wave speed of 1 furlong a fortnight makes G 7e-5 Pa and L_b 2e-12 m,
+    and the search for a dividing element size counted from 1.7e16 elements, never to return (past its 60 s). A
+    count beyond any run is refused in one sentence that names the groups of L_b; one past the element limit names
+    the size and the limit, without building that fault."""
+    scene = tmp_path / "slow.toml"
+    scene.write_text((CONFIGS / "fault_2d_small.toml").read_text().replace('shear_wave_speed = "3.464 km/s"',
+                                                                             f"shear_wave_speed = {speed}")
+                     .replace('width = "20 km"', 'width = "2000 km"').replace('element_size = "250 m"',
+                                                                           'element_size = "5 km"'))
+    refused = cli("simulate", scene, "--output-dir", tmp_path / "out", "--json")
+    assert refused.code == 2 and "sequence changes character" in refused.err and needed in refused.err
+    assert "Traceback" not in refused.err and not (tmp_path / "out").exists()
+
 def test_richardson_on_request_declares_what_two_resolutions_show(cli):
     """--richardson runs the small scene at 250 m and 125 m: the extrapolated recurrence, and a declared
     discretisation error (twice the correction) that covers the finer run's distance from the resolved limit
