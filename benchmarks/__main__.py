@@ -92,21 +92,14 @@ PRODUCERS = (
     ("fault_3d_cost", ["--part", "rtol"], ["--part", "rtol"], "fault_3d_cost.json"),
     # escalations estimated on this machine (after machine_speed)
     ("ladder_escalations", ["--seed", "68001"], ["--seed", "68001", "--count", "4"], "ladder_escalations_held_out.json"),
-    ("ladder_escalations", ["--seed", "68003", "--out", "benchmarks/results/ladder_escalations_second_draw.json"],
-     ["--seed", "68003", "--count", "4", "--out", "benchmarks/results/ladder_escalations_second_draw.json"],
-     "ladder_escalations_second_draw.json"),
-    ("ladder_escalations", ["--seed", "68004", "--out", "benchmarks/results/ladder_escalations_third_draw.json"],
-     ["--seed", "68004", "--count", "4", "--out", "benchmarks/results/ladder_escalations_third_draw.json"],
-     "ladder_escalations_third_draw.json"),
-    ("ladder_escalations", ["--seed", "68005", "--out", "benchmarks/results/ladder_escalations_fourth_draw.json"],
-     ["--seed", "68005", "--count", "4", "--out", "benchmarks/results/ladder_escalations_fourth_draw.json"],
-     "ladder_escalations_fourth_draw.json"),
-    ("ladder_escalations", ["--seed", "68008", "--out", "benchmarks/results/ladder_escalations_fifth_draw.json"],
-     ["--seed", "68008", "--count", "4", "--out", "benchmarks/results/ladder_escalations_fifth_draw.json"],
-     "ladder_escalations_fifth_draw.json"),
-    ("ladder_escalations", ["--seed", "68009", "--out", "benchmarks/results/ladder_escalations_sixth_draw.json"],
-     ["--seed", "68009", "--count", "4", "--out", "benchmarks/results/ladder_escalations_sixth_draw.json"],
-     "ladder_escalations_sixth_draw.json"),
+    # the later unseen draws, each into its own file
+    *(("ladder_escalations", ["--seed", seed, "--out", f"benchmarks/results/{name}"],
+       ["--seed", seed, "--count", "4", "--out", f"benchmarks/results/{name}"], name)
+      for seed, name in (("68003", "ladder_escalations_second_draw.json"),
+                         ("68004", "ladder_escalations_third_draw.json"),
+                         ("68005", "ladder_escalations_fourth_draw.json"),
+                         ("68008", "ladder_escalations_fifth_draw.json"),
+                         ("68009", "ladder_escalations_sixth_draw.json"))),
 )
 #: Packages a benchmark needs beyond the test install, by the module that shows they are there: without it the
 #: benchmark is skipped and its table keeps its last results, as a peer's does.
