@@ -3,6 +3,7 @@ surface, beside the 2-D fault of the same scene's middle column.
 
     python benchmarks/fault_3d_model_error.py [--element-size 100] [--years 120] [--quick]
     python benchmarks/fault_3d_model_error.py --starts     # every cell again from other starts (about 15 min CPU)
+    python benchmarks/fault_3d_model_error.py --fresh SEED COUNT   # an unseen draw against the shipped table
 
 A mapped fault is finite along strike; the 2-D fault (antiplane, friction down dip) reads the middle column of the
 same scene as if the fault were infinitely long. Each cell is SEAS BP5-QD's fault shrunk twentyfold (lengths and
@@ -16,6 +17,10 @@ is the larger relative difference. Held-out faults (other L / W, W and d, drawn 
 declaration (faultslip.fault.strike_error.declared): the largest error at the measured cells bracketing a fault's
 L / W, times the margin, and unbounded outside. Writes benchmarks/results/fault_3d_model_error.json and, for the
 full run, the shipped table data/strike_model_error.json.
+
+``--fresh SEED COUNT``: COUNT buried patches drawn over the held-out box with another seed, run after the table was
+shipped and read against it as a user's fault would be (the drawn faults of FRESH_DRAWS); each draw is kept in
+benchmarks/results/fault_3d_model_error_fresh.json, its cells reused by inputs when it is run again.
 
 ``--starts``: is a 3-D fault's cycle its own, whatever its start? Every cell of the results file, calibration and
 held out, goes through ``faultslip.run(scene, check_starts=True)`` (faultslip.fault.starts: the scene from its
@@ -58,6 +63,27 @@ CALIBRATION = [(ratio, 600.0, 200.0) for ratio in (1.0, 2.0, 4.0, 8.0, 16.0, 32.
 HELD_OUT_SEED = 72
 #: The surface-breaking held-out faults' own draw (the buried ones' draws stay as they were).
 HELD_OUT_SURFACE_SEED = 7200
+#: (seed, count) of the buried draws run after the shipped table, each against it (``--fresh``)
+FRESH_DRAWS = ((7301, 8),)
+FRESH_OUT = HERE / "results" / "fault_3d_model_error_fresh.json"
+
+
+def buried_draw(rng: np.random.Generator, element_size: float) -> tuple[float, float, float]:
+    """One buried patch over the held-out box: L / W uniform in 1.2-7.5, W in 450-750 m and its top in 200-400 m
+    (BP5 at 1/20), each rounded to the elements."""
+    ratio = float(np.round(rng.uniform(1.2, 7.5), 2))
+    height = float(np.round(rng.uniform(450, 750) / element_size) * element_size)
+    top = float(np.round(rng.uniform(200, 400) / element_size) * element_size)
+    return ratio, height, top
+
+
+def judged(row: dict, rows: list) -> dict:
+    """A drawn cell against the declaration over ``rows`` (the table's): its bound (None: unbounded) and whether
+    it holds."""
+    bound = declared(row["aspect_measured"], rows, row["burial"], row["width_over_nucleation"])
+    declared_bound = None if not math.isfinite(bound) else bound
+    return {**row, "declared": declared_bound,
+            "covered": declared_bound is not None and row["model_error"] is not None and row["model_error"] <= bound}
 
 
 def scene_text(ratio: float, height: float, top: float, element_size: float, years: float) -> str:
@@ -218,6 +244,36 @@ def starts_summary(cells: list[dict]) -> dict:
             "sequence_changed": sum(len(set(c["sequences"])) > 1 for c in cells)}
 
 
+def fresh(seed: int, count: int, element_size: float, years: float) -> None:
+    """``count`` buried patches drawn with ``seed`` over the held-out box, each against the shipped table as a user's
+    fault (:func:`faultslip.fault.strike_error.declared`); the draw replaces its seed's in :data:`FRESH_OUT`, whose
+    cells of the same inputs are kept (their 2-D side run again: seconds)."""
+    from faultslip.fault.strike_error import load_table
+
+    recorded = json.loads(FRESH_OUT.read_text(encoding="utf-8")) if FRESH_OUT.is_file() else {"draws": []}
+    kept = {_key(row): row for draw in recorded["draws"] for row in draw["rows"]}
+    rng = np.random.default_rng(seed)
+    rows = []
+    for _ in range(count):
+        ratio, height, top = buried_draw(rng, element_size)
+        length = years_for(height, years)
+        earlier = kept.get(_key({"aspect": ratio, "height_m": height, "top_m": top, "element_size_m": element_size,
+                                 "years": length}))
+        if earlier is None:
+            row = cell(ratio, height, top, element_size, length)
+        else:
+            scene = parse_fault_3d_scene(scene_text(ratio, height, top, element_size, length), "cell",
+                                         allow_large=True)
+            row = with_model_error({**{k: v for k, v in earlier.items() if k not in ("declared", "covered")},
+                                    **groups_of(scene.fault), "fault_2d": two_d_side(scene, top, height)})
+        rows.append(judged(row, load_table()["rows"]))
+    draws = [draw for draw in recorded["draws"] if draw["seed"] != seed] + [{"seed": seed, "rows": rows}]
+    FRESH_OUT.write_text(json.dumps({"draws": sorted(draws, key=lambda d: d["seed"]), "scale": SCALE, **stamp()},
+                                    indent=1) + "\n", encoding="utf-8")
+    print(f"draw {seed}: {sum(r['covered'] for r in rows)} of {len(rows)} within the declared bound, "
+          f"{sum(r['declared'] is None for r in rows)} with none; written {FRESH_OUT}")
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--element-size", type=float, default=100.0)
@@ -229,12 +285,18 @@ def main(argv=None) -> None:
     parser.add_argument("--starts", action="store_true",
                         help="run every cell of --out again from other starts (writes fault_3d_starts.json)")
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--fresh", type=int, nargs=2, metavar=("SEED", "COUNT"),
+                        help="COUNT buried patches drawn with SEED, against the shipped table (into "
+                             f"{FRESH_OUT.name}; cells already there with the same inputs are kept)")
     parser.add_argument("--reuse", help="an earlier results file: its cells with the same inputs are not run again in "
                         "3-D (their 2-D side, seconds, is); with --starts (any value), the starts file's cells whose "
                         "inputs and recorded 3-D run are unchanged are kept")
     args = parser.parse_args(argv)
     if args.starts:
         starts(Path(args.out), HERE / "results" / "fault_3d_starts.json", args.workers, reuse=args.reuse is not None)
+        return
+    if args.fresh:
+        fresh(*args.fresh, args.element_size, args.years)
         return
     earlier = {}
     if args.reuse and Path(args.reuse).is_file():
@@ -263,25 +325,13 @@ def main(argv=None) -> None:
              "surface_rows": [{"aspect": r["aspect_measured"], "width_over_nucleation": r["width_over_nucleation"],
                                "measured_error": r["model_error"]} for r in rows if r["burial"] == 0]}
     draws = np.random.default_rng(HELD_OUT_SEED)
-    held = []
-    for _ in range(1 if args.quick else args.held_out):  # drawn over the calibration's box
-        ratio = float(np.round(draws.uniform(1.2, 7.5), 2))
-        height = float(np.round(draws.uniform(450, 750) / args.element_size) * args.element_size)
-        top = float(np.round(draws.uniform(200, 400) / args.element_size) * args.element_size)
-        row = measured(ratio, height, top)
-        bound = declared(row["aspect_measured"], table["rows"], row["burial"], row["width_over_nucleation"])
-        row["declared"] = None if not math.isfinite(bound) else bound
-        row["covered"] = row["declared"] is not None and row["model_error"] is not None and row["model_error"] <= bound
-        held.append(row)
+    held = [judged(measured(*buried_draw(draws, args.element_size)), table["rows"])  # over the calibration's box
+            for _ in range(1 if args.quick else args.held_out)]
     surface_draws = np.random.default_rng(HELD_OUT_SURFACE_SEED)
     for _ in range(0 if args.quick else args.held_out_surface):  # over the surface-breaking cells' box
         ratio = float(np.round(surface_draws.uniform(1.5, 12.0), 2))
         height = float(np.round(surface_draws.uniform(600, 1400) / args.element_size) * args.element_size)
-        row = measured(ratio, height, 0.0)
-        bound = declared(row["aspect_measured"], table["rows"], row["burial"], row["width_over_nucleation"])
-        row["declared"] = None if not math.isfinite(bound) else bound
-        row["covered"] = row["declared"] is not None and row["model_error"] is not None and row["model_error"] <= bound
-        held.append(row)
+        held.append(judged(measured(ratio, height, 0.0), table["rows"]))
     result = {"rows": rows, "held_out": held, "table": table, "scale": SCALE}
     result.update(stamp())
     Path(args.out).write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")

@@ -183,6 +183,14 @@ def fault_3d_model_error_table() -> str | None:
                                                and r["aspect_measured"] > 6 and r["model_error"] is not None),
                                               key=lambda r: r["width_over_nucleation"]))
                   + "), so no narrower cell bounds a wider fault.")
+    fresh = _load("fault_3d_model_error_fresh.json")
+    for draw in fresh["draws"] if fresh else ():
+        drawn = draw["rows"]
+        tally += (f" A later draw (seed {draw['seed']}, {len(drawn)} buried patches over the same box, run after the "
+                  f"table was shipped; `fault_3d_model_error.py --fresh`): {sum(r['covered'] for r in drawn)} within "
+                  f"the declared bound, {sum(r['declared'] is None for r in drawn)} with none, "
+                  f"{sum(r['declared'] is not None and not r['covered'] for r in drawn)} outside one; model errors "
+                  f"{min(r['model_error'] for r in drawn):.0%}-{max(r['model_error'] for r in drawn):.0%}.")
     return ("\n".join(rows) + f"\n\nLengths, recurrences and slips as BP5's (the runs, at 1/{scale:g} scale, times "
             f"{scale:g}). "
             f"Declared: the bounding cells' error times {result['table']['margin']:g} "

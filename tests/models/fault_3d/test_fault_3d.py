@@ -364,6 +364,26 @@ def test_the_shipped_model_error_table_is_the_benchmarks_measurement_times_the_m
     assert all(r["declared"] is None for r in held if r["burial"] == 0)
 
 
+def test_the_fresh_strike_draws_hold_the_shipped_declaration():
+    """benchmarks/results/fault_3d_model_error_fresh.json (fault_3d_model_error.py --fresh): buried patches drawn
+    after the table was shipped, each as FRESH_DRAWS names it (the same draw of inputs), its model error the runs'
+    own and its bound what the library declares now; none lies outside a declared bound."""
+    from faultslip.fault.strike_error import declared, load_table
+
+    bench = load_benchmark("fault_3d_model_error")
+    recorded = json.loads(bench.FRESH_OUT.read_text(encoding="utf-8"))
+    assert [(draw["seed"], len(draw["rows"])) for draw in recorded["draws"]] == list(bench.FRESH_DRAWS)
+    rows = load_table()["rows"]
+    for draw in recorded["draws"]:
+        rng = np.random.default_rng(draw["seed"])
+        for row in draw["rows"]:
+            assert (row["aspect"], row["height_m"], row["top_m"]) == bench.buried_draw(rng, row["element_size_m"])
+            assert row == bench.judged(bench.with_model_error(row), rows)
+            bound = declared(row["aspect_measured"], rows, row["burial"], row["width_over_nucleation"])
+            assert row["declared"] is None or row["declared"] == pytest.approx(bound)
+            assert row["covered"] or row["declared"] is None  # unbounded is said; a bound is never exceeded
+
+
 def test_the_3d_starts_file_is_its_runs():
     """benchmarks/results/fault_3d_starts.json (fault_3d_model_error.py --starts): each cell's run from its own start
     is the recorded 3-D run of that cell, each start's recurrence change is the runs' own, and the summary
