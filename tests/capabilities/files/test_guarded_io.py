@@ -232,13 +232,16 @@ def test_the_existence_check_is_taken_with_the_lock(tmp_path):
 
 def test_a_command_that_fails_late_leaves_none_of_its_outputs(tmp_path, cli, monkeypatch):
     """map writes its netCDF, then fails on the figure: neither remains (one transaction per command)."""
+    # the command's module is imported before either name is patched: imported first under the patch, it would
+    # bind the broken figure as its own, and the patch's undo would restore that for every later test in the process
+    import faultslip.cli.studies as studies_cli
     import faultslip.studies.maps as maps
 
     def broken(dataset):
         raise InputError("the figure could not be drawn")
 
     monkeypatch.setattr(maps, "map_figure", broken)
-    monkeypatch.setattr("faultslip.cli.studies.map_figure", broken)
+    monkeypatch.setattr(studies_cli, "map_figure", broken)
     result = cli("map", CONFIGS / "san_andreas_map.toml", "-o", tmp_path / "m.nc", "--plot", tmp_path / "m.png")
     assert_clean_error(result, "figure")
     assert sorted(p.name for p in tmp_path.iterdir()) == []
