@@ -55,7 +55,7 @@ def dip_model_error_table() -> str | None:
     rows = ["| held-out fault | W / h* | plane strain: recurrence, slip | antiplane: recurrence, slip | model error | "
             "declared | holds |", "| --- | --- | --- | --- | --- | --- | --- |"]
     for row in result["held_out"]:
-        rows.append(f"| {row['dip']:g}° {row['sense']}, D_c {row['critical_slip_m'] * 1e3:.1f} mm, H "
+        rows.append(f"| {row['set']}: {row['dip']:g}° {row['sense']}, D_c {row['critical_slip_m'] * 1e3:.1f} mm, H "
                     f"{row['seismogenic_depth_m'] / 1e3:.1f} km | {row['width_over_nucleation']:.2f} | "
                     f"{row['plane_strain']['recurrence_yr']:.1f} yr, {row['plane_strain']['mean_slip_m']:.2f} m | "
                     f"{row['antiplane']['recurrence_yr']:.1f} yr, {row['antiplane']['mean_slip_m']:.2f} m | "
@@ -68,7 +68,7 @@ def dip_model_error_table() -> str | None:
     widths = [fault["width_over_nucleation"] for fault in table["faults"]]
     measured = "; ".join(f"{name}: {len(group)}" for name, group in sets.items())
     bands = []
-    edges = (min(widths), 2.0, 2.5, 3.0, 3.5, max(widths) + 1e-9)
+    edges = (min(widths), *(x for x in (1.5, 2.0, 2.5, 3.0, 3.5) if min(widths) < x < max(widths)), max(widths) + 1e-9)
     for low, high in zip(edges[:-1], edges[1:]):
         inside = [f["model_error"] for f in table["faults"] if low <= f["width_over_nucleation"] < high]
         if inside:
@@ -76,16 +76,36 @@ def dip_model_error_table() -> str | None:
     retired = result["grid_declaration"]
     beyond = ", ".join(f"{r['dip']:g}° at W / h* {r['width_over_nucleation']:.2f} ({r['model_error']:.1%} against "
                        f"{r['bound']:.1%}, {r['set']})" for r in retired["beyond"])
-    held = table["held_out"]
+    held = {}
+    for row in table["held_out"]:
+        held.setdefault(row.get("set", "held out"), []).append(row)
+    unseen = "; ".join(f"{name}, {sum(r['covered'] for r in group)} of {len(group)} within it, "
+                       f"{sum(r['declared'] is None for r in group)} without one, "
+                       f"{sum(r['declared'] is not None and not r['covered'] for r in group)} outside it"
+                       for name, group in held.items())
     return ("\n".join(rows) + f"\n\nMeasured faults (the declaration's): {len(table['faults'])} ({measured}; the grid's "
             f"vertical fault counts for both senses), W / h* {min(widths):.2f} to {max(widths):.2f}. The model error by "
             f"W / h*: " + "; ".join(bands) + f". Declared: the largest measured within a factor "
             f"{math.exp(table['window']):.3g} of a fault's W / h*, any dip and sense, times {table['margin']:g}, where "
-            f"at least {table['min_neighbours']:g} were measured. Held out (the draw run after the declaration was "
-            f"fixed): {sum(r['covered'] for r in held)} of {len(held)} within it, "
-            f"{sum(r['declared'] is None for r in held)} without one. The grid's bracketing bound, which this replaces, "
+            f"at least {table['min_neighbours']:g} were measured. Held out (draws run after the declaration was "
+            f"fixed): {unseen}. The grid's bracketing bound, which this replaces, "
             f"bounded {retired['bounded']} of the {retired['faults']} measured faults off the grid and was exceeded "
-            f"on {len(retired['beyond'])}" + (f": {beyond}" if beyond else "") + ". " + _machine(result))
+            f"on {len(retired['beyond'])}" + (f": {beyond}" if beyond else "") + ". " + _one_slider_on_dips(result)
+            + _machine(result))
+
+
+def _one_slider_on_dips(result) -> str:
+    """The one slider's ranges on the measured and held-out dipping faults, against their plane-strain answers."""
+    every = [row for row in result["rows"] + result["held_out"] if "one_slider" in row]
+    if not every:
+        return ""
+    ranged = [row["one_slider"] for row in every if row["one_slider"]["recurrence_holds"] is not None]
+    sliding = [row["one_slider"] for row in every if row["one_slider"]["mean_slip_holds"] is not None]
+    return (f"The one slider on the same {len(every)} faults (`faultslip run SCENE --model one_slider`, its 95 % ranges "
+            f"widened by this declaration): its recurrence range holds the plane-strain answer on "
+            f"{sum(side['recurrence_holds'] for side in ranged)} of the {len(ranged)} where it declares one, its mean "
+            f"slip range on {sum(side['mean_slip_holds'] for side in sliding)} of {len(sliding)}; on the other "
+            f"{len(every) - len(ranged)} it declares none (outside its calibrated box, or no dip error declared). ")
 
 
 def seas_bp5_table() -> str | None:
