@@ -105,7 +105,8 @@ def _one_slider_on_dips(result) -> str:
             f"widened by this declaration): its recurrence range holds the plane-strain answer on "
             f"{sum(side['recurrence_holds'] for side in ranged)} of the {len(ranged)} where it declares one, its mean "
             f"slip range on {sum(side['mean_slip_holds'] for side in sliding)} of {len(sliding)}; on the other "
-            f"{len(every) - len(ranged)} it declares none (outside its calibrated box, or no dip error declared). ")
+            f"{len(every) - len(ranged)} it declares none (outside its calibrated box, or a dip error, none or "
+            "100 % and more, that leaves the plane-strain answer no upper bound). ")
 
 
 def seas_bp5_table() -> str | None:

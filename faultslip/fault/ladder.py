@@ -28,6 +28,7 @@ import numpy as np
 from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
 from faultslip.contract.result import Result
 from faultslip.fault import dip_error
+from faultslip.fault.one_slider_error import range_within
 from faultslip.errors import InputError
 from faultslip.friction.rate_state import RateStateLaw, nucleation_size
 from faultslip.io.report import Report
@@ -322,20 +323,22 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
         bands["surface_slip"] = predict("surface_slip", raw["slip"], group, table)
     dipping = (dip_error.declared(fault.dip, width_over_nucleation=group["width_over_nucleation"])
                if fault.plane == "strain" else 0.0)
-    if not math.isfinite(dipping):
+    if not dipping < 1.0:  # unmeasured, or so large that it bounds the plane-strain answer from below only
         report.add("recurrence_interval", bands["recurrence"]["value"], "s", also=("yr",),
                    label="recurrence (the block corrected by the 2-D calibration; no range on this dip)")
         report.add("mean_slip_per_event", bands["mean_slip"]["value"], "m", label="slip per event, mean over the rupture zone")
         report.add("recurrence_range", None, label="95 % range of the recurrence (none: outside the measured)")
         report.add("slip_per_event_range", None, label="95 % range of the slip per event (none)")
         report.add("estimated_relative_error", None, label="declared model error (none: outside the measured dips and W / h*)")
-        report.note(f"the fault dips {fault.dip:g} degrees with W / h* = {group['width_over_nucleation']:.3g}, outside the "
-                    "dips and W / h* the antiplane rung's error was measured on (benchmarks/dip_model_error.py): no "
-                    "range; run the 2-D fault in plane strain")
+        why = ("outside the dips and W / h* the antiplane rung's error was measured on" if not math.isfinite(dipping)
+               else f"where the antiplane rung's declared error on such a fault is {dipping:.0%}, which leaves the "
+                    "plane-strain answer no upper bound")
+        report.note(f"the fault dips {fault.dip:g} degrees with W / h* = {group['width_over_nucleation']:.3g}, {why} "
+                    "(benchmarks/dip_model_error.py): no range; run the 2-D fault in plane strain")
         return report
     for band in bands.values():  # against plane strain: the antiplane calibration's range, widened by the dip's error
-        band.update(low=band["low"] / (1 + dipping), high=band["high"] * (1 + dipping),
-                    half_width=(1 + band["half_width"]) * (1 + dipping) - 1)
+        band.update(low=truth_range(band["low"], dipping)[0], high=truth_range(band["high"], dipping)[1],
+                    half_width=compounded(band["half_width"], dipping))
     report.add("recurrence_interval", bands["recurrence"]["value"], "s", also=("yr",),
                label="recurrence of system-size events (the block corrected by the 2-D calibration)")
     report.add("recurrence_range", [bands["recurrence"]["low"], bands["recurrence"]["high"]], "s", also=("yr",),
@@ -419,15 +422,34 @@ def ladder_report(title: str, rungs: list[dict], tolerance: float | None, above:
     return report
 
 
+def compounded(*errors) -> float | None:
+    """Relative errors compounded, (1 + e1)(1 + e2)... - 1; None where any is unknown or unbounded."""
+    total = 1.0
+    for error in errors:
+        if error is None or not math.isfinite(error):
+            return None
+        total *= 1.0 + error
+    return total - 1.0
+
+
+def truth_range(value: float, error: float | None) -> list | None:
+    """Where the answer a rung stands for lies, given the rung's ``value`` and its declared relative error
+    ``error`` (a model error is measured as |value / truth - 1|, and a numerical one as the same against the exact
+    answer): [value / (1 + e), value / (1 - e)] (:func:`faultslip.fault.one_slider_error.range_within`); None
+    where nothing is declared, or from e = 1, where the truth has no upper bound."""
+    if error is None:
+        return None
+    bounds = range_within(value, error)
+    return None if bounds is None or bounds[1] is None else list(bounds)
+
+
 def with_model_error(rung: dict, model_error: float) -> dict:
-    """A rung whose declared error adds a model error: the ranges widen to (1 + e_numerical)(1 + e_model) - 1 (an
-    unbounded model error leaves no range)."""
-    numerical = rung["error"] or 0.0
-    error = (1 + numerical) * (1 + model_error) - 1
-    if not math.isfinite(error):
-        return {**rung, "error": None, "recurrence_range": None, "slip_range": None}
-    return {**rung, "error": error, "recurrence_range": (rung["recurrence"] * (1 - error), rung["recurrence"] * (1 + error)),
-            "slip_range": (rung["slip"] * (1 - error), rung["slip"] * (1 + error))}
+    """A rung whose declared error adds a model error against the rung above: the errors compound
+    (:func:`compounded`) and the ranges are where that rung's answer lies (:func:`truth_range`); an unbounded
+    model error leaves no error and no range."""
+    error = compounded(rung["error"] or 0.0, model_error)
+    return {**rung, "error": error, "recurrence_range": truth_range(rung["recurrence"], error),
+            "slip_range": truth_range(rung["slip"], error)}
 
 
 def rung_of(name: str, result: Result, cpu: float, slip: str = "surface") -> dict:
@@ -452,9 +474,5 @@ def rung_of(name: str, result: Result, cpu: float, slip: str = "surface") -> dic
 
 
 def _declared(result: Result, key: str, unit: str):
-    """A 2-D answer's range from its declared relative error."""
-    error = result.estimated_relative_error
-    if error is None:
-        return None
-    value = float(result.values[key].to(unit).magnitude)
-    return (value * (1 - error), value * (1 + error))
+    """A 2-D or 3-D answer's range from its declared relative error (:func:`truth_range`)."""
+    return truth_range(float(result.values[key].to(unit).magnitude), result.estimated_relative_error)

@@ -22,7 +22,7 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import output_lock, prepare_run_folder
 from faultslip.io.report import Report
 from faultslip.models.common import note_origin
-from faultslip.fault.ladder import ladder_report, rung_of
+from faultslip.fault.ladder import compounded, ladder_report, rung_of, truth_range
 from faultslip.fault import strike_error
 from faultslip.fault.starts import compare_starts, other_starts, start_note, starts_estimate
 from faultslip.models.fault_2d import family as fault_2d_family
@@ -266,24 +266,6 @@ def simulate(scene, output_dir=None, resume: bool = False, rtol: float | None = 
 RUNGS = ("one_slider", "fault_2d", "fault_3d")
 
 
-def _combined(*errors) -> float | None:
-    """Relative errors compounded, (1 + e1)(1 + e2)... - 1; None where any is unknown or unbounded."""
-    total = 1.0
-    for error in errors:
-        if error is None or not math.isfinite(error):
-            return None
-        total *= 1.0 + error
-    return total - 1.0
-
-
-def truth_range(value: float, error: float | None):
-    """Where the truth lies for an answer ``value`` declared within ``error`` of it (|value / truth - 1| <= error):
-    [value / (1 + e), value / (1 - e)]; None where nothing is declared or e >= 1 (no upper bound)."""
-    if error is None or not math.isfinite(error) or error >= 1.0:
-        return None
-    return [value / (1.0 + error), value / (1.0 - error)]
-
-
 def _put(result: Result, key: str, value, units) -> None:
     if key in result:
         result.set(key, value)
@@ -299,7 +281,7 @@ def _lower_rung(loaded: Fault3DScene, name: str, allow_large: bool, reason: str)
               else fault_2d_family.simulate_fault(below, allow_large=allow_large, allow_underresolved=True))
     groups = strike_error.groups_of(loaded.fault)
     model_error = strike_error.declared_for(loaded.fault)
-    total = _combined(result.estimated_relative_error, model_error)
+    total = compounded(result.estimated_relative_error, model_error)
     _put(result, "estimated_relative_error", total, None)
     for key, range_key, unit in (("recurrence_interval", "recurrence_range", "s"),
                                  ("slip_per_event", "slip_per_event_range", "m"),
@@ -467,7 +449,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
     flat = fault_2d_family.simulate_fault(below, allow_large=allow_large, allow_underresolved=True)
     rung = rung_of("fault_2d", flat, time.process_time() - started, slip="mean")
     groups = strike_error.groups_of(loaded.fault)
-    total = _combined(rung["error"], strike_error.declared_for(loaded.fault))
+    total = compounded(rung["error"], strike_error.declared_for(loaded.fault))
     rungs.append({**rung, "error": total, "recurrence_range": truth_range(rung["recurrence"], total),
                   "slip_range": truth_range(rung["slip"], total)})
     started = time.process_time()

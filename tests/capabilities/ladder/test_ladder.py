@@ -531,3 +531,43 @@ def test_runs_one_after_another_keep_where_any_lies_outside_its_fit():
     assert both.seconds == 5.0 and both.outside_fit == ("its W/h* is 40, fitted 0.5 to 8",)
     with pytest.raises(InputError, match="fitted on other scenes"):
         budget.check(both)
+
+
+@settings(max_examples=200, deadline=None)
+@given(truth=st.floats(1e-3, 1e12), numerical=st.floats(0.0, 0.05), model=st.floats(0.0, 0.9),
+       numerical_share=st.floats(-1.0, 1.0), model_share=st.floats(-1.0, 1.0))
+def test_a_lower_rungs_widened_range_holds_every_answer_its_errors_allow(truth, numerical, model, numerical_share,
+                                                                        model_share):
+    """A rung's answer off the exact one by its numerical error, whose exact answer is off the rung above by its
+    model error (each measured as |value / truth - 1|), lies where with_model_error's range says: the errors
+    compound, and the range inverts the definition ([v / (1 + e), v / (1 - e)]). The symmetric v (1 -/+ e) it had
+    missed the answer above where the lower rung falls short by more than e / (1 + e)."""
+    exact = truth * (1 + model_share * model)
+    value = exact * (1 + numerical_share * numerical)
+    rung = ladder.with_model_error({"recurrence": value, "slip": 2 * value, "error": numerical}, model)
+    error = rung["error"]
+    assert error == pytest.approx((1 + numerical) * (1 + model) - 1)
+    if error >= 1:
+        assert rung["recurrence_range"] is None and rung["slip_range"] is None
+        return
+    for key, scale in (("recurrence_range", 1.0), ("slip_range", 2.0)):
+        low, high = rung[key]
+        assert low <= scale * truth * (1 + 1e-12) and scale * truth <= high * (1 + 1e-12)
+
+
+def test_the_one_sliders_range_on_a_dipping_fault_inverts_the_dip_error(monkeypatch):
+    """On a plane-strain scene the one slider's calibrated range (against antiplane) widens by the antiplane rung's
+    declared dip error e to [low / (1 + e), high / (1 - e)]; from e = 1 on there is no upper bound, so no range, and
+    the note says why."""
+    scene = read_fault_2d_scene(CONFIGS / "seas_bp3_thrust60.toml")
+    flat = faultslip.run(read_fault_2d_scene(CONFIGS / "seas_bp3_thrust60.toml").antiplane(), method="one_slider")
+    for declared in (0.3, 0.75):
+        monkeypatch.setattr(ladder.dip_error, "declared", lambda dip, width_over_nucleation, e=declared: e)
+        values = faultslip.run(scene, method="one_slider").values
+        low, high = (float(v.to("s").magnitude) for v in values["recurrence_range"])
+        flat_low, flat_high = (float(v.to("s").magnitude) for v in flat.values["recurrence_range"])
+        assert low == pytest.approx(flat_low / (1 + declared)) and high == pytest.approx(flat_high / (1 - declared))
+    monkeypatch.setattr(ladder.dip_error, "declared", lambda dip, width_over_nucleation: 1.2)
+    result = faultslip.run(scene, method="one_slider")
+    assert result.values["recurrence_range"] is None
+    assert any("no upper bound" in note for note in result.notes)

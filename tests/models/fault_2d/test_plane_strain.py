@@ -321,7 +321,8 @@ def test_the_one_sliders_ranges_hold_the_dipping_faults_plane_strain_answers():
     """The rung two below a dipping fault: benchmarks/results/dip_model_error.json records the one slider's answer
     on each measured and held-out fault's scene (its ranges widened by the dip error): it is what the library
     answers now, and on every fault where it declares a range, the range holds the plane-strain
-    answer; where it declares none, the report says so (outside its box, or no dip error)."""
+    answer; where it declares none, the report says so (outside its box, or a dip error that leaves the answer no
+    upper bound)."""
     import json
 
     from faultslip.models.fault_2d.scene import read_fault_2d_scene
@@ -336,7 +337,7 @@ def test_the_one_sliders_ranges_hold_the_dipping_faults_plane_strain_answers():
             assert now[key] == (pytest.approx(value, rel=1e-9) if isinstance(value, (float, list)) else value), key
     sides = [row["one_slider"] for row in results["rows"] + results["held_out"]]
     declared = [side for side in sides if side["recurrence_holds"] is not None]
-    assert len(declared) >= 90 and all(side["recurrence_holds"] and side["mean_slip_holds"] for side in declared)
+    assert len(declared) >= 80 and all(side["recurrence_holds"] and side["mean_slip_holds"] for side in declared)
 
 
 def test_model_error_on_a_dipping_scene_climbs_through_the_antiplane_rung(cli):

@@ -521,10 +521,13 @@ def test_the_assembly_cost_is_the_cost_benchmarks_and_the_product_is_exact():
 
 
 def test_a_declared_error_ranges_where_the_truth_lies():
-    from faultslip.models.fault_3d.family import truth_range
+    """One inversion for every rung's range (faultslip.fault.ladder.truth_range), the 3-D family's among them."""
+    from faultslip.fault import ladder
+    from faultslip.models.fault_3d import family
 
-    assert truth_range(100.0, 0.25) == pytest.approx([80.0, 100.0 / 0.75])
-    assert truth_range(100.0, 1.0) is None and truth_range(100.0, None) is None
+    assert family.truth_range is ladder.truth_range
+    assert ladder.truth_range(100.0, 0.25) == pytest.approx([80.0, 100.0 / 0.75])
+    assert ladder.truth_range(100.0, 1.0) is None and ladder.truth_range(100.0, None) is None
 
 
 def test_check_starts_runs_the_3d_fault_from_other_starts(cli):
