@@ -471,6 +471,12 @@ def stop_sweep(study, output: Path, blocks: int = 2) -> None:
 
 # --- cases ---------------------------------------------------------------------------------------
 
+def unmount_full(folder: Path) -> None:
+    """Unmount a workspace's full-disk tmpfs, ``folder``/full (lazily: a case's process may still hold it); nothing
+    where none is mounted."""
+    subprocess.run(["umount", "-l", str(folder / "full")], capture_output=True)
+
+
 class Workspace:
     """Seed inputs, copied once per worker into a scratch folder."""
 
@@ -529,6 +535,10 @@ class Workspace:
         mount.mkdir()
         made = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=300k", "tmpfs", str(mount)], capture_output=True)
         return mount if made.returncode == 0 else None
+
+    def close(self) -> None:
+        """Unmount the full-disk tmpfs (:func:`unmount_full`)."""
+        unmount_full(self.folder)
 
     def release(self) -> None:
         """Kill the lock holders of the last case and check that no planted victim was written through; put back a
@@ -1526,7 +1536,7 @@ def worker(job):
                 (keep / "argv.json").write_text(json.dumps(argv), encoding="utf-8")
         return tally, {k: dict(v) for k, v in by_kind.items()}, failures, slowest
     finally:
-        subprocess.run(["umount", "-l", str(folder / "full")], capture_output=True)
+        unmount_full(folder)  # by its path: a workspace that failed while it was made may have mounted it
         shutil.rmtree(folder, ignore_errors=True)
 
 

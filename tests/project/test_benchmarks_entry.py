@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import ast
+import os
 import re
 import subprocess
 import sys
@@ -67,6 +68,8 @@ def test_the_fuzzers_workbook_seed_is_one_the_fit_accepts(tmp_path, cli, monkeyp
 
     (tmp_path / "space").mkdir()
     workspace = fuzz.Workspace(tmp_path / "space")
+    workspace.close()  # its full-disk tmpfs (root only) is not this test's: left mounted, pytest cannot remove it
+    assert not os.path.ismount(tmp_path / "space" / "full")
     book = tmp_path / "rig.xlsx"
     book.write_bytes(workspace.workbook)
     result = cli("fit", book, "--law", "rate-state", "--stiffness", "200 kN/mm", "--area", "25 cm^2", "--json")
