@@ -327,9 +327,9 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
         report.add("recurrence_interval", bands["recurrence"]["value"], "s", also=("yr",),
                    label="recurrence (the block corrected by the 2-D calibration; no range on this dip)")
         report.add("mean_slip_per_event", bands["mean_slip"]["value"], "m", label="slip per event, mean over the rupture zone")
-        report.add("recurrence_range", None, label="95 % range of the recurrence (none: outside the measured)")
+        report.add("recurrence_range", None, label="95 % range of the recurrence (none on this dip and W / h*)")
         report.add("slip_per_event_range", None, label="95 % range of the slip per event (none)")
-        report.add("estimated_relative_error", None, label="declared model error (none: outside the measured dips and W / h*)")
+        report.add("estimated_relative_error", None, label="declared model error (none on this dip and W / h*)")
         why = ("outside the dips and W / h* the antiplane rung's error was measured on" if not math.isfinite(dipping)
                else f"where the antiplane rung's declared error on such a fault is {dipping:.0%}, which leaves the "
                     "plane-strain answer no upper bound")
@@ -406,6 +406,10 @@ def ladder_report(title: str, rungs: list[dict], tolerance: float | None, above:
         if rung["slip_range"] is not None:
             report.add(f"{name}_slip_per_event_range", list(rung["slip_range"]), "m", label=f"{name}: its declared range")
         report.add(f"{name}_declared_error", rung["error"], label=f"{name}: declared error (relative; null: none)")
+        if rung["error"] is not None and rung["error"] >= 1 and rung["recurrence_range"] is None:
+            report.note(f"{name}: its declared error, {rung['error']:.0%}, bounds the {above} answer from below only "
+                        "(at value / (1 + e): |value / truth - 1| <= e sets no upper end once e >= 1), so no range is "
+                        "declared")
         report.add(f"{name}_cpu_time", rung["cpu_time"], "s", label=f"{name}: CPU time")
         if tolerance is not None:
             report.add(f"{name}_meets_tolerance", rung["error"] is not None and rung["error"] <= tolerance,

@@ -263,6 +263,12 @@ def test_every_rung_reads_the_3d_scene_and_declares_its_model_error(cli):
     text = ladder.out
     for rung in ("one_slider", "fault_2d", "fault_3d"):
         assert f"{rung}_recurrence" in text
+    document = json.loads(text)
+    report = document.get("results", document)
+    error = report["fault_2d_declared_error"]
+    error = error["value"] if isinstance(error, dict) else error
+    if error is not None and error >= 1:  # a declared error with no range says why
+        assert "fault_2d_recurrence_range" not in report and "fault_2d: its declared error" in text
 
 
 def test_a_tolerance_no_rung_can_meet_is_refused_before_any_work(cli):
