@@ -330,11 +330,11 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
         report.add("recurrence_range", None, label="95 % range of the recurrence (none on this dip and W / h*)")
         report.add("slip_per_event_range", None, label="95 % range of the slip per event (none)")
         report.add("estimated_relative_error", None, label="declared model error (none on this dip and W / h*)")
-        why = ("outside the dips and W / h* the antiplane rung's error was measured on" if not math.isfinite(dipping)
-               else f"where the antiplane rung's declared error on such a fault is {dipping:.0%}, which leaves the "
+        why = (dip_error.why_undeclared(fault.dip, group["width_over_nucleation"]) if not math.isfinite(dipping)
+               else f"and the antiplane rung's declared error on such a fault is {dipping:.0%}, which leaves the "
                     "plane-strain answer no upper bound")
-        report.note(f"the fault dips {fault.dip:g} degrees with W / h* = {group['width_over_nucleation']:.3g}, {why} "
-                    "(benchmarks/dip_model_error.py): no range; run the 2-D fault in plane strain")
+        report.note(f"the fault dips {fault.dip:g} degrees with W / h* = {group['width_over_nucleation']:.3g}: {why} "
+                    "(benchmarks/dip_model_error.py), so no range; run the 2-D fault in plane strain")
         return report
     for band in bands.values():  # against plane strain: the antiplane calibration's range, widened by the dip's error
         band.update(low=truth_range(band["low"], dipping)[0], high=truth_range(band["high"], dipping)[1],

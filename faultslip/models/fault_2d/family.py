@@ -469,6 +469,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False, inc
                      time.process_time() - started, slip=slip)
         ratio = groups(loaded.fault.description())["width_over_nucleation"]
         rungs.append(with_model_error(flat, dip_error.declared(loaded.fault.dip, width_over_nucleation=ratio)))
+        unmeasured = dip_error.why_undeclared(loaded.fault.dip, ratio)
     started = time.process_time()
     full = simulate_fault(loaded, allow_large=allow_large)
     rungs.append(rung_of("fault_2d", full, time.process_time() - started, slip=slip))
@@ -483,7 +484,8 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False, inc
     if dipping:
         report.note(f"the fault dips {loaded.fault.dip:g} degrees: the 2-D rung is plane strain (SEAS BP3's "
                     "mechanics), and the antiplane rung's declared error adds its model error on dip-slip faults "
-                    "(benchmarks/dip_model_error.py); the one slider's range is calibrated against the antiplane fault")
+                    "(benchmarks/dip_model_error.py); the one slider's range is calibrated against the antiplane fault"
+                    + (f"; none is declared on this fault: {unmeasured}" if unmeasured else ""))
     if include_3d:
         report.note(f"the 3-D rung reads the scene as a fault {loaded.fault_length / 1e3:g} km long (strengthening "
                     "beyond its ends); the lower rungs' ranges are those of a fault infinitely long along strike, "

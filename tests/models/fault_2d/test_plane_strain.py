@@ -281,6 +281,14 @@ def test_the_declared_dip_error_is_the_largest_near_the_faults_w_over_h_star_and
     assert declared(20.0, 2.0, table) == math.inf and declared(95.0, 2.0, table) == math.inf
     assert declared(45.0, 1.9, table) == math.inf and declared(45.0, 4.1, table) == math.inf
     assert declared(45.0, 2.3, {**table, "min_neighbours": 3}) == math.inf
+    # each refusal says why, and a declared error has no reason against it
+    from faultslip.fault.dip_error import why_undeclared
+
+    assert why_undeclared(45.0, 2.1, table) == ""
+    assert "dip, 20 degrees" in why_undeclared(20.0, 2.0, table)
+    assert "W / h*, 1.9, lies outside the measured faults' 2-4" in why_undeclared(45.0, 1.9, table)
+    assert "0 measured faults lie within" in why_undeclared(45.0, 3.0, table)
+    assert "2 measured faults" in why_undeclared(45.0, 2.3, {**table, "min_neighbours": 3})
 
 
 def test_the_shipped_dip_error_holds_its_held_out_faults():
@@ -361,6 +369,7 @@ def test_model_error_on_a_dipping_scene_climbs_through_the_antiplane_rung(cli):
         assert error >= bound
     else:
         assert error is None and values["antiplane_range_holds"] is None  # no range: neither holds nor misses
+        assert "none is declared on this fault: its W / h*" in done.out  # and the notes say why
 
 
 def test_bp3_against_fdra_and_the_declared_resolution_error_hold_in_the_results():
