@@ -61,10 +61,10 @@ SENSES = ("thrust", "normal")
 #: First held out of the grid's declaration, now measured: (dip, sense, D_c in m, H in m)
 FIRST_HELD_OUT = ((40.0, "thrust", 0.006, 15e3), (50.0, "normal", 0.008, 12e3), (70.0, "thrust", 0.012, 15e3),
                   (35.0, "normal", 0.010, 13e3))
-#: (seed, count) of the random draws: measured (the first, which retired the grid's bound, and the calibration
-#: draw), and held out (run after the declaration was fixed)
-#: (seed, count, D_c range in m)
+#: the first draws' D_c range (m)
 FIRST_RANGE = (0.006, 0.012)
+#: (seed, count, D_c range in m) of the random draws: measured (the first, which retired the grid's bound, the
+#: calibration draw and the stiffer faults' draw), and held out (run after the declaration was fixed)
 MEASURED_DRAWS = ((4242, 10, FIRST_RANGE), (4300, 32, FIRST_RANGE), (4302, 24, (0.012, 0.024)))
 HELD_OUT_DRAWS = ((4301, 12, FIRST_RANGE), (4303, 16, (0.006, 0.024)))
 #: the declaration (faultslip.fault.dip_error.declared): neighbours within a factor exp(WINDOW) in W / h*, at least
@@ -114,9 +114,11 @@ def slider_side(base, row: dict) -> dict:
                         row["seismogenic_depth_m"])
     values = faultslip.run(scene, method="one_slider").values
     side = {}
-    for name, key, unit, truth in (("recurrence", "recurrence_interval", "yr", row["plane_strain"]["recurrence_yr"]),
-                                   ("mean_slip", "mean_slip_per_event", "m", row["plane_strain"]["mean_slip_m"])):
-        bounds = values.get("recurrence_range" if name == "recurrence" else f"{key}_range")
+    plane_strain = row["plane_strain"]
+    for name, key, range_key, unit, truth in (
+            ("recurrence", "recurrence_interval", "recurrence_range", "yr", plane_strain["recurrence_yr"]),
+            ("mean_slip", "mean_slip_per_event", "mean_slip_per_event_range", "m", plane_strain["mean_slip_m"])):
+        bounds = values.get(range_key)
         bounds = None if bounds is None else [float(bound.to(unit).magnitude) for bound in bounds]
         side.update({f"{name}_{unit}": float(values[key].to(unit).magnitude), f"{name}_range_{unit}": bounds,
                      f"{name}_holds": None if bounds is None else bool(bounds[0] <= truth <= bounds[1])})

@@ -174,6 +174,18 @@ def cell(ratio: float, height: float, top: float, element_size: float, years: fl
     return row
 
 
+def cell_or_kept(ratio: float, height: float, top: float, element_size: float, years: float, kept: dict) -> dict:
+    """A cell (:func:`cell`), or where ``kept`` (rows by :func:`_key`) holds one of the same inputs, its 3-D run
+    reused with its groups and its 2-D side (seconds) computed again."""
+    row = kept.get(_key({"aspect": ratio, "height_m": height, "top_m": top, "element_size_m": element_size,
+                         "years": years}))
+    if row is None:
+        return cell(ratio, height, top, element_size, years)
+    scene = parse_fault_3d_scene(scene_text(ratio, height, top, element_size, years), "cell", allow_large=True)
+    reused = {k: v for k, v in row.items() if k not in ("declared", "covered", "model_error")}
+    return with_model_error({**reused, **groups_of(scene.fault), "fault_2d": two_d_side(scene, top, height)})
+
+
 def start_cell(row: dict) -> dict:
     """One cell's scene run from its start and the others (faultslip.run(..., check_starts=True)): what each
     start settles to."""
@@ -256,16 +268,7 @@ def fresh(seed: int, count: int, element_size: float, years: float) -> None:
     rows = []
     for _ in range(count):
         ratio, height, top = buried_draw(rng, element_size)
-        length = years_for(height, years)
-        earlier = kept.get(_key({"aspect": ratio, "height_m": height, "top_m": top, "element_size_m": element_size,
-                                 "years": length}))
-        if earlier is None:
-            row = cell(ratio, height, top, element_size, length)
-        else:
-            scene = parse_fault_3d_scene(scene_text(ratio, height, top, element_size, length), "cell",
-                                         allow_large=True)
-            row = with_model_error({**{k: v for k, v in earlier.items() if k not in ("declared", "covered")},
-                                    **groups_of(scene.fault), "fault_2d": two_d_side(scene, top, height)})
+        row = cell_or_kept(ratio, height, top, element_size, years_for(height, years), kept)
         rows.append(judged(row, load_table()["rows"]))
     draws = [draw for draw in recorded["draws"] if draw["seed"] != seed] + [{"seed": seed, "rows": rows}]
     FRESH_OUT.write_text(json.dumps({"draws": sorted(draws, key=lambda d: d["seed"]), "scale": SCALE, **stamp()},
@@ -304,15 +307,7 @@ def main(argv=None) -> None:
         earlier = {_key(row): row for row in old["rows"] + old["held_out"]}
 
     def measured(ratio, height, top):
-        years = years_for(height, args.years)
-        row = earlier.get(_key({"aspect": ratio, "height_m": height, "top_m": top,
-                                "element_size_m": args.element_size, "years": years}))
-        if row is not None:  # the 3-D run is reused; its groups and its 2-D side (seconds) are computed again
-            scene = parse_fault_3d_scene(scene_text(ratio, height, top, args.element_size, years), "cell",
-                                         allow_large=True)
-            kept = {k: v for k, v in row.items() if k not in ("declared", "covered", "model_error")}
-            return with_model_error({**kept, **groups_of(scene.fault), "fault_2d": two_d_side(scene, top, height)})
-        return cell(ratio, height, top, args.element_size, years)
+        return cell_or_kept(ratio, height, top, args.element_size, years_for(height, args.years), earlier)
     cells = CALIBRATION if not args.quick else [c for c in CALIBRATION if c[0] in (2.0, 8.0) and c[1:] == (600.0, 200.0)]
     rows = [measured(*c) for c in cells]
     # The bound reads a measured cell as bounding a deeper and wider fault; surface-breaking patches err less than
