@@ -75,31 +75,28 @@ def declared(dip: float, width_over_nucleation: float, table: dict | None = None
         The declared model error (dimensionless); ``inf`` where none is declared.
     """
     table = table if table is not None else load_table()
-    faults = table["faults"]
-    dips = [row["dip"] for row in faults]
-    widths = [row["width_over_nucleation"] for row in faults]
-    if not (min(dips) <= dip <= max(dips) and min(widths) <= width_over_nucleation <= max(widths)):
-        return math.inf
-    near = neighbours(width_over_nucleation, faults, table["window"])
-    if len(near) < table["min_neighbours"]:
-        return math.inf
-    return table["margin"] * max(row["model_error"] for row in near)
+    reason, near = _reach(dip, width_over_nucleation, table)
+    return math.inf if reason else table["margin"] * max(row["model_error"] for row in near)
 
 
 def why_undeclared(dip: float, width_over_nucleation: float, table: dict | None = None) -> str:
     """Why :func:`declared` declares nothing for this fault, as a clause ("" where it declares an error): its dip
     or W / h* outside the measured faults', or too few measured near its W / h*."""
-    table = table if table is not None else load_table()
+    return _reach(dip, width_over_nucleation, table if table is not None else load_table())[0]
+
+
+def _reach(dip: float, width_over_nucleation: float, table: dict) -> tuple[str, list]:
+    """(why nothing is declared, "" where it is; the measured faults the declaration reads)."""
     faults = table["faults"]
     dips = [row["dip"] for row in faults]
     widths = [row["width_over_nucleation"] for row in faults]
     if not min(dips) <= dip <= max(dips):
-        return f"its dip, {dip:g} degrees, lies outside the measured faults' {min(dips):g}-{max(dips):g} degrees"
+        return f"its dip, {dip:g} degrees, lies outside the measured faults' {min(dips):g}-{max(dips):g} degrees", []
     if not min(widths) <= width_over_nucleation <= max(widths):
         return (f"its W / h*, {width_over_nucleation:.3g}, lies outside the measured faults' {min(widths):.3g}-"
-                f"{max(widths):.3g}")
+                f"{max(widths):.3g}"), []
     near = neighbours(width_over_nucleation, faults, table["window"])
     if len(near) < table["min_neighbours"]:
         return (f"{len(near)} measured faults lie within a factor {math.exp(table['window']):.3g} of its W / h* "
-                f"({width_over_nucleation:.3g}), and {table['min_neighbours']:g} are needed")
-    return ""
+                f"({width_over_nucleation:.3g}), and {table['min_neighbours']:g} are needed"), near
+    return "", near

@@ -24,10 +24,11 @@ from faultslip.io.budget import Estimate, with_one_off
 #: 3-D fault (--part rtol: three faults at rtol 1e-5 to 1e-8) it is -0.155 pooled (-0.149 to -0.163 per fault), 6 %
 #: a decade of rtol from it. A central estimate: the measured steps lie within 0.71-1.40x of the fit's (45 runs;
 #: 0.71-1.53x without the burial). The burial is held to the fitted runs' largest, 0.375 (a patch buried deeper
-#: would otherwise extrapolate the exponential past them). The events are counted by the recurrence the one slider expects (outside its box, the correction at the box's
-#: nearest point: faultslip.fault.ladder.expected_recurrence). Without the burial, and with a margin of 1.4 that put
-#: the estimate above all but the slowest runs, a second held-out draw's small buried patch (2 x 400 m, 300 m deep,
-#: W / h* 1.03: one event where its one slider expects 20) was estimated at 2.96x its CPU.
+#: would otherwise extrapolate the exponential past them). The events are counted by the recurrence the one slider
+#: expects (outside its box, the correction at the box's nearest point: faultslip.fault.ladder.expected_recurrence).
+#: Without the burial, and with a margin of 1.4 that put the estimate above all but the slowest runs, a second held-out
+#: draw's small buried patch (2 x 400 m, 300 m deep, W / h* 1.03: one event where its one slider expects 20) was
+#: estimated at 2.96x its CPU.
 FAULT_3D_STEPS = {"scale": 46.43, "events": 1.117, "width_over_nucleation": 0.984, "strike_columns": 0.653,
                   "burial": -1.890, "burial_fitted": 0.375, "rtol": -0.18}
 #: CPU seconds per Dormand-Prince step: c0 + c1 N + c2 k (N_x + 1) N_z^2 (the element-wise work, and the
@@ -118,7 +119,8 @@ def describe() -> str:
     model = FAULT_3D_STEPS
     return (f"steps ~ {model['scale']:.3g} events^{model['events']:.3g} "
             f"(W / h*)^{model['width_over_nucleation']:.3g} N_x^{model['strike_columns']:.3g} "
-            f"exp({model['burial']:.3g} burial) (rtol / 1e-6)^{model['rtol']:g}; each {c0:.2g} + {c1:.2g} N + {c2:.2g} k (N_x + 1) N_z^2 s of CPU "
+            f"exp({model['burial']:.3g} burial) (rtol / 1e-6)^{model['rtol']:g}; "
+            f"each {c0:.2g} + {c1:.2g} N + {c2:.2g} k (N_x + 1) N_z^2 s of CPU "
             "(FFT along strike, dense down dip; k = 2 where the normal stress changes), and the assembly "
             f"{FAULT_3D_PAIR_SECONDS:.2g} s a dislocation pair; "
             "memory (N_x + 1) N_z^2 x 16 B a spectrum (two; three where the normal stress changes)")
