@@ -47,6 +47,28 @@ def pytest_xdist_auto_num_workers(config):
     return usable_cores()
 
 
+#: The files that take longest in CI (its --durations), handed out first. pytest-xdist hands a worker a file at a
+#: time, by default the files with most tests first; the front door (a fresh venv, then every documented command:
+#: five to six minutes, one test) came last and ran alone on one core while the other worker sat idle. The longest
+#: first lets the other worker take the rest meanwhile, and the two end together. The order changes nothing a test
+#: sees: every file runs in a process of its own (--dist loadfile).
+SLOWEST_FIRST = ("tests/project/test_front_door.py", "tests/capabilities/contract/test_families.py",
+                 "tests/capabilities/contract/test_models.py", "tests/models/vibration/test_averaging.py",
+                 "tests/models/fault_3d/test_fault_3d.py", "tests/capabilities/studies/test_slurm.py",
+                 "tests/capabilities/lab/test_raw_records.py", "tests/project/test_docs.py")
+
+
+def pytest_configure(config):
+    if hasattr(config.option, "loadscopereorder"):  # pytest-xdist's by-count order would override the one below
+        config.option.loadscopereorder = False
+
+
+def pytest_collection_modifyitems(config, items):
+    """The slowest files first (SLOWEST_FIRST), every other file after them in its usual order."""
+    rank = {path: place for place, path in enumerate(SLOWEST_FIRST)}
+    items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(rank)))
+
+
 def pytest_sessionfinish(session):
     process = getattr(session.config, "warm_up", None)
     if process is not None and process.poll() is None:

@@ -590,3 +590,19 @@ def test_tests_load_a_benchmark_through_one_loader():
                  if "spec_from_file_location" in path.read_text(encoding="utf-8") and path.name != "conftest.py"
                  and path.name != Path(__file__).name]
     assert not offenders, offenders
+
+
+def test_the_slowest_files_are_handed_out_first():
+    """conftest.SLOWEST_FIRST names files that exist (a renamed file would silently drop back to the end of the
+    queue), and the collection puts their tests first, in that order, the others after them in their own order."""
+    from types import SimpleNamespace
+
+    from conftest import SLOWEST_FIRST, pytest_collection_modifyitems
+
+    root = Path(__file__).resolve().parents[2]
+    assert all((root / path).is_file() for path in SLOWEST_FIRST), SLOWEST_FIRST
+    items = [SimpleNamespace(nodeid=f"{path}::test_{n}") for n, path in enumerate(
+        ["tests/a.py", SLOWEST_FIRST[1], "tests/b.py", SLOWEST_FIRST[0], "tests/a.py"])]
+    pytest_collection_modifyitems(None, items)
+    assert [item.nodeid for item in items] == [f"{SLOWEST_FIRST[0]}::test_3", f"{SLOWEST_FIRST[1]}::test_1",
+                                               "tests/a.py::test_0", "tests/b.py::test_2", "tests/a.py::test_4"]
