@@ -317,12 +317,8 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
         report.note("outside the calibrated box, so no range is declared: " + "; ".join(outside)
                     + ". Run the 2-D fault (--model fault_2d) for an answer with a declared error")
         return report
-    bands = {"recurrence": predict("recurrence", raw["recurrence"], group, table),
-             "mean_slip": predict("mean_slip", raw["slip"], group, table)}
-    if group["burial"] == 0.0 and "surface_slip" in table:
-        bands["surface_slip"] = predict("surface_slip", raw["slip"], group, table)
-    dipping = (dip_error.declared(fault.dip, width_over_nucleation=group["width_over_nucleation"])
-               if fault.plane == "strain" else 0.0)
+    bands = _bands(raw, group, table)
+    dipping = _dip_error(fault, group)
     if not dipping < 1.0:  # unmeasured, or so large that it bounds the plane-strain answer from below only
         report.add("recurrence_interval", bands["recurrence"]["value"], "s", also=("yr",),
                    label="recurrence (the block corrected by the 2-D calibration; no range on this dip)")
@@ -376,6 +372,39 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
                     f"recurrence is {100 * (longer - 1):.0f} % longer than where every event breaks it. For a "
                     "narrower answer run the 2-D fault (--model fault_2d)")
     return report
+
+
+def _bands(raw: dict, group: dict, table: dict) -> dict:
+    """The block's answers ``raw`` corrected, with their 95 % ranges (:func:`predict`): the recurrence and the mean
+    slip, and on a fault that breaks the surface its surface slip."""
+    bands = {"recurrence": predict("recurrence", raw["recurrence"], group, table),
+             "mean_slip": predict("mean_slip", raw["slip"], group, table)}
+    if group["burial"] == 0.0 and "surface_slip" in table:
+        bands["surface_slip"] = predict("surface_slip", raw["slip"], group, table)
+    return bands
+
+
+def _dip_error(fault: FaultDescription, group: dict) -> float:
+    """The antiplane rung's model error against plane strain on a dipping fault (0 on a vertical strike-slip one,
+    inf where none is declared: :func:`faultslip.fault.dip_error.declared`)."""
+    if fault.plane != "strain":
+        return 0.0
+    return dip_error.declared(fault.dip, width_over_nucleation=group["width_over_nucleation"])
+
+
+def declared_error(fault: FaultDescription, calibration: dict | None = None) -> float | None:
+    """The one slider's declared model error on ``fault``, as :func:`one_slider_report` declares it, from the
+    fault's groups alone, before its block runs: the widest 95 % range's half-width (the prediction interval's
+    does not depend on the block's answer), compounded with a dipping fault's error against plane strain; None
+    outside the calibrated box or where the dip's error leaves no range. An estimate reads it to tell whether a
+    tolerance stops at the one slider."""
+    table = calibration or load_calibration()
+    group = groups(fault)
+    dipping = _dip_error(fault, group)
+    if outside_box(group, table) or not dipping < 1.0:
+        return None
+    return max(compounded(band["half_width"], dipping)
+               for band in _bands({"recurrence": 1.0, "slip": 1.0}, group, table).values())
 
 
 def ladder_report(title: str, rungs: list[dict], tolerance: float | None, above: str, slip_label: str) -> Report:

@@ -20,7 +20,8 @@ from faultslip.models.fault_2d import bp3_outputs
 from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
-from faultslip.fault.ladder import groups, ladder_report, one_slider_report, rung_of, with_model_error
+from faultslip.fault.ladder import (declared_error, groups, ladder_report, one_slider_report, rung_of,
+                                   with_model_error)
 from faultslip.fault.starts import compare_starts, other_starts, start_note, starts_estimate
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
@@ -341,23 +342,11 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
     Result
         The rung's answer and its declared error; an escalation names both rungs.
     """
-    method = method or "auto"
-    if method not in ("auto",) + RUNGS:
-        raise InputError(f"a fault scene runs on the rungs {', '.join(RUNGS)} (or auto), got {method!r}")
-    if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
-        raise InputError(f"the tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    method, asked = checked_request(method, tolerance, richardson, check_starts)
     loaded = read_fault_2d_scene(scene, allow_large=allow_large)
-    asked = [flag for flag, on in (("--richardson", richardson), ("--check-starts", check_starts)) if on]
-    if len(asked) == 2:
-        raise InputError("--richardson and --check-starts each run the scene again; ask for one at a time")
-    if asked and (method == "one_slider" or (tolerance is not None and method == "auto")):
-        raise InputError(f"{asked[0]} runs the 2-D fault itself again: ask for --model fault_2d"
-                         + ("" if method == "one_slider" else " (a tolerance may stop at the one slider)"))
     if method == "one_slider":
         return one_slider(loaded)
     if method == "fault_3d":  # the rung above, asked for by name: the scene read as a fault fault_length long
-        if asked:
-            raise InputError(f"{asked[0]} runs the 2-D fault itself again: ask for --model fault_2d")
         return load("fault_3d").refine(loaded, "asked for by name", allow_large=allow_large, progress=progress)
     settle = min(SETTLE_TOLERANCE, tolerance) if tolerance is not None else SETTLE_TOLERANCE
     if tolerance is not None and method == "fault_2d" and not asked:
@@ -374,7 +363,7 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
     declared = cheap.estimated_relative_error
     if declared is not None and declared <= tolerance:
         return cheap
-    refuse_unreachable(loaded, tolerance, cheap)
+    refuse_unreachable(loaded, tolerance, tried_slider=True, slider_error=declared)
     why = (f"the one slider's declared model error {declared:.2g} exceeds the tolerance {tolerance:g}"
            if declared is not None else "the scene lies outside the one slider's calibration")
     result = escalate(loaded, why, settle, allow_large, allow_underresolved, progress, cheap)
@@ -386,22 +375,45 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, allow_und
     return result
 
 
-def refuse_unreachable(loaded: Fault2DScene, tolerance: float, cheap: Result | None = None) -> None:
-    """Refuse, before any work, a ``tolerance`` below what the 2-D run can declare (:func:`floor_error`) and, with
-    ``cheap`` (the one slider's answer), below what that declares too: name what would meet it."""
+def checked_request(method, tolerance, richardson: bool, check_starts: bool) -> tuple[str, list]:
+    """The rung asked for (``auto`` where none) and the reruns asked for (``--richardson``, ``--check-starts``),
+    refused in one sentence where :func:`run` cannot honour them; :func:`estimate` refuses what run refuses."""
+    method = method or "auto"
+    if method not in ("auto",) + RUNGS:
+        raise InputError(f"a fault scene runs on the rungs {', '.join(RUNGS)} (or auto), got {method!r}")
+    checked_tolerance(tolerance)
+    asked = [flag for flag, on in (("--richardson", richardson), ("--check-starts", check_starts)) if on]
+    if len(asked) == 2:
+        raise InputError("--richardson and --check-starts each run the scene again; ask for one at a time")
+    if asked and (method in ("one_slider", "fault_3d") or (tolerance is not None and method == "auto")):
+        raise InputError(f"{asked[0]} runs the 2-D fault itself again: ask for --model fault_2d"
+                         + (" (a tolerance may stop at the one slider)" if method == "auto" else ""))
+    return method, asked
+
+
+def checked_tolerance(tolerance) -> None:
+    """Refuse a tolerance that is not a relative error in (0, 1) (None: no tolerance); the 3-D family's runs too."""
+    if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
+        raise InputError(f"the tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+
+
+def refuse_unreachable(loaded: Fault2DScene, tolerance: float, tried_slider: bool = False,
+                       slider_error: float | None = None) -> None:
+    """Refuse, before any work, a ``tolerance`` below what the 2-D run can declare (:func:`floor_error`) and,
+    where the one slider was tried first, below what it declares too (``slider_error``; None: none declared):
+    name what would meet it."""
     floor = floor_error(loaded)
-    if floor <= tolerance or (cheap is not None and cheap.estimated_relative_error is not None
-                              and cheap.estimated_relative_error <= tolerance):
+    if floor <= tolerance or (slider_error is not None and slider_error <= tolerance):
         return
     resolution = loaded.resolution
     fix = ("a smaller rtol ([run] rtol)" if 10 * loaded.rtol >= discretisation_error(resolution)
            else "smaller elements ([fault] element_size)")
     declares = (f"declares at least {floor:.2g} in recurrence" if math.isfinite(floor) else
                 f"declares no error (under-resolved: below {MIN_RESOLUTION:g} elements per L_b)")
-    head = "no rung meets" if cheap is not None else "the 2-D fault cannot meet"
+    head = "no rung meets" if tried_slider else "the 2-D fault cannot meet"
     raise InputError(f"{loaded.name}: {head} the tolerance {tolerance:g}: the 2-D fault on elements resolving "
                      f"L_b {resolution:.3g} times at rtol {loaded.rtol:g} {declares}"
-                     + ("" if cheap is None else ", the one slider more") + f"; use {fix} or a looser tolerance")
+                     + (", the one slider more" if tried_slider else "") + f"; use {fix} or a looser tolerance")
 
 
 def floor_error(loaded: Fault2DScene) -> float:
@@ -647,6 +659,15 @@ def simulate(scene, output_dir=None, resume: bool = False, rtol=None, allow_larg
                           overwrite=overwrite, progress=True, allow_underresolved=allow_underresolved)
 
 
+def one_slider_refinement(loaded, elements_per_process_zone: float = 8.0) -> Fault2DScene:
+    """The 2-D fault a one-slider rate-and-state fault scene stands for (its friction from the surface to D, loaded
+    below), over 24 of its block's recurrences: enough system-size events to tell a period up to 3 from the
+    spin-up, where the block may recur up to its declared model error (0.75) sooner than the 2-D fault. The
+    block's 3 cycles run to size it (milliseconds)."""
+    block = fault_cycles(loaded.slider, loaded.plate_rate, cycles=3)
+    return from_one_slider(loaded, duration=24 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
+
+
 def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.0, allow_large: bool = False,
                       progress=None) -> Result:
     """A one-slider rate-and-state fault run as the 2-D fault it stands for (its friction from the surface to D,
@@ -671,10 +692,7 @@ def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.
     Result
         The 2-D fault's answer, with ``method_reason`` naming the escalation.
     """
-    block = fault_cycles(loaded.slider, loaded.plate_rate, cycles=3)
-    # enough system-size events to tell a period up to 3 from the spin-up: the block may recur up to its declared
-    # model error (0.75) sooner than the 2-D fault
-    scene = from_one_slider(loaded, duration=24 * block.recurrence, elements_per_process_zone=elements_per_process_zone)
+    scene = one_slider_refinement(loaded, elements_per_process_zone)
     estimate = scene.estimate(in_this_process=True)
     estimate.what = f"escalating {loaded.name} to the 2-D fault ({reason})"
     budget.check(estimate, allow_large)
@@ -687,22 +705,47 @@ def refine_one_slider(loaded, reason: str, elements_per_process_zone: float = 8.
     return result
 
 
-def estimate(scene, action: str = "run", rtol=None, output_dir=None, method=None, richardson: bool = False,
-             check_starts: bool = False, include_3d: bool = False, **_) -> budget.Estimate:
+def estimate(scene, action: str = "run", rtol=None, output_dir=None, method=None, tolerance=None,
+             richardson: bool = False, check_starts: bool = False, include_3d: bool = False,
+             **_) -> budget.Estimate:
     """What a run or simulation of a 2-D fault scene needs, before it starts: its Dormand-Prince steps from the
     events it will see, and its records (:meth:`Fault2DScene.estimate`, cost.py); the one-slider rung's block
     cycles (the rate-and-state slider's cost model); with ``richardson`` the run on half-size elements too, with
     ``check_starts`` the runs from the other starts too (a tolerance that may escalate counts the 2-D run); the
     ``fault_3d`` rung, the 3-D fault's cost model on the scene's 3-D fault; ``action="ladder"``, every rung of
-    :func:`ladder` (with ``include_3d``, the 3-D one too)."""
+    :func:`ladder` (with ``include_3d``, the 3-D one too). With a ``tolerance``, the rungs :func:`run` goes to:
+    the one slider alone where its declared error, known before its block runs
+    (:func:`faultslip.fault.ladder.declared_error`), meets it, else the one slider and the 2-D fault. What run
+    refuses before any work (a rung it does not know, a tolerance no rung can meet) is refused here too.
+    ``action="refine"``: a one-slider rate-and-state scene's escalation, the run :func:`refine_one_slider` makes."""
+    if action == "refine":  # a one-slider rate-and-state scene's escalation: the 2-D fault it stands for
+        estimate = one_slider_refinement(scene).estimate(in_this_process=True)
+        estimate.what = f"the 2-D fault {scene.name} stands for: {estimate.what}"
+        return estimate
     loaded = read_fault_2d_scene(scene, allow_large=True)
     if action == "ladder":
         return ladder_estimate(loaded, include_3d)
-    if action == "run" and method == "one_slider":
-        return one_slider_estimate(f"the one slider derived from {loaded.name} (5 earthquake cycles)")
-    if action == "run" and method == "fault_3d":  # the rung above: the scene read as a fault fault_length long
-        return load("fault_3d").estimate(loaded, "run", rtol=rtol)
     chosen = rtol if rtol is not None else loaded.rtol
+    if action == "run":  # the rungs run() goes to, from what it asks and what each rung declares before it runs
+        method, asked = checked_request(method, tolerance, richardson, check_starts)
+        slider = one_slider_estimate(f"the one slider derived from {loaded.name} (5 earthquake cycles)")
+        if method == "one_slider":
+            return slider
+        if method == "fault_3d":  # the rung above: the scene read as a fault fault_length long
+            return load("fault_3d").estimate(loaded, "run", rtol=rtol)
+        if tolerance is not None and method == "auto":
+            declared = declared_error(loaded.fault.description())
+            if declared is not None and declared <= tolerance:
+                slider.what += f": its declared error {declared:.2g} meets the tolerance {tolerance:g}"
+                return slider
+            refuse_unreachable(loaded, tolerance, tried_slider=True, slider_error=declared)
+            why = ("outside its calibration" if declared is None else
+                   f"its declared error {declared:.2g} exceeds the tolerance {tolerance:g}")
+            return budget.rungs_estimate(f"{loaded.name} to tolerance {tolerance:g}", {
+                f"the one slider ({why})": slider,
+                "then the 2-D fault of the same scene": loaded.estimate(chosen, output_dir, in_this_process=True)})
+        if tolerance is not None and not asked:
+            refuse_unreachable(loaded, tolerance)
     if action == "run" and check_starts:
         return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)
     if action == "run" and richardson:

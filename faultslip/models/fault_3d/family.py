@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import math
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +23,7 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import output_lock, prepare_run_folder
 from faultslip.io.report import Report
 from faultslip.models.common import note_origin
-from faultslip.fault.ladder import compounded, ladder_report, rung_of, truth_range
+from faultslip.fault.ladder import compounded, declared_error, ladder_report, rung_of, truth_range
 from faultslip.fault import strike_error
 from faultslip.fault.starts import compare_starts, other_starts, start_note, starts_estimate
 from faultslip.models.fault_2d import family as fault_2d_family
@@ -331,37 +332,86 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
     Result
         Recurrence (s) and slip per event (m), the declared error and, on a lower rung, its widened ranges.
     """
-    if method not in (None, "auto") + RUNGS:
-        raise InputError(f"a 3-D fault scene runs on one of {', '.join(RUNGS)} or auto, got {method!r}")
+    method = checked_request(method, tolerance, check_starts)
     loaded = load_fault_3d_scene(scene, allow_large=allow_large)
-    if check_starts and (method in ("one_slider", "fault_2d") or tolerance is not None):
-        raise InputError("--check-starts runs the 3-D fault itself from other starts: ask for --model fault_3d, "
-                         "without a tolerance")
     if method in ("one_slider", "fault_2d"):
         return _lower_rung(loaded, method, allow_large, "asked for by name")
     if check_starts:
         return starts_run(loaded, allow_large=allow_large, progress=progress)
-    declared_3d = discretisation_error(loaded.resolution)
-    if tolerance is not None and method in (None, "auto"):
-        cheap = _lower_rung(loaded, "one_slider", allow_large, f"the cheapest rung, tried for tolerance {tolerance:g}")
-        if cheap.estimated_relative_error is not None and cheap.estimated_relative_error <= tolerance:
-            return cheap
-        model_error = strike_error.declared_for(loaded.fault)
-        if math.isfinite(model_error) and model_error < tolerance:  # the 2-D fault can meet it: try it
-            flat = _lower_rung(loaded, "fault_2d", allow_large, f"tolerance {tolerance:g}")
-            if flat.estimated_relative_error is not None and flat.estimated_relative_error <= tolerance:
-                flat.note(f"the one slider declares {cheap.estimated_relative_error}, above {tolerance:g}: the 2-D "
-                          "fault of the same scene's middle column meets it")
-                return flat
-    if tolerance is not None and declared_3d > tolerance:
-        raise InputError(f"{loaded.name}: no rung meets {tolerance:g}: the 3-D fault's squares resolve L_b "
-                         f"{loaded.resolution:.3g} times and declare {declared_3d:.2g} in recurrence; use smaller "
-                         "squares (element_size) or a looser tolerance")
+    if tolerance is None or method == "fault_3d":
+        if tolerance is not None:
+            _refuse_unreachable(loaded, tolerance, "the 3-D fault cannot meet")
+        return simulate(loaded, allow_large=allow_large, progress=progress)
+    plan = tolerance_plan(loaded, tolerance)
+    if plan.rungs[0] == "one_slider":
+        return _lower_rung(loaded, "one_slider", allow_large, f"the cheapest rung that meets tolerance {tolerance:g}")
+    if plan.rungs[0] == "fault_2d":
+        flat = _lower_rung(loaded, "fault_2d", allow_large, f"tolerance {tolerance:g}")
+        flat.note(f"the one slider declares {_said(plan.slider_error)}, above {tolerance:g}: the 2-D fault of the "
+                  "same scene's middle column was run")
+        if (flat.estimated_relative_error is not None and flat.estimated_relative_error <= tolerance) or \
+                len(plan.rungs) == 1:
+            return flat  # meets it, or the 3-D fault cannot either (judged by the contract: meets_tolerance)
     result = simulate(loaded, allow_large=allow_large, progress=progress)
-    if tolerance is not None:
-        result.note(f"the lower rungs of the same scene declare more than {tolerance:g} (the 2-D fault's model "
-                    "error against 3-D at this patch): the 3-D fault ran")
+    result.note(f"the lower rungs of the same scene declare more than {tolerance:g} (the 2-D fault's model "
+                "error against 3-D at this patch): the 3-D fault ran")
     return result
+
+
+def checked_request(method, tolerance, check_starts: bool) -> str:
+    """The rung asked for (``auto`` where none), refused in one sentence where :func:`run` cannot honour it;
+    :func:`estimate` refuses what run refuses."""
+    method = method or "auto"
+    if method not in ("auto",) + RUNGS:
+        raise InputError(f"a 3-D fault scene runs on one of {', '.join(RUNGS)} or auto, got {method!r}")
+    fault_2d_family.checked_tolerance(tolerance)
+    if check_starts and (method in ("one_slider", "fault_2d") or tolerance is not None):
+        raise InputError("--check-starts runs the 3-D fault itself from other starts: ask for --model fault_3d, "
+                         "without a tolerance")
+    return method
+
+
+@dataclass(frozen=True)
+class TolerancePlan:
+    """The rungs :func:`run` tries for a tolerance, in order, each chosen from what it declares before it runs:
+    ``rungs`` ("one_slider"; "fault_2d", then "fault_3d" where the 2-D answer's own error may miss; or
+    "fault_3d"), and the one slider's declared error (None: none declared)."""
+
+    rungs: tuple
+    slider_error: float | None
+
+
+def _said(error: float | None) -> str:
+    return "no error" if error is None else f"{error:.2g}"
+
+
+def tolerance_plan(loaded: Fault3DScene, tolerance: float) -> TolerancePlan:
+    """The rungs that may meet ``tolerance``, cheapest first, from what each declares before it runs: the one
+    slider's declared error (:func:`faultslip.fault.ladder.declared_error`) and the 2-D fault's least
+    (:func:`faultslip.models.fault_2d.family.floor_error`), each compounded with the 2-D fault's model error
+    against 3-D at this patch, and the 3-D fault's squares' error. Refuses, before any work, a tolerance none can
+    meet, naming what would."""
+    below = two_d_scene(loaded)
+    model_error = strike_error.declared_for(loaded.fault)
+    slider = compounded(declared_error(below.fault.description()), model_error)
+    if slider is not None and slider <= tolerance:
+        return TolerancePlan(("one_slider",), slider)
+    declared_3d = discretisation_error(loaded.resolution)
+    flat = compounded(fault_2d_family.floor_error(below), model_error)
+    if flat is not None and flat <= tolerance:
+        return TolerancePlan(("fault_2d",) + (("fault_3d",) if declared_3d <= tolerance else ()), slider)
+    _refuse_unreachable(loaded, tolerance, "no rung meets")
+    return TolerancePlan(("fault_3d",), slider)
+
+
+def _refuse_unreachable(loaded: Fault3DScene, tolerance: float, head: str) -> None:
+    """Refuse, before any work, a ``tolerance`` below the 3-D fault's squares' error, naming what would meet it."""
+    declared_3d = discretisation_error(loaded.resolution)
+    if declared_3d > tolerance:
+        raise InputError(f"{loaded.name}: {head} {tolerance:g}: the 3-D fault's squares resolve L_b "
+                         f"{loaded.resolution:.3g} times and declare {declared_3d:.2g} in recurrence"
+                         + (", the lower rungs more" if head == "no rung meets" else "")
+                         + "; use smaller squares (element_size) or a looser tolerance")
 
 
 def refine_two_d(loaded: Fault2DScene, reason: str, allow_large: bool = False, progress=None) -> Result:
@@ -548,17 +598,41 @@ METHODS = {"fault_3d": {"name": "fault_3d", "friction_laws": "rate-and-state (ag
                         "declared_error": "the square size's (BP5 at 2000, 1000 and 500 m), the sequence's settling "
                                           "and 10 rtol"}}
 
-def estimate(scene, action: str = "run", rtol=None, output_dir=None, check_starts: bool = False,
-             **_) -> budget.Estimate:
+def estimate(scene, action: str = "run", rtol=None, output_dir=None, check_starts: bool = False, method=None,
+             tolerance=None, **_) -> budget.Estimate:
     """What a run or simulation of a 3-D fault scene needs, before it starts: its steps, operator and records
     (:meth:`Fault3DScene.estimate`, cost.py); with ``check_starts``, the runs from the other starts too;
     ``action="ladder"``, every rung of :func:`ladder`. A 2-D scene (a Fault2DScene) is estimated as its 3-D fault
-    (:func:`refine_two_d`)."""
+    (:func:`refine_two_d`). A run's estimate is of the rung :func:`run` goes to: the one named, or for a tolerance
+    the first of :func:`tolerance_plan`'s (where the 3-D fault may follow the 2-D one, its cost is named); what run
+    refuses before any work is refused here too."""
     loaded = from_two_d(scene, allow_large=True) if isinstance(scene, Fault2DScene) else \
         load_fault_3d_scene(scene, allow_large=True)
     if action == "ladder":
         return ladder_estimate(loaded)
     chosen = loaded.rtol if rtol is None else rtol
+    if action == "run" and not isinstance(scene, Fault2DScene):  # the rung run() goes to, as it chooses it
+        method = checked_request(method, tolerance, check_starts)
+        below = two_d_scene(loaded)
+        slider = fault_2d_family.one_slider_estimate(f"the one slider of {loaded.name}'s middle column "
+                                                     "(5 earthquake cycles)")
+        flat = below.estimate(below.rtol, None, in_this_process=True)
+        if method == "one_slider":
+            return slider
+        if method == "fault_2d":
+            return flat
+        if tolerance is not None and method == "fault_3d":
+            _refuse_unreachable(loaded, tolerance, "the 3-D fault cannot meet")
+        elif tolerance is not None:
+            plan = tolerance_plan(loaded, tolerance)
+            if plan.rungs == ("one_slider",):
+                slider.what += f": its declared error {_said(plan.slider_error)} meets the tolerance {tolerance:g}"
+                return slider
+            if plan.rungs[0] == "fault_2d":
+                if len(plan.rungs) > 1:  # the 3-D fault runs only where the 2-D answer misses: named, not counted
+                    flat.what += (f"; where its declared error misses the tolerance {tolerance:g}, the 3-D fault "
+                                  f"runs after it (about {loaded.estimate(chosen, output_dir).seconds:.3g} s more)")
+                return flat
     if action == "run" and check_starts:
         return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)
     return loaded.estimate(chosen, output_dir, in_this_process=True)

@@ -163,9 +163,7 @@ def _older_form(scene):
 
 def _run_older_form(scene, method, tolerance, allow_large: bool = False, progress=None) -> Result:
     """A fault scene of the seed-law form on the family's ladder (:func:`seed_law_form_on_the_ladder`)."""
-    method = method or "auto"
-    if method not in FAULT_METHODS:
-        raise InputError(f"a rate-and-state fault runs one of {', '.join(FAULT_METHODS)}, got {method!r}")
+    method = _fault_method(method, tolerance)
     estimate = estimate_scene_rate_state(scene)
     report = with_scene_notes(estimate.report(f"faultslip rate-and-state fault: {scene.name}"), scene)
     report.note(OLDER_FORM)
@@ -268,15 +266,9 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
         return _run_older_form(older, method, tolerance, allow_large, progress)
     loaded = read_rate_state_scene(scene)
     if loaded.kind == "lab":
-        if method not in (None, "auto") or tolerance is not None:
-            raise InputError("a rate-and-state laboratory scene chooses its integrator and tolerance itself (rtol "
-                             "1e-8); use 'faultslip rate-state simulate --method' to choose one")
+        _lab_request(method, tolerance)
         return velocity_step(loaded)
-    method = method or "auto"
-    if method not in FAULT_METHODS:
-        raise InputError(f"a rate-and-state fault runs one of {', '.join(FAULT_METHODS)}, got {method!r}")
-    if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance):
-        raise InputError(f"the tolerance of a fault's model error must be a positive number, got {tolerance!r}")
+    method = _fault_method(method, tolerance)
     error, ratio, how = model_error_of(loaded)
     reason = _escalation(method, tolerance, error, ratio)
     if reason is not None:
@@ -292,6 +284,52 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False, progress=
         result.add("method_reason", f"one slider's declared model error {error:.2g} meets the tolerance {tolerance:g}")
     result.add("stiffness", loaded.slider.stiffness, "Pa/m", label=f"the block's stiffness ({DESCRIPTIONS[loaded.reduction]})")
     return result  # its model error declared by earthquake_cycles, as every door to one block does
+
+
+def _lab_request(method, tolerance) -> None:
+    """A laboratory scene takes no method or tolerance: refused in one sentence (run and estimate alike)."""
+    if method not in (None, "auto") or tolerance is not None:
+        raise InputError("a rate-and-state laboratory scene chooses its integrator and tolerance itself (rtol "
+                         "1e-8); use 'faultslip rate-state simulate --method' to choose one")
+
+
+def _fault_method(method, tolerance) -> str:
+    """A fault's method (``auto`` where none), with its tolerance, refused in one sentence where run cannot take
+    them (run and estimate alike)."""
+    method = method or "auto"
+    if method not in FAULT_METHODS:
+        raise InputError(f"a rate-and-state fault runs one of {', '.join(FAULT_METHODS)}, got {method!r}")
+    if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance):
+        raise InputError(f"the tolerance of a fault's model error must be a positive number, got {tolerance!r}")
+    return method
+
+
+def estimate(scene, action: str = "run", method=None, tolerance=None, **options) -> budget.Estimate:
+    """What a run or simulation of a rate-and-state scene needs, before it starts (cost.py's model of the slider's
+    cycles or load history); a fault's run that its method or tolerance sends to the 2-D fault it stands for is
+    estimated as that run (the richer family's cost model, as the escalation estimates it; the block's 3 cycles
+    run first to size it, as they do there). What run refuses (an unknown method, a tolerance that is not a
+    positive number, either on a laboratory scene) is refused here too."""
+    own = rate_state_slider_cost.estimate(scene, action, method=method, tolerance=tolerance, **options)
+    if action != "run":
+        return own
+    older = _older_form(scene)
+    loaded = read_rate_state_scene(scene) if older is None else None
+    if loaded is not None and loaded.kind == "lab":
+        _lab_request(method, tolerance)
+        return own
+    method = _fault_method(method, tolerance)
+    if method == "one_slider" or (method == "auto" and tolerance is None):
+        return own
+    if older is not None:
+        loaded = _own_form(older.name, estimate_scene_rate_state(older))
+    error, ratio, _ = model_error_of(loaded)
+    reason = _escalation(method, tolerance, error, ratio)
+    if reason is None:
+        return own
+    refined = load(RICHER).estimate(loaded, "refine")
+    refined.what = f"{refined.what} ({reason})"
+    return refined
 
 
 def _two_d(loaded, reason: str, allow_large: bool = False, progress=None) -> Result:
@@ -471,6 +509,6 @@ FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: veloci
                          why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles",
                          run_options=("allow_large", "progress"), read_scene=read_scene, cells=cells,
                          adopt=seed_law_form_on_the_ladder,
-                         methods=lambda: [method.describe() for method in CYCLE_METHODS.values()], estimate=rate_state_slider_cost.estimate,
+                         methods=lambda: [method.describe() for method in CYCLE_METHODS.values()], estimate=estimate,
                          example=Example('rsf_block_bp1.toml', "study_rate_state_slider.toml",
                                          {'critical_slip': ['4 mm', '8 mm']}, {'cycles': 2})))

@@ -571,3 +571,94 @@ def test_the_one_sliders_range_on_a_dipping_fault_inverts_the_dip_error(monkeypa
     result = faultslip.run(scene, method="one_slider")
     assert result.values["recurrence_range"] is None
     assert any("no upper bound" in note for note in result.notes)
+
+
+@settings(max_examples=15, deadline=None)
+@given(critical_slip=st.floats(0.002, 0.032), normal_stress=st.floats(25e6, 100e6),
+       seismogenic_depth=st.floats(7.5e3, 22.5e3))
+def test_the_one_sliders_declared_error_is_known_before_its_block_runs(critical_slip, normal_stress,
+                                                                      seismogenic_depth):
+    """ladder.declared_error reads a fault's groups alone, so an estimate can tell whether a tolerance stops at
+    the one slider: it is exactly what one_slider_report declares once the block has run, on BP1 moved over the
+    calibration box (D_c x0.25-4, sigma_n x0.5-2, H x0.5-1.5) and beyond it (None there, as the report's)."""
+    scene = read_fault_2d_scene(CONFIGS / "rsf_fault_bp1.toml").with_values(
+        critical_slip=critical_slip, normal_stress=normal_stress, seismogenic_depth=seismogenic_depth)
+    fault = scene.fault.description()
+    assert ladder.declared_error(fault) == ladder.one_slider_report(fault, "test")["estimated_relative_error"]
+
+
+@pytest.mark.parametrize("name", ["rsf_fault_bp1.toml", "fault_2d_small.toml", "fault_2d_dipping_small.toml",
+                                  "seas_bp3_thrust60.toml", "fault_2d_surface_small.toml"])
+def test_the_declared_error_before_the_block_runs_on_every_kind_of_fault(name):
+    """The same on the bundled scenes: inside the box and outside it, surface-breaking and buried, dipping with a
+    declared dip error (BP3's thrust) and without one (the small dipping fault)."""
+    fault = read_fault_2d_scene(CONFIGS / name).fault.description()
+    assert ladder.declared_error(fault) == ladder.one_slider_report(fault, "test")["estimated_relative_error"]
+
+
+def test_an_estimate_is_of_the_rungs_run_goes_to(monkeypatch):
+    """'faultslip run SCENE --tolerance X --estimate' estimated the 2-D run whatever X was, and took a rung run
+    refuses. Now: where the one slider's declared error (0.56 on BP1's scene) meets the tolerance, the one slider's
+    cost alone, and run stops there; below it, the one slider's and the 2-D fault's, and run escalates; a tolerance
+    no rung meets, or a rung that does not exist, is refused in one sentence as run refuses it, before any work."""
+    from faultslip.models.fault_2d import family
+
+    path = CONFIGS / "rsf_fault_bp1.toml"
+    scene = read_fault_2d_scene(path)
+    declared = ladder.declared_error(scene.fault.description())
+    assert 0.3 < declared < 0.9
+    above = min(0.99, declared * 1.05)
+    stops = faultslip.models.estimate(path, tolerance=above)
+    assert "one slider" in stops.what and "2-D fault run" not in stops.what
+    assert faultslip.run(path, tolerance=above).method == "one_slider"
+    escalates = faultslip.models.estimate(path, tolerance=0.1)
+    two_d = scene.estimate(in_this_process=True)
+    assert escalates.seconds == pytest.approx(two_d.seconds + faultslip.models.estimate(
+        path, method="one_slider").seconds, rel=1e-9) and f"{declared:.2g} exceeds the tolerance 0.1" in escalates.what
+    ran = []
+    monkeypatch.setattr(family, "simulate_fault", lambda *args, **kwargs: ran.append(args) or 1 / 0)
+    with pytest.raises(ZeroDivisionError):  # and run goes there: the one slider first, then the 2-D run starts
+        family.run(scene, tolerance=0.1)
+    for options, needle in (({"tolerance": 1e-9}, "no rung meets"), ({"method": "fault_2d", "tolerance": 1e-9},
+                                                                     "cannot meet"),
+                            ({"method": "bogus"}, "runs on the rungs"),
+                            ({"method": "one_slider", "richardson": True}, "ask for --model fault_2d")):
+        with pytest.raises(InputError, match=needle):
+            faultslip.models.estimate(path, **options)
+        with pytest.raises(InputError, match=needle):
+            family.run(scene, **options)
+    assert len(ran) == 1
+
+
+def test_a_one_slider_scenes_estimate_is_of_the_2d_fault_it_escalates_to():
+    """'faultslip run configs/rsf_block_bp1.toml --tolerance 0.1 --estimate' said 3 ms (the block's 5 cycles) for
+    a run that escalates to the 2-D fault it stands for (about 10 s of CPU). Where the block's declared model error
+    misses the tolerance, or the 2-D fault is asked for by name, the estimate is now that escalation's own (the
+    family's own form and the seed-law form alike); where the block answers, the block's. What run refuses, the
+    estimate refuses: an unknown method, a tolerance that is not positive, a tolerance on a laboratory scene."""
+    from faultslip.models.fault_2d.family import one_slider_refinement
+    from faultslip.models.rate_state_slider.family import _own_form
+    from faultslip.models.rate_state_slider.scene import model_error_of, read_rate_state_scene
+    from faultslip.fault.scene import estimate_scene_rate_state, read_slider_scene
+
+    own = CONFIGS / "rsf_block_bp1.toml"
+    older = CONFIGS / "san_andreas_1906_rate_state.toml"
+    blocks = {own: read_rate_state_scene(own)}
+    seed_law = read_slider_scene(older)
+    blocks[older] = _own_form(seed_law.name, estimate_scene_rate_state(seed_law))
+    for path, block in blocks.items():
+        error = model_error_of(block)[0]
+        two_d = one_slider_refinement(block).estimate(in_this_process=True).seconds
+        answered = faultslip.models.estimate(path).seconds
+        assert 0 < answered < 0.01 * two_d
+        assert faultslip.models.estimate(path, tolerance=0.5 * error).seconds == two_d
+        assert faultslip.models.estimate(path, method="fault_2d").seconds == two_d
+        assert faultslip.models.estimate(path, tolerance=2.0 * error).seconds == answered
+        assert faultslip.models.estimate(path, method="one_slider", tolerance=0.5 * error).seconds == answered
+        for options, needle in (({"method": "bogus"}, "runs one of"), ({"tolerance": -1.0}, "positive number")):
+            with pytest.raises(InputError, match=needle):
+                faultslip.models.estimate(path, **options)
+            with pytest.raises(InputError, match=needle):
+                faultslip.run(path, **options)
+    with pytest.raises(InputError, match="laboratory scene"):
+        faultslip.models.estimate(CONFIGS / "rsf_velocity_step.toml", tolerance=0.1)

@@ -13,6 +13,7 @@ from hypothesis import given, settings, strategies as st
 
 from conftest import load_benchmark
 
+import faultslip
 from faultslip.errors import InputError
 from faultslip.io.seas import read_seas
 from faultslip.models.fault_2d.integrate import YEAR, run_cycles
@@ -651,3 +652,55 @@ def test_a_strike_table_with_malformed_surface_rows_is_one_sentence(surface, mon
             strike_error.load_table()
     finally:
         strike_error.load_table.cache_clear()
+
+
+def test_an_estimate_is_of_the_rung_run_goes_to(cli):
+    """'faultslip run SMALL --model fault_2d --estimate' estimated the 3-D run (50 x 20 squares, 4.9 s) for a run
+    of the 2-D middle column (20 elements, 2.3 s of CPU): the 3-D family's estimate ignored the rung. It is now the
+    rung's own cost model, the one slider's or the middle column's 2-D fault's; for a tolerance, the rung
+    tolerance_plan chooses, which run follows; what run refuses, it refuses."""
+    from faultslip.models.fault_2d.family import one_slider_estimate
+    from faultslip.models.fault_3d.family import tolerance_plan, two_d_scene
+
+    scene = load_fault_3d_scene(SMALL)
+    below = two_d_scene(scene)
+    flat = faultslip.models.estimate(SMALL, method="fault_2d")
+    assert flat.seconds == below.estimate(below.rtol, None, in_this_process=True).seconds
+    assert f"{below.fault.count} elements" in flat.what
+    assert faultslip.models.estimate(SMALL, method="one_slider").seconds == one_slider_estimate("x").seconds
+    assert faultslip.models.estimate(SMALL).seconds == scene.estimate(in_this_process=True).seconds
+    # the small patch's 2-D model error (above 100 %) leaves the lower rungs nothing to meet: the 3-D fault runs
+    plan = tolerance_plan(scene, 0.9)
+    assert plan.rungs == ("fault_3d",)
+    assert faultslip.models.estimate(SMALL, tolerance=0.9).seconds == scene.estimate(in_this_process=True).seconds
+    for args, needle in ((("--model", "bogus"), "runs on one of"), (("--tolerance", "1e-9"), "no rung meets"),
+                         (("--model", "fault_3d", "--tolerance", "1e-9"), "cannot meet"),
+                         (("--model", "fault_2d", "--check-starts"), "--check-starts")):
+        for extra in ((), ("--estimate",)):
+            result = cli("run", SMALL, *args, *extra)
+            assert result.code == 2 and needle in result.err and "Traceback" not in result.err, (args, extra)
+
+
+def test_a_tolerance_the_2d_rung_can_meet_runs_it_first(monkeypatch):
+    """Where the 2-D fault's model error against 3-D and its own least error, compounded, meet the tolerance, the
+    plan tries the middle column's 2-D fault before the 3-D one, and the estimate is the 2-D run's, naming what the
+    3-D fault would add if the 2-D answer misses. The shipped patches all err 39 % or more, so the model error is
+    stood in for."""
+    from faultslip.fault import strike_error
+    from faultslip.models.fault_3d import family
+
+    scene = load_fault_3d_scene(SMALL)
+    monkeypatch.setattr(strike_error, "declared_for", lambda fault: 0.05)
+    plan = family.tolerance_plan(scene, 0.2)
+    assert plan.rungs == ("fault_2d", "fault_3d")
+    estimate = faultslip.models.estimate(SMALL, tolerance=0.2)
+    below = family.two_d_scene(scene)
+    assert estimate.seconds == below.estimate(below.rtol, None, in_this_process=True).seconds
+    assert "the 3-D fault runs after it" in estimate.what
+    # the small patch's middle column lies outside the one slider's box (no declared error): one inside it, whose
+    # error compounded with the model error meets the tolerance, stops at the one slider
+    assert plan.slider_error is None
+    monkeypatch.setattr(family, "declared_error", lambda fault: 0.3)
+    slider = family.tolerance_plan(scene, 0.4)
+    assert slider.rungs == ("one_slider",) and slider.slider_error == pytest.approx(1.3 * 1.05 - 1)
+    assert "meets the tolerance 0.4" in faultslip.models.estimate(SMALL, tolerance=0.4).what
