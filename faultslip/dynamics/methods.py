@@ -429,6 +429,13 @@ BASELINES = {f"regularized_{s}": Regularized(s) for s in ("RK45", "LSODA", "Rada
 SEED_APPENDIX_I = SeedAppendixI()
 
 
+def check_method(method: str) -> None:
+    """Refuse a method that is neither ``auto`` nor one of :data:`METHODS` or :data:`BASELINES`, in one sentence
+    (a solve and a family's estimate of it alike)."""
+    if method != "auto" and method not in METHODS and method not in BASELINES:
+        raise InputError(f"unknown method {method!r}; allowed: auto, {', '.join(list(METHODS) + list(BASELINES))}")
+
+
 def _check_request(outputs, tolerance, cycles):
     outputs = tuple(outputs)
     unknown = [o for o in outputs if o not in OUTPUTS]
@@ -503,8 +510,7 @@ def solve(system, method: str = "auto", outputs=("amplitude", "period"), toleran
     if method == "auto":
         chosen, assessment, _ = choose(system, outputs, tolerance, cycles)
     else:
-        if method not in METHODS and method not in BASELINES:
-            raise InputError(f"unknown method {method!r}; allowed: auto, {', '.join(list(METHODS) + list(BASELINES))}")
+        check_method(method)
         chosen = METHODS.get(method) or BASELINES[method]
         assessment = chosen.assess(system, outputs, tolerance, cycles)
         better, better_assessment, _ = choose(system, outputs, tolerance, cycles)

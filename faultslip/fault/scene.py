@@ -492,6 +492,13 @@ def estimate_scene_rate_state(scene: Scene, cycles: int = 5, record: bool = Fals
     return estimate
 
 
+def check_method(method: str) -> None:
+    """Refuse a method that is not one of the seed law's (:data:`METHOD_NAMES`), in one sentence: a run and its
+    estimate alike."""
+    if method not in METHOD_NAMES:
+        raise InputError(f"method must be one of {', '.join(METHOD_NAMES)}, got {method!r}")
+
+
 def run_scene(scene: Scene, method: str | None = None, tolerance: float | None = None):
     """Evaluate a scene and return its :class:`~faultslip.io.report.Report`.
 
@@ -515,8 +522,7 @@ def run_scene(scene: Scene, method: str | None = None, tolerance: float | None =
     """
     method = method or scene.method
     tolerance = scene.tolerance if tolerance is None else tolerance
-    if method not in METHOD_NAMES:
-        raise InputError(f"method must be one of {', '.join(METHOD_NAMES)}, got {method!r}")
+    check_method(method)
     if scene.rate_state:
         if method != "auto":  # the seed law's methods: not to be accepted and then ignored
             raise InputError(f"method {method!r} is one of the seed law's; a rate-and-state fault's cycles choose "

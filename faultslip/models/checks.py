@@ -17,7 +17,7 @@ import numpy as np
 
 from faultslip.contract.cells import cell_value
 from faultslip.contract.registry import METHOD_FIELDS, cells_of, load, read_scene
-from faultslip.errors import FaultslipError
+from faultslip.errors import FaultslipError, InputError
 from faultslip.contract.result import Result
 from faultslip.io.budget import Estimate
 from faultslip.io.netcdf import write_dataset
@@ -45,6 +45,15 @@ def check_units(dataset, where: str) -> None:
             meanings = str(variable.attrs["flag_meanings"]).split()
             _require(len(meanings) == np.size(variable.attrs.get("flag_values")),
                      f"{where}: {name}'s flag_values and flag_meanings differ in number")
+
+
+def _refuses(call) -> bool:
+    """Whether ``call()`` refuses its input (raises :class:`~faultslip.errors.InputError`)."""
+    try:
+        call()
+    except InputError:
+        return True
+    return False
 
 
 def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, simulate_options: dict | None = None):
@@ -82,6 +91,14 @@ def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, si
         _require(isinstance(estimate, Estimate) and estimate.what and all(
             math.isfinite(value) and value >= 0 for value in (estimate.seconds, estimate.memory, estimate.disk)),
             f"{name}: its cost model's {action} estimate is an Estimate with finite seconds, memory and disk")
+    # an estimate is of the run it names: a method the run refuses before any work, the estimate refuses too
+    unknown = "no_such_method"
+    refused = {what: _refuses(call) for what, call in (
+        ("run", lambda: family.run(scene, method=unknown)),
+        ("estimate", lambda: family.estimate(scene, "run", method=unknown)))}
+    _require(refused["run"] == refused["estimate"],
+             f"{name}: its run {'refuses' if refused['run'] else 'takes'} method {unknown!r} and its estimate "
+             f"{'refuses' if refused['estimate'] else 'takes'} it: an estimate is of the run it names")
     # the run: a Result of this family, its Dataset with units, its report
     result = family.run(scene)
     _require(isinstance(result, Result) and result.family == name, f"{name}: run returns a Result of the family")

@@ -267,14 +267,27 @@ def _run(scene, events=None, title="faultslip spring-block chain", slip_solver=N
 MOST_EVENTS = 100_000
 
 
+def check_method(method) -> None:
+    """Refuse a method other than the chain's one (or auto), in one sentence (run and estimate alike)."""
+    if method not in (None, "auto", METHOD["name"]):
+        raise InputError(f"a spring-block chain has one method, {METHOD['name']} (or auto), not {method!r}")
+
+
+def estimate(scene, action: str = "run", **options):
+    """What a run or simulation of a chain scene needs, before it starts (cost.py); a run's method that run
+    refuses, refused here too."""
+    if action == "run":
+        check_method(options.get("method"))
+    return spring_chain_cost.estimate(scene, action, **options)
+
+
 def run(scene, method=None, tolerance=None, allow_large: bool = False) -> Result:
     """The chain's catalogue and what it says: b-value, system-size recurrence, the plate's balance.
 
     Its declared error is the mean interval's 95 % sampling half-width (:func:`recurrence_half_width`). Where a
     ``tolerance`` is given and the scene's events do not meet it, the run is made again with the events the
     half-width's 1 / sqrt(n) says it needs (estimated and budgeted first; at most :data:`MOST_EVENTS`)."""
-    if method not in (None, "auto", METHOD["name"]):
-        raise InputError(f"a spring-block chain has one method, {METHOD['name']} (or auto), not {method!r}")
+    check_method(method)
     budget.check(spring_chain_cost.estimate(scene, "run"), allow_large)  # the scene's own run, before any work
     loaded, chain_run, stats, report = _run(scene)
     half = stats["recurrence_half_width"]
@@ -359,6 +372,6 @@ FAMILY = register(Family("spring_chain", "a chain of spring-blocks (Burridge & K
                          why="a spring-block chain takes --cycles (its events), --slip-solver, --rtol and --events "
                              "(QuakeML)",
                          read_scene=toml_reader("spring_chain", PARAMETERS), cells=CELLS,
-                         methods=lambda: [dict(METHOD), dict(INTEGRATED)], animate=animate, estimate=spring_chain_cost.estimate,
+                         methods=lambda: [dict(METHOD), dict(INTEGRATED)], animate=animate, estimate=estimate,
                          example=Example('spring_chain_small.toml', "study_spring_chain.toml",
                                          {'threshold_spread': [0.3, 0.5]}, {'cycles': 20})))

@@ -4,9 +4,15 @@ from __future__ import annotations
 
 from faultslip.contract.registry import load
 from faultslip.fault.scaling import Fault
-from faultslip.fault.scene import read_slider_scene
+from faultslip.fault.scene import check_method, read_slider_scene
 from faultslip.io import budget, machine
 from faultslip.io.budget import Estimate
+
+
+def _check_run_method(action: str, options: dict) -> None:
+    """What run refuses, its estimate refuses: a method that is not one of the seed law's."""
+    if action == "run" and options.get("method") is not None:
+        check_method(options["method"])
 
 
 def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, output=None) -> Estimate:
@@ -24,11 +30,13 @@ def estimate(scene, action: str = "run", cycles=None, slip_solver=None, output=N
     at its fitted overhead (``benchmarks/family_costs.py``), a simulation from its rows
     (:func:`simulation_estimate`). A scene of one rate-and-state block is its own family's to estimate."""
     if isinstance(scene, Fault):
+        _check_run_method(action, options)
         return budget.fitted_estimate("spring_slider", "run", 0.0, "the fault's estimate in closed form")
     loaded = read_slider_scene(scene)
     if loaded.rate_state:
         return load(loaded.family).estimate(loaded, action, cycles=cycles, slip_solver=slip_solver, output=output,
                                             **options)
+    _check_run_method(action, options)
     if action == "run":
         return budget.fitted_estimate("spring_slider", "run", 0.0, f"the cycle of {loaded.name}")
     settings = dict(loaded.simulation)

@@ -28,13 +28,28 @@ METHODS = {None: "auto", "auto": "auto", "quasi_harmonic_averaging": "averaging"
            "quasi_harmonic_integration": "integration"}
 
 
-def run(scene, method=None, tolerance=None) -> Result:
-    """The settled amplitude of a vibration scene (seed 002): by averaging where it is accurate enough."""
-    system, notes = read_vibration_scene(scene)
+def averaging_method(method) -> str:
+    """The averaging method a --method name asks for, refused in one sentence where it names none (run and
+    estimate alike)."""
     chosen = METHODS.get(method)
     if chosen is None:
         raise InputError(f"a vibration scene takes --method auto, quasi_harmonic_averaging or "
                          f"quasi_harmonic_integration, got {method!r}")
+    return chosen
+
+
+def estimate(scene, action: str = "run", **options):
+    """What a run or simulation of a vibration scene needs, before it starts (cost.py); a run's method that run
+    refuses, refused here too."""
+    if action == "run":
+        averaging_method(options.get("method"))
+    return vibration_cost.estimate(scene, action, **options)
+
+
+def run(scene, method=None, tolerance=None) -> Result:
+    """The settled amplitude of a vibration scene (seed 002): by averaging where it is accurate enough."""
+    system, notes = read_vibration_scene(scene)
+    chosen = averaging_method(method)
     analysis, settled = analyse_and_settle(system, chosen, tolerance or 1e-3)
     report = averaging_report(system, analysis, None, settled)
     note_origin(report, notes.get("origin"))
@@ -116,6 +131,6 @@ FAMILY = register(Family("vibration", "seed 002: friction-induced vibration with
                          run, simulate,
                          why="a vibration scene is integrated by DOP853 at rtol 1e-10 until its cycle settles",
                          read_scene=toml_reader("vibration", PARAMETERS), cells=CELLS,
-                         methods=lambda: list(DECLARED_METHODS.values()), estimate=vibration_cost.estimate,
+                         methods=lambda: list(DECLARED_METHODS.values()), estimate=estimate,
                          example=Example('vibration_seed002.toml', "study_vibration.toml",
                                          {'speed': ['11 in/s', '12.5 in/s']}, {})))

@@ -575,3 +575,22 @@ def test_the_estimate_option_prints_the_cost_model_and_runs_nothing(cli, tmp_pat
     assert not out.exists()
     text = cli("run", CONFIGS / "asperity_seed004.toml", "--estimate")
     assert text.code == 0 and "CPU time, about" in text.out and "within the budget" in text.out
+
+
+def test_the_conformance_check_refuses_an_estimate_that_takes_what_its_run_refuses(constant_friction,
+                                                                                  monkeypatch):
+    """'faultslip run SCENE --model bogus --estimate' printed a cost for 6 families whose run refuses the method
+    (the 3-D family's estimated its 3-D run for --model fault_2d). check_family now asks both for a method the
+    family does not have: a family whose estimate takes it, while its run refuses it, fails the check."""
+    from dataclasses import replace
+
+    from faultslip.contract.registry import load
+    from faultslip.models.checks import ConformanceError
+
+    family = load("constant_friction")
+    own = family.estimate
+    monkeypatch.setitem(contract.FAMILIES, "constant_friction", replace(
+        family, estimate=lambda scene, action="run", method=None, **options: own(scene, action, **options)))
+    with pytest.raises(ConformanceError, match="its run refuses method 'no_such_method' and its estimate takes"):
+        check_family("constant_friction", constant_friction, {"normal_load": ["50 N", "100 N"]},
+                     simulate_options={"cycles": 2})

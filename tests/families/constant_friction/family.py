@@ -25,9 +25,14 @@ def cycle(values: dict) -> tuple[float, float, float]:
     return slip, slip / values["platform_speed"] + slip_duration, slip_duration
 
 
-def run(scene, method=None, tolerance=None) -> Result:
+def check_method(method) -> None:
+    """Its one method (or auto): what run refuses, its estimate refuses (check_family asks both)."""
     if method not in (None, "auto", "closed_form"):
         raise InputError(f"a constant-friction scene runs closed_form, got {method!r}")
+
+
+def run(scene, method=None, tolerance=None) -> Result:
+    check_method(method)
     values = read(scene)
     slip, period, _ = cycle(values)
     report = Report("constant friction")
@@ -58,9 +63,11 @@ def simulate(scene, cycles=None) -> Result:
     return Result("constant_friction", report, series, lambda: sawtooth_figure(time, ratio))
 
 
-def estimate(scene, action="run", cycles=None, **_) -> Estimate:
+def estimate(scene, action="run", cycles=None, method=None, **_) -> Estimate:
     """The cost model: the closed form's overhead, or the simulation's 200 samples a cycle (a test family's
     round figures: its runs take milliseconds)."""
+    if action == "run":
+        check_method(method)
     read(scene)
     rows = 0 if action == "run" else 200 * (cycles or 3) + 1
     return Estimate(f"constant friction, {rows} samples", memory=rows * 8.0 * 3, seconds=1e-3 + rows * 1e-7)
