@@ -39,6 +39,7 @@ def pytest_sessionstart(session):
                                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
+@pytest.hookimpl(optionalhook=True)  # pytest-xdist's hook: a run without it (-p no:xdist) still starts
 def pytest_xdist_auto_num_workers(config):
     """``-n auto``: a worker for each core this process may use (its CPU affinity, as faultslip counts them), not
     each of the machine's physical cores, which pytest-xdist counts where psutil is installed."""

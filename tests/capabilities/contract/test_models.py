@@ -151,12 +151,24 @@ RUNNABLE = sorted(p.name for p in CONFIGS.glob("*.toml")
 _numbers = report_numbers
 
 
+#: Scenes compared over the start of their run: SEAS BP5 at 2000 m over 1800 yr takes 40 s of CPU a run (twice
+#: here), the first 450 yr a quarter of it through the same reader and family (benchmarks/seas_bp5.py runs it whole).
+SHORTENED = {"seas_bp5.toml": ('duration = "1800 yr"', 'duration = "450 yr"')}
+
+
 @pytest.mark.parametrize("scene", RUNNABLE)
-def test_the_cli_and_python_give_the_same_numbers(scene, cli):
+def test_the_cli_and_python_give_the_same_numbers(scene, cli, tmp_path):
     """'faultslip run SCENE --json' and faultslip.run(SCENE) agree on every number they report (both are one
     computation; wall times aside)."""
-    printed = _numbers(cli("run", CONFIGS / scene, "--json").json)
-    computed = _numbers(faultslip.run(CONFIGS / scene).report().to_dict())
+    path = CONFIGS / scene
+    if scene in SHORTENED:
+        whole, start = SHORTENED[scene]
+        text = path.read_text(encoding="utf-8")
+        assert whole in text, f"{scene} no longer says {whole}"
+        path = tmp_path / scene
+        path.write_text(text.replace(whole, start), encoding="utf-8")
+    printed = _numbers(cli("run", path, "--json").json)
+    computed = _numbers(faultslip.run(path).report().to_dict())
     assert printed.keys() == computed.keys()
     for key, value in computed.items():
         assert printed[key] == pytest.approx(value, rel=1e-12, nan_ok=True), key
