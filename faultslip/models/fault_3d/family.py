@@ -613,26 +613,23 @@ def estimate(scene, action: str = "run", rtol=None, output_dir=None, check_start
     chosen = loaded.rtol if rtol is None else rtol
     if action == "run" and not isinstance(scene, Fault2DScene):  # the rung run() goes to, as it chooses it
         method = checked_request(method, tolerance, check_starts)
-        below = two_d_scene(loaded)
-        slider = fault_2d_family.one_slider_estimate(f"the one slider of {loaded.name}'s middle column "
-                                                     "(5 earthquake cycles)")
-        flat = below.estimate(below.rtol, None, in_this_process=True)
-        if method == "one_slider":
-            return slider
-        if method == "fault_2d":
-            return flat
         if tolerance is not None and method == "fault_3d":
             _refuse_unreachable(loaded, tolerance, "the 3-D fault cannot meet")
-        elif tolerance is not None:
-            plan = tolerance_plan(loaded, tolerance)
-            if plan.rungs == ("one_slider",):
+        plan = tolerance_plan(loaded, tolerance) if tolerance is not None and method == "auto" else None
+        rung = plan.rungs[0] if plan is not None else method
+        if rung == "one_slider":
+            slider = fault_2d_family.one_slider_estimate(f"the one slider of {loaded.name}'s middle column "
+                                                         "(5 earthquake cycles)")
+            if plan is not None:
                 slider.what += f": its declared error {_said(plan.slider_error)} meets the tolerance {tolerance:g}"
-                return slider
-            if plan.rungs[0] == "fault_2d":
-                if len(plan.rungs) > 1:  # the 3-D fault runs only where the 2-D answer misses: named, not counted
-                    flat.what += (f"; where its declared error misses the tolerance {tolerance:g}, the 3-D fault "
-                                  f"runs after it (about {loaded.estimate(chosen, output_dir).seconds:.3g} s more)")
-                return flat
+            return slider
+        if rung == "fault_2d":
+            below = two_d_scene(loaded)
+            flat = below.estimate(below.rtol, None, in_this_process=True)
+            if plan is not None and len(plan.rungs) > 1:  # the 3-D fault runs only where the 2-D answer misses
+                flat.what += (f"; where its declared error misses the tolerance {tolerance:g}, the 3-D fault "
+                              f"runs after it (about {loaded.estimate(chosen, output_dir).seconds:.3g} s more)")
+            return flat
     if action == "run" and check_starts:
         return starts_estimate(loaded, other_starts(loaded)[1], chosen, output_dir)
     return loaded.estimate(chosen, output_dir, in_this_process=True)

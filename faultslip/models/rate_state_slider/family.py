@@ -310,23 +310,25 @@ def estimate(scene, action: str = "run", method=None, tolerance=None, **options)
     estimated as that run (the richer family's cost model, as the escalation estimates it; the block's 3 cycles
     run first to size it, as they do there). What run refuses (an unknown method, a tolerance that is not a
     positive number, either on a laboratory scene) is refused here too."""
-    own = rate_state_slider_cost.estimate(scene, action, method=method, tolerance=tolerance, **options)
+    def own() -> budget.Estimate:
+        return rate_state_slider_cost.estimate(scene, action, method=method, tolerance=tolerance, **options)
+
     if action != "run":
-        return own
+        return own()
     older = _older_form(scene)
     loaded = read_rate_state_scene(scene) if older is None else None
     if loaded is not None and loaded.kind == "lab":
         _lab_request(method, tolerance)
-        return own
-    method = _fault_method(method, tolerance)
-    if method == "one_slider" or (method == "auto" and tolerance is None):
-        return own
+        return own()
+    chosen = _fault_method(method, tolerance)
+    if chosen == "one_slider" or (chosen == "auto" and tolerance is None):
+        return own()
     if older is not None:
         loaded = _own_form(older.name, estimate_scene_rate_state(older))
     error, ratio, _ = model_error_of(loaded)
-    reason = _escalation(method, tolerance, error, ratio)
+    reason = _escalation(chosen, tolerance, error, ratio)
     if reason is None:
-        return own
+        return own()
     refined = load(RICHER).estimate(loaded, "refine")
     refined.what = f"{refined.what} ({reason})"
     return refined
