@@ -62,6 +62,7 @@ TOPICS = {
         # the contract
         "Result": "models:Result", "families": "models:families", "family_of": "models:family_of",
         "check_family": "models.checks:check_family", "estimate": "models:estimate",
+        "methods": "models:methods",
         # the seed's spring slider and its fault
         "read_slider_scene": "fault.scene:read_slider_scene", "Fault": "fault.scaling:Fault",
         "SliderSystem": "dynamics.spring_slider.slider:SliderSystem", "solve": "dynamics.methods:solve",

@@ -256,7 +256,9 @@ def _scenes_commands(commands) -> None:
     materials.add_argument("--json", action="store_true", help=COMMON["--json"])
     materials.set_defaults(handler="scenes:cmd_materials")
 
-    methods = commands.add_parser("methods", help="the solution methods: friction laws, domain and cost of each")
+    methods = commands.add_parser("methods", help="the solution methods: friction laws, domain and cost of each, "
+                                                  "and how each is run")
+    methods.add_argument("scene", nargs="?", help="a scene: only the methods its family runs (default: every family's)")
     methods.add_argument("--json", action="store_true", help=COMMON["--json"])
     methods.set_defaults(handler="scenes:cmd_methods")
 

@@ -8,9 +8,8 @@ from pathlib import Path
 import faultslip
 from faultslip import models
 from faultslip.cli.common import _locked, _number, _output_dir, _outputs, _save_run, _system_from_args, _tolerance
-from faultslip.cli.printing import _emit, _progress
+from faultslip.cli.printing import _emit, _emit_estimate, _progress
 from faultslip.dynamics.spring_slider.critical import comparison_dataset, comparison_markdown, critical
-from faultslip.contract import method_rows
 from faultslip.contract.options import options_of
 from faultslip.errors import InputError
 from faultslip.friction.materials import bundled_lithologies, presets, user_rate_state_fits
@@ -44,8 +43,8 @@ def cmd_run(args) -> int:
     options = {option.name: getattr(args, option.name) for option in options_of("run") if option.family}
     if args.estimate:  # the family's cost model, before any work
         asked = {name: True for name in ("richardson", "check_starts") if options.get(name)}
-        return _emit(models.estimate(args.scene, "run", method=args.method, tolerance=_tolerance(args),
-                                     **asked).report(), args.json)
+        return _emit_estimate(models.estimate(args.scene, "run", method=args.method, tolerance=_tolerance(args),
+                                              **asked), args.json)
     return _emit(models.run(args.scene, method=args.method, tolerance=_tolerance(args),
                             progress=_progress("run", not args.json, "yr"), **options).report(), args.json)
 
@@ -136,14 +135,15 @@ def cmd_materials(args) -> int:
 
 
 def cmd_methods(args) -> int:
-    rows = method_rows()
+    rows = models.methods(args.scene)
     if args.json:
         print(json.dumps({"methods": rows}, indent=2))
         return 0
     for row in rows:
         print(f"{row['name']}\n  friction laws: {row['friction_laws']}\n  valid where:   {row['domain']}\n"
               f"  cost:          {row['cost_model']}\n  error:         {row['declared_error']}\n"
-              f"  families:      {', '.join(row['families'])}")
+              f"  families:      {', '.join(row['families'])}\n"
+              f"  {'run with:      ' if row['run_method'] else 'reached by:    '}{row['selected_by']}")
     return 0
 
 
@@ -153,7 +153,7 @@ def cmd_simulate(args) -> int:
     if args.estimate:  # the family's cost model, before any work or any output is checked
         options = {"cycles": args.cycles, "slip_solver": args.slip_solver, "output": args.output,
                    "output_dir": args.output_dir, "rtol": _number(args.rtol, "--rtol") if args.rtol else None}
-        return _emit(models.estimate(args.scene, "simulate", **options).report(), args.json)
+        return _emit_estimate(models.estimate(args.scene, "simulate", **options), args.json)
     outputs = _outputs(args, {"output": ("-o", (".nc",)), "plot": ("--plot", FIGURE_SUFFIXES),
                               "stream": ("--stream", tuple(STREAM_SUFFIXES)), "events": ("--events", QUAKEML_SUFFIXES)},
                        [args.scene])

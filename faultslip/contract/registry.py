@@ -200,20 +200,41 @@ def cells_of(family: Family, scene):
     return cells(scene) if callable(cells) and not hasattr(cells, "evaluate") else cells
 
 
-#: the fields of a method's declaration, as 'faultslip methods' prints them
 #: What every method declares: its name, the friction laws it takes, where it holds, what it costs, and the error
 #: it declares there (what ``faultslip methods`` prints and ``auto`` chooses by).
 METHOD_FIELDS = ("name", "friction_laws", "domain", "cost_model", "declared_error")
 
 
-def method_rows() -> list[dict]:
-    """Every family's methods, each once, with the families that use it (what ``faultslip methods`` prints)."""
+def run_method(row: dict) -> str | None:
+    """The ``--method`` value ``faultslip run`` takes for a method row: its name, unless the row says it is reached
+    another way (``"run_method": None`` and a ``selected_by`` sentence: a baseline, an integrator a study or
+    ``simulate`` chooses). check_family asks the family's run for every one it lists."""
+    return row.get("run_method", row["name"])
+
+
+def selected_by(row: dict) -> str:
+    """How a user reaches the method: the run's option, or the row's own sentence where run does not take it."""
+    name = run_method(row)
+    return f"faultslip run SCENE --method {name}" if name is not None else row["selected_by"]
+
+
+def declared_rows(family: str, *names: str) -> list[dict]:
+    """The method rows ``names`` of another family's declaration (a rung one family's run reaches through another:
+    the rate-and-state block's ``fault_2d``), so a row is written once."""
+    return [row for row in (load(family).methods() or []) if row["name"] in names]
+
+
+def method_rows(family: str | None = None) -> list[dict]:
+    """Every family's methods (or one family's), each once, with the families that use it, the ``--method`` value
+    ``faultslip run`` takes for it (``run_method``, None where run does not) and how it is reached (``selected_by``):
+    what ``faultslip methods`` prints."""
     rows: dict[str, dict] = {}
-    for name, family in families().items():
-        for row in (family.methods() if family.methods else []):
-            entry = rows.setdefault(row["name"], {key: row[key] for key in METHOD_FIELDS} | {"families": []})
+    for name, declared in families().items():
+        for row in (declared.methods() if declared.methods else []):
+            entry = rows.setdefault(row["name"], {key: row[key] for key in METHOD_FIELDS} | {
+                "run_method": run_method(row), "selected_by": selected_by(row), "families": []})
             entry["families"].append(name)
-    return list(rows.values())
+    return [row for row in rows.values() if family is None or family in row["families"]]
 
 
 def _declared(document: dict) -> str | None:

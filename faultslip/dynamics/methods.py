@@ -118,9 +118,13 @@ class Method:
     def run(self, system, cycles, settings):  # pragma: no cover - interface
         raise NotImplementedError
 
+    #: how a method that ``faultslip run`` does not take is reached (None: run takes it by its name)
+    selected_by: str | None = None
+
     def describe(self) -> dict:
-        return {"name": self.name, "friction_laws": self.friction_laws, "domain": self.domain,
-                "cost_model": self.cost_model, "declared_error": self.declared_error}
+        row = {"name": self.name, "friction_laws": self.friction_laws, "domain": self.domain,
+               "cost_model": self.cost_model, "declared_error": self.declared_error}
+        return row if self.selected_by is None else row | {"run_method": None, "selected_by": self.selected_by}
 
 
 class ClosedForm(Method):
@@ -291,6 +295,10 @@ class Regularized(Method):
     def __init__(self, solver: str = "LSODA", width_ratio: float = 1e-3):
         self.solver, self.width_ratio = solver, width_ratio
         self.name = f"regularized_{solver}"
+        self.selected_by = (f"a baseline the methods are measured against, not a run method: "
+                            f"faultslip.dynamics.methods.solve(system, method={self.name!r}) runs it (with a warning "
+                            "that it is out of its domain); 'faultslip bench' and 'faultslip stability' measure the "
+                            "regularised baselines they list")
 
     def assess(self, system, outputs, tolerance, cycles):
         return Assessment(self.name, False, "regularised friction never truly sticks; it is a baseline to measure "
@@ -316,6 +324,7 @@ class SeedAppendixI(Method):
     domain = "an approximation: agrees with the exact critical rate only near zeta 0.2-0.25 and has the opposite trend in damping"
     cost_model = "one scalar root: about 1e-5 s"
     declared_error = "none as a cycle method; its critical rate is off by the trend seed 003's appendix I admits"
+    selected_by = "its critical loading rate, not a cycle: 'faultslip critical SCENE' prints it beside the exact one"
 
     def assess(self, system, outputs, tolerance, cycles):
         return Assessment(self.name, False, "gives a critical loading rate, not a stick-slip cycle; see faultslip critical")
@@ -394,6 +403,15 @@ def describe_seed_methods() -> list[dict]:
 def describe_integrators() -> list[dict]:
     """The event-driven integrators and the averaging, which seed 003's engine lends to other sliders (seed 000)."""
     return [m.describe() for m in (*INTEGRATORS.values(), AVERAGING)]
+
+
+def check_lent_method(method: str, what: str) -> None:
+    """Refuse, for a slider seed 003's engine lends its integrators to (``what``, e.g. "a rough-surface scene"),
+    a method that is not one of :func:`describe_integrators` (or ``auto``, or ``simulate``: DOP853): the closed
+    forms need the seed's linear kinetic law, the baselines are not run methods. Its run and estimate alike."""
+    lent = ("auto", *(m.name for m in (*INTEGRATORS.values(), AVERAGING)), "simulate")
+    if method not in lent:
+        raise InputError(f"{what} runs one of {', '.join(lent)}, got {method!r}")
 
 
 def _cycle_from_dataset(system, dataset, method_name) -> CycleResult:

@@ -39,6 +39,19 @@ CALIBRATION_FILE = "ladder_calibration.json"
 #: The groups the correction is linear in, in this order after the constant (see :func:`features`).
 FEATURES = ("log_width_over_nucleation", "log_width_over_nucleation_squared", "log_width_over_process_zone",
             "burial", "ramp", "log_strengthening_depth", "strengthening_ratio")
+#: The ladder's lowest rung as a method ('faultslip methods'): every fault family's run takes it by this name.
+ONE_SLIDER_METHOD = {
+    "name": "one_slider",
+    "friction_laws": "rate-and-state (aging or slip law): one quasi-dynamic spring-block for the whole fault",
+    "domain": "a fault scene (2-D or 3-D): the block derived from its friction profile, the rupture zone's mean a, b, "
+              "D_c and sigma_n with K = 2 G / (pi W), corrected where the fault's groups lie inside what the "
+              "calibration faults span (outside: the uncorrected block, no range, no declared error); a block scene: "
+              "its own block, K = c G / W (or the seed's G / D)",
+    "cost_model": "one block's earthquake cycles: milliseconds (faultslip.models.rate_state_slider.cost)",
+    "declared_error": "the 95 % range of recurrence and slip per event against the 2-D fault of the same scene, in "
+                      "years and metres (the calibration's prediction interval: faultslip.fault.ladder.declared_error; "
+                      "docs/ladder.md measures it on held-out faults); compounded with the 2-D fault's against the "
+                      "3-D one on a 3-D scene"}
 #: The quantities the one slider predicts, and what each is in the 2-D fault's report.
 QUANTITIES = {"recurrence": "recurrence_interval", "mean_slip": "mean_slip_per_event",
               "surface_slip": "slip_per_event"}

@@ -22,7 +22,7 @@ from faultslip.io import budget
 from faultslip.contract.options import OPTIONS, UNIVERSAL
 # re-exported (the names' __all__ is built below, which linters cannot read)
 from faultslip.contract.registry import DECLARATIONS as DECLARATIONS, FAMILIES as FAMILIES, Family as Family
-from faultslip.contract.registry import families, family_of
+from faultslip.contract.registry import families, family_of, method_rows
 from faultslip.contract.registry import load as load, register as register
 from faultslip.contract.result import Result, judge_tolerance
 
@@ -33,7 +33,8 @@ from faultslip.api import exports as _exports
 __getattr__, __dir__, __all__ = _exports(__name__, {name: where for name, where in _TOPICS["models"].items()
                                                     if not where.startswith("models:")},
                                          defined=("DECLARATIONS", "FAMILIES", "Family", "Result", "animate", "estimate",
-                                                  "families", "family_of", "load", "register", "run", "simulate"))
+                                                  "families", "family_of", "load", "methods", "register", "run",
+                                                  "simulate"))
 
 
 def _not_an_option(name: str, family) -> str:
@@ -136,6 +137,38 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
         raise InputError(f"the {family.name} family declares no cost model (Family.estimate), so nothing can be "
                          "estimated before it runs")
     return family.estimate(scene, action, **{name: value for name, value in options.items() if value is not None})
+
+
+def methods(scene=None) -> list[dict]:
+    """The solution methods, as ``faultslip methods [SCENE]`` lists them: every family's, or the scene's family's.
+
+    Parameters
+    ----------
+    scene : str, path or scene object, optional
+        A scene: only the methods of its family that its run takes (asked through the family's estimate, before
+        any work), and those it reaches another way (None: every family's).
+
+    Returns
+    -------
+    list of dict
+        One per method: ``name``, ``friction_laws``, ``domain``, ``cost_model``, ``declared_error``, the families
+        that use it, ``run_method`` (what ``run(scene, method=...)`` and ``faultslip run --method`` take for it, or
+        None where run does not) and ``selected_by`` (how it is reached).
+    """
+    if scene is None:
+        return method_rows()
+    family = family_of(scene)
+    return [row for row in method_rows(family.name) if row["run_method"] is None
+            or _takes(lambda: family.estimate(scene, "run", method=row["run_method"]))]
+
+
+def _takes(call) -> bool:
+    """Whether ``call()`` takes its input (raises no :class:`~faultslip.errors.InputError`)."""
+    try:
+        call()
+    except InputError:
+        return False
+    return True
 
 
 def simulate(scene=None, **options) -> Result:

@@ -10,13 +10,14 @@ registered family (``tests/capabilities/contract/test_families.py``); a new fami
 from __future__ import annotations
 
 import math
+import re
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from faultslip.contract.cells import cell_value
-from faultslip.contract.registry import METHOD_FIELDS, cells_of, load, read_scene
+from faultslip.contract.registry import METHOD_FIELDS, cells_of, load, read_scene, run_method
 from faultslip.errors import FaultslipError, InputError
 from faultslip.contract.result import Result
 from faultslip.io.budget import Estimate
@@ -47,13 +48,34 @@ def check_units(dataset, where: str) -> None:
                      f"{where}: {name}'s flag_values and flag_meanings differ in number")
 
 
-def _refuses(call) -> bool:
-    """Whether ``call()`` refuses its input (raises :class:`~faultslip.errors.InputError`)."""
+def _refusal(call) -> str | None:
+    """The sentence with which ``call()`` refuses its input (an :class:`~faultslip.errors.InputError`), or None."""
     try:
         call()
-    except InputError:
-        return True
-    return False
+    except InputError as exc:
+        return str(exc)
+    return None
+
+
+def _refuses(call) -> bool:
+    """Whether ``call()`` refuses its input (raises :class:`~faultslip.errors.InputError`)."""
+    return _refusal(call) is not None
+
+
+def _check_listed_methods(name: str, family, scene, rows: list[dict], unknown: str) -> None:
+    """'faultslip methods' and the run agree: every method the family lists by a run name (``run_method``), its run
+    takes (asked through its estimate, before any work), and the sentence refusing an unknown method names exactly
+    those (its other names with an underscore are listed ones: a name the run takes but the listing hides fails)."""
+    listed = [run_method(row) for row in rows if run_method(row) is not None]
+    for method in listed:
+        refusal = _refusal(lambda: family.estimate(scene, "run", method=method))
+        _require(refusal is None, f"{name}: lists method {method!r} for 'faultslip run --method' and its run "
+                                  f"refuses it: {refusal}")
+    sentence = _refusal(lambda: family.estimate(scene, "run", method=unknown)) or ""
+    named = set(re.findall(r"\b[a-z][a-z0-9]*(?:_[A-Za-z0-9]+)+\b", sentence)) - {unknown}
+    _require(all(method in named for method in listed) and named <= set(listed),
+             f"{name}: refusing an unknown method, its run names {sorted(named)}, and 'faultslip methods' lists "
+             f"{sorted(listed)} for it: the two say the same names")
 
 
 def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, simulate_options: dict | None = None):
@@ -99,6 +121,7 @@ def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, si
     _require(refused["run"] == refused["estimate"],
              f"{name}: its run {'refuses' if refused['run'] else 'takes'} method {unknown!r} and its estimate "
              f"{'refuses' if refused['estimate'] else 'takes'} it: an estimate is of the run it names")
+    _check_listed_methods(name, family, scene, rows, unknown)
     # the run: a Result of this family, its Dataset with units, its report
     result = family.run(scene)
     _require(isinstance(result, Result) and result.family == name, f"{name}: run returns a Result of the family")

@@ -97,7 +97,12 @@ class CycleMethod:
                 "declared_error": ("c rtol^q per cycle quantity, and near K_c k rtol^p / (1 - K / K_c), fitted "
                                    "per integrator on random faults against the C stepper at rtol 1e-12 "
                                    "(benchmarks/rate_state_calibration.py; faultslip rate-state bench checks it on "
-                                   "held-out ones), and the settling left")}
+                                   "held-out ones), and the settling left"),
+                "run_method": None,
+                "selected_by": (f"the one slider's integrator, chosen for each fault by its error and cost ('faultslip "
+                                f"run' takes the rung, one_slider); a rate-and-state study or map names it by method = "
+                                f"\"{self.integrator}\", and 'faultslip rate-state simulate SCENE --method "
+                                f"{self.integrator}' integrates a laboratory load history with it")}
 
     def assess(self, stiffness_ratio: float, tolerance: float, cycles: int, two_state: bool = False,
                rtol: float | None = None) -> Assessment:

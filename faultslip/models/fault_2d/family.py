@@ -20,8 +20,8 @@ from faultslip.models.fault_2d import bp3_outputs
 from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
 from faultslip.errors import InputError
-from faultslip.fault.ladder import (declared_error, groups, ladder_report, one_slider_report, rung_of,
-                                   with_model_error)
+from faultslip.fault.ladder import (ONE_SLIDER_METHOD, declared_error, groups, ladder_report, one_slider_report,
+                                   rung_of, with_model_error)
 from faultslip.fault.starts import compare_starts, other_starts, start_note, starts_estimate
 from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
@@ -33,7 +33,7 @@ from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
 from faultslip.models.fault_2d.cells import CELLS, read_scene
 from faultslip.models.fault_2d.scene import Fault2DScene, from_one_slider, read_fault_2d_scene
-from faultslip.contract.registry import Example, Family, load, register
+from faultslip.contract.registry import Example, Family, declared_rows, load, register
 from faultslip.contract.result import Result
 from faultslip.models.fault_2d.figures import cumulative_slip_figure, ladder_figure, slip_rate_figure
 from faultslip.units import ELAPSED_TIME_ATTRS
@@ -760,7 +760,8 @@ FAMILY = register(Family("fault_2d", "quasi-dynamic cycles on a 2-D fault in an 
                                                           "allow_underresolved"),
                          run_options=("allow_large", "allow_underresolved", "richardson", "check_starts", "progress"),
                          why="a 2-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
-                         read_scene=read_scene, cells=CELLS, methods=lambda: list(METHODS.values()),
+                         read_scene=read_scene, cells=CELLS, methods=lambda: [ONE_SLIDER_METHOD, *METHODS.values(),
+                                          *declared_rows("fault_3d", "fault_3d")],
                          refine=refine_one_slider, ladder=ladder, estimate=estimate,
                          example=Example('fault_2d_small.toml', "study_fault_2d.toml",
                                          {'critical_slip': ['24 mm', '30 mm']}, None)))

@@ -23,11 +23,11 @@ from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import output_lock, prepare_run_folder
 from faultslip.io.report import Report
 from faultslip.models.common import note_origin
-from faultslip.fault.ladder import compounded, declared_error, ladder_report, rung_of, truth_range
+from faultslip.fault.ladder import ONE_SLIDER_METHOD, compounded, declared_error, ladder_report, rung_of, truth_range
 from faultslip.fault import strike_error
 from faultslip.fault.starts import compare_starts, other_starts, start_note, starts_estimate
 from faultslip.models.fault_2d import family as fault_2d_family
-from faultslip.models.fault_2d.analysis import classify, moment_magnitude
+from faultslip.models.fault_2d.analysis import METHODS as TWO_D_METHODS, classify, moment_magnitude
 from faultslip.models.fault_2d.figures import ladder_figure
 from faultslip.models.fault_2d.integrate import YEAR, first_run_cost
 from faultslip.models.fault_2d.scene import Fault2DScene
@@ -640,7 +640,8 @@ FAMILY = register(Family("fault_3d", "quasi-dynamic cycles on a planar 3-D fault
                          simulate_options=("output_dir", "resume", "rtol", "allow_large", "overwrite"),
                          run_options=("allow_large", "progress", "check_starts"),
                          why="a 3-D fault scene sets its run in [run]; simulate takes --output-dir, --resume and --rtol",
-                         read_scene=read_scene, cells=Fault3DCells(), methods=lambda: list(METHODS.values()),
+                         read_scene=read_scene, cells=Fault3DCells(),
+                         methods=lambda: [ONE_SLIDER_METHOD, *TWO_D_METHODS.values(), *METHODS.values()],
                          ladder=ladder, estimate=estimate, refine=refine_two_d,
                          example=Example("fault_3d_small.toml", "study_fault_3d.toml",
                                          {"critical_slip": ["0.12 m", "0.14 m"]}, None)))

@@ -12,6 +12,7 @@ from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.errors import InputError
+from faultslip.fault.ladder import ONE_SLIDER_METHOD
 from faultslip.fault.one_slider_error import declare_model_error
 from faultslip.fault.rate_state_fault import cycles_dataset
 from faultslip.fault.scene import (Scene, estimate_scene_rate_state, has_friction_law, read_slider_scene,
@@ -29,7 +30,7 @@ from faultslip.fault.rate_state_fault import seed_law_fault
 from faultslip.models.rate_state_slider import cycles as rate_state_cycles
 from faultslip.models.rate_state_slider.cycles import _scene_notes
 from faultslip.models.rate_state_slider import cost as rate_state_slider_cost
-from faultslip.contract.registry import Example, Family, load, register
+from faultslip.contract.registry import Example, Family, declared_rows, load, register
 from faultslip.contract.result import Result
 from faultslip.plots.figures import _pyplot
 from faultslip.models.rate_state_slider.figures import cycles_figure
@@ -511,6 +512,7 @@ FAMILY = register(Family("rate_state_slider", "the rate-and-state slider: veloci
                          why="a rate-and-state slider's run is set by its [load] table, a fault's by --cycles",
                          run_options=("allow_large", "progress"), read_scene=read_scene, cells=cells,
                          adopt=seed_law_form_on_the_ladder,
-                         methods=lambda: [method.describe() for method in CYCLE_METHODS.values()], estimate=estimate,
+                         methods=lambda: [*(method.describe() for method in CYCLE_METHODS.values()), ONE_SLIDER_METHOD,
+                                          *declared_rows(RICHER, RICHER)], estimate=estimate,
                          example=Example('rsf_block_bp1.toml', "study_rate_state_slider.toml",
                                          {'critical_slip': ['4 mm', '8 mm']}, {'cycles': 2})))

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from faultslip.dynamics.methods import check_method
+from faultslip.dynamics.methods import check_lent_method
 from faultslip.io import budget
 from faultslip.models.rough_surface.scene import read_rough_scene
 
@@ -19,7 +19,7 @@ def estimate(scene, action: str = "run", **options) -> budget.Estimate:
     """What a run or simulation of a rough-surface scene needs, before it starts; a run's method that its solve
     refuses, refused here too."""
     if action == "run":
-        check_method(options.get("method") or "auto")
+        check_lent_method(options.get("method") or "auto", "a rough-surface scene")
     entry, units, what = work(scene, action, **options)
     rows = units * 66.0  # about 64 samples a slip and two a stick, six columns
     return budget.fitted_estimate("rough_surface", entry, units, what, memory=rows * 6 * 8.0 * 3,

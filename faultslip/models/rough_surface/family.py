@@ -9,7 +9,7 @@ from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.dynamics.kernel import REGIME_CODES
-from faultslip.dynamics.methods import METHODS, describe_integrators
+from faultslip.dynamics.methods import METHODS, check_lent_method, describe_integrators
 from faultslip.errors import InputError
 from faultslip.models.rough_surface.scene import read_rough_scene
 from faultslip.models.rough_surface import cost as rough_surface_cost
@@ -32,6 +32,7 @@ def _details(report, details) -> None:
 
 def run(scene, method=None, tolerance=None) -> Result:
     """The stick-slip cycle of a rough-surface scene, by the cheapest accurate method."""
+    check_lent_method(method or "auto", "a rough-surface scene")
     system, details, settings = read_rough_scene(scene)
     solution = solve(system, method=method or "auto", tolerance=tolerance or 1e-6, cycles=settings["cycles"])
     report = solution.report(f"faultslip rough-surface slider (seed 000): {system.name}")

@@ -50,7 +50,11 @@ INTEGRATED = {"name": "chain_event_driven_integrated",
               "cost_model": "scipy's solve_ivp with a terminal event a slipping block and a held neighbour: about 2.7 "
                             "times the Python closed form's time at 100 blocks (benchmarks/spring_chain_speed.py)",
               "declared_error": "the integrator's rtol (default 1e-10) on each sub-phase's end; a chaotic chain's "
-                                "catalogue departs from the closed form's after tens of events, its statistics do not"}
+                                "catalogue departs from the closed form's after tens of events, its statistics do not",
+              "run_method": None,
+              "selected_by": (f"a check on the closed form, not a run method: 'faultslip simulate SCENE --slip-solver "
+                              f"{INTEGRATORS[0]}' (or {', '.join(INTEGRATORS[1:])}) integrates the chain's slip phases "
+                              "with it")}
 
 
 def _moments(loaded, run: ChainRun) -> tuple[np.ndarray, np.ndarray]:

@@ -594,3 +594,87 @@ def test_the_conformance_check_refuses_an_estimate_that_takes_what_its_run_refus
     with pytest.raises(ConformanceError, match="its run refuses method 'no_such_method' and its estimate takes"):
         check_family("constant_friction", constant_friction, {"normal_load": ["50 N", "100 N"]},
                      simulate_options={"cycles": 2})
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_faultslip_methods_lists_what_each_scenes_run_takes(name, cli):
+    """'faultslip methods SCENE' lists the methods of the scene's family that its run takes, each with the
+    --method value that selects it, and how the others are reached. 'faultslip run --help' sends a user there: it
+    listed 7 names (the regularised baselines, seed appendix I, the rate-and-state integrators, the chain's
+    integrated slip) that 'faultslip run --method' refused, and not one_slider, the ladder's lowest rung. Each one
+    listed runs by its name here (where its estimate is under 2 s), or says why this scene is outside its domain
+    and what to use."""
+    scene = CONFIGS / CASES[name][0]
+    rows = cli("methods", scene, "--json").json["methods"]
+    assert rows and all(name in row["families"] for row in rows)
+    assert rows == faultslip.models.methods(scene)
+    for row in rows:
+        method = row["run_method"]
+        if method is None:  # reached another way, and said how
+            assert row["selected_by"].strip() and "faultslip run SCENE --method" not in row["selected_by"], row
+            continue
+        assert row["selected_by"] == f"faultslip run SCENE --method {method}"
+        if faultslip.models.estimate(scene, method=method).seconds > 2.0:
+            continue
+        try:
+            result = faultslip.run(scene, method=method)
+        except faultslip.MethodError as exc:  # taken, and outside its domain on this scene: it names what to use
+            assert "use " in str(exc), exc
+            continue
+        # the vibration family reports its two methods by their short names (averaging, integration)
+        assert result.method == method or method.endswith("_" + result.method), (method, result.method)
+
+
+def test_a_scene_lists_only_the_methods_its_run_takes(cli):
+    """A laboratory rate-and-state scene runs its load history with an integrator chosen for it: the ladder's
+    rungs its family runs on a fault are not listed for it, and its run refuses them. The rough-surface slider
+    runs the integrators and averaging it lists; the seed law's closed forms and the baselines (which need a
+    linear kinetic law, or are not run methods) are refused by name before any work, not after."""
+    lab = CONFIGS / "rsf_velocity_step.toml"
+    listed = {row["name"] for row in cli("methods", lab, "--json").json["methods"]}
+    assert "one_slider" not in listed and "fault_2d" not in listed and "rate_state_lsoda" in listed
+    assert_clean_error(cli("run", lab, "--method", "one_slider"), "chooses its integrator")
+    for method in ("closed_form", "regularized_RK45"):
+        for extra in ((), ("--estimate",)):
+            refused = cli("run", CONFIGS / "rough_surface_seed000.toml", "--method", method, *extra)
+            assert_clean_error(refused, "a rough-surface scene runs one of auto, event_driven_DOP853")
+    assert_clean_error(cli("methods", "no_such_scene.toml"), "does not exist")
+
+
+def test_the_conformance_check_refuses_a_method_listing_the_run_disagrees_with(constant_friction, monkeypatch):
+    """check_family asks the run for every method the family lists by a run name, and reads the names in its
+    refusal of an unknown one: a family that lists a method its run refuses fails, and so does one whose run
+    takes a method its listing does not name for it."""
+    from dataclasses import replace
+
+    from faultslip.contract.registry import load
+    from faultslip.models.checks import ConformanceError
+
+    family = load("constant_friction")
+    row = family.methods()[0]
+    arguments = ("constant_friction", constant_friction, {"normal_load": ["50 N", "100 N"]})
+    monkeypatch.setitem(contract.FAMILIES, "constant_friction", replace(
+        family, methods=lambda: [row, dict(row, name="compiled", run_method="closed_form_compiled")]))
+    with pytest.raises(ConformanceError, match="lists method 'closed_form_compiled' for 'faultslip run --method' "
+                                               "and its run refuses it"):
+        check_family(*arguments, simulate_options={"cycles": 2})
+    monkeypatch.setitem(contract.FAMILIES, "constant_friction", replace(
+        family, methods=lambda: [dict(row, run_method=None, selected_by="a study's method")]))
+    with pytest.raises(ConformanceError, match=r"its run names \['closed_form'\], and 'faultslip methods' lists \[\]"):
+        check_family(*arguments, simulate_options={"cycles": 2})
+
+
+@pytest.mark.parametrize("words", [("run", "fault_2d_small.toml"), ("simulate", "lab_glass_dry.toml"),
+                                   ("model-error", "fault_2d_small.toml")])
+def test_a_command_line_estimate_adds_what_the_command_used_to_start(words, cli):
+    """A family's cost model counts its run's work; a command also starts Python and imports faultslip (0.5-0.7 s
+    of CPU on the machine the estimates were measured on: the smallest documented runs were estimated at 0.45-0.50
+    of their process's CPU). --estimate reports that start, measured in its own process, and adds it to the
+    estimate as the command's CPU time; the library's estimate, inside a running process, does not."""
+    command, scene = words
+    printed = cli(command, CONFIGS / scene, "--estimate", "--json").json
+    started, seconds = printed["process_start_seconds"]["value"], printed["seconds"]["value"]
+    assert started > 0 and printed["process_start_seconds"]["units"] == "s"
+    assert printed["command_seconds"]["value"] == pytest.approx(seconds + started, rel=1e-12)
+    action = {"run": "run", "simulate": "simulate", "model-error": "ladder"}[command]
+    assert "process_start_seconds" not in faultslip.models.estimate(CONFIGS / scene, action).report().to_dict()

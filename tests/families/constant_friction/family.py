@@ -75,7 +75,7 @@ def estimate(scene, action="run", cycles=None, method=None, **_) -> Estimate:
 
 METHODS = [{"name": "constant_friction_closed_form", "friction_laws": "constant static and kinetic friction",
             "domain": "an undamped slider: every loading rate", "cost_model": "O(1)",
-            "declared_error": "round-off (the exact cycle)"}]
+            "declared_error": "round-off (the exact cycle)", "run_method": "closed_form"}]
 CELLS = PerCell("a constant-friction study", PARAMETERS, OUTPUTS, run, read, methods=("auto", "closed_form"),
                 seconds=1e-4)
 FAMILY = register(Family("constant_friction", "a spring-slider with constant friction (a test family)", run,
