@@ -70,6 +70,15 @@ class OutOfDomainWarning(UserWarning):
     """
 
 
+def refusal(call) -> str | None:
+    """The sentence with which ``call()`` refuses its input (an :class:`InputError`), or None where it takes it."""
+    try:
+        call()
+    except InputError as exc:
+        return str(exc)
+    return None
+
+
 def did_you_mean(name: str, allowed, n: int = 2, cutoff: float = 0.6) -> str:
     """``"; did you mean a, b?"`` for the close matches of ``name`` in ``allowed``, else ``""``."""
 

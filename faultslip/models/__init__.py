@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import importlib
 
-from faultslip.errors import InputError
+from faultslip.errors import InputError, refusal
 from faultslip.io import budget
 from faultslip.contract.options import OPTIONS, UNIVERSAL
 # re-exported (the names' __all__ is built below, which linters cannot read)
@@ -158,17 +158,9 @@ def methods(scene=None) -> list[dict]:
     if scene is None:
         return method_rows()
     family = family_of(scene)
+    family.estimate(scene, "run")  # a scene its run would refuse is refused here, not listed with no method
     return [row for row in method_rows(family.name) if row["run_method"] is None
-            or _takes(lambda: family.estimate(scene, "run", method=row["run_method"]))]
-
-
-def _takes(call) -> bool:
-    """Whether ``call()`` takes its input (raises no :class:`~faultslip.errors.InputError`)."""
-    try:
-        call()
-    except InputError:
-        return False
-    return True
+            or refusal(lambda: family.estimate(scene, "run", method=row["run_method"])) is None]
 
 
 def simulate(scene=None, **options) -> Result:

@@ -18,7 +18,7 @@ import numpy as np
 
 from faultslip.contract.cells import cell_value
 from faultslip.contract.registry import METHOD_FIELDS, cells_of, load, read_scene, run_method
-from faultslip.errors import FaultslipError, InputError
+from faultslip.errors import FaultslipError, refusal
 from faultslip.contract.result import Result
 from faultslip.io.budget import Estimate
 from faultslip.io.netcdf import write_dataset
@@ -48,18 +48,9 @@ def check_units(dataset, where: str) -> None:
                      f"{where}: {name}'s flag_values and flag_meanings differ in number")
 
 
-def _refusal(call) -> str | None:
-    """The sentence with which ``call()`` refuses its input (an :class:`~faultslip.errors.InputError`), or None."""
-    try:
-        call()
-    except InputError as exc:
-        return str(exc)
-    return None
-
-
 def _refuses(call) -> bool:
     """Whether ``call()`` refuses its input (raises :class:`~faultslip.errors.InputError`)."""
-    return _refusal(call) is not None
+    return refusal(call) is not None
 
 
 def _check_listed_methods(name: str, family, scene, rows: list[dict], unknown: str) -> None:
@@ -68,10 +59,10 @@ def _check_listed_methods(name: str, family, scene, rows: list[dict], unknown: s
     those (its other names with an underscore are listed ones: a name the run takes but the listing hides fails)."""
     listed = [run_method(row) for row in rows if run_method(row) is not None]
     for method in listed:
-        refusal = _refusal(lambda: family.estimate(scene, "run", method=method))
-        _require(refusal is None, f"{name}: lists method {method!r} for 'faultslip run --method' and its run "
-                                  f"refuses it: {refusal}")
-    sentence = _refusal(lambda: family.estimate(scene, "run", method=unknown)) or ""
+        refused = refusal(lambda: family.estimate(scene, "run", method=method))
+        _require(refused is None, f"{name}: lists method {method!r} for 'faultslip run --method' and its run "
+                                  f"refuses it: {refused}")
+    sentence = refusal(lambda: family.estimate(scene, "run", method=unknown)) or ""
     named = set(re.findall(r"\b[a-z][a-z0-9]*(?:_[A-Za-z0-9]+)+\b", sentence)) - {unknown}
     _require(all(method in named for method in listed) and named <= set(listed),
              f"{name}: refusing an unknown method, its run names {sorted(named)}, and 'faultslip methods' lists "

@@ -625,7 +625,7 @@ def test_faultslip_methods_lists_what_each_scenes_run_takes(name, cli):
         assert result.method == method or method.endswith("_" + result.method), (method, result.method)
 
 
-def test_a_scene_lists_only_the_methods_its_run_takes(cli):
+def test_a_scene_lists_only_the_methods_its_run_takes(cli, tmp_path):
     """A laboratory rate-and-state scene runs its load history with an integrator chosen for it: the ladder's
     rungs its family runs on a fault are not listed for it, and its run refuses them. The rough-surface slider
     runs the integrators and averaging it lists; the seed law's closed forms and the baselines (which need a
@@ -639,6 +639,14 @@ def test_a_scene_lists_only_the_methods_its_run_takes(cli):
             refused = cli("run", CONFIGS / "rough_surface_seed000.toml", "--method", method, *extra)
             assert_clean_error(refused, "a rough-surface scene runs one of auto, event_driven_DOP853")
     assert_clean_error(cli("methods", "no_such_scene.toml"), "does not exist")
+    # a scene its run would refuse is refused, not listed as taking no method
+    broken = tmp_path / "broken.toml"
+    broken.write_text((CONFIGS / "fault_2d_small.toml").read_text(encoding="utf-8").replace(
+        'element_size = "', 'element_size = "banana ', 1), encoding="utf-8")
+    assert 'element_size = "banana ' in broken.read_text(encoding="utf-8")
+    refused = cli("methods", broken)
+    assert_clean_error(refused, "element_size")
+    assert refused.out == ""
 
 
 def test_the_conformance_check_refuses_a_method_listing_the_run_disagrees_with(constant_friction, monkeypatch):
