@@ -152,8 +152,10 @@ _numbers = report_numbers
 
 
 #: Scenes compared over the start of their run: SEAS BP5 at 2000 m over 1800 yr takes 40 s of CPU a run (twice
-#: here), the first 450 yr a quarter of it through the same reader and family (benchmarks/seas_bp5.py runs it whole).
-SHORTENED = {"seas_bp5.toml": ('duration = "1800 yr"', 'duration = "450 yr"')}
+#: here), the first 450 yr a quarter of it through the same reader and family (benchmarks/seas_bp5.py runs it whole);
+#: BP1's 2-D fault at 100 m over 1200 yr about 9 s, its first 400 yr a third (tests/capabilities/ladder runs it whole).
+SHORTENED = {"seas_bp5.toml": ('duration = "1800 yr"', 'duration = "450 yr"'),
+             "rsf_fault_bp1.toml": ('duration = "1200 yr"', 'duration = "400 yr"')}
 
 
 @pytest.mark.parametrize("scene", RUNNABLE)
