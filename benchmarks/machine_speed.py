@@ -168,6 +168,12 @@ def main(argv=None) -> int:
     except Exception:  # noqa: BLE001 - a first run has none to keep
         kept = {"groups": {}}
     groups = dict(kept.get("groups", {}))
+    try:  # the groups not rerun keep their runs in the record too (the data file holds none)
+        recorded = json.loads(RECORD.read_text(encoding="utf-8")).get("groups", {})
+    except (OSError, ValueError):
+        recorded = {}
+    groups.update({name: entry for name, entry in recorded.items() if name in groups and "runs" in entry
+                   and entry.get("reference_work_seconds") == groups[name].get("reference_work_seconds")})
     for group in chosen:
         groups[group] = anchored(group, args.quick)
     write_bundled_table(OUT, {"provenance": {"computed_by": "benchmarks/machine_speed.py", "faultslip": __version__,

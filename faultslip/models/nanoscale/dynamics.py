@@ -36,6 +36,7 @@ from faultslip.errors import InputError, SolverError
 from faultslip.io import budget
 from faultslip.io.report import Report
 from faultslip.models.nanoscale import cost as nanoscale_cost
+from faultslip.models.nanoscale.cost import SETTLE_CHUNK, SETTLE_MAX_TIME
 
 #: the slides' parameters ("The parameters used in the results reported here"), A = 3 in Fig. 3a
 SLIDES = {"damping": 3.0, "drive_speed": 0.02, "peak_speed": 0.01, "charging_time": 2.0, "charge_length": 1.57,
@@ -188,7 +189,8 @@ class NanoscaleModel:
         return [up, down, slowest]
 
     def settled_cycle(self, tolerance: float = 1e-6, rtol: float | None = None, max_cycles: int = 3000,
-                      chunk: float = 400.0, max_time: float = 2e5, allow_large: bool = False) -> "NanoscaleCycle":
+                      chunk: float = SETTLE_CHUNK, max_time: float = SETTLE_MAX_TIME,
+                      allow_large: bool = False) -> "NanoscaleCycle":
         """The steady cycle below A_c, shown to have settled (issue 27).
 
         Starts stuck (X' = 0 at the steady-sliding force: a large disturbance, approached from above),
@@ -213,7 +215,7 @@ class NanoscaleModel:
             self.charge_force * sigma0 ** 2
         state = np.array([0.0, 0.0, force0, sigma0, 0.0])
         t = 0.0
-        history, crossings, restarts, total = [], [], 0, 0
+        history, crossings, restarts, total, integrated = [], [], 0, 0, 0.0
         verdict, rho = None, math.nan
         floor = (self.drive_speed, 0.0, self.drive_speed)  # swing and least speed against v_a: both may vanish
         pending = {"top": None, "bottom": None, "slowest": math.inf}
@@ -224,6 +226,7 @@ class NanoscaleModel:
             if not solution.success or not np.all(np.isfinite(solution.y[:, -1])):
                 raise SolverError(f"LSODA failed on the nanoscale cycle at t = {t:g}: {solution.message}; tighten "
                                   "the tolerance")
+            integrated += chunk
             located = _locate_events(solution, events)
             marks = sorted([(float(time), kind, state_at) for kind, (times, states) in
                             enumerate(zip(*located)) for time, state_at in zip(times, states)],
@@ -274,7 +277,7 @@ class NanoscaleModel:
         remaining = max(noise * max(1.0, force0 / scale),
                         float(verdict.remaining) * max(abs(swing), self.drive_speed) / scale)
         return NanoscaleCycle(float(swing), float(period), float(slowest), verdict, total, restarts, rtol,
-                              remaining, self)
+                              remaining, self, integrated)
 
 
 #: A cycle sticks when its least speed falls below this fraction of v_m: onto the rising, static-like branch
@@ -305,6 +308,7 @@ class NanoscaleCycle:
     rtol: float
     estimated_error: float  # relative, of the force swing: the integrator's, or what settling left
     model: "NanoscaleModel"
+    integrated: float = math.nan  # model time integrated (1/omega): whole LSODA chunks, restarts included
 
     @property
     def regime(self) -> str:
@@ -518,6 +522,7 @@ def report(model: NanoscaleModel, run: NanoscaleRun | None = None, choice: Nanos
         r.add("least_speed", cycle.least_speed, label="least speed X' in the cycle (sticks below v_m)")
         r.add("settled", bool(cycle.settling.settled), label="the cycle settled")
         r.add("cycles", int(cycle.cycles), label="cycles integrated to settle")
+        r.add("settle_time", cycle.integrated, label="model time integrated to settle (whole chunks, in 1/omega)")
         error = cycle.estimated_error if error is None else max(error, cycle.estimated_error)
         if not cycle.settling.settled:
             r.note(f"the cycle did not settle: {cycle.settling.reason}")

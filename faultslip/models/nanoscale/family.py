@@ -3,6 +3,8 @@ closed form, the LSODA run only where the swing needs it."""
 
 from __future__ import annotations
 
+import dataclasses
+
 from faultslip.models.nanoscale.dynamics import choose_method, with_damping
 from faultslip.models.nanoscale.dynamics import report as nanoscale_report
 from faultslip.models.nanoscale.dynamics import run_dataset
@@ -102,13 +104,12 @@ OUTPUTS = {spec.name: spec for spec in (
 CELLS = PerCell("a nanoscale study", PARAMETERS, OUTPUTS, run, load_nanoscale_scene, methods=NANOSCALE_METHODS,
                 seconds=0.5)
 
-#: the nanoscale time a run's settled cycle integrates at most (NanoscaleModel.settled_cycle's max_time)
-SETTLE_MAX_TIME = 2e5
 
 
 def estimate(scene, action: str = "run", method=None, tolerance=None, **_) -> budget.Estimate:
-    """What a run or simulation of a nanoscale scene needs, before it starts: the closed form's overhead, or LSODA
-    over the scene's duration and, for a settled cycle, at most :data:`SETTLE_MAX_TIME` (cost.py)."""
+    """What a run or simulation of a nanoscale scene needs, before it starts: the closed form's overhead, a run's
+    settled cycle (cost.settle_estimate: the chunks it is expected to take), or a simulation's LSODA over the
+    scene's duration and its settled cycle."""
     model, settings, _notes = load_nanoscale_scene(scene)
     tolerance = tolerance or settings["tolerance"]
     if action == "run":
@@ -116,9 +117,13 @@ def estimate(scene, action: str = "run", method=None, tolerance=None, **_) -> bu
         wanted = ("regime",) if method == "nanoscale_linear_stability" else ("regime", "force_swing")
         if choose_method(model, wanted, method, tolerance).method != "nanoscale_LSODA":
             return budget.fitted_estimate("nanoscale", "closed_form", 0.0, "the regime in closed form")
-        return nanoscale_cost.nanoscale_estimate(SETTLE_MAX_TIME, 2)
-    duration = settings["duration"] + (SETTLE_MAX_TIME if model.stick_slip else 0.0)
-    return nanoscale_cost.nanoscale_estimate(duration, settings["samples"])
+        return nanoscale_cost.settle_estimate(model)
+    simulated = nanoscale_cost.nanoscale_estimate(settings["duration"], settings["samples"])
+    if not model.stick_slip:
+        return simulated
+    settle = nanoscale_cost.settle_estimate(model)  # its settled cycle, run after the series
+    return dataclasses.replace(simulated, seconds=simulated.seconds + settle.seconds,
+                               what=f"{simulated.what}, and its settled cycle")
 
 
 FAMILY = register(Family("nanoscale", "seed 001: nanoscale stick-slip with contact charging", run, simulate,
