@@ -308,6 +308,9 @@ def _studies_commands(commands) -> None:
                             "write them into the output")
     sweep.add_argument("--compression", choices=("zlib", "zstd", "none"), default="zlib",
                        help="netCDF4 filter (default zlib, readable everywhere; zstd writes ~2.5x faster)")
+    sweep.add_argument("--estimate", action="store_true",
+                       help="print what the sweep would need (time on its workers, memory, disk), each cell's cost "
+                            "from its family's cost model, and stop")
     sweep.add_argument("--json", action="store_true", help=COMMON["--json"])
     sweep.set_defaults(handler="sweeps:cmd_sweep")
 

@@ -9,7 +9,7 @@ import math
 import sys
 
 from faultslip.cli.common import _workers
-from faultslip.cli.printing import _progress
+from faultslip.cli.printing import _emit_estimate, _progress
 from faultslip.errors import FaultslipError
 from faultslip.io import budget
 from faultslip.io.convert import zarr_to_netcdf
@@ -24,16 +24,22 @@ def cmd_sweep(args) -> int:
     study = load_study(args.study)
     inputs = [args.study, study.scene.path]
     if args.retry_failed:
+        if args.estimate:
+            raise FaultslipError("--estimate estimates a whole sweep; --retry-failed reruns the cells a finished "
+                                 "one's ledger lists: give one of them")
         return _retry_failed(args, study)
-    # --resume continues into the same output: an existing final file is still refused without --overwrite
     file_format = output_format(args.output, args.format)
-    output = check_study_output(args.output, file_format, inputs=inputs, overwrite=args.overwrite)
     if args.chunks is not None and not 1 <= args.chunks <= 10**9:
         raise FaultslipError(f"--chunks must be a number of cells from 1 to 1e9, got {args.chunks}")
     chunk_cells = args.chunks or default_chunk_cells(study)
     # at least this many chunks (whole trailing dimensions may make more); known without listing them
     chunk_count = -(-study.size // chunk_cells)
     workers = (args.workers or 2) if args.scheduler else _workers(args, chunk_count)
+    if args.estimate:  # each cell's cost from its family's cost model, before any output is checked or cell runs
+        return _emit_estimate(budget.study_estimate(study, args.output, workers, chunk_cells, args.compression,
+                                                    streamed=True), args.json)
+    # --resume continues into the same output: an existing final file is still refused without --overwrite
+    output = check_study_output(args.output, file_format, inputs=inputs, overwrite=args.overwrite)
     budget.check(budget.study_estimate(study, output, workers, chunk_cells, args.compression, streamed=True),
                  args.allow_large)
     summary = run_study(study, output, chunk_cells=chunk_cells, scheduler=args.scheduler, workers=workers,

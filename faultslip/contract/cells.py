@@ -83,6 +83,15 @@ class Cells(Protocol):
         """Every output over the block whose swept values are ``values`` (name -> array on the study's axes)."""
 
 
+def corner_scenes(study) -> list:
+    """The study's base scene moved to each corner of its grid (every swept dimension's first or last value)."""
+    if not study.dims:
+        return []
+    corners = np.array(np.meshgrid(*[[0, len(v) - 1] for v in study.dims.values()], indexing="ij"))
+    return [study.scene.with_values(**{name: values[i] for (name, values), i in zip(study.dims.items(), index)})
+            for index in corners.reshape(len(study.dims), -1).T]
+
+
 def labelled(value) -> bool:
     """Whether ``value`` is an xarray DataArray, without importing xarray (nothing is one before it is imported)."""
     xarray = sys.modules.get("xarray")
@@ -119,7 +128,14 @@ class PerCell:
         return self.outputs(study)[name].attrs()
 
     def seconds_per_cell(self, study) -> float:
-        return self.seconds
+        """The family's own cost model (``Family.estimate``) of the run of the base scene and of each corner of the
+        grid, averaged; :attr:`seconds` where the family declares none."""
+        estimate = getattr(study.family, "estimate", None)
+        if estimate is None:
+            return self.seconds
+        method = None if study.method == "auto" else study.method
+        return float(np.mean([estimate(scene, "run", method=method, tolerance=study.tolerance).seconds
+                              for scene in [study.scene, *corner_scenes(study)]]))
 
     def counted(self, study) -> bool:
         return True
@@ -135,11 +151,8 @@ class PerCell:
         for name, values in study.dims.items():  # values on their own (a long axis: a spread), then the corners
             for value in checked_values(values):
                 self.read(study.scene.with_values(**{name: value}))
-        if study.dims:
-            corners = np.array(np.meshgrid(*[[0, len(v) - 1] for v in study.dims.values()], indexing="ij"))
-            for index in corners.reshape(len(study.dims), -1).T:
-                self.read(study.scene.with_values(**{name: values[i]
-                                                     for (name, values), i in zip(study.dims.items(), index)}))
+        for scene in corner_scenes(study):
+            self.read(scene)
 
     def category(self, scene, name: str, value: str, where: str) -> str:
         return value  # read and checked with the cell's scene (check)

@@ -235,7 +235,8 @@ def study_estimate(study, output, workers: int, chunk_cells: int, compression: s
     block = min(cells, float(chunk_cells))
     memory = block * 40 * 8.0 * (max(workers, 1) + 1)  # ~40 grid-sized temporaries per block in flight
     # the workers start together: each spends its one-off setup once (Study.seconds_per_worker)
-    return Estimate(what=f"this sweep of {cells:.3g} cells", memory=memory, disk=disk,
+    return Estimate(what=f"this sweep of {cells:.3g} cells on {max(workers, 1)} worker{'s' * (workers > 1)}",
+                    memory=memory, disk=disk,
                     seconds=cells / rate + study.seconds_per_worker() + (study.layout_seconds() if streamed else 0.0),
                     output=output)
 
