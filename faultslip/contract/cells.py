@@ -129,13 +129,18 @@ class PerCell:
 
     def seconds_per_cell(self, study) -> float:
         """The family's own cost model (``Family.estimate``) of the run of the base scene and of each corner of the
-        grid, averaged; :attr:`seconds` where the family declares none."""
+        grid, averaged over those it estimates; :attr:`seconds` where the family declares none."""
         estimate = getattr(study.family, "estimate", None)
         if estimate is None:
             return self.seconds
         method = None if study.method == "auto" else study.method
-        return float(np.mean([estimate(scene, "run", method=method, tolerance=study.tolerance).seconds
-                              for scene in [study.scene, *corner_scenes(study)]]))
+        costs = []
+        for scene in [study.scene, *corner_scenes(study)]:
+            try:
+                costs.append(estimate(scene, "run", method=method, tolerance=study.tolerance).seconds)
+            except InputError:  # a cell its run refuses fails alone, in the failure ledger, as before
+                continue
+        return float(np.mean(costs)) if costs else self.seconds
 
     def counted(self, study) -> bool:
         return True

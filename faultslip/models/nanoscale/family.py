@@ -105,7 +105,6 @@ CELLS = PerCell("a nanoscale study", PARAMETERS, OUTPUTS, run, load_nanoscale_sc
                 seconds=0.5)
 
 
-
 def estimate(scene, action: str = "run", method=None, tolerance=None, **_) -> budget.Estimate:
     """What a run or simulation of a nanoscale scene needs, before it starts: the closed form's overhead, a run's
     settled cycle (cost.settle_estimate: the chunks it is expected to take), or a simulation's LSODA over the

@@ -707,3 +707,16 @@ def test_a_sweep_is_estimated_cell_by_cell_from_its_familys_cost_model(constant_
     assert_clean_error(cli("sweep", study_file, "-o", out, "--estimate", "--retry-failed"), "give one of them")
     out.write_bytes(b"")  # an existing output does not stop an estimate, which writes nothing
     assert cli("sweep", study_file, "-o", out, "--estimate").code == 0 and out.read_bytes() == b""
+    # a cell whose run the family refuses fails alone (the failure ledger), not the study's estimate
+    from dataclasses import replace
+
+    from faultslip.contract.registry import load
+
+    family = load("constant_friction")
+
+    def refusing(scene, action="run", **options):
+        raise faultslip.InputError("refused")
+
+    refused = load_study(study_file)
+    refused.family = replace(family, estimate=refusing)
+    assert refused.seconds_per_cell() == family.cells.seconds
