@@ -69,11 +69,11 @@ def _nanoscale(duration: float):
 
 #: The scenes of each nanoscale run:settle case: label -> its model, for the predicted work (cost.settle_work).
 SETTLE_MODELS: dict = {}
-#: Near-critical settles (1 - A / A_c, the chunks taken), from which the approach factor k is fitted.
+#: Near-critical settles of the fit (1 - A / A_c, the chunks taken), from which the approach factor k is fitted.
 APPROACH: list = []
 
 
-def _nanoscale_settle(label: str, distance: float | None = None, **values):
+def _nanoscale_settle(label: str, distance: float | None = None, fitted: bool = True, **values):
     """A run's settled cycle (cost entry run:settle) on seed 001's scene moved to ``values``, or to A = A_c (1 -
     ``distance``): its units are the drive's displacement over the model time it integrated, read from a first
     run (the chunks it takes are what the entry's rate is fitted on; the chunks a scene will take are predicted
@@ -84,7 +84,7 @@ def _nanoscale_settle(label: str, distance: float | None = None, **values):
     model = load_nanoscale_scene(scene)[0]
     family = registry.load("nanoscale")
     integrated = family.run(scene).report().to_dict()["settle_time"]
-    if distance is not None:
+    if distance is not None and fitted:
         APPROACH.append((distance, integrated / SETTLE_CHUNK))
     label = f"run nanoscale_seed001.toml {label}"
     SETTLE_MODELS[label] = model
@@ -162,7 +162,8 @@ def held_out() -> list:
         _nanoscale(6000.0),
         *(_nanoscale_settle(f"(held out {index}: {', '.join(f'{k} {v:.3g}' for k, v in values.items())})", **values)
           for index, values in enumerate(_random_nanoscale(8, seed=1001))),
-        _nanoscale_settle("(held out: v_a = 0.03, A = A_c (1 - 0.003))", distance=0.003, drive_speed=0.03),
+        _nanoscale_settle("(held out: v_a = 0.03, A = A_c (1 - 0.003))", distance=0.003, fitted=False,
+                          drive_speed=0.03),
         _family_case("rough_surface", "simulate", "rough_surface_chapter5.toml", rough_cost.work, cycles=30),
         _family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=1000),
         _family_case("spring_slider", "run", "parkfield.toml", lambda *a, **k: (a[1], 0.0, "")),
@@ -222,10 +223,9 @@ def main(argv=None) -> int:
         rows = [row for row in measured if (row["family"], row["entry"]) == (family, entry) and not row["held_out"]]
         families.setdefault(family, {})[entry] = {**fit(rows), "fitted_on": [row["case"] for row in rows]}
     # the approach factor k: chunks - 1 = k / (1 - A / A_c), least squares through the origin over the fitted
-    # near-critical settles (held-out ones appended later are not in APPROACH's first part)
-    fitted_approach = APPROACH[:3]
-    inverse = np.array([1.0 / distance for distance, _ in fitted_approach])
-    extra = np.array([chunks - 1.0 for _, chunks in fitted_approach])
+    # near-critical settles (the held-out ones are not in APPROACH)
+    inverse = np.array([1.0 / distance for distance, _ in APPROACH])
+    extra = np.array([chunks - 1.0 for _, chunks in APPROACH])
     families["nanoscale"]["run:settle"]["approach"] = float(max(0.0, inverse @ extra / (inverse @ inverse)))
     for (family, entry), (source_family, source_entry) in BORROWED.items():
         families[family][entry] = {**{key: families[source_family][source_entry][key]
