@@ -111,7 +111,9 @@ class Estimate:
         -------
         Report
             ``seconds`` (s), ``memory`` and ``disk`` (B), and where the cost model was fitted on other scenes."""
-        report = Report(title or f"faultslip estimate: {self.what}")
+        # a long description is the 'what' row's alone, not repeated as a title over several lines
+        short = len(self.what) <= 80
+        report = Report(title or ("faultslip estimate: " + self.what if short else "faultslip estimate"))
         report.add("what", self.what)
         report.add("seconds", self.seconds, "s", label="CPU time, about")
         if started is not None:

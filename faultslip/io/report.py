@@ -91,7 +91,9 @@ class Report:
         return json.dumps(self.to_dict(), indent=2, allow_nan=False)
 
     def to_text(self) -> str:
-        lines = [self.title, "=" * len(self.title)]
+        # a long title is folded like a note, its rule as long as its longest line (not the whole title)
+        title = textwrap.wrap(self.title, width=LINE_WIDTH, break_on_hyphens=False) or [""]
+        lines = [*title, "=" * max(len(line) for line in title)]
         starts = {index: heading for heading, index in self.sections.items()}
         width = min(max((len(item.label) for item in self.items), default=10), LABEL_WIDTH) + 2
         for index, item in enumerate(self.items):

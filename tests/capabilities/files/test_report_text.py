@@ -5,7 +5,7 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from faultslip.io.report import Report
+from faultslip.io.report import LINE_WIDTH, Report
 
 
 def test_a_second_unit_is_shown_only_where_it_reads_without_an_exponent():
@@ -54,3 +54,14 @@ def test_the_corner_plot_labels_every_parameter_a_fit_can_have():
     figure = corner_figure(posterior)
     labels = {axis.get_xlabel() for axis in figure.axes} | {axis.get_ylabel() for axis in figure.axes}
     assert r"$c$ (1/mm)" in labels and r"$k$ (1/mm)" in labels and "a new parameter" in labels
+
+
+def test_a_long_title_is_folded_and_its_rule_is_as_long_as_its_longest_line():
+    """An escalation's estimate was titled with its whole description: one line of 400 characters, and a rule
+    of '=' as long."""
+    title = "faultslip estimate: " + "the one slider, then the 2-D fault of the same scene; " * 8
+    lines = Report(title).to_text().splitlines()
+    rule = next(i for i, line in enumerate(lines) if set(line) == {"="})
+    assert rule > 1 and all(len(line) <= LINE_WIDTH for line in lines)
+    assert len(lines[rule]) == max(len(line) for line in lines[:rule])
+    assert " ".join(lines[:rule]) == title.strip()
