@@ -15,8 +15,8 @@ from faultslip.io import budget
 from faultslip.io.convert import zarr_to_netcdf
 from faultslip.io.processes import retain_freed_memory
 from faultslip.studies.grid import load_study
-from faultslip.studies.streaming import (cell_counts, check_study_output, default_chunk_cells, output_format, reproduce,
-                                         retry_failed, run_study)
+from faultslip.studies.streaming import (cell_counts, check_study_output, choose_execution, default_chunk_cells,
+                                         output_format, reproduce, retry_failed, run_study)
 
 
 def cmd_sweep(args) -> int:
@@ -35,12 +35,14 @@ def cmd_sweep(args) -> int:
     # at least this many chunks (whole trailing dimensions may make more); known without listing them
     chunk_count = -(-study.size // chunk_cells)
     workers = (args.workers or 2) if args.scheduler else _workers(args, chunk_count)
+    # estimated on the workers the run will use: a small study runs in this process whatever --workers says
+    working = choose_execution(study, chunk_count, workers, args.scheduler)[0]
     if args.estimate:  # each cell's cost from its family's cost model, before any output is checked or cell runs
-        return _emit_estimate(budget.study_estimate(study, args.output, workers, chunk_cells, args.compression,
+        return _emit_estimate(budget.study_estimate(study, args.output, working, chunk_cells, args.compression,
                                                     streamed=True), args.json)
     # --resume continues into the same output: an existing final file is still refused without --overwrite
     output = check_study_output(args.output, file_format, inputs=inputs, overwrite=args.overwrite)
-    budget.check(budget.study_estimate(study, output, workers, chunk_cells, args.compression, streamed=True),
+    budget.check(budget.study_estimate(study, output, working, chunk_cells, args.compression, streamed=True),
                  args.allow_large)
     summary = run_study(study, output, chunk_cells=chunk_cells, scheduler=args.scheduler, workers=workers,
                         resume=args.resume, progress=_progress("sweep", not args.json, "chunk"),

@@ -80,12 +80,16 @@ class Estimate:
     memory, disk : float
         Bytes held at once, and written (B).
     seconds : float
-        CPU time (s), about.
+        CPU time (s), about; for work on several workers, its time on them, together (what the budget holds).
     output : path or None
         Where the disk bytes go.
     outside_fit : tuple of str
         Where the scene lies outside the scenes the cost model was fitted on (then :func:`check` refuses it
         without ``--allow-large``).
+    workers : int
+        Workers the work is shared by (a sweep's); with more than one, ``cpu_seconds`` is their CPU summed.
+    cpu_seconds : float or None
+        CPU time over every worker (s), where ``workers`` > 1.
     """
 
     what: str  # e.g. "this sweep of 1e+12 cells"
@@ -94,6 +98,8 @@ class Estimate:
     seconds: float = 0.0
     output: object = None  # where the disk bytes go
     outside_fit: tuple = ()  # sentences: where the scene lies outside the range the estimate was fitted on
+    workers: int = 1
+    cpu_seconds: float | None = None
 
     def report(self, title: str | None = None, started: float | None = None):
         """The estimate as a :class:`~faultslip.io.report.Report` (what ``--estimate`` prints).
@@ -115,10 +121,15 @@ class Estimate:
         short = len(self.what) <= 80
         report = Report(title or ("faultslip estimate: " + self.what if short else "faultslip estimate"))
         report.add("what", self.what)
-        report.add("seconds", self.seconds, "s", label="CPU time, about")
+        shared = self.workers > 1  # then seconds is the workers' time together, not the CPU they use
+        report.add("seconds", self.seconds, "s",
+                   label=f"time on its {self.workers} workers, about" if shared else "CPU time, about")
+        if shared:
+            report.add("cpu_seconds", self.cpu_seconds, "s", label="CPU time over the workers, about")
         if started is not None:
             report.add("process_start_seconds", started, "s", label="CPU to start (Python, imports), measured")
-            report.add("command_seconds", self.seconds + started, "s", label="the command's CPU time, about")
+            report.add("command_seconds", self.seconds + started, "s",
+                       label="the command's time, about" if shared else "the command's CPU time, about")
         report.add("memory", self.memory, "B", also=("MB",), label="memory held at once")
         report.add("disk", self.disk, "B", also=("MB",), label="disk written")
         report.add("within_budget", self.fits(), label="within the budget (time, memory, disk)")
@@ -237,10 +248,12 @@ def study_estimate(study, output, workers: int, chunk_cells: int, compression: s
     block = min(cells, float(chunk_cells))
     memory = block * 40 * 8.0 * (max(workers, 1) + 1)  # ~40 grid-sized temporaries per block in flight
     # the workers start together: each spends its one-off setup once (Study.seconds_per_worker)
+    layout = study.layout_seconds() if streamed else 0.0
     return Estimate(what=f"this sweep of {cells:.3g} cells on {max(workers, 1)} worker{'s' * (workers > 1)}",
-                    memory=memory, disk=disk,
-                    seconds=cells / rate + study.seconds_per_worker() + (study.layout_seconds() if streamed else 0.0),
-                    output=output)
+                    memory=memory, disk=disk, seconds=cells / rate + study.seconds_per_worker() + layout,
+                    output=output, workers=max(workers, 1),
+                    cpu_seconds=cells * study.seconds_per_cell() + max(workers, 1) * study.seconds_per_worker()
+                    + layout)
 
 
 #: Bytes held per cell of a map's raster (coordinates, unit vectors, nearest index and distance, four maps).

@@ -704,6 +704,13 @@ def test_a_sweep_is_estimated_cell_by_cell_from_its_familys_cost_model(constant_
     assert printed.json["seconds"]["value"] == pytest.approx(6 * 1e-3 / workers, rel=1e-12)
     assert printed.json["command_seconds"]["value"] > printed.json["seconds"]["value"]
     assert not out.exists() and not list(tmp_path.glob("c.nc*"))
+    # shared by workers, its time on them is not the CPU they use: the report says both, each by its name
+    from faultslip.io import budget
+
+    shared = budget.study_estimate(study, None, 3, 6).report().to_text()
+    assert "time on its 3 workers, about" in shared and "CPU time over the workers, about" in shared
+    assert budget.study_estimate(study, None, 3, 6).cpu_seconds == pytest.approx(6e-3, rel=1e-12)
+    assert "CPU time, about" in budget.study_estimate(study, None, 1, 6).report().to_text()
     assert_clean_error(cli("sweep", study_file, "-o", out, "--estimate", "--retry-failed"), "give one of them")
     out.write_bytes(b"")  # an existing output does not stop an estimate, which writes nothing
     assert cli("sweep", study_file, "-o", out, "--estimate").code == 0 and out.read_bytes() == b""
