@@ -26,7 +26,7 @@ from faultslip.dynamics.rate_state.slider import (LoadHistory, RateStateSlider, 
                                                   simulate_rate_state)
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.rate_state import RateStateLaw
-from faultslip.io.progress import announce as _announce, duration as _duration, reporter
+from faultslip.io.progress import announce as _announce, counted, duration as _duration, reporter
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, split_header
 from faultslip.units import to_si_scalar, unit_factor
 from faultslip.datasets import ToXarray
@@ -303,25 +303,30 @@ TREND_LIMIT = 1e4
 
 class _FitWatch:
     """Progress of one least-squares fit (scipy's trf: at most 100 n Jacobian-and-residual rounds of n + 1
-    evaluations, the limit passed to it): the slider integrations done against that bound, and, from the first
-    evaluation's time, the most the fit can take, said before it goes on when that is 10 s or more."""
+    evaluations, the limit passed to it): the slider integrations done against that bound, and, from the second
+    evaluation's time, the most the fit can take, said before it goes on when that is 10 s or more. The first
+    evaluation also loads the compiled kernel (or compiles it), once: timed on its own it made the bound tens of
+    times too long."""
+
+    clock = staticmethod(time.process_time)
 
     def __init__(self, progress, label: str, parameters: int):
         self.limit = 100 * parameters
         self.total = self.limit * (parameters + 1)
         self.report = reporter(progress, label, "integration")
-        self.count, self.began, self.said = 0, time.process_time(), False
+        self.count, self.stamps = 0, []  # when the first three evaluations began
 
     def evaluated(self) -> None:
+        self.count += 1
+        if len(self.stamps) < 3:
+            self.stamps.append(self.clock())
         if self.report is None:
             return
-        self.count += 1
-        if self.count == 2 and not self.said:
-            self.said = True
-            first = time.process_time() - self.began
+        if self.count == 3:
+            each = self.stamps[2] - self.stamps[1]
             _announce(self.report, f"fitting: at most {self.total} slider integrations, at most about "
-                                   f"{_duration(first * self.total)} (one took {_duration(first)}); most fits end "
-                                   "far sooner", first * self.total)
+                                   f"{_duration(each * self.total)} (one takes {_duration(each)}); most fits end "
+                                   "far sooner", each * self.total)
         if self.count % 10 == 0:
             self.report(min(self.count, self.total), self.total)
 
@@ -436,10 +441,8 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
 
     # finite differences of 1e-4 relative: far above the solver's error (rtol), so the Jacobian,
     # and with it the covariance, is not polluted by integration noise
-    fit_started = time.process_time()
     result = least_squares(residuals, start, bounds=(lower, upper), method="trf", x_scale="jac",
                            xtol=1e-10, ftol=1e-12, gtol=1e-12, diff_step=1e-4, max_nfev=watch.limit)
-    fit_seconds = time.process_time() - fit_started
     watch.done()
     if not result.success:
         raise SolverError(f"the rate-and-state fit did not converge ({result.message}); give a closer initial guess")
@@ -455,13 +458,12 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
         # residual bootstrap: the load history is the experiment's fixed design
         centred = result.fun - result.fun.mean()
         rows, failed = [], 0
-        report = reporter(progress, "bootstrap", "refit")
-        if report is not None:
-            _announce(report, f"bootstrap: {bootstrap} refits, about {_duration(bootstrap * fit_seconds)} (one fit "
-                              f"took {_duration(fit_seconds)})", bootstrap * fit_seconds)
+        # a refit starts at the best fit and takes fewer evaluations than the fit: the rest timed on the first
+        step = counted(progress, "bootstrap", bootstrap, "refit", "bootstrap refits")
+        refits_started = time.process_time()
         for done in range(bootstrap):
-            if report is not None:
-                report(done, bootstrap)
+            if step is not None:
+                step(done, time.process_time() - refits_started if done == 1 else None)
             observed = fitted + rng.choice(centred, size=points, replace=True)
             # each resample starts at the best fit; rtol 1e-9 stays far below any noise a lab records
             refit = least_squares(residuals, result.x, bounds=(lower, upper), method="trf", x_scale="jac",
@@ -471,8 +473,8 @@ def fit_velocity_steps(record: StepRecord, stiffness: float, *, evolution: str =
                 rows.append(refit.x)
             else:
                 failed += 1
-        if report is not None:
-            report(bootstrap, bootstrap)
+        if step is not None:
+            step(bootstrap)
         if len(rows) < max(2, (bootstrap + 1) // 2):
             raise SolverError(f"only {len(rows)} of {bootstrap} bootstrap refits converged; the record does not "
                               "constrain the law well enough for bootstrap intervals (fit without --bootstrap)")

@@ -6,6 +6,7 @@ import pytest
 from faultslip.dynamics.rate_state.slider import LoadHistory
 from faultslip.errors import InputError
 from faultslip.friction.rate_state import RateStateLaw
+from faultslip.lab import rate_state_fit
 from faultslip.lab.rate_state_fit import (fit_velocity_steps, read_step_record, step_record_from_columns,
                                           synthetic_step_record)
 
@@ -304,3 +305,24 @@ def test_fit_joint_from_the_command_line(cli, tmp_path):
 
     assert_clean_error(cli("fit", "--law", "rate-state", paths[0], "--joint", paths[1], "--stiffness", "1e-2 1/um",
                            "--bundle", tmp_path / "b.zip"), "not bundled")
+
+
+def test_the_fits_announced_bound_times_an_evaluation_after_the_first(monkeypatch):
+    """The first evaluation also loads the compiled kernel (once); the bound announced before a long fit multiplies
+    the second evaluation's time by the most evaluations trf may take (100 n rounds of n + 1)."""
+    clock = iter([0.0, 5.0, 5.5])  # evaluations begin at these CPU times: the first took 5 s, the second 0.5 s
+    monkeypatch.setattr(rate_state_fit._FitWatch, "clock", staticmethod(lambda: next(clock)))
+    said = []
+
+    class Bar:  # a progress reporter with a line to say things on, as the CLI's bar has
+        def __call__(self, done, total):
+            pass
+
+        def announce(self, text):
+            said.append(text)
+
+    watch = rate_state_fit._FitWatch(Bar(), "fit", 3)
+    for _ in range(3):
+        watch.evaluated()
+    assert said == ["fitting: at most 1200 slider integrations, at most about 10 min (one takes 0.5 s); most fits "
+                    "end far sooner"]
