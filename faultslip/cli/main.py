@@ -493,7 +493,8 @@ def _vibration_commands(commands) -> None:
                            help="damping coefficients for --regions, e.g. '0 lbf*s/in' '0.02 lbf*s/in' 41")
     vibration.add_argument("--regions", help="draw the (v, r) plane of regimes (needs --speeds and --dampings)")
     vibration.add_argument("--method", default="auto", help="auto (averaging where its error meets the tolerance), "
-                                                              "averaging or integration")
+                                                              "quasi_harmonic_averaging or quasi_harmonic_integration "
+                                                              "(averaging or integration for short)")
     vibration.add_argument("--tolerance", help="relative error asked of the amplitude (default 1e-3)")
     vibration.add_argument("--error-chart", help="draw averaging's error against integration over eps, measured "
                                                  "on Rayleigh's curve and on the scene itself (~20 s)")

@@ -587,7 +587,7 @@ def report(system: QuasiHarmonic, result: QuasiHarmonicResult, sweep: dict | Non
         amplitude = settled["amplitude"] if settled else result.amplitude
         r.add("amplitude", amplitude, "m", also=("in",), label="limit-cycle amplitude A")
         r.add("peak_speed", amplitude * omega, "m/s", also=("in/s",), label="A omega (must stay below v)")
-        r.add("method", settled["method"] if settled else "averaging")
+        r.add("method", method_name(settled["method"] if settled else "averaging"))  # what --method takes
         if settled:
             r.add("method_reason", settled["reason"], label="why this method")
         r.add("estimated_relative_error", settled["estimated_relative_error"] if settled else result.estimated_error,
@@ -640,6 +640,22 @@ METHODS = {
                                    "cycle decayed by e^-16)"},
 }
 INTEGRATION_ERROR = 1e-6
+#: a method by the name ``faultslip methods`` lists (what a report says) or by its short name
+METHOD_ALIASES = {"auto": "auto", **{short: short for short in METHODS},
+                  **{entry["name"]: short for short, entry in METHODS.items()}}
+
+
+def method_name(method: str) -> str:
+    """The listed name of a method given by either name (``averaging`` -> ``quasi_harmonic_averaging``)."""
+    short = METHOD_ALIASES[method]
+    return METHODS[short]["name"] if short in METHODS else short
+
+
+def _short_method(method) -> str:
+    if method not in METHOD_ALIASES:
+        raise InputError(f"method must be auto, quasi_harmonic_averaging or quasi_harmonic_integration (averaging "
+                         f"or integration for short), got {method!r}")
+    return METHOD_ALIASES[method]
 
 
 def settle_periods(system: QuasiHarmonic, result: QuasiHarmonicResult) -> float:
@@ -655,6 +671,7 @@ def analyse_and_settle(system: QuasiHarmonic, method: str = "auto", tolerance: f
     """(analysis, settled): :meth:`QuasiHarmonic.analyse` and, where the slider vibrates or the call is
     marginal, :func:`settled_amplitude`. A marginal cycle that sticks when integrated comes back as not
     valid (stick-slip), with the integration's finding in its notes; ``settled`` is then None."""
+    method = _short_method(method)
     analysis = system.analyse()
     if not (analysis.valid or analysis.marginal):
         return analysis, None
@@ -673,8 +690,7 @@ def settled_amplitude(system: QuasiHarmonic, method: str = "auto", tolerance: fl
     within HAND_OVER_MARGIN eps of sticking, else integration, which costs seconds). Returns the amplitude (m),
     the method, its declared error and why it was chosen; raises :class:`SolverError` where the oscillation
     sticks (the stick-slip methods apply there), or where averaging is asked for a cycle too close to call."""
-    if method not in ("auto", "averaging", "integration"):
-        raise InputError(f"method must be auto, averaging or integration, got {method!r}")
+    method = _short_method(method)
     if not 0 < tolerance < 1:
         raise InputError(f"tolerance must be a relative error between 0 and 1, got {tolerance!r}")
     result = system.analyse()

@@ -118,6 +118,12 @@ def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, si
     _require(isinstance(result, Result) and result.family == name, f"{name}: run returns a Result of the family")
     check_units(result.to_xarray(), f"{name} run's to_xarray()")
     _require(result.report().to_text().strip(), f"{name}: the run's report is empty")
+    # the method it reports is one the listing names (the vibration run had said 'averaging', which no
+    # --method took): a user who reads it can ask for it again
+    names = {row["name"] for row in rows} | {run_method(row) for row in rows} - {None}
+    _require(result.method is None or result.method in names,
+             f"{name}: its run reports method {result.method!r}, which 'faultslip methods' does not list for it "
+             f"({', '.join(sorted(names))})")
     # a scene read for a study varies by its declared parameters, and reads back
     loaded, found = read_scene(scene)
     _require(found.name == name, f"{name}: its scene reads as a {found.name} scene")

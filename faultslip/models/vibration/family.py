@@ -69,7 +69,8 @@ def amplitude_study(scene, speed=None, speeds=None, method: str = "auto", tolera
         ``(start, stop, count)``: the amplitude against driving speed over that many speeds (seed 002 Figs.
         10-11), in the report's JSON and the figure.
     method : str
-        auto, averaging or integration (``faultslip quasi-harmonic --method``).
+        auto, quasi_harmonic_averaging or quasi_harmonic_integration (averaging or integration for short;
+        ``faultslip quasi-harmonic --method``).
     tolerance : float
         The amplitude's relative error allowed.
 
@@ -121,7 +122,7 @@ OUTPUTS = {spec.name: spec for spec in (
     Output("natural_frequency", "Hz", "omega / 2 pi"),
     Output("growth_rate", "1/s", "growth rate of small oscillations, -(r + W f'(v)) / 2M"),
     Output("small_parameter", "1", "eps = (r + W max|f'|) / (M omega), small where averaging holds"),
-    Output("method", "1", "method of this cell", flags=("averaging", "integration")),
+    Output("method", "1", "method of this cell", flags=("quasi_harmonic_averaging", "quasi_harmonic_integration")),
     Output("estimated_relative_error", "1", "estimated relative error of the amplitude"),
 )}
 CELLS = PerCell("a vibration study", PARAMETERS, OUTPUTS, run, read_vibration_scene,

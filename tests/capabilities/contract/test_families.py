@@ -650,6 +650,7 @@ def test_the_conformance_check_refuses_a_method_listing_the_run_disagrees_with(c
     from dataclasses import replace
 
     from faultslip.contract.registry import load
+    from faultslip.contract.result import Result
     from faultslip.models.checks import ConformanceError
 
     family = load("constant_friction")
@@ -663,6 +664,16 @@ def test_the_conformance_check_refuses_a_method_listing_the_run_disagrees_with(c
     monkeypatch.setitem(contract.FAMILIES, "constant_friction", replace(
         family, methods=lambda: [dict(row, run_method=None, selected_by="a study's method")]))
     with pytest.raises(ConformanceError, match=r"its run names \['closed_form'\], and 'faultslip methods' lists \[\]"):
+        check_family(*arguments, simulate_options={"cycles": 2})
+
+    def reporting(scene, method=None, tolerance=None):  # a run that reports its method by another name
+        result = family.run(scene, method=method, tolerance=tolerance)
+        return Result(result.family, result.report().set("method", "closed"), result.series, result.figure,
+                      result.extras)
+
+    monkeypatch.setitem(contract.FAMILIES, "constant_friction", replace(family, run=reporting))
+    with pytest.raises(ConformanceError, match="its run reports method 'closed', which 'faultslip methods' does "
+                                               "not list for it"):
         check_family(*arguments, simulate_options={"cycles": 2})
 
 
