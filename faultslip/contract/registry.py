@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from faultslip.errors import InputError, did_you_mean
-from faultslip.io.resources import parse_toml, read_text_file, resolve_path, scene_document
+from faultslip.io.resources import check_toml_kind, parse_toml, read_text_file, resolve_path, scene_document
 
 
 @dataclass(frozen=True)
@@ -293,6 +293,7 @@ def family_of(scene=None) -> Family:
     document = scene_document(str(path))
     if document is None:  # unreadable: the spring-slider's reader says why in its own words
         return load(default)
+    check_toml_kind(document, path.name, "scene")
     return load(_declared(document) or default)
 
 
@@ -308,7 +309,9 @@ def read_scene(scene, base_dir=None):
 
 def read_scene_text(text: str, source: str, path=None, origin: str = ""):
     """A scene's text read by its family: (scene object, family)."""
-    family = family_of_document(parse_toml(text, source))
+    document = parse_toml(text, source)
+    check_toml_kind(document, source, "scene")
+    family = family_of_document(document)
     if family.read_scene is None:
         raise InputError(f"a {family.name} scene cannot be read for a study")
     scene = family.read_scene(text, source, path)

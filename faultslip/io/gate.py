@@ -195,6 +195,36 @@ def parse_toml(text: str | dict, source: str) -> dict:
         raise InputError(f"{source} nests arrays or tables too deep to read") from None
 
 
+#: faultslip's TOML files by kind: the tables that make one (any of them), and the command that takes it
+TOML_KINDS = {"study": (("study", "sweep"), "faultslip sweep {source} -o OUTPUT"),
+              "map": (("map",), "faultslip map {source} -o OUTPUT")}
+
+
+def toml_kind(document: dict) -> str:
+    """What a parsed faultslip TOML file is: a study, a map, or (any other) a scene."""
+    for kind, (tables, _) in TOML_KINDS.items():
+        if any(table in document for table in tables):
+            return kind
+    return "scene"
+
+
+def check_toml_kind(document: dict, source: str, wanted: str) -> None:
+    """Refuse, in one sentence saying what takes it, a study, map or scene file given where another kind is
+    read (a study to 'faultslip run' had been refused as a scene with an unknown table [study])."""
+    kind = toml_kind(document)
+    if kind == wanted:
+        return
+    if kind == "scene":
+        raise InputError(f"{source} is a scene, not a {wanted} (a {wanted} has a "
+                         f"{' or '.join(f'[{t}]' for t in TOML_KINDS[wanted][0])} table): "
+                         f"'faultslip run {source}' runs it, and a {wanted} names a scene as its base")
+    command = TOML_KINDS[kind][1].format(source=source)
+    base = document.get(kind, {}).get("base") if isinstance(document.get(kind), dict) else None
+    based = f" (its base scene, {base}, is one)" if isinstance(base, str) and wanted == "scene" else ""
+    raise InputError(f"{source} is a {kind}, not a {wanted}: '{command}' runs it; this command takes a "
+                     f"{wanted}{based}")
+
+
 def read_toml(path, label: str) -> dict:
     """A TOML file through the gate."""
     path = Path(path)

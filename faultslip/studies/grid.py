@@ -38,7 +38,7 @@ from faultslip.contract.registry import DECLARATIONS, cells_of, family_of, load,
 from faultslip.errors import InputError, did_you_mean
 from faultslip.io import budget
 from faultslip.io.budget import MAX_DIMENSION_VALUES
-from faultslip.io.resources import parse_toml, read_text_file
+from faultslip.io.resources import check_toml_kind, parse_toml, read_text_file
 from faultslip.units import is_quantity, to_si_scalar
 
 STUDY_KEYS = {"name", "base", "method", "tolerance", "description", "cycles"}
@@ -203,11 +203,13 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
     """Parse and validate a study. ``base_text`` overrides reading the base scene (reproduction)."""
 
     document = parse_toml(text, source)
+    check_toml_kind(document, source, "study")
     for table in document:
         if table not in ("study", "sweep"):
             close = difflib.get_close_matches(table, ["study", "sweep"], n=1)
             hint = f"; did you mean [{close[0]}]?" if close else ""
-            raise InputError(f"unknown table [{table}] in {source}{hint} (allowed: [study], [sweep])")
+            what = f"table [{table}]" if isinstance(document[table], dict) else f"key {table} outside [study]"
+            raise InputError(f"unknown {what} in {source}{hint} (allowed: [study], [sweep])")
     head = document.get("study", {})
     if not isinstance(head, dict):
         raise InputError(f"study in {source} must be a table [study], got a value")

@@ -41,7 +41,7 @@ from faultslip.io.geojson import read_fault_geojson
 from faultslip.io.sherifs import read_sherifs_faults, read_sherifs_ruptures
 from faultslip.errors import InputError, did_you_mean
 from faultslip.io import budget
-from faultslip.io.resources import bundled_dir, parse_toml, read_unit_csv
+from faultslip.io.resources import bundled_dir, check_toml_kind, parse_toml, read_unit_csv
 from faultslip.units import si_unit, to_si
 from faultslip import __version__
 from faultslip.fault.scene import Scene, read_slider_scene, parse_scene
@@ -532,6 +532,7 @@ def read_map(path) -> MapSpec:
     path, origin = resolve_path(path, "map file")
     text = read_text_file(path, "map file")
     document = parse_toml(text, path.name)
+    check_toml_kind(document, path.name, "map")
     for table, content in document.items():
         if table not in MAP_SCHEMA:
             raise InputError(f"unknown table [{table}] in {path.name} (allowed: {', '.join(MAP_SCHEMA)})")

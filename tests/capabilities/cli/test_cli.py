@@ -109,3 +109,25 @@ def test_console_script_exits_2_without_traceback():
     assert result.stderr.strip() == (
         'faultslip: error: slip rate must be a speed such as "2 in/yr" or "24 mm/yr", got 2 bar'
     )
+
+
+@pytest.mark.parametrize("command, wanted", [(("run",), "scene"), (("methods",), "scene"), (("simulate",), "scene"),
+                                             (("sweep", "-o", "out.nc"), "study"), (("map", "-o", "out.nc"), "map")])
+def test_a_study_map_or_scene_given_to_the_wrong_command_is_named_with_the_command_that_runs_it(command, wanted,
+                                                                                                 cli, tmp_path):
+    """A study given to 'faultslip run' had been refused as a scene with 'unknown table [study]', and a scene given
+    to 'faultslip sweep' as a study with 'unknown table [name]': each now says what it is and what runs it."""
+    files = {"study": ("configs/study_asperity.toml", "faultslip sweep study_asperity.toml -o OUTPUT"),
+             "map": ("configs/san_andreas_map.toml", "faultslip map san_andreas_map.toml -o OUTPUT"),
+             "scene": ("configs/asperity_seed004.toml", "faultslip run asperity_seed004.toml")}
+    for kind, (path, runs) in files.items():
+        if kind == wanted:
+            continue
+        verb, *options = command
+        options = [str(tmp_path / option) if option.endswith(".nc") else option for option in options]
+        refused = cli(verb, path, *options)
+        assert_clean_error(refused, f"is a {kind}, not a {wanted}", runs)
+        assert not list(tmp_path.iterdir())  # nothing written
+    # a study's base scene is named where a scene was wanted
+    if wanted == "scene":
+        assert "its base scene, asperity_seed004.toml, is one" in cli(verb, "configs/study_asperity.toml").err
