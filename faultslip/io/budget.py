@@ -86,6 +86,8 @@ class Estimate:
     outside_fit : tuple of str
         Where the scene lies outside the scenes the cost model was fitted on (then :func:`check` refuses it
         without ``--allow-large``).
+    notes : tuple of str
+        What the estimate leaves out and may follow (a rerun that only happens if the run ends unsettled).
     workers : int
         Workers the work is shared by (a sweep's); with more than one, ``cpu_seconds`` is their CPU summed.
     cpu_seconds : float or None
@@ -100,6 +102,7 @@ class Estimate:
     outside_fit: tuple = ()  # sentences: where the scene lies outside the range the estimate was fitted on
     workers: int = 1
     cpu_seconds: float | None = None
+    notes: tuple = ()
 
     def report(self, title: str | None = None, started: float | None = None):
         """The estimate as a :class:`~faultslip.io.report.Report` (what ``--estimate`` prints).
@@ -137,6 +140,8 @@ class Estimate:
             report.note(machine.describe())
         for sentence in self.outside_fit:
             report.note(f"outside the scenes the cost model was fitted on: {sentence}")
+        for sentence in self.notes:
+            report.note(sentence)
         return report
 
     def fits(self) -> bool:

@@ -27,6 +27,7 @@ from faultslip.io import budget
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import output_lock, prepare_run_folder
+from faultslip.io.progress import duration as spoken_duration
 from faultslip.io.records import lazy_data
 from faultslip.io.report import Report
 from faultslip.io.seas import station_file_name, write_profiles, write_station
@@ -513,6 +514,16 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False, inc
     return Result("fault_2d", report, figure=lambda: ladder_figure(rungs, report.title))
 
 
+def rerun_note(loaded: Fault2DScene, rtol: float) -> str:
+    """What an escalation's estimate leaves out: the longer runs :func:`escalate` makes, while the budget allows,
+    only where a run ends unsettled (each estimated from the events it will see, as the first)."""
+    durations = [loaded.duration * 2 ** (k + 1) for k in range(LONGER_RUNS)]
+    costs = [replace(loaded, duration=d).estimate(rtol).seconds for d in durations]
+    return (f"not counted above: a 2-D run that ends unsettled is run again, twice as long, up to {LONGER_RUNS} times "
+            "while the time budget allows (" + ", then ".join(
+                f"{d / YEAR:.6g} yr, about {spoken_duration(c)}" for d, c in zip(durations, costs)) + ")")
+
+
 def escalate(loaded: Fault2DScene, why: str, settle: float, allow_large: bool, allow_underresolved: bool,
              progress, cheap: Result) -> Result:
     """The 2-D rung of the same scene, after the one slider's declared error fell short: estimated and budgeted
@@ -741,9 +752,11 @@ def estimate(scene, action: str = "run", rtol=None, output_dir=None, method=None
             refuse_unreachable(loaded, tolerance, tried_slider=True, slider_error=declared)
             why = ("outside its calibration" if declared is None else
                    f"its declared error {declared:.2g} exceeds the tolerance {tolerance:g}")
-            return budget.rungs_estimate(f"{loaded.name} to tolerance {tolerance:g}", {
+            escalated = budget.rungs_estimate(f"{loaded.name} to tolerance {tolerance:g}", {
                 f"the one slider ({why})": slider,
                 "then the 2-D fault of the same scene": loaded.estimate(chosen, output_dir, in_this_process=True)})
+            escalated.notes = (rerun_note(loaded, chosen),)
+            return escalated
         if tolerance is not None and not asked:
             refuse_unreachable(loaded, tolerance)
     if action == "run" and check_starts:

@@ -615,6 +615,16 @@ def test_an_estimate_is_of_the_rungs_run_goes_to(monkeypatch):
     two_d = scene.estimate(in_this_process=True)
     assert escalates.seconds == pytest.approx(two_d.seconds + faultslip.models.estimate(
         path, method="one_slider").seconds, rel=1e-9) and f"{declared:.2g} exceeds the tolerance 0.1" in escalates.what
+    # what it leaves out, said: the longer runs a run that ends unsettled makes (each the doubled scene's estimate)
+    from dataclasses import replace
+
+    from faultslip.io.progress import duration
+
+    longer = [replace(scene, duration=scene.duration * factor).estimate().seconds for factor in (2, 4)]
+    assert longer[0] < longer[1] and escalates.notes == (family.rerun_note(scene, scene.rtol),)
+    assert all(f"about {duration(seconds)}" in escalates.notes[0] for seconds in longer)
+    assert f"{2 * scene.duration / YEAR:.6g} yr" in escalates.notes[0] and str(family.LONGER_RUNS) in escalates.notes[0]
+    assert escalates.notes[0] in escalates.report().notes and not stops.notes
     ran = []
     monkeypatch.setattr(family, "simulate_fault", lambda *args, **kwargs: ran.append(args) or 1 / 0)
     with pytest.raises(ZeroDivisionError):  # and run goes there: the one slider first, then the 2-D run starts
