@@ -500,7 +500,8 @@ def test_a_ladders_estimate_is_its_rungs_one_after_another_and_no_rung_runs(cli,
     dipping = cli("model-error", CONFIGS / "fault_2d_dipping_small.toml", "--estimate")
     assert dipping.code == 0 and "the antiplane rung (" in dipping.out and "the 3-D rung" not in dipping.out
     three = cli("model-error", CONFIGS / "fault_3d_small.toml", "--estimate")
-    assert three.code == 0 and "the 2-D rung (the middle column)" in three.out and "the 3-D rung (" in three.out
+    folded = " ".join(three.out.split())  # the report folds a long description over lines
+    assert three.code == 0 and "the 2-D rung (the middle column)" in folded and "the 3-D rung (" in folded
     assert not ran
     assert_clean_error(cli("model-error", CONFIGS / "rsf_block_bp1.toml", "--estimate"), "no ladder")
     assert_clean_error(cli("model-error", "--estimate"), "give the scene")
