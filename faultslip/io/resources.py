@@ -501,7 +501,7 @@ def read_table(path: Path) -> list[dict[str, tuple[str, str | None]]]:
 
 
 parse_toml = gate.parse_toml
-check_toml_kind = gate.check_toml_kind
+check_toml_kind, toml_kind = gate.check_toml_kind, gate.toml_kind
 
 
 def check_toml_layout(data: dict, tables: dict, source: str, what: str,

@@ -47,7 +47,7 @@ def _not_an_option(name: str, family) -> str:
 
 def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False,
         progress=None, allow_underresolved: bool = False, richardson: bool = False, check_starts: bool = False,
-        **quantities) -> Result:
+        model: str | None = None, **quantities) -> Result:
     """Evaluate a scene, as ``faultslip run`` does.
 
     Parameters
@@ -72,6 +72,9 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
     check_starts : bool
         Run a discretised fault again from other starts (0.1 and 10 times its start's slip rate), and say whether
         it settles to the same cycle from each.
+    model : str, optional
+        A fault scene's rung (``one_slider``, ``fault_2d``, ``fault_3d``): another name for ``method``, as
+        ``--model`` is for ``--method``.
     **quantities
         A fault's inputs as keywords with units, as ``faultslip fault`` takes them: ``lithology="granodiorite"``,
         ``zone_width="13 mi"``, ``shear_stress="250 bar"``, ``slip_rate="2 in/yr"``, ...
@@ -82,9 +85,12 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
         Values as pint Quantities (``result["slip_per_event"]``), the method and its declared error, the
         report, ``to_xarray()`` and the figure.
     """
+    method = _method_or_model(method, model)
     if quantities:
         if scene is not None:
-            raise InputError("give a scene or a fault's quantities as keywords, not both")
+            raise InputError(f"run() with a scene takes method (or model), tolerance and its options, not "
+                             f"{', '.join(quantities)}; a fault's quantities as keywords (lithology, zone_width, "
+                             "...) are given without a scene")
         # the model the lithology calls for: the seed law, or a saved rate-and-state fit (faultslip fault)
         return importlib.import_module("faultslip.models.fault_estimate").fault_estimate(
             method=method, tolerance=tolerance, **quantities)  # it judges its tolerance itself, as run does
@@ -105,6 +111,14 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
     return judge_tolerance(family.run(scene, method=method, tolerance=tolerance, **options), tolerance)
 
 
+def _method_or_model(method: str | None, model: str | None) -> str | None:
+    """``method``, or ``model`` (its other name, as on the command line); both, only where they agree."""
+    if model is not None and method is not None and model != method:
+        raise InputError(f"give method or model (the same option), not both: got method {method!r} and model "
+                         f"{model!r}")
+    return method if method is not None else model
+
+
 def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
     """What :func:`run` or :func:`simulate` of a scene would need, from its family's cost model, before it starts.
 
@@ -116,7 +130,8 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
         ``"run"``, ``"simulate"``, or ``"ladder"``: every rung of ``faultslip model-error SCENE`` (a fault scene's;
         ``include_3d=True`` adds a 2-D scene's 3-D rung).
     **options
-        The options the run or simulation would take (``method``, ``tolerance``; ``cycles``, ``rtol``, ...).
+        The options the run or simulation would take (``method`` or ``model``, ``tolerance``; ``cycles``, ``rtol``,
+        ...).
 
     Returns
     -------
@@ -126,6 +141,8 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
     """
     if action not in ("run", "simulate", "ladder"):
         raise InputError(f"an estimate is of a run, a simulation or a ladder, not {action!r}")
+    if "model" in options:
+        options["method"] = _method_or_model(options.get("method"), options.pop("model"))
     family = family_of(scene)
     if action == "ladder" and family.ladder is None:
         raise InputError(f"a {family.name} scene has no ladder of rungs to run ('faultslip model-error' reads its "

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import difflib
 import hashlib
+import os
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
@@ -38,7 +39,8 @@ from faultslip.contract.registry import DECLARATIONS, cells_of, family_of, load,
 from faultslip.errors import InputError, did_you_mean
 from faultslip.io import budget
 from faultslip.io.budget import MAX_DIMENSION_VALUES
-from faultslip.io.resources import check_toml_kind, parse_toml, read_text_file
+from faultslip.io.resources import (check_toml_kind, parse_toml, read_text_file, resolve_path, scene_document,
+                                    toml_kind)
 from faultslip.units import is_quantity, to_si_scalar
 
 STUDY_KEYS = {"name", "base", "method", "tolerance", "description", "cycles"}
@@ -421,9 +423,24 @@ def sweep(scene, method: str = "auto", tolerance: float | None = None, chunks: d
     xarray.Dataset
         Every output over every swept dimension, with CF attributes (``units`` on every variable).
 
+    A study file (``[study]`` and ``[sweep]``, what ``faultslip sweep STUDY -o OUT`` runs) is swept as it states,
+    in memory (or lazily with ``chunks``): its grid, method, tolerance and cycles are its own.
+
     >>> sweep("san_andreas_1906.toml", slip_rate=["10 mm/yr", "35 mm/yr"], lithology=["granodiorite", "pyrite"])
     >>> sweep("vibration_seed002.toml", speed=["5 in/s", "10 in/s", "15 in/s"])
+    >>> sweep("study_rate_state.toml")
     """
+    if isinstance(scene, (str, os.PathLike)):
+        document = scene_document(scene)
+        if document is not None and toml_kind(document) == "study":
+            stated = [name for name, given in (("method", method != "auto"), ("tolerance", tolerance is not None),
+                                               ("cycles", cycles != 0), *((name, True) for name in dims)) if given]
+            if stated:
+                raise InputError(f"sweep(): {Path(scene).name} is a study, which states its own grid, method, "
+                                 f"tolerance and cycles; give {', '.join(stated)} in its file, or sweep its base "
+                                 "scene by keywords")
+            path, _ = resolve_path(scene, "study file")
+            return _computed(load_study(path), chunks, allow_large)
     scene, family = read_scene(scene)
     cells = cells_of(family, scene)
     parsed = {}
@@ -435,12 +452,17 @@ def sweep(scene, method: str = "auto", tolerance: float | None = None, chunks: d
     study = Study(name=scene.name, scene=scene, dims=parsed, method=method, tolerance=tolerance,
                   text=_study_text(scene, method, tolerance, dims, cycles), cycles=cycles, family=family)
     cells.check(study, "sweep():", "sweep()")
+    return _computed(study, chunks, allow_large)
+
+
+def _computed(study: Study, chunks: dict | None, allow_large: bool):
+    """A study's Dataset: in memory, after refusing what will not fit, or lazy with ``chunks``."""
     if chunks is None:  # everything in memory: refuse what will not fit (a chunked study stays lazy)
         estimate = budget.study_estimate(study, None, 1, study.size)
         budget.check(budget.Estimate(f"this in-memory sweep of {study.size:.3g} cells", memory=estimate.memory,
                                      seconds=estimate.seconds), allow_large)
         return finish(compute_block(study), study)
-    return finish(as_dataset(cells.evaluate(study, study_inputs(study, chunks=chunks)), study), study)
+    return finish(as_dataset(study.cells.evaluate(study, study_inputs(study, chunks=chunks)), study), study)
 
 
 def _study_text(scene, method, tolerance, dims, cycles: int = 0) -> str:

@@ -54,3 +54,15 @@ def test_every_data_example_runs_as_configs_readme_shows_it(tmp_path, cli, monke
         args = [str(root / w) if w.startswith("configs/") else w for w in words[1:]]
         result = cli(*args)
         assert result.code == 0, (words, result.err)
+
+
+def test_the_readmes_python_runs_as_written(tmp_path, monkeypatch):
+    """The README's 'From Python' block is what a notebook types first: every line runs, from any folder (its
+    scenes and studies are bundled names)."""
+    import re
+
+    blocks = re.findall(r"^```python\n(.*?)^```", (ROOT / "README.md").read_text(encoding="utf-8"), re.S | re.M)
+    assert blocks
+    monkeypatch.chdir(tmp_path)
+    for block in blocks:
+        exec(compile(block, "README.md", "exec"), {})  # noqa: S102  the README's own code

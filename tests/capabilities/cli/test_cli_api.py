@@ -116,6 +116,34 @@ def test_a_sweep_file_holds_the_python_sweep(cli, tmp_path):
     with xr.open_dataset(out) as written:
         for name in python.data_vars:
             np.testing.assert_array_equal(written[name].values, python[name].values, err_msg=name)
+        # the study file itself, swept in Python as the command sweeps it (it had been refused as a scene)
+        from_file = faultslip.sweep(CONFIGS / "study_vibration.toml")
+        for name in python.data_vars:
+            np.testing.assert_array_equal(written[name].values, from_file[name].values, err_msg=name)
+    lazy = faultslip.sweep(CONFIGS / "study_vibration.toml", chunks={"speed": 7})
+    assert lazy["amplitude"].chunks is not None
+    np.testing.assert_array_equal(lazy["amplitude"].values, from_file["amplitude"].values)
+    from faultslip.errors import InputError
+
+    with pytest.raises(InputError, match="is a study, which states its own grid, method, tolerance and cycles; give "
+                                         "tolerance, speed in its file"):
+        faultslip.sweep(CONFIGS / "study_vibration.toml", tolerance=1e-3, speed=["10 in/s"])
+
+
+def test_a_rung_is_asked_for_as_model_in_python_as_on_the_command_line(cli):
+    """'faultslip run SCENE --model one_slider' is run(SCENE, model="one_slider"), as --model is --method; in
+    Python a model= keyword had been taken for a fault's quantity and refused as a scene and quantities together."""
+    from faultslip.errors import InputError
+
+    by_model = faultslip.run("seas_bp1.toml", model="one_slider")
+    assert by_model.method == "one_slider"
+    assert _numbers(_report(by_model)) == _numbers(cli("run", "seas_bp1.toml", "--model", "one_slider", "--json").json)
+    assert faultslip.models.estimate("seas_bp1.toml", model="one_slider").seconds == faultslip.models.estimate(
+        "seas_bp1.toml", method="one_slider").seconds
+    with pytest.raises(InputError, match="give method or model"):
+        faultslip.run("seas_bp1.toml", model="one_slider", method="fault_2d")
+    with pytest.raises(InputError, match="takes method \\(or model\\), tolerance and its options, not rungs"):
+        faultslip.run("seas_bp1.toml", rungs="one_slider")
 
 
 def test_a_map_file_holds_the_python_map(cli, tmp_path):

@@ -193,7 +193,7 @@ def test_run_takes_a_path_a_name_a_scene_object_or_keywords_with_units():
     assert faultslip.run(faultslip.models.read_rate_state_scene("rsf_velocity_step.toml")).family == "rate_state_slider"
     with pytest.raises(InputError, match="scene object"):
         faultslip.run(42)
-    with pytest.raises(InputError, match="not both"):
+    with pytest.raises(InputError, match="not zone_width; a fault's quantities as keywords .* without a scene"):
         faultslip.run("san_andreas_1906.toml", zone_width="10 km")
 
 
