@@ -377,6 +377,9 @@ def _studies_commands(commands) -> None:
     regional.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     regional.add_argument("--allow-large", action="store_true", help=COMMON["--allow-large"])
     _method_flags(regional)
+    regional.add_argument("--estimate", action="store_true",
+                          help="print what the map would need (CPU time, memory, disk), a rate-and-state map's cycles "
+                               "in every segment or cell included, and stop")
     regional.add_argument("--json", action="store_true", help=COMMON["--json"])
     regional.set_defaults(handler="studies:cmd_map")
 

@@ -23,8 +23,9 @@ from faultslip.fault import mfd as mfds
 from faultslip.plots.displacement import displacement_hazard_figure
 from faultslip.plots.fault_maps import fault_system_figure
 from faultslip.studies import displacement_hazard, hazard, rupture_sets
-from faultslip.studies.maps import (check_map_size, has_observations, read_map, map_figure, observed_figure,
-                                    observed_table, run_map, segment_rows)
+from faultslip.cli.printing import _emit_estimate
+from faultslip.studies.maps import (check_map_size, has_observations, map_size_estimate, read_map, map_figure,
+                                    observed_figure, observed_table, run_map, segment_rows)
 
 #: Segments printed in the text table; all of them are in the netCDF file and in --json.
 MOST_ROWS = 50
@@ -153,6 +154,9 @@ def _written(outputs) -> list:
 
 
 def cmd_map(args) -> int:
+    if args.estimate:  # before any output is checked: what the map would need, its predictions' cycles included
+        return _emit_estimate(map_size_estimate(read_map(args.map), args.output, _tolerance(args) or 1e-6),
+                              args.json)
     if not any(getattr(args, name, None) for name in ("output", "nrml", "plot", "time_dependent")):
         raise InputError("faultslip map writes its results: give -o OUT.nc, --nrml FILE.xml, --time-dependent "
                          "FILE.xml or --plot FILE.png (or several)")
@@ -172,7 +176,7 @@ def cmd_map(args) -> int:
                                      label="--plot (fault traces)", inputs=spec.inputs + _written(outputs),
                                      overwrite=args.overwrite)
     tolerance = _tolerance(args) or 1e-6
-    check_map_size(spec, outputs["output"], args.allow_large)
+    check_map_size(spec, outputs["output"], args.allow_large, tolerance)
     dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance, allow_large=True)
     plots, sources, written, systems = [], [], None, {}
     if options is not None:  # built before anything is written: a refusal leaves nothing behind

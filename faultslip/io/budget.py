@@ -267,11 +267,12 @@ MAP_BYTES_PER_CELL = 200.0
 MAP_BYTES_PER_POINT, MAP_CELLS_PER_SECOND = 120.0, 2e6
 
 
-def map_estimate(cells: float, trace_points: float, output=None) -> Estimate:
-    """Memory, disk and time of a map of ``cells`` raster cells against ``trace_points`` densified trace points."""
+def map_estimate(cells: float, trace_points: float, output=None, model_seconds: float = 0.0) -> Estimate:
+    """Memory, disk and time of a map of ``cells`` raster cells against ``trace_points`` densified trace points,
+    and ``model_seconds`` of its predictions (a rate-and-state map's cycles, estimated by its caller)."""
     return Estimate(what=f"this map of {cells:.3g} cells", memory=cells * MAP_BYTES_PER_CELL
                     + trace_points * MAP_BYTES_PER_POINT, disk=netcdf_disk(cells * 6 * 8.0, 12) if output else 0.0,
-                    seconds=(cells + trace_points) / MAP_CELLS_PER_SECOND, output=output)
+                    seconds=(cells + trace_points) / MAP_CELLS_PER_SECOND + model_seconds, output=output)
 
 
 #: The per-unit cost models the families declare (each family's cost.py says what its unit is), fitted on each

@@ -49,7 +49,7 @@ from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
 from faultslip.fault.one_slider_error import range_within
-from faultslip.fault.rate_state_cells import check_cycle_method
+from faultslip.fault.rate_state_cells import check_cycle_method, estimated_seconds, evolution_codes, rate_state_cells
 from faultslip.fault.spring_slider_cells import SEED_METHODS, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs
 from faultslip.studies.grid import Study, as_dataset
 from faultslip.studies.rupture_sets import RULE_KEYS, parse_rules
@@ -688,6 +688,12 @@ def _rate_state_along(spec, dims_coords, lithology, overrides, tolerance):
     A lithology gives its shear modulus; one that names a saved rate-and-state fit also gives its
     friction, where other lithologies take the base scene's [friction].
     """
+    study, inputs = _rate_state_map_inputs(spec, dims_coords, lithology, overrides, tolerance)
+    return as_dataset(rate_state_outputs(inputs, study), study)
+
+
+def _rate_state_map_inputs(spec, dims_coords, lithology, overrides, tolerance):
+    """(study, inputs): what :func:`_rate_state_along` computes its cells from, before any cell runs."""
     import xarray as xr  # heavy: imported where used
 
     varying = {name: xr.DataArray(values, **dims_coords) for name, values in overrides.items()}
@@ -717,7 +723,46 @@ def _rate_state_along(spec, dims_coords, lithology, overrides, tolerance):
             varying["evolution"] = table(lambda n: laws[n].evolution, dtype=object)
     study = Study(name=spec.name, scene=spec.scene, dims={}, method=spec.cycle_method, tolerance=tolerance,
                   cycles=spec.cycles)
-    return as_dataset(rate_state_outputs(rate_state_inputs(study, varying), study), study)
+    return study, rate_state_inputs(study, varying)
+
+
+#: Cells of a rate-and-state map whose K / K_c the cost model reads (evenly strided over the map's cells): the
+#: closed form is cheap, but a raster may hold millions of cells.
+COST_SAMPLE = 4096
+
+
+def _model_seconds(spec, tolerance: float) -> float:
+    """CPU seconds of the map's predictions, before any runs: a rate-and-state map's cycles in every unstable
+    segment or raster cell, by the integrators' calibrated cost models over each one's K / K_c (closed form, on
+    a strided sample of at most :data:`COST_SAMPLE`); the seed law's closed form is vectorised (the raster rate)."""
+    if not spec.scene.rate_state or not spec.cycles:
+        return 0.0
+    if spec.segments is not None:
+        table = spec.segments
+        count = len(table.ids)
+        dims_coords = {"dims": ("segment",), "coords": {"segment": np.arange(count)}}
+        overrides = {"slip_rate": table.slip_rate, "seismogenic_depth": table.down_dip_widths,
+                     "zone_width": table.zone_width, "rupture_length": table.lengths}
+        lithology = table.lithology
+    else:
+        raster = spec.raster
+        count = int(raster["lat"].size * raster["lon"].size)
+        dims_coords = {"dims": ("lat", "lon"), "coords": {"lat": raster["lat"].values, "lon": raster["lon"].values}}
+        overrides = {name: raster[name].values for name in ("shear_modulus", "zone_width", "slip_rate",
+                                                            "normal_stress", "shear_stress") if name in raster}
+        lithology = raster["lithology"].values if "lithology" in raster else None
+    study, inputs = _rate_state_map_inputs(spec, dims_coords, lithology, overrides, tolerance)
+    stride, shape = max(1, -(-count // COST_SAMPLE)), _shape(inputs)
+    sample = {key: np.broadcast_to(np.asarray(getattr(value, "values", value)), shape).ravel()[::stride]
+              for key, value in inputs.items()}
+    sample["evolution"] = evolution_codes(sample["evolution"])
+    ratio = rate_state_cells(**sample)["stiffness_ratio"]
+    return estimated_seconds(ratio, spec.cycles, tolerance, spec.cycle_method) * count / max(ratio.size, 1)
+
+
+def _shape(inputs: dict) -> tuple:
+    """The broadcast shape of a map's inputs (its segments or raster cells)."""
+    return np.broadcast_shapes(*(np.shape(getattr(value, "values", value)) for value in inputs.values()))
 
 
 def predict_segments(spec, method="auto", tolerance=1e-6):
@@ -773,14 +818,24 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
     return dataset
 
 
-def check_map_size(spec, output=None, allow_large: bool = False) -> None:
-    """Refuse, before any work, a map beyond the machine's memory, disk or time budget."""
+def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Estimate:
+    """What a map needs, before any work (``faultslip map --estimate``): its raster and traces, and its
+    predictions' own cost (a rate-and-state map's cycles in every segment or cell, :func:`_model_seconds`)."""
     if spec.segments is not None:
         cells = float(np.size(spec.lat)) * float(np.size(spec.lon))
         points = sum(trace_length(trace) for trace in spec.segments.traces) / 1000.0 + len(spec.segments.traces)
     else:
         cells, points = float(spec.raster["lat"].size) * float(spec.raster["lon"].size), 0.0
-    budget.check(budget.map_estimate(cells, points, output), allow_large)
+    estimate = budget.map_estimate(cells, points, output, model_seconds=_model_seconds(spec, tolerance))
+    if spec.scene.rate_state and spec.cycles:
+        where = f"{len(spec.segments.ids)} segments" if spec.segments is not None else "its raster cells"
+        estimate.what += f", with {spec.cycles} rate-and-state cycles in each unstable one of {where}"
+    return estimate
+
+
+def check_map_size(spec, output=None, allow_large: bool = False, tolerance: float = 1e-6) -> None:
+    """Refuse, before any work, a map beyond the machine's memory, disk or time budget."""
+    budget.check(map_size_estimate(spec, output, tolerance), allow_large)
 
 
 def regional_map(path, method="auto", tolerance=1e-6, allow_large: bool = False):
@@ -825,7 +880,7 @@ def run_map(spec, method="auto", tolerance=1e-6, allow_large: bool = False):
     """
     import xarray as xr  # heavy: imported where used
 
-    check_map_size(spec, allow_large=allow_large)
+    check_map_size(spec, allow_large=allow_large, tolerance=tolerance)
     if spec.scene.rate_state:
         if method != "auto":  # its cells choose their integrator by K / K_c, as 'faultslip run' does
             raise InputError(f"--method {method!r}: a rate-and-state map's segments choose their cycle integrator "

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from conftest import assert_clean_error
 from faultslip.errors import InputError
 from faultslip.studies.maps import read_map, nearest_segment, observed_table, parse_trace, segment_rows, read_segments, run_map, trace_length
 from faultslip.io.resources import data_path
@@ -197,3 +198,47 @@ def test_rate_state_map_options_are_checked(tmp_path, head, message):
     config.write_text(config.read_text().replace('base = "san_andreas_1906.toml"', head))
     with pytest.raises(InputError, match=message):
         read_map(config)
+
+
+def _rate_state_raster_map(folder, size: int, cycles: int = 5):
+    """A rate-and-state map of a size x size raster, every cell the same fault but its slip rate."""
+    lon, lat = np.linspace(-122.0, -118.0, size), np.linspace(34.0, 37.0, size)
+    raster = xr.Dataset({"slip_rate": (("lat", "lon"), np.linspace(10.0, 40.0, size * size).reshape(size, size),
+                                       {"units": "mm/yr"}),
+                         "shear_modulus": (("lat", "lon"), np.full((size, size), 30.0), {"units": "GPa"})},
+                        coords={"lat": lat, "lon": lon})
+    raster.to_netcdf(folder / f"r{size}.nc")
+    config = folder / f"m{size}_{cycles}.toml"
+    config.write_text(f'[map]\nbase = "san_andreas_1906_rate_state.toml"\ncycles = {cycles}\n[raster]\n'
+                      f'file = "r{size}.nc"\n', encoding="utf-8")
+    return config
+
+
+def test_a_rate_state_maps_estimate_counts_the_cycles_in_every_cell(cli, tmp_path, monkeypatch):
+    """A rate-and-state raster map runs its cycles in every unstable cell (about 2 ms each with the C stepper):
+    its budget had counted the raster's nearest-distance work alone (5 ms for 10,000 cells whose run took 22 s
+    of CPU), so a raster of millions of cells ran for hours unrefused. The estimate now adds the cycles, by the
+    rate-and-state cells' shared cost model over the map's own K / K_c, and 'faultslip map --estimate' prints it."""
+    from faultslip.fault.rate_state_cells import estimated_seconds
+    from faultslip.io import budget
+    from faultslip.studies.maps import map_size_estimate
+
+    small = read_map(_rate_state_raster_map(tmp_path, 6))
+    ran = run_map(small)
+    raster_seconds = 36 / budget.MAP_CELLS_PER_SECOND
+    cycles_seconds = estimated_seconds(ran["stiffness_ratio"].values.ravel(), 5, 1e-6, "auto")
+    assert cycles_seconds > 100 * raster_seconds
+    assert map_size_estimate(small).seconds == pytest.approx(raster_seconds + cycles_seconds, rel=1e-9)
+    # the cells are the same fault: four times the cells, four times the cycles; more cycles cost more
+    large = read_map(_rate_state_raster_map(tmp_path, 12))
+    assert map_size_estimate(large).seconds == pytest.approx(4 * raster_seconds + 4 * cycles_seconds, rel=1e-9)
+    longer = estimated_seconds(ran["stiffness_ratio"].values.ravel(), 10, 1e-6, "auto")
+    assert longer > cycles_seconds and map_size_estimate(read_map(_rate_state_raster_map(
+        tmp_path, 6, cycles=10))).seconds == pytest.approx(raster_seconds + longer, rel=1e-9)
+    # the command prints it, needing no output and writing nothing; over the budget, the map is refused first
+    printed = cli("map", tmp_path / "m12_5.toml", "--estimate", "--json")
+    assert printed.code == 0 and printed.json["seconds"]["value"] == pytest.approx(
+        map_size_estimate(large).seconds, rel=1e-9) and "rate-and-state cycles" in printed.json["what"]
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", str(map_size_estimate(large).seconds / 2))
+    assert_clean_error(cli("map", tmp_path / "m12_5.toml", "-o", tmp_path / "out.nc"), "--allow-large")
+    assert not (tmp_path / "out.nc").exists()
