@@ -30,6 +30,7 @@ Map files are TOML::
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -819,8 +820,26 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
 
 
 def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Estimate:
-    """What a map needs, before any work (``faultslip map --estimate``): its raster and traces, and its
-    predictions' own cost (a rate-and-state map's cycles in every segment or cell, :func:`_model_seconds`)."""
+    """What a map needs, before any work (``faultslip map --estimate``; ``faultslip.hazard.map_estimate``): its
+    raster and traces, and its predictions' own cost (a rate-and-state map's cycles in every segment or cell,
+    :func:`_model_seconds`).
+
+    Parameters
+    ----------
+    spec : str, path or MapSpec
+        A map file, or :func:`read_map`'s map.
+    output : path, optional
+        Where the map's netCDF would go (its disk is counted).
+    tolerance : float
+        The relative error the map's predictions are asked (a rate-and-state map's integrators are chosen by it).
+
+    Returns
+    -------
+    faultslip.io.budget.Estimate
+        CPU seconds, memory and disk, before any work.
+    """
+    if isinstance(spec, (str, os.PathLike)):
+        spec = read_map(spec)
     if spec.segments is not None:
         cells = float(np.size(spec.lat)) * float(np.size(spec.lon))
         points = sum(trace_length(trace) for trace in spec.segments.traces) / 1000.0 + len(spec.segments.traces)

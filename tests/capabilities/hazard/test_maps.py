@@ -239,6 +239,9 @@ def test_a_rate_state_maps_estimate_counts_the_cycles_in_every_cell(cli, tmp_pat
     printed = cli("map", tmp_path / "m12_5.toml", "--estimate", "--json")
     assert printed.code == 0 and printed.json["seconds"]["value"] == pytest.approx(
         map_size_estimate(large).seconds, rel=1e-9) and "rate-and-state cycles" in printed.json["what"]
+    import faultslip  # and a notebook asks the same of the file
+
+    assert faultslip.hazard.map_estimate(tmp_path / "m12_5.toml").seconds == map_size_estimate(large).seconds
     monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", str(map_size_estimate(large).seconds / 2))
     assert_clean_error(cli("map", tmp_path / "m12_5.toml", "-o", tmp_path / "out.nc"), "--allow-large")
     assert not (tmp_path / "out.nc").exists()
