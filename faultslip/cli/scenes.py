@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import textwrap
 from pathlib import Path
 
 import faultslip
@@ -18,6 +19,7 @@ from faultslip.io.atomic import save_figure, write_text_atomic
 from faultslip.io.catalogs import QUAKEML_SUFFIXES, parse_time, write_quakeml
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import FIGURE_SUFFIXES, check_output
+from faultslip.io.report import LINE_WIDTH
 from faultslip.io.waveforms import (DEFAULT_START, MAX_SAMPLES, STREAM_SUFFIXES, check_datable, sac_path,
                                     write_stream)
 from faultslip.plots.figures import critical_comparison_figure
@@ -139,11 +141,15 @@ def cmd_methods(args) -> int:
     if args.json:
         print(json.dumps({"methods": rows}, indent=2))
         return 0
-    for row in rows:
-        print(f"{row['name']}\n  friction laws: {row['friction_laws']}\n  valid where:   {row['domain']}\n"
-              f"  cost:          {row['cost_model']}\n  error:         {row['declared_error']}\n"
-              f"  families:      {', '.join(row['families'])}\n"
-              f"  {'run with:      ' if row['run_method'] else 'reached by:    '}{row['selected_by']}")
+    for row in rows:  # each field folded at a report's width, under its label
+        print(row["name"])
+        for label, text in (("friction laws", row["friction_laws"]), ("valid where", row["domain"]),
+                            ("cost", row["cost_model"]), ("error", row["declared_error"]),
+                            ("families", ", ".join(row["families"])),
+                            ("run with" if row["run_method"] else "reached by", row["selected_by"])):
+            print("\n".join(textwrap.wrap(text, width=LINE_WIDTH, initial_indent=f"  {label + ':':<15}",
+                                           subsequent_indent=" " * 17, break_on_hyphens=False,
+                                           break_long_words=False)))
     return 0
 
 

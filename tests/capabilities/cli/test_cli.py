@@ -131,3 +131,16 @@ def test_a_study_map_or_scene_given_to_the_wrong_command_is_named_with_the_comma
     # a study's base scene is named where a scene was wanted
     if wanted == "scene":
         assert "its base scene, asperity_seed004.toml, is one" in cli(verb, "configs/study_asperity.toml").err
+
+
+def test_the_methods_listing_is_folded_and_says_what_its_json_says(cli):
+    """'faultslip methods' printed each field on one line (up to 600 characters); folded at a report's width, its
+    text still carries every word of every field its --json gives."""
+    from faultslip.io.report import LINE_WIDTH
+
+    text, rows = cli("methods").out, cli("methods", "--json").json["methods"]
+    assert max(len(line) for line in text.splitlines()) <= LINE_WIDTH
+    words = " ".join(text.split())
+    for row in rows:
+        for key in ("friction_laws", "domain", "cost_model", "declared_error", "selected_by"):
+            assert " ".join(row[key].split()) in words, (row["name"], key)
