@@ -35,7 +35,8 @@ from faultslip.dynamics import vibration as averaging
 from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
 from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
 from faultslip.dynamics.shared.cycle import STEADY_SLIDING, CycleResult
-from faultslip.errors import InputError, MethodError, OutOfDomainWarning
+from faultslip.errors import InputError, MethodError, OutOfDomainWarning, SolverError
+from faultslip.io import budget
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_error
 from faultslip.dynamics.spring_slider.regularized import simulate_regularized
 from faultslip.dynamics.spring_slider.simulate import SUSTAINED_OSCILLATION, declared_slip_error, simulate
@@ -51,6 +52,9 @@ INTEGRATOR_EVALUATIONS = {
     "Radau": (71, 240, 1270, 7250),
 }
 INTEGRATOR_EVALUATION_TIME = {"DOP853": 2.0e-5, "RK45": 2.0e-5, "LSODA": 2.5e-5, "Radau": 5.0e-5}
+#: An explicit solver's stages a step and its stability limit on the negative real axis (h |lambda| at most this;
+#: Hairer & Wanner, Solving ODEs II, IV.2): where the slip phase is stiff its steps are these, not its accuracy's.
+EXPLICIT_STABILITY = {"DOP853": (12, 6.0), "RK45": (6, 3.3)}
 RTOL_LEVELS = tuple(10.0 ** -k for k in range(3, 13))  # 1e-3 ... 1e-12
 
 
@@ -253,10 +257,34 @@ def integrator_evaluations(solver: str, rtol: float) -> float:
     return float(10 ** np.interp(-np.log10(rtol), -levels, counts))
 
 
+def slip_stiffness(system) -> float:
+    """The slip phase's stiffness in the natural time omega t: (c + W max|mu'(u)|) / (M omega) over sliding speeds
+    from 0 to 2V (seed 002's eps, :meth:`~faultslip.dynamics.vibration.QuasiHarmonic.small_parameter` at the
+    amplitude V / omega). A polynomial curve at 10 m/s reaches 1,700: an explicit solver's steps are then
+    stability-limited (DOP853 took 1.8 million evaluations where LSODA took 500). 0 where the kinetic law is
+    not a curve of speed alone."""
+    try:
+        averaged = averaging.from_slider(system)
+        return float(averaged.small_parameter(system.platform_speed / averaged.angular_frequency))
+    except (InputError, TypeError, ValueError, ArithmeticError):
+        return 0.0
+
+
+def stiff_evaluations(solver: str, stiffness: float) -> float:
+    """Evaluations an explicit solver spends a natural period where the slip phase is stiff: stages x 2 pi x
+    stiffness / stability limit (:data:`EXPLICIT_STABILITY`); 0 for the stiff solvers (LSODA switches, Radau is
+    implicit)."""
+    if solver not in EXPLICIT_STABILITY:
+        return 0.0
+    stages, limit = EXPLICIT_STABILITY[solver]
+    return stages * 2 * math.pi * stiffness / limit
+
+
 class EventDriven(Method):
     friction_laws = "any static law (rate, constant, time-of-stick); any kinetic law"
     domain = "everything the model describes (no reverse slip); error c rtol^q + floor"
-    cost_model = "cycles x evaluations per slip phase (grows as rtol tightens) x ~2e-5 s"
+    cost_model = ("cycles x evaluations per slip phase (grows as rtol tightens; for DOP853 and RK45, also as the slip "
+                  "phase's stiffness, stages x 2 pi x eps / their stability limit) x ~2e-5 s")
     declared_error = ("c rtol^q + floor per solver, fitted on random scenes against the exact cycle "
                       "(benchmarks/event_driven_calibration.py; faultslip bench checks it on held-out ones), "
                       "and the settling left")
@@ -272,16 +300,30 @@ class EventDriven(Method):
             fitting = [r for r in RTOL_LEVELS if declared_slip_error(self.solver, r) * drift <= tolerance]
             rtol = fitting[0] if fitting else RTOL_LEVELS[-1]
         error = declared_slip_error(self.solver, rtol) * drift
-        cost = 1e-3 + max(cycles, 1) * integrator_evaluations(self.solver, rtol) * INTEGRATOR_EVALUATION_TIME[self.solver]
+        stiffness = slip_stiffness(system)
+        evaluations = integrator_evaluations(self.solver, rtol) + stiff_evaluations(self.solver, stiffness)
+        cost = 1e-3 + max(cycles, 1) * evaluations * INTEGRATOR_EVALUATION_TIME[self.solver]
+        stiff = (f"; its slip phase is stiff (eps = {stiffness:.3g}): about {evaluations:.3g} evaluations a phase"
+                 if stiff_evaluations(self.solver, stiffness) > integrator_evaluations(self.solver, rtol) else "")
         return Assessment(self.name, True, f"{self.solver} at rtol = {rtol:g} (error <= "
-                          f"{declared_slip_error(self.solver, rtol):.2g} at that rtol)",
+                          f"{declared_slip_error(self.solver, rtol):.2g} at that rtol){stiff}",
                           error, cost, {"slip_solver": self.solver, "rtol": rtol})
 
     def run(self, system, cycles, settings):
 
         converge = settings.get("converge")
-        dataset = simulate(system, cycles=cycles, slip_solver=self.solver, rtol=settings["rtol"],
-                           stop_when_converged=converge)
+        # the evaluations the time budget affords: past them the run stops and says why, not hours later
+        affordable = int(budget.time_budget() / INTEGRATOR_EVALUATION_TIME[self.solver])
+        try:
+            dataset = simulate(system, cycles=cycles, slip_solver=self.solver, rtol=settings["rtol"],
+                               stop_when_converged=converge, max_evaluations=affordable)
+        except SolverError as error:
+            if "budget of" not in str(error):
+                raise
+            raise SolverError(f"{self.name} would pass the time budget ({affordable:.3g} evaluations): {error}; "
+                              f"the slip phase's stiffness is eps = {slip_stiffness(system):.3g}, and an implicit "
+                              "solver (event_driven_LSODA or event_driven_Radau) steps a stiff phase in far fewer "
+                              "evaluations") from None
         return _cycle_from_dataset(system, dataset, self.name), dataset["event_time"].values, dataset, \
             dataset.attrs["function_evaluations"]
 

@@ -3,6 +3,8 @@ static-friction rate law, Cameron's time-of-stick law or rate-and-state friction
 
 from __future__ import annotations
 
+from faultslip import ranges
+
 from faultslip.dynamics.methods import describe_seed_methods, solve
 from faultslip.dynamics.spring_slider.simulate import simulate as integrate
 from faultslip.dynamics.spring_slider.simulate import summary_report, uniform_channels
@@ -60,10 +62,14 @@ def cycle(scene, loading_rate=None, platform_speed=None, method: str | None = No
     system = loaded.slider()
     if (loading_rate is None) == (platform_speed is None):
         raise InputError("give exactly one of --loading-rate or --platform-speed")
+    # the bounds a scene's own value is held to (faultslip.ranges): 1 km/s had run minutes past any slider's speed
     if loading_rate is not None:
-        system = system.at_loading_rate(to_si(loading_rate, "rate", "loading rate"))
+        system = system.at_loading_rate(ranges.check("loading_rate", to_si(loading_rate, "rate", "loading rate"),
+                                                     "--loading-rate"))
+        ranges.check("platform_speed", system.platform_speed, "the platform speed --loading-rate asks of this slider")
     else:
-        system = system.with_(platform_speed=to_si(platform_speed, "speed", "platform speed"))
+        system = system.with_(platform_speed=ranges.check(
+            "platform_speed", to_si(platform_speed, "speed", "platform speed"), "--platform-speed"))
     solution = solve(system, method=method or loaded.method, tolerance=tolerance or loaded.tolerance, cycles=200)
     return Result("spring_slider", solution.report(f"faultslip cycle: {loaded.name}"))
 

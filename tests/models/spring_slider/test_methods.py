@@ -14,7 +14,12 @@ from hypothesis import strategies as st
 from faultslip.evaluation.bench import STATUS_CODE, measure, reference_for, standard_scenes
 from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
 from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
-from faultslip.errors import MethodError, OutOfDomainWarning
+import faultslip
+from conftest import assert_clean_error
+from faultslip.dynamics import methods
+from faultslip.dynamics.vibration import from_slider
+from faultslip.errors import MethodError, OutOfDomainWarning, SolverError
+from faultslip.io import machine
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, slip_cycle
 from faultslip.dynamics.methods import ClosedForm, choose, solve
 from faultslip.dynamics.spring_slider.simulate import declared_slip_error
@@ -242,3 +247,48 @@ def test_every_method_declares_its_interface(cli):
         assert row["friction_laws"] and row["domain"] and row["cost_model"] and row["families"], row
     assert all(family.methods for family in families().values())  # every family declares its methods
     assert cli("methods", "--json").json["methods"] == rows
+
+
+def _polynomial_slider(speed: float):
+    """configs/lab_steel_dry_polynomial.toml at another platform speed (m/s): mu(u) = 0.39 - 0.05 u + 0.5 u^2 in
+    in/s, whose slope at 10 m/s makes the slip phase stiff."""
+    return read_slider_scene("lab_steel_dry_polynomial.toml").slider().with_(platform_speed=speed)
+
+
+def test_a_stiff_slip_phase_is_costed_as_stiff_and_auto_takes_an_implicit_solver(cli, monkeypatch):
+    """At 10 m/s the polynomial curve's slope gives the slip phase eps = 1,700 natural units: DOP853, chosen by a cost
+    model that counted its accuracy's evaluations alone, took 1.8 million evaluations (20 s) for what LSODA does in
+    500; at 1 km/s it ran past a minute (found by the fuzzer). The explicit solvers' cost now counts their stability
+    limit, auto takes LSODA, and a forced explicit run stops at the evaluations the time budget affords, naming the
+    implicit solvers."""
+    stiff, mild = _polynomial_slider(10.0), _polynomial_slider(2.54e-5)
+    averaged = from_slider(stiff)
+    assert methods.slip_stiffness(stiff) == averaged.small_parameter(10.0 / averaged.angular_frequency) > 1000
+    assert methods.slip_stiffness(mild) < 1
+    for system in (stiff, mild):  # the explicit cost: stages x 2 pi x eps / stability limit more a phase
+        dop = methods.INTEGRATORS["DOP853"].assess(system, ("amplitude", "period"), 1e-6, 10)
+        per_phase = methods.integrator_evaluations("DOP853", dop.settings["rtol"]) + 12 * 2 * math.pi * \
+            methods.slip_stiffness(system) / 6.0
+        assert dop.estimated_cost == pytest.approx(1e-3 + 10 * per_phase * 2e-5, rel=1e-12)
+        lsoda = methods.INTEGRATORS["LSODA"].assess(system, ("amplitude", "period"), 1e-6, 10)
+        assert lsoda.estimated_cost == pytest.approx(1e-3 + 10 * methods.integrator_evaluations(
+            "LSODA", lsoda.settings["rtol"]) * 2.5e-5, rel=1e-12)
+    assert choose(stiff, cycles=200)[0].name == "event_driven_LSODA"
+    assert choose(mild, cycles=200)[0].name == "event_driven_DOP853"  # the bundled scene keeps its choice
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "0.5")  # 25,000 evaluations: far fewer than DOP853 needs here
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", OutOfDomainWarning)
+        with pytest.raises(SolverError, match="event_driven_DOP853 would pass the time budget .* an implicit solver "
+                                              r"\(event_driven_LSODA or event_driven_Radau\)"):
+            solve(stiff, method="event_driven_DOP853", cycles=200)
+    # the command's speeds are held to a scene's bounds (1 km/s had run past a minute)
+    monkeypatch.delenv("FAULTSLIP_TIME_BUDGET")
+    assert_clean_error(cli("cycle", "configs/lab_steel_dry_polynomial.toml", "--platform-speed", "1 km/s"),
+                       "platform speed must lie between 1e-15 and 100 m/s", "--platform-speed")
+    assert_clean_error(cli("cycle", "configs/lab_steel_dry_polynomial.toml", "--loading-rate", "1e8 1/s"),
+                       "platform speed must lie between", "--loading-rate")
+    # and the run's estimate is the chosen method's declared cost, not the closed form's 2 ms
+    estimate = faultslip.models.estimate("lab_steel_dry_polynomial.toml")
+    chosen, assessment, _ = choose(mild, tolerance=1e-6, cycles=1000)
+    assert "by event_driven_DOP853" in estimate.what
+    assert estimate.seconds == pytest.approx(machine.on_this_machine(assessment.estimated_cost, "families"), rel=1e-9)
