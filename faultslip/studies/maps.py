@@ -727,15 +727,16 @@ def _rate_state_map_inputs(spec, dims_coords, lithology, overrides, tolerance):
     return study, rate_state_inputs(study, varying)
 
 
-#: Cells of a rate-and-state map whose K / K_c the cost model reads (evenly strided over the map's cells): the
-#: closed form is cheap, but a raster may hold millions of cells.
-COST_SAMPLE = 4096
+#: A raster's cells along each axis whose K / K_c the cost model reads (evenly strided: at most 64 x 64 of them):
+#: the closed form is cheap, but a raster may hold millions of cells, and the sample is built alone.
+COST_SAMPLE_AXIS = 64
 
 
 def _model_seconds(spec, tolerance: float) -> float:
     """CPU seconds of the map's predictions, before any runs: a rate-and-state map's cycles in every unstable
     segment or raster cell, by the integrators' calibrated cost models over each one's K / K_c (closed form, on
-    a strided sample of at most :data:`COST_SAMPLE`); the seed law's closed form is vectorised (the raster rate)."""
+    a raster's strided sample, :data:`COST_SAMPLE_AXIS` a side at most); the seed law's closed form is vectorised
+    (the raster rate)."""
     if not spec.scene.rate_state or not spec.cycles:
         return 0.0
     if spec.segments is not None:
@@ -746,15 +747,16 @@ def _model_seconds(spec, tolerance: float) -> float:
                      "zone_width": table.zone_width, "rupture_length": table.lengths}
         lithology = table.lithology
     else:
-        raster = spec.raster
-        count = int(raster["lat"].size * raster["lon"].size)
+        count = int(spec.raster["lat"].size * spec.raster["lon"].size)
+        raster = spec.raster.isel({axis: slice(None, None, -(-spec.raster[axis].size // COST_SAMPLE_AXIS))
+                                   for axis in ("lat", "lon")})
         dims_coords = {"dims": ("lat", "lon"), "coords": {"lat": raster["lat"].values, "lon": raster["lon"].values}}
         overrides = {name: raster[name].values for name in ("shear_modulus", "zone_width", "slip_rate",
                                                             "normal_stress", "shear_stress") if name in raster}
         lithology = raster["lithology"].values if "lithology" in raster else None
-    study, inputs = _rate_state_map_inputs(spec, dims_coords, lithology, overrides, tolerance)
-    stride, shape = max(1, -(-count // COST_SAMPLE)), _shape(inputs)
-    sample = {key: np.broadcast_to(np.asarray(getattr(value, "values", value)), shape).ravel()[::stride]
+    _, inputs = _rate_state_map_inputs(spec, dims_coords, lithology, overrides, tolerance)
+    shape = _shape(inputs)
+    sample = {key: np.broadcast_to(np.asarray(getattr(value, "values", value)), shape).ravel()
               for key, value in inputs.items()}
     sample["evolution"] = evolution_codes(sample["evolution"])
     ratio = rate_state_cells(**sample)["stiffness_ratio"]

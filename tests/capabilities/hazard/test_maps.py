@@ -232,6 +232,9 @@ def test_a_rate_state_maps_estimate_counts_the_cycles_in_every_cell(cli, tmp_pat
     # the cells are the same fault: four times the cells, four times the cycles; more cycles cost more
     large = read_map(_rate_state_raster_map(tmp_path, 12))
     assert map_size_estimate(large).seconds == pytest.approx(4 * raster_seconds + 4 * cycles_seconds, rel=1e-9)
+    # a raster wider than the cost model's sample (64 a side) is read on a strided sample of its cells
+    wide = read_map(_rate_state_raster_map(tmp_path, 70))
+    assert map_size_estimate(wide).seconds == pytest.approx(4900 / 36 * (raster_seconds + cycles_seconds), rel=1e-9)
     longer = estimated_seconds(ran["stiffness_ratio"].values.ravel(), 10, 1e-6, "auto")
     assert longer > cycles_seconds and map_size_estimate(read_map(_rate_state_raster_map(
         tmp_path, 6, cycles=10))).seconds == pytest.approx(raster_seconds + longer, rel=1e-9)
