@@ -269,8 +269,9 @@ def parse_scene(text: str, source: str = "<scene>", path: Path | None = None) ->
         if table == "family" and isinstance(content, str):  # the model family's name (faultslip.models)
             continue
         if table not in SCHEMA:
+            what = f"table [{table}]" if isinstance(content, dict) else f"key {table} outside any table"
             raise InputError(
-                f"unknown table [{table}] in {source}; {_suggest(table, SCHEMA)}allowed tables: {', '.join(SCHEMA)}"
+                f"unknown {what} in {source}; {_suggest(table, SCHEMA)}allowed tables: {', '.join(SCHEMA)}"
             )
         if not isinstance(content, dict):
             raise InputError(f"{table} in {source} must be a table [{table}], got a value")

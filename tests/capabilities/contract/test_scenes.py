@@ -40,6 +40,8 @@ def test_scene_without_units_or_with_wrong_kind_is_rejected():
         parse_scene('[scene]\nkind = "quake"\n')
     with pytest.raises(InputError, match=r"unknown table \[faults\]"):
         parse_scene('[scene]\nkind = "fault"\n[faults]\nx = 1\n')
+    with pytest.raises(InputError, match="unknown key name outside any table"):  # not a 'table [name]'
+        parse_scene('name = "x"\n[scene]\nkind = "fault"\n')
     with pytest.raises(InputError, match="not valid TOML"):
         parse_scene("[scene\n")
 
