@@ -59,6 +59,10 @@ class NoEventsError(SolverError):
     """A fault run found no earthquakes within its time limit: it creeps, or slips too slowly to count."""
 
 
+class EvaluationBudgetError(SolverError):
+    """An integration stopped at the right-hand-side evaluations it was allowed (a slip phase past its budget)."""
+
+
 class OutOfDomainWarning(UserWarning):
     """A method was used where it is known to be inaccurate.
 

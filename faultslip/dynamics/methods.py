@@ -35,7 +35,7 @@ from faultslip.dynamics import vibration as averaging
 from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
 from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
 from faultslip.dynamics.shared.cycle import STEADY_SLIDING, CycleResult
-from faultslip.errors import InputError, MethodError, OutOfDomainWarning, SolverError
+from faultslip.errors import EvaluationBudgetError, InputError, MethodError, OutOfDomainWarning
 from faultslip.io import budget
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_error
 from faultslip.dynamics.spring_slider.regularized import simulate_regularized
@@ -301,10 +301,11 @@ class EventDriven(Method):
             rtol = fitting[0] if fitting else RTOL_LEVELS[-1]
         error = declared_slip_error(self.solver, rtol) * drift
         stiffness = slip_stiffness(system)
-        evaluations = integrator_evaluations(self.solver, rtol) + stiff_evaluations(self.solver, stiffness)
+        accurate, limited = integrator_evaluations(self.solver, rtol), stiff_evaluations(self.solver, stiffness)
+        evaluations = accurate + limited
         cost = 1e-3 + max(cycles, 1) * evaluations * INTEGRATOR_EVALUATION_TIME[self.solver]
         stiff = (f"; its slip phase is stiff (eps = {stiffness:.3g}): about {evaluations:.3g} evaluations a phase"
-                 if stiff_evaluations(self.solver, stiffness) > integrator_evaluations(self.solver, rtol) else "")
+                 if limited > accurate else "")
         return Assessment(self.name, True, f"{self.solver} at rtol = {rtol:g} (error <= "
                           f"{declared_slip_error(self.solver, rtol):.2g} at that rtol){stiff}",
                           error, cost, {"slip_solver": self.solver, "rtol": rtol})
@@ -317,10 +318,8 @@ class EventDriven(Method):
         try:
             dataset = simulate(system, cycles=cycles, slip_solver=self.solver, rtol=settings["rtol"],
                                stop_when_converged=converge, max_evaluations=affordable)
-        except SolverError as error:
-            if "budget of" not in str(error):
-                raise
-            raise SolverError(f"{self.name} would pass the time budget ({affordable:.3g} evaluations): {error}; "
+        except EvaluationBudgetError as error:
+            raise EvaluationBudgetError(f"{self.name} would pass the time budget ({affordable:.3g} evaluations): {error}; "
                               f"the slip phase's stiffness is eps = {slip_stiffness(system):.3g}, and an implicit "
                               "solver (event_driven_LSODA or event_driven_Radau) steps a stiff phase in far fewer "
                               "evaluations") from None

@@ -28,7 +28,7 @@ import numpy as np
 from faultslip.dynamics.shared.cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP
 from faultslip.dynamics.shared.settling import aitken, assess_settling
 from faultslip.units import ELAPSED_TIME_ATTRS
-from faultslip.errors import InputError, SolverError
+from faultslip.errors import EvaluationBudgetError, InputError, SolverError
 from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, slip_cycle
 from faultslip.io.report import Report
 
@@ -248,7 +248,7 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
                 "outside its valid speed range (the slip runs away); limit its velocity weakening or add damping"
             ) from None
         except _BudgetExceeded:
-            raise SolverError(
+            raise EvaluationBudgetError(
                 f"simulate ({solver}, rtol={rtol:g}): budget of {budget} function evaluations exceeded in a slip phase "
                 f"of {system.name}; use the exact cycle for linear laws, a looser rtol, or a larger budget"
             ) from None

@@ -23,9 +23,8 @@ from faultslip.contract.result import Result
 from faultslip.models.common import note_origin, note_scene
 from faultslip.models.vibration.figures import amplitude_speed_figure, vibration_series_figure
 
-#: --method names of the CLI and their averaging methods
-METHODS = {None: "auto", "auto": "auto", "quasi_harmonic_averaging": "averaging",
-           "quasi_harmonic_integration": "integration"}
+#: --method names of the CLI (the listed ones, faultslip.dynamics.vibration.METHODS) and their averaging methods
+METHODS = {None: "auto", "auto": "auto", **{entry["name"]: short for short, entry in DECLARED_METHODS.items()}}
 
 
 def averaging_method(method) -> str:
