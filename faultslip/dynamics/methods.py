@@ -319,10 +319,10 @@ class EventDriven(Method):
             dataset = simulate(system, cycles=cycles, slip_solver=self.solver, rtol=settings["rtol"],
                                stop_when_converged=converge, max_evaluations=affordable)
         except EvaluationBudgetError as error:
-            raise EvaluationBudgetError(f"{self.name} would pass the time budget ({affordable:.3g} evaluations): {error}; "
-                              f"the slip phase's stiffness is eps = {slip_stiffness(system):.3g}, and an implicit "
-                              "solver (event_driven_LSODA or event_driven_Radau) steps a stiff phase in far fewer "
-                              "evaluations") from None
+            raise EvaluationBudgetError(
+                f"{self.name} would pass the time budget ({affordable:.3g} evaluations): {error}; the slip phase's "
+                f"stiffness is eps = {slip_stiffness(system):.3g}, and an implicit solver (event_driven_LSODA or "
+                "event_driven_Radau) steps a stiff phase in far fewer evaluations") from None
         return _cycle_from_dataset(system, dataset, self.name), dataset["event_time"].values, dataset, \
             dataset.attrs["function_evaluations"]
 
