@@ -249,6 +249,26 @@ class Result:
         return f"<faultslip Result of {self.family}: {self.title}>"
 
 
+class ReportedValues:
+    """Result-style access for what a fit returns (a report and more, not a :class:`Result`): ``fit["a"]`` is a
+    pint Quantity where it has units, ``fit.keys()`` every reported name, ``fit.as_result()`` the Result itself,
+    so that a fit reads as a run does."""
+
+    def as_result(self) -> Result:
+        """The reported values as a :class:`Result`."""
+        raise NotImplementedError
+
+    def keys(self) -> list[str]:
+        return self.as_result().keys()
+
+    def __getitem__(self, key):
+        """A reported value: a pint Quantity where it has units, else the plain value."""
+        return self.as_result()[key]
+
+    def __contains__(self, key) -> bool:
+        return key in self.as_result()
+
+
 def judge_tolerance(result: Result, tolerance) -> Result:
     """Say whether ``result`` meets the ``tolerance`` a run was asked for, for every family alike (``meets_tolerance``).
 

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from faultslip.contract.result import Result, with_draws
+from faultslip.contract.result import ReportedValues, Result, with_draws
 from faultslip.errors import InputError, did_you_mean
 from faultslip.friction.laws import static_friction
 from faultslip.io.resources import open_netcdf, read_numeric_csv, split_header
@@ -204,8 +204,9 @@ def check_data(data: FrictionData) -> None:
 
 
 @dataclass
-class FitResult:
-    """A fitted rate law with its uncertainty (natural parameters; b in s^d)."""
+class FitResult(ReportedValues):
+    """A fitted rate law with its uncertainty (natural parameters; b in s^d). ``fit["b"]`` is a reported value with
+    its units (``fit.values`` the plain fitted numbers)."""
 
     values: dict
     covariance: np.ndarray
@@ -226,11 +227,14 @@ class FitResult:
 
         return RateLaw(self.values["mu_so"], self.values["mu_m"], self.values["b"], self.values["d"])
 
+    def as_result(self) -> Result:
+        """The fit's report as a :class:`Result`."""
+        return Result("rate_law_fit", self.report())
+
     def to_xarray(self):
         """The fit as a CF Dataset, the schema every Result writes (each number a variable with its ``units``, each
         95 % range on ``quantile``), with the bootstrap resamples on (bootstrap_draw, bootstrap_parameter)."""
-        return with_draws(Result("rate_law_fit", self.report()).to_xarray(), "bootstrap", PARAMETERS,
-                          self.bootstrap)
+        return with_draws(self.as_result().to_xarray(), "bootstrap", PARAMETERS, self.bootstrap)
 
     def report(self, title="faultslip fit"):
 

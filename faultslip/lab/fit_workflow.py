@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.dynamics.rate_state.slider import RateStateSlider, simulate_rate_state
-from faultslip.contract.result import Result, with_draws
+from faultslip.contract.result import ReportedValues, Result, with_draws
 from faultslip.errors import InputError
 from faultslip.friction.fitting import fit_rate_law
 from faultslip.io.report import Report, display_unit, significant
@@ -41,9 +41,10 @@ INTERVALS_NOTE = ("covariance intervals: s^2 (J^T J)^-1 at the optimum; bootstra
 
 
 @dataclass
-class RecordFit:
+class RecordFit(ReportedValues):
     """What :func:`fit_record` found: the report, the (prepared) record, the fit's spring (friction per metre),
-    the least-squares fit and, on request, the posterior."""
+    the least-squares fit and, on request, the posterior. ``fit["critical_slip"]`` is a reported value with its
+    units, as a run's Result gives it."""
 
     report: Report
     record: object  # StepRecord
@@ -56,10 +57,14 @@ class RecordFit:
     def to_xarray(self):
         """The fit as a CF Dataset, the schema every Result writes (each reported number a variable with its
         ``units``, each 95 % range on ``quantile``), with the posterior's samples where there is one."""
-        dataset = Result("rate_state_fit", self.report).to_xarray()
+        dataset = self.as_result().to_xarray()
         if self.posterior is not None:
             dataset = with_draws(dataset, "posterior", self.posterior.names, self.posterior.samples)
         return dataset
+
+    def as_result(self) -> Result:
+        """The fit's report as a :class:`Result`."""
+        return Result("rate_state_fit", self.report)
 
     def fitted_friction(self, seed: int = 0) -> dict:
         """The fitted law's friction through the record's own load history, for a figure of record and fit.

@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 
 from faultslip.cli.main import build_parser
+from faultslip.units import quantity
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGES = [ROOT / "README.md"] + sorted((ROOT / "docs").glob("*.md"))
@@ -344,6 +345,28 @@ def test_both_fits_write_the_schema_every_result_writes(tmp_path):
             assert set(written.data_vars) == set(dataset.data_vars)
     assert rate.to_xarray()["mu_so"].item() == rate.values["mu_so"]
     assert record.to_xarray()["critical_slip"].attrs["units"] == "m"
+
+
+def test_a_fit_reads_as_a_run_does(cli):
+    """A fit's numbers are reached as a run's are: ``fit["critical_slip"]`` a pint Quantity in the unit the report
+    gives, the 95 % range a pair, the same numbers as the command's --json (its values in SI)."""
+    import faultslip
+
+    record = faultslip.fit(ROOT / "configs" / "example_velocity_steps.csv", law="rate-state", stiffness="1e-2 1/um",
+                           bootstrap=0)
+    printed = cli("fit", "--law", "rate-state", ROOT / "configs" / "example_velocity_steps.csv", "--stiffness",
+                  "1e-2 1/um", "--bootstrap", "0", "--json")
+    assert printed.code == 0
+    written = printed.json["critical_slip"]
+    assert written["units"] == "m" and record["critical_slip"].to("m").magnitude == written["value"]
+    low, high = record["critical_slip_95"]
+    assert low < record["critical_slip"] < high and str(low.units) == "meter"
+    assert "a" in record and "b" in record.keys() and "no_such_value" not in record
+    rate = faultslip.fit(ROOT / "configs" / "example_friction_data.csv", bootstrap=0)
+    assert rate["b"].magnitude == rate.values["b"]  # b carries s^d, d the fitted exponent
+    assert rate["b"].units == quantity(1.0, f"s^{rate.values['d']:.4g}").units
+    with pytest.raises(KeyError):
+        record["no_such_value"]
 
 
 def test_run_help_says_the_tolerance_may_move_up_the_ladder(cli):
