@@ -17,7 +17,8 @@ Error models (relative, leading order; checked against measurements in the tests
 * regularised friction: not trusted (it never truly sticks); run only when forced.
 
 Cost models (seconds, order of magnitude, from the benchmarks): closed form ~2e-5, exact cycle
-~2e-4, event-driven ``cycles * nfev_per_slip(solver, rtol) * t_eval``.
+~2e-4, event-driven ``cycles * nfev_per_slip(solver, rtol) * t_eval``, where the cycles of a steady-cycle run
+are those it takes to settle (:func:`settling_cycles`).
 """
 
 from __future__ import annotations
@@ -39,7 +40,8 @@ from faultslip.errors import EvaluationBudgetError, InputError, MethodError, Out
 from faultslip.io import budget
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_error
 from faultslip.dynamics.spring_slider.regularized import simulate_regularized
-from faultslip.dynamics.spring_slider.simulate import SUSTAINED_OSCILLATION, declared_slip_error, simulate
+from faultslip.dynamics.spring_slider.simulate import (SETTLING_CYCLES, SETTLING_WINDOW, SUSTAINED_OSCILLATION,
+                                                       declared_slip_error, simulate)
 
 DEFAULT_TOLERANCE = 1e-6
 OUTPUTS = ("amplitude", "period", "event_times", "time_series")
@@ -93,6 +95,10 @@ class Solution:
         report.add("estimated_relative_error", self.estimated_relative_error, label="estimated relative error")
         if self.settings:
             report.add("method_settings", ", ".join(f"{k}={v}" for k, v in self.settings.items()), label="settings")
+        # what the run itself found (a re-stick recomputed, a fallback integrator, Steffensen restarts)
+        attrs = {} if self.dataset is None else self.dataset.attrs
+        for note in filter(None, attrs.get("regime_verification", "").split("\n")):
+            report.note(note)
         return report
 
 
@@ -211,7 +217,7 @@ class ExactMap(Method):
     name = "exact_map"
     friction_laws = "time-of-stick static friction; constant or linear kinetic friction"
     domain = "|zeta| < 1; any loading rate (the settled cycle decides stick-slip or steady sliding)"
-    cost_model = "about 1.5 ms per cycle, ~10-40 cycles to settle with Steffensen restarts"
+    cost_model = "about 1.5 ms per cycle, 4-33 cycles to settle with Steffensen restarts (more as V nears V_c)"
     declared_error = "the distance to the settled cycle the settling test measures (geometric tail, or the scatter)"
 
     def assess(self, system, outputs, tolerance, cycles):
@@ -223,27 +229,81 @@ class ExactMap(Method):
                               "is the same, the exact cycle solves it directly")
         if not -1 < system.damping_ratio < 1:
             return Assessment(self.name, False, f"damping ratio {system.damping_ratio:.3g} is outside (-1, 1)")
-        wanted = max(cycles, 40) if {"time_series", "event_times"} & set(outputs) else 40
         reason = ("linear kinetic law with time-of-stick static friction: analytic slip phases, the steady cycle by "
                   "Steffensen iteration of the re-stick map")
         near = _near_cameron_critical_speed(system)
         return Assessment(self.name, True, f"{reason}; {near}" if near else reason, SETTLED_ERROR,
-                          1e-3 + 1.5e-3 * wanted)
+                          1e-3 + 1.5e-3 * settling_cycles(system, outputs, cycles, steady_above_critical=True))
 
     def run(self, system, cycles, settings):
         dataset = simulate(system, cycles=cycles, slip_solver="analytic", stop_when_converged=settings.get("converge"))
         return _cycle_from_dataset(system, dataset, self.name), dataset["event_time"].values, dataset, 0
 
 
-def _near_cameron_critical_speed(system) -> str | None:
-    """Cameron's V_c = c alpha_m (seed 002 eq. 9 as alpha -> 0, alpha_m = 2 W (mu_u - mu_k) / K), named when
-    the platform speed is within 10 % of it (undamped, constant kinetic friction: where eq. 9 holds)."""
+def _cameron_critical_speed(system) -> float | None:
+    """Cameron's V_c = c alpha_m (seed 002 eq. 9 as alpha -> 0, alpha_m = 2 W (mu_u - mu_k) / K), m/s, where
+    eq. 9 holds (undamped, constant kinetic friction); None elsewhere."""
     law, kinetic = system.static_law, system.kinetic_law
     if not all(hasattr(law, key) for key in ("mu_upper", "growth_rate")) or not hasattr(kinetic, "mu_m") or \
             system.damping_ratio != 0 or getattr(kinetic, "slope", 0.0):
         return None
-    critical = law.growth_rate * 2 * system.normal_load * (law.mu_upper - kinetic.mu_m) / system.stiffness
+    return law.growth_rate * 2 * system.normal_load * (law.mu_upper - kinetic.mu_m) / system.stiffness
+
+
+def _near_cameron_critical_speed(system) -> str | None:
+    """Cameron's V_c, named when the platform speed is within 10 % of it."""
+    critical = _cameron_critical_speed(system)
+    if critical is None:
+        return None
     return bifurcation_note("Cameron's critical speed V_c = c alpha_m", "V", system.platform_speed, critical, "m/s")
+
+
+#: Cycles a time-of-stick slider's steady-cycle run takes where Cameron's V_c is not known (the middle of the
+#: 4-32 measured on configs/lab_steel_dry_time_of_stick.toml between 0.05 and 0.99 V_c).
+TIME_OF_STICK_CYCLES = 16
+
+
+def settling_cycles(system, outputs, cycles: int, steady_above_critical: bool = False) -> float:
+    """The cycles a run of ``cycles`` takes: all of them where events or a time series are wanted; else those it
+    takes to settle (:func:`~faultslip.dynamics.spring_slider.simulate.simulate`, ``stop_when_converged``).
+
+    A static friction that does not depend on the stick time breaks away at the same stress every cycle: the
+    settling test's first window (:data:`SETTLING_WINDOW` cycles) finds it settled. A time-of-stick law's re-stick
+    map contracts more slowly as the speed nears Cameron's V_c; with Steffensen restarts its run takes
+    ``4 (1 + log2 1 / |1 - V / V_c|)`` cycles (measured 4, 8, 16, 24, 32 at 0.05, 0.3, 0.8, 0.95, 0.99 V_c
+    on configs/lab_steel_dry_time_of_stick.toml), :data:`TIME_OF_STICK_CYCLES` where V_c is not known. Above
+    V_c the exact map settles on steady sliding (9-33 cycles measured, the same rule); an integrator's slip
+    phases graze re-stick there and do not settle (``steady_above_critical`` False): every cycle the run allows,
+    :data:`SETTLING_CYCLES` at least.
+
+    Parameters
+    ----------
+    system : SliderSystem
+        The slider.
+    outputs : iterable of str
+        What is wanted (``event_times`` and ``time_series`` run every cycle).
+    cycles : int
+        The cycles asked for.
+    steady_above_critical : bool
+        Whether the method settles on steady sliding above V_c (the exact map does).
+
+    Returns
+    -------
+    float
+        Cycles.
+    """
+    if {"time_series", "event_times"} & set(outputs):
+        return float(max(cycles, 1))
+    if not system.static_law.depends_on_stick_time:
+        return float(SETTLING_WINDOW)
+    critical = _cameron_critical_speed(system)
+    if critical is None:
+        return float(TIME_OF_STICK_CYCLES)
+    ratio = system.platform_speed / critical
+    if ratio >= 1 and not steady_above_critical:
+        return float(max(cycles, SETTLING_CYCLES))
+    gap = max(abs(1 - ratio), 2.0 ** -(SETTLING_CYCLES / SETTLING_WINDOW))
+    return float(min(SETTLING_WINDOW * (1 + max(math.log2(1 / gap), 0.0)), max(cycles, SETTLING_CYCLES)))
 
 
 #: The exact map's own error once settled: its stick root is found to ~1e-12 relative.
@@ -284,7 +344,8 @@ class EventDriven(Method):
     friction_laws = "any static law (rate, constant, time-of-stick); any kinetic law"
     domain = "everything the model describes (no reverse slip); error c rtol^q + floor"
     cost_model = ("cycles x evaluations per slip phase (grows as rtol tightens; for DOP853 and RK45, also as the slip "
-                  "phase's stiffness, stages x 2 pi x eps / their stability limit) x ~2e-5 s")
+                  "phase's stiffness, stages x 2 pi x eps / their stability limit) x ~2e-5 s; a steady cycle's run "
+                  "counts the cycles it takes to settle (4 where static friction does not depend on the stick time)")
     declared_error = ("c rtol^q + floor per solver, fitted on random scenes against the exact cycle "
                       "(benchmarks/event_driven_calibration.py; faultslip bench checks it on held-out ones), "
                       "and the settling left")
@@ -303,7 +364,8 @@ class EventDriven(Method):
         stiffness = slip_stiffness(system)
         accurate, limited = integrator_evaluations(self.solver, rtol), stiff_evaluations(self.solver, stiffness)
         evaluations = accurate + limited
-        cost = 1e-3 + max(cycles, 1) * evaluations * INTEGRATOR_EVALUATION_TIME[self.solver]
+        # a steady-cycle run stops once settled: its cycles, not every one it may take (200 had been counted)
+        cost = 1e-3 + settling_cycles(system, outputs, cycles) * evaluations * INTEGRATOR_EVALUATION_TIME[self.solver]
         stiff = (f"; its slip phase is stiff (eps = {stiffness:.3g}): about {evaluations:.3g} evaluations a phase"
                  if limited > accurate else "")
         return Assessment(self.name, True, f"{self.solver} at rtol = {rtol:g} (error <= "

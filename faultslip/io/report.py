@@ -252,6 +252,8 @@ def _format_item(item: Item) -> str:
     if item.value is None:
         return "none"
     value = float(item.value)
+    if math.isnan(value):  # no value here (a period of steady sliding): no unit to read it in
+        return "n/a"
     unit, factor = display_unit([value], item.units)
     error = item.error / factor if item.error is not None else None
     text = f"{significant(value / factor, error)} {unit}".rstrip()
