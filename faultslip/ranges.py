@@ -162,6 +162,43 @@ def parse_number(name: str, text, where: str = "") -> float:
     return check(name, value, where)
 
 
+def check_tolerance(tolerance, where: str = "", label: str = "tolerance") -> float | None:
+    """A requested relative error in (0, 1), from a number or text (``"0.1"``, ``"1e-3"``, ``"10 %"``); None stays
+    None (no tolerance). Every method's choice and every front door refuses the rest in one sentence.
+
+    Parameters
+    ----------
+    tolerance : float, str or None
+        The relative error.
+    where : str
+        Where it was given (added to the sentence).
+    label : str
+        What the sentence calls it.
+
+    Returns
+    -------
+    float or None
+        The tolerance, dimensionless.
+    """
+    if tolerance is None:
+        return None
+    text = str(tolerance).strip()
+    value = None
+    if isinstance(tolerance, str):
+        percent = text.endswith("%")
+        try:
+            value = float(text[:-1].strip()) / 100 if percent else float(text)
+        except ValueError:
+            value = None
+    elif isinstance(tolerance, (int, float, np.integer, np.floating)) and not isinstance(tolerance, bool):
+        value = float(tolerance)
+    if value is None or not 0 < value < 1:
+        place = f" ({where})" if where else ""
+        raise InputError(f"{label} must be a relative error between 0 and 1 (0.1, 1e-3 or 10 %), got "
+                         f"{tolerance!r}{place}")
+    return value
+
+
 def check_friction_drop(mu_so, mu_m, where: str = ""):
     """Refuse mu_m >= mu_so: without a static excess there is no stick-slip to predict (eq. 2-18)."""
     so, m = np.broadcast_arrays(np.asarray(mu_so, dtype=float), np.asarray(mu_m, dtype=float))

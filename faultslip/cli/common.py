@@ -6,6 +6,7 @@ import contextlib
 import sys
 from pathlib import Path
 
+from faultslip import ranges
 from faultslip.dynamics.spring_slider.closed_form import dashpot_for_damping_ratio
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.errors import FaultslipError, InputError
@@ -86,11 +87,7 @@ def _workers(args, tasks=None) -> int:
 def _tolerance(args):
     if getattr(args, "tolerance", None) is None:
         return None
-    value = _number(args.tolerance, "tolerance")
-    if not 0 < value < 1:
-
-        raise InputError(f"tolerance must be a relative error between 0 and 1, got {args.tolerance}")
-    return value
+    return ranges.check_tolerance(args.tolerance, "--tolerance")
 
 
 def _number(text, name):

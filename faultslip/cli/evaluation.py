@@ -10,6 +10,7 @@ from pathlib import Path
 from faultslip.cli.common import _locked, _number, _output_dir, _outputs, _workers
 from faultslip.cli.printing import _emit, _emit_estimate, _progress
 from faultslip.io.outputs import FIGURE_SUFFIXES
+from faultslip import ranges
 from faultslip.errors import FaultslipError, InputError
 from faultslip.evaluation import bench, rate_state_bench, stability
 from faultslip.evaluation.bench import all_scenes, markdown, method_names, work_precision
@@ -133,7 +134,7 @@ def cmd_model_error(args) -> int:
             raise InputError("model-error --estimate estimates a fault scene's ladder: give the scene")
         return _emit_estimate(faultslip.models.estimate(args.scene, "ladder", include_3d=args.include_3d), args.json)
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.scene] if args.scene else [])["plot"]
-    tolerance = _number(args.tolerance, "--tolerance") if args.tolerance is not None else None
+    tolerance = ranges.check_tolerance(args.tolerance, "--tolerance")
     result = faultslip.models.model_error(args.scene, tolerance, include_3d=args.include_3d)
     report = result.report()
     if plot:

@@ -355,7 +355,7 @@ def cmd_quasi_harmonic(args) -> int:
     if plot and speeds is None:
         raise InputError("--plot draws the amplitude against speed: give --speeds START STOP COUNT too")
     result = faultslip.models.amplitude_study(args.scene, speed=args.speed, speeds=speeds, method=args.method,
-                             tolerance=_number(args.tolerance, "--tolerance") if args.tolerance else 1e-3)
+                             tolerance=ranges.check_tolerance(args.tolerance or 1e-3, "--tolerance"))
     report, sweep, system = result.report(), result.extras["sweep"], result.extras["system"]
     if args.regions:
         chart = _outputs(args, {"regions": ("--regions", FIGURE_SUFFIXES)}, [args.scene])["regions"]

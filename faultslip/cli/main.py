@@ -116,7 +116,8 @@ def _method_flags(parser):
     parser.add_argument("--method", "--model", dest="method", help="solution method, or a fault scene's rung (one_slider, fault_2d, and "
                         "fault_3d on a 3-D scene): see 'faultslip methods' (default: auto, the cheapest method whose "
                         "error model meets the tolerance)")
-    parser.add_argument("--tolerance", help="relative error the answer must meet (default 1e-6); on a rate-and-state "
+    parser.add_argument("--tolerance", help="relative error the answer must meet (0.1, 1e-3 or 10 %%; default "
+                        "1e-6); on a rate-and-state "
                         "fault scene the model error too: where one slider cannot meet it, the run moves up to the "
                         "2-D fault of the same scene (estimated and budgeted first) and reports both rungs; on a 3-D "
                         "scene up to the 3-D fault")

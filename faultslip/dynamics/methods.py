@@ -36,6 +36,7 @@ from faultslip.dynamics import vibration as averaging
 from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
 from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
 from faultslip.dynamics.shared.cycle import STEADY_SLIDING, CycleResult
+from faultslip import ranges
 from faultslip.errors import EvaluationBudgetError, InputError, MethodError, OutOfDomainWarning
 from faultslip.io import budget
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_error
@@ -562,8 +563,7 @@ def _check_request(outputs, tolerance, cycles):
     unknown = [o for o in outputs if o not in OUTPUTS]
     if unknown:
         raise InputError(f"unknown output {unknown[0]!r}; allowed: {', '.join(OUTPUTS)}")
-    if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
-        raise InputError(f"tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    tolerance = ranges.check_tolerance(tolerance)
     if cycles < 1:
         raise InputError(f"cycles must be at least 1, got {cycles}")
     return outputs

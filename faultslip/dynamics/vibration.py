@@ -42,6 +42,7 @@ from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.dynamics.shared.settling import assess_settling
+from faultslip import ranges
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.laws import ConstantStatic, PolynomialKinetic
 from faultslip.io.report import Report
@@ -695,8 +696,7 @@ def settled_amplitude(system: QuasiHarmonic, method: str = "auto", tolerance: fl
     the method, its declared error and why it was chosen; raises :class:`SolverError` where the oscillation
     sticks (the stick-slip methods apply there), or where averaging is asked for a cycle too close to call."""
     method = _short_method(method)
-    if not 0 < tolerance < 1:
-        raise InputError(f"tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    tolerance = ranges.check_tolerance(tolerance)
     result = system.analyse()
     if not result.valid and not result.marginal:
         raise SolverError(f"{system.name}: {result.notes[0] if result.notes else 'the slider sticks'}")

@@ -224,10 +224,8 @@ class Scene:
     @property
     def tolerance(self) -> float:
 
-        tolerance = float(self.tables.get("method", {}).get("tolerance", DEFAULT_TOLERANCE))
-        if not 0 < tolerance < 1:
-            raise InputError(f"[method] tolerance in {self.name} must lie between 0 and 1, got {tolerance}")
-        return tolerance
+        return ranges.check_tolerance(self.tables.get("method", {}).get("tolerance", DEFAULT_TOLERANCE),
+                                      f"[method] in {self.name}")
 
     @property
     def simulation(self) -> dict:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import importlib
 
+from faultslip import ranges
 from faultslip.errors import InputError, refusal
 from faultslip.io import budget
 from faultslip.contract.options import OPTIONS, UNIVERSAL
@@ -86,6 +87,7 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
         report, ``to_xarray()`` and the figure.
     """
     method = _method_or_model(method, model)
+    tolerance = ranges.check_tolerance(tolerance)  # "10 %" as the command takes it; refused here in one sentence
     if quantities:
         if scene is not None:
             raise InputError(f"run() with a scene takes method (or model), tolerance and its options, not "
@@ -143,6 +145,8 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
         raise InputError(f"an estimate is of a run, a simulation or a ladder, not {action!r}")
     if "model" in options:
         options["method"] = _method_or_model(options.get("method"), options.pop("model"))
+    if "tolerance" in options:
+        options["tolerance"] = ranges.check_tolerance(options["tolerance"])
     family = family_of(scene)
     if action == "ladder" and family.ladder is None:
         raise InputError(f"a {family.name} scene has no ladder of rungs to run ('faultslip model-error' reads its "

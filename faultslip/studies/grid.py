@@ -143,10 +143,7 @@ def _sweepable(study_or_cells, scene, name: str, where: str):
 
 
 def _check_tolerance(tolerance, where: str):
-    if tolerance is not None and (not isinstance(tolerance, (int, float)) or isinstance(tolerance, bool)
-                                  or not 0 < tolerance < 1):
-        raise InputError(f"{where} tolerance must be a number between 0 and 1, got {tolerance!r}")
-    return None if tolerance is None else float(tolerance)
+    return ranges.check_tolerance(tolerance, where.rstrip(":"))
 
 
 def _values(name, spec, kind, where):

@@ -534,6 +534,37 @@ def test_cores_are_counted_in_one_place():
     assert found == [("faultslip.io.processes", "usable_cores")], found
 
 
+def _hand_checked_tolerances(tree) -> list[str]:
+    """Comparisons of a tolerance with 0 or 1 (``0 < tolerance < 1``, ``tolerance > 0``; a name holding
+    "tolerance"): a tolerance checked by hand rather than by :func:`faultslip.ranges.check_tolerance`."""
+    found = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Compare):
+            continue
+        operands = [node.left, *node.comparators]
+        names = [o.id if isinstance(o, ast.Name) else o.attr if isinstance(o, ast.Attribute) else "" for o in operands]
+        bounds = [o for o in operands if isinstance(o, ast.Constant) and not isinstance(o.value, bool)
+                  and o.value in (0, 1)]
+        if bounds and any("tolerance" in name for name in names):
+            found.append(f"line {node.lineno}")
+    return found
+
+
+def test_a_tolerance_is_checked_in_one_place():
+    """Every tolerance a user gives (an option, a keyword, a scene's or a study's key) is read by
+    :func:`faultslip.ranges.check_tolerance`: "0.1", "1e-3" and "10 %" alike, the rest in one sentence. Seven
+    copies had refused a notebook's tolerance="0.1" that the command took."""
+    found = []
+    for module, path in MODULES.items():
+        if module == "faultslip.ranges":
+            continue
+        found += [f"{module} {where}" for where in _hand_checked_tolerances(ast.parse(path.read_text("utf-8")))]
+    assert not found, found
+    assert _hand_checked_tolerances(ast.parse("if not 0 < tolerance < 1: pass")) == ["line 1"]
+    assert _hand_checked_tolerances(ast.parse("ok = 0 < self.tolerance")) == ["line 1"]
+    assert _hand_checked_tolerances(ast.parse("ok = error <= tolerance")) == []
+
+
 BENCHMARKS = PACKAGE.parent / "benchmarks"
 
 

@@ -32,6 +32,7 @@ import numpy as np
 
 from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.shared.assessment import Assessment
+from faultslip import ranges
 from faultslip.errors import InputError, beside
 
 #: calibrated tolerances: the loosest that meets a requested error is used
@@ -146,8 +147,7 @@ def choose_cycle_method(stiffness_ratio: float, tolerance: float = 1e-6, cycles:
                         two_state: bool = False, rtol: float | None = None):
     """``(method name, rtol, assessment, assessments)``: the cheapest integrator whose declared error meets
     ``tolerance`` (at ``rtol`` if given); if none does, the most accurate, and the reason says so."""
-    if not 0 < tolerance < 1:
-        raise InputError(f"tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    tolerance = ranges.check_tolerance(tolerance)
     assessments = [method.assess(stiffness_ratio, tolerance, cycles, two_state, rtol)
                    for method in CYCLE_METHODS.values()]
     usable = [a for a in assessments if a.applicable]

@@ -40,6 +40,7 @@ import numpy as np
 
 from faultslip.units import ELAPSED_TIME_ATTRS
 from faultslip.dynamics.shared.settling import assess_settling
+from faultslip import ranges
 from faultslip.errors import InputError, SolverError
 from faultslip.models.asperity import friction as contact
 from faultslip.io.progress import reporter
@@ -673,9 +674,7 @@ def speed_sweep(model: AsperityModel, speeds, duration: float = 3.0, method: str
     ``progress``: True for a bar, or a callable (done, total) (:mod:`faultslip.io.progress`)."""
     import xarray as xr  # heavy: imported where used
 
-    if tolerance is not None and not (isinstance(tolerance, (int, float)) and not isinstance(tolerance, bool)
-                                      and 0 < tolerance < 1):
-        raise InputError(f"a sweep's convergence tolerance must be a number between 0 and 1, got {tolerance!r}")
+    tolerance = ranges.check_tolerance(tolerance, label="a sweep's convergence tolerance")
     speeds = np.asarray(speeds, float)
     progress = reporter(progress, "speed sweep", "speed")
     names = ["mean_friction", "mean_deformation_friction", "stick_fraction", "loops", "elapsed"]

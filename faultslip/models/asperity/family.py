@@ -18,6 +18,7 @@ from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
 from faultslip.models.asperity.dynamics import (CONVERGENCE_RTOLS, METHODS, QUASISTATIC_ERROR, converged_run,
                                                 measured_wavelength, peak_speeds, speed_sweep)
+from faultslip import ranges
 from faultslip.errors import InputError, SolverError
 from faultslip.models.asperity.scene import load_asperity_scene
 from faultslip.models.common import note_origin
@@ -138,10 +139,7 @@ def speed_study(scene, low, high, points: int = 40, dashpot=None, method: str = 
 
 def _sweep_tolerance(tolerance) -> float:
     """A sweep's convergence tolerance, a number or text ("0.01", "1 %"), or one clear sentence."""
-    value = to_si(tolerance, "dimensionless", "--tolerance")
-    if not 0 < value < 1:
-        raise InputError(f"--tolerance must be a relative change between 0 and 1, got {tolerance!r}")
-    return value
+    return ranges.check_tolerance(tolerance, label="--tolerance")
 
 
 def simulate(scene) -> Result:

@@ -36,6 +36,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from faultslip.models.asperity.dynamics import METHODS, AsperityModel
+from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.fault.scene import has_friction_law, load_law_scene
 from faultslip.io.resources import check_toml_layout, parse_toml
@@ -83,9 +84,7 @@ def parse_asperity_scene(text: str, source: str = "<scene>") -> tuple[AsperityMo
     name_ = method.get("name", "auto")
     if name_ not in ("auto", *METHODS):
         raise InputError(f"[method] name in {source} must be one of auto, {', '.join(METHODS)}, got {name_!r}")
-    tolerance = method.get("tolerance", 0.05)
-    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or not 0 < tolerance < 1:
-        raise InputError(f"[method] tolerance in {source} must be a relative error between 0 and 1, got {tolerance!r}")
+    tolerance = ranges.check_tolerance(method.get("tolerance", 0.05), f"[method] in {source}")
     notes = {"name": name, "description": str(data.get("description", ""))}
     return model, {"duration": duration, "method": name_, "tolerance": float(tolerance)}, notes
 

@@ -19,6 +19,7 @@ from faultslip.fault import dip_error, strike_error
 from faultslip.models.fault_2d import bp3_outputs
 from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
+from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.fault.ladder import (ONE_SLIDER_METHOD, declared_error, groups, ladder_report, one_slider_report,
                                    rung_of, with_model_error)
@@ -394,8 +395,7 @@ def checked_request(method, tolerance, richardson: bool, check_starts: bool) -> 
 
 def checked_tolerance(tolerance) -> None:
     """Refuse a tolerance that is not a relative error in (0, 1) (None: no tolerance); the 3-D family's runs too."""
-    if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
-        raise InputError(f"the tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    ranges.check_tolerance(tolerance)
 
 
 def refuse_unreachable(loaded: Fault2DScene, tolerance: float, tried_slider: bool = False,

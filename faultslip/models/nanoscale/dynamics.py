@@ -32,6 +32,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from faultslip.dynamics.shared.settling import Settling, aitken, assess_settling, bifurcation_note
+from faultslip import ranges
 from faultslip.errors import InputError, SolverError
 from faultslip.io import budget
 from faultslip.io.report import Report
@@ -459,8 +460,7 @@ def choose_method(model: NanoscaleModel, outputs=("regime", "force_swing"), meth
     unknown = [o for o in outputs if o not in NANOSCALE_OUTPUTS]
     if unknown:
         raise InputError(f"unknown output {unknown[0]!r}; allowed: {', '.join(NANOSCALE_OUTPUTS)}")
-    if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
-        raise InputError(f"tolerance must be a relative error between 0 and 1, got {tolerance!r}")
+    tolerance = ranges.check_tolerance(tolerance)
     rtol = min(1e-4, max(1e-12, tolerance / LSODA_ERROR_CONSTANT))
     integration = NanoscaleChoice("nanoscale_LSODA", "", LSODA_ERROR_CONSTANT * rtol, rtol)
     closed_enough = "time_series" not in outputs and ("force_swing" not in outputs or not model.stick_slip)

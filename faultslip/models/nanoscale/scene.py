@@ -30,6 +30,7 @@ import math
 from pathlib import Path
 
 from faultslip.models.nanoscale.dynamics import NANOSCALE_METHODS, NanoscaleModel
+from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.fault.scene import has_friction_law, load_law_scene
 from faultslip.io.resources import check_toml_layout, parse_toml
@@ -64,9 +65,7 @@ def parse_nanoscale_scene(text: str, source: str = "<scene>") -> tuple[Nanoscale
     name = method.get("name", "auto")
     if name not in NANOSCALE_METHODS:
         raise InputError(f"[method] name in {source} must be one of {', '.join(NANOSCALE_METHODS)}, got {name!r}")
-    tolerance = method.get("tolerance", 1e-6)
-    if not isinstance(tolerance, (int, float)) or isinstance(tolerance, bool) or not 0 < tolerance < 1:
-        raise InputError(f"[method] tolerance in {source} must be a relative error between 0 and 1, got {tolerance!r}")
+    tolerance = ranges.check_tolerance(method.get("tolerance", 1e-6), f"[method] in {source}")
     settings = {"duration": float(run.get("duration", 3000.0)), "samples": int(run.get("samples", 6001)),
                 "method": name, "tolerance": float(tolerance)}
     values = {**data.get("slider", {}), **{k: v for k, v in data.get("friction", {}).items() if k != "law"}}

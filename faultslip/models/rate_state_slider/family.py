@@ -11,6 +11,7 @@ from faultslip.dynamics.rate_state.slider import simulate_rate_state
 from faultslip.contract.cells import PerCell
 from faultslip.contract.scenes import toml_reader
 from faultslip.contract.specs import Output, Parameter
+from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.fault.ladder import ONE_SLIDER_METHOD
 from faultslip.fault.one_slider_error import declare_model_error
@@ -300,8 +301,7 @@ def _fault_method(method, tolerance) -> str:
     method = method or "auto"
     if method not in FAULT_METHODS:
         raise InputError(f"a rate-and-state fault runs one of {', '.join(FAULT_METHODS)}, got {method!r}")
-    if tolerance is not None and not (isinstance(tolerance, (int, float)) and 0 < tolerance):
-        raise InputError(f"the tolerance of a fault's model error must be a positive number, got {tolerance!r}")
+    ranges.check_tolerance(tolerance, label="the tolerance of a fault's model error")
     return method
 
 

@@ -17,6 +17,7 @@ import math
 
 from faultslip.contract.registry import family_of
 from faultslip.contract.result import Result
+from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.fault.one_slider_error import declared_from_envelope, declared_model_error, load_calibration
 from faultslip.models.rate_state_slider.one_slider import DESCRIPTIONS, load_hierarchy
@@ -48,8 +49,7 @@ def model_error_result(scene=None, tolerance: float | None = None, include_3d: b
         The declared model error at each calibrated W / h* (relative), the held-out coverage, the scene's, and
         ``plot()`` the chart.
     """
-    if tolerance is not None and not tolerance > 0:
-        raise InputError(f"--tolerance must be positive, got {tolerance}")
+    tolerance = ranges.check_tolerance(tolerance, "--tolerance")
     if scene is not None:
         family = family_of(scene)
         if include_3d and family.name not in ("fault_2d", "fault_3d"):

@@ -65,3 +65,28 @@ def test_the_fault_scene_at_every_corner_of_its_bounds_answers_or_refuses_in_one
         result = cli(command[0], scene, *command[1:])
         if result.code != 0:
             assert_clean_error(result)
+
+
+@pytest.mark.parametrize("given, expected", [(0.1, 0.1), ("0.1", 0.1), ("1e-3", 1e-3), ("10 %", 0.1), ("10%", 0.1),
+                                             (" 2.5 % ", 0.025), (1e-12, 1e-12), (None, None)])
+def test_a_tolerance_is_read_from_a_number_or_text(given, expected):
+    assert ranges.check_tolerance(given) == pytest.approx(expected) if expected else \
+        ranges.check_tolerance(given) is None
+
+
+@pytest.mark.parametrize("given", [0, 1, 1.5, -0.1, "0", "100 %", "ten", "", "nan", "inf", True, [0.1], "0.1 m"])
+def test_a_tolerance_outside_0_and_1_is_one_sentence(given):
+    with pytest.raises(InputError, match=r"^tolerance must be a relative error between 0 and 1 .*got .* \(here\)$"):
+        ranges.check_tolerance(given, "here")
+
+
+def test_every_front_door_takes_a_tolerance_as_text(cli):
+    """A notebook's tolerance="10 %" is the command's --tolerance "10 %": the same method, the same answer."""
+    import faultslip
+
+    from_python = faultslip.run("lab_glass_dry.toml", tolerance="10 %")
+    printed = cli("run", "configs/lab_glass_dry.toml", "--tolerance", "10 %", "--json")
+    assert printed.code == 0 and printed.json["method"] == from_python.method == "closed_form"
+    assert faultslip.models.estimate("lab_glass_dry.toml", tolerance="0.1").seconds > 0
+    refused = cli("run", "configs/lab_glass_dry.toml", "--tolerance", "ten")
+    assert refused.code == 2 and "got 'ten' (--tolerance)" in refused.err and "Traceback" not in refused.err

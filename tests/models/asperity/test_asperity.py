@@ -363,7 +363,7 @@ def test_cli_run_simulate_and_sweep(cli, tmp_path):
     (("asperity", CONFIG, "--from", "5 mm/s", "--to", "1 mm/s"), "--from must be below --to"),
     (("asperity", CONFIG, "--points", "1"), "--points"),
     (("asperity", CONFIG, "--from", "3 kg"), "--from"),
-    (("asperity", CONFIG, "--tolerance", "2"), "--tolerance must be a relative change"),
+    (("asperity", CONFIG, "--tolerance", "2"), "--tolerance must be a relative error between 0 and 1"),
     (("asperity", CONFIG, "--tolerance", "often"), "--tolerance"),
     (("simulate", CONFIG, "--cycles", "3"), "--cycles) is not an option of an asperity scene"),
 ])
