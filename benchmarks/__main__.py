@@ -57,6 +57,7 @@ PRODUCERS = (
     ("asperity_quasistatic_check", [], ["--quick"], "asperity_quasistatic_check.json"),
     ("surface_trends", [], [], "surface_trends.json"),
     ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),
+    ("lab_cycle_cost", [], ["--quick"], "lab_cycle_cost.json"),
     ("rate_state_calibration", [], ["--quick"], "rate_state_calibration.json"),
     ("chain_coverage", [], ["--quick"], "chain_coverage.json"),
     ("hazard_chain", [], [], "hazard_chain.json"),

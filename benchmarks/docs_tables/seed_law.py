@@ -338,12 +338,34 @@ def chain_coverage_table() -> str | None:
         f"`python benchmarks/chain_coverage.py`. {_machine(result)}")
 
 
+def lab_cycle_cost_table() -> str | None:
+    """docs/methods.md: the steady-cycle methods' declared cost against the CPU their runs use (lab_cycle_cost.py)."""
+    result = _load("lab_cycle_cost.json")
+    if result is None:
+        return None
+    rows = ["| draw | method | runs | declared / CPU used, median (range) | within 2x | under half |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for draw, label in (("calibration", "calibration seeds"), ("held_out", "held-out seeds")):
+        for method, found in result[draw].items():
+            auto = f" (auto takes {', '.join(found['auto_where_under'])})" if found["under_half"] else ""
+            rows.append(f"| {label} | {method} | {found['runs']} | {found['median']:.2f} ({found['low']:.2g}-"
+                        f"{found['high']:.2g}) | {found['within_2x']} | {found['under_half']}{auto} |")
+    return "\n".join(rows) + (
+        f"\n\nRandom scenes of `faultslip.evaluation.bench.random_scenes`, {result['scenes_per_seed']} a seed "
+        f"(calibration {', '.join(map(str, result['calibration_seeds']))}; held out "
+        f"{', '.join(map(str, result['held_out_seeds']))}), "
+        "each method run twice at tolerance 1e-6, the second run timed. A run far under its declared cost is a forced "
+        "method's slip phase grazing re-stick; where auto takes another method there, it is named. "
+        f"`python benchmarks/lab_cycle_cost.py`. {_machine(result)}")
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
     "b_value_coverage": b_value_coverage_table,
     "chain_coverage": chain_coverage_table,
     "poisson_verdicts": poisson_verdicts_table,
     "closed_form_near_critical": closed_form_near_critical_table,
+    "lab_cycle_cost": lab_cycle_cost_table,
     "dashpot_force": dashpot_force_table,
     "renewal_coverage": renewal_coverage_table,
     "chain_example": chain_example_table,

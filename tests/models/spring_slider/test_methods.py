@@ -268,14 +268,15 @@ def test_a_stiff_slip_phase_is_costed_as_stiff_and_auto_takes_an_implicit_solver
     assert methods.slip_stiffness(mild) < 1
     for system in (stiff, mild):  # the explicit cost: stages x 2 pi x eps / stability limit more a phase
         dop = methods.INTEGRATORS["DOP853"].assess(system, ("amplitude", "period"), 1e-6, 10)
-        per_phase = methods.integrator_evaluations("DOP853", dop.settings["rtol"]) + 12 * 2 * math.pi * \
-            methods.slip_stiffness(system) / 6.0
+        eps = methods.slip_stiffness(system)  # a curved law: (2 + 2 min(eps, 2)) times a linear law's count
+        per_phase = methods.integrator_evaluations("DOP853", dop.settings["rtol"]) * (2 + 2 * min(eps, 2)) + \
+            12 * 2 * math.pi * eps / 6.0
         # a steady cycle's run settles in the settling test's first window (static friction of the rate alone)
         assert methods.settling_cycles(system, ("amplitude", "period"), 10) == 4
         assert dop.estimated_cost == pytest.approx(1e-3 + 4 * per_phase * 2e-5, rel=1e-12)
         lsoda = methods.INTEGRATORS["LSODA"].assess(system, ("amplitude", "period"), 1e-6, 10)
         assert lsoda.estimated_cost == pytest.approx(1e-3 + 4 * methods.integrator_evaluations(
-            "LSODA", lsoda.settings["rtol"]) * 2.5e-5, rel=1e-12)
+            "LSODA", lsoda.settings["rtol"]) * (2 + 2 * min(eps, 2)) * 2.5e-5, rel=1e-12)
     assert choose(stiff, cycles=200)[0].name == "event_driven_LSODA"
     assert choose(mild, cycles=200)[0].name == "event_driven_DOP853"  # the bundled scene keeps its choice
     monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "0.5")  # 25,000 evaluations: far fewer than DOP853 needs here
