@@ -250,17 +250,24 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
                 # scipy locates an event on the step's dense output; LSODA's need not reproduce the step's end
                 # states, and then no sign change brackets the event (brentq refuses). DOP853's interpolant passes
                 # through them: that sub-phase is integrated by DOP853 (its stiff steps bounded by the run's
-                # evaluation budget), and the run says so.
-                # at the loosest rtol whose declared error is within the failed solver's: the run's stands
+                # evaluation budget), at the loosest rtol whose declared error is within the failed solver's, so
+                # that the run's declared error stands; the run says so.
+                failed = options["method"]
                 within = [level for level in (10.0 ** -k for k in range(3, 14))
-                          if declared_slip_error("DOP853", level) <= declared_slip_error(options["method"], rtol)]
+                          if declared_slip_error("DOP853", level) <= declared_slip_error(failed, rtol)]
                 fallback_rtol = within[0] if within else 1e-13
-                fallback = (f"a slip phase's event location failed under {options['method']} (scipy's dense output "
-                            f"did not bracket the event: {error}); that phase was integrated by DOP853 at rtol="
-                            f"{fallback_rtol:g}, whose declared error is within {options['method']}'s at rtol={rtol:g}")
+                bound = (f"whose declared error is within {failed}'s at rtol={rtol:g}" if within else
+                         f"its tightest (its declared error {declared_slip_error('DOP853', 1e-13):.2g})")
+                fallback = (f"a slip phase's event location failed under {failed} (scipy's dense output did not "
+                            f"bracket the event: {error}); that phase was integrated by DOP853 at rtol="
+                            f"{fallback_rtol:g}, {bound}")
                 options = {key: value for key, value in options.items() if key != "jac"}
                 options.update(method="DOP853", rtol=fallback_rtol, atol=options["atol"] * fallback_rtol / rtol)
-                solution = solve_ivp(rhs, (s_now, horizon), state_now, events=events, **options)
+                try:
+                    solution = solve_ivp(rhs, (s_now, horizon), state_now, events=events, **options)
+                except ValueError as again:
+                    raise SolverError(f"simulate ({failed}, then DOP853): scipy's event location failed in a slip "
+                                      f"phase of {system.name} under both ({again}); try another rtol") from None
         except _BadFriction as bad:
             raise SolverError(
                 f"simulate ({solver}): the kinetic law of {system.name} gives friction {float(bad.mu):.3g} at sliding "
