@@ -168,7 +168,7 @@ def check_tolerance(tolerance, where: str = "", label: str = "tolerance") -> flo
 
     Parameters
     ----------
-    tolerance : float, str or None
+    tolerance : float, str, dimensionless pint Quantity or None
         The relative error.
     where : str
         Where it was given (added to the sentence).
@@ -192,6 +192,8 @@ def check_tolerance(tolerance, where: str = "", label: str = "tolerance") -> flo
             value = None
     elif isinstance(tolerance, (int, float, np.integer, np.floating)) and not isinstance(tolerance, bool):
         value = float(tolerance)
+    elif getattr(tolerance, "dimensionless", False) and np.ndim(getattr(tolerance, "magnitude", None)) == 0:
+        value = float(tolerance.to("dimensionless").magnitude)  # a pint Quantity: 10 percent, 0.1
     if value is None or not 0 < value < 1:
         place = f" ({where})" if where else ""
         raise InputError(f"{label} must be a relative error between 0 and 1 (0.1, 1e-3 or 10 %), got "

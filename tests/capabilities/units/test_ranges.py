@@ -74,6 +74,15 @@ def test_a_tolerance_is_read_from_a_number_or_text(given, expected):
         ranges.check_tolerance(given) is None
 
 
+def test_a_tolerance_may_be_a_dimensionless_quantity():
+    from faultslip.units import quantity
+
+    assert ranges.check_tolerance(quantity(10, "percent")) == pytest.approx(0.1)
+    assert ranges.check_tolerance(quantity(0.1, "")) == pytest.approx(0.1)
+    with pytest.raises(InputError, match="got <Quantity"):
+        ranges.check_tolerance(quantity(0.1, "m"))
+
+
 @pytest.mark.parametrize("given", [0, 1, 1.5, -0.1, "0", "100 %", "ten", "", "nan", "inf", True, [0.1], "0.1 m"])
 def test_a_tolerance_outside_0_and_1_is_one_sentence(given):
     with pytest.raises(InputError, match=r"^tolerance must be a relative error between 0 and 1 .*got .* \(here\)$"):
