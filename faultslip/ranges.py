@@ -182,9 +182,9 @@ def check_tolerance(tolerance, where: str = "", label: str = "tolerance") -> flo
     """
     if tolerance is None:
         return None
-    text = str(tolerance).strip()
     value = None
     if isinstance(tolerance, str):
+        text = tolerance.strip()
         percent = text.endswith("%")
         try:
             value = float(text[:-1].strip()) / 100 if percent else float(text)

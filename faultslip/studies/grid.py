@@ -142,10 +142,6 @@ def _sweepable(study_or_cells, scene, name: str, where: str):
     return allowed[name]
 
 
-def _check_tolerance(tolerance, where: str):
-    return ranges.check_tolerance(tolerance, where.rstrip(":"))
-
-
 def _values(name, spec, kind, where):
     """SI values of one sweep dimension from a list, a linspace or a logspace."""
     if isinstance(spec, dict):
@@ -230,7 +226,7 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
     else:  # relative to the study file; a bare name may also mean a bundled scene
         scene, family = read_scene(head["base"], base_dir=base_dir)
     cells = cells_of(family, scene)
-    tolerance = _check_tolerance(head.get("tolerance", cells.default_tolerance), f"[study] in {source}:")
+    tolerance = ranges.check_tolerance(head.get("tolerance", cells.default_tolerance), f"[study] in {source}")
     dims, units_text = {}, {}
     for name, spec in document.get("sweep", {}).items():
         parameter = _sweepable(cells, scene, name, f" in [sweep] of {source}")
@@ -445,7 +441,7 @@ def sweep(scene, method: str = "auto", tolerance: float | None = None, chunks: d
         parameter = _sweepable(cells, scene, name, "")
         values = values if isinstance(values, dict) else list(values) if not isinstance(values, (str, bytes)) else [values]
         parsed[name] = _dimension(values, parameter, cells, scene, name)
-    tolerance = _check_tolerance(cells.default_tolerance if tolerance is None else tolerance, "sweep():")
+    tolerance = ranges.check_tolerance(cells.default_tolerance if tolerance is None else tolerance, "sweep()")
     study = Study(name=scene.name, scene=scene, dims=parsed, method=method, tolerance=tolerance,
                   text=_study_text(scene, method, tolerance, dims, cycles), cycles=cycles, family=family)
     cells.check(study, "sweep():", "sweep()")

@@ -574,10 +574,8 @@ def _stepped_run(system, cycles, x, solver, rtol, atol, samples, horizon_periods
                                          max_evaluations, counter)
                 if check.regime == STICK_SLIP:
                     slip = check
-                    if check.fallback:
-                        notes.append(check.fallback)
                     notes.append(f"a slip phase missed its re-stick at rtol={rtol:g}; recomputed at rtol={tighter:g}")
-        if slip.fallback and slip.fallback not in notes:
+        if slip.fallback and slip.fallback not in notes:  # the check's, where it replaced the phase
             notes.append(slip.fallback)
         segments.append(_slip_segment(system, t, slip))
         if slip.regime not in (STICK_SLIP, GROWING_OSCILLATION):

@@ -104,7 +104,7 @@ def speed_study(scene, low, high, points: int = 40, dashpot=None, method: str = 
     for speed in (low, high):  # the model refuses an out-of-range speed before any cell runs
         replace(model, platform_speed=speed)
     if tolerance is not None:
-        tolerance = _sweep_tolerance(tolerance)
+        tolerance = ranges.check_tolerance(tolerance, label="--tolerance")
     sweep = speed_sweep(model, np.linspace(low, high, points), duration=settings["duration"], method=method,
                         progress=progress, tolerance=tolerance)
     report = asperity_report(model, None, None, f"faultslip asperity speed sweep (seed 004): {notes['name']}")
@@ -135,11 +135,6 @@ def speed_study(scene, low, high, points: int = 40, dashpot=None, method: str = 
                        label=f"{name}: cells by outcome")
     return Result("asperity", report, sweep, lambda: sweep_figure([sweep], [notes["name"]]), extras={"map": grid,
                   "map_figure": None if grid is None else (lambda: map_figure(grid))})
-
-
-def _sweep_tolerance(tolerance) -> float:
-    """A sweep's convergence tolerance, a number or text ("0.01", "1 %"), or one clear sentence."""
-    return ranges.check_tolerance(tolerance, label="--tolerance")
 
 
 def simulate(scene) -> Result:
