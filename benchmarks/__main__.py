@@ -31,6 +31,7 @@ PRODUCERS = (
     ("sweep_scale", [], ["--quick"], "sweep.json"),
     ("startup", [], ["--repeats", "3"], "startup.json"),
     ("first_run", [], ["--rounds", "1"], "first_run.json"),
+    ("command_estimates", [], ["--rounds", "1"], "command_estimates.json"),
     ("fault_2d", [], ["--quick"], "fault_2d.json"),
     ("fault_2d_threads", [], ["--elements", "1600", "--rounds", "1", "--placement", "5", "--batches", "5",
                               "--pairs", "2"], "fault_2d_threads.json"),

@@ -154,6 +154,27 @@ def first_run_table() -> str | None:
     return f"{text} {_machine(result)}"
 
 
+def command_estimates_table() -> str | None:
+    """docs/benchmarks.md: each family's command estimate against the CPU its command uses (command_estimates.py)."""
+    result = _load("command_estimates.json")
+    if result is None:
+        return None
+    rows = ["| command | estimate (its run's imports) | CPU used | used / estimate | without the imports |",
+            "| --- | --- | --- | --- | --- |"]
+    for row in result["cases"]:
+        rows.append(f"| `{row['command']}` | {row['estimate_seconds']:.2f} s ({row['import_seconds']:.2f} s) | "
+                    f"{row['used_seconds']:.2f} s | {row['used_over_estimate']:.2f} | "
+                    f"{row['used_over_estimate_without_imports']:.2f} |")
+    cases = len(result["cases"])
+    return "\n".join(rows) + (
+        f"\n\nEach command a whole process, its CPU from its rusage, medians of {result['rounds']} rounds, the estimate "
+        "and the run alternating which goes first (`python benchmarks/command_estimates.py`). The estimate is "
+        "`faultslip ... --estimate --json`'s `command_seconds`: the family's cost model, the imports its run needs "
+        "(measured by importing them) and the command's start. Within 2x of the CPU used: "
+        f"{result['within_2x']} of {cases}; without the run's imports, as estimates were before they counted them, "
+        f"{result['within_2x_without_imports']} of {cases}. {_machine(result)}")
+
+
 def spring_block_qdyn_table() -> str | None:
     result = _load("spring_block_qdyn.json")
     if result is None:
@@ -365,6 +386,7 @@ TABLES = {
     "sweep": sweep_table,
     "startup": startup_table,
     "first_run": first_run_table,
+    "command_estimates": command_estimates_table,
     "spring_block_qdyn": spring_block_qdyn_table,
     "spring_chain_speed": spring_chain_speed_table,
     "lab_fits": lab_fits_table,

@@ -122,6 +122,8 @@ class Method:
     domain = ""
     cost_model = ""
     declared_error = ""
+    #: the modules its run imports where it runs (faultslip.io.budget.Estimate.imports): none, in closed form
+    imports: tuple = ()
 
     def assess(self, system, outputs, tolerance, cycles) -> Assessment:  # pragma: no cover - interface
         raise NotImplementedError
@@ -215,6 +217,7 @@ class ExactMap(Method):
     the steady cycle settled (issue 27: near V_c = c alpha_m the natural approach takes thousands of
     cycles)."""
 
+    imports = (*budget.DATASET_IMPORTS, "scipy.optimize")  # the analytic simulation's Dataset, its roots
     name = "exact_map"
     friction_laws = "time-of-stick static friction; constant or linear kinetic friction"
     domain = "|zeta| < 1; any loading rate (the settled cycle decides stick-slip or steady sliding)"
@@ -348,6 +351,7 @@ def stiff_evaluations(solver: str, stiffness: float) -> float:
 
 
 class EventDriven(Method):
+    imports = (*budget.DATASET_IMPORTS, *budget.INTEGRATION_IMPORTS)
     friction_laws = "any static law (rate, constant, time-of-stick); any kinetic law"
     domain = "everything the model describes (no reverse slip); error c rtol^q + floor"
     cost_model = ("cycles x evaluations per slip phase (grows as rtol tightens, (2 + 2 min(eps, 2)) times on a "
@@ -401,6 +405,7 @@ class EventDriven(Method):
 
 
 class Regularized(Method):
+    imports = budget.INTEGRATION_IMPORTS
     friction_laws = "rate-law or constant static friction; any kinetic law (smoothed by tanh(u/w))"
     domain = "none trusted: it never truly sticks (creep ~ w) and must step through every stick phase"
     cost_model = "stiff: steps through stick phases; explicit solvers exceed any budget at large stick/slip ratios"
@@ -451,6 +456,7 @@ class QuasiHarmonicAveraging(Method):
     """Seed 002's averaging (faultslip.dynamics.vibration) for a slider that, once broken away, never
     sticks again: a sustained quasi-harmonic oscillation or steady sliding."""
 
+    imports = budget.INTEGRATION_IMPORTS  # its envelope's quadrature and root search
     name = "quasi_harmonic_averaging"
     friction_laws = "any kinetic law (polynomial in closed form, others by quadrature); rate or constant static law"
     domain = ("after break-away eq. (20) brings the amplitude below V / omega by the next velocity peak (else the "

@@ -9,9 +9,12 @@ magnitude, meant to stop a two-week run or a 100 GB allocation, not to predict t
 
 from __future__ import annotations
 
+import importlib
 import os
 import shutil
-from dataclasses import dataclass
+import sys
+import time
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -33,6 +36,15 @@ ZLIB_RATIO = 0.5
 #: (1e8 of them took gigabytes before any budget was checked); a million is far past any grid a study runs.
 MAX_DIMENSION_VALUES = 1_000_000
 OVERRIDE = "--allow-large"
+#: What a run that builds an xarray Dataset imports: xarray, and dask.array, which xarray's first Dataset imports
+#: where dask is installed (0.4 and 0.6 s of CPU in a fresh process).
+DATASET_IMPORTS = ("xarray", "dask.array")
+#: What an integrating run imports: scipy's integrators and the root finders that locate its events.
+INTEGRATION_IMPORTS = ("scipy.integrate", "scipy.optimize")
+#: What every run imports where it checks its budget (:func:`available_memory`).
+BUDGET_IMPORTS = ("psutil",)
+#: numba's extensions (rocket-fft), which its first compiled call loads: a name :func:`measure_imports` takes.
+NUMBA_EXTENSIONS = "numba:extensions"
 
 
 def available_memory() -> float:
@@ -92,6 +104,11 @@ class Estimate:
         Workers the work is shared by (a sweep's); with more than one, ``cpu_seconds`` is their CPU summed.
     cpu_seconds : float or None
         CPU time over every worker (s), where ``workers`` > 1.
+    imports : tuple of str
+        The modules the run imports where it runs (its heavy, lazily imported ones; :data:`DATASET_IMPORTS`,
+        ``"scipy.integrate"``, :data:`NUMBA_EXTENSIONS`): :func:`with_imports` counts those this process lacks.
+    import_seconds : float
+        CPU seconds of those imports, measured by :func:`with_imports` and included in ``seconds``.
     """
 
     what: str  # e.g. "this sweep of 1e+12 cells"
@@ -103,6 +120,8 @@ class Estimate:
     workers: int = 1
     cpu_seconds: float | None = None
     notes: tuple = ()
+    imports: tuple = ()
+    import_seconds: float = 0.0
 
     def report(self, title: str | None = None, started: float | None = None):
         """The estimate as a :class:`~faultslip.io.report.Report` (what ``--estimate`` prints).
@@ -129,7 +148,11 @@ class Estimate:
                    label=f"time on its {self.workers} workers, about" if shared else "CPU time, about")
         if shared:
             report.add("cpu_seconds", self.cpu_seconds, "s", label="CPU time over the workers, about")
+        if self.import_seconds:
+            report.add("import_seconds", self.import_seconds, "s",
+                       label="of which imports the run needs, measured")
         if started is not None:
+            started = max(started - self.import_seconds, 0.0)  # the run's own imports are in seconds already
             report.add("process_start_seconds", started, "s", label="CPU to start (Python, imports), measured")
             report.add("command_seconds", self.seconds + started, "s",
                        label="the command's time, about" if shared else "the command's CPU time, about")
@@ -169,6 +192,51 @@ class Estimate:
         if self.disk:
             parts.append(f"{_size(self.disk)} of disk")
         return ", ".join(parts)
+
+
+def measure_imports(modules) -> float:
+    """CPU seconds this process spends importing those of ``modules`` it has not imported yet, measured by
+    importing them (the run would: an estimate that leaves them out misses a short run's time several times over).
+
+    Parameters
+    ----------
+    modules : iterable of str
+        Module names (``"scipy.integrate"``), or :data:`NUMBA_EXTENSIONS`: numba's extensions, loaded.
+
+    Returns
+    -------
+    float
+        Process CPU seconds (``time.process_time``); 0 where every one is imported already.
+    """
+    start = time.process_time()
+    for name in dict.fromkeys(modules):
+        if name == NUMBA_EXTENSIONS:
+            importlib.import_module("numba.core.entrypoints").init_all()  # once per process; then a no-op
+        elif name not in sys.modules:
+            importlib.import_module(name)
+    return time.process_time() - start
+
+
+def _numba_extensions_loaded() -> bool:
+    entrypoints = sys.modules.get("numba.core.entrypoints")
+    return bool(getattr(entrypoints, "_already_initialized", False))
+
+
+def with_imports(estimate: Estimate) -> Estimate:
+    """``estimate`` with the CPU its run's imports cost this process (:func:`measure_imports` of its ``imports``
+    and :data:`BUDGET_IMPORTS`) added to its seconds, and said in a note where there are any."""
+    modules = (*BUDGET_IMPORTS, *estimate.imports)
+    owed = [name for name in dict.fromkeys(modules)
+            if (not _numba_extensions_loaded() if name == NUMBA_EXTENSIONS else name not in sys.modules)]
+    seconds = measure_imports(owed)
+    if seconds < 1e-3:
+        return replace(estimate, import_seconds=seconds, seconds=estimate.seconds + seconds)
+    names = ", ".join("numba's extensions" if name == NUMBA_EXTENSIONS else name for name in owed
+                      if name not in BUDGET_IMPORTS) or "the budget's check"
+    note = f"{_duration(seconds)} of the CPU time imports what the run needs ({names}), measured by importing it"
+    return replace(estimate, import_seconds=seconds, seconds=estimate.seconds + seconds,
+                   cpu_seconds=None if estimate.cpu_seconds is None else estimate.cpu_seconds + seconds,
+                   notes=(*estimate.notes, note))
 
 
 def time_budget() -> float:
@@ -225,7 +293,8 @@ def one_after_another(what: str, estimates: list[Estimate]) -> Estimate:
     any lies outside its cost model's fit (so that :func:`check` refuses the whole as it would that run)."""
     outside = tuple(dict.fromkeys(sentence for e in estimates for sentence in e.outside_fit))
     return Estimate(what, memory=max(e.memory for e in estimates), disk=sum(e.disk for e in estimates),
-                    seconds=sum(e.seconds for e in estimates), output=estimates[0].output, outside_fit=outside)
+                    seconds=sum(e.seconds for e in estimates), output=estimates[0].output, outside_fit=outside,
+                    imports=tuple(dict.fromkeys(name for e in estimates for name in e.imports)))
 
 
 def rungs_estimate(what: str, rungs: dict) -> Estimate:
@@ -290,7 +359,7 @@ def family_costs() -> dict:
 
 
 def fitted_estimate(family: str, entry: str, units: float, what: str, memory: float = 0.0, disk: float = 0.0,
-                    output=None) -> Estimate:
+                    output=None, imports: tuple = ()) -> Estimate:
     """An estimate from a family's fitted cost model: overhead + seconds_per_unit x ``units``.
 
     Parameters
@@ -305,6 +374,8 @@ def fitted_estimate(family: str, entry: str, units: float, what: str, memory: fl
         Bytes held at once and written (B).
     output : path, optional
         Where the disk bytes go.
+    imports : tuple of str
+        The modules the run imports where it runs (:attr:`Estimate.imports`).
 
     Returns
     -------
@@ -316,4 +387,4 @@ def fitted_estimate(family: str, entry: str, units: float, what: str, memory: fl
         raise InputError(f"{family}: no fitted cost model for {entry}; rerun benchmarks/family_costs.py")
     seconds = float(fitted["overhead"]) + float(fitted["seconds_per_unit"]) * max(float(units), 0.0)
     return Estimate(what=what, memory=memory, disk=disk, seconds=machine.on_this_machine(seconds, "families"),
-                    output=output)
+                    output=output, imports=tuple(imports))

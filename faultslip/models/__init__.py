@@ -157,7 +157,9 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
     if family.estimate is None:
         raise InputError(f"the {family.name} family declares no cost model (Family.estimate), so nothing can be "
                          "estimated before it runs")
-    return family.estimate(scene, action, **{name: value for name, value in options.items() if value is not None})
+    # and the CPU this process would spend importing what the run needs, measured (a short run's largest part)
+    return budget.with_imports(family.estimate(scene, action, **{name: value for name, value in options.items()
+                                                                 if value is not None}))
 
 
 def methods(scene=None) -> list[dict]:

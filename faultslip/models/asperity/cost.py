@@ -8,6 +8,13 @@ from faultslip.models.asperity.dynamics import CONVERGENCE_RTOLS, MEASURE_PERIOD
 from faultslip.models.asperity.scene import load_asperity_scene
 
 
+#: What each run's method imports (budget.Estimate.imports); a simulation also builds a Dataset.
+IMPORTS = {"run:asperity_wavelength": (),
+           # the slid wavelength is measured from the run's spectrum and its peaks
+           "run:asperity_measured_wavelength": (*budget.INTEGRATION_IMPORTS, "scipy.stats", "scipy.signal"),
+           "run:asperity_quasistatic": budget.INTEGRATION_IMPORTS, "run:asperity_LSODA": budget.INTEGRATION_IMPORTS}
+
+
 def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[str, float, str]:
     """(cost entry, units, what): the run integrates the scene's duration at each tolerance of its convergence
     check (at most :data:`CONVERGENCE_RTOLS`), a simulation once; the closed form costs its overhead alone."""
@@ -30,4 +37,5 @@ def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[
 def estimate(scene, action: str = "run", **options) -> budget.Estimate:
     """What a run or simulation of an asperity scene needs, before it starts."""
     entry, units, what = work(scene, action, **options)
-    return budget.fitted_estimate("asperity", entry, units, what, output=options.get("output"))
+    return budget.fitted_estimate("asperity", entry, units, what, output=options.get("output"),
+                                  imports=IMPORTS.get(entry, (*budget.DATASET_IMPORTS, *budget.INTEGRATION_IMPORTS)))

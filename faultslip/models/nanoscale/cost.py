@@ -15,7 +15,8 @@ SETTLE_CHUNK, SETTLE_MAX_TIME = 400.0, 2e5
 def nanoscale_estimate(duration: float, samples: int) -> Estimate:
     """Time and memory of a nanoscale run over ``duration`` (in 1/omega) kept at ``samples`` points."""
     return budget.fitted_estimate("nanoscale", "lsoda", duration, f"a nanoscale run over {duration:.3g}/omega",
-                                  memory=float(samples) * 6 * 8.0 * 3)
+                                  memory=float(samples) * 6 * 8.0 * 3,
+                                  imports=(*budget.DATASET_IMPORTS, *budget.INTEGRATION_IMPORTS))
 
 
 def settle_work(model, approach: float) -> float:
@@ -38,4 +39,4 @@ def settle_estimate(model) -> Estimate:
     entry = budget.family_costs()["families"]["nanoscale"]["run:settle"]
     return budget.fitted_estimate("nanoscale", "run:settle", settle_work(model, entry["approach"]),
                                   "a nanoscale run settling its cycle (LSODA, chunks of 400/omega)",
-                                  memory=2 * 6 * 8.0 * 3)
+                                  memory=2 * 6 * 8.0 * 3, imports=budget.INTEGRATION_IMPORTS)

@@ -32,4 +32,10 @@ def work(scene, action: str = "run", cycles=None, **_) -> tuple[str, float, str]
 def estimate(scene, action: str = "run", **options) -> budget.Estimate:
     """What a run or simulation of a rate-and-state scene needs, before it starts."""
     entry, units, what = work(scene, action, **options)
-    return budget.fitted_estimate("rate_state_slider", entry, units, what, output=options.get("output"))
+    # a laboratory slider's history is integrated by the compiled Dormand-Prince (numba's extensions load with
+    # it, and its LAPACK bindings from scipy.linalg) into a Dataset; a simulation's cycles are a Dataset too; a
+    # fault's one-slider run is closed form
+    imports = ((*budget.DATASET_IMPORTS, budget.NUMBA_EXTENSIONS, "scipy.linalg") if entry.endswith(":lab")
+               else budget.DATASET_IMPORTS if action == "simulate" else ())
+    return budget.fitted_estimate("rate_state_slider", entry, units, what, output=options.get("output"),
+                                  imports=imports)

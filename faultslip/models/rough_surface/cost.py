@@ -23,4 +23,5 @@ def estimate(scene, action: str = "run", **options) -> budget.Estimate:
     entry, units, what = work(scene, action, **options)
     rows = units * 66.0  # about 64 samples a slip and two a stick, six columns
     return budget.fitted_estimate("rough_surface", entry, units, what, memory=rows * 6 * 8.0 * 3,
-                                  output=options.get("output"))
+                                  output=options.get("output"),
+                                  imports=(*budget.DATASET_IMPORTS, *budget.INTEGRATION_IMPORTS))

@@ -38,6 +38,11 @@ def subphases(loaded, events: int) -> tuple[float, str]:
     return run.subphases * events / counted, f"counted by the closed form over {counted} events"
 
 
+#: What a chain's run imports beside its Dataset: the statistics of its catalogue (scipy.stats brings the
+#: integrators and root finders with it).
+IMPORTS = ("scipy.stats", "scipy.interpolate", "scipy.ndimage")
+
+
 def _work(loaded, action: str, cycles, slip_solver) -> tuple[str, float, str, float]:
     events = float(loaded.events if cycles is None or action == "run" else cycles)
     integrated = slip_solver not in (None, "auto", "analytic", "closed_form", "closed_form_compiled")
@@ -60,5 +65,6 @@ def estimate(scene, action: str = "run", cycles=None, slip_solver=None, **option
     """What a run or simulation of a chain scene needs, before it starts: its time by :func:`work`, and its
     catalogue's slip (events x blocks) and the arrays beside it in memory."""
     entry, units, what, block_events = _work(read_chain_scene(scene), action, cycles, slip_solver)
+    # its catalogue's Dataset, and the statistics of its events (their sizes' distribution, fitted)
     return budget.fitted_estimate("spring_chain", entry, units, what, memory=block_events * 8.0 * 4,
-                                  output=options.get("output"))
+                                  output=options.get("output"), imports=(*budget.DATASET_IMPORTS, *IMPORTS))

@@ -22,8 +22,10 @@ def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, ou
     memory = rows * 6 * 8.0 * 3  # six columns, about three copies while the dataset is built
     # typed rates (measured on the 2-core machine the families' costs were fitted on): carried to this one with them
     seconds = machine.on_this_machine(float(cycles) * (2.5e-3 if integrated else 2e-6) + rows * 1e-8, "families")
+    # the time series' Dataset, and the integrator or the analytic phases' roots
+    imports = (*budget.DATASET_IMPORTS, *(budget.INTEGRATION_IMPORTS if integrated else ("scipy.optimize",)))
     return Estimate(what=f"a simulation of {cycles:.3g} cycles", memory=memory, disk=rows * 6 * 8.0 if output else 0.0,
-                    seconds=seconds, output=output)
+                    seconds=seconds, output=output, imports=imports)
 
 
 def estimate(scene, action: str = "run", cycles=None, slip_solver=None, output=None, **options) -> Estimate:
@@ -54,7 +56,7 @@ def estimate(scene, action: str = "run", cycles=None, slip_solver=None, output=N
         seconds = machine.on_this_machine(assessment.estimated_cost or 0.0, "families") if assessment.applicable \
             else 0.0
         return Estimate(what=f"the cycle of {loaded.name} by {chosen.name}", memory=closed.memory,
-                        seconds=max(closed.seconds, seconds))
+                        seconds=max(closed.seconds, seconds), imports=chosen.imports)
     settings = dict(loaded.simulation)
     if cycles is not None:
         settings["cycles"] = cycles

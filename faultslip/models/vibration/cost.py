@@ -36,4 +36,7 @@ def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[
 def estimate(scene, action: str = "run", **options) -> budget.Estimate:
     """What a run or simulation of a vibration scene needs, before it starts."""
     entry, units, what = work(scene, action, **options)
-    return budget.fitted_estimate("vibration", entry, units, what, output=options.get("output"))
+    # averaging is closed form; integration imports scipy's integrators, and a simulation builds a Dataset
+    imports = {"run:averaging": (), "run:integration": budget.INTEGRATION_IMPORTS}.get(
+        entry, (*budget.DATASET_IMPORTS, *budget.INTEGRATION_IMPORTS))
+    return budget.fitted_estimate("vibration", entry, units, what, output=options.get("output"), imports=imports)
