@@ -167,8 +167,8 @@ def command_estimates_table() -> str | None:
                     f"{row['used_over_estimate_without_imports']:.2f} |")
     cases = len(result["cases"])
     return "\n".join(rows) + (
-        f"\n\nEach command a whole process, its CPU from its rusage, medians of {result['rounds']} rounds, the estimate "
-        "and the run alternating which goes first (`python benchmarks/command_estimates.py`). The estimate is "
+        f"\n\nEach command a whole process, its CPU from its rusage, medians of {result['rounds']} rounds, the "
+        "estimate and the run alternating which goes first (`python benchmarks/command_estimates.py`). The estimate is "
         "`faultslip ... --estimate --json`'s `command_seconds`: the family's cost model, the imports its run needs "
         "(measured by importing them) and the command's start. Within 2x of the CPU used: "
         f"{result['within_2x']} of {cases}; without the run's imports, as estimates were before they counted them, "
