@@ -13,6 +13,7 @@ from array import array
 import csv
 import json
 import re
+import tomllib
 from io import BytesIO
 from pathlib import Path
 
@@ -534,12 +535,17 @@ def check_table_keys(content, allowed, table: str, source: str) -> None:
 # --- scene files: one way to find and read them, for every family ------------------------------------
 
 
-def resolve_path(argument, what: str, base_dir: Path | None = None) -> tuple[Path, str]:
+#: The kinds of bundled config, as a refusal lists them.
+PLURALS = {"scene": "scenes", "study": "studies", "map": "maps"}
+
+
+def resolve_path(argument, what: str, base_dir: Path | None = None, kind: str = "scene") -> tuple[Path, str]:
     """A file argument as ``(path, origin)``: paths are paths, and only a bare name may mean a bundled file.
 
     A path with a folder in it (``configs/x.toml``, ``./x.toml``) must exist. A bare name
     (``x.toml`` or ``x``) is looked up in ``base_dir`` (or the current folder) first and then
-    among the bundled configs; ``origin`` then says that the bundled file was used.
+    among the bundled configs; ``origin`` then says that the bundled file was used. A name found in neither
+    is refused, listing the bundled configs of ``kind`` ("scene", "study" or "map": :func:`bundled_configs`).
     """
     text = str(argument)
     if not text.strip():
@@ -556,7 +562,7 @@ def resolve_path(argument, what: str, base_dir: Path | None = None) -> tuple[Pat
         if bundled.is_file():
             return bundled, f"bundled {what} {bundled.name} (no file {text!r} here)"
         raise InputError(f"{what} {text!r} does not exist here or among the bundled configs "
-                         f"({', '.join(bundled_scenes())})")
+                         f"(the {PLURALS.get(kind, kind)}: {', '.join(bundled_configs(kind))})")
     raise InputError(f"{what} {text!r} does not exist")
 
 
@@ -573,6 +579,31 @@ def scene_document(argument) -> dict | None:
         return parse_toml(read_text_file(path, "scene file"), path.name)
     except InputError:
         return None
+
+
+def bundled_configs(kind: str = "scene") -> list[str]:
+    """The bundled TOML configs of one kind: ``"scene"`` (of any family), ``"study"`` or ``"map"``
+    (:func:`faultslip.io.gate.toml_kind`).
+
+    Parameters
+    ----------
+    kind : str
+        "scene", "study" or "map".
+
+    Returns
+    -------
+    list of str
+        Their file names, sorted.
+    """
+    names = []
+    for path in sorted(bundled_dir("configs").glob("*.toml")):
+        try:
+            document = tomllib.loads(path.read_text(encoding="utf-8"))
+        except (tomllib.TOMLDecodeError, UnicodeDecodeError):  # not one of ours: listed as no kind
+            continue
+        if gate.toml_kind(document) == kind:
+            names.append(path.name)
+    return names
 
 
 def bundled_scenes() -> list[str]:

@@ -240,12 +240,20 @@ def parse_study(text: str, source: str = "<study>", base_dir: Path | None = None
 
 
 def load_study(path) -> Study:
+    """A study file, read: a path, or a bare name that is not here found among the bundled configs (as a scene's is:
+    :func:`faultslip.io.resources.resolve_path`), so that ``faultslip sweep study_rate_state.toml`` runs anywhere.
 
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"study file {str(path)!r} does not exist")
-    if path.is_dir():
-        raise InputError(f"study file {str(path)!r} is a folder")
+    Parameters
+    ----------
+    path : str or path
+        The study file.
+
+    Returns
+    -------
+    Study
+        Its base scene, grid, method, tolerance and cycles.
+    """
+    path, _ = resolve_path(path, "study file", kind="study")
     return parse_study(read_text_file(path, "study file"), source=path.name, base_dir=path.parent)
 
 
@@ -432,8 +440,7 @@ def sweep(scene, method: str = "auto", tolerance: float | None = None, chunks: d
                 raise InputError(f"sweep(): {Path(scene).name} is a study, which states its own grid, method, "
                                  f"tolerance and cycles; give {', '.join(stated)} in its file, or sweep its base "
                                  "scene by keywords")
-            path, _ = resolve_path(scene, "study file")
-            return _computed(load_study(path), chunks, allow_large)
+            return _computed(load_study(scene), chunks, allow_large)
     scene, family = read_scene(scene)
     cells = cells_of(family, scene)
     parsed = {}

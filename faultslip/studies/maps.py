@@ -530,7 +530,7 @@ def read_map(path) -> MapSpec:
     MapSpec
     """
 
-    path, origin = resolve_path(path, "map file")
+    path, origin = resolve_path(path, "map file", kind="map")
     text = read_text_file(path, "map file")
     document = parse_toml(text, path.name)
     check_toml_kind(document, path.name, "map")

@@ -249,6 +249,21 @@ def test_paths_are_paths_and_bundled_scenes_are_named(tmp_path, cli, monkeypatch
     assert not any("bundled" in n for n in mine.json["notes"])
 
 
+def test_a_bundled_study_and_map_are_named_as_a_scene_is(tmp_path, cli, monkeypatch):
+    """'faultslip sweep study_rate_state.toml' runs anywhere, as faultslip.sweep() and 'faultslip run' take a
+    bundled name; a name found nowhere is refused listing the bundled configs of its kind."""
+    monkeypatch.chdir(tmp_path)
+    swept = cli("sweep", "study_spring_slider.toml", "-o", tmp_path / "s.nc", "--estimate", "--json")
+    assert swept.code == 0, swept.err
+    assert cli("map", "san_andreas_map.toml", "--estimate", "--json").code == 0
+    result = cli("sweep", "study_nowhere.toml", "-o", tmp_path / "s.nc")
+    assert_clean_error(result, "study file 'study_nowhere.toml' does not exist here or among the bundled configs",
+                       "the studies: study_asperity.toml")
+    assert "san_andreas_1906.toml" not in result.err  # a scene is not a study
+    assert_clean_error(cli("map", "map_nowhere.toml", "--estimate"), "the maps: california_fault_system.toml")
+    assert_clean_error(cli("sweep", "somewhere/study_spring_slider.toml", "-o", tmp_path / "s.nc"), "does not exist")
+
+
 # --- limits ------------------------------------------------------------------------------------
 
 def test_a_huge_logspace_is_refused_before_allocating(tmp_path, cli):
