@@ -3,13 +3,13 @@
 
     python benchmarks/command_estimates.py [--rounds 3]
 
-The cases are every family's short runs and simulations (the 2-D and 3-D faults' runs are measured by
-``benchmarks/ladder_escalations.py``). Each command runs as a whole process (``python -m faultslip.cli``), its CPU
-taken from its rusage (user and system); per round the estimate and the run alternate which goes first, and the
-figure is the median over rounds. Beside it, in the same run, the estimate without the imports its run needs
-(``import_seconds``, which faultslip.io.budget.with_imports measures), as every estimate was before it counted
-them. Writes ``benchmarks/results/command_estimates.json``; docs/benchmarks.md's table is written from it by
-``benchmarks/readme.py``.
+The cases are every family's short runs and simulations, example studies swept to a file, and the San Andreas
+maps (the 2-D and 3-D faults' runs are measured by ``benchmarks/ladder_escalations.py``). Each command runs as a
+whole process (``python -m faultslip.cli``), its CPU taken from its rusage (user and system); per round the estimate
+and the run alternate which goes first, and the figure is the median over rounds. Beside it, in the same run, the
+estimate without the imports its run needs (``import_seconds``, which faultslip.io.budget.with_imports measures),
+as every estimate was before it counted them. Writes ``benchmarks/results/command_estimates.json``;
+docs/benchmarks.md's table is written from it by ``benchmarks/readme.py``.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ import resource
 import statistics
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -46,10 +47,26 @@ CASES = [
     ("run", "vibration_seed002.toml", ["--method", "quasi_harmonic_integration"]),
     ("simulate", "vibration_seed002.toml", []),
     ("run", "spring_chain_small.toml", []),
+    # sweeps and maps, to a file (OUT: a fresh file each time)
+    ("sweep", "study_spring_slider.toml", ["-o", "OUT"]),
+    ("sweep", "study_rate_state.toml", ["-o", "OUT"]),
+    ("sweep", "study_rate_state_slider.toml", ["-o", "OUT"]),
+    ("sweep", "study_vibration.toml", ["-o", "OUT"]),
+    ("sweep", "study_nanoscale.toml", ["-o", "OUT"]),
+    ("sweep", "study_rough_surface.toml", ["-o", "OUT"]),
+    ("sweep", "study_spring_chain.toml", ["-o", "OUT"]),
+    ("map", "san_andreas_map.toml", ["-o", "OUT"]),
+    ("map", "san_andreas_map_rate_state.toml", ["-o", "OUT"]),
 ]
 
 
 def _child_cpu(command: list) -> tuple[float, str]:
+    with tempfile.TemporaryDirectory() as folder:  # a sweep's or map's file, new each time
+        command = [str(Path(folder) / "out.nc") if part == "OUT" else part for part in command]
+        return _timed(command)
+
+
+def _timed(command: list) -> tuple[float, str]:
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     done = subprocess.run([sys.executable, "-m", "faultslip.cli", *command], capture_output=True, text=True,
                           cwd=ROOT)

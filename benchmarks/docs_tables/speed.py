@@ -155,7 +155,8 @@ def first_run_table() -> str | None:
 
 
 def command_estimates_table() -> str | None:
-    """docs/benchmarks.md: each family's command estimate against the CPU its command uses (command_estimates.py)."""
+    """docs/benchmarks.md: each family's command estimate against the CPU its command uses (command_estimates.py):
+    runs, simulations, sweeps and maps."""
     result = _load("command_estimates.json")
     if result is None:
         return None

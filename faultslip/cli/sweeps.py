@@ -38,8 +38,9 @@ def cmd_sweep(args) -> int:
     # estimated on the workers the run will use: a small study runs in this process whatever --workers says
     working = choose_execution(study, chunk_count, workers, args.scheduler)[0]
     if args.estimate:  # each cell's cost from its family's cost model, before any output is checked or cell runs
-        return _emit_estimate(budget.study_estimate(study, args.output, working, chunk_cells, args.compression,
-                                                    streamed=True), args.json)
+        # with the CPU its run's imports cost (budget.with_imports): a small sweep's largest part
+        return _emit_estimate(budget.with_imports(budget.study_estimate(study, args.output, working, chunk_cells,
+                                                                        args.compression, streamed=True)), args.json)
     # --resume continues into the same output: an existing final file is still refused without --overwrite
     output = check_study_output(args.output, file_format, inputs=inputs, overwrite=args.overwrite)
     budget.check(budget.study_estimate(study, output, working, chunk_cells, args.compression, streamed=True),

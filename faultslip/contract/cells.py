@@ -75,6 +75,10 @@ class Cells(Protocol):
         """Optional: estimated time a worker spends once, before its first cell (a compiled step loaded, or compiled
         where numba's cache has none); a family without it spends none (:meth:`Study.seconds_per_worker`)."""
 
+    def imports(self, study) -> tuple:
+        """Optional: the modules a block's cells import where they run (faultslip.io.budget.Estimate.imports),
+        which a sweep's estimate counts; a family without it declares none (:meth:`Study.imports`)."""
+
     def counted(self, study) -> bool:
         """Whether a finished sweep reports its cells counted by flag (cells simulated one by one, which differ
         in regime or may fail); a closed-form sweep skips the read-back."""
@@ -141,6 +145,18 @@ class PerCell:
             except InputError:  # a cell its run refuses fails alone, in the failure ledger, as before
                 continue
         return float(np.mean(costs)) if costs else self.seconds
+
+    def imports(self, study) -> tuple:
+        """What the family's run of the base scene imports, as its cost model declares it (none where it has
+        none, or refuses the base scene)."""
+        estimate = getattr(study.family, "estimate", None)
+        if estimate is None:
+            return ()
+        try:
+            return tuple(estimate(study.scene, "run", method=None if study.method == "auto" else study.method,
+                                  tolerance=study.tolerance).imports)
+        except InputError:
+            return ()
 
     def counted(self, study) -> bool:
         return True

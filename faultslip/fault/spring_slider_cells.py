@@ -683,6 +683,14 @@ class SpringSliderCells:
         simulated = scene_kind(study.scene) != "rate_state" and _needs_simulation(study.scene)
         return 1.0 / (budget.SIMULATED_CELL_RATE if simulated else budget.STUDY_CELL_RATE)
 
+    def imports(self, study) -> tuple:
+        """What its cells import where they run: a rate-and-state block's cycles their integrators (and the
+        linear algebra of their implicit steps); a lab slider that is simulated, the integrators; the closed
+        forms, nothing."""
+        if scene_kind(study.scene) == "rate_state":
+            return (*budget.INTEGRATION_IMPORTS, "scipy.linalg") if study.cycles else ()
+        return budget.INTEGRATION_IMPORTS if _needs_simulation(study.scene) else ()
+
     def counted(self, study) -> bool:
         kind = scene_kind(study.scene)
         return (kind == "rate_state" or _needs_simulation(study.scene)

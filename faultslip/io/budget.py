@@ -228,15 +228,18 @@ def with_imports(estimate: Estimate) -> Estimate:
     modules = (*BUDGET_IMPORTS, *estimate.imports)
     owed = [name for name in dict.fromkeys(modules)
             if (not _numba_extensions_loaded() if name == NUMBA_EXTENSIONS else name not in sys.modules)]
+    if not owed:  # every one imported already: the estimate as it is, not a measured microsecond more
+        return estimate
     seconds = measure_imports(owed)
+    # added to what an earlier call measured: a second call finds the modules imported, and adds nothing
+    counted = {"import_seconds": estimate.import_seconds + seconds, "seconds": estimate.seconds + seconds}
     if seconds < 1e-3:
-        return replace(estimate, import_seconds=seconds, seconds=estimate.seconds + seconds)
+        return replace(estimate, **counted)
     names = ", ".join("numba's extensions" if name == NUMBA_EXTENSIONS else name for name in owed
                       if name not in BUDGET_IMPORTS) or "the budget's check"
     note = f"{_duration(seconds)} of the CPU time imports what the run needs ({names}), measured by importing it"
-    return replace(estimate, import_seconds=seconds, seconds=estimate.seconds + seconds,
-                   cpu_seconds=None if estimate.cpu_seconds is None else estimate.cpu_seconds + seconds,
-                   notes=(*estimate.notes, note))
+    return replace(estimate, **counted, notes=(*estimate.notes, note),
+                   cpu_seconds=None if estimate.cpu_seconds is None else estimate.cpu_seconds + seconds)
 
 
 def time_budget() -> float:
@@ -323,11 +326,13 @@ def study_estimate(study, output, workers: int, chunk_cells: int, compression: s
     memory = block * 40 * 8.0 * (max(workers, 1) + 1)  # ~40 grid-sized temporaries per block in flight
     # the workers start together: each spends its one-off setup once (Study.seconds_per_worker)
     layout = study.layout_seconds() if streamed else 0.0
+    # its Dataset, the netCDF file it writes, and what its family's cells import where they run
+    imports = (*DATASET_IMPORTS, *(("netCDF4",) if output is not None else ()), *study.imports())
     return Estimate(what=f"this sweep of {cells:.3g} cells on {max(workers, 1)} worker{'s' * (workers > 1)}",
                     memory=memory, disk=disk, seconds=cells / rate + study.seconds_per_worker() + layout,
                     output=output, workers=max(workers, 1),
                     cpu_seconds=cells * study.seconds_per_cell() + max(workers, 1) * study.seconds_per_worker()
-                    + layout)
+                    + layout, imports=imports)
 
 
 #: Bytes held per cell of a map's raster (coordinates, unit vectors, nearest index and distance, four maps).

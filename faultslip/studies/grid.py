@@ -117,6 +117,12 @@ class Study:
         (:func:`template_block`): a cell's, where the family does not declare its outputs, else 0."""
         return self.seconds_per_cell() if self.cells.outputs(self) is None else 0.0
 
+    def imports(self) -> tuple:
+        """The modules its cells import where they run (the family's ``Cells.imports``; none where it declares
+        none): what a sweep's estimate counts beside its own (:func:`faultslip.io.budget.study_estimate`)."""
+        declared = getattr(self.cells, "imports", None)
+        return tuple(declared(self)) if declared is not None else ()
+
     def seconds_per_worker(self) -> float:
         """Estimated time each worker spends once, before its first cell (the family's
         ``Cells.seconds_per_worker``; 0 where it declares none)."""

@@ -821,6 +821,10 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
     return dataset
 
 
+#: What a map imports beside its Dataset: the k-d tree of its traces' nearest points.
+MAP_IMPORTS = ("scipy.spatial",)
+
+
 def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Estimate:
     """What a map needs, before any work (``faultslip map --estimate``; ``faultslip.hazard.map_estimate``): its
     raster and traces, and its predictions' own cost (a rate-and-state map's cycles in every segment or cell,
@@ -838,7 +842,8 @@ def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Esti
     Returns
     -------
     faultslip.io.budget.Estimate
-        CPU seconds, memory and disk, before any work.
+        CPU seconds (with what the map imports, measured: :func:`faultslip.io.budget.with_imports`), memory
+        and disk, before any work.
     """
     if isinstance(spec, (str, os.PathLike)):
         spec = read_map(spec)
@@ -851,7 +856,9 @@ def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Esti
     if spec.scene.rate_state and spec.cycles:
         where = f"{len(spec.segments.ids)} segments" if spec.segments is not None else "its raster cells"
         estimate.what += f", with {spec.cycles} rate-and-state cycles in each unstable one of {where}"
-    return estimate
+    # and the CPU of what the map imports where it runs (its Dataset, the netCDF it writes): measured
+    estimate.imports = (*budget.DATASET_IMPORTS, *(("netCDF4",) if output is not None else ()), *MAP_IMPORTS)
+    return budget.with_imports(estimate)
 
 
 def check_map_size(spec, output=None, allow_large: bool = False, tolerance: float = 1e-6) -> None:

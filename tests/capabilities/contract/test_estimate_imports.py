@@ -67,3 +67,37 @@ def test_a_run_imports_nothing_its_estimate_did_not_count(scene, action, options
     found = json.loads(done.stdout.strip().splitlines()[-1])
     assert found["imported"] == [], f"the run imported {found['imported']}, its estimate declared {found['declared']}"
     assert not found["extensions"], f"the run loaded numba's extensions, its estimate declared {found['declared']}"
+
+
+COMMAND_PROBE = r"""
+import json, sys
+from faultslip.cli.main import main
+command, heavy = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+assert main([*command, "--estimate", "--json"]) == 0
+def loaded():
+    return bool(getattr(sys.modules.get("numba.core.entrypoints"), "_already_initialized", False))
+before, extensions = {m for m in heavy if m in sys.modules}, loaded()
+assert main(command) == 0
+after = {m for m in heavy if m in sys.modules}
+print(json.dumps({"imported": sorted(after - before), "extensions": loaded() and not extensions}))
+"""
+
+#: every family's example study but the discretised faults' (their first run is counted whole), and both maps
+COMMANDS = [["sweep", study] for study in ("study_spring_slider.toml", "study_lab_glass.toml", "study_rate_state.toml",
+                                           "study_rate_state_slider.toml", "study_vibration.toml",
+                                           "study_nanoscale.toml", "study_rough_surface.toml",
+                                           "study_spring_chain.toml", "study_asperity.toml")] + [
+    ["map", "san_andreas_map.toml"], ["map", "san_andreas_map_rate_state.toml"]]
+
+
+@pytest.mark.parametrize("command", COMMANDS, ids=[" ".join(c) for c in COMMANDS])
+def test_a_sweep_or_map_imports_nothing_its_estimate_did_not_count(command, tmp_path):
+    """The same for a sweep's and a map's command: its estimate (faultslip ... --estimate) imports what it counts,
+    and the command that follows, writing its file, imports nothing more."""
+    full = [*command, "-o", str(tmp_path / "out.nc")]
+    done = subprocess.run([sys.executable, "-c", COMMAND_PROBE, json.dumps(full), json.dumps(HEAVY)],
+                          capture_output=True, text=True, timeout=900, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    found = json.loads(done.stdout.strip().splitlines()[-1])
+    assert found["imported"] == [], f"the command imported {found['imported']} that its estimate did not count"
+    assert not found["extensions"], "the command loaded numba's extensions, which its estimate did not count"
