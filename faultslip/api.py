@@ -120,7 +120,7 @@ TOPICS = {
     },
     "hazard": {
         "map": "studies.maps:regional_map", "read_map": "studies.maps:read_map", "run_map": "studies.maps:run_map",
-        "map_estimate": "studies.maps:map_size_estimate",
+        "map_estimate": "studies.maps:map_size_estimate", "sweep_estimate": "studies.streaming:sweep_estimate",
         "segment_map": "studies.maps:segment_map", "observed_table": "studies.maps:observed_table",
         "rupture_set": "studies.rupture_sets:rupture_set",
         "hazard_sources": "studies.hazard:hazard_sources", "source_models": "studies.hazard:source_models",

@@ -16,7 +16,7 @@ from faultslip.io.convert import zarr_to_netcdf
 from faultslip.io.processes import retain_freed_memory
 from faultslip.studies.grid import load_study
 from faultslip.studies.streaming import (cell_counts, check_study_output, choose_execution, default_chunk_cells,
-                                         output_format, reproduce, retry_failed, run_study)
+                                         output_format, reproduce, retry_failed, run_study, sweep_estimate)
 
 
 def cmd_sweep(args) -> int:
@@ -35,12 +35,11 @@ def cmd_sweep(args) -> int:
     # at least this many chunks (whole trailing dimensions may make more); known without listing them
     chunk_count = -(-study.size // chunk_cells)
     workers = (args.workers or 2) if args.scheduler else _workers(args, chunk_count)
+    if args.estimate:  # each cell's cost from its family's cost model, before any output is checked or cell runs
+        return _emit_estimate(sweep_estimate(study, args.output, workers, chunk_cells, args.scheduler,
+                                             args.compression), args.json)
     # estimated on the workers the run will use: a small study runs in this process whatever --workers says
     working = choose_execution(study, chunk_count, workers, args.scheduler)[0]
-    if args.estimate:  # each cell's cost from its family's cost model, before any output is checked or cell runs
-        # with the CPU its run's imports cost (budget.with_imports): a small sweep's largest part
-        return _emit_estimate(budget.with_imports(budget.study_estimate(study, args.output, working, chunk_cells,
-                                                                        args.compression, streamed=True)), args.json)
     # --resume continues into the same output: an existing final file is still refused without --overwrite
     output = check_study_output(args.output, file_format, inputs=inputs, overwrite=args.overwrite)
     budget.check(budget.study_estimate(study, output, working, chunk_cells, args.compression, streamed=True),

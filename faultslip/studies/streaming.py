@@ -43,7 +43,7 @@ from faultslip.io.processes import (THREADS_VARIABLE, SharedRing, descendants, r
                                     stop_pool, worker_pool)
 from faultslip.io.resources import open_dataset_lazily, probe_netcdf, stored_block_digests
 from faultslip.contract.cells import collect_cell_failures
-from faultslip.studies.grid import block_arrays, compute_block, finish, parse_study, template_block
+from faultslip.studies.grid import block_arrays, compute_block, finish, load_study, parse_study, template_block
 
 DEFAULT_CHUNK_CELLS = 2**19
 #: netCDF4 compression filters: zlib is readable everywhere (default); zstd is ~2.5x faster to write
@@ -927,6 +927,44 @@ def choose_execution(study, pending_blocks: int, workers: int, scheduler=None) -
     if seconds < POOL_WORTH_SECONDS:
         return 1, f" (about {seconds * 1e3:.0f} ms of work: a pool would cost more than it saves)"
     return workers, ""
+
+
+def sweep_estimate(study, output=None, workers: int = 1, chunks: int | None = None, scheduler: str | None = None,
+                   compression: str = "zlib") -> budget.Estimate:
+    """What a sweep would need, before any cell runs (``faultslip sweep STUDY -o OUT --estimate``;
+    ``faultslip.hazard.sweep_estimate``): each cell's cost from its family's cost model, on the workers the sweep
+    would use, its memory and disk, and the CPU of what it imports (measured, :func:`faultslip.io.budget.with_imports`).
+
+    Parameters
+    ----------
+    study : str, path or Study
+        A study file (a bare name may be a bundled study), or :func:`faultslip.studies.grid.load_study`'s study.
+    output : path, optional
+        Where its netCDF would go (its disk is counted; nothing is written or checked).
+    workers : int
+        Worker processes asked for (a small study runs in this process whatever is asked, as the sweep would).
+    chunks : int, optional
+        Cells per block (default: about a few seconds of work each).
+    scheduler : str, optional
+        A dask scheduler's address, or ``"slurm"``: then ``workers`` are used as asked.
+    compression : str
+        The netCDF compression ("zlib", or "none").
+
+    Returns
+    -------
+    faultslip.io.budget.Estimate
+        CPU seconds (on its workers together, and over them), memory and disk.
+    """
+    if isinstance(study, (str, os.PathLike)):
+        study = load_study(study)
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise InputError(f"workers must be a whole number of at least 1, got {workers!r}")
+    if chunks is not None and (isinstance(chunks, bool) or not isinstance(chunks, int) or not 1 <= chunks <= 10**9):
+        raise InputError(f"chunks must be a number of cells from 1 to 1e9, got {chunks!r}")
+    chunk_cells = chunks or default_chunk_cells(study)
+    working = choose_execution(study, -(-study.size // chunk_cells), workers, scheduler)[0]
+    return budget.with_imports(budget.study_estimate(study, output, working, chunk_cells, compression,
+                                                     streamed=True))
 
 
 def _abandon(exc, writer, partial: Path, ledger: Path, output: Path) -> None:

@@ -130,6 +130,28 @@ def test_a_sweep_file_holds_the_python_sweep(cli, tmp_path):
         faultslip.sweep(CONFIGS / "study_vibration.toml", tolerance=1e-3, speed=["10 in/s"])
 
 
+def test_a_sweeps_estimate_is_asked_in_python_as_on_the_command_line(cli, tmp_path):
+    """faultslip.hazard.sweep_estimate gives what 'faultslip sweep STUDY --estimate' prints: the same cost model
+    on the same workers (a small study in this process whatever is asked), memory and disk; a bad option is one
+    sentence, as on the command line."""
+    from faultslip.errors import InputError
+
+    out = tmp_path / "s.nc"
+    for workers in (1, 2):
+        printed = cli("sweep", "study_rate_state.toml", "-o", out, "--estimate", "--workers", str(workers), "--json")
+        assert printed.code == 0, printed.err
+        python = faultslip.hazard.sweep_estimate("study_rate_state.toml", output=out, workers=workers)
+        imported = printed.json.get("import_seconds", {"value": 0.0})["value"]  # measured in each process
+        assert printed.json["seconds"]["value"] - imported == pytest.approx(python.seconds - python.import_seconds,
+                                                                            rel=1e-9)
+        assert (printed.json["memory"]["value"], printed.json["disk"]["value"]) == (python.memory, python.disk)
+        assert printed.json["what"] == python.what
+    assert not out.exists()
+    for bad, match in (({"workers": 0}, "workers must be a whole number"), ({"chunks": 0}, "chunks must be")):
+        with pytest.raises(InputError, match=match):
+            faultslip.hazard.sweep_estimate("study_rate_state.toml", **bad)
+
+
 def test_a_rung_is_asked_for_as_model_in_python_as_on_the_command_line(cli):
     """'faultslip run SCENE --model one_slider' is run(SCENE, model="one_slider"), as --model is --method; in
     Python a model= keyword had been taken for a fault's quantity and refused as a scene and quantities together."""
