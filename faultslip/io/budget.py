@@ -194,6 +194,10 @@ class Estimate:
         return ", ".join(parts)
 
 
+#: Modules :func:`measure_imports` found missing in this process: not owed again.
+_MISSING: set = set()
+
+
 def measure_imports(modules) -> float:
     """CPU seconds this process spends importing those of ``modules`` it has not imported yet, measured by
     importing them (the run would: an estimate that leaves them out misses a short run's time several times over).
@@ -210,10 +214,13 @@ def measure_imports(modules) -> float:
     """
     start = time.process_time()
     for name in dict.fromkeys(modules):
-        if name == NUMBA_EXTENSIONS:
-            importlib.import_module("numba.core.entrypoints").init_all()  # once per process; then a no-op
-        elif name not in sys.modules:
-            importlib.import_module(name)
+        try:
+            if name == NUMBA_EXTENSIONS:
+                importlib.import_module("numba.core.entrypoints").init_all()  # once per process; then a no-op
+            elif name not in sys.modules:
+                importlib.import_module(name)
+        except ImportError:  # not installed here: the run says so where it needs it; an estimate is no place to fail
+            _MISSING.add(name)
     return time.process_time() - start
 
 
@@ -226,8 +233,8 @@ def with_imports(estimate: Estimate) -> Estimate:
     """``estimate`` with the CPU its run's imports cost this process (:func:`measure_imports` of its ``imports``
     and :data:`BUDGET_IMPORTS`) added to its seconds, and said in a note where there are any."""
     modules = (*BUDGET_IMPORTS, *estimate.imports)
-    owed = [name for name in dict.fromkeys(modules)
-            if (not _numba_extensions_loaded() if name == NUMBA_EXTENSIONS else name not in sys.modules)]
+    owed = [name for name in dict.fromkeys(modules) if name not in _MISSING
+            and (not _numba_extensions_loaded() if name == NUMBA_EXTENSIONS else name not in sys.modules)]
     if not owed:  # every one imported already: the estimate as it is, not a measured microsecond more
         return estimate
     seconds = measure_imports(owed)

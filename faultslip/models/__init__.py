@@ -139,7 +139,8 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
     -------
     faultslip.io.budget.Estimate
         CPU seconds, memory and disk (``report()``, ``to_xarray()``), and where the scene lies outside the scenes
-        the cost model was fitted on.
+        the cost model was fitted on. Its seconds include the CPU of the modules the run imports that this process
+        has not yet (xarray, scipy's integrators, ...), measured by importing them (``import_seconds``).
     """
     if action not in ("run", "simulate", "ladder"):
         raise InputError(f"an estimate is of a run, a simulation or a ladder, not {action!r}")

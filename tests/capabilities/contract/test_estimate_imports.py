@@ -101,3 +101,19 @@ def test_a_sweep_or_map_imports_nothing_its_estimate_did_not_count(command, tmp_
     found = json.loads(done.stdout.strip().splitlines()[-1])
     assert found["imported"] == [], f"the command imported {found['imported']} that its estimate did not count"
     assert not found["extensions"], "the command loaded numba's extensions, which its estimate did not count"
+
+
+def test_imports_are_counted_once_and_a_missing_one_fails_nothing():
+    """with_imports adds what it measured to the estimate; asked again, it finds the modules imported and adds
+    nothing. A module not installed here is left to the run, which names it where it needs it: the estimate does
+    not fail on it."""
+    from faultslip.io import budget
+
+    estimate = budget.Estimate("a run", seconds=1.0, imports=("faultslip_no_such_module", "json"))
+    once = budget.with_imports(estimate)
+    assert once.seconds == pytest.approx(1.0 + once.import_seconds, rel=1e-12) and once.import_seconds >= 0
+    twice = budget.with_imports(once)
+    assert (twice.seconds, twice.import_seconds, twice.notes) == (once.seconds, once.import_seconds, once.notes)
+    report = twice.report(started=5.0).to_dict()
+    # the command's start is what it used less the run's imports, which its seconds already hold
+    assert report["command_seconds"]["value"] == pytest.approx(twice.seconds + 5.0 - twice.import_seconds, rel=1e-12)
