@@ -82,11 +82,12 @@ after = {m for m in heavy if m in sys.modules}
 print(json.dumps({"imported": sorted(after - before), "extensions": loaded() and not extensions}))
 """
 
-#: every family's example study but the discretised faults' (their first run is counted whole), and both maps
+#: the example studies of the vectorised cells (seed law, rate and state) and of cell-by-cell families (PerCell,
+#: whose imports are their run's: the nanoscale and asperity studies, 6 and 12 s of cells, add no other path), and
+#: both maps; the discretised faults' first run is counted whole
 COMMANDS = [["sweep", study] for study in ("study_spring_slider.toml", "study_lab_glass.toml", "study_rate_state.toml",
                                            "study_rate_state_slider.toml", "study_vibration.toml",
-                                           "study_nanoscale.toml", "study_rough_surface.toml",
-                                           "study_spring_chain.toml", "study_asperity.toml")] + [
+                                           "study_rough_surface.toml", "study_spring_chain.toml")] + [
     ["map", "san_andreas_map.toml"], ["map", "san_andreas_map_rate_state.toml"]]
 
 
