@@ -96,6 +96,36 @@ def corner_scenes(study) -> list:
             for index in corners.reshape(len(study.dims), -1).T]
 
 
+#: Cells inside a grid whose cost a per-cell estimate reads beside its corners: a grid whose corners are cheap
+#: (closed form past a threshold) and whose inside integrates was estimated from its corners alone.
+SAMPLED_CELLS = 8
+
+
+def sampled_scenes(study, count: int = SAMPLED_CELLS) -> list:
+    """The scenes of ``count`` cells of the study's grid, drawn without replacement by a fixed seed (every cell
+    of a grid that has no more), so that an estimate is the same every time it is asked.
+
+    Parameters
+    ----------
+    study : faultslip.studies.grid.Study
+        The study whose grid is drawn from.
+    count : int
+        How many cells at most.
+
+    Returns
+    -------
+    list
+        The cells' scenes (the base scene moved to each cell's values).
+    """
+    if not study.dims:
+        return []
+    shape = tuple(len(values) for values in study.dims.values())
+    size = math.prod(shape)
+    picks = np.arange(size) if size <= count else np.sort(np.random.default_rng(0).choice(size, count, replace=False))
+    return [study.scene.with_values(**{name: values[i] for (name, values), i in zip(study.dims.items(), index)})
+            for index in zip(*np.unravel_index(picks, shape))]
+
+
 def labelled(value) -> bool:
     """Whether ``value`` is an xarray DataArray, without importing xarray (nothing is one before it is imported)."""
     xarray = sys.modules.get("xarray")
@@ -132,14 +162,15 @@ class PerCell:
         return self.outputs(study)[name].attrs()
 
     def seconds_per_cell(self, study) -> float:
-        """The family's own cost model (``Family.estimate``) of the run of the base scene and of each corner of the
-        grid, averaged over those it estimates; :attr:`seconds` where the family declares none."""
+        """The family's own cost model (``Family.estimate``) of the run of the base scene, of each corner of the
+        grid and of cells drawn inside it (:func:`sampled_scenes`), averaged over those it estimates; :attr:`seconds`
+        where the family declares none."""
         estimate = getattr(study.family, "estimate", None)
         if estimate is None:
             return self.seconds
         method = None if study.method == "auto" else study.method
         costs = []
-        for scene in [study.scene, *corner_scenes(study)]:
+        for scene in [study.scene, *corner_scenes(study), *sampled_scenes(study)]:
             try:
                 costs.append(estimate(scene, "run", method=method, tolerance=study.tolerance).seconds)
             except InputError:  # a cell its run refuses fails alone, in the failure ledger, as before

@@ -693,6 +693,37 @@ def test_a_command_line_estimate_adds_what_the_command_used_to_start(words, cli)
     assert "process_start_seconds" not in faultslip.models.estimate(CONFIGS / scene, action).report().to_dict()
 
 
+def test_a_per_cell_estimate_reads_cells_inside_the_grid_not_its_corners_alone(tmp_path):
+    """A nanoscale grid whose corners lie past A_c = 12 (steady sliding, found in closed form in a millisecond)
+    and whose inside stick-slips (LSODA settling its cycle, about a second) was estimated from its corners and
+    base alone: a hundredth of what it costs. The estimate reads cells drawn inside it too (every cell of a grid
+    this small), so the one that integrates is counted at its share."""
+    from faultslip.contract.cells import SAMPLED_CELLS, sampled_scenes
+    from faultslip.models.nanoscale.family import estimate
+    from faultslip.models.nanoscale.scene import load_nanoscale_scene
+    from faultslip.studies.grid import load_study
+
+    base = (CONFIGS / "nanoscale_seed001.toml").read_text(encoding="utf-8").replace("damping = 3.0", "damping = 13.0")
+    (tmp_path / "steady.toml").write_text(base, encoding="utf-8")
+    study_file = tmp_path / "study.toml"
+    study_file.write_text('[study]\nbase = "steady.toml"\n[sweep]\ndamping = [12.5, 3.0, 12.8]\n', encoding="utf-8")
+    study = load_study(study_file)
+    steady, sticking = (estimate(study.scene.with_values(damping=value)).seconds for value in (12.5, 3.0))
+    assert sticking > 100 * steady  # the inside cell is what costs
+    # base, 2 corners and the 3 cells: the sticking cell is 1 of 6 estimates
+    assert study.seconds_per_cell() == pytest.approx((sticking + 5 * steady) / 6, rel=0.05)
+    assert study.seconds_per_cell() > sticking / 10
+    # a grid larger than the draw: SAMPLED_CELLS distinct cells, the same ones every time
+    study_file.write_text('[study]\nbase = "steady.toml"\n[sweep]\ndamping = [1.0, 2.0, 3.0, 4.0, 5.0]\n'
+                          'drive_speed = [0.01, 0.02, 0.03]\n', encoding="utf-8")
+    large = load_study(study_file)
+    models = [load_nanoscale_scene(scene)[0] for scene in sampled_scenes(large)]
+    drawn = [(model.damping, model.drive_speed) for model in models]
+    assert len(set(drawn)) == SAMPLED_CELLS < 15
+    assert drawn == [(model.damping, model.drive_speed) for model, *_ in map(load_nanoscale_scene,
+                                                                               sampled_scenes(large))]
+
+
 def test_a_sweep_is_estimated_cell_by_cell_from_its_familys_cost_model(constant_friction, cli, tmp_path):
     """A family swept cell by cell (PerCell) declared one round figure per cell, 35 times the CPU on the chain's
     and vibration's example studies, a third of it on the asperity's. Its cells' cost is now the family's own
