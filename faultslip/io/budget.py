@@ -16,6 +16,7 @@ import sys
 import time
 from dataclasses import dataclass, replace
 from functools import lru_cache
+from importlib.metadata import entry_points
 from pathlib import Path
 
 from faultslip import ranges
@@ -224,9 +225,15 @@ def measure_imports(modules) -> float:
     return time.process_time() - start
 
 
+@lru_cache(maxsize=1)
+def _numba_extension_modules() -> tuple:
+    """The modules of numba's extensions: the ``init`` entry points of group ``numba_extensions``, which numba's
+    first compiled call loads (the public record of them; numba keeps whether it has loaded them to itself)."""
+    return tuple(point.module for point in entry_points(group="numba_extensions", name="init"))
+
+
 def _numba_extensions_loaded() -> bool:
-    entrypoints = sys.modules.get("numba.core.entrypoints")
-    return bool(getattr(entrypoints, "_already_initialized", False))
+    return all(module in sys.modules for module in _numba_extension_modules())
 
 
 def with_imports(estimate: Estimate) -> Estimate:
