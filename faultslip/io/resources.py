@@ -223,7 +223,12 @@ def open_netcdf(path, label: str):
 @contextlib.contextmanager
 def open_dataset_lazily(path, label: str, *, zarr: bool = False, checked: bool = False):
     """A netCDF file (or a Zarr store) opened lazily with dask chunks, through the gate: what a finished study
-    is read back with, chunk by chunk. ``checked``: the file was probed already (one this run wrote)."""
+    is read back with, chunk by chunk. ``checked``: the file was probed already (one this run wrote).
+
+    Inside the block, dask computes on this process's threads: a file on this machine is read where it lies, and
+    dask, asked by name for any scheduler, first imports distributed to look for a client (0.2 s, and up to a
+    second of CPU on a busy host, in every sweep that counts its cells)."""
+    import dask.threaded  # heavy: imported where used
     import xarray as xr  # heavy: imported where used
 
     path = Path(path)
@@ -234,7 +239,7 @@ def open_dataset_lazily(path, label: str, *, zarr: bool = False, checked: bool =
             probe_netcdf(path, label)  # through the gate first
     with gate.decoding(path, label, "a Zarr store" if zarr else "netCDF", silence=True):
         opened = xr.open_zarr(path) if zarr else xr.open_dataset(path, chunks={})
-    with opened:
+    with opened, dask.config.set(scheduler=dask.threaded.get):  # a callable: no scheduler looked up by name
         yield opened
 
 

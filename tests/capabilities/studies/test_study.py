@@ -279,6 +279,41 @@ def test_pool_workers_hand_their_chunks_over_in_shared_memory(tmp_path, monkeypa
             np.testing.assert_array_equal(pool[name].values, one[name].values)
 
 
+def _probe_module_pid():
+    import faultslip_probe_module
+
+    return faultslip_probe_module.PID
+
+
+def test_a_pools_workers_fork_after_the_cells_imports(tmp_path, monkeypatch):
+    """A pool's workers fork after this process has imported what the study's cells import (Study.imports): the
+    modules are imported once and shared, where each worker had imported them again (scipy's integrators, twice
+    on 2 workers, for a nanoscale sweep whose estimate counts them once). A module that records the process that
+    imported it is the parent's in every worker."""
+    import multiprocessing
+    import os
+
+    from faultslip.studies.streaming import _executor
+
+    if multiprocessing.get_start_method() != "fork":
+        pytest.skip("workers that fork share the parent's imports; other start methods import afresh")
+    (tmp_path / "faultslip_probe_module.py").write_text("import os\nPID = os.getpid()\n", encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, "faultslip_probe_module", raising=False)
+
+    class Cells:
+        def imports(self):
+            return ("faultslip_probe_module",)
+
+    pool, label = _executor(None, 2, Cells())
+    try:
+        assert label == "process pool (2 workers)" and "faultslip_probe_module" in sys.modules
+        assert {pool.submit(_probe_module_pid).result() for _ in range(4)} == {os.getpid()}
+    finally:
+        pool.shutdown(wait=True)
+        sys.modules.pop("faultslip_probe_module", None)
+
+
 def test_a_chunk_too_large_for_its_segment_travels_as_bytes():
     from multiprocessing.shared_memory import SharedMemory
 
@@ -333,6 +368,26 @@ def test_a_closed_form_sweep_never_imports_xarray(tmp_path):
             "print('loaded: ' + ','.join(m for m in ('xarray', 'pandas', 'dask') if m in sys.modules))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.strip().splitlines()[-1] == "loaded:"
+
+
+def test_reading_a_study_back_computes_on_local_threads_without_importing_distributed(tmp_path):
+    """A finished study is read back (its cells counted by flag) through open_dataset_lazily. dask, asked for any
+    scheduler by name or by none, first imports distributed to look for a client: 0.2 s, and up to a second of
+    CPU on a busy host, in every sweep that counts its cells. Read back on this process's threads, it is not
+    imported, and the numbers are the file's."""
+    import netCDF4
+
+    path = tmp_path / "back.nc"
+    with netCDF4.Dataset(path, "w") as written:  # not xarray's writer, which imports distributed for its locks
+        written.createDimension("x", 10)
+        written.createVariable("a", "f8", ("x",))[:] = np.arange(10.0)
+    code = ("import sys\n"
+            "from faultslip.io.resources import open_dataset_lazily\n"
+            f"with open_dataset_lazily({str(path)!r}, 'a study output', checked=True) as data:\n"
+            "    total = float(data['a'].sum())\n"
+            "print(total, 'distributed' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.split() == ["45.0", "False"]
 
 
 def test_a_blocks_arrays_are_its_datasets_variables():
