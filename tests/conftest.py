@@ -133,6 +133,12 @@ def load_benchmark(name: str, as_name: str | None = None):
     return module
 
 
+def modelled_seconds(printed: dict) -> float:
+    """An ``--estimate --json``'s cost-model seconds, without the imports its process measured
+    (:attr:`faultslip.io.budget.Estimate.modelled_seconds`, as the command prints it)."""
+    return printed["seconds"]["value"] - printed.get("import_seconds", {"value": 0.0})["value"]
+
+
 def assert_clean_error(result, *needles):
     """Exit status 2, one sentence on stderr naming the input, no traceback."""
     assert result.code == 2, (result.code, result.out, result.err)

@@ -124,6 +124,12 @@ class Estimate:
     imports: tuple = ()
     import_seconds: float = 0.0
 
+    @property
+    def modelled_seconds(self) -> float:
+        """The cost model's seconds alone, ``seconds - import_seconds``: the same in every process on this machine,
+        where the imports measured depend on what the process has imported already."""
+        return self.seconds - self.import_seconds
+
     def report(self, title: str | None = None, started: float | None = None):
         """The estimate as a :class:`~faultslip.io.report.Report` (what ``--estimate`` prints).
 

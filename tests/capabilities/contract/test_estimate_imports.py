@@ -113,6 +113,7 @@ def test_imports_are_counted_once_and_a_missing_one_fails_nothing():
     estimate = budget.Estimate("a run", seconds=1.0, imports=("faultslip_no_such_module", "json"))
     once = budget.with_imports(estimate)
     assert once.seconds == pytest.approx(1.0 + once.import_seconds, rel=1e-12) and once.import_seconds >= 0
+    assert once.modelled_seconds == pytest.approx(1.0, rel=1e-12)  # the cost model's, without the imports
     twice = budget.with_imports(once)
     assert (twice.seconds, twice.import_seconds, twice.notes) == (once.seconds, once.import_seconds, once.notes)
     report = twice.report(started=5.0).to_dict()
