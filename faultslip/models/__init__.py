@@ -15,6 +15,7 @@ surfaces.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 
 from faultslip import ranges
@@ -158,9 +159,11 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
     if family.estimate is None:
         raise InputError(f"the {family.name} family declares no cost model (Family.estimate), so nothing can be "
                          "estimated before it runs")
+    estimated = family.estimate(scene, action, **{name: value for name, value in options.items() if value is not None})
+    if str(options.get("output") or "").endswith(".nc"):  # a run's Dataset written through xarray
+        estimated = dataclasses.replace(estimated, imports=(*estimated.imports, *budget.DATASET_WRITER_IMPORTS))
     # and the CPU this process would spend importing what the run needs, measured (a short run's largest part)
-    return budget.with_imports(family.estimate(scene, action, **{name: value for name, value in options.items()
-                                                                 if value is not None}))
+    return budget.with_imports(estimated)
 
 
 def methods(scene=None) -> list[dict]:

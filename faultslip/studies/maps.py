@@ -857,7 +857,8 @@ def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Esti
         where = f"{len(spec.segments.ids)} segments" if spec.segments is not None else "its raster cells"
         estimate.what += f", with {spec.cycles} rate-and-state cycles in each unstable one of {where}"
     # and the CPU of what the map imports where it runs (its Dataset, the netCDF it writes): measured
-    estimate.imports = (*budget.DATASET_IMPORTS, *(("netCDF4",) if output is not None else ()), *MAP_IMPORTS)
+    estimate.imports = (*budget.DATASET_IMPORTS, *(budget.DATASET_WRITER_IMPORTS if output is not None else ()),
+                        *MAP_IMPORTS)
     return budget.with_imports(estimate)
 
 

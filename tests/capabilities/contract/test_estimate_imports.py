@@ -18,7 +18,7 @@ import pytest
 
 HEAVY = ("xarray", "dask", "dask.array", "pandas", "scipy.integrate", "scipy.optimize", "scipy.interpolate",
          "scipy.stats", "scipy.ndimage", "scipy.signal", "scipy.linalg", "scipy.sparse", "scipy.special",
-         "scipy.fft", "numba", "rocket_fft", "matplotlib", "cutde", "obspy", "netCDF4", "psutil")
+         "scipy.fft", "numba", "rocket_fft", "matplotlib", "cutde", "obspy", "netCDF4", "psutil", "distributed")
 
 PROBE = r"""
 import json, sys
@@ -84,11 +84,13 @@ print(json.dumps({"imported": sorted(after - before), "extensions": loaded() and
 
 #: the example studies of the vectorised cells (seed law, rate and state) and of cell-by-cell families (PerCell,
 #: whose imports are their run's: the nanoscale and asperity studies, 6 and 12 s of cells, add no other path), and
-#: both maps; the discretised faults' first run is counted whole
+#: both maps, and a simulation written to netCDF (xarray's writer imports distributed); the discretised faults'
+#: first run is counted whole
 COMMANDS = [["sweep", study] for study in ("study_spring_slider.toml", "study_lab_glass.toml", "study_rate_state.toml",
                                            "study_rate_state_slider.toml", "study_vibration.toml",
                                            "study_rough_surface.toml", "study_spring_chain.toml")] + [
-    ["map", "san_andreas_map.toml"], ["map", "san_andreas_map_rate_state.toml"]]
+    ["map", "san_andreas_map.toml"], ["map", "san_andreas_map_rate_state.toml"],
+    ["simulate", "lab_glass_dry.toml", "--cycles", "5"]]
 
 
 @pytest.mark.parametrize("command", COMMANDS, ids=[" ".join(c) for c in COMMANDS])
