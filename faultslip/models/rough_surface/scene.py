@@ -27,6 +27,7 @@ history; the engine integrates them in sub-phases split at the peak sliding spee
 from __future__ import annotations
 
 import hashlib
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -47,6 +48,7 @@ from faultslip.units import to_si
 #: one surface, and its truncation (80 labelled contact maps) cost each cell, and each cell's estimate, ~0.1 s.
 _BEARING_CURVES: dict = {}
 BEARING_CURVES_KEPT = 8
+_BEARING_LOCK = threading.Lock()  # a lazy study's cells may run on dask's threads
 
 
 def bearing_curve(surface: Surface, points: int = 80) -> tuple[np.ndarray, np.ndarray]:
@@ -68,17 +70,21 @@ def bearing_curve(surface: Surface, points: int = 80) -> tuple[np.ndarray, np.nd
     height = np.ascontiguousarray(surface.height)
     key = (hashlib.blake2b(height.tobytes(), digest_size=16).hexdigest(), height.shape, surface.dx, surface.dy,
            int(points))
-    if key not in _BEARING_CURVES:
-        rms = float(np.std(height))
-        approaches = np.linspace(0.0, 6.0 * rms, points)
-        contact = truncation_contact(surface, approaches)
-        fraction = contact["area"] / contact["nominal_area"]
-        for array in (approaches, fraction):
-            array.setflags(write=False)
-        if len(_BEARING_CURVES) >= BEARING_CURVES_KEPT:
+    with _BEARING_LOCK:
+        kept = _BEARING_CURVES.get(key)
+    if kept is not None:
+        return kept
+    rms = float(np.std(height))
+    approaches = np.linspace(0.0, 6.0 * rms, points)
+    contact = truncation_contact(surface, approaches)
+    fraction = contact["area"] / contact["nominal_area"]
+    for array in (approaches, fraction):
+        array.setflags(write=False)
+    with _BEARING_LOCK:
+        while len(_BEARING_CURVES) >= BEARING_CURVES_KEPT:
             _BEARING_CURVES.pop(next(iter(_BEARING_CURVES)))
         _BEARING_CURVES[key] = (approaches, fraction)
-    return _BEARING_CURVES[key]
+    return approaches, fraction
 
 
 SEPARATION_REFERENCES = ("rms", "static_compression")

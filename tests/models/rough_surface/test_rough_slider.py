@@ -230,3 +230,31 @@ def test_the_chapter5_scene_runs_and_its_keys_are_checked(cli, tmp_path):
                        encoding="utf-8")
     result = cli("simulate", falling, "--cycles", "2", "--json")
     assert result.code == 0, result.err
+
+
+def test_a_surfaces_bearing_curve_is_computed_once_per_process(monkeypatch):
+    """A study's cells share one surface, and its bearing curve (80 labelled truncations, ~0.1 s) was computed
+    again by every cell and every cell's estimate. It is kept by the surface's heights and spacing: the same
+    surface is truncated once, a changed height or spacing is a new curve, and the kept arrays cannot be
+    written into."""
+    from faultslip.models.rough_surface import scene as rough_scene
+
+    truncations = []
+    real = rough_scene.truncation_contact
+    monkeypatch.setattr(rough_scene, "truncation_contact",
+                        lambda surface, approaches: truncations.append(1) or real(surface, approaches))
+    monkeypatch.setattr(rough_scene, "_BEARING_CURVES", {})
+    surface = gaussian_surface(3e-6, 60e-6, size=64, seed=11)
+    first = rough_scene.bearing_curve(surface)
+    again = rough_scene.bearing_curve(gaussian_surface(3e-6, 60e-6, size=64, seed=11))  # equal heights, anew
+    assert len(truncations) == 1 and all(np.array_equal(a, b) for a, b in zip(first, again))
+    with pytest.raises(ValueError):
+        first[1][0] = 0.5
+    moved = gaussian_surface(3e-6, 60e-6, size=64, seed=11)
+    moved.height[0, 0] += 1e-9
+    rough_scene.bearing_curve(moved)
+    rough_scene.bearing_curve(gaussian_surface(3e-6, 60e-6, size=64, seed=11), points=40)
+    assert len(truncations) == 3
+    for seed in range(20):  # bounded: the oldest curves make way
+        rough_scene.bearing_curve(gaussian_surface(3e-6, 60e-6, size=16, seed=100 + seed))
+    assert len(rough_scene._BEARING_CURVES) == rough_scene.BEARING_CURVES_KEPT
