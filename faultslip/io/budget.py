@@ -48,7 +48,7 @@ INTEGRATION_IMPORTS = ("scipy.integrate", "scipy.optimize")
 DATASET_WRITER_IMPORTS = ("netCDF4", "distributed")
 #: What every run imports where it checks its budget (:func:`available_memory`).
 BUDGET_IMPORTS = ("psutil",)
-#: numba's extensions (rocket-fft), which its first compiled call loads: a name :func:`measure_imports` takes.
+#: numba's extensions (rocket-fft), which its first compiled call loads: a name :func:`import_modules` takes.
 NUMBA_EXTENSIONS = "numba:extensions"
 
 
@@ -205,13 +205,38 @@ class Estimate:
         return ", ".join(parts)
 
 
-#: Modules :func:`measure_imports` found missing in this process: not owed again.
+#: Modules :func:`import_modules` found missing in this process: not owed again.
 _MISSING: set = set()
+
+
+def import_modules(modules) -> None:
+    """Import those of ``modules`` this process has not imported yet: a run's, before it needs them (a pool's
+    workers that fork afterwards share them), or an estimate's, to measure them (:func:`measure_imports`).
+
+    Parameters
+    ----------
+    modules : iterable of str
+        Module names (``"scipy.integrate"``), or :data:`NUMBA_EXTENSIONS`: numba's extensions, loaded.
+
+    Returns
+    -------
+    None
+        A module not installed here is noted as missing, not raised: the run says so where it needs it.
+    """
+    for name in dict.fromkeys(modules):
+        try:
+            if name == NUMBA_EXTENSIONS:
+                importlib.import_module("numba.core.entrypoints").init_all()  # once per process; then a no-op
+            elif name not in sys.modules:
+                importlib.import_module(name)
+        except ImportError:  # not installed here: the run says so where it needs it; an estimate is no place to fail
+            _MISSING.add(name)
 
 
 def measure_imports(modules) -> float:
     """CPU seconds this process spends importing those of ``modules`` it has not imported yet, measured by
-    importing them (the run would: an estimate that leaves them out misses a short run's time several times over).
+    importing them (:func:`import_modules`; the run would: an estimate that leaves them out misses a short run's
+    time several times over).
 
     Parameters
     ----------
@@ -224,14 +249,7 @@ def measure_imports(modules) -> float:
         Process CPU seconds (``time.process_time``); 0 where every one is imported already.
     """
     start = time.process_time()
-    for name in dict.fromkeys(modules):
-        try:
-            if name == NUMBA_EXTENSIONS:
-                importlib.import_module("numba.core.entrypoints").init_all()  # once per process; then a no-op
-            elif name not in sys.modules:
-                importlib.import_module(name)
-        except ImportError:  # not installed here: the run says so where it needs it; an estimate is no place to fail
-            _MISSING.add(name)
+    import_modules(modules)
     return time.process_time() - start
 
 

@@ -66,6 +66,7 @@ class Study:
 
     cycles: int = 0  # rate-and-state studies: cycles simulated per unstable cell (0: K / K_c only)
     _cell_seconds: float | None = field(default=None, repr=False, compare=False)
+    _imports: tuple | None = field(default=None, repr=False, compare=False)
     #: studies whose cells checkpoint (a 2-D fault): the folder of per-cell work (set by the streaming runner)
     work_dir: object = field(default=None, compare=False)
     family: object = field(default=None, compare=False)
@@ -119,9 +120,12 @@ class Study:
 
     def imports(self) -> tuple:
         """The modules its cells import where they run (the family's ``Cells.imports``; none where it declares
-        none): what a sweep's estimate counts beside its own (:func:`faultslip.io.budget.study_estimate`)."""
-        declared = getattr(self.cells, "imports", None)
-        return tuple(declared(self)) if declared is not None else ()
+        none): what a sweep's estimate counts beside its own (:func:`faultslip.io.budget.study_estimate`), and a
+        process pool imports before its workers fork. Asked once per study: a family may read its cost model."""
+        if self._imports is None:
+            declared = getattr(self.cells, "imports", None)
+            self._imports = tuple(declared(self)) if declared is not None else ()
+        return self._imports
 
     def seconds_per_worker(self) -> float:
         """Estimated time each worker spends once, before its first cell (the family's

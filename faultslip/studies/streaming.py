@@ -135,7 +135,7 @@ def _slurm_cluster(workers: int):
     return cluster
 
 
-def _executor(scheduler, workers, study=None):
+def _executor(scheduler, workers, study):
     """(submit, wait_any, shutdown, label) for the chosen executor. A local pool's workers fork from this process
     after it has imported what the study's cells import (``Study.imports``): imported once and shared, not once in
     every worker (a nanoscale sweep on 2 workers imported scipy's integrators twice, which its estimate counts
@@ -143,8 +143,7 @@ def _executor(scheduler, workers, study=None):
     if scheduler is None:
         if workers <= 1:
             return None, "in-process"
-        if study is not None:
-            budget.measure_imports(study.imports())
+        budget.import_modules(study.imports())
         return worker_pool(workers), f"process pool ({workers} workers)"
     try:
         from distributed import Client, LocalCluster  # heavy: imported where used
