@@ -25,7 +25,7 @@ TOPICS = {
         "read_stream": "io.waveforms:read_stream", "write_stream": "io.waveforms:write_stream",
         "build_stream": "io.waveforms:build_stream", "read_seas": "io.seas:read_seas",
         "read_bundle": "io.bundle:read_bundle", "write_bundle": "io.bundle:write_bundle",
-        "config_path": "io.resources:config_path",
+        "config_path": "io.resources:config_path", "bundled_examples": "io.resources:bundled_examples",
     },
     "friction": {
         **{name: f"friction.laws:{name}" for name in (

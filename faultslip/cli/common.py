@@ -15,7 +15,22 @@ from faultslip.io.atomic import claim, save_figure
 from faultslip.io.netcdf import write_dataset
 from faultslip.io.outputs import check_output, output_lock, same_file
 from faultslip.io.processes import usable_cores, usable_workers
+from faultslip.io.resources import resolve_path
 from faultslip.units import to_si
+
+
+def resolve_examples(args) -> None:
+    """A data command's input files (``args.example_inputs``: attribute -> what it is), each a path as given, or,
+    as a bare name with no such file here, the bundled example of that name, said on stderr: the README's examples
+    run outside a clone too (:func:`faultslip.io.resources.bundled_examples`)."""
+    for attribute, what in getattr(args, "example_inputs", {}).items():
+        value = getattr(args, attribute, None)
+        if value is None:
+            continue
+        path, origin = resolve_path(value, what, kind="example")
+        if origin:
+            print(f"faultslip: {origin}", file=sys.stderr)
+        setattr(args, attribute, str(path))
 
 
 def _outputs(args, specs, inputs=()):

@@ -189,7 +189,7 @@ def _surface_commands(commands) -> None:
                                                                "as seed 000) or flat")
     surface.add_argument("--plot", help="draw the surface, autocorrelation, height density and contact to FILE.png")
     _overwrite_and_json(surface)
-    surface.set_defaults(handler="surfaces:cmd_surface")
+    surface.set_defaults(handler="surfaces:cmd_surface", example_inputs={"surface": "surface file"})
 
 
 def _seismology_commands(commands) -> None:
@@ -213,7 +213,7 @@ def _seismology_commands(commands) -> None:
                               "(0.01); 'refuse' stops instead")
     catalog.add_argument("--plot", help="draw the events and the recurrence to FILE.png")
     _overwrite_and_json(catalog)
-    catalog.set_defaults(handler="seismology:cmd_catalog")
+    catalog.set_defaults(handler="seismology:cmd_catalog", example_inputs={"catalog": "catalog"})
 
 
 def _scenes_commands(commands) -> None:
@@ -322,7 +322,7 @@ def _studies_commands(commands) -> None:
     convert.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     convert.add_argument("--allow-large", action="store_true", help=COMMON["--allow-large"])
     convert.add_argument("--json", action="store_true", help=COMMON["--json"])
-    convert.set_defaults(handler="sweeps:cmd_convert")
+    convert.set_defaults(handler="sweeps:cmd_convert", example_inputs={"store": "Zarr store"})
 
     reproduce = commands.add_parser("reproduce", help="re-run the study embedded in a sweep's netCDF and compare")
     reproduce.add_argument("file", help="a netCDF written by faultslip sweep")
@@ -394,7 +394,7 @@ def _lab_commands(commands) -> None:
     reduce.add_argument("-o", "--output", help="write the reduced columns to OUT.nc")
     reduce.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     reduce.add_argument("--json", action="store_true", help=COMMON["--json"])
-    reduce.set_defaults(handler="lab:cmd_reduce")
+    reduce.set_defaults(handler="lab:cmd_reduce", example_inputs={"r_file": "r-file"})
     fit = commands.add_parser("fit", help="fit the rate law (eq. 2-18) to laboratory data, with uncertainty")
     fit.add_argument("data", nargs="?", help="CSV or netCDF: loading_rate (or platform_speed, stiffness, normal_load), "
                      "static_friction[, amplitude]")
@@ -455,7 +455,7 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--evolution", choices=("aging", "slip"), default="aging", help="rate-state: the state evolution law")
     fit.add_argument("--two-state", action="store_true", help="rate-state: fit b2 and D_c2 as well")
     fit.add_argument("--json", action="store_true", help=COMMON["--json"])
-    fit.set_defaults(handler="lab:cmd_fit")
+    fit.set_defaults(handler="lab:cmd_fit", example_inputs={"data": "data file"})
 
     record = commands.add_parser("record", help="friction and stick-slip events from a measured motion record, or a "
                                                 "phone's accelerometer (phyphox) in the classroom experiment")
@@ -471,7 +471,7 @@ def _lab_commands(commands) -> None:
     record.add_argument("--velocity", default="auto", help="auto, differentiate (x) or integrate (x'')")
     record.add_argument("--plot", help="draw mu against sliding speed to FILE.png")
     _overwrite_and_json(record)
-    record.set_defaults(handler="lab:cmd_record")
+    record.set_defaults(handler="lab:cmd_record", example_inputs={"record": "record"})
 
     decay = commands.add_parser("decay", help="system identification from free decay (seed 002 Appendix C)")
     decay.add_argument("record", nargs="?", help="a free-decay displacement record (alternative to --ratio ...)")
@@ -481,7 +481,7 @@ def _lab_commands(commands) -> None:
     decay.add_argument("--cycles", dest="cycles", action=_Deprecated, now="--cycles-between", help=argparse.SUPPRESS)
     decay.add_argument("--frequency", help="damped frequency, e.g. '19.9 Hz'")
     decay.add_argument("--json", action="store_true", help=COMMON["--json"])
-    decay.set_defaults(handler="lab:cmd_decay")
+    decay.set_defaults(handler="lab:cmd_decay", example_inputs={"record": "record"})
 
 
 def _vibration_commands(commands) -> None:
@@ -608,7 +608,7 @@ def _evaluation_commands(commands) -> None:
     predict.add_argument("--seed", type=int, default=0, help="the bootstrap's seed (default 0)")
     predict.add_argument("--plot", help="draw the staircase and the correlations to FILE.png")
     _overwrite_and_json(predict)
-    predict.set_defaults(handler="evaluation:cmd_predictability")
+    predict.set_defaults(handler="evaluation:cmd_predictability", example_inputs={"catalog": "catalog"})
 
 
 def _plots_commands(commands) -> None:
@@ -673,6 +673,8 @@ def main(argv=None) -> int:
         # pint, when a command needs it, loads without its dask probe (faultslip.units.PINT_WITHOUT_DASK)
         importlib.import_module("faultslip.units").PINT_WITHOUT_DASK = True
         command = getattr(importlib.import_module(f"faultslip.cli.{module}"), function)
+        if getattr(args, "example_inputs", None):  # a data command's inputs: a path, or a bundled example's name
+            importlib.import_module("faultslip.cli.common").resolve_examples(args)
         with transaction():  # a command's outputs appear together when it succeeds, or none do
             return command(args)
     except FaultslipError as exc:

@@ -541,7 +541,29 @@ def check_table_keys(content, allowed, table: str, source: str) -> None:
 
 
 #: The kinds of bundled config, as a refusal lists them.
-PLURALS = {"scene": "scenes", "study": "studies", "map": "maps"}
+PLURALS = {"scene": "scenes", "study": "studies", "map": "maps", "example": "examples"}
+#: Bundled files that are not examples of a data command's input.
+_NOT_EXAMPLES = (".toml", ".py", ".md", ".json")
+
+
+def bundled_examples() -> dict[str, Path]:
+    """The bundled example inputs of the data commands (``fit``, ``record``, ``decay``, ``surface``, ``catalog``,
+    ``reduce``, ``convert``), by file name: the records, catalogs and surfaces of ``configs/``, its Zarr store, and
+    the rig files of ``data/p655``.
+
+    Returns
+    -------
+    dict of str to pathlib.Path
+        File name -> where the installed package holds it, sorted by name.
+    """
+    found = {}
+    for folder in (bundled_dir("configs"), bundled_dir("data") / "p655"):
+        for path in sorted(folder.iterdir()) if folder.is_dir() else ():
+            if path.suffix in _NOT_EXAMPLES or path.name == "LICENSE":
+                continue
+            if path.is_file() or (path.is_dir() and path.suffix == ".zarr"):
+                found[path.name] = path
+    return dict(sorted(found.items()))
 
 
 def resolve_path(argument, what: str, base_dir: Path | None = None, kind: str = "scene") -> tuple[Path, str]:
@@ -551,6 +573,8 @@ def resolve_path(argument, what: str, base_dir: Path | None = None, kind: str = 
     (``x.toml`` or ``x``) is looked up in ``base_dir`` (or the current folder) first and then
     among the bundled configs; ``origin`` then says that the bundled file was used. A name found in neither
     is refused, listing the bundled configs of ``kind`` ("scene", "study" or "map": :func:`bundled_configs`).
+    ``kind="example"`` looks a bare name up among :func:`bundled_examples` instead (by file name, or by its stem
+    where one example has it), and leaves a folder to the command's reader (a Zarr store is one).
     """
     text = str(argument)
     if not text.strip():
@@ -559,9 +583,17 @@ def resolve_path(argument, what: str, base_dir: Path | None = None, kind: str = 
     bare = path.name == text and not path.is_absolute()
     local = (base_dir / path) if (base_dir is not None and not path.is_absolute()) else path
     if local.exists():
-        if local.is_dir():
+        if local.is_dir() and kind != "example":  # a data command's reader says whether it takes a folder
             raise InputError(f"{what} {text!r} is a folder, not a file")
         return local, ""
+    if bare and kind == "example":
+        examples = bundled_examples()
+        by_stem = [name for name in examples if Path(name).stem == text]
+        name = text if text in examples else by_stem[0] if len(by_stem) == 1 else None
+        if name is not None:
+            return examples[name], f"bundled example {name} (no file {text!r} here)"
+        raise InputError(f"{what} {text!r} does not exist here or among the bundled examples "
+                         f"({', '.join(examples)})")
     if bare:
         bundled = config_path(path.name if path.suffix else f"{path.name}.toml")
         if bundled.is_file():

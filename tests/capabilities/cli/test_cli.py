@@ -144,3 +144,30 @@ def test_the_methods_listing_is_folded_and_says_what_its_json_says(cli):
     for row in rows:
         for key in ("friction_laws", "domain", "cost_model", "declared_error", "selected_by"):
             assert " ".join(row[key].split()) in words, (row["name"], key)
+
+
+def test_a_data_command_finds_a_bundled_example_by_bare_name_and_a_local_file_first(cli, tmp_path, monkeypatch):
+    """Outside a clone, the data commands' examples are found by name (a wheel ships them in the package), and the
+    command says so on stderr; a file of that name here is read instead; a name in neither is one sentence listing
+    the examples, exit 2."""
+    import json
+
+    from faultslip.io.resources import bundled_examples
+
+    monkeypatch.chdir(tmp_path)
+    examples = bundled_examples()
+    assert {"example_velocity_steps.csv", "example_record.csv", "catalog_san_andreas.csv", "example_surface.csv",
+            "example_lab_glass.zarr", "p655_r"} <= set(examples)
+    assert not any(name.endswith((".toml", ".py", ".md")) for name in examples)
+    bundled = cli("fit", "example_friction_data", "--bootstrap", "20", "--json")
+    assert bundled.code == 0 and "bundled example example_friction_data.csv" in bundled.err
+    assert 0.5 < json.loads(bundled.out)["mu_so"] < 1
+    # the same name here wins: the first 12 rows of the example, fitted to their own numbers
+    rows = examples["example_friction_data.csv"].read_text(encoding="utf-8").splitlines()
+    (tmp_path / "example_friction_data.csv").write_text("\n".join(rows[:13]) + "\n", encoding="utf-8")
+    local = cli("fit", "example_friction_data.csv", "--bootstrap", "20", "--json")
+    assert local.code == 0 and "bundled" not in local.err
+    assert json.loads(local.out)["mu_so"] != json.loads(bundled.out)["mu_so"]
+    missing = assert_clean_error(cli("record", "nothere.csv"), "does not exist here or among the bundled examples",
+                                 "example_record.csv")
+    assert not list(tmp_path.glob("*.nc")), missing
