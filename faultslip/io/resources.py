@@ -586,6 +586,8 @@ def resolve_path(argument, what: str, base_dir: Path | None = None, kind: str = 
         if local.is_dir() and kind != "example":  # a data command's reader says whether it takes a folder
             raise InputError(f"{what} {text!r} is a folder, not a file")
         return local, ""
+    if local.is_symlink():  # a broken link here is the user's file gone missing, not a call for the bundled one
+        raise InputError(f"{what} {text!r} is a link to a file that does not exist")
     if bare and kind == "example":
         examples = bundled_examples()
         by_stem = [name for name in examples if Path(name).stem == text]

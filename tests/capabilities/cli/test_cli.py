@@ -171,3 +171,5 @@ def test_a_data_command_finds_a_bundled_example_by_bare_name_and_a_local_file_fi
     missing = assert_clean_error(cli("record", "nothere.csv"), "does not exist here or among the bundled examples",
                                  "example_record.csv")
     assert not list(tmp_path.glob("*.nc")), missing
+    (tmp_path / "example_record.csv").symlink_to(tmp_path / "gone.csv")  # the user's own, gone: not the bundled one
+    assert_clean_error(cli("record", "example_record.csv"), "is a link to a file that does not exist")
