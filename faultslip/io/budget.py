@@ -241,7 +241,7 @@ def measure_imports(modules) -> float:
     Parameters
     ----------
     modules : iterable of str
-        Module names (``"scipy.integrate"``), or :data:`NUMBA_EXTENSIONS`: numba's extensions, loaded.
+        What :func:`import_modules` takes.
 
     Returns
     -------
