@@ -19,18 +19,25 @@ from faultslip.io.resources import resolve_path
 from faultslip.units import to_si
 
 
-def resolve_examples(args) -> None:
+def resolve_examples(args) -> list[str]:
     """A data command's input files (``args.example_inputs``: attribute -> what it is), each a path as given, or,
-    as a bare name with no such file here, the bundled example of that name, said on stderr: the README's examples
-    run outside a clone too (:func:`faultslip.io.resources.bundled_examples`)."""
+    as a bare name with no such file here, the bundled example of that name: the README's examples run outside a
+    clone too (:func:`faultslip.io.resources.bundled_examples`). Returns what was found where, for the command to
+    say once it has succeeded (a refusal stays one sentence)."""
+    origins = []
+
+    def resolved(value, what):
+        path, origin = resolve_path(value, what, kind="example")
+        origins.append(origin)
+        return str(path)
+
     for attribute, what in getattr(args, "example_inputs", {}).items():
         value = getattr(args, attribute, None)
-        if value is None:
-            continue
-        path, origin = resolve_path(value, what, kind="example")
-        if origin:
-            print(f"faultslip: {origin}", file=sys.stderr)
-        setattr(args, attribute, str(path))
+        if isinstance(value, list):  # a repeated option (fit --joint)
+            setattr(args, attribute, [resolved(item, what) for item in value])
+        elif value is not None:
+            setattr(args, attribute, resolved(value, what))
+    return [origin for origin in origins if origin]
 
 
 def _outputs(args, specs, inputs=()):

@@ -455,7 +455,7 @@ def _lab_commands(commands) -> None:
     fit.add_argument("--evolution", choices=("aging", "slip"), default="aging", help="rate-state: the state evolution law")
     fit.add_argument("--two-state", action="store_true", help="rate-state: fit b2 and D_c2 as well")
     fit.add_argument("--json", action="store_true", help=COMMON["--json"])
-    fit.set_defaults(handler="lab:cmd_fit", example_inputs={"data": "data file"})
+    fit.set_defaults(handler="lab:cmd_fit", example_inputs={"data": "data file", "joint": "record"})
 
     record = commands.add_parser("record", help="friction and stick-slip events from a measured motion record, or a "
                                                 "phone's accelerometer (phyphox) in the classroom experiment")
@@ -673,10 +673,14 @@ def main(argv=None) -> int:
         # pint, when a command needs it, loads without its dask probe (faultslip.units.PINT_WITHOUT_DASK)
         importlib.import_module("faultslip.units").PINT_WITHOUT_DASK = True
         command = getattr(importlib.import_module(f"faultslip.cli.{module}"), function)
+        found = []
         if getattr(args, "example_inputs", None):  # a data command's inputs: a path, or a bundled example's name
-            importlib.import_module("faultslip.cli.common").resolve_examples(args)
+            found = importlib.import_module("faultslip.cli.common").resolve_examples(args)
         with transaction():  # a command's outputs appear together when it succeeds, or none do
-            return command(args)
+            code = command(args)
+        for origin in found if code in (0, None) else ():  # said after the answer: a refusal stays one sentence
+            print(f"faultslip: {origin}", file=sys.stderr)
+        return code
     except FaultslipError as exc:
         print(f"faultslip: error: {exc}", file=sys.stderr)
         return 2

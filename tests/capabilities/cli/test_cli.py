@@ -171,5 +171,10 @@ def test_a_data_command_finds_a_bundled_example_by_bare_name_and_a_local_file_fi
     missing = assert_clean_error(cli("record", "nothere.csv"), "does not exist here or among the bundled examples",
                                  "example_record.csv")
     assert not list(tmp_path.glob("*.nc")), missing
+    # refused after finding an example, or before: one sentence, no note of the example found
+    assert_clean_error(cli("record", "example_record.csv"), "needs --stiffness")
+    # a further record missing: one sentence, no note of the example found before it
+    assert_clean_error(cli("fit", "--law", "rate-state", "example_velocity_steps.csv", "--joint", "nothere.csv",
+                           "--stiffness", "1e-2 1/um"), "record 'nothere.csv' does not exist here")
     (tmp_path / "example_record.csv").symlink_to(tmp_path / "gone.csv")  # the user's own, gone: not the bundled one
     assert_clean_error(cli("record", "example_record.csv"), "is a link to a file that does not exist")
