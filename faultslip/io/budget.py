@@ -63,8 +63,10 @@ def available_memory() -> float:
 
 
 def free_disk(path) -> float:
-    folder = Path(path).parent if not Path(path).is_dir() else Path(path)
+    """Free bytes where ``path`` (a file or folder) would be written; inf where the system cannot say (a name it
+    cannot look up is refused, in one sentence, by the writer's guard: :mod:`faultslip.io.outputs`)."""
     try:
+        folder = Path(path) if Path(path).is_dir() else Path(path).parent
         return float(shutil.disk_usage(folder if str(folder) else ".").free)
     except OSError:
         return float("inf")

@@ -59,6 +59,7 @@ def check_output(path, *, label: str, suffixes=None, inputs=(), overwrite: bool 
     if not str(path).strip():
         raise InputError(f"{label}: the output path is empty")
     check_encodable(target, label)
+    check_name_length(target, label)
     if store and target.exists():
         if not is_store(target):
             what = "a folder" if target.is_dir() else "a file"
@@ -117,6 +118,45 @@ def check_encodable(path, label: str) -> Path:
     return Path(path)
 
 
+#: Bytes faultslip adds to an output's name for the files it writes beside it (``.NAME.PID.N.nc.tmp``, ``.NAME.lock``,
+#: a partial output's ledger, an NRML file's logic trees beside it): a name that fits alone but not with these would
+#: fail after the work.
+NAME_MARGIN = 64
+
+
+def check_name_length(path, label: str) -> Path:
+    """Refuse an output whose name, with :data:`NAME_MARGIN` for the temporary and lock files beside it, or any
+    folder of whose path, is longer than the file system takes (``NAME_MAX``, ``PATH_MAX``): one sentence before
+    any work, not the system's "File name too long" after it."""
+    target = Path(path)
+    anchor = next((folder for folder in (target.parent, Path.cwd()) if _is_dir(folder)), Path("/"))
+    try:
+        name_max, path_max = os.pathconf(anchor, "PC_NAME_MAX"), os.pathconf(anchor, "PC_PATH_MAX")
+    except (OSError, ValueError):
+        name_max, path_max = 255, 4096
+    shown = str(target) if len(str(target)) <= 80 else f"{str(target)[:60]}...{str(target)[-17:]}"
+    for part in target.parts[:-1]:
+        if len(os.fsencode(part)) > name_max:
+            raise InputError(f"{label} {shown!r} has a folder name of {len(os.fsencode(part))} bytes; this file "
+                             f"system takes at most {name_max}")
+    length = len(os.fsencode(target.name))
+    if length + NAME_MARGIN > name_max:
+        raise InputError(f"{label} {shown!r} has a name of {length} bytes; this file system takes {name_max}, and "
+                         f"faultslip needs {NAME_MARGIN} more for the temporary file beside it: choose a name of at "
+                         f"most {name_max - NAME_MARGIN}")
+    if len(os.fsencode(os.path.abspath(target))) + NAME_MARGIN > path_max:
+        raise InputError(f"{label} {shown!r} is a path longer than this file system takes ({path_max} bytes, with "
+                         f"{NAME_MARGIN} for the temporary file beside it)")
+    return target
+
+
+def _is_dir(folder: Path) -> bool:
+    try:
+        return folder.is_dir()
+    except OSError:  # a name the system cannot look up
+        return False
+
+
 #: Free bytes below which a failed write is put down to a full disk (HDF5 says only "HDF error").
 NEARLY_FULL = 4 * 2**20
 
@@ -126,6 +166,7 @@ def prepare_run_folder(folder: Path, *, resume: bool, overwrite: bool, what: str
     removes a folder it made). A checkpointed run's folder (``checkpoint.npz``) may be resumed; any other
     non-empty folder needs ``overwrite``; a file, a link, a missing parent or a folder one cannot write is refused
     in one sentence."""
+    check_name_length(folder, "--output-dir")
     if folder.exists() and not folder.is_dir():
         raise InputError(f"--output-dir {folder} is a file; give a folder for the run's files")
     checkpointed = (folder / "checkpoint.npz").is_file()

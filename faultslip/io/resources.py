@@ -582,11 +582,18 @@ def resolve_path(argument, what: str, base_dir: Path | None = None, kind: str = 
     path = Path(text)
     bare = path.name == text and not path.is_absolute()
     local = (base_dir / path) if (base_dir is not None and not path.is_absolute()) else path
-    if local.exists():
-        if local.is_dir() and kind != "example":  # a data command's reader says whether it takes a folder
+    try:  # a name the system cannot look up (too long, a folder unreadable) is the input's fault: one sentence
+        exists, folder, link = local.exists(), local.is_dir(), local.is_symlink()
+        bundled = None if not bare or kind == "example" else \
+            config_path(path.name if path.suffix else f"{path.name}.toml")
+        bundled = bundled if bundled is not None and bundled.is_file() else None
+    except (OSError, ValueError) as exc:
+        raise InputError(f"cannot look up {what} {text[:80]!r}: {getattr(exc, 'strerror', None) or exc}") from None
+    if exists:
+        if folder and kind != "example":  # a data command's reader says whether it takes a folder
             raise InputError(f"{what} {text!r} is a folder, not a file")
         return local, ""
-    if local.is_symlink():  # a broken link here is the user's file gone missing, not a call for the bundled one
+    if link:  # a broken link here is the user's file gone missing, not a call for the bundled one
         raise InputError(f"{what} {text!r} is a link to a file that does not exist")
     if bare and kind == "example":
         examples = bundled_examples()
@@ -597,8 +604,7 @@ def resolve_path(argument, what: str, base_dir: Path | None = None, kind: str = 
         raise InputError(f"{what} {text!r} does not exist here or among the bundled examples "
                          f"({', '.join(examples)})")
     if bare:
-        bundled = config_path(path.name if path.suffix else f"{path.name}.toml")
-        if bundled.is_file():
+        if bundled is not None:
             return bundled, f"bundled {what} {bundled.name} (no file {text!r} here)"
         raise InputError(f"{what} {text!r} does not exist here or among the bundled configs "
                          f"(the {PLURALS.get(kind, kind)}: {', '.join(bundled_configs(kind))})")

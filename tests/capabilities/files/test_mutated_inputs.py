@@ -409,6 +409,29 @@ def test_an_output_path_that_is_not_utf8_is_one_sentence_and_leaves_nothing(tmp_
     assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]
 
 
+def test_a_name_longer_than_the_file_system_takes_is_one_sentence_and_leaves_nothing(tmp_path, cli, monkeypatch):
+    """A name over NAME_MAX, given as an input or an output, ended in "File name too long" with exit 1 (the
+    machine's fault) from the first lookup; an output short enough alone but not with the temporary file beside it
+    would have failed after the work."""
+    from faultslip.io.outputs import NAME_MARGIN
+
+    monkeypatch.chdir(tmp_path)
+    name_max = os.pathconf(tmp_path, "PC_NAME_MAX")
+    too_long = "a" * (name_max + 1)
+    for argv in (("run", f"{too_long}.toml"), ("record", f"{too_long}.csv"), ("map", too_long, "-o", "m.nc"),
+                 ("simulate", "lab_glass_dry.toml", "--cycles", "3", "-o", f"{too_long}.nc"),
+                 ("simulate", "lab_glass_dry.toml", "--cycles", "3", "-o", f"{too_long}/x.nc"),
+                 ("simulate", "fault_2d_small.toml", "--output-dir", too_long)):
+        assert_clean_error(cli(*argv), "a" * 20)
+    fits_alone = "b" * (name_max - NAME_MARGIN + 1 - len(".nc")) + ".nc"
+    assert len(fits_alone) <= name_max
+    assert_clean_error(cli("simulate", "lab_glass_dry.toml", "--cycles", "3", "-o", fits_alone),
+                       f"at most {name_max - NAME_MARGIN}")
+    fits = "c" * (name_max - NAME_MARGIN - len(".nc")) + ".nc"
+    assert cli("simulate", "lab_glass_dry.toml", "--cycles", "3", "-o", fits).code == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == [fits]
+
+
 def test_the_fuzzers_findings_are_one_sentence(tmp_path, cli):
     """benchmarks/fuzz.py at seed 4142 found two: a 2-D fault without weakening (b = 0: L_b infinite) divided by
     zero in the budget's estimate, and a nanoscale scene with samples = inf overflowed int()."""
