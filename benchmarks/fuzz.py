@@ -15,7 +15,8 @@ readers' and writers' hard cases: Zarr stores with damaged, missing or re-attrib
 TOML nested hundreds deep; device files, FIFOs and folders given as inputs; symlinks, hard
 links and FIFOs planted at an output's lock; writes into a full disk (a tmpfs of a few hundred
 kB, where the fuzzer may mount one); and a second writer of another kind holding the output
-(a forked process with the lock). Outcomes:
+(a forked process with the lock). Path names the file system may not take (too long, broken links, not UTF-8,
+control characters) and bundled examples' bare names are given as inputs and outputs. Outcomes:
 
 * ``ok``: exit 0;
 * ``mismatch``: ``reproduce`` found that a (mutated) file differs from its reproduction: exit 1;
@@ -996,6 +997,19 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
                            ["catalog", special, "--fault", str(CONFIGS / "parkfield.toml")],
                            ["convert", special, "-o", out], ["reproduce", special], ["surface", special],
                            ["decay", special, "--stiffness", "1 N/m"], ["sweep", special, "-o", out]])
+    if kind == "names":  # hostile names as an input or an output: one sentence or the answer, never the system's
+        name = hostile_name(space, rng)
+        if rng.random() < 0.5:
+            argv, _ = writer_case(space, rng, space.folder)
+            outputs = [i for i, a in enumerate(argv) if a.startswith(str(space.folder / "TARGET"))]
+            argv[rng.choice(outputs)] = name if os.path.isabs(name) else str(space.folder / name)  # never in cwd
+            return argv
+        return rng.choice([["run", name], ["fit", name], ["record", name], ["surface", name], ["predictability", name],
+                           ["decay", name, "--stiffness", "1 N/m"], ["reduce", name, "-o", out, "--overwrite"],
+                           ["catalog", name, "--fault", str(CONFIGS / "parkfield.toml")],
+                           ["convert", name, "-o", out, "--overwrite"], ["sweep", name, "-o", out, "--overwrite"],
+                           ["map", name, "-o", out, "--overwrite"],
+                           ["simulate", "fault_2d_small.toml", "--output-dir", name, "--estimate"]])
     if kind in ("lock", "full", "race"):
         folder = space.full if kind == "full" and space.full is not None else space.folder
         argv, target = writer_case(space, rng, folder)
@@ -1129,7 +1143,7 @@ KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6,
          "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6,
          "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4,
          "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3, "ledger": 4, "registry": 4, "table": 4,
-         "partial": 4}
+         "partial": 4, "names": 4}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [
@@ -1146,6 +1160,25 @@ WRITERS = [
     (["animate", "lab_glass_dry.toml", "-o", "TARGET.gif", "--frames", "4"], "TARGET.gif"),
     (["convert", str(CONFIGS / "example_lab_glass.zarr"), "-o", "TARGET.nc", "--workers", "1"], "TARGET.nc"),
 ]
+
+
+def hostile_name(space, rng) -> str:
+    """A path argument the file system may not take: too long (a name or a folder past NAME_MAX, a name that fits
+    alone but not with the temporary file beside it, a path past PATH_MAX), a broken link, not UTF-8, a control
+    character, a bundled example's bare name, or an empty, dot or dash name."""
+    name_max = os.pathconf(space.folder, "PC_NAME_MAX")
+    suffix = rng.choice([".nc", ".csv", ".toml", ".zarr", ".png", ".xml", ""])
+    broken = space.folder / f"broken{rng.randrange(10**6)}{suffix}"
+    if rng.random() < 0.1:
+        broken.symlink_to(space.folder / "gone")
+    return rng.choice([
+        "a" * rng.choice([name_max - 64 + 1, name_max, name_max + 1, 3 * name_max]) + suffix,
+        str(space.folder / ("d" * (name_max + 1)) / f"x{suffix}"),
+        str(space.folder / "/".join(["e" * 200] * 25)) + suffix,
+        str(broken), os.fsdecode(b"bad\xff" + suffix.encode()), f"line\nbreak{suffix}", f"tab\tname{suffix}",
+        rng.choice(["example_record.csv", "example_friction_data", "p655_r", "catalog_san_andreas.csv",
+                    "example_lab_glass.zarr", "san_andreas_1906", "study_spring_slider.toml"]),
+        "", " ", ".", "..", "-", "--", "/", "//", "~"])
 
 
 def writer_case(space, rng, folder: Path) -> tuple[list[str], Path]:

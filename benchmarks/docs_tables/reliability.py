@@ -45,7 +45,9 @@ def reliability_table() -> str | None:
             "bundle": "fit bundles edited, emptied, shadowed, inflated or given options of the wrong kind, replayed",
             "xlsx": "Excel workbooks: bytes flipped, a stray cell far out, text among the numbers",
             "rfile": "xlook r-files (lines and bytes mutated), reduced",
-            "memo": "the unit memo edited or damaged, then units read through it"}
+            "memo": "the unit memo edited or damaged, then units read through it",
+            "names": "path names the file system may not take (too long for a name, a folder or a path; a broken "
+                     "link; not UTF-8; control characters) and bundled examples' bare names, as inputs or outputs"}
     by_input = fuzz.get("by_input", {})
     for kind, label in hard.items():
         if kind in by_input:
