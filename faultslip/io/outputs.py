@@ -129,8 +129,8 @@ def check_name_length(path, label: str) -> Path:
     folder of whose path, is longer than the file system takes (``NAME_MAX``, ``PATH_MAX``): one sentence before
     any work, not the system's "File name too long" after it."""
     target = Path(path)
-    anchor = next((folder for folder in (target.parent, Path.cwd()) if _is_dir(folder)), Path("/"))
-    try:
+    try:  # the limits of the file system the output goes to (a missing folder: the current one's)
+        anchor = target.parent if _is_dir(target.parent) else Path.cwd()
         name_max, path_max = os.pathconf(anchor, "PC_NAME_MAX"), os.pathconf(anchor, "PC_PATH_MAX")
     except (OSError, ValueError):
         name_max, path_max = 255, 4096
