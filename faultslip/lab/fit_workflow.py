@@ -9,6 +9,7 @@ line only parses options, draws and prints (issue 40: no workflow in ``cli/``).
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,6 +19,7 @@ from faultslip.contract.result import ReportedValues, Result, with_draws
 from faultslip.errors import InputError
 from faultslip.friction.fitting import fit_rate_law
 from faultslip.io.report import Report, display_unit, significant
+from faultslip.io.resources import resolve_path
 from faultslip.lab.posterior import sample_posterior
 from faultslip.lab.raw_records import RawRecord, fit_each_step, read_rig_record, prepare_record
 from faultslip.lab.healing import healing
@@ -395,6 +397,9 @@ def fit(data, law: str = "rate", **options):
     ``bootstrap``, ``seed``, ``fixed_mu_m``). ``law="rate-state"`` fits a, b and D_c to a velocity-step record
     (:func:`fit_record`; ``stiffness`` is then required, and every option of that function applies).
 
+    A bare file name with no such file here is a bundled example's (``fit("example_friction_data.csv")``), as
+    ``faultslip fit`` reads it (:func:`faultslip.io.bundled_examples`).
+
     Parameters
     ----------
     data : str, path or table
@@ -412,6 +417,8 @@ def fit(data, law: str = "rate", **options):
     """
     if law not in FIT_LAWS:
         raise InputError(f"law is one of {', '.join(FIT_LAWS)}, got {law!r}")
+    if isinstance(data, (str, os.PathLike)):
+        data = str(resolve_path(data, "data file", kind="example")[0])
     if law == "rate":
         return fit_rate_law(data, **options)
     if "stiffness" not in options:

@@ -179,3 +179,16 @@ def test_a_map_file_holds_the_python_map(cli, tmp_path):
         for name in python.data_vars:
             if python[name].dtype.kind in "fi":
                 np.testing.assert_array_equal(written[name].values, python[name].values, err_msg=name)
+
+
+def test_a_bundled_example_is_fitted_by_name_in_python_as_on_the_command_line(cli, tmp_path, monkeypatch):
+    """``faultslip.fit("example_friction_data.csv")`` outside a clone reads the bundled example, as ``faultslip fit``
+    does, and gives its numbers; a name in neither place is the command's sentence, raised."""
+    import json
+
+    monkeypatch.chdir(tmp_path)
+    fitted = faultslip.fit("example_friction_data.csv", bootstrap=20)
+    printed = json.loads(cli("fit", "example_friction_data.csv", "--bootstrap", "20", "--json").out)
+    assert fitted.values["mu_so"] == pytest.approx(printed["mu_so"], rel=1e-12)
+    with pytest.raises(faultslip.errors.InputError, match="does not exist here or among the bundled examples"):
+        faultslip.fit("nothere.csv")
