@@ -50,9 +50,11 @@ SECONDS_PER_STEP = {"dopri5": 16e-6, "lsoda": 12e-6, "dopri5_compiled": 0.4e-6}
 #: 1e-12, each model at least 1.5 times every calibration error, and checked on 40 held-out faults. The former
 #: constants (20 rtol dopri5, 500 LSODA, 2 rtol / (1 - K / K_c) near K_c) were set on SEAS BP1 alone: on random
 #: faults dopri5 erred by 93 rtol where a / b nears 1 (its event edges, then a cubic Hermite of the step's ends),
-#: LSODA by 1,700 rtol at rtol 1e-6 on a lab-scale D_c, and both by 2 to 4 times the near-K_c bound.
+#: LSODA by 1,700 rtol at rtol 1e-6 on a lab-scale D_c, and both by 2 to 4 times the near-K_c bound. LSODA's far
+#: model was refitted (from 3500 rtol^1.05) once its cycles settle against its own scatter (slider.cycle_noise):
+#: runs that had ended unsettled at rtol 1e-5, their error declared as settling's, now count as the integrator's.
 ERROR_MODEL = {"dopri5": {"far": (56.0, 1.05, 0.0), "near": (0.099, 0.76)},
-               "lsoda": {"far": (3500.0, 1.05, 0.0), "near": (2.9, 0.81)}}
+               "lsoda": {"far": (7000.0, 1.1, 0.0), "near": (2.9, 0.81)}}
 ERROR_MODEL["dopri5_compiled"] = ERROR_MODEL["dopri5"]  # the same scheme and steps, stepped in C
 #: the calibration fits the near-K_c model on faults from this K / K_c up, the far model on those below
 NEAR_CRITICAL_FROM = 0.9

@@ -48,8 +48,8 @@ from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A
 from faultslip.dynamics.rate_state import compiled as rate_state_compiled
 from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.shared.settling import aitken, assess_settling, bifurcation_note
-from faultslip.dynamics.rate_state.methods import (CYCLE_METHODS, ERROR_MODEL, SECONDS_PER_STEP, error_bound,
-                                                   near_critical_error, steps_per_cycle)
+from faultslip.dynamics.rate_state.methods import (CYCLE_METHODS, ERROR_MODEL, NEAR_CRITICAL_FROM, SECONDS_PER_STEP,
+                                                   error_bound, near_critical_error, steps_per_cycle)
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.progress import reporter
 from faultslip.datasets import ToXarray
@@ -935,8 +935,40 @@ SETTLE_TOLERANCE = 1e-6
 #: Cycle-to-cycle scatter of event quantities in units of rtol (event edges interpolated within a step;
 #: measured 5-9 rtol at BP1 friction near K_c with dopri5 at rtol 1e-7).
 CYCLE_NOISE = 10.0
+#: LSODA's scatter in units of rtol: its event edges (a cubic Hermite of its steps' ends) scatter by 40 to 182 rtol
+#: at rtol 3e-10 to 1e-7 (24 random faults, K / K_c 1e-5 to 0.3, 20 cycles after 12 of spin-up).
+LSODA_CYCLE_NOISE = 300.0
 #: A contraction is learnt only from cycle-to-cycle changes this many times the scatter (noise) or more.
 SCATTER_MARGIN = 10.0
+
+
+def cycle_noise(method: str, rtol: float, stiffness_ratio: float) -> float:
+    """The cycle-to-cycle scatter the settling test takes as the integrator's own, not the approach's: 10 rtol
+    (:data:`CYCLE_NOISE`), and for LSODA away from K_c :data:`LSODA_CYCLE_NOISE` rtol.
+
+    Judged against 10 rtol, 21 of 40 random LSODA faults at K / K_c 1e-5 to 1e-2 took 8 to 402 cycles to settle
+    where 4 do, cycles the cost model does not count. From K / K_c 0.9 (methods.NEAR_CRITICAL_FROM) the cycles
+    approach their fixed point slowly, and changes of that size are the approach, not scatter: there 10 rtol stays.
+    The scatter is measured, not taken from the declared error model: that model is fitted on runs settled by this
+    test, and a test that took it as scatter would move the data it is fitted on.
+
+    Parameters
+    ----------
+    method : str
+        The integrator ("lsoda", "dopri5", "dopri5_compiled").
+    rtol : float
+        Its relative tolerance.
+    stiffness_ratio : float
+        The fault's K / K_c.
+
+    Returns
+    -------
+    float
+        The relative change per cycle taken as the integrator's scatter.
+    """
+    if method == "lsoda" and stiffness_ratio < NEAR_CRITICAL_FROM:
+        return LSODA_CYCLE_NOISE * rtol
+    return CYCLE_NOISE * rtol
 
 
 def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 100, spin_up: int = 2,
@@ -1090,7 +1122,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
         record["tau_start"].append(elastic_stress(y_c))
         if not settling["done"]:
             _settling_step(settling, record, y_c, spin_up, settle, law.two_state or chosen_method == "lsoda",
-                           max_settling_cycles, CYCLE_NOISE * rtol)
+                           max_settling_cycles, cycle_noise(chosen_method, rtol, ratio))
 
     def event_end(t_c, y_c):
         state["inside"] = False
