@@ -251,6 +251,10 @@ class Scene:
         return apply_friction(system, self.tables.get("friction", {}), self.name)
 
 
+#: the families whose scenes this reader takes (a scene names its family, or is one of these by its tables)
+SLIDER_FAMILIES = ("spring_slider", "rate_state_slider")
+
+
 def _suggest(key: str, allowed) -> str:
     close = difflib.get_close_matches(key, list(allowed), n=3, cutoff=0.6)
     return f"did you mean {', '.join(close)}? " if close else ""
@@ -263,6 +267,10 @@ def parse_scene(text: str, source: str = "<scene>", path: Path | None = None) ->
     if isinstance(friction, dict) and friction.get("law") == "nanoscale":
         raise InputError(f"{source} is a nanoscale scene (seed 001): 'faultslip run', 'simulate' and 'nanoscale' take "
                          "it; studies and maps take seed-law or rate-and-state scenes")
+    family = document.get("family")
+    if isinstance(family, str) and family not in SLIDER_FAMILIES:
+        raise InputError(f"{source} is a {family} scene; this reads a one-block scene (seed law or rate and state), "
+                         "and 'faultslip run' takes every family's")
     for table, content in document.items():
         if table == "family" and isinstance(content, str):  # the model family's name (faultslip.models)
             continue

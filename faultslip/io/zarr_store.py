@@ -236,12 +236,34 @@ def layout_checksum(path) -> str:
     return gate.json_checksum({"metadata": {**metadata, ".zattrs": root}, "coordinates": coordinates})
 
 
+def require_store(path) -> Path:
+    """``path`` as a Path, once its markers say it is a Zarr store; one sentence where it is missing or is not.
+
+    Parameters
+    ----------
+    path : str or Path
+        The store's folder.
+
+    Returns
+    -------
+    Path
+        The store's folder.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"{str(path)!r} does not exist")
+    if not is_store(path):
+        raise InputError(f"{str(path)!r} is not a Zarr store (no .zgroup, .zmetadata or zarr.json inside)")
+    return path
+
+
 def check_store_checksum(path) -> None:
     """Refuse, in one sentence, a store whose metadata no longer matches the checksum sealed into it, whose
     checksum was removed, or whose consolidated metadata (``.zmetadata``, what readers take first) differs from
     its arrays' own; a store of an older faultslip (its block digests, neither attribute) is read with a warning,
-    and another program's (none of them) as it is."""
-    path = Path(path)
+    and another program's (none of them) as it is. A folder that is not a store is refused by its markers first,
+    before its tree is walked (``faultslip convert /`` walked the whole file system)."""
+    path = require_store(path)
     metadata = store_metadata(path)
     if (path / ".zmetadata").is_file():
         try:
@@ -349,11 +371,7 @@ def open_store(path):
     require_zarr()
     import xarray as xr  # heavy: imported where used
 
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"{str(path)!r} does not exist")
-    if not is_store(path):
-        raise InputError(f"{str(path)!r} is not a Zarr store (no .zgroup, .zmetadata or zarr.json inside)")
+    path = require_store(path)
     with decoding(path, "Zarr store", "Zarr", silence=True):  # no metadata consolidated: xarray warns, needlessly
         return xr.open_zarr(path, decode_cf=False, consolidated=None)
 

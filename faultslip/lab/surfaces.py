@@ -147,7 +147,7 @@ def read_surface(path) -> Surface:
         Heights (m) on a grid of spacing (m).
     """
     path = Path(path)
-    label = f"surface {path.name}"
+    label = f"surface {path.name}" if path.name else "surface"  # "/" has no name
     if path.suffix.lower() == ".nc":
         data = open_netcdf(path, "surface")
         if "height" not in data:

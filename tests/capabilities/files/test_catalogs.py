@@ -93,6 +93,9 @@ def test_bad_catalogs_are_refused_in_one_sentence(tmp_path, cli):
                            "--min-magnitude", "9"), "no event")
     assert_clean_error(cli("catalog", "configs/catalog_san_andreas.csv", "--fault", "configs/parkfield.toml",
                            "--as-of", "yesterday"), "ISO 8601")
+    # a scene of another family is named as such, not refused for its first key the slider scene does not know
+    assert_clean_error(cli("catalog", "configs/catalog_san_andreas.csv", "--fault", "configs/seas_bp1.toml"),
+                       "seas_bp1.toml is a fault_2d scene; this reads a one-block scene")
 
 
 def test_parkfield_against_the_seed_law(cli, tmp_path):

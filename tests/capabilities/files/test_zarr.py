@@ -142,12 +142,25 @@ def test_a_layout_edited_in_the_partial_store_starts_the_run_over(study, tmp_pat
         assert a.attrs.get("title") == b.attrs.get("title")
 
 
-def test_convert_refuses_what_it_cannot_copy(tmp_path):
+def test_convert_refuses_what_it_cannot_copy(tmp_path, monkeypatch):
     with pytest.raises(InputError, match="does not exist"):
         zarr_to_netcdf(tmp_path / "none.zarr", tmp_path / "o.nc")
     (tmp_path / "plain").mkdir()
     with pytest.raises(InputError, match="is not a Zarr store"):
         zarr_to_netcdf(tmp_path / "plain", tmp_path / "o.nc")
+    # a folder is judged by its markers before its tree is walked: 'faultslip convert /' walked the whole file
+    # system (11 s), and a /proc entry that vanished on the way ended it as a machine error (exit 1)
+    deep = tmp_path / "deep"
+    (deep / "a" / "b").mkdir(parents=True)
+    (deep / "a" / "b" / ".zarray").write_text("{")
+    walked = []
+    monkeypatch.setattr(Path, "rglob", lambda self, pattern: walked.append(self) or iter(()))
+    with pytest.raises(InputError, match="is not a Zarr store"):
+        zarr_to_netcdf(deep, tmp_path / "o.nc")
+    with pytest.raises(InputError, match="is not a Zarr store"):
+        check_store_checksum(deep)
+    assert walked == []
+    monkeypatch.undo()
     ragged = tmp_path / "ragged.zarr"
     xr.Dataset({"a": ("x", np.arange(4.0)), "b": ("y", np.arange(3.0))},
                coords={"x": np.arange(4.0), "y": np.arange(3.0)}).to_zarr(ragged, zarr_format=2)
