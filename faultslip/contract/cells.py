@@ -299,10 +299,14 @@ def evaluate_by_cell(values: dict, outputs: dict, cell: Callable) -> dict:
 def cell_value(result, spec: Output):
     """One output of a cell's Result, in the declared units (a flag's code; the fill value where the result
     has none)."""
-    try:
-        value = result[spec.key or spec.name]
-    except KeyError:
-        return spec.fill
+    key = spec.key or spec.name
+    if hasattr(result, "number"):  # a Result: its stored number, pint only where the units differ
+        value = result.number(key, spec.units) if key in result else None
+    else:
+        try:
+            value = result[key]
+        except KeyError:
+            return spec.fill
     if value is None:
         return spec.fill
     if spec.flags:

@@ -20,6 +20,10 @@ from faultslip.io.report import Item, Report
 from faultslip.units import quantity
 
 
+#: The spellings of a pure number's units (UDUNITS "1", none, pint's).
+DIMENSIONLESS = frozenset({"1", "", "dimensionless"})
+
+
 @dataclass(frozen=True)
 class Entry:
     """One value of a Result: the number (SI) or text, its units (None: a plain value) and how it is shown."""
@@ -134,6 +138,29 @@ class Result:
         """A value as the family stored it: a number in SI (its ``units``), or a plain value; None where absent.
         No pint: for code that must stay light (a cycle run loads no unit registry)."""
         return self._plain(key)
+
+    def number(self, key: str, units: str):
+        """A value in ``units``: the stored number where it is stored in them (no pint: a sweep's cells load no
+        unit registry), converted by pint where they differ; a plain value as it is; None where absent.
+
+        Parameters
+        ----------
+        key : str
+            The value's key.
+        units : str
+            The units wanted (UDUNITS; ``"1"`` for a number).
+
+        Returns
+        -------
+        float, str or None
+            The number in ``units``, or the plain value (a regime's text).
+        """
+        entry = self._entries.get(key)
+        if entry is None or entry.value is None or entry.units is None or not entry.is_number:
+            return None if entry is None else entry.value
+        if entry.units == units or {entry.units, units} <= DIMENSIONLESS:
+            return entry.value
+        return entry.typed().to("dimensionless" if units in DIMENSIONLESS else units).magnitude
 
     @property
     def method(self) -> str | None:
