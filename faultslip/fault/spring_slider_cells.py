@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import math
 
+import sys
+
 import numpy as np
 
 from faultslip import ranges
@@ -154,13 +156,18 @@ def _labels(coordinate) -> list:
     return [str(v) for v in np.ravel(np.asarray(coordinate, dtype=object))]
 
 
+def _loaded_xarray():
+    """xarray where this process has loaded it, else None: a labelled coordinate exists only where it has, and a
+    streamed sweep's numpy blocks need no 0.3 s import to learn that they are not labelled."""
+    return sys.modules.get("xarray")
+
+
 def _category_table(coordinate, getter):
     """Values over a categorical dimension from a per-category lookup (None -> NaN), shaped like ``coordinate``."""
-    import xarray as xr  # heavy: imported where used
-
+    xr = _loaded_xarray()
     values = [getter(name) for name in _labels(coordinate)]
     data = np.array([np.nan if v is None else v for v in values], dtype=float)
-    if not isinstance(coordinate, xr.DataArray):  # aligned numpy: the same axes as the coordinate
+    if xr is None or not isinstance(coordinate, xr.DataArray):  # aligned numpy: the same axes as the coordinate
         return data.reshape(np.shape(coordinate))
     # from a variable, as in _coordinate: the generic constructor would import dask
     holder = xr.Dataset({"values": xr.Variable(coordinate.dims, data, fastpath=True)}, coords=coordinate.coords)
@@ -201,10 +208,9 @@ def _fault_inputs(study, coords):
 
 def _category_names(coordinate, getter):
     """Names over a categorical dimension from a per-category lookup, shaped like ``coordinate``."""
-    import xarray as xr  # heavy: imported where used
-
+    xr = _loaded_xarray()
     data = np.array([getter(name) for name in _labels(coordinate)], dtype=object)
-    if not isinstance(coordinate, xr.DataArray):
+    if xr is None or not isinstance(coordinate, xr.DataArray):
         return data.reshape(np.shape(coordinate))
     return xr.DataArray(data, dims=coordinate.dims, coords=coordinate.coords)
 
@@ -619,9 +625,8 @@ def _cell_system(study, values):
 
 
 def rate_state_outputs(inputs, study) -> dict:
-    """:func:`rate_state_cells` through :func:`xarray.apply_ufunc`: labelled, and lazy where inputs are chunked."""
-    import xarray as xr  # heavy: imported where used
-
+    """:func:`rate_state_cells` through :func:`xarray.apply_ufunc`: labelled, and lazy where inputs are chunked; a
+    streamed block's aligned numpy inputs straight through the kernel, as apply_ufunc would pass them."""
     inputs = {**inputs, "evolution": evolution_codes(inputs["evolution"])}
     keys = list(inputs)
     names = output_names(study.cycles, "rupture_length" in inputs and "seismogenic_depth" in inputs)
@@ -631,6 +636,9 @@ def rate_state_outputs(inputs, study) -> dict:
         result = rate_state_cells(**dict(zip(keys, arrays)), **options)
         return tuple(result[name] for name in names)
 
+    xr = _loaded_xarray()
+    if xr is None or not any(isinstance(inputs[key], xr.DataArray) for key in keys):
+        return dict(zip(names, kernel(*(inputs[key] for key in keys))))
     dtypes = [np.int8 if name in ("regime", "method") else float for name in names]
     results = xr.apply_ufunc(kernel, *(inputs[key] for key in keys), output_core_dims=[[]] * len(names),
                              dask="parallelized", output_dtypes=dtypes)

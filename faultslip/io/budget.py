@@ -356,11 +356,20 @@ def netcdf_disk(raw_bytes: float, variables: int, compression: str = "zlib") -> 
     return raw_bytes * (1.0 if compression == "none" else ZLIB_RATIO) + NETCDF_OVERHEAD + NETCDF_PER_VARIABLE * variables
 
 
+#: CPU seconds a sweep to a file spends beside its cells, once: creating the netCDF file and its chunk map, its
+#: ledger, and sealing it with its checksums. Without it a small study's estimate was a third of its CPU, or less
+#: (a 305-cell closed-form study: 1 ms against 23 ms). The median of a one-cell seed-law study's sweeps less its
+#: cell's own estimate, anchored to the "families" machine reference (benchmarks/sweep_estimates.py writes it;
+#: tests/capabilities/contract/test_families.py checks it against that file).
+SWEEP_FILE_SECONDS = 0.0306
+
+
 def study_estimate(study, output, workers: int, chunk_cells: int, compression: str = "zlib",
                    streamed: bool = False) -> Estimate:
     """Memory, disk and time of a sweep, from its shape alone (nothing is allocated). ``streamed``: a run to a
     file, which first computes one cell where the family does not declare its outputs' layout
-    (``study.layout_seconds()``), and then every cell again in its block."""
+    (``study.layout_seconds()``), and then every cell again in its block; a run to a file also spends
+    :data:`SWEEP_FILE_SECONDS` on the file."""
     cells = float(study.size)
     outputs = 17
     raw = cells * outputs * 8.0
@@ -369,14 +378,20 @@ def study_estimate(study, output, workers: int, chunk_cells: int, compression: s
     block = min(cells, float(chunk_cells))
     memory = block * 40 * 8.0 * (max(workers, 1) + 1)  # ~40 grid-sized temporaries per block in flight
     # the workers start together: each spends its one-off setup once (Study.seconds_per_worker)
-    layout = study.layout_seconds() if streamed else 0.0
-    # its Dataset, the netCDF file it writes, and what its family's cells import where they run
-    imports = (*DATASET_IMPORTS, *(("netCDF4",) if output is not None else ()), *study.imports())
+    once = study.layout_seconds() if streamed else 0.0  # the layout's cell, and the file's own cost
+    if output is not None:
+        once += machine.on_this_machine(SWEEP_FILE_SECONDS, "families")
+    # its Dataset in memory, or the netCDF file it streams its blocks into, read back lazily only where the command
+    # counts its cells by flag (a closed-form study's command never imports xarray and dask.array, 0.4 s), and
+    # what its family's cells import where they run
+    read_back = output is None or study.cells.counted(study)
+    imports = (*(DATASET_IMPORTS if read_back else ()), *(("netCDF4",) if output is not None else ()),
+               *study.imports())
     return Estimate(what=f"this sweep of {cells:.3g} cells on {max(workers, 1)} worker{'s' * (workers > 1)}",
-                    memory=memory, disk=disk, seconds=cells / rate + study.seconds_per_worker() + layout,
+                    memory=memory, disk=disk, seconds=cells / rate + study.seconds_per_worker() + once,
                     output=output, workers=max(workers, 1),
                     cpu_seconds=cells * study.seconds_per_cell() + max(workers, 1) * study.seconds_per_worker()
-                    + layout, imports=imports)
+                    + once, imports=imports)
 
 
 #: Bytes held per cell of a map's raster (coordinates, unit vectors, nearest index and distance, four maps).
