@@ -396,6 +396,9 @@ def _unit_factor(unit_text: str, kind: str):
     """(multiplier to the SI unit of ``kind``, note) for a pint-ready unit; raises pint errors or ValueError.
 
     pint's answer is memoised on disk (:func:`_memo`); a unit pint refuses is never memoised."""
+    si = KINDS[kind][1]
+    if si and kind != "angle" and unit_text in (si, si.replace("^", "**")):  # the kind's SI unit: 1 by definition
+        return 1.0, ""
     key = f"{kind}\x1f{unit_text}"
     known = _memo().get(key)
     if known is not None:

@@ -321,7 +321,9 @@ class Fault:
             if f.name == "material":
                 continue
             if f.name in _QUANTITY_FIELDS and value is not None:
-                value = quantity(value, si_unit(_QUANTITY_FIELDS[f.name][0]))
+                unit = si_unit(_QUANTITY_FIELDS[f.name][0])
+                # a scalar as text in its SI unit: read back exactly, without building pint's registry
+                value = f"{float(value)!r} {unit}" if np.ndim(value) == 0 else quantity(value, unit)
             keep[f.name] = value
         if changes.get("shear_stress") is not None:
             keep["normal_stress"] = None

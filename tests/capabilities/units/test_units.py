@@ -225,3 +225,31 @@ def test_a_memo_path_that_is_a_link_or_a_fifo_is_not_read(monkeypatch, tmp_path,
         os.mkfifo(path)
     assert fu._memo() == {}
     assert fu.to_si("1 mi", "length", "x") == 1609.344
+
+
+def test_a_kinds_own_si_unit_is_exact_and_asks_pint_nothing(monkeypatch):
+    """Every kind's SI unit reads as factor 1 without pint (a copied Fault re-reads its SI values: Fault.with_
+    built pint's registry, 0.2 s, in every rate-and-state run of the older scene form), and agrees with what
+    pint says of it; a Fault copied with one change keeps every other value bit for bit."""
+    import faultslip.units as units_module
+    from faultslip.fault.scaling import Fault
+
+    kinds = [kind for kind, spec in units_module.KINDS.items() if spec[1] and kind != "angle"]
+    for kind in kinds:
+        assert units_module._pint_unit_factor(units_module.KINDS[kind][1].replace("^", "**"), kind) == (1.0, "")
+    fault = Fault(lithology="granodiorite", zone_width="13 mi", shear_stress="250 bar", slip_rate="2 in/yr",
+                  rupture_length="270 mi", seismogenic_depth="12 km", density="2700 kg/m^3")
+
+    def no_registry():
+        raise AssertionError("pint's registry was built")
+
+    monkeypatch.setattr(units_module, "registry", no_registry)
+    units_module._unit_factor.cache_clear()
+    for kind in kinds:
+        si = units_module.KINDS[kind][1]
+        assert to_si(f"2.5 {si}", kind, kind) == 2.5
+    copied = fault.with_(radiation_damping=True)
+    assert copied.radiation_damping and not fault.radiation_damping
+    for name in ("shear_modulus", "zone_width", "shear_stress", "slip_rate", "rupture_length", "seismogenic_depth",
+                 "density", "mu_so", "mu_m", "b", "d"):
+        assert getattr(copied, name) == getattr(fault, name), name
