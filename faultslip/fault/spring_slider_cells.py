@@ -5,7 +5,6 @@ where the scene's [friction] law is "rate_state"."""
 from __future__ import annotations
 
 import math
-
 import sys
 
 import numpy as np
