@@ -902,6 +902,13 @@ class RateStateCycles(ToXarray):
                 "wall_time": {"value": self.wall_time, "units": "s"}}
 
 
+def cycles_stiffness_ratio(slider: RateStateSlider) -> float:
+    """K / K_c that fault cycles judge a slider by: the quasi-static k_c = sigma_n (b - a) / D_c; 0 for a
+    two-state law (which takes dopri5 whatever its ratio), inf where k_c <= 0 (stable)."""
+    k_c = slider.critical_stiffness() if not slider.law.two_state else math.inf
+    return slider.stiffness / k_c if k_c > 0 else math.inf
+
+
 def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw, rtol: float = 1e-7,
                  record: bool = False) -> str:
     """The method :func:`fault_cycles` uses: ``method``, or for "auto" the cheapest at ``rtol`` by the
@@ -1047,8 +1054,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     if cycles < 1 or spin_up < 0:
         raise InputError("cycles must be at least 1 and spin_up at least 0")
     law = slider.law
-    k_c = slider.critical_stiffness() if not law.two_state else math.inf
-    ratio = slider.stiffness / k_c if k_c > 0 else math.inf
+    ratio = cycles_stiffness_ratio(slider)
     if ratio >= 1:
         raise InputError(f"K / K_c = {beside(ratio, 1.0)} >= 1: steady sliding is stable here (no earthquake cycles); "
                          "cycles need K < K_c = sigma_n (b - a) / D_c")

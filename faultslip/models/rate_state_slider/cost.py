@@ -4,10 +4,9 @@ fault checks that rung's own estimate before it starts (faultslip.models.fault_2
 
 from __future__ import annotations
 
-import math
 import os
 
-from faultslip.dynamics.rate_state.slider import cycle_method
+from faultslip.dynamics.rate_state.slider import cycle_method, cycles_stiffness_ratio
 from faultslip.fault.scene import Scene, has_friction_law
 from faultslip.models.rate_state_slider.scene import read_rate_state_scene
 from faultslip.io import budget
@@ -16,13 +15,17 @@ from faultslip.io import budget
 DEFAULT_CYCLES = 5
 
 
+def _older_form(scene) -> bool:
+    """A seed-law-form scene ([friction] law = "rate_state"), costed by its own entry."""
+    return isinstance(scene, Scene) or (isinstance(scene, (str, os.PathLike))
+                                        and has_friction_law(scene, "rate_state"))
+
+
 def work(scene, action: str = "run", cycles=None, **_) -> tuple[str, float, str]:
     """(cost entry, units, what): earthquake cycles of a fault's slider; a laboratory slider's history or a
     seed-law-form scene at the entry's overhead."""
-    older = isinstance(scene, Scene) or (isinstance(scene, (str, os.PathLike))
-                                         and has_friction_law(scene, "rate_state"))
     count = float(DEFAULT_CYCLES if cycles is None else cycles)
-    if older:
+    if _older_form(scene):
         return f"{action}:seed_law_form", count, f"{count:g} cycles of a rate-and-state fault (seed-law form)"
     loaded = read_rate_state_scene(scene)
     if loaded.kind == "lab":
@@ -35,22 +38,21 @@ def cycles_imports(scene) -> tuple:
     """What a fault's recorded cycles import beside their Dataset: scipy's integrators where they are LSODA's (a
     stiff rupture, K / K_c below about 0.012: :func:`~faultslip.dynamics.rate_state.slider.cycle_method`, as
     the simulation chooses), nothing for dopri5 (0.1-0.2 s a small simulation's estimate had left out)."""
-    slider = scene.slider
-    critical = slider.critical_stiffness() if not slider.law.two_state else math.inf
-    ratio = slider.stiffness / critical if critical > 0 else math.inf
+    ratio = cycles_stiffness_ratio(scene.slider)
     if not ratio < 1:  # stable: refused before any integration
         return ()
-    return ("scipy.integrate",) if cycle_method("auto", ratio, slider.law, record=True) == "lsoda" else ()
+    return ("scipy.integrate",) if cycle_method("auto", ratio, scene.slider.law, record=True) == "lsoda" else ()
 
 
 def estimate(scene, action: str = "run", **options) -> budget.Estimate:
     """What a run or simulation of a rate-and-state scene needs, before it starts."""
+    scene = scene if _older_form(scene) else read_rate_state_scene(scene)  # read once, for work and imports
     entry, units, what = work(scene, action, **options)
     # a laboratory slider's history is integrated by the compiled Dormand-Prince (numba's extensions load with
     # it, and its LAPACK bindings from scipy.linalg) into a Dataset; a simulation's cycles are a Dataset too,
     # stepped by LSODA where the rupture is stiff; a fault's one-slider run is closed form
     imports = ((*budget.DATASET_IMPORTS, budget.NUMBA_EXTENSIONS, "scipy.linalg") if entry.endswith(":lab")
-               else (*budget.DATASET_IMPORTS, *cycles_imports(read_rate_state_scene(scene)))
+               else (*budget.DATASET_IMPORTS, *cycles_imports(scene))
                if entry == "simulate" else budget.DATASET_IMPORTS if action == "simulate" else ())
     return budget.fitted_estimate("rate_state_slider", entry, units, what, output=options.get("output"),
                                   imports=imports)
