@@ -217,7 +217,7 @@ static PyObject *run(PyObject *self, PyObject *args)
                 const double *stages[6] = {k1, k3, k4, k5, k6, k7};
                 t_cross = t + locate(y, y_new, h, stages, threshold, yc);
             }
-            else if (inside && y_new[0] > peak)
+            else if (y_new[0] > peak) /* inside: the event's peak; outside: the highest speed below it */
                 peak = y_new[0];
             t = t_next;
             for (int i = 0; i < 3; i++) {

@@ -58,6 +58,8 @@ MODELS = ("quasi_static", "quasi_dynamic", "inertial")
 METHODS = ("auto", "lsoda", "dopri5", "dopri5_compiled", "radau", "bdf")
 #: Slip speed above which the slider is "in an event" (SEAS benchmark convention, 1 mm/s).
 EVENT_SPEED = 1e-3
+#: The relative tolerance fault cycles take unless told (a simulation's).
+CYCLES_RTOL = 1e-7
 
 
 _P_ARRAY = np.array(_P)
@@ -909,7 +911,7 @@ def cycles_stiffness_ratio(slider: RateStateSlider) -> float:
     return slider.stiffness / k_c if k_c > 0 else math.inf
 
 
-def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw, rtol: float = 1e-7,
+def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw, rtol: float = CYCLES_RTOL,
                  record: bool = False) -> str:
     """The method :func:`fault_cycles` uses: ``method``, or for "auto" the cheapest at ``rtol`` by the
     calibrated cost models (:mod:`faultslip.dynamics.rate_state.methods`) among those that take the law:
@@ -979,7 +981,7 @@ def cycle_noise(method: str, rtol: float, stiffness_ratio: float) -> float:
 
 
 def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 100, spin_up: int = 2,
-                 model: str = "quasi_dynamic", rtol: float = 1e-7, event_speed: float = EVENT_SPEED,
+                 model: str = "quasi_dynamic", rtol: float = CYCLES_RTOL, event_speed: float = EVENT_SPEED,
                  max_time: float | None = None, method: str = "auto", record: bool = False,
                  max_steps: int = 5_000_000, progress=None, settle: float | None = SETTLE_TOLERANCE,
                  max_settling_cycles: int = 400) -> RateStateCycles:
@@ -1082,6 +1084,8 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
         return sigma * float(law.friction(speed, y[1], psi2)) + damping * speed
 
     clock = {"offset": 0.0}  # the ODE is autonomous: restart the local time at every crossing
+    # oscillations' maxima of ln V / V0 since the last event start, and the swing the latest is in
+    slow = {"peaks": [], "rising": True, "high": -math.inf, "low": math.inf}
 
     previous = {"t": None, "y": None}
     record_series = {"time": [], "state": []}
@@ -1123,6 +1127,8 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     def event_start(t_c, y_c, x_after):
         """An event begins at (t_c, y_c); x_after is ln(V / V0) at the end of the step that crossed."""
         state["inside"], state["peak"] = True, v0 * math.exp(x_after)
+        slow["peaks"].clear()  # after the event, ln V falls: the next oscillation starts at its trough
+        slow["rising"], slow["low"] = False, math.inf
         record["start"].append(t_c)
         record["slip_start"].append(y_c[-1])
         record["tau_start"].append(elastic_stress(y_c))
@@ -1158,6 +1164,8 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
         elif state["inside"]:
             event_end(*crossing(now, y, _step_interpolant(step)))
             stop = True
+        elif not law.two_state:
+            _slow_oscillation(slow, y[0], threshold, slider, ratio, now, v0, event_speed)
         previous["t"] = now
         previous["y"] = y
         if keep_series and settling["done"] and len(record["start"]) > settling["spin_up"]:
@@ -1197,6 +1205,11 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
                 raise SolverError(f"dopri5_compiled failed in the quasi-dynamic fault cycles (the step size fell to "
                                   f"{h:.1e} s at t = {clock['offset'] + t_local:.6g} s); tighten rtol")
             if status == native.TOO_MANY_STEPS:
+                # the C stepper sees no oscillations: no event in a budget that holds 20 cycles' steps is slow slip
+                if (not state["inside"] and math.isfinite(peak) and peak < threshold
+                        and 20 * steps_per_cycle(chosen_method, rtol, ratio) < max_steps):
+                    raise NoEventsError(_no_event_sentence(v0 * math.exp(peak), f"in {max_steps} steps", slider,
+                                                           ratio, event_speed))
                 raise SolverError(f"dopri5_compiled took more than {max_steps} steps (its budget) before "
                                   f"t = {clock['offset'] + t_local:.6g} s")
             if state["inside"] and math.isfinite(peak):
@@ -1220,6 +1233,8 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
                                                             last_step=step, rebase=model == "quasi_dynamic")
                 clock["offset"] += t_local
                 steps, nfev = steps + run_steps, nfev + run_nfev
+        except NoEventsError:
+            raise
         except _StepCollapse as collapse:
             if model == "quasi_static":
                 _diverged(slider, clock["offset"] + collapse.t)
@@ -1310,6 +1325,48 @@ def _step_interpolant(step):
         return None
     start, size, stages = step
     return lambda fraction: continuous_state(start, size, stages, fraction)
+
+
+#: Maxima of ln V compared, window against window, before cycles below the event speed are declared slow slip.
+SLOW_WINDOW = 50
+#: The fall (and rise) in ln V that makes a maximum an oscillation's, not an integrator's scatter.
+SLOW_SWING = 0.1
+
+
+def _no_event_sentence(peak_speed, where, slider, ratio, event_speed) -> str:
+    law = slider.law
+    return (f"no slip faster than the event speed {event_speed:g} m/s {where}: the slider's slip speed peaks at "
+            f"{peak_speed:.4g} m/s, slow slip or creep, not earthquakes (K / K_c = {ratio:.4g}, a / b = "
+            f"{law.a / law.b:.3g}; near K_c and with a / b near 1 the cycles' peak speed can stay below it)")
+
+
+def _slow_oscillation(slow, x, threshold, slider, ratio, now, v0, event_speed) -> None:
+    """Raise NoEventsError where the slider has settled into oscillations whose speed peaks below the event speed.
+
+    A one-state quasi-dynamic slider is an autonomous flow in (ln V, psi), so by Poincare-Bendixson its cycles
+    approach one closed orbit with peaks that grow or shrink monotonically toward it: once the highest of the
+    last :data:`SLOW_WINDOW` maxima of ln V is no higher than the highest of the window before, below the
+    threshold, no event will come (seen at K / K_c 0.998, a / b 0.9: peaks at 0.996 mm/s, where 5 million
+    steps were spent and reported as the step budget of a stiff rupture). A maximum counts once ln V has fallen
+    :data:`SLOW_SWING` below it and risen as far from the trough before it: an integrator's step-to-step scatter
+    in a long interseismic creep is not an oscillation."""
+    if slow["rising"]:
+        if x > slow["high"]:
+            slow["high"] = x
+        elif x < slow["high"] - SLOW_SWING:
+            peaks = slow["peaks"]
+            peaks.append(slow["high"])
+            slow["rising"], slow["low"] = False, x
+            if len(peaks) >= 2 * SLOW_WINDOW:
+                del peaks[:-2 * SLOW_WINDOW]
+                recent = max(peaks[SLOW_WINDOW:])
+                if recent <= max(peaks[:SLOW_WINDOW]):
+                    where = f"over its last {2 * SLOW_WINDOW} oscillations, to t = {now / JULIAN_YEAR:.4g} yr"
+                    raise NoEventsError(_no_event_sentence(v0 * math.exp(recent), where, slider, ratio, event_speed))
+    elif x < slow["low"]:
+        slow["low"] = x
+    elif x > slow["low"] + SLOW_SWING:
+        slow["rising"], slow["high"] = True, x
 
 
 def _lsoda_cycles(rhs, jacobian, y0, rtol, atol, horizon, on_step, running, slider, model, max_steps=5_000_000):

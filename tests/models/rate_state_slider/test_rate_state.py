@@ -12,7 +12,7 @@ from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.rate_state import slider as rs
 from faultslip.dynamics.rate_state import compiled as rsc
 from faultslip.dynamics.rate_state.slider import LoadHistory, RateStateSlider, fault_cycles, simulate_rate_state
-from faultslip.errors import InputError, SolverError
+from faultslip.errors import InputError, NoEventsError, SolverError
 from faultslip.friction.rate_state import (RateStateLaw, characteristic_roots, critical_stiffness, friction, get_law,
                                            steady_state_friction)
 
@@ -665,6 +665,59 @@ def test_dopri5s_step_budget_is_said_whole():
     slider = RateStateSlider.at_fault(BP1, 3.2e10, 20e3, 50e6, density=2670.0, shear_wave_speed=3464.0)
     with pytest.raises(SolverError, match=r"dopri5 took more than 300 steps \(its budget\).*use method 'lsoda'"):
         fault_cycles(slider, 1e-9, cycles=3, method="dopri5", max_steps=300)
+
+
+#: K / K_c 0.9975, a / b 0.896: a limit cycle whose slip speed peaks at 0.996 mm/s, below the SEAS event speed
+SLOW_SLIP_LAW = RateStateLaw(a=0.013446, b=0.015, critical_slip=8.9502209e-3, evolution="aging")
+
+
+@pytest.mark.parametrize("method", ["dopri5", "lsoda", "dopri5_compiled"])
+def test_cycles_that_peak_below_the_event_speed_are_slow_slip_not_a_step_budget(method):
+    """Drawn at random near K_c, this fault once stepped 5 million times with dopri5 and was reported as the step
+    budget of a stiff rupture (use LSODA). Its cycles are slow: every integrator now says so, the Python ones from
+    their oscillations' peaks (Poincare-Bendixson: they settle monotonically), the C stepper, which sees no peaks,
+    once its budget is spent, and all three find the same peak speed below 1 mm/s."""
+    if method == "dopri5_compiled" and not native.available():
+        pytest.skip("the C stepper was not built")
+    slider = RateStateSlider.at_fault(SLOW_SLIP_LAW, 32e9, 32e9 / 4386019.56, 25.324e6, density=2670.0,
+                                      shear_wave_speed=3464.0)
+    with pytest.raises(NoEventsError, match=r"slip speed peaks at 0\.00099[4-6]\d m/s, slow slip or creep") as error:
+        fault_cycles(slider, 1e-9, cycles=5, method=method)
+    assert "K / K_c = 0.9975" in str(error.value)
+
+
+def test_a_budget_too_small_for_the_first_event_is_the_budget_not_slow_slip():
+    """The C stepper calls an eventless budget slow slip only where it held 20 cycles' steps; 300 steps of BP1
+    (about 450 a cycle) is the budget, and says so."""
+    if not native.available():
+        pytest.skip("the C stepper was not built")
+    slider = RateStateSlider.at_fault(BP1, 3.2e10, 20e3, 50e6, density=2670.0, shear_wave_speed=3464.0)
+    with pytest.raises(SolverError, match=r"dopri5_compiled took more than 300 steps") as error:
+        fault_cycles(slider, 1e-9, cycles=3, method="dopri5_compiled", max_steps=300)
+    assert not isinstance(error.value, NoEventsError)
+
+
+def test_a_study_cell_of_slow_slip_is_slow_or_creeping_not_a_failed_solver():
+    """A study's cell of the same fault was written as solver_failed (the C stepper's step budget)."""
+    from faultslip.fault.rate_state_cells import EVOLUTION_LAWS, METHOD_CODES, REGIME_CODES, _one_cell
+
+    row = (32e9, 32e9 / 4386019.56, 25.324e6, 1e-9, SLOW_SLIP_LAW.a, SLOW_SLIP_LAW.b, SLOW_SLIP_LAW.critical_slip,
+           0.6, 1e-6, 2670.0, 3464.0, EVOLUTION_LAWS.index("aging"))
+    values, (method, regime) = _one_cell(row, 2, "auto", 1e-6)
+    assert regime == REGIME_CODES["slow_or_creeping"] and method != METHOD_CODES["solver_failed"]
+    assert np.isnan(values[0]) and values[1] == 0.0
+
+
+@pytest.mark.parametrize("method", ["dopri5", "lsoda"])
+def test_cycles_near_k_c_that_reach_the_event_speed_are_not_taken_for_slow_slip(method):
+    """At K / K_c 0.998 with BP1's a / b the perturbation grows for thousands of years through oscillations
+    below the event speed before the first event: the slow-slip test must wait for them to stop growing."""
+    law = RateStateLaw(a=0.010, b=0.015, critical_slip=0.008)
+    width = 3.2e10 / (0.998 * 50e6 * 0.005 / 0.008)
+    cycles = fault_cycles(RateStateSlider.at_fault(law, 3.2e10, width, 50e6, density=2670.0,
+                                                   shear_wave_speed=3464.0), 1e-9, cycles=2, method=method)
+    assert cycles.stiffness_ratio == pytest.approx(0.998) and cycles.slip_per_event.size == 2
+    assert np.all(cycles.peak_slip_rate > 1e-3)
 
 
 def test_the_shipped_error_model_is_the_fit_its_calibration_recorded():
