@@ -60,6 +60,7 @@ PRODUCERS = (
     ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),
     ("lab_cycle_cost", [], ["--quick"], "lab_cycle_cost.json"),
     ("rate_state_calibration", [], ["--quick"], "rate_state_calibration.json"),
+    ("rate_state_settling", [], [], "rate_state_settling.json"),
     ("chain_coverage", [], ["--quick"], "chain_coverage.json"),
     ("hazard_chain", [], [], "hazard_chain.json"),
     ("renewal_coverage", [], ["--catalogs", "200", "--draws", "200"], "renewal_coverage.json"),

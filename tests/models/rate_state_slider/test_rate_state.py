@@ -720,6 +720,33 @@ def test_cycles_near_k_c_that_reach_the_event_speed_are_not_taken_for_slow_slip(
     assert np.all(cycles.peak_slip_rate > 1e-3)
 
 
+def test_the_settling_model_is_the_fit_its_benchmark_recorded_and_counts_unseen_faults_steps():
+    """methods.SETTLING_CYCLES is benchmarks/rate_state_settling.py's fit; with it every held-out fault's steps lie
+    within 2x of the model; and two of them rerun here (LSODA at K / K_c 5e-3, dopri5 at 0.992, where settling is
+    most of the run) take the steps the file saved, within the model's 2x too."""
+    import json
+    from pathlib import Path
+
+    from faultslip.dynamics.rate_state.methods import SETTLING_CYCLES, cycle_steps
+
+    result = json.loads((Path(__file__).resolve().parents[3] / "benchmarks" / "results" /
+                         "rate_state_settling.json").read_text(encoding="utf-8"))
+    for name, value in result["fit"].items():
+        assert SETTLING_CYCLES[name] == pytest.approx(value, rel=1e-3)
+    held_out = result["summary"]["held_out"]
+    assert held_out["faults"] >= 50 and held_out["within_2x"] == held_out["faults"]
+    rows = [row for row in result["runs"]["3"] if "steps" in row]
+    for row in (rows[0], next(row for row in rows if row["stiffness_ratio"] > 0.99 and row["cycles"] == 2)):
+        law = RateStateLaw(a=row["a"], b=row["b"], critical_slip=row["critical_slip"], evolution=row["evolution"])
+        critical = row["normal_stress"] * (row["b"] - row["a"]) / row["critical_slip"]
+        slider = RateStateSlider.at_fault(law, 32e9, 32e9 / (row["target_ratio"] * critical), row["normal_stress"],
+                                          density=2670.0, shear_wave_speed=3464.0)
+        run = fault_cycles(slider, 1e-9, cycles=row["cycles"], rtol=result["rtol"], record=True)
+        assert run.method == row["method"] and run.steps == pytest.approx(row["steps"], rel=0.05)
+        modelled = cycle_steps(run.method, result["rtol"], run.stiffness_ratio, law.a / law.b, row["cycles"])
+        assert 0.5 <= modelled / run.steps <= 2.0
+
+
 def test_the_shipped_error_model_is_the_fit_its_calibration_recorded():
     """methods.ERROR_MODEL is what benchmarks/rate_state_calibration.py fitted (its results file), every
     calibration error within it by the required margin and every held-out one within it: a constant edited by
