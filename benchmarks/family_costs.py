@@ -39,6 +39,7 @@ from faultslip.models.nanoscale import cost as nanoscale_cost  # noqa: E402
 from faultslip.models.nanoscale.cost import SETTLE_CHUNK  # noqa: E402
 from faultslip.models.nanoscale.scene import load_nanoscale_scene  # noqa: E402
 from faultslip.models.rate_state_slider import cost as rate_state_cost  # noqa: E402
+from faultslip.models.rate_state_slider.scene import read_rate_state_scene  # noqa: E402
 from faultslip.models.rough_surface import cost as rough_cost  # noqa: E402
 from faultslip.models.spring_chain import cost as chain_cost  # noqa: E402
 from faultslip.models.spring_chain import dynamics as chain_dynamics  # noqa: E402
@@ -100,6 +101,7 @@ def cases() -> list:
         _family_case("rate_state_slider", "run", "rsf_block_bp1.toml", rate_state_cost.work),
         _family_case("rate_state_slider", "simulate", "rsf_block_bp1.toml", rate_state_cost.work, cycles=2),
         _family_case("rate_state_slider", "simulate", "rsf_block_bp1.toml", rate_state_cost.work, cycles=8),
+        *_random_rate_state(6, seed=2000),
         _family_case("rate_state_slider", "run", "rsf_velocity_step.toml", rate_state_cost.work),
         _family_case("rate_state_slider", "simulate", "rsf_velocity_step.toml", rate_state_cost.work),
         _family_case("rate_state_slider", "run", "san_andreas_1906_rate_state.toml", rate_state_cost.work),
@@ -108,6 +110,7 @@ def cases() -> list:
         _family_case("rate_state_slider", "simulate", "san_andreas_1906_rate_state.toml", rate_state_cost.work,
                      cycles=8),
         _family_case("vibration", "run", "vibration_seed002.toml", vibration_cost.work),
+        *(_vibration_at(speed) for speed in (12.0, 16.0)),  # the slider would stick; it slides steadily
         _family_case("vibration", "run", "vibration_seed002.toml", vibration_cost.work,
                      method="quasi_harmonic_integration"),
         _family_case("vibration", "simulate", "vibration_seed002.toml", vibration_cost.work),
@@ -155,16 +158,51 @@ def _random_nanoscale(count: int, seed: int) -> list[dict]:
     return drawn
 
 
+def _vibration_at(speed_in_s: float):
+    """Seed 002's vibration run at another driving speed (in/s), as a study's cell runs it."""
+    scene = registry.read_scene("vibration_seed002.toml")[0].with_values(speed=speed_in_s * 0.0254)
+    entry, units, _ = vibration_cost.work(scene, "run")
+    return ("vibration", entry, units, f"run vibration_seed002.toml at {speed_in_s:g} in/s",
+            lambda: registry.load("vibration").run(scene))
+
+
+def _random_rate_state(count: int, seed: int) -> list:
+    """Simulations of BP1's block with its friction moved at random: a / b 0.3-0.9, either evolution law, sigma_n
+    x 0.5-2, W x 0.5-1.5, and D_c set for K / K_c of 1e-4 to 0.9 (two in three) or 0.9 to 0.995 (near K_c, where
+    the cycles take longest to settle); 5 cycles, or 2 or 20."""
+    rng = np.random.default_rng(seed)
+    base = registry.read_scene("rsf_block_bp1.toml")[0]
+    drawn = []
+    for index in range(count):
+        values = {"a": float(0.015 * rng.uniform(0.3, 0.9)), "evolution": "slip" if rng.uniform() < 0.3 else "aging",
+                  "normal_stress": float(50e6 * np.exp(rng.uniform(np.log(0.5), np.log(2.0)))),
+                  "seismogenic_width": float(15e3 * np.exp(rng.uniform(np.log(0.5), np.log(1.5))))}
+        ratio = float(1 - 10 ** rng.uniform(-2.3, -1) if rng.uniform() < 1 / 3 else 10 ** rng.uniform(-4, -0.05))
+        stiffness = read_rate_state_scene(base.with_values(**values)).slider.stiffness
+        values["critical_slip"] = float(ratio * values["normal_stress"] * (0.015 - values["a"]) / stiffness)
+        cycles = int(rng.choice([2, 5, 20]))
+        scene = base.with_values(**values)
+        entry, units, _ = rate_state_cost.work(scene, "simulate", cycles=cycles)
+        label = (f"simulate rsf_block_bp1.toml, drawn {seed}-{index} (K / K_c {ratio:.3g}, a / b "
+                 f"{values['a'] / 0.015:.2f}, {values['evolution']}, {cycles} cycles)")
+        call = registry.load("rate_state_slider").simulate
+        drawn.append(("rate_state_slider", entry, units, label,
+                      lambda scene=scene, cycles=cycles: call(scene, cycles=cycles)))
+    return drawn
+
+
 def held_out() -> list:
     """Cases timed but never fitted: larger or other scenes, where each fit's estimate is checked."""
     return [
         _family_case("rate_state_slider", "simulate", "rsf_block_bp1.toml", rate_state_cost.work, cycles=30),
+        *_random_rate_state(12, seed=2001),
         _nanoscale(6000.0),
         *(_nanoscale_settle(f"(held out {index}: {', '.join(f'{k} {v:.3g}' for k, v in values.items())})", **values)
           for index, values in enumerate(_random_nanoscale(8, seed=1001))),
         _nanoscale_settle("(held out: v_a = 0.03, A = A_c (1 - 0.003))", distance=0.003, fitted=False,
                           drive_speed=0.03),
         _family_case("rough_surface", "simulate", "rough_surface_chapter5.toml", rough_cost.work, cycles=30),
+        *(_vibration_at(speed) for speed in (10.5, 13.0, 14.0, 15.5)),
         _family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=1000),
         _family_case("spring_slider", "run", "parkfield.toml", lambda *a, **k: (a[1], 0.0, "")),
     ] + [_family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=10, slip_solver=solver)

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import os
 
-from faultslip.dynamics.rate_state.slider import cycle_method, cycles_stiffness_ratio
+from faultslip.dynamics.rate_state.methods import SECONDS_PER_STEP, cycle_steps
+from faultslip.dynamics.rate_state.slider import CYCLES_RTOL, cycle_method, cycles_stiffness_ratio
 from faultslip.fault.scene import Scene, has_friction_law
 from faultslip.models.rate_state_slider.scene import read_rate_state_scene
 from faultslip.io import budget
@@ -31,7 +32,25 @@ def work(scene, action: str = "run", cycles=None, **_) -> tuple[str, float, str]
     if loaded.kind == "lab":
         return f"{action}:lab", 0.0, "a laboratory slider's load history"
     count = float(DEFAULT_CYCLES if cycles is None or action == "run" else cycles)
-    return action, count, f"{count:g} earthquake cycles of one slider"
+    if action == "run":  # the one slider derived from the profile: closed form
+        return action, count, f"{count:g} earthquake cycles of one slider"
+    steps = simulation_steps(loaded.slider, count)
+    return action, steps, f"{count:g} earthquake cycles of one slider (about {steps:.3g} dopri5 steps' work)"
+
+
+def simulation_steps(slider, cycles: float) -> float:
+    """A simulation's work in dopri5 steps: the steps its integrator takes to settle and record ``cycles``
+    (:func:`~faultslip.dynamics.rate_state.methods.cycle_steps`), LSODA's weighted by its cost per step over
+    dopri5's. A two-state law (dopri5, its K_c not the one-state one) counts the steps accuracy needs."""
+    ratio = cycles_stiffness_ratio(slider)
+    if not ratio < 1:  # stable: refused before any integration
+        return 0.0
+    method = cycle_method("auto", ratio, slider.law, record=True)
+    if slider.law.two_state:
+        ratio = 0.5  # the one-state stiff limit does not apply; accuracy's steps, settling far from K_c
+    a_over_b = slider.law.a / slider.law.b if slider.law.b > 0 else 0.0
+    return (cycle_steps(method, CYCLES_RTOL, min(ratio, 1.0), a_over_b, cycles)
+            * SECONDS_PER_STEP[method] / SECONDS_PER_STEP["dopri5"])
 
 
 def cycles_imports(scene) -> tuple:

@@ -19,7 +19,7 @@ def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[
     system, _notes = read_vibration_scene(scene)
     result = system.analyse()
     if not result.valid and not result.marginal:  # the slider sticks: the run says so at once
-        return f"{action}:averaging" if action == "run" else "simulate", 0.0, "the averaged equation alone"
+        return f"{action}:averaging_sticks" if action == "run" else "simulate", 0.0, "the averaged equation alone"
     if result.marginal:  # too close to sticking to call: integrated from the cycle
         result = replace(result, amplitude=result.cycle_amplitude)
     periods = settle_periods(system, result)
@@ -29,7 +29,11 @@ def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[
     integrating = method == "quasi_harmonic_integration" or result.marginal or (
         method in (None, "auto") and result.estimated_error > (tolerance or 1e-3) and result.amplitude > 0)
     if not integrating:
-        return "run:averaging", 0.0, "the averaged amplitude (eq. 20)"
+        # a limit cycle's amplitude is a root search of eq. (20), 6-9 ms; steady sliding (no growth) 0.6 ms and a
+        # slider that would stick 3 ms: one overhead for all three had estimated a study's cells at 3x their CPU
+        if result.amplitude > 0:
+            return "run:averaging", 0.0, "the averaged amplitude (eq. 20)"
+        return "run:averaging_steady", 0.0, "steady sliding by the averaged equation (eq. 20)"
     return "run:integration", periods, f"eq. (10) integrated over {periods:.3g} periods to settle"
 
 
@@ -37,6 +41,7 @@ def estimate(scene, action: str = "run", **options) -> budget.Estimate:
     """What a run or simulation of a vibration scene needs, before it starts."""
     entry, units, what = work(scene, action, **options)
     # averaging is closed form; integration imports scipy's integrators, and a simulation builds a Dataset
-    imports = {"run:averaging": (), "run:integration": budget.INTEGRATION_IMPORTS}.get(
+    imports = {"run:averaging": (), "run:averaging_steady": (), "run:averaging_sticks": (),
+               "run:integration": budget.INTEGRATION_IMPORTS}.get(
         entry, (*budget.DATASET_IMPORTS, *budget.INTEGRATION_IMPORTS))
     return budget.fitted_estimate("vibration", entry, units, what, output=options.get("output"), imports=imports)

@@ -1,6 +1,7 @@
 """Rate-and-state friction: exact limits, the stability boundary, an independent integration, fault cycles."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -745,6 +746,44 @@ def test_the_settling_model_is_the_fit_its_benchmark_recorded_and_counts_unseen_
         assert run.method == row["method"] and run.steps == pytest.approx(row["steps"], rel=0.05)
         modelled = cycle_steps(run.method, result["rtol"], run.stiffness_ratio, law.a / law.b, row["cycles"])
         assert 0.5 <= modelled / run.steps <= 2.0
+
+
+def test_a_simulations_estimate_counts_its_integrators_steps_to_settle_and_record(tmp_path):
+    """A fault's simulation was costed per cycle, fitted on BP1 alone: drawn faults used 1.2-2.8x its estimate (a
+    stiff rupture's LSODA steps, near K_c the cycles spent settling). Its work is now the steps its integrator
+    takes (methods.cycle_steps), LSODA's weighted by their cost; a stable fault, refused before any step, none."""
+    from faultslip.dynamics.rate_state.methods import SECONDS_PER_STEP, cycle_steps
+    from faultslip.models.rate_state_slider import cost
+    from faultslip.models.rate_state_slider.scene import read_rate_state_scene
+
+    text = (Path(__file__).resolve().parents[3] / "configs" / "rsf_block_bp1.toml").read_text(encoding="utf-8")
+
+    def scene(name, **replace):
+        varied = text
+        for old, new in replace.items():
+            assert old in varied
+            varied = varied.replace(old, new)
+        (tmp_path / name).write_text(varied, encoding="utf-8")
+        return tmp_path / name, read_rate_state_scene(tmp_path / name).slider
+
+    bp1, slider = scene("bp1.toml")
+    ratio = rs.cycles_stiffness_ratio(slider)
+    for cycles in (2, 8):
+        entry, units, what = cost.work(bp1, "simulate", cycles=cycles)
+        assert entry == "simulate" and "dopri5 steps" in what
+        assert units == pytest.approx(cycle_steps("dopri5", rs.CYCLES_RTOL, ratio, 2 / 3, cycles), rel=1e-12)
+    near_path, near = scene("near.toml", **{'"8 mm"': f'"{8 * 0.995 / ratio:.6f} mm"'})
+    assert rs.cycles_stiffness_ratio(near) == pytest.approx(0.995, rel=1e-5)
+    # settling near K_c: more than three times BP1's steps for the same two cycles
+    assert cost.work(near_path, "simulate", cycles=2)[1] > 3 * cost.work(bp1, "simulate", cycles=2)[1]
+    stiff_path, stiff = scene("stiff.toml", **{"a = 0.010": "a = 0.0069", '"8 mm"': '"0.34 mm"'})
+    stiff_ratio = rs.cycles_stiffness_ratio(stiff)
+    assert rs.cycle_method("auto", stiff_ratio, stiff.law, record=True) == "lsoda"
+    assert cost.work(stiff_path, "simulate", cycles=5)[1] == pytest.approx(
+        cycle_steps("lsoda", rs.CYCLES_RTOL, stiff_ratio, 0.46, 5) * SECONDS_PER_STEP["lsoda"]
+        / SECONDS_PER_STEP["dopri5"], rel=1e-12)
+    stable_path, _ = scene("stable.toml", **{'"8 mm"': '"1 m"'})
+    assert cost.work(stable_path, "simulate")[1] == 0.0
 
 
 def test_the_shipped_error_model_is_the_fit_its_calibration_recorded():
