@@ -1165,7 +1165,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
             event_end(*crossing(now, y, _step_interpolant(step)))
             stop = True
         elif not law.two_state:
-            _slow_oscillation(slow, y[0], threshold, slider, ratio, now, v0, event_speed)
+            _slow_oscillation(slow, y[0], slider, ratio, now, v0, event_speed)
         previous["t"] = now
         previous["y"] = y
         if keep_series and settling["done"] and len(record["start"]) > settling["spin_up"]:
@@ -1340,13 +1340,13 @@ def _no_event_sentence(peak_speed, where, slider, ratio, event_speed) -> str:
             f"{law.a / law.b:.3g}; near K_c and with a / b near 1 the cycles' peak speed can stay below it)")
 
 
-def _slow_oscillation(slow, x, threshold, slider, ratio, now, v0, event_speed) -> None:
+def _slow_oscillation(slow, x, slider, ratio, now, v0, event_speed) -> None:
     """Raise NoEventsError where the slider has settled into oscillations whose speed peaks below the event speed.
 
     A one-state quasi-dynamic slider is an autonomous flow in (ln V, psi), so by Poincare-Bendixson its cycles
     approach one closed orbit with peaks that grow or shrink monotonically toward it: once the highest of the
-    last :data:`SLOW_WINDOW` maxima of ln V is no higher than the highest of the window before, below the
-    threshold, no event will come (seen at K / K_c 0.998, a / b 0.9: peaks at 0.996 mm/s, where 5 million
+    last :data:`SLOW_WINDOW` maxima of ln V (each below the event speed: called between events only) is no
+    higher than the highest of the window before, no event will come (seen at K / K_c 0.998, a / b 0.9: peaks at 0.996 mm/s, where 5 million
     steps were spent and reported as the step budget of a stiff rupture). A maximum counts once ln V has fallen
     :data:`SLOW_SWING` below it and risen as far from the trough before it: an integrator's step-to-step scatter
     in a long interseismic creep is not an oscillation."""
