@@ -48,13 +48,15 @@ def test_every_family_sweeps_its_example_study_to_cf_with_units(name, cli, tmp_p
     import xarray as xr
 
     out = tmp_path / "study.nc"
-    result = cli("sweep", CONFIGS / STUDIES[name], "-o", out, "--json")
+    # in this process: the pool's workers would each import the family and load its kernels again (the pool's and
+    # dask's sweeps of every family are the streaming test's below)
+    result = cli("sweep", CONFIGS / STUDIES[name], "-o", out, "--json", "--workers", "1")
     assert result.code == 0, result.err
     with xr.open_dataset(out) as written:
         check_units(written, STUDIES[name])
         assert written.attrs["faultslip_family"] == name and written.attrs["Conventions"].startswith("CF")
         assert all(written.sizes[n] > 1 for n in written.dims)
-    again = cli("reproduce", out, "--json")  # the file embeds what reproduces it, for every family
+    again = cli("reproduce", out, "--json", "--workers", "1")  # the file embeds what reproduces it, for every family
     assert again.code == 0 and again.json["matches"], again.err
 
 
@@ -394,10 +396,22 @@ def _two_cells(dims: dict) -> dict:
     return {key: list(values[:2] if key == longest else values[:1]) for key, values in dims.items()}
 
 
+@pytest.fixture(scope="module")
+def dask_scheduler():
+    """One dask LocalCluster of two worker processes, its scheduler's address, for every family's sweep on dask:
+    each family's had started its own, 8-9 s of the plainest family's 9 s sweep. A sweep's own ``local``
+    scheduler is tests/capabilities/studies/test_study.py's."""
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=":0") as cluster:
+        yield cluster.scheduler_address
+
+
 @pytest.mark.parametrize("name", sorted(CASES))
-def test_every_family_streams_to_zarr_resumes_and_sweeps_on_the_pool_and_on_dask(name, tmp_path, monkeypatch):
+def test_every_family_streams_to_zarr_resumes_and_sweeps_on_the_pool_and_on_dask(name, tmp_path, monkeypatch,
+                                                                                  dask_scheduler):
     """Every family's example study, as a Zarr store interrupted in its second chunk and resumed, on a pool of two
-    worker processes, and on a dask LocalCluster of two, holds what the in-process netCDF sweep holds: every
+    worker processes, and on a dask cluster of two, holds what the in-process netCDF sweep holds: every
     variable, coordinate and attribute (the reproduce command's comparison, which must find no difference). On
     two of its cells (:func:`_two_cells`), one a chunk, each swept five ways: the whole study is swept in the test
     above (four cells had taken 62 s of the suite's CPU on the 3-D fault's study, 27 s on the asperity's)."""
@@ -432,7 +446,8 @@ def test_every_family_streams_to_zarr_resumes_and_sweeps_on_the_pool_and_on_dask
     summary = run_study(study, pooled, chunk_cells=chunk, workers=2)
     assert "process" in summary["executor"] or "pool" in summary["executor"], summary["executor"]
     clustered = tmp_path / "clustered.zarr"
-    assert run_study(study, clustered, chunk_cells=chunk, scheduler="local", workers=2)["executor"].startswith("dask")
+    assert run_study(study, clustered, chunk_cells=chunk, scheduler=dask_scheduler,
+                     workers=2)["executor"].startswith("dask")
     with xr.open_dataset(reference) as expected, xr.open_zarr(store) as resumed, xr.open_dataset(pooled) as pool, \
             xr.open_zarr(clustered) as cluster:
         for other in (resumed, pool, cluster):
