@@ -137,10 +137,7 @@ def test_every_readme_and_docs_command_runs_on_the_base_install(tmp_path):
     assert touched - {Path("pyproject.toml")} and all(
         path == Path("pyproject.toml") or path.parts[:3] == ("faultslip", "models", "constant_friction")
         for path in touched), touched
-    # --no-compile: the commands compile the bytecode of what they import as they import it, not of every module of
-    # every dependency first (about half of the install's 60 s)
-    done = subprocess.run([str(pip), "install", "--quiet", "--no-compile", str(source)], capture_output=True,
-                          text=True, timeout=1500)
+    done = subprocess.run([str(pip), "install", "--quiet", str(source)], capture_output=True, text=True, timeout=1500)
     assert done.returncode == 0, done.stderr[-2000:]
     extras = subprocess.run([str(venv / "bin" / "python"), "-c", "import importlib.util as u; "
                              "print(all(u.find_spec(name) is None for name in "
