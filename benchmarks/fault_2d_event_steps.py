@@ -35,6 +35,7 @@ sys.path.insert(0, str(ROOT))
 from faultslip.fault.ladder import expected_recurrence, groups, load_calibration, outside_box  # noqa: E402
 from faultslip.models.fault_2d import cost  # noqa: E402
 from faultslip.models.fault_2d.calibration import Design  # noqa: E402
+from ladder_designs import FRESH_DRAWS  # noqa: E402
 from provenance import stamp  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
@@ -70,8 +71,7 @@ def point(row: dict, elements_per_process_zone: float, duration: float, steps: f
 def points() -> list[dict]:
     """Every saved run with its groups: designs (calibration, held out, fresh) and escalations' first runs."""
     out = []
-    for name in ("ladder_designs.json", "ladder_fresh.json", "ladder_fresh_second.json",
-                 "ladder_fresh_third.json"):
+    for name in ("ladder_designs.json", *(path.name for _, path in FRESH_DRAWS.values())):
         for row in json.loads((RESULTS / name).read_text(encoding="utf-8"))["rows"]:
             group = row["design"]["name"].rsplit(" ", 1)[0]
             out.append(point(row, 3.0, row["duration"], row["steps"], group))

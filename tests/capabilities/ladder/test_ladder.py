@@ -103,9 +103,9 @@ def test_the_held_out_faults_fall_inside_their_ranges():
     assert held / checked >= 0.95, f"{held} of {checked} held-out answers inside their 95 % ranges"
 
 
-@pytest.mark.parametrize("position, seed, name", [(0, 68002, "ladder_fresh.json"),
-                                                  (1, 68012, "ladder_fresh_second.json"),
-                                                  (2, 68014, "ladder_fresh_third.json")])
+@pytest.mark.parametrize("position, seed, name", [
+    (position, seed, path.name)
+    for position, (seed, (_, path)) in enumerate(load_benchmark("ladder_designs").FRESH_DRAWS.items())])
 def test_a_fresh_draw_falls_inside_the_ranges_a_user_is_given(position, seed, name):
     """benchmarks/results/ladder_fresh.json, ladder_fresh_second.json and ladder_fresh_third.json: a third, a fourth
     and a fifth draw over the box (seeds 68002, 68012, 68014), each run after the ranges were shipped. Each fault's
