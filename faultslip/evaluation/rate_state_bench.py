@@ -28,6 +28,7 @@ from faultslip.errors import NoEventsError, SolverError
 from faultslip.evaluation.bench import parallel_map
 from faultslip.evaluation.error_models import worst_cell
 from faultslip.friction.rate_state import RateStateLaw
+from faultslip.io import machine
 
 RATIOS = (1e-5, 1e-4, 1e-3, 0.01, 0.05, 0.3, 0.7, 0.9)
 QUICK_RATIOS = (1e-4, 0.01, 0.3)
@@ -100,11 +101,12 @@ def _ratio_job(args):
     for method in INTEGRATORS:
         for rtol in rtols:
             status, run, wall = _run(slider, method, rtol)
-            # the cost model is per cycle: predicted for the cycles the run took to settle and measure
+            # the cost model is per cycle: predicted for the cycles the run took to settle and measure, on this
+            # machine now (the seconds per step are anchored to the "families" reference)
             cycles = CYCLES + (run.spin_up if run else SPIN_UP)
             rows.append((status, _error(run, reference) if run else math.nan, wall, run.steps if run else -1,
-                         error_bound(method, rtol, ratio),
-                         cycles * steps_per_cycle(method, rtol, ratio) * SECONDS_PER_STEP[method]))
+                         error_bound(method, rtol, ratio), machine.on_this_machine(
+                             cycles * steps_per_cycle(method, rtol, ratio) * SECONDS_PER_STEP[method], "families")))
     return ratio, rows
 
 
@@ -140,6 +142,7 @@ def work_precision(quick: bool = False, workers: int = 2, progress=None, ratios=
                 "rtol": ("rtol", np.array(rtols), {"units": "1", "long_name": "relative tolerance"})},
         attrs={"title": "faultslip rate-and-state work-precision (SEAS BP1 friction, D_c set for K / K_c)",
                "Conventions": "CF-1.8", "cycles": CYCLES, "spin_up": SPIN_UP, "step_budget": STEP_BUDGET,
+               "machine_factor": machine.factor("families"),
                "total_wall_time_s": time.perf_counter() - started, "quick": int(quick)})
 
 
@@ -349,9 +352,12 @@ def summary(dataset) -> dict:
         rtol = np.broadcast_to(cells["rtol"].values, cells["error"].shape)
         over = (cells["wall_time"].values / cells["predicted_time"].values)[ok]
         error, declared = cells["error"].values[ok], cells["declared_error"].values[ok]
+        per_step = float(np.median((cells["wall_time"].values / cells["steps"].values)[ok]))
         found[str(method)] = {"largest_error_over_rtol": float((error / rtol[ok]).max()),
                               "within_declared": bool(np.all(error <= declared)),
-                              "wall_over_predicted": [float(over.min()), float(over.max())]}
+                              "wall_over_predicted": [float(over.min()), float(over.max())],
+                              "seconds_per_step": per_step,
+                              "anchored_seconds_per_step": per_step / float(dataset.attrs.get("machine_factor", 1.0))}
     return found
 
 
@@ -360,7 +366,9 @@ def markdown(dataset) -> str:
     after a summary line per integrator (:func:`summary`)."""
     lines = [f"- {method}: largest measured c = error / rtol {row['largest_error_over_rtol']:.3g}; "
              f"{'every error within' if row['within_declared'] else 'errors beyond'} the declared bound; wall time "
-             f"{row['wall_over_predicted'][0]:.2g} to {row['wall_over_predicted'][1]:.2g} times the cost model's"
+             f"{row['wall_over_predicted'][0]:.2g} to {row['wall_over_predicted'][1]:.2g} times the cost model's; "
+             f"{row['seconds_per_step'] * 1e6:.2g} us a step (median), {row['anchored_seconds_per_step'] * 1e6:.2g} us "
+             f"on the machine reference (the model's {SECONDS_PER_STEP[method] * 1e6:.2g} us)"
              for method, row in summary(dataset).items()]
     lines += ["", "| K / K_c | method | rtol | error | declared | wall time (s) | predicted (s) | steps |",
               "| --- | --- | --- | --- | --- | --- | --- | --- |"]

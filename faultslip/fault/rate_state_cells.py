@@ -10,9 +10,10 @@ Each cell is seed 003's spring-slider scaled to a fault (§5-2): K = G / D, and 
 form is the quasi-static one, as :func:`faultslip.dynamics.rate_state.slider.fault_cycles` uses). Steady
 sliding is unstable where K < K_c and b > a; with ``cycles`` > 0 those cells are simulated
 quasi-dynamically, each distinct set of friction and fault inputs once (sweeping the rupture
-length, for example, costs nothing more), with the method chosen per cell as
-:func:`~faultslip.dynamics.rate_state.slider.fault_cycles` does (LSODA where K / K_c < 0.01, dopri5
-elsewhere) unless one is named.
+length, for example, costs nothing more), each by the cheapest integrator whose declared error meets the
+tolerance (:func:`~faultslip.dynamics.rate_state.methods.choose_cycle_method`) unless one is named. A cell's
+cycles are measured once they settle (:func:`~faultslip.dynamics.rate_state.slider.fault_cycles`), and its cost
+counts the cycles settling takes (:func:`~faultslip.dynamics.rate_state.methods.cycle_steps`).
 
 Every simulated cell declares its numerical error: the plate balance |mean cycle slip / (V_pl T) - 1|,
 zero for exactly periodic cycles, which grows where the cycles have not settled within the
@@ -31,6 +32,7 @@ from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.rate_state.slider import EVENT_SPEED, RateStateSlider, fault_cycles
 from faultslip.dynamics.rate_state.methods import CYCLE_METHODS as INTEGRATORS, choose_cycle_method
 from faultslip.errors import InputError, NoEventsError, SolverError
+from faultslip.io import machine
 from faultslip.fault.one_slider_error import zone_width_model_error
 from faultslip.fault.scaling import moment_magnitude, seismic_moment
 from faultslip.friction.rate_state import EVOLUTION_LAWS, RateStateLaw, steady_state_friction
@@ -41,9 +43,14 @@ REGIME_CODES = {"stick_slip": 0, "stable_sliding": 1, "velocity_strengthening": 
 METHOD_CODES = {"solver_failed": -1, "closed_form": 0, "lsoda": 1, "dopri5": 2, "dopri5_compiled": 3}
 #: cycle methods a study or map may name (auto: per cell)
 CYCLE_METHODS = ("auto", "lsoda", "dopri5", "dopri5_compiled")
+#: the least spin-up before a cell's cycles are judged settled (fault_cycles' spin_up)
 SPIN_UP = 2
-#: fixed cost of a simulated cell beside its integrator steps (law, slider, event bookkeeping), measured
-CELL_OVERHEAD = 0.01
+#: CPU seconds of a simulated cell beside its integrator steps (law, slider, event bookkeeping), on the "families"
+#: machine reference: 120 cheap cells' sweeps less their cycles' modelled cost and the file's, per cell
+#: (benchmarks/sweep_estimates.py writes it; tests/capabilities/contract/test_families.py checks it against that
+#: file). Once the seconds per step were measured it is small: the steps' model holds a run's own fixed cost. It
+#: had been 10 ms, typed, and a study of 120 such cells was estimated at 5.7 times its CPU.
+CELL_OVERHEAD = 1.43e-5
 
 #: name -> (unit, long name) of every output
 OUTPUT_ATTRS = {
@@ -212,9 +219,9 @@ def _one_cell(row, cycles, method, tolerance):
                                       shear_wave_speed=float(wave))
     ratio = slider.stiffness / slider.critical_stiffness()
     if method == "auto":
-        chosen, rtol, assessment, _ = choose_cycle_method(ratio, tolerance, cycles + SPIN_UP)
+        chosen, rtol, assessment, _ = choose_cycle_method(ratio, tolerance, cycles, a_over_b=float(a / b))
     else:
-        assessment = INTEGRATORS[method].assess(ratio, tolerance, cycles + SPIN_UP)
+        assessment = INTEGRATORS[method].assess(ratio, tolerance, cycles, a_over_b=float(a / b))
         chosen, rtol = method, assessment.settings["rtol"]
     try:
         run = fault_cycles(slider, float(plate), cycles=cycles, spin_up=SPIN_UP, method=chosen, rtol=rtol)
@@ -241,23 +248,37 @@ def output_names(cycles: int, has_moment: bool) -> list[str]:
     return names
 
 
-def estimated_seconds(stiffness_ratio, cycles: int, tolerance: float = 1e-6, method: str = "auto") -> float:
-    """Wall time of :func:`rate_state_cells` for these ratios on one core: every unstable cell's cycles
-    by the integrators' calibrated cost models, plus a fixed cost per cell."""
+def friction_ratio(inputs: dict, shape: tuple) -> np.ndarray:
+    """a / b of :func:`rate_state_cells`' ``inputs``, over the cells' ``shape`` (inf where b is 0)."""
+    a, b = (np.broadcast_to(np.asarray(getattr(inputs[key], "values", inputs[key]), dtype=float), shape)
+            for key in ("a", "b"))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(b > 0, a / np.where(b > 0, b, 1.0), np.inf)
+
+
+def estimated_seconds(stiffness_ratio, a_over_b, cycles: int, tolerance: float = 1e-6, method: str = "auto") -> float:
+    """CPU seconds of :func:`rate_state_cells` for these cells on one core, on this machine: every unstable cell's
+    cycles, those it takes to settle and ``cycles`` measured, by the integrators' calibrated cost models
+    (:meth:`~faultslip.dynamics.rate_state.methods.CycleMethod.assess` with the law's a / b), plus a fixed cost
+    per cell; anchored to the "families" machine reference, as the bench that fits the seconds per step is."""
     if not cycles:
         return 0.0
-    ratios, counts = np.unique(np.asarray(stiffness_ratio, dtype=float), return_counts=True)
+    pairs = np.column_stack(np.broadcast_arrays(np.asarray(stiffness_ratio, dtype=float).ravel(),
+                                                np.asarray(a_over_b, dtype=float).ravel()))
+    distinct, counts = np.unique(pairs, axis=0, return_counts=True)
     total = 0.0
-    for ratio, count in zip(ratios, counts):
+    for (ratio, ratio_ab), count in zip(distinct, counts):
         if not ratio < 1:
             continue
         if method == "auto":
-            cost = choose_cycle_method(float(ratio), tolerance, cycles + SPIN_UP)[2].estimated_cost
+            cost = choose_cycle_method(float(ratio), tolerance, cycles, a_over_b=float(ratio_ab))[2].estimated_cost
         else:
-            cost = INTEGRATORS[method].assess(float(ratio), tolerance, cycles + SPIN_UP).estimated_cost
+            cost = INTEGRATORS[method].assess(float(ratio), tolerance, cycles,
+                                              a_over_b=float(ratio_ab)).estimated_cost
         total += count * (cost + CELL_OVERHEAD)
-    return total
+    return machine.on_this_machine(total, "families")
 
 
-__all__ = ["rate_state_cells", "check_cycle_method", "output_names", "evolution_codes", "check_friction", "estimated_seconds", "REGIME_CODES", "METHOD_CODES",
+__all__ = ["rate_state_cells", "check_cycle_method", "output_names", "evolution_codes", "check_friction",
+           "estimated_seconds", "friction_ratio", "REGIME_CODES", "METHOD_CODES",
            "OUTPUT_ATTRS", "CYCLE_METHODS", "EVENT_SPEED"]

@@ -21,7 +21,7 @@ from faultslip.fault.rate_state_cells import METHOD_CODES as RATE_STATE_METHOD_C
 from faultslip.fault.rate_state_cells import OUTPUT_ATTRS as RATE_STATE_OUTPUT_ATTRS
 from faultslip.fault.rate_state_cells import REGIME_CODES as RATE_STATE_REGIME_CODES
 from faultslip.fault.rate_state_cells import (check_cycle_method, check_friction, estimated_seconds,
-                                              evolution_codes, output_names, rate_state_cells)
+                                              evolution_codes, friction_ratio, output_names, rate_state_cells)
 from faultslip.fault.scene import apply_friction, parse_scene
 from faultslip.friction.materials import get_preset, resolve_material
 from faultslip.friction.rate_state import EVOLUTION_LAWS
@@ -572,8 +572,10 @@ def _rate_state_cell_seconds(study) -> float:
         steps[widest] *= 2
     block = {name: slice(None, None, step) for name, step in steps.items()}
     values = aligned(study.dims, RATE_STATE_PARAMETERS, block)
-    ratio = rate_state_cells(**rate_state_inputs(study, values))["stiffness_ratio"]
-    return (estimated_seconds(ratio, study.cycles, study.tolerance, study.method) / max(ratio.size, 1)
+    inputs = rate_state_inputs(study, values)
+    ratio = rate_state_cells(**inputs)["stiffness_ratio"]
+    return (estimated_seconds(ratio, friction_ratio(inputs, ratio.shape), study.cycles, study.tolerance,
+                              study.method) / max(ratio.size, 1)
             + 1.0 / budget.STUDY_CELL_RATE)
 
 

@@ -50,7 +50,8 @@ from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
 from faultslip.io.resources import open_netcdf
 from faultslip.fault.one_slider_error import range_within
-from faultslip.fault.rate_state_cells import check_cycle_method, estimated_seconds, evolution_codes, rate_state_cells
+from faultslip.fault.rate_state_cells import (check_cycle_method, estimated_seconds, evolution_codes, friction_ratio,
+                                              rate_state_cells)
 from faultslip.fault.spring_slider_cells import SEED_METHODS, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs
 from faultslip.studies.grid import Study, as_dataset
 from faultslip.studies.rupture_sets import RULE_KEYS, parse_rules
@@ -760,7 +761,8 @@ def _model_seconds(spec, tolerance: float) -> float:
               for key, value in inputs.items()}
     sample["evolution"] = evolution_codes(sample["evolution"])
     ratio = rate_state_cells(**sample)["stiffness_ratio"]
-    return estimated_seconds(ratio, spec.cycles, tolerance, spec.cycle_method) * count / max(ratio.size, 1)
+    return (estimated_seconds(ratio, friction_ratio(sample, ratio.shape), spec.cycles, tolerance, spec.cycle_method)
+            * count / max(ratio.size, 1))
 
 
 def _shape(inputs: dict) -> tuple:

@@ -15,13 +15,13 @@ event edges are found on dopri5's own continuous extension (LSODA: a cubic Hermi
 constants are fitted by ``benchmarks/rate_state_calibration.py`` on random faults (a / b, the evolution law,
 sigma_n, G, the fault's width, the plate rate and K / K_c drawn over wide ranges) against the C stepper at rtol
 1e-12, at least 1.5 times every calibration error, and checked on held-out faults; ``docs/rate_state.md`` has
-the table. Cost model: cycles x steps per cycle x seconds per step (16 us dopri5, 12 us LSODA), from
+the table. Cost model: cycles x steps per cycle x seconds per step (:data:`SECONDS_PER_STEP`), from
 ``faultslip rate-state bench`` on SEAS BP1 friction (a 0.010, b 0.015, sigma_n 50 MPa, G 32 GPa, D 20 km) with
 D_c set for K / K_c from 1e-5 to 0.9 (docs/figures/work_precision_rate_state.md, with the chart).
 
 ``auto`` takes the cheaper method whose declared error meets the tolerance: LSODA where the rupture
-is stiff (at a tolerance of 1e-6, below K / K_c of about 1.5e-4 where the C stepper is built, and about
-6e-3 where it is not), the C stepper or dopri5 elsewhere.
+is stiff (at a tolerance of 1e-6, below K / K_c of about 2e-4 where the C stepper is built, and about
+9e-3 where it is not), the C stepper or dopri5 elsewhere.
 """
 
 from __future__ import annotations
@@ -42,7 +42,13 @@ ACCURACY_STEPS = {"dopri5": (250.0, 450.0, 1000.0), "lsoda": (600.0, 1100.0, 180
 ACCURACY_STEPS["dopri5_compiled"] = ACCURACY_STEPS["dopri5"]  # the same scheme, stepped in C
 #: dopri5's stability limit between events: steps per cycle = STIFF_STEPS / (K / K_c)
 STIFF_STEPS = 9.3
-SECONDS_PER_STEP = {"dopri5": 16e-6, "lsoda": 12e-6, "dopri5_compiled": 0.4e-6}
+#: Seconds per step on the "families" machine reference (faultslip.io.machine): the median of each integrator's
+#: measured wall time over steps across 'faultslip rate-state bench''s grid (K / K_c 1e-5 to 0.9, rtol 1e-5 to
+#: 1e-10), over that run's machine factor, the mean of three runs (10.2, 9.0, 7.6; 5.7, 5.1, 4.0; 0.25, 0.22, 0.21
+#: us: the factor's probe moves them by 15 %); the bench prints both beside these. They had been 16, 12 and 0.4
+#: us, set on an earlier host and never anchored, and a study's cycles were estimated at up to 4 times their CPU
+#: (LSODA's wall time 0.25 to 0.52 of the model's).
+SECONDS_PER_STEP = {"dopri5": 8.9e-6, "lsoda": 4.9e-6, "dopri5_compiled": 0.23e-6}
 #: Declared relative error of recurrence and slip per event, per integrator: far from K_c, c rtol^q + floor
 #: ("far": (c, q, floor)); near K_c, where the cycle amplifies the integrator's error, k rtol^p / (1 - K / K_c)
 #: ("near": (k, p)); the larger of the two. Fitted by benchmarks/rate_state_calibration.py on 300 random faults
@@ -147,8 +153,11 @@ class CycleMethod:
                                 f"{self.integrator}' integrates a laboratory load history with it")}
 
     def assess(self, stiffness_ratio: float, tolerance: float, cycles: int, two_state: bool = False,
-               rtol: float | None = None) -> Assessment:
-        """Error and cost for a fault at ``stiffness_ratio`` = K / K_c (at ``rtol``, or the loosest that suffices)."""
+               rtol: float | None = None, a_over_b: float | None = None) -> Assessment:
+        """Error and cost for a fault at ``stiffness_ratio`` = K / K_c (at ``rtol``, or the loosest that suffices).
+        With the law's ``a_over_b`` the cost is that of ``cycles`` measured after the fault settles
+        (:func:`cycle_steps`, as :func:`~faultslip.dynamics.rate_state.slider.fault_cycles` runs them); without
+        it, of ``cycles`` in all."""
         if not stiffness_ratio < 1:
             return Assessment(self.name, False, f"K / K_c = {beside(stiffness_ratio, 1.0)} >= 1: steady sliding is stable, "
                               "there are no cycles to integrate")
@@ -162,7 +171,9 @@ class CycleMethod:
             fitting = [r for r in RTOL_LEVELS if error_bound(self.integrator, r, stiffness_ratio) <= tolerance]
             rtol = fitting[0] if fitting else RTOL_LEVELS[-1]
         steps = steps_per_cycle(self.integrator, rtol, stiffness_ratio)
-        cost = max(cycles, 1) * steps * SECONDS_PER_STEP[self.integrator]
+        total = (max(cycles, 1) * steps if a_over_b is None
+                 else cycle_steps(self.integrator, rtol, stiffness_ratio, a_over_b, cycles))
+        cost = total * SECONDS_PER_STEP[self.integrator]
         error = error_bound(self.integrator, rtol, stiffness_ratio)
         return Assessment(self.name, True, f"{self.integrator} at rtol {rtol:g}: about {steps:.3g} steps a cycle at "
                           f"K / K_c = {stiffness_ratio:.3g}, error <= {error:.2g}", error, cost,
@@ -172,24 +183,26 @@ class CycleMethod:
 CYCLE_METHODS = {
     "dopri5": CycleMethod("dopri5", "rate-and-state, one or two state variables (aging or slip law)",
                           "any K / K_c < 1; its steps grow as 9.3 / (K / K_c) once ruptures are stiff",
-                          "cycles x max(N(rtol), 9.3 / (K/K_c)) steps x 16 us; N = 250, 450, 1000 at rtol 1e-5, 1e-7, 1e-9"),
+                          "cycles x max(N(rtol), 9.3 / (K/K_c)) steps x 8.9 us; N = 250, 450, 1000 at rtol 1e-5, 1e-7, "
+                          "1e-9"),
     "dopri5_compiled": CycleMethod("dopri5_compiled", "rate-and-state, one state variable, unregularised (aging or "
                                    "slip law); built at install where a C compiler is",
                                    "as dopri5, the same scheme and error, stepped in C between event edges",
-                                   "as dopri5's steps x 0.4 us"),
+                                   "as dopri5's steps x 0.23 us"),
     "lsoda": CycleMethod("lsoda", "rate-and-state, one state variable (analytic Jacobian)",
                          "any K / K_c < 1; its error control is loose (thousands of rtol at loose rtol on stiff "
                          "faults: the declared error says so)",
-                         "cycles x 600-1800 steps (rtol 1e-5 to 1e-9) x 12 us, nearly independent of K / K_c"),
+                         "cycles x 600-1800 steps (rtol 1e-5 to 1e-9) x 4.9 us, nearly independent of K / K_c"),
 }
 
 
 def choose_cycle_method(stiffness_ratio: float, tolerance: float = 1e-6, cycles: int = 5,
-                        two_state: bool = False, rtol: float | None = None):
+                        two_state: bool = False, rtol: float | None = None, a_over_b: float | None = None):
     """``(method name, rtol, assessment, assessments)``: the cheapest integrator whose declared error meets
-    ``tolerance`` (at ``rtol`` if given); if none does, the most accurate, and the reason says so."""
+    ``tolerance`` (at ``rtol`` if given); if none does, the most accurate, and the reason says so. ``cycles`` and
+    ``a_over_b`` are :meth:`CycleMethod.assess`'s."""
     tolerance = ranges.check_tolerance(tolerance)
-    assessments = [method.assess(stiffness_ratio, tolerance, cycles, two_state, rtol)
+    assessments = [method.assess(stiffness_ratio, tolerance, cycles, two_state, rtol, a_over_b)
                    for method in CYCLE_METHODS.values()]
     usable = [a for a in assessments if a.applicable]
     if not usable:

@@ -916,7 +916,7 @@ def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw, rtol: f
     """The method :func:`fault_cycles` uses: ``method``, or for "auto" the cheapest at ``rtol`` by the
     calibrated cost models (:mod:`faultslip.dynamics.rate_state.methods`) among those that take the law:
     dopri5_compiled where it was built (one-state, unregularised laws; not when the series is recorded),
-    else LSODA where the rupture is stiff (below K / K_c of about 0.012 at rtol 1e-7) and dopri5 elsewhere.
+    else LSODA where the rupture is stiff (below K / K_c of about 0.015 at rtol 1e-7) and dopri5 elsewhere.
     Two-state laws take dopri5."""
     if method != "auto":
         return method

@@ -55,7 +55,7 @@ def simulation_steps(slider, cycles: float) -> float:
 
 def cycles_imports(scene) -> tuple:
     """What a fault's recorded cycles import beside their Dataset: scipy's integrators where they are LSODA's (a
-    stiff rupture, K / K_c below about 0.012: :func:`~faultslip.dynamics.rate_state.slider.cycle_method`, as
+    stiff rupture, K / K_c below about 0.015: :func:`~faultslip.dynamics.rate_state.slider.cycle_method`, as
     the simulation chooses), nothing for dopri5 (0.1-0.2 s a small simulation's estimate had left out)."""
     ratio = cycles_stiffness_ratio(scene.slider)
     if not ratio < 1:  # stable: refused before any integration

@@ -226,7 +226,7 @@ def test_a_rate_state_maps_estimate_counts_the_cycles_in_every_cell(cli, tmp_pat
     small = read_map(_rate_state_raster_map(tmp_path, 6))
     ran = run_map(small)
     raster_seconds = 36 / budget.MAP_CELLS_PER_SECOND
-    cycles_seconds = estimated_seconds(ran["stiffness_ratio"].values.ravel(), 5, 1e-6, "auto")
+    cycles_seconds = estimated_seconds(ran["stiffness_ratio"].values.ravel(), 0.010 / 0.015, 5, 1e-6, "auto")
     assert cycles_seconds > 100 * raster_seconds
     # each against its cost model's seconds, without what the map imports (measured, apart)
     assert map_size_estimate(small).modelled_seconds == pytest.approx(raster_seconds + cycles_seconds, rel=1e-9)
@@ -237,7 +237,7 @@ def test_a_rate_state_maps_estimate_counts_the_cycles_in_every_cell(cli, tmp_pat
     wide = read_map(_rate_state_raster_map(tmp_path, 70))
     assert map_size_estimate(wide).modelled_seconds == pytest.approx(4900 / 36 * (raster_seconds + cycles_seconds),
                                                                      rel=1e-9)
-    longer = estimated_seconds(ran["stiffness_ratio"].values.ravel(), 10, 1e-6, "auto")
+    longer = estimated_seconds(ran["stiffness_ratio"].values.ravel(), 0.010 / 0.015, 10, 1e-6, "auto")
     assert longer > cycles_seconds and map_size_estimate(read_map(_rate_state_raster_map(
         tmp_path, 6, cycles=10))).modelled_seconds == pytest.approx(raster_seconds + longer, rel=1e-9)
     # the command prints it, needing no output and writing nothing; over the budget, the map is refused first

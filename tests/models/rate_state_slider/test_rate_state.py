@@ -359,7 +359,7 @@ def test_lsoda_and_dopri5_fault_cycles_agree_and_auto_picks_lsoda_when_stiff():
 
 
 def test_auto_picks_the_cheaper_integrator_by_its_cost_model_and_the_declared_error_holds():
-    """choose_cycle_method: dopri5 where the rupture is not stiff, LSODA below K / K_c ~ 0.012 (rtol 1e-7),
+    """choose_cycle_method: dopri5 where the rupture is not stiff, LSODA below K / K_c ~ 0.015 (rtol 1e-7),
     at the loosest rtol whose declared error meets the tolerance; the measured error against a 1e-11
     reference stays below the declared one (2 cycles after 2 of spin-up, as calibrated)."""
     from faultslip.contract import method_rows
@@ -367,9 +367,9 @@ def test_auto_picks_the_cheaper_integrator_by_its_cost_model_and_the_declared_er
 
     with pytest.MonkeyPatch.context() as patch:  # the Python integrators alone
         patch.setattr(native, "_cycles", None)
-        assert [rs.cycle_method("auto", r, BP1) for r in (0.05, 0.013, 0.011, 1e-4)] == ["dopri5", "dopri5", "lsoda",
+        assert [rs.cycle_method("auto", r, BP1) for r in (0.05, 0.02, 0.012, 1e-4)] == ["dopri5", "dopri5", "lsoda",
                                                                                           "lsoda"]
-    if native.available():  # the C stepper, 0.4 us a step, until its stability-limited steps cost more than LSODA's
+    if native.available():  # the C stepper, 0.23 us a step, until its stability-limited steps cost more than LSODA's
         assert [rs.cycle_method("auto", r, BP1) for r in (0.05, 0.011, 1e-3, 1e-4)] == [
             "dopri5_compiled", "dopri5_compiled", "dopri5_compiled", "lsoda"]
     names = [row["name"] for row in method_rows()]
