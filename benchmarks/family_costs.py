@@ -62,6 +62,14 @@ def _family_case(family, action, scene, work, **options):
     return family, entry, units, f"{action} {scene} {options or ''}".strip(), lambda: call(scene, **options)
 
 
+def _rough_at(**values):
+    """A run of seed 000's rough-surface scene moved to ``values`` (SI)."""
+    scene = registry.read_scene("rough_surface_seed000.toml")[0].with_values(**values)
+    entry, units, _ = rough_cost.work(scene, "run")
+    label = f"run rough_surface_seed000.toml ({', '.join(f'{k} {v:g}' for k, v in values.items())})"
+    return "rough_surface", entry, units, label, lambda: registry.load("rough_surface").run(scene)
+
+
 def _nanoscale(duration: float):
     model, settings, _ = load_nanoscale_scene("nanoscale_seed001.toml")
     return ("nanoscale", "lsoda", duration, f"LSODA over {duration:g}/omega of nanoscale_seed001.toml",
@@ -130,6 +138,10 @@ def cases() -> list:
         _family_case("asperity", "simulate", "asperity_seed004.toml", asperity_cost.work),
         _family_case("rough_surface", "run", "rough_surface_seed000.toml", rough_cost.work),
         _family_case("rough_surface", "run", "rough_surface_chapter5.toml", rough_cost.work),
+        # the example study's corners (configs/study_rough_surface.toml): no separation (c = 0, whose run took twice
+        # the seed's) and the slower platform; the two scenes alone had put its estimate at 0.44 of its CPU
+        _rough_at(separation_coefficient=0.0),
+        _rough_at(platform_speed=0.005),
         _family_case("rough_surface", "simulate", "rough_surface_seed000.toml", rough_cost.work, cycles=2),
         _family_case("rough_surface", "simulate", "rough_surface_seed000.toml", rough_cost.work, cycles=8),
         _family_case("spring_chain", "run", "spring_chain_small.toml", chain_cost.work),
@@ -202,6 +214,7 @@ def held_out() -> list:
         _nanoscale_settle("(held out: v_a = 0.03, A = A_c (1 - 0.003))", distance=0.003, fitted=False,
                           drive_speed=0.03),
         _family_case("rough_surface", "simulate", "rough_surface_chapter5.toml", rough_cost.work, cycles=30),
+        _rough_at(separation_coefficient=0.4, platform_speed=0.005),
         *(_vibration_at(speed) for speed in (10.5, 13.0, 14.0, 15.5)),
         _family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=1000),
         _family_case("spring_slider", "run", "parkfield.toml", lambda *a, **k: (a[1], 0.0, "")),
