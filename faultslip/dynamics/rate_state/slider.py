@@ -993,12 +993,12 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
     events: that is refused with the ratio K / K_c, as are cycles that do not appear within
     ``max_time`` (default: 1e5 loading times D_c / V_pl and at least a million years).
 
-    ``method``: "lsoda" (stiff/non-stiff switching, analytic Jacobian; one-state laws), "dopri5"
-    (explicit, any law), or "auto" (lsoda where K / K_c < 0.01, else dopri5). Events are found at
-    step ends by both. Measured, 100 cycles at SEAS BP1 (K / K_c 0.05): dopri5 0.94 s, LSODA
-    0.80 s, recurrence equal to 1.3e-6, plate balance 3e-8 against 1.3e-5. Five cycles with a lab
-    D_c of 15 µm on a 20 km fault (K / K_c 2e-4): dopri5's steps are stability-limited (305,000,
-    4.1 s) where LSODA takes 8,000 (0.54 s), recurrence equal to 1.2e-6.
+    ``method``: "lsoda" (stiff/non-stiff switching, analytic Jacobian; one-state laws), "dopri5" (explicit, any
+    law), "dopri5_compiled" (the same scheme stepped in C), or "auto" (the cheapest by the calibrated costs,
+    :func:`cycle_method`). Events are found at step ends by both. Measured, 100 cycles at SEAS BP1 (K / K_c 0.05):
+    dopri5 0.94 s, LSODA 0.80 s, recurrence equal to 1.3e-6, plate balance 3e-8 against 1.3e-5. Five cycles with a
+    lab D_c of 15 µm on a 20 km fault (K / K_c 2e-4): dopri5's steps are stability-limited (305,000, 4.1 s) where
+    LSODA takes 8,000 (0.54 s), recurrence equal to 1.2e-6.
 
     ``record``: keep the time series of every step after spin-up in ``series`` (for plots and files).
     ``max_steps``: the step budget; past it the run stops with a SolverError saying so.
