@@ -372,3 +372,35 @@ def test_a_damaged_partial_output_resumes_to_the_uninterrupted_run_or_one_senten
         import xarray as xr
 
         xr.testing.assert_identical(_content(folder / name), expected)
+
+
+_LEDGER_STUDIES = {}
+
+
+@settings(FUZZ, max_examples=60)
+@given(seed=st.integers(0, 2**32))
+def test_a_failure_ledger_changed_after_writing_is_refused_before_any_cell_runs(tmp_path_factory, seed):
+    """The fuzzer's ledger kind without the sweep: a failure ledger edited (a cell dropped, an index, the count, a
+    key, a reason) or its bytes mutated. --retry-failed must refuse, in one sentence naming the ledger, every one
+    whose content differs from what the sweep wrote; only the ledger as written (or re-spaced) is trusted. The
+    output is junk, so a ledger that got through would be refused for the output instead, and fail here."""
+    from faultslip.studies.grid import parse_study
+    from faultslip.studies.streaming import _write_failure_ledger, failure_ledger, retry_failed
+
+    if "study" not in _LEDGER_STUDIES:
+        folder = tmp_path_factory.mktemp("ledger")
+        study = parse_study(_SWEEP)
+        cells = [{"index": {"slip_rate": 0, "lithology": 1}, "values": {}, "reason": "the solver failed"},
+                 {"index": {"slip_rate": 1, "lithology": 0}, "values": {}, "reason": "the solver failed"}]
+        out = folder / "retry.nc"
+        out.write_bytes(b"not a netCDF file")
+        _write_failure_ledger(out, study, study.fingerprint(), cells)
+        _LEDGER_STUDIES.update(study=study, out=out, text=failure_ledger(out).read_text(encoding="utf-8"))
+    study, out, written = _LEDGER_STUDIES["study"], _LEDGER_STUDIES["out"], _LEDGER_STUDIES["text"]
+    mutated = fuzz.mutate_ledger(written, random.Random(seed))
+    if fuzz.ledger_content(mutated) == fuzz.ledger_content(written):
+        return  # as written: a retry runs, which the slurm tests cover
+    _write(failure_ledger(out), mutated)
+    with pytest.raises(InputError, match="failure ledger") as refused:
+        retry_failed(study, out, workers=1)
+    assert "\n" not in str(refused.value).strip()
