@@ -1,6 +1,7 @@
 """Seed 000's sliding model: friction from the real contact of rough surfaces that separate as they slide."""
 
 import math
+from pathlib import Path
 import warnings
 
 import numpy as np
@@ -46,6 +47,32 @@ def test_without_separation_friction_does_not_weaken():
     system, _ = rough_surface_slider(SURFACE, 0.6, 12.66e3, 30.0, 0.01, 2.04e9, 6.0e8, 0.0)
     speeds = np.linspace(0, 0.1, 5)
     np.testing.assert_allclose(system.kinetic_law(speeds), 6.0e8 / 2.04e9, rtol=1e-9)  # mu(u) = mu_s: no drop
+
+
+@pytest.mark.parametrize("method", ["auto", "event_driven_DOP853", "event_driven_LSODA", "event_driven_RK45",
+                                    "event_driven_Radau"])
+def test_without_separation_every_period_grazes_a_stick(method, tmp_path):
+    """c = 0 (the example study's corner): mu(u) = mu_s, no damper. Released at break-away, where K x = W mu_s and
+    x' = 0, the slider moves exactly as x' = V (1 - cos omega t): its sliding speed V - x' ... touches zero once a
+    period, with the spring again at W mu_s, and it grazes a stick of no duration. Slip per event V 2 pi / omega,
+    period 2 pi / omega, peak speed 2 V: the limit of the stick-slip as c -> 0+. Averaging called it steady sliding
+    with error 0 (its hand-over margin 0.15 eps was 0 here, and round-off decided), and the integrators' tangency
+    test, to atol alone, missed every other graze: twice the slip per event."""
+    import faultslip
+
+    text = Path("configs/rough_surface_seed000.toml").read_text(encoding="utf-8")
+    scene = tmp_path / "c0.toml"
+    scene.write_text(text.replace('separation_coefficient = "0.8 s/m"', 'separation_coefficient = "0 s/m"'),
+                     encoding="utf-8")
+    result = faultslip.run(scene, method=method)
+    omega, error = math.sqrt(12.66e3 / 0.6), result.estimated_relative_error
+    assert result["regime"] == "stick_slip" and result.method.startswith("event_driven"), result.method_reason
+    assert 0 < error < 1e-5
+    assert result.si("slip_per_event") == pytest.approx(0.01 * 2 * math.pi / omega, rel=10 * error)
+    assert result.si("period") == pytest.approx(2 * math.pi / omega, rel=10 * error)
+    assert result.si("peak_slip_speed") == pytest.approx(0.02, rel=10 * error)
+    # Radau's crossing lands on the right side of V; the others' graze is said
+    assert result.method == "event_driven_Radau" or any("graze" in note for note in result.notes)
 
 
 def test_friction_falls_with_speed_as_the_surfaces_part():
