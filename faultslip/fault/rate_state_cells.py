@@ -50,7 +50,7 @@ SPIN_UP = 2
 #: (benchmarks/sweep_estimates.py writes it; tests/capabilities/contract/test_families.py checks it against that
 #: file). Once the seconds per step were measured it is small: the steps' model holds a run's own fixed cost. It
 #: had been 10 ms, typed, and a study of 120 such cells was estimated at 5.7 times its CPU. A residual of two
-#: larger numbers, it moves between runs (0.014 ms on one day, 0.23 ms on the next): either is under a quarter
+#: larger numbers, it moves between runs (0.014 ms and 0.23 ms in two of them): either is under a quarter
 #: of such a cell's cycles.
 CELL_OVERHEAD = 2.28e-4
 

@@ -53,8 +53,8 @@ def test_without_separation_friction_does_not_weaken():
                                     "event_driven_Radau"])
 def test_without_separation_every_period_grazes_a_stick(method, tmp_path):
     """c = 0 (the example study's corner): mu(u) = mu_s, no damper. Released at break-away, where K x = W mu_s and
-    x' = 0, the slider moves exactly as x' = V (1 - cos omega t): its sliding speed V - x' ... touches zero once a
-    period, with the spring again at W mu_s, and it grazes a stick of no duration. Slip per event V 2 pi / omega,
+    at rest, the slider slides at exactly u = V (1 - cos omega t): u touches zero once a period, with the spring
+    again at W mu_s, and it grazes a stick of no duration. Slip per event V 2 pi / omega,
     period 2 pi / omega, peak speed 2 V: the limit of the stick-slip as c -> 0+. Averaging called it steady sliding
     with error 0 (its hand-over margin 0.15 eps was 0 here, and round-off decided), and the integrators' tangency
     test, to atol alone, missed every other graze: twice the slip per event."""

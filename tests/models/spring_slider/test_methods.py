@@ -363,7 +363,6 @@ def test_an_event_location_lsoda_cannot_bracket_is_integrated_by_dop853_and_said
     note = next(text for text in printed.json["notes"] if "event location failed under LSODA" in text)
     fallback_rtol = float(re.search(r"integrated by DOP853 at rtol=(\S+),", note).group(1))
     assert declared_slip_error("DOP853", fallback_rtol) <= declared_slip_error("LSODA", 1e-8)
-    monkeypatch.setattr(scipy.integrate, "solve_ivp", real)
     system = _polynomial_slider(2.54e-5).at_loading_rate(1e3)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", OutOfDomainWarning)
