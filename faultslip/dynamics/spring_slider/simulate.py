@@ -245,17 +245,15 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
 
     pieces, rests, extrema = [], [], []  # (solution, friction) per sub-phase; x extrema; velocity extrema
     s_now, state_now, evaluations, ended, fallback, graze_note = 0.0, start, 0, False, None, None
-    # the first stretch ends two periods in: a graze (found from the velocity's extrema once a stretch ends) then
-    # ends its phase there, not after the whole horizon; a longer phase goes on once, to the horizon
     first = min(horizon, FIRST_STRETCH)
     while True:
+        stretch_end = horizon if s_now >= first else first
         held = friction[0] is not unheld
         switches = [beyond_peak] if held else [peaked] if memory else []
         events = [end_of_slip, at_rest, fastest, *switches]
         try:
             try:
-                solution = solve_ivp(rhs, (s_now, horizon if s_now >= first else first), state_now,
-                                     events=events, **options)
+                solution = solve_ivp(rhs, (s_now, stretch_end), state_now, events=events, **options)
             except ValueError as error:
                 if options["method"] == "DOP853":
                     raise SolverError(f"simulate (DOP853): scipy's event location failed in a slip phase of "
@@ -277,8 +275,7 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
                 options = {key: value for key, value in options.items() if key != "jac"}
                 options.update(method="DOP853", rtol=fallback_rtol, atol=options["atol"] * fallback_rtol / rtol)
                 try:
-                    solution = solve_ivp(rhs, (s_now, horizon if s_now >= first else first), state_now,
-                                     events=events, **options)
+                    solution = solve_ivp(rhs, (s_now, stretch_end), state_now, events=events, **options)
                 except ValueError as again:
                     raise SolverError(f"simulate ({failed}, then DOP853): scipy's event location failed in a slip "
                                       f"phase of {system.name} under both ({again}); try another rtol") from None
