@@ -52,6 +52,8 @@ class Settling:
             return 0.0
         if not 0 < self.contraction < 1 or not math.isfinite(self.remaining):
             return math.inf
+        if self.remaining <= tolerance:
+            return 0.0
         return max(math.log(tolerance / self.remaining) / math.log(self.contraction), 0.0)
 
 
@@ -149,8 +151,7 @@ def assess_settling(history, tolerance: float, floor=None, names=None, noise: fl
         return Settling(False, count, trend, remaining, q[-1].copy(),
                         f"not settled after {count} cycles: the cycles spiral in (single ratios up to {rho:.3g}, "
                         f"{trend:.4g} per cycle over the last {span + 1}), so the steady cycle is still "
-                        f"~{remaining:.2g} away; ~{max(math.log(tolerance / remaining) / math.log(trend), 1):.3g} more "
-                        f"cycles to reach {tolerance:g}")
+                        f"~{remaining:.2g} away; {_more_cycles(tolerance, remaining, trend)}")
     # the tail (doubled: rho drifts as the approach leaves the linear regime), plus the round-off of
     # differences of O(1) numbers summed over it
     remaining = TAIL_SAFETY * last * rho / (1 - rho) + 8 * np.finfo(float).eps / (1 - rho)
@@ -160,8 +161,16 @@ def assess_settling(history, tolerance: float, floor=None, names=None, noise: fl
                         f"settled after {count} cycles: contraction {rho:.3g} per cycle, {remaining:.2g} left")
     return Settling(False, count, rho, remaining, limit,
                     f"not settled after {count} cycles: successive cycles change by {last:.2g} ({worst}) but contract "
-                    f"only by {rho:.4g} per cycle, so the steady cycle is still ~{remaining:.2g} away; ~"
-                    f"{max(math.log(tolerance / remaining) / math.log(rho), 1):.3g} more cycles to reach {tolerance:g}")
+                    f"only by {rho:.4g} per cycle, so the steady cycle is still ~{remaining:.2g} away; "
+                    f"{_more_cycles(tolerance, remaining, rho)}")
+
+
+def _more_cycles(tolerance: float, remaining: float, rate: float) -> str:
+    """'~N more cycles to reach the tolerance' at a contraction ``rate`` per cycle; words where no count follows
+    (a zero, infinite or undefined distance or rate: a spiral's envelope can vanish between two cycles)."""
+    if not (0 < rate < 1 and 0 < remaining < math.inf):
+        return f"how many more cycles reach {tolerance:g} is unknown"
+    return f"~{max(math.log(tolerance / remaining) / math.log(rate), 1):.3g} more cycles to reach {tolerance:g}"
 
 
 def settle(advance, tolerance: float, min_cycles: int = 4, max_cycles: int = 1000, floor=None, names=None):
