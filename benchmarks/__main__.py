@@ -55,6 +55,7 @@ PRODUCERS = (
     ("asperity_wavelength_check", [], ["--quick"], "asperity_wavelength_check.json"),
     ("asperity_measured_wavelength_check", [], [], "asperity_measured_wavelength_check.json"),  # after the locks
     ("averaging_check", [], ["--quick"], "averaging_check.json"),
+    ("nanoscale_hopf_check", [], ["--quick"], "nanoscale_hopf_check.json"),
     ("asperity_quasistatic_check", [], ["--quick"], "asperity_quasistatic_check.json"),
     ("surface_trends", [], [], "surface_trends.json"),
     ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),

@@ -96,6 +96,26 @@ def averaging_check_table() -> str | None:
             f"{_machine(result)}")
 
 
+def nanoscale_hopf_table() -> str | None:
+    """The Hopf normal form and the subcritical case on random nanoscale models (docs/methods.md,
+    benchmarks/nanoscale_hopf_check.py)."""
+    result = _load("nanoscale_hopf_check.json")
+    if result is None:
+        return None
+    summary = result["summary"]
+    rows = ["| random models | supercritical (l_1 < 0) | normal form's error within its declared one "
+            "| actual / declared | subcritical (l_1 > 0) | of those, stick-slip from rest 1 % above A_c "
+            "| supercritical models moving from rest 1 % above A_c |", "| --- | --- | --- | --- | --- | --- | --- |",
+            f"| {summary['models']} | {summary['supercritical']} | {summary['held']} of {summary['checked']} "
+            f"({summary['declined']} declined) | {summary['smallest_used']:.2f}-{summary['largest_used']:.2f} | "
+            f"{summary['subcritical']} | {summary['subcritical_stick_slip_from_rest_1pct_above']} | "
+            f"{summary['supercritical_moving_from_rest_1pct_above']} |"]
+    return ("\n".join(rows) + "\n\nEach supercritical model is set at sigma / omega_0 drawn from "
+            f"{result['nearest']:g} to {result['reference']:g} and compared with LSODA's settled cycle at rtol "
+            "1e-12 (the largest error of swing, period and least speed). "
+            "`python benchmarks/nanoscale_hopf_check.py`. " + _machine(result))
+
+
 def quasi_harmonic_scene_table() -> str | None:
     """configs/vibration_seed002.toml's amplitude, its integration and its band (docs/quasi_harmonic.md)."""
     result, values = _quasi_harmonic()
@@ -220,6 +240,7 @@ TABLES = {
     "rough_slider": rough_slider_table,
     "quasi_harmonic_error": quasi_harmonic_error_table,
     "averaging_check": averaging_check_table,
+    "nanoscale_hopf": nanoscale_hopf_table,
     "quasi_harmonic_scene": quasi_harmonic_scene_table,
     "seed002_figures": seed002_figures_table,
 }

@@ -107,14 +107,19 @@ class Result:
         A simulation's time series.
     extras : dict
         Family capabilities (the seed law's ``stream`` and ``events``, a sweep's arrays, ...).
+    tolerance : float or None
+        The relative error the method was chosen for where no tolerance was passed: the scene's ``[method]``
+        tolerance or the family's default. :func:`faultslip.run` judges the answer against it (``meets_tolerance``)
+        as against a tolerance passed; None where no tolerance chose the method.
 
     :meth:`report` is what the CLI prints, :meth:`to_xarray` what it writes (CF attributes), :meth:`plot` the
     family's figure and :meth:`time_series` the run, where the family simulates.
     """
 
     def __init__(self, family: str, summary: Report, series=None, figure: Callable | None = None,
-                 extras: dict | None = None):
+                 extras: dict | None = None, tolerance: float | None = None):
         self.family = family
+        self.tolerance = tolerance  # what chose the method when the caller gave none (judge_tolerance)
         self.title = summary.title
         self._entries = {item.key: Entry(item.key, item.value, item.units, item.label, item.also, item.error,
                                          item.in_text) for item in summary.items}
@@ -302,7 +307,10 @@ def judge_tolerance(result: Result, tolerance) -> Result:
     A run asked for a relative error its declared error does not meet (a method's limit, a model error no richer
     rung removes, an unsettled sequence, a statistic of too few events), or that declares no bound at all, says so
     in a note and a warning, naming the method and its declared error: the answer is never handed over as if it
-    met the tolerance. Without a tolerance nothing is judged."""
+    met the tolerance. Without a tolerance the one that chose the method (``result.tolerance``: the scene's or the
+    family's default) is judged; where none chose it, nothing is."""
+    if tolerance is None:
+        tolerance = getattr(result, "tolerance", None)
     if tolerance is None:
         return result
     error = result.estimated_relative_error

@@ -117,6 +117,12 @@ def check_family(name: str, scene, sweep_values: dict, simulate: bool = True, si
     result = family.run(scene)
     _require(isinstance(result, Result) and result.family == name, f"{name}: run returns a Result of the family")
     check_units(result.to_xarray(), f"{name} run's to_xarray()")
+    # a method a tolerance chose (the scene's or the family's default) is judged against it: the run carries it
+    chose = re.search(r"\btolerance (\d[\d.e+-]*)", result.method_reason or "")
+    _require(chose is None or (result.tolerance is not None and
+                               math.isclose(result.tolerance, float(chose.group(1).rstrip(".")), rel_tol=1e-3)),
+             f"{name}: its run's method was chosen for a tolerance ({chose.group(0) if chose else ''}) that the "
+             "Result does not carry (Result.tolerance), so faultslip.run cannot judge it")
     _require(result.report().to_text().strip(), f"{name}: the run's report is empty")
     # the method it reports is one the listing names (the vibration run had said 'averaging', which no
     # --method took): a user who reads it can ask for it again

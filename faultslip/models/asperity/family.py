@@ -52,7 +52,7 @@ def run(scene, method=None, tolerance=None) -> Result:
             report.note(f"{choice.method} did not converge to the tolerance {tolerance:g} down to rtol "
                         f"{CONVERGENCE_RTOLS[-1]:g}: its measured change {numerical:.3g} is declared")
     note_origin(report, notes.get("origin"))
-    return Result("asperity", report)
+    return Result("asperity", report, tolerance=tolerance)
 
 
 #: the integrator map's speeds (m/s) and slope spreads (rad): where each integrator works (about 30 s)

@@ -28,7 +28,8 @@ def settle_work(model, approach: float) -> float:
     within the first chunk; near it the approach slows as 1 / (A_c - A) (seed 001's Hopf point) and
     Steffensen's restarts take more chunks: ``approach`` is k, fitted on near-critical scenes with the cost
     (``benchmarks/family_costs.py``)."""
-    distance = max(1.0 - model.damping / model.critical_damping, 1e-12)
+    # above a subcritical A_c a run from rest settles on the large cycle, or decays, as far from A_c
+    distance = max(abs(1.0 - model.damping / model.critical_damping), 1e-12)
     return model.drive_speed * min(SETTLE_CHUNK * (1.0 + approach / distance), SETTLE_MAX_TIME)
 
 

@@ -38,6 +38,15 @@ from faultslip.io import budget
 from faultslip.io.report import Report
 from faultslip.models.nanoscale import cost as nanoscale_cost
 from faultslip.models.nanoscale.cost import SETTLE_CHUNK, SETTLE_MAX_TIME
+from faultslip.models.nanoscale.hopf import HopfPoint, growth_rate, hopf_point, normal_form_cycle
+
+#: LSODA's tightest rtol here (the reference's); a settled cycle run again at a tighter rtol integrates this many
+#: of its periods at a time: four cycles settle it from the cycle itself, the rest is margin
+RTOL_FLOOR, REFINE_PERIODS = 1e-12, 8.0
+#: a cycle whose force swings less than this many times LSODA's error in the force has decayed: steady sliding
+DECAYED = 10.0
+#: the tolerance of the settled cycle the Hopf normal form's error is measured against
+REFERENCE_TOLERANCE = 1e-6
 
 #: the slides' parameters ("The parameters used in the results reported here"), A = 3 in Fig. 3a
 SLIDES = {"damping": 3.0, "drive_speed": 0.02, "peak_speed": 0.01, "charging_time": 2.0, "charge_length": 1.57,
@@ -191,7 +200,7 @@ class NanoscaleModel:
 
     def settled_cycle(self, tolerance: float = 1e-6, rtol: float | None = None, max_cycles: int = 3000,
                       chunk: float = SETTLE_CHUNK, max_time: float = SETTLE_MAX_TIME,
-                      allow_large: bool = False) -> "NanoscaleCycle":
+                      allow_large: bool = False, start: tuple | None = None) -> "NanoscaleCycle":
         """The steady cycle below A_c, shown to have settled (issue 27).
 
         Starts stuck (X' = 0 at the steady-sliding force: a large disturbance, approached from above),
@@ -202,10 +211,14 @@ class NanoscaleModel:
         (Steffensen), which reaches the cycle near A_c where the natural approach takes ~1 / (A_c - A)
         periods. The regime follows what the cycle does: it sticks (the least speed falls below
         STICK_FRACTION v_m), oscillates without sticking, or decays to steady sliding.
+
+        LSODA's error in the swing scales with the force F*, not the swing: where F* / swing makes the settled
+        cycle's error exceed ``tolerance`` at ``rtol``, the cycle is run again from its last crossing (``start``:
+        time and state) at an rtol tightened by that ratio, to RTOL_FLOOR, and the tighter run is the answer.
         """
         from scipy.integrate import solve_ivp  # heavy: imported where used
 
-        rtol = rtol if rtol is not None else min(1e-4, max(1e-12, tolerance / LSODA_ERROR_CONSTANT))
+        rtol = rtol if rtol is not None else min(1e-4, max(RTOL_FLOOR, tolerance / LSODA_ERROR_CONSTANT))
         # the worst case, integrating to max_time, within the budget before any work
         budget.check(nanoscale_cost.nanoscale_estimate(max_time, 2), allow_large)
         noise = LSODA_ERROR_CONSTANT * rtol
@@ -214,12 +227,13 @@ class NanoscaleModel:
         sigma0 = self.steady_charge
         force0 = self.damping * self.drive_speed + float(self.weakening(self.drive_speed)) + \
             self.charge_force * sigma0 ** 2
-        state = np.array([0.0, 0.0, force0, sigma0, 0.0])
-        t = 0.0
+        state = np.array([0.0, 0.0, force0, sigma0, 0.0]) if start is None else np.array(start[1], dtype=float)
+        t = 0.0 if start is None else float(start[0])
         history, crossings, restarts, total, integrated = [], [], 0, 0, 0.0
         verdict, rho = None, math.nan
         floor = (self.drive_speed, 0.0, self.drive_speed)  # swing and least speed against v_a: both may vanish
-        pending = {"top": None, "bottom": None, "slowest": math.inf}
+        pending = {"top": None if start is None else (t, float(state[2])), "bottom": None, "slowest": math.inf}
+        last_crossing = None
         while total < max_cycles and t < max_time:  # max_time: a run whose cycles never complete ends too
             with np.errstate(over="ignore", invalid="ignore"):
                 solution = solve_ivp(rhs, (t, t + chunk), state, method="LSODA", rtol=rtol, atol=1e-12,
@@ -240,10 +254,19 @@ class NanoscaleModel:
                     pending["bottom"] = float(at[2])
                 else:
                     if pending["top"] is not None and pending["bottom"] is not None:
+                        # a cycle without a located speed minimum (a vanishing oscillation) is slowest where it
+                        # crosses v_a going down, at most
                         history.append([pending["top"][1] - pending["bottom"], time - pending["top"][0],
-                                        pending["slowest"]])
+                                        min(pending["slowest"], self.drive_speed)])
                         crossings.append(at.copy())
+                        last_crossing = (time, at.copy())
                         total += 1
+                        if history[-1][0] <= DECAYED * noise * abs(force0):
+                            verdict = Settling(True, total, math.nan, 0.0, np.array(history[-1]),
+                                               f"the oscillation decayed to a swing of {history[-1][0]:.2g}, below "
+                                               f"LSODA's resolution of the force ({noise * abs(force0):.2g}): the "
+                                               "tip slides steadily")
+                            break
                     pending = {"top": (time, float(at[2])), "bottom": None, "slowest": math.inf}
                     if len(history) >= 4:
                         verdict = assess_settling(history, max(tolerance, noise), floor,
@@ -271,14 +294,31 @@ class NanoscaleModel:
             verdict = Settling(False, total, math.nan, math.inf, np.full(3, math.nan),
                                f"fewer than four cycles completed within {max_time:g} time units")
         swing, period, slowest = (history[-1] if history else (math.nan,) * 3)
+        if verdict.settled and verdict.remaining == 0.0 and swing <= DECAYED * noise * abs(force0):
+            # decayed to steady sliding (a start from rest above A_c, or a stable focus): swing 0, exactly
+            return NanoscaleCycle(0.0, math.nan, self.drive_speed, verdict, total, restarts, rtol, 0.0, self,
+                                  integrated)
         # the verdict is relative to max(swing, v_a): back to the swing's own scale. LSODA's error in the swing
         # scales with the force itself (~30 rtol F*, A = 3 and A = 0.994 A_c), so a small swing near A_c
         # carries it relative to F*, not to the swing
         scale = max(abs(swing), 1e-300)
-        remaining = max(noise * max(1.0, force0 / scale),
-                        float(verdict.remaining) * max(abs(swing), self.drive_speed) / scale)
-        return NanoscaleCycle(float(swing), float(period), float(slowest), verdict, total, restarts, rtol,
-                              remaining, self, integrated)
+        integration_error = noise * max(1.0, force0 / scale)
+        remaining = max(integration_error, float(verdict.remaining) * max(abs(swing), self.drive_speed) / scale)
+        cycle = NanoscaleCycle(float(swing), float(period), float(slowest), verdict, total, restarts, rtol,
+                               remaining, self, integrated)
+        if (start is None and verdict.settled and integration_error > tolerance and rtol > RTOL_FLOOR
+                and last_crossing is not None and math.isfinite(period)):
+            # the rtol chosen for the tolerance met it in F*, not in this swing: once more from the cycle itself
+            tighter = max(RTOL_FLOOR, rtol * tolerance / integration_error / 2.0)
+            again = self.settled_cycle(tolerance, tighter, max_cycles, chunk=min(chunk, REFINE_PERIODS * period),
+                                       max_time=max(max_time - integrated, chunk), allow_large=allow_large,
+                                       start=last_crossing)
+            if again.estimated_error < remaining:  # near A_c it may not settle again within its cycles
+                cycle = replace(again, cycles=total + again.cycles, restarts=restarts + again.restarts,
+                                integrated=integrated + again.integrated, refined_from=rtol)
+            else:
+                cycle = replace(cycle, integrated=integrated + again.integrated)
+        return cycle
 
 
 #: A cycle sticks when its least speed falls below this fraction of v_m: onto the rising, static-like branch
@@ -309,7 +349,9 @@ class NanoscaleCycle:
     rtol: float
     estimated_error: float  # relative, of the force swing: the integrator's, or what settling left
     model: "NanoscaleModel"
-    integrated: float = math.nan  # model time integrated (1/omega): whole LSODA chunks, restarts included
+    integrated: float = math.nan  # model time integrated (1/omega): LSODA chunks, restarts and a tighter run included
+    refined_from: float | None = None  # the rtol of a first run whose error in this swing missed the tolerance
+    hopf: tuple | None = None  # the normal form's cycle: (omega_0, the reference's A, the error measured there)
 
     @property
     def regime(self) -> str:
@@ -420,6 +462,11 @@ def dipole_force(contact_radius: float, charge_density: float, permittivity: flo
     return coefficient * math.pi * contact_radius ** 2 * charge_density ** 2 / (2.0 * 8.8541878128e-12 * permittivity)
 
 
+#: The normal form answers within this sigma / omega_0 of a supercritical Hopf point. Its error, O(sigma), is measured
+#: on the scene at this distance against a settled LSODA cycle and declared below it as HOPF_SAFETY times that,
+#: scaled by sigma (measured: the error over sigma changes by 0.8-1.1x from here to 1e-4 of it, slides' model and a
+#: strongly charged one); a measured error above HOPF_LIMIT says the expansion does not hold there
+HOPF_REFERENCE, HOPF_SAFETY, HOPF_LIMIT = 3e-3, 2.0, 0.1
 #: measured error of the LSODA force swing against rtol 1e-12: 27-30 rtol (slides' model, A = 3 and 7, rtol
 #: 1e-4 to 1e-10; tests/models/nanoscale/test_nanoscale.py); declared 100 rtol
 LSODA_ERROR_CONSTANT = 100.0
@@ -438,8 +485,17 @@ METHODS = {
                       f"error of the force swing {LSODA_ERROR_CONSTANT:g} rtol",
         "declared_error": f"{LSODA_ERROR_CONSTANT:g} rtol in the force swing (measured against rtol 1e-12), and the "
                           "settling left near the Hopf threshold"},
+    "nanoscale_hopf_normal_form": {
+        "name": "nanoscale_hopf_normal_form", "friction_laws": "nanoscale (seed 001 eqs. 1-4)",
+        "domain": f"below a supercritical A_c (first Lyapunov coefficient l_1 < 0), within sigma / omega_0 = "
+                  f"{HOPF_REFERENCE:g} of it: the small cycle's swing, period and least speed; no time series "
+                  "(asked for by name farther off, it answers with its error measured at A itself)",
+        "cost_model": "the Hopf point in closed form, and one settled LSODA cycle at sigma / omega_0 = "
+                      f"{HOPF_REFERENCE:g}, where it settles in about a second",
+        "declared_error": f"{HOPF_SAFETY:g} x the normal form's error measured on the scene at sigma / omega_0 = "
+                          f"{HOPF_REFERENCE:g} (against that settled cycle), scaled by sigma: the error is O(sigma)"},
 }
-NANOSCALE_METHODS = ("auto", "nanoscale_linear_stability", "nanoscale_LSODA")
+NANOSCALE_METHODS = ("auto", "nanoscale_linear_stability", "nanoscale_LSODA", "nanoscale_hopf_normal_form")
 NANOSCALE_OUTPUTS = ("regime", "force_swing", "time_series")
 
 
@@ -461,26 +517,147 @@ def choose_method(model: NanoscaleModel, outputs=("regime", "force_swing"), meth
     if unknown:
         raise InputError(f"unknown output {unknown[0]!r}; allowed: {', '.join(NANOSCALE_OUTPUTS)}")
     tolerance = ranges.check_tolerance(tolerance)
-    rtol = min(1e-4, max(1e-12, tolerance / LSODA_ERROR_CONSTANT))
+    rtol = min(1e-4, max(RTOL_FLOOR, tolerance / LSODA_ERROR_CONSTANT))
     integration = NanoscaleChoice("nanoscale_LSODA", "", LSODA_ERROR_CONSTANT * rtol, rtol)
-    closed_enough = "time_series" not in outputs and ("force_swing" not in outputs or not model.stick_slip)
+    point = hopf_point(model)
+    bistable = bistable_above(model, point)
+    closed_enough = "time_series" not in outputs and ("force_swing" not in outputs or not (model.stick_slip or
+                                                                                         bistable))
     if method == "nanoscale_linear_stability":
         if not closed_enough:
-            wanted = "a time series" if "time_series" in outputs else "the stick-slip force swing"
+            wanted = ("a time series" if "time_series" in outputs else "the stick-slip force swing" if
+                      model.stick_slip else "the swing from rest (the Hopf point is subcritical: a tip started from "
+                                            "rest may stick-slip above A_c)")
             raise InputError(f"nanoscale_linear_stability gives the regime and A_c, not {wanted}: use "
                              "nanoscale_LSODA or auto")
         return NanoscaleChoice(method, "requested", 0.0)
     if method == "nanoscale_LSODA":
         integration.reason = "requested"
         return integration
+    outside = hopf_domain(model, point, outputs)
+    if method == "nanoscale_hopf_normal_form":
+        refused = hopf_domain(model, point, outputs, anywhere=True)
+        if refused:
+            raise InputError(f"nanoscale_hopf_normal_form {refused}: use nanoscale_LSODA or auto")
+        return NanoscaleChoice(method, "requested", math.nan)
     if closed_enough:
         why = ("only the regime is asked" if "force_swing" not in outputs else
-               f"A = {model.damping:g} >= A_c = {model.critical_damping:.6g}: small disturbances decay, the swing is 0")
+               f"A = {model.damping:g} >= A_c = {model.critical_damping:.6g}: small disturbances decay, the swing is 0"
+               + ("" if point is None else " (a supercritical Hopf point: no small cycle above A_c)"))
         return NanoscaleChoice("nanoscale_linear_stability", f"closed form suffices: {why}", 0.0)
+    if outside is None:
+        ratio = growth_rate(model) / point.frequency
+        return NanoscaleChoice("nanoscale_hopf_normal_form", f"sigma / omega_0 = {ratio:.3g} of a supercritical Hopf "
+                               f"point, within {HOPF_REFERENCE:g}: the small cycle's normal form, its error measured "
+                               "on the scene", math.nan)
+    if bistable:
+        integration.reason = (f"A = {model.damping:g} >= A_c = {model.critical_damping:.6g} at a subcritical Hopf "
+                              "point (l_1 > 0): steady sliding is stable to small disturbances only, so what a tip "
+                              f"started from rest does needs integration; rtol {rtol:g} for tolerance {tolerance:g}")
+        return integration
     integration.reason = (("a time series is asked" if "time_series" in outputs else
                             f"A = {model.damping:g} < A_c = {model.critical_damping:.6g}: stick-slip, whose swing "
                             "needs integration") + f"; rtol {rtol:g} for tolerance {tolerance:g}")
     return integration
+
+
+def bistable_above(model: NanoscaleModel, point: HopfPoint | None) -> bool:
+    """At or above A_c of a subcritical Hopf point (l_1 > 0) steady sliding is stable to small disturbances only:
+    a large stick-slip cycle can coexist with it (measured: from rest, up to 1-5 % above A_c of a strongly charged
+    model)."""
+    return point is not None and not point.supercritical and not model.stick_slip
+
+
+def hopf_domain(model: NanoscaleModel, point: HopfPoint | None, outputs=("regime", "force_swing"),
+                anywhere: bool = False) -> str | None:
+    """None where the Hopf normal form answers ``outputs``, else why not (a clause after the method's name).
+    ``anywhere``: below any supercritical A_c (asked for by name, it answers farther off too, its error measured at A
+    itself)."""
+    if "time_series" in outputs:
+        return "gives no time series"
+    if point is None:
+        return "needs a Hopf point, and steady sliding here loses stability without an oscillatory pair of roots"
+    if not point.supercritical:
+        return "needs a supercritical Hopf point, and this one is subcritical (l_1 > 0: its small cycle is unstable)"
+    if not model.stick_slip:
+        return (f"gives the small cycle below A_c = {point.critical_damping:.6g}, and A = {model.damping:g} is "
+                "above it (the swing is 0: nanoscale_linear_stability)")
+    ratio = growth_rate(model) / point.frequency
+    if not ratio <= HOPF_REFERENCE and not anywhere:
+        return (f"holds within sigma / omega_0 = {HOPF_REFERENCE:g} of the Hopf point, and here sigma / omega_0 = "
+                f"{ratio:.3g}")
+    return None
+
+
+def reference_damping(model: NanoscaleModel, point: HopfPoint) -> float:
+    """The damping below A_c where sigma / omega_0 = HOPF_REFERENCE: the normal form's error is measured there."""
+    from scipy.optimize import brentq  # heavy: imported where used
+
+    target = HOPF_REFERENCE * point.frequency
+    excess = lambda damping: growth_rate(replace(model, damping=damping)) - target  # noqa: E731
+    if not excess(0.0) > 0:  # sigma never reaches the reference: the whole range below A_c is near the point
+        return 0.0
+    return brentq(excess, 0.0, point.critical_damping, xtol=1e-13 * point.critical_damping, rtol=1e-13)
+
+
+def normal_form(model: NanoscaleModel, allow_large: bool = False,
+                anywhere: bool = False) -> tuple["NanoscaleCycle | None", str]:
+    """The small cycle below a supercritical A_c by its normal form (:mod:`faultslip.models.nanoscale.hopf`), its
+    declared error measured on the scene: at :func:`reference_damping` a settled LSODA cycle gives the expansion's
+    relative error e_ref (the largest of swing, period and least speed, plus that cycle's own), and the error at A
+    is declared HOPF_SAFETY e_ref sigma(A) / sigma_ref. ``anywhere`` (asked for by name): farther from A_c than
+    the reference, the error is measured at A itself and declared as measured, however large. Returns (cycle, '')
+    or (None, why not)."""
+    point = hopf_point(model)
+    outside = hopf_domain(model, point, anywhere=anywhere)
+    if outside:
+        return None, outside
+    far = growth_rate(model) / point.frequency > HOPF_REFERENCE
+    reference = model if far else replace(model, damping=reference_damping(model, point))
+    measured = reference.settled_cycle(REFERENCE_TOLERANCE, allow_large=allow_large)
+    where = ("its cycle at A itself, measured by LSODA," if far else
+             f"its reference cycle at A = {reference.damping:.6g} (sigma / omega_0 = {HOPF_REFERENCE:g})")
+    if not measured.settling.settled or (measured.regime != OSCILLATING and not anywhere):
+        return None, (f"{where} {'did not settle' if not measured.settling.settled else measured.regime + 's'}, so "
+                      "its error cannot be measured")
+    expected = normal_form_cycle(reference, point)
+    found = (measured.force_swing, measured.period, measured.least_speed)
+    error = max(abs(ours / theirs - 1.0) for ours, theirs in zip(expected, found)) + measured.estimated_error
+    if not error <= HOPF_LIMIT and not anywhere:
+        return None, f"{where} is {error:.2g} off the normal form: the expansion does not hold there"
+    declared = error if far else HOPF_SAFETY * error * growth_rate(model) / growth_rate(reference)
+    swing, period, least = normal_form_cycle(model, point)
+    settling = Settling(True, 0, math.nan, declared, np.array([swing, period, least]),
+                        "the normal form's cycle, no integration at A")
+    return NanoscaleCycle(swing, period, least, settling, measured.cycles, measured.restarts, measured.rtol, declared,
+                          model, measured.integrated, hopf=(point.frequency, reference.damping, error)), ""
+
+
+def settle(model: NanoscaleModel, choice: NanoscaleChoice, tolerance: float,
+           allow_large: bool = False) -> tuple[NanoscaleChoice, "NanoscaleCycle | None"]:
+    """The settled cycle ``choice`` gives: LSODA's, or the normal form's. ``auto``'s normal form that declares more
+    than ``tolerance``, or cannot measure its error, hands over to LSODA, and the cycle declaring the smaller error
+    is the answer; the normal form asked for by name that cannot measure its error says why."""
+    if choice.method == "nanoscale_LSODA":
+        return choice, model.settled_cycle(tolerance, rtol=choice.rtol, allow_large=allow_large)
+    if choice.method != "nanoscale_hopf_normal_form":
+        return choice, None
+    asked = choice.reason == "requested"
+    cycle, why = normal_form(model, allow_large, anywhere=asked)
+    if cycle is not None and (asked or cycle.estimated_error <= tolerance):
+        return replace(choice, estimated_error=cycle.estimated_error), cycle
+    if asked:
+        raise SolverError(f"nanoscale_hopf_normal_form cannot declare its error: {why}; use nanoscale_LSODA")
+    integration = choose_method(model, ("regime", "force_swing"), "nanoscale_LSODA", tolerance)
+    integrated = model.settled_cycle(tolerance, rtol=integration.rtol, allow_large=allow_large)
+    said = (f"the normal form declared {cycle.estimated_error:.2g}, above the tolerance {tolerance:g}"
+            if cycle is not None else f"the normal form declined ({why})")
+    if cycle is not None and cycle.estimated_error < integrated.estimated_error:
+        return replace(choice, estimated_error=cycle.estimated_error,
+                       reason=f"{choice.reason}; {said}, and LSODA's settled cycle more "
+                              f"({integrated.estimated_error:.2g})"), cycle
+    integration.reason = f"{said}: LSODA at rtol {integration.rtol:g} for tolerance {tolerance:g}"
+    return integration, integrated
 
 
 def with_damping(model: NanoscaleModel, damping: float) -> NanoscaleModel:
@@ -500,34 +677,53 @@ def report(model: NanoscaleModel, run: NanoscaleRun | None = None, choice: Nanos
     r.add("critical_damping", model.critical_damping, label="A_c (Routh-Hurwitz)")
     r.add("critical_damping_uncharged", replace(model, charge_force=0.0).critical_damping,
           label="A_c without charge, -phi'(v_a)")
+    bistable = bistable_above(model, hopf_point(model))
     if cycle is not None:
-        where = "A < A_c" if model.stick_slip else "A >= A_c"
+        where = ("A < A_c" if model.stick_slip else "A >= A_c, from rest" if bistable else "A >= A_c")
         r.add("regime", f"{cycle.regime} ({where}; what the settled cycle does)")
     elif model.stick_slip:
         r.add("regime", "unstable_sliding (A < A_c): steady sliding is unstable; whether the tip sticks needs the "
                         "cycle (integration)")
     else:
-        r.add("regime", "steady_sliding (A >= A_c)")
+        r.add("regime", "steady_sliding (A >= A_c)" + (": stable to small disturbances" if bistable else ""))
+    if bistable:
+        r.note("the Hopf point is subcritical (first Lyapunov coefficient l_1 > 0): above A_c steady sliding is "
+               "stable to small disturbances only, and a large stick-slip cycle can coexist with it; the settled "
+               "cycle is run from rest (nanoscale_LSODA)")
     roots = model.characteristic_roots()
     r.add("largest_growth_rate", float(np.max(roots.real)), label="largest Re(lambda) of small disturbances")
     error = None
     if choice is not None:
         r.add("method", choice.method).add("method_reason", choice.reason, label="why this method")
         error = choice.estimated_error
-        if run is None and cycle is None and not model.stick_slip:
+        if run is None and cycle is None and not model.stick_slip and not bistable:
             r.add("force_swing", 0.0, label="force peak-to-peak (steady sliding)")
-    if cycle is not None:
+    if cycle is not None and cycle.hopf is not None:
+        frequency, reference, measured = cycle.hopf
+        r.add("force_swing", cycle.force_swing, label="force peak-to-peak of the small cycle (normal form)")
+        r.add("period", cycle.period, label="period of the small cycle, 2 pi / omega_0")
+        r.add("least_speed", cycle.least_speed, label="least speed X' in the cycle (sticks below v_m)")
+        r.add("hopf_reference_damping", reference, label="A where the normal form's error was measured")
+        r.add("hopf_reference_error", measured, label="the normal form's error measured there (against LSODA)")
+        error = cycle.estimated_error if error is None else max(error, cycle.estimated_error)
+        r.note(f"the normal form of the supercritical Hopf point (omega_0 = {frequency:.6g}): the cycle grows as "
+               f"sqrt(sigma); its error, {measured:.2g} at A = {reference:.6g} against a settled LSODA cycle, is "
+               f"O(sigma), and declared {HOPF_SAFETY:g} x that scaled by sigma")
+    elif cycle is not None:
         r.add("force_swing", cycle.force_swing, label="force peak-to-peak of the settled cycle (located extrema)")
         r.add("period", cycle.period, label="period of the settled cycle")
         r.add("least_speed", cycle.least_speed, label="least speed X' in the cycle (sticks below v_m)")
         r.add("settled", bool(cycle.settling.settled), label="the cycle settled")
         r.add("cycles", int(cycle.cycles), label="cycles integrated to settle")
-        r.add("settle_time", cycle.integrated, label="model time integrated to settle (whole chunks, in 1/omega)")
+        r.add("settle_time", cycle.integrated, label="model time integrated to settle (chunks of LSODA, in 1/omega)")
         error = cycle.estimated_error if error is None else max(error, cycle.estimated_error)
         if not cycle.settling.settled:
             r.note(f"the cycle did not settle: {cycle.settling.reason}")
         if cycle.restarts:
             r.note(f"the cycle map was restarted {cycle.restarts} times from its extrapolated fixed point (Steffensen)")
+        if cycle.refined_from is not None:
+            r.note(f"LSODA's error in the swing scales with the force, not the swing: at rtol {cycle.refined_from:g} "
+                   f"it missed the tolerance in this swing, so the settled cycle was run on at rtol {cycle.rtol:g}")
     if run is not None:
         r.add("duration", float(run.time[-1]))
         r.add("run_force_swing", run.force_swing(), label="force peak-to-peak of the run's last cycle")
@@ -548,7 +744,7 @@ def report(model: NanoscaleModel, run: NanoscaleRun | None = None, choice: Nanos
     if error is not None:
         r.add("estimated_relative_error", error, label="estimated relative error (force swing)")
     near = bifurcation_note("the critical damping A_c", "A", model.damping, model.critical_damping)
-    if near:
+    if near and (run is not None or (cycle is not None and cycle.hopf is None)):  # a note on integrated cycles
         r.note(near)
     r.note("dimensionless: displacement in the slip scale D, time in 1/omega; the slides' parameters unless set")
     return r

@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import dataclasses
 
-from faultslip.models.nanoscale.dynamics import choose_method, with_damping
+from faultslip.models.nanoscale.dynamics import choose_method, reference_damping, settle, with_damping
+from faultslip.models.nanoscale.dynamics import HOPF_REFERENCE
+from faultslip.models.nanoscale.hopf import growth_rate, hopf_point
 from faultslip.models.nanoscale.dynamics import report as nanoscale_report
 from faultslip.models.nanoscale.dynamics import run_dataset
 from faultslip.contract.cells import PerCell
@@ -18,7 +20,7 @@ from faultslip.models.nanoscale import cost as nanoscale_cost
 from faultslip.io import budget
 from faultslip.models.common import note_origin, note_scene
 from faultslip.contract.registry import Example, Family, register
-from faultslip.contract.result import Result
+from faultslip.contract.result import Result, judge_tolerance
 from faultslip.models.nanoscale.figures import nanoscale_figure
 
 
@@ -28,13 +30,13 @@ def run(scene, method=None, tolerance=None, allow_large: bool = False) -> Result
     method = method or settings["method"]
     # the closed form, when asked for by name, answers the regime alone
     wanted = ("regime",) if method == "nanoscale_linear_stability" else ("regime", "force_swing")
-    choice = choose_method(model, wanted, method, tolerance or settings["tolerance"])
-    # the steady quantities come from a cycle shown to have settled, not from a fixed duration
-    cycle = (model.settled_cycle(tolerance or settings["tolerance"], rtol=choice.rtol, allow_large=allow_large)
-             if choice.method == "nanoscale_LSODA" else None)
+    tolerance = tolerance or settings["tolerance"]
+    # the steady quantities come from a cycle shown to have settled (or the normal form's, its error measured),
+    # not from a fixed duration
+    choice, cycle = settle(model, choose_method(model, wanted, method, tolerance), tolerance, allow_large)
     report = nanoscale_report(model, None, choice, f"faultslip nanoscale scene: {notes['name']}", cycle=cycle)
     note_origin(report, notes.get("origin"))
-    return Result("nanoscale", report)
+    return Result("nanoscale", report, tolerance=tolerance)
 
 
 def swing(scene, damping: float | None = None, integrate: bool = True, allow_large: bool = False) -> Result:
@@ -62,13 +64,20 @@ def swing(scene, damping: float | None = None, integrate: bool = True, allow_lar
     choice = choose_method(model, ("regime", "force_swing", "time_series"), "nanoscale_LSODA", settings["tolerance"])
     integrated = model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol,
                                 allow_large=allow_large) if integrate else None
-    cycle = (model.settled_cycle(settings["tolerance"], rtol=choice.rtol, allow_large=allow_large)
-             if integrated is not None and model.stick_slip else None)
+    cycle = _settled(model, settings["tolerance"], allow_large) if integrated is not None else None
     report = nanoscale_report(model, integrated, choice if integrate else None, cycle=cycle)
     note_scene(report, notes)
     if integrated is None:
         return Result("nanoscale", report)
-    return Result("nanoscale", report, run_dataset(integrated), lambda: nanoscale_figure(integrated))
+    return judge_tolerance(Result("nanoscale", report, run_dataset(integrated), lambda: nanoscale_figure(integrated),
+                                  tolerance=settings["tolerance"]), None)
+
+
+def _settled(model, tolerance: float, allow_large: bool):
+    """The settled cycle beside a time series, as a run finds it (:func:`settle`: the Hopf normal form next to a
+    supercritical A_c, LSODA from rest otherwise); None where steady sliding is the only answer."""
+    return settle(model, choose_method(model, ("regime", "force_swing"), "auto", tolerance), tolerance,
+                  allow_large)[1]
 
 
 def simulate(scene, allow_large: bool = False) -> Result:
@@ -76,12 +85,12 @@ def simulate(scene, allow_large: bool = False) -> Result:
     model, settings, notes = load_nanoscale_scene(scene)
     choice = choose_method(model, ("regime", "force_swing", "time_series"), "auto", settings["tolerance"])
     integrated = model.simulate(settings["duration"], settings["samples"], rtol=choice.rtol, allow_large=allow_large)
-    cycle = (model.settled_cycle(settings["tolerance"], rtol=choice.rtol, allow_large=allow_large)
-             if model.stick_slip else None)
+    cycle = _settled(model, settings["tolerance"], allow_large)
     report = nanoscale_report(model, integrated, choice, f"faultslip nanoscale simulation: {notes['name']}",
                               cycle=cycle)
     note_origin(report, notes.get("origin"))
-    return Result("nanoscale", report, run_dataset(integrated), lambda: nanoscale_figure(integrated))
+    return judge_tolerance(Result("nanoscale", report, run_dataset(integrated), lambda: nanoscale_figure(integrated),
+                                  tolerance=settings["tolerance"]), None)
 
 
 #: What a nanoscale study sweeps (seed 001's dimensionless inputs) and writes.
@@ -114,7 +123,13 @@ def estimate(scene, action: str = "run", method=None, tolerance=None, **_) -> bu
     if action == "run":
         method = method or settings["method"]
         wanted = ("regime",) if method == "nanoscale_linear_stability" else ("regime", "force_swing")
-        if choose_method(model, wanted, method, tolerance).method != "nanoscale_LSODA":
+        chosen = choose_method(model, wanted, method, tolerance).method
+        if chosen == "nanoscale_hopf_normal_form":  # one settled cycle: at its reference damping, or at A if farther
+            point = hopf_point(model)
+            nearer = growth_rate(model) <= HOPF_REFERENCE * point.frequency
+            return nanoscale_cost.settle_estimate(with_damping(model, reference_damping(model, point)) if nearer
+                                                  else model)
+        if chosen != "nanoscale_LSODA":
             return budget.fitted_estimate("nanoscale", "closed_form", 0.0, "the regime in closed form")
         return nanoscale_cost.settle_estimate(model)
     simulated = nanoscale_cost.nanoscale_estimate(settings["duration"], settings["samples"])

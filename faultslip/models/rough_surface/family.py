@@ -37,7 +37,7 @@ def run(scene, method=None, tolerance=None) -> Result:
     solution = solve(system, method=method or "auto", tolerance=tolerance or 1e-6, cycles=settings["cycles"])
     report = solution.report(f"faultslip rough-surface slider (seed 000): {system.name}")
     _details(report, details)
-    return Result("rough_surface", report)
+    return Result("rough_surface", report, tolerance=tolerance or 1e-6)
 
 
 def simulate(scene, cycles=None, slip_solver=None, rtol=None) -> Result:

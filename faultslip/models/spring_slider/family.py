@@ -32,7 +32,10 @@ def run(scene=None, method=None, tolerance=None) -> Result:
     loaded = read_slider_scene(scene)
     if loaded.rate_state:  # one rate-and-state block: its own family, whatever the shape of its file
         return load(loaded.family).run(loaded, method=method, tolerance=tolerance)
-    return Result("spring_slider", run_scene(loaded, method=method, tolerance=tolerance))
+    # the tolerance that chose the method is judged (an inverse for mu_m chooses none)
+    chosen = None if loaded.kind == "fault" and loaded.observed_slip is not None else (
+        loaded.tolerance if tolerance is None else tolerance)
+    return Result("spring_slider", run_scene(loaded, method=method, tolerance=tolerance), tolerance=chosen)
 
 
 def cycle(scene, loading_rate=None, platform_speed=None, method: str | None = None,

@@ -52,7 +52,7 @@ def run(scene, method=None, tolerance=None) -> Result:
     analysis, settled = analyse_and_settle(system, chosen, tolerance or 1e-3)
     report = averaging_report(system, analysis, None, settled)
     note_origin(report, notes.get("origin"))
-    return Result("vibration", report)
+    return Result("vibration", report, tolerance=tolerance or 1e-3)
 
 
 def amplitude_study(scene, speed=None, speeds=None, method: str = "auto", tolerance: float = 1e-3) -> Result:

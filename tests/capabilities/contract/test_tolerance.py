@@ -39,8 +39,26 @@ def test_a_reachable_tolerance_is_said_to_be_met_without_a_warning(name, cli):
     assert "does not meet" not in result.err
 
 
-def test_without_a_tolerance_nothing_is_judged(cli):
-    result = cli("run", EXAMPLES["spring_slider"], "--json")
+def test_without_a_tolerance_the_one_that_chose_the_method_is_judged(cli, tmp_path):
+    """A scene's [method] tolerance, or its family's default, chose the method: it is judged as a tolerance
+    passed is. The nanoscale example's own 1e-6 had been missed (LSODA declared 1.8e-6: its error scales with the
+    force, not the swing) with exit 0 and no word, because only --tolerance was judged."""
+    result = cli("run", EXAMPLES["spring_slider"], "--json")  # the seed law's default, 1e-6
+    assert result.code == 0 and result.json["meets_tolerance"] is True
+    example = contract.families()["nanoscale"].example.scene
+    assert cli("run", example, "--json").json["meets_tolerance"] is True
+    from faultslip.io.resources import config_path
+
+    text = config_path(example).read_text().replace("tolerance = 1e-6", "tolerance = 1e-300")
+    assert "tolerance = 1e-300" in text
+    (tmp_path / "strict.toml").write_text(text)
+    strict = cli("run", str(tmp_path / "strict.toml"), "--json")
+    assert strict.code == 0 and strict.json["meets_tolerance"] is False
+    assert "does not meet the tolerance 1e-300" in strict.err
+
+
+def test_where_no_tolerance_chose_the_method_nothing_is_judged(cli):
+    result = cli("run", EXAMPLES["spring_chain"], "--json")  # its events' statistic: no tolerance asked
     assert result.code == 0 and "meets_tolerance" not in result.json
 
 
@@ -72,3 +90,26 @@ def test_the_fault_command_is_judged_too(cli):
     result = cli("fault", "--lithology", "granodiorite", "--zone-width", "13 mi", "--slip-rate", "2 in/yr",
                  "--shear-stress", "250 bar", "--tolerance", "1e-30", "--json")
     assert result.code == 0 and result.json["meets_tolerance"] is False and "does not meet" in result.err
+
+
+def test_the_conformance_check_fails_a_family_whose_run_drops_the_tolerance_that_chose_its_method(monkeypatch):
+    """The architecture half: a family whose method a tolerance chose, and whose Result does not carry it, fails
+    check_family (faultslip.run could not judge it)."""
+    from faultslip.contract import registry
+    from faultslip.models.checks import ConformanceError, check_family
+
+    family = registry.load("nanoscale")
+    original = family.run
+
+    def forgetful(scene, **options):
+        result = original(scene, **options)
+        result.tolerance = None
+        return result
+
+    import dataclasses
+
+    from faultslip.models import checks
+
+    monkeypatch.setattr(checks, "load", lambda name: dataclasses.replace(family, run=forgetful))
+    with pytest.raises(ConformanceError, match="Result.tolerance"):
+        check_family("nanoscale", family.example.scene, {"damping": [3.0, 13.0]}, simulate=False)

@@ -204,7 +204,8 @@ def test_a_run_is_estimated_by_the_chunks_it_takes_not_by_its_cap(cli):
     """'faultslip run configs/nanoscale_seed001.toml --estimate' said 1.1 min, LSODA to the settle's cap of 2e5
     time units, for a run that settled in its first chunk of 400 in about a second. The run's estimate is now its
     settled cycle's (benchmarks/family_costs.py fits and checks it on held-out scenes); the run still checks its
-    cap against the budget before it starts. The report says the model time it integrated, in whole chunks."""
+    cap against the budget before it starts. The report says the model time it integrated: whole chunks, and a
+    run on at a tighter rtol of a few periods where the first rtol missed the tolerance in the swing."""
     import faultslip
     from faultslip.models.nanoscale.cost import SETTLE_CHUNK, SETTLE_MAX_TIME
 
@@ -215,6 +216,6 @@ def test_a_run_is_estimated_by_the_chunks_it_takes_not_by_its_cap(cli):
     assert estimate.seconds < nanoscale_estimate(SETTLE_MAX_TIME, 2).seconds / 20
     report = cli("run", "nanoscale_seed001.toml", "--json").json
     settled = report["settle_time"]
-    assert settled % SETTLE_CHUNK == 0 and SETTLE_CHUNK <= settled < SETTLE_MAX_TIME
+    assert SETTLE_CHUNK <= settled < 2 * SETTLE_CHUNK < SETTLE_MAX_TIME
     near = NanoscaleModel(damping=11.95).settled_cycle(1e-6)
     assert near.integrated > settled  # near A_c the restarts take more chunks
