@@ -19,7 +19,7 @@ from faultslip.units import to_si
 from faultslip.models.vibration.scene import read_vibration_scene
 from faultslip.models.vibration import cost as vibration_cost
 from faultslip.contract.registry import Example, Family, register
-from faultslip.contract.result import Result
+from faultslip.contract.result import Result, judge_tolerance
 from faultslip.models.common import note_origin, note_scene
 from faultslip.models.vibration.figures import amplitude_speed_figure, vibration_series_figure
 
@@ -93,7 +93,9 @@ def amplitude_study(scene, speed=None, speeds=None, method: str = "auto", tolera
     report = averaging_report(system, analysis, sweep, settled)
     note_scene(report, notes)
     figure = (lambda: amplitude_speed_figure(system, sweep)) if sweep is not None else None
-    return Result("vibration", report, figure=figure, extras={"sweep": sweep, "system": system})
+    # the tolerance chose the method (and the CLI's default 1e-3 too): judged as a run's is
+    return judge_tolerance(Result("vibration", report, figure=figure, extras={"sweep": sweep, "system": system},
+                                  tolerance=tolerance), None)
 
 
 def simulate(scene) -> Result:

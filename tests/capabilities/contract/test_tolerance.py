@@ -113,3 +113,17 @@ def test_the_conformance_check_fails_a_family_whose_run_drops_the_tolerance_that
     monkeypatch.setattr(checks, "load", lambda name: dataclasses.replace(family, run=forgetful))
     with pytest.raises(ConformanceError, match="Result.tolerance"):
         check_family("nanoscale", family.example.scene, {"damping": [3.0, 13.0]}, simulate=False)
+
+
+def test_the_family_commands_judge_their_tolerance_too(cli):
+    """'faultslip quasi-harmonic --method averaging --tolerance 1e-6' answered averaging's 2.9e-4 without a word,
+    and 'faultslip nanoscale' never judged its scene's tolerance."""
+    forced = cli("quasi-harmonic", "vibration_seed002.toml", "--method", "averaging", "--tolerance", "1e-6", "--json")
+    assert forced.code == 0 and forced.json["meets_tolerance"] is False
+    assert "does not meet the tolerance 1e-06: quasi_harmonic_averaging" in forced.err
+    met = cli("quasi-harmonic", "vibration_seed002.toml", "--json")
+    assert met.code == 0 and met.json["meets_tolerance"] is True and "does not meet" not in met.err
+    swing = cli("nanoscale", "nanoscale_seed001.toml", "--no-run", "--json")
+    assert swing.code == 0 and "meets_tolerance" not in swing.json  # the regime alone: no method chosen
+    ran = cli("nanoscale", "nanoscale_seed001.toml", "--json")
+    assert ran.code == 0 and ran.json["meets_tolerance"] is True
