@@ -221,3 +221,22 @@ def test_a_vanishing_oscillation_or_a_zero_distance_never_breaks_the_settling_te
     verdict = assess_settling(history, 1e-6, (0.03, 0.0, 0.03), noise=1e-8)
     assert isinstance(verdict, Settling) and verdict.reason
     assert Settling(False, 5, 0.5, 0.0, np.zeros(3), "").cycles_to_settle(1e-6) == 0.0
+
+
+def test_the_estimate_counts_the_cycle_a_run_or_simulation_will_find():
+    """A simulation's estimate had counted a settled cycle only below A_c: above a subcritical A_c (integrated from
+    rest) it left it out, and next to a supercritical one it counted LSODA's from rest, not the normal form's
+    reference. auto's normal form expected to miss the tolerance counts LSODA at A too."""
+    from faultslip.models.nanoscale import cost
+    from faultslip.models.nanoscale.family import _cycle_estimate
+
+    base = NanoscaleModel(**SUBCRITICAL)
+    bistable = replace(base, damping=1.01 * base.critical_damping)
+    assert _cycle_estimate(bistable, choose_method(bistable).method, 1e-6, True) is not None
+    assert _cycle_estimate(NanoscaleModel(damping=13.0), "nanoscale_linear_stability", 1e-6, True) is None
+    nearest = NanoscaleModel(damping=12.0)  # the normal form meets 1e-6: its reference alone
+    alone = _cycle_estimate(nearest, choose_method(nearest).method, 1e-6, True)
+    assert alone.seconds < cost.settle_estimate(nearest).seconds
+    near = _at(NanoscaleModel(), 5e-4)  # it declares ~1e-3: LSODA runs too
+    both = _cycle_estimate(near, choose_method(near).method, 1e-6, True)
+    assert both.seconds > cost.settle_estimate(near).seconds and "at A" in both.what
