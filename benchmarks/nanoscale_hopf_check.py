@@ -32,8 +32,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from faultslip.models.nanoscale.dynamics import HOPF_REFERENCE, NanoscaleModel, normal_form  # noqa: E402
-from faultslip.models.nanoscale.hopf import growth_rate, hopf_point  # noqa: E402
+from faultslip.models.nanoscale.dynamics import (HOPF_REFERENCE, NanoscaleModel, damping_at_growth,  # noqa: E402
+                                                 normal_form)
+from faultslip.models.nanoscale.hopf import hopf_point  # noqa: E402
 from provenance import write_results  # noqa: E402  (one stamp for every results file)
 
 SEED, MODELS, QUICK_MODELS = 2026, 40, 6
@@ -51,8 +52,6 @@ def draw(rng) -> dict:
 def check(parameters: dict) -> dict:
     """One model: its Hopf point's kind, and the normal form against LSODA (supercritical) or the run from rest
     above A_c (subcritical)."""
-    from scipy.optimize import brentq
-
     ratio = parameters.pop("ratio")
     base = NanoscaleModel(**parameters)
     point = hopf_point(base)
@@ -65,8 +64,7 @@ def check(parameters: dict) -> dict:
     row.update(above_regime=cycle.regime, above_swing=cycle.force_swing)
     if not point.supercritical:
         return row
-    damping = brentq(lambda a: growth_rate(replace(base, damping=a)) - ratio * point.frequency, 0.0,
-                     point.critical_damping, xtol=1e-14)
+    damping = damping_at_growth(base, point, ratio)
     model = replace(base, damping=damping)
     start = time.process_time()
     cycle, why = normal_form(model)

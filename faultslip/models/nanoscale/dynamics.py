@@ -589,15 +589,28 @@ def hopf_domain(model: NanoscaleModel, point: HopfPoint | None, outputs=("regime
     return None
 
 
-def reference_damping(model: NanoscaleModel, point: HopfPoint) -> float:
-    """The damping below A_c where sigma / omega_0 = HOPF_REFERENCE: the normal form's error is measured there."""
+def damping_at_growth(model: NanoscaleModel, point: HopfPoint, ratio: float) -> float:
+    """The damping below A_c where sigma / omega_0 = ``ratio`` (0 where sigma never reaches it there)."""
     from scipy.optimize import brentq  # heavy: imported where used
 
-    target = HOPF_REFERENCE * point.frequency
-    excess = lambda damping: growth_rate(replace(model, damping=damping)) - target  # noqa: E731
-    if not excess(0.0) > 0:  # sigma never reaches the reference: the whole range below A_c is near the point
+    target = ratio * point.frequency
+    excess = lambda damping: growth_rate(with_damping(model, damping)) - target  # noqa: E731
+    if not excess(0.0) > 0:  # sigma never reaches the target: the whole range below A_c is nearer the point
         return 0.0
     return brentq(excess, 0.0, point.critical_damping, xtol=1e-13 * point.critical_damping, rtol=1e-13)
+
+
+def reference_damping(model: NanoscaleModel, point: HopfPoint) -> float:
+    """The damping below A_c where sigma / omega_0 = HOPF_REFERENCE: the normal form's error is measured there."""
+    return damping_at_growth(model, point, HOPF_REFERENCE)
+
+
+def reference_model(model: NanoscaleModel, point: HopfPoint) -> NanoscaleModel:
+    """The model whose settled cycle measures the normal form's error: at :func:`reference_damping`, or ``model``
+    itself where it is farther from A_c than that (the normal form asked for by name)."""
+    if growth_rate(model) / point.frequency > HOPF_REFERENCE:
+        return model
+    return with_damping(model, reference_damping(model, point))
 
 
 def normal_form(model: NanoscaleModel, allow_large: bool = False,
@@ -612,8 +625,8 @@ def normal_form(model: NanoscaleModel, allow_large: bool = False,
     outside = hopf_domain(model, point, anywhere=anywhere)
     if outside:
         return None, outside
-    far = growth_rate(model) / point.frequency > HOPF_REFERENCE
-    reference = model if far else replace(model, damping=reference_damping(model, point))
+    reference = reference_model(model, point)
+    far = reference is model
     measured = reference.settled_cycle(REFERENCE_TOLERANCE, allow_large=allow_large)
     where = ("its cycle at A itself, measured by LSODA," if far else
              f"its reference cycle at A = {reference.damping:.6g} (sigma / omega_0 = {HOPF_REFERENCE:g})")

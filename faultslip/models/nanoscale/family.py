@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from faultslip.models.nanoscale.dynamics import (HOPF_REFERENCE, HOPF_SAFETY, choose_method, reference_damping,
-                                                 settle, with_damping)
+from faultslip.models.nanoscale.dynamics import (HOPF_SAFETY, choose_method, reference_model, settle,
+                                                 with_damping)
 from faultslip.models.nanoscale.hopf import growth_rate, hopf_point
 from faultslip.models.nanoscale.dynamics import report as nanoscale_report
 from faultslip.models.nanoscale.dynamics import run_dataset
@@ -149,9 +149,7 @@ def _cycle_estimate(model, method: str, tolerance: float, auto: bool) -> budget.
     if method == "nanoscale_hopf_normal_form":
         point = hopf_point(model)
         ratio = growth_rate(model) / point.frequency
-        nearer = ratio <= HOPF_REFERENCE
-        reference = nanoscale_cost.settle_estimate(with_damping(model, reference_damping(model, point)) if nearer
-                                                   else model)
+        reference = nanoscale_cost.settle_estimate(reference_model(model, point))
         if not (auto and HOPF_SAFETY * EXPECTED_HOPF_SLOPE * ratio > tolerance):
             return reference
         integration = nanoscale_cost.settle_estimate(model)

@@ -20,8 +20,8 @@ from hypothesis import strategies as st
 
 from faultslip.errors import InputError
 from faultslip.dynamics.shared.settling import Settling, assess_settling
-from faultslip.models.nanoscale.dynamics import (HOPF_REFERENCE, NanoscaleModel, choose_method, normal_form,
-                                                 settle)
+from faultslip.models.nanoscale.dynamics import (HOPF_REFERENCE, NanoscaleModel, choose_method, damping_at_growth,
+                                                 normal_form, settle)
 from faultslip.models.nanoscale.hopf import (growth_rate, hopf_point, jacobian, normal_form_cycle, taylor_forms,
                                              weakening_derivatives)
 
@@ -37,12 +37,7 @@ models = st.builds(NanoscaleModel, damping=st.floats(0.5, 20.0), drive_speed=st.
 
 def _at(model: NanoscaleModel, ratio: float) -> NanoscaleModel:
     """The model at the damping below A_c where sigma / omega_0 = ``ratio``."""
-    from scipy.optimize import brentq
-
-    point = hopf_point(model)
-    damping = brentq(lambda a: growth_rate(replace(model, damping=a)) - ratio * point.frequency, 0.0,
-                     point.critical_damping, xtol=1e-14)
-    return replace(model, damping=damping)
+    return replace(model, damping=damping_at_growth(model, hopf_point(model), ratio))
 
 
 @settings(max_examples=60, deadline=None)
