@@ -3,6 +3,7 @@ work its cost model counts (issue 70).
 
     python benchmarks/family_costs.py            # fit, write data/family_costs.json and the results
     python benchmarks/family_costs.py --rounds 1 # one timing a case (quick)
+    python benchmarks/family_costs.py --family vibration  # refit one family; the others' fits are kept
 
 Each family's cost module says what its unit of work is (cycles, simulated seconds, block-events, periods of the
 oscillation); this script runs each family's bundled scenes through the family's own ``run`` and ``simulate`` (the
@@ -33,7 +34,7 @@ sys.path.insert(0, str(ROOT))
 from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip import __version__  # noqa: E402
 from faultslip.contract import registry  # noqa: E402
-from faultslip.io import budget  # noqa: E402
+from faultslip.io import budget, machine  # noqa: E402
 from faultslip.models.asperity import cost as asperity_cost  # noqa: E402
 from faultslip.models.nanoscale import cost as nanoscale_cost  # noqa: E402
 from faultslip.models.nanoscale.cost import SETTLE_CHUNK  # noqa: E402
@@ -121,6 +122,9 @@ def cases() -> list:
         *(_vibration_at(speed) for speed in (12.0, 16.0)),  # the slider would stick; it slides steadily
         _family_case("vibration", "run", "vibration_seed002.toml", vibration_cost.work,
                      method="quasi_harmonic_integration"),
+        # shooting near the onset (Hopf) speed 13.55 in/s, where settling from the averaged amplitude took 6.6e5
+        # periods at 13.549
+        *(_vibration_at(speed, method="quasi_harmonic_integration") for speed in (13.0, 13.549)),
         _family_case("vibration", "simulate", "vibration_seed002.toml", vibration_cost.work),
         ("nanoscale", "closed_form", 0.0, "run nanoscale_seed001.toml (linear stability)",
          lambda: registry.load("nanoscale").run("nanoscale_seed001.toml", method="nanoscale_linear_stability")),
@@ -170,12 +174,12 @@ def _random_nanoscale(count: int, seed: int) -> list[dict]:
     return drawn
 
 
-def _vibration_at(speed_in_s: float):
+def _vibration_at(speed_in_s: float, **options):
     """Seed 002's vibration run at another driving speed (in/s), as a study's cell runs it."""
     scene = registry.read_scene("vibration_seed002.toml")[0].with_values(speed=speed_in_s * 0.0254)
-    entry, units, _ = vibration_cost.work(scene, "run")
-    return ("vibration", entry, units, f"run vibration_seed002.toml at {speed_in_s:g} in/s",
-            lambda: registry.load("vibration").run(scene))
+    entry, units, _ = vibration_cost.work(scene, "run", **options)
+    return ("vibration", entry, units, f"run vibration_seed002.toml at {speed_in_s:g} in/s"
+            + (f" {options}" if options else ""), lambda: registry.load("vibration").run(scene, **options))
 
 
 def _random_rate_state(count: int, seed: int) -> list:
@@ -216,6 +220,7 @@ def held_out() -> list:
         _family_case("rough_surface", "simulate", "rough_surface_chapter5.toml", rough_cost.work, cycles=30),
         _rough_at(separation_coefficient=0.4, platform_speed=0.005),
         *(_vibration_at(speed) for speed in (10.5, 13.0, 14.0, 15.5)),
+        *(_vibration_at(speed, method="quasi_harmonic_integration") for speed in (12.3, 13.5, 13.5499)),
         _family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=1000),
         _family_case("spring_slider", "run", "parkfield.toml", lambda *a, **k: (a[1], 0.0, "")),
     ] + [_family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=10, slip_solver=solver)
@@ -254,15 +259,18 @@ def fit(rows: list[dict]) -> dict:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--family", help="refit this family alone, keeping the others' fits and timings")
     args = parser.parse_args(argv)
+    chosen = lambda case: args.family is None or case[0] == args.family  # noqa: E731
     lifted = budget.check
     budget.check = lambda *a, **k: None  # measuring the runs the budget would gate, with no table yet to gate them
     provisional = budget.fitted_estimate
     budget.fitted_estimate = lambda family, entry, units, what, **k: budget.Estimate(what)
     measured = []
+    probe_before = machine.probe_seconds()
     try:
-        for held, (family, entry, units, label, call) in [(False, case) for case in cases()] + \
-                [(True, case) for case in held_out()]:
+        for held, (family, entry, units, label, call) in [(False, case) for case in cases() if chosen(case)] + \
+                [(True, case) for case in held_out() if chosen(case)]:
             seconds = cpu_seconds(call, args.rounds)
             measured.append({"family": family, "entry": entry, "case": label, "units": units, "cpu_seconds": seconds,
                              "held_out": held})
@@ -270,19 +278,35 @@ def main(argv=None) -> int:
     finally:
         budget.check, budget.fitted_estimate = lifted, provisional
     families: dict = {}
-    for family, entry in dict.fromkeys((row["family"], row["entry"]) for row in measured if not row["held_out"]):
+    if args.family is not None:
+        # the refitted family's timings carried to the machine state the others were fitted in (the anchor of
+        # data/machine_reference.json), so that one anchor serves the whole table; the others kept as they stand
+        carried = machine.references()["families"] / statistics.median([probe_before, machine.probe_seconds()])
+        for row in measured:
+            row["cpu_seconds_now"], row["cpu_seconds"] = row["cpu_seconds"], row["cpu_seconds"] * carried
+        kept = json.loads(RESULTS.read_text(encoding="utf-8"))["rows"]
+        families = {name: fits for name, fits in budget.family_costs()["families"].items() if name != args.family}
+        fitting, measured = measured, [row for row in kept if row["family"] != args.family] + measured
+    else:
+        fitting = measured
+    for family, entry in dict.fromkeys((row["family"], row["entry"]) for row in fitting if not row["held_out"]):
         rows = [row for row in measured if (row["family"], row["entry"]) == (family, entry) and not row["held_out"]]
         families.setdefault(family, {})[entry] = {**fit(rows), "fitted_on": [row["case"] for row in rows]}
     # the approach factor k: chunks - 1 = k / (1 - A / A_c), least squares through the origin over the fitted
     # near-critical settles (the held-out ones are not in APPROACH)
-    inverse = np.array([1.0 / distance for distance, _ in APPROACH])
-    extra = np.array([chunks - 1.0 for _, chunks in APPROACH])
-    families["nanoscale"]["run:settle"]["approach"] = float(max(0.0, inverse @ extra / (inverse @ inverse)))
+    if args.family in (None, "nanoscale"):
+        inverse = np.array([1.0 / distance for distance, _ in APPROACH])
+        extra = np.array([chunks - 1.0 for _, chunks in APPROACH])
+        families["nanoscale"]["run:settle"]["approach"] = float(max(0.0, inverse @ extra / (inverse @ inverse)))
     for (family, entry), (source_family, source_entry) in BORROWED.items():
+        if args.family not in (None, family):
+            continue
         families[family][entry] = {**{key: families[source_family][source_entry][key]
                                       for key in ("overhead", "seconds_per_unit")},
                                    "fitted_on": [], "borrowed_from": source_entry}
     for row in measured:
+        if args.family not in (None, row["family"]):
+            continue
         fitted = families[row["family"]][row["entry"]]
         if row["case"] in SETTLE_MODELS:  # the settle's work as the estimate predicts it, not as it was measured
             row["units_measured"] = row["units"]
@@ -299,7 +323,8 @@ def main(argv=None) -> int:
                                              **stamp(), "definition": "CPU seconds = overhead + seconds_per_unit x "
                                              "units, the unit each family's cost module counts"},
                               "families": families})
-    RESULTS.write_text(json.dumps({**stamp(), "rounds": args.rounds, "summary": summary, "rows": measured},
+    RESULTS.write_text(json.dumps({**stamp(), "rounds": args.rounds, "refitted": args.family or "all",
+                                   "summary": summary, "rows": measured},
                                   indent=1) + "\n", encoding="utf-8")
     for name, line in summary.items():
         print(f"{name}: estimate over CPU from {line['ratio_min']:.2f} to {line['ratio_max']:.2f} (median "

@@ -431,7 +431,99 @@ def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 
         if verdict.settled:
             break
     return {"amplitude": amplitudes[-1], "time": end, "function_evaluations": evaluations, "settling": verdict,
-            "settling_error": float(verdict.remaining)}
+            "settling_error": float(verdict.remaining), "state": [float(value) for value in state]}
+
+
+#: the periodic orbit is solved at these two rtols (DOP853): the tighter answers, their difference declares
+SHOOTING_RTOLS = (1e-11, 1e-13)
+#: the declared error's floor: event-located extremes and the root search, far below the rtol pair's difference
+SHOOTING_FLOOR = 1e-12
+#: direct integration from the averaged amplitude is the fallback where shooting finds no stable cycle, up to
+#: this many periods (about 40 s at 2 ms a period); beyond, the run stops and says what to use
+FALLBACK_PERIODS = 20000.0
+
+
+def _half_cycle(rhs, sticks, start_time, state, period, rtol, atol, direction):
+    """Eq. (10) from ``state`` to the next extreme of Y (Y' through zero with ``direction``): (time, state,
+    evaluations); SolverError where the slider would stick first or no extreme comes within 8 periods."""
+    from scipy.integrate import solve_ivp  # heavy: imported where used
+
+    def extreme(t, y):
+        return y[1]
+
+    extreme.terminal, extreme.direction = True, direction
+    solution = solve_ivp(rhs, (start_time, start_time + 8 * period), state, method="DOP853", rtol=rtol, atol=atol,
+                         events=[extreme, sticks])
+    if solution.t_events[1].size:
+        raise SolverError(f"the sliding speed reaches zero at t = {solution.t_events[1][0]:.6g} s: the slider "
+                          "sticks, and the quasi-harmonic model ends there")
+    if not solution.t_events[0].size:
+        raise SolverError(f"DOP853 found no turning point of the oscillation within 8 periods ({solution.message})")
+    return float(solution.t_events[0][0]), solution.y_events[0][0], int(solution.nfev)
+
+
+def return_map(system: QuasiHarmonic, low: float, rtol: float) -> dict:
+    """Eq. (10)'s Poincare map on the section Y' = 0, Y'' > 0 (a minimum of Y): from Y = ``low`` (m, < 0) at
+    rest relative to the mean, through the maximum, to the next minimum. Returns the next minimum, the maximum
+    between (both located by the integrator's event search), the time taken and the evaluations."""
+    rhs, sticks = _equation_10(system)
+    period = 2 * math.pi / system.angular_frequency
+    atol = rtol * abs(low) * system.angular_frequency * 1e-3
+    middle, top, up = _half_cycle(rhs, sticks, 0.0, [low, 0.0], period, rtol, atol, -1)
+    end, bottom, down = _half_cycle(rhs, sticks, middle, top, period, rtol, atol, 1)
+    return {"low": float(bottom[0]), "high": float(top[0]), "time": end, "evaluations": up + down}
+
+
+def shoot(system: QuasiHarmonic, amplitude_guess: float, rtol: float) -> dict:
+    """The periodic orbit of eq. (10) near ``amplitude_guess`` by shooting: the fixed point of
+    :func:`return_map`, ``P(y) = y``, by Brent's method on a bracket grown about ``-amplitude_guess``.
+
+    Its cost is a few dozen periods whatever the cycle's decay rate, where settling from the guess takes
+    16 / (decay rate x period) periods: 6.6e5 at 1e-4 of the onset speed on seed 002's scene. Returns the
+    amplitude (half of Y_max - Y_min), the multiplier P'(y*) (|P'| < 1: stable), the periods integrated and
+    the evaluations; SolverError where no bracket is found within 50 % of the guess, or a trial sticks."""
+    from scipy.optimize import brentq  # heavy: imported where used
+
+    evaluations = periods = 0
+
+    def gap(low):
+        nonlocal evaluations, periods
+        step = return_map(system, low, rtol)
+        evaluations += step["evaluations"]
+        periods += 1
+        return step["low"] - low
+
+    guess = -abs(amplitude_guess)
+    for spread in (0.01, 0.03, 0.1, 0.3, 0.5):
+        near, far = guess * (1 - spread), guess * (1 + spread)
+        gap_near, gap_far = gap(near), gap(far)
+        if gap_near * gap_far <= 0:
+            break
+    else:
+        raise SolverError(f"shooting found no periodic orbit within 50 % of the averaged amplitude "
+                          f"{abs(amplitude_guess):.4g} m")
+    low = brentq(gap, far, near, xtol=1e-15 * abs(guess), rtol=4 * np.finfo(float).eps, maxiter=200)
+    cycle = return_map(system, low, rtol)
+    step = 1e-4 * abs(low)
+    multiplier = (return_map(system, low - step, rtol)["low"] - return_map(system, low + step, rtol)["low"]) / (
+        -2 * step)
+    return {"amplitude": 0.5 * (cycle["high"] - low), "low": low, "multiplier": float(multiplier),
+            "cycle_time": cycle["time"], "periods": periods + 3, "evaluations": evaluations + cycle["evaluations"]}
+
+
+def periodic_orbit(system: QuasiHarmonic, amplitude_guess: float) -> dict:
+    """The stable periodic orbit of eq. (10) near ``amplitude_guess`` (m) by :func:`shoot` at the two
+    SHOOTING_RTOLS: the tighter's amplitude, and as its declared error the two answers' relative difference
+    (at least SHOOTING_FLOOR). Near the onset speed the map's multiplier tends to 1 and the fixed point's
+    conditioning 1 / (1 - P') grows: the difference grows with it, and says so. SolverError where the orbit
+    found is unstable (|P'| >= 1: not the one the slider settles on)."""
+    coarse, fine = (shoot(system, amplitude_guess, rtol) for rtol in SHOOTING_RTOLS)
+    if not abs(fine["multiplier"]) < 1:
+        raise SolverError(f"the periodic orbit shooting found ({fine['amplitude']:.4g} m) is unstable (multiplier "
+                          f"{fine['multiplier']:.6g}): the slider does not settle on it")
+    error = max(abs(coarse["amplitude"] / fine["amplitude"] - 1), SHOOTING_FLOOR)
+    return {**fine, "estimated_relative_error": error, "periods": coarse["periods"] + fine["periods"],
+            "evaluations": coarse["evaluations"] + fine["evaluations"]}
 
 
 def _cycle_amplitudes(solution, end: float, period: float, count: int) -> list:
@@ -470,6 +562,8 @@ def _dop853(rhs, sticks, span, state, rtol, atol, times=None):
 PEAK_SAMPLING_ERROR = 3e-7
 
 
+#: a simulation runs at most this many periods by default (128,000 samples of each series)
+SIMULATED_PERIODS = 2000.0
 #: a simulated time series is at most this many samples (about 48 MB of float64 over three series)
 MAX_SERIES_SAMPLES = 2_000_000
 
@@ -490,7 +584,7 @@ def simulate_vibration(system: QuasiHarmonic, periods: float | None = None, samp
         raise SolverError(f"{system.name}: {result.notes[0] if result.notes else 'the slider sticks'}")
     omega = system.angular_frequency
     period = 2 * math.pi / omega
-    periods = float(periods if periods is not None else min(settle_periods(system, result), 2000.0))
+    periods = float(periods if periods is not None else simulation_periods(system, result))
     samples = int(periods * samples_per_period) + 1
     if not (0 < periods and 2 <= samples <= MAX_SERIES_SAMPLES):
         raise InputError(f"{periods:g} periods at {samples_per_period} samples each is outside 2 to "
@@ -503,9 +597,15 @@ def simulate_vibration(system: QuasiHarmonic, periods: float | None = None, samp
     _, envelope = system.envelope(start, times[-1], samples=samples)
     # the peaks from the dense output, 4096 samples a period (to ~3e-7), not from the coarser series
     tail = solution.sol(np.linspace(times[-1] - 2 * period, times[-1], 8193))[0]
+    # whether the series ends on its cycle: near the onset speed the growth takes ln 20 / sigma (2.5e5 periods at
+    # 13.549 in/s on seed 002's scene), and the last periods' swing is the transient's, not the cycle's
+    settling = assess_settling(_cycle_amplitudes(solution, times[-1], period, int(min(6, periods))),
+                               INTEGRATION_ERROR, floor=system.speed / omega * 1e-9, names=("amplitude",),
+                               noise=PEAK_SAMPLING_ERROR)
     return {"time": times, "displacement": solution.y[0], "velocity": solution.y[1], "envelope": envelope,
             "amplitude": 0.5 * float(tail.max() - tail.min()), "averaged_amplitude": result.amplitude,
-            "initial_amplitude": start, "function_evaluations": int(solution.nfev), "system": system}
+            "initial_amplitude": start, "function_evaluations": int(solution.nfev), "system": system,
+            "settling": settling}
 
 
 def vibration_report(run: dict):
@@ -515,9 +615,15 @@ def vibration_report(run: dict):
     report.add("initial_amplitude", run["initial_amplitude"], "m", also=("in",), label="disturbance at t = 0")
     report.add("amplitude", run["amplitude"], "m", also=("in",), label="amplitude over the last two periods")
     report.add("averaged_amplitude", run["averaged_amplitude"], "m", also=("in",), label="averaging (eq. 20)")
-    if run["averaged_amplitude"] > 0:
+    settling = run["settling"]
+    report.add("settled", bool(settling.settled), label="the series ends on its cycle")
+    if run["averaged_amplitude"] > 0 and settling.settled:
         report.add("averaging_relative_error", abs(run["averaged_amplitude"] / run["amplitude"] - 1),
                    label="|averaged / integrated - 1|")
+    elif not settling.settled:
+        report.note(f"the series ends before its cycle has settled ({settling.reason}): its last swing is the "
+                    "transient's, and averaging is not compared with it; the settled amplitude is faultslip run "
+                    "SCENE --method quasi_harmonic_integration (the periodic orbit by shooting)")
     report.add("function_evaluations", run["function_evaluations"])
     return report
 
@@ -643,11 +749,13 @@ METHODS = {
                   "declared_error": "0.1 eps^2 relative (measured 0.010-0.049 eps^2 against integration)"},
     "integration": {"name": "quasi_harmonic_integration",
                     "friction_laws": "any friction-velocity curve; stops where the slider would stick",
-                    "domain": "any eps; runs until the limit cycle has settled (16 / its decay rate)",
-                    "cost_model": "DOP853 at rtol 1e-10: about 100 right-hand sides per period, for 16 / (decay "
-                                  "rate x period) periods: seconds, more near the onset (Hopf) speed",
-                    "declared_error": "about 1e-6 relative (peaks sampled 4096 times a period, the approach to the "
-                                   "cycle decayed by e^-16)"},
+                    "domain": "any eps, up to the onset (Hopf) speed: the stable periodic orbit by shooting "
+                              "(Brent's method on the Poincare map at Y' = 0), whatever its decay rate",
+                    "cost_model": "DOP853 at rtol 1e-11 and 1e-13 over 45-66 periods: about 0.15 s; where shooting "
+                                  "finds no stable orbit, integrated until the cycle settles (16 / its decay rate "
+                                  f"periods, refused beyond {FALLBACK_PERIODS:g})",
+                    "declared_error": "the two rtols' difference (at least 1e-12; it grows as 1 / (1 - multiplier) "
+                                      "near the onset); settling's 1e-6 on the fallback"},
 }
 INTEGRATION_ERROR = 1e-6
 #: a method by the name ``faultslip methods`` lists (what a report says) or by its short name
@@ -675,6 +783,15 @@ def settle_periods(system: QuasiHarmonic, result: QuasiHarmonicResult) -> float:
     rate = abs(cycle.decay_rate) if cycle is not None else abs(result.growth_rate)
     period = 2 * math.pi / system.angular_frequency
     return max(60.0, 16.0 / max(rate * period, 1e-12))
+
+
+def simulation_periods(system: QuasiHarmonic, result: QuasiHarmonicResult) -> float:
+    """Periods a simulation runs by default: where steady sliding is unstable, the growth from its start at 5 % of
+    the cycle, ln 20 / (sigma x period), then :func:`settle_periods`; where it is stable, the decay alone; at
+    most SIMULATED_PERIODS (the series' size). 594 periods had left seed 002's scene 4.5e-5 short of its cycle."""
+    period = 2 * math.pi / system.angular_frequency
+    growth = math.log(20.0) / (result.growth_rate * period) if result.amplitude > 0 and result.growth_rate > 0 else 0
+    return min(growth + settle_periods(system, result), SIMULATED_PERIODS)
 
 
 def analyse_and_settle(system: QuasiHarmonic, method: str = "auto", tolerance: float = 1e-3):
@@ -724,8 +841,28 @@ def settled_amplitude(system: QuasiHarmonic, method: str = "auto", tolerance: fl
     if method == "averaging" or result.amplitude == 0.0:
         return {"amplitude": result.amplitude, "method": "averaging", "estimated_relative_error":
                 result.estimated_error, "reason": reason if method == "averaging" else "steady sliding"}
-    run = integrate(system, result.amplitude, periods=settle_periods(system, result))
+    try:
+        orbit = periodic_orbit(system, result.amplitude)
+    except SolverError as failure:
+        return _settled_by_integration(system, result, reason, failure)
+    return {"amplitude": orbit["amplitude"], "method": "integration",
+            "estimated_relative_error": orbit["estimated_relative_error"],
+            "reason": f"{reason}: the periodic orbit by shooting (multiplier 1 - {1 - orbit['multiplier']:.3g})",
+            "function_evaluations": orbit["evaluations"]}
+
+
+def _settled_by_integration(system: QuasiHarmonic, result: QuasiHarmonicResult, reason: str,
+                            failure: SolverError) -> dict:
+    """Where shooting found no stable orbit: eq. (10) integrated from the averaged amplitude until it settles,
+    up to FALLBACK_PERIODS; beyond, SolverError naming both failures and what to use instead."""
+    periods = settle_periods(system, result)
+    if periods > FALLBACK_PERIODS:
+        raise SolverError(f"{system.name}: shooting failed ({failure}), and integrating until the cycle settles "
+                          f"would take {periods:.3g} periods; use --method quasi_harmonic_averaging (declared "
+                          f"error {result.estimated_error:.2g}) or faultslip simulate") from failure
+    run = integrate(system, result.amplitude, periods=periods)
     error = max(INTEGRATION_ERROR, run["settling_error"])
+    reason = f"{reason}: shooting failed ({failure}), integrated until the cycle settles"
     if not run["settling"].settled:
         reason = f"{reason}; {run['settling'].reason}"
     return {"amplitude": run["amplitude"], "method": "integration", "estimated_relative_error": error,
