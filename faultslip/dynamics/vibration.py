@@ -436,8 +436,10 @@ def integrate(system: QuasiHarmonic, initial_amplitude: float, periods: float = 
 
 #: the periodic orbit is solved at these two rtols (DOP853): the tighter answers, their difference declares
 SHOOTING_RTOLS = (1e-11, 1e-13)
-#: the declared error's floor: event-located extremes and the root search, far below the rtol pair's difference
-SHOOTING_FLOOR = 1e-12
+#: the declared error's floor, SHOOTING_ROUND_OFF / (1 - multiplier): one map's round-off at rtol 1e-13, carried
+#: through the fixed point's conditioning; on Rayleigh's curve near the onset the rtol pair's difference fell
+#: below the error (2.2e-11 against 1.5e-11) where the error times (1 - multiplier) reached 1.4e-12
+SHOOTING_ROUND_OFF = 1e-11
 #: direct integration from the averaged amplitude is the fallback where shooting finds no stable cycle, up to
 #: this many periods (about 40 s at 2 ms a period); beyond, the run stops and says what to use
 FALLBACK_PERIODS = 20000.0
@@ -514,14 +516,14 @@ def shoot(system: QuasiHarmonic, amplitude_guess: float, rtol: float) -> dict:
 def periodic_orbit(system: QuasiHarmonic, amplitude_guess: float) -> dict:
     """The stable periodic orbit of eq. (10) near ``amplitude_guess`` (m) by :func:`shoot` at the two
     SHOOTING_RTOLS: the tighter's amplitude, and as its declared error the two answers' relative difference
-    (at least SHOOTING_FLOOR). Near the onset speed the map's multiplier tends to 1 and the fixed point's
+    (at least SHOOTING_ROUND_OFF / (1 - multiplier)). Near the onset speed the map's multiplier tends to 1 and the fixed point's
     conditioning 1 / (1 - P') grows: the difference grows with it, and says so. SolverError where the orbit
     found is unstable (|P'| >= 1: not the one the slider settles on)."""
     coarse, fine = (shoot(system, amplitude_guess, rtol) for rtol in SHOOTING_RTOLS)
     if not abs(fine["multiplier"]) < 1:
         raise SolverError(f"the periodic orbit shooting found ({fine['amplitude']:.4g} m) is unstable (multiplier "
                           f"{fine['multiplier']:.6g}): the slider does not settle on it")
-    error = max(abs(coarse["amplitude"] / fine["amplitude"] - 1), SHOOTING_FLOOR)
+    error = max(abs(coarse["amplitude"] / fine["amplitude"] - 1), SHOOTING_ROUND_OFF / (1 - fine["multiplier"]))
     return {**fine, "estimated_relative_error": error, "periods": coarse["periods"] + fine["periods"],
             "evaluations": coarse["evaluations"] + fine["evaluations"]}
 
@@ -754,8 +756,8 @@ METHODS = {
                     "cost_model": "DOP853 at rtol 1e-11 and 1e-13 over 45-66 periods: about 0.15 s; where shooting "
                                   "finds no stable orbit, integrated until the cycle settles (16 / its decay rate "
                                   f"periods, refused beyond {FALLBACK_PERIODS:g})",
-                    "declared_error": "the two rtols' difference (at least 1e-12; it grows as 1 / (1 - multiplier) "
-                                      "near the onset); settling's 1e-6 on the fallback"},
+                    "declared_error": "the two rtols' difference, at least 1e-11 / (1 - multiplier) (both grow near "
+                                      "the onset, as the multiplier tends to 1); settling's 1e-6 on the fallback"},
 }
 INTEGRATION_ERROR = 1e-6
 #: a method by the name ``faultslip methods`` lists (what a report says) or by its short name

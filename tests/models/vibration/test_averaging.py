@@ -767,3 +767,22 @@ def test_a_simulation_says_whether_it_ends_on_its_cycle():
     assert simulation_periods(system, system.analyse()) > 800  # growth (222 periods) and settling (594)
     settled = vibration_report(simulate_vibration(system)).to_dict()
     assert settled["settled"] is True and settled["averaging_relative_error"] < system.analyse().estimated_error
+
+
+@settings(max_examples=6, deadline=None)
+@given(eps=st.floats(0.02, 0.8), quadratic=st.floats(-1.0, 1.0), distance=st.floats(0.05, 0.9))
+def test_shooting_agrees_with_the_settled_motion_within_its_declared_error(eps, quadratic, distance):
+    """Invariant: on Rayleigh's curve with an even term and damping r = eps (1 - distance), shooting's amplitude
+    is the one eq. (10) settles on physically (integrated from the averaged amplitude four times its settling
+    time, extremes located by event search), within shooting's declared error; its multiplier lies in (0, 1)."""
+    from faultslip.dynamics.vibration import periodic_orbit, settle_periods
+
+    base = rayleigh(eps, quadratic=quadratic)
+    system = replace(base, damping=eps * (1 - distance))
+    result = system.analyse()
+    if not (result.valid and result.amplitude > 0 and settle_periods(system, result) < 1500):
+        return  # sticks, slides steadily, or too slow to settle here (the onset tests cover that)
+    orbit = periodic_orbit(system, result.amplitude)
+    reference = settled_reference(system, 4 * settle_periods(system, result), rtol=1e-13)
+    assert abs(orbit["amplitude"] / reference - 1) <= orbit["estimated_relative_error"]
+    assert 0 < orbit["multiplier"] < 1
