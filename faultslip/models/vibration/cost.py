@@ -10,6 +10,7 @@ from faultslip.dynamics.vibration import simulation_periods
 from faultslip.io import budget
 from faultslip.models.vibration.scene import read_vibration_scene
 
+
 def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[str, float, str]:
     """(cost entry, units, what): a simulation's periods, from the averaged cycle's decay rate
     (:func:`~faultslip.dynamics.vibration.simulation_periods`); a run's shooting or averaging's root search."""
@@ -30,7 +31,7 @@ def work(scene, action: str = "run", method=None, tolerance=None, **_) -> tuple[
         if result.amplitude > 0:
             return "run:averaging", 0.0, "the averaged amplitude (eq. 20)"
         return "run:averaging_steady", 0.0, "steady sliding by the averaged equation (eq. 20)"
-    # the periodic orbit by shooting: 45-66 periods at two rtols on seed 002's scene, near the onset speed too
+    # the periodic orbit by shooting: 44-70 periods at two rtols on seed 002's scene, near the onset speed too
     # (faultslip.dynamics.vibration.periodic_orbit); its fallback, settling, is refused beyond FALLBACK_PERIODS
     return "run:shooting", 0.0, "eq. (10)'s periodic orbit by shooting (about 50 periods at two rtols)"
 
