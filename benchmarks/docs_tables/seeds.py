@@ -70,8 +70,8 @@ def quasi_harmonic_error_table() -> str | None:
     worst = max(error / declared for error, declared in zip(values["measured"]["error"],
                                                              values["measured"]["declared"]))
     return ("\n".join(rows) + f"\n\nThe declared error is 0.1 eps²; the largest measured error is {worst:.2f} of it. "
-            "Each is integrated (DOP853 at rtol 1e-10) from the averaged amplitude until the approach to the cycle "
-            "has decayed by e^-16, peaks sampled 4096 times a period; the scene's row is the scene at five speeds of "
+            "Each is measured against eq. (10)'s periodic orbit by shooting (DOP853 at rtols 1e-11 and 1e-13, "
+            "extremes located by event search); the scene's row is the scene at five speeds of "
             f"its band. `python benchmarks/docs_numbers.py`. {_machine(result)}")
 
 

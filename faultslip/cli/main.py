@@ -501,7 +501,7 @@ def _vibration_commands(commands) -> None:
                                                               "(averaging or integration for short)")
     vibration.add_argument("--tolerance", help="relative error asked of the amplitude (default 1e-3)")
     vibration.add_argument("--error-chart", help="draw averaging's error against integration over eps, measured "
-                                                 "on Rayleigh's curve and on the scene itself (~20 s)")
+                                                 "on Rayleigh's curve and on the scene itself (~5 s)")
     vibration.add_argument("--hand-over-chart", help="draw where averaging hands over to stick-slip, against "
                                                      "event-driven simulation (~70 s)")
     _overwrite_and_json(vibration)
