@@ -455,20 +455,15 @@ FALLBACK_PERIODS = 20000.0
 def _half_cycle(rhs, sticks, start_time, state, period, rtol, atol, direction):
     """Eq. (10) from ``state`` to the next extreme of Y (Y' through zero with ``direction``): (time, state,
     evaluations); SolverError where the slider would stick first or no extreme comes within 8 periods."""
-    from scipy.integrate import solve_ivp  # heavy: imported where used
 
     def extreme(t, y):
         return y[1]
 
     extreme.terminal, extreme.direction = True, direction
-    solution = solve_ivp(rhs, (start_time, start_time + 8 * period), state, method="DOP853", rtol=rtol, atol=atol,
-                         events=[extreme, sticks])
-    if solution.t_events[1].size:
-        raise SticksError(f"the sliding speed reaches zero at t = {solution.t_events[1][0]:.6g} s: the slider "
-                          "sticks, and the quasi-harmonic model ends there")
-    if not solution.t_events[0].size:
+    solution = _dop853(rhs, sticks, (start_time, start_time + 8 * period), state, rtol, atol, until=extreme)
+    if not solution.t_events[1].size:
         raise SolverError(f"DOP853 found no turning point of the oscillation within 8 periods ({solution.message})")
-    return float(solution.t_events[0][0]), solution.y_events[0][0], int(solution.nfev)
+    return float(solution.t_events[1][0]), solution.y_events[1][0], int(solution.nfev)
 
 
 def return_map(system: QuasiHarmonic, low: float, rtol: float) -> dict:
@@ -530,10 +525,11 @@ def shoot(system: QuasiHarmonic, amplitude_guess: float, rtol: float) -> dict:
     low = brentq(gap, far, near, xtol=1e-15 * amplitude, rtol=4 * np.finfo(float).eps, maxiter=200)
     cycle = return_map(system, low, rtol)
     step = 1e-4 * abs(low)
-    multiplier = (return_map(system, low - step, rtol)["low"] - return_map(system, low + step, rtol)["low"]) / (
-        -2 * step)
+    deeper, shallower = (return_map(system, low + offset, rtol) for offset in (-step, step))
+    multiplier = (shallower["low"] - deeper["low"]) / (2 * step)
     return {"amplitude": 0.5 * (cycle["high"] - low), "low": low, "multiplier": float(multiplier),
-            "cycle_time": cycle["time"], "periods": periods + 3, "evaluations": evaluations + cycle["evaluations"]}
+            "cycle_time": cycle["time"], "periods": periods + 3,
+            "evaluations": evaluations + sum(leg["evaluations"] for leg in (cycle, deeper, shallower))}
 
 
 def periodic_orbit(system: QuasiHarmonic, amplitude_guess: float) -> dict:
@@ -568,12 +564,13 @@ def _cycle_amplitudes(solution, end: float, period: float, count: int) -> list:
             for a, b in zip(minima[:-1], minima[1:])]
 
 
-def _dop853(rhs, sticks, span, state, rtol, atol, times=None):
-    """Eq. (10) by DOP853 with dense output; refused where the slider would stick or the solver fails."""
+def _dop853(rhs, sticks, span, state, rtol, atol, times=None, until=None):
+    """Eq. (10) by DOP853 with dense output, up to the terminal event ``until`` where one is given (its times and
+    states are the solution's second event); refused where the slider would stick or the solver fails."""
     from scipy.integrate import solve_ivp  # heavy: imported where used
 
-    solution = solve_ivp(rhs, span, state, method="DOP853", rtol=rtol, atol=atol, t_eval=times, events=sticks,
-                         dense_output=True)
+    solution = solve_ivp(rhs, span, state, method="DOP853", rtol=rtol, atol=atol, t_eval=times,
+                         events=[sticks] if until is None else [sticks, until], dense_output=until is None)
     if solution.t_events[0].size:
         raise SticksError(f"the sliding speed reaches zero at t = {solution.t_events[0][0]:.6g} s: the slider sticks, "
                           "and the quasi-harmonic model ends there; use the stick-slip methods (faultslip simulate "
