@@ -447,6 +447,11 @@ SHOOTING_ROUND_OFF = 1e-11
 #: the map is iterated this many times from the averaged minimum before the bracket is sought: at eps 0.75 with an
 #: even term the orbit lay 99 % of the averaged amplitude from it, and its multiplier 0.09 brings it within 1e-3
 SHOOTING_ITERATES = 3
+#: the bracket's steps from the iterated guess, as fractions of the averaged amplitude
+SHOOTING_SPREADS = (0.01, 0.03, 0.1, 0.3, 0.5)
+#: halvings between a trial that sticks and the last that did not, before shooting gives up on a cycle that
+#: close to sticking (2^-30 of the step: below the map's own resolution at rtol 1e-11)
+SHOOTING_HALVINGS = 30
 #: direct integration from the averaged amplitude is the fallback where shooting finds no stable cycle, up to
 #: this many periods (about 40 s at 2 ms a period); beyond, the run stops and says what to use
 FALLBACK_PERIODS = 20000.0
@@ -490,13 +495,13 @@ def cycle_offset(system: QuasiHarmonic, amplitude: float, nodes: int = 256) -> f
 
 def shoot(system: QuasiHarmonic, amplitude_guess: float, rtol: float) -> dict:
     """The periodic orbit of eq. (10) near ``amplitude_guess`` by shooting: the fixed point of
-    :func:`return_map`, ``P(y) = y``, by Brent's method on a bracket grown about the averaged minimum of Y
-    (:func:`cycle_offset` less ``amplitude_guess``) after SHOOTING_ITERATES applications of the map.
+    :func:`return_map`, ``P(y) = y``, by Brent's method on a bracket (:func:`_bracket`) from the averaged
+    minimum of Y (:func:`cycle_offset` less ``amplitude_guess``) after SHOOTING_ITERATES applications of the map.
 
     Its cost is a few dozen periods whatever the cycle's decay rate, where settling from the guess takes
     16 / (decay rate x period) periods: 6.6e5 at 1e-4 of the onset speed on seed 002's scene. Returns the
     amplitude (half of Y_max - Y_min), the multiplier P'(y*) (|P'| < 1: stable), the periods integrated and
-    the evaluations; SolverError where no bracket is found within 50 % of the guess, or a trial sticks."""
+    the evaluations; SolverError where no bracket is found, SticksError where every start sticks."""
     from scipy.optimize import brentq  # heavy: imported where used
 
     evaluations = periods = 0
@@ -511,25 +516,86 @@ def shoot(system: QuasiHarmonic, amplitude_guess: float, rtol: float) -> dict:
     amplitude = abs(amplitude_guess)
     guess = cycle_offset(system, amplitude) - amplitude  # the minimum of Y about its shifted mean
     for _ in range(SHOOTING_ITERATES):  # the map attracts to a stable orbit: where eps is large, fast and far
-        guess += gap(guess)
-    for spread in (0.01, 0.03, 0.1, 0.3, 0.5):
-        near, far = guess + spread * amplitude, guess - spread * amplitude
-        if near >= 0:
-            continue
-        gap_near, gap_far = gap(near), gap(far)
-        if gap_near * gap_far <= 0:
+        try:
+            guess += gap(guess)
+        except SticksError:  # within 1 % of sticking the averaged minimum can lie deeper than any cycle that slides
+            guess = _shallower_start(gap, guess, amplitude)
             break
-    else:
-        raise SolverError(f"shooting found no periodic orbit within 50 % of the averaged amplitude "
-                          f"{amplitude:.4g} m")
-    low = brentq(gap, far, near, xtol=1e-15 * amplitude, rtol=4 * np.finfo(float).eps, maxiter=200)
+    ends = _bracket(gap, guess, amplitude)
+    low = brentq(gap, min(ends), max(ends), xtol=1e-15 * amplitude, rtol=4 * np.finfo(float).eps, maxiter=200)
     cycle = return_map(system, low, rtol)
     step = 1e-4 * abs(low)
-    deeper, shallower = (return_map(system, low + offset, rtol) for offset in (-step, step))
-    multiplier = (shallower["low"] - deeper["low"]) / (2 * step)
+    shallower = return_map(system, low + step, rtol)
+    try:
+        deeper = return_map(system, low - step, rtol)
+        multiplier = (shallower["low"] - deeper["low"]) / (2 * step)
+    except SticksError:  # the orbit grazes sticking: a one-sided difference
+        deeper = {"evaluations": 0}
+        multiplier = (shallower["low"] - cycle["low"]) / step
     return {"amplitude": 0.5 * (cycle["high"] - low), "low": low, "multiplier": float(multiplier),
             "cycle_time": cycle["time"], "periods": periods + 3,
             "evaluations": evaluations + sum(leg["evaluations"] for leg in (cycle, deeper, shallower))}
+
+
+def _shallower_start(gap, stuck: float, amplitude: float) -> float:
+    """The first minimum of Y above ``stuck`` (a start whose cycle sticks) by SHOOTING_SPREADS of the amplitude
+    whose cycle slides; SticksError where none within 50 % does."""
+    for spread in SHOOTING_SPREADS:
+        trial = stuck + spread * amplitude
+        if trial >= 0:
+            break
+        try:
+            gap(trial)
+        except SticksError:
+            continue
+        return trial
+    raise SticksError(f"every start within 50 % of the averaged amplitude {amplitude:.4g} m above a cycle that "
+                      "sticks sticks too")
+
+
+def _bracket(gap, guess: float, amplitude: float) -> tuple[float, float]:
+    """Two minima of Y about the return map's fixed point: ``gap`` (P(y) - y) changes sign between them.
+
+    A stable fixed point has P' < 1, so the gap falls through zero there: its sign at ``guess`` says which way
+    the orbit lies, and the search steps that way by SHOOTING_SPREADS of the amplitude. A deeper trial that
+    sticks bounds the orbit (a deeper start swings wider): the step is halved between it and the last trial that
+    did not, up to SHOOTING_HALVINGS times. SolverError where no sign change is found: within 50 % of the
+    amplitude, or between the guess and the sticking bound (the orbit, if any, is that close to sticking)."""
+    last, last_gap = guess, gap(guess)
+    if last_gap == 0:
+        return guess, guess
+    toward = math.copysign(1.0, last_gap)  # gap > 0: P(y) > y, the orbit's minimum lies above y (shallower)
+    for spread in SHOOTING_SPREADS:
+        trial = guess + toward * spread * amplitude
+        if trial >= 0:
+            break
+        try:
+            trial_gap = gap(trial)
+        except SticksError:
+            return _bracket_below_sticking(gap, last, last_gap, trial)
+        if trial_gap * last_gap <= 0:
+            return last, trial
+        last, last_gap = trial, trial_gap
+    raise SolverError(f"shooting found no periodic orbit within 50 % of the averaged amplitude {amplitude:.4g} m: "
+                      f"the return map carries every start there toward {'smaller' if toward > 0 else 'larger'} "
+                      "cycles (an unstable cycle repels them, or the stable one lies further)")
+
+
+def _bracket_below_sticking(gap, last: float, last_gap: float, stuck: float) -> tuple[float, float]:
+    """Halve the interval between ``last`` (its gap ``last_gap`` points deeper) and ``stuck`` (a start that sticks)
+    until a trial's gap changes sign: the bracket for :func:`_bracket`."""
+    for _ in range(SHOOTING_HALVINGS):
+        trial = 0.5 * (last + stuck)
+        try:
+            trial_gap = gap(trial)
+        except SticksError:
+            stuck = trial
+            continue
+        if trial_gap * last_gap <= 0:
+            return last, trial
+        last, last_gap = trial, trial_gap
+    raise SolverError(f"shooting found no periodic orbit short of sticking: starts deeper than "
+                      f"{-stuck:.6g} m below the mean stick, and the map still points deeper at {-last:.6g} m")
 
 
 def periodic_orbit(system: QuasiHarmonic, amplitude_guess: float) -> dict:
@@ -566,13 +632,25 @@ def _cycle_amplitudes(solution, end: float, period: float, count: int) -> list:
 
 def _dop853(rhs, sticks, span, state, rtol, atol, times=None, until=None):
     """Eq. (10) by DOP853 with dense output, up to the terminal event ``until`` where one is given (its times and
-    states are the solution's second event); refused where the slider would stick or the solver fails."""
+    states are the solution's second event); refused where the slider would stick or the solver fails.
+
+    The sliding speed v - Y' is least where Y' peaks (Y'' falls through zero). A cycle that grazes sticking dips
+    below zero there for a fraction of one step, and the sign test at step ends misses it: seed 002's scene at
+    12.886 in/s (damping x0.74, load x1.76) dips to -2.8e-4 m/s, unseen at rtol 1e-11, and was called sliding.
+    Each peak of Y' is therefore located by the event search and its sliding speed checked."""
     from scipy.integrate import solve_ivp  # heavy: imported where used
 
-    solution = solve_ivp(rhs, span, state, method="DOP853", rtol=rtol, atol=atol, t_eval=times,
-                         events=[sticks] if until is None else [sticks, until], dense_output=until is None)
-    if solution.t_events[0].size:
-        raise SticksError(f"the sliding speed reaches zero at t = {solution.t_events[0][0]:.6g} s: the slider sticks, "
+    def peak(t, y):
+        return rhs(t, y)[1]
+
+    peak.direction = -1
+    events = [sticks, peak] if until is None else [sticks, until, peak]
+    solution = solve_ivp(rhs, span, state, method="DOP853", rtol=rtol, atol=atol, t_eval=times, events=events,
+                         dense_output=until is None)
+    dips = [t for t, y in zip(solution.t_events[-1], solution.y_events[-1]) if sticks(t, y) < 0]
+    if solution.t_events[0].size or dips:
+        time = min([*solution.t_events[0][:1], *dips[:1]])
+        raise SticksError(f"the sliding speed reaches zero at t = {time:.6g} s: the slider sticks, "
                           "and the quasi-harmonic model ends there; use the stick-slip methods (faultslip simulate "
                           "on a seed-003 scene)")
     if not solution.success:

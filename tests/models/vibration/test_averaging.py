@@ -707,8 +707,8 @@ def test_shooting_declares_more_error_as_the_orbit_nears_the_onset():
 
 
 def test_shooting_refuses_an_unstable_orbit():
-    """The subcritical slider's averaged cycle at A = 0.8 is unstable: shooting from it finds an orbit whose
-    multiplier exceeds 1, and says the slider does not settle on it."""
+    """The subcritical slider's averaged cycle at A = 0.8 is unstable: the return map carries starts away from
+    it, so the bracket, stepping the way the map points, never returns it; shooting from it says so."""
     from faultslip.dynamics.vibration import from_slider, periodic_orbit
 
     averaged = from_slider(_subcritical_slider())
@@ -786,3 +786,84 @@ def test_shooting_agrees_with_the_settled_motion_within_its_declared_error(eps, 
     reference = settled_reference(system, 4 * settle_periods(system, result), rtol=1e-13)
     assert abs(orbit["amplitude"] / reference - 1) <= orbit["estimated_relative_error"]
     assert 0 < orbit["multiplier"] < 1
+
+
+def _grazing_scene(speed_in_s):
+    """Seed 002's scene with damping x0.74 and load x1.76: near 12.89 in/s its cycle grazes sticking."""
+    system = _seed002_at(speed_in_s)
+    return replace(system, damping=system.damping * 0.74, normal_load=system.normal_load * 1.76)
+
+
+def _least_sliding_speed(system, periods=300, record=50):
+    """An independent reference: eq. (10) from 0.9 of the averaged amplitude (inside the cycle, where growth from
+    small disturbances comes from) with no events, at rtol 1e-12, sampled 8000 times a period over the last
+    ``record`` periods; the least sliding speed v - Y' (m/s). Below zero the slider sticks."""
+    from scipy.integrate import solve_ivp
+
+    from faultslip.dynamics.vibration import _equation_10
+
+    rhs, _sticks = _equation_10(system)
+    period = 2 * math.pi / system.angular_frequency
+    start = 0.9 * system.analyse().cycle_amplitude * system.angular_frequency
+    solution = solve_ivp(rhs, (0, periods * period), [0.0, start], method="DOP853", rtol=1e-12, atol=1e-18,
+                         dense_output=True)
+    times = np.linspace((periods - record) * period, periods * period, 8000 * record + 1)
+    return float(np.min(system.speed - solution.sol(times)[1]))
+
+
+@pytest.mark.parametrize("speed", [12.884, 12.886, 12.888, 12.889, 12.89])
+def test_a_cycle_that_grazes_sticking_is_called_as_the_dense_reference_calls_it(speed):
+    """Near 12.89 in/s the cycle's least sliding speed crosses zero. At 12.886 in/s it dips to -2.8e-4 m/s
+    (0.09 % of v) for a fraction of one integration step: the sign test at step ends missed it at rtol 1e-11
+    and 1e-10, and both shooting and settling called the slider sliding. Each peak of Y' is now located and its
+    sliding speed checked; the call agrees with a dense-sampled reference on both sides of the boundary."""
+    from faultslip.dynamics.vibration import analyse_and_settle
+
+    system = _grazing_scene(speed)
+    least = _least_sliding_speed(system)
+    assert abs(least) > 2e-5  # each case is clear of the boundary by far more than the reference's sampling
+    analysis, settled = analyse_and_settle(system, method="integration", tolerance=1e-6)
+    if least < 0:
+        assert settled is None and not analysis.valid and "integrated, the slider sticks" in analysis.notes[0]
+    else:
+        assert "the periodic orbit by shooting" in settled["reason"] and "failed" not in settled["reason"]
+
+
+@pytest.mark.parametrize("speed", [12.895, 12.905])
+def test_shooting_finds_the_orbit_where_its_first_guess_sticks(speed):
+    """Within 1 % of sticking the averaged minimum of Y lies deeper than any cycle that slides: the first map
+    sticks. Shooting steps shallower and brackets below the sticking start, where it had fallen back to settling
+    (seconds, declaring 1e-6); its answer agrees with the settled integration within that."""
+    from faultslip.dynamics import vibration
+
+    system = _grazing_scene(speed)
+    averaged = system.analyse()
+    start = vibration.cycle_offset(system, averaged.cycle_amplitude) - averaged.cycle_amplitude
+    with pytest.raises(vibration.SticksError):
+        vibration.return_map(system, start, 1e-11)
+    shot = settled_amplitude(system, method="integration", tolerance=1e-6)
+    assert "the periodic orbit by shooting" in shot["reason"] and "failed" not in shot["reason"]
+    assert shot["estimated_relative_error"] < 1e-9
+    settled = integrate(system, averaged.cycle_amplitude, periods=600)
+    assert settled["settling"].settled
+    assert abs(settled["amplitude"] / shot["amplitude"] - 1) <= INTEGRATION_ERROR
+
+
+def test_the_bracket_says_when_every_start_it_tries_sticks_or_points_deeper():
+    """Shooting's bracket on model gaps: a map that points deeper up to a start that sticks is refused, naming
+    both depths; one whose shallower starts all stick says so; a sign change below the sticking start is found."""
+    from faultslip.dynamics.vibration import SticksError, _bracket, _shallower_start
+
+    def deeper_until(limit, root=None):
+        def gap(low):
+            if low < limit:
+                raise SticksError("sticks (model)")
+            return -1.0 if root is None else root - low
+        return gap
+
+    with pytest.raises(SolverError, match="short of sticking: starts deeper than 1 m"):
+        _bracket(deeper_until(-1.0), -0.99, 1.0)
+    ends = _bracket(deeper_until(-1.0, root=-0.995), -0.99, 1.0)
+    assert min(ends) <= -0.995 <= max(ends)
+    with pytest.raises(SticksError, match="sticks too"):
+        _shallower_start(deeper_until(0.0), -1.0, 1.0)
