@@ -67,6 +67,8 @@ typedef struct {
     int *candidate_kind, *candidate_row;
     double *candidate_root, *candidate_low, *candidate_high;
     double *curvature, *previous;              /* a bound on each speed's second derivative; its last grid value */
+    double *acceleration;                      /* a bound on each slipping block's |x''| (count) */
+    double *room_curvature, *room_previous, *room_now;  /* near blocks' headroom: |F''| bound, last and this point */
 } Chain;
 
 static void forces(const Chain *ch, const double *x, const double *v, double t, double *out)
@@ -220,38 +222,49 @@ static double change(Chain *ch, int kind, int row, double tau)
  * (dynamics.DIP_DEPTH) */
 #define DIP_DEPTH 20
 
-/* dynamics._dip: the first point of [low, high] where row's speed along its slip (positive at both ends) is at or
- * below zero, and the last positive point before it, in *positive and *nonpositive; 0 where it cannot dip below
- * zero. Between points h apart a function of second derivative at most curvature lies above their chord less
- * curvature h^2 / 8. */
-static int dip(Chain *ch, int row, double low, double at_low, double high, double at_high, double curvature,
-               int depth, double *positive, double *nonpositive)
+/* dynamics._dip: the first point of [low, high] where row's change (kind 0: its speed along its slip; kind 1: a
+ * near block's headroom), positive at both ends, is at or below zero, and the last positive point before it, in
+ * *positive and *nonpositive; 0 where it cannot dip below zero. Between points h apart a function of second
+ * derivative at most curvature lies above their chord less curvature h^2 / 8. */
+static int dip(Chain *ch, int kind, int row, double low, double at_low, double high, double at_high,
+               double curvature, int depth, double *positive, double *nonpositive)
 {
     if (fmin(at_low, at_high) > curvature * (high - low) * (high - low) / 8 || depth >= DIP_DEPTH)
         return 0;
-    double middle = 0.5 * (low + high), at_middle = change(ch, 0, row, middle);
+    double middle = 0.5 * (low + high), at_middle = change(ch, kind, row, middle);
     if (at_middle <= 0.0) {
         *positive = low;
         *nonpositive = middle;
         return 1;
     }
-    return dip(ch, row, low, at_low, middle, at_middle, curvature, depth + 1, positive, nonpositive)
-        || dip(ch, row, middle, at_middle, high, at_high, curvature, depth + 1, positive, nonpositive);
+    return dip(ch, kind, row, low, at_low, middle, at_middle, curvature, depth + 1, positive, nonpositive)
+        || dip(ch, kind, row, middle, at_middle, high, at_high, curvature, depth + 1, positive, nonpositive);
 }
 
 /* dynamics._Modes.speed_curvature_bound: |d^2 v / d tau^2| of each slipping block at most
- * sum_j |phi_j| sqrt(c_j^2 + d_j^2) (gamma^2 + omega_j^2)^(3/2) */
+ * sum_j |phi_j| sqrt(c_j^2 + d_j^2) (gamma^2 + omega_j^2)^(3/2); and acceleration_bound, |x''| at most
+ * sum_j |phi_j| sqrt(c_j^2 + d_j^2) (gamma^2 + omega_j^2). A near block's |F''| is at most k_c times its
+ * slipping neighbours' (the plate's pull is linear in time). */
 static void curvature_bounds(Chain *ch)
 {
     for (int row = 0; row < ch->count; row++) {
         int r = ch->row_run[row], start = ch->run_start[r], length = ch->run_length[r];
         const double *phi = ch->vectors + ch->run_offset[r] + (row - start) * length;
-        double bound = 0.0;
+        double bound = 0.0, acceleration = 0.0;
         for (int j = 0; j < length; j++) {
             double w2 = ch->gamma * ch->gamma + ch->omega_d[start + j] * ch->omega_d[start + j];
-            bound += fabs(phi[j]) * hypot(ch->c[start + j], ch->d[start + j]) * w2 * sqrt(w2);
+            double term = fabs(phi[j]) * hypot(ch->c[start + j], ch->d[start + j]) * w2;
+            acceleration += term;
+            bound += term * sqrt(w2);
         }
         ch->curvature[row] = bound;
+        ch->acceleration[row] = acceleration;
+    }
+    for (int row = 0; row < ch->near_count; row++) {
+        double bound = 0.0;
+        for (int k = 0; k < ch->near_moving_count[row]; k++)
+            bound += ch->kc * ch->acceleration[ch->near_moving[2 * row + k]];
+        ch->room_curvature[row] = bound;
     }
 }
 
@@ -355,9 +368,14 @@ static double next_change(Chain *ch)
     for (int row = 0; row < count; row++)
         if (!isfinite(ch->curvature[row]))
             return -2.0;
+    for (int row = 0; row < ch->near_count; row++)
+        if (!isfinite(ch->room_curvature[row]))
+            return -2.0;
     modal(ch, 0.0, 0, count);
     for (int row = 0; row < count; row++)
         ch->previous[row] = row_value(ch, ch->dq, row) * ch->direction[ch->index[row]];
+    for (int row = 0; row < ch->near_count; row++)
+        ch->room_previous[row] = ch->limit[ch->near_index[row]] - fabs(near_force(ch, 0.0, row, 1));
     for (;;) {
         point++;
         low = (point - 1) * step;
@@ -374,7 +392,7 @@ static double next_change(Chain *ch)
                 ch->candidate_low[candidates] = low;
                 ch->candidate_high[candidates] = high;
                 ch->candidate_row[candidates++] = row;
-            } else if (before > 0.0 && dip(ch, row, low, before, high, now, ch->curvature[row], 0, &positive,
+            } else if (before > 0.0 && dip(ch, 0, row, low, before, high, now, ch->curvature[row], 0, &positive,
                                            &nonpositive)) {
                 /* positive at both grid points, below zero between them: the grid alone would miss the stop */
                 ch->candidate_kind[candidates] = 0;
@@ -386,12 +404,24 @@ static double next_change(Chain *ch)
         }
         modal(ch, high, 0, count);  /* the dips' evaluations moved the modes: the near forces read them at high */
         for (int row = 0; row < ch->near_count; row++)
-            if (fabs(near_force(ch, high, row, 1)) - ch->limit[ch->near_index[row]] >= 0.0) {
+            ch->room_now[row] = ch->limit[ch->near_index[row]] - fabs(near_force(ch, high, row, 1));
+        for (int row = 0; row < ch->near_count; row++) {
+            double now = ch->room_now[row], before = ch->room_previous[row], positive, nonpositive;
+            if (now <= 0.0) {
                 ch->candidate_kind[candidates] = 1;
                 ch->candidate_low[candidates] = low;
                 ch->candidate_high[candidates] = high;
                 ch->candidate_row[candidates++] = row;
+            } else if (before > 0.0 && dip(ch, 1, row, low, before, high, now, ch->room_curvature[row], 0,
+                                           &positive, &nonpositive)) {
+                /* a force within its curvature bound of the limit touched it between the grid points */
+                ch->candidate_kind[candidates] = 1;
+                ch->candidate_low[candidates] = positive;
+                ch->candidate_high[candidates] = nonpositive;
+                ch->candidate_row[candidates++] = row;
             }
+            ch->room_previous[row] = now;
+        }
         if (candidates || far_first <= high)
             break;
     }
@@ -483,7 +513,7 @@ static void set_slipping(Chain *ch)
 static int allocate(Chain *ch)
 {
     int n = ch->n;
-    size_t doubles = (size_t)n * n + 26 * (size_t)n, ints = 15 * (size_t)n, chars = 4 * (size_t)n;
+    size_t doubles = (size_t)n * n + 30 * (size_t)n, ints = 15 * (size_t)n, chars = 4 * (size_t)n;
     double *pool = calloc(doubles, sizeof(double));
     int *ipool = calloc(ints, sizeof(int));
     char *cpool = calloc(chars, 1);
@@ -494,10 +524,11 @@ static int allocate(Chain *ch)
     ch->vectors = pool; pool += (size_t)n * n;
     double **d[] = {&ch->omega_d, &ch->p0, &ch->p1, &ch->c, &ch->d, &ch->q, &ch->dq, &ch->xs, &ch->vs, &ch->near_fixed,
                     &ch->far_wait, &ch->force, &ch->direction, &ch->x_before, &ch->curvature, &ch->previous,
+                    &ch->acceleration, &ch->room_curvature, &ch->room_previous, &ch->room_now,
                     &ch->candidate_root, &ch->candidate_low, &ch->candidate_high};
     for (size_t k = 0; k < sizeof d / sizeof *d; k++) {
         *d[k] = pool;
-        pool += k >= 16 ? 3 * n : n;  /* candidates: a stop a slipping block, a join a near block */
+        pool += k >= 20 ? 3 * n : n;  /* candidates: a stop a slipping block, a join a near block */
     }
     int **i[] = {&ch->index, &ch->position_in_s, &ch->row_run, &ch->run_start, &ch->run_length, &ch->run_offset,
                  &ch->near_index, &ch->near_moving_count, &ch->far_index, &ch->candidate_kind, &ch->candidate_row,

@@ -27,8 +27,10 @@ gamma = c / 2m, omega_dj^2 = lambda_j / m - gamma^2 (every mode underdamped: c <
 sub-phase ends at the first of: a slipping block's speed returning to zero (it sticks if |F_i| <= W mu_s,i,
 else slips on, in the direction of F_i), or a held block's |F_i| reaching its limit (it joins). Each is bracketed on a grid of 32
 points per period of the fastest mode and located by Brent's method on the closed form to 1e-13 of the
-step. Blocks that stop or fail together (identical blocks) do so in one sub-phase. An event ends when no
-block slips.
+step. A speed, or a held block's headroom W mu_s,i - |F_i|, positive at two grid points but within its curvature
+bound of zero (k_c times the slipping neighbours' accelerations, for a force) is searched between them for a touch
+(:func:`_dip`): a force that rose past its limit and back between points 32 ms apart once went unjoined.
+Blocks that stop or fail together (identical blocks) do so in one sub-phase. An event ends when no block slips.
 
 The same loop runs compiled (``_chain.c``, built at install where a C compiler is) as the slip solver
 ``closed_form_compiled``, which ``auto`` chooses when it was built: the same sticks, sub-phases, grid and
@@ -274,6 +276,13 @@ class _Modes:
         with np.errstate(over="ignore", invalid="ignore"):  # an overflowing bound is reported by the caller
             amplitude = np.hypot(self.c, self.d) * (self.gamma ** 2 + self.omega_d ** 2) ** 1.5
             return np.abs(self.vectors) @ amplitude
+
+    def acceleration_bound(self) -> np.ndarray:
+        """A bound on |d^2 x / d tau^2| of each slipping block (m/s^2): each mode's position is p0 + p1 tau +
+        e^(-gamma tau) sqrt(c^2 + d^2) cos(omega tau + phase), whose second derivative is at most
+        sqrt(c^2 + d^2) (gamma^2 + omega^2)."""
+        with np.errstate(over="ignore", invalid="ignore"):
+            return np.abs(self.vectors) @ (np.hypot(self.c, self.d) * (self.gamma ** 2 + self.omega_d ** 2))
 
 
 #: Halvings of a grid interval before a speed that stays within its curvature bound of zero is taken not to cross it
@@ -543,6 +552,17 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
         np.add.at(total, rows, kc * xs[moving])
         return total
 
+    def headroom(tau, row):
+        """A near held block's W mu_s - |F| at ``tau`` (one row: cheap, for root finding)."""
+        pulls = moving[rows == row]
+        q = modes.modal(tau)[0]
+        force = fixed[row] + kp * V * (t0 + tau) + kc * float((modes.vectors[pulls] @ q).sum())
+        return float(limits[near_index[row]] - abs(force))
+
+    # |F|'' of a near block is k_c times its slipping neighbours' accelerations (the plate's pull is linear)
+    force_curvature = np.zeros(near_index.size)
+    np.add.at(force_curvature, rows, kc * modes.acceleration_bound()[moving] if rows.size else 0.0)
+
     # windows that grow from one period of the fastest mode: most sub-phases end within a few (a block stops or a
     # neighbour joins), so the closed form is evaluated little beyond the change; the 200 windows reach far past
     # 200 of the slowest periods
@@ -553,6 +573,9 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
         raise _overflow(chain, t0, x)
     along = direction[slipping]
     at_start = modes.state(0.0)[1] * along
+    if not np.all(np.isfinite(force_curvature)):
+        raise _overflow(chain, t0, x)
+    room_at_start = limits[near_index] - np.abs(near_force(modes.state(0.0)[0][:, None], np.zeros(1))[:, 0])
     while start < horizon:
         grid = start + step * np.arange(1, points + 1)
         xs, vs = modes.state(grid)
@@ -578,11 +601,23 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
                 stop[row] = k
         at_start = speeds[:, -1]
         if near_index.size:
-            excess = np.abs(near_force(xs, grid)) - limits[near_index, None]
-            join = _first_crossing(excess, at_or_below=False)
+            room = limits[near_index, None] - np.abs(near_force(xs, grid))
+            join = _first_crossing(room, at_or_below=True)
             for row in np.flatnonzero(join >= 0):
                 k = int(join[row])
                 candidates.append((grid[k - 1] if k > 0 else start, grid[k], "join", int(row)))
+            # as for the speeds: a force within its curvature bound of the limit may touch it between grid points
+            values = np.concatenate((room_at_start[:, None], room), axis=1)
+            near_zero = np.minimum(values[:, :-1], values[:, 1:]) <= force_curvature[:, None] * step ** 2 / 8
+            for row, k in zip(*np.nonzero(near_zero & (values[:, :-1] > 0) & (values[:, 1:] > 0))):
+                if 0 <= join[row] <= k:
+                    continue
+                found = _dip(lambda tau, row=row: headroom(tau, row), times[k], values[row, k], times[k + 1],
+                             values[row, k + 1], force_curvature[row])
+                if found is not None:
+                    candidates.append((found[0], found[1], "join", int(row)))
+                    join[row] = k
+            room_at_start = room[:, -1]
         for row, wait in enumerate(far_wait):
             if wait <= grid[-1]:
                 candidates.append((max(wait, 0.0), max(wait, 0.0), "far", row))
@@ -607,12 +642,8 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
                 def g(tau, row=row):
                     return modes.speed(tau, row) * direction[slipping[row]]
             else:
-                pulls = moving[rows == row]
-
-                def g(tau, row=row, pulls=pulls):
-                    q = modes.modal(tau)[0]
-                    force = fixed[row] + kp * V * (t0 + tau) + kc * float((modes.vectors[pulls] @ q).sum())
-                    return float(limits[near_index[row]] - abs(force))
+                def g(tau, row=row):
+                    return headroom(tau, row)
             # a block starting from rest steps off its zero speed at tau = 0; a held block already at its limit joins
             a = low if g(low) > 0.0 else (_off_zero(g, low, high) if kind == "stop" else None)
             if a is None:  # no room before the change: it happens at the bracket's start
