@@ -3,7 +3,9 @@
     python benchmarks/chain_stops.py [--chains 12] [--workers 2]
 
 Chains of 2 to 8 blocks drawn at random (seed 69): coupling k_c / k_p log-uniform in 0.1-30, damping ratio 0-0.5,
-static limits 0.6-0.7, starts within 0.2 mm. Each runs 30 events by the closed form (Python, and C where built)
+static limits 0.6-0.7, kinetic friction 0.5, starts within 0.2 mm ("narrow"); and as many (seed 70) with limits
+0.5-1.0, kinetic friction 0.1-0.45, k_c / k_p log-uniform in 0.25-40 and damping ratio 0-0.3 ("wide": larger
+stress drops, where a join that the grid alone missed was found). Each runs 30 events by the closed form (Python, and C where built)
 and by DOP853 stepped at no more than 1/1000 of the fastest mode's period, whose steps no dip of a speed below
 zero, nor touch of a force on its limit, can pass between. Recorded: whether the blocks of every event agree, and
 the largest relative differences of the start times and slips; and how many stops and joins the grid alone would
@@ -40,18 +42,31 @@ def _compare(run, reference) -> dict:
 
 
 def _chain(values):
-    blocks, coupling, zeta, spread, start = values
+    family, blocks, coupling, zeta, spread, start, kinetic = values
+    low, width = (0.6, 0.1) if family == "narrow" else (0.5, 0.5)
     chain = dynamics.Chain(mass=1.0, leaf_stiffness=1e3, coupling_stiffness=1e3 * coupling, normal_load=10.0,
-                           platform_speed=1e-4, kinetic_friction=0.5, dashpot=2 * zeta * math.sqrt(1e3),
-                           static_friction=0.6 + 0.1 * np.array(spread[:blocks]))
+                           platform_speed=1e-4, kinetic_friction=kinetic, dashpot=2 * zeta * math.sqrt(1e3),
+                           static_friction=low + width * np.array(spread[:blocks]))
     return chain, 2e-4 * np.array(start[:blocks])
+
+
+def _draws(count: int) -> list:
+    """(family, blocks, k_c / k_p, damping ratio, limits' spread, start, kinetic friction) of each chain."""
+    narrow, wide = np.random.default_rng(69), np.random.default_rng(70)
+    return ([("narrow", int(narrow.integers(2, 9)), float(10 ** narrow.uniform(-1, math.log10(30))),
+              float(narrow.uniform(0, 0.5)), narrow.uniform(0, 1, 8).tolist(), narrow.uniform(0, 1, 8).tolist(), 0.5)
+             for _ in range(count)]
+            + [("wide", int(wide.integers(2, 9)), float(10 ** wide.uniform(math.log10(0.25), math.log10(40))),
+                float(wide.uniform(0, 0.3)), wide.uniform(0, 1, 8).tolist(), wide.uniform(0, 1, 8).tolist(),
+                float(wide.uniform(0.1, 0.45))) for _ in range(count)])
 
 
 def _run(values):
     chain, position = _chain(values)
     reference = dynamics.simulate_chain(chain, EVENTS, initial_position=position, slip_solver="DOP853", rtol=1e-10,
                                         steps_per_period=1000)
-    row = {"chain": {"blocks": values[0], "coupling_ratio": values[1], "damping_ratio": values[2]}}
+    row = {"chain": {"family": values[0], "blocks": values[1], "coupling_ratio": values[2], "damping_ratio": values[3],
+                     "kinetic_friction": values[6]}}
     solvers = ["closed_form"] + (["closed_form_compiled"] if dynamics.compiled_available() else [])
     for solver in solvers:
         row[solver] = _compare(dynamics.simulate_chain(chain, EVENTS, initial_position=position, slip_solver=solver),
@@ -76,12 +91,10 @@ def _run(values):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--chains", type=int, default=12)
+    parser.add_argument("--chains", type=int, default=12, help="chains of each family")
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args(argv)
-    rng = np.random.default_rng(69)
-    draws = [(int(rng.integers(2, 9)), float(10 ** rng.uniform(-1, math.log10(30))), float(rng.uniform(0, 0.5)),
-              rng.uniform(0, 1, 8).tolist(), rng.uniform(0, 1, 8).tolist()) for _ in range(args.chains)]
+    draws = _draws(args.chains)
     pool = worker_pool(args.workers)
     rows = []
     try:
