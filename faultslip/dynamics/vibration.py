@@ -515,13 +515,14 @@ def shoot(system: QuasiHarmonic, amplitude_guess: float, rtol: float) -> dict:
 
     amplitude = abs(amplitude_guess)
     guess = cycle_offset(system, amplitude) - amplitude  # the minimum of Y about its shifted mean
+    known = None  # the gap at guess, where already measured
     for _ in range(SHOOTING_ITERATES):  # the map attracts to a stable orbit: where eps is large, fast and far
         try:
             guess += gap(guess)
         except SticksError:  # within 1 % of sticking the averaged minimum can lie deeper than any cycle that slides
-            guess = _shallower_start(gap, guess, amplitude)
+            guess, known = _shallower_start(gap, guess, amplitude)
             break
-    ends = _bracket(gap, guess, amplitude)
+    ends = _bracket(gap, guess, amplitude, known)
     low = brentq(gap, min(ends), max(ends), xtol=1e-15 * amplitude, rtol=4 * np.finfo(float).eps, maxiter=200)
     cycle = return_map(system, low, rtol)
     step = 1e-4 * abs(low)
@@ -537,31 +538,31 @@ def shoot(system: QuasiHarmonic, amplitude_guess: float, rtol: float) -> dict:
             "evaluations": evaluations + sum(leg["evaluations"] for leg in (cycle, deeper, shallower))}
 
 
-def _shallower_start(gap, stuck: float, amplitude: float) -> float:
+def _shallower_start(gap, stuck: float, amplitude: float) -> tuple[float, float]:
     """The first minimum of Y above ``stuck`` (a start whose cycle sticks) by SHOOTING_SPREADS of the amplitude
-    whose cycle slides; SticksError where none within 50 % does."""
+    whose cycle slides, and its gap; SticksError where none within 50 % does."""
     for spread in SHOOTING_SPREADS:
         trial = stuck + spread * amplitude
         if trial >= 0:
             break
         try:
-            gap(trial)
+            return trial, gap(trial)
         except SticksError:
             continue
-        return trial
     raise SticksError(f"every start within 50 % of the averaged amplitude {amplitude:.4g} m above a cycle that "
                       "sticks sticks too")
 
 
-def _bracket(gap, guess: float, amplitude: float) -> tuple[float, float]:
+def _bracket(gap, guess: float, amplitude: float, known: float | None = None) -> tuple[float, float]:
     """Two minima of Y about the return map's fixed point: ``gap`` (P(y) - y) changes sign between them.
 
     A stable fixed point has P' < 1, so the gap falls through zero there: its sign at ``guess`` says which way
     the orbit lies, and the search steps that way by SHOOTING_SPREADS of the amplitude. A deeper trial that
     sticks bounds the orbit (a deeper start swings wider): the step is halved between it and the last trial that
     did not, up to SHOOTING_HALVINGS times. SolverError where no sign change is found: within 50 % of the
-    amplitude, or between the guess and the sticking bound (the orbit, if any, is that close to sticking)."""
-    last, last_gap = guess, gap(guess)
+    amplitude, or between the guess and the sticking bound (the orbit, if any, is that close to sticking).
+    ``known``: the gap at ``guess`` where already measured."""
+    last, last_gap = guess, gap(guess) if known is None else known
     if last_gap == 0:
         return guess, guess
     toward = math.copysign(1.0, last_gap)  # gap > 0: P(y) > y, the orbit's minimum lies above y (shallower)

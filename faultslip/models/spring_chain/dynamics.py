@@ -552,11 +552,12 @@ def _next_change(chain, modes, slipping, x, v, t0, limits, direction, brentq):
         np.add.at(total, rows, kc * xs[moving])
         return total
 
+    pulls = [moving[rows == row] for row in range(near_index.size)]  # each near block's slipping neighbours
+
     def headroom(tau, row):
         """A near held block's W mu_s - |F| at ``tau`` (one row: cheap, for root finding)."""
-        pulls = moving[rows == row]
         q = modes.modal(tau)[0]
-        force = fixed[row] + kp * V * (t0 + tau) + kc * float((modes.vectors[pulls] @ q).sum())
+        force = fixed[row] + kp * V * (t0 + tau) + kc * float((modes.vectors[pulls[row]] @ q).sum())
         return float(limits[near_index[row]] - abs(force))
 
     # |F|'' of a near block is k_c times its slipping neighbours' accelerations (the plate's pull is linear)
