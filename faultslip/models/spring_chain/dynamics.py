@@ -715,9 +715,29 @@ def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rto
         event.terminal, event.direction = True, -1
         return event
 
-    events = [stop(row) for row in range(count)] + [join(block) for block in near_index]
+    # A speed may dip below zero, or a headroom below its limit, and come back within one step: the sign test at
+    # step ends misses it (as the closed form's grid did, issue 69). Each one's least value along the slip, where its
+    # rate crosses zero upwards, is located too, and one at or below zero is a change the steps passed over.
+    def slowest(row):  # d/dtau of a speed along its slip: the acceleration along it
+        def event(tau, y):
+            return rhs(tau, y)[count + row] * direction[slipping[row]]
+        event.direction = 1
+        return event
+
+    neighbours = [[other for other in (block - 1, block + 1) if 0 <= other < n] for block in near_index]
+
+    def tightest(which, block):  # d/dtau of W mu_s - |F|: F's rate is k_p V + k_c (its neighbours' speeds)
+        def event(tau, y):
+            work_v[slipping] = y[count:]
+            rate = kp * V + chain.coupling_stiffness * sum(work_v[other] for other in neighbours[which])
+            return -math.copysign(1.0, forces(tau, y)[block]) * rate
+        event.direction = 1
+        return event
+
+    changes = [stop(row) for row in range(count)] + [join(block) for block in near_index]
+    least = [slowest(row) for row in range(count)] + [tightest(k, block) for k, block in enumerate(near_index)]
     solution = solve_ivp(rhs, (0.0, horizon), np.concatenate([x[slipping], v[slipping]]), method=solver, rtol=rtol,
-                         atol=1e-14 * max(1.0, float(np.abs(x).max())), events=events,
+                         atol=1e-14 * max(1.0, float(np.abs(x).max())), events=changes + least, dense_output=True,
                          first_step=min(horizon, 1e-3 * 2 * math.pi / omega),
                          max_step=2 * math.pi / omega / steps_per_period if steps_per_period else np.inf)
     if solution.status < 0:
@@ -728,7 +748,11 @@ def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rto
     if solution.status == 0 and tau < horizon * (1 - 1e-12):
         raise SolverError(f"the chain: a slip of {count} block(s) from t = {t0:.6g} s did not end within "
                           f"{horizon:.3g} s; use slip_solver = \"closed_form\"")
-    hit = [k for k, times in enumerate(solution.t_events) if times.size]
+    hit = [k for k, times in enumerate(solution.t_events[:len(changes)]) if times.size]
+    missed = _passed_over(solution, changes, tau, hit)
+    if missed is not None:
+        tau, hit = missed
+        y = solution.sol(tau)
     stops = np.zeros(count, bool)
     joins = []
     for k in hit:
@@ -738,8 +762,37 @@ def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rto
             joins.append(int(near_index[k - count]))
     if far_index.size:
         joins.extend(far_index[far_wait <= tau * (1 + TOGETHER)].tolist())
-    fastest = float(np.abs(solution.y[count:]).max()) if solution.y.size else 0.0
+    before = solution.t <= tau
+    fastest = max(float(np.abs(solution.y[count:, before]).max(initial=0.0)), float(np.abs(y[count:]).max()))
     return tau, stops, np.unique(np.array(joins, int)), y[:count], y[count:], fastest
+
+
+def _passed_over(solution, changes, end, hit):
+    """The changes the steps passed over before ``end``: (the first one's time, the events within TOGETHER of it),
+    or None. A change's function (a speed along its slip, or a headroom) is at or below zero at a located least
+    value before ``end``, or at ``end`` itself where its least lies beyond the terminal event in the same step; the
+    crossing lies between that step's start, where the function was positive, and there."""
+    from scipy.optimize import brentq  # heavy: imported where used
+
+    roots = [(end, k) for k in hit]
+    for k, (change, times) in enumerate(zip(changes, solution.t_events[len(changes):])):
+        if k in hit:
+            continue
+        for when in [*times[times < end], end]:
+            if change(when, solution.sol(when)) > 0.0:
+                continue
+            start = float(solution.t[max(np.searchsorted(solution.t, when) - 1, 0)])
+
+            def along(tau, change=change):
+                return change(tau, solution.sol(tau))
+            root = when if along(start) <= 0.0 else brentq(along, start, when, xtol=1e-13 * max(when, 1e-300),
+                                                             rtol=4 * np.finfo(float).eps)
+            roots.append((float(root), k))
+            break
+    if len(roots) == len(hit):
+        return None
+    first = min(root for root, _ in roots)
+    return first, [k for root, k in roots if root <= first * (1 + TOGETHER)]
 
 
 def _off_zero(function, low: float, high: float):

@@ -352,7 +352,8 @@ def test_the_chain_animates_one_event_a_frame_and_a_family_without_animation_say
 
 # A block whose speed dips below zero between the grid's points stops (issue 69). The reference is the same chain
 # integrated by DOP853 with steps of a thousandth (or 400th) of the fastest period, which no dip can pass between;
-# at its own step sizes DOP853, like the grid, stepped over such dips.
+# at its own step sizes DOP853, like the grid, stepped over such dips until each speed's and headroom's least value
+# along the slip was located too.
 
 #: three coupled blocks whose first event has the middle block's speed dip to -1.1e-5 m/s between two grid points
 #: 2.3 ms apart (found among random chains; the grid alone let it slide backwards against forward friction)
@@ -376,8 +377,10 @@ def test_a_speed_that_dips_below_zero_between_grid_points_stops_the_block(solver
     reference = _simulate(chain, 3, initial_position=DIPPING_START, slip_solver="DOP853", rtol=1e-10,
                           steps_per_period=1000)
     _agree(_simulate(chain, 3, initial_position=DIPPING_START, slip_solver=solver), reference)
-    # the grid alone misses it, and so does DOP853 at its own steps: the check above can fail
+    _agree(_simulate(chain, 3, initial_position=DIPPING_START, slip_solver="DOP853", rtol=1e-10), reference)
+    # the grid alone misses it, and so does DOP853 at its own steps: the checks above can fail
     monkeypatch.setattr(dynamics, "_dip", lambda *args, **kwargs: None)
+    monkeypatch.setattr(dynamics, "_passed_over", lambda *args, **kwargs: None)
     blind = _simulate(chain, 3, initial_position=DIPPING_START, slip_solver="closed_form")
     coarse = _simulate(chain, 3, initial_position=DIPPING_START, slip_solver="DOP853", rtol=1e-10)
     for missed in (blind, coarse):
@@ -402,21 +405,26 @@ def test_a_force_that_touches_its_limit_between_grid_points_joins_the_block(solv
     """A held block's force is its plate's pull plus k_c times its slipping neighbours' positions: it may rise above
     its limit and fall back between grid points, as a stopping block's speed may dip below zero. Its curvature is
     bounded by k_c times the neighbours' accelerations, and the same search finds the touch; both closed forms agree
-    with DOP853 at 1000 steps a period, and without the search the run does not."""
+    with DOP853 at 1000 steps a period, and without the search the run does not. DOP853 at its own steps passed
+    over it too: the headroom crossed zero before a stop ended the step and its least value lay beyond the stop."""
     from faultslip.models.spring_chain import dynamics
 
     chain = _chain(**JOINING)
     reference = _simulate(chain, 2, initial_position=JOINING_START, slip_solver="DOP853", rtol=1e-10,
                           steps_per_period=1000)
     _agree(_simulate(chain, 2, initial_position=JOINING_START, slip_solver=solver), reference)
+    _agree(_simulate(chain, 2, initial_position=JOINING_START, slip_solver="DOP853", rtol=1e-10), reference)
     searched = dynamics._dip
 
     def stops_only(change, *args, **kwargs):  # the join's headroom is a closure over headroom()
         return None if "headroom" in change.__code__.co_freevars else searched(change, *args, **kwargs)
 
     monkeypatch.setattr(dynamics, "_dip", stops_only)
+    monkeypatch.setattr(dynamics, "_passed_over", lambda *args, **kwargs: None)
     blind = _simulate(chain, 2, initial_position=JOINING_START, slip_solver="closed_form")
-    assert not np.allclose(blind.slip, reference.slip, rtol=0, atol=1e-7 * np.abs(reference.slip).max())
+    coarse = _simulate(chain, 2, initial_position=JOINING_START, slip_solver="DOP853", rtol=1e-10)
+    for missed in (blind, coarse):
+        assert not np.allclose(missed.slip, reference.slip, rtol=0, atol=1e-7 * np.abs(reference.slip).max())
 
 
 @settings(max_examples=6, deadline=None, derandomize=True)
