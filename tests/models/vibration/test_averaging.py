@@ -849,6 +849,29 @@ def test_shooting_finds_the_orbit_where_its_first_guess_sticks(speed):
     assert abs(settled["amplitude"] / shot["amplitude"] - 1) <= INTEGRATION_ERROR
 
 
+def test_the_fallback_grows_to_the_cycle_from_inside_as_small_disturbances_do(monkeypatch):
+    """Where shooting fails, settling integrates from inside the cycle. Started on the averaged amplitude, Y' = A
+    omega is about v this close to sticking, and at 12.889 in/s the transient stuck in its first period although
+    the cycle slides (the dense reference's least sliding speed is +1e-4 m/s); from inside, it settles within its
+    declared error of the shot orbit. At 12.884 in/s, where the reference sticks, the grown oscillation sticks."""
+    from faultslip.dynamics import vibration
+
+    shot = settled_amplitude(_grazing_scene(12.889), method="integration", tolerance=1e-6)
+
+    def fails(*args, **kwargs):
+        raise SolverError("shooting refused (test)")
+
+    monkeypatch.setattr(vibration, "periodic_orbit", fails)
+    settled = settled_amplitude(_grazing_scene(12.889), method="integration", tolerance=1e-6)
+    assert "from 0.9 of the averaged amplitude" in settled["reason"]
+    assert abs(settled["amplitude"] / shot["amplitude"] - 1) <= settled["estimated_relative_error"]
+    monkeypatch.setattr(vibration, "FALLBACK_START", 1.0)
+    with pytest.raises(vibration.SticksError):  # the check above can fail: from the averaged amplitude it sticks
+        settled_amplitude(_grazing_scene(12.889), method="integration", tolerance=1e-6)
+    with pytest.raises(vibration.SticksError):
+        settled_amplitude(_grazing_scene(12.884), method="integration", tolerance=1e-6)
+
+
 def test_the_bracket_says_when_every_start_it_tries_sticks_or_points_deeper():
     """Shooting's bracket on model gaps: a map that points deeper up to a start that sticks is refused, naming
     both depths; one whose shallower starts all stick says so; a sign change below the sticking start is found."""
