@@ -696,9 +696,14 @@ def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rto
     friction = W * chain.kinetic_friction * direction[slipping]
     work_x, work_v = x.copy(), v.copy()
 
+    last = [None, None, None]  # scipy evaluates every event at one (tau, y) in turn: the forces are kept for them
+
     def forces(tau, y):
+        if tau == last[0] and np.array_equal(y, last[1]):
+            return last[2]
         work_x[slipping], work_v[slipping] = y[:count], y[count:]
-        return chain.forces(work_x, work_v, t0 + tau)
+        last[:] = tau, y.copy(), chain.forces(work_x, work_v, t0 + tau)
+        return last[2]
 
     def rhs(tau, y):
         return np.concatenate([y[count:], (forces(tau, y)[slipping] - friction) / m])
@@ -720,26 +725,29 @@ def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rto
     # rate crosses zero upwards, is located too, and one at or below zero is a change the steps passed over.
     def slowest(row):  # d/dtau of a speed along its slip: the acceleration along it
         def event(tau, y):
-            return rhs(tau, y)[count + row] * direction[slipping[row]]
+            return (forces(tau, y)[slipping[row]] - friction[row]) * direction[slipping[row]]
         event.direction = 1
         return event
 
-    neighbours = [[other for other in (block - 1, block + 1) if 0 <= other < n] for block in near_index]
+    rows = {block: row for row, block in enumerate(slipping)}
+    neighbours = [[rows[other] for other in (block - 1, block + 1) if other in rows] for block in near_index]
 
-    def tightest(which, block):  # d/dtau of W mu_s - |F|: F's rate is k_p V + k_c (its neighbours' speeds)
+    def tightest(which, block):  # d/dtau of W mu_s - |F|: F's rate is k_p V + k_c (its slipping neighbours' speeds)
         def event(tau, y):
-            work_v[slipping] = y[count:]
-            rate = kp * V + chain.coupling_stiffness * sum(work_v[other] for other in neighbours[which])
+            rate = kp * V + chain.coupling_stiffness * sum(y[count + row] for row in neighbours[which])
             return -math.copysign(1.0, forces(tau, y)[block]) * rate
         event.direction = 1
         return event
 
     changes = [stop(row) for row in range(count)] + [join(block) for block in near_index]
     least = [slowest(row) for row in range(count)] + [tightest(k, block) for k, block in enumerate(near_index)]
-    solution = solve_ivp(rhs, (0.0, horizon), np.concatenate([x[slipping], v[slipping]]), method=solver, rtol=rtol,
-                         atol=1e-14 * max(1.0, float(np.abs(x).max())), events=changes + least, dense_output=True,
-                         first_step=min(horizon, 1e-3 * 2 * math.pi / omega),
-                         max_step=2 * math.pi / omega / steps_per_period if steps_per_period else np.inf)
+    options = dict(method=solver, rtol=rtol, atol=1e-14 * max(1.0, float(np.abs(x).max())),
+                   max_step=2 * math.pi / omega / steps_per_period if steps_per_period else np.inf)
+    solution = solve_ivp(rhs, (0.0, horizon), np.concatenate([x[slipping], v[slipping]]), events=changes + least,
+                         first_step=min(horizon, 1e-3 * 2 * math.pi / omega), **options)
+
+    def again(start, state, until):  # the stretch a change was passed over in, with its interpolant (rarely needed)
+        return solve_ivp(rhs, (start, until), state, dense_output=True, **options).sol
     if solution.status < 0:
         raise SolverError(f"the chain: {solver} failed in a slip of {count} block(s) at t = {t0:.6g} s "
                           f"({solution.message}); use slip_solver = \"closed_form\", which is exact")
@@ -749,10 +757,9 @@ def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rto
         raise SolverError(f"the chain: a slip of {count} block(s) from t = {t0:.6g} s did not end within "
                           f"{horizon:.3g} s; use slip_solver = \"closed_form\"")
     hit = [k for k, times in enumerate(solution.t_events[:len(changes)]) if times.size]
-    missed = _passed_over(solution, changes, tau, hit)
+    missed = _passed_over(solution, changes, y, hit, again)
     if missed is not None:
-        tau, hit = missed
-        y = solution.sol(tau)
+        tau, hit, y = missed
     stops = np.zeros(count, bool)
     joins = []
     for k in hit:
@@ -767,32 +774,43 @@ def _integrated_change(chain, slipping, x, v, t0, limits, direction, solver, rto
     return tau, stops, np.unique(np.array(joins, int)), y[:count], y[count:], fastest
 
 
-def _passed_over(solution, changes, end, hit):
-    """The changes the steps passed over before ``end``: (the first one's time, the events within TOGETHER of it),
-    or None. A change's function (a speed along its slip, or a headroom) is at or below zero at a located least
-    value before ``end``, or at ``end`` itself where its least lies beyond the terminal event in the same step; the
-    crossing lies between that step's start, where the function was positive, and there."""
+def _passed_over(solution, changes, end_state, hit, again):
+    """The changes the steps passed over before the sub-phase's end: (the first one's time, the events within
+    TOGETHER of it, the state there), or None. A change's function (a speed along its slip, or a headroom) is at or
+    below zero at a located least value before the end, or at the end itself where its least lies beyond the
+    terminal event in the same step; the crossing lies between that step's start, where the function was positive,
+    and there, on the stretch integrated ``again`` from the step's start with its interpolant."""
     from scipy.optimize import brentq  # heavy: imported where used
 
-    roots = [(end, k) for k in hit]
-    for k, (change, times) in enumerate(zip(changes, solution.t_events[len(changes):])):
+    end = float(solution.t[-1])
+    found = []
+    for k, (change, times, states) in enumerate(zip(changes, solution.t_events[len(changes):],
+                                                    solution.y_events[len(changes):])):
         if k in hit:
             continue
-        for when in [*times[times < end], end]:
-            if change(when, solution.sol(when)) > 0.0:
+        for when, state in [*zip(times[times < end], states[times < end]), (end, end_state)]:
+            if change(when, state) > 0.0:
                 continue
-            start = float(solution.t[max(np.searchsorted(solution.t, when) - 1, 0)])
+            step = max(int(np.searchsorted(solution.t, when)) - 1, 0)
+            start = float(solution.t[step])
+            if start < when:
+                interpolant = again(start, solution.y[:, step], when)
 
-            def along(tau, change=change):
-                return change(tau, solution.sol(tau))
-            root = when if along(start) <= 0.0 else brentq(along, start, when, xtol=1e-13 * max(when, 1e-300),
-                                                             rtol=4 * np.finfo(float).eps)
-            roots.append((float(root), k))
+                def along(tau, change=change, interpolant=interpolant):
+                    return change(tau, interpolant(tau))
+                root = when if along(when) > 0.0 else brentq(along, start, when, rtol=4 * np.finfo(float).eps,
+                                                             xtol=1e-13 * max(when, 1e-300))
+            else:
+                root, interpolant = when, None
+            found.append((float(root), k, interpolant))
             break
-    if len(roots) == len(hit):
+    if not found:
         return None
-    first = min(root for root, _ in roots)
-    return first, [k for root, k in roots if root <= first * (1 + TOGETHER)]
+    first, _, interpolant = min(found, key=lambda item: item[0])
+    together = [k for root, k, _ in found if root <= first * (1 + TOGETHER)]
+    if end <= first * (1 + TOGETHER):
+        together.extend(hit)
+    return first, together, (interpolant(first) if interpolant is not None else end_state)
 
 
 def _off_zero(function, low: float, high: float):
