@@ -30,7 +30,9 @@ points per period of the fastest mode and located by Brent's method on the close
 step. A speed, or a held block's headroom W mu_s,i - |F_i|, positive at two grid points but within its curvature
 bound of zero (k_c times the slipping neighbours' accelerations, for a force) is searched between them for a touch
 (:func:`_dip`): a force that rose past its limit and back between points 32 ms apart once went unjoined.
-Blocks that stop or fail together (identical blocks) do so in one sub-phase. An event ends when no block slips.
+scipy's integrators, the other slip solvers, see a sign change only at their steps' ends: each speed's and
+headroom's least value along the slip is located too (:func:`_passed_over`), and one at or below zero is a change
+a step passed over. Blocks that stop or fail together (identical blocks) do so in one sub-phase. An event ends when no block slips.
 
 The same loop runs compiled (``_chain.c``, built at install where a C compiler is) as the slip solver
 ``closed_form_compiled``, which ``auto`` chooses when it was built: the same sticks, sub-phases, grid and
@@ -357,8 +359,8 @@ def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subp
         The integrator's relative tolerance (not used by the closed form).
     steps_per_period : float, optional
         An integrator's steps at least this many a period of the fastest mode (None: as its error control takes
-        them). An integrator sees a sign change only between its steps: a speed that dips below zero for less
-        than a step goes unseen, so a reference run takes many.
+        them). An integrator's events test signs at its steps' ends; a dip inside a step is found by locating
+        each speed's and headroom's least value, a reference run takes many steps so that it does not rely on it.
 
     Returns
     -------
