@@ -32,7 +32,8 @@ bound of zero (k_c times the slipping neighbours' accelerations, for a force) is
 (:func:`_dip`): a force that rose past its limit and back between points 32 ms apart once went unjoined.
 scipy's integrators, the other slip solvers, see a sign change only at their steps' ends: each speed's and
 headroom's least value along the slip is located too (:func:`_passed_over`), and one at or below zero is a change
-a step passed over. Blocks that stop or fail together (identical blocks) do so in one sub-phase. An event ends when no block slips.
+a step passed over. Blocks that stop or fail together (identical blocks) do so in one sub-phase. An event ends
+when no block slips.
 
 The same loop runs compiled (``_chain.c``, built at install where a C compiler is) as the slip solver
 ``closed_form_compiled``, which ``auto`` chooses when it was built: the same sticks, sub-phases, grid and
