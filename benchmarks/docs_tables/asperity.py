@@ -189,8 +189,29 @@ def asperity_single_rtol_table() -> str | None:
         f"{' (quick)' if result.get('quick') else ''}.")
 
 
+def asperity_lsoda_steps_table() -> str | None:
+    """docs/asperity.md: the six-state run at its own steps against steps bounded to a small part of a period."""
+    result = _load("asperity_lsoda_steps.json")
+    if result is None:
+        return None
+    rows = ["| draw | runs | sticking | status and sticks agree | largest stick-fraction difference | touches found "
+            "by the search (own steps, bounded) |", "| --- | --- | --- | --- | --- | --- |"]
+    for draw in dict.fromkeys(row["draw"] for row in result["rows"]):
+        mine = [row for row in result["rows"] if row["draw"] == draw]
+        rows.append(f"| {draw} | {len(mine)} | {sum(row['sticks'][1] > 0 for row in mine)} | "
+                    f"{sum(row['agree'] for row in mine)} of {len(mine)} | "
+                    f"{max(row.get('stick_fraction_difference', 0.0) for row in mine):.2g} | "
+                    f"{sum(row['touches_found'][0] for row in mine)}, {sum(row['touches_found'][1] for row in mine)} |")
+    return "\n".join(rows) + (
+        f"\n\nasperity_LSODA for {result['duration']:g} s at rtol {result['rtol']:g}, at its own steps and with "
+        f"steps of at most 1/{result['fine_steps_per_period']:g} of the natural period. "
+        "`python benchmarks/asperity_lsoda_steps.py`"
+        f"{' (quick)' if result.get('quick') else ''}. {_machine(result)}")
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
+    "asperity_lsoda_steps": asperity_lsoda_steps_table,
     "asperity_trends": asperity_trends_table,
     "asperity_quasistatic": asperity_quasistatic_table,
     "asperity_single_rtol": asperity_single_rtol_table,

@@ -497,8 +497,12 @@ def simulate(model: AsperityModel, duration: float = 6.0, method: str = "asperit
             status, reason = "budget_exceeded", f"stopped at t = {t:.4g} s after {max_seconds:g} s of computing"
             break
         events = [summit if model.summit_exchange else never, change, lost]
-        if mode != STICK and size == 4:  # LSODA's steps follow the kHz normal mode (and its interpolant cannot
-            events.append(_slowest(system, mode))  # place this event): see _graze
+        steps = None
+        if mode != STICK and size == 4:
+            events.append(_slowest(system, mode))  # see _graze
+        elif mode != STICK:  # LSODA's interpolant cannot place that event: its step ends are kept instead
+            steps = _StepEnds(system, mode, v)
+            events.append(steps)
         sol = solve_ivp(system.rhs, (t, duration), state, method=solver, args=(mode,), rtol=rtol, atol=atol,
                         max_step=max_step, events=events,
                         t_eval=np.concatenate([[t], inside]) if inside.size else None)
@@ -506,7 +510,9 @@ def simulate(model: AsperityModel, duration: float = 6.0, method: str = "asperit
             status, reason = "solver_failure", f"{solver} failed at t = {t:.4g} s: {sol.message}"
             break
         which = next((i for i, times in enumerate(sol.t_events[:3]) if times.size), None)
-        grazed = _graze(sol, mode, v, float(sol.t_events[which][0]) if which is not None else math.inf)
+        before = float(sol.t_events[which][0]) if which is not None else math.inf
+        grazed = (_graze(sol, mode, v, before) if steps is None else
+                  _graze_between_steps(system, steps, mode, v, before, rtol, atol))
         if grazed is not None:  # the sign test at step ends missed a touch of the platform's speed
             which, (t, state) = 1, grazed
             keep = sol.t < t
@@ -561,12 +567,8 @@ def _slowest(system, mode):
 def _graze(sol, mode, platform_speed, before):
     """(time, state) of the first least relative speed before ``before`` (s) at which the block has passed the
     platform's speed, or None. Such a dip lasts less than one step, and the sign test at step ends misses it:
-    seed 004's scene at 3.727 mm/s dipped 2.8e-6 m/s past it unseen, and slipped on where it could stick.
-
-    Only the quasi-static system is searched: the six-state one's tangential acceleration carries the kHz normal
-    mode, whose zero crossings are not the slip's least speed, and LSODA's interpolant need not pass through its
-    step ends, so scipy's event search fails on it. Its steps follow that mode: 650 a natural period at
-    3.727 mm/s against the quasi-static run's 57, and a dip it can pass over is about 130 times shallower."""
+    seed 004's scene at 3.727 mm/s dipped 2.8e-6 m/s past it unseen, and slipped on where it could stick. The
+    quasi-static system's; the six-state one's is :func:`_graze_between_steps`."""
     if mode == STICK or len(sol.t_events) < 4 or not sol.t_events[3].size:
         return None
     for time_, state in zip(sol.t_events[3], sol.y_events[3]):
@@ -574,6 +576,72 @@ def _graze(sol, mode, platform_speed, before):
             return None
         if (state[1] - platform_speed) * mode < 0:
             return float(time_), state.copy()
+    return None
+
+
+class _StepEnds:
+    """A non-terminal event that never fires: scipy evaluates it at every step's end, where it keeps the steps that
+    may hide a dip of the speed along the slip past zero (:func:`_graze_between_steps`). Only those are kept, so a
+    long slip's memory does not grow with its steps."""
+
+    def __init__(self, system, mode, platform_speed):
+        self.system, self.mode, self.platform_speed = system, mode, platform_speed
+        self.fastest, self.last, self.steps = 0.0, None, []
+
+    def __call__(self, t_, s, *_):
+        along = (s[1] - self.platform_speed) * self.mode
+        self.fastest = max(self.fastest, along)
+        now = [t_, s.copy(), along, None]
+        last, self.last = self.last, now
+        if last is None or not (0 < along < GRAZE_NEAR * self.fastest and 0 < last[2] < GRAZE_NEAR * self.fastest):
+            return 1.0
+        if last[3] is None:
+            last[3] = self.system.rhs(last[0], last[1], self.mode)[1] * self.mode
+        now[3] = self.system.rhs(t_, s, self.mode)[1] * self.mode
+        width = t_ - last[0]
+        if last[3] < 0 < now[3] and width > 0 and _least_of_cubic(last[2], last[3], along, now[3], width) < \
+                0.5 * min(last[2], along):
+            self.steps.append((last[0], last[1], t_))
+        return 1.0
+
+
+def _least_of_cubic(start, start_slope, end, end_slope, width):
+    """The least value over [0, width] of the cubic Hermite interpolant of two ends' values and slopes."""
+    points = np.linspace(0.0, 1.0, 33)
+    h00, h10 = 2 * points ** 3 - 3 * points ** 2 + 1, points ** 3 - 2 * points ** 2 + points
+    h01, h11 = -2 * points ** 3 + 3 * points ** 2, points ** 3 - points ** 2
+    return float(np.min(h00 * start + h10 * width * start_slope + h01 * end + h11 * width * end_slope))
+
+
+#: a step of the six-state run is searched for a dip where the speed along the slip at both its ends is below this
+#: fraction of the phase's fastest so far (a step is about 1/650 of a natural period, over which that speed moves
+#: about 1 %), it turns from falling to rising within the step, and the ends' cubic dips at least halfway to zero
+GRAZE_NEAR = 0.05
+#: the searched step is integrated again by DOP853 with steps this many times shorter
+GRAZE_REFINE = 64
+
+
+def _graze_between_steps(system, steps, mode, platform_speed, before, rtol, atol):
+    """The six-state run's :func:`_graze`: (time, state) where the block's speed first reached the platform's
+    inside one LSODA step, before ``before`` (s), or None.
+
+    Its tangential acceleration carries the kHz normal mode, so its zero crossings are not the slip's least speed,
+    and LSODA's interpolant need not pass through its step ends (scipy's event search fails on it). Instead each
+    step that may hide a dip is kept (:class:`_StepEnds`) and integrated again by DOP853, GRAZE_REFINE times finer,
+    with the slip's end as its event. At 3.7395 mm/s on seed 004's scene LSODA passed over a stick so (13 sticks in
+    3 s where steps of 1/3000 of a natural period find 14; benchmarks/asperity_lsoda_steps.py)."""
+    from scipy.integrate import solve_ivp  # heavy: imported where used
+
+    def ended(t_, s, *_):
+        return (s[1] - platform_speed) * mode
+    ended.terminal, ended.direction = True, -1
+    for start, state, end in steps.steps:
+        if end > before:
+            return None
+        again = solve_ivp(system.rhs, (start, end), state, method="DOP853", args=(mode,), rtol=rtol, atol=atol,
+                          max_step=(end - start) / GRAZE_REFINE, events=[ended])
+        if again.t_events[0].size:
+            return float(again.t_events[0][0]), again.y_events[0][0].copy()
     return None
 
 
