@@ -34,6 +34,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from faultslip.models.asperity import dynamics  # noqa: E402
 from faultslip.models.asperity.dynamics import AsperityModel, analyse, simulate  # noqa: E402
 from faultslip.models.asperity.scene import load_asperity_scene  # noqa: E402
+from probes import found_by  # noqa: E402
 from provenance import write_results  # noqa: E402  (one stamp for every results file)
 
 #: the bounded run's steps: at most this fraction of a natural period
@@ -61,18 +62,8 @@ def _model(draw: str, seed: int, index: int) -> AsperityModel:
 
 def _counted(model, max_step):
     """The run, and how many touches the step search (dynamics._graze_between_steps) found in it."""
-    found, original = [0], dynamics._graze_between_steps
-
-    def counting(*args, **kwargs):
-        touch = original(*args, **kwargs)
-        found[0] += touch is not None
-        return touch
-
-    dynamics._graze_between_steps = counting
-    try:
+    with found_by(dynamics, "_graze_between_steps") as found:
         return simulate(model, DURATION, "asperity_LSODA", RTOL, max_step=max_step), found[0]
-    finally:
-        dynamics._graze_between_steps = original
 
 
 def measure(job) -> dict:

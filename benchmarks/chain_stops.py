@@ -30,6 +30,7 @@ sys.path.insert(0, str(ROOT))
 
 from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
 from faultslip.models.spring_chain import dynamics  # noqa: E402
+from probes import found_by  # noqa: E402
 from provenance import stamp  # noqa: E402
 
 OUT = ROOT / "benchmarks" / "results" / "chain_stops.json"
@@ -65,19 +66,9 @@ def _draws(count: int) -> list:
 
 def _passed_over(chain, position, **options):
     """The run by DOP853 (rtol 1e-10), and how many changes its steps passed over."""
-    found, original = [0], dynamics._passed_over
-
-    def counting(*args, **kwargs):
-        missed = original(*args, **kwargs)
-        found[0] += missed is not None
-        return missed
-
-    dynamics._passed_over = counting
-    try:
+    with found_by(dynamics, "_passed_over") as found:
         run = dynamics.simulate_chain(chain, EVENTS, initial_position=position, slip_solver="DOP853", rtol=1e-10,
                                       **options)
-    finally:
-        dynamics._passed_over = original
     return run, found[0]
 
 
