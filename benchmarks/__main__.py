@@ -57,6 +57,7 @@ PRODUCERS = (
     ("averaging_check", [], ["--quick"], "averaging_check.json"),
     ("nanoscale_hopf_check", [], ["--quick"], "nanoscale_hopf_check.json"),
     ("asperity_quasistatic_check", [], ["--quick"], "asperity_quasistatic_check.json"),
+    ("asperity_lsoda_steps", [], ["--quick"], "asperity_lsoda_steps.json"),
     ("surface_trends", [], [], "surface_trends.json"),
     ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),
     ("lab_cycle_cost", [], ["--quick"], "lab_cycle_cost.json"),
