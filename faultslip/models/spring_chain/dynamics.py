@@ -801,8 +801,12 @@ def _passed_over(solution, changes, end_state, hit, again):
 
                 def along(tau, change=change, interpolant=interpolant):
                     return change(tau, interpolant(tau))
-                root = when if along(when) > 0.0 else brentq(along, start, when, rtol=4 * np.finfo(float).eps,
-                                                             xtol=1e-13 * max(when, 1e-300))
+                if along(when) > 0.0:  # integrated again, the least value stays above zero by round-off
+                    root = when
+                elif along(start) <= 0.0:  # at the step's start already (a change at its very beginning)
+                    root = start
+                else:
+                    root = brentq(along, start, when, rtol=4 * np.finfo(float).eps, xtol=1e-13 * max(when, 1e-300))
             else:
                 root, interpolant = when, None
             found.append((float(root), k, interpolant))
