@@ -597,20 +597,25 @@ class _StepEnds:
             return 1.0
         if last[3] is None:
             last[3] = self.system.rhs(last[0], last[1], self.mode)[1] * self.mode
+        if last[3] >= 0:  # rising at the step's start: no turn from falling to rising (its end's slope waits)
+            return 1.0
         now[3] = self.system.rhs(t_, s, self.mode)[1] * self.mode
         width = t_ - last[0]
-        if last[3] < 0 < now[3] and width > 0 and _least_of_cubic(last[2], last[3], along, now[3], width) < \
+        if now[3] > 0 and width > 0 and _least_of_cubic(last[2], last[3], along, now[3], width) < \
                 0.5 * min(last[2], along):
             self.steps.append((last[0], last[1], t_))
         return 1.0
 
 
+#: the cubic Hermite basis (h00, h10, h01, h11) at 33 points of a step, for _least_of_cubic
+_POINTS = np.linspace(0.0, 1.0, 33)
+_HERMITE = np.array([2 * _POINTS ** 3 - 3 * _POINTS ** 2 + 1, _POINTS ** 3 - 2 * _POINTS ** 2 + _POINTS,
+                     -2 * _POINTS ** 3 + 3 * _POINTS ** 2, _POINTS ** 3 - _POINTS ** 2])
+
+
 def _least_of_cubic(start, start_slope, end, end_slope, width):
     """The least value over [0, width] of the cubic Hermite interpolant of two ends' values and slopes."""
-    points = np.linspace(0.0, 1.0, 33)
-    h00, h10 = 2 * points ** 3 - 3 * points ** 2 + 1, points ** 3 - 2 * points ** 2 + points
-    h01, h11 = -2 * points ** 3 + 3 * points ** 2, points ** 3 - points ** 2
-    return float(np.min(h00 * start + h10 * width * start_slope + h01 * end + h11 * width * end_slope))
+    return float(np.min(np.array([start, width * start_slope, end, width * end_slope]) @ _HERMITE))
 
 
 #: a step of the six-state run is searched for a dip where the speed along the slip at both its ends is below this
