@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.dynamics.shared.assessment import Assessment
-from faultslip.dynamics.shared.settling import bifurcation_note
+from faultslip.dynamics.shared.settling import bifurcation_note, settled_error
 from faultslip.dynamics import vibration as averaging
 from faultslip.dynamics.spring_slider.closed_form import closed_form_cycle
 from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionless_rate
@@ -679,11 +679,11 @@ def solve(system, method: str = "auto", outputs=("amplitude", "period"), toleran
     cycle.method = chosen.name
     error, reason = assessment.estimated_error, assessment.reason
     if dataset is not None and "settling_remaining" in dataset.attrs:
-        # a steady cycle is only as good as its settling: the remaining distance joins the error
+        # a steady cycle is only as good as its settling: the remaining distance adds to the error
         remaining = float(dataset.attrs["settling_remaining"])
         if not dataset.attrs.get("settled", 1) and not {"time_series", "event_times"} & set(outputs):
             reason = f"{reason}; {dataset.attrs['settling_reason']}"
-        error = max(error, remaining) if math.isfinite(remaining) or not {"time_series", "event_times"} & set(
+        error = settled_error(error, remaining) if math.isfinite(remaining) or not {"time_series", "event_times"} & set(
             outputs) else error
     solution = Solution(cycle, np.asarray(event_times), chosen.name, reason, error,
                         {k: v for k, v in settings.items() if k not in ("time_series",)}, dataset, evaluations, elapsed)

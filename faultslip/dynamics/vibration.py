@@ -41,7 +41,7 @@ import numpy as np
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
 from faultslip.units import ELAPSED_TIME_ATTRS
-from faultslip.dynamics.shared.settling import assess_settling
+from faultslip.dynamics.shared.settling import assess_settling, settled_error
 from faultslip import ranges
 from faultslip.errors import InputError, SolverError
 from faultslip.friction.laws import ConstantStatic, PolynomialKinetic
@@ -967,7 +967,7 @@ def _settled_by_integration(system: QuasiHarmonic, result: QuasiHarmonicResult, 
                           f"would take {periods:.3g} periods; use --method quasi_harmonic_averaging (declared "
                           f"error {result.estimated_error:.2g}) or faultslip simulate") from failure
     run = integrate(system, FALLBACK_START * result.amplitude, periods=periods)
-    error = max(INTEGRATION_ERROR, run["settling_error"])
+    error = settled_error(INTEGRATION_ERROR, run["settling_error"])
     reason = (f"{reason}: shooting failed ({failure}), integrated from {FALLBACK_START:g} of the averaged amplitude "
               "until the cycle settles")
     if not run["settling"].settled:

@@ -247,7 +247,7 @@ def declared_error_check(faults: list, integrators=None, rtols=CHECK_RTOLS, work
          "error": (dims, error, {"units": "1", "long_name": "largest relative error of recurrence and slip per "
                                                            "event against the reference"}),
          "declared_error": (dims, declared, {"units": "1", "long_name": "error the run declares: its integrator's "
-                                                                 "bound, or the settling left where larger"}),
+                                                                 "bound plus the settling left"}),
          "integrator_bound": (dims, bound, {"units": "1", "long_name": "the integrator's declared bound "
                                                               "(faultslip.dynamics.rate_state.methods.error_bound)"}),
          "settling_left": (dims, left, {"units": "1", "long_name": "the distance to the steady cycle the run "

@@ -197,7 +197,7 @@ def declare_model_error(result, error: float, ratio: float, how: str, stands_for
     result.note(f"model error: {how}")
     result.note(stands_for)
     numerical = result.estimated_relative_error
-    result.add("numerical_error", numerical, label="the cycles' own error (integrator scatter, or the settling left)")
+    result.add("numerical_error", numerical, label="the cycles' own error (integrator scatter, plus the settling left)")
     if not math.isnan(error) and (numerical is None or error > numerical):  # lead with the error that dominates
         result.add("estimated_relative_error", error if math.isfinite(error) else None,
                    label="declared error (the model error, which dominates; null: unbounded, outside the calibration)")

@@ -47,7 +47,7 @@ from faultslip.dynamics.shared.dormand_prince import (A21, A31, A32, A41, A42, A
                                                continuous_state)
 from faultslip.dynamics.rate_state import compiled as rate_state_compiled
 from faultslip.dynamics.rate_state import native
-from faultslip.dynamics.shared.settling import aitken, assess_settling, bifurcation_note
+from faultslip.dynamics.shared.settling import aitken, assess_settling, bifurcation_note, settled_error
 from faultslip.dynamics.rate_state.methods import (CYCLE_METHODS, ERROR_MODEL, NEAR_CRITICAL_FROM, SECONDS_PER_STEP,
                                                    error_bound, near_critical_error, steps_per_cycle)
 from faultslip.friction.rate_state import RateStateLaw
@@ -862,14 +862,14 @@ class RateStateCycles(ToXarray):
     @property
     def estimated_relative_error(self) -> float:
         """The steady cycle's declared error: the integrator's own (its fitted c rtol^q, amplified near K_c;
-        the cycle-to-cycle scatter for an integrator without a calibration), or what settling left."""
+        the cycle-to-cycle scatter for an integrator without a calibration) plus what settling left."""
         if self.method in ERROR_MODEL:
             noise = error_bound(self.method, self.rtol, self.stiffness_ratio)
         else:
             noise = max(CYCLE_NOISE * self.rtol, near_critical_error(self.rtol, self.stiffness_ratio))
         if self.settling is None:
             return math.inf if self.spin_up < 1 else noise  # a fixed spin-up declares nothing about settling
-        return max(noise, float(self.settling.remaining))
+        return settled_error(noise, self.settling.remaining)
 
     def report_settling(self, report) -> None:
         """Add the settling verdict and the declared error to ``report`` (every cycles report shows them)."""
@@ -878,7 +878,7 @@ class RateStateCycles(ToXarray):
                    label="the sequence settled before it was measured")
         report.add("spin_up_cycles", int(self.spin_up), label="cycles run before the measured ones")
         report.add("estimated_relative_error", self.estimated_relative_error,
-                   label="estimated relative error (integrator scatter, or the settling left)")
+                   label="estimated relative error (integrator scatter, plus the settling left)")
         if verdict is not None and not verdict.settled:
             report.note(f"the cycles were measured before they settled: {verdict.reason}")
         if self.restarts:

@@ -57,6 +57,18 @@ class Settling:
         return max(math.log(tolerance / self.remaining) / math.log(self.contraction), 0.0)
 
 
+def settled_error(numerical: float, remaining: float) -> float:
+    """A steady-cycle quantity's declared error: the method's own error and what settling left, added.
+
+    The run's last cycle is ``remaining`` from the steady cycle of the equations as integrated, which is
+    ``numerical`` from the true one: the two add (the triangle inequality), and the larger alone understates
+    their sum by up to 2x (a fresh draw of random rate-and-state faults, K / K_c 0.998 at rtol 1e-10: 1.38e-6 off
+    against 1.05e-6 declared, with 7.5e-7 of settling left). An unknown remaining distance (nan) is unbounded.
+    """
+    remaining = float(remaining)
+    return math.inf if math.isnan(remaining) else float(numerical) + remaining
+
+
 def aitken(x0, x1, x2):
     """Aitken's delta-squared limit of x0, x1, x2 (elementwise): x2 - (x2 - x1)^2 / (x2 - 2 x1 + x0).
 

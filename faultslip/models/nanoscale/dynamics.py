@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from faultslip.dynamics.shared.settling import Settling, aitken, assess_settling, bifurcation_note
+from faultslip.dynamics.shared.settling import Settling, aitken, assess_settling, bifurcation_note, settled_error
 from faultslip import ranges
 from faultslip.errors import InputError, SolverError
 from faultslip.io import budget
@@ -303,7 +303,8 @@ class NanoscaleModel:
         # carries it relative to F*, not to the swing
         scale = max(abs(swing), 1e-300)
         integration_error = noise * max(1.0, force0 / scale)
-        remaining = max(integration_error, float(verdict.remaining) * max(abs(swing), self.drive_speed) / scale)
+        remaining = settled_error(integration_error,
+                                  float(verdict.remaining) * max(abs(swing), self.drive_speed) / scale)
         cycle = NanoscaleCycle(float(swing), float(period), float(slowest), verdict, total, restarts, rtol,
                                remaining, self, integrated)
         if (start is None and verdict.settled and integration_error > tolerance and rtol > RTOL_FLOOR
@@ -347,7 +348,7 @@ class NanoscaleCycle:
     cycles: int
     restarts: int
     rtol: float
-    estimated_error: float  # relative, of the force swing: the integrator's, or what settling left
+    estimated_error: float  # relative, of the force swing: the integrator's plus what settling left
     model: "NanoscaleModel"
     integrated: float = math.nan  # model time integrated (1/omega): LSODA chunks, restarts and a tighter run included
     refined_from: float | None = None  # the rtol of a first run whose error in this swing missed the tolerance
@@ -751,7 +752,7 @@ def report(model: NanoscaleModel, run: NanoscaleRun | None = None, choice: Nanos
             r.add("force_swing", run.force_swing(), label="force peak-to-peak of the run's last cycle")
             r.add("settled", bool(verdict.settled), label="the run's cycles settled")
             if model.stick_slip:
-                error = max(error or 0.0, float(verdict.remaining)) if verdict.cycles >= 2 else math.inf
+                error = settled_error(error or 0.0, verdict.remaining) if verdict.cycles >= 2 else math.inf
                 if not verdict.settled:
                     r.note(f"the run's cycles have not settled: {verdict.reason}; its swing is a transient")
     if error is not None:

@@ -451,7 +451,7 @@ FAULT_OUTPUTS = {spec.name: spec for spec in (
     Output("width_over_nucleation", "1", "W / h*, what governs the model error"),
     Output("method", "1", "method of this cell", flags=("one_slider", "fault_2d")),
     Output("estimated_relative_error", "1", "declared relative error: the larger of model_error and numerical_error"),
-    Output("numerical_error", "1", "the cycles' own error (integrator scatter, or the settling left)"),
+    Output("numerical_error", "1", "the cycles' own error (integrator scatter, plus the settling left)"),
 )}
 LAB_OUTPUTS = {spec.name: spec for spec in (
     Output("initial_friction", "1", "friction at the start of the load history"),
