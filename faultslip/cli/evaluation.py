@@ -26,6 +26,7 @@ def cmd_bench(args) -> int:
     for name in args.method or []:
         if name not in method_names():
             raise InputError(f"unknown bench method {name!r}; allowed: {', '.join(method_names())}")
+    seed, asked = _held_out_seed(args, bench.HELD_OUT_SEED)
     out = Path(_output_dir(args, "bench", [f"work_precision.{ext}" for ext in ("nc", "md", "png")]))
     workers = _workers(args)
     with _locked(out / "work_precision.nc"):
@@ -33,12 +34,12 @@ def cmd_bench(args) -> int:
                                  progress=_progress("bench", not args.json))
         table = markdown(dataset)
         held = None
-        if not (args.quick or args.scene or args.method):  # the declared errors, on scenes they were not set on
+        if asked or not (args.quick or args.scene or args.method):  # the declared errors, on scenes not set on
             held = bench.declared_error_summary(bench.declared_error_check(
-                bench.random_scenes(bench.HELD_OUT_SEED, bench.HELD_OUT_SCENES), workers=workers,
+                bench.random_scenes(seed, bench.HELD_OUT_SCENES), workers=workers,
                 progress=_progress("held-out scenes", not args.json)))
             table += (f"\n\nThe event-driven integrators' declared errors on {bench.HELD_OUT_SCENES} random scenes "
-                      f"(seed {bench.HELD_OUT_SEED}) they were not set on, rtol 1e-3 to 1e-12, "
+                      f"(seed {seed}) they were not set on, rtol 1e-3 to 1e-12, "
                       f"{bench.CHECK_CYCLES} cycles a run:\n\n" + bench.declared_error_text(held))
         write_dataset(dataset, out / "work_precision.nc")
         write_text_atomic(out / "work_precision.md", table + "\n")
@@ -48,13 +49,22 @@ def cmd_bench(args) -> int:
         print(json.dumps({"files": files, "wall_time": {"value": dataset.attrs["total_wall_time_s"], "units": "s"},
                           "scenes": [str(s) for s in dataset["scene"].values],
                           "methods": [str(m) for m in dataset["method"].values],
-                          **({"declared_errors_held_out": held} if held else {})}, indent=2))
+                          **({"declared_errors_held_out": held, "held_out_seed": seed} if held else {})}, indent=2))
     else:
         print(table.split("\n\nOutcome")[0])
         if held:
             print("\nDeclared errors on the held-out scenes:\n" + bench.declared_error_text(held))
         print(f"\nwrote {', '.join(files)} in {dataset.attrs['total_wall_time_s']:.1f} s")
     return 0
+
+
+def _held_out_seed(args, shipped: int) -> tuple[int, bool]:
+    """(the held-out draw's seed, whether --held-out-seed asked for it)."""
+    if args.held_out_seed is None:
+        return shipped, False
+    if args.held_out_seed < 0:
+        raise InputError(f"--held-out-seed must be 0 or more, got {args.held_out_seed}")
+    return args.held_out_seed, True
 
 
 def cmd_stability(args) -> int:
@@ -93,6 +103,7 @@ def cmd_stability(args) -> int:
 
 def cmd_rate_state_bench(args) -> int:
     names = [f"work_precision_rate_state.{ext}" for ext in ("nc", "md", "png")] + ["failure_map_rate_state.nc"]
+    seed, asked = _held_out_seed(args, rate_state_bench.HELD_OUT_SEED)
     out = Path(_output_dir(args, "bench", names))
     workers = _workers(args)
     ratios = tuple(float(r) for r in (1e-6, 1e-4, 1e-2, 0.3, 0.99)) if args.quick else rate_state_bench.MAP_RATIOS
@@ -103,13 +114,13 @@ def cmd_rate_state_bench(args) -> int:
                                                 progress=_progress("failure map", not args.json))
         table = rate_state_bench.markdown(work)
         text = rate_state_bench.failure_text(failures)
-        unseen = "" if args.quick else (
-            f"\n\nOn the {rate_state_bench.HELD_OUT_FAULTS} random faults held out from the declared errors' fit "
-            f"(seed {rate_state_bench.HELD_OUT_SEED}; benchmarks/rate_state_calibration.py):\n\n"
-            + rate_state_bench.declared_error_text(rate_state_bench.declared_error_summary(
-                rate_state_bench.declared_error_check(
-                    rate_state_bench.random_faults(rate_state_bench.HELD_OUT_SEED, rate_state_bench.HELD_OUT_FAULTS),
-                    workers=workers, progress=_progress("held-out faults", not args.json)))))
+        held = None if args.quick and not asked else rate_state_bench.declared_error_summary(
+            rate_state_bench.declared_error_check(
+                rate_state_bench.random_faults(seed, rate_state_bench.HELD_OUT_FAULTS), workers=workers,
+                progress=_progress("held-out faults", not args.json)))
+        unseen = "" if held is None else (
+            f"\n\nOn {rate_state_bench.HELD_OUT_FAULTS} random faults held out from the declared errors' fit "
+            f"(seed {seed}; benchmarks/rate_state_calibration.py):\n\n" + rate_state_bench.declared_error_text(held))
         write_dataset(work, out / names[0])
         write_dataset(failures, out / names[3])
         write_text_atomic(out / names[1], table + "\n\nWhere each method fails (rtol 1e-7, "
@@ -119,10 +130,11 @@ def cmd_rate_state_bench(args) -> int:
     seconds = work.attrs["total_wall_time_s"] + failures.attrs["total_wall_time_s"]
     if args.json:
         print(json.dumps({"files": files, "failure_regions": text.splitlines(),
-                          "wall_time": {"value": seconds, "units": "s"}}, indent=2))
+                          "wall_time": {"value": seconds, "units": "s"},
+                          **({"declared_errors_held_out": held, "held_out_seed": seed} if held else {})}, indent=2))
     else:
         print(table)
-        print("\nWhere each method fails:\n" + text)
+        print("\nWhere each method fails:\n" + text + unseen)
         print(f"\nwrote {', '.join(files)} in {seconds:.1f} s")
     return 0
 

@@ -561,6 +561,9 @@ def _rate_state_commands(commands) -> None:
     _output_dir_option(bench, "rate-state bench", "bench", "the folder for its files (default: bench/)")
     bench.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     bench.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
+    bench.add_argument("--held-out-seed", type=int, help="check the declared errors on this seed's draw of random "
+                       "faults, one they were not fitted on (default: the shipped held-out draw; runs with --quick "
+                       "too)")
     bench.add_argument("--json", action="store_true", help=COMMON["--json"])
     bench.set_defaults(handler="evaluation:cmd_rate_state_bench")
     group.set_defaults(handler="rate_state:cmd_missing_action")
@@ -575,6 +578,9 @@ def _evaluation_commands(commands) -> None:
     bench.add_argument("--scene", action="append", help="only this standard scene (repeatable)")
     bench.add_argument("--method", action="append", help="only this method (repeatable)")
     bench.add_argument("--workers", type=int, help="parallel processes (default: the cores)")
+    bench.add_argument("--held-out-seed", type=int, help="check the event-driven integrators' declared errors on this "
+                       "seed's draw of random scenes, one they were not set on (default: the shipped held-out draw; "
+                       "runs with --quick, --scene or --method too)")
     bench.add_argument("--json", action="store_true", help=COMMON["--json"])
     bench.set_defaults(handler="evaluation:cmd_bench")
 

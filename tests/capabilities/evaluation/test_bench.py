@@ -59,6 +59,26 @@ def test_bench_and_stability_cli(cli, tmp_path):
     assert bad.code == 2 and "unknown bench scene 'mars'" in bad.err
 
 
+def test_bench_checks_the_declared_errors_on_a_draw_of_the_user_s_seed(cli, tmp_path, monkeypatch):
+    """--held-out-seed re-measures the event-driven integrators' declared errors on scenes nobody chose (one scene
+    here, for time; faultslip bench draws HELD_OUT_SCENES), with --quick too; a seed numpy cannot take is refused."""
+    from faultslip.evaluation import bench
+
+    monkeypatch.setattr(bench, "HELD_OUT_SCENES", 1)
+    result = cli("bench", "--quick", "--scene", "fault_1906", "--method", "closed_form", "--held-out-seed", "7",
+                 "--workers", "1", "--output-dir", tmp_path / "b", "--json")
+    assert result.code == 0, result.err
+    assert result.json["held_out_seed"] == 7
+    held = result.json["declared_errors_held_out"]
+    assert set(held) == {"RK45", "DOP853", "Radau", "LSODA"}
+    assert all(row["scenes"] == 1 and row["within_declared"] for row in held.values())
+    assert "(seed 7)" in (tmp_path / "b" / "work_precision.md").read_text()
+    for command in (("bench",), ("rate-state", "bench")):
+        assert_clean_error(cli(*command, "--held-out-seed", "-1", "--output-dir", tmp_path / "x"),
+                           "--held-out-seed must be 0 or more, got -1")
+    assert not (tmp_path / "x").exists() or not any((tmp_path / "x").iterdir())
+
+
 @pytest.mark.parametrize("scene, method", [("san_andreas_1906", "closed_form"), ("lab_glass_dry", "exact_cycle"),
                                            ("lab_steel_dry_polynomial", "event_driven_DOP853")])
 def test_every_result_says_how_it_was_computed(cli, scene, method):
