@@ -79,28 +79,46 @@ def _model_text(model) -> str:
     return text + (f" + {floor:.2g}" if floor else "")
 
 
+def _fresh_cell(fresh: list, name: str) -> str:
+    """A table cell: each fresh draw's largest error / declared for one integrator, in the draws' order."""
+    return " " + ", ".join(f"{draw['summary'][name]['largest_ratio']:.2f}" for draw in fresh) + " |" if fresh else ""
+
+
+def _fresh_text(fresh: list, what: str) -> str:
+    """The fresh draws' seeds and sizes, and the runs each measured, for a table's notes."""
+    if not fresh:
+        return ""
+    return ("; fresh draws, run after the model was shipped and read against it as it is: "
+            + ", ".join(f"seed {draw['seed']} ({draw[what]} {what})" for draw in fresh)
+            + " (runs measured: " + "; ".join(", ".join(f"{name} {row['runs'] - row['failed']} of {row['runs']}"
+                                                          for name, row in draw["summary"].items())
+                                              for draw in fresh) + ")")
+
+
 def event_driven_errors_table() -> str | None:
     """docs/methods.md: each event-driven integrator's declared error, the largest calibration error against it,
     and the held-out draw's (benchmarks/event_driven_calibration.py)."""
     result = _load_with("event_driven_calibration.json", "held_out")
     if result is None:
         return None
-    calibration, held = result["calibration"], result["held_out"]
+    calibration, held, fresh = result["calibration"], result["held_out"], result.get("fresh", [])
     rows = ["| integrator | declared error | calibration: largest error / declared, over rtol 1e-3 to 1e-12 | "
-            "held out: runs measured | held out: largest error / declared | where |",
-            "| --- | --- | --- | --- | --- | --- |"]
+            "held out: runs measured | held out: largest error / declared | where |"
+            + (" fresh draws: largest error / declared |" if fresh else ""),
+            "| --- | --- | --- | --- | --- | --- |" + (" --- |" if fresh else "")]
     for solver, model in result["model"].items():
         row, found = calibration["envelope"][solver], held["summary"][solver]
         ratios = [e / d for e, d in zip(row["largest_error"], row["declared_error"])]
         rows.append(f"| {solver} | {_model_text(model)} | {max(ratios):.2f} | {found['runs'] - found['failed']} of "
-                    f"{found['runs']} | {found['largest_ratio']:.2f} | {found['at']} |")
+                    f"{found['runs']} | {found['largest_ratio']:.2f} | {found['at']} |" + _fresh_cell(fresh, solver))
     rows += ["", f"Errors as the contract declares them: the larger relative error of amplitude and period, or the "
              f"event times' drift per cycle, over {calibration['cycles']} cycles against the exact cycle (DOP853 at "
              f"rtol 1e-13 for Cameron's law and nonlinear kinetic laws). Calibration: {calibration['scenes']} scenes, "
              f"the bench's {calibration['scenes'] - calibration['per_seed'] * len(calibration['seeds'])} stick-slip "
              f"scenes with an exact cycle and {calibration['per_seed']} random scenes from each of seeds "
              f"{', '.join(str(s) for s in calibration['seeds'])}; held out: {held['scenes']} scenes from seed "
-             f"{held['seed']}, measured once against the shipped model. Random scenes: every Table I row, damping "
+             f"{held['seed']}, measured once against the shipped model{_fresh_text(fresh, 'scenes')}. Random scenes: "
+             "every Table I row, damping "
              "ratio 0 or 1e-3 to 0.3, 1e-4 to 0.98 theta_c, with a kinetic slope, Cameron's law or a polynomial "
              "kinetic law on three in four. Largest calibration error / rtol by friction law: "
              + "; ".join(f"{solver}: " + ", ".join(f"{law} {value:.3g}" for law, value in
@@ -121,16 +139,18 @@ def rate_state_errors_table() -> str | None:
     result = _load_with("rate_state_calibration.json", "held_out")
     if result is None:
         return None
-    calibration, held = result["calibration"], result["held_out"]
+    calibration, held, fresh = result["calibration"], result["held_out"], result.get("fresh", [])
     rows = ["| integrator | declared error (recurrence, slip per event) | calibration: runs measured | calibration: "
-            "smallest declared / error | held out: runs measured | held out: largest error / declared | where |",
-            "| --- | --- | --- | --- | --- | --- | --- |"]
+            "smallest declared / error | held out: runs measured | held out: largest error / declared | where |"
+            + (" fresh draws: largest error / declared |" if fresh else ""),
+            "| --- | --- | --- | --- | --- | --- | --- |" + (" --- |" if fresh else "")]
     for method, model in result["model"].items():
         row, found = calibration["envelope"][method], held["summary"][method]
         failed = sum(row["failed_runs"].values())
         rows.append(f"| {method} | {_rate_state_model_text(model)} | {row['runs'] - failed} of {row['runs']} | "
                     f"{row['smallest_declared_over_error']:.2f} | {found['runs'] - found['failed']} of "
-                    f"{found['runs']} | {found['largest_ratio']:.2f} | {found['at']} |")
+                    f"{found['runs']} | {found['largest_ratio']:.2f} | {found['at']} |" + _fresh_cell(fresh, method))
+
     def where(row):
         place = row.get("failed_where") or {}
         if not place.get("stiffness_ratio"):
@@ -148,8 +168,9 @@ def rate_state_errors_table() -> str | None:
              f"{', '.join(str(s) for s in calibration['seeds'])}; the far model is fitted on those below K / K_c "
              f"{calibration['near_critical_from']:g}, the near one on those above, each at least "
              f"{calibration['margin_required']:g} times every error a run's declared settling does not already cover; "
-             f"the declared error a run reports is the larger of this and its settling left. Held out: "
-             f"{held['faults']} faults from seed {held['seed']}, measured once against the shipped model. "
+             f"the declared error a run reports is this plus its settling left. Held out: "
+             f"{held['faults']} faults from seed {held['seed']}, measured once against the shipped model"
+             f"{_fresh_text(fresh, 'faults')}. "
              "Random faults: a 0.003 to 0.02, a / b 0.3 to 0.95, the aging or the slip law, sigma_n 5 to 150 MPa, "
              "G 20 to 40 GPa, width 1 to 50 km, plate rate 1e-10 to 5e-9 m/s, K / K_c 1e-5 to 0.9 or (1 in 5) "
              "0.9 to 0.999. Runs not measured: "
