@@ -67,9 +67,9 @@ OUTPUT_ATTRS = {
     "estimated_relative_error": ("1", "declared relative error of the recurrence and slip as the fault's: the larger "
                                       "of model_error and numerical_error where the cycles ran (0 for the closed "
                                       "form, whose K / K_c is exact; inf: unbounded)"),
-    "numerical_error": ("1", "the cycles' own error: the largest of the integrator's declared error (c rtol), what "
-                             "settling left and the measured plate balance |mean cycle slip / (V_pl T) - 1| (0 for "
-                             "the closed form)"),
+    "numerical_error": ("1", "the cycles' own error: the larger of the integrator's declared error (c rtol) plus "
+                             "what settling left, and the measured plate balance |mean cycle slip / (V_pl T) - 1| "
+                             "(0 for the closed form)"),
     "model_error": ("1", "declared model error of this one block (K = G / D) against the 2-D fault it stands for, "
                          "relative, recurrence or slip (data/fault_2d_model_error.json, zone-width table; inf: outside "
                          "the calibrated W / h*, not known; NaN where b <= a)"),
@@ -231,7 +231,7 @@ def _one_cell(row, cycles, method, tolerance):
         return (np.nan, 0.0, 0.0, np.nan, np.nan), (METHOD_CODES[chosen], REGIME_CODES["slow_or_creeping"])
     except SolverError:
         return (np.nan,) * 5, (METHOD_CODES["solver_failed"], REGIME_CODES["stick_slip"])
-    # declared: the integrator's bound, what settling left (run.estimated_relative_error), or the plate balance
+    # declared: the integrator's bound plus what settling left (run.estimated_relative_error), or the plate balance
     balance = max(abs(float(np.mean(run.cycle_slip)) / (plate * run.recurrence) - 1.0), assessment.estimated_error,
                   run.estimated_relative_error)
     return ((run.recurrence, float(np.mean(run.slip_per_event)), float(np.mean(run.stress_drop)),

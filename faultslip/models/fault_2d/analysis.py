@@ -250,6 +250,6 @@ METHODS = {
                       "what the process still owes before its first step (loading or compiling the step: "
                       "FAULT_2D_FIRST_RUN_SECONDS); a central estimate, measured against CPU time in "
                       "benchmarks/ladder_escalations.py",
-        "declared_error": "the largest of the sequence's spread (or an aperiodic mean's 95 % half-width), 10 rtol and "
+        "declared_error": "the sum of the sequence's spread (or an aperiodic mean's 95 % half-width), 10 rtol and "
                           "the discretisation bound; with --richardson, twice the correction two resolutions show"},
 }

@@ -19,6 +19,7 @@ from faultslip.fault import dip_error, strike_error
 from faultslip.models.fault_2d import bp3_outputs
 from faultslip.models.fault_2d.integrate import YEAR, Fault2DRun
 from faultslip.dynamics.rate_state.slider import fault_cycles
+from faultslip.dynamics.shared.settling import settled_error
 from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.fault.ladder import (ONE_SLIDER_METHOD, declared_error, groups, ladder_report, one_slider_report,
@@ -171,12 +172,13 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
     if math.isfinite(discretisation):
         report.add("discretisation_error", discretisation,
                    label="element size's error in recurrence (a bound measured on three faults)")
-        declared = max(sequence_error, 10 * run.rtol, discretisation)
+        declared = settled_error(discretisation + 10 * run.rtol, sequence_error)
         report.add("estimated_relative_error", declared if math.isfinite(declared) else None,
-                   label="declared: the largest of the sequence's (settling, or an aperiodic mean's sampling "
-                         "error), the element size's and 10 rtol (null: none can be declared, too few intervals)")
+                   label="declared: the sequence's (settling, or an aperiodic mean's sampling error), the element "
+                         "size's and 10 rtol, added (null: none can be declared, too few intervals)")
         if sequence.period > 1:
-            report.add("interval_errors", [max(sequence_error, 10 * run.rtol, per_interval)] * sequence.period,
+            report.add("interval_errors", [settled_error(per_interval + 10 * run.rtol, sequence_error)]
+                       * sequence.period,
                        label="declared error of each interval of the supercycle (relative: a supercycle's intervals "
                              "move more with the element size than its mean)")
     else:  # run as asked below the resolution where sequences keep their character: no error to declare
@@ -419,9 +421,9 @@ def refuse_unreachable(loaded: Fault2DScene, tolerance: float, tried_slider: boo
 
 def floor_error(loaded: Fault2DScene) -> float:
     """The least relative error a 2-D run of ``loaded`` can declare, known before it runs: the element size's
-    (:func:`discretisation_error` at its resolution, a period-1 sequence's, the smallest) and 10 rtol; the
+    (:func:`discretisation_error` at its resolution, a period-1 sequence's, the smallest) plus 10 rtol; the
     sequence's own settling can only add to it."""
-    return max(discretisation_error(loaded.resolution), 10 * loaded.rtol)
+    return discretisation_error(loaded.resolution) + 10 * loaded.rtol
 
 
 def one_slider_estimate(what: str) -> budget.Estimate:
@@ -656,9 +658,9 @@ def richardson_run(scene, allow_large: bool = False, settle_tolerance: float = S
         sequence_error = float(spread) if result.values["settled"] and spread is not None else math.inf
     result.add("discretisation_error", shown, label="element size's error in recurrence (Richardson: twice the "
                                                     "extrapolation's correction)")
-    declared = max(shown, 10 * finer.rtol, sequence_error)
+    declared = settled_error(shown + 10 * finer.rtol, sequence_error)
     result.add("estimated_relative_error", declared if math.isfinite(declared) else None,
-               label="declared: the largest of the sequence's, the element size's (Richardson) and 10 rtol")
+               label="declared: the sequence's, the element size's (Richardson) and 10 rtol, added")
     result.note(f"Richardson: {loaded.fault.element_size:g} m and {finer.fault.element_size:g} m elements; the "
                 f"a-priori bound would have declared {discretisation_error(finer.resolution):.2g}")
     return result
