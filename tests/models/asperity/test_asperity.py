@@ -562,7 +562,9 @@ def test_a_six_state_slip_that_touches_the_platforms_speed_inside_one_lsoda_step
     """Seed 004's scene at 3.7395 mm/s, six-state: LSODA's steps (about 650 a natural period) passed over a touch of
     the platform's speed, and the run found 13 sticks in 3 s where steps of at most 1/3000 of a natural period find
     14. The steps that may hide a dip are now integrated again finely: 14, and the stick fraction agrees with the
-    fine run's within 1e-6; without the search the check fails."""
+    fine run's within 1e-6; without the search the check fails. Whether LSODA's steps at rtol 1e-7 pass over the
+    touch depends on the machine's round-off (they did on one machine and not on another), so the search's need is
+    shown at rtol 1e-4, whose steps are long enough to pass over it: 13 without the search, 14 with it."""
     from pathlib import Path
 
     from faultslip.models.asperity import dynamics
@@ -576,8 +578,9 @@ def test_a_six_state_slip_that_touches_the_platforms_speed_inside_one_lsoda_step
     assert checked.sticks == fine.sticks == 14
     fraction, reference = (dynamics.analyse(run).stick_fraction for run in (checked, fine))
     assert abs(fraction - reference) <= 1e-6
+    assert dynamics.simulate(model, 3.0, "asperity_LSODA", 1e-4).sticks == 14
     monkeypatch.setattr(dynamics, "_graze_between_steps", lambda *args: None)
-    assert dynamics.simulate(model, 3.0, "asperity_LSODA", 1e-7).sticks == 13  # the touch, unseen
+    assert dynamics.simulate(model, 3.0, "asperity_LSODA", 1e-4).sticks == 13  # the touch, unseen
 
 
 def test_the_six_state_run_at_its_own_steps_agrees_with_fine_steps_on_every_benchmarked_run():
