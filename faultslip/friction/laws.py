@@ -235,6 +235,8 @@ class ConstantKinetic:
     mu_m: float
 
     is_linear = True
+    #: drawn by the event-driven integrators' calibration (faultslip.dynamics.methods.EventDriven)
+    error_calibrated = True
 
     def __post_init__(self):
         if not (np.isfinite(self.mu_m) and self.mu_m >= 0):
@@ -271,6 +273,7 @@ class LinearKinetic:
     slope: float
 
     is_linear = True
+    error_calibrated = True
 
     def __post_init__(self):
         if not (np.isfinite(self.mu_m) and self.mu_m >= 0 and np.isfinite(self.slope)):
@@ -300,6 +303,7 @@ class PolynomialKinetic:
     coefficients: tuple
 
     is_linear = False
+    error_calibrated = True
 
     def __post_init__(self):
         coefficients = tuple(float(c) for c in self.coefficients)
@@ -330,6 +334,8 @@ class _CurveKinetic:
     a one-sided-at-zero central difference (sliding speed u >= 0)."""
 
     is_linear = False
+    #: never drawn by the event-driven integrators' calibration: a table's kinks, a switch at the peak speed
+    error_calibrated = False
 
     def _check_at_rest(self):
         value = float(np.asarray(self(0.0)))

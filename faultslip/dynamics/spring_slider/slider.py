@@ -213,6 +213,12 @@ class SliderSystem:
         return bool(self.kinetic_law.is_linear)
 
     @cached_property
+    def error_calibrated(self) -> bool:
+        """Whether the event-driven integrators' declared error was fitted on this kind of kinetic law (a law
+        the calibration never drew is checked run by run: faultslip.dynamics.methods.refinement_check)."""
+        return bool(getattr(self.kinetic_law, "error_calibrated", False))
+
+    @cached_property
     def rate_static_friction(self) -> float | None:
         """mu_s at this loading rate, for static laws that do not depend on stick time."""
         if self.static_law.depends_on_stick_time:
