@@ -60,6 +60,7 @@ PRODUCERS = (
     ("asperity_lsoda_steps", [], ["--quick"], "asperity_lsoda_steps.json"),
     ("surface_trends", [], [], "surface_trends.json"),
     ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),
+    ("refinement_check", [], ["--count", "4"], "refinement_check.json"),
     ("lab_cycle_cost", [], ["--quick"], "lab_cycle_cost.json"),
     ("rate_state_calibration", [], ["--quick"], "rate_state_calibration.json"),
     ("rate_state_settling", [], [], "rate_state_settling.json"),

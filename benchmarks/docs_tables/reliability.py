@@ -128,6 +128,32 @@ def event_driven_errors_table() -> str | None:
     return "\n".join(rows)
 
 
+def refinement_check_table() -> str | None:
+    """docs/methods.md: the event-driven runs on a law the calibration never drew, before and with the refinement
+    check (benchmarks/refinement_check.py)."""
+    result = _load_with("refinement_check.json", "held_out")
+    if result is None:
+        return None
+    rows = ["| draw | runs | before: largest error / declared | before: runs over | with the check: largest "
+            "error / declared | with the check: runs over | rtol tightened | evaluations, with / before (median, "
+            "largest) |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for label, found in [*((f"seed {d['seed']} (chose the factor)", d) for d in result["chosen_on"]),
+                         (f"seed {result['held_out']['seed']} (held out)", result["held_out"])]:
+        s = found["summary"]
+        rows.append(f"| {label} | {s['runs']} | {s['largest_ratio_before']:.3g} | {s['over_declared_before']} | "
+                    f"{s['largest_ratio']:.2f} | {s['over_declared']} | {s['tightened']} | "
+                    f"{s['evaluations_ratio_median']:.2g}, {s['evaluations_ratio_max']:.2g} |")
+    rows += ["", f"Each draw: {result['held_out']['scenes']} rough-surface scenes (seed 000), three of the example's "
+             f"parameters moved by a factor within 1/{result['spread']:g} to {result['spread']:g}; every integrator "
+             f"({', '.join(result['solvers'])}) at tolerances {', '.join(f'{t:g}' for t in result['tolerances'])}, "
+             "against DOP853 at rtol 1e-12. The error is the largest relative error of amplitude, period, stress "
+             "drop (a graze's excepted), peak slip speed and slip per event. Before: the first run and its "
+             f"calibrated error; with the check: the answer and at least {result['factor']:g} times its difference "
+             f"from a run at rtol / {result['refinement']:g}, the rtol tightened while that exceeds the tolerance. "
+             "`python benchmarks/refinement_check.py`. " + _machine(result)]
+    return "\n".join(rows)
+
+
 def _rate_state_model_text(model) -> str:
     far, near = model["far"], model["near"]
     return f"max({_model_text(far)}, {near[0]:g} rtol^{near[1]:g} / (1 - K / K_c))"
@@ -208,6 +234,7 @@ def rate_state_settling_table() -> str | None:
 TABLES = {
     "reliability": reliability_table,
     "event_driven_errors": event_driven_errors_table,
+    "refinement_check": refinement_check_table,
     "rate_state_errors": rate_state_errors_table,
     "rate_state_settling": rate_state_settling_table,
 }
