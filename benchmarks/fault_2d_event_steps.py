@@ -51,7 +51,8 @@ RUN_BEFORE_CLAMPING = {"ladder_escalations.json"}
 ESCALATION_DRAWS = {"ladder_escalations.json": 68000, "ladder_escalations_held_out.json": 68001,
                     "ladder_escalations_second_draw.json": 68003, "ladder_escalations_third_draw.json": 68004,
                     "ladder_escalations_fourth_draw.json": 68005, "ladder_escalations_fifth_draw.json": 68008,
-                    "ladder_escalations_sixth_draw.json": 68009, "ladder_escalations_seventh_draw.json": 68013}
+                    "ladder_escalations_sixth_draw.json": 68009, "ladder_escalations_seventh_draw.json": 68013,
+                    "ladder_escalations_eighth_draw.json": 68021}
 
 
 def point(row: dict, elements_per_process_zone: float, duration: float, steps: float, group: str) -> dict:

@@ -5,7 +5,7 @@
 Faults drawn at random over the one slider's calibrated box (benchmarks/ladder_designs.py's box; seed 68000 is
 the draw the per-step cost was fitted on, FAULT_2D_STEP_SECONDS, and the step count's power of the elements per
 L_b; seed 68001, written to ladder_escalations_held_out.json, is a draw they never saw; 68003, 68004, 68005,
-68008, 68009 and 68013, with --out, six more), each as a scene on 3 to 5 elements per L_b over eight of its
+68008, 68009, 68013 and 68021, with --out, seven more), each as a scene on 3 to 5 elements per L_b over eight of its
 expected recurrences, are run as a user would:
 ``faultslip.run(scene, tolerance=0.05)``. The one slider's ±50 % cannot meet 5 %, so each escalates to the 2-D
 fault of the same scene, and its result reports the estimate made before it started and the CPU time it used. Each
