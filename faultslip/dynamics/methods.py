@@ -340,7 +340,7 @@ def refined_rtol(rtol: float) -> float:
 
 #: A stress drop under this share of the slip's swing is a graze (seed 000's slider at c = 0 touches zero speed
 #: once a period, its drop zero): the drop is zero to within the solver's position error, which at a tangency is
-#: of order sqrt(rtol), and has no relative error to declare; its difference is said in newtons instead.
+#: of order sqrt(rtol), and has no relative error to declare; its difference is said in force units instead.
 GRAZE_SHARE = 1e-3
 
 
@@ -350,7 +350,8 @@ def _grazes(cycle) -> bool:
 
 def refinement_difference(coarse, fine) -> tuple[float, float | None]:
     """Two runs' largest relative difference over CHECKED_OUTPUTS (inf where one is missing), and where both
-    runs' stress drops are grazes (:data:`GRAZE_SHARE`), their absolute difference in N (else None)."""
+    runs' stress drops are grazes (:data:`GRAZE_SHARE`), their absolute difference (N in the lab, Pa on a fault;
+    else None)."""
     graze = _grazes(coarse) and _grazes(fine)
     worst = 0.0
     for name in CHECKED_OUTPUTS:
@@ -657,7 +658,8 @@ def refinement_check(chosen, system, outputs, tolerance, cycles, settings, run, 
         note = (f"{reason}; checked against rtol = {finer['rtol']:g} (its law was never drawn by the calibration): "
                 f"they differ by {difference:.2g}, so its error is declared {checked:.2g}" + (
                     "" if graze is None else f"; its stress drop is a graze (under {GRAZE_SHARE:g} of the swing), "
-                    f"zero within {REFINEMENT_FACTOR * graze:.2g} N, with no relative error"))
+                    f"zero within {REFINEMENT_FACTOR * graze:.2g} {'N' if run[0].scale == 'lab' else 'Pa'}, with no "
+                    "relative error"))
         if checked <= tolerance or finer["rtol"] <= FINEST_RTOL:
             return (*run[:3], evaluations, checked, note, settings)
         run, settings = check, finer

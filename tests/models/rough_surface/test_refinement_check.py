@@ -104,3 +104,13 @@ def test_a_grazes_stress_drop_has_no_relative_error_and_is_said_in_newtons():
 def test_a_missing_output_in_one_run_is_an_unbounded_difference():
     difference, _ = methods.refinement_difference(_cycle(), _cycle(period=math.nan))
     assert difference == math.inf
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_a_grazing_run_says_its_stress_drop_is_zero_within_newtons_and_keeps_its_relative_error():
+    base = read_scene(contract.families()["rough_surface"].example.scene)[0]
+    system, _, found = read_rough_scene(base.with_values(separation_coefficient=0.0))
+    solution = methods.solve(system, method="event_driven_DOP853", tolerance=1e-6, cycles=found["cycles"])
+    assert "its stress drop is a graze" in solution.method_reason and " N, with no relative error" in \
+        solution.method_reason
+    assert solution.estimated_relative_error <= 1e-6
