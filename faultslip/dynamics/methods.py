@@ -618,16 +618,16 @@ BASELINES = {f"regularized_{s}": Regularized(s) for s in ("RK45", "LSODA", "Rada
 SEED_APPENDIX_I = SeedAppendixI()
 
 
-def _run_error(chosen, system, outputs, cycles, settings, run) -> float:
-    """A run's calibrated error at its rtol, with the settling left (as solve declares it)."""
-    drift = max(cycles, 1) if "event_times" in outputs else 1.0
-    error = declared_slip_error(chosen.solver, settings["rtol"]) * drift
-    dataset = run[2]
-    if dataset is not None and "settling_remaining" in dataset.attrs:
-        remaining = float(dataset.attrs["settling_remaining"])
-        if math.isfinite(remaining) or not {"time_series", "event_times"} & set(outputs):
-            error = settled_error(error, remaining)
-    return error
+def _with_settling(error: float, reason: str, dataset, outputs) -> tuple[float, str]:
+    """A run's declared error and reason with its settling: a steady cycle is only as good as its settling, and the
+    remaining distance adds to the error (:func:`settled_error`)."""
+    if dataset is None or "settling_remaining" not in dataset.attrs:
+        return error, reason
+    remaining = float(dataset.attrs["settling_remaining"])
+    steady = not {"time_series", "event_times"} & set(outputs)
+    if not dataset.attrs.get("settled", 1) and steady:
+        reason = f"{reason}; {dataset.attrs['settling_reason']}"
+    return (settled_error(error, remaining) if math.isfinite(remaining) or steady else error), reason
 
 
 def refinement_check(chosen, system, outputs, tolerance, cycles, settings, run, error, reason):
@@ -663,7 +663,8 @@ def refinement_check(chosen, system, outputs, tolerance, cycles, settings, run, 
         if checked <= tolerance or finer["rtol"] <= FINEST_RTOL:
             return (*run[:3], evaluations, checked, note, settings)
         run, settings = check, finer
-        error = _run_error(chosen, system, outputs, cycles, settings, run)
+        error = _with_settling(chosen.assess(system, outputs, tolerance, cycles, rtol=settings["rtol"]).estimated_error,
+                               "", run[2], outputs)[0]
         reason = (f"{chosen.solver} at rtol = {settings['rtol']:g}, after rtol = {settings['rtol'] * REFINEMENT:g} "
                   f"differed from it by {difference:.2g}, past the tolerance {tolerance:g}")
 
@@ -778,14 +779,7 @@ def solve(system, method: str = "auto", outputs=("amplitude", "period"), toleran
     cycle, event_times, dataset, evaluations = chosen.run(system, cycles, settings)
     elapsed = time.perf_counter() - started
     cycle.method = chosen.name
-    error, reason = assessment.estimated_error, assessment.reason
-    if dataset is not None and "settling_remaining" in dataset.attrs:
-        # a steady cycle is only as good as its settling: the remaining distance adds to the error
-        remaining = float(dataset.attrs["settling_remaining"])
-        if not dataset.attrs.get("settled", 1) and not {"time_series", "event_times"} & set(outputs):
-            reason = f"{reason}; {dataset.attrs['settling_reason']}"
-        error = settled_error(error, remaining) if math.isfinite(remaining) or not {"time_series", "event_times"} & set(
-            outputs) else error
+    error, reason = _with_settling(assessment.estimated_error, assessment.reason, dataset, outputs)
     if isinstance(chosen, EventDriven) and not system.error_calibrated:
         cycle, event_times, dataset, evaluations, error, reason, settings = refinement_check(
             chosen, system, outputs, tolerance, cycles, settings, (cycle, event_times, dataset, evaluations), error,
