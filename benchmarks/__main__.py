@@ -87,6 +87,7 @@ PRODUCERS = (
     ("engine_branches", [], [], "engine_branches.json"),
     ("fault_3d_operator", [], ["--quick"], "fault_3d_operator.json"),
     ("family_costs", [], ["--rounds", "1"], "family_costs.json"),
+    ("rough_auto_choice", [], ["--count", "3"], "rough_auto_choice.json"),  # at the prices just fitted
     ("sherifs_example", [], [], "sherifs_example.json"),
     ("fault_3d_model_error", [], ["--quick"], "fault_3d_model_error.json"),
     ("fault_3d_model_error", ["--starts"], ["--starts"], "fault_3d_starts.json"),  # the cells just written

@@ -34,6 +34,7 @@ sys.path.insert(0, str(ROOT))
 from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip import __version__  # noqa: E402
 from faultslip.contract import registry  # noqa: E402
+from faultslip.errors import InputError  # noqa: E402
 from faultslip.io import budget, machine  # noqa: E402
 from faultslip.models.asperity import cost as asperity_cost  # noqa: E402
 from faultslip.models.nanoscale import cost as nanoscale_cost  # noqa: E402
@@ -46,6 +47,7 @@ from faultslip.models.spring_chain import cost as chain_cost  # noqa: E402
 from faultslip.models.spring_chain import dynamics as chain_dynamics  # noqa: E402
 from faultslip.models.vibration import cost as vibration_cost  # noqa: E402
 from provenance import stamp  # noqa: E402
+from refinement_check import draw as rough_draws  # noqa: E402
 
 OUT = ROOT / "data" / budget.FAMILY_COSTS_FILE
 RESULTS = ROOT / "benchmarks" / "results" / "family_costs.json"
@@ -63,12 +65,31 @@ def _family_case(family, action, scene, work, **options):
     return family, entry, units, f"{action} {scene} {options or ''}".strip(), lambda: call(scene, **options)
 
 
-def _rough_at(**values):
-    """A run of seed 000's rough-surface scene moved to ``values`` (SI)."""
-    scene = registry.read_scene("rough_surface_seed000.toml")[0].with_values(**values)
-    entry, units, _ = rough_cost.work(scene, "run")
-    label = f"run rough_surface_seed000.toml ({', '.join(f'{k} {v:g}' for k, v in values.items())})"
-    return "rough_surface", entry, units, label, lambda: registry.load("rough_surface").run(scene)
+def _rough_at(values=None, label=None, **options):
+    """A run of seed 000's rough-surface scene moved to ``values`` (SI), by ``options`` (method, tolerance)."""
+    scene = registry.read_scene("rough_surface_seed000.toml")[0].with_values(**(values or {}))
+    entry, units, _ = rough_cost.work(scene, "run", **options)
+    moved = ", ".join(f"{k} {v:g}" for k, v in (values or {}).items())
+    label = label or "run rough_surface_seed000.toml" + (f" ({moved})" if moved else "")
+    label += f" {options}" if options else ""
+    return "rough_surface", entry, units, label, lambda: registry.load("rough_surface").run(scene, **options)
+
+
+#: A rough-surface run's method and tolerance, each integrator at a loose, the default and a tight tolerance.
+ROUGH_METHODS = [{"method": f"event_driven_{solver}", "tolerance": tolerance}
+                 for solver in ("DOP853", "RK45", "LSODA", "Radau") for tolerance in (1e-3, 1e-6, 1e-8)]
+
+
+def _rough_held_out(seed: int, count: int) -> list:
+    """Fresh rough-surface scenes (benchmarks/refinement_check.py's draw: three parameters moved up to x2), by auto
+    at three tolerances and by each integrator at 1e-5: never fitted."""
+    cases = []
+    for index, values in enumerate(rough_draws(seed, count, 2.0)):
+        label = f"run rough_surface_seed000.toml, drawn {seed}-{index}"
+        cases += [_rough_at(values, label, tolerance=tolerance) for tolerance in (1e-3, 1e-6, 1e-8)]
+        cases += [_rough_at(values, label, method=f"event_driven_{solver}", tolerance=1e-5)
+                  for solver in ("DOP853", "RK45", "LSODA", "Radau")]
+    return cases
 
 
 def _nanoscale(duration: float):
@@ -144,8 +165,9 @@ def cases() -> list:
         _family_case("rough_surface", "run", "rough_surface_chapter5.toml", rough_cost.work),
         # the example study's corners (configs/study_rough_surface.toml): no separation (c = 0, whose run took twice
         # the seed's) and the slower platform; the two scenes alone had put its estimate at 0.44 of its CPU
-        _rough_at(separation_coefficient=0.0),
-        _rough_at(platform_speed=0.005),
+        _rough_at({"separation_coefficient": 0.0}),
+        _rough_at({"platform_speed": 0.005}),
+        *(_rough_at(**options) for options in ROUGH_METHODS),
         _family_case("rough_surface", "simulate", "rough_surface_seed000.toml", rough_cost.work, cycles=2),
         _family_case("rough_surface", "simulate", "rough_surface_seed000.toml", rough_cost.work, cycles=8),
         _family_case("spring_chain", "run", "spring_chain_small.toml", chain_cost.work),
@@ -218,7 +240,8 @@ def held_out() -> list:
         _nanoscale_settle("(held out: v_a = 0.03, A = A_c (1 - 0.003))", distance=0.003, fitted=False,
                           drive_speed=0.03),
         _family_case("rough_surface", "simulate", "rough_surface_chapter5.toml", rough_cost.work, cycles=30),
-        _rough_at(separation_coefficient=0.4, platform_speed=0.005),
+        _rough_at({"separation_coefficient": 0.4, "platform_speed": 0.005}),
+        *_rough_held_out(20261213, 3),
         *(_vibration_at(speed) for speed in (10.5, 13.0, 14.0, 15.5)),
         *(_vibration_at(speed, method="quasi_harmonic_integration") for speed in (12.3, 13.5, 13.5499)),
         _family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=1000),
@@ -231,6 +254,7 @@ def held_out() -> list:
 BORROWED = {("asperity", "simulate:asperity_LSODA"): ("asperity", "run:asperity_LSODA"),
             ("asperity", "simulate:asperity_wavelength"): ("asperity", "run:asperity_wavelength"),
             ("asperity", "simulate:asperity_measured_wavelength"): ("asperity", "run:asperity_measured_wavelength"),
+            ("rough_surface", "run:averaging"): ("rough_surface", "run:DOP853"),
             **{("spring_chain", f"run:{solver}"): ("spring_chain", f"simulate:{solver}") for solver in CHAIN_INTEGRATORS}}
 
 
@@ -256,6 +280,19 @@ def fit(rows: list[dict]) -> dict:
     return {"overhead": float(coefficients[0]), "seconds_per_unit": float(coefficients[1])}
 
 
+def _bootstrap(priced):
+    """A family's prices (rough_surface's auto ranks its integrators by its fitted entries) before the table has
+    the entry: the work itself, and a note that the run must be repeated to time auto's choices at fitted prices."""
+    def fitted_seconds(family, entry, units):
+        try:
+            return priced(family, entry, units)
+        except InputError:
+            print(f"bootstrap: {family} {entry} has no fit yet; its work ranks it; rerun to time auto's choices",
+                  flush=True)
+            return float(units)
+    return fitted_seconds
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3)
@@ -266,6 +303,8 @@ def main(argv=None) -> int:
     budget.check = lambda *a, **k: None  # measuring the runs the budget would gate, with no table yet to gate them
     provisional = budget.fitted_estimate
     budget.fitted_estimate = lambda family, entry, units, what, **k: budget.Estimate(what)
+    priced = budget.fitted_seconds
+    budget.fitted_seconds = _bootstrap(priced)
     measured = []
     probe_before = machine.probe_seconds()
     try:
@@ -276,7 +315,7 @@ def main(argv=None) -> int:
                              "held_out": held})
             print(f"{family:18s} {entry:32s} {units:10.4g} units  {seconds:8.4f} s  {label}", flush=True)
     finally:
-        budget.check, budget.fitted_estimate = lifted, provisional
+        budget.check, budget.fitted_estimate, budget.fitted_seconds = lifted, provisional, priced
     families: dict = {}
     if args.family is not None:
         # the refitted family's timings carried to the machine state the others were fitted in (the anchor of

@@ -154,6 +154,29 @@ def refinement_check_table() -> str | None:
     return "\n".join(rows)
 
 
+def rough_auto_choice_table() -> str | None:
+    """docs/methods.md: auto on rough-surface scenes ranking by the family's fitted prices against by the
+    calibration's seconds (benchmarks/rough_auto_choice.py)."""
+    result = _load_with("rough_auto_choice.json", "summary")
+    if result is None:
+        return None
+    s, ways = result["summary"], ("fitted prices", "calibration's seconds")
+    rows = ["| tolerance | runs | method changed | CPU by the calibration's ranking / by the fitted prices (median) |",
+            "| --- | --- | --- | --- |"]
+    for tolerance in result["tolerances"]:
+        found = [r for r in result["rows"] if r["tolerance"] == tolerance]
+        rows.append(f"| {tolerance:g} | {len(found)} | {sum(r[ways[0]]['method'] != r[ways[1]]['method'] for r in found)}"
+                    f" | {s['by_tolerance'][f'{tolerance:g}']:.2f} |")
+    rows += ["", f"{result['count']} fresh rough-surface scenes (seed "
+             f"{result['seed']}), each solved by auto at each tolerance both ways, interleaved; CPU the median of "
+             f"{result['rounds']} timings. Over all {s['runs']} runs the ratio is {s['cpu_ratio_median']:.2f} "
+             f"(median), from {s['cpu_ratio_min']:.2f} to {s['cpu_ratio_max']:.2f}. The largest error over the "
+             f"declared is {s['largest_error_over_declared'][ways[0]]:.2f} ranked by the fitted prices and "
+             f"{s['largest_error_over_declared'][ways[1]]:.2f} by the calibration's seconds, against DOP853 at rtol "
+             "1e-12. `python benchmarks/rough_auto_choice.py`. " + _machine(result)]
+    return "\n".join(rows)
+
+
 def _rate_state_model_text(model) -> str:
     far, near = model["far"], model["near"]
     return f"max({_model_text(far)}, {near[0]:g} rtol^{near[1]:g} / (1 - K / K_c))"
@@ -235,6 +258,7 @@ TABLES = {
     "reliability": reliability_table,
     "event_driven_errors": event_driven_errors_table,
     "refinement_check": refinement_check_table,
+    "rough_auto_choice": rough_auto_choice_table,
     "rate_state_errors": rate_state_errors_table,
     "rate_state_settling": rate_state_settling_table,
 }

@@ -687,12 +687,14 @@ def _check_request(outputs, tolerance, cycles):
     return outputs
 
 
-def choose(system, outputs=("amplitude", "period"), tolerance=DEFAULT_TOLERANCE, cycles=10):
+def choose(system, outputs=("amplitude", "period"), tolerance=DEFAULT_TOLERANCE, cycles=10, price=None):
     """The cheapest applicable method whose estimated error meets ``tolerance``.
 
     Returns ``(method, assessment, assessments)``; ``assessments`` lists every candidate considered.
     If no method reaches the tolerance, the most accurate applicable one is chosen and the reason
-    says so.
+    says so. ``price(assessment)``, where given, is what an integrator's or the averaging's run costs on the
+    family's own law (its fitted rates: a rough-surface table costs RK45 about three times its calibration's
+    evaluations, and DOP853 about once); by default, the assessment's ``estimated_cost``.
     """
     outputs = _check_request(outputs, tolerance, cycles)
     assessments = []
@@ -707,7 +709,7 @@ def choose(system, outputs=("amplitude", "period"), tolerance=DEFAULT_TOLERANCE,
     if not system.is_linear:  # linear laws: the exact cycle is cheaper and exact
         assessments.append(AVERAGING.assess(system, outputs, tolerance, cycles))
     usable = [a for a in assessments if a.applicable]
-    good = sorted((a for a in usable if a.estimated_error <= tolerance), key=lambda a: a.estimated_cost)
+    good = sorted((a for a in usable if a.estimated_error <= tolerance), key=price or (lambda a: a.estimated_cost))
     if good:
         best = good[0]
         reason = f"cheapest method within tolerance {tolerance:g}: {best.reason}"
@@ -718,8 +720,21 @@ def choose(system, outputs=("amplitude", "period"), tolerance=DEFAULT_TOLERANCE,
     return chosen, Assessment(best.method, True, reason, best.estimated_error, best.estimated_cost, best.settings), assessments
 
 
+def planned(system, method: str = "auto", outputs=("amplitude", "period"), tolerance: float = DEFAULT_TOLERANCE,
+            cycles: int = 10, price=None):
+    """The method a solve would run and its assessment, before it runs: ``auto``'s choice (:func:`choose`, by
+    ``price``), or the forced method's own assessment. Estimates of a run's cost read it (its ``estimated_cost``,
+    in the calibration machine's seconds, counts a refinement check's run)."""
+    if method == "auto":
+        chosen, assessment, _ = choose(system, outputs, tolerance, cycles, price)
+        return chosen, assessment
+    check_method(method)
+    chosen = METHODS.get(method) or BASELINES[method]
+    return chosen, chosen.assess(system, tuple(outputs), tolerance, cycles)
+
+
 def solve(system, method: str = "auto", outputs=("amplitude", "period"), tolerance: float = DEFAULT_TOLERANCE,
-          cycles: int = 10, converge: float | None = None) -> Solution:
+          cycles: int = 10, converge: float | None = None, price=None) -> Solution:
     """Solve a scene's stick-slip cycle with ``method`` ("auto" picks the cheapest sufficient one).
 
     A forced method outside its domain, or less accurate than the tolerance, still runs but warns
@@ -739,6 +754,8 @@ def solve(system, method: str = "auto", outputs=("amplitude", "period"), toleran
         Cycles run by an integrator.
     converge : float, optional
         The settling tolerance.
+    price : callable, optional
+        ``price(assessment)``: a run's cost on the family's law, by which auto ranks the integrators (:func:`choose`).
 
     Returns
     -------
@@ -747,12 +764,12 @@ def solve(system, method: str = "auto", outputs=("amplitude", "period"), toleran
     """
     outputs = _check_request(outputs, tolerance, cycles)
     if method == "auto":
-        chosen, assessment, _ = choose(system, outputs, tolerance, cycles)
+        chosen, assessment, _ = choose(system, outputs, tolerance, cycles, price)
     else:
         check_method(method)
         chosen = METHODS.get(method) or BASELINES[method]
         assessment = chosen.assess(system, outputs, tolerance, cycles)
-        better, better_assessment, _ = choose(system, outputs, tolerance, cycles)
+        better, better_assessment, _ = choose(system, outputs, tolerance, cycles, price)
         if not assessment.applicable or assessment.estimated_error > tolerance:
             problem = assessment.reason if not assessment.applicable else \
                 f"its estimated error {assessment.estimated_error:.2g} exceeds the tolerance {tolerance:g}"

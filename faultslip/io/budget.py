@@ -446,9 +446,15 @@ def fitted_estimate(family: str, entry: str, units: float, what: str, memory: fl
     Estimate
         Its seconds are this machine's now (:func:`faultslip.io.machine.factor`).
     """
+    return Estimate(what=what, memory=memory, disk=disk,
+                    seconds=machine.on_this_machine(fitted_seconds(family, entry, units), "families"),
+                    output=output, imports=tuple(imports))
+
+
+def fitted_seconds(family: str, entry: str, units: float) -> float:
+    """overhead + seconds_per_unit x ``units`` of a family's fitted cost entry (``data/family_costs.json``), in the
+    seconds of the machine state it was fitted in (:func:`fitted_estimate` carries them to this one's)."""
     fitted = family_costs()["families"].get(family, {}).get(entry)
     if not isinstance(fitted, dict):
         raise InputError(f"{family}: no fitted cost model for {entry}; rerun benchmarks/family_costs.py")
-    seconds = float(fitted["overhead"]) + float(fitted["seconds_per_unit"]) * max(float(units), 0.0)
-    return Estimate(what=what, memory=memory, disk=disk, seconds=machine.on_this_machine(seconds, "families"),
-                    output=output, imports=tuple(imports))
+    return float(fitted["overhead"]) + float(fitted["seconds_per_unit"]) * max(float(units), 0.0)

@@ -1,18 +1,42 @@
-"""The rough-surface family's cost model: CPU time in stick-slip cycles, fitted on seed 000's scene by
-``benchmarks/family_costs.py``."""
+"""The rough-surface family's cost model: CPU time fitted by ``benchmarks/family_costs.py`` on seed 000's scenes,
+a run's in the seconds its method declares, a simulation's in stick-slip cycles."""
 
 from __future__ import annotations
 
-from faultslip.dynamics.methods import check_lent_method
+from faultslip.dynamics.methods import METHODS, check_lent_method, planned
 from faultslip.io import budget
 from faultslip.models.rough_surface.scene import read_rough_scene
 
+#: A run's tolerance where none is given (the family's run and its estimate alike).
+DEFAULT_TOLERANCE = 1e-6
 
-def work(scene, action: str = "run", cycles=None, **_) -> tuple[str, float, str]:
-    """(cost entry, units, what): the cycles the run solves or the simulation integrates."""
-    _system, _details, settings = read_rough_scene(scene)
+
+def work(scene, action: str = "run", cycles=None, method=None, tolerance=None, **_) -> tuple[str, float, str]:
+    """(cost entry, units, what). A run's units are the seconds its method declares on the calibration machine
+    (:func:`faultslip.dynamics.methods.planned`: its rtol, its law's curvature and stiffness, the settling, and the
+    refinement check's run at a hundredth of the rtol), which the fit carries to CPU seconds: the method and
+    tolerance move a run's cost 30-fold, where its cycles alone had been counted. A simulation's are its cycles."""
+    system, _details, settings = read_rough_scene(scene)
     count = float(cycles or settings["cycles"])
-    return action, count, f"{'a simulation' if action == 'simulate' else 'a run'} of {count:g} stick-slip cycles"
+    if action == "simulate":
+        return action, count, f"a simulation of {count:g} stick-slip cycles"
+    chosen, assessment = planned(system, method or "auto", tolerance=tolerance or DEFAULT_TOLERANCE,
+                                 cycles=int(count), price=price)
+    return _entry(assessment), float(assessment.estimated_cost), (f"a run of {count:g} stick-slip cycles by "
+                                                                  f"{chosen.name} ({assessment.reason})")
+
+
+def _entry(assessment) -> str:
+    """Each integrator its own cost entry: on a table's kinks RK45 takes ~3x the evaluations its calibration
+    counts, and LSODA's tighter rtols cost it less than counted (benchmarks/family_costs.py)."""
+    return f"run:{getattr(METHODS[assessment.method], 'solver', 'averaging')}"
+
+
+def price(assessment) -> float:
+    """What a run by ``assessment``'s method costs on a rough-surface law, in the fitted seconds of its entry: auto
+    ranks the integrators by it (:func:`faultslip.dynamics.methods.choose`), where the calibration's seconds would
+    take RK45 at 1e-3 for about twice DOP853's CPU."""
+    return budget.fitted_seconds("rough_surface", _entry(assessment), assessment.estimated_cost)
 
 
 def estimate(scene, action: str = "run", **options) -> budget.Estimate:
@@ -21,7 +45,7 @@ def estimate(scene, action: str = "run", **options) -> budget.Estimate:
     if action == "run":
         check_lent_method(options.get("method") or "auto", "a rough-surface scene")
     entry, units, what = work(scene, action, **options)
-    rows = units * 66.0  # about 64 samples a slip and two a stick, six columns
+    rows = float(options.get("cycles") or read_rough_scene(scene)[2]["cycles"]) * 66.0  # ~64 samples a slip, 2 a stick
     return budget.fitted_estimate("rough_surface", entry, units, what, memory=rows * 6 * 8.0 * 3,
                                   output=options.get("output"),
                                   imports=(*budget.DATASET_IMPORTS, *budget.INTEGRATION_IMPORTS))

@@ -34,10 +34,11 @@ def run(scene, method=None, tolerance=None) -> Result:
     """The stick-slip cycle of a rough-surface scene, by the cheapest accurate method."""
     check_lent_method(method or "auto", "a rough-surface scene")
     system, details, settings = read_rough_scene(scene)
-    solution = solve(system, method=method or "auto", tolerance=tolerance or 1e-6, cycles=settings["cycles"])
+    solution = solve(system, method=method or "auto", tolerance=tolerance or rough_surface_cost.DEFAULT_TOLERANCE,
+                     cycles=settings["cycles"], price=rough_surface_cost.price)
     report = solution.report(f"faultslip rough-surface slider (seed 000): {system.name}")
     _details(report, details)
-    return Result("rough_surface", report, tolerance=tolerance or 1e-6)
+    return Result("rough_surface", report, tolerance=tolerance or rough_surface_cost.DEFAULT_TOLERANCE)
 
 
 def simulate(scene, cycles=None, slip_solver=None, rtol=None) -> Result:

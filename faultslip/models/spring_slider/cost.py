@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from faultslip.contract.registry import load
-from faultslip.dynamics.methods import METHODS, choose
+from faultslip.dynamics.methods import planned
 from faultslip.fault.scaling import Fault
 from faultslip.fault.scene import check_method, read_slider_scene
 from faultslip.io import budget, machine
@@ -48,11 +48,7 @@ def estimate(scene, action: str = "run", cycles=None, slip_solver=None, output=N
         # method's declared cost: an integrated cycle had been estimated at the closed form's 2 ms
         method, tolerance = options.get("method") or loaded.method, options.get("tolerance") or loaded.tolerance
         cycles = min(int(loaded.simulation.get("cycles", 200)), 1000)
-        if method == "auto":
-            chosen, assessment, _ = choose(loaded.slider(), tolerance=tolerance, cycles=cycles)
-        else:
-            chosen = METHODS[method]
-            assessment = chosen.assess(loaded.slider(), ("amplitude", "period"), tolerance, cycles)
+        chosen, assessment = planned(loaded.slider(), method, tolerance=tolerance, cycles=cycles)
         seconds = machine.on_this_machine(assessment.estimated_cost or 0.0, "families") if assessment.applicable \
             else 0.0
         return Estimate(what=f"the cycle of {loaded.name} by {chosen.name}", memory=closed.memory,

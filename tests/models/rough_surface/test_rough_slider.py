@@ -285,3 +285,52 @@ def test_a_surfaces_bearing_curve_is_computed_once_per_process(monkeypatch):
     for seed in range(20):  # bounded: the oldest curves make way
         rough_scene.bearing_curve(gaussian_surface(3e-6, 60e-6, size=16, seed=100 + seed))
     assert len(rough_scene._BEARING_CURVES) == rough_scene.BEARING_CURVES_KEPT
+
+
+def test_a_runs_estimate_follows_its_method_and_tolerance():
+    """A run's estimate counts the work its method declares (faultslip.dynamics.methods.planned), at the rate fitted
+    for that integrator (benchmarks/family_costs.py). It had counted the cycles alone, so Radau at tolerance 1e-8
+    (3.5 s measured) was estimated as DOP853 at 1e-6 (0.1 s). Each integrator's estimate grows as the tolerance
+    tightens, Radau's at 1e-8 is several times DOP853's, and the estimate names the method the run takes."""
+    from faultslip.contract import registry
+    from faultslip.dynamics.methods import planned
+    from faultslip.models.rough_surface import cost
+
+    family = registry.load("rough_surface")
+    scene = registry.read_scene("rough_surface_seed000.toml")[0]
+    estimate = lambda **options: family.estimate(scene, "run", **options)  # noqa: E731
+    for solver in ("DOP853", "RK45", "LSODA", "Radau"):
+        method = f"event_driven_{solver}"
+        seconds = [estimate(method=method, tolerance=tolerance).seconds for tolerance in (1e-3, 1e-6, 1e-8)]
+        assert seconds == sorted(seconds) and seconds[0] < seconds[-1]
+        assert method in estimate(method=method, tolerance=1e-6).what
+    assert estimate(method="event_driven_Radau", tolerance=1e-8).seconds > \
+        5 * estimate(method="event_driven_DOP853", tolerance=1e-6).seconds
+    system, _, settings = read_rough_scene(scene)
+    chosen, _ = planned(system, tolerance=cost.DEFAULT_TOLERANCE, cycles=settings["cycles"])
+    assert estimate().what == estimate(tolerance=cost.DEFAULT_TOLERANCE).what
+    assert chosen.name in estimate().what
+
+
+def test_auto_ranks_the_integrators_by_what_they_cost_on_the_familys_law():
+    """On a rough-surface table RK45 takes about three times the evaluations the calibration counts (its fitted
+    rate, data/family_costs.json), so auto ranked by the calibration took RK45 at 1e-3 where DOP853 costs about
+    half (benchmarks/rough_auto_choice.py). The family's run ranks by its fitted prices: the method it takes is the
+    cheapest priced of those within the tolerance, and meets it."""
+    from faultslip.contract import registry
+    from faultslip.dynamics.methods import choose
+    from faultslip.models.rough_surface import cost
+
+    scene = registry.read_scene("rough_surface_seed000.toml")[0]
+    system, _, settings = read_rough_scene(scene)
+    for tolerance in (1e-3, 1e-6, 1e-8):
+        chosen, assessment, assessments = choose(system, tolerance=tolerance, cycles=settings["cycles"],
+                                                 price=cost.price)
+        within = [a for a in assessments if a.applicable and a.estimated_error <= tolerance]
+        assert cost.price(assessment) == min(cost.price(a) for a in within)
+        result = registry.load("rough_surface").run(scene, tolerance=tolerance)
+        assert result.method == chosen.name
+        assert result.estimated_relative_error <= tolerance
+    unpriced = choose(system, tolerance=1e-3, cycles=settings["cycles"])[0]
+    priced = choose(system, tolerance=1e-3, cycles=settings["cycles"], price=cost.price)[0]
+    assert (unpriced.name, priced.name) == ("event_driven_RK45", "event_driven_DOP853")
