@@ -352,8 +352,9 @@ def family_costs_table() -> str | None:
                     f"{row['cpu_seconds'] * 1e3:.3g} ms | {row['estimate_seconds'] * 1e3:.3g} ms | "
                     f"{row['ratio']:.2f} |")
     fitted, held = result["summary"]["fitted"], result["summary"]["held_out"]
-    return ("\n".join(rows) + f"\n\nEach entry's overhead and seconds per unit of work are fitted (non-negative least "
-            f"squares) on the cases not marked held out; {fitted['within_2x']} of {fitted['cases']} fitted and "
+    return ("\n".join(rows) + f"\n\nEach entry's overhead and seconds per unit of work are fitted (non-negative, least "
+            f"squares in log estimate / CPU) on the cases not marked held out; {fitted['within_2x']} of "
+            f"{fitted['cases']} fitted and "
             f"{held['within_2x']} of {held['cases']} held-out cases are within 2x (held out: {held['ratio_min']:.2f} "
             f"to {held['ratio_max']:.2f}). CPU is the process's, the median of {result['rounds']} timings after a "
             "warm-up. " + _machine(result))

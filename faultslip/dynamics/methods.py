@@ -693,8 +693,8 @@ def choose(system, outputs=("amplitude", "period"), tolerance=DEFAULT_TOLERANCE,
     Returns ``(method, assessment, assessments)``; ``assessments`` lists every candidate considered.
     If no method reaches the tolerance, the most accurate applicable one is chosen and the reason
     says so. ``price(assessment)``, where given, is what an integrator's or the averaging's run costs on the
-    family's own law (its fitted rates: a rough-surface table costs RK45 about three times its calibration's
-    evaluations, and DOP853 about once); by default, the assessment's ``estimated_cost``.
+    family's own law (its fitted rates: on a rough-surface table RK45 takes about twice DOP853's share of the
+    evaluations the calibration counts); by default, the assessment's ``estimated_cost``.
     """
     outputs = _check_request(outputs, tolerance, cycles)
     assessments = []

@@ -52,7 +52,7 @@ SPIN_UP = 2
 #: had been 10 ms, typed, and a study of 120 such cells was estimated at 5.7 times its CPU. A residual of two
 #: larger numbers, it moves between runs (0.014 ms and 0.23 ms in two of them): either is under a quarter
 #: of such a cell's cycles.
-CELL_OVERHEAD = 2.091e-4
+CELL_OVERHEAD = 3.794e-4
 
 #: name -> (unit, long name) of every output
 OUTPUT_ATTRS = {

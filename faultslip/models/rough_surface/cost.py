@@ -27,15 +27,16 @@ def work(scene, action: str = "run", cycles=None, method=None, tolerance=None, *
 
 
 def _entry(assessment) -> str:
-    """Each integrator its own cost entry: on a table's kinks RK45 takes ~3x the evaluations its calibration
-    counts, and LSODA's tighter rtols cost it less than counted (benchmarks/family_costs.py)."""
+    """Each integrator its own cost entry: on a table's kinks RK45 takes about twice DOP853's share of the
+    evaluations the calibration counts, and LSODA's tighter rtols cost it less than counted (data/family_costs.json,
+    fitted by benchmarks/family_costs.py)."""
     return f"run:{getattr(METHODS[assessment.method], 'solver', 'averaging')}"
 
 
 def price(assessment) -> float:
     """What a run by ``assessment``'s method costs on a rough-surface law, in the fitted seconds of its entry: auto
     ranks the integrators by it (:func:`faultslip.dynamics.methods.choose`), where the calibration's seconds would
-    take RK45 at 1e-3 for about twice DOP853's CPU."""
+    take RK45 at 1e-3 where DOP853 costs less (benchmarks/rough_auto_choice.py)."""
     return budget.fitted_seconds("rough_surface", _entry(assessment), assessment.estimated_cost)
 
 

@@ -313,10 +313,10 @@ def test_a_runs_estimate_follows_its_method_and_tolerance():
 
 
 def test_auto_ranks_the_integrators_by_what_they_cost_on_the_familys_law():
-    """On a rough-surface table RK45 takes about three times the evaluations the calibration counts (its fitted
-    rate, data/family_costs.json), so auto ranked by the calibration took RK45 at 1e-3 where DOP853 costs about
-    half (benchmarks/rough_auto_choice.py). The family's run ranks by its fitted prices: the method it takes is the
-    cheapest priced of those within the tolerance, and meets it."""
+    """On a rough-surface table RK45 takes about twice DOP853's share of the evaluations the calibration counts
+    (their fitted rates, data/family_costs.json), so auto ranked by the calibration took RK45 at 1e-3 where DOP853
+    costs less (benchmarks/rough_auto_choice.py). The family's run ranks by its fitted prices: the method it takes
+    is the cheapest priced of those within the tolerance, and meets it."""
     from faultslip.contract import registry
     from faultslip.dynamics.methods import choose
     from faultslip.models.rough_surface import cost
