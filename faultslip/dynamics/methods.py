@@ -763,12 +763,8 @@ def solve(system, method: str = "auto", outputs=("amplitude", "period"), toleran
         The cycle (m, s), the method, its declared error and ``report()``.
     """
     outputs = _check_request(outputs, tolerance, cycles)
-    if method == "auto":
-        chosen, assessment, _ = choose(system, outputs, tolerance, cycles, price)
-    else:
-        check_method(method)
-        chosen = METHODS.get(method) or BASELINES[method]
-        assessment = chosen.assess(system, outputs, tolerance, cycles)
+    chosen, assessment = planned(system, method, outputs, tolerance, cycles, price)
+    if method != "auto":
         better, better_assessment, _ = choose(system, outputs, tolerance, cycles, price)
         if not assessment.applicable or assessment.estimated_error > tolerance:
             problem = assessment.reason if not assessment.applicable else \

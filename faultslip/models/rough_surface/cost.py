@@ -35,8 +35,8 @@ def _entry(assessment) -> str:
 
 def price(assessment) -> float:
     """What a run by ``assessment``'s method costs on a rough-surface law, in the fitted seconds of its entry: auto
-    ranks the integrators by it (:func:`faultslip.dynamics.methods.choose`), where the calibration's seconds would
-    take RK45 at 1e-3 where DOP853 costs less (benchmarks/rough_auto_choice.py)."""
+    ranks the integrators by it (:func:`faultslip.dynamics.methods.choose`). By the calibration's seconds it took
+    RK45 at 1e-3, where DOP853 costs less (benchmarks/rough_auto_choice.py)."""
     return budget.fitted_seconds("rough_surface", _entry(assessment), assessment.estimated_cost)
 
 
