@@ -48,7 +48,7 @@ from faultslip.models.spring_chain import cost as chain_cost  # noqa: E402
 from faultslip.models.spring_chain import dynamics as chain_dynamics  # noqa: E402
 from faultslip.models.vibration import cost as vibration_cost  # noqa: E402
 from provenance import stamp  # noqa: E402
-from refinement_check import draw as rough_draws  # noqa: E402
+from refinement_check import SOLVERS as ROUGH_SOLVERS, draw as rough_draws  # noqa: E402
 
 OUT = ROOT / "data" / budget.FAMILY_COSTS_FILE
 RESULTS = ROOT / "benchmarks" / "results" / "family_costs.json"
@@ -78,13 +78,13 @@ def _rough_at(values=None, label=None, **options):
 
 #: A rough-surface run's method and tolerance, each integrator at a loose, the default and a tight tolerance.
 ROUGH_METHODS = [{"method": f"event_driven_{solver}", "tolerance": tolerance}
-                 for solver in ("DOP853", "RK45", "LSODA", "Radau") for tolerance in (1e-3, 1e-6, 1e-8)]
+                 for solver in ROUGH_SOLVERS for tolerance in (1e-3, 1e-6, 1e-8)]
 
 
 #: Fresh rough-surface scenes' runs: auto at three tolerances and each integrator at two (the fit's), auto at two
 #: others and each integrator at one (the held-out draw's).
 ROUGH_FITTED_OPTIONS = [{"tolerance": tolerance} for tolerance in (1e-3, 1e-6, 1e-8)] + \
-    [{"method": f"event_driven_{solver}", "tolerance": tolerance} for solver in ("DOP853", "RK45", "LSODA", "Radau")
+    [{"method": f"event_driven_{solver}", "tolerance": tolerance} for solver in ROUGH_SOLVERS
      for tolerance in (1e-4, 1e-7)]
 ROUGH_HELD_OUT_OPTIONS = [{"tolerance": 1e-4}, {"tolerance": 1e-7}, {"method": "event_driven_LSODA", "tolerance": 1e-7},
                           {"method": "event_driven_Radau", "tolerance": 1e-4},
@@ -301,12 +301,16 @@ def fit(rows: list[dict]) -> dict:
 def _bootstrap(priced):
     """A family's prices (rough_surface's auto ranks its integrators by its fitted entries) before the table has
     the entry: the work itself, and a note that the run must be repeated to time auto's choices at fitted prices."""
+    unfitted = set()
+
     def fitted_seconds(family, entry, units):
         try:
             return priced(family, entry, units)
         except InputError:
-            print(f"bootstrap: {family} {entry} has no fit yet; its work ranks it; rerun to time auto's choices",
-                  flush=True)
+            if (family, entry) not in unfitted:  # said once an entry
+                unfitted.add((family, entry))
+                print(f"bootstrap: {family} {entry} has no fit yet; its work ranks it; rerun to time auto's "
+                      "choices", flush=True)
             return float(units)
     return fitted_seconds
 

@@ -17,7 +17,10 @@ def work(scene, action: str = "run", cycles=None, method=None, tolerance=None, *
     refinement check's run at a hundredth of the rtol), which the fit carries to CPU seconds: the method and
     tolerance move a run's cost 30-fold, where its cycles alone had been counted. A simulation's are its cycles."""
     system, _details, settings = read_rough_scene(scene)
-    count = float(cycles or settings["cycles"])
+    return _work(system, float(cycles or settings["cycles"]), action, method, tolerance)
+
+
+def _work(system, count: float, action: str, method, tolerance) -> tuple[str, float, str]:
     if action == "simulate":
         return action, count, f"a simulation of {count:g} stick-slip cycles"
     chosen, assessment = planned(system, method or "auto", tolerance=tolerance or DEFAULT_TOLERANCE,
@@ -45,8 +48,10 @@ def estimate(scene, action: str = "run", **options) -> budget.Estimate:
     refuses, refused here too."""
     if action == "run":
         check_lent_method(options.get("method") or "auto", "a rough-surface scene")
-    entry, units, what = work(scene, action, **options)
-    rows = float(options.get("cycles") or read_rough_scene(scene)[2]["cycles"]) * 66.0  # ~64 samples a slip, 2 a stick
+    system, _details, settings = read_rough_scene(scene)
+    count = float(options.get("cycles") or settings["cycles"])
+    entry, units, what = _work(system, count, action, options.get("method"), options.get("tolerance"))
+    rows = count * 66.0  # about 64 samples a slip and two a stick
     return budget.fitted_estimate("rough_surface", entry, units, what, memory=rows * 6 * 8.0 * 3,
                                   output=options.get("output"),
                                   imports=(*budget.DATASET_IMPORTS, *budget.INTEGRATION_IMPORTS))
