@@ -200,6 +200,23 @@ def cells_of(family: Family, scene):
     return cells(scene) if callable(cells) and not hasattr(cells, "evaluate") else cells
 
 
+#: The rungs of the ladder a fault scene runs on, cheapest first (``faultslip run SCENE --model NAME``): each reads
+#: the same scene, the one description of the fault (:mod:`faultslip.fault.ladder`). A family whose methods hold none
+#: of them is not on the ladder, and asked for one says so (:func:`check_rung`).
+RUNGS = ("one_slider", "fault_2d", "fault_3d")
+
+
+def check_rung(family, method) -> None:
+    """Refuse a rung of the ladder (:data:`RUNGS`) asked of a family whose methods hold none, in one sentence
+    that says what runs the rungs (a fault scene) and where the family's own methods are listed."""
+    if method not in RUNGS or family.methods is None or set(RUNGS) & {row["name"] for row in family.methods()}:
+        return  # on the ladder: the family's run says which rungs its scene reaches
+    article = "an" if family.name[0] in "aeiou" else "a"
+    raise InputError(f"{method!r} is a rung of a fault's ladder ({', '.join(RUNGS)}), which a fault scene runs "
+                     f"(a rate-and-state fault, a 2-D or a 3-D fault: configs/seas_bp1.toml); {article} {family.name} "
+                     f"scene is not one: its methods are listed by 'faultslip methods'")
+
+
 #: What every method declares: its name, the friction laws it takes, where it holds, what it costs, and the error
 #: it declares there (what ``faultslip methods`` prints and ``auto`` chooses by).
 METHOD_FIELDS = ("name", "friction_laws", "domain", "cost_model", "declared_error")

@@ -24,7 +24,7 @@ from faultslip.io import budget
 from faultslip.contract.options import OPTIONS, UNIVERSAL
 # re-exported (the names' __all__ is built below, which linters cannot read)
 from faultslip.contract.registry import DECLARATIONS as DECLARATIONS, FAMILIES as FAMILIES, Family as Family
-from faultslip.contract.registry import families, family_of, method_rows
+from faultslip.contract.registry import check_rung, families, family_of, method_rows
 from faultslip.contract.registry import load as load, register as register
 from faultslip.contract.result import Result, judge_tolerance
 
@@ -98,6 +98,7 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
         return importlib.import_module("faultslip.models.fault_estimate").fault_estimate(
             method=method, tolerance=tolerance, **quantities)  # it judges its tolerance itself, as run does
     family = family_of(scene)
+    check_rung(family, method)
     options = {}
     if progress is not None and "progress" in family.run_options:  # a family whose run may be long reports it
         options["progress"] = progress
@@ -150,6 +151,7 @@ def estimate(scene=None, action: str = "run", **options) -> budget.Estimate:
     if "tolerance" in options:
         options["tolerance"] = ranges.check_tolerance(options["tolerance"])
     family = family_of(scene)
+    check_rung(family, options.get("method"))
     if action == "ladder" and family.ladder is None:
         raise InputError(f"a {family.name} scene has no ladder of rungs to run ('faultslip model-error' reads its "
                          "model error from a table), so there is nothing to estimate")

@@ -36,7 +36,7 @@ from faultslip.io.seas import station_file_name, write_profiles, write_station
 from faultslip.models.common import note_origin
 from faultslip.models.fault_2d.cells import CELLS, read_scene
 from faultslip.models.fault_2d.scene import Fault2DScene, from_one_slider, read_fault_2d_scene
-from faultslip.contract.registry import Example, Family, declared_rows, load, register
+from faultslip.contract.registry import RUNGS, Example, Family, declared_rows, load, register
 from faultslip.contract.result import Result
 from faultslip.models.fault_2d.figures import cumulative_slip_figure, ladder_figure, slip_rate_figure
 from faultslip.units import ELAPSED_TIME_ATTRS
@@ -290,9 +290,6 @@ def write_outputs(loaded: Fault2DScene, run: Fault2DRun, folder: Path, result: R
     write_dataset(result.to_xarray(), folder / "fault_2d.nc")
 
 
-#: The rungs of the ladder a fault scene runs on, cheapest first (``faultslip run SCENE --model NAME``): each reads
-#: the same scene, the one description of the fault (:mod:`faultslip.fault.ladder`).
-RUNGS = ("one_slider", "fault_2d", "fault_3d")
 #: How many times an escalated run that ends unsettled is run again, twice as long, while the budget allows.
 LONGER_RUNS = 2
 

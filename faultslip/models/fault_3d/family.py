@@ -14,7 +14,7 @@ import numpy as np
 from faultslip import __version__
 from faultslip.dynamics.shared.settling import settled_error
 from faultslip.contract.cells import evaluate_by_cell
-from faultslip.contract.registry import Example, Family, register
+from faultslip.contract.registry import RUNGS, Example, Family, register
 from faultslip.contract.result import Result
 from faultslip.contract.specs import Output, parameters
 from faultslip.errors import InputError
@@ -264,8 +264,6 @@ def simulate(scene, output_dir=None, resume: bool = False, rtol: float | None = 
     return result
 
 
-#: The rungs a 3-D scene runs on, cheapest first (``faultslip run SCENE --model NAME``): each reads the same scene.
-RUNGS = ("one_slider", "fault_2d", "fault_3d")
 
 
 def _put(result: Result, key: str, value, units) -> None:

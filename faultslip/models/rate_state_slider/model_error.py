@@ -58,6 +58,10 @@ def model_error_result(scene=None, tolerance: float | None = None, include_3d: b
         if family.ladder is not None:  # a fault scene: every rung on it (the ladder)
             extra = {"include_3d": True} if include_3d and family.name == "fault_2d" else {}
             return family.ladder(scene, tolerance=tolerance, **extra)
+        if family.name != "rate_state_slider":  # the one slider's model error is a rate-and-state fault's
+            raise InputError(f"the model error is a fault's, against the rungs of its ladder: give a fault scene (a "
+                             f"rate-and-state fault, a 2-D or a 3-D fault: configs/seas_bp1.toml); {scene} is a "
+                             f"{family.name} scene")
     if include_3d:
         raise InputError("--include-3d adds the 3-D fault to a 2-D fault scene's ladder: give the scene")
     table = load_calibration()

@@ -160,6 +160,28 @@ def test_every_rung_reads_the_same_scene():
         assert 0.99 * low <= bp1["mean_slip_2d"] <= high
 
 
+@pytest.mark.parametrize("scene, rung", [("lab_glass_dry.toml", "fault_2d"), ("nanoscale_seed001.toml", "one_slider"),
+                                         ("asperity_seed004.toml", "fault_3d")])
+def test_a_rung_asked_of_a_scene_off_the_ladder_says_what_runs_the_rungs(cli, scene, rung):
+    """A laboratory scene is not a fault: --model with a rung, its estimate, and model-error on it are refused in one
+    sentence that names the rungs, a fault scene that runs them and where the scene's own methods are listed (the
+    spring slider had said only that 'fault_2d' is not one of its methods; model-error, that [lab] is no
+    rate-and-state table). A rate-and-state fault is on the ladder: its own refusal names the rungs it reaches."""
+    for words in (("run", CONFIGS / scene, "--model", rung), ("run", CONFIGS / scene, "--model", rung, "--estimate")):
+        result = cli(*words)
+        assert_clean_error(result)
+        assert f"'{rung}' is a rung of a fault's ladder" in result.err and "seas_bp1.toml" in result.err
+        assert "faultslip methods" in result.err
+    result = cli("model-error", CONFIGS / scene)
+    assert_clean_error(result)
+    assert "give a fault scene" in result.err and "seas_bp1.toml" in result.err
+    with pytest.raises(InputError, match="is a rung of a fault's ladder"):
+        faultslip.run(CONFIGS / scene, model=rung)
+    result = cli("run", CONFIGS / "rsf_block_bp1.toml", "--model", "fault_3d")
+    assert_clean_error(result)
+    assert "one_slider, fault_2d, got 'fault_3d'" in result.err
+
+
 def test_outside_the_box_the_one_slider_declares_nothing():
     result = faultslip.run(CONFIGS / "fault_2d_small.toml", method="one_slider")
     assert result.estimated_relative_error is None
