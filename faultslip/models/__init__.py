@@ -21,7 +21,7 @@ import importlib
 from faultslip import ranges
 from faultslip.errors import InputError, refusal
 from faultslip.io import budget
-from faultslip.contract.options import OPTIONS, UNIVERSAL
+from faultslip.contract.options import OPTIONS, UNIVERSAL, checked_value
 # re-exported (the names' __all__ is built below, which linters cannot read)
 from faultslip.contract.registry import DECLARATIONS as DECLARATIONS, FAMILIES as FAMILIES, Family as Family
 from faultslip.contract.registry import check_rung, families, family_of, method_rows
@@ -104,7 +104,7 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
         options["progress"] = progress
     for name, asked in (("allow_large", allow_large), ("allow_underresolved", allow_underresolved),
                         ("richardson", richardson), ("check_starts", check_starts)):
-        if not asked:
+        if not checked_value(name, asked):
             continue
         if name in family.run_options:
             options[name] = asked
@@ -224,7 +224,7 @@ def simulate(scene=None, **options) -> Result:
     extra = [name for name in given if name not in family.simulate_options and name not in UNIVERSAL]
     if extra:
         raise InputError(_not_an_option(extra[0], family))
-    taken = {name: value for name, value in given.items() if name in family.simulate_options}
+    taken = {name: checked_value(name, value) for name, value in given.items() if name in family.simulate_options}
     if family.estimate is not None and "allow_large" not in family.simulate_options:  # as in run
         budget.check(family.estimate(scene, "simulate", **taken), bool(given.get("allow_large")))
     return family.simulate(scene, **taken)

@@ -192,3 +192,21 @@ def test_a_bundled_example_is_fitted_by_name_in_python_as_on_the_command_line(cl
     assert fitted.values["mu_so"] == pytest.approx(printed["mu_so"], rel=1e-12)
     with pytest.raises(faultslip.errors.InputError, match="does not exist here or among the bundled examples"):
         faultslip.fit("nothere.csv")
+
+
+@pytest.mark.parametrize("options, said", [
+    ({"cycles": "ten"}, "cycles is a whole number"), ({"cycles": 2.5}, "cycles is a whole number"),
+    ({"cycles": float("nan")}, "cycles is a whole number"), ({"cycles": True}, "cycles is a whole number"),
+    ({"rtol": "1e-8"}, "rtol is a number")])
+def test_a_keyword_of_the_wrong_kind_is_refused_in_one_sentence(options, said):
+    """A notebook's simulate(cycles="ten") is refused naming the keyword and its kind, as the command line's parser
+    refuses --cycles ten (it had met a TypeError from the family: "'<' not supported between 'str' and 'int'")."""
+    with pytest.raises(faultslip.errors.InputError, match=said):
+        faultslip.simulate("lab_glass_dry.toml", **options)
+
+
+def test_a_whole_count_of_another_type_is_taken_as_the_count():
+    """cycles=3.0 and numpy's int64 3 simulate the 3 cycles cycles=3 does."""
+    counts = {faultslip.simulate("lab_glass_dry.toml", cycles=cycles).to_xarray().sizes["event"]
+              for cycles in (3, 3.0, np.int64(3))}
+    assert counts == {3}
