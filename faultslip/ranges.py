@@ -162,6 +162,21 @@ def parse_number(name: str, text, where: str = "") -> float:
     return check(name, value, where)
 
 
+#: The most bootstrap resamples a fit takes: beyond it the intervals no longer move, and the time grows.
+MOST_RESAMPLES = 100_000
+
+
+def check_count(value, label: str, lowest: int = 0, highest: int | None = None) -> int:
+    """A whole number (a resample count, a seed; 200.0 is 200) from ``lowest`` to ``highest``, as an int; anything
+    else (text, a fraction, a boolean, out of range) is refused in one sentence naming ``label`` (``"--bootstrap"``)."""
+    real = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+    whole = real and bool(np.isfinite(value)) and float(value).is_integer()  # 200.0 is 200, as a count reads
+    if whole and value >= lowest and (highest is None or value <= highest):
+        return int(value)
+    span = f"from {lowest} to {highest}" if highest is not None else f"of at least {lowest}"
+    raise InputError(f"{label} must be a whole number {span}, got {value!r}")
+
+
 def check_tolerance(tolerance, where: str = "", label: str = "tolerance") -> float | None:
     """A requested relative error in (0, 1), from a number or text (``"0.1"``, ``"1e-3"``, ``"10 %"``); None stays
     None (no tolerance). Every method's choice and every front door refuses the rest in one sentence.

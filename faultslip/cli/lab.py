@@ -111,12 +111,10 @@ def _fit(args):
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.data])["plot"]
     if args.bootstrap is None:
         args.bootstrap = 200
-    if not 0 <= args.bootstrap <= 100_000:
-        raise FaultslipError(f"--bootstrap must lie between 0 and 100000 samples, got {args.bootstrap}")
+    ranges.check_count(args.bootstrap, "--bootstrap", 0, ranges.MOST_RESAMPLES)
     if args.loss not in ("linear", "soft_l1", "huber", "cauchy"):
         raise FaultslipError(f"--loss must be linear, soft_l1, huber or cauchy, got {args.loss!r}")
-    if args.seed < 0:
-        raise FaultslipError(f"--seed must not be negative, got {args.seed}")
+    ranges.check_count(args.seed, "--seed")
     modulus = None
     if args.shear_modulus:
         modulus = ranges.check("shear_modulus", to_si(args.shear_modulus, "pressure", "shear modulus"))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from faultslip import ranges
 from faultslip.cli.common import _locked, _number, _outputs
 from faultslip.cli.printing import _emit
 from faultslip.errors import InputError
@@ -19,10 +20,8 @@ from faultslip.units import to_si
 
 def cmd_catalog(args) -> int:
     plot = _outputs(args, {"plot": ("--plot", FIGURE_SUFFIXES)}, [args.catalog, args.fault])["plot"]
-    if not 0 <= args.bootstrap <= 100_000:
-        raise InputError(f"--bootstrap must lie between 0 and 100000 samples, got {args.bootstrap}")
-    if args.seed < 0:
-        raise InputError(f"--seed must not be negative, got {args.seed}")
+    ranges.check_count(args.bootstrap, "--bootstrap", 0, ranges.MOST_RESAMPLES)
+    ranges.check_count(args.seed, "--seed")
     scene = read_slider_scene(args.fault)
     trace = parse_trace(args.trace, "--trace") if args.trace else scene.trace
     window = {key: parse_time(getattr(args, key), f"--{key.replace('_', '-')}") if getattr(args, key) else None

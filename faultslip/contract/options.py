@@ -4,17 +4,13 @@ A family names the options its run and simulate take (:class:`~faultslip.contrac
 ``run_options`` and ``simulate_options``); this table says what each one is. The command line builds
 its ``run`` and ``simulate`` flags from it, :func:`faultslip.run` and :func:`faultslip.models.simulate`
 take the same names as keywords, and a family that does not take an option refuses it in one sentence
-naming the family. The module imports nothing heavy, so ``faultslip --help`` stays free of numpy and the
+naming the family. The module imports nothing, so ``faultslip --help`` stays free of numpy and the
 physics (``tests/project/test_architecture.py``).
 """
 
 from __future__ import annotations
 
-import math
-import numbers
 from dataclasses import dataclass
-
-from faultslip.errors import InputError
 
 
 @dataclass(frozen=True)
@@ -68,22 +64,6 @@ OPTIONS = {option.name: option for option in (
     Option("estimate", "print what it would need (CPU time, memory, disk) from the family's cost model, and stop",
            "switch", ("run", "simulate"), family=False),
 )}
-
-def checked_value(name: str, value):
-    """``value`` as its option's kind takes it (a count as an int: 3.0 is 3), or refused in one sentence where it is
-    not of that kind: a count that is not a whole number, a number that is not real, a switch that is not True or
-    False (the command line's parser reads its flags so; a notebook passing ``cycles="ten"`` had met a TypeError
-    from deep in the family)."""
-    kind = OPTIONS[name].kind if name in OPTIONS else "text"
-    real = isinstance(value, numbers.Real) and not isinstance(value, bool)  # numpy's scalars register as Real
-    if kind == "count" and not (real and math.isfinite(value) and float(value).is_integer()):
-        raise InputError(f"{name} is a whole number (such as 10), got {value!r}")
-    if kind == "number" and not real:
-        raise InputError(f"{name} is a number (such as 1e-8), got {value!r}")
-    if kind == "switch" and not isinstance(value, (bool, numbers.Integral)):
-        raise InputError(f"{name} is True or False, got {value!r}")
-    return int(value) if kind == "count" else value
-
 
 #: What every family receives whatever it declares (where the run's output goes, for a disk estimate; the
 #: budget's override; whether outputs may be replaced); a family with no use for them ignores them.

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.intervals import percentile_interval
 from faultslip.units import JULIAN_YEAR
@@ -195,8 +196,7 @@ def fit(model: str, values, bootstrap: int = 1000, seed: int = 0, elapsed: float
         Mean (s), aperiodicity, the log-likelihood and the 95 % ranges.
     """
     values = _check(values)
-    if not 0 <= bootstrap <= 100_000:
-        raise InputError(f"bootstrap must lie between 0 and 100000 samples, got {bootstrap}")
+    bootstrap = ranges.check_count(bootstrap, "bootstrap", 0, ranges.MOST_RESAMPLES)
     mean, aperiodicity = (float(v) for v in fit_parameters(model, values))
     if not aperiodicity > 0:
         raise InputError("the intervals are all equal: no aperiodicity to fit (a periodic sequence)")

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from faultslip import ranges
 from faultslip.contract.result import ReportedValues, Result, with_draws
 from faultslip.errors import InputError, did_you_mean
 from faultslip.friction.laws import static_friction
@@ -319,6 +320,8 @@ def fit_rate_law(data, loss: str = "linear", bootstrap: int = 200, seed: int = 0
     """
     if loss not in LOSSES:
         raise InputError(f"robust loss must be one of {', '.join(LOSSES)}, got {loss!r}")
+    bootstrap = ranges.check_count(bootstrap, "bootstrap", 0, ranges.MOST_RESAMPLES)
+    seed = ranges.check_count(seed, "seed")
     if not isinstance(data, FrictionData):  # a file, a DataFrame or a mapping of columns
         data = read_friction_data(data, fixed_mu_m)
     fixed_mu_m = fixed_mu_m if fixed_mu_m is not None else data.kinetic_friction

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from faultslip import ranges
 from faultslip.dynamics.rate_state.slider import RateStateSlider, simulate_rate_state
 from faultslip.contract.result import ReportedValues, Result, with_draws
 from faultslip.errors import InputError
@@ -175,10 +176,9 @@ def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend
     RecordFit
         The report, the record, the fit's spring k (1/m), the fit and the posterior.
     """
-    if not (bootstrap == 0 or 2 <= bootstrap <= 10_000):
+    if ranges.check_count(bootstrap, "--bootstrap", 0, 10_000) == 1:  # one resample has no spread
         raise InputError(f"--bootstrap must be 0 or lie between 2 and 10000 resamples, got {bootstrap}")
-    if seed < 0:
-        raise InputError(f"--seed must not be negative, got {seed}")
+    seed = ranges.check_count(seed, "--seed")
     if priors and not posterior:
         raise InputError("--prior sets the posterior's priors: give --posterior too")
     if detrend not in ("none", "linear", "quadratic", "fitted"):

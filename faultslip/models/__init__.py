@@ -17,11 +17,12 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
+import numbers
 
 from faultslip import ranges
 from faultslip.errors import InputError, refusal
 from faultslip.io import budget
-from faultslip.contract.options import OPTIONS, UNIVERSAL, checked_value
+from faultslip.contract.options import OPTIONS, UNIVERSAL
 # re-exported (the names' __all__ is built below, which linters cannot read)
 from faultslip.contract.registry import DECLARATIONS as DECLARATIONS, FAMILIES as FAMILIES, Family as Family
 from faultslip.contract.registry import check_rung, families, family_of, method_rows
@@ -45,6 +46,20 @@ def _not_an_option(name: str, family) -> str:
     flag = OPTIONS[name].flag if name in OPTIONS else f"--{name.replace('_', '-')}"
     return (f"{name} ({flag}) is not an option of {article} {family.name} scene; "
             f"{family.why or 'see faultslip simulate --help'}")
+
+
+def _checked_option(name: str, value):
+    """``value`` as its option's kind (:data:`OPTIONS`) takes it, or refused in one sentence: a count is a whole
+    number (3.0 is 3), a number is real, a switch is True or False (the command line's parser reads its flags so; a
+    notebook's ``simulate(cycles="ten")`` had met a TypeError from deep in the family)."""
+    kind = OPTIONS[name].kind if name in OPTIONS else "text"
+    if kind == "count":
+        return ranges.check_count(value, name, 1)
+    real = isinstance(value, numbers.Real) and not isinstance(value, bool)  # numpy's scalars register as Real
+    if (kind == "number" and not real) or (kind == "switch" and not isinstance(value, (bool, numbers.Integral))):
+        raise InputError(f"{name} is {'a number (such as 1e-8)' if kind == 'number' else 'True or False'}, "
+                         f"got {value!r}")
+    return value
 
 
 def run(scene=None, method: str | None = None, tolerance: float | None = None, allow_large: bool = False,
@@ -104,7 +119,7 @@ def run(scene=None, method: str | None = None, tolerance: float | None = None, a
         options["progress"] = progress
     for name, asked in (("allow_large", allow_large), ("allow_underresolved", allow_underresolved),
                         ("richardson", richardson), ("check_starts", check_starts)):
-        if not checked_value(name, asked):
+        if not _checked_option(name, asked):
             continue
         if name in family.run_options:
             options[name] = asked
@@ -224,7 +239,7 @@ def simulate(scene=None, **options) -> Result:
     extra = [name for name in given if name not in family.simulate_options and name not in UNIVERSAL]
     if extra:
         raise InputError(_not_an_option(extra[0], family))
-    taken = {name: checked_value(name, value) for name, value in given.items() if name in family.simulate_options}
+    taken = {name: _checked_option(name, value) for name, value in given.items() if name in family.simulate_options}
     if family.estimate is not None and "allow_large" not in family.simulate_options:  # as in run
         budget.check(family.estimate(scene, "simulate", **taken), bool(given.get("allow_large")))
     return family.simulate(scene, **taken)

@@ -44,7 +44,7 @@ from faultslip.errors import InputError, did_you_mean
 from faultslip.io import budget
 from faultslip.io.resources import bundled_dir, check_toml_kind, parse_toml, read_unit_csv
 from faultslip.units import si_unit, to_si
-from faultslip import __version__
+from faultslip import __version__, ranges
 from faultslip.fault.scene import Scene, read_slider_scene, parse_scene
 from faultslip.io.resources import read_text_file, resolve_path
 from faultslip.friction.materials import resolve_material
@@ -847,6 +847,7 @@ def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Esti
         CPU seconds (with what the map imports, measured: :func:`faultslip.io.budget.with_imports`), memory
         and disk, before any work.
     """
+    tolerance = ranges.check_tolerance(tolerance if tolerance is not None else 1e-6)
     if isinstance(spec, (str, os.PathLike)):
         spec = read_map(spec)
     if spec.segments is not None:
@@ -912,6 +913,7 @@ def run_map(spec, method="auto", tolerance=1e-6, allow_large: bool = False):
     """
     import xarray as xr  # heavy: imported where used
 
+    tolerance = ranges.check_tolerance(tolerance if tolerance is not None else 1e-6)  # "10 %" as the command
     check_map_size(spec, allow_large=allow_large, tolerance=tolerance)
     if spec.scene.rate_state:
         if method != "auto":  # its cells choose their integrator by K / K_c, as 'faultslip run' does

@@ -195,8 +195,8 @@ def test_a_bundled_example_is_fitted_by_name_in_python_as_on_the_command_line(cl
 
 
 @pytest.mark.parametrize("options, said", [
-    ({"cycles": "ten"}, "cycles is a whole number"), ({"cycles": 2.5}, "cycles is a whole number"),
-    ({"cycles": float("nan")}, "cycles is a whole number"), ({"cycles": True}, "cycles is a whole number"),
+    ({"cycles": "ten"}, "cycles must be a whole number"), ({"cycles": 2.5}, "cycles must be a whole number"),
+    ({"cycles": float("nan")}, "cycles must be a whole number"), ({"cycles": True}, "cycles must be a whole number"),
     ({"rtol": "1e-8"}, "rtol is a number")])
 def test_a_keyword_of_the_wrong_kind_is_refused_in_one_sentence(options, said):
     """A notebook's simulate(cycles="ten") is refused naming the keyword and its kind, as the command line's parser
@@ -210,3 +210,28 @@ def test_a_whole_count_of_another_type_is_taken_as_the_count():
     counts = {faultslip.simulate("lab_glass_dry.toml", cycles=cycles).to_xarray().sizes["event"]
               for cycles in (3, 3.0, np.int64(3))}
     assert counts == {3}
+
+
+@pytest.mark.parametrize("options", [{"bootstrap": -1}, {"bootstrap": "many"}, {"bootstrap": 2.5}, {"seed": -3},
+                                     {"seed": True}])
+def test_a_fits_resamples_and_seed_are_whole_numbers_in_python_as_on_the_command_line(options, cli):
+    """fit(bootstrap=-1) is refused as --bootstrap -1 is (it had run, and bootstrap='many' had met a TypeError);
+    200.0 resamples are 200."""
+    name = next(iter(options))
+    with pytest.raises(faultslip.errors.InputError, match=f"{name} must be a whole number"):
+        faultslip.fit("example_friction_data.csv", **options)
+    if options[name] in (-1, -3):
+        result = cli("fit", "example_friction_data.csv", f"--{name}", options[name])
+        assert result.code == 2 and f"--{name} must be a whole number" in result.err
+    whole, counted = (faultslip.fit("example_friction_data.csv", bootstrap=count, seed=1) for count in (20.0, 20))
+    assert len(whole.bootstrap) == 20 and np.array_equal(whole.bootstrap, counted.bootstrap)
+    assert whole.intervals == counted.intervals
+
+
+def test_a_maps_tolerance_is_read_in_python_as_on_the_command_line():
+    """map(tolerance='x') is refused in one sentence (it had met numpy's UFuncTypeError), and '10 %' is 0.1."""
+    for call in (faultslip.map, faultslip.hazard.map_estimate):
+        with pytest.raises(faultslip.errors.InputError, match="tolerance must be a relative error"):
+            call("san_andreas_map.toml", tolerance="x")
+    assert faultslip.map("san_andreas_map.toml", tolerance="10 %").equals(
+        faultslip.map("san_andreas_map.toml", tolerance=0.1))
