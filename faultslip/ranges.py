@@ -134,7 +134,10 @@ def check(name: str, value, where: str = ""):
     if name not in RULES:
         return value
     rule, label, unit = RULES[name]
-    values = np.asarray(value, dtype=float)
+    try:
+        values = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):  # text, None, a mapping: one sentence, not numpy's conversion error
+        raise InputError(f"{label} must be a number, got {value!r}{f' ({where})' if where else ''}") from None
     bad = _violates(rule, values)
     if np.any(bad):
         first = float(values[bad].flat[0]) if values.ndim else float(values)

@@ -19,7 +19,8 @@ recomputes them), whereas 9.05 would shift them all by +0.03. His surface-ruptur
 (Table 6: Mw = 1.52 log10 SRL + 4.33 strike-slip, + 4.40 dip-slip) are regressions, carried as printed.
 Leonard gives ranges from the ranges of C1 and C2, not one sigma, so his relations carry (low, high).
 
-Functions take and return SI (m, m^2) and magnitudes. :func:`compare` puts a physical prediction
+Functions return SI (m, m^2) and magnitudes; they take SI numbers, or lengths and areas with units (``"7 km"``,
+a pint Quantity). :func:`compare` puts a physical prediction
 beside the empirical expectation as a ratio and a z-score, z = log10(predicted / expected) / sigma
 (for magnitudes, z = (predicted - expected) / sigma).
 """
@@ -32,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.units import si_unit, to_si
 
 SLIP_TYPES = ("strike-slip", "reverse", "normal", "all")
 
@@ -115,17 +117,17 @@ def _coefficients(relation: str, slip_type: str):
 
 
 def _positive(values, what: str):
-    array = np.asarray(values, dtype=float)
-    if not np.all(np.isfinite(array) & (array > 0)):
+    """``values`` in SI as an array: a bare number is m (m^2 for an area), ``"7 km"`` or a pint Quantity is
+    converted; positive and finite, or refused in one sentence."""
+    kind = "area" if what.endswith("area") else "length"
+    array = np.asarray(to_si(values, kind, f"the {what}", default_unit=si_unit(kind)), dtype=float)
+    if not np.all(array > 0):
         raise InputError(f"the {what} must be positive and finite")
     return array
 
 
 def _finite(values, what: str):
-    array = np.asarray(values, dtype=float)
-    if not np.all(np.isfinite(array)):
-        raise InputError(f"the {what} must be finite")
-    return array
+    return np.asarray(to_si(values, "dimensionless", f"the {what}"), dtype=float)
 
 
 def wells_coppersmith_1994(relation: str, value, slip_type: str = "all"):

@@ -26,6 +26,7 @@ will count it):
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -86,6 +87,9 @@ class MagnitudeFrequency(ToXarray):
 def check_parameters(b_value: float = B_VALUE, bin_width: float = BIN_WIDTH, **magnitudes) -> None:
     """Refuse a b-value, bin width or magnitude no distribution can take (before any work), by the
     ranges every input of these kinds passes (:data:`faultslip.ranges.BOUNDS`)."""
+    for name, value in (("b_value", b_value), ("bin_width", bin_width), *magnitudes.items()):
+        if np.ndim(value) != 0:  # a distribution has one of each: a list is not read as its first
+            raise InputError(f"the {name.replace('_', ' ')} must be one number, got {value!r}")
     ranges.check("b_value", b_value)
     ranges.check("bin_width", bin_width)
     for name, value in magnitudes.items():
@@ -93,7 +97,7 @@ def check_parameters(b_value: float = B_VALUE, bin_width: float = BIN_WIDTH, **m
 
 
 def _check(moment_rate, b_value, bin_width, **magnitudes) -> None:
-    if not (math.isfinite(moment_rate) and moment_rate > 0):
+    if not (isinstance(moment_rate, numbers.Real) and math.isfinite(moment_rate) and moment_rate > 0):
         raise InputError(f"the moment rate must be positive and finite, got {moment_rate!r} N m/yr")
     check_parameters(b_value, bin_width, **magnitudes)
 

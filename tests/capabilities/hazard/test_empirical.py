@@ -94,6 +94,35 @@ def test_bad_inputs_are_refused():
     assert set(WELLS_COPPERSMITH_1994["average_displacement_from_magnitude"]) == set(SLIP_TYPES)
 
 
+@given(st.floats(1.0, 2000.0))
+@settings(max_examples=30, deadline=None)
+def test_lengths_and_areas_with_units_are_their_si_values(length_km):
+    """As MetPy's calc takes Quantities: "L km", a pint Quantity in miles and L x 1000 m give one magnitude; an
+    area in km^2 is 1e6 m^2. Bare numbers stay SI, as documented."""
+    from faultslip.units import quantity
+
+    expected = magnitude_from_length(length_km * KM)[0]
+    assert magnitude_from_length(f"{length_km!r} km")[0] == pytest.approx(expected, rel=1e-12)
+    assert magnitude_from_length(quantity(length_km / 1.609344, "mi"))[0] == pytest.approx(expected, rel=1e-12)
+    assert magnitude_from_area(f"{length_km!r} km^2")[0] == pytest.approx(magnitude_from_area(length_km * 1e6)[0],
+                                                                          rel=1e-12)
+    assert empirical.leonard_magnitude_from_length(f"{length_km!r} km") == pytest.approx(
+        empirical.leonard_magnitude_from_length(length_km * KM), rel=1e-12)
+
+
+@pytest.mark.parametrize("call, said", [
+    (lambda: magnitude_from_length("x"), "surface rupture length"), (lambda: magnitude_from_length("7 kg"), "length"),
+    (lambda: magnitude_from_area("7 km"), "must be an area"), (lambda: rupture_length("seven"), "magnitude"),
+    (lambda: empirical.leonard_width(float("nan")), "finite"),
+    (lambda: __import__("faultslip").hazard.truncated_gutenberg_richter(1e17, []), "one number"),
+    (lambda: __import__("faultslip").hazard.youngs_coppersmith_1985("1e17", 7.0), "moment rate"),
+    (lambda: __import__("faultslip").hazard.single_bin(1e17, "seven"), "must be a number")])
+def test_a_relation_given_text_or_a_list_where_it_takes_a_number_says_so_in_one_sentence(call, said):
+    """numpy's ValueError ("could not convert string to float") and math's TypeError had escaped these."""
+    with pytest.raises(InputError, match=said):
+        call()
+
+
 def test_studies_and_maps_carry_the_empirical_variables(tmp_path, cli):
     import xarray as xr
 
