@@ -53,11 +53,12 @@ def _checked_option(name: str, value):
     number (3.0 is 3), a number is real, a switch is True or False (the command line's parser reads its flags so; a
     notebook's ``simulate(cycles="ten")`` had met a TypeError from deep in the family)."""
     kind = OPTIONS[name].kind if name in OPTIONS else "text"
+    label = f"{name} ({OPTIONS[name].flag})" if name in OPTIONS else name  # the keyword, and the command's flag
     if kind == "count":
-        return ranges.check_count(value, name, 1)
+        return ranges.check_count(value, label, 1)
     real = isinstance(value, numbers.Real) and not isinstance(value, bool)  # numpy's scalars register as Real
     if (kind == "number" and not real) or (kind == "switch" and not isinstance(value, (bool, numbers.Integral))):
-        raise InputError(f"{name} is {'a number (such as 1e-8)' if kind == 'number' else 'True or False'}, "
+        raise InputError(f"{label} is {'a number (such as 1e-8)' if kind == 'number' else 'True or False'}, "
                          f"got {value!r}")
     return value
 
