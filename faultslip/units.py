@@ -20,6 +20,7 @@ import contextlib
 import functools
 import hashlib
 import importlib.util
+import inspect
 import json
 import math
 import numbers
@@ -250,6 +251,7 @@ KINDS: dict[str, tuple[str, str, str]] = {
     "mass_per_area": ("[mass]/[area]", "kg/m^2", "a mass per area"),
     "density": ("[density]", "kg/m^3", "a density"),
     "moment": ("[energy]", "N*m", "a seismic moment (force*length)"),
+    "moment_rate": ("[energy]/[time]", "N*m/s", "a moment rate (force*length/time)"),
     "frequency": ("1/[time]", "Hz", "a frequency (Hz, 1/s or rad/s)"),
     "acceleration": ("[acceleration]", "m/s^2", "an acceleration"),
     "dimensionless": ("[]", "", "dimensionless"),
@@ -571,9 +573,8 @@ def _bare(value, kind, name, default_unit, phrase):
     if kind == "dimensionless":
         return _finite(_as_float(value, name), name)
     if default_unit is None:
-        raise InputError(
-            f"{name} must be {phrase} with units, such as {_example(kind)}; got the bare number {value!r}"
-        )
+        what = "the bare number" if isinstance(value, numbers.Real) else "a value without units,"
+        raise InputError(f"{name} must be {phrase} with units, such as {_example(kind)}; got {what} {_short(value)}")
     factor = unit_factor(default_unit, kind, name)
     with np.errstate(over="ignore", invalid="ignore"):
         return _finite(_as_float(value, name) * factor, name)
@@ -622,6 +623,7 @@ _EXAMPLES = {
     "density": '"2700 kg/m^3"',
     "moment": '"8e20 N*m"',
     "frequency": '"19.9 Hz" or "125 rad/s"',
+    "moment_rate": '"1e17 N*m/yr"',
     "acceleration": '"9.81 m/s^2" or "1 g_0"',
     "dimensionless": "0.65",
     "angle": '"60 deg" or "1.047 rad"',
@@ -677,3 +679,85 @@ def _conversion(si: str, target: str) -> float:
 #: dates it (``simulate --start-time`` dates the miniSEED stream and the QuakeML events).
 ELAPSED_TIME_ATTRS = {"units": "s", "long_name": "time since the start of the run",
                       "comment": "elapsed model time, not a date; simulate --start-time dates the stream and events"}
+
+
+# --- units at the Python API's boundary -----------------------------------------------------------
+#: What a bare number or array passes as: the plain numeric types a vectorised caller hands a kernel.
+_PLAIN = (float, int, np.ndarray, np.floating, np.integer)
+
+
+def takes_units(**declared):
+    """Let a public function's named arguments be text or pint Quantities as well as numbers (MetPy's ``calc``).
+
+    ``declared`` maps an argument to its kind (:data:`KINDS`), to ``"kind_a|kind_b"`` where it may be either of
+    two (a lab's N/m or a fault's Pa/m), or to ``(kind, unit)`` where a bare number is in ``unit`` rather than
+    SI (a moment rate in N m/yr). Text and Quantities are converted (:func:`to_si`, one sentence on a wrong
+    unit) before the function runs; numbers, arrays and None pass unchanged, so the vectorised callers inside
+    faultslip pay one type test per argument. Arguments with two kinds must agree on which: a stiffness in Pa/m
+    with a load in N is refused. The function still returns SI numbers.
+    """
+    specs = {}
+    for name, spec in declared.items():
+        kind, unit = spec if isinstance(spec, tuple) else (spec, None)
+        kinds = tuple(kind.split("|"))
+        if any(k not in KINDS for k in kinds) or len(kinds) > 2 or (unit is not None and len(kinds) > 1):
+            raise KeyError(spec)
+        specs[name] = (kinds, unit)
+
+    def decorate(function):
+        signature = inspect.signature(function)
+        missing = set(specs) - set(signature.parameters)
+        if missing:
+            raise TypeError(f"{function.__qualname__} has no argument {sorted(missing)}")
+
+        @functools.wraps(function)
+        def wrapper(*args, **kwargs):
+            if all(value is None or isinstance(value, _PLAIN) for value in args) and \
+                    all(value is None or isinstance(value, _PLAIN) for value in kwargs.values()):
+                return function(*args, **kwargs)
+            try:
+                bound = signature.bind(*args, **kwargs)
+            except TypeError as error:
+                raise InputError(f"{function.__name__}(): {error}") from None
+            chosen = {}
+            for name, value in bound.arguments.items():
+                if name in specs and (isinstance(value, str) or is_quantity(value)):
+                    bound.arguments[name], chosen[name] = _declared_to_si(value, name, *specs[name])
+            _same_alternative(chosen, specs)
+            return function(*bound.args, **bound.kwargs)
+
+        wrapper.__units__ = {name: spec for name, spec in declared.items()}
+        return wrapper
+
+    return decorate
+
+
+def _declared_to_si(value, name: str, kinds: tuple, unit: str | None):
+    """(``value`` in the argument's unit, which of its kinds it was)."""
+    label = name.replace("_", " ")
+    if unit is not None:
+        return to_si(value, kinds[0], label) / unit_factor(unit, kinds[0], label), 0
+    refusals = []
+    for index, kind in enumerate(kinds):
+        try:
+            return to_si(value, kind, label), index
+        except InputError as error:
+            refusals.append(error)
+    wrong_dimension = [f"must be {KINDS[kind][2]} " in str(error) for kind, error in zip(kinds, refusals)]
+    if len(kinds) == 1 or not all(wrong_dimension):
+        raise refusals[wrong_dimension.index(False) if False in wrong_dimension else 0]
+    raise InputError(f"{label} must be {KINDS[kinds[0]][2]} or {KINDS[kinds[1]][2]}, such as {_example(kinds[0])} "
+                     f"or {_example(kinds[1])}; got {_describe(value)}")
+
+
+def _same_alternative(chosen: dict, specs: dict) -> None:
+    """Refuse arguments of two kinds that took different ones (a stiffness per area with a force)."""
+    paired = {name: index for name, index in chosen.items() if len(specs[name][0]) == 2}
+    if len(set(paired.values())) > 1:
+        first, second = sorted(paired, key=paired.get)[0], sorted(paired, key=paired.get)[-1]
+        kinds_first, kinds_second = specs[first][0], specs[second][0]
+        raise InputError(
+            f"{first.replace('_', ' ')} is {KINDS[kinds_first[0]][2]} but {second.replace('_', ' ')} is "
+            f"{KINDS[kinds_second[1]][2]}: give both whole "
+            f"({si_unit(kinds_first[0])}, {si_unit(kinds_second[0])}) or both per unit area "
+            f"({si_unit(kinds_first[1])}, {si_unit(kinds_second[1])})")

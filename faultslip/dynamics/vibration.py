@@ -40,7 +40,7 @@ import numpy as np
 
 from faultslip.dynamics.spring_slider.simulate import simulate
 from faultslip.dynamics.spring_slider.slider import SliderSystem
-from faultslip.units import ELAPSED_TIME_ATTRS
+from faultslip.units import ELAPSED_TIME_ATTRS, takes_units
 from faultslip.dynamics.shared.settling import assess_settling, settled_error
 from faultslip import ranges
 from faultslip.errors import InputError, SolverError
@@ -756,6 +756,7 @@ def estimated_error(system: QuasiHarmonic, amplitude: float) -> float:
     return ERROR_CONSTANT * system.small_parameter(amplitude) ** 2
 
 
+@takes_units(speeds="speed")
 def amplitude_against_speed(system: QuasiHarmonic, speeds) -> dict:
     """The settled amplitude at each driving speed (seed 002 Figs. 10-11): arrays of amplitude (m; 0 where
     steady sliding is stable, NaN where the oscillation would stick), steady sliding's growth rate, the small

@@ -31,6 +31,7 @@ from functools import lru_cache
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.units import takes_units
 
 #: Petersen et al. (2011), elliptical ln(D) model for principal displacement (D in cm)
 PETERSEN_2011 = {"position": 3.3041, "magnitude": 1.7927, "constant": -11.2192, "sigma": 1.1348}
@@ -172,6 +173,7 @@ def exceedance_probability(displacement, mean_log, sigma):
     return ndtr(-(np.log(d) - mean_log) / sigma)
 
 
+@takes_units(displacements="length", rates=("rate", "1/yr"), average_displacements="length")
 def displacement_hazard_curve(displacements, rates, magnitudes, positions, average_displacements=None,
                               model: str = "faultslip", surface_rupture: bool = True,
                               style: str = "strike-slip") -> np.ndarray:

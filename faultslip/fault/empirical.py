@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultslip.errors import InputError
-from faultslip.units import si_unit, to_si
+from faultslip.units import si_unit, takes_units, to_si
 
 SLIP_TYPES = ("strike-slip", "reverse", "normal", "all")
 
@@ -140,7 +140,7 @@ def wells_coppersmith_1994(relation: str, value, slip_type: str = "all"):
     ----------
     relation : str
         The relation's name.
-    value : float or array_like
+    value : float, array_like, str or Quantity
         Its argument (m, m^2 or Mw).
     slip_type : str
         all, strike-slip, reverse or normal.
@@ -163,7 +163,7 @@ def magnitude_from_length(surface_length, slip_type: str = "all"):
 
     Parameters
     ----------
-    surface_length : float or array_like
+    surface_length : float, array_like, str or Quantity
         The surface rupture length (m).
     slip_type : str
         all, strike-slip, reverse or normal.
@@ -186,7 +186,7 @@ def magnitude_from_width(width, slip_type: str = "all"):
 
     Parameters
     ----------
-    width : float or array_like
+    width : float, array_like, str or Quantity
         The down-dip rupture width (m).
     slip_type : str
         all, strike-slip, reverse or normal.
@@ -204,7 +204,7 @@ def magnitude_from_area(area, slip_type: str = "all"):
 
     Parameters
     ----------
-    area : float or array_like
+    area : float, array_like, str or Quantity
         The rupture area (m^2).
     slip_type : str
         all, strike-slip, reverse or normal.
@@ -223,7 +223,7 @@ def magnitude_from_displacement(displacement, slip_type: str = "all", kind: str 
 
     Parameters
     ----------
-    displacement : float or array_like
+    displacement : float, array_like, str or Quantity
         The average or maximum surface displacement (m).
     slip_type : str
         all, strike-slip, reverse or normal.
@@ -363,7 +363,7 @@ def leonard_width(length, setting: str = "strike-slip", bound: str = "preferred"
 
     Parameters
     ----------
-    length : float or array_like
+    length : float, array_like, str or Quantity
         Rupture length L (m).
     setting : str
         strike-slip, dip-slip or stable-continental (Leonard 2010 Table 5).
@@ -399,7 +399,7 @@ def leonard_magnitude_from_area(area, setting: str = "strike-slip", bound: str =
 
     Parameters
     ----------
-    area : float or array_like
+    area : float, array_like, str or Quantity
         Rupture area (m^2).
     setting : str
         strike-slip, dip-slip or stable-continental (Leonard 2010 Table 5).
@@ -423,7 +423,7 @@ def leonard_magnitude_from_length(length, setting: str = "strike-slip", bound: s
 
     Parameters
     ----------
-    length : float or array_like
+    length : float, array_like, str or Quantity
         Rupture length (m).
     setting : str
         strike-slip, dip-slip or stable-continental (Leonard 2010 Table 5).
@@ -567,6 +567,7 @@ class Comparison:
                 "sigma": self.sigma, "z_score": self.z_score, "note": self.note}
 
 
+@takes_units(slip_per_event="length", rupture_length_m="length", seismogenic_depth="length")
 def compare(slip_per_event: float, magnitude: float, rupture_length_m: float, seismogenic_depth: float,
             slip_type: str = "strike-slip") -> list[Comparison]:
     """The physical slip per event and Mw beside W&C 1994 and Leonard 2010 for the same rupture (L x H).

@@ -34,6 +34,7 @@ import numpy as np
 from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.datasets import ToXarray
+from faultslip.units import takes_units
 
 MOMENT_CONSTANT = 9.1  # faultslip's Mw = (2/3)(log10 M0 - 9.1) (fault.scaling.MW_CONSTANT)
 BIN_WIDTH = 0.1
@@ -111,6 +112,7 @@ def _balanced(kind, edges, shape, moment_rate, moment_constant, parameters) -> M
                               parameters | {"scale": scale})
 
 
+@takes_units(moment_rate=("moment_rate", "N*m/yr"))
 def youngs_coppersmith_1985(moment_rate: float, characteristic_magnitude: float,
                             min_magnitude: float = MIN_MAGNITUDE, b_value: float = B_VALUE,
                             bin_width: float = BIN_WIDTH,
@@ -162,6 +164,7 @@ def youngs_coppersmith_1985(moment_rate: float, characteristic_magnitude: float,
     return _balanced("characteristic", edges, exponential + box, moment_rate, moment_constant, parameters)
 
 
+@takes_units(moment_rate=("moment_rate", "N*m/yr"))
 def truncated_gutenberg_richter(moment_rate: float, max_magnitude: float, min_magnitude: float = MIN_MAGNITUDE,
                                 b_value: float = B_VALUE, bin_width: float = BIN_WIDTH,
                                 moment_constant: float = MOMENT_CONSTANT) -> MagnitudeFrequency:
@@ -242,6 +245,7 @@ def continuous_moment_rate(distribution: MagnitudeFrequency, moment_constant: fl
     return float(10.0 ** (found["a_value"] + constant + (1.5 - b_value) * low) * b_value * math.log(10.0) * growth)
 
 
+@takes_units(moment_rate=("moment_rate", "N*m/yr"))
 def single_bin(moment_rate: float, magnitude: float, bin_width: float = BIN_WIDTH,
                moment_constant: float = MOMENT_CONSTANT) -> MagnitudeFrequency:
     """The characteristic event alone: one bin centred on Mw with the rate budget / M0(Mw) (= 1/T when the

@@ -18,6 +18,7 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.friction.rate_state import nucleation_ratio, nucleation_size
 from faultslip.io.resources import read_bundled_table
+from faultslip.units import takes_units
 
 CALIBRATION_FILE = "fault_2d_model_error.json"
 #: The reductions a scene may ask for, by the [fault] key that states its width.
@@ -148,6 +149,7 @@ def range_within(value: float, error: float) -> list | None:
     return [value / (1.0 + error), value / (1.0 - error) if error < 1 else None]
 
 
+@takes_units(shear_modulus="pressure", normal_stress="pressure", width="length")
 def declared_model_error(law, shear_modulus: float, normal_stress: float, width: float,
                          calibration: dict | None = None, reduction: str = "geometric") -> tuple[float, float, str]:
     """(model error, W / h*, how it was found) of a one-slider fault, from the shipped calibration.

@@ -29,6 +29,7 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.io.report import Report
 from faultslip.datasets import ToXarray
+from faultslip.units import is_quantity, takes_units
 
 #: The aperiodicity below which a sequence is called periodic (its whole 95 % range), after Ellsworth et al. (1999).
 PERIODIC_BELOW = 0.5
@@ -53,6 +54,12 @@ class Predictability(ToXarray):
     aperiodicity: float  # the intervals' coefficient of variation, sd (n - 1) / mean
     aperiodicity_range: tuple
     slip_unit: str = "m"
+
+    def to_xarray(self):
+        """The result as an xarray Dataset; the slips carry the unit they were given in (a moment's N m)."""
+        dataset = super().to_xarray()
+        dataset["slips"].attrs["units"] = self.slip_unit.split(" (")[0]
+        return dataset
 
     @property
     def verdicts(self) -> dict:
@@ -118,6 +125,7 @@ def correlation(x, y) -> tuple[float, tuple[float, float]]:
     return r, (math.tanh(z - Z95 * se), math.tanh(z + Z95 * se))
 
 
+@takes_units(times="time")
 def predictability(times, slips, draws: int = 20000, seed: int = 0, slip_unit: str = "m") -> Predictability:
     """Test a sequence's recurrence models: time-predictable, slip-predictable, periodic and Poisson.
 
@@ -125,8 +133,9 @@ def predictability(times, slips, draws: int = 20000, seed: int = 0, slip_unit: s
     ----------
     times : array_like
         The events' times (s), increasing.
-    slips : array_like
-        Each event's slip (m), or any size proportional to it (a seismic moment, with ``slip_unit`` saying so).
+    slips : array_like or Quantity
+        Each event's slip (m), or any size proportional to it (a seismic moment, with ``slip_unit`` saying so; a
+        Quantity says its own unit).
     draws : int
         Bootstrap resamples of the intervals.
     seed : int
@@ -139,6 +148,8 @@ def predictability(times, slips, draws: int = 20000, seed: int = 0, slip_unit: s
     Predictability
         The correlations, the aperiodicity, their 95 % ranges, and the verdicts.
     """
+    if is_quantity(slips):  # the tests are scale-free: the slips keep the unit they were given in
+        slips, slip_unit = slips.magnitude, f"{slips.units:~C}"
     times, slips = np.asarray(times, float), np.asarray(slips, float)
     if times.ndim != 1 or times.shape != slips.shape:
         raise InputError("times and slips must be two lists of the same length")

@@ -32,7 +32,7 @@ import numpy as np
 from faultslip import ranges
 from faultslip.errors import InputError
 from faultslip.intervals import percentile_interval
-from faultslip.units import JULIAN_YEAR
+from faultslip.units import JULIAN_YEAR, takes_units
 from faultslip.datasets import ToXarray
 
 MODELS = ("lognormal", "bpt")
@@ -126,6 +126,7 @@ def distribution(model: str, mean: float, aperiodicity: float):
     raise InputError(f"renewal model must be one of {', '.join(MODELS)}, got {model!r}")
 
 
+@takes_units(mean="time", elapsed="time", horizon="time")
 def conditional_probability(model: str, mean: float, aperiodicity: float, elapsed: float, horizon: float) -> float:
     """P(an event within ``horizon`` | none for ``elapsed``) = (F(t + h) - F(t)) / (1 - F(t)).
 
@@ -172,6 +173,7 @@ class RenewalFit(ToXarray):
     widened: tuple = ()
 
 
+@takes_units(values="time", elapsed="time", horizon="time")
 def fit(model: str, values, bootstrap: int = 1000, seed: int = 0, elapsed: float | None = None,
         horizon: float | None = None) -> RenewalFit:
     """Maximum-likelihood fit with seeded generalized-pivotal 95 % ranges (module docstring) of the mean, the

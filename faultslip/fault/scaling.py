@@ -35,7 +35,7 @@ from faultslip.fault import empirical
 from faultslip.friction.laws import RateLaw
 from faultslip.friction.materials import MaterialChoice, resolve_material
 from faultslip.io.report import Report
-from faultslip.units import quantity, si_unit, to_si
+from faultslip.units import quantity, si_unit, takes_units, to_si
 
 #: Constant of the moment magnitude, Mw = (2/3)(log10 M0[N m] - 9.1): the
 #: IASPEI (2013) standard. Hanks & Kanamori (1979) is equivalent to 9.05; pass
@@ -59,6 +59,7 @@ def normal_stress_from_shear_stress(shear_stress, mu_so):
     return shear_stress / mu_so
 
 
+@takes_units(shear_modulus="pressure", rupture_length="length", seismogenic_depth="length", slip="length")
 def seismic_moment(shear_modulus, rupture_length, seismogenic_depth, slip):
     r"""Seismic moment :math:`M_0 = G L H \bar u` in N m (Aki 1966).
 
@@ -79,6 +80,7 @@ def seismic_moment(shear_modulus, rupture_length, seismogenic_depth, slip):
     return shear_modulus * rupture_length * seismogenic_depth * slip
 
 
+@takes_units(seismic_moment="moment")
 def moment_magnitude(seismic_moment, constant=MW_CONSTANT):
     r"""Moment magnitude :math:`M_w = \tfrac{2}{3}(\log_{10} M_0 - 9.1)`, :math:`M_0` in N m.
 

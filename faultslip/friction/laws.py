@@ -13,6 +13,7 @@ from faultslip.constants import STANDARD_GRAVITY
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.units import takes_units
 
 
 def static_friction_excess(loading_rate, mu_so, mu_m, b, d):
@@ -46,6 +47,7 @@ def static_friction_excess(loading_rate, mu_so, mu_m, b, d):
     return drop / (1.0 + drop * b * loading_rate**d)
 
 
+@takes_units(loading_rate="rate")
 def static_friction(loading_rate, mu_so, mu_m, b, d):
     r"""Static friction coefficient at a loading rate (seed 003 eq. 2-18).
 

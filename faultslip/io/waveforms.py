@@ -46,6 +46,7 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.io import gate
 from faultslip.io.atomic import atomic_path
+from faultslip.units import takes_units
 
 COMPONENTS = {"D": ("displacement", "m"), "V": ("velocity", "m/s"), "A": ("acceleration", "m/s^2"),
               "N": ("force", "N"), "S": ("slip", "m"), "R": ("slip_rate", "m/s"), "F": ("friction_coefficient", "1")}
@@ -92,6 +93,7 @@ def check_datable(start_seconds: float, span: float, cycles: int) -> None:
                      "give an earlier --start-time")
 
 
+@takes_units(sampling_rate="frequency")
 def build_stream(sampling_rate: float, channels: dict, start_seconds: float = DEFAULT_START, network: str = "XX",
                  station: str = "FSLIP", location: str = "00"):
     """An obspy Stream of uniformly sampled channels: ``channels`` maps a component code (see

@@ -42,7 +42,7 @@ from faultslip.io import gate
 from faultslip.io.atomic import write_text_atomic
 from faultslip.io.report import Report
 from faultslip.io.resources import split_header
-from faultslip.units import STANDARD_GRAVITY, unit_factor
+from faultslip.units import STANDARD_GRAVITY, takes_units, unit_factor
 from faultslip.datasets import ToXarray
 
 AXES = ("x", "y", "z")
@@ -227,6 +227,7 @@ class ClassroomAnalysis(ToXarray):
         return r
 
 
+@takes_units(merge_time="time")
 def analyse(record: AccelerometerRecord, axis: str | None = None, threshold: float = 6.0,
             merge_time: float = 0.05) -> ClassroomAnalysis:
     """Stick and slip phases, the friction drop and the event statistics of a record (see the module).

@@ -26,7 +26,7 @@ from faultslip.lab.raw_records import RawRecord, fit_each_step, read_rig_record,
 from faultslip.lab.healing import healing
 from faultslip.lab.law_selection import select_law
 from faultslip.lab.rate_state_fit import fit_joint, fit_velocity_steps
-from faultslip.units import to_si
+from faultslip.units import takes_units, to_si
 
 #: The rate-and-state parameters in words, for reports.
 PARAMETER_WORDS = {"mu0": "mu0, steady friction at V0", "a": "a, direct effect", "b": "b, evolution effect",
@@ -106,6 +106,7 @@ def _shown(value, low, high, units):
     return f"{significant(value / factor, (high - low) / factor / 10)}{(' ' + unit) if unit else ''}"
 
 
+@takes_units(steps="time", windows="time")
 def fit_record(data, stiffness, *, area=None, units: dict | None = None, detrend: str = "none", steps=None,
                min_change: float | None = None, evolution: str = "aging", two_state: bool = False,
                bootstrap: int = 50, seed: int = 0, windows=None, each_step: bool = False, posterior: bool = False,

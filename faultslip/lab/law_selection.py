@@ -30,6 +30,7 @@ from faultslip.io.progress import counted
 from faultslip.errors import FaultslipError, InputError
 from faultslip.lab.rate_state_fit import fit_velocity_steps, lag_one_autocorrelation
 from faultslip.datasets import ToXarray
+from faultslip.units import takes_units
 
 #: candidate -> (evolution, two_state)
 LAWS = {"aging": ("aging", False), "slip": ("slip", False), "aging_two_state": ("aging", True),
@@ -100,6 +101,7 @@ class LawSelection(ToXarray):
                 "notes": self.notes}
 
 
+@takes_units(stiffness="inverse_length")
 def select_law(record, stiffness, candidates=DEFAULT_CANDIDATES, stiffness_free: bool = False,
                trend: bool = False, progress=None) -> LawSelection:
     """Fit each candidate law to ``record`` and score it by BIC (see the module).

@@ -46,6 +46,7 @@ from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.progress import announce, duration, reporter
 from faultslip.lab.rate_state_fit import TREND_LIMIT, StepRecord, correlation_notes, fit_velocity_steps
 from faultslip.datasets import ToXarray
+from faultslip.units import takes_units
 
 PRIOR_KINDS = ("uniform", "loguniform", "normal", "lognormal")
 LOG_SAMPLED = ("critical_slip", "critical_slip2", "stiffness")
@@ -343,6 +344,7 @@ class _Pool:
         self.pool.terminate()
 
 
+@takes_units(stiffness="inverse_length")
 def sample_posterior(record: StepRecord, stiffness: float, *, evolution: str = "aging", two_state: bool = False,
                      priors: dict | None = None, samples: int = 10_000, walkers: int | None = None, seed: int = 0,
                      max_steps: int = 20_000, rtol: float = 1e-7, workers: int = 1, initial_fit=None,

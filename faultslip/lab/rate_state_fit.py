@@ -28,7 +28,7 @@ from faultslip.errors import InputError, SolverError
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.progress import announce as _announce, counted, duration as _duration, reporter
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, split_header
-from faultslip.units import to_si_scalar, unit_factor
+from faultslip.units import takes_units, to_si_scalar, unit_factor
 from faultslip.datasets import ToXarray
 
 STEP_COLUMNS = {"time": "time", "friction": "dimensionless", "load_point_speed": "speed",
@@ -602,6 +602,7 @@ class JointFit(ToXarray):
                 "notes": self.notes}
 
 
+@takes_units(stiffness="inverse_length")
 def fit_joint(records, stiffness, *, evolution: str = "aging", two_state: bool = False,
               stiffness_free: bool = False, trend: bool = False, rtol: float = 1e-10, progress=None) -> JointFit:
     """Fit one law to several velocity-step records (several steps of one run, or several experiments): a, b and

@@ -40,7 +40,7 @@ from faultslip.errors import InputError, SolverError
 from faultslip.io.progress import counted
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_table, read_table_metadata, split_header
 from faultslip.lab.rate_state_fit import StepRecord, fit_velocity_steps, step_record_from_columns
-from faultslip.units import to_si_scalar, unit_factor
+from faultslip.units import takes_units, to_si_scalar, unit_factor
 from faultslip.datasets import ToXarray
 
 RAW_COLUMNS = {"time": "time", "load_point_displacement": "length", "shear_load": "force",
@@ -332,6 +332,7 @@ def _segment_speeds(time, displacement, boundaries):
     return speeds
 
 
+@takes_units(time="time", displacement="length", step_times="time")
 def detect_steps(time, displacement, min_change: float = MIN_CHANGE, width: int | None = None,
                  step_times=None, resample: bool = True) -> LoadHistory:
     """The load history (segment start times and constant speeds) of a load-point displacement record.
@@ -502,6 +503,7 @@ def _stiffness(stiffness, normal_stress: float, area) -> tuple[float, str]:
                      "per slip (kN/mm, with --area)")
 
 
+@takes_units(step_times="time")
 def prepare_record(raw: RawRecord, stiffness, *, area=None, detrend: str = "none", step_times=None,
                    min_change: float = MIN_CHANGE) -> PreparedRecord:
     """Friction, the fit's spring, the sample's displacement, the steps and holds, and the stated trend
@@ -640,6 +642,7 @@ class StepFits(list, ToXarray):
         return xr.Dataset(data, coords={"step": ("step", [e["step"] for e in self])}, attrs={"Conventions": "CF-1.8"})
 
 
+@takes_units(windows="time")
 def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=None, *, stiffness_free: bool = False,
                   trend: bool = False, progress=None) -> StepFits:
     """Each step's own fit (its window started at steady state at the speed before it): a list of
@@ -692,6 +695,9 @@ def fit_each_step(prepared: PreparedRecord, evolution: str = "aging", windows=No
     return results
 
 
+@takes_units(
+    machine_stiffness="stiffness", area="area", normal_load="force", rate="frequency", displacement_noise="length",
+    drift="inverse_length")
 def synthetic_raw_record(law, machine_stiffness: float, area: float, normal_load: float, history: LoadHistory,
                          rate: float = 10.0, friction_noise: float = 1e-4, load_noise: float = 2e-4,
                          displacement_noise: float = 2e-8, drift: float = 0.0, seed: int = 0) -> RawRecord:

@@ -30,7 +30,7 @@ import numpy as np
 from faultslip.errors import InputError
 from faultslip.io.resources import check_input_file, open_netcdf, read_numeric_csv
 from faultslip.io.waveforms import STREAM_SUFFIXES, channels_by_quantity, read_stream
-from faultslip.units import unit_factor
+from faultslip.units import takes_units, unit_factor
 from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, exact_cycle
 from faultslip.dynamics.spring_slider.simulate import _equilibrium, _stick_duration
 from faultslip.io.report import Report
@@ -220,6 +220,7 @@ class RecordAnalysis(ToXarray):
         return r
 
 
+@takes_units(mass="mass", stiffness="stiffness", normal_load="force", platform_speed="speed", dashpot="damping")
 def analyze_record(record: Record, mass, stiffness, normal_load, platform_speed=None, dashpot=0.0,
                    velocity_method="auto", threshold=0.05) -> RecordAnalysis:
     """Friction, sliding speed, stick/slip phases and per-event quantities of a stick-slip record.
@@ -355,6 +356,7 @@ FIT_RESOLUTION = 1.49012e-8
 BELOW_ROUND_OFF = "below round-off"
 
 
+@takes_units(damped_frequency="frequency", stiffness="stiffness")
 def free_decay(amplitude_ratio: float, cycles: float, damped_frequency: float, stiffness: float) -> FreeDecay:
     """Identify decay constant, damping ratio, mass and damping coefficient (seed 002 Appendix C).
 
@@ -389,6 +391,7 @@ def free_decay(amplitude_ratio: float, cycles: float, damped_frequency: float, s
     return FreeDecay(delta, damped_frequency, omega_n, delta / omega_n, mass, 2 * mass * delta, stiffness)
 
 
+@takes_units(stiffness="stiffness")
 def free_decay_from_record(record: Record, stiffness: float) -> FreeDecay:
     """Free decay from a displacement record, by least squares: x(t) = c + A exp(-Delta t) cos(omega_d t + phi)
     fitted to the samples from the first peak on, started from the peaks' log-amplitude slope and spacing.

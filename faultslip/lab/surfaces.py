@@ -33,7 +33,7 @@ from faultslip.friction.contact import (contact_modulus, elastic_contact_hardnes
                                         hirst_hollander_index, plasticity_index)
 from faultslip.io.report import Report
 from faultslip.io.resources import open_netcdf, read_numeric_csv
-from faultslip.units import to_si, unit_factor
+from faultslip.units import takes_units, to_si, unit_factor
 from faultslip.datasets import ToXarray
 
 #: a surface holds at most this many heights (a map of 4000 x 4000)
@@ -88,6 +88,7 @@ class Surface(ToXarray):
         return Surface(z - (design @ coefficients).reshape(z.shape), self.dx, self.dy, self.source)
 
 
+@takes_units(rms="length", correlation_length="length", spacing="length")
 def gaussian_surface(rms: float, correlation_length: float, size: int = 256, spacing: float | None = None,
                      profile: bool = False, seed: int = 0) -> Surface:
     """A Gaussian random surface with exponential autocorrelation C(beta) = exp(-beta / beta*) (seed 000
@@ -273,6 +274,7 @@ def statistics(surface: Surface) -> dict:
             "density_heights": grid, "density": density}
 
 
+@takes_units(approaches="length", flow_pressure="pressure")
 def truncation_contact(surface: Surface, approaches, counter: Surface | None = None,
                        flow_pressure: float | None = None, redistribute: bool = True) -> dict:
     """Contact of ``surface`` with ``counter`` at each approach (m) from first touch: real area (m^2), contacts
@@ -345,6 +347,7 @@ def flat_like(surface: Surface) -> Surface:
     return Surface(np.zeros_like(surface.height), surface.dx, surface.dy, "flat")
 
 
+@takes_units(load="force", flow_pressure="pressure")
 def approach_for_load(surface: Surface, load: float, flow_pressure: float, counter: Surface | None = None) -> dict:
     """The approach where p_c A = L (seed 000 eq. 23), by bisection on the truncation contact.
 

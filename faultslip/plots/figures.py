@@ -14,11 +14,13 @@ from faultslip.dynamics.spring_slider import closed_form
 from faultslip.friction.materials import Preset
 from faultslip.dynamics.spring_slider.critical import critical
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, slip_trajectory
+from faultslip.units import takes_units
 
 #: Loading-rate range of the seed 003 apparatus (V = 1e-6 to 2 in/s, K = 1.94e4 lb/in, W 137.8-430.6 lb).
 LAB_RATE_RANGE = (1e-5, 1e3)
 
 
+@takes_units(rates="rate")
 def rate_law_figure(presets: list[Preset], rates=None):
     """Static friction and stick-slip amplitude against log10 of the loading rate.
 
@@ -65,6 +67,7 @@ def rate_law_figure(presets: list[Preset], rates=None):
     return figure
 
 
+@takes_units(critical_rate="rate")
 def phase_plane_figure(system, rate_factors=(0.3, 0.999, 1.5), critical_rate=None):
     """Phase-plane (x, x') trajectories below, at and above the critical loading rate.
 

@@ -22,7 +22,7 @@ from faultslip.errors import InputError
 from faultslip.fault import displacement as fdh
 from faultslip.fault.scaling import Fault, fitted_draws
 from faultslip.io.geo import densify, great_circle, trace_length
-from faultslip.units import JULIAN_YEAR
+from faultslip.units import JULIAN_YEAR, takes_units
 from faultslip.datasets import ToXarray
 
 #: the displacement models (faultslip.fault.displacement), and those through fdhpy
@@ -191,6 +191,7 @@ def fault_draws(spec, dataset, index: int):
     return None if draws is None else draws[0]
 
 
+@takes_units(displacements="length")
 def displacement_hazard(spec, dataset, site, model: str = "faultslip", displacements=None, system=None,
                         surface_rupture: bool = True) -> DisplacementHazard:
     """The annual rate of exceeding each displacement at ``site`` (lon, lat in degrees) on a map's fault.

@@ -637,3 +637,68 @@ def test_the_slowest_files_are_handed_out_first():
     pytest_collection_modifyitems(None, items)
     assert [item.nodeid for item in items] == [f"{SLOWEST_FIRST[0]}::test_3", f"{SLOWEST_FIRST[1]}::test_1",
                                                "tests/a.py::test_0", "tests/b.py::test_2", "tests/a.py::test_4"]
+
+
+#: the SI units a docstring writes in parentheses, by the kind takes_units declares
+_DOC_UNITS = {"length": {"m"}, "area": {"m^2"}, "speed": {"m/s"}, "time": {"s"}, "rate": {"1/s", "1/yr"},
+              "pressure": {"Pa"}, "stress_per_length": {"Pa/m"}, "force": {"N"}, "stiffness": {"N/m"},
+              "damping": {"N s/m"}, "slowness": {"s/m"}, "inverse_length": {"1/m"}, "mass": {"kg"},
+              "moment": {"N m"}, "moment_rate": {"N m/yr"}, "frequency": {"Hz"}, "acceleration": {"m/s^2"}}
+_NUMERIC = ("float", "array", "array_like", "int", "list", "sequence")
+
+
+def _documented_parameters(doc: str) -> dict:
+    """numpydoc Parameters: name -> (its type line, its description)."""
+    if "Parameters\n----------\n" not in doc:
+        return {}
+    body = re.split(r"\n\n[A-Z][a-z]+\n-{3,}", doc.split("Parameters\n----------\n", 1)[1])[0]
+    found, names = {}, []
+    for line in body.splitlines():
+        head = re.match(r"^(\w[\w, ]*?)\s*:\s*(.*)$", line)
+        if head and not line.startswith(" "):
+            names = [name.strip() for name in head.group(1).split(",")]
+            found.update({name: (head.group(2), "") for name in names})
+        else:
+            found.update({name: (found[name][0], found[name][1] + " " + line.strip()) for name in names})
+    return found
+
+
+def _units_in(text: str) -> set:
+    return {unit.strip() for group in re.findall(r"\(([^()]*)\)", text) for unit in re.split(r",| or ", group)}
+
+
+def test_every_public_quantity_takes_units():
+    """Units at every boundary, the Python API's too (MetPy's calc): a public function's parameter that is a
+    number with a unit in its docstring ("(m)", "(N m/yr)") is declared to ``faultslip.units.takes_units`` or
+    says it takes a Quantity (it converts itself); and each declared kind is the unit the docstring states."""
+    import inspect
+
+    from faultslip import api
+
+    every_unit = set().union(*_DOC_UNITS.values())
+    undeclared, mismatched = [], []
+    for name, where in api.public_names().items():
+        function = api.resolve(where)
+        if not inspect.isfunction(function):
+            continue
+        declared = getattr(function, "__units__", {})
+        parameters = inspect.signature(function).parameters
+        for parameter, (kind_line, text) in _documented_parameters(inspect.getdoc(function) or "").items():
+            units = _units_in(kind_line + " " + text) & every_unit
+            if parameter not in parameters or not units:
+                continue
+            if parameter in declared:
+                spec = declared[parameter]
+                kinds = [spec[0]] if isinstance(spec, tuple) else spec.split("|")
+                if not units & set().union(*(_DOC_UNITS[kind] for kind in kinds)):
+                    mismatched.append(f"{name}({parameter}): declared {spec}, documented {sorted(units)}")
+            elif kind_line.split(",")[0].split(" ")[0] in _NUMERIC and "Quantity" not in kind_line:
+                undeclared.append(f"{name}({parameter})")
+    assert not undeclared, f"public quantities that take no units: {undeclared}"
+    assert not mismatched, f"declared kinds that are not the documented units: {mismatched}"
+
+
+def test_the_units_check_sees_what_it_must():
+    doc = "Parameters\n----------\nwidth : float\n    W (m).\nflag : bool\n    On (m).\n\nReturns\n-------\nfloat"
+    found = _documented_parameters(doc)
+    assert _units_in(" ".join(found["width"])) == {"m"} and found["flag"][0] == "bool"

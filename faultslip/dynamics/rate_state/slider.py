@@ -53,6 +53,7 @@ from faultslip.dynamics.rate_state.methods import (CYCLE_METHODS, ERROR_MODEL, N
 from faultslip.friction.rate_state import RateStateLaw
 from faultslip.io.progress import reporter
 from faultslip.datasets import ToXarray
+from faultslip.units import takes_units
 
 MODELS = ("quasi_static", "quasi_dynamic", "inertial")
 METHODS = ("auto", "lsoda", "dopri5", "dopri5_compiled", "radau", "bdf")
@@ -561,6 +562,7 @@ def _quasi_jacobian(slider, load, damping):
     return jacobian
 
 
+@takes_units(t_eval="time", max_speed="speed")
 def simulate_rate_state(slider: RateStateSlider, history: LoadHistory, *, model: str = "quasi_static",
                         method: str = "auto", rtol: float = 1e-8, samples: int | None = None, t_eval=None,
                         initial_speed: float | None = None, initial_psi: float | None = None,
@@ -980,6 +982,7 @@ def cycle_noise(method: str, rtol: float, stiffness_ratio: float) -> float:
     return CYCLE_NOISE * rtol
 
 
+@takes_units(plate_rate="speed", event_speed="speed", max_time="time")
 def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 100, spin_up: int = 2,
                  model: str = "quasi_dynamic", rtol: float = CYCLES_RTOL, event_speed: float = EVENT_SPEED,
                  max_time: float | None = None, method: str = "auto", record: bool = False,

@@ -19,9 +19,11 @@ from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionl
 from faultslip.dynamics.spring_slider.exact_cycle import slip_cycle
 from faultslip.dynamics.shared.cycle import CycleResult, GROWING_OSCILLATION, STICK_SLIP
 from faultslip.errors import MethodError, OutOfDomainWarning
+from faultslip.units import takes_units
 import warnings
 
 
+@takes_units(stiffness="stiffness|stress_per_length", platform_speed="speed", normal_load="force|pressure")
 def loading_rate(stiffness, platform_speed, normal_load):
     r"""Loading rate :math:`\dot\theta = K V / W` in 1/s (seed 003 eq. 2-3).
 
@@ -99,6 +101,7 @@ def overshoot_factor(damping_ratio):
     return 1.0 + np.exp(-np.pi * decay_parameter(damping_ratio))
 
 
+@takes_units(normal_load="force|pressure", stiffness="stiffness|stress_per_length")
 def slip_amplitude(normal_load, stiffness, static_excess, damping_ratio=0.0):
     r"""Peak-to-peak stick-slip amplitude (seed 003 eq. 2-16/2-17, sign corrected).
 
@@ -123,6 +126,7 @@ def slip_amplitude(normal_load, stiffness, static_excess, damping_ratio=0.0):
     return normal_load / stiffness * static_excess * overshoot_factor(damping_ratio)
 
 
+@takes_units(loading_rate="rate", normal_load="force|pressure", stiffness="stiffness|stress_per_length")
 def rate_law_amplitude(loading_rate, normal_load, stiffness, mu_so, mu_m, b, d, damping_ratio=0.0):
     r"""Stick-slip amplitude with the static-friction rate law (seed 003 eq. 2-19).
 

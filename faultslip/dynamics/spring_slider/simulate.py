@@ -27,7 +27,7 @@ import numpy as np
 
 from faultslip.dynamics.shared.cycle import GROWING_OSCILLATION, STEADY_SLIDING, STICK_SLIP
 from faultslip.dynamics.shared.settling import aitken, assess_settling
-from faultslip.units import ELAPSED_TIME_ATTRS
+from faultslip.units import ELAPSED_TIME_ATTRS, takes_units
 from faultslip.errors import EvaluationBudgetError, InputError, SolverError
 from faultslip.dynamics.spring_slider.exact_cycle import _Oscillator, slip_cycle
 from faultslip.io.report import Report
@@ -407,6 +407,7 @@ def _missed_end(solution, s_from, y_v, tolerance):
     return brentq(gap, s_low, s_top, xtol=1e-14 * max(1.0, s_top), rtol=4 * np.finfo(float).eps)
 
 
+@takes_units(initial_displacement="length")
 def simulate(
     system,
     cycles: int = 100,

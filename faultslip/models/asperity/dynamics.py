@@ -38,7 +38,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from faultslip.units import ELAPSED_TIME_ATTRS
+from faultslip.units import ELAPSED_TIME_ATTRS, takes_units
 from faultslip.dynamics.shared.settling import assess_settling
 from faultslip import ranges
 from faultslip.errors import InputError, SolverError
@@ -417,6 +417,7 @@ class AsperityRun(ToXarray):
         return self.states[0]
 
 
+@takes_units(duration="time", samples_per_second="frequency", max_seconds="time", max_step="time")
 def simulate(model: AsperityModel, duration: float = 6.0, method: str = "asperity_LSODA", rtol: float = 1e-8,
              samples_per_second: float = 2000.0, max_seconds: float | None = None,
              max_step: float | None = None) -> AsperityRun:

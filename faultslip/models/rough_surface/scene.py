@@ -41,7 +41,7 @@ from faultslip.friction.laws import (SEPARATION_MEMORIES, STANDARD_GRAVITY, Cons
                                      SeparatingSurfacesKinetic)
 from faultslip.io.resources import check_toml_layout, parse_toml
 from faultslip.lab.surfaces import Surface, gaussian_surface, read_surface, truncation_contact
-from faultslip.units import to_si
+from faultslip.units import takes_units, to_si
 
 
 #: Bearing curves computed in this process, by their surface's heights, spacing and points: a study's cells share
@@ -132,6 +132,10 @@ def rough_surface_law(surface: Surface, normal_load: float, hardness: float, she
     return ConstantStatic(static), kinetic, details
 
 
+@takes_units(
+    mass="mass", stiffness="stiffness", normal_load="force", platform_speed="speed", hardness="pressure",
+    shear_strength="pressure", separation_coefficient="slowness", nominal_area="area",
+    fall_acceleration="acceleration")
 def rough_surface_slider(surface: Surface, mass: float, stiffness: float, normal_load: float, platform_speed: float,
                          hardness: float, shear_strength: float, separation_coefficient: float,
                          nominal_area: float = 1e-6, name: str = "rough-surface slider", *, memory: str = "none",

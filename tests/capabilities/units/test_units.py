@@ -3,6 +3,7 @@
 import json
 import math
 import os
+import re
 
 import numpy as np
 import pint
@@ -59,6 +60,13 @@ def test_bare_number_is_rejected_unless_a_default_unit_is_documented():
         to_si(13, "length", "elastic-zone width")
     assert to_si(13, "length", "D", default_unit="mi") == pytest.approx(20921.472)
     assert to_si("0.65", "dimensionless", "mu_so") == 0.65
+
+
+@pytest.mark.parametrize("given, said", [(13, "the bare number 13"), ([1, 2], "a value without units, [1, 2]"),
+                                         (np.float32(2.5), "the bare number")])
+def test_a_value_without_units_is_named_as_what_it_is(given, said):
+    with pytest.raises(InputError, match=re.escape(said)):
+        to_si(given, "length", "elastic-zone width")
 
 
 def test_dimensionless_rejects_units():

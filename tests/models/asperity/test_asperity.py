@@ -190,10 +190,16 @@ def test_quasistatic_step_bound_keeps_the_summit_exchanges():
     assert loose.mean_friction == pytest.approx(tight.mean_friction, rel=1e-4)
 
 
-@pytest.mark.parametrize("step", [0.0, -1e-3, float("nan"), "1 ms"])
+@pytest.mark.parametrize("step", [0.0, -1e-3, float("nan"), "1 m", "-1 ms"])
 def test_a_bad_step_bound_is_refused(step):
-    with pytest.raises(InputError, match="max_step"):
+    with pytest.raises(InputError, match="max.step"):
         simulate(AsperityModel(), 1.0, "asperity_quasistatic", max_step=step)
+
+
+def test_a_step_bound_with_units_is_the_si_bound():
+    """The Python API takes units as the command line does (faultslip.units.takes_units)."""
+    given = simulate(AsperityModel(), 0.02, "asperity_quasistatic", max_step="1 ms")
+    assert np.array_equal(given.time, simulate(AsperityModel(), 0.02, "asperity_quasistatic", max_step=1e-3).time)
 
 
 def test_contact_loss_is_reported_not_returned():
