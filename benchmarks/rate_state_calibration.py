@@ -5,11 +5,14 @@
     python benchmarks/rate_state_calibration.py --fresh 20261204 --fresh 20261205   # and fresh draws, unseen
 
 The calibration faults are the random draws of faultslip.evaluation.rate_state_bench.CALIBRATION_SEEDS (a, a / b,
-the evolution law, sigma_n, G, the fault's width, the plate rate and K / K_c, one in five near K_c). On each, every
+the evolution law, sigma_n, G, the fault's width, the plate rate and K / K_c, one in five near K_c), and the
+draws of LATER_CALIBRATION_SEEDS (fresh draws that broke the near-K_c model before it took a / b in). On each, every
 integrator's error in recurrence and slip per event, 2 cycles once settled, is measured at rtol 1e-5 to 1e-10
 against the C stepper at rtol 1e-12. Per integrator the results give, at each rtol, the largest error of the faults
-below K / K_c 0.9 and the largest error x (1 - K / K_c) of those above; the shipped model
-(methods.ERROR_MODEL: c rtol^q + floor, and k rtol^p / (1 - K / K_c) near K_c) must bound both with a margin.
+below K / K_c 0.9 and the largest error x (1 - K / K_c) (1 - a / b) of those above; the shipped model
+(methods.ERROR_MODEL: c rtol^q + floor, and k rtol^p / ((1 - K / K_c) (1 - a / b)) near K_c) must bound both with a
+margin. The near model's form is the calibration's own: a least-squares fit of ln error over its near runs gives
+exponents about 1 on both (1 - K / K_c) and (1 - a / b) (printed as ``near_regression``).
 Then the held-out draw (HELD_OUT_SEED), never part of the calibration, is measured once against the shipped model,
 and so is each --fresh seed's draw of as many faults (drawn after the model was shipped).
 
@@ -32,28 +35,39 @@ from provenance import write_results
 MARGIN = 1.5
 
 
-def envelope(dataset) -> dict:
-    """Per integrator and rtol, over the faults whose reference ran: the largest error of the faults below K / K_c :data:`NEAR_CRITICAL_FROM`, the
-    largest error x (1 - K / K_c) of those above (leaving out runs whose declared settling covers their error),
-    the runs that failed (by outcome), and the smallest error a run declared over the error measured (the margin
-    the shipped model keeps)."""
+def _with_reference(dataset):
+    """(the faults whose reference ran, their K / K_c, their 1 - a / b, which are near K_c)."""
     dataset = dataset.isel(fault=np.nonzero(dataset["reference_failure"].values == "")[0])
     ratio = dataset["stiffness_ratio"].values
-    near = ratio >= NEAR_CRITICAL_FROM
+    return dataset, ratio, 1.0 - dataset["a"].values / dataset["b"].values, ratio >= NEAR_CRITICAL_FROM
+
+
+def _errors(part):
+    """(which runs were measured, their errors, the errors that are the integrator's to bound)."""
+    ok = part["status"].values == 0
+    error = np.where(ok, part["error"].values, np.nan)
+    # a run whose sequence had not come within its error of the steady cycle declares the distance left; where
+    # that covers the error with the margin, the error is the settling's, not the integrator's to bound
+    with np.errstate(invalid="ignore"):
+        return ok, error, np.where(part["settling_left"].values >= MARGIN * error, np.nan, error)
+
+
+def envelope(dataset) -> dict:
+    """Per integrator and rtol, over the faults whose reference ran: the largest error of the faults below K / K_c
+    :data:`NEAR_CRITICAL_FROM`, the largest error x (1 - K / K_c) (1 - a / b) of those above (leaving out runs
+    whose declared settling covers their error), the runs that failed (by outcome), and the smallest error a
+    run declared over the error measured (the margin the shipped model keeps)."""
+    dataset, ratio, weakening, near = _with_reference(dataset)
     out = {}
     for method in dataset["integrator"].values:
         part = dataset.sel(integrator=method)
-        ok = part["status"].values == 0
-        error = np.where(ok, part["error"].values, np.nan)
-        # a run whose sequence had not come within its error of the steady cycle declares the distance left; where
-        # that covers the error with the margin, the error is the settling's, not the integrator's to bound
-        integrator_error = np.where(part["settling_left"].values >= MARGIN * error, np.nan, error)
+        ok, error, integrator_error = _errors(part)
         outcomes = part["status"].values[~ok]
         failed_at = np.nonzero(~ok)
         with np.errstate(all="ignore"):
             far_largest = np.nanmax(np.where(near[:, None], np.nan, integrator_error), axis=0)
-            near_largest = np.nanmax(np.where(near[:, None], integrator_error * (1 - ratio[:, None]), np.nan),
-                                     axis=0)
+            near_largest = np.nanmax(np.where(near[:, None], integrator_error * (1 - ratio[:, None])
+                                              * weakening[:, None], np.nan), axis=0)
             kept = np.nanmin(part["declared_error"].values / error)
         out[str(method)] = {
             "rtol": [float(r) for r in part["rtol"].values],
@@ -66,6 +80,26 @@ def envelope(dataset) -> dict:
                              if failed_at[0].size else [],
                              "rtol": sorted({float(r) for r in part["rtol"].values[failed_at[1]]})},
             "smallest_declared_over_error": float(kept)}
+    return out
+
+
+def near_regression(dataset) -> dict:
+    """Per integrator: least squares of ln error = ln k + p ln rtol - s ln(1 - a / b) - r ln(1 - K / K_c) over the
+    near runs the envelope keeps: the exponents the near model's form rests on."""
+    dataset, ratio, weakening, near = _with_reference(dataset)
+    out = {}
+    for method in dataset["integrator"].values:
+        part = dataset.sel(integrator=method)
+        error = _errors(part)[2]
+        rtol = np.broadcast_to(part["rtol"].values[None, :], error.shape)
+        keep = near[:, None] & np.isfinite(error) & (error > 0)
+        design = np.column_stack([np.ones(keep.sum()), np.log(rtol[keep]),
+                                  -np.log(np.broadcast_to(weakening[:, None], error.shape)[keep]),
+                                  -np.log(np.broadcast_to(1 - ratio[:, None], error.shape)[keep])])
+        coefficients = np.linalg.lstsq(design, np.log(error[keep]), rcond=None)[0]
+        out[str(method)] = {"runs": int(keep.sum()), "rtol_power": float(coefficients[1]),
+                            "a_over_b_exponent": float(coefficients[2]),
+                            "stiffness_ratio_exponent": float(coefficients[3])}
     return out
 
 
@@ -87,9 +121,12 @@ def main(argv=None) -> int:
                         help="also measure this seed's draw against the shipped model (repeatable)")
     args = parser.parse_args(argv)
     count = 8 if args.quick else bench.CALIBRATION_FAULTS
+    later_count = min(count, bench.HELD_OUT_FAULTS)
     faults = [fault for seed in bench.CALIBRATION_SEEDS for fault in bench.random_faults(seed, count)]
+    faults += [fault for seed in bench.LATER_CALIBRATION_SEEDS for fault in bench.random_faults(seed, later_count)]
     calibration = bench.declared_error_check(faults, workers=args.workers)
     found = envelope(calibration)
+    regression = near_regression(calibration)
     fitted = fit(found)
     held_count = 6 if args.quick else bench.HELD_OUT_FAULTS
     held_out = bench.declared_error_check(bench.random_faults(bench.HELD_OUT_SEED, held_count), workers=args.workers)
@@ -102,6 +139,8 @@ def main(argv=None) -> int:
     shipped = {method: ERROR_MODEL[method] for method in found}
     document = {
         "calibration": {"faults": len(faults), "seeds": list(bench.CALIBRATION_SEEDS), "per_seed": count,
+                        "later_seeds": list(bench.LATER_CALIBRATION_SEEDS), "per_later_seed": later_count,
+                        "near_regression": regression,
                         "near_critical_from": NEAR_CRITICAL_FROM, "cycles": bench.CYCLES,
                         "reference_rtol": bench.CHECK_REFERENCE_RTOL, "envelope": found,
                         "reference_failures": [str(x) for x in calibration["reference_failure"].values if x],
@@ -120,6 +159,7 @@ def main(argv=None) -> int:
         print(f"{method}: the declared error is at least {kept:.3g} x every calibration error"
               f"{'' if kept >= MARGIN else f' (below the margin {MARGIN})'}; fitted {fitted[method]}, shipped "
               f"{shipped[method]}; failed runs {row['failed_runs']}")
+    print(f"near K_c, ln error on ln rtol, ln(1 - a / b) and ln(1 - K / K_c): {regression}")
     print(bench.declared_error_text(held))
     for draw in fresh:
         print(f"fresh draw, seed {draw['seed']}:\n" + bench.declared_error_text(draw["summary"]))

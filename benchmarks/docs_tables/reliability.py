@@ -185,7 +185,7 @@ def rough_auto_choice_table() -> str | None:
 
 def _rate_state_model_text(model) -> str:
     far, near = model["far"], model["near"]
-    return f"max({_model_text(far)}, {near[0]:g} rtol^{near[1]:g} / (1 - K / K_c))"
+    return f"max({_model_text(far)}, {near[0]:g} rtol^{near[1]:g} / ((1 - K / K_c) (1 - a / b)))"
 
 
 def rate_state_errors_table() -> str | None:
@@ -217,11 +217,20 @@ def rate_state_errors_table() -> str | None:
                                                    for outcome, count in row["failed_runs"].items()) + where(row)
                          for method, row in calibration["envelope"].items() if row["failed_runs"])
     without = len(calibration["reference_failures"])
+    later_seeds, per_later = calibration.get("later_seeds", []), calibration.get("per_later_seed", 0)
+    later = (f", and {per_later} from each of seeds {', '.join(str(s) for s in later_seeds)}, fresh draws that "
+             "broke the near model while it was k rtol^p / (1 - K / K_c) and joined the calibration when it took "
+             "(1 - a / b) in" if later_seeds else "")
+    regression = calibration.get("near_regression")
+    form = (" The near model's form is the calibration's: least squares of ln error on its near runs gives "
+            "exponents " + "; ".join(f"{method} {row['stiffness_ratio_exponent']:.2f} on (1 - K / K_c) and "
+                                     f"{row['a_over_b_exponent']:.2f} on (1 - a / b)"
+                                     for method, row in regression.items()) + "." if regression else "")
     rows += ["", f"Errors: the larger relative error of recurrence and slip per event, {calibration['cycles']} cycles "
              f"once settled, against the C stepper at rtol {calibration['reference_rtol']:g}, at rtol 1e-5 to 1e-10. "
              f"Calibration: {calibration['faults']} random faults, {calibration['per_seed']} from each of seeds "
-             f"{', '.join(str(s) for s in calibration['seeds'])}; the far model is fitted on those below K / K_c "
-             f"{calibration['near_critical_from']:g}, the near one on those above, each at least "
+             f"{', '.join(str(s) for s in calibration['seeds'])}{later}; the far model is fitted on those below "
+             f"K / K_c {calibration['near_critical_from']:g}, the near one on those above, each at least "
              f"{calibration['margin_required']:g} times every error a run's declared settling does not already cover; "
              f"the declared error a run reports is this plus its settling left. Held out: "
              f"{held['faults']} faults from seed {held['seed']}, measured once against the shipped model"
@@ -232,7 +241,7 @@ def rate_state_errors_table() -> str | None:
              + (failures or "none") + "; a budget exceeded is a run past the bench's 400,000 steps (dopri5's steps "
              "are stability-limited at a lab-scale D_c, where auto takes LSODA)"
              + (f"; {without} faults whose reference did not run (past its budget, or no events near K_c) are left "
-                "out" if without else "") + ". `python benchmarks/rate_state_calibration.py`. "
+                "out" if without else "") + "." + form + " `python benchmarks/rate_state_calibration.py`. "
              + _machine(result)]
     return "\n".join(rows)
 

@@ -105,7 +105,8 @@ def _ratio_job(args):
             # machine now (the seconds per step are anchored to the "families" reference)
             cycles = CYCLES + (run.spin_up if run else SPIN_UP)
             rows.append((status, _error(run, reference) if run else math.nan, wall, run.steps if run else -1,
-                         error_bound(method, rtol, ratio), machine.on_this_machine(
+                         error_bound(method, rtol, ratio, a_over_b=slider.law.a / slider.law.b),
+                         machine.on_this_machine(
                              cycles * steps_per_cycle(method, rtol, ratio) * SECONDS_PER_STEP[method], "families")))
     return ratio, rows
 
@@ -122,7 +123,8 @@ def work_precision(quick: bool = False, workers: int = 2, progress=None, ratios=
     results = dict(parallel_map(_ratio_job, [(r, rtols, friction) for r in ratios], workers, progress))
     shape = (len(ratios), len(INTEGRATORS), len(rtols))
     columns = [np.array([row[k] for r in ratios for row in results[r]]).reshape(shape) for k in range(6)]
-    chosen = [choose_cycle_method(r, 1e-6, CYCLES + SPIN_UP)[:2] for r in ratios]
+    a, b, _ = friction or (BP1["a"], BP1["b"], "aging")
+    chosen = [choose_cycle_method(r, 1e-6, CYCLES + SPIN_UP, a_over_b=a / b)[:2] for r in ratios]
     dims = ("stiffness_ratio", "integrator", "rtol")
     return xr.Dataset(
         {"status": (dims, columns[0].astype(np.int8), {"units": "1", "long_name": "outcome",
@@ -152,6 +154,10 @@ CALIBRATION_SEEDS = (1, 2)
 CALIBRATION_FAULTS = 150
 HELD_OUT_SEED = 20261130
 HELD_OUT_FAULTS = 40
+#: Fresh draws (HELD_OUT_FAULTS each) that broke the declared near-K_c error as shipped (k rtol^p / (1 - K / K_c):
+#: 2.9 and 3.9 times it at a / b 0.88, K / K_c 0.995; 1.3 and 1.4 times at a / b 0.76, K / K_c 0.997) and joined
+#: the calibration, with a third drawn beside them, when the model took (1 - a / b) in.
+LATER_CALIBRATION_SEEDS = (20261209, 20261210, 20261211)
 #: the reference: the C stepper (dopri5 where it was not built) at this rtol; its own error, c rtol with c about
 #: 20, stays below a hundredth of every error it judges
 CHECK_REFERENCE_RTOL = 1e-12
@@ -208,7 +214,7 @@ def _check_job(args):
     for method in integrators:
         for rtol in rtols:
             status, run, _ = _run(slider, method, rtol, plate_rate=fault["plate_rate"])
-            bound = error_bound(method, rtol, fault["stiffness_ratio"])
+            bound = error_bound(method, rtol, fault["stiffness_ratio"], a_over_b=fault["a"] / fault["b"])
             cells.append((status, _error(run, reference) if run else math.nan,
                           run.estimated_relative_error if run else math.nan, bound,
                           float(run.settling.remaining) if run else math.nan))

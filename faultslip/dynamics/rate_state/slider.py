@@ -826,7 +826,7 @@ class RateStateCycles(ToXarray):
     recorded cycles; the scalar properties are their means.
     """
     #: the units and dimensions of to_xarray() (faultslip.datasets.ToXarray)
-    UNITS = {'event_times': 's', 'slip_per_event': 'm', 'stress_drop': 'Pa', 'peak_slip_rate': 'm/s', 'cycle_slip': 'm', 'plate_rate': 'm/s', 'stiffness_ratio': '1', 'steps': '1', 'function_evaluations': '1', 'wall_time': 's', 'event_speed': 'm/s', 'spin_up': '1', 'restarts': '1', 'rtol': '1', 'next_event_time': 's'}
+    UNITS = {'event_times': 's', 'slip_per_event': 'm', 'stress_drop': 'Pa', 'peak_slip_rate': 'm/s', 'cycle_slip': 'm', 'plate_rate': 'm/s', 'stiffness_ratio': '1', 'steps': '1', 'function_evaluations': '1', 'wall_time': 's', 'event_speed': 'm/s', 'spin_up': '1', 'restarts': '1', 'rtol': '1', 'next_event_time': 's', 'a_over_b': '1'}
     DIMENSIONS = {'event_times': 'event', 'slip_per_event': 'event', 'stress_drop': 'event', 'peak_slip_rate': 'event', 'cycle_slip': 'event'}
 
     event_times: np.ndarray  # s, event starts
@@ -852,6 +852,8 @@ class RateStateCycles(ToXarray):
     rtol: float = 1e-7
     #: s, the start of the event after the last measured cycle: every cycle's interval, the last's too
     next_event_time: float = math.nan
+    #: the law's a / (b + b2), on which the declared error near K_c depends (None: not known, the largest taken)
+    a_over_b: float | None = None
 
     @property
     def recurrence(self) -> float:
@@ -866,9 +868,10 @@ class RateStateCycles(ToXarray):
         """The steady cycle's declared error: the integrator's own (its fitted c rtol^q, amplified near K_c;
         the cycle-to-cycle scatter for an integrator without a calibration) plus what settling left."""
         if self.method in ERROR_MODEL:
-            noise = error_bound(self.method, self.rtol, self.stiffness_ratio)
+            noise = error_bound(self.method, self.rtol, self.stiffness_ratio, a_over_b=self.a_over_b)
         else:
-            noise = max(CYCLE_NOISE * self.rtol, near_critical_error(self.rtol, self.stiffness_ratio))
+            noise = max(CYCLE_NOISE * self.rtol, near_critical_error(self.rtol, self.stiffness_ratio,
+                                                                     a_over_b=self.a_over_b))
         if self.settling is None:
             return math.inf if self.spin_up < 1 else noise  # a fixed spin-up declares nothing about settling
         return settled_error(noise, self.settling.remaining)
@@ -911,6 +914,11 @@ def cycles_stiffness_ratio(slider: RateStateSlider) -> float:
     two-state law (which takes dopri5 whatever its ratio), inf where k_c <= 0 (stable)."""
     k_c = slider.critical_stiffness() if not slider.law.two_state else math.inf
     return slider.stiffness / k_c if k_c > 0 else math.inf
+
+
+def law_a_over_b(law: RateStateLaw) -> float:
+    """a / (b + b2): the law's steady-state weakening, which sets how slowly its cycles forget a perturbation."""
+    return float(law.a / (law.b + law.b2))
 
 
 def cycle_method(method: str, stiffness_ratio: float, law: RateStateLaw, rtol: float = CYCLES_RTOL,
@@ -1268,7 +1276,7 @@ def fault_cycles(slider: RateStateSlider, plate_rate: float, *, cycles: int = 10
                            plate_rate=plate_rate, stiffness_ratio=ratio, model=model, steps=steps,
                            function_evaluations=nfev, wall_time=wall, event_speed=event_speed, method=chosen_method,
                            series=series, settling=settling["verdict"], spin_up=spin_up,
-                           restarts=settling["restarts"], rtol=rtol)
+                           restarts=settling["restarts"], rtol=rtol, a_over_b=law_a_over_b(law))
 
 
 def _settling_step(settling: dict, record: dict, y_c, least_spin_up: int, tolerance: float, no_restart: bool,

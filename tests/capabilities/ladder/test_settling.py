@@ -166,13 +166,16 @@ def test_a_run_declares_its_integrators_error_plus_the_settling_left():
     """Seed 20261204's fault 39 of the rate-and-state check (drawn after the declared errors were shipped; slip
     law, K / K_c 0.9976, rtol 1e-10): the run's last cycle is 1.38e-6 from the reference (the C stepper at rtol
     1e-12, its own error 3e-8), more than either the integrator's bound (1.05e-6) or the settling left (7.5e-7)
-    alone, which the declaration took the larger of: the two add."""
+    alone, which the declaration took the larger of: the two add. (The bound of the time, 0.099 rtol^0.76 /
+    (1 - K / K_c); the near model now also divides by 1 - a / b and bounds this run alone.)"""
     fault = rate_state_bench.random_faults(20261204, 40)[39]
     assert fault["evolution"] == "slip" and fault["stiffness_ratio"] == pytest.approx(0.99763, abs=1e-5)
     _, [(status, error, declared, bound, left)], why, own = rate_state_bench._check_job(
         (fault, ["dopri5_compiled"], [1e-10]))
     assert status == 0 and not why and own < 0.05 * error
-    assert error > max(bound, left)  # what the larger alone declared, exceeded
+    bound_then = max(56.0 * 1e-10 ** 1.05, 0.099 * 1e-10 ** 0.76 / (1 - fault["stiffness_ratio"]))
+    assert error > max(bound_then, left)  # what the larger alone declared, exceeded
+    assert error <= settled_error(bound_then, left)
     assert declared == pytest.approx(settled_error(bound, left), rel=1e-12)
     assert error <= declared
 
