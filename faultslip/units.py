@@ -682,19 +682,22 @@ ELAPSED_TIME_ATTRS = {"units": "s", "long_name": "time since the start of the ru
 
 
 # --- units at the Python API's boundary -----------------------------------------------------------
-#: What a bare number or array passes as: the plain numeric types a vectorised caller hands a kernel.
-_PLAIN = (float, int, np.ndarray, np.floating, np.integer)
+def _convertible(value) -> bool:
+    """Whether :func:`takes_units` converts ``value``: text or a pint Quantity."""
+    return isinstance(value, str) or is_quantity(value)
 
 
-def takes_units(**declared):
+def takes_units(alternative_from: tuple | None = None, **declared):
     """Let a public function's named arguments be text or pint Quantities as well as numbers (MetPy's ``calc``).
 
     ``declared`` maps an argument to its kind (:data:`KINDS`), to ``"kind_a|kind_b"`` where it may be either of
     two (a lab's N/m or a fault's Pa/m), or to ``(kind, unit)`` where a bare number is in ``unit`` rather than
     SI (a moment rate in N m/yr). Text and Quantities are converted (:func:`to_si`, one sentence on a wrong
     unit) before the function runs; numbers, arrays and None pass unchanged, so the vectorised callers inside
-    faultslip pay one type test per argument. Arguments with two kinds must agree on which: a stiffness in Pa/m
-    with a load in N is refused. The function still returns SI numbers.
+    faultslip pay one type test per declared argument. Arguments with two kinds must agree on which: a stiffness in Pa/m
+    with a load in N is refused; ``alternative_from`` = (argument, (value_a, value_b)) names the argument that
+    says which (a slider's ``scale``, "lab" or "fault"). Decorating a class converts its constructor's
+    arguments. The function still returns SI numbers.
     """
     specs = {}
     for name, spec in declared.items():
@@ -704,32 +707,49 @@ def takes_units(**declared):
             raise KeyError(spec)
         specs[name] = (kinds, unit)
 
-    def decorate(function):
+    def decorate(target):
+        function = target.__init__ if inspect.isclass(target) else target
         signature = inspect.signature(function)
-        missing = set(specs) - set(signature.parameters)
+        missing = (set(specs) | ({alternative_from[0]} if alternative_from else set())) - set(signature.parameters)
         if missing:
-            raise TypeError(f"{function.__qualname__} has no argument {sorted(missing)}")
+            raise TypeError(f"{target.__qualname__} has no argument {sorted(missing)}")
+        label = target.__name__
+        positions = [(index, name) for index, name in enumerate(signature.parameters) if name in specs]
 
         @functools.wraps(function)
         def wrapper(*args, **kwargs):
-            if all(value is None or isinstance(value, _PLAIN) for value in args) and \
-                    all(value is None or isinstance(value, _PLAIN) for value in kwargs.values()):
+            # only text or a Quantity in a declared place is converted: everything else goes straight through
+            if not any(index < len(args) and _convertible(args[index]) for index, _ in positions) and \
+                    not any(name in kwargs and _convertible(kwargs[name]) for _, name in positions):
                 return function(*args, **kwargs)
             try:
                 bound = signature.bind(*args, **kwargs)
             except TypeError as error:
-                raise InputError(f"{function.__name__}(): {error}") from None
+                raise InputError(f"{label}(): {error}") from None
             chosen = {}
             for name, value in bound.arguments.items():
-                if name in specs and (isinstance(value, str) or is_quantity(value)):
+                if name in specs and _convertible(value):
                     bound.arguments[name], chosen[name] = _declared_to_si(value, name, *specs[name])
-            _same_alternative(chosen, specs)
+            _same_alternative(chosen, specs, _named_alternative(bound, signature, alternative_from))
             return function(*bound.args, **bound.kwargs)
 
-        wrapper.__units__ = {name: spec for name, spec in declared.items()}
+        wrapper.__units__ = dict(declared)
+        if inspect.isclass(target):
+            target.__init__ = wrapper
+            target.__units__ = wrapper.__units__
+            return target
         return wrapper
 
     return decorate
+
+
+def _named_alternative(bound, signature, alternative_from):
+    """(the argument that names the alternative, its value, which alternative that is), or None."""
+    if alternative_from is None:
+        return None
+    name, values = alternative_from
+    value = bound.arguments.get(name, signature.parameters[name].default)
+    return (name, value, values.index(value)) if value in values else None
 
 
 def _declared_to_si(value, name: str, kinds: tuple, unit: str | None):
@@ -750,9 +770,17 @@ def _declared_to_si(value, name: str, kinds: tuple, unit: str | None):
                      f"or {_example(kinds[1])}; got {_describe(value)}")
 
 
-def _same_alternative(chosen: dict, specs: dict) -> None:
-    """Refuse arguments of two kinds that took different ones (a stiffness per area with a force)."""
+def _same_alternative(chosen: dict, specs: dict, named=None) -> None:
+    """Refuse arguments of two kinds that took different ones (a stiffness per area with a force), or another than
+    the one an argument names (``named``: its name, value and the alternative it means)."""
     paired = {name: index for name, index in chosen.items() if len(specs[name][0]) == 2}
+    if named is not None:
+        argument, value, index = named
+        for name, taken in paired.items():
+            if taken != index:
+                raise InputError(f"{name.replace('_', ' ')} is {KINDS[specs[name][0][taken]][2]}, which "
+                                 f"{argument} = {value!r} does not take: give it in {si_unit(specs[name][0][index])} "
+                                 f"or set {argument} to match")
     if len(set(paired.values())) > 1:
         first, second = sorted(paired, key=paired.get)[0], sorted(paired, key=paired.get)[-1]
         kinds_first, kinds_second = specs[first][0], specs[second][0]

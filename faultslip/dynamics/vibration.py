@@ -102,6 +102,7 @@ def quadrature_integral(friction, speed: float, amplitude_speed, nodes: int = QU
     return fine, np.abs(fine - coarse)
 
 
+@takes_units(mass="mass", damping="damping", stiffness="stiffness", normal_load="force", speed="speed")
 @dataclass
 class QuasiHarmonic:
     """The averaged slider of seed 002 eq. (10), SI: mass M (kg), damping r (N s/m), stiffness k (N/m),

@@ -188,6 +188,7 @@ def time_of_stick_static_friction(stick_time, mu_lower, mu_upper, growth_rate):
     return mu_lower + (mu_upper - mu_lower) * -np.expm1(-growth_rate * stick_time)
 
 
+@takes_units(growth_rate="rate")
 @dataclass(frozen=True)
 class TimeOfStickLaw:
     """Static friction that grows with time of stick (Cameron; seed 002 eq. 2).
@@ -255,6 +256,7 @@ class ConstantKinetic:
         return 0.0 * sliding_speed
 
 
+@takes_units(slope="slowness")
 @dataclass(frozen=True)
 class LinearKinetic:
     r"""Linear kinetic law :math:`\mu = \mu_m + \beta (V - \dot x)` (seed 003 eq. 2-7).

@@ -643,6 +643,7 @@ def test_the_slowest_files_are_handed_out_first():
 _DOC_UNITS = {"length": {"m"}, "area": {"m^2"}, "speed": {"m/s"}, "time": {"s"}, "rate": {"1/s", "1/yr"},
               "pressure": {"Pa"}, "stress_per_length": {"Pa/m"}, "force": {"N"}, "stiffness": {"N/m"},
               "damping": {"N s/m"}, "slowness": {"s/m"}, "inverse_length": {"1/m"}, "mass": {"kg"},
+              "mass_per_area": {"kg/m^2"}, "stress_damping": {"Pa s/m"},
               "moment": {"N m"}, "moment_rate": {"N m/yr"}, "frequency": {"Hz"}, "acceleration": {"m/s^2"}}
 _NUMERIC = ("float", "array", "array_like", "int", "list", "sequence")
 
@@ -664,13 +665,13 @@ def _documented_parameters(doc: str) -> dict:
 
 
 def _units_in(text: str) -> set:
-    return {unit.strip() for group in re.findall(r"\(([^()]*)\)", text) for unit in re.split(r",| or ", group)}
+    return {unit.strip() for group in re.findall(r"\(([^()]*)\)", text) for unit in re.split(r"[,;]| or ", group)}
 
 
 def test_every_public_quantity_takes_units():
-    """Units at every boundary, the Python API's too (MetPy's calc): a public function's parameter that is a
-    number with a unit in its docstring ("(m)", "(N m/yr)") is declared to ``faultslip.units.takes_units`` or
-    says it takes a Quantity (it converts itself); and each declared kind is the unit the docstring states."""
+    """Units at every boundary, the Python API's too (MetPy's calc): a public function's or class's parameter that
+    is a number with a unit in its docstring ("(m)", "(N m/yr)") is declared to ``faultslip.units.takes_units``
+    or says it takes a Quantity (it converts itself); and each declared kind is the unit the docstring states."""
     import inspect
 
     from faultslip import api
@@ -679,11 +680,15 @@ def test_every_public_quantity_takes_units():
     undeclared, mismatched = [], []
     for name, where in api.public_names().items():
         function = api.resolve(where)
-        if not inspect.isfunction(function):
+        if not (inspect.isfunction(function) or inspect.isclass(function)):
             continue
         declared = getattr(function, "__units__", {})
-        parameters = inspect.signature(function).parameters
-        for parameter, (kind_line, text) in _documented_parameters(inspect.getdoc(function) or "").items():
+        try:
+            parameters = inspect.signature(function).parameters
+        except ValueError:  # a class without a signature of its own takes nothing to convert
+            continue
+        doc = (inspect.getdoc(function) or "").replace("Attributes\n----------\n", "Parameters\n----------\n")
+        for parameter, (kind_line, text) in _documented_parameters(doc).items():
             units = _units_in(kind_line + " " + text) & every_unit
             if parameter not in parameters or not units:
                 continue

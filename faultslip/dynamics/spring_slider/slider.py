@@ -25,7 +25,7 @@ from faultslip.dynamics.spring_slider import closed_form
 from faultslip.errors import InputError
 from faultslip.friction.laws import ConstantKinetic, ConstantStatic, LinearKinetic, RateLaw, TimeOfStickLaw
 from faultslip.friction.materials import Preset, get_preset
-from faultslip.units import STANDARD_GRAVITY, to_si
+from faultslip.units import STANDARD_GRAVITY, takes_units, to_si
 from dataclasses import replace
 
 #: SI unit of each dimensional attribute, lab scale / fault scale.
@@ -35,6 +35,9 @@ SI_UNITS = {
 }
 
 
+@takes_units(alternative_from=("scale", ("lab", "fault")), mass="mass|mass_per_area",
+             stiffness="stiffness|stress_per_length", normal_load="force|pressure", platform_speed="speed",
+             dashpot="damping|stress_damping", radiation_damper="damping|stress_damping")
 @dataclass(frozen=True)
 class SliderSystem:
     """A spring-slider with its friction laws; all attributes in SI.

@@ -53,6 +53,10 @@ _ROOT_2_PI = math.sqrt(2.0 / math.pi)
 _ROOT_2 = math.sqrt(2.0)
 
 
+@takes_units(platform_speed="speed", mass="mass", natural_frequency="frequency", dashpot="damping",
+             shear_strength="pressure", composite_modulus="pressure", asperity_radius="length",
+             slope_radius="length", loss_factor="damping", contact_length="length", slope_cutoff="length",
+             initial_approach="length", gravity="acceleration")
 @dataclass(frozen=True)
 class AsperityModel:
     """Seed 004's dynamic system in SI; the defaults are Table I case 6 at 3.6 mm/s.

@@ -55,6 +55,7 @@ import numpy as np
 
 from faultslip.errors import InputError, SolverError
 from faultslip.datasets import ToXarray
+from faultslip.units import takes_units
 
 try:
     from faultslip.models.spring_chain import _chain
@@ -69,6 +70,8 @@ TOGETHER = 1e-10
 STEADY_PERIODS = 200
 
 
+@takes_units(mass="mass", leaf_stiffness="stiffness", coupling_stiffness="stiffness", normal_load="force",
+             platform_speed="speed", dashpot="damping")
 @dataclass(frozen=True)
 class Chain:
     """A spring-block chain in SI: N blocks, their static limits and the shared kinetic friction.
@@ -338,6 +341,7 @@ def chosen_solver(slip_solver: str) -> str:
     return slip_solver
 
 
+@takes_units(initial_position="length")
 def simulate_chain(chain: Chain, events: int, *, initial_position=None, max_subphases: int | None = None,
                    slip_solver: str = "auto", rtol: float = 1e-10, steps_per_period: float | None = None) -> ChainRun:
     """Run ``chain`` from rest until ``events`` events have happened (see the module).

@@ -112,3 +112,36 @@ def test_a_declared_function_keeps_its_name_signature_and_misuse_is_one_sentence
     with pytest.raises(InputError, match=r"loading_rate\(\): .*argument"):
         models.loading_rate("1e4 N/m", "1 um/s", "100 N", "extra")
     assert math.isfinite(models.loading_rate(stiffness="1e4 N/m", platform_speed=1e-6, normal_load="100 N"))
+
+
+def test_the_model_classes_take_units_and_a_sliders_scale_names_its_kind():
+    """A class's constructor takes units as a function does (takes_units on the class). A slider's ``scale`` says
+    whether its quantities are whole (lab: N, N/m) or per unit area (fault: Pa, Pa/m); a value of the other kind
+    is refused in one sentence."""
+    import dataclasses
+
+    from faultslip.friction import LinearKinetic, TimeOfStickLaw
+    from faultslip.models import AsperityModel, Chain, Fault, QuasiHarmonic, SliderSystem
+
+    assert AsperityModel(platform_speed="3.6 mm/s").platform_speed == pytest.approx(
+        AsperityModel(platform_speed=3.6e-3).platform_speed, rel=1e-12)
+    averaged = QuasiHarmonic(mass="1 kg", damping="1 N*s/m", stiffness="1e4 N/m", normal_load="10 lbf",
+                             speed="1 mm/s", coefficients=(0.5,))
+    assert averaged.normal_load == pytest.approx(10 * POUND_FORCE, rel=1e-12)
+    assert LinearKinetic(0.5, "1 s/cm").slope == pytest.approx(100.0) and TimeOfStickLaw(0.5, 0.6, "2 1/min") == \
+        TimeOfStickLaw(0.5, 0.6, 2 / 60)
+    chain = Chain(mass="1 kg", leaf_stiffness="1 N/cm", coupling_stiffness=1.0, normal_load="1 N",
+                  platform_speed="1 cm/s", static_friction=np.array([0.6]), kinetic_friction=0.5)
+    assert chain.leaf_stiffness == pytest.approx(100.0) and chain.platform_speed == pytest.approx(0.01)
+    lab = SliderSystem.from_preset("glass_dry", platform_speed="1 um/s")
+    assert dataclasses.replace(lab, stiffness="2e4 N/m").stiffness == 2e4
+    with pytest.raises(InputError, match="scale = 'lab' does not take: give it in N/m"):
+        dataclasses.replace(lab, stiffness="1e6 Pa/m")
+    fault = SliderSystem.from_fault(Fault(slip_rate="2 in/yr", zone_width="13 mi", lithology="granodiorite_water",
+                                          shear_stress="250 bar"))
+    assert dataclasses.replace(fault, stiffness="1 bar/mi").stiffness == pytest.approx(BAR / MILE, rel=1e-12)
+    with pytest.raises(InputError, match="scale = 'fault' does not take: give it in Pa"):
+        dataclasses.replace(fault, normal_load="100 N")
+    with pytest.raises(InputError, match="leaf stiffness must be a stiffness"):
+        Chain(mass=1.0, leaf_stiffness="1 N", coupling_stiffness=1.0, normal_load=1.0, platform_speed=1.0,
+              static_friction=np.array([0.6]), kinetic_friction=0.5)
