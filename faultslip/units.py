@@ -694,9 +694,9 @@ def takes_units(alternative_from: tuple | None = None, **declared):
     two (a lab's N/m or a fault's Pa/m), or to ``(kind, unit)`` where a bare number is in ``unit`` rather than
     SI (a moment rate in N m/yr). Text and Quantities are converted (:func:`to_si`, one sentence on a wrong
     unit) before the function runs; numbers, arrays and None pass unchanged, so the vectorised callers inside
-    faultslip pay one type test per declared argument. Arguments with two kinds must agree on which: a stiffness in Pa/m
-    with a load in N is refused; ``alternative_from`` = (argument, (value_a, value_b)) names the argument that
-    says which (a slider's ``scale``, "lab" or "fault"). Decorating a class converts its constructor's
+    faultslip pay one type test per declared argument. Arguments with two kinds must agree on which: a stiffness
+    in Pa/m with a load in N is refused; ``alternative_from`` = (argument, (value_a, value_b)) names the argument
+    that says which (a slider's ``scale``, "lab" or "fault"). Decorating a class converts its constructor's
     arguments. The function still returns SI numbers.
     """
     specs = {}

@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
+from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles, law_a_over_b
 from faultslip.dynamics.rate_state import native
 from faultslip.dynamics.rate_state.methods import choose_cycle_method, error_bound, steps_per_cycle, SECONDS_PER_STEP
 from faultslip.errors import NoEventsError, SolverError
@@ -105,7 +105,7 @@ def _ratio_job(args):
             # machine now (the seconds per step are anchored to the "families" reference)
             cycles = CYCLES + (run.spin_up if run else SPIN_UP)
             rows.append((status, _error(run, reference) if run else math.nan, wall, run.steps if run else -1,
-                         error_bound(method, rtol, ratio, a_over_b=slider.law.a / slider.law.b),
+                         error_bound(method, rtol, ratio, a_over_b=law_a_over_b(slider.law)),
                          machine.on_this_machine(
                              cycles * steps_per_cycle(method, rtol, ratio) * SECONDS_PER_STEP[method], "families")))
     return ratio, rows

@@ -40,8 +40,8 @@ def test_the_loading_rate_takes_a_labs_or_a_faults_units(stiffness, speed, load)
 
 
 def test_a_stiffness_per_area_with_a_force_is_refused_in_one_sentence():
-    with pytest.raises(InputError, match=r"normal load is a force but stiffness is a stiffness per area .*: give both whole \(N, N/m\) or "
-                       r"both per unit area \(Pa, Pa/m\)"):
+    with pytest.raises(InputError, match=r"normal load is a force but stiffness is a stiffness per area .*: "
+                       r"give both whole \(N, N/m\) or both per unit area \(Pa, Pa/m\)"):
         models.slip_amplitude("100 N", "1e6 Pa/m", 0.1)
     with pytest.raises(InputError, match="stiffness must be a stiffness .* or a stiffness per area"):
         models.loading_rate("5 s", "1 um/s", "100 N")
