@@ -454,6 +454,10 @@ def _lookup(clean: str, kind: str, name: str, original: str):
         raise _unit_error(error, clean, kind, name, original) from None
 
 
+class _WrongKind(InputError):
+    """A unit of another dimension than the kind asked for (:func:`takes_units` then tries the other kind)."""
+
+
 def _unit_error(error, clean, kind, name, original) -> InputError:
     """One sentence for a unit pint refused (pint is loaded: it was asked)."""
     pint = _import_pint()
@@ -466,8 +470,8 @@ def _unit_error(error, clean, kind, name, original) -> InputError:
                          f"{_example(kind)}")
     except pint.DimensionalityError:
         if kind == "dimensionless":
-            return InputError(f"{name} must be a dimensionless number, got {original}")
-        return InputError(f"{name} must be {KINDS[kind][2]} such as {_example(kind)}, got {original}")
+            return _WrongKind(f"{name} must be a dimensionless number, got {original}")
+        return _WrongKind(f"{name} must be {KINDS[kind][2]} such as {_example(kind)}, got {original}")
     except ValueError as exc:
         if str(exc) == "angle":
             return InputError(f"{name} must be {KINDS[kind][2]}; an angle unit has no meaning here, got {original!r}")
@@ -763,7 +767,7 @@ def _declared_to_si(value, name: str, kinds: tuple, unit: str | None):
             return to_si(value, kind, label), index
         except InputError as error:
             refusals.append(error)
-    wrong_dimension = [f"must be {KINDS[kind][2]} " in str(error) for kind, error in zip(kinds, refusals)]
+    wrong_dimension = [isinstance(error, _WrongKind) for error in refusals]
     if len(kinds) == 1 or not all(wrong_dimension):
         raise refusals[wrong_dimension.index(False) if False in wrong_dimension else 0]
     raise InputError(f"{label} must be {KINDS[kinds[0]][2]} or {KINDS[kinds[1]][2]}, such as {_example(kinds[0])} "
