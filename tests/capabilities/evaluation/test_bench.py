@@ -98,8 +98,9 @@ def test_simulation_dataset_records_method_and_error():
     from faultslip.dynamics.spring_slider.simulate import simulate
 
     ds = simulate(read_slider_scene("lab_steel_dry_polynomial.toml").slider(), cycles=3, rtol=1e-8)
-    # DOP853's declared error at rtol 1e-8, 13 rtol^0.99 + 5e-12 (simulate.SOLVER_ERROR_MODEL)
-    assert ds.attrs["method"] == "event_driven" and ds.attrs["estimated_relative_error"] == pytest.approx(1.563e-7, rel=1e-3)
+    # DOP853's declared error at rtol 1e-8, 0.67 rtol^0.9 (simulate.SOLVER_ERROR_MODEL)
+    assert ds.attrs["method"] == "event_driven"
+    assert ds.attrs["estimated_relative_error"] == pytest.approx(0.67 * 1e-8 ** 0.9, rel=1e-12)
     assert "DOP853" in ds.attrs["method_reason"]
 
 
@@ -176,40 +177,35 @@ def test_random_scenes_are_reproducible_stick_slip_of_every_law(first_draw):
         assert reference.regime != "steady_sliding" and reference.event_times.size >= bench.CHECK_CYCLES
 
 
-@pytest.mark.parametrize("scene, solver, rtol, old_constant", [
-    # DOP853 on a velocity-weakening polynomial law: 9.65 rtol, where it declared 1 rtol
-    ("random_1_34", "DOP853", 1e-9, 1.0),
-    # LSODA at rtol 1e-12 on a lightly damped rate-law slider: 80 rtol, where it declared 60 rtol
-    ("random_1_5", "LSODA", 1e-12, 60.0),
-])
-def test_cells_that_broke_the_old_constants_are_inside_the_declared_error(first_draw, scene, solver, rtol,
-                                                                        old_constant):
-    """benchmarks/event_driven_calibration.py measured these calibration cells beyond the old c rtol; the
-    fitted model bounds them (and every other calibration cell by 1.5 times)."""
-    system = first_draw[scene][0]
-    row = bench.measure(system, bench.reference_for(system, bench.CHECK_CYCLES), f"event_driven_{solver}", rtol,
-                        bench.CHECK_CYCLES, 10**6, 1)
-    assert row["status"] == 0
-    error = bench.contract_error(row, bench.CHECK_CYCLES)
-    assert old_constant * rtol < error <= declared_slip_error(solver, rtol), (error, first_draw[scene][1])
-
-
-@pytest.mark.parametrize("seed, scene, solver, rtol, old_model", [
+@pytest.mark.parametrize("seed, scene, solver, rtol, error_before_centring", [
+    # DOP853 on a velocity-weakening polynomial law: 9.65e-9, where it then declared 1 rtol (a calibration cell)
+    (bench.CALIBRATION_SEEDS[0], "random_1_34", "DOP853", 1e-9, 9.65e-9),
+    # LSODA at rtol 1e-12 on a lightly damped rate-law slider: 80 rtol, where it then declared 60 rtol
+    (bench.CALIBRATION_SEEDS[0], "random_1_5", "LSODA", 1e-12, None),
     # Radau on a velocity-weakening polynomial law: 5.69e-8, where (0.39, 0.98, 5e-12) declared 5.38e-8
-    (4141, "random_4141_23", "Radau", 1e-7, (0.39, 0.98, 5e-12)),
+    (4141, "random_4141_23", "Radau", 1e-7, 5.69e-8),
     # LSODA at 0.74 theta_c: 1.29e-3 at rtol 1e-4, more than at 1e-3, where (0.93, 0.8, 1e-11) declared 5.87e-4
-    (4142, "random_4142_27", "LSODA", 1e-4, (0.93, 0.8, 1e-11)),
+    (4142, "random_4142_27", "LSODA", 1e-4, 1.29e-3),
+    # a fresh draw: DOP853 2.4 times its declared (13, 0.99, 5e-12), 3.9e-9 at rtol 1e-10 (a weakening polynomial
+    # law whose positions were 7.5 times the slip's swing), until the position was integrated about the kinetic
+    # equilibrium
+    (20261209, "random_20261209_10", "DOP853", 1e-10, 3.9e-9),
 ])
-def test_fresh_draws_that_broke_the_first_calibration_are_inside_the_refit(seed, scene, solver, rtol, old_model):
-    """Six fresh draws (bench.LATER_CALIBRATION_SEEDS), checked against the model set on the first three, held
-    these runs past their declared error; the draws joined the calibration and the refit bounds them."""
-    system = bench.random_scenes(seed, bench.HELD_OUT_SCENES)[scene][0]
+def test_cells_that_broke_earlier_declared_errors_are_inside_the_shipped_one(seed, scene, solver, rtol,
+                                                                             error_before_centring):
+    """benchmarks/event_driven_calibration.py (and its fresh draws) measured these cells beyond the model then
+    shipped; the draws joined the calibration or the integration changed, and the shipped model bounds them. Where
+    the error came from positions far from the swing's centre, centring removed most of it (figures measured with
+    the uncentred integration, to two digits)."""
+    count = 35 if seed == bench.CALIBRATION_SEEDS[0] else bench.HELD_OUT_SCENES  # draws are prefix-stable
+    system = bench.random_scenes(seed, count)[scene][0]
     row = bench.measure(system, bench.reference_for(system, bench.CHECK_CYCLES), f"event_driven_{solver}", rtol,
                         bench.CHECK_CYCLES, 10**6, 1)
     assert row["status"] == 0
     error = bench.contract_error(row, bench.CHECK_CYCLES)
-    constant, power, floor = old_model
-    assert constant * rtol ** power + floor < error <= declared_slip_error(solver, rtol), error
+    assert error <= declared_slip_error(solver, rtol), error
+    if error_before_centring is not None:
+        assert error < 0.1 * error_before_centring, error
 
 
 @given(solver=st.sampled_from(sorted(SOLVER_ERROR_MODEL)), exponent=st.floats(3, 12))

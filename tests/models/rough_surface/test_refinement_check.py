@@ -44,8 +44,9 @@ def test_only_the_laws_the_calibration_drew_are_held_to_it():
 
 @pytest.mark.filterwarnings("ignore")
 def test_a_fresh_rough_surface_run_is_within_what_it_declares_and_was_not_before(monkeypatch):
-    """RK45 at tolerance 1e-5 (rtol 1e-6): the stress drop was 2.0 times the calibrated 5.3e-6 off. Checked against
-    rtol 1e-8, the run declares at least 3 times their difference, and is within it."""
+    """RK45 at tolerance 1e-5 (rtol 1e-6): the stress drop is 2.3 times the calibrated 2.2e-6 off (it was 2.0 times
+    5.3e-6 before the slip was integrated about its equilibrium and RK45 refitted). The check finds 4.9e-6 to rtol
+    1e-8, past the tolerance, and takes rtol 1e-8, checked in turn; the run is within what it declares."""
     system, cycles = _fresh_system()
     reference = methods.solve(system, method="event_driven_DOP853", tolerance=1e-11, cycles=cycles)
     assert reference.estimated_relative_error < 1e-9
@@ -62,12 +63,13 @@ def test_a_fresh_rough_surface_run_is_within_what_it_declares_and_was_not_before
 
 @pytest.mark.filterwarnings("ignore")
 def test_a_tolerance_the_first_run_misses_is_met_by_a_finer_rtol():
-    """Auto at 1e-3 takes RK45 at rtol 1e-4, which the check finds 1.2e-3 from rtol 1e-6: the finer run is taken
-    and checked in turn, and meets the tolerance."""
+    """Auto at 1e-4 takes DOP853 at rtol 1e-5 (its declared 2e-5 meets it), which the check finds 1.6e-4 from rtol
+    1e-7: the finer run is taken and checked in turn, and meets the tolerance. (Before the slip was integrated about
+    its equilibrium, RK45 at 1e-3 had missed so; it now meets that tolerance at its first rtol.)"""
     system, cycles = _fresh_system()
-    solution = methods.solve(system, tolerance=1e-3, cycles=cycles)
-    assert solution.estimated_relative_error <= 1e-3
-    assert solution.settings["rtol"] < 1e-4 and "past the tolerance" in solution.method_reason
+    solution = methods.solve(system, tolerance=1e-4, cycles=cycles)
+    assert solution.estimated_relative_error <= 1e-4
+    assert solution.settings["rtol"] < 1e-5 and "past the tolerance" in solution.method_reason
 
 
 def _cycle(**values):

@@ -71,8 +71,8 @@ def test_without_separation_every_period_grazes_a_stick(method, tmp_path):
     assert result.si("slip_per_event") == pytest.approx(0.01 * 2 * math.pi / omega, rel=10 * error)
     assert result.si("period") == pytest.approx(2 * math.pi / omega, rel=10 * error)
     assert result.si("peak_slip_speed") == pytest.approx(0.02, rel=10 * error)
-    # Radau's crossing lands on the right side of V; the others' graze is said
-    assert result.method == "event_driven_Radau" or any("graze" in note for note in result.notes)
+    # Radau's and LSODA's crossings land on the far side of V (an event); DOP853's and RK45's graze is said
+    assert result.method in ("event_driven_Radau", "event_driven_LSODA") or any("graze" in n for n in result.notes)
 
 
 def test_friction_falls_with_speed_as_the_surfaces_part():

@@ -62,21 +62,20 @@ def test_auto_picks_the_exact_cycle_near_the_critical_rate(scenes, scene):
 
 
 def test_auto_picks_the_cheapest_sufficient_integrator_for_a_nonlinear_law():
-    """DOP853 declares 13 rtol^0.99 + 5e-12 (its global error reaches ~10 rtol on velocity-weakening
-    polynomial laws), so tolerances 1e-6 and 1e-9 take rtol 1e-8 and 1e-11, the loosest levels whose declared
-    error meets them; it is still cheaper there than RK45, Radau or LSODA at theirs."""
+    """DOP853 declares 0.67 rtol^0.9, so tolerances 1e-6 and 1e-9 take rtol 1e-7 and 1e-10, the loosest
+    levels whose declared error meets them; it is cheaper there than RK45, Radau or LSODA at theirs."""
     system = read_slider_scene("lab_steel_dry_polynomial.toml").slider()
     loose = solve(system, tolerance=1e-6)
-    assert loose.method == "event_driven_DOP853" and loose.settings["rtol"] == 1e-8
+    assert loose.method == "event_driven_DOP853" and loose.settings["rtol"] == 1e-7
     tight = solve(system, tolerance=1e-9)
-    assert tight.method == "event_driven_DOP853" and tight.settings["rtol"] == 1e-11
+    assert tight.method == "event_driven_DOP853" and tight.settings["rtol"] == 1e-10
     for solution, tolerance in ((loose, 1e-6), (tight, 1e-9)):  # the loosest level that meets the tolerance
         rtol = solution.settings["rtol"]
         assert declared_slip_error("DOP853", rtol) <= tolerance < declared_slip_error("DOP853", 10 * rtol)
     assert tight.function_evaluations > loose.function_evaluations
     assert abs(loose.cycle.amplitude / tight.cycle.amplitude - 1) < 1e-6
     assert loose.dataset.attrs["method"] == "event_driven_DOP853"
-    assert loose.dataset.attrs["estimated_relative_error"] == pytest.approx(declared_slip_error("DOP853", 1e-8))
+    assert loose.dataset.attrs["estimated_relative_error"] == pytest.approx(declared_slip_error("DOP853", 1e-7))
 
 
 def test_time_of_stick_law_goes_to_the_exact_map():
