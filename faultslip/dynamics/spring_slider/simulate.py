@@ -74,7 +74,7 @@ SOLVER_ERROR_MODEL = {"RK45": (8.8, 1.1, 0.0), "DOP853": (0.67, 0.9, 0.0), "Rada
                       "LSODA": (1.6, 0.83, 1e-11)}
 SOLVER_ERROR_MODEL["RK23"] = SOLVER_ERROR_MODEL["BDF"] = SOLVER_ERROR_MODEL["LSODA"]
 #: RK45's longest step in a slip phase, in radians of the natural oscillation (omega t)
-MAX_EXPLICIT_STEP = 1.0
+RK45_MAX_STEP = 1.0
 
 
 def declared_slip_error(solver: str, rtol: float) -> float:
@@ -242,6 +242,11 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
     if not math.isfinite(centre):
         centre = 0.0
     start = [K * x_break / W - centre, y_v]
+
+    def position(centred):
+        """Block position (m) of a centred, scaled state."""
+        return (centred + centre) * W / K
+
     # atol is a small part of the swing's scale: the static excess, or the free oscillation's amplitude from the
     # start; a start at the equilibrium (mu_s = mu(0)) with atol alone took first steps too small to move the speed
     # at all, and scipy read the unchanged speed as the slip's end at once
@@ -252,7 +257,7 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
     if solver == "RK45":
         # a step of at most a sixth of a natural period: at rtol 1e-3 RK45's steps spanned much of a slip phase and its
         # interpolant put the slip's end 2.2 % off (fresh scene random_20261220_4, 5 times its declared error)
-        options["max_step"] = MAX_EXPLICIT_STEP
+        options["max_step"] = RK45_MAX_STEP
     if solver in ("Radau", "BDF", "LSODA"):
         options["jac"] = jacobian
     horizon = 2 * np.pi * horizon_periods
@@ -375,15 +380,15 @@ def _integrated_slip(system, x_break, samples, solver, rtol, atol, horizon_perio
         regime = STEADY_SLIDING if final < 0.1 * initial else SUSTAINED_OSCILLATION
         s = np.linspace(0.0, s_last, max(samples, 40 * horizon_periods))
         states, mu = sample(s)
-        return SlipOutcome(times=s / omega_n, x=(states[0] + centre) * W / K, v=states[1] * speed_scale, friction=mu,
+        return SlipOutcome(times=s / omega_n, x=position(states[0]), v=states[1] * speed_scale, friction=mu,
                            duration=np.inf, regime=regime, evaluations=evaluations, fallback=fallback)
     s_end = pieces[-1][3]
     s = np.linspace(0.0, s_end, samples)
     states, mu = sample(s)
-    x = (states[0] + centre) * W / K
+    x = position(states[0])
     v = states[1] * speed_scale
-    x[-1], v[-1] = (end_state[0] + centre) * W / K, V
-    candidates = np.concatenate([x] + [(r + centre) * W / K for r in rests])
+    x[-1], v[-1] = position(end_state[0]), V
+    candidates = np.concatenate([x] + [position(r) for r in rests])
     velocity_min = float(min(np.min(states[1]), np.min(np.concatenate(extrema), initial=np.inf))) * speed_scale
     # negative net damping: the slip oscillation grows (same label as the exact cycle)
     regime = GROWING_OSCILLATION if system.damping_ratio < 0 else STICK_SLIP

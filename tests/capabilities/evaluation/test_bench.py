@@ -191,7 +191,7 @@ def test_random_scenes_are_reproducible_stick_slip_of_every_law(first_draw):
     # equilibrium
     (20261209, "random_20261209_10", "DOP853", 1e-10, 3.9e-9),
     # a fresh draw after that: RK45 at rtol 1e-3 5.0 times its declared 4.4e-3, 2.2e-2 (zeta 0, a weakening polynomial
-    # law), until its steps were held to a sixth of a natural period (simulate.MAX_EXPLICIT_STEP)
+    # law), until its steps were held to a sixth of a natural period (simulate.RK45_MAX_STEP)
     (20261220, "random_20261220_4", "RK45", 1e-3, 2.2e-2),
 ])
 def test_cells_that_broke_earlier_declared_errors_are_inside_the_shipped_one(seed, scene, solver, rtol,
