@@ -257,6 +257,26 @@ def _polynomial_slider(speed: float):
     return read_slider_scene("lab_steel_dry_polynomial.toml").slider().with_(platform_speed=speed)
 
 
+def test_the_integrators_cost_table_is_the_measured_evaluations_per_slip_phase():
+    """auto's cost of an event-driven run rests on INTEGRATOR_EVALUATIONS: each entry is the median count measured by
+    benchmarks/integrator_evaluations.py (linear-law calibration scenes, 10 cycles a run), to two figures; rerun it
+    and update the table when the slip integration changes (centring it moved LSODA's count at 1e-12 from 600 to
+    320). Every run counted its phases: none failed."""
+    import json
+    from pathlib import Path
+
+    measured = json.loads((Path(__file__).resolve().parents[3] / "benchmarks" / "results" /
+                           "integrator_evaluations.json").read_text(encoding="utf-8"))
+    assert measured["rtol"] == [1e-3, 1e-6, 1e-9, 1e-12] and not measured["failed"]
+    assert measured["linear_scenes"] >= 100
+    assert set(measured["median_per_phase"]) == set(methods.INTEGRATOR_EVALUATIONS)
+    for solver, medians in measured["median_per_phase"].items():
+        assert np.allclose(methods.INTEGRATOR_EVALUATIONS[solver], medians, rtol=0.05), solver
+        # between the calibrated levels the count is interpolated in log rtol, and grows as rtol shrinks
+        counts = [methods.integrator_evaluations(solver, 10.0 ** -k) for k in range(3, 13)]
+        assert all(later > earlier for earlier, later in zip(counts, counts[1:])), solver
+
+
 def test_a_stiff_slip_phase_is_costed_as_stiff_and_auto_takes_an_implicit_solver(cli, monkeypatch):
     """At 10 m/s the polynomial curve's slope gives the slip phase eps = 1,700 natural units: DOP853, chosen by a cost
     model that counted its accuracy's evaluations alone, took 1.8 million evaluations (20 s) for what LSODA does in
