@@ -4,8 +4,9 @@ seconds: the CPU each takes and the error each makes, on fresh scenes.
     python benchmarks/rough_auto_choice.py [--seed 20261214] [--count 6] [--rounds 3]
 
 The event-driven integrators' cost model counts evaluations as seed 003's laws take them. On a rough-surface table
-RK45 takes more of them than DOP853 (about twice its share), and checks at a hundredth of its rtol where it is
-dearest, so auto ranked by that model took RK45 where DOP853 costs less (``benchmarks/family_costs.py`` fits each
+the integrators' shares of them differ (RK45 takes more than counted and checks at a hundredth of its rtol where
+it is dearest; LSODA's tight rtols cost it less), so auto ranked by that model takes DOP853 where LSODA costs less
+(it had taken RK45 before the count was re-derived) (``benchmarks/family_costs.py`` fits each
 integrator's rate; ``faultslip.models.rough_surface.cost.price``). Each draw moves three of the example's parameters
 by a factor within 1/2 to 2 (``benchmarks/refinement_check.py``'s draw); each scene is solved by auto at each
 tolerance, both ways, the two interleaved and alternating which goes first, CPU the median of ``--rounds`` timings

@@ -30,16 +30,16 @@ def _work(system, count: float, action: str, method, tolerance) -> tuple[str, fl
 
 
 def _entry(assessment) -> str:
-    """Each integrator its own cost entry: on a table's kinks RK45 takes about twice DOP853's share of the
-    evaluations the calibration counts, and LSODA's tighter rtols cost it less than counted (data/family_costs.json,
-    fitted by benchmarks/family_costs.py)."""
+    """Each integrator its own cost entry: on a table's kinks the integrators' shares of the evaluations the
+    calibration counts differ (fitted: RK45 1.25 times DOP853's, LSODA 0.3 times, its tighter rtols costing it less
+    than counted; data/family_costs.json, fitted by benchmarks/family_costs.py)."""
     return f"run:{getattr(METHODS[assessment.method], 'solver', 'averaging')}"
 
 
 def price(assessment) -> float:
     """What a run by ``assessment``'s method costs on a rough-surface law, in the fitted seconds of its entry: auto
-    ranks the integrators by it (:func:`faultslip.dynamics.methods.choose`). By the calibration's seconds it took
-    RK45 at 1e-3, where DOP853 costs less (benchmarks/rough_auto_choice.py)."""
+    ranks the integrators by it (:func:`faultslip.dynamics.methods.choose`). By the calibration's seconds it takes
+    DOP853, where LSODA costs less (benchmarks/rough_auto_choice.py)."""
     return budget.fitted_seconds("rough_surface", _entry(assessment), assessment.estimated_cost)
 
 

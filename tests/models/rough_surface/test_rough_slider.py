@@ -307,15 +307,16 @@ def test_a_runs_estimate_follows_its_method_and_tolerance():
     assert estimate(method="event_driven_Radau", tolerance=1e-8).seconds > \
         5 * estimate(method="event_driven_DOP853", tolerance=1e-6).seconds
     system, _, settings = read_rough_scene(scene)
-    chosen, _ = planned(system, tolerance=cost.DEFAULT_TOLERANCE, cycles=settings["cycles"])
+    # ranked as the family's run ranks, by its fitted prices (the count alone ranks another integrator first)
+    chosen, _ = planned(system, tolerance=cost.DEFAULT_TOLERANCE, cycles=settings["cycles"], price=cost.price)
     assert estimate().what == estimate(tolerance=cost.DEFAULT_TOLERANCE).what
     assert chosen.name in estimate().what
 
 
 def test_auto_ranks_the_integrators_by_what_they_cost_on_the_familys_law():
-    """On a rough-surface table RK45 takes about twice DOP853's share of the evaluations the calibration counts
-    (their fitted rates, data/family_costs.json), so auto ranked by the calibration took RK45 at 1e-3 where DOP853
-    costs less (benchmarks/rough_auto_choice.py). The family's run ranks by its fitted prices: the method it takes
+    """On a rough-surface table the integrators' shares of the evaluations the calibration counts differ (their
+    fitted rates, data/family_costs.json), so auto ranked by the calibration takes DOP853 where LSODA costs less
+    (benchmarks/rough_auto_choice.py). The family's run ranks by its fitted prices: the method it takes
     is the cheapest priced of those within the tolerance, and meets it."""
     from faultslip.contract import registry
     from faultslip.dynamics.methods import choose
@@ -331,6 +332,10 @@ def test_auto_ranks_the_integrators_by_what_they_cost_on_the_familys_law():
         result = registry.load("rough_surface").run(scene, tolerance=tolerance)
         assert result.method == chosen.name
         assert result.estimated_relative_error <= tolerance
+    # regression, from data/family_costs.json as benchmarks/family_costs.py refitted it once the slip phases were
+    # centred and INTEGRATOR_EVALUATIONS re-derived: the calibration's count now ranks DOP853 first, the fitted prices
+    # LSODA (1.2 times less CPU, median, on fresh scenes: benchmarks/results/rough_auto_choice.json); before, RK45
+    # and DOP853
     unpriced = choose(system, tolerance=1e-3, cycles=settings["cycles"])[0]
     priced = choose(system, tolerance=1e-3, cycles=settings["cycles"], price=cost.price)[0]
-    assert (unpriced.name, priced.name) == ("event_driven_RK45", "event_driven_DOP853")
+    assert (unpriced.name, priced.name) == ("event_driven_DOP853", "event_driven_LSODA")
