@@ -27,9 +27,10 @@ could declare, set with the 2-D answers in hand (``narrowest``): lower bounds on
 **The budget**: the estimate each run recorded before it ran, against the CPU it used, over the runs whose row
 records the cost model now declared (the held-out ones apart: the event-step model is fitted on the others).
 
-**Fresh draws** (``python benchmarks/ladder_designs.py --fresh 40 [--seed 68012 | --seed 68014]``,
-``ladder_fresh.json``, ``ladder_fresh_second.json`` and ``ladder_fresh_third.json``): a third, a fourth and a fifth
-independent draw over the box, each run after the ranges were shipped, tested against them as they are.
+**Fresh draws** (``python benchmarks/ladder_designs.py --fresh 40 [--seed 68012 | --seed 68014 | --seed 68031]``,
+``ladder_fresh.json``, ``ladder_fresh_second.json``, ``ladder_fresh_third.json`` and ``ladder_fresh_fourth.json``):
+a third, a fourth, a fifth and a sixth independent draw over the box, each run after the ranges were shipped,
+tested against them as they are.
 
 Writes ``data/ladder_calibration.json`` (what faultslip declares) and ``benchmarks/results/ladder_held_out.json``
 (each held-out fault, its 2-D answer, the range and whether it holds; the budget's estimates against the CPU used).

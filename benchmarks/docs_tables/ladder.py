@@ -253,7 +253,7 @@ def fault_2d_event_steps_table() -> str | None:
     fitted = {"calibration": "calibration designs (fitted: A, q, r)",
               "escalations 68000": "escalation draw 68000, first runs (fitted: s)",
               "fresh": "fresh designs, seed 68002 (unseen)", "fresh2": "fresh designs, seed 68012 (unseen)",
-              "fresh3": "fresh designs, seed 68014 (unseen)"}
+              "fresh3": "fresh designs, seed 68014 (unseen)", "fresh4": "fresh designs, seed 68031 (unseen)"}
     for name, line in result["sets"].items():
         label = fitted.get(name, f"{name}{', first runs' if name.startswith('escalations') else ' designs'} (unseen)")
         d, e = line["declared"], line["earlier"]
