@@ -61,9 +61,9 @@ PRODUCERS = (
     ("surface_trends", [], [], "surface_trends.json"),
     ("event_driven_calibration", [], ["--quick"], "event_driven_calibration.json"),
     ("refinement_check", [], ["--count", "4"], "refinement_check.json"),
-    # the cost table auto reads (INTEGRATOR_EVALUATIONS), before the run that checks the cost it gives; its full form
-    # both times, since a test holds the table to it
-    ("integrator_evaluations", [], [], "integrator_evaluations.json"),
+    # the cost table auto reads (INTEGRATOR_EVALUATIONS), before the run that checks the cost it gives; its short
+    # form writes its own file, since a test holds the table to the full one
+    ("integrator_evaluations", [], ["--quick"], "integrator_evaluations.json"),
     ("lab_cycle_cost", [], ["--quick"], "lab_cycle_cost.json"),
     ("rate_state_calibration", [], ["--quick"], "rate_state_calibration.json"),
     ("rate_state_settling", [], [], "rate_state_settling.json"),

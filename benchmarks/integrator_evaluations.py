@@ -8,7 +8,8 @@ cost of an event-driven run is built on it. Here every integrator runs the linea
 faultslip.evaluation.bench.random_scenes (the integrators' calibration seeds, 1-3, 60 scenes a seed) for 10 cycles
 at each of those rtols; a run's evaluations over its slip phases (its events) is one count, and the table is the
 median count. Writes benchmarks/results/integrator_evaluations.json, which tests/models/spring_slider/
-test_methods.py reads against the table.
+test_methods.py reads against the table; ``--quick`` (10 scenes a seed, for a look) writes
+integrator_evaluations_quick.json instead, so that the table's evidence is always the full measurement.
 """
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ def main(argv=None) -> int:
     measured = measure(bench.CALIBRATION_SEEDS, per_seed)
     medians = {solver: [statistics.median(values[str(rtol)]) for rtol in RTOLS]
                for solver, values in measured["counts"].items()}
-    write_results("integrator_evaluations.json", {
+    write_results("integrator_evaluations_quick.json" if args.quick else "integrator_evaluations.json", {
         "rtol": list(RTOLS), "cycles": CYCLES, "seeds": list(bench.CALIBRATION_SEEDS), "scenes_per_seed": per_seed,
         "linear_scenes": len(next(iter(measured["counts"].values()))[str(RTOLS[0])]),
         "median_per_phase": medians, "table": {solver: list(values) for solver, values in INTEGRATOR_EVALUATIONS.items()},

@@ -31,8 +31,8 @@ def _work(system, count: float, action: str, method, tolerance) -> tuple[str, fl
 
 def _entry(assessment) -> str:
     """Each integrator its own cost entry: on a table's kinks the integrators' shares of the evaluations the
-    calibration counts differ (fitted: RK45 1.25 times DOP853's, LSODA 0.3 times, its tighter rtols costing it less
-    than counted; data/family_costs.json, fitted by benchmarks/family_costs.py)."""
+    calibration counts differ, LSODA's tighter rtols costing it less than counted (each entry's seconds per unit
+    in data/family_costs.json, fitted by benchmarks/family_costs.py)."""
     return f"run:{getattr(METHODS[assessment.method], 'solver', 'averaging')}"
 
 

@@ -3,9 +3,11 @@
 No assertion here depends on wall time: costs are compared through function-evaluation counts.
 """
 
+import json
 import math
 import re
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -262,9 +264,6 @@ def test_the_integrators_cost_table_is_the_measured_evaluations_per_slip_phase()
     benchmarks/integrator_evaluations.py (linear-law calibration scenes, 10 cycles a run), to two figures; rerun it
     and update the table when the slip integration changes (centring it moved LSODA's count at 1e-12 from 600 to
     320). Every run counted its phases: none failed."""
-    import json
-    from pathlib import Path
-
     measured = json.loads((Path(__file__).resolve().parents[3] / "benchmarks" / "results" /
                            "integrator_evaluations.json").read_text(encoding="utf-8"))
     assert measured["rtol"] == [1e-3, 1e-6, 1e-9, 1e-12] and not measured["failed"]
