@@ -91,7 +91,7 @@ def ladder_limits_table() -> str | None:
     fits += [(gp[prefix + "coverage"], gp[prefix + "mean_half_width"]) for key in names
              if (gp := limits[key].get("gaussian_process")) for prefix in ("", "told_kind_")]
     reached = sum(coverage >= 0.95 and half <= 0.25 for coverage, half in fits)
-    text += (f" Of the {len(fits)} ranges above, {reached or 'none'} {'reaches' if reached <= 1 else 'reach'} 95 % "
+    text += (f"\n\nOf the {len(fits)} ranges above, {reached or 'none'} {'reaches' if reached <= 1 else 'reach'} 95 % "
              "of the held-out faults inside at a mean half-width of ±25 % or less.")
     if all("learning_curve" in limits[key] for key in names):
         def widths(key, fit):
@@ -100,7 +100,7 @@ def ladder_limits_table() -> str | None:
         curve = limits["recurrence"]["learning_curve"]
         sizes = ", ".join(str(point["faults"]) for point in curve[:-1])
         unlimited = [limits[key]["unlimited_designs_half_width"] for key in names]
-        text += (f" Fitted on random subsets of {sizes} of the {curve[-1]['faults']} calibration faults "
+        text += (f"\n\nFitted on random subsets of {sizes} of the {curve[-1]['faults']} calibration faults "
                  f"({curve[0]['draws']} draws each) and on all of them, the held-out recurrence range's mean half-width is "
                  f"{widths('recurrence', 'linear')} (the Gaussian process's {widths('recurrence', 'gaussian_process')}); "
                  f"the slip's {widths('mean_slip', 'linear')} ({widths('mean_slip', 'gaussian_process')}). With unlimited "
@@ -111,7 +111,7 @@ def ladder_limits_table() -> str | None:
         low = limits["narrowest"]
         rec, slip = low["recurrence"], low["mean_slip"]
         floor = min(low[key][fit] for key in names for fit in ("unseen", "refitted", "by_band", "by_band_told_kind"))
-        text += (" Set with the 2-D answers in hand, the narrowest 95 % ranges of these groups are "
+        text += ("\n\nSet with the 2-D answers in hand, the narrowest 95 % ranges of these groups are "
                  + ("all wider than ±25 %" if floor > 0.25 else f"as narrow as ±{100 * floor:.0f} %")
                  + f": one width about the shipped centre holding 95 % of the {rec['unseen_faults']} unseen faults (held out and "
                  f"fresh) is ±{100 * rec['unseen']:.0f} % (recurrence) and ±{100 * slip['unseen']:.0f} % (slip); the "
@@ -127,7 +127,7 @@ def ladder_limits_table() -> str | None:
         factors = ", ".join(f"{100 * (f - 1):+.0f} %" for f in regimes["factors"] if f != 1.0)
         kinds = " or ".join(f"{kind} (period {period})" if kind == "periodic" else kind
                              for kind, period in summary["widest"]["sequences"])
-        text += (f" Rerun with D_c moved by {factors} (`python benchmarks/ladder_regimes.py`), the "
+        text += (f"\n\nRerun with D_c moved by {factors} (`python benchmarks/ladder_regimes.py`), the "
                  f"{summary['faults']} held-out faults whose W/h* lies in {regimes['mixed_width_over_nucleation'][0]:g}-"
                  f"{regimes['mixed_width_over_nucleation'][1]:g}, where both kinds occur, change kind on "
                  f"{summary['kind_changed']}. Their recurrence moves by at most {100 * summary['median_largest_change']:.1f} % "
@@ -136,8 +136,8 @@ def ladder_limits_table() -> str | None:
                  f"{summary['partial_hypocentre_median']:.2f} W below the zone's top and break a median "
                  f"{100 * summary['partial_broken_median']:.0f} % of it.")
         if "starts" in regimes:
-            text += " " + _starts_sentence(regimes["starts"])
-    return text + " " + _machine(result)
+            text += "\n\n" + _starts_sentence(regimes["starts"])
+    return text + "\n\n" + _machine(result)
 
 
 def _starts_sentence(block: dict) -> str:
