@@ -118,6 +118,40 @@ def test_the_california_system_releases_every_slip_rate_and_follows_gutenberg_ri
             assert sections.length[sections.fault == fault].sum() == pytest.approx(length, rel=2e-3)
 
 
+def test_the_rates_are_the_least_norm_ones_and_round_off_does_not_choose_them(california, monkeypatch):
+    """Many rate sets release the budget and follow the shape equally well. NNLS alone returned one vertex of them,
+    chosen by round-off: a relative change of 1e-14 in the slips moved the faultslip branch's ruptures with a rate
+    from 27 to between 28 and 35, so another machine's BLAS could hand the engine other ruptures. The ridge picks
+    the least-norm rates, which are unique. Changing every slip by a relative 1e-12 moves no rate by more than 1e-7
+    of the largest, and the same ruptures carry a rate. Halving the ridge moves them by less than 1e-6: they are the
+    limit, not the ridge's choice. Past LEAST_NORM_LIMIT the ridge is not used, and the result says its rates are
+    one of many."""
+    spec, dataset = california
+    rules = spec.rupture_rules
+    sections = rs.fault_sections(spec, dataset, rules)
+    ruptures = rs.enumerate_ruptures(sections, rules)
+    shear_modulus = float(spec.scene.fault().shear_modulus)
+    least = {}
+    for relation in rs.RELATIONS:
+        magnitude, slip = rs.rupture_magnitudes(sections, ruptures, relation, shear_modulus)
+        base = least[relation] = rs.solve_rates(sections, ruptures, magnitude, slip, rules, relation, shear_modulus)
+        for seed in (1, 2):
+            noise = 1 + 1e-12 * np.random.default_rng(seed).standard_normal(slip.shape)
+            moved = rs.solve_rates(sections, ruptures, magnitude, slip * noise, rules, relation, shear_modulus)
+            assert np.max(np.abs(moved.rate - base.rate)) <= 1e-7 * base.rate.max(), relation
+            assert np.array_equal(moved.rate > 0, base.rate > 0), relation
+        with monkeypatch.context() as patch:
+            patch.setattr(rs, "RIDGE", rs.RIDGE / 2)
+            halved = rs.solve_rates(sections, ruptures, magnitude, slip, rules, relation, shear_modulus)
+        assert np.max(np.abs(halved.rate - base.rate)) <= 1e-6 * base.rate.max(), relation
+        assert not any("one of many" in note for note in base.notes)
+    monkeypatch.setattr(rs, "LEAST_NORM_LIMIT", 10)
+    magnitude, slip = rs.rupture_magnitudes(sections, ruptures, "faultslip", shear_modulus)
+    sparse = rs.solve_rates(sections, ruptures, magnitude, slip, rules, "faultslip", shear_modulus)
+    assert sparse.budget_error <= 1e-6 and (sparse.rate > 0).sum() < (least["faultslip"].rate > 0).sum()
+    assert any("one of many" in note and "least-norm" in note for note in sparse.notes)
+
+
 def test_a_characteristic_target_puts_the_rates_at_each_faults_event(california):
     spec, dataset = california
     rules = rs.Rules(**{**spec.rupture_rules.__dict__, "shape": "characteristic"})
