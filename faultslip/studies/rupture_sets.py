@@ -32,9 +32,9 @@ ruptures than sections and bins), and NNLS alone returns one vertex of them, cho
 change of 1e-14 in the slips moved the bundled system's ruptures with a rate from 27 to between 28 and 35. Up to
 :data:`LEAST_NORM_LIMIT` ruptures a small ridge on the rates (:data:`RIDGE`) picks the least-norm rates among
 them, which are unique and move with the inputs continuously; they spread the budget over every rupture that
-can carry it. Beyond that limit the ridge's rows would not fit in memory, and the result says its rates are
-one of many. The background's share of the moment rate goes to an area source around the faults (a truncated
-Gutenberg-Richter distribution).
+can carry it. Beyond that limit the ridge's rows (one per rupture) cost too much time and memory, and the result
+says its rates are one of many. The background's share of the moment rate goes to an area source around the
+faults (a truncated Gutenberg-Richter distribution).
 """
 
 from __future__ import annotations
