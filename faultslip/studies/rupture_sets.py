@@ -29,12 +29,16 @@ The slip rows are weighted far above the shape rows, and the rates on the active
 onto the slip constraints exactly (least norm), so the budget holds to round-off; a shape the slip rates
 cannot follow shows as the misfit, which the result reports. Many rate sets fit equally well (there are more
 ruptures than sections and bins), and NNLS alone returns one vertex of them, chosen by round-off: a relative
-change of 1e-14 in the slips moved the bundled system's ruptures with a rate from 27 to between 28 and 35. Up to
-:data:`LEAST_NORM_LIMIT` ruptures a small ridge on the rates (:data:`RIDGE`) picks the least-norm rates among
-them, which are unique and move with the inputs continuously; they spread the budget over every rupture that
-can carry it. Beyond that limit the ridge's rows (one per rupture) cost too much time and memory, and the result
-says its rates are one of many. The background's share of the moment rate goes to an area source around the
-faults (a truncated Gutenberg-Richter distribution).
+change of 1e-14 in the slips moved the bundled system's ruptures with a rate from 27 to between 28 and 35. All of
+them give the same fitted values (the least-squares objective is strictly convex in them), and among them the
+least-norm rates are unique and move with the inputs continuously: they spread the budget over every rupture that
+can carry it. :func:`least_norm_rates` finds them from NNLS's fitted values by a generalised Newton method on the
+dual (Mangasarian 2004) inside a proximal-point loop; its unknowns are one per row, so its cost grows with the
+ruptures only linearly. Where the rates that fit are a single point, that point is NNLS's. Where the budget and the
+shape conflict, the least-squares rates miss the budget however heavily it is weighted, and the rates are the
+nearest that release it (:func:`project_onto_budget`). If the Newton method fails, the result keeps NNLS's rates
+and its notes say why and that they are one of many. The background's share of the moment rate goes to an area
+source around the faults (a truncated Gutenberg-Richter distribution).
 """
 
 from __future__ import annotations
@@ -59,13 +63,20 @@ RELATIONS = ("faultslip", "WC1994", "Leonard2010")
 MAX_RUPTURES = 200_000
 #: the slip-rate budget's relative tolerance
 BUDGET_TOLERANCE = 1e-6
-#: Up to this many ruptures the rates are the least-norm ones (unique): the ridge adds a row per rupture, and NNLS's
-#: time grows as the cube of the ruptures (the bundled system cut into 1,297: 0.8 s a branch; 2,000 random ones:
-#: 3.5 s, against 0.02 s without it), which the map's estimate does not count
-LEAST_NORM_LIMIT = 2000
-#: The ridge on the scaled rates (each of order one): it changes the fit by ~1e-8 of the largest rate (1e-6 and
-#: 1e-4 give the same rates to 5e-8), and keeps them within 1e-9 under a relative change of 1e-12 in the slips
-RIDGE = 1e-4
+#: The least-norm step's tolerance: each row of matrix @ x = fitted (scaled to a largest entry of 1) is met to this
+#: relative to the largest fitted value; the budget is then met to round-off by the step onto it
+LEAST_NORM_TOLERANCE = 1e-10
+#: The weights on the slip rows against the shape rows, tried in turn
+WEIGHTS = (1e3, 1e5, 1e7, 1e9)
+#: Below the heaviest weight, least-squares rates this far off the budget (relative) wait for a heavier weight; at
+#: or below it they are moved onto the budget (:func:`project_onto_budget`)
+PROJECTION_LIMIT = 1e-4
+#: The least-norm step's proximal term on the dual, relative to its Hessian's scale: the dual is then strongly
+#: convex and its minimum attained, also where the rates that fit are one point (SHERIFS's Example); the rows are
+#: met to this times the multipliers, and the step onto the budget then closes the slip rows
+LEAST_NORM_RIDGE = 1e-12
+#: Newton steps the least-norm step may take (the bundled system, cut into 356 to 4,632 ruptures, takes 4 to 6)
+LEAST_NORM_STEPS = 100
 #: How far (log10) a bin of solved rates may lie off the fitted line for them to be called Gutenberg-Richter (12 %).
 GR_LOG_TOLERANCE = 0.05
 
@@ -535,11 +546,30 @@ def rupture_magnitudes(sections: Sections, ruptures: list, relation: str, shear_
     return magnitude, slip
 
 
-def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip: np.ndarray, rules: Rules,
-                relation: str, shear_modulus: float, bin_width: float = 0.1) -> RuptureSet:
-    """Rates that release every section's slip-rate budget and follow the stated shape (see the module)."""
-    from scipy.optimize import nnls  # heavy: imported where used
+@dataclass(frozen=True)
+class RateRows:
+    """The rate problem's rows (:func:`rate_rows`): a rupture set's unknowns are the scaled rates of its
+    ``columns`` (rate = scaled × ``scale``) and the shape's level c."""
 
+    columns: np.ndarray  # the ruptures with a magnitude
+    scale: np.ndarray  # per column: the rate that would release its most loaded section alone
+    slip_rows: np.ndarray  # per section with a budget: its slip released over its budget (target 1)
+    shape_rows: np.ndarray  # per targeted bin: the rate in it over the shape (target c)
+    budget: np.ndarray  # per section, m a year
+    bins: np.ndarray
+    shape: np.ndarray
+    targeted: np.ndarray
+
+    def matrix(self, weight: float) -> tuple:
+        """The NNLS system at ``weight`` on the slip rows: (matrix, right-hand side), c in the last column."""
+        matrix = np.block([[weight * self.slip_rows, np.zeros((self.slip_rows.shape[0], 1))],
+                           [self.shape_rows, -np.ones((self.shape_rows.shape[0], 1))]])
+        return matrix, np.concatenate([weight * np.ones(self.slip_rows.shape[0]), np.zeros(self.shape_rows.shape[0])])
+
+
+def rate_rows(sections: Sections, magnitude: np.ndarray, slip: np.ndarray, rules: Rules,
+              bin_width: float = 0.1) -> RateRows:
+    """The rows :func:`solve_rates` fits: every section's slip budget and the system's shape, bin by bin."""
     usable = np.isfinite(magnitude)
     budget = sections.slip_rate * JULIAN_YEAR * (1 - sections.aseismic) * (1 - rules.background_share)
     stuck = [sections.ids[s] for s in range(sections.count)
@@ -574,21 +604,39 @@ def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip:
     shape_rows = membership[targeted] / shape[targeted, None]
     # columns scaled so each rate is of order one: the rate that would release its smallest section alone
     scale = 1.0 / np.max(slip_rows, axis=0)
-    slip_rows, shape_rows = slip_rows * scale, shape_rows * scale
-    solution = None
-    least_norm = columns.size <= LEAST_NORM_LIMIT
-    ridge = RIDGE * np.eye(columns.size) if least_norm else np.zeros((0, columns.size))
-    for weight in (1e3, 1e5, 1e7, 1e9):
-        # unknowns: the scaled rates and the shape's level c (>= 0, in the shape rows as -c); the ridge's rows pick
-        # the least-norm rates among those that fit equally well
-        matrix = np.block([[weight * slip_rows, np.zeros((slip_rows.shape[0], 1))],
-                           [shape_rows, -np.ones((shape_rows.shape[0], 1))],
-                           [ridge, np.zeros((ridge.shape[0], 1))]])
-        rhs = np.concatenate([weight * np.ones(slip_rows.shape[0]), np.zeros(shape_rows.shape[0] + ridge.shape[0])])
+    return RateRows(columns, scale, slip_rows * scale, shape_rows * scale, budget, bins, shape, targeted)
+
+
+def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip: np.ndarray, rules: Rules,
+                relation: str, shear_modulus: float, bin_width: float = 0.1) -> RuptureSet:
+    """Rates that release every section's slip-rate budget and follow the stated shape (see the module)."""
+    from scipy.optimize import nnls  # heavy: imported where used
+
+    rows = rate_rows(sections, magnitude, slip, rules, bin_width)
+    columns, scale, slip_rows, budget = rows.columns, rows.scale, rows.slip_rows, rows.budget
+    bins, shape, targeted = rows.bins, rows.shape, rows.targeted
+    solution, failed, moved = None, None, 0.0
+    for weight in WEIGHTS:
+        matrix, rhs = rows.matrix(weight)
         x, _ = nnls(matrix, rhs, maxiter=50 * matrix.shape[1])
-        scaled = _onto_budget(x[:-1], slip_rows)
+        # every minimiser gives the same fitted values (the objective is strictly convex in them): of those, the
+        # least-norm rates, which are unique
+        least, failed = least_norm_rates(matrix, matrix @ x, x)
+        if least is None:
+            least = x
+        off = float(np.max(np.abs(slip_rows @ least[:-1] - 1.0)))
+        if off > PROJECTION_LIMIT and weight != WEIGHTS[-1]:
+            continue  # the budget and the shape conflict: a heavier weight on the budget first
+        rates = least[:-1]
+        if off > BUDGET_TOLERANCE / 10:  # onto the budget: the nearest rates that release it
+            rates, why = project_onto_budget(rates, slip_rows)
+            if rates is None:
+                failed = why
+                continue
+            moved = max(moved, off)
+        scaled = _onto_budget(rates, slip_rows)
         if scaled is not None:
-            solution, level = scaled, x[-1]
+            solution, level = scaled, least[-1]
             break
     if solution is None:
         raise SolverError(f"the rupture rates ({relation}): scipy's NNLS found no non-negative rates that release "
@@ -604,34 +652,180 @@ def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip:
                                  (1 - sections.aseismic)))
     result = RuptureSet(relation, sections, rules, ruptures, magnitude, slip, rate, budget, bins[targeted],
                         target[targeted], rules.background_share * moment_budget, shear_modulus, bin_width=bin_width)
-    if not least_norm:
-        result.notes.append(f"the rates ({relation}) are NNLS's: one of many rate sets that fit equally well, chosen by "
-                            f"round-off; up to {LEAST_NORM_LIMIT:,} ruptures (here {columns.size:,}) they are the "
-                            "least-norm ones, which are unique: tighten the rules for those")
+    if failed is not None:
+        result.notes.append(f"the rates ({relation}) are NNLS's, one of many rate sets that fit equally well, chosen "
+                            f"by round-off: the least-norm step failed ({failed}); tighten the rules (fewer ruptures)")
+    if moved > 0:
+        result.notes.append(f"the rates ({relation}): the slip budget and the shape conflict here; the least-squares "
+                            f"rates released the budget to {moved:.0e}, and the rates are the nearest that release "
+                            "it exactly")
     if result.budget_error > BUDGET_TOLERANCE:
         raise SolverError(f"the rupture rates ({relation}) release the slip rates only to {result.budget_error:.1e}, "
                           f"not {BUDGET_TOLERANCE:g}; loosen the rules (more ruptures)")
     return result
 
 
+def least_norm_rates(matrix: np.ndarray, fitted: np.ndarray, start: np.ndarray) -> tuple:
+    """The least-norm non-negative [rates; c] with ``matrix @ [rates; c] = fitted``, c (the last column, the
+    shape's level) unpenalised: (solution, None), or (None, why it failed).
+
+    The problem min ½‖x‖² subject to A x = d, x ≥ 0 has the dual min_y θ(y) = ½‖max(0, Aᵀy)‖² − dᵀy, whose
+    minimiser gives x = max(0, Aᵀy) (Mangasarian 2004, eq. 3). With c unpenalised and c > 0, its multiplier
+    makes y orthogonal to c's column, so y is sought in the complement of that column; c then closes the rows
+    (least squares), and where it would be negative c = 0 and the rows are met by the rates alone. The rows are met
+    to 10 × :data:`LEAST_NORM_TOLERANCE` (relative, each row scaled to a largest entry of 1).
+
+    Parameters
+    ----------
+    matrix : ndarray
+        The NNLS matrix (rows: sections' budgets and the shape's bins; columns: scaled rates, then c).
+    fitted : ndarray
+        NNLS's fitted values, ``matrix @ start``, which every minimiser shares.
+    start : ndarray
+        NNLS's solution: the answer where it is the only point that fits (:func:`_single_point`), where the dual
+        has no minimum.
+
+    Returns
+    -------
+    tuple
+        (the solution [rates; c], None), or (None, why the step failed).
+
+    Reference: O. L. Mangasarian, "A Newton method for linear programming", J. Optim. Theory Appl. 121 (2004) 1-18.
+    """
+    norms = np.max(np.abs(matrix), axis=1)
+    norms[norms == 0] = 1.0
+    rows, target = matrix / norms[:, None], fitted / norms  # rows rescaled: the same solutions, better conditioned
+    level = rows[:, -1]
+    basis = np.linalg.qr(level[:, None], mode="complete")[0][:, 1:]  # the complement of c's column
+    rates, why = _dual_newton(basis.T @ rows[:, :-1], basis.T @ target)
+    if rates is not None:
+        c = float(level @ (target - rows[:, :-1] @ rates) / (level @ level))
+        if c < 0:  # c's bound is active: c = 0, and the rates meet every row
+            rates, why = _dual_newton(rows[:, :-1], target)
+            c = 0.0
+    largest = max(float(np.max(np.abs(target))), np.finfo(float).tiny)
+    met = np.inf if rates is None else float(np.max(np.abs(rows @ np.append(rates, c) - target))) / largest
+    if met <= 10 * LEAST_NORM_TOLERANCE:  # the proximal loop's last digit is round-off's
+        return np.append(rates, c), None
+    # the dual's minimum is not attained where the rates that fit are a single point: then that point is NNLS's
+    if _single_point(rows, start):
+        return start.copy(), None
+    return None, why or f"it met the rows only to {met:.1e}, not {LEAST_NORM_TOLERANCE:g}"
+
+
+def _single_point(rows: np.ndarray, point: np.ndarray) -> bool:
+    """Whether ``point`` (>= 0) is the only non-negative solution of rows @ x = rows @ point: its nonzero columns are
+    independent, and no non-negative mix of the others lies in their span (to :data:`LEAST_NORM_TOLERANCE`, by
+    NNLS on the mixes of unit sum)."""
+    from scipy.optimize import nnls  # heavy: imported where used
+
+    support = point > 0
+    if np.linalg.matrix_rank(rows[:, support]) < support.sum():
+        return False
+    if support.all():
+        return True
+    basis = np.linalg.qr(rows[:, support])[0] if support.any() else np.zeros((rows.shape[0], 0))
+    others = rows[:, ~support] - basis @ (basis.T @ rows[:, ~support])
+    mixes = np.vstack([others, np.ones((1, others.shape[1]))])
+    _, miss = nnls(mixes, np.append(np.zeros(rows.shape[0]), 1.0), maxiter=50 * mixes.shape[1])
+    return miss > LEAST_NORM_TOLERANCE
+
+
+def project_onto_budget(rates: np.ndarray, slip_rows: np.ndarray) -> tuple:
+    """The non-negative rates nearest ``rates`` (Euclidean, in the scaled rates) that release every budget,
+    ``slip_rows @ rates = 1``: (rates, None), or (None, why). Unique, as a projection onto a convex set; found by
+    :func:`_dual_newton` with ``rates`` as its offset."""
+    norms = np.max(np.abs(slip_rows), axis=1)
+    return _dual_newton(slip_rows / norms[:, None], 1.0 / norms, offset=rates)
+
+
+def _dual_newton(rows: np.ndarray, target: np.ndarray, offset=None) -> tuple:
+    """min ½‖x − offset‖² subject to rows @ x = target, x ≥ 0 (offset 0 if None): (x, None), or (None, why).
+
+    Mangasarian's (2004) generalised Newton method on the dual, whose minimiser y gives x = max(0, offset + rowsᵀy),
+    inside a proximal-point loop (R. T. Rockafellar, Math. Oper. Res. 1 (1976) 97-116): each dual carries
+    ½ ρ ‖y − anchor‖², so it is strongly convex and its minimum attained; the anchor then moves to that minimum,
+    and the rows are met ever closer. An Armijo line search and a Levenberg-Marquardt damping keep each Newton step
+    descending. It starts from y = 0, so the answer depends on the problem only. Where the steps run out after a
+    proximal minimum was reached, that minimum's rates are returned (the caller checks the rows)."""
+    if rows.shape[0] == 0:
+        return (np.zeros(rows.shape[1]) if offset is None else np.maximum(offset, 0.0)), None
+    offset = np.zeros(rows.shape[1]) if offset is None else offset
+    largest = max(float(np.max(np.abs(target))), np.finfo(float).tiny)
+    unit = max(float(np.max(np.sum(rows * rows, axis=1))), 1.0)  # the Hessian's scale
+    proximal = LEAST_NORM_RIDGE * unit
+    y = anchor = np.zeros(rows.shape[0])
+
+    def dual(y):
+        x = np.maximum(offset + rows.T @ y, 0.0)
+        return x, 0.5 * (x @ x) - target @ y + 0.5 * proximal * ((y - anchor) @ (y - anchor))
+
+    x, value = dual(y)
+    damping, reached = 0.0, None
+    for _ in range(LEAST_NORM_STEPS):
+        residual = rows @ x - target
+        met = np.max(np.abs(residual)) / largest
+        if met <= LEAST_NORM_TOLERANCE:
+            return x, None
+        active = rows[:, x > 0]
+        if met <= 1e3 * LEAST_NORM_TOLERANCE:  # near: on this support, the nearest rates that meet the rows
+            support = x > 0
+            polished = np.zeros_like(x)
+            polished[support] = offset[support] + np.linalg.lstsq(active, target - active @ offset[support],
+                                                                  rcond=None)[0]
+            if (np.all(polished >= 0) and np.max(np.abs(polished - x)) <= 1e-6 * np.max(x)
+                    and np.max(np.abs(rows @ polished - target)) <= LEAST_NORM_TOLERANCE * largest):
+                return polished, None
+        gradient = residual + proximal * (y - anchor)
+        if np.max(np.abs(gradient)) <= LEAST_NORM_TOLERANCE * largest:  # this proximal dual's minimum
+            reached, anchor = x, y.copy()
+            x, value = dual(y)
+            gradient = residual
+        hessian = active @ active.T + proximal * np.eye(rows.shape[0])  # the generalised Hessian
+        while True:
+            try:
+                step = -np.linalg.solve(hessian + damping * np.eye(hessian.shape[0]), gradient)
+            except np.linalg.LinAlgError:
+                return None, "its Newton system was singular"
+            slope = float(gradient @ step)
+            for length in (1.0, 0.5, 0.25, 0.125):  # Armijo on the dual, to its round-off near the minimum
+                trial_x, trial = dual(y + length * step)
+                if trial <= value + 1e-4 * length * slope + 1e-14 * max(abs(value), 0.5 * (x @ x), 1.0):
+                    break
+            else:
+                damping = max(100.0 * damping, proximal)
+                if damping > 1e12 * unit:
+                    if reached is not None:
+                        return reached, None
+                    return None, (f"its line search stalled with the rows met to {met:.1e}, not "
+                                  f"{LEAST_NORM_TOLERANCE:g}")
+                continue
+            break
+        if length == 1.0:
+            damping = damping / 10.0 if damping > proximal else 0.0
+        y, x, value = y + length * step, trial_x, trial
+    if reached is not None:
+        return reached, None
+    return None, (f"{LEAST_NORM_STEPS} Newton steps met the rows only to "
+                  f"{np.max(np.abs(rows @ x - target)) / largest:.1e}, not {LEAST_NORM_TOLERANCE:g}")
+
+
 def _onto_budget(x: np.ndarray, rows: np.ndarray):
-    """``x`` corrected by the least-norm step on its nonzero entries so that ``rows @ x = 1`` exactly, or None if
-    that would make a rate negative or leave the budget beyond tolerance."""
+    """``x`` corrected by the least-norm step on its nonzero entries so that ``rows @ x = 1`` to round-off; ``x``
+    itself where that step would make a rate negative and ``x`` meets the budget to a tenth of its tolerance
+    already; else None."""
     active = np.flatnonzero(x > 0)
     if active.size == 0:
         return None
     residual = 1.0 - rows @ x
-    if np.max(np.abs(residual)) <= BUDGET_TOLERANCE / 10:  # NNLS met the budget already
-        return x
+    close = np.max(np.abs(residual)) <= BUDGET_TOLERANCE / 10
     step = np.linalg.lstsq(rows[:, active], residual, rcond=None)[0]
     corrected = x.copy()
     corrected[active] += step
     roundoff = corrected[active] > -1e-12 * corrected[active].max()
     corrected[active] = np.where(roundoff, np.maximum(corrected[active], 0.0), corrected[active])
-    if np.any(corrected[active] < 0):
-        return None
-    if np.max(np.abs(rows @ corrected - 1.0)) > BUDGET_TOLERANCE / 10:
-        return None
+    if np.any(corrected[active] < 0) or np.max(np.abs(rows @ corrected - 1.0)) > np.max(np.abs(residual)):
+        return x if close else None
     return corrected
 
 
