@@ -94,6 +94,7 @@ PRODUCERS = (
     ("family_costs", [], ["--rounds", "1"], "family_costs.json"),
     ("rough_auto_choice", [], ["--count", "3"], "rough_auto_choice.json"),  # at the prices just fitted
     ("sherifs_example", [], [], "sherifs_example.json"),
+    ("rupture_rate_stability", [], ["--quick"], "rupture_rate_stability.json"),
     ("fault_3d_model_error", [], ["--quick"], "fault_3d_model_error.json"),
     ("fault_3d_model_error", ["--starts"], ["--starts"], "fault_3d_starts.json"),  # the cells just written
     # the draw run after the table (its 3-D cells kept by inputs: run again, only the 2-D sides are)

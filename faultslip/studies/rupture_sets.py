@@ -75,8 +75,11 @@ PROJECTION_LIMIT = 1e-4
 #: convex and its minimum attained, also where the rates that fit are one point (SHERIFS's Example); the rows are
 #: met to this times the multipliers, and the step onto the budget then closes the slip rows
 LEAST_NORM_RIDGE = 1e-12
+#: Where the rows cannot be met to the tolerance (the rates that fit are nearly one point: the dual's minimum runs
+#: off), the first proximal minimum (the ridge's least-norm rates, unique) is taken if it meets them to this
+REGULARISED_TOLERANCE = 1e-4
 #: Newton steps the least-norm step may take (the bundled system, cut into 356 to 4,632 ruptures, takes 4 to 6)
-LEAST_NORM_STEPS = 100
+LEAST_NORM_STEPS = 300
 #: How far (log10) a bin of solved rates may lie off the fitted line for them to be called Gutenberg-Richter (12 %).
 GR_LOG_TOLERANCE = 0.05
 
@@ -615,13 +618,14 @@ def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip:
     rows = rate_rows(sections, magnitude, slip, rules, bin_width)
     columns, scale, slip_rows, budget = rows.columns, rows.scale, rows.slip_rows, rows.budget
     bins, shape, targeted = rows.bins, rows.shape, rows.targeted
-    solution, failed, moved = None, None, 0.0
+    solution, failed, regularised, moved = None, None, None, 0.0
     for weight in WEIGHTS:
         matrix, rhs = rows.matrix(weight)
         x, _ = nnls(matrix, rhs, maxiter=50 * matrix.shape[1])
         # every minimiser gives the same fitted values (the objective is strictly convex in them): of those, the
         # least-norm rates, which are unique
-        least, failed = least_norm_rates(matrix, matrix @ x, x)
+        least, said = least_norm_rates(matrix, matrix @ x, x)
+        failed, regularised = (said, None) if least is None else (None, said)
         if least is None:
             least = x
         off = float(np.max(np.abs(slip_rows @ least[:-1] - 1.0)))
@@ -655,6 +659,8 @@ def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip:
     if failed is not None:
         result.notes.append(f"the rates ({relation}) are NNLS's, one of many rate sets that fit equally well, chosen "
                             f"by round-off: the least-norm step failed ({failed}); tighten the rules (fewer ruptures)")
+    if regularised is not None:
+        result.notes.append(f"the rates ({relation}) are {regularised}")
     if moved > 0:
         result.notes.append(f"the rates ({relation}): the slip budget and the shape conflict here; the least-squares "
                             f"rates released the budget to {moved:.0e}, and the rates are the nearest that release "
@@ -667,7 +673,7 @@ def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip:
 
 def least_norm_rates(matrix: np.ndarray, fitted: np.ndarray, start: np.ndarray) -> tuple:
     """The least-norm non-negative [rates; c] with ``matrix @ [rates; c] = fitted``, c (the last column, the
-    shape's level) unpenalised: (solution, None), or (None, why it failed).
+    shape's level) unpenalised.
 
     The problem min ½‖x‖² subject to A x = d, x ≥ 0 has the dual min_y θ(y) = ½‖max(0, Aᵀy)‖² − dᵀy, whose
     minimiser gives x = max(0, Aᵀy) (Mangasarian 2004, eq. 3). With c unpenalised and c > 0, its multiplier
@@ -688,7 +694,8 @@ def least_norm_rates(matrix: np.ndarray, fitted: np.ndarray, start: np.ndarray) 
     Returns
     -------
     tuple
-        (the solution [rates; c], None), or (None, why the step failed).
+        (the solution [rates; c], None); (the solution, what it is) where it is NNLS's single point's neighbour
+        regularised (:data:`REGULARISED_TOLERANCE`); or (None, why the step failed).
 
     Reference: O. L. Mangasarian, "A Newton method for linear programming", J. Optim. Theory Appl. 121 (2004) 1-18.
     """
@@ -710,6 +717,9 @@ def least_norm_rates(matrix: np.ndarray, fitted: np.ndarray, start: np.ndarray) 
     # the dual's minimum is not attained where the rates that fit are a single point: then that point is NNLS's
     if _single_point(rows, start):
         return start.copy(), None
+    if met <= REGULARISED_TOLERANCE:  # nearly a point: the first proximal minimum, the ridge's least-norm rates
+        return np.append(rates, c), (f"the least-norm rates of a ridge of {LEAST_NORM_RIDGE:g} (the rates that fit "
+                                     f"are nearly one point, and the ridge's meet the rows to {met:.0e})")
     return None, why or f"it met the rows only to {met:.1e}, not {LEAST_NORM_TOLERANCE:g}"
 
 
@@ -778,7 +788,8 @@ def _dual_newton(rows: np.ndarray, target: np.ndarray, offset=None) -> tuple:
                 return polished, None
         gradient = residual + proximal * (y - anchor)
         if np.max(np.abs(gradient)) <= LEAST_NORM_TOLERANCE * largest:  # this proximal dual's minimum
-            reached, anchor = x, y.copy()
+            reached = x if reached is None else reached  # the first: the ridge-regularised answer, a function of the problem alone
+            anchor = y.copy()
             x, value = dual(y)
             gradient = residual
         hessian = active @ active.T + proximal * np.eye(rows.shape[0])  # the generalised Hessian
@@ -819,7 +830,9 @@ def _onto_budget(x: np.ndarray, rows: np.ndarray):
         return None
     residual = 1.0 - rows @ x
     close = np.max(np.abs(residual)) <= BUDGET_TOLERANCE / 10
-    step = np.linalg.lstsq(rows[:, active], residual, rcond=None)[0]
+    # a step of round-off's size: directions the active columns barely span (singular values below 1e-8 of the
+    # largest) would turn it into a large move that round-off chooses
+    step = np.linalg.lstsq(rows[:, active], residual, rcond=1e-8)[0]
     corrected = x.copy()
     corrected[active] += step
     roundoff = corrected[active] > -1e-12 * corrected[active].max()
