@@ -51,6 +51,7 @@ import numpy as np
 from faultslip.errors import InputError, SolverError
 from faultslip.fault import empirical, mfd as mfds
 from faultslip.fault.scaling import moment_magnitude
+from faultslip.io import budget
 from faultslip.io.geo import EARTH_RADIUS, azimuth, densify, destination, great_circle, trace_length
 from faultslip.units import JULIAN_YEAR, to_si
 from faultslip.datasets import ToXarray
@@ -61,6 +62,12 @@ SHAPES = ("gr", "characteristic")
 RELATIONS = ("faultslip", "WC1994", "Leonard2010")
 #: more ruptures than this is refused: a rule set that loose needs tighter rules, not more memory
 MAX_RUPTURES = 200_000
+#: Copies of the rate problem's dense arrays (sections and bins by ruptures, 8 B each) held at once while the rates
+#: are solved: the slips, the weighted NNLS matrix and NNLS's own copy, the rescaled rows and their projection
+#: (tracemalloc's peak over the bundled system cut into 1,297 and 4,632 ruptures: 7.0 copies)
+RATE_MATRIX_COPIES = 8
+#: Rows besides the sections' that bound the shape's magnitude bins (0.1 wide over 4 magnitude units)
+RATE_BIN_ROWS = 41
 #: the slip-rate budget's relative tolerance
 BUDGET_TOLERANCE = 1e-6
 #: The least-norm step's tolerance: each row of matrix @ x = fitted (scaled to a largest entry of 1) is met to this
@@ -694,8 +701,8 @@ def least_norm_rates(matrix: np.ndarray, fitted: np.ndarray, start: np.ndarray) 
     Returns
     -------
     tuple
-        (the solution [rates; c], None); (the solution, what it is) where it is NNLS's single point's neighbour
-        regularised (:data:`REGULARISED_TOLERANCE`); or (None, why the step failed).
+        (the solution [rates; c], None); (the solution, what it is) where the rates that fit are nearly one point
+        and the solution is the ridge's least-norm rates (:data:`REGULARISED_TOLERANCE`); or (None, why it failed).
 
     Reference: O. L. Mangasarian, "A Newton method for linear programming", J. Optim. Theory Appl. 121 (2004) 1-18.
     """
@@ -757,7 +764,8 @@ def _dual_newton(rows: np.ndarray, target: np.ndarray, offset=None) -> tuple:
     ½ ρ ‖y − anchor‖², so it is strongly convex and its minimum attained; the anchor then moves to that minimum,
     and the rows are met ever closer. An Armijo line search and a Levenberg-Marquardt damping keep each Newton step
     descending. It starts from y = 0, so the answer depends on the problem only. Where the steps run out after a
-    proximal minimum was reached, that minimum's rates are returned (the caller checks the rows)."""
+    proximal minimum was reached, the first one's rates (the ridge's least-norm rates) are returned, and the caller
+    checks how well they meet the rows."""
     if rows.shape[0] == 0:
         return (np.zeros(rows.shape[1]) if offset is None else np.maximum(offset, 0.0)), None
     offset = np.zeros(rows.shape[1]) if offset is None else offset
@@ -788,7 +796,7 @@ def _dual_newton(rows: np.ndarray, target: np.ndarray, offset=None) -> tuple:
                 return polished, None
         gradient = residual + proximal * (y - anchor)
         if np.max(np.abs(gradient)) <= LEAST_NORM_TOLERANCE * largest:  # this proximal dual's minimum
-            reached = x if reached is None else reached  # the first: the ridge-regularised answer, a function of the problem alone
+            reached = x if reached is None else reached  # the first: the ridge's answer, the problem's alone
             anchor = y.copy()
             x, value = dual(y)
             gradient = residual
@@ -867,6 +875,7 @@ def rupture_set(spec, dataset, rules: Rules, relation: str = "faultslip", stable
     """
     sections = fault_sections(spec, dataset, rules)
     ruptures = enumerate_ruptures(sections, rules)
+    check_rate_memory(sections.count, len(ruptures), relation)
     shear_modulus = float(spec.scene.fault().shear_modulus)
     magnitude, slip = rupture_magnitudes(sections, ruptures, relation, shear_modulus, stable_continental)
     result = solve_rates(sections, ruptures, magnitude, slip, rules, relation, shear_modulus, bin_width)
@@ -874,6 +883,19 @@ def rupture_set(spec, dataset, rules: Rules, relation: str = "faultslip", stable
                         f"({int((result.rate > 0).sum())} with a rate), slip rates released to "
                         f"{result.budget_error:.1e}; {describe_b_value(result.b_value_fit())}")
     return result
+
+
+def check_rate_memory(sections: int, ruptures: int, relation: str) -> float:
+    """Refuse, before its arrays are allocated, a rate problem that would hold more than half the memory available
+    (:func:`faultslip.io.budget.available_memory`); returns the bytes it needs: :data:`RATE_MATRIX_COPIES` dense
+    arrays of (sections + :data:`RATE_BIN_ROWS`) × ruptures, 8 B each."""
+    need = RATE_MATRIX_COPIES * 8.0 * (sections + RATE_BIN_ROWS) * ruptures
+    available = budget.available_memory()
+    if need > 0.5 * available:
+        raise InputError(f"the rupture rates ({relation}) of {ruptures:,} ruptures over {sections:,} sections would "
+                         f"need {need / 1e9:.3g} GB of memory (half of the {available / 1e9:.3g} GB available is the "
+                         "budget); tighten the rules: a smaller max_jump or max_sections, or longer sections")
+    return need
 
 
 def describe_b_value(fit: dict) -> str:

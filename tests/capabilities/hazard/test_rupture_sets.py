@@ -269,6 +269,27 @@ def test_sherifs_sets_whose_fitting_rates_are_one_point_are_not_chosen_by_round_
         assert not any("one of many" in note for note in other.notes)
 
 
+def test_a_rate_problem_beyond_the_memory_budget_is_refused_before_it_is_allocated(cli, tmp_path, monkeypatch):
+    """The rate problem's dense arrays (7.0 copies of sections-and-bins by ruptures at the peak, measured) are
+    counted before the slips are allocated: beyond half the memory available, one sentence names the ruptures,
+    the memory and the rules to tighten, and nothing is written."""
+    from faultslip.io import budget
+
+    need = rs.check_rate_memory(51, 356, "faultslip")
+    assert need == pytest.approx(rs.RATE_MATRIX_COPIES * 8 * (51 + rs.RATE_BIN_ROWS) * 356)
+    with monkeypatch.context() as patch:
+        patch.setattr(budget, "available_memory", lambda: 1.9 * need)
+        with pytest.raises(InputError, match=r"356 ruptures over 51 sections would need .* GB of memory.*max_jump"):
+            rs.check_rate_memory(51, 356, "faultslip")
+        patch.setattr(budget, "available_memory", lambda: 2.1 * need)
+        assert rs.check_rate_memory(51, 356, "faultslip") == need
+    # the whole command: the problem made to need far more than this machine has (the map's own check untouched)
+    monkeypatch.setattr(rs, "RATE_MATRIX_COPIES", 1e9)
+    out = cli("map", SYSTEM, "-o", tmp_path / "m.nc", "--nrml", tmp_path / "s.xml")
+    assert_clean_error(out, "ruptures over 51 sections")
+    assert not list(tmp_path.iterdir())
+
+
 def test_a_failed_least_norm_step_keeps_nnls_rates_and_says_so(california, monkeypatch):
     """The least-norm step is Newton's method: where it does not converge the rates are NNLS's, which still release
     the budget, and the result's notes name the failure and that the rates are one of many."""
