@@ -620,15 +620,13 @@ def rate_rows(sections: Sections, magnitude: np.ndarray, slip: np.ndarray, rules
 def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip: np.ndarray, rules: Rules,
                 relation: str, shear_modulus: float, bin_width: float = 0.1) -> RuptureSet:
     """Rates that release every section's slip-rate budget and follow the stated shape (see the module)."""
-    from scipy.optimize import nnls  # heavy: imported where used
-
     rows = rate_rows(sections, magnitude, slip, rules, bin_width)
     columns, scale, slip_rows, budget = rows.columns, rows.scale, rows.slip_rows, rows.budget
     bins, shape, targeted = rows.bins, rows.shape, rows.targeted
     solution, failed, regularised, moved = None, None, None, 0.0
     for weight in WEIGHTS:
         matrix, rhs = rows.matrix(weight)
-        x, _ = nnls(matrix, rhs, maxiter=50 * matrix.shape[1])
+        x = _least_squares(matrix, rhs)
         # every minimiser gives the same fitted values (the objective is strictly convex in them): of those, the
         # least-norm rates, which are unique
         least, said = least_norm_rates(matrix, matrix @ x, x)
@@ -676,6 +674,24 @@ def solve_rates(sections: Sections, ruptures: list, magnitude: np.ndarray, slip:
         raise SolverError(f"the rupture rates ({relation}) release the slip rates only to {result.budget_error:.1e}, "
                           f"not {BUDGET_TOLERANCE:g}; loosen the rules (more ruptures)")
     return result
+
+
+def _least_squares(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """The non-negative least-squares answer: scipy's NNLS, checked. NNLS at times stops short of the minimum and
+    reports a residual its answer does not have (on a drawn rule set at the budget weight 1e5: 26.798 reported,
+    26.8086 had, the minimum 26.8075), which moved the fitted values by 1e-6 under a 1e-12 change in the slips.
+    Where its answer is not stationary on its own nonzero rates (the gradient there above 1e-10 of |A| |b|),
+    BVLS (scipy's lsq_linear) solves it too, and the smaller residual is taken."""
+    from scipy.optimize import lsq_linear, nnls  # heavy: imported where used
+
+    x, _ = nnls(matrix, rhs, maxiter=50 * matrix.shape[1])
+    residual = rhs - matrix @ x
+    gradient = matrix[:, x > 0].T @ residual
+    scale = float(np.max(np.abs(matrix))) * float(np.linalg.norm(rhs))
+    if gradient.size == 0 or np.max(np.abs(gradient)) <= 1e-10 * scale:
+        return x
+    other = np.maximum(lsq_linear(matrix, rhs, bounds=(0.0, np.inf), method="bvls", tol=1e-14).x, 0.0)  # its round-off
+    return other if np.linalg.norm(rhs - matrix @ other) < np.linalg.norm(residual) else x
 
 
 def least_norm_rates(matrix: np.ndarray, fitted: np.ndarray, start: np.ndarray) -> tuple:
