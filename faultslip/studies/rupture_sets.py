@@ -85,7 +85,8 @@ LEAST_NORM_RIDGE = 1e-12
 #: Where the rows cannot be met to the tolerance (the rates that fit are nearly one point: the dual's minimum runs
 #: off), the first proximal minimum (the ridge's least-norm rates, unique) is taken if it meets them to this
 REGULARISED_TOLERANCE = 1e-4
-#: Newton steps the least-norm step may take (the bundled system, cut into 356 to 4,632 ruptures, takes 4 to 6)
+#: Newton steps the least-norm step may take (the bundled system, cut into 356 to 4,632 ruptures, solves 15 to 18
+#: Newton systems, damped retries included)
 LEAST_NORM_STEPS = 300
 #: How far (log10) a bin of solved rates may lie off the fitted line for them to be called Gutenberg-Richter (12 %).
 GR_LOG_TOLERANCE = 0.05
@@ -801,9 +802,9 @@ def _dual_newton(rows: np.ndarray, target: np.ndarray, offset=None) -> tuple:
         met = np.max(np.abs(residual)) / largest
         if met <= LEAST_NORM_TOLERANCE:
             return x, None
-        active = rows[:, x > 0]
+        support = x > 0
+        active = rows[:, support]
         if met <= 1e3 * LEAST_NORM_TOLERANCE:  # near: on this support, the nearest rates that meet the rows
-            support = x > 0
             polished = np.zeros_like(x)
             polished[support] = offset[support] + np.linalg.lstsq(active, target - active @ offset[support],
                                                                   rcond=None)[0]
