@@ -95,6 +95,7 @@ PRODUCERS = (
     ("rough_auto_choice", [], ["--count", "3"], "rough_auto_choice.json"),  # at the prices just fitted
     ("sherifs_example", [], [], "sherifs_example.json"),
     ("rupture_rate_stability", [], ["--quick"], "rupture_rate_stability.json"),
+    ("rupture_rate_cost", [], ["--quick"], "rupture_rate_cost.json"),
     ("fault_3d_model_error", [], ["--quick"], "fault_3d_model_error.json"),
     ("fault_3d_model_error", ["--starts"], ["--starts"], "fault_3d_starts.json"),  # the cells just written
     # the draw run after the table (its 3-D cells kept by inputs: run again, only the 2-D sides are)

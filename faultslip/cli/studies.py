@@ -153,10 +153,21 @@ def _written(outputs) -> list:
     return [outputs["output"]] if outputs.get("output") is not None else []
 
 
+def _system_relations(args, spec) -> tuple:
+    """The branches whose rupture sets the command solves: each --scaling-relations one with --nrml; faultslip's
+    for a displacement hazard or the traces figure alone; none without [rupture_set] rules."""
+    if spec.rupture_rules is None or spec.segments is None:
+        return ()
+    if args.nrml is not None:
+        return tuple(name for name, _ in hazard.parse_relations(args.scaling_relations))
+    return ("faultslip",) if args.displacement_hazard is not None or args.plot is not None else ()
+
+
 def cmd_map(args) -> int:
     if args.estimate:  # before any output is checked: what the map would need, its predictions' cycles included
-        return _emit_estimate(map_size_estimate(read_map(args.map), args.output, _tolerance(args) or 1e-6),
-                              args.json)
+        spec = read_map(args.map)
+        return _emit_estimate(map_size_estimate(spec, args.output, _tolerance(args) or 1e-6,
+                                                _system_relations(args, spec)), args.json)
     if not any(getattr(args, name, None) for name in ("output", "nrml", "plot", "time_dependent")):
         raise InputError("faultslip map writes its results: give -o OUT.nc, --nrml FILE.xml, --time-dependent "
                          "FILE.xml or --plot FILE.png (or several)")
@@ -176,7 +187,7 @@ def cmd_map(args) -> int:
                                      label="--plot (fault traces)", inputs=spec.inputs + _written(outputs),
                                      overwrite=args.overwrite)
     tolerance = _tolerance(args) or 1e-6
-    check_map_size(spec, outputs["output"], args.allow_large, tolerance)
+    check_map_size(spec, outputs["output"], args.allow_large, tolerance, _system_relations(args, spec))
     dataset = run_map(spec, method=args.method or "auto", tolerance=tolerance, allow_large=True)
     plots, sources, written, systems = [], [], None, {}
     if options is not None:  # built before anything is written: a refusal leaves nothing behind
@@ -185,11 +196,12 @@ def cmd_map(args) -> int:
                                       options["b_value"], options["bin_width"], options["moment_constant"],
                                       args.stable_continental)
         systems = hazard.system_models(spec, dataset, options["relations"], args.stable_continental,
-                                       options["bin_width"])
+                                       options["bin_width"], args.allow_large)
     site_hazard = None
     system = systems.get("faultslip") or next(iter(systems.values()), None)
     if system is None and spec.rupture_rules is not None and (displacement is not None or traces_figure is not None):
-        system = rupture_sets.rupture_set(spec, dataset, spec.rupture_rules, "faultslip")
+        system = rupture_sets.rupture_set(spec, dataset, spec.rupture_rules, "faultslip",
+                                          allow_large=args.allow_large)
     if displacement is not None:  # also before anything is written: a site off every trace leaves nothing behind
         site_hazard = displacement_hazard.displacement_hazard(spec, dataset, displacement["site"],
                                                               displacement["model"], displacement["displacements"],

@@ -265,12 +265,13 @@ def system_paths(path, relations: list[tuple[str, float]]) -> dict:
 
 
 def system_models(spec, dataset, relations: list[tuple[str, float]], stable_continental: bool = False,
-                  bin_width: float = mfds.BIN_WIDTH) -> dict:
-    """relation -> :class:`~faultslip.studies.rupture_sets.RuptureSet` of the map's ``[rupture_set]`` rules."""
+                  bin_width: float = mfds.BIN_WIDTH, allow_large: bool = False) -> dict:
+    """relation -> :class:`~faultslip.studies.rupture_sets.RuptureSet` of the map's ``[rupture_set]`` rules (each
+    branch's rate problem checked against the budget before it is allocated, unless ``allow_large``)."""
     if spec.rupture_rules is None:
         return {}
-    return {name: rupture_sets.rupture_set(spec, dataset, spec.rupture_rules, name, stable_continental, bin_width)
-            for name, _ in relations}
+    return {name: rupture_sets.rupture_set(spec, dataset, spec.rupture_rules, name, stable_continental, bin_width,
+                                           allow_large) for name, _ in relations}
 
 
 def write_hazard_model(path, models: dict, relations: list[tuple[str, float]], name: str, systems: dict | None = None,

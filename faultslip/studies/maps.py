@@ -54,7 +54,7 @@ from faultslip.fault.rate_state_cells import (check_cycle_method, estimated_seco
                                               rate_state_cells)
 from faultslip.fault.spring_slider_cells import SEED_METHODS, evaluate, normal_stress_input, rate_state_inputs, rate_state_outputs
 from faultslip.studies.grid import Study, as_dataset
-from faultslip.studies.rupture_sets import RULE_KEYS, parse_rules
+from faultslip.studies.rupture_sets import RULE_KEYS, parse_rules, rupture_set_estimate
 from datetime import datetime, timezone
 
 SEGMENT_COLUMNS = {  # name -> (unit kind, required)
@@ -827,10 +827,11 @@ def predict_segments(spec, method="auto", tolerance=1e-6):
 MAP_IMPORTS = ("scipy.spatial",)
 
 
-def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Estimate:
+def map_size_estimate(spec, output=None, tolerance: float = 1e-6, relations=()) -> budget.Estimate:
     """What a map needs, before any work (``faultslip map --estimate``; ``faultslip.hazard.map_estimate``): its
-    raster and traces, and its predictions' own cost (a rate-and-state map's cycles in every segment or cell,
-    :func:`_model_seconds`).
+    raster and traces, its predictions' own cost (a rate-and-state map's cycles in every segment or cell,
+    :func:`_model_seconds`), and, for a map with ``[rupture_set]`` rules, its fault system's rates on each of
+    ``relations``' branches (:func:`faultslip.studies.rupture_sets.rupture_set_estimate`).
 
     Parameters
     ----------
@@ -840,6 +841,9 @@ def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Esti
         Where the map's netCDF would go (its disk is counted).
     tolerance : float
         The relative error the map's predictions are asked (a rate-and-state map's integrators are chosen by it).
+    relations : sequence of str
+        The magnitude relations whose rupture sets the map solves (``faultslip map --nrml`` solves one per
+        ``--scaling-relations`` branch; a displacement hazard or the traces figure, faultslip's); none, none.
 
     Returns
     -------
@@ -859,16 +863,22 @@ def map_size_estimate(spec, output=None, tolerance: float = 1e-6) -> budget.Esti
     if spec.scene.rate_state and spec.cycles:
         where = f"{len(spec.segments.ids)} segments" if spec.segments is not None else "its raster cells"
         estimate.what += f", with {spec.cycles} rate-and-state cycles in each unstable one of {where}"
+    if relations and spec.rupture_rules is not None:  # the rates come after the predictions, the map still held
+        rates = rupture_set_estimate(spec, spec.rupture_rules, tuple(relations))
+        estimate = budget.Estimate(f"{estimate.what}, and {rates.what}", memory=estimate.memory + rates.memory,
+                                   disk=estimate.disk, seconds=estimate.seconds + rates.seconds, output=output,
+                                   imports=rates.imports)
     # and the CPU of what the map imports where it runs (its Dataset, the netCDF it writes): measured
     estimate.imports = (*budget.DATASET_IMPORTS, *(budget.DATASET_WRITER_IMPORTS if output is not None else ()),
-                        *MAP_IMPORTS)
+                        *MAP_IMPORTS, *estimate.imports)
     return budget.with_imports(estimate)
 
 
-def check_map_size(spec, output=None, allow_large: bool = False, tolerance: float = 1e-6) -> None:
-    """Refuse, before any work, a map beyond the machine's memory, disk or time budget."""
+def check_map_size(spec, output=None, allow_large: bool = False, tolerance: float = 1e-6, relations=()) -> None:
+    """Refuse, before any work, a map beyond the machine's memory, disk or time budget (with ``relations``, its
+    rupture sets' rates too: :func:`map_size_estimate`)."""
     if not allow_large:  # lifted, the estimate (a sample of the map's cells) is not worked out at all
-        budget.check(map_size_estimate(spec, output, tolerance))
+        budget.check(map_size_estimate(spec, output, tolerance, relations))
 
 
 def regional_map(path, method="auto", tolerance=1e-6, allow_large: bool = False):

@@ -51,7 +51,7 @@ import numpy as np
 from faultslip.errors import InputError, SolverError
 from faultslip.fault import empirical, mfd as mfds
 from faultslip.fault.scaling import moment_magnitude
-from faultslip.io import budget
+from faultslip.io import budget, machine
 from faultslip.io.geo import EARTH_RADIUS, azimuth, densify, destination, great_circle, trace_length
 from faultslip.units import JULIAN_YEAR, to_si
 from faultslip.datasets import ToXarray
@@ -68,6 +68,12 @@ MAX_RUPTURES = 200_000
 RATE_MATRIX_COPIES = 8
 #: Rows besides the sections' that bound the shape's magnitude bins (0.1 wide over 4 magnitude units)
 RATE_BIN_ROWS = 41
+#: The rate solve's cost model (:func:`rate_estimate`), fitted by ``benchmarks/rupture_rate_cost.py`` in the machine
+#: state of the "families" cost group (:mod:`faultslip.io.machine`): CPU seconds a branch per row squared per
+#: rupture (NNLS's active-set loop: each row's columns change a few times, each change a least-squares solve of
+#: rows x ruptures), a branch's overhead (the 95th percentile of drawn rule sets' solves: a proximal loop or BVLS's
+#: check), and the enumeration and magnitudes' seconds per rupture
+RATE_SOLVE_SECONDS = {"rate_seconds": 2.151e-9, "overhead_seconds": 0.1814, "enumeration_seconds": 8.070e-5}
 #: the slip-rate budget's relative tolerance
 BUDGET_TOLERANCE = 1e-6
 #: The least-norm step's tolerance: each row of matrix @ x = fitted (scaled to a largest entry of 1) is met to this
@@ -260,7 +266,8 @@ def split_trace(trace, pieces: int) -> list:
 
 def fault_sections(spec, dataset, rules: Rules) -> Sections:
     """The map's faults as sections (or subsections of ``rules.subsection_length``), with faultslip's slip per
-    event and event for each fault, from the map's predictions ``dataset``."""
+    event and event for each fault, from the map's predictions ``dataset``; with ``dataset`` None, their geometry
+    alone (every prediction NaN: what the map's estimate enumerates its ruptures from, before any work)."""
     table = spec.segments
     if table is None:
         raise InputError("a rupture set needs fault segments ([segments]), not a raster map")
@@ -269,10 +276,11 @@ def fault_sections(spec, dataset, rules: Rules) -> Sections:
     dip = np.asarray(geometry.get("dip", np.full(count, 90.0)), float)
     rake = np.asarray(geometry.get("rake", np.full(count, 180.0)), float)
     upper = np.asarray(geometry.get("upper_depth", np.zeros(count)), float)
-    slip = dataset["slip_per_event"].values
-    magnitude = dataset["moment_magnitude"].values
-    recurrence = dataset["recurrence_period"].values
-    moment = dataset["seismic_moment"].values
+    unknown = np.full(count, math.nan)
+    slip, magnitude, recurrence, moment = (
+        (unknown,) * 4 if dataset is None else
+        (dataset[name].values for name in ("slip_per_event", "moment_magnitude", "recurrence_period",
+                                           "seismic_moment")))
     rows = {key: [] for key in ("ids", "names", "fault", "traces", "dip", "rake", "upper", "lower", "length", "rate",
                                 "slip", "magnitude", "moment_rate", "aseismic")}
     for i, trace in enumerate(table.traces):
@@ -868,7 +876,7 @@ def _onto_budget(x: np.ndarray, rows: np.ndarray):
 
 
 def rupture_set(spec, dataset, rules: Rules, relation: str = "faultslip", stable_continental: bool = False,
-                bin_width: float = 0.1) -> RuptureSet:
+                bin_width: float = 0.1, allow_large: bool = False) -> RuptureSet:
     """The map's fault system on ``relation``'s branch: sections, ruptures, magnitudes and solved rates.
 
     Parameters
@@ -885,6 +893,9 @@ def rupture_set(spec, dataset, rules: Rules, relation: str = "faultslip", stable
         Leonard's stable-continental relations.
     bin_width : float
         The target's magnitude bins.
+    allow_large : bool
+        Solve even beyond the memory and time budget (:func:`rate_estimate`, checked by
+        :func:`faultslip.io.budget.check` before the rate problem's arrays are allocated).
 
     Returns
     -------
@@ -892,7 +903,7 @@ def rupture_set(spec, dataset, rules: Rules, relation: str = "faultslip", stable
     """
     sections = fault_sections(spec, dataset, rules)
     ruptures = enumerate_ruptures(sections, rules)
-    check_rate_memory(sections.count, len(ruptures), relation)
+    budget.check(rate_estimate(sections.count, len(ruptures), (relation,)), allow_large)
     shear_modulus = float(spec.scene.fault().shear_modulus)
     magnitude, slip = rupture_magnitudes(sections, ruptures, relation, shear_modulus, stable_continental)
     result = solve_rates(sections, ruptures, magnitude, slip, rules, relation, shear_modulus, bin_width)
@@ -902,17 +913,48 @@ def rupture_set(spec, dataset, rules: Rules, relation: str = "faultslip", stable
     return result
 
 
-def check_rate_memory(sections: int, ruptures: int, relation: str) -> float:
-    """Refuse, before its arrays are allocated, a rate problem that would hold more than half the memory available
-    (:func:`faultslip.io.budget.available_memory`); returns the bytes it needs: :data:`RATE_MATRIX_COPIES` dense
-    arrays of (sections + :data:`RATE_BIN_ROWS`) × ruptures, 8 B each."""
-    need = RATE_MATRIX_COPIES * 8.0 * (sections + RATE_BIN_ROWS) * ruptures
-    available = budget.available_memory()
-    if need > 0.5 * available:
-        raise InputError(f"the rupture rates ({relation}) of {ruptures:,} ruptures over {sections:,} sections would "
-                         f"need {need / 1e9:.3g} GB of memory (half of the {available / 1e9:.3g} GB available is the "
-                         "budget); tighten the rules: a smaller max_jump or max_sections, or longer sections")
-    return need
+def rate_estimate(sections: int, ruptures: int, relations=("faultslip",), enumerated: bool = True
+                  ) -> budget.Estimate:
+    """What solving the rates of ``ruptures`` ruptures over ``sections`` sections on each of ``relations``' branches
+    needs, before its arrays are allocated.
+
+    memory = :data:`RATE_MATRIX_COPIES` x 8 B x (sections + :data:`RATE_BIN_ROWS`) x ruptures (one branch at a time),
+    seconds = branches x (overhead + c x (sections + :data:`RATE_BIN_ROWS`)^2 x ruptures), plus each branch's
+    enumeration and magnitudes (per rupture) where ``enumerated`` is False (:data:`RATE_SOLVE_SECONDS`, fitted by
+    ``benchmarks/rupture_rate_cost.py``; on this machine now, :func:`faultslip.io.machine.on_this_machine`).
+
+    Parameters
+    ----------
+    sections, ruptures : int
+        The system's sections and the ruptures its rules allow (:func:`enumerate_ruptures`).
+    relations : sequence of str
+        The branches solved, one after another.
+    enumerated : bool
+        Whether the ruptures are already enumerated (then only the solves are counted).
+
+    Returns
+    -------
+    faultslip.io.budget.Estimate
+    """
+    rows = sections + RATE_BIN_ROWS
+    fit = RATE_SOLVE_SECONDS
+    per_branch = fit["overhead_seconds"] + fit["rate_seconds"] * rows ** 2 * ruptures + (
+        0.0 if enumerated else fit["enumeration_seconds"] * ruptures)
+    names = ", ".join(relations)
+    return budget.Estimate(what=f"the rupture rates ({names}) of {ruptures:,} ruptures over {sections:,} sections "
+                                "as the rules' max_jump, max_sections and section length allow",
+                           memory=RATE_MATRIX_COPIES * 8.0 * rows * ruptures,
+                           seconds=machine.on_this_machine(len(relations) * per_branch, "families"),
+                           imports=("scipy.optimize",))
+
+
+def rupture_set_estimate(spec, rules: Rules, relations=("faultslip",)) -> budget.Estimate:
+    """What a map's rupture sets on ``relations``' branches need (:func:`rate_estimate`), before any prediction:
+    their ruptures enumerated from the sections' geometry (:func:`fault_sections` without a dataset), which a
+    rule set allows whatever the predictions are."""
+    sections = fault_sections(spec, None, rules)
+    ruptures = enumerate_ruptures(sections, rules)
+    return rate_estimate(sections.count, len(ruptures), tuple(relations), enumerated=False)
 
 
 def describe_b_value(fit: dict) -> str:

@@ -271,23 +271,79 @@ def test_sherifs_sets_whose_fitting_rates_are_one_point_are_not_chosen_by_round_
 
 def test_a_rate_problem_beyond_the_memory_budget_is_refused_before_it_is_allocated(cli, tmp_path, monkeypatch):
     """The rate problem's dense arrays (7.0 copies of sections-and-bins by ruptures at the peak, measured) are
-    counted before the slips are allocated: beyond half the memory available, one sentence names the ruptures,
-    the memory and the rules to tighten, and nothing is written."""
+    counted before the slips are allocated, through the budget's one check: beyond half the memory available, one
+    sentence names the ruptures, the memory, the rules to tighten and --allow-large, and nothing is written; the
+    map's own check refuses it before its predictions run, and --allow-large lifts both."""
     from faultslip.io import budget
 
-    need = rs.check_rate_memory(51, 356, "faultslip")
+    need = rs.rate_estimate(51, 356).memory
     assert need == pytest.approx(rs.RATE_MATRIX_COPIES * 8 * (51 + rs.RATE_BIN_ROWS) * 356)
     with monkeypatch.context() as patch:
         patch.setattr(budget, "available_memory", lambda: 1.9 * need)
-        with pytest.raises(InputError, match=r"356 ruptures over 51 sections would need .* GB of memory.*max_jump"):
-            rs.check_rate_memory(51, 356, "faultslip")
+        with pytest.raises(InputError, match=r"356 ruptures over 51 sections .* would need .*B of memory.*"
+                                             r"--allow-large"):
+            budget.check(rs.rate_estimate(51, 356))
         patch.setattr(budget, "available_memory", lambda: 2.1 * need)
-        assert rs.check_rate_memory(51, 356, "faultslip") == need
-    # the whole command: the problem made to need far more than this machine has (the map's own check untouched)
+        budget.check(rs.rate_estimate(51, 356))
+    # the whole command: the problem made to need far more than this machine has
     monkeypatch.setattr(rs, "RATE_MATRIX_COPIES", 1e9)
+    import faultslip.cli.studies as map_command
+
+    ran = []
+    monkeypatch.setattr(map_command, "run_map", lambda *a, **k: ran.append(1))  # the predictions never start
     out = cli("map", SYSTEM, "-o", tmp_path / "m.nc", "--nrml", tmp_path / "s.xml")
     assert_clean_error(out, "ruptures over 51 sections")
-    assert not list(tmp_path.iterdir())
+    assert "--allow-large" in out.err and not ran and not list(tmp_path.iterdir())
+    monkeypatch.undo()
+    monkeypatch.setattr(rs, "RATE_MATRIX_COPIES", 1e9)
+    out = cli("map", SYSTEM, "--nrml", tmp_path / "s.xml", "--allow-large")
+    assert out.code == 0, out.err
+    assert (tmp_path / "s_system_faultslip.xml").exists()
+
+
+def test_the_map_estimate_counts_its_rupture_sets_branch_by_branch(california, cli):
+    """``faultslip map --estimate --nrml`` counts each branch's rate solve: the rules' ruptures, enumerated from
+    the sections' geometry before any prediction, are the ruptures the run solves; the rates add their memory
+    to the map's and their seconds once a branch; a map without --nrml (or the traces figure, or a displacement
+    hazard) solves none and counts none."""
+    import json
+
+    from faultslip.io import machine
+    from faultslip.studies.maps import map_size_estimate
+
+    spec, dataset = california
+    for rules in (spec.rupture_rules, rs.Rules(max_jump=20e3, subsection_length=20e3)):
+        assert rs.enumerate_ruptures(rs.fault_sections(spec, None, rules), rules) == \
+            rs.enumerate_ruptures(rs.fault_sections(spec, dataset, rules), rules)
+    with machine.assumed(1.0):
+        alone = map_size_estimate(spec)
+        one = map_size_estimate(spec, relations=("faultslip",))
+        three = map_size_estimate(spec, relations=rs.RELATIONS)
+        sections = rs.fault_sections(spec, None, spec.rupture_rules)
+        rates = rs.rate_estimate(sections.count, len(rs.enumerate_ruptures(sections, spec.rupture_rules)),
+                                 enumerated=False)
+    assert one.memory == pytest.approx(alone.memory + rates.memory)
+    assert one.seconds - alone.seconds == pytest.approx(rates.seconds, rel=1e-9)
+    assert three.seconds - alone.seconds == pytest.approx(3 * rates.seconds, rel=1e-9)
+    assert "rupture rates (faultslip, WC1994, Leonard2010) of 356 ruptures over 51 sections" in three.what
+    said = json.loads(cli("map", SYSTEM, "--estimate", "--nrml", "s.xml", "--scaling-relations",
+                          "faultslip,WC1994", "--json").out)
+    assert "rupture rates (faultslip, WC1994) of 356 ruptures" in json.dumps(said)
+    assert "rupture rates" not in cli("map", SYSTEM, "--estimate", "--json").out
+
+
+def test_the_rate_cost_model_is_the_benchmarks_fit():
+    """RATE_SOLVE_SECONDS are benchmarks/rupture_rate_cost.py's fit, and that fit estimates every cut system's
+    solve (held out ones too) within 2x of the CPU it used: seconds grow as rows^2 x ruptures."""
+    import json
+
+    result = json.loads((ROOT / "benchmarks" / "results" / "rupture_rate_cost.json").read_text(encoding="utf-8"))
+    for key, value in result["fit"].items():
+        if key != "group":
+            assert rs.RATE_SOLVE_SECONDS[key] == pytest.approx(value, rel=1e-3), key
+    rows = result["cuts"]
+    assert any(row["held_out"] for row in rows) and max(row["ruptures"] for row in rows) > 30_000
+    assert all(0.5 <= row["estimate_over_cpu"] <= 2.0 for row in rows)
 
 
 def test_the_least_squares_answer_is_the_minimum_whatever_nnls_returns(california):
