@@ -54,7 +54,16 @@ RULES: dict[str, tuple[str, str, str]] = {
     "max_magnitude": (FINITE, "maximum magnitude", ""),
     "characteristic_magnitude": (FINITE, "characteristic magnitude", ""),
     "bin_width": (POSITIVE, "magnitude bin width", ""),
+    # the Python API's unit-string arguments (faultslip.units.takes_units checks them by name)
+    "slip": (POSITIVE, "slip", "m"),
+    "slip_per_event": (POSITIVE, "slip per event", "m"),
+    "seismic_moment": (POSITIVE, "seismic moment", "N m"),
+    "width": (POSITIVE, "fault width", "m"),
+    "radiation_damper": (NON_NEGATIVE, "radiation damper", "N s/m"),
 }
+
+#: Arguments named otherwise than the range they take (faultslip.units.takes_units)
+ALIASES = {"rupture_length_m": "rupture_length"}
 
 #: Bounds (inclusive, SI) beyond the rule: values outside them are not physical, or would overflow the
 #: arithmetic done on them (an area of 1e-300 m^2 divides a load into infinity). Each bound says why.
@@ -103,6 +112,12 @@ BOUNDS: dict[str, tuple[float, float]] = {
     "bin_width": (1e-3, 0.5),
     "max_magnitude": (-2.0, 10.5),
     "characteristic_magnitude": (-2.0, 10.5),
+    # the Python API's unit strings: slips as observed_slip's; a moment from Mw -10 (a lab's acoustic emission is
+    # near -8) to Mw 10.5, the magnitudes above, with M0 = 10^(1.5 Mw + 9.1) N m; a fault's width as a zone's
+    "slip": (1e-9, 1e3),
+    "slip_per_event": (1e-9, 1e3),
+    "seismic_moment": (1e-6, 1e25),
+    "width": (1e-3, 1e7),
 }
 
 
@@ -125,11 +140,12 @@ _PHRASES = {
 }
 
 
-def check(name: str, value, where: str = ""):
+def check(name: str, value, where: str = "", bounded: bool = True):
     """Raise :class:`InputError` unless ``value`` (SI, scalar or array) lies in the range of ``name``.
 
     ``where`` (e.g. ``"[sweep] zone_width in study.toml"``) is added to the sentence. Names
-    without a rule pass. Returns ``value`` unchanged.
+    without a rule pass. ``bounded`` False checks the rule alone, not :data:`BOUNDS` (a value in
+    another unit than the rule's: a fault's stiffness in Pa/m). Returns ``value`` unchanged.
     """
     if name not in RULES:
         return value
@@ -144,7 +160,7 @@ def check(name: str, value, where: str = ""):
         shown = f"{first:g} {unit}".rstrip()
         place = f" ({where})" if where else ""
         raise InputError(f"{label} {_PHRASES[rule]}, got {shown}{place}")
-    if name in BOUNDS:
+    if bounded and name in BOUNDS:
         low, high = BOUNDS[name]
         outside = (values < low) | (values > high)
         if np.any(outside):

@@ -39,6 +39,7 @@ except ImportError:  # not POSIX: the unit memo is written unlocked
 from faultslip.constants import JULIAN_YEAR, STANDARD_GRAVITY  # noqa: F401 (re-exported)
 import numpy as np
 
+from faultslip import ranges
 from faultslip.errors import InputError
 
 
@@ -702,6 +703,11 @@ def takes_units(alternative_from: tuple | None = None, **declared):
     in Pa/m with a load in N is refused; ``alternative_from`` = (argument, (value_a, value_b)) names the argument
     that says which (a slider's ``scale``, "lab" or "fault"). Decorating a class converts its constructor's
     arguments. The function still returns SI numbers.
+
+    A converted value is also checked against its argument's physical range, where :data:`faultslip.ranges.RULES`
+    has one by its name (or :data:`faultslip.ranges.ALIASES`'): "-10 km" for a rupture length is refused in one
+    sentence. Its bounds apply where the value is in the rule's unit; otherwise (a fault's stiffness in Pa/m, a
+    number in another unit) only its sign. Numbers are the caller's: they pass unchecked, as above.
     """
     specs = {}
     for name, spec in declared.items():
@@ -734,6 +740,7 @@ def takes_units(alternative_from: tuple | None = None, **declared):
             for name, value in bound.arguments.items():
                 if name in specs and _convertible(value):
                     bound.arguments[name], chosen[name] = _declared_to_si(value, name, *specs[name])
+                    _in_range(name, bound.arguments[name], *specs[name], chosen[name], label)
             _same_alternative(chosen, specs, _named_alternative(bound, signature, alternative_from))
             return function(*bound.args, **bound.kwargs)
 
@@ -745,6 +752,14 @@ def takes_units(alternative_from: tuple | None = None, **declared):
         return wrapper
 
     return decorate
+
+
+def _in_range(name: str, value, kinds: tuple, unit: str | None, chosen: int, label: str) -> None:
+    """Refuse a converted argument outside its physical range (:func:`faultslip.ranges.check`, by its name)."""
+    rule = ranges.ALIASES.get(name, name)
+    if rule in ranges.RULES:
+        in_rule_unit = unit is None and KINDS[kinds[chosen]][1].replace("*", " ") == ranges.RULES[rule][2]
+        ranges.check(rule, value, f"{label}() argument {name}", bounded=in_rule_unit)
 
 
 def _named_alternative(bound, signature, alternative_from):

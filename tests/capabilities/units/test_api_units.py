@@ -145,3 +145,59 @@ def test_the_model_classes_take_units_and_a_sliders_scale_names_its_kind():
     with pytest.raises(InputError, match="leaf stiffness must be a stiffness"):
         Chain(mass=1.0, leaf_stiffness="1 N", coupling_stiffness=1.0, normal_load=1.0, platform_speed=1.0,
               static_friction=np.array([0.6]), kinetic_friction=0.5)
+
+
+def _decorated():
+    """Every public callable that takes units: (its qualified name, the callable, its declarations)."""
+    import importlib
+    import pkgutil
+
+    import faultslip
+
+    found = {}
+    for module in pkgutil.walk_packages(faultslip.__path__, "faultslip."):
+        if module.name.endswith("__main__") or ".apps" in module.name or ".cli" in module.name:
+            continue
+        for name, value in vars(importlib.import_module(module.name)).items():
+            declared = getattr(value, "__units__", None)
+            if isinstance(declared, dict) and getattr(value, "__module__", None) == module.name:
+                found[f"{module.name}.{name}"] = (value, declared)
+    return found
+
+
+def test_a_unit_string_outside_its_arguments_physical_range_is_refused_before_the_function_runs():
+    """A converted value is checked against its argument's range (faultslip.ranges, by name) in the wrapper, before
+    the function's body: "-10 km" for a rupture length used to give a negative moment. Every declared argument
+    with a rule, in every public callable, refuses a negative value in one sentence naming the function and the
+    argument, whatever the other arguments are (1.0 each, never reached); a bare number still passes unchecked."""
+    import inspect
+
+    from faultslip import ranges
+    from faultslip.units import KINDS
+
+    checked = 0
+    for qualified, (target, declared) in _decorated().items():
+        function = target.__init__ if inspect.isclass(target) else target
+        parameters = [p for name, p in inspect.signature(function).parameters.items() if name != "self"]
+        for argument, spec in declared.items():
+            rule = ranges.ALIASES.get(argument, argument)
+            if rule not in ranges.RULES or ranges.RULES[rule][0] not in (ranges.POSITIVE, ranges.NON_NEGATIVE):
+                continue
+            kind, unit = (spec, None) if isinstance(spec, str) else spec
+            text = f"-1 {unit or KINDS[kind.split('|')[0]][1] or 'dimensionless'}"
+            call = {p.name: 1.0 for p in parameters if p.default is inspect.Parameter.empty
+                    and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)}
+            call[argument] = text
+            with pytest.raises(InputError, match=rf"{target.__name__}\(\) argument {argument}\)"):
+                target(**call)
+            checked += 1
+    assert checked >= 30
+    assert hazard.seismic_moment(3e10, -1e4, 1.2e4, 2.0) < 0  # the caller's numbers: as given
+    with pytest.raises(InputError, match=r"rupture length must be positive, got -10000 m \(seismic_moment\(\)"):
+        hazard.seismic_moment("30 GPa", "-10 km", "12 km", "2 m")
+    with pytest.raises(InputError, match="normal load must be positive, got 0 N"):
+        models.loading_rate("1e6 N/m", "1 mm/s", "0 N")
+    # bounds in the rule's unit only: a fault's stiffness in Pa/m is checked for its sign, not the lab's N/m bounds
+    assert models.loading_rate("1e-9 Pa/m", "1 mm/yr", "1 MPa") > 0
+    with pytest.raises(InputError, match="stiffness must lie between"):
+        models.loading_rate("1e-9 N/m", "1 mm/s", "1 N")
