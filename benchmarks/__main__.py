@@ -96,6 +96,7 @@ PRODUCERS = (
     ("sherifs_example", [], [], "sherifs_example.json"),
     ("rupture_rate_stability", [], ["--quick"], "rupture_rate_stability.json"),
     ("rupture_rate_cost", [], ["--quick"], "rupture_rate_cost.json"),
+    ("rupture_rate_exact_point", [], ["--quick"], "rupture_rate_exact_point.json"),
     ("fault_3d_model_error", [], ["--quick"], "fault_3d_model_error.json"),
     ("fault_3d_model_error", ["--starts"], ["--starts"], "fault_3d_starts.json"),  # the cells just written
     # the draw run after the table (its 3-D cells kept by inputs: run again, only the 2-D sides are)

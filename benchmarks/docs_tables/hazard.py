@@ -115,6 +115,29 @@ def rupture_rate_stability_table() -> str | None:
             + f". `python benchmarks/rupture_rate_stability.py`. {_machine(result)}")
 
 
+def rupture_rate_exact_point_table() -> str | None:
+    result = _load("rupture_rate_exact_point.json")
+    if result is None:
+        return None
+    rows = ["| rule set | ruptures | rows met: ridge / exact | norm: ridge / exact | exact from ridge | moved by "
+            f"{result['change']:g}: ridge / exact | faultslip's rates moved |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    for row in result["rule_sets"]:
+        moved = ("not nearly one point after the change" if row["ridge_moved"] is None
+                 else f"{row['ridge_moved']:.1e} / {row['exact_moved']:.1e}")
+        rows.append(f"| seed {row['seed']}, {row['index']} ({row['relation']}) | {row['ruptures']} | "
+                    f"{row['ridge_meets_rows']:.0e} / {row['exact_meets_rows']:.0e} | {row['ridge_norm']:.3g} / "
+                    f"{row['exact_norm']:.3g} | {row['exact_from_ridge']:.2g} | {moved} | {row['rates_moved']:.1e} |")
+    return ("\n".join(rows) + f"\n\nThe first {result['count']} rule sets of each draw above (at most "
+            f"{result['most_ruptures']} ruptures) whose least-norm step met the nearly-one-point case. The exact "
+            "least-norm point, as an interior-point solver finds it (scipy's trust-constr, gtol and xtol 1e-14, from "
+            "the ridge's rates), meets the rows to round-off, but lies far from the ridge's rates, its norm is "
+            "larger, and the change in the slips moves it far more than the ridge's: where the rates that fit are "
+            "nearly one point, that point is ill-determined. Distances and moves are over the largest rate, each in the "
+            f"scaled rates the step solves for; the moves are the largest over seeds "
+            f"{', '.join(map(str, result['change_seeds']))}. `python benchmarks/rupture_rate_exact_point.py`. "
+            f"{_machine(result)}")
+
+
 def rupture_rate_cost_table() -> str | None:
     result = _load("rupture_rate_cost.json")
     if result is None:
@@ -261,6 +284,7 @@ TABLES = {
     "rupture_sets": rupture_sets_table,
     "rupture_rate_stability": rupture_rate_stability_table,
     "rupture_rate_cost": rupture_rate_cost_table,
+    "rupture_rate_exact_point": rupture_rate_exact_point_table,
     "hazard_chain": hazard_chain_table,
     "leonard_table_6": leonard_table_6_table,
     "engine_branches": engine_branches_table,
