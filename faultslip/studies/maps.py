@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from faultslip.constants import JULIAN_YEAR
@@ -843,7 +843,7 @@ def map_size_estimate(spec, output=None, tolerance: float = 1e-6, relations=()) 
         The relative error the map's predictions are asked (a rate-and-state map's integrators are chosen by it).
     relations : sequence of str
         The magnitude relations whose rupture sets the map solves (``faultslip map --nrml`` solves one per
-        ``--scaling-relations`` branch; a displacement hazard or the traces figure, faultslip's); none, none.
+        ``--scaling-relations`` branch; a displacement hazard or the traces figure, faultslip's); empty, none.
 
     Returns
     -------
@@ -865,9 +865,8 @@ def map_size_estimate(spec, output=None, tolerance: float = 1e-6, relations=()) 
         estimate.what += f", with {spec.cycles} rate-and-state cycles in each unstable one of {where}"
     if relations and spec.rupture_rules is not None:  # the rates come after the predictions, the map still held
         rates = rupture_set_estimate(spec, spec.rupture_rules, tuple(relations))
-        estimate = budget.Estimate(f"{estimate.what}, and {rates.what}", memory=estimate.memory + rates.memory,
-                                   disk=estimate.disk, seconds=estimate.seconds + rates.seconds, output=output,
-                                   imports=rates.imports)
+        estimate = replace(estimate, what=f"{estimate.what}, and {rates.what}", memory=estimate.memory + rates.memory,
+                           seconds=estimate.seconds + rates.seconds, imports=(*estimate.imports, *rates.imports))
     # and the CPU of what the map imports where it runs (its Dataset, the netCDF it writes): measured
     estimate.imports = (*budget.DATASET_IMPORTS, *(budget.DATASET_WRITER_IMPORTS if output is not None else ()),
                         *MAP_IMPORTS, *estimate.imports)
