@@ -64,7 +64,8 @@ RELATIONS = ("faultslip", "WC1994", "Leonard2010")
 MAX_RUPTURES = 200_000
 #: Copies of the rate problem's dense arrays (sections and bins by ruptures, 8 B each) held at once while the rates
 #: are solved: the slips, the weighted NNLS matrix and NNLS's own copy, the rescaled rows and their projection
-#: (tracemalloc's peak over the bundled system cut into 1,297 and 4,632 ruptures: 7.0 copies)
+#: (tracemalloc's peak over the magnitudes and the solve of the bundled system cut into 1,297 and 4,632 ruptures:
+#: 5.6 and 6.2 copies; tests/capabilities/hazard/test_rupture_sets.py)
 RATE_MATRIX_COPIES = 8
 #: Rows besides the sections' that bound the shape's magnitude bins (0.1 wide over 4 magnitude units)
 RATE_BIN_ROWS = 41
