@@ -66,6 +66,25 @@ def _family_case(family, action, scene, work, **options):
     return family, entry, units, f"{action} {scene} {options or ''}".strip(), lambda: call(scene, **options)
 
 
+def _without_compiled_chain(action, scene, **options):
+    """A chain case as it runs where the compiled loop was not built (auto runs the closed form in Python)."""
+
+    def call():
+        built, chain_dynamics._chain = chain_dynamics._chain, None
+        try:
+            return registry.load("spring_chain").run(scene, **options) if action == "run" else \
+                registry.load("spring_chain").simulate(scene, **options)
+        finally:
+            chain_dynamics._chain = built
+
+    built, chain_dynamics._chain = chain_dynamics._chain, None
+    try:
+        entry, units, _ = chain_cost.work(scene, action, **options)
+    finally:
+        chain_dynamics._chain = built
+    return "spring_chain", entry, units, f"{action} {scene} without the compiled loop {options or ''}".strip(), call
+
+
 def _rough_at(values=None, label=None, **options):
     """A run of seed 000's rough-surface scene moved to ``values`` (SI), by ``options`` (method, tolerance)."""
     scene = registry.read_scene("rough_surface_seed000.toml")[0].with_values(**(values or {}))
@@ -186,6 +205,14 @@ def cases() -> list:
         _family_case("spring_chain", "simulate", "spring_chain_small.toml", chain_cost.work, cycles=50),
         _family_case("spring_chain", "simulate", "spring_chain_small.toml", chain_cost.work, cycles=400),
         _family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=200),
+        _family_case("spring_chain", "simulate", "spring_chain_small.toml", chain_cost.work, cycles=50,
+                     slip_solver="closed_form"),
+        _family_case("spring_chain", "simulate", "spring_chain_small.toml", chain_cost.work, cycles=200,
+                     slip_solver="closed_form"),
+        _family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=50,
+                     slip_solver="closed_form"),
+        _without_compiled_chain("run", "spring_chain_small.toml"),
+        _without_compiled_chain("run", "spring_chain.toml"),
     ] + [_family_case("spring_chain", "simulate", "spring_chain_small.toml", chain_cost.work, cycles=cycles,
                       slip_solver=solver) for solver, longer in CHAIN_INTEGRATORS.items() for cycles in (5, longer)]
 
@@ -257,6 +284,10 @@ def held_out() -> list:
         *(_vibration_at(speed) for speed in (10.5, 13.0, 14.0, 15.5)),
         *(_vibration_at(speed, method="quasi_harmonic_integration") for speed in (12.3, 13.5, 13.5499)),
         _family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=1000),
+        _family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=200,
+                     slip_solver="closed_form"),
+        _family_case("spring_chain", "simulate", "spring_chain_small.toml", chain_cost.work, cycles=800,
+                     slip_solver="closed_form"),
         _family_case("spring_slider", "run", "parkfield.toml", lambda *a, **k: (a[1], 0.0, "")),
     ] + [_family_case("spring_chain", "simulate", "spring_chain.toml", chain_cost.work, cycles=10, slip_solver=solver)
          for solver in CHAIN_INTEGRATORS]

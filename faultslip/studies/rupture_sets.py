@@ -74,7 +74,7 @@ RATE_BIN_ROWS = 41
 #: rupture (NNLS's active-set loop: each row's columns change a few times, each change a least-squares solve of
 #: rows x ruptures), a branch's overhead (the 95th percentile of drawn rule sets' solves: a proximal loop or BVLS's
 #: check), and the enumeration and magnitudes' seconds per rupture
-RATE_SOLVE_SECONDS = {"rate_seconds": 2.151e-9, "overhead_seconds": 0.1814, "enumeration_seconds": 8.070e-5}
+RATE_SOLVE_SECONDS = {"rate_seconds": 2.547e-9, "overhead_seconds": 0.1838, "enumeration_seconds": 7.924e-5}
 #: the slip-rate budget's relative tolerance
 BUDGET_TOLERANCE = 1e-6
 #: The least-norm step's tolerance: each row of matrix @ x = fitted (scaled to a largest entry of 1) is met to this

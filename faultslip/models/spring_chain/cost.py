@@ -7,14 +7,16 @@ and blocks foretells (a 50-block chain's events take half the sub-phases per blo
 Each integrator is its own entry (``simulate:RK45``, ...): a sub-phase costs twenty times more by RK23 than by
 DOP853.
 The exact compiled closed form follows the same sub-phases at a hundredth of the cost, so the estimate counts
-them on it, over at most :data:`COUNTED_EVENTS` events, and scales to the run's.
+them on it, over at most :data:`COUNTED_EVENTS` events, and scales to the run's. The closed form in Python (asked
+for, or what ``auto`` runs where the compiled loop was not built) is its own entry (``run:closed_form``,
+``simulate:closed_form``): a block-event costs it about 160 times the compiled loop's.
 """
 
 from __future__ import annotations
 
 from faultslip.errors import InputError, SolverError
 from faultslip.io import budget
-from faultslip.models.spring_chain.dynamics import compiled_available, simulate_chain
+from faultslip.models.spring_chain.dynamics import chosen_solver, compiled_available, simulate_chain
 from faultslip.models.spring_chain.scene import read_chain_scene
 
 #: At most this many events are counted by the closed form for an integrated run's estimate (about 0.1 s at 50
@@ -51,6 +53,10 @@ def _work(loaded, action: str, cycles, slip_solver) -> tuple[str, float, str, fl
         count, how = subphases(loaded, int(events))
         return (f"{action}:{slip_solver}", count,
                 f"{count:.0f} slip sub-phases in {events:g} events of {blocks} blocks ({how})", events * blocks)
+    if chosen_solver("auto" if slip_solver in (None, "analytic") else slip_solver) == "closed_form":
+        why = "" if slip_solver == "closed_form" else ": the compiled loop is not built"
+        return (f"{action}:closed_form", events * blocks,
+                f"{events:g} events of {blocks} blocks (the closed form in Python{why})", events * blocks)
     return action, events * blocks, f"{events:g} events of {blocks} blocks", events * blocks
 
 

@@ -57,3 +57,26 @@ def test_each_integrator_is_its_own_entry(solver):
 def test_the_closed_form_counts_block_events():
     entry, units, _ = cost.work(CONFIGS / "spring_chain.toml", "simulate", cycles=10)
     assert (entry, units) == ("simulate", 500.0)
+
+
+def test_the_closed_form_in_python_is_priced_as_itself(monkeypatch, cli):
+    """Where the compiled loop was not built, auto runs the closed form in Python, about 160 times dearer a
+    block-event; the estimate priced it as the compiled loop, so a run asked for a tolerance no chain meets
+    (1e-300: a rerun at MOST_EVENTS events) was estimated at seconds and took about 15 minutes (found by the
+    fuzzer, whose clone had not built the loop). Its own entries (run:closed_form, simulate:closed_form) price it,
+    and the budget refuses that rerun in one sentence before it starts."""
+    from faultslip.io import budget
+    from faultslip.models.spring_chain import dynamics
+
+    scene = CONFIGS / "spring_chain_small.toml"
+    fitted = budget.family_costs()["families"]["spring_chain"]
+    asked = cost.work(scene, "simulate", cycles=200, slip_solver="closed_form")
+    assert asked[0] == "simulate:closed_form" and "in Python)" in asked[2]
+    assert fitted["simulate:closed_form"]["seconds_per_unit"] > 50 * fitted["simulate"]["seconds_per_unit"]
+    monkeypatch.setattr(dynamics, "_chain", None)
+    for action in ("run", "simulate"):
+        entry, units, what = cost.work(scene, action, cycles=200)
+        assert entry == f"{action}:closed_form" and "the compiled loop is not built" in what
+    monkeypatch.setenv("FAULTSLIP_TIME_BUDGET", "15")
+    out = cli("run", scene, "--tolerance", "1e-300")
+    assert out.code == 2 and "100,000 events" in out.err and "--allow-large" in out.err, out.err
