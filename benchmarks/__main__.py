@@ -65,6 +65,7 @@ PRODUCERS = (
     # form writes its own file, since a test holds the table to the full one
     ("integrator_evaluations", [], ["--quick"], "integrator_evaluations.json"),
     ("lab_cycle_cost", [], ["--quick"], "lab_cycle_cost.json"),
+    ("slider_simulation_cost", [], ["--quick"], "slider_simulation_cost.json"),
     ("rate_state_calibration", [], ["--quick"], "rate_state_calibration.json"),
     ("rate_state_settling", [], [], "rate_state_settling.json"),
     ("chain_coverage", [], ["--quick"], "chain_coverage.json"),

@@ -359,6 +359,37 @@ def lab_cycle_cost_table() -> str | None:
         f"`python benchmarks/lab_cycle_cost.py`. {_machine(result)}")
 
 
+def slider_simulation_cost_table() -> str | None:
+    """docs/methods.md: the seed-law slider's simulation estimate against its CPU where the slip phase is stiff
+    (slider_simulation_cost.py)."""
+    result = _load("slider_simulation_cost.json")
+    if result is None:
+        return None
+    rows = ["| law | solver | runs | eps | ended sliding | estimated / CPU used, median (range) | most over, s |",
+            "| --- | --- | --- | --- | --- | --- | --- |"]
+    for law in dict.fromkeys(row["law"] for row in result["rows"]):
+        for solver in result["solvers"]:
+            found = [row for row in result["rows"] if row["law"] == law and row["solver"] == solver]
+            if not found:
+                continue
+            ratios = sorted(row["ratio"] for row in found)
+            eps = [row["eps"] for row in found]
+            steady = sum(row["events"] < row["cycles"] for row in found)  # a phase ran to the horizon
+            rows.append(f"| {law} | {solver} | {len(found)} | {min(eps):.2g}-{max(eps):.2g} | {steady} | "
+                        f"{np.median(ratios):.2f} ({ratios[0]:.2g}-{ratios[-1]:.2g}) | "
+                        f"{max(row['estimated_seconds'] - row['cpu_seconds'] for row in found):.2g} |")
+    summary = result["summary"]
+    return "\n".join(rows) + (
+        f"\n\n`configs/lab_steel_dry_polynomial.toml` (shipped law) and two held-out polynomial laws (a quadratic "
+        f"and a cubic in m/s), at platform speeds from {result['speeds'][0]} to {result['speeds'][-1]} (the cubic to "
+        f"10 m/s), simulated for {' and '.join(map(str, result['cycles']))} cycles by each solver; eps is the slip "
+        "phase's stiffness. A run that ended sliding had a slip phase that never re-stuck and ran to simulate's "
+        "horizon. A run that re-sticks in milliseconds is still estimated with one phase to the horizon (a few "
+        f"tenths of a second): the large ratios are those. Of {summary['cases']} runs, {summary['under']} used more "
+        f"CPU than estimated ({summary['under_half']} more than twice). `python benchmarks/slider_simulation_cost.py`. "
+        f"{_machine(result)}")
+
+
 #: The tables this module renders, by the marker name in the pages.
 TABLES = {
     "b_value_coverage": b_value_coverage_table,
@@ -366,6 +397,7 @@ TABLES = {
     "poisson_verdicts": poisson_verdicts_table,
     "closed_form_near_critical": closed_form_near_critical_table,
     "lab_cycle_cost": lab_cycle_cost_table,
+    "slider_simulation_cost": slider_simulation_cost_table,
     "dashpot_force": dashpot_force_table,
     "renewal_coverage": renewal_coverage_table,
     "chain_example": chain_example_table,

@@ -60,7 +60,7 @@ INTEGRATOR_EVALUATIONS = {
 INTEGRATOR_EVALUATION_TIME = {"DOP853": 2.0e-5, "RK45": 2.0e-5, "LSODA": 2.5e-5, "Radau": 5.0e-5}
 #: An explicit solver's stages a step and its stability limit on the negative real axis (h |lambda| at most this;
 #: Hairer & Wanner, Solving ODEs II, IV.2): where the slip phase is stiff its steps are these, not its accuracy's.
-EXPLICIT_STABILITY = {"DOP853": (12, 6.0), "RK45": (6, 3.3)}
+EXPLICIT_STABILITY = {"DOP853": (12, 6.0), "RK45": (6, 3.3), "RK23": (3, 2.5)}
 RTOL_LEVELS = tuple(10.0 ** -k for k in range(3, 13))  # 1e-3 ... 1e-12
 
 
@@ -390,6 +390,17 @@ def slip_stiffness(system) -> float:
         return 0.0
 
 
+def nearest_calibrated(solver: str) -> str:
+    """The calibrated integrator nearest in kind (RK23 as RK45, BDF as Radau; the calibrated ones as themselves)."""
+    return {"RK23": "RK45", "BDF": "Radau"}.get(solver, solver)
+
+
+def evaluation_time(solver: str) -> float:
+    """Seconds a right-hand-side evaluation, on the machine the families' costs were fitted on
+    (:data:`INTEGRATOR_EVALUATION_TIME`, at :func:`nearest_calibrated`)."""
+    return INTEGRATOR_EVALUATION_TIME[nearest_calibrated(solver)]
+
+
 def stiff_evaluations(solver: str, stiffness: float) -> float:
     """Evaluations an explicit solver spends a natural period where the slip phase is stiff: stages x 2 pi x
     stiffness / stability limit (:data:`EXPLICIT_STABILITY`); 0 for the stiff solvers (LSODA switches, Radau is
@@ -398,6 +409,19 @@ def stiff_evaluations(solver: str, stiffness: float) -> float:
         return 0.0
     stages, limit = EXPLICIT_STABILITY[solver]
     return stages * 2 * math.pi * stiffness / limit
+
+
+def slip_phase_evaluations(system, solver: str, rtol: float, stiffness: float | None = None) -> tuple[float, float]:
+    """(accurate, stability-limited) right-hand-side evaluations of one slip phase: the calibration's count at rtol
+    (:func:`integrator_evaluations`, of the nearest calibrated solver), times (2 + 2 min(eps, 2)) on a curved
+    kinetic law (:data:`CURVED_LAW_EVALUATIONS`), and an explicit solver's steps at its stability limit over a
+    natural period (:func:`stiff_evaluations`). ``stiffness`` is eps where already computed."""
+    stiffness = slip_stiffness(system) if stiffness is None else stiffness
+    accurate = integrator_evaluations(nearest_calibrated(solver), rtol)
+    if not system.is_linear:  # a curved law's phase takes more steps than the linear calibration's
+        base, slope, cap = CURVED_LAW_EVALUATIONS
+        accurate *= base + slope * min(stiffness, cap)
+    return accurate, stiff_evaluations(solver, stiffness)
 
 
 class EventDriven(Method):
@@ -425,10 +449,7 @@ class EventDriven(Method):
             rtol = fitting[0] if fitting else RTOL_LEVELS[-1]
         error = declared_slip_error(self.solver, rtol) * drift
         stiffness = slip_stiffness(system)
-        accurate, limited = integrator_evaluations(self.solver, rtol), stiff_evaluations(self.solver, stiffness)
-        if not system.is_linear:  # a curved law's phase takes more steps than the linear calibration's
-            base, slope, cap = CURVED_LAW_EVALUATIONS
-            accurate *= base + slope * min(stiffness, cap)
+        accurate, limited = slip_phase_evaluations(system, self.solver, rtol, stiffness)
         evaluations = accurate + limited
         if not system.error_calibrated:  # checked by a second run at a hundredth of the rtol (refinement_check)
             evaluations += accurate * integrator_evaluations(self.solver, refined_rtol(rtol)) / \

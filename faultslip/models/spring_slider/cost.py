@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from faultslip.contract.registry import load
+from faultslip.dynamics import methods
 from faultslip.dynamics.methods import planned
 from faultslip.fault.scaling import Fault
 from faultslip.fault.scene import check_method, read_slider_scene
@@ -16,16 +17,53 @@ def _check_run_method(action: str, options: dict) -> None:
         check_method(options["method"])
 
 
-def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, output=None) -> Estimate:
-    """Memory and time of ``simulate``: the time series holds about (samples + 2) rows per cycle."""
+#: simulate's longest slip phase, in natural periods (``horizon_periods``): one that never re-sticks runs to it
+HORIZON_PERIODS = 200
+#: Such a phase, where its steps are its accuracy's, takes about this many slip phases' evaluations
+#: (:func:`~faultslip.dynamics.methods.integrator_evaluations`): its motion decays and the steps lengthen. Measured
+#: 44, 39 and 15 for DOP853, RK45 and LSODA at rtol 1e-10 on configs/lab_steel_dry_polynomial.toml, which slides
+#: steadily (benchmarks/slider_simulation_cost.py): an upper bound on the solvers' counts.
+HORIZON_PHASES = 50
+
+
+def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, output=None, system=None,
+                        solver: str = "DOP853", rtol: float = 1e-10) -> Estimate:
+    """Memory and time of ``simulate``: the time series holds about (samples + 2) rows per cycle.
+
+    An explicit solver (DOP853, RK45, RK23) on a stiff slip phase takes the steps its stability allows, not its
+    accuracy's: stages x 2 pi x eps / stability limit a natural period
+    (:func:`~faultslip.dynamics.methods.stiff_evaluations`, eps from
+    :func:`~faultslip.dynamics.methods.slip_stiffness`). With ``system``, each cycle's slip phase is counted as the
+    event-driven method's run counts it (:func:`~faultslip.dynamics.methods.slip_phase_evaluations`: a curved law's
+    phase takes more steps than a linear one's), and so is one phase that never re-sticks (steady or sustained
+    sliding), integrated to :data:`HORIZON_PERIODS` before the run ends, with its accurate steps
+    (:data:`HORIZON_PHASES`): a run cannot tell before it starts whether its slider re-sticks. A polynomial law at 100 m/s had been
+    estimated at 7 ms and took 65 s (benchmarks/slider_simulation_cost.py measures it)."""
     rows = float(cycles) * (samples_per_slip + 2)
     memory = rows * 6 * 8.0 * 3  # six columns, about three copies while the dataset is built
     # typed rates (measured on the 2-core machine the families' costs were fitted on): carried to this one with them
-    seconds = machine.on_this_machine(float(cycles) * (2.5e-3 if integrated else 2e-6) + rows * 1e-8, "families")
+    reference = float(cycles) * (2.5e-3 if integrated else 2e-6) + rows * 1e-8
+    if integrated and system is not None:
+        # each cycle's slip phase as the event-driven method counts it (its run's cost model), at least the typed rate
+        accurate, limited = methods.slip_phase_evaluations(system, solver, rtol)
+        per_cycle = max(2.5e-3, (accurate + limited) * methods.evaluation_time(solver))
+        horizon = HORIZON_PERIODS * limited + HORIZON_PHASES * methods.integrator_evaluations(
+            methods.nearest_calibrated(solver), rtol)
+        reference += float(cycles) * (per_cycle - 2.5e-3) + horizon * methods.evaluation_time(solver)
+    seconds = machine.on_this_machine(reference, "families")
     # the time series' Dataset, and the integrator or the analytic phases' roots
     imports = (*budget.DATASET_IMPORTS, *(budget.INTEGRATION_IMPORTS if integrated else ("scipy.optimize",)))
     return Estimate(what=f"a simulation of {cycles:.3g} cycles", memory=memory, disk=rows * 6 * 8.0 if output else 0.0,
                     seconds=seconds, output=output, imports=imports)
+
+
+def simulation_solver(system, settings: dict) -> tuple[bool, str]:
+    """Whether ``simulate`` integrates the slip phases, and by which solver ("auto": analytic on a linear kinetic
+    law, DOP853 otherwise, as :func:`~faultslip.dynamics.spring_slider.simulate.simulate` chooses)."""
+    solver = settings.get("slip_solver", "auto")
+    if solver == "auto":
+        solver = "analytic" if system.is_linear else "DOP853"
+    return solver != "analytic", solver
 
 
 def estimate(scene, action: str = "run", cycles=None, slip_solver=None, output=None, **options) -> Estimate:
@@ -56,6 +94,9 @@ def estimate(scene, action: str = "run", cycles=None, slip_solver=None, output=N
     settings = dict(loaded.simulation)
     if cycles is not None:
         settings["cycles"] = cycles
-    solver = slip_solver or settings.get("slip_solver", "auto")
-    integrated = not loaded.slider().is_linear or solver not in ("auto", "analytic")
-    return simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64), integrated, output)
+    if slip_solver is not None:
+        settings["slip_solver"] = slip_solver
+    system = loaded.slider()
+    integrated, solver = simulation_solver(system, settings)
+    return simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64), integrated, output,
+                               system, solver, settings.get("rtol", 1e-10))

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from faultslip import ranges
 
-from faultslip.dynamics.methods import describe_seed_methods, solve
+from faultslip.dynamics.methods import describe_seed_methods, evaluation_time, slip_stiffness, solve
 from faultslip.dynamics.spring_slider.simulate import simulate as integrate
 from faultslip.dynamics.spring_slider.simulate import summary_report, uniform_channels
-from faultslip.errors import InputError
+from faultslip.errors import EvaluationBudgetError, InputError
 from faultslip.fault.scene import CHOICES, read_slider_scene, run_scene
 from faultslip.fault.scaling import Fault
 from faultslip.fault.spring_slider_cells import CELLS, read_scene
@@ -127,10 +127,20 @@ def simulate(scene=None, cycles=None, slip_solver=None, rtol=None, allow_large: 
             raise InputError(f"--rtol must lie in [1e-14, 1), got {rtol:g}")
         settings["rtol"] = rtol
     system = loaded.slider()
-    integrated = not system.is_linear or settings.get("slip_solver", "auto") not in ("auto", "analytic")
+    integrated, solver = slider_cost.simulation_solver(system, settings)
     budget.check(slider_cost.simulation_estimate(settings.get("cycles", 100), settings.get("samples_per_slip", 64),
-                                            integrated, output), allow_large)
-    dataset = integrate(system, scene=loaded.name, **settings)
+                                                 integrated, output, system, solver, settings.get("rtol", 1e-10)),
+                 allow_large)
+    # the evaluations the time budget affords (as run's event-driven method): past them the run stops and says
+    # why, not hours later; --allow-large lifts both
+    affordable = None if allow_large or not integrated else int(budget.time_budget() / evaluation_time(solver))
+    try:
+        dataset = integrate(system, scene=loaded.name, max_evaluations=affordable, **settings)
+    except EvaluationBudgetError as error:
+        raise EvaluationBudgetError(
+            f"simulate ({solver}) would pass the time budget ({affordable:.3g} evaluations): {error}; the slip "
+            f"phase's stiffness is eps = {slip_stiffness(system):.3g}: an implicit solver (--slip-solver LSODA or "
+            "Radau) steps a stiff phase in far fewer evaluations, and --allow-large lifts the budget") from None
     dataset.attrs["scene_text"] = loaded.text
     report = summary_report(dataset, f"faultslip simulation: {loaded.name}")
     note_origin(report, loaded.origin)
