@@ -16,6 +16,8 @@ POSITIVE = "positive"
 NON_NEGATIVE = "non-negative"
 DAMPING = "damping"  # |zeta| < 1: an oscillating slip phase (seed 003 eq. 2-8)
 FINITE = "finite"
+#: the rules a function's own domain may name (:func:`faultslip.units.takes_units`'s ``domains``)
+RULE_KINDS = (POSITIVE, NON_NEGATIVE, DAMPING, FINITE)
 
 #: name -> (rule, label, SI unit for messages)
 RULES: dict[str, tuple[str, str, str]] = {
@@ -168,6 +170,18 @@ def check(name: str, value, where: str = "", bounded: bool = True):
             place = f" ({where})" if where else ""
             raise InputError(f"{label} must lie between {low:g} and {high:g} {unit}".rstrip()
                              + f", got {first:g} {unit}".rstrip() + place)
+    return value
+
+
+def check_rule(name: str, rule: str, value, where: str = ""):
+    """Raise :class:`InputError` unless ``value`` meets ``rule`` (:data:`RULE_KINDS`), said with the label and unit
+    of ``name``'s rule: a function defined beyond a scene's range (a loading rate of 0) checks its own domain."""
+    _, label, unit = RULES[name]
+    values = np.asarray(value, dtype=float)
+    bad = _violates(rule, values)
+    if np.any(bad):
+        first = float(values[bad].flat[0]) if values.ndim else float(values)
+        raise InputError(f"{label} {_PHRASES[rule]}, got {f'{first:g} {unit}'.rstrip()}{f' ({where})' if where else ''}")
     return value
 
 

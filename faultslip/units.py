@@ -692,7 +692,7 @@ def _convertible(value) -> bool:
     return isinstance(value, str) or is_quantity(value)
 
 
-def takes_units(alternative_from: tuple | None = None, **declared):
+def takes_units(alternative_from: tuple | None = None, domains: dict | None = None, **declared):
     """Let a public function's named arguments be text or pint Quantities as well as numbers (MetPy's ``calc``).
 
     ``declared`` maps an argument to its kind (:data:`KINDS`), to ``"kind_a|kind_b"`` where it may be either of
@@ -707,7 +707,12 @@ def takes_units(alternative_from: tuple | None = None, **declared):
     A converted value is also checked against its argument's physical range, where :data:`faultslip.ranges.RULES`
     has one by its name (or :data:`faultslip.ranges.ALIASES`'): "-10 km" for a rupture length is refused in one
     sentence. Its bounds apply where the value is in the rule's unit; otherwise (a fault's stiffness in Pa/m, a
-    number in another unit) only its sign. Numbers are the caller's: they pass unchecked, as above.
+    number in another unit) only its sign. A plain finite number (an int or float, numpy's scalars among them) is
+    checked for its sign the same way: ``seismic_moment(3e10, -1e4, 1.2e4, 2.0)`` is refused as "-10 km" is; the
+    bounds, which are a scene's, are not applied to it; arrays (the vectorised callers') and NaN or inf (a
+    documented "no value", a limit) pass unchecked. ``domains`` maps an argument to the function's own rule
+    (:data:`faultslip.ranges.NON_NEGATIVE`, say) where the function is defined beyond the scene's: the static
+    friction at a loading rate of 0 is the rate law's limit mu_so; it then replaces the rule and its bounds.
     """
     specs = {}
     for name, spec in declared.items():
@@ -716,6 +721,9 @@ def takes_units(alternative_from: tuple | None = None, **declared):
         if any(k not in KINDS for k in kinds) or len(kinds) > 2 or (unit is not None and len(kinds) > 1):
             raise KeyError(spec)
         specs[name] = (kinds, unit)
+    domains = dict(domains or {})
+    if set(domains) - set(specs) or set(domains.values()) - set(ranges.RULE_KINDS):
+        raise KeyError(domains)
 
     def decorate(target):
         function = target.__init__ if inspect.isclass(target) else target
@@ -731,6 +739,10 @@ def takes_units(alternative_from: tuple | None = None, **declared):
             # only text or a Quantity in a declared place is converted: everything else goes straight through
             if not any(index < len(args) and _convertible(args[index]) for index, _ in positions) and \
                     not any(name in kwargs and _convertible(kwargs[name]) for _, name in positions):
+                for index, name in positions:  # plain numbers: their sign only
+                    value = args[index] if index < len(args) else kwargs.get(name)
+                    if _plain_number(value):
+                        _in_range(name, value, *specs[name], None, label, domains.get(name))
                 return function(*args, **kwargs)
             try:
                 bound = signature.bind(*args, **kwargs)
@@ -740,7 +752,9 @@ def takes_units(alternative_from: tuple | None = None, **declared):
             for name, value in bound.arguments.items():
                 if name in specs and _convertible(value):
                     bound.arguments[name], chosen[name] = _declared_to_si(value, name, *specs[name])
-                    _in_range(name, bound.arguments[name], *specs[name], chosen[name], label)
+                    _in_range(name, bound.arguments[name], *specs[name], chosen[name], label, domains.get(name))
+                elif name in specs and _plain_number(value):
+                    _in_range(name, value, *specs[name], None, label, domains.get(name))
             _same_alternative(chosen, specs, _named_alternative(bound, signature, alternative_from))
             return function(*bound.args, **bound.kwargs)
 
@@ -754,12 +768,29 @@ def takes_units(alternative_from: tuple | None = None, **declared):
     return decorate
 
 
-def _in_range(name: str, value, kinds: tuple, unit: str | None, chosen: int, label: str) -> None:
-    """Refuse a converted argument outside its physical range (:func:`faultslip.ranges.check`, by its name)."""
+def _plain_number(value) -> bool:
+    """A finite real scalar, not a bool: what :func:`takes_units` checks the sign of without converting it."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _in_range(name: str, value, kinds: tuple, unit: str | None, chosen: int | None, label: str,
+              domain: str | None = None) -> None:
+    """Refuse an argument outside its physical range (:func:`faultslip.ranges.check`, by its name): a converted
+    value (``chosen``, which of its kinds it was) within its bounds where it is in the rule's unit, a plain number
+    (``chosen`` None) by its sign; where the function has its own ``domain``, by that rule alone."""
     rule = ranges.ALIASES.get(name, name)
-    if rule in ranges.RULES:
-        in_rule_unit = unit is None and KINDS[kinds[chosen]][1].replace("*", " ") == ranges.RULES[rule][2]
-        ranges.check(rule, value, f"{label}() argument {name}", bounded=in_rule_unit)
+    if rule not in ranges.RULES:
+        return
+    if chosen is None and (value > 0 if (domain or ranges.RULES[rule][0]) == ranges.POSITIVE else
+                           value >= 0 if (domain or ranges.RULES[rule][0]) == ranges.NON_NEGATIVE else False):
+        return  # a plain number in its domain: no array made (internal scalar callers pay a comparison)
+    where = f"{label}() argument {name}"
+    if domain is not None:
+        ranges.check_rule(rule, domain, value, where)
+        return
+    in_rule_unit = chosen is not None and unit is None and \
+        KINDS[kinds[chosen]][1].replace("*", " ") == ranges.RULES[rule][2]
+    ranges.check(rule, value, where, bounded=in_rule_unit)
 
 
 def _named_alternative(bound, signature, alternative_from):

@@ -13,6 +13,7 @@ from faultslip.constants import STANDARD_GRAVITY
 import numpy as np
 
 from faultslip.errors import InputError
+from faultslip.ranges import NON_NEGATIVE
 from faultslip.units import takes_units
 
 
@@ -47,7 +48,7 @@ def static_friction_excess(loading_rate, mu_so, mu_m, b, d):
     return drop / (1.0 + drop * b * loading_rate**d)
 
 
-@takes_units(loading_rate="rate")
+@takes_units(domains={"loading_rate": NON_NEGATIVE}, loading_rate="rate")  # 0: the limit mu_so
 def static_friction(loading_rate, mu_so, mu_m, b, d):
     r"""Static friction coefficient at a loading rate (seed 003 eq. 2-18).
 

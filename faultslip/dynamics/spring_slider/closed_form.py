@@ -19,6 +19,7 @@ from faultslip.dynamics.spring_slider.critical import cached_critical_dimensionl
 from faultslip.dynamics.spring_slider.exact_cycle import slip_cycle
 from faultslip.dynamics.shared.cycle import CycleResult, GROWING_OSCILLATION, STICK_SLIP
 from faultslip.errors import MethodError, OutOfDomainWarning
+from faultslip.ranges import NON_NEGATIVE
 from faultslip.units import takes_units
 import warnings
 
@@ -126,7 +127,8 @@ def slip_amplitude(normal_load, stiffness, static_excess, damping_ratio=0.0):
     return normal_load / stiffness * static_excess * overshoot_factor(damping_ratio)
 
 
-@takes_units(loading_rate="rate", normal_load="force|pressure", stiffness="stiffness|stress_per_length")
+@takes_units(domains={"loading_rate": NON_NEGATIVE}, loading_rate="rate", normal_load="force|pressure",
+             stiffness="stiffness|stress_per_length")  # a loading rate of 0: the static friction mu_so
 def rate_law_amplitude(loading_rate, normal_load, stiffness, mu_so, mu_m, b, d, damping_ratio=0.0):
     r"""Stick-slip amplitude with the static-friction rate law (seed 003 eq. 2-19).
 

@@ -169,7 +169,7 @@ def test_a_unit_string_outside_its_arguments_physical_range_is_refused_before_th
     """A converted value is checked against its argument's range (faultslip.ranges, by name) in the wrapper, before
     the function's body: "-10 km" for a rupture length used to give a negative moment. Every declared argument
     with a rule, in every public callable, refuses a negative value in one sentence naming the function and the
-    argument, whatever the other arguments are (1.0 each, never reached); a bare number still passes unchecked."""
+    argument, whatever the other arguments are (1.0 each, never reached)."""
     import inspect
 
     from faultslip import ranges
@@ -192,7 +192,6 @@ def test_a_unit_string_outside_its_arguments_physical_range_is_refused_before_th
                 target(**call)
             checked += 1
     assert checked >= 30
-    assert hazard.seismic_moment(3e10, -1e4, 1.2e4, 2.0) < 0  # the caller's numbers: as given
     with pytest.raises(InputError, match=r"rupture length must be positive, got -10000 m \(seismic_moment\(\)"):
         hazard.seismic_moment("30 GPa", "-10 km", "12 km", "2 m")
     with pytest.raises(InputError, match="normal load must be positive, got 0 N"):
@@ -201,3 +200,46 @@ def test_a_unit_string_outside_its_arguments_physical_range_is_refused_before_th
     assert models.loading_rate("1e-9 Pa/m", "1 mm/yr", "1 MPa") > 0
     with pytest.raises(InputError, match="stiffness must lie between"):
         models.loading_rate("1e-9 N/m", "1 mm/s", "1 N")
+
+
+def test_a_plain_number_is_checked_for_its_sign_and_a_functions_own_domain_replaces_the_scenes():
+    """Plain numbers had passed unchecked: seismic_moment(3e10, -1e4, 1.2e4, 2.0) returned -7.2e18 N m. Every
+    declared argument with a sign rule now refuses a plain -1.0 as it refuses "-1 <unit>", in one sentence naming
+    the function and the argument; arrays (the vectorised callers') and NaN pass as given. A function defined
+    beyond the scene's range keeps its domain: the static friction at a loading rate of 0 is the rate law's mu_so
+    (seed 003 eq. 2-18), as number and as text."""
+    import inspect
+
+    import numpy as np
+
+    from faultslip import ranges
+    from faultslip.friction.laws import static_friction
+
+    with pytest.raises(InputError, match=r"rupture length must be positive, got -10000 m \(seismic_moment\(\)"):
+        hazard.seismic_moment(3e10, -1e4, 1.2e4, 2.0)
+    with pytest.raises(InputError, match=r"seismic moment must be positive, got -1e\+18"):
+        hazard.moment_magnitude(-1e18)
+    assert hazard.seismic_moment(3e10, 1e4, 1.2e4, 2.0) == pytest.approx(7.2e18)  # in range: unchanged, SI
+    assert hazard.seismic_moment(3e10, 1e3 * 10.0 ** 6, 1.2e4, 2.0) > 0  # beyond the text's bounds: a sign only
+    lengths = np.array([-1e4, 1e4])
+    assert hazard.seismic_moment(3e10, lengths, 1.2e4, 2.0)[0] < 0  # an array is the caller's
+    assert np.isnan(hazard.seismic_moment(3e10, 1e4, 1.2e4, np.nan))
+    granodiorite = dict(mu_so=0.65, mu_m=0.5, b=1.0, d=0.5)
+    assert static_friction(0.0, **granodiorite) == static_friction("0 1/s", **granodiorite) == pytest.approx(0.65)
+    with pytest.raises(InputError, match=r"loading rate must not be negative.*static_friction\(\) argument"):
+        static_friction(-1.0, **granodiorite)
+    checked = 0
+    for qualified, (target, declared) in _decorated().items():
+        function = target.__init__ if inspect.isclass(target) else target
+        parameters = [p for name, p in inspect.signature(function).parameters.items() if name != "self"]
+        for argument in declared:
+            rule = ranges.ALIASES.get(argument, argument)
+            if rule not in ranges.RULES or ranges.RULES[rule][0] not in (ranges.POSITIVE, ranges.NON_NEGATIVE):
+                continue
+            call = {p.name: 1.0 for p in parameters if p.default is inspect.Parameter.empty
+                    and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)}
+            call[argument] = -1.0
+            with pytest.raises(InputError, match=rf"{target.__name__}\(\) argument {argument}\)"):
+                target(**call)
+            checked += 1
+    assert checked >= 30
