@@ -41,8 +41,9 @@ from faultslip.errors import EvaluationBudgetError, InputError, MethodError, Out
 from faultslip.io import budget
 from faultslip.dynamics.spring_slider.exact_cycle import exact_cycle, exact_cycle_error
 from faultslip.dynamics.spring_slider.regularized import simulate_regularized
-from faultslip.dynamics.spring_slider.simulate import (SETTLING_CYCLES, SETTLING_WINDOW, SUSTAINED_OSCILLATION,
-                                                       declared_slip_error, simulate)
+from faultslip.dynamics.spring_slider.simulate import (BREAK_AWAY_ROUND_OFF, SETTLING_CYCLES, SETTLING_WINDOW,
+                                                       SUSTAINED_OSCILLATION, check_break_away, declared_slip_error,
+                                                       simulate)
 
 DEFAULT_TOLERANCE = 1e-6
 OUTPUTS = ("amplitude", "period", "event_times", "time_series")
@@ -442,6 +443,10 @@ class EventDriven(Method):
         self.name = f"event_driven_{solver}"
 
     def assess(self, system, outputs, tolerance, cycles, rtol=None):
+        if system.static_excess is not None and system.static_excess < -BREAK_AWAY_ROUND_OFF * system.mu_m:
+            return Assessment(self.name, False, f"mu_s ({system.rate_static_friction:.5g}) is below the kinetic "
+                                                f"friction at zero sliding speed ({system.mu_m:.5g}): the slider "
+                                                "cannot start to slip, so there is no stick-slip")
         # event times drift by the slip phases' error once a cycle
         drift = max(cycles, 1) if "event_times" in outputs else 1.0
         if rtol is None:  # the loosest calibrated rtol that meets the tolerance
@@ -721,6 +726,8 @@ def choose(system, outputs=("amplitude", "period"), tolerance=DEFAULT_TOLERANCE,
     evaluations the calibration counts); by default, the assessment's ``estimated_cost``.
     """
     outputs = _check_request(outputs, tolerance, cycles)
+    if system.rate_static_friction is not None:  # no method has a stick-slip to find where it cannot break away
+        check_break_away(system, system.normal_load * system.rate_static_friction)
     assessments = []
     for method in (CLOSED_FORM, EXACT, EXACT_MAP):  # cheapest first: stop at the first that suffices
         assessment = method.assess(system, outputs, tolerance, cycles)
@@ -733,6 +740,9 @@ def choose(system, outputs=("amplitude", "period"), tolerance=DEFAULT_TOLERANCE,
     if not system.is_linear:  # linear laws: the exact cycle is cheaper and exact
         assessments.append(AVERAGING.assess(system, outputs, tolerance, cycles))
     usable = [a for a in assessments if a.applicable]
+    if not usable:  # each says why it cannot run: the scene's physics, not a method's limit
+        reasons = list(dict.fromkeys(a.reason for a in assessments))
+        raise InputError(f"no method can run {system.name}: {'; '.join(reasons)}")
     good = sorted((a for a in usable if a.estimated_error <= tolerance), key=price or (lambda a: a.estimated_cost))
     if good:
         best = good[0]
