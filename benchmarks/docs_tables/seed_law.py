@@ -384,8 +384,9 @@ def slider_simulation_cost_table() -> str | None:
         f"and a cubic in m/s), at platform speeds from {result['speeds'][0]} to {result['speeds'][-1]} (the cubic to "
         f"10 m/s), simulated for {' and '.join(map(str, result['cycles']))} cycles by each solver; eps is the slip "
         "phase's stiffness. A run that ended sliding had a slip phase that never re-stuck and ran to simulate's "
-        "horizon. A run that re-sticks in milliseconds is still estimated with one phase to the horizon (a few "
-        f"tenths of a second): the large ratios are those. Of {summary['cases']} runs, {summary['under']} used more "
+        "horizon. A run that re-sticks in milliseconds is still estimated with one phase to the horizon (up to a "
+        "few seconds where the motion about steady sliding is lightly damped): the large ratios are those. Of "
+        f"{summary['cases']} runs, {summary['under']} used more "
         f"CPU than estimated ({summary['under_half']} more than twice). `python benchmarks/slider_simulation_cost.py`. "
         f"{_machine(result)}")
 

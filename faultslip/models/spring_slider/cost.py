@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from faultslip.contract.registry import load
 from faultslip.dynamics import methods
 from faultslip.dynamics.methods import planned
@@ -19,11 +21,27 @@ def _check_run_method(action: str, options: dict) -> None:
 
 #: simulate's longest slip phase, in natural periods (``horizon_periods``): one that never re-sticks runs to it
 HORIZON_PERIODS = 200
-#: Such a phase, where its steps are its accuracy's, takes about this many slip phases' evaluations
-#: (:func:`~faultslip.dynamics.methods.integrator_evaluations`): its motion decays and the steps lengthen. Measured
-#: 44, 39 and 15 for DOP853, RK45 and LSODA at rtol 1e-10 on configs/lab_steel_dry_polynomial.toml, which slides
-#: steadily (benchmarks/slider_simulation_cost.py): an upper bound on the solvers' counts.
+#: Such a phase, once its swing has decayed below the integrator's tolerance, takes about this many slip phases'
+#: evaluations more (:func:`~faultslip.dynamics.methods.integrator_evaluations`) as its steps lengthen: 44, 39 and 15
+#: were measured for DOP853, RK45 and LSODA at rtol 1e-10 on configs/lab_steel_dry_polynomial.toml at 0.01 m/s
+#: (benchmarks/slider_simulation_cost.py). Before that it takes about two slip phases' a natural period.
 HORIZON_PHASES = 50
+
+
+def decay_periods(system, rtol: float) -> float:
+    """Natural periods a phase that never re-sticks swings before its swing falls below the tolerance's scale
+    (rtol x 1e-3 of it, simulate's atol): ln(1e3 / rtol) / (pi gamma), with gamma = (W mu'(V) + eta + C) omega / K
+    the damping of the linearised motion about steady sliding at V (the slip phase's Jacobian); the whole horizon
+    where gamma is not positive (a weakening law at V swings on) or the law gives no slope there."""
+    try:
+        slope = float(system.kinetic_law.derivative(system.platform_speed))
+    except (AttributeError, TypeError, ValueError, ArithmeticError):
+        return float(HORIZON_PERIODS)
+    damping = (system.normal_load * slope + system.radiation_damper + system.dashpot) * \
+        system.natural_frequency / system.stiffness
+    if not damping > 0:
+        return float(HORIZON_PERIODS)
+    return min(float(HORIZON_PERIODS), math.log(1e3 / rtol) / (math.pi * damping))
 
 
 def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, output=None, system=None,
@@ -36,8 +54,9 @@ def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, ou
     :func:`~faultslip.dynamics.methods.slip_stiffness`). With ``system``, each cycle's slip phase is counted as the
     event-driven method's run counts it (:func:`~faultslip.dynamics.methods.slip_phase_evaluations`: a curved law's
     phase takes more steps than a linear one's), and so is one phase that never re-sticks (steady or sustained
-    sliding), integrated to :data:`HORIZON_PERIODS` before the run ends, with its accurate steps
-    (:data:`HORIZON_PHASES`): a run cannot tell before it starts whether its slider re-sticks. A polynomial law at 100 m/s had been
+    sliding), integrated to :data:`HORIZON_PERIODS` before the run ends: two slip phases' accurate steps a period
+    while it swings (:func:`decay_periods`), :data:`HORIZON_PHASES` more once it has decayed, and an explicit
+    solver's stability steps throughout. A run cannot tell before it starts whether its slider re-sticks. A polynomial law at 100 m/s had been
     estimated at 7 ms and took 65 s (benchmarks/slider_simulation_cost.py measures it)."""
     rows = float(cycles) * (samples_per_slip + 2)
     memory = rows * 6 * 8.0 * 3  # six columns, about three copies while the dataset is built
@@ -47,8 +66,8 @@ def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, ou
         # each cycle's slip phase as the event-driven method counts it (its run's cost model), at least the typed rate
         accurate, limited = methods.slip_phase_evaluations(system, solver, rtol)
         per_cycle = max(2.5e-3, (accurate + limited) * methods.evaluation_time(solver))
-        horizon = HORIZON_PERIODS * limited + HORIZON_PHASES * methods.integrator_evaluations(
-            methods.nearest_calibrated(solver), rtol)
+        horizon = HORIZON_PERIODS * limited + (2 * decay_periods(system, rtol) + HORIZON_PHASES) * \
+            methods.integrator_evaluations(methods.nearest_calibrated(solver), rtol)
         reference += float(cycles) * (per_cycle - 2.5e-3) + horizon * methods.evaluation_time(solver)
     seconds = machine.on_this_machine(reference, "families")
     # the time series' Dataset, and the integrator or the analytic phases' roots

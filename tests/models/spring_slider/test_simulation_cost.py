@@ -65,16 +65,20 @@ def test_a_simulation_past_the_budgets_evaluations_stops_and_names_the_implicit_
 
 
 def test_the_estimate_bounds_the_cpu_the_benchmark_measured():
-    """benchmarks/slider_simulation_cost.py (results file): no run of the shipped law or of the two held-out ones,
-    at eps up to ~5e3, by DOP853, RK45 or LSODA, used more than twice its estimate. On the shipped law the stiff
-    explicit runs are within 10x of it. The estimate is an upper bound, not a fit: on the held-out cubic, whose
-    slip phases stay far slower than 2V, eps overstates the stiffness (up to ~600x over, 130 s), and a run that
-    re-sticks in milliseconds is still estimated with one phase to the horizon."""
+    """benchmarks/slider_simulation_cost.py (results file): no run of the shipped law or of the two held-out ones
+    (a quadratic and a cubic in m/s, each breaking away into slip), at eps up to ~5e3, by DOP853, RK45 or LSODA,
+    used more CPU than its estimate (lowest estimated / CPU 1.0); the shipped law's stiff explicit runs are within 10x of it. It is an upper
+    bound, not a fit: a run that re-sticks in milliseconds is still estimated with one phase to the horizon, which
+    swings for up to the whole horizon where the motion about steady sliding is lightly damped (~75x over at
+    0.01 m/s). Before the phase's decay was counted, lightly damped phases that slid had used up to 4x the
+    estimate."""
     result = json.loads((ROOT / "benchmarks" / "results" / "slider_simulation_cost.json").read_text())
     rows = result["rows"]
     assert len(rows) >= 90 and {row["solver"] for row in rows} == {"DOP853", "RK45", "LSODA"}
     assert {row["law"] for row in rows} == {"shipped", "held out, quadratic", "held out, cubic"}
     assert max(row["eps"] for row in rows) > 1e3
-    assert all(row["ratio"] >= 0.5 for row in rows), [row for row in rows if row["ratio"] < 0.5]
+    assert sum(row["events"] < row["cycles"] for row in rows) >= 60  # most end sliding: the horizon term is tried
+    # measured: none under 1.0; 0.8 leaves a rerun's CPU noise room without letting an under-estimate through
+    assert all(row["ratio"] >= 0.8 for row in rows), [row for row in rows if row["ratio"] < 0.8]
     stiff = [row for row in rows if row["law"] == "shipped" and row["solver"] != "LSODA" and row["eps"] > 100]
     assert len(stiff) >= 16 and all(1 <= row["ratio"] <= 10 for row in stiff)
