@@ -152,16 +152,7 @@ def check(name: str, value, where: str = "", bounded: bool = True):
     if name not in RULES:
         return value
     rule, label, unit = RULES[name]
-    try:
-        values = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):  # text, None, a mapping: one sentence, not numpy's conversion error
-        raise InputError(f"{label} must be a number, got {value!r}{f' ({where})' if where else ''}") from None
-    bad = _violates(rule, values)
-    if np.any(bad):
-        first = float(values[bad].flat[0]) if values.ndim else float(values)
-        shown = f"{first:g} {unit}".rstrip()
-        place = f" ({where})" if where else ""
-        raise InputError(f"{label} {_PHRASES[rule]}, got {shown}{place}")
+    values = _checked(name, rule, value, where)
     if bounded and name in BOUNDS:
         low, high = BOUNDS[name]
         outside = (values < low) | (values > high)
@@ -176,13 +167,23 @@ def check(name: str, value, where: str = "", bounded: bool = True):
 def check_rule(name: str, rule: str, value, where: str = ""):
     """Raise :class:`InputError` unless ``value`` meets ``rule`` (:data:`RULE_KINDS`), said with the label and unit
     of ``name``'s rule: a function defined beyond a scene's range (a loading rate of 0) checks its own domain."""
+    _checked(name, rule, value, where)
+    return value
+
+
+def _checked(name: str, rule: str, value, where: str) -> np.ndarray:
+    """``value`` as a float array, once it meets ``rule``; else one sentence with ``name``'s label and unit."""
     _, label, unit = RULES[name]
-    values = np.asarray(value, dtype=float)
+    place = f" ({where})" if where else ""
+    try:
+        values = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):  # text, None, a mapping: one sentence, not numpy's conversion error
+        raise InputError(f"{label} must be a number, got {value!r}{place}") from None
     bad = _violates(rule, values)
     if np.any(bad):
         first = float(values[bad].flat[0]) if values.ndim else float(values)
-        raise InputError(f"{label} {_PHRASES[rule]}, got {f'{first:g} {unit}'.rstrip()}{f' ({where})' if where else ''}")
-    return value
+        raise InputError(f"{label} {_PHRASES[rule]}, got {f'{first:g} {unit}'.rstrip()}{place}")
+    return values
 
 
 def parse_number(name: str, text, where: str = "") -> float:

@@ -471,7 +471,7 @@ class EventDriven(Method):
 
         converge = settings.get("converge")
         # the evaluations the time budget affords: past them the run stops and says why, not hours later
-        affordable = int(budget.time_budget() / INTEGRATOR_EVALUATION_TIME[self.solver])
+        affordable = int(budget.time_budget() / evaluation_time(self.solver))
         try:
             dataset = simulate(system, cycles=cycles, slip_solver=self.solver, rtol=settings["rtol"],
                                stop_when_converged=converge, max_evaluations=affordable)

@@ -428,6 +428,17 @@ def _missed_end(solution, s_from, y_v, tolerance):
     return brentq(gap, s_low, s_top, xtol=1e-14 * max(1.0, s_top), rtol=4 * np.finfo(float).eps)
 
 
+#: The longest slip phase, in natural periods, before it is judged steady or sustained (``horizon_periods``)
+HORIZON_PERIODS = 200
+
+
+def resolved_solver(system, slip_solver: str = "auto") -> str:
+    """The slip solver :func:`simulate` uses: "auto" is the analytic phase on a linear kinetic law, else DOP853."""
+    if slip_solver == "auto":
+        return "analytic" if system.is_linear else "DOP853"
+    return slip_solver
+
+
 @takes_units(initial_displacement="length")
 def simulate(
     system,
@@ -438,7 +449,7 @@ def simulate(
     atol: float | None = None,
     samples_per_slip: int = 64,
     initial_displacement: float = 0.0,
-    horizon_periods: int = 200,
+    horizon_periods: int = HORIZON_PERIODS,
     max_evaluations: int | None = None,
     scene: str | None = None,
     verify_regime: bool = True,
@@ -479,9 +490,7 @@ def simulate(
         raise InputError(f"cycles must be at least 1, got {cycles}")
     if samples_per_slip < 3:
         raise InputError("samples_per_slip must be at least 3")
-    solver = slip_solver
-    if solver == "auto":
-        solver = "analytic" if system.is_linear else "DOP853"
+    solver = resolved_solver(system, slip_solver)
     if solver not in ("analytic",) + INTEGRATORS:
         raise InputError(f"unknown slip solver {slip_solver!r}; allowed: auto, analytic, {', '.join(INTEGRATORS)}")
     if solver == "analytic" and not system.is_linear:

@@ -7,6 +7,7 @@ import math
 from faultslip.contract.registry import load
 from faultslip.dynamics import methods
 from faultslip.dynamics.methods import planned
+from faultslip.dynamics.spring_slider.simulate import HORIZON_PERIODS, resolved_solver
 from faultslip.fault.scaling import Fault
 from faultslip.fault.scene import check_method, read_slider_scene
 from faultslip.io import budget, machine
@@ -19,8 +20,9 @@ def _check_run_method(action: str, options: dict) -> None:
         check_method(options["method"])
 
 
-#: simulate's longest slip phase, in natural periods (``horizon_periods``): one that never re-sticks runs to it
-HORIZON_PERIODS = 200
+#: A cycle's seconds where the slip phases are integrated, and where they are analytic (typed rates, measured on
+#: the 2-core machine the families' costs were fitted on: carried to this one with them)
+INTEGRATED_CYCLE_SECONDS, ANALYTIC_CYCLE_SECONDS = 2.5e-3, 2e-6
 #: Such a phase, once its swing has decayed below the integrator's tolerance, takes about this many slip phases'
 #: evaluations more (:func:`~faultslip.dynamics.methods.integrator_evaluations`) as its steps lengthen: 44, 39 and 15
 #: were measured for DOP853, RK45 and LSODA at rtol 1e-10 on configs/lab_steel_dry_polynomial.toml at 0.01 m/s
@@ -56,19 +58,20 @@ def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, ou
     phase takes more steps than a linear one's), and so is one phase that never re-sticks (steady or sustained
     sliding), integrated to :data:`HORIZON_PERIODS` before the run ends: two slip phases' accurate steps a period
     while it swings (:func:`decay_periods`), :data:`HORIZON_PHASES` more once it has decayed, and an explicit
-    solver's stability steps throughout. A run cannot tell before it starts whether its slider re-sticks. A polynomial law at 100 m/s had been
-    estimated at 7 ms and took 65 s (benchmarks/slider_simulation_cost.py measures it)."""
+    solver's stability steps throughout. A run cannot tell before it starts whether its slider re-sticks. A
+    polynomial law at 100 m/s had been estimated at 7 ms and took 65 s (benchmarks/slider_simulation_cost.py
+    measures it)."""
     rows = float(cycles) * (samples_per_slip + 2)
     memory = rows * 6 * 8.0 * 3  # six columns, about three copies while the dataset is built
-    # typed rates (measured on the 2-core machine the families' costs were fitted on): carried to this one with them
-    reference = float(cycles) * (2.5e-3 if integrated else 2e-6) + rows * 1e-8
+    per_cycle, horizon = (INTEGRATED_CYCLE_SECONDS if integrated else ANALYTIC_CYCLE_SECONDS), 0.0
     if integrated and system is not None:
         # each cycle's slip phase as the event-driven method counts it (its run's cost model), at least the typed rate
         accurate, limited = methods.slip_phase_evaluations(system, solver, rtol)
-        per_cycle = max(2.5e-3, (accurate + limited) * methods.evaluation_time(solver))
-        horizon = HORIZON_PERIODS * limited + (2 * decay_periods(system, rtol) + HORIZON_PHASES) * \
-            methods.integrator_evaluations(methods.nearest_calibrated(solver), rtol)
-        reference += float(cycles) * (per_cycle - 2.5e-3) + horizon * methods.evaluation_time(solver)
+        per_cycle = max(per_cycle, (accurate + limited) * methods.evaluation_time(solver))
+        horizon = (HORIZON_PERIODS * limited + (2 * decay_periods(system, rtol) + HORIZON_PHASES) *
+                   methods.integrator_evaluations(methods.nearest_calibrated(solver), rtol)) * \
+            methods.evaluation_time(solver)
+    reference = float(cycles) * per_cycle + horizon + rows * 1e-8
     seconds = machine.on_this_machine(reference, "families")
     # the time series' Dataset, and the integrator or the analytic phases' roots
     imports = (*budget.DATASET_IMPORTS, *(budget.INTEGRATION_IMPORTS if integrated else ("scipy.optimize",)))
@@ -79,9 +82,7 @@ def simulation_estimate(cycles: int, samples_per_slip: int, integrated: bool, ou
 def simulation_solver(system, settings: dict) -> tuple[bool, str]:
     """Whether ``simulate`` integrates the slip phases, and by which solver ("auto": analytic on a linear kinetic
     law, DOP853 otherwise, as :func:`~faultslip.dynamics.spring_slider.simulate.simulate` chooses)."""
-    solver = settings.get("slip_solver", "auto")
-    if solver == "auto":
-        solver = "analytic" if system.is_linear else "DOP853"
+    solver = resolved_solver(system, settings.get("slip_solver", "auto"))
     return solver != "analytic", solver
 
 
