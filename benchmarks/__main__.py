@@ -105,6 +105,8 @@ PRODUCERS = (
     ("fault_3d_model_error", ["--starts"], ["--starts"], "fault_3d_starts.json"),  # the cells just written
     # the draw run after the table (its 3-D cells kept by inputs: run again, only the 2-D sides are)
     ("fault_3d_model_error", ["--fresh", "7301", "8"], ["--fresh", "7301", "8"], "fault_3d_model_error_fresh.json"),
+    ("fault_3d_model_error", ["--fresh", "7305", "8"], ["--fresh", "7305", "8"], "fault_3d_model_error_fresh.json"),
+    ("fault_3d_model_error", ["--fresh", "7307", "16"], ["--fresh", "7307", "16"], "fault_3d_model_error_fresh.json"),
     ("seas_bp5", ["--sizes", "2000", "1000", "500", "--finest-years", "1800"],
      ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),
     # the 3-D cost model's fit runs (quick: refitted from the saved runs), then its held-out draw

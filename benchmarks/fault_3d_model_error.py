@@ -64,7 +64,7 @@ HELD_OUT_SEED = 72
 #: The surface-breaking held-out faults' own draw (the buried ones' draws stay as they were).
 HELD_OUT_SURFACE_SEED = 7200
 #: (seed, count) of the buried draws run after the shipped table, each against it (``--fresh``)
-FRESH_DRAWS = ((7301, 8),)
+FRESH_DRAWS = ((7301, 8), (7305, 8), (7307, 16))
 FRESH_OUT = HERE / "results" / "fault_3d_model_error_fresh.json"
 
 
