@@ -2,7 +2,7 @@
 beside the antiplane fault of the same description.
 
     python benchmarks/dip_model_error.py [--workers 2] [--element-size 100] [--years 1500] [--reuse FILE ...]
-    python benchmarks/dip_model_error.py --fresh 32 --seed 4309     # a fresh draw against the shipped declaration
+    python benchmarks/dip_model_error.py --fresh 32 --seed 4311     # a fresh draw against the shipped declaration
 
 A dipping fault's rung is the 2-D fault in plane strain (SEAS BP3's mechanics: the half-space's in-plane
 stiffness, the free surface, the normal stress changing with slip). The rung below it reads the same description
@@ -18,16 +18,22 @@ draw of stiffer faults (seed 4302, D_c 12-24 mm: W / h* below the others' 1.8, w
 random fault: dip uniform in 30-90 degrees, thrust or normal, D_c log-uniform over its draw's range (6-12 mm
 unless said), seismogenic depth uniform in 12-16 km. The error moves with W / h* (the width over the nucleation
 size) far more than with the dip, and jumps where the rungs' sequences part, so the declaration
-(faultslip.fault.dip_error.declared) is the largest measured error within a factor exp(WINDOW) of a fault's
-W / h*, any dip and sense, times 1.25, where at least MIN_NEIGHBOURS lie in the window; nothing outside the
-measured dips and W / h*. The stiffer draw found a fault (35 degrees, W / h* 2.11, both runs unsettled over the
-1500 yr) at 0.411 against the 0.371 declared there before it joined: it is measured now, as 4242's were.
+(faultslip.fault.dip_error.declared) is the largest measured error at any W / h* up to a factor exp(WINDOW) above
+a fault's (the running maximum), any dip and sense, times 1.25, where at least MIN_NEIGHBOURS lie within a factor
+exp(WINDOW) either side; nothing outside the measured dips and W / h*. The stiffer draw found a fault (35
+degrees, W / h* 2.11, both runs unsettled over the 1500 yr) at 0.411 against the 0.371 declared there before it
+joined: it is measured now, as 4242's were.
 The first fresh draws (seeds 4305 and 4307, D_c 6-24 mm), read against the declaration of a window exp(0.1),
 found another: 42.9 degrees normal at W / h* 2.90, its plane-strain run unsettled over the 1500 yr, at 0.398
 against the 0.235 declared there. Every jump of that size (2.11, 2.90, 3.67) lay beyond a factor exp(0.1) of the
-measured faults that would have bounded it, so the window is exp(0.35): each draw's faults read against a
-declaration of the other draws' are then all within it (163 faults, nine draws; the window of exp(0.1) left three
-outside). Both draws joined the measured faults; draws after them test the wider window.
+measured faults that would have bounded it. A symmetric window of exp(0.35), the narrowest that held each draw
+read against a declaration of the others, was shipped next, and fresh draw 4309 held it (31 within, 0 outside);
+but it reached the large errors near W / h* 4 from BP3's own fault at 3.11 (measured at 0.138, declared 1.56).
+A jump seen at one W / h* comes back at larger ones, and the errors near 4 are not those of 3, so the declaration
+is the running maximum, its window the narrowest from which every wider window tried holds every draw read
+against the others (window_check: exp(0.15); exp(0.1) left the stiffest fault outside), and BP3's fault is
+declared at 0.51. 4305, 4307 and 4309 joined the measured faults; draws after
+them test the running maximum.
 
 **Held out**: draws run after the declaration they are read against was fixed: seed 4301 (D_c 6-12 mm), and seed
 4303 over the whole measured D_c range (6-24 mm), drawn when the stiffer faults joined the declaration.
@@ -80,11 +86,11 @@ FIRST_RANGE = (0.006, 0.012)
 #: the whole measured D_c range (m): fresh draws take it
 MEASURED_RANGE = (0.006, 0.024)
 MEASURED_DRAWS = ((4242, 10, FIRST_RANGE), (4300, 32, FIRST_RANGE), (4302, 24, (0.012, 0.024)),
-                  (4305, 16, MEASURED_RANGE), (4307, 32, MEASURED_RANGE))
+                  (4305, 16, MEASURED_RANGE), (4307, 32, MEASURED_RANGE), (4309, 32, MEASURED_RANGE))
 HELD_OUT_DRAWS = ((4301, 12, FIRST_RANGE), (4303, 16, (0.006, 0.024)))
-#: the declaration (faultslip.fault.dip_error.declared): neighbours within a factor exp(WINDOW) in W / h*, at least
-#: MIN_NEIGHBOURS of them
-WINDOW = 0.35
+#: the declaration (faultslip.fault.dip_error.declared): the running maximum up to a factor exp(WINDOW) above a
+#: fault's W / h*, where at least MIN_NEIGHBOURS lie within that factor either side
+WINDOW = 0.15
 MIN_NEIGHBOURS = 4
 
 
@@ -224,7 +230,7 @@ def _retired(rows: list[dict], faults: list[dict]) -> dict:
 
 
 #: the windows :func:`window_check` reads each draw against
-WINDOWS_TRIED = (0.1, 0.15, 0.2, 0.25, 0.3, 0.35)
+WINDOWS_TRIED = (0.05, 0.1, 0.15, 0.2, 0.25)
 
 
 def window_check(rows: list[dict]) -> list[dict]:
@@ -323,9 +329,6 @@ def main(argv=None) -> int:
               for fault in draw(seed, count, critical_slip)]
     held = [judged({**row, "set": name}, table)
             for (name, _), row in zip(unseen, run_all([fault for _, fault in unseen], args, reuse))]
-    base = read_fault_2d_scene(ROOT / "configs" / "seas_bp3_thrust60.toml")
-    for row in rows + held:  # the rung two below, through the library, on each fault's scene
-        row["one_slider"] = slider_side(base, row)
     table.update(coverage=sum(row["covered"] for row in held) / len(held),
                  held_out=[{key: row[key] for key in ("set", "dip", "sense", "critical_slip_m", "seismogenic_depth_m",
                                                       "width_over_nucleation", "model_error", "declared", "covered")}
@@ -335,12 +338,17 @@ def main(argv=None) -> int:
                                            "plane strain (SEAS BP3's fault at 100 m, 1500 yr: a dip x sense x D_c grid "
                                            "and random faults, D_c 6-24 mm, H 12-16 km), the larger relative "
                                            "difference in recurrence and mean slip per event; declared: the largest "
-                                           f"within a factor exp({WINDOW:g}) of a fault's W / h*, any dip and sense, "
-                                           f"times {MARGIN:g}, at least {MIN_NEIGHBOURS} faults in that window"})
+                                           f"at any W / h* up to a factor exp({WINDOW:g}) above a fault's, any dip "
+                                           f"and sense, times {MARGIN:g}, at least {MIN_NEIGHBOURS} faults within "
+                                           "that factor either side"})
     if args.table is None and (args.element_size, args.years) == (100.0, 1500.0):
         args.table = ROOT / "data" / "dip_model_error.json"
     if args.table is not None:
         write_bundled_table(args.table, table)
+        load_table.cache_clear()  # the one slider below reads the declaration just written
+    base = read_fault_2d_scene(ROOT / "configs" / "seas_bp3_thrust60.toml")
+    for row in rows + held:  # the rung two below, through the library, on each fault's scene
+        row["one_slider"] = slider_side(base, row)
     unique = [row for row in rows + held if not (row["set"] == "grid" and row["dip"] == 90.0
                                                  and row["sense"] == "normal")]  # the vertical fault once
     args.out.write_text(json.dumps({"rows": rows, "held_out": held, "table": table,

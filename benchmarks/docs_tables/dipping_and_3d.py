@@ -86,9 +86,10 @@ def dip_model_error_table() -> str | None:
                        for name, group in held.items())
     return ("\n".join(rows) + f"\n\nMeasured faults (the declaration's): {len(table['faults'])} ({measured}; the grid's "
             f"vertical fault counts for both senses), W / h* {min(widths):.2f} to {max(widths):.2f}. The model error by "
-            f"W / h*: " + "; ".join(bands) + f". Declared: the largest measured within a factor "
-            f"{math.exp(table['window']):.3g} of a fault's W / h*, any dip and sense, times {table['margin']:g}, where "
-            f"at least {table['min_neighbours']:g} were measured. " + _window_check(result)
+            f"W / h*: " + "; ".join(bands) + f". Declared: the largest measured at any W / h* up to "
+            f"a factor {math.exp(table['window']):.3g} above a fault's (the running maximum), any dip and sense, times "
+            f"{table['margin']:g}, where at least {table['min_neighbours']:g} were measured within that factor either "
+            "side. " + _window_check(result)
             + "Held out (draws run after the declaration was "
             f"fixed): {unseen}. The grid's bracketing bound, which this replaces, "
             f"bounded {retired['bounded']} of the {retired['faults']} measured faults off the grid and was exceeded "

@@ -6,10 +6,12 @@ in-plane image, and the normal stress that slip changes (BP3 eq. 15). ``benchmar
 the difference, in recurrence and mean slip per event, on SEAS BP3's fault: a grid of dips 30-90 degrees, thrust and
 normal, at three D_c, and faults drawn at random over dip, sense, D_c and seismogenic depth. The error moves with
 W / h* far more than with the dip, and not smoothly: where the two rungs' sequences part (partial ruptures in one,
-system-size events in the other) it jumps. So ``data/dip_model_error.json`` ships the measured faults, and the
-declared error at a fault's W / h* is the largest measured within a window of it (any dip and sense, at least
-``min_neighbours`` of them), times :data:`MARGIN`; outside the measured dips or W / h*, or where the window holds
-too few, nothing is declared.
+system-size events in the other) it jumps, and a jump seen at one W / h* comes back at larger ones, where no
+measured fault beside it foretells it. So ``data/dip_model_error.json`` ships the measured faults, and the
+declared error at a fault's W / h* is the largest measured at any W / h* up to a window above it (any dip and
+sense: the measured errors' running maximum), times :data:`MARGIN`, where at least ``min_neighbours`` were
+measured within the window either side; outside the measured dips or W / h*, or where the window holds too few,
+nothing is declared.
 """
 
 from __future__ import annotations
@@ -54,10 +56,11 @@ def declared(dip: float, width_over_nucleation: float, table: dict | None = None
     """The antiplane rung's declared model error (relative, the larger of recurrence and slip) on a fault dipping
     ``dip`` degrees with ``width_over_nucleation`` (W / h*):
 
-        e(dip, W / h*) = margin max { e_i : |ln(W_i / h*_i) - ln(W / h*)| <= window },
+        e(dip, W / h*) = margin max { e_i : ln(W_i / h*_i) - ln(W / h*) <= window },
 
-    over the measured faults i of any dip and sense, where at least ``min_neighbours`` lie in the window; infinite
-    outside the measured dips or W / h*, or where fewer lie in it.
+    over the measured faults i of any dip and sense (the running maximum of their errors, up to a factor
+    exp(window) above W / h*), where at least ``min_neighbours`` lie within a factor exp(window) either side;
+    infinite outside the measured dips or W / h*, or where fewer lie near it.
 
     Parameters
     ----------
@@ -75,8 +78,10 @@ def declared(dip: float, width_over_nucleation: float, table: dict | None = None
         The declared model error (dimensionless); ``inf`` where none is declared.
     """
     table = table if table is not None else load_table()
-    reason, near = _reach(dip, width_over_nucleation, table)
-    return math.inf if reason else table["margin"] * max(row["model_error"] for row in near)
+    if _reach(dip, width_over_nucleation, table)[0]:
+        return math.inf
+    reach = width_over_nucleation * math.exp(table["window"])
+    return table["margin"] * max(row["model_error"] for row in table["faults"] if row["width_over_nucleation"] <= reach)
 
 
 def why_undeclared(dip: float, width_over_nucleation: float, table: dict | None = None) -> str:

@@ -80,8 +80,8 @@ def model_error_result(scene=None, tolerance: float | None = None, include_3d: b
     widths = [row["width_over_nucleation"] for row in dipping["faults"]]
     report.add("antiplane_on_dip_faults_measured", len(dipping["faults"]),
                label=f"the antiplane rung against plane strain: dipping faults measured (W / h* {min(widths):.3g}-"
-                     f"{max(widths):.3g}); declared, the largest error within a factor "
-                     f"{math.exp(dipping['window']):.3g} of a fault's W / h*, times {dipping['margin']:g}")
+                     f"{max(widths):.3g}); declared, the largest error at any W / h* up to a factor "
+                     f"{math.exp(dipping['window']):.3g} above a fault's, times {dipping['margin']:g}")
     report.add("antiplane_on_dip_held_out_coverage", dipping["coverage"],
                label=f"held-out dipping faults within it: {sum(row['covered'] for row in dipping['held_out'])} of "
                      f"{len(dipping['held_out'])}")
