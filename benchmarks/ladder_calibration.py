@@ -27,10 +27,10 @@ could declare, set with the 2-D answers in hand (``narrowest``): lower bounds on
 **The budget**: the estimate each run recorded before it ran, against the CPU it used, over the runs whose row
 records the cost model now declared (the held-out ones apart: the event-step model is fitted on the others).
 
-**Fresh draws** (``python benchmarks/ladder_designs.py --fresh 40 [--seed 68012 | --seed 68014 | --seed 68031]``,
-``ladder_fresh.json``, ``ladder_fresh_second.json``, ``ladder_fresh_third.json`` and ``ladder_fresh_fourth.json``):
-a third, a fourth, a fifth and a sixth independent draw over the box, each run after the ranges were shipped,
-tested against them as they are.
+**Fresh draws** (``python benchmarks/ladder_designs.py --fresh 40 [--seed 68012 | 68014 | 68031 | 68041]``,
+``ladder_fresh.json``, ``ladder_fresh_second.json``, ``ladder_fresh_third.json``, ``ladder_fresh_fourth.json`` and
+``ladder_fresh_fifth.json``): a third, a fourth, a fifth, a sixth and a seventh independent draw over the box,
+each run after the ranges were shipped, tested against them as they are.
 
 Writes ``data/ladder_calibration.json`` (what faultslip declares) and ``benchmarks/results/ladder_held_out.json``
 (each held-out fault, its 2-D answer, the range and whether it holds; the budget's estimates against the CPU used).
