@@ -69,7 +69,7 @@ from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
 from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
-from faultslip.fault.dip_error import MARGIN, declared, load_table  # noqa: E402
+from faultslip.fault.dip_error import MARGIN, declaration_checksum, declared, load_table  # noqa: E402
 from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
 from faultslip.fault.ladder import groups  # noqa: E402
 
@@ -280,10 +280,8 @@ def fresh(args) -> int:
         row["one_slider"] = slider_side(base, row)
     out = args.out if args.out != HERE / "results" / "dip_model_error.json" else \
         HERE / "results" / f"dip_model_error_fresh_{args.seed}.json"
-    declaration = {key: table[key] for key in ("window", "margin", "min_neighbours")}
-    # the checksum written with the shipped table names the declaration read (load_table drops it once checked)
-    shipped = json.loads((ROOT / "data" / "dip_model_error.json").read_text(encoding="utf-8"))
-    declaration["checksum"] = shipped["checksum"]
+    declaration = {**{key: table[key] for key in ("window", "margin", "min_neighbours")},
+                   "checksum": declaration_checksum(table)}
     out.write_text(json.dumps({"seed": args.seed, "critical_slip_range_m": list(MEASURED_RANGE), "held_out": held,
                                "declaration": {**declaration, "faults": len(table["faults"])}, **stamp()}, indent=1)
                    + "\n", encoding="utf-8")

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import json
 import math
 
-from ._common import RESULTS, ROOT, _load, _load_with, _machine
+from ._common import RESULTS, _load, _load_with, _machine
 
 
 def seas_bp3_table() -> str | None:
@@ -94,7 +93,7 @@ def dip_model_error_table() -> str | None:
             f"fixed): {unseen}. The grid's bracketing bound, which this replaces, "
             f"bounded {retired['bounded']} of the {retired['faults']} measured faults off the grid and was exceeded "
             f"on {len(retired['beyond'])}" + (f": {beyond}" if beyond else "") + ". " + _one_slider_on_dips(result)
-            + _machine(result) + _fresh_dip_draws(_shipped_checksum()))
+            + _machine(result) + _fresh_dip_draws())
 
 
 def _window_check(result) -> str:
@@ -114,14 +113,11 @@ def _worst(rows) -> float:
     return max(row["model_error"] / row["declared"] for row in rows)
 
 
-def _shipped_checksum() -> str:
-    """The checksum of the dip declaration shipped now (data/dip_model_error.json, written with it)."""
-    return json.loads((ROOT / "data" / "dip_model_error.json").read_text(encoding="utf-8"))["checksum"]
+def _fresh_dip_draws() -> str:
+    """The fresh draws (``dip_model_error.py --fresh``), each read against the declaration shipped when it ran."""
+    from faultslip.fault.dip_error import declaration_checksum
 
-
-def _fresh_dip_draws(table_checksum: str) -> str:
-    """The fresh draws (``dip_model_error.py --fresh``), each read against the declaration shipped when it ran
-    (``table_checksum``: the declaration shipped now)."""
+    shipped = declaration_checksum()
     text = []
     for path in sorted(RESULTS.glob("dip_model_error_fresh_*.json")):
         draw = _load(path.name)
@@ -129,11 +125,12 @@ def _fresh_dip_draws(table_checksum: str) -> str:
         outside = [row for row in rows if row["declared"] is not None and not row["covered"]]
         ranged = [row["one_slider"] for row in rows if row["one_slider"]["recurrence_holds"] is not None]
         sliding = [row["one_slider"] for row in rows if row["one_slider"]["mean_slip_holds"] is not None]
-        worst = max((row["model_error"] / row["declared"] for row in rows if row["declared"]), default=None)
+        declared = [row for row in rows if row["declared"]]
+        worst = _worst(declared) if declared else None
         beyond = ", ".join(f"{row['dip']:g}° at W / h* {row['width_over_nucleation']:.2f}, {row['model_error']:.1%} "
                            f"against {row['declared']:.1%}" for row in outside)
         read, (low, high) = draw["declaration"], draw["critical_slip_range_m"]
-        joined = ("; its faults have since joined the measured ones" if read["checksum"] != table_checksum else "")
+        joined = ("; its faults have since joined the measured ones" if read["checksum"] != shipped else "")
         text.append(
             f"\n\nA fresh draw, run after the declaration was shipped and read against it as it was (a window of a "
             f"factor {math.exp(read['window']):.3g}, {read['faults']} measured faults{joined}; seed {draw['seed']}, "

@@ -20,7 +20,8 @@ import functools
 import math
 
 from faultslip.errors import InputError
-from faultslip.io.resources import read_bundled_table
+from faultslip.io.gate import json_checksum
+from faultslip.io.resources import TABLE_CHECKSUM, read_bundled_table
 
 TABLE_FILE = "dip_model_error.json"
 #: The declared error's factor over the largest measured (the one-slider calibration's, issue 42).
@@ -40,6 +41,12 @@ def load_table() -> dict:
         raise InputError(f"{TABLE_FILE} lacks faults of dip, W / h* and a non-negative model_error, or the "
                          "declaration's margin, window and min_neighbours; rerun benchmarks/dip_model_error.py")
     return table
+
+
+def declaration_checksum(table: dict | None = None) -> str:
+    """The checksum ``data/dip_model_error.json`` was written with, from its content (the shipped table's
+    otherwise): it names the declaration a fresh draw was read against (benchmarks/dip_model_error.py --fresh)."""
+    return json_checksum(table if table is not None else load_table(), TABLE_CHECKSUM)
 
 
 def _number(value) -> bool:

@@ -352,11 +352,11 @@ def test_fresh_dip_draws_hold_the_declaration_they_were_read_against():
     outside a declared bound; one read against an earlier declaration has joined the measured faults."""
     import json
 
-    from faultslip.fault.dip_error import declared, load_table
+    from faultslip.fault.dip_error import declaration_checksum, declared, load_table
 
     table = load_table()
     root = Path(__file__).resolve().parents[3]
-    shipped = json.loads((root / "data" / "dip_model_error.json").read_text(encoding="utf-8"))["checksum"]
+    shipped = declaration_checksum()
     measured = {(row["dip"], row["width_over_nucleation"]) for row in table["faults"]}
     read_now = 0
     for path in sorted((root / "benchmarks" / "results").glob("dip_model_error_fresh_*.json")):
