@@ -91,9 +91,15 @@ PRODUCERS = (
     ("kills", [], ["--kills", "5", "--races", "5"], "kills.json"),
     ("plane_strain_step", [], ["--elements", "200", "400", "--years", "20"], "plane_strain_step.json"),
     ("dip_model_error", [], ["--element-size", "200", "--years", "600"], "dip_model_error.json"),
+    # the one slider against plane strain: each measured fault's surface slip, then the fit (before the fresh draws)
+    ("dip_slider_runs", [], [], "dip_slider_runs.json"),
+    ("dip_slider_calibration", [], [], "dip_slider_calibration.json"),
     # fresh draws against the shipped declaration (after the run above, which may rewrite it)
     ("dip_model_error", ["--fresh", "32", "--seed", "4311"], ["--fresh", "32", "--seed", "4311"],
      "dip_model_error_fresh_4311.json"),
+    # and against the one slider's calibration against plane strain, as shipped
+    ("dip_model_error", ["--fresh", "32", "--seed", "4313"], ["--fresh", "32", "--seed", "4313"],
+     "dip_model_error_fresh_4313.json"),
     ("seas_bp3", [], ["--sizes", "200", "100", "--years", "600"], "seas_bp3.json"),
     ("engine_branches", [], [], "engine_branches.json"),
     ("fault_3d_operator", [], ["--quick"], "fault_3d_operator.json"),

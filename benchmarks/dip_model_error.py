@@ -3,6 +3,7 @@ beside the antiplane fault of the same description.
 
     python benchmarks/dip_model_error.py [--workers 2] [--element-size 100] [--years 1500] [--reuse FILE ...]
     python benchmarks/dip_model_error.py --fresh 32 --seed 4311     # a fresh draw against the shipped declaration
+    python benchmarks/dip_model_error.py --fresh 32 --seed 4313     # and the one slider's own calibration
 
 A dipping fault's rung is the 2-D fault in plane strain (SEAS BP3's mechanics: the half-space's in-plane
 stiffness, the free surface, the normal stress changing with slip). The rung below it reads the same description
@@ -40,7 +41,7 @@ them test the running maximum.
 
 **Fresh** (``--fresh COUNT --seed SEED``): a new draw over the whole measured D_c range, run after the declaration
 was shipped and read against ``data/dip_model_error.json`` as it is, with the one slider's ranges on the same
-faults. Writes benchmarks/results/dip_model_error_fresh_SEED.json, with the declaration it was read against
+faults (from seed 4313 on, its calibration against plane strain as shipped: benchmarks/dip_slider_calibration.py). Writes benchmarks/results/dip_model_error_fresh_SEED.json, with the declaration it was read against
 (window, margin, faults, checksum).
 
 A vertical fault's thrust and normal are one fault (dip slip leaves its normal stress unchanged:
@@ -65,7 +66,9 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 from provenance import stamp  # noqa: E402  (one stamp for every results file)
 
-from faultslip.io.resources import write_bundled_table  # noqa: E402
+from faultslip.fault import dip_slider  # noqa: E402
+from faultslip.io.gate import json_checksum  # noqa: E402
+from faultslip.io.resources import TABLE_CHECKSUM, write_bundled_table  # noqa: E402
 from faultslip.models.fault_2d.analysis import summarise  # noqa: E402
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
 from faultslip.models.fault_2d.scene import read_fault_2d_scene  # noqa: E402
@@ -134,11 +137,14 @@ def slider_side(base, row: dict) -> dict:
     scene = fault_scene(base, row["element_size_m"], row["years"], row["dip"], row["sense"], row["critical_slip_m"],
                         row["seismogenic_depth_m"])
     values = faultslip.run(scene, method="one_slider").values
-    side = {}
+    side = {"calibrated_against": values.get("calibrated_against")}
     plane_strain = row["plane_strain"]
     for name, key, range_key, unit, truth in (
             ("recurrence", "recurrence_interval", "recurrence_range", "yr", plane_strain["recurrence_yr"]),
-            ("mean_slip", "mean_slip_per_event", "mean_slip_per_event_range", "m", plane_strain["mean_slip_m"])):
+            ("mean_slip", "mean_slip_per_event", "mean_slip_per_event_range", "m", plane_strain["mean_slip_m"]),
+            ("surface_slip", "slip_per_event", "slip_per_event_range", "m", plane_strain.get("surface_slip_m"))):
+        if truth is None or values.get(key) is None:  # a run saved before its surface slip was
+            continue
         bounds = values.get(range_key)
         bounds = None if bounds is None else [float(bound.to(unit).magnitude) for bound in bounds]
         side.update({f"{name}_{unit}": float(values[key].to(unit).magnitude), f"{name}_range_{unit}": bounds,
@@ -163,6 +169,7 @@ def pair(base, element_size: float, years: float, dip: float, sense: str, critic
             continue
         summary = summarise(case.run())
         row[name] = {"recurrence_yr": summary.recurrence_interval / YEAR, "mean_slip_m": summary.mean_slip_per_event,
+                     "surface_slip_m": summary.surface_slip_per_event,
                      "period": summary.sequence.period if summary.sequence else 0, "settled": summary.settled}
         if name == "antiplane":
             _ANTIPLANE[twin] = dict(row[name])
@@ -281,7 +288,8 @@ def fresh(args) -> int:
     out = args.out if args.out != HERE / "results" / "dip_model_error.json" else \
         HERE / "results" / f"dip_model_error_fresh_{args.seed}.json"
     declaration = {**{key: table[key] for key in ("window", "margin", "min_neighbours")},
-                   "checksum": declaration_checksum(table)}
+                   "checksum": declaration_checksum(table),
+                   "one_slider_checksum": json_checksum(dip_slider.load_table(), TABLE_CHECKSUM)}
     out.write_text(json.dumps({"seed": args.seed, "critical_slip_range_m": list(MEASURED_RANGE), "held_out": held,
                                "declaration": {**declaration, "faults": len(table["faults"])}, **stamp()}, indent=1)
                    + "\n", encoding="utf-8")
@@ -312,6 +320,12 @@ def main(argv=None) -> int:
             row = {"element_size_m": args.element_size, "years": args.years, **row}
             reuse[_key(row)] = {key: value for key, value in row.items()
                                 if key not in ("declared", "covered", "set", "one_slider")}
+    reruns = HERE / "results" / "dip_slider_runs.json"  # the surface slips of runs saved before they were kept
+    if reuse and reruns.exists():
+        for run in json.loads(reruns.read_text(encoding="utf-8"))["runs"]:
+            row = reuse.get(_key(run))
+            if row is not None and "surface_slip_m" not in row["plane_strain"]:
+                row["plane_strain"] = {**row["plane_strain"], "surface_slip_m": run["surface_slip_m"]}
     grid = [(dip, sense, critical_slip, 15e3) for critical_slip, dips in CALIBRATION for dip in dips
             for sense in SENSES if not (dip == 90.0 and sense == "normal")]  # one fault at 90 degrees
     measured = [("grid", fault) for fault in grid] + [("first held out", fault) for fault in FIRST_HELD_OUT]

@@ -305,6 +305,7 @@ TABLE_COMMANDS = {
     "kernel_crossover.json": ["run", "fault_2d_small.toml", "--estimate", "--json"],
     "strike_model_error.json": ["run", "fault_3d_small.toml", "--model", "one_slider", "--json"],
     "dip_model_error.json": ["model-error", "rsf_block_bp1.toml", "--plot", "PLOT", "--overwrite", "--json"],
+    "dip_slider_calibration.json": ["run", "seas_bp3_thrust60.toml", "--model", "one_slider", "--json"],
     "fault_2d_hierarchy.json": ["model-error", "rsf_block_bp1.toml", "--plot", "PLOT", "--overwrite", "--json"],
 }
 
@@ -352,13 +353,13 @@ def mutate_table(text: str, rng: random.Random) -> str | bytes:
 
 def table_caches() -> list:
     """The loaders that keep a bundled table once read: cleared around each table case."""
-    from faultslip.fault import dip_error, ladder, strike_error
+    from faultslip.fault import dip_error, dip_slider, ladder, strike_error
     from faultslip.io import budget
     from faultslip.models.fault_2d import kernel
     from faultslip.models.rate_state_slider import one_slider
 
-    return [ladder.load_calibration, dip_error.load_table, strike_error.load_table, budget.family_costs,
-            kernel.measured_crossover, one_slider.load_calibration]
+    return [ladder.load_calibration, dip_error.load_table, dip_slider.load_table, strike_error.load_table,
+            budget.family_costs, kernel.measured_crossover, one_slider.load_calibration]
 
 
 def mutate_ledger(text: str, rng: random.Random) -> str | bytes:

@@ -40,3 +40,8 @@ def _peer_closing(rows: list, result: dict) -> str:
     if not result.get("ratio_faultslip_over_best_peer") and result.get("qdyn_missing"):
         rows.append(f"QDYN was not run on this machine: {result['qdyn_missing']}.")
     return "\n".join(rows) + "\n\n" + _machine(result)
+
+
+#: The one slider's quantities, as the ladder's tables name them.
+ONE_SLIDER_QUANTITIES = {"recurrence": "recurrence", "mean_slip": "slip per event, mean over the rupture zone",
+                         "surface_slip": "surface slip per event (surface-breaking faults)"}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import statistics
 
-from ._common import _load, _load_with, _machine
+from ._common import ONE_SLIDER_QUANTITIES, _load, _load_with, _machine
 
 
 def ladder_table() -> str | None:
@@ -12,8 +12,7 @@ def ladder_table() -> str | None:
     result = _load("ladder_held_out.json")
     if result is None:
         return None
-    names = {"recurrence": "recurrence", "mean_slip": "slip per event, mean over the rupture zone",
-             "surface_slip": "surface slip per event (surface-breaking faults)"}
+    names = ONE_SLIDER_QUANTITIES
     rows = ["| quantity | held-out 2-D faults inside the 95 % range | mean half-width | median bias, block "
             "uncorrected | median bias, corrected |", "| --- | --- | --- | --- | --- |"]
     for key, line in result["summary"].items():

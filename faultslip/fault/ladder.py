@@ -14,7 +14,9 @@ is derived from it, not stated beside it:
   **95 % range** is the regression's prediction interval (t quantile, leverage included).
 
 Outside the box, where some group lies beyond the values the calibration designs span, nothing is declared: the
-block is reported with no range, and a tolerance moves the run to the 2-D rung.
+block is reported with no range, and a tolerance moves the run to the 2-D rung. On a dipping fault among those
+measured in plane strain, the block is corrected against plane strain directly (:mod:`faultslip.fault.dip_slider`);
+on another, the antiplane range widens by the antiplane rung's dip error (:mod:`faultslip.fault.dip_error`).
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ import numpy as np
 
 from faultslip.dynamics.rate_state.slider import RateStateSlider, fault_cycles
 from faultslip.contract.result import Result
-from faultslip.fault import dip_error
+from faultslip.fault import dip_error, dip_slider, regression
 from faultslip.fault.one_slider_error import range_within
 from faultslip.errors import InputError
 from faultslip.friction.rate_state import RateStateLaw, nucleation_size
@@ -50,8 +52,10 @@ ONE_SLIDER_METHOD = {
     "cost_model": "one block's earthquake cycles: milliseconds (faultslip.models.rate_state_slider.cost)",
     "declared_error": "the 95 % range of recurrence and slip per event against the 2-D fault of the same scene, in "
                       "years and metres (the calibration's prediction interval: faultslip.fault.ladder.declared_error; "
-                      "docs/ladder.md measures it on held-out faults); compounded with the 2-D fault's against the "
-                      "3-D one on a 3-D scene"}
+                      "docs/ladder.md measures it on held-out faults); on a dipping fault among those measured in "
+                      "plane strain, its own calibration against plane strain (faultslip.fault.dip_slider, "
+                      "docs/dipping_faults.md), elsewhere the antiplane range widened by the dip error; compounded "
+                      "with the 2-D fault's against the 3-D one on a 3-D scene"}
 #: The quantities the one slider predicts, and what each is in the 2-D fault's report.
 QUANTITIES = {"recurrence": "recurrence_interval", "mean_slip": "mean_slip_per_event",
               "surface_slip": "slip_per_event"}
@@ -226,33 +230,13 @@ def predict(quantity: str, raw: float, group: dict, calibration: dict, level: fl
     """
     if level != 0.95:
         raise InputError("the ladder's ranges are calibrated at 95 %")
-    model = calibration[quantity]
-    x = features(group)
-    beta = np.asarray(model["coefficients"], float)
-    gram = np.asarray(model["inverse_gram"], float)
-    centre = raw * math.exp(float(x @ beta))
-    spread = model["t_quantile"] * model["residual_sd"] * math.sqrt(1.0 + float(x @ gram @ x))
-    return {"value": centre, "low": centre * math.exp(-spread), "high": centre * math.exp(spread),
-            "half_width": math.exp(spread) - 1.0}
+    return regression.corrected(raw, features(group), calibration[quantity])
 
 
 def fit(rows: list[dict], targets: np.ndarray, level: float = 0.95) -> dict:
     """Least squares of ``targets`` (ln 2-D / block) on the rows' :func:`features`, with what the prediction
-    interval needs."""
-    from scipy import stats  # heavy: imported where used
-
-    x = np.array([features(row) for row in rows])
-    y = np.asarray(targets, float)
-    beta, _, rank, _ = np.linalg.lstsq(x, y, rcond=None)
-    residual = y - x @ beta
-    dof = x.shape[0] - int(rank)  # a group constant over the faults (burial, for the surface slip) drops out
-    if dof < 5:
-        raise InputError(f"{x.shape[0]} calibration faults cannot fit {x.shape[1]} coefficients with a spread")
-    sd = float(math.sqrt(residual @ residual / dof))
-    return {"coefficients": beta.tolist(), "inverse_gram": np.linalg.pinv(x.T @ x).tolist(), "residual_sd": sd,
-            "dof": dof, "t_quantile": float(stats.t.ppf(0.5 + level / 2, dof)),
-            "median_bias_uncorrected": float(math.exp(np.median(y)) - 1.0),
-            "median_bias_corrected": float(math.exp(np.median(residual)) - 1.0), "faults": int(x.shape[0])}
+    interval needs (:func:`faultslip.fault.regression.least_squares`)."""
+    return regression.least_squares(np.array([features(row) for row in rows]), targets, level)
 
 
 def box_of(rows: list[dict]) -> dict:
@@ -281,6 +265,8 @@ def expected_recurrence(fault: FaultDescription, calibration: dict | None = None
     calibration's median ratio (which the budget had taken, short on every fault): docs/ladder.md."""
     table = calibration or load_calibration()
     raw, group = block_answer(fault, cycles=2)
+    if _dip_calibrated(fault, group):
+        return _dip_bands(raw, group, fault)["recurrence"]["value"]
     if outside_box(group, table):
         return clamped_recurrence(raw["recurrence"], group, table)
     return predict("recurrence", raw["recurrence"], group, table)["value"]
@@ -319,35 +305,24 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
     report.add("burial", group["burial"], label="strengthening cap over W (0: breaks the surface)")
     report.add("block_recurrence", raw["recurrence"], "s", also=("yr",), label="the block's recurrence, uncorrected")
     report.add("block_slip_per_event", raw["slip"], "m", label="the block's slip per event, uncorrected")
-    outside = outside_box(group, table)
-    if outside:
-        report.add("recurrence_interval", raw["recurrence"], "s", also=("yr",),
-                   label="recurrence: the block's, uncorrected (outside the calibration: no range)")
-        report.add("mean_slip_per_event", raw["slip"], "m", label="slip per event: the block's, uncorrected")
-        report.add("recurrence_range", None, label="95 % range of the recurrence (none: outside the calibration)")
-        report.add("slip_per_event_range", None, label="95 % range of the slip per event (none: outside the calibration)")
-        report.add("estimated_relative_error", None, label="declared model error (none: outside the calibration)")
-        report.note("outside the calibrated box, so no range is declared: " + "; ".join(outside)
-                    + ". Run the 2-D fault (--model fault_2d) for an answer with a declared error")
-        return report
-    bands = _bands(raw, group, table)
-    dipping = _dip_error(fault, group)
-    if not dipping < 1.0:  # unmeasured, or so large that it bounds the plane-strain answer from below only
-        report.add("recurrence_interval", bands["recurrence"]["value"], "s", also=("yr",),
-                   label="recurrence (the block corrected by the 2-D calibration; no range on this dip)")
-        report.add("mean_slip_per_event", bands["mean_slip"]["value"], "m", label="slip per event, mean over the rupture zone")
-        report.add("recurrence_range", None, label="95 % range of the recurrence (none on this dip and W / h*)")
-        report.add("slip_per_event_range", None, label="95 % range of the slip per event (none)")
-        report.add("estimated_relative_error", None, label="declared model error (none on this dip and W / h*)")
-        why = (dip_error.why_undeclared(fault.dip, group["width_over_nucleation"]) if not math.isfinite(dipping)
-               else f"and the antiplane rung's declared error on such a fault is {dipping:.0%}, which leaves the "
-                    "plane-strain answer no upper bound")
-        report.note(f"the fault dips {fault.dip:g} degrees with W / h* = {group['width_over_nucleation']:.3g}: {why} "
-                    "(benchmarks/dip_model_error.py), so no range; run the 2-D fault in plane strain")
-        return report
-    for band in bands.values():  # against plane strain: the antiplane calibration's range, widened by the dip's error
-        band.update(low=truth_range(band["low"], dipping)[0], high=truth_range(band["high"], dipping)[1],
-                    half_width=compounded(band["half_width"], dipping))
+    direct = _dip_calibrated(fault, group)
+    if direct:  # a dipping fault among those measured in plane strain: the block corrected against it directly
+        bands, dipping = _dip_bands(raw, group, fault), 0.0
+    else:
+        outside = outside_box(group, table)
+        if fault.plane == "strain":
+            report.note("the dipping faults measured in plane strain (benchmarks/dip_slider_calibration.py) do not "
+                        "span this one: " + "; ".join(dip_slider.outside(group, fault.dip, fault.sense))
+                        + ", so its ranges are the antiplane calibration's widened by the antiplane fault's error")
+        if outside:
+            return _no_range(report, raw, outside)
+        bands = _bands(raw, group, table)
+        dipping = _dip_error(fault, group)
+        if not dipping < 1.0:  # unmeasured, or so large that it bounds the plane-strain answer from below only
+            return _no_dip_range(report, bands, fault, group, dipping)
+        for band in bands.values():  # against plane strain: the antiplane calibration's range, widened by the dip's
+            band.update(low=truth_range(band["low"], dipping)[0], high=truth_range(band["high"], dipping)[1],
+                        half_width=compounded(band["half_width"], dipping))
     report.add("recurrence_interval", bands["recurrence"]["value"], "s", also=("yr",),
                label="recurrence of system-size events (the block corrected by the 2-D calibration)")
     report.add("recurrence_range", [bands["recurrence"]["low"], bands["recurrence"]["high"]], "s", also=("yr",),
@@ -360,24 +335,30 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
     report.add("mean_slip_per_event_range", [bands["mean_slip"]["low"], bands["mean_slip"]["high"]], "m",
                label="95 % range of the mean slip per event")
     if "surface_slip" not in bands:
-        report.add("slip_per_event_range", None, label="95 % range of the surface slip (none: a buried fault; see "
+        report.add("slip_per_event_range", None, label="95 % range of the surface slip (none: a buried fault, or a "
+                                                       "dipping one whose dip error leaves it no upper end; see "
                                                        "mean_slip_per_event_range)")
     widest = max(band["half_width"] for band in bands.values())
     report.add("estimated_relative_error", widest,
                label="declared model error against the 2-D fault: the widest 95 % range's half-width (relative)")
-    report.add("median_bias", table["recurrence"]["median_bias_corrected"],
+    fitted = dip_slider.load_table() if direct else table
+    report.add("median_bias", fitted["recurrence"]["median_bias_corrected"],
                label="median bias of the corrected recurrence over the calibration faults")
+    report.add("calibrated_against", "the 2-D fault in plane strain" if direct else "the 2-D fault in antiplane strain",
+               label="the rung the correction and its ranges were fitted to")
     if dipping:
         report.add("dip_model_error", dipping, label=f"the antiplane fault's model error on a {fault.dip:g}-degree "
                                                      "dip-slip fault, in the ranges (benchmarks/dip_model_error.py)")
     years = 365.25 * 86400.0
     t = bands["recurrence"]
+    source = (f"{fitted['recurrence']['faults']} dipping 2-D faults in plane strain "
+              "(benchmarks/dip_slider_calibration.py)" if direct else
+              f"{table['provenance'].get('calibration_faults', '?')} 2-D faults (benchmarks/ladder_calibration.py)")
     report.note(f"T = {t['value'] / years:.0f} yr ({t['low'] / years:.0f}-{t['high'] / years:.0f} yr, 95 %): the block "
-                f"derived from the fault's profile, corrected by {table['provenance'].get('calibration_faults', '?')} "
-                "2-D faults (benchmarks/ladder_calibration.py); the range is the correction's prediction interval, "
-                "tested on faults held out of it")
+                f"derived from the fault's profile, corrected by {source}; the range is the correction's prediction "
+                "interval, tested on faults held out of it")
     limits = table.get("limits")
-    if limits:  # why the range is as wide as it is (docs/ladder.md, "What limits the range")
+    if limits and not direct:  # why the range is as wide as it is (docs/ladder.md, "What limits the range")
         longer = math.exp(limits["recurrence"]["mean_residual_interleaving"] - limits["recurrence"]["mean_residual_single"])
         report.note(f"the range is wide because the 2-D fault's sequences are of two kinds that the block cannot tell "
                     f"apart: on {limits['calibration_interleaving']} of {limits['calibration_faults']} calibration "
@@ -385,6 +366,59 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
                     f"recurrence is {100 * (longer - 1):.0f} % longer than where every event breaks it. For a "
                     "narrower answer run the 2-D fault (--model fault_2d)")
     return report
+
+
+def _no_range(report: Report, raw: dict, outside: list) -> Report:
+    """The report of a fault outside the calibrated box: the uncorrected block, no range, no declared error."""
+    report.add("recurrence_interval", raw["recurrence"], "s", also=("yr",),
+               label="recurrence: the block's, uncorrected (outside the calibration: no range)")
+    report.add("mean_slip_per_event", raw["slip"], "m", label="slip per event: the block's, uncorrected")
+    report.add("recurrence_range", None, label="95 % range of the recurrence (none: outside the calibration)")
+    report.add("slip_per_event_range", None, label="95 % range of the slip per event (none: outside the calibration)")
+    report.add("estimated_relative_error", None, label="declared model error (none: outside the calibration)")
+    report.note("outside the calibrated box, so no range is declared: " + "; ".join(outside)
+                + ". Run the 2-D fault (--model fault_2d) for an answer with a declared error")
+    return report
+
+
+def _no_dip_range(report: Report, bands: dict, fault: FaultDescription, group: dict, dipping: float) -> Report:
+    """The report of a dipping fault whose antiplane fault's error leaves no range: the corrected block alone."""
+    report.add("recurrence_interval", bands["recurrence"]["value"], "s", also=("yr",),
+               label="recurrence (the block corrected by the 2-D calibration; no range on this dip)")
+    report.add("mean_slip_per_event", bands["mean_slip"]["value"], "m", label="slip per event, mean over the rupture zone")
+    report.add("recurrence_range", None, label="95 % range of the recurrence (none on this dip and W / h*)")
+    report.add("slip_per_event_range", None, label="95 % range of the slip per event (none)")
+    report.add("estimated_relative_error", None, label="declared model error (none on this dip and W / h*)")
+    why = (dip_error.why_undeclared(fault.dip, group["width_over_nucleation"]) if not math.isfinite(dipping)
+           else f"and the antiplane rung's declared error on such a fault is {dipping:.0%}, which leaves the "
+                "plane-strain answer no upper bound")
+    report.note(f"the fault dips {fault.dip:g} degrees with W / h* = {group['width_over_nucleation']:.3g}: {why} "
+                "(benchmarks/dip_model_error.py), so no range; run the 2-D fault in plane strain")
+    return report
+
+
+def _dip_calibrated(fault: FaultDescription, group: dict) -> bool:
+    """Whether the one slider's calibration against plane strain covers ``fault``: a dipping fault inside the
+    measured dipping faults' box (:func:`faultslip.fault.dip_slider.outside`)."""
+    return fault.plane == "strain" and not dip_slider.outside(group, fault.dip, fault.sense)
+
+
+def _dip_bands(raw: dict, group: dict, fault: FaultDescription) -> dict:
+    """The block's recurrence and mean slip corrected against plane strain, with their 95 % ranges
+    (:func:`faultslip.fault.dip_slider.predict`); on a fault that breaks the surface, the surface slip as the
+    antiplane calibration gives it, its range widened by the dip error (none where that error leaves no upper
+    end): its own correction against plane strain did not hold on held-out faults."""
+    bands = {quantity: dip_slider.predict(quantity, raw[block], group, fault.dip, fault.sense)
+             for quantity, block in dip_slider.QUANTITIES.items()}
+    table = load_calibration()
+    if group["burial"] == 0.0 and "surface_slip" in table and not outside_box(group, table):
+        dipping = _dip_error(fault, group)
+        if dipping < 1.0:
+            band = predict("surface_slip", raw["slip"], group, table)
+            band.update(low=truth_range(band["low"], dipping)[0], high=truth_range(band["high"], dipping)[1],
+                        half_width=compounded(band["half_width"], dipping))
+            bands["surface_slip"] = band
+    return bands
 
 
 def _bands(raw: dict, group: dict, table: dict) -> dict:
@@ -413,11 +447,14 @@ def declared_error(fault: FaultDescription, calibration: dict | None = None) -> 
     tolerance stops at the one slider."""
     table = calibration or load_calibration()
     group = groups(fault)
+    unit = {"recurrence": 1.0, "slip": 1.0}
+    if _dip_calibrated(fault, group):
+        return max(band["half_width"] for band in _dip_bands(unit, group, fault).values())
     dipping = _dip_error(fault, group)
     if outside_box(group, table) or not dipping < 1.0:
         return None
     return max(compounded(band["half_width"], dipping)
-               for band in _bands({"recurrence": 1.0, "slip": 1.0}, group, table).values())
+               for band in _bands(unit, group, table).values())
 
 
 def ladder_report(title: str, rungs: list[dict], tolerance: float | None, above: str, slip_label: str) -> Report:

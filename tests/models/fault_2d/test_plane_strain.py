@@ -374,10 +374,11 @@ def test_fresh_dip_draws_hold_the_declaration_they_were_read_against():
 
 def test_the_one_sliders_ranges_hold_the_dipping_faults_plane_strain_answers():
     """The rung two below a dipping fault: benchmarks/results/dip_model_error.json records the one slider's answer
-    on each measured and held-out fault's scene (its ranges widened by the dip error): it is what the library
-    answers now, and on every fault where it declares a range, the range holds the plane-strain
-    answer; where it declares none, the report says so (outside its box, or a dip error that leaves the answer no
-    upper bound)."""
+    on each measured and held-out fault's scene: it is what the library answers now. Where its ranges are the
+    antiplane calibration's widened by the dip error, every one holds the plane-strain answer; where they are its
+    calibration against plane strain, fitted on the measured faults themselves (tests/capabilities/ladder/
+    test_dip_slider.py reads them on faults the fit never saw), at least 90 % do, as a 95 % prediction interval
+    on its own fit's faults should."""
     import json
 
     from faultslip.models.fault_2d.scene import read_fault_2d_scene
@@ -392,7 +393,11 @@ def test_the_one_sliders_ranges_hold_the_dipping_faults_plane_strain_answers():
             assert now[key] == (pytest.approx(value, rel=1e-9) if isinstance(value, (float, list)) else value), key
     sides = [row["one_slider"] for row in results["rows"] + results["held_out"]]
     declared = [side for side in sides if side["recurrence_holds"] is not None]
-    assert len(declared) >= 80 and all(side["recurrence_holds"] and side["mean_slip_holds"] for side in declared)
+    direct = [side for side in declared if side["calibrated_against"] == "the 2-D fault in plane strain"]
+    composed = [side for side in declared if side not in direct]
+    assert len(direct) >= 150 and all(side["recurrence_holds"] and side["mean_slip_holds"] for side in composed)
+    for key in ("recurrence_holds", "mean_slip_holds"):
+        assert sum(side[key] for side in direct) >= 0.9 * len(direct), key
 
 
 def test_model_error_on_a_dipping_scene_climbs_through_the_antiplane_rung(cli):
