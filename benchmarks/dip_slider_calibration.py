@@ -110,13 +110,7 @@ def composed(base, row: dict) -> float | None:
     calibration's range widened by the dip error (None: none declared)."""
     scene = measured.fault_scene(base, row["element_size_m"], row["years"], row["dip"], row["sense"],
                                  row["critical_slip_m"], row["seismogenic_depth_m"])
-    fault = scene.fault.description()
-    group = ladder.groups(fault)
-    dipping = ladder._dip_error(fault, group)
-    if ladder.outside_box(group, ladder.load_calibration()) or not dipping < 1.0:
-        return None
-    bands = ladder._bands({"recurrence": 1.0, "slip": 1.0}, group, ladder.load_calibration())
-    return max(ladder.compounded(band["half_width"], dipping) for band in bands.values())
+    return ladder.composed_error(scene.fault.description())
 
 
 def summary(rows: list[dict]) -> dict:

@@ -320,9 +320,7 @@ def one_slider_report(fault: FaultDescription, reason: str, calibration: dict | 
         dipping = _dip_error(fault, group)
         if not dipping < 1.0:  # unmeasured, or so large that it bounds the plane-strain answer from below only
             return _no_dip_range(report, bands, fault, group, dipping)
-        for band in bands.values():  # against plane strain: the antiplane calibration's range, widened by the dip's
-            band.update(low=truth_range(band["low"], dipping)[0], high=truth_range(band["high"], dipping)[1],
-                        half_width=compounded(band["half_width"], dipping))
+        bands = {name: _widened(band, dipping) for name, band in bands.items()}  # against plane strain
     report.add("recurrence_interval", bands["recurrence"]["value"], "s", also=("yr",),
                label="recurrence of system-size events (the block corrected by the 2-D calibration)")
     report.add("recurrence_range", [bands["recurrence"]["low"], bands["recurrence"]["high"]], "s", also=("yr",),
@@ -414,10 +412,7 @@ def _dip_bands(raw: dict, group: dict, fault: FaultDescription) -> dict:
     if group["burial"] == 0.0 and "surface_slip" in table and not outside_box(group, table):
         dipping = _dip_error(fault, group)
         if dipping < 1.0:
-            band = predict("surface_slip", raw["slip"], group, table)
-            band.update(low=truth_range(band["low"], dipping)[0], high=truth_range(band["high"], dipping)[1],
-                        half_width=compounded(band["half_width"], dipping))
-            bands["surface_slip"] = band
+            bands["surface_slip"] = _widened(predict("surface_slip", raw["slip"], group, table), dipping)
     return bands
 
 
@@ -445,16 +440,32 @@ def declared_error(fault: FaultDescription, calibration: dict | None = None) -> 
     does not depend on the block's answer), compounded with a dipping fault's error against plane strain; None
     outside the calibrated box or where the dip's error leaves no range. An estimate reads it to tell whether a
     tolerance stops at the one slider."""
+    group = groups(fault)
+    if _dip_calibrated(fault, group):
+        bands = _dip_bands({"recurrence": 1.0, "slip": 1.0}, group, fault)
+        return max(band["half_width"] for band in bands.values())
+    return composed_error(fault, calibration)
+
+
+def composed_error(fault: FaultDescription, calibration: dict | None = None) -> float | None:
+    """The one slider's declared error through the antiplane calibration: its widest 95 % range's half-width,
+    compounded with a dipping fault's error against plane strain (:func:`faultslip.fault.dip_error.declared`);
+    None outside the calibrated box or where the dip's error leaves no range. What :func:`declared_error` is
+    outside the calibration against plane strain."""
     table = calibration or load_calibration()
     group = groups(fault)
-    unit = {"recurrence": 1.0, "slip": 1.0}
-    if _dip_calibrated(fault, group):
-        return max(band["half_width"] for band in _dip_bands(unit, group, fault).values())
     dipping = _dip_error(fault, group)
     if outside_box(group, table) or not dipping < 1.0:
         return None
     return max(compounded(band["half_width"], dipping)
-               for band in _bands(unit, group, table).values())
+               for band in _bands({"recurrence": 1.0, "slip": 1.0}, group, table).values())
+
+
+def _widened(band: dict, dipping: float) -> dict:
+    """An antiplane range read against plane strain: its ends put through :func:`truth_range` at the dip error
+    ``dipping``, its half-width compounded with it."""
+    return {**band, "low": truth_range(band["low"], dipping)[0], "high": truth_range(band["high"], dipping)[1],
+            "half_width": compounded(band["half_width"], dipping)}
 
 
 def ladder_report(title: str, rungs: list[dict], tolerance: float | None, above: str, slip_label: str) -> Report:
