@@ -39,6 +39,7 @@ PRODUCERS = (
     ("fault_2d_qdyn", [], ["--rounds", "1"], "fault_2d_qdyn.json"),
     ("fault_2d_profile", [], ["--elements", "1024"], "fault_2d_profile.json"),
     ("fault_2d_resolution", [], ["--quick"], "fault_2d_resolution.json"),
+    ("fault_2d_resolution_designs", [], ["--quick"], "fault_2d_resolution_designs.json"),
     ("fault_2d_period3", [], [], "fault_2d_period3.json"),
     ("spring_block_qdyn", [], ["--repeats", "1"], "spring_block_qdyn.json"),
     ("spring_chain_speed", [], ["--rounds", "1"], "spring_chain_speed.json"),

@@ -53,7 +53,8 @@ from faultslip import __version__  # noqa: E402
 from faultslip.fault import ladder  # noqa: E402
 from faultslip.models.fault_2d.calibration import Design  # noqa: E402
 from ladder_designs import FRESH_DRAWS, cost_model  # noqa: E402
-from ladder_regimes import PARTIAL_SHARE, interleaves  # noqa: E402
+from faultslip.models.fault_2d.analysis import PARTIAL_SHARE  # noqa: E402
+from ladder_regimes import interleaves  # noqa: E402
 from provenance import stamp  # noqa: E402
 
 OLD = ROOT / "benchmarks" / "results" / "fault_2d_designs.json"

@@ -34,6 +34,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
+from faultslip.models.fault_2d import analysis  # noqa: E402
 from faultslip.models.fault_2d.calibration import PLATE_RATE, Design, run_design  # noqa: E402
 from provenance import stamp  # noqa: E402
 
@@ -43,9 +44,6 @@ OUT = ROOT / "benchmarks" / "results" / "ladder_regimes.json"
 MIXED = (1.7, 4.3)
 #: D_c factors; W / h* goes as 1 / D_c
 FACTORS = (0.97, 0.99, 1.0, 1.01, 1.03)
-#: partial events per system-size event at and above which a run interleaves them (the runs show 0-0.11, then
-#: 0.41 and more: the spin-up's odd partial event stays below)
-PARTIAL_SHARE = 0.25
 #: The other starts, as multiples of the plate rate at which every element starts in steady state
 STARTS = (0.1, 10.0)
 #: A rerun from another start has the same answer where its recurrence is within this of the usual start's: the
@@ -54,8 +52,9 @@ SAME_ANSWER = 0.01
 
 
 def interleaves(row: dict) -> bool:
-    """Whether a 2-D run interleaves events that do not break the zone with its system-size events."""
-    return (row["events"] - row["system_events"]) / max(row["system_events"], 1) >= PARTIAL_SHARE
+    """Whether a 2-D run interleaves events that do not break the zone with its system-size events
+    (:func:`faultslip.models.fault_2d.analysis.interleaves`)."""
+    return analysis.interleaves(row["events"], row["system_events"])
 
 
 def _run(job):

@@ -165,6 +165,38 @@ def fault_2d_resolution_table() -> str | None:
             + _machine(result))
 
 
+def fault_2d_resolution_designs_table() -> str | None:
+    result = _load("fault_2d_resolution_designs.json")
+    if result is None or "ladder" not in result["summary"]:
+        return None
+    from faultslip.models.fault_2d.analysis import sequence_discretisation
+
+    finest = f"{result['resolutions'][-1]:g}"
+    rows = ["| elements per L_b | settled at the finest | kind kept | largest error, kind kept | above the declared "
+            "bound | kind changed (largest error) |", "| --- | --- | --- | --- | --- | --- |"]
+    for resolution in result["resolutions"][:-1]:
+        runs = [fault["runs"][f"{resolution:g}"] for fault in result["faults"]
+                if fault["runs"][finest]["sequence"] == "periodic"]
+        kept = [run for run in runs if run["kind_of_reference"] and run["sequence"] == "periodic"]
+        changed = [run for run in runs if not run["kind_of_reference"]]
+        above = [run for run in kept
+                 if run["error_recurrence"] > sequence_discretisation(resolution, run["period"])[0]]
+        largest_changed = max((run["error_recurrence"] for run in changed), default=None)
+        rows.append(f"| {resolution:g} | {len(runs)} | {len(kept)} | "
+                    f"{max(run['error_recurrence'] for run in kept):.2%} | {len(above)} | {len(changed)}"
+                    + (f" ({largest_changed:.1%})" if changed else "") + " |")
+    ladder = result["summary"]["ladder"]
+    return ("\n".join(rows) + f"\n\nThe ladder's {result['summary']['faults']} held-out designs, each one fault run at "
+            f"{', '.join(f'{r:g}' for r in result['resolutions'])} elements per L_b, against its Richardson limit (the "
+            f"{finest} per L_b run where the three runs are not in the asymptotic range or change kind). "
+            "Declared: the bound above, for the run's period. The one slider's shipped ranges hold the 3 per L_b "
+            f"answer on {ladder['recurrence']['hold_coarse']} and the resolved one on "
+            f"{ladder['recurrence']['hold_resolved']} of {ladder['recurrence']['faults']} faults inside the box "
+            f"(recurrence), {ladder['mean_slip']['hold_coarse']} and {ladder['mean_slip']['hold_resolved']} of "
+            f"{ladder['mean_slip']['faults']} (mean slip). `python benchmarks/fault_2d_resolution_designs.py`. "
+            + _machine(result))
+
+
 def fault_2d_period3_table() -> str | None:
     result = _load("fault_2d_period3.json")
     if result is None:
@@ -201,5 +233,6 @@ TABLES = {
     "fault_2d_placement": fault_2d_placement_table,
     "fault_2d_profile": fault_2d_profile_table,
     "fault_2d_resolution": fault_2d_resolution_table,
+    "fault_2d_resolution_designs": fault_2d_resolution_designs_table,
     "fault_2d_period3": fault_2d_period3_table,
 }

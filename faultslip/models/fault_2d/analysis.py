@@ -102,6 +102,16 @@ class Fault2DSummary:
 
 #: A system-size event slips at least this share of the largest event's slip over the velocity-weakening width.
 SYSTEM_SHARE = 0.5
+#: Partial events per system-size event at and above which a run interleaves them with its system-size events (the
+#: ladder's 2-D runs show 0-0.11, then 0.41 and more: the spin-up's odd partial event stays below;
+#: benchmarks/ladder_regimes.py)
+PARTIAL_SHARE = 0.25
+
+
+def interleaves(events: int, system_events: int) -> bool:
+    """Whether a run's events that do not break the zone come at least :data:`PARTIAL_SHARE` to each system-size
+    event: a sequence of two kinds of event, whose system-size interval is longer (docs/ladder.md)."""
+    return (events - system_events) / max(system_events, 1) >= PARTIAL_SHARE
 
 
 def system_size(slip: np.ndarray, weakening: np.ndarray) -> np.ndarray:

@@ -75,16 +75,22 @@ class Design:
         return math.ceil(raw / element) * element
 
     def two_d(self, elements_per_process_zone: float = 3.0, duration: float | None = None,
-              rtol: float = 1e-8, initial_speed: float = PLATE_RATE) -> Fault2DScene:
+              rtol: float = 1e-8, initial_speed: float = PLATE_RATE,
+              geometry_resolution: float | None = None) -> Fault2DScene:
         """The 2-D fault, on elements resolving L_b = G D_c / (sigma_n b) ``elements_per_process_zone`` times, starting
-        at steady state with every element slipping at ``initial_speed`` (m/s; BP1's start, eqs. 8-9)."""
+        at steady state with every element slipping at ``initial_speed`` (m/s; BP1's start, eqs. 8-9).
+
+        The fault's depth extent and the one-element steps of its profile are whole elements at
+        ``geometry_resolution`` per L_b (default: the run's own): set it to run one fault at several element sizes
+        (at a whole multiple of it), since moving the creeping base by part of an element moves the answer too."""
         process = SHEAR_MODULUS * self.critical_slip / (self.normal_stress * self.b)
         element = process / elements_per_process_zone
-        width = self.total_width(element)
+        shape = process / (geometry_resolution or elements_per_process_zone)
+        width = self.total_width(shape)
         settings = {"width": width, "shear_modulus": SHEAR_MODULUS, "shear_wave_speed": SHEAR_WAVE_SPEED,
                     "plate_rate": PLATE_RATE, "evolution": "aging", "reference_speed": 1e-6,
                     "reference_friction": 0.6, "initial_speed": initial_speed, "max_elements": 8192,
-                    "profiles": {"a": self.profile_a(element), "b": _constant(self.b),
+                    "profiles": {"a": self.profile_a(shape), "b": _constant(self.b),
                                  "critical_slip": _constant(self.critical_slip),
                                  "normal_stress": _constant(self.normal_stress)}}
         built = build_fault(settings, width / round(width / element), self.name)
@@ -99,13 +105,14 @@ class Design:
 
 
 def run_design(design: Design, cycles: int = 8, elements_per_process_zone: float = 3.0,
-               initial_speed: float = PLATE_RATE) -> dict:
+               initial_speed: float = PLATE_RATE, geometry_resolution: float | None = None) -> dict:
     """The 2-D fault of ``design`` over ``cycles`` system-size events after the spin-up: its recurrence, the slip
     of its settled events over the weakening width and at the surface, and the sequence it forms (from a steady
-    start at ``initial_speed``, m/s: :meth:`Design.two_d`)."""
+    start at ``initial_speed``, m/s; its geometry whole elements at ``geometry_resolution``: :meth:`Design.two_d`)."""
     # the block at the geometric stiffness bounds the 2-D recurrence from above: long enough for the cycles
     block = fault_cycles(design.slider(geometric_stiffness(design.seismogenic_width)), PLATE_RATE, cycles=3)
-    scene = design.two_d(elements_per_process_zone, duration=(cycles + 4) * block.recurrence, initial_speed=initial_speed)
+    scene = design.two_d(elements_per_process_zone, duration=(cycles + 4) * block.recurrence,
+                         initial_speed=initial_speed, geometry_resolution=geometry_resolution)
     # as a run about to start here: a worker's first run loads the compiled step too (1 s of a 2 s small fault's)
     estimate = scene.estimate(in_this_process=True)
     started = time.process_time()

@@ -1569,3 +1569,23 @@ def test_a_numpy_trial_step_that_overflows_is_rejected_without_a_warning():
     assert np.all(y_new == 0.0) and norm == math.inf
     _, shorter, verdict = judged_step(norm, 1.0, 0.0)
     assert verdict == REJECTED and 0 < shorter < 1.0
+
+
+def test_one_design_at_two_element_sizes_is_one_fault():
+    """benchmarks/fault_2d_resolution_designs.py runs each design at 3, 6 and 12 elements per L_b as one fault: with
+    ``geometry_resolution`` the depth extent and the profile's one-element steps are the coarse run's, so the finer
+    fault has exactly twice the elements and samples the same a(z) table (built alone, its creeping base moves)."""
+    from faultslip.models.fault_2d.analysis import interleaves
+    from faultslip.models.fault_2d.calibration import Design
+
+    design = Design("capped", 2.3, 0.009, cap=0.1, ramp=0.05, below=0.137)
+    coarse = design.two_d(3.0).fault
+    finer = design.two_d(6.0, geometry_resolution=3.0).fault
+    alone = design.two_d(6.0).fault
+    assert finer.a.size == 2 * coarse.a.size
+    assert finer.element_size * finer.a.size == pytest.approx(coarse.element_size * coarse.a.size, rel=1e-12)
+    assert alone.element_size * alone.a.size != pytest.approx(coarse.element_size * coarse.a.size, rel=1e-9)
+    # each coarse element's a is the mean of its two halves' wherever the table is linear over it
+    halves = finer.a.reshape(-1, 2).mean(axis=1)
+    assert np.median(np.abs(halves - coarse.a)) < 1e-12
+    assert interleaves(20, 10) and not interleaves(12, 10)
