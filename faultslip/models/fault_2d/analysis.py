@@ -209,27 +209,45 @@ def years(seconds: float) -> float:
 #: results/fault_2d_resolution.json; the SEAS studies saw the same below Lambda_0 / dz ~ 1-2). Runs below it are
 #: refused unless asked for as qualitative (allow_underresolved).
 MIN_RESOLUTION = 2.0
-#: The recurrence's discretisation error, a bound through every run of benchmarks/fault_2d_resolution.py on three
-#: faults (BP1: 0.36 % at 2 per L_b, 0.17 % at 3, 0.098 % at 4, measured order 1.85-2.5 against the Richardson
-#: limit; the two others below it): 1 % at MIN_RESOLUTION, falling as (MIN_RESOLUTION / r)^1.8, the slowest
-#: order measured (tests/models/fault_2d/test_fault_2d.py checks that it covers every measured run).
-DISCRETISATION_AT_MINIMUM, DISCRETISATION_ORDER = 1e-2, 1.8
+#: The recurrence's discretisation error: a bound e(r) = sum of scale (MIN_RESOLUTION / r)^order over these terms,
+#: a steep one and a slow one, through every measured run of 66 faults against its Richardson limit:
+#: benchmarks/fault_2d_resolution.py (BP1, the small fault and short D_c, 2 to 16 per L_b; BP1 converges at order
+#: 1.85-2.5), and benchmarks/fault_2d_resolution_designs.py on the ladder's held-out designs and two fresh draws
+#: (each at 3, 6, 12 and, where those show no asymptotic order, 24 per L_b). Some converge at order 0.4-1 (held
+#: out 28: 2.2 % at 3 per L_b, 0.40 % at 24); others are far off at 3 per L_b and then converge fast (fresh5 0:
+#: 4.4 % at 3, 0.44 % at 6, order 3.3). So a bound at BP1's order was exceeded on 6 held-out designs (issue 68),
+#: and each fresh draw, run against the envelope of everything before it, exceeded it: by 1.27 and 1.95 times
+#: (results summary "envelope", "draws"). Declared: the envelope through all of them, of least geometric mean
+#: over 2-16 per L_b (0.0671 (2 / r)^2 + 0.0180 (2 / r)^0.65), times the larger of those margins (1.95), rounded
+#: outward. It covers every run whose kind of sequence is its limit's (a change of kind, e.g. unsettled at 3 per
+#: L_b and a supercycle finer, no bound of this form covers: --richardson declares it). tests/models/fault_2d/
+#: test_fault_2d.py checks it covers every run, is no tighter than the fit times its margin, and holds on a
+#: third fresh draw the fit never saw.
+DISCRETISATION_TERMS = ((0.14, 2.0), (0.036, 0.65))
+#: the bound at MIN_RESOLUTION, and its slow order (what --richardson extrapolates at)
+DISCRETISATION_AT_MINIMUM = sum(scale for scale, _ in DISCRETISATION_TERMS)
+DISCRETISATION_ORDER = DISCRETISATION_TERMS[-1][1]
 
 
 #: A supercycle's intervals move more with the element size than a period-1 sequence's recurrence: on BP1's
-#: period-3 variant (benchmarks/fault_2d_period3.py, 25, 50 and 100 m against their Richardson limit) the mean
-#: moved up to 1.25 times the bound above and single intervals up to 3 times. Declared: the bound times these
-#: factors (the worst ratio measured, times 1.25, rounded up).
+#: period-3 variant (benchmarks/fault_2d_period3.py, 25, 50 and 100 m against their Richardson limit) single
+#: intervals moved up to 2.6 times as far as the mean. Declared: the bound times these factors, set against the
+#: first, tighter bound (its mean's worst ratio, 1.25 on that variant and 1.43 on held out 10, times 1.25 and
+#: rounded up; each interval's that times 2); against this bound the worst supercycle mean measured is well
+#: within it, so they only add caution.
 PERIOD_N_FACTORS = {"mean": 2.0, "interval": 4.0}
 
 
 def discretisation_error(resolution: float) -> float:
-    """The recurrence's relative error from the element size at ``resolution`` elements per L_b: the bound
-    measured on three faults of different W / h* and Lambda_0 (:data:`DISCRETISATION_AT_MINIMUM`); infinite below
-    :data:`MIN_RESOLUTION`, where the sequence itself is not to be trusted."""
+    """The recurrence's relative error from the element size at ``resolution`` elements per L_b,
+
+        e = sum over DISCRETISATION_TERMS of scale (MIN_RESOLUTION / resolution)^order,
+
+    a bound through every run measured on 66 faults of different W / h*, Lambda_0, a / b and burial, with a
+    margin; infinite below :data:`MIN_RESOLUTION`, where the sequence itself is not to be trusted."""
     if resolution < MIN_RESOLUTION:
         return math.inf
-    return DISCRETISATION_AT_MINIMUM * (MIN_RESOLUTION / resolution) ** DISCRETISATION_ORDER
+    return sum(scale * (MIN_RESOLUTION / resolution) ** order for scale, order in DISCRETISATION_TERMS)
 
 
 def sequence_discretisation(resolution: float, period: int) -> tuple[float, float]:
@@ -250,8 +268,9 @@ METHODS = {
                   "quasi-dynamic (radiation damping); "
                   f"elements of {MIN_RESOLUTION:g} or more per L_b = G D_c / (sigma_n b) (coarser runs are refused: "
                   "their sequences change character); declared error in recurrence: the largest of the "
-                  f"sequence's, 10 rtol and the element size's {DISCRETISATION_AT_MINIMUM:g} "
-                  f"({MIN_RESOLUTION:g} h / L_b)^{DISCRETISATION_ORDER:g}, a bound measured on three faults",
+                  "sequence's, 10 rtol and the element size's "
+                  + " + ".join(f"{scale:g} ({MIN_RESOLUTION:g} h / L_b)^{order:g}" for scale, order in
+                               DISCRETISATION_TERMS) + ", a bound through the runs of 66 faults",
         "cost_model": "Dormand-Prince 5(4) steps counted from the system-size events the run will see (its duration "
                       "over the recurrence the one-slider rung expects: the same steps each cycle), its W / h*, W / L_b, "
                       "elements per L_b and rtol "

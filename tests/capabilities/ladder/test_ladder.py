@@ -235,9 +235,9 @@ def test_a_tolerance_the_one_slider_cannot_meet_runs_the_2d_fault_of_the_same_sc
 
 
 def test_a_tolerance_below_what_the_2d_fault_can_declare_is_refused_before_any_work(cli, monkeypatch):
-    """BP1's scene on 100 m elements resolves L_b = 342 m 3.4 times, and the element size alone declares 0.38 % in
-    recurrence (the bound of analysis.discretisation_error): a tolerance of 0.3 % ran the 2-D fault for its CPU and
-    then warned. It is refused before any run, naming the fix; at 0.5 % it runs (stood in for here)."""
+    """BP1's scene on 100 m elements resolves L_b = 342 m 3.4 times, and the element size alone declares 7.3 % in
+    recurrence (the bound of analysis.discretisation_error): a tolerance below it ran the 2-D fault for its CPU and
+    then warned. It is refused before any run, naming the fix; at 10 % it runs (stood in for here)."""
     from faultslip.models.fault_2d import analysis, family
     from conftest import assert_clean_error
 
@@ -246,13 +246,13 @@ def test_a_tolerance_below_what_the_2d_fault_can_declare_is_refused_before_any_w
     scene = read_fault_2d_scene(CONFIGS / "rsf_fault_bp1.toml")
     floor = analysis.discretisation_error(scene.fault.process_zone() / scene.fault.element_size)
     assert family.floor_error(scene) == pytest.approx(floor + 10 * scene.rtol, rel=1e-12)  # the two add
-    assert 0.003 < floor < 0.005
-    for args in (("--tolerance", "0.003"), ("--model", "fault_2d", "--tolerance", "1e-9")):
+    assert 0.072 < floor < 0.075
+    for args in (("--tolerance", "0.05"), ("--model", "fault_2d", "--tolerance", "1e-9")):
         refused = cli("run", CONFIGS / "rsf_fault_bp1.toml", *args)
         assert_clean_error(refused, "cannot meet" if "--model" in args else "no rung meets", "element_size")
     assert not ran
-    with pytest.raises(ZeroDivisionError):  # 0.5 % is reachable: the 2-D run starts
-        family.run(scene, tolerance=0.005)
+    with pytest.raises(ZeroDivisionError):  # 10 % is reachable: the 2-D run starts
+        family.run(scene, tolerance=0.1)
     assert len(ran) == 1
 
 

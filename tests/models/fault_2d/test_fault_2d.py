@@ -1232,6 +1232,76 @@ def test_the_declared_discretisation_error_covers_every_measured_run():
     assert coarse and all(run["sequence"] != "periodic" or run["error"] > 0.1 for run in coarse)
 
 
+def _measured_runs(results: dict):
+    """(fault, resolution, run) of every run with a reference of its own kind: its fault settled at the finest
+    run, it is not that reference, and it keeps the reference's kind of sequence."""
+    for fault in results["faults"]:
+        finest = f"{fault['reference_resolutions'][-1]:g}"
+        if fault["runs"][finest]["sequence"] != "periodic":
+            continue  # its reference would be a last interval, not a limit
+        for resolution, run in fault["runs"].items():
+            if run["kind_of_reference"] and run["sequence"] == "periodic" and run["error_recurrence"] > 0:
+                yield fault, float(resolution), run
+
+
+def test_the_declared_discretisation_error_covers_the_faults_it_was_not_first_measured_on():
+    """benchmarks/fault_2d_resolution_designs.py ran the ladder's 34 held-out designs (drawn at random over the one
+    slider's box) at 3, 6 and 12 elements per L_b, and at 24 where those showed no asymptotic order. The first
+    bound (1 % (2 / r)^1.8, from three faults) was exceeded on 6 of them, by up to 4 times: some converge at order
+    0.4-1. The declared bound covers every run that keeps its reference's kind of sequence (a supercycle's mean
+    with its factor), and is no tighter than the envelope the results file fits through every run of the
+    benchmarks, times the margin its fresh draws showed."""
+    import json
+
+    from faultslip.models.fault_2d.analysis import (DISCRETISATION_AT_MINIMUM, DISCRETISATION_TERMS, MIN_RESOLUTION,
+                                                    discretisation_error, sequence_discretisation)
+
+    results = json.loads((ROOT / "benchmarks" / "results" / "fault_2d_resolution_designs.json").read_text())
+    runs = list(_measured_runs(results))
+    for fault, resolution, run in runs:
+        assert run["error_recurrence"] <= sequence_discretisation(resolution, run["period"])[0], (fault["name"],
+                                                                                                  resolution)
+    slow = {fault["name"] for fault, _, _ in runs if 0.3 < fault["order_recurrence"] < 1.0}
+    assert len(runs) >= 100 and len(slow) >= 2  # the slow faults are what the first bound had missed
+    # the first bound, at BP1's order, would not have held: the measurement can fail
+    assert any(run["error_recurrence"] > 1e-2 * (MIN_RESOLUTION / resolution) ** 1.8
+               for _, resolution, run in runs if run["period"] == 1)
+    fit = results["summary"]["envelope"]
+    # the envelope runs through these, the first benchmark's three and two fresh draws', each of which exceeded
+    # the envelope of everything before it: the margin is the larger excess
+    assert fit["before_draws"]["faults"] == 31 + 3 and len(fit["draws"]) == 2
+    assert fit["margin"] == max(draw["exceeded"] for draw in fit["draws"]) > 1
+    for (scale, order), (fitted_scale, fitted_order) in zip(DISCRETISATION_TERMS, fit["terms"]):
+        assert scale >= fitted_scale * fit["margin"] and order <= fitted_order
+    assert discretisation_error(MIN_RESOLUTION) == pytest.approx(DISCRETISATION_AT_MINIMUM)
+
+
+@pytest.mark.parametrize("draw, designs, fitted", [("ladder_fresh_second", 24, True),
+                                                   ("ladder_fresh_fifth", 16, True),
+                                                   ("ladder_fresh_fourth", 16, False)])
+def test_the_declared_discretisation_error_holds_on_fresh_draws(draw, designs, fitted):
+    """The first designs of three fresh draws over the same box, run as the held-out designs were (3, 6, 12 per
+    L_b, and 24 where those show no asymptotic order): every run that keeps its reference's kind lies within the
+    bound declared for its period. The second (seed 68012) and the fifth (seed 68041) were each run against the
+    envelope of everything before them and exceeded it (results summary "draws"), so the bound is fitted through
+    them with the larger margin; the fourth (seed 68031) was run against the bound as declared now, which its
+    runs never shaped."""
+    import json
+
+    from faultslip.models.fault_2d.analysis import sequence_discretisation
+
+    results = json.loads((ROOT / "benchmarks" / "results" / f"fault_2d_resolution_{draw}.json").read_text())
+    assert results["source"] == f"{draw}.json" and results["summary"]["faults"] == designs
+    envelope = json.loads((ROOT / "benchmarks" / "results" / "fault_2d_resolution_designs.json").read_text())
+    assert (f"fault_2d_resolution_{draw}.json" in [d["draw"] for d in envelope["summary"]["envelope"]["draws"]]) \
+        == fitted
+    runs = list(_measured_runs(results))
+    for fault, resolution, run in runs:
+        assert run["error_recurrence"] <= sequence_discretisation(resolution, run["period"])[0], (
+            fault["name"], resolution, run["error_recurrence"])
+    assert len(runs) >= 2 * designs
+
+
 def test_a_coarse_fault_is_refused_before_any_work_naming_the_size_it_needs(tmp_path, cli):
     scene = tmp_path / "coarse.toml"
     scene.write_text((CONFIGS / "seas_bp1.toml").read_text().replace('element_size = "25 m"', 'element_size = "400 m"')
@@ -1285,6 +1355,37 @@ def test_richardson_on_request_declares_what_two_resolutions_show(cli):
     assert "recurrence_extrapolated" in report
     refused = cli("run", "rsf_block_bp1.toml", "--richardson")
     assert refused.code == 2 and "not an option of a rate_state_slider scene" in refused.err
+
+
+def test_richardson_declares_the_two_runs_difference_where_the_element_size_changes_the_kind(monkeypatch):
+    """Near a bifurcation the element size changes the kind of sequence (a fresh design of
+    benchmarks/fault_2d_resolution_designs.py ran period 2 at 3 per L_b and period 1 finer, 6.9 % apart; another
+    75 %): no a-priori bound holds there, so --richardson declares the two runs' own difference where it is the
+    larger, and says why, instead of keeping the bound."""
+    from faultslip.contract.result import Result
+    from faultslip.io.report import Report
+    from faultslip.models.fault_2d import family
+    from faultslip.models.fault_2d.analysis import discretisation_error
+
+    def fake(recurrence_yr, sequence):
+        report = Report("fake").add("recurrence_interval", recurrence_yr * YEAR, "s").add("sequence", sequence)
+        report.add("recurrence_spread", 1e-6).add("settled", True)
+        report.add("discretisation_error", 0.01).add("estimated_relative_error", 0.01)
+        return Result("fault_2d", report)
+
+    answers = iter([fake(100.0, "periodic (period 2)"), fake(93.0, "periodic")])
+    monkeypatch.setattr(family, "simulate_fault", lambda *args, **kwargs: next(answers))
+    monkeypatch.setattr(family.budget, "check", lambda *args, **kwargs: None)
+    result = family.richardson_run(CONFIGS / "fault_2d_small.toml")
+    assert result.values["discretisation_error"] == pytest.approx(0.07)
+    assert result.estimated_relative_error >= 0.07 and "recurrence_extrapolated" not in result
+    assert any("changes the kind of sequence" in note and "near a bifurcation" in note for note in result.notes)
+    # where the two differ by less than the bound, the bound stands
+    answers = iter([fake(100.0, "periodic (period 2)"), fake(100.01, "periodic")])
+    small = family.richardson_run(CONFIGS / "fault_2d_small.toml")
+    finer = read_fault_2d_scene(CONFIGS / "fault_2d_small.toml").fault
+    assert small.values["discretisation_error"] == pytest.approx(
+        discretisation_error(finer.process_zone() / (finer.element_size / 2)))
 
 
 def test_the_period_three_variant_is_reported_as_its_supercycle_within_one_percent_of_the_reference():
@@ -1435,8 +1536,8 @@ def test_a_supercycles_declared_errors_hold_against_the_richardson_limit():
         mean_error, interval_error = sequence_discretisation(process_zone / size, 3)
         assert abs(intervals.mean() / limit.mean() - 1) <= mean_error
         assert np.all(np.abs(intervals / limit - 1) <= interval_error)
-        # the period-1 bound alone would not hold for the intervals at 100 m: the factor is needed
-    assert np.max(np.abs(coarse / limit - 1)) > sequence_discretisation(process_zone / 100.0, 1)[1]
+    # single intervals move further than the mean: the interval factor is the mean's times 2
+    assert np.max(np.abs(coarse / limit - 1)) > 2 * abs(coarse.mean() / limit.mean() - 1)
 
 
 def test_the_element_size_a_refusal_suggests_runs(tmp_path):
