@@ -169,6 +169,7 @@ def _resolution_designs_rows(result: dict) -> list[str]:
     """Per element size: the runs measured (their fault settled at its finest run, and they are not its
     reference), how many keep the reference's kind, the largest error, the bound declared now and how many runs
     exceed it (for their period), and the runs whose kind changed."""
+    from fault_2d_resolution_designs import measured
     from faultslip.models.fault_2d.analysis import discretisation_error, sequence_discretisation
 
     rows = ["| elements per L_b | runs measured | kind kept | largest error, kind kept | declared (period 1) | "
@@ -177,9 +178,8 @@ def _resolution_designs_rows(result: dict) -> list[str]:
         line = result["summary"].get(f"{resolution:g}")  # the benchmark's counts; the bound is read here, as now
         if not line or not line["runs"]:
             continue
-        above = [fault for fault in result["faults"] if (run := fault["runs"].get(f"{resolution:g}"))
-                 and run["kind_of_reference"] and run["sequence"] == "periodic" and run["error_recurrence"] > 0
-                 and fault["runs"][f"{fault['reference_resolutions'][-1]:g}"]["sequence"] == "periodic"
+        above = [fault for fault in result["faults"] if measured(fault, f"{resolution:g}")
+                 and (run := fault["runs"][f"{resolution:g}"])["kind_of_reference"] and run["sequence"] == "periodic"
                  and run["error_recurrence"] > sequence_discretisation(resolution, run["period"])[0]]
         rows.append(f"| {resolution:g} | {line['runs']} | {line['kept_kind']} | {line['largest_error_kept']:.2%} | "
                     f"{discretisation_error(resolution):.2%} | {len(above)} | {line['changed_kind']}"
