@@ -142,6 +142,14 @@ def measured(fault: dict, resolution: str) -> bool:
             and not (resolution == finest and fault["reference_recurrence"] == fault["runs"][finest]["recurrence"]))
 
 
+def kind_changes(faults: list[dict]) -> list[tuple[dict, float, dict]]:
+    """(fault, resolution, run) of every run whose kind of sequence is not its finest run's and whose error against
+    that run's reference was measured, settled or not: what one run cannot see
+    (faultslip.models.fault_2d.analysis.KIND_CHANGE_TERM is the envelope through them)."""
+    return [(fault, float(resolution), run) for fault in faults for resolution, run in fault["runs"].items()
+            if not run["kind_of_reference"] and run["error_recurrence"] is not None]
+
+
 def summarise(faults: list[dict]) -> dict:
     """Per resolution: how many runs have a reference (their fault settled at its finest run, and they are not
     it), how many keep the reference's kind, and the largest error among them and among those that do not."""

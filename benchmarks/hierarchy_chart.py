@@ -9,10 +9,10 @@ One chart for a BP1-like fault: each way faultslip can answer its recurrence, it
   its true error against BP1's 2-D answer is the calibration's held-out BP1 row (data/fault_2d_model_error.json,
   recurrence and slip), its declared bound the calibration's.
 * **The 2-D fault at several resolutions** (elements per L_b from 0.5 to 16): benchmarks/results/
-  fault_2d_resolution.json, each run's recurrence against the Richardson limit, and the a-priori bound faultslip
-  declares at that resolution; below 2 elements per L_b the run is refused.
+  fault_2d_resolution.json, each run's recurrence against the Richardson limit, and what one run declares at
+  that resolution (the a-priori bound, at least the kind-change term); below 2 elements per L_b it is refused.
 * **The 2-D fault at several tolerances** (39 m elements, rtol 1e-4 to 1e-9): benchmarks/results/
-  fault_2d_qdyn_study.json, against the same limit, each declaring the resolution's bound.
+  fault_2d_qdyn_study.json, against the same limit, each declaring what one run declares there.
 
 Costs are each run's wall time on this machine (the 2-D runs over 700 or 1000 simulated years, enough to settle
 and measure BP1's cycle). Writes data/fault_2d_hierarchy.json, which ``faultslip model-error --plot`` draws beside
@@ -35,7 +35,7 @@ import faultslip  # noqa: E402
 from faultslip.io.resources import write_bundled_table  # noqa: E402
 from faultslip.models.rate_state_slider.one_slider import load_calibration  # noqa: E402
 from faultslip.io.atomic import save_figure  # noqa: E402
-from faultslip.models.fault_2d.analysis import MIN_RESOLUTION, discretisation_error  # noqa: E402
+from faultslip.models.fault_2d.analysis import MIN_RESOLUTION, single_run_error  # noqa: E402
 
 
 def main():
@@ -47,7 +47,7 @@ def main():
         refused = run["resolution"] < MIN_RESOLUTION
         points.append({"method": "fault_2d", "label": f"{run['resolution']:.3g} elements per L_b",
                        "resolution": run["resolution"], "seconds": run["wall_s"], "error": run["error"],
-                       "declared": None if refused else discretisation_error(run["resolution"]),
+                       "declared": None if refused else single_run_error(run["resolution"]),
                        "refused": refused, "sequence": run["sequence"]})
     study = json.loads((ROOT / "benchmarks" / "results" / "fault_2d_qdyn_study.json").read_text())
     process_zone = bp1["process_zone_m"]
@@ -56,7 +56,7 @@ def main():
         points.append({"method": "fault_2d_tolerance", "label": f"rtol {run['tolerance']:g}, {element:.3g} m",
                        "resolution": process_zone / element, "tolerance": run["tolerance"], "seconds": run["wall_s"],
                        "error": abs(run["recurrence_yr"] / reference - 1),
-                       "declared": discretisation_error(process_zone / element), "refused": False,
+                       "declared": single_run_error(process_zone / element), "refused": False,
                        "sequence": "periodic" if run["settled"] else "unsettled"})
     seconds = []
     for _ in range(5):

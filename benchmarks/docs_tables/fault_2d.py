@@ -244,6 +244,43 @@ def fault_2d_resolution_fresh_fourth_table() -> str | None:
     return _fresh_table("ladder_fresh_fourth", "run after, against the bound as declared now: faults it never saw")
 
 
+def fault_2d_kind_changes_table() -> str | None:
+    """docs/fault_2d.md: the runs whose element size changed the kind of sequence, over the held-out designs and
+    the fresh draws, against the kind-change term one run declares (faultslip.models.fault_2d.analysis)."""
+    from fault_2d_resolution_designs import kind_changes
+    from faultslip.models.fault_2d.analysis import KIND_CHANGE_TERM, discretisation_error, kind_change_error
+
+    sets = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth")
+    results = [_load(f"fault_2d_resolution_{name}.json") for name in sets]
+    if any(result is None for result in results):
+        return None
+    changes = [change for result in results for change in kind_changes(result["faults"])]
+    faults = sum(len(result["faults"]) for result in results)
+    rows = ["| elements per L_b | runs that changed kind | largest error | worst (its kind; finest run's) | "
+            "bound, kind kept | declared by one run | above it |", "| --- " * 7 + "|"]
+
+    def kind(run):
+        return ("unsettled" if run["sequence"] != "periodic" else f"period {run['period']}") + (
+            ", interleaved" if run["interleaves"] else "")
+
+    for resolution in sorted({resolution for _, resolution, _ in changes}):
+        here = [(fault, run) for fault, r, run in changes if r == resolution]
+        fault, worst = max(here, key=lambda item: item[1]["error_recurrence"])
+        finest = fault["runs"][f"{fault['reference_resolutions'][-1]:g}"]
+        declared = max(kind_change_error(resolution), discretisation_error(resolution))
+        rows.append(f"| {resolution:g} | {len(here)} | {worst['error_recurrence']:.1%} | {fault['name']} "
+                    f"({kind(worst)}; finest: {kind(finest)}) | {discretisation_error(resolution):.2%} | "
+                    f"{declared:.1%} | "
+                    f"{sum(run['error_recurrence'] > declared for _, run in here)} |")
+    scale, order = KIND_CHANGE_TERM
+    return ("\n".join(rows) + f"\n\nOver {faults} faults of the held-out designs and three fresh draws "
+            f"(`benchmarks/results/fault_2d_resolution_*.json`), each run whose kind of sequence is not its finest "
+            f"run's, against that fault's reference. One run declares the larger of the bound and "
+            f"{scale:g} (2 / r)^{order:g}: the envelope through these runs at the steepest order the runs at 6 per "
+            "L_b allow, rounded outward. Two sizes that agree in kind (`--richardson`) lift it. "
+            + _machine(results[0]))
+
+
 def fault_2d_period3_table() -> str | None:
     result = _load("fault_2d_period3.json")
     if result is None:
@@ -284,5 +321,6 @@ TABLES = {
     "fault_2d_resolution_fresh": fault_2d_resolution_fresh_table,
     "fault_2d_resolution_fresh_fifth": fault_2d_resolution_fresh_fifth_table,
     "fault_2d_resolution_fresh_fourth": fault_2d_resolution_fresh_fourth_table,
+    "fault_2d_kind_changes": fault_2d_kind_changes_table,
     "fault_2d_period3": fault_2d_period3_table,
 }
