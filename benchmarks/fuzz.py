@@ -1515,13 +1515,16 @@ def run_case(argv: list[str], timeout: float):
 def worker(job):
     start, count, seed, timeout, only = job
     os.environ.setdefault("MPLBACKEND", "Agg")
+    folder = Path(tempfile.mkdtemp(prefix="faultslip-fuzz-"))
+    # matplotlib's own cache, built once in this worker: the user's may list the fonts of a venv since deleted,
+    # whose every mathtext plot then warns on stderr, which the fuzzer would count against the case
+    os.environ["MPLCONFIGDIR"] = str(folder / "matplotlib")
     import warnings
 
     import matplotlib
 
     matplotlib.use("Agg")
     warnings.simplefilter("ignore")
-    folder = Path(tempfile.mkdtemp(prefix="faultslip-fuzz-"))
     os.environ["FAULTSLIP_REGISTRY"] = str(folder / "fits.json")
     # a mutated input may legitimately ask for an hour of work; the fuzzer's budget is its time-out
     os.environ["FAULTSLIP_TIME_BUDGET"] = str(timeout / 4)

@@ -179,7 +179,8 @@ def ladder_escalations_table() -> str | None:
                     f"{row['estimated_seconds'] / row['cpu_time']:.2f} | {factor} | {_step_speed(row):.2f} |")
     summary = result["summary"]
     refused = summary.get("refused", 0)
-    return ("\n".join(rows) + f"\n\n{summary['within_2x']} of {summary['escalations']} escalations within 2x (median "
+    return ("\n".join(rows) + f"\n\nEach scene {_how_run(result)}. "
+            f"{summary['within_2x']} of {summary['escalations']} escalations within 2x (median "
             f"{summary['ratio_median']:.2f}, {summary['ratio_min']:.2f} to {summary['ratio_max']:.2f})"
             + (f", {refused} refused before any work, in one sentence" if refused else "") + "; "
             f"`python benchmarks/ladder_escalations.py --seed {result.get('seed', 68000)}`"
@@ -192,6 +193,13 @@ def ladder_escalations_table() -> str | None:
             f"model was fitted (median {statistics.median(_step_speed(r) for r in result['rows'] if 'refused' not in r):.2f} "
             "here), which the factor is there to follow. "
             f"{_machine(result)}")
+
+
+def _how_run(result: dict) -> str:
+    """The tolerance a draw's scenes were run to and the elements per L_b they were drawn on."""
+    resolutions = [row["elements_per_process_zone"] for row in result["rows"]]
+    return (f"run to tolerance {result.get('tolerance', 0.05):g} on {min(resolutions):.1f}-"
+            f"{max(resolutions):.1f} elements per L_b")
 
 
 def _step_speed(row: dict) -> float:
@@ -213,7 +221,8 @@ def _further_draws() -> str:
         if result is None:
             continue
         summary = result["summary"]
-        text += (f"A {ordinal} unseen draw (`--seed {result['seed']}`): {summary['within_2x']} of "
+        text += (f"A {ordinal} unseen draw (`--seed {result['seed']}`; {_how_run(result)}): "
+                 f"{summary['within_2x']} of "
                  f"{summary['escalations']} within 2x ({summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}, median "
                  f"{summary['ratio_median']:.2f})"
                  + (f"; {summary['refused']} refused before any work, in one sentence" if summary.get("refused") else "")
