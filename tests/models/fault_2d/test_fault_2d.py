@@ -1310,12 +1310,13 @@ def _kind_changes():
     sequence is not its finest run's, with an error measured against it."""
     import json
 
+    from conftest import load_benchmark
+
+    kind_changes = load_benchmark("fault_2d_resolution_designs").kind_changes  # the docs table's rule, shared
     for name in RESOLUTION_SETS:
         results = json.loads((ROOT / "benchmarks" / "results" / f"fault_2d_resolution_{name}.json").read_text())
-        for fault in results["faults"]:
-            for resolution, run in fault["runs"].items():
-                if not run["kind_of_reference"] and run["error_recurrence"] is not None:
-                    yield name, fault["name"], float(resolution), run["error_recurrence"]
+        for fault, resolution, run in kind_changes(results["faults"]):
+            yield name, fault["name"], resolution, run["error_recurrence"]
 
 
 def test_one_runs_declared_error_covers_a_change_of_kind_it_cannot_see():
