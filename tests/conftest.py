@@ -2,14 +2,24 @@
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import json
 import os
+import shutil
 import subprocess
+import tempfile
 
-import matplotlib
-import pytest
-from hypothesis import settings
+# a matplotlib cache of the run's own, set before matplotlib is imported and inherited by the xdist workers and
+# the commands the tests start: a user's cache can name the fonts of a deleted environment, and plots then warn on
+# stderr, which the front-door tests read (.ci/run sets its own; a caller's MPLCONFIGDIR is kept)
+if "MPLCONFIGDIR" not in os.environ:
+    os.environ["MPLCONFIGDIR"] = tempfile.mkdtemp(prefix="faultslip-tests-matplotlib-")
+    atexit.register(shutil.rmtree, os.environ["MPLCONFIGDIR"], True)
+
+import matplotlib  # noqa: E402
+import pytest  # noqa: E402
+from hypothesis import settings  # noqa: E402
 
 matplotlib.use("Agg")
 
