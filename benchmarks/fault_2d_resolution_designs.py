@@ -3,6 +3,7 @@ bound fitted through them, and that bound tested on a fresh draw (issue 68; the 
 
     python benchmarks/fault_2d_resolution_designs.py [--workers 2] [--quick] [--refine] [--reuse]
     python benchmarks/fault_2d_resolution_designs.py --refine --source ladder_fresh_second.json --first 24
+    python benchmarks/fault_2d_resolution_designs.py --refine-all --source ladder_fresh_third.json --first 20
 
 The bound of :func:`faultslip.models.fault_2d.analysis.discretisation_error` was first measured on three faults
 (``benchmarks/fault_2d_resolution.py``) and was not true on every fault. The ladder's 34 held-out designs
@@ -64,6 +65,8 @@ FIRST = ROOT / "benchmarks" / "results" / "fault_2d_resolution.json"
 #: (a later draw, not listed, tests the bound as declared)
 FITTED_DRAWS = ("fault_2d_resolution_ladder_fresh_second.json", "fault_2d_resolution_ladder_fresh_fifth.json")
 #: elements per L_b: the ladder's, and twice and four times finer
+#: every set of faults this benchmark has run (results fault_2d_resolution_<name>.json), in the order run
+DRAWS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth", "ladder_fresh_third")
 RESOLUTIONS = (3.0, 6.0, 12.0)
 #: the finer run of ``--refine``, for faults whose three runs show no order in (1, 5.5): their 12 per L_b run is
 #: not yet a limit, so errors against it would be too small
@@ -244,7 +247,8 @@ def envelope_summary(faults: list[dict]) -> dict:
 
 def ladder_ranges(saved: list[dict], faults: list[dict]) -> dict:
     """Per quantity: of the held-out faults inside the box, how many of the shipped ranges hold the 3 per L_b
-    answer, and how many the reference (the resolved answer)."""
+    answer, and how many the reference (the resolved answer); and each fault's residual, ln(answer / the range's
+    centre), for both (``residuals``: name, coarse, resolved): whether the element size widens the ranges."""
     from faultslip.fault import ladder
     from ladder_calibration import prepared
 
@@ -252,7 +256,7 @@ def ladder_ranges(saved: list[dict], faults: list[dict]) -> dict:
     by_name = {fault["name"]: fault for fault in faults}
     out = {}
     for quantity in ("recurrence", "mean_slip"):
-        coarse, resolved, names = [], [], []
+        coarse, resolved, names, residuals = [], [], [], []
         for row in saved:
             item = prepared(row)
             if item is None or ladder.outside_box(item["group"], table):
@@ -264,10 +268,12 @@ def ladder_ranges(saved: list[dict], faults: list[dict]) -> dict:
                       (item["two_d"][quantity], fault[f"reference_{quantity}"])]
             coarse.append(inside[0])
             resolved.append(inside[1])
+            residuals.append([item["name"], math.log(item["two_d"][quantity] / band["value"]),
+                              math.log(fault[f"reference_{quantity}"] / band["value"])])
             if inside[0] != inside[1]:
                 names.append(item["name"])
         out[quantity] = {"faults": len(coarse), "hold_coarse": int(sum(coarse)), "hold_resolved": int(sum(resolved)),
-                         "differ": names}
+                         "differ": names, "residuals": residuals}
     return out
 
 
@@ -291,7 +297,11 @@ def main(argv=None):
     parser.add_argument("--reuse", action="store_true", help="the saved runs, summarised again")
     parser.add_argument("--refine", action="store_true",
                         help=f"run {REFINED:g} per L_b where the three runs show no asymptotic order")
+    parser.add_argument("--refine-all", action="store_true",
+                        help=f"run {REFINED:g} per L_b on every fault: a finer run to read each 12 per L_b run's "
+                             "kind of sequence against (the kind-change term above 6 per L_b)")
     args = parser.parse_args(argv)
+    args.refine = args.refine or args.refine_all
     global OUT
     source = RAW.parent / Path(args.source).name
     if source != RAW:
@@ -304,13 +314,16 @@ def main(argv=None):
         kept = {fault["name"]: fault for fault in json.loads(OUT.read_text())["faults"]}
         runs = {name: {float(r): _as_row(name, run) for r, run in kept[name]["runs"].items()}
                 for name in designs}
-        jobs = sorted(((designs[name], REFINED) for name in designs if args.refine and needs_refining(kept[name])),
+        jobs = sorted(((designs[name], REFINED) for name in designs if args.refine and f"{REFINED:g}" not in
+                       kept[name]["runs"] and (args.refine_all or needs_refining(kept[name]))),
                       key=lambda job: -kept[job[0].name]["runs"][f"{RESOLUTIONS[-1]:g}"]["cpu_time"])
         return finish(saved, designs, run_jobs(jobs, runs, args.workers), source.name)
     # the finest runs first: the longest jobs start while the pool is full
-    jobs = [(design, resolution) for resolution in reversed(RESOLUTIONS) for design in designs.values()]
+    everywhere = (REFINED,) if args.refine_all else ()
+    jobs = [(design, resolution) for resolution in (*everywhere, *reversed(RESOLUTIONS))
+            for design in designs.values()]
     runs = run_jobs(jobs, {name: {} for name in designs}, args.workers)
-    if args.refine:
+    if args.refine and not args.refine_all:
         faults = {name: fault_entry(designs[name], runs[name]) for name in designs}
         runs = run_jobs([(designs[name], REFINED) for name in designs if needs_refining(faults[name])], runs,
                         args.workers)

@@ -189,8 +189,10 @@ def _resolution_designs_rows(result: dict) -> list[str]:
 
 def _resolution_designs_note(result: dict) -> str:
     ladder = result["summary"]["ladder"]
+    everywhere = _refine_flag(result) == "--refine-all"
+    where = "too (every fault)" if everywhere else "where those three show no order in (1, 5.5)"
     return (f"Each fault run at {', '.join(f'{r:g}' for r in result['resolutions'])} elements per L_b, and at "
-            f"{result['refined']:g} where those three show no order in (1, 5.5); its reference is the Richardson "
+            f"{result['refined']:g} {where}; its reference is the Richardson "
             "limit of its finest three runs (the finest run where they are not in the asymptotic range or change "
             "kind). Declared: the bound as now, for the run's period. The one slider's shipped ranges hold the 3 per "
             f"L_b answer on {ladder['recurrence']['hold_coarse']} and the resolved one on "
@@ -226,8 +228,19 @@ def _fresh_table(draw: str, how: str) -> str | None:
         return None
     return ("\n".join(_resolution_designs_rows(result)) + f"\n\nThe first {result['summary']['faults']} designs of "
             f"a fresh draw ({result['source']}), {how}. {_resolution_designs_note(result)} "
-            f"`python benchmarks/fault_2d_resolution_designs.py --refine --source {result['source']} --first "
-            f"{result['summary']['faults']}`. " + _machine(result))
+            f"`python benchmarks/fault_2d_resolution_designs.py {_refine_flag(result)} --source {result['source']} "
+            f"--first {result['summary']['faults']}`. " + _machine(result))
+
+
+def _refine_flag(result: dict) -> str:
+    """The benchmark's option that ran the finest size: on every fault (--refine-all) or where needed."""
+    everywhere = all(f"{result['refined']:g}" in fault["runs"] for fault in result["faults"])
+    return "--refine-all" if everywhere else "--refine"
+
+
+def fault_2d_resolution_fresh_third_table() -> str | None:
+    return _fresh_table("ladder_fresh_third", "run after the bound and the kind-change term were declared, every "
+                                              "fault at 24 per L_b too: faults neither ever saw")
 
 
 def fault_2d_resolution_fresh_table() -> str | None:
@@ -248,14 +261,46 @@ def fault_2d_kind_changes_table() -> str | None:
     """docs/fault_2d.md: the runs whose element size changed the kind of sequence, over the held-out designs and
     the fresh draws, against the kind-change term one run declares (faultslip.models.fault_2d.analysis)."""
     from fault_2d_resolution_designs import kind_changes
-    from faultslip.models.fault_2d.analysis import KIND_CHANGE_TERM, discretisation_error, kind_change_error
+    from faultslip.models.fault_2d.analysis import KIND_CHANGE_TERM
 
-    sets = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth")
-    results = [_load(f"fault_2d_resolution_{name}.json") for name in sets]
+    results = [_load(f"fault_2d_resolution_{name}.json") for name in KIND_CHANGE_SETS]
     if any(result is None for result in results):
         return None
-    changes = [change for result in results for change in kind_changes(result["faults"])]
     faults = sum(len(result["faults"]) for result in results)
+    scale, order = KIND_CHANGE_TERM
+    text = ("\n".join(_kind_change_rows([change for result in results for change in kind_changes(result["faults"])]))
+            + f"\n\nOver {faults} faults of the held-out designs and three fresh draws "
+            f"(`benchmarks/results/fault_2d_resolution_*.json`), each run whose kind of sequence is not its finest "
+            f"run's, against that fault's reference. One run declares the larger of the bound and "
+            f"{scale:g} (2 / r)^{order:g}: the envelope through these runs at the steepest order the runs at 6 per "
+            "L_b allow, rounded outward. Two sizes that agree in kind (`--richardson`) lift it. "
+            + _machine(results[0]))
+    unseen = _load(f"fault_2d_resolution_{KIND_CHANGE_UNSEEN}.json")
+    if unseen is None:
+        return text
+    changes = kind_changes(unseen["faults"])
+    counts = ", ".join(f"{sum(r == resolution for _, r, _ in changes)} of "
+                       f"{sum(f'{resolution:g}' in fault['runs'] for fault in unseen['faults'])} at {resolution:g}"
+                       for resolution in unseen["resolutions"])
+    return (text + "\n\nThen a fresh draw the term never saw, every fault also run at "
+            f"{unseen['refined']:g} per L_b, so that each run at 6 and 12 per L_b has a finer run to be read "
+            f"against ({unseen['source']}, its first {len(unseen['faults'])} designs). Runs whose kind is not their "
+            f"finest run's: {counts} per L_b.\n\n"
+            + "\n".join(_kind_change_rows(changes) if changes else ["No run changed kind."])
+            + f"\n\n`python benchmarks/fault_2d_resolution_designs.py --refine-all --source {unseen['source']} "
+            f"--first {len(unseen['faults'])}`. " + _machine(unseen))
+
+
+#: the resolution benchmark's results the kind-change term is the envelope through, and the draw run after it
+KIND_CHANGE_SETS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth")
+KIND_CHANGE_UNSEEN = "ladder_fresh_third"
+
+
+def _kind_change_rows(changes: list) -> list[str]:
+    """Per element size: the runs whose kind is not their finest run's, the worst of them, the bound and what one
+    run declares, and how many runs exceed that."""
+    from faultslip.models.fault_2d.analysis import discretisation_error, single_run_error
+
     rows = ["| elements per L_b | runs that changed kind | largest error | worst (its kind; finest run's) | "
             "bound, kind kept | declared by one run | above it |", "| --- " * 7 + "|"]
 
@@ -267,18 +312,12 @@ def fault_2d_kind_changes_table() -> str | None:
         here = [(fault, run) for fault, r, run in changes if r == resolution]
         fault, worst = max(here, key=lambda item: item[1]["error_recurrence"])
         finest = fault["runs"][f"{fault['reference_resolutions'][-1]:g}"]
-        declared = max(kind_change_error(resolution), discretisation_error(resolution))
+        declared = single_run_error(resolution)
         rows.append(f"| {resolution:g} | {len(here)} | {worst['error_recurrence']:.1%} | {fault['name']} "
                     f"({kind(worst)}; finest: {kind(finest)}) | {discretisation_error(resolution):.2%} | "
                     f"{declared:.1%} | "
                     f"{sum(run['error_recurrence'] > declared for _, run in here)} |")
-    scale, order = KIND_CHANGE_TERM
-    return ("\n".join(rows) + f"\n\nOver {faults} faults of the held-out designs and three fresh draws "
-            f"(`benchmarks/results/fault_2d_resolution_*.json`), each run whose kind of sequence is not its finest "
-            f"run's, against that fault's reference. One run declares the larger of the bound and "
-            f"{scale:g} (2 / r)^{order:g}: the envelope through these runs at the steepest order the runs at 6 per "
-            "L_b allow, rounded outward. Two sizes that agree in kind (`--richardson`) lift it. "
-            + _machine(results[0]))
+    return rows
 
 
 def fault_2d_period3_table() -> str | None:
@@ -322,5 +361,6 @@ TABLES = {
     "fault_2d_resolution_fresh_fifth": fault_2d_resolution_fresh_fifth_table,
     "fault_2d_resolution_fresh_fourth": fault_2d_resolution_fresh_fourth_table,
     "fault_2d_kind_changes": fault_2d_kind_changes_table,
+    "fault_2d_resolution_fresh_third": fault_2d_resolution_fresh_third_table,
     "fault_2d_period3": fault_2d_period3_table,
 }
