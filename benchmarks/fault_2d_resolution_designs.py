@@ -30,6 +30,9 @@ the first benchmark, of least geometric mean over 2-16 per L_b; the library's bo
 fitted and tested on 3 per L_b answers. Here each fault inside the box is read against its 3 per L_b answer and
 against its reference: does a range that holds the coarse answer hold the resolved one?
 
+``--refine-all`` runs every fault at 24 per L_b as well, so that each run at 6 and 12 per L_b has a finer run to
+read its kind of sequence against: the test of the kind-change term above 6 per L_b, where it was fitted on none.
+
 ``--reuse`` rebuilds the summaries from the saved runs without running them again (with ``--refine``, running
 only the finer runs not yet saved).
 
@@ -64,9 +67,9 @@ FIRST = ROOT / "benchmarks" / "results" / "fault_2d_resolution.json"
 #: was run against the envelope of everything before it, and the most any exceeded that by is the bound's margin
 #: (a later draw, not listed, tests the bound as declared)
 FITTED_DRAWS = ("fault_2d_resolution_ladder_fresh_second.json", "fault_2d_resolution_ladder_fresh_fifth.json")
-#: elements per L_b: the ladder's, and twice and four times finer
 #: every set of faults this benchmark has run (results fault_2d_resolution_<name>.json), in the order run
 DRAWS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth", "ladder_fresh_third")
+#: elements per L_b: the ladder's, and twice and four times finer
 RESOLUTIONS = (3.0, 6.0, 12.0)
 #: the finer run of ``--refine``, for faults whose three runs show no order in (1, 5.5): their 12 per L_b run is
 #: not yet a limit, so errors against it would be too small
