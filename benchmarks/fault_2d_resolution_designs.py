@@ -68,7 +68,8 @@ FIRST = ROOT / "benchmarks" / "results" / "fault_2d_resolution.json"
 #: (a later draw, not listed, tests the bound as declared)
 FITTED_DRAWS = ("fault_2d_resolution_ladder_fresh_second.json", "fault_2d_resolution_ladder_fresh_fifth.json")
 #: every set of faults this benchmark has run (results fault_2d_resolution_<name>.json), in the order run
-DRAWS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth", "ladder_fresh_third")
+DRAWS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth", "ladder_fresh_third",
+         "ladder_fresh")
 #: elements per L_b: the ladder's, and twice and four times finer
 RESOLUTIONS = (3.0, 6.0, 12.0)
 #: the finer run of ``--refine``, for faults whose three runs show no order in (1, 5.5): their 12 per L_b run is

@@ -238,9 +238,17 @@ def _refine_flag(result: dict) -> str:
     return "--refine-all" if everywhere else "--refine"
 
 
+#: how the draws run with every fault at 24 per L_b (--refine-all) were run
+RUN_FINER_EVERYWHERE = ("run after the bound and the kind-change term were declared, every fault at 24 per L_b too: "
+                        "faults neither ever saw")
+
+
 def fault_2d_resolution_fresh_third_table() -> str | None:
-    return _fresh_table("ladder_fresh_third", "run after the bound and the kind-change term were declared, every "
-                                              "fault at 24 per L_b too: faults neither ever saw")
+    return _fresh_table("ladder_fresh_third", RUN_FINER_EVERYWHERE)
+
+
+def fault_2d_resolution_fresh_first_table() -> str | None:
+    return _fresh_table("ladder_fresh", RUN_FINER_EVERYWHERE)
 
 
 def fault_2d_resolution_fresh_table() -> str | None:
@@ -275,25 +283,28 @@ def fault_2d_kind_changes_table() -> str | None:
             f"{scale:g} (2 / r)^{order:g}: the envelope through these runs at the steepest order the runs at 6 per "
             "L_b allow, rounded outward. Two sizes that agree in kind (`--richardson`) lift it. "
             + _machine(results[0]))
-    unseen = _load(f"fault_2d_resolution_{KIND_CHANGE_UNSEEN}.json")
-    if unseen is None:
+    unseen = [result for name in KIND_CHANGE_UNSEEN if (result := _load(f"fault_2d_resolution_{name}.json"))]
+    if not unseen:
         return text
-    changes = kind_changes(unseen["faults"])
+    faults = [fault for result in unseen for fault in result["faults"]]
+    changes = kind_changes(faults)
     counts = ", ".join(f"{sum(r == resolution for _, r, _ in changes)} of "
-                       f"{sum(f'{resolution:g}' in fault['runs'] for fault in unseen['faults'])} at {resolution:g}"
-                       for resolution in unseen["resolutions"])
-    return (text + "\n\nThen a fresh draw the term never saw, every fault also run at "
-            f"{unseen['refined']:g} per L_b, so that each run at 6 and 12 per L_b has a finer run to be read "
-            f"against ({unseen['source']}, its first {len(unseen['faults'])} designs). Runs whose kind is not their "
-            f"finest run's: {counts} per L_b.\n\n"
+                       f"{sum(f'{resolution:g}' in fault['runs'] for fault in faults)} at {resolution:g}"
+                       for resolution in unseen[0]["resolutions"])
+    drawn = "; ".join(f"{result['source']}, its first {len(result['faults'])} designs" for result in unseen)
+    commands = "; ".join(f"`python benchmarks/fault_2d_resolution_designs.py --refine-all --source {result['source']} "
+                         f"--first {len(result['faults'])}`" for result in unseen)
+    return (text + f"\n\nThen fresh draws the term never saw, every fault also run at {unseen[0]['refined']:g} per "
+            f"L_b, so that each run at 6 and 12 per L_b has a finer run to be read against ({drawn}). Runs whose "
+            f"kind is not their finest run's: {counts} per L_b.\n\n"
             + "\n".join(_kind_change_rows(changes) if changes else ["No run changed kind."])
-            + f"\n\n`python benchmarks/fault_2d_resolution_designs.py --refine-all --source {unseen['source']} "
-            f"--first {len(unseen['faults'])}`. " + _machine(unseen))
+            + f"\n\n{commands}. " + _machine(unseen[-1]))
 
 
-#: the resolution benchmark's results the kind-change term is the envelope through, and the draw run after it
+#: the resolution benchmark's results the kind-change term is the envelope through, and the draws run after it
+#: with every fault at 24 per L_b (--refine-all)
 KIND_CHANGE_SETS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth")
-KIND_CHANGE_UNSEEN = "ladder_fresh_third"
+KIND_CHANGE_UNSEEN = ("ladder_fresh_third", "ladder_fresh")
 
 
 def _kind_change_rows(changes: list) -> list[str]:
@@ -362,5 +373,6 @@ TABLES = {
     "fault_2d_resolution_fresh_fourth": fault_2d_resolution_fresh_fourth_table,
     "fault_2d_kind_changes": fault_2d_kind_changes_table,
     "fault_2d_resolution_fresh_third": fault_2d_resolution_fresh_third_table,
+    "fault_2d_resolution_fresh_first": fault_2d_resolution_fresh_first_table,
     "fault_2d_period3": fault_2d_period3_table,
 }

@@ -1356,21 +1356,22 @@ def test_one_runs_declared_error_covers_a_change_of_kind_it_cannot_see():
     assert sequence_discretisation(3.0, 1, kind_checked=True)[0] == discretisation_error(3.0)
 
 
-def test_one_runs_declared_error_holds_on_a_draw_run_finer_everywhere():
+@pytest.mark.parametrize("draw", ["ladder_fresh_third", "ladder_fresh"])
+def test_one_runs_declared_error_holds_on_a_draw_run_finer_everywhere(draw):
     """The kind-change term was fitted through runs at 3 and 6 per L_b, and above 6 it extrapolates: no fault of
-    those sets had a run finer than 12 to read its 12 per L_b run against unless its three runs already agreed. A
-    fresh draw (seed 68014, ladder_fresh_third.json, its first 20 designs) run after the term was declared, every
-    fault at 3, 6, 12 and 24 per L_b (``--refine-all``): every run, whatever its kind, lies within what one run
-    declares at its size (the bound for its period where it kept its finest run's kind, the larger of the bound and
-    the term where it did not), and two sizes in a row that agreed in kind were never followed by a change."""
+    those sets had a run finer than 12 to read its 12 per L_b run against unless its three runs already agreed. Two
+    fresh draws (seeds 68014 and 68002, ladder_fresh_third.json and ladder_fresh.json, the first 20 designs of each)
+    run after the term was declared, every fault at 3, 6, 12 and 24 per L_b (``--refine-all``): every run, whatever
+    its kind, lies within what one run declares at its size (the bound for its period where it kept its finest
+    run's kind, the larger of the bound and the term where it did not), and two sizes in a row that agreed in kind
+    were never followed by a change."""
     import json
 
     from conftest import load_benchmark
     from faultslip.models.fault_2d.analysis import sequence_discretisation, single_run_error
 
-    results = json.loads((ROOT / "benchmarks" / "results" / "fault_2d_resolution_ladder_fresh_third.json")
-                         .read_text())
-    assert results["source"] == "ladder_fresh_third.json" and results["summary"]["faults"] == 20
+    results = json.loads((ROOT / "benchmarks" / "results" / f"fault_2d_resolution_{draw}.json").read_text())
+    assert results["source"] == f"{draw}.json" and results["summary"]["faults"] == 20
     assert all("24" in fault["runs"] for fault in results["faults"])
     at_twelve = [fault for fault in results["faults"] if fault["runs"]["24"]["sequence"] == "periodic"]
     assert len(at_twelve) >= 15  # the 12 per L_b runs read against a finer, settled run
