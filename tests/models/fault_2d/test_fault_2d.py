@@ -1346,13 +1346,8 @@ def test_one_runs_declared_error_covers_a_change_of_kind_it_cannot_see():
     import json
 
     for name in RESOLUTION_SETS:
-        results = json.loads((ROOT / "benchmarks" / "results" / f"fault_2d_resolution_{name}.json").read_text())
-        for fault in results["faults"]:
-            kinds = [(run["sequence"], run["period"], run["interleaves"]) for _, run in
-                     sorted(fault["runs"].items(), key=lambda item: float(item[0]))]
-            for position in range(len(kinds) - 1):
-                if kinds[position] == kinds[position + 1]:
-                    assert set(kinds[position:]) == {kinds[position]}, (name, fault["name"])
+        _assert_no_change_after_two_sizes_agree(
+            json.loads((ROOT / "benchmarks" / "results" / f"fault_2d_resolution_{name}.json").read_text()))
     assert sequence_discretisation(3.0, 1, kind_checked=True)[0] == discretisation_error(3.0)
 
 
@@ -1380,12 +1375,17 @@ def test_one_runs_declared_error_holds_on_a_draw_run_finer_everywhere(draw):
     for fault, resolution, run in _measured_runs(results):
         assert run["error_recurrence"] <= sequence_discretisation(resolution, run["period"])[0], (
             fault["name"], resolution, run["error_recurrence"])
+    _assert_no_change_after_two_sizes_agree(results)
+
+
+def _assert_no_change_after_two_sizes_agree(results: dict) -> None:
+    """Where two sizes in a row agree in kind, every finer run keeps it (the lift --richardson gives)."""
     for fault in results["faults"]:
         kinds = [(run["sequence"], run["period"], run["interleaves"]) for _, run in
                  sorted(fault["runs"].items(), key=lambda item: float(item[0]))]
         for position in range(len(kinds) - 1):
             if kinds[position] == kinds[position + 1]:
-                assert set(kinds[position:]) == {kinds[position]}, fault["name"]
+                assert set(kinds[position:]) == {kinds[position]}, (results["source"], fault["name"])
 
 
 def test_a_coarse_fault_is_refused_before_any_work_naming_the_size_it_needs(tmp_path, cli):
