@@ -70,6 +70,9 @@ FITTED_DRAWS = ("fault_2d_resolution_ladder_fresh_second.json", "fault_2d_resolu
 #: every set of faults this benchmark has run (results fault_2d_resolution_<name>.json), in the order run
 DRAWS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth", "ladder_fresh_third",
          "ladder_fresh")
+#: the sets the kind-change term (faultslip.models.fault_2d.analysis.KIND_CHANGE_TERM) is the envelope through, and
+#: the draws run after it with every fault at 24 per L_b (--refine-all), which test it
+KIND_CHANGE_FITTED, KIND_CHANGE_UNSEEN = DRAWS[:4], DRAWS[4:]
 #: elements per L_b: the ladder's, and twice and four times finer
 RESOLUTIONS = (3.0, 6.0, 12.0)
 #: the finer run of ``--refine``, for faults whose three runs show no order in (1, 5.5): their 12 per L_b run is

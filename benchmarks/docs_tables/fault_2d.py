@@ -268,10 +268,10 @@ def fault_2d_resolution_fresh_fourth_table() -> str | None:
 def fault_2d_kind_changes_table() -> str | None:
     """docs/fault_2d.md: the runs whose element size changed the kind of sequence, over the held-out designs and
     the fresh draws, against the kind-change term one run declares (faultslip.models.fault_2d.analysis)."""
-    from fault_2d_resolution_designs import kind_changes
+    from fault_2d_resolution_designs import KIND_CHANGE_FITTED, KIND_CHANGE_UNSEEN, kind_changes
     from faultslip.models.fault_2d.analysis import KIND_CHANGE_TERM
 
-    results = [_load(f"fault_2d_resolution_{name}.json") for name in KIND_CHANGE_SETS]
+    results = [_load(f"fault_2d_resolution_{name}.json") for name in KIND_CHANGE_FITTED]
     if any(result is None for result in results):
         return None
     faults = sum(len(result["faults"]) for result in results)
@@ -300,11 +300,6 @@ def fault_2d_kind_changes_table() -> str | None:
             + "\n".join(_kind_change_rows(changes) if changes else ["No run changed kind."])
             + f"\n\n{commands}. " + _machine(unseen[-1]))
 
-
-#: the resolution benchmark's results the kind-change term is the envelope through, and the draws run after it
-#: with every fault at 24 per L_b (--refine-all)
-KIND_CHANGE_SETS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth")
-KIND_CHANGE_UNSEEN = ("ladder_fresh_third", "ladder_fresh")
 
 
 def _kind_change_rows(changes: list) -> list[str]:

@@ -16,7 +16,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from conftest import assert_clean_error
+from conftest import assert_clean_error, load_benchmark
 from faultslip.models.fault_2d import compiled
 from faultslip.models.fault_2d.analysis import summarise
 from faultslip.models.fault_2d.integrate import STEP_MEMORY, YEAR, _Stopped, next_step_factor, run_cycles
@@ -1302,15 +1302,13 @@ def test_the_declared_discretisation_error_holds_on_fresh_draws(draw, designs, f
     assert len(runs) >= 2 * designs
 
 
-RESOLUTION_SETS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth")
+RESOLUTION_SETS = load_benchmark("fault_2d_resolution_designs").KIND_CHANGE_FITTED
 
 
 def _kind_changes():
     """(set, fault, resolution, error) of every run, over the held-out designs and three fresh draws, whose kind of
     sequence is not its finest run's, with an error measured against it."""
     import json
-
-    from conftest import load_benchmark
 
     kind_changes = load_benchmark("fault_2d_resolution_designs").kind_changes  # the docs table's rule, shared
     for name in RESOLUTION_SETS:
@@ -1351,7 +1349,7 @@ def test_one_runs_declared_error_covers_a_change_of_kind_it_cannot_see():
     assert sequence_discretisation(3.0, 1, kind_checked=True)[0] == discretisation_error(3.0)
 
 
-@pytest.mark.parametrize("draw", ["ladder_fresh_third", "ladder_fresh"])
+@pytest.mark.parametrize("draw", load_benchmark("fault_2d_resolution_designs").KIND_CHANGE_UNSEEN)
 def test_one_runs_declared_error_holds_on_a_draw_run_finer_everywhere(draw):
     """The kind-change term was fitted through runs at 3 and 6 per L_b, and above 6 it extrapolates: no fault of
     those sets had a run finer than 12 to read its 12 per L_b run against unless its three runs already agreed. Two
@@ -1362,7 +1360,6 @@ def test_one_runs_declared_error_holds_on_a_draw_run_finer_everywhere(draw):
     were never followed by a change."""
     import json
 
-    from conftest import load_benchmark
     from faultslip.models.fault_2d.analysis import sequence_discretisation, single_run_error
 
     results = json.loads((ROOT / "benchmarks" / "results" / f"fault_2d_resolution_{draw}.json").read_text())
