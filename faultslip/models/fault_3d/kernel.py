@@ -278,7 +278,10 @@ class StrikeConvolution:
         return self._apply(self._cross, transformed)
 
     def _apply(self, spectrum: np.ndarray, transformed: np.ndarray) -> np.ndarray:
-        product = np.matmul(spectrum, transformed[:, :, None])[:, :, 0]
+        # numpy's own loop, not BLAS: OpenBLAS threads the batched product from about 80 squares down dip and its
+        # threads spin between calls, doubling a run's CPU alone and crawling in a pool of one worker a core
+        # (benchmarks/fault_3d_resolution.py's 25 m runs); one thread, the same CPU as BLAS held to one
+        product = np.einsum("kij,kj->ki", spectrum, transformed)
         return np.fft.irfft(product, n=self.length, axis=0)[: self.strike_count].reshape(-1)
 
     def both(self, deficit: np.ndarray) -> np.ndarray:
