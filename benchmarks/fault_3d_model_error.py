@@ -86,13 +86,17 @@ def judged(row: dict, rows: list) -> dict:
             "covered": declared_bound is not None and row["model_error"] is not None and row["model_error"] <= bound}
 
 
-def scene_text(ratio: float, height: float, top: float, element_size: float, years: float) -> str:
-    """A BP5-at-1/20 scene with a patch L = ratio x W long, W high, its top at ``top``."""
+def scene_text(ratio: float, height: float, top: float, element_size: float, years: float,
+               critical_slip_factor: float = 1.0, geometry_element_size: float | None = None) -> str:
+    """A BP5-at-1/20 scene with a patch L = ratio x W long, W high, its top at ``top``; D_c (and the nucleation
+    patch's) times ``critical_slip_factor``. The fault's length and width are rounded to ``geometry_element_size``
+    (default: the elements), so that scenes on finer elements can be the same fault."""
     length = ratio * height
     fault_length = length + 2 * BASE["margin"]
-    fault_length = math.ceil(fault_length / (2 * element_size)) * 2 * element_size
+    rounding = geometry_element_size or element_size
+    fault_length = math.ceil(fault_length / (2 * rounding)) * 2 * rounding
     bottom = top + height
-    width = max(2000.0, math.ceil((bottom + 1200.0) / element_size) * element_size)
+    width = max(2000.0, math.ceil((bottom + 1200.0) / rounding) * rounding)
     nucleation_to = -length / 2 + min(BASE["nucleation"], length)
     return f"""family = "fault_3d"
 name = "patch {ratio:g} x {height:g} m at {top:g} m"
@@ -108,7 +112,7 @@ plate_rate = "1e-9 m/s"
 reference_speed = "1e-6 m/s"
 reference_friction = 0.6
 b = 0.03
-critical_slip = "7 mm"
+critical_slip = "{7.0 * critical_slip_factor:.6g} mm"
 normal_stress = "25 MPa"
 a = {{ inside = 0.004, outside = 0.04, top = "{top:g} m", bottom = "{bottom:g} m", length = "{length:g} m", transition = "100 m" }}
 [nucleation]
@@ -116,7 +120,7 @@ strike_from = "{-length / 2:g} m"
 strike_to = "{nucleation_to:g} m"
 top = "{top:g} m"
 bottom = "{bottom:g} m"
-critical_slip = "6.5 mm"
+critical_slip = "{6.5 * critical_slip_factor:.6g} mm"
 initial_speed = "0.01 m/s"
 [run]
 duration = "{years:g} yr"

@@ -280,6 +280,56 @@ def fault_3d_model_error_table() -> str | None:
             f"(faultslip.fault.strike_error). {tally} " + _machine(result))
 
 
+def fault_3d_resolution_table() -> str | None:
+    """The 3-D fault's declared square-size error on drawn faults it was not fitted on (fault_3d_resolution.py)."""
+    result = _load_with("fault_3d_resolution.json", "judged")
+    if result is None:
+        return None
+    sizes = sorted({size for fault in result["judged"] for size in fault["sizes_m"]}, reverse=True)
+    rows = ["| fault (L / W, W, top; D_c) | W / h* | squares per L_b | "
+            + " | ".join(f"{size:g} m: recurrence (sequence)" for size in sizes)
+            + " | coarsest against the reference | may differ by | kind kept |",
+            "| --- | --- | --- |" + " --- |" * len(sizes) + " --- | --- | --- |"]
+    for fault in result["judged"]:
+        runs = [fault["runs"].get(f"{size:g}") for size in sizes]
+        coarse = fault["errors"][0]
+        rows.append(f"| {fault['aspect']:g}, {fault['height_m']:g} m, {fault['top_m']:g} m; "
+                    f"x{fault['critical_slip_factor']:g} | {runs[0]['width_over_nucleation']:.2f} | "
+                    + ", ".join(f"{run['resolution']:.2g}" for run in runs if run) + " | "
+                    + " | ".join("-" if run is None else
+                                 (f"{run['recurrence_yr']:.4g} yr" if run["recurrence_yr"] is not None
+                                  else f"{run['events']} events") + f" ({run['sequence']})" for run in runs)
+                    + " | " + ("-" if coarse["error_recurrence"] is None else f"{coarse['error_recurrence']:.2%}")
+                    + " | " + ("-" if coarse["allowed"] is None else f"{coarse['allowed']:.2%}") + " | "
+                    + ("yes" if all(row["kind_kept"] for row in fault["errors"]) else "**no**") + " |")
+    per_size, cost = result["per_size"], result["cost"]
+    coarsest = per_size[f"{sizes[0]:g}"]
+    judged = result["judged"]
+    changed = [fault for fault in judged if not all(row["kind_kept"] for row in fault["errors"])]
+    return ("\n".join(rows) + f"\n\n{len(judged)} faults drawn with seed {result['seed']} "
+            f"(`python benchmarks/fault_3d_resolution.py`): BP5 at 1/20 with a patch drawn over the held-out box "
+            "of the 2-D rung's model error and D_c set by a W / h* drawn over 1.2-2, each run "
+            f"{result['years']:g} yr at every size, as `faultslip run` reads it (lengths and times as run, at 1/20). "
+            f"The reference is the Richardson limit of three sizes in one kind ({result['richardson']} faults), "
+            "and a run may differ from it by its own declared error; else it is the finest run, and a coarser run "
+            "may differ from it by the two runs' declared errors added. "
+            f"The {sizes[0]:g} m runs: {coarsest['holds']} of {coarsest['measured']} within that (the most "
+            f"{coarsest['largest_error_recurrence']:.2%}, {coarsest['largest_share_of_allowed']:.0%} of what it "
+            f"may differ by); their slip per event differs by up to {coarsest['largest_error_slip']:.1%}, which "
+            "no declared error covers (the declared error is the recurrence's). "
+            + (f"The kind of sequence changed with the square size on {len(changed)} of {len(judged)}, each at "
+               f"{sizes[0]:g} m (" + "; ".join(
+                   f"{fault['errors'][0]['sequence']} against {fault['errors'][-1]['sequence']}, "
+                   f"{fault['errors'][0]['error_recurrence']:.1%} off where it may differ by "
+                   f"{fault['errors'][0]['allowed']:.1%}" for fault in changed) + "). "
+               if changed else f"No fault's kind of sequence changed with the square size ({len(judged)} of "
+               f"{len(judged)} kept it). ")
+            + f"The cost model estimated the runs at {cost['estimate_over_cpu'][0]:.2f} to "
+              f"{cost['estimate_over_cpu'][1]:.2f}x the CPU each used ({cost['within_2x']} of {cost['runs']} within "
+              "2x; steps " + "-".join(f"{v:.2f}" for v in cost["steps_estimate_over_measured"]) + "x). "
+            + _machine(result))
+
+
 def fault_3d_starts_table() -> str | None:
     """Whether each 3-D cell's cycle is its own whatever its start (fault_3d_model_error.py --starts)."""
     result = _load("fault_3d_starts.json")
@@ -441,5 +491,6 @@ TABLES = {
     "fault_3d_operator": fault_3d_operator_table,
     "fault_3d_model_error": fault_3d_model_error_table,
     "fault_3d_starts": fault_3d_starts_table,
+    "fault_3d_resolution": fault_3d_resolution_table,
     "fault_3d_cost": fault_3d_cost_table,
 }

@@ -461,6 +461,30 @@ def test_the_declared_resolution_error_holds_on_bp5_at_every_size():
         assert abs(run["interval_difference_from_tandem"]) <= declared, run["element_size_m"]
 
 
+
+def test_the_declared_resolution_error_holds_on_drawn_faults_it_was_not_fitted_on():
+    """benchmarks/results/fault_3d_resolution.json (fault_3d_resolution.py): faults drawn over the held-out box, each
+    run at 100 and 50 m squares (some at 25 m) through faultslip.run. Each coarser run's recurrence lies within its
+    and the finest run's declared errors added of the finest (its own, where three sizes give a Richardson limit);
+    each declared error is at least the square size's bound at its resolution; the cost model's estimate is within
+    2x of the CPU each run used."""
+    from faultslip.models.fault_3d.family import discretisation_error
+
+    result = json.loads((ROOT / "benchmarks" / "results" / "fault_3d_resolution.json").read_text(encoding="utf-8"))
+    assert result["fault_count"] >= 8
+    for fault in result["judged"]:
+        finest = fault["runs"][f"{min(fault['sizes_m']):g}"]
+        for row in fault["errors"]:
+            run = fault["runs"][f"{row['element_size_m']:g}"]
+            assert run["declared"] >= discretisation_error(run["resolution"]) - 1e-12, (fault["name"], row)
+            if row["error_recurrence"] is None:
+                continue
+            allowed = run["declared"] + (0.0 if fault["richardson_recurrence"] else finest["declared"])
+            assert math.isclose(row["allowed"], allowed) and row["error_recurrence"] <= allowed, (fault["name"], row)
+        for run in fault["runs"].values():
+            assert 0.5 <= run["estimated_cpu_s"] / run["cpu_time_s"] <= 2.0, (fault["name"], run["element_size_m"])
+
+
 def test_the_cost_model_is_its_benchmarks_fit_and_estimates_unseen_faults_within_2x():
     """The cost model is benchmarks/fault_3d_cost.py's fit, refitted here from its results file: the steps (least
     squares in ln steps on ln events, ln W / h*, ln N_x and the burial, over its fit runs and the model-error
