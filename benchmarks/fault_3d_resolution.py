@@ -3,7 +3,7 @@
 kind of sequence changes with the square size.
 
     python benchmarks/fault_3d_resolution.py [--seed 7401] [--count 8] [--workers 2]
-    python benchmarks/fault_3d_resolution.py --reuse --sizes 25 --only 1 2 3 4   # 25 m runs of four (5-12 min each)
+    python benchmarks/fault_3d_resolution.py --reuse --sizes 25 --only 1 2 3 4 6 7   # 25 m runs of six (5-12 min each)
 
 :data:`faultslip.models.fault_3d.family.DISCRETISATION` was fitted on one fault, SEAS BP5-QD at 2000, 1000 and
 500 m. On the 2-D fault, runs changed their kind of sequence with the element size near bifurcations, which one
