@@ -40,10 +40,12 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(ROOT))
+from fault_2d_resolution_designs import richardson  # noqa: E402  (three sizes halving: limit and order)
 from fault_3d_model_error import buried_draw, scene_text  # noqa: E402
 from provenance import stamp  # noqa: E402
 
 from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
+from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
 
 OUT = HERE / "results" / "fault_3d_resolution.json"
 #: square sizes (m), coarsest first; the geometry is rounded to the coarsest
@@ -53,8 +55,8 @@ WIDTH_OVER_NUCLEATION = (1.2, 2.0)
 #: the 100 m squares' fewest per L_b: above the 2 below which the 3-D fault declares nothing
 LOWEST_RESOLUTION = 2.2
 YEARS = 120.0
-YEAR = 365.25 * 86400.0
-#: the Richardson order's window: outside it the three runs are not in the asymptotic range
+#: the Richardson order's window (fault_2d_resolution_designs.richardson's upper end): outside it the three runs are
+#: not in the asymptotic range
 ORDERS = (0.5, 5.5)
 
 
@@ -87,51 +89,35 @@ def _text(fault: dict, size: float) -> str:
 def _run(job) -> tuple[str, float, dict]:
     """One fault at one square size, through the library as a user runs it: its estimate first, then the run."""
     import faultslip
-    from faultslip.models import estimate as estimate_of
     from faultslip.fault.strike_error import groups_of
-    from faultslip.models.fault_3d import cost
+    from faultslip.models import estimate as estimate_of
     from faultslip.models.fault_3d.scene import parse_fault_3d_scene
 
     fault, size = job
     scene = parse_fault_3d_scene(_text(fault, size), fault["name"], allow_large=True)
-    groups = groups_of(scene.fault)
-    estimated_steps = cost.steps(scene.fault.strike_count, scene.expected_events(),
-                                 groups["width_over_nucleation"], scene.rtol, groups["burial"])
     estimate = estimate_of(scene).seconds
     started = time.process_time()
-    values = faultslip.run(scene, allow_large=True).values
+    result = faultslip.run(scene, allow_large=True)
+    values = result.values
 
-    def number(key):  # SI inside: a quantity's magnitude in base units
-        value = values.get(key)
-        if value is None:
-            return None
-        value = float(value.to_base_units().magnitude if hasattr(value, "magnitude") else value)
-        return value if math.isfinite(value) else None
+    def number(key):  # the family's stored SI number, None where it is not finite
+        value = result.si(key)
+        return float(value) if value is not None and math.isfinite(value) else None
     return fault["name"], size, {
         "element_size_m": size, "elements": scene.fault.count, "resolution": number("resolution"),
-        "width_over_nucleation": groups["width_over_nucleation"], "sequence": str(values["sequence"]),
+        "width_over_nucleation": groups_of(scene.fault)["width_over_nucleation"],
+        "sequence": str(values["sequence"]),
         "recurrence_yr": None if number("recurrence_interval") is None else number("recurrence_interval") / YEAR,
         "slip_per_event_m": number("slip_per_event"), "events": int(values["events"]),
         "system_events": int(values["system_size_events"]), "declared": number("estimated_relative_error"),
         "discretisation_error": number("discretisation_error"), "kind_change_error": number("kind_change_error"),
         "sequence_error": number("sequence_error"), "steps": int(values["steps"]),
-        "estimated_steps": estimated_steps, "estimated_cpu_s": estimate,
+        "estimated_steps": scene.expected_steps(), "estimated_cpu_s": estimate,
         "cpu_time_s": time.process_time() - started}
 
 
 def settled(run: dict) -> bool:
     return run["sequence"] == "periodic" or run["sequence"].startswith("period_")
-
-
-def richardson(values: list[float]) -> tuple[float, float]:
-    """(limit, order) of three values on squares halving each time; (finest, order) outside :data:`ORDERS`."""
-    coarse, fine, finest = values
-    if fine == finest or (coarse - fine) / (fine - finest) <= 0:
-        return finest, math.nan
-    order = math.log2((coarse - fine) / (fine - finest))
-    if not ORDERS[0] < order < ORDERS[1]:
-        return finest, order
-    return finest + (finest - fine) / (2.0 ** order - 1.0), order
 
 
 def judged(fault: dict) -> dict:
@@ -148,7 +134,8 @@ def judged(fault: dict) -> dict:
     entry = {**fault, "sizes_m": sizes, "same_kind": same_kind}
     for quantity, key in (("recurrence", "recurrence_yr"), ("slip", "slip_per_event_m")):
         values = [run[key] for run in runs]
-        limit, order = ((richardson(values[-3:]) if len(values) >= 3 and same_kind else (values[-1], math.nan))
+        limit, order = ((richardson(values[-3:], slowest=ORDERS[0]) if len(values) >= 3 and same_kind
+                         else (values[-1], math.nan))
                         if None not in values else (None, math.nan))
         entry[f"reference_{quantity}"] = limit
         entry[f"order_{quantity}"] = None if not math.isfinite(order) else order
