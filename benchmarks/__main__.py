@@ -120,6 +120,9 @@ PRODUCERS = (
     ("fault_3d_model_error", ["--fresh", "7307", "16"], ["--fresh", "7307", "16"], "fault_3d_model_error_fresh.json"),
     ("seas_bp5", ["--sizes", "2000", "1000", "500", "--finest-years", "1800"],
      ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),
+    # drawn faults at three square sizes (quick: the saved runs judged again), then the slip bound fitted on them
+    ("fault_3d_resolution", ["--sizes", "100", "50", "25"], ["--reuse", "--sizes", "100"], "fault_3d_resolution.json"),
+    ("fault_3d_slip_error", [], [], "fault_3d_slip_error.json"),
     # the 3-D cost model's fit runs (quick: refitted from the saved runs), then its held-out draw
     ("fault_3d_cost", ["--part", "fit"], ["--part", "refit"], "fault_3d_cost.json"),
     # every cost group's reference work, after the fits it anchors and before the estimates checked against it

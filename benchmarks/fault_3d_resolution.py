@@ -17,8 +17,12 @@ Each run is ``faultslip.run`` of the scene, read as a user reads it: recurrence,
 the declared error. Per fault the **reference** is the Richardson limit of its three runs where they settled into
 the same kind (periodic, or the same period) and show an order in (0.5, 5.5), and a run may differ from it by its
 declared ``estimated_relative_error``; else it is the finest run, and a coarser run may differ from it by the two
-runs' declared errors added (a larger difference shows one of them untrue). A **change of kind** is a run whose kind
-is not the finest run's. Each run's cost estimate (``faultslip.models.estimate``) is saved beside the CPU it used.
+runs' declared errors added (a larger difference shows one of them untrue). A run's declared error is read with the
+square size's bound as declared now, so ``margin_needed``, the least margin on that bound that covers every run,
+sets it. A **change of kind** is a run whose kind
+is not the finest run's. Slip per event is judged the same way against its own declared error
+(``slip_per_event_error``); no fault's slip shows a Richardson order. Each run's cost estimate
+(``faultslip.models.estimate``) is saved beside the CPU it used.
 
 ``--reuse`` keeps the runs already saved for the same inputs. Writes
 ``benchmarks/results/fault_3d_resolution.json`` after every run.
@@ -45,6 +49,8 @@ from fault_3d_model_error import buried_draw, scene_text  # noqa: E402
 from provenance import stamp  # noqa: E402
 
 from faultslip.io.processes import stop_pool, worker_pool  # noqa: E402
+from faultslip.models.fault_3d.family import (DISCRETISATION, SLIP_DISCRETISATION,  # noqa: E402
+                                              discretisation_error)
 from faultslip.models.fault_2d.integrate import YEAR  # noqa: E402
 
 OUT = HERE / "results" / "fault_3d_resolution.json"
@@ -91,6 +97,7 @@ def _run(job) -> tuple[str, float, dict]:
     import faultslip
     from faultslip.fault.strike_error import groups_of
     from faultslip.models import estimate as estimate_of
+    from faultslip.models.fault_3d.family import summarise
     from faultslip.models.fault_3d.scene import parse_fault_3d_scene
 
     fault, size = job
@@ -111,9 +118,46 @@ def _run(job) -> tuple[str, float, dict]:
         "slip_per_event_m": number("slip_per_event"), "events": int(values["events"]),
         "system_events": int(values["system_size_events"]), "declared": number("estimated_relative_error"),
         "discretisation_error": number("discretisation_error"), "kind_change_error": number("kind_change_error"),
-        "sequence_error": number("sequence_error"), "steps": int(values["steps"]),
+        "sequence_error": number("sequence_error"), "slip_declared": number("slip_per_event_error"),
+        "slip_sequence_error": number("slip_sequence_error"), "rtol": number("rtol"), "steps": int(values["steps"]),
+        "intervals_yr": [float(v) / YEAR for v in summarise(result.extras["run"])["intervals"]],
         "estimated_steps": scene.expected_steps(), "estimated_cpu_s": estimate,
         "cpu_time_s": time.process_time() - started}
+
+
+def declared_now(run: dict) -> float | None:
+    """A run's declared recurrence error with the square size's bound as declared now (the sequence's and 10 rtol
+    as the run declared them): a change of :data:`DISCRETISATION` is read without running again."""
+    if run["declared"] is None or run["discretisation_error"] is None:
+        return None
+    return run["declared"] - run["discretisation_error"] + discretisation_error(run["resolution"])
+
+
+def margin_needed(faults: list[dict]) -> float:
+    """The least margin on the square size's bound (scale r^-order of :data:`DISCRETISATION`) at which every
+    coarser run lies within what it may differ by (:func:`judged`): each run's sequence and rtol terms kept."""
+    scale, order = DISCRETISATION["scale"], DISCRETISATION["order"]
+    needed = 0.0
+    for fault in faults:
+        finest = fault["runs"][f"{min(fault['sizes_m']):g}"]
+        for row in fault["errors"]:
+            if row["error_recurrence"] is None:
+                continue
+            pair = [fault["runs"][f"{row['element_size_m']:g}"]]
+            if not fault["richardson_recurrence"]:
+                pair.append(finest)
+            rest = sum(run["declared"] - run["discretisation_error"] for run in pair)
+            needed = max(needed, (row["error_recurrence"] - rest) / sum(scale * run["resolution"] ** -order
+                                                                         for run in pair))
+    return needed
+
+
+def slip_declared(run: dict) -> float | None:
+    """A run's declared error in slip per event; for a run saved before the family declared one, the square size's
+    bound alone (its sequence and rtol terms left out, which only tightens a check against it)."""
+    if "slip_declared" in run:
+        return run["slip_declared"]
+    return discretisation_error(run["resolution"], SLIP_DISCRETISATION)
 
 
 def settled(run: dict) -> bool:
@@ -151,12 +195,17 @@ def judged(fault: dict) -> dict:
                                         or (run is finest and not entry[f"richardson_{quantity}"])
                                         else abs(run[key] / reference - 1.0))
         if entry["richardson_recurrence"] or run is finest:
-            row["allowed"] = run["declared"]
+            row["allowed"] = declared_now(run)
         else:
-            row["allowed"] = None if None in (run["declared"], finest["declared"]) else \
-                run["declared"] + finest["declared"]
+            row["allowed"] = None if None in (declared_now(run), declared_now(finest)) else \
+                declared_now(run) + declared_now(finest)
         row["holds"] = (None if row["error_recurrence"] is None or row["allowed"] is None
                         else row["error_recurrence"] <= row["allowed"])
+        mine, finest_slip = slip_declared(run), slip_declared(finest)
+        row["allowed_slip"] = (mine if entry["richardson_slip"] or run is finest else
+                               None if None in (mine, finest_slip) else mine + finest_slip)
+        row["holds_slip"] = (None if row["error_slip"] is None or row["allowed_slip"] is None
+                             else row["error_slip"] <= row["allowed_slip"])
         errors.append(row)
     entry["errors"] = errors
     return entry
@@ -178,7 +227,11 @@ def summary(faults: list[dict]) -> dict:
             "largest_error_slip": max((row["error_slip"] for row in mine if row["error_slip"] is not None),
                                       default=None),
             "largest_share_of_allowed": max((row["error_recurrence"] / row["allowed"] for row in measured),
-                                            default=None)}
+                                            default=None),
+            "measured_slip": sum(row.get("holds_slip") is not None for row in mine),
+            "holds_slip": sum(bool(row.get("holds_slip")) for row in mine),
+            "largest_share_of_allowed_slip": max((row["error_slip"] / row["allowed_slip"] for row in mine
+                                                  if row.get("holds_slip") is not None), default=None)}
     runs = [run for fault in faults for run in fault["runs"].values() if "estimated_cpu_s" in run]
     ratios = [run["estimated_cpu_s"] / run["cpu_time_s"] for run in runs]
     cost = {"runs": len(runs), "estimate_over_cpu": [min(ratios), max(ratios)] if ratios else None,
@@ -186,6 +239,7 @@ def summary(faults: list[dict]) -> dict:
             "steps_estimate_over_measured": [min(r["estimated_steps"] / r["steps"] for r in runs),
                                              max(r["estimated_steps"] / r["steps"] for r in runs)] if runs else None}
     return {"fault_count": len(judged_faults), "same_kind": sum(fault["same_kind"] for fault in judged_faults),
+            "margin_needed": margin_needed(judged_faults), "margin": DISCRETISATION["margin"],
             "richardson": sum(fault["richardson_recurrence"] for fault in judged_faults),
             "per_size": per_size, "cost": cost, "judged": judged_faults}
 
@@ -217,7 +271,12 @@ def main(argv=None) -> None:
         fault.setdefault("runs", {})
     # the finest (longest) runs first, so that the workers end together
     chosen = [faults[index] for index in args.only] if args.only else faults
-    jobs = [(fault, size) for size in sorted(args.sizes) for fault in chosen if f"{size:g}" not in fault["runs"]]
+    # a run saved before the family declared its slip's error is run again, and an unsettled one saved before it
+    # read the intervals after the spin-up (saved with them since)
+    def stale(run: dict) -> bool:
+        return "slip_declared" not in run or (run["sequence"] == "unsettled" and "intervals_yr" not in run)
+    jobs = [(fault, size) for size in sorted(args.sizes) for fault in chosen
+            if stale(fault["runs"].get(f"{size:g}", {"sequence": ""}))]
     by_name = {fault["name"]: fault for fault in faults}
     pool = worker_pool(min(args.workers, max(len(jobs), 1)))
     try:

@@ -19,7 +19,9 @@ error (:func:`faultslip.models.fault_3d.family.discretisation_error`) and whethe
 wall and CPU time, peak memory. The finest size runs ``--finest-years`` (600 yr, three events, give one settled
 interval, where a finer size's full run would take hours). The
 declared error's bound is fitted here too (``fit``: c r^-p through the two coarsest sizes' differences from the
-finest, r the squares per L_b, times a margin of 2), which faultslip.models.fault_3d.family.DISCRETISATION takes.
+finest, r the squares per L_b, times a margin of 2), whose scale and order
+faultslip.models.fault_3d.family.DISCRETISATION takes (its margin is what drawn faults needed:
+fault_3d_resolution.py).
 Writes benchmarks/results/seas_bp5.json.
 """
 

@@ -189,8 +189,12 @@ def seas_bp5_table() -> str | None:
                     + f"{slips} | {run['cpu_s']:.0f} s | {run['wall_s']:.0f} s | "
                     f"{run['peak_memory_bytes'] / 2**30:.2f} GiB |")
     fit = result.get("fit")
-    declared = (f"Declared: {fit['margin']:g} x {fit['scale']:.3g} r^-{fit['order']:.2f} of the interval, r the squares "
-                "per L_b, through the two coarsest sizes' differences from the finest. " if fit else "")
+    drawn = _load("fault_3d_resolution.json") or {}
+    declared = (f"Fitted: {fit['margin']:g} x {fit['scale']:.3g} r^-{fit['order']:.2f} of the interval, r the squares "
+                "per L_b, through the two coarsest sizes' differences from the finest (the declared column)"
+                + (f"; declared now with a margin of {drawn['margin']:g}, which drawn faults needed "
+                   "([below](#seas-bp5-qd-beside-a-published-participant))" if drawn.get("margin") else "")
+                + ". " if fit else "")
     return ("\n".join(rows) + f"\n\nEach size's last interval between system-size events (the sequence settles "
             f"after the first, which the nucleation patch starts at t = 0; the finest ran "
             f"{min(result['runs'], key=lambda r: r['element_size_m'])['years']:g} yr). " + declared
@@ -312,11 +316,14 @@ def fault_3d_resolution_table() -> str | None:
             f"{result['years']:g} yr at every size, as `faultslip run` reads it (lengths and times as run, at 1/20). "
             f"The reference is the Richardson limit of three sizes in one kind ({result['richardson']} faults), "
             "and a run may differ from it by its own declared error; else it is the finest run, and a coarser run "
-            "may differ from it by the two runs' declared errors added. "
+            "may differ from it by the two runs' declared errors added. A run's declared error is read with the "
+            "square size's bound as declared now, whose margin on BP5's fit is the least that covers every run "
+            f"here ({result['margin_needed']:.2f}), rounded up: {result['margin']:g}. "
             f"The {sizes[0]:g} m runs: {coarsest['holds']} of {coarsest['measured']} within that (the most "
             f"{coarsest['largest_error_recurrence']:.2%}, {coarsest['largest_share_of_allowed']:.0%} of what it "
-            f"may differ by); their slip per event differs by up to {coarsest['largest_error_slip']:.1%}, which "
-            "no declared error covers (the declared error is the recurrence's). "
+            f"may differ by); their slip per event differs by up to {coarsest['largest_error_slip']:.1%}, and "
+            f"{coarsest['holds_slip']} of {coarsest['measured_slip']} are within their declared slip errors added "
+            f"(the most {coarsest['largest_share_of_allowed_slip']:.0%} of it; table below). "
             + (f"The kind of sequence changed with the square size on {len(changed)} of {len(judged)}, each at "
                f"{sizes[0]:g} m (" + "; ".join(
                    f"{fault['errors'][0]['sequence']} against {fault['errors'][-1]['sequence']}, "
@@ -328,6 +335,36 @@ def fault_3d_resolution_table() -> str | None:
               f"{cost['estimate_over_cpu'][1]:.2f}x the CPU each used ({cost['within_2x']} of {cost['runs']} within "
               "2x; steps " + "-".join(f"{v:.2f}" for v in cost["steps_estimate_over_measured"]) + "x). "
             + _machine(result))
+
+
+def fault_3d_slip_error_table() -> str | None:
+    """The 3-D fault's square-size error in slip per event: its fit and the faults it left out
+    (fault_3d_slip_error.py)."""
+    result = _load_with("fault_3d_slip_error.json", "held_out")
+    if result is None:
+        return None
+    fit, declared = result["fit"], result["declared"]
+    rows = ["| fault | squares per L_b (run, finest) | slip per event apart | fitted bound (both runs) |",
+            "| --- | --- | --- | --- |"]
+    for pair in result["pairs"]:
+        bound = fit["scale"] * (pair["resolution"] ** -fit["order"] + pair["finest_resolution"] ** -fit["order"])
+        rows.append(f"| {pair['fault']} | {pair['resolution']:.2g}, {pair['finest_resolution']:.2g} | "
+                    f"{pair['difference']:.2%} | {bound:.2%} |")
+    held = result["held_out"]
+    return ("\n".join(rows) + f"\n\n`python benchmarks/fault_3d_slip_error.py`: every settled run of its finest run's "
+            f"kind against that run ({len(result['pairs'])} pairs, BP5 and the drawn faults above but "
+            + " and ".join(result["held_out_faults"]) + "). The least scale covering every pair, at the order of "
+            f"least geometric mean over 2-16 squares per L_b, is {fit['scale']:.4f} r^-{fit['order']:g}; declared, "
+            f"{declared['margin']:g} x {declared['scale']:g} r^-{declared['order']:g} (r squares per L_b), "
+            "the recurrence's margin on BP5. Slip per event barely converges over 2-13 squares per L_b: the bound is "
+            f"{declared['margin'] * declared['scale'] * 3 ** -declared['order']:.1%} at 3 and "
+            f"{declared['margin'] * declared['scale'] * 12 ** -declared['order']:.1%} at 12. On the faults the fit "
+            f"left out, {result['held_out_holds']} of {len(held)} runs are within their and the finest run's "
+            "declared slip errors added (" + "; ".join(
+                f"{row['fault']} at {row['element_size_m']:g} m ({row['sequence']}) against "
+                f"{row['finest_element_size_m']:g} m ({row['finest_sequence']}): {row['difference']:.1%} apart, "
+                + ("none declared" if row["allowed"] is None else f"{row['allowed']:.1%} allowed") for row in held)
+            + "). " + _machine(result))
 
 
 def fault_3d_starts_table() -> str | None:
@@ -492,5 +529,6 @@ TABLES = {
     "fault_3d_model_error": fault_3d_model_error_table,
     "fault_3d_starts": fault_3d_starts_table,
     "fault_3d_resolution": fault_3d_resolution_table,
+    "fault_3d_slip_error": fault_3d_slip_error_table,
     "fault_3d_cost": fault_3d_cost_table,
 }
