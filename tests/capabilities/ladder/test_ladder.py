@@ -744,3 +744,32 @@ def test_the_ranges_are_not_widened_by_the_element_size_the_calibration_ran_at()
         # the residuals are the coarse and resolved answers about one centre: their difference is the 3 per L_b
         # run's error, within what one run declares there
         assert np.all(np.abs(np.expm1(rows[:, 0] - rows[:, 1])) <= single_run_error(3.0))
+
+
+def test_a_rung_that_declares_its_slips_own_error_gets_its_slip_range_from_it():
+    """The 3-D fault declares slip per event's error apart from the recurrence's (slip_per_event_error): a ladder
+    row reads each range from its own error, reports the slip's where it differs, and a model error compounds each;
+    a rung declaring one error (the 2-D fault's) reads both ranges from it."""
+    from faultslip.contract.result import Result
+    from faultslip.io.report import Report
+
+    def result(slip_error):
+        report = Report("a rung")
+        report.add("recurrence_interval", 100.0, "s").add("slip_per_event", 2.0, "m")
+        report.add("estimated_relative_error", 0.05)
+        if slip_error is not None:
+            report.add("slip_per_event_error", slip_error)
+        return Result("fault_3d", report)
+
+    three = ladder.rung_of("fault_3d", result(0.25), 1.0, slip="mean")
+    assert three["error"] == 0.05 and three["slip_error"] == 0.25
+    assert three["recurrence_range"] == pytest.approx(ladder.truth_range(100.0, 0.05))
+    assert three["slip_range"] == pytest.approx(ladder.truth_range(2.0, 0.25))
+    assert ladder.truth_range(2.0, 0.25)[0] < 2.0 / 1.05  # wider than the recurrence's error would give
+    two = ladder.rung_of("fault_2d", result(None), 1.0)
+    assert two["slip_error"] == 0.05 and two["slip_range"] == pytest.approx(ladder.truth_range(2.0, 0.05))
+    widened = ladder.with_model_error(three, 0.5)
+    assert widened["error"] == pytest.approx(1.05 * 1.5 - 1) and widened["slip_error"] == pytest.approx(1.25 * 1.5 - 1)
+    assert widened["slip_range"] == pytest.approx(ladder.truth_range(2.0, 1.25 * 1.5 - 1))
+    report = ladder.ladder_report("ladder", [two, three], None, "3-D", "slip per event")
+    assert "fault_3d_slip_declared_error" in report and "fault_2d_slip_declared_error" not in report
