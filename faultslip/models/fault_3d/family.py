@@ -96,6 +96,8 @@ def slip_sequence_error(slips: np.ndarray, sequence) -> float:
     measured events' mean (serial correlation counted). All relative to their mean; infinite where too few
     events."""
     slips = np.asarray(slips, float)
+    if slips.size and not np.all(slips > 0):
+        return math.inf  # an event that slipped nowhere on the weakening area: no relative error to speak of
     period = max(sequence.period, 1)
     measured = slips[sequence.first_event + 1:]
     if sequence.kind == "aperiodic":

@@ -767,6 +767,7 @@ def test_slip_sequence_error_reads_slips_as_the_recurrence_reads_intervals():
     # too few intervals to measure: the last event stands for it, and the last three's range is its error
     assert slip_sequence_error([5.0, 1.0, 3.0], sequence("unsettled", 0, first_event=1)) == pytest.approx(4.0 / 3.0)
     assert slip_sequence_error([1.0], sequence("unsettled", 0)) == math.inf
+    assert slip_sequence_error([0.0, 0.0, 0.0], sequence("periodic", 1)) == math.inf  # no 0 / 0
     rng = np.random.default_rng(3)
     slips = 1.0 + 0.1 * rng.standard_normal(40)
     measured = slips[9:]
