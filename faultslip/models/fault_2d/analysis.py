@@ -11,7 +11,7 @@ for the recurrence).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -136,7 +136,24 @@ def system_size(slip: np.ndarray, weakening: np.ndarray) -> np.ndarray:
     return np.flatnonzero(mean_slip >= SYSTEM_SHARE * mean_slip.max())
 
 
-def summarise(run: Fault2DRun, tolerance: float = 1e-3) -> Fault2DSummary:
+def unsettled_window(sequence: Sequence, intervals: np.ndarray) -> Sequence:
+    """An unsettled ``sequence`` read over its ``intervals`` (s) after the first (the spin-up), where it has at
+    least three: their mean, its declared error their largest deviation about it (one interval alone, which
+    :func:`classify` answers, can lie anywhere in their range). Any other sequence as classified."""
+    intervals = np.asarray(intervals, float)
+    if sequence.kind != "unsettled" or intervals.size < 3:
+        return sequence
+    window = intervals[1:]
+    mean = float(window.mean())
+    deviation = float(max(window.max() - mean, mean - window.min()) / mean)
+    return replace(sequence, intervals=window, mean_interval=mean, mean_error=deviation, first_event=1)
+
+
+def summarise(run: Fault2DRun, tolerance: float = 1e-3, unsettled_mean: bool = False) -> Fault2DSummary:
+    """What a run's system-size events do and release, over its measured window (:func:`classify`). With
+    ``unsettled_mean`` (what a run reports) an unsettled sequence is measured over its intervals after the first
+    (:func:`unsettled_window`), its slip, moment and plate balance over the events closing them; without it (a
+    study's cells), over its last."""
     fault = run.fault
     starts = run.events["start"]
     slip = run.events["slip"]
@@ -146,6 +163,8 @@ def summarise(run: Fault2DRun, tolerance: float = 1e-3) -> Fault2DSummary:
     system = system_size(slip, weakening)
     intervals = np.diff(starts[system]) if system.size > 1 else np.empty(0)
     sequence = classify(intervals, tolerance)
+    if unsettled_mean:
+        sequence = unsettled_window(sequence, intervals)
     # the measured window: the system-size events from the window's first to the last (inclusive)
     window = system[sequence.first_event:] if system.size else system
     closing = window[1:] if window.size > 1 else window  # the events that close the window's intervals

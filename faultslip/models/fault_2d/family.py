@@ -105,7 +105,7 @@ def simulate_fault(scene, *, output_dir=None, resume: bool = False, rtol: float 
 
 
 def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> Result:
-    summary = summarise(run, settle_tolerance)
+    summary = summarise(run, settle_tolerance, unsettled_mean=True)
     fault = run.fault
     report = Report(f"faultslip 2-D fault: {loaded.name}")
     report.add("method", "fault_2d")
@@ -155,19 +155,15 @@ def _result(loaded: Fault2DScene, run: Fault2DRun, settle_tolerance: float) -> R
     report.add("deep_creep_rate", summary.creep_rate_deep, "m/s", label="slip rate at the bottom element at the end")
     resolution = fault.process_zone() / fault.element_size
     discretisation, per_interval = sequence_discretisation(resolution, sequence.period)
-    unsettled = sequence.kind == "unsettled" and len(summary.intervals) >= 3
-    if unsettled:  # no period: the window after the first interval (the spin-up), its mean and its range
-        window = np.array(summary.intervals[1:])
-        mean = float(window.mean())
-        report.set("recurrence_interval", mean)
+    if sequence.kind == "unsettled" and sequence.first_event == 1:  # read over the intervals after the spin-up
+        window = sequence.intervals
         report.add("recurrence_range", [float(window.min()), float(window.max())], "s", also=("yr",),
                    label=f"range of the {window.size} intervals after the first (unsettled: not one interval)")
-        sequence_error = float(max(window.max() - mean, mean - window.min()) / mean)
         report.note(f"unsettled: the recurrence is the mean of {window.size} intervals, "
                     f"{window.min() / YEAR:.4g} to {window.max() / YEAR:.4g} yr, and its declared error their spread "
-                    "about it; run longer for a settled answer")
-    else:
-        sequence_error = sequence.mean_error
+                    "about it, the slip per event the mean of the events closing them; run longer for a settled "
+                    "answer")
+    sequence_error = sequence.mean_error
     report.add("sequence_error", sequence_error if math.isfinite(sequence_error) else None,
                label="the sequence's own error in recurrence: its settling, or an unsettled or aperiodic run's "
                      "intervals about their mean (relative; null: too few intervals)")

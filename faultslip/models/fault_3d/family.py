@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -30,7 +29,8 @@ from faultslip.fault.ladder import ONE_SLIDER_METHOD, compounded, declared_error
 from faultslip.fault import strike_error
 from faultslip.fault.starts import compare_starts, other_starts, start_note, starts_estimate
 from faultslip.models.fault_2d import family as fault_2d_family
-from faultslip.models.fault_2d.analysis import METHODS as TWO_D_METHODS, classify, kind_change_error, moment_magnitude
+from faultslip.models.fault_2d.analysis import (METHODS as TWO_D_METHODS, classify, kind_change_error,
+                                                moment_magnitude, unsettled_window)
 from faultslip.models.fault_2d.figures import ladder_figure
 from faultslip.models.fault_2d.integrate import YEAR, first_run_cost
 from faultslip.models.fault_2d.scene import Fault2DScene
@@ -71,20 +71,6 @@ def discretisation_error(resolution: float, model: dict = DISCRETISATION) -> flo
     if resolution < MIN_RESOLUTION:
         return math.inf
     return model["margin"] * model["scale"] * resolution ** -model["order"]
-
-
-def unsettled_window(sequence, intervals: np.ndarray):
-    """An unsettled ``sequence`` read as the 2-D fault reads one, where it has at least three ``intervals`` (s):
-    the mean of the intervals after the first (the spin-up), its declared error their largest deviation about that
-    mean (one interval alone, :func:`classify`'s answer, can lie anywhere in their range). Any other sequence as
-    classified."""
-    intervals = np.asarray(intervals, float)
-    if sequence.kind != "unsettled" or intervals.size < 3:
-        return sequence
-    window = intervals[1:]
-    mean = float(window.mean())
-    deviation = float(max(window.max() - mean, mean - window.min()) / mean)
-    return dataclasses.replace(sequence, intervals=window, mean_interval=mean, mean_error=deviation, first_event=1)
 
 
 def slip_sequence_error(slips: np.ndarray, sequence) -> float:

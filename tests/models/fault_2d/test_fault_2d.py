@@ -1816,3 +1816,31 @@ def test_one_design_at_two_element_sizes_is_one_fault():
     halves = finer.a.reshape(-1, 2).mean(axis=1)
     assert np.median(np.abs(halves - coarse.a)) < 1e-12
     assert interleaves(20, 10) and not interleaves(12, 10)
+
+
+def test_an_unsettled_run_reports_the_slip_of_the_events_closing_its_measured_intervals():
+    """An unsettled sequence is reported over its intervals after the first (analysis.unsettled_window): the
+    recurrence their mean, the surface and mean slip per event those of the events closing them, not the last
+    event's beside a mean interval; a study's cells (unsettled_mean False) keep the last interval and event."""
+    from types import SimpleNamespace
+
+    from faultslip.models.fault_2d.analysis import summarise as summarised
+
+    starts = np.array([0.0, 30.0, 39.0, 51.0, 59.0, 70.0]) * YEAR  # intervals 30, 9, 12, 8, 11 yr: no period
+    surface = np.array([4.0, 5.0, 4.5, 6.0, 5.5, 4.8])  # every event system-size (at least half the largest)
+    slip = np.column_stack([surface, surface, 0.5 * surface])  # the two shallow elements weaken
+    fault = SimpleNamespace(a=np.array([0.01, 0.01, 0.03]), b=np.array([0.02, 0.02, 0.02]), plate_rate=1e-9)
+    station_time = np.linspace(0.0, starts[-1], 50)
+    run = SimpleNamespace(
+        fault=fault, events={"start": starts, "slip": slip, "hypocentre_depth": np.full(6, 1e3),
+                             "peak_slip_rate": np.ones(6)},
+        moments_per_length=lambda: 3e10 * surface, stations={"slip": np.column_stack([station_time * 1e-9])},
+        station_time=station_time, station_depths=np.array([0.0]), profile_max_speed=np.ones(1),
+        profile_time=np.empty(0), profile_log10_slip_rate=np.empty((0, 3)))
+    reported = summarised(run, unsettled_mean=True)
+    assert reported.sequence.kind == "unsettled" and reported.recurrence_interval == pytest.approx(10.0 * YEAR)
+    assert reported.sequence.mean_error == pytest.approx(0.2)
+    assert reported.surface_slip_per_event == pytest.approx(np.mean([4.5, 6.0, 5.5, 4.8]))
+    assert reported.mean_slip_per_event == pytest.approx(np.mean([4.5, 6.0, 5.5, 4.8]))
+    cells = summarised(run)
+    assert cells.recurrence_interval == pytest.approx(11.0 * YEAR) and cells.surface_slip_per_event == 4.8

@@ -779,7 +779,7 @@ def test_an_unsettled_3d_run_reads_its_intervals_after_the_spin_up_as_the_2d_fau
     """Three or more intervals, unsettled: the mean of those after the first and their largest deviation about it,
     not the last interval alone (which can lie anywhere in their range); fewer, or settled: as classified."""
     from faultslip.models.fault_2d.analysis import classify
-    from faultslip.models.fault_3d.family import unsettled_window
+    from faultslip.models.fault_2d.analysis import unsettled_window
 
     intervals = np.array([30.0, 9.0, 12.0, 8.0, 11.0])
     sequence = unsettled_window(classify(intervals), intervals)
