@@ -561,23 +561,21 @@ def rung_of(name: str, result: Result, cpu: float, slip: str = "surface") -> dic
         band = values[key] if key in result else None
         return None if band is None else tuple(float(v.to("s" if "recurrence" in key else "m").magnitude) for v in band)
 
+    error = result.estimated_relative_error
+    # the slip's own declared error where the rung gives one (the 3-D fault's), else the recurrence's (the 2-D
+    # fault's, which covers its mean slip on every run measured, tests/models/fault_2d/test_fault_2d.py)
+    slip_error = result.si("slip_per_event_error") if "slip_per_event_error" in result else error
     surface = slip == "surface" and "slip_per_event" in result and values["slip_per_event"] is not None
     slip_key = "slip_per_event" if surface or "mean_slip_per_event" not in result else "mean_slip_per_event"
     own_range = "slip_per_event_range" if slip_key == "slip_per_event" else "mean_slip_per_event_range"
     return {"name": name, "cpu_time": cpu, "recurrence": float(values["recurrence_interval"].to("s").magnitude),
-            "recurrence_range": pair("recurrence_range") if name == "one_slider" else _declared(result, "recurrence_interval", "s"),
+            "recurrence_range": pair("recurrence_range") if name == "one_slider"
+            else _declared(result, "recurrence_interval", "s", error),
             "slip": float(values[slip_key].to("m").magnitude),
-            "slip_range": pair(own_range) if name == "one_slider" else _declared(result, slip_key, "m"),
-            "error": result.estimated_relative_error,
-            "slip_error": result.si("slip_per_event_error") if "slip_per_event_error" in result
-            else result.estimated_relative_error}
+            "slip_range": pair(own_range) if name == "one_slider" else _declared(result, slip_key, "m", slip_error),
+            "error": error, "slip_error": slip_error}
 
 
-def _declared(result: Result, key: str, unit: str):
-    """A 2-D or 3-D answer's range from its declared relative error (:func:`truth_range`): the slip's own where
-    the rung declares one (``slip_per_event_error``, the 3-D fault's), else the recurrence's (the 2-D fault's, which
-    covers its mean slip on every run measured, tests/models/fault_2d/test_fault_2d.py)."""
-    error = result.estimated_relative_error
-    if "slip" in key and "slip_per_event_error" in result:
-        error = result.si("slip_per_event_error")
+def _declared(result: Result, key: str, unit: str, error: float | None):
+    """A 2-D or 3-D answer's range from its declared relative error (:func:`truth_range`)."""
     return truth_range(float(result.values[key].to(unit).magnitude), error)

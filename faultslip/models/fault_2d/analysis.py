@@ -136,6 +136,12 @@ def system_size(slip: np.ndarray, weakening: np.ndarray) -> np.ndarray:
     return np.flatnonzero(mean_slip >= SYSTEM_SHARE * mean_slip.max())
 
 
+def largest_deviation(values: np.ndarray) -> float:
+    """The largest deviation of ``values`` about their mean, relative to it."""
+    mean = float(np.mean(values))
+    return float(max(np.max(values) - mean, mean - np.min(values)) / mean)
+
+
 def unsettled_window(sequence: Sequence, intervals: np.ndarray) -> Sequence:
     """An unsettled ``sequence`` read over its ``intervals`` (s) after the first (the spin-up), where it has at
     least three: their mean, its declared error their largest deviation about it (one interval alone, which
@@ -144,9 +150,8 @@ def unsettled_window(sequence: Sequence, intervals: np.ndarray) -> Sequence:
     if sequence.kind != "unsettled" or intervals.size < 3:
         return sequence
     window = intervals[1:]
-    mean = float(window.mean())
-    deviation = float(max(window.max() - mean, mean - window.min()) / mean)
-    return replace(sequence, intervals=window, mean_interval=mean, mean_error=deviation, first_event=1)
+    return replace(sequence, intervals=window, mean_interval=float(window.mean()),
+                   mean_error=largest_deviation(window), first_event=1)
 
 
 def summarise(run: Fault2DRun, tolerance: float = 1e-3, unsettled_mean: bool = False) -> Fault2DSummary:

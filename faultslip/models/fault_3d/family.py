@@ -30,7 +30,7 @@ from faultslip.fault import strike_error
 from faultslip.fault.starts import compare_starts, other_starts, start_note, starts_estimate
 from faultslip.models.fault_2d import family as fault_2d_family
 from faultslip.models.fault_2d.analysis import (METHODS as TWO_D_METHODS, classify, kind_change_error,
-                                                moment_magnitude, unsettled_window)
+                                                largest_deviation, moment_magnitude, unsettled_window)
 from faultslip.models.fault_2d.figures import ladder_figure
 from faultslip.models.fault_2d.integrate import YEAR, first_run_cost
 from faultslip.models.fault_2d.scene import Fault2DScene
@@ -94,8 +94,7 @@ def slip_sequence_error(slips: np.ndarray, sequence) -> float:
             return math.inf
         return float(np.max(np.abs(window[period:] - window[:-period])) / window.mean())
     if measured.size > 1:
-        mean = float(measured.mean())
-        return float(max(measured.max() - mean, mean - measured.min()) / mean)
+        return largest_deviation(measured)
     last = slips[-3:]
     return float((last.max() - last.min()) / last.mean()) if last.size > 1 else math.inf
 
@@ -597,14 +596,7 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
                   "slip_error": total, "slip_range": truth_range(rung["slip"], total)})
     started = time.process_time()
     full = simulate(loaded, allow_large=allow_large)
-    values = full.values
-    error = full.estimated_relative_error
-    recurrence = float(values["recurrence_interval"].to("s").magnitude)
-    slip = float(values["slip_per_event"].to("m").magnitude)
-    rungs.append({"name": "fault_3d", "cpu_time": time.process_time() - started, "recurrence": recurrence,
-                  "recurrence_range": truth_range(recurrence, error), "slip": slip,
-                  "slip_range": truth_range(slip, full.si("slip_per_event_error")), "error": error,
-                  "slip_error": full.si("slip_per_event_error")})
+    rungs.append(rung_of("fault_3d", full, time.process_time() - started, slip="mean"))
     report = ladder_report(f"faultslip model error: the ladder on {loaded.name}", rungs, tolerance,
                                            "3-D", "slip per event, mean over the velocity-weakening area")
     report.add("aspect", groups["aspect_measured"], label="the weakening patch's length over its width (L / W)")
