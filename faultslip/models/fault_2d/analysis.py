@@ -156,9 +156,9 @@ def unsettled_window(sequence: Sequence, intervals: np.ndarray) -> Sequence:
 
 def summarise(run: Fault2DRun, tolerance: float = 1e-3, unsettled_mean: bool = False) -> Fault2DSummary:
     """What a run's system-size events do and release, over its measured window (:func:`classify`). With
-    ``unsettled_mean`` (what a run reports) an unsettled sequence is measured over its intervals after the first
-    (:func:`unsettled_window`), its slip, moment and plate balance over the events closing them; without it (a
-    study's cells), over its last."""
+    ``unsettled_mean`` (what a run and a study's cells report) an unsettled sequence is measured over its intervals
+    after the first (:func:`unsettled_window`), its slip, moment and plate balance over the events closing them;
+    without it (benchmarks whose saved rows read it so), over its last."""
     fault = run.fault
     starts = run.events["start"]
     slip = run.events["slip"]

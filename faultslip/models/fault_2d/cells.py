@@ -19,15 +19,19 @@ PARAMETERS = parameters(SWEEPABLE)
 
 #: A 2-D fault cell's outputs.
 OUTPUTS = {spec.name: spec for spec in (
-    Output("recurrence_interval", "s", "mean interval between system-size events over a supercycle, or over an "
-                                       "aperiodic run (NaN with fewer than two events)"),
-    Output("recurrence_spread", "1", "largest change of an interval over a supercycle (periodic), or the intervals' "
-                                     "coefficient of variation (aperiodic)"),
+    Output("recurrence_interval", "s", "mean interval between system-size events over a supercycle, an aperiodic "
+                                       "run, or an unsettled run's intervals after the first (NaN with fewer than "
+                                       "two events)"),
+    Output("recurrence_spread", "1", "largest change of an interval over a supercycle (periodic), the intervals' "
+                                     "coefficient of variation (aperiodic), or their largest deviation about the "
+                                     "mean (unsettled)"),
     Output("settled", "1", "1 where the sequence is periodic (any period up to 8, to 1e-3), 0 where it is not"),
     Output("period", "1", "events in the supercycle (1: every event alike; 0: aperiodic or unsettled)"),
-    Output("slip_per_event", "m", "surface slip of the last system-size event"),
-    Output("mean_slip_per_event", "m", "slip of the last system-size event, mean over the velocity-weakening width"),
-    Output("moment_per_length", "N", "seismic moment per metre along strike of the last system-size event"),
+    Output("slip_per_event", "m", "surface slip per system-size event closing the measured intervals"),
+    Output("mean_slip_per_event", "m", "slip per system-size event closing the measured intervals, mean over the "
+                                       "velocity-weakening width"),
+    Output("moment_per_length", "N", "seismic moment per metre along strike per system-size event closing the "
+                                     "measured intervals"),
     Output("events", "1", "events in the run (peak slip rate above 1e-3 m/s)"),
     Output("peak_slip_rate", "m/s", "largest slip rate in the run"),
     Output("nucleation_size", "m", "h* = (pi/2) G D_c b / (sigma_n (b - a)^2)"),
@@ -109,7 +113,7 @@ class Fault2DCells:
                 folder = Path(study.work_dir) / key
             resume = folder is not None and (folder / "checkpoint.npz").is_file()
             run = scene.run(folder=folder, resume=resume)
-            summary = summarise(run)
+            summary = summarise(run, unsettled_mean=True)  # read as faultslip.run reads the scene
             row = {"recurrence_interval": summary.recurrence_interval,
                    "recurrence_spread": summary.recurrence_spread, "settled": float(summary.settled),
                    "period": float(summary.sequence.period),

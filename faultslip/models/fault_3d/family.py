@@ -107,9 +107,9 @@ def moments(run) -> np.ndarray:
 
 def summarise(run, tolerance: float = SETTLE_TOLERANCE, unsettled_mean: bool = False) -> dict:
     """The sequence (the 2-D fault's classification) of system-size events and what they release. With
-    ``unsettled_mean`` (what a run reports, as the 2-D fault's does) an unsettled sequence is read over its
-    intervals after the first (:func:`unsettled_window`); without it (a study's cells, the model-error benchmark's,
-    as the 2-D fault's summary), over its last."""
+    ``unsettled_mean`` (what a run and a study's cells report, as the 2-D fault's do) an unsettled sequence is read
+    over its intervals after the first (:func:`unsettled_window`); without it (the model-error benchmark's, as the
+    2-D fault's summary), over its last."""
     fault = run.fault
     starts = np.asarray(run.events["start"], float)
     moment = moments(run)
@@ -610,8 +610,10 @@ def ladder(scene, tolerance: float | None = None, allow_large: bool = False) -> 
 
 #: A 3-D fault cell's outputs.
 OUTPUTS = {spec.name: spec for spec in (
-    Output("recurrence_interval", "s", "mean interval between system-size events (NaN with fewer than two)"),
-    Output("recurrence_spread", "1", "largest change of an interval over a supercycle, or their variation"),
+    Output("recurrence_interval", "s", "mean interval between system-size events, an unsettled run's after the first "
+                                       "(NaN with fewer than two)"),
+    Output("recurrence_spread", "1", "largest change of an interval over a supercycle, their variation (aperiodic), "
+                                     "or their largest deviation about the mean (unsettled)"),
     Output("settled", "1", "1 where the sequence is periodic (any period up to 8, to 1e-3), 0 where it is not"),
     Output("slip_per_event", "m", "slip per system-size event, mean over the velocity-weakening area"),
     Output("moment", "N m", "seismic moment per system-size event"),
@@ -659,7 +661,7 @@ class Fault3DCells:
         def cell(**inputs):
             scene = study.scene.with_values(**inputs)
             result = scene.run()
-            summary = summarise(result)
+            summary = summarise(result, unsettled_mean=True)  # read as faultslip.run reads the scene
             sequence = summary["sequence"]
             row = {"recurrence_interval": sequence.mean_interval, "recurrence_spread": sequence.spread,
                    "settled": float(sequence.kind == "periodic" or sequence.period > 1),

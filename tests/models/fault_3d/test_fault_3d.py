@@ -792,6 +792,30 @@ def test_an_unsettled_3d_run_reads_its_intervals_after_the_spin_up_as_the_2d_fau
     assert unsettled_window(classify(periodic), periodic) == classify(periodic)
 
 
+def test_a_study_cell_of_an_unsettled_3d_fault_reads_it_as_a_run_does():
+    """A swept cell holds what faultslip.run reports for its scene (summarise as family._result calls it): of an
+    unsettled sequence the mean of the intervals after the first and the mean slip of the events closing them,
+    not the last interval and event."""
+    from types import SimpleNamespace
+
+    from faultslip.models.fault_3d.family import Fault3DCells
+
+    starts = np.array([0.0, 30.0, 39.0, 51.0, 59.0, 70.0]) * YEAR  # intervals 30, 9, 12, 8, 11 yr: no period
+    size = np.array([4.0, 5.0, 4.5, 6.0, 5.5, 4.8])  # every event system-size
+    slip = np.column_stack([size, size, 0.5 * size])
+    fault = SimpleNamespace(a=np.array([0.01, 0.01, 0.03]), b=np.array([0.02, 0.02, 0.02]), shear_modulus=3e10,
+                            element_size=100.0)
+    run = SimpleNamespace(fault=fault, steps=1000, event_count=6, events={"start": starts, "slip": slip})
+    scene = SimpleNamespace(run=lambda: run)
+    scene.with_values = lambda **_: scene
+    row = Fault3DCells().evaluate(SimpleNamespace(scene=scene), {"critical_slip": np.array([0.01])})
+    reported = summarise(run, unsettled_mean=True)
+    assert reported["sequence"].kind == "unsettled"
+    assert float(row["recurrence_interval"][0]) == pytest.approx(10.0 * YEAR) == reported["sequence"].mean_interval
+    assert float(row["slip_per_event"][0]) == pytest.approx(np.mean([4.5, 6.0, 5.5, 4.8])) == reported["mean_slip"]
+    assert float(row["settled"][0]) == 0.0
+
+
 def test_the_declared_slip_error_is_its_benchmarks_fit_and_holds_on_faults_it_left_out():
     """The slip bound is benchmarks/fault_3d_slip_error.py's fit, refitted here from the results files it reads
     (its order, its scale rounded up at most 1 %, a margin of 2, the recurrence's on BP5), so a rerun that moves the fit
