@@ -123,6 +123,11 @@ PRODUCERS = (
     # drawn faults at three square sizes (quick: the saved runs judged again), then the slip bound fitted on them
     ("fault_3d_resolution", ["--sizes", "100", "50", "25"], ["--reuse", "--sizes", "100"], "fault_3d_resolution.json"),
     ("fault_3d_slip_error", [], [], "fault_3d_slip_error.json"),
+    # faults drawn after the recurrence bound's margin was set from those above: its held-out check
+    ("fault_3d_resolution", ["--seed", "7403", "--count", "5", "--sizes", "100", "50", "25", "--out",
+                             "benchmarks/results/fault_3d_resolution_fresh.json"],
+     ["--seed", "7403", "--count", "5", "--reuse", "--sizes", "100", "--out",
+      "benchmarks/results/fault_3d_resolution_fresh.json"], "fault_3d_resolution_fresh.json"),
     # the 3-D cost model's fit runs (quick: refitted from the saved runs), then its held-out draw
     ("fault_3d_cost", ["--part", "fit"], ["--part", "refit"], "fault_3d_cost.json"),
     # every cost group's reference work, after the fits it anchors and before the estimates checked against it

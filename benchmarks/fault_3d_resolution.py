@@ -244,10 +244,10 @@ def summary(faults: list[dict]) -> dict:
             "per_size": per_size, "cost": cost, "judged": judged_faults}
 
 
-def write(seed: int, faults: list[dict]) -> None:
+def write(seed: int, faults: list[dict], out: Path = OUT) -> None:
     # every drawn fault's runs are in "judged" (a fault with fewer than two sizes run is left out)
     result = {"seed": seed, "years": YEARS, **summary(faults), **stamp()}
-    OUT.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
 
 
 def main(argv=None) -> None:
@@ -259,11 +259,12 @@ def main(argv=None) -> None:
     parser.add_argument("--sizes", type=float, nargs="+", default=SIZES[:2],
                         help="square sizes (m) to run, of %(default)s's and 25 m (a 25 m run takes 30-75 min)")
     parser.add_argument("--only", type=int, nargs="+", help="run --sizes on these faults only (their indices)")
+    parser.add_argument("--out", type=Path, default=OUT, help="results file (a fresh draw's own, not the fitted)")
     args = parser.parse_args(argv)
     faults = draw(args.seed, args.count)
-    if args.reuse and OUT.is_file():
+    if args.reuse and args.out.is_file():
         saved = {json.dumps({k: f[k] for k in ("aspect", "height_m", "top_m", "critical_slip_factor")}): f["runs"]
-                 for f in json.loads(OUT.read_text(encoding="utf-8"))["judged"]}
+                 for f in json.loads(args.out.read_text(encoding="utf-8"))["judged"]}
         for fault in faults:
             fault["runs"] = dict(saved.get(json.dumps({k: fault[k] for k in ("aspect", "height_m", "top_m",
                                                                               "critical_slip_factor")}), {}))
@@ -283,13 +284,13 @@ def main(argv=None) -> None:
         for future in as_completed([pool.submit(_run, job) for job in jobs]):
             name, size, run = future.result()
             by_name[name]["runs"][f"{size:g}"] = run
-            write(args.seed, faults)
+            write(args.seed, faults, args.out)
             print(f"{name} at {size:g} m ({run['resolution']:.3g} per L_b): {run['sequence']}, "
                   f"T {run['recurrence_yr']} yr, declared {run['declared']}, {run['cpu_time_s']:.0f} s CPU",
                   flush=True)
     finally:
         stop_pool(pool)
-    write(args.seed, faults)
+    write(args.seed, faults, args.out)
     print(json.dumps({k: v for k, v in summary(faults).items() if k != "judged"}, indent=1))
 
 

@@ -284,11 +284,8 @@ def fault_3d_model_error_table() -> str | None:
             f"(faultslip.fault.strike_error). {tally} " + _machine(result))
 
 
-def fault_3d_resolution_table() -> str | None:
-    """The 3-D fault's declared square-size error on drawn faults it was not fitted on (fault_3d_resolution.py)."""
-    result = _load_with("fault_3d_resolution.json", "judged")
-    if result is None:
-        return None
+def _resolution_rows(result) -> tuple[list[str], list[float]]:
+    """fault_3d_resolution.py's faults, a row each, and the square sizes they ran at (coarsest first)."""
     sizes = sorted({size for fault in result["judged"] for size in fault["sizes_m"]}, reverse=True)
     rows = ["| fault (L / W, W, top; D_c) | W / h* | squares per L_b | "
             + " | ".join(f"{size:g} m: recurrence (sequence)" for size in sizes)
@@ -306,11 +303,41 @@ def fault_3d_resolution_table() -> str | None:
                     + " | " + ("-" if coarse["error_recurrence"] is None else f"{coarse['error_recurrence']:.2%}")
                     + " | " + ("-" if coarse["allowed"] is None else f"{coarse['allowed']:.2%}") + " | "
                     + ("yes" if all(row["kind_kept"] for row in fault["errors"]) else "**no**") + " |")
-    per_size, cost = result["per_size"], result["cost"]
-    coarsest = per_size[f"{sizes[0]:g}"]
-    judged = result["judged"]
+    return rows, sizes
+
+
+def _changed_and_cost(result, sizes) -> str:
+    """Which faults changed kind with the square size, and the cost model against the CPU used."""
+    judged, cost = result["judged"], result["cost"]
     changed = [fault for fault in judged if not all(row["kind_kept"] for row in fault["errors"])]
-    return ("\n".join(rows) + f"\n\n{len(judged)} faults drawn with seed {result['seed']} "
+    def changes(fault) -> str:  # each size whose kind is not the finest run's
+        return "; ".join(f"{row['sequence']} at {row['element_size_m']:g} m against {fault['errors'][-1]['sequence']}"
+                         f", {row['error_recurrence']:.1%} off where it may differ by {row['allowed']:.1%}"
+                         for row in fault["errors"] if not row["kind_kept"])
+    return ((f"The kind of sequence changed with the square size on {len(changed)} of {len(judged)} ("
+             + "; ".join(changes(fault) for fault in changed) + "). "
+             if changed else f"No fault's kind of sequence changed with the square size ({len(judged)} of "
+             f"{len(judged)} kept it). ")
+            + f"The cost model estimated the runs at {cost['estimate_over_cpu'][0]:.2f} to "
+              f"{cost['estimate_over_cpu'][1]:.2f}x the CPU each used ({cost['within_2x']} of {cost['runs']} within "
+              "2x; steps " + "-".join(f"{v:.2f}" for v in cost["steps_estimate_over_measured"]) + "x). ")
+
+
+def _coarsest_tally(coarsest, sizes) -> str:
+    return (f"The {sizes[0]:g} m runs: {coarsest['holds']} of {coarsest['measured']} within what they may differ "
+            f"by (the most {coarsest['largest_error_recurrence']:.2%}, {coarsest['largest_share_of_allowed']:.0%} "
+            f"of it); their slip per event differs by up to {coarsest['largest_error_slip']:.1%}, and "
+            f"{coarsest['holds_slip']} of {coarsest['measured_slip']} are within their declared slip errors added "
+            f"(the most {coarsest['largest_share_of_allowed_slip']:.0%} of it). ")
+
+
+def fault_3d_resolution_table() -> str | None:
+    """The 3-D fault's declared square-size error on drawn faults it was not fitted on (fault_3d_resolution.py)."""
+    result = _load_with("fault_3d_resolution.json", "judged")
+    if result is None:
+        return None
+    rows, sizes = _resolution_rows(result)
+    return ("\n".join(rows) + f"\n\n{len(result['judged'])} faults drawn with seed {result['seed']} "
             f"(`python benchmarks/fault_3d_resolution.py`): BP5 at 1/20 with a patch drawn over the held-out box "
             "of the 2-D rung's model error and D_c set by a W / h* drawn over 1.2-2, each run "
             f"{result['years']:g} yr at every size, as `faultslip run` reads it (lengths and times as run, at 1/20). "
@@ -319,22 +346,26 @@ def fault_3d_resolution_table() -> str | None:
             "may differ from it by the two runs' declared errors added. A run's declared error is read with the "
             "square size's bound as declared now, whose margin on BP5's fit is the least that covers every run "
             f"here ({result['margin_needed']:.2f}), rounded up: {result['margin']:g}. "
-            f"The {sizes[0]:g} m runs: {coarsest['holds']} of {coarsest['measured']} within that (the most "
-            f"{coarsest['largest_error_recurrence']:.2%}, {coarsest['largest_share_of_allowed']:.0%} of what it "
-            f"may differ by); their slip per event differs by up to {coarsest['largest_error_slip']:.1%}, and "
-            f"{coarsest['holds_slip']} of {coarsest['measured_slip']} are within their declared slip errors added "
-            f"(the most {coarsest['largest_share_of_allowed_slip']:.0%} of it; table below). "
-            + (f"The kind of sequence changed with the square size on {len(changed)} of {len(judged)}, each at "
-               f"{sizes[0]:g} m (" + "; ".join(
-                   f"{fault['errors'][0]['sequence']} against {fault['errors'][-1]['sequence']}, "
-                   f"{fault['errors'][0]['error_recurrence']:.1%} off where it may differ by "
-                   f"{fault['errors'][0]['allowed']:.1%}" for fault in changed) + "). "
-               if changed else f"No fault's kind of sequence changed with the square size ({len(judged)} of "
-               f"{len(judged)} kept it). ")
-            + f"The cost model estimated the runs at {cost['estimate_over_cpu'][0]:.2f} to "
-              f"{cost['estimate_over_cpu'][1]:.2f}x the CPU each used ({cost['within_2x']} of {cost['runs']} within "
-              "2x; steps " + "-".join(f"{v:.2f}" for v in cost["steps_estimate_over_measured"]) + "x). "
+            + _coarsest_tally(result["per_size"][f"{sizes[0]:g}"], sizes) + _changed_and_cost(result, sizes)
             + _machine(result))
+
+
+def fault_3d_resolution_fresh_table() -> str | None:
+    """The same check on faults drawn after the margin was set from the table above (fault_3d_resolution.py
+    --out ..._fresh.json): the margin's held-out test."""
+    result = _load_with("fault_3d_resolution_fresh.json", "judged")
+    if result is None:
+        return None
+    rows, sizes = _resolution_rows(result)
+    needed = result["margin_needed"]
+    return ("\n".join(rows) + f"\n\n{len(result['judged'])} faults drawn with another seed ({result['seed']}) "
+            "after the margin was set, and never part of it (`python benchmarks/fault_3d_resolution.py --seed "
+            f"{result['seed']} --count {len(result['judged'])} --sizes 100 50 25 --out "
+            "benchmarks/results/fault_3d_resolution_fresh.json`), read as above with the margin as declared "
+            f"({result['margin']:g}). " + _coarsest_tally(result["per_size"][f"{sizes[0]:g}"], sizes)
+            + f"The least margin these faults alone need: {needed:.2f}"
+            + (" (within the declared). " if needed <= result["margin"] else " (**more than declared**). ")
+            + _changed_and_cost(result, sizes) + _machine(result))
 
 
 def fault_3d_slip_error_table() -> str | None:
@@ -529,6 +560,7 @@ TABLES = {
     "fault_3d_model_error": fault_3d_model_error_table,
     "fault_3d_starts": fault_3d_starts_table,
     "fault_3d_resolution": fault_3d_resolution_table,
+    "fault_3d_resolution_fresh": fault_3d_resolution_fresh_table,
     "fault_3d_slip_error": fault_3d_slip_error_table,
     "fault_3d_cost": fault_3d_cost_table,
 }
