@@ -4,6 +4,7 @@ kind of sequence changes with the square size.
 
     python benchmarks/fault_3d_resolution.py [--seed 7401] [--count 8] [--workers 2]
     python benchmarks/fault_3d_resolution.py --reuse --sizes 25 --only 1 2 3 4 6 7   # 25 m runs of six (5-12 min each)
+    python benchmarks/fault_3d_resolution.py --seed 7403 --count 5 --sizes 100 50 25 --out FRESH   # see below
 
 :data:`faultslip.models.fault_3d.family.DISCRETISATION` was fitted on one fault, SEAS BP5-QD at 2000, 1000 and
 500 m. On the 2-D fault, runs changed their kind of sequence with the element size near bifurcations, which one
@@ -25,7 +26,9 @@ is not the finest run's. Slip per event is judged the same way against its own d
 (``faultslip.models.estimate``) is saved beside the CPU it used.
 
 ``--reuse`` keeps the runs already saved for the same inputs. Writes
-``benchmarks/results/fault_3d_resolution.json`` after every run.
+``benchmarks/results/fault_3d_resolution.json`` after every run, or ``--out``'s file: the faults of seed 7403,
+drawn after :data:`DISCRETISATION`'s margin was set from seed 7401's, are its held-out check
+(``benchmarks/results/fault_3d_resolution_fresh.json``).
 """
 
 from __future__ import annotations
@@ -257,7 +260,7 @@ def main(argv=None) -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--reuse", action="store_true", help="keep the runs saved for the same inputs")
     parser.add_argument("--sizes", type=float, nargs="+", default=SIZES[:2],
-                        help="square sizes (m) to run, of %(default)s's and 25 m (a 25 m run takes 30-75 min)")
+                        help="square sizes (m) to run, of %(default)s's and 25 m (a 25 m run takes 5-12 min)")
     parser.add_argument("--only", type=int, nargs="+", help="run --sizes on these faults only (their indices)")
     parser.add_argument("--out", type=Path, default=OUT, help="results file (a fresh draw's own, not the fitted)")
     args = parser.parse_args(argv)
