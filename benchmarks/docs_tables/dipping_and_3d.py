@@ -323,7 +323,9 @@ def _changed_and_cost(result, sizes) -> str:
               "2x; steps " + "-".join(f"{v:.2f}" for v in cost["steps_estimate_over_measured"]) + "x). ")
 
 
-def _coarsest_tally(coarsest, sizes) -> str:
+def _coarsest_tally(result, sizes) -> str:
+    """How the coarsest size's runs stood against what they may differ by, in recurrence and in slip."""
+    coarsest = result["per_size"][f"{sizes[0]:g}"]
     return (f"The {sizes[0]:g} m runs: {coarsest['holds']} of {coarsest['measured']} within what they may differ "
             f"by (the most {coarsest['largest_error_recurrence']:.2%}, {coarsest['largest_share_of_allowed']:.0%} "
             f"of it); their slip per event differs by up to {coarsest['largest_error_slip']:.1%}, and "
@@ -346,7 +348,7 @@ def fault_3d_resolution_table() -> str | None:
             "may differ from it by the two runs' declared errors added. A run's declared error is read with the "
             "square size's bound as declared now, whose margin on BP5's fit is the least that covers every run "
             f"here ({result['margin_needed']:.2f}), rounded up: {result['margin']:g}. "
-            + _coarsest_tally(result["per_size"][f"{sizes[0]:g}"], sizes) + _changed_and_cost(result, sizes)
+            + _coarsest_tally(result, sizes) + _changed_and_cost(result, sizes)
             + _machine(result))
 
 
@@ -362,7 +364,7 @@ def fault_3d_resolution_fresh_table() -> str | None:
             "after the margin was set, and never part of it (`python benchmarks/fault_3d_resolution.py --seed "
             f"{result['seed']} --count {len(result['judged'])} --sizes 100 50 25 --out "
             "benchmarks/results/fault_3d_resolution_fresh.json`), read as above with the margin as declared "
-            f"({result['margin']:g}). " + _coarsest_tally(result["per_size"][f"{sizes[0]:g}"], sizes)
+            f"({result['margin']:g}). " + _coarsest_tally(result, sizes)
             + f"The least margin these faults alone need: {needed:.2f}"
             + (" (within the declared). " if needed <= result["margin"] else " (**more than declared**). ")
             + _changed_and_cost(result, sizes) + _machine(result))

@@ -1818,25 +1818,31 @@ def test_one_design_at_two_element_sizes_is_one_fault():
     assert interleaves(20, 10) and not interleaves(12, 10)
 
 
+def _unsettled_run():
+    """A synthetic run of six system-size events whose intervals (30, 9, 12, 8, 11 yr) show no period."""
+    from types import SimpleNamespace
+
+    starts = np.array([0.0, 30.0, 39.0, 51.0, 59.0, 70.0]) * YEAR
+    surface = np.array([4.0, 5.0, 4.5, 6.0, 5.5, 4.8])  # every event system-size (at least half the largest)
+    slip = np.column_stack([surface, surface, 0.5 * surface])  # the two shallow elements weaken
+    fault = SimpleNamespace(a=np.array([0.01, 0.01, 0.03]), b=np.array([0.02, 0.02, 0.02]), plate_rate=1e-9,
+                            nucleation_size=lambda: 500.0)
+    station_time = np.linspace(0.0, starts[-1], 50)
+    return SimpleNamespace(
+        fault=fault, steps=1000, events={"start": starts, "slip": slip, "hypocentre_depth": np.full(6, 1e3),
+                                         "peak_slip_rate": np.ones(6)},
+        moments_per_length=lambda: 3e10 * surface, stations={"slip": np.column_stack([station_time * 1e-9])},
+        station_time=station_time, station_depths=np.array([0.0]), profile_max_speed=np.ones(1),
+        profile_time=np.empty(0), profile_log10_slip_rate=np.empty((0, 3)))
+
+
 def test_an_unsettled_run_reports_the_slip_of_the_events_closing_its_measured_intervals():
     """An unsettled sequence is reported over its intervals after the first (analysis.unsettled_window): the
     recurrence their mean, the surface and mean slip per event those of the events closing them, not the last
     event's beside a mean interval; without unsettled_mean (benchmarks' saved rows) the last interval and event."""
-    from types import SimpleNamespace
-
     from faultslip.models.fault_2d.analysis import summarise as summarised
 
-    starts = np.array([0.0, 30.0, 39.0, 51.0, 59.0, 70.0]) * YEAR  # intervals 30, 9, 12, 8, 11 yr: no period
-    surface = np.array([4.0, 5.0, 4.5, 6.0, 5.5, 4.8])  # every event system-size (at least half the largest)
-    slip = np.column_stack([surface, surface, 0.5 * surface])  # the two shallow elements weaken
-    fault = SimpleNamespace(a=np.array([0.01, 0.01, 0.03]), b=np.array([0.02, 0.02, 0.02]), plate_rate=1e-9)
-    station_time = np.linspace(0.0, starts[-1], 50)
-    run = SimpleNamespace(
-        fault=fault, events={"start": starts, "slip": slip, "hypocentre_depth": np.full(6, 1e3),
-                             "peak_slip_rate": np.ones(6)},
-        moments_per_length=lambda: 3e10 * surface, stations={"slip": np.column_stack([station_time * 1e-9])},
-        station_time=station_time, station_depths=np.array([0.0]), profile_max_speed=np.ones(1),
-        profile_time=np.empty(0), profile_log10_slip_rate=np.empty((0, 3)))
+    run = _unsettled_run()
     reported = summarised(run, unsettled_mean=True)
     assert reported.sequence.kind == "unsettled" and reported.recurrence_interval == pytest.approx(10.0 * YEAR)
     assert reported.sequence.mean_error == pytest.approx(0.2)
@@ -1854,19 +1860,8 @@ def test_a_study_cell_of_an_unsettled_2d_fault_reads_it_as_a_run_does():
     from faultslip.models.fault_2d.analysis import summarise as summarised
     from faultslip.models.fault_2d.cells import CELLS
 
-    starts = np.array([0.0, 30.0, 39.0, 51.0, 59.0, 70.0]) * YEAR  # intervals 30, 9, 12, 8, 11 yr: no period
-    surface = np.array([4.0, 5.0, 4.5, 6.0, 5.5, 4.8])
-    slip = np.column_stack([surface, surface, 0.5 * surface])
-    fault = SimpleNamespace(a=np.array([0.01, 0.01, 0.03]), b=np.array([0.02, 0.02, 0.02]), plate_rate=1e-9,
-                            nucleation_size=lambda: 500.0)
-    station_time = np.linspace(0.0, starts[-1], 50)
-    run = SimpleNamespace(
-        fault=fault, steps=1000, events={"start": starts, "slip": slip, "hypocentre_depth": np.full(6, 1e3),
-                                         "peak_slip_rate": np.ones(6)},
-        moments_per_length=lambda: 3e10 * surface, stations={"slip": np.column_stack([station_time * 1e-9])},
-        station_time=station_time, station_depths=np.array([0.0]), profile_max_speed=np.ones(1),
-        profile_time=np.empty(0), profile_log10_slip_rate=np.empty((0, 3)))
-    scene = SimpleNamespace(fault=fault, run=lambda folder=None, resume=False: run)
+    run = _unsettled_run()
+    scene = SimpleNamespace(fault=run.fault, run=lambda folder=None, resume=False: run)
     scene.with_values = lambda **_: scene
     row = CELLS.evaluate(SimpleNamespace(scene=scene, work_dir=None), {"critical_slip": np.array([0.01])})
     reported = summarised(run, unsettled_mean=True)  # what faultslip.run's report reads (family._result)
