@@ -114,10 +114,15 @@ PRODUCERS = (
     ("rupture_rate_exact_point", [], ["--quick"], "rupture_rate_exact_point.json"),
     ("fault_3d_model_error", [], ["--quick"], "fault_3d_model_error.json"),
     ("fault_3d_model_error", ["--starts"], ["--starts"], "fault_3d_starts.json"),  # the cells just written
-    # the draw run after the table (its 3-D cells kept by inputs: run again, only the 2-D sides are)
+    # the draws run after the table (their 3-D cells kept by inputs: run again, only the 2-D sides are)
     ("fault_3d_model_error", ["--fresh", "7301", "8"], ["--fresh", "7301", "8"], "fault_3d_model_error_fresh.json"),
     ("fault_3d_model_error", ["--fresh", "7305", "8"], ["--fresh", "7305", "8"], "fault_3d_model_error_fresh.json"),
     ("fault_3d_model_error", ["--fresh", "7307", "16"], ["--fresh", "7307", "16"], "fault_3d_model_error_fresh.json"),
+    ("fault_3d_model_error", ["--fresh", "7309", "8", "--box", "wide"], ["--fresh", "7309", "8", "--box", "wide"],
+     "fault_3d_model_error_fresh.json"),
+    ("fault_3d_model_error", ["--fresh", "7311", "8", "--box", "wide"], ["--fresh", "7311", "8", "--box", "wide"],
+     "fault_3d_model_error_fresh.json"),
+    ("fault_3d_model_error", ["--fresh", "7313", "8"], ["--fresh", "7313", "8"], "fault_3d_model_error_fresh.json"),
     ("seas_bp5", ["--sizes", "2000", "1000", "500", "--finest-years", "1800"],
      ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),
     # drawn faults at three square sizes (quick: the saved runs judged again), then the slip bound fitted on them

@@ -264,7 +264,7 @@ def fault_3d_model_error_table() -> str | None:
     if surface:
         tally += (f" Surface-breaking cells (burial 0) bound nothing, and the {len(surface)} held out have none "
                   "declared: at the same L / W they err less than buried ones, so they cannot bound a buried fault, "
-                  "and their error rises with W / h* (the long ones' "
+                  "and a wider one can err more than a narrower one (the long ones' "
                   + ", ".join(f"{r['model_error']:.0%} at W / h* {r['width_over_nucleation']:.2g}"
                               for r in sorted((r for r in result["rows"] + held if r["burial"] == 0
                                                and r["aspect_measured"] > 6 and r["model_error"] is not None),
@@ -273,11 +273,26 @@ def fault_3d_model_error_table() -> str | None:
     fresh = _load("fault_3d_model_error_fresh.json")
     for draw in fresh["draws"] if fresh else ():
         drawn = draw["rows"]
-        tally += (f" A later draw (seed {draw['seed']}, {len(drawn)} buried patches over the same box, run after the "
-                  f"table was shipped; `fault_3d_model_error.py --fresh`): {sum(r['covered'] for r in drawn)} within "
+        box = ("over the same box" if draw.get("box", "buried") == "buried" else
+               f"wider and longer than the held-out box: W {drawn[0]['height_m'] * fresh['scale'] / 1e3:g} km, W / h* "
+               f"{drawn[0]['width_over_nucleation']:.2g}, L / W {min(r['aspect'] for r in drawn):g}-"
+               f"{max(r['aspect'] for r in drawn):g}")
+        option = "" if draw.get("box", "buried") == "buried" else f" --box {draw['box']}"
+        measured = [r["model_error"] for r in drawn if r["model_error"] is not None]
+        tally += (f" A later draw (seed {draw['seed']}, {len(drawn)} buried patches {box}, run after the "
+                  f"table was shipped; `fault_3d_model_error.py --fresh{option}`): "
+                  f"{sum(r['covered'] for r in drawn)} within "
                   f"the declared bound, {sum(r['declared'] is None for r in drawn)} with none, "
                   f"{sum(r['declared'] is not None and not r['covered'] for r in drawn)} outside one; model errors "
-                  f"{min(r['model_error'] for r in drawn):.0%}-{max(r['model_error'] for r in drawn):.0%}.")
+                  f"{min(measured):.0%}-{max(measured):.0%}"
+                  + (f" ({len(drawn) - len(measured)} without one: too few system-size 3-D events)"
+                     if len(measured) < len(drawn) else ""))
+        first = draw.get("when_drawn")
+        now = {"within": sum(bool(r["covered"]) for r in drawn), "none": sum(r["declared"] is None for r in drawn),
+               "outside": sum(r["declared"] is not None and not r["covered"] for r in drawn)}
+        tally += ("." if not first or first == now else
+                  f"; against the table of the day it was drawn, {first['within']} within, {first['none']} with none and "
+                  f"{first['outside']} outside.")
     return ("\n".join(rows) + f"\n\nLengths, recurrences and slips as BP5's (the runs, at 1/{scale:g} scale, times "
             f"{scale:g}). "
             f"Declared: the bounding cells' error times {result['table']['margin']:g} "

@@ -107,9 +107,9 @@ def moments(run) -> np.ndarray:
 
 def summarise(run, tolerance: float = SETTLE_TOLERANCE, unsettled_mean: bool = False) -> dict:
     """The sequence (the 2-D fault's classification) of system-size events and what they release. With
-    ``unsettled_mean`` (what a run and a study's cells report, as the 2-D fault's do) an unsettled sequence is read
-    over its intervals after the first (:func:`unsettled_window`); without it (the model-error benchmark's, as the
-    2-D fault's summary), over its last."""
+    ``unsettled_mean`` (what a run, a study's cells and the model-error benchmark report, as the 2-D fault's do) an
+    unsettled sequence is read over its intervals after the first (:func:`unsettled_window`); without it, over its
+    last. ``closing``: the system-size events that close the measured intervals, which the answers average."""
     fault = run.fault
     starts = np.asarray(run.events["start"], float)
     moment = moments(run)
@@ -132,7 +132,8 @@ def summarise(run, tolerance: float = SETTLE_TOLERANCE, unsettled_mean: bool = F
         mean_slip = peak_slip = event_moment = math.nan
         slip_error, last = math.inf, None
     return {"sequence": sequence, "system": system, "intervals": intervals, "mean_slip": mean_slip,
-            "slip_sequence_error": slip_error, "peak_slip": peak_slip, "moment": event_moment, "last": last}
+            "slip_sequence_error": slip_error, "peak_slip": peak_slip, "moment": event_moment, "last": last,
+            "closing": closing}
 
 
 def _result(loaded: Fault3DScene, run, settle_tolerance: float = SETTLE_TOLERANCE) -> Result:
