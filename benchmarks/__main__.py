@@ -123,6 +123,7 @@ PRODUCERS = (
     ("fault_3d_model_error", ["--fresh", "7311", "8", "--box", "wide"], ["--fresh", "7311", "8", "--box", "wide"],
      "fault_3d_model_error_fresh.json"),
     ("fault_3d_model_error", ["--fresh", "7313", "8"], ["--fresh", "7313", "8"], "fault_3d_model_error_fresh.json"),
+    ("fault_3d_model_error", ["--fresh", "7315", "8"], ["--fresh", "7315", "8"], "fault_3d_model_error_fresh.json"),
     ("seas_bp5", ["--sizes", "2000", "1000", "500", "--finest-years", "1800"],
      ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),
     # drawn faults at three square sizes (quick: the saved runs judged again), then the slip bound fitted on them
