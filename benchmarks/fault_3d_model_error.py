@@ -15,8 +15,8 @@ d varied at L / W = 4, and surface-breaking patches (d = 0, as SEAS BP1's) of L 
 rungs run the same duration; each answer is the settled mean interval of
 system-size events and the mean slip per event over the weakening area (3-D) or width (2-D), an unsettled run read
 as ``faultslip run`` reads it (its intervals after the first; the rows keep the intervals and each system-size
-event's slip, so a later reading needs no rerun); a cell's model error is the larger relative difference. Held-out faults (other L / W, W and d, drawn once with a fixed seed) test the
-declaration (faultslip.fault.strike_error.declared): the largest error at the measured cells bracketing a fault's
+event's slip, so a later reading needs no rerun); a cell's model error is the larger relative difference.
+Held-out faults (other L / W, W and d, drawn once with a fixed seed) test the declaration (faultslip.fault.strike_error.declared): the largest error at the measured cells bracketing a fault's
 L / W, times the margin, and unbounded outside. Writes benchmarks/results/fault_3d_model_error.json and, for the
 full run, the shipped table data/strike_model_error.json.
 
@@ -90,8 +90,8 @@ def buried_draw(rng: np.random.Generator, element_size: float) -> tuple[float, f
 
 
 def wide_draw(rng: np.random.Generator, element_size: float) -> tuple[float, float, float]:
-    """One buried patch as wide as the widest buried cells (W 800 m, W / h* 1.8, past the held-out box's 750 m), long
-    (L / W 7-11) and its top in 200-400 m: the patches the L / W 8 cell at that width bounds."""
+    """One buried patch as wide as the widest buried cells (W 800 m, W / h* 1.7, past the held-out box's 750 m), long
+    (L / W 7-11) and its top in 200-400 m: past the longest settled cell at that width."""
     ratio = float(np.round(rng.uniform(7.0, 11.0), 2))
     height = float(np.round(800.0 / element_size) * element_size)
     top = float(np.round(rng.uniform(200, 400) / element_size) * element_size)
@@ -187,12 +187,12 @@ def two_d_side(scene, top: float, height: float) -> dict:
     run_2d = run_cycles(scene.two_d(), scene.duration, rtol=scene.rtol, stations=[top + height / 2],
                         profile_interval=YEAR, coseismic_interval=0.1)
     two = summarise_2d(run_2d, unsettled_mean=True)
-    fault = run_2d.fault
-    system = system_size(run_2d.events["slip"], fault.b > fault.a)
+    slip = np.asarray(run_2d.events["slip"])
+    weakening = run_2d.fault.b > run_2d.fault.a
+    system = system_size(slip, weakening)
     return {"recurrence_yr": two.recurrence_interval / YEAR, "mean_slip_m": two.mean_slip_per_event,
             "sequence": two.sequence.kind, "events": two.events,
-            **_system_events(run_2d.events["start"][system],
-                             np.asarray(run_2d.events["slip"])[system][:, fault.b > fault.a].mean(axis=1))}
+            **_system_events(run_2d.events["start"][system], slip[system][:, weakening].mean(axis=1))}
 
 
 def _system_events(starts, slips) -> dict:
@@ -324,9 +324,9 @@ def tally(rows: list) -> dict:
 
 def fresh(seed: int, count: int, element_size: float, years: float, box: str = "buried") -> None:
     """``count`` buried patches drawn with ``seed`` over ``box`` (:data:`DRAWS`: the held-out box, or wide and long
-    patches), each against the shipped table as a user's
-    fault (:func:`faultslip.fault.strike_error.declared`); the draw replaces its seed's in :data:`FRESH_OUT`, whose
-    cells of the same inputs are kept (their 2-D side run again: seconds)."""
+    patches), each against the shipped table as a user's fault (:func:`faultslip.fault.strike_error.declared`); the
+    draw replaces its seed's in :data:`FRESH_OUT`, whose cells of the same inputs are kept (their 2-D side run
+    again: seconds)."""
     from faultslip.fault.strike_error import load_table
 
     recorded = json.loads(FRESH_OUT.read_text(encoding="utf-8")) if FRESH_OUT.is_file() else {"draws": []}

@@ -279,17 +279,15 @@ def fault_3d_model_error_table() -> str | None:
                f"{max(r['aspect'] for r in drawn):g}")
         option = "" if draw.get("box", "buried") == "buried" else f" --box {draw['box']}"
         measured = [r["model_error"] for r in drawn if r["model_error"] is not None]
+        now = {"within": sum(bool(r["covered"]) for r in drawn), "none": sum(r["declared"] is None for r in drawn),
+               "outside": sum(r["declared"] is not None and not r["covered"] for r in drawn)}
         tally += (f" A later draw (seed {draw['seed']}, {len(drawn)} buried patches {box}, run after the "
-                  f"table was shipped; `fault_3d_model_error.py --fresh{option}`): "
-                  f"{sum(r['covered'] for r in drawn)} within "
-                  f"the declared bound, {sum(r['declared'] is None for r in drawn)} with none, "
-                  f"{sum(r['declared'] is not None and not r['covered'] for r in drawn)} outside one; model errors "
+                  f"table was shipped; `fault_3d_model_error.py --fresh{option}`): {now['within']} within the "
+                  f"declared bound, {now['none']} with none, {now['outside']} outside one; model errors "
                   f"{min(measured):.0%}-{max(measured):.0%}"
                   + (f" ({len(drawn) - len(measured)} without one: too few system-size 3-D events)"
                      if len(measured) < len(drawn) else ""))
         first = draw.get("when_drawn")
-        now = {"within": sum(bool(r["covered"]) for r in drawn), "none": sum(r["declared"] is None for r in drawn),
-               "outside": sum(r["declared"] is not None and not r["covered"] for r in drawn)}
         tally += ("." if not first or first == now else
                   f"; against the table of the day it was drawn, {first['within']} within, {first['none']} with none and "
                   f"{first['outside']} outside.")
