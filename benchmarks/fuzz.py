@@ -835,6 +835,8 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         mutate_netcdf(path, rng)
         space.changed_netcdf = path  # the seed is a sealed sweep output
         return rng.choice([["reproduce", str(path), "--workers", "1", "--json"],
+                           ["reproduce", str(path), "--cells", rng.choice(["1", "2", "0", "-3", "1e9", "x", "99999"]),
+                            "--seed", rng.choice(["0", "7", "-1", "2.5"]), "--workers", "1", "--json"],
                            ["record", str(path), "--stiffness", "1 N/m", "--normal-load", "1 N", "--json"],
                            ["fit", str(path), "--bootstrap", "5", "--json"]])
     if kind == "units":

@@ -330,6 +330,9 @@ def _studies_commands(commands) -> None:
     reproduce.add_argument("--overwrite", action="store_true", help=COMMON["--overwrite"])
     reproduce.add_argument("--allow-large", action="store_true", help=COMMON["--allow-large"])
     reproduce.add_argument("--workers", type=int, help="parallel workers (default: the cores, at most one per chunk)")
+    reproduce.add_argument("--cells", type=int, help="a spot check: run again only this many cells, drawn at random, "
+                                                     "and compare them (the rest by the file's checksum)")
+    reproduce.add_argument("--seed", type=int, help="the draw of --cells (default: a new one, named in the output)")
     reproduce.add_argument("--json", action="store_true", help=COMMON["--json"])
     reproduce.set_defaults(handler="sweeps:cmd_reproduce")
 

@@ -138,7 +138,7 @@ def cmd_convert(args) -> int:
 def cmd_reproduce(args) -> int:
     workers = _workers(args)
     result = reproduce(args.file, output=args.output, workers=workers, overwrite=args.overwrite,
-                       allow_large=args.allow_large)
+                       allow_large=args.allow_large, cells=args.cells, seed=args.seed)
     if args.json:
         print(json.dumps({key: (None if isinstance(value, float) and not math.isfinite(value) else value)
                           for key, value in result.items() if key != "differences"}
@@ -146,8 +146,14 @@ def cmd_reproduce(args) -> int:
                          indent=2))
     else:
         verdict = "matches" if result["matches"] else "DIFFERS"
-        print(f"faultslip reproduce: {args.file} {verdict} (largest relative difference {result['largest_difference']:.3g} "
-              f"over {result['cells']} cells)")
+        if "sample_seed" in result:  # a spot check
+            print(f"faultslip reproduce: {args.file} {verdict} (largest relative difference "
+                  f"{result['largest_difference']:.3g} over {result['cells']} of its {result['of_cells']} cells, drawn "
+                  f"with --seed {result['sample_seed']}; the other cells and the file's attributes are checked by its "
+                  "checksum)")
+        else:
+            print(f"faultslip reproduce: {args.file} {verdict} (largest relative difference "
+                  f"{result['largest_difference']:.3g} over {result['cells']} cells)")
         checksum = {"differs": "the file does not match the checksum written with it: it changed after writing",
                     "damaged": "the file has lost its checksum, or its checksum attribute is damaged: it changed "
                                "after writing",

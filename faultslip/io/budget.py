@@ -365,12 +365,13 @@ SWEEP_FILE_SECONDS = 0.02298
 
 
 def study_estimate(study, output, workers: int, chunk_cells: int, compression: str = "zlib",
-                   streamed: bool = False) -> Estimate:
+                   streamed: bool = False, cells: int | None = None) -> Estimate:
     """Memory, disk and time of a sweep, from its shape alone (nothing is allocated). ``streamed``: a run to a
     file, which first computes one cell where the family does not declare its outputs' layout
     (``study.layout_seconds()``), and then every cell again in its block; a run to a file also spends
-    :data:`SWEEP_FILE_SECONDS` on the file."""
-    cells = float(study.size)
+    :data:`SWEEP_FILE_SECONDS` on the file. ``cells``: only that many of its cells run (a reproduction's sample),
+    each its own block."""
+    cells = float(study.size if cells is None else cells)
     outputs = 17
     raw = cells * outputs * 8.0
     disk = netcdf_disk(raw, outputs + len(study.dims), compression)

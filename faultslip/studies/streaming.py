@@ -1019,7 +1019,7 @@ RUN_ATTRIBUTES = ("history", "source", DIGESTS, CHECKSUM_ATTRIBUTE, COVERS_ATTRI
 
 
 def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrite: bool = False,
-              allow_large: bool = False) -> dict:
+              allow_large: bool = False, cells: int | None = None, seed: int | None = None) -> dict:
     """Re-run the study embedded in ``path`` and compare everything that carries results.
 
     Every data variable, coordinate, variable attribute and global attribute (but the run's
@@ -1028,12 +1028,21 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     file that does not match the checksum written with it (``checksum``: ``"matches"``,
     ``"differs"``, ``"damaged"``, or ``"absent"`` for a file of a faultslip before checksums). The
     file checked is never written: ``output`` must be another file.
+
+    ``cells``: a spot check of a study too costly to run again whole. Only that many cells, drawn at random
+    (``seed``; None draws one, and the result names it so that the same cells can be checked again), are run
+    again, each as a sweep runs it, and compared with the file's: their values, coordinates and variable
+    attributes. The file's global attributes and its other cells are then vouched for by its checksum alone.
     """
     path = Path(path)
     if not path.exists():
         raise InputError(f"file {str(path)!r} does not exist")
     if path.is_dir():
         raise InputError(f"{str(path)!r} is a folder, not a netCDF file")
+    if cells is not None and output is not None:
+        raise InputError("-o keeps a whole reproduced file, and --cells reruns only some cells: give one of them")
+    if seed is not None and cells is None:
+        raise InputError("--seed draws the cells of --cells: give --cells too")
     keep = None
     if output is not None:
         keep = check_output(output, label="-o", suffixes=(".nc",), inputs=[path], overwrite=overwrite)
@@ -1049,6 +1058,8 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     title = attrs.get("title")
     if isinstance(title, str) and title.startswith("faultslip study: "):  # an unnamed study took its file's name
         study.name = title.removeprefix("faultslip study: ")
+    if cells is not None:
+        return _reproduce_sample(path, study, cells, seed, workers, allow_large, checksum)
     # the embedded study is checked like any sweep before it runs again (a damaged file may ask for much)
     budget.check(budget.study_estimate(study, keep or path, workers, chunk_cells or default_chunk_cells(study),
                                        streamed=True), allow_large)
@@ -1064,11 +1075,69 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
         except Exception as exc:
             raise InputError(f"cannot compare {path.name} with its reproduction: {str(exc)[:200]}") from None
     worst = max(comparison["differences"].values()) if comparison["differences"] else 0.0
-    checksum = {None: "matches", "mismatch": "differs", "damaged": "damaged", "unsealed": "absent"}[checksum]
+    checksum = _checksum_verdict(checksum)
     matches = worst <= 1e-12 and not any(comparison[k] for k in ("missing", "extra", "attribute_differences")) \
         and checksum in ("matches", "absent")
     return {"matches": matches, "largest_difference": worst, **comparison, "checksum": checksum,
             "cells": summary["cells"], "seconds": summary["seconds"]}
+
+
+def _checksum_verdict(checksum) -> str:
+    """What :func:`faultslip.io.netcdf.probe_netcdf` found, as :func:`reproduce` reports it."""
+    return {None: "matches", "mismatch": "differs", "damaged": "damaged", "unsealed": "absent"}[checksum]
+
+
+def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large: bool, checksum) -> dict:
+    """:func:`reproduce` on ``count`` cells drawn with ``seed``: each computed as its own block, as a sweep computes
+    it (:func:`faultslip.studies.grid.compute_block`), and compared with the file's cell."""
+    total = study.size
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or not 1 <= count <= total:
+        raise InputError(f"--cells {count!r}: the study in {path.name} has {total} cells; check 1 to {total} of them")
+    if seed is None:
+        seed = int(np.random.SeedSequence().generate_state(1)[0])
+    elif isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(f"--seed {seed!r}: a seed is a whole number, 0 or more")
+    shape = tuple(len(values) for values in study.dims.values())
+    drawn = np.sort(np.random.default_rng(seed).choice(total, size=count, replace=False))
+    picked = [dict(zip(study.dims, (int(i) for i in np.unravel_index(flat, shape)))) for flat in drawn]
+    estimate = budget.study_estimate(study, None, workers, 1, cells=count)
+    budget.check(estimate, allow_large)
+    blocks = [{name: slice(cell[name], cell[name] + 1) for name in study.dims} for cell in picked]
+    if len(blocks) <= 1 or estimate.seconds < POOL_WORTH_SECONDS:
+        workers = 1  # a pool would cost more than it saves
+    started = time.perf_counter()
+    executor, _ = _executor(None, workers, study)
+    computed = {}
+    try:
+        run_windowed(executor, guarded_task if executor is None else worker_task,
+                     ((i, (compute_block, study, block)) for i, block in enumerate(blocks)),
+                     lambda i, result: computed.__setitem__(i, result[0]), window=max(workers, 1) + 1)
+    except BaseException:
+        _shutdown(executor, interrupted=True)
+        raise
+    _shutdown(executor)
+    differences, missing, extra, attributes = {}, set(), set(), set()
+    try:
+        with open_dataset_lazily(path, "file", checked=True) as old:
+            for i, block in enumerate(blocks):
+                found = compare_datasets(old.isel(block), computed[i], global_attributes=False)
+                for name, value in found["differences"].items():
+                    differences[name] = max(differences.get(name, 0.0), value)
+                missing.update(found["missing"])
+                extra.update(found["extra"])
+                attributes.update(found["attribute_differences"])
+    except InputError:
+        raise
+    except Exception as exc:
+        raise InputError(f"cannot compare {path.name} with its reproduction: {str(exc)[:200]}") from None
+    worst = max(differences.values()) if differences else 0.0
+    verdict = _checksum_verdict(checksum)
+    matches = worst <= 1e-12 and not (missing or extra or attributes) and verdict in ("matches", "absent")
+    return {"matches": matches, "largest_difference": worst, "differences": differences, "missing": sorted(missing),
+            "extra": sorted(extra), "attribute_differences": sorted(attributes), "checksum": verdict,
+            "cells": count, "of_cells": total, "sample_seed": seed,
+            "sampled": [_cell_values(study, cell) for cell in picked], "sampled_index": picked,
+            "seconds": time.perf_counter() - started}
 
 
 def _same_value(a, b) -> bool:
@@ -1080,8 +1149,9 @@ def _same_value(a, b) -> bool:
     return bool(np.all(a == b))
 
 
-def compare_datasets(old, new) -> dict:
-    """What differs between a file and its reproduction: variables, coordinates and attributes.
+def compare_datasets(old, new, global_attributes: bool = True) -> dict:
+    """What differs between a file and its reproduction: variables, coordinates and attributes (the datasets'
+    own too, with ``global_attributes``).
 
     Returns ``differences`` (name -> largest relative difference), ``missing`` (in the
     reproduction, not in the file), ``extra`` (in the file only) and ``attribute_differences``.
@@ -1105,7 +1175,7 @@ def compare_datasets(old, new) -> dict:
         for key in sorted(set(a.attrs) | set(b.attrs)):
             if key not in a.attrs or key not in b.attrs or not _same_value(a.attrs[key], b.attrs[key]):
                 attribute_differences.append(f"{name}:{key}")
-    for key in sorted((set(old.attrs) | set(new.attrs)) - set(RUN_ATTRIBUTES)):
+    for key in sorted((set(old.attrs) | set(new.attrs)) - set(RUN_ATTRIBUTES)) if global_attributes else ():
         if key not in old.attrs or key not in new.attrs or not _same_value(old.attrs[key], new.attrs[key]):
             attribute_differences.append(key)
     return {"differences": differences, "missing": missing, "extra": extra,

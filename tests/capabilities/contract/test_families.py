@@ -58,6 +58,10 @@ def test_every_family_sweeps_its_example_study_to_cf_with_units(name, cli, tmp_p
         assert all(written.sizes[n] > 1 for n in written.dims)
     again = cli("reproduce", out, "--json", "--workers", "1")  # the file embeds what reproduces it, for every family
     assert again.code == 0 and again.json["matches"], again.err
+    # and a spot check runs one of its cells again as the sweep ran it, and compares it with the file's
+    spot = cli("reproduce", out, "--cells", "1", "--seed", "0", "--json", "--workers", "1")
+    assert spot.code == 0 and spot.json["matches"] and spot.json["cells"] == 1, spot.err
+    assert spot.json["of_cells"] == again.json["cells"] and not spot.json["missing"] and not spot.json["extra"]
 
 
 def test_a_per_cell_sweep_is_the_runs_of_its_cells():

@@ -330,6 +330,69 @@ def test_reproduce_matches_an_untouched_file(swept, cli):
     assert not result.json["missing"] and not result.json["extra"] and not result.json["attribute_differences"]
 
 
+def _one_cell_changed(path, index):
+    """``path`` with its cell ``index`` of the recurrence changed, sealed again: its checksum matches, so only a
+    reproduction that runs that cell can tell."""
+    from faultslip.io.netcdf import seal
+
+    with xr.open_dataset(path) as opened:
+        data = opened.load()
+    data["recurrence_period"].values[index] *= 1.001
+    target = path.with_name("one_cell.nc")
+    data.to_netcdf(target)
+    seal(target)
+    return target
+
+
+def test_a_spot_check_reruns_the_cells_it_draws_and_finds_a_changed_one_it_draws(swept, cli):
+    """``reproduce --cells N`` runs again N cells drawn with ``--seed`` (a new draw, named in the output, without
+    it), each as a sweep computes it, and compares them with the file's; the file's other cells and attributes are
+    vouched for by its checksum. A cell changed and sealed again is found exactly when the draw holds it."""
+    from faultslip.studies.streaming import reproduce
+
+    result = cli("reproduce", swept, "--cells", "3", "--seed", "7", "--json")
+    assert result.code == 0 and result.json["matches"] is True and result.json["checksum"] == "matches", result.err
+    assert (result.json["cells"], result.json["of_cells"], result.json["sample_seed"]) == (3, 18, 7)
+    sampled = result.json["sampled"]
+    assert len({tuple(sorted(cell.items())) for cell in result.json["sampled_index"]}) == 3  # without replacement
+    again = cli("reproduce", swept, "--cells", "3", "--seed", "7", "--json")
+    assert again.json["sampled"] == sampled  # the same seed, the same cells
+    drawn = cli("reproduce", swept, "--cells", "2", "--json")
+    assert drawn.code == 0 and isinstance(drawn.json["sample_seed"], int)
+    assert cli("reproduce", swept, "--cells", "2", "--seed", str(drawn.json["sample_seed"]),
+               "--json").json["sampled"] == drawn.json["sampled"]
+    text = cli("reproduce", swept, "--cells", "1", "--seed", "3")
+    assert text.code == 0 and "1 of its 18 cells" in text.out and "--seed 3" in text.out
+    changed = _one_cell_changed(swept, (0, 0))
+    whole = cli("reproduce", changed, "--cells", "18", "--json")
+    assert whole.code == 1 and whole.json["checksum"] == "matches" and whole.json["matches"] is False
+    assert whole.json["differences"]["recurrence_period"] == pytest.approx(0.001 / 1.001, rel=1e-6)
+    found = []
+    for seed in range(24):
+        spot = reproduce(changed, cells=3, seed=seed, workers=1)
+        holds = {"slip_rate": 0, "zone_width": 0} in spot["sampled_index"]
+        assert spot["matches"] is (not holds), (seed, spot["sampled"])
+        found.append(holds)
+    assert any(found) and not all(found)
+
+
+@pytest.mark.parametrize("words, says", [
+    (["--cells", "0"], "check 1 to 18"),
+    (["--cells", "19"], "check 1 to 18"),
+    (["--cells", "2", "--seed", "-1"], "0 or more"),
+    (["--seed", "4"], "give --cells too"),
+    (["--cells", "two"], "--cells"),
+], ids=["none", "more than the study", "negative seed", "seed alone", "not a number"])
+def test_a_spot_check_asked_wrongly_is_one_sentence(swept, cli, words, says):
+    assert_clean_error(cli("reproduce", swept, *words), says)
+
+
+def test_a_spot_check_keeps_no_file(swept, cli, tmp_path):
+    kept = tmp_path / "kept.nc"
+    assert_clean_error(cli("reproduce", swept, "--cells", "2", "-o", kept), "give one of them")
+    assert not kept.exists()
+
+
 def test_lock_refusal_names_the_holder(tmp_path):
     from faultslip.errors import InputError
     from faultslip.io.outputs import output_lock
