@@ -4,6 +4,7 @@
     python benchmarks/fault_3d_cost.py --part held-out   # the held-out draw, estimated by the shipped model (about 15 min)
     python benchmarks/fault_3d_cost.py --part rtol       # the steps against rtol (about a minute)
     python benchmarks/fault_3d_cost.py --part re-estimate  # the saved runs' estimates again, nothing rerun
+    python benchmarks/fault_3d_cost.py --part fresh --seed 7321  # a fresh draw against the shipped model (about 10 min)
 
 The model (faultslip.models.fault_3d.cost) had been fitted on SEAS BP5-QD alone, whose three runs change the squares
 along strike and down dip together. It estimated a 2-D scene's 3-D fault (configs/fault_2d_small.toml, 282 x 80
@@ -33,6 +34,9 @@ budget would have let it start). Here:
   run is, and run: the estimate over the CPU used. The earlier draws (``EARLIER_DRAWS``: 7300, and 7301, whose
   small buried patch the model of its day estimated at 2.96x its CPU, and which led to the burial term) keep the
   estimates of their day; ``re-estimate`` adds the shipped model's.
+- ``fresh --seed N``: a draw of the held-out kinds with a seed never used, run after the model was last refitted
+  (``FRESH_DRAWS``), each estimated by the shipped model before it runs; kept with the model of its day, and
+  ``re-estimate`` adds the shipped model's.
 
 tests/models/fault_3d/test_fault_3d.py refits the constants from the results file and holds the held-out estimates
 within 2x of the CPU. Writes benchmarks/results/fault_3d_cost.json.
@@ -74,6 +78,9 @@ EARLIER_DRAWS = (7300, 7301)
 #: draws' two were chosen
 BP5_SIZES = (2500.0, 1250.0, 800.0, 625.0)
 CHOSEN_BP5_SIZES = {7300: (1250.0, 800.0), 7301: (2500.0, 625.0)}
+#: fresh draws, each run once after a refit (``--part fresh --seed N``): 7321 after the steps were refitted on the
+#: model-error cells' rerun (two cells at 480 yr, two long cells)
+FRESH_DRAWS = (7321,)
 CONFIGS = ROOT / "configs"
 
 
@@ -274,8 +281,9 @@ def summary(ratios: list) -> dict:
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--part", choices=("fit", "refit", "held-out", "rtol", "re-estimate"), required=True,
+    parser.add_argument("--part", choices=("fit", "refit", "held-out", "rtol", "re-estimate", "fresh"), required=True,
                         help="refit: the fits again from the file's runs, without running them")
+    parser.add_argument("--seed", type=int, help="--part fresh: the draw's seed (one of FRESH_DRAWS)")
     parser.add_argument("--out", type=Path, default=OUT)
     args = parser.parse_args(argv)
     result = json.loads(args.out.read_text(encoding="utf-8")) if args.out.exists() else {}
@@ -287,7 +295,7 @@ def main(argv=None) -> None:
         print(json.dumps(result["rtol_fit"]))
     elif args.part == "re-estimate":
         made = dict(FIT)
-        for seed in (result.get("held_out_seed", HELD_OUT_SEED), *EARLIER_DRAWS):
+        for seed in (result.get("held_out_seed", HELD_OUT_SEED), *EARLIER_DRAWS, *FRESH_DRAWS):
             made |= dict(held_out_draw(seed))
         earlier = result.get("earlier_draws", [])
         # each run's estimate again, on the machine state it recorded (the fit runs': the state the fault_3d group is
@@ -311,12 +319,27 @@ def main(argv=None) -> None:
                     row["estimate_now_over_cpu"] = row["estimated_now_s"] / row["cpu_s"]
                 draw["summary_now"] = summary([row["estimate_now_over_cpu"] for row in draw["rows"]])
                 draw["model_now"] = cost.describe()
+            for draw in result.get("fresh_draws", []):
+                for row in draw["rows"]:
+                    with machine.assumed(row["machine_factor"]):
+                        row["estimated_now_s"] = made[row["what"]]().estimate().seconds
+                    row["estimate_now_over_cpu"] = row["estimated_now_s"] / row["cpu_s"]
+                draw["summary_now"] = summary([row["estimate_now_over_cpu"] for row in draw["rows"]])
         cells = recorded_cells()
         result.update({"recorded_cells": cells, **fits(result["fit_runs"], cells)})
         if result.get("held_out"):
             result.update(held_out_summary=summary([row["estimate_over_cpu"] for row in result["held_out"]]),
                           held_out_model=cost.describe())
         print(json.dumps({**fits(result["fit_runs"], cells), "held_out_summary": result.get("held_out_summary")}))
+    elif args.part == "fresh":
+        if args.seed not in FRESH_DRAWS:
+            parser.error(f"--seed {args.seed}: a fresh draw's seed is listed in FRESH_DRAWS first ({FRESH_DRAWS})")
+        rows = [measured(what, make()) for what, make in held_out_draw(args.seed)]
+        kept = [draw for draw in result.get("fresh_draws", []) if draw["seed"] != args.seed]
+        result["fresh_draws"] = kept + [{"seed": args.seed, "rows": rows, "model_then": cost.describe(),
+                                         "summary_then": summary([row["estimate_over_cpu"] for row in rows]),
+                                         **stamp()}]
+        print(json.dumps(result["fresh_draws"][-1]["summary_then"]))
     elif args.part == "refit":
         result.update(fits(result["fit_runs"], result["recorded_cells"]))
         print(json.dumps(fits(result["fit_runs"], result["recorded_cells"])))

@@ -459,6 +459,12 @@ def fault_3d_cost_table() -> str | None:
                     f"{then['ratio_range'][1]:.2f}, median {then['ratio_median']:.2f}); by the shipped model, "
                     f"{now['within_2x']} of {now['count']} ({now['ratio_range'][0]:.2f} to "
                     f"{now['ratio_range'][1]:.2f}, median {now['ratio_median']:.2f}). ")
+    for draw in result.get("fresh_draws", []):
+        then = draw["summary_then"]
+        earlier += (f"Fresh draw {draw['seed']} (`--part fresh --seed {draw['seed']}`), run after the steps' last "
+                    f"refit and estimated by the model of its day before each run: {then['within_2x']} of "
+                    f"{then['count']} within 2x ({then['ratio_range'][0]:.2f} to {then['ratio_range'][1]:.2f}, median "
+                    f"{then['ratio_median']:.2f}). ")
     summary = result["held_out_summary"]
     fitted = result.get("rtol_fit")
     rtol = (f"The steps grow as rtol^{fitted['power']:.3f} (pooled over {len(fitted['per_fault'])} faults at rtol "

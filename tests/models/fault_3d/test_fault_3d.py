@@ -630,6 +630,16 @@ def test_the_cost_model_is_its_benchmarks_fit_and_estimates_unseen_faults_within
         for row in draw["rows"]:
             with machine.assumed(row["machine_factor"]):
                 assert made[row["what"]]().estimate().seconds == pytest.approx(row["estimated_now_s"], rel=1e-6)
+    # a fresh draw, run after the last refit: estimated within 2x before each run, and by the shipped model now
+    assert {draw["seed"] for draw in result["fresh_draws"]} == set(bench.FRESH_DRAWS)
+    for draw in result["fresh_draws"]:
+        assert draw["seed"] not in (result["held_out_seed"], *bench.EARLIER_DRAWS)
+        made = dict(bench.held_out_draw(draw["seed"]))
+        assert len(draw["rows"]) >= 10
+        for row in draw["rows"]:
+            assert 0.5 <= row["estimate_over_cpu"] <= 2.0, (draw["seed"], row["what"])
+            with machine.assumed(row["machine_factor"]):
+                assert made[row["what"]]().estimate().seconds == pytest.approx(row["estimated_now_s"], rel=1e-6)
 
 
 def test_the_assembly_cost_is_the_cost_benchmarks_and_the_product_is_exact():
