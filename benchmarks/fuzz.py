@@ -989,7 +989,10 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         shutil.rmtree(store, ignore_errors=True)
         shutil.copytree(CONFIGS / "example_lab_glass.zarr", store)
         space.silent_if_ok = damage_store(store, rng) is True  # chunks swapped, an attribute edited: exit 0 is silent
-        return ["convert", str(store), "-o", out, "--overwrite", "--workers", "1", "--json"]
+        return rng.choice([["convert", str(store), "-o", out, "--overwrite", "--workers", "1", "--json"],
+                           ["reproduce", str(store), "--workers", "1", "--json"],
+                           ["reproduce", str(store), "--cells", rng.choice(["1", "3", "0"]), "--seed", "2",
+                            "--workers", "1", "--json"]])
     if kind == "deep":
         depth = rng.choice([33, 100, 500, 3000])
         opener, closer = rng.choice([("[", "]"), ("{ a = ", " }")])

@@ -19,9 +19,9 @@ def reliability_table() -> str | None:
             f"| silent: a changed input answered as if unchanged (exit 0) | **{outcomes.get('silent', 0)}** |",
             f"| cases over the fuzzer's {fuzz.get('timeout_s', 60):g} s limit | {outcomes.get('timeout', 0)} |"]
     hard = {"zarr": "Zarr stores as written, or damaged (missing, corrupted or swapped chunks, an attribute edited in the "
-                    "store or its consolidated metadata), converted",
+                    "store or its consolidated metadata), converted or reproduced (whole, or spot-checked with good and bad --cells)",
             "netcdf": "a sweep's sealed netCDF output, bytes mutated, one bit flipped, or an attribute or coordinate "
-                      "edited, then reproduced, read as a record or fitted",
+                      "edited, then reproduced (whole, or spot-checked with good and bad --cells and --seed), read as a record or fitted",
             "ledger": "a sweep's failure ledger edited (cells dropped, indices changed) or mutated, then --retry-failed",
             "partial": "an interrupted sweep's partial output (netCDF or Zarr: bytes, an attribute, a coordinate, a "
                        "chunk) or progress record damaged, then --resume (exit 0 must give the run without a stop)",

@@ -34,9 +34,11 @@ from faultslip.io.atomic import commit, working_copy, write_text_atomic
 from faultslip.io.chunks import DIRECT_COMPRESSIONS, ChunkFile, block_digest, encode_chunk, padded
 from faultslip.io.netcdf import (CHECKSUM_ATTRIBUTE, COVERS_ATTRIBUTE, chunk_map, create_chunked, file_layout_checksum,
                                  layout_checksum, open_for_append, seal)
-from faultslip.io.zarr_store import (DIGESTS, check_block_digests, check_store_checksum, create_store, finish_store, is_store, remove_store,
-                                      layout_checksum as store_layout_checksum,
-                                      require_zarr, set_block_digests, update_block_digests, write_region)
+from faultslip.io.zarr_store import (CHECKSUM as STORE_CHECKSUM, DIGESTS, check_block_digests, check_store_checksum,
+                                      create_store, finish_store, is_store, remove_store,
+                                      layout_checksum as store_layout_checksum, require_store,
+                                      require_zarr, set_block_digests, store_metadata, update_block_digests,
+                                      write_region)
 from faultslip.errors import FaultslipError, InputError
 from faultslip.io.outputs import check_output, disk_is_full, full_disk_error, output_lock, refuse_links
 from faultslip.io.processes import (THREADS_VARIABLE, SharedRing, descendants, reap, run_windowed, shared_segment,
@@ -1029,6 +1031,9 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     ``"differs"``, ``"damaged"``, or ``"absent"`` for a file of a faultslip before checksums). The
     file checked is never written: ``output`` must be another file.
 
+    ``path`` may be a Zarr store (a cluster's sweep): its sealed metadata and its blocks' digests are what its
+    checksum is, and the study runs again into a Zarr store (``output``, if given, ends in ``.zarr``).
+
     ``cells``: a spot check of a study too costly to run again whole. Only that many cells, drawn at random
     (``seed``; None draws one, and the result names it so that the same cells can be checked again), are run
     again, each as a sweep runs it, and compared with the file's: their values, coordinates and variable
@@ -1037,20 +1042,24 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     path = Path(path)
     if not path.exists():
         raise InputError(f"file {str(path)!r} does not exist")
-    if path.is_dir():
-        raise InputError(f"{str(path)!r} is a folder, not a netCDF file")
+    zarr = path.is_dir()
+    if zarr:
+        require_zarr()
+        path = require_store(path)  # a folder that is not a store: one sentence, before its tree is walked
     if cells is not None and output is not None:
         raise InputError("-o keeps a whole reproduced file, and --cells reruns only some cells: give one of them")
     if seed is not None and cells is None:
         raise InputError("--seed draws the cells of --cells: give --cells too")
     keep = None
     if output is not None:
-        keep = check_output(output, label="-o", suffixes=(".nc",), inputs=[path], overwrite=overwrite)
+        keep = check_output(output, label="-o", suffixes=(".zarr",) if zarr else (".nc",), inputs=[path],
+                            overwrite=overwrite)
 
     # probed first, as every read is (a damaged file must not crash this process); a file changed since it was
     # written is not refused here but reported: that it differs from what was written is this command's answer
-    checksum = probe_netcdf(path, "file", refuse_changed=False)
-    with open_dataset_lazily(path, "file", checked=True) as original:
+    checksum = _store_checksum(path) if zarr else probe_netcdf(path, "file", refuse_changed=False)
+    label = "store" if zarr else "file"
+    with open_dataset_lazily(path, label, zarr=zarr, checked=True) as original:
         attrs = dict(original.attrs)
     if not isinstance(attrs.get("faultslip_study"), str) or not isinstance(attrs.get("faultslip_base_scene"), str):
         raise InputError(f"{path.name} carries no embedded study (faultslip_study attribute); it was not written by faultslip sweep")
@@ -1059,16 +1068,16 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     if isinstance(title, str) and title.startswith("faultslip study: "):  # an unnamed study took its file's name
         study.name = title.removeprefix("faultslip study: ")
     if cells is not None:
-        return _reproduce_sample(path, study, cells, seed, workers, allow_large, checksum)
+        return _reproduce_sample(path, study, cells, seed, workers, allow_large, checksum, zarr)
     # the embedded study is checked like any sweep before it runs again (a damaged file may ask for much)
     budget.check(budget.study_estimate(study, keep or path, workers, chunk_cells or default_chunk_cells(study),
                                        streamed=True), allow_large)
     with tempfile.TemporaryDirectory(dir=(keep.parent if keep else None)) as scratch:
-        target = keep or Path(scratch) / "reproduced.nc"
+        target = keep or Path(scratch) / ("reproduced.zarr" if zarr else "reproduced.nc")
         summary = run_study(study, target, chunk_cells=chunk_cells, workers=workers, inputs=[path])
         try:
-            with open_dataset_lazily(path, "file", checked=True) as old, \
-                    open_dataset_lazily(target, "reproduced file", checked=True) as new:
+            with open_dataset_lazily(path, label, zarr=zarr, checked=True) as old, \
+                    open_dataset_lazily(target, "reproduced " + label, zarr=zarr, checked=True) as new:
                 comparison = compare_datasets(old, new)
         except InputError:
             raise
@@ -1087,7 +1096,23 @@ def _checksum_verdict(checksum) -> str:
     return {None: "matches", "mismatch": "differs", "damaged": "damaged", "unsealed": "absent"}[checksum]
 
 
-def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large: bool, checksum) -> dict:
+def _store_checksum(path: Path) -> str | None:
+    """A Zarr store's integrity as :func:`faultslip.io.netcdf.probe_netcdf` reports a file's: None where its sealed
+    metadata and every block's digest match, ``"mismatch"`` where any does not, ``"unsealed"`` for a store of a
+    faultslip before the metadata's checksum."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # an unsealed store's warning: reported as "absent" instead
+            check_store_checksum(path)
+        with gate.decoding(path, "the store", "a Zarr store"):
+            check_block_digests(path)
+    except InputError:
+        return "mismatch"
+    return None if STORE_CHECKSUM in store_metadata(path).get(".zattrs", {}) else "unsealed"
+
+
+def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large: bool, checksum,
+                      zarr: bool = False) -> dict:
     """:func:`reproduce` on ``count`` cells drawn with ``seed``: each computed as its own block, as a sweep computes
     it (:func:`faultslip.studies.grid.compute_block`), and compared with the file's cell."""
     total = study.size
@@ -1118,7 +1143,7 @@ def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large:
     _shutdown(executor)
     differences, missing, extra, attributes = {}, set(), set(), set()
     try:
-        with open_dataset_lazily(path, "file", checked=True) as old:
+        with open_dataset_lazily(path, "store" if zarr else "file", zarr=zarr, checked=True) as old:
             for i, block in enumerate(blocks):
                 found = compare_datasets(old.isel(block), computed[i], global_attributes=False)
                 for name, value in found["differences"].items():

@@ -1,6 +1,7 @@
 """Zarr stores: the same study as netCDF, atomic replacement, resume, refusals, and streaming conversion."""
 
 import json
+import shutil
 import warnings
 from pathlib import Path
 
@@ -319,3 +320,34 @@ def test_one_flipped_bit_in_the_metadata_is_refused_or_changes_nothing(tmp_path_
     with xr.open_dataset(folder / "c.nc", decode_cf=False) as got, \
             xr.open_dataset(folder / "reference.nc", decode_cf=False) as want:
         assert _same(got, want) and got.attrs.keys() == want.attrs.keys()
+
+
+def test_reproduce_reads_a_zarr_sweep_whole_or_spot_checked_and_reports_what_changed(tmp_path, cli):
+    """A cluster's sweep is a Zarr store: ``reproduce`` runs its embedded study again into a store and compares
+    every variable, coordinate and attribute, or spot-checks drawn cells; its checksum is the sealed metadata and
+    the blocks' digests, so a value changed in any chunk, or an edited attribute, is reported (exit 1), drawn or
+    not; a folder that is not a store, or -o that is not one, is one sentence."""
+    import zarr
+
+    from conftest import assert_clean_error
+
+    store, source = tmp_path / "s.zarr", tmp_path / "z.toml"
+    source.write_text(STUDY, encoding="utf-8")
+    assert cli("sweep", source, "-o", store, "--workers", "1").code == 0
+    whole = cli("reproduce", store, "--json", "--workers", "1")
+    assert whole.code == 0 and whole.json["matches"] and whole.json["checksum"] == "matches", whole.err
+    assert whole.json["cells"] == 54 and not whole.json["attribute_differences"]
+    spot = cli("reproduce", store, "--cells", "3", "--seed", "5", "--json")
+    assert spot.code == 0 and spot.json["matches"] and (spot.json["cells"], spot.json["of_cells"]) == (3, 54)
+    kept = tmp_path / "again.zarr"
+    assert cli("reproduce", store, "-o", kept, "--json", "--workers", "1").code == 0 and is_store(kept)
+    assert_clean_error(cli("reproduce", store, "-o", tmp_path / "again.nc"), "must end in .zarr")
+    (tmp_path / "plain").mkdir()
+    assert_clean_error(cli("reproduce", tmp_path / "plain"), "not a Zarr store")
+    edited = tmp_path / "edited.zarr"
+    shutil.copytree(store, edited)
+    _edit_attribute(edited, "slip_per_event", "units", "mm")
+    zarr.open_group(str(store), mode="r+")["recurrence_period"][0, 0, 0] = 1.0
+    for path, words in ((store, ()), (store, ("--cells", "1", "--seed", "0")), (edited, ())):
+        changed = cli("reproduce", path, "--json", "--workers", "1", *words)
+        assert changed.code == 1 and changed.json["checksum"] == "differs" and not changed.json["matches"], words
