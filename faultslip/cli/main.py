@@ -333,6 +333,9 @@ def _studies_commands(commands) -> None:
     reproduce.add_argument("--cells", type=int, help="a spot check: run again only this many cells, drawn at random, "
                                                      "and compare them (the rest by the file's checksum)")
     reproduce.add_argument("--seed", type=int, help="the draw of --cells (default: a new one, named in the output)")
+    reproduce.add_argument("--scheduler", help="'local' for a dask LocalCluster, 'slurm' for --workers SLURM jobs "
+                                               "through dask-jobqueue, or the address of a dask scheduler: where the "
+                                               "cells run again")
     reproduce.add_argument("--json", action="store_true", help=COMMON["--json"])
     reproduce.set_defaults(handler="sweeps:cmd_reproduce")
 

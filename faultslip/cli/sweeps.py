@@ -137,8 +137,9 @@ def cmd_convert(args) -> int:
 
 def cmd_reproduce(args) -> int:
     workers = _workers(args)
-    result = reproduce(args.file, output=args.output, workers=workers, overwrite=args.overwrite,
-                       allow_large=args.allow_large, cells=args.cells, seed=args.seed)
+    result = reproduce(args.file, output=args.output, workers=(args.workers or 2) if args.scheduler else workers,
+                       overwrite=args.overwrite, allow_large=args.allow_large, cells=args.cells, seed=args.seed,
+                       scheduler=args.scheduler)
     if args.json:
         print(json.dumps({key: (None if isinstance(value, float) and not math.isfinite(value) else value)
                           for key, value in result.items() if key != "differences"}

@@ -1021,7 +1021,8 @@ RUN_ATTRIBUTES = ("history", "source", DIGESTS, CHECKSUM_ATTRIBUTE, COVERS_ATTRI
 
 
 def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrite: bool = False,
-              allow_large: bool = False, cells: int | None = None, seed: int | None = None) -> dict:
+              allow_large: bool = False, cells: int | None = None, seed: int | None = None,
+              scheduler: str | None = None) -> dict:
     """Re-run the study embedded in ``path`` and compare everything that carries results.
 
     Every data variable, coordinate, variable attribute and global attribute (but the run's
@@ -1033,12 +1034,15 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
 
     ``path`` may be a Zarr store (a cluster's sweep): its sealed metadata and its blocks' digests are what its
     checksum is, and the study runs again into a Zarr store (``output``, if given, ends in ``.zarr``).
+    ``scheduler`` is :func:`run_study`'s: the cells run again where a sweep's would (a dask cluster, SLURM), and
+    the result names the executor.
 
     ``cells``: a spot check of a study too costly to run again whole. Only that many cells, drawn at random
     (``seed``; None draws one, and the result names it so that the same cells can be checked again), are run
     again, each as a sweep runs it, and compared with the file's: their values, coordinates and variable
     attributes. The file's global attributes and its other cells are then vouched for by its checksum alone.
     """
+    check_scheduler(scheduler)
     path = Path(path)
     if not path.exists():
         raise InputError(f"file {str(path)!r} does not exist")
@@ -1068,13 +1072,14 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     if isinstance(title, str) and title.startswith("faultslip study: "):  # an unnamed study took its file's name
         study.name = title.removeprefix("faultslip study: ")
     if cells is not None:
-        return _reproduce_sample(path, study, cells, seed, workers, allow_large, checksum, zarr)
+        return _reproduce_sample(path, study, cells, seed, workers, allow_large, checksum, zarr, scheduler)
     # the embedded study is checked like any sweep before it runs again (a damaged file may ask for much)
     budget.check(budget.study_estimate(study, keep or path, workers, chunk_cells or default_chunk_cells(study),
                                        streamed=True), allow_large)
     with tempfile.TemporaryDirectory(dir=(keep.parent if keep else None)) as scratch:
         target = keep or Path(scratch) / ("reproduced.zarr" if zarr else "reproduced.nc")
-        summary = run_study(study, target, chunk_cells=chunk_cells, workers=workers, inputs=[path])
+        summary = run_study(study, target, chunk_cells=chunk_cells, scheduler=scheduler, workers=workers,
+                            inputs=[path])
         try:
             with open_dataset_lazily(path, label, zarr=zarr, checked=True) as old, \
                     open_dataset_lazily(target, "reproduced " + label, zarr=zarr, checked=True) as new:
@@ -1088,7 +1093,7 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
     matches = worst <= 1e-12 and not any(comparison[k] for k in ("missing", "extra", "attribute_differences")) \
         and checksum in ("matches", "absent")
     return {"matches": matches, "largest_difference": worst, **comparison, "checksum": checksum,
-            "cells": summary["cells"], "seconds": summary["seconds"]}
+            "cells": summary["cells"], "seconds": summary["seconds"], "executor": summary["executor"]}
 
 
 def _checksum_verdict(checksum) -> str:
@@ -1112,7 +1117,7 @@ def _store_checksum(path: Path) -> str | None:
 
 
 def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large: bool, checksum,
-                      zarr: bool = False) -> dict:
+                      zarr: bool = False, scheduler: str | None = None) -> dict:
     """:func:`reproduce` on ``count`` cells drawn with ``seed``: each computed as its own block, as a sweep computes
     it (:func:`faultslip.studies.grid.compute_block`), and compared with the file's cell."""
     total = study.size
@@ -1128,10 +1133,10 @@ def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large:
     estimate = budget.study_estimate(study, None, workers, 1, cells=count)
     budget.check(estimate, allow_large)
     blocks = [{name: slice(cell[name], cell[name] + 1) for name in study.dims} for cell in picked]
-    if len(blocks) <= 1 or estimate.seconds < POOL_WORTH_SECONDS:
-        workers = 1  # a pool would cost more than it saves
+    if scheduler is None and (len(blocks) <= 1 or estimate.seconds < POOL_WORTH_SECONDS):
+        workers = 1  # a pool would cost more than it saves (a named scheduler is used as asked)
     started = time.perf_counter()
-    executor, _ = _executor(None, workers, study)
+    executor, label = _executor(scheduler, workers, study)
     computed = {}
     try:
         run_windowed(executor, guarded_task if executor is None else worker_task,
@@ -1145,7 +1150,8 @@ def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large:
     try:
         with open_dataset_lazily(path, "store" if zarr else "file", zarr=zarr, checked=True) as old:
             for i, block in enumerate(blocks):
-                found = compare_datasets(old.isel(block), computed[i], global_attributes=False)
+                # one cell, read whole: compared in memory, not through a dask graph a variable
+                found = compare_datasets(old.isel(block).load(), computed[i], global_attributes=False)
                 for name, value in found["differences"].items():
                     differences[name] = max(differences.get(name, 0.0), value)
                 missing.update(found["missing"])
@@ -1162,7 +1168,7 @@ def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large:
             "extra": sorted(extra), "attribute_differences": sorted(attributes), "checksum": verdict,
             "cells": count, "of_cells": total, "sample_seed": seed,
             "sampled": [_cell_values(study, cell) for cell in picked], "sampled_index": picked,
-            "seconds": time.perf_counter() - started}
+            "seconds": time.perf_counter() - started, "executor": label}
 
 
 def _same_value(a, b) -> bool:

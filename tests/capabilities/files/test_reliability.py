@@ -368,8 +368,8 @@ def test_a_spot_check_reruns_the_cells_it_draws_and_finds_a_changed_one_it_draws
     assert whole.code == 1 and whole.json["checksum"] == "matches" and whole.json["matches"] is False
     assert whole.json["differences"]["recurrence_period"] == pytest.approx(0.001 / 1.001, rel=1e-6)
     found = []
-    for seed in range(24):
-        spot = reproduce(changed, cells=3, seed=seed, workers=1)
+    for seed in range(8):
+        spot = reproduce(changed, cells=6, seed=seed, workers=1)
         holds = {"slip_rate": 0, "zone_width": 0} in spot["sampled_index"]
         assert spot["matches"] is (not holds), (seed, spot["sampled"])
         found.append(holds)
@@ -382,7 +382,8 @@ def test_a_spot_check_reruns_the_cells_it_draws_and_finds_a_changed_one_it_draws
     (["--cells", "2", "--seed", "-1"], "0 or more"),
     (["--seed", "4"], "give --cells too"),
     (["--cells", "two"], "--cells"),
-], ids=["none", "more than the study", "negative seed", "seed alone", "not a number"])
+    (["--cells", "1", "--scheduler", "x"], "--scheduler"),
+], ids=["none", "more than the study", "negative seed", "seed alone", "not a number", "no such scheduler"])
 def test_a_spot_check_asked_wrongly_is_one_sentence(swept, cli, words, says):
     assert_clean_error(cli("reproduce", swept, *words), says)
 

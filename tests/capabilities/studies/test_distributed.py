@@ -117,6 +117,15 @@ def test_sweep_on_a_real_cluster_is_bit_identical_to_one_process(cluster, tmp_pa
                                                  if "worker_task" in str(entry[0])))
     assert len(ran) == 2 and all(count > 0 for count in ran.values()), ran
 
+    # the store reproduces on the cluster, whole and spot-checked, and says where its cells ran again
+    for words in ((), ("--cells", "5", "--seed", "1")):
+        again = subprocess.run([sys.executable, "-m", "faultslip.cli", "reproduce", str(remote), "--scheduler", address,
+                                "--json", *words], capture_output=True, text=True, timeout=300)
+        assert again.returncode == 0, again.stderr
+        report = json.loads(again.stdout)
+        assert report["matches"] and report["checksum"] == "matches", report
+        assert report["executor"].startswith(f"dask cluster at {address}"), report["executor"]
+
     # the store converts to the netCDF file a netCDF sweep writes, and that file reproduces
     converted = tmp_path / "converted.nc"
     result = subprocess.run([sys.executable, "-m", "faultslip.cli", "convert", str(remote), "-o", str(converted),
