@@ -311,7 +311,7 @@ def main(argv=None) -> None:
         with machine.assumed(1.0):
             # an earlier draw keeps the estimate its day's model made, and gets the shipped model's on the
             # machine state its runs recorded
-            for draw in earlier:
+            for draw in earlier + result.get("fresh_draws", []):
                 for row in draw["rows"]:
                     scene = made[row["what"]]()
                     with machine.assumed(row["machine_factor"]):
@@ -319,12 +319,6 @@ def main(argv=None) -> None:
                     row["estimate_now_over_cpu"] = row["estimated_now_s"] / row["cpu_s"]
                 draw["summary_now"] = summary([row["estimate_now_over_cpu"] for row in draw["rows"]])
                 draw["model_now"] = cost.describe()
-            for draw in result.get("fresh_draws", []):
-                for row in draw["rows"]:
-                    with machine.assumed(row["machine_factor"]):
-                        row["estimated_now_s"] = made[row["what"]]().estimate().seconds
-                    row["estimate_now_over_cpu"] = row["estimated_now_s"] / row["cpu_s"]
-                draw["summary_now"] = summary([row["estimate_now_over_cpu"] for row in draw["rows"]])
         cells = recorded_cells()
         result.update({"recorded_cells": cells, **fits(result["fit_runs"], cells)})
         if result.get("held_out"):

@@ -20,6 +20,7 @@ import os
 import re
 import shutil
 import sys
+import contextlib
 import tempfile
 import time
 import warnings
@@ -1080,25 +1081,33 @@ def reproduce(path, output=None, *, chunk_cells=None, workers: int = 2, overwrit
         target = keep or Path(scratch) / ("reproduced.zarr" if zarr else "reproduced.nc")
         summary = run_study(study, target, chunk_cells=chunk_cells, scheduler=scheduler, workers=workers,
                             inputs=[path])
-        try:
-            with open_dataset_lazily(path, label, zarr=zarr, checked=True) as old, \
-                    open_dataset_lazily(target, "reproduced " + label, zarr=zarr, checked=True) as new:
-                comparison = compare_datasets(old, new)
-        except InputError:
-            raise
-        except Exception as exc:
-            raise InputError(f"cannot compare {path.name} with its reproduction: {str(exc)[:200]}") from None
+        with _comparing(path), open_dataset_lazily(path, label, zarr=zarr, checked=True) as old, \
+                open_dataset_lazily(target, "reproduced " + label, zarr=zarr, checked=True) as new:
+            comparison = compare_datasets(old, new)
+    return {**_judged(comparison, checksum), "cells": summary["cells"], "seconds": summary["seconds"],
+            "executor": summary["executor"]}
+
+
+@contextlib.contextmanager
+def _comparing(path: Path):
+    """A comparison of ``path`` with its reproduction that fails says so in one sentence."""
+    try:
+        yield
+    except InputError:
+        raise
+    except Exception as exc:
+        raise InputError(f"cannot compare {path.name} with its reproduction: {str(exc)[:200]}") from None
+
+
+def _judged(comparison: dict, checksum) -> dict:
+    """A comparison (:func:`compare_datasets`'s keys) and what the file's checksum check found (``probe_netcdf``'s,
+    or :func:`_store_checksum`'s), as :func:`reproduce` reports them: the largest difference, the checksum's verdict
+    and whether everything matches."""
     worst = max(comparison["differences"].values()) if comparison["differences"] else 0.0
-    checksum = _checksum_verdict(checksum)
+    verdict = {None: "matches", "mismatch": "differs", "damaged": "damaged", "unsealed": "absent"}[checksum]
     matches = worst <= 1e-12 and not any(comparison[k] for k in ("missing", "extra", "attribute_differences")) \
-        and checksum in ("matches", "absent")
-    return {"matches": matches, "largest_difference": worst, **comparison, "checksum": checksum,
-            "cells": summary["cells"], "seconds": summary["seconds"], "executor": summary["executor"]}
-
-
-def _checksum_verdict(checksum) -> str:
-    """What :func:`faultslip.io.netcdf.probe_netcdf` found, as :func:`reproduce` reports it."""
-    return {None: "matches", "mismatch": "differs", "damaged": "damaged", "unsealed": "absent"}[checksum]
+        and verdict in ("matches", "absent")
+    return {"matches": matches, "largest_difference": worst, **comparison, "checksum": verdict}
 
 
 def _store_checksum(path: Path) -> str | None:
@@ -1116,8 +1125,8 @@ def _store_checksum(path: Path) -> str | None:
     return None if STORE_CHECKSUM in store_metadata(path).get(".zattrs", {}) else "unsealed"
 
 
-def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large: bool, checksum,
-                      zarr: bool = False, scheduler: str | None = None) -> dict:
+def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large: bool, checksum, zarr: bool,
+                      scheduler: str | None) -> dict:
     """:func:`reproduce` on ``count`` cells drawn with ``seed``: each computed as its own block, as a sweep computes
     it (:func:`faultslip.studies.grid.compute_block`), and compared with the file's cell."""
     total = study.size
@@ -1146,27 +1155,17 @@ def _reproduce_sample(path: Path, study, count, seed, workers: int, allow_large:
         _shutdown(executor, interrupted=True)
         raise
     _shutdown(executor)
-    differences, missing, extra, attributes = {}, set(), set(), set()
-    try:
-        with open_dataset_lazily(path, "store" if zarr else "file", zarr=zarr, checked=True) as old:
-            for i, block in enumerate(blocks):
-                # one cell, read whole: compared in memory, not through a dask graph a variable
-                found = compare_datasets(old.isel(block).load(), computed[i], global_attributes=False)
-                for name, value in found["differences"].items():
-                    differences[name] = max(differences.get(name, 0.0), value)
-                missing.update(found["missing"])
-                extra.update(found["extra"])
-                attributes.update(found["attribute_differences"])
-    except InputError:
-        raise
-    except Exception as exc:
-        raise InputError(f"cannot compare {path.name} with its reproduction: {str(exc)[:200]}") from None
-    worst = max(differences.values()) if differences else 0.0
-    verdict = _checksum_verdict(checksum)
-    matches = worst <= 1e-12 and not (missing or extra or attributes) and verdict in ("matches", "absent")
-    return {"matches": matches, "largest_difference": worst, "differences": differences, "missing": sorted(missing),
-            "extra": sorted(extra), "attribute_differences": sorted(attributes), "checksum": verdict,
-            "cells": count, "of_cells": total, "sample_seed": seed,
+    differences, found = {}, {"missing": set(), "extra": set(), "attribute_differences": set()}
+    with _comparing(path), open_dataset_lazily(path, "store" if zarr else "file", zarr=zarr, checked=True) as old:
+        for i, block in enumerate(blocks):
+            # one cell, read whole: compared in memory, not through a dask graph a variable
+            cell = compare_datasets(old.isel(block).load(), computed[i], global_attributes=False)
+            for name, value in cell["differences"].items():
+                differences[name] = max(differences.get(name, 0.0), value)
+            for key, names in found.items():
+                names.update(cell[key])
+    comparison = {"differences": differences, **{key: sorted(names) for key, names in found.items()}}
+    return {**_judged(comparison, checksum), "cells": count, "of_cells": total, "sample_seed": seed,
             "sampled": [_cell_values(study, cell) for cell in picked], "sampled_index": picked,
             "seconds": time.perf_counter() - started, "executor": label}
 
