@@ -251,7 +251,9 @@ def test_a_family_declared_in_the_environment_reaches_a_process_and_a_bad_entry_
 
 def test_a_2d_study_and_a_closed_form_sweep_on_slurm_match_one_process(slurm, tmp_path):
     """Both through ``--scheduler slurm`` (two worker jobs submitted by dask-jobqueue): the same bits as in this
-    process."""
+    process. And ``reproduce --scheduler slurm`` spot-checks two cells of the closed-form study's file there (the
+    whole reproduction runs as the sweep does: tests/capabilities/studies/test_distributed.py), and finds them the
+    same."""
     _, environment = slurm
     fault_2d = tmp_path / "fault_2d.toml"
     fault_2d.write_text('[study]\nname = "2-D on SLURM"\nbase = "fault_2d_small.toml"\n[sweep]\n'
@@ -264,6 +266,16 @@ def test_a_2d_study_and_a_closed_form_sweep_on_slurm_match_one_process(slurm, tm
                                     env=environment).stdout)
         assert summary["executor"].startswith("SLURM through dask-jobqueue"), summary
         _same_results(local, remote)
+    from faultslip.studies.grid import load_study
+
+    cells = load_study(ROOT / "configs" / "study_spring_slider.toml").size
+    again = subprocess.run([sys.executable, "-m", "faultslip.cli", "reproduce", str(remote), "--cells", "2", "--seed",
+                            "3", "--scheduler", "slurm", "--workers", "2", "--json"], capture_output=True, text=True,
+                           timeout=600, env=environment, cwd=ROOT)
+    assert again.returncode == 0, again.stderr
+    report = json.loads(again.stdout)
+    assert report["matches"] and report["executor"].startswith("SLURM through dask-jobqueue"), report
+    assert report["cells"] == 2 and report["of_cells"] == cells and report["sample_seed"] == 3, report
     assert not subprocess.run(["squeue", "-h"], capture_output=True, text=True, env=environment).stdout.strip(), \
         "the study's worker jobs outlived it"
     assert not list(ROOT.glob("slurm-*.out")), "the worker jobs' logs belong in a log folder, not the working folder"
