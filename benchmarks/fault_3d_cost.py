@@ -17,16 +17,18 @@ budget would have let it start). Here:
   (configs/fault_2d_surface_small.toml at 3 km on 100 and 50 m elements, configs/fault_2d_small.toml at 50 km, and
   configs/fault_2d_dipping_small.toml at 4 km: a dipping fault, whose step also turns the normal stress). Each
   records what the estimate reads before the run (its squares, expected events, W / h*, rtol) and what the run
-  used (steps; CPU, its operator's assembly timed apart). The steps are machine-independent, so the steps of every cell fault_3d_model_error.json
-  records are fitted too. Fitted: ln steps = ln A + p ln events + q ln(W / h*) + r ln N_x + u B + rtol term (least
-  squares; B the patch's burial, its top over its width), the CPU per step c0 + c1 N + c2 k (N_x + 1) N_z^2, k the spectral products a force balance makes (2
-  where the normal stress changes), by relative non-negative least squares over the fit runs, and the CPU per
-  dislocation pair of the operator's assembly (the median over the fit runs that spent a second or more on it).
-  ``refit`` fits again from the file's runs without running them. ``re-estimate`` (after a change to what an
-  estimate reads, such as the recurrence the one slider expects outside its box) recomputes each saved run's
-  features and estimate from its scene, on the machine state the runs were measured in (factor 1: the group's
-  anchor, ``benchmarks/machine_speed.py``), recomputes the recorded cells' features, and refits the steps; their
-  steps and CPU are the runs' own, so nothing is rerun.
+  used (steps; CPU, its operator's assembly timed apart). The steps are machine-independent, so the steps of every
+  cell fault_3d_model_error.json records are fitted too, and those of fault_3d_resolution.json's draw (eight patches
+  at 100, 50 and 25 m); fault_3d_resolution_fresh.json's five patches, never fitted, test the fit. Fitted: ln steps
+  = ln A + p ln events + q ln(W / h*) + r ln N_x + u B + s ln R + rtol term (least squares; B the patch's burial,
+  its top over its width; R the squares per L_b), the CPU per step c0 + c1 N + c2 k (N_x + 1) N_z^2, k the
+  spectral products a force balance makes (2 where the normal stress changes), by relative non-negative least
+  squares over the fit runs, and the CPU per dislocation pair of the operator's assembly (the median over the fit
+  runs that spent a second or more on it). ``refit`` fits again from the file's runs without running them. ``re-
+  estimate`` (after a change to what an estimate reads, such as the recurrence the one slider expects outside its box)
+  recomputes each saved run's features and estimate from its scene, on the machine state the runs were measured in
+  (factor 1: the group's anchor, ``benchmarks/machine_speed.py``), recomputes the recorded cells' features, and refits
+  the steps; their steps and CPU are the runs' own, so nothing is rerun.
 - ``rtol``: the steps' power of rtol, which the steps fit takes as the 2-D fault's (-0.18): three of the fit's
   kinds at rtol 1e-5 to 1e-8, each fault's slope of ln steps on ln rtol and the pooled one (about a minute).
 - ``held-out``: faults drawn at random (seed 7302) from the same kinds (patches of other shapes and squares, 2-D
@@ -58,6 +60,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 from fault_3d_model_error import scene_text  # noqa: E402  (its cells, the 1/20 BP5 patches)
+from fault_3d_resolution import fault_text  # noqa: E402  (its drawn patches)
 from provenance import stamp  # noqa: E402
 
 from faultslip.fault.strike_error import groups_of  # noqa: E402
@@ -69,6 +72,10 @@ from faultslip.models.fault_3d.scene import from_two_d, load_fault_3d_scene, par
 
 OUT = HERE / "results" / "fault_3d_cost.json"
 CELLS = HERE / "results" / "fault_3d_model_error.json"
+#: benchmarks/fault_3d_resolution.py's runs: eight drawn patches at 100, 50 and 25 m (seed 7401) join the steps fit;
+#: five more (seed 7403, its held-out check) are the resolution term's held-out check here
+RESOLUTION_RUNS = HERE / "results" / "fault_3d_resolution.json"
+RESOLUTION_HELD_OUT = HERE / "results" / "fault_3d_resolution_fresh.json"
 #: the held-out draw, run after the cost model took the burial (the first, 7300, and a second, 7301, were run before:
 #: EARLIER_DRAWS)
 HELD_OUT_SEED = 7302
@@ -79,8 +86,8 @@ EARLIER_DRAWS = (7300, 7301)
 BP5_SIZES = (2500.0, 1250.0, 800.0, 625.0)
 CHOSEN_BP5_SIZES = {7300: (1250.0, 800.0), 7301: (2500.0, 625.0)}
 #: fresh draws, each run once after a refit (``--part fresh --seed N``): 7321 after the steps were refitted on the
-#: model-error cells' rerun (two cells at 480 yr, two long cells)
-FRESH_DRAWS = (7321,)
+#: model-error cells' rerun (two cells at 480 yr, two long cells); 7323 after the steps took the squares per L_b
+FRESH_DRAWS = (7321, 7323)
 CONFIGS = ROOT / "configs"
 
 
@@ -193,22 +200,59 @@ def recorded_cells() -> list:
     return rows
 
 
-def fit_steps(rows: list, burial: bool = True) -> dict:
-    """ln steps = ln A + p ln events + q ln(W / h*) + r ln N_x + u B (``burial``: without u, the model before it),
-    the rtol factor taken as the 2-D fault's; the residuals' range and standard deviation (ln)."""
+def resolution_runs(path: Path = RESOLUTION_RUNS) -> list:
+    """benchmarks/fault_3d_resolution.py's runs (``path``): each drawn patch at each square size, its steps and
+    CPU, and what its estimate reads (its scene rebuilt as that benchmark built it)."""
+    result = json.loads(path.read_text(encoding="utf-8"))
+    rows = []
+    for fault in result["judged"]:
+        for size, run in fault["runs"].items():
+            scene = parse_fault_3d_scene(fault_text(fault, float(size)), fault["name"], allow_large=True)
+            rows.append({"what": f"seed {result['seed']} {fault['name']} on {float(size):g} m", **features(scene),
+                         "steps": int(run["steps"]), "cpu_s": run["cpu_time_s"]})
+    return rows
+
+
+def recorded_rows() -> tuple[list, list, list]:
+    """The other benchmarks' runs the steps fit reads (nothing is run): the model-error cells, the resolution draw,
+    and the resolution benchmark's held-out faults."""
+    return recorded_cells(), resolution_runs(), resolution_runs(RESOLUTION_HELD_OUT)
+
+
+def fit_steps(rows: list, burial: bool = True, resolution: bool = True) -> dict:
+    """ln steps = ln A + p ln events + q ln(W / h*) + r ln N_x + u B + s ln R (``burial``, ``resolution``: without
+    u, or s, the models before them; R the squares per L_b), the rtol factor taken as the 2-D fault's; the
+    residuals' range and standard deviation (ln), and the burial's and R's fitted ranges."""
     rtol_power = cost.FAULT_3D_STEPS["rtol"]
     y = np.log([row["steps"] / (row["rtol"] / 1e-6) ** rtol_power for row in rows])
     columns = [np.ones(len(rows)), np.log([max(row["expected_events"], 1.0) for row in rows]),
                np.log([row["width_over_nucleation"] for row in rows]), np.log([row["strike_count"] for row in rows])]
     if burial:
         columns.append([row["burial"] for row in rows])
+    if resolution:
+        columns.append(np.log([row["resolution"] for row in rows]))
     design = np.column_stack(columns)
     beta, *_ = np.linalg.lstsq(design, y, rcond=None)
     residual = y - design @ beta
     return {"scale": float(math.exp(beta[0])), "events": float(beta[1]), "width_over_nucleation": float(beta[2]),
-            "strike_columns": float(beta[3]), "burial": float(beta[4]) if burial else 0.0, "rtol": rtol_power,
+            "strike_columns": float(beta[3]), "burial": float(beta[4]) if burial else 0.0,
+            "resolution": float(beta[-1]) if resolution else 0.0, "rtol": rtol_power,
+            "burial_fitted": float(max(row["burial"] for row in rows)),
+            "resolution_fitted": [float(min(row["resolution"] for row in rows)),
+                                  float(max(row["resolution"] for row in rows))],
             "residual_range": [float(math.exp(residual.min())), float(math.exp(residual.max()))],
             "residual_sd": float(residual.std()), "rows": len(rows)}
+
+
+def steps_over_measured(rows: list, model: dict | None = None) -> dict:
+    """The steps ``model`` (a :func:`fit_steps` result; the shipped one if None) estimates over those each run took:
+    how many, the range, median and sd in ln."""
+    model = model or cost.FAULT_3D_STEPS
+    ratios = np.array([cost.steps(row["strike_count"], row["expected_events"], row["width_over_nucleation"],
+                                  row["rtol"], row["burial"], row["resolution"], model=model) / row["steps"]
+                       for row in rows])
+    return {"count": len(rows), "range": [float(ratios.min()), float(ratios.max())],
+            "median": float(np.median(ratios)), "sd_ln": float(np.log(ratios).std())}
 
 
 def fit_step_seconds(rows: list) -> dict:
@@ -268,8 +312,16 @@ def fit_rtol(rows: list) -> dict:
     return {"power": float(x @ y / (x @ x)), "per_fault": slopes}
 
 
-def fits(runs: list, cells: list) -> dict:
-    return {"steps_fit": fit_steps(runs + cells), "steps_fit_without_burial": fit_steps(runs + cells, burial=False),
+def fits(runs: list, cells: list, resolution: list, resolution_held_out: list) -> dict:
+    """The steps (over the fit runs, the model-error cells and the resolution draw), without the burial and without
+    the resolution term as they were before, each tried on the resolution benchmark's held-out faults; the CPU a
+    step and the assembly (over the fit runs)."""
+    rows = runs + cells + resolution
+    steps, without = fit_steps(rows), fit_steps(rows, resolution=False)
+    return {"steps_fit": steps, "steps_fit_without_burial": fit_steps(rows, burial=False, resolution=False),
+            "steps_fit_without_resolution": without,
+            "resolution_held_out_steps": steps_over_measured(resolution_held_out, steps),
+            "resolution_held_out_steps_without_resolution": steps_over_measured(resolution_held_out, without),
             "step_seconds_fit": fit_step_seconds(runs), "assembly_fit": fit_assembly(runs)}
 
 
@@ -319,12 +371,14 @@ def main(argv=None) -> None:
                     row["estimate_now_over_cpu"] = row["estimated_now_s"] / row["cpu_s"]
                 draw["summary_now"] = summary([row["estimate_now_over_cpu"] for row in draw["rows"]])
                 draw["model_now"] = cost.describe()
-        cells = recorded_cells()
-        result.update({"recorded_cells": cells, **fits(result["fit_runs"], cells)})
+        cells, resolution, resolution_held_out = recorded_rows()
+        fitted = fits(result["fit_runs"], cells, resolution, resolution_held_out)
+        result.update({"recorded_cells": cells, "resolution_runs": resolution,
+                       "resolution_held_out_runs": resolution_held_out, **fitted})
         if result.get("held_out"):
             result.update(held_out_summary=summary([row["estimate_over_cpu"] for row in result["held_out"]]),
                           held_out_model=cost.describe())
-        print(json.dumps({**fits(result["fit_runs"], cells), "held_out_summary": result.get("held_out_summary")}))
+        print(json.dumps({**fitted, "held_out_summary": result.get("held_out_summary")}))
     elif args.part == "fresh":
         if args.seed not in FRESH_DRAWS:
             parser.error(f"--seed {args.seed}: a fresh draw's seed is listed in FRESH_DRAWS first ({FRESH_DRAWS})")
@@ -335,13 +389,17 @@ def main(argv=None) -> None:
                                          **stamp()}]
         print(json.dumps(result["fresh_draws"][-1]["summary_then"]))
     elif args.part == "refit":
-        result.update(fits(result["fit_runs"], result["recorded_cells"]))
-        print(json.dumps(fits(result["fit_runs"], result["recorded_cells"])))
+        fitted = fits(result["fit_runs"], result["recorded_cells"], result["resolution_runs"],
+                      result["resolution_held_out_runs"])
+        result.update(fitted)
+        print(json.dumps(fitted))
     elif args.part == "fit":
         runs = [measured(what, make()) for what, make in FIT]
-        cells = recorded_cells()
-        result.update({"fit_runs": runs, "recorded_cells": cells, **fits(runs, cells), **stamp()})
-        print(json.dumps(fits(runs, cells)))
+        cells, resolution, resolution_held_out = recorded_rows()
+        fitted = fits(runs, cells, resolution, resolution_held_out)
+        result.update({"fit_runs": runs, "recorded_cells": cells, "resolution_runs": resolution,
+                       "resolution_held_out_runs": resolution_held_out, **fitted, **stamp()})
+        print(json.dumps(fitted))
     else:
         rows = [measured(what, make()) for what, make in held_out_draw(HELD_OUT_SEED)]
         result.update({"held_out": rows, "held_out_seed": HELD_OUT_SEED,

@@ -81,7 +81,7 @@ def draw(seed: int, count: int) -> list[dict]:
         ratio, height, top = buried_draw(rng, SIZES[0])
         target = rng.uniform(*WIDTH_OVER_NUCLEATION)
         fault = {"aspect": ratio, "height_m": height, "top_m": top, "critical_slip_factor": 1.0}
-        plain = parse_fault_3d_scene(_text(fault, SIZES[0]), "draw", allow_large=True).fault
+        plain = parse_fault_3d_scene(fault_text(fault, SIZES[0]), "draw", allow_large=True).fault
         # h* and L_b both scale with D_c
         factor = plain.seismogenic_width() / plain.nucleation_size() / target
         if plain.process_zone() * factor / SIZES[0] < LOWEST_RESOLUTION:
@@ -90,7 +90,8 @@ def draw(seed: int, count: int) -> list[dict]:
     return faults
 
 
-def _text(fault: dict, size: float) -> str:
+def fault_text(fault: dict, size: float) -> str:
+    """A drawn fault's scene on squares of ``size`` m, its geometry rounded to the coarsest (its 100 m squares)."""
     return scene_text(fault["aspect"], fault["height_m"], fault["top_m"], size, YEARS,
                       critical_slip_factor=fault["critical_slip_factor"], geometry_element_size=SIZES[0])
 
@@ -104,7 +105,7 @@ def _run(job) -> tuple[str, float, dict]:
     from faultslip.models.fault_3d.scene import parse_fault_3d_scene
 
     fault, size = job
-    scene = parse_fault_3d_scene(_text(fault, size), fault["name"], allow_large=True)
+    scene = parse_fault_3d_scene(fault_text(fault, size), fault["name"], allow_large=True)
     estimate = estimate_of(scene).seconds
     started = time.process_time()
     result = faultslip.run(scene, allow_large=True)

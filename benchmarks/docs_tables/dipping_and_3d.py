@@ -451,6 +451,8 @@ def fault_3d_cost_table() -> str | None:
                     f"{row['estimated_s']:.1f} s | {row['cpu_s']:.1f} s | {row['estimate_over_cpu']:.2f} |")
     steps, seconds = result["steps_fit"], result["step_seconds_fit"]
     without = result.get("steps_fit_without_burial")
+    held, before = (result.get("resolution_held_out_steps"),
+                    result.get("resolution_held_out_steps_without_resolution"))
     earlier = ""
     for draw in result.get("earlier_draws", []):
         then, now = draw["summary_then"], draw["summary_now"]
@@ -460,11 +462,16 @@ def fault_3d_cost_table() -> str | None:
                     f"{now['within_2x']} of {now['count']} ({now['ratio_range'][0]:.2f} to "
                     f"{now['ratio_range'][1]:.2f}, median {now['ratio_median']:.2f}). ")
     for draw in result.get("fresh_draws", []):
-        then = draw["summary_then"]
-        earlier += (f"Fresh draw {draw['seed']} (`--part fresh --seed {draw['seed']}`), run after the steps' last "
-                    f"refit and estimated by the model of its day before each run: {then['within_2x']} of "
+        then, now = draw["summary_then"], draw.get("summary_now", draw["summary_then"])
+        earlier += (f"Fresh draw {draw['seed']} (`--part fresh --seed {draw['seed']}`), run after a refit of the "
+                    f"steps and estimated by the model of its day before each run: {then['within_2x']} of "
                     f"{then['count']} within 2x ({then['ratio_range'][0]:.2f} to {then['ratio_range'][1]:.2f}, median "
-                    f"{then['ratio_median']:.2f}). ")
+                    f"{then['ratio_median']:.2f})" + ("" if draw.get("model_now", draw["model_then"]) ==
+                                                      draw["model_then"] else
+                                                      f"; by the shipped model, {now['within_2x']} of "
+                                                      f"{now['count']} ({now['ratio_range'][0]:.2f} to "
+                                                      f"{now['ratio_range'][1]:.2f}, median "
+                                                      f"{now['ratio_median']:.2f})") + ". ")
     summary = result["held_out_summary"]
     fitted = result.get("rtol_fit")
     rtol = (f"The steps grow as rtol^{fitted['power']:.3f} (pooled over {len(fitted['per_fault'])} faults at rtol "
@@ -479,10 +486,18 @@ def fault_3d_cost_table() -> str | None:
             f"({summary['ratio_range'][0]:.2f} to {summary['ratio_range'][1]:.2f}, median "
             f"{summary['ratio_median']:.2f}). " + earlier
             + f"The steps were fitted on {steps['rows']} runs ({len(result['fit_runs'])} "
-            f"run here, the rest the cells of the model-error benchmark), within {steps['residual_range'][0]:.2f} to "
-            f"{steps['residual_range'][1]:.2f}x of each (residual sd {steps['residual_sd']:.3f} in ln"
-            + (f"; without the burial, {without['residual_range'][0]:.2f} to {without['residual_range'][1]:.2f}x, "
-               f"sd {without['residual_sd']:.3f}" if without else "") + f"); the CPU a step on the {len(result['fit_runs'])} runs, within "
+            f"run here, {len(result['recorded_cells'])} cells of the model-error benchmark and "
+            f"{len(result.get('resolution_runs', []))} runs of the resolution benchmark's draw), within "
+            f"{steps['residual_range'][0]:.2f} to {steps['residual_range'][1]:.2f}x of each (residual sd "
+            f"{steps['residual_sd']:.3f} in ln"
+            + (f"; without the burial and the squares per L_b, {without['residual_range'][0]:.2f} to "
+               f"{without['residual_range'][1]:.2f}x, sd {without['residual_sd']:.3f}" if without else "") + ")"
+            + (f". The steps grow with the squares per L_b as R^{steps['resolution']:.3g}: on the resolution "
+               f"benchmark's {held['count']} held-out runs (five patches at 100, 50 and 25 m, never fitted), the "
+               f"model gives {held['range'][0]:.2f} to {held['range'][1]:.2f}x the steps they took (median "
+               f"{held['median']:.2f}, sd {held['sd_ln']:.3f} in ln); fitted without it, {before['range'][0]:.2f} "
+               f"to {before['range'][1]:.2f}x (median {before['median']:.2f}, sd {before['sd_ln']:.3f})"
+               if held else "") + f"; the CPU a step on the {len(result['fit_runs'])} runs, within "
             f"{seconds['ratio_range'][0]:.2f} to {seconds['ratio_range'][1]:.2f}x. The operator's assembly, timed "
             f"apart on the held-out faults that spent a second or more on it, estimated at "
             f"{min(assembly):.2f} to {max(assembly):.2f}x. " + rtol + _machine(result))

@@ -168,14 +168,14 @@ class Fault3DScene:
         return cost.estimate(fault.strike_count, fault.dip_count, self.duration / YEAR, len(self.stations), output,
                              events=self.expected_events(), rtol=self.rtol if rtol is None else rtol,
                              width_over_nucleation=groups["width_over_nucleation"], burial=groups["burial"],
-                             products=cost.products(fault),
+                             resolution=self.resolution, products=cost.products(fault),
                              first_run=first_run_cost(False, 1) if in_this_process else (0.0, ""))
 
     def expected_steps(self, rtol: float | None = None) -> float:
         """The Dormand-Prince steps :meth:`estimate` counts a run at (:func:`faultslip.models.fault_3d.cost.steps`)."""
         groups = groups_of(self.fault)
         return cost.steps(self.fault.strike_count, self.expected_events(), groups["width_over_nucleation"],
-                          self.rtol if rtol is None else rtol, groups["burial"])
+                          self.rtol if rtol is None else rtol, groups["burial"], self.resolution)
 
     def expected_events(self) -> float:
         """System-size events over the run: its duration over the recurrence of the 2-D fault's crude estimate

@@ -574,13 +574,15 @@ def test_the_recurrence_bounds_margin_holds_on_faults_drawn_after_it_was_set():
 
 
 def test_the_cost_model_is_its_benchmarks_fit_and_estimates_unseen_faults_within_2x():
-    """The cost model is benchmarks/fault_3d_cost.py's fit, refitted here from its results file: the steps (least
-    squares in ln steps on ln events, ln W / h*, ln N_x and the burial, over its fit runs and the model-error
-    benchmark's cells) and the CPU a step (relative non-negative least squares on 1, N and k (N_x + 1) N_z^2 over
-    its fit runs). What each run's estimate read is what it reads now, and on the held-out draw, run after the model
-    was chosen and never part of the fit, the shipped model's estimate (recomputed here, so a changed model without
-    a rerun fails) is within 2x of the CPU used. The earlier draws keep the estimates of their day's model (the
-    second found a buried patch at 2.96x) and record the shipped model's, recomputed here too."""
+    """The cost model is benchmarks/fault_3d_cost.py's fit, refitted here from its results file: the steps
+    (least squares in ln steps on ln events, ln W / h*, ln N_x, the burial and ln squares per L_b, over its fit
+    runs, the model-error benchmark's cells and the resolution benchmark's draw; its held-out faults, never
+    fitted, within 0.75-1.33x and closer with the squares per L_b than without) and the CPU a step (relative
+    non-negative least squares on 1, N and k (N_x + 1) N_z^2 over its fit runs). What each run's estimate read
+    is what it reads now, and on the held-out draw, run after the model was chosen and never part of the fit,
+    the shipped model's estimate (recomputed here, so a changed model without a rerun fails) is within 2x of the
+    CPU used. The earlier draws keep the estimates of their day's model (the second found a buried patch at
+    2.96x) and record the shipped model's, recomputed here too."""
     from faultslip.io import machine
     from faultslip.models.fault_3d import cost
 
@@ -593,18 +595,37 @@ def test_the_cost_model_is_its_benchmarks_fit_and_estimates_unseen_faults_within
     for kept, now in zip(result["recorded_cells"], recorded):
         assert kept.keys() == now.keys() and all(kept[key] == pytest.approx(now[key], rel=1e-9) if isinstance(
             now[key], float) else kept[key] == now[key] for key in now), (kept, now)
-    steps = bench.fit_steps(result["fit_runs"] + result["recorded_cells"])
-    for name in ("events", "width_over_nucleation", "strike_columns", "burial"):
+    # and the resolution benchmark's runs (the fitted draw and its held-out faults) are what its file records now
+    for kept, now in ((result["resolution_runs"], bench.resolution_runs()),
+                      (result["resolution_held_out_runs"], bench.resolution_runs(bench.RESOLUTION_HELD_OUT))):
+        assert len(kept) == len(now) >= 15 and {row["resolution"] > 9.0 for row in now} == {True, False}
+        for row, again in zip(kept, now):
+            assert row.keys() == again.keys() and all(row[key] == pytest.approx(again[key], rel=1e-9) if isinstance(
+                again[key], float) else row[key] == again[key] for key in again), (row, again)
+    fitted_rows = result["fit_runs"] + result["recorded_cells"] + result["resolution_runs"]
+    steps = bench.fit_steps(fitted_rows)
+    for name in ("events", "width_over_nucleation", "strike_columns", "burial", "resolution"):
         assert cost.FAULT_3D_STEPS[name] == pytest.approx(steps[name], abs=0.01), name
     assert cost.FAULT_3D_STEPS["scale"] == pytest.approx(steps["scale"], rel=0.01)
     # a central estimate: every fitted run's steps within 2x of it; the burial narrows the residuals
     assert 0.5 <= steps["residual_range"][0] and steps["residual_range"][1] <= 2.0
-    without = bench.fit_steps(result["fit_runs"] + result["recorded_cells"], burial=False)
+    without = bench.fit_steps(fitted_rows, burial=False, resolution=False)
     assert steps["residual_sd"] < 0.75 * without["residual_sd"]
-    # the burial is held to the fitted runs' largest: a deeper patch is not extrapolated
-    fitted_burial = max(row["burial"] for row in result["fit_runs"] + result["recorded_cells"])
+    # finer squares take more steps (R^s, s > 0); on the faults it never fitted, the term narrows the estimate
+    assert steps["resolution"] > 0.1
+    held_out = bench.steps_over_measured(result["resolution_held_out_runs"])  # the shipped model's
+    assert held_out["count"] >= 15 and 0.75 <= held_out["range"][0] and held_out["range"][1] <= 1.33, held_out
+    before = bench.steps_over_measured(result["resolution_held_out_runs"],
+                                       bench.fit_steps(fitted_rows, resolution=False))
+    assert held_out["sd_ln"] < before["sd_ln"] and abs(math.log(held_out["median"])) < abs(math.log(before["median"]))
+    # the burial and the squares per L_b are held to the fitted runs' ranges: past them nothing is extrapolated
+    fitted_burial = max(row["burial"] for row in fitted_rows)
     assert cost.FAULT_3D_STEPS["burial_fitted"] == pytest.approx(fitted_burial, abs=1e-3)
     assert cost.steps(40, 10.0, 1.3, 1e-6, burial=3.0) == cost.steps(40, 10.0, 1.3, 1e-6, burial=fitted_burial)
+    lowest, highest = cost.FAULT_3D_STEPS["resolution_fitted"]
+    assert (lowest, highest) == pytest.approx(steps["resolution_fitted"], rel=1e-3)
+    assert cost.steps(40, 10.0, 1.3, 1e-6, resolution=40.0) == cost.steps(40, 10.0, 1.3, 1e-6, resolution=highest)
+    assert cost.steps(40, 10.0, 1.3, 1e-6, resolution=1.0) == cost.steps(40, 10.0, 1.3, 1e-6, resolution=lowest)
     # the rtol power, the 2-D fault's, is the 3-D fault's measured one within 0.03 (7 % in steps a decade of rtol)
     rtol = bench.fit_rtol(result["rtol_runs"])
     assert len(result["rtol_runs"]) >= 12 and abs(rtol["power"] - cost.FAULT_3D_STEPS["rtol"]) <= 0.03
