@@ -463,15 +463,13 @@ def fault_3d_cost_table() -> str | None:
                     f"{now['ratio_range'][1]:.2f}, median {now['ratio_median']:.2f}). ")
     for draw in result.get("fresh_draws", []):
         then, now = draw["summary_then"], draw.get("summary_now", draw["summary_then"])
+        shipped = ("" if draw.get("model_now", draw["model_then"]) == draw["model_then"] else
+                   f"; by the shipped model, {now['within_2x']} of {now['count']} ({now['ratio_range'][0]:.2f} to "
+                   f"{now['ratio_range'][1]:.2f}, median {now['ratio_median']:.2f})")
         earlier += (f"Fresh draw {draw['seed']} (`--part fresh --seed {draw['seed']}`), run after a refit of the "
                     f"steps and estimated by the model of its day before each run: {then['within_2x']} of "
                     f"{then['count']} within 2x ({then['ratio_range'][0]:.2f} to {then['ratio_range'][1]:.2f}, median "
-                    f"{then['ratio_median']:.2f})" + ("" if draw.get("model_now", draw["model_then"]) ==
-                                                      draw["model_then"] else
-                                                      f"; by the shipped model, {now['within_2x']} of "
-                                                      f"{now['count']} ({now['ratio_range'][0]:.2f} to "
-                                                      f"{now['ratio_range'][1]:.2f}, median "
-                                                      f"{now['ratio_median']:.2f})") + ". ")
+                    f"{then['ratio_median']:.2f}){shipped}. ")
     summary = result["held_out_summary"]
     fitted = result.get("rtol_fit")
     rtol = (f"The steps grow as rtol^{fitted['power']:.3f} (pooled over {len(fitted['per_fault'])} faults at rtol "

@@ -164,18 +164,21 @@ class Fault3DScene:
         runs in Python over the 2-D fault's compiled force balance, on one thread:
         :func:`~faultslip.models.fault_2d.integrate.first_run_cost`)."""
         fault = self.fault
-        groups = groups_of(fault)
         return cost.estimate(fault.strike_count, fault.dip_count, self.duration / YEAR, len(self.stations), output,
-                             events=self.expected_events(), rtol=self.rtol if rtol is None else rtol,
-                             width_over_nucleation=groups["width_over_nucleation"], burial=groups["burial"],
-                             resolution=self.resolution, products=cost.products(fault),
+                             **self._step_inputs(rtol), products=cost.products(fault),
                              first_run=first_run_cost(False, 1) if in_this_process else (0.0, ""))
 
     def expected_steps(self, rtol: float | None = None) -> float:
         """The Dormand-Prince steps :meth:`estimate` counts a run at (:func:`faultslip.models.fault_3d.cost.steps`)."""
+        return cost.steps(self.fault.strike_count, **self._step_inputs(rtol))
+
+    def _step_inputs(self, rtol: float | None) -> dict:
+        """What the steps model reads of this scene (:func:`faultslip.models.fault_3d.cost.steps`), one place for
+        :meth:`estimate` and :meth:`expected_steps`."""
         groups = groups_of(self.fault)
-        return cost.steps(self.fault.strike_count, self.expected_events(), groups["width_over_nucleation"],
-                          self.rtol if rtol is None else rtol, groups["burial"], self.resolution)
+        return {"events": self.expected_events(), "width_over_nucleation": groups["width_over_nucleation"],
+                "rtol": self.rtol if rtol is None else rtol, "burial": groups["burial"],
+                "resolution": self.resolution}
 
     def expected_events(self) -> float:
         """System-size events over the run: its duration over the recurrence of the 2-D fault's crude estimate
