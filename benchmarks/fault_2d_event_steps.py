@@ -52,7 +52,8 @@ ESCALATION_DRAWS = {"ladder_escalations.json": 68000, "ladder_escalations_held_o
                     "ladder_escalations_second_draw.json": 68003, "ladder_escalations_third_draw.json": 68004,
                     "ladder_escalations_fourth_draw.json": 68005, "ladder_escalations_fifth_draw.json": 68008,
                     "ladder_escalations_sixth_draw.json": 68009, "ladder_escalations_seventh_draw.json": 68013,
-                    "ladder_escalations_eighth_draw.json": 68021}
+                    "ladder_escalations_eighth_draw.json": 68021,
+                    "ladder_escalations_ninth_draw.json": 68050}
 
 
 def point(row: dict, elements_per_process_zone: float, duration: float, steps: float, group: str) -> dict:

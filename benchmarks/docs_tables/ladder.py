@@ -244,9 +244,9 @@ def _step_speed(row: dict) -> float:
 
 def _further_draws() -> str:
     """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then the
-    third to eighth), a sentence each."""
+    third to ninth), a sentence each."""
     text = ""
-    for ordinal in ("second", "third", "fourth", "fifth", "sixth", "seventh", "eighth"):
+    for ordinal in ("second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth"):
         name = f"ladder_escalations_{ordinal}_draw.json"
         result = _load(name)
         if result is None:
