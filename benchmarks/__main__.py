@@ -124,6 +124,7 @@ PRODUCERS = (
      "fault_3d_model_error_fresh.json"),
     ("fault_3d_model_error", ["--fresh", "7313", "8"], ["--fresh", "7313", "8"], "fault_3d_model_error_fresh.json"),
     ("fault_3d_model_error", ["--fresh", "7315", "8"], ["--fresh", "7315", "8"], "fault_3d_model_error_fresh.json"),
+    ("fault_3d_model_error", ["--fresh", "7317", "8"], ["--fresh", "7317", "8"], "fault_3d_model_error_fresh.json"),
     ("seas_bp5", ["--sizes", "2000", "1000", "500", "--finest-years", "1800"],
      ["--sizes", "2000", "1000", "--years", "600", "--finest-years", "600"], "seas_bp5.json"),
     # drawn faults at three square sizes (quick: the saved runs judged again), then the slip bound fitted on them
@@ -151,7 +152,8 @@ PRODUCERS = (
                          ("68008", "ladder_escalations_fifth_draw.json"),
                          ("68009", "ladder_escalations_sixth_draw.json"),
                          ("68013", "ladder_escalations_seventh_draw.json"),
-                         ("68021", "ladder_escalations_eighth_draw.json"))),
+                         ("68021", "ladder_escalations_eighth_draw.json"),
+                         ("68050", "ladder_escalations_ninth_draw.json"))),
 )
 #: Packages a benchmark needs beyond the test install, by the module that shows they are there: without it the
 #: benchmark is skipped and its table keeps its last results, as a peer's does.
