@@ -12,12 +12,12 @@ the 36 calibration runs of ``benchmarks/ladder_designs.py`` (all at 3 elements p
 steps grow with the elements per L_b, over the first escalation draw's runs (seed 68000, 3-5 per L_b, the draw
 the per-step CPU is fitted on), through the calibration's level at 3. It is tested on the runs it never saw: the
 34 held-out designs, the 40 fresh ones of each later draw (``ladder_fresh.json``, ``ladder_fresh_second.json``,
-``ladder_fresh_third.json``, ``ladder_fresh_fourth.json``, ``ladder_fresh_fifth.json``), and the first runs of the
-later escalation draws (``ladder_escalations*.json``, from the scene's own start; a rerun twice as long took twice
-the steps, so the first took the last's over 2^(runs - 1)). For comparison it refits the earlier model,
-events^p (W / h*)^q N^r with FAULT_2D_STEPS' resolution factor: fitted across faults, its p (0.56-0.78) stood in
-for the events and the groups together, and it counted a rerun's twice the events as 1.5 times the steps. Writes
-benchmarks/results/fault_2d_event_steps.json.
+``ladder_fresh_third.json``, ``ladder_fresh_fourth.json``, ``ladder_fresh_fifth.json``, ``ladder_fresh_sixth.json``),
+and the first runs of the later escalation draws (``ladder_escalations*.json``, from the scene's own start; a rerun
+twice as long took twice the steps, so the first took the last's over 2^(runs - 1)). For comparison it refits the
+earlier model, events^p (W / h*)^q N^r with FAULT_2D_STEPS' resolution factor: fitted across faults, its p
+(0.56-0.78) stood in for the events and the groups together, and it counted a rerun's twice the events as 1.5 times
+the steps. Writes benchmarks/results/fault_2d_event_steps.json.
 """
 
 from __future__ import annotations

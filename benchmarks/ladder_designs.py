@@ -7,6 +7,7 @@
     python benchmarks/ladder_designs.py --fresh 40 --seed 68014   # a fifth, sessions after the fourth
     python benchmarks/ladder_designs.py --fresh 40 --seed 68031   # a sixth, sessions after the fifth
     python benchmarks/ladder_designs.py --fresh 40 --seed 68041   # a seventh, sessions after the sixth
+    python benchmarks/ladder_designs.py --fresh 40 --seed 68061   # an eighth, sessions after the seventh
 
 **The box**, about SEAS BP1 (Erickson et al. 2020): the seismogenic depth H of 15 km x 0.5-1.5, sigma_n of
 50 MPa x 0.5-2 and D_c of 8 mm x 0.25-4, each log-uniform; a above the ramp uniform in 0.008-0.0115 (b = 0.015),
@@ -23,7 +24,9 @@ drawn after the ranges were fitted and shipped, which neither the fit nor its ch
 runs a fourth into ``ladder_fresh_second.json``, drawn once the third had been read and the cost model refitted;
 ``--seed 68014`` a fifth into ``ladder_fresh_third.json``, drawn once the fourth had been read and the step count's
 model refitted; ``--seed 68031`` a sixth into ``ladder_fresh_fourth.json``, drawn sessions later, once the fifth had
-been read; ``--seed 68041`` a seventh into ``ladder_fresh_fifth.json``, sessions after the sixth (:data:`FRESH_DRAWS`).
+been read; ``--seed 68041`` a seventh into ``ladder_fresh_fifth.json``, sessions after the sixth; ``--seed 68061``
+an eighth into ``ladder_fresh_sixth.json``, sessions after the seventh, with nothing refitted since
+(:data:`FRESH_DRAWS`).
 """
 
 from __future__ import annotations
@@ -51,7 +54,8 @@ FRESH_DRAWS = {68002: ("fresh", ROOT / "benchmarks" / "results" / "ladder_fresh.
                68012: ("fresh2", ROOT / "benchmarks" / "results" / "ladder_fresh_second.json"),
                68014: ("fresh3", ROOT / "benchmarks" / "results" / "ladder_fresh_third.json"),
                68031: ("fresh4", ROOT / "benchmarks" / "results" / "ladder_fresh_fourth.json"),
-               68041: ("fresh5", ROOT / "benchmarks" / "results" / "ladder_fresh_fifth.json")}
+               68041: ("fresh5", ROOT / "benchmarks" / "results" / "ladder_fresh_fifth.json"),
+               68061: ("fresh6", ROOT / "benchmarks" / "results" / "ladder_fresh_sixth.json")}
 FRESH_SEED = 68002
 FRESH = FRESH_DRAWS[FRESH_SEED][1]
 ELEMENTS_PER_PROCESS_ZONE = 3.0
@@ -124,7 +128,8 @@ def main(argv=None):
     parser.add_argument("--seed", type=int, default=FRESH_SEED, choices=sorted(FRESH_DRAWS),
                         help="which fresh draw (68002: the third, ladder_fresh.json; 68012: the fourth, "
                              "ladder_fresh_second.json; 68014: the fifth, ladder_fresh_third.json; 68031: the sixth, "
-                             "ladder_fresh_fourth.json; 68041: the seventh, ladder_fresh_fifth.json)")
+                             "ladder_fresh_fourth.json; 68041: the seventh, ladder_fresh_fifth.json; 68061: the "
+                             "eighth, ladder_fresh_sixth.json)")
     parser.add_argument("--remeasure-above", type=int, default=None, metavar="ELEMENTS",
                         help="run again the designs of more than ELEMENTS elements already done, to measure their CPU "
                              "time on this machine and the current budget's estimate (an answer that changes "

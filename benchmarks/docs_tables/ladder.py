@@ -20,7 +20,7 @@ def ladder_table() -> str | None:
                     f"±{100 * line['mean_half_width']:.0f} % | {100 * line['median_bias_uncorrected']:+.0f} % | "
                     f"{100 * line['median_bias_corrected']:+.1f} % |")
     draws = result.get("fresh") or []
-    ordinals = ("third", "fourth", "fifth", "sixth", "seventh")
+    ordinals = ("third", "fourth", "fifth", "sixth", "seventh", "eighth")
     for draw, ordinal in zip(draws, ordinals):
         for key, line in draw["summary"].items():
             rows.append(f"| {names[key]}, **{ordinal} draw, fresh** | {line['holds']} of {line['held_out']} "
@@ -293,7 +293,7 @@ def fault_2d_event_steps_table() -> str | None:
               "escalations 68000": "escalation draw 68000, first runs (fitted: s)",
               "fresh": "fresh designs, seed 68002 (unseen)", "fresh2": "fresh designs, seed 68012 (unseen)",
               "fresh3": "fresh designs, seed 68014 (unseen)", "fresh4": "fresh designs, seed 68031 (unseen)",
-              "fresh5": "fresh designs, seed 68041 (unseen)"}
+              "fresh5": "fresh designs, seed 68041 (unseen)", "fresh6": "fresh designs, seed 68061 (unseen)"}
     for name, line in result["sets"].items():
         label = fitted.get(name, f"{name}{', first runs' if name.startswith('escalations') else ' designs'} (unseen)")
         d, e = line["declared"], line["earlier"]
