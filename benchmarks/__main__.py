@@ -137,6 +137,10 @@ PRODUCERS = (
                              "benchmarks/results/fault_3d_resolution_fresh.json"],
      ["--seed", "7403", "--count", "5", "--reuse", "--sizes", "100", "--out",
       "benchmarks/results/fault_3d_resolution_fresh.json"], "fault_3d_resolution_fresh.json"),
+    ("fault_3d_resolution", ["--seed", "7405", "--count", "5", "--sizes", "100", "50", "25", "--out",
+                             "benchmarks/results/fault_3d_resolution_fresh_second.json"],
+     ["--seed", "7405", "--count", "5", "--reuse", "--sizes", "100", "--out",
+      "benchmarks/results/fault_3d_resolution_fresh_second.json"], "fault_3d_resolution_fresh_second.json"),
     # the 3-D cost model's fit runs (quick: refitted from the saved runs), then its held-out draw
     ("fault_3d_cost", ["--part", "fit"], ["--part", "refit"], "fault_3d_cost.json"),
     # every cost group's reference work, after the fits it anchors and before the estimates checked against it

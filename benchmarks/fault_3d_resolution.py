@@ -28,7 +28,8 @@ is not the finest run's. Slip per event is judged the same way against its own d
 ``--reuse`` keeps the runs already saved for the same inputs. Writes
 ``benchmarks/results/fault_3d_resolution.json`` after every run, or ``--out``'s file: the faults of seed 7403,
 drawn after :data:`DISCRETISATION`'s margin was set from seed 7401's, are its held-out check
-(``benchmarks/results/fault_3d_resolution_fresh.json``).
+(``benchmarks/results/fault_3d_resolution_fresh.json``), and those of seed 7405, drawn sessions later with nothing
+refitted since, a second (``fault_3d_resolution_fresh_second.json``).
 """
 
 from __future__ import annotations
