@@ -69,7 +69,7 @@ FIRST = ROOT / "benchmarks" / "results" / "fault_2d_resolution.json"
 FITTED_DRAWS = ("fault_2d_resolution_ladder_fresh_second.json", "fault_2d_resolution_ladder_fresh_fifth.json")
 #: every set of faults this benchmark has run (results fault_2d_resolution_<name>.json), in the order run
 DRAWS = ("designs", "ladder_fresh_second", "ladder_fresh_fifth", "ladder_fresh_fourth", "ladder_fresh_third",
-         "ladder_fresh")
+         "ladder_fresh", "ladder_fresh_sixth")
 #: the sets the kind-change term (faultslip.models.fault_2d.analysis.KIND_CHANGE_TERM) is the envelope through, and
 #: the draws run after it with every fault at 24 per L_b (--refine-all), which test it
 KIND_CHANGE_FITTED, KIND_CHANGE_UNSEEN = DRAWS[:4], DRAWS[4:]

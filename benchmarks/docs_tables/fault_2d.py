@@ -251,6 +251,10 @@ def fault_2d_resolution_fresh_first_table() -> str | None:
     return _fresh_table("ladder_fresh", RUN_FINER_EVERYWHERE)
 
 
+def fault_2d_resolution_fresh_sixth_table() -> str | None:
+    return _fresh_table("ladder_fresh_sixth", RUN_FINER_EVERYWHERE + ", drawn sessions after the two above")
+
+
 def fault_2d_resolution_fresh_table() -> str | None:
     return _fresh_table("ladder_fresh_second", "run against the envelope of the held-out designs, which it exceeded: "
                                                "the bound is now fitted through it")
@@ -369,5 +373,6 @@ TABLES = {
     "fault_2d_kind_changes": fault_2d_kind_changes_table,
     "fault_2d_resolution_fresh_third": fault_2d_resolution_fresh_third_table,
     "fault_2d_resolution_fresh_first": fault_2d_resolution_fresh_first_table,
+    "fault_2d_resolution_fresh_sixth": fault_2d_resolution_fresh_sixth_table,
     "fault_2d_period3": fault_2d_period3_table,
 }

@@ -1383,12 +1383,12 @@ def test_one_runs_declared_error_covers_a_change_of_kind_it_cannot_see():
 @pytest.mark.parametrize("draw", load_benchmark("fault_2d_resolution_designs").KIND_CHANGE_UNSEEN)
 def test_one_runs_declared_error_holds_on_a_draw_run_finer_everywhere(draw):
     """The kind-change term was fitted through runs at 3 and 6 per L_b, and above 6 it extrapolates: no fault of
-    those sets had a run finer than 12 to read its 12 per L_b run against unless its three runs already agreed. Two
-    fresh draws (seeds 68014 and 68002, ladder_fresh_third.json and ladder_fresh.json, the first 20 designs of each)
-    run after the term was declared, every fault at 3, 6, 12 and 24 per L_b (``--refine-all``): every run, whatever
-    its kind, lies within what one run declares at its size (the bound for its period where it kept its finest
-    run's kind, the larger of the bound and the term where it did not), and two sizes in a row that agreed in kind
-    were never followed by a change."""
+    those sets had a run finer than 12 to read its 12 per L_b run against unless its three runs already agreed. Three
+    fresh draws (seeds 68014, 68002 and 68061: ladder_fresh_third.json, ladder_fresh.json and, sessions later,
+    ladder_fresh_sixth.json; the first 20 designs of each) run after the term was declared, every fault at 3, 6, 12
+    and 24 per L_b (``--refine-all``): every run, whatever its kind, lies within what one run declares at its size
+    (the bound for its period where it kept its finest run's kind, the larger of the bound and the term where it did
+    not), and two sizes in a row that agreed in kind were never followed by a change."""
     import json
 
     from faultslip.models.fault_2d.analysis import sequence_discretisation, single_run_error
