@@ -7,6 +7,10 @@ import statistics
 from ._common import ONE_SLIDER_QUANTITIES, _load, _load_with, _machine
 
 
+#: the ordinals the draws' files and sentences are named by (a draw past the last is not shown)
+ORDINALS = ("second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth")
+
+
 def ladder_table() -> str | None:
     """The one slider's corrected answers and 95 % ranges against held-out 2-D faults (ladder_calibration.py)."""
     result = _load("ladder_held_out.json")
@@ -20,7 +24,7 @@ def ladder_table() -> str | None:
                     f"±{100 * line['mean_half_width']:.0f} % | {100 * line['median_bias_uncorrected']:+.0f} % | "
                     f"{100 * line['median_bias_corrected']:+.1f} % |")
     draws = result.get("fresh") or []
-    ordinals = ("third", "fourth", "fifth", "sixth", "seventh", "eighth")
+    ordinals = ORDINALS[1:]  # the first two draws are the calibration and the held-out designs
     for draw, ordinal in zip(draws, ordinals):
         for key, line in draw["summary"].items():
             rows.append(f"| {names[key]}, **{ordinal} draw, fresh** | {line['holds']} of {line['held_out']} "
@@ -246,7 +250,7 @@ def _further_draws() -> str:
     """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then the
     third to ninth), a sentence each."""
     text = ""
-    for ordinal in ("second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth"):
+    for ordinal in ORDINALS:
         name = f"ladder_escalations_{ordinal}_draw.json"
         result = _load(name)
         if result is None:
