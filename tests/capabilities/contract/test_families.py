@@ -43,6 +43,12 @@ def test_every_family_passes_the_conformance_check(name, tmp_path, monkeypatch):
     assert checked["dataset"].attrs["faultslip_family"] == name
 
 
+#: Families whose example study's every cell is a long run (the 3-D fault's four took 29 s of CPU in CI, the
+#: asperity's eight 30 s): their file is reproduced by a spot check of one cell, not cell by cell again; every
+#: other family's is reproduced whole as well.
+SPOT_CHECKED_ONLY = {"fault_3d", "asperity"}
+
+
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_every_family_sweeps_its_example_study_to_cf_with_units(name, cli, tmp_path):
     import xarray as xr
@@ -56,12 +62,14 @@ def test_every_family_sweeps_its_example_study_to_cf_with_units(name, cli, tmp_p
         check_units(written, STUDIES[name])
         assert written.attrs["faultslip_family"] == name and written.attrs["Conventions"].startswith("CF")
         assert all(written.sizes[n] > 1 for n in written.dims)
-    again = cli("reproduce", out, "--json", "--workers", "1")  # the file embeds what reproduces it, for every family
-    assert again.code == 0 and again.json["matches"], again.err
+        cells = math.prod(written.sizes[n] for n in written.dims)
+    if name not in SPOT_CHECKED_ONLY:
+        again = cli("reproduce", out, "--json", "--workers", "1")  # the file embeds what reproduces it
+        assert again.code == 0 and again.json["matches"] and again.json["cells"] == cells, again.err
     # and a spot check runs one of its cells again as the sweep ran it, and compares it with the file's
     spot = cli("reproduce", out, "--cells", "1", "--seed", "0", "--json", "--workers", "1")
     assert spot.code == 0 and spot.json["matches"] and spot.json["cells"] == 1, spot.err
-    assert spot.json["of_cells"] == again.json["cells"] and not spot.json["missing"] and not spot.json["extra"]
+    assert spot.json["of_cells"] == cells and not spot.json["missing"] and not spot.json["extra"]
 
 
 def test_a_per_cell_sweep_is_the_runs_of_its_cells():
