@@ -113,6 +113,15 @@ def _worst(rows) -> float:
     return max(row["model_error"] / row["declared"] for row in rows)
 
 
+def _outside(row) -> float:
+    """How far (per cent) a missed fault's plane-strain answer lies outside the one slider's nearer range end."""
+    side, plane = row["one_slider"], row["plane_strain"]
+    return max(100 * max(low / value - 1, value / high - 1)
+               for quantity, unit in (("recurrence", "yr"), ("mean_slip", "m"))
+               if side.get(f"{quantity}_holds") is False
+               for value, (low, high) in [(plane[f"{quantity}_{unit}"], side[f"{quantity}_range_{unit}"])])
+
+
 def _fresh_dip_draws() -> str:
     """The fresh draws (``dip_model_error.py --fresh``), each read against the declaration shipped when it ran."""
     from faultslip.fault.dip_error import declaration_checksum
@@ -550,10 +559,14 @@ def dip_slider_table() -> str | None:
             held_then += [row["one_slider"].get(f"{quantity}_holds") for row in direct]
         misses = [row for row in direct if row["one_slider"]["recurrence_holds"] is False
                   or row["one_slider"]["mean_slip_holds"] is False]
-        unsettled.append(f"fresh draw {draw['seed']}: {len(misses)} faults missed, "
-                         f"{sum(not row['plane_strain']['settled'] for row in misses)} of them where the plane-strain "
-                         f"run did not settle over its {direct[0].get('years', 1500):g} yr (W / h* "
-                         + ", ".join(f"{row['width_over_nucleation']:.2f}" for row in misses) + ")")
+        moving = [row for row in misses if not row["plane_strain"]["settled"]]
+        settled = [row for row in misses if row["plane_strain"]["settled"]]
+        unsettled.append(f"fresh draw {draw['seed']}: {len(misses)} faults missed, {len(moving)} of them where the "
+                         f"plane-strain run did not settle over its {direct[0].get('years', 1500):g} yr (W / h* "
+                         + ", ".join(f"{row['width_over_nucleation']:.2f}" for row in moving) + ")"
+                         + (", and " + ", ".join(f"{_outside(row):.2g} % outside at W / h* "
+                                                 f"{row['width_over_nucleation']:.2f}" for row in settled)
+                            + " where it settled" if settled else ""))
     box = result["box"]
     before = held["composed"]
     tries = [_load(f"dip_slider_surface_{row}.json") for row in ("row5", "row9")]

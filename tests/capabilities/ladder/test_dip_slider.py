@@ -52,8 +52,10 @@ def test_the_ranges_hold_on_the_dipping_faults_the_fit_never_saw():
     recurrence's and mean slip's 95 % ranges hold the plane-strain answer on at least 95 % of the faults where
     they are declared, far narrower than the composed range they replace, and the surface slip's composed range
     on all where it is declared. With the fresh draws run since (dip_model_error.py --fresh, read against this
-    table as shipped: its rows are what the library answers now), the unseen faults together hold at 95 % too;
-    a fresh draw's misses are faults whose plane-strain run did not settle (docs/dipping_faults.md)."""
+    table as shipped: its rows are what the library answers now), the unseen faults together hold at 95 % too.
+    Where a fresh fault's plane-strain run settled, its misses are no more than a 95 % range allows (binomial, 1 %
+    level); most misses are where it did not settle (docs/dipping_faults.md). Draws 4313 and 4315's misses had
+    all been unsettled faults until 4315 put two settled ones 0.02 % and 1 % outside their ranges."""
     bench = load_benchmark("dip_model_error")
     result = json.loads((RESULTS / "dip_slider_calibration.json").read_text(encoding="utf-8"))
     summary = result["summary"]
@@ -77,9 +79,12 @@ def test_the_ranges_hold_on_the_dipping_faults_the_fit_never_saw():
     for quantity in dip_slider.QUANTITIES:
         ranged = [side[f"{quantity}_holds"] for side in unseen if side.get(f"{quantity}_holds") is not None]
         assert sum(ranged) >= 0.95 * len(ranged) and len(ranged) >= 90, quantity
-    for row in fresh:
-        if row["one_slider"]["recurrence_holds"] is False:
-            assert not row["plane_strain"]["settled"], row["width_over_nucleation"]
+    from scipy import stats
+
+    for quantity in ("recurrence", "mean_slip"):
+        holds = [row["one_slider"][f"{quantity}_holds"] for row in fresh if row["plane_strain"]["settled"]
+                 and row["one_slider"].get(f"{quantity}_holds") is not None]
+        assert len(holds) >= 50 and holds.count(False) <= stats.binom.ppf(0.99, len(holds), 0.05), quantity
 
 
 def test_bp3s_one_slider_is_calibrated_against_plane_strain_whatever_the_dip_error(monkeypatch):
