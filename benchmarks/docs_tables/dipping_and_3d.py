@@ -477,13 +477,17 @@ def fault_3d_cost_table() -> str | None:
                     f"{then['ratio_range'][1]:.2f}, median {then['ratio_median']:.2f}); by the shipped model, "
                     f"{now['within_2x']} of {now['count']} ({now['ratio_range'][0]:.2f} to "
                     f"{now['ratio_range'][1]:.2f}, median {now['ratio_median']:.2f}). ")
+    previous = None  # the model the draw before ran with: a draw after a refit is run by another model
     for draw in result.get("fresh_draws", []):
         then, now = draw["summary_then"], draw.get("summary_now", draw["summary_then"])
+        refit = ("run after a refit of the steps" if previous is None or draw["model_then"] != previous["model_then"]
+                 else f"run with the model of draw {previous['seed']}, nothing refitted")
+        previous = draw
         shipped = ("" if draw.get("model_now", draw["model_then"]) == draw["model_then"] else
                    f"; by the shipped model, {now['within_2x']} of {now['count']} ({now['ratio_range'][0]:.2f} to "
                    f"{now['ratio_range'][1]:.2f}, median {now['ratio_median']:.2f})")
-        earlier += (f"Fresh draw {draw['seed']} (`--part fresh --seed {draw['seed']}`), run after a refit of the "
-                    f"steps and estimated by the model of its day before each run: {then['within_2x']} of "
+        earlier += (f"Fresh draw {draw['seed']} (`--part fresh --seed {draw['seed']}`), {refit}, and estimated "
+                    f"by the model of its day before each run: {then['within_2x']} of "
                     f"{then['count']} within 2x ({then['ratio_range'][0]:.2f} to {then['ratio_range'][1]:.2f}, median "
                     f"{then['ratio_median']:.2f}){shipped}. ")
     summary = result["held_out_summary"]
