@@ -8,7 +8,7 @@ from ._common import ONE_SLIDER_QUANTITIES, _load, _load_with, _machine
 
 
 #: the ordinals the draws' files and sentences are named by (a draw past the last is not shown)
-ORDINALS = ("second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth")
+ORDINALS = ("second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth", "tenth")
 
 
 def ladder_table() -> str | None:
@@ -248,7 +248,7 @@ def _step_speed(row: dict) -> float:
 
 def _further_draws() -> str:
     """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then the
-    third to ninth), a sentence each."""
+    third to tenth), a sentence each."""
     text = ""
     for ordinal in ORDINALS:
         name = f"ladder_escalations_{ordinal}_draw.json"
@@ -261,8 +261,26 @@ def _further_draws() -> str:
                  f"{summary['escalations']} within 2x ({summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}, median "
                  f"{summary['ratio_median']:.2f})"
                  + (f"; {summary['refused']} refused before any work, in one sentence" if summary.get("refused") else "")
-                 + ". ")
+                 + ". " + _probes_apart(result))
     return text
+
+
+def _probes_apart(result: dict) -> str:
+    """Where a draw's workers read the machine's speed more than 25 % apart (each worker probes once, when it
+    first estimates): the factors, the steps' own speed on each, and the estimates over CPU of each."""
+    ran = [row for row in result["rows"] if "refused" not in row]
+    factors = sorted({round(row["machine_factor"], 3) for row in ran})
+    if len(factors) < 2 or factors[-1] < 1.25 * factors[0]:
+        return ""
+    speeds = [_step_speed(row) for row in ran]
+    text = (f"Its workers' probes read the machine at {' and '.join(f'{f:.2f}' for f in factors)} times the reference "
+            f"work's anchored time, while the steps ran at {min(speeds):.2f} to {max(speeds):.2f} times the fitted "
+            "CPU a step on every worker")
+    for factor in factors:
+        ratios = [row["estimated_seconds"] / row["cpu_time"] for row in ran
+                  if round(row["machine_factor"], 3) == factor]
+        text += f"; the estimates of the worker that read {factor:.2f}, {min(ratios):.2f} to {max(ratios):.2f}x its CPU"
+    return text + ". "
 
 
 def ladder_outside_box_table() -> str | None:
