@@ -490,6 +490,12 @@ def fault_3d_cost_table() -> str | None:
                     f"by the model of its day before each run: {then['within_2x']} of "
                     f"{then['count']} within 2x ({then['ratio_range'][0]:.2f} to {then['ratio_range'][1]:.2f}, median "
                     f"{then['ratio_median']:.2f}){shipped}. ")
+        for row in draw["rows"]:  # a miss, named with what the run saw against what the estimate expected
+            if not 0.5 <= row["estimate_over_cpu"] <= 2.0:
+                earlier += (f"Its miss, {row['what']} (W / h* {row['width_over_nucleation']:.2f}), was estimated at "
+                            f"{row['estimate_over_cpu']:.2f}x its CPU: it ruptured {row['events']} "
+                            f"time{'s' * (row['events'] != 1)} where the "
+                            f"estimate expected {row['expected_events']:.1f} events, in {row['steps']} steps. ")
     summary = result["held_out_summary"]
     fitted = result.get("rtol_fit")
     rtol = (f"The steps grow as rtol^{fitted['power']:.3f} (pooled over {len(fitted['per_fault'])} faults at rtol "
