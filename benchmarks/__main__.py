@@ -107,6 +107,8 @@ PRODUCERS = (
      "dip_model_error_fresh_4313.json"),
     ("dip_model_error", ["--fresh", "32", "--seed", "4315"], ["--fresh", "32", "--seed", "4315"],
      "dip_model_error_fresh_4315.json"),
+    ("dip_model_error", ["--fresh", "32", "--seed", "4317"], ["--fresh", "32", "--seed", "4317"],
+     "dip_model_error_fresh_4317.json"),
     ("seas_bp3", [], ["--sizes", "200", "100", "--years", "600"], "seas_bp3.json"),
     ("engine_branches", [], [], "engine_branches.json"),
     ("fault_3d_operator", [], ["--quick"], "fault_3d_operator.json"),

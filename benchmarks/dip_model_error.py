@@ -5,6 +5,7 @@ beside the antiplane fault of the same description.
     python benchmarks/dip_model_error.py --fresh 32 --seed 4311     # a fresh draw against the shipped declaration
     python benchmarks/dip_model_error.py --fresh 32 --seed 4313     # and the one slider's own calibration
     python benchmarks/dip_model_error.py --fresh 32 --seed 4315     # a later fresh draw against both, as shipped
+    python benchmarks/dip_model_error.py --fresh 32 --seed 4317     # and another, on another machine
 
 A dipping fault's rung is the 2-D fault in plane strain (SEAS BP3's mechanics: the half-space's in-plane
 stiffness, the free surface, the normal stress changing with slip). The rung below it reads the same description

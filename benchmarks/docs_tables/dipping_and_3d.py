@@ -571,6 +571,9 @@ def dip_slider_table() -> str | None:
                   or row["one_slider"]["mean_slip_holds"] is False]
         moving = [row for row in misses if not row["plane_strain"]["settled"]]
         settled = [row for row in misses if row["plane_strain"]["settled"]]
+        if not misses:
+            unsettled.append(f"fresh draw {draw['seed']}: no fault missed")
+            continue
         unsettled.append(f"fresh draw {draw['seed']}: {len(misses)} faults missed, {len(moving)} of them where the "
                          f"plane-strain run did not settle over its {direct[0].get('years', 1500):g} yr (W / h* "
                          + ", ".join(f"{row['width_over_nucleation']:.2f}" for row in moving) + ")"
