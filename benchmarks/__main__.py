@@ -86,6 +86,8 @@ PRODUCERS = (
      "ladder_fresh_fifth.json"),
     ("ladder_designs", ["--fresh", "40", "--seed", "68061"], ["--fresh", "40", "--seed", "68061"],
      "ladder_fresh_sixth.json"),
+    ("ladder_designs", ["--fresh", "40", "--seed", "68071"], ["--fresh", "40", "--seed", "68071"],
+     "ladder_fresh_seventh.json"),
     ("ladder_calibration", [], [], "ladder_held_out.json"),
     ("ladder_outside_box", [], ["--count", "6"], "ladder_outside_box.json"),  # after the calibration it clamps to
     # the step count's model from the saved runs (after the calibration whose recurrences count the events)
