@@ -16,7 +16,10 @@ TOML nested hundreds deep; device files, FIFOs and folders given as inputs; syml
 links and FIFOs planted at an output's lock; writes into a full disk (a tmpfs of a few hundred
 kB, where the fuzzer may mount one); and a second writer of another kind holding the output
 (a forked process with the lock). Path names the file system may not take (too long, broken links, not UTF-8,
-control characters) and bundled examples' bare names are given as inputs and outputs. Outcomes:
+control characters) and bundled examples' bare names are given as inputs and outputs. The machine kind damages the
+machine speed record (an edit, a reseal past its bounds, a link, FIFO or folder in its place, a link at its lock)
+before an estimate: exit 0 is right, but one that took a changed record's readings is ``silent``, and one that
+rewrote a damaged record ``unclean``. Outcomes:
 
 * ``ok``: exit 0;
 * ``mismatch``: ``reproduce`` found that a (mutated) file differs from its reproduction: exit 1;
@@ -222,6 +225,52 @@ def mutate_registry(text: str, rng: random.Random) -> str | bytes:
     if edit == "version":
         document.pop("faultslip_registry")
     return json.dumps(document, indent=1) + "\n"
+
+
+def record_content(text) -> dict | None:
+    """A machine speed record's parsed content (None where it does not parse): what an estimate would take."""
+    try:
+        return json.loads(text)
+    except (ValueError, TypeError, UnicodeDecodeError, RecursionError):
+        return None
+
+
+def mutate_machine_record(text: str, rng: random.Random) -> str | bytes:
+    """A machine speed record edited as a hand or a tool would (a reading changed, the checksum or version removed,
+    more readings or kinds of machine than faultslip keeps, a reading out of range), its bytes mutated, grown past
+    its bound, or left as written (which must be used)."""
+    from faultslip.io import machine
+
+    kept = _kept_or_mutated(text, rng)
+    if kept is not None:
+        return kept
+    document = json.loads(text)
+    readings = next(iter(document["machines"].values()))
+    edit = rng.choice(["reading", "reading", "checksum", "version", "many", "kinds", "range", "grown"])
+    if edit == "reading":
+        readings[rng.randrange(len(readings))][1] = rng.choice([readings[0][1] * 10, -1e-3, 0, "1e-3", None, 1e300])
+    elif edit == "checksum":
+        document.pop("checksum")
+    elif edit == "version":
+        document["faultslip_machine_record"] = rng.choice([2, "1", None])
+    elif edit == "many":
+        readings.extend([[1.0, 1e-3]] * machine.RECORD_READINGS)
+    elif edit == "kinds":
+        document["machines"].update({f"cpu {i}": [[1.0, 1e-3]] for i in range(machine.RECORD_MACHINES)})
+    elif edit == "range":
+        readings[0] = rng.choice([[1.0, 5.0], [-1.0, 1e-3], [1.0], [1.0, 1e-3, 2.0], "x"])
+    else:
+        document["padding"] = " " * machine.RECORD_BYTES
+    if edit not in ("checksum", "reading") and rng.random() < 0.7:  # resealed: only the record's bounds can tell
+        document.pop("checksum", None)
+        document["checksum"] = gate_checksum(document)
+    return json.dumps(document)
+
+
+def gate_checksum(document: dict) -> str:
+    from faultslip.io.gate import json_checksum
+
+    return json_checksum(document)
 
 
 def quakeml_events(data: bytes):
@@ -512,6 +561,7 @@ class Workspace:
         self.ledger = self._failure_ledger()
         self.interrupted, self.uninterrupted = self._interrupted_sweeps()
         self.registry = self._registry()
+        self.machine_record = self._machine_record()
         self.table_dir = folder / "data"  # data/ as shipped, the table kind's edits made in this copy
         shutil.copytree(DATA, self.table_dir)
         self.tables = {name: (DATA / name).read_text(encoding="utf-8") for name in TABLE_COMMANDS}
@@ -532,6 +582,7 @@ class Workspace:
         self.rfile = (DATA / "p655" / "p655_r").read_text(encoding="utf-8", errors="replace")
         shutil.copy(DATA / "p655" / "p655intact100l", folder / "p655intact100l")
         self.silent_if_ok = False  # a case whose input was changed so that exit 0 would be a silent result
+        self.machine_case = None  # (record, its bytes, changed): a damaged record is neither used nor overwritten
         self.changed_netcdf = None  # a mutated sealed netCDF file: exit 0 with its content changed would be silent
         self.resumed_output = None  # (output, the uninterrupted run's content): a resume that exits 0 must give it
         self.netcdf_content = netcdf_content(self.folder / "seed.nc")
@@ -586,6 +637,23 @@ class Workspace:
 
             assert main(["sweep", str(study), "-o", str(out), "--overwrite", "--workers", "1"]) == 0
         return out.read_bytes()
+
+    def _machine_record(self) -> str:
+        """A machine speed record as the library writes it (the seed of the machine kind): five probes' readings."""
+        from faultslip.io import machine
+
+        path = self.folder / "machine_speed.json"
+        saved = os.environ.get(machine.RECORD_ENVIRONMENT)
+        os.environ[machine.RECORD_ENVIRONMENT] = str(path)
+        try:
+            for reading in (1.0e-3, 1.2e-3, 0.9e-3, 1.1e-3, 1.4e-3):
+                machine.recorded_median(reading)
+        finally:
+            if saved is None:
+                os.environ.pop(machine.RECORD_ENVIRONMENT)
+            else:
+                os.environ[machine.RECORD_ENVIRONMENT] = saved
+        return path.read_text(encoding="utf-8")
 
     def _failure_ledger(self) -> str:
         """The failure ledger a run of the seed sweep leaves where two of its cells failed (the seed of the ledger
@@ -944,6 +1012,43 @@ def make_case(kind: str, space: Workspace, rng: random.Random) -> list[str]:
         space.silent_if_ok = _registry_fit(text) != _registry_fit(space.registry)  # exit 0 would use another fit
         return ["fault", "--lithology", REGISTRY_FIT, "--zone-width", "13 mi", "--shear-stress", "250 bar",
                 "--slip-rate", "2 in/yr", "--json"]
+    if kind == "machine":  # the machine speed record damaged or replaced, then an estimate that reads it
+        from faultslip.io import machine
+
+        path = space.folder / "machine_speed.json"
+        os.environ[machine.RECORD_ENVIRONMENT] = str(path)
+        machine._probe.clear()  # this process probes again, and reads the record
+        for stale in (path, path.with_name(f".{path.name}.lock")):
+            if stale.is_dir() and not stale.is_symlink():
+                shutil.rmtree(stale)
+            elif stale.exists() or stale.is_symlink():
+                stale.unlink()
+        plant = rng.choice(["text"] * 7 + ["link", "dangling", "fifo", "folder", "lock"])
+        if plant == "text":
+            text = mutate_machine_record(space.machine_record, rng)
+            path.write_bytes(text.encode("utf-8") if isinstance(text, str) else text)
+            changed = record_content(text) != record_content(space.machine_record)
+        else:
+            victim = space.folder / "victim.txt"
+            victim.write_text("precious", encoding="utf-8")
+            space.victims.append(victim)
+            target = path.with_name(f".{path.name}.lock") if plant == "lock" else path
+            if plant in ("link", "lock"):
+                target.symlink_to(victim)
+            elif plant == "dangling":
+                target.symlink_to(space.folder / "nowhere" / "x")
+            elif plant == "fifo":
+                os.mkfifo(target)
+            else:
+                target.mkdir()
+            changed = plant != "lock"
+        # exit 0 is right, but never from a changed record's readings, and the record keeps every byte
+        space.machine_case = (path, path.read_bytes() if path.is_file() and not path.is_symlink() else None, changed)
+        os.environ.pop("FAULTSLIP_MACHINE_FACTOR", None)
+        return rng.choice([["run", str(CONFIGS / "fault_2d_small.toml"), "--estimate", "--json"],
+                           ["run", str(CONFIGS / "lab_glass_dry.toml"), "--estimate", "--json"],
+                           ["sweep", str(space.folder / "seed_study.toml"), "-o", str(space.folder / "estimated.nc"),
+                            "--estimate", "--json"]])
     if kind == "table":  # a table faultslip ships and reads back (a calibration, a cost model) edited, then read
         from faultslip.io import resources
 
@@ -1161,7 +1266,7 @@ KINDS = {"scene": 22, "study": 12, "map": 4, "fit": 12, "record": 6, "decay": 6,
          "surface": 3, "zarr": 5, "deep": 3, "device": 3, "lock": 3, "full": 3, "race": 3, "gaf": 3, "raw": 6,
          "fault_2d": 5, "checkpoint": 5, "stream": 4, "hazard": 4, "upload": 4,
          "bundle": 6, "xlsx": 4, "rfile": 4, "memo": 3, "sherifs": 3, "ledger": 4, "registry": 4, "table": 4,
-         "partial": 4, "names": 4}
+         "partial": 4, "names": 4, "machine": 4}
 
 #: Writer commands of every output kind, each writing TARGET (netCDF, Zarr, PNG, GIF, NRML, QuakeML, miniSEED, SAC).
 WRITERS = [
@@ -1474,6 +1579,22 @@ def upload_case(path: str, name: str):
     return 0, None
 
 
+def machine_record_outcome(case, outcome: str, detail):
+    """A machine case's outcome: an estimate that took a changed record's readings (more than this process's
+    probe) is silent, and one that changed a damaged record's bytes is unclean."""
+    from faultslip.io import machine
+
+    path, before, changed = case
+    if outcome != "ok" or not changed:
+        return outcome, detail
+    if machine.speed_reading()["readings"] > 1:
+        return "silent", "machine: an estimate took the readings of a changed machine speed record"
+    after = path.read_bytes() if before is not None and path.is_file() and not path.is_symlink() else None
+    if before is not None and after != before:
+        return "unclean", "machine: a damaged machine speed record was overwritten"
+    return outcome, detail
+
+
 def run_case(argv: list[str], timeout: float):
     from faultslip.cli.main import main
 
@@ -1531,6 +1652,7 @@ def worker(job):
     matplotlib.use("Agg")
     warnings.simplefilter("ignore")
     os.environ["FAULTSLIP_REGISTRY"] = str(folder / "fits.json")
+    os.environ["FAULTSLIP_MACHINE_RECORD"] = str(folder / "machine_speed.json")  # never the user's own
     # a mutated input may legitimately ask for an hour of work; the fuzzer's budget is its time-out
     os.environ["FAULTSLIP_TIME_BUDGET"] = str(timeout / 4)
     try:
@@ -1560,7 +1682,10 @@ def worker(job):
             if outcome == "ok" and space.resumed_output is not None \
                     and output_content(space.resumed_output[0]) != space.resumed_output[1]:
                 outcome, detail = "silent", f"{kind}: a resumed sweep gave another output than the run without a stop"
+            if space.machine_case is not None:
+                outcome, detail = machine_record_outcome(space.machine_case, outcome, detail)
             space.silent_if_ok, space.changed_netcdf, space.resumed_output = False, None, None
+            space.machine_case = None
             try:
                 space.release()
             except AssertionError as exc:

@@ -27,6 +27,8 @@ matplotlib.use("Agg")
 # commands it starts take the machine the costs were anchored on (tests/capabilities/contract/test_machine_speed.py
 # unsets it where the probe itself is tested)
 os.environ.setdefault("FAULTSLIP_MACHINE_FACTOR", "1")
+# and none adds its probes to the user's machine speed record (its own tests point it at a temporary file)
+os.environ.setdefault("FAULTSLIP_MACHINE_RECORD", "off")
 
 # CI is slower and must be deterministic; locally explore a little more.
 settings.register_profile("ci", max_examples=60, deadline=None, derandomize=True)

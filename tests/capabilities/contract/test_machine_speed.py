@@ -5,15 +5,20 @@ from __future__ import annotations
 
 import json
 import math
+import multiprocessing
+import os
 import statistics
+import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from conftest import assert_clean_error, load_benchmark
 from faultslip import models
 from faultslip.errors import InputError
-from faultslip.io import machine
+from faultslip.io import gate, machine
 from faultslip.io.resources import read_bundled_table
 
 from test_models import CONFIGS, SCENES
@@ -122,3 +127,167 @@ def test_the_families_cost_table_is_its_benchmarks_fit_of_the_recorded_cases():
     assert sum(0.5 <= ratio <= 2.0 for ratio in ratios) >= 0.95 * len(ratios)
     for row in rows:
         assert 1 / 3 <= row["ratio"] <= 3.0, row["case"]
+
+
+# --- the machine speed record: the median of many processes' probes, not one moment's --------------------------
+
+@pytest.fixture
+def record(tmp_path, monkeypatch):
+    """A fresh record at a temporary path, the factor unfixed and this process's probe forgotten."""
+    path = tmp_path / "cache" / "machine_speed.json"
+    monkeypatch.delenv(machine.ENVIRONMENT, raising=False)
+    monkeypatch.setenv(machine.RECORD_ENVIRONMENT, str(path))
+    monkeypatch.setattr(machine, "_probe", {})
+    return path
+
+
+def _sealed_record(machines: dict) -> str:
+    document = {"faultslip_machine_record": machine.RECORD_VERSION, "machines": machines}
+    return json.dumps(document | {"checksum": gate.json_checksum(document)})
+
+
+def test_the_record_gives_the_median_of_this_machines_readings(record, monkeypatch):
+    """Each process adds its probe; the estimate takes the median of this kind of machine's kept readings, so one
+    slow moment (3 ms among 1 ms readings) moves nothing, and the report says how many readings it took."""
+    readings = [1e-3, 1.1e-3, 3e-3, 0.9e-3, 1.05e-3]
+    for count, reading in enumerate(readings, start=1):
+        median, kept, source = machine.recorded_median(reading)
+        assert (median, kept, source) == (statistics.median(readings[:count]), count, str(record))
+    stored = machine.read_record(record)
+    assert [item[1] for item in stored[machine.machine_kind()]] == readings
+    monkeypatch.setattr(machine, "probe_seconds", lambda: 1e-3)
+    assert machine.reference_now() == statistics.median(readings + [1e-3])
+    assert "the median of 6 readings of this kind of machine" in machine.describe()
+    assert machine.factor("families") == pytest.approx(machine.reference_now() / machine.references()["families"])
+
+
+def test_the_record_keeps_the_last_readings_the_recent_machines_and_drops_old_ones(record, monkeypatch):
+    now = 2.0e9
+    monkeypatch.setattr(machine.time, "time", lambda: now)
+    kind = machine.machine_kind()
+    old = [[now - machine.RECORD_MAX_AGE - 1.0, 5e-3]] * 3  # a month and more ago: another state of the machine
+    others = {f"machine {i} x4": [[now - 10.0 * (i + 1), 2e-3]] for i in range(machine.RECORD_MACHINES - 1)}
+    record.parent.mkdir(parents=True)
+    record.write_text(_sealed_record({kind: old, **others}), encoding="utf-8")
+    assert machine.recorded_median(1e-3) == (1e-3, 1, str(record))  # the old readings are not taken
+    stored = machine.read_record(record)
+    assert len(stored) == machine.RECORD_MACHINES and stored[kind] == [[now, 1e-3]]
+    with monkeypatch.context() as patch:  # a seventeenth kind of machine: the least recently read is dropped
+        patch.setattr(machine, "machine_kind", lambda: "another processor x64")
+        machine.recorded_median(4e-3)
+    stored = machine.read_record(record)
+    assert len(stored) == machine.RECORD_MACHINES and "another processor x64" in stored
+    assert f"machine {machine.RECORD_MACHINES - 2} x4" not in stored and kind in stored
+    for i in range(2 * machine.RECORD_READINGS):
+        median, kept, _ = machine.recorded_median(1e-3 * (1 + i))
+    assert kept == machine.RECORD_READINGS
+    last = [1e-3 * (1 + i) for i in range(machine.RECORD_READINGS, 2 * machine.RECORD_READINGS)]
+    assert median == statistics.median(last)
+
+
+@settings(max_examples=25)
+@given(st.lists(st.floats(min_value=1e-5, max_value=0.5), min_size=1, max_size=45))
+def test_the_record_round_trips_and_its_median_is_the_last_readings(readings):
+    """Any run of readings: each answer is the median of the last RECORD_READINGS (its own included), and the file
+    read back matches the checksum written with it (floats exact through JSON)."""
+    with tempfile.TemporaryDirectory() as folder, pytest.MonkeyPatch.context() as patch:
+        path = Path(folder) / "record.json"
+        patch.setenv(machine.RECORD_ENVIRONMENT, str(path))
+        for count, reading in enumerate(readings, start=1):
+            median, kept, _ = machine.recorded_median(reading)
+            window = readings[max(0, count - machine.RECORD_READINGS):count]
+            assert (median, kept) == (statistics.median(window), len(window))
+        assert [item[1] for item in machine.read_record(path)[machine.machine_kind()]] == window
+
+
+def _edited(text: str) -> str:
+    document = json.loads(text)
+    document["machines"][machine.machine_kind()][0][1] *= 10  # a hand making this machine look slower
+    return json.dumps(document)
+
+
+def _foreign_values(text: str) -> str:
+    return _sealed_record({machine.machine_kind(): [[1.0, 5.0]]})  # sealed, but a reading no probe gives
+
+
+@pytest.mark.parametrize("damage, words", [
+    (_edited, "does not match the checksum"),
+    (lambda text: text[: len(text) // 2], "JSON"),
+    (lambda text: "[1, 2]", "not a record this faultslip writes"),
+    (_foreign_values, "holds readings no faultslip writes"),
+    (lambda text: " " * (machine.RECORD_BYTES + 1), "the limit for such a file"),
+])
+def test_a_damaged_record_is_neither_used_nor_changed(record, damage, words):
+    """An edited, cut, foreign or oversized record: the estimate goes on with this process's probe alone, one
+    warning says why, and the file keeps every byte (the user's to look at or remove)."""
+    machine.recorded_median(2e-3)
+    text = damage(record.read_text(encoding="utf-8"))
+    record.write_text(text, encoding="utf-8")
+    with pytest.warns(UserWarning, match=words) as caught:
+        assert machine.recorded_median(1e-3) == (1e-3, 1, "the machine speed record was not usable")
+    assert len(caught) == 1 and "this process's probe of the machine alone" in str(caught[0].message)
+    assert record.read_text(encoding="utf-8") == text
+
+
+@pytest.mark.parametrize("planted", ["link", "fifo", "folder"])
+def test_a_record_path_that_is_not_a_file_is_never_followed(record, planted, tmp_path):
+    record.parent.mkdir(parents=True)
+    victim = tmp_path / "victim.json"
+    victim.write_text("precious", encoding="utf-8")
+    if planted == "link":
+        record.symlink_to(victim)
+    elif planted == "fifo":
+        os.mkfifo(record)
+    else:
+        record.mkdir()
+    with pytest.warns(UserWarning, match="machine speed record"):
+        assert machine.recorded_median(1e-3)[1] == 1
+    assert victim.read_text(encoding="utf-8") == "precious"
+    assert record.is_symlink() if planted == "link" else record.exists()
+
+
+def test_no_record_is_kept_where_it_is_off(record, monkeypatch):
+    monkeypatch.setenv(machine.RECORD_ENVIRONMENT, "off")
+    assert machine.recorded_median(1e-3) == (1e-3, 1, "no record kept (FAULTSLIP_MACHINE_RECORD is off)")
+    assert machine.record_path() is None and not record.parent.exists()
+    monkeypatch.delenv(machine.RECORD_ENVIRONMENT)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(record.parent))
+    assert machine.record_path() == record.parent / "faultslip" / "machine_speed.json"
+
+
+def _add_readings(path: str, readings: list) -> None:
+    os.environ[machine.RECORD_ENVIRONMENT] = path
+    for reading in readings:
+        machine.recorded_median(reading)
+
+
+def test_concurrent_processes_lose_no_reading(record):
+    """Processes that probe at once (a pool's workers) each land their readings: the record is updated under its
+    lock, read and written again."""
+    record.parent.mkdir(parents=True)
+    context = multiprocessing.get_context("fork")
+    workers = [context.Process(target=_add_readings, args=(str(record), [1e-3 * (1 + w + 0.1 * i) for i in range(3)]))
+               for w in range(6)]
+    for worker in workers:
+        worker.start()
+    for worker in workers:
+        worker.join(60)
+    assert [worker.exitcode for worker in workers] == [0] * 6
+    readings = sorted(item[1] for item in machine.read_record(record)[machine.machine_kind()])
+    assert readings == sorted(1e-3 * (1 + w + 0.1 * i) for w in range(6) for i in range(3))
+
+
+def test_an_estimate_with_a_damaged_record_runs_and_says_so(record, cli):
+    """Through the CLI: exit 0, the estimate from this process's probe alone, one warning line naming the
+    record, and the record untouched."""
+    record.parent.mkdir(parents=True)
+    record.write_text("not json", encoding="utf-8")
+    result = cli("run", CONFIGS / "fault_2d_small.toml", "--estimate", "--json")
+    assert result.code == 0, result.err
+    assert [line for line in result.err.splitlines() if line] == [line for line in result.err.splitlines()
+                                                                  if line.startswith("faultslip: warning:")]
+    assert len(result.err.strip().splitlines()) == 1 and "machine speed record" in result.err
+    notes = " ".join(json.loads(result.out)["notes"])
+    assert "this process's probe alone" in notes
+    assert record.read_text(encoding="utf-8") == "not json"
+

@@ -5,6 +5,7 @@ here hypothesis drives them, bounded in time, so the suite keeps the property.
 """
 
 import random
+import statistics
 from pathlib import Path
 
 import pytest
@@ -404,3 +405,33 @@ def test_a_failure_ledger_changed_after_writing_is_refused_before_any_cell_runs(
     with pytest.raises(InputError, match="failure ledger") as refused:
         retry_failed(study, out, workers=1)
     assert "\n" not in str(refused.value).strip()
+
+
+@settings(FUZZ, max_examples=60)
+@given(seed=st.integers(0, 2**32))
+def test_a_machine_speed_record_changed_after_writing_is_neither_used_nor_changed(tmp_path_factory, seed):
+    """The fuzzer's machine kind without the CLI: a machine speed record edited, resealed past its bounds or its
+    bytes mutated. Every one whose content differs from what was written is read as one sentence (the estimate's
+    warning) and keeps every byte; the estimate takes this process's probe alone. One as written is used."""
+    import warnings
+
+    from faultslip.io import machine
+
+    path = tmp_path_factory.mktemp("machine") / "machine_speed.json"
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv(machine.RECORD_ENVIRONMENT, str(path))
+        for reading in (1.0e-3, 1.2e-3, 0.9e-3):
+            machine.recorded_median(reading)
+        written = path.read_text(encoding="utf-8")
+        mutated = fuzz.mutate_machine_record(written, random.Random(seed))
+        _write(path, mutated)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            median, count, _ = machine.recorded_median(2e-3)
+    if fuzz.record_content(mutated) == fuzz.record_content(written):
+        assert (median, count, caught) == (statistics.median([1.0e-3, 1.2e-3, 0.9e-3, 2e-3]), 4, [])
+        return
+    assert (median, count) == (2e-3, 1)
+    assert len(caught) == 1 and "machine speed record" in str(caught[0].message)
+    assert "\n" not in str(caught[0].message).strip()
+    assert path.read_bytes() == (mutated.encode("utf-8") if isinstance(mutated, str) else mutated)
