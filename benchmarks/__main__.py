@@ -151,6 +151,8 @@ PRODUCERS = (
     ("fault_3d_cost", ["--part", "fit"], ["--part", "refit"], "fault_3d_cost.json"),
     # every cost group's reference work, after the fits it anchors and before the estimates checked against it
     ("machine_speed", [], ["--quick"], "machine_speed.json"),
+    # the machine speed record's median against one probe, on the same runs
+    ("machine_record", [], ["--pairs", "8"], "machine_record.json"),
     ("fault_3d_cost", ["--part", "held-out"], ["--part", "held-out"], "fault_3d_cost.json"),
     ("fault_3d_cost", ["--part", "rtol"], ["--part", "rtol"], "fault_3d_cost.json"),
     # escalations estimated on this machine (after machine_speed)

@@ -60,8 +60,11 @@ def _escalate(design, resolution, tolerance):
             "steps": int(result.values["steps"]), "sequence": result.values["sequence"],
             "recurrence": float(result["recurrence_interval"].to("s").magnitude),
             "declared_error": result.estimated_relative_error,
-            # what the estimate took for this machine's speed (faultslip.io.machine), in this worker
-            "machine_factor": machine.factor("fault_2d_step")}
+            # what the estimate took for this machine's speed (faultslip.io.machine), in this worker, and of how
+            # many readings of the machine speed record (this worker's probe among them) that was the median
+            "machine_factor": machine.factor("fault_2d_step"),
+            "machine_readings": machine.speed_reading()["readings"],
+            "probe_factor": machine.speed_reading()["reading"] / machine.references()["fault_2d_step"]}
 
 
 def total_steps(row: dict) -> float:

@@ -378,8 +378,35 @@ def machine_speed_table() -> str | None:
                     f"{statistics.median(group['probe_now_seconds']) * 1e3:.3f} ms |")
     return ("\n".join(rows) + "\n\nEach group's runs are its fit's own, repeated with the same work and timed as the "
             "fit timed them (per step where a run counts steps); the reference work (`faultslip.io.machine`) was "
-            "probed before and after them. A cost model's seconds are multiplied by the reference work's time in "
-            "the estimating process over its time then. " + _machine(result))
+            "probed before and after them. A cost model's seconds are multiplied by the reference work's time on "
+            "the estimating machine (the median its machine speed record keeps) over its time then. "
+            + _machine(result))
+
+
+def machine_record_table() -> str | None:
+    """The machine speed record's median against one process's probe, each carrying the same run's estimate to its
+    CPU (machine_record.py)."""
+    result = _load("machine_record.json")
+    if result is None:
+        return None
+    summary = result["summary"]
+    rows = ["| read from | estimate / CPU, median | range | largest / smallest | sd in ln "
+            "| within 1.25x of the median |", "| --- | --- | --- | --- | --- | --- |"]
+    for key, label in (("with_record", "the record's median (as estimates are made)"),
+                       ("probe_alone", "this process's probe alone (as they were made before)")):
+        line = summary[key]
+        rows.append(f"| {label} | {line['median']:.2f} | {line['min']:.2f}-{line['max']:.2f} | "
+                    f"{line['max_over_min']:.2f} | {line['sd_ln']:.3f} | {line['within_1_25x_of_median']} of "
+                    f"{summary['processes']} |")
+    runs, probes = summary["run_speed"], summary["probe_speed"]
+    edits = ", ".join(value.split(" = ")[1].strip('"') for value in result["scene_edits"].values())
+    return ("\n".join(rows) + f"\n\n{len(result['rows'])} fresh processes, two at a time, each estimated and ran the "
+            f"same 2-D run (`configs/fault_2d_small.toml` at {edits}) on one record that started empty; the "
+            f"{summary['processes']} whose record held at least {summary['settled_readings']} readings are read. "
+            f"The runs' own speed (CPU over the cost model's at the anchored machine) spread {runs['min']:.2f}-"
+            f"{runs['max']:.2f} (sd in ln {runs['sd_ln']:.3f}); the probes read {probes['min']:.2f}-"
+            f"{probes['max']:.2f} (sd in ln {probes['sd_ln']:.3f}). `python benchmarks/machine_record.py`. "
+            + _machine(result))
 
 
 #: The tables this module renders, by the marker name in the pages.
@@ -396,4 +423,5 @@ TABLES = {
     "animation": animation_table,
     "family_costs": family_costs_table,
     "machine_speed": machine_speed_table,
+    "machine_record": machine_record_table,
 }

@@ -291,3 +291,23 @@ def test_an_estimate_with_a_damaged_record_runs_and_says_so(record, cli):
     assert "this process's probe alone" in notes
     assert record.read_text(encoding="utf-8") == "not json"
 
+
+def test_the_record_follows_the_runs_better_than_one_probe():
+    """benchmarks/results/machine_record.json: the same runs' estimates read with the record's median and with each
+    process's probe alone. Its summary is the benchmark's own of its rows, and the record's estimates spread less
+    (sd in ln) and over a narrower range than the probe's alone, no wider than the runs' own speed by more than
+    a third (what no reading made before a run can follow)."""
+    bench = load_benchmark("machine_record")
+    result = json.loads((ROOT / "benchmarks" / "results" / "machine_record.json").read_text(encoding="utf-8"))
+    summary = bench.summarise(result["rows"])
+    assert summary == result["summary"]
+    assert summary["processes"] >= 60
+    record, alone, runs = summary["with_record"], summary["probe_alone"], summary["run_speed"]
+    assert record["sd_ln"] < alone["sd_ln"] and record["max_over_min"] < alone["max_over_min"]
+    assert record["sd_ln"] < 4 / 3 * runs["sd_ln"]
+    assert record["within_2x"] == summary["processes"]
+    for row in result["rows"]:  # the probe-alone estimate is the same run's, carried by its own reading
+        with_record, probe_alone = bench.ratios(row)
+        modelled = row["estimated_seconds"] - row["import_seconds"]
+        alone = row["import_seconds"] + modelled * row["reading"] / row["median"]
+        assert probe_alone / with_record == pytest.approx(alone / row["estimated_seconds"], rel=1e-12)
