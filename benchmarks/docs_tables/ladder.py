@@ -8,7 +8,7 @@ from ._common import ONE_SLIDER_QUANTITIES, _load, _load_with, _machine
 
 
 #: the ordinals the draws' files and sentences are named by (a draw past the last is not shown)
-ORDINALS = ("second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth", "tenth")
+ORDINALS = ("second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth", "tenth", "eleventh")
 
 
 def ladder_table() -> str | None:
@@ -249,7 +249,7 @@ def _step_speed(row: dict) -> float:
 
 def _further_draws() -> str:
     """Further draws of escalations the cost model never saw (ladder_escalations_second_draw.json, then the
-    third to tenth), a sentence each."""
+    third to eleventh), a sentence each."""
     text = ""
     for ordinal in ORDINALS:
         name = f"ladder_escalations_{ordinal}_draw.json"
@@ -257,13 +257,32 @@ def _further_draws() -> str:
         if result is None:
             continue
         summary = result["summary"]
-        text += (f"A {ordinal} unseen draw (`--seed {result['seed']}`; {_how_run(result)}): "
+        article = "An" if ordinal[0] in "aeiou" else "A"
+        text += (f"{article} {ordinal} unseen draw (`--seed {result['seed']}`; {_how_run(result)}): "
                  f"{summary['within_2x']} of "
                  f"{summary['escalations']} within 2x ({summary['ratio_min']:.2f} to {summary['ratio_max']:.2f}, median "
                  f"{summary['ratio_median']:.2f})"
                  + (f"; {summary['refused']} refused before any work, in one sentence" if summary.get("refused") else "")
-                 + ". " + _probes_apart(result))
+                 + ". " + _probes_apart(result) + _record_against_probe(result))
     return text
+
+
+def _record_against_probe(result: dict) -> str:
+    """For a draw run since the machine speed record: the readings its medians were of, and the same estimates
+    with each worker's probe alone (the estimate scales as the factor, first-run cost included)."""
+    ran = [row for row in result["rows"] if "refused" not in row and "probe_factor" in row]
+    if not ran:
+        return ""
+    alone = [row["estimated_seconds"] * row["probe_factor"] / row["machine_factor"] / row["cpu_time"] for row in ran]
+    def span(values, digits=".2f"):
+        low, high = f"{min(values):{digits}}", f"{max(values):{digits}}"
+        return low if low == high else f"{low}-{high}"
+
+    return (f"Its estimates took the median of the machine speed record "
+            f"({span([row['machine_readings'] for row in ran], 'd')} readings, factor "
+            f"{span([row['machine_factor'] for row in ran])}); with each worker's probe alone (factor "
+            f"{span([row['probe_factor'] for row in ran])}) the same estimates would have been {min(alone):.2f} to "
+            f"{max(alone):.2f}x their CPU, {sum(0.5 <= r <= 2 for r in alone)} of {len(ran)} within 2x. ")
 
 
 def _probes_apart(result: dict) -> str:
