@@ -88,6 +88,8 @@ PRODUCERS = (
      "ladder_fresh_sixth.json"),
     ("ladder_designs", ["--fresh", "40", "--seed", "68071"], ["--fresh", "40", "--seed", "68071"],
      "ladder_fresh_seventh.json"),
+    ("ladder_designs", ["--fresh", "40", "--seed", "68081"], ["--fresh", "40", "--seed", "68081"],
+     "ladder_fresh_eighth.json"),
     ("ladder_calibration", [], [], "ladder_held_out.json"),
     ("ladder_outside_box", [], ["--count", "6"], "ladder_outside_box.json"),  # after the calibration it clamps to
     # the step count's model from the saved runs (after the calibration whose recurrences count the events)

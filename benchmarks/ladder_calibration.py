@@ -28,9 +28,9 @@ could declare, set with the 2-D answers in hand (``narrowest``): lower bounds on
 records the cost model now declared (the held-out ones apart: the event-step model is fitted on the others).
 
 **Fresh draws** (``python benchmarks/ladder_designs.py --fresh 40 [--seed 68012 | 68014 | 68031 | 68041 | 68061 |
-68071]``, ``ladder_fresh.json``, ``ladder_fresh_second.json``, ``ladder_fresh_third.json``, ``ladder_fresh_fourth.json``,
-``ladder_fresh_fifth.json``, ``ladder_fresh_sixth.json`` and ``ladder_fresh_seventh.json``): a third to a ninth
-independent draw over the box,
+68071 | 68081]``, ``ladder_fresh.json``, ``ladder_fresh_second.json``, ``ladder_fresh_third.json``,
+``ladder_fresh_fourth.json``, ``ladder_fresh_fifth.json``, ``ladder_fresh_sixth.json``, ``ladder_fresh_seventh.json``
+and ``ladder_fresh_eighth.json``): a third to a tenth independent draw over the box,
 each run after the ranges were shipped, tested against them as they are.
 
 Writes ``data/ladder_calibration.json`` (what faultslip declares) and ``benchmarks/results/ladder_held_out.json``
