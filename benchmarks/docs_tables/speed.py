@@ -384,29 +384,42 @@ def machine_speed_table() -> str | None:
 
 
 def machine_record_table() -> str | None:
-    """The machine speed record's median against one process's probe, each carrying the same run's estimate to its
-    CPU (machine_record.py)."""
-    result = _load("machine_record.json")
-    if result is None:
+    """The same runs' estimates made with the machine speed record's median, with each process's own probe, and
+    with the two weighted as faultslip ships, against their CPU: the run that set the weight and the one that tested
+    it (machine_record.py)."""
+    from faultslip.io.machine import PROBE_WEIGHT
+
+    runs = [(label, _load(name)) for label, name in (("set the weight", "machine_record.json"),
+                                                     ("tested it", "machine_record_held_out.json"))]
+    runs = [(label, result) for label, result in runs if result is not None]
+    if not runs:
         return None
-    summary = result["summary"]
-    rows = ["| read from | estimate / CPU, median | range | largest / smallest | sd in ln "
-            "| within 1.25x of the median |", "| --- | --- | --- | --- | --- | --- |"]
-    for key, label in (("with_record", "the record's median (as estimates are made)"),
-                       ("probe_alone", "this process's probe alone (as they were made before)")):
-        line = summary[key]
-        rows.append(f"| {label} | {line['median']:.2f} | {line['min']:.2f}-{line['max']:.2f} | "
-                    f"{line['max_over_min']:.2f} | {line['sd_ln']:.3f} | {line['within_1_25x_of_median']} of "
-                    f"{summary['processes']} |")
-    runs, probes = summary["run_speed"], summary["probe_speed"]
-    edits = ", ".join(value.split(" = ")[1].strip('"') for value in result["scene_edits"].values())
-    return ("\n".join(rows) + f"\n\n{len(result['rows'])} fresh processes, two at a time, each estimated and ran the "
-            f"same 2-D run (`configs/fault_2d_small.toml` at {edits}) on one record that started empty; the "
-            f"{summary['processes']} whose record held at least {summary['settled_readings']} readings are read. "
-            f"The runs' own speed (CPU over the cost model's at the anchored machine) spread {runs['min']:.2f}-"
-            f"{runs['max']:.2f} (sd in ln {runs['sd_ln']:.3f}); the probes read {probes['min']:.2f}-"
-            f"{probes['max']:.2f} (sd in ln {probes['sd_ln']:.3f}). `python benchmarks/machine_record.py`. "
-            + _machine(result))
+    rows = ["| run | estimate read from | estimate / CPU, median | range | largest / smallest | sd in ln "
+            "| within 1.25x of the median |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    for label, result in runs:
+        summary = result["summary"]
+        for key, name in (("with_record", "the record's median alone"),
+                          ("blended", "the median and this process's probe, as shipped"),
+                          ("probe_alone", "this process's probe alone (as before the record)")):
+            line = summary[key]
+            rows.append(f"| {label} | {name} | {line['median']:.2f} | {line['min']:.2f}-{line['max']:.2f} | "
+                        f"{line['max_over_min']:.2f} | {line['sd_ln']:.3f} | {line['within_1_25x_of_median']} of "
+                        f"{summary['processes']} |")
+    first = runs[0][1]
+    edits = ", ".join(value.split(" = ")[1].strip('"') for value in first["scene_edits"].values())
+    text = (f"Each run: {len(first['rows'])} fresh processes, two at a time, each estimated and ran the same 2-D run "
+            f"(`configs/fault_2d_small.toml` at {edits}) on one record that started empty; those whose record held "
+            f"at least {first['summary']['settled_readings']} readings are read. A process's run speed follows its "
+            "own probe in part: the least-squares weight of the probe beside the median (in logs) was "
+            + " and ".join(f"{result['summary']['probe_weight_fit']:.2f} in the run that {label}"
+                           for label, result in runs)
+            + f"; faultslip ships {PROBE_WEIGHT:.2f} (`PROBE_WEIGHT`). The runs' own speed (CPU over the cost model's "
+            "at the anchored machine) spread " + " and ".join(
+                f"{result['summary']['run_speed']['sd_ln']:.3f}" for _, result in runs)
+            + " (sd in ln): the spread a fixed factor would leave. `python benchmarks/machine_record.py`, then "
+            "`--out benchmarks/results/machine_record_held_out.json`. "
+            + _machine(runs[-1][1]))
+    return "\n".join(rows) + "\n\n" + text
 
 
 #: The tables this module renders, by the marker name in the pages.

@@ -21,10 +21,11 @@ reading is kept in the **machine speed record**, a small JSON file in the user's
 (``$XDG_CACHE_HOME/faultslip/machine_speed.json``, or the path in FAULTSLIP_MACHINE_RECORD; ``off`` keeps none),
 and t_ref(now) is the median of the last :data:`RECORD_READINGS` readings of this kind of machine (its processor
 model and cores) within :data:`RECORD_MAX_AGE`, this process's included: the long-run speed, which one slow moment
-no longer sets. The record is read through the io gate (bounded before reading, never through a link), checked
-against the checksum written with it, and updated under its lock, atomically; a record that is damaged, edited or
-not a regular file is neither used nor overwritten, and the estimate says so in one warning and uses this
-process's reading alone.
+no longer sets. A process's speed follows its own probe in part, so that probe keeps a weight
+:data:`PROBE_WEIGHT` beside the median (in logs). The record is read through the io gate (bounded before reading,
+never through a link), checked against the checksum written with it, and updated under its lock, atomically; a
+record that is damaged, edited or not a regular file is neither used nor overwritten, and the estimate says so in
+one warning and uses this process's reading alone.
 
 The environment variable FAULTSLIP_MACHINE_FACTOR fixes the factor (1: the machine the costs were anchored on);
 the tests set it, so that no test depends on the machine's speed.
@@ -78,6 +79,12 @@ RECORD_BYTES = 256 * 1024
 RECORD_WAIT = 2.0
 RECORD_VERSION = 1
 RECORD_LABEL = "machine speed record"
+#: The weight of this process's own probe beside the record's median, in logs: ln t_ref = (1 - w) ln median + w ln
+#: probe. A process's run speed follows its probe in part: over benchmarks/machine_record.py's 72 processes the least
+#: squares slope of ln(run speed / median) on ln(probe / median) was 0.35; a third, tested on a second run of 72 it
+#: never saw (slope 0.40 there), spread the estimates over CPU by 0.082 (sd in ln) where the median alone spread
+#: them by 0.104 and the probe alone by 0.125 (docs/benchmarks.md, "The machine's speed").
+PROBE_WEIGHT = 1.0 / 3.0
 
 _probe: dict = {}
 _lock = threading.Lock()
@@ -109,24 +116,25 @@ def probe_seconds(repeats: int = REPEATS) -> float:
 
 def reference_now() -> float:
     """The reference work's time on this machine now: the median of the machine speed record's readings
-    (:func:`recorded_median`), this process's :func:`probe_seconds` among them, taken once and again after
-    :data:`PROBE_LIFETIME`."""
+    (:func:`recorded_median`), this process's :func:`probe_seconds` among them, and that probe weighted
+    :data:`PROBE_WEIGHT` beside it in logs; taken once and again after :data:`PROBE_LIFETIME`."""
     with _lock:
         now = time.monotonic()
         if not _probe or now - _probe["at"] > PROBE_LIFETIME:
             reading = probe_seconds()
             median, count, source = recorded_median(reading)
-            _probe.update(seconds=median, reading=reading, count=count, source=source, at=now,
-                          kept=source == str(record_path()))
+            _probe.update(seconds=median * (reading / median) ** PROBE_WEIGHT, median=median,
+                          reading=reading, count=count, source=source, at=now, kept=source == str(record_path()))
         return _probe["seconds"]
 
 
 def speed_reading() -> dict:
     """How this process read the machine's speed (:func:`reference_now` measures it if it has not): its own probe
-    (``reading``, s), the median the estimates take (``median``, s), the ``readings`` that median is of, and where
-    they are kept (``record``: the record's path, or why none was read)."""
-    median = reference_now()
-    return {"reading": _probe["reading"], "median": median, "readings": _probe["count"], "record": _probe["source"]}
+    (``reading``, s), the record's median (``median``, s), the ``readings`` that median is of, where they are kept
+    (``record``: the record's path, or why none was read), and the time the estimates take (``seconds``)."""
+    seconds = reference_now()
+    return {"reading": _probe["reading"], "median": _probe["median"], "readings": _probe["count"],
+            "record": _probe["source"], "seconds": seconds}
 
 
 def record_path() -> Path | None:
@@ -286,8 +294,10 @@ def describe() -> str:
     now = reference_now()
     scaled = ", ".join(f"{group} x{now / seconds:.2f}" for group, seconds in references().items())
     count, source = _probe.get("count", 1), _probe.get("source", "")
-    where = (f"the median of {count} readings of this kind of machine kept in {source}, this process's "
-             f"{_probe.get('reading', now) * 1e3:.3g} ms among them" if count > 1 else
+    where = (f"the median of {count} readings of this kind of machine kept in {source} "
+             f"({_probe.get('median', now) * 1e3:.3g} ms) and this process's probe "
+             f"({_probe.get('reading', now) * 1e3:.3g} ms), weighted {1 - PROBE_WEIGHT:.2g}:{PROBE_WEIGHT:.2g} in logs"
+             if count > 1 else
              f"this process's probe, the first reading kept in {source}" if _probe.get("kept") else
              f"this process's probe alone: {source}" if source else "this process's probe")
     return (f"cost models scaled to this machine: its reference work took {now * 1e3:.3g} ms of CPU, {where} "
