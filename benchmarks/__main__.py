@@ -173,7 +173,8 @@ PRODUCERS = (
                          ("68021", "ladder_escalations_eighth_draw.json"),
                          ("68050", "ladder_escalations_ninth_draw.json"),
                          ("68060", "ladder_escalations_tenth_draw.json"),
-                         ("68070", "ladder_escalations_eleventh_draw.json"))),
+                         ("68070", "ladder_escalations_eleventh_draw.json"),
+                         ("68080", "ladder_escalations_twelfth_draw.json"))),
 )
 #: Packages a benchmark needs beyond the test install, by the module that shows they are there: without it the
 #: benchmark is skipped and its table keeps its last results, as a peer's does.

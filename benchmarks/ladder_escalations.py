@@ -7,7 +7,7 @@ the draw the per-step cost was fitted on, FAULT_2D_STEP_SECONDS, and the step co
 L_b; seed 68001, written to ladder_escalations_held_out.json, is a draw they never saw; 68003, 68004, 68005,
 68008, 68009, 68013 and 68021, with --out, seven more; 68050, run after the step model's last fit and never
 fitted, an eighth; 68060, never fitted either, on another machine; 68070, the first with the machine speed
-record), each as a scene over eight of its expected
+record; 68080, the first with the probe's weight beside its median), each as a scene over eight of its expected
 recurrences, are
 run as a user would: ``faultslip.run(scene, tolerance=...)``, by default at tolerance 0.1 on 1 to 1.5 times the
 fewest elements per L_b at which one run can declare it (its element size's error with the change of kind of

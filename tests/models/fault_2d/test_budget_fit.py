@@ -329,7 +329,7 @@ def test_an_unsettled_escalations_rerun_is_estimated_from_the_steps_of_the_run_b
                                   "ladder_escalations_fifth_draw.json", "ladder_escalations_sixth_draw.json",
                                   "ladder_escalations_seventh_draw.json", "ladder_escalations_eighth_draw.json",
                                   "ladder_escalations_ninth_draw.json", "ladder_escalations_tenth_draw.json",
-                                  "ladder_escalations_eleventh_draw.json"])
+                                  "ladder_escalations_eleventh_draw.json", "ladder_escalations_twelfth_draw.json"])
 def test_the_shipped_escalations_were_estimated_by_the_declared_model(name):
     """docs/ladder.md reports each unseen escalation's estimate against its CPU: the estimate must be the one the
     declared cost model makes, so a refit that does not rerun the draws fails here. A one-run escalation's estimate
