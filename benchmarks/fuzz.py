@@ -240,6 +240,7 @@ def mutate_machine_record(text: str, rng: random.Random) -> str | bytes:
     more readings or kinds of machine than faultslip keeps, a reading out of range), its bytes mutated, grown past
     its bound, or left as written (which must be used)."""
     from faultslip.io import machine
+    from faultslip.io.gate import json_checksum
 
     kept = _kept_or_mutated(text, rng)
     if kept is not None:
@@ -263,14 +264,8 @@ def mutate_machine_record(text: str, rng: random.Random) -> str | bytes:
         document["padding"] = " " * machine.RECORD_BYTES
     if edit not in ("checksum", "reading") and rng.random() < 0.7:  # resealed: only the record's bounds can tell
         document.pop("checksum", None)
-        document["checksum"] = gate_checksum(document)
+        document["checksum"] = json_checksum(document)
     return json.dumps(document)
-
-
-def gate_checksum(document: dict) -> str:
-    from faultslip.io.gate import json_checksum
-
-    return json_checksum(document)
 
 
 def quakeml_events(data: bytes):

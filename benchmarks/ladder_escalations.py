@@ -54,6 +54,7 @@ def _escalate(design, resolution, tolerance):
     except InputError as refused:  # as a user is told: e.g. a fault just past the cost model's fit, before any work
         return {"design": asdict(design), "elements_per_process_zone": resolution, "elements": scene.fault.count,
                 "refused": str(refused)}
+    speed = machine.speed_reading()
     return {"design": asdict(design), "elements_per_process_zone": resolution, "elements": scene.fault.count,
             "duration": scene.duration, "method": result.method, "escalated_from": result.values["escalated_from"],
             "estimated_seconds": float(result["estimated_seconds"].to("s").magnitude),
@@ -64,8 +65,8 @@ def _escalate(design, resolution, tolerance):
             # what the estimate took for this machine's speed (faultslip.io.machine), in this worker, and of how
             # many readings of the machine speed record (this worker's probe among them) that was the median
             "machine_factor": machine.factor("fault_2d_step"),
-            "machine_readings": machine.speed_reading()["readings"],
-            "probe_factor": machine.speed_reading()["reading"] / machine.references()["fault_2d_step"]}
+            "machine_readings": speed["readings"],
+            "probe_factor": speed["reading"] / machine.references()["fault_2d_step"]}
 
 
 def total_steps(row: dict) -> float:
